@@ -1,0 +1,313 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Captures in memory: loading a whole capture through the chunked reader
+ * (rows counted first on mapped files so the arrays are allocated once),
+ * and constructing captures for generators and writers.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+static int copy_column(struct sscope_column *dst, const struct sscope_column *src)
+{
+	*dst = *src;
+	dst->name = ssc_strdup(src->name);
+	dst->unit_label = ssc_strdup(src->unit_label ? src->unit_label : "");
+	return (dst->name && dst->unit_label) ? 0 : -ENOMEM;
+}
+
+static void free_column(struct sscope_column *c)
+{
+	free((char *)c->name);
+	free((char *)c->unit_label);
+	c->name = NULL;
+	c->unit_label = NULL;
+}
+
+void sscope_capture_free(struct sscope_capture *cap)
+{
+	if (!cap)
+		return;
+	for (size_t k = 0; cap->channels && k < cap->n_channels; k++) {
+		free_column(&cap->channels[k].col);
+		free(cap->channels[k].data);
+	}
+	free(cap->channels);
+	free(cap->time_s);
+	free(cap->temp_degc);
+	free_column(&cap->time_col);
+	free_column(&cap->temp_col);
+	free(cap->source);
+	free(cap);
+}
+
+/* realloc that asks for transparent huge pages on large fresh arrays: a
+ * 100 MB capture otherwise takes ~25,000 page faults to fill */
+static void *big_realloc(void *old, size_t bytes)
+{
+	void *p;
+
+	if (old || bytes < (2u << 20))
+		return realloc(old, bytes);
+	if (posix_memalign(&p, 2u << 20, bytes))
+		return NULL;
+#ifdef MADV_HUGEPAGE
+	madvise(p, bytes, MADV_HUGEPAGE);
+#endif
+	return p;
+}
+
+/* (Re)allocate every array of the capture to hold `rows` rows. */
+static int grow(struct sscope_capture *cap, size_t rows)
+{
+	size_t bytes;
+	void *p;
+
+	if (!ssc_mul(rows ? rows : 1, sizeof(double), &bytes))
+		return -ENOMEM;
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		p = big_realloc(cap->channels[k].data, bytes);
+		if (!p)
+			return -ENOMEM;
+		cap->channels[k].data = p;
+	}
+	if (cap->time_col.name) {
+		p = big_realloc(cap->time_s, bytes);
+		if (!p)
+			return -ENOMEM;
+		cap->time_s = p;
+	}
+	if (cap->temp_col.name) {
+		p = big_realloc(cap->temp_degc, bytes);
+		if (!p)
+			return -ENOMEM;
+		cap->temp_degc = p;
+	}
+	return 0;
+}
+
+int sscope_capture_load(struct sscope_capture **out, const char *path,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag)
+{
+	struct sscope_reader *r = NULL;
+	struct sscope_capture *cap;
+	struct sscope_chunk ch = { 0 };
+	double **ptrs = NULL;
+	size_t cap_rows, n = 0;
+	unsigned threads;
+	int rc;
+
+	*out = NULL;
+	rc = sscope_reader_open(&r, path, opts, diag);
+	if (rc)
+		return rc;
+	cap = calloc(1, sizeof(*cap));
+	if (!cap) {
+		sscope_reader_close(r);
+		return -ENOMEM;
+	}
+	cap->source = ssc_strdup(path);
+	cap->n_channels = sscope_reader_n_channels(r);
+	cap->channels = calloc(cap->n_channels ? cap->n_channels : 1,
+			       sizeof(*cap->channels));
+	ptrs = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*ptrs));
+	if (!cap->source || !cap->channels || !ptrs) {
+		rc = -ENOMEM;
+		goto fail;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		rc = copy_column(&cap->channels[k].col,
+				 sscope_reader_channel(r, k));
+		if (rc)
+			goto fail;
+	}
+	if (sscope_reader_time_column(r)) {
+		rc = copy_column(&cap->time_col, sscope_reader_time_column(r));
+		if (rc)
+			goto fail;
+	}
+	if (sscope_reader_temp_column(r)) {
+		rc = copy_column(&cap->temp_col, sscope_reader_temp_column(r));
+		if (rc)
+			goto fail;
+	}
+	/* A mapped file (or any source of known size) is read in one pass,
+	 * on several threads for text, into arrays sized from a bound on the
+	 * row count, then trimmed; a pipe grows its arrays. */
+	{
+		long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+
+		threads = opts && opts->threads ? opts->threads :
+			  ncpu > 0 ? (unsigned)ncpu : 1;
+	}
+	cap_rows = ssc_reader_max_rows(r, threads);
+	if (cap_rows) {
+		rc = grow(cap, cap_rows);
+		if (rc)
+			goto fail;
+		for (size_t k = 0; k < cap->n_channels; k++)
+			ptrs[k] = cap->channels[k].data;
+		ch = (struct sscope_chunk){ cap_rows, 0, ptrs, cap->time_s,
+					    cap->temp_degc };
+		rc = ssc_reader_read_all(r, &ch, diag);
+		if (rc)
+			goto fail;
+		n = ch.rows;
+	} else {
+		cap_rows = (size_t)1 << 16;
+		for (;;) {
+			rc = grow(cap, cap_rows);
+			if (rc)
+				goto fail;
+			for (size_t k = 0; k < cap->n_channels; k++)
+				ptrs[k] = cap->channels[k].data + n;
+			ch = (struct sscope_chunk){
+				cap_rows - n, 0, ptrs,
+				cap->time_s ? cap->time_s + n : NULL,
+				cap->temp_degc ? cap->temp_degc + n : NULL
+			};
+			rc = sscope_reader_read(r, &ch, diag);
+			if (rc)
+				goto fail;
+			n += ch.rows;
+			if (ch.rows == 0 || n < cap_rows)
+				break;
+			if (!ssc_mul(cap_rows, 2, &cap_rows)) {
+				rc = -ENOMEM;
+				goto fail;
+			}
+		}
+	}
+	if (n == 0) {
+		rc = ssc_diag(diag, -EDOM, "%s: no data rows",
+			      strcmp(path, "-") ? path : "(stdin)");
+		goto fail;
+	}
+	rc = grow(cap, n); /* trim */
+	if (rc)
+		goto fail;
+	cap->n = n;
+	for (size_t k = 0; k < cap->n_channels; k++)
+		for (size_t i = 0; i < n; i++)
+			cap->n_nan += isnan(cap->channels[k].data[i]);
+	if (opts && opts->rate_hz > 0) {
+		cap->rate_hz = opts->rate_hz;
+		cap->rate_source = SSCOPE_RATE_GIVEN;
+	} else if (cap->time_s && n >= 2) {
+		struct sscope_timing tm;
+		double *scratch = ssc_alloc_array(n - 1, sizeof(double));
+
+		if (!scratch) {
+			rc = -ENOMEM;
+			goto fail;
+		}
+		rc = sscope_timing_analyze(cap->time_s, n, 1.5, &tm, NULL, 0,
+					   NULL, scratch);
+		free(scratch);
+		if (rc == 0) {
+			cap->rate_hz = tm.rate_hz;
+			cap->rate_source = SSCOPE_RATE_TIME_COLUMN;
+		} else if (rc != -EDOM) {
+			goto fail;
+		}
+		rc = 0;
+	}
+	if (cap->rate_source == SSCOPE_RATE_NONE &&
+	    sscope_reader_header_rate(r) > 0) {
+		cap->rate_hz = sscope_reader_header_rate(r);
+		cap->rate_source = SSCOPE_RATE_HEADER;
+	}
+	free(ptrs);
+	sscope_reader_close(r);
+	*out = cap;
+	return 0;
+fail:
+	free(ptrs);
+	sscope_reader_close(r);
+	sscope_capture_free(cap);
+	return rc;
+}
+
+struct sscope_capture *sscope_capture_new(size_t n_channels, size_t n,
+					  bool with_time, bool with_temp)
+{
+	struct sscope_capture *cap = calloc(1, sizeof(*cap));
+
+	if (!cap)
+		return NULL;
+	cap->n = n;
+	cap->n_channels = n_channels;
+	cap->channels = calloc(n_channels ? n_channels : 1,
+			       sizeof(*cap->channels));
+	if (!cap->channels)
+		goto fail;
+	for (size_t k = 0; k < n_channels; k++) {
+		cap->channels[k].data = ssc_alloc_array(n, sizeof(double));
+		if (!cap->channels[k].data)
+			goto fail;
+		memset(cap->channels[k].data, 0, n * sizeof(double));
+		if (sscope_capture_set_channel(cap, k, "", ""))
+			goto fail;
+	}
+	if (with_time) {
+		cap->time_s = ssc_alloc_array(n, sizeof(double));
+		cap->time_col.name = ssc_strdup("time");
+		cap->time_col.unit_label = ssc_strdup("s");
+		if (!cap->time_s || !cap->time_col.name ||
+		    !cap->time_col.unit_label)
+			goto fail;
+		memset(cap->time_s, 0, n * sizeof(double));
+		sscope_unit_parse("s", &cap->time_col.unit, NULL);
+		cap->time_col.quantity = SSCOPE_QTY_TIME;
+		cap->time_col.role = SSCOPE_ROLE_TIME;
+	}
+	if (with_temp) {
+		cap->temp_degc = ssc_alloc_array(n, sizeof(double));
+		cap->temp_col.name = ssc_strdup("temp");
+		cap->temp_col.unit_label = ssc_strdup("degC");
+		if (!cap->temp_degc || !cap->temp_col.name ||
+		    !cap->temp_col.unit_label)
+			goto fail;
+		memset(cap->temp_degc, 0, n * sizeof(double));
+		sscope_unit_parse("degC", &cap->temp_col.unit, NULL);
+		cap->temp_col.quantity = SSCOPE_QTY_TEMPERATURE;
+		cap->temp_col.role = SSCOPE_ROLE_TEMP;
+	}
+	return cap;
+fail:
+	sscope_capture_free(cap);
+	return NULL;
+}
+
+int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
+			       const char *name, const char *unit)
+{
+	struct sscope_column c = { 0 };
+	int rc;
+
+	if (!cap || k >= cap->n_channels || !name || !unit)
+		return -EINVAL;
+	rc = sscope_unit_parse(unit, &c.unit, NULL);
+	if (rc)
+		return rc;
+	c.name = name;
+	c.unit_label = unit;
+	c.quantity = *unit ? sscope_unit_quantity(&c.unit) : SSCOPE_QTY_UNKNOWN;
+	c.role = SSCOPE_ROLE_DATA;
+	c.index = k;
+	free_column(&cap->channels[k].col);
+	return copy_column(&cap->channels[k].col, &c);
+}
+
+long sscope_capture_find(const struct sscope_capture *cap, const char *name)
+{
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (!strcmp(cap->channels[k].col.name, name))
+			return (long)k;
+	return -1;
+}

@@ -1,0 +1,144 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * The command-line front end: shared option parsing, loading of inputs,
+ * output sinks (atomic files, stdout), messages and exit codes.  The
+ * library computes; this layer presents.
+ */
+#ifndef SSCOPE_CLI_H
+#define SSCOPE_CLI_H
+
+#include "config.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdbool.h>
+#include <stdio.h>
+
+#include <jansson.h>
+
+#include "sensorscope.h"
+
+/* Exit codes (documented in --help, the README and the man page). */
+enum {
+	SSC_EXIT_OK = 0,    /* success */
+	SSC_EXIT_FAIL = 1,  /* runtime or data error */
+	SSC_EXIT_USAGE = 2, /* usage error, or feature not built */
+};
+
+enum ssc_format { SSC_FMT_TEXT = 0, SSC_FMT_JSON, SSC_FMT_CSV };
+
+/* Options shared by every analysis command (CONTRACT.md). */
+struct ssc_common {
+	const char *cmd;       /* command name for messages */
+	const char *columns;   /* -c */
+	double rate_hz;        /* -r, 0 when not given */
+	const char *units;     /* -u */
+	enum ssc_format format;
+	const char *output;    /* -o, NULL for stdout */
+	const char *plot;      /* --plot PATH.png */
+	int progress;          /* -1 auto (terminal), 0 off, 1 on */
+	bool quiet;
+	const char *raw;       /* --raw TYPE:CH[:le|be] */
+	double scale;          /* --scale */
+	double offset;         /* --offset */
+	bool allow_nan;        /* --allow-nan */
+	const char *time_column;
+	const char *temp_column;
+};
+
+/* A command-specific option: getopt_long entry plus help text. */
+struct ssc_option {
+	const char *name;  /* long name */
+	int has_arg;       /* no_argument / required_argument */
+	int key;           /* value passed to the handler (>= 256 or a short
+			      option character) */
+	const char *arg;   /* argument name for help, e.g. "HZ" */
+	const char *help;  /* one line */
+};
+
+/* Description of a command for parsing and --help. */
+struct ssc_command_spec {
+	const char *name;     /* "allan" */
+	const char *usage;    /* "allan [OPTIONS] FILE..." */
+	const char *summary;  /* one paragraph */
+	const struct ssc_option *options; /* NULL-name terminated, or NULL */
+	bool analysis;        /* accepts the shared analysis options */
+	bool output_opts;     /* accepts --format/-o (non-analysis commands) */
+	const char *notes;    /* extra help text after the options, or NULL */
+};
+
+/*
+ * Parse argv for a command.  Shared options go into *co; others are passed
+ * to handler(key, optarg, ctx), which returns 0 or SSC_EXIT_USAGE (after
+ * printing a message with ssc_usage_error).  On return *first is the index
+ * of the first operand.
+ * Returns SSC_EXIT_OK, SSC_EXIT_USAGE, or -1 when --help was printed
+ * (the caller exits 0).
+ */
+int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
+	      struct ssc_common *co,
+	      int (*handler)(int key, const char *arg, void *ctx), void *ctx,
+	      int *first);
+
+/* Print "sensorscope: CMD: message" to stderr. */
+void ssc_err(const char *cmd, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* Print "sensorscope: CMD: warning: message" unless quiet. */
+void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* A usage error: message plus a hint to --help; returns SSC_EXIT_USAGE. */
+int ssc_usage_error(const char *cmd, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* Map a library error to an exit code, printing "what: detail". */
+int ssc_fail(const char *cmd, int rc, const struct sscope_diag *d,
+	     const char *what);
+
+/* Number parsing for option arguments: whole string, finite. */
+int ssc_arg_double(const char *cmd, const char *opt, const char *arg,
+		   double *out);
+int ssc_arg_size(const char *cmd, const char *opt, const char *arg,
+		 size_t *out);
+/* A quantity with an optional unit, converted to the SI unit of @p si. */
+int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
+		     const char *si, double *out);
+
+/* Fill read options from the shared options (progress hooked up). */
+void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o);
+
+/* Load a capture with the shared options; prints errors.  Returns exit. */
+int ssc_load(const struct ssc_common *co, const char *path,
+	     struct sscope_capture **cap);
+
+/* Is progress shown? (auto: stderr is a terminal and not quiet) */
+bool ssc_progress_on(const struct ssc_common *co);
+/* Progress line on stderr: "label: 42% ..." (total 0: bytes only). */
+void ssc_progress(const struct ssc_common *co, const char *label,
+		  double done, double total);
+void ssc_progress_end(const struct ssc_common *co);
+
+/* Output sink: stdout or an atomic file (-o). */
+struct ssc_out {
+	FILE *f;
+	void *priv;
+};
+int ssc_out_open(const struct ssc_common *co, struct ssc_out *out);
+/* Commit (ok) or discard; returns the exit code to use. */
+int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok);
+
+/* JSON helpers: non-finite numbers become null. */
+json_t *ssc_jreal(double v);
+/* Dump @p root (stolen) to the command's output; returns exit code. */
+int ssc_emit_json(const struct ssc_common *co, json_t *root);
+
+/* Plots: exit 2 with a message when built without OpenCV. */
+bool ssc_plot_available(void);
+int ssc_plot_unavailable(const char *cmd);
+
+/* Text formatting of a number with @p sig significant digits (no
+ * exponent for ordinary magnitudes). */
+const char *ssc_fmt(char *buf, size_t len, double v, int sig);
+
+/* Commands */
+int ssc_cmd_info(int argc, char **argv);
+
+#endif

@@ -1,0 +1,413 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope info: the first look at a capture: channels, units and what
+ * they measure, sample rate and where it came from, time-stamp gaps and
+ * jitter, per-channel statistics in the channel's own unit, temperature
+ * range; --plot draws every channel against time.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+
+#define MAX_GAPS_LISTED 100
+
+static const struct ssc_command_spec spec = {
+	.name = "info",
+	.usage = "info [OPTIONS] FILE...",
+	.summary =
+		"Describe captures: channels, units and quantities, sample rate (and\n"
+		"whether it came from --rate or the time column), duration, time-stamp\n"
+		"gaps and jitter, per-channel mean, standard deviation, minimum and\n"
+		"maximum in the channel's unit, and the temperature range.",
+	.analysis = true,
+	.notes = "Examples:\n"
+		 "  sensorscope info samples/gyro-static.csv\n"
+		 "  sensorscope info --raw i16:6:le --scale 0.01 -u deg/s -r 100 imu.bin\n"
+		 "  sensorscope info --format json - < capture.csv",
+};
+
+struct file_info {
+	struct sscope_capture *cap;
+	struct sscope_stats *st;
+	bool have_timing;
+	struct sscope_timing tm;
+	struct sscope_gap gaps[MAX_GAPS_LISTED];
+	size_t n_gaps;
+	struct sscope_stats temp;
+	bool have_temp;
+};
+
+static double to_unit(const struct sscope_column *c, double si)
+{
+	return sscope_unit_from_si(&c->unit, si);
+}
+
+/* sd and spreads are differences: no offset */
+static double to_unit_diff(const struct sscope_column *c, double si)
+{
+	return si / c->unit.scale;
+}
+
+static int analyse(const struct ssc_common *co, const char *path,
+		   struct file_info *fi)
+{
+	struct sscope_capture *cap;
+	int rc = ssc_load(co, path, &fi->cap);
+
+	if (rc)
+		return rc;
+	cap = fi->cap;
+	fi->st = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->st));
+	if (!fi->st) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (sscope_stats_compute(cap->channels[k].data, 1, cap->n,
+					 &fi->st[k]) == -EDOM)
+			ssc_warn(co, "%s: channel %s holds no finite sample",
+				 path, cap->channels[k].col.name);
+	if (cap->time_s && cap->n >= 2) {
+		double *scratch = malloc((cap->n - 1) * sizeof(double));
+
+		if (!scratch) {
+			ssc_err(co->cmd, "out of memory");
+			return SSC_EXIT_FAIL;
+		}
+		fi->have_timing = sscope_timing_analyze(cap->time_s, cap->n, 1.5,
+							&fi->tm, fi->gaps,
+							MAX_GAPS_LISTED,
+							&fi->n_gaps, scratch) == 0;
+		free(scratch);
+		if (fi->have_timing && fi->tm.n_backwards)
+			ssc_warn(co, "%s: time goes backwards or repeats %zu times",
+				 path, fi->tm.n_backwards);
+	}
+	if (cap->temp_degc)
+		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
+						     &fi->temp) == 0;
+	return SSC_EXIT_OK;
+}
+
+static double duration(const struct sscope_capture *cap)
+{
+	if (cap->rate_hz > 0)
+		return (double)cap->n / cap->rate_hz;
+	return NAN;
+}
+
+static const char *rate_source(const struct sscope_capture *cap)
+{
+	switch (cap->rate_source) {
+	case SSCOPE_RATE_GIVEN:
+		return "given";
+	case SSCOPE_RATE_TIME_COLUMN:
+		return "time column";
+	case SSCOPE_RATE_HEADER:
+		return "header";
+	default:
+		return "unknown";
+	}
+}
+
+static void text_file(FILE *f, const char *path, const struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+	char a[32], b[32], c[32], d[32];
+	size_t wn = 7, wu = 4, wq = 8;
+
+	fprintf(f, "%s\n", strcmp(path, "-") ? path : "(stdin)");
+	fprintf(f, "  rows:        %zu\n", cap->n);
+	if (cap->rate_hz > 0)
+		fprintf(f, "  rate:        %s Hz (%s)\n",
+			ssc_fmt(a, sizeof(a), cap->rate_hz, 8), rate_source(cap));
+	else
+		fprintf(f, "  rate:        unknown (no time column; give --rate)\n");
+	if (cap->rate_hz > 0)
+		fprintf(f, "  duration:    %s s\n",
+			ssc_fmt(a, sizeof(a), duration(cap), 6));
+	if (fi->have_timing) {
+		fprintf(f, "  time column: %s [%s], interval median %s s, min %s s, max %s s, jitter %s s rms\n",
+			cap->time_col.name, cap->time_col.unit_label[0] ?
+			cap->time_col.unit_label : "s",
+			ssc_fmt(a, sizeof(a), fi->tm.dt_median_s, 6),
+			ssc_fmt(b, sizeof(b), fi->tm.dt_min_s, 6),
+			ssc_fmt(c, sizeof(c), fi->tm.dt_max_s, 6),
+			ssc_fmt(d, sizeof(d), fi->tm.jitter_rms_s, 3));
+		if (fi->tm.n_gaps == 0) {
+			fprintf(f, "  gaps:        none\n");
+		} else {
+			fprintf(f, "  gaps:        %zu (about %zu samples missing)\n",
+				fi->tm.n_gaps, fi->tm.n_missing);
+			for (size_t i = 0; i < fi->n_gaps && i < 10; i++)
+				fprintf(f, "               at t = %s s (row %zu): %s s, ~%zu missing\n",
+					ssc_fmt(a, sizeof(a), fi->gaps[i].t_s, 8),
+					fi->gaps[i].index + 1,
+					ssc_fmt(b, sizeof(b), fi->gaps[i].length_s, 6),
+					fi->gaps[i].missing);
+			if (fi->tm.n_gaps > 10)
+				fprintf(f, "               ... (--format json lists up to %d)\n",
+					MAX_GAPS_LISTED);
+		}
+	}
+	if (cap->n_nan)
+		fprintf(f, "  NaN cells:   %zu (read as gaps)\n", cap->n_nan);
+	if (fi->have_temp)
+		fprintf(f, "  temperature: %s .. %s degC, mean %s (column '%s')\n",
+			ssc_fmt(a, sizeof(a), fi->temp.min, 5),
+			ssc_fmt(b, sizeof(b), fi->temp.max, 5),
+			ssc_fmt(c, sizeof(c), fi->temp.mean, 5),
+			cap->temp_col.name);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_column *col = &cap->channels[k].col;
+		size_t l = strlen(col->name);
+
+		if (l > wn)
+			wn = l;
+		l = strlen(col->unit_label);
+		if (l > wu)
+			wu = l;
+		l = strlen(sscope_quantity_name(col->quantity));
+		if (l > wq)
+			wq = l;
+	}
+	fprintf(f, "\n  %-*s  %-*s  %-*s  %13s  %13s  %13s  %13s\n", (int)wn,
+		"channel", (int)wu, "unit", (int)wq, "quantity", "mean", "sd",
+		"min", "max");
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_stats *s = &fi->st[k];
+
+		fprintf(f, "  %-*s  %-*s  %-*s  %13s  %13s  %13s  %13s\n", (int)wn,
+			col->name, (int)wu, col->unit_label[0] ? col->unit_label : "-",
+			(int)wq, sscope_quantity_name(col->quantity),
+			ssc_fmt(a, sizeof(a), s->n ? to_unit(col, s->mean) : (double)NAN, 7),
+			ssc_fmt(b, sizeof(b), s->n ? to_unit_diff(col, s->sd) : (double)NAN, 5),
+			ssc_fmt(c, sizeof(c), s->n ? to_unit(col, s->min) : (double)NAN, 7),
+			ssc_fmt(d, sizeof(d), s->n ? to_unit(col, s->max) : (double)NAN, 7));
+	}
+}
+
+static json_t *json_file(const char *path, const struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+	json_t *o = json_object(), *chs = json_array(), *gaps = json_array();
+
+	json_object_set_new(o, "command", json_string("info"));
+	json_object_set_new(o, "file", json_string(path));
+	json_object_set_new(o, "rows", json_integer((json_int_t)cap->n));
+	json_object_set_new(o, "rate_hz", cap->rate_hz > 0 ? json_real(cap->rate_hz) :
+				     json_null());
+	json_object_set_new(o, "rate_source", json_string(rate_source(cap)));
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_stats *s = &fi->st[k];
+		json_t *c = json_object();
+
+		json_object_set_new(c, "name", json_string(col->name));
+		json_object_set_new(c, "unit", json_string(col->unit_label));
+		json_object_set_new(c, "quantity",
+				    json_string(sscope_quantity_name(col->quantity)));
+		json_object_set_new(c, "column", json_integer((json_int_t)col->index + 1));
+		json_object_set_new(c, "rate_hz", cap->rate_hz > 0 ?
+					  json_real(cap->rate_hz) : json_null());
+		json_object_set_new(c, "samples", json_integer((json_int_t)s->n));
+		json_object_set_new(c, "nan", json_integer((json_int_t)s->n_nan));
+		json_object_set_new(c, "duration_s", ssc_jreal(duration(cap)));
+		json_object_set_new(c, "mean", s->n ? ssc_jreal(to_unit(col, s->mean)) : json_null());
+		json_object_set_new(c, "sd", s->n ? ssc_jreal(to_unit_diff(col, s->sd)) : json_null());
+		json_object_set_new(c, "min", s->n ? ssc_jreal(to_unit(col, s->min)) : json_null());
+		json_object_set_new(c, "max", s->n ? ssc_jreal(to_unit(col, s->max)) : json_null());
+		json_array_append_new(chs, c);
+	}
+	json_object_set_new(o, "channels", chs);
+	for (size_t i = 0; i < fi->n_gaps; i++) {
+		json_t *g = json_object();
+
+		json_object_set_new(g, "row", json_integer((json_int_t)fi->gaps[i].index + 1));
+		json_object_set_new(g, "t_s", json_real(fi->gaps[i].t_s));
+		json_object_set_new(g, "length_s", json_real(fi->gaps[i].length_s));
+		json_object_set_new(g, "missing", json_integer((json_int_t)fi->gaps[i].missing));
+		json_array_append_new(gaps, g);
+	}
+	json_object_set_new(o, "gaps", gaps);
+	if (fi->have_timing) {
+		json_t *t = json_object();
+
+		json_object_set_new(t, "column", json_string(cap->time_col.name));
+		json_object_set_new(t, "interval_median_s", json_real(fi->tm.dt_median_s));
+		json_object_set_new(t, "interval_min_s", json_real(fi->tm.dt_min_s));
+		json_object_set_new(t, "interval_max_s", json_real(fi->tm.dt_max_s));
+		json_object_set_new(t, "jitter_rms_s", json_real(fi->tm.jitter_rms_s));
+		json_object_set_new(t, "gaps", json_integer((json_int_t)fi->tm.n_gaps));
+		json_object_set_new(t, "missing", json_integer((json_int_t)fi->tm.n_missing));
+		json_object_set_new(t, "backwards", json_integer((json_int_t)fi->tm.n_backwards));
+		json_object_set_new(o, "timing", t);
+	} else {
+		json_object_set_new(o, "timing", json_null());
+	}
+	if (fi->have_temp) {
+		json_t *t = json_object();
+
+		json_object_set_new(t, "name", json_string(cap->temp_col.name));
+		json_object_set_new(t, "unit", json_string("degC"));
+		json_object_set_new(t, "min", json_real(fi->temp.min));
+		json_object_set_new(t, "max", json_real(fi->temp.max));
+		json_object_set_new(t, "mean", json_real(fi->temp.mean));
+		json_object_set_new(o, "temperature", t);
+	} else {
+		json_object_set_new(o, "temperature", json_null());
+	}
+	return o;
+}
+
+static void csv_file(FILE *f, const char *path, const struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_stats *s = &fi->st[k];
+
+		fprintf(f, "%s,%s,%s,%s,%.15g,%zu,%zu,%.15g,%.15g,%.15g,%.15g,%.15g\n",
+			path, col->name, col->unit_label,
+			sscope_quantity_name(col->quantity), cap->rate_hz, s->n,
+			s->n_nan, duration(cap), to_unit(col, s->mean),
+			to_unit_diff(col, s->sd), to_unit(col, s->min),
+			to_unit(col, s->max));
+	}
+}
+
+static int plot(const struct ssc_common *co, const char *path,
+		const struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
+	int rows = (int)nch + (cap->temp_degc ? 1 : 0), rc;
+	struct ssc_fig *fig;
+	double *t = malloc(cap->n * sizeof(double)), *y = malloc(cap->n * sizeof(double));
+	char buf[256];
+
+	if (!t || !y || rows == 0) {
+		free(t);
+		free(y);
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < cap->n; i++)
+		t[i] = cap->time_s ? cap->time_s[i] :
+		       cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
+	fig = ssc_fig_new(1100, 220 + 200 * rows, rows, 1);
+	snprintf(buf, sizeof(buf), "%s", path);
+	ssc_fig_title(fig, buf);
+	for (size_t k = 0; k < nch; k++) {
+		const struct sscope_column *col = &cap->channels[k].col;
+		struct ssc_ax *ax = ssc_fig_ax(fig, (int)k, 0);
+		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1 };
+
+		for (size_t i = 0; i < cap->n; i++)
+			y[i] = to_unit(col, cap->channels[k].data[i]);
+		ssc_ax_line(ax, t, y, cap->n, &st, NULL);
+		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
+			 col->unit_label[0] ? col->unit_label : "no unit");
+		ssc_ax_ylabel(ax, buf);
+		if ((int)k == rows - 1)
+			ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ?
+					  "time (s)" : "sample");
+	}
+	if (cap->temp_degc) {
+		struct ssc_ax *ax = ssc_fig_ax(fig, rows - 1, 0);
+		struct ssc_style st = { .color = 0xd62728, .width = 1.5 };
+
+		ssc_ax_line(ax, t, cap->temp_degc, cap->n, &st, NULL);
+		ssc_ax_ylabel(ax, "temperature (\xc2\xb0" "C)");
+		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
+								    "sample");
+	}
+	rc = ssc_fig_save_png(fig, co->plot);
+	ssc_fig_free(fig);
+	free(t);
+	free(y);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+static void free_info(struct file_info *fi)
+{
+	sscope_capture_free(fi->cap);
+	free(fi->st);
+}
+
+int ssc_cmd_info(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct file_info *fi;
+	struct ssc_out out;
+	int first, rc, nfiles;
+	json_t *root = NULL;
+
+	rc = ssc_parse(&spec, argc, argv, &co, NULL, NULL, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	nfiles = argc - first;
+	if (nfiles < 1)
+		return ssc_usage_error(co.cmd, "no input file");
+	if (co.plot && nfiles > 1)
+		return ssc_usage_error(co.cmd, "--plot takes one input file");
+	fi = calloc((size_t)nfiles, sizeof(*fi));
+	if (!fi)
+		return SSC_EXIT_FAIL;
+	for (int i = 0; i < nfiles; i++) {
+		rc = analyse(&co, argv[first + i], &fi[i]);
+		if (rc)
+			goto done;
+	}
+	if (co.plot) {
+		rc = plot(&co, argv[first], &fi[0]);
+		if (rc)
+			goto done;
+	}
+	if (co.format == SSC_FMT_JSON) {
+		if (nfiles == 1) {
+			root = json_file(argv[first], &fi[0]);
+		} else {
+			json_t *files = json_array();
+
+			root = json_object();
+			json_object_set_new(root, "command", json_string("info"));
+			for (int i = 0; i < nfiles; i++)
+				json_array_append_new(files,
+						      json_file(argv[first + i], &fi[i]));
+			json_object_set_new(root, "files", files);
+		}
+		rc = ssc_emit_json(&co, root);
+		goto done;
+	}
+	rc = ssc_out_open(&co, &out);
+	if (rc)
+		goto done;
+	if (co.format == SSC_FMT_CSV)
+		fprintf(out.f, "file,channel,unit,quantity,rate_hz,samples,nan,duration_s,mean,sd,min,max\n");
+	for (int i = 0; i < nfiles; i++) {
+		if (co.format == SSC_FMT_CSV) {
+			csv_file(out.f, argv[first + i], &fi[i]);
+		} else {
+			if (i)
+				fputc('\n', out.f);
+			text_file(out.f, argv[first + i], &fi[i]);
+		}
+	}
+	rc = ssc_out_close(&co, &out, !ferror(out.f));
+done:
+	for (int i = 0; i < nfiles; i++)
+		free_info(&fi[i]);
+	free(fi);
+	return rc;
+}

@@ -1,0 +1,597 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Shared CLI machinery: option parsing with getopt_long over the shared
+ * options plus a command's own, --help generation, input loading, output
+ * sinks, progress and messages.
+ */
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "atomic.h"
+
+enum {
+	OPT_FORMAT = 1000,
+	OPT_PLOT,
+	OPT_PROGRESS,
+	OPT_NO_PROGRESS,
+	OPT_RAW,
+	OPT_SCALE,
+	OPT_OFFSET,
+	OPT_ALLOW_NAN,
+	OPT_TIME_COLUMN,
+	OPT_TEMP_COLUMN,
+	OPT_HELP,
+};
+
+static const struct ssc_option analysis_opts[] = {
+	{ "column", required_argument, 'c', "NAME|INDEX[,...]",
+	  "channels to analyse (default: every data column that is not time or temperature; INDEX is 1-based)" },
+	{ "rate", required_argument, 'r', "HZ",
+	  "sample rate; otherwise derived from the time column" },
+	{ "units", required_argument, 'u', "UNIT",
+	  "unit of data columns whose header names none (e.g. deg/s, g, V)" },
+	{ "raw", required_argument, OPT_RAW, "TYPE:CH[:le|be]",
+	  "raw binary input: TYPE i16 u16 i24 i32 u32 f32 f64, CH channels" },
+	{ "scale", required_argument, OPT_SCALE, "K",
+	  "raw input: physical = (raw + offset) * K" },
+	{ "offset", required_argument, OPT_OFFSET, "C",
+	  "raw input: offset added before scaling" },
+	{ "allow-nan", no_argument, OPT_ALLOW_NAN, NULL,
+	  "read NaN and empty cells as gaps instead of refusing them" },
+	{ "time-column", required_argument, OPT_TIME_COLUMN, "NAME",
+	  "the time column (default: a column named t, time or timestamp)" },
+	{ "temp-column", required_argument, OPT_TEMP_COLUMN, "NAME",
+	  "the temperature column (default: temp or temperature)" },
+	{ "plot", required_argument, OPT_PLOT, "PATH.png",
+	  "draw the command's figure (needs OpenCV)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_option output_opts[] = {
+	{ "format", required_argument, OPT_FORMAT, "text|json|csv",
+	  "output format (default text)" },
+	{ "output", required_argument, 'o', "PATH",
+	  "write the result there, atomically (default stdout)" },
+	{ "quiet", no_argument, 'q', NULL, "no warnings, no progress" },
+	{ "progress", no_argument, OPT_PROGRESS, NULL,
+	  "show progress on stderr" },
+	{ "no-progress", no_argument, OPT_NO_PROGRESS, NULL,
+	  "never show progress (default: only when stderr is a terminal)" },
+	{ "help", no_argument, OPT_HELP, NULL, "show this help" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+void ssc_err(const char *cmd, const char *fmt, ...)
+{
+	va_list ap;
+
+	fprintf(stderr, "sensorscope: %s%s", cmd ? cmd : "", cmd ? ": " : "");
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (co->quiet)
+		return;
+	fprintf(stderr, "sensorscope: %s: warning: ", co->cmd);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+int ssc_usage_error(const char *cmd, const char *fmt, ...)
+{
+	va_list ap;
+
+	fprintf(stderr, "sensorscope: %s: ", cmd);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fprintf(stderr, " (see 'sensorscope %s --help')\n", cmd);
+	return SSC_EXIT_USAGE;
+}
+
+int ssc_fail(const char *cmd, int rc, const struct sscope_diag *d,
+	     const char *what)
+{
+	if (rc == -ENOTSUP) {
+		ssc_err(cmd, "%s: %s", what, d && d->msg[0] ? d->msg :
+			"feature not built into this sensorscope");
+		return SSC_EXIT_USAGE;
+	}
+	if (d && d->msg[0])
+		ssc_err(cmd, "%s", d->msg);
+	else
+		ssc_err(cmd, "%s: %s", what, sscope_strerror(rc));
+	return SSC_EXIT_FAIL;
+}
+
+int ssc_arg_double(const char *cmd, const char *opt, const char *arg,
+		   double *out)
+{
+	double v;
+	size_t n = sscope_parse_double(arg, arg + strlen(arg), &v);
+
+	if (!*arg || n != strlen(arg) || !isfinite(v))
+		return ssc_usage_error(cmd, "--%s: '%s' is not a number", opt,
+				       arg);
+	*out = v;
+	return 0;
+}
+
+int ssc_arg_size(const char *cmd, const char *opt, const char *arg,
+		 size_t *out)
+{
+	char *end;
+	unsigned long long v;
+
+	errno = 0;
+	if (*arg == '-' || !*arg)
+		goto bad;
+	v = strtoull(arg, &end, 10);
+	if (*end || errno || v > SIZE_MAX)
+		goto bad;
+	*out = (size_t)v;
+	return 0;
+bad:
+	return ssc_usage_error(cmd, "--%s: '%s' is not a non-negative integer",
+			       opt, arg);
+}
+
+int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
+		     const char *si, double *out)
+{
+	struct sscope_unit u, target;
+	struct sscope_diag d = { "" };
+	double v;
+
+	if (sscope_quantity_parse(arg, &v, &u, &d))
+		return ssc_usage_error(cmd, "--%s: %s", opt, d.msg);
+	sscope_unit_parse(si, &target, NULL);
+	if (sscope_unit_quantity(&u) != SSCOPE_QTY_DIMENSIONLESS &&
+	    !sscope_unit_compatible(&u, &target))
+		return ssc_usage_error(cmd, "--%s: '%s' is not in units of %s",
+				       opt, arg, si);
+	if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+	    u.scale == 1)
+		v = sscope_unit_to_si(&target, v); /* bare number: SI */
+	*out = v;
+	return 0;
+}
+
+/* index of --help in output_opts: commands without output options get only
+ * that one */
+#define OUT_HELP_ONLY 5
+
+static void print_opts(const struct ssc_option *o)
+{
+	for (; o && o->name; o++) {
+		char left[64];
+		int n;
+
+		if (o->key > 0 && o->key < 128)
+			n = snprintf(left, sizeof(left), "-%c, --%s", o->key,
+				     o->name);
+		else
+			n = snprintf(left, sizeof(left), "    --%s", o->name);
+		if (o->arg && n > 0 && (size_t)n < sizeof(left))
+			snprintf(left + n, sizeof(left) - (size_t)n, " %s",
+				 o->arg);
+		if (strlen(left) > 28)
+			printf("  %s\n  %-28s %s\n", left, "", o->help);
+		else
+			printf("  %-28s %s\n", left, o->help);
+	}
+}
+
+static void print_help(const struct ssc_command_spec *spec)
+{
+	printf("Usage: sensorscope %s\n\n%s\n", spec->usage, spec->summary);
+	if (spec->options && spec->options->name) {
+		printf("\nOptions:\n");
+		print_opts(spec->options);
+	}
+	if (spec->analysis) {
+		printf("\nInput options:\n");
+		print_opts(analysis_opts);
+	}
+	printf("\nOutput options:\n");
+	if (spec->analysis || spec->output_opts)
+		print_opts(output_opts);
+	else
+		print_opts(output_opts + OUT_HELP_ONLY); /* --help only */
+	if (spec->notes)
+		printf("\n%s\n", spec->notes);
+	printf("\nExit status: 0 success, 1 runtime or data error, 2 usage error or feature not built.\n");
+}
+
+static size_t count_opts(const struct ssc_option *o)
+{
+	size_t n = 0;
+
+	while (o && o[n].name)
+		n++;
+	return n;
+}
+
+static void add_opts(struct option *lo, size_t *nl, char *so, size_t *ns,
+		     const struct ssc_option *o)
+{
+	for (; o && o->name; o++) {
+		lo[*nl].name = o->name;
+		lo[*nl].has_arg = o->has_arg;
+		lo[*nl].flag = NULL;
+		lo[*nl].val = o->key;
+		(*nl)++;
+		if (o->key > 0 && o->key < 128) {
+			so[(*ns)++] = (char)o->key;
+			if (o->has_arg == required_argument)
+				so[(*ns)++] = ':';
+		}
+	}
+}
+
+int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
+	      struct ssc_common *co,
+	      int (*handler)(int key, const char *arg, void *ctx), void *ctx,
+	      int *first)
+{
+	size_t n = count_opts(spec->options) + count_opts(analysis_opts) +
+		   count_opts(output_opts) + 1;
+	struct option *lo = calloc(n, sizeof(*lo));
+	char *so = calloc(3 * n + 2, 1);
+	size_t nl = 0, ns = 0;
+	int c, rc = SSC_EXIT_OK;
+
+	memset(co, 0, sizeof(*co));
+	co->cmd = spec->name;
+	co->progress = -1;
+	co->scale = 1;
+	if (!lo || !so) {
+		free(lo);
+		free(so);
+		ssc_err(spec->name, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	add_opts(lo, &nl, so, &ns, spec->options);
+	if (spec->analysis)
+		add_opts(lo, &nl, so, &ns, analysis_opts);
+	if (spec->analysis || spec->output_opts)
+		add_opts(lo, &nl, so, &ns, output_opts);
+	else
+		add_opts(lo, &nl, so, &ns, output_opts + OUT_HELP_ONLY);
+	optind = 1;
+	opterr = 0;
+	while ((c = getopt_long(argc, argv, so, lo, NULL)) != -1) {
+		switch (c) {
+		case OPT_HELP:
+			print_help(spec);
+			rc = -1;
+			goto out;
+		case '?':
+			if (optopt && optopt < 128 && optopt > 0)
+				rc = ssc_usage_error(spec->name,
+						     "unknown option or missing argument: -%c",
+						     optopt);
+			else
+				rc = ssc_usage_error(spec->name,
+						     "unknown option or missing argument: %s",
+						     argv[optind - 1]);
+			goto out;
+		case 'c':
+			if (!spec->analysis)
+				goto own;
+			co->columns = optarg;
+			break;
+		case 'r':
+			if (!spec->analysis)
+				goto own;
+			rc = ssc_arg_double(co->cmd, "rate", optarg, &co->rate_hz);
+			if (!rc && !(co->rate_hz > 0))
+				rc = ssc_usage_error(co->cmd,
+						     "--rate: must be positive");
+			if (rc)
+				goto out;
+			break;
+		case 'u':
+			if (!spec->analysis)
+				goto own;
+			co->units = optarg;
+			break;
+		case 'o':
+			if (!spec->analysis && !spec->output_opts)
+				goto own;
+			co->output = optarg;
+			break;
+		case 'q':
+			if (!spec->analysis && !spec->output_opts)
+				goto own;
+			co->quiet = true;
+			co->progress = 0;
+			break;
+		case OPT_FORMAT:
+			if (!strcmp(optarg, "text"))
+				co->format = SSC_FMT_TEXT;
+			else if (!strcmp(optarg, "json"))
+				co->format = SSC_FMT_JSON;
+			else if (!strcmp(optarg, "csv"))
+				co->format = SSC_FMT_CSV;
+			else {
+				rc = ssc_usage_error(co->cmd,
+						     "--format: '%s' is not text, json or csv",
+						     optarg);
+				goto out;
+			}
+			break;
+		case OPT_PLOT:
+			co->plot = optarg;
+			break;
+		case OPT_PROGRESS:
+			co->progress = 1;
+			break;
+		case OPT_NO_PROGRESS:
+			co->progress = 0;
+			break;
+		case OPT_RAW:
+			co->raw = optarg;
+			break;
+		case OPT_SCALE:
+			rc = ssc_arg_double(co->cmd, "scale", optarg, &co->scale);
+			if (!rc && co->scale == 0)
+				rc = ssc_usage_error(co->cmd, "--scale: must not be 0");
+			if (rc)
+				goto out;
+			break;
+		case OPT_OFFSET:
+			rc = ssc_arg_double(co->cmd, "offset", optarg, &co->offset);
+			if (rc)
+				goto out;
+			break;
+		case OPT_ALLOW_NAN:
+			co->allow_nan = true;
+			break;
+		case OPT_TIME_COLUMN:
+			co->time_column = optarg;
+			break;
+		case OPT_TEMP_COLUMN:
+			co->temp_column = optarg;
+			break;
+		default:
+		own:
+			if (!handler) {
+				rc = ssc_usage_error(spec->name, "unexpected option");
+				goto out;
+			}
+			rc = handler(c, optarg, ctx);
+			if (rc)
+				goto out;
+			break;
+		}
+	}
+	if (co->plot && !ssc_plot_available()) {
+		rc = ssc_plot_unavailable(co->cmd);
+		goto out;
+	}
+	if (co->plot) {
+		size_t l = strlen(co->plot);
+
+		if (l < 5 || strcmp(co->plot + l - 4, ".png")) {
+			rc = ssc_usage_error(co->cmd,
+					     "--plot: '%s' must end in .png",
+					     co->plot);
+			goto out;
+		}
+	}
+	*first = optind;
+out:
+	free(lo);
+	free(so);
+	return rc;
+}
+
+bool ssc_progress_on(const struct ssc_common *co)
+{
+	if (co->quiet || co->progress == 0)
+		return false;
+	if (co->progress == 1)
+		return true;
+	return isatty(STDERR_FILENO);
+}
+
+void ssc_progress(const struct ssc_common *co, const char *label, double done,
+		  double total)
+{
+	if (!ssc_progress_on(co))
+		return;
+	if (total > 0)
+		fprintf(stderr, "\r%s: %3.0f%% (%.1f of %.1f MB)   ", label,
+			100 * done / total, done / 1e6, total / 1e6);
+	else
+		fprintf(stderr, "\r%s: %.1f MB   ", label, done / 1e6);
+	fflush(stderr);
+}
+
+void ssc_progress_end(const struct ssc_common *co)
+{
+	if (ssc_progress_on(co)) {
+		fprintf(stderr, "\r%60s\r", "");
+		fflush(stderr);
+	}
+}
+
+struct progress_ctx {
+	const struct ssc_common *co;
+	const char *label;
+};
+
+static void read_progress(void *ctx, uint64_t done, uint64_t total)
+{
+	struct progress_ctx *p = ctx;
+
+	ssc_progress(p->co, p->label, (double)done, (double)total);
+}
+
+void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o)
+{
+	memset(o, 0, sizeof(*o));
+	o->raw = co->raw;
+	o->raw_scale = co->scale;
+	o->raw_offset = co->offset;
+	o->default_unit = co->units;
+	o->columns = co->columns;
+	o->time_column = co->time_column;
+	o->temp_column = co->temp_column;
+	o->rate_hz = co->rate_hz;
+	o->nan_as_gap = co->allow_nan;
+}
+
+int ssc_load(const struct ssc_common *co, const char *path,
+	     struct sscope_capture **cap)
+{
+	struct sscope_read_opts o;
+	struct sscope_diag d = { "" };
+	struct progress_ctx pc = { co, path };
+	int rc;
+
+	ssc_read_opts(co, &o);
+	if (ssc_progress_on(co)) {
+		o.progress = read_progress;
+		o.progress_ctx = &pc;
+	}
+	rc = sscope_capture_load(cap, path, &o, &d);
+	ssc_progress_end(co);
+	if (rc) {
+		if (rc == -EINVAL && co->raw && !d.msg[0])
+			return ssc_usage_error(co->cmd, "bad --raw '%s'", co->raw);
+		return ssc_fail(co->cmd, rc, &d, path);
+	}
+	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->time_s &&
+	    (*cap)->n > 2) {
+		double span = (*cap)->time_s[(*cap)->n - 1] - (*cap)->time_s[0];
+		double implied = (double)((*cap)->n - 1) / span;
+
+		if (span > 0 && fabs(implied / co->rate_hz - 1) > 0.01)
+			ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
+				 path, co->rate_hz, implied);
+	}
+	return SSC_EXIT_OK;
+}
+
+int ssc_out_open(const struct ssc_common *co, struct ssc_out *out)
+{
+	struct ssc_atomic *a = calloc(1, sizeof(*a));
+	int rc;
+
+	out->f = NULL;
+	out->priv = a;
+	if (!a) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = ssc_atomic_open(a, co->output ? co->output : "-");
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", co->output, strerror(-rc));
+		free(a);
+		out->priv = NULL;
+		return SSC_EXIT_FAIL;
+	}
+	out->f = a->f;
+	return SSC_EXIT_OK;
+}
+
+int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok)
+{
+	struct ssc_atomic *a = out->priv;
+	int rc = SSC_EXIT_OK;
+
+	if (!a)
+		return ok ? SSC_EXIT_OK : SSC_EXIT_FAIL;
+	if (ok) {
+		int e = ssc_atomic_commit(a);
+
+		if (e) {
+			ssc_err(co->cmd, "%s: %s",
+				co->output ? co->output : "(stdout)",
+				strerror(-e));
+			ssc_atomic_abort(a);
+			rc = SSC_EXIT_FAIL;
+		}
+	} else {
+		ssc_atomic_abort(a);
+		rc = SSC_EXIT_FAIL;
+	}
+	free(a);
+	out->priv = NULL;
+	out->f = NULL;
+	return rc;
+}
+
+json_t *ssc_jreal(double v)
+{
+	return isfinite(v) ? json_real(v) : json_null();
+}
+
+int ssc_emit_json(const struct ssc_common *co, json_t *root)
+{
+	struct ssc_out out;
+	int rc;
+	bool ok;
+
+	if (!root) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = ssc_out_open(co, &out);
+	if (rc) {
+		json_decref(root);
+		return rc;
+	}
+	ok = json_dumpf(root, out.f, JSON_REAL_PRECISION(15) | JSON_COMPACT) == 0;
+	if (ok)
+		fputc('\n', out.f);
+	json_decref(root);
+	return ssc_out_close(co, &out, ok);
+}
+
+const char *ssc_fmt(char *buf, size_t len, double v, int sig)
+{
+	double a = fabs(v);
+
+	if (!isfinite(v))
+		snprintf(buf, len, "%s", isnan(v) ? "nan" : v > 0 ? "inf" : "-inf");
+	else if (v == 0)
+		snprintf(buf, len, "0");
+	else if (a >= 1e-4 && a < 1e7)
+		snprintf(buf, len, "%.*g", sig, v);
+	else
+		snprintf(buf, len, "%.*e", sig - 1, v);
+	return buf;
+}
+
+bool ssc_plot_available(void)
+{
+#ifdef HAVE_OPENCV
+	return true;
+#else
+	return false;
+#endif
+}
+
+int ssc_plot_unavailable(const char *cmd)
+{
+	ssc_err(cmd, "--plot: this sensorscope was built without OpenCV; "
+		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
+	return SSC_EXIT_USAGE;
+}

@@ -1,0 +1,70 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope: command dispatch, --help and --version.
+ */
+#include "cli.h"
+
+#include <string.h>
+
+struct command {
+	const char *name;
+	const char *summary;
+	int (*run)(int argc, char **argv);
+};
+
+static const struct command commands[] = {
+	{ "info", "channels, units, rate, gaps and statistics of a capture",
+	  ssc_cmd_info },
+};
+
+#define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
+
+static void usage(FILE *f)
+{
+	fprintf(f,
+		"Usage: sensorscope [--help|--version] COMMAND [OPTIONS] [FILE...]\n"
+		"\n"
+		"Characterise inertial sensors (gyroscopes, accelerometers,\n"
+		"inclinometers) and the converters that digitise them.\n"
+		"\n"
+		"Commands:\n");
+	for (size_t i = 0; i < N_COMMANDS; i++)
+		fprintf(f, "  %-12s %s\n", commands[i].name, commands[i].summary);
+	fprintf(f,
+		"\n"
+		"'sensorscope COMMAND --help' describes a command and its options.\n"
+		"FILE '-' reads standard input.\n"
+		"Exit status: 0 success, 1 runtime or data error, 2 usage error or\n"
+		"feature not built.\n");
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		usage(stderr);
+		return SSC_EXIT_USAGE;
+	}
+	if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") ||
+	    !strcmp(argv[1], "help")) {
+		usage(stdout);
+		return SSC_EXIT_OK;
+	}
+	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
+		printf("sensorscope %s (library %s; plots: %s; acquisition: %s)\n",
+		       PACKAGE_VERSION, sscope_version(),
+		       ssc_plot_available() ? "yes" : "no",
+#ifdef HAVE_LIBGPIOD
+		       "libgpiod"
+#else
+		       "no"
+#endif
+		);
+		return SSC_EXIT_OK;
+	}
+	for (size_t i = 0; i < N_COMMANDS; i++)
+		if (!strcmp(argv[1], commands[i].name))
+			return commands[i].run(argc - 1, argv + 1);
+	ssc_err(NULL, "unknown command '%s' (see 'sensorscope --help')",
+		argv[1]);
+	return SSC_EXIT_USAGE;
+}

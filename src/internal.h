@@ -1,0 +1,89 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Internal helpers shared by the library's modules (not installed).
+ * Every .c file of the library includes this header first, so config.h
+ * precedes everything else.
+ */
+#ifndef SSCOPE_INTERNAL_H
+#define SSCOPE_INTERNAL_H
+
+#include "config.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "sensorscope.h"
+
+#if defined(__GNUC__)
+#define SSC_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#define SSC_UNUSED __attribute__((unused))
+#else
+#define SSC_PRINTF(f, a)
+#define SSC_UNUSED
+#endif
+
+/* Fill diag->msg (if diag is not NULL); returns err for tail calls. */
+int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)
+	SSC_PRINTF(3, 4);
+
+/* Overflow-checked size_t arithmetic: return false on overflow. */
+static inline bool ssc_mul(size_t a, size_t b, size_t *out)
+{
+	return !__builtin_mul_overflow(a, b, out);
+}
+
+static inline bool ssc_add(size_t a, size_t b, size_t *out)
+{
+	return !__builtin_add_overflow(a, b, out);
+}
+
+/* malloc of a * b bytes with overflow check; NULL on failure. */
+void *ssc_alloc_array(size_t count, size_t size);
+
+/* strdup that accepts NULL (returns NULL) */
+char *ssc_strdup(const char *s);
+
+/*
+ * Neumaier (improved Kahan-Babuska) compensated summation.  The running
+ * error term keeps the sum exact to about one ulp of the result whatever
+ * the order and magnitudes of the terms.
+ */
+struct ssc_ksum {
+	double s;
+	double c;
+};
+
+static inline void ssc_ksum_add(struct ssc_ksum *k, double x)
+{
+	double t = k->s + x;
+
+	if ((k->s < 0 ? -k->s : k->s) >= (x < 0 ? -x : x))
+		k->c += (k->s - t) + x;
+	else
+		k->c += (x - t) + k->s;
+	k->s = t;
+}
+
+static inline double ssc_ksum_value(const struct ssc_ksum *k)
+{
+	return k->s + k->c;
+}
+
+/* Upper bound of the rows a reader will still produce (lines left in a
+ * mapped text file, exact for binary files), 0 when unknown (a pipe).  A
+ * mapped text file is split into up to `threads` parts, counted in
+ * parallel, for ssc_reader_read_all(). */
+size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads);
+
+/* Read every remaining row into ch (capacity >= ssc_reader_max_rows()),
+ * one thread per part of a split text file; other sources sequentially. */
+int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
+			struct sscope_diag *diag);
+
+/* Case-insensitive ASCII comparison of two strings. */
+int ssc_strcasecmp(const char *a, const char *b);
+
+#endif /* SSCOPE_INTERNAL_H */

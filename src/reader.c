@@ -1,0 +1,1705 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Capture readers: delimited text (comma, tab, semicolon or whitespace, '#'
+ * comments, units in the header as "name [unit]" or "name (unit)", EuRoC's
+ * "#timestamp [ns],w_RS_S_x [rad s^-1],..."), the sensorscope binary capture
+ * (a two-line text header, then little-endian float32/float64 rows) and raw
+ * binary (--raw TYPE:CHANNELS[:le|be]).
+ *
+ * Regular files are memory-mapped; pipes are read in 4 MiB blocks into a
+ * buffer that slides over the input, so memory does not grow with the
+ * record.  Only the selected columns are converted: other cells are skipped
+ * by scanning for the delimiter.
+ */
+#include "internal.h"
+
+#include <fcntl.h>
+#include <pthread.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define BLOCK (4u << 20)
+#define BIN_MAGIC "#sensorscope-binary"
+
+enum kind { K_TEXT, K_BIN, K_RAW };
+enum rawtype { R_I16, R_U16, R_I24, R_I32, R_U32, R_F32, R_F64 };
+
+struct colx {
+	struct sscope_column c;
+	char *name;
+	char *unit_label;
+	int unit_rc;      /* result of parsing the unit (0 ok) */
+	int dest;         /* data channel number, or -1 */
+	bool is_time;
+	bool is_temp;
+	bool used;        /* converted at all */
+};
+
+struct sscope_reader {
+	char *path;
+	const char *disp; /* path for messages */
+	enum kind kind;
+	/* source */
+	int fd;
+	bool mapped;
+	const char *base; /* mapped file or buffer */
+	size_t len;       /* bytes valid in base */
+	size_t pos;       /* parse position */
+	bool eof;
+	char *buf;
+	size_t cap;
+	uint64_t size;    /* file size, 0 for pipes */
+	uint64_t consumed; /* bytes before base[0] (pipes) */
+	uint64_t last_progress;
+	size_t line;      /* 1-based number of the line at pos */
+	/* layout */
+	char delim;       /* ',', '\t', ';' or ' ' (whitespace runs) */
+	size_t ncols;
+	struct colx *cols;
+	size_t nsel;
+	size_t *sel;      /* column index of each selected channel */
+	long time_col, temp_col;
+	/* binary */
+	enum rawtype rtype;
+	size_t rsize;     /* bytes per value */
+	bool big_endian;
+	double rscale, roffset;
+	/* time origin */
+	bool have_t0;
+	int64_t t0_mant;
+	int t0_exp;
+	double t0_double;
+	double header_rate_hz;
+	/* a mapped text file split for parallel reading */
+	struct part *parts;
+	size_t np;
+	size_t split_pos;
+	const struct sscope_read_opts *opts;
+	struct sscope_read_opts opts_copy;
+};
+
+/* ------------------------------------------------------------ source */
+
+static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	struct stat st;
+
+	if (!strcmp(r->path, "-")) {
+		r->fd = STDIN_FILENO;
+	} else {
+		r->fd = open(r->path, O_RDONLY | O_CLOEXEC);
+		if (r->fd < 0)
+			return ssc_diag(diag, -errno, "%s: %s", r->disp,
+					sscope_strerror(-errno));
+	}
+	if (fstat(r->fd, &st) < 0)
+		return ssc_diag(diag, -errno, "%s: %s", r->disp,
+				sscope_strerror(-errno));
+	if (S_ISDIR(st.st_mode))
+		return ssc_diag(diag, -EISDIR, "%s: is a directory", r->disp);
+	if (S_ISREG(st.st_mode) && st.st_size > 0) {
+		void *m = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE,
+			       r->fd, 0);
+
+		if (m != MAP_FAILED) {
+			madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
+			r->mapped = true;
+			r->base = m;
+			r->len = (size_t)st.st_size;
+			r->size = (uint64_t)st.st_size;
+			r->eof = true;
+			return 0;
+		}
+	}
+	if (S_ISREG(st.st_mode))
+		r->size = (uint64_t)st.st_size;
+	r->cap = BLOCK;
+	r->buf = malloc(r->cap);
+	if (!r->buf)
+		return -ENOMEM;
+	r->base = r->buf;
+	return 0;
+}
+
+/* Make at least `want` bytes available from pos (or reach EOF). */
+static int src_fill(struct sscope_reader *r, size_t want,
+		    struct sscope_diag *diag)
+{
+	if (r->mapped || r->eof)
+		return 0;
+	if (r->pos > 0) {
+		memmove(r->buf, r->buf + r->pos, r->len - r->pos);
+		r->consumed += r->pos;
+		r->len -= r->pos;
+		r->pos = 0;
+	}
+	while (!r->eof && r->len < want) {
+		ssize_t got;
+
+		if (r->len == r->cap) {
+			size_t ncap = r->cap * 2;
+			char *nb = realloc(r->buf, ncap);
+
+			if (!nb)
+				return -ENOMEM;
+			r->buf = nb;
+			r->base = nb;
+			r->cap = ncap;
+		}
+		got = read(r->fd, r->buf + r->len, r->cap - r->len);
+		if (got < 0) {
+			if (errno == EINTR)
+				continue;
+			return ssc_diag(diag, -EIO, "%s: read error: %s",
+					r->disp, sscope_strerror(-errno));
+		}
+		if (got == 0)
+			r->eof = true;
+		r->len += (size_t)got;
+	}
+	return 0;
+}
+
+static void progress(struct sscope_reader *r)
+{
+	uint64_t done;
+
+	if (!r->opts->progress)
+		return;
+	done = r->consumed + r->pos;
+	if (done - r->last_progress >= (16u << 20) || (r->eof && r->pos == r->len)) {
+		r->last_progress = done;
+		r->opts->progress(r->opts->progress_ctx, done, r->size);
+	}
+}
+
+/* ------------------------------------------------------------ header */
+
+static bool blank(char c)
+{
+	return c == ' ' || c == '\t' || c == '\r';
+}
+
+/* Find the end of the line starting at p; returns pointer to '\n' or end. */
+static const char *line_end(const char *p, const char *end)
+{
+	const char *q = memchr(p, '\n', (size_t)(end - p));
+
+	return q ? q : end;
+}
+
+static char *dup_range(const char *a, const char *b)
+{
+	char *s;
+
+	while (a < b && blank(*a))
+		a++;
+	while (b > a && blank(b[-1]))
+		b--;
+	if (b - a >= 2 && *a == '"' && b[-1] == '"') {
+		a++;
+		b--;
+	}
+	s = malloc((size_t)(b - a) + 1);
+	if (s) {
+		memcpy(s, a, (size_t)(b - a));
+		s[b - a] = '\0';
+	}
+	return s;
+}
+
+/* Split one line into fields (used for headers and format detection). */
+static size_t split_fields(const char *p, const char *e, char delim,
+			   const char **fs, const char **fe, size_t max)
+{
+	size_t n = 0;
+
+	if (e > p && e[-1] == '\r')
+		e--;
+	if (delim == ' ') {
+		while (p < e) {
+			while (p < e && blank(*p))
+				p++;
+			if (p >= e)
+				break;
+			/* a unit in brackets belongs to the name before it */
+			if ((*p == '[' || *p == '(') && n > 0) {
+				char close = *p == '[' ? ']' : ')';
+				int depth = 0;
+
+				while (p < e) {
+					if (*p == '[' || *p == '(')
+						depth++;
+					if (*p == ']' || *p == ')')
+						depth--;
+					p++;
+					if (depth == 0 && p[-1] == close)
+						break;
+				}
+				fe[n - 1] = p;
+				continue;
+			}
+			if (n < max)
+				fs[n] = p;
+			while (p < e && !blank(*p))
+				p++;
+			if (n < max)
+				fe[n] = p;
+			n++;
+		}
+		return n;
+	}
+	for (;;) {
+		const char *q = p;
+
+		while (q < e && *q != delim)
+			q++;
+		if (n < max) {
+			fs[n] = p;
+			fe[n] = q;
+		}
+		n++;
+		if (q >= e)
+			break;
+		p = q + 1;
+	}
+	return n;
+}
+
+static bool field_is_number(const char *a, const char *b)
+{
+	double v;
+	size_t n;
+
+	while (a < b && blank(*a))
+		a++;
+	while (b > a && blank(b[-1]))
+		b--;
+	if (a == b)
+		return true; /* empty cell: a gap, not a name */
+	n = sscope_parse_double(a, b, &v);
+	return n == (size_t)(b - a);
+}
+
+static char detect_delim(const char *p, const char *e)
+{
+	static const char cands[] = { ',', '\t', ';' };
+	size_t best = 0;
+	char d = ' ';
+
+	for (size_t i = 0; i < sizeof(cands); i++) {
+		size_t c = 0;
+
+		for (const char *q = p; q < e; q++)
+			c += *q == cands[i];
+		if (c > best) {
+			best = c;
+			d = cands[i];
+		}
+	}
+	return d;
+}
+
+/* Split "name [unit]" / "name (unit)" into its parts. */
+static int split_name_unit(const char *cell, char **name, char **unit)
+{
+	size_t n = strlen(cell);
+	const char *open = NULL;
+
+	while (n && blank(cell[n - 1]))
+		n--;
+	if (n && (cell[n - 1] == ']' || cell[n - 1] == ')')) {
+		char close = cell[n - 1], op = close == ']' ? '[' : '(';
+		int depth = 0;
+
+		for (size_t i = n; i-- > 0;) {
+			if (cell[i] == close)
+				depth++;
+			else if (cell[i] == op && --depth == 0) {
+				open = cell + i;
+				break;
+			}
+		}
+	}
+	if (open && open > cell) {
+		*name = dup_range(cell, open);
+		*unit = dup_range(open + 1, cell + n - 1);
+	} else {
+		*name = dup_range(cell, cell + n);
+		*unit = dup_range(cell, cell); /* "" */
+	}
+	return (*name && *unit) ? 0 : -ENOMEM;
+}
+
+static bool name_is(const char *name, const char *const *list)
+{
+	for (; *list; list++) {
+		size_t n = strlen(*list);
+
+		if (!ssc_strcasecmp(name, *list))
+			return true;
+		if (!strncasecmp(name, *list, n) && name[n] == '_')
+			return true;
+	}
+	return false;
+}
+
+static const char *const time_names[] = { "t", "time", "timestamp", NULL };
+static const char *const temp_names[] = { "temp", "temperature", NULL };
+
+/* Parse unit labels and fill quantities; the unit errors are kept and
+ * reported only for columns that are used. */
+static void col_units(struct sscope_reader *r)
+{
+	for (size_t i = 0; i < r->ncols; i++) {
+		struct colx *c = &r->cols[i];
+		const char *u = c->unit_label;
+
+		c->c.name = c->name;
+		c->c.index = i;
+		if (!*u && r->opts->default_unit &&
+		    c->c.role == SSCOPE_ROLE_DATA) {
+			free(c->unit_label);
+			c->unit_label = ssc_strdup(r->opts->default_unit);
+			u = c->unit_label ? c->unit_label : "";
+		}
+		c->c.unit_label = u;
+		c->unit_rc = sscope_unit_parse(
+			*u ? u : (c->c.role == SSCOPE_ROLE_TIME ? "s" :
+				  c->c.role == SSCOPE_ROLE_TEMP ? "degC" : ""),
+			&c->c.unit, NULL);
+		c->c.quantity = c->unit_rc || (!*u && c->c.role == SSCOPE_ROLE_DATA) ?
+					SSCOPE_QTY_UNKNOWN :
+					sscope_unit_quantity(&c->c.unit);
+	}
+}
+
+static long find_column(struct sscope_reader *r, const char *key)
+{
+	char *end;
+	long idx = strtol(key, &end, 10);
+
+	if (*key && !*end) {
+		if (idx >= 1 && (size_t)idx <= r->ncols)
+			return idx - 1;
+		return -1;
+	}
+	for (size_t i = 0; i < r->ncols; i++)
+		if (!strcmp(r->cols[i].name, key))
+			return (long)i;
+	for (size_t i = 0; i < r->ncols; i++)
+		if (!ssc_strcasecmp(r->cols[i].name, key))
+			return (long)i;
+	return -1;
+}
+
+static int column_list(struct sscope_reader *r, char *buf, size_t len)
+{
+	size_t used = 0;
+
+	buf[0] = '\0';
+	for (size_t i = 0; i < r->ncols && used + 4 < len; i++) {
+		int w = snprintf(buf + used, len - used, "%s%s", i ? ", " : "",
+				 r->cols[i].name);
+
+		if (w < 0)
+			break;
+		used += (size_t)w;
+	}
+	return 0;
+}
+
+static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const struct sscope_read_opts *o = r->opts;
+	char names[200];
+
+	r->time_col = -1;
+	r->temp_col = -1;
+	if (o->time_column && *o->time_column) {
+		r->time_col = find_column(r, o->time_column);
+		if (r->time_col < 0) {
+			column_list(r, names, sizeof(names));
+			return ssc_diag(diag, -EINVAL,
+					"%s: no time column '%s' (columns: %s)",
+					r->disp, o->time_column, names);
+		}
+	} else if (r->kind == K_TEXT || r->kind == K_BIN) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if (name_is(r->cols[i].name, time_names)) {
+				r->time_col = (long)i;
+				break;
+			}
+	}
+	if (o->no_time)
+		r->time_col = -1;
+	if (o->temp_column && *o->temp_column) {
+		r->temp_col = find_column(r, o->temp_column);
+		if (r->temp_col < 0) {
+			column_list(r, names, sizeof(names));
+			return ssc_diag(diag, -EINVAL,
+					"%s: no temperature column '%s' (columns: %s)",
+					r->disp, o->temp_column, names);
+		}
+	} else if (r->kind != K_RAW) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if ((long)i != r->time_col &&
+			    name_is(r->cols[i].name, temp_names)) {
+				r->temp_col = (long)i;
+				break;
+			}
+	}
+	for (size_t i = 0; i < r->ncols; i++) {
+		r->cols[i].c.role = (long)i == r->time_col ? SSCOPE_ROLE_TIME :
+				    (long)i == r->temp_col ? SSCOPE_ROLE_TEMP :
+							     SSCOPE_ROLE_DATA;
+		r->cols[i].dest = -1;
+	}
+	col_units(r);
+	return 0;
+}
+
+static int check_unit(struct sscope_reader *r, struct colx *c,
+		      struct sscope_diag *diag)
+{
+	if (c->unit_rc) {
+		struct sscope_diag d = { "" };
+
+		sscope_unit_parse(c->c.unit_label, &c->c.unit, &d);
+		return ssc_diag(diag, -EINVAL, "%s: column %zu (%s): %s",
+				r->disp, c->c.index + 1, c->name, d.msg);
+	}
+	return 0;
+}
+
+static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const char *spec = r->opts->columns;
+	char names[200];
+	int rc;
+
+	r->sel = ssc_alloc_array(r->ncols + 1, sizeof(*r->sel));
+	if (!r->sel)
+		return -ENOMEM;
+	r->nsel = 0;
+	if (spec && *spec) {
+		char *copy = ssc_strdup(spec), *save = NULL, *tok;
+
+		if (!copy)
+			return -ENOMEM;
+		for (tok = strtok_r(copy, ",", &save); tok;
+		     tok = strtok_r(NULL, ",", &save)) {
+			long idx;
+
+			while (*tok == ' ')
+				tok++;
+			idx = find_column(r, tok);
+			if (idx < 0) {
+				column_list(r, names, sizeof(names));
+				rc = ssc_diag(diag, -EINVAL,
+					      "%s: no column '%s' (columns: %s)",
+					      r->disp, tok, names);
+				free(copy);
+				return rc;
+			}
+			if (r->cols[idx].dest >= 0)
+				continue; /* named twice */
+			if (r->nsel >= r->ncols)
+				break;
+			r->cols[idx].dest = (int)r->nsel;
+			r->sel[r->nsel++] = (size_t)idx;
+		}
+		free(copy);
+	} else {
+		for (size_t i = 0; i < r->ncols; i++) {
+			if (r->cols[i].c.role != SSCOPE_ROLE_DATA)
+				continue;
+			r->cols[i].dest = (int)r->nsel;
+			r->sel[r->nsel++] = i;
+		}
+	}
+	for (size_t i = 0; i < r->ncols; i++) {
+		struct colx *c = &r->cols[i];
+
+		c->is_time = (long)i == r->time_col;
+		c->is_temp = (long)i == r->temp_col;
+		c->used = c->dest >= 0 || c->is_time || c->is_temp;
+	}
+	for (size_t k = 0; k < r->nsel; k++) {
+		rc = check_unit(r, &r->cols[r->sel[k]], diag);
+		if (rc)
+			return rc;
+	}
+	if (r->time_col >= 0) {
+		struct colx *c = &r->cols[r->time_col];
+
+		rc = check_unit(r, c, diag);
+		if (rc)
+			return rc;
+		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QTY_TIME)
+			return ssc_diag(diag, -EINVAL,
+					"%s: time column '%s' has unit '%s', not a time",
+					r->disp, c->name, c->c.unit_label);
+	}
+	if (r->temp_col >= 0) {
+		struct colx *c = &r->cols[r->temp_col];
+
+		rc = check_unit(r, c, diag);
+		if (rc)
+			return rc;
+		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QTY_TEMPERATURE)
+			return ssc_diag(diag, -EINVAL,
+					"%s: temperature column '%s' has unit '%s', not a temperature",
+					r->disp, c->name, c->c.unit_label);
+	}
+	return 0;
+}
+
+static int add_columns(struct sscope_reader *r, const char **fs,
+		       const char **fe, size_t n, bool names_given)
+{
+	r->cols = calloc(n ? n : 1, sizeof(*r->cols));
+	if (!r->cols)
+		return -ENOMEM;
+	r->ncols = n;
+	for (size_t i = 0; i < n; i++) {
+		int rc;
+
+		if (names_given) {
+			char *cell = dup_range(fs[i], fe[i]);
+
+			if (!cell)
+				return -ENOMEM;
+			if (i == 0 && cell[0] == '#') {
+				memmove(cell, cell + 1, strlen(cell));
+				while (blank(cell[0]))
+					memmove(cell, cell + 1, strlen(cell));
+			}
+			rc = split_name_unit(cell, &r->cols[i].name,
+					     &r->cols[i].unit_label);
+			free(cell);
+			if (rc)
+				return rc;
+			if (!r->cols[i].name[0]) {
+				char tmp[24];
+
+				free(r->cols[i].name);
+				snprintf(tmp, sizeof(tmp), "col%zu", i + 1);
+				r->cols[i].name = ssc_strdup(tmp);
+				if (!r->cols[i].name)
+					return -ENOMEM;
+			}
+		} else {
+			char tmp[24];
+
+			snprintf(tmp, sizeof(tmp), "col%zu", i + 1);
+			r->cols[i].name = ssc_strdup(tmp);
+			r->cols[i].unit_label = ssc_strdup("");
+			if (!r->cols[i].name || !r->cols[i].unit_label)
+				return -ENOMEM;
+		}
+	}
+	return 0;
+}
+
+#define MAXF 4096
+
+/* "# rate: 100 Hz" and similar metadata comments */
+static void header_rate(struct sscope_reader *r, const char *p, const char *e)
+{
+	static const char *const keys[] = { "sample_rate", "sample rate",
+					    "sampling rate", "rate_hz", "rate",
+					    "fs", NULL };
+	char buf[96];
+	size_t n;
+	double v;
+	struct sscope_unit u, hz;
+
+	while (p < e && blank(*p))
+		p++;
+	if (e > p && e[-1] == '\r')
+		e--;
+	for (const char *const *k = keys; *k; k++) {
+		size_t kl = strlen(*k);
+		const char *q = p + kl;
+
+		if ((size_t)(e - p) <= kl || strncasecmp(p, *k, kl))
+			continue;
+		while (q < e && blank(*q))
+			q++;
+		if (q >= e || (*q != ':' && *q != '='))
+			continue;
+		q++;
+		n = (size_t)(e - q);
+		if (n >= sizeof(buf))
+			return;
+		memcpy(buf, q, n);
+		buf[n] = '\0';
+		if (sscope_quantity_parse(buf, &v, &u, NULL))
+			return;
+		sscope_unit_parse("Hz", &hz, NULL);
+		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+		    u.scale == 1)
+			u = hz;
+		if (sscope_unit_compatible(&u, &hz) && v > 0 && isfinite(v))
+			r->header_rate_hz = v;
+		return;
+	}
+}
+
+static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	const char *p, *end, *cm_s = NULL, *cm_e = NULL;
+	size_t cm_line = 0, nf;
+	int rc;
+
+	/* the header and the first data line must lie in the first block */
+	rc = src_fill(r, 1u << 20, diag);
+	if (rc)
+		return rc;
+	p = r->base + r->pos;
+	end = r->base + r->len;
+	if (end - p >= 3 && !memcmp(p, "\xef\xbb\xbf", 3)) /* UTF-8 BOM */
+		p += 3;
+	for (;;) {
+		const char *e = line_end(p, end), *q = p;
+		bool numeric = true;
+
+		if (p >= end)
+			return ssc_diag(diag, -EDOM, "%s: no data rows",
+					r->disp);
+		r->line++;
+		while (q < e && blank(*q))
+			q++;
+		if (q >= e) { /* blank line */
+			p = e + 1;
+			continue;
+		}
+		if (*q == '#') {
+			header_rate(r, q + 1, e);
+			cm_s = q + 1;
+			cm_e = e;
+			cm_line = r->line;
+			p = e + 1;
+			continue;
+		}
+		r->delim = detect_delim(q, e);
+		nf = split_fields(q, e, r->delim, fs, fe, MAXF);
+		if (nf > MAXF)
+			return ssc_diag(diag, -EBADMSG,
+					"%s: line %zu: more than %d columns",
+					r->disp, r->line, MAXF);
+		for (size_t i = 0; i < nf && numeric; i++)
+			numeric = field_is_number(fs[i], fe[i]);
+		if (!numeric) {
+			/* a header line; data follow */
+			r->pos = (size_t)(e - r->base) + (e < end);
+			if (r->pos >= r->len && r->eof)
+				return ssc_diag(diag, -EDOM,
+						"%s: header but no data rows",
+						r->disp);
+			return add_columns(r, fs, fe, nf, true);
+		}
+		/* data: a '#' comment right above it with as many fields, some
+		 * of them names, is the header (EuRoC's "#timestamp [ns],...") */
+		r->pos = (size_t)(p - r->base);
+		r->line--;
+		if (cm_s && cm_line == r->line) {
+			const char *hs[MAXF], *he[MAXF];
+			size_t nh = split_fields(cm_s, cm_e, r->delim, hs, he,
+						 MAXF);
+			bool any_name = false;
+
+			for (size_t i = 0; i < nh && i < MAXF; i++)
+				if (!field_is_number(hs[i], he[i]))
+					any_name = true;
+			if (nh == nf && any_name)
+				return add_columns(r, hs, he, nh, true);
+		}
+		return add_columns(r, fs, fe, nf, false);
+	}
+}
+
+/* ------------------------------------------------------------ binary */
+
+static int parse_raw_spec(struct sscope_reader *r, const char *spec,
+			  struct sscope_diag *diag)
+{
+	static const struct {
+		const char *n;
+		enum rawtype t;
+		size_t sz;
+	} types[] = { { "i16", R_I16, 2 }, { "u16", R_U16, 2 },
+		      { "i24", R_I24, 3 }, { "i32", R_I32, 4 },
+		      { "u32", R_U32, 4 }, { "f32", R_F32, 4 },
+		      { "f64", R_F64, 8 } };
+	char type[8] = "", endian[8] = "le";
+	unsigned long ch = 0;
+	char *end;
+	const char *c1 = strchr(spec, ':'), *c2;
+	size_t i;
+
+	if (!c1 || c1 - spec >= (long)sizeof(type))
+		goto bad;
+	memcpy(type, spec, (size_t)(c1 - spec));
+	type[c1 - spec] = '\0';
+	ch = strtoul(c1 + 1, &end, 10);
+	if (end == c1 + 1 || ch == 0 || ch > MAXF)
+		goto bad;
+	c2 = end;
+	if (*c2 == ':') {
+		if (strlen(c2 + 1) >= sizeof(endian))
+			goto bad;
+		strcpy(endian, c2 + 1);
+	} else if (*c2) {
+		goto bad;
+	}
+	if (strcmp(endian, "le") && strcmp(endian, "be"))
+		goto bad;
+	for (i = 0; i < sizeof(types) / sizeof(types[0]); i++)
+		if (!strcmp(types[i].n, type))
+			break;
+	if (i == sizeof(types) / sizeof(types[0]))
+		goto bad;
+	r->rtype = types[i].t;
+	r->rsize = types[i].sz;
+	r->big_endian = !strcmp(endian, "be");
+	r->ncols = ch;
+	return 0;
+bad:
+	return ssc_diag(diag, -EINVAL,
+			"bad raw layout '%s' (expected TYPE:CHANNELS[:le|be], TYPE one of i16 u16 i24 i32 u32 f32 f64)",
+			spec);
+}
+
+static int open_raw(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	size_t n;
+	int rc = parse_raw_spec(r, r->opts->raw, diag);
+
+	if (rc)
+		return rc;
+	n = r->ncols;
+	r->cols = calloc(n, sizeof(*r->cols));
+	if (!r->cols)
+		return -ENOMEM;
+	for (size_t i = 0; i < n; i++) {
+		char tmp[24];
+
+		snprintf(tmp, sizeof(tmp), "ch%zu", i + 1);
+		r->cols[i].name = ssc_strdup(tmp);
+		r->cols[i].unit_label = ssc_strdup("");
+		if (!r->cols[i].name || !r->cols[i].unit_label)
+			return -ENOMEM;
+	}
+	r->rscale = r->opts->raw_scale != 0 ? r->opts->raw_scale : 1;
+	r->roffset = r->opts->raw_offset;
+	if (r->size && r->size % (n * r->rsize))
+		return ssc_diag(diag, -EBADMSG,
+				"%s: size %llu is not a whole number of %zu-byte rows (truncated?)",
+				r->disp, (unsigned long long)r->size,
+				n * r->rsize);
+	return 0;
+}
+
+static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	const char *p = r->base, *end = r->base + r->len, *e1, *e2;
+	char type[8] = "", endian[8] = "";
+	size_t nh, data_off;
+	int rc;
+
+	e1 = line_end(p, end);
+	if (e1 >= end)
+		return ssc_diag(diag, -EBADMSG, "%s: truncated binary header",
+				r->disp);
+	if (sscanf(p, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
+	    (strcmp(type, "f32") && strcmp(type, "f64")) ||
+	    (strcmp(endian, "le") && strcmp(endian, "be")))
+		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
+				r->disp);
+	e2 = line_end(e1 + 1, end);
+	if (e2 >= end)
+		return ssc_diag(diag, -EBADMSG, "%s: truncated binary header",
+				r->disp);
+	nh = split_fields(e1 + 1, e2, ',', fs, fe, MAXF);
+	if (nh > MAXF)
+		return ssc_diag(diag, -EBADMSG, "%s: too many columns", r->disp);
+	rc = add_columns(r, fs, fe, nh, true);
+	if (rc)
+		return rc;
+	r->rtype = !strcmp(type, "f32") ? R_F32 : R_F64;
+	r->rsize = r->rtype == R_F32 ? 4 : 8;
+	r->big_endian = !strcmp(endian, "be");
+	r->rscale = 1;
+	r->roffset = 0;
+	data_off = (size_t)(e2 + 1 - r->base);
+	r->pos = data_off;
+	r->line = 3;
+	if (r->size && (r->size - data_off) % (nh * r->rsize))
+		return ssc_diag(diag, -EBADMSG,
+				"%s: data are not a whole number of rows (truncated?)",
+				r->disp);
+	return 0;
+}
+
+/* ------------------------------------------------------------ open */
+
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag)
+{
+	static const struct sscope_read_opts defaults;
+	struct sscope_reader *r;
+	int rc;
+
+	*reader = NULL;
+	if (!path)
+		return ssc_diag(diag, -EINVAL, "no input file");
+	r = calloc(1, sizeof(*r));
+	if (!r)
+		return -ENOMEM;
+	r->fd = -1;
+	r->opts_copy = opts ? *opts : defaults;
+	r->opts = &r->opts_copy;
+	r->path = ssc_strdup(path);
+	if (!r->path) {
+		free(r);
+		return -ENOMEM;
+	}
+	r->disp = strcmp(path, "-") ? r->path : "(stdin)";
+	if (r->opts->rate_hz < 0 || isnan(r->opts->rate_hz)) {
+		rc = ssc_diag(diag, -EINVAL, "bad sample rate");
+		goto fail;
+	}
+	if (r->opts->default_unit && *r->opts->default_unit) {
+		struct sscope_unit u;
+		struct sscope_diag d = { "" };
+
+		rc = sscope_unit_parse(r->opts->default_unit, &u, &d);
+		if (rc) {
+			ssc_diag(diag, rc, "%s", d.msg);
+			goto fail;
+		}
+	}
+	rc = src_open(r, diag);
+	if (rc)
+		goto fail;
+	if (r->opts->raw && *r->opts->raw) {
+		r->kind = K_RAW;
+		rc = open_raw(r, diag);
+	} else {
+		rc = src_fill(r, 1u << 20, diag);
+		if (rc)
+			goto fail;
+		if (r->len == 0) {
+			rc = ssc_diag(diag, -EDOM, "%s: empty file", r->disp);
+			goto fail;
+		}
+		if (r->len >= strlen(BIN_MAGIC) &&
+		    !memcmp(r->base, BIN_MAGIC, strlen(BIN_MAGIC))) {
+			r->kind = K_BIN;
+			rc = open_bin(r, diag);
+		} else {
+			if (memchr(r->base, '\0', r->len < 4096 ? r->len : 4096)) {
+				rc = ssc_diag(diag, -EBADMSG,
+					      "%s: binary data (use --raw TYPE:CHANNELS for raw files)",
+					      r->disp);
+				goto fail;
+			}
+			r->kind = K_TEXT;
+			rc = open_text(r, diag);
+		}
+	}
+	if (rc)
+		goto fail;
+	rc = assign_roles(r, diag);
+	if (!rc)
+		rc = select_columns(r, diag);
+	if (rc)
+		goto fail;
+	if (r->nsel == 0 && r->kind != K_RAW) {
+		rc = ssc_diag(diag, -EDOM,
+			      "%s: no data column (only time/temperature)",
+			      r->disp);
+		goto fail;
+	}
+	*reader = r;
+	return 0;
+fail:
+	sscope_reader_close(r);
+	return rc;
+}
+
+size_t sscope_reader_n_channels(const struct sscope_reader *r)
+{
+	return r->nsel;
+}
+
+const struct sscope_column *sscope_reader_channel(const struct sscope_reader *r,
+						  size_t k)
+{
+	return k < r->nsel ? &r->cols[r->sel[k]].c : NULL;
+}
+
+const struct sscope_column *
+sscope_reader_time_column(const struct sscope_reader *r)
+{
+	return r->time_col >= 0 ? &r->cols[r->time_col].c : NULL;
+}
+
+const struct sscope_column *
+sscope_reader_temp_column(const struct sscope_reader *r)
+{
+	return r->temp_col >= 0 ? &r->cols[r->temp_col].c : NULL;
+}
+
+size_t sscope_reader_n_columns(const struct sscope_reader *r)
+{
+	return r->ncols;
+}
+
+const struct sscope_column *sscope_reader_column(const struct sscope_reader *r,
+						 size_t k)
+{
+	return k < r->ncols ? &r->cols[k].c : NULL;
+}
+
+double sscope_reader_header_rate(const struct sscope_reader *r)
+{
+	return r->header_rate_hz;
+}
+
+uint64_t sscope_reader_size(const struct sscope_reader *r)
+{
+	return r->size;
+}
+
+void sscope_reader_close(struct sscope_reader *r)
+{
+	if (!r)
+		return;
+	if (r->mapped)
+		munmap((void *)r->base, r->len);
+	if (r->fd >= 0 && r->fd != STDIN_FILENO)
+		close(r->fd);
+	free(r->buf);
+	for (size_t i = 0; r->cols && i < r->ncols; i++) {
+		free(r->cols[i].name);
+		free(r->cols[i].unit_label);
+	}
+	free(r->cols);
+	free(r->sel);
+	free(r->parts);
+	free(r->path);
+	free(r);
+}
+
+/* ------------------------------------------------------------ rows */
+
+/* Exact decimal of a time stamp: value = mant * 10^exp, when the digits
+ * fit an int64 (19 digits: nanosecond epoch stamps do). */
+static bool parse_exact(const char *p, const char *e, int64_t *mant, int *exp)
+{
+	bool neg = false, any = false;
+	int64_t m = 0;
+	int x = 0;
+
+	if (p < e && (*p == '-' || *p == '+')) {
+		neg = *p == '-';
+		p++;
+	}
+	for (; p < e && *p >= '0' && *p <= '9'; p++, any = true) {
+		if (__builtin_mul_overflow(m, 10, &m) ||
+		    __builtin_add_overflow(m, *p - '0', &m))
+			return false;
+	}
+	if (p < e && *p == '.') {
+		for (p++; p < e && *p >= '0' && *p <= '9'; p++, any = true) {
+			if (__builtin_mul_overflow(m, 10, &m) ||
+			    __builtin_add_overflow(m, *p - '0', &m))
+				return false;
+			x--;
+		}
+	}
+	if (!any || p != e)
+		return false;
+	*mant = neg ? -m : m;
+	*exp = x;
+	return true;
+}
+
+/* Set the time origin from a time cell (the first row's). */
+static void set_t0(struct sscope_reader *r, const char *a, const char *b,
+		   double v)
+{
+	r->have_t0 = true;
+	r->t0_double = v;
+	if (!parse_exact(a, b, &r->t0_mant, &r->t0_exp))
+		r->t0_exp = 1000; /* marks "not exact" */
+}
+
+/* Time since the first row from the exact decimal text when both stamps
+ * have the same number of decimals (one rounding), else from doubles. */
+static double time_value(const struct sscope_reader *r, const char *a,
+			 const char *b, double v)
+{
+	static const double p10[] = { 1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
+				      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
+				      1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
+				      1e21, 1e22 };
+	int64_t m, d;
+	int x;
+
+	if (r->t0_exp != 1000 && parse_exact(a, b, &m, &x) &&
+	    x == r->t0_exp && !__builtin_sub_overflow(m, r->t0_mant, &d)) {
+		double dd = (double)d;
+
+		if (x < 0 && x >= -22)
+			return dd / p10[-x];
+		return x == 0 ? dd : dd * pow(10, x);
+	}
+	return v - r->t0_double;
+}
+
+static int bad_cell(const struct sscope_reader *r, size_t line, size_t col,
+		    const char *a, const char *b, const char *why,
+		    struct sscope_diag *diag)
+{
+	int len = (int)(b - a);
+
+	if (len > 40)
+		len = 40;
+	return ssc_diag(diag, -EBADMSG, "%s: line %zu, column %zu (%s): %s '%.*s'",
+			r->disp, line, col + 1, r->cols[col].name, why, len, a);
+}
+
+/* Slow path for a cell the fast path did not take: blanks, empty cells,
+ * NaN, infinities, garbage.  Returns 0 with *v set, or an error. */
+static int cell_value(const struct sscope_reader *r, size_t line, size_t col,
+		      const char **pa, const char **pb, double *v,
+		      struct sscope_diag *diag)
+{
+	const struct colx *c = &r->cols[col];
+	const char *a = *pa, *b = *pb;
+	size_t used;
+
+	while (a < b && blank(*a))
+		a++;
+	while (b > a && blank(b[-1]))
+		b--;
+	*pa = a;
+	*pb = b;
+	if (a == b) {
+		if (!r->opts->nan_as_gap || c->is_time)
+			return bad_cell(r, line, col, a, b,
+					"empty cell (use --allow-nan to read gaps)",
+					diag);
+		*v = NAN;
+		return 0;
+	}
+	used = sscope_parse_double(a, b, v);
+	if (used != (size_t)(b - a))
+		return bad_cell(r, line, col, a, b, "not a number", diag);
+	if (isnan(*v) && (!r->opts->nan_as_gap || c->is_time))
+		return bad_cell(r, line, col, a, b,
+				c->is_time ? "NaN time stamp" :
+					     "NaN (use --allow-nan to read gaps)",
+				diag);
+	if (isinf(*v))
+		return bad_cell(r, line, col, a, b, "infinite value", diag);
+	return 0;
+}
+
+static inline void put_cell(const struct sscope_reader *r,
+			    const struct colx *c, struct sscope_chunk *ch,
+			    size_t row, const char *a, const char *b, double v)
+{
+	if (c->dest >= 0 && ch->data[c->dest])
+		ch->data[c->dest][row] = v * c->c.unit.scale + c->c.unit.offset;
+	if (c->is_time && ch->time_s)
+		ch->time_s[row] = time_value(r, a, b, v) * c->c.unit.scale;
+	if (c->is_temp && ch->temp_degc)
+		ch->temp_degc[row] = v * c->c.unit.scale + c->c.unit.offset;
+}
+
+static int ragged(const struct sscope_reader *r, size_t line, size_t cols,
+		  struct sscope_diag *diag)
+{
+	return ssc_diag(diag, -EBADMSG,
+			"%s: line %zu: %zu columns where the header has %zu",
+			r->disp, line, cols, r->ncols);
+}
+
+/* One data line [p, e) (no newline).  Reentrant: reads r, writes ch. */
+static int parse_line(const struct sscope_reader *r, const char *p,
+		      const char *e, size_t line, struct sscope_chunk *ch,
+		      size_t row, struct sscope_diag *diag)
+{
+	size_t col = 0;
+	int rc;
+
+	if (e > p && e[-1] == '\r')
+		e--;
+	if (r->delim == ' ') {
+		for (;;) {
+			const char *a, *b;
+			double v;
+
+			while (p < e && blank(*p))
+				p++;
+			if (p >= e)
+				break;
+			a = p;
+			while (p < e && !blank(*p))
+				p++;
+			b = p;
+			if (col < r->ncols && r->cols[col].used) {
+				rc = cell_value(r, line, col, &a, &b, &v, diag);
+				if (rc)
+					return rc;
+				put_cell(r, &r->cols[col], ch, row, a, b, v);
+			}
+			col++;
+		}
+		return col == r->ncols ? 0 : ragged(r, line, col, diag);
+	}
+	for (;;) {
+		const char d = r->delim;
+		const char *a = p, *b;
+
+		if (col >= r->ncols) {
+			/* count the extra fields for the message */
+			while (p < e)
+				col += *p++ == d;
+			return ragged(r, line, col + 1, diag);
+		}
+		if (r->cols[col].used) {
+			double v;
+			size_t n = sscope_parse_double(p, e, &v);
+
+			b = p + n;
+			if (!(n && (b == e || *b == d) && isfinite(v))) {
+				/* slow path: find the cell's end, then judge */
+				b = memchr(p, d, (size_t)(e - p));
+				if (!b)
+					b = e;
+				p = b;
+				rc = cell_value(r, line, col, &a, &b, &v, diag);
+				if (rc)
+					return rc;
+			} else {
+				p = b;
+			}
+			put_cell(r, &r->cols[col], ch, row, a, b, v);
+		} else {
+			const char *q = memchr(p, d, (size_t)(e - p));
+
+			p = q ? q : e;
+		}
+		col++;
+		if (p >= e)
+			break;
+		p++; /* the delimiter */
+	}
+	return col == r->ncols ? 0 : ragged(r, line, col, diag);
+}
+
+/* Fast path of a data line: cells that are plain numbers directly followed
+ * by the delimiter, the line ending with '\n'.  Returns the start of the
+ * next line, or NULL to let the careful path (messages, blanks, NaN,
+ * comments) handle the line -- it rewrites the whole row. */
+static const char *fast_line(const struct sscope_reader *r, const char *p,
+			     const char *end, bool eof,
+			     struct sscope_chunk *ch, size_t row)
+{
+	const char d = r->delim;
+
+	for (size_t col = 0; col < r->ncols; col++) {
+		const struct colx *c = &r->cols[col];
+		const char *a = p;
+
+		if (c->used) {
+			double v;
+			size_t n = sscope_parse_double(p, end, &v);
+
+			if (!n || !isfinite(v))
+				return NULL;
+			p += n;
+			put_cell(r, c, ch, row, a, p, v);
+		} else {
+			while (p < end && *p != d && *p != '\n')
+				p++;
+		}
+		if (col + 1 < r->ncols) {
+			if (p >= end || *p != d)
+				return NULL;
+			p++;
+		}
+	}
+	if (p < end && *p == '\r')
+		p++;
+	if (p >= end)
+		return eof ? p : NULL;
+	return *p == '\n' ? p + 1 : NULL;
+}
+
+static bool skip_line(const char *p, const char *e)
+{
+	while (p < e && blank(*p))
+		p++;
+	return p >= e || *p == '#';
+}
+
+/* Parse rows from [p, end) into ch starting at row `row` until max_rows are
+ * filled or the text ends.  A final line without newline is parsed only
+ * when `eof`.  *line counts lines; *stop receives where parsing stopped. */
+static int parse_rows(const struct sscope_reader *r, const char *p,
+		      const char *end, bool eof, size_t *line,
+		      struct sscope_chunk *ch, size_t row, size_t max_rows,
+		      size_t *rows_out, const char **stop,
+		      struct sscope_diag *diag)
+{
+	size_t n = 0, ln = *line;
+	int rc = 0;
+
+	while (n < max_rows && p < end) {
+		const char *e, *next;
+
+		if (r->delim != ' ' && (next = fast_line(r, p, end, eof, ch, row + n))) {
+			ln++;
+			n++;
+			p = next;
+			continue;
+		}
+		e = memchr(p, '\n', (size_t)(end - p));
+		if (!e) {
+			if (!eof)
+				break;
+			e = end;
+			next = end;
+		} else {
+			next = e + 1;
+		}
+		ln++;
+		if (!skip_line(p, e)) {
+			rc = parse_line(r, p, e, ln, ch, row + n, diag);
+			if (rc)
+				break;
+			n++;
+		}
+		p = next;
+	}
+	*line = ln;
+	*rows_out = n;
+	*stop = p;
+	return rc;
+}
+
+/* The time origin is the first data row's time cell; find it before
+ * parsing so that parsing can be split between threads. */
+static int init_t0(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const char *p = r->base + r->pos, *end = r->base + r->len;
+	size_t ln = r->line;
+
+	if (r->time_col < 0 || r->have_t0)
+		return 0;
+	while (p < end) {
+		const char *e = memchr(p, '\n', (size_t)(end - p)), *a, *b;
+		size_t col = 0;
+		double v;
+		int rc;
+
+		if (!e)
+			e = end;
+		ln++;
+		if (skip_line(p, e)) {
+			p = e + 1;
+			continue;
+		}
+		if (e > p && e[-1] == '\r')
+			e--;
+		/* walk to the time cell */
+		a = p;
+		for (;;) {
+			if (r->delim == ' ')
+				while (a < e && blank(*a))
+					a++;
+			b = a;
+			if (r->delim == ' ')
+				while (b < e && !blank(*b))
+					b++;
+			else
+				while (b < e && *b != r->delim)
+					b++;
+			if ((long)col == r->time_col || b >= e)
+				break;
+			a = b + 1;
+			col++;
+		}
+		if ((long)col != r->time_col)
+			return 0; /* ragged: reported by the parser */
+		rc = cell_value(r, ln, col, &a, &b, &v, diag);
+		if (rc)
+			return rc;
+		set_t0(r, a, b, v);
+		return 0;
+	}
+	return 0;
+}
+
+static int read_text(struct sscope_reader *r, struct sscope_chunk *ch,
+		     struct sscope_diag *diag)
+{
+	size_t row = 0;
+	int rc;
+
+	rc = init_t0(r, diag);
+	if (rc)
+		return rc;
+	while (row < ch->capacity) {
+		const char *p = r->base + r->pos, *stop;
+		size_t got;
+
+		rc = parse_rows(r, p, r->base + r->len, r->eof, &r->line, ch,
+				row, ch->capacity - row, &got, &stop, diag);
+		r->pos = (size_t)(stop - r->base);
+		row += got;
+		if (rc)
+			return rc;
+		if (r->pos >= r->len && r->eof)
+			break;
+		if (row < ch->capacity) {
+			/* an incomplete last line: read more of the pipe */
+			rc = src_fill(r, r->len - r->pos + BLOCK, diag);
+			if (rc)
+				return rc;
+			if (!r->have_t0) {
+				rc = init_t0(r, diag);
+				if (rc)
+					return rc;
+			}
+		}
+	}
+	ch->rows = row;
+	progress(r);
+	return 0;
+}
+
+/* ---- whole mapped file on several threads */
+
+struct part {
+	const struct sscope_reader *r;
+	const char *from, *to;
+	size_t line0;        /* lines before `from` */
+	size_t row0;         /* first row it writes */
+	size_t nl;           /* newlines in it */
+	size_t cap;          /* rows it may write */
+	struct sscope_chunk *ch;
+	size_t rows;
+	size_t line_err;
+	int rc;
+	struct sscope_diag diag;
+};
+
+static void *part_run(void *arg)
+{
+	struct part *pt = arg;
+	const char *stop;
+	size_t line = pt->line0;
+
+	pt->rc = parse_rows(pt->r, pt->from, pt->to, true, &line, pt->ch,
+			    pt->row0, pt->cap, &pt->rows, &stop, &pt->diag);
+	return NULL;
+}
+
+static size_t count_nl(const char *p, const char *end)
+{
+	size_t n = 0;
+
+	while ((p = memchr(p, '\n', (size_t)(end - p)))) {
+		n++;
+		p++;
+	}
+	return n;
+}
+
+static void *count_run(void *arg)
+{
+	struct part *pt = arg;
+
+	pt->nl = count_nl(pt->from, pt->to);
+	return NULL;
+}
+
+enum { MAXP = 8 };
+
+/* Run fn on every part, part 0 on the calling thread. */
+static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
+{
+	pthread_t tid[MAXP];
+	size_t started = 1;
+	int rc = 0;
+
+	for (size_t k = 1; k < np; k++) {
+		if (pthread_create(&tid[k], NULL, fn, &parts[k])) {
+			rc = -ENOMEM;
+			break;
+		}
+		started++;
+	}
+	fn(&parts[0]);
+	for (size_t k = 1; k < started; k++)
+		pthread_join(tid[k], NULL);
+	if (rc) /* run the parts no thread took */
+		for (size_t k = started; k < np; k++)
+			fn(&parts[k]);
+	return 0;
+}
+
+size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
+{
+	const char *base, *end;
+	size_t np, total = 0;
+
+	if (r->kind != K_TEXT) {
+		if (!r->size || !r->mapped)
+			return 0;
+		return (r->len - r->pos) / (r->ncols * r->rsize);
+	}
+	if (!r->mapped)
+		return 0;
+	np = threads < 1 ? 1 : threads > MAXP ? MAXP : threads;
+	if (r->len - r->pos < (8u << 20))
+		np = 1;
+	free(r->parts);
+	r->parts = calloc(np, sizeof(*r->parts));
+	if (!r->parts)
+		return 0;
+	r->np = np;
+	r->split_pos = r->pos;
+	base = r->base + r->pos;
+	end = r->base + r->len;
+	/* cut at line boundaries; the first touch of the mapped pages (page
+	 * faults) happens while counting, on every thread */
+	for (size_t k = 0; k < np; k++) {
+		const char *from = k ? r->parts[k - 1].to : base, *to;
+
+		if (k == np - 1) {
+			to = end;
+		} else {
+			to = base + (size_t)(end - base) * (k + 1) / np;
+			to = memchr(to, '\n', (size_t)(end - to));
+			to = to ? to + 1 : end;
+		}
+		if (to < from)
+			to = from;
+		r->parts[k] = (struct part){ .r = r, .from = from, .to = to,
+					     .diag = { "" } };
+	}
+	run_parts(r->parts, np, count_run);
+	for (size_t k = 0; k < np; k++) {
+		/* every part but the last ends with a newline */
+		r->parts[k].cap = r->parts[k].nl + (k == np - 1);
+		r->parts[k].line0 = k ? r->parts[k - 1].line0 + r->parts[k - 1].nl :
+				       r->line;
+		r->parts[k].row0 = total;
+		total += r->parts[k].cap;
+	}
+	return total;
+}
+
+int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
+			struct sscope_diag *diag)
+{
+	struct part *parts = r->parts;
+	size_t np = r->np, row = 0;
+	int rc;
+
+	if (r->kind != K_TEXT || !parts || np < 2 || r->split_pos != r->pos ||
+	    parts[np - 1].row0 + parts[np - 1].cap > ch->capacity)
+		return sscope_reader_read(r, ch, diag);
+	rc = init_t0(r, diag);
+	if (rc)
+		return rc;
+	for (size_t k = 0; k < np; k++)
+		parts[k].ch = ch;
+	run_parts(parts, np, part_run);
+	for (size_t k = 0; k < np; k++) {
+		if (parts[k].rc) {
+			if (diag)
+				*diag = parts[k].diag;
+			return parts[k].rc;
+		}
+	}
+	/* close up: a part with comment or blank lines wrote fewer rows than
+	 * its bound */
+	for (size_t k = 0; k < np; k++) {
+		if (parts[k].row0 != row) {
+			for (size_t c = 0; c < r->nsel; c++)
+				if (ch->data[c])
+					memmove(ch->data[c] + row,
+						ch->data[c] + parts[k].row0,
+						parts[k].rows * sizeof(double));
+			if (ch->time_s)
+				memmove(ch->time_s + row, ch->time_s + parts[k].row0,
+					parts[k].rows * sizeof(double));
+			if (ch->temp_degc)
+				memmove(ch->temp_degc + row,
+					ch->temp_degc + parts[k].row0,
+					parts[k].rows * sizeof(double));
+		}
+		row += parts[k].rows;
+	}
+	r->pos = r->len;
+	r->line = parts[np - 1].line0 + parts[np - 1].nl;
+	ch->rows = row;
+	if (r->opts->progress)
+		r->opts->progress(r->opts->progress_ctx, r->size, r->size);
+	return 0;
+}
+
+static double raw_value(const struct sscope_reader *r, const unsigned char *b)
+{
+	unsigned char t[8];
+	size_t n = r->rsize;
+	bool swap = r->big_endian;
+
+	for (size_t i = 0; i < n; i++)
+		t[i] = b[swap ? n - 1 - i : i];
+	switch (r->rtype) {
+	case R_I16: {
+		int16_t v;
+
+		memcpy(&v, t, 2);
+		return v;
+	}
+	case R_U16: {
+		uint16_t v;
+
+		memcpy(&v, t, 2);
+		return v;
+	}
+	case R_I24: {
+		int32_t v = (int32_t)((uint32_t)t[0] | (uint32_t)t[1] << 8 |
+				      (uint32_t)t[2] << 16);
+
+		if (v & 0x800000)
+			v -= 0x1000000;
+		return v;
+	}
+	case R_I32: {
+		int32_t v;
+
+		memcpy(&v, t, 4);
+		return v;
+	}
+	case R_U32: {
+		uint32_t v;
+
+		memcpy(&v, t, 4);
+		return v;
+	}
+	case R_F32: {
+		float v;
+
+		memcpy(&v, t, 4);
+		return v;
+	}
+	case R_F64:
+	default: {
+		double v;
+
+		memcpy(&v, t, 8);
+		return v;
+	}
+	}
+}
+
+static int read_binary(struct sscope_reader *r, struct sscope_chunk *ch,
+		       struct sscope_diag *diag)
+{
+	size_t rowb = r->ncols * r->rsize, row = 0;
+	int rc;
+
+	while (row < ch->capacity) {
+		const unsigned char *b;
+
+		if (r->len - r->pos < rowb) {
+			if (!r->eof) {
+				rc = src_fill(r, rowb * 4096, diag);
+				if (rc)
+					return rc;
+				continue;
+			}
+			if (r->len != r->pos)
+				return ssc_diag(diag, -EBADMSG,
+						"%s: truncated: %zu bytes after the last whole row",
+						r->disp, r->len - r->pos);
+			break;
+		}
+		b = (const unsigned char *)r->base + r->pos;
+		for (size_t c = 0; c < r->ncols; c++) {
+			struct colx *cx = &r->cols[c];
+			double v;
+
+			if (!cx->used)
+				continue;
+			v = (raw_value(r, b + c * r->rsize) + r->roffset) * r->rscale;
+			if (isnan(v) && (!r->opts->nan_as_gap || cx->is_time))
+				return ssc_diag(diag, -EBADMSG,
+						"%s: row %zu, column %zu (%s): NaN%s",
+						r->disp, r->line + 1, c + 1,
+						cx->name,
+						cx->is_time ? " time stamp" :
+						" (use --allow-nan to read gaps)");
+			if (isinf(v))
+				return ssc_diag(diag, -EBADMSG,
+						"%s: row %zu, column %zu (%s): infinite value",
+						r->disp, r->line + 1, c + 1,
+						cx->name);
+			if (cx->dest >= 0 && ch->data[cx->dest])
+				ch->data[cx->dest][row] =
+					v * cx->c.unit.scale + cx->c.unit.offset;
+			if (cx->is_time) {
+				if (!r->have_t0) {
+					r->have_t0 = true;
+					r->t0_double = v;
+					r->t0_exp = 1000;
+				}
+				if (ch->time_s)
+					ch->time_s[row] = (v - r->t0_double) *
+							  cx->c.unit.scale;
+			}
+			if (cx->is_temp && ch->temp_degc)
+				ch->temp_degc[row] = v * cx->c.unit.scale +
+						     cx->c.unit.offset;
+		}
+		r->pos += rowb;
+		r->line++;
+		row++;
+	}
+	ch->rows = row;
+	progress(r);
+	return 0;
+}
+
+int sscope_reader_read(struct sscope_reader *r, struct sscope_chunk *ch,
+		       struct sscope_diag *diag)
+{
+	if (!r || !ch || (r->nsel && !ch->data))
+		return ssc_diag(diag, -EINVAL, "bad chunk");
+	ch->rows = 0;
+	if (r->kind == K_TEXT)
+		return read_text(r, ch, diag);
+	return read_binary(r, ch, diag);
+}

@@ -1,0 +1,504 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/**
+ * @file sensorscope.h
+ * @brief libsensorscope: characterisation of inertial sensors and converters.
+ *
+ * Conventions, stated once for the whole library:
+ * - Every fallible function returns 0 on success or a negative errno:
+ *   -EINVAL  a bad parameter (the caller's mistake, e.g. a negative rate);
+ *   -EDOM    the data do not fit the request (too short, constant, NaN);
+ *   -ERANGE  clipping or overflow (a count that does not fit, a value out of
+ *            a converter's range);
+ *   -ENOMEM  out of memory;
+ *   -ENOTSUP a feature that was compiled out;
+ *   -EIO, -ETIMEDOUT, -ENODEV  acquisition failures;
+ *   -EBADMSG a malformed file or frame.
+ *   sscope_strerror() gives a short text for each.
+ * - Values are SI inside the library: rad, rad/s, m/s^2, m/s, m, s, Hz, V
+ *   and degrees Celsius for temperature.  Conventional units (deg/h, g, ...)
+ *   appear only through the unit functions below.  Physical parameters carry
+ *   their unit as a suffix (_s, _hz, _rad_s, _m_s2, _degc, _v).
+ * - 1-D data are passed as (const double *x, size_t stride, size_t n): the
+ *   k-th sample is x[k * stride], so one column of an interleaved buffer is
+ *   analysed without a copy.
+ * - One-sided PSDs are in unit^2/Hz normalised by fs * sum(w^2) (scipy's
+ *   "density"); FFTs are unnormalised.  Allan deviations follow IEEE 952/1554
+ *   with tau = m / fs.  An ideal quantizer is mid-tread with LSB = span / 2^N.
+ * - The caller owns every array it passes.  Objects returned by *_new or
+ *   *_load are freed by the matching *_free.
+ * - Nothing in the library prints, exits or keeps mutable static state.
+ */
+#ifndef SENSORSCOPE_H
+#define SENSORSCOPE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ */
+/* Version, errors                                                     */
+/* ------------------------------------------------------------------ */
+
+/** @return the library version, e.g. "0.1.0"; a static string. */
+const char *sscope_version(void);
+
+/**
+ * Short description of an error code.
+ * @param err a negative errno returned by this library (a positive value is
+ *            accepted too).
+ * @return a static string; never NULL.
+ */
+const char *sscope_strerror(int err);
+
+/**
+ * Human-readable detail of a failure: which file, line, column, key or unit
+ * was at fault.  Functions that take a `struct sscope_diag *` fill it when
+ * they fail (it may be NULL when the caller does not want the detail).
+ */
+struct sscope_diag {
+	char msg[320]; /**< NUL-terminated; empty when nothing was said */
+};
+
+/* ------------------------------------------------------------------ */
+/* Units                                                               */
+/* ------------------------------------------------------------------ */
+
+/** Base dimensions.  Angle is kept as a dimension so that rad/s is not Hz. */
+enum sscope_dim {
+	SSCOPE_DIM_LENGTH = 0, /**< metre */
+	SSCOPE_DIM_TIME,       /**< second */
+	SSCOPE_DIM_ANGLE,      /**< radian */
+	SSCOPE_DIM_TEMP,       /**< degree Celsius (kelvin for differences) */
+	SSCOPE_DIM_VOLTAGE,    /**< volt */
+	SSCOPE_DIM_COUNTS,     /**< converter counts (LSB) */
+	SSCOPE_DIM_COUNT       /**< number of base dimensions */
+};
+
+/**
+ * A parsed unit: SI value = scale * value + offset.  The offset is non-zero
+ * only for absolute temperatures given in kelvin or Fahrenheit (the library's
+ * temperature unit is the degree Celsius).  Exponents are stored doubled so
+ * that sqrt(h) is exact: dim2[SSCOPE_DIM_TIME] == 1 means s^(1/2).
+ */
+struct sscope_unit {
+	double scale;
+	double offset;
+	int8_t dim2[SSCOPE_DIM_COUNT];
+};
+
+/** What a unit measures, so reports can choose conventional units. */
+enum sscope_quantity {
+	SSCOPE_QTY_UNKNOWN = 0,   /**< no unit, or a combination not listed */
+	SSCOPE_QTY_DIMENSIONLESS, /**< ratio, ppm, % */
+	SSCOPE_QTY_COUNTS,        /**< raw converter codes */
+	SSCOPE_QTY_ANGULAR_RATE,  /**< rad/s */
+	SSCOPE_QTY_ACCELERATION,  /**< m/s^2 */
+	SSCOPE_QTY_ANGLE,         /**< rad */
+	SSCOPE_QTY_VELOCITY,      /**< m/s */
+	SSCOPE_QTY_LENGTH,        /**< m */
+	SSCOPE_QTY_TIME,          /**< s */
+	SSCOPE_QTY_FREQUENCY,     /**< Hz */
+	SSCOPE_QTY_TEMPERATURE,   /**< degC */
+	SSCOPE_QTY_VOLTAGE,       /**< V */
+	SSCOPE_QTY_ANGULAR_ACCEL, /**< rad/s^2 */
+	SSCOPE_QTY_JERK,          /**< m/s^3 */
+	SSCOPE_QTY_COUNT_         /**< number of quantities (not a quantity) */
+};
+
+/**
+ * Parse a unit expression such as "deg/s", "rad s^-1", "deg/sqrt(h)",
+ * "deg/h/sqrt(h)", "ug/sqrt(Hz)", "mV/(deg/s)", "m/s^2" or "°C".
+ * Products are written with '*', '·' or a space, quotients with '/', powers
+ * with '^' (integer or n/2), and sqrt(...) or '√'.  An empty string or "1"
+ * is dimensionless.
+ * @param text  the expression (NUL-terminated).
+ * @param unit  receives the result.
+ * @param diag  optional; names the part not understood.
+ * @return 0, or -EINVAL when some part is not a known unit or the syntax is
+ *         wrong.
+ */
+int sscope_unit_parse(const char *text, struct sscope_unit *unit,
+		      struct sscope_diag *diag);
+
+/** @return true when @p a and @p b measure the same dimension. */
+bool sscope_unit_compatible(const struct sscope_unit *a,
+			    const struct sscope_unit *b);
+
+/** @return @p value (in @p unit) expressed in SI. */
+double sscope_unit_to_si(const struct sscope_unit *unit, double value);
+
+/** @return the SI value @p si expressed in @p unit. */
+double sscope_unit_from_si(const struct sscope_unit *unit, double si);
+
+/**
+ * Convert between two units.
+ * @return 0, or -EDOM when the dimensions differ (out untouched).
+ */
+int sscope_unit_convert(double value, const struct sscope_unit *from,
+			const struct sscope_unit *to, double *out);
+
+/**
+ * Convert a unit expression to another, both given as text: the usual way
+ * to print an SI result in a conventional unit.
+ * @return 0, -EINVAL for an unknown unit, -EDOM for incompatible units.
+ */
+int sscope_convert(double value, const char *from, const char *to,
+		   double *out);
+
+/** @return the quantity measured by @p unit (SSCOPE_QTY_UNKNOWN if none). */
+enum sscope_quantity sscope_unit_quantity(const struct sscope_unit *unit);
+
+/** @return a short name of @p q ("angular rate", ...); static string. */
+const char *sscope_quantity_name(enum sscope_quantity q);
+
+/**
+ * @return the SI unit of @p q as text ("rad/s", "m/s^2", "degC", ...), or ""
+ *         for unknown quantities; static string.
+ */
+const char *sscope_quantity_si_unit(enum sscope_quantity q);
+
+/**
+ * Write @p unit's SI form, e.g. "rad/s/sqrt(Hz)" or "m s^-2", into @p buf.
+ * Angular-rate noise densities are written the way the field writes them
+ * (rad/s/sqrt(Hz), m/s^2/sqrt(Hz)), other units as products of powers.
+ * @return 0, or -ERANGE when @p len is too small (buf holds a truncation).
+ */
+int sscope_unit_si_string(const struct sscope_unit *unit, char *buf,
+			  size_t len);
+
+/**
+ * Parse a quantity with its unit, e.g. "0.15 deg/sqrt(h)" or "-100 deg/s".
+ * @param text      the text.
+ * @param si_value  receives the value in SI.
+ * @param unit      receives the unit as written (may be NULL).  A number
+ *                  without a unit yields a dimensionless unit.
+ * @param diag      optional detail.
+ * @return 0, or -EINVAL (not a number, or unknown unit).
+ */
+int sscope_quantity_parse(const char *text, double *si_value,
+			  struct sscope_unit *unit, struct sscope_diag *diag);
+
+/* ------------------------------------------------------------------ */
+/* Number parsing                                                      */
+/* ------------------------------------------------------------------ */
+
+/**
+ * Parse a decimal floating-point number from [p, end), correctly rounded
+ * (bit-identical to strtod in the C locale).  Accepts an optional sign,
+ * digits with an optional '.', an optional exponent, and "nan"/"inf"
+ * (any case).  Leading blanks are not skipped.
+ * @param p, end  the text (need not be NUL-terminated).
+ * @param out     receives the value.
+ * @return the number of bytes consumed, or 0 when no number starts at @p p.
+ */
+size_t sscope_parse_double(const char *p, const char *end, double *out);
+
+/* ------------------------------------------------------------------ */
+/* Captures                                                            */
+/* ------------------------------------------------------------------ */
+
+/** Role of a column of a capture file. */
+enum sscope_role {
+	SSCOPE_ROLE_DATA = 0, /**< a measured channel */
+	SSCOPE_ROLE_TIME,     /**< time stamps */
+	SSCOPE_ROLE_TEMP      /**< temperature */
+};
+
+/** Description of one column of a capture source. */
+struct sscope_column {
+	const char *name;       /**< header name without its unit */
+	const char *unit_label; /**< unit as written (or given); "" if none */
+	struct sscope_unit unit;        /**< file unit -> SI */
+	enum sscope_quantity quantity;  /**< what it measures */
+	enum sscope_role role;          /**< data, time or temperature */
+	size_t index;                   /**< 0-based position in the source */
+};
+
+/** How the nominal sample rate of a capture was established. */
+enum sscope_rate_source {
+	SSCOPE_RATE_NONE = 0,   /**< unknown: no time column, no rate given */
+	SSCOPE_RATE_GIVEN,      /**< from the caller (--rate) */
+	SSCOPE_RATE_TIME_COLUMN, /**< from the median time-stamp interval */
+	SSCOPE_RATE_HEADER      /**< from a "# rate: 100 Hz" header comment */
+};
+
+/** Options for opening a capture.  Zero-initialise, then set what you need. */
+struct sscope_read_opts {
+	/** Raw binary layout "TYPE:CHANNELS[:le|be]" (TYPE one of i16, u16,
+	 *  i24, i32, u32, f32, f64), or NULL for delimited text / the
+	 *  sensorscope binary capture (detected by its first line). */
+	const char *raw;
+	double raw_scale;  /**< raw: physical = (raw + offset) * scale; 0 -> 1 */
+	double raw_offset; /**< raw: added before scaling */
+	/** Unit of data columns whose header names none (NULL: leave them
+	 *  without a unit). */
+	const char *default_unit;
+	/** Comma-separated channel names or 1-based column indices to read;
+	 *  NULL or "" selects every data column. */
+	const char *columns;
+	const char *time_column; /**< name of the time column, NULL: detect */
+	const char *temp_column; /**< temperature column, NULL: detect */
+	double rate_hz; /**< nominal rate; 0 derives it from the time column */
+	bool nan_as_gap; /**< accept NaN/empty cells as gaps (else -EBADMSG) */
+	bool no_time;    /**< ignore the time column even if one is present */
+	/** Threads for parsing a whole text file (sscope_capture_load); 0:
+	 *  one per online CPU, at most 8. */
+	unsigned threads;
+	/** Progress callback (may be NULL): @p done of @p total bytes read;
+	 *  total is 0 when unknown (a pipe). */
+	void (*progress)(void *ctx, uint64_t done, uint64_t total);
+	void *progress_ctx;
+};
+
+/** An open capture source read in chunks (streaming). */
+struct sscope_reader;
+
+/**
+ * Open a capture for chunked reading.  "-" reads standard input.  Delimited
+ * text files are memory-mapped; pipes are read in large blocks.
+ * @param reader receives the reader; free it with sscope_reader_close().
+ * @param path   file name or "-".
+ * @param opts   options (may be NULL for the defaults).
+ * @param diag   optional detail: file, line and column of a problem.
+ * @return 0; -ENOENT/-EACCES/... from the OS; -EBADMSG for a malformed
+ *         header or an empty file; -EINVAL for a bad option (unknown column,
+ *         bad --raw layout, unknown unit); -ENOMEM.
+ */
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag);
+
+/** @return the number of selected data channels. */
+size_t sscope_reader_n_channels(const struct sscope_reader *reader);
+
+/** @return the description of selected channel @p k (owned by @p reader). */
+const struct sscope_column *
+sscope_reader_channel(const struct sscope_reader *reader, size_t k);
+
+/** @return the time column, or NULL when there is none. */
+const struct sscope_column *
+sscope_reader_time_column(const struct sscope_reader *reader);
+
+/** @return the temperature column, or NULL when there is none. */
+const struct sscope_column *
+sscope_reader_temp_column(const struct sscope_reader *reader);
+
+/** @return the number of columns of the source (all roles). */
+size_t sscope_reader_n_columns(const struct sscope_reader *reader);
+
+/** @return column @p k (0-based, all roles) of the source. */
+const struct sscope_column *
+sscope_reader_column(const struct sscope_reader *reader, size_t k);
+
+/**
+ * @return the rate declared by a header comment ("# rate: 100 Hz",
+ *         "# sample_rate = 1 kHz", "# fs: 200"), or 0 when none.
+ */
+double sscope_reader_header_rate(const struct sscope_reader *reader);
+
+/** @return the source size in bytes, 0 when unknown (a pipe). */
+uint64_t sscope_reader_size(const struct sscope_reader *reader);
+
+/** Caller-owned destination of sscope_reader_read(). */
+struct sscope_chunk {
+	size_t capacity;   /**< rows each array can hold */
+	size_t rows;       /**< rows filled by the last read */
+	double **data;     /**< [n_channels] arrays, SI (entries may be NULL
+				to skip a channel) */
+	double *time_s;    /**< time since the first sample, s (may be NULL) */
+	double *temp_degc; /**< temperature, degC (may be NULL) */
+};
+
+/**
+ * Read up to chunk->capacity rows.  chunk->rows == 0 means end of data.
+ * Time stamps are relative to the first row of the source, computed from
+ * the exact decimal text so that large epoch stamps (EuRoC's nanoseconds)
+ * keep their resolution.
+ * @return 0, -EBADMSG (non-numeric cell, ragged row, NaN without
+ *         nan_as_gap; diag names file, line and column), -EIO.
+ */
+int sscope_reader_read(struct sscope_reader *reader,
+		       struct sscope_chunk *chunk, struct sscope_diag *diag);
+
+/** Close a reader (NULL is ignored). */
+void sscope_reader_close(struct sscope_reader *reader);
+
+/** One data channel of a loaded capture. */
+struct sscope_channel {
+	struct sscope_column col; /**< name, unit, quantity (owned) */
+	double *data;             /**< n samples in SI (owned) */
+};
+
+/** A capture in memory. */
+struct sscope_capture {
+	char *source;           /**< path given to the loader, "-" for stdin */
+	size_t n;               /**< samples per channel */
+	size_t n_channels;
+	struct sscope_channel *channels;
+	double *time_s;         /**< NULL without a time column */
+	double *temp_degc;      /**< NULL without a temperature column */
+	struct sscope_column time_col; /**< valid when time_s != NULL */
+	struct sscope_column temp_col; /**< valid when temp_degc != NULL */
+	double rate_hz;         /**< nominal rate; 0 when unknown */
+	enum sscope_rate_source rate_source;
+	size_t n_nan;           /**< NaN cells read as gaps */
+};
+
+/**
+ * Read a whole capture (the selected columns only).
+ * @param cap   receives the capture; free it with sscope_capture_free().
+ * @return as sscope_reader_open() and sscope_reader_read(); -EDOM when the
+ *         file holds no data rows or no data column.
+ */
+int sscope_capture_load(struct sscope_capture **cap, const char *path,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag);
+
+/**
+ * Make an empty capture of @p n_channels channels with @p n samples each
+ * (zero-filled), for generators and writers.
+ * @param with_time  allocate time_s.
+ * @param with_temp  allocate temp_degc.
+ * @return the capture, or NULL when out of memory or on overflow.
+ */
+struct sscope_capture *sscope_capture_new(size_t n_channels, size_t n,
+					  bool with_time, bool with_temp);
+
+/**
+ * Set the name and unit of channel @p k of a capture made by
+ * sscope_capture_new() (copies the strings).
+ * @return 0, -EINVAL (unknown unit, k out of range), -ENOMEM.
+ */
+int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
+			       const char *name, const char *unit);
+
+/** Free a capture (NULL is ignored). */
+void sscope_capture_free(struct sscope_capture *cap);
+
+/** @return the index of channel @p name, or -1. */
+long sscope_capture_find(const struct sscope_capture *cap, const char *name);
+
+/* ------------------------------------------------------------------ */
+/* Capture writers                                                     */
+/* ------------------------------------------------------------------ */
+
+/** File formats a capture can be written in. */
+enum sscope_capture_format {
+	SSCOPE_CAPTURE_CSV = 0, /**< comma-separated, units in the header */
+	SSCOPE_CAPTURE_BIN32,   /**< sensorscope binary, float32 samples */
+	SSCOPE_CAPTURE_BIN64    /**< sensorscope binary, float64 samples */
+};
+
+/** Streaming capture writer (atomic: nothing appears until commit). */
+struct sscope_writer;
+
+/** Column of a writer: values are given in SI and written in @p unit. */
+struct sscope_writer_column {
+	const char *name; /**< header name */
+	const char *unit; /**< unit written in the header ("" for none) */
+};
+
+/**
+ * Create a capture file.  Data go to a temporary file beside @p path which
+ * sscope_writer_commit() renames; sscope_writer_abort() removes it.
+ * @param digits  significant digits for CSV (0 -> 17, exact round trip).
+ * @return 0, -EINVAL (unknown unit, no columns), -errno from the OS.
+ */
+int sscope_writer_open(struct sscope_writer **w, const char *path,
+		       enum sscope_capture_format fmt,
+		       const struct sscope_writer_column *cols, size_t n_cols,
+		       int digits, struct sscope_diag *diag);
+
+/**
+ * Append @p rows rows; @p values is row-major, n_cols values per row, in SI.
+ * @return 0 or -EIO.
+ */
+int sscope_writer_append(struct sscope_writer *w, const double *values,
+			 size_t rows);
+
+/** Append a comment line ("# ..."); CSV only, ignored for binary. */
+int sscope_writer_comment(struct sscope_writer *w, const char *text);
+
+/** Flush, sync and rename into place; frees @p w.  @return 0 or -EIO. */
+int sscope_writer_commit(struct sscope_writer *w);
+
+/** Discard the temporary file; frees @p w (NULL is ignored). */
+void sscope_writer_abort(struct sscope_writer *w);
+
+/**
+ * Write a whole capture (time, channels, temperature) atomically.
+ * Channel values are written in their own unit_label units.
+ * @return as the streaming writer.
+ */
+int sscope_capture_write(const struct sscope_capture *cap, const char *path,
+			 enum sscope_capture_format fmt, int digits,
+			 struct sscope_diag *diag);
+
+/* ------------------------------------------------------------------ */
+/* Statistics and timing (analysis/stats.c, analysis/timing.c)          */
+/* ------------------------------------------------------------------ */
+
+/** Summary statistics of a channel. */
+struct sscope_stats {
+	size_t n;      /**< finite samples used */
+	size_t n_nan;  /**< NaN samples skipped */
+	double mean;
+	double sd;     /**< sample standard deviation (n - 1) */
+	double min;
+	double max;
+};
+
+/**
+ * Mean, standard deviation, extremes of x[k*stride], k < n, skipping NaN.
+ * Two passes with compensated sums: exact to a few ulps even with an offset
+ * 1e9 times the spread.
+ * @return 0; -EDOM when fewer than one finite sample (sd needs two: with
+ *         one sample sd is 0); -EINVAL for stride 0.
+ */
+int sscope_stats_compute(const double *x, size_t stride, size_t n,
+			 struct sscope_stats *st);
+
+/** Sampling of a time column. */
+struct sscope_timing {
+	double dt_median_s; /**< median interval */
+	double dt_min_s;
+	double dt_max_s;
+	double jitter_rms_s;  /**< rms deviation of the regular intervals from
+				   their mean (gaps excluded) */
+	double rate_hz;       /**< 1 / mean regular interval */
+	size_t n_gaps;        /**< intervals longer than gap_factor * median */
+	size_t n_missing;     /**< samples missing in those gaps (estimated) */
+	size_t n_backwards;   /**< non-increasing intervals */
+};
+
+/** A gap in time stamps. */
+struct sscope_gap {
+	size_t index;     /**< first sample after the gap */
+	double t_s;       /**< its time */
+	double length_s;  /**< the interval */
+	size_t missing;   /**< round(length / median) - 1 */
+};
+
+/**
+ * Analyse time stamps.
+ * @param t_s         n time stamps in seconds.
+ * @param gap_factor  an interval longer than gap_factor times the median is
+ *                    a gap (1.5 is usual).
+ * @param gaps        optional array receiving up to @p max_gaps gaps.
+ * @param n_gaps_out  optional: number written to @p gaps.
+ * @param scratch     n - 1 doubles of workspace (for the median).
+ * @return 0; -EDOM for n < 2 or a non-positive median interval; -EINVAL.
+ */
+int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
+			  struct sscope_timing *tm, struct sscope_gap *gaps,
+			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SENSORSCOPE_H */

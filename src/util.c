@@ -1,0 +1,101 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Version, error strings and small helpers shared by the library.
+ */
+#include "internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *sscope_version(void)
+{
+	return PACKAGE_VERSION;
+}
+
+const char *sscope_strerror(int err)
+{
+	if (err < 0)
+		err = -err;
+	switch (err) {
+	case 0:
+		return "success";
+	case EINVAL:
+		return "invalid parameter";
+	case EDOM:
+		return "data do not fit the request";
+	case ERANGE:
+		return "value out of range";
+	case ENOMEM:
+		return "out of memory";
+	case ENOTSUP:
+		return "feature not built in";
+	case EIO:
+		return "input/output error";
+	case ETIMEDOUT:
+		return "timed out";
+	case ENODEV:
+		return "no such device";
+	case EBADMSG:
+		return "malformed file or frame";
+	case ENOENT:
+		return "no such file or directory";
+	case EACCES:
+		return "permission denied";
+	case EISDIR:
+		return "is a directory";
+	case ENOSPC:
+		return "no space left on device";
+	default:
+		return "unexpected error";
+	}
+}
+
+int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (diag) {
+		va_start(ap, fmt);
+		vsnprintf(diag->msg, sizeof(diag->msg), fmt, ap);
+		va_end(ap);
+	}
+	return err;
+}
+
+void *ssc_alloc_array(size_t count, size_t size)
+{
+	size_t bytes;
+
+	if (!ssc_mul(count, size, &bytes))
+		return NULL;
+	return malloc(bytes ? bytes : 1);
+}
+
+char *ssc_strdup(const char *s)
+{
+	size_t n;
+	char *d;
+
+	if (!s)
+		return NULL;
+	n = strlen(s) + 1;
+	d = malloc(n);
+	if (d)
+		memcpy(d, s, n);
+	return d;
+}
+
+int ssc_strcasecmp(const char *a, const char *b)
+{
+	for (;; a++, b++) {
+		int ca = (unsigned char)*a, cb = (unsigned char)*b;
+
+		if (ca >= 'A' && ca <= 'Z')
+			ca += 'a' - 'A';
+		if (cb >= 'A' && cb <= 'Z')
+			cb += 'a' - 'A';
+		if (ca != cb || !ca)
+			return ca - cb;
+	}
+}

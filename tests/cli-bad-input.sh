@@ -1,0 +1,44 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Bad inputs: each gives exit 1 (data) or 2 (usage) and one line naming
+# the file, line and column -- never a crash or a hang.
+. "$(dirname "$0")/lib.sh"
+
+bad() { # DESC RC PATTERN ARGS...
+	desc=$1 rc=$2 pat=$3
+	shift 3
+	run "$desc" "$rc" "$@"
+	one_line_error "$desc"
+	has "$desc: message" "$T/err" "$pat"
+}
+
+: >"$T/empty.csv"
+bad "empty file" 1 'empty file' info "$T/empty.csv"
+bad "header only" 1 'no data rows' info "$DATA/header-only.csv"
+bad "ragged row" 1 'ragged.csv: line 4: 2 columns where the header has 3' info "$DATA/ragged.csv"
+bad "non-numeric cell" 1 'line 3, column 2 \(gx\): not a number .abc.' info "$DATA/text-cell.csv"
+bad "NaN cell" 1 'line 3, column 3 \(gy\): NaN \(use --allow-nan' info "$DATA/nan.csv"
+run "NaN allowed" 0 info --format json --allow-nan "$DATA/nan.csv"
+json_check "NaN counted" "$T/out" '.channels[1].nan == 1 and .channels[1].samples == 3'
+bad "no data column" 1 'no data column' info "$DATA/time-only.csv"
+bad "unknown unit" 1 "unknown unit 'furlong'" info "$DATA/bad-unit.csv"
+bad "missing file" 1 'no-such-file.csv: no such file' info "$T/no-such-file.csv"
+bad "directory" 1 'is a directory' info "$T"
+bad "unknown column" 1 "no column 'gq' \(columns: t, gx, gy\)" info -c gq "$DATA/nan.csv"
+bad "unknown -u unit" 1 "unknown unit 'blorbs'" info -u blorbs "$DATA/nan.csv"
+bad "bad raw layout" 1 "bad raw layout 'q16:6'" info --raw q16:6 -r 1 "$SAMPLES/imu-raw.bin"
+head -c 1001 "$SAMPLES/imu-raw.bin" >"$T/trunc.bin"
+bad "truncated raw" 1 'truncated' info --raw i16:6:le -r 100 "$T/trunc.bin"
+{ head -n 102 "$SAMPLES/vibration.csv"; printf '0.0200,1.25'; } >"$T/trunc.csv"
+bad "truncated text (cut mid-row)" 1 'trunc.csv: line 103: 2 columns where the header has 4' info "$T/trunc.csv"
+printf 'a,b\n1,2\n\000\000\000\000' >"$T/bin.csv"
+bad "binary junk" 1 'binary data' info "$T/bin.csv"
+bad "infinite value" 1 'infinite value' info "$DATA/inf.csv"
+bad "NaN time stamp" 1 'NaN time stamp' info --allow-nan "$DATA/nan-time.csv"
+bad "time column of wrong unit" 1 "time column 't' has unit 'deg'" info "$DATA/bad-time-unit.csv"
+
+# huge: a 2-million-row file streamed through a pipe (no hang, bounded time)
+awk 'BEGIN { print "gx [deg/s]"; for (i = 0; i < 2000000; i++) print (i % 7) * 0.001 }' >"$T/huge.csv"
+run "huge via stdin" 0 info --format json -r 1000 - <"$T/huge.csv"
+json_check "huge: all rows" "$T/out" '.channels[0].samples == 2000000'
+done_testing

@@ -1,0 +1,162 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Plotting layer: tick generation (exact expectations), rendering of a
+ * figure that exercises every element (log axes, error bars, bands, dashes,
+ * markers, notes, legend, image with colour bar, a million-point series),
+ * PNG signature and atomic output; -ENOTSUP without OpenCV.
+ * The figure is kept as tests/plot-demo.png for people to look at.
+ */
+#include "config.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+#include "check-main.h"
+
+START_TEST(linear_ticks)
+{
+	double t[32], step;
+	size_t n = ssc_ticks_linear(0, 1, 6, t, 32, &step);
+
+	ck_assert_uint_eq(n, 6);
+	ck_assert(step == 0.2);
+	ck_assert(t[0] == 0);
+	ck_assert_rel(t[5], 1, 1e-15);
+	n = ssc_ticks_linear(-3.7, 12.1, 6, t, 32, &step);
+	ck_assert(step == 5);
+	ck_assert_uint_eq(n, 3);
+	ck_assert(t[0] == 0 && t[1] == 5 && t[2] == 10);
+	ck_assert_uint_eq(ssc_ticks_linear(1, 1, 5, t, 32, &step), 0);
+	n = ssc_ticks_linear(1e-7, 5e-7, 5, t, 32, &step);
+	ck_assert_rel(step, 1e-7, 1e-12);
+	ck_assert_uint_eq(n, 5);
+}
+END_TEST
+
+START_TEST(log_ticks)
+{
+	double maj[16], mn[128];
+	size_t nmin, n = ssc_ticks_log(1e-3, 1e2, maj, 16, mn, 128, &nmin);
+
+	ck_assert_uint_eq(n, 6);
+	ck_assert_rel(maj[0], 1e-3, 1e-12);
+	ck_assert_rel(maj[5], 1e2, 1e-12);
+	ck_assert_uint_eq(nmin, 5 * 8);
+	n = ssc_ticks_log(2, 8, maj, 16, mn, 128, &nmin);
+	ck_assert_uint_eq(n, 0);
+	ck_assert_uint_eq(nmin, 7);
+	ck_assert_uint_eq(ssc_ticks_log(-1, 10, maj, 16, mn, 128, &nmin), 0);
+}
+END_TEST
+
+START_TEST(render_demo)
+{
+	struct ssc_fig *fig = ssc_fig_new(1200, 900, 2, 2);
+	struct ssc_ax *a = ssc_fig_ax(fig, 0, 0), *b = ssc_fig_ax(fig, 0, 1),
+		      *c = ssc_fig_ax(fig, 1, 0), *d = ssc_fig_ax(fig, 1, 1);
+	double tau[40], dev[40], lo[40], hi[40], fit[40], wn[40];
+	size_t n = 40, big = 1000000;
+	double *x = malloc(big * sizeof(double)), *y = malloc(big * sizeof(double));
+	double z[64 * 48];
+	char path[256];
+	FILE *f;
+	unsigned char sig[8];
+	int rc;
+
+	ck_assert_ptr_nonnull(fig);
+	ck_assert_ptr_null(ssc_fig_ax(fig, 2, 0));
+	ssc_fig_title(fig, "sensorscope plot test: \xcf\x83(\xcf\x84), 10^{-3} \xc2\xb0/h");
+	for (size_t i = 0; i < n; i++) {
+		tau[i] = 0.01 * pow(10, (double)i / 8);
+		wn[i] = 0.2 / sqrt(tau[i]);
+		fit[i] = sqrt(wn[i] * wn[i] + 0.0016 + 1e-4 * tau[i]);
+		dev[i] = fit[i] * (1 + 0.05 * sin((double)i));
+		lo[i] = dev[i] * (1 - 0.3 * tau[i] / 10);
+		hi[i] = dev[i] * (1 + 0.4 * tau[i] / 10);
+	}
+	ssc_ax_log(a, true, true);
+	ssc_ax_title(a, "Allan deviation");
+	ssc_ax_xlabel(a, "\xcf\x84 (s)");
+	ssc_ax_ylabel(a, "\xcf\x83(\xcf\x84) (\xc2\xb0/h)");
+	ssc_ax_band(a, tau, lo, hi, n, 0x1f77b4, 0.2, "68 % interval");
+	ssc_ax_errorbar(a, tau, dev, lo, hi, n,
+			&(struct ssc_style){ .marker = SSC_MK_CIRCLE, .width = -1 },
+			"OADEV");
+	ssc_ax_line(a, tau, fit, n, &(struct ssc_style){ .color = 0xd62728 },
+		    "fit");
+	ssc_ax_line(a, tau, wn, n,
+		    &(struct ssc_style){ .dash = SSC_DASHED, .width = 1.5 },
+		    "N = 0.2 \xc2\xb0/\xe2\x88\x9ah");
+	ssc_ax_note(a, "N = 0.200 \xc2\xb0/\xe2\x88\x9ah [0.19, 0.21]\nB = 0.040 \xc2\xb0/h",
+		    SSC_LEGEND_LL);
+	for (size_t i = 0; i < big; i++) {
+		x[i] = (double)i / 1000;
+		y[i] = sin(x[i] * 0.01) * 1e6 + ((i * 2654435761u) % 1000) * 100.0;
+	}
+	ssc_ax_line(b, x, y, big, &(struct ssc_style){ .width = 1 }, "1e6 points");
+	ssc_ax_xlabel(b, "time (s)");
+	ssc_ax_ylabel(b, "a (m/s^{2})");
+	ssc_ax_hline(b, 0, &(struct ssc_style){ .color = 0x000000, .dash = SSC_DOTTED }, NULL);
+	ssc_ax_vline(b, 500, &(struct ssc_style){ .color = 0x2ca02c, .dash = SSC_DASHDOT }, "event");
+	for (int m = SSC_MK_CIRCLE; m <= SSC_MK_CROSS; m++) {
+		double px[5], py[5];
+
+		for (int i = 0; i < 5; i++) {
+			px[i] = i;
+			py[i] = m + 0.1 * i;
+		}
+		ssc_ax_line(c, px, py, 5, &(struct ssc_style){ .marker = (enum ssc_marker)m },
+			    NULL);
+	}
+	ssc_ax_text(c, 2, 3.5, "text at (2, 3.5)", 0, 0);
+	ssc_ax_title(c, "markers");
+	for (int iy = 0; iy < 48; iy++)
+		for (int ix = 0; ix < 64; ix++)
+			z[iy * 64 + ix] = pow(10, -6 + 4.0 * ix / 64) * (1 + iy % 5);
+	rc = ssc_ax_image(d, z, 64, 48, 0, 10, 0, 500, 1e-6, 1e-1, true,
+			  "PSD (g^{2}/Hz)");
+	ck_assert_int_eq(rc, 0);
+	ck_assert_int_eq(ssc_ax_image(d, z, 64, 48, 0, 10, 0, 500, 1, 1, true, NULL),
+			 -EINVAL);
+	ssc_ax_xlabel(d, "time (s)");
+	ssc_ax_ylabel(d, "frequency (Hz)");
+	ssc_ax_title(d, "spectrogram");
+
+	snprintf(path, sizeof(path), "%s/tests/plot-demo.png",
+		 getenv("top_builddir") ? getenv("top_builddir") : ".");
+	rc = ssc_fig_save_png(fig, path);
+#ifdef HAVE_OPENCV
+	ck_assert_int_eq(rc, 0);
+	f = fopen(path, "rb");
+	ck_assert_ptr_nonnull(f);
+	ck_assert_uint_eq(fread(sig, 1, 8, f), 8);
+	fclose(f);
+	ck_assert(memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0);
+	ck_assert_int_eq(ssc_fig_save_png(fig, "/nonexistent/dir/x.png"), -ENOENT);
+#else
+	ck_assert_int_eq(rc, -ENOTSUP);
+	(void)f;
+	(void)sig;
+#endif
+	ssc_fig_free(fig);
+	free(x);
+	free(y);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("plot");
+	TCase *tc = tcase_create("plot");
+
+	tcase_set_timeout(tc, 120);
+	tcase_add_test(tc, linear_ticks);
+	tcase_add_test(tc, log_ticks);
+	tcase_add_test(tc, render_demo);
+	suite_add_tcase(s, tc);
+	return s;
+}

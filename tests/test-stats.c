@@ -1,0 +1,122 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Statistics and timing: exact small cases, a large offset that naive
+ * one-pass formulas destroy, NaN handling, strides, gaps and jitter.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+
+START_TEST(exact_small)
+{
+	const double x[] = { 2, 4, 4, 4, 5, 5, 7, 9 };
+	struct sscope_stats s;
+
+	ck_assert_int_eq(sscope_stats_compute(x, 1, 8, &s), 0);
+	ck_assert_uint_eq(s.n, 8);
+	ck_assert(s.mean == 5);
+	ck_assert_rel(s.sd, sqrt(32.0 / 7.0), 1e-15);
+	ck_assert(s.min == 2 && s.max == 9);
+	/* stride 2 picks 2, 4, 5, 7 */
+	ck_assert_int_eq(sscope_stats_compute(x, 2, 4, &s), 0);
+	ck_assert(s.mean == 4.5);
+	ck_assert_rel(s.sd, sqrt(13.0 / 3.0), 1e-15);
+}
+END_TEST
+
+START_TEST(large_offset)
+{
+	/* offset 1e9 times the spread: the variance must survive */
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t n = 100000;
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	struct sscope_stats a, b;
+
+	gsl_rng_set(r, 7);
+	for (size_t i = 0; i < n; i++) {
+		y[i] = gsl_ran_gaussian_ziggurat(r, 2.385);
+		x[i] = 2.385e9 + y[i];
+	}
+	ck_assert_int_eq(sscope_stats_compute(y, 1, n, &b), 0);
+	ck_assert_int_eq(sscope_stats_compute(x, 1, n, &a), 0);
+	/* x = y + c is exact to half an ulp of 2.4e9 (2.4e-7) per sample:
+	 * sd agrees to ~1e-7 relative */
+	ck_assert_rel(a.sd, b.sd, 3e-7);
+	ck_assert_msg(fabs(a.mean - 2.385e9 - b.mean) < 1e-6, "mean %.17g", a.mean);
+	free(x);
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+START_TEST(nan_and_edges)
+{
+	const double x[] = { NAN, 1, NAN, 3 };
+	const double z[] = { NAN, NAN };
+	struct sscope_stats s;
+
+	ck_assert_int_eq(sscope_stats_compute(x, 1, 4, &s), 0);
+	ck_assert_uint_eq(s.n_nan, 2);
+	ck_assert(s.mean == 2);
+	ck_assert_int_eq(sscope_stats_compute(z, 1, 2, &s), -EDOM);
+	ck_assert_int_eq(sscope_stats_compute(x, 0, 2, &s), -EINVAL);
+	ck_assert_int_eq(sscope_stats_compute(x + 1, 1, 1, &s), 0);
+	ck_assert(s.sd == 0);
+}
+END_TEST
+
+START_TEST(timing_gaps)
+{
+	double t[1000], scratch[999];
+	struct sscope_timing tm;
+	struct sscope_gap g[4];
+	size_t ng, k = 0;
+
+	for (size_t i = 0; i < 1003; i++) {
+		if (i == 100 || i == 101 || i == 500)
+			continue; /* three samples lost, in two gaps */
+		/* every 4th stamp late by 10 us: intervals 10.01, 9.99, 10,
+		 * 10 ms, so the median is 10 ms and the rms deviation
+		 * 10 us / sqrt(2) */
+		t[k++] = (double)i * 0.01 + ((i % 4 == 0) ? 1e-5 : 0);
+	}
+	ck_assert_int_eq(sscope_timing_analyze(t, 1000, 1.5, &tm, g, 4, &ng,
+					       scratch), 0);
+	ck_assert_rel(tm.dt_median_s, 0.01, 1e-12);
+	ck_assert_uint_eq(tm.n_gaps, 2);
+	ck_assert_uint_eq(ng, 2);
+	ck_assert_uint_eq(tm.n_missing, 3);
+	ck_assert_uint_eq(g[0].index, 100);
+	ck_assert_uint_eq(g[0].missing, 2);
+	ck_assert_uint_eq(g[1].missing, 1);
+	ck_assert_rel(tm.jitter_rms_s, 1e-5 / sqrt(2), 0.01);
+	ck_assert_rel(tm.rate_hz, 100, 1e-5); /* first stamp late by 10 us */
+	ck_assert_int_eq(sscope_timing_analyze(t, 1, 1.5, &tm, NULL, 0, NULL,
+					       scratch), -EDOM);
+	for (size_t i = 0; i < 10; i++)
+		t[i] = 5;
+	ck_assert_int_eq(sscope_timing_analyze(t, 10, 1.5, &tm, NULL, 0, NULL,
+					       scratch), -EDOM);
+	ck_assert_int_eq(sscope_timing_analyze(t, 10, 0.5, &tm, NULL, 0, NULL,
+					       scratch), -EINVAL);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("stats");
+	TCase *tc = tcase_create("stats");
+
+	tcase_add_test(tc, exact_small);
+	tcase_add_test(tc, large_offset);
+	tcase_add_test(tc, nan_and_edges);
+	tcase_add_test(tc, timing_gaps);
+	suite_add_tcase(s, tc);
+	return s;
+}
