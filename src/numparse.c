@@ -7,11 +7,14 @@
  * 1990): a decimal with at most 2^53 as significand and |exponent| <= 22 is
  * one exact double times or divided by one exact power of ten, so a single
  * IEEE operation rounds it correctly.
- * Path 2: significands up to 19 digits and |exponent| <= 27 are exact in
- * x87 extended precision (64-bit significand); one extended operation gives
- * the value within half an extended ulp, and rounding that to double is
- * correct unless it lies within one extended ulp of a double half-way point,
- * which is detected and sent to path 3.
+ * Path 2: significands up to 19 digits and |exponent| <= 27: the significand
+ * and the power of ten are exact double-doubles, their product or quotient
+ * is formed in double-double arithmetic (Dekker, "A floating-point
+ * technique for extending the available precision", Numer. Math. 1971),
+ * good to about 2^-100 relative; rounding it to double is correct unless it
+ * lies that close to a half-way point between doubles, which is detected and
+ * sent to path 3.  (Only IEEE double operations: exact under valgrind too,
+ * unlike x87 long double.)
  * Path 3: everything else (more digits, huge exponents, ties) goes to the C
  * library's strtod, which is correctly rounded in glibc.
  * Why hand-written: no C library in Debian offers locale-independent,
@@ -20,7 +23,6 @@
  */
 #include "internal.h"
 
-#include <float.h>
 #include <locale.h>
 #include <math.h>
 #include <stdlib.h>
@@ -31,13 +33,113 @@ static const double pow10_exact[] = {
 	1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
 };
 
-#if LDBL_MANT_DIG == 64
-static const long double pow10_ld[] = {
-	1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,  1e7L,  1e8L,  1e9L,
-	1e10L, 1e11L, 1e12L, 1e13L, 1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L,
-	1e20L, 1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L,
+/* ---- double-double arithmetic (error-free transformations) */
+
+struct dd {
+	double hi, lo;
 };
-#endif
+
+static inline struct dd two_sum(double a, double b)
+{
+	double s = a + b, bb = s - a;
+
+	return (struct dd){ s, (a - (s - bb)) + (b - bb) };
+}
+
+static inline struct dd quick_two_sum(double a, double b)
+{
+	double s = a + b;
+
+	return (struct dd){ s, b - (s - a) };
+}
+
+static inline void split(double a, double *hi, double *lo)
+{
+	double c = 134217729.0 * a; /* 2^27 + 1 */
+
+	*hi = c - (c - a);
+	*lo = a - *hi;
+}
+
+static inline struct dd two_prod(double a, double b)
+{
+	double p = a * b, ah, al, bh, bl;
+
+	split(a, &ah, &al);
+	split(b, &bh, &bl);
+	return (struct dd){ p, ((ah * bh - p) + ah * bl + al * bh) + al * bl };
+}
+
+static inline struct dd dd_mul(struct dd a, struct dd b)
+{
+	struct dd p = two_prod(a.hi, b.hi);
+
+	p.lo += a.hi * b.lo + a.lo * b.hi;
+	return quick_two_sum(p.hi, p.lo);
+}
+
+static inline struct dd dd_sub(struct dd a, struct dd b)
+{
+	struct dd s = two_sum(a.hi, -b.hi);
+
+	s.lo += a.lo - b.lo;
+	return quick_two_sum(s.hi, s.lo);
+}
+
+static inline struct dd dd_div(struct dd a, struct dd b)
+{
+	double q1 = a.hi / b.hi, q2, q3;
+	struct dd r = dd_sub(a, dd_mul((struct dd){ q1, 0 }, b)), s;
+
+	q2 = r.hi / b.hi;
+	r = dd_sub(r, dd_mul((struct dd){ q2, 0 }, b));
+	q3 = r.hi / b.hi;
+	s = quick_two_sum(q1, q2);
+	s.lo += q3;
+	return quick_two_sum(s.hi, s.lo);
+}
+
+/* An integer below 2^64 as an exact double-double. */
+static inline struct dd dd_u64(uint64_t m)
+{
+	double hi = (double)m;
+	uint64_t h = hi >= 18446744073709551616.0 ? UINT64_MAX : (uint64_t)hi;
+
+	return (struct dd){ hi, (double)(int64_t)(m - h) };
+}
+
+/* 10^k, 0 <= k <= 27, exactly: 5^k < 2^63, times 2^k. */
+static inline struct dd dd_pow10(int k)
+{
+	uint64_t f = 1;
+	struct dd d;
+
+	for (int i = 0; i < k; i++)
+		f *= 5;
+	d = dd_u64(f);
+	d.hi = ldexp(d.hi, k);
+	d.lo = ldexp(d.lo, k);
+	return d;
+}
+
+/* Round a double-double within rel_err of the exact value to double;
+ * false when it lies too near a half-way point to decide. */
+static inline bool dd_round(struct dd x, double rel_err, double *out)
+{
+	double up, gap, half;
+
+	if (x.lo == 0) {
+		*out = x.hi;
+		return true;
+	}
+	up = x.lo > 0 ? nextafter(x.hi, INFINITY) : nextafter(x.hi, 0);
+	gap = fabs(up - x.hi);
+	half = gap / 2;
+	if (fabs(half - fabs(x.lo)) <= rel_err * fabs(x.hi))
+		return false;
+	*out = fabs(x.lo) < half ? x.hi : up;
+	return true;
+}
 
 static inline int lower(int c)
 {
@@ -228,24 +330,17 @@ size_t sscope_parse_double(const char *p, const char *end, double *out)
 		*out = neg ? -v : v;
 		return n;
 	}
-#if LDBL_MANT_DIG == 64
 	if (exp10 >= -27 && exp10 <= 27) {
-		long double v = (long double)mant, m;
-		uint64_t bits, low;
-		int e2;
+		struct dd m = dd_u64(mant), x;
+		double d;
 
-		v = exp10 < 0 ? v / pow10_ld[-exp10] : v * pow10_ld[exp10];
-		m = frexpl(v, &e2);
-		bits = (uint64_t)ldexpl(m, 64);
-		low = bits & 0x7ff;
-		if (low < 0x3ff || low > 0x401) {
-			double d = (double)v;
-
+		x = exp10 < 0 ? dd_div(m, dd_pow10((int)-exp10)) :
+				dd_mul(m, dd_pow10((int)exp10));
+		if (dd_round(x, 0x1p-96, &d)) {
 			*out = neg ? -d : d;
 			return n;
 		}
 	}
-#endif
 slow:
 	*out = slow_strtod(s, n);
 	return n;

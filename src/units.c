@@ -157,14 +157,19 @@ static const char *const U_MINUS = "\xe2\x81\xbb"; /* superscript minus */
 
 static int superscript_digit(const char *p, int *len)
 {
-	unsigned char a = (unsigned char)p[0], b = (unsigned char)p[1],
-		      c = (unsigned char)p[2];
+	unsigned char a = (unsigned char)p[0], b, c;
 
+	if (a != 0xc2 && a != 0xe2)
+		return -1;
+	b = (unsigned char)p[1]; /* p[1] exists: p[0] is not the NUL */
 	if (a == 0xc2 && (b == 0xb2 || b == 0xb3 || b == 0xb9)) {
 		*len = 2;
 		return b == 0xb2 ? 2 : b == 0xb3 ? 3 : 1;
 	}
-	if (a == 0xe2 && b == 0x81 && (c == 0xb0 || (c >= 0xb4 && c <= 0xb9))) {
+	if (a != 0xe2 || b != 0x81)
+		return -1;
+	c = (unsigned char)p[2];
+	if (c == 0xb0 || (c >= 0xb4 && c <= 0xb9)) {
 		*len = 3;
 		return c == 0xb0 ? 0 : c - 0xb0;
 	}
