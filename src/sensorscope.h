@@ -161,6 +161,33 @@ const char *sscope_quantity_name(enum sscope_quantity q);
  */
 const char *sscope_quantity_si_unit(enum sscope_quantity q);
 
+/** Terms of the IEEE 952 error model and related figures, for units. */
+enum sscope_term {
+	SSCOPE_TERM_Q = 0, /**< quantization (angle / velocity) */
+	SSCOPE_TERM_N,     /**< angle / velocity random walk */
+	SSCOPE_TERM_B,     /**< bias instability */
+	SSCOPE_TERM_K,     /**< rate random walk */
+	SSCOPE_TERM_R,     /**< rate ramp */
+	SSCOPE_TERM_RATE,  /**< the measured quantity itself (bias, range) */
+	SSCOPE_TERM_COUNT_
+};
+
+/**
+ * Conventional unit of a term for gyros (deg/sqrt(h), deg/h, ...) and
+ * accelerometers (m/s/sqrt(h), ug, ...).
+ * @return a static string, or NULL for other quantities (use the data's
+ *         own unit then).
+ */
+const char *sscope_term_unit(enum sscope_quantity q, enum sscope_term t);
+
+/**
+ * SI unit of a term as the JSON contract writes it: Q rad, N
+ * rad/s/sqrt(Hz), B rad/s, K rad/s^2/sqrt(Hz), R rad/s^2 for angular rate;
+ * m/s, m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz), m/s^3 for acceleration.
+ * @return a static string, or NULL for other quantities.
+ */
+const char *sscope_term_si_unit(enum sscope_quantity q, enum sscope_term t);
+
 /**
  * Write @p unit's SI form, e.g. "rad/s/sqrt(Hz)" or "m s^-2", into @p buf.
  * Angular-rate noise densities are written the way the field writes them
@@ -496,6 +523,125 @@ struct sscope_gap {
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  struct sscope_timing *tm, struct sscope_gap *gaps,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
+
+
+/* ------------------------------------------------------------------ */
+/* INI specifications (src/spec.c)                                     */
+/* ------------------------------------------------------------------ */
+
+/** A parsed INI file: [sections] of "key = value" lines (keys and section
+ *  names case-insensitive; '#' and ';' comments). */
+struct sscope_ini;
+
+/**
+ * Parse INI text.
+ * @param name  file name used in messages.
+ * @return 0; -EBADMSG (syntax: the line is named), -ENOMEM.
+ */
+int sscope_ini_parse(struct sscope_ini **ini, const char *text, size_t len,
+		     const char *name, struct sscope_diag *diag);
+
+/** Read and parse an INI file.  @return as sscope_ini_parse(), -errno. */
+int sscope_ini_load(struct sscope_ini **ini, const char *path,
+		    struct sscope_diag *diag);
+
+/** Free (NULL is ignored). */
+void sscope_ini_free(struct sscope_ini *ini);
+
+/** @return the file name given to the parser (owned by @p ini). */
+const char *sscope_ini_name(const struct sscope_ini *ini);
+size_t sscope_ini_n_sections(const struct sscope_ini *ini);
+/** @return the name of section @p i (line number in *line), or NULL. */
+const char *sscope_ini_section(const struct sscope_ini *ini, size_t i,
+			       size_t *line);
+bool sscope_ini_has_section(const struct sscope_ini *ini, const char *section);
+size_t sscope_ini_n_keys(const struct sscope_ini *ini, const char *section);
+/** @return key @p k of @p section with its value and line, or NULL. */
+const char *sscope_ini_key(const struct sscope_ini *ini, const char *section,
+			   size_t k, const char **value, size_t *line);
+/** @return the value of @p key in @p section (NULL when absent). */
+const char *sscope_ini_get(const struct sscope_ini *ini, const char *section,
+			   const char *key, size_t *line);
+/**
+ * Refuse keys not in @p allowed (a NULL-terminated list).
+ * @return 0, or -EINVAL naming the file, line and key.
+ */
+int sscope_ini_check_keys(const struct sscope_ini *ini, const char *section,
+			  const char *const *allowed, struct sscope_diag *diag);
+/**
+ * A value with an optional unit, converted to SI.  A bare number is taken
+ * in the SI unit @p si_unit.
+ * @return 0; -ENOENT when the key is absent (diag untouched); -EINVAL for a
+ *         malformed value or a unit of another dimension (file, line, key).
+ */
+int sscope_ini_quantity(const struct sscope_ini *ini, const char *section,
+			const char *key, const char *si_unit, double *out,
+			struct sscope_diag *diag);
+/** An integer in [lo, hi].  @return 0, -ENOENT, -EINVAL. */
+int sscope_ini_integer(const struct sscope_ini *ini, const char *section,
+		       const char *key, long lo, long hi, long *out,
+		       struct sscope_diag *diag);
+
+/** Fields present in a struct sscope_sensor_spec (bit mask). */
+enum {
+	SSCOPE_SPEC_RANGE = 1u << 0,
+	SSCOPE_SPEC_Q = 1u << 1,
+	SSCOPE_SPEC_N = 1u << 2,
+	SSCOPE_SPEC_B = 1u << 3,
+	SSCOPE_SPEC_K = 1u << 4,
+	SSCOPE_SPEC_R = 1u << 5,
+	SSCOPE_SPEC_BIAS = 1u << 6,
+	SSCOPE_SPEC_SF = 1u << 7,
+	SSCOPE_SPEC_TEMPCO = 1u << 8,
+	SSCOPE_SPEC_TEMPS = 1u << 9,
+	SSCOPE_SPEC_SENSITIVITY = 1u << 10,
+	SSCOPE_SPEC_ZERO = 1u << 11,
+	SSCOPE_SPEC_BANDWIDTH = 1u << 12,
+};
+
+/**
+ * A gyro or accelerometer specification, SI throughout.  With U the rate
+ * unit (rad/s for a gyro, m/s^2 for an accelerometer): range, bias and the
+ * bias instability B are in U; quantization Q in U*s; noise density N
+ * (angle/velocity random walk) in U/sqrt(Hz); rate random walk K in
+ * U/s/sqrt(Hz); rate ramp R in U/s; bias_tempco in U/degC; sensitivity in
+ * V per U (analog outputs).  IEEE Std 952-1997 Annex C terms.
+ */
+struct sscope_sensor_spec {
+	char name[64];
+	enum sscope_quantity quantity; /**< ANGULAR_RATE or ACCELERATION */
+	unsigned has;                  /**< SSCOPE_SPEC_* of fields given */
+	double range;                  /**< +- full scale, U */
+	double q, n, b, k, r;          /**< IEEE 952 noise terms */
+	double bias;                   /**< constant bias, U */
+	double scale_factor_error;     /**< ratio (ppm * 1e-6) */
+	double bias_tempco;            /**< U per degC */
+	double temp_min_degc, temp_max_degc;
+	double sensitivity;            /**< V per U (analog output) */
+	double zero_output_v;          /**< output at zero input, V */
+	double bandwidth_hz;           /**< -3 dB bandwidth of the output */
+	int filter_order;              /**< order of that filter (default 1) */
+};
+
+/** @return the keys a [sensor] section may hold (NULL-terminated). */
+const char *const *sscope_sensor_spec_keys(void);
+
+/**
+ * Read a sensor specification from section @p section of @p ini.  The
+ * quantity (gyro or accelerometer) follows from the units of range or
+ * noise_density; every value with a unit of the wrong dimension, every
+ * unknown key and every negative magnitude is refused with file, line and
+ * key.  A bare scale_factor_error is in ppm.
+ * @return 0 or -EINVAL.
+ */
+int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
+				const char *section,
+				struct sscope_sensor_spec *spec,
+				struct sscope_diag *diag);
+
+/** Load the [sensor] section of a file.  @return as above, -errno. */
+int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
+			    struct sscope_diag *diag);
 
 #ifdef __cplusplus
 }

@@ -653,3 +653,41 @@ int sscope_quantity_parse(const char *text, double *si_value,
 		*unit = u;
 	return 0;
 }
+
+static const char *const term_units[2][2][SSCOPE_TERM_COUNT_] = {
+	{ /* angular rate: conventional, SI */
+	  { "arcsec", "deg/sqrt(h)", "deg/h", "deg/h/sqrt(h)", "deg/h/h",
+	    "deg/s" },
+	  { "rad", "rad/s/sqrt(Hz)", "rad/s", "rad/s^2/sqrt(Hz)", "rad/s^2",
+	    "rad/s" } },
+	{ /* acceleration */
+	  { "m/s", "m/s/sqrt(h)", "ug", "ug/sqrt(h)", "ug/h", "g" },
+	  { "m/s", "m/s^2/sqrt(Hz)", "m/s^2", "m/s^3/sqrt(Hz)", "m/s^3",
+	    "m/s^2" } },
+};
+
+static const char *term_unit(enum sscope_quantity q, enum sscope_term t,
+			     int si)
+{
+	int k;
+
+	if (t < 0 || t >= SSCOPE_TERM_COUNT_)
+		return NULL;
+	if (q == SSCOPE_QTY_ANGULAR_RATE)
+		k = 0;
+	else if (q == SSCOPE_QTY_ACCELERATION)
+		k = 1;
+	else
+		return NULL;
+	return term_units[k][si][t];
+}
+
+const char *sscope_term_unit(enum sscope_quantity q, enum sscope_term t)
+{
+	return term_unit(q, t, 0);
+}
+
+const char *sscope_term_si_unit(enum sscope_quantity q, enum sscope_term t)
+{
+	return term_unit(q, t, 1);
+}

@@ -8,6 +8,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "check-main.h"
@@ -202,6 +203,34 @@ START_TEST(strerror_all)
 }
 END_TEST
 
+START_TEST(term_units_consistent)
+{
+	/* every conventional unit converts to its SI unit, and the SI unit
+	 * has the dimension of the term: Q = U*s, N = U/sqrt(Hz), B = U,
+	 * K = U/s/sqrt(Hz), R = U/s */
+	static const char *const suffix[] = { "*s", "/sqrt(Hz)", "", "/s/sqrt(Hz)",
+					      "/s", "" };
+	static const enum sscope_quantity qs[] = { SSCOPE_QTY_ANGULAR_RATE,
+						   SSCOPE_QTY_ACCELERATION };
+
+	for (int i = 0; i < 2; i++)
+		for (int t = 0; t < SSCOPE_TERM_COUNT_; t++) {
+			char want[64];
+			double v;
+
+			snprintf(want, sizeof(want), "%s%s",
+				 i ? "m/s^2" : "rad/s", suffix[t]);
+			ck_assert_int_eq(sscope_convert(1, sscope_term_unit(qs[i], t),
+							sscope_term_si_unit(qs[i], t), &v), 0);
+			ck_assert_int_eq(sscope_convert(1, sscope_term_si_unit(qs[i], t),
+							want, &v), 0);
+			ck_assert_rel(v, 1, 1e-15);
+		}
+	ck_assert_ptr_null(sscope_term_unit(SSCOPE_QTY_VOLTAGE, SSCOPE_TERM_N));
+	ck_assert_str_eq(sscope_term_unit(SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_B), "deg/h");
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("units");
@@ -215,6 +244,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, si_strings);
 	tcase_add_test(tc, quantity_values);
 	tcase_add_test(tc, strerror_all);
+	tcase_add_test(tc, term_units_consistent);
 	suite_add_tcase(s, tc);
 	return s;
 }

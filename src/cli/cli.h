@@ -130,6 +130,19 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/*
+ * A coefficient object of the JSON contract:
+ * {"value","unit","lo","hi","si","si_unit","fitted"}; value/lo/hi are the
+ * SI numbers converted to @p unit (NULL: the SI unit).  lo/hi may be NaN
+ * (written as null).
+ */
+json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
+		      const char *si_unit, bool fitted);
+
+/* Load the [sensor] section of a spec file; prints errors, returns exit. */
+int ssc_load_sensor(const char *cmd, const char *path,
+		    struct sscope_sensor_spec *spec);
+
 /* Plots: exit 2 with a message when built without OpenCV. */
 bool ssc_plot_available(void);
 int ssc_plot_unavailable(const char *cmd);

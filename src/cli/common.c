@@ -595,3 +595,38 @@ int ssc_plot_unavailable(const char *cmd)
 		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
 	return SSC_EXIT_USAGE;
 }
+
+json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
+		      const char *si_unit, bool fitted)
+{
+	json_t *o = json_object();
+	double v = si, lo = si_lo, hi = si_hi;
+
+	if (unit && si_unit && sscope_convert(si, si_unit, unit, &v) == 0) {
+		if (sscope_convert(si_lo, si_unit, unit, &lo))
+			lo = NAN;
+		if (sscope_convert(si_hi, si_unit, unit, &hi))
+			hi = NAN;
+	} else {
+		unit = si_unit;
+	}
+	json_object_set_new(o, "value", ssc_jreal(v));
+	json_object_set_new(o, "unit", json_string(unit ? unit : ""));
+	json_object_set_new(o, "lo", ssc_jreal(lo));
+	json_object_set_new(o, "hi", ssc_jreal(hi));
+	json_object_set_new(o, "si", ssc_jreal(si));
+	json_object_set_new(o, "si_unit", json_string(si_unit ? si_unit : ""));
+	json_object_set_new(o, "fitted", json_boolean(fitted));
+	return o;
+}
+
+int ssc_load_sensor(const char *cmd, const char *path,
+		    struct sscope_sensor_spec *spec)
+{
+	struct sscope_diag d = { "" };
+	int rc = sscope_sensor_spec_load(path, spec, &d);
+
+	if (rc)
+		return ssc_fail(cmd, rc, &d, path);
+	return SSC_EXIT_OK;
+}
