@@ -647,4 +647,10 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 }
 #endif
 
+/*
+ * Analysis and converter modules: one public header each (analysis/sscope-
+ * *.h, adc/sscope-*.h), installed beside this one and included here, so
+ * that <sensorscope.h> declares the whole library.
+ */
+
 #endif /* SENSORSCOPE_H */
