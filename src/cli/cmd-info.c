@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "stage.h"
 
 #define MAX_GAPS_LISTED 100
 
@@ -53,14 +54,9 @@ static double to_unit_diff(const struct sscope_column *c, double si)
 }
 
 static int analyse(const struct ssc_common *co, const char *path,
-		   struct file_info *fi)
+		   struct sscope_capture *cap, struct file_info *fi)
 {
-	struct sscope_capture *cap;
-	int rc = ssc_load(co, path, &fi->cap);
-
-	if (rc)
-		return rc;
-	cap = fi->cap;
+	fi->cap = cap;
 	fi->st = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->st));
 	if (!fi->st) {
 		ssc_err(co->cmd, "out of memory");
@@ -282,8 +278,8 @@ static void csv_file(FILE *f, const char *path, const struct file_info *fi)
 	}
 }
 
-static int plot(const struct ssc_common *co, const char *path,
-		const struct file_info *fi)
+static int plot(const struct ssc_common *co, const char *png,
+		const char *path, const struct file_info *fi)
 {
 	const struct sscope_capture *cap = fi->cap;
 	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
@@ -328,86 +324,89 @@ static int plot(const struct ssc_common *co, const char *path,
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save_png(fig, png);
 	ssc_fig_free(fig);
 	free(t);
 	free(y);
 	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		ssc_err(co->cmd, "%s: %s", png, sscope_strerror(rc));
 		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
 }
 
-static void free_info(struct file_info *fi)
+static int run(const struct ssc_stage_env *env, void *opts,
+	       struct ssc_stage_out *out)
 {
-	sscope_capture_free(fi->cap);
-	free(fi->st);
-}
+	const struct ssc_common *co = env->co;
+	struct file_info *fi = calloc(env->n_caps ? env->n_caps : 1, sizeof(*fi));
+	struct ssc_membuf text, csv;
+	int rc = SSC_EXIT_OK;
 
-int ssc_cmd_info(int argc, char **argv)
-{
-	struct ssc_common co;
-	struct file_info *fi;
-	struct ssc_out out;
-	int first, rc, nfiles;
-	json_t *root = NULL;
-
-	rc = ssc_parse(&spec, argc, argv, &co, NULL, NULL, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	nfiles = argc - first;
-	if (nfiles < 1)
-		return ssc_usage_error(co.cmd, "no input file");
-	if (co.plot && nfiles > 1)
-		return ssc_usage_error(co.cmd, "--plot takes one input file");
-	fi = calloc((size_t)nfiles, sizeof(*fi));
-	if (!fi)
+	(void)opts;
+	if (!fi || ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+		free(fi);
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
-	for (int i = 0; i < nfiles; i++) {
-		rc = analyse(&co, argv[first + i], &fi[i]);
-		if (rc)
-			goto done;
 	}
-	if (co.plot) {
-		rc = plot(&co, argv[first], &fi[0]);
-		if (rc)
-			goto done;
-	}
-	if (co.format == SSC_FMT_JSON) {
-		if (nfiles == 1) {
-			root = json_file(argv[first], &fi[0]);
+	for (size_t i = 0; i < env->n_caps && !rc; i++)
+		rc = analyse(co, env->paths[i], env->caps[i], &fi[i]);
+	if (!rc && env->plot_path && env->n_caps)
+		rc = plot(co, env->plot_path, env->paths[0], &fi[0]);
+	if (!rc) {
+		fprintf(csv.f, "file,channel,unit,quantity,rate_hz,samples,nan,duration_s,mean,sd,min,max\n");
+		for (size_t i = 0; i < env->n_caps; i++) {
+			if (i)
+				fputc('\n', text.f);
+			text_file(text.f, env->paths[i], &fi[i]);
+			csv_file(csv.f, env->paths[i], &fi[i]);
+		}
+		if (env->n_caps == 1) {
+			out->json = json_file(env->paths[0], &fi[0]);
 		} else {
 			json_t *files = json_array();
 
-			root = json_object();
-			json_object_set_new(root, "command", json_string("info"));
-			for (int i = 0; i < nfiles; i++)
+			out->json = json_object();
+			json_object_set_new(out->json, "command", json_string("info"));
+			for (size_t i = 0; i < env->n_caps; i++)
 				json_array_append_new(files,
-						      json_file(argv[first + i], &fi[i]));
-			json_object_set_new(root, "files", files);
+						      json_file(env->paths[i], &fi[i]));
+			json_object_set_new(out->json, "files", files);
 		}
-		rc = ssc_emit_json(&co, root);
-		goto done;
-	}
-	rc = ssc_out_open(&co, &out);
-	if (rc)
-		goto done;
-	if (co.format == SSC_FMT_CSV)
-		fprintf(out.f, "file,channel,unit,quantity,rate_hz,samples,nan,duration_s,mean,sd,min,max\n");
-	for (int i = 0; i < nfiles; i++) {
-		if (co.format == SSC_FMT_CSV) {
-			csv_file(out.f, argv[first + i], &fi[i]);
-		} else {
-			if (i)
-				fputc('\n', out.f);
-			text_file(out.f, argv[first + i], &fi[i]);
+		for (size_t i = 0; i < env->n_caps; i++) {
+			const struct sscope_capture *cap = fi[i].cap;
+
+			if (cap->rate_hz > 0)
+				ssc_summary_add(out->summary, NULL, "sample rate",
+						cap->rate_hz, NAN, NAN, "Hz",
+						rate_source(cap));
+			if (cap->rate_hz > 0)
+				ssc_summary_add(out->summary, NULL, "record length",
+						duration(cap), NAN, NAN, "s", NULL);
+			if (fi[i].have_temp)
+				ssc_summary_add(out->summary, NULL, "temperature range",
+						fi[i].temp.min, fi[i].temp.min,
+						fi[i].temp.max, "degC", NULL);
 		}
 	}
-	rc = ssc_out_close(&co, &out, !ferror(out.f));
-done:
-	for (int i = 0; i < nfiles; i++)
-		free_info(&fi[i]);
+	out->text = ssc_membuf_take(&text);
+	out->csv = ssc_membuf_take(&csv);
+	for (size_t i = 0; i < env->n_caps; i++)
+		free(fi[i].st);
 	free(fi);
 	return rc;
+}
+
+const struct ssc_stage_ops ssc_info_stage = {
+	.spec = &spec,
+	.title = "Inputs",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = -1,
+	.run = run,
+};
+
+int ssc_cmd_info(int argc, char **argv)
+{
+	return ssc_stage_main(&ssc_info_stage, argc, argv);
 }
