@@ -89,6 +89,9 @@ void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 /* A usage error: message plus a hint to --help; returns SSC_EXIT_USAGE. */
 int ssc_usage_error(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
+/* Prefix usage errors with where the options came from (a scene file and
+ * line), or NULL for the command line. */
+void ssc_set_context(const char *ctx);
 /* Map a library error to an exit code, printing "what: detail". */
 int ssc_fail(const char *cmd, int rc, const struct sscope_diag *d,
 	     const char *what);
@@ -153,5 +156,7 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig);
 
 /* Commands */
 int ssc_cmd_info(int argc, char **argv);
+int ssc_cmd_run(int argc, char **argv);
+int ssc_cmd_report(int argc, char **argv);
 
 #endif

@@ -383,10 +383,17 @@ static int run(const struct ssc_stage_env *env, void *opts,
 			if (cap->rate_hz > 0)
 				ssc_summary_add(out->summary, NULL, "record length",
 						duration(cap), NAN, NAN, "s", NULL);
-			if (fi[i].have_temp)
-				ssc_summary_add(out->summary, NULL, "temperature range",
-						fi[i].temp.min, fi[i].temp.min,
-						fi[i].temp.max, "degC", NULL);
+			if (fi[i].have_temp) {
+				char note[96], a[32], b[32];
+
+				snprintf(note, sizeof(note), "from %s to %s degC",
+					 ssc_fmt(a, sizeof(a), fi[i].temp.min, 4),
+					 ssc_fmt(b, sizeof(b), fi[i].temp.max, 4));
+				ssc_summary_add(out->summary, NULL,
+						"temperature span",
+						fi[i].temp.max - fi[i].temp.min,
+						NAN, NAN, "degC", note);
+			}
 		}
 	}
 	out->text = ssc_membuf_take(&text);

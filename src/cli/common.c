@@ -91,15 +91,29 @@ void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 	fputc('\n', stderr);
 }
 
+/* Where options come from when not from the command line ("scene.ini:
+ * line 12"); the CLI is single-threaded. */
+static const char *option_context;
+
+void ssc_set_context(const char *ctx)
+{
+	option_context = ctx;
+}
+
 int ssc_usage_error(const char *cmd, const char *fmt, ...)
 {
 	va_list ap;
 
 	fprintf(stderr, "sensorscope: %s: ", cmd);
+	if (option_context)
+		fprintf(stderr, "%s: ", option_context);
 	va_start(ap, fmt);
 	vfprintf(stderr, fmt, ap);
 	va_end(ap);
-	fprintf(stderr, " (see 'sensorscope %s --help')\n", cmd);
+	if (option_context)
+		fputc('\n', stderr);
+	else
+		fprintf(stderr, " (see 'sensorscope %s --help')\n", cmd);
 	return SSC_EXIT_USAGE;
 }
 
@@ -573,8 +587,22 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig)
 		snprintf(buf, len, "%s", isnan(v) ? "nan" : v > 0 ? "inf" : "-inf");
 	else if (v == 0)
 		snprintf(buf, len, "0");
-	else if (a >= 1e-4 && a < 1e7)
-		snprintf(buf, len, "%.*g", sig, v);
+	else if (a >= 1e-4 && a < 1e7) {
+		/* fixed notation with sig significant digits, trailing zeros
+		 * of the fraction dropped */
+		int d = sig - 1 - (int)floor(log10(a));
+		char *dot, *e;
+
+		snprintf(buf, len, "%.*f", d > 0 ? d : 0, v);
+		dot = strchr(buf, '.');
+		if (dot) {
+			e = buf + strlen(buf);
+			while (e > dot + 1 && e[-1] == '0')
+				*--e = '\0';
+			if (e == dot + 1)
+				*dot = '\0';
+		}
+	}
 	else
 		snprintf(buf, len, "%.*e", sig - 1, v);
 	return buf;

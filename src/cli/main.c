@@ -15,6 +15,10 @@ struct command {
 static const struct command commands[] = {
 	{ "info", "channels, units, rate, gaps and statistics of a capture",
 	  ssc_cmd_info },
+	{ "run", "run a scene: only the stages its outputs need, one HTML report",
+	  ssc_cmd_run },
+	{ "report", "the characterisation report of captures (scene inferred)",
+	  ssc_cmd_report },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

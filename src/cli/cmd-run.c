@@ -1,0 +1,124 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope run SCENE.ini: run a scene (scene.c); --dry-run prints the
+ * plan: the stages to run and why, the stages skipped and why, the columns
+ * read, the outputs.
+ * sensorscope report FILE...: the same with a scene inferred from the data.
+ */
+#include "scene.h"
+
+#include <string.h>
+
+enum { OPT_DRY_RUN = 2000 };
+
+static const struct ssc_option run_opts[] = {
+	{ "dry-run", no_argument, OPT_DRY_RUN, NULL,
+	  "print the plan (stages run and skipped, with reasons; columns read; outputs) and stop" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec run_spec = {
+	.name = "run",
+	.usage = "run [OPTIONS] SCENE.ini",
+	.summary =
+		"Run a scene: an INI file naming the inputs ([input] files, columns,\n"
+		"rate, units, temp_column), the sensor and ADC specifications\n"
+		"([sensor], [adc]: 'spec = FILE' or inline keys), one section per\n"
+		"wanted output whose keys are that command's long options, and\n"
+		"[report] formats = text,json,html,png and output = DIR.  Only the\n"
+		"stages the outputs need are run, each once; each capture is read once,\n"
+		"with only the columns in use.  Paths are relative to the scene file.",
+	.options = run_opts,
+	.output_opts = true,
+	.notes = "Example:\n  sensorscope run samples/gyro-static.scene.ini\n"
+		 "  sensorscope run --dry-run samples/gyro-static.scene.ini",
+};
+
+struct run_opts {
+	bool dry_run;
+};
+
+static int run_handle(int key, const char *arg, void *ctx)
+{
+	struct run_opts *o = ctx;
+
+	(void)arg;
+	if (key == OPT_DRY_RUN) {
+		o->dry_run = true;
+		return 0;
+	}
+	return SSC_EXIT_USAGE;
+}
+
+int ssc_cmd_run(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct run_opts o = { false };
+	struct ssc_scene *sc;
+	int first, rc;
+
+	rc = ssc_parse(&run_spec, argc, argv, &co, run_handle, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (argc - first != 1)
+		return ssc_usage_error(co.cmd, "expected one scene file");
+	rc = ssc_scene_load(co.cmd, argv[first], &sc);
+	if (rc)
+		return rc;
+	if (o.dry_run) {
+		struct ssc_out out;
+
+		rc = ssc_out_open(&co, &out);
+		if (!rc) {
+			ssc_scene_plan(sc, out.f);
+			rc = ssc_out_close(&co, &out, !ferror(out.f));
+		}
+	} else {
+		rc = ssc_scene_run(sc, &co);
+	}
+	ssc_scene_free(sc);
+	return rc;
+}
+
+static const struct ssc_command_spec report_spec = {
+	.name = "report",
+	.usage = "report [OPTIONS] FILE...",
+	.summary =
+		"Characterise captures with a scene inferred from the data, and write\n"
+		"the HTML report (with its PNG figures and JSON) into the directory\n"
+		"given by -o (default sensorscope-report/).  --dry-run prints what\n"
+		"would be run and why.",
+	.options = run_opts,
+	.analysis = true,
+	.notes = "Example:\n  sensorscope report samples/gyro-static.csv\n"
+		 "  sensorscope report -o thermal-report samples/accel-thermal.csv",
+};
+
+int ssc_cmd_report(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct run_opts o = { false };
+	struct ssc_scene *sc;
+	int first, rc;
+
+	rc = ssc_parse(&report_spec, argc, argv, &co, run_handle, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (argc - first < 1)
+		return ssc_usage_error(co.cmd, "no input file");
+	if (co.format != SSC_FMT_TEXT)
+		return ssc_usage_error(co.cmd,
+				       "--format: a report is a directory of text, JSON, PNG and HTML");
+	if (co.plot)
+		return ssc_usage_error(co.cmd, "--plot: the report draws every figure itself");
+	rc = ssc_scene_infer(&co, argv + first, (size_t)(argc - first),
+			     co.output ? co.output : "sensorscope-report", &sc);
+	if (rc)
+		return rc;
+	if (o.dry_run)
+		ssc_scene_plan(sc, stdout);
+	else
+		rc = ssc_scene_run(sc, &co);
+	ssc_scene_free(sc);
+	return rc;
+}

@@ -1,0 +1,1126 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Scene runner (see scene.h).  The stage graph is a fixed table: each stage
+ * names the inputs it needs (data channels, temperature, a sensor or ADC
+ * specification) and the stages whose results it may consume.  A scene's
+ * sections say which stages are wanted; the runner adds what they consume,
+ * refuses impossible requests (a stage whose inputs are missing) with the
+ * reason, orders the stages topologically (a cycle is reported), reads each
+ * capture once with the union of the columns in use, and runs each stage
+ * once.  SSCOPE_TRACE=1 in the environment prints every read and every
+ * stage run on stderr, so tests can prove what was skipped.
+ */
+#include "scene.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "html.h"
+
+enum { S_INFO = 0, S_COUNT_ };
+
+static const struct ssc_stage_def stages[] = {
+	[S_INFO] = { "info", &ssc_info_stage, 0,
+		     "Sample rate: from --rate, else the time column (mean of the "
+		     "regular intervals; gaps are intervals longer than 1.5 times "
+		     "the median), else a '# rate:' header comment." },
+};
+
+#define N_STAGES (sizeof(stages) / sizeof(stages[0]))
+
+struct ssc_scene {
+	char *path;             /* scene file, or NULL when inferred */
+	char *dir;              /* its directory */
+	char *title;
+	struct sscope_ini *ini;
+	char **files;
+	size_t n_files;
+	/* [input] */
+	char *columns, *units, *temp_column, *time_column, *raw;
+	double rate_hz, scale, offset;
+	bool allow_nan;
+	/* [sensor], [adc] */
+	bool have_sensor;
+	struct sscope_sensor_spec sensor;
+	char *sensor_path;
+	char *adc_paths[8];
+	size_t n_adc;
+	/* stages */
+	unsigned want;          /* bit per stage: requested */
+	unsigned run;           /* bit per stage: will run */
+	unsigned uses[N_STAGES]; /* results each consumes */
+	char *why[N_STAGES];    /* why it runs / is skipped */
+	void *opts[N_STAGES];
+	char *stage_columns[N_STAGES];
+	bool no_plot[N_STAGES];
+	size_t order[N_STAGES], n_order;
+	/* [report] */
+	unsigned formats;
+	char *out_dir;
+	bool quiet;
+};
+
+/* ------------------------------------------------------------ helpers */
+
+static char *xstrdup(const char *s)
+{
+	char *d = s ? strdup(s) : NULL;
+
+	if (s && !d) {
+		fprintf(stderr, "sensorscope: out of memory\n");
+		exit(SSC_EXIT_FAIL);
+	}
+	return d;
+}
+
+static char *join_path(const char *dir, const char *name)
+{
+	char *p;
+	size_t n;
+
+	if (name[0] == '/' || !dir || !*dir || !strcmp(dir, "."))
+		return xstrdup(name);
+	n = strlen(dir) + strlen(name) + 2;
+	p = malloc(n);
+	if (!p)
+		exit(SSC_EXIT_FAIL);
+	snprintf(p, n, "%s/%s", dir, name);
+	return p;
+}
+
+static char *dir_of(const char *path)
+{
+	const char *sl = strrchr(path, '/');
+	char *d;
+
+	if (!sl)
+		return xstrdup(".");
+	d = xstrdup(path);
+	d[sl - path ? sl - path : 1] = '\0';
+	return d;
+}
+
+static bool truthy(const char *v, bool *out)
+{
+	if (!strcasecmp(v, "yes") || !strcasecmp(v, "true") || !strcmp(v, "1") ||
+	    !strcasecmp(v, "on")) {
+		*out = true;
+		return true;
+	}
+	if (!strcasecmp(v, "no") || !strcasecmp(v, "false") || !strcmp(v, "0") ||
+	    !strcasecmp(v, "off")) {
+		*out = false;
+		return true;
+	}
+	return false;
+}
+
+static long stage_index(const char *name)
+{
+	for (size_t i = 0; i < N_STAGES; i++)
+		if (stages[i].name && !strcasecmp(stages[i].name, name))
+			return (long)i;
+	return -1;
+}
+
+static void set_why(struct ssc_scene *sc, size_t i, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
+static void set_why(struct ssc_scene *sc, size_t i, const char *fmt, ...)
+{
+	va_list ap;
+	char buf[256];
+
+	va_start(ap, fmt);
+	vsnprintf(buf, sizeof(buf), fmt, ap);
+	va_end(ap);
+	free(sc->why[i]);
+	sc->why[i] = xstrdup(buf);
+}
+
+void ssc_scene_free(struct ssc_scene *sc)
+{
+	if (!sc)
+		return;
+	for (size_t i = 0; i < sc->n_files; i++)
+		free(sc->files[i]);
+	free(sc->files);
+	for (size_t i = 0; i < N_STAGES; i++) {
+		if (sc->opts[i] && stages[i].ops->fini)
+			stages[i].ops->fini(sc->opts[i]);
+		free(sc->opts[i]);
+		free(sc->why[i]);
+		free(sc->stage_columns[i]);
+	}
+	for (size_t i = 0; i < sc->n_adc; i++)
+		free(sc->adc_paths[i]);
+	sscope_ini_free(sc->ini);
+	free(sc->columns);
+	free(sc->units);
+	free(sc->temp_column);
+	free(sc->time_column);
+	free(sc->raw);
+	free(sc->sensor_path);
+	free(sc->out_dir);
+	free(sc->title);
+	free(sc->path);
+	free(sc->dir);
+	free(sc);
+}
+
+static struct ssc_scene *scene_new(void)
+{
+	struct ssc_scene *sc = calloc(1, sizeof(*sc));
+
+	if (!sc)
+		exit(SSC_EXIT_FAIL);
+	sc->scale = 1;
+	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG;
+	for (size_t i = 0; i < N_STAGES; i++) {
+		const struct ssc_stage_ops *ops = stages[i].ops;
+
+		sc->opts[i] = calloc(1, ops->opts_size ? ops->opts_size : 1);
+		if (!sc->opts[i])
+			exit(SSC_EXIT_FAIL);
+		if (ops->init)
+			ops->init(sc->opts[i]);
+	}
+	return sc;
+}
+
+/* Split a comma list into trimmed items (modifies s). */
+static size_t split_list(char *s, char **items, size_t max)
+{
+	size_t n = 0;
+	char *save = NULL;
+
+	for (char *t = strtok_r(s, ",", &save); t && n < max;
+	     t = strtok_r(NULL, ",", &save)) {
+		char *e;
+
+		while (isspace((unsigned char)*t))
+			t++;
+		e = t + strlen(t);
+		while (e > t && isspace((unsigned char)e[-1]))
+			*--e = '\0';
+		if (*t)
+			items[n++] = t;
+	}
+	return n;
+}
+
+/* ------------------------------------------------------------ parsing */
+
+static int scene_error(const char *cmd, const struct ssc_scene *sc, size_t line,
+		       const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+
+static int scene_error(const char *cmd, const struct ssc_scene *sc, size_t line,
+		       const char *fmt, ...)
+{
+	va_list ap;
+	char buf[512];
+
+	va_start(ap, fmt);
+	vsnprintf(buf, sizeof(buf), fmt, ap);
+	va_end(ap);
+	if (line)
+		ssc_err(cmd, "%s: line %zu: %s", sc->path, line, buf);
+	else
+		ssc_err(cmd, "%s: %s", sc->path, buf);
+	return SSC_EXIT_USAGE;
+}
+
+static int parse_input(const char *cmd, struct ssc_scene *sc)
+{
+	static const char *const keys[] = { "files", "columns", "rate", "units",
+					    "temp_column", "time_column", "raw",
+					    "scale", "offset", "allow_nan", NULL };
+	struct sscope_diag d = { "" };
+	size_t line = 0;
+	const char *v;
+	int rc;
+
+	if (sscope_ini_check_keys(sc->ini, "input", keys, &d)) {
+		ssc_err(cmd, "%s", d.msg);
+		return SSC_EXIT_USAGE;
+	}
+	v = sscope_ini_get(sc->ini, "input", "files", &line);
+	if (!v || !*v)
+		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
+	{
+		char *copy = xstrdup(v), *items[64];
+		size_t n = split_list(copy, items, 64);
+
+		sc->files = calloc(n ? n : 1, sizeof(char *));
+		for (size_t i = 0; i < n; i++) {
+			struct stat st;
+
+			sc->files[i] = join_path(sc->dir, items[i]);
+			sc->n_files++;
+			if (stat(sc->files[i], &st) != 0) {
+				rc = scene_error(cmd, sc, line, "files: %s: %s",
+						 sc->files[i], strerror(errno));
+				free(copy);
+				return rc == SSC_EXIT_USAGE ? SSC_EXIT_FAIL : rc;
+			}
+		}
+		free(copy);
+		if (!n)
+			return scene_error(cmd, sc, line, "files: empty list");
+	}
+	sc->columns = xstrdup(sscope_ini_get(sc->ini, "input", "columns", NULL));
+	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
+	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
+	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
+	sc->raw = xstrdup(sscope_ini_get(sc->ini, "input", "raw", NULL));
+	rc = sscope_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
+	if (rc && rc != -ENOENT) {
+		ssc_err(cmd, "%s", d.msg);
+		return SSC_EXIT_USAGE;
+	}
+	if (!rc && !(sc->rate_hz > 0))
+		return scene_error(cmd, sc, 0, "[input] rate must be positive");
+	rc = sscope_ini_quantity(sc->ini, "input", "scale", "1", &sc->scale, &d);
+	if (rc && rc != -ENOENT) {
+		ssc_err(cmd, "%s", d.msg);
+		return SSC_EXIT_USAGE;
+	}
+	rc = sscope_ini_quantity(sc->ini, "input", "offset", "1", &sc->offset, &d);
+	if (rc && rc != -ENOENT) {
+		ssc_err(cmd, "%s", d.msg);
+		return SSC_EXIT_USAGE;
+	}
+	v = sscope_ini_get(sc->ini, "input", "allow_nan", &line);
+	if (v && !truthy(v, &sc->allow_nan))
+		return scene_error(cmd, sc, line, "allow_nan: expected yes or no");
+	if (sc->units) {
+		struct sscope_unit u;
+
+		if (sscope_unit_parse(sc->units, &u, &d)) {
+			ssc_err(cmd, "%s: [input] units: %s", sc->path, d.msg);
+			return SSC_EXIT_USAGE;
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
+static int parse_sensor(const char *cmd, struct ssc_scene *sc)
+{
+	struct sscope_diag d = { "" };
+	size_t line = 0;
+	const char *spec = sscope_ini_get(sc->ini, "sensor", "spec", &line);
+	int rc;
+
+	if (spec) {
+		if (sscope_ini_n_keys(sc->ini, "sensor") > 1)
+			return scene_error(cmd, sc, line,
+					   "[sensor] takes either 'spec = FILE' or inline keys, not both");
+		sc->sensor_path = join_path(sc->dir, spec);
+		rc = sscope_sensor_spec_load(sc->sensor_path, &sc->sensor, &d);
+	} else {
+		rc = sscope_sensor_spec_from_ini(sc->ini, "sensor", &sc->sensor, &d);
+	}
+	if (rc) {
+		ssc_err(cmd, "%s", d.msg);
+		return rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	sc->have_sensor = true;
+	return SSC_EXIT_OK;
+}
+
+static int parse_adc(const char *cmd, struct ssc_scene *sc)
+{
+	size_t line = 0;
+	const char *spec = sscope_ini_get(sc->ini, "adc", "spec", &line);
+
+	if (!spec)
+		return SSC_EXIT_OK; /* inline keys: read by the adc stage */
+	if (sscope_ini_n_keys(sc->ini, "adc") > 1)
+		return scene_error(cmd, sc, line,
+				   "[adc] takes either 'spec = FILE[, FILE...]' or inline keys, not both");
+	{
+		char *copy = xstrdup(spec), *items[8];
+		size_t n = split_list(copy, items, 8);
+
+		for (size_t i = 0; i < n; i++) {
+			sc->adc_paths[i] = join_path(sc->dir, items[i]);
+			if (access(sc->adc_paths[i], R_OK) != 0) {
+				int rc = scene_error(cmd, sc, line, "spec: %s: %s",
+						     sc->adc_paths[i], strerror(errno));
+
+				sc->n_adc = i + 1;
+				free(copy);
+				return rc;
+			}
+		}
+		sc->n_adc = n;
+		free(copy);
+	}
+	return SSC_EXIT_OK;
+}
+
+static int parse_report(const char *cmd, struct ssc_scene *sc)
+{
+	static const char *const keys[] = { "formats", "output", "title", NULL };
+	struct sscope_diag d = { "" };
+	size_t line = 0;
+	const char *v;
+
+	if (sscope_ini_check_keys(sc->ini, "report", keys, &d)) {
+		ssc_err(cmd, "%s", d.msg);
+		return SSC_EXIT_USAGE;
+	}
+	v = sscope_ini_get(sc->ini, "report", "formats", &line);
+	if (v) {
+		char *copy = xstrdup(v), *items[8];
+		size_t n = split_list(copy, items, 8);
+
+		sc->formats = 0;
+		for (size_t i = 0; i < n; i++) {
+			if (!strcasecmp(items[i], "text"))
+				sc->formats |= SSC_OUT_TEXT;
+			else if (!strcasecmp(items[i], "json"))
+				sc->formats |= SSC_OUT_JSON;
+			else if (!strcasecmp(items[i], "html"))
+				sc->formats |= SSC_OUT_HTML;
+			else if (!strcasecmp(items[i], "png"))
+				sc->formats |= SSC_OUT_PNG;
+			else {
+				int rc = scene_error(cmd, sc, line,
+						     "formats: '%s' is not text, json, html or png",
+						     items[i]);
+
+				free(copy);
+				return rc;
+			}
+		}
+		free(copy);
+	}
+	v = sscope_ini_get(sc->ini, "report", "output", NULL);
+	if (v)
+		sc->out_dir = join_path(sc->dir, v);
+	v = sscope_ini_get(sc->ini, "report", "title", NULL);
+	if (v)
+		sc->title = xstrdup(v);
+	return SSC_EXIT_OK;
+}
+
+/* A stage section: its keys are the command's long options. */
+static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
+{
+	const struct ssc_stage_ops *ops = stages[s].ops;
+	const char *sec = stages[s].name;
+
+	for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, sec); k++) {
+		const char *value;
+		size_t line;
+		const char *key = sscope_ini_key(sc->ini, sec, k, &value, &line);
+		const struct ssc_option *o = ops->spec->options;
+		char ctx[320];
+		int rc;
+
+		if (!strcasecmp(key, "column") || !strcasecmp(key, "columns")) {
+			sc->stage_columns[s] = xstrdup(value);
+			continue;
+		}
+		if (!strcasecmp(key, "plot")) {
+			bool on;
+
+			if (!truthy(value, &on))
+				return scene_error(cmd, sc, line,
+						   "plot: expected yes or no");
+			sc->no_plot[s] = !on;
+			continue;
+		}
+		if (!strcasecmp(key, "uses")) {
+			char *copy = xstrdup(value), *items[16];
+			size_t n = split_list(copy, items, 16);
+
+			for (size_t i = 0; i < n; i++) {
+				long u = stage_index(items[i]);
+
+				if (u < 0 || !(stages[s].deps & (1u << u))) {
+					rc = scene_error(cmd, sc, line,
+							 "impossible request: [%s] cannot use the results of '%s'",
+							 sec, items[i]);
+					free(copy);
+					return rc;
+				}
+				sc->uses[s] |= 1u << u;
+			}
+			free(copy);
+			continue;
+		}
+		while (o && o->name && strcasecmp(o->name, key))
+			o++;
+		if (!o || !o->name)
+			return scene_error(cmd, sc, line,
+					   "unknown key '%s' in [%s] (keys are the long options of 'sensorscope %s')",
+					   key, sec, ops->spec->name);
+		snprintf(ctx, sizeof(ctx), "%s: line %zu", sc->path, line);
+		ssc_set_context(ctx);
+		if (o->has_arg == no_argument) {
+			bool on;
+
+			if (!truthy(value, &on)) {
+				ssc_set_context(NULL);
+				return scene_error(cmd, sc, line,
+						   "%s: expected yes or no", key);
+			}
+			rc = on ? ops->handle(o->key, NULL, sc->opts[s]) : 0;
+		} else {
+			rc = ops->handle(o->key, value, sc->opts[s]);
+		}
+		ssc_set_context(NULL);
+		if (rc)
+			return rc;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* Which stages run, and why; impossible requests are errors. */
+static int resolve(const char *cmd, struct ssc_scene *sc)
+{
+	unsigned visiting = 0, done = 0;
+
+	sc->run = sc->want | (1u << S_INFO);
+	for (size_t s = 0; s < N_STAGES; s++) {
+		if (!(sc->want & (1u << s)))
+			continue;
+		sc->run |= sc->uses[s];
+		if ((stages[s].ops->needs & SSC_NEED_SENSOR) && !sc->have_sensor)
+			return scene_error(cmd, sc, 0,
+					   "impossible request: [%s] needs a [sensor] specification",
+					   stages[s].name);
+		if ((stages[s].ops->needs & SSC_NEED_ADC) && !sc->n_adc &&
+		    !sscope_ini_has_section(sc->ini, "adc"))
+			return scene_error(cmd, sc, 0,
+					   "impossible request: [%s] needs an [adc] specification",
+					   stages[s].name);
+	}
+	/* depth-first topological order over "uses"; a back edge is a cycle */
+	sc->n_order = 0;
+	for (size_t root = 0; root < N_STAGES; root++) {
+		size_t stack[N_STAGES], depth = 0, next[N_STAGES] = { 0 };
+
+		if (!(sc->run & (1u << root)) || (done & (1u << root)))
+			continue;
+		stack[depth++] = root;
+		visiting |= 1u << root;
+		while (depth) {
+			size_t s = stack[depth - 1];
+
+			while (next[s] < N_STAGES && !(sc->uses[s] & (1u << next[s])))
+				next[s]++;
+			if (next[s] < N_STAGES) {
+				size_t u = next[s]++;
+
+				if (visiting & (1u << u))
+					return scene_error(cmd, sc, 0,
+							   "cyclic request: [%s] and [%s] use each other's results",
+							   stages[s].name, stages[u].name);
+				if (!(done & (1u << u))) {
+					visiting |= 1u << u;
+					stack[depth++] = u;
+				}
+				continue;
+			}
+			visiting &= ~(1u << s);
+			done |= 1u << s;
+			sc->order[sc->n_order++] = s;
+			depth--;
+		}
+	}
+	for (size_t s = 0; s < N_STAGES; s++) {
+		if (sc->want & (1u << s))
+			set_why(sc, s, "requested by [%s]", stages[s].name);
+		else if (s == S_INFO)
+			set_why(sc, s, "always: describes the inputs");
+		else if (sc->run & (1u << s)) {
+			for (size_t t = 0; t < N_STAGES; t++)
+				if (sc->uses[t] & (1u << s))
+					set_why(sc, s, "its results are used by [%s]",
+						stages[t].name);
+		} else {
+			set_why(sc, s, "not requested (no [%s] section)",
+				stages[s].name);
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
+int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
+{
+	struct ssc_scene *sc = scene_new();
+	struct sscope_diag d = { "" };
+	int rc;
+
+	*out = NULL;
+	sc->path = xstrdup(path);
+	sc->dir = dir_of(path);
+	rc = sscope_ini_load(&sc->ini, path, &d);
+	if (rc) {
+		ssc_err(cmd, "%s", d.msg[0] ? d.msg : sscope_strerror(rc));
+		ssc_scene_free(sc);
+		return rc == -EBADMSG ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < sscope_ini_n_sections(sc->ini); i++) {
+		size_t line;
+		const char *name = sscope_ini_section(sc->ini, i, &line);
+		long s;
+
+		if (!strcasecmp(name, "input") || !strcasecmp(name, "sensor") ||
+		    !strcasecmp(name, "adc") || !strcasecmp(name, "report"))
+			continue;
+		s = stage_index(name);
+		if (s < 0 || s == S_INFO) {
+			rc = scene_error(cmd, sc, line,
+					 "unknown section [%s] (sections: input, sensor, adc, report and one per output:%s)",
+					 name, "");
+			goto fail;
+		}
+		sc->want |= 1u << s;
+	}
+	if (!sscope_ini_has_section(sc->ini, "input")) {
+		rc = scene_error(cmd, sc, 0, "no [input] section");
+		goto fail;
+	}
+	rc = parse_input(cmd, sc);
+	if (!rc && sscope_ini_has_section(sc->ini, "sensor"))
+		rc = parse_sensor(cmd, sc);
+	if (!rc && sscope_ini_has_section(sc->ini, "adc"))
+		rc = parse_adc(cmd, sc);
+	if (!rc && sscope_ini_has_section(sc->ini, "report"))
+		rc = parse_report(cmd, sc);
+	for (size_t s = 0; !rc && s < N_STAGES; s++)
+		if (sc->want & (1u << s))
+			rc = parse_stage(cmd, sc, s);
+	if (!rc)
+		rc = resolve(cmd, sc);
+	if (rc)
+		goto fail;
+	if (!sc->out_dir)
+		sc->out_dir = join_path(sc->dir, "sensorscope-report");
+	*out = sc;
+	return SSC_EXIT_OK;
+fail:
+	ssc_scene_free(sc);
+	return rc;
+}
+
+/* ------------------------------------------------------------ inference */
+
+int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
+		    const char *out_dir, struct ssc_scene **out)
+{
+	struct ssc_scene *sc = scene_new();
+
+	sc->files = calloc(n ? n : 1, sizeof(char *));
+	for (size_t i = 0; i < n; i++)
+		sc->files[sc->n_files++] = xstrdup(files[i]);
+	sc->columns = xstrdup(co->columns);
+	sc->units = xstrdup(co->units);
+	sc->temp_column = xstrdup(co->temp_column);
+	sc->time_column = xstrdup(co->time_column);
+	sc->raw = xstrdup(co->raw);
+	sc->rate_hz = co->rate_hz;
+	sc->scale = co->scale;
+	sc->offset = co->offset;
+	sc->allow_nan = co->allow_nan;
+	sc->out_dir = xstrdup(out_dir);
+	sc->quiet = co->quiet;
+	sc->dir = xstrdup(".");
+	/* the data decide what runs (extended as stages arrive) */
+	if (resolve(co->cmd, sc)) {
+		ssc_scene_free(sc);
+		return SSC_EXIT_FAIL;
+	}
+	*out = sc;
+	return SSC_EXIT_OK;
+}
+
+/* ------------------------------------------------------------ plan */
+
+static void stage_columns(const struct ssc_scene *sc, size_t s, char *buf,
+			  size_t len)
+{
+	const char *c = sc->stage_columns[s] ? sc->stage_columns[s] : sc->columns;
+
+	snprintf(buf, len, "%s", c ? c : "all data columns");
+}
+
+/* Union of the columns stages use, or NULL for every data column. */
+static char *columns_to_read(const struct ssc_scene *sc)
+{
+	size_t len = 0;
+	char *u;
+
+	for (size_t s = 0; s < N_STAGES; s++) {
+		if (!(sc->run & (1u << s)) || !(stages[s].ops->needs & SSC_NEED_DATA))
+			continue;
+		if (s == S_INFO && sc->run != (1u << S_INFO))
+			continue; /* info describes what the others read */
+		if (!sc->stage_columns[s] && !sc->columns)
+			return NULL;
+		len += strlen(sc->stage_columns[s] ? sc->stage_columns[s] :
+						     sc->columns) + 2;
+	}
+	if (!len)
+		return sc->columns ? xstrdup(sc->columns) : NULL;
+	u = calloc(1, len + 1);
+	for (size_t s = 0; s < N_STAGES; s++) {
+		char *copy, *items[64];
+		size_t n;
+
+		if (!(sc->run & (1u << s)) || !(stages[s].ops->needs & SSC_NEED_DATA))
+			continue;
+		if (s == S_INFO && sc->run != (1u << S_INFO))
+			continue;
+		copy = xstrdup(sc->stage_columns[s] ? sc->stage_columns[s] :
+						      sc->columns);
+		n = split_list(copy, items, 64);
+		for (size_t i = 0; i < n; i++) {
+			/* add unless present */
+			char *p = u;
+			size_t l = strlen(items[i]);
+			bool found = false;
+
+			while (*p) {
+				char *e = strchr(p, ',');
+				size_t pl = e ? (size_t)(e - p) : strlen(p);
+
+				if (pl == l && !strncmp(p, items[i], l))
+					found = true;
+				p += pl + (e != NULL);
+			}
+			if (!found) {
+				if (*u)
+					strcat(u, ",");
+				strcat(u, items[i]);
+			}
+		}
+		free(copy);
+	}
+	return u;
+}
+
+void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
+{
+	char *cols = columns_to_read(sc), buf[256];
+	size_t k = 1;
+
+	fprintf(f, "scene: %s\n", sc->path ? sc->path : "(inferred from the data)");
+	fprintf(f, "inputs (each read once, columns: %s):\n",
+		cols ? cols : "every data column");
+	for (size_t i = 0; i < sc->n_files; i++)
+		fprintf(f, "  %s\n", sc->files[i]);
+	if (sc->have_sensor)
+		fprintf(f, "sensor: %s%s%s\n", sc->sensor.name,
+			sc->sensor_path ? " from " : "",
+			sc->sensor_path ? sc->sensor_path : "");
+	fprintf(f, "stages to run, in order:\n");
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i];
+
+		stage_columns(sc, s, buf, sizeof(buf));
+		fprintf(f, "  %zu. %-10s %s; channels: %s\n", k++, stages[s].name,
+			sc->why[s], buf);
+	}
+	fprintf(f, "stages skipped:\n");
+	for (size_t s = 0; s < N_STAGES; s++)
+		if (!(sc->run & (1u << s)))
+			fprintf(f, "  %-10s %s\n", stages[s].name, sc->why[s]);
+	fprintf(f, "outputs in %s:", sc->out_dir);
+	if (sc->formats & SSC_OUT_HTML)
+		fprintf(f, " report.html");
+	if (sc->formats & SSC_OUT_JSON)
+		fprintf(f, " report.json STAGE.json");
+	if (sc->formats & SSC_OUT_TEXT)
+		fprintf(f, " report.txt");
+	if (sc->formats & SSC_OUT_PNG)
+		fprintf(f, " STAGE.png");
+	fputc('\n', f);
+	free(cols);
+}
+
+/* ------------------------------------------------------------ running */
+
+static bool tracing(void)
+{
+	const char *t = getenv("SSCOPE_TRACE");
+
+	return t && *t && strcmp(t, "0");
+}
+
+/* A capture holding only the named channels, or every channel when
+ * columns is NULL (shares the data with c). */
+static struct sscope_capture *view(const struct sscope_capture *c,
+				   const char *columns)
+{
+	struct sscope_capture *v = malloc(sizeof(*v));
+	char *copy, *items[64];
+	size_t n;
+
+	if (!v)
+		exit(SSC_EXIT_FAIL);
+	*v = *c;
+	v->channels = calloc(c->n_channels + 1, sizeof(*v->channels));
+	if (!v->channels)
+		exit(SSC_EXIT_FAIL);
+	if (!columns) {
+		memcpy(v->channels, c->channels,
+		       c->n_channels * sizeof(*v->channels));
+		return v;
+	}
+	v->n_channels = 0;
+	copy = xstrdup(columns);
+	n = split_list(copy, items, 64);
+	for (size_t i = 0; i < n; i++) {
+		long k = sscope_capture_find(c, items[i]);
+
+		if (k < 0) { /* a 1-based column index of the file */
+			char *end;
+			long idx = strtol(items[i], &end, 10);
+
+			for (size_t j = 0; !*end && j < c->n_channels; j++)
+				if ((long)c->channels[j].col.index + 1 == idx)
+					k = (long)j;
+		}
+		if (k >= 0)
+			v->channels[v->n_channels++] = c->channels[k];
+	}
+	free(copy);
+	return v;
+}
+
+static void free_view(struct sscope_capture *v)
+{
+	if (v) {
+		free(v->channels);
+		free(v);
+	}
+}
+
+static int write_text(const char *path, const char *text)
+{
+	struct ssc_common co = { .cmd = "run", .output = path };
+	struct ssc_out o;
+	int rc = ssc_out_open(&co, &o);
+
+	if (rc)
+		return rc;
+	fputs(text, o.f);
+	return ssc_out_close(&co, &o, !ferror(o.f));
+}
+
+static int write_json(const char *path, json_t *j)
+{
+	struct ssc_common co = { .cmd = "run", .output = path };
+
+	json_incref(j);
+	return ssc_emit_json(&co, j);
+}
+
+static int mkdir_p(const char *dir)
+{
+	char *copy = xstrdup(dir);
+
+	for (char *p = copy + 1; *p; p++) {
+		if (*p != '/')
+			continue;
+		*p = '\0';
+		if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
+			free(copy);
+			return -errno;
+		}
+		*p = '/';
+	}
+	if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
+		free(copy);
+		return -errno;
+	}
+	free(copy);
+	return 0;
+}
+
+static void fmt_interval(char *buf, size_t len, json_t *row)
+{
+	double v = json_number_value(json_object_get(row, "value"));
+	json_t *lo = json_object_get(row, "lo"), *hi = json_object_get(row, "hi");
+	char a[32], b[32], c[32];
+
+	ssc_fmt(a, sizeof(a), v, 4);
+	if (json_is_number(lo) && json_is_number(hi))
+		snprintf(buf, len, "%s [%s, %s]", a,
+			 ssc_fmt(b, sizeof(b), json_number_value(lo), 3),
+			 ssc_fmt(c, sizeof(c), json_number_value(hi), 3));
+	else
+		snprintf(buf, len, "%s", a);
+}
+
+static void html_report(struct ssc_scene *sc, struct ssc_html *h,
+			json_t *summary, struct ssc_stage_out *outs,
+			char **pngs, const char *cols)
+{
+	char buf[512], now[64];
+	time_t t = time(NULL);
+	static const char *const sum_head[] = { "stage", "channel", "quantity",
+						"value [interval]", "unit",
+						"note" };
+	static const char *const prov_head[] = { "input", "bytes", "SHA-256" };
+
+	strftime(now, sizeof(now), "%Y-%m-%d %H:%M:%S UTC", gmtime(&t));
+	snprintf(buf, sizeof(buf), "%s", sc->title ? sc->title :
+		 sc->n_files ? sc->files[0] : "sensorscope report");
+	ssc_html_h1(h, buf);
+	ssc_html_note(h, "sensorscope %s, %s. Intervals are the stated confidence level of each analysis.",
+		      PACKAGE_VERSION, now);
+	ssc_html_h2(h, "summary", "Summary");
+	ssc_html_table_begin(h, "summary", sum_head, 6);
+	for (size_t i = 0; i < json_array_size(summary); i++) {
+		json_t *r = json_array_get(summary, i);
+		char val[128];
+		const char *cells[6];
+
+		fmt_interval(val, sizeof(val), r);
+		cells[0] = json_string_value(json_object_get(r, "stage"));
+		cells[1] = json_string_value(json_object_get(r, "channel"));
+		cells[2] = json_string_value(json_object_get(r, "quantity"));
+		cells[3] = val;
+		cells[4] = json_string_value(json_object_get(r, "unit"));
+		cells[5] = json_string_value(json_object_get(r, "note"));
+		ssc_html_table_row(h, cells, 6);
+	}
+	ssc_html_table_end(h);
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i];
+
+		ssc_html_section(h, stages[s].name);
+		ssc_html_h2(h, NULL, stages[s].ops->title);
+		ssc_html_note(h, "Stage '%s': %s.", stages[s].name, sc->why[s]);
+		if (pngs[s])
+			ssc_html_image(h, pngs[s], stages[s].ops->title);
+		if (outs[s].text)
+			ssc_html_pre(h, outs[s].text);
+		ssc_html_section_end(h);
+	}
+	ssc_html_h2(h, "definitions", "Definitions used");
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i];
+
+		if (stages[s].definitions)
+			ssc_html_def(h, stages[s].ops->title, stages[s].definitions);
+	}
+	ssc_html_h2(h, "provenance", "Provenance");
+	ssc_html_table_begin(h, NULL, prov_head, 3);
+	for (size_t i = 0; i < sc->n_files; i++) {
+		char hex[65] = "", bytes[32] = "";
+		struct stat st;
+		const char *cells[3];
+
+		if (ssc_sha256_file(sc->files[i], hex))
+			snprintf(hex, sizeof(hex), "(unreadable)");
+		if (!stat(sc->files[i], &st))
+			snprintf(bytes, sizeof(bytes), "%lld", (long long)st.st_size);
+		cells[0] = sc->files[i];
+		cells[1] = bytes;
+		cells[2] = hex;
+		ssc_html_table_row(h, cells, 3);
+	}
+	if (sc->path) {
+		char hex[65] = "";
+		const char *cells[3] = { sc->path, "", hex };
+
+		ssc_sha256_file(sc->path, hex);
+		ssc_html_table_row(h, cells, 3);
+	}
+	ssc_html_table_end(h);
+	ssc_html_p(h, "Tool: sensorscope %s. Scene: %s. Columns read: %s.",
+		   PACKAGE_VERSION, sc->path ? sc->path : "inferred from the data",
+		   cols ? cols : "every data column");
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i];
+		const char *sec = stages[s].name;
+		char line[1024] = "";
+		size_t used = 0;
+
+		if (!sc->ini || !sscope_ini_has_section(sc->ini, sec))
+			continue;
+		for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, sec); k++) {
+			const char *v, *key = sscope_ini_key(sc->ini, sec, k, &v, NULL);
+			int w = snprintf(line + used, sizeof(line) - used, "%s%s = %s",
+					 used ? "; " : "", key, v);
+
+			if (w > 0 && (size_t)w < sizeof(line) - used)
+				used += (size_t)w;
+		}
+		ssc_html_p(h, "Options of [%s]: %s", sec, used ? line : "(defaults)");
+	}
+}
+
+int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
+{
+	struct ssc_common co = { 0 };
+	struct sscope_capture **caps = NULL;
+	struct ssc_stage_out outs[N_STAGES];
+	char *pngs[N_STAGES] = { 0 };
+	json_t *results = json_object(), *summary = json_array(), *all;
+	char *cols = columns_to_read(sc);
+	struct ssc_membuf txt;
+	int rc = SSC_EXIT_OK, e;
+
+	memset(outs, 0, sizeof(outs));
+	co.cmd = co_cli->cmd;
+	co.quiet = co_cli->quiet;
+	co.progress = co_cli->progress;
+	co.units = sc->units;
+	co.rate_hz = sc->rate_hz;
+	co.raw = sc->raw;
+	co.scale = sc->scale;
+	co.offset = sc->offset;
+	co.allow_nan = sc->allow_nan;
+	co.time_column = sc->time_column;
+	co.temp_column = sc->temp_column;
+	co.columns = cols;
+	e = mkdir_p(sc->out_dir);
+	if (e) {
+		ssc_err(co.cmd, "%s: %s", sc->out_dir, strerror(-e));
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	caps = calloc(sc->n_files ? sc->n_files : 1, sizeof(*caps));
+	for (size_t i = 0; i < sc->n_files && !rc; i++) {
+		if (tracing())
+			fprintf(stderr, "trace: read %s columns %s\n", sc->files[i],
+				cols ? cols : "(all data columns)");
+		rc = ssc_load(&co, sc->files[i], &caps[i]);
+	}
+	if (rc)
+		goto done;
+	for (size_t i = 0; i < sc->n_order && !rc; i++) {
+		size_t s = sc->order[i];
+		const struct ssc_stage_ops *ops = stages[s].ops;
+		struct ssc_common sco = co;
+		struct ssc_stage_env env = { 0 };
+		struct sscope_capture **v = calloc(sc->n_files ? sc->n_files : 1,
+						   sizeof(*v));
+		const char *want = sc->stage_columns[s] ? sc->stage_columns[s] :
+							  sc->columns;
+		char png[1024];
+		json_t *up = json_object();
+
+		if (tracing())
+			fprintf(stderr, "trace: stage %s\n", stages[s].name);
+		sco.cmd = stages[s].name;
+		sco.columns = want;
+		for (size_t f = 0; f < sc->n_files; f++)
+			v[f] = view(caps[f], want);
+		for (size_t u = 0; u < N_STAGES; u++)
+			if (sc->uses[s] & (1u << u) && outs[u].json)
+				json_object_set(up, stages[u].name, outs[u].json);
+		snprintf(png, sizeof(png), "%s/%s.png", sc->out_dir, stages[s].name);
+		env.co = &sco;
+		env.caps = v;
+		env.paths = (const char *const *)sc->files;
+		env.n_caps = (ops->needs & SSC_NEED_DATA) ? sc->n_files : 0;
+		env.sensor = sc->have_sensor ? &sc->sensor : NULL;
+		env.sensor_path = sc->sensor_path;
+		for (size_t a = 0; a < sc->n_adc; a++)
+			env.adc_paths[a] = sc->adc_paths[a];
+		env.n_adc = sc->n_adc;
+		env.plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
+					!sc->no_plot[s] && ssc_plot_available() ?
+				png : NULL;
+		env.upstream = up;
+		outs[s].summary = json_array();
+		rc = ops->run(&env, sc->opts[s], &outs[s]);
+		for (size_t f = 0; f < sc->n_files; f++)
+			free_view(v[f]);
+		free(v);
+		json_decref(up);
+		if (rc)
+			break;
+		if (env.plot_path && access(png, R_OK) == 0)
+			pngs[s] = xstrdup(png);
+		json_object_set(results, stages[s].name, outs[s].json);
+		for (size_t r = 0; r < json_array_size(outs[s].summary); r++) {
+			json_t *row = json_array_get(outs[s].summary, r);
+
+			json_object_set_new(row, "stage", json_string(stages[s].name));
+			json_array_append(summary, row);
+		}
+		if (sc->formats & SSC_OUT_JSON) {
+			snprintf(png, sizeof(png), "%s/%s.json", sc->out_dir,
+				 stages[s].name);
+			if (write_json(png, outs[s].json))
+				rc = SSC_EXIT_FAIL;
+		}
+	}
+	if (rc)
+		goto done;
+	all = json_object();
+	json_object_set_new(all, "command", json_string("run"));
+	json_object_set_new(all, "scene", sc->path ? json_string(sc->path) : json_null());
+	json_object_set(all, "summary", summary);
+	json_object_set(all, "results", results);
+	if (sc->formats & SSC_OUT_JSON) {
+		char p[1024];
+
+		snprintf(p, sizeof(p), "%s/report.json", sc->out_dir);
+		if (write_json(p, all))
+			rc = SSC_EXIT_FAIL;
+	}
+	json_decref(all);
+	if (!rc && (sc->formats & SSC_OUT_TEXT) && !ssc_membuf_open(&txt)) {
+		char p[1024], *t;
+
+		for (size_t i = 0; i < sc->n_order; i++) {
+			size_t s = sc->order[i];
+
+			fprintf(txt.f, "== %s (%s)\n%s\n", stages[s].ops->title,
+				stages[s].name, outs[s].text ? outs[s].text : "");
+		}
+		t = ssc_membuf_take(&txt);
+		snprintf(p, sizeof(p), "%s/report.txt", sc->out_dir);
+		if (!t || write_text(p, t))
+			rc = SSC_EXIT_FAIL;
+		free(t);
+	}
+	if (!rc && (sc->formats & SSC_OUT_HTML)) {
+		struct ssc_html *h = ssc_html_new(sc->title ? sc->title :
+						  "sensorscope report");
+		char p[1024];
+
+		html_report(sc, h, summary, outs, pngs, cols);
+		snprintf(p, sizeof(p), "%s/report.html", sc->out_dir);
+		e = ssc_html_write(h, p);
+		ssc_html_free(h);
+		if (e) {
+			ssc_err(co.cmd, "%s: %s", p, strerror(-e));
+			rc = SSC_EXIT_FAIL;
+		} else if (!sc->quiet) {
+			fprintf(stderr, "sensorscope: %s: wrote %s\n", co.cmd, p);
+		}
+	}
+	if (!(sc->formats & SSC_OUT_PNG))
+		for (size_t s = 0; s < N_STAGES; s++)
+			if (pngs[s])
+				unlink(pngs[s]);
+done:
+	for (size_t i = 0; caps && i < sc->n_files; i++)
+		sscope_capture_free(caps[i]);
+	free(caps);
+	for (size_t s = 0; s < N_STAGES; s++) {
+		ssc_stage_out_free(&outs[s]);
+		free(pngs[s]);
+	}
+	json_decref(results);
+	json_decref(summary);
+	free(cols);
+	return rc;
+}
