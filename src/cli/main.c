@@ -15,6 +15,10 @@ struct command {
 static const struct command commands[] = {
 	{ "info", "channels, units, rate, gaps and statistics of a capture",
 	  ssc_cmd_info },
+	{ "psd", "power spectral density (Welch, scipy's numbers), peaks, bands, spectrogram",
+	  ssc_cmd_psd },
+	{ "vibration", "machinery vibration: ISO severity, shaft orders, bearing envelope, diagnosis",
+	  ssc_cmd_vibration },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
