@@ -135,8 +135,9 @@ struct sscope_vib_opts {
 	struct sscope_psd_opts psd;
 	double iso_lo_hz, iso_hi_hz; /**< velocity band (10, 1000 Hz) */
 	enum sscope_iso_class iso_class; /**< SSCOPE_ISO_NONE: report no
-					      zone; the fault gate then
-					      uses class I */
+					      zone; the unbalance and
+					      misalignment gate then uses
+					      class I */
 	double shaft_hz;  /**< shaft frequency (rpm / 60); 0: unknown */
 	bool have_bearing;
 	struct sscope_bearing bearing;
@@ -206,12 +207,12 @@ struct sscope_vib_result {
 /**
  * Analyse an acceleration record.
  *
- * Findings (each gated on the velocity RMS reaching the A/B boundary of
- * the class, class I when none is given):
- * - unbalance: the 1x order carries at least half the velocity power of
+ * Findings:
+ * - unbalance (reported when the velocity RMS reaches zone C, the B/C
+ *   boundary of the class, class I when none is given): the 1x order carries at least half the velocity power of
  *   the ISO band and 2x is below half of 1x;
- * - misalignment: 2x is at least half of 1x (velocity) and carries at
- *   least a fifth of the velocity power;
+ * - misalignment (same gate): 2x is at least half of 1x (velocity) and
+ *   carries at least a fifth of the velocity power;
  * - bearing faults (with a bearing): at least two harmonics of a defect
  *   frequency (BPFO, BPFI, 2xBSF family, FTF) among the envelope-spectrum
  *   peaks within the tolerance, each above the noise threshold (a Gamma

@@ -330,41 +330,7 @@ static void add_finding(struct sscope_vib_result *r, const char *finding,
 	snprintf(f->evidence, sizeof(f->evidence), "%s", evidence);
 }
 
-static void orders_findings(struct sscope_vib_result *r, double gate)
-{
-	const struct sscope_vib_order *o1 = &r->orders[0], *o2 = &r->orders[1];
-	double v = r->velocity_rms_m_s, v1, v2;
-	char ev[400];
-
-	if (r->n_orders < 2 || !(v > 0))
-		return;
-	v1 = o1->found ? o1->velocity_rms_m_s : 0;
-	v2 = o2->found ? o2->velocity_rms_m_s : 0;
-	if (v < gate)
-		return; /* within zone A of the class: nothing to act on */
-	if (o1->found && v1 * v1 >= 0.5 * v * v && v2 < 0.5 * v1) {
-		snprintf(ev, sizeof(ev),
-			 "1x = %.3g mm/s rms at %.2f Hz carries %.0f %% of the "
-			 "velocity power (overall %.3g mm/s, %g-%g Hz); 2x = "
-			 "%.3g mm/s (%.0f %% of 1x)",
-			 v1 * 1e3, o1->peak.frequency_hz, 100 * v1 * v1 / (v * v),
-			 v * 1e3, r->iso_lo_hz, r->iso_hi_hz, v2 * 1e3,
-			 100 * v2 / v1);
-		add_finding(r, "unbalance", ev);
-	}
-	if (o2->found && v2 >= 0.5 * v1 && v2 * v2 >= 0.2 * v * v) {
-		snprintf(ev, sizeof(ev),
-			 "2x = %.3g mm/s rms at %.2f Hz is %.0f %% of 1x "
-			 "(%.3g mm/s) and carries %.0f %% of the velocity power "
-			 "(overall %.3g mm/s); check the axial 1x too",
-			 v2 * 1e3, o2->peak.frequency_hz,
-			 v1 > 0 ? 100 * v2 / v1 : (double)INFINITY, v1 * 1e3,
-			 100 * v2 * v2 / (v * v), v * 1e3);
-		add_finding(r, "misalignment", ev);
-	}
-}
-
-/* median of the envelope spectrum around bin k (excluding the peak) */
+/* median of a spectrum around bin k (excluding the peak) */
 static double local_floor(const struct sscope_spectrum *s, size_t k)
 {
 	double buf[64];
@@ -377,6 +343,64 @@ static double local_floor(const struct sscope_spectrum *s, size_t k)
 		return (double)NAN;
 	gsl_sort(buf, 1, n);
 	return gsl_stats_median_from_sorted_data(buf, 1, n);
+}
+
+/* A line's threshold over the local median: a Welch average of K
+ * segments holds at each bin of noise a mean of K_eff exponential
+ * variates (Hann, 50 % overlap: K_eff = K / (1 + 2 * 0.167^2), Welch
+ * 1967); the threshold is its 1 - 1e-3 quantile over its median. */
+static double line_threshold(size_t n_segments)
+{
+	double keff = (double)n_segments / (1 + 2 * 0.167 * 0.167);
+
+	if (keff < 1)
+		keff = 1;
+	return gsl_cdf_gamma_Qinv(1e-3, keff, 1 / keff) /
+	       gsl_cdf_gamma_Pinv(0.5, keff, 1 / keff);
+}
+
+static void orders_findings(struct sscope_vib_result *r, double gate)
+{
+	const struct sscope_vib_order *o1 = &r->orders[0], *o2 = &r->orders[1];
+	double v = r->velocity_rms_m_s, v1, v2;
+	char ev[400];
+
+	if (r->n_orders < 2 || !(v > 0))
+		return;
+	v1 = o1->found ? o1->velocity_rms_m_s : 0;
+	v2 = o2->found ? o2->velocity_rms_m_s : 0;
+	if (v < gate)
+		return; /* zones A and B: acceptable, nothing to act on */
+	if (o1->found && v1 * v1 >= 0.5 * v * v && v2 < 0.5 * v1) {
+		int w = snprintf(ev, sizeof(ev),
+				 "1x = %.3g mm/s rms at %.2f Hz carries %.0f %% "
+				 "of the velocity power (overall %.3g mm/s, "
+				 "%g-%g Hz); ",
+				 v1 * 1e3, o1->peak.frequency_hz,
+				 100 * v1 * v1 / (v * v), v * 1e3,
+				 r->iso_lo_hz, r->iso_hi_hz);
+
+		if (w > 0 && (size_t)w < sizeof(ev)) {
+			if (o2->found)
+				snprintf(ev + w, sizeof(ev) - (size_t)w,
+					 "2x = %.3g mm/s (%.0f %% of 1x)",
+					 v2 * 1e3, 100 * v2 / v1);
+			else
+				snprintf(ev + w, sizeof(ev) - (size_t)w,
+					 "no 2x line above the noise");
+		}
+		add_finding(r, "unbalance", ev);
+	}
+	if (o2->found && v2 >= 0.5 * v1 && v2 * v2 >= 0.2 * v * v) {
+		snprintf(ev, sizeof(ev),
+			 "2x = %.3g mm/s rms at %.2f Hz is %.0f %% of 1x "
+			 "(%.3g mm/s) and carries %.0f %% of the velocity power "
+			 "(overall %.3g mm/s); check the axial 1x too",
+			 v2 * 1e3, o2->peak.frequency_hz,
+			 v1 > 0 ? 100 * v2 / v1 : (double)INFINITY, v1 * 1e3,
+			 100 * v2 * v2 / (v * v), v * 1e3);
+		add_finding(r, "misalignment", ev);
+	}
 }
 
 struct defect {
@@ -404,7 +428,7 @@ static bool best_match(double f, const struct defect *d, size_t nd, double fr,
 	for (size_t i = 0; i <= nd; i++) {
 		double base = i < nd ? d[i].f : fr;
 
-		for (unsigned h = 1; h <= 5; h++) {
+		for (unsigned h = 1; h <= 10; h++) {
 			double e = h * base, q = fabs(f - e) / match_tol(o, e, bin);
 
 			if (q > 1 || q >= best)
@@ -454,7 +478,7 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 	struct sscope_envelope *e = NULL;
 	struct sscope_psd_opts po;
 	double *env = NULL, fhigh = 0, lo = o->env_lo_hz, hi = o->env_hi_hz;
-	double keff, thr, res, fmin_env, fmax_env;
+	double thr, res, fmin_env, fmax_env;
 	int rc;
 
 	for (int i = 0; i < 4; i++)
@@ -542,15 +566,8 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 	rc = sscope_psd_welch(env, 1, n, fs, &po, &r->envelope);
 	if (rc)
 		goto out;
-	/* noise threshold: the envelope spectrum of noise is a mean of
-	 * K_eff exponential variates per bin (Hann, 50 % overlap: K_eff =
-	 * K / (1 + 2 * 0.167^2), Welch 1967); threshold over the median at
-	 * a false-alarm probability of 1e-3 */
-	keff = (double)r->envelope.n_segments / (1 + 2 * 0.167 * 0.167);
-	if (keff < 1)
-		keff = 1;
-	thr = gsl_cdf_gamma_Qinv(1e-3, keff, 1 / keff) /
-	      gsl_cdf_gamma_Pinv(0.5, keff, 1 / keff);
+	/* noise threshold at a false-alarm probability of 1e-3 per bin */
+	thr = line_threshold(r->envelope.n_segments);
 	r->env_threshold = thr;
 	/* strongest envelope lines, labelled */
 	fmin_env = fmax(2 * r->envelope.bin_hz, 0.5 * fmin(fr, bf->ftf_hz));
@@ -689,6 +706,8 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 				      &r->n_peaks);
 	}
 	if (o->shaft_hz > 0) {
+		double thr = line_threshold(r->accel.n_segments);
+
 		for (unsigned k = 1; k <= SSCOPE_VIB_ORDERS; k++) {
 			struct sscope_vib_order *od = &r->orders[k - 1];
 			double f = k * o->shaft_hz;
@@ -699,9 +718,15 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 			if (f >= fs / 2)
 				break;
 			r->n_orders = k;
+			/* a line: a local maximum within the tolerance that
+			 * stands above the noise */
 			od->found = !sscope_spectrum_peak_near(
-				&r->accel, f, match_tol(o, f, r->accel.bin_hz),
-				&od->peak);
+					    &r->accel, f,
+					    match_tol(o, f, r->accel.bin_hz),
+					    &od->peak) &&
+				    od->peak.value >=
+					    thr * local_floor(&r->accel,
+							      od->peak.bin);
 			if (od->found)
 				od->velocity_rms_m_s = od->peak.amplitude /
 						       (2 * PI * od->peak.frequency_hz) /
@@ -710,7 +735,7 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 		sscope_iso_limits(o->iso_class != SSCOPE_ISO_NONE ?
 					  o->iso_class : SSCOPE_ISO_I,
 				  lim);
-		orders_findings(r, lim[0]);
+		orders_findings(r, lim[1]);
 	}
 	if (o->have_bearing) {
 		if (!(o->shaft_hz > 0)) {
