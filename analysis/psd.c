@@ -279,13 +279,15 @@ void sscope_psd_reset(struct sscope_psd *p)
 	p->sg_per = 1;
 }
 
-/* Periodogram batch size: about 2^19 doubles of FFT input per batch. */
+/* Periodogram batch size: about 2^20 doubles of FFT input per batch, so
+ * that a parallel region (and its barrier, costly on a loaded machine)
+ * holds enough work; memory is about 12 MB per workspace then. */
 static size_t batch_size(size_t nfft, int nth)
 {
-	size_t b = ((size_t)1 << 19) / nfft;
+	size_t b = ((size_t)1 << 20) / nfft;
 
-	if (b > 256)
-		b = 256;
+	if (b > 4096)
+		b = 4096;
 	if (b < (size_t)nth)
 		b = (size_t)nth;
 	return b ? b : 1;
@@ -487,7 +489,8 @@ static int process(struct sscope_psd *p, size_t count)
 	long cnt = (long)count;
 
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(p->nth) schedule(static) if (cnt > 1)
+#pragma omp parallel for num_threads(p->nth) schedule(static) \
+	if (cnt > 1 && (size_t)cnt * p->nfft >= ((size_t)1 << 16))
 #endif
 	for (long j = 0; j < cnt; j++) {
 #ifdef _OPENMP
