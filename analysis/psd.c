@@ -392,31 +392,30 @@ nomem:
 }
 
 /* Detrend and window one segment into in[0..m); returns false when it
- * holds a non-finite sample. */
+ * holds a non-finite sample (the sum of a segment holding a NaN or an
+ * infinity is not finite).  Every loop here vectorises. */
 static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 {
 	size_t m = p->m;
-	double mean = 0, slope = 0, c = (double)(m - 1) / 2;
-	double lo = seg[0], hi = seg[0], z = 0;
+	double sum = psum(seg, m), mean = 0, slope = 0;
+	double c = (double)(m - 1) / 2;
 
-	for (size_t i = 0; i < m; i++) {
-		double v = seg[i];
-
-		lo = v < lo ? v : lo;
-		hi = v > hi ? v : hi;
-		z += v * 0; /* NaN for a NaN or an infinity */
-	}
-	if (z != 0 || !isfinite(lo) || !isfinite(hi))
+	if (!isfinite(sum))
 		return false;
-	if (p->o.detrend != SSCOPE_DETREND_NONE)
-		/* a constant segment detrends to exact zeros */
-		mean = lo == hi ? lo : psum(seg, m) / (double)m;
-	if (p->o.detrend == SSCOPE_DETREND_LINEAR && m > 2 && lo != hi) {
-		double s = 0, d = (double)m;
+	if (p->o.detrend != SSCOPE_DETREND_NONE) {
+		int same = 1;
 
 		for (size_t i = 0; i < m; i++)
-			s += ((double)i - c) * (seg[i] - mean);
-		slope = s / (d * (d * d - 1) / 12);
+			same &= seg[i] == seg[0];
+		/* a constant segment detrends to exact zeros */
+		mean = same ? seg[0] : sum / (double)m;
+		if (p->o.detrend == SSCOPE_DETREND_LINEAR && m > 2 && !same) {
+			double s = 0, d = (double)m;
+
+			for (size_t i = 0; i < m; i++)
+				s += ((double)i - c) * (seg[i] - mean);
+			slope = s / (d * (d * d - 1) / 12);
+		}
 	}
 	if (slope != 0)
 		for (size_t i = 0; i < m; i++)
@@ -483,13 +482,16 @@ static void sg_add(struct sscope_psd *p, const double *pg, bool used,
 	}
 }
 
-/* Transform `count` segments starting at stage[0], stage[step], ... */
-static int process(struct sscope_psd *p, size_t count)
+/* Transform `count` segments starting at base[0], base[step], ...: the
+ * stage, or the caller's buffer itself when it holds whole batches.
+ * Dynamic scheduling: on a loaded machine a thread that loses its core
+ * takes fewer segments instead of holding the others at the barrier. */
+static int process(struct sscope_psd *p, const double *base, size_t count)
 {
 	long cnt = (long)count;
 
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(p->nth) schedule(static) \
+#pragma omp parallel for num_threads(p->nth) schedule(dynamic, 4) \
 	if (cnt > 1 && (size_t)cnt * p->nfft >= ((size_t)1 << 16))
 #endif
 	for (long j = 0; j < cnt; j++) {
@@ -501,7 +503,7 @@ static int process(struct sscope_psd *p, size_t count)
 		double *in = p->tin[t], *pg = p->pg + (size_t)j * p->nbins;
 		fftw_complex *out = p->tout[t];
 
-		p->bad[j] = !prepare(p, p->stage + (size_t)j * p->step, in);
+		p->bad[j] = !prepare(p, base + (size_t)j * p->step, in);
 		if (p->bad[j])
 			continue;
 		fftw_execute_dft_r2c(p->plan, in, out);
@@ -530,8 +532,10 @@ static int process(struct sscope_psd *p, size_t count)
 		p->nseg++;
 		sg_add(p, pg, true, start);
 	}
-	/* keep the samples from the next segment's start on */
-	if (count) {
+	if (base != p->stage) {
+		p->consumed += count * p->step;
+	} else if (count) {
+		/* keep the samples from the next segment's start on */
 		size_t adv = count * p->step;
 
 		memmove(p->stage, p->stage + adv,
@@ -547,6 +551,17 @@ int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 {
 	if (!p || (!x && n) || stride == 0)
 		return -EINVAL;
+	/* whole batches straight from a contiguous buffer, without a copy */
+	while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
+		size_t adv = p->batch * p->step;
+		int rc = process(p, x, p->batch);
+
+		if (rc)
+			return rc;
+		x += adv;
+		n -= adv;
+		p->n_samples += adv;
+	}
 	while (n) {
 		size_t take = p->stage_cap - p->have;
 		double *d = p->stage + p->have;
@@ -564,7 +579,7 @@ int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 		x += take * stride;
 		n -= take;
 		if (p->have == p->stage_cap) {
-			int rc = process(p, p->batch);
+			int rc = process(p, p->stage, p->batch);
 
 			if (rc)
 				return rc;
@@ -578,7 +593,7 @@ static int flush(struct sscope_psd *p)
 {
 	if (p->have < p->m)
 		return 0;
-	return process(p, (p->have - p->m) / p->step + 1);
+	return process(p, p->stage, (p->have - p->m) / p->step + 1);
 }
 
 static double one_sided(const struct sscope_psd *p, size_t k)
