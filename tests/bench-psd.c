@@ -36,7 +36,7 @@ static double uni(void)
 }
 
 static double time_welch(const double *x, size_t n, size_t nperseg,
-			 bool measure, size_t *nseg)
+			 bool measure, unsigned threads, size_t *nseg)
 {
 	double best = 1e9;
 
@@ -48,6 +48,7 @@ static double time_welch(const double *x, size_t n, size_t nperseg,
 		sscope_psd_opts_init(&o);
 		o.nperseg = nperseg;
 		o.measure = measure;
+		o.threads = threads;
 		if (sscope_psd_welch(x, 1, n, 1000, &o, &s))
 			return -1;
 		t0 = now() - t0;
@@ -115,15 +116,17 @@ int main(void)
 		return 1;
 	for (size_t i = 0; i < n; i++)
 		x[i] = uni() + 0.3 * sin(2 * PI * 123.4 * (double)i / 1000) + 2.5;
-	for (int k = 0; k < 2; k++) {
-		size_t m = k ? 65536 : 4096, nseg = 0;
-		double te = time_welch(x, n, m, false, &nseg);
-		double tm = time_welch(x, n, m, true, &nseg);
+	for (int k = 0; k < 2; k++)
+		for (unsigned th = 1; th <= 2; th++) {
+			size_t m = k ? 65536 : 4096, nseg = 0;
+			double te = time_welch(x, n, m, false, th == 1 ? 1 : 0, &nseg);
+			double tm = time_welch(x, n, m, true, th == 1 ? 1 : 0, &nseg);
 
-		printf("welch 1e7 samples, nperseg %5zu (%zu segments): %.3f s (FFTW_ESTIMATE), %.3f s (FFTW_MEASURE, planning included)\n",
-		       m, nseg, te, tm);
-		rc |= te < 0 || tm < 0;
-	}
+			printf("welch 1e7 samples, nperseg %5zu (%zu segments), %s: %.3f s (FFTW_ESTIMATE), %.3f s (FFTW_MEASURE, planning included)\n",
+			       m, nseg, th == 1 ? "1 thread" : "OpenMP default threads",
+			       te, tm);
+			rc |= te < 0 || tm < 0;
+		}
 	/* accuracy on a short case */
 	{
 		const size_t ns = 16384, m = 1024, nb = m / 2 + 1;
