@@ -197,6 +197,10 @@ int sscope_psd_new(struct sscope_psd **psd, const struct sscope_psd_opts *opts);
 
 /**
  * Feed samples x[k * stride], k < n (continuing the record).
+ * Segments are transformed in batches as they fill, so a non-finite
+ * sample is reported by the call that completes its batch (or by
+ * sscope_psd_result()); samples after the last whole segment are never
+ * looked at, as in scipy.
  * @return 0; -EINVAL (x NULL with n > 0, stride 0); -EDOM for a non-finite
  *         sample when skip_nonfinite is off (the workspace is then in an
  *         undefined state: reset or free it).
@@ -211,7 +215,9 @@ int sscope_psd_feed(struct sscope_psd *psd, const double *x, size_t stride,
  *              sscope_spectrum_clear().
  * @return 0; -EINVAL (fs_hz not positive); -EDOM when no segment could be
  *         averaged (record shorter than nperseg without opts.shorten, no
- *         sample, every segment non-finite); -ENOMEM.
+ *         sample, every segment non-finite) or when a segment still
+ *         waiting to be transformed holds a non-finite sample and
+ *         skip_nonfinite is off; -ENOMEM.
  */
 int sscope_psd_result(struct sscope_psd *psd, double fs_hz,
 		      struct sscope_spectrum *out);
