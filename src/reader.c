@@ -3,8 +3,8 @@
  * Capture readers: delimited text (comma, tab, semicolon or whitespace, '#'
  * comments, units in the header as "name [unit]" or "name (unit)", EuRoC's
  * "#timestamp [ns],w_RS_S_x [rad s^-1],..."), the sensorscope binary capture
- * (a two-line text header, then little-endian float32/float64 rows) and raw
- * binary (--raw TYPE:CHANNELS[:le|be]).
+ * (a two-line text header, then little-endian float32/float64 rows), raw
+ * binary (--raw TYPE:CHANNELS[:le|be]) and MATLAB 5 MAT-files (io-mat.c).
  *
  * Regular files are memory-mapped; pipes are read in 4 MiB blocks into a
  * buffer that slides over the input, so memory does not grow with the
@@ -24,10 +24,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io-mat.h"
+
 #define BLOCK (4u << 20)
 #define BIN_MAGIC "#sensorscope-binary"
 
-enum kind { K_TEXT, K_BIN, K_RAW };
+enum kind { K_TEXT, K_BIN, K_RAW, K_MAT };
 enum rawtype { R_I16, R_U16, R_I24, R_I32, R_U32, R_F32, R_F64 };
 
 struct colx {
@@ -82,6 +84,9 @@ struct sscope_reader {
 	size_t split_pos;
 	const struct sscope_read_opts *opts;
 	struct sscope_read_opts opts_copy;
+	/* MATLAB 5 MAT-file (io-mat.c) */
+	struct ssc_mat *mat;
+	size_t mat_row;
 };
 
 /* ------------------------------------------------------------ source */
@@ -430,7 +435,7 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 					"%s: no time column '%s' (columns: %s)",
 					r->disp, o->time_column, names);
 		}
-	} else if (r->kind == K_TEXT || r->kind == K_BIN) {
+	} else if (r->kind == K_TEXT || r->kind == K_BIN || r->kind == K_MAT) {
 		for (size_t i = 0; i < r->ncols; i++)
 			if (name_is(r->cols[i].name, time_names)) {
 				r->time_col = (long)i;
@@ -851,6 +856,74 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	return 0;
 }
 
+/* ------------------------------------------------------------ MATLAB */
+
+/* A MAT-file: the variables become columns (io-mat.c); a pipe is read
+ * whole first. */
+static int open_mat(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	size_t n;
+	int rc = src_fill(r, SIZE_MAX, diag);
+
+	if (rc)
+		return rc;
+	rc = ssc_mat_open(&r->mat, (const unsigned char *)r->base, r->len,
+			  r->disp, diag);
+	if (rc)
+		return rc;
+	n = ssc_mat_n_channels(r->mat);
+	if (n > MAXF)
+		n = MAXF;
+	for (size_t i = 0; i < n; i++) {
+		fs[i] = ssc_mat_channel_name(r->mat, i);
+		fe[i] = fs[i] + strlen(fs[i]);
+	}
+	return add_columns(r, fs, fe, n, true);
+}
+
+static int read_mat(struct sscope_reader *r, struct sscope_chunk *ch,
+		    struct sscope_diag *diag)
+{
+	size_t row = 0, nrows = ssc_mat_rows(r->mat);
+
+	for (; row < ch->capacity && r->mat_row < nrows; row++, r->mat_row++) {
+		for (size_t c = 0; c < r->ncols; c++) {
+			struct colx *cx = &r->cols[c];
+			double v;
+
+			if (!cx->used)
+				continue;
+			v = ssc_mat_value(r->mat, c, r->mat_row);
+			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
+			    isinf(v))
+				return ssc_diag(diag, -EBADMSG,
+						"%s: variable %s, element %zu: %s",
+						r->disp, cx->name, r->mat_row + 1,
+						isinf(v) ? "infinite value" :
+						cx->is_time ? "NaN time stamp" :
+						"NaN (use --allow-nan to read gaps)");
+			if (cx->dest >= 0 && ch->data[cx->dest])
+				ch->data[cx->dest][row] =
+					v * cx->c.unit.scale + cx->c.unit.offset;
+			if (cx->is_time) {
+				if (!r->have_t0) {
+					r->have_t0 = true;
+					r->t0_double = v;
+				}
+				if (ch->time_s)
+					ch->time_s[row] = (v - r->t0_double) *
+							  cx->c.unit.scale;
+			}
+			if (cx->is_temp && ch->temp_degc)
+				ch->temp_degc[row] = v * cx->c.unit.scale +
+						     cx->c.unit.offset;
+		}
+	}
+	ch->rows = row;
+	return 0;
+}
+
 /* ------------------------------------------------------------ open */
 
 int sscope_reader_open(struct sscope_reader **reader, const char *path,
@@ -904,7 +977,10 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			rc = ssc_diag(diag, -EDOM, "%s: empty file", r->disp);
 			goto fail;
 		}
-		if (r->len >= strlen(BIN_MAGIC) &&
+		if (ssc_mat_detect(r->base, r->len)) {
+			r->kind = K_MAT;
+			rc = open_mat(r, diag);
+		} else if (r->len >= strlen(BIN_MAGIC) &&
 		    !memcmp(r->base, BIN_MAGIC, strlen(BIN_MAGIC))) {
 			r->kind = K_BIN;
 			rc = open_bin(r, diag);
@@ -1000,6 +1076,7 @@ void sscope_reader_close(struct sscope_reader *r)
 	free(r->sel);
 	free(r->parts);
 	free(r->path);
+	ssc_mat_free(r->mat);
 	free(r);
 }
 
@@ -1471,6 +1548,8 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 	const char *base, *end;
 	size_t np, total = 0;
 
+	if (r->kind == K_MAT)
+		return ssc_mat_rows(r->mat) - r->mat_row;
 	if (r->kind != K_TEXT) {
 		if (!r->size || !r->mapped)
 			return 0;
@@ -1701,5 +1780,7 @@ int sscope_reader_read(struct sscope_reader *r, struct sscope_chunk *ch,
 	ch->rows = 0;
 	if (r->kind == K_TEXT)
 		return read_text(r, ch, diag);
+	if (r->kind == K_MAT)
+		return read_mat(r, ch, diag);
 	return read_binary(r, ch, diag);
 }

@@ -202,6 +202,52 @@ static void imu_raw(const char *dir)
 	gsl_rng_free(r);
 }
 
+/*
+ * bearing-outer.csv: accelerometer on a motor at 1797 rpm with an
+ * outer-race defect in its SKF 6205 bearing (9 balls, d = 7.94 mm,
+ * D = 39.04 mm: BPFO = 3.5848 x 29.95 Hz = 107.4 Hz), 12 kHz, 2 s: each
+ * ball pass strikes the defect (interval jittered by 1 %, the balls'
+ * slip) and rings a 3 kHz structural resonance (decay 0.6 ms, 1.5 m/s^2),
+ * plus 1x (0.3 m/s^2), 2x (0.1 m/s^2) and white noise (0.5 m/s^2 rms).
+ */
+static void bearing_outer(const char *dir)
+{
+	const double fs = 12000, T = 2, fr = 1797.0 / 60;
+	const double r = 7.94 / 39.04, bpfo = 9 / 2.0 * fr * (1 - r);
+	size_t n = (size_t)(fs * T);
+	double *x = calloc(n, sizeof(double)), ti = 0.01;
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	FILE *f = open_out(dir, "bearing-outer.csv");
+
+	if (!x)
+		exit(1);
+	gsl_rng_set(g, 1006);
+	for (size_t i = 0; i < n; i++) {
+		double w = 2 * PI * fr * (double)i / fs;
+
+		x[i] = 0.3 * sin(w + 0.4) + 0.1 * sin(2 * w + 1.3) +
+		       gsl_ran_gaussian_ziggurat(g, 0.5);
+	}
+	while (ti < T) {
+		size_t i0 = (size_t)ceil(ti * fs);
+
+		for (size_t i = i0; i < n && i < i0 + 72; i++) {
+			double dt = (double)i / fs - ti;
+
+			x[i] += 1.5 * exp(-dt / 0.6e-3) * sin(2 * PI * 3000 * dt);
+		}
+		ti += (1 + 0.01 * gsl_ran_gaussian_ziggurat(g, 1)) / bpfo;
+	}
+	fprintf(f, "# sensorscope sample: outer-race bearing defect, 1797 rpm, SKF 6205 (simulated, seed 1006)\n"
+		   "# rate: 12000 Hz\n"
+		   "acc [m/s^2]\n");
+	for (size_t i = 0; i < n; i++)
+		fprintf(f, "%.4f\n", x[i]);
+	fclose(f);
+	free(x);
+	gsl_rng_free(g);
+}
+
 int main(int argc, char **argv)
 {
 	const char *dir = argc > 1 ? argv[1] : "samples";
@@ -211,5 +257,6 @@ int main(int argc, char **argv)
 	vibration(dir);
 	euroc(dir);
 	imu_raw(dir);
+	bearing_outer(dir);
 	return 0;
 }

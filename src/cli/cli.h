@@ -158,5 +158,7 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig);
 int ssc_cmd_info(int argc, char **argv);
 int ssc_cmd_run(int argc, char **argv);
 int ssc_cmd_report(int argc, char **argv);
+int ssc_cmd_psd(int argc, char **argv);
+int ssc_cmd_vibration(int argc, char **argv);
 
 #endif

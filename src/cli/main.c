@@ -19,6 +19,10 @@ static const struct command commands[] = {
 	  ssc_cmd_run },
 	{ "report", "the characterisation report of captures (scene inferred)",
 	  ssc_cmd_report },
+	{ "psd", "power spectral density (Welch, scipy's numbers), peaks, bands, spectrogram",
+	  ssc_cmd_psd },
+	{ "vibration", "machinery vibration: ISO severity, shaft orders, bearing envelope, diagnosis",
+	  ssc_cmd_vibration },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -1,0 +1,1049 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Power spectral density by Welch's method (P. D. Welch, "The use of fast
+ * Fourier transform for the estimation of power spectra", IEEE Trans. Audio
+ * Electroacoust. 15(2), 1967) with the conventions of scipy.signal.welch /
+ * periodogram (scipy 1.10: DFT-even windows, per-segment detrending,
+ * one-sided doubling, "density" 1/(fs sum w^2) and "spectrum" 1/(sum w)^2
+ * scaling, mean over segments), so that the numbers equal scipy's.
+ *
+ * Windows are scipy's cosine sums (F. J. Harris, "On the use of windows for
+ * harmonic analysis with the discrete Fourier transform", Proc. IEEE 66(1),
+ * 1978, for the figures: coherent gain, ENBW, scalloping loss).  Their
+ * transforms are evaluated in closed form as sums of Dirichlet kernels,
+ * which gives an exact sub-bin interpolation of a sine's frequency and
+ * amplitude from the ratio of the two largest bins.
+ *
+ * Octave bands: IEC 61260-1:2014, base-10 (G = 10^(3/10)).
+ *
+ * Streaming: samples are staged in a buffer that holds one batch of
+ * segments (nperseg + (B - 1) step samples); a full batch is transformed on
+ * OpenMP threads (FFTW r2c, plan made once, executed with the new-array
+ * interface on per-thread arrays), the periodograms are added in segment
+ * order with compensated sums, and the overlap is kept for the next batch.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <fftw3.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "sscope-psd.h"
+
+#define PI 3.14159265358979323846
+
+/* ------------------------------------------------------------ windows */
+
+struct wdef {
+	const char *name;
+	size_t nterms;
+	double a[5];
+};
+
+static const struct wdef wdefs[SSCOPE_WINDOW_COUNT_] = {
+	[SSCOPE_WINDOW_HANN] = { "hann", 2, { 0.5, 0.5 } },
+	[SSCOPE_WINDOW_HAMMING] = { "hamming", 2, { 0.54, 0.46 } },
+	[SSCOPE_WINDOW_BLACKMAN] = { "blackman", 3, { 0.42, 0.50, 0.08 } },
+	[SSCOPE_WINDOW_BLACKMANHARRIS] = { "blackmanharris", 4,
+					   { 0.35875, 0.48829, 0.14128,
+					     0.01168 } },
+	[SSCOPE_WINDOW_FLATTOP] = { "flattop", 5,
+				    { 0.21557895, 0.41663158, 0.277263158,
+				      0.083578947, 0.006947368 } },
+	[SSCOPE_WINDOW_BOXCAR] = { "boxcar", 1, { 1 } },
+};
+
+static const struct wdef boxcar1 = { "boxcar", 1, { 1 } };
+
+/* scipy returns ones for a window of one sample */
+static const struct wdef *wdef_of(enum sscope_window w, size_t n)
+{
+	if ((unsigned)w >= SSCOPE_WINDOW_COUNT_)
+		return NULL;
+	return n == 1 ? &boxcar1 : &wdefs[w];
+}
+
+const char *sscope_window_name(enum sscope_window w)
+{
+	return (unsigned)w < SSCOPE_WINDOW_COUNT_ ? wdefs[w].name : NULL;
+}
+
+int sscope_window_from_name(const char *name, enum sscope_window *w)
+{
+	if (!name || !w)
+		return -EINVAL;
+	for (unsigned i = 0; i < SSCOPE_WINDOW_COUNT_; i++)
+		if (!ssc_strcasecmp(name, wdefs[i].name)) {
+			*w = (enum sscope_window)i;
+			return 0;
+		}
+	if (!ssc_strcasecmp(name, "hanning")) {
+		*w = SSCOPE_WINDOW_HANN;
+		return 0;
+	}
+	if (!ssc_strcasecmp(name, "rect") ||
+	    !ssc_strcasecmp(name, "rectangular") ||
+	    !ssc_strcasecmp(name, "boxcar")) {
+		*w = SSCOPE_WINDOW_BOXCAR;
+		return 0;
+	}
+	return -EINVAL;
+}
+
+int sscope_window_fill(enum sscope_window w, size_t n, double *out)
+{
+	const struct wdef *d = wdef_of(w, n);
+
+	if (!d || n == 0 || !out)
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++) {
+		double v = 0;
+
+		/* cos(k (2 pi i / n - pi)) = (-1)^k cos(2 pi (k i mod n) / n),
+		 * the argument reduced exactly in integers */
+		for (size_t k = 0; k < d->nterms; k++) {
+			size_t m = (size_t)(((unsigned long long)k * i) % n);
+			double c = cos(2 * PI * (double)m / (double)n);
+
+			v += (k & 1 ? -d->a[k] : d->a[k]) * c;
+		}
+		out[i] = v;
+	}
+	return 0;
+}
+
+/* Dirichlet kernel sum_{j<m} exp(-2 pi i x j) = exp(-i pi x (m-1))
+ * sin(pi x m) / sin(pi x), added times c to (re, im). */
+static void dirichlet_add(double x, size_t m, double c, double *re, double *im)
+{
+	double s = sin(PI * x), mag, ph = -PI * x * (double)(m - 1);
+
+	if (fabs(s) < 1e-300)
+		mag = (double)m;
+	else
+		mag = sin(PI * x * (double)m) / s;
+	*re += c * mag * cos(ph);
+	*im += c * mag * sin(ph);
+}
+
+double sscope_window_response(enum sscope_window w, size_t n, size_t nfft,
+			      double bins)
+{
+	const struct wdef *d = wdef_of(w, n);
+	double re = 0, im = 0, nu;
+
+	if (!d || n == 0 || nfft == 0 || !isfinite(bins))
+		return (double)NAN;
+	nu = bins / (double)nfft;
+	/* w[j] = sum_k c_k cos(2 pi k j / n), c_k = (-1)^k a_k, and
+	 * cos = (e^{+} + e^{-}) / 2 */
+	for (size_t k = 0; k < d->nterms; k++) {
+		double c = (k & 1 ? -d->a[k] : d->a[k]) / 2;
+		double kn = (double)k / (double)n;
+
+		dirichlet_add(nu - kn, n, c, &re, &im);
+		dirichlet_add(nu + kn, n, c, &re, &im);
+	}
+	return hypot(re, im);
+}
+
+/* Pairwise sum (as numpy's): error O(log n) ulps, vectorisable. */
+static double psum(const double *x, size_t n)
+{
+	if (n <= 128) {
+		double a[8] = { 0 }, s;
+		size_t i = 0;
+
+		for (; i + 8 <= n; i += 8)
+			for (size_t j = 0; j < 8; j++)
+				a[j] += x[i + j];
+		s = ((a[0] + a[1]) + (a[2] + a[3])) +
+		    ((a[4] + a[5]) + (a[6] + a[7]));
+		for (; i < n; i++)
+			s += x[i];
+		return s;
+	} else {
+		size_t h = (n / 2) & ~(size_t)7;
+
+		return psum(x, h) + psum(x + h, n - h);
+	}
+}
+
+int sscope_window_figures(enum sscope_window w, size_t n,
+			  struct sscope_window_figures *f)
+{
+	double *win;
+	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 };
+
+	if (!wdef_of(w, n) || n == 0 || !f)
+		return -EINVAL;
+	win = ssc_alloc_array(n, sizeof(double));
+	if (!win)
+		return -ENOMEM;
+	sscope_window_fill(w, n, win);
+	for (size_t i = 0; i < n; i++) {
+		ssc_ksum_add(&s, win[i]);
+		ssc_ksum_add(&q, win[i] * win[i]);
+	}
+	free(win);
+	f->sum = ssc_ksum_value(&s);
+	f->sum_sq = ssc_ksum_value(&q);
+	f->coherent_gain = f->sum / (double)n;
+	f->enbw_bins = (double)n * f->sum_sq / (f->sum * f->sum);
+	f->scalloping_db = 20 * log10(sscope_window_response(w, n, n, 0.5) /
+				      sscope_window_response(w, n, n, 0));
+	return 0;
+}
+
+/* ------------------------------------------------------------ workspace */
+
+struct sscope_psd {
+	struct sscope_psd_opts o;
+	size_t m, l, step, nfft, nbins; /* nperseg, noverlap */
+	double *win;
+	double sum_w, sum_w2;
+	fftw_plan plan;
+	int nth;
+	double **tin;
+	fftw_complex **tout;
+	/* staging of one batch of segments */
+	size_t batch;      /* segments per batch */
+	double *stage;
+	size_t stage_cap, have;
+	uint64_t consumed; /* stream index of stage[0] */
+	uint64_t n_samples;
+	double *pg;        /* batch x nbins periodograms */
+	unsigned char *bad;
+	/* accumulation */
+	double *acc, *comp;
+	size_t nseg, nskip;
+	/* spectrogram: columns of summed periodograms */
+	size_t sg_max, sg_n, sg_per;
+	double *sg;
+	size_t *sg_used, *sg_slots;
+	double *sg_start; /* sum of segment starts of all slots */
+};
+
+void sscope_psd_opts_init(struct sscope_psd_opts *o)
+{
+	memset(o, 0, sizeof(*o));
+	o->window = SSCOPE_WINDOW_HANN;
+	o->nperseg = 256;
+	o->noverlap = SSCOPE_PSD_HALF_OVERLAP;
+	o->detrend = SSCOPE_DETREND_CONSTANT;
+	o->scaling = SSCOPE_SCALING_DENSITY;
+}
+
+void sscope_psd_free(struct sscope_psd *p)
+{
+	if (!p)
+		return;
+	if (p->plan)
+		fftw_destroy_plan(p->plan);
+	for (int t = 0; p->tin && t < p->nth; t++)
+		fftw_free(p->tin[t]);
+	for (int t = 0; p->tout && t < p->nth; t++)
+		fftw_free(p->tout[t]);
+	free(p->tin);
+	free(p->tout);
+	free(p->win);
+	free(p->stage);
+	free(p->pg);
+	free(p->bad);
+	free(p->acc);
+	free(p->comp);
+	free(p->sg);
+	free(p->sg_used);
+	free(p->sg_slots);
+	free(p->sg_start);
+	free(p);
+}
+
+void sscope_psd_reset(struct sscope_psd *p)
+{
+	if (!p)
+		return;
+	p->have = 0;
+	p->consumed = 0;
+	p->n_samples = 0;
+	p->nseg = 0;
+	p->nskip = 0;
+	memset(p->acc, 0, p->nbins * sizeof(double));
+	memset(p->comp, 0, p->nbins * sizeof(double));
+	p->sg_n = 0;
+	p->sg_per = 1;
+}
+
+/* Periodogram batch size: about 2^20 doubles of FFT input per batch, so
+ * that a parallel region (and its barrier, costly on a loaded machine)
+ * holds enough work; memory is about 12 MB per workspace then. */
+static size_t batch_size(size_t nfft, int nth)
+{
+	size_t b = ((size_t)1 << 20) / nfft;
+
+	if (b > 4096)
+		b = 4096;
+	if (b < (size_t)nth)
+		b = (size_t)nth;
+	return b ? b : 1;
+}
+
+int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
+{
+	struct sscope_psd_opts def;
+	struct sscope_psd *p;
+	size_t sz;
+
+	if (!out)
+		return -EINVAL;
+	*out = NULL;
+	if (!opts) {
+		sscope_psd_opts_init(&def);
+		opts = &def;
+	}
+	if ((unsigned)opts->window >= SSCOPE_WINDOW_COUNT_ ||
+	    (unsigned)opts->detrend > SSCOPE_DETREND_NONE ||
+	    (unsigned)opts->scaling > SSCOPE_SCALING_SPECTRUM ||
+	    opts->nperseg == 0 || opts->nperseg > INT32_MAX)
+		return -EINVAL;
+	p = calloc(1, sizeof(*p));
+	if (!p)
+		return -ENOMEM;
+	p->o = *opts;
+	p->m = opts->nperseg;
+	p->l = opts->noverlap == SSCOPE_PSD_HALF_OVERLAP ? p->m / 2 :
+							    opts->noverlap;
+	p->nfft = opts->nfft ? opts->nfft : p->m;
+	if (p->l >= p->m || p->nfft < p->m || p->nfft > INT32_MAX) {
+		free(p);
+		return -EINVAL;
+	}
+	p->step = p->m - p->l;
+	p->nbins = p->nfft / 2 + 1;
+#ifdef _OPENMP
+	p->nth = opts->threads ? (int)opts->threads : omp_get_max_threads();
+	if (p->nth < 1)
+		p->nth = 1;
+#else
+	p->nth = 1;
+#endif
+	p->batch = batch_size(p->nfft, p->nth);
+	if (!ssc_mul(p->batch - 1, p->step, &sz) ||
+	    !ssc_add(sz, p->m, &p->stage_cap))
+		goto nomem;
+	p->win = ssc_alloc_array(p->m, sizeof(double));
+	p->tin = calloc((size_t)p->nth, sizeof(*p->tin));
+	p->tout = calloc((size_t)p->nth, sizeof(*p->tout));
+	p->stage = ssc_alloc_array(p->stage_cap, sizeof(double));
+	p->bad = calloc(p->batch, 1);
+	p->acc = calloc(p->nbins, sizeof(double));
+	p->comp = calloc(p->nbins, sizeof(double));
+	if (!ssc_mul(p->batch, p->nbins, &sz))
+		goto nomem;
+	p->pg = ssc_alloc_array(sz, sizeof(double));
+	if (!p->win || !p->tin || !p->tout || !p->stage || !p->bad ||
+	    !p->acc || !p->comp || !p->pg)
+		goto nomem;
+	for (int t = 0; t < p->nth; t++) {
+		p->tin[t] = fftw_alloc_real(p->nfft);
+		p->tout[t] = fftw_alloc_complex(p->nbins);
+		if (!p->tin[t] || !p->tout[t])
+			goto nomem;
+	}
+	sscope_window_fill(opts->window, p->m, p->win);
+	p->sum_w = psum(p->win, p->m);
+	{
+		struct ssc_ksum q = { 0, 0 };
+
+		for (size_t i = 0; i < p->m; i++)
+			ssc_ksum_add(&q, p->win[i] * p->win[i]);
+		p->sum_w2 = ssc_ksum_value(&q);
+	}
+	p->plan = fftw_plan_dft_r2c_1d((int)p->nfft, p->tin[0], p->tout[0],
+				       opts->measure ? FFTW_MEASURE :
+						       FFTW_ESTIMATE);
+	if (!p->plan)
+		goto nomem;
+	for (int t = 0; t < p->nth; t++)
+		memset(p->tin[t], 0, p->nfft * sizeof(double));
+	if (opts->spectrogram_cols) {
+		p->sg_max = opts->spectrogram_cols < 2 ? 2 :
+							 opts->spectrogram_cols;
+		if (!ssc_mul(p->sg_max, p->nbins, &sz))
+			goto nomem;
+		p->sg = ssc_alloc_array(sz, sizeof(double));
+		p->sg_used = calloc(p->sg_max, sizeof(size_t));
+		p->sg_slots = calloc(p->sg_max, sizeof(size_t));
+		p->sg_start = calloc(p->sg_max, sizeof(double));
+		if (!p->sg || !p->sg_used || !p->sg_slots || !p->sg_start)
+			goto nomem;
+	}
+	sscope_psd_reset(p);
+	*out = p;
+	return 0;
+nomem:
+	sscope_psd_free(p);
+	return -ENOMEM;
+}
+
+/* Detrend and window one segment into in[0..m); returns false when it
+ * holds a non-finite sample (the sum of a segment holding a NaN or an
+ * infinity is not finite).  Every loop here vectorises. */
+static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
+{
+	size_t m = p->m;
+	double sum = psum(seg, m), mean = 0, slope = 0;
+	double c = (double)(m - 1) / 2;
+
+	if (!isfinite(sum))
+		return false;
+	if (p->o.detrend != SSCOPE_DETREND_NONE) {
+		int same = 1;
+
+		for (size_t i = 0; i < m; i++)
+			same &= seg[i] == seg[0];
+		/* a constant segment detrends to exact zeros */
+		mean = same ? seg[0] : sum / (double)m;
+		if (p->o.detrend == SSCOPE_DETREND_LINEAR && m > 2 && !same) {
+			double s = 0, d = (double)m;
+
+			for (size_t i = 0; i < m; i++)
+				s += ((double)i - c) * (seg[i] - mean);
+			slope = s / (d * (d * d - 1) / 12);
+		}
+	}
+	if (slope != 0)
+		for (size_t i = 0; i < m; i++)
+			in[i] = (seg[i] - mean - slope * ((double)i - c)) *
+				p->win[i];
+	else
+		for (size_t i = 0; i < m; i++)
+			in[i] = (seg[i] - mean) * p->win[i];
+	return true;
+}
+
+static void sg_add(struct sscope_psd *p, const double *pg, bool used,
+		   uint64_t start)
+{
+	double *col;
+	size_t c;
+
+	if (!p->sg_max)
+		return;
+	if (p->sg_n == 0 || p->sg_slots[p->sg_n - 1] >= p->sg_per) {
+		if (p->sg_n == p->sg_max) {
+			/* merge neighbouring columns in pairs */
+			size_t nn = 0;
+
+			for (size_t i = 0; i < p->sg_n; i += 2, nn++) {
+				double *dst = p->sg + nn * p->nbins;
+				const double *a = p->sg + i * p->nbins;
+
+				if (dst != a)
+					memcpy(dst, a, p->nbins * sizeof(double));
+				p->sg_used[nn] = p->sg_used[i];
+				p->sg_slots[nn] = p->sg_slots[i];
+				p->sg_start[nn] = p->sg_start[i];
+				if (i + 1 < p->sg_n) {
+					const double *b = a + p->nbins;
+
+					for (size_t k = 0; k < p->nbins; k++)
+						dst[k] += b[k];
+					p->sg_used[nn] += p->sg_used[i + 1];
+					p->sg_slots[nn] += p->sg_slots[i + 1];
+					p->sg_start[nn] += p->sg_start[i + 1];
+				}
+			}
+			p->sg_n = nn;
+			p->sg_per *= 2;
+		}
+		if (p->sg_n == 0 || p->sg_slots[p->sg_n - 1] >= p->sg_per) {
+			c = p->sg_n++;
+			memset(p->sg + c * p->nbins, 0,
+			       p->nbins * sizeof(double));
+			p->sg_used[c] = 0;
+			p->sg_slots[c] = 0;
+			p->sg_start[c] = 0;
+		}
+	}
+	c = p->sg_n - 1;
+	col = p->sg + c * p->nbins;
+	p->sg_slots[c]++;
+	p->sg_start[c] += (double)start;
+	if (used) {
+		p->sg_used[c]++;
+		for (size_t k = 0; k < p->nbins; k++)
+			col[k] += pg[k];
+	}
+}
+
+/* Transform `count` segments starting at base[0], base[step], ...: the
+ * stage, or the caller's buffer itself when it holds whole batches.
+ * Dynamic scheduling: on a loaded machine a thread that loses its core
+ * takes fewer segments instead of holding the others at the barrier. */
+static int process(struct sscope_psd *p, const double *base, size_t count)
+{
+	long cnt = (long)count;
+
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(p->nth) schedule(dynamic, 4) \
+	if (cnt > 1 && (size_t)cnt * p->nfft >= ((size_t)1 << 16))
+#endif
+	for (long j = 0; j < cnt; j++) {
+#ifdef _OPENMP
+		int t = omp_get_thread_num();
+#else
+		int t = 0;
+#endif
+		double *in = p->tin[t], *pg = p->pg + (size_t)j * p->nbins;
+		fftw_complex *out = p->tout[t];
+
+		p->bad[j] = !prepare(p, base + (size_t)j * p->step, in);
+		if (p->bad[j])
+			continue;
+		fftw_execute_dft_r2c(p->plan, in, out);
+		for (size_t k = 0; k < p->nbins; k++)
+			pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+	}
+	for (size_t j = 0; j < count; j++) {
+		const double *pg = p->pg + j * p->nbins;
+		uint64_t start = p->consumed + j * p->step;
+
+		if (p->bad[j]) {
+			if (!p->o.skip_nonfinite)
+				return -EDOM;
+			p->nskip++;
+			sg_add(p, pg, false, start);
+			continue;
+		}
+		/* Neumaier, branch-free form of the bin accumulators */
+		for (size_t k = 0; k < p->nbins; k++) {
+			double s = p->acc[k], x = pg[k], t = s + x;
+
+			p->comp[k] += fabs(s) >= fabs(x) ? (s - t) + x :
+							   (x - t) + s;
+			p->acc[k] = t;
+		}
+		p->nseg++;
+		sg_add(p, pg, true, start);
+	}
+	if (base != p->stage) {
+		p->consumed += count * p->step;
+	} else if (count) {
+		/* keep the samples from the next segment's start on */
+		size_t adv = count * p->step;
+
+		memmove(p->stage, p->stage + adv,
+			(p->have - adv) * sizeof(double));
+		p->have -= adv;
+		p->consumed += adv;
+	}
+	return 0;
+}
+
+int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
+		    size_t n)
+{
+	if (!p || (!x && n) || stride == 0)
+		return -EINVAL;
+	/* whole batches straight from a contiguous buffer, without a copy */
+	while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
+		size_t adv = p->batch * p->step;
+		int rc = process(p, x, p->batch);
+
+		if (rc)
+			return rc;
+		x += adv;
+		n -= adv;
+		p->n_samples += adv;
+	}
+	while (n) {
+		size_t take = p->stage_cap - p->have;
+		double *d = p->stage + p->have;
+
+		if (take > n)
+			take = n;
+		if (stride == 1) {
+			memcpy(d, x, take * sizeof(double));
+		} else {
+			for (size_t i = 0; i < take; i++)
+				d[i] = x[i * stride];
+		}
+		p->have += take;
+		p->n_samples += take;
+		x += take * stride;
+		n -= take;
+		if (p->have == p->stage_cap) {
+			int rc = process(p, p->stage, p->batch);
+
+			if (rc)
+				return rc;
+		}
+	}
+	return 0;
+}
+
+/* Process the whole segments waiting in the stage. */
+static int flush(struct sscope_psd *p)
+{
+	if (p->have < p->m)
+		return 0;
+	return process(p, p->stage, (p->have - p->m) / p->step + 1);
+}
+
+static double one_sided(const struct sscope_psd *p, size_t k)
+{
+	if (k == 0)
+		return 1;
+	if (p->nfft % 2 == 0 && k == p->nbins - 1)
+		return 1;
+	return 2;
+}
+
+void sscope_spectrum_clear(struct sscope_spectrum *s)
+{
+	if (!s)
+		return;
+	free(s->freq_hz);
+	free(s->value);
+	s->freq_hz = NULL;
+	s->value = NULL;
+	s->n_bins = 0;
+}
+
+void sscope_spectrogram_clear(struct sscope_spectrogram *s)
+{
+	if (!s)
+		return;
+	free(s->time_s);
+	free(s->freq_hz);
+	free(s->value);
+	s->time_s = NULL;
+	s->freq_hz = NULL;
+	s->value = NULL;
+	s->n_times = 0;
+	s->n_bins = 0;
+}
+
+static double psd_scale(const struct sscope_psd *p, double fs)
+{
+	return p->o.scaling == SSCOPE_SCALING_DENSITY ?
+		       1.0 / (fs * p->sum_w2) :
+		       1.0 / (p->sum_w * p->sum_w);
+}
+
+static void fill_freq(double *f, size_t nbins, size_t nfft, double fs)
+{
+	/* numpy.fft.rfftfreq: k * (1 / (n * d)) with d = 1 / fs */
+	double val = 1.0 / ((double)nfft * (1.0 / fs));
+
+	for (size_t k = 0; k < nbins; k++)
+		f[k] = (double)k * val;
+}
+
+/* A record shorter than one segment: the record is the segment. */
+static int short_result(struct sscope_psd *p, double fs,
+			struct sscope_spectrum *s)
+{
+	struct sscope_psd_opts o = p->o;
+	struct sscope_psd *q;
+	int rc;
+
+	o.nperseg = p->have;
+	o.noverlap = SSCOPE_PSD_HALF_OVERLAP;
+	o.nfft = p->o.nfft >= p->have ? p->o.nfft : 0;
+	o.shorten = false;
+	o.spectrogram_cols = p->sg_max ? 2 : 0;
+	o.threads = 1;
+	rc = sscope_psd_new(&q, &o);
+	if (rc)
+		return rc;
+	rc = sscope_psd_feed(q, p->stage, 1, p->have);
+	if (!rc)
+		rc = sscope_psd_result(q, fs, s);
+	sscope_psd_free(q);
+	return rc;
+}
+
+int sscope_psd_result(struct sscope_psd *p, double fs,
+		      struct sscope_spectrum *s)
+{
+	double scale;
+	struct ssc_ksum tot = { 0, 0 };
+	int rc;
+
+	if (!p || !s || !(fs > 0) || !isfinite(fs))
+		return -EINVAL;
+	memset(s, 0, sizeof(*s));
+	rc = flush(p);
+	if (rc)
+		return rc;
+	if (p->nseg == 0) {
+		if (p->nskip == 0 && p->have > 0 && p->o.shorten)
+			return short_result(p, fs, s);
+		return -EDOM;
+	}
+	s->freq_hz = ssc_alloc_array(p->nbins, sizeof(double));
+	s->value = ssc_alloc_array(p->nbins, sizeof(double));
+	if (!s->freq_hz || !s->value) {
+		sscope_spectrum_clear(s);
+		return -ENOMEM;
+	}
+	s->n_bins = p->nbins;
+	scale = psd_scale(p, fs);
+	fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
+	for (size_t k = 0; k < p->nbins; k++)
+		s->value[k] = (p->acc[k] + p->comp[k]) * scale *
+			      one_sided(p, k) / (double)p->nseg;
+	s->fs_hz = fs;
+	s->scaling = p->o.scaling;
+	s->window = p->o.window;
+	s->detrend = p->o.detrend;
+	s->nperseg = p->m;
+	s->noverlap = p->l;
+	s->nfft = p->nfft;
+	s->n_segments = p->nseg;
+	s->n_skipped = p->nskip;
+	s->n_samples = p->n_samples;
+	s->enbw_hz = fs * p->sum_w2 / (p->sum_w * p->sum_w);
+	s->bin_hz = fs / (double)p->nfft;
+	for (size_t k = 0; k < p->nbins; k++)
+		ssc_ksum_add(&tot, s->value[k]);
+	s->rms = sqrt(ssc_ksum_value(&tot) * s->bin_hz *
+		      (s->scaling == SSCOPE_SCALING_SPECTRUM ? 1 / s->enbw_hz :
+							      1));
+	return 0;
+}
+
+int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
+			   struct sscope_spectrogram *s)
+{
+	double scale;
+	size_t sz;
+	int rc;
+
+	if (!p || !s || !(fs > 0) || !isfinite(fs) || !p->sg_max)
+		return -EINVAL;
+	memset(s, 0, sizeof(*s));
+	rc = flush(p);
+	if (rc)
+		return rc;
+	if (p->sg_n == 0)
+		return -EDOM;
+	if (!ssc_mul(p->sg_n, p->nbins, &sz))
+		return -ENOMEM;
+	s->time_s = ssc_alloc_array(p->sg_n, sizeof(double));
+	s->freq_hz = ssc_alloc_array(p->nbins, sizeof(double));
+	s->value = ssc_alloc_array(sz, sizeof(double));
+	if (!s->time_s || !s->freq_hz || !s->value) {
+		sscope_spectrogram_clear(s);
+		return -ENOMEM;
+	}
+	s->n_times = p->sg_n;
+	s->n_bins = p->nbins;
+	s->segments_per_column = p->sg_per;
+	scale = psd_scale(p, fs);
+	fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
+	for (size_t c = 0; c < p->sg_n; c++) {
+		const double *col = p->sg + c * p->nbins;
+		double *v = s->value + c * p->nbins;
+
+		s->time_s[c] = (p->sg_start[c] / (double)p->sg_slots[c] +
+				(double)p->m / 2) / fs;
+		for (size_t k = 0; k < p->nbins; k++)
+			v[k] = p->sg_used[c] ?
+				       col[k] * scale * one_sided(p, k) /
+					       (double)p->sg_used[c] :
+				       (double)NAN;
+	}
+	return 0;
+}
+
+int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs,
+		     const struct sscope_psd_opts *opts,
+		     struct sscope_spectrum *out)
+{
+	struct sscope_psd_opts o;
+	struct sscope_psd *p;
+	int rc;
+
+	if (!out || (!x && n) || stride == 0 || !(fs > 0))
+		return -EINVAL;
+	memset(out, 0, sizeof(*out));
+	if (opts)
+		o = *opts;
+	else
+		sscope_psd_opts_init(&o);
+	if (n == 0)
+		return -EDOM;
+	if (o.nperseg > n) {
+		o.nperseg = n;
+		if (o.noverlap != SSCOPE_PSD_HALF_OVERLAP && o.noverlap >= n)
+			return -EINVAL;
+	}
+	rc = sscope_psd_new(&p, &o);
+	if (rc)
+		return rc;
+	rc = sscope_psd_feed(p, x, stride, n);
+	if (!rc)
+		rc = sscope_psd_result(p, fs, out);
+	sscope_psd_free(p);
+	return rc;
+}
+
+int sscope_psd_periodogram(const double *x, size_t stride, size_t n,
+			   double fs, enum sscope_window window, size_t nfft,
+			   enum sscope_detrend detrend,
+			   enum sscope_scaling scaling,
+			   struct sscope_spectrum *out)
+{
+	struct sscope_psd_opts o;
+
+	sscope_psd_opts_init(&o);
+	o.window = window;
+	o.nperseg = n;
+	o.noverlap = 0;
+	o.nfft = nfft;
+	o.detrend = detrend;
+	o.scaling = scaling;
+	o.threads = 1;
+	if (n == 0) {
+		if (out)
+			memset(out, 0, sizeof(*out));
+		return out ? -EDOM : -EINVAL;
+	}
+	return sscope_psd_welch(x, stride, n, fs, &o, out);
+}
+
+/* ------------------------------------------------------------ peaks */
+
+/* Least-squares fit of the window's power response, centred at
+ * k + delta bins, to the values of bins k-2 .. k+2 (DC excluded):
+ * the scale c is linear (solved in closed form), the residual returned. */
+static double fit_resid(const struct sscope_spectrum *s, size_t k,
+			double delta, double w0, double *c)
+{
+	size_t j0 = k >= 3 ? k - 2 : 1, j1 = k + 2 < s->n_bins ? k + 2 :
+							      s->n_bins - 1;
+	double m[5], svm = 0, smm = 0, r = 0, cc;
+
+	for (size_t j = j0; j <= j1; j++) {
+		double a = sscope_window_response(s->window, s->nperseg,
+						  s->nfft,
+						  (double)j - (double)k - delta) /
+			   w0;
+
+		m[j - j0] = a * a;
+		svm += s->value[j] * m[j - j0];
+		smm += m[j - j0] * m[j - j0];
+	}
+	cc = smm > 0 ? svm / smm : 0;
+	for (size_t j = j0; j <= j1; j++) {
+		double e = s->value[j] - cc * m[j - j0];
+
+		r += e * e;
+	}
+	*c = cc;
+	return r;
+}
+
+int sscope_spectrum_peak_at(const struct sscope_spectrum *s, size_t k,
+			    struct sscope_peak *pk)
+{
+	const double span = 1.5, g = (sqrt(5.0) - 1) / 2;
+	double w0, best = 0, rbest = (double)INFINITY, c, a, b, pspec;
+
+	if (!s || !pk || !s->value || k == 0 || k + 1 >= s->n_bins)
+		return -EINVAL;
+	w0 = sscope_window_response(s->window, s->nperseg, s->nfft, 0);
+	/* a coarse scan (the flat-top window's response is not monotonic
+	 * near its centre), then golden-section refinement */
+	for (int i = 0; i <= 120; i++) {
+		double d = -span + 2 * span * i / 120.0;
+		double r = fit_resid(s, k, d, w0, &c);
+
+		if (r < rbest) {
+			rbest = r;
+			best = d;
+		}
+	}
+	a = best - 2 * span / 120.0;
+	b = best + 2 * span / 120.0;
+	{
+		double x1 = b - g * (b - a), x2 = a + g * (b - a);
+		double f1 = fit_resid(s, k, x1, w0, &c);
+		double f2 = fit_resid(s, k, x2, w0, &c);
+
+		for (int it = 0; it < 80 && b - a > 1e-13; it++) {
+			if (f1 < f2) {
+				b = x2;
+				x2 = x1;
+				f2 = f1;
+				x1 = b - g * (b - a);
+				f1 = fit_resid(s, k, x1, w0, &c);
+			} else {
+				a = x1;
+				x1 = x2;
+				f1 = f2;
+				x2 = a + g * (b - a);
+				f2 = fit_resid(s, k, x2, w0, &c);
+			}
+		}
+	}
+	best = (a + b) / 2;
+	fit_resid(s, k, best, w0, &c);
+	/* c is the value the spectrum would show with the tone centred on a
+	 * bin: A^2 / 2 in "spectrum" scaling */
+	pspec = s->scaling == SSCOPE_SCALING_DENSITY ? c * s->enbw_hz : c;
+	pk->bin = k;
+	pk->offset_bins = best;
+	pk->frequency_hz = ((double)k + best) * s->bin_hz;
+	pk->value = s->value[k];
+	pk->amplitude = sqrt(2 * (pspec > 0 ? pspec : 0));
+	pk->rms = pk->amplitude / sqrt(2.0);
+	return 0;
+}
+
+static bool local_max(const double *v, size_t k)
+{
+	return v[k] > v[k - 1] && v[k] >= v[k + 1] && v[k] > 0;
+}
+
+int sscope_spectrum_peaks(const struct sscope_spectrum *s, size_t max,
+			  double fmin, double fmax, struct sscope_peak *peaks,
+			  size_t *n_found)
+{
+	size_t *top, nt = 0;
+
+	if (!s || !n_found || (max && !peaks))
+		return -EINVAL;
+	*n_found = 0;
+	if (max == 0 || s->n_bins < 3)
+		return 0;
+	top = ssc_alloc_array(max, sizeof(size_t));
+	if (!top)
+		return -ENOMEM;
+	for (size_t k = 1; k + 1 < s->n_bins; k++) {
+		size_t i;
+
+		if (s->freq_hz[k] < fmin || s->freq_hz[k] > fmax ||
+		    !local_max(s->value, k))
+			continue;
+		if (nt == max && s->value[k] <= s->value[top[nt - 1]])
+			continue;
+		/* insertion into the sorted list of the strongest */
+		i = nt < max ? nt++ : nt - 1;
+		while (i > 0 && s->value[top[i - 1]] < s->value[k]) {
+			top[i] = top[i - 1];
+			i--;
+		}
+		top[i] = k;
+	}
+	for (size_t i = 0; i < nt; i++)
+		sscope_spectrum_peak_at(s, top[i], &peaks[i]);
+	*n_found = nt;
+	free(top);
+	return 0;
+}
+
+int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f,
+			      double tol, struct sscope_peak *pk)
+{
+	size_t best = 0;
+
+	if (!s || !pk || !s->value || !(tol >= 0) || !isfinite(f))
+		return -EINVAL;
+	for (size_t k = 1; k + 1 < s->n_bins; k++) {
+		if (fabs(s->freq_hz[k] - f) > tol || !local_max(s->value, k))
+			continue;
+		if (!best || s->value[k] > s->value[best])
+			best = k;
+	}
+	if (!best)
+		return -ENOENT;
+	return sscope_spectrum_peak_at(s, best, pk);
+}
+
+/* ------------------------------------------------------------ bands */
+
+int sscope_spectrum_band_ms(const struct sscope_spectrum *s, double lo,
+			    double hi, double *ms)
+{
+	struct ssc_ksum acc = { 0, 0 };
+	double nyq, df, conv;
+
+	if (!s || !ms || !s->value || !(hi >= lo) || isnan(lo))
+		return -EINVAL;
+	nyq = s->fs_hz / 2;
+	df = s->bin_hz;
+	conv = s->scaling == SSCOPE_SCALING_SPECTRUM ? 1 / s->enbw_hz : 1;
+	for (size_t k = 0; k < s->n_bins; k++) {
+		double a = s->freq_hz[k] - df / 2, b = s->freq_hz[k] + df / 2;
+		double oa, ob;
+
+		a = a < 0 ? 0 : a;
+		b = b > nyq ? nyq : b;
+		oa = a > lo ? a : lo;
+		ob = b < hi ? b : hi;
+		if (!(ob > oa) || !(b > a))
+			continue;
+		ssc_ksum_add(&acc, s->value[k] * conv * df * (ob - oa) / (b - a));
+	}
+	*ms = ssc_ksum_value(&acc);
+	return 0;
+}
+
+int sscope_octave_bands(unsigned b, double fmin, double fmax,
+			struct sscope_band *bands, size_t max, size_t *n_found)
+{
+	static const double r10[10] = { 1, 1.25, 1.6, 2, 2.5,
+					3.15, 4, 5, 6.3, 8 };
+	const double g = pow(10, 0.3), lg = 0.3 * log(10.0);
+	long x0, x1;
+	size_t n = 0;
+	int rc = 0;
+
+	if (!n_found || b < 1 || b > 24 || !(fmin > 0) || !(fmax >= fmin) ||
+	    !isfinite(fmax))
+		return -EINVAL;
+	*n_found = 0;
+	x0 = (long)floor((double)b * log(fmin / 1000) / lg) - 2;
+	x1 = (long)ceil((double)b * log(fmax / 1000) / lg) + 2;
+	for (long x = x0; x <= x1; x++) {
+		double e = b % 2 ? (double)x / b : (2.0 * (double)x + 1) / (2.0 * b);
+		double fm = 1000 * pow(g, e), h = pow(g, 1.0 / (2.0 * b));
+		struct sscope_band bd;
+
+		bd.center_hz = fm;
+		bd.lo_hz = fm / h;
+		bd.hi_hz = fm * h;
+		bd.rms = (double)NAN;
+		if (bd.lo_hz < fmin * (1 - 1e-12) || bd.hi_hz > fmax * (1 + 1e-12))
+			continue;
+		if (b == 1 || b == 3) {
+			long xt = b == 1 ? 3 * x : x;
+			long q = xt >= 0 ? xt / 10 : -((-xt + 9) / 10);
+			long r = xt - 10 * q;
+
+			bd.nominal_hz = r10[r] * pow(10, (double)(q + 3));
+		} else {
+			double p10 = pow(10, floor(log10(fm)) - 2);
+
+			bd.nominal_hz = round(fm / p10) * p10;
+		}
+		if (bands) {
+			if (n < max)
+				bands[n] = bd;
+			else
+				rc = -ERANGE;
+		}
+		n++;
+	}
+	*n_found = bands && n > max ? max : n;
+	return rc;
+}

@@ -1,0 +1,988 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope psd: Welch power spectral density (scipy.signal.welch's
+ * conventions and numbers) or the periodogram, window figures, peaks with
+ * sub-bin interpolation, band RMS (IEC 61260-1 octaves and thirds, or
+ * given bands), the spectrogram.  Welch estimates stream the capture
+ * through the chunked reader, so memory does not grow with the record.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+
+enum {
+	OPT_WINDOW = 256,
+	OPT_NPERSEG,
+	OPT_OVERLAP,
+	OPT_NFFT,
+	OPT_DETREND,
+	OPT_SCALING,
+	OPT_PEAKS,
+	OPT_BANDS,
+	OPT_METHOD,
+	OPT_SPECTROGRAM,
+	OPT_SG_COLS,
+};
+
+static const struct ssc_option psd_opts[] = {
+	{ "window", required_argument, OPT_WINDOW, "NAME",
+	  "hann (default), hamming, blackman, blackmanharris, flattop, boxcar" },
+	{ "nperseg", required_argument, OPT_NPERSEG, "N",
+	  "samples per segment (default 256; longer than the record: the record)" },
+	{ "overlap", required_argument, OPT_OVERLAP, "F",
+	  "overlap of segments, fraction in [0, 1) (default 0.5)" },
+	{ "nfft", required_argument, OPT_NFFT, "N",
+	  "FFT length >= nperseg, zero padding (default nperseg)" },
+	{ "detrend", required_argument, OPT_DETREND, "constant|linear|none",
+	  "remove each segment's mean (default), line, or nothing" },
+	{ "scaling", required_argument, OPT_SCALING, "density|spectrum",
+	  "unit^2/Hz (default) or unit^2 (a sine of amplitude A reads A^2/2)" },
+	{ "method", required_argument, OPT_METHOD, "welch|periodogram",
+	  "Welch's average (default, streamed) or one periodogram of the whole record" },
+	{ "peaks", required_argument, OPT_PEAKS, "K",
+	  "report the K strongest peaks (default 5; 0: none)" },
+	{ "bands", required_argument, OPT_BANDS, "octave|third|LO:HI[,...]",
+	  "band RMS: IEC 61260-1 octaves or thirds, or the given bands in Hz" },
+	{ "spectrogram", no_argument, OPT_SPECTROGRAM, NULL,
+	  "add the spectrogram (short-time PSDs) to the JSON output" },
+	{ "spectrogram-columns", required_argument, OPT_SG_COLS, "N",
+	  "at most N time columns (default 400; neighbours are averaged)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec spec = {
+	.name = "psd",
+	.usage = "psd [OPTIONS] FILE",
+	.summary =
+		"Power spectral density by Welch's method with scipy.signal.welch's\n"
+		"conventions (DFT-even windows, per-segment detrending, one-sided,\n"
+		"density = |X|^2 / (fs sum w^2), spectrum = |X|^2 / (sum w)^2; the numbers\n"
+		"equal scipy's), or the periodogram.  Reports the window's figures\n"
+		"(coherent gain, equivalent noise bandwidth, scalloping loss), the\n"
+		"overall RMS (square root of the integral), the strongest peaks with\n"
+		"their frequency and sine amplitude interpolated between bins (a\n"
+		"least-squares fit of the window's exact response to five bins, so\n"
+		"the amplitude is corrected for the window and the scalloping loss),\n"
+		"band RMS, and the spectrogram.  The capture is streamed: memory does\n"
+		"not grow with the record length (except --method periodogram).",
+	.options = psd_opts,
+	.analysis = true,
+	.notes = "Examples:\n"
+		 "  sensorscope psd samples/vibration.csv\n"
+		 "  sensorscope psd --nperseg 4096 --window flattop --scaling spectrum --peaks 3 samples/vibration.csv\n"
+		 "  sensorscope psd --bands third --format json -c ax samples/vibration.csv\n"
+		 "  sensorscope psd --plot psd.png samples/gyro-static.csv\n"
+		 "  sensorscope psd --raw i16:1 -r 1000 --format csv - < big.bin\n"
+		 "\n"
+		 "Values are in the channel's unit: PSD (unit)^2/Hz, RMS and amplitudes\n"
+		 "in the unit.  With --allow-nan, segments that hold a NaN gap are left\n"
+		 "out of the average (and counted).",
+};
+
+struct args {
+	struct sscope_psd_opts po;
+	double overlap;
+	size_t peaks;
+	const char *bands;
+	bool spectrogram;
+	size_t sg_cols;
+	bool periodogram;
+	bool nperseg_set;
+};
+
+static int handle(int key, const char *arg, void *ctx)
+{
+	struct args *a = ctx;
+	size_t v;
+
+	switch (key) {
+	case OPT_WINDOW:
+		if (sscope_window_from_name(arg, &a->po.window))
+			return ssc_usage_error("psd",
+					       "--window: '%s' is not hann, hamming, blackman, blackmanharris, flattop or boxcar",
+					       arg);
+		return 0;
+	case OPT_NPERSEG:
+		if (ssc_arg_size("psd", "nperseg", arg, &v))
+			return SSC_EXIT_USAGE;
+		if (v < 1 || v > ((size_t)1 << 30))
+			return ssc_usage_error("psd", "--nperseg: must be 1 to 2^30");
+		a->po.nperseg = v;
+		a->nperseg_set = true;
+		return 0;
+	case OPT_OVERLAP:
+		if (ssc_arg_double("psd", "overlap", arg, &a->overlap))
+			return SSC_EXIT_USAGE;
+		if (!(a->overlap >= 0 && a->overlap < 1))
+			return ssc_usage_error("psd", "--overlap: must be in [0, 1)");
+		return 0;
+	case OPT_NFFT:
+		if (ssc_arg_size("psd", "nfft", arg, &v))
+			return SSC_EXIT_USAGE;
+		if (v < 1 || v > ((size_t)1 << 30))
+			return ssc_usage_error("psd", "--nfft: must be 1 to 2^30");
+		a->po.nfft = v;
+		return 0;
+	case OPT_DETREND:
+		if (!strcmp(arg, "constant"))
+			a->po.detrend = SSCOPE_DETREND_CONSTANT;
+		else if (!strcmp(arg, "linear"))
+			a->po.detrend = SSCOPE_DETREND_LINEAR;
+		else if (!strcmp(arg, "none"))
+			a->po.detrend = SSCOPE_DETREND_NONE;
+		else
+			return ssc_usage_error("psd", "--detrend: '%s' is not constant, linear or none", arg);
+		return 0;
+	case OPT_SCALING:
+		if (!strcmp(arg, "density"))
+			a->po.scaling = SSCOPE_SCALING_DENSITY;
+		else if (!strcmp(arg, "spectrum"))
+			a->po.scaling = SSCOPE_SCALING_SPECTRUM;
+		else
+			return ssc_usage_error("psd", "--scaling: '%s' is not density or spectrum", arg);
+		return 0;
+	case OPT_METHOD:
+		if (!strcmp(arg, "welch"))
+			a->periodogram = false;
+		else if (!strcmp(arg, "periodogram"))
+			a->periodogram = true;
+		else
+			return ssc_usage_error("psd", "--method: '%s' is not welch or periodogram", arg);
+		return 0;
+	case OPT_PEAKS:
+		if (ssc_arg_size("psd", "peaks", arg, &a->peaks))
+			return SSC_EXIT_USAGE;
+		if (a->peaks > 100)
+			return ssc_usage_error("psd", "--peaks: at most 100");
+		return 0;
+	case OPT_BANDS:
+		a->bands = arg;
+		return 0;
+	case OPT_SPECTROGRAM:
+		a->spectrogram = true;
+		return 0;
+	case OPT_SG_COLS:
+		if (ssc_arg_size("psd", "spectrogram-columns", arg, &v))
+			return SSC_EXIT_USAGE;
+		if (v < 2 || v > 100000)
+			return ssc_usage_error("psd", "--spectrogram-columns: must be 2 to 100000");
+		a->sg_cols = v;
+		return 0;
+	default:
+		return ssc_usage_error("psd", "unexpected option");
+	}
+}
+
+/* ------------------------------------------------------------ bands */
+
+struct bandset {
+	size_t n;
+	struct sscope_band *b;
+	bool nominal;
+};
+
+/* Parse --bands once the sample rate and bin width are known. */
+static int make_bands(const char *cmd, const char *arg, double fs, double bin,
+		      struct bandset *bs)
+{
+	size_t n = 0;
+
+	memset(bs, 0, sizeof(*bs));
+	if (!arg)
+		return 0;
+	if (!strcmp(arg, "octave") || !strcmp(arg, "third")) {
+		unsigned frac = arg[0] == 'o' ? 1 : 3;
+		size_t all, k = 0;
+
+		if (sscope_octave_bands(frac, bin / 2, fs / 2, NULL, 0, &all) ||
+		    all == 0)
+			return 0;
+		bs->b = calloc(all, sizeof(*bs->b));
+		if (!bs->b)
+			return SSC_EXIT_FAIL;
+		sscope_octave_bands(frac, bin / 2, fs / 2, bs->b, all, &all);
+		/* bands narrower than a bin say nothing */
+		for (size_t i = 0; i < all; i++)
+			if (bs->b[i].hi_hz - bs->b[i].lo_hz >= bin)
+				bs->b[k++] = bs->b[i];
+		bs->n = k;
+		bs->nominal = true;
+		return 0;
+	}
+	for (const char *p = arg; *p; p++)
+		n += *p == ',';
+	bs->b = calloc(n + 1, sizeof(*bs->b));
+	if (!bs->b)
+		return SSC_EXIT_FAIL;
+	for (const char *p = arg; *p;) {
+		const char *e = strchr(p, ','), *c;
+		char buf[64];
+		size_t l = e ? (size_t)(e - p) : strlen(p);
+		double lo, hi;
+
+		if (l >= sizeof(buf))
+			goto bad;
+		memcpy(buf, p, l);
+		buf[l] = '\0';
+		c = strchr(buf, ':');
+		if (!c)
+			goto bad;
+		if (sscope_parse_double(buf, c, &lo) != (size_t)(c - buf) ||
+		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1) ||
+		    !(lo >= 0) || !(hi > lo) || !isfinite(hi))
+			goto bad;
+		if (lo >= fs / 2) {
+			ssc_err(cmd, "--bands: %g:%g lies above the Nyquist frequency %g Hz",
+				lo, hi, fs / 2);
+			return SSC_EXIT_USAGE;
+		}
+		bs->b[bs->n].lo_hz = lo;
+		bs->b[bs->n].hi_hz = hi > fs / 2 ? fs / 2 : hi;
+		bs->b[bs->n].center_hz = sqrt(lo * bs->b[bs->n].hi_hz);
+		bs->b[bs->n].nominal_hz = (double)NAN;
+		bs->n++;
+		p += l + (e ? 1 : 0);
+	}
+	return 0;
+bad:
+	return ssc_usage_error(cmd, "--bands: '%s' is not octave, third or LO:HI[,LO:HI...] in Hz",
+			       arg);
+}
+
+/* ------------------------------------------------------------ analysis */
+
+struct chan {
+	struct sscope_column col; /* name and unit (strings owned) */
+	struct sscope_psd *p;
+	struct sscope_spectrum s;
+	struct sscope_spectrogram sg;
+	bool have_sg;
+	struct sscope_peak peaks[100];
+	size_t n_peaks;
+	double *band_rms;
+};
+
+struct run {
+	struct args a;
+	const char *path;
+	size_t nch;
+	struct chan *ch;
+	uint64_t rows;
+	double fs;
+	const char *rate_source;
+	struct bandset bands;
+	struct sscope_window_figures wf;
+	size_t time_gaps;
+};
+
+static double uscale(const struct chan *c)
+{
+	return c->col.unit.scale != 0 ? c->col.unit.scale : 1;
+}
+
+static void psd_unit(const struct chan *c, enum sscope_scaling sc, char *buf,
+		     size_t len)
+{
+	const char *u = c->col.unit_label;
+
+	if (!u || !*u)
+		snprintf(buf, len, "%s", sc == SSCOPE_SCALING_DENSITY ? "1/Hz" : "1");
+	else
+		snprintf(buf, len, "(%s)^2%s", u,
+			 sc == SSCOPE_SCALING_DENSITY ? "/Hz" : "");
+}
+
+/* Neumaier-compensated sum of the regular time-stamp intervals */
+struct ksum {
+	double s, c;
+};
+
+static void ksum_add(struct ksum *k, double x)
+{
+	double t = k->s + x;
+
+	k->c += fabs(k->s) >= fabs(x) ? (k->s - t) + x : (x - t) + k->s;
+	k->s = t;
+}
+
+struct progress_ctx {
+	const struct ssc_common *co;
+	const char *label;
+};
+
+static void read_progress(void *ctx, uint64_t done, uint64_t total)
+{
+	struct progress_ctx *p = ctx;
+
+	ssc_progress(p->co, p->label, (double)done, (double)total);
+}
+
+static int copy_col(struct sscope_column *dst, const struct sscope_column *src)
+{
+	*dst = *src;
+	dst->name = strdup(src->name);
+	dst->unit_label = strdup(src->unit_label ? src->unit_label : "");
+	return dst->name && dst->unit_label ? 0 : -ENOMEM;
+}
+
+/* Streamed Welch estimate of every selected channel. */
+static int stream(const struct ssc_common *co, struct run *R)
+{
+	struct sscope_read_opts ro;
+	struct sscope_reader *rd = NULL;
+	struct sscope_diag d = { "" };
+	struct sscope_chunk ch = { 0 };
+	struct progress_ctx pc = { co, R->path };
+	const size_t cap = 65536;
+	double *scratch = NULL, med = 0, last_t = 0;
+	bool have_med = false, have_last = false, use_time;
+	struct ksum tsum = { 0, 0 };
+	size_t nreg = 0;
+	int rc, ex = SSC_EXIT_FAIL;
+
+	ssc_read_opts(co, &ro);
+	if (ssc_progress_on(co)) {
+		ro.progress = read_progress;
+		ro.progress_ctx = &pc;
+	}
+	rc = sscope_reader_open(&rd, R->path, &ro, &d);
+	if (rc) {
+		if (rc == -EINVAL && co->raw && !d.msg[0])
+			return ssc_usage_error(co->cmd, "bad --raw '%s'", co->raw);
+		return ssc_fail(co->cmd, rc, &d, R->path);
+	}
+	R->nch = sscope_reader_n_channels(rd);
+	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
+	ch.data = calloc(R->nch ? R->nch : 1, sizeof(double *));
+	if (!R->ch || !ch.data)
+		goto nomem;
+	ch.capacity = cap;
+	use_time = !(co->rate_hz > 0) && sscope_reader_time_column(rd);
+	if (use_time) {
+		ch.time_s = malloc(cap * sizeof(double));
+		scratch = malloc(cap * sizeof(double));
+		if (!ch.time_s || !scratch)
+			goto nomem;
+	}
+	for (size_t k = 0; k < R->nch; k++) {
+		ch.data[k] = malloc(cap * sizeof(double));
+		if (!ch.data[k] || copy_col(&R->ch[k].col, sscope_reader_channel(rd, k)))
+			goto nomem;
+		rc = sscope_psd_new(&R->ch[k].p, &R->a.po);
+		if (rc) {
+			ssc_fail(co->cmd, rc, NULL, "psd");
+			goto out;
+		}
+	}
+	for (;;) {
+		rc = sscope_reader_read(rd, &ch, &d);
+		if (rc) {
+			ssc_fail(co->cmd, rc, &d, R->path);
+			goto out;
+		}
+		if (ch.rows == 0)
+			break;
+		for (size_t k = 0; k < R->nch; k++) {
+			rc = sscope_psd_feed(R->ch[k].p, ch.data[k], 1, ch.rows);
+			if (rc) {
+				ssc_err(co->cmd, "%s: channel %s: %s", R->path,
+					R->ch[k].col.name, sscope_strerror(rc));
+				goto out;
+			}
+		}
+		if (use_time) {
+			/* the rate as the capture loader finds it: median
+			 * interval (of the first chunk) separates gaps, the
+			 * mean regular interval gives the rate */
+			struct sscope_timing tm;
+
+			if (!have_med && ch.rows >= 2 &&
+			    sscope_timing_analyze(ch.time_s, ch.rows, 1.5, &tm,
+						  NULL, 0, NULL, scratch) == 0) {
+				have_med = true;
+				med = tm.dt_median_s;
+			}
+			for (size_t i = 0; i < ch.rows && have_med; i++) {
+				double t = ch.time_s[i];
+
+				if (have_last) {
+					double dt = t - last_t;
+
+					if (dt > 1.5 * med) {
+						R->time_gaps++;
+					} else {
+						ksum_add(&tsum, dt);
+						nreg++;
+					}
+				}
+				last_t = t;
+				have_last = true;
+			}
+			if (!have_med && ch.rows == 1) {
+				last_t = ch.time_s[0];
+				have_last = true;
+			}
+		}
+		R->rows += ch.rows;
+	}
+	ssc_progress_end(co);
+	if (R->rows == 0) {
+		ssc_err(co->cmd, "%s: no data rows", R->path);
+		goto out;
+	}
+	if (co->rate_hz > 0) {
+		R->fs = co->rate_hz;
+		R->rate_source = "given";
+	} else if (use_time && nreg > 0 && (tsum.s + tsum.c) > 0) {
+		R->fs = (double)nreg / (tsum.s + tsum.c);
+		R->rate_source = "time column";
+	} else if (sscope_reader_header_rate(rd) > 0) {
+		R->fs = sscope_reader_header_rate(rd);
+		R->rate_source = "header";
+	} else {
+		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
+			R->path);
+		goto out;
+	}
+	if (R->time_gaps)
+		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
+			 R->path, R->time_gaps);
+	for (size_t k = 0; k < R->nch; k++) {
+		struct chan *c = &R->ch[k];
+
+		rc = sscope_psd_result(c->p, R->fs, &c->s);
+		if (rc == -EDOM) {
+			ssc_err(co->cmd, "%s: channel %s: every segment holds a NaN gap",
+				R->path, c->col.name);
+			goto out;
+		}
+		if (rc) {
+			ssc_fail(co->cmd, rc, NULL, R->path);
+			goto out;
+		}
+		if (R->a.po.spectrogram_cols) {
+			if (c->s.nperseg == R->a.po.nperseg) {
+				rc = sscope_psd_spectrogram(c->p, R->fs, &c->sg);
+				c->have_sg = rc == 0;
+			}
+		}
+	}
+	ex = SSC_EXIT_OK;
+	goto out;
+nomem:
+	ssc_err(co->cmd, "out of memory");
+out:
+	if (ch.data)
+		for (size_t k = 0; k < R->nch; k++)
+			free(ch.data[k]);
+	free(ch.data);
+	free(ch.time_s);
+	free(scratch);
+	sscope_reader_close(rd);
+	return ex;
+}
+
+/* The periodogram needs the whole record in memory. */
+static int whole(const struct ssc_common *co, struct run *R)
+{
+	struct sscope_capture *cap;
+	int rc = ssc_load(co, R->path, &cap);
+
+	if (rc)
+		return rc;
+	if (!(cap->rate_hz > 0)) {
+		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
+			R->path);
+		sscope_capture_free(cap);
+		return SSC_EXIT_FAIL;
+	}
+	R->fs = cap->rate_hz;
+	R->rate_source = cap->rate_source == SSCOPE_RATE_GIVEN ? "given" :
+			 cap->rate_source == SSCOPE_RATE_TIME_COLUMN ? "time column" :
+								       "header";
+	R->rows = cap->n;
+	R->nch = cap->n_channels;
+	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
+	if (!R->ch) {
+		sscope_capture_free(cap);
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < R->nch; k++) {
+		struct chan *c = &R->ch[k];
+
+		if (copy_col(&c->col, &cap->channels[k].col)) {
+			sscope_capture_free(cap);
+			return SSC_EXIT_FAIL;
+		}
+		rc = sscope_psd_periodogram(cap->channels[k].data, 1, cap->n,
+					    R->fs, R->a.po.window,
+					    R->a.po.nfft > cap->n ? R->a.po.nfft : 0,
+					    R->a.po.detrend, R->a.po.scaling, &c->s);
+		if (rc) {
+			ssc_err(co->cmd, "%s: channel %s: %s", R->path, c->col.name,
+				rc == -EDOM ? "NaN gaps: the periodogram needs a gap-free record" :
+					      sscope_strerror(rc));
+			sscope_capture_free(cap);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	sscope_capture_free(cap);
+	return SSC_EXIT_OK;
+}
+
+static void finish(struct run *R)
+{
+	for (size_t k = 0; k < R->nch; k++) {
+		struct chan *c = &R->ch[k];
+		double sc = uscale(c);
+
+		sscope_spectrum_peaks(&c->s, R->a.peaks, 0, R->fs / 2, c->peaks,
+				      &c->n_peaks);
+		if (R->bands.n) {
+			c->band_rms = calloc(R->bands.n, sizeof(double));
+			for (size_t i = 0; c->band_rms && i < R->bands.n; i++) {
+				double ms = 0;
+
+				sscope_spectrum_band_ms(&c->s, R->bands.b[i].lo_hz,
+							R->bands.b[i].hi_hz, &ms);
+				c->band_rms[i] = sqrt(ms) / sc;
+			}
+		}
+	}
+}
+
+static void free_run(struct run *R)
+{
+	for (size_t k = 0; R->ch && k < R->nch; k++) {
+		struct chan *c = &R->ch[k];
+
+		sscope_psd_free(c->p);
+		sscope_spectrum_clear(&c->s);
+		sscope_spectrogram_clear(&c->sg);
+		free(c->band_rms);
+		free((char *)c->col.name);
+		free((char *)c->col.unit_label);
+	}
+	free(R->ch);
+	free(R->bands.b);
+}
+
+/* ------------------------------------------------------------ output */
+
+static const char *detrend_name(enum sscope_detrend d)
+{
+	return d == SSCOPE_DETREND_CONSTANT ? "constant" :
+	       d == SSCOPE_DETREND_LINEAR   ? "linear" :
+					      "none";
+}
+
+static const char *scaling_name(enum sscope_scaling s)
+{
+	return s == SSCOPE_SCALING_DENSITY ? "density" : "spectrum";
+}
+
+static json_t *json_run(const struct run *R)
+{
+	json_t *root = json_object(), *chs = json_array();
+
+	json_object_set_new(root, "command", json_string("psd"));
+	json_object_set_new(root, "file", json_string(R->path));
+	json_object_set_new(root, "method", json_string(R->a.periodogram ? "periodogram" : "welch"));
+	json_object_set_new(root, "peak_interpolation",
+			    json_string("least-squares fit of the window's exact response to 5 bins; amplitude corrected for window and scalloping"));
+	for (size_t k = 0; k < R->nch; k++) {
+		const struct chan *c = &R->ch[k];
+		const struct sscope_spectrum *s = &c->s;
+		double sc = uscale(c), sc2 = sc * sc;
+		json_t *o = json_object(), *f = json_array(), *p = json_array();
+		json_t *pk = json_array(), *w = json_object();
+		char pu[96];
+		struct sscope_window_figures wf;
+
+		psd_unit(c, s->scaling, pu, sizeof(pu));
+		json_object_set_new(o, "name", json_string(c->col.name));
+		json_object_set_new(o, "unit", json_string(c->col.unit_label));
+		json_object_set_new(o, "rate_hz", json_real(R->fs));
+		json_object_set_new(o, "rate_source", json_string(R->rate_source));
+		json_object_set_new(o, "samples", json_integer((json_int_t)s->n_samples));
+		json_object_set_new(o, "scaling", json_string(scaling_name(s->scaling)));
+		json_object_set_new(o, "psd_unit", json_string(pu));
+		sscope_window_figures(s->window, s->nperseg, &wf);
+		json_object_set_new(w, "name", json_string(sscope_window_name(s->window)));
+		json_object_set_new(w, "nperseg", json_integer((json_int_t)s->nperseg));
+		json_object_set_new(w, "noverlap", json_integer((json_int_t)s->noverlap));
+		json_object_set_new(w, "nfft", json_integer((json_int_t)s->nfft));
+		json_object_set_new(w, "detrend", json_string(detrend_name(s->detrend)));
+		json_object_set_new(w, "coherent_gain", json_real(wf.coherent_gain));
+		json_object_set_new(w, "enbw_bins", json_real(wf.enbw_bins));
+		json_object_set_new(w, "enbw_hz", json_real(s->enbw_hz));
+		json_object_set_new(w, "scalloping_loss_db", ssc_jreal(wf.scalloping_db));
+		json_object_set_new(o, "window", w);
+		json_object_set_new(o, "segments", json_integer((json_int_t)s->n_segments));
+		json_object_set_new(o, "segments_skipped", json_integer((json_int_t)s->n_skipped));
+		json_object_set_new(o, "bin_hz", json_real(s->bin_hz));
+		for (size_t i = 0; i < s->n_bins; i++) {
+			json_array_append_new(f, json_real(s->freq_hz[i]));
+			json_array_append_new(p, ssc_jreal(s->value[i] / sc2));
+		}
+		json_object_set_new(o, "frequency_hz", f);
+		json_object_set_new(o, "psd", p);
+		json_object_set_new(o, "rms", ssc_jreal(s->rms / sc));
+		for (size_t i = 0; i < c->n_peaks; i++) {
+			json_t *e = json_object();
+
+			json_object_set_new(e, "frequency_hz", ssc_jreal(c->peaks[i].frequency_hz));
+			json_object_set_new(e, "value", ssc_jreal(c->peaks[i].value / sc2));
+			json_object_set_new(e, "amplitude", ssc_jreal(c->peaks[i].amplitude / sc));
+			json_object_set_new(e, "rms", ssc_jreal(c->peaks[i].rms / sc));
+			json_object_set_new(e, "bin", json_integer((json_int_t)c->peaks[i].bin));
+			json_array_append_new(pk, e);
+		}
+		json_object_set_new(o, "peaks", pk);
+		if (R->a.bands) {
+			json_t *b = json_array();
+
+			for (size_t i = 0; i < R->bands.n; i++) {
+				json_t *e = json_object();
+
+				json_object_set_new(e, "lo_hz", json_real(R->bands.b[i].lo_hz));
+				json_object_set_new(e, "center_hz", json_real(R->bands.b[i].center_hz));
+				json_object_set_new(e, "hi_hz", json_real(R->bands.b[i].hi_hz));
+				if (R->bands.nominal)
+					json_object_set_new(e, "nominal_hz", json_real(R->bands.b[i].nominal_hz));
+				json_object_set_new(e, "rms", c->band_rms ? ssc_jreal(c->band_rms[i]) : json_null());
+				json_array_append_new(b, e);
+			}
+			json_object_set_new(o, "bands", b);
+		}
+		if (R->a.spectrogram && c->have_sg) {
+			json_t *g = json_object(), *t = json_array(), *gf = json_array(), *gv = json_array();
+
+			for (size_t i = 0; i < c->sg.n_times; i++) {
+				json_t *col = json_array();
+
+				json_array_append_new(t, json_real(c->sg.time_s[i]));
+				for (size_t j = 0; j < c->sg.n_bins; j++)
+					json_array_append_new(col, ssc_jreal(c->sg.value[i * c->sg.n_bins + j] / sc2));
+				json_array_append_new(gv, col);
+			}
+			for (size_t j = 0; j < c->sg.n_bins; j++)
+				json_array_append_new(gf, json_real(c->sg.freq_hz[j]));
+			json_object_set_new(g, "time_s", t);
+			json_object_set_new(g, "frequency_hz", gf);
+			json_object_set_new(g, "psd", gv);
+			json_object_set_new(g, "segments_per_column",
+					    json_integer((json_int_t)c->sg.segments_per_column));
+			json_object_set_new(o, "spectrogram", g);
+		}
+		json_array_append_new(chs, o);
+	}
+	json_object_set_new(root, "channels", chs);
+	return root;
+}
+
+static void text_run(FILE *f, const struct run *R)
+{
+	char a[32], b[32], c3[32], d[32];
+
+	fprintf(f, "%s\n", strcmp(R->path, "-") ? R->path : "(stdin)");
+	fprintf(f, "  rate:     %s Hz (%s), %llu samples\n",
+		ssc_fmt(a, sizeof(a), R->fs, 8), R->rate_source,
+		(unsigned long long)R->rows);
+	if (R->nch) {
+		const struct sscope_spectrum *s = &R->ch[0].s;
+		struct sscope_window_figures wf;
+
+		sscope_window_figures(s->window, s->nperseg, &wf);
+		fprintf(f, "  method:   %s, %s window, nperseg %zu, noverlap %zu, nfft %zu, detrend %s, %s\n",
+			R->a.periodogram ? "periodogram" : "Welch",
+			sscope_window_name(s->window), s->nperseg, s->noverlap,
+			s->nfft, detrend_name(s->detrend), scaling_name(s->scaling));
+		fprintf(f, "  window:   coherent gain %s, ENBW %s bins = %s Hz, scalloping loss %s dB\n",
+			ssc_fmt(a, sizeof(a), wf.coherent_gain, 5),
+			ssc_fmt(b, sizeof(b), wf.enbw_bins, 5),
+			ssc_fmt(c3, sizeof(c3), s->enbw_hz, 5),
+			ssc_fmt(d, sizeof(d), wf.scalloping_db, 3));
+		fprintf(f, "  segments: %zu averaged%s, resolution %s Hz\n",
+			s->n_segments, s->n_skipped ? " (some skipped: NaN gaps)" : "",
+			ssc_fmt(a, sizeof(a), s->bin_hz, 6));
+	}
+	for (size_t k = 0; k < R->nch; k++) {
+		const struct chan *c = &R->ch[k];
+		double sc = uscale(c);
+		const char *u = c->col.unit_label[0] ? c->col.unit_label : "";
+		char pu[96];
+
+		psd_unit(c, c->s.scaling, pu, sizeof(pu));
+		fprintf(f, "\n  %s: rms %s %s", c->col.name,
+			ssc_fmt(a, sizeof(a), c->s.rms / sc, 6), u);
+		if (c->s.n_skipped)
+			fprintf(f, " (%zu segments with NaN skipped)", c->s.n_skipped);
+		fputc('\n', f);
+		if (c->n_peaks) {
+			fprintf(f, "    %-14s %-16s %-14s\n", "peak (Hz)",
+				c->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "spectrum",
+				"amplitude");
+			for (size_t i = 0; i < c->n_peaks; i++)
+				fprintf(f, "    %-14s %-16s %-14s\n",
+					ssc_fmt(a, sizeof(a), c->peaks[i].frequency_hz, 7),
+					ssc_fmt(b, sizeof(b), c->peaks[i].value / (sc * sc), 5),
+					ssc_fmt(c3, sizeof(c3), c->peaks[i].amplitude / sc, 5));
+			fprintf(f, "    (PSD in %s; amplitude: of the sine, peak, in %s)\n",
+				pu, *u ? u : "the data's unit");
+		}
+		if (R->a.bands && R->bands.n) {
+			fprintf(f, "    %-12s %-12s %-12s %s\n", "band lo (Hz)",
+				R->bands.nominal ? "centre" : "centre (geo)",
+				"hi (Hz)", "rms");
+			for (size_t i = 0; i < R->bands.n; i++)
+				fprintf(f, "    %-12s %-12s %-12s %s\n",
+					ssc_fmt(a, sizeof(a), R->bands.b[i].lo_hz, 5),
+					ssc_fmt(b, sizeof(b), R->bands.nominal ?
+						R->bands.b[i].nominal_hz : R->bands.b[i].center_hz, 5),
+					ssc_fmt(c3, sizeof(c3), R->bands.b[i].hi_hz, 5),
+					c->band_rms ? ssc_fmt(d, sizeof(d), c->band_rms[i], 5) : "-");
+		}
+	}
+	fprintf(f, "\n  (the spectrum itself: --format json or csv)\n");
+}
+
+static void csv_run(FILE *f, const struct run *R)
+{
+	fprintf(f, "frequency_hz");
+	for (size_t k = 0; k < R->nch; k++) {
+		char pu[96];
+
+		psd_unit(&R->ch[k], R->ch[k].s.scaling, pu, sizeof(pu));
+		fprintf(f, ",%s [%s]", R->ch[k].col.name, pu);
+	}
+	fputc('\n', f);
+	if (!R->nch)
+		return;
+	for (size_t i = 0; i < R->ch[0].s.n_bins; i++) {
+		fprintf(f, "%.17g", R->ch[0].s.freq_hz[i]);
+		for (size_t k = 0; k < R->nch; k++) {
+			double sc = uscale(&R->ch[k]);
+
+			fprintf(f, ",%.17g", R->ch[k].s.value[i] / (sc * sc));
+		}
+		fputc('\n', f);
+	}
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+/* median of a spectrum: peaks worth a label stand 10x above it */
+static double median_of(const double *v, size_t n)
+{
+	double *c = malloc(n * sizeof(double)), m;
+
+	if (!c || n == 0) {
+		free(c);
+		return 0;
+	}
+	memcpy(c, v, n * sizeof(double));
+	qsort(c, n, sizeof(double), cmp_double);
+	m = c[n / 2];
+	free(c);
+	return m;
+}
+
+static int plot(const struct ssc_common *co, const struct run *R)
+{
+	size_t nch = R->nch < 6 ? R->nch : 6;
+	const struct chan *c0 = &R->ch[0];
+	bool sg = c0->have_sg && c0->sg.n_times >= 2;
+	struct ssc_fig *fig = ssc_fig_new(1100, sg ? 1000 : 600, sg ? 2 : 1, 1);
+	struct ssc_ax *ax;
+	char buf[256], pu[96];
+	double *y = NULL;
+	int rc;
+
+	if (!fig)
+		return SSC_EXIT_FAIL;
+	snprintf(buf, sizeof(buf), "%s: %s, %s window, nperseg %zu", R->path,
+		 R->a.periodogram ? "periodogram" : "Welch PSD",
+		 sscope_window_name(c0->s.window), c0->s.nperseg);
+	ssc_fig_title(fig, buf);
+	ax = ssc_fig_ax(fig, 0, 0);
+	ssc_ax_log(ax, true, true);
+	y = malloc(c0->s.n_bins * sizeof(double));
+	if (!y) {
+		ssc_fig_free(fig);
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < nch; k++) {
+		const struct chan *c = &R->ch[k];
+		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1.3 };
+		struct ssc_style mk = { .color = ssc_plot_color(k), .width = -1,
+					.marker = SSC_MK_CIRCLE, .marker_size = 7 };
+		double sc2 = uscale(c) * uscale(c);
+		double floor = median_of(c->s.value, c->s.n_bins);
+
+		for (size_t i = 0; i < c->s.n_bins; i++)
+			y[i] = c->s.value[i] / sc2;
+		ssc_ax_line(ax, c->s.freq_hz, y, c->s.n_bins, &st, c->col.name);
+		for (size_t i = 0; i < c->n_peaks && i < 5; i++) {
+			double px = c->peaks[i].frequency_hz;
+			double py = c->peaks[i].value / sc2;
+
+			if (!(c->peaks[i].value > 10 * floor))
+				continue;
+
+			ssc_ax_line(ax, &px, &py, 1, &mk, NULL);
+			if (k == 0) {
+				snprintf(buf, sizeof(buf), "%.4g Hz", px);
+				ssc_ax_text(ax, px, py * 1.6, buf, 0, ssc_plot_color(k));
+			}
+		}
+	}
+	ssc_ax_xlabel(ax, "frequency (Hz)");
+	if (c0->s.n_bins > 1)
+		ssc_ax_xlim(ax, c0->s.freq_hz[1], R->fs / 2);
+	psd_unit(c0, c0->s.scaling, pu, sizeof(pu));
+	snprintf(buf, sizeof(buf), "%s (%s)",
+		 c0->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "power spectrum", pu);
+	ssc_ax_ylabel(ax, buf);
+	ssc_ax_grid(ax, true);
+	if (nch > 1)
+		ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+	else
+		ssc_ax_legend(ax, SSC_LEGEND_NONE);
+	if (sg) {
+		/* the spectrogram of the first channel, frequency rows
+		 * averaged down to at most 400 */
+		const struct sscope_spectrogram *g = &c0->sg;
+		size_t ny = g->n_bins > 400 ? 400 : g->n_bins, nx = g->n_times;
+		size_t per = (g->n_bins + ny - 1) / ny;
+		double *z, zlo = INFINITY, zhi = 0, sc2 = uscale(c0) * uscale(c0);
+		double dt = (g->time_s[nx - 1] - g->time_s[0]) / (double)(nx - 1);
+
+		ny = (g->n_bins + per - 1) / per;
+		z = calloc(nx * ny, sizeof(double));
+		if (z) {
+			for (size_t t = 0; t < nx; t++)
+				for (size_t r = 0; r < ny; r++) {
+					double s = 0;
+					size_t cnt = 0;
+
+					for (size_t j = r * per; j < (r + 1) * per && j < g->n_bins; j++, cnt++)
+						s += g->value[t * g->n_bins + j];
+					z[r * nx + t] = cnt ? s / (double)cnt / sc2 : (double)NAN;
+				}
+			for (size_t i = 0; i < nx * ny; i++)
+				if (z[i] > 0) {
+					zlo = fmin(zlo, z[i]);
+					zhi = fmax(zhi, z[i]);
+				}
+			/* colour range: the top 100 dB */
+			if (zhi > 0 && zlo < zhi * 1e-10)
+				zlo = zhi * 1e-10;
+			for (size_t i = 0; i < nx * ny; i++)
+				if (!(z[i] >= zlo))
+					z[i] = zlo;
+			ax = ssc_fig_ax(fig, 1, 0);
+			if (zhi > 0) {
+				if (!(zhi > zlo))
+					zlo = zhi / 10;
+				ssc_ax_image(ax, z, nx, ny, g->time_s[0] - dt / 2,
+					     g->time_s[nx - 1] + dt / 2, 0,
+					     R->fs / 2, zlo, zhi, true, pu);
+			}
+			snprintf(buf, sizeof(buf), "spectrogram of %s", c0->col.name);
+			ssc_ax_title(ax, buf);
+			ssc_ax_xlabel(ax, "time (s)");
+			ssc_ax_ylabel(ax, "frequency (Hz)");
+			free(z);
+		}
+	}
+	rc = ssc_fig_save_png(fig, co->plot);
+	ssc_fig_free(fig);
+	free(y);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+int ssc_cmd_psd(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct run R;
+	struct ssc_out out;
+	int first, rc;
+
+	memset(&R, 0, sizeof(R));
+	sscope_psd_opts_init(&R.a.po);
+	R.a.overlap = 0.5;
+	R.a.peaks = 5;
+	R.a.sg_cols = 400;
+	rc = ssc_parse(&spec, argc, argv, &co, handle, &R.a, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (argc - first != 1)
+		return ssc_usage_error(co.cmd, argc - first < 1 ? "no input file" :
+					       "one input file at a time");
+	R.path = argv[first];
+	if (R.a.po.nfft && R.a.po.nfft < R.a.po.nperseg)
+		return ssc_usage_error(co.cmd, "--nfft %zu is shorter than --nperseg %zu",
+				       R.a.po.nfft, R.a.po.nperseg);
+	if (R.a.periodogram && (R.a.spectrogram || R.a.nperseg_set))
+		return ssc_usage_error(co.cmd, "--method periodogram takes no --nperseg or --spectrogram");
+	R.a.po.noverlap = (size_t)floor(R.a.overlap * (double)R.a.po.nperseg);
+	if (R.a.po.noverlap >= R.a.po.nperseg)
+		R.a.po.noverlap = R.a.po.nperseg - 1;
+	R.a.po.skip_nonfinite = co.allow_nan;
+	R.a.po.shorten = true;
+	if (R.a.spectrogram || co.plot)
+		R.a.po.spectrogram_cols = R.a.sg_cols;
+	rc = R.a.periodogram ? whole(&co, &R) : stream(&co, &R);
+	if (rc)
+		goto done;
+	if (R.nch && R.ch[0].s.nperseg < R.a.po.nperseg && !R.a.periodogram)
+		ssc_warn(&co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
+			 R.path, R.a.po.nperseg, (unsigned long long)R.rows,
+			 R.ch[0].s.nperseg);
+	for (size_t k = 0; k < R.nch; k++)
+		if (R.ch[k].s.n_skipped)
+			ssc_warn(&co, "%s: channel %s: %zu of %zu segments skipped (NaN gaps)",
+				 R.path, R.ch[k].col.name, R.ch[k].s.n_skipped,
+				 R.ch[k].s.n_skipped + R.ch[k].s.n_segments);
+	if (R.nch && R.ch[0].s.rms == 0)
+		ssc_warn(&co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
+			 R.path);
+	rc = make_bands(co.cmd, R.a.bands, R.fs, R.nch ? R.ch[0].s.bin_hz : 1, &R.bands);
+	if (rc)
+		goto done;
+	finish(&R);
+	if (co.plot) {
+		rc = plot(&co, &R);
+		if (rc)
+			goto done;
+	}
+	if (co.format == SSC_FMT_JSON) {
+		rc = ssc_emit_json(&co, json_run(&R));
+		goto done;
+	}
+	rc = ssc_out_open(&co, &out);
+	if (rc)
+		goto done;
+	if (co.format == SSC_FMT_CSV)
+		csv_run(out.f, &R);
+	else
+		text_run(out.f, &R);
+	rc = ssc_out_close(&co, &out, !ferror(out.f));
+done:
+	free_run(&R);
+	return rc;
+}
