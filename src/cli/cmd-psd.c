@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "stage.h"
 
 enum {
 	OPT_WINDOW = 256,
@@ -486,6 +487,69 @@ out:
 	return ex;
 }
 
+static const char *rate_source_name(const struct sscope_capture *cap)
+{
+	return cap->rate_source == SSCOPE_RATE_GIVEN ? "given" :
+	       cap->rate_source == SSCOPE_RATE_TIME_COLUMN ? "time column" :
+	       cap->rate_source == SSCOPE_RATE_HEADER ? "header" : "unknown";
+}
+
+/* The estimate from a capture in memory: the periodogram (which needs the
+ * whole record), or Welch's average when a scene has already loaded it. */
+static int from_capture(const struct ssc_common *co, struct run *R,
+			const struct sscope_capture *cap)
+{
+	int rc;
+
+	if (!(cap->rate_hz > 0)) {
+		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
+			R->path);
+		return SSC_EXIT_FAIL;
+	}
+	R->fs = cap->rate_hz;
+	R->rate_source = rate_source_name(cap);
+	R->rows = cap->n;
+	R->nch = cap->n_channels;
+	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
+	if (!R->ch)
+		return SSC_EXIT_FAIL;
+	for (size_t k = 0; k < R->nch; k++) {
+		struct chan *c = &R->ch[k];
+
+		if (copy_col(&c->col, &cap->channels[k].col))
+			return SSC_EXIT_FAIL;
+		if (R->a.periodogram) {
+			rc = sscope_psd_periodogram(cap->channels[k].data, 1, cap->n,
+						    R->fs, R->a.po.window,
+						    R->a.po.nfft > cap->n ? R->a.po.nfft : 0,
+						    R->a.po.detrend, R->a.po.scaling,
+						    &c->s);
+			if (rc) {
+				ssc_err(co->cmd, "%s: channel %s: %s", R->path,
+					c->col.name,
+					rc == -EDOM ? "NaN gaps: the periodogram needs a gap-free record" :
+						      sscope_strerror(rc));
+				return SSC_EXIT_FAIL;
+			}
+			continue;
+		}
+		rc = sscope_psd_new(&c->p, &R->a.po);
+		if (!rc)
+			rc = sscope_psd_feed(c->p, cap->channels[k].data, 1, cap->n);
+		if (!rc)
+			rc = sscope_psd_result(c->p, R->fs, &c->s);
+		if (rc) {
+			ssc_err(co->cmd, "%s: channel %s: %s", R->path, c->col.name,
+				rc == -EDOM ? "every segment holds a NaN gap" :
+					      sscope_strerror(rc));
+			return SSC_EXIT_FAIL;
+		}
+		if (R->a.po.spectrogram_cols && c->s.nperseg == R->a.po.nperseg)
+			c->have_sg = sscope_psd_spectrogram(c->p, R->fs, &c->sg) == 0;
+	}
+	return SSC_EXIT_OK;
+}
+
 /* The periodogram needs the whole record in memory. */
 static int whole(const struct ssc_common *co, struct run *R)
 {
@@ -494,44 +558,9 @@ static int whole(const struct ssc_common *co, struct run *R)
 
 	if (rc)
 		return rc;
-	if (!(cap->rate_hz > 0)) {
-		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
-			R->path);
-		sscope_capture_free(cap);
-		return SSC_EXIT_FAIL;
-	}
-	R->fs = cap->rate_hz;
-	R->rate_source = cap->rate_source == SSCOPE_RATE_GIVEN ? "given" :
-			 cap->rate_source == SSCOPE_RATE_TIME_COLUMN ? "time column" :
-								       "header";
-	R->rows = cap->n;
-	R->nch = cap->n_channels;
-	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
-	if (!R->ch) {
-		sscope_capture_free(cap);
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t k = 0; k < R->nch; k++) {
-		struct chan *c = &R->ch[k];
-
-		if (copy_col(&c->col, &cap->channels[k].col)) {
-			sscope_capture_free(cap);
-			return SSC_EXIT_FAIL;
-		}
-		rc = sscope_psd_periodogram(cap->channels[k].data, 1, cap->n,
-					    R->fs, R->a.po.window,
-					    R->a.po.nfft > cap->n ? R->a.po.nfft : 0,
-					    R->a.po.detrend, R->a.po.scaling, &c->s);
-		if (rc) {
-			ssc_err(co->cmd, "%s: channel %s: %s", R->path, c->col.name,
-				rc == -EDOM ? "NaN gaps: the periodogram needs a gap-free record" :
-					      sscope_strerror(rc));
-			sscope_capture_free(cap);
-			return SSC_EXIT_FAIL;
-		}
-	}
+	rc = from_capture(co, R, cap);
 	sscope_capture_free(cap);
-	return SSC_EXIT_OK;
+	return rc;
 }
 
 static void finish(struct run *R)
@@ -915,18 +944,141 @@ static int plot(const struct ssc_common *co, const struct run *R)
 	return SSC_EXIT_OK;
 }
 
+static void init(void *opts)
+{
+	struct args *a = opts;
+
+	memset(a, 0, sizeof(*a));
+	sscope_psd_opts_init(&a->po);
+	a->overlap = 0.5;
+	a->peaks = 5;
+	a->sg_cols = 400;
+}
+
+/* Cross-checks of the options, and the estimator's options from them. */
+static int check(const struct ssc_common *co, void *opts)
+{
+	struct args *a = opts;
+
+	if (a->po.nfft && a->po.nfft < a->po.nperseg)
+		return ssc_usage_error(co->cmd, "--nfft %zu is shorter than --nperseg %zu",
+				       a->po.nfft, a->po.nperseg);
+	if (a->periodogram && (a->spectrogram || a->nperseg_set))
+		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg or --spectrogram");
+	a->po.noverlap = (size_t)floor(a->overlap * (double)a->po.nperseg);
+	if (a->po.noverlap >= a->po.nperseg)
+		a->po.noverlap = a->po.nperseg - 1;
+	a->po.skip_nonfinite = co->allow_nan;
+	a->po.shorten = true;
+	a->po.spectrogram_cols = a->spectrogram || co->plot ? a->sg_cols : 0;
+	return SSC_EXIT_OK;
+}
+
+/* Everything after the estimate: warnings, peaks, bands, the figure and
+ * the three forms of the result. */
+static int present_run(const struct ssc_common *co, struct run *R,
+		       const char *plot_path, struct ssc_stage_out *out)
+{
+	struct ssc_membuf text, csv;
+	int rc;
+
+	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
+		ssc_warn(co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
+			 R->path, R->a.po.nperseg, (unsigned long long)R->rows,
+			 R->ch[0].s.nperseg);
+	for (size_t k = 0; k < R->nch; k++)
+		if (R->ch[k].s.n_skipped)
+			ssc_warn(co, "%s: channel %s: %zu of %zu segments skipped (NaN gaps)",
+				 R->path, R->ch[k].col.name, R->ch[k].s.n_skipped,
+				 R->ch[k].s.n_skipped + R->ch[k].s.n_segments);
+	if (R->nch && R->ch[0].s.rms == 0)
+		ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
+			 R->path);
+	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? R->ch[0].s.bin_hz : 1,
+			&R->bands);
+	if (rc)
+		return rc;
+	finish(R);
+	if (plot_path && R->nch) {
+		struct ssc_common pco = *co;
+
+		pco.plot = plot_path;
+		rc = plot(&pco, R);
+		if (rc)
+			return rc;
+	}
+	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv))
+		return SSC_EXIT_FAIL;
+	text_run(text.f, R);
+	csv_run(csv.f, R);
+	out->text = ssc_membuf_take(&text);
+	out->csv = ssc_membuf_take(&csv);
+	out->json = json_run(R);
+	for (size_t k = 0; k < R->nch; k++) {
+		const struct chan *c = &R->ch[k];
+		const char *u = c->col.unit_label;
+
+		ssc_summary_add(out->summary, c->col.name, "RMS (PSD integral)",
+				c->s.rms / uscale(c), NAN, NAN, u, NULL);
+		if (c->n_peaks) {
+			char note[96];
+
+			snprintf(note, sizeof(note), "amplitude %.4g %s",
+				 c->peaks[0].amplitude / uscale(c), u);
+			ssc_summary_add(out->summary, c->col.name, "strongest peak",
+					c->peaks[0].frequency_hz, NAN, NAN, "Hz",
+					note);
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
+static int stage_run(const struct ssc_stage_env *env, void *opts,
+		     struct ssc_stage_out *out)
+{
+	struct run R;
+	int rc;
+
+	memset(&R, 0, sizeof(R));
+	R.a = *(struct args *)opts;
+	if (env->n_caps != 1) {
+		ssc_err(env->co->cmd, "one input capture at a time");
+		return SSC_EXIT_USAGE;
+	}
+	R.path = env->paths[0];
+	if (env->plot_path)
+		R.a.po.spectrogram_cols = R.a.sg_cols;
+	rc = from_capture(env->co, &R, env->caps[0]);
+	if (!rc)
+		rc = present_run(env->co, &R, env->plot_path, out);
+	free_run(&R);
+	return rc;
+}
+
+const struct ssc_stage_ops ssc_psd_stage = {
+	.spec = &spec,
+	.title = "Power spectral density",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = 1,
+	.opts_size = sizeof(struct args),
+	.init = init,
+	.handle = handle,
+	.check = check,
+	.run = stage_run,
+};
+
+/* The command streams the capture (memory independent of its length)
+ * rather than loading it as the generic stage driver does. */
 int ssc_cmd_psd(int argc, char **argv)
 {
 	struct ssc_common co;
+	struct ssc_stage_out out = { 0 };
 	struct run R;
-	struct ssc_out out;
 	int first, rc;
 
 	memset(&R, 0, sizeof(R));
-	sscope_psd_opts_init(&R.a.po);
-	R.a.overlap = 0.5;
-	R.a.peaks = 5;
-	R.a.sg_cols = 400;
+	init(&R.a);
 	rc = ssc_parse(&spec, argc, argv, &co, handle, &R.a, &first);
 	if (rc)
 		return rc < 0 ? SSC_EXIT_OK : rc;
@@ -934,55 +1086,17 @@ int ssc_cmd_psd(int argc, char **argv)
 		return ssc_usage_error(co.cmd, argc - first < 1 ? "no input file" :
 					       "one input file at a time");
 	R.path = argv[first];
-	if (R.a.po.nfft && R.a.po.nfft < R.a.po.nperseg)
-		return ssc_usage_error(co.cmd, "--nfft %zu is shorter than --nperseg %zu",
-				       R.a.po.nfft, R.a.po.nperseg);
-	if (R.a.periodogram && (R.a.spectrogram || R.a.nperseg_set))
-		return ssc_usage_error(co.cmd, "--method periodogram takes no --nperseg or --spectrogram");
-	R.a.po.noverlap = (size_t)floor(R.a.overlap * (double)R.a.po.nperseg);
-	if (R.a.po.noverlap >= R.a.po.nperseg)
-		R.a.po.noverlap = R.a.po.nperseg - 1;
-	R.a.po.skip_nonfinite = co.allow_nan;
-	R.a.po.shorten = true;
-	if (R.a.spectrogram || co.plot)
-		R.a.po.spectrogram_cols = R.a.sg_cols;
+	rc = check(&co, &R.a);
+	if (rc)
+		return rc;
 	rc = R.a.periodogram ? whole(&co, &R) : stream(&co, &R);
-	if (rc)
-		goto done;
-	if (R.nch && R.ch[0].s.nperseg < R.a.po.nperseg && !R.a.periodogram)
-		ssc_warn(&co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
-			 R.path, R.a.po.nperseg, (unsigned long long)R.rows,
-			 R.ch[0].s.nperseg);
-	for (size_t k = 0; k < R.nch; k++)
-		if (R.ch[k].s.n_skipped)
-			ssc_warn(&co, "%s: channel %s: %zu of %zu segments skipped (NaN gaps)",
-				 R.path, R.ch[k].col.name, R.ch[k].s.n_skipped,
-				 R.ch[k].s.n_skipped + R.ch[k].s.n_segments);
-	if (R.nch && R.ch[0].s.rms == 0)
-		ssc_warn(&co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
-			 R.path);
-	rc = make_bands(co.cmd, R.a.bands, R.fs, R.nch ? R.ch[0].s.bin_hz : 1, &R.bands);
-	if (rc)
-		goto done;
-	finish(&R);
-	if (co.plot) {
-		rc = plot(&co, &R);
-		if (rc)
-			goto done;
+	if (!rc) {
+		out.summary = json_array();
+		rc = present_run(&co, &R, co.plot, &out);
 	}
-	if (co.format == SSC_FMT_JSON) {
-		rc = ssc_emit_json(&co, json_run(&R));
-		goto done;
-	}
-	rc = ssc_out_open(&co, &out);
-	if (rc)
-		goto done;
-	if (co.format == SSC_FMT_CSV)
-		csv_run(out.f, &R);
-	else
-		text_run(out.f, &R);
-	rc = ssc_out_close(&co, &out, !ferror(out.f));
-done:
+	if (!rc)
+		rc = ssc_stage_present(&co, &out);
+	ssc_stage_out_free(&out);
 	free_run(&R);
 	return rc;
 }

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "stage.h"
 
 #define PI 3.14159265358979323846
 
@@ -588,36 +589,48 @@ static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
 	return SSC_EXIT_OK;
 }
 
-int ssc_cmd_vibration(int argc, char **argv)
+static void init(void *opts)
 {
-	struct ssc_common co;
-	struct args a;
-	struct sscope_capture *cap = NULL;
-	struct chres *cr = NULL;
-	struct ssc_out out;
-	int first, rc;
+	struct args *a = opts;
 
-	memset(&a, 0, sizeof(a));
-	sscope_vib_opts_init(&a.vo);
-	a.overlap = 0.5;
-	rc = ssc_parse(&spec, argc, argv, &co, handle, &a, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	if (argc - first != 1)
-		return ssc_usage_error(co.cmd, argc - first < 1 ? "no input file" :
-					       "one input file at a time");
-	if (a.bearing && !(a.rpm > 0))
-		return ssc_usage_error(co.cmd, "--bearing needs --rpm (the shaft speed)");
-	a.vo.shaft_hz = a.rpm / 60;
-	a.vo.have_bearing = a.bearing;
-	rc = ssc_load(&co, argv[first], &cap);
-	if (rc)
-		return rc;
+	memset(a, 0, sizeof(*a));
+	sscope_vib_opts_init(&a->vo);
+	a->overlap = 0.5;
+}
+
+static int check(const struct ssc_common *co, void *opts)
+{
+	struct args *a = opts;
+
+	if (a->bearing && !(a->rpm > 0))
+		return ssc_usage_error(co->cmd, "--bearing needs --rpm (the shaft speed)");
+	a->vo.shaft_hz = a->rpm / 60;
+	a->vo.have_bearing = a->bearing;
+	return SSC_EXIT_OK;
+}
+
+static int run(const struct ssc_stage_env *env, void *opts,
+	       struct ssc_stage_out *out)
+{
+	const struct ssc_common *co = env->co;
+	struct args a = *(struct args *)opts;
+	struct sscope_capture *cap;
+	const char *path;
+	struct chres *cr = NULL;
+	struct ssc_membuf text, csv;
+	json_t *chs, *dg;
+	int rc = SSC_EXIT_OK;
+
+	if (env->n_caps != 1) {
+		ssc_err(co->cmd, "one input capture at a time");
+		return SSC_EXIT_USAGE;
+	}
+	cap = env->caps[0];
+	path = env->paths[0];
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(co.cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
-			argv[first]);
-		rc = SSC_EXIT_FAIL;
-		goto done;
+		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
+			path);
+		return SSC_EXIT_FAIL;
 	}
 	if (a.vo.psd.nperseg)
 		a.vo.psd.noverlap = (size_t)floor(a.overlap * (double)a.vo.psd.nperseg);
@@ -628,8 +641,8 @@ int ssc_cmd_vibration(int argc, char **argv)
 		a.vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
 	cr = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*cr));
 	if (!cr) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
 	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		const struct sscope_column *col = &cap->channels[k].col;
@@ -637,8 +650,8 @@ int ssc_cmd_vibration(int argc, char **argv)
 
 		cr[k].col = col;
 		if (col->quantity != SSCOPE_QTY_ACCELERATION) {
-			ssc_err(co.cmd, "%s: channel %s %s%s%s: not an acceleration (select accelerometer channels with -c; -u m/s^2 or g for unlabelled columns)",
-				argv[first], col->name, col->unit_label[0] ? "is in " : "has no unit",
+			ssc_err(co->cmd, "%s: channel %s %s%s%s: not an acceleration (select accelerometer channels with -c; -u m/s^2 or g for unlabelled columns)",
+				path, col->name, col->unit_label[0] ? "is in " : "has no unit",
 				col->unit_label, "");
 			rc = SSC_EXIT_FAIL;
 			goto done;
@@ -646,7 +659,7 @@ int ssc_cmd_vibration(int argc, char **argv)
 		rc = sscope_vibration_analyze(cap->channels[k].data, 1, cap->n,
 					      cap->rate_hz, &a.vo, &cr[k].r, &d);
 		if (rc) {
-			ssc_err(co.cmd, "%s: channel %s: %s", argv[first], col->name,
+			ssc_err(co->cmd, "%s: channel %s: %s", path, col->name,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
 			rc = rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 			goto done;
@@ -654,58 +667,88 @@ int ssc_cmd_vibration(int argc, char **argv)
 		cr[k].done = true;
 	}
 	if (cap->n_channels && a.vo.iso_hi_hz > cap->rate_hz / 2)
-		ssc_warn(&co, "%s: the velocity band ends at the Nyquist frequency %g Hz, not %g Hz",
-			 argv[first], cap->rate_hz / 2, a.vo.iso_hi_hz);
-	if (co.plot) {
-		rc = plot(&co, cap, &a, cr, cap->n_channels);
+		ssc_warn(co, "%s: the velocity band ends at the Nyquist frequency %g Hz, not %g Hz",
+			 path, cap->rate_hz / 2, a.vo.iso_hi_hz);
+	if (env->plot_path) {
+		struct ssc_common pco = *co;
+
+		pco.plot = env->plot_path;
+		rc = plot(&pco, cap, &a, cr, cap->n_channels);
 		if (rc)
 			goto done;
 	}
-	if (co.format == SSC_FMT_JSON) {
-		json_t *root = json_object(), *chs = json_array(), *dg = json_array();
-
-		json_object_set_new(root, "command", json_string("vibration"));
-		json_object_set_new(root, "file", json_string(argv[first]));
-		json_object_set_new(root, "iso_edition", json_string(sscope_iso_edition()));
-		for (size_t k = 0; k < cap->n_channels; k++)
-			json_array_append_new(chs, json_channel(cap, &a, &cr[k], dg));
-		json_object_set_new(root, "channels", chs);
-		json_object_set_new(root, "diagnosis", dg);
-		rc = ssc_emit_json(&co, root);
+	out->json = json_object();
+	chs = json_array();
+	dg = json_array();
+	json_object_set_new(out->json, "command", json_string("vibration"));
+	json_object_set_new(out->json, "file", json_string(path));
+	json_object_set_new(out->json, "iso_edition", json_string(sscope_iso_edition()));
+	for (size_t k = 0; k < cap->n_channels; k++)
+		json_array_append_new(chs, json_channel(cap, &a, &cr[k], dg));
+	json_object_set_new(out->json, "channels", chs);
+	json_object_set_new(out->json, "diagnosis", dg);
+	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+		rc = SSC_EXIT_FAIL;
 		goto done;
 	}
-	rc = ssc_out_open(&co, &out);
-	if (rc)
-		goto done;
-	if (co.format == SSC_FMT_CSV) {
-		fprintf(out.f, "file,channel,unit,rate_hz,samples,rms,velocity_rms_mm_s,zone,kurtosis,findings\n");
-		for (size_t k = 0; k < cap->n_channels; k++) {
-			const struct sscope_vib_result *r = &cr[k].r;
+	fprintf(csv.f, "file,channel,unit,rate_hz,samples,rms,velocity_rms_mm_s,zone,kurtosis,findings\n");
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_vib_result *r = &cr[k].r;
 
-			fprintf(out.f, "%s,%s,%s,%.15g,%zu,%.15g,%.15g,%s%c,%.15g,", argv[first],
-				cr[k].col->name, cr[k].col->unit_label, cap->rate_hz, cap->n,
-				r->accel_rms_m_s2 / usc(cr[k].col), r->velocity_rms_m_s * 1e3,
-				"", r->zone ? r->zone : '-', r->kurtosis);
-			for (size_t i = 0; i < r->n_findings; i++)
-				fprintf(out.f, "%s%s", i ? ";" : "", r->findings[i].finding);
-			fputc('\n', out.f);
-		}
-	} else {
-		fprintf(out.f, "%s\n", strcmp(argv[first], "-") ? argv[first] : "(stdin)");
-		fprintf(out.f, "  rate: %g Hz, %zu samples; spectrum: %s window, nperseg %zu (%.3g Hz bins)\n",
-			cap->rate_hz, cap->n, sscope_window_name(a.vo.psd.window),
-			cap->n_channels ? cr[0].r.accel.nperseg : 0,
-			cap->n_channels ? cr[0].r.accel.bin_hz : 0.0);
-		fprintf(out.f, "  severity zones: %s\n", sscope_iso_edition());
-		for (size_t k = 0; k < cap->n_channels; k++)
-			text_channel(out.f, &a, &cr[k]);
+		fprintf(csv.f, "%s,%s,%s,%.15g,%zu,%.15g,%.15g,%s%c,%.15g,", path,
+			cr[k].col->name, cr[k].col->unit_label, cap->rate_hz, cap->n,
+			r->accel_rms_m_s2 / usc(cr[k].col), r->velocity_rms_m_s * 1e3,
+			"", r->zone ? r->zone : '-', r->kurtosis);
+		for (size_t i = 0; i < r->n_findings; i++)
+			fprintf(csv.f, "%s%s", i ? ";" : "", r->findings[i].finding);
+		fputc('\n', csv.f);
 	}
-	rc = ssc_out_close(&co, &out, !ferror(out.f));
+	fprintf(text.f, "%s\n", strcmp(path, "-") ? path : "(stdin)");
+	fprintf(text.f, "  rate: %g Hz, %zu samples; spectrum: %s window, nperseg %zu (%.3g Hz bins)\n",
+		cap->rate_hz, cap->n, sscope_window_name(a.vo.psd.window),
+		cap->n_channels ? cr[0].r.accel.nperseg : 0,
+		cap->n_channels ? cr[0].r.accel.bin_hz : 0.0);
+	fprintf(text.f, "  severity zones: %s\n", sscope_iso_edition());
+	for (size_t k = 0; k < cap->n_channels; k++)
+		text_channel(text.f, &a, &cr[k]);
+	out->text = ssc_membuf_take(&text);
+	out->csv = ssc_membuf_take(&csv);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_vib_result *r = &cr[k].r;
+		char note[64] = "";
+
+		if (r->zone)
+			snprintf(note, sizeof(note), "ISO 10816 zone %c", r->zone);
+		ssc_summary_add(out->summary, cr[k].col->name, "velocity RMS",
+				r->velocity_rms_m_s * 1e3, NAN, NAN, "mm/s", note);
+		ssc_summary_add(out->summary, cr[k].col->name, "kurtosis",
+				r->kurtosis, NAN, NAN, "", NULL);
+		for (size_t i = 0; i < r->n_findings; i++)
+			ssc_summary_add(out->summary, cr[k].col->name, "finding",
+					NAN, NAN, NAN, "", r->findings[i].finding);
+	}
 done:
-	for (size_t k = 0; cr && cap && k < cap->n_channels; k++)
+	for (size_t k = 0; cr && k < cap->n_channels; k++)
 		if (cr[k].done)
 			sscope_vib_result_clear(&cr[k].r);
 	free(cr);
-	sscope_capture_free(cap);
 	return rc;
+}
+
+const struct ssc_stage_ops ssc_vibration_stage = {
+	.spec = &spec,
+	.title = "Machinery vibration",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = 1,
+	.opts_size = sizeof(struct args),
+	.init = init,
+	.handle = handle,
+	.check = check,
+	.run = run,
+};
+
+int ssc_cmd_vibration(int argc, char **argv)
+{
+	return ssc_stage_main(&ssc_vibration_stage, argc, argv);
 }

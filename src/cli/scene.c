@@ -13,6 +13,7 @@
 #include "scene.h"
 
 #include <ctype.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -22,13 +23,28 @@
 
 #include "html.h"
 
-enum { S_INFO = 0, S_COUNT_ };
+enum { S_INFO = 0, S_PSD, S_VIBRATION, S_COUNT_ };
 
 static const struct ssc_stage_def stages[] = {
 	[S_INFO] = { "info", &ssc_info_stage, 0,
 		     "Sample rate: from --rate, else the time column (mean of the "
 		     "regular intervals; gaps are intervals longer than 1.5 times "
 		     "the median), else a '# rate:' header comment." },
+	[S_PSD] = { "psd", &ssc_psd_stage, 0,
+		    "One-sided power spectral density by Welch's method with "
+		    "scipy.signal.welch's conventions: DFT-even window, per-segment "
+		    "detrending, density = |X|^2 / (fs sum w^2) in unit^2/Hz; RMS is "
+		    "the square root of its integral (Parseval). Peak frequency and "
+		    "amplitude are interpolated by a least-squares fit of the "
+		    "window's exact response to five bins." },
+	[S_VIBRATION] = { "vibration", &ssc_vibration_stage, 0,
+			  "Velocity RMS: frequency-domain integration of the "
+			  "acceleration PSD over 10-1000 Hz; severity zones of ISO "
+			  "10816-1:1995 Annex B. Shaft orders n x rpm/60; bearing "
+			  "defect frequencies BPFO = (n/2) fr (1 - d/D cos phi), "
+			  "BPFI = (n/2) fr (1 + d/D cos phi), BSF, FTF; envelope "
+			  "spectrum = |Hilbert| of the band-passed signal; kurtosis "
+			  "3 for Gaussian noise." },
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
@@ -537,6 +553,8 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 		}
 	}
 	for (size_t s = 0; s < N_STAGES; s++) {
+		if ((sc->want & (1u << s)) && sc->why[s])
+			continue; /* inferred, with its reason */
 		if (sc->want & (1u << s))
 			set_why(sc, s, "requested by [%s]", stages[s].name);
 		else if (s == S_INFO)
@@ -615,6 +633,19 @@ fail:
 
 /* ------------------------------------------------------------ inference */
 
+/* Set a stage option by its long name, as a scene key would. */
+static int set_option(struct ssc_scene *sc, size_t s, const char *name,
+		      const char *value)
+{
+	const struct ssc_option *o = stages[s].ops->spec->options;
+
+	while (o && o->name && strcmp(o->name, name))
+		o++;
+	if (!o || !o->name)
+		return SSC_EXIT_USAGE;
+	return stages[s].ops->handle(o->key, value, sc->opts[s]);
+}
+
 int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		    const char *out_dir, struct ssc_scene **out)
 {
@@ -635,7 +666,64 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	sc->out_dir = xstrdup(out_dir);
 	sc->quiet = co->quiet;
 	sc->dir = xstrdup(".");
-	/* the data decide what runs (extended as stages arrive) */
+	/* the data decide what runs: look at each file's columns and rate
+	 * (header and first rows only; the run reads each file once) */
+	for (size_t i = 0; i < n; i++) {
+		struct sscope_read_opts ro;
+		struct sscope_reader *r = NULL;
+		struct sscope_diag d = { "" };
+		double rate = co->rate_hz;
+		bool acc = false, other = false;
+		int e;
+
+		ssc_read_opts(co, &ro);
+		e = sscope_reader_open(&r, files[i], &ro, &d);
+		if (e) {
+			ssc_fail(co->cmd, e, &d, files[i]);
+			ssc_scene_free(sc);
+			return SSC_EXIT_FAIL;
+		}
+		if (!(rate > 0))
+			rate = sscope_reader_header_rate(r);
+		if (!(rate > 0) && sscope_reader_time_column(r)) {
+			double t[512], *cols[64] = { 0 };
+			struct sscope_chunk ch = { 512, 0, cols, t, NULL };
+
+			if (sscope_reader_n_channels(r) <= 64 &&
+			    !sscope_reader_read(r, &ch, NULL) && ch.rows >= 2 &&
+			    t[ch.rows - 1] > 0)
+				rate = (double)(ch.rows - 1) / t[ch.rows - 1];
+		}
+		for (size_t k = 0; k < sscope_reader_n_channels(r); k++) {
+			enum sscope_quantity q = sscope_reader_channel(r, k)->quantity;
+
+			if (q == SSCOPE_QTY_ACCELERATION)
+				acc = true;
+			else
+				other = true;
+		}
+		sscope_reader_close(r);
+		if (acc && rate >= 500) {
+			sc->want |= 1u << S_VIBRATION;
+			set_why(sc, S_VIBRATION,
+				"inferred: acceleration sampled at %.4g Hz (>= 500 Hz) is a vibration record",
+				rate);
+		}
+		if ((acc || other) && !(sc->want & (1u << S_PSD))) {
+			sc->want |= 1u << S_PSD;
+			set_why(sc, S_PSD, "inferred: the spectrum of every data channel");
+			if (rate > 0) {
+				/* segments of about 1 s above 500 Hz (1 Hz
+				 * bins for machinery orders), 10 s below */
+				double want = rate >= 500 ? rate : 10 * rate;
+				char v[32];
+
+				snprintf(v, sizeof(v), "%.0f",
+					 fmax(256, pow(2, round(log2(want)))));
+				set_option(sc, S_PSD, "nperseg", v);
+			}
+		}
+	}
 	if (resolve(co->cmd, sc)) {
 		ssc_scene_free(sc);
 		return SSC_EXIT_FAIL;
@@ -731,7 +819,8 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 		fprintf(f, "  %zu. %-10s %s; channels: %s\n", k++, stages[s].name,
 			sc->why[s], buf);
 	}
-	fprintf(f, "stages skipped:\n");
+	fprintf(f, "stages skipped:%s\n", sc->run == (1u << N_STAGES) - 1 ?
+		" none" : "");
 	for (size_t s = 0; s < N_STAGES; s++)
 		if (!(sc->run & (1u << s)))
 			fprintf(f, "  %-10s %s\n", stages[s].name, sc->why[s]);
@@ -850,10 +939,15 @@ static int mkdir_p(const char *dir)
 
 static void fmt_interval(char *buf, size_t len, json_t *row)
 {
-	double v = json_number_value(json_object_get(row, "value"));
+	json_t *jv = json_object_get(row, "value");
+	double v = json_number_value(jv);
 	json_t *lo = json_object_get(row, "lo"), *hi = json_object_get(row, "hi");
 	char a[32], b[32], c[32];
 
+	if (!json_is_number(jv)) {
+		snprintf(buf, len, "%s", "");
+		return;
+	}
 	ssc_fmt(a, sizeof(a), v, 4);
 	if (json_is_number(lo) && json_is_number(hi))
 		snprintf(buf, len, "%s [%s, %s]", a,

@@ -61,12 +61,16 @@ void ssc_summary_add(json_t *summary, const char *channel,
 	json_array_append_new(summary, o);
 }
 
-static int present(const struct ssc_common *co, struct ssc_stage_out *out)
+int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out)
 {
 	struct ssc_out o;
 	const char *s;
 	int rc;
 
+	if (!out->json || !out->text) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
 	if (co->format == SSC_FMT_JSON) {
 		json_incref(out->json);
 		return ssc_emit_json(co, out->json);
@@ -137,12 +141,7 @@ int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
 	rc = ops->run(&env, opts, &out);
 	if (rc)
 		goto done;
-	if (!out.json || !out.text) {
-		ssc_err(co.cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	rc = present(&co, &out);
+	rc = ssc_stage_present(&co, &out);
 done:
 	for (int i = 0; caps && i < n; i++)
 		sscope_capture_free(caps[i]);

@@ -64,6 +64,9 @@ struct ssc_stage_ops {
  * present in the chosen format.  Returns the exit code. */
 int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv);
 
+/* Write an output in the command's --format to its -o (or stdout). */
+int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out);
+
 /* Free the contents of an output. */
 void ssc_stage_out_free(struct ssc_stage_out *out);
 
@@ -84,5 +87,7 @@ void ssc_summary_add(json_t *summary, const char *channel,
 
 /* The stages (one per analysis command). */
 extern const struct ssc_stage_ops ssc_info_stage;
+extern const struct ssc_stage_ops ssc_psd_stage;
+extern const struct ssc_stage_ops ssc_vibration_stage;
 
 #endif
