@@ -153,5 +153,6 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig);
 
 /* Commands */
 int ssc_cmd_info(int argc, char **argv);
+int ssc_cmd_acquire(int argc, char **argv);
 
 #endif

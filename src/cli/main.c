@@ -15,6 +15,8 @@ struct command {
 static const struct command commands[] = {
 	{ "info", "channels, units, rate, gaps and statistics of a capture",
 	  ssc_cmd_info },
+	{ "acquire", "record a live sensor (SPI + data-ready line) or the simulator",
+	  ssc_cmd_acquire },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
