@@ -65,6 +65,8 @@ struct ssc_source_counts {
 	uint64_t counter_missing; /* samples lost according to the counter */
 	uint64_t events_lost;     /* data-ready events / poll ticks lost */
 	uint64_t status_samples;  /* samples with a device status flag */
+	uint64_t time_estimated;  /* time stamps moved forward by whole
+				     periods (see src-spi.c) */
 	uint16_t status_or;       /* OR of every status word */
 	double late_max_s;        /* pacing lateness (poll and sim sources) */
 	double late_sum2_s2;

@@ -374,6 +374,8 @@ int ssc_drdy_read(struct ssc_drdy *d, struct ssc_drdy_events *ev)
 		ev->t_ns = (int64_t)e[n - 1].ts.tv_sec * 1000000000 +
 			   e[n - 1].ts.tv_nsec;
 	ev->n = (unsigned)n;
+	/* the v1 kernel queue holds 16 events per line */
+	ev->full = n >= 16;
 	return 0;
 }
 

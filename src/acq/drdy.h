@@ -15,6 +15,8 @@ struct ssc_drdy_events {
 	unsigned n;        /* edges read */
 	uint64_t lost;     /* edges the kernel reports lost (v2 seqno) */
 	int64_t t_ns;      /* time stamp of the last edge */
+	bool full;         /* the kernel queue was full: newer edges may
+			      have been dropped (uAPI v1 drops the newest) */
 };
 
 /*

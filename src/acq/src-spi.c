@@ -12,6 +12,15 @@
  * sample once with the time of the read (accurate to the poll period).
  * Polling a converter: the poll tick is the sample clock; late ticks are
  * counted as lost samples.
+ *
+ * Stale edges: the time stamp of the last queued edge belongs to the
+ * sample read next -- unless newer edges never reached the queue (the v1
+ * kernel queue holds 16 events and drops newer ones) or an edge came
+ * between reading the events and the burst.  The device counter shows
+ * it: when DATA_CNTR advanced by more steps than the edge time stamps
+ * account for (round(dt / T)), the sample is that many periods newer than
+ * the edge, and its time stamp is the edge's plus those whole periods of
+ * the device clock.  Such corrections are counted (time_estimated).
  */
 #include "acq.h"
 #include "drdy.h"
@@ -52,8 +61,10 @@ static int wait_ready(struct ssc_source *src, struct spisrc *p, int64_t *t,
 {
 	if (p->drdy) {
 		struct ssc_drdy_events ev;
-		int r = ssc_wait_fd(ssc_drdy_fd(p->drdy), src->stop_fd,
-				    src->timeout_s);
+		int r;
+
+		r = ssc_wait_fd(ssc_drdy_fd(p->drdy), src->stop_fd,
+				src->timeout_s);
 
 		if (r == 0)
 			return ssc_acq_diag(diag, -ETIMEDOUT,
@@ -73,6 +84,14 @@ static int wait_ready(struct ssc_source *src, struct spisrc *p, int64_t *t,
 					    strerror(-r));
 		if (ev.n == 0)
 			return -EAGAIN;
+		if (!p->started) {
+			p->started = true;
+			/* a full queue at the start holds edges from the
+			 * set-up and may have dropped the newest: the last
+			 * time stamp would be stale, start from the next */
+			if (ev.full)
+				return -EAGAIN;
+		}
 		/* edges queued before the last one were never served */
 		p->ticks_lost = ev.lost + ev.n - 1;
 		src->counts.events_lost += p->ticks_lost;
@@ -135,8 +154,9 @@ static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 		     struct sscope_diag *diag)
 {
 	struct spisrc *p = src->priv;
-	static const uint8_t cmd[2] = { SSCOPE_ADIS_BURST_CMD >> 8,
-					SSCOPE_ADIS_BURST_CMD & 0xff };
+	/* writable buffers only: ioctl emulators may copy them back */
+	uint8_t cmd[2] = { SSCOPE_ADIS_BURST_CMD >> 8,
+			   SSCOPE_ADIS_BURST_CMD & 0xff };
 	uint8_t rx[SSCOPE_ADIS_BURST_BYTES];
 	const struct ssc_spi_seg seg[2] = {
 		{ .tx = cmd, .len = 2, .speed_hz = p->burst_speed_hz },
@@ -187,6 +207,15 @@ static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 						    "(is the device in standby or the clock stopped?)",
 						    p->spi.path, src->timeout_s);
 			return -EAGAIN;
+		}
+		if (p->drdy && src->info.rate_hz > 0) {
+			double T = 1.0 / src->info.rate_hz;
+			double by_time = nearbyint(1e-9 * (double)(t - p->last_t) / T);
+
+			if ((double)gap + 1 > by_time) {
+				t += llround(((double)gap + 1 - by_time) * T * 1e9);
+				src->counts.time_estimated++;
+			}
 		}
 		refused = p->rejected < (uint64_t)gap ? p->rejected
 						     : (uint64_t)gap;

@@ -384,6 +384,9 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 		fprintf(f, "repeats:         %llu; data-ready edges not served: %llu\n",
 			(unsigned long long)r->src.duplicates,
 			(unsigned long long)r->src.events_lost);
+	if (r->src.time_estimated)
+		fprintf(f, "late edges:      %llu samples were newer than their data-ready edge; their time is the edge's plus whole periods of DATA_CNTR\n",
+			(unsigned long long)r->src.time_estimated);
 	if (r->src.status_samples) {
 		char t[160];
 
@@ -443,6 +446,8 @@ static json_t *json_summary(const struct acq_opts *o, const char *path,
 	json_object_set_new(j, "repeats", json_integer((json_int_t)r->src.duplicates));
 	json_object_set_new(j, "edges_not_served",
 			    json_integer((json_int_t)r->src.events_lost));
+	json_object_set_new(j, "times_estimated",
+			    json_integer((json_int_t)r->src.time_estimated));
 	json_object_set_new(j, "status_samples",
 			    json_integer((json_int_t)r->src.status_samples));
 	json_object_set_new(j, "status_flags", json_integer(r->src.status_or));
