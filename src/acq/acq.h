@@ -85,6 +85,9 @@ struct ssc_source_ops {
 	 */
 	int (*next)(struct ssc_source *src, struct ssc_acq_sample *s,
 		    struct sscope_diag *diag);
+	/* Optional: samples read but not yet returned (after a stop,
+	 * timeout or error); 0 with *s, -ENODATA when none is left. */
+	int (*flush)(struct ssc_source *src, struct ssc_acq_sample *s);
 	void (*close)(struct ssc_source *src);
 };
 

@@ -80,18 +80,86 @@ static void request_stop(struct engine *e)
 	}
 }
 
+struct reader_state {
+	double period;       /* nominal, 0 unknown */
+	int64_t dur_ns;      /* 0: no duration limit */
+	uint64_t pending;    /* samples dropped by ring overruns, not yet
+				marked on a row */
+	uint16_t pending_cause;
+	bool have_prev;
+	int64_t t_prev;
+};
+
+/* Gap logic, limits and the hand-over to the ring for one sample.
+ * Returns true when the run must stop (count or duration reached). */
+static bool accept(struct engine *e, struct reader_state *st,
+		   struct ssc_acq_sample *s)
+{
+	const struct ssc_acq_config *cfg = e->cfg;
+
+	if (st->have_prev) {
+		double dt = 1e-9 * (double)(s->t_ns - st->t_prev);
+
+		if (!e->src->info.has_counter && st->period > 0) {
+			uint64_t k = ssc_gap_from_time(dt, st->period);
+
+			if (k > s->missing) {
+				e->events_gap += k - s->missing;
+				s->missing = k > UINT32_MAX ? UINT32_MAX
+							    : (uint32_t)k;
+				s->cause |= SSC_GAP_EVENTS;
+			}
+		}
+		if (s->missing == 0)
+			ssc_intervals_add(&e->iv, dt);
+	} else {
+		e->t_first = s->t_ns;
+		/* samples lost before the first one do not exist in the
+		 * capture: it starts here */
+		s->missing = 0;
+		s->cause = 0;
+	}
+	if (st->dur_ns && s->t_ns - e->t_first >= st->dur_ns) {
+		e->stop_reason = SSC_STOP_DURATION;
+		return true;
+	}
+	st->t_prev = s->t_ns;
+	st->have_prev = true;
+	if (st->pending) {
+		uint64_t m = s->missing + st->pending;
+
+		s->missing = m > UINT32_MAX ? UINT32_MAX : (uint32_t)m;
+		s->cause |= st->pending_cause;
+	}
+	if (!ssc_ring_push(&e->ring, s)) {
+		e->drops_ring++;
+		st->pending = (uint64_t)s->missing + 1;
+		st->pending_cause = (uint16_t)(s->cause | SSC_GAP_RING);
+		return false;
+	}
+	st->pending = 0;
+	st->pending_cause = 0;
+	e->t_last = s->t_ns;
+	e->pushed++;
+	if (cfg->count && e->pushed >= cfg->count) {
+		e->stop_reason = SSC_STOP_COUNT;
+		return true;
+	}
+	return false;
+}
+
 static void *reader_main(void *arg)
 {
 	struct engine *e = arg;
 	struct ssc_source *src = e->src;
 	const struct ssc_acq_config *cfg = e->cfg;
-	double period = src->info.rate_hz > 0 ? 1.0 / src->info.rate_hz : 0;
-	int64_t dur_ns = cfg->duration_s > 0 ? llround(cfg->duration_s * 1e9)
-					     : 0;
-	uint64_t pending = 0;
-	uint16_t pending_cause = 0;
-	bool have_prev = false;
-	int64_t t_prev = 0;
+	struct reader_state st = {
+		.period = src->info.rate_hz > 0 ? 1.0 / src->info.rate_hz : 0,
+		.dur_ns = cfg->duration_s > 0 ? llround(cfg->duration_s * 1e9)
+					      : 0,
+	};
+	struct ssc_acq_sample s;
+	bool limit = false;
 
 	/* sleep to the microsecond, not the default 50 us slack */
 	prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
@@ -101,8 +169,7 @@ static void *reader_main(void *arg)
 		e->rt_errno = pthread_setschedparam(pthread_self(), SCHED_FIFO,
 						    &sp);
 	}
-	for (;;) {
-		struct ssc_acq_sample s;
+	while (!limit) {
 		int rc;
 
 		if (atomic_load(&e->stop)) {
@@ -124,54 +191,15 @@ static void *reader_main(void *arg)
 			e->reader_err = rc;
 			break;
 		}
-		if (have_prev) {
-			double dt = 1e-9 * (double)(s.t_ns - t_prev);
-
-			if (!src->info.has_counter && period > 0) {
-				uint64_t k = ssc_gap_from_time(dt, period);
-
-				if (k > s.missing) {
-					e->events_gap += k - s.missing;
-					s.missing = k > UINT32_MAX ? UINT32_MAX
-								   : (uint32_t)k;
-					s.cause |= SSC_GAP_EVENTS;
-				}
-			}
-			if (s.missing == 0)
-				ssc_intervals_add(&e->iv, dt);
-		} else {
-			e->t_first = s.t_ns;
-			/* samples lost before the first one do not exist in
-			 * the capture: it starts here */
-			s.missing = 0;
-			s.cause = 0;
-		}
-		if (dur_ns && s.t_ns - e->t_first >= dur_ns) {
-			e->stop_reason = SSC_STOP_DURATION;
+		limit = accept(e, &st, &s);
+	}
+	/* samples the source read but still holds belong to the capture */
+	while (!limit && src->ops->flush && !e->writer_err) {
+		memset(&s, 0, sizeof(s));
+		s.temp_degc = (double)NAN;
+		if (src->ops->flush(src, &s))
 			break;
-		}
-		t_prev = s.t_ns;
-		have_prev = true;
-		if (pending) {
-			uint64_t m = s.missing + pending;
-
-			s.missing = m > UINT32_MAX ? UINT32_MAX : (uint32_t)m;
-			s.cause |= pending_cause;
-		}
-		if (!ssc_ring_push(&e->ring, &s)) {
-			e->drops_ring++;
-			pending = (uint64_t)s.missing + 1;
-			pending_cause = (uint16_t)(s.cause | SSC_GAP_RING);
-			continue;
-		}
-		pending = 0;
-		pending_cause = 0;
-		e->t_last = s.t_ns;
-		e->pushed++;
-		if (cfg->count && e->pushed >= cfg->count) {
-			e->stop_reason = SSC_STOP_COUNT;
-			break;
-		}
+		limit = accept(e, &st, &s);
 	}
 	e->reader_cpu = thread_cpu_s();
 	atomic_store_explicit(&e->reader_done, true, memory_order_release);

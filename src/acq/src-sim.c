@@ -108,7 +108,7 @@ static void sim_close(struct ssc_source *src)
 	free(src);
 }
 
-static const struct ssc_source_ops sim_ops = { sim_next, sim_close };
+static const struct ssc_source_ops sim_ops = { sim_next, NULL, sim_close };
 
 static int opt_quantity(const char *key, const char *v, const char *si,
 			double *out, struct sscope_diag *diag)

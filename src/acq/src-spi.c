@@ -20,7 +20,9 @@
  * it: when DATA_CNTR advanced by more steps than the edge time stamps
  * account for (round(dt / T)), the sample is that many periods newer than
  * the edge, and its time stamp is the edge's plus those whole periods of
- * the device clock.  Such corrections are counted (time_estimated).
+ * the device clock.  Such corrections are counted (time_estimated).  The
+ * chain starts from the first ANCHOR_N samples, held back until their
+ * common offset to the device clock is known (see anchor()).
  */
 #include "acq.h"
 #include "drdy.h"
@@ -32,6 +34,7 @@
 #include <string.h>
 
 #define BAD_RUN_LIMIT 50 /* consecutive refused frames: give up */
+#define ANCHOR_N 8       /* samples held to anchor the time stamps */
 
 struct spisrc {
 	struct ssc_spi spi;
@@ -51,6 +54,15 @@ struct spisrc {
 	int64_t last_progress;
 	uint64_t rejected;          /* refused since the last good frame */
 	unsigned bad_run;
+	bool last_full;             /* the last event read found a full queue */
+	unsigned anchor_tries;
+	/* the first samples, held until their time stamps are anchored */
+	bool anchored;
+	size_t n_hold, pos_out;
+	struct held {
+		struct ssc_acq_sample s;
+		uint64_t u;             /* counter steps since the first */
+	} hold[ANCHOR_N];
 };
 
 /* ---------------------------------------------------------------- pacing */
@@ -92,6 +104,7 @@ static int wait_ready(struct ssc_source *src, struct spisrc *p, int64_t *t,
 			if (ev.full)
 				return -EAGAIN;
 		}
+		p->last_full = ev.full;
 		/* edges queued before the last one were never served */
 		p->ticks_lost = ev.lost + ev.n - 1;
 		src->counts.events_lost += p->ticks_lost;
@@ -150,14 +163,14 @@ static int adis_write_reg(struct spisrc *p, uint8_t reg, uint16_t val)
 	return ssc_spi_message(&p->spi, seg, 2);
 }
 
-static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
+static int adis_read(struct ssc_source *src, struct ssc_acq_sample *s,
 		     struct sscope_diag *diag)
 {
 	struct spisrc *p = src->priv;
 	/* writable buffers only: ioctl emulators may copy them back */
 	uint8_t cmd[2] = { SSCOPE_ADIS_BURST_CMD >> 8,
 			   SSCOPE_ADIS_BURST_CMD & 0xff };
-	uint8_t rx[SSCOPE_ADIS_BURST_BYTES];
+	uint8_t rx[SSCOPE_ADIS_BURST_BYTES] = { 0 };
 	const struct ssc_spi_seg seg[2] = {
 		{ .tx = cmd, .len = 2, .speed_hz = p->burst_speed_hz },
 		{ .rx = rx, .len = SSCOPE_ADIS_BURST_BYTES,
@@ -189,6 +202,9 @@ static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 		return -EAGAIN;
 	}
 	p->bad_run = 0;
+	if (!p->have_cnt && p->drdy && p->last_full &&
+	    ++p->anchor_tries < 100)
+		return -EAGAIN; /* a full queue's last edge may be old */
 	if (!p->have_cnt) {
 		s->missing = 0;
 		p->rejected = 0;
@@ -208,7 +224,7 @@ static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 						    p->spi.path, src->timeout_s);
 			return -EAGAIN;
 		}
-		if (p->drdy && src->info.rate_hz > 0) {
+		if (p->drdy && p->anchored && src->info.rate_hz > 0) {
 			double T = 1.0 / src->info.rate_hz;
 			double by_time = nearbyint(1e-9 * (double)(t - p->last_t) / T);
 
@@ -241,6 +257,75 @@ static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 	}
 	s->temp_degc = a.temp_degc;
 	return 0;
+}
+
+/*
+ * Anchor the time stamps of the held first samples.  A sample is never
+ * older than the edge read before its burst, so each observation gives a
+ * lower bound t_edge - u T on the offset of the device clock (u: counter
+ * steps since the first sample); the largest bound is exact as soon as
+ * one of the held observations was fresh.  Samples whose edge time lies
+ * more than half a period below offset + u T get that time instead.
+ */
+static void anchor(struct ssc_source *src, struct spisrc *p)
+{
+	double T = 1e9 / src->info.rate_hz, off = -INFINITY;
+
+	for (size_t j = 0; j < p->n_hold; j++) {
+		double o = (double)p->hold[j].s.t_ns - (double)p->hold[j].u * T;
+
+		if (o > off)
+			off = o;
+	}
+	for (size_t j = 0; j < p->n_hold; j++) {
+		double est = off + (double)p->hold[j].u * T;
+
+		if ((double)p->hold[j].s.t_ns < est - 0.5 * T) {
+			p->hold[j].s.t_ns = llround(est);
+			src->counts.time_estimated++;
+		}
+	}
+	p->anchored = true;
+	if (p->n_hold)
+		p->last_t = p->hold[p->n_hold - 1].s.t_ns;
+}
+
+static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
+		     struct sscope_diag *diag)
+{
+	struct spisrc *p = src->priv;
+	struct held *h;
+	int rc;
+
+	if (p->anchored && p->pos_out < p->n_hold) {
+		*s = p->hold[p->pos_out++].s;
+		return 0;
+	}
+	rc = adis_read(src, s, diag);
+	if (rc || !p->drdy || p->anchored)
+		return rc;
+	h = &p->hold[p->n_hold];
+	h->s = *s;
+	h->u = p->n_hold ? p->hold[p->n_hold - 1].u + s->missing + 1 : 0;
+	if (++p->n_hold < ANCHOR_N)
+		return -EAGAIN;
+	anchor(src, p);
+	*s = p->hold[0].s;
+	p->pos_out = 1;
+	return 0;
+}
+
+static int adis_flush(struct ssc_source *src, struct ssc_acq_sample *s)
+{
+	struct spisrc *p = src->priv;
+
+	if (!p->anchored && p->n_hold)
+		anchor(src, p);
+	if (p->pos_out < p->n_hold) {
+		*s = p->hold[p->pos_out++].s;
+		return 0;
+	}
+	return -ENODATA;
 }
 
 static const char *adis_known(uint16_t id)
@@ -369,7 +454,7 @@ static int frame_next(struct ssc_source *src, struct ssc_acq_sample *s,
 	struct spisrc *p = src->priv;
 	const struct sscope_spiadc_frame *f = &p->frame;
 	struct ssc_spi_seg seg[SSCOPE_SPIADC_MAX_XFERS];
-	uint8_t rx[SSCOPE_SPIADC_MAX_BYTES];
+	uint8_t rx[SSCOPE_SPIADC_MAX_BYTES] = { 0 };
 	size_t off = 0;
 	int64_t t;
 	int rc = wait_ready(src, p, &t, diag);
@@ -459,8 +544,9 @@ static void spi_close(struct ssc_source *src)
 	free(src);
 }
 
-static const struct ssc_source_ops adis_ops = { adis_next, spi_close };
-static const struct ssc_source_ops frame_ops = { frame_next, spi_close };
+static const struct ssc_source_ops adis_ops = { adis_next, adis_flush,
+						spi_close };
+static const struct ssc_source_ops frame_ops = { frame_next, NULL, spi_close };
 
 int ssc_source_spi_open(struct ssc_source **out, const struct ssc_spi_opts *o,
 			struct sscope_diag *diag)
