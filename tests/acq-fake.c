@@ -758,11 +758,11 @@ static const char *tpath(const char *name)
 /*
  * Run a program with the preload library, the event pipe at EV_FD,
  * stdout and stderr into files.  prefix: prepend $SSCOPE_RUN.  Sends sig
- * after sig_after_s (0: never).  Returns the exit status, 128 + signal
- * when killed, -1 on timeout.
+ * once the device has served sig_after bursts (0: never).  Returns the
+ * exit status, 128 + signal when killed, -1 on timeout.
  */
 static int run(bool prefix, const char *const *args, const char *out,
-	       const char *err, double sig_after_s, int sig)
+	       const char *err, unsigned sig_after, int sig)
 {
 	const char *pre = prefix ? getenv("SSCOPE_RUN") : NULL;
 	char *preword = pre ? strdup(pre) : NULL, *save = NULL;
@@ -810,9 +810,16 @@ static int run(bool prefix, const char *const *args, const char *out,
 
 		if (r == pid)
 			break;
-		if (sig_after_s > 0 && !signalled && el >= sig_after_s) {
-			kill(pid, sig);
-			signalled = true;
+		if (sig_after && !signalled) {
+			unsigned b;
+
+			pthread_mutex_lock(&M.mu);
+			b = M.bursts;
+			pthread_mutex_unlock(&M.mu);
+			if (b >= sig_after) {
+				kill(pid, sig);
+				signalled = true;
+			}
 		}
 		if (el > 120) {
 			kill(pid, SIGKILL);
@@ -829,7 +836,7 @@ static int run(bool prefix, const char *const *args, const char *out,
 static const char *sscope;
 
 /* run sensorscope acquire ARGS with the prefix; "out", "err" files */
-static int acquire(const char *const *extra, double sig_after_s, int sig)
+static int acquire(const char *const *extra, unsigned sig_after, int sig)
 {
 	const char *args[48] = { sscope, "acquire" };
 	size_t n = 2;
@@ -837,7 +844,7 @@ static int acquire(const char *const *extra, double sig_after_s, int sig)
 	for (size_t i = 0; extra[i] && n < 47; i++)
 		args[n++] = extra[i];
 	args[n] = NULL;
-	return run(true, args, tpath("out"), tpath("err"), sig_after_s, sig);
+	return run(true, args, tpath("out"), tpath("err"), sig_after, sig);
 }
 
 static json_t *summary(void)
@@ -1336,8 +1343,7 @@ static void scenario_signal(void)
 	int rc;
 
 	start(&s);
-	rc = acquire(a, getenv("SSCOPE_RUN") && *getenv("SSCOPE_RUN") ? 6 : 1.5,
-		     SIGTERM);
+	rc = acquire(a, NS, SIGTERM); /* once NS samples were read */
 	stop();
 	tap(rc == 0, "SIGTERM: clean exit 0 (got %d)", rc);
 	if (rc)

@@ -97,6 +97,12 @@ static bool accept(struct engine *e, struct reader_state *st,
 {
 	const struct ssc_acq_config *cfg = e->cfg;
 
+	if (!st->have_prev)
+		e->t_first = s->t_ns;
+	if (st->dur_ns && s->t_ns - e->t_first >= st->dur_ns) {
+		e->stop_reason = SSC_STOP_DURATION;
+		return true;
+	}
 	if (st->have_prev) {
 		double dt = 1e-9 * (double)(s->t_ns - st->t_prev);
 
@@ -113,15 +119,10 @@ static bool accept(struct engine *e, struct reader_state *st,
 		if (s->missing == 0)
 			ssc_intervals_add(&e->iv, dt);
 	} else {
-		e->t_first = s->t_ns;
 		/* samples lost before the first one do not exist in the
 		 * capture: it starts here */
 		s->missing = 0;
 		s->cause = 0;
-	}
-	if (st->dur_ns && s->t_ns - e->t_first >= st->dur_ns) {
-		e->stop_reason = SSC_STOP_DURATION;
-		return true;
 	}
 	st->t_prev = s->t_ns;
 	st->have_prev = true;
@@ -428,6 +429,13 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		return -ENOMEM;
 	e->cfg = cfg;
 	e->src = cfg->src;
+	/* from here on SIGINT/SIGTERM only ask for a clean stop: blocked
+	 * before any file exists, so none is left behind */
+	sigemptyset(&set);
+	sigaddset(&set, SIGINT);
+	sigaddset(&set, SIGTERM);
+	if (cfg->handle_signals)
+		pthread_sigmask(SIG_BLOCK, &set, &old);
 	atomic_init(&e->stop, false);
 	atomic_init(&e->reader_done, false);
 	pthread_mutex_init(&e->live_mu, NULL);
@@ -454,11 +462,6 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	cfg->src->timeout_s = cfg->timeout_s;
 	if (cfg->lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
 		res->mlock_errno = errno;
-	sigemptyset(&set);
-	sigaddset(&set, SIGINT);
-	sigaddset(&set, SIGTERM);
-	if (cfg->handle_signals)
-		pthread_sigmask(SIG_BLOCK, &set, &old);
 	wall0 = ssc_now_ns();
 	rc = start_thread(&wt, writer_main, e);
 	if (rc)
@@ -563,6 +566,14 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		e->w = NULL;
 	}
 out_signals:
+	cfg->src->stop_fd = -1;
+	if (e->w)
+		sscope_writer_abort(e->w);
+out_fd:
+	close(e->stop_fd);
+out_ring:
+	ssc_ring_free(&e->ring);
+out_free:
 	if (cfg->handle_signals) {
 		struct timespec zero = { 0, 0 };
 
@@ -572,14 +583,6 @@ out_signals:
 			;
 		pthread_sigmask(SIG_SETMASK, &old, NULL);
 	}
-	cfg->src->stop_fd = -1;
-	if (e->w)
-		sscope_writer_abort(e->w);
-out_fd:
-	close(e->stop_fd);
-out_ring:
-	ssc_ring_free(&e->ring);
-out_free:
 	pthread_mutex_destroy(&e->live_mu);
 	free(e);
 	return rc;

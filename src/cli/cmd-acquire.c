@@ -133,9 +133,16 @@ static int handle(int key, const char *arg, void *ctx)
 	case OPT_SPI:
 		o->spi = arg;
 		return 0;
-	case OPT_DRDY:
+	case OPT_DRDY: {
+		const char *c = strrchr(arg, ':');
+
+		if (!c || c == arg || !c[1])
+			return ssc_usage_error("acquire",
+					       "--drdy: '%s' is not CHIP:LINE (e.g. gpiochip0:25)",
+					       arg);
 		o->drdy = arg;
 		return 0;
+	}
 	case OPT_DEVICE:
 		o->device = arg;
 		return 0;
