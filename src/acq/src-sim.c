@@ -4,7 +4,8 @@
  * (or unpaced), so that the whole acquisition path -- reader thread,
  * ring, writer, live view, summary -- runs anywhere without hardware.
  * Time stamps are the nominal k / rate; the pacing lateness is counted
- * separately.  Values: white Gaussian noise whose per-sample standard
+ * separately.  Rates above 1 kHz (times the speed) are paced in batches of
+ * 1 ms, like a device with a FIFO.  Values: white Gaussian noise whose per-sample standard
  * deviation is N * sqrt(fs) for a noise density N (so the Allan deviation
  * of the capture is N / sqrt(tau), IEEE Std 952 Annex C), made by GSL's
  * ziggurat generator with an explicit seed; the only function that makes
@@ -28,6 +29,7 @@ struct sim {
 	gsl_rng *rng;
 	double rate_hz;
 	double speed;          /* 0: unpaced */
+	int64_t period_ns;     /* of the pacing */
 	size_t n_ch;
 	double input[6];       /* constant true input per channel, SI */
 	double sd[6];          /* per-sample noise sd, SI */
@@ -78,11 +80,18 @@ static int sim_next(struct ssc_source *src, struct ssc_acq_sample *smp,
 	if (s->speed > 0) {
 		int64_t due = s->start_ns +
 			      llround((double)s->k * 1e9 / (s->rate_hz * s->speed));
+		int64_t now = ssc_now_ns();
 		double late;
 
-		if (ssc_sleep_until(due, src->stop_fd))
-			return -ECANCELED;
-		late = 1e-9 * (double)(ssc_now_ns() - due);
+		/* periods under a millisecond are paced in 1 ms batches: a
+		 * wake-up per sample would cost more than the sample */
+		if (due - now > (s->period_ns < 1000000 ? 1000000 - s->period_ns
+							 : 0)) {
+			if (ssc_sleep_until(due, src->stop_fd))
+				return -ECANCELED;
+			now = ssc_now_ns();
+		}
+		late = now > due ? 1e-9 * (double)(now - due) : 0;
 		if (late > src->counts.late_max_s)
 			src->counts.late_max_s = late;
 		src->counts.late_sum2_s2 += late * late;
@@ -235,6 +244,8 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		goto fail;
 	}
 	gsl_rng_set(s->rng, seed);
+	if (s->speed > 0)
+		s->period_ns = llround(1e9 / (s->rate_hz * s->speed));
 	for (size_t c = 0; c < s->n_ch; c++) {
 		bool gyro = c < 3;
 
