@@ -26,6 +26,7 @@
 #endif
 
 #define MAX_EVENTS 64
+#define SSC_ACQ_UNUSED __attribute__((unused)) /* without libgpiod */
 
 bool ssc_drdy_available(void)
 {
@@ -64,7 +65,7 @@ static int split_spec(const char *spec, char *chip, size_t chip_len,
 	return 0;
 }
 
-static bool parse_offset(const char *s, unsigned *out)
+static SSC_ACQ_UNUSED bool parse_offset(const char *s, unsigned *out)
 {
 	char *end;
 	unsigned long v;
