@@ -243,6 +243,7 @@ struct live_ctx {
 	int lines;        /* lines drawn last time (to redraw over them) */
 	uint64_t last_samples;
 	double last_elapsed;
+	double rate;
 };
 
 static void live_view(const struct ssc_acq_live *l, void *ctx)
@@ -250,12 +251,12 @@ static void live_view(const struct ssc_acq_live *l, void *ctx)
 	struct live_ctx *lc = ctx;
 	const struct ssc_source_info *info = l->info;
 	char a[32], b[32], c[32];
-	double rate = (double)NAN;
+	double rate = lc->rate;
 	int lines = 0;
 
 	if (l->elapsed_s > lc->last_elapsed)
-		rate = (double)(l->samples - lc->last_samples) /
-		       (l->elapsed_s - lc->last_elapsed);
+		rate = lc->rate = (double)(l->samples - lc->last_samples) /
+				  (l->elapsed_s - lc->last_elapsed);
 	lc->last_samples = l->samples;
 	lc->last_elapsed = l->elapsed_s;
 	if (lc->tty && lc->lines)
@@ -516,7 +517,7 @@ int ssc_cmd_acquire(int argc, char **argv)
 	struct ssc_acq_config cfg;
 	struct ssc_acq_result res;
 	struct sscope_diag d = { "" };
-	struct live_ctx lc = { 0 };
+	struct live_ctx lc = { .rate = (double)NAN };
 	char c0[300], c1[64], c2[64];
 	const char *comments[4];
 	size_t nc = 0;
