@@ -52,6 +52,19 @@ run "live view" 0 acquire --source sim:speed=10 --count 1500 --live -o "$T/d.csv
 has "live view shows ADEV" "$T/err" 'ADEV'
 has "live view shows the channels" "$T/err" 'gx \[deg/s\]'
 
+# --realtime: SCHED_FIFO and mlockall, or a warning that says why not
+run "--realtime" 0 acquire --source sim:speed=10 --count 500 --realtime --format json -o "$T/rt.csv"
+if command -v jq >/dev/null 2>&1; then
+	if [ "$(jq .realtime "$T/out")" = true ]; then
+		lacks "--realtime granted: no warning" "$T/err" 'SCHED_FIFO'
+	else
+		has "--realtime refused: a warning says so" "$T/err" '^sensorscope: acquire: warning: SCHED_FIFO priority 50 not permitted'
+	fi
+	json_check "--realtime: all 500 samples" "$T/out" '.samples == 500 and .drops.total == 0'
+else
+	skip "--realtime" "jq not installed"
+fi
+
 # clean stops: everything read is in a valid file
 for sig in INT TERM; do
 	$SSCOPE_RUN "$SSCOPE" acquire --source sim:rate=2000 --format json \
