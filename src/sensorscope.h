@@ -200,13 +200,13 @@ int sscope_unit_si_string(const struct sscope_unit *unit, char *buf,
 /**
  * Parse a quantity with its unit, e.g. "0.15 deg/sqrt(h)" or "-100 deg/s".
  * @param text      the text.
- * @param si_value  receives the value in SI.
+ * @param value_si  receives the value in SI.
  * @param unit      receives the unit as written (may be NULL).  A number
  *                  without a unit yields a dimensionless unit.
  * @param diag      optional detail.
  * @return 0, or -EINVAL (not a number, or unknown unit).
  */
-int sscope_quantity_parse(const char *text, double *si_value,
+int sscope_quantity_parse(const char *text, double *value_si,
 			  struct sscope_unit *unit, struct sscope_diag *diag);
 
 /* ------------------------------------------------------------------ */
@@ -654,5 +654,7 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
  */
 #include "sscope-psd.h"
 #include "sscope-vibration.h"
+#include "sscope-adis.h"
+#include "sscope-spiadc.h"
 
 #endif /* SENSORSCOPE_H */

@@ -160,5 +160,6 @@ int ssc_cmd_run(int argc, char **argv);
 int ssc_cmd_report(int argc, char **argv);
 int ssc_cmd_psd(int argc, char **argv);
 int ssc_cmd_vibration(int argc, char **argv);
+int ssc_cmd_acquire(int argc, char **argv);
 
 #endif

@@ -23,6 +23,8 @@ static const struct command commands[] = {
 	  ssc_cmd_psd },
 	{ "vibration", "machinery vibration: ISO severity, shaft orders, bearing envelope, diagnosis",
 	  ssc_cmd_vibration },
+	{ "acquire", "record a live sensor (SPI + data-ready line) or the simulator",
+	  ssc_cmd_acquire },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
