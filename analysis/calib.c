@@ -28,6 +28,7 @@
 #include <string.h>
 
 #include <gsl/gsl_blas.h>
+#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
@@ -239,6 +240,38 @@ out:
 
 #define COND_MAX 1e8
 
+/*
+ * Excitation rule: the smallest eigenvalue of the normalised second-moment
+ * matrix sum(v v^T) / sum(|v|^2) of the stimulus directions (gravity in the
+ * poses, rotation rates in the motions) must be at least EXCITE_MIN, i.e.
+ * every direction carries at least 1 % of the stimulus energy (an ideal
+ * design has 1/3 on each axis).  Below it the parameters of the weak axis
+ * are fitted to noise.
+ */
+#define EXCITE_MIN 0.01
+
+static double min_eig_ratio(const double M[3][3])
+{
+	double A[9], tr = M[0][0] + M[1][1] + M[2][2], lo;
+	gsl_matrix_view mv = gsl_matrix_view_array(A, 3, 3);
+	gsl_vector *ev = gsl_vector_alloc(3);
+	gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc(3);
+
+	if (!ev || !w || !(tr > 0)) {
+		gsl_vector_free(ev);
+		gsl_eigen_symm_free(w);
+		return 0;
+	}
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			A[3 * i + j] = M[i][j];
+	gsl_eigen_symm(&mv.matrix, ev, w);
+	lo = gsl_vector_min(ev) / tr;
+	gsl_vector_free(ev);
+	gsl_eigen_symm_free(w);
+	return lo;
+}
+
 /* ------------------------------------------------------------------ */
 /* Accelerometer multi-position fit                                    */
 /* ------------------------------------------------------------------ */
@@ -386,6 +419,19 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	norm /= (double)n_poses;
 	if (!(norm > 0))
 		return ssc_diag(diag, -EDOM, "all poses read zero");
+	{
+		double M[3][3] = { { 0 } }, e;
+
+		for (size_t k = 0; k < n_poses; k++)
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					M[i][j] += means[k][i] * means[k][j];
+		e = min_eig_ratio(M);
+		if (e < EXCITE_MIN)
+			return ssc_diag(diag, -EDOM,
+					"the %zu poses do not determine the 9 parameters: gravity never points along one direction (%.2g %% of the spread, need 1 %%): turn the sensor about all three axes",
+					n_poses, 100 * e);
+	}
 	a.s0 = gravity_m_s2 / norm;
 	fdf.f = accel_f;
 	fdf.df = NULL;
@@ -783,6 +829,28 @@ int sscope_calib_gyro_fit(const double *const g[3],
 		if (rc) {
 			free(gc.u);
 			return rc;
+		}
+	}
+	/* excitation of the motions */
+	{
+		double M[3][3] = { { 0 } }, e;
+
+		for (size_t k = 1; k < n_iv; k++)
+			for (size_t q = iv[k - 1].end; q < iv[k].start; q++) {
+				double w[3];
+
+				for (int i = 0; i < 3; i++)
+					w[i] = g[i][q * stride] - gc.bias[i];
+				for (int i = 0; i < 3; i++)
+					for (int j = 0; j < 3; j++)
+						M[i][j] += w[i] * w[j];
+			}
+		e = min_eig_ratio(M);
+		if (e < EXCITE_MIN) {
+			free(gc.u);
+			return ssc_diag(diag, -EDOM,
+					"the %zu rotations do not determine the 9 gyro parameters: one direction carries %.2g %% of the rotation (need 1 %%): rotate about all three axes",
+					n_iv - 1, 100 * e);
 		}
 	}
 	/* starting scale */
