@@ -44,6 +44,7 @@ struct ssc_common {
 	bool allow_nan;        /* --allow-nan */
 	const char *time_column;
 	const char *temp_column;
+	const char *calibration; /* --calibration FILE, applied by ssc_load */
 };
 
 /* A command-specific option: getopt_long entry plus help text. */
@@ -105,6 +106,10 @@ int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 /* Fill read options from the shared options (progress hooked up). */
 void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o);
 
+/* Apply the --calibration file to a loaded capture (calibfile.c). */
+int ssc_calibration_apply(const struct ssc_common *co, const char *path,
+			  struct sscope_capture *cap);
+
 /* Load a capture with the shared options; prints errors.  Returns exit. */
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
@@ -153,5 +158,8 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig);
 
 /* Commands */
 int ssc_cmd_info(int argc, char **argv);
+int ssc_cmd_calib(int argc, char **argv);
+int ssc_cmd_budget(int argc, char **argv);
+int ssc_cmd_model(int argc, char **argv);
 
 #endif

@@ -15,6 +15,12 @@ struct command {
 static const struct command commands[] = {
 	{ "info", "channels, units, rate, gaps and statistics of a capture",
 	  ssc_cmd_info },
+	{ "calib", "error-model calibration of accelerometer and gyro triads",
+	  ssc_cmd_calib },
+	{ "budget", "navigation drift budget per error source against time",
+	  ssc_cmd_budget },
+	{ "model", "sensor physics: proof-mass accelerometer, Sagnac phase",
+	  ssc_cmd_model },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
