@@ -18,9 +18,11 @@
  * N^2 t^3/3.  Short arguments use series to avoid cancellation.
  *
  * The Monte-Carlo check draws each step's joint increment of (walk,
- * integral, double integral) from its exact covariance (Cholesky), so the
- * simulated variances equal the closed forms at every step and the only
- * deviation is sampling error.
+ * integral, double integral) from its exact covariance (Cholesky of
+ * N^2 h [1 1/2 1/6; 1/2 1/3 1/8; 1/6 1/8 1/20] in the scaled variables
+ * (walk, integral / h, double integral / h^2)), so the simulated variances
+ * equal the closed forms at every step -- including the asked times, which
+ * split the uniform grid -- and the only deviation is sampling error.
  */
 #include "internal.h"
 
@@ -328,14 +330,36 @@ static int chol(int n, double A[3][3], double L[3][3])
 	return 0;
 }
 
+/* A step of the simulation: length h, then the checkpoint ck (or -1) and
+ * whether it ends on the uniform grid (node, for the paths). */
+struct seg {
+	double h;
+	long ck;
+	long node;
+};
+
+static int cmp_time(const void *a, const void *b)
+{
+	const double *x = *(const double *const *)a, *y = *(const double *const *)b;
+
+	return (*x > *y) - (*x < *y);
+}
+
 int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		     const double *times, size_t n_times,
 		     struct sscope_budget_mc_point *out, double *paths,
 		     size_t n_paths)
 {
-	double h, N, g, Q[3][3], L[3][3];
-	size_t *idx = NULL;
+	/* the joint increment of (walk, int walk / h, int int walk / h^2)
+	 * over a step h has covariance N^2 h * Q0 (Q0 independent of h) */
+	double Q0[3][3] = { { 1, 0.5, 1.0 / 6 },
+			    { 0.5, 1.0 / 3, 0.125 },
+			    { 1.0 / 6, 0.125, 0.05 } };
+	double h, N, g, L[3][3];
+	const double **ord = NULL;
+	struct seg *sg = NULL;
 	double *sw = NULL, *sp = NULL, *iw = NULL, *ip = NULL;
+	size_t nseg = 0;
 	int dim, rc = 0;
 	gsl_rng *r = NULL;
 
@@ -343,48 +367,76 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 	    o->realisations == 0 || !(o->t_end_s > 0) || !(o->strength > 0) ||
 	    !isfinite(o->strength) || !isfinite(o->t_end_s))
 		return -EINVAL;
+	for (size_t j = 0; j < n_times; j++)
+		if (!(times[j] > 0) || times[j] > o->t_end_s * (1 + 1e-12))
+			return -EINVAL;
 	h = o->t_end_s / (double)o->steps;
 	N = o->strength;
 	g = o->gravity_m_s2 > 0 ? o->gravity_m_s2 : 9.80665;
 	dim = o->gyro ? 3 : 2;
-	memset(Q, 0, sizeof(Q));
-	if (o->gyro) {
-		/* (theta, int theta, int int theta) for unit density */
-		Q[0][0] = h;
-		Q[0][1] = Q[1][0] = h * h / 2;
-		Q[0][2] = Q[2][0] = h * h * h / 6;
-		Q[1][1] = h * h * h / 3;
-		Q[1][2] = Q[2][1] = pow(h, 4) / 8;
-		Q[2][2] = pow(h, 5) / 20;
-	} else {
-		Q[0][0] = h;
-		Q[0][1] = Q[1][0] = h * h / 2;
-		Q[1][1] = h * h * h / 3;
-	}
-	if (chol(dim, Q, L))
-		return -EINVAL; /* step too small for double precision */
-	idx = ssc_alloc_array(n_times ? n_times : 1, sizeof(*idx));
+	if (chol(dim, Q0, L))
+		return -EINVAL;
+	ord = ssc_alloc_array(n_times ? n_times : 1, sizeof(*ord));
+	sg = ssc_alloc_array(o->steps + n_times + 1, sizeof(*sg));
 	sw = calloc(n_times ? n_times : 1, sizeof(double));
 	sp = calloc(n_times ? n_times : 1, sizeof(double));
 	iw = calloc(n_times ? n_times : 1, sizeof(double));
 	ip = calloc(n_times ? n_times : 1, sizeof(double));
 	r = gsl_rng_alloc(gsl_rng_mt19937);
-	if (!idx || !sw || !sp || !iw || !ip || !r) {
+	if (!ord || !sg || !sw || !sp || !iw || !ip || !r) {
 		rc = -ENOMEM;
 		goto out;
 	}
-	for (size_t j = 0; j < n_times; j++) {
-		double k = round(times[j] / h);
+	/* segments: the uniform grid split at every checkpoint */
+	for (size_t j = 0; j < n_times; j++)
+		ord[j] = &times[j];
+	qsort(ord, n_times, sizeof(*ord), cmp_time);
+	{
+		size_t j = 0;
+		double t = 0;
 
-		if (!(times[j] > 0) || times[j] > o->t_end_s * (1 + 1e-12)) {
-			rc = -EINVAL;
-			goto out;
+		for (size_t k = 1; k <= o->steps; k++) {
+			double tk = k == o->steps ? o->t_end_s : (double)k * h;
+
+			while (j < n_times && *ord[j] < tk - 1e-9 * h) {
+				if (*ord[j] - t > 1e-9 * h) {
+					sg[nseg].h = *ord[j] - t;
+					sg[nseg].ck = -1;
+					sg[nseg].node = -1;
+					t = *ord[j];
+					nseg++;
+				}
+				/* a checkpoint at the current time */
+				if (nseg == 0) {
+					sg[nseg].h = 0;
+					sg[nseg].node = -1;
+					nseg++;
+				}
+				sg[nseg - 1].ck = ord[j] - times;
+				j++;
+				if (j < n_times && *ord[j] - t <= 1e-9 * h) {
+					/* duplicates: a zero step */
+					sg[nseg].h = 0;
+					sg[nseg].node = -1;
+					sg[nseg].ck = -1;
+					nseg++;
+				}
+			}
+			sg[nseg].h = tk - t;
+			sg[nseg].ck = -1;
+			sg[nseg].node = (long)k;
+			t = tk;
+			nseg++;
+			while (j < n_times && fabs(*ord[j] - tk) <= 1e-9 * h) {
+				if (sg[nseg - 1].ck >= 0) {
+					sg[nseg].h = 0;
+					sg[nseg].node = -1;
+					nseg++;
+				}
+				sg[nseg - 1].ck = ord[j] - times;
+				j++;
+			}
 		}
-		if (k < 1)
-			k = 1;
-		idx[j] = (size_t)k;
-		if (idx[j] > o->steps)
-			idx[j] = o->steps;
 	}
 	gsl_rng_set(r, o->seed);
 	for (size_t m = 0; m < o->realisations; m++) {
@@ -394,33 +446,35 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 
 		if (path)
 			path[0] = 0;
-		for (size_t k = 1; k <= o->steps; k++) {
-			double z[3], e[3];
+		for (size_t q = 0; q < nseg; q++) {
+			double hh = sg[q].h;
 
-			for (int i = 0; i < dim; i++)
-				z[i] = gsl_ran_gaussian_ziggurat(r, 1);
-			for (int i = 0; i < dim; i++) {
-				e[i] = 0;
-				for (int j = 0; j <= i; j++)
-					e[i] += L[i][j] * z[j];
-				e[i] *= N;
-			}
-			if (o->gyro) {
-				s[2] += h * s[1] + h * h / 2 * s[0] + e[2];
-				s[1] += h * s[0] + e[1];
-				s[0] += e[0];
-			} else {
-				s[1] += h * s[0] + e[1];
-				s[0] += e[0];
-			}
-			if (path)
-				path[k] = s[0];
-			for (size_t j = 0; j < n_times; j++) {
-				double t, wsd, psd, pos;
+			if (hh > 0) {
+				double z[3], e[3], sc = N * sqrt(hh);
 
-				if (idx[j] != k)
-					continue;
-				t = (double)k * h;
+				for (int i = 0; i < dim; i++)
+					z[i] = gsl_ran_gaussian_ziggurat(r, 1);
+				for (int i = 0; i < dim; i++) {
+					e[i] = 0;
+					for (int j = 0; j <= i; j++)
+						e[i] += L[i][j] * z[j];
+					e[i] *= sc * (i == 0 ? 1 : i == 1 ? hh : hh * hh);
+				}
+				if (o->gyro) {
+					s[2] += hh * s[1] + hh * hh / 2 * s[0] + e[2];
+					s[1] += hh * s[0] + e[1];
+					s[0] += e[0];
+				} else {
+					s[1] += hh * s[0] + e[1];
+					s[0] += e[0];
+				}
+			}
+			if (path && sg[q].node >= 0)
+				path[sg[q].node] = s[0];
+			if (sg[q].ck >= 0) {
+				size_t j = (size_t)sg[q].ck;
+				double t = times[j], wsd, psd, pos;
+
 				wsd = N * sqrt(t);
 				pos = o->gyro ? g * s[2] : s[1];
 				psd = o->gyro ? g * N * sqrt(pow(t, 5) / 20) :
@@ -433,7 +487,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		}
 	}
 	for (size_t j = 0; j < n_times; j++) {
-		double t = (double)idx[j] * h, M = (double)o->realisations;
+		double t = times[j], M = (double)o->realisations;
 
 		out[j].t_s = t;
 		out[j].walk_sd = sqrt(sw[j] / M);
@@ -445,7 +499,8 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		out[j].pos_inside = ip[j] / M;
 	}
 out:
-	free(idx);
+	free(ord);
+	free(sg);
 	free(sw);
 	free(sp);
 	free(iw);

@@ -1065,6 +1065,7 @@ int sscope_calib_linear_fit(const double (*y)[3], const double (*r)[3],
 			return ssc_diag(diag, -EDOM,
 					"%zu reference points do not determine the linear model (too few, or the inputs move together)",
 					n);
+		out->cond = fmax(out->cond, cond);
 		out->bias[i] = coef[0];
 		out->bias_sd[i] = sd[0];
 		for (int j = 0; j < 3; j++) {
@@ -1097,6 +1098,7 @@ int sscope_calib_linear_fit(const double (*y)[3], const double (*r)[3],
 					out->A[i][j] = coef[1 + j];
 					out->A_sd[i][j] = sd[1 + j];
 				}
+			out->cond = fmax(out->cond, cond);
 			out->c2[i] = coef[4];
 			out->c2_sd[i] = sd[4];
 			out->c3[i] = coef[5];
@@ -1164,6 +1166,7 @@ int sscope_calib_linear_to_triad(const struct sscope_calib_linear *lf,
 				lf->residual_rms[1] * lf->residual_rms[1] +
 				lf->residual_rms[2] * lf->residual_rms[2]) / 3);
 	c->iterations = 0;
+	c->cond = lf->cond;
 out:
 	gsl_matrix_free(A);
 	gsl_matrix_free(inv);

@@ -134,7 +134,7 @@ struct sscope_budget_mc_opts {
 
 /** Monte-Carlo statistics at one time. */
 struct sscope_budget_mc_point {
-	double t_s;             /**< the grid time nearest the one asked */
+	double t_s;             /**< the time asked (the grid is split there) */
 	double walk_sd;         /**< sample sd of the walk (attitude or
 				     velocity) over the realisations */
 	double walk_sd_theory;  /**< N sqrt(t) */
@@ -149,7 +149,8 @@ struct sscope_budget_mc_point {
  * open-loop chain (ARW: attitude -> g * attitude -> velocity -> position;
  * VRW: velocity -> position) with the exact discrete transition (the
  * state increments over a step are drawn jointly from their covariance),
- * and measure the fraction inside +-2 sigma at each of @p times.  The
+ * on a uniform grid of @p o->steps steps split at each of @p times (any
+ * order), and measure the fraction inside +-2 sigma at those times.  The
  * expected fraction is erf(sqrt(2)) = 0.9545; its binomial sd is
  * sqrt(0.9545 * 0.0455 / realisations).
  * @param paths   optional (NULL): receives the walk of the first

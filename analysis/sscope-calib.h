@@ -227,6 +227,8 @@ struct sscope_calib_linear {
 	double sf_bfsl[3];            /**< slope of the best-fit straight line
 					   of each axis (equals A_ii without
 					   the non-linear terms) */
+	double cond;                  /**< largest condition number of the
+					   (column-scaled) design matrices */
 	bool nonlinear;               /**< c2, c3 were estimated */
 	bool axis_excited[3];         /**< the data moved this input axis */
 	size_t points;

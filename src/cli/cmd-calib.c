@@ -419,9 +419,11 @@ static json_t *triad_json(const struct triad_out *o)
 		double mis[3][3];
 
 		for (int i = 0; i < 3; i++) {
-			json_array_append_new(sf, ssc_jreal((o->A[i][i] - 1) * 1e6));
+			json_array_append_new(sf, isfinite(c->scale_sd[i]) ?
+						      ssc_jreal((o->A[i][i] - 1) * 1e6) :
+						      json_null());
 			for (int j2 = 0; j2 < 3; j2++)
-				mis[i][j2] = i == j2 ? 0 : o->A[i][j2];
+				mis[i][j2] = i == j2 ? 0 : o->A[i][j2] + 0.0;
 		}
 		{
 			json_t *b = json_array();
@@ -486,7 +488,8 @@ static void triad_text(FILE *f, const struct triad_out *o)
 		o->t.output_unit);
 	fprintf(f, "    poses %zu, parameters %u, residual rms %s %s",
 		c->poses, c->n_params, ssc_fmt(a, sizeof(a), c->residual_rms, 4),
-		o->residual_unit);
+		strcmp(o->residual_unit, "1") ? o->residual_unit :
+						"(unit-vector difference)");
 	if (c->iterations)
 		fprintf(f, ", %u LM iterations", c->iterations);
 	fprintf(f, ", condition %s\n", ssc_fmt(a, sizeof(a), c->cond, 3));
@@ -496,8 +499,11 @@ static void triad_text(FILE *f, const struct triad_out *o)
 		fprintf(f, "    %-6s %9s±%-6s ", o->t.channels[i],
 			ssc_fmt(a, sizeof(a), c->bias[i] / s, 5),
 			ssc_fmt(b, sizeof(b), c->bias_sd[i] / s, 2));
-		fprintf(f, "%9s±%-6s ", ssc_fmt(a, sizeof(a), c->scale[i] * s, 6),
-			ssc_fmt(b, sizeof(b), c->scale_sd[i] * s, 2));
+		if (isfinite(c->scale_sd[i]))
+			fprintf(f, "%9s±%-6s ", ssc_fmt(a, sizeof(a), c->scale[i] * s, 6),
+				ssc_fmt(b, sizeof(b), c->scale_sd[i] * s, 2));
+		else
+			fprintf(f, "%9s (fixed) ", ssc_fmt(a, sizeof(a), c->scale[i] * s, 6));
 		for (int j = 0; j < 3; j++)
 			fprintf(f, " %10s", ssc_fmt(a, sizeof(a), c->mis[i][j], 4));
 		fputc('\n', f);
@@ -516,14 +522,22 @@ static void triad_text(FILE *f, const struct triad_out *o)
 		const char *bu = sscope_term_unit(o->q, SSCOPE_TERM_B);
 		const char *si = sscope_quantity_si_unit(o->q);
 
+		double bmax = 0;
+
+		for (int i = 0; i < 3; i++)
+			bmax = fmax(bmax, fabs(c->bias[i]));
+		if (o->q == SSCOPE_QTY_ACCELERATION && bmax >= 1e-3 * 9.80665)
+			bu = "mg";
 		fprintf(f, "    error model (seed eqs 93-94): ");
 		for (int i = 0; i < 3; i++) {
 			double v = c->bias[i];
 
 			sscope_convert(c->bias[i], si, bu, &v);
-			fprintf(f, "%sb=%s %s s_f=%s ppm", i ? "; " : "",
-				ssc_fmt(a, sizeof(a), v, 4), bu,
-				ssc_fmt(b, sizeof(b), (o->A[i][i] - 1) * 1e6, 4));
+			fprintf(f, "%sb=%s %s", i ? "; " : "",
+				ssc_fmt(a, sizeof(a), v, 4), bu);
+			if (isfinite(c->scale_sd[i]))
+				fprintf(f, " s_f=%s ppm",
+					ssc_fmt(b, sizeof(b), (o->A[i][i] - 1) * 1e6, 4));
 		}
 		fputc('\n', f);
 	}
@@ -1108,21 +1122,35 @@ static int rate_table_fit(struct run *r)
 	return SSC_EXIT_OK;
 }
 
+/* the sensor channels have the dimension of the reference */
+static bool rt_ratio(const struct run *r)
+{
+	const long *ci = r->o->gyro ? r->gi : r->ai;
+
+	return r->cap->channels[ci[0]].col.quantity ==
+	       (r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
+}
+
 static json_t *rate_table_json(const struct run *r)
 {
 	json_t *o = json_object(), *axes = json_array();
 	const struct sscope_calib_linear *lf = &r->lf;
 	const char *ch = "xyz";
 	const long *ci = r->o->gyro ? r->gi : r->ai;
-	double s = ssc_calfile_unit_scale(r->out[0].t.input_unit[0] ?
-						  r->out[0].t.input_unit :
-						  r->cap->channels[ci[0]].col.unit_label);
+	double s = ssc_calfile_unit_scale(r->cap->channels[ci[0]].col.unit_label);
+	/* sensitivities: ratios when the sensor's unit has the reference's
+	 * dimension (held data are SI then), else input units per SI */
+	double sa = rt_ratio(r) ? 1 : s;
 	const char *si = sscope_quantity_si_unit(r->o->gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
 
 	json_object_set_new(o, "points", json_integer((json_int_t)lf->points));
 	json_object_set_new(o, "reference_si_unit", json_string(si));
+	json_object_set_new(o, "bias_unit",
+			    json_string(r->cap->channels[ci[0]].col.unit_label));
+	json_object_set_new(o, "scale_factor_unit", json_string(rt_ratio(r) ? "1" :
+				    "input unit per SI unit"));
 	json_object_set_new(o, "cubic", json_boolean(lf->nonlinear));
 	for (int i = 0; i < 3; i++) {
 		json_t *a = json_object(), *cross = json_array(), *csd = json_array();
@@ -1134,28 +1162,28 @@ static json_t *rate_table_json(const struct run *r)
 		json_object_set_new(a, "bias", ssc_jreal(lf->bias[i] / s));
 		json_object_set_new(a, "bias_sd", ssc_jreal(lf->bias_sd[i] / s));
 		json_object_set_new(a, "scale_factor", lf->axis_excited[i] ?
-						ssc_jreal(lf->A[i][i] / s) : json_null());
+						ssc_jreal(lf->A[i][i] / sa) : json_null());
 		json_object_set_new(a, "scale_factor_sd", lf->axis_excited[i] ?
-						ssc_jreal(lf->A_sd[i][i] / s) : json_null());
+						ssc_jreal(lf->A_sd[i][i] / sa) : json_null());
 		json_object_set_new(a, "scale_factor_bfsl", lf->axis_excited[i] ?
-						ssc_jreal(lf->sf_bfsl[i] / s) : json_null());
+						ssc_jreal(lf->sf_bfsl[i] / sa) : json_null());
 		json_object_set_new(a, "full_scale_si", ssc_jreal(lf->full_scale[i]));
 		json_object_set_new(a, "nonlinearity_percent_fs",
 				    ssc_jreal(lf->nonlinearity[i] * 100));
 		json_object_set_new(a, "residual_rms", ssc_jreal(lf->residual_rms[i] / s));
 		for (int j = 0; j < 3; j++) {
 			json_array_append_new(cross, lf->axis_excited[j] ?
-						       ssc_jreal(lf->A[i][j] / s) : json_null());
+						       ssc_jreal(lf->A[i][j] / sa) : json_null());
 			json_array_append_new(csd, lf->axis_excited[j] ?
-						     ssc_jreal(lf->A_sd[i][j] / s) : json_null());
+						     ssc_jreal(lf->A_sd[i][j] / sa) : json_null());
 		}
 		json_object_set_new(a, "sensitivity_row", cross);
 		json_object_set_new(a, "sensitivity_row_sd", csd);
 		if (lf->nonlinear && lf->axis_excited[i]) {
-			json_object_set_new(a, "c2", ssc_jreal(lf->c2[i] / s));
-			json_object_set_new(a, "c2_sd", ssc_jreal(lf->c2_sd[i] / s));
-			json_object_set_new(a, "c3", ssc_jreal(lf->c3[i] / s));
-			json_object_set_new(a, "c3_sd", ssc_jreal(lf->c3_sd[i] / s));
+			json_object_set_new(a, "c2", ssc_jreal(lf->c2[i] / sa));
+			json_object_set_new(a, "c2_sd", ssc_jreal(lf->c2_sd[i] / sa));
+			json_object_set_new(a, "c3", ssc_jreal(lf->c3[i] / sa));
+			json_object_set_new(a, "c3_sd", ssc_jreal(lf->c3_sd[i] / sa));
 		}
 		json_array_append_new(axes, a);
 	}
@@ -1171,19 +1199,23 @@ static void rate_table_text(FILE *f, const struct run *r)
 	const char *si = sscope_quantity_si_unit(r->o->gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
-	double s = ssc_calfile_unit_scale(iu);
+	double s = ssc_calfile_unit_scale(iu), sa = rt_ratio(r) ? 1 : s;
 	char a[32], b[32];
 
-	fprintf(f, "  rate table: %zu steps; scale factor in %s per %s, non-linearity: best-fit straight line, %% of full scale\n",
-		lf->points, iu[0] ? iu : "counts", si);
+	if (rt_ratio(r))
+		fprintf(f, "  rate table: %zu steps; scale factor and cross-axis terms as ratios, bias in %s,\n    c2, c3 per %s and %s^2; non-linearity: best-fit straight line, %% of full scale\n",
+			lf->points, iu, si, si);
+	else
+		fprintf(f, "  rate table: %zu steps; scale factor in %s per %s, non-linearity: best-fit straight line, %% of full scale\n",
+			lf->points, iu[0] ? iu : "counts", si);
 	fprintf(f, "    %-8s %-8s %22s %14s %12s %12s\n", "channel", "excited",
 		"scale factor", "bias", "NL (% FS)", "FS (SI)");
 	for (int i = 0; i < 3; i++) {
 		fprintf(f, "    %-8s %-8s ", r->cap->channels[ci[i]].col.name,
 			lf->axis_excited[i] ? "yes" : "no");
 		if (lf->axis_excited[i])
-			fprintf(f, "%13s±%-8s ", ssc_fmt(a, sizeof(a), lf->A[i][i] / s, 7),
-				ssc_fmt(b, sizeof(b), lf->A_sd[i][i] / s, 2));
+			fprintf(f, "%13s±%-8s ", ssc_fmt(a, sizeof(a), lf->A[i][i] / sa, 7),
+				ssc_fmt(b, sizeof(b), lf->A_sd[i][i] / sa, 2));
 		else
 			fprintf(f, "%22s ", "-");
 		fprintf(f, "%14s %12s %12s\n", ssc_fmt(a, sizeof(a), lf->bias[i] / s, 5),
@@ -1192,14 +1224,14 @@ static void rate_table_text(FILE *f, const struct run *r)
 		for (int j = 0; j < 3; j++)
 			if (j != i && lf->axis_excited[j])
 				fprintf(f, "      cross-axis from input %c: %s±%s\n", "xyz"[j],
-					ssc_fmt(a, sizeof(a), lf->A[i][j] / s, 4),
-					ssc_fmt(b, sizeof(b), lf->A_sd[i][j] / s, 2));
+					ssc_fmt(a, sizeof(a), lf->A[i][j] / sa, 4),
+					ssc_fmt(b, sizeof(b), lf->A_sd[i][j] / sa, 2));
 		if (lf->nonlinear && lf->axis_excited[i])
-			fprintf(f, "      c2 = %s±%s, c3 = %s±%s (per %s^2, %s^3)\n",
-				ssc_fmt(a, sizeof(a), lf->c2[i] / s, 4),
-				ssc_fmt(b, sizeof(b), lf->c2_sd[i] / s, 2),
-				ssc_fmt((char[32]){ 0 }, 32, lf->c3[i] / s, 4),
-				ssc_fmt((char[32]){ 0 }, 32, lf->c3_sd[i] / s, 2), si, si);
+			fprintf(f, "      c2 = %s±%s, c3 = %s±%s\n",
+				ssc_fmt(a, sizeof(a), lf->c2[i] / sa, 4),
+				ssc_fmt(b, sizeof(b), lf->c2_sd[i] / sa, 2),
+				ssc_fmt((char[32]){ 0 }, 32, lf->c3[i] / sa, 4),
+				ssc_fmt((char[32]){ 0 }, 32, lf->c3_sd[i] / sa, 2));
 	}
 }
 
