@@ -476,7 +476,7 @@ static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
 		}
 	}
 	{
-		struct ssc_style st = { .color = 0x000000, .width = 3 };
+		struct ssc_style st = { .color = 0x111111, .width = 3 };
 
 		for (int i = 0; i < NG; i++) {
 			struct sscope_budget_point pt;

@@ -1252,7 +1252,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 
 		for (int i = 0; i < 3; i++)
 			na += lf->axis_excited[i];
-		fig = ssc_fig_new(1000, 260 + 260 * na, na, 1);
+		fig = ssc_fig_new(1000, 200 + 380 * na, na, 1);
 		ssc_fig_title(fig, "rate table: deviation from the best-fit straight line");
 		for (int i = 0, row = 0; i < 3; i++) {
 			double *x, *y;
@@ -1284,8 +1284,17 @@ static int plot(const struct ssc_common *co, const struct run *r)
 					       (fabs(lf->sf_bfsl[i]) * lf->full_scale[i]) * 100;
 			}
 			ax = ssc_fig_ax(fig, row++, 0);
-			if (x && y)
+			if (x && y) {
+				double ym = 0;
+
 				ssc_ax_line(ax, x, y, n, &st, NULL);
+				for (size_t k = 0; k < n; k++)
+					ym = fmax(ym, fabs(y[k]));
+				ssc_ax_xlim(ax, -1.08 * lf->full_scale[i],
+					    1.08 * lf->full_scale[i]);
+				if (ym > 0)
+					ssc_ax_ylim(ax, -1.15 * ym, 1.15 * ym);
+			}
 			snprintf(buf, sizeof(buf), "%s: deviation (%% FS)",
 				 r->cap->channels[ci[i]].col.name);
 			ssc_ax_ylabel(ax, buf);
