@@ -44,6 +44,21 @@ run "budget --sensor" 0 budget --sensor "$T/gyro.ini" --time 60 --format json
 json_check "spec fields used" "$T/out" '.inputs.gyro_bias_from == "bias_instability" and ((.inputs.arw_rad_sqrt_s - 0.15 * 3.141592653589793 / 180 / 60) | fabs) < 1e-12'
 run "budget --sensor missing" 1 budget --sensor "$T/none.ini"
 one_line_error "budget --sensor missing"
+# a result of allan (CONTRACT shape) and of calib
+cat >"$T/allan.json" <<'JSON'
+{"command":"allan","channels":[
+ {"name":"gx","noise":{"N":{"si":7.3e-5,"si_unit":"rad/s/sqrt(Hz)"},"B":{"si":2.1e-5,"si_unit":"rad/s"}}},
+ {"name":"gy","noise":{"N":{"si":9.1e-5,"si_unit":"rad/s/sqrt(Hz)"},"B":{"si":1.7e-5,"si_unit":"rad/s"}}},
+ {"name":"ax","noise":{"N":{"si":1.2e-3,"si_unit":"m/s^2/sqrt(Hz)"},"B":{"si":4.0e-4,"si_unit":"m/s^2"}}}]}
+JSON
+run "budget --result allan" 0 budget --result "$T/allan.json" --time 60 --format json
+json_check "worst axis of allan N and B" "$T/out" '.inputs.arw_rad_sqrt_s == 9.1e-5 and .inputs.gyro_bias_rad_s == 2.1e-5 and .inputs.vrw_m_s_sqrt_s == 1.2e-3 and .inputs.accel_bias_m_s2 == 4.0e-4'
+run "calib result" 0 calib gyro --format json -o "$T/cal.json" "$SAMPLES/imu-multipose.csv"
+run "budget --result calib" 0 budget --result "$T/cal.json" --time 60 --format json
+json_check "calibration uncertainty used" "$T/out" '.inputs.gyro_bias_from == "calib bias uncertainty" and .inputs.gyro_bias_rad_s > 0 and .inputs.gyro_bias_rad_s < 1e-4 and .inputs.arw_from == "calib noise density"'
+printf '{"command":"info"}\n' >"$T/info.json"
+run "budget --result of another command" 1 budget --result "$T/info.json"
+one_line_error "budget --result of another command"
 run "budget text" 0 budget --gyro-bias 1deg/h --accel-bias 100ug --arw 0.1deg/sqrt\(h\) --error 100m
 has "dominant source reported" "$T/out" 'dominant source changes'
 has "time to error reported" "$T/out" 'time to position error 100 m'

@@ -36,11 +36,14 @@ enum {
 	O_SEED,
 	O_GRAVITY,
 	O_PLOT,
+	O_RESULT,
 };
 
 static const struct ssc_option budget_opts[] = {
 	{ "sensor", required_argument, O_SENSOR, "SPEC.ini",
 	  "sensor spec ([sensor] section; a gyro and an accelerometer file may both be given)" },
+	{ "result", required_argument, O_RESULT, "FILE.json",
+	  "take sources from a JSON result of 'allan' (N, B) or 'calib' (remaining uncertainty)" },
 	{ "gyro-bias", required_argument, O_GBIAS, "V",
 	  "gyro bias, e.g. 10 deg/h" },
 	{ "accel-bias", required_argument, O_ABIAS, "V",
@@ -99,6 +102,8 @@ struct opts {
 	struct sscope_budget_params p;
 	const char *sensor[2];
 	int n_sensor;
+	const char *result[4];
+	int n_result;
 	bool set[4]; /* gyro bias, accel bias, arw, vrw given directly */
 	double times[MAX_TIMES];
 	size_t n_times;
@@ -136,6 +141,11 @@ static int handler(int key, const char *arg, void *ctx)
 		if (o->n_sensor == 2)
 			return ssc_usage_error("budget", "--sensor: at most two (a gyro and an accelerometer)");
 		o->sensor[o->n_sensor++] = arg;
+		return 0;
+	case O_RESULT:
+		if (o->n_result == 4)
+			return ssc_usage_error("budget", "--result: at most four files");
+		o->result[o->n_result++] = arg;
 		return 0;
 	case O_GBIAS:
 		o->set[0] = true;
@@ -543,6 +553,112 @@ static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
 	return SSC_EXIT_OK;
 }
 
+/* largest of a value into *dst (sources from several axes: the worst) */
+static void take_max(double *dst, double v, const char **from, const char *what)
+{
+	if (isfinite(v) && fabs(v) > fabs(*dst)) {
+		*dst = fabs(v);
+		*from = what;
+	}
+}
+
+/*
+ * Sources from a JSON result: an `allan` result gives N (random walk) and
+ * B (bias instability, as the bias) per channel, by the SI unit of the
+ * coefficient; a `calib` result gives what remains after its calibration
+ * is applied: the 1-sigma uncertainty of the bias, of the scale factor
+ * (relative) and the noise density.  The worst axis counts.
+ */
+static int load_result(struct opts *o, const char *path, const char **from)
+{
+	json_error_t err;
+	json_t *root = json_load_file(path, 0, &err), *a;
+	const char *cmd;
+	int used = 0;
+
+	if (!root) {
+		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
+		return SSC_EXIT_FAIL;
+	}
+	cmd = json_string_value(json_object_get(root, "command"));
+	if (cmd && !strcmp(cmd, "allan") &&
+	    json_is_array(a = json_object_get(root, "channels"))) {
+		size_t i;
+		json_t *ch;
+
+		json_array_foreach(a, i, ch) {
+			json_t *nz = json_object_get(ch, "noise");
+			json_t *N = json_object_get(nz, "N"), *B = json_object_get(nz, "B");
+			const char *nu = json_string_value(json_object_get(N, "si_unit"));
+			bool gyro = nu && !strcmp(nu, "rad/s/sqrt(Hz)");
+			bool acc = nu && !strcmp(nu, "m/s^2/sqrt(Hz)");
+
+			if (!gyro && !acc)
+				continue;
+			if (!o->set[gyro ? 2 : 3]) {
+				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
+					 json_number_value(json_object_get(N, "si")),
+					 &from[gyro ? 2 : 3], "allan N");
+				used++;
+			}
+			if (!o->set[gyro ? 0 : 1] && json_is_number(json_object_get(B, "si"))) {
+				take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
+					 json_number_value(json_object_get(B, "si")),
+					 &from[gyro ? 0 : 1], "allan B (bias instability)");
+				used++;
+			}
+		}
+	} else if (cmd && !strncmp(cmd, "calib", 5) &&
+		   json_is_array(a = json_object_get(root, "triads"))) {
+		size_t i;
+		json_t *t;
+
+		json_array_foreach(a, i, t) {
+			const char *kind = json_string_value(json_object_get(t, "kind"));
+			bool gyro = kind && !strcmp(kind, "gyro");
+			json_t *bsd = json_object_get(t, "bias_sd");
+			json_t *sc = json_object_get(t, "scale"), *ssd = json_object_get(t, "scale_sd");
+			json_t *nd = json_object_get(json_object_get(t, "noise_density"), "si");
+
+			if (!kind)
+				continue;
+			for (size_t k = 0; k < 3; k++) {
+				double b = json_number_value(json_array_get(bsd, k));
+				double s1 = json_number_value(json_array_get(sc, k));
+				double s2 = json_number_value(json_array_get(ssd, k));
+
+				/* bias sd in input units -> output SI through the scale */
+				if (!o->set[gyro ? 0 : 1] && json_is_number(json_array_get(bsd, k)))
+					take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
+						 b * s1, &from[gyro ? 0 : 1],
+						 "calib bias uncertainty");
+				if (json_is_number(json_array_get(ssd, k)) && s1 != 0) {
+					double *dst = gyro ? &o->p.gyro_sf : &o->p.accel_sf;
+
+					if (fabs(s2 / s1) > *dst)
+						*dst = fabs(s2 / s1);
+				}
+			}
+			if (!o->set[gyro ? 2 : 3] && json_is_number(nd))
+				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
+					 json_number_value(nd), &from[gyro ? 2 : 3],
+					 "calib noise density");
+			used++;
+		}
+	} else {
+		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",
+			path);
+		json_decref(root);
+		return SSC_EXIT_FAIL;
+	}
+	json_decref(root);
+	if (!used) {
+		ssc_err("budget", "--result: %s: no gyro or accelerometer terms in it", path);
+		return SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
@@ -558,7 +674,7 @@ int ssc_cmd_budget(int argc, char **argv)
 	struct mc_res mc[2] = { { 0 } };
 	int n_mc = 0, first, rc;
 	double t_max;
-	const char *bias_from[2] = { "option", "option" };
+	const char *bias_from[4] = { "option", "option", "option", "option" };
 	struct crossing cr[32];
 	size_t n_cr;
 
@@ -605,6 +721,11 @@ int ssc_cmd_budget(int argc, char **argv)
 				o.sensor[i]);
 			return SSC_EXIT_FAIL;
 		}
+	}
+	for (int i = 0; i < o.n_result; i++) {
+		rc = load_result(&o, o.result[i], bias_from);
+		if (rc)
+			return rc;
 	}
 	if (o.p.gyro_bias_rad_s == 0 && o.p.accel_bias_m_s2 == 0 &&
 	    o.p.arw_rad_sqrt_s == 0 && o.p.vrw_m_s_sqrt_s == 0 &&
@@ -736,6 +857,8 @@ int ssc_cmd_budget(int argc, char **argv)
 		json_object_set_new(in, "accel_bias_m_s2", json_real(o.p.accel_bias_m_s2));
 		json_object_set_new(in, "accel_bias_from", json_string(bias_from[1]));
 		json_object_set_new(in, "arw_rad_sqrt_s", json_real(o.p.arw_rad_sqrt_s));
+		json_object_set_new(in, "arw_from", json_string(bias_from[2]));
+		json_object_set_new(in, "vrw_from", json_string(bias_from[3]));
 		json_object_set_new(in, "vrw_m_s_sqrt_s", json_real(o.p.vrw_m_s_sqrt_s));
 		json_object_set_new(in, "gyro_sf", json_real(o.p.gyro_sf));
 		json_object_set_new(in, "accel_sf", json_real(o.p.accel_sf));

@@ -359,8 +359,15 @@ static void finish_triad(struct triad_out *o)
 					gs = fmax(gs, fabs(c->gsens[i][j]));
 		}
 	} else {
+		/* raw input: the bias in output units, C b; no scale error */
+		for (int i = 0; i < 3; i++) {
+			double v = 0;
+
+			for (int j = 0; j < 3; j++)
+				v += c->mis[i][j] * c->scale[j] * c->bias[j];
+			bias = fmax(bias, fabs(v));
+		}
 		sf = NAN;
-		bias = NAN;
 	}
 	o->grade = sscope_calib_grade(o->q, bias, sf, o->noise_density, gs,
 				      &o->grade_dist);
