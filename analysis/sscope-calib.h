@@ -145,9 +145,12 @@ void sscope_calib_triad_identity(struct sscope_calib_triad *c);
  * @param means    n_poses x 3 mean readings, input units.
  * @param gravity_m_s2  local gravity magnitude, m/s^2.
  * @return 0; -EINVAL (NULL, gravity <= 0, non-finite means); -EDOM with
- *         fewer than 10 poses (9 parameters need one more equation) or
- *         poses that do not determine the parameters (all about one axis:
- *         condition number above 1e8), or no convergence.
+ *         fewer than 10 poses (9 parameters need one more equation), poses
+ *         that do not determine the parameters (the excitation rule: the
+ *         smallest eigenvalue of sum(m m^T) / sum(|m|^2) over the poses is
+ *         below 0.01, i.e. gravity never points along some direction; or a
+ *         condition number of the column-scaled Jacobian above 1e8), or no
+ *         convergence.
  */
 int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 			   double gravity_m_s2, struct sscope_calib_triad *c,
@@ -197,8 +200,11 @@ void sscope_calib_apply(const struct sscope_calib_triad *c, double *x,
  * @param with_gsens  also estimate the g-sensitivity matrix G (needs 5 or
  *                    more poses that are not coplanar).
  * @return 0; -EINVAL; -EDOM with fewer than 6 poses (5 rotations), motions
- *         that do not determine the parameters (all about one axis), or
- *         no convergence.
+ *         that do not determine the parameters (the excitation rule: the
+ *         smallest eigenvalue of sum(w w^T) / sum(|w|^2) over the motion
+ *         samples is below 0.01, e.g. all rotations about one axis; or a
+ *         condition number above 1e8), poses that do not tilt gravity onto
+ *         all three axes when @p with_gsens, or no convergence.
  */
 int sscope_calib_gyro_fit(const double *const g[3],
 			  const double *const accel_cal[3], size_t stride,
