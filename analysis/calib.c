@@ -1239,8 +1239,12 @@ int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,
 		size_t s = i;
 		double r0 = r[i * stride];
 
+		/* at least one sample per run, so a NaN (never equal) ends it */
+		i++;
 		while (i < n && fabs(r[i * stride] - r0) <= tol)
 			i++;
+		if (!isfinite(r0))
+			continue;
 		if (i - s > settle && i - s - settle >= min_len) {
 			if (count < max) {
 				iv[count].start = s + settle;

@@ -281,7 +281,8 @@ int sscope_calib_accel_sixpos(const double (*means)[3], size_t n_poses,
 /**
  * Segments of constant reference (rate table, centrifuge, dividing head):
  * maximal runs where |r - r_first| <= tol, minus the first @p settle
- * samples, kept when at least @p min_len samples remain.
+ * samples, kept when at least @p min_len samples remain.  Non-finite
+ * reference samples belong to no segment.
  * @return 0, -EINVAL.
  */
 int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,

@@ -93,6 +93,19 @@ run "rate table, no full triad to save" 1 calib gyro --mode rate-table --referen
 one_line_error "rate table, no full triad to save"
 run "rate table, unknown reference" 1 calib gyro --mode rate-table --reference nope "$RT"
 
+# the same run described by a schedule instead of the reference column
+i=0
+for w in -300 -250 -200 -150 -100 -50 0 50 100 150 200 250 300; do
+	echo "$((5 * i)) $((5 * i + 5)) ${w}deg/s"
+	i=$((i + 1))
+done >"$T/sched.txt"
+run "rate table from a schedule" 0 calib gyro --mode rate-table --schedule "$T/sched.txt" --gyro gx,gy,gz --cubic --format json "$RT"
+json_check "schedule: 13 steps, same scale factor" "$T/out" '.rate_table.points == 13 and (.rate_table.axes[0] | ((.scale_factor - 1.0085) | fabs) <= 4 * .scale_factor_sd)'
+printf '0 5\n' >"$T/badsched.txt"
+run "malformed schedule" 1 calib gyro --mode rate-table --schedule "$T/badsched.txt" --gyro gx,gy,gz "$RT"
+one_line_error "malformed schedule"
+run "schedule and reference together" 2 calib gyro --mode rate-table --schedule "$T/sched.txt" --reference rate_cmd "$RT"
+
 # tilt: g-dependent bias from the static poses
 run "calib gyro tilt" 0 calib gyro --mode tilt --format json "$MP"
 json_check "tilt: G diagonal near 0.05 deg/s/g" "$T/out" \

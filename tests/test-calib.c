@@ -180,6 +180,18 @@ START_TEST(test_intervals)
 		ck_assert_int_eq(sscope_calib_constant_segments(rr, 1, 12, -1, 1, 2,
 								iv, 4, &n),
 				 -EINVAL);
+		/* NaN (a gap, or outside a schedule) ends a segment */
+		rr[6] = NAN;
+		rr[0] = NAN;
+		ck_assert_int_eq(sscope_calib_constant_segments(rr, 1, 12, 1e-9, 0,
+								2, iv, 4, &n), 0);
+		ck_assert_uint_eq(n, 4);
+		ck_assert_uint_eq(iv[0].start, 1);
+		ck_assert_uint_eq(iv[0].end, 4);
+		ck_assert_uint_eq(iv[1].start, 4);
+		ck_assert_uint_eq(iv[1].end, 6);
+		ck_assert_uint_eq(iv[2].start, 7);
+		ck_assert_uint_eq(iv[2].end, 9);
 	}
 	{
 		struct sscope_calib_interval e = { 3, 3 };

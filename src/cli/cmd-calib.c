@@ -37,6 +37,7 @@ enum {
 	O_CUBIC,
 	O_GSENS,
 	O_SAVE,
+	O_SCHEDULE,
 };
 
 static const struct ssc_option calib_opts[] = {
@@ -58,6 +59,8 @@ static const struct ssc_option calib_opts[] = {
 	  "gyro channels (default: the first three angular-rate channels)" },
 	{ "reference", required_argument, O_REFERENCE, "NAME[,NAME,NAME]",
 	  "rate-table mode: commanded rate (or specific force) column(s)" },
+	{ "schedule", required_argument, O_SCHEDULE, "FILE",
+	  "rate-table mode without a reference column: lines 'START END RATE' (e.g. 10 15 50deg/s)" },
 	{ "table-axis", required_argument, O_TABLE_AXIS, "x|y|z|auto[,...]",
 	  "rate-table mode, one reference column: sensor axis on the table, per file (default auto)" },
 	{ "settle", required_argument, O_SETTLE, "S",
@@ -105,6 +108,7 @@ struct opts {
 	double gravity;
 	struct sscope_calib_detect det;
 	const char *accel, *gyro_names, *reference, *table_axis, *save;
+	const char *schedule;
 	double settle_s;
 	bool cubic, gsens;
 };
@@ -181,6 +185,9 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_SAVE:
 		o->save = arg;
+		return 0;
+	case O_SCHEDULE:
+		o->schedule = arg;
 		return 0;
 	default:
 		return ssc_usage_error("calib", "unexpected option");
@@ -584,7 +591,6 @@ struct run {
 	double (*ry)[3], (*rr)[3];
 	size_t n_pts;
 	bool have_lf;
-	char ref_unit[32];
 };
 
 static void fill_triad(struct triad_out *t, const char *kind,
@@ -963,12 +969,92 @@ static int gyro_tilt(struct run *r)
 	return SSC_EXIT_OK;
 }
 
+/* A rate-table schedule: lines "START END VALUE" (comma or blanks; '#'
+ * comments); times in s unless a unit says otherwise, values in the SI unit
+ * of the sensor unless a unit says otherwise. */
+static int read_schedule(const struct ssc_common *co, const char *path,
+			 const char *si, double **out, size_t *n_out)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	size_t n = 0, cap = 0, ln = 0;
+	double *v = NULL;
+	struct sscope_unit target;
+
+	*out = NULL;
+	*n_out = 0;
+	if (!f) {
+		ssc_err(co->cmd, "--schedule: %s: %s", path, strerror(errno));
+		return SSC_EXIT_FAIL;
+	}
+	sscope_unit_parse(si, &target, NULL);
+	while (fgets(line, sizeof(line), f)) {
+		char *tok[3], *save = NULL, *p;
+		int k = 0;
+		double x[3];
+
+		ln++;
+		if ((p = strchr(line, '#')))
+			*p = 0;
+		for (p = strtok_r(line, ", \t\r\n", &save); p && k < 4;
+		     p = strtok_r(NULL, ", \t\r\n", &save))
+			if (k < 3)
+				tok[k++] = p;
+			else
+				k = 4;
+		if (k == 0)
+			continue;
+		if (k != 3)
+			goto bad;
+		for (int j = 0; j < 3; j++) {
+			struct sscope_unit u;
+
+			if (sscope_quantity_parse(tok[j], &x[j], &u, NULL))
+				goto bad;
+			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+			    u.scale == 1)
+				continue; /* bare: s, or the sensor's SI unit */
+			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QTY_TIME :
+				    !sscope_unit_compatible(&u, &target))
+				goto bad;
+		}
+		if (!(x[1] > x[0]))
+			goto bad;
+		if (n + 3 > cap) {
+			double *nv;
+
+			cap = cap ? 2 * cap : 96;
+			nv = realloc(v, cap * sizeof(double));
+			if (!nv)
+				goto bad;
+			v = nv;
+		}
+		memcpy(v + n, x, sizeof(x));
+		n += 3;
+	}
+	fclose(f);
+	if (n == 0) {
+		free(v);
+		ssc_err(co->cmd, "--schedule: %s: no steps", path);
+		return SSC_EXIT_FAIL;
+	}
+	*out = v;
+	*n_out = n / 3;
+	return SSC_EXIT_OK;
+bad:
+	fclose(f);
+	free(v);
+	ssc_err(co->cmd, "--schedule: %s:%zu: want 'START END VALUE' (times in s, value in %s or with a unit)",
+		path, ln, si);
+	return SSC_EXIT_FAIL;
+}
+
 /* one rate-table file: segment means and reference vectors appended */
 static int rate_table_file(struct run *r, int file_no)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	size_t nref = list_count(r->o->reference), nseg;
+	size_t nref = r->o->reference ? list_count(r->o->reference) : 1, nseg;
 	long ri[3] = { -1, -1, -1 };
 	const long *ci = r->o->gyro ? r->gi : r->ai;
 	double *key, fs = 0;
@@ -976,27 +1062,62 @@ static int rate_table_file(struct run *r, int file_no)
 	int axis = -1;
 	struct sscope_calib_interval *seg = r->iv;
 
-	if (nref != 1 && nref != 3)
-		return ssc_usage_error(co->cmd, "--reference: one or three columns");
-	for (size_t j = 0; j < nref; j++) {
-		list_item(r->o->reference, (int)j, b, sizeof(b));
-		ri[j] = sscope_capture_find(cap, b);
-		if (ri[j] < 0) {
-			ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
+	const double *rc[3] = { NULL, NULL, NULL };
+	double *sched_ref = NULL;
+
+	if (r->o->schedule) {
+		double *sv;
+		size_t ns;
+		int e = read_schedule(co, r->o->schedule,
+				      sscope_quantity_si_unit(r->o->gyro ?
+								      SSCOPE_QTY_ANGULAR_RATE :
+								      SSCOPE_QTY_ACCELERATION),
+				      &sv, &ns);
+
+		if (e)
+			return e;
+		nref = 1;
+		sched_ref = malloc(cap->n * sizeof(double));
+		if (!sched_ref) {
+			free(sv);
 			return SSC_EXIT_FAIL;
 		}
+		for (size_t i = 0; i < cap->n; i++) {
+			double t = cap->time_s ? cap->time_s[i] : (double)i / cap->rate_hz;
+
+			sched_ref[i] = NAN;
+			for (size_t q = 0; q < ns; q++)
+				if (t >= sv[3 * q] && t < sv[3 * q + 1]) {
+					sched_ref[i] = sv[3 * q + 2];
+					break;
+				}
+		}
+		free(sv);
+		rc[0] = sched_ref;
+	} else {
+		if (nref != 1 && nref != 3)
+			return ssc_usage_error(co->cmd, "--reference: one or three columns");
+		for (size_t j = 0; j < nref; j++) {
+			list_item(r->o->reference, (int)j, b, sizeof(b));
+			ri[j] = sscope_capture_find(cap, b);
+			if (ri[j] < 0) {
+				ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
+				return SSC_EXIT_FAIL;
+			}
+			rc[j] = cap->channels[ri[j]].data;
+		}
 	}
-	snprintf(r->ref_unit, sizeof(r->ref_unit), "%s",
-		 cap->channels[ri[0]].col.unit_label);
 	key = malloc(cap->n * sizeof(double));
-	if (!key)
+	if (!key) {
+		free(sched_ref);
 		return SSC_EXIT_FAIL;
+	}
 	for (size_t i = 0; i < cap->n; i++) {
-		key[i] = cap->channels[ri[0]].data[i];
+		key[i] = rc[0][i];
 		if (nref == 3)
-			key[i] += 1.6180339887 * cap->channels[ri[1]].data[i] +
-				  2.7182818285 * cap->channels[ri[2]].data[i];
-		fs = fmax(fs, fabs(key[i]));
+			key[i] += 1.6180339887 * rc[1][i] + 2.7182818285 * rc[2][i];
+		if (isfinite(key[i]))
+			fs = fmax(fs, fabs(key[i]));
 	}
 	{
 		size_t settle = (size_t)lround((r->o->settle_s >= 0 ? r->o->settle_s : 1) *
@@ -1012,6 +1133,7 @@ static int rate_table_file(struct run *r, int file_no)
 	if (nseg < 2) {
 		ssc_err(co->cmd, "%s: %zu steps of constant reference found (need 2 or more)",
 			cap->source, nseg);
+		free(sched_ref);
 		return SSC_EXIT_FAIL;
 	}
 	if (nref == 1) {
@@ -1027,21 +1149,27 @@ static int rate_table_file(struct run *r, int file_no)
 			axis = 1;
 		else if (!strcmp(ax, "z"))
 			axis = 2;
-		else if (strcmp(ax, "auto"))
+		else if (strcmp(ax, "auto")) {
+			free(sched_ref);
 			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
 					       ax);
+		}
 	}
 	{
 		size_t base = r->n_pts;
 		double (*ny)[3] = realloc(r->ry, (base + nseg) * sizeof(*ny));
 		double (*nr)[3];
 
-		if (!ny)
+		if (!ny) {
+			free(sched_ref);
 			return SSC_EXIT_FAIL;
+		}
 		r->ry = ny;
 		nr = realloc(r->rr, (base + nseg) * sizeof(*nr));
-		if (!nr)
+		if (!nr) {
+			free(sched_ref);
 			return SSC_EXIT_FAIL;
+		}
 		r->rr = nr;
 		for (size_t k = 0; k < nseg; k++) {
 			for (int i = 0; i < 3; i++)
@@ -1050,15 +1178,9 @@ static int rate_table_file(struct run *r, int file_no)
 							   NULL);
 			for (int i = 0; i < 3; i++)
 				r->rr[base + k][i] = 0;
-			if (nref == 3)
-				for (int i = 0; i < 3; i++)
-					sscope_calib_interval_mean(cap->channels[ri[i]].data,
-								   1, &seg[k],
-								   &r->rr[base + k][i], NULL);
-			else
-				sscope_calib_interval_mean(cap->channels[ri[0]].data, 1,
-							   &seg[k], &r->rr[base + k][0],
-							   NULL);
+			for (size_t i = 0; i < nref; i++)
+				sscope_calib_interval_mean(rc[i], 1, &seg[k],
+							   &r->rr[base + k][i], NULL);
 		}
 		if (nref == 1) {
 			/* the table axis: given, or the largest |slope| */
@@ -1097,6 +1219,7 @@ static int rate_table_file(struct run *r, int file_no)
 		}
 		r->n_pts = base + nseg;
 	}
+	free(sched_ref);
 	return SSC_EXIT_OK;
 }
 
@@ -1455,8 +1578,8 @@ int ssc_cmd_calib(int argc, char **argv)
 		return ssc_usage_error(co.cmd, "--mode tilt is for 'calib gyro'");
 	if (o.mode == M_SIXPOS && o.gyro)
 		return ssc_usage_error(co.cmd, "--mode sixpos is for 'calib accel'");
-	if (o.mode == M_RATE_TABLE && !o.reference)
-		return ssc_usage_error(co.cmd, "--mode rate-table needs --reference");
+	if (o.mode == M_RATE_TABLE && !o.reference == !o.schedule)
+		return ssc_usage_error(co.cmd, "--mode rate-table needs --reference or --schedule");
 	if (o.mode != M_RATE_TABLE && nfiles > 1)
 		return ssc_usage_error(co.cmd, "--mode %s takes one input file",
 				       mode_names[o.mode]);
