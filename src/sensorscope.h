@@ -656,5 +656,8 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-vibration.h"
 #include "sscope-adis.h"
 #include "sscope-spiadc.h"
+#include "sscope-calib.h"
+#include "sscope-budget.h"
+#include "sscope-model.h"
 
 #endif /* SENSORSCOPE_H */

@@ -248,6 +248,271 @@ static void bearing_outer(const char *dir)
 	gsl_rng_free(g);
 }
 
+/* ------------------------------------------------------------------ */
+/* Calibration samples (sensorscope calib)                             */
+/* ------------------------------------------------------------------ */
+
+static void rot_from_quat(const double q[4], double R[3][3])
+{
+	double w = q[0], x = q[1], y = q[2], z = q[3];
+
+	R[0][0] = 1 - 2 * (y * y + z * z);
+	R[0][1] = 2 * (x * y - w * z);
+	R[0][2] = 2 * (x * z + w * y);
+	R[1][0] = 2 * (x * y + w * z);
+	R[1][1] = 1 - 2 * (x * x + z * z);
+	R[1][2] = 2 * (y * z - w * x);
+	R[2][0] = 2 * (x * z - w * y);
+	R[2][1] = 2 * (y * z + w * x);
+	R[2][2] = 1 - 2 * (x * x + y * y);
+}
+
+/* R = Ra * exp([u phi]x) */
+static void rot_about_axis(const double Ra[3][3], const double u[3], double phi,
+			   double R[3][3])
+{
+	double c = cos(phi), s = sin(phi), E[3][3];
+
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			E[i][j] = (i == j ? c : 0) + (1 - c) * u[i] * u[j];
+	E[0][1] -= s * u[2];
+	E[0][2] += s * u[1];
+	E[1][0] += s * u[2];
+	E[1][2] -= s * u[0];
+	E[2][0] -= s * u[1];
+	E[2][1] += s * u[0];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			R[i][j] = Ra[i][0] * E[0][j] + Ra[i][1] * E[1][j] +
+				  Ra[i][2] * E[2][j];
+}
+
+/* y = A u + b (+ G f for the gyro) */
+static void err_model(const double A[3][3], const double b[3], const double u[3],
+		      double y[3])
+{
+	for (int i = 0; i < 3; i++)
+		y[i] = A[i][0] * u[0] + A[i][1] * u[1] + A[i][2] * u[2] + b[i];
+}
+
+/* the inverse of a unit-upper-triangular T times diag(K) */
+static void inv_tk(const double T[3][3], const double K[3], double A[3][3])
+{
+	double C[3][3], d;
+
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			C[i][j] = T[i][j] * K[j];
+	d = C[0][0] * (C[1][1] * C[2][2] - C[1][2] * C[2][1]) -
+	    C[0][1] * (C[1][0] * C[2][2] - C[1][2] * C[2][0]) +
+	    C[0][2] * (C[1][0] * C[2][1] - C[1][1] * C[2][0]);
+	A[0][0] = (C[1][1] * C[2][2] - C[1][2] * C[2][1]) / d;
+	A[0][1] = (C[0][2] * C[2][1] - C[0][1] * C[2][2]) / d;
+	A[0][2] = (C[0][1] * C[1][2] - C[0][2] * C[1][1]) / d;
+	A[1][0] = (C[1][2] * C[2][0] - C[1][0] * C[2][2]) / d;
+	A[1][1] = (C[0][0] * C[2][2] - C[0][2] * C[2][0]) / d;
+	A[1][2] = (C[0][2] * C[1][0] - C[0][0] * C[1][2]) / d;
+	A[2][0] = (C[1][0] * C[2][1] - C[1][1] * C[2][0]) / d;
+	A[2][1] = (C[0][1] * C[2][0] - C[0][0] * C[2][1]) / d;
+	A[2][2] = (C[0][0] * C[1][1] - C[0][1] * C[1][0]) / d;
+}
+
+/*
+ * accel-6pos.csv: accelerometer held +-1 g on each axis for 10 s, 3 s
+ * turns between the poses, 100 Hz, in g.  Error model (reading = A f + b,
+ * A = I + scale errors + misalignments): bias 12.3 / -8.7 / 15.2 mg, scale
+ * errors +0.8 / -0.5 / +1.2 %, off-diagonal terms as in the table below;
+ * white noise 1 mg per sample.
+ */
+static void accel_sixpos(const char *dir)
+{
+	const double fs = 100, ts = 10, tm = 3;
+	const double A[3][3] = { { 1.008, 0.002, -0.003 },
+				 { 0.0015, 0.995, 0.001 },
+				 { -0.002, 0.0025, 1.012 } };
+	const double b[3] = { 0.0123, -0.0087, 0.0152 };
+	const int up[6][3] = { { 0, 0, 1 }, { 0, 0, -1 }, { 1, 0, 0 },
+			       { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 } };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	FILE *f = open_out(dir, "accel-6pos.csv");
+	size_t k = 0;
+
+	gsl_rng_set(r, 1006);
+	fprintf(f, "# sensorscope sample: six-position accelerometer test (simulated, seed 1006)\n"
+		   "time [s],ax [g],ay [g],az [g]\n");
+	for (int p = 0; p < 6; p++) {
+		size_t ns = (size_t)(ts * fs), nm = p < 5 ? (size_t)(tm * fs) : 0;
+
+		for (size_t i = 0; i < ns + nm; i++, k++) {
+			double u[3], y[3];
+
+			if (i < ns) {
+				for (int c = 0; c < 3; c++)
+					u[c] = up[p][c];
+			} else {
+				/* a smooth swing from this pose to the next */
+				double x = (double)(i - ns + 1) / (double)nm;
+				double w = 0.5 - 0.5 * cos(PI * x), n = 0;
+
+				for (int c = 0; c < 3; c++) {
+					u[c] = (1 - w) * up[p][c] + w * up[p + 1][c] +
+					       (c == 2 && p % 2 == 0 ? 0.3 * sin(PI * x) : 0) +
+					       (c == 0 && p % 2 == 1 ? 0.3 * sin(PI * x) : 0);
+					n += u[c] * u[c];
+				}
+				for (int c = 0; c < 3; c++)
+					u[c] /= sqrt(n);
+			}
+			err_model(A, b, u, y);
+			fprintf(f, "%.2f", (double)k / fs);
+			for (int c = 0; c < 3; c++)
+				fprintf(f, ",%.6f", y[c] + 1e-3 * gsl_ran_gaussian_ziggurat(r, 1));
+			fputc('\n', f);
+		}
+	}
+	fclose(f);
+	gsl_rng_free(r);
+}
+
+/*
+ * imu-multipose.csv: a 6-axis IMU held still in 20 random orientations
+ * (4 s each) and turned between them (1.5 s, about a fixed body axis with a
+ * raised-cosine rate), 100 Hz.  Accelerometer (g): the correction of
+ * Tedaldi et al. a' = T K (a - b) with b = 21 / -15 / 34 mg, K = 1/1.011,
+ * 1/0.993, 1/1.006 (g -> g), T upper triangular (alpha_yz 0.004,
+ * alpha_zy -0.003, alpha_zx 0.005), noise 2 mg per sample.  Gyro (deg/s):
+ * w' = T K (w - b - G a) with b = 0.31 / -0.17 / 0.52 deg/s, K = 1/1.021,
+ * 1/0.976, 1/1.008, T off-diagonal 0.008 -0.004 / 0.006 0.011 /
+ * -0.007 0.004 (rows), G = 0.05 deg/s/g on the diagonal, noise
+ * 0.05 deg/s per sample.  No Earth rate.
+ */
+static void imu_multipose(const char *dir)
+{
+	const double fs = 100, ts = 4, tm = 1.5;
+	const size_t poses = 20, ns = (size_t)(ts * fs), nm = (size_t)(tm * fs);
+	const double Ta[3][3] = { { 1, -0.004, -0.003 }, { 0, 1, -0.005 },
+				  { 0, 0, 1 } };
+	const double Ka[3] = { 1 / 1.011, 1 / 0.993, 1 / 1.006 };
+	const double ba[3] = { 0.021, -0.015, 0.034 };
+	const double Tg[3][3] = { { 1, 0.008, -0.004 }, { 0.006, 1, 0.011 },
+				  { -0.007, 0.004, 1 } };
+	const double Kg[3] = { 1 / 1.021, 1 / 0.976, 1 / 1.008 };
+	const double bg[3] = { 0.31, -0.17, 0.52 }, Gd = 0.05;
+	double Aa[3][3], Ag[3][3], (*R)[3][3] = malloc(poses * sizeof(*R));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	FILE *f = open_out(dir, "imu-multipose.csv");
+	size_t k = 0;
+
+	inv_tk(Ta, Ka, Aa);
+	inv_tk(Tg, Kg, Ag);
+	gsl_rng_set(r, 1007);
+	for (size_t p = 0; p < poses; p++) {
+		double q[4], n = 0;
+
+		for (int i = 0; i < 4; i++) {
+			q[i] = gsl_ran_gaussian_ziggurat(r, 1);
+			n += q[i] * q[i];
+		}
+		for (int i = 0; i < 4; i++)
+			q[i] /= sqrt(n);
+		rot_from_quat(q, R[p]);
+	}
+	fprintf(f, "# sensorscope sample: multi-position IMU calibration run (simulated, seed 1007)\n"
+		   "time [s],gx [deg/s],gy [deg/s],gz [deg/s],ax [g],ay [g],az [g]\n");
+	for (size_t p = 0; p < poses; p++) {
+		double ax[3] = { 1, 0, 0 }, ang = 0;
+
+		if (p + 1 < poses) {
+			/* body-frame rotation from pose p to p + 1 */
+			double D[3][3], s;
+
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					D[i][j] = R[p][0][i] * R[p + 1][0][j] +
+						  R[p][1][i] * R[p + 1][1][j] +
+						  R[p][2][i] * R[p + 1][2][j];
+			ang = acos(fmax(-1, fmin(1, (D[0][0] + D[1][1] + D[2][2] - 1) / 2)));
+			ax[0] = D[2][1] - D[1][2];
+			ax[1] = D[0][2] - D[2][0];
+			ax[2] = D[1][0] - D[0][1];
+			s = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+			for (int i = 0; i < 3; i++)
+				ax[i] /= s;
+		}
+		for (size_t i = 0; i < ns + (p + 1 < poses ? nm : 0); i++, k++) {
+			double Rt[3][3], w[3] = { 0, 0, 0 }, fb[3], ya[3], yg[3];
+
+			if (i < ns) {
+				memcpy(Rt, R[p], sizeof(Rt));
+			} else {
+				double t = (double)(i - ns + 1) / fs;
+				double phi = ang * (t / tm - sin(2 * PI * t / tm) / (2 * PI));
+				double rate = ang / tm * (1 - cos(2 * PI * t / tm));
+
+				rot_about_axis(R[p], ax, phi, Rt);
+				for (int c = 0; c < 3; c++)
+					w[c] = ax[c] * rate / D2R; /* deg/s */
+			}
+			for (int c = 0; c < 3; c++)
+				fb[c] = Rt[2][c]; /* g */
+			err_model(Aa, ba, fb, ya);
+			err_model(Ag, bg, w, yg);
+			for (int c = 0; c < 3; c++)
+				yg[c] += Gd * fb[c];
+			fprintf(f, "%.2f", (double)k / fs);
+			for (int c = 0; c < 3; c++)
+				fprintf(f, ",%.5f", yg[c] + 0.05 * gsl_ran_gaussian_ziggurat(r, 1));
+			for (int c = 0; c < 3; c++)
+				fprintf(f, ",%.6f", ya[c] + 2e-3 * gsl_ran_gaussian_ziggurat(r, 1));
+			fputc('\n', f);
+		}
+	}
+	free(R);
+	fclose(f);
+	gsl_rng_free(r);
+}
+
+/*
+ * gyro-ratetable.csv: a gyro with x on a rate table, 13 steps of 5 s from
+ * -300 to +300 deg/s, 100 Hz, commanded rate in rate_cmd.  x reads
+ * 0.21 + 1.0085 w - 4e-7 w^3 (w in deg/s: a cubic scale-factor
+ * non-linearity), y and z see cross-axis sensitivities 0.0042 and -0.0031
+ * and biases -0.12 / 0.08 deg/s; first-order response (20 ms), white noise
+ * 0.05 deg/s per sample.
+ */
+static void gyro_ratetable(const char *dir)
+{
+	const double fs = 100, tstep = 5;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	FILE *f = open_out(dir, "gyro-ratetable.csv");
+	double lag = 0, a = exp(-1 / (fs * 0.02));
+	size_t k = 0;
+
+	gsl_rng_set(r, 1008);
+	fprintf(f, "# sensorscope sample: single-axis rate-table run (simulated, seed 1008)\n"
+		   "time [s],rate_cmd [deg/s],gx [deg/s],gy [deg/s],gz [deg/s]\n");
+	for (int s = -6; s <= 6; s++) {
+		double cmd = 50.0 * s;
+
+		for (size_t i = 0; i < (size_t)(tstep * fs); i++, k++) {
+			double w, y[3];
+
+			lag = a * lag + (1 - a) * cmd;
+			w = lag;
+			y[0] = 0.21 + 1.0085 * w - 4e-7 * w * w * w;
+			y[1] = -0.12 + 0.0042 * w;
+			y[2] = 0.08 - 0.0031 * w;
+			fprintf(f, "%.2f,%.1f", (double)k / fs, cmd);
+			for (int c = 0; c < 3; c++)
+				fprintf(f, ",%.5f", y[c] + 0.05 * gsl_ran_gaussian_ziggurat(r, 1));
+			fputc('\n', f);
+		}
+	}
+	fclose(f);
+	gsl_rng_free(r);
+}
+
 int main(int argc, char **argv)
 {
 	const char *dir = argc > 1 ? argv[1] : "samples";
@@ -258,5 +523,8 @@ int main(int argc, char **argv)
 	euroc(dir);
 	imu_raw(dir);
 	bearing_outer(dir);
+	accel_sixpos(dir);
+	imu_multipose(dir);
+	gyro_ratetable(dir);
 	return 0;
 }

@@ -44,6 +44,7 @@ struct ssc_common {
 	bool allow_nan;        /* --allow-nan */
 	const char *time_column;
 	const char *temp_column;
+	const char *calibration; /* --calibration FILE, applied by ssc_load */
 };
 
 /* A command-specific option: getopt_long entry plus help text. */
@@ -108,6 +109,10 @@ int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 /* Fill read options from the shared options (progress hooked up). */
 void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o);
 
+/* Apply the --calibration file to a loaded capture (calibfile.c). */
+int ssc_calibration_apply(const struct ssc_common *co, const char *path,
+			  struct sscope_capture *cap);
+
 /* Load a capture with the shared options; prints errors.  Returns exit. */
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
@@ -161,5 +166,8 @@ int ssc_cmd_report(int argc, char **argv);
 int ssc_cmd_psd(int argc, char **argv);
 int ssc_cmd_vibration(int argc, char **argv);
 int ssc_cmd_acquire(int argc, char **argv);
+int ssc_cmd_calib(int argc, char **argv);
+int ssc_cmd_budget(int argc, char **argv);
+int ssc_cmd_model(int argc, char **argv);
 
 #endif

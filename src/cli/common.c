@@ -27,6 +27,7 @@ enum {
 	OPT_TIME_COLUMN,
 	OPT_TEMP_COLUMN,
 	OPT_HELP,
+	OPT_CALIBRATION,
 };
 
 static const struct ssc_option analysis_opts[] = {
@@ -48,6 +49,8 @@ static const struct ssc_option analysis_opts[] = {
 	  "the time column (default: a column named t, time or timestamp)" },
 	{ "temp-column", required_argument, OPT_TEMP_COLUMN, "NAME",
 	  "the temperature column (default: temp or temperature)" },
+	{ "calibration", required_argument, OPT_CALIBRATION, "FILE",
+	  "apply a calibration file of 'sensorscope calib' to the channels it names" },
 	{ "plot", required_argument, OPT_PLOT, "PATH.png",
 	  "draw the command's figure (needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
@@ -382,6 +385,9 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_TEMP_COLUMN:
 			co->temp_column = optarg;
 			break;
+		case OPT_CALIBRATION:
+			co->calibration = optarg;
+			break;
 		default:
 		own:
 			if (!handler) {
@@ -480,6 +486,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	int rc;
 
 	ssc_read_opts(co, &o);
+	if (co->calibration)
+		o.columns = NULL; /* triads need all their channels; -c later */
 	if (ssc_progress_on(co)) {
 		o.progress = read_progress;
 		o.progress_ctx = &pc;
@@ -490,6 +498,14 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		if (rc == -EINVAL && co->raw && !d.msg[0])
 			return ssc_usage_error(co->cmd, "bad --raw '%s'", co->raw);
 		return ssc_fail(co->cmd, rc, &d, path);
+	}
+	if (co->calibration) {
+		rc = ssc_calibration_apply(co, path, *cap);
+		if (rc) {
+			sscope_capture_free(*cap);
+			*cap = NULL;
+			return rc;
+		}
 	}
 	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->time_s &&
 	    (*cap)->n > 2) {

@@ -25,6 +25,12 @@ static const struct command commands[] = {
 	  ssc_cmd_vibration },
 	{ "acquire", "record a live sensor (SPI + data-ready line) or the simulator",
 	  ssc_cmd_acquire },
+	{ "calib", "error-model calibration of accelerometer and gyro triads",
+	  ssc_cmd_calib },
+	{ "budget", "navigation drift budget per error source against time",
+	  ssc_cmd_budget },
+	{ "model", "sensor physics: proof-mass accelerometer, Sagnac phase",
+	  ssc_cmd_model },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

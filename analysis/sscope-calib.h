@@ -1,0 +1,335 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/**
+ * @file sscope-calib.h
+ * @brief Error-model calibration of accelerometer and gyro triads.
+ *
+ * The error model per axis (seed eqs 93-94): a gyro axis reads
+ * delta_omega = b + b_g a + s_f omega_x + m_y omega_y + m_z omega_z + eta,
+ * an accelerometer axis delta_f = b + s_f a_x + m_y a_y + m_z a_z + eta.
+ * In matrix form the measurement is y = A u + b (+ G a for a gyro), with
+ * A = I + S + M (scale-factor errors on the diagonal, misalignments off
+ * it).  This module reports the *correction* that maps a reading back to
+ * the physical quantity:
+ *
+ *     u' = T * K * (y - b - G * a'),
+ *
+ * K = diag(scale) in output SI units per input unit, T a misalignment
+ * matrix with a unit diagonal, b the bias in input units and G the
+ * g-sensitivity (gyros only; input units per m/s^2).  "Input units" are the
+ * units of the samples given to the library (SI when the capture's column
+ * has a physical unit, counts otherwise).
+ *
+ * Methods:
+ * - multi-position calibration without external equipment (Tedaldi,
+ *   Pretto and Menegatti, "A robust and easy to implement method for IMU
+ *   calibration without external equipments", ICRA 2014): static intervals
+ *   are found automatically from the variance of the accelerometer, the
+ *   accelerometer's 9 parameters (3 bias, 3 scale, 3 misalignment with T
+ *   upper triangular) minimise sum(|g| - |a'|)^2 by Levenberg-Marquardt,
+ *   then the gyro's 9 parameters (3 scale, 6 misalignment; bias from the
+ *   static intervals) make the integrated rotation between consecutive
+ *   static poses carry the calibrated gravity direction of one pose onto
+ *   the next;
+ * - known-reference fits (six-position accelerometer test, rate table,
+ *   centrifuge or tilt table): linear least squares of y = b + A r with a
+ *   full 3x3 A (12 parameters), optionally with quadratic and cubic terms
+ *   of each axis' own input (scale-factor non-linearity);
+ * - g-dependent gyro bias from static poses: omega = b + G a.
+ *
+ * Uncertainties are 1-sigma, from the residual variance times the inverse
+ * of J^T J (Levenberg-Marquardt) or the least-squares covariance.
+ */
+#ifndef SSCOPE_CALIB_H
+#define SSCOPE_CALIB_H
+
+#include "sensorscope.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Standard gravity, m/s^2 (the default local gravity). */
+#define SSCOPE_GRAVITY_STD 9.80665
+
+/** A half-open range of samples [start, end). */
+struct sscope_calib_interval {
+	size_t start;
+	size_t end;
+};
+
+/**
+ * Static-interval detection after Tedaldi et al. 2014, sec. IV-A.
+ * varsigma(i) = sqrt(var_x^2 + var_y^2 + var_z^2) over a centred window of
+ * window_s seconds; sample i is static when varsigma(i) < k * reference.
+ * The reference ("the stated rule"): with init_static_s > 0 the value of
+ * varsigma over the first init_static_s seconds (Tedaldi's initial static
+ * period); otherwise the 10th percentile of varsigma over the capture,
+ * which is a noise-only value whenever at least 10 % of the capture is
+ * static.  Runs of static samples shorter than min_static_s are dropped.
+ */
+struct sscope_calib_detect {
+	double window_s;      /**< in: variance window, s (0 -> 1 s) */
+	double min_static_s;  /**< in: shortest interval kept, s (0 -> 2 s) */
+	double init_static_s; /**< in: initial static period, s (0 -> the
+				   percentile rule) */
+	double k;             /**< in: threshold multiple (0 -> automatic:
+				   the k in 2..10 with the smallest residual,
+				   as Tedaldi et al.); out: the k used */
+	double reference;     /**< out: varsigma reference, (input unit)^2 */
+	double threshold;     /**< out: k * reference */
+	size_t n_intervals;   /**< out: static intervals found */
+};
+
+/**
+ * Variance magnitude varsigma(i) of three channels over a centred window of
+ * @p window samples (odd; an even value is rounded up).  Samples closer than
+ * window/2 to either end get +infinity.
+ * @param x,y,z   channels, sample k at x[k * stride].
+ * @param out     n values, (input unit)^2.
+ * @return 0; -EINVAL (NULL, stride 0, window < 3); -EDOM (n < window).
+ */
+int sscope_calib_variance_magnitude(const double *x, const double *y,
+				    const double *z, size_t stride, size_t n,
+				    size_t window, double *out);
+
+/**
+ * Static runs of @p vs (from sscope_calib_variance_magnitude()) below
+ * @p threshold that last at least @p min_len samples.
+ * @param iv      receives up to @p max intervals.
+ * @param n_iv    receives the number found (may exceed max: only max are
+ *                written).
+ * @return 0 or -EINVAL.
+ */
+int sscope_calib_static_intervals(const double *vs, size_t n, double threshold,
+				  size_t min_len,
+				  struct sscope_calib_interval *iv, size_t max,
+				  size_t *n_iv);
+
+/**
+ * Mean and sample standard deviation of x over an interval.
+ * @return 0, -EINVAL (empty interval).
+ */
+int sscope_calib_interval_mean(const double *x, size_t stride,
+			       const struct sscope_calib_interval *iv,
+			       double *mean, double *sd);
+
+/** A calibrated triad: the correction u' = T K (y - b - G a'). */
+struct sscope_calib_triad {
+	double bias[3];        /**< b, input units */
+	double scale[3];       /**< diag of K, output SI unit per input unit */
+	double mis[3][3];      /**< T, unit diagonal */
+	double gsens[3][3];    /**< G, input units per m/s^2 (gyros) */
+	double bias_sd[3];
+	double scale_sd[3];
+	double mis_sd[3][3];
+	double gsens_sd[3][3];
+	bool has_gsens;        /**< G was estimated (else zero) */
+	unsigned n_params;     /**< parameters estimated */
+	size_t poses;          /**< static poses (or reference points) used */
+	double residual_rms;   /**< rms residual: m/s^2 for the accelerometer
+				    norm fit, dimensionless (unit-vector
+				    difference) for the gyro, input units for
+				    the linear fits */
+	unsigned iterations;   /**< Levenberg-Marquardt iterations (0 for
+				    linear fits) */
+	double cond;           /**< condition number of the scaled Jacobian
+				    or design matrix */
+};
+
+/** Set @p c to the identity correction (scale 1, no bias). */
+void sscope_calib_triad_identity(struct sscope_calib_triad *c);
+
+/**
+ * Accelerometer multi-position fit (Tedaldi et al. 2014, 9 parameters)
+ * from the mean readings of static poses.
+ * @param means    n_poses x 3 mean readings, input units.
+ * @param gravity_m_s2  local gravity magnitude, m/s^2.
+ * @return 0; -EINVAL (NULL, gravity <= 0, non-finite means); -EDOM with
+ *         fewer than 10 poses (9 parameters need one more equation), poses
+ *         that do not determine the parameters (the excitation rule: the
+ *         smallest eigenvalue of sum(m m^T) / sum(|m|^2) over the poses is
+ *         below 0.01, i.e. gravity never points along some direction; or a
+ *         condition number of the column-scaled Jacobian above 1e8), or no
+ *         convergence.
+ */
+int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
+			   double gravity_m_s2, struct sscope_calib_triad *c,
+			   struct sscope_diag *diag);
+
+/**
+ * Detection and fit in one: static intervals of the accelerometer
+ * channels, then sscope_calib_accel_fit(); with det->k == 0 every k in
+ * 2..10 is tried and the one with the smallest residual kept.
+ * @param iv       caller array of @p max_iv intervals: receives the static
+ *                 intervals of the chosen k.
+ * @param work     n doubles of workspace (variance magnitude).
+ * @param work2    n doubles of workspace (percentile).
+ * @return as sscope_calib_accel_fit(); -EINVAL for rate_hz <= 0.
+ */
+int sscope_calib_accel_multipos(const double *x, const double *y,
+				const double *z, size_t stride, size_t n,
+				double rate_hz, double gravity_m_s2,
+				struct sscope_calib_detect *det,
+				struct sscope_calib_interval *iv, size_t max_iv,
+				struct sscope_calib_triad *c, double *work,
+				double *work2, struct sscope_diag *diag);
+
+/**
+ * Apply a triad correction in place: u' = T K (y - b - G a).
+ * @param a   calibrated accelerometer samples for the G term (three
+ *            pointers with stride @p astride), or NULL to skip it.
+ */
+void sscope_calib_apply(const struct sscope_calib_triad *c, double *x,
+			double *y, double *z, size_t stride, size_t n,
+			const double *const a[3], size_t astride);
+
+/**
+ * Gyro multi-position fit (Tedaldi et al. 2014): bias = mean of the gyro
+ * over the static intervals (and G when @p with_gsens: linear fit of the
+ * static means against the calibrated gravity), then T (6) and K (3) by
+ * Levenberg-Marquardt so that the rotation integrated between the end of
+ * interval k-1 and the start of interval k maps the calibrated gravity
+ * direction of pose k-1 onto that of pose k.
+ * @param g           gyro channels (input units, rate), stride @p stride.
+ * @param accel_cal   calibrated accelerometer channels (m/s^2), same
+ *                    indexing as @p g (used for gravity and the G term).
+ * @param iv          the static intervals (ascending, non-overlapping).
+ * @param scale_guess starting value of the scale factors, output SI per
+ *                    input unit (1 for a rate in rad/s); 0 scans a log grid
+ *                    from 1e-9 to 1e3 (counts of unknown weight).
+ * @param with_gsens  also estimate the g-sensitivity matrix G (needs 5 or
+ *                    more poses that are not coplanar).
+ * @return 0; -EINVAL; -EDOM with fewer than 6 poses (5 rotations), motions
+ *         that do not determine the parameters (the excitation rule: the
+ *         smallest eigenvalue of sum(w w^T) / sum(|w|^2) over the motion
+ *         samples is below 0.01, e.g. all rotations about one axis; or a
+ *         condition number above 1e8), poses that do not tilt gravity onto
+ *         all three axes when @p with_gsens, or no convergence.
+ */
+int sscope_calib_gyro_fit(const double *const g[3],
+			  const double *const accel_cal[3], size_t stride,
+			  size_t n, double rate_hz, double scale_guess,
+			  const struct sscope_calib_interval *iv, size_t n_iv,
+			  bool with_gsens, struct sscope_calib_triad *c,
+			  struct sscope_diag *diag);
+
+/**
+ * Result of a fit against known stimuli (rate table, centrifuge, six
+ * positions): y = b + A r + c2 .* r_own^2 + c3 .* r_own^3, where r_own is
+ * each output axis' own input.
+ */
+struct sscope_calib_linear {
+	double bias[3], bias_sd[3];   /**< input units */
+	double A[3][3], A_sd[3][3];   /**< input units per SI unit: diagonal
+					   = scale factor, off-diagonal =
+					   cross-axis sensitivity */
+	double c2[3], c2_sd[3];       /**< per SI unit^2 (when nonlinear) */
+	double c3[3], c3_sd[3];       /**< per SI unit^3 (when nonlinear) */
+	double full_scale[3];         /**< max |r| on each axis, SI */
+	double nonlinearity[3];       /**< best-fit-straight-line
+					   non-linearity: max |residual of the
+					   linear model| / (|A_ii| FS), ratio */
+	double residual_rms[3];       /**< of the linear model, input units */
+	double sf_bfsl[3];            /**< slope of the best-fit straight line
+					   of each axis (equals A_ii without
+					   the non-linear terms) */
+	double cond;                  /**< largest condition number of the
+					   (column-scaled) design matrices */
+	bool nonlinear;               /**< c2, c3 were estimated */
+	bool axis_excited[3];         /**< the data moved this input axis */
+	size_t points;
+};
+
+/**
+ * Fit y = b + A r (+ own-axis quadratic and cubic terms).  Input axes that
+ * the data never excite get A columns of zero (and a flag), so one
+ * single-axis rate-table run still yields its axis' scale factor and the
+ * cross-axis terms of that column.
+ * @param y         n x 3 measured means, input units.
+ * @param r         n x 3 reference stimuli, SI.
+ * @param nonlinear estimate c2 and c3 (needs 3 or more distinct levels on
+ *                  the axis beyond the linear ones).
+ * @return 0; -EINVAL; -EDOM (too few points for the parameters, nothing
+ *         excited, a singular design).
+ */
+int sscope_calib_linear_fit(const double (*y)[3], const double (*r)[3],
+			    size_t n, bool nonlinear,
+			    struct sscope_calib_linear *out,
+			    struct sscope_diag *diag);
+
+/**
+ * Convert a linear fit with all three axes excited into the correction
+ * form: K T = A^-1 (first-order uncertainties).
+ * @return 0; -EDOM when not all axes were excited or A is singular.
+ */
+int sscope_calib_linear_to_triad(const struct sscope_calib_linear *lf,
+				 struct sscope_calib_triad *c);
+
+/**
+ * The six-position accelerometer test: every pose is classified by the
+ * axis and sign of its largest mean reading (+g or -g on x, y or z) and
+ * y = b + A r fitted with r = +-g e_i (12 parameters).
+ * @return 0; -EINVAL; -EDOM when the six orientations are not all
+ *         present or A is singular.
+ */
+int sscope_calib_accel_sixpos(const double (*means)[3], size_t n_poses,
+			      double gravity_m_s2,
+			      struct sscope_calib_linear *lf,
+			      struct sscope_calib_triad *c,
+			      struct sscope_diag *diag);
+
+/**
+ * Segments of constant reference (rate table, centrifuge, dividing head):
+ * maximal runs where |r - r_first| <= tol, minus the first @p settle
+ * samples, kept when at least @p min_len samples remain.  Non-finite
+ * reference samples belong to no segment.
+ * @return 0, -EINVAL.
+ */
+int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,
+				   double tol, size_t settle, size_t min_len,
+				   struct sscope_calib_interval *iv,
+				   size_t max, size_t *n_iv);
+
+/** A class of sensors with typical performance ranges. */
+struct sscope_grade {
+	const char *name;
+	enum sscope_quantity quantity; /**< ANGULAR_RATE or ACCELERATION */
+	double bias_lo, bias_hi;       /**< |bias| (g-independent), SI */
+	double sf_lo, sf_hi;           /**< scale-factor error, ratio */
+	double noise_lo, noise_hi;     /**< noise density N, SI/sqrt(Hz) */
+	double gsens_lo, gsens_hi;     /**< g-dependent bias, rad/s per
+					    m/s^2 (0, 0: not applicable) */
+};
+
+/**
+ * The table of typical sensor classes: gyros (ring laser, fibre optic,
+ * ceramic and silicon vibrating-structure gyros) and accelerometer grades.
+ * The values are typical orders of magnitude (see calib.c for the source),
+ * not limits of any product.
+ * @param n   receives the number of rows.
+ * @return a static array.
+ */
+const struct sscope_grade *sscope_calib_grades(size_t *n);
+
+/**
+ * Classify a sensor against sscope_calib_grades(): for each class of the
+ * same quantity the distance is the sum over the figures given (finite,
+ * > 0) of the decades by which the figure lies outside the class range
+ * (0 inside); the class with the smallest distance wins (ties: the first
+ * in the table).
+ * @param bias   |bias|, SI (NaN: not used).
+ * @param sf     |scale-factor error|, ratio (NaN: not used).
+ * @param noise  noise density, SI/sqrt(Hz) (NaN: not used).
+ * @param gsens  g-dependent bias, rad/s per m/s^2 (NaN: not used).
+ * @param distance  receives the winner's distance (may be NULL).
+ * @return the row index, or -EDOM when no figure was given, -EINVAL for
+ *         another quantity.
+ */
+int sscope_calib_grade(enum sscope_quantity q, double bias, double sf,
+		       double noise, double gsens, double *distance);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SSCOPE_CALIB_H */

@@ -1,0 +1,1007 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope budget: attitude, velocity and position error against time
+ * from each sensor error source (seed eqs 95-101), which source dominates
+ * when, the time to reach a given error, and a Monte-Carlo check of the
+ * random-walk terms (fraction of seeded realisations inside +-2 sigma).
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+
+#define PI 3.14159265358979323846
+#define MAX_TIMES 256
+#define MAX_ERR 16
+
+enum {
+	O_SENSOR = 300,
+	O_GBIAS,
+	O_ABIAS,
+	O_ARW,
+	O_VRW,
+	O_GSF,
+	O_ASF,
+	O_TURN,
+	O_APROF,
+	O_TIME,
+	O_MODEL,
+	O_SCHULER,
+	O_SWITCH,
+	O_ERROR,
+	O_MC,
+	O_SEED,
+	O_GRAVITY,
+	O_PLOT,
+	O_RESULT,
+};
+
+static const struct ssc_option budget_opts[] = {
+	{ "sensor", required_argument, O_SENSOR, "SPEC.ini",
+	  "sensor spec ([sensor] section; a gyro and an accelerometer file may both be given)" },
+	{ "result", required_argument, O_RESULT, "FILE.json",
+	  "take sources from a JSON result of 'allan' (N, B) or 'calib' (remaining uncertainty)" },
+	{ "gyro-bias", required_argument, O_GBIAS, "V",
+	  "gyro bias, e.g. 10 deg/h" },
+	{ "accel-bias", required_argument, O_ABIAS, "V",
+	  "accelerometer bias, e.g. 1 mg" },
+	{ "arw", required_argument, O_ARW, "V",
+	  "angle random walk, e.g. 0.15 deg/sqrt(h)" },
+	{ "vrw", required_argument, O_VRW, "V",
+	  "velocity random walk, e.g. 0.03 m/s/sqrt(h)" },
+	{ "gyro-sf", required_argument, O_GSF, "V",
+	  "gyro scale-factor error (ppm, or with a unit: 0.1 %)" },
+	{ "accel-sf", required_argument, O_ASF, "V",
+	  "accelerometer scale-factor error (ppm)" },
+	{ "turn-rate", required_argument, O_TURN, "V",
+	  "motion profile for the scale factor: sustained turn rate, e.g. 10 deg/s" },
+	{ "accel-profile", required_argument, O_APROF, "V",
+	  "motion profile for the scale factor: sustained acceleration, e.g. 0.1 g" },
+	{ "time", required_argument, O_TIME, "T[,T...]",
+	  "times (default 10,30,60,120,300,600,1800,3600 s; units allowed: 2 min)" },
+	{ "model", required_argument, O_MODEL, "auto|open-loop|schuler",
+	  "formulas (default auto: open loop up to the switch time, Schuler-bounded after)" },
+	{ "schuler", no_argument, O_SCHULER, NULL, "same as --model schuler" },
+	{ "switch-time", required_argument, O_SWITCH, "T",
+	  "auto model: switch time (default 300 s)" },
+	{ "error", required_argument, O_ERROR, "E[,E...]",
+	  "report the time to reach each error: a length (100 m), a velocity (1 m/s) or an angle (1 deg)" },
+	{ "monte-carlo", required_argument, O_MC, "N",
+	  "realisations of the random-walk check (default 1000; 0 off)" },
+	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
+	{ "gravity", required_argument, O_GRAVITY, "G", "gravity (default 9.80665 m/s^2)" },
+	{ "plot", required_argument, O_PLOT, "PATH.png",
+	  "draw error against time (log-log) and Monte-Carlo walks (needs OpenCV)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec spec = {
+	.name = "budget",
+	.usage = "budget (--sensor SPEC.ini | --gyro-bias V --accel-bias V --arw V --vrw V) [OPTIONS]",
+	.summary =
+		"Drift budget of one horizontal navigation channel: attitude, velocity\n"
+		"and position error against time from each source -- gyro bias (open\n"
+		"loop g b t^3/6), accelerometer bias (b t^2/2), angle and velocity random\n"
+		"walks (1 sigma; 95 % of runs stay inside +-2 sigma), scale factor under\n"
+		"a motion profile -- with the Schuler-bounded forms past the switch time,\n"
+		"the dominant source at each time, the time to reach a given error, and\n"
+		"a Monte-Carlo check of the random walks.",
+	.options = budget_opts,
+	.output_opts = true,
+	.notes = "Examples:\n"
+		 "  sensorscope budget --gyro-bias 10deg/h --time 120\n"
+		 "  sensorscope budget --gyro-bias 1deg/h --accel-bias 100ug --arw 0.1deg/sqrt(h) \\\n"
+		 "      --vrw 0.05m/s/sqrt(h) --error 100m --plot budget.png\n"
+		 "Total = root sum of squares of the sources (biases as 1-sigma values).",
+};
+
+struct opts {
+	struct sscope_budget_params p;
+	const char *sensor[2];
+	int n_sensor;
+	const char *result[4];
+	int n_result;
+	bool set[4]; /* gyro bias, accel bias, arw, vrw given directly */
+	double times[MAX_TIMES];
+	size_t n_times;
+	double err[MAX_ERR];
+	enum sscope_budget_quantity err_q[MAX_ERR];
+	size_t n_err;
+	size_t mc;
+	unsigned long seed;
+	const char *plot;
+};
+
+static int parse_ratio(const char *opt, const char *arg, double *out)
+{
+	struct sscope_unit u;
+	struct sscope_diag d = { "" };
+	double v;
+
+	if (sscope_quantity_parse(arg, &v, &u, &d))
+		return ssc_usage_error("budget", "--%s: %s", opt, d.msg);
+	if (sscope_unit_quantity(&u) != SSCOPE_QTY_DIMENSIONLESS)
+		return ssc_usage_error("budget", "--%s: '%s' is not a ratio", opt, arg);
+	if (u.scale == 1)
+		v *= 1e-6; /* bare number: ppm */
+	*out = v;
+	return 0;
+}
+
+static int handler(int key, const char *arg, void *ctx)
+{
+	struct opts *o = ctx;
+	struct sscope_budget_params *p = &o->p;
+
+	switch (key) {
+	case O_SENSOR:
+		if (o->n_sensor == 2)
+			return ssc_usage_error("budget", "--sensor: at most two (a gyro and an accelerometer)");
+		o->sensor[o->n_sensor++] = arg;
+		return 0;
+	case O_RESULT:
+		if (o->n_result == 4)
+			return ssc_usage_error("budget", "--result: at most four files");
+		o->result[o->n_result++] = arg;
+		return 0;
+	case O_GBIAS:
+		o->set[0] = true;
+		return ssc_arg_quantity("budget", "gyro-bias", arg, "rad/s",
+					&p->gyro_bias_rad_s);
+	case O_ABIAS:
+		o->set[1] = true;
+		return ssc_arg_quantity("budget", "accel-bias", arg, "m/s^2",
+					&p->accel_bias_m_s2);
+	case O_ARW:
+		o->set[2] = true;
+		return ssc_arg_quantity("budget", "arw", arg, "rad/sqrt(s)",
+					&p->arw_rad_sqrt_s);
+	case O_VRW:
+		o->set[3] = true;
+		return ssc_arg_quantity("budget", "vrw", arg, "m/s/sqrt(s)",
+					&p->vrw_m_s_sqrt_s);
+	case O_GSF:
+		return parse_ratio("gyro-sf", arg, &p->gyro_sf);
+	case O_ASF:
+		return parse_ratio("accel-sf", arg, &p->accel_sf);
+	case O_TURN:
+		return ssc_arg_quantity("budget", "turn-rate", arg, "rad/s",
+					&p->turn_rate_rad_s);
+	case O_APROF:
+		return ssc_arg_quantity("budget", "accel-profile", arg, "m/s^2",
+					&p->accel_profile_m_s2);
+	case O_TIME: {
+		char *s = strdup(arg), *save = NULL, *tok;
+		int rc = 0;
+
+		o->n_times = 0;
+		for (tok = strtok_r(s, ",", &save); tok && !rc;
+		     tok = strtok_r(NULL, ",", &save)) {
+			if (o->n_times == MAX_TIMES) {
+				rc = ssc_usage_error("budget", "--time: at most %d times",
+						     MAX_TIMES);
+				break;
+			}
+			rc = ssc_arg_quantity("budget", "time", tok, "s",
+					      &o->times[o->n_times]);
+			if (!rc && !(o->times[o->n_times] > 0))
+				rc = ssc_usage_error("budget", "--time: '%s' must be positive",
+						     tok);
+			o->n_times++;
+		}
+		free(s);
+		return rc;
+	}
+	case O_MODEL:
+		if (!strcmp(arg, "auto"))
+			p->model = SSCOPE_BUDGET_AUTO;
+		else if (!strcmp(arg, "open-loop") || !strcmp(arg, "open"))
+			p->model = SSCOPE_BUDGET_OPEN_LOOP;
+		else if (!strcmp(arg, "schuler"))
+			p->model = SSCOPE_BUDGET_SCHULER;
+		else
+			return ssc_usage_error("budget", "--model: '%s' is not auto, open-loop or schuler",
+					       arg);
+		return 0;
+	case O_SCHULER:
+		p->model = SSCOPE_BUDGET_SCHULER;
+		return 0;
+	case O_SWITCH:
+		if (ssc_arg_quantity("budget", "switch-time", arg, "s",
+				     &p->switch_time_s))
+			return SSC_EXIT_USAGE;
+		if (!(p->switch_time_s > 0))
+			return ssc_usage_error("budget", "--switch-time: must be positive");
+		return 0;
+	case O_ERROR: {
+		char *s = strdup(arg), *save = NULL, *tok;
+		int rc = 0;
+
+		o->n_err = 0;
+		for (tok = strtok_r(s, ",", &save); tok && !rc;
+		     tok = strtok_r(NULL, ",", &save)) {
+			struct sscope_unit u;
+			struct sscope_diag d = { "" };
+			double v;
+			enum sscope_quantity q;
+
+			if (o->n_err == MAX_ERR) {
+				rc = ssc_usage_error("budget", "--error: at most %d values",
+						     MAX_ERR);
+				break;
+			}
+			if (sscope_quantity_parse(tok, &v, &u, &d)) {
+				rc = ssc_usage_error("budget", "--error: %s", d.msg);
+				break;
+			}
+			q = sscope_unit_quantity(&u);
+			if (q == SSCOPE_QTY_LENGTH)
+				o->err_q[o->n_err] = SSCOPE_BUDGET_POSITION;
+			else if (q == SSCOPE_QTY_VELOCITY)
+				o->err_q[o->n_err] = SSCOPE_BUDGET_VELOCITY;
+			else if (q == SSCOPE_QTY_ANGLE)
+				o->err_q[o->n_err] = SSCOPE_BUDGET_ATTITUDE;
+			else {
+				rc = ssc_usage_error("budget", "--error: '%s' is not a length, velocity or angle",
+						     tok);
+				break;
+			}
+			if (!(v > 0)) {
+				rc = ssc_usage_error("budget", "--error: '%s' must be positive",
+						     tok);
+				break;
+			}
+			o->err[o->n_err++] = v;
+		}
+		free(s);
+		return rc;
+	}
+	case O_MC:
+		if (ssc_arg_size("budget", "monte-carlo", arg, &o->mc))
+			return SSC_EXIT_USAGE;
+		if (o->mc > 1000000)
+			return ssc_usage_error("budget", "--monte-carlo: at most 1000000");
+		return 0;
+	case O_SEED: {
+		size_t v;
+
+		if (ssc_arg_size("budget", "seed", arg, &v))
+			return SSC_EXIT_USAGE;
+		o->seed = (unsigned long)v;
+		return 0;
+	}
+	case O_GRAVITY:
+		if (ssc_arg_quantity("budget", "gravity", arg, "m/s^2",
+				     &p->gravity_m_s2))
+			return SSC_EXIT_USAGE;
+		if (!(p->gravity_m_s2 > 0))
+			return ssc_usage_error("budget", "--gravity: must be positive");
+		return 0;
+	case O_PLOT:
+		o->plot = arg;
+		return 0;
+	default:
+		return ssc_usage_error("budget", "unexpected option");
+	}
+}
+
+static const char *model_name(const struct sscope_budget_params *p, double t)
+{
+	return sscope_budget_is_schuler(p, t) ? "schuler" : "open_loop";
+}
+
+/* the source with the largest position error at t (-1: none) */
+static int dominant(const struct sscope_budget_params *p, double t, double *v)
+{
+	int best = -1;
+	double bv = 0;
+
+	for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+		struct sscope_budget_point pt;
+
+		sscope_budget_source_eval(p, (enum sscope_budget_source)s, t, &pt);
+		if (pt.position_m > bv) {
+			bv = pt.position_m;
+			best = s;
+		}
+	}
+	if (v)
+		*v = bv;
+	return best;
+}
+
+struct crossing {
+	double t;
+	int from, to;
+};
+
+/* where the dominant source changes, on a log grid refined by bisection */
+static size_t crossovers(const struct sscope_budget_params *p, double t0,
+			 double t1, struct crossing *c, size_t max)
+{
+	size_t n = 0;
+	double prev_t = t0;
+	int prev = dominant(p, t0, NULL);
+
+	for (double t = t0 * 1.01; t <= t1 * 1.0001 && n < max; t *= 1.01) {
+		int d = dominant(p, t, NULL);
+
+		if (d != prev && prev >= 0 && d >= 0) {
+			double lo = prev_t, hi = t;
+
+			for (int it = 0; it < 60; it++) {
+				double mid = 0.5 * (lo + hi);
+
+				if (dominant(p, mid, NULL) == prev)
+					lo = mid;
+				else
+					hi = mid;
+			}
+			c[n].t = hi;
+			c[n].from = prev;
+			c[n].to = d;
+			n++;
+		}
+		prev = d;
+		prev_t = t;
+	}
+	return n;
+}
+
+static const char *qty_name(enum sscope_budget_quantity q)
+{
+	return q == SSCOPE_BUDGET_POSITION ? "position" :
+	       q == SSCOPE_BUDGET_VELOCITY ? "velocity" : "attitude";
+}
+
+static const char *qty_unit(enum sscope_budget_quantity q)
+{
+	return q == SSCOPE_BUDGET_POSITION ? "m" :
+	       q == SSCOPE_BUDGET_VELOCITY ? "m/s" : "rad";
+}
+
+struct mc_res {
+	bool done;
+	struct sscope_budget_mc_opts o;
+	struct sscope_budget_mc_point *pt;
+	size_t n;
+	double *paths;
+	size_t n_paths;
+};
+
+static int run_mc(const struct opts *o, bool gyro, double t_end,
+		  struct mc_res *m)
+{
+	size_t nt = 0;
+
+	memset(&m->o, 0, sizeof(m->o));
+	m->o.gyro = gyro;
+	m->o.strength = gyro ? fabs(o->p.arw_rad_sqrt_s) : fabs(o->p.vrw_m_s_sqrt_s);
+	m->o.gravity_m_s2 = o->p.gravity_m_s2;
+	m->o.t_end_s = t_end;
+	m->o.steps = 1000;
+	m->o.realisations = o->mc;
+	m->o.seed = o->seed + (gyro ? 0 : 1);
+	m->pt = calloc(o->n_times, sizeof(*m->pt));
+	m->n_paths = o->plot ? 40 : 0;
+	m->paths = m->n_paths ? calloc(m->n_paths * (m->o.steps + 1), sizeof(double)) :
+				NULL;
+	if (!m->pt || (m->n_paths && !m->paths))
+		return -ENOMEM;
+	if (m->n_paths > o->mc)
+		m->n_paths = o->mc;
+	{
+		double *ts = malloc(o->n_times * sizeof(double));
+		int rc;
+
+		if (!ts)
+			return -ENOMEM;
+		for (size_t j = 0; j < o->n_times; j++)
+			ts[nt++] = o->times[j];
+		rc = sscope_budget_mc(&m->o, ts, nt, m->pt, m->paths, m->n_paths);
+		free(ts);
+		if (rc)
+			return rc;
+	}
+	m->n = nt;
+	m->done = true;
+	return 0;
+}
+
+static json_t *mc_json(const struct mc_res *m)
+{
+	json_t *o = json_object(), *pts = json_array();
+	double p = erf(sqrt(2.0)), M = (double)m->o.realisations;
+
+	json_object_set_new(o, "term", json_string(m->o.gyro ? "arw" : "vrw"));
+	json_object_set_new(o, "walk", json_string(m->o.gyro ? "attitude_rad" :
+							      "velocity_m_s"));
+	json_object_set_new(o, "realisations", json_integer((json_int_t)m->o.realisations));
+	json_object_set_new(o, "steps", json_integer((json_int_t)m->o.steps));
+	json_object_set_new(o, "seed", json_integer((json_int_t)m->o.seed));
+	json_object_set_new(o, "expected_inside", json_real(p));
+	json_object_set_new(o, "binomial_sd", json_real(sqrt(p * (1 - p) / M)));
+	for (size_t j = 0; j < m->n; j++) {
+		json_t *q = json_object();
+
+		json_object_set_new(q, "t_s", json_real(m->pt[j].t_s));
+		json_object_set_new(q, "walk_sd", ssc_jreal(m->pt[j].walk_sd));
+		json_object_set_new(q, "walk_sd_theory", ssc_jreal(m->pt[j].walk_sd_theory));
+		json_object_set_new(q, "walk_inside_2sigma", ssc_jreal(m->pt[j].walk_inside));
+		json_object_set_new(q, "position_sd", ssc_jreal(m->pt[j].pos_sd));
+		json_object_set_new(q, "position_sd_theory", ssc_jreal(m->pt[j].pos_sd_theory));
+		json_object_set_new(q, "position_inside_2sigma", ssc_jreal(m->pt[j].pos_inside));
+		json_array_append_new(pts, q);
+	}
+	json_object_set_new(o, "points", pts);
+	return o;
+}
+
+static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
+		double t_max)
+{
+	int rows = n_mc > 0 ? 2 : 1, rc;
+	struct ssc_fig *fig = ssc_fig_new(1100, rows == 2 ? 1150 : 650, rows, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	enum { NG = 300 };
+	double t[NG], y[NG], y2[NG], ymin = INFINITY, ymax = 0;
+	double t0 = fmin(0.1, o->times[0]);
+	char buf[160];
+
+	for (int i = 0; i < NG; i++)
+		t[i] = t0 * pow(t_max / t0, (double)i / (NG - 1));
+	ssc_fig_title(fig, "drift budget: position error of one horizontal channel");
+	ssc_ax_log(ax, true, true);
+	for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+		struct ssc_style st = { .color = ssc_plot_color((size_t)s), .width = 2 };
+		bool any = false;
+
+		for (int i = 0; i < NG; i++) {
+			struct sscope_budget_point pt;
+
+			sscope_budget_source_eval(&o->p, (enum sscope_budget_source)s,
+						  t[i], &pt);
+			y[i] = pt.position_m;
+			y2[i] = 2 * pt.position_m;
+			any |= y[i] > 0;
+			if (y[i] > 0) {
+				ymin = fmin(ymin, y[i]);
+				ymax = fmax(ymax, y2[i]);
+			}
+		}
+		if (!any)
+			continue;
+		snprintf(buf, sizeof(buf), "%s%s", sscope_budget_source_name((enum sscope_budget_source)s),
+			 sscope_budget_source_random((enum sscope_budget_source)s) ? " (1σ)" : "");
+		ssc_ax_line(ax, t, y, NG, &st, buf);
+		if (sscope_budget_source_random((enum sscope_budget_source)s)) {
+			struct ssc_style ds = st;
+
+			ds.dash = SSC_DASHED;
+			ds.width = 1.2;
+			ssc_ax_line(ax, t, y2, NG, &ds, "±2σ envelope");
+		}
+	}
+	{
+		struct ssc_style st = { .color = 0x111111, .width = 3 };
+
+		for (int i = 0; i < NG; i++) {
+			struct sscope_budget_point pt;
+
+			sscope_budget_total(&o->p, t[i], &pt);
+			y[i] = pt.position_m;
+		}
+		ssc_ax_line(ax, t, y, NG, &st, "total (RSS)");
+	}
+	if (o->p.model == SSCOPE_BUDGET_AUTO) {
+		struct ssc_style vs = { .color = 0x7f7f7f, .width = 1, .dash = SSC_DOTTED };
+		double sw = o->p.switch_time_s > 0 ? o->p.switch_time_s : 300;
+
+		if (sw < t_max)
+			ssc_ax_vline(ax, sw, &vs, "open loop | Schuler");
+	}
+	if (ymax > 0 && ymin < ymax)
+		ssc_ax_ylim(ax, fmax(ymin, ymax * 1e-9), ymax * 2);
+	ssc_ax_xlabel(ax, "time (s)");
+	ssc_ax_ylabel(ax, "position error (m)");
+	ssc_ax_legend(ax, SSC_LEGEND_UL);
+	if (n_mc > 0) {
+		const struct mc_res *m = &mc[0];
+		size_t ns = m->o.steps + 1;
+		double *tt = malloc(ns * sizeof(double)), *lo = malloc(ns * sizeof(double)),
+		       *hi = malloc(ns * sizeof(double));
+		double sc = m->o.gyro ? 180 / PI : 1;
+
+		ax = ssc_fig_ax(fig, 1, 0);
+		if (tt && lo && hi) {
+			for (size_t k = 0; k < ns; k++) {
+				tt[k] = m->o.t_end_s * (double)k / (double)m->o.steps;
+				hi[k] = 2 * m->o.strength * sqrt(tt[k]) * sc;
+				lo[k] = -hi[k];
+			}
+			ssc_ax_band(ax, tt, lo, hi, ns, 0x1f77b4, 0.15, "±2σ√t");
+			for (size_t p = 0; p < m->n_paths; p++) {
+				struct ssc_style st = { .color = 0x7f7f7f, .width = 0.8 };
+
+				for (size_t k = 0; k < ns; k++)
+					lo[k] = m->paths[p * ns + k] * sc;
+				ssc_ax_line(ax, tt, lo, ns, &st, p ? NULL : "realisations");
+			}
+			snprintf(buf, sizeof(buf), "%s random walk: %zu of %zu runs shown\n%.1f %% of %zu inside ±2σ at t = %g s (expected 95.4 %%)",
+				 m->o.gyro ? "angle" : "velocity", m->n_paths,
+				 m->o.realisations, 100 * m->pt[m->n - 1].walk_inside,
+				 m->o.realisations, m->pt[m->n - 1].t_s);
+			ssc_ax_note(ax, buf, SSC_LEGEND_LL);
+			ssc_ax_xlabel(ax, "time (s)");
+			ssc_ax_ylabel(ax, m->o.gyro ? "attitude error (°)" :
+						      "velocity error (m/s)");
+			ssc_ax_legend(ax, SSC_LEGEND_UL);
+		}
+		free(tt);
+		free(lo);
+		free(hi);
+	}
+	rc = ssc_fig_save_png(fig, o->plot);
+	ssc_fig_free(fig);
+	if (rc) {
+		ssc_err("budget", "%s: %s", o->plot, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* largest of a value into *dst (sources from several axes: the worst) */
+static void take_max(double *dst, double v, const char **from, const char *what)
+{
+	if (isfinite(v) && fabs(v) > fabs(*dst)) {
+		*dst = fabs(v);
+		*from = what;
+	}
+}
+
+/*
+ * Sources from a JSON result: an `allan` result gives N (random walk) and
+ * B (bias instability, as the bias) per channel, by the SI unit of the
+ * coefficient; a `calib` result gives what remains after its calibration
+ * is applied: the 1-sigma uncertainty of the bias, of the scale factor
+ * (relative) and the noise density.  The worst axis counts.
+ */
+static int load_result(struct opts *o, const char *path, const char **from)
+{
+	json_error_t err;
+	json_t *root = json_load_file(path, 0, &err), *a;
+	const char *cmd;
+	int used = 0;
+
+	if (!root) {
+		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
+		return SSC_EXIT_FAIL;
+	}
+	cmd = json_string_value(json_object_get(root, "command"));
+	if (cmd && !strcmp(cmd, "allan") &&
+	    json_is_array(a = json_object_get(root, "channels"))) {
+		size_t i;
+		json_t *ch;
+
+		json_array_foreach(a, i, ch) {
+			json_t *nz = json_object_get(ch, "noise");
+			json_t *N = json_object_get(nz, "N"), *B = json_object_get(nz, "B");
+			const char *nu = json_string_value(json_object_get(N, "si_unit"));
+			bool gyro = nu && !strcmp(nu, "rad/s/sqrt(Hz)");
+			bool acc = nu && !strcmp(nu, "m/s^2/sqrt(Hz)");
+
+			if (!gyro && !acc)
+				continue;
+			if (!o->set[gyro ? 2 : 3]) {
+				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
+					 json_number_value(json_object_get(N, "si")),
+					 &from[gyro ? 2 : 3], "allan N");
+				used++;
+			}
+			if (!o->set[gyro ? 0 : 1] && json_is_number(json_object_get(B, "si"))) {
+				take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
+					 json_number_value(json_object_get(B, "si")),
+					 &from[gyro ? 0 : 1], "allan B (bias instability)");
+				used++;
+			}
+		}
+	} else if (cmd && !strncmp(cmd, "calib", 5) &&
+		   json_is_array(a = json_object_get(root, "triads"))) {
+		size_t i;
+		json_t *t;
+
+		json_array_foreach(a, i, t) {
+			const char *kind = json_string_value(json_object_get(t, "kind"));
+			bool gyro = kind && !strcmp(kind, "gyro");
+			json_t *bsd = json_object_get(t, "bias_sd");
+			json_t *sc = json_object_get(t, "scale"), *ssd = json_object_get(t, "scale_sd");
+			json_t *nd = json_object_get(json_object_get(t, "noise_density"), "si");
+
+			if (!kind)
+				continue;
+			for (size_t k = 0; k < 3; k++) {
+				double b = json_number_value(json_array_get(bsd, k));
+				double s1 = json_number_value(json_array_get(sc, k));
+				double s2 = json_number_value(json_array_get(ssd, k));
+
+				/* bias sd in input units -> output SI through the scale */
+				if (!o->set[gyro ? 0 : 1] && json_is_number(json_array_get(bsd, k)))
+					take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
+						 b * s1, &from[gyro ? 0 : 1],
+						 "calib bias uncertainty");
+				if (json_is_number(json_array_get(ssd, k)) && s1 != 0) {
+					double *dst = gyro ? &o->p.gyro_sf : &o->p.accel_sf;
+
+					if (fabs(s2 / s1) > *dst)
+						*dst = fabs(s2 / s1);
+				}
+			}
+			if (!o->set[gyro ? 2 : 3] && json_is_number(nd))
+				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
+					 json_number_value(nd), &from[gyro ? 2 : 3],
+					 "calib noise density");
+			used++;
+		}
+	} else {
+		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",
+			path);
+		json_decref(root);
+		return SSC_EXIT_FAIL;
+	}
+	json_decref(root);
+	if (!used) {
+		ssc_err("budget", "--result: %s: no gyro or accelerometer terms in it", path);
+		return SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+int ssc_cmd_budget(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct opts o = { .mc = 1000, .seed = 1 };
+	const double deft[] = { 10, 30, 60, 120, 300, 600, 1800, 3600 };
+	struct mc_res mc[2] = { { 0 } };
+	int n_mc = 0, first, rc;
+	double t_max;
+	const char *bias_from[4] = { "option", "option", "option", "option" };
+	struct crossing cr[32];
+	size_t n_cr;
+
+	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (first < argc)
+		return ssc_usage_error(co.cmd, "unexpected operand '%s'", argv[first]);
+	if (o.plot) {
+		size_t l = strlen(o.plot);
+
+		if (!ssc_plot_available())
+			return ssc_plot_unavailable(co.cmd);
+		if (l < 5 || strcmp(o.plot + l - 4, ".png"))
+			return ssc_usage_error(co.cmd, "--plot: '%s' must end in .png",
+					       o.plot);
+	}
+	for (int i = 0; i < o.n_sensor; i++) {
+		struct sscope_sensor_spec s;
+
+		rc = ssc_load_sensor(co.cmd, o.sensor[i], &s);
+		if (rc)
+			return rc;
+		if (s.quantity == SSCOPE_QTY_ANGULAR_RATE) {
+			if (!o.set[0] && (s.has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
+				o.p.gyro_bias_rad_s = (s.has & SSCOPE_SPEC_BIAS) ? s.bias : s.b;
+				bias_from[0] = (s.has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+			}
+			if (!o.set[2] && (s.has & SSCOPE_SPEC_N))
+				o.p.arw_rad_sqrt_s = s.n;
+			if (o.p.gyro_sf == 0 && (s.has & SSCOPE_SPEC_SF))
+				o.p.gyro_sf = s.scale_factor_error;
+		} else if (s.quantity == SSCOPE_QTY_ACCELERATION) {
+			if (!o.set[1] && (s.has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
+				o.p.accel_bias_m_s2 = (s.has & SSCOPE_SPEC_BIAS) ? s.bias : s.b;
+				bias_from[1] = (s.has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+			}
+			if (!o.set[3] && (s.has & SSCOPE_SPEC_N))
+				o.p.vrw_m_s_sqrt_s = s.n;
+			if (o.p.accel_sf == 0 && (s.has & SSCOPE_SPEC_SF))
+				o.p.accel_sf = s.scale_factor_error;
+		} else {
+			ssc_err(co.cmd, "%s: neither a gyro nor an accelerometer (give range or noise_density with a unit)",
+				o.sensor[i]);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	for (int i = 0; i < o.n_result; i++) {
+		rc = load_result(&o, o.result[i], bias_from);
+		if (rc)
+			return rc;
+	}
+	if (o.p.gyro_bias_rad_s == 0 && o.p.accel_bias_m_s2 == 0 &&
+	    o.p.arw_rad_sqrt_s == 0 && o.p.vrw_m_s_sqrt_s == 0 &&
+	    (o.p.gyro_sf * o.p.turn_rate_rad_s) == 0 &&
+	    (o.p.accel_sf * o.p.accel_profile_m_s2) == 0)
+		return ssc_usage_error(co.cmd, "no error source: give --sensor or --gyro-bias, --accel-bias, --arw, --vrw");
+	if (o.n_times == 0) {
+		memcpy(o.times, deft, sizeof(deft));
+		o.n_times = sizeof(deft) / sizeof(deft[0]);
+	}
+	qsort(o.times, o.n_times, sizeof(double), cmp_double);
+	t_max = o.times[o.n_times - 1];
+	if (o.mc > 0) {
+		if (o.p.arw_rad_sqrt_s != 0) {
+			rc = run_mc(&o, true, t_max, &mc[n_mc]);
+			if (rc) {
+				ssc_err(co.cmd, "Monte Carlo: %s", sscope_strerror(rc));
+				rc = SSC_EXIT_FAIL;
+				goto done;
+			}
+			n_mc++;
+		}
+		if (o.p.vrw_m_s_sqrt_s != 0) {
+			rc = run_mc(&o, false, t_max, &mc[n_mc]);
+			if (rc) {
+				ssc_err(co.cmd, "Monte Carlo: %s", sscope_strerror(rc));
+				rc = SSC_EXIT_FAIL;
+				goto done;
+			}
+			n_mc++;
+		}
+	}
+	n_cr = crossovers(&o.p, fmin(0.1, o.times[0]), t_max, cr, 32);
+	if (o.plot) {
+		rc = plot(&o, mc, n_mc, t_max);
+		if (rc)
+			goto done;
+	}
+	if (co.format == SSC_FMT_JSON) {
+		json_t *root = json_object(), *ts = json_array(), *srcs = json_array();
+		json_t *tot = json_object(), *tp = json_array(), *tv = json_array(),
+		       *ta = json_array(), *models = json_array(), *dom = json_array();
+		json_t *in = json_object(), *jcr = json_array(), *tt = json_array();
+
+		json_object_set_new(root, "command", json_string("budget"));
+		for (size_t j = 0; j < o.n_times; j++) {
+			struct sscope_budget_point pt;
+			int d = dominant(&o.p, o.times[j], NULL);
+
+			json_array_append_new(ts, json_real(o.times[j]));
+			sscope_budget_total(&o.p, o.times[j], &pt);
+			json_array_append_new(tp, ssc_jreal(pt.position_m));
+			json_array_append_new(tv, ssc_jreal(pt.velocity_m_s));
+			json_array_append_new(ta, ssc_jreal(pt.attitude_rad));
+			json_array_append_new(models, json_string(model_name(&o.p, o.times[j])));
+			json_array_append_new(dom, d >= 0 ? json_string(sscope_budget_source_name(
+							     (enum sscope_budget_source)d)) :
+							     json_null());
+		}
+		json_object_set_new(root, "times_s", ts);
+		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+			json_t *so = json_object(), *p = json_array(), *v = json_array(),
+			       *a = json_array();
+
+			for (size_t j = 0; j < o.n_times; j++) {
+				struct sscope_budget_point pt;
+
+				sscope_budget_source_eval(&o.p, (enum sscope_budget_source)s,
+							  o.times[j], &pt);
+				json_array_append_new(p, ssc_jreal(pt.position_m));
+				json_array_append_new(v, ssc_jreal(pt.velocity_m_s));
+				json_array_append_new(a, ssc_jreal(pt.attitude_rad));
+			}
+			json_object_set_new(so, "name", json_string(sscope_budget_source_name(
+							 (enum sscope_budget_source)s)));
+			json_object_set_new(so, "random", json_boolean(sscope_budget_source_random(
+							   (enum sscope_budget_source)s)));
+			json_object_set_new(so, "position_m", p);
+			json_object_set_new(so, "velocity_m_s", v);
+			json_object_set_new(so, "attitude_rad", a);
+			json_array_append_new(srcs, so);
+		}
+		json_object_set_new(root, "sources", srcs);
+		json_object_set_new(tot, "position_m", tp);
+		json_object_set_new(tot, "velocity_m_s", tv);
+		json_object_set_new(tot, "attitude_rad", ta);
+		json_object_set_new(tot, "combination", json_string("root sum of squares"));
+		json_object_set_new(root, "total", tot);
+		json_object_set_new(root, "model", models);
+		json_object_set_new(root, "switch_time_s",
+				    o.p.model == SSCOPE_BUDGET_AUTO ?
+					    json_real(o.p.switch_time_s > 0 ? o.p.switch_time_s : 300) :
+					    json_null());
+		json_object_set_new(root, "schuler_period_s",
+				    json_real(2 * PI / sscope_budget_schuler_rad_s(&o.p)));
+		json_object_set_new(root, "dominant", dom);
+		for (size_t i = 0; i < n_cr; i++) {
+			json_t *c = json_object();
+
+			json_object_set_new(c, "t_s", json_real(cr[i].t));
+			json_object_set_new(c, "from", json_string(sscope_budget_source_name(
+							  (enum sscope_budget_source)cr[i].from)));
+			json_object_set_new(c, "to", json_string(sscope_budget_source_name(
+							(enum sscope_budget_source)cr[i].to)));
+			json_array_append_new(jcr, c);
+		}
+		json_object_set_new(root, "crossovers", jcr);
+		for (size_t e = 0; e < o.n_err; e++) {
+			json_t *c = json_object(), *per = json_object();
+			double t;
+
+			json_object_set_new(c, "quantity", json_string(qty_name(o.err_q[e])));
+			json_object_set_new(c, "value", json_real(o.err[e]));
+			json_object_set_new(c, "unit", json_string(qty_unit(o.err_q[e])));
+			rc = sscope_budget_time_to(&o.p, -1, o.err_q[e], o.err[e], 1e7, &t);
+			json_object_set_new(c, "total_s", rc ? json_null() : json_real(t));
+			for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+				rc = sscope_budget_time_to(&o.p, s, o.err_q[e], o.err[e], 1e7, &t);
+				json_object_set_new(per, sscope_budget_source_name(
+								 (enum sscope_budget_source)s),
+						    rc ? json_null() : json_real(t));
+			}
+			json_object_set_new(c, "sources_s", per);
+			json_array_append_new(tt, c);
+		}
+		json_object_set_new(root, "time_to", tt);
+		json_object_set_new(in, "gyro_bias_rad_s", json_real(o.p.gyro_bias_rad_s));
+		json_object_set_new(in, "gyro_bias_from", json_string(bias_from[0]));
+		json_object_set_new(in, "accel_bias_m_s2", json_real(o.p.accel_bias_m_s2));
+		json_object_set_new(in, "accel_bias_from", json_string(bias_from[1]));
+		json_object_set_new(in, "arw_rad_sqrt_s", json_real(o.p.arw_rad_sqrt_s));
+		json_object_set_new(in, "arw_from", json_string(bias_from[2]));
+		json_object_set_new(in, "vrw_from", json_string(bias_from[3]));
+		json_object_set_new(in, "vrw_m_s_sqrt_s", json_real(o.p.vrw_m_s_sqrt_s));
+		json_object_set_new(in, "gyro_sf", json_real(o.p.gyro_sf));
+		json_object_set_new(in, "accel_sf", json_real(o.p.accel_sf));
+		json_object_set_new(in, "turn_rate_rad_s", json_real(o.p.turn_rate_rad_s));
+		json_object_set_new(in, "accel_profile_m_s2", json_real(o.p.accel_profile_m_s2));
+		json_object_set_new(root, "inputs", in);
+		if (n_mc) {
+			json_t *m = json_array();
+
+			for (int i = 0; i < n_mc; i++)
+				json_array_append_new(m, mc_json(&mc[i]));
+			json_object_set_new(root, "monte_carlo", m);
+		}
+		rc = ssc_emit_json(&co, root);
+	} else {
+		struct ssc_out out;
+		char a[32];
+
+		rc = ssc_out_open(&co, &out);
+		if (rc)
+			goto done;
+		if (co.format == SSC_FMT_CSV) {
+			fprintf(out.f, "t_s,source,position_m,velocity_m_s,attitude_rad,model\n");
+			for (size_t j = 0; j < o.n_times; j++) {
+				for (int s = 0; s <= SSCOPE_BUDGET_N_SOURCES; s++) {
+					struct sscope_budget_point pt;
+
+					if (s < SSCOPE_BUDGET_N_SOURCES)
+						sscope_budget_source_eval(&o.p,
+									  (enum sscope_budget_source)s,
+									  o.times[j], &pt);
+					else
+						sscope_budget_total(&o.p, o.times[j], &pt);
+					fprintf(out.f, "%.10g,%s,%.10g,%.10g,%.10g,%s\n",
+						o.times[j],
+						s < SSCOPE_BUDGET_N_SOURCES ?
+							sscope_budget_source_name((enum sscope_budget_source)s) :
+							"total",
+						pt.position_m, pt.velocity_m_s, pt.attitude_rad,
+						model_name(&o.p, o.times[j]));
+				}
+			}
+		} else {
+			FILE *f = out.f;
+
+			fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
+				o.p.gravity_m_s2 > 0 ? o.p.gravity_m_s2 : 9.80665,
+				2 * PI / sscope_budget_schuler_rad_s(&o.p) / 60);
+			fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
+				ssc_fmt(a, sizeof(a), o.p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],
+				ssc_fmt((char[32]){ 0 }, 32, o.p.accel_bias_m_s2 / 9.80665e-6, 4), bias_from[1],
+				ssc_fmt((char[32]){ 0 }, 32, o.p.arw_rad_sqrt_s * 180 / PI * 60, 4),
+				ssc_fmt((char[32]){ 0 }, 32, o.p.vrw_m_s_sqrt_s * 60, 4));
+			if (o.p.gyro_sf * o.p.turn_rate_rad_s != 0 ||
+			    o.p.accel_sf * o.p.accel_profile_m_s2 != 0)
+				fprintf(f, ", scale factor %s ppm at %s deg/s, %s ppm at %s m/s^2",
+					ssc_fmt(a, sizeof(a), o.p.gyro_sf * 1e6, 4),
+					ssc_fmt((char[32]){ 0 }, 32, o.p.turn_rate_rad_s * 180 / PI, 4),
+					ssc_fmt((char[32]){ 0 }, 32, o.p.accel_sf * 1e6, 4),
+					ssc_fmt((char[32]){ 0 }, 32, o.p.accel_profile_m_s2, 4));
+			fputc('\n', f);
+			if (o.p.model == SSCOPE_BUDGET_AUTO)
+				fprintf(f, "  formulas: open loop up to %g s, Schuler-bounded after (the t^3 form is 0.7 %% high at 300 s)\n",
+					o.p.switch_time_s > 0 ? o.p.switch_time_s : 300);
+			else
+				fprintf(f, "  formulas: %s at every time\n",
+					o.p.model == SSCOPE_BUDGET_SCHULER ? "Schuler-bounded" : "open loop");
+			fprintf(f, "\n  position error (m; random walks 1 sigma, +-2 sigma holds 95 %%)\n");
+			fprintf(f, "  %10s %11s %11s %11s %11s %12s %11s  %-12s %s\n", "t (s)",
+				"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor",
+				"total", "dominant", "model");
+			for (size_t j = 0; j < o.n_times; j++) {
+				struct sscope_budget_point pt;
+				int d = dominant(&o.p, o.times[j], NULL);
+
+				fprintf(f, "  %10s", ssc_fmt(a, sizeof(a), o.times[j], 6));
+				for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+					sscope_budget_source_eval(&o.p, (enum sscope_budget_source)s,
+								  o.times[j], &pt);
+					fprintf(f, s == 4 ? " %12s" : " %11s",
+						ssc_fmt(a, sizeof(a), pt.position_m, 4));
+				}
+				sscope_budget_total(&o.p, o.times[j], &pt);
+				fprintf(f, " %11s  %-12s %s\n", ssc_fmt(a, sizeof(a), pt.position_m, 4),
+					d >= 0 ? sscope_budget_source_name((enum sscope_budget_source)d) : "-",
+					model_name(&o.p, o.times[j]));
+			}
+			fprintf(f, "\n  total velocity (m/s) and attitude (deg) error\n");
+			for (size_t j = 0; j < o.n_times; j++) {
+				struct sscope_budget_point pt;
+
+				sscope_budget_total(&o.p, o.times[j], &pt);
+				fprintf(f, "  %10s %11s %11s\n", ssc_fmt(a, sizeof(a), o.times[j], 6),
+					ssc_fmt((char[32]){ 0 }, 32, pt.velocity_m_s, 4),
+					ssc_fmt((char[32]){ 0 }, 32, pt.attitude_rad * 180 / PI, 4));
+			}
+			if (n_cr) {
+				fprintf(f, "\n  dominant source changes:\n");
+				for (size_t i = 0; i < n_cr; i++)
+					fprintf(f, "    at %s s: %s -> %s\n",
+						ssc_fmt(a, sizeof(a), cr[i].t, 4),
+						sscope_budget_source_name((enum sscope_budget_source)cr[i].from),
+						sscope_budget_source_name((enum sscope_budget_source)cr[i].to));
+			}
+			for (size_t e = 0; e < o.n_err; e++) {
+				double t;
+
+				fprintf(f, "\n  time to %s error %s %s:", qty_name(o.err_q[e]),
+					ssc_fmt(a, sizeof(a), o.err[e], 4), qty_unit(o.err_q[e]));
+				if (sscope_budget_time_to(&o.p, -1, o.err_q[e], o.err[e], 1e7, &t) == 0)
+					fprintf(f, " total %s s", ssc_fmt(a, sizeof(a), t, 5));
+				else
+					fprintf(f, " total not reached within 1e7 s");
+				for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++)
+					if (sscope_budget_time_to(&o.p, s, o.err_q[e], o.err[e], 1e7, &t) == 0)
+						fprintf(f, "; %s %s s",
+							sscope_budget_source_name((enum sscope_budget_source)s),
+							ssc_fmt(a, sizeof(a), t, 5));
+				fputc('\n', f);
+			}
+			for (int i = 0; i < n_mc; i++) {
+				const struct mc_res *m = &mc[i];
+				double p = erf(sqrt(2.0));
+
+				fprintf(f, "\n  Monte Carlo (%s, %zu seeded realisations, seed %lu): fraction inside +-2 sigma sqrt(t), expected %.4f +- %.4f (binomial sd)\n",
+					m->o.gyro ? "ARW" : "VRW", m->o.realisations, m->o.seed, p,
+					sqrt(p * (1 - p) / (double)m->o.realisations));
+				for (size_t j = 0; j < m->n; j++)
+					fprintf(f, "    t = %-8s %s inside %.4f (sd ratio %.4f), position inside %.4f (sd ratio %.4f)\n",
+						ssc_fmt(a, sizeof(a), m->pt[j].t_s, 5),
+						m->o.gyro ? "attitude" : "velocity",
+						m->pt[j].walk_inside,
+						m->pt[j].walk_sd / m->pt[j].walk_sd_theory,
+						m->pt[j].pos_inside,
+						m->pt[j].pos_sd / m->pt[j].pos_sd_theory);
+			}
+		}
+		rc = ssc_out_close(&co, &out, !ferror(out.f));
+	}
+done:
+	for (int i = 0; i < 2; i++) {
+		free(mc[i].pt);
+		free(mc[i].paths);
+	}
+	return rc;
+}

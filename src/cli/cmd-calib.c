@@ -1,0 +1,1730 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope calib accel|gyro: error-model calibration of a triad
+ * (seed eqs 93-94) by the multi-position method of Tedaldi, Pretto and
+ * Menegatti (ICRA 2014), the six-position test, rate-table / centrifuge
+ * runs against a reference column, and static tilt poses for the
+ * g-dependent gyro bias; writes a calibration file for --calibration.
+ */
+#include "cli.h"
+#include "calibfile.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+
+#define PI 3.14159265358979323846
+#define MAX_IV 4096
+
+enum mode { M_MULTIPOS = 0, M_SIXPOS, M_RATE_TABLE, M_TILT };
+static const char *const mode_names[] = { "multipos", "sixpos", "rate-table",
+					  "tilt" };
+
+enum {
+	O_MODE = 300,
+	O_GRAVITY,
+	O_WINDOW,
+	O_MIN_STATIC,
+	O_INIT_STATIC,
+	O_THRESHOLD,
+	O_ACCEL,
+	O_GYRO,
+	O_REFERENCE,
+	O_TABLE_AXIS,
+	O_SETTLE,
+	O_CUBIC,
+	O_GSENS,
+	O_SAVE,
+	O_SCHEDULE,
+};
+
+static const struct ssc_option calib_opts[] = {
+	{ "mode", required_argument, O_MODE, "multipos|sixpos|rate-table|tilt",
+	  "method (default multipos; tilt is gyro only)" },
+	{ "gravity", required_argument, O_GRAVITY, "G",
+	  "local gravity (default 9.80665 m/s^2; units allowed, e.g. 9.8094 m/s^2)" },
+	{ "window", required_argument, O_WINDOW, "S",
+	  "static detector: variance window (default 1 s)" },
+	{ "min-static", required_argument, O_MIN_STATIC, "S",
+	  "static detector: shortest static interval (default 2 s)" },
+	{ "init-static", required_argument, O_INIT_STATIC, "S",
+	  "static detector: reference noise from the first S seconds (default: 10th percentile rule)" },
+	{ "threshold", required_argument, O_THRESHOLD, "K|auto",
+	  "static detector: threshold = K x reference (default auto: best K in 2..10)" },
+	{ "accel", required_argument, O_ACCEL, "X,Y,Z",
+	  "accelerometer channels (default: the first three in m/s^2 or g)" },
+	{ "gyro", required_argument, O_GYRO, "X,Y,Z",
+	  "gyro channels (default: the first three angular-rate channels)" },
+	{ "reference", required_argument, O_REFERENCE, "NAME[,NAME,NAME]",
+	  "rate-table mode: commanded rate (or specific force) column(s)" },
+	{ "schedule", required_argument, O_SCHEDULE, "FILE",
+	  "rate-table mode without a reference column: lines 'START END RATE' (e.g. 10 15 50deg/s)" },
+	{ "table-axis", required_argument, O_TABLE_AXIS, "x|y|z|auto[,...]",
+	  "rate-table mode, one reference column: sensor axis on the table, per file (default auto)" },
+	{ "settle", required_argument, O_SETTLE, "S",
+	  "rate-table mode: samples dropped after each step (default 1 s)" },
+	{ "cubic", no_argument, O_CUBIC, NULL,
+	  "rate-table mode: fit quadratic and cubic scale-factor terms too" },
+	{ "g-sensitivity", no_argument, O_GSENS, NULL,
+	  "calib gyro multipos: estimate the g-dependent bias matrix too" },
+	{ "save-calibration", required_argument, O_SAVE, "PATH",
+	  "write the calibration file (JSON) for --calibration" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec spec = {
+	.name = "calib",
+	.usage = "calib accel|gyro [OPTIONS] FILE...",
+	.summary =
+		"Error-model calibration of an accelerometer or gyro triad: bias, scale\n"
+		"factors and misalignment with 1-sigma uncertainties.  multipos (default):\n"
+		"multi-position calibration without external equipment (Tedaldi, Pretto,\n"
+		"Menegatti, ICRA 2014): hold the sensor still in 10 or more orientations\n"
+		"(rotating between them for 'calib gyro'); static intervals are found\n"
+		"automatically and the accelerometer is fitted to |g|, the gyro to the\n"
+		"rotation of gravity between poses.  sixpos: +-g on each axis (12\n"
+		"parameters).  rate-table: steps of a commanded rate (or centrifuge\n"
+		"specific force) in a reference column: scale factor, its non-linearity\n"
+		"(best-fit straight line, % of full scale), cross-axis terms, bias.\n"
+		"tilt: static poses, gyro bias against gravity (g-dependent bias).\n"
+		"The sensor is classed against typical technology ranges.",
+	.options = calib_opts,
+	.analysis = true,
+	.notes = "Examples:\n"
+		 "  sensorscope calib accel samples/imu-multipose.csv\n"
+		 "  sensorscope calib gyro --save-calibration imu-cal.json samples/imu-multipose.csv\n"
+		 "  sensorscope info --calibration imu-cal.json samples/imu-multipose.csv\n"
+		 "  sensorscope calib accel --mode sixpos samples/accel-6pos.csv\n"
+		 "  sensorscope calib gyro --mode rate-table --reference rate_cmd --cubic samples/gyro-ratetable.csv\n"
+		 "Model: corrected = T K (reading - bias - G a'); bias in input units,\n"
+		 "scale in output SI units per input unit, T with a unit diagonal.",
+};
+
+struct opts {
+	bool gyro;
+	enum mode mode;
+	double gravity;
+	struct sscope_calib_detect det;
+	const char *accel, *gyro_names, *reference, *table_axis, *save;
+	const char *schedule;
+	double settle_s;
+	bool cubic, gsens;
+};
+
+static int handler(int key, const char *arg, void *ctx)
+{
+	struct opts *o = ctx;
+
+	switch (key) {
+	case O_MODE:
+		for (int m = 0; m < 4; m++)
+			if (!strcmp(arg, mode_names[m])) {
+				o->mode = (enum mode)m;
+				return 0;
+			}
+		return ssc_usage_error("calib", "--mode: '%s' is not multipos, sixpos, rate-table or tilt",
+				       arg);
+	case O_GRAVITY:
+		if (ssc_arg_quantity("calib", "gravity", arg, "m/s^2", &o->gravity))
+			return SSC_EXIT_USAGE;
+		if (!(o->gravity > 0))
+			return ssc_usage_error("calib", "--gravity: must be positive");
+		return 0;
+	case O_WINDOW:
+	case O_MIN_STATIC:
+	case O_INIT_STATIC:
+	case O_SETTLE: {
+		double v;
+		const char *nm = key == O_WINDOW ? "window" :
+				 key == O_MIN_STATIC ? "min-static" :
+				 key == O_INIT_STATIC ? "init-static" : "settle";
+
+		if (ssc_arg_quantity("calib", nm, arg, "s", &v))
+			return SSC_EXIT_USAGE;
+		if (!(v > 0) && !(key == O_SETTLE && v == 0))
+			return ssc_usage_error("calib", "--%s: must be positive", nm);
+		if (key == O_WINDOW)
+			o->det.window_s = v;
+		else if (key == O_MIN_STATIC)
+			o->det.min_static_s = v;
+		else if (key == O_INIT_STATIC)
+			o->det.init_static_s = v;
+		else
+			o->settle_s = v;
+		return 0;
+	}
+	case O_THRESHOLD:
+		if (!strcmp(arg, "auto")) {
+			o->det.k = 0;
+			return 0;
+		}
+		if (ssc_arg_double("calib", "threshold", arg, &o->det.k))
+			return SSC_EXIT_USAGE;
+		if (!(o->det.k > 1))
+			return ssc_usage_error("calib", "--threshold: K must exceed 1");
+		return 0;
+	case O_ACCEL:
+		o->accel = arg;
+		return 0;
+	case O_GYRO:
+		o->gyro_names = arg;
+		return 0;
+	case O_REFERENCE:
+		o->reference = arg;
+		return 0;
+	case O_TABLE_AXIS:
+		o->table_axis = arg;
+		return 0;
+	case O_CUBIC:
+		o->cubic = true;
+		return 0;
+	case O_GSENS:
+		o->gsens = true;
+		return 0;
+	case O_SAVE:
+		o->save = arg;
+		return 0;
+	case O_SCHEDULE:
+		o->schedule = arg;
+		return 0;
+	default:
+		return ssc_usage_error("calib", "unexpected option");
+	}
+}
+
+/* ------------------------------------------------------------------ */
+
+/* item i (0-based) of a comma list into buf; false when absent */
+static bool list_item(const char *list, int i, char *buf, size_t len)
+{
+	const char *p = list;
+
+	for (int k = 0; k < i; k++) {
+		p = strchr(p, ',');
+		if (!p)
+			return false;
+		p++;
+	}
+	size_t n = strcspn(p, ",");
+
+	if (n == 0 || n >= len)
+		return false;
+	memcpy(buf, p, n);
+	buf[n] = 0;
+	return true;
+}
+
+static size_t list_count(const char *list)
+{
+	size_t n = 1;
+
+	for (; *list; list++)
+		n += *list == ',';
+	return n;
+}
+
+static bool in_list(const char *list, const char *name)
+{
+	char b[128];
+
+	if (!list)
+		return false;
+	for (int i = 0; list_item(list, i, b, sizeof(b)); i++)
+		if (!strcmp(b, name))
+			return true;
+	return false;
+}
+
+/* three channels by name, or the first three of quantity q */
+static int pick3(const struct ssc_common *co, const struct sscope_capture *cap,
+		 const char *names, enum sscope_quantity q, const char *excl,
+		 const char *opt, long idx[3])
+{
+	if (names) {
+		char b[128];
+
+		if (list_count(names) != 3)
+			return ssc_usage_error(co->cmd, "--%s: give three channel names",
+					       opt);
+		for (int i = 0; i < 3; i++) {
+			list_item(names, i, b, sizeof(b));
+			idx[i] = sscope_capture_find(cap, b);
+			if (idx[i] < 0) {
+				ssc_err(co->cmd, "%s: --%s: no channel '%s'",
+					cap->source, opt, b);
+				return SSC_EXIT_FAIL;
+			}
+		}
+		return SSC_EXIT_OK;
+	}
+	int k = 0;
+
+	for (size_t c = 0; c < cap->n_channels && k < 3; c++)
+		if (cap->channels[c].col.quantity == q &&
+		    !in_list(excl, cap->channels[c].col.name))
+			idx[k++] = (long)c;
+	if (k < 3) {
+		ssc_err(co->cmd, "%s: fewer than three %s channels (name them with --%s X,Y,Z)",
+			cap->source, sscope_quantity_name(q), opt);
+		return SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* the unit of the raw channel ("" for raw values without a unit) */
+static void held_unit(const struct sscope_column *col, char *out, size_t len)
+{
+	snprintf(out, len, "%s", col->unit_label);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* pooled within-interval sd of x */
+static double pooled_sd(const double *x, const struct sscope_calib_interval *iv,
+			size_t n_iv)
+{
+	double ss = 0, dof = 0;
+
+	for (size_t k = 0; k < n_iv; k++) {
+		double m, sd;
+
+		if (sscope_calib_interval_mean(x, 1, &iv[k], &m, &sd) == 0 &&
+		    isfinite(sd)) {
+			double d = (double)(iv[k].end - iv[k].start - 1);
+
+			ss += sd * sd * d;
+			dof += d;
+		}
+	}
+	return dof > 0 ? sqrt(ss / dof) : (double)NAN;
+}
+
+/* ------------------------------------------------------------------ */
+/* Results                                                             */
+/* ------------------------------------------------------------------ */
+
+struct triad_out {
+	struct ssc_caltriad t;
+	enum sscope_quantity q;  /* output quantity */
+	const char *residual_unit;
+	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
+	bool error_model;        /* input and output of one dimension */
+	double A[3][3];          /* error model: reading = A u + b (SI) */
+	int grade;               /* row of sscope_calib_grades(), < 0 none */
+	double grade_dist;
+};
+
+static void finish_triad(struct triad_out *o)
+{
+	const struct sscope_calib_triad *c = &o->t.c;
+	struct sscope_unit iu, ou;
+	double C[3][3], sf = 0, gs = NAN, bias = 0;
+
+	o->error_model = false;
+	if (o->t.input_unit[0] &&
+	    !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
+	    !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
+	    sscope_unit_compatible(&iu, &ou)) {
+		/* A = (T K)^-1 in SI/SI */
+		double d;
+
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++)
+				C[i][j] = c->mis[i][j] * c->scale[j];
+		d = C[0][0] * (C[1][1] * C[2][2] - C[1][2] * C[2][1]) -
+		    C[0][1] * (C[1][0] * C[2][2] - C[1][2] * C[2][0]) +
+		    C[0][2] * (C[1][0] * C[2][1] - C[1][1] * C[2][0]);
+		if (fabs(d) > 0) {
+			o->A[0][0] = (C[1][1] * C[2][2] - C[1][2] * C[2][1]) / d;
+			o->A[0][1] = (C[0][2] * C[2][1] - C[0][1] * C[2][2]) / d;
+			o->A[0][2] = (C[0][1] * C[1][2] - C[0][2] * C[1][1]) / d;
+			o->A[1][0] = (C[1][2] * C[2][0] - C[1][0] * C[2][2]) / d;
+			o->A[1][1] = (C[0][0] * C[2][2] - C[0][2] * C[2][0]) / d;
+			o->A[1][2] = (C[0][2] * C[1][0] - C[0][0] * C[1][2]) / d;
+			o->A[2][0] = (C[1][0] * C[2][1] - C[1][1] * C[2][0]) / d;
+			o->A[2][1] = (C[0][1] * C[2][0] - C[0][0] * C[2][1]) / d;
+			o->A[2][2] = (C[0][0] * C[1][1] - C[0][1] * C[1][0]) / d;
+			o->error_model = true;
+		}
+	}
+	if (o->error_model) {
+		for (int i = 0; i < 3; i++) {
+			sf = fmax(sf, fabs(o->A[i][i] - 1));
+			bias = fmax(bias, fabs(c->bias[i]));
+		}
+		if (c->has_gsens) {
+			gs = 0;
+			for (int i = 0; i < 3; i++)
+				for (int j = 0; j < 3; j++)
+					gs = fmax(gs, fabs(c->gsens[i][j]));
+		}
+	} else {
+		/* raw input: the bias in output units, C b; no scale error */
+		for (int i = 0; i < 3; i++) {
+			double v = 0;
+
+			for (int j = 0; j < 3; j++)
+				v += c->mis[i][j] * c->scale[j] * c->bias[j];
+			bias = fmax(bias, fabs(v));
+		}
+		sf = NAN;
+	}
+	o->grade = sscope_calib_grade(o->q, bias, sf, o->noise_density, gs,
+				      &o->grade_dist);
+}
+
+static json_t *jvec(const double v[3], double mul)
+{
+	json_t *a = json_array();
+
+	for (int i = 0; i < 3; i++)
+		json_array_append_new(a, ssc_jreal(v[i] * mul));
+	return a;
+}
+
+static json_t *jmat(const double m[3][3], double mul)
+{
+	json_t *a = json_array();
+
+	for (int i = 0; i < 3; i++)
+		json_array_append_new(a, jvec(m[i], mul));
+	return a;
+}
+
+static json_t *triad_json(const struct triad_out *o)
+{
+	json_t *j = ssc_calfile_triad_json(&o->t);
+	const struct sscope_calib_triad *c = &o->t.c;
+	double s = ssc_calfile_unit_scale(o->t.input_unit);
+	char buf[96];
+	size_t ng;
+	const struct sscope_grade *gr = sscope_calib_grades(&ng);
+
+	json_object_set_new(j, "bias_unit", json_string(o->t.input_unit));
+	json_object_set_new(j, "bias_sd", jvec(c->bias_sd, 1 / s));
+	snprintf(buf, sizeof(buf), "%s per %s", o->t.output_unit,
+		 o->t.input_unit[0] ? o->t.input_unit : "count");
+	json_object_set_new(j, "scale_unit", json_string(buf));
+	json_object_set_new(j, "scale_sd", jvec(c->scale_sd, s));
+	json_object_set_new(j, "misalignment_sd", jmat(c->mis_sd, 1));
+	if (c->has_gsens) {
+		snprintf(buf, sizeof(buf), "%s per m/s^2",
+			 o->t.input_unit[0] ? o->t.input_unit : "count");
+		json_object_set_new(j, "g_sensitivity_sd", jmat(c->gsens_sd, 1 / s));
+		json_object_set_new(j, "g_sensitivity_unit", json_string(buf));
+	}
+	json_object_set_new(j, "residual_rms", ssc_jreal(c->residual_rms));
+	json_object_set_new(j, "residual_unit", json_string(o->residual_unit));
+	json_object_set_new(j, "poses", json_integer((json_int_t)c->poses));
+	json_object_set_new(j, "parameters", json_integer(c->n_params));
+	json_object_set_new(j, "iterations", json_integer(c->iterations));
+	json_object_set_new(j, "condition", ssc_jreal(c->cond));
+	if (o->error_model) {
+		json_t *em = json_object(), *sf = json_array();
+		const char *si = sscope_quantity_si_unit(o->q);
+		const char *bu = sscope_term_unit(o->q, SSCOPE_TERM_B);
+		double mis[3][3];
+
+		for (int i = 0; i < 3; i++) {
+			json_array_append_new(sf, isfinite(c->scale_sd[i]) ?
+						      ssc_jreal((o->A[i][i] - 1) * 1e6) :
+						      json_null());
+			for (int j2 = 0; j2 < 3; j2++)
+				mis[i][j2] = i == j2 ? 0 : o->A[i][j2] + 0.0;
+		}
+		{
+			json_t *b = json_array();
+
+			for (int i = 0; i < 3; i++)
+				json_array_append_new(b, ssc_json_coef(c->bias[i],
+						      c->bias[i] - c->bias_sd[i],
+						      c->bias[i] + c->bias_sd[i],
+						      bu, si, true));
+			json_object_set_new(em, "bias", b);
+		}
+		json_object_set_new(em, "scale_factor_ppm", sf);
+		json_object_set_new(em, "misalignment_rad", jmat(mis, 1));
+		if (c->has_gsens) {
+			double G[3][3];
+
+			for (int i = 0; i < 3; i++)
+				for (int j2 = 0; j2 < 3; j2++)
+					G[i][j2] = c->gsens[i][j2] * 180 / PI *
+						   3600 * 9.80665;
+			json_object_set_new(em, "g_dependent_bias_deg_h_per_g",
+					    jmat(G, 1));
+		}
+		json_object_set_new(j, "error_model", em);
+	} else {
+		json_object_set_new(j, "error_model", json_null());
+	}
+	if (isfinite(o->noise_density))
+		json_object_set_new(j, "noise_density",
+				    ssc_json_coef(o->noise_density, NAN, NAN,
+						  sscope_term_unit(o->q, SSCOPE_TERM_N),
+						  sscope_term_si_unit(o->q, SSCOPE_TERM_N),
+						  false));
+	else
+		json_object_set_new(j, "noise_density", json_null());
+	if (o->grade >= 0) {
+		json_t *g = json_object();
+
+		json_object_set_new(g, "class", json_string(gr[o->grade].name));
+		json_object_set_new(g, "distance_decades", ssc_jreal(o->grade_dist));
+		json_object_set_new(g, "basis", json_string(
+			"typical technology ranges (Titterton & Weston 2004; Groves 2013), "
+			"from |bias|, scale-factor error, noise density and g-sensitivity"));
+		json_object_set_new(j, "grade", g);
+	} else {
+		json_object_set_new(j, "grade", json_null());
+	}
+	return j;
+}
+
+static void triad_text(FILE *f, const struct triad_out *o)
+{
+	const struct sscope_calib_triad *c = &o->t.c;
+	double s = ssc_calfile_unit_scale(o->t.input_unit);
+	const char *iu = o->t.input_unit[0] ? o->t.input_unit : "counts";
+	char a[32], b[32];
+	size_t ng;
+	const struct sscope_grade *gr = sscope_calib_grades(&ng);
+
+	fprintf(f, "  %s triad %s,%s,%s  (%s -> %s)\n", o->t.kind,
+		o->t.channels[0], o->t.channels[1], o->t.channels[2], iu,
+		o->t.output_unit);
+	fprintf(f, "    poses %zu, parameters %u, residual rms %s %s",
+		c->poses, c->n_params, ssc_fmt(a, sizeof(a), c->residual_rms, 4),
+		strcmp(o->residual_unit, "1") ? o->residual_unit :
+						"(unit-vector difference)");
+	if (c->iterations)
+		fprintf(f, ", %u LM iterations", c->iterations);
+	fprintf(f, ", condition %s\n", ssc_fmt(a, sizeof(a), c->cond, 3));
+	fprintf(f, "    %-6s %16s %16s   %s\n", "axis", "bias", "scale",
+		"misalignment row (T)");
+	for (int i = 0; i < 3; i++) {
+		fprintf(f, "    %-6s %9s±%-6s ", o->t.channels[i],
+			ssc_fmt(a, sizeof(a), c->bias[i] / s, 5),
+			ssc_fmt(b, sizeof(b), c->bias_sd[i] / s, 2));
+		if (isfinite(c->scale_sd[i]))
+			fprintf(f, "%9s±%-6s ", ssc_fmt(a, sizeof(a), c->scale[i] * s, 6),
+				ssc_fmt(b, sizeof(b), c->scale_sd[i] * s, 2));
+		else
+			fprintf(f, "%9s (fixed) ", ssc_fmt(a, sizeof(a), c->scale[i] * s, 6));
+		for (int j = 0; j < 3; j++)
+			fprintf(f, " %10s", ssc_fmt(a, sizeof(a), c->mis[i][j], 4));
+		fputc('\n', f);
+	}
+	fprintf(f, "    (bias in %s, scale in %s per %s, uncertainties 1 sigma)\n",
+		iu, o->t.output_unit, iu);
+	if (c->has_gsens) {
+		fprintf(f, "    g-sensitivity G (%s per m/s^2):\n", iu);
+		for (int i = 0; i < 3; i++)
+			fprintf(f, "      %12s %12s %12s\n",
+				ssc_fmt(a, sizeof(a), c->gsens[i][0] / s, 4),
+				ssc_fmt(b, sizeof(b), c->gsens[i][1] / s, 4),
+				ssc_fmt((char[32]){ 0 }, 32, c->gsens[i][2] / s, 4));
+	}
+	if (o->error_model) {
+		const char *bu = sscope_term_unit(o->q, SSCOPE_TERM_B);
+		const char *si = sscope_quantity_si_unit(o->q);
+
+		double bmax = 0;
+
+		for (int i = 0; i < 3; i++)
+			bmax = fmax(bmax, fabs(c->bias[i]));
+		if (o->q == SSCOPE_QTY_ACCELERATION && bmax >= 1e-3 * 9.80665)
+			bu = "mg";
+		fprintf(f, "    error model (seed eqs 93-94): ");
+		for (int i = 0; i < 3; i++) {
+			double v = c->bias[i];
+
+			sscope_convert(c->bias[i], si, bu, &v);
+			fprintf(f, "%sb=%s %s", i ? "; " : "",
+				ssc_fmt(a, sizeof(a), v, 4), bu);
+			if (isfinite(c->scale_sd[i]))
+				fprintf(f, " s_f=%s ppm",
+					ssc_fmt(b, sizeof(b), (o->A[i][i] - 1) * 1e6, 4));
+		}
+		fputc('\n', f);
+	}
+	if (isfinite(o->noise_density)) {
+		double v = o->noise_density;
+		const char *nu = sscope_term_unit(o->q, SSCOPE_TERM_N);
+
+		sscope_convert(o->noise_density,
+			       sscope_term_si_unit(o->q, SSCOPE_TERM_N), nu, &v);
+		fprintf(f, "    noise density (static intervals): %s %s\n",
+			ssc_fmt(a, sizeof(a), v, 3), nu);
+	}
+	if (o->grade >= 0)
+		fprintf(f, "    grade: closest to %s (typical ranges; %.2g decades outside)\n",
+			gr[o->grade].name, o->grade_dist);
+}
+
+/* ------------------------------------------------------------------ */
+/* Modes                                                               */
+/* ------------------------------------------------------------------ */
+
+struct run {
+	const struct ssc_common *co;
+	struct opts *o;
+	struct sscope_capture *cap;
+	long ai[3], gi[3];
+	struct sscope_calib_interval *iv;
+	size_t n_iv;
+	double *vs;             /* variance magnitude, for the plot */
+	struct triad_out out[2];
+	int n_out;
+	/* pose norms before/after (plot) */
+	double *pose_before, *pose_after;
+	size_t n_pose;
+	/* rate table */
+	struct sscope_calib_linear lf;
+	double (*ry)[3], (*rr)[3];
+	size_t n_pts;
+	bool have_lf;
+};
+
+static void fill_triad(struct triad_out *t, const char *kind,
+		       const struct sscope_capture *cap, const long idx[3],
+		       enum sscope_quantity q, const struct sscope_calib_triad *c)
+{
+	memset(t, 0, sizeof(*t));
+	snprintf(t->t.kind, sizeof(t->t.kind), "%s", kind);
+	for (int i = 0; i < 3; i++)
+		snprintf(t->t.channels[i], sizeof(t->t.channels[i]), "%s",
+			 cap->channels[idx[i]].col.name);
+	held_unit(&cap->channels[idx[0]].col, t->t.input_unit,
+		  sizeof(t->t.input_unit));
+	snprintf(t->t.output_unit, sizeof(t->t.output_unit), "%s",
+		 sscope_quantity_si_unit(q));
+	t->t.c = *c;
+	t->q = q;
+	t->noise_density = NAN;
+}
+
+static int accel_multipos(struct run *r)
+{
+	const struct ssc_common *co = r->co;
+	struct sscope_capture *cap = r->cap;
+	struct sscope_diag d = { "" };
+	struct sscope_calib_triad c;
+	double *w2 = malloc(cap->n * sizeof(double));
+	const double *x = cap->channels[r->ai[0]].data,
+		     *y = cap->channels[r->ai[1]].data,
+		     *z = cap->channels[r->ai[2]].data;
+	int rc;
+
+	r->vs = malloc(cap->n * sizeof(double));
+	if (!w2 || !r->vs) {
+		free(w2);
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = sscope_calib_accel_multipos(x, y, z, 1, cap->n, cap->rate_hz,
+					 r->o->gravity, &r->o->det, r->iv, MAX_IV,
+					 &c, r->vs, w2, &d);
+	free(w2);
+	if (rc) {
+		ssc_err(co->cmd, "%s: accelerometer calibration: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->n_iv = r->o->det.n_intervals;
+	fill_triad(&r->out[r->n_out], "accel", cap, r->ai,
+		   SSCOPE_QTY_ACCELERATION, &c);
+	r->out[r->n_out].residual_unit = "m/s^2";
+	{
+		double nd = 0;
+
+		for (int i = 0; i < 3; i++) {
+			double sd = pooled_sd(cap->channels[r->ai[i]].data, r->iv,
+					      r->n_iv);
+
+			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
+		}
+		r->out[r->n_out].noise_density = sqrt(nd / 3 / cap->rate_hz);
+	}
+	/* pose norms for the plot */
+	r->pose_before = malloc(r->n_iv * sizeof(double));
+	r->pose_after = malloc(r->n_iv * sizeof(double));
+	if (r->pose_before && r->pose_after) {
+		r->n_pose = r->n_iv;
+		for (size_t k = 0; k < r->n_iv; k++) {
+			double m[3], u[3], nb = 0;
+
+			for (int i = 0; i < 3; i++) {
+				sscope_calib_interval_mean(cap->channels[r->ai[i]].data,
+							   1, &r->iv[k], &m[i], NULL);
+				u[i] = m[i];
+			}
+			{
+				double *p[3] = { &u[0], &u[1], &u[2] };
+
+				sscope_calib_apply(&c, p[0], p[1], p[2], 1, 1, NULL, 1);
+			}
+			for (int i = 0; i < 3; i++)
+				nb += m[i] * m[i];
+			r->pose_before[k] = sqrt(nb) -
+					    (cap->channels[r->ai[0]].col.quantity ==
+							     SSCOPE_QTY_ACCELERATION ?
+						     r->o->gravity :
+						     sqrt(nb));
+			r->pose_after[k] = sqrt(u[0] * u[0] + u[1] * u[1] +
+						u[2] * u[2]) -
+					   r->o->gravity;
+		}
+	}
+	finish_triad(&r->out[r->n_out]);
+	r->n_out++;
+	return SSC_EXIT_OK;
+}
+
+static int gyro_multipos(struct run *r)
+{
+	const struct ssc_common *co = r->co;
+	struct sscope_capture *cap = r->cap;
+	struct sscope_diag d = { "" };
+	struct sscope_calib_triad c;
+	double *ac[3] = { NULL, NULL, NULL };
+	int rc = accel_multipos(r);
+
+	if (rc)
+		return rc;
+	for (int i = 0; i < 3; i++) {
+		ac[i] = malloc(cap->n * sizeof(double));
+		if (!ac[i]) {
+			rc = SSC_EXIT_FAIL;
+			ssc_err(co->cmd, "out of memory");
+			goto out;
+		}
+		memcpy(ac[i], cap->channels[r->ai[i]].data, cap->n * sizeof(double));
+	}
+	sscope_calib_apply(&r->out[0].t.c, ac[0], ac[1], ac[2], 1, cap->n, NULL, 1);
+	{
+		const double *g[3] = { cap->channels[r->gi[0]].data,
+				       cap->channels[r->gi[1]].data,
+				       cap->channels[r->gi[2]].data };
+		const double *a[3] = { ac[0], ac[1], ac[2] };
+		bool si = cap->channels[r->gi[0]].col.quantity ==
+			  SSCOPE_QTY_ANGULAR_RATE;
+
+		rc = sscope_calib_gyro_fit(g, a, 1, cap->n, cap->rate_hz,
+					   si ? 1 : 0, r->iv, r->n_iv, r->o->gsens,
+					   &c, &d);
+	}
+	if (rc) {
+		ssc_err(co->cmd, "%s: gyro calibration: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		rc = SSC_EXIT_FAIL;
+		goto out;
+	}
+	fill_triad(&r->out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	r->out[1].residual_unit = "1";
+	if (c.has_gsens)
+		for (int i = 0; i < 3; i++)
+			snprintf(r->out[1].t.accel_channels[i], 64, "%s",
+				 r->out[0].t.channels[i]);
+	{
+		double nd = 0;
+
+		for (int i = 0; i < 3; i++) {
+			double sd = pooled_sd(cap->channels[r->gi[i]].data, r->iv,
+					      r->n_iv);
+
+			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
+		}
+		r->out[1].noise_density = sqrt(nd / 3 / cap->rate_hz);
+	}
+	finish_triad(&r->out[1]);
+	r->n_out = 2;
+	rc = SSC_EXIT_OK;
+out:
+	for (int i = 0; i < 3; i++)
+		free(ac[i]);
+	return rc;
+}
+
+/* Static intervals with a fixed k (sixpos, tilt) or a scan (sixpos). */
+static int detect_fixed(struct run *r, double k)
+{
+	struct sscope_capture *cap = r->cap;
+	struct sscope_calib_detect *det = &r->o->det;
+	const double *x = cap->channels[r->ai[0]].data,
+		     *y = cap->channels[r->ai[1]].data,
+		     *z = cap->channels[r->ai[2]].data;
+	double win = det->window_s > 0 ? det->window_s : 1;
+	double mins = det->min_static_s > 0 ? det->min_static_s : 2;
+	size_t w = (size_t)lround(win * cap->rate_hz);
+
+	if (!r->vs) {
+		double *tmp = malloc(cap->n * sizeof(double));
+		size_t nf = 0;
+
+		r->vs = malloc(cap->n * sizeof(double));
+		if (!r->vs || !tmp) {
+			free(tmp);
+			return -ENOMEM;
+		}
+		if (sscope_calib_variance_magnitude(x, y, z, 1, cap->n,
+						    w < 3 ? 3 : w, r->vs)) {
+			free(tmp);
+			return -EDOM;
+		}
+		if (det->init_static_s > 0) {
+			size_t m = (size_t)lround(det->init_static_s * cap->rate_hz);
+			double v2 = 0;
+
+			if (m < 3 || m > cap->n) {
+				free(tmp);
+				return -EDOM;
+			}
+			for (int c = 0; c < 3; c++) {
+				struct sscope_stats st;
+
+				sscope_stats_compute(c == 0 ? x : c == 1 ? y : z, 1, m,
+						     &st);
+				v2 += st.sd * st.sd * st.sd * st.sd;
+			}
+			det->reference = sqrt(v2);
+		} else {
+			for (size_t i = 0; i < cap->n; i++)
+				if (isfinite(r->vs[i]))
+					tmp[nf++] = r->vs[i];
+			qsort(tmp, nf, sizeof(double), cmp_double);
+			det->reference = nf ? tmp[(nf - 1) / 10] : 0;
+		}
+		free(tmp);
+		if (!(det->reference > 0))
+			return -EDOM;
+	}
+	det->k = k;
+	det->threshold = k * det->reference;
+	sscope_calib_static_intervals(r->vs, cap->n, det->threshold,
+				      (size_t)lround(mins * cap->rate_hz), r->iv,
+				      MAX_IV, &r->n_iv);
+	if (r->n_iv > MAX_IV)
+		r->n_iv = MAX_IV;
+	det->n_intervals = r->n_iv;
+	return 0;
+}
+
+static int pose_means(struct run *r, const long idx[3], double (*m)[3])
+{
+	for (size_t k = 0; k < r->n_iv; k++)
+		for (int i = 0; i < 3; i++)
+			sscope_calib_interval_mean(r->cap->channels[idx[i]].data, 1,
+						   &r->iv[k], &m[k][i], NULL);
+	return 0;
+}
+
+static int accel_sixpos(struct run *r)
+{
+	const struct ssc_common *co = r->co;
+	double (*m)[3] = malloc(MAX_IV * sizeof(*m)), best = INFINITY, bk = 0;
+	struct sscope_calib_triad c, bc;
+	struct sscope_calib_linear lf;
+	struct sscope_diag d = { "" }, bd = { "" };
+	double k0 = r->o->det.k;
+	int rc = -EDOM;
+
+	if (!m)
+		return SSC_EXIT_FAIL;
+	for (int kk = 2; kk <= 10; kk++) {
+		double k = k0 > 0 ? k0 : (double)kk;
+
+		rc = detect_fixed(r, k);
+		if (rc)
+			break;
+		pose_means(r, r->ai, m);
+		rc = sscope_calib_accel_sixpos((const double(*)[3])m, r->n_iv,
+					       r->o->gravity, &lf, &c, &d);
+		if (rc == 0 && c.residual_rms < best) {
+			best = c.residual_rms;
+			bk = k;
+			bc = c;
+			r->lf = lf;
+		} else if (rc) {
+			bd = d;
+		}
+		if (k0 > 0)
+			break;
+	}
+	if (!isfinite(best)) {
+		free(m);
+		ssc_err(co->cmd, "%s: six-position calibration: %s", r->cap->source,
+			bd.msg[0] ? bd.msg : rc == -EDOM ?
+			"no static intervals (capture shorter than the window, or zero noise)" :
+			sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	detect_fixed(r, bk);
+	free(m);
+	fill_triad(&r->out[0], "accel", r->cap, r->ai, SSCOPE_QTY_ACCELERATION,
+		   &bc);
+	r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
+					  r->out[0].t.input_unit : "counts";
+	/* residual_rms of a linear fit is in held units: show input units */
+	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
+	{
+		double nd = 0;
+
+		for (int i = 0; i < 3; i++) {
+			double sd = pooled_sd(r->cap->channels[r->ai[i]].data, r->iv,
+					      r->n_iv);
+
+			nd += sd * fabs(bc.scale[i]) * sd * fabs(bc.scale[i]);
+		}
+		r->out[0].noise_density = sqrt(nd / 3 / r->cap->rate_hz);
+	}
+	finish_triad(&r->out[0]);
+	r->n_out = 1;
+	return SSC_EXIT_OK;
+}
+
+static int gyro_tilt(struct run *r)
+{
+	const struct ssc_common *co = r->co;
+	struct sscope_capture *cap = r->cap;
+	double (*gm)[3], (*am)[3];
+	struct sscope_calib_linear lf;
+	struct sscope_calib_triad c;
+	struct sscope_diag d = { "" };
+	int rc;
+
+	if (cap->channels[r->ai[0]].col.quantity != SSCOPE_QTY_ACCELERATION) {
+		ssc_err(co->cmd, "%s: tilt mode needs accelerometer channels in physical units (or --calibration)",
+			cap->source);
+		return SSC_EXIT_FAIL;
+	}
+	rc = detect_fixed(r, r->o->det.k > 0 ? r->o->det.k : 4);
+	if (rc) {
+		ssc_err(co->cmd, "%s: no static intervals: %s", cap->source,
+			sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	gm = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*gm));
+	am = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*am));
+	if (!gm || !am) {
+		free(gm);
+		free(am);
+		return SSC_EXIT_FAIL;
+	}
+	pose_means(r, r->gi, gm);
+	pose_means(r, r->ai, am);
+	rc = sscope_calib_linear_fit((const double(*)[3])gm,
+				     (const double(*)[3])am, r->n_iv, false, &lf,
+				     &d);
+	free(gm);
+	free(am);
+	if (!rc && !(lf.axis_excited[0] && lf.axis_excited[1] &&
+		     lf.axis_excited[2])) {
+		rc = -EDOM;
+		snprintf(d.msg, sizeof(d.msg),
+			 "%zu poses do not tilt gravity onto all three axes",
+			 r->n_iv);
+	}
+	if (rc) {
+		ssc_err(co->cmd, "%s: g-sensitivity: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	sscope_calib_triad_identity(&c);
+	c.has_gsens = true;
+	for (int i = 0; i < 3; i++) {
+		c.bias[i] = lf.bias[i];
+		c.bias_sd[i] = lf.bias_sd[i];
+		c.scale_sd[i] = NAN;
+		for (int j = 0; j < 3; j++) {
+			c.gsens[i][j] = lf.A[i][j];
+			c.gsens_sd[i][j] = lf.A_sd[i][j];
+		}
+	}
+	c.n_params = 12;
+	c.poses = r->n_iv;
+	c.residual_rms = sqrt((lf.residual_rms[0] * lf.residual_rms[0] +
+			       lf.residual_rms[1] * lf.residual_rms[1] +
+			       lf.residual_rms[2] * lf.residual_rms[2]) / 3);
+	fill_triad(&r->out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
+		ssc_err(co->cmd, "%s: tilt mode needs gyro channels in physical units (the scale is not estimated)",
+			cap->source);
+		return SSC_EXIT_FAIL;
+	}
+	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
+	r->out[0].residual_unit = r->out[0].t.input_unit;
+	for (int i = 0; i < 3; i++)
+		snprintf(r->out[0].t.accel_channels[i], 64, "%s",
+			 cap->channels[r->ai[i]].col.name);
+	finish_triad(&r->out[0]);
+	r->n_out = 1;
+	return SSC_EXIT_OK;
+}
+
+/* A rate-table schedule: lines "START END VALUE" (comma or blanks; '#'
+ * comments); times in s unless a unit says otherwise, values in the SI unit
+ * of the sensor unless a unit says otherwise. */
+static int read_schedule(const struct ssc_common *co, const char *path,
+			 const char *si, double **out, size_t *n_out)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	size_t n = 0, cap = 0, ln = 0;
+	double *v = NULL;
+	struct sscope_unit target;
+
+	*out = NULL;
+	*n_out = 0;
+	if (!f) {
+		ssc_err(co->cmd, "--schedule: %s: %s", path, strerror(errno));
+		return SSC_EXIT_FAIL;
+	}
+	sscope_unit_parse(si, &target, NULL);
+	while (fgets(line, sizeof(line), f)) {
+		char *tok[3], *save = NULL, *p;
+		int k = 0;
+		double x[3];
+
+		ln++;
+		if ((p = strchr(line, '#')))
+			*p = 0;
+		for (p = strtok_r(line, ", \t\r\n", &save); p && k < 4;
+		     p = strtok_r(NULL, ", \t\r\n", &save))
+			if (k < 3)
+				tok[k++] = p;
+			else
+				k = 4;
+		if (k == 0)
+			continue;
+		if (k != 3)
+			goto bad;
+		for (int j = 0; j < 3; j++) {
+			struct sscope_unit u;
+
+			if (sscope_quantity_parse(tok[j], &x[j], &u, NULL))
+				goto bad;
+			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+			    u.scale == 1)
+				continue; /* bare: s, or the sensor's SI unit */
+			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QTY_TIME :
+				    !sscope_unit_compatible(&u, &target))
+				goto bad;
+		}
+		if (!(x[1] > x[0]))
+			goto bad;
+		if (n + 3 > cap) {
+			double *nv;
+
+			cap = cap ? 2 * cap : 96;
+			nv = realloc(v, cap * sizeof(double));
+			if (!nv)
+				goto bad;
+			v = nv;
+		}
+		memcpy(v + n, x, sizeof(x));
+		n += 3;
+	}
+	fclose(f);
+	if (n == 0) {
+		free(v);
+		ssc_err(co->cmd, "--schedule: %s: no steps", path);
+		return SSC_EXIT_FAIL;
+	}
+	*out = v;
+	*n_out = n / 3;
+	return SSC_EXIT_OK;
+bad:
+	fclose(f);
+	free(v);
+	ssc_err(co->cmd, "--schedule: %s:%zu: want 'START END VALUE' (times in s, value in %s or with a unit)",
+		path, ln, si);
+	return SSC_EXIT_FAIL;
+}
+
+/* one rate-table file: segment means and reference vectors appended */
+static int rate_table_file(struct run *r, int file_no)
+{
+	const struct ssc_common *co = r->co;
+	struct sscope_capture *cap = r->cap;
+	size_t nref = r->o->reference ? list_count(r->o->reference) : 1, nseg;
+	long ri[3] = { -1, -1, -1 };
+	const long *ci = r->o->gyro ? r->gi : r->ai;
+	double *key, fs = 0;
+	char b[128];
+	int axis = -1;
+	struct sscope_calib_interval *seg = r->iv;
+
+	const double *rc[3] = { NULL, NULL, NULL };
+	double *sched_ref = NULL;
+
+	if (r->o->schedule) {
+		double *sv;
+		size_t ns;
+		int e = read_schedule(co, r->o->schedule,
+				      sscope_quantity_si_unit(r->o->gyro ?
+								      SSCOPE_QTY_ANGULAR_RATE :
+								      SSCOPE_QTY_ACCELERATION),
+				      &sv, &ns);
+
+		if (e)
+			return e;
+		nref = 1;
+		sched_ref = malloc(cap->n * sizeof(double));
+		if (!sched_ref) {
+			free(sv);
+			return SSC_EXIT_FAIL;
+		}
+		for (size_t i = 0; i < cap->n; i++) {
+			double t = cap->time_s ? cap->time_s[i] : (double)i / cap->rate_hz;
+
+			sched_ref[i] = NAN;
+			for (size_t q = 0; q < ns; q++)
+				if (t >= sv[3 * q] && t < sv[3 * q + 1]) {
+					sched_ref[i] = sv[3 * q + 2];
+					break;
+				}
+		}
+		free(sv);
+		rc[0] = sched_ref;
+	} else {
+		if (nref != 1 && nref != 3)
+			return ssc_usage_error(co->cmd, "--reference: one or three columns");
+		for (size_t j = 0; j < nref; j++) {
+			list_item(r->o->reference, (int)j, b, sizeof(b));
+			ri[j] = sscope_capture_find(cap, b);
+			if (ri[j] < 0) {
+				ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
+				return SSC_EXIT_FAIL;
+			}
+			rc[j] = cap->channels[ri[j]].data;
+		}
+	}
+	key = malloc(cap->n * sizeof(double));
+	if (!key) {
+		free(sched_ref);
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < cap->n; i++) {
+		key[i] = rc[0][i];
+		if (nref == 3)
+			key[i] += 1.6180339887 * rc[1][i] + 2.7182818285 * rc[2][i];
+		if (isfinite(key[i]))
+			fs = fmax(fs, fabs(key[i]));
+	}
+	{
+		size_t settle = (size_t)lround((r->o->settle_s >= 0 ? r->o->settle_s : 1) *
+					       cap->rate_hz);
+		size_t minl = (size_t)lround(0.5 * cap->rate_hz);
+
+		sscope_calib_constant_segments(key, 1, cap->n, 1e-9 * fs, settle,
+					       minl < 2 ? 2 : minl, seg, MAX_IV, &nseg);
+	}
+	free(key);
+	if (nseg > MAX_IV)
+		nseg = MAX_IV;
+	if (nseg < 2) {
+		ssc_err(co->cmd, "%s: %zu steps of constant reference found (need 2 or more)",
+			cap->source, nseg);
+		free(sched_ref);
+		return SSC_EXIT_FAIL;
+	}
+	if (nref == 1) {
+		char ax[16] = "auto";
+
+		if (r->o->table_axis &&
+		    !list_item(r->o->table_axis, file_no, ax, sizeof(ax)) &&
+		    list_count(r->o->table_axis) == 1)
+			list_item(r->o->table_axis, 0, ax, sizeof(ax));
+		if (!strcmp(ax, "x"))
+			axis = 0;
+		else if (!strcmp(ax, "y"))
+			axis = 1;
+		else if (!strcmp(ax, "z"))
+			axis = 2;
+		else if (strcmp(ax, "auto")) {
+			free(sched_ref);
+			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
+					       ax);
+		}
+	}
+	{
+		size_t base = r->n_pts;
+		double (*ny)[3] = realloc(r->ry, (base + nseg) * sizeof(*ny));
+		double (*nr)[3];
+
+		if (!ny) {
+			free(sched_ref);
+			return SSC_EXIT_FAIL;
+		}
+		r->ry = ny;
+		nr = realloc(r->rr, (base + nseg) * sizeof(*nr));
+		if (!nr) {
+			free(sched_ref);
+			return SSC_EXIT_FAIL;
+		}
+		r->rr = nr;
+		for (size_t k = 0; k < nseg; k++) {
+			for (int i = 0; i < 3; i++)
+				sscope_calib_interval_mean(cap->channels[ci[i]].data, 1,
+							   &seg[k], &r->ry[base + k][i],
+							   NULL);
+			for (int i = 0; i < 3; i++)
+				r->rr[base + k][i] = 0;
+			for (size_t i = 0; i < nref; i++)
+				sscope_calib_interval_mean(rc[i], 1, &seg[k],
+							   &r->rr[base + k][i], NULL);
+		}
+		if (nref == 1) {
+			/* the table axis: given, or the largest |slope| */
+			if (axis < 0) {
+				double best = -1;
+
+				for (int i = 0; i < 3; i++) {
+					double sxy = 0, sxx = 0, mx = 0, my = 0;
+
+					for (size_t k = 0; k < nseg; k++) {
+						mx += r->rr[base + k][0];
+						my += r->ry[base + k][i];
+					}
+					mx /= (double)nseg;
+					my /= (double)nseg;
+					for (size_t k = 0; k < nseg; k++) {
+						double dx = r->rr[base + k][0] - mx;
+
+						sxx += dx * dx;
+						sxy += dx * (r->ry[base + k][i] - my);
+					}
+					if (sxx > 0 && fabs(sxy / sxx) > best) {
+						best = fabs(sxy / sxx);
+						axis = i;
+					}
+				}
+				if (axis < 0)
+					axis = 0;
+			}
+			for (size_t k = 0; k < nseg; k++) {
+				double v = r->rr[base + k][0];
+
+				r->rr[base + k][0] = 0;
+				r->rr[base + k][axis] = v;
+			}
+		}
+		r->n_pts = base + nseg;
+	}
+	free(sched_ref);
+	return SSC_EXIT_OK;
+}
+
+static int rate_table_fit(struct run *r)
+{
+	const struct ssc_common *co = r->co;
+	struct sscope_diag d = { "" };
+	struct sscope_calib_triad c;
+	enum sscope_quantity q = r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE :
+					      SSCOPE_QTY_ACCELERATION;
+	int rc = sscope_calib_linear_fit((const double(*)[3])r->ry,
+					 (const double(*)[3])r->rr, r->n_pts,
+					 r->o->cubic, &r->lf, &d);
+
+	if (rc) {
+		ssc_err(co->cmd, "rate table: %s", d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->have_lf = true;
+	if (sscope_calib_linear_to_triad(&r->lf, &c) == 0) {
+		fill_triad(&r->out[0], r->o->gyro ? "gyro" : "accel", r->cap,
+			   r->o->gyro ? r->gi : r->ai, q, &c);
+		r->out[0].t.c.residual_rms /=
+			ssc_calfile_unit_scale(r->out[0].t.input_unit);
+		r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
+						  r->out[0].t.input_unit : "counts";
+		finish_triad(&r->out[0]);
+		r->n_out = 1;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* the sensor channels have the dimension of the reference */
+static bool rt_ratio(const struct run *r)
+{
+	const long *ci = r->o->gyro ? r->gi : r->ai;
+
+	return r->cap->channels[ci[0]].col.quantity ==
+	       (r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
+}
+
+static json_t *rate_table_json(const struct run *r)
+{
+	json_t *o = json_object(), *axes = json_array();
+	const struct sscope_calib_linear *lf = &r->lf;
+	const char *ch = "xyz";
+	const long *ci = r->o->gyro ? r->gi : r->ai;
+	double s = ssc_calfile_unit_scale(r->cap->channels[ci[0]].col.unit_label);
+	/* sensitivities: ratios when the sensor's unit has the reference's
+	 * dimension (held data are SI then), else input units per SI */
+	double sa = rt_ratio(r) ? 1 : s;
+	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+							 SSCOPE_QTY_ANGULAR_RATE :
+							 SSCOPE_QTY_ACCELERATION);
+
+	json_object_set_new(o, "points", json_integer((json_int_t)lf->points));
+	json_object_set_new(o, "reference_si_unit", json_string(si));
+	json_object_set_new(o, "bias_unit",
+			    json_string(r->cap->channels[ci[0]].col.unit_label));
+	json_object_set_new(o, "scale_factor_unit", json_string(rt_ratio(r) ? "1" :
+				    "input unit per SI unit"));
+	json_object_set_new(o, "cubic", json_boolean(lf->nonlinear));
+	for (int i = 0; i < 3; i++) {
+		json_t *a = json_object(), *cross = json_array(), *csd = json_array();
+
+		json_object_set_new(a, "channel",
+				    json_string(r->cap->channels[ci[i]].col.name));
+		json_object_set_new(a, "input_axis", json_string((char[2]){ ch[i], 0 }));
+		json_object_set_new(a, "excited", json_boolean(lf->axis_excited[i]));
+		json_object_set_new(a, "bias", ssc_jreal(lf->bias[i] / s));
+		json_object_set_new(a, "bias_sd", ssc_jreal(lf->bias_sd[i] / s));
+		json_object_set_new(a, "scale_factor", lf->axis_excited[i] ?
+						ssc_jreal(lf->A[i][i] / sa) : json_null());
+		json_object_set_new(a, "scale_factor_sd", lf->axis_excited[i] ?
+						ssc_jreal(lf->A_sd[i][i] / sa) : json_null());
+		json_object_set_new(a, "scale_factor_bfsl", lf->axis_excited[i] ?
+						ssc_jreal(lf->sf_bfsl[i] / sa) : json_null());
+		json_object_set_new(a, "full_scale_si", ssc_jreal(lf->full_scale[i]));
+		json_object_set_new(a, "nonlinearity_percent_fs",
+				    ssc_jreal(lf->nonlinearity[i] * 100));
+		json_object_set_new(a, "residual_rms", ssc_jreal(lf->residual_rms[i] / s));
+		for (int j = 0; j < 3; j++) {
+			json_array_append_new(cross, lf->axis_excited[j] ?
+						       ssc_jreal(lf->A[i][j] / sa) : json_null());
+			json_array_append_new(csd, lf->axis_excited[j] ?
+						     ssc_jreal(lf->A_sd[i][j] / sa) : json_null());
+		}
+		json_object_set_new(a, "sensitivity_row", cross);
+		json_object_set_new(a, "sensitivity_row_sd", csd);
+		if (lf->nonlinear && lf->axis_excited[i]) {
+			json_object_set_new(a, "c2", ssc_jreal(lf->c2[i] / sa));
+			json_object_set_new(a, "c2_sd", ssc_jreal(lf->c2_sd[i] / sa));
+			json_object_set_new(a, "c3", ssc_jreal(lf->c3[i] / sa));
+			json_object_set_new(a, "c3_sd", ssc_jreal(lf->c3_sd[i] / sa));
+		}
+		json_array_append_new(axes, a);
+	}
+	json_object_set_new(o, "axes", axes);
+	return o;
+}
+
+static void rate_table_text(FILE *f, const struct run *r)
+{
+	const struct sscope_calib_linear *lf = &r->lf;
+	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const char *iu = r->cap->channels[ci[0]].col.unit_label;
+	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+							 SSCOPE_QTY_ANGULAR_RATE :
+							 SSCOPE_QTY_ACCELERATION);
+	double s = ssc_calfile_unit_scale(iu), sa = rt_ratio(r) ? 1 : s;
+	char a[32], b[32];
+
+	if (rt_ratio(r))
+		fprintf(f, "  rate table: %zu steps; scale factor and cross-axis terms as ratios, bias in %s,\n    c2, c3 per %s and %s^2; non-linearity: best-fit straight line, %% of full scale\n",
+			lf->points, iu, si, si);
+	else
+		fprintf(f, "  rate table: %zu steps; scale factor in %s per %s, non-linearity: best-fit straight line, %% of full scale\n",
+			lf->points, iu[0] ? iu : "counts", si);
+	fprintf(f, "    %-8s %-8s %22s %14s %12s %12s\n", "channel", "excited",
+		"scale factor", "bias", "NL (% FS)", "FS (SI)");
+	for (int i = 0; i < 3; i++) {
+		fprintf(f, "    %-8s %-8s ", r->cap->channels[ci[i]].col.name,
+			lf->axis_excited[i] ? "yes" : "no");
+		if (lf->axis_excited[i])
+			fprintf(f, "%13s±%-8s ", ssc_fmt(a, sizeof(a), lf->A[i][i] / sa, 7),
+				ssc_fmt(b, sizeof(b), lf->A_sd[i][i] / sa, 2));
+		else
+			fprintf(f, "%22s ", "-");
+		fprintf(f, "%14s %12s %12s\n", ssc_fmt(a, sizeof(a), lf->bias[i] / s, 5),
+			lf->axis_excited[i] ? ssc_fmt(b, sizeof(b), lf->nonlinearity[i] * 100, 3) : "-",
+			ssc_fmt((char[32]){ 0 }, 32, lf->full_scale[i], 4));
+		for (int j = 0; j < 3; j++)
+			if (j != i && lf->axis_excited[j])
+				fprintf(f, "      cross-axis from input %c: %s±%s\n", "xyz"[j],
+					ssc_fmt(a, sizeof(a), lf->A[i][j] / sa, 4),
+					ssc_fmt(b, sizeof(b), lf->A_sd[i][j] / sa, 2));
+		if (lf->nonlinear && lf->axis_excited[i])
+			fprintf(f, "      c2 = %s±%s, c3 = %s±%s\n",
+				ssc_fmt(a, sizeof(a), lf->c2[i] / sa, 4),
+				ssc_fmt(b, sizeof(b), lf->c2_sd[i] / sa, 2),
+				ssc_fmt((char[32]){ 0 }, 32, lf->c3[i] / sa, 4),
+				ssc_fmt((char[32]){ 0 }, 32, lf->c3_sd[i] / sa, 2));
+	}
+}
+
+/* ------------------------------------------------------------------ */
+/* Plot                                                                */
+/* ------------------------------------------------------------------ */
+
+static int plot(const struct ssc_common *co, const struct run *r)
+{
+	struct ssc_fig *fig;
+	int rc;
+	char buf[200];
+
+	if (r->have_lf) {
+		const struct sscope_calib_linear *lf = &r->lf;
+		const long *ci = r->o->gyro ? r->gi : r->ai;
+		int na = 0;
+
+		for (int i = 0; i < 3; i++)
+			na += lf->axis_excited[i];
+		fig = ssc_fig_new(1000, 200 + 380 * na, na, 1);
+		ssc_fig_title(fig, "rate table: deviation from the best-fit straight line");
+		for (int i = 0, row = 0; i < 3; i++) {
+			double *x, *y;
+			struct ssc_ax *ax;
+			struct ssc_style st = { .color = ssc_plot_color((size_t)i),
+						.width = -1, .marker = SSC_MK_CIRCLE };
+			size_t n = 0;
+
+			if (!lf->axis_excited[i])
+				continue;
+			x = malloc(r->n_pts * sizeof(double));
+			y = malloc(r->n_pts * sizeof(double));
+			for (size_t k = 0; k < r->n_pts && x && y; k++) {
+				double ref = r->rr[k][i];
+
+				/* deviation from the straight line (its offset
+				 * removed below), % of full-scale output */
+				x[n] = ref;
+				y[n++] = r->ry[k][i] - lf->sf_bfsl[i] * ref;
+			}
+			if (x && y && n) {
+				double m = 0;
+
+				for (size_t k = 0; k < n; k++)
+					m += y[k];
+				m /= (double)n;
+				for (size_t k = 0; k < n; k++)
+					y[k] = (y[k] - m) /
+					       (fabs(lf->sf_bfsl[i]) * lf->full_scale[i]) * 100;
+			}
+			ax = ssc_fig_ax(fig, row++, 0);
+			if (x && y) {
+				double ym = 0;
+
+				ssc_ax_line(ax, x, y, n, &st, NULL);
+				for (size_t k = 0; k < n; k++)
+					ym = fmax(ym, fabs(y[k]));
+				ssc_ax_xlim(ax, -1.08 * lf->full_scale[i],
+					    1.08 * lf->full_scale[i]);
+				if (ym > 0)
+					ssc_ax_ylim(ax, -1.15 * ym, 1.15 * ym);
+			}
+			snprintf(buf, sizeof(buf), "%s: deviation (%% FS)",
+				 r->cap->channels[ci[i]].col.name);
+			ssc_ax_ylabel(ax, buf);
+			snprintf(buf, sizeof(buf), "reference on input %c (%s)", "xyz"[i],
+				 sscope_quantity_si_unit(r->o->gyro ?
+								 SSCOPE_QTY_ANGULAR_RATE :
+								 SSCOPE_QTY_ACCELERATION));
+			ssc_ax_xlabel(ax, buf);
+			snprintf(buf, sizeof(buf), "non-linearity %.3g %% FS",
+				 lf->nonlinearity[i] * 100);
+			ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
+			free(x);
+			free(y);
+		}
+	} else {
+		const struct sscope_capture *cap = r->cap;
+		double *t = malloc(cap->n * sizeof(double));
+		struct ssc_ax *ax;
+		struct ssc_style st = { .color = 0x1f77b4, .width = 1 };
+		struct ssc_style th = { .color = 0xd62728, .width = 1.5,
+					.dash = SSC_DASHED };
+
+		fig = ssc_fig_new(1100, 800, 2, 1);
+		snprintf(buf, sizeof(buf), "calib %s (%s): %s",
+			 r->o->gyro ? "gyro" : "accel", mode_names[r->o->mode],
+			 cap->source);
+		ssc_fig_title(fig, buf);
+		ax = ssc_fig_ax(fig, 0, 0);
+		if (t && r->vs) {
+			for (size_t i = 0; i < cap->n; i++)
+				t[i] = (double)i / cap->rate_hz;
+			ssc_ax_log(ax, false, true);
+			ssc_ax_line(ax, t, r->vs, cap->n, &st, "accelerometer variance magnitude");
+			ssc_ax_hline(ax, r->o->det.threshold, &th, "threshold");
+			{
+				double *xs = malloc(2 * r->n_iv * sizeof(double));
+				double *ys = malloc(2 * r->n_iv * sizeof(double));
+				struct ssc_style sm = { .color = 0x2ca02c, .width = 4 };
+
+				if (xs && ys) {
+					for (size_t k = 0; k < r->n_iv; k++) {
+						double yy = r->o->det.threshold / 3;
+
+						/* one segment per interval, NaN breaks */
+						xs[2 * k] = (double)r->iv[k].start / cap->rate_hz;
+						ys[2 * k] = yy;
+						xs[2 * k + 1] = (double)r->iv[k].end / cap->rate_hz;
+						ys[2 * k + 1] = yy;
+					}
+					for (size_t k = 0; k < r->n_iv; k++)
+						ssc_ax_line(ax, xs + 2 * k, ys + 2 * k, 2, &sm,
+							    k ? NULL : "static intervals");
+				}
+				free(xs);
+				free(ys);
+			}
+			snprintf(buf, sizeof(buf), "variance magnitude ((%s)^{2})",
+				 cap->channels[r->ai[0]].col.quantity ==
+						 SSCOPE_QTY_ACCELERATION ?
+					 "m/s^{2}" : "input");
+			ssc_ax_ylabel(ax, buf);
+			ssc_ax_xlabel(ax, "time (s)");
+			snprintf(buf, sizeof(buf), "%zu static intervals\nthreshold %.3g x reference",
+				 r->n_iv, r->o->det.k);
+			ssc_ax_note(ax, buf, SSC_LEGEND_UL);
+		}
+		free(t);
+		ax = ssc_fig_ax(fig, 1, 0);
+		if (r->n_pose) {
+			double *k = malloc(r->n_pose * sizeof(double));
+			struct ssc_style sb = { .color = 0x7f7f7f, .width = -1,
+						.marker = SSC_MK_SQUARE };
+			struct ssc_style sa = { .color = 0x1f77b4, .width = -1,
+						.marker = SSC_MK_CIRCLE };
+
+			for (size_t i = 0; k && i < r->n_pose; i++)
+				k[i] = (double)i + 1;
+			if (k) {
+				if (cap->channels[r->ai[0]].col.quantity ==
+				    SSCOPE_QTY_ACCELERATION)
+					ssc_ax_line(ax, k, r->pose_before, r->n_pose, &sb,
+						    "|a| - g, raw");
+				ssc_ax_line(ax, k, r->pose_after, r->n_pose, &sa,
+					    "|a'| - g, calibrated");
+			}
+			free(k);
+			ssc_ax_ylabel(ax, "norm error (m/s^{2})");
+			ssc_ax_xlabel(ax, "static pose");
+			ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+		}
+	}
+	rc = ssc_fig_save_png(fig, co->plot);
+	ssc_fig_free(fig);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------ */
+
+static json_t *detection_json(const struct opts *o)
+{
+	json_t *d = json_object();
+
+	json_object_set_new(d, "window_s",
+			    json_real(o->det.window_s > 0 ? o->det.window_s : 1));
+	json_object_set_new(d, "min_static_s",
+			    json_real(o->det.min_static_s > 0 ? o->det.min_static_s : 2));
+	json_object_set_new(d, "rule", json_string(
+		o->det.init_static_s > 0 ?
+			"reference = variance magnitude of the initial static period" :
+			"reference = 10th percentile of the variance magnitude"));
+	if (o->det.init_static_s > 0)
+		json_object_set_new(d, "init_static_s", json_real(o->det.init_static_s));
+	json_object_set_new(d, "reference", ssc_jreal(o->det.reference));
+	json_object_set_new(d, "k", ssc_jreal(o->det.k));
+	json_object_set_new(d, "threshold", ssc_jreal(o->det.threshold));
+	json_object_set_new(d, "intervals",
+			    json_integer((json_int_t)o->det.n_intervals));
+	return d;
+}
+
+int ssc_cmd_calib(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct opts o = { .gravity = SSCOPE_GRAVITY_STD, .settle_s = 1 };
+	struct run r = { 0 };
+	int first, rc, nfiles;
+	char cmdname[32];
+
+	if (argc >= 2 && (!strcmp(argv[1], "accel") || !strcmp(argv[1], "gyro"))) {
+		o.gyro = !strcmp(argv[1], "gyro");
+		argc--;
+		argv++;
+	} else if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+		rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	} else {
+		return ssc_usage_error("calib", "give 'accel' or 'gyro' first");
+	}
+	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	snprintf(cmdname, sizeof(cmdname), "calib %s", o.gyro ? "gyro" : "accel");
+	nfiles = argc - first;
+	if (nfiles < 1)
+		return ssc_usage_error(co.cmd, "no input file");
+	if (o.mode == M_TILT && !o.gyro)
+		return ssc_usage_error(co.cmd, "--mode tilt is for 'calib gyro'");
+	if (o.mode == M_SIXPOS && o.gyro)
+		return ssc_usage_error(co.cmd, "--mode sixpos is for 'calib accel'");
+	if (o.mode == M_RATE_TABLE && !o.reference == !o.schedule)
+		return ssc_usage_error(co.cmd, "--mode rate-table needs --reference or --schedule");
+	if (o.mode != M_RATE_TABLE && nfiles > 1)
+		return ssc_usage_error(co.cmd, "--mode %s takes one input file",
+				       mode_names[o.mode]);
+	r.co = &co;
+	r.o = &o;
+	r.iv = malloc(MAX_IV * sizeof(*r.iv));
+	if (!r.iv) {
+		ssc_err(co.cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (int fi = 0; fi < nfiles; fi++) {
+		if (r.cap) {
+			sscope_capture_free(r.cap);
+			r.cap = NULL;
+		}
+		rc = ssc_load(&co, argv[first + fi], &r.cap);
+		if (rc)
+			goto done;
+		if (!(r.cap->rate_hz > 0)) {
+			ssc_err(co.cmd, "%s: unknown sample rate (give --rate)",
+				argv[first + fi]);
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		if (o.gyro || o.mode == M_TILT) {
+			rc = pick3(&co, r.cap, o.gyro_names, SSCOPE_QTY_ANGULAR_RATE,
+				   o.reference, "gyro", r.gi);
+			if (rc)
+				goto done;
+		}
+		if (!o.gyro || o.mode != M_RATE_TABLE) {
+			rc = pick3(&co, r.cap, o.accel, SSCOPE_QTY_ACCELERATION,
+				   o.reference, "accel", r.ai);
+			if (rc)
+				goto done;
+		}
+		switch (o.mode) {
+		case M_MULTIPOS:
+			rc = o.gyro ? gyro_multipos(&r) : accel_multipos(&r);
+			break;
+		case M_SIXPOS:
+			rc = accel_sixpos(&r);
+			break;
+		case M_TILT:
+			rc = gyro_tilt(&r);
+			break;
+		case M_RATE_TABLE:
+			rc = rate_table_file(&r, fi);
+			break;
+		}
+		if (rc)
+			goto done;
+	}
+	if (o.mode == M_RATE_TABLE) {
+		rc = rate_table_fit(&r);
+		if (rc)
+			goto done;
+	}
+	if (co.plot) {
+		rc = plot(&co, &r);
+		if (rc)
+			goto done;
+	}
+	if (o.save) {
+		struct ssc_caltriad t[2];
+
+		if (r.n_out == 0) {
+			ssc_err(co.cmd, "--save-calibration: the runs did not excite all three axes: no full triad to save");
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		for (int i = 0; i < r.n_out; i++)
+			t[i] = r.out[i].t;
+		co.cmd = cmdname;
+		rc = ssc_calfile_write(&co, o.save, t, (size_t)r.n_out);
+		co.cmd = "calib";
+		if (rc)
+			goto done;
+	}
+	if (co.format == SSC_FMT_JSON) {
+		json_t *root = json_object(), *tr = json_array(), *files = json_array();
+
+		json_object_set_new(root, "command", json_string(cmdname));
+		json_object_set_new(root, "mode", json_string(mode_names[o.mode]));
+		for (int fi = 0; fi < nfiles; fi++)
+			json_array_append_new(files, json_string(argv[first + fi]));
+		json_object_set_new(root, "file", json_string(argv[first]));
+		json_object_set_new(root, "files", files);
+		json_object_set_new(root, "gravity_m_s2", json_real(o.gravity));
+		if (o.mode != M_RATE_TABLE)
+			json_object_set_new(root, "detection", detection_json(&o));
+		for (int i = 0; i < r.n_out; i++)
+			json_array_append_new(tr, triad_json(&r.out[i]));
+		json_object_set_new(root, "triads", tr);
+		if (r.have_lf)
+			json_object_set_new(root, "rate_table", rate_table_json(&r));
+		if (o.save)
+			json_object_set_new(root, "calibration_file", json_string(o.save));
+		rc = ssc_emit_json(&co, root);
+	} else {
+		struct ssc_out out;
+
+		rc = ssc_out_open(&co, &out);
+		if (rc)
+			goto done;
+		if (co.format == SSC_FMT_CSV) {
+			fprintf(out.f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
+			for (int i = 0; i < r.n_out; i++) {
+				const struct triad_out *t = &r.out[i];
+				double s = ssc_calfile_unit_scale(t->t.input_unit);
+
+				for (int j = 0; j < 3; j++)
+					fprintf(out.f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
+						t->t.kind, t->t.channels[j], t->t.input_unit,
+						t->t.output_unit, t->t.c.bias[j] / s,
+						t->t.c.bias_sd[j] / s, t->t.c.scale[j] * s,
+						t->t.c.scale_sd[j] * s, t->t.c.mis[j][0],
+						t->t.c.mis[j][1], t->t.c.mis[j][2],
+						t->t.c.residual_rms, t->t.c.poses);
+			}
+		} else {
+			fprintf(out.f, "%s (%s): %s%s\n", cmdname, mode_names[o.mode],
+				argv[first], nfiles > 1 ? " ..." : "");
+			if (o.mode != M_RATE_TABLE)
+				fprintf(out.f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
+					o.det.window_s > 0 ? o.det.window_s : 1,
+					o.det.init_static_s > 0 ? "reference from the initial static period" :
+					"reference = 10th percentile of the variance magnitude",
+					o.det.k, o.det.threshold, o.det.n_intervals);
+			if (r.have_lf)
+				rate_table_text(out.f, &r);
+			for (int i = 0; i < r.n_out; i++)
+				triad_text(out.f, &r.out[i]);
+			if (o.save)
+				fprintf(out.f, "  calibration written to %s\n", o.save);
+		}
+		rc = ssc_out_close(&co, &out, !ferror(out.f));
+	}
+done:
+	sscope_capture_free(r.cap);
+	free(r.iv);
+	free(r.vs);
+	free(r.pose_before);
+	free(r.pose_after);
+	free(r.ry);
+	free(r.rr);
+	return rc;
+}
