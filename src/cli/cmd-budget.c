@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "stage.h"
 
 #define PI 3.14159265358979323846
 #define MAX_TIMES 256
@@ -569,17 +570,14 @@ static void take_max(double *dst, double v, const char **from, const char *what)
  * is applied: the 1-sigma uncertainty of the bias, of the scale factor
  * (relative) and the noise density.  The worst axis counts.
  */
-static int load_result(struct opts *o, const char *path, const char **from)
+/* Sources from an allan or calib result (root is borrowed). */
+static int apply_result(struct opts *o, json_t *root, const char *path,
+			const char **from)
 {
-	json_error_t err;
-	json_t *root = json_load_file(path, 0, &err), *a;
+	json_t *a;
 	const char *cmd;
 	int used = 0;
 
-	if (!root) {
-		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
-		return SSC_EXIT_FAIL;
-	}
 	cmd = json_string_value(json_object_get(root, "command"));
 	if (cmd && !strcmp(cmd, "allan") &&
 	    json_is_array(a = json_object_get(root, "channels"))) {
@@ -648,12 +646,55 @@ static int load_result(struct opts *o, const char *path, const char **from)
 	} else {
 		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",
 			path);
-		json_decref(root);
 		return SSC_EXIT_FAIL;
 	}
-	json_decref(root);
 	if (!used) {
 		ssc_err("budget", "--result: %s: no gyro or accelerometer terms in it", path);
+		return SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+static int load_result(struct opts *o, const char *path, const char **from)
+{
+	json_error_t err;
+	json_t *root = json_load_file(path, 0, &err);
+	int rc;
+
+	if (!root) {
+		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
+		return SSC_EXIT_FAIL;
+	}
+	rc = apply_result(o, root, path, from);
+	json_decref(root);
+	return rc;
+}
+
+/* Sources from a sensor specification (unless given directly). */
+static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
+			const char *path, const char **from)
+{
+	if (s->quantity == SSCOPE_QTY_ANGULAR_RATE) {
+		if (!o->set[0] && (s->has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
+			o->p.gyro_bias_rad_s = (s->has & SSCOPE_SPEC_BIAS) ? s->bias : s->b;
+			from[0] = (s->has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+		}
+		if (!o->set[2] && (s->has & SSCOPE_SPEC_N))
+			o->p.arw_rad_sqrt_s = s->n;
+		if (o->p.gyro_sf == 0 && (s->has & SSCOPE_SPEC_SF))
+			o->p.gyro_sf = s->scale_factor_error;
+	} else if (s->quantity == SSCOPE_QTY_ACCELERATION) {
+		if (!o->set[1] && (s->has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
+			o->p.accel_bias_m_s2 = (s->has & SSCOPE_SPEC_BIAS) ? s->bias : s->b;
+			from[1] = (s->has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+		}
+		if (!o->set[3] && (s->has & SSCOPE_SPEC_N))
+			o->p.vrw_m_s_sqrt_s = s->n;
+		if (o->p.accel_sf == 0 && (s->has & SSCOPE_SPEC_SF))
+			o->p.accel_sf = s->scale_factor_error;
+	} else {
+		ssc_err("budget", "%s: neither a gyro nor an accelerometer (give range or noise_density with a unit)",
+			path);
 		return SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
@@ -666,72 +707,82 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-int ssc_cmd_budget(int argc, char **argv)
+static void init(void *opts)
 {
-	struct ssc_common co;
-	struct opts o = { .mc = 1000, .seed = 1 };
+	struct opts *o = opts;
+
+	memset(o, 0, sizeof(*o));
+	o->mc = 1000;
+	o->seed = 1;
+}
+
+static int check(const struct ssc_common *co, void *opts)
+{
+	struct opts *o = opts;
+
+	if (o->plot) {
+		size_t l = strlen(o->plot);
+
+		if (!ssc_plot_available())
+			return ssc_plot_unavailable(co->cmd);
+		if (l < 5 || strcmp(o->plot + l - 4, ".png"))
+			return ssc_usage_error(co->cmd, "--plot: '%s' must end in .png",
+					       o->plot);
+	}
+	return SSC_EXIT_OK;
+}
+
+static int run(const struct ssc_stage_env *env, void *opts,
+	       struct ssc_stage_out *sout)
+{
+	const struct ssc_common co = *env->co;
+	struct opts o = *(struct opts *)opts;
 	const double deft[] = { 10, 30, 60, 120, 300, 600, 1800, 3600 };
 	struct mc_res mc[2] = { { 0 } };
-	int n_mc = 0, first, rc;
+	int n_mc = 0, rc;
 	double t_max;
 	const char *bias_from[4] = { "option", "option", "option", "option" };
 	struct crossing cr[32];
 	size_t n_cr;
+	const char *keys[] = { "allan", "calib" };
 
-	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	if (first < argc)
-		return ssc_usage_error(co.cmd, "unexpected operand '%s'", argv[first]);
-	if (o.plot) {
-		size_t l = strlen(o.plot);
-
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(co.cmd);
-		if (l < 5 || strcmp(o.plot + l - 4, ".png"))
-			return ssc_usage_error(co.cmd, "--plot: '%s' must end in .png",
-					       o.plot);
-	}
+	if (env->plot_path)
+		o.plot = env->plot_path;
 	for (int i = 0; i < o.n_sensor; i++) {
 		struct sscope_sensor_spec s;
 
 		rc = ssc_load_sensor(co.cmd, o.sensor[i], &s);
+		if (!rc)
+			rc = apply_sensor(&o, &s, o.sensor[i], bias_from);
 		if (rc)
 			return rc;
-		if (s.quantity == SSCOPE_QTY_ANGULAR_RATE) {
-			if (!o.set[0] && (s.has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
-				o.p.gyro_bias_rad_s = (s.has & SSCOPE_SPEC_BIAS) ? s.bias : s.b;
-				bias_from[0] = (s.has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
-			}
-			if (!o.set[2] && (s.has & SSCOPE_SPEC_N))
-				o.p.arw_rad_sqrt_s = s.n;
-			if (o.p.gyro_sf == 0 && (s.has & SSCOPE_SPEC_SF))
-				o.p.gyro_sf = s.scale_factor_error;
-		} else if (s.quantity == SSCOPE_QTY_ACCELERATION) {
-			if (!o.set[1] && (s.has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
-				o.p.accel_bias_m_s2 = (s.has & SSCOPE_SPEC_BIAS) ? s.bias : s.b;
-				bias_from[1] = (s.has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
-			}
-			if (!o.set[3] && (s.has & SSCOPE_SPEC_N))
-				o.p.vrw_m_s_sqrt_s = s.n;
-			if (o.p.accel_sf == 0 && (s.has & SSCOPE_SPEC_SF))
-				o.p.accel_sf = s.scale_factor_error;
-		} else {
-			ssc_err(co.cmd, "%s: neither a gyro nor an accelerometer (give range or noise_density with a unit)",
-				o.sensor[i]);
-			return SSC_EXIT_FAIL;
-		}
+	}
+	if (env->sensor) {
+		rc = apply_sensor(&o, env->sensor, env->sensor_path ?
+				  env->sensor_path : "[sensor]", bias_from);
+		if (rc)
+			return rc;
 	}
 	for (int i = 0; i < o.n_result; i++) {
 		rc = load_result(&o, o.result[i], bias_from);
 		if (rc)
 			return rc;
 	}
+	for (size_t k = 0; env->upstream && k < 2; k++) {
+		json_t *r = json_object_get(env->upstream, keys[k]);
+
+		if (r) {
+			rc = apply_result(&o, r, keys[k], bias_from);
+			if (rc)
+				return rc;
+		}
+	}
 	if (o.p.gyro_bias_rad_s == 0 && o.p.accel_bias_m_s2 == 0 &&
 	    o.p.arw_rad_sqrt_s == 0 && o.p.vrw_m_s_sqrt_s == 0 &&
 	    (o.p.gyro_sf * o.p.turn_rate_rad_s) == 0 &&
 	    (o.p.accel_sf * o.p.accel_profile_m_s2) == 0)
 		return ssc_usage_error(co.cmd, "no error source: give --sensor or --gyro-bias, --accel-bias, --arw, --vrw");
+	sout->summary = sout->summary ? sout->summary : json_array();
 	if (o.n_times == 0) {
 		memcpy(o.times, deft, sizeof(deft));
 		o.n_times = sizeof(deft) / sizeof(deft[0]);
@@ -764,7 +815,7 @@ int ssc_cmd_budget(int argc, char **argv)
 		if (rc)
 			goto done;
 	}
-	if (co.format == SSC_FMT_JSON) {
+	{
 		json_t *root = json_object(), *ts = json_array(), *srcs = json_array();
 		json_t *tot = json_object(), *tp = json_array(), *tv = json_array(),
 		       *ta = json_array(), *models = json_array(), *dom = json_array();
@@ -872,16 +923,20 @@ int ssc_cmd_budget(int argc, char **argv)
 				json_array_append_new(m, mc_json(&mc[i]));
 			json_object_set_new(root, "monte_carlo", m);
 		}
-		rc = ssc_emit_json(&co, root);
-	} else {
-		struct ssc_out out;
+		sout->json = root;
+	}
+	{
+		struct ssc_membuf text, csv;
 		char a[32];
 
-		rc = ssc_out_open(&co, &out);
-		if (rc)
+		if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+			rc = SSC_EXIT_FAIL;
 			goto done;
-		if (co.format == SSC_FMT_CSV) {
-			fprintf(out.f, "t_s,source,position_m,velocity_m_s,attitude_rad,model\n");
+		}
+		{
+			FILE *cf = csv.f;
+
+			fprintf(cf, "t_s,source,position_m,velocity_m_s,attitude_rad,model\n");
 			for (size_t j = 0; j < o.n_times; j++) {
 				for (int s = 0; s <= SSCOPE_BUDGET_N_SOURCES; s++) {
 					struct sscope_budget_point pt;
@@ -892,7 +947,7 @@ int ssc_cmd_budget(int argc, char **argv)
 									  o.times[j], &pt);
 					else
 						sscope_budget_total(&o.p, o.times[j], &pt);
-					fprintf(out.f, "%.10g,%s,%.10g,%.10g,%.10g,%s\n",
+					fprintf(cf, "%.10g,%s,%.10g,%.10g,%.10g,%s\n",
 						o.times[j],
 						s < SSCOPE_BUDGET_N_SOURCES ?
 							sscope_budget_source_name((enum sscope_budget_source)s) :
@@ -901,8 +956,9 @@ int ssc_cmd_budget(int argc, char **argv)
 						model_name(&o.p, o.times[j]));
 				}
 			}
-		} else {
-			FILE *f = out.f;
+		}
+		{
+			FILE *f = text.f;
 
 			fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
 				o.p.gravity_m_s2 > 0 ? o.p.gravity_m_s2 : 9.80665,
@@ -996,7 +1052,19 @@ int ssc_cmd_budget(int argc, char **argv)
 						m->pt[j].pos_sd / m->pt[j].pos_sd_theory);
 			}
 		}
-		rc = ssc_out_close(&co, &out, !ferror(out.f));
+		sout->text = ssc_membuf_take(&text);
+		sout->csv = ssc_membuf_take(&csv);
+		for (size_t j = 0; j < o.n_times; j++) {
+			struct sscope_budget_point pt;
+			char q[64];
+
+			sscope_budget_total(&o.p, o.times[j], &pt);
+			snprintf(q, sizeof(q), "position error after %s s",
+				 ssc_fmt(a, sizeof(a), o.times[j], 5));
+			ssc_summary_add(sout->summary, NULL, q, pt.position_m, NAN,
+					NAN, "m", "root sum of squares of the sources");
+		}
+		rc = SSC_EXIT_OK;
 	}
 done:
 	for (int i = 0; i < 2; i++) {
@@ -1004,4 +1072,22 @@ done:
 		free(mc[i].paths);
 	}
 	return rc;
+}
+
+const struct ssc_stage_ops ssc_budget_stage = {
+	.spec = &spec,
+	.title = "Drift budget",
+	.needs = 0,
+	.min_files = 0,
+	.max_files = 0,
+	.opts_size = sizeof(struct opts),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+};
+
+int ssc_cmd_budget(int argc, char **argv)
+{
+	return ssc_stage_main(&ssc_budget_stage, argc, argv);
 }

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "stage.h"
 
 #define PI 3.14159265358979323846
 #define MAX_IV 4096
@@ -38,9 +39,12 @@ enum {
 	O_GSENS,
 	O_SAVE,
 	O_SCHEDULE,
+	O_TRIAD,
 };
 
 static const struct ssc_option calib_opts[] = {
+	{ "triad", required_argument, O_TRIAD, "accel|gyro",
+	  "the triad to calibrate (on the command line: the word after 'calib'; in a scene: this key)" },
 	{ "mode", required_argument, O_MODE, "multipos|sixpos|rate-table|tilt",
 	  "method (default multipos; tilt is gyro only)" },
 	{ "gravity", required_argument, O_GRAVITY, "G",
@@ -111,6 +115,7 @@ struct opts {
 	const char *schedule;
 	double settle_s;
 	bool cubic, gsens;
+	bool triad_set;
 };
 
 static int handler(int key, const char *arg, void *ctx)
@@ -118,6 +123,13 @@ static int handler(int key, const char *arg, void *ctx)
 	struct opts *o = ctx;
 
 	switch (key) {
+	case O_TRIAD:
+		if (strcmp(arg, "accel") && strcmp(arg, "gyro"))
+			return ssc_usage_error("calib", "--triad: '%s' is not accel or gyro",
+					       arg);
+		o->gyro = !strcmp(arg, "gyro");
+		o->triad_set = true;
+		return 0;
 	case O_MODE:
 		for (int m = 0; m < 4; m++)
 			if (!strcmp(arg, mode_names[m])) {
@@ -1549,76 +1561,76 @@ static json_t *detection_json(const struct opts *o)
 	return d;
 }
 
-int ssc_cmd_calib(int argc, char **argv)
+static void init(void *opts)
 {
-	struct ssc_common co;
-	struct opts o = { .gravity = SSCOPE_GRAVITY_STD, .settle_s = 1 };
-	struct run r = { 0 };
-	int first, rc, nfiles;
-	char cmdname[32];
+	struct opts *o = opts;
 
-	if (argc >= 2 && (!strcmp(argv[1], "accel") || !strcmp(argv[1], "gyro"))) {
-		o.gyro = !strcmp(argv[1], "gyro");
-		argc--;
-		argv++;
-	} else if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
-		rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	} else {
-		return ssc_usage_error("calib", "give 'accel' or 'gyro' first");
-	}
-	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	snprintf(cmdname, sizeof(cmdname), "calib %s", o.gyro ? "gyro" : "accel");
-	nfiles = argc - first;
-	if (nfiles < 1)
-		return ssc_usage_error(co.cmd, "no input file");
-	if (o.mode == M_TILT && !o.gyro)
-		return ssc_usage_error(co.cmd, "--mode tilt is for 'calib gyro'");
-	if (o.mode == M_SIXPOS && o.gyro)
-		return ssc_usage_error(co.cmd, "--mode sixpos is for 'calib accel'");
-	if (o.mode == M_RATE_TABLE && !o.reference == !o.schedule)
-		return ssc_usage_error(co.cmd, "--mode rate-table needs --reference or --schedule");
-	if (o.mode != M_RATE_TABLE && nfiles > 1)
+	memset(o, 0, sizeof(*o));
+	o->gravity = SSCOPE_GRAVITY_STD;
+	o->settle_s = 1;
+}
+
+static int check(const struct ssc_common *co, void *opts)
+{
+	struct opts *o = opts;
+
+	if (!o->triad_set)
+		return ssc_usage_error(co->cmd, "give 'accel' or 'gyro' first");
+	if (o->mode == M_TILT && !o->gyro)
+		return ssc_usage_error(co->cmd, "--mode tilt is for 'calib gyro'");
+	if (o->mode == M_SIXPOS && o->gyro)
+		return ssc_usage_error(co->cmd, "--mode sixpos is for 'calib accel'");
+	if (o->mode == M_RATE_TABLE && !o->reference == !o->schedule)
+		return ssc_usage_error(co->cmd, "--mode rate-table needs --reference or --schedule");
+	return SSC_EXIT_OK;
+}
+
+static int run(const struct ssc_stage_env *env, void *opts,
+	       struct ssc_stage_out *sout)
+{
+	struct ssc_common co = *env->co;
+	struct opts *o = opts;
+	struct run r = { 0 };
+	struct ssc_membuf text, csv;
+	size_t nfiles = env->n_caps;
+	char cmdname[32];
+	json_t *root, *tr, *files;
+	int rc = SSC_EXIT_OK;
+
+	snprintf(cmdname, sizeof(cmdname), "calib %s", o->gyro ? "gyro" : "accel");
+	if (o->mode != M_RATE_TABLE && nfiles > 1)
 		return ssc_usage_error(co.cmd, "--mode %s takes one input file",
-				       mode_names[o.mode]);
+				       mode_names[o->mode]);
 	r.co = &co;
-	r.o = &o;
+	r.o = o;
 	r.iv = malloc(MAX_IV * sizeof(*r.iv));
 	if (!r.iv) {
 		ssc_err(co.cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (int fi = 0; fi < nfiles; fi++) {
-		if (r.cap) {
-			sscope_capture_free(r.cap);
-			r.cap = NULL;
-		}
-		rc = ssc_load(&co, argv[first + fi], &r.cap);
-		if (rc)
-			goto done;
+	for (size_t fi = 0; fi < nfiles; fi++) {
+		r.cap = env->caps[fi];
 		if (!(r.cap->rate_hz > 0)) {
 			ssc_err(co.cmd, "%s: unknown sample rate (give --rate)",
-				argv[first + fi]);
+				env->paths[fi]);
 			rc = SSC_EXIT_FAIL;
 			goto done;
 		}
-		if (o.gyro || o.mode == M_TILT) {
-			rc = pick3(&co, r.cap, o.gyro_names, SSCOPE_QTY_ANGULAR_RATE,
-				   o.reference, "gyro", r.gi);
+		if (o->gyro || o->mode == M_TILT) {
+			rc = pick3(&co, r.cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
+				   o->reference, "gyro", r.gi);
 			if (rc)
 				goto done;
 		}
-		if (!o.gyro || o.mode != M_RATE_TABLE) {
-			rc = pick3(&co, r.cap, o.accel, SSCOPE_QTY_ACCELERATION,
-				   o.reference, "accel", r.ai);
+		if (!o->gyro || o->mode != M_RATE_TABLE) {
+			rc = pick3(&co, r.cap, o->accel, SSCOPE_QTY_ACCELERATION,
+				   o->reference, "accel", r.ai);
 			if (rc)
 				goto done;
 		}
-		switch (o.mode) {
+		switch (o->mode) {
 		case M_MULTIPOS:
-			rc = o.gyro ? gyro_multipos(&r) : accel_multipos(&r);
+			rc = o->gyro ? gyro_multipos(&r) : accel_multipos(&r);
 			break;
 		case M_SIXPOS:
 			rc = accel_sixpos(&r);
@@ -1627,23 +1639,24 @@ int ssc_cmd_calib(int argc, char **argv)
 			rc = gyro_tilt(&r);
 			break;
 		case M_RATE_TABLE:
-			rc = rate_table_file(&r, fi);
+			rc = rate_table_file(&r, (int)fi);
 			break;
 		}
 		if (rc)
 			goto done;
 	}
-	if (o.mode == M_RATE_TABLE) {
+	if (o->mode == M_RATE_TABLE) {
 		rc = rate_table_fit(&r);
 		if (rc)
 			goto done;
 	}
-	if (co.plot) {
+	if (env->plot_path) {
+		co.plot = env->plot_path;
 		rc = plot(&co, &r);
 		if (rc)
 			goto done;
 	}
-	if (o.save) {
+	if (o->save) {
 		struct ssc_caltriad t[2];
 
 		if (r.n_out == 0) {
@@ -1654,72 +1667,76 @@ int ssc_cmd_calib(int argc, char **argv)
 		for (int i = 0; i < r.n_out; i++)
 			t[i] = r.out[i].t;
 		co.cmd = cmdname;
-		rc = ssc_calfile_write(&co, o.save, t, (size_t)r.n_out);
-		co.cmd = "calib";
+		rc = ssc_calfile_write(&co, o->save, t, (size_t)r.n_out);
+		co.cmd = env->co->cmd;
 		if (rc)
 			goto done;
 	}
-	if (co.format == SSC_FMT_JSON) {
-		json_t *root = json_object(), *tr = json_array(), *files = json_array();
+	root = json_object();
+	tr = json_array();
+	files = json_array();
+	json_object_set_new(root, "command", json_string(cmdname));
+	json_object_set_new(root, "mode", json_string(mode_names[o->mode]));
+	for (size_t fi = 0; fi < nfiles; fi++)
+		json_array_append_new(files, json_string(env->paths[fi]));
+	json_object_set_new(root, "file", json_string(env->paths[0]));
+	json_object_set_new(root, "files", files);
+	json_object_set_new(root, "gravity_m_s2", json_real(o->gravity));
+	if (o->mode != M_RATE_TABLE)
+		json_object_set_new(root, "detection", detection_json(o));
+	for (int i = 0; i < r.n_out; i++)
+		json_array_append_new(tr, triad_json(&r.out[i]));
+	json_object_set_new(root, "triads", tr);
+	if (r.have_lf)
+		json_object_set_new(root, "rate_table", rate_table_json(&r));
+	if (o->save)
+		json_object_set_new(root, "calibration_file", json_string(o->save));
+	sout->json = root;
+	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	fprintf(csv.f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
+	for (int i = 0; i < r.n_out; i++) {
+		const struct triad_out *t = &r.out[i];
+		double sc = ssc_calfile_unit_scale(t->t.input_unit);
 
-		json_object_set_new(root, "command", json_string(cmdname));
-		json_object_set_new(root, "mode", json_string(mode_names[o.mode]));
-		for (int fi = 0; fi < nfiles; fi++)
-			json_array_append_new(files, json_string(argv[first + fi]));
-		json_object_set_new(root, "file", json_string(argv[first]));
-		json_object_set_new(root, "files", files);
-		json_object_set_new(root, "gravity_m_s2", json_real(o.gravity));
-		if (o.mode != M_RATE_TABLE)
-			json_object_set_new(root, "detection", detection_json(&o));
-		for (int i = 0; i < r.n_out; i++)
-			json_array_append_new(tr, triad_json(&r.out[i]));
-		json_object_set_new(root, "triads", tr);
-		if (r.have_lf)
-			json_object_set_new(root, "rate_table", rate_table_json(&r));
-		if (o.save)
-			json_object_set_new(root, "calibration_file", json_string(o.save));
-		rc = ssc_emit_json(&co, root);
-	} else {
-		struct ssc_out out;
+		for (int j = 0; j < 3; j++)
+			fprintf(csv.f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
+				t->t.kind, t->t.channels[j], t->t.input_unit,
+				t->t.output_unit, t->t.c.bias[j] / sc,
+				t->t.c.bias_sd[j] / sc, t->t.c.scale[j] * sc,
+				t->t.c.scale_sd[j] * sc, t->t.c.mis[j][0],
+				t->t.c.mis[j][1], t->t.c.mis[j][2],
+				t->t.c.residual_rms, t->t.c.poses);
+		for (int j = 0; j < 3; j++) {
+			char q[64];
 
-		rc = ssc_out_open(&co, &out);
-		if (rc)
-			goto done;
-		if (co.format == SSC_FMT_CSV) {
-			fprintf(out.f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
-			for (int i = 0; i < r.n_out; i++) {
-				const struct triad_out *t = &r.out[i];
-				double s = ssc_calfile_unit_scale(t->t.input_unit);
-
-				for (int j = 0; j < 3; j++)
-					fprintf(out.f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
-						t->t.kind, t->t.channels[j], t->t.input_unit,
-						t->t.output_unit, t->t.c.bias[j] / s,
-						t->t.c.bias_sd[j] / s, t->t.c.scale[j] * s,
-						t->t.c.scale_sd[j] * s, t->t.c.mis[j][0],
-						t->t.c.mis[j][1], t->t.c.mis[j][2],
-						t->t.c.residual_rms, t->t.c.poses);
-			}
-		} else {
-			fprintf(out.f, "%s (%s): %s%s\n", cmdname, mode_names[o.mode],
-				argv[first], nfiles > 1 ? " ..." : "");
-			if (o.mode != M_RATE_TABLE)
-				fprintf(out.f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
-					o.det.window_s > 0 ? o.det.window_s : 1,
-					o.det.init_static_s > 0 ? "reference from the initial static period" :
-					"reference = 10th percentile of the variance magnitude",
-					o.det.k, o.det.threshold, o.det.n_intervals);
-			if (r.have_lf)
-				rate_table_text(out.f, &r);
-			for (int i = 0; i < r.n_out; i++)
-				triad_text(out.f, &r.out[i]);
-			if (o.save)
-				fprintf(out.f, "  calibration written to %s\n", o.save);
+			snprintf(q, sizeof(q), "%s bias", t->t.kind);
+			ssc_summary_add(sout->summary, t->t.channels[j], q,
+					t->t.c.bias[j] / sc,
+					(t->t.c.bias[j] - 2 * t->t.c.bias_sd[j]) / sc,
+					(t->t.c.bias[j] + 2 * t->t.c.bias_sd[j]) / sc,
+					t->t.input_unit, "interval: +-2 sd");
 		}
-		rc = ssc_out_close(&co, &out, !ferror(out.f));
 	}
+	fprintf(text.f, "%s (%s): %s%s\n", cmdname, mode_names[o->mode],
+		env->paths[0], nfiles > 1 ? " ..." : "");
+	if (o->mode != M_RATE_TABLE)
+		fprintf(text.f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
+			o->det.window_s > 0 ? o->det.window_s : 1,
+			o->det.init_static_s > 0 ? "reference from the initial static period" :
+			"reference = 10th percentile of the variance magnitude",
+			o->det.k, o->det.threshold, o->det.n_intervals);
+	if (r.have_lf)
+		rate_table_text(text.f, &r);
+	for (int i = 0; i < r.n_out; i++)
+		triad_text(text.f, &r.out[i]);
+	if (o->save)
+		fprintf(text.f, "  calibration written to %s\n", o->save);
+	sout->text = ssc_membuf_take(&text);
+	sout->csv = ssc_membuf_take(&csv);
 done:
-	sscope_capture_free(r.cap);
 	free(r.iv);
 	free(r.vs);
 	free(r.pose_before);
@@ -1727,4 +1744,35 @@ done:
 	free(r.ry);
 	free(r.rr);
 	return rc;
+}
+
+const struct ssc_stage_ops ssc_calib_stage = {
+	.spec = &spec,
+	.title = "Error-model calibration",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = -1,
+	.opts_size = sizeof(struct opts),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+};
+
+int ssc_cmd_calib(int argc, char **argv)
+{
+	char *args[256];
+	int n = 0;
+
+	/* "calib accel ..." is "calib --triad accel ..." */
+	if (argc >= 2 && (!strcmp(argv[1], "accel") || !strcmp(argv[1], "gyro"))) {
+		if (argc + 1 > 256)
+			return ssc_usage_error("calib", "too many arguments");
+		args[n++] = argv[0];
+		args[n++] = "--triad";
+		for (int i = 1; i < argc; i++)
+			args[n++] = argv[i];
+		return ssc_stage_main(&ssc_calib_stage, n, args);
+	}
+	return ssc_stage_main(&ssc_calib_stage, argc, argv);
 }

@@ -23,7 +23,7 @@
 
 #include "html.h"
 
-enum { S_INFO = 0, S_PSD, S_VIBRATION, S_COUNT_ };
+enum { S_INFO = 0, S_PSD, S_VIBRATION, S_CALIB, S_BUDGET, S_COUNT_ };
 
 static const struct ssc_stage_def stages[] = {
 	[S_INFO] = { "info", &ssc_info_stage, 0,
@@ -45,6 +45,19 @@ static const struct ssc_stage_def stages[] = {
 			  "BPFI = (n/2) fr (1 + d/D cos phi), BSF, FTF; envelope "
 			  "spectrum = |Hilbert| of the band-passed signal; kurtosis "
 			  "3 for Gaussian noise." },
+	[S_CALIB] = { "calib", &ssc_calib_stage, 0,
+		      "Error model corrected = T K (reading - bias) (Tedaldi, "
+		      "Pretto & Menegatti, ICRA 2014): static intervals found by "
+		      "a variance threshold, accelerometer parameters by "
+		      "Levenberg-Marquardt on |g| - |a'|, gyro parameters by "
+		      "matching the rotation of gravity between poses; "
+		      "uncertainties s^2 (J^T J)^-1." },
+	[S_BUDGET] = { "budget", &ssc_budget_stage, (1u << S_CALIB),
+		       "Open loop: accelerometer bias b t^2 / 2, gyro bias "
+		       "g b t^3 / 6; Schuler-bounded forms with omega_s = "
+		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
+		       "K sqrt(t) growth, 95 % inside +-2 sigma; total = root sum "
+		       "of squares." },
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
@@ -508,6 +521,14 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 	for (size_t s = 0; s < N_STAGES; s++) {
 		if (!(sc->want & (1u << s)))
 			continue;
+		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
+			/* noise terms from the scene's own analyses */
+			sc->uses[s] = sc->want & stages[s].deps;
+			if (!sc->uses[s])
+				return scene_error(cmd, sc, 0,
+						   "impossible request: [budget] needs a [sensor] specification or the results of a stage it can use (%s)",
+						   "calib");
+		}
 		sc->run |= sc->uses[s];
 		if ((stages[s].ops->needs & SSC_NEED_SENSOR) && !sc->have_sensor)
 			return scene_error(cmd, sc, 0,
@@ -815,9 +836,22 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 	for (size_t i = 0; i < sc->n_order; i++) {
 		size_t s = sc->order[i];
 
-		stage_columns(sc, s, buf, sizeof(buf));
-		fprintf(f, "  %zu. %-10s %s; channels: %s\n", k++, stages[s].name,
-			sc->why[s], buf);
+		char uses[128] = "";
+
+		if (stages[s].ops->needs & SSC_NEED_DATA)
+			stage_columns(sc, s, buf, sizeof(buf));
+		else
+			snprintf(buf, sizeof(buf), "none (no capture data)");
+		for (size_t u = 0; u < N_STAGES; u++)
+			if (sc->uses[s] & (1u << u)) {
+				size_t l = strlen(uses);
+
+				snprintf(uses + l, sizeof(uses) - l, "%s%s",
+					 l ? ", " : "; uses the results of ",
+					 stages[u].name);
+			}
+		fprintf(f, "  %zu. %-10s %s%s; channels: %s\n", k++,
+			stages[s].name, sc->why[s], uses, buf);
 	}
 	fprintf(f, "stages skipped:%s\n", sc->run == (1u << N_STAGES) - 1 ?
 		" none" : "");

@@ -89,5 +89,7 @@ void ssc_summary_add(json_t *summary, const char *channel,
 extern const struct ssc_stage_ops ssc_info_stage;
 extern const struct ssc_stage_ops ssc_psd_stage;
 extern const struct ssc_stage_ops ssc_vibration_stage;
+extern const struct ssc_stage_ops ssc_calib_stage;
+extern const struct ssc_stage_ops ssc_budget_stage;
 
 #endif
