@@ -652,5 +652,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
  * *.h, adc/sscope-*.h), installed beside this one and included here, so
  * that <sensorscope.h> declares the whole library.
  */
+#include "sscope-allan.h"
 
 #endif /* SENSORSCOPE_H */
