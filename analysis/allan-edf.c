@@ -11,7 +11,9 @@
  * For white phase noise with unmodified variances the EDF is computed
  * exactly (the terms are finite combinations of independent phase values),
  * which agrees with the paper's case 4 where that applies and also covers
- * its K <= d branch.  TOTDEV: NIST SP 1065 (Riley 2008) table 7.
+ * its K <= d branch.  TOTDEV: NIST SP 1065 (Riley 2008) table 7 for the
+ * frequency noises and table 5's simple estimates for the phase noises,
+ * as Stable32 (checked against its published bounds).
  *
  * Noise identification: W. J. Riley and C. A. Greenhall, "Power law noise
  * identification using the lag 1 autocorrelation", 18th EFTF, 2004: the
@@ -28,6 +30,7 @@
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
 
 /* ------------------------------------------------------------------ */
 /* Greenhall & Riley EDF                                               */
@@ -250,16 +253,60 @@ double sscope_allan_edf(int alpha, int d, size_t m, size_t N, bool modified,
 
 double ssc_totdev_edf(int alpha, size_t m, size_t np)
 {
-	/* NIST SP 1065 table 7: edf = b T / tau - c */
+	/* NIST SP 1065 table 7: edf = b T / tau - c for the frequency
+	 * noises; for phase noises Stable32 uses the simple estimates of
+	 * SP 1065 table 5 (white phase, flicker phase) */
 	static const double bc[3][2] = { { 1.50, 0 }, { 1.17, 0.22 },
 					 { 0.93, 0.36 } };
-	double ratio = (double)(np - 1) / (double)m;
+	double N = (double)np, md = (double)m;
 
-	if (alpha > 0)
-		return sscope_allan_edf(alpha, 2, m, np, false, 1);
+	if (alpha == 2)
+		return (N + 1) * (N - 2 * md) / (2 * (N - md));
+	if (alpha == 1)
+		return exp(sqrt(log((N - 1) / (2 * md)) *
+				log((2 * md + 1) * (N - 1) / 4)));
 	if (alpha < -2)
 		alpha = -2;
-	return bc[-alpha][0] * ratio - bc[-alpha][1];
+	return bc[-alpha][0] * N / md - bc[-alpha][1];
+}
+
+/*
+ * Quantile of chi-squared with nu degrees of freedom: Wilson-Hilferty
+ * start, then safeguarded Newton steps on the tail probability (GSL's
+ * inverse calls the global error handler when it does not converge, which
+ * a library must not trigger).  Relative accuracy about 1e-12.
+ */
+double ssc_chi2_quantile(double p, double nu)
+{
+	double z = gsl_cdf_ugaussian_Pinv(p), h = 2 / (9 * nu);
+	double x = nu * pow(1 - h + z * sqrt(h), 3), lo = 0, hi = INFINITY;
+	bool upper = p > 0.5;
+	double target = upper ? 1 - p : p;
+
+	if (!(p > 0 && p < 1) || !(nu > 0))
+		return NAN;
+	if (!(x > 0) || !isfinite(x))
+		x = nu * 1e-3 + 1e-300;
+	for (int it = 0; it < 200; it++) {
+		double F = upper ? gsl_cdf_chisq_Q(x, nu) : gsl_cdf_chisq_P(x, nu);
+		double f = gsl_ran_chisq_pdf(x, nu), nx;
+		bool below = upper ? F > target : F < target;
+
+		/* x is below the quantile when the lower tail is too small */
+		if (below)
+			lo = x;
+		else
+			hi = x;
+		if (fabs(F - target) <= 1e-14 * target)
+			break;
+		nx = f > 0 ? x + (upper ? (F - target) : (target - F)) / f : (double)NAN;
+		if (!(nx > lo && nx < hi) || !isfinite(nx))
+			nx = isinf(hi) ? 2 * x + 1 : (lo + hi) / 2;
+		if (fabs(nx - x) <= 1e-13 * x)
+			break;
+		x = nx;
+	}
+	return x;
 }
 
 void ssc_allan_ci(double dev, double edf, double level, double *lo,
@@ -271,8 +318,8 @@ void ssc_allan_ci(double dev, double edf, double level, double *lo,
 		*lo = *hi = NAN;
 		return;
 	}
-	cl = gsl_cdf_chisq_Pinv(pl, edf);
-	ch = gsl_cdf_chisq_Pinv(ph, edf);
+	cl = ssc_chi2_quantile(pl, edf);
+	ch = ssc_chi2_quantile(ph, edf);
 	*lo = dev * sqrt(edf / ch);
 	*hi = cl > 0 ? dev * sqrt(edf / cl) : (double)INFINITY;
 }

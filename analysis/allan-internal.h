@@ -25,6 +25,10 @@ int ssc_noise_id_series(const double *z, const unsigned char *valid,
 			size_t n, bool rate_like, int dmax, int *alpha,
 			double *alpha_est, double *work, unsigned char *vwork);
 
+/* quantile of chi-squared (safeguarded Newton; never calls the GSL
+ * error handler) */
+double ssc_chi2_quantile(double p, double nu);
+
 /* chi-squared bounds of a deviation with edf degrees of freedom */
 void ssc_allan_ci(double dev, double edf, double level, double *lo,
 		  double *hi);

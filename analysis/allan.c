@@ -1331,3 +1331,111 @@ out:
 	free(big);
 	return rc;
 }
+
+/* ------------------------------------------------------------------ */
+/* One call                                                            */
+/* ------------------------------------------------------------------ */
+
+static int grid_points(struct sscope_allan *p, const double *x,
+		       size_t stride, size_t n, double rate_hz,
+		       enum sscope_tau_grid grid,
+		       struct sscope_allan_point **pts, size_t *n_pts,
+		       struct sscope_diag *diag)
+{
+	size_t np = sscope_allan_n_phase(p->opts.input, n), cnt, *m;
+	size_t mmax = sscope_allan_max_m(p->opts.dev, np);
+	int rc = sscope_allan_grid(grid, mmax, NULL, 0, &cnt);
+
+	*pts = NULL;
+	*n_pts = 0;
+	if (rc)
+		return rc;
+	if (cnt == 0)
+		return ssc_diag(diag, -EDOM,
+				"too short for %s: %zu sample%s (averaging factor 1 needs %zu)",
+				sscope_dev_name(p->opts.dev), n,
+				n == 1 ? "" : "s",
+				min_samples(p->opts.dev, 1,
+					    p->opts.input == SSCOPE_ALLAN_ANGLE));
+	m = ssc_alloc_array(cnt, sizeof(size_t));
+	*pts = ssc_alloc_array(cnt, sizeof(**pts));
+	if (!m || !*pts) {
+		free(m);
+		free(*pts);
+		*pts = NULL;
+		return -ENOMEM;
+	}
+	sscope_allan_grid(grid, mmax, m, cnt, &cnt);
+	rc = sscope_allan_compute(p, x, stride, n, rate_hz, m, cnt, *pts,
+				  n_pts, diag);
+	free(m);
+	if (rc) {
+		free(*pts);
+		*pts = NULL;
+		*n_pts = 0;
+	}
+	return rc;
+}
+
+int sscope_allan_analyze(const double *x, size_t stride, size_t n,
+			 double rate_hz, enum sscope_tau_grid grid,
+			 const struct sscope_allan_opts *aopts,
+			 const struct sscope_noise_fit_opts *fopts,
+			 struct sscope_allan_result **resp,
+			 struct sscope_diag *diag)
+{
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p = NULL;
+	struct sscope_allan_result *res;
+	int rc;
+
+	if (!resp || !x || n == 0)
+		return ssc_diag(diag, -EINVAL, "allan: bad parameters");
+	*resp = NULL;
+	if (aopts)
+		o = *aopts;
+	res = calloc(1, sizeof(*res));
+	if (!res)
+		return -ENOMEM;
+	rc = sscope_allan_new(&p, n, &o);
+	if (rc)
+		goto fail;
+	res->n_phase = sscope_allan_n_phase(o.input, n);
+	rc = grid_points(p, x, stride, n, rate_hz, grid, &res->points,
+			 &res->n_points, diag);
+	if (rc)
+		goto fail;
+	if (o.dev == SSCOPE_DEV_OADEV) {
+		res->oadev = res->points;
+		res->n_oadev = res->n_points;
+	} else {
+		struct sscope_diag d2;
+
+		p->opts.dev = SSCOPE_DEV_OADEV;
+		p->opts.stride_div = 0;
+		rc = grid_points(p, x, stride, n, rate_hz, grid, &res->oadev,
+				 &res->n_oadev, &d2);
+		if (rc)
+			goto fail;
+	}
+	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
+					  res->n_phase, fopts, &res->fit, NULL);
+	res->have_fit = res->fit_error == 0;
+	sscope_allan_free(p);
+	*resp = res;
+	return 0;
+fail:
+	sscope_allan_free(p);
+	sscope_allan_result_free(res);
+	return rc;
+}
+
+void sscope_allan_result_free(struct sscope_allan_result *res)
+{
+	if (!res)
+		return;
+	if (res->oadev != res->points)
+		free(res->oadev);
+	free(res->points);
+	free(res);
+}

@@ -653,5 +653,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
  * that <sensorscope.h> declares the whole library.
  */
 #include "sscope-allan.h"
+#include "sscope-sim.h"
 
 #endif /* SENSORSCOPE_H */
