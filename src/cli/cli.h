@@ -153,5 +153,7 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig);
 
 /* Commands */
 int ssc_cmd_info(int argc, char **argv);
+int ssc_cmd_allan(int argc, char **argv);
+int ssc_cmd_simulate(int argc, char **argv);
 
 #endif

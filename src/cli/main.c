@@ -15,6 +15,10 @@ struct command {
 static const struct command commands[] = {
 	{ "info", "channels, units, rate, gaps and statistics of a capture",
 	  ssc_cmd_info },
+	{ "allan", "Allan deviations with intervals, IEEE 952 noise terms",
+	  ssc_cmd_allan },
+	{ "simulate", "a capture whose noise obeys a sensor specification",
+	  ssc_cmd_simulate },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
