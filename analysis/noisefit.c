@@ -5,8 +5,9 @@
  * R^2 tau^2/2, fitted by weighted least squares on AVAR (weights from each
  * point's EDF, iterated with the model), every subset of the allowed terms
  * tried, non-positive coefficients rejected, the subset chosen by Akaike's
- * criterion on the Gaussian likelihood with the full covariance of the
- * estimates; coefficient intervals from the sandwich covariance.
+ * criterion chi2 + 2p, chi2 the generalised residual with the full
+ * covariance of the estimates under the non-negative least-squares model;
+ * coefficient intervals from the sandwich covariance.
  *
  * The covariance of overlapping AVAR estimates: with d_i the second
  * difference of phase at lag m, AVAR = sum_i d_i^2 / (2 tau^2 n) and, for
@@ -172,7 +173,7 @@ static void quad(const struct pairgeo *g, struct pairsum *s, double a,
 
 /* sum over the integers of [a, b) on which every g is smooth: exact near
  * the ends, the rest as the integral over [a + E - 1/2, b - E - 1/2] on
- * intervals growing geometrically away from both ends */
+ * intervals growing geometrically (x4) away from both ends */
 #define END_EXACT 8
 static void piece(const struct pairgeo *g, struct pairsum *s, double a,
 		  double b)
@@ -213,7 +214,7 @@ static void piece(const struct pairgeo *g, struct pairsum *s, double a,
 
 			quad(g, s, x, e);
 			x = e;
-			w *= 2;
+			w *= 4;
 		}
 		x = hi;
 		w = 8;
@@ -222,7 +223,7 @@ static void piece(const struct pairgeo *g, struct pairsum *s, double a,
 
 			quad(g, s, e, x);
 			x = e;
-			w *= 2;
+			w *= 4;
 		}
 	}
 }
@@ -568,32 +569,38 @@ static int spd_inverse(const gsl_matrix *M, gsl_matrix *Minv)
 	return 0;
 }
 
-/* -2 log L + 2p of the residuals with the model covariance */
-static int criterion(struct fitdata *f, const double th[NT], const double *mu,
-		     int p, double *crit, double *chi2)
+/*
+ * Factor the reference covariance (of the reference model mu_ref) once:
+ * relative scaling S~ = D^-1 S D^-1 with D = diag(mu_ref), Cholesky into
+ * f->Sc.
+ */
+static int ref_factor(struct fitdata *f, const double th[NT],
+		      const double *mu_ref)
 {
-	double c[NT], logdet = 0;
+	double c[NT];
 
 	th_to_coef(th, c);
-	model_cov(f, c, mu, f->S);
-	/* relative scaling: S~ = D^-1 S D^-1, r~ = r / mu */
-	for (size_t a = 0; a < f->n; a++) {
+	model_cov(f, c, mu_ref, f->S);
+	for (size_t a = 0; a < f->n; a++)
 		for (size_t b = 0; b < f->n; b++)
 			gsl_matrix_set(f->Sc, a, b,
-				       gsl_matrix_get(f->S, a, b) / (mu[a] * mu[b]));
-		gsl_vector_set(f->r, a, (f->y[a] - mu[a]) / mu[a]);
-	}
-	if (chol(f->Sc->data, f->n, f->Sc->tda))
-		return -EDOM;
+				       gsl_matrix_get(f->S, a, b) /
+					       (mu_ref[a] * mu_ref[b]));
+	return chol(f->Sc->data, f->n, f->Sc->tda);
+}
+
+/* generalised chi-squared of the residuals y - mu with the factored
+ * reference covariance */
+static double gchi2(struct fitdata *f, const double *mu, const double *mu_ref)
+{
+	double chi2 = 0;
+
 	for (size_t a = 0; a < f->n; a++)
-		logdet += 2 * log(gsl_matrix_get(f->Sc, a, a)) + 2 * log(mu[a]);
-	/* solve L z = r~: chi2 = |z|^2 */
+		gsl_vector_set(f->r, a, (f->y[a] - mu[a]) / mu_ref[a]);
 	forward(f->Sc->data, f->n, f->Sc->tda, f->r->data);
-	*chi2 = 0;
 	for (size_t a = 0; a < f->n; a++)
-		*chi2 += gsl_vector_get(f->r, a) * gsl_vector_get(f->r, a);
-	*crit = *chi2 + logdet + 2 * p;
-	return 0;
+		chi2 += gsl_vector_get(f->r, a) * gsl_vector_get(f->r, a);
+	return chi2;
 }
 
 /*
@@ -836,40 +843,82 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		rc = -ENOMEM;
 		goto out;
 	}
-	/* every subset containing the forced terms */
-	for (unsigned mask = 1; mask < (1u << NT); mask++) {
-		double th[NT], crit, chi2;
-		int p = popcount(mask);
-		bool ok = true;
+	/*
+	 * Every subset containing the forced terms, fitted by iterated WLS;
+	 * those with a non-positive coefficient are infeasible.  The one with
+	 * the smallest weighted residual (fixed weights EDF / 2 y^2) is the
+	 * non-negative least-squares solution: its model gives the reference
+	 * covariance with which every feasible subset is then scored, Akaike
+	 * style, chi2 + 2 p (one covariance for all, so the scores compare).
+	 */
+	{
+		double (*ths)[NT] = ssc_alloc_array(1u << NT, sizeof(*ths));
+		double *mus = ssc_alloc_array((size_t)(1u << NT) * f.n, sizeof(double));
+		bool feas[1u << NT] = { false };
+		unsigned ref = 0;
+		double best_w = INFINITY;
 
-		if ((mask & ~allowed) || (mask & o.forced) != o.forced ||
-		    (size_t)p > f.n)
-			continue;
-		/* a workspace for p columns */
-		f.ws = gsl_multifit_linear_alloc(f.n, (size_t)p);
-		if (!f.ws) {
+		if (!ths || !mus) {
+			free(ths);
+			free(mus);
 			rc = -ENOMEM;
-			break;
+			goto out;
 		}
-		if (wls(&f, mask, th, mu, 4))
-			ok = false;
-		gsl_multifit_linear_free(f.ws);
-		f.ws = NULL;
-		for (int j = 0; j < NT && ok; j++)
-			if ((mask & (1u << j)) && !(th[j] > 0))
+		for (unsigned mask = 1; mask < (1u << NT); mask++) {
+			double *m_ = mus + (size_t)mask * f.n, chiw = 0;
+			int p = popcount(mask);
+			bool ok = true;
+
+			if ((mask & ~allowed) || (mask & o.forced) != o.forced ||
+			    (size_t)p > f.n)
+				continue;
+			f.ws = gsl_multifit_linear_alloc(f.n, (size_t)p);
+			if (!f.ws) {
+				rc = -ENOMEM;
+				break;
+			}
+			if (wls(&f, mask, ths[mask], m_, 4))
 				ok = false;
-		for (size_t k = 0; k < f.n && ok; k++)
-			if (!(mu[k] > 0))
-				ok = false;
-		if (!ok || criterion(&f, th, mu, p, &crit, &chi2))
-			continue;
-		if (crit < best_crit) {
-			best_crit = crit;
-			best_mask = mask;
-			best_chi2 = chi2;
-			memcpy(best_th, th, sizeof(th));
-			memcpy(bmu, mu, f.n * sizeof(double));
+			gsl_multifit_linear_free(f.ws);
+			f.ws = NULL;
+			for (int j = 0; j < NT && ok; j++)
+				if ((mask & (1u << j)) && !(ths[mask][j] > 0))
+					ok = false;
+			for (size_t k = 0; k < f.n && ok; k++)
+				if (!(m_[k] > 0))
+					ok = false;
+			if (!ok)
+				continue;
+			feas[mask] = true;
+			for (size_t k = 0; k < f.n; k++) {
+				double r = (f.y[k] - m_[k]) / f.y[k];
+
+				chiw += f.edf[k] / (2 * f.scale[k] * f.scale[k]) * r * r;
+			}
+			if (chiw < best_w) {
+				best_w = chiw;
+				ref = mask;
+			}
 		}
+		if (!rc && ref && ref_factor(&f, ths[ref], mus + (size_t)ref * f.n))
+			ref = 0;
+		for (unsigned mask = 1; mask < (1u << NT) && !rc && ref; mask++) {
+			double chi2, crit;
+
+			if (!feas[mask])
+				continue;
+			chi2 = gchi2(&f, mus + (size_t)mask * f.n, mus + (size_t)ref * f.n);
+			crit = chi2 + 2 * popcount(mask);
+			if (crit < best_crit) {
+				best_crit = crit;
+				best_mask = mask;
+				best_chi2 = chi2;
+				memcpy(best_th, ths[mask], sizeof(best_th));
+				memcpy(bmu, mus + (size_t)mask * f.n, f.n * sizeof(double));
+			}
+		}
+		free(ths);
+		free(mus);
 	}
 	if (rc)
 		goto out;
@@ -904,17 +953,29 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			cf->lo = sqrt(fmax(0, best_th[j] - z * sd[j]));
 			cf->hi = sqrt(best_th[j] + z * sd[j]);
 		} else if (allowed & (1u << j)) {
-			/* upper limit: the selected terms plus this one */
-			double sd2[NT], th2[NT];
+			/* upper limit: the selected terms plus this one, with
+			 * the covariance of that model (the term's own
+			 * variance included; a negative estimate counts as 0,
+			 * so the limit stays conservative) */
+			unsigned m2 = best_mask | (1u << j);
+			double sd2[NT], th2[NT], c2[NT];
 
 			cf->lo = 0;
-			if ((size_t)popcount(best_mask | (1u << j)) <= f.n &&
-			    sandwich(&f, best_mask | (1u << j), bmu, f.S, sd2,
-				     th2) == 0) {
-				/* a negative estimate counts as 0: the limit
-				 * stays conservative */
-				cf->var_sd = sd2[j];
-				cf->hi = sqrt(fmax(0, th2[j]) + z * sd2[j]);
+			if ((size_t)popcount(m2) <= f.n &&
+			    sandwich(&f, m2, bmu, f.S, sd2, th2) == 0) {
+				for (int t = 0; t < NT; t++)
+					th2[t] = fmax(0, th2[t]);
+				th_to_coef(th2, c2);
+				for (size_t k = 0; k < f.n; k++) {
+					mu[k] = 0;
+					for (int t = 0; t < NT; t++)
+						mu[k] += th2[t] * basis(t, f.tau[k]);
+				}
+				model_cov(&f, c2, mu, f.Sc);
+				if (sandwich(&f, m2, bmu, f.Sc, sd2, NULL) == 0) {
+					cf->var_sd = sd2[j];
+					cf->hi = sqrt(th2[j] + z * sd2[j]);
+				}
 			}
 		}
 	}

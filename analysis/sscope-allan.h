@@ -299,11 +299,11 @@ struct sscope_noise_fit {
 	unsigned terms;     /**< bit mask of the fitted terms */
 	double ci_level;    /**< level of the intervals */
 	size_t n_points;    /**< points used */
-	double chi2;        /**< generalised chi-squared of the residuals with
-				 the model covariance */
+	double chi2;        /**< generalised chi-squared r' C^-1 r of the
+				 selected model's residuals (C: see above) */
 	double dof;         /**< n_points - number of fitted terms */
 	double p_value;     /**< P(chi2 >= observed) under the model */
-	double aic;         /**< criterion of the selected model */
+	double aic;         /**< chi2 + 2 p of the selected model */
 	struct sscope_noise_readoff readoff; /**< classic read-offs */
 };
 
@@ -314,16 +314,21 @@ struct sscope_noise_fit {
  * 1/tau, 2 ln2/pi, tau/3, tau^2/2] and unknowns (Q^2, N^2, B^2, K^2, R^2),
  * weights EDF / (2 model^2) (iterated with the model), for every subset of
  * the allowed terms; subsets with a non-positive coefficient are rejected;
- * among the rest the smallest Akaike criterion -2 log L + 2 p wins, L the
- * Gaussian likelihood of the residuals with the full covariance of the
- * overlapping AVAR estimates.  That covariance is computed for the fitted
+ * the feasible subset with the smallest weighted residual is the
+ * non-negative least-squares solution, and the covariance of the
+ * overlapping AVAR estimates under that model scores every feasible subset
+ * by Akaike's criterion chi2 + 2 p (chi2 = r' C^-1 r, one C for all, so the
+ * scores compare; correlated points are not counted as independent).  The
+ * covariance C is computed for a five-term
  * model (Q white angle, N white rate, B flicker rate, K random-walk rate,
  * exact for the sampled processes of Q, N, K; R deterministic) by summing
  * squared cross-covariances of the second differences (Gaussian fourth
  * moments), plus the model_error term.  The coefficient covariance is the
- * sandwich (A'WA)^-1 A'W C W A (A'WA)^-1, so correlated points are not
- * counted as independent; intervals are Gaussian on the squared
- * coefficient, truncated at 0, then square-rooted.
+ * sandwich (A'WA)^-1 A'W C_s W A (A'WA)^-1 with C_s the covariance under
+ * the selected model; intervals are Gaussian on the squared coefficient,
+ * truncated at 0, then square-rooted.  A term not selected gets lo = 0 and
+ * as hi the upper limit from the selected terms plus that one (a negative
+ * estimate counting as 0).
  *
  * @param pts      OADEV points (stride 1 or strided; dev > 0) from
  *                 sscope_allan_compute() of a rate or angle record.

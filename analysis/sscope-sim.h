@@ -21,11 +21,14 @@
  * - b: bias instability B (U) as flicker rate noise: a sum of first-order
  *   Gauss-Markov (AR(1)) processes with correlation times spaced by
  *   10^(2/3) from flicker_tau_min_s to flicker_tau_max_s, each of variance
- *   B^2 ln(10^(2/3)) / pi, whose spectrum approximates B^2 / (pi f): the
- *   AVAR plateau (2 ln2 / pi) B^2 holds within 2.5 % from
- *   flicker_tau_min_s to flicker_tau_max_s / 30 and within 0.5 % from
- *   100 flicker_tau_min_s to flicker_tau_max_s / 100 (sscope_sim_avar()
- *   gives the exact value);
+ *   B^2 ln(10^(2/3)) / pi, whose spectrum approximates B^2 / (pi f): its
+ *   Allan variance (sscope_sim_avar() gives it exactly) is the plateau
+ *   (2 ln2 / pi) B^2 within 0.7 % from 100 flicker_tau_min_s to
+ *   flicker_tau_max_s / 100; with the default band (the sample period to
+ *   1e6 s, rates of 1 Hz and more) within 0.5 % there, within 2 % from
+ *   20 flicker_tau_min_s to flicker_tau_max_s / 30 and within 7 % from
+ *   flicker_tau_min_s (white rate noise usually dominates there anyway);
+ *   a later band start rolls off more below 100 flicker_tau_min_s;
  * - k: rate random walk K (U/s/sqrt(Hz)): increments of sd K sqrt(dt),
  *   AVAR K^2 tau / 3 + K^2 dt^2 / (6 tau);
  * - R t: rate ramp R (U/s), AVAR R^2 tau^2 / 2.
