@@ -36,6 +36,10 @@ void ssc_allan_ci(double dev, double edf, double level, double *lo,
 /* EDF of TOTDEV (NIST SP 1065 table 7; OADEV's for phase noises) */
 double ssc_totdev_edf(int alpha, size_t m, size_t n_phase);
 
+/* Benchmarks and tests: force the contiguous per-tau engine (no tiling,
+ * no fusion) for OADEV and OHDEV, to compare the two. */
+void ssc_allan_force_contiguous(struct sscope_allan *plan, bool on);
+
 /* Difference order and whether a deviation is a "modified" one */
 int ssc_dev_order(enum sscope_dev dev);
 

@@ -321,7 +321,13 @@ struct sscope_allan {
 	/* noise-id scratch */
 	double *nid;
 	unsigned char *nidv;
+	bool contiguous; /* ssc_allan_force_contiguous() */
 };
+
+void ssc_allan_force_contiguous(struct sscope_allan *p, bool on)
+{
+	p->contiguous = on;
+}
 
 static size_t pick_shift(size_t np)
 {
@@ -1151,7 +1157,8 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 		  (dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV);
 	/* layout: tiled only for fully overlapping OADEV / OHDEV */
 	p->shift = 0;
-	if ((dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV) && !strided)
+	if ((dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV) && !strided &&
+	    !p->contiguous)
 		p->shift = pick_shift(p->np);
 	/* every long m must be a multiple of S */
 	for (; p->shift > 0; p->shift--) {

@@ -735,6 +735,59 @@ static int popcount(unsigned x)
 	return c;
 }
 
+/*
+ * Intervals of the terms under one model (mask, squared coefficients th,
+ * model values mu): a term of the model gets [sqrt(th - z sd),
+ * sqrt(th + z sd)] with the sandwich sd under that model's covariance; an
+ * allowed term outside it gets [0, upper limit], the limit from the model
+ * plus that term (its own variance included, a negative estimate counting
+ * as 0).  Uses f->S and f->Sc as scratch; tmp holds n doubles.
+ */
+static int model_intervals(struct fitdata *f, unsigned mask,
+			   const double th[NT], const double *mu,
+			   unsigned allowed, double z, double lo[NT],
+			   double hi[NT], double sdv[NT], double *tmp)
+{
+	double c[NT], sd[NT];
+	int rc;
+
+	th_to_coef(th, c);
+	model_cov(f, c, mu, f->S);
+	rc = sandwich(f, mask, mu, f->S, sd, NULL);
+	if (rc)
+		return rc;
+	for (int j = 0; j < NT; j++) {
+		lo[j] = hi[j] = sdv[j] = NAN;
+		if (mask & (1u << j)) {
+			sdv[j] = sd[j];
+			lo[j] = sqrt(fmax(0, th[j] - z * sd[j]));
+			hi[j] = sqrt(th[j] + z * sd[j]);
+		} else if (allowed & (1u << j)) {
+			unsigned m2 = mask | (1u << j);
+			double sd2[NT], th2[NT], c2[NT];
+
+			lo[j] = 0;
+			if ((size_t)popcount(m2) > f->n ||
+			    sandwich(f, m2, mu, f->S, sd2, th2))
+				continue;
+			for (int t = 0; t < NT; t++)
+				th2[t] = fmax(0, th2[t]);
+			th_to_coef(th2, c2);
+			for (size_t k = 0; k < f->n; k++) {
+				tmp[k] = 0;
+				for (int t = 0; t < NT; t++)
+					tmp[k] += th2[t] * basis(t, f->tau[k]);
+			}
+			model_cov(f, c2, tmp, f->Sc);
+			if (sandwich(f, m2, mu, f->Sc, sd2, NULL) == 0) {
+				sdv[j] = sd2[j];
+				hi[j] = sqrt(th2[j] + z * sd2[j]);
+			}
+		}
+	}
+	return 0;
+}
+
 int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		     double rate_hz, size_t n_phase,
 		     const struct sscope_noise_fit_opts *opts,
@@ -744,7 +797,9 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	struct fitdata f = { 0 };
 	unsigned allowed, best_mask = 0;
 	double best_crit = INFINITY, best_th[NT] = { 0 }, best_chi2 = 0, z;
-	double *mu = NULL, *bmu = NULL, sd[NT];
+	double *mu = NULL, *bmu = NULL, (*ths)[NT] = NULL, *mus = NULL;
+	double crits[1u << NT];
+	bool feas[1u << NT] = { false };
 	int rc = 0;
 
 	(void)n_phase;
@@ -851,24 +906,23 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	 * covariance with which every feasible subset is then scored, Akaike
 	 * style, chi2 + 2 p (one covariance for all, so the scores compare).
 	 */
+	ths = ssc_alloc_array(1u << NT, sizeof(*ths));
+	mus = ssc_alloc_array((size_t)(1u << NT) * f.n, sizeof(double));
+	if (!ths || !mus) {
+		rc = -ENOMEM;
+		goto out;
+	}
 	{
-		double (*ths)[NT] = ssc_alloc_array(1u << NT, sizeof(*ths));
-		double *mus = ssc_alloc_array((size_t)(1u << NT) * f.n, sizeof(double));
-		bool feas[1u << NT] = { false };
+		double chiw[1u << NT], chiw_min = INFINITY;
 		unsigned ref = 0;
-		double best_w = INFINITY;
+		bool any = false;
 
-		if (!ths || !mus) {
-			free(ths);
-			free(mus);
-			rc = -ENOMEM;
-			goto out;
-		}
 		for (unsigned mask = 1; mask < (1u << NT); mask++) {
-			double *m_ = mus + (size_t)mask * f.n, chiw = 0;
+			double *m_ = mus + (size_t)mask * f.n;
 			int p = popcount(mask);
 			bool ok = true;
 
+			crits[mask] = INFINITY;
 			if ((mask & ~allowed) || (mask & o.forced) != o.forced ||
 			    (size_t)p > f.n)
 				continue;
@@ -890,35 +944,39 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			if (!ok)
 				continue;
 			feas[mask] = true;
+			chiw[mask] = 0;
 			for (size_t k = 0; k < f.n; k++) {
 				double r = (f.y[k] - m_[k]) / f.y[k];
 
-				chiw += f.edf[k] / (2 * f.scale[k] * f.scale[k]) * r * r;
+				chiw[mask] += f.edf[k] / (2 * f.scale[k] * f.scale[k]) * r * r;
 			}
-			if (chiw < best_w) {
-				best_w = chiw;
-				ref = mask;
-			}
+			chiw_min = fmin(chiw_min, chiw[mask]);
 		}
-		if (!rc && ref && ref_factor(&f, ths[ref], mus + (size_t)ref * f.n))
-			ref = 0;
-		for (unsigned mask = 1; mask < (1u << NT) && !rc && ref; mask++) {
-			double chi2, crit;
+		/* the reference: the feasible model with the smallest
+		 * weighted residual, i.e. the non-negative least-squares
+		 * solution; its covariance scores every candidate */
+		for (unsigned mask = 1; mask < (1u << NT); mask++)
+			if (feas[mask] && chiw[mask] == chiw_min && !ref) {
+				ref = mask;
+				any = true;
+			}
+		if (!rc && any && ref_factor(&f, ths[ref], mus + (size_t)ref * f.n))
+			any = false;
+		for (unsigned mask = 1; mask < (1u << NT) && !rc && any; mask++) {
+			double chi2;
 
 			if (!feas[mask])
 				continue;
 			chi2 = gchi2(&f, mus + (size_t)mask * f.n, mus + (size_t)ref * f.n);
-			crit = chi2 + 2 * popcount(mask);
-			if (crit < best_crit) {
-				best_crit = crit;
+			crits[mask] = chi2 + 2 * popcount(mask);
+			if (crits[mask] < best_crit) {
+				best_crit = crits[mask];
 				best_mask = mask;
 				best_chi2 = chi2;
 				memcpy(best_th, ths[mask], sizeof(best_th));
 				memcpy(bmu, mus + (size_t)mask * f.n, f.n * sizeof(double));
 			}
 		}
-		free(ths);
-		free(mus);
 	}
 	if (rc)
 		goto out;
@@ -927,61 +985,60 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			      "noise fit: no combination of the allowed terms fits with positive coefficients");
 		goto out;
 	}
-	/* uncertainties: sandwich with the selected model's covariance */
-	{
-		double c[NT];
-
-		th_to_coef(best_th, c);
-		model_cov(&f, c, bmu, f.S);
-	}
+	/*
+	 * Intervals: the selected model's, widened to the union over every
+	 * model whose criterion is within z^2 of the best (not rejected at
+	 * the level, as a one-parameter likelihood-ratio test would have
+	 * it), so that an ambiguous choice between, say, K and B + R over a
+	 * short record shows in the intervals instead of hiding in the
+	 * selection.  A model without a term contributes [0, upper limit].
+	 */
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
-	rc = sandwich(&f, best_mask, bmu, f.S, sd, NULL);
-	if (rc)
-		goto out;
+	{
+		double lo[NT], hi[NT], sdv[NT];
+
+		rc = model_intervals(&f, best_mask, best_th, bmu, allowed, z,
+				     lo, hi, sdv, mu);
+		if (rc)
+			goto out;
+		for (int j = 0; j < NT; j++) {
+			struct sscope_noise_coef *cf = &fit->coef[j];
+
+			cf->fitted = (best_mask >> j) & 1;
+			cf->value = cf->fitted ? sqrt(best_th[j]) : (double)NAN;
+			cf->lo = lo[j];
+			cf->hi = hi[j];
+			cf->var_sd = sdv[j];
+		}
+		for (unsigned mask = 1; mask < (1u << NT); mask++) {
+			if (mask == best_mask || !feas[mask] ||
+			    !(crits[mask] - best_crit <= z * z))
+				continue;
+			if (model_intervals(&f, mask, ths[mask],
+					    mus + (size_t)mask * f.n, allowed, z,
+					    lo, hi, sdv, mu))
+				continue;
+			for (int j = 0; j < NT; j++) {
+				struct sscope_noise_coef *cf = &fit->coef[j];
+
+				if (isfinite(lo[j]) && !(cf->lo <= lo[j]))
+					cf->lo = lo[j];
+				if (isfinite(hi[j]) && !(cf->hi >= hi[j]))
+					cf->hi = hi[j];
+			}
+			fit->n_plausible++;
+		}
+	}
 	fit->terms = best_mask;
 	fit->chi2 = best_chi2;
 	fit->dof = (double)f.n - popcount(best_mask);
 	fit->p_value = fit->dof > 0 ? gsl_cdf_chisq_Q(best_chi2, fit->dof) : (double)NAN;
 	fit->aic = best_crit;
-	for (int j = 0; j < NT; j++) {
-		struct sscope_noise_coef *cf = &fit->coef[j];
-
-		if (best_mask & (1u << j)) {
-			cf->fitted = true;
-			cf->value = sqrt(best_th[j]);
-			cf->var_sd = sd[j];
-			cf->lo = sqrt(fmax(0, best_th[j] - z * sd[j]));
-			cf->hi = sqrt(best_th[j] + z * sd[j]);
-		} else if (allowed & (1u << j)) {
-			/* upper limit: the selected terms plus this one, with
-			 * the covariance of that model (the term's own
-			 * variance included; a negative estimate counts as 0,
-			 * so the limit stays conservative) */
-			unsigned m2 = best_mask | (1u << j);
-			double sd2[NT], th2[NT], c2[NT];
-
-			cf->lo = 0;
-			if ((size_t)popcount(m2) <= f.n &&
-			    sandwich(&f, m2, bmu, f.S, sd2, th2) == 0) {
-				for (int t = 0; t < NT; t++)
-					th2[t] = fmax(0, th2[t]);
-				th_to_coef(th2, c2);
-				for (size_t k = 0; k < f.n; k++) {
-					mu[k] = 0;
-					for (int t = 0; t < NT; t++)
-						mu[k] += th2[t] * basis(t, f.tau[k]);
-				}
-				model_cov(&f, c2, mu, f.Sc);
-				if (sandwich(&f, m2, bmu, f.Sc, sd2, NULL) == 0) {
-					cf->var_sd = sd2[j];
-					cf->hi = sqrt(th2[j] + z * sd2[j]);
-				}
-			}
-		}
-	}
 out:
 	free(mu);
 	free(bmu);
+	free(ths);
+	free(mus);
 	free_fitdata(&f);
 	return rc;
 }

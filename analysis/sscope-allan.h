@@ -304,6 +304,8 @@ struct sscope_noise_fit {
 	double dof;         /**< n_points - number of fitted terms */
 	double p_value;     /**< P(chi2 >= observed) under the model */
 	double aic;         /**< chi2 + 2 p of the selected model */
+	size_t n_plausible; /**< other models within z^2 of the best, whose
+				 intervals widened the reported ones */
 	struct sscope_noise_readoff readoff; /**< classic read-offs */
 };
 
@@ -328,7 +330,11 @@ struct sscope_noise_fit {
  * the selected model; intervals are Gaussian on the squared coefficient,
  * truncated at 0, then square-rooted.  A term not selected gets lo = 0 and
  * as hi the upper limit from the selected terms plus that one (a negative
- * estimate counting as 0).
+ * estimate counting as 0).  Model uncertainty: each interval is the union
+ * of the intervals under every feasible model whose criterion is within
+ * z^2 of the best (z the normal quantile of the level), so an ambiguous
+ * selection (K versus B + R over a short record, say) widens the
+ * intervals instead of hiding in the choice.
  *
  * @param pts      OADEV points (stride 1 or strided; dev > 0) from
  *                 sscope_allan_compute() of a rate or angle record.
