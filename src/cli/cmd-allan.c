@@ -351,6 +351,17 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 	}
 }
 
+/* significant digits that tell the ends of [lo, hi] apart (3 at least) */
+static int idigits(double v, double lo, double hi)
+{
+	double w = hi - lo, a = fmax(fabs(v), fabs(hi));
+	int d = 3;
+
+	if (w > 0 && a > 0 && isfinite(w) && isfinite(a))
+		d = (int)ceil(log10(a / w)) + 2;
+	return d < 3 ? 3 : d > 8 ? 8 : d;
+}
+
 /* value (SI) in unit; NaN stays NaN */
 static double in_unit(double si, const char *si_unit, const char *unit)
 {
@@ -537,14 +548,16 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 			const struct sscope_noise_coef *cf = &ft->coef[t];
 			const char *cu = u->term[t], *su = u->term_si[t];
 
+			int dg = idigits(cf->value, cf->lo, cf->hi);
+
 			if (cf->fitted)
 				fprintf(f, "    %c  %-22s %11s %-16s [%s, %s]   (%s %s)\n",
 					"QNBKR"[t], term_label(u->rq, t),
-					ssc_fmt(b1, sizeof(b1), in_unit(cf->value, su, cu), 4),
+					ssc_fmt(b1, sizeof(b1), in_unit(cf->value, su, cu), dg + 1),
 					cu,
-					ssc_fmt(b2, sizeof(b2), in_unit(cf->lo, su, cu), 3),
-					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), 3),
-					ssc_fmt(b4, sizeof(b4), cf->value, 4), su);
+					ssc_fmt(b2, sizeof(b2), in_unit(cf->lo, su, cu), dg),
+					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), dg),
+					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su);
 			else if (isfinite(cf->hi))
 				fprintf(f, "    %c  %-22s %11s %-16s (not resolved: below %s)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
@@ -914,6 +927,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			struct ssc_style dst = { .color = tcol[t], .width = 1.5,
 						 .dash = SSC_DASHED };
 			char v1[32], v2[32], v3[32], cu[96];
+			int dg;
 
 			if (!ft->coef[t].fitted)
 				continue;
@@ -925,12 +939,13 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 				 ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), 3),
 				 cu);
 			ssc_ax_line(ax, gx, gy, NG, &dst, buf);
+			dg = idigits(coef[t], ft->coef[t].lo, ft->coef[t].hi);
 			nl += (size_t)snprintf(note + nl, sizeof(note) - nl,
 					       "%s%c %s [%s, %s] %s", nl ? "\n" : "",
 					       "QNBKR"[t],
-					       ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), 3),
-					       ssc_fmt(v2, sizeof(v2), in_unit(ft->coef[t].lo, u->term_si[t], u->term[t]), 3),
-					       ssc_fmt(v3, sizeof(v3), in_unit(ft->coef[t].hi, u->term_si[t], u->term[t]), 3),
+					       ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), dg),
+					       ssc_fmt(v2, sizeof(v2), in_unit(ft->coef[t].lo, u->term_si[t], u->term[t]), dg),
+					       ssc_fmt(v3, sizeof(v3), in_unit(ft->coef[t].hi, u->term_si[t], u->term[t]), dg),
 					       cu);
 			if (nl >= sizeof(note))
 				nl = sizeof(note) - 1;
