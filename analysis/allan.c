@@ -662,7 +662,7 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 	{
 		size_t tot_nan = 0;
 
-#pragma omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan)
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan))
 		for (unsigned t = 0; t < T; t++) {
 			struct ssc_ksum a = { 0, 0 };
 			size_t lo, hi, nn = 0;
@@ -743,7 +743,7 @@ static int build_gaps(struct sscope_allan *p, const struct src *s)
 static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
 {
-#pragma omp parallel for num_threads(T) schedule(static, 1)
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 	for (unsigned t = 0; t < T; t++) {
 		struct run r;
 		size_t lo = chunk_at(p->np, T, t, 1);
@@ -853,7 +853,7 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 
 	if (!part)
 		return -ENOMEM;
-#pragma omp parallel num_threads(T)
+SSC_OMP(omp parallel num_threads(T))
 	{
 		unsigned me = 0;
 		struct ssc_ksum *my;
@@ -864,7 +864,7 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 #endif
 		my = part + (size_t)me * ts->n;
 		win = p->win + (size_t)me * p->win_cap;
-#pragma omp for schedule(static, 1)
+SSC_OMP(omp for schedule(static, 1))
 		for (unsigned t = 0; t < T; t++)
 			fused_chunk(p, s,
 				    s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t],
@@ -874,7 +874,7 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 		_mm_sfence(); /* streamed tiles visible before the barrier */
 #endif
 		/* (implicit barrier: every tile is written) */
-#pragma omp for schedule(dynamic, 4)
+SSC_OMP(omp for schedule(dynamic, 4))
 		for (size_t rr = 0; rr < p->S; rr++) {
 			const double *row = p->x + rr * p->Lp;
 
@@ -1220,7 +1220,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 			used[j] = p->np - (size_t)d * m[j];
 	} else {
 		phase_contiguous(p, &s, T, bases);
-#pragma omp parallel for num_threads(T) schedule(dynamic, 1)
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		for (size_t j = 0; j < nacc; j++) {
 			size_t mj = m[j];
 

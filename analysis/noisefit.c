@@ -321,7 +321,7 @@ static struct pairsum *all_pairs(const size_t *m, const size_t *terms,
 
 	if (!ps)
 		return NULL;
-#pragma omp parallel for schedule(dynamic, 1)
+SSC_OMP(omp parallel for schedule(dynamic, 1))
 	for (size_t a = 0; a < n; a++)
 		for (size_t b = a; b < n; b++)
 			pair_sums((double)m[a], (double)m[b], (double)terms[a],

@@ -366,13 +366,13 @@ int sscope_sim_generate_multi(struct sscope_sim *const *sims, size_t n_sims,
 
 	if (!sims || !out)
 		return -EINVAL;
-#pragma omp parallel for schedule(dynamic, 1)
+SSC_OMP(omp parallel for schedule(dynamic, 1))
 	for (size_t j = 0; j < n_sims; j++) {
 		int r = sscope_sim_generate(sims[j], in ? in[j] : NULL, out[j],
 					    temp ? temp[j] : NULL, n);
 
 		if (r) {
-#pragma omp critical(ssc_sim_rc)
+SSC_OMP(omp critical(ssc_sim_rc))
 			if (!rc)
 				rc = r;
 		}

@@ -122,7 +122,7 @@ static void reference(const double *y, size_t n, const size_t *m, size_t nm,
 			x[i + 1] = s + cc;
 		}
 	}
-#pragma omp parallel for schedule(dynamic, 1)
+SSC_OMP(omp parallel for schedule(dynamic, 1))
 	for (size_t j = 0; j < nm; j++) {
 		size_t s = div ? (m[j] / div ? m[j] / div : 1) : 1;
 		size_t nt = n + 1 - 2 * m[j], terms = 0;
