@@ -25,6 +25,14 @@
 #define SSC_UNUSED
 #endif
 
+/* OpenMP directives that vanish without OpenMP (no unknown-pragma
+ * warnings): SSC_OMP(omp parallel for schedule(static, 1)) */
+#ifdef _OPENMP
+#define SSC_OMP(...) _Pragma(#__VA_ARGS__)
+#else
+#define SSC_OMP(...)
+#endif
+
 /* Fill diag->msg (if diag is not NULL); returns err for tail calls. */
 int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)
 	SSC_PRINTF(3, 4);

@@ -659,5 +659,7 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-calib.h"
 #include "sscope-budget.h"
 #include "sscope-model.h"
+#include "sscope-allan.h"
+#include "sscope-sim.h"
 
 #endif /* SENSORSCOPE_H */

@@ -2,9 +2,10 @@
 /*
  * Generator of the bundled samples (make samples).  Deterministic: every
  * file has its own fixed seed for GSL's MT19937, Gaussian deviates by the
- * ziggurat method.  Models are deliberately simple (white noise, a random
- * walk, a first-order Gauss-Markov bias, tones); samples/README.md states
- * each file's parameters.
+ * ziggurat method.  The static gyro and the thermal accelerometer come
+ * from the library's sensor simulator (sscope_sim_*); the vibration, EuRoC
+ * and raw samples use simple direct models (tones, white noise);
+ * samples/README.md states each file's parameters.
  */
 #include "internal.h"
 
@@ -33,83 +34,137 @@ static FILE *open_out(const char *dir, const char *name)
 	return f;
 }
 
+/* one axis per stream of the library's simulator (analysis/sim.c) */
+static void sim_axes(const struct sscope_sensor_spec *spec,
+		     const struct sscope_sim_opts *base, size_t axes,
+		     const double *input, double *const *out, double *temp,
+		     size_t n)
+{
+	for (size_t k = 0; k < axes; k++) {
+		struct sscope_sim_opts o = *base;
+		struct sscope_sim *sim;
+		struct sscope_diag d;
+
+		o.stream = k;
+		if (sscope_sim_new(&sim, &spec[k], &o, &d)) {
+			fprintf(stderr, "gen-samples: %s\n", d.msg);
+			exit(1);
+		}
+		sscope_sim_generate(sim, input ? input + k * n : NULL, out[k],
+				    k == 0 ? temp : NULL, n);
+		sscope_sim_free(sim);
+	}
+}
+
 /*
- * gyro-static.csv: 3-axis MEMS-class gyro, 10 Hz output, 1 h, deg/s.
- * Per axis: bias, white rate noise of density N, a Gauss-Markov bias
- * (sigma_b, tau_c = 300 s) for a bias-instability plateau, and a rate
- * random walk K.
+ * gyro-static.csv: 3-axis MEMS-class gyro at rest, 10 Hz, 1 h, deg/s with
+ * 5 decimals, from the library's simulator (seed 1001, streams 0-2):
+ * N = 0.15 deg/sqrt(h), B = 2 deg/h (flicker), K = 10 deg/h/sqrt(h),
+ * biases 0.12 / -0.05 / 0.31 deg/s.  The Allan curve shows the -1/2 slope,
+ * the bias-instability floor from about 50 to 200 s and the +1/2 slope.
  */
 static void gyro_static(const char *dir)
 {
 	const double fs = 10, T = 3600;
-	const double N = 0.15 * D2R / 60;          /* 0.15 deg/sqrt(h) */
-	const double K = 3.0 * D2R / 3600 / 60;    /* 3 deg/h/sqrt(h) */
-	const double sb = 4.0 * D2R / 3600, tc = 300; /* GM bias, 4 deg/h */
 	const double bias[3] = { 0.12 * D2R, -0.05 * D2R, 0.31 * D2R };
 	size_t n = (size_t)(fs * T);
-	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_sensor_spec sp[3];
+	struct sscope_sim_opts o = { 0 };
+	double *y[3];
 	FILE *f = open_out(dir, "gyro-static.csv");
-	double gm[3] = { 0 }, rw[3] = { 0 }, a = exp(-1 / (fs * tc));
 
-	gsl_rng_set(r, 1001);
-	fprintf(f, "# sensorscope sample: static MEMS gyro (simulated, seed 1001)\n"
+	for (int k = 0; k < 3; k++) {
+		memset(&sp[k], 0, sizeof(sp[k]));
+		sp[k].quantity = SSCOPE_QTY_ANGULAR_RATE;
+		sp[k].n = 0.15 * D2R / 60;             /* 0.15 deg/sqrt(h) */
+		sp[k].b = 2.0 * D2R / 3600;            /* 2 deg/h */
+		sp[k].k = 10.0 * D2R / 3600 / 60;      /* 10 deg/h/sqrt(h) */
+		sp[k].bias = bias[k];
+		y[k] = malloc(n * sizeof(double));
+	}
+	o.rate_hz = fs;
+	o.seed = 1001;
+	sim_axes(sp, &o, 3, NULL, y, NULL, n);
+	fprintf(f, "# sensorscope sample: static MEMS gyro (simulated by sensorscope, seed 1001)\n"
 		   "# rate: 10 Hz\n"
 		   "gx [deg/s],gy [deg/s],gz [deg/s]\n");
-	for (size_t i = 0; i < n; i++) {
-		for (int k = 0; k < 3; k++) {
-			double w;
-
-			gm[k] = a * gm[k] + sb * sqrt(1 - a * a) *
-						    gsl_ran_gaussian_ziggurat(r, 1);
-			rw[k] += K * sqrt(1 / fs) * gsl_ran_gaussian_ziggurat(r, 1);
-			w = bias[k] + gm[k] + rw[k] +
-			    N * sqrt(fs) * gsl_ran_gaussian_ziggurat(r, 1);
-			fprintf(f, "%s%.5f", k ? "," : "", w / D2R);
-		}
-		fputc('\n', f);
-	}
+	for (size_t i = 0; i < n; i++)
+		fprintf(f, "%.5f,%.5f,%.5f\n", y[0][i] / D2R, y[1][i] / D2R,
+			y[2][i] / D2R);
 	fclose(f);
-	gsl_rng_free(r);
+	for (int k = 0; k < 3; k++)
+		free(y[k]);
 }
 
 /*
  * accel-thermal.csv: static 3-axis accelerometer (z up) at 1 Hz for 4 h
- * while the temperature cycles -10 .. 50 degC; bias(T) is a cubic about
- * 20 degC, white noise 120 ug/sqrt(Hz).
+ * while the temperature cycles -10 .. 50 degC (raised cosine, period 2 h,
+ * reading noise 0.05 degC), from the simulator (seed 1002): bias(T) a
+ * cubic about 20 degC per axis, white noise 120 ug/sqrt(Hz).
  */
 static void accel_thermal(const char *dir)
 {
-	const double fs = 1, T = 4 * 3600, nd = 120e-6 * 9.80665;
-	size_t n = (size_t)(fs * T);
-	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
-	FILE *f = open_out(dir, "accel-thermal.csv");
+	const double fs = 1, T = 4 * 3600, g = 9.80665;
 	const double c1[3] = { 0.08e-3, -0.05e-3, 0.12e-3 }; /* g/degC */
 	const double c2[3] = { 1.5e-6, 2e-6, -1e-6 };        /* g/degC^2 */
 	const double c3[3] = { 2e-8, -1e-8, 3e-8 };          /* g/degC^3 */
 	const double b0[3] = { 2.1e-3, -1.4e-3, 3.3e-3 };    /* g */
+	size_t n = (size_t)(fs * T);
+	double *y[3], *temp = malloc(n * sizeof(double));
+	double *in = calloc(3 * n, sizeof(double));
+	struct sscope_sensor_spec sp[3];
+	struct sscope_sim_opts o = { 0 };
+	FILE *f = open_out(dir, "accel-thermal.csv");
 
-	gsl_rng_set(r, 1002);
-	fprintf(f, "# sensorscope sample: static accelerometer, thermal cycle (simulated, seed 1002)\n"
-		   "time [s],ax [g],ay [g],az [g],temp [degC]\n");
-	for (size_t i = 0; i < n; i++) {
-		double t = (double)i / fs;
-		double temp = 20 - 30 * cos(2 * PI * t / (2 * 3600)) +
-			      0.05 * gsl_ran_gaussian_ziggurat(r, 1);
-		double d = temp - 20;
-
-		fprintf(f, "%.0f", t);
-		for (int k = 0; k < 3; k++) {
-			double g = (k == 2 ? 1 : 0) + b0[k] + c1[k] * d +
-				   c2[k] * d * d + c3[k] * d * d * d +
-				   nd * sqrt(fs / 2) / 9.80665 *
-					   gsl_ran_gaussian_ziggurat(r, 1);
-
-			fprintf(f, ",%.6f", g);
-		}
-		fprintf(f, ",%.2f\n", temp);
+	for (int k = 0; k < 3; k++) {
+		memset(&sp[k], 0, sizeof(sp[k]));
+		sp[k].quantity = SSCOPE_QTY_ACCELERATION;
+		sp[k].n = 120e-6 * g; /* 120 ug/sqrt(Hz) */
+		sp[k].bias = b0[k] * g;
+		y[k] = malloc(n * sizeof(double));
 	}
+	for (size_t i = 0; i < n; i++)
+		in[2 * n + i] = g; /* gravity on z */
+	o.rate_hz = fs;
+	o.seed = 1002;
+	o.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
+	o.temp_wave = SSCOPE_SIM_SINE;
+	o.temp_degc = -10;
+	o.temp2_degc = 50;
+	o.temp_period_s = 2 * 3600;
+	o.temp_noise_degc = 0.05;
+	o.ref_temp_degc = 20;
+	for (int k = 0; k < 3; k++) {
+		struct sscope_sim_opts ok = o;
+		double *out1[1] = { y[k] };
+
+		ok.bias_poly[0] = c1[k] * g;
+		ok.bias_poly[1] = c2[k] * g;
+		ok.bias_poly[2] = c3[k] * g;
+		ok.stream = (uint64_t)k;
+		{
+			struct sscope_sim *sim;
+			struct sscope_diag d;
+
+			if (sscope_sim_new(&sim, &sp[k], &ok, &d)) {
+				fprintf(stderr, "gen-samples: %s\n", d.msg);
+				exit(1);
+			}
+			sscope_sim_generate(sim, in + (size_t)k * n, out1[0],
+					    k == 0 ? temp : NULL, n);
+			sscope_sim_free(sim);
+		}
+	}
+	fprintf(f, "# sensorscope sample: static accelerometer, thermal cycle (simulated by sensorscope, seed 1002)\n"
+		   "time [s],ax [g],ay [g],az [g],temp [degC]\n");
+	for (size_t i = 0; i < n; i++)
+		fprintf(f, "%zu,%.6f,%.6f,%.6f,%.2f\n", i, y[0][i] / g,
+			y[1][i] / g, y[2][i] / g, temp[i]);
 	fclose(f);
-	gsl_rng_free(r);
+	for (int k = 0; k < 3; k++)
+		free(y[k]);
+	free(temp);
+	free(in);
 }
 
 /*

@@ -31,6 +31,10 @@ static const struct command commands[] = {
 	  ssc_cmd_budget },
 	{ "model", "sensor physics: proof-mass accelerometer, Sagnac phase",
 	  ssc_cmd_model },
+	{ "allan", "Allan deviations with intervals, IEEE 952 noise terms",
+	  ssc_cmd_allan },
+	{ "simulate", "a capture whose noise obeys a sensor specification",
+	  ssc_cmd_simulate },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

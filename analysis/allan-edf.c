@@ -1,0 +1,513 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Confidence intervals of Allan-family deviations.
+ *
+ * Equivalent degrees of freedom: C. A. Greenhall and W. J. Riley,
+ * "Uncertainty of stability variances based on finite differences",
+ * 35th PTTI Meeting, 2003, eqs (7)-(13) and tables 1-3 -- the algorithm of
+ * Stable32 -- with its "basic sum" over the generalised autocovariance of
+ * the d-th phase difference; the stride factor S = m / stride covers
+ * overlapping (S = m), non-overlapping (S = 1) and strided estimators.
+ * For white phase noise with unmodified variances the EDF is computed
+ * exactly (the terms are finite combinations of independent phase values),
+ * which agrees with the paper's case 4 where that applies and also covers
+ * its K <= d branch.  TOTDEV: NIST SP 1065 (Riley 2008) table 7 for the
+ * frequency noises and table 5's simple estimates for the phase noises,
+ * as Stable32 (checked against its published bounds).
+ *
+ * Noise identification: W. J. Riley and C. A. Greenhall, "Power law noise
+ * identification using the lag 1 autocorrelation", 18th EFTF, 2004: the
+ * lag-1 autocorrelation r1 of the averaged data, differenced until
+ * rho = r1 / (1 + r1) < 0.25, gives alpha = -2 (rho + d) (+2 for phase).
+ *
+ * Bounds: sigma^2 edf / chi^2_{(1 +- p)/2}(edf) (NIST SP 1065 eq 45), GSL
+ * chi-squared quantiles.
+ */
+#include "allan-internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
+
+/* ------------------------------------------------------------------ */
+/* Greenhall & Riley EDF                                               */
+/* ------------------------------------------------------------------ */
+
+/* eq (7): generalised autocovariance of power-law noise */
+static double sw(double t, int alpha)
+{
+	double a = fabs(t);
+
+	switch (alpha) {
+	case 2:
+		return -a;
+	case 1:
+		return a == 0 ? 0 : t * t * log(a);
+	case 0:
+		return a * a * a;
+	case -1:
+		return a == 0 ? 0 : t * t * t * t * log(a);
+	case -2:
+		return a * a * a * a * a;
+	case -3:
+		return a == 0 ? 0 : t * t * t * t * t * t * log(a);
+	case -4:
+		return a * a * a * a * a * a * a;
+	default:
+		return NAN;
+	}
+}
+
+/* eq (8): after the pre-filter of factor F (F infinite: the limit) */
+static double sx(double t, double F, int alpha)
+{
+	if (isinf(F))
+		return sw(t, alpha + 2);
+	/* flicker phase with a large F: the second difference of t^2 ln|t|
+	 * at step 1/F cancels catastrophically; use its Taylor series */
+	if (alpha == 1 && fabs(t) * F >= 64) {
+		double t2 = t * t, h2 = 1 / (F * F);
+
+		return -((2 * log(fabs(t)) + 3) - h2 / (6 * t2) -
+			 h2 * h2 / (30 * t2 * t2));
+	}
+	return F * F * (2 * sw(t, alpha) - sw(t - 1 / F, alpha) -
+			sw(t + 1 / F, alpha));
+}
+
+/* eq (9): the d-th difference */
+static double sz(double t, double F, int alpha, int d)
+{
+	switch (d) {
+	case 1:
+		return 2 * sx(t, F, alpha) - sx(t - 1, F, alpha) -
+		       sx(t + 1, F, alpha);
+	case 2:
+		return 6 * sx(t, F, alpha) -
+		       4 * (sx(t - 1, F, alpha) + sx(t + 1, F, alpha)) +
+		       sx(t - 2, F, alpha) + sx(t + 2, F, alpha);
+	default:
+		return 20 * sx(t, F, alpha) -
+		       15 * (sx(t - 1, F, alpha) + sx(t + 1, F, alpha)) +
+		       6 * (sx(t - 2, F, alpha) + sx(t + 2, F, alpha)) -
+		       (sx(t - 3, F, alpha) + sx(t + 3, F, alpha));
+	}
+}
+
+/* eq (10) */
+static double basic_sum(double J, double M, double S, double F, int alpha,
+			int d)
+{
+	double s0 = sz(0, F, alpha, d), sum = s0 * s0, v;
+	long jn = (long)J;
+
+	for (long j = 1; j < jn; j++) {
+		v = sz((double)j / S, F, alpha, d);
+		sum += 2 * (1 - (double)j / M) * v * v;
+	}
+	v = sz(J / S, F, alpha, d);
+	sum += (1 - J / M) * v * v;
+	return sum;
+}
+
+/* tables 1 and 2: (a0, a1) for alpha = 2..-4 (rows) and d = 1..3 */
+static const double table1[7][3][2] = {
+	{ { 2.0 / 3, 1.0 / 3 }, { 7.0 / 9, 1.0 / 2 }, { 22.0 / 25, 2.0 / 3 } },
+	{ { 0.840, 0.345 }, { 0.997, 0.616 }, { 1.141, 0.843 } },
+	{ { 1.079, 0.368 }, { 1.033, 0.607 }, { 1.184, 0.848 } },
+	{ { NAN, NAN }, { 1.048, 0.534 }, { 1.180, 0.816 } },
+	{ { NAN, NAN }, { 1.302, 0.535 }, { 1.175, 0.777 } },
+	{ { NAN, NAN }, { NAN, NAN }, { 1.194, 0.703 } },
+	{ { NAN, NAN }, { NAN, NAN }, { 1.489, 0.702 } },
+};
+
+static const double table2[7][3][2] = {
+	{ { 3.0 / 2, 1.0 / 2 }, { 35.0 / 18, 1.0 }, { 231.0 / 100, 3.0 / 2 } },
+	{ { 78.6, 25.2 }, { 790.0, 410.0 }, { 9950.0, 6520.0 } },
+	{ { 2.0 / 3, 1.0 / 6 }, { 2.0 / 3, 1.0 / 3 }, { 7.0 / 9, 1.0 / 2 } },
+	{ { NAN, NAN }, { 0.852, 0.375 }, { 0.997, 0.617 } },
+	{ { NAN, NAN }, { 1.079, 0.368 }, { 1.033, 0.607 } },
+	{ { NAN, NAN }, { NAN, NAN }, { 1.053, 0.553 } },
+	{ { NAN, NAN }, { NAN, NAN }, { 1.302, 0.535 } },
+};
+
+/* table 3: (b0, b1) for alpha = 1, d = 1..3 */
+static const double table3[3][2] = { { 6.0, 4.0 }, { 15.23, 12.0 },
+				     { 47.8, 40.0 } };
+
+static double binom(int n, int k)
+{
+	double r = 1;
+
+	for (int i = 1; i <= k; i++)
+		r = r * (n - k + i) / i;
+	return r;
+}
+
+/*
+ * White phase noise, unmodified estimator: the terms are combinations
+ * sum_p a_p x(i + p m) of independent phase values, a_p = (-1)^(d-p)
+ * C(d, p), so their correlation at a lag of j m is
+ * rho_j = (-1)^j C(2d, d+j) / C(2d, d) and nothing else; the variance of
+ * the mean of M squared terms at stride s follows exactly.
+ */
+static double edf_white_pm(int d, size_t m, size_t M, size_t s)
+{
+	double inv = 0, c0 = binom(2 * d, d);
+
+	for (int j = -d; j <= d; j++) {
+		size_t lag = (size_t)(j < 0 ? -j : j) * m;
+		double rho, dl;
+
+		if (lag % s)
+			continue;
+		dl = (double)(lag / s);
+		if (dl >= (double)M)
+			continue;
+		rho = binom(2 * d, d + (j < 0 ? -j : j)) / c0;
+		inv += (1 - dl / (double)M) * rho * rho;
+	}
+	return (double)M / inv;
+}
+
+double sscope_allan_edf(int alpha, int d, size_t m, size_t N, bool modified,
+			size_t stride)
+{
+	const double Jmax = 100;
+	double F, S, L, M, J, r, inv;
+	int row = 2 - alpha;
+
+	if (d < 1 || d > 3 || alpha < -4 || alpha > 2 || alpha + 2 * d <= 1 ||
+	    m == 0 || stride == 0 || (modified && stride != 1))
+		return NAN;
+	F = modified ? 1 : (double)m;
+	S = (double)m / (double)stride;
+	L = (double)m / F + (double)m * d;
+	if ((double)N < L)
+		return NAN;
+	M = 1 + floor(S * ((double)N - L) / (double)m);
+	J = fmin(M, floor((d + 1) * S));
+	r = M / S;
+	if (modified) {
+		/* case 1 */
+		if (J <= Jmax) {
+			double z = sz(0, 1, alpha, d);
+
+			inv = basic_sum(J, M, S, 1, alpha, d) / (z * z * M);
+		} else if (r > d + 1) {
+			inv = (table1[row][d - 1][0] -
+			       table1[row][d - 1][1] / r) / r;
+		} else {
+			double mp = Jmax / r, z = sz(0, 1, alpha, d);
+
+			inv = basic_sum(Jmax, Jmax, mp, 1, alpha, d) /
+			      (z * z * Jmax);
+		}
+		return 1 / inv;
+	}
+	if (alpha <= 0) {
+		/* case 2 */
+		if (J <= Jmax) {
+			double Fp = (double)m * (d + 1) <= Jmax ? (double)m :
+								  (double)INFINITY;
+			double z = sz(0, Fp, alpha, d);
+
+			inv = basic_sum(J, M, S, Fp, alpha, d) / (z * z * M);
+		} else if (r > d + 1) {
+			inv = (table2[row][d - 1][0] -
+			       table2[row][d - 1][1] / r) / r;
+		} else {
+			double mp = Jmax / r, z = sz(0, INFINITY, alpha, d);
+
+			inv = basic_sum(Jmax, Jmax, mp, INFINITY, alpha, d) /
+			      (z * z * Jmax);
+		}
+		return 1 / inv;
+	}
+	if (alpha == 1) {
+		/* case 3 */
+		const double b0 = table3[d - 1][0], b1 = table3[d - 1][1];
+
+		if (J <= Jmax) {
+			double z = sz(0, (double)m, 1, d);
+
+			inv = basic_sum(J, M, S, (double)m, 1, d) / (z * z * M);
+		} else if (r > d + 1) {
+			double b = b0 + b1 * log((double)m);
+
+			inv = (table2[row][d - 1][0] -
+			       table2[row][d - 1][1] / r) / (b * b * r);
+		} else {
+			double mp = Jmax / r, b = b0 + b1 * log((double)m);
+
+			inv = basic_sum(Jmax, Jmax, mp, mp, 1, d) / (b * b * Jmax);
+		}
+		return 1 / inv;
+	}
+	/* case 4: white phase, exact */
+	return edf_white_pm(d, m, (size_t)M, stride);
+}
+
+double ssc_totdev_edf(int alpha, size_t m, size_t np)
+{
+	/* NIST SP 1065 table 7: edf = b T / tau - c for the frequency
+	 * noises; for phase noises Stable32 uses the simple estimates of
+	 * SP 1065 table 5 (white phase, flicker phase) */
+	static const double bc[3][2] = { { 1.50, 0 }, { 1.17, 0.22 },
+					 { 0.93, 0.36 } };
+	double N = (double)np, md = (double)m;
+
+	if (alpha == 2)
+		return (N + 1) * (N - 2 * md) / (2 * (N - md));
+	if (alpha == 1)
+		return exp(sqrt(log((N - 1) / (2 * md)) *
+				log((2 * md + 1) * (N - 1) / 4)));
+	if (alpha < -2)
+		alpha = -2;
+	return bc[-alpha][0] * N / md - bc[-alpha][1];
+}
+
+/*
+ * Quantile of chi-squared with nu degrees of freedom.  For nu >= 1000 the
+ * Cornish-Fisher expansion to the nu^-3/2 term (relative error below 1e-9
+ * there, checked against GSL); below, Wilson-Hilferty as a start and
+ * safeguarded Newton steps on the tail probability.  GSL's own inverse,
+ * and its incomplete gamma at very large nu, call the global error
+ * handler (abort by default) when they do not converge, which a library
+ * must not trigger.
+ */
+double ssc_chi2_quantile(double p, double nu)
+{
+	double z, h, x, lo = 0, hi = INFINITY, target;
+	bool upper;
+
+	if (!(p > 0 && p < 1) || !(nu > 0))
+		return NAN;
+	z = gsl_cdf_ugaussian_Pinv(p);
+	if (nu >= 1000) {
+		double s = sqrt(2 * nu), z2 = z * z;
+
+		return nu + s * z + 2.0 / 3 * (z2 - 1) + (z2 * z - 7 * z) / (9 * s) -
+		       (6 * z2 * z2 + 14 * z2 - 32) / (405 * nu) +
+		       (9 * z2 * z2 * z + 256 * z2 * z - 433 * z) / (4860 * nu * s);
+	}
+	h = 2 / (9 * nu);
+	x = nu * pow(1 - h + z * sqrt(h), 3);
+	upper = p > 0.5;
+	target = upper ? 1 - p : p;
+	if (!(x > 0) || !isfinite(x))
+		x = nu * 1e-3 + 1e-300;
+	for (int it = 0; it < 200; it++) {
+		double F = upper ? gsl_cdf_chisq_Q(x, nu) : gsl_cdf_chisq_P(x, nu);
+		double f = gsl_ran_chisq_pdf(x, nu), nx;
+		bool below = upper ? F > target : F < target;
+
+		/* x is below the quantile when the lower tail is too small */
+		if (below)
+			lo = x;
+		else
+			hi = x;
+		if (fabs(F - target) <= 1e-14 * target)
+			break;
+		nx = f > 0 ? x + (upper ? (F - target) : (target - F)) / f : (double)NAN;
+		if (!(nx > lo && nx < hi) || !isfinite(nx))
+			nx = isinf(hi) ? 2 * x + 1 : 0.5 * (lo + hi);
+		if (fabs(nx - x) <= 1e-13 * x)
+			break;
+		x = nx;
+	}
+	return x;
+}
+
+void ssc_allan_ci(double dev, double edf, double level, double *lo,
+		  double *hi)
+{
+	double pl = (1 - level) / 2, ph = 1 - pl, cl, ch;
+
+	if (!(edf > 0) || !isfinite(dev)) {
+		*lo = *hi = NAN;
+		return;
+	}
+	cl = ssc_chi2_quantile(pl, edf);
+	ch = ssc_chi2_quantile(ph, edf);
+	*lo = dev * sqrt(edf / ch);
+	*hi = cl > 0 ? dev * sqrt(edf / cl) : (double)INFINITY;
+}
+
+/* ------------------------------------------------------------------ */
+/* Noise identification                                                */
+/* ------------------------------------------------------------------ */
+
+/* remove a least-squares polynomial of degree deg (1 or 2) over the valid
+ * points, by Gram-Schmidt on centred, scaled abscissae */
+static void detrend(double *u, const unsigned char *v, size_t n, int deg)
+{
+	double h = n > 1 ? (double)(n - 1) / 2 : 1, c = h;
+	double s0 = 0, st = 0, stt = 0, su = 0, sut = 0;
+	double tbar, q1q1 = 0, t2bar = 0, t2q1 = 0, b, q2q2 = 0, uq2 = 0, cu;
+
+	for (size_t k = 0; k < n; k++) {
+		double t = ((double)k - c) / h;
+
+		if (v && !v[k])
+			continue;
+		s0 += 1;
+		st += t;
+		stt += t * t;
+		su += u[k];
+	}
+	if (s0 == 0)
+		return;
+	tbar = st / s0;
+	t2bar = stt / s0;
+	cu = su / s0;
+	for (size_t k = 0; k < n; k++) {
+		double t = ((double)k - c) / h, q1 = t - tbar;
+
+		if (v && !v[k])
+			continue;
+		u[k] -= cu;
+		q1q1 += q1 * q1;
+		sut += u[k] * q1;
+		t2q1 += t * t * q1;
+	}
+	b = q1q1 > 0 ? t2q1 / q1q1 : 0;
+	for (size_t k = 0; k < n; k++) {
+		double t = ((double)k - c) / h, q1 = t - tbar;
+
+		if (v && !v[k])
+			continue;
+		if (q1q1 > 0)
+			u[k] -= sut / q1q1 * q1;
+		if (deg >= 2) {
+			double q2 = t * t - t2bar - b * q1;
+
+			q2q2 += q2 * q2;
+			uq2 += u[k] * q2;
+		}
+	}
+	if (deg < 2 || !(q2q2 > 0))
+		return;
+	for (size_t k = 0; k < n; k++) {
+		double t = ((double)k - c) / h, q1 = t - tbar;
+		double q2 = t * t - t2bar - b * q1;
+
+		if (v && !v[k])
+			continue;
+		u[k] -= uq2 / q2q2 * q2;
+	}
+}
+
+/* lag-1 autocorrelation over valid points (pairs both valid) */
+static int lag1(const double *u, const unsigned char *v, size_t n, double *r1)
+{
+	double mu = 0, a = 0, b = 0;
+	size_t c = 0;
+
+	for (size_t k = 0; k < n; k++)
+		if (!v || v[k]) {
+			mu += u[k];
+			c++;
+		}
+	if (c < 2)
+		return -EDOM;
+	mu /= (double)c;
+	for (size_t k = 0; k < n; k++) {
+		if (v && !v[k])
+			continue;
+		b += (u[k] - mu) * (u[k] - mu);
+		if (k + 1 < n && (!v || v[k + 1]))
+			a += (u[k] - mu) * (u[k + 1] - mu);
+	}
+	if (!(b > 0))
+		return -EDOM;
+	*r1 = a / b;
+	return 0;
+}
+
+int ssc_noise_id_series(const double *z, const unsigned char *valid,
+			size_t n, bool rate_like, int dmax, int *alpha,
+			double *alpha_est, double *u, unsigned char *vw)
+{
+	size_t len, nvalid = 0;
+	int d = 0;
+
+	if (n < 2)
+		return -EDOM;
+	if (rate_like) {
+		len = n - 1;
+		for (size_t k = 0; k < len; k++) {
+			u[k] = z[k + 1] - z[k];
+			vw[k] = valid ? valid[k] : 1;
+		}
+	} else {
+		len = n;
+		for (size_t k = 0; k < len; k++) {
+			u[k] = z[k];
+			vw[k] = valid ? valid[k] : 1;
+		}
+	}
+	for (size_t k = 0; k < len; k++)
+		nvalid += vw[k];
+	if (nvalid < SSC_NOISE_ID_MIN)
+		return -EDOM;
+	detrend(u, vw, len, rate_like ? 1 : 2);
+	for (;;) {
+		double r1, rho;
+		int rc = lag1(u, vw, len, &r1);
+
+		if (rc)
+			return rc;
+		rho = r1 / (1 + r1);
+		if (rho < 0.25 || d >= dmax) {
+			double add = rate_like ? 0 : 2;
+			int a = (int)(-lround(2 * rho) - 2 * d + (int)add);
+
+			if (alpha_est)
+				*alpha_est = -2 * (rho + d) + add;
+			*alpha = a < -4 ? -4 : a > 2 ? 2 : a;
+			return 0;
+		}
+		for (size_t k = 0; k + 1 < len; k++) {
+			u[k] = u[k + 1] - u[k];
+			vw[k] = vw[k] && vw[k + 1];
+		}
+		len--;
+		d++;
+		if (len < 2)
+			return -EDOM;
+	}
+}
+
+int sscope_allan_noise_id(const double *phase, size_t np, size_t m,
+			  bool rate_like, int dmax, int *alpha,
+			  double *alpha_est)
+{
+	size_t K;
+	double *buf;
+	unsigned char *vw;
+	int rc;
+
+	if (!phase || !alpha || m == 0 || np < 2 || dmax < 1 || dmax > 3)
+		return -EINVAL;
+	K = (np - 1) / m + 1;
+	if (K > SSC_NOISE_ID_MAX + 1)
+		K = SSC_NOISE_ID_MAX + 1;
+	buf = ssc_alloc_array(2 * K, sizeof(double));
+	vw = malloc(K);
+	if (!buf || !vw) {
+		free(buf);
+		free(vw);
+		return -ENOMEM;
+	}
+	for (size_t k = 0; k < K; k++)
+		buf[k] = phase[k * m];
+	rc = ssc_noise_id_series(buf, NULL, K, rate_like, dmax, alpha,
+				 alpha_est, buf + K, vw);
+	free(buf);
+	free(vw);
+	return rc;
+}

@@ -1,0 +1,46 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Internal interface between the files of the Allan module (allan.c: the
+ * deviation engine, allan-edf.c: degrees of freedom and noise
+ * identification, noisefit.c: the IEEE 952 fit).  Not installed.
+ */
+#ifndef SSCOPE_ALLAN_INTERNAL_H
+#define SSCOPE_ALLAN_INTERNAL_H
+
+#include "internal.h"
+
+#include "sscope-allan.h"
+
+/* Decimated-phase points the noise identification looks at, at most. */
+#define SSC_NOISE_ID_MAX 65536
+/* Averages the lag-1 method needs (Riley & Greenhall 2004). */
+#define SSC_NOISE_ID_MIN 30
+
+/*
+ * Noise identification on an already decimated series z[0..n) (phase
+ * points z_k = x(k m)), with optional validity flags (NULL: all valid).
+ * Work space: 2 n doubles and n bytes, given by the caller.
+ */
+int ssc_noise_id_series(const double *z, const unsigned char *valid,
+			size_t n, bool rate_like, int dmax, int *alpha,
+			double *alpha_est, double *work, unsigned char *vwork);
+
+/* quantile of chi-squared (safeguarded Newton; never calls the GSL
+ * error handler) */
+double ssc_chi2_quantile(double p, double nu);
+
+/* chi-squared bounds of a deviation with edf degrees of freedom */
+void ssc_allan_ci(double dev, double edf, double level, double *lo,
+		  double *hi);
+
+/* EDF of TOTDEV (NIST SP 1065 table 7; OADEV's for phase noises) */
+double ssc_totdev_edf(int alpha, size_t m, size_t n_phase);
+
+/* Benchmarks and tests: force the contiguous per-tau engine (no tiling,
+ * no fusion) for OADEV and OHDEV, to compare the two. */
+void ssc_allan_force_contiguous(struct sscope_allan *plan, bool on);
+
+/* Difference order and whether a deviation is a "modified" one */
+int ssc_dev_order(enum sscope_dev dev);
+
+#endif

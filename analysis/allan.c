@@ -1,0 +1,1448 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Allan-family deviations (ADEV, OADEV, MDEV, TDEV, HDEV, OHDEV, TOTDEV)
+ * as defined in NIST SP 1065 (W. J. Riley, "Handbook of Frequency Stability
+ * Analysis", 2008) sections 5.2.2-5.2.11 and IEEE Std 1139-2008, computed
+ * on phase data: a rate record is integrated to phase after removing its
+ * mean (compensated sums: a bias 1e6 times the noise loses no digit that
+ * matters), an angle record is used as phase after removing its linear
+ * trend.  Second and third differences are formed as differences of first
+ * differences, which are exact for neighbouring phase values.
+ *
+ * Speed.  Every overlapping term costs a few operations, so OADEV at one
+ * tau is O(n) and the work is memory traffic.  The engine therefore
+ *  - builds the phase in one parallel pass (chunk sums, then compensated
+ *    running sums from each chunk's exact base);
+ *  - fuses all "short" taus into that pass: each thread keeps a sliding
+ *    window of contiguous phase in cache and runs every short-tau kernel
+ *    on it before moving on (one pass over memory for all of them);
+ *  - stores the phase "tiled": x[k] at row k mod S, column k / S (S a
+ *    power of two chosen so that a row fits in L2).  For m a multiple of S
+ *    the three points x[i], x[i+m], x[i+2m] lie in the same row, so every
+ *    "long" tau is computed row by row from cache instead of streaming the
+ *    whole record three times per tau.  The dense grid is built so that its
+ *    long taus are such multiples;
+ *  - sums with explicit SIMD vectors (GCC vector extensions, cloned for
+ *    AVX-512/AVX2/baseline where available) and compensated block sums.
+ * Parallelism is OpenMP; without it the same code runs serially.
+ * Non-overlapping, modified, total and strided estimators, and records
+ * with gaps, use the contiguous layout and per-tau kernels.
+ */
+#include "allan-internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <emmintrin.h>
+#define SSC_NT_STORES 1
+#endif
+
+/* ------------------------------------------------------------------ */
+/* SIMD helpers                                                        */
+/* ------------------------------------------------------------------ */
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
+	defined(__GLIBC__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define SSC_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
+#endif
+#ifndef SSC_CLONES
+#define SSC_CLONES
+#endif
+
+#if defined(__GNUC__)
+#define SSC_VEC 1
+typedef double ssc_v8 __attribute__((vector_size(64)));
+#define V8LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_v8))
+#endif
+
+/* Terms summed per kernel call before the partial is added to a
+ * compensated accumulator: bounds the rounding of the lanes. */
+#define KBLOCK 8192
+
+/*
+ * sum_{i<n} (x[i+2m] - 2 x[i+m] + x[i])^2, as ((c - b) - (b - a))^2.
+ */
+SSC_CLONES static double k2(const double *x, size_t m, size_t n)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	double s = 0;
+	size_t i = 0;
+
+#ifdef SSC_VEC
+	ssc_v8 s0 = { 0 }, s1 = { 0 };
+
+	for (; i + 16 <= n; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, d0, d1;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		d0 = (c0 - b0) - (b0 - a0);
+		d1 = (c1 - b1) - (b1 - a1);
+		s0 += d0 * d0;
+		s1 += d1 * d1;
+	}
+	s0 += s1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+#endif
+	for (; i < n; i++) {
+		double d = (c[i] - b[i]) - (b[i] - a[i]);
+
+		s += d * d;
+	}
+	return s;
+}
+
+/*
+ * sum_{i<n} (x[i+3m] - 3 x[i+2m] + 3 x[i+m] - x[i])^2, as second
+ * differences of first differences.
+ */
+SSC_CLONES static double k3(const double *x, size_t m, size_t n)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
+	double s = 0;
+	size_t i = 0;
+
+#ifdef SSC_VEC
+	ssc_v8 s0 = { 0 }, s1 = { 0 };
+
+	for (; i + 16 <= n; i += 16) {
+		ssc_v8 a0, b0, c0, e0, a1, b1, c1, e1, d0, d1, f0, f1, g0, g1;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(e0, e + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		V8LOAD(e1, e + i + 8);
+		f0 = b0 - a0;
+		g0 = c0 - b0;
+		d0 = ((e0 - c0) - g0) - (g0 - f0);
+		f1 = b1 - a1;
+		g1 = c1 - b1;
+		d1 = ((e1 - c1) - g1) - (g1 - f1);
+		s0 += d0 * d0;
+		s1 += d1 * d1;
+	}
+	s0 += s1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+#endif
+	for (; i < n; i++) {
+		double f = b[i] - a[i], g = c[i] - b[i];
+		double d = ((e[i] - c[i]) - g) - (g - f);
+
+		s += d * d;
+	}
+	return s;
+}
+
+static double kd(int d, const double *x, size_t m, size_t n)
+{
+	return d == 2 ? k2(x, m, n) : k3(x, m, n);
+}
+
+/* kd over n terms in blocks, compensated across blocks */
+static void kd_total(int d, const double *x, size_t m, size_t n,
+		     struct ssc_ksum *acc)
+{
+	for (size_t i = 0; i < n; i += KBLOCK) {
+		size_t k = n - i < KBLOCK ? n - i : KBLOCK;
+
+		ssc_ksum_add(acc, kd(d, x + i, m, k));
+	}
+}
+
+/* one term of order d at i, lag m (differences of differences) */
+static inline double term(int d, const double *x, size_t i, size_t m)
+{
+	double f = x[i + m] - x[i], g = x[i + 2 * m] - x[i + m];
+
+	if (d == 2)
+		return g - f;
+	return ((x[i + 3 * m] - x[i + 2 * m]) - g) - (g - f);
+}
+
+/* ------------------------------------------------------------------ */
+/* Names, grids, limits                                                */
+/* ------------------------------------------------------------------ */
+
+static const char *const dev_names[SSCOPE_DEV_COUNT_] = {
+	"oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev"
+};
+
+const char *sscope_dev_name(enum sscope_dev dev)
+{
+	return (unsigned)dev < SSCOPE_DEV_COUNT_ ? dev_names[dev] : "";
+}
+
+int sscope_dev_parse(const char *name, enum sscope_dev *dev)
+{
+	if (!name || !dev)
+		return -EINVAL;
+	for (int i = 0; i < SSCOPE_DEV_COUNT_; i++)
+		if (!ssc_strcasecmp(name, dev_names[i])) {
+			*dev = (enum sscope_dev)i;
+			return 0;
+		}
+	return -EINVAL;
+}
+
+int ssc_dev_order(enum sscope_dev dev)
+{
+	return dev == SSCOPE_DEV_HDEV || dev == SSCOPE_DEV_OHDEV ? 3 : 2;
+}
+
+size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
+{
+	return input == SSCOPE_ALLAN_ANGLE ? n : n + 1;
+}
+
+size_t sscope_allan_max_m(enum sscope_dev dev, size_t np)
+{
+	if (np < 3)
+		return 0;
+	switch (dev) {
+	case SSCOPE_DEV_MDEV:
+	case SSCOPE_DEV_TDEV:
+		return np / 3;
+	case SSCOPE_DEV_HDEV:
+	case SSCOPE_DEV_OHDEV:
+		return (np - 1) / 3;
+	default:
+		return (np - 1) / 2;
+	}
+}
+
+/* 5 significant bits for m >= 32: a multiple of 2^(floor(log2 m) - 4) */
+static size_t round5(size_t m)
+{
+	size_t q;
+	int fl = 0;
+
+	if (m < 32)
+		return m;
+	while ((m >> (fl + 1)) != 0)
+		fl++;
+	q = (size_t)1 << (fl - 4);
+	return (m + q / 2) / q * q;
+}
+
+int sscope_allan_grid(enum sscope_tau_grid grid, size_t m_max, size_t *m,
+		      size_t cap, size_t *count)
+{
+	size_t n = 0, last = 0;
+
+	if (!count || (unsigned)grid > SSCOPE_TAUS_ALL)
+		return -EINVAL;
+#define PUT(v)                                                                \
+	do {                                                                  \
+		if ((v) > last && (v) <= m_max) {                             \
+			if (n < cap && m)                                     \
+				m[n] = (v);                                   \
+			n++;                                                  \
+			last = (v);                                           \
+		}                                                             \
+	} while (0)
+	switch (grid) {
+	case SSCOPE_TAUS_OCTAVE:
+		for (size_t v = 1; v && v <= m_max; v <<= 1)
+			PUT(v);
+		break;
+	case SSCOPE_TAUS_DECADE:
+		for (size_t dec = 1; dec && dec <= m_max; dec *= 10) {
+			PUT(dec);
+			PUT(2 * dec);
+			PUT(4 * dec);
+			if (dec > SIZE_MAX / 10)
+				break;
+		}
+		break;
+	case SSCOPE_TAUS_ALL:
+		for (size_t v = 1; v <= m_max; v++)
+			PUT(v);
+		break;
+	case SSCOPE_TAUS_DENSE:
+		for (int k = 0;; k++) {
+			double f = pow(10.0, k / 10.0);
+			size_t v;
+
+			if (f > (double)m_max + 0.5 || f >= 1.8e19)
+				break;
+			v = round5((size_t)llround(f));
+			PUT(v);
+		}
+		break;
+	}
+#undef PUT
+	*count = n;
+	return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* Plan                                                                */
+/* ------------------------------------------------------------------ */
+
+/* rows of the tiled layout fit in L2: about sqrt(np / 32) rows */
+#define TILE_MIN_NP ((size_t)1 << 17)
+/* columns per tile group: one 64-byte line per row */
+#define TILE_COLS 8
+/* a tau goes to the row pass when m >= BIG_FACTOR * S and S divides m */
+#define BIG_FACTOR 16
+/* term block of the fused short-tau kernels */
+#define SHORT_BLOCK 2048
+
+struct sscope_allan {
+	struct sscope_allan_opts opts;
+	size_t n_max;
+	unsigned nthreads;
+	double *x;          /* phase workspace, 64-byte aligned */
+	size_t x_cap;       /* doubles */
+	double *win;        /* per-thread windows */
+	size_t win_cap;     /* doubles per thread */
+	uint64_t *nanbits;  /* gap map: bit k = sample/point k is NaN */
+	uint32_t *nanpre;   /* NaN count before word w */
+	size_t nb_words;
+	/* layout of the current record */
+	size_t np, S, shift, Lp;
+	/* noise-id scratch */
+	double *nid;
+	unsigned char *nidv;
+	bool contiguous; /* ssc_allan_force_contiguous() */
+};
+
+void ssc_allan_force_contiguous(struct sscope_allan *p, bool on)
+{
+	p->contiguous = on;
+}
+
+static size_t pick_shift(size_t np)
+{
+	double s;
+	int e;
+
+	if (np <= TILE_MIN_NP)
+		return 0;
+	s = sqrt((double)np / 32.0);
+	e = (int)lround(log2(s));
+	return e < 0 ? 0 : (size_t)e;
+}
+
+/* padded row length: a multiple of 8 doubles, odd in lines (no 4K
+ * aliasing between rows) */
+static size_t row_len(size_t np, size_t shift)
+{
+	size_t S = (size_t)1 << shift, L = (np + S - 1) / S;
+
+	if (shift == 0)
+		return L;
+	return TILE_COLS * (2 * ((L + 2 * TILE_COLS - 1) / (2 * TILE_COLS)) + 1);
+}
+
+static unsigned want_threads(unsigned req)
+{
+#ifdef _OPENMP
+	int t = req ? (int)req : omp_get_max_threads();
+
+	return t < 1 ? 1 : (unsigned)t;
+#else
+	(void)req;
+	return 1;
+#endif
+}
+
+int sscope_allan_new(struct sscope_allan **plan,
+		     size_t n_max, const struct sscope_allan_opts *opts)
+{
+	struct sscope_allan *p;
+	size_t np, sh, need, S;
+
+	if (!plan)
+		return -EINVAL;
+	*plan = NULL;
+	if (n_max == 0 || (opts && ((unsigned)opts->dev >= SSCOPE_DEV_COUNT_ ||
+				    opts->input > SSCOPE_ALLAN_ANGLE ||
+				    !(opts->ci_level < 1) ||
+				    isnan(opts->ci_level))))
+		return -EINVAL;
+	if (opts && opts->alpha_fixed && (opts->alpha < -4 || opts->alpha > 2))
+		return -EINVAL;
+	if (n_max > SIZE_MAX / 64)
+		return -ENOMEM;
+	p = calloc(1, sizeof(*p));
+	if (!p)
+		return -ENOMEM;
+	if (opts)
+		p->opts = *opts;
+	p->n_max = n_max;
+	p->nthreads = want_threads(p->opts.threads);
+	np = n_max + 1;
+	sh = pick_shift(np);
+	S = (size_t)1 << sh;
+	/* any smaller shift needs no more: S * row_len(np, s) shrinks */
+	need = S * row_len(np, sh);
+	if (need < np)
+		need = np;
+	need += 64;
+	p->x_cap = need;
+	p->x = aligned_alloc(64, ((need * sizeof(double) + 63) / 64) * 64);
+	/* window: G + W with W = 3 * BIG_FACTOR * S lookahead */
+	{
+		size_t W = 3 * BIG_FACTOR * S + SHORT_BLOCK;
+		size_t G = W > 16384 ? W : 16384;
+
+		G = (G + TILE_COLS * S - 1) / (TILE_COLS * S) * (TILE_COLS * S);
+		p->win_cap = G + W + TILE_COLS * S + 64;
+	}
+	if (sh)
+		p->win = ssc_alloc_array((size_t)p->nthreads * p->win_cap,
+					 sizeof(double));
+	p->nid = ssc_alloc_array(2 * (SSC_NOISE_ID_MAX + 2), sizeof(double));
+	p->nidv = malloc(2 * (SSC_NOISE_ID_MAX + 2));
+	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv) {
+		sscope_allan_free(p);
+		return -ENOMEM;
+	}
+	*plan = p;
+	return 0;
+}
+
+void sscope_allan_free(struct sscope_allan *p)
+{
+	if (!p)
+		return;
+	free(p->x);
+	free(p->win);
+	free(p->nanbits);
+	free(p->nanpre);
+	free(p->nid);
+	free(p->nidv);
+	free(p);
+}
+
+/* phase point k in the current layout */
+static inline double xat(const struct sscope_allan *p, size_t k)
+{
+	return p->x[(k & (p->S - 1)) * p->Lp + (k >> p->shift)];
+}
+
+/* number of NaN flags in [a, b) of the gap map */
+static size_t nan_count(const struct sscope_allan *p, size_t a, size_t b)
+{
+	size_t wa = a >> 6, wb = b >> 6;
+	uint64_t ma = a & 63 ? (((uint64_t)1 << (a & 63)) - 1) : 0;
+	uint64_t mb = b & 63 ? (((uint64_t)1 << (b & 63)) - 1) : 0;
+	size_t ca = p->nanpre[wa] + (size_t)__builtin_popcountll(p->nanbits[wa] & ma);
+	size_t cb = p->nanpre[wb] + (size_t)__builtin_popcountll(p->nanbits[wb] & mb);
+
+	return cb - ca;
+}
+
+/* ------------------------------------------------------------------ */
+/* Phase                                                               */
+/* ------------------------------------------------------------------ */
+
+struct src {
+	const double *y;
+	size_t stride, n;
+	bool angle;
+	double m0, delta; /* rate: increment = (y - m0) - delta */
+	double y0, slope, fs; /* angle: x = ((y - y0) - slope k) fs */
+};
+
+static inline double incr(const struct src *s, size_t k)
+{
+	double v = s->y[k * s->stride];
+
+	return isnan(v) ? 0.0 : (v - s->m0) - s->delta;
+}
+
+static inline double apoint(const struct src *s, size_t k)
+{
+	double v = s->y[k * s->stride];
+
+	return isnan(v) ? 0.0 : ((v - s->y0) - s->slope * (double)k) * s->fs;
+}
+
+/* running phase state of a source */
+struct run {
+	struct ssc_ksum sum; /* rate: the phase at point k */
+	size_t k;            /* index of the next phase point */
+};
+
+/* stretch of points computed from one compensated base */
+#define FILL_STRETCH 1024
+
+#ifdef SSC_VEC
+typedef long long ssc_v8i __attribute__((vector_size(64)));
+
+/* exclusive prefix sums of r into out[0..8) plus *acc; *acc += sum(r) */
+static inline bool scan8(const double *y, double m0, double delta,
+			 double bs, double bc, double *acc, double *out)
+{
+	const ssc_v8 zero = { 0 };
+	ssc_v8 v, in;
+
+	V8LOAD(v, y);
+	v = (v - m0) - delta;
+	in = v + __builtin_shuffle(v, zero, ((ssc_v8i){ 8, 0, 1, 2, 3, 4, 5, 6 }));
+	in = in + __builtin_shuffle(in, zero, ((ssc_v8i){ 8, 9, 0, 1, 2, 3, 4, 5 }));
+	in = in + __builtin_shuffle(in, zero, ((ssc_v8i){ 8, 9, 10, 11, 0, 1, 2, 3 }));
+	if (isnan(in[7]))
+		return false;
+	v = __builtin_shuffle(in, zero, ((ssc_v8i){ 8, 0, 1, 2, 3, 4, 5, 6 }));
+	v = bs + (bc + (*acc + v));
+	memcpy(out, &v, sizeof(v));
+	*acc += in[7];
+	return true;
+}
+#endif
+
+/*
+ * The next cnt phase points.  Rate input: x_{k+1} = x_k + (y_k - mean),
+ * summed plainly over stretches of FILL_STRETCH increments from a
+ * compensated base (the stretch error, ~FILL_STRETCH ulps of a few
+ * increments, is far below the rounding of x itself), eight at a time
+ * with an in-register prefix scan.  Angle input: the detrended points.
+ */
+SSC_CLONES static void fill_phase(const struct src *s, struct run *r,
+				  double *out, size_t cnt)
+{
+	size_t k = r->k;
+	const size_t end = k + cnt;
+
+	if (s->angle) {
+		for (; k < end; k++)
+			*out++ = apoint(s, k);
+		r->k = end;
+		return;
+	}
+	while (k < end) {
+		size_t len = end - k < FILL_STRETCH ? end - k : FILL_STRETCH;
+		double bs = r->sum.s, bc = r->sum.c, acc = 0;
+		size_t i = 0;
+
+#ifdef SSC_VEC
+		if (s->stride == 1)
+			for (; i + 8 <= len && k + i + 8 <= s->n; i += 8)
+				if (!scan8(s->y + k + i, s->m0, s->delta, bs, bc,
+					   &acc, out + i))
+					break;
+#endif
+		for (; i < len; i++) {
+			out[i] = bs + (bc + acc);
+			if (k + i < s->n)
+				acc += incr(s, k + i);
+		}
+		ssc_ksum_add(&r->sum, acc);
+		k += len;
+		out += len;
+	}
+	r->k = end;
+}
+
+/*
+ * Sum of y - m0 over the finite samples of y[k * stride], k < n, and the
+ * NaN count: plain sums over blocks of 512 in eight lanes, blocks added
+ * compensated; a block holding NaN is redone sample by sample.
+ */
+SSC_CLONES static void scan_block(const double *y, size_t stride, size_t n,
+				  double m0, struct ssc_ksum *sum,
+				  size_t *nan_count)
+{
+	size_t nn = 0;
+
+	for (size_t b = 0; b < n; b += 512) {
+		size_t len = n - b < 512 ? n - b : 512, i = 0;
+		double part = 0;
+
+#ifdef SSC_VEC
+		if (stride == 1) {
+			ssc_v8 a = { 0 };
+
+			for (; i + 8 <= len; i += 8) {
+				ssc_v8 v;
+
+				V8LOAD(v, y + b + i);
+				a += v - m0;
+			}
+			part = ((a[0] + a[1]) + (a[2] + a[3])) +
+			       ((a[4] + a[5]) + (a[6] + a[7]));
+		}
+#endif
+		for (; i < len; i++)
+			part += y[(b + i) * stride] - m0;
+		if (isnan(part)) {
+			part = 0;
+			for (i = 0; i < len; i++) {
+				double v = y[(b + i) * stride];
+
+				if (isnan(v))
+					nn++;
+				else
+					part += v - m0;
+			}
+		}
+		ssc_ksum_add(sum, part);
+	}
+	*nan_count = nn;
+}
+
+/* chunk boundaries of np phase points over T threads, multiples of q */
+static size_t chunk_at(size_t np, unsigned T, unsigned t, size_t q)
+{
+	size_t c;
+
+	if (t >= T)
+		return np;
+	c = (size_t)((double)np * t / T);
+	c = c / q * q;
+	return c > np ? np : c;
+}
+
+/*
+ * Statistics of the source: mean of finite samples, NaN count, chunk sums
+ * of the increments; fills s->m0/delta (rate) or y0/slope (angle) and the
+ * chunk bases.  Returns the number of finite samples.
+ */
+static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
+			  size_t q, struct ssc_ksum *bases, size_t *n_nan)
+{
+	size_t first = SIZE_MAX, last = 0, nfin = 0, nnan = 0;
+	struct ssc_ksum *cs = bases; /* reused: chunk sums, then bases */
+	size_t *cnt = NULL;
+
+	for (size_t k = 0; k < s->n; k++)
+		if (!isnan(s->y[k * s->stride])) {
+			first = k;
+			break;
+		}
+	if (first == SIZE_MAX) {
+		*n_nan = s->n;
+		return 0;
+	}
+	for (size_t k = s->n; k-- > first;)
+		if (!isnan(s->y[k * s->stride])) {
+			last = k;
+			break;
+		}
+	if (s->angle) {
+		s->y0 = s->y[first * s->stride];
+		s->slope = last > first ? (s->y[last * s->stride] - s->y0) /
+						  (double)(last - first) :
+					  0;
+		/* y0 is taken at index 0 of the trend line */
+		s->y0 -= s->slope * (double)first;
+		for (size_t k = 0; k < s->n; k++)
+			if (isnan(s->y[k * s->stride]))
+				nnan++;
+		*n_nan = nnan;
+		return s->n - nnan;
+	}
+	s->m0 = s->y[first * s->stride];
+	s->delta = 0;
+	cnt = calloc(T, sizeof(size_t));
+	if (!cnt) {
+		*n_nan = 0;
+		return SIZE_MAX;
+	}
+	{
+		size_t tot_nan = 0;
+
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan))
+		for (unsigned t = 0; t < T; t++) {
+			struct ssc_ksum a = { 0, 0 };
+			size_t lo, hi, nn = 0;
+
+			/* phase chunk [lo, hi) uses increments k in [lo, hi) */
+			lo = chunk_at(p->np, T, t, q);
+			hi = chunk_at(p->np, T, t + 1, q);
+			if (hi > s->n)
+				hi = s->n;
+			if (hi > lo)
+				scan_block(s->y + lo * s->stride, s->stride, hi - lo,
+					   s->m0, &a, &nn);
+			cs[t] = a;
+			cnt[t] = hi > lo ? hi - lo - nn : 0;
+			tot_nan += nn;
+		}
+		nnan = tot_nan;
+	}
+	{
+		struct ssc_ksum all = { 0, 0 };
+		double delta;
+
+		for (unsigned t = 0; t < T; t++) {
+			ssc_ksum_add(&all, cs[t].s);
+			ssc_ksum_add(&all, cs[t].c);
+			nfin += cnt[t];
+		}
+		delta = ssc_ksum_value(&all) / (double)nfin;
+		s->delta = delta;
+		/* bases: exclusive scan of (chunk sum - count * delta) */
+		all.s = all.c = 0;
+		for (unsigned t = 0; t < T; t++) {
+			struct ssc_ksum c = cs[t];
+			double pr = (double)cnt[t] * delta;
+			double err = fma((double)cnt[t], delta, -pr);
+
+			bases[t] = all;
+			ssc_ksum_add(&all, c.s);
+			ssc_ksum_add(&all, c.c);
+			ssc_ksum_add(&all, -pr);
+			ssc_ksum_add(&all, -err);
+		}
+	}
+	free(cnt);
+	*n_nan = nnan;
+	return nfin;
+}
+
+/* gap map over the n source samples (rate) or np points (angle) */
+static int build_gaps(struct sscope_allan *p, const struct src *s)
+{
+	size_t nb = s->n, words = (nb >> 6) + 2;
+
+	if (words > p->nb_words) {
+		free(p->nanbits);
+		free(p->nanpre);
+		p->nanbits = calloc(words, sizeof(uint64_t));
+		p->nanpre = calloc(words, sizeof(uint32_t));
+		if (!p->nanbits || !p->nanpre)
+			return -ENOMEM;
+		p->nb_words = words;
+	} else {
+		memset(p->nanbits, 0, words * sizeof(uint64_t));
+	}
+	if (nb > UINT32_MAX)
+		return -ERANGE;
+	for (size_t k = 0; k < nb; k++)
+		if (isnan(s->y[k * s->stride]))
+			p->nanbits[k >> 6] |= (uint64_t)1 << (k & 63);
+	p->nanpre[0] = 0;
+	for (size_t w = 1; w < words; w++)
+		p->nanpre[w] = p->nanpre[w - 1] +
+			       (uint32_t)__builtin_popcountll(p->nanbits[w - 1]);
+	return 0;
+}
+
+/* contiguous phase, written in parallel chunks */
+static void phase_contiguous(struct sscope_allan *p, const struct src *s,
+			     unsigned T, const struct ssc_ksum *bases)
+{
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
+	for (unsigned t = 0; t < T; t++) {
+		struct run r;
+		size_t lo = chunk_at(p->np, T, t, 1);
+		size_t hi = chunk_at(p->np, T, t + 1, 1);
+
+		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t];
+		r.k = lo;
+		fill_phase(s, &r, p->x + lo, hi - lo);
+	}
+}
+
+/* ------------------------------------------------------------------ */
+/* The fused tiled engine (OADEV, OHDEV)                               */
+/* ------------------------------------------------------------------ */
+
+struct tau_set {
+	const size_t *m;   /* factors */
+	size_t n;
+	bool *big;         /* row pass (else fused short pass) */
+	size_t mshort_max; /* largest short m */
+	int d;
+};
+
+/*
+ * One thread's share of the phase pass: compute the phase of chunk
+ * [lo, hi) (plus lookahead for the short kernels), write it tiled, and
+ * accumulate the short-tau sums of the terms starting in the chunk.
+ */
+static void fused_chunk(struct sscope_allan *p, const struct src *s,
+			struct ssc_ksum base, size_t lo, size_t hi,
+			const struct tau_set *ts, double *win,
+			struct ssc_ksum *acc)
+{
+	const size_t S = p->S, np = p->np, grp = TILE_COLS * S;
+	const size_t W = (size_t)ts->d * ts->mshort_max + SHORT_BLOCK;
+	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
+	size_t kend = hi + W < np ? hi + W : np;
+	struct run r = { base, lo };
+
+	G = (G + grp - 1) / grp * grp;
+	WB = G + W;
+	if (lo >= hi)
+		return;
+	for (;;) {
+		size_t stop = wbase + WB < kend ? wbase + WB : kend;
+		size_t gend = wbase + G < hi ? wbase + G : hi;
+
+		if (stop > wbase + filled)
+			fill_phase(s, &r, win + filled, stop - wbase - filled);
+		filled = stop - wbase;
+		/* short taus on terms starting in [wbase, gend) */
+		for (size_t j = 0; j < ts->n; j++) {
+			size_t m = ts->m[j], nt, a, b;
+
+			if (ts->big[j])
+				continue;
+			nt = np - (size_t)ts->d * m; /* terms i < nt */
+			a = wbase;
+			b = gend < nt ? gend : nt;
+			for (size_t i0 = a; i0 < b; i0 += SHORT_BLOCK) {
+				size_t c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
+
+				ssc_ksum_add(&acc[j], kd(ts->d, win + (i0 - wbase), m, c));
+			}
+		}
+		/* tiles of [wbase, gend): groups of 8 columns */
+		for (size_t g0 = wbase; g0 < gend; g0 += grp) {
+			size_t q0 = g0 >> p->shift;
+			size_t gl = gend - g0 < grp ? gend - g0 : grp;
+			const double *w = win + (g0 - wbase);
+
+			if (gl == grp) {
+				for (size_t rr = 0; rr < S; rr++) {
+					double *dst = p->x + rr * p->Lp + q0;
+#ifdef SSC_NT_STORES
+					/* whole lines, streamed past the cache:
+					 * the rows are read back much later */
+					_mm_stream_pd(dst, _mm_set_pd(w[rr + S], w[rr]));
+					_mm_stream_pd(dst + 2, _mm_set_pd(w[rr + 3 * S], w[rr + 2 * S]));
+					_mm_stream_pd(dst + 4, _mm_set_pd(w[rr + 5 * S], w[rr + 4 * S]));
+					_mm_stream_pd(dst + 6, _mm_set_pd(w[rr + 7 * S], w[rr + 6 * S]));
+#else
+					for (size_t c = 0; c < TILE_COLS; c++)
+						dst[c] = w[rr + c * S];
+#endif
+				}
+			} else {
+				for (size_t k = 0; k < gl; k++)
+					p->x[(k & (S - 1)) * p->Lp + q0 + (k >> p->shift)] = w[k];
+			}
+		}
+		if (wbase + G >= hi)
+			break;
+		memmove(win, win + G, (filled - G) * sizeof(double));
+		filled -= G;
+		wbase += G;
+	}
+}
+
+/* sums of order-d overlapping terms for every m of ts, tiled layout */
+static int sums_tiled(struct sscope_allan *p, const struct src *s,
+		      unsigned T, const struct ssc_ksum *bases,
+		      const struct tau_set *ts, struct ssc_ksum *acc)
+{
+	const size_t q = TILE_COLS * p->S;
+	struct ssc_ksum *part = calloc((size_t)T * ts->n, sizeof(*part));
+
+	if (!part)
+		return -ENOMEM;
+SSC_OMP(omp parallel num_threads(T))
+	{
+		unsigned me = 0;
+		struct ssc_ksum *my;
+		double *win;
+
+#ifdef _OPENMP
+		me = (unsigned)omp_get_thread_num();
+#endif
+		my = part + (size_t)me * ts->n;
+		win = p->win + (size_t)me * p->win_cap;
+SSC_OMP(omp for schedule(static, 1))
+		for (unsigned t = 0; t < T; t++)
+			fused_chunk(p, s,
+				    s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t],
+				    chunk_at(p->np, T, t, q),
+				    chunk_at(p->np, T, t + 1, q), ts, win, my);
+#ifdef SSC_NT_STORES
+		_mm_sfence(); /* streamed tiles visible before the barrier */
+#endif
+		/* (implicit barrier: every tile is written) */
+SSC_OMP(omp for schedule(dynamic, 4))
+		for (size_t rr = 0; rr < p->S; rr++) {
+			const double *row = p->x + rr * p->Lp;
+
+			for (size_t j = 0; j < ts->n; j++) {
+				size_t m = ts->m[j], nt, nq;
+
+				if (!ts->big[j])
+					continue;
+				nt = p->np - (size_t)ts->d * m;
+				if (nt <= rr)
+					continue;
+				nq = (nt - rr + p->S - 1) >> p->shift;
+				kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
+			}
+		}
+	}
+	for (unsigned t = 0; t < T; t++)
+		for (size_t j = 0; j < ts->n; j++) {
+			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].s);
+			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].c);
+		}
+	free(part);
+	return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* Contiguous per-tau kernels                                          */
+/* ------------------------------------------------------------------ */
+
+/* span of a term in samples (rate) or points-1 (angle) for gap checks */
+static bool term_ok(const struct sscope_allan *p, bool angle, size_t i,
+		    size_t span)
+{
+	/* rate: increments i .. i+span-1; angle: points i .. i+span */
+	return nan_count(p, i, i + span + (angle ? 1 : 0)) == 0;
+}
+
+/* order-d terms starting at i = 0, s, 2s, ... < nt */
+static void sum_strided(const struct sscope_allan *p, bool angle, bool gaps,
+			int d, size_t m, size_t s, size_t nt,
+			struct ssc_ksum *acc, size_t *used, size_t *skipped)
+{
+	const double *x = p->x;
+	size_t u = 0, sk = 0;
+
+	if (s == 1 && !gaps) {
+		kd_total(d, x, m, nt, acc);
+		*used = nt;
+		*skipped = 0;
+		return;
+	}
+	{
+		double part = 0;
+		size_t inblk = 0;
+
+		for (size_t i = 0; i < nt; i += s) {
+			double v;
+
+			if (gaps && !term_ok(p, angle, i, (size_t)d * m)) {
+				sk++;
+				continue;
+			}
+			v = term(d, x, i, m);
+			part += v * v;
+			u++;
+			if (++inblk == KBLOCK) {
+				ssc_ksum_add(acc, part);
+				part = 0;
+				inblk = 0;
+			}
+		}
+		ssc_ksum_add(acc, part);
+	}
+	*used = u;
+	*skipped = sk;
+}
+
+/*
+ * MDEV: sum_j (sum_{i=j}^{j+m-1} t_i)^2 over j <= np - 3m, t_i the second
+ * difference at lag m; the inner sum is kept as a compensated running sum.
+ */
+static void sum_mdev(const struct sscope_allan *p, bool angle, bool gaps,
+		     size_t m, struct ssc_ksum *acc, size_t *used,
+		     size_t *skipped)
+{
+	const double *x = p->x;
+	size_t nj = p->np - 3 * m + 1, u = 0, sk = 0, inblk = 0;
+	struct ssc_ksum in = { 0, 0 };
+	double part = 0;
+
+	for (size_t i = 0; i < m; i++)
+		ssc_ksum_add(&in, term(2, x, i, m));
+	for (size_t j = 0; j < nj; j++) {
+		double v = ssc_ksum_value(&in);
+
+		if (gaps && !term_ok(p, angle, j, 3 * m - 1)) {
+			sk++;
+		} else {
+			part += v * v;
+			u++;
+			if (++inblk == KBLOCK) {
+				ssc_ksum_add(acc, part);
+				part = 0;
+				inblk = 0;
+			}
+		}
+		if (j + 1 < nj) {
+			ssc_ksum_add(&in, term(2, x, j + m, m));
+			ssc_ksum_add(&in, -term(2, x, j, m));
+		}
+	}
+	ssc_ksum_add(acc, part);
+	*used = u;
+	*skipped = sk;
+}
+
+/* TOTDEV: second differences of the reflected extension (SP 1065 eq 25) */
+static void sum_totdev(const struct sscope_allan *p, size_t m,
+		       struct ssc_ksum *acc, size_t *used)
+{
+	const double *x = p->x;
+	const size_t np = p->np, last = np - 1;
+	double part = 0;
+	size_t inblk = 0;
+
+	for (size_t i = 1; i + 1 < np; i++) {
+		double lo, hi, d;
+
+		/* x*_{-j} = 2 x_0 - x_j, x*_{last+j} = 2 x_last - x_{last-j} */
+		if (i >= m)
+			lo = x[i - m] - x[i];
+		else
+			lo = (x[0] - x[m - i]) + (x[0] - x[i]);
+		if (i + m <= last)
+			hi = x[i + m] - x[i];
+		else
+			hi = (x[last] - x[last - (i + m - last)]) + (x[last] - x[i]);
+		d = hi + lo;
+		part += d * d;
+		if (++inblk == KBLOCK) {
+			ssc_ksum_add(acc, part);
+			part = 0;
+			inblk = 0;
+		}
+	}
+	ssc_ksum_add(acc, part);
+	*used = np - 2;
+}
+
+/* ------------------------------------------------------------------ */
+/* Compute                                                             */
+/* ------------------------------------------------------------------ */
+
+/* gather the decimated phase for noise identification */
+static int point_alpha(struct sscope_allan *p, bool angle, bool gaps,
+		       size_t m, int dmax, int *alpha)
+{
+	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
+	double *z = p->nid;
+	unsigned char *v = p->nidv;
+
+	if (K > SSC_NOISE_ID_MAX + 1)
+		K = SSC_NOISE_ID_MAX + 1;
+	for (size_t k = 0; k < K; k++) {
+		z[k] = xat(p, k * m);
+		/* validity: rate input flags the average over increments
+		 * [k m, (k+1) m), angle input the point itself */
+		if (!gaps)
+			continue;
+		if (angle)
+			v[k] = nan_count(p, k * m, k * m + 1) == 0;
+		else if (k + 1 < K)
+			v[k] = nan_count(p, k * m, (k + 1) * m) == 0;
+	}
+	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle, dmax, alpha,
+				   NULL, z + SSC_NOISE_ID_MAX + 2,
+				   v + SSC_NOISE_ID_MAX + 2);
+}
+
+/* samples needed for one term at averaging factor m */
+static size_t min_samples(enum sscope_dev dev, size_t m, bool angle)
+{
+	size_t np;
+
+	switch (dev) {
+	case SSCOPE_DEV_MDEV:
+	case SSCOPE_DEV_TDEV:
+		np = 3 * m;
+		break;
+	case SSCOPE_DEV_HDEV:
+	case SSCOPE_DEV_OHDEV:
+		np = 3 * m + 1;
+		break;
+	default:
+		np = 2 * m + 1;
+		break;
+	}
+	return angle ? np : np - 1;
+}
+
+static double point_edf(enum sscope_dev dev, int alpha, size_t m, size_t npe,
+			size_t stride)
+{
+	int d = ssc_dev_order(dev);
+
+	switch (dev) {
+	case SSCOPE_DEV_MDEV:
+	case SSCOPE_DEV_TDEV:
+		return sscope_allan_edf(alpha, 2, m, npe, true, 1);
+	case SSCOPE_DEV_TOTDEV:
+		return ssc_totdev_edf(alpha, m, npe);
+	default:
+		return sscope_allan_edf(alpha, d, m, npe, false, stride);
+	}
+}
+
+static int clamp_alpha(enum sscope_dev dev, int a)
+{
+	int lo = ssc_dev_order(dev) == 3 ? -4 : -2;
+
+	return a < lo ? lo : a > 2 ? 2 : a;
+}
+
+int sscope_allan_compute(struct sscope_allan *p, const double *y,
+			 size_t stride, size_t n, double rate_hz,
+			 const size_t *m, size_t n_m,
+			 struct sscope_allan_point *pts, size_t *n_pts,
+			 struct sscope_diag *diag)
+{
+	const enum sscope_dev dev = p ? p->opts.dev : SSCOPE_DEV_OADEV;
+	const bool angle = p && p->opts.input == SSCOPE_ALLAN_ANGLE;
+	const int d = ssc_dev_order(dev);
+	struct src s = { 0 };
+	struct ssc_ksum *bases = NULL, *acc = NULL;
+	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
+	bool *big = NULL, gaps, tiled, strided;
+	unsigned T;
+	int rc = 0, carry_alpha = 0;
+	bool have_carry = false;
+	double level;
+
+	if (!p || !y || !m || !pts || !n_pts || stride == 0 ||
+	    !(rate_hz > 0) || !isfinite(rate_hz))
+		return ssc_diag(diag, -EINVAL, "allan: bad parameters");
+	*n_pts = 0;
+	if (n > p->n_max)
+		return ssc_diag(diag, -EINVAL,
+				"allan: %zu samples exceed the plan's %zu", n,
+				p->n_max);
+	for (size_t j = 0; j < n_m; j++)
+		if (m[j] == 0 || (j && m[j] <= m[j - 1]))
+			return ssc_diag(diag, -EINVAL,
+					"allan: averaging factors must be positive and increasing");
+	p->np = sscope_allan_n_phase(p->opts.input, n);
+	mmax = sscope_allan_max_m(dev, p->np);
+	while (nacc < n_m && m[nacc] <= mmax)
+		nacc++;
+	if (nacc == 0)
+		return ssc_diag(diag, -EDOM,
+				"too short for %s: %zu sample%s (averaging factor %zu needs %zu)",
+				sscope_dev_name(dev), n, n == 1 ? "" : "s",
+				n_m ? m[0] : (size_t)1,
+				min_samples(dev, n_m ? m[0] : 1, angle));
+	s.y = y;
+	s.stride = stride;
+	s.n = n;
+	s.angle = angle;
+	s.fs = rate_hz;
+	T = p->nthreads;
+	bases = calloc(T, sizeof(*bases));
+	acc = calloc(nacc, sizeof(*acc));
+	used = calloc(nacc, sizeof(size_t));
+	skipped = calloc(nacc, sizeof(size_t));
+	big = calloc(nacc, sizeof(bool));
+	if (!bases || !acc || !used || !skipped || !big) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	strided = p->opts.stride_div > 0 &&
+		  (dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV);
+	/* layout: tiled only for fully overlapping OADEV / OHDEV */
+	p->shift = 0;
+	if ((dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV) && !strided &&
+	    !p->contiguous)
+		p->shift = pick_shift(p->np);
+	/* every long m must be a multiple of S */
+	for (; p->shift > 0; p->shift--) {
+		size_t S = (size_t)1 << p->shift;
+		bool ok = true;
+
+		for (size_t j = 0; j < nacc; j++)
+			if (m[j] >= BIG_FACTOR * S && m[j] % S)
+				ok = false;
+		if (ok)
+			break;
+	}
+	/* the chunk scan needs the layout's chunk quantum */
+	p->S = (size_t)1 << p->shift;
+	p->Lp = row_len(p->np, p->shift);
+	nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
+			   &nnan);
+	if (nfin == SIZE_MAX) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	if (nfin < 2) {
+		rc = ssc_diag(diag, -EDOM,
+			      "fewer than two finite samples (%zu of %zu)",
+			      nfin, n);
+		goto out;
+	}
+	gaps = nnan > 0;
+	if (gaps && dev == SSCOPE_DEV_TOTDEV) {
+		rc = ssc_diag(diag, -EDOM,
+			      "totdev needs a record without gaps (%zu NaN samples)",
+			      nnan);
+		goto out;
+	}
+	if (gaps) {
+		p->shift = 0;
+		p->S = 1;
+		p->Lp = p->np;
+		/* the chunk sums were computed with the tiled quantum:
+		 * recompute for contiguous chunks */
+		nfin = scan_source(p, &s, T, 1, bases, &nnan);
+		rc = build_gaps(p, &s);
+		if (rc)
+			goto out;
+	}
+	tiled = p->shift > 0;
+	if (tiled) {
+		struct tau_set ts = { m, nacc, big, 0, d };
+
+		for (size_t j = 0; j < nacc; j++) {
+			big[j] = m[j] >= BIG_FACTOR * p->S && m[j] % p->S == 0;
+			if (!big[j] && m[j] > ts.mshort_max)
+				ts.mshort_max = m[j];
+		}
+		rc = sums_tiled(p, &s, T, bases, &ts, acc);
+		if (rc)
+			goto out;
+		for (size_t j = 0; j < nacc; j++)
+			used[j] = p->np - (size_t)d * m[j];
+	} else {
+		phase_contiguous(p, &s, T, bases);
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+		for (size_t j = 0; j < nacc; j++) {
+			size_t mj = m[j];
+
+			switch (dev) {
+			case SSCOPE_DEV_OADEV:
+			case SSCOPE_DEV_OHDEV: {
+				size_t st = strided ? mj / p->opts.stride_div : 1;
+
+				sum_strided(p, angle, gaps, d, mj, st ? st : 1,
+					    p->np - (size_t)d * mj, &acc[j],
+					    &used[j], &skipped[j]);
+				break;
+			}
+			case SSCOPE_DEV_ADEV:
+			case SSCOPE_DEV_HDEV:
+				sum_strided(p, angle, gaps, d, mj, mj,
+					    p->np - (size_t)d * mj, &acc[j],
+					    &used[j], &skipped[j]);
+				break;
+			case SSCOPE_DEV_MDEV:
+			case SSCOPE_DEV_TDEV:
+				sum_mdev(p, angle, gaps, mj, &acc[j], &used[j],
+					 &skipped[j]);
+				break;
+			case SSCOPE_DEV_TOTDEV:
+				sum_totdev(p, mj, &acc[j], &used[j]);
+				break;
+			default:
+				break;
+			}
+		}
+	}
+	/* points */
+	level = p->opts.ci_level == 0 ? 0.682689492137086 : p->opts.ci_level;
+	for (size_t j = 0; j < nacc; j++) {
+		struct sscope_allan_point *pt = &pts[*n_pts];
+		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;
+		size_t st = 1, npe;
+		int alpha;
+
+		memset(pt, 0, sizeof(*pt));
+		pt->m = m[j];
+		pt->tau_s = md / rate_hz;
+		pt->terms = used[j];
+		pt->skipped = skipped[j];
+		if (dev == SSCOPE_DEV_ADEV || dev == SSCOPE_DEV_HDEV)
+			st = m[j];
+		else if (strided)
+			st = m[j] / p->opts.stride_div ? m[j] / p->opts.stride_div : 1;
+		pt->stride = st;
+		if (used[j] == 0) {
+			pt->dev = pt->dev_lo = pt->dev_hi = NAN;
+			pt->edf = pt->edf_full = NAN;
+			(*n_pts)++;
+			continue;
+		}
+		switch (dev) {
+		case SSCOPE_DEV_MDEV:
+		case SSCOPE_DEV_TDEV:
+			var = sum / (2 * md * md * md * md * (double)used[j]);
+			break;
+		case SSCOPE_DEV_HDEV:
+		case SSCOPE_DEV_OHDEV:
+			var = sum / (6 * md * md * (double)used[j]);
+			break;
+		case SSCOPE_DEV_TOTDEV:
+			var = sum / (2 * md * md * (double)(p->np - 2));
+			break;
+		default:
+			var = sum / (2 * md * md * (double)used[j]);
+			break;
+		}
+		pt->dev = sqrt(var > 0 ? var : 0);
+		if (dev == SSCOPE_DEV_TDEV)
+			pt->dev *= pt->tau_s / sqrt(3.0);
+		/* noise type */
+		if (p->opts.alpha_fixed) {
+			alpha = p->opts.alpha;
+		} else if (point_alpha(p, angle, gaps, m[j],
+				       ssc_dev_order(dev), &alpha) == 0) {
+			pt->alpha_identified = true;
+			carry_alpha = alpha;
+			have_carry = true;
+		} else {
+			alpha = have_carry ? carry_alpha : 0;
+		}
+		alpha = clamp_alpha(dev, alpha);
+		pt->alpha = alpha;
+		/* phase points equivalent to the terms actually used */
+		if (dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV)
+			npe = used[j] + 3 * m[j] - 1;
+		else if (dev == SSCOPE_DEV_TOTDEV)
+			npe = p->np;
+		else
+			npe = (used[j] - 1) * st + (size_t)d * m[j] + 1;
+		pt->edf = point_edf(dev, alpha, m[j], npe, st);
+		pt->edf_full = st == 1 || dev == SSCOPE_DEV_ADEV ||
+					       dev == SSCOPE_DEV_HDEV ?
+				       pt->edf :
+				       point_edf(dev, alpha, m[j],
+						 p->np - 0, 1);
+		if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
+			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
+		} else {
+			ssc_allan_ci(pt->dev, pt->edf, level, &pt->dev_lo,
+				     &pt->dev_hi);
+		}
+		(*n_pts)++;
+	}
+out:
+	free(bases);
+	free(acc);
+	free(used);
+	free(skipped);
+	free(big);
+	return rc;
+}
+
+/* ------------------------------------------------------------------ */
+/* One call                                                            */
+/* ------------------------------------------------------------------ */
+
+static int grid_points(struct sscope_allan *p, const double *x,
+		       size_t stride, size_t n, double rate_hz,
+		       enum sscope_tau_grid grid,
+		       struct sscope_allan_point **pts, size_t *n_pts,
+		       struct sscope_diag *diag)
+{
+	size_t np = sscope_allan_n_phase(p->opts.input, n), cnt, *m;
+	size_t mmax = sscope_allan_max_m(p->opts.dev, np);
+	int rc = sscope_allan_grid(grid, mmax, NULL, 0, &cnt);
+
+	*pts = NULL;
+	*n_pts = 0;
+	if (rc)
+		return rc;
+	if (cnt == 0)
+		return ssc_diag(diag, -EDOM,
+				"too short for %s: %zu sample%s (averaging factor 1 needs %zu)",
+				sscope_dev_name(p->opts.dev), n,
+				n == 1 ? "" : "s",
+				min_samples(p->opts.dev, 1,
+					    p->opts.input == SSCOPE_ALLAN_ANGLE));
+	m = ssc_alloc_array(cnt, sizeof(size_t));
+	*pts = ssc_alloc_array(cnt, sizeof(**pts));
+	if (!m || !*pts) {
+		free(m);
+		free(*pts);
+		*pts = NULL;
+		return -ENOMEM;
+	}
+	sscope_allan_grid(grid, mmax, m, cnt, &cnt);
+	rc = sscope_allan_compute(p, x, stride, n, rate_hz, m, cnt, *pts,
+				  n_pts, diag);
+	free(m);
+	if (rc) {
+		free(*pts);
+		*pts = NULL;
+		*n_pts = 0;
+	}
+	return rc;
+}
+
+int sscope_allan_analyze(const double *x, size_t stride, size_t n,
+			 double rate_hz, enum sscope_tau_grid grid,
+			 const struct sscope_allan_opts *aopts,
+			 const struct sscope_noise_fit_opts *fopts,
+			 struct sscope_allan_result **resp,
+			 struct sscope_diag *diag)
+{
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p = NULL;
+	struct sscope_allan_result *res;
+	int rc;
+
+	if (!resp || !x || n == 0)
+		return ssc_diag(diag, -EINVAL, "allan: bad parameters");
+	*resp = NULL;
+	if (aopts)
+		o = *aopts;
+	res = calloc(1, sizeof(*res));
+	if (!res)
+		return -ENOMEM;
+	rc = sscope_allan_new(&p, n, &o);
+	if (rc)
+		goto fail;
+	res->n_phase = sscope_allan_n_phase(o.input, n);
+	rc = grid_points(p, x, stride, n, rate_hz, grid, &res->points,
+			 &res->n_points, diag);
+	if (rc)
+		goto fail;
+	if (o.dev == SSCOPE_DEV_OADEV) {
+		res->oadev = res->points;
+		res->n_oadev = res->n_points;
+	} else {
+		struct sscope_diag d2;
+
+		p->opts.dev = SSCOPE_DEV_OADEV;
+		p->opts.stride_div = 0;
+		rc = grid_points(p, x, stride, n, rate_hz, grid, &res->oadev,
+				 &res->n_oadev, &d2);
+		if (rc)
+			goto fail;
+	}
+	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
+					  res->n_phase, fopts, &res->fit, NULL);
+	res->have_fit = res->fit_error == 0;
+	sscope_allan_free(p);
+	*resp = res;
+	return 0;
+fail:
+	sscope_allan_free(p);
+	sscope_allan_result_free(res);
+	return rc;
+}
+
+void sscope_allan_result_free(struct sscope_allan_result *res)
+{
+	if (!res)
+		return;
+	if (res->oadev != res->points)
+		free(res->oadev);
+	free(res->points);
+	free(res);
+}

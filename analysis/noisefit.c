@@ -1,0 +1,1044 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * IEEE Std 952-1997 (Annex C) noise terms from overlapping Allan variances:
+ * sigma^2(tau) = 3 Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + K^2 tau/3 +
+ * R^2 tau^2/2, fitted by weighted least squares on AVAR (weights from each
+ * point's EDF, iterated with the model), every subset of the allowed terms
+ * tried, non-positive coefficients rejected, the subset chosen by Akaike's
+ * criterion chi2 + 2p, chi2 the generalised residual with the full
+ * covariance of the estimates under the non-negative least-squares model;
+ * coefficient intervals from the sandwich covariance.
+ *
+ * The covariance of overlapping AVAR estimates: with d_i the second
+ * difference of phase at lag m, AVAR = sum_i d_i^2 / (2 tau^2 n) and, for
+ * Gaussian d with means mu (a rate ramp), Cov(d_a^2, d_b^2) = 2 c^2 +
+ * 4 mu_a mu_b c, c = Cov(d_a, d_b).  c follows from the generalised
+ * covariance G of the phase (Matheron's intrinsic random functions; the
+ * same "sw" functions Greenhall & Riley use for the EDF): white angle
+ * Q^2 [t = 0]; white rate -N^2 |t| / 2; flicker rate B^2 t^2 ln|t| / (2 pi);
+ * sampled rate random walk K^2 (|t|^3 - dt^2 |t|) / 12 (exact at the
+ * sample times: its fourth difference is the white increment variance).
+ * Sums over the lag between two terms are exact near the kinks and by
+ * Gauss-Legendre quadrature (midpoint correspondence) on the smooth parts;
+ * the far tail of the flicker term uses its fourth-derivative asymptote.
+ * References: IEEE Std 952-1997 Annex C; N. El-Sheimy, H. Hou, X. Niu,
+ * "Analysis and modeling of inertial sensors using Allan variance", IEEE
+ * TIM 57(1), 2008; C. A. Greenhall, W. J. Riley, PTTI 2003; H. Akaike,
+ * IEEE TAC 19(6), 1974.
+ */
+#include "allan-internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_multifit.h>
+#include <gsl/gsl_vector.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define PI 3.14159265358979323846
+#define LN2 0.69314718055994530942
+#define NT 5   /* terms Q N B K R */
+#define NR 4   /* random terms Q N B K */
+
+double sscope_noise_avar(const double c[5], double tau)
+{
+	return 3 * c[0] * c[0] / (tau * tau) + c[1] * c[1] / tau +
+	       2 * LN2 / PI * c[2] * c[2] + c[3] * c[3] * tau / 3 +
+	       c[4] * c[4] * tau * tau / 2;
+}
+
+static double basis(int j, double tau)
+{
+	switch (j) {
+	case 0:
+		return 3 / (tau * tau);
+	case 1:
+		return 1 / tau;
+	case 2:
+		return 2 * LN2 / PI;
+	case 3:
+		return tau / 3;
+	default:
+		return tau * tau / 2;
+	}
+}
+
+/* ------------------------------------------------------------------ */
+/* Covariance of overlapping AVAR estimates                            */
+/* ------------------------------------------------------------------ */
+
+/* per pair of points: P[t][u] = sum_k count(k) g_t(k) g_u(k) and
+ * L[t] = sum_k count(k) g_t(k), t, u over Q N B K */
+struct pairsum {
+	double P[NR][NR];
+	double L[NR];
+};
+
+struct pairgeo {
+	double ma, mb;   /* lags, samples */
+	double na, nb;   /* term counts */
+	double dt;       /* sample period, s */
+	double far;      /* |centre offset| beyond which the flicker term
+			    uses its asymptote */
+};
+
+static const double wgt[3] = { 1, -2, 1 };
+
+/* terms pairs (i, j) with j - i = k */
+static double count_at(const struct pairgeo *g, double k)
+{
+	double hi = fmin(g->na, g->nb - k), lo = fmax(0, -k);
+
+	return hi > lo ? hi - lo : 0;
+}
+
+static double tlnt(double t)
+{
+	double a = fabs(t);
+
+	return a == 0 ? 0 : t * t * log(a);
+}
+
+/* cross-covariance per unit coefficient of the N, B, K terms at lag k
+ * (samples, real for quadrature nodes); g[0] (Q) is left 0 */
+static void gvec(const struct pairgeo *g, double k, double *v)
+{
+	double n = 0, b = 0, kk = 0;
+	double tc = k + g->mb - g->ma; /* offset of the two centres */
+
+	for (int p = 0; p < 3; p++)
+		for (int q = 0; q < 3; q++) {
+			double w = wgt[p] * wgt[q];
+			double t = k + q * g->mb - p * g->ma, a = fabs(t);
+
+			n += w * a;
+			kk += w * (a * a * a - a);
+			if (fabs(tc) <= g->far)
+				b += w * tlnt(t);
+		}
+	if (fabs(tc) > g->far) {
+		/* sum_pq w (t_c + u)^2 ln|t_c + u| by its Taylor series:
+		 * m_a^2 m_b^2 f''''(t_c) + m_a^2 m_b^2 (m_a^2 + m_b^2) / 12
+		 * f''''''(t_c), f = t^2 ln|t|: f'''' = -2/t^2, f^(6) = -12/t^4 */
+		double ma2 = g->ma * g->ma, mb2 = g->mb * g->mb, t2 = tc * tc;
+
+		b = ma2 * mb2 * (-2 / t2) * (1 + (ma2 + mb2) / (2 * t2));
+	}
+	v[0] = 0;
+	v[1] = -0.5 * g->dt * n;
+	v[2] = g->dt * g->dt * b / (2 * PI);
+	v[3] = g->dt * g->dt * g->dt * kk / 12;
+}
+
+static void accum(struct pairsum *s, double c, const double *v, double w)
+{
+	double cw = c * w;
+
+	if (cw == 0)
+		return;
+	for (int t = 1; t < NR; t++) {
+		s->L[t] += cw * v[t];
+		for (int u = t; u < NR; u++)
+			s->P[t][u] += cw * v[t] * v[u];
+	}
+}
+
+/* Gauss-Legendre, 6 nodes on [-1, 1] */
+static const double gl_x[6] = { -0.9324695142031521, -0.6612093864662645,
+				-0.2386191860831969, 0.2386191860831969,
+				0.6612093864662645, 0.9324695142031521 };
+static const double gl_w[6] = { 0.1713244923791704, 0.3607615730481386,
+				0.4679139345726910, 0.4679139345726910,
+				0.3607615730481386, 0.1713244923791704 };
+
+static void quad(const struct pairgeo *g, struct pairsum *s, double a,
+		 double b)
+{
+	double h = (b - a) / 2, c = (a + b) / 2, v[NR];
+
+	for (int i = 0; i < 6; i++) {
+		double k = c + h * gl_x[i];
+
+		gvec(g, k, v);
+		accum(s, count_at(g, k), v, h * gl_w[i]);
+	}
+}
+
+/* sum over the integers of [a, b) on which every g is smooth: exact near
+ * the ends, the rest as the integral over [a + E - 1/2, b - E - 1/2] on
+ * intervals growing geometrically (x4) away from both ends */
+#define END_EXACT 8
+static void piece(const struct pairgeo *g, struct pairsum *s, double a,
+		  double b)
+{
+	double v[NR];
+
+	if (b - a <= 4 * END_EXACT) {
+		for (double k = a; k < b; k++) {
+			gvec(g, k, v);
+			accum(s, count_at(g, k), v, 1);
+		}
+		return;
+	}
+	for (double k = a; k < a + END_EXACT; k++) {
+		gvec(g, k, v);
+		accum(s, count_at(g, k), v, 1);
+	}
+	for (double k = b - END_EXACT; k < b; k++) {
+		gvec(g, k, v);
+		accum(s, count_at(g, k), v, 1);
+	}
+	{
+		double lo = a + END_EXACT - 0.5, hi = b - END_EXACT - 0.5;
+		double mid = (lo + hi) / 2, w = 8, x = lo;
+		static const double off[4] = { -0.5, 0.5, -0.5, 0.5 };
+		static const double sgn[4] = { -1, 1, 1, -1 };
+
+		/* Euler-Maclaurin: sum = integral - (f'(hi) - f'(lo)) / 24 */
+		for (int i = 0; i < 4; i++) {
+			double k = (i < 2 ? lo : hi) + off[i];
+
+			gvec(g, k, v);
+			accum(s, count_at(g, k), v, sgn[i] / 24);
+		}
+
+		while (x < mid) {
+			double e = fmin(x + w, mid);
+
+			quad(g, s, x, e);
+			x = e;
+			w *= 4;
+		}
+		x = hi;
+		w = 8;
+		while (x > mid) {
+			double e = fmax(x - w, mid);
+
+			quad(g, s, e, x);
+			x = e;
+			w *= 4;
+		}
+	}
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+static void pair_sums(double ma, double mb, double na, double nb, double dt,
+		      struct pairsum *s)
+{
+	struct pairgeo g = { ma, mb, na, nb, dt, 0 };
+	double bp[32], lo = -(na - 1), hi = nb - 1;
+	size_t nbp = 0;
+
+	memset(s, 0, sizeof(*s));
+	g.far = 30 * (ma + mb);
+	/* kinks of the g's, of count(), the far-tail switch, the domain */
+	for (int p = 0; p < 3; p++)
+		for (int q = 0; q < 3; q++)
+			bp[nbp++] = p * ma - q * mb;
+	bp[nbp++] = 0;
+	bp[nbp++] = nb - na;
+	bp[nbp++] = g.far - mb + ma;
+	bp[nbp++] = -g.far - mb + ma + 1;
+	bp[nbp++] = lo;
+	bp[nbp++] = hi + 1;
+	qsort(bp, nbp, sizeof(double), cmp_d);
+	for (size_t i = 0; i + 1 < nbp; i++) {
+		double a = fmax(bp[i], lo), b = fmin(bp[i + 1], hi + 1);
+
+		if (b > a)
+			piece(&g, s, a, b);
+	}
+	/* white angle noise: nonzero only where two points coincide */
+	for (int p = 0; p < 3; p++)
+		for (int q = 0; q < 3; q++) {
+			double k = p * ma - q * mb, e = 0, v[NR], c;
+			bool first = true;
+
+			if (k < lo || k > hi)
+				continue;
+			/* handle each distinct k once */
+			for (int pp = 0; pp < 3 && first; pp++)
+				for (int qq = 0; qq < 3; qq++) {
+					if (pp * 3 + qq >= p * 3 + q)
+						break;
+					if (pp * ma - qq * mb == k)
+						first = false;
+				}
+			if (!first)
+				continue;
+			for (int pp = 0; pp < 3; pp++)
+				for (int qq = 0; qq < 3; qq++)
+					if (pp * ma - qq * mb == k)
+						e += wgt[pp] * wgt[qq];
+			if (e == 0)
+				continue;
+			c = count_at(&g, k);
+			gvec(&g, k, v);
+			s->P[0][0] += c * e * e;
+			s->L[0] += c * e;
+			for (int t = 1; t < NR; t++)
+				s->P[0][t] += c * e * v[t];
+		}
+	for (int t = 0; t < NR; t++)
+		for (int u = 0; u < t; u++)
+			s->P[t][u] = s->P[u][t];
+}
+
+/* covariance of two AVAR estimates for coefficients c (SI) */
+static double cov_from(const struct pairsum *s, const double c[NT],
+		       double ta, double tb, double na, double nb)
+{
+	double th[NR] = { c[0] * c[0], c[1] * c[1], c[2] * c[2], c[3] * c[3] };
+	double q = 0, l = 0, r2 = c[4] * c[4];
+
+	for (int t = 0; t < NR; t++) {
+		l += th[t] * s->L[t];
+		for (int u = 0; u < NR; u++)
+			q += th[t] * th[u] * s->P[t][u];
+	}
+	return (2 * q + 4 * r2 * ta * ta * tb * tb * l) /
+	       (4 * ta * ta * tb * tb * na * nb);
+}
+
+/* pair sums of every pair of n points (upper triangle, row-major) */
+static struct pairsum *all_pairs(const size_t *m, const size_t *terms,
+				 size_t n, double dt)
+{
+	struct pairsum *ps = ssc_alloc_array(n * n, sizeof(*ps));
+
+	if (!ps)
+		return NULL;
+SSC_OMP(omp parallel for schedule(dynamic, 1))
+	for (size_t a = 0; a < n; a++)
+		for (size_t b = a; b < n; b++)
+			pair_sums((double)m[a], (double)m[b], (double)terms[a],
+				  (double)terms[b], dt, &ps[a * n + b]);
+	return ps;
+}
+
+int sscope_noise_avar_cov(const double coef[5], double rate_hz,
+			  const size_t *m, const size_t *terms, size_t n,
+			  double *cov)
+{
+	struct pairsum *ps;
+	double dt;
+
+	if (!coef || !m || !terms || !cov || !(rate_hz > 0) || n == 0)
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++)
+		if (m[i] == 0 || terms[i] == 0)
+			return -EINVAL;
+	dt = 1 / rate_hz;
+	ps = all_pairs(m, terms, n, dt);
+	if (!ps)
+		return -ENOMEM;
+	for (size_t a = 0; a < n; a++)
+		for (size_t b = a; b < n; b++) {
+			double v = cov_from(&ps[a * n + b], coef,
+					    (double)m[a] * dt, (double)m[b] * dt,
+					    (double)terms[a], (double)terms[b]);
+
+			cov[a * n + b] = cov[b * n + a] = v;
+		}
+	free(ps);
+	return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* Read-offs                                                           */
+/* ------------------------------------------------------------------ */
+
+int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
+			 struct sscope_noise_readoff *r)
+{
+	size_t idx[4096], k = 0;
+	double best_n = INFINITY, best_k = INFINITY, dmin = INFINITY;
+
+	if (!pts || !r)
+		return -EINVAL;
+	r->n = r->b = r->b_tau_s = r->k = NAN;
+	for (size_t i = 0; i < n && k < 4096; i++)
+		if (pts[i].dev > 0 && isfinite(pts[i].dev) && pts[i].tau_s > 0)
+			idx[k++] = i;
+	if (k < 3)
+		return -EDOM;
+	for (size_t j = 0; j < k; j++) {
+		const struct sscope_allan_point *p = &pts[idx[j]];
+		size_t a = j ? j - 1 : 0, b = j + 1 < k ? j + 1 : j;
+		double sl = (log(pts[idx[b]].dev) - log(pts[idx[a]].dev)) /
+			    (log(pts[idx[b]].tau_s) - log(pts[idx[a]].tau_s));
+
+		if (p->dev < dmin) {
+			dmin = p->dev;
+			r->b_tau_s = p->tau_s;
+		}
+		if (fabs(sl + 0.5) < 0.25 && fabs(sl + 0.5) < best_n) {
+			best_n = fabs(sl + 0.5);
+			r->n = p->dev * sqrt(p->tau_s);
+		}
+		if (fabs(sl - 0.5) < 0.25 && fabs(sl - 0.5) < best_k) {
+			best_k = fabs(sl - 0.5);
+			r->k = p->dev * sqrt(3 / p->tau_s);
+		}
+	}
+	r->b = dmin / sqrt(2 * LN2 / PI);
+	return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* The fit                                                             */
+/* ------------------------------------------------------------------ */
+
+struct fitdata {
+	size_t n;
+	double *tau, *y, *edf, *scale; /* scale: strided-estimator factor */
+	size_t *m, *terms;
+	struct pairsum *ps;
+	double dt, model_error;
+	/* work */
+	gsl_matrix *X, *cov;
+	gsl_vector *w, *yv, *c;
+	gsl_multifit_linear_workspace *ws;
+	gsl_matrix *S, *Sc; /* n x n */
+	gsl_vector *r;
+};
+
+/* full covariance (with model error) for coefficients c into S */
+static void model_cov(const struct fitdata *f, const double c[NT],
+		      const double *mu, gsl_matrix *S)
+{
+	for (size_t a = 0; a < f->n; a++)
+		for (size_t b = a; b < f->n; b++) {
+			double v = cov_from(&f->ps[a * f->n + b], c, f->tau[a],
+					    f->tau[b], (double)f->terms[a],
+					    (double)f->terms[b]) *
+				   f->scale[a] * f->scale[b];
+
+			if (a == b)
+				v += f->model_error * f->model_error * mu[a] * mu[a];
+			gsl_matrix_set(S, a, b, v);
+			gsl_matrix_set(S, b, a, v);
+		}
+}
+
+/*
+ * Weighted LS of the terms in mask: coefficients of the squares in th[]
+ * (NT entries, 0 for terms not in mask), iterated weights ED / (2 mu^2).
+ * Returns 0, or -EDOM when the system is singular.
+ */
+static int wls(struct fitdata *f, unsigned mask, double th[NT], double *mu,
+	       int iters)
+{
+	int cols[NT], p = 0;
+
+	for (int j = 0; j < NT; j++)
+		if (mask & (1u << j))
+			cols[p++] = j;
+	if (p == 0 || (size_t)p > f->n)
+		return -EDOM;
+	for (size_t k = 0; k < f->n; k++)
+		mu[k] = f->y[k];
+	for (int it = 0; it < iters; it++) {
+		gsl_matrix_view X = gsl_matrix_submatrix(f->X, 0, 0, f->n, (size_t)p);
+		gsl_matrix_view C = gsl_matrix_submatrix(f->cov, 0, 0, (size_t)p, (size_t)p);
+		gsl_vector_view c = gsl_vector_subvector(f->c, 0, (size_t)p);
+		double chisq, colscale[NT];
+		size_t rank;
+
+		/* columns scaled to unit maximum for conditioning */
+		for (int j = 0; j < p; j++) {
+			double mx = 0;
+
+			for (size_t k = 0; k < f->n; k++)
+				mx = fmax(mx, fabs(basis(cols[j], f->tau[k]) / f->y[k]));
+			colscale[j] = mx > 0 ? mx : 1;
+		}
+		for (size_t k = 0; k < f->n; k++) {
+			double m2 = mu[k] > 0 ? mu[k] : f->y[k];
+
+			/* rows scaled by 1/y: weights stay O(edf) */
+			for (int j = 0; j < p; j++)
+				gsl_matrix_set(&X.matrix, k, (size_t)j,
+					       basis(cols[j], f->tau[k]) /
+						       (f->y[k] * colscale[j]));
+			gsl_vector_set(f->yv, k, 1.0);
+			gsl_vector_set(f->w, k,
+				       f->edf[k] / (2 * f->scale[k] * f->scale[k]) *
+					       (f->y[k] / m2) * (f->y[k] / m2));
+		}
+		if (gsl_multifit_wlinear_tsvd(&X.matrix, f->w, f->yv, 1e-14,
+					      &c.vector, &C.matrix, &chisq, &rank,
+					      f->ws) ||
+		    rank < (size_t)p)
+			return -EDOM;
+		for (int j = 0; j < NT; j++)
+			th[j] = 0;
+		for (int j = 0; j < p; j++)
+			th[cols[j]] = gsl_vector_get(&c.vector, (size_t)j) /
+				      colscale[j];
+		for (size_t k = 0; k < f->n; k++) {
+			mu[k] = 0;
+			for (int j = 0; j < NT; j++)
+				mu[k] += th[j] * basis(j, f->tau[k]);
+		}
+	}
+	return 0;
+}
+
+static void th_to_coef(const double th[NT], double c[NT])
+{
+	for (int j = 0; j < NT; j++)
+		c[j] = th[j] > 0 ? sqrt(th[j]) : 0;
+}
+
+/* In-place lower Cholesky factor of the n x n matrix a (row stride lda).
+ * Returns -EDOM when a is not positive definite (no GSL error handler). */
+static int chol(double *a, size_t n, size_t lda)
+{
+	for (size_t j = 0; j < n; j++) {
+		double s = a[j * lda + j];
+
+		for (size_t k = 0; k < j; k++)
+			s -= a[j * lda + k] * a[j * lda + k];
+		if (!(s > 0) || !isfinite(s))
+			return -EDOM;
+		s = sqrt(s);
+		a[j * lda + j] = s;
+		for (size_t i = j + 1; i < n; i++) {
+			double t = a[i * lda + j];
+
+			for (size_t k = 0; k < j; k++)
+				t -= a[i * lda + k] * a[j * lda + k];
+			a[i * lda + j] = t / s;
+		}
+	}
+	return 0;
+}
+
+/* solve L z = r in place (L from chol) */
+static void forward(const double *l, size_t n, size_t lda, double *r)
+{
+	for (size_t i = 0; i < n; i++) {
+		double t = r[i];
+
+		for (size_t k = 0; k < i; k++)
+			t -= l[i * lda + k] * r[k];
+		r[i] = t / l[i * lda + i];
+	}
+}
+
+/* inverse of a small symmetric positive definite p x p matrix */
+static int spd_inverse(const gsl_matrix *M, gsl_matrix *Minv)
+{
+	size_t p = M->size1;
+	double l[NT * NT], e[NT];
+
+	for (size_t i = 0; i < p; i++)
+		for (size_t j = 0; j < p; j++)
+			l[i * NT + j] = gsl_matrix_get(M, i, j);
+	if (chol(l, p, NT))
+		return -EDOM;
+	for (size_t c = 0; c < p; c++) {
+		for (size_t i = 0; i < p; i++)
+			e[i] = i == c;
+		forward(l, p, NT, e);
+		/* back substitution with L' */
+		for (size_t i = p; i-- > 0;) {
+			double t = e[i];
+
+			for (size_t k = i + 1; k < p; k++)
+				t -= l[k * NT + i] * e[k];
+			e[i] = t / l[i * NT + i];
+		}
+		for (size_t i = 0; i < p; i++)
+			gsl_matrix_set(Minv, i, c, e[i]);
+	}
+	return 0;
+}
+
+/*
+ * Factor the reference covariance (of the reference model mu_ref) once:
+ * relative scaling S~ = D^-1 S D^-1 with D = diag(mu_ref), Cholesky into
+ * f->Sc.
+ */
+static int ref_factor(struct fitdata *f, const double th[NT],
+		      const double *mu_ref)
+{
+	double c[NT];
+
+	th_to_coef(th, c);
+	model_cov(f, c, mu_ref, f->S);
+	for (size_t a = 0; a < f->n; a++)
+		for (size_t b = 0; b < f->n; b++)
+			gsl_matrix_set(f->Sc, a, b,
+				       gsl_matrix_get(f->S, a, b) /
+					       (mu_ref[a] * mu_ref[b]));
+	return chol(f->Sc->data, f->n, f->Sc->tda);
+}
+
+/* generalised chi-squared of the residuals y - mu with the factored
+ * reference covariance */
+static double gchi2(struct fitdata *f, const double *mu, const double *mu_ref)
+{
+	double chi2 = 0;
+
+	for (size_t a = 0; a < f->n; a++)
+		gsl_vector_set(f->r, a, (f->y[a] - mu[a]) / mu_ref[a]);
+	forward(f->Sc->data, f->n, f->Sc->tda, f->r->data);
+	for (size_t a = 0; a < f->n; a++)
+		chi2 += gsl_vector_get(f->r, a) * gsl_vector_get(f->r, a);
+	return chi2;
+}
+
+/*
+ * Sandwich covariance of the squared coefficients of mask with the final
+ * weights: V = (A'WA)^-1 A'W S W A (A'WA)^-1.  sd[] gets the standard
+ * deviations (0 for terms not in mask).
+ */
+static int sandwich(struct fitdata *f, unsigned mask, const double *mu,
+		    const gsl_matrix *S, double sd[NT], double th_out[NT])
+{
+	int cols[NT], p = 0, rc = 0;
+	gsl_matrix *A, *WA, *M, *V;
+
+	for (int j = 0; j < NT; j++) {
+		sd[j] = 0;
+		if (mask & (1u << j))
+			cols[p++] = j;
+	}
+	A = gsl_matrix_alloc(f->n, (size_t)p);
+	WA = gsl_matrix_alloc(f->n, (size_t)p);
+	M = gsl_matrix_alloc((size_t)p, (size_t)p);
+	V = gsl_matrix_alloc((size_t)p, (size_t)p);
+	if (!A || !WA || !M || !V) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	for (size_t k = 0; k < f->n; k++) {
+		double w = f->edf[k] / (2 * mu[k] * mu[k] * f->scale[k] * f->scale[k]);
+
+		for (int j = 0; j < p; j++) {
+			double a = basis(cols[j], f->tau[k]);
+
+			gsl_matrix_set(A, k, (size_t)j, a);
+			gsl_matrix_set(WA, k, (size_t)j, w * a);
+		}
+	}
+	/* M = A'WA */
+	gsl_blas_dgemm(CblasTrans, CblasNoTrans, 1, A, WA, 0, M);
+	{
+		gsl_matrix *Minv = gsl_matrix_alloc((size_t)p, (size_t)p);
+		gsl_matrix *SWA = gsl_matrix_alloc(f->n, (size_t)p);
+		gsl_vector *b = gsl_vector_alloc((size_t)p);
+
+		if (!Minv || !SWA || !b) {
+			gsl_matrix_free(Minv);
+			gsl_matrix_free(SWA);
+			gsl_vector_free(b);
+			rc = -ENOMEM;
+			goto out;
+		}
+		if (spd_inverse(M, Minv)) {
+			rc = -EDOM;
+		} else {
+			/* V = Minv (WA)' S (WA) Minv */
+			gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1, S, WA, 0, SWA);
+			gsl_blas_dgemm(CblasTrans, CblasNoTrans, 1, WA, SWA, 0, M);
+			gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1, Minv, M, 0, V);
+			gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1, V, Minv, 0, M);
+			for (int j = 0; j < p; j++) {
+				double v = gsl_matrix_get(M, (size_t)j, (size_t)j);
+
+				sd[cols[j]] = v > 0 ? sqrt(v) : 0;
+			}
+			/* the WLS estimate with these weights */
+			if (th_out) {
+				gsl_vector *rhs = gsl_vector_alloc((size_t)p);
+
+				if (rhs) {
+					for (int j = 0; j < p; j++) {
+						double s = 0;
+
+						for (size_t k = 0; k < f->n; k++)
+							s += gsl_matrix_get(WA, k, (size_t)j) * f->y[k];
+						gsl_vector_set(rhs, (size_t)j, s);
+					}
+					gsl_blas_dgemv(CblasNoTrans, 1, Minv, rhs, 0, b);
+					for (int j = 0; j < NT; j++)
+						th_out[j] = 0;
+					for (int j = 0; j < p; j++)
+						th_out[cols[j]] = gsl_vector_get(b, (size_t)j);
+					gsl_vector_free(rhs);
+				}
+			}
+		}
+		gsl_matrix_free(Minv);
+		gsl_matrix_free(SWA);
+		gsl_vector_free(b);
+	}
+out:
+	gsl_matrix_free(A);
+	gsl_matrix_free(WA);
+	gsl_matrix_free(M);
+	gsl_matrix_free(V);
+	return rc;
+}
+
+static void free_fitdata(struct fitdata *f)
+{
+	free(f->tau);
+	free(f->y);
+	free(f->edf);
+	free(f->scale);
+	free(f->m);
+	free(f->terms);
+	free(f->ps);
+	if (f->X)
+		gsl_matrix_free(f->X);
+	if (f->cov)
+		gsl_matrix_free(f->cov);
+	if (f->w)
+		gsl_vector_free(f->w);
+	if (f->yv)
+		gsl_vector_free(f->yv);
+	if (f->c)
+		gsl_vector_free(f->c);
+	if (f->ws)
+		gsl_multifit_linear_free(f->ws);
+	if (f->S)
+		gsl_matrix_free(f->S);
+	if (f->Sc)
+		gsl_matrix_free(f->Sc);
+	if (f->r)
+		gsl_vector_free(f->r);
+}
+
+static int popcount(unsigned x)
+{
+	int c = 0;
+
+	for (; x; x &= x - 1)
+		c++;
+	return c;
+}
+
+/*
+ * Intervals of the terms under one model (mask, squared coefficients th,
+ * model values mu): a term of the model gets [sqrt(th - z sd),
+ * sqrt(th + z sd)] with the sandwich sd under that model's covariance; an
+ * allowed term outside it gets [0, upper limit], the limit from the model
+ * plus that term (its own variance included, a negative estimate counting
+ * as 0).  Uses f->S and f->Sc as scratch; tmp holds n doubles.
+ */
+static int model_intervals(struct fitdata *f, unsigned mask,
+			   const double th[NT], const double *mu,
+			   unsigned allowed, double z, double lo[NT],
+			   double hi[NT], double sdv[NT], double *tmp)
+{
+	double c[NT], sd[NT];
+	int rc;
+
+	th_to_coef(th, c);
+	model_cov(f, c, mu, f->S);
+	rc = sandwich(f, mask, mu, f->S, sd, NULL);
+	if (rc)
+		return rc;
+	for (int j = 0; j < NT; j++) {
+		lo[j] = hi[j] = sdv[j] = NAN;
+		if (mask & (1u << j)) {
+			sdv[j] = sd[j];
+			lo[j] = sqrt(fmax(0, th[j] - z * sd[j]));
+			hi[j] = sqrt(th[j] + z * sd[j]);
+		} else if (allowed & (1u << j)) {
+			unsigned m2 = mask | (1u << j);
+			double sd2[NT], th2[NT], c2[NT];
+
+			lo[j] = 0;
+			if ((size_t)popcount(m2) > f->n ||
+			    sandwich(f, m2, mu, f->S, sd2, th2))
+				continue;
+			for (int t = 0; t < NT; t++)
+				th2[t] = fmax(0, th2[t]);
+			th_to_coef(th2, c2);
+			for (size_t k = 0; k < f->n; k++) {
+				tmp[k] = 0;
+				for (int t = 0; t < NT; t++)
+					tmp[k] += th2[t] * basis(t, f->tau[k]);
+			}
+			model_cov(f, c2, tmp, f->Sc);
+			if (sandwich(f, m2, mu, f->Sc, sd2, NULL) == 0) {
+				sdv[j] = sd2[j];
+				hi[j] = sqrt(th2[j] + z * sd2[j]);
+			}
+		}
+	}
+	return 0;
+}
+
+int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
+		     double rate_hz, size_t n_phase,
+		     const struct sscope_noise_fit_opts *opts,
+		     struct sscope_noise_fit *fit, struct sscope_diag *diag)
+{
+	struct sscope_noise_fit_opts o = { 0 };
+	struct fitdata f = { 0 };
+	unsigned allowed, best_mask = 0;
+	double best_crit = INFINITY, best_th[NT] = { 0 }, best_chi2 = 0, z;
+	double *mu = NULL, *bmu = NULL, (*ths)[NT] = NULL, *mus = NULL;
+	double crits[1u << NT];
+	bool feas[1u << NT] = { false };
+	int rc = 0;
+
+	(void)n_phase;
+	if (!pts || !fit || !(rate_hz > 0))
+		return ssc_diag(diag, -EINVAL, "noise fit: bad parameters");
+	if (opts)
+		o = *opts;
+	if (o.ci_level == 0)
+		o.ci_level = 0.682689492137086;
+	if (!(o.ci_level > 0 && o.ci_level < 1) || o.allowed >= (1u << NT) ||
+	    (o.forced & ~(o.allowed ? o.allowed : (1u << NT) - 1)) ||
+	    o.tau_min_s < 0 || o.tau_max_s < 0)
+		return ssc_diag(diag, -EINVAL, "noise fit: bad options");
+	allowed = o.allowed ? o.allowed : (1u << NT) - 1;
+	f.model_error = o.model_error == 0 ? 0.01 :
+			o.model_error < 0 ? 0 : o.model_error;
+	memset(fit, 0, sizeof(*fit));
+	fit->ci_level = o.ci_level;
+	for (int j = 0; j < NT; j++) {
+		fit->coef[j].value = NAN;
+		fit->coef[j].lo = fit->coef[j].hi = NAN;
+	}
+	sscope_noise_readoff(pts, n_pts, &fit->readoff);
+	f.dt = 1 / rate_hz;
+	f.tau = ssc_alloc_array(n_pts + 1, sizeof(double));
+	f.y = ssc_alloc_array(n_pts + 1, sizeof(double));
+	f.edf = ssc_alloc_array(n_pts + 1, sizeof(double));
+	f.scale = ssc_alloc_array(n_pts + 1, sizeof(double));
+	f.m = ssc_alloc_array(n_pts + 1, sizeof(size_t));
+	f.terms = ssc_alloc_array(n_pts + 1, sizeof(size_t));
+	if (!f.tau || !f.y || !f.edf || !f.scale || !f.m || !f.terms) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	{
+		bool any_positive = false;
+
+		for (size_t i = 0; i < n_pts; i++) {
+			const struct sscope_allan_point *p = &pts[i];
+
+			if (p->dev > 0)
+				any_positive = true;
+			if (!(p->dev > 0) || !isfinite(p->dev) || p->terms == 0 ||
+			    !(p->edf > 0) || p->m == 0)
+				continue;
+			if ((o.tau_min_s > 0 && p->tau_s < o.tau_min_s) ||
+			    (o.tau_max_s > 0 && p->tau_s > o.tau_max_s))
+				continue;
+			f.tau[f.n] = p->tau_s;
+			f.y[f.n] = p->dev * p->dev;
+			f.edf[f.n] = p->edf;
+			f.scale[f.n] = p->edf_full > p->edf ?
+					       sqrt(p->edf_full / p->edf) :
+					       1;
+			f.m[f.n] = p->m;
+			/* the covariance is for the full overlapping estimator
+			 * over the same span */
+			f.terms[f.n] = p->stride > 1 ? (p->terms - 1) * p->stride + 1 :
+						       p->terms;
+			f.n++;
+		}
+		if (!any_positive) {
+			for (int j = 0; j < NT; j++) {
+				fit->coef[j].value = 0;
+				fit->coef[j].lo = fit->coef[j].hi = 0;
+			}
+			rc = ssc_diag(diag, -EDOM,
+				      "every deviation is zero (constant data): no noise to fit");
+			goto out;
+		}
+	}
+	fit->n_points = f.n;
+	if (f.n < 2) {
+		rc = ssc_diag(diag, -EDOM,
+			      "noise fit: %zu usable point%s (need at least 2)",
+			      f.n, f.n == 1 ? "" : "s");
+		goto out;
+	}
+	f.X = gsl_matrix_alloc(f.n, NT);
+	f.cov = gsl_matrix_alloc(NT, NT);
+	f.w = gsl_vector_alloc(f.n);
+	f.yv = gsl_vector_alloc(f.n);
+	f.c = gsl_vector_alloc(NT);
+	f.S = gsl_matrix_alloc(f.n, f.n);
+	f.Sc = gsl_matrix_alloc(f.n, f.n);
+	f.r = gsl_vector_alloc(f.n);
+	mu = ssc_alloc_array(f.n, sizeof(double));
+	bmu = ssc_alloc_array(f.n, sizeof(double));
+	if (!f.X || !f.cov || !f.w || !f.yv || !f.c || !f.S || !f.Sc || !f.r ||
+	    !mu || !bmu) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	f.ps = all_pairs(f.m, f.terms, f.n, f.dt);
+	if (!f.ps) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	/*
+	 * Every subset containing the forced terms, fitted by iterated WLS;
+	 * those with a non-positive coefficient are infeasible.  The one with
+	 * the smallest weighted residual (fixed weights EDF / 2 y^2) is the
+	 * non-negative least-squares solution: its model gives the reference
+	 * covariance with which every feasible subset is then scored, Akaike
+	 * style, chi2 + 2 p (one covariance for all, so the scores compare).
+	 */
+	ths = ssc_alloc_array(1u << NT, sizeof(*ths));
+	mus = ssc_alloc_array((size_t)(1u << NT) * f.n, sizeof(double));
+	if (!ths || !mus) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	{
+		double chiw[1u << NT], chiw_min = INFINITY;
+		unsigned ref = 0;
+		bool any = false;
+
+		for (unsigned mask = 1; mask < (1u << NT); mask++) {
+			double *m_ = mus + (size_t)mask * f.n;
+			int p = popcount(mask);
+			bool ok = true;
+
+			crits[mask] = INFINITY;
+			if ((mask & ~allowed) || (mask & o.forced) != o.forced ||
+			    (size_t)p > f.n)
+				continue;
+			f.ws = gsl_multifit_linear_alloc(f.n, (size_t)p);
+			if (!f.ws) {
+				rc = -ENOMEM;
+				break;
+			}
+			if (wls(&f, mask, ths[mask], m_, 4))
+				ok = false;
+			gsl_multifit_linear_free(f.ws);
+			f.ws = NULL;
+			for (int j = 0; j < NT && ok; j++)
+				if ((mask & (1u << j)) && !(ths[mask][j] > 0))
+					ok = false;
+			for (size_t k = 0; k < f.n && ok; k++)
+				if (!(m_[k] > 0))
+					ok = false;
+			if (!ok)
+				continue;
+			feas[mask] = true;
+			chiw[mask] = 0;
+			for (size_t k = 0; k < f.n; k++) {
+				double r = (f.y[k] - m_[k]) / f.y[k];
+
+				chiw[mask] += f.edf[k] / (2 * f.scale[k] * f.scale[k]) * r * r;
+			}
+			chiw_min = fmin(chiw_min, chiw[mask]);
+		}
+		/* the reference: the feasible model with the smallest
+		 * weighted residual, i.e. the non-negative least-squares
+		 * solution; its covariance scores every candidate */
+		for (unsigned mask = 1; mask < (1u << NT); mask++)
+			if (feas[mask] && chiw[mask] == chiw_min && !ref) {
+				ref = mask;
+				any = true;
+			}
+		if (!rc && any && ref_factor(&f, ths[ref], mus + (size_t)ref * f.n))
+			any = false;
+		for (unsigned mask = 1; mask < (1u << NT) && !rc && any; mask++) {
+			double chi2;
+
+			if (!feas[mask])
+				continue;
+			chi2 = gchi2(&f, mus + (size_t)mask * f.n, mus + (size_t)ref * f.n);
+			crits[mask] = chi2 + 2 * popcount(mask);
+			if (crits[mask] < best_crit) {
+				best_crit = crits[mask];
+				best_mask = mask;
+				best_chi2 = chi2;
+				memcpy(best_th, ths[mask], sizeof(best_th));
+				memcpy(bmu, mus + (size_t)mask * f.n, f.n * sizeof(double));
+			}
+		}
+	}
+	if (rc)
+		goto out;
+	if (!best_mask) {
+		rc = ssc_diag(diag, -EDOM,
+			      "noise fit: no combination of the allowed terms fits with positive coefficients");
+		goto out;
+	}
+	/*
+	 * Intervals: the selected model's, widened to the union over every
+	 * model whose criterion is within z^2 of the best (not rejected at
+	 * the level, as a one-parameter likelihood-ratio test would have
+	 * it), so that an ambiguous choice between, say, K and B + R over a
+	 * short record shows in the intervals instead of hiding in the
+	 * selection.  A model without a term contributes [0, upper limit].
+	 */
+	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
+	{
+		double lo[NT], hi[NT], sdv[NT];
+
+		rc = model_intervals(&f, best_mask, best_th, bmu, allowed, z,
+				     lo, hi, sdv, mu);
+		if (rc)
+			goto out;
+		for (int j = 0; j < NT; j++) {
+			struct sscope_noise_coef *cf = &fit->coef[j];
+
+			cf->fitted = (best_mask >> j) & 1;
+			cf->value = cf->fitted ? sqrt(best_th[j]) : (double)NAN;
+			cf->lo = lo[j];
+			cf->hi = hi[j];
+			cf->var_sd = sdv[j];
+		}
+		for (unsigned mask = 1; mask < (1u << NT); mask++) {
+			if (mask == best_mask || !feas[mask] ||
+			    !(crits[mask] - best_crit <= z * z))
+				continue;
+			if (model_intervals(&f, mask, ths[mask],
+					    mus + (size_t)mask * f.n, allowed, z,
+					    lo, hi, sdv, mu))
+				continue;
+			for (int j = 0; j < NT; j++) {
+				struct sscope_noise_coef *cf = &fit->coef[j];
+
+				if (isfinite(lo[j]) && !(cf->lo <= lo[j]))
+					cf->lo = lo[j];
+				if (isfinite(hi[j]) && !(cf->hi >= hi[j]))
+					cf->hi = hi[j];
+			}
+			fit->n_plausible++;
+		}
+	}
+	fit->terms = best_mask;
+	fit->chi2 = best_chi2;
+	fit->dof = (double)f.n - popcount(best_mask);
+	fit->p_value = fit->dof > 0 ? gsl_cdf_chisq_Q(best_chi2, fit->dof) : (double)NAN;
+	fit->aic = best_crit;
+out:
+	free(mu);
+	free(bmu);
+	free(ths);
+	free(mus);
+	free_fitdata(&f);
+	return rc;
+}

@@ -1,0 +1,424 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/**
+ * @file sscope-allan.h
+ * @brief Allan-family deviations with confidence intervals, and the IEEE
+ *        Std 952 noise-term fit with uncertainties.
+ *
+ * Conventions of this module:
+ * - Input is a rate (frequency-like: deg/s, m/s^2, V, ...) or an angle
+ *   (phase-like: the integral of a rate) sampled at rate_hz.  Every
+ *   deviation is reported for the *rate*, in the rate's SI unit (an angle
+ *   input in rad gives deviations in rad/s), except TDEV which is an angle
+ *   (rate unit * s).  tau = m / rate_hz.
+ * - Definitions are those of NIST SP 1065 (Riley 2008) and IEEE Std
+ *   1139-2008 on phase data x: a rate record of n samples is integrated to
+ *   n + 1 phase points (after removing its mean, which no deviation sees),
+ *   an angle record of n samples is n phase points.
+ * - A tau is computed only when its estimator has at least one term:
+ *   ADEV, OADEV, TOTDEV m <= (np - 1) / 2; MDEV, TDEV m <= np / 3; HDEV,
+ *   OHDEV m <= (np - 1) / 3 (np phase points).  This is Stable32's limit;
+ *   the last points carry few degrees of freedom and wide intervals.
+ * - NaN samples are gaps: a term whose span touches a NaN is skipped and
+ *   counted in sscope_allan_point::skipped.  TOTDEV refuses gaps (-EDOM).
+ * - Confidence intervals: equivalent degrees of freedom (EDF) after
+ *   Greenhall & Riley (PTTI 2003, as Stable32), for TOTDEV NIST SP 1065
+ *   table 7; the dominant power-law noise at each tau from the lag-1
+ *   autocorrelation (Riley & Greenhall 2004) unless given; chi-squared
+ *   bounds from GSL.
+ */
+#ifndef SSCOPE_ALLAN_H
+#define SSCOPE_ALLAN_H
+
+#include "sensorscope.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Deviation estimators. */
+enum sscope_dev {
+	SSCOPE_DEV_OADEV = 0, /**< overlapping Allan deviation (default) */
+	SSCOPE_DEV_ADEV,      /**< non-overlapping Allan deviation */
+	SSCOPE_DEV_MDEV,      /**< modified Allan deviation */
+	SSCOPE_DEV_TDEV,      /**< time deviation tau * MDEV / sqrt(3) */
+	SSCOPE_DEV_HDEV,      /**< non-overlapping Hadamard deviation */
+	SSCOPE_DEV_OHDEV,     /**< overlapping Hadamard deviation */
+	SSCOPE_DEV_TOTDEV,    /**< total deviation (reflected extension) */
+	SSCOPE_DEV_COUNT_
+};
+
+/** @return "oadev", "adev", ... for @p dev; "" when out of range. */
+const char *sscope_dev_name(enum sscope_dev dev);
+
+/**
+ * Parse a deviation name ("oadev", "adev", "mdev", "tdev", "hdev",
+ * "ohdev", "totdev").
+ * @return 0, or -EINVAL for an unknown name.
+ */
+int sscope_dev_parse(const char *name, enum sscope_dev *dev);
+
+/** What the samples are. */
+enum sscope_allan_input {
+	SSCOPE_ALLAN_RATE = 0, /**< rate / frequency-like (gyro rate) */
+	SSCOPE_ALLAN_ANGLE     /**< angle / phase-like (integrated rate) */
+};
+
+/** Grids of averaging factors m (tau = m / rate_hz). */
+enum sscope_tau_grid {
+	/** about 10 per decade: m = round(10^(k/10)), distinct, and from
+	 *  m >= 32 rounded to 5 significant bits (multiples of
+	 *  2^(floor(log2 m) - 4), at most 3.1 % off the logarithmic
+	 *  spacing) so that every large m shares the power-of-two factors
+	 *  the fast engine uses: 1 2 3 4 5 6 8 10 13 16 20 25 32 40 50 64 80
+	 *  100 128 160 200 248 320 400 496 640 800 992 ... */
+	SSCOPE_TAUS_DENSE = 0,
+	SSCOPE_TAUS_OCTAVE, /**< m = 1, 2, 4, 8, ... */
+	SSCOPE_TAUS_DECADE, /**< m = 1, 2, 4, 10, 20, 40, 100, ... (Stable32) */
+	SSCOPE_TAUS_ALL     /**< every m (O(n^2) work: small records only) */
+};
+
+/**
+ * Number of phase points of a record of @p n samples.
+ * @return n + 1 for rate input, n for angle input.
+ */
+size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n);
+
+/**
+ * Largest averaging factor @p dev accepts for @p n_phase phase points (the
+ * limits in the file comment).
+ * @return the largest m, or 0 when even m = 1 has no term.
+ */
+size_t sscope_allan_max_m(enum sscope_dev dev, size_t n_phase);
+
+/**
+ * Averaging factors of a grid, increasing, each <= @p m_max.
+ * @param m      receives up to @p cap values (may be NULL with cap 0 to
+ *               count them).
+ * @param count  receives the number of grid values <= m_max (may exceed
+ *               @p cap: then only the first @p cap were written).
+ * @return 0, or -EINVAL (unknown grid, NULL count).
+ */
+int sscope_allan_grid(enum sscope_tau_grid grid, size_t m_max, size_t *m,
+		      size_t cap, size_t *count);
+
+/** Options of the deviation engine.  Zero-initialised = OADEV on a rate,
+ *  68.27 % intervals, noise type identified, all threads. */
+struct sscope_allan_opts {
+	enum sscope_dev dev;
+	enum sscope_allan_input input;
+	/** Confidence level of the intervals in (0, 1); 0 selects 0.6827
+	 *  (1 sigma); a negative value computes no interval (lo/hi NaN, the
+	 *  EDF is still reported). */
+	double ci_level;
+	/** Use @p alpha (power-law exponent of the rate PSD: 2 white angle,
+	 *  1 flicker angle, 0 white rate, -1 flicker rate, -2 random-walk
+	 *  rate, -3, -4 for Hadamard) for every tau instead of identifying
+	 *  it from the data. */
+	bool alpha_fixed;
+	int alpha;
+	/** Strided-overlap estimator for very long records (OADEV and OHDEV
+	 *  only): terms start every s = max(1, floor(m / stride_div)) samples
+	 *  instead of every sample, so a tau costs about stride_div * n / m
+	 *  operations instead of n.  The EDF is computed for the estimator
+	 *  actually used (Greenhall's stride factor), and the EDF of the full
+	 *  estimator is reported beside it so the loss is visible.
+	 *  0 = full overlap (the default). */
+	size_t stride_div;
+	/** OpenMP threads; 0 = the OpenMP default; 1 = serial.  Ignored
+	 *  when built without OpenMP.  Results do not depend on it beyond
+	 *  the last bits of a sum. */
+	unsigned threads;
+};
+
+/** One tau of a deviation. */
+struct sscope_allan_point {
+	double tau_s;   /**< m / rate_hz, s */
+	size_t m;       /**< averaging factor */
+	size_t terms;   /**< terms summed (after skipping gaps) */
+	size_t skipped; /**< terms skipped because they touch a NaN */
+	size_t stride;  /**< samples between terms (1: fully overlapping; m:
+			     non-overlapping estimators) */
+	double dev;     /**< the deviation, rate SI unit (TDEV: rate unit * s) */
+	double dev_lo;  /**< lower bound at the confidence level (NaN: none) */
+	double dev_hi;  /**< upper bound (NaN: none) */
+	double edf;     /**< equivalent degrees of freedom of dev^2 */
+	double edf_full; /**< EDF of the fully overlapping estimator (equals
+			      edf unless stride_div was used) */
+	int alpha;      /**< power-law noise exponent used for the EDF */
+	bool alpha_identified; /**< alpha came from this tau's own data (false:
+				    given, or carried over from a shorter tau
+				    because fewer than 30 averages remain) */
+};
+
+/** A deviation plan: workspace for records of up to n_max samples. */
+struct sscope_allan;
+
+/**
+ * Make a plan.  All memory the engine needs is allocated here: one phase
+ * buffer of about n_max doubles (the only copy of the data; strided and
+ * interleaved inputs are read in place) plus per-thread windows of a few
+ * hundred kilobytes; a record with NaN gaps adds a bitmap of n_max / 8
+ * bytes and counts of n_max / 16 bytes.
+ * @param plan   receives the plan; free it with sscope_allan_free().
+ * @param n_max  largest record (samples) compute() will be given.
+ * @param opts   options (NULL: the defaults); copied.
+ * @return 0, -EINVAL (n_max 0, bad option), -ENOMEM.
+ */
+int sscope_allan_new(struct sscope_allan **plan, size_t n_max,
+		     const struct sscope_allan_opts *opts);
+
+/** Free a plan (NULL is ignored). */
+void sscope_allan_free(struct sscope_allan *plan);
+
+/**
+ * Compute the deviation at the averaging factors @p m.
+ * @param plan     a plan with n_max >= n.
+ * @param x        samples x[k * stride], k < n: rate (SI unit U) or angle
+ *                 (U * s), see opts.input; NaN marks a gap.
+ * @param stride   distance between samples (>= 1).
+ * @param n        number of samples.
+ * @param rate_hz  sample rate, Hz (> 0).
+ * @param m        averaging factors, strictly increasing, >= 1; those
+ *                 beyond sscope_allan_max_m() are ignored.
+ * @param n_m      number of factors.
+ * @param pts      receives one point per accepted factor (caller-owned
+ *                 array of n_m).
+ * @param n_pts    receives the number of points written.
+ * @param diag     optional detail of a failure.
+ * @return 0; -EINVAL (NULL pointer, stride 0, rate not positive, n > n_max,
+ *         m not increasing or 0); -EDOM (record too short for any given m,
+ *         fewer than two finite samples, gaps with TOTDEV); -ENOMEM.
+ */
+int sscope_allan_compute(struct sscope_allan *plan, const double *x,
+			 size_t stride, size_t n, double rate_hz,
+			 const size_t *m, size_t n_m,
+			 struct sscope_allan_point *pts, size_t *n_pts,
+			 struct sscope_diag *diag);
+
+/* ------------------------------------------------------------------ */
+/* Equivalent degrees of freedom and noise identification              */
+/* ------------------------------------------------------------------ */
+
+/**
+ * Greenhall & Riley EDF of a variance estimator built on d-th differences
+ * of phase ("Uncertainty of stability variances based on finite
+ * differences", 35th PTTI, 2003), the algorithm Stable32 uses.
+ * @param alpha   power-law exponent of the rate PSD, -4..2, with
+ *                alpha + 2 d > 1.
+ * @param d       difference order: 2 Allan, 3 Hadamard.
+ * @param m       averaging factor.
+ * @param n_phase number of phase points.
+ * @param modified true for MDEV/TDEV (filter factor 1), false otherwise.
+ * @param stride  samples between terms: 1 overlapping, m non-overlapping,
+ *                or anything between (strided estimator).
+ * @return the EDF, or NaN for parameters outside the method.
+ */
+double sscope_allan_edf(int alpha, int d, size_t m, size_t n_phase,
+			bool modified, size_t stride);
+
+/**
+ * Dominant power-law noise at averaging factor @p m by the lag-1
+ * autocorrelation method (Riley & Greenhall, "Power law noise
+ * identification using the lag 1 autocorrelation", EFTF 2004), on phase
+ * points: averaged rate (first differences of the phase decimated by m,
+ * linear trend removed) or decimated phase (quadratic trend removed),
+ * differenced until rho = r1 / (1 + r1) < 0.25 or d = dmax.
+ * @param phase     np phase points (any units).
+ * @param np        number of phase points.
+ * @param m         averaging factor.
+ * @param rate_like true: start from the averaged rate (rate input);
+ *                  false: from the decimated phase (angle input).
+ * @param dmax      2 for Allan-family, 3 for Hadamard deviations.
+ * @param alpha     receives the integer exponent (-4..2).
+ * @param alpha_est receives the fractional estimate (may be NULL).
+ * @return 0; -EDOM when fewer than 30 averages remain or the averages are
+ *         constant; -EINVAL.
+ */
+int sscope_allan_noise_id(const double *phase, size_t np, size_t m,
+			  bool rate_like, int dmax, int *alpha,
+			  double *alpha_est);
+
+/* ------------------------------------------------------------------ */
+/* IEEE 952 noise terms                                                */
+/* ------------------------------------------------------------------ */
+
+/**
+ * Allan variance of the five IEEE Std 952-1997 (Annex C) rate-noise terms:
+ * 3 Q^2 / tau^2 + N^2 / tau + (2 ln2 / pi) B^2 + K^2 tau / 3 +
+ * R^2 tau^2 / 2.
+ * @param coef   Q (U s), N (U/sqrt(Hz)), B (U), K (U/s/sqrt(Hz)), R (U/s),
+ *               indexed by enum sscope_term; U the rate unit.
+ * @param tau_s  averaging time, s.
+ * @return the Allan variance, U^2.
+ */
+double sscope_noise_avar(const double coef[5], double tau_s);
+
+/** A fitted noise coefficient, SI (units as sscope_noise_avar()). */
+struct sscope_noise_coef {
+	double value;  /**< estimate; NaN when the term was not fitted */
+	double lo, hi; /**< interval at the fit's confidence level; for a term
+			    not fitted lo = 0 and hi is an upper limit */
+	double var_sd; /**< standard deviation of the estimate of the
+			    coefficient squared (the fitted variable) */
+	bool fitted;   /**< the term was selected */
+};
+
+/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found). */
+struct sscope_noise_readoff {
+	double n;       /**< sigma(1 s) on the -1/2 line through the point
+			     whose local slope is closest to -1/2, U/sqrt(Hz) */
+	double b;       /**< minimum deviation / 0.6643, U */
+	double b_tau_s; /**< where that minimum is, s */
+	double k;       /**< sigma(3 s) on the +1/2 line through the point
+			     whose local slope is closest to +1/2, U/s/sqrt(Hz) */
+};
+
+/** Options of the fit.  Zero-initialised = every term allowed, 68.27 %
+ *  intervals, 1 % model error, the whole curve. */
+struct sscope_noise_fit_opts {
+	/** Confidence level of the intervals; 0 selects 0.6827. */
+	double ci_level;
+	/** Terms that may be fitted: bits (1u << SSCOPE_TERM_Q) ... (1u <<
+	 *  SSCOPE_TERM_R); 0 allows all five. */
+	unsigned allowed;
+	/** Terms that must be fitted (must be allowed); the selection only
+	 *  adds to them.  0: fully automatic. */
+	unsigned forced;
+	/** Relative standard deviation of the five-term model itself at each
+	 *  tau, added (independently per point) to the sampling covariance:
+	 *  real sensors are not exactly five power laws.  0 selects 0.01; a
+	 *  negative value uses none. */
+	double model_error;
+	/** Fit only points with tau_min_s <= tau <= tau_max_s (0: no limit). */
+	double tau_min_s, tau_max_s;
+};
+
+/** Result of the noise fit. */
+struct sscope_noise_fit {
+	struct sscope_noise_coef coef[5]; /**< indexed by enum sscope_term */
+	unsigned terms;     /**< bit mask of the fitted terms */
+	double ci_level;    /**< level of the intervals */
+	size_t n_points;    /**< points used */
+	double chi2;        /**< generalised chi-squared r' C^-1 r of the
+				 selected model's residuals (C: see above) */
+	double dof;         /**< n_points - number of fitted terms */
+	double p_value;     /**< P(chi2 >= observed) under the model */
+	double aic;         /**< chi2 + 2 p of the selected model */
+	size_t n_plausible; /**< other models within z^2 of the best, whose
+				 intervals widened the reported ones */
+	struct sscope_noise_readoff readoff; /**< classic read-offs */
+};
+
+/**
+ * Fit the five IEEE 952 terms to overlapping Allan variances.
+ *
+ * Method: weighted least squares on AVAR with rows a(tau) = [3/tau^2,
+ * 1/tau, 2 ln2/pi, tau/3, tau^2/2] and unknowns (Q^2, N^2, B^2, K^2, R^2),
+ * weights EDF / (2 model^2) (iterated with the model), for every subset of
+ * the allowed terms; subsets with a non-positive coefficient are rejected;
+ * the feasible subset with the smallest weighted residual is the
+ * non-negative least-squares solution, and the covariance of the
+ * overlapping AVAR estimates under that model scores every feasible subset
+ * by Akaike's criterion chi2 + 2 p (chi2 = r' C^-1 r, one C for all, so the
+ * scores compare; correlated points are not counted as independent).  The
+ * covariance C is computed for a five-term
+ * model (Q white angle, N white rate, B flicker rate, K random-walk rate,
+ * exact for the sampled processes of Q, N, K; R deterministic) by summing
+ * squared cross-covariances of the second differences (Gaussian fourth
+ * moments), plus the model_error term.  The coefficient covariance is the
+ * sandwich (A'WA)^-1 A'W C_s W A (A'WA)^-1 with C_s the covariance under
+ * the selected model; intervals are Gaussian on the squared coefficient,
+ * truncated at 0, then square-rooted.  A term not selected gets lo = 0 and
+ * as hi the upper limit from the selected terms plus that one (a negative
+ * estimate counting as 0).  Model uncertainty: each interval is the union
+ * of the intervals under every feasible model whose criterion is within
+ * z^2 of the best (z the normal quantile of the level), so an ambiguous
+ * selection (K versus B + R over a short record, say) widens the
+ * intervals instead of hiding in the choice.
+ *
+ * @param pts      OADEV points (stride 1 or strided; dev > 0) from
+ *                 sscope_allan_compute() of a rate or angle record.
+ * @param n_pts    number of points.
+ * @param rate_hz  sample rate of the record, Hz.
+ * @param n_phase  phase points of the record.
+ * @param opts     options (NULL: defaults).
+ * @param fit      receives the result.
+ * @param diag     optional detail.
+ * @return 0; -EINVAL (NULL, bad option); -EDOM (fewer points than needed,
+ *         every deviation zero: then every coefficient is 0 with lo = hi =
+ *         0 and fitted false); -ENOMEM.
+ */
+int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
+		     double rate_hz, size_t n_phase,
+		     const struct sscope_noise_fit_opts *opts,
+		     struct sscope_noise_fit *fit, struct sscope_diag *diag);
+
+/**
+ * The classic read-offs alone (no fit).
+ * @param pts    deviation points (OADEV or ADEV), increasing tau.
+ * @return 0, or -EDOM when fewer than 3 positive points.
+ */
+int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n_pts,
+			 struct sscope_noise_readoff *r);
+
+/**
+ * Covariance matrix of overlapping Allan variance estimates for the
+ * five-term model (the matrix the fit uses), for users who want to weigh
+ * their own fits or check a design.
+ * @param coef     model coefficients (SI, as sscope_noise_avar()).
+ * @param rate_hz  sample rate, Hz.
+ * @param m        averaging factors of the points.
+ * @param terms    terms of each estimate (np - 2 m for a full record).
+ * @param n        number of points.
+ * @param cov      receives n * n values, row-major, U^4.
+ * @return 0, -EINVAL, -ENOMEM.
+ */
+int sscope_noise_avar_cov(const double coef[5], double rate_hz,
+			  const size_t *m, const size_t *terms, size_t n,
+			  double *cov);
+
+/* ------------------------------------------------------------------ */
+/* One call                                                            */
+/* ------------------------------------------------------------------ */
+
+/** Everything sscope_allan_analyze() computes. */
+struct sscope_allan_result {
+	size_t n_points;
+	struct sscope_allan_point *points; /**< the requested deviation */
+	/** OADEV points the fit used: the same array as points when the
+	 *  deviation is OADEV, else a separate one */
+	struct sscope_allan_point *oadev;
+	size_t n_oadev;
+	size_t n_phase;     /**< phase points of the record */
+	bool have_fit;      /**< false when the fit failed (fit_error) */
+	int fit_error;      /**< the fit's return code */
+	struct sscope_noise_fit fit;
+};
+
+/**
+ * Deviation on a grid plus the noise fit, in one call (plan made and
+ * freed inside).
+ * @param x, stride, n, rate_hz  the record (see sscope_allan_compute()).
+ * @param grid     tau grid.
+ * @param aopts    deviation options (NULL: defaults).
+ * @param fopts    fit options (NULL: defaults).
+ * @param res      receives the result; free with sscope_allan_result_free().
+ * @param diag     optional detail.
+ * @return as sscope_allan_compute(); a failing fit is not an error (see
+ *         have_fit / fit_error).
+ */
+int sscope_allan_analyze(const double *x, size_t stride, size_t n,
+			 double rate_hz, enum sscope_tau_grid grid,
+			 const struct sscope_allan_opts *aopts,
+			 const struct sscope_noise_fit_opts *fopts,
+			 struct sscope_allan_result **res,
+			 struct sscope_diag *diag);
+
+/** Free a result (NULL is ignored). */
+void sscope_allan_result_free(struct sscope_allan_result *res);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SSCOPE_ALLAN_H */

@@ -1,0 +1,1090 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope allan: Allan-family deviations of each channel with
+ * confidence intervals, the five IEEE 952 noise coefficients with
+ * intervals and the classic read-offs; text, JSON, CSV, a log-log plot
+ * and Kalibr's IMU noise YAML.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "atomic.h"
+#include "plot.h"
+
+enum {
+	OPT_DEV = 2000,
+	OPT_TAUS,
+	OPT_INPUT,
+	OPT_CI,
+	OPT_KALIBR,
+	OPT_NOISE_TYPE,
+	OPT_TERMS,
+	OPT_FIT_TAU,
+	OPT_MODEL_ERROR,
+	OPT_STRIDE,
+	OPT_NO_FIT,
+	OPT_DEV_UNIT,
+	OPT_THREADS,
+};
+
+static const struct ssc_option allan_opts[] = {
+	{ "dev", required_argument, OPT_DEV, "NAME",
+	  "oadev (default), adev, mdev, tdev, hdev, ohdev or totdev" },
+	{ "taus", required_argument, OPT_TAUS, "GRID",
+	  "dense (default, about 10 per decade), octave, decade (1-2-4) or all" },
+	{ "input", required_argument, OPT_INPUT, "rate|angle",
+	  "the samples are a rate (default) or an angle (integrated rate)" },
+	{ "ci", required_argument, OPT_CI, "LEVEL|none",
+	  "confidence level of the intervals (default 0.683)" },
+	{ "kalibr", required_argument, OPT_KALIBR, "PATH.yaml",
+	  "write Kalibr's IMU noise parameters (largest axis per sensor)" },
+	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
+	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
+	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
+	  "terms the fit may use, e.g. N,B,K (default auto: Q,N,B,K,R, selected by AIC)" },
+	{ "fit-tau", required_argument, OPT_FIT_TAU, "MIN:MAX",
+	  "fit only taus in [MIN, MAX] seconds (either may be empty)" },
+	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
+	  "relative error of the five-term model per point (default 0.01; 0 none)" },
+	{ "stride", required_argument, OPT_STRIDE, "K",
+	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
+	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
+	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
+	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's)" },
+	{ "threads", required_argument, OPT_THREADS, "N",
+	  "threads of the computation (default: all)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec spec = {
+	.name = "allan",
+	.usage = "allan [OPTIONS] FILE...",
+	.summary =
+		"Allan-family deviations (NIST SP 1065) of every channel with confidence\n"
+		"intervals (Greenhall-Riley EDF, as Stable32), and the five IEEE 952 noise\n"
+		"terms -- quantization Q, angle/velocity random walk N, bias instability B,\n"
+		"rate random walk K, rate ramp R -- fitted to the overlapping Allan\n"
+		"variance by weighted least squares with automatic term selection, each\n"
+		"with an interval; the classic slope read-offs are shown beside the fit.",
+	.options = allan_opts,
+	.analysis = true,
+	.notes = "Examples:\n"
+		 "  sensorscope allan samples/gyro-static.csv\n"
+		 "  sensorscope allan --plot allan.png --kalibr imu.yaml samples/gyro-static.csv\n"
+		 "  sensorscope allan --dev mdev --taus octave --format json log.csv\n"
+		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
+		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
+		 "m <= (N-1)/2 phase points; MDEV, TDEV: m <= N/3; HDEV, OHDEV: m <= (N-1)/3).\n"
+		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped.",
+};
+
+struct args {
+	struct sscope_allan_opts ao;
+	struct sscope_noise_fit_opts fo;
+	enum sscope_tau_grid grid;
+	const char *kalibr;
+	const char *dev_unit;
+	bool no_fit;
+	double ci;
+};
+
+static int parse_terms(const char *arg, unsigned *mask)
+{
+	const char *p = arg;
+
+	*mask = 0;
+	if (!strcmp(arg, "auto"))
+		return 0;
+	while (*p) {
+		static const char names[] = "QNBKR";
+		const char *c = strchr(names, *p);
+
+		if (!c || !*c)
+			return -1;
+		*mask |= 1u << (c - names);
+		p++;
+		if (*p == ',')
+			p++;
+		else if (*p)
+			return -1;
+	}
+	return *mask ? 0 : -1;
+}
+
+static int handler(int key, const char *arg, void *ctx)
+{
+	struct args *a = ctx;
+
+	switch (key) {
+	case OPT_DEV:
+		if (sscope_dev_parse(arg, &a->ao.dev))
+			return ssc_usage_error("allan",
+					       "--dev: '%s' is not oadev, adev, mdev, tdev, hdev, ohdev or totdev",
+					       arg);
+		return 0;
+	case OPT_TAUS:
+		if (!strcmp(arg, "dense"))
+			a->grid = SSCOPE_TAUS_DENSE;
+		else if (!strcmp(arg, "octave"))
+			a->grid = SSCOPE_TAUS_OCTAVE;
+		else if (!strcmp(arg, "decade"))
+			a->grid = SSCOPE_TAUS_DECADE;
+		else if (!strcmp(arg, "all"))
+			a->grid = SSCOPE_TAUS_ALL;
+		else
+			return ssc_usage_error("allan",
+					       "--taus: '%s' is not dense, octave, decade or all",
+					       arg);
+		return 0;
+	case OPT_INPUT:
+		if (!strcmp(arg, "rate"))
+			a->ao.input = SSCOPE_ALLAN_RATE;
+		else if (!strcmp(arg, "angle"))
+			a->ao.input = SSCOPE_ALLAN_ANGLE;
+		else
+			return ssc_usage_error("allan",
+					       "--input: '%s' is not rate or angle",
+					       arg);
+		return 0;
+	case OPT_CI:
+		if (!strcmp(arg, "none")) {
+			a->ci = -1;
+			return 0;
+		}
+		if (ssc_arg_double("allan", "ci", arg, &a->ci))
+			return SSC_EXIT_USAGE;
+		if (!(a->ci > 0 && a->ci < 1))
+			return ssc_usage_error("allan",
+					       "--ci: %s is not a level between 0 and 1 (e.g. 0.683, 0.95) or none",
+					       arg);
+		return 0;
+	case OPT_KALIBR:
+		a->kalibr = arg;
+		return 0;
+	case OPT_NOISE_TYPE: {
+		static const char *const n[] = { "wpm", "fpm", "wfm", "ffm",
+						 "rwfm" };
+
+		if (!strcmp(arg, "auto")) {
+			a->ao.alpha_fixed = false;
+			return 0;
+		}
+		for (int i = 0; i < 5; i++)
+			if (!strcmp(arg, n[i])) {
+				a->ao.alpha_fixed = true;
+				a->ao.alpha = 2 - i;
+				return 0;
+			}
+		return ssc_usage_error("allan",
+				       "--noise-type: '%s' is not auto, wpm, fpm, wfm, ffm or rwfm",
+				       arg);
+	}
+	case OPT_TERMS:
+		if (parse_terms(arg, &a->fo.allowed))
+			return ssc_usage_error("allan",
+					       "--terms: '%s' is not auto or a list of Q, N, B, K, R",
+					       arg);
+		return 0;
+	case OPT_FIT_TAU: {
+		const char *c = strchr(arg, ':');
+		char lo[64];
+
+		if (!c || (size_t)(c - arg) >= sizeof(lo))
+			return ssc_usage_error("allan",
+					       "--fit-tau: '%s' is not MIN:MAX", arg);
+		memcpy(lo, arg, (size_t)(c - arg));
+		lo[c - arg] = '\0';
+		if ((lo[0] && ssc_arg_double("allan", "fit-tau", lo,
+					     &a->fo.tau_min_s)) ||
+		    (c[1] && ssc_arg_double("allan", "fit-tau", c + 1,
+					    &a->fo.tau_max_s)))
+			return SSC_EXIT_USAGE;
+		if (a->fo.tau_min_s < 0 || a->fo.tau_max_s < 0 ||
+		    (a->fo.tau_max_s > 0 && a->fo.tau_max_s <= a->fo.tau_min_s))
+			return ssc_usage_error("allan",
+					       "--fit-tau: need 0 <= MIN < MAX");
+		return 0;
+	}
+	case OPT_MODEL_ERROR:
+		if (ssc_arg_double("allan", "model-error", arg, &a->fo.model_error))
+			return SSC_EXIT_USAGE;
+		if (a->fo.model_error < 0 || a->fo.model_error >= 1)
+			return ssc_usage_error("allan",
+					       "--model-error: %s is not in [0, 1)", arg);
+		if (a->fo.model_error == 0)
+			a->fo.model_error = -1; /* the library's "none" */
+		return 0;
+	case OPT_STRIDE:
+		if (ssc_arg_size("allan", "stride", arg, &a->ao.stride_div))
+			return SSC_EXIT_USAGE;
+		if (a->ao.stride_div == 0)
+			return ssc_usage_error("allan", "--stride: must be at least 1");
+		return 0;
+	case OPT_NO_FIT:
+		a->no_fit = true;
+		return 0;
+	case OPT_DEV_UNIT: {
+		struct sscope_unit u;
+
+		if (sscope_unit_parse(arg, &u, NULL))
+			return ssc_usage_error("allan",
+					       "--dev-unit: '%s' is not a unit", arg);
+		a->dev_unit = arg;
+		return 0;
+	}
+	case OPT_THREADS: {
+		size_t t;
+
+		if (ssc_arg_size("allan", "threads", arg, &t))
+			return SSC_EXIT_USAGE;
+		if (t == 0 || t > 1024)
+			return ssc_usage_error("allan", "--threads: 1..1024");
+		a->ao.threads = (unsigned)t;
+		return 0;
+	}
+	default:
+		return ssc_usage_error("allan", "unexpected option");
+	}
+}
+
+/* ------------------------------------------------------------------ */
+
+/* units of one channel's results */
+struct units {
+	enum sscope_quantity rq; /* quantity of the rate */
+	char rate[64];           /* the rate unit as text ("deg/s") */
+	char rate_si[64];        /* its SI form ("rad/s") */
+	char dev[96];            /* unit of the deviation values in JSON */
+	double dev_scale;        /* SI per JSON dev unit */
+	char show[96];           /* unit of deviations in text/CSV/plot */
+	double show_scale;       /* SI per shown unit */
+	char term[5][96];        /* conventional unit of each term */
+	char term_si[5][96];     /* SI unit of each term */
+};
+
+struct chan {
+	const struct sscope_column *col;
+	struct units u;
+	struct sscope_allan_result *res;
+	size_t n, nan;
+	char fit_msg[320];
+};
+
+struct file_res {
+	const char *path;
+	struct sscope_capture *cap;
+	struct chan *ch;
+	size_t n_ch;
+};
+
+static double unit_scale(const char *text)
+{
+	struct sscope_unit u;
+
+	if (sscope_unit_parse(text, &u, NULL))
+		return NAN;
+	return u.scale;
+}
+
+static void set_units(const struct args *a, const struct sscope_column *col,
+		      struct units *u)
+{
+	static const char *const fmt[5] = { "%s*s", "%s/sqrt(Hz)", "%s",
+					    "%s/s/sqrt(Hz)", "%s/s" };
+	bool angle = a->ao.input == SSCOPE_ALLAN_ANGLE;
+	const char *lab = col->unit_label;
+	struct sscope_unit ru;
+
+	memset(u, 0, sizeof(*u));
+	u->rq = col->quantity;
+	if (angle) {
+		u->rq = col->quantity == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
+			col->quantity == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
+			SSCOPE_QTY_UNKNOWN;
+		snprintf(u->rate, sizeof(u->rate), "%s/s", lab[0] ? lab : "1");
+	} else {
+		snprintf(u->rate, sizeof(u->rate), "%s", lab[0] ? lab : "1");
+	}
+	if (sscope_unit_parse(u->rate, &ru, NULL) ||
+	    sscope_unit_si_string(&ru, u->rate_si, sizeof(u->rate_si)))
+		snprintf(u->rate_si, sizeof(u->rate_si), "%s", u->rate);
+	/* TDEV is an angle: the channel's unit for angle input, rate * s
+	 * otherwise */
+	if (a->ao.dev == SSCOPE_DEV_TDEV && angle)
+		snprintf(u->dev, sizeof(u->dev), "%s", lab[0] ? lab : "1");
+	else if (a->ao.dev == SSCOPE_DEV_TDEV)
+		snprintf(u->dev, sizeof(u->dev), "%s*s", u->rate);
+	else
+		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
+	u->dev_scale = unit_scale(u->dev);
+	/* shown unit: --dev-unit, or the conventional bias unit */
+	if (a->dev_unit && a->ao.dev != SSCOPE_DEV_TDEV) {
+		struct sscope_unit want, have;
+
+		sscope_unit_parse(a->dev_unit, &want, NULL);
+		sscope_unit_parse(u->dev, &have, NULL);
+		if (sscope_unit_compatible(&want, &have))
+			snprintf(u->show, sizeof(u->show), "%s", a->dev_unit);
+	}
+	if (!u->show[0]) {
+		const char *b = sscope_term_unit(u->rq, SSCOPE_TERM_B);
+
+		snprintf(u->show, sizeof(u->show), "%s",
+			 b && a->ao.dev != SSCOPE_DEV_TDEV ? b : u->dev);
+	}
+	u->show_scale = unit_scale(u->show);
+	for (int t = 0; t < 5; t++) {
+		const char *c = sscope_term_unit(u->rq, (enum sscope_term)t);
+		const char *s = sscope_term_si_unit(u->rq, (enum sscope_term)t);
+
+		if (c && s) {
+			snprintf(u->term[t], sizeof(u->term[t]), "%s", c);
+			snprintf(u->term_si[t], sizeof(u->term_si[t]), "%s", s);
+		} else {
+			snprintf(u->term[t], sizeof(u->term[t]), fmt[t], u->rate);
+			snprintf(u->term_si[t], sizeof(u->term_si[t]), fmt[t],
+				 u->rate_si);
+		}
+	}
+}
+
+/* significant digits that tell the ends of [lo, hi] apart (3 at least) */
+static int idigits(double v, double lo, double hi)
+{
+	double w = hi - lo, a = fmax(fabs(v), fabs(hi));
+	int d = 3;
+
+	if (w > 0 && a > 0 && isfinite(w) && isfinite(a))
+		d = (int)ceil(log10(a / w)) + 2;
+	return d < 3 ? 3 : d > 8 ? 8 : d;
+}
+
+/* value (SI) in unit; NaN stays NaN */
+static double in_unit(double si, const char *si_unit, const char *unit)
+{
+	double v;
+
+	if (!isfinite(si))
+		return si;
+	if (sscope_convert(si, si_unit, unit, &v))
+		return NAN;
+	return v;
+}
+
+static int analyse_file(const struct ssc_common *co, const struct args *a,
+			const char *path, struct file_res *fr)
+{
+	struct sscope_capture *cap;
+	int rc = ssc_load(co, path, &fr->cap);
+
+	fr->path = path;
+	if (rc)
+		return rc;
+	cap = fr->cap;
+	if (!(cap->rate_hz > 0)) {
+		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
+			path);
+		return SSC_EXIT_FAIL;
+	}
+	if (cap->time_s && cap->n > 2) {
+		struct sscope_timing tm;
+		double *scratch = malloc((cap->n - 1) * sizeof(double));
+
+		if (scratch && sscope_timing_analyze(cap->time_s, cap->n, 1.5, &tm,
+						     NULL, 0, NULL, scratch) == 0 &&
+		    tm.n_gaps)
+			ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
+				 path, tm.n_gaps, tm.n_missing);
+		free(scratch);
+	}
+	fr->n_ch = cap->n_channels;
+	fr->ch = calloc(fr->n_ch ? fr->n_ch : 1, sizeof(*fr->ch));
+	if (!fr->ch) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		struct chan *c = &fr->ch[k];
+		struct sscope_diag d = { "" };
+		struct sscope_allan_opts ao = a->ao;
+
+		c->col = &cap->channels[k].col;
+		c->n = cap->n;
+		for (size_t i = 0; i < cap->n; i++)
+			c->nan += isnan(cap->channels[k].data[i]);
+		set_units(a, c->col, &c->u);
+		ao.ci_level = a->ci;
+		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
+					  cap->rate_hz, a->grid, &ao, &a->fo,
+					  &c->res, &d);
+		if (rc) {
+			ssc_err(co->cmd, "%s: %s: %s", path, c->col->name,
+				d.msg[0] ? d.msg : sscope_strerror(rc));
+			return rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+		}
+		if (a->no_fit)
+			continue;
+		if (!c->res->have_fit) {
+			struct sscope_diag fd = { "" };
+			struct sscope_noise_fit tmp;
+
+			/* rerun for the message */
+			sscope_noise_fit(c->res->oadev, c->res->n_oadev,
+					 cap->rate_hz, c->res->n_phase, &a->fo,
+					 &tmp, &fd);
+			snprintf(c->fit_msg, sizeof(c->fit_msg), "%s",
+				 fd.msg[0] ? fd.msg :
+					     sscope_strerror(c->res->fit_error));
+			ssc_warn(co, "%s: %s: %s", path, c->col->name, c->fit_msg);
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------ */
+/* Text                                                                */
+/* ------------------------------------------------------------------ */
+
+static const char *const term_names[5] = {
+	"quantization", "random walk", "bias instability", "rate random walk",
+	"rate ramp"
+};
+
+static const char *noise_name(int alpha)
+{
+	static const char *const n[] = { "RWHM", "FWHM", "RWFM", "FFM", "WFM",
+					 "FPM", "WPM" };
+
+	return alpha >= -4 && alpha <= 2 ? n[alpha + 4] : "?";
+}
+
+static const char *term_label(enum sscope_quantity q, int t)
+{
+	if (t == 1)
+		return q == SSCOPE_QTY_ANGULAR_RATE ? "angle random walk" :
+		       q == SSCOPE_QTY_ACCELERATION ? "velocity random walk" :
+						      "random walk";
+	if (t == 0)
+		return q == SSCOPE_QTY_ANGULAR_RATE ? "angle quantization" :
+		       q == SSCOPE_QTY_ACCELERATION ? "velocity quantization" :
+						      "quantization";
+	return term_names[t];
+}
+
+static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
+		      const struct chan *c)
+{
+	const struct sscope_allan_result *r = c->res;
+	const struct units *u = &c->u;
+	double ci = a->fo.ci_level;
+	char b1[32], b2[32], b3[32], b4[32], b5[32];
+
+	fprintf(f, "%s: %s (%s, %s input), %s Hz, %zu samples (%s s)",
+		strcmp(fr->path, "-") ? fr->path : "(stdin)", c->col->name,
+		c->col->unit_label[0] ? c->col->unit_label : "no unit",
+		a->ao.input == SSCOPE_ALLAN_ANGLE ? "angle" : "rate",
+		ssc_fmt(b1, sizeof(b1), fr->cap->rate_hz, 8), c->n,
+		ssc_fmt(b2, sizeof(b2), (double)c->n / fr->cap->rate_hz, 6));
+	if (c->nan)
+		fprintf(f, ", %zu NaN (gaps)", c->nan);
+	fputc('\n', f);
+	if (a->ci > 0)
+		fprintf(f, "  %12s %9s %11s  %14s  %-27s %10s  %s\n", "tau (s)",
+			"m", "terms", sscope_dev_name(a->ao.dev), "interval",
+			"edf", "noise");
+	else
+		fprintf(f, "  %12s %9s %11s  %14s  %10s  %s\n", "tau (s)", "m",
+			"terms", sscope_dev_name(a->ao.dev), "edf", "noise");
+	fprintf(f, "  %12s %9s %11s  %14s\n", "", "", "", u->show);
+	for (size_t i = 0; i < r->n_points; i++) {
+		const struct sscope_allan_point *p = &r->points[i];
+		double s = u->dev_scale / u->show_scale;
+
+		fprintf(f, "  %12s %9zu %11zu  %14s",
+			ssc_fmt(b1, sizeof(b1), p->tau_s, 6), p->m, p->terms,
+			ssc_fmt(b2, sizeof(b2), p->dev / u->dev_scale * s, 5));
+		if (a->ci >= 0) {
+			snprintf(b5, sizeof(b5), "[%s, %s]",
+				 ssc_fmt(b3, sizeof(b3), p->dev_lo / u->dev_scale * s, 4),
+				 ssc_fmt(b4, sizeof(b4), p->dev_hi / u->dev_scale * s, 4));
+			fprintf(f, "  %-27s", b5);
+		}
+		fprintf(f, " %10s  %s%s\n", ssc_fmt(b1, sizeof(b1), p->edf, 4),
+			noise_name(p->alpha), p->alpha_identified ? "" :
+			a->ao.alpha_fixed ? " (given)" : " (carried)");
+	}
+	if (a->ao.stride_div && r->n_points)
+		fprintf(f, "  strided estimator: terms every m/%zu samples; EDF of the last point %s instead of %s (full overlap)\n",
+			a->ao.stride_div,
+			ssc_fmt(b1, sizeof(b1), r->points[r->n_points - 1].edf, 4),
+			ssc_fmt(b2, sizeof(b2), r->points[r->n_points - 1].edf_full, 4));
+	if (a->no_fit)
+		return;
+	if (!r->have_fit) {
+		fprintf(f, "  noise terms: not fitted: %s\n", c->fit_msg);
+		return;
+	}
+	{
+		const struct sscope_noise_fit *ft = &r->fit;
+		char sel[16] = "";
+		size_t k = 0;
+
+		for (int t = 0; t < 5; t++)
+			if (ft->terms & (1u << t)) {
+				sel[k++] = "QNBKR"[t];
+				sel[k++] = ' ';
+			}
+		if (k)
+			sel[k - 1] = '\0';
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, terms %s selected by AIC; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
+			sel, ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
+			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
+			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
+			ssc_fmt(b4, sizeof(b4), ft->p_value, 2));
+		for (int t = 0; t < 5; t++) {
+			const struct sscope_noise_coef *cf = &ft->coef[t];
+			const char *cu = u->term[t], *su = u->term_si[t];
+
+			int dg = idigits(cf->value, cf->lo, cf->hi);
+
+			if (cf->fitted)
+				fprintf(f, "    %c  %-22s %11s %-16s [%s, %s]   (%s %s)\n",
+					"QNBKR"[t], term_label(u->rq, t),
+					ssc_fmt(b1, sizeof(b1), in_unit(cf->value, su, cu), dg + 1),
+					cu,
+					ssc_fmt(b2, sizeof(b2), in_unit(cf->lo, su, cu), dg),
+					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), dg),
+					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su);
+			else if (isfinite(cf->hi))
+				fprintf(f, "    %c  %-22s %11s %-16s (not resolved: below %s)\n",
+					"QNBKR"[t], term_label(u->rq, t), "-", cu,
+					ssc_fmt(b1, sizeof(b1), in_unit(cf->hi, su, cu), 3));
+			else
+				fprintf(f, "    %c  %-22s %11s %-16s (not fitted)\n",
+					"QNBKR"[t], term_label(u->rq, t), "-", cu);
+		}
+		fprintf(f, "  classic read-offs: N = sigma(1 s) on the -1/2 line: %s %s; B = min/0.6643: %s %s at tau = %s s; K = sigma(3 s) on the +1/2 line: %s %s\n",
+			ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
+			u->term[1],
+			ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
+			u->term[2],
+			ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
+			ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
+			u->term[3]);
+	}
+}
+
+/* ------------------------------------------------------------------ */
+/* JSON and CSV                                                        */
+/* ------------------------------------------------------------------ */
+
+static json_t *jval(double si, const char *si_unit, const char *unit)
+{
+	json_t *o = json_object();
+
+	json_object_set_new(o, "value", ssc_jreal(in_unit(si, si_unit, unit)));
+	json_object_set_new(o, "unit", json_string(unit));
+	json_object_set_new(o, "si", ssc_jreal(si));
+	json_object_set_new(o, "si_unit", json_string(si_unit));
+	return o;
+}
+
+static json_t *json_chan(const struct args *a, const struct file_res *fr,
+			 const struct chan *c)
+{
+	const struct sscope_allan_result *r = c->res;
+	const struct units *u = &c->u;
+	json_t *o = json_object(), *pts = json_array();
+
+	json_object_set_new(o, "name", json_string(c->col->name));
+	json_object_set_new(o, "unit", json_string(c->col->unit_label));
+	json_object_set_new(o, "quantity",
+			    json_string(sscope_quantity_name(c->col->quantity)));
+	json_object_set_new(o, "rate_hz", json_real(fr->cap->rate_hz));
+	json_object_set_new(o, "samples", json_integer((json_int_t)c->n));
+	json_object_set_new(o, "nan", json_integer((json_int_t)c->nan));
+	json_object_set_new(o, "input", json_string(a->ao.input == SSCOPE_ALLAN_ANGLE ?
+							   "angle" : "rate"));
+	json_object_set_new(o, "deviation", json_string(sscope_dev_name(a->ao.dev)));
+	json_object_set_new(o, "dev_unit", json_string(u->dev));
+	json_object_set_new(o, "ci_level", a->ci < 0 ? json_null() :
+					   json_real(a->ci));
+	for (size_t i = 0; i < r->n_points; i++) {
+		const struct sscope_allan_point *p = &r->points[i];
+		json_t *q = json_object();
+
+		json_object_set_new(q, "tau_s", json_real(p->tau_s));
+		json_object_set_new(q, "m", json_integer((json_int_t)p->m));
+		json_object_set_new(q, "terms", json_integer((json_int_t)p->terms));
+		json_object_set_new(q, "dev", ssc_jreal(p->dev / u->dev_scale));
+		json_object_set_new(q, "dev_lo", ssc_jreal(p->dev_lo / u->dev_scale));
+		json_object_set_new(q, "dev_hi", ssc_jreal(p->dev_hi / u->dev_scale));
+		json_object_set_new(q, "edf", ssc_jreal(p->edf));
+		json_object_set_new(q, "alpha", json_integer(p->alpha));
+		json_object_set_new(q, "noise", json_string(noise_name(p->alpha)));
+		if (p->skipped)
+			json_object_set_new(q, "skipped",
+					    json_integer((json_int_t)p->skipped));
+		if (p->stride != 1 && a->ao.dev != SSCOPE_DEV_ADEV &&
+		    a->ao.dev != SSCOPE_DEV_HDEV) {
+			json_object_set_new(q, "stride",
+					    json_integer((json_int_t)p->stride));
+			json_object_set_new(q, "edf_full", ssc_jreal(p->edf_full));
+		}
+		json_array_append_new(pts, q);
+	}
+	json_object_set_new(o, "points", pts);
+	if (a->no_fit)
+		return o;
+	{
+		json_t *nz = json_object(), *fit = json_object(), *terms = json_array();
+		const struct sscope_noise_fit *ft = &r->fit;
+		static const char *const key[5] = { "Q", "N", "B", "K", "R" };
+
+		for (int t = 0; t < 5; t++) {
+			const struct sscope_noise_coef *cf = &ft->coef[t];
+
+			json_object_set_new(nz, key[t],
+					    ssc_json_coef(cf->value, cf->lo, cf->hi,
+							  u->term[t], u->term_si[t],
+							  cf->fitted));
+			if (cf->fitted)
+				json_array_append_new(terms, json_string(key[t]));
+		}
+		json_object_set_new(o, "noise", nz);
+		if (r->have_fit) {
+			json_object_set_new(fit, "terms", terms);
+			json_object_set_new(fit, "method",
+					    json_string("weighted least squares on OADEV (EDF weights), every term subset, AIC selection with the model covariance; sandwich intervals"));
+			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
+			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
+			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
+			json_object_set_new(fit, "dof", ssc_jreal(ft->dof));
+			json_object_set_new(fit, "p_value", ssc_jreal(ft->p_value));
+			json_object_set_new(fit, "model_error",
+					    json_real(a->fo.model_error == 0 ? 0.01 :
+						      a->fo.model_error < 0 ? 0 :
+									      a->fo.model_error));
+		} else {
+			json_decref(terms);
+			json_object_set_new(fit, "error", json_string(c->fit_msg));
+		}
+		json_object_set_new(o, "fit", fit);
+		{
+			json_t *ro = json_object();
+
+			json_object_set_new(ro, "N", jval(ft->readoff.n, u->term_si[1], u->term[1]));
+			json_object_set_new(ro, "B", jval(ft->readoff.b, u->term_si[2], u->term[2]));
+			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
+			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
+			json_object_set_new(o, "readoff", ro);
+		}
+	}
+	return o;
+}
+
+static json_t *json_file(const struct args *a, const struct file_res *fr)
+{
+	json_t *o = json_object(), *chs = json_array();
+
+	json_object_set_new(o, "command", json_string("allan"));
+	json_object_set_new(o, "file", json_string(fr->path));
+	for (size_t k = 0; k < fr->n_ch; k++)
+		json_array_append_new(chs, json_chan(a, fr, &fr->ch[k]));
+	json_object_set_new(o, "channels", chs);
+	return o;
+}
+
+static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
+{
+	for (size_t k = 0; k < fr->n_ch; k++) {
+		const struct chan *c = &fr->ch[k];
+		const char *un = a->dev_unit ? c->u.show : c->u.dev;
+		double s = c->u.dev_scale / unit_scale(un);
+
+		for (size_t i = 0; i < c->res->n_points; i++) {
+			const struct sscope_allan_point *p = &c->res->points[i];
+
+			fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,%.10g,%.10g,%.6g,%d\n",
+				fr->path, c->col->name, sscope_dev_name(a->ao.dev),
+				un, p->tau_s, p->m, p->terms,
+				p->dev / c->u.dev_scale * s,
+				p->dev_lo / c->u.dev_scale * s,
+				p->dev_hi / c->u.dev_scale * s, p->edf, p->alpha);
+		}
+	}
+}
+
+/* ------------------------------------------------------------------ */
+/* Kalibr                                                              */
+/* ------------------------------------------------------------------ */
+
+/* largest (most conservative) value over the channels of a quantity */
+static bool kalibr_pick(struct file_res *fr, size_t nf, enum sscope_quantity q,
+			int t, double *v, char *note, size_t nl)
+{
+	bool any = false;
+	size_t used = 0;
+
+	*v = 0;
+	note[0] = '\0';
+	for (size_t i = 0; i < nf; i++)
+		for (size_t k = 0; k < fr[i].n_ch; k++) {
+			const struct chan *c = &fr[i].ch[k];
+			const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
+			double x = cf->fitted ? cf->value : cf->hi;
+			int w;
+
+			if (c->u.rq != q || !c->res->have_fit || !isfinite(x))
+				continue;
+			any = true;
+			if (x > *v)
+				*v = x;
+			w = snprintf(note + used, nl - used, "%s%s %.4g%s",
+				     used ? ", " : "", c->col->name, x,
+				     cf->fitted ? "" : " (upper limit)");
+			if (w > 0 && (size_t)w < nl - used)
+				used += (size_t)w;
+		}
+	return any;
+}
+
+static int write_kalibr(const struct ssc_common *co, const struct args *a,
+			struct file_res *fr, size_t nf)
+{
+	struct ssc_atomic at;
+	double n, k;
+	char note[512];
+	bool gyro = false, acc = false;
+	int rc;
+
+	(void)a;
+	rc = ssc_atomic_open(&at, a->kalibr);
+	if (rc) {
+		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
+		return SSC_EXIT_FAIL;
+	}
+	fprintf(at.f, "# Kalibr IMU noise model from sensorscope %s allan (IEEE 952 fit on OADEV)\n",
+		PACKAGE_VERSION);
+	fprintf(at.f, "# data: %s%s; the largest axis of each sensor is used\n",
+		fr[0].path, nf > 1 ? " and more" : "");
+	fprintf(at.f, "rostopic: /imu0 # edit to your topic\n");
+	fprintf(at.f, "update_rate: %.10g # Hz\n", fr[0].cap->rate_hz);
+	if (kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 1, &n, note, sizeof(note))) {
+		fprintf(at.f, "# gyro N per axis (rad/s/sqrt(Hz)): %s\n", note);
+		kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 3, &k, note, sizeof(note));
+		fprintf(at.f, "# gyro K per axis (rad/s^2/sqrt(Hz)): %s\n", note);
+		fprintf(at.f, "gyroscope_noise_density: %.6e # rad/s/sqrt(Hz) (continuous time)\n", n);
+		fprintf(at.f, "gyroscope_random_walk: %.6e # rad/s^2/sqrt(Hz)\n", k);
+		gyro = true;
+	}
+	if (kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 1, &n, note, sizeof(note))) {
+		fprintf(at.f, "# accelerometer N per axis (m/s^2/sqrt(Hz)): %s\n", note);
+		kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 3, &k, note, sizeof(note));
+		fprintf(at.f, "# accelerometer K per axis (m/s^3/sqrt(Hz)): %s\n", note);
+		fprintf(at.f, "accelerometer_noise_density: %.6e # m/s^2/sqrt(Hz) (continuous time)\n", n);
+		fprintf(at.f, "accelerometer_random_walk: %.6e # m/s^3/sqrt(Hz)\n", k);
+		acc = true;
+	}
+	if (!gyro && !acc) {
+		ssc_atomic_abort(&at);
+		ssc_err(co->cmd, "--kalibr: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");
+		return SSC_EXIT_FAIL;
+	}
+	if (!gyro || !acc)
+		fprintf(at.f, "# no %s channel was analysed: its keys are missing\n",
+			gyro ? "accelerometer" : "gyro");
+	rc = ssc_atomic_commit(&at);
+	if (rc) {
+		ssc_atomic_abort(&at);
+		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
+		return SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------ */
+/* Plot                                                                */
+/* ------------------------------------------------------------------ */
+
+/* a unit for humans: deg -> degree sign, sqrt(h) -> root, ug -> micro */
+static void pretty(const char *in, char *out, size_t len)
+{
+	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
+					    "ug", "^2", "^3", "*", NULL };
+	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
+					  "\xe2\x88\x9ah", "\xc2\xb5g",
+					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
+	size_t o = 0;
+
+	while (*in && o + 8 < len) {
+		int i;
+
+		for (i = 0; from[i]; i++)
+			if (!strncmp(in, from[i], strlen(from[i])))
+				break;
+		if (from[i]) {
+			size_t l = strlen(to[i]);
+
+			memcpy(out + o, to[i], l);
+			o += l;
+			in += strlen(from[i]);
+		} else {
+			out[o++] = *in++;
+		}
+	}
+	out[o] = '\0';
+}
+
+static int plot_chan(struct ssc_ax *ax, const struct args *a,
+		     const struct chan *c)
+{
+	const struct sscope_allan_result *r = c->res;
+	const struct units *u = &c->u;
+	size_t n = r->n_points, k = 0;
+	double *x = calloc(n + 1, sizeof(double)), *y = calloc(n + 1, sizeof(double));
+	double *lo = calloc(n + 1, sizeof(double)), *hi = calloc(n + 1, sizeof(double));
+	double s = u->dev_scale / u->show_scale, tmin = INFINITY, tmax = 0;
+	char buf[512], un[96], upper[16] = "";
+	struct ssc_style pst = { .color = 0x1f77b4, .width = -1,
+				 .marker = SSC_MK_CIRCLE, .marker_size = 6 };
+	static const uint32_t tcol[5] = { 0x9467bd, 0xd62728, 0x2ca02c,
+					  0xff7f0e, 0x8c564b };
+
+	if (!x || !y || !lo || !hi) {
+		free(x);
+		free(y);
+		free(lo);
+		free(hi);
+		return -ENOMEM;
+	}
+	for (size_t i = 0; i < n; i++) {
+		const struct sscope_allan_point *p = &r->points[i];
+
+		if (!(p->dev > 0))
+			continue;
+		x[k] = p->tau_s;
+		y[k] = p->dev / u->dev_scale * s;
+		lo[k] = isfinite(p->dev_lo) ? p->dev_lo / u->dev_scale * s : y[k];
+		hi[k] = isfinite(p->dev_hi) ? p->dev_hi / u->dev_scale * s : y[k];
+		tmin = fmin(tmin, p->tau_s);
+		tmax = fmax(tmax, p->tau_s);
+		k++;
+	}
+	pretty(u->show, un, sizeof(un));
+	ssc_ax_log(ax, true, true);
+	ssc_ax_grid(ax, true);
+	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	snprintf(buf, sizeof(buf), "\xcf\x83(\xcf\x84) (%s)", un);
+	ssc_ax_ylabel(ax, buf);
+	for (size_t i = 0; i < sizeof(upper) - 1 && sscope_dev_name(a->ao.dev)[i]; i++)
+		upper[i] = (char)(sscope_dev_name(a->ao.dev)[i] - 'a' + 'A');
+	snprintf(buf, sizeof(buf), "%s: %s%s", c->col->name, upper,
+		 a->ci >= 0 ? "" : " (no intervals)");
+	if (a->ci >= 0) {
+		char lv[32];
+
+		snprintf(buf + strlen(buf), sizeof(buf) - strlen(buf),
+			 " with %s%% intervals",
+			 ssc_fmt(lv, sizeof(lv), 100 * a->ci, 3));
+	}
+	ssc_ax_title(ax, buf);
+	if (k) {
+		double ylo = INFINITY, yhi = 0;
+
+		for (size_t i = 0; i < k; i++) {
+			if (lo[i] > 0)
+				ylo = fmin(ylo, lo[i]);
+			ylo = fmin(ylo, y[i]);
+			yhi = fmax(yhi, fmax(hi[i], y[i]));
+		}
+		/* the data decide the range; term lines are clipped */
+		if (isfinite(yhi) && yhi > 0)
+			ssc_ax_ylim(ax, ylo / 2, yhi * 2);
+		ssc_ax_xlim(ax, tmin / 1.5, tmax * 1.5);
+		ssc_ax_errorbar(ax, x, y, lo, hi, k, &pst, upper);
+	}
+	if (k >= 2 && !a->no_fit && r->have_fit) {
+		const struct sscope_noise_fit *ft = &r->fit;
+		enum { NG = 160 };
+		double gx[NG], gy[NG], coef[5], note_pos = 0;
+		char note[1024] = "";
+		size_t nl = 0;
+		struct ssc_style fst = { .color = 0x202020, .width = 2 };
+
+		for (int t = 0; t < 5; t++)
+			coef[t] = ft->coef[t].fitted ? ft->coef[t].value : 0;
+		for (int i = 0; i < NG; i++) {
+			gx[i] = tmin * pow(tmax / tmin, (double)i / (NG - 1));
+			gy[i] = sqrt(sscope_noise_avar(coef, gx[i])) / u->show_scale;
+		}
+		ssc_ax_line(ax, gx, gy, NG, &fst, "fit");
+		for (int t = 0; t < 5; t++) {
+			double one[5] = { 0 };
+			struct ssc_style dst = { .color = tcol[t], .width = 1.5,
+						 .dash = SSC_DASHED };
+			char v1[32], v2[32], v3[32], cu[96];
+			int dg;
+
+			if (!ft->coef[t].fitted)
+				continue;
+			one[t] = coef[t];
+			for (int i = 0; i < NG; i++)
+				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) / u->show_scale;
+			pretty(u->term[t], cu, sizeof(cu));
+			snprintf(buf, sizeof(buf), "%c = %s %s", "QNBKR"[t],
+				 ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), 3),
+				 cu);
+			ssc_ax_line(ax, gx, gy, NG, &dst, buf);
+			dg = idigits(coef[t], ft->coef[t].lo, ft->coef[t].hi);
+			nl += (size_t)snprintf(note + nl, sizeof(note) - nl,
+					       "%s%c %s [%s, %s] %s", nl ? "\n" : "",
+					       "QNBKR"[t],
+					       ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), dg),
+					       ssc_fmt(v2, sizeof(v2), in_unit(ft->coef[t].lo, u->term_si[t], u->term[t]), dg),
+					       ssc_fmt(v3, sizeof(v3), in_unit(ft->coef[t].hi, u->term_si[t], u->term[t]), dg),
+					       cu);
+			if (nl >= sizeof(note))
+				nl = sizeof(note) - 1;
+		}
+		(void)note_pos;
+		if (nl)
+			ssc_ax_note(ax, note, SSC_LEGEND_LL);
+	}
+	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+	free(x);
+	free(y);
+	free(lo);
+	free(hi);
+	return 0;
+}
+
+static int plot(const struct ssc_common *co, const struct args *a,
+		const struct file_res *fr)
+{
+	size_t n = fr->n_ch, cols = n < 3 ? n : (n == 4 ? 2 : 3);
+	size_t rows = (n + cols - 1) / cols;
+	struct ssc_fig *fig;
+	char title[512];
+	int rc = 0;
+
+	if (n == 0)
+		return SSC_EXIT_OK;
+	fig = ssc_fig_new((int)(cols == 1 ? 1000 : 720 * cols),
+			  (int)(rows * (cols == 1 ? 720 : 620) + 60), (int)rows,
+			  (int)cols);
+	if (!fig) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	snprintf(title, sizeof(title), "%s", fr->path);
+	ssc_fig_title(fig, title);
+	for (size_t k = 0; k < n && !rc; k++)
+		rc = plot_chan(ssc_fig_ax(fig, (int)(k / cols), (int)(k % cols)),
+			       a, &fr->ch[k]);
+	if (!rc)
+		rc = ssc_fig_save_png(fig, co->plot);
+	ssc_fig_free(fig);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------ */
+
+static void free_file(struct file_res *fr)
+{
+	for (size_t k = 0; k < fr->n_ch; k++)
+		sscope_allan_result_free(fr->ch[k].res);
+	free(fr->ch);
+	sscope_capture_free(fr->cap);
+}
+
+int ssc_cmd_allan(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct args a;
+	struct file_res *fr;
+	struct ssc_out out;
+	int first, rc, nfiles;
+
+	memset(&a, 0, sizeof(a));
+	a.grid = SSCOPE_TAUS_DENSE;
+	a.ci = 0.683;
+	rc = ssc_parse(&spec, argc, argv, &co, handler, &a, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	nfiles = argc - first;
+	if (nfiles < 1)
+		return ssc_usage_error(co.cmd, "no input file");
+	if (co.plot && nfiles > 1)
+		return ssc_usage_error(co.cmd, "--plot takes one input file");
+	if (a.ao.stride_div && a.ao.dev != SSCOPE_DEV_OADEV &&
+	    a.ao.dev != SSCOPE_DEV_OHDEV)
+		return ssc_usage_error(co.cmd, "--stride applies to oadev and ohdev only");
+	if (a.kalibr && a.no_fit)
+		return ssc_usage_error(co.cmd, "--kalibr needs the fit (drop --no-fit)");
+	a.fo.ci_level = a.ci > 0 ? a.ci : 0.683;
+	fr = calloc((size_t)nfiles, sizeof(*fr));
+	if (!fr)
+		return SSC_EXIT_FAIL;
+	for (int i = 0; i < nfiles; i++) {
+		rc = analyse_file(&co, &a, argv[first + i], &fr[i]);
+		if (rc)
+			goto done;
+	}
+	if (co.plot) {
+		rc = plot(&co, &a, &fr[0]);
+		if (rc)
+			goto done;
+	}
+	if (a.kalibr) {
+		rc = write_kalibr(&co, &a, fr, (size_t)nfiles);
+		if (rc)
+			goto done;
+	}
+	if (co.format == SSC_FMT_JSON) {
+		json_t *root;
+
+		if (nfiles == 1) {
+			root = json_file(&a, &fr[0]);
+		} else {
+			json_t *files = json_array();
+
+			root = json_object();
+			json_object_set_new(root, "command", json_string("allan"));
+			for (int i = 0; i < nfiles; i++)
+				json_array_append_new(files, json_file(&a, &fr[i]));
+			json_object_set_new(root, "files", files);
+		}
+		rc = ssc_emit_json(&co, root);
+		goto done;
+	}
+	rc = ssc_out_open(&co, &out);
+	if (rc)
+		goto done;
+	if (co.format == SSC_FMT_CSV)
+		fprintf(out.f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
+	for (int i = 0; i < nfiles; i++) {
+		if (co.format == SSC_FMT_CSV) {
+			csv_file(out.f, &a, &fr[i]);
+			continue;
+		}
+		for (size_t k = 0; k < fr[i].n_ch; k++) {
+			if (i || k)
+				fputc('\n', out.f);
+			text_chan(out.f, &a, &fr[i], &fr[i].ch[k]);
+		}
+	}
+	rc = ssc_out_close(&co, &out, !ferror(out.f));
+done:
+	for (int i = 0; i < nfiles; i++)
+		free_file(&fr[i]);
+	free(fr);
+	return rc;
+}

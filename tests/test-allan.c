@@ -1,0 +1,1013 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Allan-family deviations: NBS14 published values and term counts (NIST
+ * SP 1065), Stable32's published confidence bounds (EDF), closed forms
+ * (ramp, constant, white rate, rate random walk, white angle) within
+ * tolerances from the EDF, a large offset, gaps against a brute-force
+ * reference, the strided estimator, the tiled parallel engine against a
+ * direct reference, noise identification, grids and every error code.
+ */
+#include "allan-internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+
+/* make check-valgrind runs with CK_FORK=no: smaller sizes there */
+static bool under_valgrind(void)
+{
+	const char *f = getenv("CK_FORK");
+
+	return f && !strcmp(f, "no");
+}
+
+static void dev_at(enum sscope_dev dev, enum sscope_allan_input in,
+		   const double *y, size_t n, double fs, const size_t *m,
+		   size_t nm, struct sscope_allan_point *pt, size_t *np,
+		   int alpha)
+{
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+	struct sscope_diag d = { "" };
+
+	o.dev = dev;
+	o.input = in;
+	o.alpha_fixed = alpha > -9;
+	o.alpha = alpha > -9 ? alpha : 0;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	ck_assert_msg(sscope_allan_compute(p, y, 1, n, fs, m, nm, pt, np, &d) == 0,
+		      "%s", d.msg);
+	sscope_allan_free(p);
+}
+
+/* |a - b| within one unit of the last of `sig` significant digits of b */
+static void ck_digits(double a, double b, int sig)
+{
+	double unit = pow(10, floor(log10(fabs(b))) - (sig - 1));
+
+	ck_assert_msg(fabs(a - b) <= unit, "%.12g vs published %.*g", a, sig, b);
+}
+
+/* ------------------------------------------------------------ NBS14 */
+
+static const double nbs10[9] = { 892, 809, 823, 798, 671, 644, 883, 903, 677 };
+
+START_TEST(nbs14_10point)
+{
+	/* NIST SP 1065 pp. 107-108, tau = 1, 2 */
+	static const double ref[SSCOPE_DEV_COUNT_][2] = {
+		[SSCOPE_DEV_ADEV] = { 91.22945, 115.8082 },
+		[SSCOPE_DEV_OADEV] = { 91.22945, 85.95287 },
+		[SSCOPE_DEV_MDEV] = { 91.22945, 74.78849 },
+		[SSCOPE_DEV_TDEV] = { 52.67135, 86.35831 },
+		/* SP 1065 prints 70.80608 for HDEV and 70.80607 for OHDEV at
+		 * tau = 1, the same number (70.806073): one unit of slack */
+		[SSCOPE_DEV_HDEV] = { 70.80608, 116.7980 },
+		[SSCOPE_DEV_OHDEV] = { 70.80607, 85.61487 },
+		[SSCOPE_DEV_TOTDEV] = { 91.22945, 93.90379 },
+	};
+	/* terms by definition for 10 phase points */
+	static const size_t terms[SSCOPE_DEV_COUNT_][2] = {
+		[SSCOPE_DEV_ADEV] = { 8, 3 },  [SSCOPE_DEV_OADEV] = { 8, 6 },
+		[SSCOPE_DEV_MDEV] = { 8, 5 },  [SSCOPE_DEV_TDEV] = { 8, 5 },
+		[SSCOPE_DEV_HDEV] = { 7, 2 },  [SSCOPE_DEV_OHDEV] = { 7, 4 },
+		[SSCOPE_DEV_TOTDEV] = { 8, 8 },
+	};
+	const size_t m[2] = { 1, 2 };
+
+	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+		struct sscope_allan_point pt[2];
+		size_t np;
+
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, nbs10, 9, 1, m, 2,
+		       pt, &np, 0);
+		ck_assert_uint_eq(np, 2);
+		for (int k = 0; k < 2; k++) {
+			ck_digits(pt[k].dev, ref[dv][k], 7);
+			ck_assert_uint_eq(pt[k].terms, terms[dv][k]);
+			ck_assert(pt[k].tau_s == (double)m[k]);
+		}
+	}
+}
+END_TEST
+
+static void nbs1000(double *y)
+{
+	uint64_t n = 1234567890;
+
+	for (int i = 0; i < 1000; i++) {
+		y[i] = (double)n / 2147483647.0;
+		n = (16807 * n) % 2147483647;
+	}
+}
+
+START_TEST(nbs14_1000point)
+{
+	static const double ref[SSCOPE_DEV_COUNT_][3] = {
+		[SSCOPE_DEV_ADEV] = { 2.922319e-01, 9.965736e-02, 3.897804e-02 },
+		[SSCOPE_DEV_OADEV] = { 2.922319e-01, 9.159953e-02, 3.241343e-02 },
+		[SSCOPE_DEV_MDEV] = { 2.922319e-01, 6.172376e-02, 2.170921e-02 },
+		[SSCOPE_DEV_TDEV] = { 1.687202e-01, 3.563623e-01, 1.253382e+00 },
+		[SSCOPE_DEV_HDEV] = { 2.943883e-01, 1.052754e-01, 3.910860e-02 },
+		[SSCOPE_DEV_OHDEV] = { 2.943883e-01, 9.581083e-02, 3.237638e-02 },
+		[SSCOPE_DEV_TOTDEV] = { 2.922319e-01, 9.134743e-02, 3.406530e-02 },
+	};
+	const size_t m[3] = { 1, 10, 100 };
+	double y[1000];
+
+	nbs1000(y);
+	ck_assert(y[1] == 395529916.0 / 2147483647.0);
+	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+		struct sscope_allan_point pt[3];
+		size_t np;
+
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, 1000, 1, m, 3,
+		       pt, &np, 0);
+		ck_assert_uint_eq(np, 3);
+		for (int k = 0; k < 3; k++)
+			ck_digits(pt[k].dev, ref[dv][k], 7);
+		/* published term counts (1001 phase points) */
+		if (dv == SSCOPE_DEV_OADEV) {
+			ck_assert_uint_eq(pt[0].terms, 999);
+			ck_assert_uint_eq(pt[1].terms, 981);
+			ck_assert_uint_eq(pt[2].terms, 801);
+		}
+		if (dv == SSCOPE_DEV_MDEV) {
+			ck_assert_uint_eq(pt[0].terms, 999);
+			ck_assert_uint_eq(pt[1].terms, 972);
+			ck_assert_uint_eq(pt[2].terms, 702);
+		}
+	}
+}
+END_TEST
+
+/* ------------------------------------------------------------ Stable32 */
+
+/*
+ * Stable32 1.53 output for a GPS 1 PPS phase record of 241218 points
+ * (published with allantools' test suite, tests/gps/stable32_*_octave.txt):
+ * m, alpha (Stable32's noise identification), sigma, 68.3 % bounds.  With
+ * Stable32's alpha and the printed sigma our EDF and chi-squared bounds
+ * reproduce the printed bounds; the tolerance is the printed precision
+ * (5 digits of sigma and of each bound) plus Stable32's own chi-squared
+ * approximations at small EDF: 1e-3.  TOTDEV's last two octaves with
+ * flicker phase noise differ by up to 0.35 %, reported, not hidden.
+ */
+struct s32row {
+	size_t m;
+	int alpha;
+	double lo, sigma, hi;
+};
+
+static const struct s32row s32_oadev[] = {
+	{ 1, 2, 6.1122e-09, 6.1244e-09, 6.1367e-09 },
+	{ 2, 1, 3.2008e-09, 3.2071e-09, 3.2134e-09 },
+	{ 16, 1, 5.6936e-10, 5.7120e-10, 5.7306e-10 },
+	{ 512, 2, 2.2773e-11, 2.2819e-11, 2.2864e-11 },
+	{ 1024, 1, 1.1793e-11, 1.1946e-11, 1.2106e-11 },
+	{ 4096, 1, 3.4343e-12, 3.5113e-12, 3.5937e-12 },
+	{ 8192, 0, 1.5384e-12, 1.6969e-12, 1.9173e-12 },
+	{ 16384, 0, 8.7293e-13, 9.9992e-13, 1.2055e-12 },
+	{ 32768, 0, 6.3634e-13, 7.6823e-13, 1.0423e-12 },
+};
+
+static const struct s32row s32_mdev[] = {
+	{ 2, 1, 2.3031e-09, 2.3078e-09, 2.3126e-09 },
+	{ 64, 2, 7.7458e-11, 7.8236e-11, 7.9039e-11 },
+	{ 1024, 1, 3.9334e-12, 4.1100e-12, 4.3128e-12 },
+	{ 2048, 2, 2.2627e-12, 2.3894e-12, 2.5402e-12 },
+	{ 8192, 0, 5.0462e-13, 5.6932e-13, 6.6765e-13 },
+	{ 32768, 0, 4.0404e-13, 5.1068e-13, 8.0246e-13 },
+};
+
+static const struct s32row s32_hdev[] = {
+	{ 1, 2, 6.4060e-09, 6.4199e-09, 6.4340e-09 },
+	{ 8, 1, 9.9968e-10, 1.0057e-09, 1.0118e-09 },
+	{ 1024, 1, 1.0961e-11, 1.1692e-11, 1.2595e-11 },
+	{ 8192, 0, 1.0974e-12, 1.2832e-12, 1.6125e-12 },
+	{ 32768, 0, 7.8650e-13, 1.0379e-12, 2.0128e-12 },
+};
+
+static const struct s32row s32_ohdev[] = {
+	{ 2, 1, 3.3502e-09, 3.3574e-09, 3.3646e-09 },
+	{ 256, 2, 4.5976e-11, 4.6076e-11, 4.6176e-11 },
+	{ 1024, 1, 1.2356e-11, 1.2529e-11, 1.2710e-11 },
+	{ 8192, 0, 1.5675e-12, 1.7436e-12, 1.9965e-12 },
+	{ 32768, 0, 6.5156e-13, 8.0438e-13, 1.1644e-12 },
+};
+
+static const struct s32row s32_totdev[] = {
+	{ 1, 2, 6.1120e-09, 6.1244e-09, 6.1369e-09 },
+	{ 16, 1, 5.6984e-10, 5.7119e-10, 5.7255e-10 },
+	{ 1024, 1, 1.1923e-11, 1.1998e-11, 1.2074e-11 },
+	{ 4096, 1, 3.5895e-12, 3.6305e-12, 3.6730e-12 },
+	{ 8192, 0, 1.7566e-12, 1.9332e-12, 2.1767e-12 },
+	{ 16384, 0, 1.0191e-12, 1.1604e-12, 1.3834e-12 },
+	{ 32768, 1, 7.2339e-13, 7.5714e-13, 7.9613e-13 },
+	{ 65536, 1, 3.7976e-13, 4.1817e-13, 4.7121e-13 },
+};
+
+static void s32_check(enum sscope_dev dev, const struct s32row *r, size_t n)
+{
+	const size_t N = 241218;
+
+	for (size_t i = 0; i < n; i++) {
+		double edf, lo, hi, tol = 1e-3;
+		int d = ssc_dev_order(dev);
+
+		if (dev == SSCOPE_DEV_TOTDEV) {
+			edf = ssc_totdev_edf(r[i].alpha, r[i].m, N);
+			if (r[i].m >= 32768)
+				tol = 3.5e-3;
+		} else {
+			edf = sscope_allan_edf(r[i].alpha, d, r[i].m, N,
+					       dev == SSCOPE_DEV_MDEV,
+					       dev == SSCOPE_DEV_HDEV ? r[i].m : 1);
+		}
+		ssc_allan_ci(r[i].sigma, edf, 0.683, &lo, &hi);
+		ck_assert_msg(fabs(lo / r[i].lo - 1) <= tol &&
+				      fabs(hi / r[i].hi - 1) <= tol,
+			      "%s m=%zu alpha=%d edf %g: [%.5g, %.5g] vs Stable32 [%.5g, %.5g]",
+			      sscope_dev_name(dev), r[i].m, r[i].alpha, edf, lo, hi,
+			      r[i].lo, r[i].hi);
+	}
+}
+
+START_TEST(stable32_bounds)
+{
+	s32_check(SSCOPE_DEV_OADEV, s32_oadev, sizeof(s32_oadev) / sizeof(s32_oadev[0]));
+	s32_check(SSCOPE_DEV_MDEV, s32_mdev, sizeof(s32_mdev) / sizeof(s32_mdev[0]));
+	s32_check(SSCOPE_DEV_HDEV, s32_hdev, sizeof(s32_hdev) / sizeof(s32_hdev[0]));
+	s32_check(SSCOPE_DEV_OHDEV, s32_ohdev, sizeof(s32_ohdev) / sizeof(s32_ohdev[0]));
+	s32_check(SSCOPE_DEV_TOTDEV, s32_totdev, sizeof(s32_totdev) / sizeof(s32_totdev[0]));
+}
+END_TEST
+
+START_TEST(edf_properties)
+{
+	/* white phase, unmodified: the exact sum equals Greenhall's case 4
+	 * formula (1/M)(a0 - a1/r) when r > d + 1 */
+	for (int d = 2; d <= 3; d++) {
+		size_t m = 10, N = 1000, L = 1 + d * m, M = N - L + 1;
+		double a0 = d == 2 ? 35.0 / 18 : 231.0 / 100;
+		double a1 = d == 2 ? 1.0 : 1.5, r = (double)M / (double)m;
+		double inv = (a0 - a1 / r) / (double)M;
+
+		ck_assert_rel(sscope_allan_edf(2, d, m, N, false, 1), 1 / inv, 1e-12);
+	}
+	/* non-overlapping ADEV of white phase: M = floor((N-1)/m) - 1 terms,
+	 * correlation -2/3 (lag 1 tau) and 1/6 (lag 2 tau): exact */
+	{
+		double M = 99 - 1;
+		double inv = (1 + 2 * (1 - 1 / M) * 4.0 / 9 +
+			      2 * (1 - 2 / M) / 36) / M;
+
+		ck_assert_rel(sscope_allan_edf(2, 2, 10, 1000, false, 10), 1 / inv, 1e-12);
+	}
+	/* out-of-method parameters */
+	ck_assert(isnan(sscope_allan_edf(-3, 2, 4, 1000, false, 1)));
+	ck_assert(isnan(sscope_allan_edf(0, 2, 600, 1000, false, 1)));
+	ck_assert(isnan(sscope_allan_edf(0, 2, 4, 1000, true, 2)));
+	ck_assert(isnan(sscope_allan_edf(0, 2, 0, 1000, false, 1)));
+	/* chi-squared quantiles: P(quantile) = p up to nu = 1000 (GSL's
+	 * incomplete gamma is safe there); beyond, the Cornish-Fisher branch
+	 * against the independent Wilson-Hilferty formula, whose own error is
+	 * 5.5e-7 at nu = 1e4 and falls as nu^-1.5 */
+	{
+		const double nus[] = { 0.5, 1, 2.385, 10, 999, 1e3, 1e4, 1e5, 1e7 };
+		const double ps[] = { 0.001, 0.1585, 0.5, 0.8415, 0.999 };
+
+		for (size_t i = 0; i < 9; i++)
+			for (size_t j = 0; j < 5; j++) {
+				double q = ssc_chi2_quantile(ps[j], nus[i]);
+
+				if (nus[i] <= 1e3) {
+					double back = ps[j] > 0.5 ?
+							      gsl_cdf_chisq_Q(q, nus[i]) :
+							      gsl_cdf_chisq_P(q, nus[i]);
+					double want = ps[j] > 0.5 ? 1 - ps[j] : ps[j];
+
+					ck_assert_msg(fabs(back / want - 1) < 1e-7,
+						      "nu %g p %g: q %g gives %g",
+						      nus[i], ps[j], q, back);
+				} else {
+					double z = gsl_cdf_ugaussian_Pinv(ps[j]);
+					double h = 2 / (9 * nus[i]);
+					double wh = nus[i] * pow(1 - h + z * sqrt(h), 3);
+
+					ck_assert_rel(q, wh, 1e-6);
+				}
+			}
+		ck_assert(isnan(ssc_chi2_quantile(0, 3)));
+		ck_assert(isnan(ssc_chi2_quantile(0.5, 0)));
+	}
+}
+END_TEST
+
+/* ------------------------------------------------------------ grids */
+
+START_TEST(grids)
+{
+	size_t m[256], n, dense_ref[] = { 1, 2, 3, 4, 5, 6, 8, 10, 13, 16, 20, 25,
+					   32, 40, 50, 64, 80, 100, 128, 160,
+					   200, 248, 320, 400, 496, 640, 800, 992 };
+
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 100, m, 256, &n), 0);
+	ck_assert_uint_eq(n, 7);
+	ck_assert_uint_eq(m[6], 64);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DECADE, 1000, m, 256, &n), 0);
+	ck_assert_uint_eq(n, 10);
+	ck_assert(m[0] == 1 && m[1] == 2 && m[2] == 4 && m[3] == 10 &&
+		  m[8] == 400 && m[9] == 1000);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_ALL, 5, m, 256, &n), 0);
+	ck_assert(n == 5 && m[4] == 5);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000, m, 256, &n), 0);
+	ck_assert_uint_eq(n, sizeof(dense_ref) / sizeof(dense_ref[0]));
+	for (size_t i = 0; i < n; i++)
+		ck_assert_uint_eq(m[i], dense_ref[i]);
+	/* to 1e9: increasing, about 10 per decade, large m with the power-
+	 * of-two factor the engine relies on, at most 3.2 % off the grid */
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000000000, m, 256, &n), 0);
+	ck_assert(n >= 80 && n <= 92);
+	for (size_t i = 0; i < n; i++) {
+		if (i)
+			ck_assert(m[i] > m[i - 1]);
+		if (m[i] >= 32) {
+			size_t q = 1;
+
+			while (q * 32 <= m[i])
+				q *= 2;
+			ck_assert_msg(m[i] % q == 0, "m %zu not a multiple of %zu", m[i], q);
+		}
+	}
+	/* counting only; a count beyond cap */
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 1 << 20, NULL, 0, &n), 0);
+	ck_assert_uint_eq(n, 21);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 1 << 20, m, 3, &n), 0);
+	ck_assert(n == 21 && m[2] == 4);
+	ck_assert_int_eq(sscope_allan_grid((enum sscope_tau_grid)9, 10, m, 3, &n), -EINVAL);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 10, m, 3, NULL), -EINVAL);
+	/* limits (Stable32) */
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_OADEV, 10), 4);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_TOTDEV, 11), 5);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_MDEV, 10), 3);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_OHDEV, 10), 3);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_ADEV, 2), 0);
+	ck_assert_uint_eq(sscope_allan_n_phase(SSCOPE_ALLAN_RATE, 9), 10);
+	ck_assert_uint_eq(sscope_allan_n_phase(SSCOPE_ALLAN_ANGLE, 9), 9);
+	/* names */
+	for (int d = 0; d < SSCOPE_DEV_COUNT_; d++) {
+		enum sscope_dev back;
+
+		ck_assert_int_eq(sscope_dev_parse(sscope_dev_name((enum sscope_dev)d), &back), 0);
+		ck_assert_int_eq(back, d);
+	}
+	ck_assert_str_eq(sscope_dev_name((enum sscope_dev)42), "");
+	ck_assert_int_eq(sscope_dev_parse("xdev", &(enum sscope_dev){ 0 }), -EINVAL);
+}
+END_TEST
+
+/* ------------------------------------------------------------ closed forms */
+
+static double rel_sd(double edf)
+{
+	return sqrt(2 / edf); /* of a variance estimate */
+}
+
+START_TEST(ramp_exact)
+{
+	/* y_k = R k dt + c: ADEV = OADEV = MDEV = R tau / sqrt(2) exactly;
+	 * Hadamard deviations cancel the drift */
+	const double R = 2.385e-3, dt = 0.01, c = 1.7;
+	const size_t n = 20000;
+	double *y = malloc(n * sizeof(double));
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+
+	for (size_t k = 0; k < n; k++)
+		y[k] = R * (double)k * dt + c;
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 2000, m, 64, &nm);
+	for (int dv = SSCOPE_DEV_OADEV; dv <= SSCOPE_DEV_OHDEV; dv++) {
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1 / dt, m,
+		       nm, pt, &np, -2);
+		for (size_t i = 0; i < np; i++) {
+			double want = R * pt[i].tau_s / sqrt(2);
+
+			if (dv == SSCOPE_DEV_TDEV)
+				want *= pt[i].tau_s / sqrt(3);
+			/* third differences of the quadratic phase cancel
+			 * to its rounding: 16 ulps of the largest phase
+			 * value R dt n^2 / 2 over m */
+			if (dv == SSCOPE_DEV_HDEV || dv == SSCOPE_DEV_OHDEV)
+				ck_assert_msg(pt[i].dev <= 16 * 2.3e-16 * R * dt *
+								   (double)n * (double)n / 2 /
+								   (double)pt[i].m,
+					      "hdev of a ramp %g at m %zu", pt[i].dev,
+					      pt[i].m);
+			else
+				ck_assert_rel(pt[i].dev, want, 1e-9);
+		}
+	}
+	free(y);
+}
+END_TEST
+
+START_TEST(constant_zero)
+{
+	const size_t n = 5000;
+	double *y = malloc(n * sizeof(double));
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+
+	for (size_t k = 0; k < n; k++)
+		y[k] = 2.385;
+	sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 100, m, nm,
+		       pt, &np, -99);
+		ck_assert_uint_gt(np, 10);
+		for (size_t i = 0; i < np; i++) {
+			ck_assert_msg(pt[i].dev == 0, "%s m %zu: %g",
+				      sscope_dev_name((enum sscope_dev)dv),
+				      pt[i].m, pt[i].dev);
+			ck_assert(pt[i].dev_lo == 0 && pt[i].dev_hi == 0);
+			ck_assert(isfinite(pt[i].edf) && pt[i].edf > 0);
+			ck_assert(!pt[i].alpha_identified);
+		}
+	}
+	free(y);
+}
+END_TEST
+
+START_TEST(white_rate)
+{
+	/* per-sample sd s: AVAR = HVAR = TOTVAR = s^2 / m,
+	 * MVAR = s^2 (m^2 + 1) / (2 m^3) (sum of the squared weights of a
+	 * modified term is m^3 + m); within 4 sd from the EDF */
+	const size_t n = under_valgrind() ? 20000 : 200000;
+	const double s = 2.385, fs = 100;
+	double *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+
+	gsl_rng_set(r, 11);
+	for (size_t k = 0; k < n; k++)
+		y[k] = 0.37 + gsl_ran_gaussian_ziggurat(r, s);
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, fs, m, nm,
+		       pt, &np, 0);
+		for (size_t i = 0; i < np; i++) {
+			double md = (double)pt[i].m, var = pt[i].dev * pt[i].dev;
+			double want = s * s / md;
+
+			if (dv == SSCOPE_DEV_MDEV || dv == SSCOPE_DEV_TDEV)
+				want = s * s * (md * md + 1) / (2 * md * md * md);
+			if (dv == SSCOPE_DEV_TDEV)
+				want *= pt[i].tau_s * pt[i].tau_s / 3;
+			ck_assert_msg(fabs(var / want - 1) <= 4 * rel_sd(pt[i].edf),
+				      "%s m %zu: %g vs %g (edf %g)",
+				      sscope_dev_name((enum sscope_dev)dv),
+				      pt[i].m, var, want, pt[i].edf);
+			/* the interval is around the estimate */
+			ck_assert(pt[i].dev_lo < pt[i].dev && pt[i].dev < pt[i].dev_hi);
+		}
+	}
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+START_TEST(rate_random_walk)
+{
+	/* increments of sd K sqrt(dt): AVAR = K^2 tau / 3 + K^2 dt^2 / (6 tau) */
+	const size_t n = under_valgrind() ? 20000 : 200000;
+	const double K = 2.385e-3, fs = 50, dt = 1 / fs;
+	double *y = malloc(n * sizeof(double)), w = 0;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+
+	gsl_rng_set(r, 12);
+	for (size_t k = 0; k < n; k++) {
+		w += gsl_ran_gaussian_ziggurat(r, K * sqrt(dt));
+		y[k] = w;
+	}
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, fs, m, nm, pt, &np, -2);
+	for (size_t i = 0; i < np; i++) {
+		double t = pt[i].tau_s, var = pt[i].dev * pt[i].dev;
+		double want = K * K * t / 3 + K * K * dt * dt / (6 * t);
+
+		ck_assert_msg(fabs(var / want - 1) <= 4 * rel_sd(pt[i].edf),
+			      "m %zu: %g vs %g (edf %g)", pt[i].m, var, want,
+			      pt[i].edf);
+	}
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+START_TEST(white_angle)
+{
+	/* white angle noise of sd q: AVAR = 3 q^2 / tau^2, the same from the
+	 * angle record and from its differences as a rate record */
+	const size_t n = under_valgrind() ? 20001 : 200001;
+	const double q = 2.385e-4, fs = 100;
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np1, np2;
+	struct sscope_allan_point a[64], b[64];
+
+	gsl_rng_set(r, 13);
+	for (size_t k = 0; k < n; k++)
+		x[k] = 0.5 + 1e-3 * (double)k + gsl_ran_gaussian_ziggurat(r, q);
+	for (size_t k = 0; k + 1 < n; k++)
+		y[k] = (x[k + 1] - x[k]) * fs;
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, fs, m, nm, a, &np1, 2);
+	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n - 1, fs, m, nm, b, &np2, 2);
+	ck_assert_uint_eq(np1, np2);
+	for (size_t i = 0; i < np1; i++) {
+		double t = a[i].tau_s, var = a[i].dev * a[i].dev;
+		double want = 3 * q * q / (t * t);
+
+		ck_assert_uint_eq(a[i].terms, b[i].terms);
+		ck_assert_rel(a[i].dev, b[i].dev, 1e-7);
+		ck_assert_msg(fabs(var / want - 1) <= 4 * rel_sd(a[i].edf),
+			      "m %zu: %g vs %g (edf %g)", a[i].m, var, want,
+			      a[i].edf);
+	}
+	free(x);
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+START_TEST(large_offset)
+{
+	/* a bias 2.4e6 times the noise: y - c is exact (Sterbenz), so the
+	 * deviations of y and of y - c must agree to the rounding of y */
+	const size_t n = 100000;
+	const double c = 2.385e6;
+	double *y = malloc(n * sizeof(double)), *z = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np;
+	struct sscope_allan_point a[64], b[64];
+
+	gsl_rng_set(r, 14);
+	for (size_t k = 0; k < n; k++) {
+		y[k] = c + gsl_ran_gaussian_ziggurat(r, 1.0);
+		z[k] = y[k] - c;
+	}
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 4, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, a,
+		       &np, 0);
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, z, n, 1, m, nm, b,
+		       &np, 0);
+		for (size_t i = 0; i < np; i++)
+			ck_assert_rel(a[i].dev, b[i].dev, 1e-9);
+	}
+	free(y);
+	free(z);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* ------------------------------------------------------------ gaps */
+
+/* brute force: terms whose increments y[i .. i + d m) hold no NaN */
+static double brute_avar(const double *y, size_t n, size_t m, size_t stride_t,
+			 size_t *used, size_t *skipped)
+{
+	double s = 0;
+
+	*used = *skipped = 0;
+	for (size_t i = 0; i + 2 * m <= n; i += stride_t) {
+		double a = 0, b = 0;
+		bool bad = false;
+
+		for (size_t k = i; k < i + 2 * m; k++)
+			bad |= isnan(y[k]);
+		if (bad) {
+			(*skipped)++;
+			continue;
+		}
+		for (size_t k = i; k < i + m; k++)
+			a += y[k];
+		for (size_t k = i + m; k < i + 2 * m; k++)
+			b += y[k];
+		s += (b - a) * (b - a);
+		(*used)++;
+	}
+	return s / (2.0 * (double)m * (double)m * (double)*used);
+}
+
+START_TEST(gaps)
+{
+	const size_t n = 3000;
+	double *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	const size_t m[] = { 1, 3, 10, 40, 100 };
+	struct sscope_allan_point pt[5];
+	size_t np;
+	struct sscope_allan *p;
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_diag d = { "" };
+
+	gsl_rng_set(r, 15);
+	for (size_t k = 0; k < n; k++)
+		y[k] = 3 + gsl_ran_gaussian_ziggurat(r, 0.5);
+	y[17] = NAN;
+	for (size_t k = 1200; k < 1230; k++)
+		y[k] = NAN;
+	y[n - 1] = NAN;
+	for (int dv = 0; dv < 2; dv++) {
+		dev_at(dv ? SSCOPE_DEV_ADEV : SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE,
+		       y, n, 10, m, 5, pt, &np, 0);
+		ck_assert_uint_eq(np, 5);
+		for (size_t i = 0; i < np; i++) {
+			size_t u, sk;
+			double want = brute_avar(y, n, m[i], dv ? m[i] : 1, &u, &sk);
+
+			ck_assert_uint_eq(pt[i].terms, u);
+			ck_assert_uint_eq(pt[i].skipped, sk);
+			ck_assert_rel(pt[i].dev * pt[i].dev, want, 1e-10);
+			ck_assert(isfinite(pt[i].dev_lo) && isfinite(pt[i].dev_hi));
+		}
+	}
+	/* MDEV and the Hadamard deviations skip too, and stay finite */
+	for (int dv = SSCOPE_DEV_MDEV; dv <= SSCOPE_DEV_OHDEV; dv++) {
+		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 10, m, 5, pt,
+		       &np, 0);
+		for (size_t i = 0; i < np; i++)
+			ck_assert(pt[i].skipped > 0 && isfinite(pt[i].dev) &&
+				  pt[i].dev > 0);
+	}
+	/* TOTDEV needs a complete record */
+	o.dev = SSCOPE_DEV_TOTDEV;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 10, m, 5, pt, &np, &d), -EDOM);
+	ck_assert(strstr(d.msg, "gaps") != NULL);
+	sscope_allan_free(p);
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+START_TEST(gaps_angle)
+{
+	/* a NaN angle point spoils the terms whose span contains it */
+	const size_t n = 2000;
+	double *x = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	const size_t m[] = { 1, 5, 50 };
+	struct sscope_allan_point pt[3];
+	size_t np;
+
+	gsl_rng_set(r, 16);
+	for (size_t k = 0; k < n; k++)
+		x[k] = gsl_ran_gaussian_ziggurat(r, 1);
+	x[500] = NAN;
+	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, 1, m, 3, pt, &np, 2);
+	for (size_t i = 0; i < np; i++) {
+		/* terms i <= 500 <= i + 2m are skipped: 2m + 1 of them */
+		ck_assert_uint_eq(pt[i].skipped, 2 * m[i] + 1);
+		ck_assert_uint_eq(pt[i].terms + pt[i].skipped, n - 2 * m[i]);
+	}
+	free(x);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* ------------------------------------------------------------ strided */
+
+START_TEST(strided)
+{
+	const size_t n = under_valgrind() ? 30000 : 300000;
+	double *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np, np2;
+	struct sscope_allan_point full[64], st[64], nov[64];
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+
+	gsl_rng_set(r, 17);
+	for (size_t k = 0; k < n; k++)
+		y[k] = gsl_ran_gaussian_ziggurat(r, 1);
+	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, full, &np, 0);
+	o.alpha_fixed = true;
+	o.stride_div = 4;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, st, &np2, NULL), 0);
+	sscope_allan_free(p);
+	ck_assert_uint_eq(np, np2);
+	for (size_t i = 0; i < np; i++) {
+		size_t s = m[i] / 4 ? m[i] / 4 : 1;
+		double v = st[i].dev * st[i].dev, f = full[i].dev * full[i].dev;
+
+		ck_assert_uint_eq(st[i].stride, s);
+		ck_assert_uint_eq(st[i].terms, (n + 1 - 2 * m[i] + s - 1) / s);
+		ck_assert_rel(st[i].edf_full, full[i].edf, 1e-12);
+		ck_assert(st[i].edf <= st[i].edf_full * (1 + 1e-12));
+		/* the loss is modest: EDF at least a third of the full one */
+		ck_assert(st[i].edf >= st[i].edf_full / 3);
+		ck_assert(fabs(v / f - 1) <= 4 * rel_sd(st[i].edf));
+	}
+	/* stride_div 1 is the non-overlapping estimator: equals ADEV */
+	o.stride_div = 1;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, st, &np2, NULL), 0);
+	sscope_allan_free(p);
+	dev_at(SSCOPE_DEV_ADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, nov, &np, 0);
+	for (size_t i = 0; i < np; i++) {
+		ck_assert_uint_eq(st[i].terms, nov[i].terms);
+		ck_assert_rel(st[i].dev, nov[i].dev, 1e-13);
+		ck_assert_rel(st[i].edf, nov[i].edf, 1e-12);
+	}
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* ------------------------------------------------------------ engine */
+
+/* direct reference: compensated phase, order-d terms at every i */
+static double ref_var(const double *y, size_t n, size_t m, int d)
+{
+	double mean = 0, *x = malloc((n + 1) * sizeof(double));
+	struct ssc_ksum k = { 0, 0 }, s = { 0, 0 };
+	size_t nt = n + 1 - (size_t)d * m;
+
+	for (size_t i = 0; i < n; i++)
+		ssc_ksum_add(&k, y[i]);
+	mean = ssc_ksum_value(&k) / (double)n;
+	k.s = k.c = 0;
+	x[0] = 0;
+	for (size_t i = 0; i < n; i++) {
+		ssc_ksum_add(&k, y[i] - mean);
+		x[i + 1] = ssc_ksum_value(&k);
+	}
+	for (size_t i = 0; i < nt; i++) {
+		double t = d == 2 ? x[i + 2 * m] - 2 * x[i + m] + x[i] :
+				    x[i + 3 * m] - 3 * x[i + 2 * m] + 3 * x[i + m] - x[i];
+
+		ssc_ksum_add(&s, t * t);
+	}
+	free(x);
+	return ssc_ksum_value(&s) / ((d == 2 ? 2.0 : 6.0) * (double)m *
+				     (double)m * (double)nt);
+}
+
+START_TEST(tiled_engine)
+{
+	/* > 2^17 phase points takes the tiled, fused path */
+	const size_t n = (1u << 18) + 12345;
+	double *y = malloc(n * sizeof(double)), w = 0;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[128], nm, np1, np2;
+	struct sscope_allan_point a[128], b[128];
+	/* an unaligned list forces smaller tiles */
+	const size_t odd[] = { 1, 7, 1023, 4097, 30001 };
+
+	gsl_rng_set(r, 18);
+	for (size_t k = 0; k < n; k++) {
+		w += gsl_ran_gaussian_ziggurat(r, 1e-3);
+		y[k] = 12.5 + w + gsl_ran_gaussian_ziggurat(r, 1);
+	}
+	sscope_allan_grid(SSCOPE_TAUS_DENSE, n / 4, m, 128, &nm);
+	for (int d = 2; d <= 3; d++) {
+		struct sscope_allan_opts o = { 0 };
+		struct sscope_allan *p;
+
+		o.dev = d == 2 ? SSCOPE_DEV_OADEV : SSCOPE_DEV_OHDEV;
+		o.ci_level = -1;
+		o.alpha_fixed = true;
+		o.threads = 1;
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, a, &np1, NULL), 0);
+		sscope_allan_free(p);
+		o.threads = 2;
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, b, &np2, NULL), 0);
+		ck_assert_uint_eq(np1, np2);
+		for (size_t i = 0; i < np1; i += under_valgrind() ? 7 : 1) {
+			ck_assert_rel(a[i].dev, b[i].dev, 1e-13);
+			ck_assert_rel(a[i].dev * a[i].dev, ref_var(y, n, m[i], d), 1e-11);
+			ck_assert_uint_eq(a[i].terms, n + 1 - (size_t)d * m[i]);
+			ck_assert(isnan(a[i].dev_lo));
+		}
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, odd, 5, b, &np2, NULL), 0);
+		for (size_t i = 0; i < np2; i++)
+			ck_assert_rel(b[i].dev * b[i].dev, ref_var(y, n, odd[i], d), 1e-11);
+		/* a shorter record on the same plan, strided input */
+		ck_assert_int_eq(sscope_allan_compute(p, y, 2, n / 2, 1, odd, 4, b, &np2, NULL), 0);
+		{
+			double *h = malloc(n / 2 * sizeof(double));
+
+			for (size_t k = 0; k < n / 2; k++)
+				h[k] = y[2 * k];
+			for (size_t i = 0; i < np2; i++)
+				ck_assert_rel(b[i].dev * b[i].dev,
+					      ref_var(h, n / 2, odd[i], d), 1e-11);
+			free(h);
+		}
+		sscope_allan_free(p);
+	}
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* ------------------------------------------------------------ noise id */
+
+START_TEST(noise_identification)
+{
+	const size_t n = 1u << 16;
+	double *y = malloc(n * sizeof(double)), *x = malloc((n + 1) * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_sensor_spec sp = { 0 };
+	struct sscope_sim_opts so = { 0 };
+	struct sscope_sim *sim;
+	const size_t ms[] = { 1, 4, 16 };
+	int alpha;
+	double est;
+
+	gsl_rng_set(r, 19);
+	/* white rate, random-walk rate, white angle (rate input) */
+	for (int kind = 0; kind < 4; kind++) {
+		double w = 0, e0 = gsl_ran_gaussian_ziggurat(r, 1);
+		int want = kind == 0 ? 0 : kind == 1 ? -2 : kind == 2 ? 2 : -1;
+
+		if (kind == 3) {
+			/* flicker rate from the simulator's B model */
+			sp.b = 1;
+			so.rate_hz = 1;
+			so.seed = 20;
+			ck_assert_int_eq(sscope_sim_new(&sim, &sp, &so, NULL), 0);
+			sscope_sim_generate(sim, NULL, y, NULL, n);
+			sscope_sim_free(sim);
+		}
+		for (size_t k = 0; k < n && kind < 3; k++) {
+			if (kind == 0) {
+				y[k] = gsl_ran_gaussian_ziggurat(r, 1);
+			} else if (kind == 1) {
+				w += gsl_ran_gaussian_ziggurat(r, 1);
+				y[k] = w;
+			} else {
+				double e1 = gsl_ran_gaussian_ziggurat(r, 1);
+
+				y[k] = e1 - e0;
+				e0 = e1;
+			}
+		}
+		x[0] = 0;
+		for (size_t k = 0; k < n; k++)
+			x[k + 1] = x[k] + y[k];
+		for (size_t j = 0; j < 3; j++) {
+			ck_assert_int_eq(sscope_allan_noise_id(x, n + 1, ms[j], true, 2,
+							       &alpha, &est), 0);
+			ck_assert_msg(alpha == want, "kind %d m %zu: alpha %d (%g), want %d",
+				      kind, ms[j], alpha, est, want);
+			ck_assert(fabs(est - want) < 0.5);
+		}
+		/* the same from the phase (angle input), alpha + 0 */
+		ck_assert_int_eq(sscope_allan_noise_id(x, n + 1, 4, false, 2, &alpha, NULL), 0);
+		ck_assert_int_eq(alpha, want);
+	}
+	/* too few averages, constant data, bad arguments */
+	ck_assert_int_eq(sscope_allan_noise_id(x, n + 1, n / 20, true, 2, &alpha, NULL), -EDOM);
+	for (size_t k = 0; k <= 100; k++)
+		x[k] = 3 * (double)k;
+	ck_assert_int_eq(sscope_allan_noise_id(x, 101, 1, true, 2, &alpha, NULL), -EDOM);
+	ck_assert_int_eq(sscope_allan_noise_id(NULL, 101, 1, true, 2, &alpha, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_allan_noise_id(x, 101, 0, true, 2, &alpha, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_allan_noise_id(x, 101, 1, true, 5, &alpha, NULL), -EINVAL);
+	free(x);
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* ------------------------------------------------------------ errors */
+
+START_TEST(errors)
+{
+	double y[64];
+	size_t m[3] = { 1, 2, 4 }, np;
+	struct sscope_allan_point pt[3];
+	struct sscope_allan *p;
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_diag d = { "" };
+
+	for (int i = 0; i < 64; i++)
+		y[i] = sin(i * 2.385);
+	ck_assert_int_eq(sscope_allan_new(NULL, 10, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_allan_new(&p, 0, NULL), -EINVAL);
+	o.dev = (enum sscope_dev)99;
+	ck_assert_int_eq(sscope_allan_new(&p, 10, &o), -EINVAL);
+	o.dev = SSCOPE_DEV_OADEV;
+	o.ci_level = 1.5;
+	ck_assert_int_eq(sscope_allan_new(&p, 10, &o), -EINVAL);
+	o.ci_level = 0;
+	o.alpha_fixed = true;
+	o.alpha = 5;
+	ck_assert_int_eq(sscope_allan_new(&p, 10, &o), -EINVAL);
+	ck_assert_int_eq(sscope_allan_new(&p, SIZE_MAX / 8, NULL), -ENOMEM);
+	ck_assert_int_eq(sscope_allan_new(&p, 64, NULL), 0);
+	ck_assert_int_eq(sscope_allan_compute(p, NULL, 1, 64, 1, m, 3, pt, &np, &d), -EINVAL);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 0, 64, 1, m, 3, pt, &np, &d), -EINVAL);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, 64, 0, m, 3, pt, &np, &d), -EINVAL);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, 64, NAN, m, 3, pt, &np, &d), -EINVAL);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, 65, 1, m, 3, pt, &np, &d), -EINVAL);
+	ck_assert(strstr(d.msg, "exceed") != NULL);
+	{
+		size_t bad[2] = { 2, 2 }, zero[1] = { 0 };
+
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, 64, 1, bad, 2, pt, &np, &d), -EINVAL);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, 64, 1, zero, 1, pt, &np, &d), -EINVAL);
+	}
+	/* one sample, too short for m = 1; factors beyond the record */
+	d.msg[0] = '\0';
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, 1, 1, m, 3, pt, &np, &d), -EDOM);
+	ck_assert(strstr(d.msg, "too short") != NULL);
+	ck_assert_int_eq(np, 0);
+	{
+		size_t big[1] = { 40 };
+
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, 64, 1, big, 1, pt, &np, &d), -EDOM);
+	}
+	/* only m beyond the limit are dropped */
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, 5, 1, m, 3, pt, &np, &d), 0);
+	ck_assert_uint_eq(np, 2);
+	/* all NaN, a single finite sample */
+	{
+		double z[8] = { NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN };
+
+		ck_assert_int_eq(sscope_allan_compute(p, z, 1, 8, 1, m, 1, pt, &np, &d), -EDOM);
+		z[3] = 1;
+		ck_assert_int_eq(sscope_allan_compute(p, z, 1, 8, 1, m, 1, pt, &np, &d), -EDOM);
+		ck_assert(strstr(d.msg, "finite") != NULL);
+	}
+	sscope_allan_free(p);
+	sscope_allan_free(NULL);
+	/* the one-call API */
+	{
+		struct sscope_allan_result *res;
+
+		ck_assert_int_eq(sscope_allan_analyze(NULL, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+						      NULL, NULL, &res, &d), -EINVAL);
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 1, 1, SSCOPE_TAUS_OCTAVE,
+						      NULL, NULL, &res, &d), -EDOM);
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+						      NULL, NULL, &res, &d), 0);
+		ck_assert(res->points == res->oadev && res->n_points == 6);
+		sscope_allan_result_free(res);
+		o.alpha_fixed = false;
+		o.dev = SSCOPE_DEV_MDEV;
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+						      &o, NULL, &res, &d), 0);
+		/* MDEV stops at m <= 65 / 3, OADEV at m <= 32 */
+		ck_assert(res->points != res->oadev && res->n_points == 5 &&
+			  res->n_oadev == 6);
+		sscope_allan_result_free(res);
+		sscope_allan_result_free(NULL);
+	}
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("allan");
+	TCase *t = tcase_create("allan");
+
+	tcase_set_timeout(t, 600);
+	tcase_add_test(t, nbs14_10point);
+	tcase_add_test(t, nbs14_1000point);
+	tcase_add_test(t, stable32_bounds);
+	tcase_add_test(t, edf_properties);
+	tcase_add_test(t, grids);
+	tcase_add_test(t, ramp_exact);
+	tcase_add_test(t, constant_zero);
+	tcase_add_test(t, white_rate);
+	tcase_add_test(t, rate_random_walk);
+	tcase_add_test(t, white_angle);
+	tcase_add_test(t, large_offset);
+	tcase_add_test(t, gaps);
+	tcase_add_test(t, gaps_angle);
+	tcase_add_test(t, strided);
+	tcase_add_test(t, tiled_engine);
+	tcase_add_test(t, noise_identification);
+	tcase_add_test(t, errors);
+	suite_add_tcase(s, t);
+	return s;
+}

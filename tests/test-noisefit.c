@@ -1,0 +1,500 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * IEEE 952 noise fit: the AVAR model, the covariance of overlapping AVAR
+ * estimates against an explicit linear-algebra computation (Q, N, K, R),
+ * a brute-force lag sum (B), Greenhall's EDF and a Monte-Carlo estimate;
+ * recovery and term selection on exact model curves; the simulate ->
+ * allan round trip: every true coefficient inside its 95 % interval in at
+ * least 18 of 20 seeded runs for N+K, N+B, Q+N and N+R records (median
+ * relative interval widths printed); read-offs; errors.
+ */
+#include "allan-internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+
+#define PI 3.14159265358979323846
+
+static bool under_valgrind(void)
+{
+	const char *f = getenv("CK_FORK");
+
+	return f && !strcmp(f, "no");
+}
+
+START_TEST(model)
+{
+	const double c[5] = { 1.1e-5, 2.385e-3, 3.3e-4, 4.4e-6, 5.5e-8 };
+
+	for (double t = 0.01; t < 1e5; t *= 7) {
+		double want = 3 * c[0] * c[0] / (t * t) + c[1] * c[1] / t +
+			      2 * log(2) / PI * c[2] * c[2] + c[3] * c[3] * t / 3 +
+			      c[4] * c[4] * t * t / 2;
+
+		ck_assert_rel(sscope_noise_avar(c, t), want, 1e-15);
+	}
+}
+END_TEST
+
+/*
+ * Exact covariance of two OADEV^2 estimates: the phase is a linear map of
+ * independent N(0,1) sources (white angle Q e_k; N sqrt(dt) sum w; the
+ * rate random walk dt K sqrt(dt) sum_j sum_{l<=j} v_l), R a mean.
+ */
+static double exact_cov(const double c[5], double fs, size_t n, size_t ma,
+			size_t mb)
+{
+	double dt = 1 / fs;
+	size_t np = n + 1, ns = np + 2 * n;
+	double *X = calloc(np * ns, sizeof(double));
+	size_t na = np - 2 * ma, nb = np - 2 * mb;
+	double ta = (double)ma * dt, tb = (double)mb * dt;
+	double mua = c[4] * ta * ta, mub = c[4] * tb * tb, tot = 0;
+	double *Da = calloc(na * ns, sizeof(double)), *Db = calloc(nb * ns, sizeof(double));
+
+	for (size_t k = 0; k < np; k++) {
+		X[k * ns + k] += c[0];
+		for (size_t j = 0; j < k; j++) {
+			X[k * ns + np + j] += c[1] * sqrt(dt);
+			for (size_t l = 0; l <= j; l++)
+				X[k * ns + np + n + l] += dt * c[3] * sqrt(dt);
+		}
+	}
+	for (size_t i = 0; i < na; i++)
+		for (size_t s = 0; s < ns; s++)
+			Da[i * ns + s] = X[(i + 2 * ma) * ns + s] - 2 * X[(i + ma) * ns + s] + X[i * ns + s];
+	for (size_t i = 0; i < nb; i++)
+		for (size_t s = 0; s < ns; s++)
+			Db[i * ns + s] = X[(i + 2 * mb) * ns + s] - 2 * X[(i + mb) * ns + s] + X[i * ns + s];
+	for (size_t i = 0; i < na; i++)
+		for (size_t j = 0; j < nb; j++) {
+			double cc = 0;
+
+			for (size_t s = 0; s < ns; s++)
+				cc += Da[i * ns + s] * Db[j * ns + s];
+			tot += 2 * cc * cc + 4 * mua * mub * cc;
+		}
+	free(X);
+	free(Da);
+	free(Db);
+	return tot / (4 * ta * ta * tb * tb * (double)na * (double)nb);
+}
+
+START_TEST(covariance_exact)
+{
+	/* Q, N, K and R are exact for the sampled processes: the lag sums
+	 * are exact near kinks, Gauss-Legendre with an Euler-Maclaurin end
+	 * correction elsewhere (polynomial pieces: exact to rounding but for
+	 * the O(1/L^4) remainder) */
+	const double cases[4][5] = { { 0.02, 0, 0, 0, 0 }, { 0, 0.3, 0, 0, 0 },
+				     { 0, 0, 0, 0.05, 0 },
+				     { 0.01, 0.2, 0, 0.04, 0.003 } };
+	const size_t ms[] = { 1, 3, 16, 40 };
+	const size_t n = under_valgrind() ? 90 : 120;
+
+	for (int c = 0; c < 4; c++)
+		for (int a = 0; a < 4; a++)
+			for (int b = a; b < 4; b++) {
+				size_t m[2] = { ms[a], ms[b] };
+				size_t t[2] = { n + 1 - 2 * ms[a], n + 1 - 2 * ms[b] };
+				double cov[4], ex = exact_cov(cases[c], 10, n, ms[a], ms[b]);
+
+				ck_assert_int_eq(sscope_noise_avar_cov(cases[c], 10, m, t, 2, cov), 0);
+				ck_assert_rel(cov[1], ex, 1e-6);
+				ck_assert(cov[1] == cov[2]);
+			}
+}
+END_TEST
+
+/* flicker rate: brute-force lag sum of the generalised covariance */
+static double gb(double k, double ma, double mb)
+{
+	const double w[3] = { 1, -2, 1 };
+	double s = 0;
+
+	for (int p = 0; p < 3; p++)
+		for (int q = 0; q < 3; q++) {
+			double t = k + q * mb - p * ma;
+
+			if (t != 0)
+				s += w[p] * w[q] * t * t * log(fabs(t));
+		}
+	return s / (2 * PI);
+}
+
+START_TEST(covariance_flicker)
+{
+	const size_t n = under_valgrind() ? 600 : 3000;
+	const size_t ms[] = { 5, 13, 60 };
+	const double c[5] = { 0, 0, 1, 0, 0 };
+
+	for (int a = 0; a < 3; a++)
+		for (int b = a; b < 3; b++) {
+			size_t m[2] = { ms[a], ms[b] };
+			size_t t[2] = { n + 1 - 2 * ms[a], n + 1 - 2 * ms[b] };
+			double cov[4], na = (double)t[0], nb = (double)t[1], s = 0;
+
+			ck_assert_int_eq(sscope_noise_avar_cov(c, 1, m, t, 2, cov), 0);
+			for (double k = -(na - 1); k <= nb - 1; k++) {
+				double cnt = fmin(na, nb - k) - fmax(0, -k);
+				double g = gb(k, (double)m[0], (double)m[1]);
+
+				if (cnt > 0)
+					s += cnt * 2 * g * g;
+			}
+			s /= 4.0 * (double)(m[0] * m[0] * m[1] * m[1]) * na * nb;
+			/* the brute force itself loses ~ (k/m)^4 eps in the tail */
+			ck_assert_rel(cov[1], s, 1e-5);
+		}
+}
+END_TEST
+
+START_TEST(covariance_vs_greenhall)
+{
+	/* the EDF implied by the covariance, 2 mu^2 / var, is Greenhall's:
+	 * exactly for white phase, within 1 % for the frequency noises at
+	 * m >= 100 (Greenhall's continuous model and tables) */
+	const size_t N = 100000, mm[] = { 100, 300, 1000, 3000, 10000 };
+	const struct {
+		int alpha;
+		double c[5];
+	} g[4] = { { 2, { 1, 0, 0, 0, 0 } }, { 0, { 0, 1, 0, 0, 0 } },
+		   { -1, { 0, 0, 1, 0, 0 } }, { -2, { 0, 0, 0, 1, 0 } } };
+
+	for (int k = 0; k < 4; k++)
+		for (int i = 0; i < 5; i++) {
+			size_t m = mm[i], t = N + 1 - 2 * m;
+			double cov, mu, nu, gr;
+
+			ck_assert_int_eq(sscope_noise_avar_cov(g[k].c, 1, &m, &t, 1, &cov), 0);
+			mu = sscope_noise_avar(g[k].c, (double)m);
+			nu = 2 * mu * mu / cov;
+			gr = sscope_allan_edf(g[k].alpha, 2, m, N + 1, false, 1);
+			ck_assert_msg(fabs(nu / gr - 1) < (k == 0 ? 1e-9 : 0.01),
+				      "alpha %d m %zu: %g vs Greenhall %g",
+				      g[k].alpha, m, nu, gr);
+		}
+}
+END_TEST
+
+START_TEST(covariance_monte_carlo)
+{
+	/* sample covariance of OADEV^2 at m = 4 and 16 over R records of
+	 * white rate noise: within 4 Monte-Carlo standard errors */
+	const size_t n = 2048, R = under_valgrind() ? 60 : 600;
+	const size_t m[2] = { 4, 16 }, t[2] = { n + 1 - 8, n + 1 - 32 };
+	const double c[5] = { 0, 2.385, 0, 0, 0 };
+	double *y = malloc(n * sizeof(double)), cov[4], *v = malloc(2 * R * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+	double mean[2] = { 0, 0 }, S[2][2] = { { 0 } };
+
+	gsl_rng_set(r, 40);
+	o.ci_level = -1;
+	o.alpha_fixed = true;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	for (size_t k = 0; k < R; k++) {
+		struct sscope_allan_point pt[2];
+		size_t np;
+
+		for (size_t i = 0; i < n; i++)
+			y[i] = gsl_ran_gaussian_ziggurat(r, 2.385);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, 2, pt, &np, NULL), 0);
+		v[2 * k] = pt[0].dev * pt[0].dev;
+		v[2 * k + 1] = pt[1].dev * pt[1].dev;
+		mean[0] += v[2 * k] / (double)R;
+		mean[1] += v[2 * k + 1] / (double)R;
+	}
+	for (size_t k = 0; k < R; k++)
+		for (int a = 0; a < 2; a++)
+			for (int b = 0; b < 2; b++)
+				S[a][b] += (v[2 * k + a] - mean[a]) *
+					   (v[2 * k + b] - mean[b]) / (double)(R - 1);
+	ck_assert_int_eq(sscope_noise_avar_cov(c, 1, m, t, 2, cov), 0);
+	for (int a = 0; a < 2; a++)
+		for (int b = 0; b < 2; b++) {
+			/* sd of a sample covariance of Gaussian variables */
+			double se = sqrt((cov[a * 2 + a] * cov[b * 2 + b] +
+					  cov[a * 2 + b] * cov[a * 2 + b]) / (double)(R - 1));
+
+			ck_assert_msg(fabs(S[a][b] - cov[a * 2 + b]) <= 4 * se,
+				      "[%d][%d] %g vs %g (se %g)", a, b, S[a][b],
+				      cov[a * 2 + b], se);
+		}
+	sscope_allan_free(p);
+	free(y);
+	free(v);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* points of an exact model curve, EDF of the dominant term */
+static size_t model_points(const double c[5], double fs, size_t n,
+			   struct sscope_allan_point *pt, size_t cap)
+{
+	size_t m[128], nm, np = n + 1;
+
+	sscope_allan_grid(SSCOPE_TAUS_DENSE, sscope_allan_max_m(SSCOPE_DEV_OADEV, np), m, 128, &nm);
+	if (nm > cap)
+		nm = cap;
+	for (size_t i = 0; i < nm; i++) {
+		double tau = (double)m[i] / fs, best = -1;
+		int alpha = 0;
+		const int al[5] = { 2, 0, -1, -2, -2 };
+
+		for (int t = 0; t < 5; t++) {
+			double one[5] = { 0 }, v;
+
+			one[t] = c[t];
+			v = sscope_noise_avar(one, tau);
+			if (v > best) {
+				best = v;
+				alpha = al[t];
+			}
+		}
+		memset(&pt[i], 0, sizeof(pt[i]));
+		pt[i].m = m[i];
+		pt[i].tau_s = tau;
+		pt[i].terms = np - 2 * m[i];
+		pt[i].stride = 1;
+		pt[i].dev = sqrt(sscope_noise_avar(c, tau));
+		pt[i].alpha = alpha;
+		pt[i].edf = pt[i].edf_full = sscope_allan_edf(alpha, 2, m[i], np, false, 1);
+	}
+	return nm;
+}
+
+START_TEST(fit_exact_curves)
+{
+	/* exact model curves: the true terms are selected and recovered */
+	/* each term dominates somewhere in a 1e5 s record at 100 Hz (a K
+	 * of 2.385e-6 would not: with the true covariance the curve without
+	 * it misses by chi2 = 1.2 only, and AIC rightly drops it) */
+	const double cases[4][5] = { { 0, 2.385e-3, 2.385e-4, 1e-5, 0 },
+				     { 1e-4, 1e-3, 0, 0, 0 },
+				     { 0, 1e-3, 0, 0, 1e-7 },
+				     { 3e-4, 2e-3, 1e-4, 2e-6, 0 } };
+	struct sscope_allan_point pt[128];
+
+	for (int c = 0; c < 4; c++) {
+		struct sscope_noise_fit f;
+		struct sscope_diag d = { "" };
+		size_t n = model_points(cases[c], 100, 10000000, pt, 128);
+		unsigned want = 0;
+
+		for (int t = 0; t < 5; t++)
+			if (cases[c][t] > 0)
+				want |= 1u << t;
+		ck_assert_msg(sscope_noise_fit(pt, n, 100, 10000001, NULL, &f, &d) == 0,
+			      "%s", d.msg);
+		ck_assert_uint_eq(f.terms, want);
+		for (int t = 0; t < 5; t++) {
+			if (!(want & (1u << t))) {
+				ck_assert(!f.coef[t].fitted && isnan(f.coef[t].value));
+				ck_assert(f.coef[t].lo == 0 && f.coef[t].hi >= 0);
+				continue;
+			}
+			ck_assert(f.coef[t].fitted);
+			ck_assert_rel(f.coef[t].value, cases[c][t], 1e-6);
+			ck_assert(f.coef[t].lo <= f.coef[t].value &&
+				  f.coef[t].value <= f.coef[t].hi);
+		}
+		ck_assert(f.chi2 < 1e-6 && f.dof == (double)n - __builtin_popcount(want));
+	}
+}
+END_TEST
+
+/* ------------------------------------------------------------ round trip */
+
+struct rt_case {
+	const char *name;
+	double c[5];
+	double fs;
+	size_t n;
+};
+
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+static void round_trip(const struct rt_case *rc, int seeds, double level,
+		       int need)
+{
+	double *y = malloc(rc->n * sizeof(double));
+	int cover[5] = { 0 };
+	double width[5][32];
+
+	for (int s = 0; s < seeds; s++) {
+		struct sscope_sensor_spec sp = { 0 };
+		struct sscope_sim_opts o = { 0 };
+		struct sscope_sim *sim;
+		struct sscope_allan_result *res;
+		struct sscope_noise_fit_opts fo = { 0 };
+		struct sscope_diag d = { "" };
+
+		sp.q = rc->c[0];
+		sp.n = rc->c[1];
+		sp.b = rc->c[2];
+		sp.k = rc->c[3];
+		sp.r = rc->c[4];
+		o.rate_hz = rc->fs;
+		o.seed = 5000 + (uint64_t)s;
+		ck_assert_int_eq(sscope_sim_new(&sim, &sp, &o, NULL), 0);
+		sscope_sim_generate(sim, NULL, y, NULL, rc->n);
+		sscope_sim_free(sim);
+		fo.ci_level = level;
+		ck_assert_msg(sscope_allan_analyze(y, 1, rc->n, rc->fs,
+						   SSCOPE_TAUS_DENSE, NULL, &fo,
+						   &res, &d) == 0, "%s", d.msg);
+		ck_assert_msg(res->have_fit, "%s seed %d: fit failed %d", rc->name,
+			      s, res->fit_error);
+		for (int t = 0; t < 5; t++) {
+			const struct sscope_noise_coef *cf = &res->fit.coef[t];
+
+			if (!(rc->c[t] > 0))
+				continue;
+			if (cf->lo <= rc->c[t] && rc->c[t] <= cf->hi)
+				cover[t]++;
+			width[t][s] = (cf->hi - cf->lo) / rc->c[t];
+		}
+		sscope_allan_result_free(res);
+	}
+	for (int t = 0; t < 5; t++) {
+		if (!(rc->c[t] > 0))
+			continue;
+		qsort(width[t], (size_t)seeds, sizeof(double), cmp_d);
+		fprintf(stderr, "# round trip %s: %c inside its %g%% interval in %d of %d runs, median relative width %.3g\n",
+			rc->name, "QNBKR"[t], 100 * level, cover[t], seeds,
+			width[t][seeds / 2]);
+		ck_assert_msg(cover[t] >= need,
+			      "%s: %c covered %d of %d", rc->name, "QNBKR"[t],
+			      cover[t], seeds);
+	}
+	free(y);
+}
+
+START_TEST(round_trip_coverage)
+{
+	/* SI values (rad/s units): records long enough for each term */
+	const struct rt_case cases[4] = {
+		{ "N+K", { 0, 2.385e-3, 0, 2.385e-5, 0 }, 100, 1000000 },
+		{ "N+B", { 0, 2.385e-3, 1e-3, 0, 0 }, 100, 300000 },
+		{ "Q+N", { 1e-3, 1e-3, 0, 0, 0 }, 100, 300000 },
+		{ "N+R", { 0, 1e-3, 0, 0, 1e-6 }, 100, 1000000 },
+	};
+
+	for (int i = 0; i < 4; i++) {
+		if (under_valgrind()) {
+			/* one short run each: the truth inside a 99.9 % interval */
+			struct rt_case c = cases[i];
+
+			c.n = 100000;
+			round_trip(&c, 1, 0.999, 1);
+		} else {
+			round_trip(&cases[i], 20, 0.95, 18);
+		}
+	}
+}
+END_TEST
+
+START_TEST(readoffs_and_errors)
+{
+	const double c[5] = { 0, 2.385e-3, 2.385e-4, 2.385e-6, 0 };
+	struct sscope_allan_point pt[128];
+	struct sscope_noise_readoff r;
+	struct sscope_noise_fit f;
+	struct sscope_noise_fit_opts o = { 0 };
+	struct sscope_diag d = { "" };
+	size_t n = model_points(c, 100, 10000000, pt, 128);
+
+	/* on an exact curve the -1/2 and +1/2 read-offs hold where those
+	 * terms dominate; B = min / 0.6643 is biased high by N and K */
+	ck_assert_int_eq(sscope_noise_readoff(pt, n, &r), 0);
+	ck_assert(fabs(r.n / c[1] - 1) < 0.05);
+	ck_assert(r.b > c[2] && r.b < 2 * c[2]);
+	ck_assert(isnan(r.k) || fabs(r.k / c[3] - 1) < 0.3);
+	ck_assert_int_eq(sscope_noise_readoff(pt, 2, &r), -EDOM);
+	ck_assert_int_eq(sscope_noise_readoff(NULL, 2, &r), -EINVAL);
+	/* forced and allowed terms, tau range */
+	o.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_K);
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 10000001, &o, &f, &d), 0);
+	ck_assert_uint_eq(f.terms & ~o.allowed, 0);
+	ck_assert(isnan(f.coef[SSCOPE_TERM_B].hi) && !f.coef[SSCOPE_TERM_B].fitted);
+	o.allowed = 0;
+	o.forced = 1u << SSCOPE_TERM_Q;
+	o.tau_max_s = 10;
+	/* forcing Q that is not there: no positive fit with Q is the best;
+	 * either Q is positive and kept, or the fit is refused */
+	{
+		int rc = sscope_noise_fit(pt, n, 100, 10000001, &o, &f, &d);
+
+		ck_assert(rc == 0 ? (f.terms & 1u) != 0 : rc == -EDOM);
+		ck_assert(rc ? 1 : f.n_points < n);
+	}
+	/* bad options */
+	o = (struct sscope_noise_fit_opts){ 0 };
+	o.ci_level = 1;
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 1, &o, &f, &d), -EINVAL);
+	o.ci_level = 0;
+	o.allowed = 1u << 7;
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 1, &o, &f, &d), -EINVAL);
+	o.allowed = 1u << SSCOPE_TERM_N;
+	o.forced = 1u << SSCOPE_TERM_B;
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 1, &o, &f, &d), -EINVAL);
+	ck_assert_int_eq(sscope_noise_fit(NULL, n, 100, 1, NULL, &f, &d), -EINVAL);
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 0, 1, NULL, &f, &d), -EINVAL);
+	/* too few points; constant data: zeros, not NaN */
+	ck_assert_int_eq(sscope_noise_fit(pt, 1, 100, 1, NULL, &f, &d), -EDOM);
+	for (size_t i = 0; i < n; i++)
+		pt[i].dev = 0;
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 1, NULL, &f, &d), -EDOM);
+	for (int t = 0; t < 5; t++)
+		ck_assert(f.coef[t].value == 0 && f.coef[t].lo == 0 &&
+			  f.coef[t].hi == 0 && !f.coef[t].fitted);
+	/* no combination with positive coefficients: Q and N forced on a
+	 * curve of rate random walk only */
+	n = model_points((const double[5]){ 0, 0, 0, 1e-4, 0 }, 100, 100000, pt, 128);
+	o = (struct sscope_noise_fit_opts){ 0 };
+	o.allowed = o.forced = (1u << SSCOPE_TERM_Q) | (1u << SSCOPE_TERM_N);
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 100001, &o, &f, &d), -EDOM);
+	ck_assert(strstr(d.msg, "positive") != NULL);
+	/* covariance API errors */
+	{
+		size_t m = 1, t = 10;
+		double cov;
+
+		ck_assert_int_eq(sscope_noise_avar_cov(c, 0, &m, &t, 1, &cov), -EINVAL);
+		ck_assert_int_eq(sscope_noise_avar_cov(NULL, 1, &m, &t, 1, &cov), -EINVAL);
+		t = 0;
+		ck_assert_int_eq(sscope_noise_avar_cov(c, 1, &m, &t, 1, &cov), -EINVAL);
+	}
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("noisefit");
+	TCase *t = tcase_create("noisefit");
+
+	tcase_set_timeout(t, 900);
+	tcase_add_test(t, model);
+	tcase_add_test(t, covariance_exact);
+	tcase_add_test(t, covariance_flicker);
+	tcase_add_test(t, covariance_vs_greenhall);
+	tcase_add_test(t, covariance_monte_carlo);
+	tcase_add_test(t, fit_exact_curves);
+	tcase_add_test(t, round_trip_coverage);
+	tcase_add_test(t, readoffs_and_errors);
+	suite_add_tcase(s, t);
+	return s;
+}
