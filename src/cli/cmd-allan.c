@@ -6,6 +6,7 @@
  * and Kalibr's IMU noise YAML.
  */
 #include "cli.h"
+#include "stage.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -375,15 +376,13 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 }
 
 static int analyse_file(const struct ssc_common *co, const struct args *a,
-			const char *path, struct file_res *fr)
+			const char *path, struct sscope_capture *cap,
+			struct file_res *fr)
 {
-	struct sscope_capture *cap;
-	int rc = ssc_load(co, path, &fr->cap);
+	int rc;
 
 	fr->path = path;
-	if (rc)
-		return rc;
-	cap = fr->cap;
+	fr->cap = cap;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
 			path);
@@ -962,17 +961,28 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 	return 0;
 }
 
+/* one panel per channel of every file (at most MAX_PANELS) */
+#define MAX_PANELS 12
+
 static int plot(const struct ssc_common *co, const struct args *a,
-		const struct file_res *fr)
+		const struct file_res *fr, size_t nfiles)
 {
-	size_t n = fr->n_ch, cols = n < 3 ? n : (n == 4 ? 2 : 3);
-	size_t rows = (n + cols - 1) / cols;
+	size_t n = 0, cols, rows, p = 0;
 	struct ssc_fig *fig;
 	char title[512];
 	int rc = 0;
 
+	for (size_t i = 0; i < nfiles; i++)
+		n += fr[i].n_ch;
 	if (n == 0)
 		return SSC_EXIT_OK;
+	if (n > MAX_PANELS) {
+		ssc_warn(co, "--plot: %zu channels; the figure shows the first %d",
+			 n, MAX_PANELS);
+		n = MAX_PANELS;
+	}
+	cols = n < 3 ? n : (n == 4 ? 2 : 3);
+	rows = (n + cols - 1) / cols;
 	fig = ssc_fig_new((int)(cols == 1 ? 1000 : 720 * cols),
 			  (int)(rows * (cols == 1 ? 720 : 620) + 60), (int)rows,
 			  (int)cols);
@@ -980,11 +990,17 @@ static int plot(const struct ssc_common *co, const struct args *a,
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	snprintf(title, sizeof(title), "%s", fr->path);
+	if (nfiles == 1)
+		snprintf(title, sizeof(title), "%s", fr->path);
+	else
+		snprintf(title, sizeof(title), "%s and %zu more files", fr->path,
+			 nfiles - 1);
 	ssc_fig_title(fig, title);
-	for (size_t k = 0; k < n && !rc; k++)
-		rc = plot_chan(ssc_fig_ax(fig, (int)(k / cols), (int)(k % cols)),
-			       a, &fr->ch[k]);
+	for (size_t i = 0; i < nfiles && !rc; i++)
+		for (size_t k = 0; k < fr[i].n_ch && p < n && !rc; k++, p++)
+			rc = plot_chan(ssc_fig_ax(fig, (int)(p / cols),
+						  (int)(p % cols)),
+				       a, &fr[i].ch[k]);
 	if (!rc)
 		rc = ssc_fig_save_png(fig, co->plot);
 	ssc_fig_free(fig);
@@ -1002,89 +1018,145 @@ static void free_file(struct file_res *fr)
 	for (size_t k = 0; k < fr->n_ch; k++)
 		sscope_allan_result_free(fr->ch[k].res);
 	free(fr->ch);
-	sscope_capture_free(fr->cap);
 }
 
-int ssc_cmd_allan(int argc, char **argv)
+/* the fitted N, B, K of each channel for a report's summary table */
+static void summarize(json_t *summary, const struct args *a,
+		      const struct file_res *fr)
 {
-	struct ssc_common co;
-	struct args a;
-	struct file_res *fr;
-	struct ssc_out out;
-	int first, rc, nfiles;
+	if (a->no_fit || !summary)
+		return;
+	for (size_t k = 0; k < fr->n_ch; k++) {
+		const struct chan *c = &fr->ch[k];
+		const struct sscope_noise_fit *ft = &c->res->fit;
+		char note[64], what[64];
 
-	memset(&a, 0, sizeof(a));
-	a.grid = SSCOPE_TAUS_DENSE;
-	a.ci = 0.683;
-	rc = ssc_parse(&spec, argc, argv, &co, handler, &a, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	nfiles = argc - first;
-	if (nfiles < 1)
-		return ssc_usage_error(co.cmd, "no input file");
-	if (co.plot && nfiles > 1)
-		return ssc_usage_error(co.cmd, "--plot takes one input file");
-	if (a.ao.stride_div && a.ao.dev != SSCOPE_DEV_OADEV &&
-	    a.ao.dev != SSCOPE_DEV_OHDEV)
-		return ssc_usage_error(co.cmd, "--stride applies to oadev and ohdev only");
-	if (a.kalibr && a.no_fit)
-		return ssc_usage_error(co.cmd, "--kalibr needs the fit (drop --no-fit)");
-	a.fo.ci_level = a.ci > 0 ? a.ci : 0.683;
-	fr = calloc((size_t)nfiles, sizeof(*fr));
-	if (!fr)
-		return SSC_EXIT_FAIL;
-	for (int i = 0; i < nfiles; i++) {
-		rc = analyse_file(&co, &a, argv[first + i], &fr[i]);
-		if (rc)
-			goto done;
-	}
-	if (co.plot) {
-		rc = plot(&co, &a, &fr[0]);
-		if (rc)
-			goto done;
-	}
-	if (a.kalibr) {
-		rc = write_kalibr(&co, &a, fr, (size_t)nfiles);
-		if (rc)
-			goto done;
-	}
-	if (co.format == SSC_FMT_JSON) {
-		json_t *root;
-
-		if (nfiles == 1) {
-			root = json_file(&a, &fr[0]);
-		} else {
-			json_t *files = json_array();
-
-			root = json_object();
-			json_object_set_new(root, "command", json_string("allan"));
-			for (int i = 0; i < nfiles; i++)
-				json_array_append_new(files, json_file(&a, &fr[i]));
-			json_object_set_new(root, "files", files);
-		}
-		rc = ssc_emit_json(&co, root);
-		goto done;
-	}
-	rc = ssc_out_open(&co, &out);
-	if (rc)
-		goto done;
-	if (co.format == SSC_FMT_CSV)
-		fprintf(out.f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
-	for (int i = 0; i < nfiles; i++) {
-		if (co.format == SSC_FMT_CSV) {
-			csv_file(out.f, &a, &fr[i]);
+		if (!c->res->have_fit)
 			continue;
+		snprintf(note, sizeof(note), "fit, %.3g %% interval",
+			 100 * ft->ci_level);
+		for (int t = 1; t <= 3; t++) {
+			const struct sscope_noise_coef *cf = &ft->coef[t];
+
+			if (!cf->fitted)
+				continue;
+			snprintf(what, sizeof(what), "%s %c",
+				 term_label(c->col->quantity, t), "QNBKR"[t]);
+			ssc_summary_add(summary, c->col->name, what,
+					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
+					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
+					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
+					c->u.term[t], note);
 		}
+	}
+}
+
+static void init(void *opts)
+{
+	struct args *a = opts;
+
+	memset(a, 0, sizeof(*a));
+	a->grid = SSCOPE_TAUS_DENSE;
+	a->ci = 0.683;
+}
+
+static int check(const struct ssc_common *co, void *opts)
+{
+	struct args *a = opts;
+
+	if (a->ao.stride_div && a->ao.dev != SSCOPE_DEV_OADEV &&
+	    a->ao.dev != SSCOPE_DEV_OHDEV)
+		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
+	if (a->kalibr && a->no_fit)
+		return ssc_usage_error(co->cmd, "--kalibr needs the fit (drop --no-fit)");
+	a->fo.ci_level = a->ci > 0 ? a->ci : 0.683;
+	return 0;
+}
+
+static int run(const struct ssc_stage_env *env, void *opts,
+	       struct ssc_stage_out *sout)
+{
+	struct ssc_common co = *env->co;
+	struct args *a = opts;
+	struct file_res *fr;
+	size_t nfiles = env->n_caps;
+	struct ssc_membuf text, csv;
+	int rc = SSC_EXIT_OK;
+
+	fr = calloc(nfiles ? nfiles : 1, sizeof(*fr));
+	if (!fr) {
+		ssc_err(co.cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < nfiles; i++) {
+		rc = analyse_file(&co, a, env->paths[i], env->caps[i], &fr[i]);
+		if (rc)
+			goto done;
+	}
+	if (env->plot_path) {
+		co.plot = env->plot_path;
+		rc = plot(&co, a, fr, nfiles);
+		if (rc)
+			goto done;
+	}
+	if (a->kalibr) {
+		rc = write_kalibr(&co, a, fr, nfiles);
+		if (rc)
+			goto done;
+	}
+	if (nfiles == 1) {
+		sout->json = json_file(a, &fr[0]);
+	} else {
+		json_t *files = json_array();
+
+		sout->json = json_object();
+		json_object_set_new(sout->json, "command", json_string("allan"));
+		for (size_t i = 0; i < nfiles; i++)
+			json_array_append_new(files, json_file(a, &fr[i]));
+		json_object_set_new(sout->json, "files", files);
+	}
+	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+		ssc_err(co.cmd, "out of memory");
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	fprintf(csv.f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
+	for (size_t i = 0; i < nfiles; i++) {
+		csv_file(csv.f, a, &fr[i]);
 		for (size_t k = 0; k < fr[i].n_ch; k++) {
 			if (i || k)
-				fputc('\n', out.f);
-			text_chan(out.f, &a, &fr[i], &fr[i].ch[k]);
+				fputc('\n', text.f);
+			text_chan(text.f, a, &fr[i], &fr[i].ch[k]);
 		}
+		summarize(sout->summary, a, &fr[i]);
 	}
-	rc = ssc_out_close(&co, &out, !ferror(out.f));
+	sout->text = ssc_membuf_take(&text);
+	sout->csv = ssc_membuf_take(&csv);
+	if (!sout->text || !sout->csv) {
+		ssc_err(co.cmd, "out of memory");
+		rc = SSC_EXIT_FAIL;
+	}
 done:
-	for (int i = 0; i < nfiles; i++)
+	for (size_t i = 0; i < nfiles; i++)
 		free_file(&fr[i]);
 	free(fr);
 	return rc;
+}
+
+const struct ssc_stage_ops ssc_allan_stage = {
+	.spec = &spec,
+	.title = "Allan deviation and IEEE 952 noise terms",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = -1,
+	.opts_size = sizeof(struct args),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+};
+
+int ssc_cmd_allan(int argc, char **argv)
+{
+	return ssc_stage_main(&ssc_allan_stage, argc, argv);
 }

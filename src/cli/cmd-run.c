@@ -27,7 +27,8 @@ static const struct ssc_command_spec run_spec = {
 		"wanted output whose keys are that command's long options, and\n"
 		"[report] formats = text,json,html,png and output = DIR.  Only the\n"
 		"stages the outputs need are run, each once; each capture is read once,\n"
-		"with only the columns in use.  Paths are relative to the scene file.",
+		"with only the columns in use.  Paths are relative to the scene file;\n"
+		"-o DIR overrides the scene's output directory.",
 	.options = run_opts,
 	.output_opts = true,
 	.notes = "Example:\n  sensorscope run samples/gyro-static.scene.ini\n"
@@ -65,14 +66,10 @@ int ssc_cmd_run(int argc, char **argv)
 	rc = ssc_scene_load(co.cmd, argv[first], &sc);
 	if (rc)
 		return rc;
+	if (co.output)
+		ssc_scene_set_output(sc, co.output);
 	if (o.dry_run) {
-		struct ssc_out out;
-
-		rc = ssc_out_open(&co, &out);
-		if (!rc) {
-			ssc_scene_plan(sc, out.f);
-			rc = ssc_out_close(&co, &out, !ferror(out.f));
-		}
+		ssc_scene_plan(sc, stdout);
 	} else {
 		rc = ssc_scene_run(sc, &co);
 	}

@@ -23,7 +23,7 @@
 
 #include "html.h"
 
-enum { S_INFO = 0, S_PSD, S_VIBRATION, S_CALIB, S_BUDGET, S_COUNT_ };
+enum { S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_CALIB, S_BUDGET, S_COUNT_ };
 
 static const struct ssc_stage_def stages[] = {
 	[S_INFO] = { "info", &ssc_info_stage, 0,
@@ -45,6 +45,14 @@ static const struct ssc_stage_def stages[] = {
 			  "BPFI = (n/2) fr (1 + d/D cos phi), BSF, FTF; envelope "
 			  "spectrum = |Hilbert| of the band-passed signal; kurtosis "
 			  "3 for Gaussian noise." },
+	[S_ALLAN] = { "allan", &ssc_allan_stage, 0,
+		      "Overlapping Allan deviation (NIST SP 1065) with "
+		      "Greenhall-Riley equivalent degrees of freedom and "
+		      "chi-squared intervals; IEEE 952-1997 terms from "
+		      "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + "
+		      "K^2 tau/3 + R^2 tau^2/2, fitted by weighted least squares "
+		      "with AIC term selection; intervals from the fit "
+		      "covariance." },
 	[S_CALIB] = { "calib", &ssc_calib_stage, 0,
 		      "Error model corrected = T K (reading - bias) (Tedaldi, "
 		      "Pretto & Menegatti, ICRA 2014): static intervals found by "
@@ -52,7 +60,7 @@ static const struct ssc_stage_def stages[] = {
 		      "Levenberg-Marquardt on |g| - |a'|, gyro parameters by "
 		      "matching the rotation of gravity between poses; "
 		      "uncertainties s^2 (J^T J)^-1." },
-	[S_BUDGET] = { "budget", &ssc_budget_stage, (1u << S_CALIB),
+	[S_BUDGET] = { "budget", &ssc_budget_stage, (1u << S_ALLAN) | (1u << S_CALIB),
 		       "Open loop: accelerometer bias b t^2 / 2, gyro bias "
 		       "g b t^3 / 6; Schuler-bounded forms with omega_s = "
 		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
@@ -524,10 +532,12 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
 			/* noise terms from the scene's own analyses */
 			sc->uses[s] = sc->want & stages[s].deps;
+			if (!sc->uses[s] && sc->n_files)
+				sc->uses[s] = 1u << S_ALLAN; /* measure them */
 			if (!sc->uses[s])
 				return scene_error(cmd, sc, 0,
-						   "impossible request: [budget] needs a [sensor] specification or the results of a stage it can use (%s)",
-						   "calib");
+						   "impossible request: [budget] needs a [sensor] specification, input files to measure the noise terms of, or the results of a stage it can use (%s)",
+						   "allan, calib");
 		}
 		sc->run |= sc->uses[s];
 		if ((stages[s].ops->needs & SSC_NEED_SENSOR) && !sc->have_sensor)
@@ -694,7 +704,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		struct sscope_reader *r = NULL;
 		struct sscope_diag d = { "" };
 		double rate = co->rate_hz;
-		bool acc = false, other = false;
+		bool acc = false, gyro = false, other = false;
 		int e;
 
 		ssc_read_opts(co, &ro);
@@ -720,17 +730,26 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 
 			if (q == SSCOPE_QTY_ACCELERATION)
 				acc = true;
+			else if (q == SSCOPE_QTY_ANGULAR_RATE)
+				gyro = true;
 			else
 				other = true;
 		}
 		sscope_reader_close(r);
+		if ((gyro || (acc && rate < 500)) &&
+		    !(sc->want & (1u << S_ALLAN))) {
+			sc->want |= 1u << S_ALLAN;
+			set_why(sc, S_ALLAN,
+				"inferred: %s record: noise terms from the Allan deviation",
+				gyro ? "a rate-gyro" : "an inertial-rate accelerometer");
+		}
 		if (acc && rate >= 500) {
 			sc->want |= 1u << S_VIBRATION;
 			set_why(sc, S_VIBRATION,
 				"inferred: acceleration sampled at %.4g Hz (>= 500 Hz) is a vibration record",
 				rate);
 		}
-		if ((acc || other) && !(sc->want & (1u << S_PSD))) {
+		if ((acc || gyro || other) && !(sc->want & (1u << S_PSD))) {
 			sc->want |= 1u << S_PSD;
 			set_why(sc, S_PSD, "inferred: the spectrum of every data channel");
 			if (rate > 0) {
@@ -751,6 +770,12 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	}
 	*out = sc;
 	return SSC_EXIT_OK;
+}
+
+void ssc_scene_set_output(struct ssc_scene *sc, const char *dir)
+{
+	free(sc->out_dir);
+	sc->out_dir = xstrdup(dir);
 }
 
 /* ------------------------------------------------------------ plan */

@@ -40,6 +40,9 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 
 /* Print the plan (stages to run and why, stages skipped and why, columns
  * read, outputs). */
+/* Write the outputs into DIR instead of the scene's [report] output. */
+void ssc_scene_set_output(struct ssc_scene *sc, const char *dir);
+
 void ssc_scene_plan(const struct ssc_scene *sc, FILE *f);
 
 /* Run the scene.  Returns an exit code. */
