@@ -92,7 +92,7 @@ json_check() {
 	else
 		not_ok "$desc: jq '$expr' is not true"
 		diag "$T/jqerr"
-		head -c 2000 "$file" | diag
+		{ head -c 2000 "$file"; echo; } | diag
 	fi
 }
 

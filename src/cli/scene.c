@@ -525,19 +525,24 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 {
 	unsigned visiting = 0, done = 0;
 
-	sc->run = sc->want | (1u << S_INFO);
+	if (!sc->want)
+		return scene_error(cmd, sc, 0,
+				   "nothing to do: no output section (e.g. [allan], [psd], [budget])");
+	sc->run = sc->want | (sc->n_files ? 1u << S_INFO : 0);
 	for (size_t s = 0; s < N_STAGES; s++) {
 		if (!(sc->want & (1u << s)))
 			continue;
+		if ((stages[s].ops->needs & SSC_NEED_DATA) && !sc->n_files)
+			return scene_error(cmd, sc, 0,
+					   "impossible request: [%s] needs captures: give [input] files = ...",
+					   stages[s].name);
 		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
 			/* noise terms from the scene's own analyses */
 			sc->uses[s] = sc->want & stages[s].deps;
 			if (!sc->uses[s] && sc->n_files)
 				sc->uses[s] = 1u << S_ALLAN; /* measure them */
-			if (!sc->uses[s])
-				return scene_error(cmd, sc, 0,
-						   "impossible request: [budget] needs a [sensor] specification, input files to measure the noise terms of, or the results of a stage it can use (%s)",
-						   "allan, calib");
+			/* else its own keys (gyro-bias = ...) must name the
+			 * sources: the stage's check says so */
 		}
 		sc->run |= sc->uses[s];
 		if ((stages[s].ops->needs & SSC_NEED_SENSOR) && !sc->have_sensor)
@@ -628,18 +633,21 @@ int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
 			continue;
 		s = stage_index(name);
 		if (s < 0 || s == S_INFO) {
+			char list[256] = "";
+
+			for (size_t k = 1; k < N_STAGES; k++)
+				snprintf(list + strlen(list), sizeof(list) - strlen(list),
+					 ", %s", stages[k].name);
 			rc = scene_error(cmd, sc, line,
-					 "unknown section [%s] (sections: input, sensor, adc, report and one per output:%s)",
-					 name, "");
+					 "unknown section [%s] (sections: input, sensor, adc, report, and one per output: %s)",
+					 name, list + 2);
 			goto fail;
 		}
 		sc->want |= 1u << s;
 	}
-	if (!sscope_ini_has_section(sc->ini, "input")) {
-		rc = scene_error(cmd, sc, 0, "no [input] section");
-		goto fail;
-	}
-	rc = parse_input(cmd, sc);
+	rc = 0;
+	if (sscope_ini_has_section(sc->ini, "input"))
+		rc = parse_input(cmd, sc);
 	if (!rc && sscope_ini_has_section(sc->ini, "sensor"))
 		rc = parse_sensor(cmd, sc);
 	if (!rc && sscope_ini_has_section(sc->ini, "adc"))

@@ -1,0 +1,131 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# sensorscope run and sensorscope report: the plan (what runs, what is
+# skipped and why), proof from the trace that each capture is read once
+# with only the columns in use and that unrequested stages do not run,
+# bad scenes, the outputs, and the HTML report in a headless browser.
+. "$(dirname "$0")/lib.sh"
+
+cp "$SAMPLES/gyro-static.csv" "$SAMPLES/imu-multipose.csv" "$T/"
+
+scene() { printf "$2" >"$T/$1"; }
+
+run "run --help" 0 run --help
+run "report --help" 0 report --help
+
+# ---- the plan
+run "dry run of a sample scene" 0 run --dry-run "$SAMPLES/gyro-static.scene.ini"
+has "allan requested" "$T/out" '^  [0-9]\. allan +requested by \[allan\]'
+has "budget uses allan" "$T/out" 'budget +requested by \[budget\]; uses the results of allan'
+has "psd skipped with its reason" "$T/out" '^  psd +not requested \(no \[psd\] section\)'
+lacks "dry run writes nothing" "$T/out" 'wrote'
+
+# budget alone measures its noise terms with allan
+scene b.ini '[input]\nfiles = gyro-static.csv\n[budget]\ntime = 60\n'
+run "budget pulls in allan" 0 run --dry-run "$T/b.ini"
+has "allan added for budget" "$T/out" 'allan +its results are used by \[budget\]'
+
+# ---- the trace: one read, only the columns in use, no stage not needed
+scene one.ini '[input]\nfiles = gyro-static.csv\n[allan]\ncolumns = gx\ntaus = octave\n[report]\nformats = json\n'
+SSCOPE_TRACE=1 run "allan on one column" 0 run -o "$T/one" "$T/one.ini"
+has "one read of gx only" "$T/err" '^trace: read .*gyro-static.csv columns gx$'
+if [ "$(grep -c '^trace: read' "$T/err")" -eq 1 ]; then ok "the capture is read once"; else not_ok "the capture is read once"; diag "$T/err"; fi
+lacks "psd does not run" "$T/err" '^trace: stage psd'
+lacks "budget does not run" "$T/err" '^trace: stage budget'
+json_check "allan.json has one channel" "$T/one/allan.json" '.command == "allan" and (.channels | map(.name)) == ["gx"]'
+json_check "report.json lists the stages run" "$T/one/report.json" '(.results | keys) == ["allan", "info"]'
+if [ -e "$T/one/report.html" ]; then not_ok "formats = json writes no HTML"; else ok "formats = json writes no HTML"; fi
+
+scene two.ini '[input]\nfiles = gyro-static.csv\n[allan]\ncolumns = gy\ntaus = octave\nno-fit = yes\n[psd]\ncolumns = gx\n[report]\nformats = json\n'
+SSCOPE_TRACE=1 run "two stages, two columns" 0 run -o "$T/two" "$T/two.ini"
+has "one read of the union" "$T/err" '^trace: read .*gyro-static.csv columns gy,gx$'
+json_check "each stage saw its own column" "$T/two/report.json" '(.results.allan.channels | map(.name)) == ["gy"] and (.results.psd.channels | map(.name)) == ["gx"]'
+
+# ---- bad scenes: one line naming the scene, its line and the reason
+scene u.ini '[input]\nfiles = gyro-static.csv\n[allen]\n'
+run "unknown section" 2 run "$T/u.ini"
+one_line_error "unknown section"
+has "names the line and the sections" "$T/err" 'u.ini: line 3: unknown section \[allen\] .*allan'
+scene k.ini '[input]\nfiles = gyro-static.csv\n[allan]\ndevv = adev\n'
+run "unknown key" 2 run "$T/k.ini"
+has "names the key" "$T/err" "k.ini: line 4: unknown key 'devv' in \\[allan\\]"
+scene v.ini '[input]\nfiles = gyro-static.csv\n[allan]\ndev = bogus\n'
+run "bad value" 2 run "$T/v.ini"
+one_line_error "bad value"
+has "the option's own message, at its line" "$T/err" "v.ini: line 4: --dev: 'bogus'"
+scene m.ini '[input]\nfiles = missing.csv\n[allan]\n'
+run "missing input file" 1 run "$T/m.ini"
+one_line_error "missing input file"
+has "names the file" "$T/err" 'line 2: files: .*missing.csv'
+scene c.ini '[input]\nfiles = imu-multipose.csv\n[calib]\ntriad = accel\nuses = budget\n[budget]\ntime = 10\n'
+run "impossible request" 2 run "$T/c.ini"
+one_line_error "impossible request"
+has "says why" "$T/err" "impossible request: \\[calib\\] cannot use the results of 'budget'"
+scene d.ini '[allan]\ntaus = octave\n'
+run "analysis without captures" 2 run "$T/d.ini"
+has "asks for files" "$T/err" 'impossible request: \[allan\] needs captures'
+scene e.ini '[input]\nfiles = gyro-static.csv\n'
+run "nothing to do" 2 run "$T/e.ini"
+has "says so" "$T/err" 'nothing to do'
+run "scene file missing" 1 run "$T/none.ini"
+one_line_error "scene file missing"
+scene s.ini '[input]\nfiles = gyro-static.csv\n[allan]\nsyntax error here\n'
+run "malformed scene" 2 run "$T/s.ini"
+one_line_error "malformed scene"
+
+# a budget from its own keys needs no captures
+scene bk.ini '[budget]\ntime = 120\ngyro-bias = 10deg/h\n[report]\nformats = json\n'
+run "budget without captures" 0 run -o "$T/bk" "$T/bk.ini"
+json_check "the seed's 137 m" "$T/bk/budget.json" '((.sources[] | select(.name == "gyro_bias") | .position_m[0]) - 136.926665 | fabs) < 1e-5'
+
+# ---- report: the scene inferred from the data
+run "report dry run" 0 report --dry-run "$T/gyro-static.csv"
+has "allan inferred for a gyro" "$T/out" 'allan +inferred: a rate-gyro record'
+has "psd inferred" "$T/out" 'psd +inferred'
+lacks "no vibration for a 10 Hz gyro" "$T/out" '^  [0-9]\. vibration'
+run "report --format json refused" 2 report --format json "$T/gyro-static.csv"
+one_line_error "report --format json refused"
+
+if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
+	run "report" 0 report -o "$T/rep" "$T/gyro-static.csv"
+	for f in report.html report.json report.txt info.png allan.png psd.png allan.json; do
+		if [ -s "$T/rep/$f" ]; then ok "report wrote $f"; else not_ok "report wrote $f"; fi
+	done
+	json_check "summary has N, B, K of each axis with intervals" "$T/rep/report.json" \
+		'[.summary[] | select(.stage == "allan" and .lo != null and .hi != null and .lo <= .value and .value <= .hi)] | length == 9'
+	json_check "N near the sample's 0.15 deg/sqrt(h)" "$T/rep/report.json" \
+		'[.summary[] | select(.quantity == "angle random walk N") | .value] | all(. > 0.14 and . < 0.16)'
+	has "report text has the Allan section" "$T/rep/report.txt" '^== Allan deviation'
+	# the HTML in a real browser: every image decodes, no console errors
+	BROWSER=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)
+	if [ -n "$BROWSER" ]; then
+		HOME="$T" timeout 120 "$BROWSER" --headless=new --no-sandbox --disable-gpu \
+			--enable-logging=stderr --v=0 --user-data-dir="$T/chr" \
+			--dump-dom "file://$T/rep/report.html" >"$T/dom" 2>"$T/chr.err"
+		n=$(grep -c '<img' "$T/rep/report.html")
+		if grep -q "data-images=\"$n/$n\"" "$T/dom" && [ "$n" -ge 3 ]; then
+			ok "browser decoded all $n images"
+		else
+			not_ok "browser decoded all $n images"
+			grep -o 'data-images="[^"]*"' "$T/dom" | diag
+		fi
+		lacks "no console messages" "$T/chr.err" 'CONSOLE'
+		HOME="$T" timeout 120 "$BROWSER" --headless=new --no-sandbox --disable-gpu \
+			--user-data-dir="$T/chr" --window-size=1200,1600 \
+			--screenshot="$T/shot.png" "file://$T/rep/report.html" >/dev/null 2>&1
+		if [ "$(od -An -tx1 -N8 "$T/shot.png" 2>/dev/null | tr -d ' \n')" = 89504e470d0a1a0a ]; then
+			ok "browser screenshot"
+		else
+			not_ok "browser screenshot"
+		fi
+	else
+		skip "browser decoded all images" "no chromium"
+		skip "no console messages" "no chromium"
+		skip "browser screenshot" "no chromium"
+	fi
+else
+	run "report without OpenCV" 0 report -o "$T/rep" "$T/gyro-static.csv"
+	if [ -s "$T/rep/report.html" ]; then ok "HTML without figures"; else not_ok "HTML without figures"; fi
+fi
+
+done_testing
