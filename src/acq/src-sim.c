@@ -5,11 +5,11 @@
  * ring, writer, live view, summary -- runs anywhere without hardware.
  * Time stamps are the nominal k / rate; the pacing lateness is counted
  * separately.  Rates above 1 kHz (times the speed) are paced in batches of
- * 1 ms, like a device with a FIFO.  Values: white Gaussian noise whose per-sample standard
- * deviation is N * sqrt(fs) for a noise density N (so the Allan deviation
- * of the capture is N / sqrt(tau), IEEE Std 952 Annex C), made by GSL's
- * ziggurat generator with an explicit seed; the only function that makes
- * values is sim_generate().
+ * 1 ms, like a device with a FIFO.  Values come from the library's sensor
+ * simulator (analysis/sscope-sim.h, the model behind `sensorscope
+ * simulate`): one stream per channel of the seed, white noise of density N
+ * (so the Allan deviation of the capture is N / sqrt(tau), IEEE Std 952
+ * Annex C) around a constant true input.
  */
 #include "acq.h"
 
@@ -19,20 +19,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_randist.h>
-#include <gsl/gsl_rng.h>
 
 #define BLOCK 256
 #define G0 9.80665
 
 struct sim {
-	gsl_rng *rng;
+	struct sscope_sim *sim[6];
+	double input_block[6][BLOCK]; /* the true input, constant */
 	double rate_hz;
 	double speed;          /* 0: unpaced */
 	int64_t period_ns;     /* of the pacing */
 	size_t n_ch;
-	double input[6];       /* constant true input per channel, SI */
-	double sd[6];          /* per-sample noise sd, SI */
 	double temp_degc;
 	double block[6][BLOCK];
 	double temp[BLOCK];
@@ -41,28 +38,12 @@ struct sim {
 	int64_t start_ns;
 };
 
-/*
- * THE ONLY PLACE THAT MAKES SIMULATED VALUES: n samples per channel into
- * s->block, channel by channel, and their temperatures into s->temp.
- * White noise of sd s->sd[c] around s->input[c].
- *
- * To use the noise simulator of analysis/sscope-sim.h instead: build one
- * struct sscope_sensor_spec per channel in sim_open() (gyro channels with
- * n = arw, accelerometer channels with n = vrw, plus any B, K, R, bias,
- * tempco wanted), keep sscope_sim_new() handles in struct sim, replace
- * the loop below by
- *     sscope_sim_generate(s->sim[c], input, s->block[c], s->temp, n);
- * for each channel c (input: n copies of s->input[c]), and free them with
- * sscope_sim_free() in sim_close().
- */
+/* n samples per channel into s->block, and their temperatures */
 static void sim_generate(struct sim *s, size_t n)
 {
 	for (size_t c = 0; c < s->n_ch; c++)
-		for (size_t i = 0; i < n; i++)
-			s->block[c][i] = s->input[c] +
-					 gsl_ran_gaussian_ziggurat(s->rng, s->sd[c]);
-	for (size_t i = 0; i < n; i++)
-		s->temp[i] = s->temp_degc;
+		sscope_sim_generate(s->sim[c], s->input_block[c], s->block[c],
+				    c == 0 ? s->temp : NULL, n);
 }
 
 static int sim_next(struct ssc_source *src, struct ssc_acq_sample *smp,
@@ -112,7 +93,8 @@ static void sim_close(struct ssc_source *src)
 	struct sim *s = src->priv;
 
 	if (s)
-		gsl_rng_free(s->rng);
+		for (size_t c = 0; c < 6; c++)
+			sscope_sim_free(s->sim[c]);
 	free(s);
 	free(src);
 }
@@ -238,19 +220,26 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		if (rc)
 			goto fail;
 	}
-	s->rng = gsl_rng_alloc(gsl_rng_mt19937);
-	if (!s->rng) {
-		rc = -ENOMEM;
-		goto fail;
-	}
-	gsl_rng_set(s->rng, seed);
 	if (s->speed > 0)
 		s->period_ns = llround(1e9 / (s->rate_hz * s->speed));
 	for (size_t c = 0; c < s->n_ch; c++) {
 		bool gyro = c < 3;
+		struct sscope_sensor_spec spec = { .filter_order = 1 };
+		struct sscope_sim_opts so = { .rate_hz = s->rate_hz,
+					      .seed = seed,
+					      .stream = c,
+					      .temp_degc = s->temp_degc,
+					      .ref_temp_degc = s->temp_degc,
+					      .no_clip = true };
 
-		s->sd[c] = (gyro ? arw : vrw) * sqrt(s->rate_hz);
-		s->input[c] = c == 5 ? G0 : 0; /* level: +1 g on z */
+		spec.quantity = gyro ? SSCOPE_QTY_ANGULAR_RATE :
+				       SSCOPE_QTY_ACCELERATION;
+		spec.n = gyro ? arw : vrw;
+		rc = sscope_sim_new(&s->sim[c], &spec, &so, diag);
+		if (rc)
+			goto fail;
+		for (size_t i = 0; i < BLOCK; i++) /* level: +1 g on z */
+			s->input_block[c][i] = c == 5 ? G0 : 0;
 		snprintf(src->info.name[c], sizeof(src->info.name[c]), "%s",
 			 names[c]);
 		snprintf(src->info.unit[c], sizeof(src->info.unit[c]), "%s",
