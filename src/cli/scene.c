@@ -100,6 +100,8 @@ struct ssc_scene {
 	unsigned formats;
 	char *out_dir;
 	bool quiet;
+	/* wall time of the reads and of each stage, s */
+	double t_read_s, t_stage_s[S_COUNT_];
 };
 
 /* ------------------------------------------------------------ helpers */
@@ -1104,6 +1106,19 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 	ssc_html_p(h, "Tool: sensorscope %s. Scene: %s. Columns read: %s.",
 		   PACKAGE_VERSION, sc->path ? sc->path : "inferred from the data",
 		   cols ? cols : "every data column");
+	{
+		char line[1024];
+		size_t used = (size_t)snprintf(line, sizeof(line),
+					       "Wall time: reading %.3g s",
+					       sc->t_read_s);
+
+		for (size_t i = 0; i < sc->n_order && used < sizeof(line); i++)
+			used += (size_t)snprintf(line + used, sizeof(line) - used,
+						 "; %s %.3g s",
+						 stages[sc->order[i]].name,
+						 sc->t_stage_s[sc->order[i]]);
+		ssc_html_p(h, "%s.", line);
+	}
 	for (size_t i = 0; i < sc->n_order; i++) {
 		size_t s = sc->order[i];
 		const char *sec = stages[s].name;
@@ -1122,6 +1137,14 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		}
 		ssc_html_p(h, "Options of [%s]: %s", sec, used ? line : "(defaults)");
 	}
+}
+
+static double wall_s(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
@@ -1155,12 +1178,16 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		goto done;
 	}
 	caps = calloc(sc->n_files ? sc->n_files : 1, sizeof(*caps));
+	sc->t_read_s = wall_s();
 	for (size_t i = 0; i < sc->n_files && !rc; i++) {
 		if (tracing())
 			fprintf(stderr, "trace: read %s columns %s\n", sc->files[i],
 				cols ? cols : "(all data columns)");
 		rc = ssc_load(&co, sc->files[i], &caps[i]);
 	}
+	sc->t_read_s = wall_s() - sc->t_read_s;
+	if (tracing())
+		fprintf(stderr, "trace: time read %.3f s\n", sc->t_read_s);
 	if (rc)
 		goto done;
 	for (size_t i = 0; i < sc->n_order && !rc; i++) {
@@ -1199,7 +1226,12 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 				png : NULL;
 		env.upstream = up;
 		outs[s].summary = json_array();
+		sc->t_stage_s[s] = wall_s();
 		rc = ops->run(&env, sc->opts[s], &outs[s]);
+		sc->t_stage_s[s] = wall_s() - sc->t_stage_s[s];
+		if (tracing())
+			fprintf(stderr, "trace: time %s %.3f s\n", stages[s].name,
+				sc->t_stage_s[s]);
 		for (size_t f = 0; f < sc->n_files; f++)
 			free_view(v[f]);
 		free(v);
@@ -1229,6 +1261,15 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	json_object_set_new(all, "scene", sc->path ? json_string(sc->path) : json_null());
 	json_object_set(all, "summary", summary);
 	json_object_set(all, "results", results);
+	{
+		json_t *tm = json_object();
+
+		json_object_set_new(tm, "read", json_real(sc->t_read_s));
+		for (size_t i = 0; i < sc->n_order; i++)
+			json_object_set_new(tm, stages[sc->order[i]].name,
+					    json_real(sc->t_stage_s[sc->order[i]]));
+		json_object_set_new(all, "wall_time_s", tm);
+	}
 	if (sc->formats & SSC_OUT_JSON) {
 		char p[1024];
 
