@@ -83,6 +83,14 @@ run "report dry run" 0 report --dry-run "$T/gyro-static.csv"
 has "allan inferred for a gyro" "$T/out" 'allan +inferred: a rate-gyro record'
 has "psd inferred" "$T/out" 'psd +inferred'
 lacks "no vibration for a 10 Hz gyro" "$T/out" '^  [0-9]\. vibration'
+# several captures: each stage on the files it fits, one-file stages once per file
+run "report of three kinds of capture, planned" 0 report --dry-run "$SAMPLES/accel-thermal.csv" "$SAMPLES/vibration.csv" "$SAMPLES/euroc-imu.csv"
+has "vibration only on the 5 kHz record" "$T/out" 'vibration +inferred.*; files: [^ ]*vibration.csv$'
+has "allan not on the vibration record" "$T/out" 'allan +inferred.*; files: [^ ]*accel-thermal.csv [^ ]*euroc-imu.csv$'
+has "psd once per file" "$T/out" 'psd +inferred.*; once per file$'
+run "report of three kinds of capture" 0 report -o "$T/three" "$SAMPLES/accel-thermal.csv" "$SAMPLES/vibration.csv" "$SAMPLES/euroc-imu.csv"
+json_check "psd per file, allan on two files" "$T/three/report.json" '(.results.psd.files | length) == 3 and (.results.allan.files | length) == 2 and .results.vibration.file != null'
+json_check "summary rows name their file" "$T/three/report.json" '[.summary[] | select(.stage == "psd") | .channel] | any(startswith("vibration.csv: "))'
 run "report --format json refused" 2 report --format json "$T/gyro-static.csv"
 one_line_error "report --format json refused"
 

@@ -102,6 +102,8 @@ struct ssc_scene {
 	bool quiet;
 	/* wall time of the reads and of each stage, s */
 	double t_read_s, t_stage_s[S_COUNT_];
+	/* the captures each stage runs on (bit f: file f), all by default */
+	uint64_t file_mask[S_COUNT_];
 };
 
 /* ------------------------------------------------------------ helpers */
@@ -531,6 +533,10 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 		return scene_error(cmd, sc, 0,
 				   "nothing to do: no output section (e.g. [allan], [psd], [budget])");
 	sc->run = sc->want | (sc->n_files ? 1u << S_INFO : 0);
+	for (size_t s = 0; s < N_STAGES; s++)
+		if (!sc->file_mask[s])
+			sc->file_mask[s] = sc->n_files >= 64 ? ~(uint64_t)0 :
+				((uint64_t)1 << sc->n_files) - 1;
 	for (size_t s = 0; s < N_STAGES; s++) {
 		if (!(sc->want & (1u << s)))
 			continue;
@@ -715,6 +721,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		struct sscope_diag d = { "" };
 		double rate = co->rate_hz;
 		bool acc = false, gyro = false, other = false;
+		uint64_t bit;
 		int e;
 
 		ssc_read_opts(co, &ro);
@@ -746,19 +753,25 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 				other = true;
 		}
 		sscope_reader_close(r);
-		if ((gyro || (acc && rate < 500)) &&
-		    !(sc->want & (1u << S_ALLAN))) {
+		bit = i < 64 ? (uint64_t)1 << i : 0;
+		if (gyro || (acc && rate < 500)) {
+			if (!(sc->want & (1u << S_ALLAN)))
+				set_why(sc, S_ALLAN,
+					"inferred: %s record: noise terms from the Allan deviation",
+					gyro ? "a rate-gyro" : "an inertial-rate accelerometer");
 			sc->want |= 1u << S_ALLAN;
-			set_why(sc, S_ALLAN,
-				"inferred: %s record: noise terms from the Allan deviation",
-				gyro ? "a rate-gyro" : "an inertial-rate accelerometer");
+			sc->file_mask[S_ALLAN] |= bit;
 		}
 		if (acc && rate >= 500) {
+			if (!(sc->want & (1u << S_VIBRATION)))
+				set_why(sc, S_VIBRATION,
+					"inferred: acceleration sampled at %.4g Hz (>= 500 Hz) is a vibration record",
+					rate);
 			sc->want |= 1u << S_VIBRATION;
-			set_why(sc, S_VIBRATION,
-				"inferred: acceleration sampled at %.4g Hz (>= 500 Hz) is a vibration record",
-				rate);
+			sc->file_mask[S_VIBRATION] |= bit;
 		}
+		if (acc || gyro || other)
+			sc->file_mask[S_PSD] |= bit;
 		if ((acc || gyro || other) && !(sc->want & (1u << S_PSD))) {
 			sc->want |= 1u << S_PSD;
 			set_why(sc, S_PSD, "inferred: the spectrum of every data channel");
@@ -885,8 +898,23 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 					 l ? ", " : "; uses the results of ",
 					 stages[u].name);
 			}
-		fprintf(f, "  %zu. %-10s %s%s; channels: %s\n", k++,
+		fprintf(f, "  %zu. %-10s %s%s; channels: %s", k++,
 			stages[s].name, sc->why[s], uses, buf);
+		if ((stages[s].ops->needs & SSC_NEED_DATA) && sc->n_files > 1) {
+			size_t nf = 0;
+
+			for (size_t j = 0; j < sc->n_files && j < 64; j++)
+				nf += (sc->file_mask[s] >> j) & 1;
+			if (nf < sc->n_files) {
+				fprintf(f, "; files:");
+				for (size_t j = 0; j < sc->n_files && j < 64; j++)
+					if ((sc->file_mask[s] >> j) & 1)
+						fprintf(f, " %s", sc->files[j]);
+			}
+			if (stages[s].ops->max_files == 1 && nf > 1)
+				fprintf(f, "; once per file");
+		}
+		fputc('\n', f);
 	}
 	fprintf(f, "stages skipped:%s\n", sc->run == (1u << N_STAGES) - 1 ?
 		" none" : "");
@@ -1028,7 +1056,7 @@ static void fmt_interval(char *buf, size_t len, json_t *row)
 
 static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 			json_t *summary, struct ssc_stage_out *outs,
-			char **pngs, const char *cols)
+			char *(*pngs)[64], const char *cols)
 {
 	char buf[512], now[64];
 	time_t t = time(NULL);
@@ -1066,8 +1094,8 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		ssc_html_section(h, stages[s].name);
 		ssc_html_h2(h, NULL, stages[s].ops->title);
 		ssc_html_note(h, "Stage '%s': %s.", stages[s].name, sc->why[s]);
-		if (pngs[s])
-			ssc_html_image(h, pngs[s], stages[s].ops->title);
+		for (size_t r = 0; r < 64 && pngs[s][r]; r++)
+			ssc_html_image(h, pngs[s][r], stages[s].ops->title);
 		if (outs[s].text)
 			ssc_html_pre(h, outs[s].text);
 		ssc_html_section_end(h);
@@ -1139,6 +1167,121 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 	}
 }
 
+/* Run stage s once on the captures idx[0..n) (run > 0: the run-th of a
+ * stage run per capture, drawn into STAGE-run.png). */
+static int run_stage(struct ssc_scene *sc, size_t s,
+		     const struct ssc_common *co, struct sscope_capture **caps,
+		     const size_t *idx, size_t n, int run,
+		     const struct ssc_stage_out *outs, struct ssc_stage_out *out,
+		     char **png_out)
+{
+	const struct ssc_stage_ops *ops = stages[s].ops;
+	struct ssc_common sco = *co;
+	struct ssc_stage_env env = { 0 };
+	struct sscope_capture **v = calloc(n ? n : 1, sizeof(*v));
+	const char **paths = calloc(n ? n : 1, sizeof(*paths));
+	const char *want = sc->stage_columns[s] ? sc->stage_columns[s] :
+						  sc->columns;
+	char png[1024];
+	json_t *up = json_object();
+	int rc;
+
+	sco.cmd = stages[s].name;
+	sco.columns = want;
+	for (size_t f = 0; f < n; f++) {
+		v[f] = view(caps[idx[f]], want);
+		paths[f] = sc->files[idx[f]];
+	}
+	for (size_t u = 0; u < N_STAGES; u++)
+		if (sc->uses[s] & (1u << u) && outs[u].json)
+			json_object_set(up, stages[u].name, outs[u].json);
+	if (run)
+		snprintf(png, sizeof(png), "%s/%s-%d.png", sc->out_dir,
+			 stages[s].name, run);
+	else
+		snprintf(png, sizeof(png), "%s/%s.png", sc->out_dir,
+			 stages[s].name);
+	env.co = &sco;
+	env.caps = v;
+	env.paths = paths;
+	env.n_caps = n;
+	env.sensor = sc->have_sensor ? &sc->sensor : NULL;
+	env.sensor_path = sc->sensor_path;
+	for (size_t a = 0; a < sc->n_adc; a++)
+		env.adc_paths[a] = sc->adc_paths[a];
+	env.n_adc = sc->n_adc;
+	env.plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
+				!sc->no_plot[s] && ssc_plot_available() ?
+			png : NULL;
+	env.upstream = up;
+	out->summary = json_array();
+	rc = ops->run(&env, sc->opts[s], out);
+	for (size_t f = 0; f < n; f++)
+		free_view(v[f]);
+	free(v);
+	free(paths);
+	json_decref(up);
+	if (!rc && env.plot_path && access(png, R_OK) == 0)
+		*png_out = xstrdup(png);
+	return rc;
+}
+
+/* Add one run's output to a stage's: a stage run per capture gives
+ * {"command", "files": [result...]}, texts one after the other, CSV with
+ * one header, summary rows naming the file. */
+static void merge_out(struct ssc_stage_out *acc, struct ssc_stage_out *o,
+		      bool fan, const char *name, const char *path)
+{
+	if (!fan) {
+		*acc = *o;
+		memset(o, 0, sizeof(*o));
+		return;
+	}
+	if (!acc->json) {
+		acc->json = json_object();
+		json_object_set_new(acc->json, "command", json_string(name));
+		json_object_set_new(acc->json, "files", json_array());
+		acc->summary = json_array();
+	}
+	json_array_append(json_object_get(acc->json, "files"), o->json);
+	for (size_t r = 0; r < json_array_size(o->summary); r++) {
+		json_t *row = json_array_get(o->summary, r);
+		const char *ch = json_string_value(json_object_get(row, "channel"));
+		const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+		char buf[512];
+
+		snprintf(buf, sizeof(buf), "%s%s%s", base, ch && *ch ? ": " : "",
+			 ch ? ch : "");
+		json_object_set_new(row, "channel", json_string(buf));
+		json_array_append(acc->summary, row);
+	}
+	if (o->text) {
+		size_t la = acc->text ? strlen(acc->text) : 0, lb = strlen(o->text);
+		char *t = realloc(acc->text, la + lb + 2);
+
+		if (t) {
+			if (la)
+				t[la++] = '\n';
+			memcpy(t + la, o->text, lb + 1);
+			acc->text = t;
+		}
+	}
+	if (o->csv) {
+		const char *body = o->csv;
+		size_t la = acc->csv ? strlen(acc->csv) : 0, lb;
+		char *t;
+
+		if (acc->csv && strchr(body, '\n'))
+			body = strchr(body, '\n') + 1; /* one header */
+		lb = strlen(body);
+		t = realloc(acc->csv, la + lb + 1);
+		if (t) {
+			memcpy(t + la, body, lb + 1);
+			acc->csv = t;
+		}
+	}
+}
+
 static double wall_s(void)
 {
 	struct timespec ts;
@@ -1152,7 +1295,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	struct ssc_common co = { 0 };
 	struct sscope_capture **caps = NULL;
 	struct ssc_stage_out outs[N_STAGES];
-	char *pngs[N_STAGES] = { 0 };
+	char *pngs[N_STAGES][64] = { { 0 } };
 	json_t *results = json_object(), *summary = json_array(), *all;
 	char *cols = columns_to_read(sc);
 	struct ssc_membuf txt;
@@ -1192,54 +1335,37 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		goto done;
 	for (size_t i = 0; i < sc->n_order && !rc; i++) {
 		size_t s = sc->order[i];
-		const struct ssc_stage_ops *ops = stages[s].ops;
-		struct ssc_common sco = co;
-		struct ssc_stage_env env = { 0 };
-		struct sscope_capture **v = calloc(sc->n_files ? sc->n_files : 1,
-						   sizeof(*v));
-		const char *want = sc->stage_columns[s] ? sc->stage_columns[s] :
-							  sc->columns;
-		char png[1024];
-		json_t *up = json_object();
+		size_t idx[64], n_in = 0, runs;
+		bool fan;
 
+		for (size_t f = 0; f < sc->n_files && f < 64; f++)
+			if (sc->file_mask[s] & ((uint64_t)1 << f))
+				idx[n_in++] = f;
+		if (!(stages[s].ops->needs & SSC_NEED_DATA))
+			n_in = 0;
+		/* a one-capture stage runs once per capture */
+		fan = stages[s].ops->max_files == 1 && n_in > 1;
+		runs = fan ? n_in : 1;
 		if (tracing())
 			fprintf(stderr, "trace: stage %s\n", stages[s].name);
-		sco.cmd = stages[s].name;
-		sco.columns = want;
-		for (size_t f = 0; f < sc->n_files; f++)
-			v[f] = view(caps[f], want);
-		for (size_t u = 0; u < N_STAGES; u++)
-			if (sc->uses[s] & (1u << u) && outs[u].json)
-				json_object_set(up, stages[u].name, outs[u].json);
-		snprintf(png, sizeof(png), "%s/%s.png", sc->out_dir, stages[s].name);
-		env.co = &sco;
-		env.caps = v;
-		env.paths = (const char *const *)sc->files;
-		env.n_caps = (ops->needs & SSC_NEED_DATA) ? sc->n_files : 0;
-		env.sensor = sc->have_sensor ? &sc->sensor : NULL;
-		env.sensor_path = sc->sensor_path;
-		for (size_t a = 0; a < sc->n_adc; a++)
-			env.adc_paths[a] = sc->adc_paths[a];
-		env.n_adc = sc->n_adc;
-		env.plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
-					!sc->no_plot[s] && ssc_plot_available() ?
-				png : NULL;
-		env.upstream = up;
-		outs[s].summary = json_array();
 		sc->t_stage_s[s] = wall_s();
-		rc = ops->run(&env, sc->opts[s], &outs[s]);
+		for (size_t r = 0; r < runs && !rc; r++) {
+			struct ssc_stage_out o = { 0 };
+
+			rc = run_stage(sc, s, &co, caps, fan ? idx + r : idx,
+				       fan ? 1 : n_in, fan ? (int)r + 1 : 0, outs,
+				       &o, &pngs[s][r]);
+			if (!rc)
+				merge_out(&outs[s], &o, fan, stages[s].name,
+					  fan ? sc->files[idx[r]] : NULL);
+			ssc_stage_out_free(&o);
+		}
 		sc->t_stage_s[s] = wall_s() - sc->t_stage_s[s];
 		if (tracing())
 			fprintf(stderr, "trace: time %s %.3f s\n", stages[s].name,
 				sc->t_stage_s[s]);
-		for (size_t f = 0; f < sc->n_files; f++)
-			free_view(v[f]);
-		free(v);
-		json_decref(up);
 		if (rc)
 			break;
-		if (env.plot_path && access(png, R_OK) == 0)
-			pngs[s] = xstrdup(png);
 		json_object_set(results, stages[s].name, outs[s].json);
 		for (size_t r = 0; r < json_array_size(outs[s].summary); r++) {
 			json_t *row = json_array_get(outs[s].summary, r);
@@ -1248,9 +1374,11 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 			json_array_append(summary, row);
 		}
 		if (sc->formats & SSC_OUT_JSON) {
-			snprintf(png, sizeof(png), "%s/%s.json", sc->out_dir,
+			char p[1024];
+
+			snprintf(p, sizeof(p), "%s/%s.json", sc->out_dir,
 				 stages[s].name);
-			if (write_json(png, outs[s].json))
+			if (write_json(p, outs[s].json))
 				rc = SSC_EXIT_FAIL;
 		}
 	}
@@ -1311,15 +1439,16 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	}
 	if (!(sc->formats & SSC_OUT_PNG))
 		for (size_t s = 0; s < N_STAGES; s++)
-			if (pngs[s])
-				unlink(pngs[s]);
+			for (size_t r = 0; r < 64 && pngs[s][r]; r++)
+				unlink(pngs[s][r]);
 done:
 	for (size_t i = 0; caps && i < sc->n_files; i++)
 		sscope_capture_free(caps[i]);
 	free(caps);
 	for (size_t s = 0; s < N_STAGES; s++) {
 		ssc_stage_out_free(&outs[s]);
-		free(pngs[s]);
+		for (size_t r = 0; r < 64; r++)
+			free(pngs[s][r]);
 	}
 	json_decref(results);
 	json_decref(summary);
