@@ -662,5 +662,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-allan.h"
 #include "sscope-sim.h"
 #include "sscope-tempbias.h"
+#include "sscope-inclino.h"
 
 #endif /* SENSORSCOPE_H */

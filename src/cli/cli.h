@@ -169,6 +169,7 @@ int ssc_cmd_acquire(int argc, char **argv);
 int ssc_cmd_calib(int argc, char **argv);
 int ssc_cmd_budget(int argc, char **argv);
 int ssc_cmd_tempbias(int argc, char **argv);
+int ssc_cmd_inclino(int argc, char **argv);
 int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
