@@ -38,6 +38,12 @@ has "apply header" "$T/tilt.csv" '^time \[s\],temp \[degC\],roll_deg,pitch_deg,s
 paste -d, "$T/tilt.csv" "$VAL" | awk -F, '/^[0-9]/ { n++; if ($5 != 1) bad++; d1 = $3 - $11; d2 = $4 - $12; s += d1 * d1 + d2 * d2; if (d1 < 0) d1 = -d1; if (d2 < 0) d2 = -d2; if (d1 > m) m = d1; if (d2 > m) m = d2 } END { printf "%d %d %.4f %.4f\n", n, bad, m, sqrt(s / (2 * n)) }' >"$T/cmp"
 if awk '{ exit !($1 == 800 && $2 == 0 && $3 < 0.5 && $4 < 0.1) }' "$T/cmp"; then ok "apply: 800 still samples, max / rms error $(cut -d' ' -f3,4 "$T/cmp") deg"; else not_ok "apply vs reference: $(cat "$T/cmp")"; fi
 has "apply summary" "$T/err" '800 samples, 800 still'
+# 1-axis mode: the sensitivity column is 17.45 mg/deg * cos(pitch)
+run "apply --axes 1" 0 inclino apply --axes 1 --lut "$T/lut.json" -o "$T/t1.csv" "$VAL"
+has "1-axis header" "$T/t1.csv" '^time \[s\],temp \[degC\],pitch_deg,sens \[mg/deg\],still$'
+if awk -F, '/^[0-9]/ { c = cos($3 * 3.14159265358979 / 180) * 17.4533; d = $4 - c; if (d < 0) d = -d; if (d > m) m = d } END { exit !(m < 0.01) }' "$T/t1.csv"; then ok "1-axis sensitivity = 17.45 cos(pitch)"; else not_ok "1-axis sensitivity"; fi
+run "apply --axes 2" 0 inclino apply --axes 2 --lut "$T/lut.json" -o "$T/t2.csv" "$VAL"
+run "bad --axes" 2 inclino apply --axes 4 --lut "$T/lut.json" "$VAL"
 # motion: |a| = 1.2 g and a turning gyro are flagged, not silently valid
 cat >"$T/moving.csv" <<'CSV'
 time [s],ax [g],ay [g],az [g],gx [deg/s],gy [deg/s],gz [deg/s],temp [degC]

@@ -34,6 +34,7 @@ enum {
 	O_NOGYRO,
 	O_STILLTOL,
 	O_RATETOL,
+	O_AXES,
 };
 
 /* ------------------------------------------------------------------ */
@@ -481,6 +482,8 @@ static const struct ssc_option app_opts[] = {
 	{ "rate-tol", required_argument, O_RATETOL, "W",
 	  "and, with gyro data, |w| <= W (default 0.5 deg/s)" },
 	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes)" },
+	{ "axes", required_argument, O_AXES, "1|2|3",
+	  "tilt formula: 3 roll and pitch (default); 2 pitch = atan2(-ax, az); 1 pitch = asin(-ax/g), with the sensitivity column" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -503,6 +506,7 @@ struct app_opts_s {
 	const char *lut, *accel, *gyro;
 	bool no_gyro, cubic;
 	double still_tol, rate_tol;
+	int axes;
 };
 
 static int app_handler(int key, const char *arg, void *ctx)
@@ -524,6 +528,11 @@ static int app_handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_CUBIC:
 		o->cubic = true;
+		return 0;
+	case O_AXES:
+		if (strcmp(arg, "1") && strcmp(arg, "2") && strcmp(arg, "3"))
+			return ssc_usage_error("inclino", "--axes: '%s' is not 1, 2 or 3", arg);
+		o->axes = arg[0] - '0';
 		return 0;
 	case O_STILLTOL:
 		if (ssc_arg_quantity("inclino", "still-tol", arg, "m/s^2", &o->still_tol))
@@ -627,6 +636,7 @@ static int apply_main(int argc, char **argv)
 	if (!lut)
 		return SSC_EXIT_FAIL;
 	o.still_tol = 20e-3 * SSCOPE_GRAVITY_STD;
+	o.axes = 3;
 	o.rate_tol = 0.5 * PI / 180;
 	rc = ssc_parse(&app_spec, argc, argv, &co, app_handler, &o, &first);
 	if (rc) {
@@ -697,9 +707,13 @@ static int apply_main(int argc, char **argv)
 	fprintf(out.f, "# sensorscope inclino apply: %s with %s (%s interpolation); still: ||a| - g| <= %.4g m/s^2%s\n",
 		argv[first], o.lut, o.cubic && lut->n >= 3 ? "cubic" : "linear", o.still_tol,
 		gi[0] >= 0 ? " and |w| <= rate-tol" : " (no gyro data)");
-	fprintf(out.f, "%stemp [degC],roll_deg,pitch_deg,still\n", cap->time_s ? "time [s]," : "");
+	if (o.axes != 3)
+		fprintf(out.f, "# %d-axis: %s; sens = d(reading)/d(pitch) in mg per degree (17.45 cos(pitch) for 1 axis); the LUT correction uses all three axes\n",
+			o.axes, o.axes == 1 ? "pitch = asin(-ax/g)" : "pitch = atan2(-ax, az), x-z plane, full circle");
+	fprintf(out.f, "%stemp [degC],%s,still\n", cap->time_s ? "time [s]," : "",
+		o.axes == 3 ? "roll_deg,pitch_deg" : "pitch_deg,sens [mg/deg]");
 	for (size_t i = 0; i < cap->n; i++) {
-		double raw[3], c[3], r, p, T = cap->temp_degc[i];
+		double raw[3], c[3], r, p, sens = NAN, T = cap->temp_degc[i];
 		bool cl = false, still;
 
 		for (int k = 0; k < 3; k++)
@@ -710,7 +724,7 @@ static int apply_main(int argc, char **argv)
 			r = p = NAN;
 			still = false;
 		} else {
-			sscope_inclino_tilt(SSCOPE_INCLINO_3AXIS, c, g, &r, &p, NULL);
+			sscope_inclino_tilt((enum sscope_inclino_axes)o.axes, c, g, &r, &p, &sens);
 			still = fabs(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) - g) <= o.still_tol;
 			if (still && gi[0] >= 0) {
 				double w = 0;
@@ -724,7 +738,11 @@ static int apply_main(int argc, char **argv)
 		n_still += still;
 		if (cap->time_s)
 			fprintf(out.f, "%.9g,", cap->time_s[i]);
-		fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r * R2D, p * R2D, still ? 1 : 0);
+		if (o.axes == 3)
+			fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r * R2D, p * R2D, still ? 1 : 0);
+		else
+			fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p * R2D,
+				sens / R2D / (1e-3 * g), still ? 1 : 0);
 	}
 	rc = ssc_out_close(&co, &out, !ferror(out.f));
 	if (rc)
