@@ -625,7 +625,7 @@ static int results(struct ctx *c, const struct fit *f,
 	}
 	/* runs */
 	{
-		double mn = INFINITY, mx = -INFINITY, s = 0, s2 = 0;
+		double mn = INFINITY, mx = -INFINITY, s = 0;
 
 		for (size_t j = 0; j < J; j++) {
 			struct sscope_tempbias_runinfo *ri = &res->runs[j];
@@ -646,7 +646,6 @@ static int results(struct ctx *c, const struct fit *f,
 			mn = fmin(mn, ri->offset);
 			mx = fmax(mx, ri->offset);
 			s += ri->offset;
-			s2 += ri->offset * ri->offset;
 		}
 		res->repeat_sd = res->repeat_range = NAN;
 		if (J >= 2) {
@@ -657,7 +656,6 @@ static int results(struct ctx *c, const struct fit *f,
 			res->repeat_sd = sqrt(v / (double)(J - 1));
 			res->repeat_range = mx - mn;
 		}
-		(void)s2;
 	}
 	/* residual RMS of blocks */
 	{
@@ -681,7 +679,7 @@ static int results(struct ctx *c, const struct fit *f,
 	for (size_t i = 0; i < c->nbins; i++) {
 		const struct acc *a = &c->bins[i];
 		struct sscope_tempbias_bin *o;
-		double shape = 0, uk;
+		double shape = 0;
 
 		if (!(a->n > 0))
 			continue;
@@ -692,10 +690,8 @@ static int results(struct ctx *c, const struct fit *f,
 		o->n = a->n;
 		o->state = a->state;
 		o->run = a->run;
-		uk = 0;
 		for (int k = 1; k <= f->K; k++)
 			shape += f->beta[J + (size_t)k - 1] * a->u[k] / a->n;
-		(void)uk;
 		if (f->hyst)
 			shape += f->beta[J + (size_t)f->K] * a->state;
 		if (f->grad)
@@ -787,7 +783,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 	struct ctx c = { .o = o };
 	struct sscope_tempbias_result *res = NULL;
 	struct fit *f = NULL, *g = NULL;
-	double block_s, smooth_s, span, min_span, alpha, db, total = 0;
+	double block_s, smooth_s, span, min_span, alpha, db;
 	int K, cap, rc = 0;
 	bool hyst, grad, want_auto, hyst_ok, grad_ok;
 	const char *cap_why = NULL;
@@ -842,7 +838,6 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 				c.tmax = fmax(c.tmax, c.b[j].ts[i]);
 				nfin++;
 			}
-			total += c.b[j].c[i];
 		}
 		res->dropped += runs[j].n;
 	}
@@ -1057,7 +1052,6 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 	if (rc)
 		goto fail;
 	res->dropped -= res->used;
-	(void)total;
 	for (size_t j = 0; j < n_runs; j++)
 		free_blocks(&c.b[j]);
 	free(c.b);
