@@ -91,6 +91,27 @@ has "psd once per file" "$T/out" 'psd +inferred.*; once per file$'
 run "report of three kinds of capture" 0 report -o "$T/three" "$SAMPLES/accel-thermal.csv" "$SAMPLES/vibration.csv" "$SAMPLES/euroc-imu.csv"
 json_check "psd per file, allan on two files" "$T/three/report.json" '(.results.psd.files | length) == 3 and (.results.allan.files | length) == 2 and .results.vibration.file != null'
 json_check "summary rows name their file" "$T/three/report.json" '[.summary[] | select(.stage == "psd") | .channel] | any(startswith("vibration.csv: "))'
+# temperature column -> tempbias; a tilt table -> inclino (and nothing else)
+run "report of a thermal run and a tilt table, planned" 0 report --dry-run "$SAMPLES/accel-thermal.csv" "$SAMPLES/inclino-cal.csv"
+has "tempbias inferred for the thermal run" "$T/out" 'tempbias +inferred: inertial channels with a temperature column.*files: [^ ]*accel-thermal.csv$'
+has "inclino inferred for the tilt table" "$T/out" 'inclino +inferred: .*reference tilts.*files: [^ ]*inclino-cal.csv$'
+has "no allan on the tilt table" "$T/out" 'allan +inferred.*files: [^ ]*accel-thermal.csv$'
+# an inferred analysis the data refuse is left out, with its reason
+printf '# rate: 10 Hz\ngx [deg/s],temp [degC]\n' >"$T/flat.csv"
+awk 'BEGIN { srand(7); for (i = 0; i < 3000; i++) printf "%.6f,25.0\n", rand() - 0.5 }' >>"$T/flat.csv"
+run "report with a constant temperature" 0 report -o "$T/flat" "$T/flat.csv"
+has "tempbias refusal shown" "$T/err" 'tempbias: not in the report'
+json_check "allan reported, tempbias not" "$T/flat/report.json" '(.results | has("allan")) and (.results | has("tempbias") | not)'
+has "the HTML says why" "$T/flat/report.html" "Stage 'tempbias': inferred, but refused by the data: temperature span"
+
+# every sample scene runs
+for sc in "$SAMPLES"/*.scene.ini; do
+	b=$(basename "$sc" .scene.ini)
+	run "sample scene $b" 0 run -o "$T/sample-$b" "$sc"
+	if [ -s "$T/sample-$b/report.json" ]; then ok "$b: report.json"; else not_ok "$b: report.json"; fi
+done
+json_check "inclino scene: within 0.1 deg calibrated, not uncompensated" "$T/sample-inclino/inclino.json" '.validation.max_deg < 0.1 and .validation.uncompensated_max_deg > 0.3'
+
 run "report --format json refused" 2 report --format json "$T/gyro-static.csv"
 one_line_error "report --format json refused"
 

@@ -568,6 +568,83 @@ static void gyro_ratetable(const char *dir)
 	gsl_rng_free(r);
 }
 
+/*
+ * inclino-cal.csv / inclino-val.csv: 3-axis accelerometer inclinometer at
+ * known tilts, 10 Hz, 2 s (20 samples) per pose, white noise 1 mg per
+ * sample, temperature reading noise 0.05 degC.  Error model raw = b(T) +
+ * s(T) t + m t: offsets 3 / -2 / 1.5 mg at 20 degC drifting 0.1 / -0.1 /
+ * 0.1 mg/degC plus 0.001 mg/degC^2, scales 1 + 0.5 % / 1 - 0.5 % / 1 +
+ * 0.25 % times (T + 20) / 80, cross-coupling +-0.5 mrad.  cal: nodes -20,
+ * 0, 20, 40, 60 degC, roll and pitch on -60:30:60 deg (125 poses, seed
+ * 1010); val: -10, 10, 30, 50 degC, 10 uniform random poses within +-60
+ * deg each (seed 1011).
+ */
+static void inclino_model(double T, const double t[3], double raw[3])
+{
+	static const double o20[3] = { 3, -2, 1.5 }, k[3] = { 0.1, -0.1, 0.1 };
+	double sc[3] = { 1 + 0.005 * (T + 20) / 80, 1 - 0.005 * (T + 20) / 80,
+			 1 + 0.0025 * (T + 20) / 80 };
+
+	for (int a = 0; a < 3; a++) {
+		double dT = T - 20;
+
+		raw[a] = (o20[a] + k[a] * dT + 0.001 * dT * dT) * 1e-3 * SSCOPE_GRAVITY_STD +
+			 sc[a] * t[a];
+		for (int b = 0; b < 3; b++)
+			if (a != b)
+				raw[a] += 5e-4 * (a < b ? 1 : -1) * t[b];
+	}
+}
+
+static void inclino_pose(FILE *f, gsl_rng *r, double *time, double T,
+			 double roll, double pitch)
+{
+	double g = SSCOPE_GRAVITY_STD, t[3], raw[3];
+
+	t[0] = -g * sin(pitch * D2R);
+	t[1] = g * sin(roll * D2R) * cos(pitch * D2R);
+	t[2] = g * cos(roll * D2R) * cos(pitch * D2R);
+	inclino_model(T, t, raw);
+	for (int i = 0; i < 20; i++) {
+		fprintf(f, "%.1f", *time);
+		for (int a = 0; a < 3; a++)
+			fprintf(f, ",%.6f", (raw[a] + gsl_ran_gaussian_ziggurat(r, 1e-3 * g)) / g);
+		fprintf(f, ",%.2f,%.4f,%.4f\n", T + gsl_ran_gaussian_ziggurat(r, 0.05), roll, pitch);
+		*time += 0.1;
+	}
+}
+
+static void inclino(const char *dir)
+{
+	static const double nodes[5] = { -20, 0, 20, 40, 60 }, vt[4] = { -10, 10, 30, 50 };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	FILE *f = open_out(dir, "inclino-cal.csv");
+	double time = 0;
+
+	gsl_rng_set(r, 1010);
+	fprintf(f, "# sensorscope sample: inclinometer calibration poses at 5 temperatures (seed 1010; samples/README.md)\n"
+		   "time [s],ax [g],ay [g],az [g],temp [degC],roll_ref [deg],pitch_ref [deg]\n");
+	for (int n = 0; n < 5; n++)
+		for (int i = 0; i < 5; i++)
+			for (int j = 0; j < 5; j++)
+				inclino_pose(f, r, &time, nodes[n], -60 + 30 * i, -60 + 30 * j);
+	fclose(f);
+	f = open_out(dir, "inclino-val.csv");
+	time = 0;
+	gsl_rng_set(r, 1011);
+	fprintf(f, "# sensorscope sample: inclinometer validation poses between the nodes (seed 1011; samples/README.md)\n"
+		   "time [s],ax [g],ay [g],az [g],temp [degC],roll_ref [deg],pitch_ref [deg]\n");
+	for (int n = 0; n < 4; n++)
+		for (int i = 0; i < 10; i++) {
+			double roll = round(gsl_ran_flat(r, -60, 60) * 100) / 100;
+			double pitch = round(gsl_ran_flat(r, -60, 60) * 100) / 100;
+
+			inclino_pose(f, r, &time, vt[n], roll, pitch);
+		}
+	fclose(f);
+	gsl_rng_free(r);
+}
+
 int main(int argc, char **argv)
 {
 	const char *dir = argc > 1 ? argv[1] : "samples";
@@ -581,5 +658,6 @@ int main(int argc, char **argv)
 	accel_sixpos(dir);
 	imu_multipose(dir);
 	gyro_ratetable(dir);
+	inclino(dir);
 	return 0;
 }

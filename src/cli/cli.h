@@ -82,6 +82,8 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 	      int *first);
 
 /* Print "sensorscope: CMD: message" to stderr. */
+/* The text of the last ssc_err() message (without the prefix). */
+const char *ssc_last_error(void);
 void ssc_err(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 /* Print "sensorscope: CMD: warning: message" unless quiet. */
@@ -168,6 +170,8 @@ int ssc_cmd_vibration(int argc, char **argv);
 int ssc_cmd_acquire(int argc, char **argv);
 int ssc_cmd_calib(int argc, char **argv);
 int ssc_cmd_budget(int argc, char **argv);
+int ssc_cmd_tempbias(int argc, char **argv);
+int ssc_cmd_inclino(int argc, char **argv);
 int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);

@@ -70,10 +70,20 @@ static const struct ssc_option output_opts[] = {
 	{ NULL, 0, 0, NULL, NULL },
 };
 
+static char last_error[512];
+
+const char *ssc_last_error(void)
+{
+	return last_error;
+}
+
 void ssc_err(const char *cmd, const char *fmt, ...)
 {
 	va_list ap;
 
+	va_start(ap, fmt);
+	vsnprintf(last_error, sizeof(last_error), fmt, ap);
+	va_end(ap);
 	fprintf(stderr, "sensorscope: %s%s", cmd ? cmd : "", cmd ? ": " : "");
 	va_start(ap, fmt);
 	vfprintf(stderr, fmt, ap);

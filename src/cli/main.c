@@ -35,6 +35,10 @@ static const struct command commands[] = {
 	  ssc_cmd_allan },
 	{ "simulate", "a capture whose noise obeys a sensor specification",
 	  ssc_cmd_simulate },
+	{ "tempbias", "bias against temperature: fit, hysteresis, repeatability, table",
+	  ssc_cmd_tempbias },
+	{ "inclino", "inclinometer: temperature look-up-table calibration, tilt with a still flag",
+	  ssc_cmd_inclino },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -23,7 +23,10 @@
 
 #include "html.h"
 
-enum { S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_CALIB, S_BUDGET, S_COUNT_ };
+enum {
+	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_CALIB,
+	S_BUDGET, S_COUNT_
+};
 
 static const struct ssc_stage_def stages[] = {
 	[S_INFO] = { "info", &ssc_info_stage, 0,
@@ -53,6 +56,21 @@ static const struct ssc_stage_def stages[] = {
 		      "K^2 tau/3 + R^2 tau^2/2, fitted by weighted least squares "
 		      "with AIC term selection; intervals from the fit "
 		      "covariance." },
+	[S_TEMPBIAS] = { "tempbias", &ssc_tempbias_stage, 0,
+			 "Bias b(T) by weighted least squares (QR, GSL) in the "
+			 "centred and scaled temperature, one offset per power "
+			 "cycle, heating/cooling and dT/dt terms; order by an F "
+			 "test at 1 %, at most one order per 5 degC of span; "
+			 "turn-on repeatability = sd of the per-cycle offsets; "
+			 "in-run stability = minimum Allan deviation of the "
+			 "compensated residuals." },
+	[S_INCLINO] = { "inclino", &ssc_inclino_stage, 0,
+			"Roll = atan2(ay, az), pitch = atan2(-ax, sqrt(ay^2 + "
+			"az^2)); per temperature node a least-squares fit of "
+			"offset, scale and cross-coupling to the reference "
+			"tilts; look-up table interpolated linearly (or by "
+			"cubic spline) in temperature, clamped outside the "
+			"calibrated range." },
 	[S_CALIB] = { "calib", &ssc_calib_stage, 0,
 		      "Error model corrected = T K (reading - bias) (Tedaldi, "
 		      "Pretto & Menegatti, ICRA 2014): static intervals found by "
@@ -102,6 +120,9 @@ struct ssc_scene {
 	bool quiet;
 	/* wall time of the reads and of each stage, s */
 	double t_read_s, t_stage_s[S_COUNT_];
+	/* paths of stage options, made relative to the scene file */
+	char *owned[64];
+	size_t n_owned;
 	/* the captures each stage runs on (bit f: file f), all by default */
 	uint64_t file_mask[S_COUNT_];
 };
@@ -208,6 +229,8 @@ void ssc_scene_free(struct ssc_scene *sc)
 	free(sc->raw);
 	free(sc->sensor_path);
 	free(sc->out_dir);
+	for (size_t i = 0; i < sc->n_owned; i++)
+		free(sc->owned[i]);
 	free(sc->title);
 	free(sc->path);
 	free(sc->dir);
@@ -514,6 +537,13 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 						   "%s: expected yes or no", key);
 			}
 			rc = on ? ops->handle(o->key, NULL, sc->opts[s]) : 0;
+		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH")) &&
+			   value[0] != '/' && sc->n_owned < 64) {
+			/* a file named in a scene is relative to the scene */
+			char *path = join_path(sc->dir, value);
+
+			sc->owned[sc->n_owned++] = path;
+			rc = ops->handle(o->key, path, sc->opts[s]);
 		} else {
 			rc = ops->handle(o->key, value, sc->opts[s]);
 		}
@@ -720,7 +750,8 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		struct sscope_reader *r = NULL;
 		struct sscope_diag d = { "" };
 		double rate = co->rate_hz;
-		bool acc = false, gyro = false, other = false;
+		bool acc = false, gyro = false, other = false, tilt = false;
+		bool temp;
 		uint64_t bit;
 		int e;
 
@@ -744,6 +775,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		}
 		for (size_t k = 0; k < sscope_reader_n_channels(r); k++) {
 			enum sscope_quantity q = sscope_reader_channel(r, k)->quantity;
+			const char *nm = sscope_reader_channel(r, k)->name;
+
+			if (!strcmp(nm, "roll_ref") || !strcmp(nm, "pitch_ref"))
+				tilt = true;
 
 			if (q == SSCOPE_QTY_ACCELERATION)
 				acc = true;
@@ -752,8 +787,25 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			else
 				other = true;
 		}
+		temp = sscope_reader_temp_column(r) != NULL;
 		sscope_reader_close(r);
 		bit = i < 64 ? (uint64_t)1 << i : 0;
+		if (tilt && acc && temp) {
+			/* a tilt table: calibrate the inclinometer, nothing else */
+			if (!(sc->want & (1u << S_INCLINO)))
+				set_why(sc, S_INCLINO,
+					"inferred: accelerations with reference tilts (roll_ref, pitch_ref) and temperature: a calibration run");
+			sc->want |= 1u << S_INCLINO;
+			sc->file_mask[S_INCLINO] |= bit;
+			continue;
+		}
+		if (temp && (acc || gyro)) {
+			if (!(sc->want & (1u << S_TEMPBIAS)))
+				set_why(sc, S_TEMPBIAS,
+					"inferred: inertial channels with a temperature column");
+			sc->want |= 1u << S_TEMPBIAS;
+			sc->file_mask[S_TEMPBIAS] |= bit;
+		}
 		if (gyro || (acc && rate < 500)) {
 			if (!(sc->want & (1u << S_ALLAN)))
 				set_why(sc, S_ALLAN,
@@ -1364,6 +1416,22 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		if (tracing())
 			fprintf(stderr, "trace: time %s %.3f s\n", stages[s].name,
 				sc->t_stage_s[s]);
+		if (rc == SSC_EXIT_FAIL && !sc->path && s != S_INFO) {
+			/* an inferred analysis the data do not support: the
+			 * report goes on without it and says so */
+			ssc_warn(&co, "%s: not in the report (%s)",
+				 stages[s].name, "the reason is above");
+			set_why(sc, s, "inferred, but refused by the data: %s",
+				ssc_last_error());
+			ssc_stage_out_free(&outs[s]);
+			for (size_t r = 0; r < 64 && pngs[s][r]; r++) {
+				unlink(pngs[s][r]);
+				free(pngs[s][r]);
+				pngs[s][r] = NULL;
+			}
+			rc = SSC_EXIT_OK;
+			continue;
+		}
 		if (rc)
 			break;
 		json_object_set(results, stages[s].name, outs[s].json);

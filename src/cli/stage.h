@@ -92,5 +92,7 @@ extern const struct ssc_stage_ops ssc_vibration_stage;
 extern const struct ssc_stage_ops ssc_calib_stage;
 extern const struct ssc_stage_ops ssc_budget_stage;
 extern const struct ssc_stage_ops ssc_allan_stage;
+extern const struct ssc_stage_ops ssc_tempbias_stage;
+extern const struct ssc_stage_ops ssc_inclino_stage;
 
 #endif

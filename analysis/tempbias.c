@@ -1,0 +1,1073 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Temperature dependence of a bias: weighted least squares of a polynomial
+ * in the centred and scaled temperature with heating/cooling hysteresis
+ * (IEEE Std 528-2019, "hysteresis") and thermal-gradient terms, order by
+ * the extra-sum-of-squares F test (Draper & Smith, Applied Regression
+ * Analysis, 3rd ed., sec. 6.1), turn-on to turn-on repeatability as the
+ * spread of per-run settled biases, in-run stability as the minimum
+ * Allan deviation (IEEE Std 952-2020) of the compensated residuals.
+ * See sscope-tempbias.h for the model and the choices.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_multifit.h>
+#include <gsl/gsl_vector.h>
+
+#include "sscope-allan.h"
+#include "sscope-tempbias.h"
+
+#define MAXK SSCOPE_TEMPBIAS_MAX_ORDER
+#define NREG (MAXK + 2) /* u^1..u^K, s, dT/dt */
+
+/* Blocks of one run. */
+struct blocks {
+	size_t nb;
+	double dt;       /* block duration, s */
+	double *t;       /* block centre, s from the run start */
+	double *temp;    /* raw mean temperature (NaN: none) */
+	double *x;       /* mean datum (NaN: none) */
+	double *c;       /* finite samples in the block */
+	double *ts;      /* smoothed temperature */
+	double *dtdt;    /* dT/dt, degC/s */
+	int *state;      /* -1, 0, +1 */
+	size_t first;    /* first block used (after warm-up) */
+};
+
+/* Accumulator of a bin. */
+struct acc {
+	double n, x, temp, dtdt, u[MAXK + 1];
+	int state, run;
+};
+
+struct fit {
+	int K;
+	bool hyst, grad;
+	size_t p, rows;
+	double beta[SSCOPE_TEMPBIAS_MAX_RUNS + NREG];
+	double cov[SSCOPE_TEMPBIAS_MAX_RUNS + NREG][SSCOPE_TEMPBIAS_MAX_RUNS + NREG];
+	double chisq, dof, rcond;
+};
+
+static void free_blocks(struct blocks *b)
+{
+	free(b->t);
+	free(b->temp);
+	free(b->x);
+	free(b->c);
+	free(b->ts);
+	free(b->dtdt);
+	free(b->state);
+}
+
+static int make_blocks(const struct sscope_tempbias_run *r, double block_s,
+		       struct blocks *b)
+{
+	size_t m0 = (size_t)fmax(1, round(r->rate_hz * block_s));
+	size_t nb = (r->n + m0 - 1) / m0;
+
+	memset(b, 0, sizeof(*b));
+	b->nb = nb;
+	b->dt = (double)m0 / r->rate_hz;
+	b->t = ssc_alloc_array(nb, sizeof(double));
+	b->temp = ssc_alloc_array(nb, sizeof(double));
+	b->x = ssc_alloc_array(nb, sizeof(double));
+	b->c = ssc_alloc_array(nb, sizeof(double));
+	b->ts = ssc_alloc_array(nb, sizeof(double));
+	b->dtdt = ssc_alloc_array(nb, sizeof(double));
+	b->state = ssc_alloc_array(nb, sizeof(int));
+	if (!b->t || !b->temp || !b->x || !b->c || !b->ts || !b->dtdt ||
+	    !b->state)
+		return -ENOMEM;
+	for (size_t i = 0; i < nb; i++) {
+		size_t lo = i * m0, hi = lo + m0 < r->n ? lo + m0 : r->n;
+		double sx = 0, st = 0, cx = 0, ct = 0;
+
+		for (size_t k = lo; k < hi; k++) {
+			double x = r->x[k * r->stride], t = r->temp_degc[k];
+
+			if (isfinite(t)) {
+				st += t;
+				ct++;
+				if (isfinite(x)) {
+					sx += x;
+					cx++;
+				}
+			}
+		}
+		b->t[i] = ((double)lo + (double)(hi - lo - 1) / 2) / r->rate_hz;
+		b->temp[i] = ct > 0 ? st / ct : (double)NAN;
+		b->x[i] = cx > 0 ? sx / cx : (double)NAN;
+		b->c[i] = cx;
+	}
+	return 0;
+}
+
+/* Centred local linear fit of the temperature over +-h blocks. */
+static void smooth(struct blocks *b, size_t h)
+{
+	for (size_t i = 0; i < b->nb; i++) {
+		size_t lo = i > h ? i - h : 0, hi = i + h + 1 < b->nb ? i + h + 1 : b->nb;
+		double n = 0, st = 0, stt = 0, sy = 0, sty = 0;
+
+		for (size_t k = lo; k < hi; k++) {
+			double dt = b->t[k] - b->t[i];
+
+			if (!isfinite(b->temp[k]))
+				continue;
+			n++;
+			st += dt;
+			stt += dt * dt;
+			sy += b->temp[k];
+			sty += dt * b->temp[k];
+		}
+		if (n < 2) {
+			b->ts[i] = n > 0 ? sy / n : (double)NAN;
+			b->dtdt[i] = n > 0 ? 0 : (double)NAN;
+			continue;
+		}
+		{
+			double den = n * stt - st * st;
+			double slope = den > 0 ? (n * sty - st * sy) / den : 0;
+
+			b->dtdt[i] = slope;
+			b->ts[i] = (sy - slope * st) / n;
+		}
+	}
+}
+
+/* Turning points of the smoothed temperature: the state changes at an
+ * extremum once the temperature has left it by more than band_degc; the
+ * samples after the extremum get the new state. */
+static void set_states_turning(struct blocks *b, double band)
+{
+	int s = 0;
+	size_t imin = 0, imax = 0, start = 0;
+
+	while (start < b->nb && !isfinite(b->ts[start]))
+		b->state[start++] = 0;
+	imin = imax = start;
+	for (size_t i = start; i < b->nb; i++) {
+		double T = b->ts[i];
+
+		b->state[i] = s;
+		if (!isfinite(T))
+			continue;
+		if (T > b->ts[imax])
+			imax = i;
+		if (T < b->ts[imin])
+			imin = i;
+		if (s <= 0 && T > b->ts[imin] + band) {
+			for (size_t k = imin + 1; k <= i; k++)
+				b->state[k] = 1;
+			s = 1;
+			imax = i;
+		} else if (s >= 0 && T < b->ts[imax] - band) {
+			for (size_t k = imax + 1; k <= i; k++)
+				b->state[k] = -1;
+			s = -1;
+			imin = i;
+		}
+	}
+}
+
+static void set_states(struct blocks *b, double db)
+{
+	int s = 0;
+
+	for (size_t i = 0; i < b->nb; i++) {
+		if (b->dtdt[i] > db)
+			s = 1;
+		else if (b->dtdt[i] < -db)
+			s = -1;
+		b->state[i] = s;
+	}
+}
+
+static void add_note(struct sscope_tempbias_result *res, const char *text)
+{
+	size_t l = strlen(res->note);
+
+	snprintf(res->note + l, sizeof(res->note) - l, "%s%s", l ? "; " : "",
+		 text);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* Weighted fit of the binned rows; columns: J run offsets, u^1..u^K,
+ * s (hyst), dT/dt scaled by gsc (grad). */
+static int do_fit(const struct acc *bins, size_t nbins, size_t J, int K,
+		  bool hyst, bool grad, double gsc, struct fit *f)
+{
+	size_t rows = 0, p = J + (size_t)K + hyst + grad;
+	gsl_matrix *X, *cov;
+	gsl_vector *y, *w, *c;
+	gsl_multifit_linear_workspace *ws;
+	int rc = 0;
+
+	for (size_t i = 0; i < nbins; i++)
+		rows += bins[i].n > 0;
+	f->K = K;
+	f->hyst = hyst;
+	f->grad = grad;
+	f->p = p;
+	f->rows = rows;
+	if (rows <= p)
+		return -EDOM;
+	X = gsl_matrix_calloc(rows, p);
+	cov = gsl_matrix_alloc(p, p);
+	y = gsl_vector_alloc(rows);
+	w = gsl_vector_alloc(rows);
+	c = gsl_vector_alloc(p);
+	ws = gsl_multifit_linear_alloc(rows, p);
+	if (!X || !cov || !y || !w || !c || !ws) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	rows = 0;
+	for (size_t i = 0; i < nbins; i++) {
+		const struct acc *a = &bins[i];
+		size_t col = J;
+
+		if (!(a->n > 0))
+			continue;
+		gsl_matrix_set(X, rows, (size_t)a->run, 1);
+		for (int k = 1; k <= K; k++)
+			gsl_matrix_set(X, rows, col++, a->u[k] / a->n);
+		if (hyst)
+			gsl_matrix_set(X, rows, col++, a->state);
+		if (grad)
+			gsl_matrix_set(X, rows, col++, a->dtdt / a->n / gsc);
+		gsl_vector_set(y, rows, a->x / a->n);
+		gsl_vector_set(w, rows, a->n);
+		rows++;
+	}
+	gsl_set_error_handler_off();
+	if (gsl_multifit_wlinear(X, w, y, c, cov, &f->chisq, ws)) {
+		rc = -EDOM;
+		goto out;
+	}
+	f->rcond = gsl_multifit_linear_rcond(ws);
+	f->dof = (double)(rows - p);
+	for (size_t i = 0; i < p; i++) {
+		f->beta[i] = gsl_vector_get(c, i);
+		for (size_t j = 0; j < p; j++)
+			f->cov[i][j] = gsl_matrix_get(cov, i, j) * f->chisq / f->dof;
+	}
+	if (!(f->rcond > 1e-10))
+		rc = -EDOM;
+out:
+	gsl_matrix_free(X);
+	gsl_matrix_free(cov);
+	gsl_vector_free(y);
+	gsl_vector_free(w);
+	gsl_vector_free(c);
+	if (ws)
+		gsl_multifit_linear_free(ws);
+	return rc;
+}
+
+/* Model value of the fit for regressors (without the run offset). */
+static double model_shape(const struct fit *f, size_t J, double u, int s,
+			  double dtdt, double gsc)
+{
+	double v = 0, uk = 1;
+	size_t col = J;
+
+	for (int k = 1; k <= f->K; k++) {
+		uk *= u;
+		v += f->beta[col++] * uk;
+	}
+	if (f->hyst)
+		v += f->beta[col++] * s;
+	if (f->grad)
+		v += f->beta[col++] * dtdt / gsc;
+	return v;
+}
+
+struct ctx {
+	const struct sscope_tempbias_opts *o;
+	struct blocks *b;
+	size_t J;
+	double tref, h, tmin, tmax, bin_w, gsc;
+	size_t nbt;
+	struct acc *bins;
+	size_t nbins;
+};
+
+static void fill_bins(struct ctx *c, bool with_state)
+{
+	memset(c->bins, 0, c->nbins * sizeof(*c->bins));
+	for (size_t j = 0; j < c->J; j++) {
+		const struct blocks *b = &c->b[j];
+
+		for (size_t i = b->first; i < b->nb; i++) {
+			double T = b->ts[i], u, uk = 1;
+			size_t bi;
+			int s = with_state ? b->state[i] : 0;
+			struct acc *a;
+
+			if (!(b->c[i] > 0) || !isfinite(T) || !isfinite(b->x[i]))
+				continue;
+			bi = (size_t)fmax(0, floor((T - c->tmin) / c->bin_w));
+			if (bi >= c->nbt)
+				bi = c->nbt - 1;
+			a = &c->bins[(j * c->nbt + bi) * 3 + (size_t)(s + 1)];
+			u = (T - c->tref) / c->h;
+			a->n += b->c[i];
+			a->x += b->c[i] * b->x[i];
+			a->temp += b->c[i] * T;
+			a->dtdt += b->c[i] * b->dtdt[i];
+			for (int k = 1; k <= MAXK; k++) {
+				uk *= u;
+				a->u[k] += b->c[i] * uk;
+			}
+			a->state = s;
+			a->run = (int)j;
+		}
+	}
+}
+
+/* Fit with the terms wanted, dropping gradient, hysteresis, then order
+ * while the design is singular. */
+static int fit_terms(struct ctx *c, int K, bool *hyst, bool *grad,
+		     struct fit *f, char *note, size_t nlen)
+{
+	int rc;
+
+	for (;;) {
+		rc = do_fit(c->bins, c->nbins, c->J, K, *hyst, *grad, c->gsc, f);
+		if (rc != -EDOM)
+			return rc;
+		if (*grad) {
+			*grad = false;
+			snprintf(note, nlen, "gradient term left out (not separable from the other terms)");
+		} else if (*hyst) {
+			*hyst = false;
+			snprintf(note, nlen, "hysteresis term left out (not separable from the other terms)");
+		} else if (K > 0) {
+			K--;
+		} else {
+			return -EDOM;
+		}
+	}
+}
+
+static double f_pvalue(const struct fit *lo, const struct fit *hi)
+{
+	double F;
+
+	if (!(hi->dof > 0) || !(hi->chisq > 0))
+		return 0;
+	F = (lo->chisq - hi->chisq) / (hi->chisq / hi->dof);
+	if (!(F > 0))
+		return 1;
+	return gsl_cdf_fdist_Q(F, (double)(hi->p - lo->p), hi->dof);
+}
+
+/* Weighted polynomial of order K in u on bins of one state; y corrected. */
+static int split_fit(const struct ctx *c, const struct fit *f, int state,
+		     double *coef, double *umin, double *umax)
+{
+	size_t rows = 0, p = (size_t)f->K + 1;
+	gsl_matrix *X = NULL, *cov = NULL;
+	gsl_vector *y = NULL, *w = NULL, *cv = NULL;
+	gsl_multifit_linear_workspace *ws = NULL;
+	double chisq, dmean = 0;
+	int rc = -EDOM;
+
+	for (size_t j = 0; j < c->J; j++)
+		dmean += f->beta[j] / (double)c->J;
+	for (size_t i = 0; i < c->nbins; i++)
+		rows += c->bins[i].n > 0 && c->bins[i].state == state;
+	if (rows < p + 2)
+		return -EDOM;
+	X = gsl_matrix_alloc(rows, p);
+	cov = gsl_matrix_alloc(p, p);
+	y = gsl_vector_alloc(rows);
+	w = gsl_vector_alloc(rows);
+	cv = gsl_vector_alloc(p);
+	ws = gsl_multifit_linear_alloc(rows, p);
+	if (!X || !cov || !y || !w || !cv || !ws) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	*umin = INFINITY;
+	*umax = -INFINITY;
+	rows = 0;
+	for (size_t i = 0; i < c->nbins; i++) {
+		const struct acc *a = &c->bins[i];
+		double v = a->x / a->n - (f->beta[a->run] - dmean);
+		double u = (a->temp / a->n - c->tref) / c->h;
+
+		if (!(a->n > 0) || a->state != state)
+			continue;
+		if (f->grad)
+			v -= f->beta[c->J + (size_t)f->K + f->hyst] * a->dtdt / a->n / c->gsc;
+		gsl_matrix_set(X, rows, 0, 1);
+		for (int k = 1; k <= f->K; k++)
+			gsl_matrix_set(X, rows, (size_t)k, a->u[k] / a->n);
+		gsl_vector_set(y, rows, v);
+		gsl_vector_set(w, rows, a->n);
+		*umin = fmin(*umin, u);
+		*umax = fmax(*umax, u);
+		rows++;
+	}
+	if (gsl_multifit_wlinear(X, w, y, cv, cov, &chisq, ws) ||
+	    !(gsl_multifit_linear_rcond(ws) > 1e-10))
+		goto out;
+	for (size_t k = 0; k < p; k++)
+		coef[k] = gsl_vector_get(cv, k);
+	rc = 0;
+out:
+	gsl_matrix_free(X);
+	gsl_matrix_free(cov);
+	gsl_vector_free(y);
+	gsl_vector_free(w);
+	gsl_vector_free(cv);
+	if (ws)
+		gsl_multifit_linear_free(ws);
+	return rc;
+}
+
+static double horner(const double *a, int K, double u)
+{
+	double v = 0;
+
+	for (int k = K; k >= 0; k--)
+		v = v * u + a[k];
+	return v;
+}
+
+/* Residual of block i of run j under fit f. */
+static double block_resid(const struct ctx *c, const struct fit *f, size_t j,
+			  size_t i)
+{
+	const struct blocks *b = &c->b[j];
+
+	if (!(b->c[i] > 0) || !isfinite(b->ts[i]) || !isfinite(b->x[i]))
+		return (double)NAN;
+	return b->x[i] - f->beta[j] -
+	       model_shape(f, c->J, (b->ts[i] - c->tref) / c->h,
+			   f->hyst ? b->state[i] : 0, b->dtdt[i], c->gsc);
+}
+
+/* Warm-up: the end of the last window in the first half of a run whose
+ * mean residual departs from the settled level (median of the second
+ * half) by more than 4 robust sd / sqrt(window). */
+static size_t detect_warmup(const struct ctx *c, const struct fit *f, size_t j)
+{
+	const struct blocks *b = &c->b[j];
+	size_t nb = b->nb, half = nb / 2, W, end = 0, m = 0;
+	double *r = ssc_alloc_array(nb, sizeof(double)), *tmp;
+	double L, sd;
+
+	if (!r || nb < 20) {
+		free(r);
+		return 0;
+	}
+	tmp = r + half;
+	for (size_t i = 0; i < nb; i++)
+		r[i] = block_resid(c, f, j, i);
+	/* median / MAD of the finite second half (sorted copy in place at
+	 * the end of r is fine: the first half is what we scan) */
+	for (size_t i = half; i < nb; i++)
+		if (isfinite(r[i]))
+			tmp[m++] = r[i];
+	if (m < 10) {
+		free(r);
+		return 0;
+	}
+	qsort(tmp, m, sizeof(double), cmp_double);
+	L = tmp[m / 2];
+	for (size_t i = 0; i < m; i++)
+		tmp[i] = fabs(tmp[i] - L);
+	qsort(tmp, m, sizeof(double), cmp_double);
+	sd = 1.4826 * tmp[m / 2];
+	if (!(sd > 0)) {
+		free(r);
+		return 0;
+	}
+	for (size_t i = 0; i < half; i++)
+		r[i] = block_resid(c, f, j, i);
+	W = nb / 50 > 5 ? nb / 50 : 5;
+	for (size_t k = 0; k + W <= half; k++) {
+		double s = 0, n = 0;
+
+		for (size_t i = k; i < k + W; i++)
+			if (isfinite(r[i])) {
+				s += r[i];
+				n++;
+			}
+		if (n > 0 && fabs(s / n - L) > 4 * sd / sqrt(n))
+			end = k + W;
+	}
+	free(r);
+	return end;
+}
+
+static void stability(const struct ctx *c, const struct fit *f,
+		      struct sscope_tempbias_result *res)
+{
+	size_t jl = 0, n;
+	double *r;
+	struct sscope_allan_result *ar = NULL;
+
+	res->stability = NAN;
+	res->stability_tau_s = NAN;
+	for (size_t j = 1; j < c->J; j++)
+		if (c->b[j].nb - c->b[j].first > c->b[jl].nb - c->b[jl].first)
+			jl = j;
+	n = c->b[jl].nb - c->b[jl].first;
+	if (n < 16)
+		return;
+	r = ssc_alloc_array(n, sizeof(double));
+	if (!r)
+		return;
+	for (size_t i = 0; i < n; i++)
+		r[i] = block_resid(c, f, jl, c->b[jl].first + i);
+	if (!sscope_allan_analyze(r, 1, n, 1 / c->b[jl].dt, SSCOPE_TAUS_OCTAVE,
+				  NULL, NULL, &ar, NULL)) {
+		for (size_t i = 0; i < ar->n_points; i++)
+			if (isfinite(ar->points[i].dev) &&
+			    ar->points[i].edf >= 10 &&
+			    !(ar->points[i].dev >= res->stability)) {
+				res->stability = ar->points[i].dev;
+				res->stability_tau_s = ar->points[i].tau_s;
+			}
+	}
+	sscope_allan_result_free(ar);
+	free(r);
+}
+
+double sscope_tempbias_eval(const struct sscope_tempbias_result *res,
+			    double temp_degc)
+{
+	double T;
+
+	if (!res)
+		return NAN;
+	T = fmin(fmax(temp_degc, res->temp_min_degc), res->temp_max_degc);
+	return horner(res->coef, res->order, T - res->ref_temp_degc);
+}
+
+void sscope_tempbias_result_free(struct sscope_tempbias_result *res)
+{
+	if (!res)
+		return;
+	free(res->runs);
+	free(res->bins);
+	free(res->table_temp_degc);
+	free(res->table_bias);
+	free(res);
+}
+
+static int results(struct ctx *c, const struct fit *f,
+		   struct sscope_tempbias_result *res)
+{
+	size_t J = c->J;
+	double hk[MAXK + 1];
+	double step, n_tab;
+
+	res->order = f->K;
+	res->dof = f->dof;
+	hk[0] = 1;
+	for (int k = 1; k <= MAXK; k++)
+		hk[k] = hk[k - 1] * c->h;
+	/* coef[0]: mean of the run offsets */
+	res->coef[0] = 0;
+	for (size_t j = 0; j < J; j++)
+		res->coef[0] += f->beta[j] / (double)J;
+	{
+		double v = 0;
+
+		for (size_t i = 0; i < J; i++)
+			for (size_t j = 0; j < J; j++)
+				v += f->cov[i][j];
+		res->coef_sd[0] = sqrt(v) / (double)J;
+	}
+	for (int k = 1; k <= f->K; k++) {
+		size_t col = J + (size_t)k - 1;
+
+		res->coef[k] = f->beta[col] / hk[k];
+		res->coef_sd[k] = sqrt(f->cov[col][col]) / hk[k];
+	}
+	for (int k = f->K + 1; k <= MAXK; k++)
+		res->coef[k] = res->coef_sd[k] = NAN;
+	res->sensitivity = f->K >= 1 ? res->coef[1] : 0;
+	res->sensitivity_sd = f->K >= 1 ? res->coef_sd[1] : 0;
+	res->have_hysteresis = f->hyst;
+	res->hysteresis = res->hysteresis_sd = NAN;
+	if (f->hyst) {
+		size_t col = J + (size_t)f->K;
+
+		res->hysteresis = 2 * f->beta[col];
+		res->hysteresis_sd = 2 * sqrt(f->cov[col][col]);
+	}
+	res->have_gradient = f->grad;
+	res->gradient = res->gradient_sd = NAN;
+	if (f->grad) {
+		size_t col = J + (size_t)f->K + f->hyst;
+
+		res->gradient = f->beta[col] / c->gsc;
+		res->gradient_sd = sqrt(f->cov[col][col]) / c->gsc;
+	}
+	/* runs */
+	{
+		double mn = INFINITY, mx = -INFINITY, s = 0;
+
+		for (size_t j = 0; j < J; j++) {
+			struct sscope_tempbias_runinfo *ri = &res->runs[j];
+			const struct blocks *b = &c->b[j];
+			double st = 0, n = 0;
+
+			ri->offset = f->beta[j];
+			ri->offset_sd = sqrt(f->cov[j][j]);
+			ri->warmup_s = (double)b->first * b->dt;
+			for (size_t i = b->first; i < b->nb; i++)
+				if (b->c[i] > 0 && isfinite(b->ts[i])) {
+					st += b->c[i] * b->ts[i];
+					n += b->c[i];
+				}
+			ri->mean_temp_degc = n > 0 ? st / n : (double)NAN;
+			ri->used = (size_t)n;
+			res->used += (size_t)n;
+			mn = fmin(mn, ri->offset);
+			mx = fmax(mx, ri->offset);
+			s += ri->offset;
+		}
+		res->repeat_sd = res->repeat_range = NAN;
+		if (J >= 2) {
+			double m = s / (double)J, v = 0;
+
+			for (size_t j = 0; j < J; j++)
+				v += (res->runs[j].offset - m) * (res->runs[j].offset - m);
+			res->repeat_sd = sqrt(v / (double)(J - 1));
+			res->repeat_range = mx - mn;
+		}
+	}
+	/* residual RMS of blocks */
+	{
+		double s = 0, n = 0;
+
+		for (size_t j = 0; j < J; j++)
+			for (size_t i = c->b[j].first; i < c->b[j].nb; i++) {
+				double r = block_resid(c, f, j, i);
+
+				if (isfinite(r)) {
+					s += c->b[j].c[i] * r * r;
+					n += c->b[j].c[i];
+				}
+			}
+		res->residual_rms = n > 0 ? sqrt(s / n) : (double)NAN;
+	}
+	/* bins */
+	res->bins = ssc_alloc_array(c->nbins, sizeof(*res->bins));
+	if (!res->bins)
+		return -ENOMEM;
+	for (size_t i = 0; i < c->nbins; i++) {
+		const struct acc *a = &c->bins[i];
+		struct sscope_tempbias_bin *o;
+		double shape = 0;
+
+		if (!(a->n > 0))
+			continue;
+		o = &res->bins[res->n_bins++];
+		o->temp_degc = a->temp / a->n;
+		o->bias = a->x / a->n;
+		o->dtdt = a->dtdt / a->n;
+		o->n = a->n;
+		o->state = a->state;
+		o->run = a->run;
+		for (int k = 1; k <= f->K; k++)
+			shape += f->beta[J + (size_t)k - 1] * a->u[k] / a->n;
+		if (f->hyst)
+			shape += f->beta[J + (size_t)f->K] * a->state;
+		if (f->grad)
+			shape += f->beta[J + (size_t)f->K + f->hyst] * o->dtdt / c->gsc;
+		o->resid = o->bias - f->beta[a->run] - shape;
+	}
+	/* separate heating / cooling fits */
+	{
+		double ah[MAXK + 1], ac[MAXK + 1], h0, h1, c0, c1;
+
+		res->hysteresis_max = res->hysteresis_at_degc = NAN;
+		if (f->hyst && !split_fit(c, f, 1, ah, &h0, &h1) &&
+		    !split_fit(c, f, -1, ac, &c0, &c1)) {
+			double lo = fmax(h0, c0), hi = fmin(h1, c1);
+
+			res->have_split = true;
+			for (int k = 0; k <= f->K; k++) {
+				res->heat_coef[k] = ah[k] / hk[k];
+				res->cool_coef[k] = ac[k] / hk[k];
+			}
+			for (int i = 0; i <= 200 && hi > lo; i++) {
+				double u = lo + (hi - lo) * i / 200;
+				double g = horner(ah, f->K, u) - horner(ac, f->K, u);
+
+				if (!(fabs(g) <= fabs(res->hysteresis_max))) {
+					res->hysteresis_max = g;
+					res->hysteresis_at_degc = c->tref + c->h * u;
+				}
+			}
+		}
+	}
+	/* peak to peak */
+	{
+		double mn = INFINITY, mx = -INFINITY;
+
+		for (int i = 0; i <= 400; i++) {
+			double T = res->temp_min_degc +
+				   (res->temp_max_degc - res->temp_min_degc) * i / 400;
+			double v = sscope_tempbias_eval(res, T);
+
+			mn = fmin(mn, v);
+			mx = fmax(mx, v);
+		}
+		res->peak_to_peak = mx - mn;
+	}
+	/* table */
+	step = c->o->table_step_degc;
+	if (!(step > 0)) {
+		double span = res->temp_max_degc - res->temp_min_degc;
+		static const double steps[] = { 0.1, 0.2, 0.5, 1, 2, 5, 10, 20 };
+
+		step = 20;
+		for (size_t i = 0; i < sizeof(steps) / sizeof(steps[0]); i++)
+			if (span / steps[i] <= 40) {
+				step = steps[i];
+				break;
+			}
+	}
+	{
+		double t0 = ceil(res->temp_min_degc / step - 1e-9) * step;
+
+		n_tab = floor((res->temp_max_degc - t0) / step + 1e-9) + 1;
+		if (!(n_tab >= 1) || n_tab > 1e5)
+			n_tab = 1;
+		res->n_table = (size_t)n_tab;
+		res->table_temp_degc = ssc_alloc_array(res->n_table, sizeof(double));
+		res->table_bias = ssc_alloc_array(res->n_table, sizeof(double));
+		if (!res->table_temp_degc || !res->table_bias)
+			return -ENOMEM;
+		for (size_t i = 0; i < res->n_table; i++) {
+			double T = res->n_table == 1 && !(t0 <= res->temp_max_degc) ?
+				   res->ref_temp_degc : t0 + step * (double)i;
+
+			res->table_temp_degc[i] = T;
+			res->table_bias[i] = sscope_tempbias_eval(res, T);
+		}
+	}
+	stability(c, f, res);
+	return 0;
+}
+
+int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
+			const struct sscope_tempbias_opts *opts,
+			struct sscope_tempbias_result **out,
+			struct sscope_diag *diag)
+{
+	static const struct sscope_tempbias_opts defaults = { .order_auto = true };
+	const struct sscope_tempbias_opts *o = opts ? opts : &defaults;
+	struct ctx c = { .o = o };
+	struct sscope_tempbias_result *res = NULL;
+	struct fit *f = NULL, *g = NULL;
+	double block_s, smooth_s, span, min_span, alpha, db;
+	int K, cap, rc = 0;
+	bool hyst, grad, want_auto, hyst_ok, grad_ok;
+	const char *cap_why = NULL;
+	size_t nfin = 0;
+
+	if (!runs || !out || n_runs == 0)
+		return ssc_diag(diag, -EINVAL, "no runs");
+	*out = NULL;
+	if (n_runs > SSCOPE_TEMPBIAS_MAX_RUNS)
+		return ssc_diag(diag, -EINVAL, "at most %d runs",
+				SSCOPE_TEMPBIAS_MAX_RUNS);
+	want_auto = o->order_auto || o->order < 0;
+	if (!want_auto && o->order > MAXK)
+		return ssc_diag(diag, -EINVAL, "order %d: at most %d", o->order,
+				MAXK);
+	for (size_t j = 0; j < n_runs; j++)
+		if (!runs[j].x || !runs[j].temp_degc || runs[j].stride == 0 ||
+		    !(runs[j].rate_hz > 0) || !isfinite(runs[j].rate_hz))
+			return ssc_diag(diag, -EINVAL, "run %zu: bad record", j + 1);
+	block_s = o->block_s > 0 ? o->block_s : 1;
+	smooth_s = o->smooth_s > 0 ? o->smooth_s : 60;
+	min_span = o->min_span_degc > 0 ? o->min_span_degc : 1;
+	alpha = o->alpha > 0 && o->alpha < 1 ? o->alpha : 0.01;
+	c.J = n_runs;
+	c.b = calloc(n_runs, sizeof(*c.b));
+	res = calloc(1, sizeof(*res));
+	f = malloc(sizeof(*f));
+	g = malloc(sizeof(*g));
+	if (!c.b || !res || !f || !g) {
+		rc = -ENOMEM;
+		goto fail;
+	}
+	res->runs = calloc(n_runs, sizeof(*res->runs));
+	if (!res->runs) {
+		rc = -ENOMEM;
+		goto fail;
+	}
+	res->n_runs = n_runs;
+	c.tmin = INFINITY;
+	c.tmax = -INFINITY;
+	for (size_t j = 0; j < n_runs; j++) {
+		size_t h;
+
+		rc = make_blocks(&runs[j], block_s, &c.b[j]);
+		if (rc)
+			goto fail;
+		h = (size_t)fmax(2, round(smooth_s / (2 * c.b[j].dt)));
+		smooth(&c.b[j], h);
+		for (size_t i = 0; i < c.b[j].nb; i++) {
+			if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i])) {
+				c.tmin = fmin(c.tmin, c.b[j].ts[i]);
+				c.tmax = fmax(c.tmax, c.b[j].ts[i]);
+				nfin++;
+			}
+		}
+		res->dropped += runs[j].n;
+	}
+	if (nfin < 3) {
+		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks with finite data and temperature");
+		goto fail;
+	}
+	span = c.tmax - c.tmin;
+	if (span < min_span && n_runs == 1) {
+		rc = ssc_diag(diag, -EDOM,
+			      "temperature span %.3g degC is below %.3g degC: no temperature curve can be fitted",
+			      span, min_span);
+		goto fail;
+	}
+	/* dead band */
+	db = o->deadband_degc_s;
+	if (!(db > 0) && !o->rate_deadband) {
+		db = NAN;
+	} else if (!(db > 0)) {
+		double *a = ssc_alloc_array(nfin, sizeof(double));
+		size_t m = 0;
+
+		if (!a) {
+			rc = -ENOMEM;
+			goto fail;
+		}
+		for (size_t j = 0; j < n_runs; j++)
+			for (size_t i = 0; i < c.b[j].nb; i++)
+				if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i]))
+					a[m++] = fabs(c.b[j].dtdt[i]);
+		qsort(a, m, sizeof(double), cmp_double);
+		db = 0.1 * a[(size_t)(0.95 * (double)(m - 1))];
+		free(a);
+		if (!(db > 0))
+			db = 1e-6;
+	}
+	res->deadband_degc_s = db;
+	/* gradient scale: rms dT/dt */
+	{
+		double s = 0, n = 0;
+
+		res->turn_band_degc = fmax(0.2, 0.02 * span);
+		for (size_t j = 0; j < n_runs; j++) {
+			if (isnan(db))
+				set_states_turning(&c.b[j], res->turn_band_degc);
+			else
+				set_states(&c.b[j], db);
+			for (size_t i = 0; i < c.b[j].nb; i++)
+				if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i])) {
+					s += c.b[j].dtdt[i] * c.b[j].dtdt[i];
+					n++;
+				}
+		}
+		c.gsc = n > 0 && s > 0 ? sqrt(s / n) : 1;
+	}
+	c.tref = o->ref_temp_set ? o->ref_temp_degc : (c.tmin + c.tmax) / 2;
+	c.h = fmax(fabs(c.tmax - c.tref), fabs(c.tmin - c.tref));
+	if (!(c.h > 0))
+		c.h = 1;
+	c.bin_w = o->bin_degc > 0 ? o->bin_degc : fmax(span / 100, 1e-3);
+	c.nbt = (size_t)fmin(1e5, floor(span / c.bin_w) + 1);
+	c.nbins = n_runs * c.nbt * 3;
+	c.bins = ssc_alloc_array(c.nbins, sizeof(*c.bins));
+	if (!c.bins) {
+		rc = -ENOMEM;
+		goto fail;
+	}
+	res->ref_temp_degc = c.tref;
+	res->half_span_degc = c.h;
+	res->smooth_s = smooth_s;
+	res->block_s = block_s;
+	res->bin_degc = c.bin_w;
+	res->temp_min_degc = c.tmin;
+	res->temp_max_degc = c.tmax;
+	cap = span < min_span ? 0 : (int)fmin(MAXK, fmax(1, floor(span / 5)));
+	/* distinct temperature levels: cells of span / 20 holding >= 1 % of
+	 * the samples; the order stays below their number */
+	if (cap > 0) {
+		double cell[20] = { 0 }, tot = 0;
+		int levels = 0;
+
+		for (size_t j = 0; j < n_runs; j++)
+			for (size_t i = 0; i < c.b[j].nb; i++)
+				if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i])) {
+					int k = (int)floor((c.b[j].ts[i] - c.tmin) / span * 20);
+
+					cell[k < 0 ? 0 : k > 19 ? 19 : k] += c.b[j].c[i];
+					tot += c.b[j].c[i];
+				}
+		for (int k = 0; k < 20; k++)
+			levels += cell[k] >= 0.01 * tot;
+		res->levels = levels;
+		if (levels - 1 < cap) {
+			cap = levels - 1 > 0 ? levels - 1 : 0;
+			cap_why = "distinct temperature levels";
+		}
+	}
+	res->order_cap = cap;
+	res->order_requested = want_auto ? -1 : o->order;
+	K = want_auto ? cap : o->order;
+	if (K > cap) {
+		res->order_lowered = true;
+		snprintf(res->note, sizeof(res->note),
+			 "order %d lowered to %d: %s", K, cap,
+			 cap_why ? cap_why : "at most one order per 5 degC of span");
+		K = cap;
+	}
+	if (o->warmup_set)
+		for (size_t j = 0; j < n_runs; j++)
+			c.b[j].first = (size_t)fmin((double)c.b[j].nb,
+						    ceil(o->warmup_s / c.b[j].dt));
+	/* identifiability: hysteresis needs >= 10 % of the samples both
+	 * heating and cooling; the gradient term needs dT/dt to vary (sd
+	 * >= 30 % of its rms) */
+	{
+		double nh = 0, nc = 0, n = 0, s1 = 0, s2 = 0;
+
+		for (size_t j = 0; j < n_runs; j++)
+			for (size_t i = 0; i < c.b[j].nb; i++)
+				if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i])) {
+					nh += c.b[j].state[i] > 0;
+					nc += c.b[j].state[i] < 0;
+					s1 += c.b[j].dtdt[i];
+					s2 += c.b[j].dtdt[i] * c.b[j].dtdt[i];
+					n++;
+				}
+		hyst_ok = !o->no_hysteresis && nh >= 0.1 * n && nc >= 0.1 * n;
+		if (hyst_ok) {
+			/* heating and cooling must overlap in temperature:
+			 * sum over 20 cells of min(heating share, cooling
+			 * share) >= 0.2 */
+			double ch[20] = { 0 }, cc[20] = { 0 }, ov = 0;
+
+			for (size_t j = 0; j < n_runs; j++)
+				for (size_t i = 0; i < c.b[j].nb; i++)
+					if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i]) &&
+					    c.b[j].state[i]) {
+						int k = (int)floor((c.b[j].ts[i] - c.tmin) / fmax(span, 1e-9) * 20);
+
+						k = k < 0 ? 0 : k > 19 ? 19 : k;
+						if (c.b[j].state[i] > 0)
+							ch[k]++;
+						else
+							cc[k]++;
+					}
+			for (int k = 0; k < 20; k++)
+				ov += fmin(ch[k] / nh, cc[k] / nc);
+			hyst_ok = ov >= 0.2;
+		}
+		grad_ok = !o->no_gradient && n > 0 &&
+			  s2 / n - (s1 / n) * (s1 / n) >= 0.09 * s2 / n;
+		if (!o->no_hysteresis && !hyst_ok)
+			add_note(res, "no hysteresis term: heating and cooling not each >= 10 % of the data over a common temperature range");
+		else if (!o->no_gradient && !grad_ok)
+			add_note(res, "no gradient term: dT/dt does not vary enough");
+	}
+	for (int pass = 0; pass < 3; pass++) {
+		int Kf;
+		char note[200] = "";
+
+		hyst = hyst_ok;
+		grad = grad_ok;
+		fill_bins(&c, hyst);
+		rc = fit_terms(&c, K, &hyst, &grad, f, note, sizeof(note));
+		if (rc == -EDOM) {
+			rc = ssc_diag(diag, -EDOM,
+				      "too few distinct temperatures or samples for a fit (%zu blocks)",
+				      nfin);
+			goto fail;
+		}
+		if (rc)
+			goto fail;
+		if (*note && pass == 0)
+			add_note(res, note);
+		Kf = f->K;
+		if (Kf < K && !want_auto) {
+			char b[120];
+
+			res->order_lowered = true;
+			snprintf(b, sizeof(b),
+				 "order %d lowered to %d: the design is singular (too few distinct temperatures)",
+				 K, Kf);
+			if (pass == 0)
+				add_note(res, b);
+		}
+		if (want_auto) {
+			while (f->K > 0) {
+				bool h2 = f->hyst, g2 = f->grad;
+
+				if (do_fit(c.bins, c.nbins, c.J, f->K - 1, h2, g2, c.gsc, g))
+					break;
+				if (f_pvalue(g, f) < alpha)
+					break;
+				*f = *g;
+			}
+		}
+		if (pass == 2 || o->warmup_set)
+			break;
+		/* auto warm-up, then refit */
+		{
+			bool any = false;
+
+			for (size_t j = 0; j < n_runs; j++) {
+				c.b[j].first = detect_warmup(&c, f, j);
+				any |= c.b[j].first > 0;
+			}
+			if (!any)
+				break;
+		}
+	}
+	rc = results(&c, f, res);
+	if (rc)
+		goto fail;
+	res->dropped -= res->used;
+	for (size_t j = 0; j < n_runs; j++)
+		free_blocks(&c.b[j]);
+	free(c.b);
+	free(c.bins);
+	free(f);
+	free(g);
+	*out = res;
+	return 0;
+fail:
+	if (c.b)
+		for (size_t j = 0; j < n_runs; j++)
+			free_blocks(&c.b[j]);
+	free(c.b);
+	free(c.bins);
+	free(f);
+	free(g);
+	sscope_tempbias_result_free(res);
+	return rc == -ENOMEM ? ssc_diag(diag, rc, "out of memory") : rc;
+}

@@ -1,0 +1,802 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope inclino calibrate | apply: inclinometer look-up table of
+ * per-axis offset, scale and misalignment against temperature
+ * (analysis/inclino.c, ADI AN-1057) from static captures at known tilts,
+ * validated in degrees; and roll/pitch from raw accelerations with the
+ * table, each sample flagged still or moving.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "plot.h"
+#include "stage.h"
+
+#define PI 3.14159265358979323846
+#define R2D (180 / PI)
+#define MAX_VAL 16
+#define MAX_POSES 100000
+
+enum {
+	O_ACCEL = 300,
+	O_ROLL,
+	O_PITCH,
+	O_GRAVITY,
+	O_POSETOL,
+	O_NODEGAP,
+	O_VALIDATE,
+	O_CUBIC,
+	O_LUT,
+	O_GYRO,
+	O_NOGYRO,
+	O_STILLTOL,
+	O_RATETOL,
+	O_AXES,
+};
+
+/* ------------------------------------------------------------------ */
+/* shared                                                              */
+/* ------------------------------------------------------------------ */
+
+static int pick_accel(const char *cmd, const struct sscope_capture *cap,
+		      const char *names, const char *path, long idx[3])
+{
+	if (names) {
+		char buf[256], *save = NULL, *tok;
+		int k = 0;
+
+		snprintf(buf, sizeof(buf), "%s", names);
+		for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+			if (k == 3)
+				break;
+			idx[k] = sscope_capture_find(cap, tok);
+			if (idx[k] < 0) {
+				ssc_err(cmd, "%s: no column '%s'", path, tok);
+				return SSC_EXIT_FAIL;
+			}
+			k++;
+		}
+		if (k != 3) {
+			ssc_err(cmd, "--accel: give three channel names");
+			return SSC_EXIT_USAGE;
+		}
+		return 0;
+	}
+	for (size_t i = 0, k = 0; i < cap->n_channels && k < 3; i++)
+		if (cap->channels[i].col.quantity == SSCOPE_QTY_ACCELERATION)
+			idx[k++] = (long)i;
+	{
+		int k = 0;
+
+		for (size_t i = 0; i < cap->n_channels; i++)
+			k += cap->channels[i].col.quantity == SSCOPE_QTY_ACCELERATION;
+		if (k < 3) {
+			ssc_err(cmd, "%s: %d acceleration column%s, 3 needed (give units, or --accel X,Y,Z)",
+				path, k, k == 1 ? "" : "s");
+			return SSC_EXIT_FAIL;
+		}
+	}
+	return 0;
+}
+
+/* ------------------------------------------------------------------ */
+/* calibrate (a stage)                                                 */
+/* ------------------------------------------------------------------ */
+
+static const struct ssc_option cal_opts[] = {
+	{ "accel", required_argument, O_ACCEL, "X,Y,Z",
+	  "accelerometer channels (default: the first three acceleration columns)" },
+	{ "roll-ref", required_argument, O_ROLL, "NAME", "reference roll column (default roll_ref)" },
+	{ "pitch-ref", required_argument, O_PITCH, "NAME", "reference pitch column (default pitch_ref)" },
+	{ "gravity", required_argument, O_GRAVITY, "G", "local gravity (default 9.80665 m/s^2)" },
+	{ "pose-tol", required_argument, O_POSETOL, "DEGC",
+	  "temperature tolerance within a pose (default 1 degC)" },
+	{ "node-gap", required_argument, O_NODEGAP, "DEGC",
+	  "pose temperatures further apart start a new LUT node (default 3 degC)" },
+	{ "validate", required_argument, O_VALIDATE, "FILE",
+	  "validation capture (same columns) at other temperatures/angles; repeatable" },
+	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes; default linear)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec cal_spec = {
+	.name = "inclino",
+	.usage = "inclino calibrate [OPTIONS] FILE... -o LUT.json",
+	.summary =
+		"Inclinometer look-up table from static captures at known tilts (columns\n"
+		"roll_ref [deg], pitch_ref [deg], constant within a pose) at several\n"
+		"temperatures: per-axis offset, scale and misalignment at each temperature\n"
+		"node (least squares, AN-1057 model), linear interpolation (cubic optional)\n"
+		"and clamping outside the range; validation errors in degrees against the\n"
+		"0.1 degree class, with the dominant residual term.  With -o *.json the\n"
+		"output is JSON: the LUT that 'inclino apply --lut' reads.",
+	.options = cal_opts,
+	.analysis = true,
+	.notes = "Convention: a level, still sensor reads (0, 0, +1 g); pitch = atan2(-ax, sqrt(ay^2+az^2)),\n"
+		 "roll = atan2(ay, az).  Examples:\n"
+		 "  sensorscope inclino calibrate samples/inclino-cal.csv -o lut.json\n"
+		 "  sensorscope inclino calibrate --validate samples/inclino-val.csv samples/inclino-cal.csv\n"
+		 "  sensorscope inclino apply --lut lut.json -o tilt.csv samples/inclino-val.csv",
+};
+
+struct cal_opts_s {
+	const char *accel, *roll, *pitch;
+	double gravity, pose_tol, node_gap;
+	const char *validate[MAX_VAL];
+	int n_val;
+	bool cubic;
+};
+
+static int cal_handler(int key, const char *arg, void *ctx)
+{
+	struct cal_opts_s *o = ctx;
+
+	switch (key) {
+	case O_ACCEL:
+		o->accel = arg;
+		return 0;
+	case O_ROLL:
+		o->roll = arg;
+		return 0;
+	case O_PITCH:
+		o->pitch = arg;
+		return 0;
+	case O_GRAVITY:
+		if (ssc_arg_quantity("inclino", "gravity", arg, "m/s^2", &o->gravity))
+			return SSC_EXIT_USAGE;
+		if (!(o->gravity > 0))
+			return ssc_usage_error("inclino", "--gravity: must be positive");
+		return 0;
+	case O_POSETOL:
+		if (ssc_arg_double("inclino", "pose-tol", arg, &o->pose_tol) || !(o->pose_tol > 0))
+			return ssc_usage_error("inclino", "--pose-tol: a positive number of degC");
+		return 0;
+	case O_NODEGAP:
+		if (ssc_arg_double("inclino", "node-gap", arg, &o->node_gap) || !(o->node_gap > 0))
+			return ssc_usage_error("inclino", "--node-gap: a positive number of degC");
+		return 0;
+	case O_VALIDATE:
+		if (o->n_val == MAX_VAL)
+			return ssc_usage_error("inclino", "--validate: at most %d files", MAX_VAL);
+		o->validate[o->n_val++] = arg;
+		return 0;
+	case O_CUBIC:
+		o->cubic = true;
+		return 0;
+	}
+	return SSC_EXIT_USAGE;
+}
+
+static void cal_init(void *opts)
+{
+	struct cal_opts_s *o = opts;
+
+	memset(o, 0, sizeof(*o));
+	o->roll = "roll_ref";
+	o->pitch = "pitch_ref";
+	o->gravity = SSCOPE_GRAVITY_STD;
+}
+
+/* Poses of a capture appended to *poses. */
+static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
+		     const struct sscope_capture *cap, const char *path,
+		     struct sscope_inclino_pose *poses, size_t *np)
+{
+	long a[3], ir, ip;
+	size_t got = 0;
+	int rc;
+
+	if (!cap->temp_degc) {
+		ssc_err(co->cmd, "%s: no temperature column (give --temp-column NAME)", path);
+		return SSC_EXIT_FAIL;
+	}
+	ir = sscope_capture_find(cap, o->roll);
+	ip = sscope_capture_find(cap, o->pitch);
+	if (ir < 0 || ip < 0) {
+		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME)",
+			path, ir < 0 ? o->roll : o->pitch);
+		return SSC_EXIT_FAIL;
+	}
+	rc = pick_accel(co->cmd, cap, o->accel, path, a);
+	if (rc)
+		return rc;
+	rc = sscope_inclino_poses(cap->channels[a[0]].data, cap->channels[a[1]].data,
+				  cap->channels[a[2]].data, cap->temp_degc,
+				  cap->channels[ir].data, cap->channels[ip].data, cap->n,
+				  o->pose_tol, poses + *np, MAX_POSES - *np, &got);
+	if (rc) {
+		ssc_err(co->cmd, "%s: no static pose with finite data", path);
+		return SSC_EXIT_FAIL;
+	}
+	if (got > MAX_POSES - *np) {
+		ssc_err(co->cmd, "%s: more than %d poses", path, MAX_POSES);
+		return SSC_EXIT_FAIL;
+	}
+	*np += got;
+	return 0;
+}
+
+static json_t *jv3(const double v[3], double mul)
+{
+	json_t *a = json_array();
+
+	for (int i = 0; i < 3; i++)
+		json_array_append_new(a, ssc_jreal(v[i] * mul));
+	return a;
+}
+
+static json_t *lut_json(const struct sscope_inclino_lut *lut, bool cubic)
+{
+	json_t *l = json_object(), *nodes = json_array();
+
+	json_object_set_new(l, "gravity_m_s2", json_real(lut->gravity_m_s2));
+	json_object_set_new(l, "interpolation", json_string(cubic ? "cubic" : "linear"));
+	json_object_set_new(l, "model", json_string(
+		"raw_i = offset_i + scale_i * t_i + sum_j misalignment_ij * t_j (t: true specific force, m/s^2)"));
+	for (size_t i = 0; i < lut->n; i++) {
+		const struct sscope_inclino_params *p = &lut->p[i];
+		json_t *n = json_object(), *m = json_array(), *msd = json_array();
+
+		json_object_set_new(n, "temp_degc", json_real(lut->temp_degc[i]));
+		json_object_set_new(n, "offset_m_s2", jv3(p->offset, 1));
+		json_object_set_new(n, "offset_sd_m_s2", jv3(p->offset_sd, 1));
+		json_object_set_new(n, "scale", jv3(p->scale, 1));
+		json_object_set_new(n, "scale_sd", jv3(p->scale_sd, 1));
+		for (int a = 0; a < 3; a++) {
+			json_array_append_new(m, jv3(p->mis[a], 1));
+			json_array_append_new(msd, jv3(p->mis_sd[a], 1));
+		}
+		json_object_set_new(n, "misalignment", m);
+		json_object_set_new(n, "misalignment_sd", msd);
+		json_object_set_new(n, "residual_rms_m_s2", ssc_jreal(p->residual_rms));
+		json_object_set_new(n, "poses", json_integer((json_int_t)p->poses));
+		json_array_append_new(nodes, n);
+	}
+	json_object_set_new(l, "nodes", nodes);
+	return l;
+}
+
+static int cal_plot(const struct ssc_common *co, const char *path,
+		    const struct sscope_inclino_lut *lut)
+{
+	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
+	struct ssc_ax *a0, *a1;
+	double t[SSCOPE_INCLINO_MAX_NODES], y[SSCOPE_INCLINO_MAX_NODES];
+	double lo[SSCOPE_INCLINO_MAX_NODES], hi[SSCOPE_INCLINO_MAX_NODES];
+	int rc;
+
+	if (!fig) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	ssc_fig_title(fig, "inclinometer look-up table (±2 sd)");
+	a0 = ssc_fig_ax(fig, 0, 0);
+	a1 = ssc_fig_ax(fig, 1, 0);
+	for (int a = 0; a < 3; a++) {
+		struct ssc_style st = { .color = ssc_plot_color((size_t)a), .marker = SSC_MK_CIRCLE };
+		char lab[32];
+
+		snprintf(lab, sizeof(lab), "%c axis", "xyz"[a]);
+		for (size_t i = 0; i < lut->n; i++) {
+			double k = 1e3 / lut->gravity_m_s2;
+
+			t[i] = lut->temp_degc[i];
+			y[i] = lut->p[i].offset[a] * k;
+			lo[i] = y[i] - 2 * lut->p[i].offset_sd[a] * k;
+			hi[i] = y[i] + 2 * lut->p[i].offset_sd[a] * k;
+		}
+		ssc_ax_errorbar(a0, t, y, lo, hi, lut->n, &st, lab);
+		for (size_t i = 0; i < lut->n; i++) {
+			y[i] = (lut->p[i].scale[a] - 1) * 100;
+			lo[i] = y[i] - 2 * lut->p[i].scale_sd[a] * 100;
+			hi[i] = y[i] + 2 * lut->p[i].scale_sd[a] * 100;
+		}
+		ssc_ax_errorbar(a1, t, y, lo, hi, lut->n, &st, lab);
+	}
+	ssc_ax_ylabel(a0, "offset (mg)");
+	ssc_ax_ylabel(a1, "scale error (%)");
+	ssc_ax_xlabel(a0, "temperature (°C)");
+	ssc_ax_xlabel(a1, "temperature (°C)");
+	ssc_ax_legend(a0, SSC_LEGEND_AUTO);
+	ssc_ax_legend(a1, SSC_LEGEND_AUTO);
+	ssc_ax_grid(a0, true);
+	ssc_ax_grid(a1, true);
+	rc = ssc_fig_save_png(fig, path);
+	ssc_fig_free(fig);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
+		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+	}
+	return SSC_EXIT_OK;
+}
+
+static int cal_run(const struct ssc_stage_env *env, void *opts,
+		   struct ssc_stage_out *out)
+{
+	const struct ssc_common *co = env->co;
+	struct cal_opts_s *o = opts;
+	struct sscope_inclino_pose *poses = calloc(MAX_POSES, sizeof(*poses));
+	struct sscope_inclino_lut *lut = malloc(sizeof(*lut));
+	struct sscope_inclino_plan *plan = NULL;
+	struct sscope_inclino_validation v;
+	struct sscope_diag d = { "" };
+	struct ssc_membuf text, csv;
+	size_t np = 0, nv = 0;
+	bool have_v = false;
+	json_t *root;
+	int rc = 0;
+
+	if (!poses || !lut) {
+		ssc_err(co->cmd, "out of memory");
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	for (size_t j = 0; j < env->n_caps && !rc; j++)
+		rc = cap_poses(co, o, env->caps[j], env->paths[j], poses, &np);
+	if (rc)
+		goto done;
+	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, lut, &d);
+	if (rc) {
+		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
+		goto done;
+	}
+	rc = sscope_inclino_plan_new(&plan, lut, o->cubic, &d);
+	if (rc) {
+		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
+		goto done;
+	}
+	if (o->n_val) {
+		np = 0;
+		for (int j = 0; j < o->n_val && !rc; j++) {
+			struct sscope_capture *cap = NULL;
+
+			rc = ssc_load(co, o->validate[j], &cap);
+			if (!rc)
+				rc = cap_poses(co, o, cap, o->validate[j], poses, &np);
+			sscope_capture_free(cap);
+		}
+		if (rc)
+			goto done;
+		if (sscope_inclino_validate(plan, poses, np, &v)) {
+			ssc_err(co->cmd, "%s: no validation pose within +-85 degrees of pitch",
+				o->validate[0]);
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		have_v = true;
+		nv = v.poses;
+		if (v.clamped)
+			ssc_warn(co, "%zu validation poses outside the calibrated range %.1f .. %.1f degC (clamped)",
+				 v.clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+	}
+	if (env->plot_path) {
+		rc = cal_plot(co, env->plot_path, lut);
+		if (rc)
+			goto done;
+	}
+	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
+		ssc_err(co->cmd, "out of memory");
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	root = json_object();
+	json_object_set_new(root, "command", json_string("inclino calibrate"));
+	json_object_set_new(root, "file", json_string(env->paths[0]));
+	{
+		json_t *f = json_array();
+
+		for (size_t j = 0; j < env->n_caps; j++)
+			json_array_append_new(f, json_string(env->paths[j]));
+		json_object_set_new(root, "files", f);
+	}
+	json_object_set_new(root, "lut", lut_json(lut, o->cubic));
+	fprintf(text.f, "inclino calibrate: %s%s: %zu temperature node%s, %s interpolation, clamped outside %.1f .. %.1f degC\n",
+		env->paths[0], env->n_caps > 1 ? " ..." : "", lut->n, lut->n == 1 ? "" : "s",
+		o->cubic && lut->n >= 3 ? "cubic-spline" : "linear", lut->temp_degc[0],
+		lut->temp_degc[lut->n - 1]);
+	fprintf(text.f, "  %8s %4s %5s %10s %8s %10s %8s %9s %9s\n", "T degC", "axis", "poses",
+		"offset mg", "sd", "scale %", "sd", "mis mrad", "(j, k)");
+	fprintf(csv.f, "temp_degc,axis,offset_mg,offset_sd_mg,scale,scale_sd,mis_j_mrad,mis_k_mrad,residual_rms_mg,poses\n");
+	for (size_t i = 0; i < lut->n; i++) {
+		const struct sscope_inclino_params *p = &lut->p[i];
+		double k = 1e3 / lut->gravity_m_s2;
+
+		for (int a = 0; a < 3; a++) {
+			int j = (a + 1) % 3, l = (a + 2) % 3;
+
+			fprintf(text.f, "  %8.2f %4c %5zu %10.4f %8.4f %10.4f %8.4f %9.3f %9.3f\n",
+				lut->temp_degc[i], "xyz"[a], p->poses, p->offset[a] * k,
+				p->offset_sd[a] * k, (p->scale[a] - 1) * 100, p->scale_sd[a] * 100,
+				p->mis[a][j] * 1e3, p->mis[a][l] * 1e3);
+			fprintf(csv.f, "%.4f,%c,%.8g,%.4g,%.10g,%.4g,%.6g,%.6g,%.4g,%zu\n",
+				lut->temp_degc[i], "xyz"[a], p->offset[a] * k, p->offset_sd[a] * k,
+				p->scale[a], p->scale_sd[a], p->mis[a][j] * 1e3, p->mis[a][l] * 1e3,
+				p->residual_rms * k, p->poses);
+		}
+	}
+	if (have_v) {
+		json_t *jv = json_object();
+
+		json_object_set_new(jv, "poses", json_integer((json_int_t)nv));
+		json_object_set_new(jv, "max_deg", json_real(v.max_deg));
+		json_object_set_new(jv, "rms_deg", json_real(v.rms_deg));
+		json_object_set_new(jv, "uncompensated_max_deg", json_real(v.max_uncomp_deg));
+		json_object_set_new(jv, "uncompensated_rms_deg", json_real(v.rms_uncomp_deg));
+		json_object_set_new(jv, "class_deg", json_real(0.1));
+		json_object_set_new(jv, "within_class", json_boolean(v.max_deg <= 0.1));
+		json_object_set_new(jv, "offset_deg", ssc_jreal(v.offset_deg));
+		json_object_set_new(jv, "scale_deg", ssc_jreal(v.scale_deg));
+		json_object_set_new(jv, "misalignment_deg", ssc_jreal(v.mis_deg));
+		json_object_set_new(jv, "dominant", v.dominant ? json_string(v.dominant) : json_null());
+		json_object_set_new(jv, "clamped", json_integer((json_int_t)v.clamped));
+		json_object_set_new(root, "validation", jv);
+		fprintf(text.f, "  validation (%zu poses): max %.4f deg, rms %.4f deg calibrated (0.1 deg class: %s); uncompensated max %.3f deg, rms %.3f deg\n",
+			nv, v.max_deg, v.rms_deg, v.max_deg <= 0.1 ? "within" : "OUTSIDE",
+			v.max_uncomp_deg, v.rms_uncomp_deg);
+		if (v.dominant)
+			fprintf(text.f, "  residual terms (as tilt error, AN-1057 equivalents): offset %.3g deg, scale %.3g deg, misalignment %.3g deg: %s dominates\n",
+				v.offset_deg, v.scale_deg, v.mis_deg, v.dominant);
+		ssc_summary_add(out->summary, NULL, "tilt error after calibration (max)", v.max_deg,
+				NAN, NAN, "deg", "validation poses");
+		ssc_summary_add(out->summary, NULL, "tilt error uncompensated (max)", v.max_uncomp_deg,
+				NAN, NAN, "deg", "validation poses");
+	}
+	out->json = root;
+	out->text = ssc_membuf_take(&text);
+	out->csv = ssc_membuf_take(&csv);
+done:
+	sscope_inclino_plan_free(plan);
+	free(poses);
+	free(lut);
+	return rc;
+}
+
+const struct ssc_stage_ops ssc_inclino_stage = {
+	.spec = &cal_spec,
+	.title = "Inclinometer calibration",
+	.needs = SSC_NEED_DATA | SSC_NEED_TEMP,
+	.min_files = 1,
+	.max_files = -1,
+	.opts_size = sizeof(struct cal_opts_s),
+	.init = cal_init,
+	.handle = cal_handler,
+	.run = cal_run,
+};
+
+/* ------------------------------------------------------------------ */
+/* apply                                                               */
+/* ------------------------------------------------------------------ */
+
+static const struct ssc_option app_opts[] = {
+	{ "lut", required_argument, O_LUT, "LUT.json", "table written by 'inclino calibrate' (required)" },
+	{ "accel", required_argument, O_ACCEL, "X,Y,Z",
+	  "accelerometer channels (default: the first three acceleration columns)" },
+	{ "gyro", required_argument, O_GYRO, "X,Y,Z",
+	  "gyro channels for the still test (default: the first three angular-rate columns, if any)" },
+	{ "no-gyro", no_argument, O_NOGYRO, NULL, "ignore gyro columns" },
+	{ "still-tol", required_argument, O_STILLTOL, "A",
+	  "still when ||a| - g| <= A (default 20 mg)" },
+	{ "rate-tol", required_argument, O_RATETOL, "W",
+	  "and, with gyro data, |w| <= W (default 0.5 deg/s)" },
+	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes)" },
+	{ "axes", required_argument, O_AXES, "1|2|3",
+	  "tilt formula: 3 roll and pitch (default); 2 pitch = atan2(-ax, az); 1 pitch = asin(-ax/g), with the sensitivity column" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec app_spec = {
+	.name = "inclino",
+	.usage = "inclino apply --lut LUT.json [OPTIONS] FILE",
+	.summary =
+		"Roll and pitch (degrees) of every sample from raw accelerations corrected\n"
+		"with the look-up table at the sample's temperature (clamped outside the\n"
+		"table's range, with a warning), and a still flag: 1 when ||a| - g| is\n"
+		"within --still-tol and, with gyro data, |w| within --rate-tol.  Angles\n"
+		"during motion are written but flagged (still = 0), never silently valid.\n"
+		"Output: CSV with time (when present), temp, roll_deg, pitch_deg, still.",
+	.options = app_opts,
+	.analysis = true,
+	.notes = "Example:\n  sensorscope inclino apply --lut lut.json -o tilt.csv samples/inclino-val.csv",
+};
+
+struct app_opts_s {
+	const char *lut, *accel, *gyro;
+	bool no_gyro, cubic;
+	double still_tol, rate_tol;
+	int axes;
+};
+
+static int app_handler(int key, const char *arg, void *ctx)
+{
+	struct app_opts_s *o = ctx;
+
+	switch (key) {
+	case O_LUT:
+		o->lut = arg;
+		return 0;
+	case O_ACCEL:
+		o->accel = arg;
+		return 0;
+	case O_GYRO:
+		o->gyro = arg;
+		return 0;
+	case O_NOGYRO:
+		o->no_gyro = true;
+		return 0;
+	case O_CUBIC:
+		o->cubic = true;
+		return 0;
+	case O_AXES:
+		if (strcmp(arg, "1") && strcmp(arg, "2") && strcmp(arg, "3"))
+			return ssc_usage_error("inclino", "--axes: '%s' is not 1, 2 or 3", arg);
+		o->axes = arg[0] - '0';
+		return 0;
+	case O_STILLTOL:
+		if (ssc_arg_quantity("inclino", "still-tol", arg, "m/s^2", &o->still_tol))
+			return SSC_EXIT_USAGE;
+		if (!(o->still_tol > 0))
+			return ssc_usage_error("inclino", "--still-tol: must be positive");
+		return 0;
+	case O_RATETOL:
+		if (ssc_arg_quantity("inclino", "rate-tol", arg, "rad/s", &o->rate_tol))
+			return SSC_EXIT_USAGE;
+		if (!(o->rate_tol > 0))
+			return ssc_usage_error("inclino", "--rate-tol: must be positive");
+		return 0;
+	}
+	return SSC_EXIT_USAGE;
+}
+
+static int get3(json_t *a, double v[3])
+{
+	if (!json_is_array(a) || json_array_size(a) != 3)
+		return -1;
+	for (int i = 0; i < 3; i++) {
+		json_t *x = json_array_get(a, (size_t)i);
+
+		if (!json_is_number(x))
+			return -1;
+		v[i] = json_number_value(x);
+	}
+	return 0;
+}
+
+static int read_lut(const char *cmd, const char *path, struct sscope_inclino_lut *lut)
+{
+	json_error_t je;
+	json_t *root = json_load_file(path, 0, &je), *l, *nodes, *g;
+	struct sscope_diag d = { "" };
+	int rc = SSC_EXIT_FAIL;
+
+	if (!root) {
+		ssc_err(cmd, "%s: %s", path, je.text);
+		return SSC_EXIT_FAIL;
+	}
+	l = json_object_get(root, "lut");
+	if (!l)
+		l = root;
+	nodes = json_object_get(l, "nodes");
+	g = json_object_get(l, "gravity_m_s2");
+	memset(lut, 0, sizeof(*lut));
+	if (!json_is_array(nodes) || !json_is_number(g)) {
+		ssc_err(cmd, "%s: not a look-up table (no \"lut\" with \"nodes\" and \"gravity_m_s2\")",
+			path);
+		goto out;
+	}
+	lut->gravity_m_s2 = json_number_value(g);
+	if (json_array_size(nodes) > SSCOPE_INCLINO_MAX_NODES) {
+		ssc_err(cmd, "%s: more than %d nodes", path, SSCOPE_INCLINO_MAX_NODES);
+		goto out;
+	}
+	lut->n = json_array_size(nodes);
+	for (size_t i = 0; i < lut->n; i++) {
+		json_t *n = json_array_get(nodes, i), *t = json_object_get(n, "temp_degc"),
+		       *m = json_object_get(n, "misalignment");
+		struct sscope_inclino_params *p = &lut->p[i];
+
+		if (!json_is_number(t) || get3(json_object_get(n, "offset_m_s2"), p->offset) ||
+		    get3(json_object_get(n, "scale"), p->scale) || !json_is_array(m) ||
+		    json_array_size(m) != 3 || get3(json_array_get(m, 0), p->mis[0]) ||
+		    get3(json_array_get(m, 1), p->mis[1]) || get3(json_array_get(m, 2), p->mis[2])) {
+			ssc_err(cmd, "%s: node %zu: needs temp_degc, offset_m_s2[3], scale[3], misalignment[3][3]",
+				path, i + 1);
+			goto out;
+		}
+		lut->temp_degc[i] = json_number_value(t);
+		for (int a = 0; a < 3; a++)
+			p->mis[a][a] = 0;
+	}
+	if (sscope_inclino_check(lut, &d)) {
+		ssc_err(cmd, "%s: %s", path, d.msg);
+		goto out;
+	}
+	rc = 0;
+out:
+	json_decref(root);
+	return rc;
+}
+
+static int apply_main(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct app_opts_s o = { 0 };
+	struct sscope_inclino_lut *lut = malloc(sizeof(*lut));
+	struct sscope_inclino_plan *plan = NULL;
+	struct sscope_capture *cap = NULL;
+	struct sscope_diag d = { "" };
+	struct ssc_out out = { 0 };
+	long a[3], gi[3] = { -1, -1, -1 };
+	size_t n_still = 0, n_clamped = 0, n_bad = 0;
+	int first, rc;
+	double g;
+
+	if (!lut)
+		return SSC_EXIT_FAIL;
+	o.still_tol = 20e-3 * SSCOPE_GRAVITY_STD;
+	o.axes = 3;
+	o.rate_tol = 0.5 * PI / 180;
+	rc = ssc_parse(&app_spec, argc, argv, &co, app_handler, &o, &first);
+	if (rc) {
+		free(lut);
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	}
+	co.cmd = "inclino apply";
+	if (!o.lut) {
+		free(lut);
+		return ssc_usage_error(co.cmd, "--lut LUT.json is required");
+	}
+	if (argc - first != 1) {
+		free(lut);
+		return ssc_usage_error(co.cmd, "give one input file");
+	}
+	rc = read_lut(co.cmd, o.lut, lut);
+	if (rc)
+		goto done;
+	g = lut->gravity_m_s2;
+	if (sscope_inclino_plan_new(&plan, lut, o.cubic, &d)) {
+		rc = ssc_fail(co.cmd, -EDOM, &d, o.lut);
+		goto done;
+	}
+	rc = ssc_load(&co, argv[first], &cap);
+	if (rc)
+		goto done;
+	if (!cap->temp_degc) {
+		ssc_err(co.cmd, "%s: no temperature column (give --temp-column NAME)", argv[first]);
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	rc = pick_accel(co.cmd, cap, o.accel, argv[first], a);
+	if (rc)
+		goto done;
+	if (o.gyro && !o.no_gyro) {
+		{
+			char buf[256], *save = NULL, *tok;
+			int k = 0;
+
+			snprintf(buf, sizeof(buf), "%s", o.gyro);
+			for (tok = strtok_r(buf, ",", &save); tok && k < 3; tok = strtok_r(NULL, ",", &save)) {
+				gi[k] = sscope_capture_find(cap, tok);
+				if (gi[k] < 0) {
+					ssc_err(co.cmd, "%s: no column '%s'", argv[first], tok);
+					rc = SSC_EXIT_FAIL;
+					goto done;
+				}
+				k++;
+			}
+			if (k != 3) {
+				rc = ssc_usage_error(co.cmd, "--gyro: give three channel names");
+				goto done;
+			}
+		}
+	} else if (!o.no_gyro) {
+		size_t k = 0;
+
+		for (size_t i = 0; i < cap->n_channels && k < 3; i++)
+			if (cap->channels[i].col.quantity == SSCOPE_QTY_ANGULAR_RATE)
+				gi[k++] = (long)i;
+		if (k < 3)
+			gi[0] = -1;
+	}
+	co.format = SSC_FMT_CSV;
+	rc = ssc_out_open(&co, &out);
+	if (rc)
+		goto done;
+	fprintf(out.f, "# sensorscope inclino apply: %s with %s (%s interpolation); still: ||a| - g| <= %.4g m/s^2%s\n",
+		argv[first], o.lut, o.cubic && lut->n >= 3 ? "cubic" : "linear", o.still_tol,
+		gi[0] >= 0 ? " and |w| <= rate-tol" : " (no gyro data)");
+	if (o.axes != 3)
+		fprintf(out.f, "# %d-axis: %s; sens = d(reading)/d(pitch) in mg per degree (17.45 cos(pitch) for 1 axis); the LUT correction uses all three axes\n",
+			o.axes, o.axes == 1 ? "pitch = asin(-ax/g)" : "pitch = atan2(-ax, az), x-z plane, full circle");
+	fprintf(out.f, "%stemp [degC],%s,still\n", cap->time_s ? "time [s]," : "",
+		o.axes == 3 ? "roll_deg,pitch_deg" : "pitch_deg,sens [mg/deg]");
+	for (size_t i = 0; i < cap->n; i++) {
+		double raw[3], c[3], r, p, sens = NAN, T = cap->temp_degc[i];
+		bool cl = false, still;
+
+		for (int k = 0; k < 3; k++)
+			raw[k] = cap->channels[a[k]].data[i];
+		if (!isfinite(T) || !isfinite(raw[0] + raw[1] + raw[2]) ||
+		    sscope_inclino_correct(plan, T, raw, c, &cl)) {
+			n_bad++;
+			r = p = NAN;
+			still = false;
+		} else {
+			sscope_inclino_tilt((enum sscope_inclino_axes)o.axes, c, g, &r, &p, &sens);
+			still = fabs(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) - g) <= o.still_tol;
+			if (still && gi[0] >= 0) {
+				double w = 0;
+
+				for (int k = 0; k < 3; k++)
+					w += cap->channels[gi[k]].data[i] * cap->channels[gi[k]].data[i];
+				still = sqrt(w) <= o.rate_tol;
+			}
+		}
+		n_clamped += cl;
+		n_still += still;
+		if (cap->time_s)
+			fprintf(out.f, "%.9g,", cap->time_s[i]);
+		if (o.axes == 3)
+			fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r * R2D, p * R2D, still ? 1 : 0);
+		else
+			fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p * R2D,
+				sens / R2D / (1e-3 * g), still ? 1 : 0);
+	}
+	rc = ssc_out_close(&co, &out, !ferror(out.f));
+	if (rc)
+		goto done;
+	if (n_clamped)
+		ssc_warn(&co, "%zu samples outside the table's range %.1f .. %.1f degC: parameters clamped",
+			 n_clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+	if (!co.quiet)
+		fprintf(stderr, "sensorscope: inclino apply: %zu samples, %zu still, %zu flagged moving, %zu without a value\n",
+			cap->n, n_still, cap->n - n_still - n_bad, n_bad);
+done:
+	sscope_capture_free(cap);
+	sscope_inclino_plan_free(plan);
+	free(lut);
+	return rc;
+}
+
+int ssc_cmd_inclino(int argc, char **argv)
+{
+	if (argc >= 2 && !strcmp(argv[1], "calibrate")) {
+		char *args[256];
+		int n = 0;
+		bool fmt = false, json_out = false;
+
+		if (argc + 2 > 256)
+			return ssc_usage_error("inclino", "too many arguments");
+		for (int i = 2; i < argc; i++) {
+			if (!strcmp(argv[i], "--format") || !strncmp(argv[i], "--format=", 9))
+				fmt = true;
+			if ((!strcmp(argv[i], "-o") || !strcmp(argv[i], "--output")) && i + 1 < argc) {
+				size_t l = strlen(argv[i + 1]);
+
+				json_out = l > 5 && !strcmp(argv[i + 1] + l - 5, ".json");
+			}
+		}
+		args[n++] = argv[0];
+		if (json_out && !fmt) {
+			/* -o LUT.json: the LUT */
+			args[n++] = "--format";
+			args[n++] = "json";
+		}
+		for (int i = 2; i < argc; i++)
+			args[n++] = argv[i];
+		return ssc_stage_main(&ssc_inclino_stage, n, args);
+	}
+	if (argc >= 2 && !strcmp(argv[1], "apply"))
+		return apply_main(argc - 1, argv + 1);
+	if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+		printf("Usage: sensorscope inclino calibrate [OPTIONS] FILE... -o LUT.json\n"
+		       "       sensorscope inclino apply --lut LUT.json [OPTIONS] FILE\n"
+		       "Inclinometer look-up-table calibration against temperature, and tilt\n"
+		       "with a still flag.  'sensorscope inclino calibrate --help' and\n"
+		       "'sensorscope inclino apply --help' list the options.\n");
+		return SSC_EXIT_OK;
+	}
+	return ssc_usage_error("inclino", "give 'calibrate' or 'apply' first");
+}
