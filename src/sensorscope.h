@@ -661,5 +661,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-model.h"
 #include "sscope-allan.h"
 #include "sscope-sim.h"
+#include "sscope-adc.h"
 
 #endif /* SENSORSCOPE_H */
