@@ -452,8 +452,10 @@ int sscope_adc_new(struct sscope_adc **out, const struct sscope_adc_spec *spec,
 	}
 	if ((spec->inl_lsb > 0 || spec->dnl_lsb > 0) &&
 	    spec->bits <= SSCOPE_ADC_TABLE_BITS) {
-		/* a bow of amplitude inl plus independent transition jitter of
-		 * +-dnl/2 (widths then differ by at most dnl) */
+		/* an S-shaped INL of amplitude inl (zero at the ends and at
+		 * mid-scale, so it adds no offset at a bipolar zero) plus
+		 * independent transition jitter of +-dnl/2 (widths then differ
+		 * by at most dnl) */
 		gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
 		size_t nc = (size_t)a->max_code + 1;
 
@@ -466,7 +468,7 @@ int sscope_adc_new(struct sscope_adc **out, const struct sscope_adc_spec *spec,
 		gsl_rng_set(r, seed32(seed, 0x1D1));
 		a->trans[0] = -INFINITY;
 		for (size_t k = 1; k < nc; k++) {
-			double bow = spec->inl_lsb * sin(PI * (double)k / (double)nc);
+			double bow = spec->inl_lsb * sin(2 * PI * (double)k / (double)nc);
 			double j = spec->dnl_lsb * (gsl_rng_uniform(r) - 0.5);
 
 			a->trans[k] = spec->lo + ((double)k - 0.5 + bow + j) * a->q;
@@ -623,6 +625,13 @@ double sscope_adc_dither_bound(double q, double sigma)
 	if (!(q > 0))
 		return 0;
 	return q / PI * exp(-2 * PI * PI * sigma * sigma / (q * q));
+}
+
+double sscope_adc_bias_error(double q, double sigma, double mu)
+{
+	/* first harmonic of the mean error of a mid-tread quantizer,
+	 * E[Q(x) - x] for x ~ N(mu, sigma^2) */
+	return -sscope_adc_dither_bound(q, sigma) * sin(2 * PI * mu / q);
 }
 
 double sscope_adc_nbw_factor(int order)
