@@ -171,5 +171,6 @@ int ssc_cmd_budget(int argc, char **argv);
 int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
+int ssc_cmd_adc(int argc, char **argv);
 
 #endif

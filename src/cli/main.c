@@ -35,6 +35,8 @@ static const struct command commands[] = {
 	  ssc_cmd_allan },
 	{ "simulate", "a capture whose noise obeys a sensor specification",
 	  ssc_cmd_simulate },
+	{ "adc", "will this ADC degrade the sensor: selection report, re-quantize, IEEE 1241 test",
+	  ssc_cmd_adc },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

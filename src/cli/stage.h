@@ -91,5 +91,6 @@ extern const struct ssc_stage_ops ssc_psd_stage;
 extern const struct ssc_stage_ops ssc_vibration_stage;
 extern const struct ssc_stage_ops ssc_calib_stage;
 extern const struct ssc_stage_ops ssc_budget_stage;
+extern const struct ssc_stage_ops ssc_adc_stage;
 
 #endif
