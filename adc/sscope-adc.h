@@ -236,7 +236,11 @@ struct sscope_adc_analysis {
  * The analytical terms of a converter behind a sensor.
  *
  * - noise: n_total / N - 1 (noise-density degradation); pass <= 0.05,
- *   fail > 0.20.  n_quant = q / sqrt(12 fs) (AVAR q^2 / (12 fs tau)).
+ *   fail > 0.20.  n_quant = q / sqrt(12 fs) (AVAR q^2 / (12 fs tau));
+ *   in integrating mode the quantization term is white angle noise
+ *   (AVAR 3 Q^2 / tau^2, Q = q / (fs sqrt 12)), counted as the density
+ *   sqrt(3) Q that gives the same AVAR at tau = 1 s, and it loses no bias
+ *   (bias_bound 0: the residual is carried).
  * - bias_resolution: bias_bound / B with the Widrow-Kollar bound; pass
  *   <= 0.1, fail > 0.5 (without B: info).
  * - offset_drift: offset drift * span / sensitivity over the sensor's own

@@ -230,6 +230,23 @@ START_TEST(test_dither_bound)
 			      "sigma/q %.2f: bias %.4g q well below the bound %.4g q",
 			      ratios[k], bias / q, bound / q);
 		(void)second;
+		/* an arbitrary mean (the seed's 0.37 deg/h at q = 10.99 deg/h):
+		 * the first harmonic sscope_adc_bias_error() is the mean error
+		 * within the second harmonic's amplitude (q/2pi) exp(-8 pi^2
+		 * sigma^2/q^2) and 4 standard errors */
+		mu = 0.37 / 10.986328125 * q;
+		gsl_rng_set(r, 200 + k);
+		for (size_t i = 0; i < n; i++)
+			x[i] = mu + gsl_ran_gaussian_ziggurat(r, sig);
+		ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, 100, NULL, y, NULL,
+						     NULL), 0);
+		mean = 0;
+		for (size_t i = 0; i < n; i++)
+			mean += y[i] - x[i];
+		mean /= (double)n;
+		ck_assert_msg(fabs(mean - sscope_adc_bias_error(q, sig, mu)) <= second + 4 * se,
+			      "sigma/q %.2f: mean error %.4g q, first harmonic %.4g q",
+			      ratios[k], mean / q, sscope_adc_bias_error(q, sig, mu) / q);
 	}
 	sscope_adc_free(a);
 	gsl_rng_free(r);
