@@ -27,7 +27,7 @@
 static const char *const adc_keys[] = {
 	"name", "bits", "range", "rate", "noise", "snr", "enob", "inl", "dnl",
 	"offset", "gain_error", "offset_drift", "gain_drift", "ref_temp",
-	"reference", "mode", "coding", NULL
+	"reference", "mode", "coding", "oversample", NULL
 };
 
 const char *const *sscope_adc_spec_keys(void)
@@ -191,6 +191,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 
 	memset(s, 0, sizeof(*s));
 	s->ref_temp_degc = 25;
+	s->oversample = 1;
 	if (!sscope_ini_has_section(ini, section))
 		return ssc_diag(diag, -EINVAL, "%s: no [%s] section", file, section);
 	rc = sscope_ini_check_keys(ini, section, adc_keys, diag);
@@ -351,6 +352,15 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 			return ssc_diag(diag, -EINVAL,
 					"%s: line %zu: mode: '%s' (round|integrate)",
 					file, line, v);
+	}
+	{
+		long os = 1;
+
+		rc = sscope_ini_integer(ini, section, "oversample", 1, 65536, &os, &d);
+		if (rc && rc != -ENOENT)
+			return ssc_diag(diag, -EINVAL, "%s (oversample: an integer 1..65536)",
+					d.msg);
+		s->oversample = (unsigned)os;
 	}
 	v = sscope_ini_get(ini, section, "coding", &line);
 	if (v) {
@@ -729,6 +739,7 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 				sscope_quantity_name(uq));
 	}
 	r->rate_hz = fs;
+	fs *= as->oversample > 1 ? (double)as->oversample : 1.0; /* conversion rate */
 	r->range_lo = (as->lo - zero) / sens;
 	r->range_hi = (as->hi - zero) / sens;
 	fsr_u = r->range_hi - r->range_lo;

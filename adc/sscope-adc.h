@@ -73,6 +73,9 @@ struct sscope_adc_spec {
 	enum sscope_adc_reference reference;
 	enum sscope_adc_mode mode;
 	char coding[24];          /**< "twos-complement", "offset-binary", ... */
+	/** conversions per output sample (>= 1; 0 counts as 1): the converter
+	 *  samples at oversample * rate and averages blocks of that many */
+	unsigned oversample;
 };
 
 /** @return the keys an [adc] section may hold (NULL-terminated). */
@@ -83,7 +86,8 @@ const char *const *sscope_adc_spec_keys(void);
  * bits, range ("LO:HI UNIT"), rate, noise (rms, e.g. "30 uV") or snr (dB)
  * or enob, inl, dnl (LSB), offset, gain_error (ppm), offset_drift
  * ("2 uV/degC"), gain_drift (ppm/degC), ref_temp, reference
- * (absolute|ratiometric), mode (round|integrate), coding.  Every error
+ * (absolute|ratiometric), mode (round|integrate), coding, oversample
+ * (conversions averaged per output sample).  Every error
  * names the file and the key ("A.ini: [adc] bits: missing").
  * @return 0 or -EINVAL.
  */
@@ -248,6 +252,9 @@ struct sscope_adc_analysis {
  * - scale_drift: gain_drift * span (0 when ratiometric) over the sensor's
  *   scale_factor_error; pass <= 0.3, fail > 1 (without it: info).
  * - range: converter range / sensor range; pass >= 1, fail < 1 (clips).
+ * With oversampling M every per-sample figure is taken at the conversion
+ * rate M fs and the densities follow from it (n_quant = q/sqrt(12 M fs)
+ * when dithered; averaging does not recover a bias the quantizer loses).
  * Per-sample sensor noise: N sqrt(2 NBW), NBW = min(fs/2, bandwidth *
  * k(order)) with k = pi/2, 1.1107, 1.0262 (1-pole, 2nd-, 4th-order
  * Butterworth) -- N sqrt(fs) without a bandwidth.

@@ -43,6 +43,13 @@ json_check "the 0.37 deg/h bias is mis-estimated by 46 %" "$T/out" '((.adcs[0].t
 if [ -z "$SSCOPE_RUN" ]; then
 	json_check "Monte Carlo: B lost, N inflated" "$T/out" '.adcs[0].monte_carlo | (.B.hi < 1 and .N.lo > 1.05)'
 fi
+# oversampling 16x: the quiet gyro's white noise to 800 Hz dithers the
+# conversions (sigma/q 1.09) and the average gains 2 bits: 16 bits pass
+run "seed quiet, 16 bits oversampled" 0 adc report --sensor "$QUIET" --adc "$SAMPLES/adc-seed-16bit-os16.ini" $MC --format json
+json_check "oversampled 16 bits pass" "$T/out" '.adcs[0].verdict == "pass" and .adcs[0].dithered and .adcs[0].oversample == 16 and ((.adcs[0].terms.quantization_arw.value - 0.0052858 / 4) | fabs) < 1e-6'
+if [ -z "$SSCOPE_RUN" ]; then
+	json_check "Monte Carlo: N ratio 1.034 (analytic), B kept" "$T/out" '.adcs[0].monte_carlo | (((.N.value - 1.0342) | fabs) < 0.01 and .B.lo > 0.97 and .B.hi < 1.03)'
+fi
 run "seed quiet, ranked" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A18" --monte-carlo 0
 has "18 bits ranked first" "$T/out" '^  1 +18-bit'
 has "16 bits ranked second, failing" "$T/out" '^  2 +16-bit.* fail '

@@ -434,6 +434,9 @@ START_TEST(test_spec_errors)
 	ck_assert_msg(strstr(msg, "noise"), "%s", msg);
 	ck_assert_int_eq(spec_err("[adc]\nbits = 40\nrange = 0:5 V\n", msg), -EINVAL);
 	ck_assert_msg(strstr(msg, "bits"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\noversample = 0\n", msg),
+			 -EINVAL);
+	ck_assert_msg(strstr(msg, "oversample"), "%s", msg);
 	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\nwhatever = 1\n", msg),
 			 -EINVAL);
 	ck_assert_msg(strstr(msg, "whatever"), "%s", msg);
@@ -444,7 +447,7 @@ START_TEST(test_spec_errors)
 		const char *t = "[adc]\nname = x\nbits = 16\nrange = 0:3.3 V\nrate = 1 kHz\n"
 				"noise = 30 uV\ninl = 2 LSB\ndnl = 0.5\n"
 				"offset_drift = 2 uV/degC\ngain_drift = 20 ppm/degC\n"
-				"reference = ratiometric\nmode = integrate\n";
+				"reference = ratiometric\nmode = integrate\noversample = 4\n";
 
 		ck_assert_int_eq(sscope_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
 		ck_assert_int_eq(sscope_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
@@ -457,6 +460,7 @@ START_TEST(test_spec_errors)
 		ck_assert_rel(s.inl_lsb, 2, 0);
 		ck_assert_int_eq(s.reference, SSCOPE_ADC_RATIOMETRIC);
 		ck_assert_int_eq(s.mode, SSCOPE_ADC_INTEGRATE);
+		ck_assert_uint_eq(s.oversample, 4);
 		sscope_ini_free(ini);
 	}
 }
@@ -521,6 +525,20 @@ START_TEST(test_seed_case)
 		s.bits--;
 		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
 		ck_assert_int_ne(r.verdict, SSCOPE_ADC_PASS);
+	}
+	/* oversampling M: conversions at M fs, averaged: sigma/q grows by
+	 * sqrt(M) (white sensor noise to M fs/2), q/sqrt(12 M fs) */
+	{
+		struct sscope_adc_spec s = ideal(16, -100 * DEG, 100 * DEG);
+		double q = 200 * DEG / 65536;
+
+		s.oversample = 16;
+		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
+		ck_assert_rel(r.n_quant, q / sqrt(12 * 1600.0), 1e-12);
+		ck_assert_rel(r.sigma_over_q, quiet.n * sqrt(1600.0) / q, 1e-12);
+		ck_assert_rel(r.rate_hz, 100, 0);
+		ck_assert(r.dithered);
+		ck_assert_int_eq(r.verdict, SSCOPE_ADC_PASS);
 	}
 	/* temperature terms of REFERENCE.md: 2 uV/degC on 6 mV/(deg/s) =
 	 * 1.2 deg/h per degC; 20 ppm/degC over 60 degC = 0.12 % */

@@ -235,7 +235,8 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 {
 	double fs = ar->an.rate_hz;
 	size_t n = (size_t)llround(o->mc_duration * fs), R = o->mc;
-	double *x = NULL, *y = NULL, *vals = NULL;
+	size_t M = ar->spec.oversample > 1 ? ar->spec.oversample : 1, blk = 4096;
+	double *x = NULL, *y = NULL, *vals = NULL, *fx = NULL, *fy = NULL;
 	struct sscope_sim_opts so;
 	int rc = 0;
 
@@ -247,12 +248,14 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 	x = malloc(n * sizeof(double));
 	y = malloc(n * sizeof(double));
 	vals = malloc(4 * R * sizeof(double));
-	if (!x || !y || !vals) {
+	fx = malloc(blk * M * sizeof(double));
+	fy = malloc(blk * M * sizeof(double));
+	if (!x || !y || !vals || !fx || !fy) {
 		rc = -ENOMEM;
 		goto out;
 	}
 	memset(&so, 0, sizeof(so));
-	so.rate_hz = fs;
+	so.rate_hz = fs * (double)M; /* the conversion rate */
 	so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
 	so.flicker_tau_max_s = fmax(1e6, 10 * o->mc_duration);
 	for (size_t r = 0; r < R; r++) {
@@ -264,15 +267,30 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 		so.seed = o->seed + r;
 		rc = sscope_sim_new(&sim, ss, &so, d);
 		if (!rc)
-			rc = sscope_sim_generate(sim, NULL, x, NULL, n);
-		sscope_sim_free(sim);
-		if (!rc)
 			rc = sscope_adc_new(&adc, &ar->spec, ss->sensitivity,
 					    (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
 					    o->seed + r, d);
-		if (!rc)
-			rc = sscope_adc_digitize(adc, x, 1, n, fs, NULL, y, NULL,
-						 &ar->clipped);
+		/* conversions at M fs, averaged in blocks of M (the sensor
+		 * alone is averaged the same way) */
+		for (size_t i0 = 0; !rc && i0 < n; i0 += blk) {
+			size_t b = n - i0 < blk ? n - i0 : blk;
+
+			rc = sscope_sim_generate(sim, NULL, fx, NULL, b * M);
+			if (!rc)
+				rc = sscope_adc_digitize(adc, fx, 1, b * M, fs * (double)M,
+							 NULL, fy, NULL, &ar->clipped);
+			for (size_t i = 0; !rc && i < b; i++) {
+				double sx = 0, sy = 0;
+
+				for (size_t j = 0; j < M; j++) {
+					sx += fx[i * M + j];
+					sy += fy[i * M + j];
+				}
+				x[i0 + i] = sx / (double)M;
+				y[i0 + i] = sy / (double)M;
+			}
+		}
+		sscope_sim_free(sim);
 		sscope_adc_free(adc);
 		if (!rc)
 			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
@@ -326,6 +344,8 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 out:
 	free(x);
 	free(y);
+	free(fx);
+	free(fy);
 	free(vals);
 	return rc;
 }
@@ -386,6 +406,8 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 	json_object_set_new(o, "mode", json_string(ar->spec.mode == SSCOPE_ADC_INTEGRATE ?
 							   "integrate" : "round"));
 	json_object_set_new(o, "rate_hz", json_real(a->rate_hz));
+	json_object_set_new(o, "oversample", json_integer(ar->spec.oversample > 1 ?
+							   ar->spec.oversample : 1));
 	json_object_set_new(lsb, "value", ssc_jreal(in_unit(a->lsb, bsi, bu)));
 	json_object_set_new(lsb, "unit", json_string(bu));
 	json_object_set_new(lsb, "si", ssc_jreal(a->lsb));
@@ -482,9 +504,12 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	const char *nu = qty_unit(q, SSCOPE_TERM_N, false), *nsi = qty_unit(q, SSCOPE_TERM_N, true);
 	char b1[64], b2[64], b3[64];
 
-	fprintf(f, "\n== %s (%s): %d bits, %s, %s Hz\n", ar->spec.name, ar->path,
+	fprintf(f, "\n== %s (%s): %d bits, %s, %s Hz", ar->spec.name, ar->path,
 		ar->spec.bits, ar->spec.mode == SSCOPE_ADC_INTEGRATE ? "integrating" : "rate rounding",
 		ssc_fmt(b1, sizeof(b1), a->rate_hz, 6));
+	if (ar->spec.oversample > 1)
+		fprintf(f, " (%u conversions averaged per sample)", ar->spec.oversample);
+	fputc('\n', f);
 	fprintf(f, "  LSB                     %s  (range %s .. %s)\n",
 		fmtu(b1, sizeof(b1), a->lsb, bsi, bu, 4),
 		fmtu(b2, sizeof(b2), a->range_lo, sscope_quantity_si_unit(q),
@@ -496,8 +521,9 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 			fmtu(b1, sizeof(b1), a->q_quant, qty_unit(q, SSCOPE_TERM_Q, true),
 			     qty_unit(q, SSCOPE_TERM_Q, false), 3));
 	else
-		fprintf(f, "  quantization ARW        %s  (q/sqrt(12 fs); ADEV at 100 s %s)\n",
+		fprintf(f, "  quantization ARW        %s  (q/sqrt(12 %sfs); ADEV at 100 s %s)\n",
 			fmtu(b1, sizeof(b1), a->n_quant, nsi, nu, 3),
+			ar->spec.oversample > 1 ? "M " : "",
 			fmtu(b2, sizeof(b2), a->adev_q_100s, bsi, bu, 3));
 	if (a->n_adc > 0)
 		fprintf(f, "  converter noise ARW     %s\n", fmtu(b1, sizeof(b1), a->n_adc, nsi, nu, 3));
@@ -773,10 +799,13 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 		fprintf(mb.f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
 		for (int k = 0; k < n; k++) {
 			const struct adc_res *a = &ar[order[k]];
+			char mbits[16] = "";
 
-			fprintf(mb.f, "%d,\"%s\",\"%s\",%d,%.10g,%d,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
+			if (a->an.min_bits > 0)
+				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+			fprintf(mb.f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
 				k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
-				a->an.min_bits, sscope_adc_verdict_name(a->an.verdict),
+				mbits, sscope_adc_verdict_name(a->an.verdict),
 				sscope_adc_term_name(a->an.limiting), a->an.margin,
 				a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
 		}
@@ -952,6 +981,10 @@ static int cmd_quantize(int argc, char **argv)
 		if (spec.analog)
 			return ssc_usage_error(co.cmd,
 					       "%s: range in volts; quantize needs a range in the channel's units",
+					       o.adc);
+		if (spec.oversample > 1)
+			return ssc_usage_error(co.cmd,
+					       "%s: oversample: a recorded capture cannot be oversampled",
 					       o.adc);
 	}
 	rc = ssc_load(&co, argv[first], &cap);

@@ -416,6 +416,10 @@ int ssc_cmd_simulate(int argc, char **argv)
 			return ssc_usage_error(co.cmd,
 					       "--adc: %s has a range in volts but %s gives no sensitivity",
 					       a.adc, a.sensor);
+		if (aspec.oversample > 1)
+			return ssc_usage_error(co.cmd,
+					       "--adc: %s: oversample is modelled by 'adc report' only",
+					       a.adc);
 		if (!aspec.analog && aspec.quantity != sp.quantity)
 			return ssc_usage_error(co.cmd, "--adc: %s converts %s, the sensor measures %s",
 					       a.adc, sscope_quantity_name(aspec.quantity),
