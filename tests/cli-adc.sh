@@ -57,8 +57,12 @@ run "csv selection table" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A1
 has "csv header" "$T/out" '^rank,name,file,bits'
 run "analog converters" 0 adc report --sensor "$SAMPLES/gyro-mems-250.ini" --adc "$SAMPLES/adc-12bit.ini" --adc "$SAMPLES/adc-16bit.ini" --monte-carlo 0 --format json
 json_check "16-bit SAR passes, 12-bit MCU fails" "$T/out" '[.adcs[] | .verdict] == ["fail","pass"] and .adcs[1].rank == 1 and ((.adcs[1].terms.range_headroom - 1.1) | fabs) < 1e-9'
+printf '[adc]\nbits = 16\nrange = -8:8 g\nrate = 200 Hz\n' >"$T/acc.ini"
 run "analog converter needs a sensitivity" 1 adc report --sensor "$MEMS" --adc "$SAMPLES/adc-16bit.ini" --monte-carlo 0
 one_line_error "analog converter needs a sensitivity"
+has "names the converter file" "$T/err" 'adc-16bit.ini: .*sensitivity'
+run "converter of another quantity" 1 adc report --sensor "$MEMS" --adc "$T/acc.ini" --monte-carlo 0
+one_line_error "converter of another quantity"
 
 # bad specs: one line naming the key, exit 1
 printf '[adc]\nrange = -100:100 deg/s\n' >"$T/nobits.ini"

@@ -715,7 +715,8 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 		}
 		e = sscope_adc_analyze(sp, &ar[i].spec, o->rate, &ar[i].an, &d);
 		if (e) {
-			rc = ssc_fail(cmd, e, &d, paths[i]);
+			ssc_err(cmd, "%s: %s", paths[i], d.msg[0] ? d.msg : sscope_strerror(e));
+			rc = SSC_EXIT_FAIL;
 			goto done;
 		}
 	}
@@ -729,7 +730,9 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 		e = run_mc(o, sp, &ar[i], &d);
 		if (e) {
 			ssc_progress_end(env->co);
-			rc = ssc_fail(cmd, e, &d, "Monte Carlo");
+			ssc_err(cmd, "Monte Carlo of %s: %s", paths[i],
+				d.msg[0] ? d.msg : sscope_strerror(e));
+			rc = SSC_EXIT_FAIL;
 			goto done;
 		}
 	}
