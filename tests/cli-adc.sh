@@ -64,6 +64,13 @@ has "names the converter file" "$T/err" 'adc-16bit.ini: .*sensitivity'
 run "converter of another quantity" 1 adc report --sensor "$MEMS" --adc "$T/acc.ini" --monte-carlo 0
 one_line_error "converter of another quantity"
 
+# integrating (delta-v counter) mode on an accelerometer: IEEE Q term
+# q/(fs sqrt 12), no lost bias
+printf '[sensor]\nrange = 8 g\nnoise_density = 50 ug/sqrt(Hz)\nbias_instability = 20 ug\n' >"$T/accs.ini"
+printf '[adc]\nbits = 16\nrange = -8:8 g\nrate = 200 Hz\nmode = integrate\n' >"$T/acci.ini"
+run "integrating converter" 0 adc report --sensor "$T/accs.ini" --adc "$T/acci.ini" --monte-carlo 0 --format json
+json_check "Q = q/(fs sqrt 12), ARW entry sqrt(3) Q, no lost bias" "$T/out" '.adcs[0] | (.mode == "integrate" and ((.terms.quantization_Q.si / (16 * 9.80665 / 65536 / (200 * (12 | sqrt))) - 1) | fabs) < 1e-12 and ((.terms.quantization_arw.si / .terms.quantization_Q.si - (3 | sqrt)) | fabs) < 1e-12 and .terms.bias_resolution.si == 0 and .lsb.unit == "ug")'
+
 # bad specs: one line naming the key, exit 1
 printf '[adc]\nrange = -100:100 deg/s\n' >"$T/nobits.ini"
 run "missing bits" 1 adc report --sensor "$MEMS" --adc "$T/nobits.ini"

@@ -420,15 +420,17 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 	json_object_set_new(o, "margin", ssc_jreal(a->margin));
 	json_object_set_new(o, "limiting", json_string(sscope_adc_term_name(a->limiting)));
 	json_object_set_new(o, "rank", json_integer(ar->rank));
+	/* integrating mode: white angle noise Q; its ARW entry is the density
+	 * sqrt(3) Q with the same AVAR at tau = 1 s (what the noise term uses) */
 	if (ar->spec.mode == SSCOPE_ADC_INTEGRATE)
 		json_object_set_new(terms, "quantization_Q",
 				    ssc_json_coef(a->q_quant, (double)NAN, (double)NAN,
 						  qty_unit(q, SSCOPE_TERM_Q, false),
 						  qty_unit(q, SSCOPE_TERM_Q, true), true));
-	else
-		json_object_set_new(terms, "quantization_arw",
-				    ssc_json_coef(a->n_quant, (double)NAN, (double)NAN, nu,
-						  nsi, true));
+	json_object_set_new(terms, "quantization_arw",
+			    ssc_json_coef(ar->spec.mode == SSCOPE_ADC_INTEGRATE ?
+						  sqrt(3.0) * a->q_quant : a->n_quant,
+					  (double)NAN, (double)NAN, nu, nsi, true));
 	json_object_set_new(terms, "converter_noise_arw",
 			    ssc_json_coef(a->n_adc, (double)NAN, (double)NAN, nu, nsi, true));
 	json_object_set_new(terms, "noise_degradation", ssc_jreal(a->noise_degradation));
