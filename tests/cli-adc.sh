@@ -108,6 +108,8 @@ run "sine" 0 simulate --sensor "$T/s.ini" --rate 1000 --duration 8.192 --tone 37
 run "sine through 10 bits" 0 adc quantize --bits 10 --range -1:1 "$T/sine.csv" -o "$T/sq.csv"
 run "adc test" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --format json
 json_check "ENOB 10 within 0.1, frequency found" "$T/out" '.channels[0] | ((.enob - 10) | fabs) < 0.1 and ((.sine_fit.frequency_hz - 37.1234) | fabs) < 1e-4 and .histogram.bits == 10'
+run "adc test --plot without --bits" 2 adc test "$T/sq.csv" --plot "$T/x.png"
+one_line_error "adc test --plot without --bits"
 run "adc test text" 0 adc test "$T/sq.csv"
 has "text shows SINAD" "$T/out" 'SINAD'
 
@@ -120,6 +122,8 @@ one_line_error "simulate --adc in volts without sensitivity"
 run "simulate --adc analog" 0 simulate --sensor "$SAMPLES/gyro-mems-250.ini" --adc "$SAMPLES/adc-12bit.ini" --rate 1000 --duration 1 -o "$T/sb.csv"
 
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
+	run "adc test plot" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --plot "$T/dnl.png"
+	[ -s "$T/dnl.png" ] && ok "DNL/INL plot written" || not_ok "DNL/INL plot written"
 	run "report plot" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A18" --monte-carlo 1 --mc-duration 60 --plot "$T/adc.png"
 	[ -s "$T/adc.png" ] && ok "plot written" || not_ok "plot written"
 else

@@ -1111,7 +1111,8 @@ static const struct ssc_command_spec test_spec = {
 		"parameter sine fit, SINAD, ENOB (log2(FSR / (NAD sqrt 12)) with a range,\n"
 		"else (SINAD - 1.76) / 6.02), THD, SFDR, SNR; with --bits and --range the\n"
 		"code-density (histogram) test of the arcsine distribution gives DNL and\n"
-		"INL per code (the sine should overdrive the range slightly).",
+		"INL per code (the sine should overdrive the range slightly); --plot\n"
+		"draws them.",
 	.options = test_opts,
 	.analysis = true,
 	.notes = "Example (an ideal 10-bit converter: ENOB 10):\n"
@@ -1154,6 +1155,41 @@ static int t_handle(int key, const char *arg, void *ctx)
 	}
 }
 
+static int plot_dnl_inl(const char *path, const char *name, const double *dnl,
+			const double *inl, size_t nc)
+{
+	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
+	double *k = malloc(nc * sizeof(double));
+	struct ssc_style st = { .color = 0x1f77b4, .width = 1 };
+	char buf[160];
+	int rc;
+
+	if (!fig || !k) {
+		ssc_fig_free(fig);
+		free(k);
+		return -ENOMEM;
+	}
+	for (size_t i = 0; i < nc; i++)
+		k[i] = (double)i;
+	snprintf(buf, sizeof(buf), "%s: code-density test (IEEE 1241), %zu codes", name, nc);
+	ssc_fig_title(fig, buf);
+	for (int r = 0; r < 2; r++) {
+		struct ssc_ax *ax = ssc_fig_ax(fig, r, 0);
+
+		ssc_ax_grid(ax, true);
+		ssc_ax_xlabel(ax, "code");
+		ssc_ax_ylabel(ax, r ? "INL (LSB)" : "DNL (LSB)");
+		ssc_ax_title(ax, r ? "integral non-linearity (best-fit line removed)" :
+				     "differential non-linearity");
+		ssc_ax_line(ax, k, r ? inl : dnl, nc, &st, r ? "INL" : "DNL");
+		ssc_ax_legend(ax, SSC_LEGEND_NONE);
+	}
+	rc = ssc_fig_save_png(fig, path);
+	ssc_fig_free(fig);
+	free(k);
+	return rc;
+}
+
 static int cmd_test(int argc, char **argv)
 {
 	struct ssc_common co;
@@ -1175,8 +1211,8 @@ static int cmd_test(int argc, char **argv)
 		return ssc_usage_error(co.cmd, "--adc replaces --bits and --range");
 	if (o.bits && !o.range)
 		return ssc_usage_error(co.cmd, "--bits needs --range");
-	if (co.plot)
-		return ssc_usage_error(co.cmd, "--plot: not available for adc test");
+	if (co.plot && !(o.bits && o.range) && !o.adc)
+		return ssc_usage_error(co.cmd, "--plot draws DNL and INL: give --bits and --range (or --adc)");
 	if (o.adc) {
 		struct sscope_adc_spec s;
 
@@ -1300,6 +1336,18 @@ static int cmd_test(int argc, char **argv)
 				fprintf(mb.f, "  histogram   %d bits: max |DNL| %s LSB, max |INL| %s LSB (best-fit line)\n",
 					bits, ssc_fmt(b1, sizeof(b1), dmax, 3),
 					ssc_fmt(b2, sizeof(b2), imax, 3));
+				if (co.plot && c == 0) {
+					int pe = plot_dnl_inl(co.plot, ch->col.name, dnl, inl, nc);
+
+					if (pe) {
+						free(codes);
+						free(dnl);
+						free(inl);
+						json_decref(j);
+						rc = ssc_fail(co.cmd, pe, NULL, co.plot);
+						goto done_json;
+					}
+				}
 			} else {
 				json_object_set_new(j, "histogram", json_null());
 				fprintf(mb.f, "  histogram   not possible: %s\n", sscope_strerror(e));
