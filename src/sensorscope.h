@@ -663,5 +663,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-sim.h"
 #include "sscope-tempbias.h"
 #include "sscope-inclino.h"
+#include "sscope-adc.h"
 
 #endif /* SENSORSCOPE_H */

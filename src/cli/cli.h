@@ -175,5 +175,6 @@ int ssc_cmd_inclino(int argc, char **argv);
 int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
+int ssc_cmd_adc(int argc, char **argv);
 
 #endif

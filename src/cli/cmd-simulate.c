@@ -38,6 +38,7 @@ enum {
 	OPT_OUT,
 	OPT_QUIET,
 	OPT_HELP2,
+	OPT_ADC,
 };
 
 static const struct ssc_option sim_opts[] = {
@@ -84,6 +85,8 @@ static const struct ssc_option sim_opts[] = {
 	  "vibration tone: F Hz, amplitude A (--units), phase in degrees; repeatable" },
 	{ "quantize", required_argument, OPT_QUANT, "STEP",
 	  "round outputs to multiples of STEP (--units)" },
+	{ "adc", required_argument, OPT_ADC, "ADC.ini",
+	  "digitize each axis through this converter ([adc] section; analog ranges use the sensor's sensitivity and zero_output)" },
 	{ "no-clip", no_argument, OPT_NO_CLIP, NULL,
 	  "do not clip to the spec's range" },
 	{ "flicker-band", required_argument, OPT_FLICKER, "MIN:MAX",
@@ -127,6 +130,7 @@ struct args {
 	bool have_temp, have_ref, quiet;
 	const char *input_text;
 	const char *coeffs, *hyst, *grad, *quant;
+	const char *adc;
 	const char *tones[SSCOPE_SIM_MAX_TONES];
 	size_t n_tones;
 	struct sscope_sim_opts so;
@@ -311,6 +315,9 @@ bad_seed:
 	case OPT_NO_CLIP:
 		a->so.no_clip = true;
 		return 0;
+	case OPT_ADC:
+		a->adc = arg;
+		return 0;
 	case OPT_FLICKER:
 		n = split(arg, f);
 		if (n != 2 || need_double("flicker-band", f[0], &a->flick_min) ||
@@ -365,6 +372,9 @@ int ssc_cmd_simulate(int argc, char **argv)
 	struct args a;
 	struct sscope_sensor_spec sp;
 	struct sscope_sim **sims = NULL;
+	struct sscope_adc **adcs = NULL;
+	struct sscope_adc_spec aspec;
+	size_t adc_clipped = 0;
 	struct sscope_writer *w = NULL;
 	struct sscope_writer_column *cols = NULL;
 	char (*names)[64] = NULL;
@@ -398,6 +408,23 @@ int ssc_cmd_simulate(int argc, char **argv)
 	if (n == 0)
 		return ssc_usage_error(co.cmd, "--duration x --rate is less than one sample");
 	rc = ssc_load_sensor(co.cmd, a.sensor, &sp);
+	if (!rc && a.adc) {
+		rc = sscope_adc_spec_load(a.adc, &aspec, &d);
+		if (rc)
+			return ssc_fail(co.cmd, rc, &d, "adc spec");
+		if (aspec.analog && !((sp.has & SSCOPE_SPEC_SENSITIVITY) && sp.sensitivity > 0))
+			return ssc_usage_error(co.cmd,
+					       "--adc: %s has a range in volts but %s gives no sensitivity",
+					       a.adc, a.sensor);
+		if (aspec.oversample > 1)
+			return ssc_usage_error(co.cmd,
+					       "--adc: %s: oversample is modelled by 'adc report' only",
+					       a.adc);
+		if (!aspec.analog && aspec.quantity != sp.quantity)
+			return ssc_usage_error(co.cmd, "--adc: %s converts %s, the sensor measures %s",
+					       a.adc, sscope_quantity_name(aspec.quantity),
+					       sscope_quantity_name(sp.quantity));
+	}
 	if (rc)
 		return rc;
 	unit = a.units ? a.units :
@@ -477,6 +504,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 	/* channels */
 	names = calloc(a.axes, sizeof(*names));
 	sims = calloc(a.axes, sizeof(*sims));
+	adcs = calloc(a.axes, sizeof(*adcs));
 	outb = calloc(a.axes, sizeof(*outb));
 	inp = calloc(a.axes, sizeof(*inp));
 	tp = calloc(a.axes, sizeof(*tp));
@@ -484,7 +512,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 	cols = calloc(ncol, sizeof(*cols));
 	temp = malloc(chunk * sizeof(double));
 	rows = malloc(chunk * ncol * sizeof(double)); /* ncol <= 66 */
-	if (!names || !sims || !outb || !inp || !tp || !cols || !temp || !rows)
+	if (!names || !sims || !adcs || !outb || !inp || !tp || !cols || !temp || !rows)
 		goto oom;
 	{
 		const char *p = a.names;
@@ -527,6 +555,15 @@ int ssc_cmd_simulate(int argc, char **argv)
 			rc = ssc_fail(co.cmd, rc, &d, a.sensor);
 			goto done;
 		}
+		if (a.adc) {
+			rc = sscope_adc_new(&adcs[k], &aspec, sp.sensitivity,
+					    (sp.has & SSCOPE_SPEC_ZERO) ? sp.zero_output_v : 0,
+					    a.seed + k, &d);
+			if (rc) {
+				rc = ssc_fail(co.cmd, rc, &d, a.adc);
+				goto done;
+			}
+		}
 		outb[k] = malloc(chunk * sizeof(double));
 		if (!outb[k])
 			goto oom;
@@ -554,6 +591,17 @@ int ssc_cmd_simulate(int argc, char **argv)
 			sscope_writer_abort(w);
 			w = NULL;
 			goto done;
+		}
+		for (size_t k = 0; a.adc && k < a.axes; k++) {
+			rc = sscope_adc_digitize(adcs[k], outb[k], 1, c, a.rate,
+						 a.have_temp ? temp : NULL, outb[k], NULL,
+						 &adc_clipped);
+			if (rc) {
+				rc = ssc_fail(co.cmd, rc, NULL, a.adc);
+				sscope_writer_abort(w);
+				w = NULL;
+				goto done;
+			}
 		}
 		for (size_t i = 0; i < c; i++) {
 			double *r = rows + i * ncol;
@@ -585,6 +633,9 @@ int ssc_cmd_simulate(int argc, char **argv)
 			ssc_warn(&co, "%s: %llu samples clipped to the range %g %s",
 				 names[k], (unsigned long long)sscope_sim_clipped(sims[k]),
 				 sp.range, sp.quantity == SSCOPE_QTY_ANGULAR_RATE ? "rad/s" : "m/s^2");
+	if (adc_clipped)
+		ssc_warn(&co, "%s: %zu samples clipped at the converter's range", a.adc,
+			 adc_clipped);
 	rc = SSC_EXIT_OK;
 	goto done;
 oom:
@@ -595,10 +646,13 @@ done:
 		sscope_writer_abort(w);
 	for (size_t k = 0; sims && k < a.axes; k++) {
 		sscope_sim_free(sims[k]);
+		if (adcs)
+			sscope_adc_free(adcs[k]);
 		if (outb)
 			free(outb[k]);
 	}
 	free(sims);
+	free(adcs);
 	free(outb);
 	free(inp);
 	free(tp);

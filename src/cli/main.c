@@ -39,6 +39,8 @@ static const struct command commands[] = {
 	  ssc_cmd_tempbias },
 	{ "inclino", "inclinometer: temperature look-up-table calibration, tilt with a still flag",
 	  ssc_cmd_inclino },
+	{ "adc", "will this ADC degrade the sensor: selection report, re-quantize, IEEE 1241 test",
+	  ssc_cmd_adc },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -94,5 +94,6 @@ extern const struct ssc_stage_ops ssc_budget_stage;
 extern const struct ssc_stage_ops ssc_allan_stage;
 extern const struct ssc_stage_ops ssc_tempbias_stage;
 extern const struct ssc_stage_ops ssc_inclino_stage;
+extern const struct ssc_stage_ops ssc_adc_stage;
 
 #endif

@@ -1,0 +1,1418 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope adc: "will this converter degrade my sensor?"
+ *   adc report   the ADC-selection report: analytical terms per converter
+ *                (LSB, quantization noise, dither and the bias it can hide,
+ *                drift over temperature, headroom, minimum word length,
+ *                verdict) and a Monte-Carlo check (simulate the sensor,
+ *                digitize it, fit the Allan terms with and without the
+ *                converter); several converters become a ranked table.
+ *   adc quantize re-digitize a capture through a candidate converter.
+ *   adc test     IEEE 1241 characterisation from a sine capture.
+ */
+#include "cli.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include "plot.h"
+#include "stage.h"
+
+#define MAX_ADC 8
+
+enum {
+	O_SENSOR = 3100,
+	O_ADC,
+	O_MC,
+	O_MC_DURATION,
+	O_SEED,
+	O_BITS,
+	O_RANGE,
+	O_MODE,
+	O_BINARY,
+	O_FREQ,
+};
+
+/* ------------------------------------------------------------ helpers */
+
+static double in_unit(double si, const char *si_unit, const char *unit)
+{
+	double v;
+
+	if (!unit || !si_unit || !isfinite(si) || sscope_convert(si, si_unit, unit, &v))
+		return si;
+	return v;
+}
+
+static const char *qty_unit(enum sscope_quantity q, enum sscope_term t,
+			    bool si)
+{
+	const char *u = si ? sscope_term_si_unit(q, t) : sscope_term_unit(q, t);
+
+	return u ? u : "";
+}
+
+/* ------------------------------------------------------------ report */
+
+static const struct ssc_option report_opts[] = {
+	{ "sensor", required_argument, O_SENSOR, "SENSOR.ini",
+	  "sensor specification ([sensor] section)" },
+	{ "adc", required_argument, O_ADC, "ADC.ini",
+	  "converter specification ([adc] section); repeat for a ranked selection (up to 8)" },
+	{ "rate", required_argument, 'r', "HZ",
+	  "sample rate (default: each converter's rate)" },
+	{ "monte-carlo", required_argument, O_MC, "RUNS",
+	  "simulated records per converter (default 4; 0: no Monte-Carlo check)" },
+	{ "mc-duration", required_argument, O_MC_DURATION, "S",
+	  "length of each simulated record (default 3600 s; units allowed: 2h)" },
+	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
+	{ "plot", required_argument, 'p', "PATH.png",
+	  "ADEV of the sensor alone and through each converter (needs OpenCV)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec report_spec = {
+	.name = "adc report",
+	.usage = "adc report --sensor SENSOR.ini --adc ADC.ini [--adc ADC2.ini ...] [OPTIONS]",
+	.summary =
+		"The ADC-selection report: for each converter the LSB in sensor units,\n"
+		"the quantization noise (q/sqrt(12 fs)) against the sensor's noise\n"
+		"density, the dither criterion (per-sample noise against q/2) with the\n"
+		"bias a too-quiet input loses ((q/pi) exp(-2 pi^2 sigma^2/q^2)), offset\n"
+		"and reference drift over the temperature range, range headroom, the\n"
+		"minimum word length and a verdict (pass / marginal / fail) with its\n"
+		"margin and limiting term; then a Monte-Carlo check: the sensor is\n"
+		"simulated, digitized and its Allan terms N, B, K fitted with and without\n"
+		"the converter (ratios with 68 % intervals over the runs).",
+	.options = report_opts,
+	.output_opts = true,
+	.notes = "Examples:\n"
+		 "  sensorscope adc report --sensor samples/gyro-seed-mems.ini \\\n"
+		 "      --adc samples/adc-16bit.ini --adc samples/adc-12bit.ini\n"
+		 "  sensorscope adc report --sensor samples/gyro-seed-quiet.ini \\\n"
+		 "      --adc samples/adc-16bit.ini --format json\n"
+		 "Thresholds: noise-density increase <= 5 % pass, > 20 % fail; lost bias\n"
+		 "<= 0.1 B pass, > 0.5 B fail; drifts <= 0.3 of the sensor's own pass,\n"
+		 "> 1 fail; a converter range below the sensor's range fails (clipping).",
+};
+
+struct ropts {
+	const char *sensor;
+	const char *adc[MAX_ADC];
+	int n_adc;
+	double rate;
+	size_t mc;
+	double mc_duration;
+	unsigned long seed;
+	const char *plot;
+};
+
+static void r_init(void *p)
+{
+	struct ropts *o = p;
+
+	o->mc = 4;
+	o->mc_duration = 3600;
+	o->seed = 1;
+}
+
+static int r_handle(int key, const char *arg, void *ctx)
+{
+	struct ropts *o = ctx;
+	const char *cmd = report_spec.name;
+
+	switch (key) {
+	case O_SENSOR:
+		o->sensor = arg;
+		return 0;
+	case O_ADC:
+		if (o->n_adc >= MAX_ADC)
+			return ssc_usage_error(cmd, "--adc: at most %d converters", MAX_ADC);
+		o->adc[o->n_adc++] = arg;
+		return 0;
+	case 'r':
+		if (ssc_arg_quantity(cmd, "rate", arg, "Hz", &o->rate))
+			return SSC_EXIT_USAGE;
+		if (!(o->rate > 0))
+			return ssc_usage_error(cmd, "--rate: must be positive");
+		return 0;
+	case O_MC:
+		if (ssc_arg_size(cmd, "monte-carlo", arg, &o->mc))
+			return SSC_EXIT_USAGE;
+		if (o->mc > 1000)
+			return ssc_usage_error(cmd, "--monte-carlo: at most 1000 runs");
+		return 0;
+	case O_MC_DURATION:
+		if (ssc_arg_quantity(cmd, "mc-duration", arg, "s", &o->mc_duration))
+			return SSC_EXIT_USAGE;
+		if (!(o->mc_duration > 0))
+			return ssc_usage_error(cmd, "--mc-duration: must be positive");
+		return 0;
+	case O_SEED: {
+		size_t v;
+
+		if (ssc_arg_size(cmd, "seed", arg, &v))
+			return SSC_EXIT_USAGE;
+		o->seed = (unsigned long)v;
+		return 0;
+	}
+	case 'p': {
+		size_t l = strlen(arg);
+
+		if (l < 5 || strcasecmp(arg + l - 4, ".png"))
+			return ssc_usage_error(cmd, "--plot: the figure is a PNG file (PATH.png)");
+		if (!ssc_plot_available())
+			return ssc_plot_unavailable(cmd);
+		o->plot = arg;
+		return 0;
+	}
+	default:
+		return ssc_usage_error(cmd, "unknown option");
+	}
+}
+
+/* one Monte-Carlo ratio */
+struct mc_ratio {
+	double mean, lo, hi;
+	size_t n;
+};
+
+struct adc_res {
+	const char *path;
+	struct sscope_adc_spec spec;
+	struct sscope_adc_analysis an;
+	bool mc_done;
+	size_t mc_runs;
+	double mc_duration;
+	struct mc_ratio ratio[3]; /* N, B, K */
+	struct mc_ratio bias_shift; /* mean(out) - mean(in), U */
+	size_t clipped;
+	/* ADEV of run 0: sensor alone (shared) and through this converter */
+	double *tau, *dev_in, *dev_out;
+	size_t n_pts;
+	int rank;
+};
+
+static void ratio_stats(const double *v, size_t n, struct mc_ratio *r)
+{
+	double m = 0, s = 0;
+	size_t k = 0;
+
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(v[i])) {
+			m += v[i];
+			k++;
+		}
+	r->n = k;
+	if (!k) {
+		r->mean = r->lo = r->hi = (double)NAN;
+		return;
+	}
+	m /= (double)k;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(v[i]))
+			s += (v[i] - m) * (v[i] - m);
+	r->mean = m;
+	if (k < 2) {
+		r->lo = r->hi = (double)NAN;
+		return;
+	}
+	s = sqrt(s / (double)(k - 1) / (double)k);
+	{
+		double t = gsl_cdf_tdist_Pinv(0.5 + 0.6827 / 2, (double)(k - 1));
+
+		r->lo = m - t * s;
+		r->hi = m + t * s;
+	}
+}
+
+static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
+		  struct adc_res *ar, struct sscope_diag *d)
+{
+	double fs = ar->an.rate_hz;
+	size_t n = (size_t)llround(o->mc_duration * fs), R = o->mc;
+	size_t M = ar->spec.oversample > 1 ? ar->spec.oversample : 1, blk = 4096;
+	double *x = NULL, *y = NULL, *vals = NULL, *fx = NULL, *fy = NULL;
+	struct sscope_sim_opts so;
+	int rc = 0;
+
+	if (n < 1000) {
+		snprintf(d->msg, sizeof(d->msg),
+			 "--mc-duration gives %zu samples (need 1000)", n);
+		return -EDOM;
+	}
+	x = malloc(n * sizeof(double));
+	y = malloc(n * sizeof(double));
+	vals = malloc(4 * R * sizeof(double));
+	fx = malloc(blk * M * sizeof(double));
+	fy = malloc(blk * M * sizeof(double));
+	if (!x || !y || !vals || !fx || !fy) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	memset(&so, 0, sizeof(so));
+	so.rate_hz = fs * (double)M; /* the conversion rate */
+	so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
+	so.flicker_tau_max_s = fmax(1e6, 10 * o->mc_duration);
+	for (size_t r = 0; r < R; r++) {
+		struct sscope_sim *sim = NULL;
+		struct sscope_adc *adc = NULL;
+		struct sscope_allan_result *res_in = NULL, *res_out = NULL;
+		double sin_ = 0, sout = 0;
+
+		so.seed = o->seed + r;
+		rc = sscope_sim_new(&sim, ss, &so, d);
+		if (!rc)
+			rc = sscope_adc_new(&adc, &ar->spec, ss->sensitivity,
+					    (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
+					    o->seed + r, d);
+		/* conversions at M fs, averaged in blocks of M (the sensor
+		 * alone is averaged the same way) */
+		for (size_t i0 = 0; !rc && i0 < n; i0 += blk) {
+			size_t b = n - i0 < blk ? n - i0 : blk;
+
+			rc = sscope_sim_generate(sim, NULL, fx, NULL, b * M);
+			if (!rc)
+				rc = sscope_adc_digitize(adc, fx, 1, b * M, fs * (double)M,
+							 NULL, fy, NULL, &ar->clipped);
+			for (size_t i = 0; !rc && i < b; i++) {
+				double sx = 0, sy = 0;
+
+				for (size_t j = 0; j < M; j++) {
+					sx += fx[i * M + j];
+					sy += fy[i * M + j];
+				}
+				x[i0 + i] = sx / (double)M;
+				y[i0 + i] = sy / (double)M;
+			}
+		}
+		sscope_sim_free(sim);
+		sscope_adc_free(adc);
+		if (!rc)
+			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
+						  NULL, &res_in, d);
+		if (!rc)
+			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
+						  NULL, &res_out, d);
+		if (rc) {
+			sscope_allan_result_free(res_in);
+			sscope_allan_result_free(res_out);
+			goto out;
+		}
+		for (int t = 0; t < 3; t++) {
+			int term = SSCOPE_TERM_N + t;
+			const struct sscope_noise_coef *ci = &res_in->fit.coef[term];
+			const struct sscope_noise_coef *co = &res_out->fit.coef[term];
+
+			vals[t * R + r] = res_in->have_fit && res_out->have_fit &&
+						  ci->fitted && co->fitted && ci->value > 0 ?
+					  co->value / ci->value : (double)NAN;
+		}
+		for (size_t i = 0; i < n; i++) {
+			sin_ += x[i];
+			sout += y[i];
+		}
+		vals[3 * R + r] = (sout - sin_) / (double)n;
+		if (r == 0 && res_in->n_points == res_out->n_points) {
+			size_t np = res_in->n_points;
+
+			ar->tau = malloc(np * sizeof(double));
+			ar->dev_in = malloc(np * sizeof(double));
+			ar->dev_out = malloc(np * sizeof(double));
+			if (ar->tau && ar->dev_in && ar->dev_out) {
+				for (size_t i = 0; i < np; i++) {
+					ar->tau[i] = res_in->points[i].tau_s;
+					ar->dev_in[i] = res_in->points[i].dev;
+					ar->dev_out[i] = res_out->points[i].dev;
+				}
+				ar->n_pts = np;
+			}
+		}
+		sscope_allan_result_free(res_in);
+		sscope_allan_result_free(res_out);
+	}
+	for (int t = 0; t < 3; t++)
+		ratio_stats(vals + (size_t)t * R, R, &ar->ratio[t]);
+	ratio_stats(vals + 3 * R, R, &ar->bias_shift);
+	ar->mc_done = true;
+	ar->mc_runs = R;
+	ar->mc_duration = (double)n / fs;
+out:
+	free(x);
+	free(y);
+	free(fx);
+	free(fy);
+	free(vals);
+	return rc;
+}
+
+static json_t *jratio(const struct mc_ratio *r)
+{
+	json_t *o = json_object();
+
+	json_object_set_new(o, "value", ssc_jreal(r->mean));
+	json_object_set_new(o, "lo", ssc_jreal(r->lo));
+	json_object_set_new(o, "hi", ssc_jreal(r->hi));
+	json_object_set_new(o, "runs", json_integer((json_int_t)r->n));
+	return o;
+}
+
+static json_t *sensor_json(const struct sscope_sensor_spec *ss, const char *path)
+{
+	json_t *o = json_object();
+	enum sscope_quantity q = ss->quantity;
+
+	json_object_set_new(o, "name", json_string(ss->name));
+	json_object_set_new(o, "file", path ? json_string(path) : json_null());
+	json_object_set_new(o, "quantity", json_string(sscope_quantity_name(q)));
+	if (ss->has & SSCOPE_SPEC_RANGE)
+		json_object_set_new(o, "range",
+				    ssc_json_coef(ss->range, (double)NAN, (double)NAN,
+						  q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : NULL,
+						  sscope_quantity_si_unit(q), true));
+	if (ss->has & SSCOPE_SPEC_N)
+		json_object_set_new(o, "N", ssc_json_coef(ss->n, (double)NAN, (double)NAN,
+							  qty_unit(q, SSCOPE_TERM_N, false),
+							  qty_unit(q, SSCOPE_TERM_N, true), true));
+	if (ss->has & SSCOPE_SPEC_B)
+		json_object_set_new(o, "B", ssc_json_coef(ss->b, (double)NAN, (double)NAN,
+							  qty_unit(q, SSCOPE_TERM_B, false),
+							  qty_unit(q, SSCOPE_TERM_B, true), true));
+	if (ss->has & SSCOPE_SPEC_K)
+		json_object_set_new(o, "K", ssc_json_coef(ss->k, (double)NAN, (double)NAN,
+							  qty_unit(q, SSCOPE_TERM_K, false),
+							  qty_unit(q, SSCOPE_TERM_K, true), true));
+	if (ss->has & SSCOPE_SPEC_SENSITIVITY)
+		json_object_set_new(o, "sensitivity_si", json_real(ss->sensitivity));
+	return o;
+}
+
+static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_res *ar)
+{
+	const struct sscope_adc_analysis *a = &ar->an;
+	enum sscope_quantity q = ss->quantity;
+	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
+	const char *nu = qty_unit(q, SSCOPE_TERM_N, false), *nsi = qty_unit(q, SSCOPE_TERM_N, true);
+	json_t *o = json_object(), *lsb = json_object(), *terms = json_object();
+	json_t *checks = json_array();
+
+	json_object_set_new(o, "name", json_string(ar->spec.name));
+	json_object_set_new(o, "file", json_string(ar->path));
+	json_object_set_new(o, "bits", json_integer(ar->spec.bits));
+	json_object_set_new(o, "mode", json_string(ar->spec.mode == SSCOPE_ADC_INTEGRATE ?
+							   "integrate" : "round"));
+	json_object_set_new(o, "rate_hz", json_real(a->rate_hz));
+	json_object_set_new(o, "oversample", json_integer(ar->spec.oversample > 1 ?
+							   ar->spec.oversample : 1));
+	json_object_set_new(lsb, "value", ssc_jreal(in_unit(a->lsb, bsi, bu)));
+	json_object_set_new(lsb, "unit", json_string(bu));
+	json_object_set_new(lsb, "si", ssc_jreal(a->lsb));
+	json_object_set_new(o, "lsb", lsb);
+	json_object_set_new(o, "dithered", json_boolean(a->dithered));
+	json_object_set_new(o, "sigma_over_q", ssc_jreal(a->sigma_over_q));
+	json_object_set_new(o, "min_bits", a->min_bits > 0 ? json_integer(a->min_bits) :
+							     json_null());
+	json_object_set_new(o, "verdict", json_string(sscope_adc_verdict_name(a->verdict)));
+	json_object_set_new(o, "margin", ssc_jreal(a->margin));
+	json_object_set_new(o, "limiting", json_string(sscope_adc_term_name(a->limiting)));
+	json_object_set_new(o, "rank", json_integer(ar->rank));
+	/* integrating mode: white angle noise Q; its ARW entry is the density
+	 * sqrt(3) Q with the same AVAR at tau = 1 s (what the noise term uses) */
+	if (ar->spec.mode == SSCOPE_ADC_INTEGRATE)
+		json_object_set_new(terms, "quantization_Q",
+				    ssc_json_coef(a->q_quant, (double)NAN, (double)NAN,
+						  qty_unit(q, SSCOPE_TERM_Q, false),
+						  qty_unit(q, SSCOPE_TERM_Q, true), true));
+	json_object_set_new(terms, "quantization_arw",
+			    ssc_json_coef(ar->spec.mode == SSCOPE_ADC_INTEGRATE ?
+						  sqrt(3.0) * a->q_quant : a->n_quant,
+					  (double)NAN, (double)NAN, nu, nsi, true));
+	json_object_set_new(terms, "converter_noise_arw",
+			    ssc_json_coef(a->n_adc, (double)NAN, (double)NAN, nu, nsi, true));
+	json_object_set_new(terms, "noise_degradation", ssc_jreal(a->noise_degradation));
+	json_object_set_new(terms, "adev_q_100s",
+			    ssc_json_coef(a->adev_q_100s, (double)NAN, (double)NAN, bu, bsi,
+					  true));
+	json_object_set_new(terms, "bias_resolution",
+			    ssc_json_coef(a->bias_bound, (double)NAN, (double)NAN, bu, bsi,
+					  true));
+	json_object_set_new(terms, "offset_drift_bias",
+			    ssc_json_coef(a->offset_drift_bias, (double)NAN, (double)NAN,
+					  bu, bsi, true));
+	json_object_set_new(terms, "reference_drift_scale_ppm", ssc_jreal(a->scale_drift * 1e6));
+	json_object_set_new(terms, "range_headroom", ssc_jreal(a->headroom));
+	if ((ss->has & SSCOPE_SPEC_BIAS) && ar->spec.mode == SSCOPE_ADC_ROUND)
+		json_object_set_new(terms, "sensor_bias_error",
+				    ssc_json_coef(sscope_adc_bias_error(a->lsb, a->sigma_over_q * a->lsb,
+									ss->bias),
+						  (double)NAN, (double)NAN, bu, bsi, true));
+	json_object_set_new(terms, "temp_span_degc", ssc_jreal(a->temp_span_degc));
+	json_object_set_new(terms, "temp_span_assumed", json_boolean(a->temp_span_default));
+	json_object_set_new(o, "terms", terms);
+	for (int t = 0; t < SSCOPE_ADC_T_COUNT_; t++) {
+		const struct sscope_adc_term_result *tr = &a->term[t];
+		json_t *c = json_object();
+
+		json_object_set_new(c, "term", json_string(sscope_adc_term_name((enum sscope_adc_term)t)));
+		json_object_set_new(c, "ratio", ssc_jreal(tr->ratio));
+		json_object_set_new(c, "pass_limit", ssc_jreal(tr->pass_limit));
+		json_object_set_new(c, "fail_limit", ssc_jreal(tr->fail_limit));
+		json_object_set_new(c, "verdict", json_string(sscope_adc_verdict_name(tr->verdict)));
+		json_array_append_new(checks, c);
+	}
+	json_object_set_new(o, "checks", checks);
+	if (ar->mc_done) {
+		json_t *m = json_object();
+
+		json_object_set_new(m, "N_ratio", ssc_jreal(ar->ratio[0].mean));
+		json_object_set_new(m, "B_ratio", ssc_jreal(ar->ratio[1].mean));
+		json_object_set_new(m, "K_ratio", ssc_jreal(ar->ratio[2].mean));
+		json_object_set_new(m, "N", jratio(&ar->ratio[0]));
+		json_object_set_new(m, "B", jratio(&ar->ratio[1]));
+		json_object_set_new(m, "K", jratio(&ar->ratio[2]));
+		json_object_set_new(m, "bias_shift",
+				    ssc_json_coef(ar->bias_shift.mean, ar->bias_shift.lo,
+						  ar->bias_shift.hi, bu, bsi, true));
+		json_object_set_new(m, "runs", json_integer((json_int_t)ar->mc_runs));
+		json_object_set_new(m, "duration_s", json_real(ar->mc_duration));
+		json_object_set_new(m, "interval_level", json_real(0.6827));
+		json_object_set_new(m, "clipped_samples", json_integer((json_int_t)ar->clipped));
+		json_object_set_new(o, "monte_carlo", m);
+	} else {
+		json_object_set_new(o, "monte_carlo", json_null());
+	}
+	return o;
+}
+
+static const char *fmtu(char *buf, size_t len, double si, const char *si_unit,
+			const char *unit, int sig)
+{
+	char v[48];
+
+	snprintf(buf, len, "%s %s", ssc_fmt(v, sizeof(v), in_unit(si, si_unit, unit), sig),
+		 unit);
+	return buf;
+}
+
+static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct adc_res *ar)
+{
+	const struct sscope_adc_analysis *a = &ar->an;
+	enum sscope_quantity q = ss->quantity;
+	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
+	const char *nu = qty_unit(q, SSCOPE_TERM_N, false), *nsi = qty_unit(q, SSCOPE_TERM_N, true);
+	char b1[64], b2[64], b3[64];
+
+	fprintf(f, "\n== %s (%s): %d bits, %s, %s Hz", ar->spec.name, ar->path,
+		ar->spec.bits, ar->spec.mode == SSCOPE_ADC_INTEGRATE ? "integrating" : "rate rounding",
+		ssc_fmt(b1, sizeof(b1), a->rate_hz, 6));
+	if (ar->spec.oversample > 1)
+		fprintf(f, " (%u conversions averaged per sample)", ar->spec.oversample);
+	fputc('\n', f);
+	fprintf(f, "  LSB                     %s  (range %s .. %s)\n",
+		fmtu(b1, sizeof(b1), a->lsb, bsi, bu, 4),
+		fmtu(b2, sizeof(b2), a->range_lo, sscope_quantity_si_unit(q),
+		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5),
+		fmtu(b3, sizeof(b3), a->range_hi, sscope_quantity_si_unit(q),
+		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5));
+	if (ar->spec.mode == SSCOPE_ADC_INTEGRATE)
+		fprintf(f, "  quantization Q          %s  (residual carried: no lost bias)\n",
+			fmtu(b1, sizeof(b1), a->q_quant, qty_unit(q, SSCOPE_TERM_Q, true),
+			     qty_unit(q, SSCOPE_TERM_Q, false), 3));
+	else
+		fprintf(f, "  quantization ARW        %s  (q/sqrt(12 %sfs); ADEV at 100 s %s)\n",
+			fmtu(b1, sizeof(b1), a->n_quant, nsi, nu, 3),
+			ar->spec.oversample > 1 ? "M " : "",
+			fmtu(b2, sizeof(b2), a->adev_q_100s, bsi, bu, 3));
+	if (a->n_adc > 0)
+		fprintf(f, "  converter noise ARW     %s\n", fmtu(b1, sizeof(b1), a->n_adc, nsi, nu, 3));
+	if (isfinite(a->noise_degradation))
+		fprintf(f, "  noise density           %s -> %s  (+%s %%)  %s\n",
+			fmtu(b1, sizeof(b1), ss->n, nsi, nu, 3),
+			fmtu(b2, sizeof(b2), a->n_total, nsi, nu, 3),
+			ssc_fmt(b3, sizeof(b3), 100 * a->noise_degradation, 2),
+			sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_NOISE].verdict));
+	fprintf(f, "  dither                  sigma/q = %s: %s\n",
+		ssc_fmt(b1, sizeof(b1), a->sigma_over_q, 3),
+		a->dithered ? "dithered (sigma >= q/2): sub-LSB signals survive" :
+		a->sigma_over_q < 0.3 ? "NOT dithered (sigma < 0.3 q): sub-LSB bias is lost, ADEV can collapse" :
+					"weakly dithered (0.3 q <= sigma < q/2)");
+	fprintf(f, "  bias it can hide        %s%s%s  %s\n",
+		a->bias_bound < 1e-9 * a->lsb ? "< 1e-9 LSB" :
+		fmtu(b1, sizeof(b1), a->bias_bound, bsi, bu, 3),
+		(ss->has & SSCOPE_SPEC_B) ? " vs B " : "",
+		(ss->has & SSCOPE_SPEC_B) ? fmtu(b2, sizeof(b2), ss->b, bsi, bu, 3) : "",
+		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_BIAS].verdict));
+	fprintf(f, "  offset drift -> bias    %s over %s degC%s  %s\n",
+		fmtu(b1, sizeof(b1), a->offset_drift_bias, bsi, bu, 3),
+		ssc_fmt(b2, sizeof(b2), a->temp_span_degc, 3),
+		a->temp_span_default ? " (assumed)" : "",
+		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_OFFSET_DRIFT].verdict));
+	fprintf(f, "  reference drift -> SF   %s ppm%s  %s\n",
+		ssc_fmt(b1, sizeof(b1), a->scale_drift * 1e6, 3),
+		ar->spec.reference == SSCOPE_ADC_RATIOMETRIC ? " (ratiometric: cancels)" : "",
+		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_SCALE_DRIFT].verdict));
+	if (isfinite(a->headroom))
+		fprintf(f, "  range headroom          x%s  %s\n",
+			ssc_fmt(b1, sizeof(b1), a->headroom, 4),
+			a->headroom < 1 ? "fail: the sensor's range clips" : "pass");
+	if (a->min_bits > 0)
+		fprintf(f, "  minimum word length     %d bits\n", a->min_bits);
+	else
+		fprintf(f, "  minimum word length     none up to %d bits (converter noise too high)\n",
+			SSCOPE_ADC_MAX_BITS);
+	fprintf(f, "  verdict                 %s (limiting: %s, margin x%s)\n",
+		sscope_adc_verdict_name(a->verdict), sscope_adc_term_name(a->limiting),
+		ssc_fmt(b1, sizeof(b1), a->margin, 3));
+	if ((ss->has & SSCOPE_SPEC_BIAS) && ss->bias != 0 &&
+	    ar->spec.mode == SSCOPE_ADC_ROUND) {
+		double e = sscope_adc_bias_error(a->lsb, a->sigma_over_q * a->lsb, ss->bias);
+
+		fprintf(f, "  sensor bias %s reads    %s  (%s %% error, first harmonic)\n",
+			fmtu(b1, sizeof(b1), ss->bias, bsi, bu, 3),
+			fmtu(b2, sizeof(b2), ss->bias + e, bsi, bu, 3),
+			ssc_fmt(b3, sizeof(b3), 100 * e / ss->bias, 2));
+	}
+	if (ar->mc_done) {
+		static const char tn[] = "NBK";
+
+		fprintf(f, "  Monte Carlo (%zu x %s s): fitted term with / without converter\n",
+			ar->mc_runs, ssc_fmt(b1, sizeof(b1), ar->mc_duration, 6));
+		for (int t = 0; t < 3; t++) {
+			const struct mc_ratio *r = &ar->ratio[t];
+
+			if (!isfinite(r->mean)) {
+				fprintf(f, "    %c ratio  not fitted in both\n", tn[t]);
+				continue;
+			}
+			fprintf(f, "    %c ratio  %s", tn[t], ssc_fmt(b1, sizeof(b1), r->mean, 4));
+			if (isfinite(r->lo))
+				fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), r->lo, 4),
+					ssc_fmt(b3, sizeof(b3), r->hi, 4));
+			fputc('\n', f);
+		}
+		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->bias_shift.mean, bsi, bu, 3));
+		if (isfinite(ar->bias_shift.lo))
+			fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), in_unit(ar->bias_shift.lo, bsi, bu), 3),
+				ssc_fmt(b3, sizeof(b3), in_unit(ar->bias_shift.hi, bsi, bu), 3));
+		fputc('\n', f);
+	}
+}
+
+static int rank_cmp(const struct adc_res *a, const struct adc_res *b)
+{
+	double ma = isfinite(a->an.margin) ? a->an.margin : (double)INFINITY;
+	double mb = isfinite(b->an.margin) ? b->an.margin : (double)INFINITY;
+
+	if (a->an.verdict != b->an.verdict)
+		return a->an.verdict < b->an.verdict ? -1 : 1;
+	if (a->an.verdict == SSCOPE_ADC_PASS && a->spec.bits != b->spec.bits)
+		return a->spec.bits < b->spec.bits ? -1 : 1; /* cheapest passing */
+	return ma > mb ? -1 : ma < mb ? 1 : 0;
+}
+
+static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
+		       const struct adc_res *ar, int n)
+{
+	struct ssc_fig *fig = ssc_fig_new(1000, 650, 1, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	enum sscope_quantity q = ss->quantity;
+	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
+	double scale = in_unit(1, bsi, bu);
+	char buf[160];
+	int rc, drawn = 0;
+
+	ssc_ax_log(ax, true, true);
+	ssc_ax_grid(ax, true);
+	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	snprintf(buf, sizeof(buf), "ADEV (%s)", bu);
+	ssc_ax_ylabel(ax, buf);
+	snprintf(buf, sizeof(buf), "%s: alone and through each converter", ss->name);
+	ssc_ax_title(ax, buf);
+	for (int i = 0; i < n; i++) {
+		double *yi, *yo;
+		struct ssc_style st = { .color = ssc_plot_color((size_t)i + 1), .width = 2 };
+
+		if (!ar[i].n_pts)
+			continue;
+		yi = malloc(ar[i].n_pts * sizeof(double));
+		yo = malloc(ar[i].n_pts * sizeof(double));
+		if (!yi || !yo) {
+			free(yi);
+			free(yo);
+			ssc_fig_free(fig);
+			return -ENOMEM;
+		}
+		for (size_t k = 0; k < ar[i].n_pts; k++) {
+			yi[k] = ar[i].dev_in[k] * scale;
+			yo[k] = ar[i].dev_out[k] * scale;
+		}
+		if (!drawn) {
+			struct ssc_style s0 = { .color = 0x202020, .width = 3 };
+
+			ssc_ax_line(ax, ar[i].tau, yi, ar[i].n_pts, &s0, "sensor alone");
+		}
+		snprintf(buf, sizeof(buf), "%s (%d b): %s", ar[i].spec.name, ar[i].spec.bits,
+			 sscope_adc_verdict_name(ar[i].an.verdict));
+		st.dash = SSC_DASHED;
+		ssc_ax_line(ax, ar[i].tau, yo, ar[i].n_pts, &st, buf);
+		drawn++;
+		free(yi);
+		free(yo);
+	}
+	if (!drawn) {
+		ssc_fig_free(fig);
+		return -EDOM;
+	}
+	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+	rc = ssc_fig_save_png(fig, path);
+	ssc_fig_free(fig);
+	return rc;
+}
+
+static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_out *out)
+{
+	struct ropts *o = opts;
+	const char *cmd = env->co->cmd;
+	struct sscope_sensor_spec ss;
+	const struct sscope_sensor_spec *sp;
+	const char *spath;
+	const char *paths[MAX_ADC];
+	struct adc_res ar[MAX_ADC];
+	int n = 0, order[MAX_ADC], rc = SSC_EXIT_OK;
+	struct ssc_membuf mb;
+	json_t *root, *arr;
+
+	memset(ar, 0, sizeof(ar));
+	if (o->sensor) {
+		rc = ssc_load_sensor(cmd, o->sensor, &ss);
+		if (rc)
+			return rc;
+		sp = &ss;
+		spath = o->sensor;
+	} else if (env->sensor) {
+		sp = env->sensor;
+		spath = env->sensor_path;
+	} else {
+		return ssc_usage_error(cmd, "no sensor: give --sensor SENSOR.ini");
+	}
+	for (int i = 0; i < o->n_adc; i++)
+		paths[n++] = o->adc[i];
+	for (size_t i = 0; i < env->n_adc && n < MAX_ADC; i++)
+		paths[n++] = env->adc_paths[i];
+	if (!n)
+		return ssc_usage_error(cmd, "no converter: give --adc ADC.ini");
+	for (int i = 0; i < n; i++) {
+		struct sscope_diag d = { "" };
+		int e;
+
+		ar[i].path = paths[i];
+		e = sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
+		if (e) {
+			rc = ssc_fail(cmd, e, &d, "adc spec");
+			goto done;
+		}
+		e = sscope_adc_analyze(sp, &ar[i].spec, o->rate, &ar[i].an, &d);
+		if (e) {
+			ssc_err(cmd, "%s: %s", paths[i], d.msg[0] ? d.msg : sscope_strerror(e));
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+	}
+	for (int i = 0; i < n; i++) {
+		struct sscope_diag d = { "" };
+		int e;
+
+		if (!o->mc)
+			break;
+		ssc_progress(env->co, "Monte Carlo", (double)i, (double)n);
+		e = run_mc(o, sp, &ar[i], &d);
+		if (e) {
+			ssc_progress_end(env->co);
+			ssc_err(cmd, "Monte Carlo of %s: %s", paths[i],
+				d.msg[0] ? d.msg : sscope_strerror(e));
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+	}
+	ssc_progress_end(env->co);
+	for (int i = 0; i < n; i++)
+		order[i] = i;
+	for (int i = 1; i < n; i++) /* insertion sort: stable, n <= 8 */
+		for (int j = i; j > 0 && rank_cmp(&ar[order[j]], &ar[order[j - 1]]) < 0; j--) {
+			int t = order[j];
+
+			order[j] = order[j - 1];
+			order[j - 1] = t;
+		}
+	for (int i = 0; i < n; i++)
+		ar[order[i]].rank = i + 1;
+	root = json_object();
+	arr = json_array();
+	json_object_set_new(root, "command", json_string("adc report"));
+	json_object_set_new(root, "sensor", sensor_json(sp, spath));
+	for (int i = 0; i < n; i++)
+		json_array_append_new(arr, adc_json(sp, &ar[i]));
+	json_object_set_new(root, "adcs", arr);
+	out->json = root;
+	if (ssc_membuf_open(&mb)) {
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	{
+		char b1[64], b2[64];
+		enum sscope_quantity q = sp->quantity;
+
+		fprintf(mb.f, "sensor %s (%s)", sp->name, spath ? spath : "[sensor]");
+		if (sp->has & SSCOPE_SPEC_N)
+			fprintf(mb.f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
+						      qty_unit(q, SSCOPE_TERM_N, false), 3));
+		if (sp->has & SSCOPE_SPEC_B)
+			fprintf(mb.f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
+						      qty_unit(q, SSCOPE_TERM_B, false), 3));
+		fputc('\n', mb.f);
+		for (int i = 0; i < n; i++)
+			adc_text(mb.f, sp, &ar[i]);
+		fprintf(mb.f, "\nselection (pass first, then fewest bits, then margin):\n");
+		fprintf(mb.f, "  %-4s %-24s %4s %12s %8s %-9s %-16s %s\n", "rank", "converter",
+			"bits", "LSB", "min bits", "verdict", "limiting", "margin");
+		for (int k = 0; k < n; k++) {
+			const struct adc_res *a = &ar[order[k]];
+			char l[64], m[32];
+
+			char mbits[16];
+
+			if (a->an.min_bits > 0)
+				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+			else
+				snprintf(mbits, sizeof(mbits), "none");
+			fprintf(mb.f, "  %-4d %-24.24s %4d %12s %8s %-9s %-16s x%s\n", k + 1,
+				a->spec.name, a->spec.bits,
+				fmtu(l, sizeof(l), a->an.lsb, qty_unit(q, SSCOPE_TERM_B, true),
+				     qty_unit(q, SSCOPE_TERM_B, false), 4),
+				mbits, sscope_adc_verdict_name(a->an.verdict),
+				sscope_adc_term_name(a->an.limiting),
+				ssc_fmt(m, sizeof(m), a->an.margin, 3));
+		}
+	}
+	out->text = ssc_membuf_take(&mb);
+	/* CSV: the selection table */
+	if (!ssc_membuf_open(&mb)) {
+		fprintf(mb.f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
+		for (int k = 0; k < n; k++) {
+			const struct adc_res *a = &ar[order[k]];
+			char mbits[16] = "";
+
+			if (a->an.min_bits > 0)
+				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+			fprintf(mb.f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
+				k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
+				mbits, sscope_adc_verdict_name(a->an.verdict),
+				sscope_adc_term_name(a->an.limiting), a->an.margin,
+				a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
+		}
+		out->csv = ssc_membuf_take(&mb);
+	}
+	for (int i = 0; i < n; i++) {
+		char note[96];
+
+		snprintf(note, sizeof(note), "%d bits, limiting %s", ar[i].spec.bits,
+			 sscope_adc_term_name(ar[i].an.limiting));
+		ssc_summary_add(out->summary, ar[i].spec.name,
+				ar[i].an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
+				ar[i].an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
+									   "ADC verdict: fail",
+				ar[i].an.margin, (double)NAN, (double)NAN, "", note);
+	}
+	if (env->plot_path || o->plot) {
+		const char *pp = env->plot_path ? env->plot_path : o->plot;
+		int e = plot_report(pp, sp, ar, n);
+
+		if (e == -EDOM) {
+			rc = ssc_usage_error(cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
+			goto done;
+		}
+		if (e) {
+			rc = ssc_fail(cmd, e, NULL, pp);
+			goto done;
+		}
+	}
+done:
+	for (int i = 0; i < n; i++) {
+		free(ar[i].tau);
+		free(ar[i].dev_in);
+		free(ar[i].dev_out);
+	}
+	return rc;
+}
+
+const struct ssc_stage_ops ssc_adc_stage = {
+	.spec = &report_spec,
+	.title = "ADC selection",
+	.needs = SSC_NEED_SENSOR | SSC_NEED_ADC,
+	.min_files = 0,
+	.max_files = 0,
+	.opts_size = sizeof(struct ropts),
+	.init = r_init,
+	.handle = r_handle,
+	.run = r_run,
+};
+
+/* ------------------------------------------------------------ quantize */
+
+static const struct ssc_option quant_opts[] = {
+	{ "bits", required_argument, O_BITS, "N", "word length (1..32)" },
+	{ "range", required_argument, O_RANGE, "LO:HI[ UNIT]",
+	  "input range (bare numbers: the channel's unit), e.g. -100:100 or '-2:2 deg/s'" },
+	{ "mode", required_argument, O_MODE, "round|integrate",
+	  "round each sample (default) or count the integral with the residual carried" },
+	{ "adc", required_argument, O_ADC, "ADC.ini",
+	  "take bits, range (in sensor units), mode, noise and non-linearity from a converter spec" },
+	{ "seed", required_argument, O_SEED, "N", "seed of converter noise (default 1)" },
+	{ "binary", required_argument, O_BINARY, "f32|f64",
+	  "write a sensorscope binary capture instead of CSV" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec quant_spec = {
+	.name = "adc quantize",
+	.usage = "adc quantize (--bits N --range LO:HI | --adc ADC.ini) [OPTIONS] FILE",
+	.summary =
+		"Re-digitize a capture through a candidate converter -- \"what would my\n"
+		"recording look like through a cheaper ADC\". The output is a capture\n"
+		"(time, the selected channels, temperature) that `allan` and the other\n"
+		"commands read; codes are mid-tread, clipped at the range.",
+	.options = quant_opts,
+	.analysis = true,
+	.notes = "Examples:\n"
+		 "  sensorscope adc quantize --bits 12 --range -100:100 samples/gyro-static.csv -o q12.csv\n"
+		 "  sensorscope adc quantize --bits 14 --range -100:100 samples/gyro-static.csv | \\\n"
+		 "      sensorscope allan -",
+};
+
+struct qopts {
+	long bits;
+	const char *range;
+	const char *adc;
+	int mode; /* -1 not given */
+	unsigned long seed;
+	enum sscope_capture_format fmt;
+};
+
+static int q_handle(int key, const char *arg, void *ctx)
+{
+	struct qopts *o = ctx;
+	const char *cmd = quant_spec.name;
+
+	switch (key) {
+	case O_BITS: {
+		size_t v;
+
+		if (ssc_arg_size(cmd, "bits", arg, &v))
+			return SSC_EXIT_USAGE;
+		if (v < 1 || v > SSCOPE_ADC_MAX_BITS)
+			return ssc_usage_error(cmd, "--bits: between 1 and %d", SSCOPE_ADC_MAX_BITS);
+		o->bits = (long)v;
+		return 0;
+	}
+	case O_RANGE:
+		o->range = arg;
+		return 0;
+	case O_ADC:
+		o->adc = arg;
+		return 0;
+	case O_MODE:
+		if (!strcmp(arg, "round"))
+			o->mode = SSCOPE_ADC_ROUND;
+		else if (!strcmp(arg, "integrate"))
+			o->mode = SSCOPE_ADC_INTEGRATE;
+		else
+			return ssc_usage_error(cmd, "--mode: 'round' or 'integrate', not '%s'", arg);
+		return 0;
+	case O_SEED: {
+		size_t v;
+
+		if (ssc_arg_size(cmd, "seed", arg, &v))
+			return SSC_EXIT_USAGE;
+		o->seed = (unsigned long)v;
+		return 0;
+	}
+	case O_BINARY:
+		if (!strcmp(arg, "f32"))
+			o->fmt = SSCOPE_CAPTURE_BIN32;
+		else if (!strcmp(arg, "f64"))
+			o->fmt = SSCOPE_CAPTURE_BIN64;
+		else
+			return ssc_usage_error(cmd, "--binary: 'f32' or 'f64'");
+		return 0;
+	default:
+		return ssc_usage_error(cmd, "unknown option");
+	}
+}
+
+static int cmd_quantize(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct qopts o = { .bits = 0, .mode = -1, .seed = 1, .fmt = SSCOPE_CAPTURE_CSV };
+	struct sscope_capture *cap = NULL;
+	struct sscope_adc_spec spec;
+	struct sscope_diag d = { "" };
+	double *buf = NULL;
+	size_t clipped = 0;
+	bool added_time = false;
+	int first, rc;
+
+	rc = ssc_parse(&quant_spec, argc, argv, &co, q_handle, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (argc - first != 1)
+		return ssc_usage_error(co.cmd, argc - first ? "one input file" : "no input file");
+	if (!o.adc && (!o.bits || !o.range))
+		return ssc_usage_error(co.cmd, "give --bits N and --range LO:HI, or --adc ADC.ini");
+	if (o.adc && (o.bits || o.range))
+		return ssc_usage_error(co.cmd, "--adc replaces --bits and --range");
+	if (co.plot)
+		return ssc_usage_error(co.cmd, "--plot: no figure here (quantize writes a capture)");
+	if (co.format != SSC_FMT_TEXT)
+		return ssc_usage_error(co.cmd, "--format: the output is a capture (CSV, or --binary)");
+	memset(&spec, 0, sizeof(spec));
+	if (o.adc) {
+		rc = sscope_adc_spec_load(o.adc, &spec, &d);
+		if (rc)
+			return ssc_fail(co.cmd, rc, &d, "adc spec");
+		if (spec.analog)
+			return ssc_usage_error(co.cmd,
+					       "%s: range in volts; quantize needs a range in the channel's units",
+					       o.adc);
+		if (spec.oversample > 1)
+			return ssc_usage_error(co.cmd,
+					       "%s: oversample: a recorded capture cannot be oversampled",
+					       o.adc);
+	}
+	rc = ssc_load(&co, argv[first], &cap);
+	if (rc)
+		return rc;
+	if (!o.adc) {
+		spec.bits = (int)o.bits;
+		spec.ref_temp_degc = 25;
+		snprintf(spec.name, sizeof(spec.name), "%ld-bit", o.bits);
+	}
+	if (o.mode >= 0)
+		spec.mode = (enum sscope_adc_mode)o.mode;
+	if (spec.mode == SSCOPE_ADC_INTEGRATE && !(cap->rate_hz > 0)) {
+		rc = ssc_usage_error(co.cmd, "--mode integrate needs the sample rate (--rate or a time column)");
+		goto done;
+	}
+	buf = malloc((cap->n ? cap->n : 1) * sizeof(double));
+	if (!buf) {
+		ssc_err(co.cmd, "out of memory");
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	for (size_t c = 0; c < cap->n_channels; c++) {
+		struct sscope_channel *ch = &cap->channels[c];
+		struct sscope_adc_spec s = spec;
+		struct sscope_adc *adc = NULL;
+
+		if (!o.adc) {
+			struct sscope_unit u;
+
+			rc = sscope_adc_range_parse(o.range, &s.lo, &s.hi, &u, &d);
+			if (rc) {
+				rc = ssc_usage_error(co.cmd, "--range: %s", d.msg);
+				goto done;
+			}
+			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS && u.scale == 1) {
+				/* bare: the channel's unit */
+				s.lo = sscope_unit_to_si(&ch->col.unit, s.lo);
+				s.hi = sscope_unit_to_si(&ch->col.unit, s.hi);
+			} else if (!sscope_unit_compatible(&u, &ch->col.unit)) {
+				rc = ssc_usage_error(co.cmd, "--range: '%s' is not in the unit of %s (%s)",
+						     o.range, ch->col.name, ch->col.unit_label);
+				goto done;
+			}
+			s.quantity = ch->col.quantity;
+		} else if (s.quantity != ch->col.quantity) {
+			rc = ssc_usage_error(co.cmd, "%s: range in %s units, channel %s measures %s",
+					     o.adc, sscope_quantity_name(s.quantity), ch->col.name,
+					     sscope_quantity_name(ch->col.quantity));
+			goto done;
+		}
+		rc = sscope_adc_new(&adc, &s, 1, 0, o.seed + c, &d);
+		if (!rc)
+			rc = sscope_adc_digitize(adc, ch->data, 1, cap->n,
+						 cap->rate_hz > 0 ? cap->rate_hz : 1, cap->temp_degc,
+						 buf, NULL, &clipped);
+		sscope_adc_free(adc);
+		if (rc) {
+			rc = ssc_fail(co.cmd, rc, &d, ch->col.name);
+			goto done;
+		}
+		/* NaN gaps stay gaps */
+		for (size_t i = 0; i < cap->n; i++)
+			ch->data[i] = isfinite(ch->data[i]) ? buf[i] : (double)NAN;
+	}
+	if (!cap->time_s && cap->rate_hz > 0) {
+		/* keep the rate: write a time column */
+		cap->time_s = malloc((cap->n ? cap->n : 1) * sizeof(double));
+		if (!cap->time_s) {
+			ssc_err(co.cmd, "out of memory");
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		for (size_t i = 0; i < cap->n; i++)
+			cap->time_s[i] = (double)i / cap->rate_hz;
+		memset(&cap->time_col, 0, sizeof(cap->time_col));
+		cap->time_col.name = "t";
+		cap->time_col.unit_label = "s";
+		cap->time_col.role = SSCOPE_ROLE_TIME;
+		cap->time_col.quantity = SSCOPE_QTY_TIME;
+		added_time = true;
+	}
+	rc = sscope_capture_write(cap, co.output ? co.output : "-", o.fmt, 0, &d);
+	if (added_time) {
+		/* not owned by the capture's allocator: give it back ourselves */
+		free(cap->time_s);
+		cap->time_s = NULL;
+		memset(&cap->time_col, 0, sizeof(cap->time_col));
+	}
+	if (rc) {
+		rc = ssc_fail(co.cmd, rc, &d, co.output ? co.output : "(stdout)");
+		goto done;
+	}
+	if (clipped)
+		ssc_warn(&co, "%zu samples clipped at the range", clipped);
+	rc = SSC_EXIT_OK;
+done:
+	free(buf);
+	sscope_capture_free(cap);
+	return rc;
+}
+
+/* ------------------------------------------------------------ test */
+
+static const struct ssc_option test_opts[] = {
+	{ "bits", required_argument, O_BITS, "N",
+	  "word length: enables the code-density DNL/INL test (with --range)" },
+	{ "range", required_argument, O_RANGE, "LO:HI[ UNIT]",
+	  "full-scale range (bare numbers: the channel's unit): ENOB from the FSR" },
+	{ "adc", required_argument, O_ADC, "ADC.ini", "take bits and range from a converter spec" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec test_spec = {
+	.name = "adc test",
+	.usage = "adc test [--bits N --range LO:HI | --adc ADC.ini] [OPTIONS] FILE",
+	.summary =
+		"Characterise a converter from a sine capture (IEEE Std 1241): four-\n"
+		"parameter sine fit, SINAD, ENOB (log2(FSR / (NAD sqrt 12)) with a range,\n"
+		"else (SINAD - 1.76) / 6.02), THD, SFDR, SNR; with --bits and --range the\n"
+		"code-density (histogram) test of the arcsine distribution gives DNL and\n"
+		"INL per code (the sine should overdrive the range slightly); --plot\n"
+		"draws them.",
+	.options = test_opts,
+	.analysis = true,
+	.notes = "Example (an ideal 10-bit converter: ENOB 10):\n"
+		 "  sensorscope simulate --sensor clean.ini --rate 1000 --duration 8.192 \\\n"
+		 "      --tone 37.1234:0.999 --no-clip -o sine.csv\n"
+		 "  sensorscope adc quantize --bits 10 --range -1:1 sine.csv -o sine10.csv\n"
+		 "  sensorscope adc test --bits 10 --range -1:1 sine10.csv",
+};
+
+struct topts {
+	long bits;
+	const char *range;
+	const char *adc;
+};
+
+static int t_handle(int key, const char *arg, void *ctx)
+{
+	struct topts *o = ctx;
+	const char *cmd = test_spec.name;
+
+	switch (key) {
+	case O_BITS: {
+		size_t v;
+
+		if (ssc_arg_size(cmd, "bits", arg, &v))
+			return SSC_EXIT_USAGE;
+		if (v < 2 || v > 24)
+			return ssc_usage_error(cmd, "--bits: between 2 and 24 for a histogram test");
+		o->bits = (long)v;
+		return 0;
+	}
+	case O_RANGE:
+		o->range = arg;
+		return 0;
+	case O_ADC:
+		o->adc = arg;
+		return 0;
+	default:
+		return ssc_usage_error(cmd, "unknown option");
+	}
+}
+
+static int plot_dnl_inl(const char *path, const char *name, const double *dnl,
+			const double *inl, size_t nc)
+{
+	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
+	double *k = malloc(nc * sizeof(double));
+	struct ssc_style st = { .color = 0x1f77b4, .width = 1 };
+	char buf[160];
+	int rc;
+
+	if (!fig || !k) {
+		ssc_fig_free(fig);
+		free(k);
+		return -ENOMEM;
+	}
+	for (size_t i = 0; i < nc; i++)
+		k[i] = (double)i;
+	snprintf(buf, sizeof(buf), "%s: code-density test (IEEE 1241), %zu codes", name, nc);
+	ssc_fig_title(fig, buf);
+	for (int r = 0; r < 2; r++) {
+		struct ssc_ax *ax = ssc_fig_ax(fig, r, 0);
+
+		ssc_ax_grid(ax, true);
+		ssc_ax_xlabel(ax, "code");
+		ssc_ax_ylabel(ax, r ? "INL (LSB)" : "DNL (LSB)");
+		ssc_ax_title(ax, r ? "integral non-linearity (best-fit line removed)" :
+				     "differential non-linearity");
+		ssc_ax_line(ax, k, r ? inl : dnl, nc, &st, r ? "INL" : "DNL");
+		ssc_ax_legend(ax, SSC_LEGEND_NONE);
+	}
+	rc = ssc_fig_save_png(fig, path);
+	ssc_fig_free(fig);
+	free(k);
+	return rc;
+}
+
+static int cmd_test(int argc, char **argv)
+{
+	struct ssc_common co;
+	struct topts o = { 0 };
+	struct sscope_capture *cap = NULL;
+	struct sscope_diag d = { "" };
+	json_t *root = NULL, *chans;
+	struct ssc_membuf mb = { NULL, NULL, 0 };
+	double lo = 0, hi = 0;
+	bool have_range = false;
+	int first, rc, bits = 0;
+
+	rc = ssc_parse(&test_spec, argc, argv, &co, t_handle, &o, &first);
+	if (rc)
+		return rc < 0 ? SSC_EXIT_OK : rc;
+	if (argc - first != 1)
+		return ssc_usage_error(co.cmd, argc - first ? "one input file" : "no input file");
+	if (o.adc && (o.bits || o.range))
+		return ssc_usage_error(co.cmd, "--adc replaces --bits and --range");
+	if (o.bits && !o.range)
+		return ssc_usage_error(co.cmd, "--bits needs --range");
+	if (co.plot && !(o.bits && o.range) && !o.adc)
+		return ssc_usage_error(co.cmd, "--plot draws DNL and INL: give --bits and --range (or --adc)");
+	if (o.adc) {
+		struct sscope_adc_spec s;
+
+		rc = sscope_adc_spec_load(o.adc, &s, &d);
+		if (rc)
+			return ssc_fail(co.cmd, rc, &d, "adc spec");
+		lo = s.lo;
+		hi = s.hi;
+		bits = s.bits <= 24 ? s.bits : 0;
+		have_range = true;
+	}
+	bits = o.bits ? (int)o.bits : bits;
+	rc = ssc_load(&co, argv[first], &cap);
+	if (rc)
+		return rc;
+	if (!(cap->rate_hz > 0)) {
+		rc = ssc_usage_error(co.cmd, "no sample rate: give --rate or a time column");
+		goto done;
+	}
+	if (o.range) {
+		struct sscope_unit u;
+
+		if (sscope_adc_range_parse(o.range, &lo, &hi, &u, &d)) {
+			rc = ssc_usage_error(co.cmd, "--range: %s", d.msg);
+			goto done;
+		}
+		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS && u.scale == 1 &&
+		    cap->n_channels) {
+			lo = sscope_unit_to_si(&cap->channels[0].col.unit, lo);
+			hi = sscope_unit_to_si(&cap->channels[0].col.unit, hi);
+		}
+		have_range = true;
+	}
+	root = json_object();
+	chans = json_array();
+	json_object_set_new(root, "command", json_string("adc test"));
+	json_object_set_new(root, "file", json_string(argv[first]));
+	if (ssc_membuf_open(&mb)) {
+		rc = SSC_EXIT_FAIL;
+		goto done;
+	}
+	for (size_t c = 0; c < cap->n_channels; c++) {
+		struct sscope_channel *ch = &cap->channels[c];
+		struct sscope_adc_dynamic dy;
+		json_t *j = json_object(), *fit = json_object();
+		double sc = sscope_unit_from_si(&ch->col.unit, 1);
+		const char *un = ch->col.unit_label;
+		char b1[48], b2[48], b3[48], b4[48];
+
+		rc = sscope_adc_dynamic_test(ch->data, cap->n, cap->rate_hz,
+					     have_range ? hi - lo : 0, &dy);
+		if (rc) {
+			json_decref(j);
+			json_decref(fit);
+			rc = ssc_fail(co.cmd, rc, NULL, ch->col.name);
+			goto done_json;
+		}
+		json_object_set_new(j, "name", json_string(ch->col.name));
+		json_object_set_new(j, "unit", json_string(un));
+		json_object_set_new(j, "rate_hz", json_real(cap->rate_hz));
+		json_object_set_new(j, "samples", json_integer((json_int_t)cap->n));
+		json_object_set_new(fit, "frequency_hz", json_real(dy.fit.freq_hz));
+		json_object_set_new(fit, "amplitude", json_real(dy.fit.amplitude * sc));
+		json_object_set_new(fit, "offset", json_real(dy.fit.offset * sc));
+		json_object_set_new(fit, "phase_rad", json_real(dy.fit.phase_rad));
+		json_object_set_new(fit, "rms_residual", json_real(dy.fit.rms_residual * sc));
+		json_object_set_new(j, "sine_fit", fit);
+		json_object_set_new(j, "sinad_db", ssc_jreal(dy.sinad_db));
+		json_object_set_new(j, "enob", ssc_jreal(dy.enob));
+		json_object_set_new(j, "enob_from", json_string(have_range ? "fsr" : "sinad"));
+		json_object_set_new(j, "thd_db", ssc_jreal(dy.thd_db));
+		json_object_set_new(j, "sfdr_db", ssc_jreal(dy.sfdr_db));
+		json_object_set_new(j, "snr_db", ssc_jreal(dy.snr_db));
+		fprintf(mb.f, "%s [%s]: %zu samples at %s Hz\n", ch->col.name, un, cap->n,
+			ssc_fmt(b1, sizeof(b1), cap->rate_hz, 6));
+		fprintf(mb.f, "  sine fit    %s Hz, amplitude %s, offset %s, NAD %s\n",
+			ssc_fmt(b1, sizeof(b1), dy.fit.freq_hz, 9),
+			ssc_fmt(b2, sizeof(b2), dy.fit.amplitude * sc, 6),
+			ssc_fmt(b3, sizeof(b3), dy.fit.offset * sc, 4),
+			ssc_fmt(b4, sizeof(b4), dy.fit.rms_residual * sc, 4));
+		fprintf(mb.f, "  SINAD %s dB  ENOB %s bits (%s)  THD %s dB  SFDR %s dB  SNR %s dB\n",
+			ssc_fmt(b1, sizeof(b1), dy.sinad_db, 4), ssc_fmt(b2, sizeof(b2), dy.enob, 4),
+			have_range ? "from the full-scale range" : "from SINAD, no --range",
+			ssc_fmt(b3, sizeof(b3), dy.thd_db, 4), ssc_fmt(b4, sizeof(b4), dy.sfdr_db, 4),
+			ssc_fmt(b1, sizeof(b1), dy.snr_db, 4));
+		if (bits && have_range) {
+			size_t nc = (size_t)1 << bits;
+			double q = (hi - lo) / (double)nc, dmax = 0, imax = 0;
+			int64_t *codes = malloc((cap->n ? cap->n : 1) * sizeof(int64_t));
+			double *dnl = malloc(nc * sizeof(double)), *inl = malloc(nc * sizeof(double));
+			int e;
+
+			if (!codes || !dnl || !inl) {
+				free(codes);
+				free(dnl);
+				free(inl);
+				json_decref(j);
+				ssc_err(co.cmd, "out of memory");
+				rc = SSC_EXIT_FAIL;
+				goto done_json;
+			}
+			for (size_t i = 0; i < cap->n; i++) {
+				double k = floor((ch->data[i] - lo) / q + 0.5);
+
+				codes[i] = k < 0 ? 0 : k > (double)(nc - 1) ? (int64_t)(nc - 1) : (int64_t)k;
+			}
+			e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl, &dmax, &imax);
+			if (!e) {
+				json_t *h = json_object(), *jd = json_array(), *ji = json_array();
+
+				for (size_t k = 0; k < nc; k++) {
+					json_array_append_new(jd, ssc_jreal(dnl[k]));
+					json_array_append_new(ji, ssc_jreal(inl[k]));
+				}
+				json_object_set_new(h, "bits", json_integer(bits));
+				json_object_set_new(h, "dnl_max", json_real(dmax));
+				json_object_set_new(h, "inl_max", json_real(imax));
+				json_object_set_new(h, "dnl", jd);
+				json_object_set_new(h, "inl", ji);
+				json_object_set_new(j, "histogram", h);
+				fprintf(mb.f, "  histogram   %d bits: max |DNL| %s LSB, max |INL| %s LSB (best-fit line)\n",
+					bits, ssc_fmt(b1, sizeof(b1), dmax, 3),
+					ssc_fmt(b2, sizeof(b2), imax, 3));
+				if (co.plot && c == 0) {
+					int pe = plot_dnl_inl(co.plot, ch->col.name, dnl, inl, nc);
+
+					if (pe) {
+						free(codes);
+						free(dnl);
+						free(inl);
+						json_decref(j);
+						rc = ssc_fail(co.cmd, pe, NULL, co.plot);
+						goto done_json;
+					}
+				}
+			} else {
+				json_object_set_new(j, "histogram", json_null());
+				fprintf(mb.f, "  histogram   not possible: %s\n", sscope_strerror(e));
+			}
+			free(codes);
+			free(dnl);
+			free(inl);
+		}
+		json_array_append_new(chans, j);
+	}
+	json_object_set_new(root, "channels", chans);
+	chans = NULL;
+	{
+		char *text = ssc_membuf_take(&mb);
+
+		if (co.format == SSC_FMT_JSON) {
+			free(text);
+			rc = ssc_emit_json(&co, root);
+			root = NULL;
+		} else if (co.format == SSC_FMT_CSV) {
+			free(text);
+			rc = ssc_usage_error(co.cmd, "--format csv is not available here");
+		} else {
+			struct ssc_out so;
+
+			rc = text ? ssc_out_open(&co, &so) : SSC_EXIT_FAIL;
+			if (!rc) {
+				fputs(text, so.f);
+				rc = ssc_out_close(&co, &so, !ferror(so.f));
+			}
+			free(text);
+		}
+	}
+done_json:
+	if (mb.f)
+		free(ssc_membuf_take(&mb));
+	json_decref(chans);
+	json_decref(root);
+done:
+	sscope_capture_free(cap);
+	return rc;
+}
+
+/* ------------------------------------------------------------ dispatch */
+
+int ssc_cmd_adc(int argc, char **argv)
+{
+	if (argc >= 2 && !strcmp(argv[1], "report"))
+		return ssc_stage_main(&ssc_adc_stage, argc - 1, argv + 1);
+	if (argc >= 2 && !strcmp(argv[1], "quantize"))
+		return cmd_quantize(argc - 1, argv + 1);
+	if (argc >= 2 && !strcmp(argv[1], "test"))
+		return cmd_test(argc - 1, argv + 1);
+	if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h"))) {
+		printf("Usage: sensorscope adc report|quantize|test [OPTIONS]\n\n"
+		       "Converters and sensors:\n"
+		       "  adc report    will this ADC degrade the sensor? (ranked selection,\n"
+		       "                analytical terms and a Monte-Carlo check)\n"
+		       "  adc quantize  re-digitize a capture through a candidate converter\n"
+		       "  adc test      IEEE 1241 test of a converter from a sine capture\n\n"
+		       "'sensorscope adc SUBCOMMAND --help' describes each.\n\n"
+		       "Exit status: 0 success, 1 runtime or data error, 2 usage error.\n");
+		return SSC_EXIT_OK;
+	}
+	if (argc < 2)
+		return ssc_usage_error("adc", "give a subcommand: report, quantize or test");
+	return ssc_usage_error("adc", "unknown subcommand '%s' (report, quantize, test)", argv[1]);
+}

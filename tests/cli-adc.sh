@@ -1,0 +1,132 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# sensorscope adc: the seed's case (+-100 deg/s, 1 deg/h, 100 Hz: 16 bits
+# pass for ARW 0.1 deg/sqrt(h), fail for 0.005 deg/sqrt(h)), the
+# REFERENCE.md word-length numbers, the Monte-Carlo check, bad specs,
+# quantize (composing with allan) and the IEEE 1241 test.
+. "$(dirname "$0")/lib.sh"
+
+MEMS="$SAMPLES/gyro-seed-mems.ini"
+QUIET="$SAMPLES/gyro-seed-quiet.ini"
+A16="$SAMPLES/adc-seed-16bit.ini"
+A18="$SAMPLES/adc-seed-18bit.ini"
+# the Monte-Carlo checks are statistical; under valgrind only a short run
+if [ -n "$SSCOPE_RUN" ]; then MC="--monte-carlo 2 --mc-duration 20"; else MC="--monte-carlo 3 --mc-duration 1200"; fi
+
+run "adc --help" 0 adc --help
+has "adc --help lists the subcommands" "$T/out" 'adc quantize'
+run "adc report --help" 0 adc report --help
+has "report help shows the thresholds" "$T/out" 'Thresholds'
+run "adc quantize --help" 0 adc quantize --help
+run "adc test --help" 0 adc test --help
+run "no subcommand" 2 adc
+one_line_error "no subcommand"
+run "unknown subcommand" 2 adc frobnicate
+one_line_error "unknown subcommand"
+run "report without --adc" 2 adc report --sensor "$MEMS"
+one_line_error "report without --adc"
+
+# seed case, MEMS noise: 16 bits pass, LSB 10.99 deg/h, ARW_q 0.00529 deg/sqrt(h)
+run "seed MEMS, 16 bits" 0 adc report --sensor "$MEMS" --adc "$A16" $MC --format json
+json_check "contract shape" "$T/out" '.command == "adc report" and (.adcs | length) == 1 and (.adcs[0] | has("name") and has("bits") and has("lsb") and has("dithered") and has("min_bits") and has("verdict") and has("margin") and (.terms | has("quantization_arw") and has("bias_resolution") and has("offset_drift_bias") and has("reference_drift_scale_ppm") and has("range_headroom")) and (.monte_carlo | has("N_ratio") and has("B_ratio") and has("K_ratio")))'
+json_check "LSB 10.99 deg/h" "$T/out" '.adcs[0].lsb.unit == "deg/h" and ((.adcs[0].lsb.value - 10.986328125) | fabs) < 1e-9'
+json_check "ARW_q 0.00529 deg/sqrt(h)" "$T/out" '.adcs[0].terms.quantization_arw.unit == "deg/sqrt(h)" and ((.adcs[0].terms.quantization_arw.value - 0.0052858) | fabs) < 1e-6'
+json_check "16 bits pass, dithered" "$T/out" '.adcs[0].verdict == "pass" and .adcs[0].dithered and .adcs[0].min_bits == 14'
+if [ -z "$SSCOPE_RUN" ]; then
+	json_check "Monte Carlo: N and B kept within 1 %" "$T/out" '.adcs[0].monte_carlo | (.N.lo > 0.99 and .N.hi < 1.01 and .B.lo > 0.97 and .B.hi < 1.03)'
+fi
+
+# seed case, quiet gyro: 16 bits fail (sigma/q = 0.27), 18 needed
+run "seed quiet, 16 bits" 0 adc report --sensor "$QUIET" --adc "$A16" $MC --format json
+json_check "16 bits fail, not dithered" "$T/out" '.adcs[0].verdict == "fail" and (.adcs[0].dithered | not) and ((.adcs[0].sigma_over_q - 0.273) | fabs) < 0.002 and .adcs[0].min_bits == 18'
+json_check "the 0.37 deg/h bias is mis-estimated by 46 %" "$T/out" '((.adcs[0].terms.sensor_bias_error.value / 0.37 + 0.46) | fabs) < 0.01'
+if [ -z "$SSCOPE_RUN" ]; then
+	json_check "Monte Carlo: B lost, N inflated" "$T/out" '.adcs[0].monte_carlo | (.B.hi < 1 and .N.lo > 1.05)'
+fi
+# oversampling 16x: the quiet gyro's white noise to 800 Hz dithers the
+# conversions (sigma/q 1.09) and the average gains 2 bits: 16 bits pass
+run "seed quiet, 16 bits oversampled" 0 adc report --sensor "$QUIET" --adc "$SAMPLES/adc-seed-16bit-os16.ini" $MC --format json
+json_check "oversampled 16 bits pass" "$T/out" '.adcs[0].verdict == "pass" and .adcs[0].dithered and .adcs[0].oversample == 16 and ((.adcs[0].terms.quantization_arw.value - 0.0052858 / 4) | fabs) < 1e-6'
+if [ -z "$SSCOPE_RUN" ]; then
+	json_check "Monte Carlo: N ratio 1.034 (analytic), B kept" "$T/out" '.adcs[0].monte_carlo | (((.N.value - 1.0342) | fabs) < 0.01 and .B.lo > 0.97 and .B.hi < 1.03)'
+fi
+run "seed quiet, ranked" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A18" --monte-carlo 0
+has "18 bits ranked first" "$T/out" '^  1 +18-bit'
+has "16 bits ranked second, failing" "$T/out" '^  2 +16-bit.* fail '
+run "csv selection table" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A18" --monte-carlo 0 --format csv
+has "csv header" "$T/out" '^rank,name,file,bits'
+run "analog converters" 0 adc report --sensor "$SAMPLES/gyro-mems-250.ini" --adc "$SAMPLES/adc-12bit.ini" --adc "$SAMPLES/adc-16bit.ini" --monte-carlo 0 --format json
+json_check "16-bit SAR passes, 12-bit MCU fails" "$T/out" '[.adcs[] | .verdict] == ["fail","pass"] and .adcs[1].rank == 1 and ((.adcs[1].terms.range_headroom - 1.1) | fabs) < 1e-9'
+printf '[adc]\nbits = 16\nrange = -8:8 g\nrate = 200 Hz\n' >"$T/acc.ini"
+run "analog converter needs a sensitivity" 1 adc report --sensor "$MEMS" --adc "$SAMPLES/adc-16bit.ini" --monte-carlo 0
+one_line_error "analog converter needs a sensitivity"
+has "names the converter file" "$T/err" 'adc-16bit.ini: .*sensitivity'
+run "converter of another quantity" 1 adc report --sensor "$MEMS" --adc "$T/acc.ini" --monte-carlo 0
+one_line_error "converter of another quantity"
+
+# integrating (delta-v counter) mode on an accelerometer: IEEE Q term
+# q/(fs sqrt 12), no lost bias
+printf '[sensor]\nrange = 8 g\nnoise_density = 50 ug/sqrt(Hz)\nbias_instability = 20 ug\n' >"$T/accs.ini"
+printf '[adc]\nbits = 16\nrange = -8:8 g\nrate = 200 Hz\nmode = integrate\n' >"$T/acci.ini"
+run "integrating converter" 0 adc report --sensor "$T/accs.ini" --adc "$T/acci.ini" --monte-carlo 0 --format json
+json_check "Q = q/(fs sqrt 12), ARW entry sqrt(3) Q, no lost bias" "$T/out" '.adcs[0] | (.mode == "integrate" and ((.terms.quantization_Q.si / (16 * 9.80665 / 65536 / (200 * (12 | sqrt))) - 1) | fabs) < 1e-12 and ((.terms.quantization_arw.si / .terms.quantization_Q.si - (3 | sqrt)) | fabs) < 1e-12 and .terms.bias_resolution.si == 0 and .lsb.unit == "ug")'
+
+# bad specs: one line naming the key, exit 1
+printf '[adc]\nrange = -100:100 deg/s\n' >"$T/nobits.ini"
+run "missing bits" 1 adc report --sensor "$MEMS" --adc "$T/nobits.ini"
+one_line_error "missing bits"
+has "names bits" "$T/err" 'nobits.ini: \[adc\] bits: missing'
+printf '[adc]\nbits = 16\nrange = -100 deg/s\n' >"$T/neg.ini"
+run "negative range" 1 adc report --sensor "$MEMS" --adc "$T/neg.ini"
+one_line_error "negative range"
+has "names range" "$T/err" 'range: .*positive'
+printf '[adc]\nbits = 16\nrange = -100:100 parsecs/s\n' >"$T/unit.ini"
+run "unknown unit" 1 adc report --sensor "$MEMS" --adc "$T/unit.ini"
+one_line_error "unknown unit"
+has "names range and the unit" "$T/err" 'range: .*parsecs'
+
+# quantize: values on the grid, composes with allan
+run "quantize 8 bits" 0 adc quantize --bits 8 --range -1:1 -c gx "$SAMPLES/gyro-static.csv" -o "$T/q.csv"
+awk -F, 'NR > 1 { v = $NF * 128; d = v - int(v + (v < 0 ? -0.5 : 0.5)); if (d > 1e-9 || d < -1e-9) bad++ } END { exit bad > 0 }' "$T/q.csv" \
+	&& ok "quantized values are multiples of 1/128 deg/s" || not_ok "quantized values are multiples of 1/128 deg/s"
+has "quantize keeps the rate as a time column" "$T/q.csv" '^t \[s\],gx \[deg/s\]'
+if ss adc quantize --bits 12 --range -1:1 "$SAMPLES/gyro-static.csv" 2>"$T/err" |
+	ss allan - --format json >"$T/allan.json" 2>>"$T/err"; then
+	ok "quantize | allan"
+else
+	not_ok "quantize | allan"
+	diag "$T/err"
+fi
+json_check "allan reads the quantized capture" "$T/allan.json" '.command == "allan" and (.channels | length) == 3'
+run "quantize integrate" 0 adc quantize --bits 8 --range -1:1 --mode integrate -c gz "$SAMPLES/gyro-static.csv" -o "$T/qi.csv"
+run "quantize without range" 2 adc quantize --bits 8 "$SAMPLES/gyro-static.csv"
+one_line_error "quantize without range"
+
+# IEEE 1241 test: an ideal 10-bit quantizer has ENOB 10 within 0.1
+printf '[sensor]\nname = quiet\nnoise_density = 1e-6 deg/sqrt(h)\n' >"$T/s.ini"
+run "sine" 0 simulate --sensor "$T/s.ini" --rate 1000 --duration 8.192 --tone 37.1234:0.999 --no-clip -o "$T/sine.csv"
+run "sine through 10 bits" 0 adc quantize --bits 10 --range -1:1 "$T/sine.csv" -o "$T/sq.csv"
+run "adc test" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --format json
+json_check "ENOB 10 within 0.1, frequency found" "$T/out" '.channels[0] | ((.enob - 10) | fabs) < 0.1 and ((.sine_fit.frequency_hz - 37.1234) | fabs) < 1e-4 and .histogram.bits == 10'
+run "adc test --plot without --bits" 2 adc test "$T/sq.csv" --plot "$T/x.png"
+one_line_error "adc test --plot without --bits"
+run "adc test text" 0 adc test "$T/sq.csv"
+has "text shows SINAD" "$T/out" 'SINAD'
+
+# simulate --adc: the quiet gyro through 16 bits reads multiples of the LSB
+run "simulate --adc" 0 simulate --sensor "$QUIET" --adc "$A16" --rate 100 --duration 10 -o "$T/sa.csv"
+awk -F, 'NR > 1 { v = $2 * 32768 / 100; d = v - int(v + (v < 0 ? -0.5 : 0.5)); if (d > 1e-6 || d < -1e-6) bad++ } END { exit bad > 0 }' "$T/sa.csv" \
+	&& ok "simulated values on the 16-bit grid" || not_ok "simulated values on the 16-bit grid"
+run "simulate --adc in volts without sensitivity" 2 simulate --sensor "$QUIET" --adc "$SAMPLES/adc-12bit.ini" --rate 100 --duration 1
+one_line_error "simulate --adc in volts without sensitivity"
+run "simulate --adc analog" 0 simulate --sensor "$SAMPLES/gyro-mems-250.ini" --adc "$SAMPLES/adc-12bit.ini" --rate 1000 --duration 1 -o "$T/sb.csv"
+
+if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
+	run "adc test plot" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --plot "$T/dnl.png"
+	[ -s "$T/dnl.png" ] && ok "DNL/INL plot written" || not_ok "DNL/INL plot written"
+	run "report plot" 0 adc report --sensor "$QUIET" --adc "$A16" --adc "$A18" --monte-carlo 1 --mc-duration 60 --plot "$T/adc.png"
+	[ -s "$T/adc.png" ] && ok "plot written" || not_ok "plot written"
+else
+	run "report plot without OpenCV" 2 adc report --sensor "$QUIET" --adc "$A16" --plot "$T/adc.png"
+fi
+done_testing

@@ -1,0 +1,587 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Converter model: quantization noise against its closed forms (SQNR
+ * 6.02 N + 1.76 dB, AVAR q^2/(12 fs tau), 3 Q^2 / tau^2), the dither bias
+ * bound of Widrow & Kollar checked by simulation, IEEE 1241 ENOB of an
+ * ideal quantizer, code-density recovery of injected INL/DNL, spec errors,
+ * and the REFERENCE.md word-length table (+-100 deg/s, 100 Hz).
+ * Tolerances are from the estimators' statistics with fixed seeds.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+#include "sscope-adc.h"
+
+#define PI 3.14159265358979323846
+#define DEG (PI / 180)
+
+/* smaller records under valgrind (CK_FORK=no) */
+static size_t scaled(size_t n)
+{
+	const char *f = getenv("CK_FORK");
+
+	return f && !strcmp(f, "no") ? n / 4 : n;
+}
+
+static struct sscope_adc_spec ideal(int bits, double lo, double hi)
+{
+	struct sscope_adc_spec s;
+
+	memset(&s, 0, sizeof(s));
+	s.bits = bits;
+	s.lo = lo;
+	s.hi = hi;
+	s.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	s.ref_temp_degc = 25;
+	return s;
+}
+
+/* SQNR of an ideal quantizer on a full-scale sine: 6.02 N + 1.76 dB.
+ * The error e is (very nearly) uniform on +-q/2 and independent of the
+ * phase; mean(e^2) has relative sd sqrt(1/80 - 1/144) * 12 / sqrt(n) =
+ * 0.894 / sqrt(n); 4 sd in dB. */
+START_TEST(test_sqnr)
+{
+	static const int bits[] = { 10, 12, 16 };
+	size_t n = scaled(1 << 16);
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+
+	ck_assert(x && y);
+	for (size_t b = 0; b < 3; b++) {
+		struct sscope_adc_spec s = ideal(bits[b], -1, 1);
+		struct sscope_adc *a;
+		double q = 2 / ldexp(1, bits[b]), A = 1 - q, e2 = 0, sqnr, theory;
+		double f = (3 - sqrt(5.0)) / 2; /* badly approximable: phases spread */
+		double tol = 4 * 10 / log(10) * 0.894 / sqrt((double)n);
+		size_t clipped = 0;
+
+		ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+		ck_assert_rel(sscope_adc_lsb(a), q, 1e-15);
+		for (size_t i = 0; i < n; i++)
+			x[i] = A * sin(2 * PI * f * (double)i + 0.3);
+		ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, 100, NULL, y, NULL,
+						     &clipped), 0);
+		ck_assert_uint_eq(clipped, 0);
+		for (size_t i = 0; i < n; i++)
+			e2 += (y[i] - x[i]) * (y[i] - x[i]);
+		e2 /= (double)n;
+		sqnr = 10 * log10(A * A / 2 / e2);
+		/* the formula is for amplitude FS/2 = 1: scale to A */
+		theory = 6.02 * bits[b] + 1.76 + 20 * log10(A);
+		ck_assert_msg(fabs(sqnr - theory) <= tol + 0.005,
+			      "%d bits: SQNR %.4f dB, theory %.4f dB, tol %.4f",
+			      bits[b], sqnr, theory, tol);
+		sscope_adc_free(a);
+	}
+	free(x);
+	free(y);
+}
+END_TEST
+
+/* the deviation of the error record e at m = 1, 10, 100 against AVAR
+ * model(tau); 4 sd of the AVAR estimate, sd from the EDF */
+static void check_avar(const double *e, size_t n, double fs, int alpha,
+		       double (*model)(double tau, double q, double fs), double q)
+{
+	struct sscope_allan *plan;
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan_point pts[3];
+	size_t m[] = { 1, 10, 100 }, np;
+
+	o.alpha_fixed = true;
+	o.alpha = alpha;
+	o.threads = 1;
+	ck_assert_int_eq(sscope_allan_new(&plan, n, &o), 0);
+	ck_assert_int_eq(sscope_allan_compute(plan, e, 1, n, fs, m, 3, pts, &np,
+					      NULL), 0);
+	ck_assert_uint_eq(np, 3);
+	for (size_t i = 0; i < np; i++) {
+		double av = pts[i].dev * pts[i].dev, th = model(pts[i].tau_s, q, fs);
+		double tol = 4 * sqrt(2 / pts[i].edf);
+
+		ck_assert_msg(fabs(av / th - 1) <= tol,
+			      "tau %g: AVAR %.6g, theory %.6g (ratio %.4f, tol %.4f)",
+			      pts[i].tau_s, av, th, av / th, tol);
+	}
+	sscope_allan_free(plan);
+}
+
+static double avar_round(double tau, double q, double fs)
+{
+	return q * q / (12 * fs * tau);
+}
+
+static double avar_integrate(double tau, double q, double fs)
+{
+	double Q = q / (fs * sqrt(12.0));
+
+	return 3 * Q * Q / (tau * tau);
+}
+
+static void noise_record(double *x, size_t n, double sd, unsigned long seed)
+{
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	gsl_rng_set(r, seed);
+	for (size_t i = 0; i < n; i++)
+		x[i] = 0.37 * sd + gsl_ran_gaussian_ziggurat(r, sd);
+	gsl_rng_free(r);
+}
+
+/* rate rounding adds white rate noise: AVAR q^2 / (12 fs tau) */
+START_TEST(test_avar_round)
+{
+	size_t n = scaled(200000);
+	double fs = 100, *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	struct sscope_adc_spec s = ideal(12, -1, 1);
+	struct sscope_adc *a;
+	double q = 2.0 / 4096;
+
+	ck_assert(x && y);
+	noise_record(x, n, 2 * q, 11);
+	ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+	ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, fs, NULL, y, NULL, NULL), 0);
+	for (size_t i = 0; i < n; i++)
+		y[i] -= x[i];
+	check_avar(y, n, fs, 0, avar_round, q);
+	sscope_adc_free(a);
+	free(x);
+	free(y);
+}
+END_TEST
+
+/* integrating counter with the residual carried: 3 Q^2 / tau^2 with
+ * Q = q / (fs sqrt 12) (white angle noise) */
+START_TEST(test_avar_integrate)
+{
+	size_t n = scaled(200000);
+	double fs = 100, *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	struct sscope_adc_spec s = ideal(12, -1, 1);
+	struct sscope_adc *a;
+	double q = 2.0 / 4096, sum_in = 0, sum_out = 0;
+
+	ck_assert(x && y);
+	s.mode = SSCOPE_ADC_INTEGRATE;
+	noise_record(x, n, 3 * q, 12);
+	ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+	ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, fs, NULL, y, NULL, NULL), 0);
+	for (size_t i = 0; i < n; i++) {
+		sum_in += x[i];
+		sum_out += y[i];
+		y[i] -= x[i];
+	}
+	/* the integral is kept to within half a count */
+	ck_assert_msg(fabs(sum_out - sum_in) / fs <= 0.5 * q / fs * (1 + 1e-9),
+		      "integral error %g", fabs(sum_out - sum_in) / fs);
+	check_avar(y, n, fs, 2, avar_integrate, q);
+	sscope_adc_free(a);
+	free(x);
+	free(y);
+}
+END_TEST
+
+/* The mean error of a quantizer under Gaussian noise is bounded by
+ * (q/pi) exp(-2 pi^2 sigma^2/q^2), and at mu = q/4 (sin = 1) the first
+ * Fourier term attains it: simulated within 4 standard errors. */
+START_TEST(test_dither_bound)
+{
+	static const double ratios[] = { 0.2, 0.27, 0.35, 0.5 };
+	size_t n = scaled(400000);
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	struct sscope_adc_spec s = ideal(8, -1, 1);
+	struct sscope_adc *a;
+	double q = 2.0 / 256;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	ck_assert(x && y && r);
+	ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+	for (size_t k = 0; k < 4; k++) {
+		double sig = ratios[k] * q, mu = q / 4, mean = 0, var = 0, bias, se;
+		double bound = sscope_adc_dither_bound(q, sig);
+		double second = q / (2 * PI) * exp(-8 * PI * PI * sig * sig / (q * q));
+
+		gsl_rng_set(r, 100 + k);
+		for (size_t i = 0; i < n; i++)
+			x[i] = mu + gsl_ran_gaussian_ziggurat(r, sig);
+		ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, 100, NULL, y, NULL,
+						     NULL), 0);
+		for (size_t i = 0; i < n; i++)
+			mean += y[i] - x[i];
+		mean /= (double)n;
+		for (size_t i = 0; i < n; i++)
+			var += (y[i] - x[i] - mean) * (y[i] - x[i] - mean);
+		se = sqrt(var / (double)(n - 1) / (double)n);
+		bias = fabs(mean);
+		ck_assert_msg(bias <= bound + 4 * se,
+			      "sigma/q %.2f: bias %.4g q > bound %.4g q + 4 se",
+			      ratios[k], bias / q, bound / q);
+		/* tight: the first term is the bound; the second harmonic
+		 * vanishes at mu = q/4 (sin pi = 0), the third is below
+		 * bound * exp(-16 pi^2 sigma^2/q^2) / 3 */
+		ck_assert_msg(bias >= bound * (1 - exp(-16 * PI * PI * ratios[k] * ratios[k]) / 3) -
+					      4 * se,
+			      "sigma/q %.2f: bias %.4g q well below the bound %.4g q",
+			      ratios[k], bias / q, bound / q);
+		(void)second;
+		/* an arbitrary mean (the seed's 0.37 deg/h at q = 10.99 deg/h):
+		 * the first harmonic sscope_adc_bias_error() is the mean error
+		 * within the second harmonic's amplitude (q/2pi) exp(-8 pi^2
+		 * sigma^2/q^2) and 4 standard errors */
+		mu = 0.37 / 10.986328125 * q;
+		gsl_rng_set(r, 200 + k);
+		for (size_t i = 0; i < n; i++)
+			x[i] = mu + gsl_ran_gaussian_ziggurat(r, sig);
+		ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, 100, NULL, y, NULL,
+						     NULL), 0);
+		mean = 0;
+		for (size_t i = 0; i < n; i++)
+			mean += y[i] - x[i];
+		mean /= (double)n;
+		ck_assert_msg(fabs(mean - sscope_adc_bias_error(q, sig, mu)) <= second + 4 * se,
+			      "sigma/q %.2f: mean error %.4g q, first harmonic %.4g q",
+			      ratios[k], mean / q, sscope_adc_bias_error(q, sig, mu) / q);
+	}
+	sscope_adc_free(a);
+	gsl_rng_free(r);
+	free(x);
+	free(y);
+}
+END_TEST
+
+/* IEEE 1241: the ENOB of an ideal quantizer equals its word length within
+ * 0.1; the four-parameter fit finds the frequency. */
+START_TEST(test_enob_ideal)
+{
+	static const int bits[] = { 8, 12 };
+	size_t n = scaled(16384);
+	double fs = 1000, f0 = 1000 * 0.0371234;
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+
+	ck_assert(x && y);
+	for (size_t b = 0; b < 2; b++) {
+		struct sscope_adc_spec s = ideal(bits[b], -1, 1);
+		struct sscope_adc *a;
+		struct sscope_adc_dynamic d;
+		double q = 2 / ldexp(1, bits[b]);
+
+		ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+		for (size_t i = 0; i < n; i++)
+			x[i] = (1 - q) * cos(2 * PI * f0 * (double)i / fs + 0.7) + 0.1 * q;
+		ck_assert_int_eq(sscope_adc_digitize(a, x, 1, n, fs, NULL, y, NULL,
+						     NULL), 0);
+		ck_assert_int_eq(sscope_adc_dynamic_test(y, n, fs, 2, &d), 0);
+		ck_assert_msg(fabs(d.enob - bits[b]) <= 0.1, "%d bits: ENOB %.4f",
+			      bits[b], d.enob);
+		ck_assert_rel(d.fit.freq_hz, f0, 1e-6);
+		ck_assert_rel(d.fit.amplitude, 1 - q, q / 10);
+		ck_assert_msg(fabs(d.sinad_db - (6.02 * bits[b] + 1.76 + 20 * log10(1 - q))) < 0.6,
+			      "SINAD %.3f", d.sinad_db);
+		sscope_adc_free(a);
+	}
+	free(x);
+	free(y);
+}
+END_TEST
+
+/* THD of a sine with a known 3rd harmonic (-60 dBc) */
+START_TEST(test_thd)
+{
+	size_t n = 8192;
+	double fs = 1000, f0 = 1000 * 0.0512345, *x = malloc(n * sizeof(double));
+	struct sscope_adc_dynamic d;
+
+	ck_assert(x);
+	for (size_t i = 0; i < n; i++) {
+		double t = (double)i / fs;
+
+		x[i] = sin(2 * PI * f0 * t) + 1e-3 * sin(2 * PI * 3 * f0 * t + 0.4);
+	}
+	ck_assert_int_eq(sscope_adc_dynamic_test(x, n, fs, 0, &d), 0);
+	ck_assert_msg(fabs(d.thd_db + 60) < 0.05, "THD %.4f dB", d.thd_db);
+	ck_assert_msg(fabs(d.sfdr_db - 60) < 0.5, "SFDR %.4f dB", d.sfdr_db);
+	free(x);
+}
+END_TEST
+
+/* Code density: an injected INL profile (and its DNL) is recovered.
+ * The sine's phases are the golden-ratio Kronecker sequence, whose
+ * discrepancy is O(log S / S): cumulative counts are then within a few
+ * tens of their expectation (not sqrt(S) as with random phases), i.e.
+ * within 0.05 LSB at >= 600 counts per code. */
+START_TEST(test_histogram)
+{
+	const int bits = 8;
+	size_t nc = 256, S = scaled(1 << 18);
+	double *inl = malloc(nc * sizeof(double)), *x = malloc(S * sizeof(double));
+	double *y = malloc(S * sizeof(double)), *dnl_r = malloc(nc * sizeof(double));
+	double *inl_r = malloc(nc * sizeof(double)), dmax, imax;
+	int64_t *codes = malloc(S * sizeof(int64_t));
+	struct sscope_adc_spec s = ideal(bits, -1, 1);
+	struct sscope_adc *a;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	double phi = (sqrt(5.0) - 1) / 2, tol = S < (1u << 18) ? 0.1 : 0.05;
+	double w_true[256];
+
+	ck_assert(inl && x && y && dnl_r && inl_r && codes && r);
+	gsl_rng_set(r, 5);
+	/* transitions with random widths 1 + U(-0.4, 0.4) LSB plus a bow */
+	inl[0] = 0;
+	{
+		double c = 0;
+
+		for (size_t k = 1; k < nc; k++) {
+			inl[k] = c + 0.8 * sin(PI * (double)k / (double)nc);
+			c += 0.8 * (gsl_rng_uniform(r) - 0.5);
+		}
+	}
+	ck_assert_int_eq(sscope_adc_new(&a, &s, 1, 0, 1, NULL), 0);
+	ck_assert_int_eq(sscope_adc_set_inl(a, inl, nc), 0);
+	for (size_t i = 0; i < S; i++) {
+		double ph = fmod((double)i * phi, 1.0);
+
+		x[i] = 1.03 * sin(2 * PI * ph) - 1.0 / 256;
+	}
+	ck_assert_int_eq(sscope_adc_digitize(a, x, 1, S, 1000, NULL, y, codes, NULL), 0);
+	ck_assert_int_eq(sscope_adc_histogram_test(codes, S, nc, dnl_r, inl_r, &dmax,
+						   &imax), 0);
+	/* compare after removing a least-squares line over the same codes
+	 * (gain and offset are not INL) */
+	{
+		double sx = 0, sy = 0, sxx = 0, sxy = 0, m = 0, sl, ic, mw = 0;
+		size_t nw = 0;
+
+		for (size_t k = 0; k < nc; k++) {
+			if (!isfinite(inl_r[k]))
+				continue;
+			sx += (double)k;
+			sy += inl[k];
+			sxx += (double)k * (double)k;
+			sxy += (double)k * inl[k];
+			m++;
+		}
+		ck_assert(m > 200);
+		sl = (m * sxy - sx * sy) / (m * sxx - sx * sx);
+		ic = (sy - sl * sx) / m;
+		for (size_t k = 0; k < nc; k++) {
+			if (!isfinite(inl_r[k]))
+				continue;
+			ck_assert_msg(fabs(inl_r[k] - (inl[k] - ic - sl * (double)k) / (1 + sl)) <= tol,
+				      "INL[%zu] %.4f vs %.4f", k, inl_r[k],
+				      inl[k] - ic - sl * (double)k);
+		}
+		for (size_t k = 2; k + 1 < nc; k++) {
+			w_true[k] = 1 + inl[k + 1] - inl[k];
+			mw += w_true[k];
+			nw++;
+		}
+		mw = 1 + sl;
+		for (size_t k = 0; k < nc; k++) {
+			if (!isfinite(dnl_r[k]))
+				continue;
+			ck_assert_msg(fabs(dnl_r[k] - (w_true[k] / mw - 1)) <= 2 * tol,
+				      "DNL[%zu] %.4f vs %.4f", k, dnl_r[k],
+				      w_true[k] / mw - 1);
+		}
+		ck_assert(nw > 0);
+	}
+	ck_assert(dmax > 0.3 && imax > 0.3);
+	sscope_adc_free(a);
+	gsl_rng_free(r);
+	free(inl);
+	free(x);
+	free(y);
+	free(dnl_r);
+	free(inl_r);
+	free(codes);
+}
+END_TEST
+
+static int spec_err(const char *text, char *msg)
+{
+	struct sscope_ini *ini = NULL;
+	struct sscope_adc_spec s;
+	struct sscope_diag d = { "" };
+	int rc = sscope_ini_parse(&ini, text, strlen(text), "A.ini", NULL);
+
+	ck_assert_int_eq(rc, 0);
+	rc = sscope_adc_spec_from_ini(ini, "adc", &s, &d);
+	strcpy(msg, d.msg);
+	sscope_ini_free(ini);
+	return rc;
+}
+
+START_TEST(test_spec_errors)
+{
+	char msg[320];
+
+	ck_assert_int_eq(spec_err("[adc]\nrange = -2.5:2.5 V\n", msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "A.ini") && strstr(msg, "bits: missing"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = -100 deg/s\n", msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "range") && strstr(msg, "positive"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 5:-5 V\n", msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "range") && strstr(msg, "below"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = -5:5 furlong\n", msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "range") && strstr(msg, "furlong"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\nnoise = 3 deg/s\n", msg),
+			 -EINVAL);
+	ck_assert_msg(strstr(msg, "noise"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 40\nrange = 0:5 V\n", msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "bits"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\noversample = 0\n", msg),
+			 -EINVAL);
+	ck_assert_msg(strstr(msg, "oversample"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\nwhatever = 1\n", msg),
+			 -EINVAL);
+	ck_assert_msg(strstr(msg, "whatever"), "%s", msg);
+	/* a good one */
+	{
+		struct sscope_ini *ini = NULL;
+		struct sscope_adc_spec s;
+		const char *t = "[adc]\nname = x\nbits = 16\nrange = 0:3.3 V\nrate = 1 kHz\n"
+				"noise = 30 uV\ninl = 2 LSB\ndnl = 0.5\n"
+				"offset_drift = 2 uV/degC\ngain_drift = 20 ppm/degC\n"
+				"reference = ratiometric\nmode = integrate\noversample = 4\n";
+
+		ck_assert_int_eq(sscope_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
+		ck_assert_int_eq(sscope_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
+		ck_assert(s.analog);
+		ck_assert_rel(s.hi, 3.3, 1e-15);
+		ck_assert_rel(s.rate_hz, 1000, 1e-15);
+		ck_assert_rel(s.noise, 30e-6, 1e-12);
+		ck_assert_rel(s.offset_drift, 2e-6, 1e-12);
+		ck_assert_rel(s.gain_drift, 20e-6, 1e-12);
+		ck_assert_rel(s.inl_lsb, 2, 0);
+		ck_assert_int_eq(s.reference, SSCOPE_ADC_RATIOMETRIC);
+		ck_assert_int_eq(s.mode, SSCOPE_ADC_INTEGRATE);
+		ck_assert_uint_eq(s.oversample, 4);
+		sscope_ini_free(ini);
+	}
+}
+END_TEST
+
+static struct sscope_sensor_spec seed_gyro(double arw_deg_sqrt_h)
+{
+	struct sscope_sensor_spec g;
+
+	memset(&g, 0, sizeof(g));
+	g.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	g.has = SSCOPE_SPEC_RANGE | SSCOPE_SPEC_N | SSCOPE_SPEC_B;
+	g.range = 100 * DEG;
+	g.n = arw_deg_sqrt_h * DEG / 60;
+	g.b = 1 * DEG / 3600;
+	return g;
+}
+
+/* REFERENCE.md word-length table, +-100 deg/s at 100 Hz, and the seed's
+ * verdicts: 16 bits pass for ARW 0.1, fail for 0.005 deg/sqrt(h) */
+START_TEST(test_seed_case)
+{
+	static const struct {
+		int bits;
+		double lsb_deg_h, arw;
+	} tab[] = { { 12, 175.8, 0.0846 }, { 14, 43.9, 0.0211 }, { 16, 10.99, 0.00529 },
+		    { 18, 2.75, 0.00132 }, { 20, 0.69, 0.00033 } };
+	struct sscope_sensor_spec mems = seed_gyro(0.1), quiet = seed_gyro(0.005);
+	struct sscope_adc_analysis r;
+
+	for (size_t i = 0; i < 5; i++) {
+		struct sscope_adc_spec s = ideal(tab[i].bits, -100 * DEG, 100 * DEG);
+		double lsb, arw;
+
+		ck_assert_int_eq(sscope_adc_analyze(&mems, &s, 100, &r, NULL), 0);
+		lsb = r.lsb / DEG * 3600;
+		arw = r.n_quant / DEG * 60;
+		/* the table's rounding: 4 significant digits, 3 for small ones */
+		ck_assert_msg(fabs(lsb - tab[i].lsb_deg_h) <= 0.006 * tab[i].lsb_deg_h,
+			      "%d bits: LSB %.4f", tab[i].bits, lsb);
+		ck_assert_msg(fabs(arw - tab[i].arw) <= 0.006 * tab[i].arw,
+			      "%d bits: ARW_q %.6f", tab[i].bits, arw);
+	}
+	{
+		struct sscope_adc_spec s = ideal(16, -100 * DEG, 100 * DEG);
+
+		ck_assert_int_eq(sscope_adc_analyze(&mems, &s, 100, &r, NULL), 0);
+		ck_assert_int_eq(r.verdict, SSCOPE_ADC_PASS);
+		ck_assert(r.dithered);
+		ck_assert_rel(r.adev_q_100s / DEG * 3600, 0.0317, 0.01);
+		ck_assert_int_le(r.min_bits, 16);
+		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
+		ck_assert_int_eq(r.verdict, SSCOPE_ADC_FAIL);
+		ck_assert(!r.dithered);
+		ck_assert_rel(r.sigma_over_q, 0.273, 0.01);
+		ck_assert_int_eq(r.term[SSCOPE_ADC_T_BIAS].verdict, SSCOPE_ADC_FAIL);
+		ck_assert_int_gt(r.min_bits, 16);
+		/* at min_bits both word-length terms pass */
+		s.bits = r.min_bits;
+		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
+		ck_assert_int_eq(r.verdict, SSCOPE_ADC_PASS);
+		s.bits--;
+		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
+		ck_assert_int_ne(r.verdict, SSCOPE_ADC_PASS);
+	}
+	/* oversampling M: conversions at M fs, averaged: sigma/q grows by
+	 * sqrt(M) (white sensor noise to M fs/2), q/sqrt(12 M fs) */
+	{
+		struct sscope_adc_spec s = ideal(16, -100 * DEG, 100 * DEG);
+		double q = 200 * DEG / 65536;
+
+		s.oversample = 16;
+		ck_assert_int_eq(sscope_adc_analyze(&quiet, &s, 100, &r, NULL), 0);
+		ck_assert_rel(r.n_quant, q / sqrt(12 * 1600.0), 1e-12);
+		ck_assert_rel(r.sigma_over_q, quiet.n * sqrt(1600.0) / q, 1e-12);
+		ck_assert_rel(r.rate_hz, 100, 0);
+		ck_assert(r.dithered);
+		ck_assert_int_eq(r.verdict, SSCOPE_ADC_PASS);
+	}
+	/* temperature terms of REFERENCE.md: 2 uV/degC on 6 mV/(deg/s) =
+	 * 1.2 deg/h per degC; 20 ppm/degC over 60 degC = 0.12 % */
+	{
+		struct sscope_adc_spec s = ideal(16, 0, 5);
+		struct sscope_sensor_spec g = mems;
+
+		s.analog = true;
+		s.quantity = SSCOPE_QTY_VOLTAGE;
+		s.offset_drift = 2e-6;
+		s.gain_drift = 20e-6;
+		g.has |= SSCOPE_SPEC_SENSITIVITY | SSCOPE_SPEC_ZERO | SSCOPE_SPEC_TEMPS;
+		g.sensitivity = 6e-3 / DEG;
+		g.zero_output_v = 2.5;
+		g.temp_min_degc = -10;
+		g.temp_max_degc = 50;
+		ck_assert_int_eq(sscope_adc_analyze(&g, &s, 100, &r, NULL), 0);
+		ck_assert_rel(r.offset_drift_bias / DEG * 3600, 1.2 * 60, 1e-9);
+		ck_assert_rel(r.scale_drift, 1.2e-3, 1e-9);
+		s.reference = SSCOPE_ADC_RATIOMETRIC;
+		ck_assert_int_eq(sscope_adc_analyze(&g, &s, 100, &r, NULL), 0);
+		ck_assert(r.scale_drift == 0);
+		/* +-2.5 V / 6 mV/(deg/s) = +-416.7 deg/s: 4.17x headroom */
+		ck_assert_rel(r.headroom, 2.5 / 6e-3 / 100, 1e-12);
+	}
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("adc");
+	TCase *tc = tcase_create("adc");
+
+	tcase_set_timeout(tc, 120);
+	tcase_add_test(tc, test_sqnr);
+	tcase_add_test(tc, test_avar_round);
+	tcase_add_test(tc, test_avar_integrate);
+	tcase_add_test(tc, test_dither_bound);
+	tcase_add_test(tc, test_enob_ideal);
+	tcase_add_test(tc, test_thd);
+	tcase_add_test(tc, test_histogram);
+	tcase_add_test(tc, test_spec_errors);
+	tcase_add_test(tc, test_seed_case);
+	suite_add_tcase(s, tc);
+	return s;
+}
