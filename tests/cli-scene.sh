@@ -8,7 +8,7 @@
 
 cp "$SAMPLES/gyro-static.csv" "$SAMPLES/imu-multipose.csv" "$T/"
 
-scene() { printf "$2" >"$T/$1"; }
+scene() { f=$1; shift; printf "$@" >"$T/$f"; }
 
 run "run --help" 0 run --help
 run "report --help" 0 report --help
@@ -103,6 +103,19 @@ run "report with a constant temperature" 0 report -o "$T/flat" "$T/flat.csv"
 has "tempbias refusal shown" "$T/err" 'tempbias: not in the report'
 json_check "allan reported, tempbias not" "$T/flat/report.json" '(.results | has("allan")) and (.results | has("tempbias") | not)'
 has "the HTML says why" "$T/flat/report.html" "Stage 'tempbias': inferred, but refused by the data: temperature span"
+
+# [adc]: files or an inline specification; the ADC report needs a sensor
+cp "$SAMPLES/gyro-seed-mems.ini" "$T/"
+scene adc1.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nname = inline 16\nbits = 16\nrange = -100:100 deg/s\nrate = 100 Hz\nmonte-carlo = 0\n[report]\nformats = json\n'
+run "inline [adc]" 0 run -o "$T/adc1" "$T/adc1.ini"
+json_check "the seed's LSB from the inline spec" "$T/adc1/adc.json" '(.adcs[0].lsb.value - 10.986 | fabs) < 0.01 and .adcs[0].verdict == "pass"'
+scene adc2.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nbits = 16\nrange = -100:100 deg/sfoo\n'
+run "inline [adc] with a bad unit" 2 run "$T/adc2.ini"
+one_line_error "inline [adc] with a bad unit"
+has "names the scene line" "$T/err" "adc2.ini: line 6: range: unknown unit"
+scene adc3.ini '[adc]\nspec = %s\n' "$SAMPLES/adc-16bit.ini"
+run "[adc] without a sensor" 2 run "$T/adc3.ini"
+has "impossible without [sensor]" "$T/err" 'impossible request: \[adc\] needs a \[sensor\]'
 
 # every sample scene runs
 for sc in "$SAMPLES"/*.scene.ini; do

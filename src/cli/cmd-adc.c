@@ -682,7 +682,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 	const char *spath;
 	const char *paths[MAX_ADC];
 	struct adc_res ar[MAX_ADC];
-	int n = 0, order[MAX_ADC], rc = SSC_EXIT_OK;
+	int n = 0, order[MAX_ADC], rc = SSC_EXIT_OK, inline_at = -1;
 	struct ssc_membuf mb;
 	json_t *root, *arr;
 
@@ -703,6 +703,10 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 		paths[n++] = o->adc[i];
 	for (size_t i = 0; i < env->n_adc && n < MAX_ADC; i++)
 		paths[n++] = env->adc_paths[i];
+	if (env->adc_ini && n < MAX_ADC) {
+		inline_at = n;
+		paths[n++] = sscope_ini_name(env->adc_ini);
+	}
 	if (!n)
 		return ssc_usage_error(cmd, "no converter: give --adc ADC.ini");
 	for (int i = 0; i < n; i++) {
@@ -710,7 +714,9 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 		int e;
 
 		ar[i].path = paths[i];
-		e = sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
+		e = i == inline_at ?
+			    sscope_adc_spec_from_ini(env->adc_ini, "adc", &ar[i].spec, &d) :
+			    sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
 		if (e) {
 			rc = ssc_fail(cmd, e, &d, "adc spec");
 			goto done;

@@ -24,8 +24,8 @@
 #include "html.h"
 
 enum {
-	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_CALIB,
-	S_BUDGET, S_COUNT_
+	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
+	S_CALIB, S_BUDGET, S_COUNT_
 };
 
 static const struct ssc_stage_def stages[] = {
@@ -71,6 +71,15 @@ static const struct ssc_stage_def stages[] = {
 			"tilts; look-up table interpolated linearly (or by "
 			"cubic spline) in temperature, clamped outside the "
 			"calibrated range." },
+	[S_ADC] = { "adc", &ssc_adc_stage, 0,
+		    "LSB q = range / 2^bits; white quantization noise q^2/12 "
+		    "(rate rounding: AVAR q^2 / (12 fs tau); integrating: "
+		    "3 Q^2 / tau^2 with Q = q / sqrt(12)) added to the "
+		    "sensor's noise density; dither criterion sigma/q >= 0.5 "
+		    "with the first-harmonic bound of the bias a quiet input "
+		    "loses; offset and reference drift over the spec's "
+		    "temperature range; Monte Carlo: simulate, digitize, "
+		    "refit N, B, K and compare." },
 	[S_CALIB] = { "calib", &ssc_calib_stage, 0,
 		      "Error model corrected = T K (reading - bias) (Tedaldi, "
 		      "Pretto & Menegatti, ICRA 2014): static intervals found by "
@@ -105,6 +114,7 @@ struct ssc_scene {
 	char *sensor_path;
 	char *adc_paths[8];
 	size_t n_adc;
+	struct sscope_ini *adc_ini; /* inline [adc] specification */
 	/* stages */
 	unsigned want;          /* bit per stage: requested */
 	unsigned run;           /* bit per stage: will run */
@@ -221,6 +231,7 @@ void ssc_scene_free(struct ssc_scene *sc)
 	}
 	for (size_t i = 0; i < sc->n_adc; i++)
 		free(sc->adc_paths[i]);
+	sscope_ini_free(sc->adc_ini);
 	sscope_ini_free(sc->ini);
 	free(sc->columns);
 	free(sc->units);
@@ -397,16 +408,78 @@ static int parse_sensor(const char *cmd, struct ssc_scene *sc)
 	return SSC_EXIT_OK;
 }
 
+/* Is key a long option of the stage's command (or a scene stage key)? */
+static bool stage_key(size_t s, const char *key)
+{
+	const struct ssc_option *o = stages[s].ops->spec->options;
+
+	if (!strcasecmp(key, "plot") || !strcasecmp(key, "uses") ||
+	    !strcasecmp(key, "column") || !strcasecmp(key, "columns"))
+		return true;
+	while (o && o->name && strcasecmp(o->name, key))
+		o++;
+	return o && o->name;
+}
+
+/* [adc]: 'spec = FILE[, FILE...]' or an inline specification, plus the
+ * options of 'adc report'.  The inline keys are parsed as an [adc]
+ * section kept at the scene's line numbers, so errors name the line. */
 static int parse_adc(const char *cmd, struct ssc_scene *sc)
 {
-	size_t line = 0;
+	size_t line = 0, sec_line = 0, n_inline = 0, len = 0, cur = 1;
 	const char *spec = sscope_ini_get(sc->ini, "adc", "spec", &line);
+	char *text;
 
-	if (!spec)
-		return SSC_EXIT_OK; /* inline keys: read by the adc stage */
-	if (sscope_ini_n_keys(sc->ini, "adc") > 1)
-		return scene_error(cmd, sc, line,
+	for (size_t k = 0; k < sscope_ini_n_sections(sc->ini); k++) {
+		size_t l;
+		const char *name = sscope_ini_section(sc->ini, k, &l);
+
+		if (!strcasecmp(name, "adc"))
+			sec_line = l;
+	}
+	for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, "adc"); k++) {
+		const char *v, *key = sscope_ini_key(sc->ini, "adc", k, &v, &line);
+
+		if (strcasecmp(key, "spec") && !stage_key(S_ADC, key)) {
+			n_inline++;
+			len += strlen(key) + strlen(v) + 8 + line;
+		}
+	}
+	if (spec && n_inline)
+		return scene_error(cmd, sc, 0,
 				   "[adc] takes either 'spec = FILE[, FILE...]' or inline keys, not both");
+	if (n_inline) {
+		struct sscope_diag d = { "" };
+		struct sscope_adc_spec tmp;
+		int e;
+
+		text = calloc(1, len + sec_line + 16);
+		for (; cur < sec_line; cur++)
+			strcat(text, "\n");
+		strcat(text, "[adc]\n");
+		cur++;
+		for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, "adc"); k++) {
+			const char *v, *key = sscope_ini_key(sc->ini, "adc", k, &v, &line);
+
+			if (!strcasecmp(key, "spec") || stage_key(S_ADC, key))
+				continue;
+			for (; cur < line; cur++)
+				strcat(text, "\n");
+			sprintf(text + strlen(text), "%s = %s\n", key, v);
+			cur++;
+		}
+		e = sscope_ini_parse(&sc->adc_ini, text, strlen(text), sc->path, &d);
+		free(text);
+		if (!e)
+			e = sscope_adc_spec_from_ini(sc->adc_ini, "adc", &tmp, &d);
+		if (e) {
+			ssc_err(cmd, "%s", d.msg[0] ? d.msg : sscope_strerror(e));
+			return SSC_EXIT_USAGE;
+		}
+		return SSC_EXIT_OK;
+	}
+	if (!spec)
+		return SSC_EXIT_OK;
 	{
 		char *copy = xstrdup(spec), *items[8];
 		size_t n = split_list(copy, items, 8);
@@ -492,6 +565,8 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 			sc->stage_columns[s] = xstrdup(value);
 			continue;
 		}
+		if (s == S_ADC && (!strcasecmp(key, "spec") || !stage_key(s, key)))
+			continue; /* the converter's specification */
 		if (!strcasecmp(key, "plot")) {
 			bool on;
 
@@ -588,7 +663,7 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 					   "impossible request: [%s] needs a [sensor] specification",
 					   stages[s].name);
 		if ((stages[s].ops->needs & SSC_NEED_ADC) && !sc->n_adc &&
-		    !sscope_ini_has_section(sc->ini, "adc"))
+		    !sc->adc_ini)
 			return scene_error(cmd, sc, 0,
 					   "impossible request: [%s] needs an [adc] specification",
 					   stages[s].name);
@@ -632,7 +707,8 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 		if (sc->want & (1u << s))
 			set_why(sc, s, "requested by [%s]", stages[s].name);
 		else if (s == S_INFO)
-			set_why(sc, s, "always: describes the inputs");
+			set_why(sc, s, sc->n_files ? "always: describes the inputs" :
+						     "no captures to describe");
 		else if (sc->run & (1u << s)) {
 			for (size_t t = 0; t < N_STAGES; t++)
 				if (sc->uses[t] & (1u << s))
@@ -667,7 +743,7 @@ int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
 		long s;
 
 		if (!strcasecmp(name, "input") || !strcasecmp(name, "sensor") ||
-		    !strcasecmp(name, "adc") || !strcasecmp(name, "report"))
+		    !strcasecmp(name, "report"))
 			continue;
 		s = stage_index(name);
 		if (s < 0 || s == S_INFO) {
@@ -1262,6 +1338,7 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 	for (size_t a = 0; a < sc->n_adc; a++)
 		env.adc_paths[a] = sc->adc_paths[a];
 	env.n_adc = sc->n_adc;
+	env.adc_ini = sc->adc_ini;
 	env.plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
 				!sc->no_plot[s] && ssc_plot_available() ?
 			png : NULL;

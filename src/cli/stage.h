@@ -24,6 +24,8 @@ struct ssc_stage_env {
 	const char *sensor_path;          /* its file, or NULL */
 	const char *adc_paths[8];         /* scene's [adc] spec files */
 	size_t n_adc;
+	/* scene's inline [adc] specification (section "adc"), or NULL */
+	const struct sscope_ini *adc_ini;
 	const char *plot_path;            /* draw the figure here, or NULL */
 	json_t *upstream;                 /* {"stage": result, ...} or NULL */
 };
