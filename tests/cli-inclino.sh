@@ -87,4 +87,22 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	run "calibrate --plot" 0 inclino calibrate --plot "$T/i.png" "$CAL"
 	if [ -s "$T/i.png" ]; then ok "plot written"; else not_ok "plot written"; fi
 fi
+# tilts from a tilt table instead of reference columns: the same poses, the same table
+awk -F, 'NR==2 {print "time [s],ax [g],ay [g],az [g],temp [degC]"; next} NR>2 {print $1","$2","$3","$4","$5}' "$SAMPLES/inclino-cal.csv" >"$T/noref.csv"
+awk -F, 'NR>2 { if ($6 != r || $7 != p) { if (NR > 3) printf "%s %s %s %s\n", s, t + 0.05, r, p; s = $1 - 0.05; r = $6; p = $7 } t = $1 } END { printf "%s %s %s %s\n", s, t + 0.05, r, p }' "$SAMPLES/inclino-cal.csv" >"$T/tilts.txt"
+run "calibrate from reference columns" 0 inclino calibrate --format json "$SAMPLES/inclino-cal.csv"
+mv "$T/out" "$T/cols.json"
+run "calibrate from a tilt table" 0 inclino calibrate --format json --tilt-table "$T/tilts.txt" "$T/noref.csv"
+if jq -e --slurpfile c "$T/cols.json" '.lut == $c[0].lut and (.lut.nodes | length) == 5' "$T/out" >/dev/null 2>&1; then
+	ok "tilt table gives the same table"
+else
+	not_ok "tilt table gives the same table"
+fi
+run "no reference and no tilt table" 1 inclino calibrate "$T/noref.csv"
+has "suggests --tilt-table" "$T/err" 'tilt-table'
+printf '0 2 -60\n' >"$T/bad-tilts.txt"
+run "malformed tilt table" 1 inclino calibrate --tilt-table "$T/bad-tilts.txt" "$T/noref.csv"
+one_line_error "malformed tilt table"
+has "names the line" "$T/err" 'bad-tilts.txt:1: want'
+
 done_testing

@@ -8,7 +8,9 @@
  */
 #include "cli.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,6 +31,7 @@ enum {
 	O_NODEGAP,
 	O_VALIDATE,
 	O_CUBIC,
+	O_TILTS,
 	O_LUT,
 	O_GYRO,
 	O_NOGYRO,
@@ -99,6 +102,8 @@ static const struct ssc_option cal_opts[] = {
 	{ "validate", required_argument, O_VALIDATE, "FILE",
 	  "validation capture (same columns) at other temperatures/angles; repeatable" },
 	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes; default linear)" },
+	{ "tilt-table", required_argument, O_TILTS, "FILE",
+	  "tilts by time for captures without reference columns: lines 'START END ROLL PITCH' (s from the capture's start, degrees)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -123,7 +128,7 @@ static const struct ssc_command_spec cal_spec = {
 };
 
 struct cal_opts_s {
-	const char *accel, *roll, *pitch;
+	const char *accel, *roll, *pitch, *tilts;
 	double gravity, pose_tol, node_gap;
 	const char *validate[MAX_VAL];
 	int n_val;
@@ -163,6 +168,9 @@ static int cal_handler(int key, const char *arg, void *ctx)
 			return ssc_usage_error("inclino", "--validate: at most %d files", MAX_VAL);
 		o->validate[o->n_val++] = arg;
 		return 0;
+	case O_TILTS:
+		o->tilts = arg;
+		return 0;
 	case O_CUBIC:
 		o->cubic = true;
 		return 0;
@@ -180,6 +188,68 @@ static void cal_init(void *opts)
 	o->gravity = SSCOPE_GRAVITY_STD;
 }
 
+/* A tilt table: lines "START END ROLL PITCH" (s from the capture's first
+ * time stamp, degrees; blanks or commas; '#' comments) turned into
+ * reference columns (rad), NaN outside every interval. */
+static int tilt_table(const struct ssc_common *co, const char *path,
+		      const struct sscope_capture *cap, double *roll,
+		      double *pitch)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	size_t ln = 0, rows = 0;
+
+	if (!f) {
+		ssc_err(co->cmd, "--tilt-table: %s: %s", path, strerror(errno));
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < cap->n; i++)
+		roll[i] = pitch[i] = (double)NAN;
+	while (fgets(line, sizeof(line), f)) {
+		double v[4];
+		char *p = line, *end;
+		int k = 0;
+
+		ln++;
+		if (strchr(line, '#'))
+			*strchr(line, '#') = '\0';
+		for (; k < 4; k++) {
+			while (*p == ' ' || *p == '\t' || *p == ',')
+				p++;
+			v[k] = strtod(p, &end);
+			if (end == p || !isfinite(v[k]))
+				break;
+			p = end;
+		}
+		while (*p == ' ' || *p == '\t' || *p == ',' || *p == '\r' || *p == '\n')
+			p++;
+		if (k == 0 && !*p)
+			continue; /* blank or comment */
+		if (k < 4 || *p || !(v[1] > v[0])) {
+			fclose(f);
+			ssc_err(co->cmd, "--tilt-table: %s:%zu: want 'START END ROLL PITCH' (s, s > START, deg, deg)",
+				path, ln);
+			return SSC_EXIT_FAIL;
+		}
+		for (size_t i = 0; i < cap->n; i++) {
+			double t = cap->time_s ? cap->time_s[i] - cap->time_s[0] :
+				   (double)i / cap->rate_hz;
+
+			if (t >= v[0] && t < v[1]) {
+				roll[i] = v[2] * (M_PI / 180);
+				pitch[i] = v[3] * (M_PI / 180);
+			}
+		}
+		rows++;
+	}
+	fclose(f);
+	if (!rows) {
+		ssc_err(co->cmd, "--tilt-table: %s: no intervals", path);
+		return SSC_EXIT_FAIL;
+	}
+	return 0;
+}
+
 /* Poses of a capture appended to *poses. */
 static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 		     const struct sscope_capture *cap, const char *path,
@@ -195,18 +265,43 @@ static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 	}
 	ir = sscope_capture_find(cap, o->roll);
 	ip = sscope_capture_find(cap, o->pitch);
-	if (ir < 0 || ip < 0) {
-		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME)",
+	if ((ir < 0 || ip < 0) && !o->tilts) {
+		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME or --tilt-table FILE)",
 			path, ir < 0 ? o->roll : o->pitch);
 		return SSC_EXIT_FAIL;
 	}
 	rc = pick_accel(co->cmd, cap, o->accel, path, a);
 	if (rc)
 		return rc;
-	rc = sscope_inclino_poses(cap->channels[a[0]].data, cap->channels[a[1]].data,
-				  cap->channels[a[2]].data, cap->temp_degc,
-				  cap->channels[ir].data, cap->channels[ip].data, cap->n,
-				  o->pose_tol, poses + *np, MAX_POSES - *np, &got);
+	if (ir < 0 || ip < 0) {
+		double *ref = malloc(2 * (cap->n ? cap->n : 1) * sizeof(double));
+
+		if (!(cap->time_s || cap->rate_hz > 0)) {
+			free(ref);
+			ssc_err(co->cmd, "%s: --tilt-table needs time stamps or a sample rate", path);
+			return SSC_EXIT_FAIL;
+		}
+		if (!ref) {
+			ssc_err(co->cmd, "out of memory");
+			return SSC_EXIT_FAIL;
+		}
+		rc = tilt_table(co, o->tilts, cap, ref, ref + cap->n);
+		if (!rc)
+			rc = sscope_inclino_poses(cap->channels[a[0]].data,
+						  cap->channels[a[1]].data,
+						  cap->channels[a[2]].data, cap->temp_degc,
+						  ref, ref + cap->n, cap->n, o->pose_tol,
+						  poses + *np, MAX_POSES - *np, &got) ?
+				     -1 : 0;
+		free(ref);
+		if (rc > 0)
+			return rc;
+	} else {
+		rc = sscope_inclino_poses(cap->channels[a[0]].data, cap->channels[a[1]].data,
+					  cap->channels[a[2]].data, cap->temp_degc,
+					  cap->channels[ir].data, cap->channels[ip].data, cap->n,
+					  o->pose_tol, poses + *np, MAX_POSES - *np, &got);
+	}
 	if (rc) {
 		ssc_err(co->cmd, "%s: no static pose with finite data", path);
 		return SSC_EXIT_FAIL;
