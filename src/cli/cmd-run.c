@@ -84,7 +84,12 @@ static const struct ssc_command_spec report_spec = {
 		"Characterise captures with a scene inferred from the data, and write\n"
 		"the HTML report (with its PNG figures and JSON) into the directory\n"
 		"given by -o (default sensorscope-report/).  --dry-run prints what\n"
-		"would be run and why.",
+		"would be run and why.  Inference per capture: accelerations with\n"
+		"roll_ref/pitch_ref columns and a temperature -> inclino only;\n"
+		"inertial channels with a temperature column -> tempbias; rate gyros\n"
+		"and accelerometers below 500 Hz -> allan; accelerometers at 500 Hz\n"
+		"and above -> vibration; every data channel -> psd.  An inferred\n"
+		"analysis the data refuse is left out of the report with its reason.",
 	.options = run_opts,
 	.analysis = true,
 	.notes = "Example:\n  sensorscope report samples/gyro-static.csv\n"
