@@ -511,26 +511,47 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 			pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
 	}
 	for (size_t j = 0; j < count; j++) {
+		if (p->bad[j] && !p->o.skip_nonfinite)
+			return -EDOM;
+	}
+	/* Neumaier sums of the bins, segments in order within each bin (the
+	 * same result on any number of threads); each thread takes a block
+	 * of bins and walks the segments row by row through it */
+	{
+		long nblk = (long)((p->nbins + 1023) / 1024);
+
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(p->nth) schedule(static) \
+	if (cnt > 1 && (size_t)cnt * p->nbins >= ((size_t)1 << 18))
+#endif
+		for (long b = 0; b < nblk; b++) {
+			size_t k0 = (size_t)b * 1024;
+			size_t k1 = k0 + 1024 < p->nbins ? k0 + 1024 : p->nbins;
+
+			for (size_t j = 0; j < count; j++) {
+				const double *pg = p->pg + j * p->nbins;
+
+				if (p->bad[j])
+					continue;
+				for (size_t k = k0; k < k1; k++) {
+					double s = p->acc[k], x = pg[k], t = s + x;
+
+					p->comp[k] += fabs(s) >= fabs(x) ? (s - t) + x :
+									   (x - t) + s;
+					p->acc[k] = t;
+				}
+			}
+		}
+	}
+	for (size_t j = 0; j < count; j++) {
 		const double *pg = p->pg + j * p->nbins;
 		uint64_t start = p->consumed + j * p->step;
 
-		if (p->bad[j]) {
-			if (!p->o.skip_nonfinite)
-				return -EDOM;
+		if (p->bad[j])
 			p->nskip++;
-			sg_add(p, pg, false, start);
-			continue;
-		}
-		/* Neumaier, branch-free form of the bin accumulators */
-		for (size_t k = 0; k < p->nbins; k++) {
-			double s = p->acc[k], x = pg[k], t = s + x;
-
-			p->comp[k] += fabs(s) >= fabs(x) ? (s - t) + x :
-							   (x - t) + s;
-			p->acc[k] = t;
-		}
-		p->nseg++;
-		sg_add(p, pg, true, start);
+		else
+			p->nseg++;
+		sg_add(p, pg, !p->bad[j], start);
 	}
 	if (base != p->stage) {
 		p->consumed += count * p->step;
