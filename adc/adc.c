@@ -27,7 +27,7 @@
 static const char *const adc_keys[] = {
 	"name", "bits", "range", "rate", "noise", "snr", "enob", "inl", "dnl",
 	"offset", "gain_error", "offset_drift", "gain_drift", "ref_temp",
-	"reference", "mode", "coding", "oversample", NULL
+	"reference", "mode", "coding", "oversample", "inl_profile", NULL
 };
 
 const char *const *sscope_adc_spec_keys(void)
@@ -292,6 +292,25 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					"%s: line %zu: dnl: '%s' is not a number of LSB in [0, 1)",
 					file, line, v);
 		s->has |= SSCOPE_ADC_HAS_DNL;
+	}
+	v = sscope_ini_get(ini, section, "inl_profile", &line);
+	if (v) {
+		if (!*v)
+			return ssc_diag(diag, -EINVAL, "%s: line %zu: inl_profile: empty (a file name)",
+					file, line);
+		if (strlen(v) >= sizeof(s->inl_profile))
+			return ssc_diag(diag, -EINVAL,
+					"%s: line %zu: inl_profile: file name longer than %zu characters",
+					file, line, sizeof(s->inl_profile) - 1);
+		if (s->bits > SSCOPE_ADC_TABLE_BITS)
+			return ssc_diag(diag, -EINVAL,
+					"%s: line %zu: inl_profile: a profile needs bits <= %d (this converter has %d: 2^%d values)",
+					file, line, SSCOPE_ADC_TABLE_BITS, s->bits, s->bits);
+		if (s->has & (SSCOPE_ADC_HAS_INL | SSCOPE_ADC_HAS_DNL))
+			return ssc_diag(diag, -EINVAL,
+					"%s: [%s] inl_profile: give inl_profile or the inl/dnl bounds, not both (the profile defines them)",
+					file, section);
+		snprintf(s->inl_profile, sizeof(s->inl_profile), "%s", v);
 	}
 	rc = sscope_ini_quantity(ini, section, "offset", si, &s->offset, diag);
 	if (rc && rc != -ENOENT)

@@ -76,6 +76,11 @@ struct sscope_adc_spec {
 	/** conversions per output sample (>= 1; 0 counts as 1): the converter
 	 *  samples at oversample * rate and averages blocks of that many */
 	unsigned oversample;
+	/** inl_profile: file of the INL of every transition, LSB, as written
+	 *  in the spec ("" when none); relative to the spec file's directory.
+	 *  The library does no I/O: the caller reads it and passes it to
+	 *  sscope_adc_set_inl() after sscope_adc_new(). */
+	char inl_profile[256];
 };
 
 /** @return the keys an [adc] section may hold (NULL-terminated). */
@@ -87,7 +92,9 @@ const char *const *sscope_adc_spec_keys(void);
  * or enob, inl, dnl (LSB), offset, gain_error (ppm), offset_drift
  * ("2 uV/degC"), gain_drift (ppm/degC), ref_temp, reference
  * (absolute|ratiometric), mode (round|integrate), coding, oversample
- * (conversions averaged per output sample).  Every error
+ * (conversions averaged per output sample), inl_profile (a file of 2^bits
+ * INL values, stored as written; not with inl or dnl, which it defines,
+ * and only for bits <= SSCOPE_ADC_TABLE_BITS).  Every error
  * names the file and the key ("A.ini: [adc] bits: missing").
  * @return 0 or -EINVAL.
  */

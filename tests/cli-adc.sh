@@ -121,6 +121,74 @@ run "simulate --adc in volts without sensitivity" 2 simulate --sensor "$QUIET" -
 one_line_error "simulate --adc in volts without sensitivity"
 run "simulate --adc analog" 0 simulate --sensor "$SAMPLES/gyro-mems-250.ini" --adc "$SAMPLES/adc-12bit.ini" --rate 1000 --duration 1 -o "$T/sb.csv"
 
+# inl_profile: a measured INL profile (LSB per transition) in the spec.
+# An S-shaped profile of 0.8 LSB on 8 bits, a sine digitized through it
+# (quasi-uniform phase: the step 0.381966 of a cycle is near the golden
+# ratio), and the IEEE 1241 code-density test recovers it after removing
+# the least-squares line (gain and offset are not INL) within 0.05 LSB,
+# the bound test-adc's injected-profile check uses for 2^18 samples.
+mkdir -p "$T/specs"
+awk 'BEGIN { print "# S-shaped INL, 0.8 LSB"; for (k = 0; k < 256; k++) printf "%.9f\n", 0.8 * sin(2 * 3.14159265358979 * k / 256) }' >"$T/specs/s8.txt"
+printf '[adc]\nname = S-8\nbits = 8\nrange = -1:1 deg/s\nrate = 1000 Hz\ninl_profile = s8.txt\n' >"$T/specs/s8.ini"
+if [ -n "$SSCOPE_RUN" ]; then NS=65.536; TOL=0.1; else NS=262.144; TOL=0.05; fi
+run "sine for the profile" 0 simulate --sensor "$T/s.ini" --rate 1000 --duration $NS --tone 381.966011:1.03 --no-clip -o "$T/sine8.csv"
+run "quantize through the profile (path relative to the spec)" 0 adc quantize --adc "$T/specs/s8.ini" "$T/sine8.csv" -o "$T/s8q.csv"
+run "adc test of the profiled converter" 0 adc test --adc "$T/specs/s8.ini" "$T/s8q.csv" --format json
+json_check "the histogram sees the INL" "$T/out" '.channels[0].histogram.bits == 8 and .channels[0].histogram.inl_max > 0.5'
+if command -v jq >/dev/null 2>&1; then
+	jq -r '.channels[0].histogram.inl[] | if . == null then "x" else . end' "$T/out" >"$T/s8r.txt"
+	grep -v '^#' "$T/specs/s8.txt" | paste - "$T/s8r.txt" | awk -v tol=$TOL '
+		{ k = NR - 1; p[k] = $1; r[k] = $2; if ($2 != "x") { m++; sx += k; sy += $1; sxx += k * k; sxy += k * $1 } }
+		END {
+			if (m < 200) { print "only " m " codes"; exit 1 }
+			sl = (m * sxy - sx * sy) / (m * sxx - sx * sx); ic = (sy - sl * sx) / m
+			for (k = 0; k < NR; k++) if (r[k] != "x") {
+				d = r[k] - (p[k] - ic - sl * k) / (1 + sl); if (d < 0) d = -d
+				if (d > mx) { mx = d; at = k }
+			}
+			print "max |recovered - injected| " mx " LSB at code " at " (" m " codes)"
+			exit mx > tol
+		}' >"$T/cmp" && ok "injected INL recovered within $TOL LSB" || not_ok "injected INL recovered within $TOL LSB"
+	diag "$T/cmp"
+else
+	skip "injected INL recovered (no jq)"
+fi
+run "simulate --adc with the profile" 0 simulate --sensor "$T/s.ini" --adc "$T/specs/s8.ini" --rate 1000 --duration 1 --tone 381.966011:1.03 --no-clip -o "$T/s8sim.csv"
+cmp -s "$T/s8sim.csv" "$T/sine8.csv" && not_ok "simulate --adc digitizes" || ok "simulate --adc digitizes"
+printf '[sensor]\nrange = 1 deg/s\nnoise_density = 0.005 deg/sqrt(h)\nbias_instability = 1 deg/h\n' >"$T/s1.ini"
+run "report with the profile" 0 adc report --sensor "$T/s1.ini" --adc "$T/specs/s8.ini" --monte-carlo 1 --mc-duration 20 --format json
+json_check "INL bound = max |profile| = 0.8 LSB" "$T/out" '.adcs[0] | (((.inl_lsb - 0.8) | fabs) < 1e-6 and .inl_from == "profile" and .inl_profile == "s8.txt" and .monte_carlo.runs == 1)'
+run "report text with the profile" 0 adc report --sensor "$T/s1.ini" --adc "$T/specs/s8.ini" --monte-carlo 0
+has "text shows the INL from the profile" "$T/out" '^  INL +0\.8 LSB = 22\.5 deg/h +\(max |INL| of the profile s8\.txt\)'
+# bad profiles: one line naming the file (and the line), exit 1
+bad_profile() { # DESC CONTENT-FILE REGEX
+	printf '[adc]\nbits = 8\nrange = -1:1 deg/s\ninl_profile = %s\n' "$2" >"$T/specs/bad.ini"
+	run "$1" 1 adc quantize --adc "$T/specs/bad.ini" "$T/sine8.csv" -o "$T/bad.csv"
+	one_line_error "$1"
+	has "$1: message" "$T/err" "$3"
+}
+bad_profile "missing profile" nothere.txt "bad.ini: inl_profile: .*specs/nothere.txt: No such file"
+head -n 101 "$T/specs/s8.txt" >"$T/specs/short.txt"
+bad_profile "short profile" short.txt 'short.txt: 100 values, need 256'
+{ cat "$T/specs/s8.txt"; echo 0; } >"$T/specs/long.txt"
+bad_profile "long profile" long.txt 'long.txt: line 258: more than 256 values'
+sed '11s/.*/0.1 LSB/' "$T/specs/s8.txt" >"$T/specs/word.txt"
+bad_profile "non-numeric line" word.txt "word.txt: line 11: '0.1 LSB' is not a number"
+sed '51s/.*/-1.5/' "$T/specs/s8.txt" >"$T/specs/mono.txt"
+bad_profile "non-monotonic transitions" mono.txt 'mono.txt: line 51: transition 49 at or below transition 48'
+run "report with a bad profile" 1 adc report --sensor "$T/s1.ini" --adc "$T/specs/bad.ini" --monte-carlo 0
+one_line_error "report with a bad profile"
+run "simulate with a bad profile" 1 simulate --sensor "$T/s.ini" --adc "$T/specs/bad.ini" --rate 1000 --duration 1
+one_line_error "simulate with a bad profile"
+printf '[adc]\nbits = 24\nrange = -1:1 deg/s\ninl_profile = s8.txt\n' >"$T/specs/b24.ini"
+run "profile above the table bits" 1 adc report --sensor "$T/s1.ini" --adc "$T/specs/b24.ini" --monte-carlo 0
+one_line_error "profile above the table bits"
+has "names the limit" "$T/err" 'b24.ini: line 4: inl_profile: a profile needs bits <= 20'
+printf '[adc]\nbits = 8\nrange = -1:1 deg/s\ninl = 1\ninl_profile = s8.txt\n' >"$T/specs/both.ini"
+run "profile and bound" 1 adc report --sensor "$T/s1.ini" --adc "$T/specs/both.ini" --monte-carlo 0
+one_line_error "profile and bound"
+has "profile or bound" "$T/err" 'give inl_profile or the inl/dnl bounds, not both'
+
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	run "adc test plot" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --plot "$T/dnl.png"
 	[ -s "$T/dnl.png" ] && ok "DNL/INL plot written" || not_ok "DNL/INL plot written"

@@ -109,6 +109,12 @@ cp "$SAMPLES/gyro-seed-mems.ini" "$T/"
 scene adc1.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nname = inline 16\nbits = 16\nrange = -100:100 deg/s\nrate = 100 Hz\nmonte-carlo = 0\n[report]\nformats = json\n'
 run "inline [adc]" 0 run -o "$T/adc1" "$T/adc1.ini"
 json_check "the seed's LSB from the inline spec" "$T/adc1/adc.json" '(.adcs[0].lsb.value - 10.986 | fabs) < 0.01 and .adcs[0].verdict == "pass"'
+# an inline [adc] with an inl_profile: the path is relative to the scene
+mkdir -p "$T/prof" && cp "$SAMPLES/gyro-seed-mems.ini" "$T/prof/"
+awk 'BEGIN { for (k = 0; k < 256; k++) printf "%.9f\n", 0.5 * sin(2 * 3.14159265358979 * k / 256) }' >"$T/prof/inl.txt"
+scene prof/adcp.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nbits = 8\nrange = -100:100 deg/s\nrate = 100 Hz\ninl_profile = inl.txt\nmonte-carlo = 0\n[report]\nformats = json\n'
+run "inline [adc] with an inl_profile" 0 run -o "$T/adcp" "$T/prof/adcp.ini"
+json_check "the INL bound from the profile" "$T/adcp/adc.json" '.adcs[0] | ((.inl_lsb - 0.5) | fabs) < 1e-6 and .inl_from == "profile"'
 scene adc2.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nbits = 16\nrange = -100:100 deg/sfoo\n'
 run "inline [adc] with a bad unit" 2 run "$T/adc2.ini"
 one_line_error "inline [adc] with a bad unit"

@@ -440,6 +440,28 @@ START_TEST(test_spec_errors)
 	ck_assert_int_eq(spec_err("[adc]\nbits = 16\nrange = 0:5 V\nwhatever = 1\n", msg),
 			 -EINVAL);
 	ck_assert_msg(strstr(msg, "whatever"), "%s", msg);
+	/* inl_profile: stored as written; refused above the table bits and
+	 * next to the bounds it defines */
+	ck_assert_int_eq(spec_err("[adc]\nbits = 24\nrange = 0:5 V\ninl_profile = p.txt\n", msg),
+			 -EINVAL);
+	ck_assert_msg(strstr(msg, "A.ini: line 4: inl_profile") && strstr(msg, "bits <= 20"),
+		      "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 8\nrange = 0:5 V\ndnl = 0.5\ninl_profile = p.txt\n",
+				  msg), -EINVAL);
+	ck_assert_msg(strstr(msg, "not both"), "%s", msg);
+	ck_assert_int_eq(spec_err("[adc]\nbits = 8\nrange = 0:5 V\ninl_profile = dir/p.txt\n", msg),
+			 0);
+	{
+		struct sscope_ini *ini = NULL;
+		struct sscope_adc_spec s;
+		const char *t = "[adc]\nbits = 8\nrange = 0:5 V\ninl_profile = dir/p.txt\n";
+
+		ck_assert_int_eq(sscope_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
+		ck_assert_int_eq(sscope_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
+		ck_assert_str_eq(s.inl_profile, "dir/p.txt");
+		ck_assert(!(s.has & SSCOPE_ADC_HAS_INL)); /* the CLI sets it from the file */
+		sscope_ini_free(ini);
+	}
 	/* a good one */
 	{
 		struct sscope_ini *ini = NULL;

@@ -153,6 +153,21 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 int ssc_load_sensor(const char *cmd, const char *path,
 		    struct sscope_sensor_spec *spec);
 
+/* The inl_profile file of an [adc] spec (adcprofile.c): read it (relative
+ * to @p spec_path's directory), check it and set spec->inl_lsb to max |INL|;
+ * nothing to do without the key.  Prints errors, returns exit code. */
+struct ssc_inl_profile {
+	double *inl; /* 2^bits values, LSB, or NULL */
+	size_t n;
+};
+int ssc_adc_profile_load(const char *cmd, const char *spec_path,
+			 struct sscope_adc_spec *spec, struct ssc_inl_profile *prof);
+/* sscope_adc_new() then sscope_adc_set_inl() of the profile (may be NULL). */
+int ssc_adc_new(struct sscope_adc **adc, const struct sscope_adc_spec *spec,
+		const struct ssc_inl_profile *prof, double sensitivity,
+		double zero_v, uint64_t seed, struct sscope_diag *diag);
+void ssc_adc_profile_free(struct ssc_inl_profile *prof);
+
 /* Plots: exit 2 with a message when built without OpenCV. */
 bool ssc_plot_available(void);
 int ssc_plot_unavailable(const char *cmd);

@@ -184,6 +184,7 @@ struct mc_ratio {
 struct adc_res {
 	const char *path;
 	struct sscope_adc_spec spec;
+	struct ssc_inl_profile prof; /* inl_profile, or empty */
 	struct sscope_adc_analysis an;
 	bool mc_done;
 	size_t mc_runs;
@@ -267,9 +268,9 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 		so.seed = o->seed + r;
 		rc = sscope_sim_new(&sim, ss, &so, d);
 		if (!rc)
-			rc = sscope_adc_new(&adc, &ar->spec, ss->sensitivity,
-					    (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
-					    o->seed + r, d);
+			rc = ssc_adc_new(&adc, &ar->spec, &ar->prof, ss->sensitivity,
+					 (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
+					 o->seed + r, d);
 		/* conversions at M fs, averaged in blocks of M (the sensor
 		 * alone is averaged the same way) */
 		for (size_t i0 = 0; !rc && i0 < n; i0 += blk) {
@@ -412,6 +413,13 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 	json_object_set_new(lsb, "unit", json_string(bu));
 	json_object_set_new(lsb, "si", ssc_jreal(a->lsb));
 	json_object_set_new(o, "lsb", lsb);
+	/* INL: the spec's bound, or max |INL| of its inl_profile */
+	json_object_set_new(o, "inl_lsb", (ar->spec.has & SSCOPE_ADC_HAS_INL) ?
+						 json_real(ar->spec.inl_lsb) : json_null());
+	json_object_set_new(o, "inl_from", !(ar->spec.has & SSCOPE_ADC_HAS_INL) ? json_null() :
+					   json_string(ar->spec.inl_profile[0] ? "profile" : "bound"));
+	json_object_set_new(o, "inl_profile", ar->spec.inl_profile[0] ?
+						     json_string(ar->spec.inl_profile) : json_null());
 	json_object_set_new(o, "dithered", json_boolean(a->dithered));
 	json_object_set_new(o, "sigma_over_q", ssc_jreal(a->sigma_over_q));
 	json_object_set_new(o, "min_bits", a->min_bits > 0 ? json_integer(a->min_bits) :
@@ -518,6 +526,12 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5),
 		fmtu(b3, sizeof(b3), a->range_hi, sscope_quantity_si_unit(q),
 		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5));
+	if (ar->spec.has & SSCOPE_ADC_HAS_INL)
+		fprintf(f, "  INL                     %s LSB = %s  (%s%s)\n",
+			ssc_fmt(b1, sizeof(b1), ar->spec.inl_lsb, 3),
+			fmtu(b2, sizeof(b2), ar->spec.inl_lsb * a->lsb, bsi, bu, 3),
+			ar->spec.inl_profile[0] ? "max |INL| of the profile " : "bound",
+			ar->spec.inl_profile);
 	if (ar->spec.mode == SSCOPE_ADC_INTEGRATE)
 		fprintf(f, "  quantization Q          %s  (residual carried: no lost bias)\n",
 			fmtu(b1, sizeof(b1), a->q_quant, qty_unit(q, SSCOPE_TERM_Q, true),
@@ -721,6 +735,9 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			rc = ssc_fail(cmd, e, &d, "adc spec");
 			goto done;
 		}
+		rc = ssc_adc_profile_load(cmd, paths[i], &ar[i].spec, &ar[i].prof);
+		if (rc)
+			goto done;
 		e = sscope_adc_analyze(sp, &ar[i].spec, o->rate, &ar[i].an, &d);
 		if (e) {
 			ssc_err(cmd, "%s: %s", paths[i], d.msg[0] ? d.msg : sscope_strerror(e));
@@ -848,6 +865,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 	}
 done:
 	for (int i = 0; i < n; i++) {
+		ssc_adc_profile_free(&ar[i].prof);
 		free(ar[i].tau);
 		free(ar[i].dev_in);
 		free(ar[i].dev_out);
@@ -965,6 +983,7 @@ static int cmd_quantize(int argc, char **argv)
 	struct qopts o = { .bits = 0, .mode = -1, .seed = 1, .fmt = SSCOPE_CAPTURE_CSV };
 	struct sscope_capture *cap = NULL;
 	struct sscope_adc_spec spec;
+	struct ssc_inl_profile prof = { NULL, 0 };
 	struct sscope_diag d = { "" };
 	double *buf = NULL;
 	size_t clipped = 0;
@@ -997,10 +1016,13 @@ static int cmd_quantize(int argc, char **argv)
 			return ssc_usage_error(co.cmd,
 					       "%s: oversample: a recorded capture cannot be oversampled",
 					       o.adc);
+		rc = ssc_adc_profile_load(co.cmd, o.adc, &spec, &prof);
+		if (rc)
+			return rc;
 	}
 	rc = ssc_load(&co, argv[first], &cap);
 	if (rc)
-		return rc;
+		goto done;
 	if (!o.adc) {
 		spec.bits = (int)o.bits;
 		spec.ref_temp_degc = 25;
@@ -1047,7 +1069,7 @@ static int cmd_quantize(int argc, char **argv)
 					     sscope_quantity_name(ch->col.quantity));
 			goto done;
 		}
-		rc = sscope_adc_new(&adc, &s, 1, 0, o.seed + c, &d);
+		rc = ssc_adc_new(&adc, &s, &prof, 1, 0, o.seed + c, &d);
 		if (!rc)
 			rc = sscope_adc_digitize(adc, ch->data, 1, cap->n,
 						 cap->rate_hz > 0 ? cap->rate_hz : 1, cap->temp_degc,
@@ -1093,6 +1115,7 @@ static int cmd_quantize(int argc, char **argv)
 		ssc_warn(&co, "%zu samples clipped at the range", clipped);
 	rc = SSC_EXIT_OK;
 done:
+	ssc_adc_profile_free(&prof);
 	free(buf);
 	sscope_capture_free(cap);
 	return rc;

@@ -374,6 +374,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 	struct sscope_sim **sims = NULL;
 	struct sscope_adc **adcs = NULL;
 	struct sscope_adc_spec aspec;
+	struct ssc_inl_profile prof = { NULL, 0 };
 	size_t adc_clipped = 0;
 	struct sscope_writer *w = NULL;
 	struct sscope_writer_column *cols = NULL;
@@ -502,6 +503,11 @@ int ssc_cmd_simulate(int argc, char **argv)
 	a.so.flicker_tau_max_s = a.flick_max > 0 ? a.flick_max :
 				 fmax(1e6, 10 * a.duration);
 	/* channels */
+	if (a.adc) {
+		rc = ssc_adc_profile_load(co.cmd, a.adc, &aspec, &prof);
+		if (rc)
+			goto done;
+	}
 	names = calloc(a.axes, sizeof(*names));
 	sims = calloc(a.axes, sizeof(*sims));
 	adcs = calloc(a.axes, sizeof(*adcs));
@@ -556,9 +562,9 @@ int ssc_cmd_simulate(int argc, char **argv)
 			goto done;
 		}
 		if (a.adc) {
-			rc = sscope_adc_new(&adcs[k], &aspec, sp.sensitivity,
-					    (sp.has & SSCOPE_SPEC_ZERO) ? sp.zero_output_v : 0,
-					    a.seed + k, &d);
+			rc = ssc_adc_new(&adcs[k], &aspec, &prof, sp.sensitivity,
+					 (sp.has & SSCOPE_SPEC_ZERO) ? sp.zero_output_v : 0,
+					 a.seed + k, &d);
 			if (rc) {
 				rc = ssc_fail(co.cmd, rc, &d, a.adc);
 				goto done;
@@ -661,5 +667,6 @@ done:
 	free(temp);
 	free(rows);
 	free(inb);
+	ssc_adc_profile_free(&prof);
 	return rc;
 }
