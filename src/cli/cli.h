@@ -82,6 +82,17 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 	      int *first);
 
 /* Print "sensorscope: CMD: message" to stderr. */
+/* Read an interval table: lines "START END V1 ... Vn" (nval values, at
+ * most 6; comma or blanks; '#' comments).  Times in s unless a unit says
+ * otherwise; values in SI unit `si` unless a unit says otherwise, bare
+ * values in `bare` (NULL: si).  *out receives n_rows x (2 + nval) doubles
+ * (SI; caller frees).  Errors name --opt, the file and the line.
+ * Returns an exit code. */
+int ssc_read_intervals(const struct ssc_common *co, const char *opt,
+		       const char *path, const char *head, size_t nval,
+		       const char *si, const char *bare, double **out,
+		       size_t *n_rows);
+
 /* The text of the last ssc_err() message (without the prefix). */
 const char *ssc_last_error(void);
 void ssc_err(const char *cmd, const char *fmt, ...)

@@ -981,86 +981,6 @@ static int gyro_tilt(struct run *r)
 	return SSC_EXIT_OK;
 }
 
-/* A rate-table schedule: lines "START END VALUE" (comma or blanks; '#'
- * comments); times in s unless a unit says otherwise, values in the SI unit
- * of the sensor unless a unit says otherwise. */
-static int read_schedule(const struct ssc_common *co, const char *path,
-			 const char *si, double **out, size_t *n_out)
-{
-	FILE *f = fopen(path, "r");
-	char line[512];
-	size_t n = 0, cap = 0, ln = 0;
-	double *v = NULL;
-	struct sscope_unit target;
-
-	*out = NULL;
-	*n_out = 0;
-	if (!f) {
-		ssc_err(co->cmd, "--schedule: %s: %s", path, strerror(errno));
-		return SSC_EXIT_FAIL;
-	}
-	sscope_unit_parse(si, &target, NULL);
-	while (fgets(line, sizeof(line), f)) {
-		char *tok[3], *save = NULL, *p;
-		int k = 0;
-		double x[3];
-
-		ln++;
-		if ((p = strchr(line, '#')))
-			*p = 0;
-		for (p = strtok_r(line, ", \t\r\n", &save); p && k < 4;
-		     p = strtok_r(NULL, ", \t\r\n", &save))
-			if (k < 3)
-				tok[k++] = p;
-			else
-				k = 4;
-		if (k == 0)
-			continue;
-		if (k != 3)
-			goto bad;
-		for (int j = 0; j < 3; j++) {
-			struct sscope_unit u;
-
-			if (sscope_quantity_parse(tok[j], &x[j], &u, NULL))
-				goto bad;
-			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
-			    u.scale == 1)
-				continue; /* bare: s, or the sensor's SI unit */
-			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QTY_TIME :
-				    !sscope_unit_compatible(&u, &target))
-				goto bad;
-		}
-		if (!(x[1] > x[0]))
-			goto bad;
-		if (n + 3 > cap) {
-			double *nv;
-
-			cap = cap ? 2 * cap : 96;
-			nv = realloc(v, cap * sizeof(double));
-			if (!nv)
-				goto bad;
-			v = nv;
-		}
-		memcpy(v + n, x, sizeof(x));
-		n += 3;
-	}
-	fclose(f);
-	if (n == 0) {
-		free(v);
-		ssc_err(co->cmd, "--schedule: %s: no steps", path);
-		return SSC_EXIT_FAIL;
-	}
-	*out = v;
-	*n_out = n / 3;
-	return SSC_EXIT_OK;
-bad:
-	fclose(f);
-	free(v);
-	ssc_err(co->cmd, "--schedule: %s:%zu: want 'START END VALUE' (times in s, value in %s or with a unit)",
-		path, ln, si);
-	return SSC_EXIT_FAIL;
-}
-
 /* one rate-table file: segment means and reference vectors appended */
 static int rate_table_file(struct run *r, int file_no)
 {
@@ -1080,11 +1000,11 @@ static int rate_table_file(struct run *r, int file_no)
 	if (r->o->schedule) {
 		double *sv;
 		size_t ns;
-		int e = read_schedule(co, r->o->schedule,
-				      sscope_quantity_si_unit(r->o->gyro ?
-								      SSCOPE_QTY_ANGULAR_RATE :
-								      SSCOPE_QTY_ACCELERATION),
-				      &sv, &ns);
+		int e = ssc_read_intervals(co, "schedule", r->o->schedule, "VALUE", 1,
+					   sscope_quantity_si_unit(r->o->gyro ?
+									   SSCOPE_QTY_ANGULAR_RATE :
+									   SSCOPE_QTY_ACCELERATION),
+					   NULL, &sv, &ns);
 
 		if (e)
 			return e;

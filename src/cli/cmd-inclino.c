@@ -188,65 +188,33 @@ static void cal_init(void *opts)
 	o->gravity = SSCOPE_GRAVITY_STD;
 }
 
-/* A tilt table: lines "START END ROLL PITCH" (s from the capture's first
- * time stamp, degrees; blanks or commas; '#' comments) turned into
+/* A tilt table (--tilt-table: "START END ROLL PITCH", s from the
+ * capture's first time stamp, bare angles in degrees) turned into
  * reference columns (rad), NaN outside every interval. */
 static int tilt_table(const struct ssc_common *co, const char *path,
 		      const struct sscope_capture *cap, double *roll,
 		      double *pitch)
 {
-	FILE *f = fopen(path, "r");
-	char line[512];
-	size_t ln = 0, rows = 0;
+	double *v;
+	size_t rows;
+	int rc = ssc_read_intervals(co, "tilt-table", path, "ROLL PITCH", 2,
+				    "rad", "deg", &v, &rows);
 
-	if (!f) {
-		ssc_err(co->cmd, "--tilt-table: %s: %s", path, strerror(errno));
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t i = 0; i < cap->n; i++)
+	if (rc)
+		return rc;
+	for (size_t i = 0; i < cap->n; i++) {
+		double t = cap->time_s ? cap->time_s[i] - cap->time_s[0] :
+			   (double)i / cap->rate_hz;
+
 		roll[i] = pitch[i] = (double)NAN;
-	while (fgets(line, sizeof(line), f)) {
-		double v[4];
-		char *p = line, *end;
-		int k = 0;
-
-		ln++;
-		if (strchr(line, '#'))
-			*strchr(line, '#') = '\0';
-		for (; k < 4; k++) {
-			while (*p == ' ' || *p == '\t' || *p == ',')
-				p++;
-			v[k] = strtod(p, &end);
-			if (end == p || !isfinite(v[k]))
+		for (size_t q = 0; q < rows; q++)
+			if (t >= v[4 * q] && t < v[4 * q + 1]) {
+				roll[i] = v[4 * q + 2];
+				pitch[i] = v[4 * q + 3];
 				break;
-			p = end;
-		}
-		while (*p == ' ' || *p == '\t' || *p == ',' || *p == '\r' || *p == '\n')
-			p++;
-		if (k == 0 && !*p)
-			continue; /* blank or comment */
-		if (k < 4 || *p || !(v[1] > v[0])) {
-			fclose(f);
-			ssc_err(co->cmd, "--tilt-table: %s:%zu: want 'START END ROLL PITCH' (s, s > START, deg, deg)",
-				path, ln);
-			return SSC_EXIT_FAIL;
-		}
-		for (size_t i = 0; i < cap->n; i++) {
-			double t = cap->time_s ? cap->time_s[i] - cap->time_s[0] :
-				   (double)i / cap->rate_hz;
-
-			if (t >= v[0] && t < v[1]) {
-				roll[i] = v[2] * (M_PI / 180);
-				pitch[i] = v[3] * (M_PI / 180);
 			}
-		}
-		rows++;
 	}
-	fclose(f);
-	if (!rows) {
-		ssc_err(co->cmd, "--tilt-table: %s: no intervals", path);
-		return SSC_EXIT_FAIL;
-	}
+	free(v);
 	return 0;
 }
 

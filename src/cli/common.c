@@ -684,3 +684,94 @@ int ssc_load_sensor(const char *cmd, const char *path,
 		return ssc_fail(cmd, rc, &d, path);
 	return SSC_EXIT_OK;
 }
+
+/* Interval tables ("START END V1 ... Vn" per line, comma or blanks, '#'
+ * comments): times in s unless a unit says otherwise; values in `si`
+ * unless a unit says otherwise, bare values in `bare` (NULL: si). */
+int ssc_read_intervals(const struct ssc_common *co, const char *opt,
+		       const char *path, const char *head, size_t nval,
+		       const char *si, const char *bare, double **out,
+		       size_t *n_rows)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	size_t n = 0, cap = 0, ln = 0, w = 2 + nval;
+	double *v = NULL;
+	struct sscope_unit target, bare_u;
+
+	*out = NULL;
+	*n_rows = 0;
+	if (!f) {
+		ssc_err(co->cmd, "--%s: %s: %s", opt, path, strerror(errno));
+		return SSC_EXIT_FAIL;
+	}
+	if (w > 8) {
+		fclose(f);
+		return SSC_EXIT_FAIL;
+	}
+	sscope_unit_parse(si, &target, NULL);
+	sscope_unit_parse(bare ? bare : si, &bare_u, NULL);
+	while (fgets(line, sizeof(line), f)) {
+		char *tok[8], *save = NULL, *p;
+		size_t k = 0;
+		double x[8];
+
+		ln++;
+		if ((p = strchr(line, '#')))
+			*p = 0;
+		for (p = strtok_r(line, ", \t\r\n", &save); p && k <= w;
+		     p = strtok_r(NULL, ", \t\r\n", &save))
+			if (k < w)
+				tok[k++] = p;
+			else
+				k = w + 1;
+		if (k == 0)
+			continue;
+		if (k != w)
+			goto bad;
+		for (size_t j = 0; j < w; j++) {
+			struct sscope_unit u;
+
+			if (sscope_quantity_parse(tok[j], &x[j], &u, NULL) ||
+			    !isfinite(x[j]))
+				goto bad;
+			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+			    u.scale == 1) {
+				if (j >= 2) /* bare value */
+					x[j] = sscope_unit_to_si(&bare_u, x[j]);
+				continue;
+			}
+			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QTY_TIME :
+				    !sscope_unit_compatible(&u, &target))
+				goto bad;
+		}
+		if (!(x[1] > x[0]))
+			goto bad;
+		if (n + w > cap) {
+			double *nv;
+
+			cap = cap ? 2 * cap : 32 * w;
+			nv = realloc(v, cap * sizeof(double));
+			if (!nv)
+				goto bad;
+			v = nv;
+		}
+		memcpy(v + n, x, w * sizeof(double));
+		n += w;
+	}
+	fclose(f);
+	if (n == 0) {
+		free(v);
+		ssc_err(co->cmd, "--%s: %s: no intervals", opt, path);
+		return SSC_EXIT_FAIL;
+	}
+	*out = v;
+	*n_rows = n / w;
+	return SSC_EXIT_OK;
+bad:
+	fclose(f);
+	free(v);
+	ssc_err(co->cmd, "--%s: %s:%zu: want 'START END %s' (times in s, values in %s or with a unit)",
+		opt, path, ln, head, bare ? bare : si);
+	return SSC_EXIT_FAIL;
+}
