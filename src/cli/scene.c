@@ -408,17 +408,22 @@ static int parse_sensor(const char *cmd, struct ssc_scene *sc)
 	return SSC_EXIT_OK;
 }
 
-/* Is key a long option of the stage's command (or a scene stage key)? */
-static bool stage_key(size_t s, const char *key)
+/* The long option of stage s named `name` (any case), or NULL. */
+static const struct ssc_option *find_option(size_t s, const char *name)
 {
 	const struct ssc_option *o = stages[s].ops->spec->options;
 
-	if (!strcasecmp(key, "plot") || !strcasecmp(key, "uses") ||
-	    !strcasecmp(key, "column") || !strcasecmp(key, "columns"))
-		return true;
-	while (o && o->name && strcasecmp(o->name, key))
+	while (o && o->name && strcasecmp(o->name, name))
 		o++;
-	return o && o->name;
+	return o && o->name ? o : NULL;
+}
+
+/* Is key a long option of the stage's command (or a scene stage key)? */
+static bool stage_key(size_t s, const char *key)
+{
+	return !strcasecmp(key, "plot") || !strcasecmp(key, "uses") ||
+	       !strcasecmp(key, "column") || !strcasecmp(key, "columns") ||
+	       find_option(s, key);
 }
 
 /* [adc]: 'spec = FILE[, FILE...]' or an inline specification, plus the
@@ -557,7 +562,7 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 		const char *value;
 		size_t line;
 		const char *key = sscope_ini_key(sc->ini, sec, k, &value, &line);
-		const struct ssc_option *o = ops->spec->options;
+		const struct ssc_option *o;
 		char ctx[320];
 		int rc;
 
@@ -595,9 +600,8 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 			free(copy);
 			continue;
 		}
-		while (o && o->name && strcasecmp(o->name, key))
-			o++;
-		if (!o || !o->name)
+		o = find_option(s, key);
+		if (!o)
 			return scene_error(cmd, sc, line,
 					   "unknown key '%s' in [%s] (keys are the long options of 'sensorscope %s')",
 					   key, sec, ops->spec->name);
@@ -790,13 +794,10 @@ fail:
 static int set_option(struct ssc_scene *sc, size_t s, const char *name,
 		      const char *value)
 {
-	const struct ssc_option *o = stages[s].ops->spec->options;
+	const struct ssc_option *o = find_option(s, name);
 
-	while (o && o->name && strcmp(o->name, name))
-		o++;
-	if (!o || !o->name)
-		return SSC_EXIT_USAGE;
-	return stages[s].ops->handle(o->key, value, sc->opts[s]);
+	return o ? stages[s].ops->handle(o->key, value, sc->opts[s]) :
+		   SSC_EXIT_USAGE;
 }
 
 int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
