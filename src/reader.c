@@ -706,17 +706,18 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 	if (end - p >= 3 && !memcmp(p, "\xef\xbb\xbf", 3)) /* UTF-8 BOM */
 		p += 3;
 	for (;;) {
-		const char *e = line_end(p, end), *q = p;
+		const char *e, *q = p;
 		bool numeric = true;
 
 		if (p >= end)
 			return ssc_diag(diag, -EDOM, "%s: no data rows",
 					r->disp);
+		e = line_end(p, end);
 		r->line++;
 		while (q < e && blank(*q))
 			q++;
 		if (q >= e) { /* blank line */
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (*q == '#') {
@@ -724,7 +725,7 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 			cm_s = q + 1;
 			cm_e = e;
 			cm_line = r->line;
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		r->delim = detect_delim(q, e);
@@ -898,7 +899,7 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
 	const char *p = r->base, *end = r->base + r->len, *e1, *e2;
-	char type[8] = "", endian[8] = "";
+	char type[8] = "", endian[8] = "", l1[64];
 	size_t nh, data_off;
 	int rc;
 
@@ -906,7 +907,13 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	if (e1 >= end)
 		return ssc_diag(diag, -EBADMSG, "%s: truncated binary header",
 				r->disp);
-	if (sscanf(p, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
+	/* sscanf needs a string: the first line alone, terminated */
+	if ((size_t)(e1 - p) >= sizeof(l1))
+		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
+				r->disp);
+	memcpy(l1, p, (size_t)(e1 - p));
+	l1[e1 - p] = '\0';
+	if (sscanf(l1, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
 	    (strcmp(type, "f32") && strcmp(type, "f64")) ||
 	    (strcmp(endian, "le") && strcmp(endian, "be")))
 		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
@@ -1670,7 +1677,7 @@ static int init_t0(struct sscope_reader *r, struct sscope_diag *diag)
 			e = end;
 		ln++;
 		if (skip_line(p, e)) {
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (e > p && e[-1] == '\r')
