@@ -179,9 +179,12 @@ int ssc_adc_new(struct sscope_adc **adc, const struct sscope_adc_spec *spec,
 		double zero_v, uint64_t seed, struct sscope_diag *diag);
 void ssc_adc_profile_free(struct ssc_inl_profile *prof);
 
-/* Plots: exit 2 with a message when built without OpenCV. */
+/* Plots: PNG needs OpenCV (exit 2 with a message without it), SVG is
+ * always built.  ssc_plot_check() returns 0 for a usable --plot path, else
+ * the exit code after printing why. */
 bool ssc_plot_available(void);
 int ssc_plot_unavailable(const char *cmd);
+int ssc_plot_check(const char *cmd, const char *path);
 
 /* Text formatting of a number with @p sig significant digits (no
  * exponent for ordinary magnitudes). */

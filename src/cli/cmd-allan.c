@@ -1002,7 +1002,7 @@ static int plot(const struct ssc_common *co, const struct args *a,
 						  (int)(p % cols)),
 				       a, &fr[i].ch[k]);
 	if (!rc)
-		rc = ssc_fig_save_png(fig, co->plot);
+		rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));

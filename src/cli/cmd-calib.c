@@ -1448,7 +1448,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 			ssc_ax_legend(ax, SSC_LEGEND_AUTO);
 		}
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));

@@ -324,7 +324,7 @@ static int plot(const struct ssc_common *co, const char *png,
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	rc = ssc_fig_save_png(fig, png);
+	rc = ssc_fig_save(fig, png);
 	ssc_fig_free(fig);
 	free(t);
 	free(y);

@@ -580,7 +580,7 @@ static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
 			free(ea);
 		}
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));

@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "plot.h"
 
 enum {
 	OPT_FORMAT = 1000,
@@ -51,8 +52,8 @@ static const struct ssc_option analysis_opts[] = {
 	  "the temperature column (default: temp or temperature)" },
 	{ "calibration", required_argument, OPT_CALIBRATION, "FILE",
 	  "apply a calibration file of 'sensorscope calib' to the channels it names" },
-	{ "plot", required_argument, OPT_PLOT, "PATH.png",
-	  "draw the command's figure (needs OpenCV)" },
+	{ "plot", required_argument, OPT_PLOT, "PATH.svg|PATH.png",
+	  "draw the command's figure (SVG; PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -410,19 +411,10 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 			break;
 		}
 	}
-	if (co->plot && !ssc_plot_available()) {
-		rc = ssc_plot_unavailable(co->cmd);
-		goto out;
-	}
 	if (co->plot) {
-		size_t l = strlen(co->plot);
-
-		if (l < 5 || strcmp(co->plot + l - 4, ".png")) {
-			rc = ssc_usage_error(co->cmd,
-					     "--plot: '%s' must end in .png",
-					     co->plot);
+		rc = ssc_plot_check(co->cmd, co->plot);
+		if (rc)
 			goto out;
-		}
 	}
 	*first = optind;
 out:
@@ -646,8 +638,22 @@ bool ssc_plot_available(void)
 int ssc_plot_unavailable(const char *cmd)
 {
 	ssc_err(cmd, "--plot: this sensorscope was built without OpenCV; "
-		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
+		"write an SVG figure (PATH.svg) or rebuild with OpenCV "
+		"(Debian: libopencv-dev) for PNG plots");
 	return SSC_EXIT_USAGE;
+}
+
+int ssc_plot_check(const char *cmd, const char *path)
+{
+	switch (ssc_plot_format_of(path)) {
+	case SSC_PLOT_SVG:
+		return 0;
+	case SSC_PLOT_PNG:
+		return ssc_plot_available() ? 0 : ssc_plot_unavailable(cmd);
+	default:
+		return ssc_usage_error(cmd, "--plot: '%s' must end in .png or .svg",
+				       path);
+	}
 }
 
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
