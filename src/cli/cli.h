@@ -151,6 +151,13 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/* Append {"code", "message"} to obj's "warnings" array (made when
+ * missing): a result the analysis itself doubts (a rejected fit, an
+ * unresolved term, too few samples, clipped data), which reports show as a
+ * banner. */
+void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
 /*
  * A coefficient object of the JSON contract:
  * {"value","unit","lo","hi","si","si_unit","fitted"}; value/lo/hi are the

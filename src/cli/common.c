@@ -680,6 +680,25 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	return o;
 }
 
+void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
+{
+	json_t *arr = json_object_get(obj, "warnings"), *w;
+	char msg[1024];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	if (!json_is_array(arr)) {
+		arr = json_array();
+		json_object_set_new(obj, "warnings", arr);
+	}
+	w = json_object();
+	json_object_set_new(w, "code", json_string(code));
+	json_object_set_new(w, "message", json_string(msg));
+	json_array_append_new(arr, w);
+}
+
 int ssc_load_sensor(const char *cmd, const char *path,
 		    struct sscope_sensor_spec *spec)
 {
