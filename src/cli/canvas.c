@@ -11,6 +11,16 @@
 
 #include "canvas.h"
 
+/* Length of an exponent "-?[0-9]+" at s, 0 when there is none. */
+static size_t exponent(const char *s)
+{
+	size_t k = s[0] == '-' ? 1 : 0, d = 0;
+
+	while (s[k + d] >= '0' && s[k + d] <= '9')
+		d++;
+	return d ? k + d : 0;
+}
+
 size_t ssc_rich_split(const char *t, struct ssc_rich_run *runs, size_t max)
 {
 	size_t n = 0;
@@ -29,8 +39,17 @@ size_t ssc_rich_split(const char *t, struct ssc_rich_run *runs, size_t max)
 				continue;
 			}
 		}
+		/* units as users write them: "m/s^2", "Hz^-1" */
+		if (t[0] == '^' && exponent(t + 1)) {
+			e = t + 1 + exponent(t + 1);
+			runs[n++] = (struct ssc_rich_run){ t + 1, (size_t)(e - t - 1),
+							   1 };
+			t = e;
+			continue;
+		}
 		e = t + 1;
-		while (*e && !((e[0] == '^' || e[0] == '_') && e[1] == '{'))
+		while (*e && !((e[0] == '^' || e[0] == '_') && e[1] == '{') &&
+		       !(e[0] == '^' && exponent(e + 1)))
 			e++;
 		runs[n++] = (struct ssc_rich_run){ t, (size_t)(e - t), 0 };
 		t = e;

@@ -59,7 +59,8 @@ struct ssc_rich_run {
 	int level;
 };
 
-/* Split rich text into at most max runs; returns their number. */
+/* Split rich text into at most max runs; returns their number.  Besides
+ * the braces, a caret before an integer ("m/s^2", "Hz^-1") raises it. */
 size_t ssc_rich_split(const char *text, struct ssc_rich_run *runs, size_t max);
 
 /* Advance width of a Unicode character in DejaVu Sans, in ems. */

@@ -735,8 +735,8 @@ static void fmt_linear(struct axis *a, double step)
 	}
 }
 
-/* Label of a tick m x 10^k on a log axis: plain between 10^-3 and 10^4
- * when plain is allowed, else 10^{k} or m×10^{k}. */
+/* Label of a tick m x 10^k on a log axis: plain from 0.01 to 1000 (and
+ * from 10^-3 when plain is asked for), else 10^{k} or m×10^{k}. */
 static void log_label(char *buf, size_t len, double v, bool plain)
 {
 	int k = (int)floor(log10(v) + 1e-9);
@@ -746,10 +746,8 @@ static void log_label(char *buf, size_t len, double v, bool plain)
 		m /= 10;
 		k++;
 	}
-	if (plain && k >= -3 && k <= 3)
+	if (k >= (plain ? -3 : -2) && k <= 3)
 		snprintf(buf, len, "%.*f", k < 0 ? -k : 0, m * pow(10, k));
-	else if (k == 0 || k == 1)
-		snprintf(buf, len, "%d", m * (k ? 10 : 1));
 	else if (m == 1)
 		snprintf(buf, len, "10^{%d}", k);
 	else
