@@ -73,8 +73,8 @@ static const struct ssc_option report_opts[] = {
 	{ "mc-duration", required_argument, O_MC_DURATION, "S",
 	  "length of each simulated record (default 3600 s; units allowed: 2h)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
-	{ "plot", required_argument, 'p', "PATH.png",
-	  "ADEV of the sensor alone and through each converter (needs OpenCV)" },
+	{ "plot", required_argument, 'p', "PATH.svg|PATH.png",
+	  "ADEV of the sensor alone and through each converter (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -164,12 +164,10 @@ static int r_handle(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case 'p': {
-		size_t l = strlen(arg);
+		int rc = ssc_plot_check(cmd, arg);
 
-		if (l < 5 || strcasecmp(arg + l - 4, ".png"))
-			return ssc_usage_error(cmd, "--plot: the figure is a PNG file (PATH.png)");
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(cmd);
+		if (rc)
+			return rc;
 		o->plot = arg;
 		return 0;
 	}
@@ -685,7 +683,7 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		return -EDOM;
 	}
 	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	return rc;
 }
@@ -1216,7 +1214,7 @@ static int plot_dnl_inl(const char *path, const char *name, const double *dnl,
 		ssc_ax_line(ax, k, r ? inl : dnl, nc, &st, r ? "INL" : "DNL");
 		ssc_ax_legend(ax, SSC_LEGEND_NONE);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(k);
 	return rc;
