@@ -706,12 +706,13 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 	if (end - p >= 3 && !memcmp(p, "\xef\xbb\xbf", 3)) /* UTF-8 BOM */
 		p += 3;
 	for (;;) {
-		const char *e = line_end(p, end), *q = p;
+		const char *e, *q = p;
 		bool numeric = true;
 
 		if (p >= end)
 			return ssc_diag(diag, -EDOM, "%s: no data rows",
 					r->disp);
+		e = line_end(p, end);
 		r->line++;
 		while (q < e && blank(*q))
 			q++;
