@@ -196,6 +196,53 @@ if spec:
 else:
     ok(True, "simulate: no sensor spec among the samples # SKIP")
 
+# ---------------------------------------------------------------- tempbias
+th = os.path.join(SAMPLES, "accel-thermal.csv")
+j = cli("tempbias", "--format", "json", th)["channels"][0]
+cap = ss.load(th)
+tb = ss.tempbias(cap[j["channel"]], cap.temp_degc, cap.rate_hz)
+u = conv(1.0, j["unit"], "m/s^2")
+ok(tb["order"] == j["fit"]["order"] and
+   abs(tb["ref_temp_degc"] - j["fit"]["ref_temp_degc"]) < 1e-12 and
+   rel(np.array(tb["coefficients"]) / u, j["fit"]["coefficients"]) < 1e-12
+   and rel(tb["residual_rms"] / u, j["fit"]["residual_rms"]) < 1e-12,
+   "tempbias: order, T_ref, coefficients and residual equal the CLI's JSON "
+   "(%s)" % j["channel"], (tb["coefficients"], j["fit"]))
+ok(len(tb["table"]) == len(j["table"]) and
+   rel([b / u for _, b in tb["table"]], [r["bias"] for r in j["table"]])
+   < 1e-12, "tempbias: the compensation table equals the CLI's")
+
+# ---------------------------------------------------------------- calib
+mp = os.path.join(SAMPLES, "imu-multipose.csv")
+j = cli("calib", "accel", "--format", "json", mp)["triads"][0]
+cap = ss.load(mp)
+cb = ss.calib(*(cap[c] for c in j["channels"]), cap.rate_hz)
+g = conv(1.0, j["input_unit"], "m/s^2")
+ok(cb["poses"] == j.get("poses", cb["poses"]) and
+   rel(np.array(cb["bias"]) / g, j["bias"]) < 1e-6 and
+   rel(np.array(cb["scale"]) * g, j["scale"]) < 1e-6 and
+   np.max(np.abs(np.array(cb["misalignment"]) -
+                 np.array(j["misalignment"]))) < 1e-7,
+   "calib: bias, scale and misalignment equal the CLI's JSON (input in %s, "
+   "here SI)" % j["input_unit"], (cb, j))
+
+# ---------------------------------------------------------------- adc
+sensor = os.path.join(SAMPLES, "gyro-seed-quiet.ini")
+adcs = [os.path.join(SAMPLES, f) for f in
+        ("adc-seed-16bit.ini", "adc-seed-18bit.ini")]
+j = cli("adc", "report", "--format", "json", "--sensor", sensor,
+        "--adc", adcs[0], "--adc", adcs[1])["adcs"]
+rep = ss.adc_report(sensor, adcs)
+ok(len(rep) == 2 and all(
+    r["name"] == c["name"] and r["bits"] == c["bits"] and
+    rel(r["lsb"], c["lsb"]["si"]) < 1e-12 and r["dithered"] == c["dithered"]
+    and r["min_bits"] == c["min_bits"] for r, c in zip(rep, j)),
+   "adc_report: LSB, dithering and minimum word length equal the CLI's",
+   (rep, j))
+ok(all(r["verdict"] == c["verdict"] for r, c in zip(rep, j)),
+   "adc_report: verdicts equal the CLI's (%s)" %
+   ", ".join(r["verdict"] for r in rep))
+
 # ---------------------------------------------------------------- containers
 with tempfile.TemporaryDirectory() as d:
     subprocess.run([os.path.join(BUILD, "tests", "gen-ros"), d, "200", "10"],

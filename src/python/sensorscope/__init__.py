@@ -21,6 +21,7 @@ import numpy as np
 from . import _capi as _c
 
 __all__ = ["Error", "Capture", "load", "allan", "psd", "simulate",
+           "tempbias", "calib", "adc_report",
            "AllanResult", "Spectrum", "version"]
 
 SI_TERM_UNITS = {}
@@ -424,4 +425,142 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
             _c.sim_free(sim)
         name = base + "xyz"[k] if axes <= 3 else "%s%d" % (base, k + 1)
         out[name] = y
+    return out
+
+
+# ------------------------------------------------------------------ tempbias
+
+def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
+    """Bias against temperature (analysis/tempbias.c, as `sensorscope
+    tempbias`): x and temp_degc are arrays of one run, or lists of arrays
+    (one per power cycle); x in SI.  Returns a dict: order,
+    ref_temp_degc, coefficients (b(T) = sum c_k (T - T_ref)^k, SI per
+    degC^k), coefficient_sd, residual_rms, sensitivity, hysteresis
+    {max, at_degc, eta}, gradient, turn_on_repeatability {sd, range,
+    runs}, table [(temp_degc, bias)]."""
+    xs = x if isinstance(x, (list, tuple)) else [x]
+    ts = temp_degc if isinstance(temp_degc, (list, tuple)) else [temp_degc]
+    if len(xs) != len(ts):
+        raise ValueError("as many temperature arrays as runs")
+    runs = (_c.TempbiasRun * len(xs))()
+    keep = []
+    for j, (a, t) in enumerate(zip(xs, ts)):
+        p, stride, n, k1 = _vector(a)
+        pt, st, nt, k2 = _vector(t)
+        if nt != n:
+            raise ValueError("run %d: %d samples, %d temperatures" %
+                             (j, n, nt))
+        if st != 1:
+            k2 = np.ascontiguousarray(k2)
+            pt = k2.ctypes.data_as(_c.c_dptr)
+        keep += [k1, k2]
+        runs[j] = _c.TempbiasRun(p, stride, pt, n, float(rate))
+    o = _c.TempbiasOpts()
+    if order == "auto":
+        o.order_auto = True
+        o.order = -1
+    else:
+        o.order = int(order)
+    if ref_temp is not None:
+        o.ref_temp_set = True
+        o.ref_temp_degc = float(ref_temp)
+    res = C.POINTER(_c.TempbiasResult)()
+    d = _c.Diag()
+    rc = _c.tempbias_fit(runs, len(xs), C.byref(o), C.byref(res), C.byref(d))
+    del keep
+    _check(rc, d, "tempbias")
+    try:
+        r = res.contents
+        return {
+            "order": r.order, "ref_temp_degc": r.ref_temp_degc,
+            "coefficients": [r.coef[i] for i in range(r.order + 1)],
+            "coefficient_sd": [r.coef_sd[i] for i in range(r.order + 1)],
+            "residual_rms": r.residual_rms,
+            "sensitivity": r.sensitivity,
+            "hysteresis": {"max": r.hysteresis_max,
+                           "at_degc": r.hysteresis_at_degc,
+                           "eta": r.hysteresis if r.have_hysteresis
+                           else None},
+            "gradient": r.gradient if r.have_gradient else None,
+            "turn_on_repeatability": {"sd": r.repeat_sd,
+                                      "range": r.repeat_range,
+                                      "runs": r.n_runs},
+            "table": [(r.table_temp_degc[i], r.table_bias[i])
+                      for i in range(r.n_table)],
+            "note": r.note.decode(errors="replace"),
+        }
+    finally:
+        _c.tempbias_result_free(res)
+
+
+# ------------------------------------------------------------------ calib
+
+def calib(ax, ay, az, rate, gravity=9.80665):
+    """Accelerometer multi-position calibration (Tedaldi et al. 2014, as
+    `sensorscope calib accel`): static poses are detected in the record
+    (x, y, z in m/s^2) and the 9-parameter model u' = T K (y - b) is
+    fitted.  Returns a dict: bias (m/s^2), scale, misalignment (3x3, unit
+    diagonal), their *_sd, residual_rms (m/s^2), poses."""
+    arrs = [np.ascontiguousarray(a, dtype=np.float64) for a in (ax, ay, az)]
+    n = arrs[0].shape[0]
+    if any(a.ndim != 1 or a.shape[0] != n for a in arrs):
+        raise ValueError("three 1-D arrays of one length")
+    det = _c.CalibDetect()
+    iv = (_c.CalibInterval * 4096)()
+    t = _c.CalibTriad()
+    w1 = np.empty(n)
+    w2 = np.empty(n)
+    d = _c.Diag()
+    rc = _c.calib_accel_multipos(
+        *(a.ctypes.data_as(_c.c_dptr) for a in arrs), 1, n, float(rate),
+        float(gravity), C.byref(det), iv, 4096, C.byref(t),
+        w1.ctypes.data_as(_c.c_dptr), w2.ctypes.data_as(_c.c_dptr),
+        C.byref(d))
+    _check(rc, d, "calib")
+    m = [[t.mis[i][j] for j in range(3)] for i in range(3)]
+    msd = [[t.mis_sd[i][j] for j in range(3)] for i in range(3)]
+    return {"bias": list(t.bias), "scale": list(t.scale),
+            "misalignment": m, "bias_sd": list(t.bias_sd),
+            "scale_sd": list(t.scale_sd), "misalignment_sd": msd,
+            "residual_rms": t.residual_rms, "poses": t.poses,
+            "threshold_k": det.k}
+
+
+# ------------------------------------------------------------------ adc
+
+def adc_report(sensor, adcs, rate=0.0):
+    """Does each converter degrade this sensor? (`sensorscope adc report`'s
+    analysis): sensor is a spec file with a [sensor] section, adcs a list
+    of spec files with an [adc] section.  Returns one dict per converter:
+    name, bits, lsb (SI), dithered, min_bits (None when none passes),
+    verdict, margin, limiting, terms {name: {value, reference, ratio,
+    verdict}}.  An inl_profile file named in a spec is not read here."""
+    if isinstance(adcs, (str, bytes)):
+        adcs = [adcs]
+    sp = _c.SensorSpec()
+    d = _c.Diag()
+    _check(_c.sensor_spec_load(_b(sensor), C.byref(sp), C.byref(d)), d)
+    out = []
+    for path in adcs:
+        a = _c.AdcSpec()
+        _check(_c.adc_spec_load(_b(path), C.byref(a), C.byref(d)), d)
+        an = _c.AdcAnalysis()
+        _check(_c.adc_analyze(C.byref(sp), C.byref(a), float(rate),
+                              C.byref(an), C.byref(d)), d)
+        terms = {}
+        for i in range(5):
+            tr = an.term[i]
+            terms[_c.adc_term_name(i).decode()] = {
+                "value": tr.value, "reference": tr.reference,
+                "ratio": tr.ratio,
+                "verdict": _c.adc_verdict_name(tr.verdict).decode()}
+        out.append({
+            "name": a.name.decode(), "bits": a.bits, "lsb": an.lsb,
+            "dithered": bool(an.dithered),
+            "min_bits": an.min_bits if an.min_bits >= 0 else None,
+            "verdict": _c.adc_verdict_name(an.verdict).decode(),
+            "margin": an.margin,
+            "limiting": _c.adc_term_name(an.limiting).decode(),
+            "n_total": an.n_total, "bias_bound": an.bias_bound,
+            "terms": terms})
     return out

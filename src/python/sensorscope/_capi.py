@@ -181,6 +181,108 @@ class SimOpts(C.Structure):
                 ("flicker_tau_max_s", c_dbl), ("no_clip", C.c_bool)]
 
 
+class TempbiasRun(C.Structure):
+    _fields_ = [("x", c_dptr), ("stride", c_size), ("temp_degc", c_dptr),
+                ("n", c_size), ("rate_hz", c_dbl)]
+
+
+class TempbiasOpts(C.Structure):
+    _fields_ = [("order", C.c_int), ("order_auto", C.c_bool),
+                ("ref_temp_set", C.c_bool), ("ref_temp_degc", c_dbl),
+                ("block_s", c_dbl), ("smooth_s", c_dbl), ("bin_degc", c_dbl),
+                ("deadband_degc_s", c_dbl), ("rate_deadband", C.c_bool),
+                ("no_hysteresis", C.c_bool), ("no_gradient", C.c_bool),
+                ("warmup_set", C.c_bool), ("warmup_s", c_dbl),
+                ("min_span_degc", c_dbl), ("alpha", c_dbl),
+                ("table_step_degc", c_dbl)]
+
+
+class TempbiasRunInfo(C.Structure):
+    _fields_ = [("warmup_s", c_dbl), ("offset", c_dbl), ("offset_sd", c_dbl),
+                ("mean_temp_degc", c_dbl), ("used", c_size)]
+
+
+class TempbiasResult(C.Structure):
+    _fields_ = [("order", C.c_int), ("order_requested", C.c_int),
+                ("order_cap", C.c_int), ("levels", C.c_int),
+                ("order_lowered", C.c_bool), ("note", C.c_char * 200),
+                ("ref_temp_degc", c_dbl), ("half_span_degc", c_dbl),
+                ("temp_min_degc", c_dbl), ("temp_max_degc", c_dbl),
+                ("coef", c_dbl * 5), ("coef_sd", c_dbl * 5), ("dof", c_dbl),
+                ("have_hysteresis", C.c_bool), ("hysteresis", c_dbl),
+                ("hysteresis_sd", c_dbl), ("hysteresis_max", c_dbl),
+                ("hysteresis_at_degc", c_dbl), ("have_split", C.c_bool),
+                ("heat_coef", c_dbl * 5), ("cool_coef", c_dbl * 5),
+                ("have_gradient", C.c_bool), ("gradient", c_dbl),
+                ("gradient_sd", c_dbl), ("deadband_degc_s", c_dbl),
+                ("turn_band_degc", c_dbl), ("smooth_s", c_dbl),
+                ("block_s", c_dbl), ("bin_degc", c_dbl),
+                ("residual_rms", c_dbl), ("sensitivity", c_dbl),
+                ("sensitivity_sd", c_dbl), ("peak_to_peak", c_dbl),
+                ("n_runs", c_size), ("runs", C.POINTER(TempbiasRunInfo)),
+                ("repeat_sd", c_dbl), ("repeat_range", c_dbl),
+                ("stability", c_dbl), ("stability_tau_s", c_dbl),
+                ("n_bins", c_size), ("bins", C.c_void_p),
+                ("n_table", c_size), ("table_temp_degc", c_dptr),
+                ("table_bias", c_dptr), ("used", c_size),
+                ("dropped", c_size)]
+
+
+class CalibDetect(C.Structure):
+    _fields_ = [("window_s", c_dbl), ("min_static_s", c_dbl),
+                ("init_static_s", c_dbl), ("k", c_dbl), ("reference", c_dbl),
+                ("threshold", c_dbl), ("n_intervals", c_size)]
+
+
+class CalibInterval(C.Structure):
+    _fields_ = [("start", c_size), ("end", c_size)]
+
+
+M33 = (c_dbl * 3) * 3
+
+
+class CalibTriad(C.Structure):
+    _fields_ = [("bias", c_dbl * 3), ("scale", c_dbl * 3), ("mis", M33),
+                ("gsens", M33), ("bias_sd", c_dbl * 3),
+                ("scale_sd", c_dbl * 3), ("mis_sd", M33), ("gsens_sd", M33),
+                ("has_gsens", C.c_bool), ("n_params", C.c_uint),
+                ("poses", c_size), ("residual_rms", c_dbl),
+                ("iterations", C.c_uint), ("cond", c_dbl)]
+
+
+class AdcSpec(C.Structure):
+    _fields_ = [("name", C.c_char * 64), ("bits", C.c_int), ("lo", c_dbl),
+                ("hi", c_dbl), ("analog", C.c_bool), ("quantity", C.c_int),
+                ("has", C.c_uint), ("rate_hz", c_dbl), ("noise", c_dbl),
+                ("enob", c_dbl), ("inl_lsb", c_dbl), ("dnl_lsb", c_dbl),
+                ("offset", c_dbl), ("gain_error", c_dbl),
+                ("offset_drift", c_dbl), ("gain_drift", c_dbl),
+                ("ref_temp_degc", c_dbl), ("reference", C.c_int),
+                ("mode", C.c_int), ("coding", C.c_char * 24),
+                ("oversample", C.c_uint), ("inl_profile", C.c_char * 256)]
+
+
+class AdcTermResult(C.Structure):
+    _fields_ = [("value", c_dbl), ("reference", c_dbl), ("ratio", c_dbl),
+                ("pass_limit", c_dbl), ("fail_limit", c_dbl),
+                ("verdict", C.c_int)]
+
+
+class AdcAnalysis(C.Structure):
+    _fields_ = [("lsb", c_dbl), ("rate_hz", c_dbl), ("sigma_sensor", c_dbl),
+                ("sigma_adc", c_dbl), ("sigma_over_q", c_dbl),
+                ("dithered", C.c_bool), ("n_quant", c_dbl),
+                ("q_quant", c_dbl), ("n_adc", c_dbl), ("n_total", c_dbl),
+                ("noise_degradation", c_dbl), ("adev_q_100s", c_dbl),
+                ("bias_bound", c_dbl), ("temp_span_degc", c_dbl),
+                ("temp_span_default", C.c_bool),
+                ("offset_drift_bias", c_dbl), ("scale_drift", c_dbl),
+                ("range_lo", c_dbl), ("range_hi", c_dbl),
+                ("headroom", c_dbl), ("min_bits", C.c_int),
+                ("term", AdcTermResult * 5), ("verdict", C.c_int),
+                ("limiting", C.c_int), ("margin", c_dbl)]
+
+
 # every structure mirrored, by C name, for the layout test
 STRUCTS = {
     "sscope_diag": Diag, "sscope_unit": Unit, "sscope_column": Column,
@@ -193,6 +295,14 @@ STRUCTS = {
     "sscope_allan_result": AllanResult, "sscope_psd_opts": PsdOpts,
     "sscope_spectrum": Spectrum, "sscope_sensor_spec": SensorSpec,
     "sscope_sim_tone": SimTone, "sscope_sim_opts": SimOpts,
+    "sscope_tempbias_run": TempbiasRun, "sscope_tempbias_opts": TempbiasOpts,
+    "sscope_tempbias_runinfo": TempbiasRunInfo,
+    "sscope_tempbias_result": TempbiasResult,
+    "sscope_calib_detect": CalibDetect,
+    "sscope_calib_interval": CalibInterval,
+    "sscope_calib_triad": CalibTriad, "sscope_adc_spec": AdcSpec,
+    "sscope_adc_term_result": AdcTermResult,
+    "sscope_adc_analysis": AdcAnalysis,
 }
 
 
@@ -242,3 +352,20 @@ sim_new = _fn("sscope_sim_new", C.c_int, C.POINTER(C.c_void_p),
 sim_generate = _fn("sscope_sim_generate", C.c_int, C.c_void_p, c_dptr, c_dptr,
                    c_dptr, c_size)
 sim_free = _fn("sscope_sim_free", None, C.c_void_p)
+tempbias_fit = _fn("sscope_tempbias_fit", C.c_int, C.POINTER(TempbiasRun),
+                   c_size, C.POINTER(TempbiasOpts),
+                   C.POINTER(C.POINTER(TempbiasResult)), C.POINTER(Diag))
+tempbias_result_free = _fn("sscope_tempbias_result_free", None,
+                           C.POINTER(TempbiasResult))
+calib_accel_multipos = _fn("sscope_calib_accel_multipos", C.c_int, c_dptr,
+                           c_dptr, c_dptr, c_size, c_size, c_dbl, c_dbl,
+                           C.POINTER(CalibDetect), C.POINTER(CalibInterval),
+                           c_size, C.POINTER(CalibTriad), c_dptr, c_dptr,
+                           C.POINTER(Diag))
+adc_spec_load = _fn("sscope_adc_spec_load", C.c_int, C.c_char_p,
+                    C.POINTER(AdcSpec), C.POINTER(Diag))
+adc_analyze = _fn("sscope_adc_analyze", C.c_int, C.POINTER(SensorSpec),
+                  C.POINTER(AdcSpec), c_dbl, C.POINTER(AdcAnalysis),
+                  C.POINTER(Diag))
+adc_verdict_name = _fn("sscope_adc_verdict_name", C.c_char_p, C.c_int)
+adc_term_name = _fn("sscope_adc_term_name", C.c_char_p, C.c_int)
