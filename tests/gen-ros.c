@@ -18,8 +18,9 @@
  *                        schema: topics, messages, timestamp index)
  *   rosbag2-mcap/        metadata.yaml + rosbag2_0.mcap
  *   two-imu.mcap         two IMU topics (the reader must ask which)
- * Usage: gen-ros OUTDIR [RATE [DURATION [ONLY]]]; ONLY = csv|mcap|bag
- * writes that one file (for the big benchmark files).
+ * Usage: gen-ros OUTDIR [RATE [DURATION [ONLY]]]; ONLY = csv, mcap (zstd),
+ * bag (lz4), bag-none or mcap-none writes that one file (for the big
+ * benchmark files).
  */
 #include "config.h"
 
@@ -708,6 +709,10 @@ int main(int argc, char **argv)
 		write_mcap(dir, "imu-zstd.mcap", &r, "zstd", false, 1);
 	if (!only || !strcmp(only, "bag"))
 		write_bag(dir, "imu-lz4.bag", &r, "lz4");
+	if (only && !strcmp(only, "bag-none"))
+		write_bag(dir, "imu-none.bag", &r, "none");
+	if (only && !strcmp(only, "mcap-none"))
+		write_mcap(dir, "imu-none.mcap", &r, "", false, 1);
 	if (only)
 		return 0;
 	write_bag(dir, "imu-none.bag", &r, "none");
