@@ -664,5 +664,8 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-tempbias.h"
 #include "sscope-inclino.h"
 #include "sscope-adc.h"
+#include "sscope-nav.h"
+#include "sscope-strapdown.h"
+#include "sscope-navsim.h"
 
 #endif /* SENSORSCOPE_H */
