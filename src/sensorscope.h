@@ -667,5 +667,7 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-nav.h"
 #include "sscope-strapdown.h"
 #include "sscope-navsim.h"
+#include "sscope-heading.h"
+#include "sscope-walk.h"
 
 #endif /* SENSORSCOPE_H */
