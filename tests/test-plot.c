@@ -126,6 +126,14 @@ START_TEST(render_demo)
 	ssc_ax_ylabel(d, "frequency (Hz)");
 	ssc_ax_title(d, "spectrogram");
 
+#ifdef HAVE_OPENCV
+	/* the drawing module, which the command finds next to itself */
+	if (!getenv("SSCOPE_PLOT_MODULE") && getenv("top_builddir")) {
+		snprintf(path, sizeof(path), "%s/src/cli/.libs/plot-opencv.so",
+			 getenv("top_builddir"));
+		setenv("SSCOPE_PLOT_MODULE", path, 1);
+	}
+#endif
 	snprintf(path, sizeof(path), "%s/tests/plot-demo.png",
 		 getenv("top_builddir") ? getenv("top_builddir") : ".");
 	rc = ssc_fig_save_png(fig, path);

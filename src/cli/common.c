@@ -14,6 +14,9 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#ifdef HAVE_OPENCV
+#include "cvload.h"
+#endif
 
 enum {
 	OPT_FORMAT = 1000,
@@ -637,7 +640,7 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig)
 bool ssc_plot_available(void)
 {
 #ifdef HAVE_OPENCV
-	return true;
+	return ssc_cv_load(NULL, 0) == 0;
 #else
 	return false;
 #endif
@@ -645,6 +648,14 @@ bool ssc_plot_available(void)
 
 int ssc_plot_unavailable(const char *cmd)
 {
+#ifdef HAVE_OPENCV
+	char why[512];
+
+	if (ssc_cv_load(why, sizeof(why))) {
+		ssc_err(cmd, "--plot: cannot load the drawing module: %s", why);
+		return SSC_EXIT_USAGE;
+	}
+#endif
 	ssc_err(cmd, "--plot: this sensorscope was built without OpenCV; "
 		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
 	return SSC_EXIT_USAGE;
