@@ -405,7 +405,9 @@ struct sscope_allan_result {
 	struct sscope_allan_point *points; /**< the requested deviation */
 	/** OADEV points the fit used: the same array as points when the
 	 *  deviation is OADEV or no fit was asked for (skip), else a
-	 *  separate one */
+	 *  separate one.  For SSCOPE_TAUS_ALL these are the taus of the
+	 *  dense grid (about ten per decade): neighbouring taus are almost
+	 *  fully correlated and add nothing to the fit but cost. */
 	struct sscope_allan_point *oadev;
 	size_t n_oadev;
 	size_t n_phase;     /**< phase points of the record */

@@ -4,8 +4,9 @@
  * rows against the row-by-row path (the same file in the other byte order,
  * which takes it), gaps and bad values inside a block with their exact
  * location, captures used in place (mapped, read-only) and their pages
- * given back, and the Allan engine's release callback (every sample
- * released once, results unchanged).
+ * given back, the Allan engine's release callback (every sample released
+ * once, results unchanged), and the fit of an all-tau grid on its dense
+ * taus.
  */
 #include "internal.h"
 
@@ -384,6 +385,57 @@ START_TEST(analyze_skip_fit)
 }
 END_TEST
 
+/* an all-tau grid is fitted on its dense taus: the same fit as the dense
+ * grid's, from points equal to the dense grid's own */
+START_TEST(all_grid_fit_dense)
+{
+	size_t n = 6000;
+	double *y = malloc(n * sizeof(double));
+	struct sscope_allan_result *all = NULL, *dense = NULL;
+	uint64_t s = 88172645463325252ull;
+	double w = 0;
+
+	ck_assert_ptr_nonnull(y);
+	for (size_t i = 0; i < n; i++) {
+		s ^= s << 13;
+		s ^= s >> 7;
+		s ^= s << 17;
+		w += ((double)(s >> 11) * 0x1p-53 - 0.5) * 0.01;
+		y[i] = (double)(s >> 11) * 0x1p-53 + w;
+	}
+	for (int dev = 0; dev < 2; dev++) {
+		struct sscope_allan_opts ao = { .dev = dev ? SSCOPE_DEV_MDEV :
+							     SSCOPE_DEV_OADEV };
+
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_ALL,
+						      &ao, NULL, &all, NULL), 0);
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_DENSE,
+						      &ao, NULL, &dense, NULL), 0);
+		ck_assert_uint_eq(all->n_points, dev ? n / 3 : n / 2);
+		ck_assert(all->oadev != all->points);
+		ck_assert_uint_eq(all->n_oadev, dense->n_oadev);
+		for (size_t j = 0; j < dense->n_oadev; j++) {
+			ck_assert_uint_eq(all->oadev[j].m, dense->oadev[j].m);
+			ck_assert(all->oadev[j].dev == dense->oadev[j].dev);
+			ck_assert(all->oadev[j].edf == dense->oadev[j].edf);
+		}
+		ck_assert(all->have_fit && dense->have_fit);
+		ck_assert_uint_eq(all->fit.terms, dense->fit.terms);
+		for (int t = 0; t < 5; t++) {
+			ck_assert(all->fit.coef[t].value == dense->fit.coef[t].value ||
+				  (isnan(all->fit.coef[t].value) &&
+				   isnan(dense->fit.coef[t].value)));
+			ck_assert(all->fit.coef[t].hi == dense->fit.coef[t].hi ||
+				  (isnan(all->fit.coef[t].hi) &&
+				   isnan(dense->fit.coef[t].hi)));
+		}
+		sscope_allan_result_free(all);
+		sscope_allan_result_free(dense);
+	}
+	free(y);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("rawfast");
@@ -396,6 +448,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, in_place);
 	tcase_add_test(tc, allan_release);
 	tcase_add_test(tc, analyze_skip_fit);
+	tcase_add_test(tc, all_grid_fit_dense);
 	suite_add_tcase(s, tc);
 	return s;
 }
