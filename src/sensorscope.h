@@ -557,8 +557,9 @@ struct sscope_stats {
 
 /**
  * Mean, standard deviation, extremes of x[k*stride], k < n, skipping NaN.
- * Two passes with compensated sums: exact to a few ulps even with an offset
- * 1e9 times the spread.
+ * One pass over memory, each cache-sized block in two passes, blocks merged
+ * pairwise, sums compensated: exact to a few ulps even with an offset 1e9
+ * times the spread.
  * @return 0; -EDOM when fewer than one finite sample (sd needs two: with
  *         one sample sd is 0); -EINVAL for stride 0.
  */

@@ -5,8 +5,8 @@
  * which takes it), gaps and bad values inside a block with their exact
  * location, captures used in place (mapped, read-only) and their pages
  * given back, the Allan engine's release callback (every sample released
- * once, results unchanged), and the fit of an all-tau grid on its dense
- * taus.
+ * once, results unchanged), the fit of an all-tau grid on its dense
+ * taus, and one-pass statistics (vector and scalar blocks).
  */
 #include "internal.h"
 
@@ -436,6 +436,75 @@ START_TEST(all_grid_fit_dense)
 }
 END_TEST
 
+/* one-pass statistics: the vector blocks, the sample-by-sample blocks
+ * (strided, or holding NaN) and a long-double two-pass reference agree */
+START_TEST(stats_one_pass)
+{
+	const size_t n = 100003;
+	double *x = malloc(2 * n * sizeof(double));
+	uint64_t s = 88172645463325252ull;
+
+	ck_assert_ptr_nonnull(x);
+	for (int pass = 0; pass < 3; pass++) {
+		struct sscope_stats a, b;
+		long double m = 0, v = 0;
+		size_t c = 0, nn = 0;
+		double lo = INFINITY, hi = -INFINITY;
+
+		for (size_t i = 0; i < n; i++) {
+			s ^= s << 13;
+			s ^= s >> 7;
+			s ^= s << 17;
+			x[2 * i] = (pass == 2 ? 2.385e9 : 0.7) +
+				   ((double)(s >> 11) * 0x1p-53 - 0.5) * 2.385;
+			x[2 * i + 1] = NAN;
+			if (pass == 1 && i % 9973 == 17)
+				x[2 * i] = NAN;
+		}
+		for (size_t i = 0; i < n; i++) {
+			double y = x[2 * i];
+
+			if (isnan(y)) {
+				nn++;
+				continue;
+			}
+			m += y;
+			c++;
+			lo = fmin(lo, y);
+			hi = fmax(hi, y);
+		}
+		m /= (long double)c;
+		for (size_t i = 0; i < n; i++)
+			if (!isnan(x[2 * i]))
+				v += (x[2 * i] - m) * (x[2 * i] - m);
+		v = sqrtl(v / (long double)(c - 1));
+		/* strided: sample by sample */
+		ck_assert_int_eq(sscope_stats_compute(x, 2, n, &a), 0);
+		/* contiguous: vectors */
+		for (size_t i = 0; i < n; i++)
+			x[i] = x[2 * i];
+		ck_assert_int_eq(sscope_stats_compute(x, 1, n, &b), 0);
+		ck_assert_uint_eq(a.n, c);
+		ck_assert_uint_eq(b.n, c);
+		ck_assert_uint_eq(a.n_nan, nn);
+		ck_assert_uint_eq(b.n_nan, nn);
+		ck_assert(a.min == lo && b.min == lo && a.max == hi && b.max == hi);
+		{
+			double md = (double)m;
+			long double ulp = nextafter(fabs(md), INFINITY) - fabs(md);
+
+			/* two ulps of the mean, or 1e-17 of the spread */
+			ck_assert_msg(fabsl(a.mean - m) <= 2 * ulp + 1e-17L &&
+				      fabsl(b.mean - m) <= 2 * ulp + 1e-17L,
+				      "mean %.17g %.17g %.17Lg", a.mean, b.mean, m);
+		}
+		ck_assert_rel(a.sd, (double)v, pass == 2 ? 1e-6 : 1e-14);
+		ck_assert_rel(b.sd, (double)v, pass == 2 ? 1e-6 : 1e-14);
+	}
+	free(x);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("rawfast");
@@ -449,6 +518,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, allan_release);
 	tcase_add_test(tc, analyze_skip_fit);
 	tcase_add_test(tc, all_grid_fit_dense);
+	tcase_add_test(tc, stats_one_pass);
 	suite_add_tcase(s, tc);
 	return s;
 }
