@@ -5,6 +5,7 @@
 #include "cli.h"
 
 #include <limits.h>
+#include <malloc.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -116,6 +117,14 @@ int main(int argc, char **argv)
 		);
 		return SSC_EXIT_OK;
 	}
+	/* Large blocks (capture columns, Allan and Welch workspaces, one
+	 * after another per channel) are kept by malloc for the next one
+	 * instead of being given back to the kernel and zeroed again on
+	 * their next first touch: a report of six 8.64-million-sample
+	 * channels spent a sixth of its time clearing pages.  A command is
+	 * short-lived; its memory is returned when it exits. */
+	mallopt(M_MMAP_THRESHOLD, 1 << 30);
+	mallopt(M_TRIM_THRESHOLD, 1 << 30);
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		if (!strcmp(argv[1], commands[i].name)) {
 			if (commands[i].run != ssc_cmd_info)
