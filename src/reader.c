@@ -103,6 +103,7 @@ struct sscope_reader {
 	struct sscope_source *src;
 	/* a mapped binary file: pages before `dropped` were given back */
 	size_t dropped, pagesz;
+	size_t last_used; /* last column converted (SIZE_MAX: none) */
 };
 
 /* ------------------------------------------------------------ source */
@@ -564,12 +565,15 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 			r->sel[r->nsel++] = i;
 		}
 	}
+	r->last_used = SIZE_MAX;
 	for (size_t i = 0; i < r->ncols; i++) {
 		struct colx *c = &r->cols[i];
 
 		c->is_time = (long)i == r->time_col;
 		c->is_temp = (long)i == r->temp_col;
 		c->used = c->dest >= 0 || c->is_time || c->is_temp;
+		if (c->used)
+			r->last_used = i;
 	}
 	for (size_t k = 0; k < r->nsel; k++) {
 		rc = check_unit(r, &r->cols[r->sel[k]], diag);
@@ -1577,6 +1581,60 @@ static int parse_line(const struct sscope_reader *r, const char *p,
  * by the delimiter, the line ending with '\n'.  Returns the start of the
  * next line, or NULL to let the careful path (messages, blanks, NaN,
  * comments) handle the line -- it rewrites the whole row. */
+/* bytes of a 64-bit word equal to the byte in every lane of pat: the high
+ * bit of each such byte (exact, no false positives) */
+static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
+{
+	const uint64_t lo7 = 0x7f7f7f7f7f7f7f7full;
+	uint64_t x = w ^ pat;
+
+	return ~(((x & lo7) + lo7) | x | lo7);
+}
+
+#define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
+
+/* first d or newline at or after p (or end), eight bytes at a time: the
+ * scan over the cells nobody asked for */
+static const char *skip_cell(const char *p, const char *end, char d)
+{
+	const uint64_t pd = BYTES(d), pn = BYTES('\n');
+
+	for (; end - p >= 8; p += 8) {
+		uint64_t w, hit;
+
+		memcpy(&w, p, 8);
+		hit = eq_bytes(w, pd) | eq_bytes(w, pn);
+		if (hit) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+			return p + (__builtin_ctzll(hit) >> 3);
+#else
+			break;
+#endif
+		}
+	}
+	while (p < end && *p != d && *p != '\n')
+		p++;
+	return p;
+}
+
+/* occurrences of d in [p, e) */
+static size_t count_byte(const char *p, const char *e, char d)
+{
+	const uint64_t pd = BYTES(d);
+	size_t n = 0;
+
+	for (; e - p >= 8; p += 8) {
+		uint64_t w;
+
+		memcpy(&w, p, 8);
+		/* one bit per matching byte, summed by a multiply */
+		n += (size_t)(((eq_bytes(w, pd) >> 7) * BYTES(1)) >> 56);
+	}
+	for (; p < e; p++)
+		n += *p == d;
+	return n;
+}
+
 static const char *fast_line(const struct sscope_reader *r, const char *p,
 			     const char *end, bool eof,
 			     struct sscope_chunk *ch, size_t row)
@@ -1595,9 +1653,23 @@ static const char *fast_line(const struct sscope_reader *r, const char *p,
 				return NULL;
 			p += n;
 			put_cell(r, c, ch, row, a, p, v);
+			if (col == r->last_used && col + 1 < r->ncols) {
+				/* the cells after the last one in use: find
+				 * the end of the line, count the delimiters */
+				const char *nl;
+
+				if (p >= end || *p != d)
+					return NULL;
+				nl = memchr(p, '\n', (size_t)(end - p));
+				if (!nl && !eof)
+					return NULL;
+				if (count_byte(p, nl ? nl : end, d) !=
+				    r->ncols - 1 - col)
+					return NULL;
+				return nl ? nl + 1 : end;
+			}
 		} else {
-			while (p < end && *p != d && *p != '\n')
-				p++;
+			p = skip_cell(p, end, d);
 		}
 		if (col + 1 < r->ncols) {
 			if (p >= end || *p != d)

@@ -6,7 +6,8 @@
  * location, captures used in place (mapped, read-only) and their pages
  * given back, the Allan engine's release callback (every sample released
  * once, results unchanged), the fit of an all-tau grid on its dense
- * taus, and one-pass statistics (vector and scalar blocks).
+ * taus, one-pass statistics (vector and scalar blocks), and CSV cells
+ * skipped after the last column in use.
  */
 #include "internal.h"
 
@@ -505,6 +506,54 @@ START_TEST(stats_one_pass)
 }
 END_TEST
 
+/* CSV cells after the last column in use are skipped by a count of the
+ * delimiters: the values equal those of an all-column read, and a row with
+ * too few or too many cells, CRLF endings and a last line without newline
+ * behave as before */
+START_TEST(csv_skipped_columns)
+{
+	char *text = malloc(1 << 20), *q = text;
+	struct sscope_read_opts o = { .columns = "gx" };
+	struct sscope_capture *one = NULL, *all = NULL;
+	struct sscope_diag d = { "" };
+	const char *p;
+
+	ck_assert_ptr_nonnull(text);
+	q += sprintf(q, "time [s],gx [deg/s],gy [deg/s],gz [deg/s],note,ax [g],ay [g]\r\n");
+	for (int i = 0; i < 5000; i++)
+		q += sprintf(q, "%.2f,%.9g,%.9g,%d,x%d,%.6g,%.3g%s", i * 0.01,
+			     sin(i * 0.1) * 2.385, cos(i * 0.3), i, i % 7,
+			     i * 1e-4, 1.5, i == 4999 ? "" : i % 2 ? "\r\n" : "\n");
+	p = put("seven.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), 0);
+	o.columns = "gx,gy,gz,ax,ay";
+	ck_assert_int_eq(sscope_capture_load(&all, p, &o, &d), 0);
+	ck_assert_uint_eq(one->n, 5000);
+	ck_assert_uint_eq(all->n, 5000);
+	ck_assert(memcmp(one->channels[0].data, all->channels[0].data,
+			 5000 * sizeof(double)) == 0);
+	ck_assert(memcmp(one->time_s, all->time_s, 5000 * sizeof(double)) == 0);
+	/* deg/s to rad/s of a value written with 9 digits */
+	ck_assert_rel(one->channels[0].data[1234],
+		      sin(1234 * 0.1) * 2.385 * 0.017453292519943295, 1e-8);
+	sscope_capture_free(one);
+	sscope_capture_free(all);
+	/* a missing and an extra cell after the last used column */
+	o.columns = "gx";
+	q = text;
+	q += sprintf(q, "t,gx,gy,gz\n1,2,3,4\n2,3,4,5\n3,4,5\n");
+	p = put("short.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), -EBADMSG);
+	ck_assert_ptr_nonnull(strstr(d.msg, "line 4: 3 columns where the header has 4"));
+	q = text;
+	q += sprintf(q, "t,gx,gy,gz\n1,2,3,4\n2,3,4,5,6\n3,4,5,6\n");
+	p = put("long.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), -EBADMSG);
+	ck_assert_ptr_nonnull(strstr(d.msg, "line 3: 5 columns where the header has 4"));
+	free(text);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("rawfast");
@@ -519,6 +568,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, analyze_skip_fit);
 	tcase_add_test(tc, all_grid_fit_dense);
 	tcase_add_test(tc, stats_one_pass);
+	tcase_add_test(tc, csv_skipped_columns);
 	suite_add_tcase(s, tc);
 	return s;
 }
