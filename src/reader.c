@@ -717,7 +717,7 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 		while (q < e && blank(*q))
 			q++;
 		if (q >= e) { /* blank line */
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (*q == '#') {
@@ -725,7 +725,7 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 			cm_s = q + 1;
 			cm_e = e;
 			cm_line = r->line;
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		r->delim = detect_delim(q, e);
@@ -899,7 +899,7 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
 	const char *p = r->base, *end = r->base + r->len, *e1, *e2;
-	char type[8] = "", endian[8] = "";
+	char type[8] = "", endian[8] = "", l1[64];
 	size_t nh, data_off;
 	int rc;
 
@@ -907,7 +907,13 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	if (e1 >= end)
 		return ssc_diag(diag, -EBADMSG, "%s: truncated binary header",
 				r->disp);
-	if (sscanf(p, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
+	/* sscanf needs a string: the first line alone, terminated */
+	if ((size_t)(e1 - p) >= sizeof(l1))
+		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
+				r->disp);
+	memcpy(l1, p, (size_t)(e1 - p));
+	l1[e1 - p] = '\0';
+	if (sscanf(l1, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
 	    (strcmp(type, "f32") && strcmp(type, "f64")) ||
 	    (strcmp(endian, "le") && strcmp(endian, "be")))
 		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
@@ -1676,7 +1682,7 @@ static int init_t0(struct sscope_reader *r, struct sscope_diag *diag)
 			e = end;
 		ln++;
 		if (skip_line(p, e)) {
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (e > p && e[-1] == '\r')

@@ -716,5 +716,10 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-tempbias.h"
 #include "sscope-inclino.h"
 #include "sscope-adc.h"
+#include "sscope-nav.h"
+#include "sscope-strapdown.h"
+#include "sscope-navsim.h"
+#include "sscope-heading.h"
+#include "sscope-walk.h"
 
 #endif /* SENSORSCOPE_H */

@@ -399,7 +399,7 @@ static int plot(const struct ssc_common *co, const char *png,
 	for (size_t i = 0; i < cap->n; i++)
 		t[i] = cap->time_s ? cap->time_s[i] :
 		       cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
-	fig = ssc_fig_new(1100, 220 + 200 * rows, rows, 1);
+	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", path);
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < nch; k++) {
@@ -413,9 +413,8 @@ static int plot(const struct ssc_common *co, const char *png,
 		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
 			 col->unit_label[0] ? col->unit_label : "no unit");
 		ssc_ax_ylabel(ax, buf);
-		if ((int)k == rows - 1)
-			ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ?
-					  "time (s)" : "sample");
+		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
+								    "sample");
 	}
 	if (cap->temp_degc) {
 		struct ssc_ax *ax = ssc_fig_ax(fig, rows - 1, 0);
@@ -426,7 +425,7 @@ static int plot(const struct ssc_common *co, const char *png,
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	rc = ssc_fig_save_png(fig, png);
+	rc = ssc_fig_save(fig, png);
 	ssc_fig_free(fig);
 	free(t);
 	free(y);

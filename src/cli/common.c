@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "plot.h"
 #ifdef HAVE_OPENCV
 #include "cvload.h"
 #endif
@@ -57,8 +58,8 @@ static const struct ssc_option analysis_opts[] = {
 	  "ROS bag, rosbag2 or MCAP input: the topic to read (default: the only IMU topic), and a sensor_msgs/Temperature topic for the temperature column" },
 	{ "calibration", required_argument, OPT_CALIBRATION, "FILE",
 	  "apply a calibration file of 'sensorscope calib' to the channels it names" },
-	{ "plot", required_argument, OPT_PLOT, "PATH.png",
-	  "draw the command's figure (needs OpenCV)" },
+	{ "plot", required_argument, OPT_PLOT, "PATH.svg|PATH.png",
+	  "draw the command's figure (SVG; PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -419,19 +420,10 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 			break;
 		}
 	}
-	if (co->plot && !ssc_plot_available()) {
-		rc = ssc_plot_unavailable(co->cmd);
-		goto out;
-	}
 	if (co->plot) {
-		size_t l = strlen(co->plot);
-
-		if (l < 5 || strcmp(co->plot + l - 4, ".png")) {
-			rc = ssc_usage_error(co->cmd,
-					     "--plot: '%s' must end in .png",
-					     co->plot);
+		rc = ssc_plot_check(co->cmd, co->plot);
+		if (rc)
 			goto out;
-		}
 	}
 	*first = optind;
 out:
@@ -670,8 +662,22 @@ int ssc_plot_unavailable(const char *cmd)
 	}
 #endif
 	ssc_err(cmd, "--plot: this sensorscope was built without OpenCV; "
-		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
+		"write an SVG figure (PATH.svg) or rebuild with OpenCV "
+		"(Debian: libopencv-dev) for PNG plots");
 	return SSC_EXIT_USAGE;
+}
+
+int ssc_plot_check(const char *cmd, const char *path)
+{
+	switch (ssc_plot_format_of(path)) {
+	case SSC_PLOT_SVG:
+		return 0;
+	case SSC_PLOT_PNG:
+		return ssc_plot_available() ? 0 : ssc_plot_unavailable(cmd);
+	default:
+		return ssc_usage_error(cmd, "--plot: '%s' must end in .png or .svg",
+				       path);
+	}
 }
 
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
@@ -696,6 +702,25 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	json_object_set_new(o, "si_unit", json_string(si_unit ? si_unit : ""));
 	json_object_set_new(o, "fitted", json_boolean(fitted));
 	return o;
+}
+
+void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
+{
+	json_t *arr = json_object_get(obj, "warnings"), *w;
+	char msg[1024];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	if (!json_is_array(arr)) {
+		arr = json_array();
+		json_object_set_new(obj, "warnings", arr);
+	}
+	w = json_object();
+	json_object_set_new(w, "code", json_string(code));
+	json_object_set_new(w, "message", json_string(msg));
+	json_array_append_new(arr, w);
 }
 
 int ssc_load_sensor(const char *cmd, const char *path,
