@@ -327,6 +327,21 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag);
 
+/**
+ * Check a raw binary layout "TYPE:CHANNELS[:le|be]" (sscope_read_opts.raw)
+ * without opening anything, so that a caller can refuse a bad one as a
+ * usage error before reading.
+ * @param layout      the layout text.
+ * @param channels    receives the channel count (1..4096; may be NULL).
+ * @param value_bytes receives the bytes per value (may be NULL).
+ * @param diag        optional: what is wrong, in one line.
+ * @return 0; -EINVAL for an empty or malformed layout (unknown type, a
+ *         channel count that is not a whole number in 1..4096, a byte
+ *         order other than le or be).
+ */
+int sscope_raw_layout_check(const char *layout, size_t *channels,
+			    size_t *value_bytes, struct sscope_diag *diag);
+
 /** @return the number of selected data channels. */
 size_t sscope_reader_n_channels(const struct sscope_reader *reader);
 
