@@ -253,6 +253,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_NO_FIT:
 		a->no_fit = true;
+		a->fo.skip = true;
 		return 0;
 	case OPT_DEV_UNIT: {
 		struct sscope_unit u;
@@ -454,10 +455,14 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 
 		c->col = &cap->channels[k].col;
 		c->n = cap->n;
-		for (size_t i = 0; i < cap->n; i++)
+		for (size_t i = 0; cap->n_nan && i < cap->n; i++)
 			c->nan += isnan(cap->channels[k].data[i]);
 		set_units(a, c->col, &c->u);
 		ao.ci_level = a->ci;
+		/* a capture used in place gives its pages back behind the
+		 * phase pass */
+		ao.release = sscope_capture_release;
+		ao.release_ctx = cap;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &a->fo,
 					  &c->res, &d);

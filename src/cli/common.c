@@ -507,6 +507,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	ssc_read_opts(co, &o);
 	if (co->calibration)
 		o.columns = NULL; /* triads need all their channels; -c later */
+	else
+		o.in_place = true; /* (calibration drops channels: copies) */
 	if (ssc_progress_on(co)) {
 		o.progress = read_progress;
 		o.progress_ctx = &pc;
