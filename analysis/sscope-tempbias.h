@@ -33,7 +33,8 @@
  * 1e-10).  The gradient term is left out when its variance inflation
  * factor on the other columns exceeds SSCOPE_TEMPBIAS_VIF_MAX (ramps of
  * one rate each way make dT/dt follow the heating/cooling state), and
- * the hysteresis is then the combined heating - cooling gap.  In-run stability is the minimum ADEV among taus whose EDF is
+ * the hysteresis is then the combined heating - cooling gap.  In-run
+ * stability is the minimum ADEV among taus whose EDF for white noise is
  * at least 10.  Warm-up (unless given): after a fit, the end of the last
  * window (2 % of the run, >= 5 blocks) in the first half of a run whose
  * mean residual departs from the median of the second half by more than
