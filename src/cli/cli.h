@@ -45,6 +45,7 @@ struct ssc_common {
 	const char *time_column;
 	const char *temp_column;
 	const char *calibration; /* --calibration FILE, applied by ssc_load */
+	const char *topic;     /* --topic NAME[,TEMPERATURE] of a ROS bag/MCAP */
 };
 
 /* A command-specific option: getopt_long entry plus help text. */

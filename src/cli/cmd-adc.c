@@ -39,6 +39,9 @@ enum {
 	O_FREQ,
 };
 
+
+/* DNL resolution the histogram test must reach (1 sigma), LSB */
+#define ADC_DNL_TOL_LSB 0.1
 /* ------------------------------------------------------------ helpers */
 
 static double in_unit(double si, const char *si_unit, const char *unit)
@@ -1424,6 +1427,13 @@ static int cmd_test(int argc, char **argv)
 			e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl, &dmax, &imax);
 			if (!e) {
 				json_t *h = json_object(), *jd = json_array(), *ji = json_array();
+				struct sscope_adc_hist_quality hq;
+
+				sscope_adc_histogram_quality(codes, cap->n, ADC_DNL_TOL_LSB, &hq);
+				json_object_set_new(h, "samples_per_code", json_real(hq.samples_per_code));
+				json_object_set_new(h, "dnl_sd_lsb", json_real(hq.dnl_sd_lsb));
+				json_object_set_new(h, "samples_needed", json_real(hq.samples_needed));
+				json_object_set_new(h, "resolved", json_boolean(hq.resolved));
 
 				for (size_t k = 0; k < nc; k++) {
 					json_array_append_new(jd, ssc_jreal(dnl[k]));
@@ -1438,6 +1448,13 @@ static int cmd_test(int argc, char **argv)
 				fprintf(mb.f, "  histogram   %d bits: max |DNL| %s LSB, max |INL| %s LSB (best-fit line)\n",
 					bits, ssc_fmt(b1, sizeof(b1), dmax, 3),
 					ssc_fmt(b2, sizeof(b2), imax, 3));
+				if (!hq.resolved)
+					fprintf(mb.f, "  warning     DNL/INL not resolved: %s samples per code give DNL an sd of %s LSB; %s samples (%s per code) are needed for %g LSB\n",
+						ssc_fmt(b1, sizeof(b1), hq.samples_per_code, 3),
+						ssc_fmt(b2, sizeof(b2), hq.dnl_sd_lsb, 3),
+						ssc_fmt(b3, sizeof(b3), hq.samples_needed, 3),
+						ssc_fmt(b4, sizeof(b4), hq.samples_needed / (double)hq.codes_spanned, 3),
+						ADC_DNL_TOL_LSB);
 				if (co.plot && c == 0) {
 					int pe = plot_dnl_inl(co.plot, ch->col.name, dnl, inl, nc);
 

@@ -3,7 +3,7 @@
  * sensorscope allan: Allan-family deviations of each channel with
  * confidence intervals, the five IEEE 952 noise coefficients with
  * intervals and the classic read-offs; text, JSON, CSV, a log-log plot
- * and Kalibr's IMU noise YAML.
+ * and the noise files of Kalibr, OpenVINS and imu_utils (noise-export.c).
  */
 #include "cli.h"
 #include "stage.h"
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic.h"
+#include "noise-export.h"
 #include "plot.h"
 
 enum {
@@ -29,6 +29,9 @@ enum {
 	OPT_NO_FIT,
 	OPT_DEV_UNIT,
 	OPT_THREADS,
+	OPT_OPENVINS,
+	OPT_IMU_UTILS,
+	OPT_INFLATE,
 };
 
 static const struct ssc_option allan_opts[] = {
@@ -42,6 +45,12 @@ static const struct ssc_option allan_opts[] = {
 	  "confidence level of the intervals (default 0.683)" },
 	{ "kalibr", required_argument, OPT_KALIBR, "PATH.yaml",
 	  "write Kalibr's IMU noise parameters (largest axis per sensor)" },
+	{ "openvins", required_argument, OPT_OPENVINS, "PATH.yaml",
+	  "write OpenVINS' kalibr_imu_chain.yaml (needs gyro and accelerometer channels)" },
+	{ "imu-utils", required_argument, OPT_IMU_UTILS, "PATH.yaml",
+	  "write the imu_utils parameter YAML (per axis and avg-axis; *_w is the random walk K)" },
+	{ "inflate", required_argument, OPT_INFLATE, "F",
+	  "multiply the exported noise values by F >= 1 (default 1; Kalibr and OpenVINS advise inflating Allan values, e.g. 2-10)" },
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
@@ -75,6 +84,7 @@ static const struct ssc_command_spec spec = {
 	.notes = "Examples:\n"
 		 "  sensorscope allan samples/gyro-static.csv\n"
 		 "  sensorscope allan --plot allan.png --kalibr imu.yaml samples/gyro-static.csv\n"
+		 "  sensorscope allan --openvins kalibr_imu_chain.yaml --inflate 2 imu.bag\n"
 		 "  sensorscope allan --dev mdev --taus octave --format json log.csv\n"
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
@@ -87,6 +97,9 @@ struct args {
 	struct sscope_noise_fit_opts fo;
 	enum sscope_tau_grid grid;
 	const char *kalibr;
+	const char *openvins;
+	const char *imu_utils;
+	double inflate;
 	const char *dev_unit;
 	bool no_fit;
 	double ci;
@@ -164,6 +177,20 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_KALIBR:
 		a->kalibr = arg;
+		return 0;
+	case OPT_OPENVINS:
+		a->openvins = arg;
+		return 0;
+	case OPT_IMU_UTILS:
+		a->imu_utils = arg;
+		return 0;
+	case OPT_INFLATE:
+		if (ssc_arg_double("allan", "inflate", arg, &a->inflate))
+			return SSC_EXIT_USAGE;
+		if (!(a->inflate >= 1 && a->inflate <= 1000))
+			return ssc_usage_error("allan",
+					       "--inflate: %s is not a factor between 1 and 1000",
+					       arg);
 		return 0;
 	case OPT_NOISE_TYPE: {
 		static const char *const n[] = { "wpm", "fpm", "wfm", "ffm",
@@ -797,91 +824,50 @@ static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
 }
 
 /* ------------------------------------------------------------------ */
-/* Kalibr                                                              */
+/* Noise files for estimators                                          */
 /* ------------------------------------------------------------------ */
 
-/* largest (most conservative) value over the channels of a quantity */
-static bool kalibr_pick(struct file_res *fr, size_t nf, enum sscope_quantity q,
-			int t, double *v, char *note, size_t nl)
+static int write_exports(const struct ssc_common *co, const struct args *a,
+			 struct file_res *fr, size_t nf)
 {
-	bool any = false;
-	size_t used = 0;
+	struct ssc_noise_export e = { 0 };
+	struct ssc_noise_chan *ch;
+	const struct sscope_source *si = fr[0].cap->source_info;
+	size_t n = 0;
+	int rc = SSC_EXIT_OK;
 
-	*v = 0;
-	note[0] = '\0';
+	for (size_t i = 0; i < nf; i++)
+		n += fr[i].n_ch;
+	ch = calloc(n ? n : 1, sizeof(*ch));
+	if (!ch) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
 	for (size_t i = 0; i < nf; i++)
 		for (size_t k = 0; k < fr[i].n_ch; k++) {
 			const struct chan *c = &fr[i].ch[k];
-			const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
-			double x = cf->fitted ? cf->value : cf->hi;
-			int w;
 
-			if (c->u.rq != q || !c->res->have_fit || !isfinite(x))
-				continue;
-			any = true;
-			if (x > *v)
-				*v = x;
-			w = snprintf(note + used, nl - used, "%s%s %.4g%s",
-				     used ? ", " : "", c->col->name, x,
-				     cf->fitted ? "" : " (upper limit)");
-			if (w > 0 && (size_t)w < nl - used)
-				used += (size_t)w;
+			ch[e.n++] = (struct ssc_noise_chan){
+				c->col->name, c->u.rq,
+				c->res->have_fit ? &c->res->fit : NULL
+			};
 		}
-	return any;
-}
-
-static int write_kalibr(const struct ssc_common *co, const struct args *a,
-			struct file_res *fr, size_t nf)
-{
-	struct ssc_atomic at;
-	double n, k;
-	char note[512];
-	bool gyro = false, acc = false;
-	int rc;
-
-	(void)a;
-	rc = ssc_atomic_open(&at, a->kalibr);
-	if (rc) {
-		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
-		return SSC_EXIT_FAIL;
-	}
-	fprintf(at.f, "# Kalibr IMU noise model from sensorscope %s allan (IEEE 952 fit on OADEV)\n",
-		PACKAGE_VERSION);
-	fprintf(at.f, "# data: %s%s; the largest axis of each sensor is used\n",
-		fr[0].path, nf > 1 ? " and more" : "");
-	fprintf(at.f, "rostopic: /imu0 # edit to your topic\n");
-	fprintf(at.f, "update_rate: %.10g # Hz\n", fr[0].cap->rate_hz);
-	if (kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 1, &n, note, sizeof(note))) {
-		fprintf(at.f, "# gyro N per axis (rad/s/sqrt(Hz)): %s\n", note);
-		kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 3, &k, note, sizeof(note));
-		fprintf(at.f, "# gyro K per axis (rad/s^2/sqrt(Hz)): %s\n", note);
-		fprintf(at.f, "gyroscope_noise_density: %.6e # rad/s/sqrt(Hz) (continuous time)\n", n);
-		fprintf(at.f, "gyroscope_random_walk: %.6e # rad/s^2/sqrt(Hz)\n", k);
-		gyro = true;
-	}
-	if (kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 1, &n, note, sizeof(note))) {
-		fprintf(at.f, "# accelerometer N per axis (m/s^2/sqrt(Hz)): %s\n", note);
-		kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 3, &k, note, sizeof(note));
-		fprintf(at.f, "# accelerometer K per axis (m/s^3/sqrt(Hz)): %s\n", note);
-		fprintf(at.f, "accelerometer_noise_density: %.6e # m/s^2/sqrt(Hz) (continuous time)\n", n);
-		fprintf(at.f, "accelerometer_random_walk: %.6e # m/s^3/sqrt(Hz)\n", k);
-		acc = true;
-	}
-	if (!gyro && !acc) {
-		ssc_atomic_abort(&at);
-		ssc_err(co->cmd, "--kalibr: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");
-		return SSC_EXIT_FAIL;
-	}
-	if (!gyro || !acc)
-		fprintf(at.f, "# no %s channel was analysed: its keys are missing\n",
-			gyro ? "accelerometer" : "gyro");
-	rc = ssc_atomic_commit(&at);
-	if (rc) {
-		ssc_atomic_abort(&at);
-		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
-		return SSC_EXIT_FAIL;
-	}
-	return SSC_EXIT_OK;
+	e.ch = ch;
+	e.rate_hz = fr[0].cap->rate_hz;
+	e.inflate = a->inflate;
+	e.source = nf > 1 ? "several files" : fr[0].path;
+	for (size_t i = 0; si && i < si->n_topics; i++)
+		if (si->topics[i].selected && !e.topic &&
+		    !strstr(si->topics[i].type, "Temperature"))
+			e.topic = si->topics[i].name;
+	if (a->kalibr)
+		rc = ssc_export_kalibr(co->cmd, a->kalibr, &e);
+	if (!rc && a->openvins)
+		rc = ssc_export_openvins(co->cmd, a->openvins, &e);
+	if (!rc && a->imu_utils)
+		rc = ssc_export_imu_utils(co->cmd, a->imu_utils, &e);
+	free(ch);
+	return rc;
 }
 
 /* ------------------------------------------------------------------ */
@@ -1214,6 +1200,7 @@ static void init(void *opts)
 	memset(a, 0, sizeof(*a));
 	a->grid = SSCOPE_TAUS_DENSE;
 	a->ci = 0.683;
+	a->inflate = 1;
 }
 
 static int check(const struct ssc_common *co, void *opts)
@@ -1223,8 +1210,10 @@ static int check(const struct ssc_common *co, void *opts)
 	if (a->ao.stride_div && a->ao.dev != SSCOPE_DEV_OADEV &&
 	    a->ao.dev != SSCOPE_DEV_OHDEV)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
-	if (a->kalibr && a->no_fit)
-		return ssc_usage_error(co->cmd, "--kalibr needs the fit (drop --no-fit)");
+	if ((a->kalibr || a->openvins || a->imu_utils) && a->no_fit)
+		return ssc_usage_error(co->cmd, "--%s needs the fit (drop --no-fit)",
+				       a->kalibr ? "kalibr" :
+				       a->openvins ? "openvins" : "imu-utils");
 	a->fo.ci_level = a->ci > 0 ? a->ci : 0.683;
 	return 0;
 }
@@ -1255,8 +1244,8 @@ static int run(const struct ssc_stage_env *env, void *opts,
 		if (rc)
 			goto done;
 	}
-	if (a->kalibr) {
-		rc = write_kalibr(&co, a, fr, nfiles);
+	if (a->kalibr || a->openvins || a->imu_utils) {
+		rc = write_exports(&co, a, fr, nfiles);
 		if (rc)
 			goto done;
 	}

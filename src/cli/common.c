@@ -32,6 +32,7 @@ enum {
 	OPT_TEMP_COLUMN,
 	OPT_HELP,
 	OPT_CALIBRATION,
+	OPT_TOPIC,
 };
 
 static const struct ssc_option analysis_opts[] = {
@@ -53,6 +54,8 @@ static const struct ssc_option analysis_opts[] = {
 	  "the time column (default: a column named t, time or timestamp)" },
 	{ "temp-column", required_argument, OPT_TEMP_COLUMN, "NAME",
 	  "the temperature column (default: temp or temperature)" },
+	{ "topic", required_argument, OPT_TOPIC, "NAME[,TEMP]",
+	  "ROS bag, rosbag2 or MCAP input: the topic to read (default: the only IMU topic), and a sensor_msgs/Temperature topic for the temperature column" },
 	{ "calibration", required_argument, OPT_CALIBRATION, "FILE",
 	  "apply a calibration file of 'sensorscope calib' to the channels it names" },
 	{ "plot", required_argument, OPT_PLOT, "PATH.svg|PATH.png",
@@ -402,6 +405,9 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_CALIBRATION:
 			co->calibration = optarg;
 			break;
+		case OPT_TOPIC:
+			co->topic = optarg;
+			break;
 		default:
 		own:
 			if (!handler) {
@@ -480,6 +486,7 @@ void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o)
 	o->temp_column = co->temp_column;
 	o->rate_hz = co->rate_hz;
 	o->nan_as_gap = co->allow_nan;
+	o->topic = co->topic;
 }
 
 int ssc_load(const struct ssc_common *co, const char *path,
@@ -511,6 +518,12 @@ int ssc_load(const struct ssc_common *co, const char *path,
 			*cap = NULL;
 			return rc;
 		}
+	}
+	{
+		struct sscope_diag h = { "" };
+
+		if (sscope_capture_check_rate(*cap, &h))
+			ssc_warn(co, "%s: %s", path, h.msg);
 	}
 	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->time_s &&
 	    (*cap)->n > 2) {
