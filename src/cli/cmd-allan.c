@@ -1069,8 +1069,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			for (int i = 0; i < NG; i++)
 				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
 			ssc_fmt(v1, sizeof(v1), in_unit(bound, u->term_si[t], u->term[t]), 3);
-			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound)",
-				 "QNBKR"[t], v1, cu);
+			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound%s)",
+				 "QNBKR"[t], v1, cu,
+				 t == SSCOPE_TERM_B ? "; line at 0.664\xc2\xb7" "B" : "");
 			{
 				struct ssc_style bst = { .color = tcol[t],
 							 .width = 1.2,
