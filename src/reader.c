@@ -1151,7 +1151,12 @@ static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
 			r->t0_double = ssc_table_value(tc, 0);
 		}
 		for (size_t i = 0; i < n; i++) {
-			double v = ssc_table_value(tc, r0 + i);
+			double v;
+
+			if (tc->type == SSC_V_F64 && !tc->swap) /* decoded arrays */
+				memcpy(&v, tc->data + (r0 + i) * tc->stride, 8);
+			else
+				v = ssc_table_value(tc, r0 + i);
 
 			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
 			    isinf(v))
