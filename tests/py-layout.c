@@ -47,6 +47,7 @@ int main(void)
 	F(sscope_read_opts, nan_as_gap);
 	F(sscope_read_opts, no_time);
 	F(sscope_read_opts, threads);
+	F(sscope_read_opts, in_place);
 	F(sscope_read_opts, progress);
 	F(sscope_read_opts, progress_ctx);
 	F(sscope_read_opts, topic);
@@ -77,6 +78,8 @@ int main(void)
 	F(sscope_capture, rate_source);
 	F(sscope_capture, n_nan);
 	F(sscope_capture, source_info);
+	F(sscope_capture, mapping);
+	F(sscope_capture, mapping_len);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);
@@ -85,6 +88,8 @@ int main(void)
 	F(sscope_allan_opts, alpha);
 	F(sscope_allan_opts, stride_div);
 	F(sscope_allan_opts, threads);
+	F(sscope_allan_opts, release);
+	F(sscope_allan_opts, release_ctx);
 	S(sscope_allan_point);
 	F(sscope_allan_point, tau_s);
 	F(sscope_allan_point, m);
@@ -116,6 +121,7 @@ int main(void)
 	F(sscope_noise_fit_opts, model_error);
 	F(sscope_noise_fit_opts, tau_min_s);
 	F(sscope_noise_fit_opts, tau_max_s);
+	F(sscope_noise_fit_opts, skip);
 	S(sscope_noise_fit);
 	F(sscope_noise_fit, coef);
 	F(sscope_noise_fit, terms);
