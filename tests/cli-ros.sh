@@ -163,6 +163,13 @@ run "openvins without accelerometer" 1 allan -c gx,gy,gz --openvins "$T/ov2.yaml
 has "openvins without accelerometer: says what it needs" "$T/err" 'needs both a gyro .* and an accelerometer'
 if [ -e "$T/ov2.yaml" ]; then not_ok "openvins: no file on failure"; else ok "openvins: no file on failure"; fi
 
+# a scene names the topic in [input]
+cp "$T/r/two-imu.mcap" "$T/two.mcap"
+printf '[input]\nfiles = two.mcap\ntopic = /imu1/data\n[allan]\n[report]\nformats = json\noutput = sc\n' >"$T/s.ini"
+run "scene with [input] topic" 0 run "$T/s.ini"
+json_check "scene: allan on the named topic" "$T/sc/report.json" \
+  '.results.allan.channels[0].samples == 6000 and (.results.allan.channels | length) == 6'
+
 # allan on a 1 h 200 Hz IMU topic equals allan on the same data as CSV
 "$GEN" "$T/h" 200 3600 csv && "$GEN" "$T/h" 200 3600 mcap || not_ok "gen-ros 1 h"
 run "allan on the 1 h MCAP" 0 allan --format json -c gx,az "$T/h/imu-zstd.mcap"
