@@ -19,6 +19,12 @@ for f in imu-none.bag imu-bz2.bag imu-lz4.bag imu-zstd.mcap imu-lz4.mcap \
 	 imu-ros1.mcap rosbag2-mcap rosbag2 rosbag2/rosbag2_0.db3; do
 	case $f in rosbag2|rosbag2/*)
 		if [ $have_db3 = 0 ]; then
+			# recognised by its leading bytes, refused with the fix
+			mkdir -p "$T/r/rosbag2"
+			{ printf 'SQLite format 3\000'; head -c 4080 /dev/zero; } \
+				>"$T/r/rosbag2/rosbag2_0.db3"
+			printf 'rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  relative_file_paths:\n    - rosbag2_0.db3\n' \
+				>"$T/r/rosbag2/metadata.yaml"
 			run "$f without SQLite" 2 info "$T/r/$f"
 			has "$f: names the fix" "$T/err" 'without SQLite.*--with-sqlite3'
 			one_line_error "$f"
