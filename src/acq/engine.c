@@ -391,7 +391,7 @@ static int open_writer(struct engine *e, struct sscope_diag *diag)
 		sscope_writer_abort(e->w);
 		e->w = NULL;
 		return ssc_acq_diag(diag, rc, "%s: %s", cfg->path,
-				    sscope_strerror(rc));
+				    strerror(-rc));
 	}
 	return 0;
 }
@@ -526,7 +526,7 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		res->stop = SSC_STOP_ERROR;
 		res->error = e->writer_err;
 		rc = ssc_acq_diag(diag, e->writer_err, "%s: %s", cfg->path,
-				  sscope_strerror(e->writer_err));
+				  strerror(-e->writer_err));
 		sscope_writer_abort(e->w);
 		e->w = NULL;
 	} else {
@@ -554,7 +554,7 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		e->w = NULL;
 		if (wrc) {
 			rc = ssc_acq_diag(diag, wrc, "%s: %s", cfg->path,
-					  sscope_strerror(wrc));
+					  strerror(-wrc));
 			res->error = wrc;
 			res->stop = SSC_STOP_ERROR;
 		} else {
