@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic.h"
+#include "cli.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
 #include "cvshim.h"
@@ -1617,7 +1617,6 @@ int ssc_fig_save_png(struct ssc_fig *f, const char *path)
 	double fs, top, cw, ch, *left, *right, *tops, *bottoms;
 	unsigned char *png = NULL;
 	size_t len = 0;
-	struct ssc_atomic out;
 	int rc = 0, n = f->rows * f->cols;
 	const char *font = getenv("SSCOPE_FONT");
 
@@ -1668,15 +1667,7 @@ int ssc_fig_save_png(struct ssc_fig *f, const char *path)
 	free(left);
 	if (rc)
 		return rc;
-	rc = ssc_atomic_open(&out, path);
-	if (!rc) {
-		if (fwrite(png, 1, len, out.f) != len) {
-			ssc_atomic_abort(&out);
-			rc = -EIO;
-		} else {
-			rc = ssc_atomic_commit(&out);
-		}
-	}
+	rc = ssc_file_put(path, png, len);
 	free(png);
 	return rc;
 }
