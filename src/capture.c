@@ -12,6 +12,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include "io-formats.h"
+
 static int copy_column(struct sscope_column *dst, const struct sscope_column *src)
 {
 	*dst = *src;
@@ -42,6 +44,7 @@ void sscope_capture_free(struct sscope_capture *cap)
 	free_column(&cap->time_col);
 	free_column(&cap->temp_col);
 	free(cap->source);
+	ssc_source_free(cap->source_info);
 	free(cap);
 }
 
@@ -192,6 +195,13 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	if (rc)
 		goto fail;
 	cap->n = n;
+	if (sscope_reader_source(r)) {
+		cap->source_info = ssc_reader_take_source(r, n);
+		if (!cap->source_info) {
+			rc = -ENOMEM;
+			goto fail;
+		}
+	}
 	for (size_t k = 0; k < cap->n_channels; k++)
 		for (size_t i = 0; i < n; i++)
 			cap->n_nan += isnan(cap->channels[k].data[i]);

@@ -374,7 +374,7 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 	ssc_ax_legend(a1, SSC_LEGEND_AUTO);
 	ssc_ax_grid(a0, true);
 	ssc_ax_grid(a1, true);
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
 		return ssc_write_failed(co->cmd, path, rc);

@@ -936,7 +936,7 @@ static int plot(const struct ssc_common *co, const struct run *R)
 			free(z);
 		}
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	free(y);
 	if (rc)
@@ -966,8 +966,8 @@ static int check(const struct ssc_common *co, void *opts)
 	if (a->periodogram && (a->spectrogram || a->nperseg_set || a->overlap_set))
 		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg, --overlap or --spectrogram");
 	/* options that would be ignored */
-	if (a->spectrogram && co->format != SSC_FMT_JSON)
-		return ssc_usage_error(co->cmd, "--spectrogram: the spectrogram is part of the JSON output (--format json); --plot draws it");
+	if (a->spectrogram && co->format != SSC_FMT_JSON && !co->plot)
+		return ssc_usage_error(co->cmd, "--spectrogram: the spectrogram is part of the JSON output (--format json) and of the figure (--plot)");
 	if (a->sg_cols_set && !a->spectrogram && !co->plot)
 		return ssc_usage_error(co->cmd, "--spectrogram-columns: no --spectrogram or --plot");
 	a->po.noverlap = (size_t)floor(a->overlap * (double)a->po.nperseg);

@@ -456,7 +456,7 @@ static int plot(const struct ssc_common *co, const char *path,
 		free(y);
 		free(rr);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
 		return ssc_write_failed(co->cmd, path, rc);

@@ -762,6 +762,7 @@ const char *ssc_output_option(const char *name)
 	static const char *const writers[][2] = {
 		{ "output", "-o" }, { "plot", "--plot" }, { "kalibr", "--kalibr" },
 		{ "save-calibration", "--save-calibration" },
+		{ "openvins", "--openvins" }, { "imu-utils", "--imu-utils" },
 	};
 
 	for (size_t i = 0; name && i < sizeof(writers) / sizeof(writers[0]); i++)

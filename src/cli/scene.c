@@ -106,6 +106,7 @@ struct ssc_scene {
 	size_t n_files;
 	/* [input] */
 	char *columns, *units, *temp_column, *time_column, *raw;
+	char *topic;
 	double rate_hz, scale, offset;
 	bool allow_nan;
 	/* [sensor], [adc] */
@@ -239,6 +240,7 @@ void ssc_scene_free(struct ssc_scene *sc)
 	free(sc->units);
 	free(sc->temp_column);
 	free(sc->time_column);
+	free(sc->topic);
 	free(sc->raw);
 	free(sc->sensor_path);
 	free(sc->out_dir);
@@ -316,7 +318,8 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 {
 	static const char *const keys[] = { "files", "columns", "rate", "units",
 					    "temp_column", "time_column", "raw",
-					    "scale", "offset", "allow_nan", NULL };
+					    "scale", "offset", "allow_nan", "topic",
+					    NULL };
 	struct sscope_diag d = { "" };
 	size_t line = 0;
 	const char *v;
@@ -354,6 +357,7 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
 	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
 	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
+	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
 	sc->raw = xstrdup(sscope_ini_get(sc->ini, "input", "raw", NULL));
 	rc = sscope_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
 	if (rc && rc != -ENOENT) {
@@ -819,6 +823,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	sc->units = xstrdup(co->units);
 	sc->temp_column = xstrdup(co->temp_column);
 	sc->time_column = xstrdup(co->time_column);
+	sc->topic = xstrdup(co->topic);
 	sc->raw = xstrdup(co->raw);
 	sc->rate_hz = co->rate_hz;
 	sc->scale = co->scale;
@@ -1461,6 +1466,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	co.allow_nan = sc->allow_nan;
 	co.time_column = sc->time_column;
 	co.temp_column = sc->temp_column;
+	co.topic = sc->topic;
 	co.columns = cols;
 	/* the report is built in a staging folder beside out_dir and put in
 	 * its place only when every stage succeeded */
