@@ -28,7 +28,9 @@ static const struct ssc_command_spec run_spec = {
 		"[report] formats = text,json,html,png and output = DIR.  Only the\n"
 		"stages the outputs need are run, each once; each capture is read once,\n"
 		"with only the columns in use.  Paths are relative to the scene file;\n"
-		"-o DIR overrides the scene's output directory.",
+		"-o DIR overrides the scene's output directory.  The report is built\n"
+		"in a staging folder beside DIR and replaces DIR only when every stage\n"
+		"succeeded; an existing DIR may hold only report files, no input.",
 	.options = run_opts,
 	.output_opts = true,
 	.output_dir = true,

@@ -56,7 +56,7 @@ static const struct ssc_option sim_opts[] = {
 	{ "units", required_argument, 'u', "UNIT",
 	  "unit of the data columns (default deg/s for gyros, m/s^2 for accelerometers)" },
 	{ "output", required_argument, 'o', "PATH",
-	  "write the capture there, atomically (default stdout)" },
+	  "write the capture there (default stdout): a file atomically, a FIFO or device written through, never an input" },
 	{ "binary", required_argument, OPT_BINARY, "f32|f64",
 	  "sensorscope binary capture instead of CSV" },
 	{ "digits", required_argument, OPT_DIGITS, "N",

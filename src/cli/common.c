@@ -67,7 +67,7 @@ static const struct ssc_option output_opts[] = {
 	{ "format", required_argument, OPT_FORMAT, "text|json|csv",
 	  "output format (default text)" },
 	{ "output", required_argument, 'o', "PATH",
-	  "write the result there, atomically (default stdout)" },
+	  "write the result there (default stdout): a file atomically, a FIFO or device written through, never an input" },
 	{ "quiet", no_argument, 'q', NULL, "no warnings, no progress" },
 	{ "progress", no_argument, OPT_PROGRESS, NULL,
 	  "show progress on stderr" },

@@ -679,6 +679,19 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 	return SSC_EXIT_OK;
 }
 
+/* The staging folder is gone or in place: stop tracking it, free. */
+static void outdir_forget(struct ssc_outdir *od)
+{
+	untrack(tmp_dirs, od->slot);
+	if (staging == od)
+		staging = NULL;
+	free(od->dir);
+	free(od->target);
+	free(od->shown);
+	memset(od, 0, sizeof(*od));
+	od->slot = -1;
+}
+
 int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od)
 {
 	sigset_t old;
@@ -733,13 +746,7 @@ int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od)
 	    errno != ENOENT)
 		ssc_err(cmd, "warning: %s: the previous report is left in %s (%s)",
 			od->shown, od->dir, strerror(errno));
-	untrack(tmp_dirs, od->slot);
-	staging = NULL;
-	free(od->dir);
-	free(od->target);
-	free(od->shown);
-	memset(od, 0, sizeof(*od));
-	od->slot = -1;
+	outdir_forget(od);
 	return SSC_EXIT_OK;
 }
 
@@ -747,14 +754,7 @@ void ssc_outdir_abort(struct ssc_outdir *od)
 {
 	if (od->dir)
 		remove_flat_dir(od->dir, NULL, NULL);
-	untrack(tmp_dirs, od->slot);
-	if (staging == od)
-		staging = NULL;
-	free(od->dir);
-	free(od->target);
-	free(od->shown);
-	memset(od, 0, sizeof(*od));
-	od->slot = -1;
+	outdir_forget(od);
 }
 
 const char *ssc_output_option(const char *name)

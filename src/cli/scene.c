@@ -1622,7 +1622,7 @@ done:
 		rc = ssc_outdir_commit(co.cmd, &od);
 	else
 		ssc_outdir_abort(&od);
-	if (!rc && (sc->formats & SSC_OUT_HTML) && !sc->quiet)
+	if (!rc && (sc->formats & SSC_OUT_HTML) && !sc->quiet && !co.quiet)
 		fprintf(stderr, "sensorscope: %s: wrote %s/report.html\n", co.cmd,
 			sc->out_dir);
 	for (size_t i = 0; caps && i < sc->n_files; i++)
