@@ -78,6 +78,17 @@ simulate simulate -q --sensor "$T/s.ini" --rate 10 --duration 10
 simulate-large simulate -q --sensor "$T/s.ini" --rate 1000 --duration 200
 model model accel -q --fn 2.4kHz --zeta 0.7
 EOF
+# acquire: the capture and its summary
+ss acquire -q --source sim:speed=max --count 20000 -o /dev/full >"$T/out" 2>"$T/err"
+[ $? -eq 1 ] && ok "acquire -o /dev/full (exit 1)" || not_ok "acquire -o /dev/full"
+one_err "acquire -o /dev/full" '^sensorscope: acquire: /dev/full: No space left on device$'
+ss acquire -q --source sim:speed=max --count 20000 -o - >/dev/full 2>"$T/err"
+[ $? -eq 1 ] && ok "acquire -o - > /dev/full (exit 1)" || not_ok "acquire -o - > /dev/full"
+has "acquire -o - > /dev/full: said" "$T/err" '^sensorscope: acquire: standard output: No space left on device$'
+ss acquire -q --source sim:speed=max --count 100 -o "$T/acq.csv" >/dev/full 2>"$T/err"
+[ $? -eq 1 ] && ok "acquire summary > /dev/full (exit 1)" || not_ok "acquire summary > /dev/full"
+one_err "acquire summary > /dev/full" '^sensorscope: acquire: standard output: No space left on device$'
+
 ss info --help >/dev/full 2>"$T/err"
 [ $? -eq 1 ] && ok "--help > /dev/full (exit 1)" || not_ok "--help > /dev/full"
 one_err "--help > /dev/full" '^sensorscope: info: standard output: No space left on device$'

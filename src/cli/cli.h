@@ -172,8 +172,8 @@ int ssc_file_put(const char *path, const void *buf, size_t len);
 /* The one message for an output that could not be written: "CMD: PATH:
  * <strerror>".  Returns the exit code (2 for -ENOTSUP, else 1). */
 int ssc_write_failed(const char *cmd, const char *path, int rc);
-/* Flush standard output at the end of a command; a failure is said once.
- * Returns an exit code. */
+/* Flush standard output (at the end of a command, or where a command
+ * flushes it itself); a failure is said once.  Returns an exit code. */
 int ssc_stdout_finish(const char *cmd);
 /* Install the SIGINT/SIGTERM/SIGHUP/SIGPIPE cleanup (signals the caller
  * ignores stay ignored). */

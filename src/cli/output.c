@@ -325,9 +325,14 @@ int ssc_file_put(const char *path, const void *buf, size_t len)
 
 int ssc_stdout_finish(const char *cmd)
 {
+	static bool said; /* once: stdio forgets the errno after a failure */
+
 	errno = 0;
 	if (fflush(stdout) == 0 && !ferror(stdout))
 		return SSC_EXIT_OK;
+	if (said)
+		return SSC_EXIT_FAIL;
+	said = true;
 	return say_failed(cmd, "standard output", errno ? -errno : -EIO);
 }
 
