@@ -293,6 +293,10 @@ run "--scale without --raw" 2 info --scale 2 "$SM"
 printf '[input]\nfiles = %s\nscale = 2\n[allan]\n' "$SM" >"$T/scale.ini"
 run "scene scale without raw" 2 run --dry-run "$T/scale.ini"
 run "run --format json" 2 run --format json "$T/scene.ini"
+ss calib accel -q --save-calibration "$T/acc-cal.json" "$MP" >/dev/null 2>&1
+run "report --calibration" 0 report -q -o "$T/calrep" --calibration "$T/acc-cal.json" "$MP"
+json_check "report --calibration is applied" "$T/calrep/report.json" \
+	'[.results.info.channels[] | select(.name == "ax") | .unit] == ["m/s^2"]' 
 run "psd --spectrogram in text" 2 psd --spectrogram -c gx "$SM"
 run "psd --spectrogram-columns alone" 2 psd --spectrogram-columns 10 -c gx "$SM"
 run "psd periodogram --overlap" 2 psd --method periodogram --overlap 0.3 -c gx "$SM"

@@ -1467,6 +1467,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	co.time_column = sc->time_column;
 	co.temp_column = sc->temp_column;
 	co.topic = sc->topic;
+	co.calibration = co_cli->calibration; /* report --calibration */
 	co.columns = cols;
 	/* the report is built in a staging folder beside out_dir and put in
 	 * its place only when every stage succeeded */
