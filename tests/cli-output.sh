@@ -115,16 +115,12 @@ run "--kalibr /dev/full" 1 allan -q -c gx --kalibr /dev/full "$SM"
 one_err "--kalibr /dev/full" '^sensorscope: allan: /dev/full: No space left on device$'
 run "--save-calibration /dev/full" 1 calib accel -q --save-calibration /dev/full "$MP"
 one_err "--save-calibration /dev/full" '^sensorscope: calib accel: /dev/full: No space left on device$'
-if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
-	ln -sf /dev/full "$T/full.png"
-	run "--plot through a link to /dev/full" 1 info -q --plot "$T/full.png" "$SM"
-	one_err "--plot through a link to /dev/full" "^sensorscope: info: $T/full.png: No space left on device$"
-	[ -L "$T/full.png" ] && [ -c /dev/full ] && ok "the link and /dev/full are kept" || not_ok "the link or /dev/full replaced"
-	run "--plot into a missing folder" 1 info -q --plot "$T/no/such.png" "$SM"
-	one_err "--plot into a missing folder" "^sensorscope: info: $T/no/such.png: No such file or directory$"
-else
-	skip "--plot errors" "built without OpenCV"
-fi
+ln -sf /dev/full "$T/full.svg"
+run "--plot through a link to /dev/full" 1 info -q --plot "$T/full.svg" "$SM"
+one_err "--plot through a link to /dev/full" "^sensorscope: info: $T/full.svg: No space left on device$"
+[ -L "$T/full.svg" ] && [ -c /dev/full ] && ok "the link and /dev/full are kept" || not_ok "the link or /dev/full replaced"
+run "--plot into a missing folder" 1 info -q --plot "$T/no/such.svg" "$SM"
+one_err "--plot into a missing folder" "^sensorscope: info: $T/no/such.svg: No such file or directory$"
 
 # ------------------------------------------------------------ 4. write through
 # -o and the writing options through a device, a FIFO, standard output and
@@ -163,22 +159,29 @@ run "replacing keeps the mode" 0 info -q -o "$T/target" "$SM"
 [ "$(stat -c %a "$T/target")" = 640 ] && ok "mode 640 kept" || not_ok "mode $(stat -c %a "$T/target") instead of 640"
 run "-o a folder" 1 info -q -o "$T" "$SM"
 one_err "-o a folder" ": Is a directory$"
+rm -f "$T/fifo.svg" "$T/got"
+mkfifo "$T/fifo.svg"
+timeout 20 cat "$T/fifo.svg" >"$T/got" &
+reader=$!
+run "--plot FIFO" 0 info -q --plot "$T/fifo.svg" "$SM"
+wait $reader
+[ -p "$T/fifo.svg" ] && grep -q '^<svg' "$T/got" && ok "--plot: the FIFO got the figure" || not_ok "--plot: FIFO"
+ln -sf fig.svg "$T/figlink.svg"
+run "--plot link" 0 info -q --plot "$T/figlink.svg" "$SM"
+[ -L "$T/figlink.svg" ] && [ -s "$T/fig.svg" ] && ok "--plot: the link's target is written" || not_ok "--plot: link"
+ln -sf /dev/null "$T/null.svg"
+run "--plot a link to /dev/null" 0 info -q --plot "$T/null.svg" "$SM"
+[ -c /dev/null ] && ok "--plot: /dev/null is still a device" || not_ok "--plot: /dev/null replaced"
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	rm -f "$T/fifo.png" "$T/got"
 	mkfifo "$T/fifo.png"
 	timeout 20 cat "$T/fifo.png" >"$T/got" &
 	reader=$!
-	run "--plot FIFO" 0 info -q --plot "$T/fifo.png" "$SM"
+	run "--plot FIFO (PNG)" 0 info -q --plot "$T/fifo.png" "$SM"
 	wait $reader
-	[ -p "$T/fifo.png" ] && head -c 8 "$T/got" | grep -q PNG && ok "--plot: the FIFO got the PNG" || not_ok "--plot: FIFO"
-	ln -sf fig.png "$T/figlink.png"
-	run "--plot link" 0 info -q --plot "$T/figlink.png" "$SM"
-	[ -L "$T/figlink.png" ] && [ -s "$T/fig.png" ] && ok "--plot: the link's target is written" || not_ok "--plot: link"
-	ln -sf /dev/null "$T/null.png"
-	run "--plot a link to /dev/null" 0 info -q --plot "$T/null.png" "$SM"
-	[ -c /dev/null ] && ok "--plot: /dev/null is still a device" || not_ok "--plot: /dev/null replaced"
+	[ -p "$T/fifo.png" ] && head -c 8 "$T/got" | grep -q PNG && ok "--plot: the FIFO got the PNG" || not_ok "--plot: FIFO (PNG)"
 else
-	skip "--plot write-through" "built without OpenCV"
+	skip "--plot FIFO (PNG)" "built without OpenCV"
 fi
 
 # ------------------------------------------------------------ 5. input = output
@@ -191,10 +194,10 @@ one_err "info -o cap.csv cap.csv" "^sensorscope: info: -o $T/cap.csv: the same f
 run "calib --save-calibration mp.csv mp.csv" 2 calib accel --save-calibration "$T/mp.csv" "$T/mp.csv"
 one_err "--save-calibration input" "refusing to overwrite an input"
 run "--kalibr input" 2 allan --kalibr "$T/cap.csv" "$T/cap.csv"
-cp "$T/cap.csv" "$T/capin.png"
-run "--plot input" 2 info --plot "$T/capin.png" "$T/capin.png"
-ln -sf cap.csv "$T/cap.png"
-run "--plot through a link to the input" 2 info --plot "$T/cap.png" "$T/cap.csv"
+cp "$T/cap.csv" "$T/capin.svg"
+run "--plot input" 2 info --plot "$T/capin.svg" "$T/capin.svg"
+ln -sf cap.csv "$T/cap.svg"
+run "--plot through a link to the input" 2 info --plot "$T/cap.svg" "$T/cap.csv"
 ln -f "$T/cap.csv" "$T/hard.csv"
 run "-o a hard link of the input" 2 info -o "$T/hard.csv" "$T/cap.csv"
 run "simulate -o its spec" 2 simulate --sensor "$T/spec.ini" --rate 10 --duration 1 -o "$T/spec.ini"
@@ -206,7 +209,7 @@ one_err "stdin" "the same file as the input \\(standard input\\)"
 ss info "$T/cap.csv" >>"$T/cap.csv" 2>"$T/err"
 [ $? -eq 2 ] && ok "stdout appended to the input (exit 2)" || not_ok "stdout appended to the input"
 one_err "stdout appended to the input" "^sensorscope: info: standard output: the same file as the input"
-run "two outputs, one file" 2 allan -c gx --plot "$T/x.png" -o "$T/x.png" "$SM"
+run "two outputs, one file" 2 allan -c gx --plot "$T/x.svg" -o "$T/x.svg" "$SM"
 one_err "two outputs, one file" "the same file: give each output its own"
 run "report into the folder of its input" 2 report -o "$T" "$T/cap.csv"
 one_err "report into the folder of its input" "holds the input"
@@ -311,7 +314,7 @@ one_err "model fog with --mass" "^sensorscope: model: --mass: an option of 'mode
 run "calib --cubic in multipos" 2 calib accel --cubic "$MP"
 run "calib --g-sensitivity for accel" 2 calib accel --g-sensitivity "$MP"
 run "inclino apply --format json" 2 inclino apply --lut "$T/lut.json" --format json "$VAL"
-run "inclino apply --plot" 2 inclino apply --lut "$T/lut.json" --plot "$T/a.png" "$VAL"
+run "inclino apply --plot" 2 inclino apply --lut "$T/lut.json" --plot "$T/a.svg" "$VAL"
 run "simulate --digits with --binary" 2 simulate --sensor "$T/s.ini" --rate 10 --duration 1 --binary f32 --digits 5
 run "simulate --temp-noise without temperature" 2 simulate --sensor "$T/s.ini" --rate 10 --duration 1 --temp-noise 0.1
 run "simulate --hysteresis-band without --hysteresis" 2 simulate --sensor "$T/s.ini" --rate 10 --duration 1 --hysteresis-band 0.1
@@ -355,11 +358,9 @@ else
 	$asuser "$SSCOPE" info -q -o "$T/ro/x.txt" "$T/ro/in.csv" >/dev/null 2>"$T/err"
 	[ $? -eq 1 ] && ok "-o in a read-only folder (exit 1)" || not_ok "-o in a read-only folder"
 	one_err "-o in a read-only folder" "^sensorscope: info: $T/ro/x.txt: Permission denied$"
-	if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
-		$asuser "$SSCOPE" info -q --plot "$T/ro/x.png" "$T/ro/in.csv" >/dev/null 2>"$T/err"
-		[ $? -eq 1 ] && ok "--plot in a read-only folder (exit 1)" || not_ok "--plot in a read-only folder"
-		one_err "--plot in a read-only folder" "^sensorscope: info: $T/ro/x.png: Permission denied$"
-	fi
+	$asuser "$SSCOPE" info -q --plot "$T/ro/x.svg" "$T/ro/in.csv" >/dev/null 2>"$T/err"
+	[ $? -eq 1 ] && ok "--plot in a read-only folder (exit 1)" || not_ok "--plot in a read-only folder"
+	one_err "--plot in a read-only folder" "^sensorscope: info: $T/ro/x.svg: Permission denied$"
 fi
 chmod 755 "$T/ro"
 # errors inside run name the command, then the stage
