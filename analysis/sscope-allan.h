@@ -278,14 +278,21 @@ struct sscope_noise_coef {
 	bool fitted;   /**< the term was selected */
 };
 
-/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found). */
+/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
+ *  sscope_noise_readoff() picks the points by local slope alone; the
+ *  read-offs in struct sscope_noise_fit use the fitted model instead: N
+ *  (K) is read at the tau where that term's share of the model AVAR is
+ *  largest, B at the minimum, and each only where its term is at least
+ *  half of the model there (NaN otherwise: the term dominates nowhere). */
 struct sscope_noise_readoff {
 	double n;       /**< sigma(1 s) on the -1/2 line through the point
-			     whose local slope is closest to -1/2, U/sqrt(Hz) */
+			     used, U/sqrt(Hz) */
+	double n_tau_s; /**< that point's tau, s */
 	double b;       /**< minimum deviation / 0.6643, U */
 	double b_tau_s; /**< where that minimum is, s */
 	double k;       /**< sigma(3 s) on the +1/2 line through the point
-			     whose local slope is closest to +1/2, U/s/sqrt(Hz) */
+			     used, U/s/sqrt(Hz) */
+	double k_tau_s; /**< that point's tau, s */
 };
 
 /** Options of the fit.  Zero-initialised = every term allowed, 68.27 %

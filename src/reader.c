@@ -825,54 +825,100 @@ static int text_columns(struct sscope_reader *r)
 
 /* ------------------------------------------------------------ binary */
 
+static const struct {
+	const char *n;
+	enum rawtype t;
+	size_t sz;
+} raw_types[] = { { "i16", R_I16, 2 }, { "u16", R_U16, 2 },
+		  { "i24", R_I24, 3 }, { "i32", R_I32, 4 },
+		  { "u32", R_U32, 4 }, { "f32", R_F32, 4 },
+		  { "f64", R_F64, 8 } };
+
+#define RAW_FORM "expected TYPE:CHANNELS[:le|be], TYPE one of i16 u16 i24 i32 u32 f32 f64"
+
+/* "TYPE:CHANNELS[:le|be]": *type is an index of raw_types[]. */
+static int raw_layout(const char *spec, size_t *type, size_t *channels,
+		      bool *big_endian, struct sscope_diag *diag)
+{
+	const char *c1, *c2, *p;
+	size_t ch = 0, i, tl;
+
+	if (!spec || !*spec)
+		return ssc_diag(diag, -EINVAL, "empty raw layout (" RAW_FORM ")");
+	c1 = strchr(spec, ':');
+	tl = c1 ? (size_t)(c1 - spec) : strlen(spec);
+	for (i = 0; i < sizeof(raw_types) / sizeof(raw_types[0]); i++)
+		if (strlen(raw_types[i].n) == tl && !strncmp(raw_types[i].n, spec, tl))
+			break;
+	if (i == sizeof(raw_types) / sizeof(raw_types[0]))
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': %s type (" RAW_FORM ")",
+				spec, tl ? "unknown" : "missing");
+	if (!c1)
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': no channel count (" RAW_FORM ")",
+				spec);
+	/* decimal digits only: no sign, no blanks, no wrap-around */
+	for (p = c1 + 1; *p >= '0' && *p <= '9'; p++) {
+		ch = ch * 10 + (size_t)(*p - '0');
+		if (ch > MAXF)
+			break;
+	}
+	while (*p >= '0' && *p <= '9')
+		p++;
+	if (p == c1 + 1 || (*p && *p != ':'))
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': the channel count is not a whole number (" RAW_FORM ")",
+				spec);
+	if (ch < 1 || ch > MAXF)
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': channels must be 1 to %d",
+				spec, MAXF);
+	c2 = p;
+	*big_endian = false;
+	if (*c2 == ':') {
+		if (!strcmp(c2 + 1, "be"))
+			*big_endian = true;
+		else if (strcmp(c2 + 1, "le"))
+			return ssc_diag(diag, -EINVAL,
+					"bad raw layout '%.40s': byte order '%.8s' is not le or be",
+					spec, c2 + 1);
+	}
+	*type = i;
+	*channels = ch;
+	return 0;
+}
+
+int sscope_raw_layout_check(const char *layout, size_t *channels,
+			    size_t *value_bytes, struct sscope_diag *diag)
+{
+	size_t t, ch;
+	bool be;
+	int rc = raw_layout(layout, &t, &ch, &be, diag);
+
+	if (rc)
+		return rc;
+	if (channels)
+		*channels = ch;
+	if (value_bytes)
+		*value_bytes = raw_types[t].sz;
+	return 0;
+}
+
 static int parse_raw_spec(struct sscope_reader *r, const char *spec,
 			  struct sscope_diag *diag)
 {
-	static const struct {
-		const char *n;
-		enum rawtype t;
-		size_t sz;
-	} types[] = { { "i16", R_I16, 2 }, { "u16", R_U16, 2 },
-		      { "i24", R_I24, 3 }, { "i32", R_I32, 4 },
-		      { "u32", R_U32, 4 }, { "f32", R_F32, 4 },
-		      { "f64", R_F64, 8 } };
-	char type[8] = "", endian[8] = "le";
-	unsigned long ch = 0;
-	char *end;
-	const char *c1 = strchr(spec, ':'), *c2;
-	size_t i;
+	size_t t, ch;
+	bool be;
+	int rc = raw_layout(spec, &t, &ch, &be, diag);
 
-	if (!c1 || c1 - spec >= (long)sizeof(type))
-		goto bad;
-	memcpy(type, spec, (size_t)(c1 - spec));
-	type[c1 - spec] = '\0';
-	ch = strtoul(c1 + 1, &end, 10);
-	if (end == c1 + 1 || ch == 0 || ch > MAXF)
-		goto bad;
-	c2 = end;
-	if (*c2 == ':') {
-		if (strlen(c2 + 1) >= sizeof(endian))
-			goto bad;
-		strcpy(endian, c2 + 1);
-	} else if (*c2) {
-		goto bad;
-	}
-	if (strcmp(endian, "le") && strcmp(endian, "be"))
-		goto bad;
-	for (i = 0; i < sizeof(types) / sizeof(types[0]); i++)
-		if (!strcmp(types[i].n, type))
-			break;
-	if (i == sizeof(types) / sizeof(types[0]))
-		goto bad;
-	r->rtype = types[i].t;
-	r->rsize = types[i].sz;
-	r->big_endian = !strcmp(endian, "be");
+	if (rc)
+		return rc;
+	r->rtype = raw_types[t].t;
+	r->rsize = raw_types[t].sz;
+	r->big_endian = be;
 	r->ncols = ch;
 	return 0;
-bad:
-	return ssc_diag(diag, -EINVAL,
-			"bad raw layout '%s' (expected TYPE:CHANNELS[:le|be], TYPE one of i16 u16 i24 i32 u32 f32 f64)",
-			spec);
 }
 
 static int open_raw(struct sscope_reader *r, struct sscope_diag *diag)
@@ -1109,7 +1155,12 @@ static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
 			r->t0_double = ssc_table_value(tc, 0);
 		}
 		for (size_t i = 0; i < n; i++) {
-			double v = ssc_table_value(tc, r0 + i);
+			double v;
+
+			if (tc->type == SSC_V_F64 && !tc->swap) /* decoded arrays */
+				memcpy(&v, tc->data + (r0 + i) * tc->stride, 8);
+			else
+				v = ssc_table_value(tc, r0 + i);
 
 			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
 			    isinf(v))

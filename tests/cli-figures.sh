@@ -25,7 +25,9 @@ run "psd --spectrogram" 0 psd --spectrogram --plot "$F/spectrogram.svg" "$SAMPLE
 run "vibration" 0 vibration --rpm 1797 --bearing 9,7.94,39.04 --plot "$F/vibration.svg" \
 	"$SAMPLES/bearing-outer.csv"
 run "tempbias" 0 tempbias -c az --plot "$F/tempbias.svg" "$SAMPLES/accel-thermal.csv"
-run "inclino calibrate" 0 inclino calibrate --plot "$F/inclino.svg" "$SAMPLES/inclino-cal.csv"
+run "inclino calibrate, validated" 0 inclino calibrate --validate "$SAMPLES/inclino-val.csv" \
+	--plot "$F/inclino.svg" "$SAMPLES/inclino-cal.csv"
+grep -c "class=\"axes\"" "$F/inclino.svg" | grep -qx 3 && ok "inclino: the validation panel is drawn" || not_ok "inclino: the validation panel is drawn"
 run "calib gyro" 0 calib gyro --plot "$F/calib-gyro.svg" "$SAMPLES/imu-multipose.csv"
 run "calib accel" 0 calib accel --plot "$F/calib-accel.svg" "$SAMPLES/imu-multipose.csv"
 run "calib gyro rate table" 0 calib gyro --mode rate-table --reference rate_cmd \

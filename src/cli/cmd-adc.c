@@ -18,6 +18,8 @@
 #include <strings.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
 
 #include "plot.h"
 #include "stage.h"
@@ -112,6 +114,7 @@ struct ropts {
 	double mc_duration;
 	unsigned long seed;
 	const char *plot;
+	const char *mc_opt; /* --mc-duration or --seed given */
 };
 
 static void r_init(void *p)
@@ -154,6 +157,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->mc_duration > 0))
 			return ssc_usage_error(cmd, "--mc-duration: must be positive");
+		o->mc_opt = "mc-duration";
 		return 0;
 	case O_SEED: {
 		size_t v;
@@ -161,6 +165,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 		if (ssc_arg_size(cmd, "seed", arg, &v))
 			return SSC_EXIT_USAGE;
 		o->seed = (unsigned long)v;
+		o->mc_opt = "seed";
 		return 0;
 	}
 	case 'p': {
@@ -193,9 +198,10 @@ struct adc_res {
 	struct mc_ratio ratio[3]; /* N, B, K */
 	struct mc_ratio bias_shift; /* mean(out) - mean(in), U */
 	size_t clipped;
-	/* ADEV of run 0: sensor alone (shared) and through this converter */
+	/* ADEV of every run (run r at [r * n_pts]): the sensor alone at this
+	 * converter's rate and through the converter, same realisation */
 	double *tau, *dev_in, *dev_out;
-	size_t n_pts;
+	size_t n_pts, n_runs;
 	int rank;
 };
 
@@ -323,16 +329,22 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 			size_t np = res_in->n_points;
 
 			ar->tau = malloc(np * sizeof(double));
-			ar->dev_in = malloc(np * sizeof(double));
-			ar->dev_out = malloc(np * sizeof(double));
+			ar->dev_in = malloc(R * np * sizeof(double));
+			ar->dev_out = malloc(R * np * sizeof(double));
 			if (ar->tau && ar->dev_in && ar->dev_out) {
-				for (size_t i = 0; i < np; i++) {
+				for (size_t i = 0; i < np; i++)
 					ar->tau[i] = res_in->points[i].tau_s;
-					ar->dev_in[i] = res_in->points[i].dev;
-					ar->dev_out[i] = res_out->points[i].dev;
-				}
 				ar->n_pts = np;
 			}
+		}
+		/* every run has the same tau grid (same length and rate) */
+		if (ar->n_pts && res_in->n_points == ar->n_pts &&
+		    res_out->n_points == ar->n_pts) {
+			for (size_t i = 0; i < ar->n_pts; i++) {
+				ar->dev_in[r * ar->n_pts + i] = res_in->points[i].dev;
+				ar->dev_out[r * ar->n_pts + i] = res_out->points[i].dev;
+			}
+			ar->n_runs = r + 1;
 		}
 		sscope_allan_result_free(res_in);
 		sscope_allan_result_free(res_out);
@@ -629,60 +641,126 @@ static int rank_cmp(const struct adc_res *a, const struct adc_res *b)
 	return ma > mb ? -1 : ma < mb ? 1 : 0;
 }
 
+/* The 10th, 50th and 90th percentiles over the runs of column i of a
+ * runs x np array (f: NULL for the values, else the ratio v / f). */
+static void run_pct(const double *v, const double *f, size_t runs, size_t np,
+		    size_t i, double q[3])
+{
+	double s[1000];
+	size_t k = 0;
+
+	for (size_t r = 0; r < runs && k < 1000; r++) {
+		double x = v[r * np + i] / (f ? f[r * np + i] : 1);
+
+		if (isfinite(x) && x > 0)
+			s[k++] = x;
+	}
+	if (!k) {
+		q[0] = q[1] = q[2] = NAN;
+		return;
+	}
+	gsl_sort(s, 1, k);
+	q[0] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.1);
+	q[1] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.5);
+	q[2] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.9);
+}
+
+/* Top: ADEV of the sensor alone and through each converter, the median of
+ * the Monte-Carlo runs with their 10-90 % band; bottom: the ratio of the
+ * two in each run (same realisation, so the sensor's own scatter cancels),
+ * which is what the verdict is about. */
 static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		       const struct adc_res *ar, int n)
 {
-	struct ssc_fig *fig = ssc_fig_new(1000, 650, 1, 1);
-	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	struct ssc_fig *fig = ssc_fig_new(1000, 1000, 2, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0), *rx = ssc_fig_ax(fig, 1, 0);
 	enum sscope_quantity q = ss->quantity;
 	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
 	double scale = in_unit(1, bsi, bu);
-	char buf[160];
+	char buf[200];
 	int rc, drawn = 0;
+	size_t runs = 0;
 
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
-	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
 	snprintf(buf, sizeof(buf), "ADEV (%s)", bu);
 	ssc_ax_ylabel(ax, buf);
 	snprintf(buf, sizeof(buf), "%s: alone and through each converter", ss->name);
 	ssc_ax_title(ax, buf);
+	ssc_ax_log(rx, true, false);
+	ssc_ax_grid(rx, true);
+	ssc_ax_xlabel(rx, "averaging time \xcf\x84 (s)");
+	ssc_ax_ylabel(rx, "ADEV through / ADEV alone");
+	ssc_ax_title(rx, "what each converter adds, run by run");
 	for (int i = 0; i < n; i++) {
-		double *yi, *yo;
-		struct ssc_style st = { .color = ssc_plot_color((size_t)i + 1), .width = 2 };
+		const struct adc_res *a = &ar[i];
+		size_t np = a->n_pts, nr = a->n_runs;
+		double *m = malloc(3 * np * sizeof(double));
+		double *lo = malloc(3 * np * sizeof(double));
+		double *hi = malloc(3 * np * sizeof(double));
+		uint32_t col = ssc_plot_color((size_t)i + 1);
+		struct ssc_style st = { .color = col, .width = 2, .dash = SSC_DASHED };
 
-		if (!ar[i].n_pts)
+		if (!np || !nr) {
+			free(m);
+			free(lo);
+			free(hi);
 			continue;
-		yi = malloc(ar[i].n_pts * sizeof(double));
-		yo = malloc(ar[i].n_pts * sizeof(double));
-		if (!yi || !yo) {
-			free(yi);
-			free(yo);
+		}
+		if (!m || !lo || !hi) {
+			free(m);
+			free(lo);
+			free(hi);
 			ssc_fig_free(fig);
 			return -ENOMEM;
 		}
-		for (size_t k = 0; k < ar[i].n_pts; k++) {
-			yi[k] = ar[i].dev_in[k] * scale;
-			yo[k] = ar[i].dev_out[k] * scale;
+		runs = nr;
+		for (size_t k = 0; k < np; k++) {
+			double qv[3];
+
+			run_pct(a->dev_in, NULL, nr, np, k, qv);
+			lo[k] = qv[0] * scale;
+			m[k] = qv[1] * scale;
+			hi[k] = qv[2] * scale;
+			run_pct(a->dev_out, NULL, nr, np, k, qv);
+			lo[np + k] = qv[0] * scale;
+			m[np + k] = qv[1] * scale;
+			hi[np + k] = qv[2] * scale;
+			run_pct(a->dev_out, a->dev_in, nr, np, k, qv);
+			lo[2 * np + k] = qv[0];
+			m[2 * np + k] = qv[1];
+			hi[2 * np + k] = qv[2];
 		}
 		if (!drawn) {
-			struct ssc_style s0 = { .color = 0x202020, .width = 3 };
+			struct ssc_style s0 = { .color = 0x202020, .width = 2.5 };
 
-			ssc_ax_line(ax, ar[i].tau, yi, ar[i].n_pts, &s0, "sensor alone");
+			ssc_ax_band(ax, a->tau, lo, hi, np, 0x202020, 0.15, NULL);
+			ssc_ax_line(ax, a->tau, m, np, &s0, "sensor alone");
 		}
-		snprintf(buf, sizeof(buf), "%s (%d b): %s", ar[i].spec.name, ar[i].spec.bits,
-			 sscope_adc_verdict_name(ar[i].an.verdict));
-		st.dash = SSC_DASHED;
-		ssc_ax_line(ax, ar[i].tau, yo, ar[i].n_pts, &st, buf);
+		snprintf(buf, sizeof(buf), "%s (%d b): %s", a->spec.name, a->spec.bits,
+			 sscope_adc_verdict_name(a->an.verdict));
+		ssc_ax_band(ax, a->tau, lo + np, hi + np, np, col, 0.18, NULL);
+		ssc_ax_line(ax, a->tau, m + np, np, &st, buf);
+		st.dash = SSC_SOLID;
+		ssc_ax_band(rx, a->tau, lo + 2 * np, hi + 2 * np, np, col, 0.2, NULL);
+		ssc_ax_line(rx, a->tau, m + 2 * np, np, &st, buf);
 		drawn++;
-		free(yi);
-		free(yo);
+		free(m);
+		free(lo);
+		free(hi);
 	}
 	if (!drawn) {
 		ssc_fig_free(fig);
 		return -EDOM;
 	}
-	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+	{
+		struct ssc_style one = { .color = 0x202020, .width = 1.2, .dash = SSC_DOTTED };
+
+		ssc_ax_hline(rx, 1, &one, "no change");
+	}
+	snprintf(buf, sizeof(buf), "lines: median of %zu Monte-Carlo runs\nbands: 10-90 %% of the runs\nsensor alone: the first converter's runs; each converter has its own realisations (compare below)", runs);
+	ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	return rc;
@@ -860,7 +938,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			goto done;
 		}
 		if (e) {
-			rc = ssc_fail(cmd, e, NULL, pp);
+			rc = ssc_write_failed(cmd, pp, e);
 			goto done;
 		}
 	}
@@ -874,6 +952,17 @@ done:
 	return rc;
 }
 
+/* Options that would be ignored. */
+static int r_check(const struct ssc_common *co, void *opts)
+{
+	const struct ropts *o = opts;
+
+	if (o->mc_opt && o->mc == 0)
+		return ssc_usage_error(co->cmd, "--%s: no Monte-Carlo check (--monte-carlo 0)",
+				       o->mc_opt);
+	return SSC_EXIT_OK;
+}
+
 const struct ssc_stage_ops ssc_adc_stage = {
 	.spec = &report_spec,
 	.title = "ADC selection",
@@ -883,6 +972,7 @@ const struct ssc_stage_ops ssc_adc_stage = {
 	.opts_size = sizeof(struct ropts),
 	.init = r_init,
 	.handle = r_handle,
+	.check = r_check,
 	.run = r_run,
 };
 
@@ -989,6 +1079,7 @@ static int cmd_quantize(int argc, char **argv)
 	double *buf = NULL;
 	size_t clipped = 0;
 	bool added_time = false;
+	struct ssc_out sink;
 	int first, rc;
 
 	rc = ssc_parse(&quant_spec, argc, argv, &co, q_handle, &o, &first);
@@ -1101,17 +1192,22 @@ static int cmd_quantize(int argc, char **argv)
 		cap->time_col.quantity = SSCOPE_QTY_TIME;
 		added_time = true;
 	}
-	rc = sscope_capture_write(cap, co.output ? co.output : "-", o.fmt, 0, &d);
+	rc = ssc_out_open(&co, &sink);
+	if (!rc) {
+		int e = sscope_capture_fwrite(cap, sink.f, o.fmt, 0, &d);
+
+		if (e && !ferror(sink.f)) /* not a write error: said here */
+			ssc_fail(co.cmd, e, &d, co.output ? co.output : "standard output");
+		rc = ssc_out_close(&co, &sink, e == 0);
+	}
 	if (added_time) {
 		/* not owned by the capture's allocator: give it back ourselves */
 		free(cap->time_s);
 		cap->time_s = NULL;
 		memset(&cap->time_col, 0, sizeof(cap->time_col));
 	}
-	if (rc) {
-		rc = ssc_fail(co.cmd, rc, &d, co.output ? co.output : "(stdout)");
+	if (rc)
 		goto done;
-	}
 	if (clipped)
 		ssc_warn(&co, "%zu samples clipped at the range", clipped);
 	rc = SSC_EXIT_OK;
@@ -1388,7 +1484,7 @@ static int cmd_test(int argc, char **argv)
 						free(dnl);
 						free(inl);
 						json_decref(j);
-						rc = ssc_fail(co.cmd, pe, NULL, co.plot);
+						rc = ssc_write_failed(co.cmd, co.plot, pe);
 						goto done_json;
 					}
 				}

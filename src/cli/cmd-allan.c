@@ -63,7 +63,7 @@ static const struct ssc_option allan_opts[] = {
 	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
-	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's)" },
+	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
 	{ "threads", required_argument, OPT_THREADS, "N",
 	  "threads of the computation (default: all)" },
 	{ NULL, 0, 0, NULL, NULL },
@@ -350,7 +350,7 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
 	u->dev_scale = unit_scale(u->dev);
 	/* shown unit: --dev-unit, or the conventional bias unit */
-	if (a->dev_unit && a->ao.dev != SSCOPE_DEV_TDEV) {
+	if (a->dev_unit) {
 		struct sscope_unit want, have;
 
 		sscope_unit_parse(a->dev_unit, &want, NULL);
@@ -655,14 +655,29 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 				fprintf(f, "    %c  %-22s %11s %-16s (not fitted)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu);
 		}
-		fprintf(f, "  classic read-offs: N = sigma(1 s) on the -1/2 line: %s %s; B = min/0.6643: %s %s at tau = %s s; K = sigma(3 s) on the +1/2 line: %s %s\n",
-			ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
-			u->term[1],
-			ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
-			u->term[2],
-			ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
-			ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
-			u->term[3]);
+		/* the classic read-offs, where the fitted model says each term
+		 * dominates (or that it dominates nowhere) */
+		fprintf(f, "  classic read-offs where the fit says the term dominates:");
+		if (isfinite(ft->readoff.n))
+			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
+				ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
+				u->term[1]);
+		else
+			fprintf(f, " N: no tau where N dominates;");
+		if (isfinite(ft->readoff.b))
+			fprintf(f, " B = min/0.6643: %s %s at tau = %s s;",
+				ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
+				u->term[2], ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4));
+		else
+			fprintf(f, " B: the minimum is not dominated by B;");
+		if (isfinite(ft->readoff.k))
+			fprintf(f, " K = sigma(3 s) on the +1/2 line through tau = %s s: %s %s\n",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.k_tau_s, 4),
+				ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
+				u->term[3]);
+		else
+			fprintf(f, " K: no tau where K dominates\n");
 	}
 	{
 		struct warn w[6];
@@ -782,7 +797,9 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 			json_object_set_new(ro, "N", jval(ft->readoff.n, u->term_si[1], u->term[1]));
 			json_object_set_new(ro, "B", jval(ft->readoff.b, u->term_si[2], u->term[2]));
 			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
+			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
+			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
 			json_object_set_new(o, "readoff", ro);
 		}
 		{
@@ -1052,8 +1069,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			for (int i = 0; i < NG; i++)
 				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
 			ssc_fmt(v1, sizeof(v1), in_unit(bound, u->term_si[t], u->term[t]), 3);
-			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound)",
-				 "QNBKR"[t], v1, cu);
+			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound%s)",
+				 "QNBKR"[t], v1, cu,
+				 t == SSCOPE_TERM_B ? "; line at 0.664\xc2\xb7" "B" : "");
 			{
 				struct ssc_style bst = { .color = tcol[t],
 							 .width = 1.2,
@@ -1150,10 +1168,8 @@ static int plot(const struct ssc_common *co, const struct args *a,
 	if (!rc)
 		rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, co->plot, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1222,6 +1238,36 @@ static int check(const struct ssc_common *co, void *opts)
 	return 0;
 }
 
+/* --dev-unit must fit the deviations of a channel: fitting none is a
+ * usage error, each channel it does not fit a warning. */
+static int check_dev_unit(const struct ssc_common *co, const struct args *a,
+			  const struct ssc_stage_env *env)
+{
+	size_t fit = 0;
+	struct units u;
+
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			set_units(a, &env->caps[i]->channels[k].col, &u);
+			fit += !strcmp(u.show, a->dev_unit);
+		}
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			const struct sscope_column *col = &env->caps[i]->channels[k].col;
+
+			set_units(a, col, &u);
+			if (!strcmp(u.show, a->dev_unit))
+				continue;
+			if (!fit)
+				return ssc_usage_error(co->cmd,
+						       "--dev-unit: '%s' does not fit the deviations of %s (%s)",
+						       a->dev_unit, col->name, u.dev);
+			ssc_warn(co, "%s: %s: --dev-unit %s does not fit its deviations (%s): shown in %s",
+				 env->paths[i], col->name, a->dev_unit, u.dev, u.show);
+		}
+	return SSC_EXIT_OK;
+}
+
 static int run(const struct ssc_stage_env *env, void *opts,
 	       struct ssc_stage_out *sout)
 {
@@ -1232,6 +1278,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	struct ssc_membuf text, csv;
 	int rc = SSC_EXIT_OK;
 
+	rc = check_dev_unit(&co, a, env);
+	if (rc)
+		return rc;
 	fr = calloc(nfiles ? nfiles : 1, sizeof(*fr));
 	if (!fr) {
 		ssc_err(co.cmd, "out of memory");
