@@ -1008,6 +1008,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			continue;
 		}
 		cf->var_sd = sd[j];
+		cf->estimate = sqrt(fmax(th[j], 0));
 		cf->fitted = (o.forced & (1u << j)) ? th[j] > 0 :
 						      th[j] > zdet * sd[j] && th[j] > 0;
 		if (cf->fitted) {

@@ -275,6 +275,9 @@ struct sscope_noise_coef {
 			    not fitted lo = 0 and hi is an upper limit */
 	double var_sd; /**< standard deviation of the estimate of the
 			    coefficient squared (the fitted variable) */
+	double estimate; /**< sqrt(max(0, estimated square)) whether or not
+			      the term is resolved (for comparisons of two
+			      fits of the same noise), U */
 	bool fitted;   /**< the term was selected */
 };
 

@@ -108,6 +108,7 @@ int main(void)
 	F(sscope_noise_coef, lo);
 	F(sscope_noise_coef, hi);
 	F(sscope_noise_coef, var_sd);
+	F(sscope_noise_coef, estimate);
 	F(sscope_noise_coef, fitted);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);

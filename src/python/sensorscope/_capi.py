@@ -110,7 +110,8 @@ class AllanPoint(C.Structure):
 
 class NoiseCoef(C.Structure):
     _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
-                ("var_sd", c_dbl), ("fitted", C.c_bool)]
+                ("var_sd", c_dbl), ("estimate", c_dbl),
+                ("fitted", C.c_bool)]
 
 
 class NoiseReadoff(C.Structure):
