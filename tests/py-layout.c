@@ -108,6 +108,7 @@ int main(void)
 	F(sscope_noise_coef, lo);
 	F(sscope_noise_coef, hi);
 	F(sscope_noise_coef, var_sd);
+	F(sscope_noise_coef, estimate);
 	F(sscope_noise_coef, fitted);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);
@@ -121,6 +122,7 @@ int main(void)
 	F(sscope_noise_fit_opts, allowed);
 	F(sscope_noise_fit_opts, forced);
 	F(sscope_noise_fit_opts, model_error);
+	F(sscope_noise_fit_opts, detect_sigma);
 	F(sscope_noise_fit_opts, tau_min_s);
 	F(sscope_noise_fit_opts, tau_max_s);
 	F(sscope_noise_fit_opts, skip);

@@ -54,11 +54,11 @@ static const struct ssc_option allan_opts[] = {
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
-	  "terms the fit may use, e.g. N,B,K (default auto: Q,N,B,K,R, selected by AIC)" },
+	  "terms the fit may use, e.g. N,B,K (default Q,N,B,K,R; those above 3 sd are reported as resolved)" },
 	{ "fit-tau", required_argument, OPT_FIT_TAU, "MIN:MAX",
 	  "fit only taus in [MIN, MAX] seconds (either may be empty)" },
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
-	  "relative error of the five-term model per point (default 0.01; 0 none)" },
+	  "relative error of the five-term model per point (default 0: none)" },
 	{ "stride", required_argument, OPT_STRIDE, "K",
 	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
@@ -628,7 +628,7 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, terms %s selected by AIC; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, resolved above 3 sd: %s; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
 			sel, ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
@@ -772,7 +772,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 		if (r->have_fit) {
 			json_object_set_new(fit, "terms", terms);
 			json_object_set_new(fit, "method",
-					    json_string("weighted least squares on OADEV (EDF weights), every term subset, AIC selection with the model covariance; sandwich intervals"));
+					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds by inverting the test with the model covariance at the bound"));
 			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
 			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
@@ -783,9 +783,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 			json_object_set_new(fit, "reject_below_p",
 					    json_real(FIT_REJECT_P));
 			json_object_set_new(fit, "model_error",
-					    json_real(a->fo.model_error == 0 ? 0.01 :
-						      a->fo.model_error < 0 ? 0 :
-									      a->fo.model_error));
+					    json_real(a->fo.model_error > 0 ? a->fo.model_error : 0));
 		} else {
 			json_decref(terms);
 			json_object_set_new(fit, "error", json_string(c->fit_msg));
