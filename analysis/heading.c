@@ -5,18 +5,20 @@
  * detector (Tedaldi, Pretto and Menegatti, ICRA 2014, sec. IV-A:
  * sscope_calib_variance_magnitude() and sscope_calib_static_intervals()).
  *
- * The drift variance: the error e = int h(t) x(t) dt with the weight
- * h = 1 on [0, tau] and -tau/T on [-T, 0] is a combination of three
- * integrals of x over [0, t_j], t_j in {tau + T, tau, T}, with weights
- * w = {-2c, 2(1 + c), 2c(1 + c)} (c = tau / T) whose sum of t_j^2 vanishes;
- * for a stationary-increment noise with structure function D(t) =
- * E[(int_0^t x)^2] / 2 the variance is sum w_j D(t_j) (the identity behind
- * the Allan variance: at tau = T it is 2 tau^2 AVAR(tau)).  White noise
- * gives D = N^2 t / 2, rate random walk -K^2 t^3 / 12 and flicker
+ * The drift variance: an integrated rate with a bias estimate removed is a
+ * combination sum c_i X(t_i) of the integral X of the rate at a few times,
+ * with sum c_i = 0 and sum c_i t_i = 0 (e.g. X(tau) - (1 + c) X(0) +
+ * c X(-T), c = tau / T, for a bias from the T seconds before 0).  For a
+ * noise with stationary increments and structure function
+ * D(t) = E[(X(s + t) - X(s))^2] / 2 its variance is
+ * -2 sum_{i<j} c_i c_j D(|t_i - t_j|) (the identity behind the Allan
+ * variance: at tau = T it is 2 tau^2 AVAR(tau)).  White noise gives
+ * D = N^2 t / 2, rate random walk -K^2 t^3 / 12 and flicker
  * -(B^2 / 2 pi) t^2 ln t once the terms that cancel in the combination are
  * dropped (the flicker integral itself diverges at low frequency: only the
  * combination is finite, the reason a bias must be estimated from data at
- * all); white angle noise adds Q^2 per end point.
+ * all); white angle noise gives Q^2, and a rate ramp the deterministic
+ * (R / 2 sum c_i t_i^2)^2.
  */
 #include "internal.h"
 
@@ -30,19 +32,41 @@
 
 #define PI 3.14159265358979323846
 
-/* the structure function without the flicker part (below) */
-static double structure(const double c[5], double t)
+double sscope_heading_drift_var_points(const double coef[5], const double *t,
+					const double *c, size_t n)
 {
-	if (t <= 0)
-		return 0;
-	return c[SSCOPE_TERM_Q] * c[SSCOPE_TERM_Q] +
-	       c[SSCOPE_TERM_N] * c[SSCOPE_TERM_N] * t / 2 -
-	       c[SSCOPE_TERM_K] * c[SSCOPE_TERM_K] * t * t * t / 12;
+	double v = 0, scale = 0, m2 = 0;
+	const double Q2 = coef[SSCOPE_TERM_Q] * coef[SSCOPE_TERM_Q];
+	const double N2 = coef[SSCOPE_TERM_N] * coef[SSCOPE_TERM_N];
+	const double B2 = coef[SSCOPE_TERM_B] * coef[SSCOPE_TERM_B] / (2 * PI);
+	const double K2 = coef[SSCOPE_TERM_K] * coef[SSCOPE_TERM_K];
+
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = i + 1; j < n; j++)
+			scale = fmax(scale, fabs(t[i] - t[j]));
+	/* -2 sum_{i<j} c_i c_j D(|t_i - t_j|); the flicker logarithm taken
+	 * relative to the largest distance (the sum of c_i c_j d^2 is 0) */
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = i + 1; j < n; j++) {
+			double d = fabs(t[i] - t[j]), D;
+
+			if (d == 0)
+				continue;
+			D = Q2 + N2 * d / 2 - K2 * d * d * d / 12;
+			if (B2 > 0)
+				D -= B2 * d * d * log(d / scale);
+			v -= 2 * c[i] * c[j] * D;
+		}
+	/* the rate ramp: deterministic, (R / 2 sum c_i t_i^2)^2 */
+	for (size_t i = 0; i < n; i++)
+		m2 += c[i] * t[i] * t[i];
+	v += coef[SSCOPE_TERM_R] * coef[SSCOPE_TERM_R] * m2 * m2 / 4;
+	return v > 0 ? v : 0;
 }
 
 double sscope_heading_drift_var(const double coef[5], double tau, double T)
 {
-	double c, v, B, R;
+	double c, t[3], w[3];
 
 	if (!coef || !(tau >= 0) || !(T > 0) || !isfinite(tau) || !isfinite(T))
 		return (double)NAN;
@@ -51,19 +75,15 @@ double sscope_heading_drift_var(const double coef[5], double tau, double T)
 			return (double)NAN;
 	if (tau == 0)
 		return 0;
+	/* X(tau) - (1 + c) X(0) + c X(-T), X the integral of the rate */
 	c = tau / T;
-	v = -2 * c * structure(coef, tau + T) + 2 * (1 + c) * structure(coef, tau) +
-	    2 * c * (1 + c) * structure(coef, T);
-	/* flicker: sum w_j t_j^2 ln t_j is scale-free (sum w_j t_j^2 = 0),
-	 * so take the logarithms relative to T */
-	B = coef[SSCOPE_TERM_B];
-	if (B > 0)
-		v -= B * B / (2 * PI) * T * T *
-		     (-2 * c * (1 + c) * (1 + c) * log1p(c) +
-		      2 * (1 + c) * c * c * log(c));
-	R = coef[SSCOPE_TERM_R];
-	v += R * R * tau * tau * (tau + T) * (tau + T) / 4;
-	return v > 0 ? v : 0;
+	t[0] = tau;
+	t[1] = 0;
+	t[2] = -T;
+	w[0] = 1;
+	w[1] = -(1 + c);
+	w[2] = c;
+	return sscope_heading_drift_var_points(coef, t, w, 3);
 }
 
 void sscope_heading_result_free(struct sscope_heading_result *r)
@@ -77,6 +97,19 @@ void sscope_heading_result_free(struct sscope_heading_result *r)
 	free(r->still);
 	free(r->stops);
 	free(r);
+}
+
+void sscope_heading_set_initial(struct sscope_heading_result *r, double h)
+{
+	double d;
+
+	if (!r || r->first >= r->n || !isfinite(h))
+		return;
+	d = h - r->heading_rad[r->first];
+	for (size_t i = r->first; i < r->n; i++) {
+		r->heading_rad[i] = remainder(r->heading_rad[i] + d, 2 * PI);
+		r->heading_once_rad[i] = remainder(r->heading_once_rad[i] + d, 2 * PI);
+	}
 }
 
 static int cmp_double(const void *a, const void *b)
@@ -237,6 +270,12 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	}
 	sscope_calib_static_intervals(vs, n, r->threshold, min_len, iv, max_iv,
 				      &cnt);
+	/* the detector cannot judge the half windows at the ends: a stop
+	 * reaching them holds to the end */
+	if (iv[0].start <= window / 2)
+		iv[0].start = 0;
+	if (iv[cnt - 1].end + window / 2 >= n)
+		iv[cnt - 1].end = n;
 	r->n_stops = cnt;
 	/* per-stop bias and the pooled within-stop scatter */
 	{

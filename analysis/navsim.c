@@ -816,9 +816,12 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 	double rn, re, gb = 0, ab = 0;
 
 	memset(p, 0, sizeof(*p));
+	/* bias instability counts as a 1-sigma bias, as in `budget` */
 	for (int i = 0; i < 2; i++) {
-		gb = fmax(gb, hypot(imu->gyro_bias_rad_s[i], imu->gyro.bias));
-		ab = fmax(ab, hypot(imu->accel_bias_m_s2[i], imu->accel.bias));
+		gb = fmax(gb, hypot(hypot(imu->gyro_bias_rad_s[i], imu->gyro.bias),
+				    imu->gyro.b));
+		ab = fmax(ab, hypot(hypot(imu->accel_bias_m_s2[i], imu->accel.bias),
+				    imu->accel.b));
 	}
 	p->gyro_bias_rad_s = gb;
 	p->accel_bias_m_s2 = ab;
