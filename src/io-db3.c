@@ -171,9 +171,9 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 	(void)buf;
 	(void)len;
 	(void)c;
+	(void)disp;
 	return ssc_diag(diag, -ENOTSUP,
-			"%s: a rosbag2 SQLite (.db3) file, but this sensorscope was built without SQLite (install libsqlite3-dev and configure --with-sqlite3, or convert the bag to MCAP)",
-			disp);
+			"a rosbag2 SQLite (.db3) file, but this sensorscope was built without SQLite (install libsqlite3-dev and configure --with-sqlite3, or convert the bag to MCAP)");
 }
 
 #endif

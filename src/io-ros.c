@@ -451,6 +451,7 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 	struct topic *td;
 	struct sscope_topic *tp;
 	char fmt[200];
+	double *tv = NULL;
 	long di, ti;
 	int rc;
 
@@ -485,6 +486,13 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 		t->src->n_topics = i + 1;
 	}
 	t->nrows = td->n;
+	if (ti >= 0) {
+		tv = interp_temp(td, &c->t[ti]);
+		if (!tv) {
+			ssc_table_free(t);
+			return -ENOMEM;
+		}
+	}
 	rc = ssc_table_own(t, td->stamp);
 	if (!rc)
 		rc = ssc_table_add(t, "time [ns]", SSCOPE_ROLE_TIME, td->stamp,
@@ -503,10 +511,11 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 					   sizeof(double), SSC_V_F64, false);
 		td->v[k] = NULL;
 	}
-	if (!rc && ti >= 0) {
-		double *tv = interp_temp(td, &c->t[ti]);
-
-		rc = tv ? ssc_table_own(t, tv) : -ENOMEM;
+	if (tv) {
+		if (!rc)
+			rc = ssc_table_own(t, tv);
+		else
+			free(tv);
 		if (!rc)
 			rc = ssc_table_add(t, "temp [degC]", SSCOPE_ROLE_TEMP, tv,
 					   sizeof(double), SSC_V_F64, false);
