@@ -190,21 +190,21 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	*resp = NULL;
 	if (!rate || !det || !det[0] || !det[1] || !det[2] || !o || stride == 0 ||
 	    ds == 0 || !(o->rate_hz > 0) || !isfinite(o->rate_hz))
-		return ssc_diag(diag, -EINVAL, "heading: bad parameter");
+		return ssc_diag(diag, -EINVAL, "bad parameter");
 	if (o->window_s < 0 || o->min_static_s < 0 || o->k < 0 || o->min_contrast < 0 ||
 	    o->init_static_s < 0 || !isfinite(o->initial_heading_rad) ||
 	    (unsigned)o->bias_model > SSCOPE_HEADING_INTERPOLATE ||
 	    (!isnan(o->latitude_rad) && !(fabs(o->latitude_rad) <= PI / 2)))
-		return ssc_diag(diag, -EINVAL, "heading: bad option");
+		return ssc_diag(diag, -EINVAL, "bad option");
 	for (int i = 0; i < 5; i++)
 		if (!(o->coef[i] >= 0) || !isfinite(o->coef[i]))
 			return ssc_diag(diag, -EINVAL,
-					"heading: noise terms must be finite and non-negative");
+					"noise terms must be finite and non-negative");
 	for (size_t i = 0; i < n; i++)
 		if (!isfinite(rate[i * stride]) || !isfinite(det[0][i * ds]) ||
 		    !isfinite(det[1][i * ds]) || !isfinite(det[2][i * ds]))
 			return ssc_diag(diag, -EINVAL,
-					"heading: sample %zu is not finite", i + 1);
+					"sample %zu is not finite", i + 1);
 	dt = 1 / o->rate_hz;
 	win_s = o->window_s > 0 ? o->window_s : 1.0;
 	min_s = o->min_static_s > 0 ? o->min_static_s : 2.0;
@@ -231,7 +231,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	rc = sscope_calib_variance_magnitude(det[0], det[1], det[2], ds, n,
 					     window, vs);
 	if (rc) {
-		rc = ssc_diag(diag, rc, "heading: static detector failed");
+		rc = ssc_diag(diag, rc, "static detector failed");
 		goto fail;
 	}
 	rc = reference(det, ds, n, o->rate_hz, o->init_static_s, vs, work,

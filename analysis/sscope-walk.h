@@ -33,6 +33,11 @@ struct sscope_walk_opts {
 	double coef[5];  /**< Q, N, B, K, R of the channel (SI), for the
 			      envelope and the implied N */
 	double k_sigma;  /**< envelope half-width in sigmas (0 -> 2) */
+	/** the record must be still: the 90th percentile of the variance
+	 *  over sliding windows of max(1 s, 11 samples) may be at most this
+	 *  multiple of the 10th percentile (0 -> 9, the contrast rule of
+	 *  sscope-heading.h; negative: no check) */
+	double max_contrast;
 };
 
 /** The fan. */
@@ -64,7 +69,7 @@ struct sscope_walk_result {
  * @return 0; -EINVAL (NULL, rate or run length not positive, negative or
  *         non-finite noise terms, every term zero, non-finite samples);
  *         -EDOM (fewer than 2 runs fit in the record, a run shorter than
- *         2 samples); -ENOMEM.
+ *         2 samples, a record that moves); -ENOMEM.
  */
 int sscope_walk_compute(const double *x, size_t stride, size_t n,
 			const struct sscope_walk_opts *o,

@@ -15,8 +15,44 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* 90th over 10th percentile of the sliding variance (calib's detector) */
+static int still_contrast(const double *x, size_t stride, size_t n, double fs,
+			  double *ratio)
+{
+	size_t w = (size_t)fmax(11, round(fs)), nf = 0;
+	double *v = ssc_alloc_array(n, sizeof(double));
+	int rc;
+
+	if (!v)
+		return -ENOMEM;
+	rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
+	if (!rc) {
+		for (size_t i = 0; i < n; i++)
+			if (isfinite(v[i]))
+				v[nf++] = v[i];
+		if (nf < 10) {
+			rc = -EDOM;
+		} else {
+			qsort(v, nf, sizeof(double), cmp_double);
+			double lo = v[(nf - 1) / 10], hi = v[(nf - 1) * 9 / 10];
+
+			*ratio = lo > 0 ? hi / lo : hi > 0 ? (double)INFINITY : 1;
+		}
+	}
+	free(v);
+	return rc;
+}
 
 void sscope_walk_result_free(struct sscope_walk_result *r)
 {
@@ -47,36 +83,48 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 	if (!x || !o || stride == 0 || !(o->rate_hz > 0) || !isfinite(o->rate_hz) ||
 	    !(o->run_s > 0) || !isfinite(o->run_s) || !(o->bias_s >= 0) ||
 	    !isfinite(o->bias_s) || o->k_sigma < 0 || !isfinite(o->k_sigma))
-		return ssc_diag(diag, -EINVAL, "walk: bad parameter");
+		return ssc_diag(diag, -EINVAL, "bad parameter");
 	for (int i = 0; i < 5; i++) {
 		if (!(o->coef[i] >= 0) || !isfinite(o->coef[i]))
 			return ssc_diag(diag, -EINVAL,
-					"walk: noise terms must be finite and non-negative");
+					"noise terms must be finite and non-negative");
 		any |= o->coef[i] > 0;
 	}
 	if (!any)
-		return ssc_diag(diag, -EINVAL, "walk: no noise term for the envelope");
+		return ssc_diag(diag, -EINVAL, "no noise term for the envelope");
 	dt = 1 / o->rate_hz;
 	L = (size_t)lround(o->run_s * o->rate_hz);
 	Lb = (size_t)lround(o->bias_s * o->rate_hz);
 	if (L < 2)
-		return ssc_diag(diag, -EDOM, "walk: a run of %g s is shorter than 2 samples",
+		return ssc_diag(diag, -EDOM, "a run of %g s is shorter than 2 samples",
 				o->run_s);
 	if (o->bias_s > 0 && Lb < 2)
 		return ssc_diag(diag, -EDOM,
-				"walk: a bias window of %g s is shorter than 2 samples",
+				"a bias window of %g s is shorter than 2 samples",
 				o->bias_s);
 	block = L + Lb;
 	M = n / block;
 	if (M < 2)
 		return ssc_diag(diag, -EDOM,
-				"walk: %zu samples hold %zu run%s of %g s%s: need at least 2",
+				"%zu samples hold %zu run%s of %g s%s: need at least 2",
 				n, M, M == 1 ? "" : "s", o->run_s,
 				o->bias_s > 0 ? " plus the bias window" : "");
 	for (size_t i = 0; i < n; i++)
 		if (!isfinite(x[i * stride]))
-			return ssc_diag(diag, -EINVAL, "walk: sample %zu is not finite",
+			return ssc_diag(diag, -EINVAL, "sample %zu is not finite",
 					i + 1);
+	if (o->max_contrast >= 0) {
+		double c = o->max_contrast > 0 ? o->max_contrast : 9, ratio;
+		int rc = still_contrast(x, stride, n, o->rate_hz, &ratio);
+
+		if (rc)
+			return ssc_diag(diag, rc, "%s", rc == -ENOMEM ?
+					"out of memory" : "record too short to check that it is still");
+		if (!(ratio <= c))
+			return ssc_diag(diag, -EDOM,
+					"the record moves (its variance over 1 s windows spans %.3g times, a still record at most %g): the fan needs a stationary record",
+					ratio, c);
+	}
 	if (Lb == 0) {
 		struct sscope_stats st;
 

@@ -141,6 +141,56 @@ one_line_error "walk: too short"
 run "walk: no inertial channel" 1 walk -c temp "$SAMPLES/accel-thermal.csv"
 run "walk: bad --sigma" 2 walk --sigma 0 "$SAMPLES/gyro-static.csv"
 
+# ------------------------------------------------------------ scenes
+# json_close DESC A B: the two JSON files are equal, numbers within 1e-9
+# relative (a scene's stages read allan's terms directly, a command from
+# the JSON file written with 15 digits)
+json_close() {
+	if ! command -v jq >/dev/null 2>&1; then
+		skip "$1" "jq not installed"
+		return
+	fi
+	if jq -e -n --slurpfile a "$2" --slurpfile b "$3" '
+		def close(x; y):
+			if (x | type) == "number" and (y | type) == "number" then
+				((x - y) | fabs) <= 1e-9 * ([(x | fabs), (y | fabs), 1e-300] | max)
+			elif (x | type) == "object" and (y | type) == "object" then
+				(x | keys) == (y | keys) and all(x | keys[]; . as $k | close(x[$k]; y[$k]))
+			elif (x | type) == "array" and (y | type) == "array" then
+				(x | length) == (y | length) and all(range(x | length); . as $i | close(x[$i]; y[$i]))
+			else x == y end;
+		close($a[0]; $b[0])' >/dev/null; then
+		ok "$1"
+	else
+		not_ok "$1"
+	fi
+}
+
+run "nav scene" 0 run "$SAMPLES/nav.scene.ini" -o "$T/nav" -q
+run "walk as a command" 0 walk -c gz --from-allan "$T/nav/allan.json" --format json -o "$T/walk.json" "$SAMPLES/gyro-static.csv"
+jq 'del(.channels[].noise_from)' "$T/nav/walk.json" >"$T/w1.json" 2>/dev/null
+jq 'del(.channels[].noise_from)' "$T/walk.json" >"$T/w2.json" 2>/dev/null
+json_close "walk: the scene's JSON equals the command's" "$T/w1.json" "$T/w2.json"
+run "navsim as a command" 0 navsim --from-allan "$T/nav/allan.json" --runs 20 --duration 5min --seed 7 --format json -o "$T/navsim.json"
+jq 'del(.imu.sources)' "$T/nav/navsim.json" >"$T/n1.json" 2>/dev/null
+jq 'del(.imu.sources)' "$T/navsim.json" >"$T/n2.json" 2>/dev/null
+json_close "navsim: the scene's JSON equals the command's" "$T/n1.json" "$T/n2.json"
+has "report names the stages" "$T/nav/report.txt" '^== Random-walk fan \(walk\)'
+has "report has navsim" "$T/nav/report.txt" '^== Navigation error simulation \(navsim\)'
+# report infers heading for a gyro with a true heading column
+run "report on the drive" 0 report -o "$T/drive" -q "$SAMPLES/drive-stops.csv"
+if [ -s "$T/drive/heading.json" ]; then ok "heading inferred"; else not_ok "heading inferred"; fi
+run "heading as a command" 0 heading --reference heading_ref --format json -o "$T/heading.json" "$SAMPLES/drive-stops.csv"
+json_close "heading: the report's JSON equals the command's" "$T/drive/heading.json" "$T/heading.json"
+# and the fan for a stationary gyro record; a moving one is left out
+run "report on two gyros" 0 report -o "$T/gyros" "$SAMPLES/gyro-static.csv"
+if [ -s "$T/gyros/walk.json" ]; then ok "walk inferred"; else not_ok "walk inferred"; fi
+run "report on a moving IMU" 0 report -o "$T/moving" "$SAMPLES/imu-multipose.csv"
+has "walk refused with its reason" "$T/moving/report.html" "Stage 'walk': inferred, but refused by the data.*moves"
+printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\n\n[report]\nformats = text\n' >"$T/ns.ini"
+run "navsim in a scene without captures" 0 run "$T/ns.ini" -o "$T/ns" -q
+has "navsim's own keys" "$T/ns/report.txt" 'fixed gyro bias \(x, y, z\): 0, 10, 0 deg/h'
+
 # ------------------------------------------------------------ figures
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	run "navsim --plot" 0 navsim --arw 0.2deg/sqrt\(h\) --runs 5 --duration 60 --plot "$T/n.png"

@@ -413,6 +413,19 @@ START_TEST(test_walk_refused)
 	o.coef[2] = 0;
 	ck_assert_int_eq(sscope_walk_compute(x, 1, 100, &o, &r, &d), 0);
 	ck_assert_int_eq(r->n_runs, 5);
+	sscope_walk_result_free(r);
+	{
+		/* a record that moves: quiet, then rotating back and forth */
+		double *y = white(2000, 10, 1e-3, 0, 0, 19106);
+
+		for (size_t i = 1000; i < 2000; i++)
+			y[i] += 0.5 * sin(0.3 * (double)i);
+		ck_assert_int_eq(sscope_walk_compute(y, 1, 2000, &o, &r, &d), -EDOM);
+		ck_assert(strstr(d.msg, "moves") != NULL);
+		o.max_contrast = -1;
+		ck_assert_int_eq(sscope_walk_compute(y, 1, 2000, &o, &r, &d), 0);
+		free(y);
+	}
 	ck_assert_int_eq(sscope_walk_implied_n(r, 3, 1.5, NULL), -EINVAL);
 	sscope_walk_result_free(r);
 	sscope_walk_result_free(NULL);

@@ -714,7 +714,7 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	rc = sscope_heading_compute(cap->channels[s.axis].data, 1, cap->n, det, 1, &o.ho,
 				    &s.r, &d);
 	if (rc)
-		return ssc_fail(cmd, rc, &d, path);
+		return ssc_nav_fail(cmd, rc, &d, path);
 	/* without --initial-heading, start from the reference */
 	if (!o.set_initial && s.refv)
 		sscope_heading_set_initial(s.r, s.refv[s.r->first]);

@@ -937,7 +937,7 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	rc = sscope_navsim_new(&r.ns, &no, &d);
 	if (rc) {
-		rc = ssc_fail(cmd, rc, &d, o.traj_file ? o.traj_file : "trajectory");
+		rc = o.traj_file ? ssc_nav_fail(cmd, rc, &d, o.traj_file) : ssc_fail(cmd, rc, &d, "navsim");
 		goto done;
 	}
 	r.n = sscope_navsim_n_out(r.ns);

@@ -31,6 +31,7 @@ enum {
 	O_BI,
 	O_RRW,
 	O_PATHS,
+	O_CONTRAST,
 };
 
 static const struct ssc_option walk_opts[] = {
@@ -48,6 +49,8 @@ static const struct ssc_option walk_opts[] = {
 	{ "bias-instability", required_argument, O_BI, "V", "bias instability for the envelope" },
 	{ "rrw", required_argument, O_RRW, "V", "rate random walk for the envelope" },
 	{ "paths", required_argument, O_PATHS, "N", "runs drawn in the figure (default 100)" },
+	{ "contrast", required_argument, O_CONTRAST, "C",
+	  "refuse a record whose 1 s variance spans more than C times, i.e. that moves (default 9; 0: no check)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -71,7 +74,7 @@ static const struct ssc_command_spec spec = {
 };
 
 struct opts {
-	double run_s, bias_s, k, ci;
+	double run_s, bias_s, k, ci, contrast;
 	const char *sensor, *allan;
 	const char *arw, *bi, *rrw; /* with units: converted per channel */
 	bool set_terms;
@@ -125,6 +128,11 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_PATHS:
 		return ssc_arg_size("walk", "paths", arg, &o->paths) ? SSC_EXIT_USAGE : 0;
+	case O_CONTRAST:
+		if (ssc_arg_double("walk", "contrast", arg, &o->contrast))
+			return SSC_EXIT_USAGE;
+		return o->contrast == 0 || o->contrast > 1 ? 0 :
+			ssc_usage_error("walk", "--contrast: 0 (no check) or more than 1");
 	default:
 		return ssc_usage_error("walk", "unexpected option");
 	}
@@ -138,6 +146,7 @@ static void init(void *opts)
 	o->k = 2;
 	o->ci = 0.683;
 	o->paths = 100;
+	o->contrast = 9;
 }
 
 /* ------------------------------------------------------------ per channel */
@@ -235,17 +244,8 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	c->fs = cap->rate_hz;
 	c->n = cap->n;
 	dur = (double)cap->n / c->fs;
-	rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan);
-	if (rc)
-		return rc;
-	c->terms = c->allan;
-	c->terms_from = "allan on this record";
-	if (o->set_terms) {
-		rc = option_terms(cmd, o, q, &c->terms);
-		if (rc)
-			return rc;
-		c->terms_from = "options";
-	} else if (n_given) {
+	/* allan's terms: from a result when there is one, else computed */
+	if (n_given) {
 		const struct ssc_nav_terms *p = ssc_nav_terms_pick(given, n_given, ch->col.name, q);
 
 		if (!p) {
@@ -253,9 +253,21 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 				o->allan ? o->allan : "the allan stage");
 			return SSC_EXIT_FAIL;
 		}
-		c->terms = *p;
+		c->allan = *p;
 		c->terms_from = o->allan ? "allan result" : "the allan stage";
-	} else if (o->sensor || env->sensor) {
+	} else {
+		rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan);
+		if (rc)
+			return rc;
+		c->terms_from = "allan on this record";
+	}
+	c->terms = c->allan;
+	if (o->set_terms) {
+		rc = option_terms(cmd, o, q, &c->terms);
+		if (rc)
+			return rc;
+		c->terms_from = "options";
+	} else if (!n_given && (o->sensor || env->sensor)) {
 		struct sscope_sensor_spec sp;
 
 		if (o->sensor) {
@@ -280,17 +292,21 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	if (!(c->run_s > 0)) {
 		/* 60 s, or the longest whole second that leaves 20 runs */
 		c->run_s = fmin(60, floor(dur / 20 - o->bias_s));
-		if (c->run_s < 1)
-			c->run_s = fmax(2 / c->fs, (dur / 20 - o->bias_s));
+		if (c->run_s < 1) {
+			ssc_err(cmd, "%s: %g s is too short for 20 runs of 1 s (give --run-length)",
+				path, dur);
+			return SSC_EXIT_FAIL;
+		}
 	}
 	wo.rate_hz = c->fs;
 	wo.run_s = c->run_s;
 	wo.bias_s = o->bias_s;
 	wo.k_sigma = o->k;
+	wo.max_contrast = o->contrast > 0 ? o->contrast : -1;
 	memcpy(wo.coef, c->terms.coef, sizeof(wo.coef));
 	rc = sscope_walk_compute(ch->data, 1, cap->n, &wo, &c->w, &d);
 	if (rc)
-		return ssc_fail(cmd, rc, &d, path);
+		return ssc_nav_fail(cmd, rc, &d, path);
 	/* N_TABLE points evenly over the run */
 	for (size_t j = 1; j <= N_TABLE; j++) {
 		size_t i = (size_t)lround((double)j * (double)(c->w->n_points - 1) / N_TABLE);
@@ -513,7 +529,7 @@ static int run(const struct ssc_stage_env *env, void *opts,
 		rc = SSC_EXIT_FAIL;
 		goto done;
 	}
-	if (!o->set_terms && (o->allan || (env->upstream && json_object_get(env->upstream, "allan")))) {
+	if (o->allan || (env->upstream && json_object_get(env->upstream, "allan"))) {
 		json_t *root = NULL;
 
 		if (o->allan)

@@ -9,6 +9,15 @@
 #include <string.h>
 #include <strings.h>
 
+int ssc_nav_fail(const char *cmd, int rc, const struct sscope_diag *d,
+		 const char *path)
+{
+	if (!d || !d->msg[0])
+		return ssc_fail(cmd, rc, d, path);
+	ssc_err(cmd, "%s: %s", path, d->msg);
+	return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+}
+
 int ssc_nav_load_json(const char *cmd, const char *opt, const char *path,
 		      json_t **root)
 {

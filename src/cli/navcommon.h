@@ -26,6 +26,11 @@ int ssc_nav_terms_from_allan(const char *cmd, const json_t *root,
 			     const char *what, struct ssc_nav_terms **out,
 			     size_t *n);
 
+/* A library failure about @p path: "path: detail" (or the error's text);
+ * returns the exit code (ssc_fail's). */
+int ssc_nav_fail(const char *cmd, int rc, const struct sscope_diag *d,
+		 const char *path);
+
 /* Read a JSON file; prints errors; returns an exit code. */
 int ssc_nav_load_json(const char *cmd, const char *opt, const char *path,
 		      json_t **root);
