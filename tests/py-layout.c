@@ -111,9 +111,11 @@ int main(void)
 	F(sscope_noise_coef, fitted);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);
+	F(sscope_noise_readoff, n_tau_s);
 	F(sscope_noise_readoff, b);
 	F(sscope_noise_readoff, b_tau_s);
 	F(sscope_noise_readoff, k);
+	F(sscope_noise_readoff, k_tau_s);
 	S(sscope_noise_fit_opts);
 	F(sscope_noise_fit_opts, ci_level);
 	F(sscope_noise_fit_opts, allowed);
@@ -267,6 +269,10 @@ int main(void)
 	F(sscope_tempbias_result, have_split);
 	F(sscope_tempbias_result, heat_coef);
 	F(sscope_tempbias_result, cool_coef);
+	F(sscope_tempbias_result, hyst_grad_collinear);
+	F(sscope_tempbias_result, hyst_grad_vif);
+	F(sscope_tempbias_result, rate_heat_degc_s);
+	F(sscope_tempbias_result, rate_cool_degc_s);
 	F(sscope_tempbias_result, have_gradient);
 	F(sscope_tempbias_result, gradient);
 	F(sscope_tempbias_result, gradient_sd);

@@ -114,7 +114,8 @@ class NoiseCoef(C.Structure):
 
 
 class NoiseReadoff(C.Structure):
-    _fields_ = [("n", c_dbl), ("b", c_dbl), ("b_tau_s", c_dbl), ("k", c_dbl)]
+    _fields_ = [("n", c_dbl), ("n_tau_s", c_dbl), ("b", c_dbl),
+                ("b_tau_s", c_dbl), ("k", c_dbl), ("k_tau_s", c_dbl)]
 
 
 class NoiseFitOpts(C.Structure):
@@ -218,6 +219,8 @@ class TempbiasResult(C.Structure):
                 ("hysteresis_sd", c_dbl), ("hysteresis_max", c_dbl),
                 ("hysteresis_at_degc", c_dbl), ("have_split", C.c_bool),
                 ("heat_coef", c_dbl * 5), ("cool_coef", c_dbl * 5),
+                ("hyst_grad_collinear", C.c_bool), ("hyst_grad_vif", c_dbl),
+                ("rate_heat_degc_s", c_dbl), ("rate_cool_degc_s", c_dbl),
                 ("have_gradient", C.c_bool), ("gradient", c_dbl),
                 ("gradient_sd", c_dbl), ("deadband_degc_s", c_dbl),
                 ("turn_band_degc", c_dbl), ("smooth_s", c_dbl),
