@@ -67,7 +67,7 @@ run "bad trajectory" 2 navsim --trajectory straight:-3m/s
 run "bad unit" 2 navsim --gyro-bias 3m
 run "two values" 2 navsim --gyro-bias 1deg/h,2deg/h
 run "operand refused" 2 navsim file.csv
-run "--plot not png" 2 navsim --plot x.jpg
+run "--plot neither png nor svg" 2 navsim --plot x.jpg
 printf 'north [m],east [m],yaw [deg]\n0,0,0\n1,0,0\n2,0,0\n3,0,0\n' >"$T/notime.csv"
 run "trajectory without time" 1 navsim --trajectory "$T/notime.csv"
 one_line_error "trajectory without time"
@@ -202,5 +202,11 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "navsim --plot without OpenCV" 2 navsim --plot "$T/n.png"
 fi
+run "navsim --plot svg" 0 navsim --runs 2 --duration 30 --plot "$T/n.svg"
+run "heading --plot svg" 0 heading --plot "$T/h.svg" "$SAMPLES/drive-stops.csv"
+run "walk --plot svg" 0 walk -c gz --plot "$T/w.svg" "$SAMPLES/gyro-static.csv"
+for f in n h w; do
+	if grep -q '<svg' "$T/$f.svg" 2>/dev/null; then ok "$f.svg written"; else not_ok "$f.svg"; fi
+done
 
 done_testing

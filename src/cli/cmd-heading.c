@@ -590,7 +590,7 @@ static int plot(const char *cmd, const char *path, const struct res *s)
 		ssc_ax_ylabel(ax, s->have_cmp ? "heading error (deg)" : "predicted error (deg)");
 		ssc_ax_legend(ax, SSC_LEGEND_UL);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 out:
 	ssc_fig_free(fig);
 	free(t);

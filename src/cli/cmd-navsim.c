@@ -71,8 +71,8 @@ static const struct ssc_option navsim_opts[] = {
 	{ "vertical", required_argument, O_VERTICAL, "aided|free",
 	  "vertical channel aided by a perfect altimeter (default) or free-inertial (diverges in about 10 min)" },
 	{ "threads", required_argument, O_THREADS, "N", "threads (default: all)" },
-	{ "plot", required_argument, O_PLOT, "PATH.png",
-	  "draw the error percentiles and the budget's curves (needs OpenCV)" },
+	{ "plot", required_argument, O_PLOT, "PATH.svg|PATH.png",
+	  "draw the error percentiles and the budget's curves (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -299,15 +299,7 @@ static int check(const struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
-	if (o->plot) {
-		size_t l = strlen(o->plot);
-
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(co->cmd);
-		if (l < 5 || strcmp(o->plot + l - 4, ".png"))
-			return ssc_usage_error(co->cmd, "--plot: '%s' must end in .png", o->plot);
-	}
-	return SSC_EXIT_OK;
+	return o->plot ? ssc_plot_check(co->cmd, o->plot) : SSC_EXIT_OK;
 }
 
 /* ------------------------------------------------------------ inputs */
@@ -879,7 +871,7 @@ static int plot(const char *cmd, const char *path, const struct opts *o,
 				  p == 1 ? "velocity error (m/s)" : "attitude error (deg)");
 		ssc_ax_legend(ax, SSC_LEGEND_UL);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 out:
 	ssc_fig_free(fig);
 	free(t);

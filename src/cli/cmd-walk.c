@@ -500,7 +500,7 @@ static int plot(const char *cmd, const char *path, const struct opts *o,
 		free(lo);
 	}
 	if (!rc)
-		rc = ssc_fig_save_png(fig, path);
+		rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(cmd, "%s: %s", path, sscope_strerror(rc));
