@@ -26,6 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
@@ -119,42 +120,19 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-/* detector reference: the calibration module's rule (sscope-calib.h);
- * *p90 receives the 90th percentile of the variance magnitude */
-static int reference(const double *const det[3], size_t ds, size_t n,
-		     double fs, double init_s, const double *vs, double *work,
-		     double *ref, double *p90, struct sscope_diag *diag)
+int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
+			   double *p10, double *p90)
 {
 	size_t nf = 0;
 
 	for (size_t i = 0; i < n; i++)
 		if (isfinite(vs[i]))
 			work[nf++] = vs[i];
-	if (nf == 0)
-		return ssc_diag(diag, -EDOM, "record shorter than the detector window");
+	if (nf < 10)
+		return -EDOM;
 	qsort(work, nf, sizeof(double), cmp_double);
+	*p10 = work[(nf - 1) / 10];
 	*p90 = work[(nf - 1) * 9 / 10];
-	if (init_s > 0) {
-		size_t m = (size_t)lround(init_s * fs);
-		double v2 = 0;
-
-		if (m < 3 || m > n)
-			return ssc_diag(diag, -EDOM,
-					"initial still period of %g s does not fit the record",
-					init_s);
-		for (int c = 0; c < 3; c++) {
-			struct sscope_stats st;
-
-			sscope_stats_compute(det[c], ds, m, &st);
-			v2 += st.sd * st.sd * st.sd * st.sd;
-		}
-		*ref = sqrt(v2);
-	} else {
-		*ref = work[(nf - 1) / 10];
-	}
-	if (!(*ref > 0))
-		return ssc_diag(diag, -EDOM,
-				"the detector channels do not vary at all: cannot tell stops from motion");
 	return 0;
 }
 
@@ -181,7 +159,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 {
 	struct sscope_heading_result *r = NULL;
 	struct sscope_calib_interval *iv = NULL;
-	double *vs = NULL, *work = NULL, dt, win_s, min_s, k, sgn, p90 = 0, contrast;
+	double *vs = NULL, *work = NULL, dt, win_s, min_s, k, sgn, p10, p90 = 0, contrast;
 	size_t window, min_len, cnt, max_iv;
 	int rc = 0;
 
@@ -234,8 +212,11 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 		rc = ssc_diag(diag, rc, "static detector failed");
 		goto fail;
 	}
-	rc = reference(det, ds, n, o->rate_hz, o->init_static_s, vs, work,
-		       &r->reference, &p90, diag);
+	rc = sscope_calib_static_reference(det[0], det[1], det[2], ds, n, o->rate_hz,
+					   o->init_static_s, vs, work, &r->reference,
+					   diag);
+	if (!rc)
+		rc = ssc_nav_vs_percentiles(vs, n, work, &p10, &p90);
 	if (rc)
 		goto fail;
 	r->threshold = k * r->reference;

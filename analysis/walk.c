@@ -15,42 +15,28 @@
 
 #include <gsl/gsl_cdf.h>
 
+#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
 
 /* 90th over 10th percentile of the sliding variance (calib's detector) */
 static int still_contrast(const double *x, size_t stride, size_t n, double fs,
 			  double *ratio)
 {
-	size_t w = (size_t)fmax(11, round(fs)), nf = 0;
-	double *v = ssc_alloc_array(n, sizeof(double));
-	int rc;
+	size_t w = (size_t)fmax(11, round(fs));
+	double *v = ssc_alloc_array(n, sizeof(double)), lo, hi;
+	double *work = ssc_alloc_array(n, sizeof(double));
+	int rc = v && work ? 0 : -ENOMEM;
 
-	if (!v)
-		return -ENOMEM;
-	rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
-	if (!rc) {
-		for (size_t i = 0; i < n; i++)
-			if (isfinite(v[i]))
-				v[nf++] = v[i];
-		if (nf < 10) {
-			rc = -EDOM;
-		} else {
-			qsort(v, nf, sizeof(double), cmp_double);
-			double lo = v[(nf - 1) / 10], hi = v[(nf - 1) * 9 / 10];
-
-			*ratio = lo > 0 ? hi / lo : hi > 0 ? (double)INFINITY : 1;
-		}
-	}
+	if (!rc)
+		rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
+	if (!rc)
+		rc = ssc_nav_vs_percentiles(v, n, work, &lo, &hi);
+	if (!rc)
+		*ratio = lo > 0 ? hi / lo : hi > 0 ? (double)INFINITY : 1;
 	free(v);
+	free(work);
 	return rc;
 }
 

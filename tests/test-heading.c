@@ -286,6 +286,45 @@ START_TEST(test_heading_refused)
 }
 END_TEST
 
+START_TEST(test_static_reference)
+{
+	/* calib's detector reference, shared with heading */
+	double x[200], vs[200], work[200], ref = 0;
+	struct sscope_diag d = { "" };
+
+	for (int i = 0; i < 200; i++)
+		x[i] = sin(0.37 * i) * (i < 100 ? 1 : 10);
+	ck_assert_int_eq(sscope_calib_variance_magnitude(x, x, x, 1, 200, 11, vs), 0);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), 0);
+	ck_assert(ref > 0 && ref < 1);
+	/* the first 5 s (quiet half): sqrt(3 var^2) of those samples */
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 5, vs, work,
+						       &ref, &d), 0);
+	{
+		struct sscope_stats st;
+
+		sscope_stats_compute(x, 1, 50, &st);
+		ck_assert_rel(ref, sqrt(3.0) * st.sd * st.sd, 1e-14);
+	}
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 30, vs, work,
+						       &ref, &d), -EDOM);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 0, 0, vs, work,
+						       &ref, &d), -EINVAL);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, NULL, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EINVAL);
+	for (int i = 0; i < 200; i++)
+		x[i] = 2.5;
+	sscope_calib_variance_magnitude(x, x, x, 1, 200, 11, vs);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EDOM);
+	for (int i = 0; i < 200; i++)
+		vs[i] = INFINITY;
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EDOM);
+}
+END_TEST
+
 static double *white(size_t n, double fs, double N, double B, double K,
 		     unsigned long seed)
 {
@@ -443,6 +482,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_heading_drive);
 	tcase_add_test(tc, test_heading_envelope);
 	tcase_add_test(tc, test_heading_refused);
+	tcase_add_test(tc, test_static_reference);
 	tcase_add_test(tc, test_walk_fan);
 	tcase_add_test(tc, test_walk_all_terms);
 	tcase_add_test(tc, test_walk_refused);

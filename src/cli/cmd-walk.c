@@ -320,18 +320,6 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	return 0;
 }
 
-/* a coefficient in its conventional unit */
-static double conv(double si, enum sscope_quantity q, enum sscope_term t, const char **u)
-{
-	const char *cu = sscope_term_unit(q, t), *su = sscope_term_si_unit(q, t);
-	double v = si;
-
-	*u = su ? su : "";
-	if (cu && su && sscope_convert(si, su, cu, &v) == 0)
-		*u = cu;
-	return v;
-}
-
 static json_t *chan_json(const struct opts *o, const struct chan *c)
 {
 	json_t *j = json_object(), *in = json_object(), *pts = json_array(),
@@ -368,9 +356,9 @@ static json_t *chan_json(const struct opts *o, const struct chan *c)
 		json_object_set_new(pt, "unit", json_string(angle_unit(q)));
 		json_array_append_new(pts, pt);
 		json_object_set_new(m, "t_s", json_real(c->im[i].t_s));
-		json_object_set_new(m, "value", ssc_jreal(conv(c->im[i].n, q, SSCOPE_TERM_N, &u)));
-		json_object_set_new(m, "lo", ssc_jreal(conv(c->im[i].lo, q, SSCOPE_TERM_N, &u)));
-		json_object_set_new(m, "hi", ssc_jreal(conv(c->im[i].hi, q, SSCOPE_TERM_N, &u)));
+		json_object_set_new(m, "value", ssc_jreal(ssc_nav_term_value(c->im[i].n, q, SSCOPE_TERM_N, &u)));
+		json_object_set_new(m, "lo", ssc_jreal(ssc_nav_term_value(c->im[i].lo, q, SSCOPE_TERM_N, &u)));
+		json_object_set_new(m, "hi", ssc_jreal(ssc_nav_term_value(c->im[i].hi, q, SSCOPE_TERM_N, &u)));
 		json_object_set_new(m, "unit", json_string(u));
 		json_object_set_new(m, "si", ssc_jreal(c->im[i].n));
 		json_array_append_new(imp, m);
@@ -409,9 +397,9 @@ static void chan_text(FILE *f, const struct opts *o, const struct chan *c)
 		size_t k = c->idx[i];
 		char d[32], g[32], h[32];
 
-		double nv = conv(c->im[i].n, q, SSCOPE_TERM_N, &u);
-		double nl = conv(c->im[i].lo, q, SSCOPE_TERM_N, &u);
-		double nh = conv(c->im[i].hi, q, SSCOPE_TERM_N, &u);
+		double nv = ssc_nav_term_value(c->im[i].n, q, SSCOPE_TERM_N, &u);
+		double nl = ssc_nav_term_value(c->im[i].lo, q, SSCOPE_TERM_N, &u);
+		double nh = ssc_nav_term_value(c->im[i].hi, q, SSCOPE_TERM_N, &u);
 
 		fprintf(f, "  %9s %12s %12s %9s   %s [%s, %s] %s\n",
 			ssc_fmt(a, 32, c->im[i].t_s, 5), ssc_fmt(b, 32, w->sigma[k] * s, 4),
@@ -422,9 +410,9 @@ static void chan_text(FILE *f, const struct opts *o, const struct chan *c)
 		angle_unit(q), w->k_sigma, ssc_fmt(a, 32, w->inside_mean, 4),
 		ssc_fmt(b, 32, p, 4), ssc_fmt(e, 32, sqrt(p * (1 - p) / (double)w->n_runs), 2));
 	if (c->allan.coef[SSCOPE_TERM_N] > 0) {
-		double nv = conv(c->allan.coef[SSCOPE_TERM_N], q, SSCOPE_TERM_N, &u);
-		double nl = conv(c->allan.n_lo, q, SSCOPE_TERM_N, &u);
-		double nh = conv(c->allan.n_hi, q, SSCOPE_TERM_N, &u);
+		double nv = ssc_nav_term_value(c->allan.coef[SSCOPE_TERM_N], q, SSCOPE_TERM_N, &u);
+		double nl = ssc_nav_term_value(c->allan.n_lo, q, SSCOPE_TERM_N, &u);
+		double nh = ssc_nav_term_value(c->allan.n_hi, q, SSCOPE_TERM_N, &u);
 
 		fprintf(f, "  allan's N on this record: %s [%s, %s] %s (%g %% interval)\n",
 			ssc_fmt(a, 32, nv, 4), ssc_fmt(b, 32, nl, 4), ssc_fmt(e, 32, nh, 4), u,
@@ -600,9 +588,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 						"runs inside +-2 sigma (mean over time)",
 						100 * w->inside_mean, NAN, NAN, "%",
 						"expected 95.45 %");
-				double nv = conv(im->n, q, SSCOPE_TERM_N, &u);
-				double nl = conv(im->lo, q, SSCOPE_TERM_N, &u);
-				double nh = conv(im->hi, q, SSCOPE_TERM_N, &u);
+				double nv = ssc_nav_term_value(im->n, q, SSCOPE_TERM_N, &u);
+				double nl = ssc_nav_term_value(im->lo, q, SSCOPE_TERM_N, &u);
+				double nh = ssc_nav_term_value(im->hi, q, SSCOPE_TERM_N, &u);
 
 				ssc_summary_add(sout->summary, ch[i].col->name,
 						"N implied by the fan", nv, nl, nh, u,

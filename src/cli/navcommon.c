@@ -208,8 +208,8 @@ int ssc_nav_arg_vec3(const char *cmd, const char *opt, const char *arg,
 	return rc;
 }
 
-static double conv(double si, enum sscope_quantity q, enum sscope_term t,
-		   const char **unit)
+double ssc_nav_term_value(double si, enum sscope_quantity q, enum sscope_term t,
+			  const char **unit)
 {
 	const char *u = sscope_term_unit(q, t), *s = sscope_term_si_unit(q, t);
 	double v = si;
@@ -232,7 +232,7 @@ void ssc_nav_terms_text(const struct ssc_nav_terms *t, char *buf, size_t len)
 
 		if (!(t->coef[i] > 0))
 			continue;
-		v = conv(t->coef[i], t->quantity, (enum sscope_term)i, &u);
+		v = ssc_nav_term_value(t->coef[i], t->quantity, (enum sscope_term)i, &u);
 		o += (size_t)snprintf(buf + o, len - o, "%s%c %s %s", o ? ", " : "",
 				      "QNBKR"[i], ssc_fmt(a, sizeof(a), v, 4), u);
 	}

@@ -56,6 +56,11 @@ int ssc_nav_calib_errors(const json_t *root, const char *kind, double bias[3],
 int ssc_nav_arg_vec3(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double out[3]);
 
+/* A term's SI value in its conventional unit (deg/sqrt(h), ug, ...);
+ * *unit receives that unit (the SI one when there is none). */
+double ssc_nav_term_value(double si, enum sscope_quantity q, enum sscope_term t,
+			  const char **unit);
+
 /* Text of the terms in conventional units ("N 0.15 deg/sqrt(h), B ...") */
 void ssc_nav_terms_text(const struct ssc_nav_terms *t, char *buf, size_t len);
 
