@@ -116,6 +116,14 @@ run "heading latitude out of range" 2 heading --latitude 100 "$SAMPLES/drive-sto
 one_line_error "heading latitude out of range"
 run "heading two files" 2 heading "$SAMPLES/drive-stops.csv" "$SAMPLES/drive-stops.csv"
 run "unknown --axis" 1 heading --axis wz "$SAMPLES/drive-stops.csv"
+printf '[sensor]\nnoise_density = 60 ug/sqrt(Hz)\n' >"$T/acc.ini"
+run "heading --sensor of an accelerometer" 1 heading --sensor "$T/acc.ini" "$SAMPLES/drive-stops.csv"
+has "says gyro" "$T/err" 'not a gyro specification'
+run "heading --sensor of a gyro" 0 heading --sensor "$SAMPLES/gyro-mems-250.ini" --format json "$SAMPLES/drive-stops.csv"
+json_check "spec's terms for the envelope" "$T/out" '.noise_from == "sensor spec" and .noise.K.fitted and .final.sigma_deg > 0'
+printf '[input]\nfiles = %s\n[sensor]\nnoise_density = 60 ug/sqrt(Hz)\n[heading]\nreference = heading_ref\n[report]\nformats = json\n' "$SAMPLES/drive-stops.csv" >"$T/hs.ini"
+run "heading in a scene with an accelerometer [sensor]" 0 run "$T/hs.ini" -o "$T/hs" -q
+json_check "the scene's accelerometer spec is not the gyro's" "$T/hs/heading.json" '.noise_from == "N from the scatter within the stops"'
 
 # ------------------------------------------------------------ walk
 run "walk --help" 0 walk --help

@@ -645,23 +645,21 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 		s->terms = *p;
 		free(t);
 		s->terms_from = "allan";
-	} else if (o->sensor || env->sensor) {
+	} else if (o->sensor) {
 		struct sscope_sensor_spec sp;
+		int rc = ssc_load_sensor(cmd, o->sensor, &sp);
 
-		if (o->sensor) {
-			int rc = ssc_load_sensor(cmd, o->sensor, &sp);
-
-			if (rc)
-				return rc;
-		} else {
-			sp = *env->sensor;
-		}
+		if (rc)
+			return rc;
 		if (sp.quantity != SSCOPE_QTY_ANGULAR_RATE) {
-			ssc_err(cmd, "%s: not a gyro specification",
-				o->sensor ? o->sensor : "[sensor]");
+			ssc_err(cmd, "%s: not a gyro specification", o->sensor);
 			return SSC_EXIT_FAIL;
 		}
 		ssc_nav_terms_from_spec(&sp, &s->terms);
+		s->terms_from = "sensor spec";
+	} else if (env->sensor && env->sensor->quantity == SSCOPE_QTY_ANGULAR_RATE) {
+		/* a scene's [sensor], when it is a gyro */
+		ssc_nav_terms_from_spec(env->sensor, &s->terms);
 		s->terms_from = "sensor spec";
 	}
 	return SSC_EXIT_OK;
