@@ -34,6 +34,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -522,7 +523,10 @@ struct sscope_writer_column {
 
 /**
  * Create a capture file.  Data go to a temporary file beside @p path which
- * sscope_writer_commit() renames; sscope_writer_abort() removes it.
+ * sscope_writer_commit() renames; sscope_writer_abort() removes it.  A
+ * symbolic link's target is replaced (the link stays); "-" (standard
+ * output), /dev/stdout, FIFOs and devices are written directly, never
+ * replaced.
  * @param digits  significant digits for CSV (0 -> 17, exact round trip).
  * @return 0, -EINVAL (unknown unit, no columns), -errno from the OS.
  */
@@ -532,8 +536,19 @@ int sscope_writer_open(struct sscope_writer **w, const char *path,
 		       int digits, struct sscope_diag *diag);
 
 /**
+ * As sscope_writer_open(), on a stream the caller owns (a pipe, or a file
+ * the caller replaces atomically itself): sscope_writer_commit() flushes
+ * and checks @p f but neither closes nor renames it.
+ * @return 0, -EINVAL (unknown unit, no columns, NULL stream).
+ */
+int sscope_writer_fopen(struct sscope_writer **w, FILE *f,
+			enum sscope_capture_format fmt,
+			const struct sscope_writer_column *cols, size_t n_cols,
+			int digits, struct sscope_diag *diag);
+
+/**
  * Append @p rows rows; @p values is row-major, n_cols values per row, in SI.
- * @return 0 or -EIO.
+ * @return 0, or -errno of the failed write (-EIO when not known).
  */
 int sscope_writer_append(struct sscope_writer *w, const double *values,
 			 size_t rows);
@@ -541,7 +556,9 @@ int sscope_writer_append(struct sscope_writer *w, const double *values,
 /** Append a comment line ("# ..."); CSV only, ignored for binary. */
 int sscope_writer_comment(struct sscope_writer *w, const char *text);
 
-/** Flush, sync and rename into place; frees @p w.  @return 0 or -EIO. */
+/** Flush, sync and rename into place; frees @p w.
+ * @return 0, or -errno of the failed write, sync or rename (-EIO when not
+ * known). */
 int sscope_writer_commit(struct sscope_writer *w);
 
 /** Discard the temporary file; frees @p w (NULL is ignored). */
@@ -555,6 +572,12 @@ void sscope_writer_abort(struct sscope_writer *w);
 int sscope_capture_write(const struct sscope_capture *cap, const char *path,
 			 enum sscope_capture_format fmt, int digits,
 			 struct sscope_diag *diag);
+
+/** As sscope_capture_write(), on a stream the caller owns (see
+ * sscope_writer_fopen()). */
+int sscope_capture_fwrite(const struct sscope_capture *cap, FILE *f,
+			  enum sscope_capture_format fmt, int digits,
+			  struct sscope_diag *diag);
 
 /* ------------------------------------------------------------------ */
 /* Statistics and timing (analysis/stats.c, analysis/timing.c)          */

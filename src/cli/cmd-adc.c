@@ -114,6 +114,7 @@ struct ropts {
 	double mc_duration;
 	unsigned long seed;
 	const char *plot;
+	const char *mc_opt; /* --mc-duration or --seed given */
 };
 
 static void r_init(void *p)
@@ -156,6 +157,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->mc_duration > 0))
 			return ssc_usage_error(cmd, "--mc-duration: must be positive");
+		o->mc_opt = "mc-duration";
 		return 0;
 	case O_SEED: {
 		size_t v;
@@ -163,6 +165,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 		if (ssc_arg_size(cmd, "seed", arg, &v))
 			return SSC_EXIT_USAGE;
 		o->seed = (unsigned long)v;
+		o->mc_opt = "seed";
 		return 0;
 	}
 	case 'p': {
@@ -935,7 +938,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			goto done;
 		}
 		if (e) {
-			rc = ssc_fail(cmd, e, NULL, pp);
+			rc = ssc_write_failed(cmd, pp, e);
 			goto done;
 		}
 	}
@@ -949,6 +952,17 @@ done:
 	return rc;
 }
 
+/* Options that would be ignored. */
+static int r_check(const struct ssc_common *co, void *opts)
+{
+	const struct ropts *o = opts;
+
+	if (o->mc_opt && o->mc == 0)
+		return ssc_usage_error(co->cmd, "--%s: no Monte-Carlo check (--monte-carlo 0)",
+				       o->mc_opt);
+	return SSC_EXIT_OK;
+}
+
 const struct ssc_stage_ops ssc_adc_stage = {
 	.spec = &report_spec,
 	.title = "ADC selection",
@@ -958,6 +972,7 @@ const struct ssc_stage_ops ssc_adc_stage = {
 	.opts_size = sizeof(struct ropts),
 	.init = r_init,
 	.handle = r_handle,
+	.check = r_check,
 	.run = r_run,
 };
 
@@ -1064,6 +1079,7 @@ static int cmd_quantize(int argc, char **argv)
 	double *buf = NULL;
 	size_t clipped = 0;
 	bool added_time = false;
+	struct ssc_out sink;
 	int first, rc;
 
 	rc = ssc_parse(&quant_spec, argc, argv, &co, q_handle, &o, &first);
@@ -1176,17 +1192,22 @@ static int cmd_quantize(int argc, char **argv)
 		cap->time_col.quantity = SSCOPE_QTY_TIME;
 		added_time = true;
 	}
-	rc = sscope_capture_write(cap, co.output ? co.output : "-", o.fmt, 0, &d);
+	rc = ssc_out_open(&co, &sink);
+	if (!rc) {
+		int e = sscope_capture_fwrite(cap, sink.f, o.fmt, 0, &d);
+
+		if (e && !ferror(sink.f)) /* not a write error: said here */
+			ssc_fail(co.cmd, e, &d, co.output ? co.output : "standard output");
+		rc = ssc_out_close(&co, &sink, e == 0);
+	}
 	if (added_time) {
 		/* not owned by the capture's allocator: give it back ourselves */
 		free(cap->time_s);
 		cap->time_s = NULL;
 		memset(&cap->time_col, 0, sizeof(cap->time_col));
 	}
-	if (rc) {
-		rc = ssc_fail(co.cmd, rc, &d, co.output ? co.output : "(stdout)");
+	if (rc)
 		goto done;
-	}
 	if (clipped)
 		ssc_warn(&co, "%zu samples clipped at the range", clipped);
 	rc = SSC_EXIT_OK;
@@ -1463,7 +1484,7 @@ static int cmd_test(int argc, char **argv)
 						free(dnl);
 						free(inl);
 						json_decref(j);
-						rc = ssc_fail(co.cmd, pe, NULL, co.plot);
+						rc = ssc_write_failed(co.cmd, co.plot, pe);
 						goto done_json;
 					}
 				}

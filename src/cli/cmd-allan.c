@@ -63,7 +63,7 @@ static const struct ssc_option allan_opts[] = {
 	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
-	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's)" },
+	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
 	{ "threads", required_argument, OPT_THREADS, "N",
 	  "threads of the computation (default: all)" },
 	{ NULL, 0, 0, NULL, NULL },
@@ -350,7 +350,7 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
 	u->dev_scale = unit_scale(u->dev);
 	/* shown unit: --dev-unit, or the conventional bias unit */
-	if (a->dev_unit && a->ao.dev != SSCOPE_DEV_TDEV) {
+	if (a->dev_unit) {
 		struct sscope_unit want, have;
 
 		sscope_unit_parse(a->dev_unit, &want, NULL);
@@ -1168,10 +1168,8 @@ static int plot(const struct ssc_common *co, const struct args *a,
 	if (!rc)
 		rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, co->plot, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1240,6 +1238,36 @@ static int check(const struct ssc_common *co, void *opts)
 	return 0;
 }
 
+/* --dev-unit must fit the deviations of a channel: fitting none is a
+ * usage error, each channel it does not fit a warning. */
+static int check_dev_unit(const struct ssc_common *co, const struct args *a,
+			  const struct ssc_stage_env *env)
+{
+	size_t fit = 0;
+	struct units u;
+
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			set_units(a, &env->caps[i]->channels[k].col, &u);
+			fit += !strcmp(u.show, a->dev_unit);
+		}
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			const struct sscope_column *col = &env->caps[i]->channels[k].col;
+
+			set_units(a, col, &u);
+			if (!strcmp(u.show, a->dev_unit))
+				continue;
+			if (!fit)
+				return ssc_usage_error(co->cmd,
+						       "--dev-unit: '%s' does not fit the deviations of %s (%s)",
+						       a->dev_unit, col->name, u.dev);
+			ssc_warn(co, "%s: %s: --dev-unit %s does not fit its deviations (%s): shown in %s",
+				 env->paths[i], col->name, a->dev_unit, u.dev, u.show);
+		}
+	return SSC_EXIT_OK;
+}
+
 static int run(const struct ssc_stage_env *env, void *opts,
 	       struct ssc_stage_out *sout)
 {
@@ -1250,6 +1278,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	struct ssc_membuf text, csv;
 	int rc = SSC_EXIT_OK;
 
+	rc = check_dev_unit(&co, a, env);
+	if (rc)
+		return rc;
 	fr = calloc(nfiles ? nfiles : 1, sizeof(*fr));
 	if (!fr) {
 		ssc_err(co.cmd, "out of memory");

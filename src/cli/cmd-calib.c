@@ -114,7 +114,7 @@ struct opts {
 	const char *accel, *gyro_names, *reference, *table_axis, *save;
 	const char *schedule;
 	double settle_s;
-	bool cubic, gsens;
+	bool cubic, gsens, settle_set;
 	bool triad_set;
 };
 
@@ -165,6 +165,7 @@ static int handler(int key, const char *arg, void *ctx)
 			o->det.init_static_s = v;
 		else
 			o->settle_s = v;
+		o->settle_set |= key == O_SETTLE;
 		return 0;
 	}
 	case O_THRESHOLD:
@@ -1602,10 +1603,8 @@ static int plot(const struct ssc_common *co, const struct run *r)
 	}
 	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, co->plot, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1654,6 +1653,17 @@ static int check(const struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--mode sixpos is for 'calib accel'");
 	if (o->mode == M_RATE_TABLE && !o->reference == !o->schedule)
 		return ssc_usage_error(co->cmd, "--mode rate-table needs --reference or --schedule");
+	/* options of another mode would be ignored */
+	if (o->mode != M_RATE_TABLE) {
+		const char *x = o->reference ? "reference" : o->schedule ? "schedule" :
+				o->table_axis ? "table-axis" : o->settle_set ? "settle" :
+				o->cubic ? "cubic" : NULL;
+
+		if (x)
+			return ssc_usage_error(co->cmd, "--%s: applies to --mode rate-table only", x);
+	}
+	if (o->gsens && !(o->gyro && o->mode == M_MULTIPOS))
+		return ssc_usage_error(co->cmd, "--g-sensitivity: applies to 'calib gyro' --mode multipos only");
 	return SSC_EXIT_OK;
 }
 

@@ -103,7 +103,7 @@ static const struct ssc_option cal_opts[] = {
 	  "validation capture (same columns) at other temperatures/angles; repeatable" },
 	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes; default linear)" },
 	{ "tilt-table", required_argument, O_TILTS, "FILE",
-	  "tilts by time for captures without reference columns: lines 'START END ROLL PITCH' (s from the capture's start, degrees)" },
+	  "tilts by time, used instead of the calibration captures' reference columns: lines 'START END ROLL PITCH' (s from the capture's start, degrees)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -218,10 +218,12 @@ static int tilt_table(const struct ssc_common *co, const char *path,
 	return 0;
 }
 
-/* Poses of a capture appended to *poses. */
+/* Poses of a capture appended to *poses: its tilts from the tilt table
+ * when @p table (a calibration capture and --tilt-table), else from its
+ * reference columns. */
 static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 		     const struct sscope_capture *cap, const char *path,
-		     struct sscope_inclino_pose *poses, size_t *np)
+		     bool table, struct sscope_inclino_pose *poses, size_t *np)
 {
 	long a[3], ir, ip;
 	size_t got = 0;
@@ -233,15 +235,20 @@ static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 	}
 	ir = sscope_capture_find(cap, o->roll);
 	ip = sscope_capture_find(cap, o->pitch);
-	if ((ir < 0 || ip < 0) && !o->tilts) {
-		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME or --tilt-table FILE)",
-			path, ir < 0 ? o->roll : o->pitch);
+	table = table && o->tilts;
+	if ((ir < 0 || ip < 0) && !table) {
+		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME%s)",
+			path, ir < 0 ? o->roll : o->pitch,
+			o->tilts ? "" : " or --tilt-table FILE");
 		return SSC_EXIT_FAIL;
 	}
+	if (table && ir >= 0 && ip >= 0)
+		ssc_warn(co, "%s: --tilt-table gives the tilts: the reference columns '%s' and '%s' are not used",
+			 path, o->roll, o->pitch);
 	rc = pick_accel(co->cmd, cap, o->accel, path, a);
 	if (rc)
 		return rc;
-	if (ir < 0 || ip < 0) {
+	if (table) {
 		double *ref = malloc(2 * (cap->n ? cap->n : 1) * sizeof(double));
 
 		if (!(cap->time_s || cap->rate_hz > 0)) {
@@ -427,10 +434,8 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 		val_plot(ssc_fig_ax(fig, 2, 0), vp, e, u, nv);
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -456,7 +461,8 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 		goto done;
 	}
 	for (size_t j = 0; j < env->n_caps && !rc; j++)
-		rc = cap_poses(co, o, env->caps[j], env->paths[j], poses, &np);
+		rc = cap_poses(co, o, env->caps[j], env->paths[j], true, poses,
+			       &np);
 	if (rc)
 		goto done;
 	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, lut, &d);
@@ -476,7 +482,8 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 
 			rc = ssc_load(co, o->validate[j], &cap);
 			if (!rc)
-				rc = cap_poses(co, o, cap, o->validate[j], poses, &np);
+				rc = cap_poses(co, o, cap, o->validate[j], false,
+					       poses, &np);
 			sscope_capture_free(cap);
 		}
 		if (rc)
@@ -641,7 +648,7 @@ static const struct ssc_command_spec app_spec = {
 
 struct app_opts_s {
 	const char *lut, *accel, *gyro;
-	bool no_gyro, cubic;
+	bool no_gyro, cubic, rate_tol_set;
 	double still_tol, rate_tol;
 	int axes;
 };
@@ -682,6 +689,7 @@ static int app_handler(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->rate_tol > 0))
 			return ssc_usage_error("inclino", "--rate-tol: must be positive");
+		o->rate_tol_set = true;
 		return 0;
 	}
 	return SSC_EXIT_USAGE;
@@ -788,6 +796,14 @@ static int apply_main(int argc, char **argv)
 	if (argc - first != 1) {
 		free(lut);
 		return ssc_usage_error(co.cmd, "give one input file");
+	}
+	/* options that would be ignored */
+	if (co.format == SSC_FMT_JSON || co.plot || (o.no_gyro && (o.gyro || o.rate_tol_set))) {
+		free(lut);
+		return ssc_usage_error(co.cmd, "%s",
+				       co.format == SSC_FMT_JSON ? "--format json: apply writes a capture (CSV)" :
+				       co.plot ? "--plot: no figure here (apply writes a capture)" :
+						 "--no-gyro: and --gyro or --rate-tol?");
 	}
 	rc = read_lut(co.cmd, o.lut, lut);
 	if (rc)

@@ -429,10 +429,8 @@ static int plot(const struct ssc_common *co, const char *png,
 	ssc_fig_free(fig);
 	free(t);
 	free(y);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", png, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, png, rc);
 	return SSC_EXIT_OK;
 }
 

@@ -92,7 +92,7 @@ struct args {
 	bool spectrogram;
 	size_t sg_cols;
 	bool periodogram;
-	bool nperseg_set;
+	bool nperseg_set, overlap_set, sg_cols_set;
 };
 
 static int handle(int key, const char *arg, void *ctx)
@@ -120,6 +120,7 @@ static int handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(a->overlap >= 0 && a->overlap < 1))
 			return ssc_usage_error("psd", "--overlap: must be in [0, 1)");
+		a->overlap_set = true;
 		return 0;
 	case OPT_NFFT:
 		if (ssc_arg_size("psd", "nfft", arg, &v))
@@ -172,6 +173,7 @@ static int handle(int key, const char *arg, void *ctx)
 		if (v < 2 || v > 100000)
 			return ssc_usage_error("psd", "--spectrogram-columns: must be 2 to 100000");
 		a->sg_cols = v;
+		a->sg_cols_set = true;
 		return 0;
 	default:
 		return ssc_usage_error("psd", "unexpected option");
@@ -937,10 +939,8 @@ static int plot(const struct ssc_common *co, const struct run *R)
 	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	free(y);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, co->plot, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -963,8 +963,13 @@ static int check(const struct ssc_common *co, void *opts)
 	if (a->po.nfft && a->po.nfft < a->po.nperseg)
 		return ssc_usage_error(co->cmd, "--nfft %zu is shorter than --nperseg %zu",
 				       a->po.nfft, a->po.nperseg);
-	if (a->periodogram && (a->spectrogram || a->nperseg_set))
-		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg or --spectrogram");
+	if (a->periodogram && (a->spectrogram || a->nperseg_set || a->overlap_set))
+		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg, --overlap or --spectrogram");
+	/* options that would be ignored */
+	if (a->spectrogram && co->format != SSC_FMT_JSON && !co->plot)
+		return ssc_usage_error(co->cmd, "--spectrogram: the spectrogram is part of the JSON output (--format json) and of the figure (--plot)");
+	if (a->sg_cols_set && !a->spectrogram && !co->plot)
+		return ssc_usage_error(co->cmd, "--spectrogram-columns: no --spectrogram or --plot");
 	a->po.noverlap = (size_t)floor(a->overlap * (double)a->po.nperseg);
 	if (a->po.noverlap >= a->po.nperseg)
 		a->po.noverlap = a->po.nperseg - 1;

@@ -28,9 +28,12 @@ static const struct ssc_command_spec run_spec = {
 		"[report] formats = text,json,html,png and output = DIR.  Only the\n"
 		"stages the outputs need are run, each once; each capture is read once,\n"
 		"with only the columns in use.  Paths are relative to the scene file;\n"
-		"-o DIR overrides the scene's output directory.",
+		"-o DIR overrides the scene's output directory.  The report is built\n"
+		"in a staging folder beside DIR and replaces DIR only when every stage\n"
+		"succeeded; an existing DIR may hold only report files, no input.",
 	.options = run_opts,
 	.output_opts = true,
+	.output_dir = true,
 	.notes = "Example:\n  sensorscope run samples/gyro-static.scene.ini\n"
 		 "  sensorscope run --dry-run samples/gyro-static.scene.ini",
 };
@@ -63,6 +66,11 @@ int ssc_cmd_run(int argc, char **argv)
 		return rc < 0 ? SSC_EXIT_OK : rc;
 	if (argc - first != 1)
 		return ssc_usage_error(co.cmd, "expected one scene file");
+	if (co.format != SSC_FMT_TEXT)
+		return ssc_usage_error(co.cmd,
+				       "--format: a report is a folder; its formats are the scene's [report] formats");
+	/* errors of the stages say "sensorscope: run: STAGE: ..." */
+	ssc_set_outer(co.cmd);
 	rc = ssc_scene_load(co.cmd, argv[first], &sc);
 	if (rc)
 		return rc;
@@ -95,6 +103,7 @@ static const struct ssc_command_spec report_spec = {
 		"the report with its reason.",
 	.options = run_opts,
 	.analysis = true,
+	.output_dir = true,
 	.notes = "Example:\n  sensorscope report samples/gyro-static.csv\n"
 		 "  sensorscope report -o thermal-report samples/accel-thermal.csv",
 };
@@ -116,6 +125,7 @@ int ssc_cmd_report(int argc, char **argv)
 				       "--format: a report is a directory of text, JSON, PNG and HTML");
 	if (co.plot)
 		return ssc_usage_error(co.cmd, "--plot: the report draws every figure itself");
+	ssc_set_outer(co.cmd);
 	rc = ssc_scene_infer(&co, argv + first, (size_t)(argc - first),
 			     co.output ? co.output : "sensorscope-report", &sc);
 	if (rc)

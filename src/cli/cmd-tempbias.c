@@ -483,10 +483,8 @@ static int plot(const struct ssc_common *co, const char *path,
 	}
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 

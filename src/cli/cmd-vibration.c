@@ -87,7 +87,7 @@ struct args {
 	struct sscope_vib_opts vo;
 	double overlap;
 	double rpm;
-	bool bearing;
+	bool bearing, tol_set;
 	const char *env_band;
 };
 
@@ -163,6 +163,7 @@ bad_bearing:
 			return SSC_EXIT_USAGE;
 		if (!(a->vo.tolerance >= 0 && a->vo.tolerance < 0.2))
 			return ssc_usage_error("vibration", "--tolerance: must be in [0, 0.2)");
+		a->tol_set = true;
 		return 0;
 	case OPT_ENV_BAND:
 		return parse_pair("vibration", "envelope-band", arg,
@@ -588,10 +589,8 @@ static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
 	}
 	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, co->plot, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -610,6 +609,8 @@ static int check(const struct ssc_common *co, void *opts)
 
 	if (a->bearing && !(a->rpm > 0))
 		return ssc_usage_error(co->cmd, "--bearing needs --rpm (the shaft speed)");
+	if (a->tol_set && !(a->rpm > 0))
+		return ssc_usage_error(co->cmd, "--tolerance: matches shaft orders and bearing defects, which need --rpm");
 	a->vo.shaft_hz = a->rpm / 60;
 	a->vo.have_bearing = a->bearing;
 	return SSC_EXIT_OK;

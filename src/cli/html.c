@@ -17,7 +17,7 @@
 #include <nettle/base64.h>
 #include <nettle/sha2.h>
 
-#include "atomic.h"
+#include "cli.h"
 #include "html.h"
 
 struct ssc_html {
@@ -299,9 +299,6 @@ int ssc_html_image(struct ssc_html *h, const char *png_path, const char *alt)
 
 int ssc_html_write(struct ssc_html *h, const char *path)
 {
-	struct ssc_atomic out;
-	int rc;
-
 	puts_(h, "<script>\n"
 		 "window.addEventListener('load', function () {\n"
 		 "  var im = document.images, ok = 0;\n"
@@ -311,14 +308,7 @@ int ssc_html_write(struct ssc_html *h, const char *path)
 		 "});\n</script>\n</body>\n</html>\n");
 	if (h->failed)
 		return -ENOMEM;
-	rc = ssc_atomic_open(&out, path);
-	if (rc)
-		return rc;
-	if (fwrite(h->buf, 1, h->len, out.f) != h->len) {
-		ssc_atomic_abort(&out);
-		return -EIO;
-	}
-	return ssc_atomic_commit(&out);
+	return ssc_file_put(path, h->buf, h->len);
 }
 
 int ssc_sha256_file(const char *path, char hex[65])

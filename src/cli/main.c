@@ -101,6 +101,9 @@ static void omp_wait_passive(char **argv)
 
 int main(int argc, char **argv)
 {
+	int rc;
+
+	ssc_signals_init();
 	if (argc < 2) {
 		usage(stderr);
 		return SSC_EXIT_USAGE;
@@ -108,7 +111,7 @@ int main(int argc, char **argv)
 	if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") ||
 	    !strcmp(argv[1], "help")) {
 		usage(stdout);
-		return SSC_EXIT_OK;
+		return ssc_stdout_finish(NULL);
 	}
 	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
 		printf("sensorscope %s (library %s; plots: %s; acquisition: %s)\n",
@@ -120,13 +123,17 @@ int main(int argc, char **argv)
 		       "no"
 #endif
 		);
-		return SSC_EXIT_OK;
+		return ssc_stdout_finish(NULL);
 	}
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		if (!strcmp(argv[1], commands[i].name)) {
 			if (commands[i].run != ssc_cmd_info)
 				omp_wait_passive(argv);
-			return commands[i].run(argc - 1, argv + 1);
+			rc = commands[i].run(argc - 1, argv + 1);
+			/* help, plans and summaries printed on stdout */
+			if (ssc_stdout_finish(commands[i].name) && !rc)
+				rc = SSC_EXIT_FAIL;
+			return rc;
 		}
 	ssc_err(NULL, "unknown command '%s' (see 'sensorscope --help')",
 		argv[1]);

@@ -20,7 +20,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "atomic.h"
+#include "cli.h"
 #include "canvas.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
@@ -1621,16 +1621,7 @@ static void fig_draw(struct ssc_fig *f, const struct ssc_surface *S,
 
 static int write_file(const char *path, const void *buf, size_t len)
 {
-	struct ssc_atomic out;
-	int rc = ssc_atomic_open(&out, path);
-
-	if (rc)
-		return rc;
-	if (fwrite(buf, 1, len, out.f) != len) {
-		ssc_atomic_abort(&out);
-		return -EIO;
-	}
-	return ssc_atomic_commit(&out);
+	return ssc_file_put(path, buf, len);
 }
 
 static bool fig_empty(const struct ssc_fig *f)

@@ -152,8 +152,10 @@ struct ssc_scene {
 	bool quiet;
 	/* wall time of the reads and of each stage, s */
 	double t_read_s, t_stage_s[S_COUNT_];
-	/* paths of stage options, made relative to the scene file */
+	/* paths of stage options, made relative to the scene file, and
+	 * whether each is written ("--kalibr") or read (NULL) */
 	char *owned[64];
+	const char *owned_out[64];
 	size_t n_owned;
 	/* the captures each stage runs on (bit f: file f), all by default */
 	uint64_t file_mask[S_COUNT_];
@@ -398,6 +400,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
+	if (!sc->raw && (sscope_ini_get(sc->ini, "input", "scale", &line) ||
+			 sscope_ini_get(sc->ini, "input", "offset", &line)))
+		return scene_error(cmd, sc, line,
+				   "scale and offset apply to raw input only (raw = TYPE:CH)");
 	v = sscope_ini_get(sc->ini, "input", "allow_nan", &line);
 	if (v && !truthy(v, &sc->allow_nan))
 		return scene_error(cmd, sc, line, "allow_nan: expected yes or no");
@@ -645,10 +651,11 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 			}
 			rc = on ? ops->handle(o->key, NULL, sc->opts[s]) : 0;
 		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH")) &&
-			   value[0] != '/' && sc->n_owned < 64) {
+			   sc->n_owned < 64) {
 			/* a file named in a scene is relative to the scene */
 			char *path = join_path(sc->dir, value);
 
+			sc->owned_out[sc->n_owned] = ssc_output_option(o->name);
 			sc->owned[sc->n_owned++] = path;
 			rc = ops->handle(o->key, path, sc->opts[s]);
 		} else {
@@ -1200,26 +1207,34 @@ static int write_json(const char *path, json_t *j)
 	return ssc_emit_json(&co, j);
 }
 
-static int mkdir_p(const char *dir)
+/* Outputs against inputs before anything is written: the report folder
+ * holds no input, no stage option writes over one (output.c). */
+static int guard_paths(const struct ssc_scene *sc, const char *cmd)
 {
-	char *copy = xstrdup(dir);
+	size_t n = 0, max = sc->n_files + sc->n_owned + sc->n_adc + 3;
+	struct ssc_guard_item *it = calloc(max, sizeof(*it));
+	int rc;
 
-	for (char *p = copy + 1; *p; p++) {
-		if (*p != '/')
-			continue;
-		*p = '\0';
-		if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
-			free(copy);
-			return -errno;
-		}
-		*p = '/';
+	if (!it) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
 	}
-	if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
-		free(copy);
-		return -errno;
-	}
-	free(copy);
-	return 0;
+	for (size_t i = 0; i < sc->n_files; i++)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->files[i], SSC_GUARD_IN };
+	for (size_t i = 0; i < sc->n_adc; i++)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->adc_paths[i], SSC_GUARD_IN };
+	for (size_t i = 0; i < sc->n_owned; i++)
+		it[n++] = (struct ssc_guard_item){ sc->owned_out[i], sc->owned[i],
+						   sc->owned_out[i] ? SSC_GUARD_OUT :
+								      SSC_GUARD_IN };
+	if (sc->path)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->path, SSC_GUARD_IN };
+	if (sc->sensor_path)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->sensor_path, SSC_GUARD_IN };
+	it[n++] = (struct ssc_guard_item){ "report folder", sc->out_dir, SSC_GUARD_DIR };
+	rc = ssc_guard_check(cmd, it, n, false);
+	free(it);
+	return rc;
 }
 
 static void fmt_interval(char *buf, size_t len, json_t *row)
@@ -1488,6 +1503,9 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	json_t *results = json_object(), *summary = json_array(), *all;
 	char *cols = columns_to_read(sc);
 	struct ssc_membuf txt;
+	struct ssc_outdir od;
+	const char *stage_names[N_STAGES + 1] = { NULL };
+	char *final_dir = sc->out_dir;
 	int rc = SSC_EXIT_OK, e;
 
 	memset(outs, 0, sizeof(outs));
@@ -1503,13 +1521,23 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	co.time_column = sc->time_column;
 	co.temp_column = sc->temp_column;
 	co.topic = sc->topic;
+	co.calibration = co_cli->calibration; /* report --calibration */
 	co.columns = cols;
-	e = mkdir_p(sc->out_dir);
-	if (e) {
-		ssc_err(co.cmd, "%s: %s", sc->out_dir, strerror(-e));
-		rc = SSC_EXIT_FAIL;
-		goto done;
+	/* the report is built in a staging folder beside out_dir and put in
+	 * its place only when every stage succeeded */
+	for (size_t s = 0; s < N_STAGES; s++)
+		stage_names[s] = stages[s].name;
+	rc = guard_paths(sc, co.cmd);
+	if (!rc)
+		rc = ssc_outdir_begin(co.cmd, "report folder", sc->out_dir,
+				      stage_names, &od);
+	if (rc) {
+		free(cols);
+		json_decref(results);
+		json_decref(summary);
+		return rc;
 	}
+	sc->out_dir = od.dir;
 	caps = calloc(sc->n_files ? sc->n_files : 1, sizeof(*caps));
 	sc->t_read_s = wall_s();
 	for (size_t i = 0; i < sc->n_files && !rc; i++) {
@@ -1636,18 +1664,22 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		snprintf(p, sizeof(p), "%s/report.html", sc->out_dir);
 		e = ssc_html_write(h, p);
 		ssc_html_free(h);
-		if (e) {
-			ssc_err(co.cmd, "%s: %s", p, strerror(-e));
-			rc = SSC_EXIT_FAIL;
-		} else if (!sc->quiet) {
-			fprintf(stderr, "sensorscope: %s: wrote %s\n", co.cmd, p);
-		}
+		if (e)
+			rc = ssc_write_failed(co.cmd, p, e);
 	}
 	if (!(sc->formats & SSC_OUT_PNG))
 		for (size_t s = 0; s < N_STAGES; s++)
 			for (size_t r = 0; r < 64 && pngs[s][r]; r++)
 				unlink(pngs[s][r]);
 done:
+	sc->out_dir = final_dir;
+	if (!rc)
+		rc = ssc_outdir_commit(co.cmd, &od);
+	else
+		ssc_outdir_abort(&od);
+	if (!rc && (sc->formats & SSC_OUT_HTML) && !sc->quiet && !co.quiet)
+		fprintf(stderr, "sensorscope: %s: wrote %s/report.html\n", co.cmd,
+			sc->out_dir);
 	for (size_t i = 0; caps && i < sc->n_files; i++)
 		sscope_capture_free(caps[i]);
 	free(caps);
