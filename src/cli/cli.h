@@ -283,5 +283,8 @@ int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
 int ssc_cmd_adc(int argc, char **argv);
+int ssc_cmd_heading(int argc, char **argv);
+int ssc_cmd_walk(int argc, char **argv);
+int ssc_cmd_navsim(int argc, char **argv);
 
 #endif

@@ -96,8 +96,11 @@ static const struct ssc_command_spec report_spec = {
 		"roll_ref/pitch_ref columns and a temperature -> inclino only;\n"
 		"inertial channels with a temperature column -> tempbias; rate gyros\n"
 		"and accelerometers below 500 Hz -> allan; accelerometers at 500 Hz\n"
-		"and above -> vibration; every data channel -> psd.  An inferred\n"
-		"analysis the data refuse is left out of the report with its reason.",
+		"and above -> vibration; a gyro with a true heading column (an angle\n"
+		"named *heading*) -> heading against it; any other gyro record\n"
+		"without temperature -> walk (refused when it moves); every data\n"
+		"channel -> psd.  An inferred analysis the data refuse is left out of\n"
+		"the report with its reason.",
 	.options = run_opts,
 	.analysis = true,
 	.output_dir = true,

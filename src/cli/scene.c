@@ -25,7 +25,7 @@
 
 enum {
 	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
-	S_CALIB, S_BUDGET, S_COUNT_
+	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_COUNT_
 };
 
 static const struct ssc_stage_def stages[] = {
@@ -93,6 +93,27 @@ static const struct ssc_stage_def stages[] = {
 		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
 		       "K sqrt(t) growth, 95 % inside +-2 sigma; total = root sum "
 		       "of squares." },
+	[S_HEADING] = { "heading", &ssc_heading_stage, 1u << S_ALLAN,
+			"Heading = integral of the vertical rate minus the bias; "
+			"stops by the static detector of calib (variance magnitude "
+			"below k times a noise reference), the bias re-estimated "
+			"and the heading held at each; predicted error variance "
+			"after a stop for the IEEE 952 terms: -2 sum c_i c_j "
+			"D(|t_i - t_j|) with D = Q^2 + N^2 t/2 - (B^2/2 pi) t^2 "
+			"ln t - K^2 t^3/12." },
+	[S_WALK] = { "walk", &ssc_walk_stage, 1u << S_ALLAN,
+		     "Runs integrated after bias removal; envelope +-2 sigma of "
+		     "the predicted variance (angle random walk N^2 t plus the "
+		     "bias-instability, rate-random-walk and bias-estimate "
+		     "parts); implied N from the mean square of the runs, "
+		     "chi-squared interval with as many degrees of freedom as "
+		     "runs." },
+	[S_NAVSIM] = { "navsim", &ssc_navsim_stage, (1u << S_ALLAN) | (1u << S_CALIB),
+		       "WGS 84 Earth, normal gravity (Somigliana); local-level "
+		       "strapdown mechanisation with two-sample coning and "
+		       "sculling corrections, Earth rate, transport rate and "
+		       "Coriolis; sensor noise from the simulator; Monte-Carlo "
+		       "percentiles beside the budget's Schuler-bounded curves." },
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
@@ -667,7 +688,8 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 			return scene_error(cmd, sc, 0,
 					   "impossible request: [%s] needs captures: give [input] files = ...",
 					   stages[s].name);
-		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
+		if ((s == S_BUDGET || s == S_NAVSIM) && !sc->uses[s] &&
+		    !sc->have_sensor) {
 			/* noise terms from the scene's own analyses */
 			sc->uses[s] = sc->want & stages[s].deps;
 			if (!sc->uses[s] && sc->n_files)
@@ -846,6 +868,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		bool temp;
 		uint64_t bit;
 		int e;
+		char heading_ref[64] = "";
 
 		ssc_read_opts(co, &ro);
 		e = sscope_reader_open(&r, files[i], &ro, &d);
@@ -871,6 +894,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 
 			if (!strcmp(nm, "roll_ref") || !strcmp(nm, "pitch_ref"))
 				tilt = true;
+			/* a true heading beside a gyro: a drive to check */
+			if (q == SSCOPE_QTY_ANGLE && strcasestr(nm, "heading") &&
+			    strlen(nm) < sizeof(heading_ref))
+				strcpy(heading_ref, nm);
 
 			if (q == SSCOPE_QTY_ACCELERATION)
 				acc = true;
@@ -890,6 +917,30 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			sc->want |= 1u << S_INCLINO;
 			sc->file_mask[S_INCLINO] |= bit;
 			continue;
+		}
+		if (gyro && heading_ref[0]) {
+			if (!(sc->want & (1u << S_HEADING))) {
+				set_why(sc, S_HEADING,
+					"inferred: a gyro with a true heading column (%s): heading with the bias re-estimated at stops",
+					heading_ref);
+				if (sc->n_owned < 64) {
+					/* the stage keeps the name */
+					char *ref = xstrdup(heading_ref);
+
+					sc->owned[sc->n_owned++] = ref;
+					set_option(sc, S_HEADING, "reference", ref);
+				}
+			}
+			sc->want |= 1u << S_HEADING;
+			sc->file_mask[S_HEADING] |= bit;
+		} else if (gyro && !temp) {
+			/* a stationary gyro gets the random-walk fan (the
+			 * stage refuses a record that moves) */
+			if (!(sc->want & (1u << S_WALK)))
+				set_why(sc, S_WALK,
+					"inferred: a gyro record without temperature: the random-walk fan");
+			sc->want |= 1u << S_WALK;
+			sc->file_mask[S_WALK] |= bit;
 		}
 		if (temp && (acc || gyro)) {
 			if (!(sc->want & (1u << S_TEMPBIAS)))

@@ -97,5 +97,8 @@ extern const struct ssc_stage_ops ssc_allan_stage;
 extern const struct ssc_stage_ops ssc_tempbias_stage;
 extern const struct ssc_stage_ops ssc_inclino_stage;
 extern const struct ssc_stage_ops ssc_adc_stage;
+extern const struct ssc_stage_ops ssc_heading_stage;
+extern const struct ssc_stage_ops ssc_walk_stage;
+extern const struct ssc_stage_ops ssc_navsim_stage;
 
 #endif
