@@ -979,7 +979,10 @@ static int read_mat(struct sscope_reader *r, struct sscope_chunk *ch,
 
 /* ------------------------------------------------------------ open */
 
-int sscope_reader_open(struct sscope_reader **reader, const char *path,
+/* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
+ * a mapped file) when mem is not NULL, else the file at path. */
+static int reader_open(struct sscope_reader **reader, const char *path,
+		       const void *mem, size_t mem_len,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag)
 {
@@ -1016,9 +1019,16 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
-	rc = src_open(r, diag);
-	if (rc)
-		goto fail;
+	if (mem) {
+		r->base = mem;
+		r->len = mem_len;
+		r->size = mem_len;
+		r->eof = true;
+	} else {
+		rc = src_open(r, diag);
+		if (rc)
+			goto fail;
+	}
 	if (r->opts->raw && *r->opts->raw) {
 		r->kind = K_RAW;
 		rc = open_raw(r, diag);
@@ -1066,6 +1076,24 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 fail:
 	sscope_reader_close(r);
 	return rc;
+}
+
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag)
+{
+	return reader_open(reader, path, NULL, 0, opts, diag);
+}
+
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag)
+{
+	if (!buf)
+		return ssc_diag(diag, -EINVAL, "no input buffer");
+	return reader_open(reader, name ? name : "(memory)", buf, len, opts,
+			   diag);
 }
 
 size_t sscope_reader_n_channels(const struct sscope_reader *r)

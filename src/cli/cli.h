@@ -160,6 +160,12 @@ int ssc_emit_json(const struct ssc_common *co, json_t *root);
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 		      const char *si_unit, bool fitted);
 
+/* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
+ * it; prints errors, returns exit code (cmd-inclino.c). */
+struct sscope_inclino_lut;
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut);
+
 /* Load the [sensor] section of a spec file; prints errors, returns exit. */
 int ssc_load_sensor(const char *cmd, const char *path,
 		    struct sscope_sensor_spec *spec);
