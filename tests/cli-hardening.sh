@@ -64,4 +64,29 @@ printf '[input]\nfiles = imu-raw.bin\nraw = i16:0\nrate = 100\n[allan]\n' \
 bad "scene raw = i16:0" 2 'raw.scene.ini: line 3: raw: bad raw layout .i16:0.' \
 	run --dry-run "$T/raw.scene.ini"
 
+# ---- 9. a time column that is not increasing is named as such: info
+# warns (exit 0), allan and psd refuse (exit 1) unless --rate is given
+# (then a warning); a swapped pair is not "2 gaps", a repeated stamp not
+# a missing sample
+time_case() { # FILE PROBLEM
+	f="$CORPUS/text/$1.csv"
+	run "info $1" 0 info "$f"
+	has "info $1: warning" "$T/err" "warning: .*$1.csv: time column 't' $2"
+	lacks "info $1: no gaps claimed" "$T/out" 'missing|no time column'
+	for cmd in allan psd; do
+		bad "$cmd $1" 1 "$cmd: .*$1.csv: time column 't' $2.*give --rate" $cmd "$f"
+		bad_in "$cmd $1 (stdin)" 1 "$cmd: \(stdin\): time column 't' $2" "$f" $cmd -
+	done
+	[ "$1" = time-one-row ] && return # too short for allan anyway
+	run "allan -r 100 $1" 0 allan -r 100 "$f"
+	has "allan -r 100 $1: warning" "$T/err" "time column 't' $2.*: the samples are taken as evenly spaced at the given rate"
+}
+time_case time-decreasing 'decreases in every row'
+time_case time-constant 'is constant \(every row has the same stamp\)'
+time_case time-one-row 'has one row'
+time_case time-swapped 'has rows 3 and 4 in reverse order'
+time_case time-repeated 'repeats the stamp of row 3 at row 4'
+run "info swapped: rate from the ordered intervals" 0 info --format json "$CORPUS/text/time-swapped.csv"
+json_check "info swapped: 100 Hz, no gaps" "$T/out" '(.channels[0].rate_hz - 100 | fabs) < 1e-9 and (.gaps | length) == 0'
+
 done_testing

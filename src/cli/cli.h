@@ -130,6 +130,17 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
 
+/* Judge a time column's order (sscope_time_order_check).  For an analysis
+ * that assumes uniform sampling (@p uniform) a disordered column is an
+ * error naming the problem, unless the rate came from --rate or a header
+ * (then a warning); otherwise (info) a warning.  Returns an exit code. */
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform);
+/* The same for a loaded capture (nothing to judge without a time column). */
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform);
+
 /* Is progress shown? (auto: stderr is a terminal and not quiet) */
 bool ssc_progress_on(const struct ssc_common *co);
 /* Progress line on stderr: "label: 42% ..." (total 0: bytes only). */

@@ -533,6 +533,42 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_OK;
 }
 
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform)
+{
+	struct sscope_diag d = { "" };
+	const char *p = strcmp(path, "-") ? path : "(stdin)";
+
+	if (!sscope_time_order_check(o, &d))
+		return SSC_EXIT_OK;
+	if (!uniform) {
+		ssc_warn(co, "%s: time column '%s' %s", p, column, d.msg);
+		return SSC_EXIT_OK;
+	}
+	if (rate_source == SSCOPE_RATE_GIVEN || rate_source == SSCOPE_RATE_HEADER) {
+		ssc_warn(co, "%s: time column '%s' %s: the samples are taken as evenly spaced at the %s rate",
+			 p, column, d.msg,
+			 rate_source == SSCOPE_RATE_GIVEN ? "given" : "header's");
+		return SSC_EXIT_OK;
+	}
+	ssc_err(co->cmd, "%s: time column '%s' %s: fix the time stamps, or give --rate to take the samples as evenly spaced",
+		p, column, d.msg);
+	return SSC_EXIT_FAIL;
+}
+
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform)
+{
+	struct sscope_time_order o = { 0 };
+
+	if (!cap->time_s)
+		return SSC_EXIT_OK;
+	sscope_time_order_feed(&o, cap->time_s, cap->n);
+	return ssc_time_verdict(co, path, cap->time_col.name, &o,
+				cap->rate_source, uniform);
+}
+
 int ssc_out_open(const struct ssc_common *co, struct ssc_out *out)
 {
 	struct ssc_atomic *a = calloc(1, sizeof(*a));
