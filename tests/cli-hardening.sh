@@ -89,4 +89,20 @@ time_case time-repeated 'repeats the stamp of row 3 at row 4'
 run "info swapped: rate from the ordered intervals" 0 info --format json "$CORPUS/text/time-swapped.csv"
 json_check "info swapped: 100 Hz, no gaps" "$T/out" '(.channels[0].rate_hz - 100 | fabs) < 1e-9 and (.gaps | length) == 0'
 
+# ---- found by fuzzing: 2555 raw channels on a pipe allocated 64 Ki rows of
+# each (1.3 GB) before reading a byte; now the arrays start small and grow
+head -c 81760 /dev/zero >"$T/zeros.bin"
+if (ulimit -v 400000 && ss --version) >/dev/null 2>&1; then
+	(ulimit -v 400000 && cat "$T/zeros.bin" |
+		ss info --raw f64:2555 -r 1 - >"$T/out" 2>"$T/err")
+	if [ $? -eq 0 ] && grep -q 'rows: *4$' "$T/out"; then
+		ok "2555 raw channels from a pipe in 400 MB of address space"
+	else
+		not_ok "2555 raw channels from a pipe in 400 MB of address space"
+		diag "$T/err"
+	fi
+else
+	skip "2555 raw channels from a pipe" "no address-space limit under this build"
+fi
+
 done_testing
