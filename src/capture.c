@@ -198,6 +198,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	if (rc)
 		goto fail;
 	cap->n = n;
+	cap->unterminated = sscope_reader_unterminated(r);
 	for (size_t k = 0; k < cap->n_channels; k++)
 		for (size_t i = 0; i < n; i++)
 			cap->n_nan += isnan(cap->channels[k].data[i]);

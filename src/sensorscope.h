@@ -314,6 +314,14 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 int sscope_raw_layout_check(const char *layout, size_t *channels,
 			    size_t *value_bytes, struct sscope_diag *diag);
 
+/**
+ * @return true when the reader has read a text capture to its end and
+ *         the last data line has no newline: the capture may have been
+ *         cut short (that line was read as a row; a cell cut off entirely
+ *         is an error, a number cut short is not detectable).
+ */
+bool sscope_reader_unterminated(const struct sscope_reader *reader);
+
 /** @return the number of selected data channels. */
 size_t sscope_reader_n_channels(const struct sscope_reader *reader);
 
@@ -388,6 +396,8 @@ struct sscope_capture {
 	double rate_hz;         /**< nominal rate; 0 when unknown */
 	enum sscope_rate_source rate_source;
 	size_t n_nan;           /**< NaN cells read as gaps */
+	/** the last data line had no newline (sscope_reader_unterminated) */
+	bool unterminated;
 };
 
 /**

@@ -105,4 +105,40 @@ else
 	skip "2555 raw channels from a pipe" "no address-space limit under this build"
 fi
 
+# ---- 10. inputs once accepted silently
+# duplicate column names: the channels could not be told apart
+DUP="$CORPUS/text/duplicate-columns.csv"
+bad "columns named alike" 1 "columns 2, 3 and 4 are all named 'gx': rename them" info "$DUP"
+bad "-c naming several columns" 1 "'gx' names columns 2, 3 and 4: select one by its number" info -c gx "$DUP"
+bad "allan on columns named alike" 1 "all named 'gx'" allan "$DUP"
+run "-c 3 picks one of them" 0 info --format json -c 3 "$DUP"
+json_check "-c 3: column 3's values" "$T/out" '.channels | length == 1 and .[0].mean == 2'
+# the same capture twice: two power cycles that agree to 1e-15, or a pipe
+# read twice; every multi-file command and scenes refuse it (exit 2)
+TH="$SAMPLES/accel-thermal.csv"
+bad "tempbias, one file twice" 2 "inputs 1 and 2 .* are the same file: give each capture once" \
+	tempbias "$TH" "$TH"
+ln -s "$TH" "$T/link.csv"
+bad "tempbias, a file and a link to it" 2 "are the same file" tempbias "$TH" "$T/link.csv"
+bad "tempbias - - from a pipe" 2 "standard input \('-'\) is given twice" tempbias - - <"$TH"
+cat "$SAMPLES/vibration.csv" | ss info - - >"$T/out" 2>"$T/err"
+[ $? -eq 2 ] && ok "info - - from a pipe (exit 2)" || not_ok "info - - from a pipe"
+has "info - - from a pipe: message" "$T/err" "standard input \('-'\) is given twice \(inputs 1 and 2\)"
+bad "info FILE - with FILE on stdin" 2 "inputs 1 and 2 .* are the same file" \
+	info "$SAMPLES/vibration.csv" - <"$SAMPLES/vibration.csv"
+bad "report, one file twice" 2 "are the same file" report -o "$T/rep" "$TH" "$TH"
+cp "$TH" "$T/th.csv"
+printf '[input]\nfiles = th.csv, ./th.csv\n[tempbias]\n' >"$T/twice.scene.ini"
+bad "scene naming one file twice" 2 "are the same file" run --dry-run "$T/twice.scene.ini"
+run "tempbias, two different files" 0 tempbias "$TH" "$T/th.csv"
+lacks "different paths, different files: no refusal" "$T/err" "same file"
+# a last data line without a newline (cut short?): read, with a warning
+CUT="$CORPUS/text/last-line-cut.csv"
+run "last line without newline" 0 info -r 10 "$CUT"
+has "last line: warning" "$T/err" "warning: .*last-line-cut.csv: the last line \(row 3\) has no newline: was the capture cut short\?"
+run_in "last line without newline, stdin" 0 "$CUT" psd -r 10 -
+has "last line, stdin: warning" "$T/err" "\(stdin\): the last line \(row 3\) has no newline"
+run "a complete last line" 0 info -r 10 "$SAMPLES/vibration.csv"
+lacks "complete: no warning" "$T/err" "no newline"
+
 done_testing

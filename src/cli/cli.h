@@ -130,6 +130,16 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
 
+/* Warn that a text capture's last line has no newline (cut short?). */
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows);
+
+/* Refuse an input named twice: standard input ('-') twice, or two names
+ * of one file (same device and inode: a second path, a link, '-' fed
+ * from that file).  Several files mean several captures (power cycles,
+ * poses); one read twice would fake agreement.  Returns an exit code. */
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n);
+
 /* Judge a time column's order (sscope_time_order_check).  For an analysis
  * that assumes uniform sampling (@p uniform) a disordered column is an
  * error naming the problem, unless the rate came from --rate or a header

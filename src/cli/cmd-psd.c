@@ -438,6 +438,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 		ssc_err(co->cmd, "%s: no data rows", R->path);
 		goto out;
 	}
+	if (sscope_reader_unterminated(rd))
+		ssc_warn_unterminated(co, R->path, R->rows);
 	if (use_time && sscope_time_order_check(&ord, NULL)) {
 		/* an error naming the problem, or a warning when a header
 		 * gives the rate */

@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "atomic.h"
@@ -513,6 +514,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	ssc_progress_end(co);
 	if (rc)
 		return ssc_fail(co->cmd, rc, &d, path);
+	if ((*cap)->unterminated)
+		ssc_warn_unterminated(co, path, (*cap)->n);
 	if (co->calibration) {
 		rc = ssc_calibration_apply(co, path, *cap);
 		if (rc) {
@@ -529,6 +532,39 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		if (span > 0 && fabs(implied / co->rate_hz - 1) > 0.01)
 			ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
 				 path, co->rate_hz, implied);
+	}
+	return SSC_EXIT_OK;
+}
+
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows)
+{
+	ssc_warn(co, "%s: the last line (row %zu) has no newline: was the capture cut short?",
+		 strcmp(path, "-") ? path : "(stdin)", rows);
+}
+
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		struct stat a;
+		bool ha = !strcmp(paths[i], "-") ? fstat(STDIN_FILENO, &a) == 0 :
+						     stat(paths[i], &a) == 0;
+
+		for (size_t j = i + 1; j < n; j++) {
+			struct stat b;
+			bool hb;
+
+			if (!strcmp(paths[i], "-") && !strcmp(paths[j], "-"))
+				return ssc_usage_error(cmd,
+						       "standard input ('-') is given twice (inputs %zu and %zu): it can be read once",
+						       i + 1, j + 1);
+			hb = !strcmp(paths[j], "-") ? fstat(STDIN_FILENO, &b) == 0 :
+						      stat(paths[j], &b) == 0;
+			if (ha && hb && a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+				return ssc_usage_error(cmd,
+						       "inputs %zu and %zu ('%s' and '%s') are the same file: give each capture once",
+						       i + 1, j + 1, paths[i], paths[j]);
+		}
 	}
 	return SSC_EXIT_OK;
 }
