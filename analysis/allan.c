@@ -460,6 +460,7 @@ static size_t nan_count(const struct sscope_allan *p, size_t a, size_t b)
 struct src {
 	const double *y;
 	size_t stride, n;
+	const struct sscope_allan_opts *o; /* the release callback */
 	bool angle;
 	double m0, delta; /* rate: increment = (y - m0) - delta */
 	double y0, slope, fs; /* angle: x = ((y - y0) - slope k) fs */
@@ -741,6 +742,23 @@ static int build_gaps(struct sscope_allan *p, const struct src *s)
 	return 0;
 }
 
+/* samples read between release calls */
+#define RELEASE_STEP ((size_t)1 << 18)
+
+/* the samples [*done, upto) have been read for the last time: tell the
+ * caller, in steps of RELEASE_STEP or at the end (last) */
+static void release_to(const struct src *s, size_t *done, size_t upto,
+		       bool last)
+{
+	if (upto > s->n)
+		upto = s->n;
+	if (!s->o->release || upto <= *done ||
+	    (!last && upto - *done < RELEASE_STEP))
+		return;
+	s->o->release(s->o->release_ctx, s->y, s->stride, *done, upto - *done);
+	*done = upto;
+}
+
 /* contiguous phase, written in parallel chunks */
 static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
@@ -749,11 +767,16 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 	for (unsigned t = 0; t < T; t++) {
 		struct run r;
 		size_t lo = chunk_at(p->np, T, t, 1);
-		size_t hi = chunk_at(p->np, T, t + 1, 1);
+		size_t hi = chunk_at(p->np, T, t + 1, 1), done = lo;
 
 		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t];
 		r.k = lo;
-		fill_phase(s, &r, p->x + lo, hi - lo);
+		while (r.k < hi) {
+			size_t len = hi - r.k < RELEASE_STEP ? hi - r.k : RELEASE_STEP;
+
+			fill_phase(s, &r, p->x + r.k, len);
+			release_to(s, &done, r.k, r.k >= hi);
+		}
 	}
 }
 
@@ -782,7 +805,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	const size_t S = p->S, np = p->np, grp = TILE_COLS * S;
 	const size_t W = (size_t)ts->d * ts->mshort_max + SHORT_BLOCK;
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
-	size_t kend = hi + W < np ? hi + W : np;
+	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
 
 	G = (G + grp - 1) / grp * grp;
@@ -796,6 +819,8 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		if (stop > wbase + filled)
 			fill_phase(s, &r, win + filled, stop - wbase - filled);
 		filled = stop - wbase;
+		/* the next chunk's thread reads the lookahead too */
+		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
 		/* short taus on terms starting in [wbase, gend) */
 		for (size_t j = 0; j < ts->n; j++) {
 			size_t m = ts->m[j], nt, a, b;
@@ -1030,13 +1055,42 @@ static void sum_totdev(const struct sscope_allan *p, size_t m,
 /* Compute                                                             */
 /* ------------------------------------------------------------------ */
 
-/* gather the decimated phase for noise identification */
-static int point_alpha(struct sscope_allan *p, bool angle, bool gaps,
-		       size_t m, int dmax, int *alpha)
+/* overlapping AVAR at m from the phase (terms touching a gap skipped),
+ * for the R(n) ratio of the few-points identification */
+static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
+{
+	struct ssc_ksum acc = { 0 };
+	size_t cnt = 0;
+
+	for (size_t i = 0; i + 2 * m < p->np; i++) {
+		double d;
+
+		if (gaps && nan_count(p, i, i + 2 * m + 1))
+			continue;
+		d = xat(p, i + 2 * m) - 2 * xat(p, i + m) + xat(p, i);
+		ssc_ksum_add(&acc, d * d);
+		cnt++;
+	}
+	return cnt ? ssc_ksum_value(&acc) / (2 * (double)m * (double)m * (double)cnt) :
+		     (double)NAN;
+}
+
+/*
+ * Noise type at m: the lag-1 autocorrelation of the decimated phase
+ * (angle input) or of the averages (rate input) with at least 30 analysis
+ * points, else the B1 ratio (R(n) for the modified deviations), as NIST
+ * SP 1065 section 5.6 and Stable32; -EDOM when too few averages remain
+ * (the caller carries the last identification).  mvar: the point's
+ * modified variance (MDEV/TDEV), else NaN.
+ */
+static int point_alpha(struct sscope_allan *p, enum sscope_dev dev,
+		       bool angle, bool gaps, size_t m, size_t terms,
+		       double mvar, int *alpha)
 {
 	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
 	double *z = p->nid;
 	unsigned char *v = p->nidv;
+	struct ssc_nid_few few;
 
 	if (K > SSC_NOISE_ID_MAX + 1)
 		K = SSC_NOISE_ID_MAX + 1;
@@ -1051,8 +1105,16 @@ static int point_alpha(struct sscope_allan *p, bool angle, bool gaps,
 		else if (k + 1 < K)
 			v[k] = nan_count(p, k * m, (k + 1) * m) == 0;
 	}
-	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle, dmax, alpha,
-				   NULL, z + SSC_NOISE_ID_MAX + 2,
+	few.n_points = (double)terms;
+	few.m = m;
+	few.min_averages = dev == SSCOPE_DEV_TOTDEV ? SSC_B1_MIN_AVERAGES_TOTDEV :
+						      SSC_B1_MIN_AVERAGES;
+	few.rn = NAN;
+	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
+		few.rn = mvar / avar_at(p, gaps, m);
+	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle,
+				   ssc_dev_order(dev), &few, alpha, NULL,
+				   z + SSC_NOISE_ID_MAX + 2,
 				   v + SSC_NOISE_ID_MAX + 2);
 }
 
@@ -1143,6 +1205,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 	s.y = y;
 	s.stride = stride;
 	s.n = n;
+	s.o = &p->opts;
 	s.angle = angle;
 	s.fs = rate_hz;
 	T = p->nthreads;
@@ -1301,8 +1364,12 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		/* noise type */
 		if (p->opts.alpha_fixed) {
 			alpha = p->opts.alpha;
-		} else if (point_alpha(p, angle, gaps, m[j],
-				       ssc_dev_order(dev), &alpha) == 0) {
+		} else if (point_alpha(p, dev, angle, gaps, m[j], used[j],
+				       dev == SSCOPE_DEV_MDEV ||
+						       dev == SSCOPE_DEV_TDEV ?
+					       var :
+					       (double)NAN,
+				       &alpha) == 0) {
 			pt->alpha_identified = true;
 			carry_alpha = alpha;
 			have_carry = true;
@@ -1414,7 +1481,7 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 &res->n_points, diag);
 	if (rc)
 		goto fail;
-	if (o.dev == SSCOPE_DEV_OADEV) {
+	if (o.dev == SSCOPE_DEV_OADEV || (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
 	} else {
@@ -1427,9 +1494,12 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 		if (rc)
 			goto fail;
 	}
-	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
-					  res->n_phase, fopts, &res->fit, NULL);
-	res->have_fit = res->fit_error == 0;
+	if (!fopts || !fopts->skip) {
+		res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev,
+						  rate_hz, res->n_phase, fopts,
+						  &res->fit, NULL);
+		res->have_fit = res->fit_error == 0;
+	}
 	sscope_allan_free(p);
 	*resp = res;
 	return 0;

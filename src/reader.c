@@ -5,6 +5,10 @@
  * "#timestamp [ns],w_RS_S_x [rad s^-1],..."), the sensorscope binary capture
  * (a two-line text header, then little-endian float32/float64 rows), raw
  * binary (--raw TYPE:CHANNELS[:le|be]) and MATLAB 5 MAT-files (io-mat.c).
+ * Other formats are recognised by their leading bytes (io-formats.h): gzip
+ * is undone as a stream (then recognised again), containers (ROS bags,
+ * MCAP, rosbag2, npy) are decoded into a table served like the columns of
+ * a file.
  *
  * Regular files are memory-mapped; pipes are read in 4 MiB blocks into a
  * buffer that slides over the input, so memory does not grow with the
@@ -14,6 +18,7 @@
 #include "internal.h"
 
 #include <fcntl.h>
+#include <float.h>
 #include <pthread.h>
 #include <math.h>
 #include <stdio.h>
@@ -24,12 +29,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io-formats.h"
 #include "io-mat.h"
 
 #define BLOCK (4u << 20)
 #define BIN_MAGIC "#sensorscope-binary"
 
-enum kind { K_TEXT, K_BIN, K_RAW, K_MAT };
+enum kind { K_TEXT, K_BIN, K_RAW, K_MAT, K_TABLE };
 enum rawtype { R_I16, R_U16, R_I24, R_I32, R_U32, R_F32, R_F64 };
 
 struct colx {
@@ -41,6 +47,7 @@ struct colx {
 	bool is_time;
 	bool is_temp;
 	bool used;        /* converted at all */
+	bool hidden;      /* not in the default selection (text, metadata) */
 };
 
 struct sscope_reader {
@@ -87,6 +94,15 @@ struct sscope_reader {
 	/* MATLAB 5 MAT-file (io-mat.c) */
 	struct ssc_mat *mat;
 	size_t mat_row;
+	unsigned char *matz; /* expanded MATLAB v7 file (io-matz.c) */
+	/* gzip stream (io-gzip.c), decoded containers (io-formats.h) */
+	struct ssc_gz *gz;
+	struct ssc_table *tab;
+	size_t tab_row;
+	int64_t tab_t0;
+	struct sscope_source *src;
+	/* a mapped binary file: pages before `dropped` were given back */
+	size_t dropped, pagesz;
 };
 
 /* ------------------------------------------------------------ source */
@@ -113,7 +129,10 @@ static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 			       r->fd, 0);
 
 		if (m != MAP_FAILED) {
+			long pg = sysconf(_SC_PAGESIZE);
+
 			madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
+			r->pagesz = pg > 0 ? (size_t)pg : 4096;
 			r->mapped = true;
 			r->base = m;
 			r->len = (size_t)st.st_size;
@@ -157,7 +176,14 @@ static int src_fill(struct sscope_reader *r, size_t want,
 			r->base = nb;
 			r->cap = ncap;
 		}
-		got = read(r->fd, r->buf + r->len, r->cap - r->len);
+		if (r->gz) {
+			got = ssc_gz_read(r->gz, r->buf + r->len,
+					  r->cap - r->len, r->disp, diag);
+			if (got < 0)
+				return (int)got;
+		} else {
+			got = read(r->fd, r->buf + r->len, r->cap - r->len);
+		}
 		if (got < 0) {
 			if (errno == EINTR)
 				continue;
@@ -460,6 +486,10 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 					"%s: no time column '%s' (columns: %s)",
 					r->disp, o->time_column, names);
 		}
+	} else if (r->kind == K_TABLE) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if (r->tab->cols[i].role == SSCOPE_ROLE_TIME)
+				r->time_col = (long)i;
 	} else if (r->kind == K_TEXT || r->kind == K_BIN || r->kind == K_MAT) {
 		for (size_t i = 0; i < r->ncols; i++)
 			if (name_is(r->cols[i].name, time_names)) {
@@ -477,6 +507,10 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 					"%s: no temperature column '%s' (columns: %s)",
 					r->disp, o->temp_column, names);
 		}
+	} else if (r->kind == K_TABLE) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if (r->tab->cols[i].role == SSCOPE_ROLE_TEMP)
+				r->temp_col = (long)i;
 	} else if (r->kind != K_RAW) {
 		for (size_t i = 0; i < r->ncols; i++)
 			if ((long)i != r->time_col &&
@@ -560,7 +594,8 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		free(copy);
 	} else {
 		for (size_t i = 0; i < r->ncols; i++) {
-			if (r->cols[i].c.role != SSCOPE_ROLE_DATA)
+			if (r->cols[i].c.role != SSCOPE_ROLE_DATA ||
+			    r->cols[i].hidden)
 				continue;
 			r->cols[i].dest = (int)r->nsel;
 			r->sel[r->nsel++] = i;
@@ -711,6 +746,9 @@ static void header_rate(struct sscope_reader *r, const char *p, const char *e)
 	}
 }
 
+static bool skip_line(const char *p, const char *e);
+static int text_columns(struct sscope_reader *r);
+
 static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
@@ -764,7 +802,8 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 				return ssc_diag(diag, -EDOM,
 						"%s: header but no data rows",
 						r->disp);
-			return add_columns(r, fs, fe, nf, true);
+			rc = add_columns(r, fs, fe, nf, true);
+			return rc ? rc : text_columns(r);
 		}
 		/* data: a '#' comment right above it with as many fields, some
 		 * of them names, is the header (EuRoC's "#timestamp [ns],...") */
@@ -784,6 +823,53 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 		}
 		return add_columns(r, fs, fe, nf, false);
 	}
+}
+
+/* Columns whose first data cell is text (a frame id) stay out of the
+ * default selection; a `rostopic echo -p` header gets the bag reader's
+ * names and units (io-rostopic.c). */
+static int text_columns(struct sscope_reader *r)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	const char *p = r->base + r->pos, *end = r->base + r->len;
+	bool stamp = false;
+
+	while (p < end) {
+		const char *e = line_end(p, end);
+
+		if (!skip_line(p, e)) {
+			size_t nf = split_fields(p, e, r->delim, fs, fe, MAXF);
+
+			for (size_t i = 0; i < nf && i < r->ncols && i < MAXF; i++)
+				if (!field_is_number(fs[i], fe[i]))
+					r->cols[i].hidden = true;
+			break;
+		}
+		p = e + 1;
+	}
+	if (!r->ncols || !ssc_rostopic_detect(r->cols[0].name))
+		return 0;
+	for (size_t i = 0; i < r->ncols; i++)
+		stamp |= !strcmp(r->cols[i].name, "field.header.stamp");
+	for (size_t i = 0; i < r->ncols; i++) {
+		struct colx *c = &r->cols[i];
+		const char *name, *unit;
+		bool hide;
+
+		ssc_rostopic_column(c->name, stamp, &name, &unit, &hide);
+		c->hidden |= hide;
+		if (name) {
+			free(c->name);
+			c->name = ssc_strdup(name);
+		}
+		if (unit) {
+			free(c->unit_label);
+			c->unit_label = ssc_strdup(unit);
+		}
+		if (!c->name || !c->unit_label)
+			return -ENOMEM;
+	}
+	return 0;
 }
 
 /* ------------------------------------------------------------ binary */
@@ -969,15 +1055,24 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 static int open_mat(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
-	size_t n;
+	size_t n, zlen;
 	int rc = src_fill(r, SIZE_MAX, diag);
 
 	if (rc)
 		return rc;
-	rc = ssc_mat_open(&r->mat, (const unsigned char *)r->base, r->len,
-			  r->disp, diag);
+	rc = ssc_matz_expand((const unsigned char *)r->base, r->len, &r->matz,
+			     &zlen, r->disp, diag);
 	if (rc)
 		return rc;
+	rc = ssc_mat_open(&r->mat, r->matz ? r->matz :
+				   (const unsigned char *)r->base,
+			  r->matz ? zlen : r->len, r->disp, diag);
+	if (rc)
+		return rc;
+	r->src = ssc_source_new(r->matz ? "MATLAB v7 MAT-file (compressed)" :
+					  "MATLAB 5 MAT-file");
+	if (!r->src)
+		return -ENOMEM;
 	n = ssc_mat_n_channels(r->mat);
 	if (n > MAXF)
 		n = MAXF;
@@ -1030,6 +1125,157 @@ static int read_mat(struct sscope_reader *r, struct sscope_chunk *ch,
 	return 0;
 }
 
+/* ------------------------------------------------------------ tables */
+
+static int table_columns(struct sscope_reader *r)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	size_t n = r->tab->ncols < MAXF ? r->tab->ncols : MAXF;
+
+	for (size_t i = 0; i < n; i++) {
+		fs[i] = r->tab->cols[i].label;
+		fe[i] = fs[i] + strlen(fs[i]);
+	}
+	return add_columns(r, fs, fe, n, true);
+}
+
+/* A container (bag, MCAP, .db3, npy) read whole, then decoded. */
+static int open_table(struct sscope_reader *r, enum ssc_container kind,
+		      struct sscope_diag *diag)
+{
+	int rc = src_fill(r, SIZE_MAX, diag);
+
+	if (rc)
+		return rc;
+	rc = ssc_container_open(&r->tab, kind, (const unsigned char *)r->base,
+				r->len, r->disp, r->opts->topic, diag);
+	return rc ? rc : table_columns(r);
+}
+
+/* gzip: from here on src_fill() reads decompressed bytes */
+static int open_gzip(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	int rc;
+
+	if (r->mapped) {
+		rc = ssc_gz_open(&r->gz, (const unsigned char *)r->base, r->len,
+				 -1, (void *)r->base, r->len);
+		if (rc)
+			return rc;
+		r->mapped = false;
+	} else {
+		rc = ssc_gz_open(&r->gz, (const unsigned char *)r->base + r->pos,
+				 r->len - r->pos, r->fd, NULL, 0);
+		if (rc)
+			return rc;
+	}
+	if (!r->buf) {
+		r->cap = BLOCK;
+		r->buf = malloc(r->cap);
+		if (!r->buf)
+			return -ENOMEM;
+	}
+	r->base = r->buf;
+	r->len = r->pos = 0;
+	r->eof = false;
+	r->size = 0;
+	r->consumed = 0;
+	return src_fill(r, 1u << 20, diag);
+}
+
+static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
+		      struct sscope_diag *diag)
+{
+	size_t n = r->tab->nrows - r->tab_row, r0 = r->tab_row;
+
+	if (n > ch->capacity)
+		n = ch->capacity;
+	for (size_t c = 0; c < r->ncols; c++) {
+		const struct colx *cx = &r->cols[c];
+		const struct ssc_tcol *tc = &r->tab->cols[c];
+		double *dst = cx->dest >= 0 ? ch->data[cx->dest] : NULL;
+		double sc = cx->c.unit.scale, of = cx->c.unit.offset;
+
+		if (!cx->used)
+			continue;
+		if (cx->is_time && !r->have_t0 && r->tab->nrows) {
+			r->have_t0 = true;
+			r->tab_t0 = tc->type == SSC_V_I64 ? ssc_table_i64(tc, 0) : 0;
+			r->t0_double = ssc_table_value(tc, 0);
+		}
+		for (size_t i = 0; i < n; i++) {
+			double v;
+
+			if (tc->type == SSC_V_F64 && !tc->swap) /* decoded arrays */
+				memcpy(&v, tc->data + (r0 + i) * tc->stride, 8);
+			else
+				v = ssc_table_value(tc, r0 + i);
+
+			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
+			    isinf(v))
+				return ssc_diag(diag, -EBADMSG,
+						"%s: %s, row %zu: %s", r->disp,
+						cx->name, r0 + i + 1,
+						isinf(v) ? "infinite value" :
+						cx->is_time ? "NaN time stamp" :
+						"NaN (use --allow-nan to read gaps)");
+			if (dst)
+				dst[i] = v * sc + of;
+			if (cx->is_temp && ch->temp_degc)
+				ch->temp_degc[i] = v * sc + of;
+			if (cx->is_time && ch->time_s)
+				/* exact integer difference, one rounding */
+				ch->time_s[i] = tc->type == SSC_V_I64 ?
+					(double)(int64_t)((uint64_t)ssc_table_i64(tc, r0 + i) -
+							  (uint64_t)r->tab_t0) * sc :
+					(v - r->t0_double) * sc;
+		}
+	}
+	r->tab_row += n;
+	ch->rows = n;
+	return 0;
+}
+
+/* name the format of what a gzip stream held */
+static int gzip_source(struct sscope_reader *r)
+{
+	char f[160];
+	const char *inner = r->kind == K_TEXT ? "text" :
+			    r->kind == K_BIN ? "sensorscope binary" :
+			    r->src ? r->src->format : r->tab ? r->tab->src->format :
+			    "data";
+	struct sscope_source *s;
+
+	snprintf(f, sizeof(f), "gzip-compressed %s", inner);
+	s = ssc_source_new(f);
+	if (!s)
+		return -ENOMEM;
+	if (r->tab) {
+		free((char *)r->tab->src->format);
+		r->tab->src->format = s->format;
+		s->format = NULL;
+		ssc_source_free(s);
+	} else {
+		ssc_source_free(r->src);
+		r->src = s;
+	}
+	return 0;
+}
+
+struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
+					     size_t rows)
+{
+	if (r->tab)
+		return ssc_source_copy(r->tab->src, r->tab->rx_ns,
+				       r->tab->rx_ns ? rows : 0, r->tab_t0);
+	return r->src ? ssc_source_copy(r->src, NULL, 0, 0) : NULL;
+}
+
+const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
+{
+	return r->tab ? r->tab->src : r->src;
+}
+
 /* ------------------------------------------------------------ open */
 
 /* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
@@ -1041,6 +1287,7 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 {
 	static const struct sscope_read_opts defaults;
 	struct sscope_reader *r;
+	enum ssc_container kind;
 	int rc;
 
 	*reader = NULL;
@@ -1072,6 +1319,14 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
+	if (!mem && !(r->opts->raw && *r->opts->raw) &&
+	    ssc_rosbag2_is_dir(path)) {
+		r->kind = K_TABLE;
+		rc = ssc_rosbag2_open(&r->tab, path, r->opts->topic, diag);
+		if (!rc)
+			rc = table_columns(r);
+		goto opened;
+	}
 	if (mem) {
 		r->base = mem;
 		r->len = mem_len;
@@ -1093,9 +1348,22 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 			rc = ssc_diag(diag, -EDOM, "%s: empty file", r->disp);
 			goto fail;
 		}
-		if (ssc_mat_detect(r->base, r->len)) {
+		kind = ssc_container_detect(r->base, r->len);
+		if (kind == SSC_C_GZIP) {
+			rc = open_gzip(r, diag);
+			if (!rc && r->len == 0)
+				rc = ssc_diag(diag, -EDOM, "%s: empty file (gzip)",
+					      r->disp);
+			if (rc)
+				goto fail;
+			kind = ssc_container_detect(r->base, r->len);
+		}
+		if (kind == SSC_C_MAT) {
 			r->kind = K_MAT;
 			rc = open_mat(r, diag);
+		} else if (kind != SSC_C_NONE && kind != SSC_C_GZIP) {
+			r->kind = K_TABLE;
+			rc = open_table(r, kind, diag);
 		} else if (r->len >= strlen(BIN_MAGIC) &&
 		    !memcmp(r->base, BIN_MAGIC, strlen(BIN_MAGIC))) {
 			r->kind = K_BIN;
@@ -1110,9 +1378,19 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 			r->kind = K_TEXT;
 			rc = open_text(r, diag);
 		}
+		if (!rc && r->gz)
+			rc = gzip_source(r);
 	}
+opened:
 	if (rc)
 		goto fail;
+	if (r->opts->topic && *r->opts->topic &&
+	    !(r->tab && r->tab->src->n_topics)) {
+		rc = ssc_diag(diag, -EINVAL,
+			      "%s: --topic applies to ROS bags, rosbag2 and MCAP files",
+			      r->disp);
+		goto fail;
+	}
 	rc = assign_roles(r, diag);
 	if (!rc)
 		rc = select_columns(r, diag);
@@ -1227,6 +1505,10 @@ void sscope_reader_close(struct sscope_reader *r)
 	free(r->parts);
 	free(r->path);
 	ssc_mat_free(r->mat);
+	free(r->matz);
+	ssc_gz_close(r->gz);
+	ssc_table_free(r->tab);
+	ssc_source_free(r->src);
 	free(r);
 }
 
@@ -1700,6 +1982,8 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 
 	if (r->kind == K_MAT)
 		return ssc_mat_rows(r->mat) - r->mat_row;
+	if (r->kind == K_TABLE)
+		return r->tab->nrows - r->tab_row;
 	if (r->kind != K_TEXT) {
 		if (!r->size || !r->mapped)
 			return 0;
@@ -1854,14 +2138,191 @@ static double raw_value(const struct sscope_reader *r, const unsigned char *b)
 	}
 }
 
+/*
+ * Fast path of binary rows in the host's byte order: the block of `rows`
+ * whole rows at b is converted column by column (loops the compiler
+ * vectorises), with the same arithmetic as the row-by-row path.  Returns
+ * false, having written nothing that matters, when a value is not finite:
+ * the careful path then redoes the block (gaps, messages).
+ */
+static bool convert_block(struct sscope_reader *r, const unsigned char *b,
+			  size_t rows, struct sscope_chunk *ch, size_t row)
+{
+	const size_t rowb = r->ncols * r->rsize;
+	const double off = r->roffset, sc = r->rscale;
+
+	for (size_t c = 0; c < r->ncols; c++) {
+		const struct colx *cx = &r->cols[c];
+		const unsigned char *p = b + c * r->rsize;
+		double *out[3] = { NULL, NULL, NULL };
+		double mul[3], add[3];
+		int bad = 0;
+
+		if (!cx->used)
+			continue;
+		if (cx->dest >= 0 && ch->data[cx->dest]) {
+			out[0] = ch->data[cx->dest] + row;
+			mul[0] = cx->c.unit.scale;
+			add[0] = cx->c.unit.offset;
+		}
+		if (cx->is_time) {
+			if (!r->have_t0) {
+				double v0 = (raw_value(r, p) + off) * sc;
+
+				if (!isfinite(v0))
+					return false;
+				r->have_t0 = true;
+				r->t0_double = v0;
+				r->t0_exp = 1000;
+			}
+			if (ch->time_s)
+				out[1] = ch->time_s + row;
+		}
+		if (cx->is_temp && ch->temp_degc) {
+			out[2] = ch->temp_degc + row;
+			mul[2] = cx->c.unit.scale;
+			add[2] = cx->c.unit.offset;
+		}
+		for (int k = 0; k < 3; k++) {
+			double *o = out[k];
+			const double t0 = r->t0_double, us = cx->c.unit.scale;
+
+			if (!o)
+				continue;
+#define CONV(T)                                                                \
+	for (size_t i = 0; i < rows; i++) {                                    \
+		T t;                                                           \
+		double v;                                                      \
+                                                                               \
+		memcpy(&t, p + i * rowb, sizeof(t));                           \
+		v = ((double)t + off) * sc;                                    \
+		bad |= !(fabs(v) <= DBL_MAX);                                  \
+		o[i] = k == 1 ? (v - t0) * us : v * mul[k] + add[k];           \
+	}
+			switch (r->rtype) {
+			case R_F64:
+				CONV(double);
+				break;
+			case R_F32:
+				CONV(float);
+				break;
+			case R_I16:
+				CONV(int16_t);
+				break;
+			case R_U16:
+				CONV(uint16_t);
+				break;
+			case R_I32:
+				CONV(int32_t);
+				break;
+			case R_U32:
+				CONV(uint32_t);
+				break;
+			default:
+				return false;
+			}
+#undef CONV
+			if (bad)
+				return false;
+		}
+	}
+	return true;
+}
+
+/* Give back the pages of a mapped file that the reader has passed: a
+ * streamed record then holds only its chunk in memory (the pages stay in
+ * the page cache). */
+static void drop_behind(struct sscope_reader *r)
+{
+	size_t to;
+
+	if (!r->mapped || !r->pagesz)
+		return;
+	to = r->pos / r->pagesz * r->pagesz;
+	if (to >= r->dropped + (4u << 20)) {
+		madvise((char *)r->base + r->dropped, to - r->dropped,
+			MADV_DONTNEED);
+		r->dropped = to;
+	}
+}
+
+static bool host_order(const struct sscope_reader *r)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+	return !r->big_endian;
+#elif defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+	return r->big_endian;
+#else
+	(void)r;
+	return false;
+#endif
+}
+
+bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
+			     double **x, size_t *n, size_t *n_nan,
+			     void **map, size_t *map_len)
+{
+	const struct colx *c = r->ncols == 1 ? &r->cols[0] : NULL;
+	const double *v = (const double *)r->base;
+	size_t len, nn = 0, ninf = 0;
+	void *base = (void *)r->base;
+
+	if (r->kind != K_RAW || !r->mapped || r->rtype != R_F64 ||
+	    !host_order(r) || !c || r->nsel != 1 || c->dest != 0 ||
+	    c->is_time || c->is_temp || r->rscale != 1 || r->roffset != 0 ||
+	    c->c.unit.scale != 1 || c->c.unit.offset != 0 || r->pos != 0 ||
+	    r->len % sizeof(double) || ((uintptr_t)base & 63))
+		return false;
+	len = r->len / sizeof(double);
+	/* NaN (a gap, if allowed) and infinities, counted in one pass */
+	for (size_t i = 0; i < len; i++) {
+		nn += v[i] != v[i];
+		ninf += fabs(v[i]) > DBL_MAX;
+	}
+	if (ninf || (nn && !allow_nan))
+		return false; /* the row-by-row path reports it */
+	madvise(base, r->len, MADV_NORMAL);
+	*x = (double *)base;
+	*n = len;
+	*n_nan = nn;
+	*map = base;
+	*map_len = r->len;
+	r->mapped = false; /* the caller unmaps it */
+	r->base = NULL;
+	r->pos = r->len = 0;
+	return true;
+}
+
 static int read_binary(struct sscope_reader *r, struct sscope_chunk *ch,
 		       struct sscope_diag *diag)
 {
-	size_t rowb = r->ncols * r->rsize, row = 0;
+	size_t rowb = r->ncols * r->rsize, row = 0, slow = 0;
+	const bool fast = host_order(r) && r->rtype != R_I24;
 	int rc;
 
 	while (row < ch->capacity) {
 		const unsigned char *b;
+
+		if (slow)
+			slow--;
+		else if (fast && r->len - r->pos >= rowb) {
+			size_t rows = (r->len - r->pos) / rowb;
+
+			if (rows > ch->capacity - row)
+				rows = ch->capacity - row;
+			/* blocks of at most 1 MiB: a failed block is redone */
+			if (rows > (1u << 20) / rowb + 1)
+				rows = (1u << 20) / rowb + 1;
+			if (convert_block(r, (const unsigned char *)r->base + r->pos,
+					  rows, ch, row)) {
+				r->pos += rows * rowb;
+				r->line += rows;
+				row += rows;
+				drop_behind(r);
+				continue;
+			}
+			slow = rows; /* this block row by row */
+		}
 
 		if (r->len - r->pos < rowb) {
 			if (!r->eof) {
@@ -1932,5 +2393,7 @@ int sscope_reader_read(struct sscope_reader *r, struct sscope_chunk *ch,
 		return read_text(r, ch, diag);
 	if (r->kind == K_MAT)
 		return read_mat(r, ch, diag);
+	if (r->kind == K_TABLE)
+		return read_table(r, ch, diag);
 	return read_binary(r, ch, diag);
 }

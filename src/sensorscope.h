@@ -275,10 +275,44 @@ struct sscope_read_opts {
 	/** Threads for parsing a whole text file (sscope_capture_load); 0:
 	 *  one per online CPU, at most 8. */
 	unsigned threads;
+	/** sscope_capture_load(): a raw file of one float64 channel in the
+	 *  host's byte order with no scaling (the common dump of a logger)
+	 *  is used in place, memory-mapped read-only instead of copied (see
+	 *  sscope_capture.mapping); the caller promises not to write the
+	 *  channel data. */
+	bool in_place;
 	/** Progress callback (may be NULL): @p done of @p total bytes read;
 	 *  total is 0 when unknown (a pipe). */
 	void (*progress)(void *ctx, uint64_t done, uint64_t total);
 	void *progress_ctx;
+	/** ROS bag, rosbag2 and MCAP inputs: the topic to read, or
+	 *  "DATA,TEMPERATURE" (a sensor_msgs/Temperature topic interpolated
+	 *  at the data topic's stamps); NULL: the only IMU topic. */
+	const char *topic;
+};
+
+/** A topic (message stream) of a ROS bag, rosbag2 or MCAP file. */
+struct sscope_topic {
+	const char *name;  /**< e.g. "/imu/data" */
+	const char *type;  /**< e.g. "sensor_msgs/Imu", "sensor_msgs/msg/Imu" */
+	uint64_t messages; /**< messages of the topic in the file */
+	bool readable; /**< sensor_msgs/Imu, sensor_msgs/Temperature or
+			    geometry_msgs/Vector3Stamped */
+	bool selected; /**< read into the capture (data or temperature) */
+};
+
+/**
+ * What a container or compressed input held beyond its channels: the
+ * format, the topics of a bag, and the receive (log) times of the rows.
+ */
+struct sscope_source {
+	const char *format;  /**< e.g. "ROS 1 bag v2.0 (lz4 chunks)" */
+	size_t n_topics;
+	const struct sscope_topic *topics;
+	/** Receive time of each row (the bag's or MCAP's log time), s, on
+	 *  the time axis of the capture (0 = the first header stamp); NULL
+	 *  when the format has none.  In a capture: cap->n values. */
+	const double *receive_s;
 };
 
 /** An open capture source read in chunks (streaming). */
@@ -353,6 +387,14 @@ double sscope_reader_header_rate(const struct sscope_reader *reader);
 /** @return the source size in bytes, 0 when unknown (a pipe). */
 uint64_t sscope_reader_size(const struct sscope_reader *reader);
 
+/**
+ * @return the container details of the source (format, topics), owned by
+ *         @p reader, or NULL for delimited text, raw and sensorscope binary
+ *         files.  receive_s is NULL here (see struct sscope_capture).
+ */
+const struct sscope_source *
+sscope_reader_source(const struct sscope_reader *reader);
+
 /** Caller-owned destination of sscope_reader_read(). */
 struct sscope_chunk {
 	size_t capacity;   /**< rows each array can hold */
@@ -396,6 +438,15 @@ struct sscope_capture {
 	double rate_hz;         /**< nominal rate; 0 when unknown */
 	enum sscope_rate_source rate_source;
 	size_t n_nan;           /**< NaN cells read as gaps */
+	/** Container details (format, topics, receive times), or NULL for
+	 *  delimited text, raw and sensorscope binary files (owned). */
+	struct sscope_source *source_info;
+	/** A read-only file mapping that holds the channel data (read with
+	 *  sscope_read_opts.in_place), released by sscope_capture_free();
+	 *  NULL otherwise.  Such data must not be written, freed or
+	 *  reallocated by the caller. */
+	void *mapping;
+	size_t mapping_len;     /**< bytes of the mapping */
 	/** the last data line had no newline (sscope_reader_unterminated) */
 	bool unterminated;
 };
@@ -431,8 +482,33 @@ int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 /** Free a capture (NULL is ignored). */
 void sscope_capture_free(struct sscope_capture *cap);
 
+/**
+ * Say that samples x[k * stride], from <= k < from + n, of a channel of
+ * @p capture (a struct sscope_capture *) will not be read for a while: when
+ * the capture is mapped from its file (sscope_read_opts.in_place) their
+ * memory pages are given back (a later read fetches them from the file
+ * again, or from the page cache); otherwise nothing happens.  Meant as
+ * sscope_allan_opts.release, so that a record and the Allan workspace are
+ * never both whole in memory.  Thread-safe.
+ */
+void sscope_capture_release(void *capture, const double *x, size_t stride,
+			    size_t from, size_t n);
+
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);
+
+/**
+ * Is the rate derived from the time column plausible (1e-3 .. 1e7 Hz)?
+ * An implausible one usually means time stamps in another unit than their
+ * header says (nanoseconds read as seconds).
+ * @param cap   a loaded capture.
+ * @param hint  receives, when implausible, one sentence naming the rate,
+ *              the likely unit and the fix.
+ * @return 0 (plausible, or the rate did not come from a time column), or
+ *         -EDOM with @p hint filled.
+ */
+int sscope_capture_check_rate(const struct sscope_capture *cap,
+			      struct sscope_diag *hint);
 
 /* ------------------------------------------------------------------ */
 /* Capture writers                                                     */
@@ -735,5 +811,10 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-tempbias.h"
 #include "sscope-inclino.h"
 #include "sscope-adc.h"
+#include "sscope-nav.h"
+#include "sscope-strapdown.h"
+#include "sscope-navsim.h"
+#include "sscope-heading.h"
+#include "sscope-walk.h"
 
 #endif /* SENSORSCOPE_H */

@@ -18,6 +18,8 @@
 #include <strings.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
 
 #include "plot.h"
 #include "stage.h"
@@ -37,6 +39,9 @@ enum {
 	O_FREQ,
 };
 
+
+/* DNL resolution the histogram test must reach (1 sigma), LSB */
+#define ADC_DNL_TOL_LSB 0.1
 /* ------------------------------------------------------------ helpers */
 
 static double in_unit(double si, const char *si_unit, const char *unit)
@@ -70,8 +75,8 @@ static const struct ssc_option report_opts[] = {
 	{ "mc-duration", required_argument, O_MC_DURATION, "S",
 	  "length of each simulated record (default 3600 s; units allowed: 2h)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
-	{ "plot", required_argument, 'p', "PATH.png",
-	  "ADEV of the sensor alone and through each converter (needs OpenCV)" },
+	{ "plot", required_argument, 'p', "PATH.svg|PATH.png",
+	  "ADEV of the sensor alone and through each converter (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -161,12 +166,10 @@ static int r_handle(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case 'p': {
-		size_t l = strlen(arg);
+		int rc = ssc_plot_check(cmd, arg);
 
-		if (l < 5 || strcasecmp(arg + l - 4, ".png"))
-			return ssc_usage_error(cmd, "--plot: the figure is a PNG file (PATH.png)");
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(cmd);
+		if (rc)
+			return rc;
 		o->plot = arg;
 		return 0;
 	}
@@ -192,9 +195,10 @@ struct adc_res {
 	struct mc_ratio ratio[3]; /* N, B, K */
 	struct mc_ratio bias_shift; /* mean(out) - mean(in), U */
 	size_t clipped;
-	/* ADEV of run 0: sensor alone (shared) and through this converter */
+	/* ADEV of every run (run r at [r * n_pts]): the sensor alone at this
+	 * converter's rate and through the converter, same realisation */
 	double *tau, *dev_in, *dev_out;
-	size_t n_pts;
+	size_t n_pts, n_runs;
 	int rank;
 };
 
@@ -322,16 +326,22 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 			size_t np = res_in->n_points;
 
 			ar->tau = malloc(np * sizeof(double));
-			ar->dev_in = malloc(np * sizeof(double));
-			ar->dev_out = malloc(np * sizeof(double));
+			ar->dev_in = malloc(R * np * sizeof(double));
+			ar->dev_out = malloc(R * np * sizeof(double));
 			if (ar->tau && ar->dev_in && ar->dev_out) {
-				for (size_t i = 0; i < np; i++) {
+				for (size_t i = 0; i < np; i++)
 					ar->tau[i] = res_in->points[i].tau_s;
-					ar->dev_in[i] = res_in->points[i].dev;
-					ar->dev_out[i] = res_out->points[i].dev;
-				}
 				ar->n_pts = np;
 			}
+		}
+		/* every run has the same tau grid (same length and rate) */
+		if (ar->n_pts && res_in->n_points == ar->n_pts &&
+		    res_out->n_points == ar->n_pts) {
+			for (size_t i = 0; i < ar->n_pts; i++) {
+				ar->dev_in[r * ar->n_pts + i] = res_in->points[i].dev;
+				ar->dev_out[r * ar->n_pts + i] = res_out->points[i].dev;
+			}
+			ar->n_runs = r + 1;
 		}
 		sscope_allan_result_free(res_in);
 		sscope_allan_result_free(res_out);
@@ -628,61 +638,127 @@ static int rank_cmp(const struct adc_res *a, const struct adc_res *b)
 	return ma > mb ? -1 : ma < mb ? 1 : 0;
 }
 
+/* The 10th, 50th and 90th percentiles over the runs of column i of a
+ * runs x np array (f: NULL for the values, else the ratio v / f). */
+static void run_pct(const double *v, const double *f, size_t runs, size_t np,
+		    size_t i, double q[3])
+{
+	double s[1000];
+	size_t k = 0;
+
+	for (size_t r = 0; r < runs && k < 1000; r++) {
+		double x = v[r * np + i] / (f ? f[r * np + i] : 1);
+
+		if (isfinite(x) && x > 0)
+			s[k++] = x;
+	}
+	if (!k) {
+		q[0] = q[1] = q[2] = NAN;
+		return;
+	}
+	gsl_sort(s, 1, k);
+	q[0] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.1);
+	q[1] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.5);
+	q[2] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.9);
+}
+
+/* Top: ADEV of the sensor alone and through each converter, the median of
+ * the Monte-Carlo runs with their 10-90 % band; bottom: the ratio of the
+ * two in each run (same realisation, so the sensor's own scatter cancels),
+ * which is what the verdict is about. */
 static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		       const struct adc_res *ar, int n)
 {
-	struct ssc_fig *fig = ssc_fig_new(1000, 650, 1, 1);
-	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	struct ssc_fig *fig = ssc_fig_new(1000, 1000, 2, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0), *rx = ssc_fig_ax(fig, 1, 0);
 	enum sscope_quantity q = ss->quantity;
 	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
 	double scale = in_unit(1, bsi, bu);
-	char buf[160];
+	char buf[200];
 	int rc, drawn = 0;
+	size_t runs = 0;
 
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
-	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
 	snprintf(buf, sizeof(buf), "ADEV (%s)", bu);
 	ssc_ax_ylabel(ax, buf);
 	snprintf(buf, sizeof(buf), "%s: alone and through each converter", ss->name);
 	ssc_ax_title(ax, buf);
+	ssc_ax_log(rx, true, false);
+	ssc_ax_grid(rx, true);
+	ssc_ax_xlabel(rx, "averaging time \xcf\x84 (s)");
+	ssc_ax_ylabel(rx, "ADEV through / ADEV alone");
+	ssc_ax_title(rx, "what each converter adds, run by run");
 	for (int i = 0; i < n; i++) {
-		double *yi, *yo;
-		struct ssc_style st = { .color = ssc_plot_color((size_t)i + 1), .width = 2 };
+		const struct adc_res *a = &ar[i];
+		size_t np = a->n_pts, nr = a->n_runs;
+		double *m = malloc(3 * np * sizeof(double));
+		double *lo = malloc(3 * np * sizeof(double));
+		double *hi = malloc(3 * np * sizeof(double));
+		uint32_t col = ssc_plot_color((size_t)i + 1);
+		struct ssc_style st = { .color = col, .width = 2, .dash = SSC_DASHED };
 
-		if (!ar[i].n_pts)
+		if (!np || !nr) {
+			free(m);
+			free(lo);
+			free(hi);
 			continue;
-		yi = malloc(ar[i].n_pts * sizeof(double));
-		yo = malloc(ar[i].n_pts * sizeof(double));
-		if (!yi || !yo) {
-			free(yi);
-			free(yo);
+		}
+		if (!m || !lo || !hi) {
+			free(m);
+			free(lo);
+			free(hi);
 			ssc_fig_free(fig);
 			return -ENOMEM;
 		}
-		for (size_t k = 0; k < ar[i].n_pts; k++) {
-			yi[k] = ar[i].dev_in[k] * scale;
-			yo[k] = ar[i].dev_out[k] * scale;
+		runs = nr;
+		for (size_t k = 0; k < np; k++) {
+			double qv[3];
+
+			run_pct(a->dev_in, NULL, nr, np, k, qv);
+			lo[k] = qv[0] * scale;
+			m[k] = qv[1] * scale;
+			hi[k] = qv[2] * scale;
+			run_pct(a->dev_out, NULL, nr, np, k, qv);
+			lo[np + k] = qv[0] * scale;
+			m[np + k] = qv[1] * scale;
+			hi[np + k] = qv[2] * scale;
+			run_pct(a->dev_out, a->dev_in, nr, np, k, qv);
+			lo[2 * np + k] = qv[0];
+			m[2 * np + k] = qv[1];
+			hi[2 * np + k] = qv[2];
 		}
 		if (!drawn) {
-			struct ssc_style s0 = { .color = 0x202020, .width = 3 };
+			struct ssc_style s0 = { .color = 0x202020, .width = 2.5 };
 
-			ssc_ax_line(ax, ar[i].tau, yi, ar[i].n_pts, &s0, "sensor alone");
+			ssc_ax_band(ax, a->tau, lo, hi, np, 0x202020, 0.15, NULL);
+			ssc_ax_line(ax, a->tau, m, np, &s0, "sensor alone");
 		}
-		snprintf(buf, sizeof(buf), "%s (%d b): %s", ar[i].spec.name, ar[i].spec.bits,
-			 sscope_adc_verdict_name(ar[i].an.verdict));
-		st.dash = SSC_DASHED;
-		ssc_ax_line(ax, ar[i].tau, yo, ar[i].n_pts, &st, buf);
+		snprintf(buf, sizeof(buf), "%s (%d b): %s", a->spec.name, a->spec.bits,
+			 sscope_adc_verdict_name(a->an.verdict));
+		ssc_ax_band(ax, a->tau, lo + np, hi + np, np, col, 0.18, NULL);
+		ssc_ax_line(ax, a->tau, m + np, np, &st, buf);
+		st.dash = SSC_SOLID;
+		ssc_ax_band(rx, a->tau, lo + 2 * np, hi + 2 * np, np, col, 0.2, NULL);
+		ssc_ax_line(rx, a->tau, m + 2 * np, np, &st, buf);
 		drawn++;
-		free(yi);
-		free(yo);
+		free(m);
+		free(lo);
+		free(hi);
 	}
 	if (!drawn) {
 		ssc_fig_free(fig);
 		return -EDOM;
 	}
-	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
-	rc = ssc_fig_save_png(fig, path);
+	{
+		struct ssc_style one = { .color = 0x202020, .width = 1.2, .dash = SSC_DOTTED };
+
+		ssc_ax_hline(rx, 1, &one, "no change");
+	}
+	snprintf(buf, sizeof(buf), "lines: median of %zu Monte-Carlo runs\nbands: 10-90 %% of the runs\nsensor alone: the first converter's runs; each converter has its own realisations (compare below)", runs);
+	ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	return rc;
 }
@@ -1218,7 +1294,7 @@ static int plot_dnl_inl(const char *path, const char *name, const double *dnl,
 		ssc_ax_line(ax, k, r ? inl : dnl, nc, &st, r ? "INL" : "DNL");
 		ssc_ax_legend(ax, SSC_LEGEND_NONE);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(k);
 	return rc;
@@ -1359,6 +1435,13 @@ static int cmd_test(int argc, char **argv)
 			e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl, &dmax, &imax);
 			if (!e) {
 				json_t *h = json_object(), *jd = json_array(), *ji = json_array();
+				struct sscope_adc_hist_quality hq;
+
+				sscope_adc_histogram_quality(codes, cap->n, ADC_DNL_TOL_LSB, &hq);
+				json_object_set_new(h, "samples_per_code", json_real(hq.samples_per_code));
+				json_object_set_new(h, "dnl_sd_lsb", json_real(hq.dnl_sd_lsb));
+				json_object_set_new(h, "samples_needed", json_real(hq.samples_needed));
+				json_object_set_new(h, "resolved", json_boolean(hq.resolved));
 
 				for (size_t k = 0; k < nc; k++) {
 					json_array_append_new(jd, ssc_jreal(dnl[k]));
@@ -1373,6 +1456,13 @@ static int cmd_test(int argc, char **argv)
 				fprintf(mb.f, "  histogram   %d bits: max |DNL| %s LSB, max |INL| %s LSB (best-fit line)\n",
 					bits, ssc_fmt(b1, sizeof(b1), dmax, 3),
 					ssc_fmt(b2, sizeof(b2), imax, 3));
+				if (!hq.resolved)
+					fprintf(mb.f, "  warning     DNL/INL not resolved: %s samples per code give DNL an sd of %s LSB; %s samples (%s per code) are needed for %g LSB\n",
+						ssc_fmt(b1, sizeof(b1), hq.samples_per_code, 3),
+						ssc_fmt(b2, sizeof(b2), hq.dnl_sd_lsb, 3),
+						ssc_fmt(b3, sizeof(b3), hq.samples_needed, 3),
+						ssc_fmt(b4, sizeof(b4), hq.samples_needed / (double)hq.codes_spanned, 3),
+						ADC_DNL_TOL_LSB);
 				if (co.plot && c == 0) {
 					int pe = plot_dnl_inl(co.plot, ch->col.name, dnl, inl, nc);
 

@@ -74,8 +74,8 @@ static const struct ssc_option budget_opts[] = {
 	  "realisations of the random-walk check (default 1000; 0 off)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
 	{ "gravity", required_argument, O_GRAVITY, "G", "gravity (default 9.80665 m/s^2)" },
-	{ "plot", required_argument, O_PLOT, "PATH.png",
-	  "draw error against time (log-log) and Monte-Carlo walks (needs OpenCV)" },
+	{ "plot", required_argument, O_PLOT, "PATH.svg|PATH.png",
+	  "draw error against time (log-log) and Monte-Carlo walks (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -545,7 +545,7 @@ static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
 		free(lo);
 		free(hi);
 	}
-	rc = ssc_fig_save_png(fig, o->plot);
+	rc = ssc_fig_save(fig, o->plot);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err("budget", "%s: %s", o->plot, sscope_strerror(rc));
@@ -720,15 +720,8 @@ static int check(const struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
-	if (o->plot) {
-		size_t l = strlen(o->plot);
-
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(co->cmd);
-		if (l < 5 || strcmp(o->plot + l - 4, ".png"))
-			return ssc_usage_error(co->cmd, "--plot: '%s' must end in .png",
-					       o->plot);
-	}
+	if (o->plot)
+		return ssc_plot_check(co->cmd, o->plot);
 	return SSC_EXIT_OK;
 }
 

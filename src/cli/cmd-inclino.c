@@ -322,10 +322,64 @@ static json_t *lut_json(const struct sscope_inclino_lut *lut, bool cubic)
 	return l;
 }
 
-static int cal_plot(const struct ssc_common *co, const char *path,
-		    const struct sscope_inclino_lut *lut)
+/* The validation: each pose's roll and pitch error, calibrated and
+ * uncompensated, against the 0.1 degree class (poses in file order, their
+ * temperature range in the title). */
+static void val_plot(struct ssc_ax *ax, const struct sscope_inclino_pose *vp,
+		     const double (*e)[2], const double (*u)[2], size_t n)
 {
-	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
+	double *t = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	static const char *const lab[2][2] = {
+		{ "roll, uncompensated", "pitch, uncompensated" },
+		{ "roll, calibrated", "pitch, calibrated" }
+	};
+	struct ssc_style cls = { .color = 0xd62728, .width = 1.5,
+				 .dash = SSC_DASHED };
+	double tlo = INFINITY, thi = -INFINITY;
+	char buf[160];
+
+	if (!t || !y) {
+		free(t);
+		free(y);
+		return;
+	}
+	for (int cal = 0; cal < 2; cal++)
+		for (int c = 0; c < 2; c++) {
+			struct ssc_style st = {
+				.color = cal ? ssc_plot_color((size_t)c) : 0xa0a0a0,
+				.width = -1,
+				.marker = c ? SSC_MK_SQUARE : SSC_MK_CIRCLE,
+				.marker_size = cal ? 7 : 5
+			};
+
+			for (size_t i = 0; i < n; i++) {
+				t[i] = (double)i + 1;
+				y[i] = cal ? e[i][c] : u[i][c];
+				tlo = fmin(tlo, vp[i].temp_degc);
+				thi = fmax(thi, vp[i].temp_degc);
+			}
+			ssc_ax_line(ax, t, y, n, &st, lab[cal][c]);
+		}
+	ssc_ax_hline(ax, 0.1, &cls, "0.1\xc2\xb0 class");
+	ssc_ax_hline(ax, -0.1, &cls, NULL);
+	ssc_ax_xlim(ax, 0, (double)n + 1);
+	ssc_ax_xlabel(ax, "validation pose");
+	ssc_ax_ylabel(ax, "tilt error (\xc2\xb0)");
+	snprintf(buf, sizeof(buf),
+		 "validation: tilt error of %zu poses at %.3g to %.3g \xc2\xb0" "C",
+		 n, tlo, thi);
+	ssc_ax_title(ax, buf);
+	ssc_ax_grid(ax, true);
+	free(t);
+	free(y);
+}
+
+static int cal_plot(const struct ssc_common *co, const char *path,
+		    const struct sscope_inclino_lut *lut,
+		    const struct sscope_inclino_pose *vp, const double (*e)[2],
+		    const double (*u)[2], size_t nv)
+{
+	struct ssc_fig *fig = ssc_fig_new(1000, nv ? 1150 : 800, nv ? 3 : 2, 1);
 	struct ssc_ax *a0, *a1;
 	double t[SSCOPE_INCLINO_MAX_NODES], y[SSCOPE_INCLINO_MAX_NODES];
 	double lo[SSCOPE_INCLINO_MAX_NODES], hi[SSCOPE_INCLINO_MAX_NODES];
@@ -367,7 +421,11 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 	ssc_ax_legend(a1, SSC_LEGEND_AUTO);
 	ssc_ax_grid(a0, true);
 	ssc_ax_grid(a1, true);
-	rc = ssc_fig_save_png(fig, path);
+	ssc_ax_title(a0, "offset of each axis at the calibration nodes");
+	ssc_ax_title(a1, "scale error of each axis at the calibration nodes");
+	if (nv)
+		val_plot(ssc_fig_ax(fig, 2, 0), vp, e, u, nv);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
@@ -436,7 +494,23 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 				 v.clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
 	}
 	if (env->plot_path) {
-		rc = cal_plot(co, env->plot_path, lut);
+		double (*e)[2] = NULL, (*u)[2] = NULL;
+
+		if (have_v) {
+			e = malloc(np * sizeof(*e));
+			u = malloc(np * sizeof(*u));
+			if (!e || !u ||
+			    sscope_inclino_pose_errors(plan, poses, np, e, u)) {
+				free(e);
+				free(u);
+				e = u = NULL;
+			}
+		}
+		rc = cal_plot(co, env->plot_path, lut, poses,
+			      (const double(*)[2])e, (const double(*)[2])u,
+			      e ? np : 0);
+		free(e);
+		free(u);
 		if (rc)
 			goto done;
 	}

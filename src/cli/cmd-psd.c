@@ -951,7 +951,7 @@ static int plot(const struct ssc_common *co, const struct run *R)
 			free(z);
 		}
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save(fig, co->plot);
 	ssc_fig_free(fig);
 	free(y);
 	if (rc) {

@@ -106,6 +106,7 @@ struct ssc_scene {
 	size_t n_files;
 	/* [input] */
 	char *columns, *units, *temp_column, *time_column, *raw;
+	char *topic;
 	double rate_hz, scale, offset;
 	bool allow_nan;
 	/* [sensor], [adc] */
@@ -237,6 +238,7 @@ void ssc_scene_free(struct ssc_scene *sc)
 	free(sc->units);
 	free(sc->temp_column);
 	free(sc->time_column);
+	free(sc->topic);
 	free(sc->raw);
 	free(sc->sensor_path);
 	free(sc->out_dir);
@@ -329,7 +331,8 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 {
 	static const char *const keys[] = { "files", "columns", "rate", "units",
 					    "temp_column", "time_column", "raw",
-					    "scale", "offset", "allow_nan", NULL };
+					    "scale", "offset", "allow_nan", "topic",
+					    NULL };
 	struct sscope_diag d = { "" };
 	size_t line = 0;
 	const char *v;
@@ -376,6 +379,7 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
 	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
 	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
+	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
 	v = sscope_ini_get(sc->ini, "input", "raw", &line);
 	if (v && sscope_raw_layout_check(v, NULL, NULL, &d))
 		return scene_error(cmd, sc, line, "raw: %s", d.msg);
@@ -845,6 +849,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	sc->units = xstrdup(co->units);
 	sc->temp_column = xstrdup(co->temp_column);
 	sc->time_column = xstrdup(co->time_column);
+	sc->topic = xstrdup(co->topic);
 	sc->raw = xstrdup(co->raw);
 	sc->rate_hz = co->rate_hz;
 	sc->scale = co->scale;
@@ -1476,6 +1481,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	co.allow_nan = sc->allow_nan;
 	co.time_column = sc->time_column;
 	co.temp_column = sc->temp_column;
+	co.topic = sc->topic;
 	co.columns = cols;
 	e = mkdir_p(sc->out_dir);
 	if (e) {
