@@ -78,6 +78,7 @@ static void chunks(const uint8_t *data, size_t size,
 			if (sscope_reader_read(r, &ch, &d) || ch.rows == 0)
 				break;
 		}
+		sscope_reader_unterminated(r);
 	}
 	sscope_reader_close(r);
 }
