@@ -80,6 +80,7 @@ int main(void)
 	F(sscope_capture, source_info);
 	F(sscope_capture, mapping);
 	F(sscope_capture, mapping_len);
+	F(sscope_capture, unterminated);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);

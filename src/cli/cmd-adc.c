@@ -1130,6 +1130,11 @@ static int cmd_quantize(int argc, char **argv)
 	}
 	if (o.mode >= 0)
 		spec.mode = (enum sscope_adc_mode)o.mode;
+	if (spec.mode == SSCOPE_ADC_INTEGRATE) {
+		rc = ssc_time_check(&co, argv[first], cap, true);
+		if (rc)
+			goto done;
+	}
 	if (spec.mode == SSCOPE_ADC_INTEGRATE && !(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "--mode integrate needs the sample rate (--rate or a time column)");
 		goto done;
@@ -1362,6 +1367,9 @@ static int cmd_test(int argc, char **argv)
 	rc = ssc_load(&co, argv[first], &cap);
 	if (rc)
 		return rc;
+	rc = ssc_time_check(&co, argv[first], cap, true);
+	if (rc)
+		goto done;
 	if (!(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "no sample rate: give --rate or a time column");
 		goto done;

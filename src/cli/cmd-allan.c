@@ -426,6 +426,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 
 	fr->path = path;
 	fr->cap = cap;
+	rc = ssc_time_check(co, path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
 			path);

@@ -344,6 +344,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 	double *scratch = NULL, med = 0, last_t = 0;
 	bool have_med = false, have_last = false, use_time;
 	struct ksum tsum = { 0, 0 };
+	struct sscope_time_order ord = { 0 };
+	bool disorder = false;
 	size_t nreg = 0;
 	int rc, ex = SSC_EXIT_FAIL;
 
@@ -403,6 +405,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 			 * mean regular interval gives the rate */
 			struct sscope_timing tm;
 
+			sscope_time_order_feed(&ord, ch.time_s, ch.rows);
 			if (!have_med && ch.rows >= 2 &&
 			    sscope_timing_analyze(ch.time_s, ch.rows, 1.5, &tm,
 						  NULL, 0, NULL, scratch) == 0) {
@@ -437,10 +440,21 @@ static int stream(const struct ssc_common *co, struct run *R)
 		ssc_err(co->cmd, "%s: no data rows", R->path);
 		goto out;
 	}
+	if (sscope_reader_unterminated(rd))
+		ssc_warn_unterminated(co, R->path, R->rows);
+	if (use_time && sscope_time_order_check(&ord, NULL)) {
+		/* an error naming the problem, or a warning when a header
+		 * gives the rate */
+		disorder = true;
+		if (ssc_time_verdict(co, R->path, sscope_reader_time_column(rd)->name,
+				     &ord, sscope_reader_header_rate(rd) > 0 ?
+				     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE, true))
+			goto out;
+	}
 	if (co->rate_hz > 0) {
 		R->fs = co->rate_hz;
 		R->rate_source = "given";
-	} else if (use_time && nreg > 0 && (tsum.s + tsum.c) > 0) {
+	} else if (use_time && !disorder && nreg > 0 && (tsum.s + tsum.c) > 0) {
 		R->fs = (double)nreg / (tsum.s + tsum.c);
 		R->rate_source = "time column";
 	} else if (sscope_reader_header_rate(rd) > 0) {
@@ -451,7 +465,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 			R->path);
 		goto out;
 	}
-	if (R->time_gaps)
+	if (R->time_gaps && !disorder)
 		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
 			 R->path, R->time_gaps);
 	for (size_t k = 0; k < R->nch; k++) {
@@ -503,6 +517,9 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 {
 	int rc;
 
+	rc = ssc_time_check(co, R->path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
 			R->path);

@@ -126,6 +126,10 @@ int ssc_cmd_report(int argc, char **argv)
 	if (co.plot)
 		return ssc_usage_error(co.cmd, "--plot: the report draws every figure itself");
 	ssc_set_outer(co.cmd);
+	rc = ssc_check_inputs(co.cmd, (const char *const *)argv + first,
+			      (size_t)(argc - first));
+	if (rc)
+		return rc;
 	rc = ssc_scene_infer(&co, argv + first, (size_t)(argc - first),
 			     co.output ? co.output : "sensorscope-report", &sc);
 	if (rc)

@@ -294,12 +294,16 @@ static struct ssc_scene *scene_new(void)
 }
 
 /* Split a comma list into trimmed items (modifies s). */
-static size_t split_list(char *s, char **items, size_t max)
+/* Split a comma list into at most max items; *more (may be NULL) tells
+ * whether items were left over (an error for lists of inputs). */
+static size_t split_list_n(char *s, char **items, size_t max, bool *more)
 {
 	size_t n = 0;
 	char *save = NULL;
 
-	for (char *t = strtok_r(s, ",", &save); t && n < max;
+	if (more)
+		*more = false;
+	for (char *t = strtok_r(s, ",", &save); t;
 	     t = strtok_r(NULL, ",", &save)) {
 		char *e;
 
@@ -308,10 +312,21 @@ static size_t split_list(char *s, char **items, size_t max)
 		e = t + strlen(t);
 		while (e > t && isspace((unsigned char)e[-1]))
 			*--e = '\0';
-		if (*t)
-			items[n++] = t;
+		if (!*t)
+			continue;
+		if (n == max) {
+			if (more)
+				*more = true;
+			break;
+		}
+		items[n++] = t;
 	}
 	return n;
+}
+
+static size_t split_list(char *s, char **items, size_t max)
+{
+	return split_list_n(s, items, max, NULL);
 }
 
 /* ------------------------------------------------------------ parsing */
@@ -355,8 +370,13 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
 	{
 		char *copy = xstrdup(v), *items[64];
-		size_t n = split_list(copy, items, 64);
+		bool more;
+		size_t n = split_list_n(copy, items, 64, &more);
 
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "files: more than 64 captures");
+		}
 		sc->files = calloc(n ? n : 1, sizeof(char *));
 		for (size_t i = 0; i < n; i++) {
 			struct stat st;
@@ -373,6 +393,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		free(copy);
 		if (!n)
 			return scene_error(cmd, sc, line, "files: empty list");
+		rc = ssc_check_inputs(cmd, (const char *const *)sc->files,
+				      sc->n_files);
+		if (rc)
+			return rc;
 	}
 	sc->columns = xstrdup(sscope_ini_get(sc->ini, "input", "columns", NULL));
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
@@ -521,7 +545,13 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 		return SSC_EXIT_OK;
 	{
 		char *copy = xstrdup(spec), *items[8];
-		size_t n = split_list(copy, items, 8);
+		bool more;
+		size_t n = split_list_n(copy, items, 8, &more);
+
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "spec: more than 8 converters");
+		}
 
 		for (size_t i = 0; i < n; i++) {
 			sc->adc_paths[i] = join_path(sc->dir, items[i]);

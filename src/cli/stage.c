@@ -117,6 +117,10 @@ int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
 				     ops->max_files, ops->max_files == 1 ? "" : "s");
 		goto done;
 	}
+	rc = ssc_check_inputs(co.cmd, (const char *const *)argv + first,
+			      (size_t)n);
+	if (rc)
+		goto done;
 	if (ops->check) {
 		rc = ops->check(&co, opts);
 		if (rc)

@@ -90,7 +90,8 @@ class Capture(C.Structure):
                 ("time_col", Column), ("temp_col", Column),
                 ("rate_hz", c_dbl), ("rate_source", C.c_int),
                 ("n_nan", c_size), ("source_info", C.POINTER(Source)),
-                ("mapping", C.c_void_p), ("mapping_len", c_size)]
+                ("mapping", C.c_void_p), ("mapping_len", c_size),
+                ("unterminated", C.c_bool)]
 
 
 class AllanOpts(C.Structure):
