@@ -458,6 +458,7 @@ static size_t nan_count(const struct sscope_allan *p, size_t a, size_t b)
 struct src {
 	const double *y;
 	size_t stride, n;
+	const struct sscope_allan_opts *o; /* the release callback */
 	bool angle;
 	double m0, delta; /* rate: increment = (y - m0) - delta */
 	double y0, slope, fs; /* angle: x = ((y - y0) - slope k) fs */
@@ -739,6 +740,23 @@ static int build_gaps(struct sscope_allan *p, const struct src *s)
 	return 0;
 }
 
+/* samples read between release calls */
+#define RELEASE_STEP ((size_t)1 << 18)
+
+/* the samples [*done, upto) have been read for the last time: tell the
+ * caller, in steps of RELEASE_STEP or at the end (last) */
+static void release_to(const struct src *s, size_t *done, size_t upto,
+		       bool last)
+{
+	if (upto > s->n)
+		upto = s->n;
+	if (!s->o->release || upto <= *done ||
+	    (!last && upto - *done < RELEASE_STEP))
+		return;
+	s->o->release(s->o->release_ctx, s->y, s->stride, *done, upto - *done);
+	*done = upto;
+}
+
 /* contiguous phase, written in parallel chunks */
 static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
@@ -747,11 +765,16 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 	for (unsigned t = 0; t < T; t++) {
 		struct run r;
 		size_t lo = chunk_at(p->np, T, t, 1);
-		size_t hi = chunk_at(p->np, T, t + 1, 1);
+		size_t hi = chunk_at(p->np, T, t + 1, 1), done = lo;
 
 		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t];
 		r.k = lo;
-		fill_phase(s, &r, p->x + lo, hi - lo);
+		while (r.k < hi) {
+			size_t len = hi - r.k < RELEASE_STEP ? hi - r.k : RELEASE_STEP;
+
+			fill_phase(s, &r, p->x + r.k, len);
+			release_to(s, &done, r.k, r.k >= hi);
+		}
 	}
 }
 
@@ -780,7 +803,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	const size_t S = p->S, np = p->np, grp = TILE_COLS * S;
 	const size_t W = (size_t)ts->d * ts->mshort_max + SHORT_BLOCK;
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
-	size_t kend = hi + W < np ? hi + W : np;
+	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
 
 	G = (G + grp - 1) / grp * grp;
@@ -794,6 +817,8 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		if (stop > wbase + filled)
 			fill_phase(s, &r, win + filled, stop - wbase - filled);
 		filled = stop - wbase;
+		/* the next chunk's thread reads the lookahead too */
+		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
 		/* short taus on terms starting in [wbase, gend) */
 		for (size_t j = 0; j < ts->n; j++) {
 			size_t m = ts->m[j], nt, a, b;
@@ -1178,6 +1203,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 	s.y = y;
 	s.stride = stride;
 	s.n = n;
+	s.o = &p->opts;
 	s.angle = angle;
 	s.fs = rate_hz;
 	T = p->nthreads;
@@ -1453,7 +1479,7 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 &res->n_points, diag);
 	if (rc)
 		goto fail;
-	if (o.dev == SSCOPE_DEV_OADEV) {
+	if (o.dev == SSCOPE_DEV_OADEV || (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
 	} else {
@@ -1466,9 +1492,12 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 		if (rc)
 			goto fail;
 	}
-	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
-					  res->n_phase, fopts, &res->fit, NULL);
-	res->have_fit = res->fit_error == 0;
+	if (!fopts || !fopts->skip) {
+		res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev,
+						  rate_hz, res->n_phase, fopts,
+						  &res->fit, NULL);
+		res->have_fit = res->fit_error == 0;
+	}
 	sscope_allan_free(p);
 	*resp = res;
 	return 0;

@@ -369,7 +369,7 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 
 	if (!pts || !r)
 		return -EINVAL;
-	r->n = r->b = r->b_tau_s = r->k = NAN;
+	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
 	for (size_t i = 0; i < n && k < 4096; i++)
 		if (pts[i].dev > 0 && isfinite(pts[i].dev) && pts[i].tau_s > 0)
 			idx[k++] = i;
@@ -388,14 +388,68 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 		if (fabs(sl + 0.5) < 0.25 && fabs(sl + 0.5) < best_n) {
 			best_n = fabs(sl + 0.5);
 			r->n = p->dev * sqrt(p->tau_s);
+			r->n_tau_s = p->tau_s;
 		}
 		if (fabs(sl - 0.5) < 0.25 && fabs(sl - 0.5) < best_k) {
 			best_k = fabs(sl - 0.5);
 			r->k = p->dev * sqrt(3 / p->tau_s);
+			r->k_tau_s = p->tau_s;
 		}
 	}
 	r->b = dmin / sqrt(2 * LN2 / PI);
 	return 0;
+}
+
+/*
+ * Read-offs where the fitted model (squared coefficients th) says each
+ * term dominates: N and K at the point where their share of the model
+ * AVAR is largest, B at the minimum of the curve; each only when its
+ * share there is at least one half.
+ */
+static void readoff_model(const struct sscope_allan_point *pts, size_t n,
+			  const double th[5], struct sscope_noise_readoff *r)
+{
+	double sn = 0, sk = 0, dmin = INFINITY;
+	size_t imin = SIZE_MAX;
+
+	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
+	for (size_t i = 0; i < n; i++) {
+		const struct sscope_allan_point *p = &pts[i];
+		double mu = 0, qn, qk;
+
+		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0))
+			continue;
+		for (int j = 0; j < 5; j++)
+			mu += th[j] * basis(j, p->tau_s);
+		if (!(mu > 0))
+			continue;
+		qn = th[1] * basis(1, p->tau_s) / mu;
+		qk = th[3] * basis(3, p->tau_s) / mu;
+		if (qn >= 0.5 && qn > sn) {
+			sn = qn;
+			r->n = p->dev * sqrt(p->tau_s);
+			r->n_tau_s = p->tau_s;
+		}
+		if (qk >= 0.5 && qk > sk) {
+			sk = qk;
+			r->k = p->dev * sqrt(3 / p->tau_s);
+			r->k_tau_s = p->tau_s;
+		}
+		if (p->dev < dmin) {
+			dmin = p->dev;
+			imin = i;
+		}
+	}
+	if (imin != SIZE_MAX) {
+		double t = pts[imin].tau_s, mu = 0;
+
+		for (int j = 0; j < 5; j++)
+			mu += th[j] * basis(j, t);
+		if (mu > 0 && th[2] * basis(2, t) / mu >= 0.5) {
+			r->b = dmin / sqrt(2 * LN2 / PI);
+			r->b_tau_s = t;
+		}
+	}
 }
 
 /* ------------------------------------------------------------------ */
@@ -1029,6 +1083,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			fit->n_plausible++;
 		}
 	}
+	readoff_model(pts, n_pts, best_th, &fit->readoff);
 	fit->terms = best_mask;
 	fit->chi2 = best_chi2;
 	fit->dof = (double)f.n - popcount(best_mask);

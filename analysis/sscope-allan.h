@@ -128,6 +128,16 @@ struct sscope_allan_opts {
 	 *  when built without OpenMP.  Results do not depend on it beyond
 	 *  the last bits of a sum. */
 	unsigned threads;
+	/** Optional: called, possibly from several threads at once, with
+	 *  ranges of samples (x[k * stride], from <= k < from + n) that the
+	 *  engine has finished reading in the current computation (a later
+	 *  call reads them again).  With sscope_capture_release() and the
+	 *  capture as @p release_ctx, a capture mapped from its file gives its
+	 *  pages back behind the phase pass, so that the record and the phase
+	 *  workspace are never both whole in memory.  NULL: not called. */
+	void (*release)(void *ctx, const double *x, size_t stride,
+			size_t from, size_t n);
+	void *release_ctx;
 };
 
 /** One tau of a deviation. */
@@ -268,14 +278,21 @@ struct sscope_noise_coef {
 	bool fitted;   /**< the term was selected */
 };
 
-/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found). */
+/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
+ *  sscope_noise_readoff() picks the points by local slope alone; the
+ *  read-offs in struct sscope_noise_fit use the fitted model instead: N
+ *  (K) is read at the tau where that term's share of the model AVAR is
+ *  largest, B at the minimum, and each only where its term is at least
+ *  half of the model there (NaN otherwise: the term dominates nowhere). */
 struct sscope_noise_readoff {
 	double n;       /**< sigma(1 s) on the -1/2 line through the point
-			     whose local slope is closest to -1/2, U/sqrt(Hz) */
+			     used, U/sqrt(Hz) */
+	double n_tau_s; /**< that point's tau, s */
 	double b;       /**< minimum deviation / 0.6643, U */
 	double b_tau_s; /**< where that minimum is, s */
 	double k;       /**< sigma(3 s) on the +1/2 line through the point
-			     whose local slope is closest to +1/2, U/s/sqrt(Hz) */
+			     used, U/s/sqrt(Hz) */
+	double k_tau_s; /**< that point's tau, s */
 };
 
 /** Options of the fit.  Zero-initialised = every term allowed, 68.27 %
@@ -296,6 +313,9 @@ struct sscope_noise_fit_opts {
 	double model_error;
 	/** Fit only points with tau_min_s <= tau <= tau_max_s (0: no limit). */
 	double tau_min_s, tau_max_s;
+	/** sscope_allan_analyze(): the deviations only, no fit (have_fit
+	 *  false, fit_error 0). */
+	bool skip;
 };
 
 /** Result of the noise fit. */
@@ -391,7 +411,8 @@ struct sscope_allan_result {
 	size_t n_points;
 	struct sscope_allan_point *points; /**< the requested deviation */
 	/** OADEV points the fit used: the same array as points when the
-	 *  deviation is OADEV, else a separate one */
+	 *  deviation is OADEV or no fit was asked for (skip), else a
+	 *  separate one */
 	struct sscope_allan_point *oadev;
 	size_t n_oadev;
 	size_t n_phase;     /**< phase points of the record */

@@ -30,14 +30,48 @@ static void free_column(struct sscope_column *c)
 	c->unit_label = NULL;
 }
 
+static bool in_mapping(const struct sscope_capture *cap, const void *p)
+{
+	const char *m = cap->mapping;
+
+	return m && (const char *)p >= m && (const char *)p < m + cap->mapping_len;
+}
+
+void sscope_capture_release(void *capture, const double *x, size_t stride,
+			    size_t from, size_t n)
+{
+	struct sscope_capture *cap = capture;
+	const char *m, *a, *b;
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
+
+	if (!cap || !x || !n || !in_mapping(cap, x))
+		return;
+	m = cap->mapping;
+	a = (const char *)(x + from * stride);
+	b = (const char *)(x + (from + n - 1) * stride + 1);
+	if (a < m)
+		a = m;
+	if (b > m + cap->mapping_len)
+		b = m + cap->mapping_len;
+	/* whole pages inside the range only */
+	a = (const char *)(((uintptr_t)a + ps - 1) / ps * ps);
+	b = (const char *)((uintptr_t)b / ps * ps);
+	if (b > a)
+		madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
+}
+
 void sscope_capture_free(struct sscope_capture *cap)
 {
 	if (!cap)
 		return;
 	for (size_t k = 0; cap->channels && k < cap->n_channels; k++) {
 		free_column(&cap->channels[k].col);
-		free(cap->channels[k].data);
+		if (!in_mapping(cap, cap->channels[k].data))
+			free(cap->channels[k].data);
 	}
+	if (cap->mapping)
+		munmap(cap->mapping, cap->mapping_len);
 	free(cap->channels);
 	free(cap->time_s);
 	free(cap->temp_degc);
@@ -139,6 +173,17 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		if (rc)
 			goto fail;
 	}
+	if (opts && opts->in_place && cap->n_channels == 1 &&
+	    ssc_reader_take_inplace(r, opts->nan_as_gap, &cap->channels[0].data,
+				    &n, &cap->n_nan, &cap->mapping,
+				    &cap->mapping_len)) {
+		if (n == 0) {
+			rc = ssc_diag(diag, -EDOM, "%s: no data rows", path);
+			goto fail;
+		}
+		cap->n = n;
+		goto rate;
+	}
 	/* A mapped file (or any source of known size) is read in one pass,
 	 * on several threads for text, into arrays sized from a bound on the
 	 * row count, then trimmed; a pipe grows its arrays. */
@@ -205,6 +250,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	for (size_t k = 0; k < cap->n_channels; k++)
 		for (size_t i = 0; i < n; i++)
 			cap->n_nan += isnan(cap->channels[k].data[i]);
+rate:
 	if (opts && opts->rate_hz > 0) {
 		cap->rate_hz = opts->rate_hz;
 		cap->rate_source = SSCOPE_RATE_GIVEN;

@@ -275,6 +275,12 @@ struct sscope_read_opts {
 	/** Threads for parsing a whole text file (sscope_capture_load); 0:
 	 *  one per online CPU, at most 8. */
 	unsigned threads;
+	/** sscope_capture_load(): a raw file of one float64 channel in the
+	 *  host's byte order with no scaling (the common dump of a logger)
+	 *  is used in place, memory-mapped read-only instead of copied (see
+	 *  sscope_capture.mapping); the caller promises not to write the
+	 *  channel data. */
+	bool in_place;
 	/** Progress callback (may be NULL): @p done of @p total bytes read;
 	 *  total is 0 when unknown (a pipe). */
 	void (*progress)(void *ctx, uint64_t done, uint64_t total);
@@ -326,6 +332,21 @@ struct sscope_reader;
 int sscope_reader_open(struct sscope_reader **reader, const char *path,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag);
+
+/**
+ * Check a raw binary layout "TYPE:CHANNELS[:le|be]" (sscope_read_opts.raw)
+ * without opening anything, so that a caller can refuse a bad one as a
+ * usage error before reading.
+ * @param layout      the layout text.
+ * @param channels    receives the channel count (1..4096; may be NULL).
+ * @param value_bytes receives the bytes per value (may be NULL).
+ * @param diag        optional: what is wrong, in one line.
+ * @return 0; -EINVAL for an empty or malformed layout (unknown type, a
+ *         channel count that is not a whole number in 1..4096, a byte
+ *         order other than le or be).
+ */
+int sscope_raw_layout_check(const char *layout, size_t *channels,
+			    size_t *value_bytes, struct sscope_diag *diag);
 
 /** @return the number of selected data channels. */
 size_t sscope_reader_n_channels(const struct sscope_reader *reader);
@@ -412,6 +433,12 @@ struct sscope_capture {
 	/** Container details (format, topics, receive times), or NULL for
 	 *  delimited text, raw and sensorscope binary files (owned). */
 	struct sscope_source *source_info;
+	/** A read-only file mapping that holds the channel data (read with
+	 *  sscope_read_opts.in_place), released by sscope_capture_free();
+	 *  NULL otherwise.  Such data must not be written, freed or
+	 *  reallocated by the caller. */
+	void *mapping;
+	size_t mapping_len;     /**< bytes of the mapping */
 };
 
 /**
@@ -444,6 +471,18 @@ int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 
 /** Free a capture (NULL is ignored). */
 void sscope_capture_free(struct sscope_capture *cap);
+
+/**
+ * Say that samples x[k * stride], from <= k < from + n, of a channel of
+ * @p capture (a struct sscope_capture *) will not be read for a while: when
+ * the capture is mapped from its file (sscope_read_opts.in_place) their
+ * memory pages are given back (a later read fetches them from the file
+ * again, or from the page cache); otherwise nothing happens.  Meant as
+ * sscope_allan_opts.release, so that a record and the Allan workspace are
+ * never both whole in memory.  Thread-safe.
+ */
+void sscope_capture_release(void *capture, const double *x, size_t stride,
+			    size_t from, size_t n);
 
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);

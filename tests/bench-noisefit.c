@@ -48,6 +48,8 @@ struct tally {
 	int n_relerr[5];
 };
 
+static double g_model_error;
+
 static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		   size_t n, uint64_t seed, double *y, struct sscope_noise_fit *fit)
 {
@@ -68,10 +70,12 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		return rc;
 	{
 		struct sscope_allan_opts ao = { 0 };
+		struct sscope_noise_fit_opts fo = { 0 };
 
 		ao.threads = 1;
+		fo.model_error = g_model_error;
 		rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, &ao,
-					  NULL, &res, NULL);
+					  &fo, &res, NULL);
 	}
 	if (rc)
 		return rc;
@@ -110,6 +114,8 @@ int main(int argc, char **argv)
 			s = *e == ',' ? e + 1 : e;
 		}
 	}
+	if (argc > 3)
+		g_model_error = atof(argv[3]);
 	if (reps < 1)
 		reps = 1;
 	memset(&spec, 0, sizeof(spec));

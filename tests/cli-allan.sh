@@ -10,7 +10,7 @@ G="$SAMPLES/gyro-static.csv"
 run "allan text" 0 allan "$G"
 has "text: table header" "$T/out" 'tau \(s\) +m +terms +oadev'
 has "text: coefficients" "$T/out" 'N  angle random walk +0\.1[45][0-9]* deg/sqrt\(h\)'
-has "text: read-offs" "$T/out" 'classic read-offs: N = sigma\(1 s\)'
+has "text: read-offs" "$T/out" 'classic read-offs where the fit says the term dominates: N = sigma\(1 s\)'
 
 run "allan json" 0 allan --format json "$G"
 cp "$T/out" "$T/a.json"
@@ -150,4 +150,10 @@ json_check "static gyro: resolved means fitted with lo > 0, else a warning" "$T/
 	'[.channels[] | (.noise | to_entries | map(.value.resolved == (.value.fitted and .value.lo > 0)) | all) and
 	  (((.warnings // []) | map(.code) | index("term_unresolved") != null) ==
 	   (.noise | to_entries | map(.value.fitted and (.value.resolved | not)) | any))] | all'
+# a K whose interval reaches zero is unresolved and warned about; a K whose
+# interval excludes zero is resolved and not warned about (both occur here)
+json_check "static gyro: K resolved exactly when its interval excludes 0" "$T/out" \
+	'[.channels[] | (.noise.K.lo > 0) == .noise.K.resolved and ((.noise.K.resolved | not) == ((.warnings // []) | map(.code) | index("term_unresolved") != null))] | all'
+json_check "static gyro: one K unresolved, one resolved" "$T/out" \
+	'([.channels[] | select(.noise.K.resolved | not)] | length) >= 1 and ([.channels[] | select(.noise.K.resolved)] | length) >= 1'
 done_testing

@@ -42,4 +42,26 @@ for f in dims-overflow dims-overflow-positive; do
 		info -c x_1 "$CORPUS/mat/$f.mat"
 done
 
+# ---- 12. a malformed --raw layout is a usage error (exit 2, one line that
+# says what is wrong), on the command line and in a scene; '' is refused
+raw_bad() { # LAYOUT PATTERN
+	bad "--raw '$1'" 2 "info: --raw: $2" info --raw "$1" -r 100 \
+		"$SAMPLES/imu-raw.bin"
+}
+raw_bad i16:0 "bad raw layout 'i16:0': channels must be 1 to 4096"
+raw_bad u64:1 "bad raw layout 'u64:1': unknown type"
+raw_bad i16:3:xx "bad raw layout 'i16:3:xx': byte order 'xx' is not le or be"
+raw_bad i16:-1 "bad raw layout 'i16:-1': the channel count is not a whole number"
+raw_bad : "bad raw layout ':': missing type"
+raw_bad i16:65536 "bad raw layout 'i16:65536': channels must be 1 to 4096"
+raw_bad i16:18446744073709551617 "bad raw layout .i16:18446744073709551617.: channels must be 1 to 4096"
+raw_bad i16 "bad raw layout 'i16': no channel count"
+raw_bad '' "empty raw layout"
+run "--raw i16:6:be reads" 0 info --raw i16:6:be -r 100 "$SAMPLES/imu-raw.bin"
+cp "$SAMPLES/imu-raw.bin" "$T/imu-raw.bin"
+printf '[input]\nfiles = imu-raw.bin\nraw = i16:0\nrate = 100\n[allan]\n' \
+	>"$T/raw.scene.ini"
+bad "scene raw = i16:0" 2 'raw.scene.ini: line 3: raw: bad raw layout .i16:0.' \
+	run --dry-run "$T/raw.scene.ini"
+
 done_testing

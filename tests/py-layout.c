@@ -47,6 +47,7 @@ int main(void)
 	F(sscope_read_opts, nan_as_gap);
 	F(sscope_read_opts, no_time);
 	F(sscope_read_opts, threads);
+	F(sscope_read_opts, in_place);
 	F(sscope_read_opts, progress);
 	F(sscope_read_opts, progress_ctx);
 	F(sscope_read_opts, topic);
@@ -77,6 +78,8 @@ int main(void)
 	F(sscope_capture, rate_source);
 	F(sscope_capture, n_nan);
 	F(sscope_capture, source_info);
+	F(sscope_capture, mapping);
+	F(sscope_capture, mapping_len);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);
@@ -85,6 +88,8 @@ int main(void)
 	F(sscope_allan_opts, alpha);
 	F(sscope_allan_opts, stride_div);
 	F(sscope_allan_opts, threads);
+	F(sscope_allan_opts, release);
+	F(sscope_allan_opts, release_ctx);
 	S(sscope_allan_point);
 	F(sscope_allan_point, tau_s);
 	F(sscope_allan_point, m);
@@ -106,9 +111,11 @@ int main(void)
 	F(sscope_noise_coef, fitted);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);
+	F(sscope_noise_readoff, n_tau_s);
 	F(sscope_noise_readoff, b);
 	F(sscope_noise_readoff, b_tau_s);
 	F(sscope_noise_readoff, k);
+	F(sscope_noise_readoff, k_tau_s);
 	S(sscope_noise_fit_opts);
 	F(sscope_noise_fit_opts, ci_level);
 	F(sscope_noise_fit_opts, allowed);
@@ -116,6 +123,7 @@ int main(void)
 	F(sscope_noise_fit_opts, model_error);
 	F(sscope_noise_fit_opts, tau_min_s);
 	F(sscope_noise_fit_opts, tau_max_s);
+	F(sscope_noise_fit_opts, skip);
 	S(sscope_noise_fit);
 	F(sscope_noise_fit, coef);
 	F(sscope_noise_fit, terms);
@@ -261,6 +269,10 @@ int main(void)
 	F(sscope_tempbias_result, have_split);
 	F(sscope_tempbias_result, heat_coef);
 	F(sscope_tempbias_result, cool_coef);
+	F(sscope_tempbias_result, hyst_grad_collinear);
+	F(sscope_tempbias_result, hyst_grad_vif);
+	F(sscope_tempbias_result, rate_heat_degc_s);
+	F(sscope_tempbias_result, rate_cool_degc_s);
 	F(sscope_tempbias_result, have_gradient);
 	F(sscope_tempbias_result, gradient);
 	F(sscope_tempbias_result, gradient_sd);

@@ -425,6 +425,30 @@ START_TEST(readoffs_and_errors)
 	ck_assert(isnan(r.k) || fabs(r.k / c[3] - 1) < 0.3);
 	ck_assert_int_eq(sscope_noise_readoff(pt, 2, &r), -EDOM);
 	ck_assert_int_eq(sscope_noise_readoff(NULL, 2, &r), -EINVAL);
+	/* the fit's read-offs use the model: N read where white rate noise
+	 * is at least half of the AVAR (within 5 % on the exact curve, as
+	 * the other terms add at most as much again), K likewise, B only
+	 * where it dominates the minimum */
+	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 10000001, NULL, &f, &d), 0);
+	ck_assert(fabs(f.readoff.n / c[1] - 1) < 0.05);
+	ck_assert(f.readoff.n_tau_s < 1);
+	ck_assert(isnan(f.readoff.k) || fabs(f.readoff.k / c[3] - 1) < 0.45);
+	/* white rate noise alone over a short record: no K read-off, N at
+	 * the shortest tau; a random walk alone: no N read-off */
+	{
+		struct sscope_allan_point p2[128];
+		size_t n2 = model_points((const double[5]){ 0, 2.385e-3, 0, 0, 0 },
+					 100, 100000, p2, 128);
+
+		ck_assert_int_eq(sscope_noise_fit(p2, n2, 100, 100001, NULL, &f, &d), 0);
+		ck_assert(isnan(f.readoff.k) && isnan(f.readoff.b));
+		ck_assert(fabs(f.readoff.n / 2.385e-3 - 1) < 1e-9);
+		n2 = model_points((const double[5]){ 0, 0, 0, 2.385e-5, 0 }, 100,
+				  100000, p2, 128);
+		ck_assert_int_eq(sscope_noise_fit(p2, n2, 100, 100001, NULL, &f, &d), 0);
+		ck_assert(isnan(f.readoff.n));
+		ck_assert(isfinite(f.readoff.k));
+	}
 	/* forced and allowed terms, tau range */
 	o.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_K);
 	ck_assert_int_eq(sscope_noise_fit(pt, n, 100, 10000001, &o, &f, &d), 0);

@@ -253,6 +253,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_NO_FIT:
 		a->no_fit = true;
+		a->fo.skip = true;
 		return 0;
 	case OPT_DEV_UNIT: {
 		struct sscope_unit u;
@@ -454,10 +455,14 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 
 		c->col = &cap->channels[k].col;
 		c->n = cap->n;
-		for (size_t i = 0; i < cap->n; i++)
+		for (size_t i = 0; cap->n_nan && i < cap->n; i++)
 			c->nan += isnan(cap->channels[k].data[i]);
 		set_units(a, c->col, &c->u);
 		ao.ci_level = a->ci;
+		/* a capture used in place gives its pages back behind the
+		 * phase pass */
+		ao.release = sscope_capture_release;
+		ao.release_ctx = cap;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &a->fo,
 					  &c->res, &d);
@@ -650,14 +655,29 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 				fprintf(f, "    %c  %-22s %11s %-16s (not fitted)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu);
 		}
-		fprintf(f, "  classic read-offs: N = sigma(1 s) on the -1/2 line: %s %s; B = min/0.6643: %s %s at tau = %s s; K = sigma(3 s) on the +1/2 line: %s %s\n",
-			ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
-			u->term[1],
-			ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
-			u->term[2],
-			ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
-			ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
-			u->term[3]);
+		/* the classic read-offs, where the fitted model says each term
+		 * dominates (or that it dominates nowhere) */
+		fprintf(f, "  classic read-offs where the fit says the term dominates:");
+		if (isfinite(ft->readoff.n))
+			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
+				ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
+				u->term[1]);
+		else
+			fprintf(f, " N: no tau where N dominates;");
+		if (isfinite(ft->readoff.b))
+			fprintf(f, " B = min/0.6643: %s %s at tau = %s s;",
+				ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
+				u->term[2], ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4));
+		else
+			fprintf(f, " B: the minimum is not dominated by B;");
+		if (isfinite(ft->readoff.k))
+			fprintf(f, " K = sigma(3 s) on the +1/2 line through tau = %s s: %s %s\n",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.k_tau_s, 4),
+				ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
+				u->term[3]);
+		else
+			fprintf(f, " K: no tau where K dominates\n");
 	}
 	{
 		struct warn w[6];
@@ -777,7 +797,9 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 			json_object_set_new(ro, "N", jval(ft->readoff.n, u->term_si[1], u->term[1]));
 			json_object_set_new(ro, "B", jval(ft->readoff.b, u->term_si[2], u->term[2]));
 			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
+			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
+			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
 			json_object_set_new(o, "readoff", ro);
 		}
 		{

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_statistics_double.h>
+
 #include "plot.h"
 #include "stage.h"
 
@@ -52,13 +54,6 @@ struct file_info {
 	bool rx_disagree;
 };
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 /* receive times against header stamps: latency, and rate and gaps */
 static void receive_times(const struct sscope_capture *cap,
 			  struct file_info *fi, double *scratch)
@@ -71,12 +66,15 @@ static void receive_times(const struct sscope_capture *cap,
 					    NULL, scratch) == 0;
 	if (!fi->have_rx)
 		return;
-	for (size_t i = 0; i < cap->n - 1; i++)
+	fi->lat_min_s = INFINITY;
+	fi->lat_max_s = -INFINITY;
+	for (size_t i = 0; i < cap->n - 1; i++) {
 		scratch[i] = rx[i] - cap->time_s[i];
-	qsort(scratch, cap->n - 1, sizeof(double), cmp_double);
-	fi->lat_median_s = scratch[(cap->n - 1) / 2];
-	fi->lat_min_s = scratch[0];
-	fi->lat_max_s = scratch[cap->n - 2];
+		fi->lat_min_s = fmin(fi->lat_min_s, scratch[i]);
+		fi->lat_max_s = fmax(fi->lat_max_s, scratch[i]);
+	}
+	/* quickselect: the data are reordered */
+	fi->lat_median_s = gsl_stats_median(scratch, 1, cap->n - 1);
 	fi->rx_disagree = fi->have_timing &&
 			  (fabs(fi->rx.rate_hz / fi->tm.rate_hz - 1) > 1e-3 ||
 			   fi->rx.n_gaps != fi->tm.n_gaps ||

@@ -378,9 +378,16 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_NO_PROGRESS:
 			co->progress = 0;
 			break;
-		case OPT_RAW:
+		case OPT_RAW: {
+			struct sscope_diag d = { "" };
+
+			if (sscope_raw_layout_check(optarg, NULL, NULL, &d)) {
+				rc = ssc_usage_error(co->cmd, "--raw: %s", d.msg);
+				goto out;
+			}
 			co->raw = optarg;
 			break;
+		}
 		case OPT_SCALE:
 			rc = ssc_arg_double(co->cmd, "scale", optarg, &co->scale);
 			if (!rc && co->scale == 0)
@@ -500,17 +507,16 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	ssc_read_opts(co, &o);
 	if (co->calibration)
 		o.columns = NULL; /* triads need all their channels; -c later */
+	else
+		o.in_place = true; /* (calibration drops channels: copies) */
 	if (ssc_progress_on(co)) {
 		o.progress = read_progress;
 		o.progress_ctx = &pc;
 	}
 	rc = sscope_capture_load(cap, path, &o, &d);
 	ssc_progress_end(co);
-	if (rc) {
-		if (rc == -EINVAL && co->raw && !d.msg[0])
-			return ssc_usage_error(co->cmd, "bad --raw '%s'", co->raw);
+	if (rc)
 		return ssc_fail(co->cmd, rc, &d, path);
-	}
 	if (co->calibration) {
 		rc = ssc_calibration_apply(co, path, *cap);
 		if (rc) {

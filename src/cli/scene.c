@@ -359,7 +359,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
 	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
 	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
-	sc->raw = xstrdup(sscope_ini_get(sc->ini, "input", "raw", NULL));
+	v = sscope_ini_get(sc->ini, "input", "raw", &line);
+	if (v && sscope_raw_layout_check(v, NULL, NULL, &d))
+		return scene_error(cmd, sc, line, "raw: %s", d.msg);
+	sc->raw = xstrdup(v);
 	rc = sscope_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
 	if (rc && rc != -ENOENT) {
 		ssc_err(cmd, "%s", d.msg);
