@@ -535,8 +535,19 @@ static size_t chan_warnings(const struct args *a, const struct chan *c,
 	char b1[32], b2[32], b3[32];
 	size_t n = 0;
 
-	if (a->no_fit || !c->res->have_fit)
+	if (a->no_fit)
 		return 0;
+	if (!c->res->have_fit) {
+		/* too short a record, too few points: said, not hidden */
+		if (max) {
+			w[0].code = "fit_failed";
+			snprintf(w[0].msg, sizeof(w[0].msg),
+				 "%s: no noise terms: %s", c->col->name,
+				 c->fit_msg[0] ? c->fit_msg : "the fit failed");
+			return 1;
+		}
+		return 0;
+	}
 	if (fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),

@@ -115,7 +115,8 @@ static void banner_one(const json_t *w, void *ctx)
 	const char *code = jstr(w, "code");
 	const char *title = !strcmp(code, "fit_rejected") ? "Fit rejected." :
 			    !strcmp(code, "term_unresolved") ? "Term not resolved." :
-							       "Check.";
+			    !strcmp(code, "fit_failed") ? "No noise terms." :
+							  "Check.";
 
 	ssc_html_banner(b->h, "warn", title, jstr(w, "message"), b->href);
 }
