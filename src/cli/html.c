@@ -346,25 +346,36 @@ static int read_file(const char *path, unsigned char **data, size_t *len)
 	return 0;
 }
 
+char *ssc_base64(const unsigned char *data, size_t len, size_t *out_len)
+{
+	struct base64_encode_ctx ctx;
+	char *b64 = malloc(BASE64_ENCODE_LENGTH(len) + BASE64_ENCODE_FINAL_LENGTH + 1);
+	size_t done;
+
+	if (!b64)
+		return NULL;
+	base64_encode_init(&ctx);
+	done = base64_encode_update(&ctx, b64, len, data);
+	done += base64_encode_final(&ctx, b64 + done);
+	b64[done] = '\0';
+	*out_len = done;
+	return b64;
+}
+
 int ssc_html_image(struct ssc_html *h, const char *png_path, const char *alt)
 {
 	unsigned char *data;
-	size_t len;
+	size_t len, done = 0;
 	char *b64;
-	struct base64_encode_ctx ctx;
-	size_t done;
 	int rc = read_file(png_path, &data, &len);
 
 	if (rc)
 		return rc;
-	b64 = malloc(BASE64_ENCODE_LENGTH(len) + BASE64_ENCODE_FINAL_LENGTH + 1);
+	b64 = ssc_base64(data, len, &done);
 	if (!b64) {
 		free(data);
 		return -ENOMEM;
 	}
-	base64_encode_init(&ctx);
-	done = base64_encode_update(&ctx, b64, len, data);
-	done += base64_encode_final(&ctx, b64 + done);
 	puts_(h, "<figure><img alt=\"");
 	esc(h, alt);
 	puts_(h, "\" src=\"data:image/png;base64,");

@@ -21,10 +21,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <nettle/base64.h>
 #include <zlib.h>
 
 #include "canvas.h"
+#include "html.h"
 
 struct ssc_svg {
 	char *buf;
@@ -99,6 +99,20 @@ static void num(struct ssc_svg *s, double v)
 	puts_(s, b);
 }
 
+/* ' x="" y="" width="" height=""' of a rectangle */
+static void xywh(struct ssc_svg *s, double x, double y, double w, double h)
+{
+	puts_(s, " x=\"");
+	num(s, x);
+	puts_(s, "\" y=\"");
+	num(s, y);
+	puts_(s, "\" width=\"");
+	num(s, w);
+	puts_(s, "\" height=\"");
+	num(s, h);
+	puts_(s, "\"");
+}
+
 static void color(struct ssc_svg *s, uint32_t rgb)
 {
 	putf(s, "#%06x", (unsigned)(rgb & 0xffffff));
@@ -154,15 +168,9 @@ static void sv_clip(void *ctx, double x, double y, double w, double h)
 	if (w <= 0 || h <= 0)
 		return;
 	s->n_clip++;
-	putf(s, "<clipPath id=\"%s-clip%u\"><rect x=\"", s->prefix, s->n_clip);
-	num(s, x);
-	puts_(s, "\" y=\"");
-	num(s, y);
-	puts_(s, "\" width=\"");
-	num(s, w);
-	puts_(s, "\" height=\"");
-	num(s, h);
-	putf(s, "\"/></clipPath>\n<g clip-path=\"url(#%s-clip%u)\">\n",
+	putf(s, "<clipPath id=\"%s-clip%u\"><rect", s->prefix, s->n_clip);
+	xywh(s, x, y, w, h);
+	putf(s, "/></clipPath>\n<g clip-path=\"url(#%s-clip%u)\">\n",
 	     s->prefix, s->n_clip);
 	s->clipped = true;
 }
@@ -224,15 +232,8 @@ static void sv_rect(void *ctx, double x, double y, double w, double h,
 {
 	struct ssc_svg *s = ctx;
 
-	puts_(s, "<rect x=\"");
-	num(s, w < 0 ? x + w : x);
-	puts_(s, "\" y=\"");
-	num(s, h < 0 ? y + h : y);
-	puts_(s, "\" width=\"");
-	num(s, fabs(w));
-	puts_(s, "\" height=\"");
-	num(s, fabs(h));
-	puts_(s, "\"");
+	puts_(s, "<rect");
+	xywh(s, w < 0 ? x + w : x, h < 0 ? y + h : y, fabs(w), fabs(h));
 	if (filled) {
 		puts_(s, " fill=\"");
 		color(s, rgb);
@@ -417,34 +418,22 @@ static void sv_image(void *ctx, double x, double y, double w, double h,
 		     const double *v, int iw, int ih)
 {
 	struct ssc_svg *s = ctx;
-	struct base64_encode_ctx b64;
 	unsigned char *png;
 	char *txt;
-	size_t len = 0, n;
+	size_t len = 0, n = 0;
 
 	if (w <= 0 || h <= 0 || iw <= 0 || ih <= 0)
 		return;
 	png = png_of(v, iw, ih, &len);
-	txt = png ? malloc(BASE64_ENCODE_LENGTH(len) +
-			   BASE64_ENCODE_FINAL_LENGTH + 1) :
-		    NULL;
+	txt = png ? ssc_base64(png, len, &n) : NULL;
 	if (!txt) {
 		free(png);
 		s->failed = true;
 		return;
 	}
-	base64_encode_init(&b64);
-	n = base64_encode_update(&b64, txt, len, png);
-	n += base64_encode_final(&b64, txt + n);
-	puts_(s, "<image class=\"image\" x=\"");
-	num(s, x);
-	puts_(s, "\" y=\"");
-	num(s, y);
-	puts_(s, "\" width=\"");
-	num(s, w);
-	puts_(s, "\" height=\"");
-	num(s, h);
-	puts_(s, "\" preserveAspectRatio=\"none\" "
+	puts_(s, "<image class=\"image\"");
+	xywh(s, x, y, w, h);
+	puts_(s, " preserveAspectRatio=\"none\" "
 		 "style=\"image-rendering:pixelated\" "
 		 "xlink:href=\"data:image/png;base64,");
 	put(s, txt, n);
