@@ -346,6 +346,33 @@ static void psd_tables(struct ssc_html *h, const json_t *res)
 	}
 }
 
+/* vibration: severity and the diagnosis with its evidence */
+static void vibration_tables(struct ssc_html *h, const json_t *res)
+{
+	static const char *const head[] = { "channel", "finding", "evidence" };
+	const json_t *ch = json_object_get(res, "channels"), *c;
+	size_t i, n = 0;
+
+	json_array_foreach(ch, i, c) {
+		const json_t *dg = json_object_get(c, "diagnosis"), *d;
+		size_t k;
+
+		json_array_foreach(dg, k, d) {
+			const char *cells[3] = { jstr(c, "name"), jstr(d, "finding"),
+						 jstr(d, "evidence") };
+
+			if (!n++)
+				ssc_html_table_begin(h, "findings", head, 3);
+			ssc_html_table_row(h, cells, 3);
+		}
+	}
+	if (n)
+		ssc_html_table_end(h);
+	else if (json_array_size(ch))
+		ssc_html_p(h, "No machinery finding (unbalance, misalignment or a bearing defect) in %s.",
+			   json_array_size(ch) > 1 ? "these channels" : "this channel");
+}
+
 /* ------------------------------------------------------- definitions */
 
 /* MathML of the formulas each stage uses. */
@@ -538,6 +565,8 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 			allan_tables(h, st[i].result);
 		else if (!strcmp(st[i].name, "psd"))
 			psd_tables(h, st[i].result);
+		else if (!strcmp(st[i].name, "vibration"))
+			vibration_tables(h, st[i].result);
 		if (strcmp(st[i].name, "allan"))
 			summary_table(h, summary, st[i].name, NULL);
 		if (st[i].text)
