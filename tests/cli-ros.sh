@@ -19,6 +19,12 @@ for f in imu-none.bag imu-bz2.bag imu-lz4.bag imu-zstd.mcap imu-lz4.mcap \
 	 imu-ros1.mcap rosbag2-mcap rosbag2 rosbag2/rosbag2_0.db3; do
 	case $f in rosbag2|rosbag2/*)
 		if [ $have_db3 = 0 ]; then
+			# recognised by its leading bytes, refused with the fix
+			mkdir -p "$T/r/rosbag2"
+			{ printf 'SQLite format 3\000'; head -c 4080 /dev/zero; } \
+				>"$T/r/rosbag2/rosbag2_0.db3"
+			printf 'rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  relative_file_paths:\n    - rosbag2_0.db3\n' \
+				>"$T/r/rosbag2/metadata.yaml"
 			run "$f without SQLite" 2 info "$T/r/$f"
 			has "$f: names the fix" "$T/err" 'without SQLite.*--with-sqlite3'
 			one_line_error "$f"
@@ -162,6 +168,13 @@ one_line_error "--inflate below 1"
 run "openvins without accelerometer" 1 allan -c gx,gy,gz --openvins "$T/ov2.yaml" "$T/r/imu-lz4.bag"
 has "openvins without accelerometer: says what it needs" "$T/err" 'needs both a gyro .* and an accelerometer'
 if [ -e "$T/ov2.yaml" ]; then not_ok "openvins: no file on failure"; else ok "openvins: no file on failure"; fi
+
+# a scene names the topic in [input]
+cp "$T/r/two-imu.mcap" "$T/two.mcap"
+printf '[input]\nfiles = two.mcap\ntopic = /imu1/data\n[allan]\n[report]\nformats = json\noutput = sc\n' >"$T/s.ini"
+run "scene with [input] topic" 0 run "$T/s.ini"
+json_check "scene: allan on the named topic" "$T/sc/report.json" \
+  '.results.allan.channels[0].samples == 6000 and (.results.allan.channels | length) == 6'
 
 # allan on a 1 h 200 Hz IMU topic equals allan on the same data as CSV
 "$GEN" "$T/h" 200 3600 csv && "$GEN" "$T/h" 200 3600 mcap || not_ok "gen-ros 1 h"
