@@ -243,6 +243,10 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/* A unit for people: deg -> degree sign, sqrt(h) -> root, ug -> micro,
+ * ^2 -> superscript (figures and reports; the JSON keeps the ASCII form). */
+void ssc_unit_pretty(const char *in, char *out, size_t len);
+
 /* Append {"code", "message"} to obj's "warnings" array (made when
  * missing): a result the analysis itself doubts (a rejected fit, an
  * unresolved term, too few samples, clipped data), which reports show as a

@@ -538,8 +538,19 @@ static size_t chan_warnings(const struct args *a, const struct chan *c,
 	char b1[32], b2[32], b3[32];
 	size_t n = 0;
 
-	if (a->no_fit || !c->res->have_fit)
+	if (a->no_fit)
 		return 0;
+	if (!c->res->have_fit) {
+		/* too short a record, too few points: said, not hidden */
+		if (max) {
+			w[0].code = "fit_failed";
+			snprintf(w[0].msg, sizeof(w[0].msg),
+				 "%s: no noise terms: %s", c->col->name,
+				 c->fit_msg[0] ? c->fit_msg : "the fit failed");
+			return 1;
+		}
+		return 0;
+	}
 	if (fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),
@@ -897,35 +908,6 @@ static int write_exports(const struct ssc_common *co, const struct args *a,
 /* Plot                                                                */
 /* ------------------------------------------------------------------ */
 
-/* a unit for humans: deg -> degree sign, sqrt(h) -> root, ug -> micro */
-static void pretty(const char *in, char *out, size_t len)
-{
-	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
-					    "ug", "^2", "^3", "*", NULL };
-	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
-					  "\xe2\x88\x9ah", "\xc2\xb5g",
-					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
-	size_t o = 0;
-
-	while (*in && o + 8 < len) {
-		int i;
-
-		for (i = 0; from[i]; i++)
-			if (!strncmp(in, from[i], strlen(from[i])))
-				break;
-		if (from[i]) {
-			size_t l = strlen(to[i]);
-
-			memcpy(out + o, to[i], l);
-			o += l;
-			in += strlen(from[i]);
-		} else {
-			out[o++] = *in++;
-		}
-	}
-	out[o] = '\0';
-}
-
 /* y range of a channel's points and intervals, in the shown unit */
 static void chan_range(const struct chan *c, double *lo, double *hi)
 {
@@ -988,7 +970,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		tmax = fmax(tmax, p->tau_s);
 		k++;
 	}
-	pretty(u->show, un, sizeof(un));
+	ssc_unit_pretty(u->show, un, sizeof(un));
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
 	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
@@ -1039,7 +1021,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 						 .dash = SSC_DASHED };
 			int dg;
 
-			pretty(u->term[t], cu, sizeof(cu));
+			ssc_unit_pretty(u->term[t], cu, sizeof(cu));
 			if (term_resolved(cf)) {
 				one[t] = cf->value;
 				for (int i = 0; i < NG; i++)
@@ -1200,16 +1182,22 @@ static void summarize(json_t *summary, const struct args *a,
 			 100 * ft->ci_level);
 		for (int t = 1; t <= 3; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
+			char nt[160];
 
 			if (!cf->fitted)
 				continue;
 			snprintf(what, sizeof(what), "%s %c",
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
+			snprintf(nt, sizeof(nt), "%s%s%s", note,
+				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
+				 term_resolved(cf) ? "" : "; not resolved: the interval reaches 0");
 			ssc_summary_add(summary, c->col->name, what,
 					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
-					c->u.term[t], note);
+					c->u.term[t], nt);
+			if (fit_rejected(ft) || !term_resolved(cf))
+				ssc_summary_warn_last(summary);
 		}
 	}
 }

@@ -917,6 +917,34 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	return o;
 }
 
+void ssc_unit_pretty(const char *in, char *out, size_t len)
+{
+	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
+					    "ug", "^2", "^3", "*", NULL };
+	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
+					  "\xe2\x88\x9ah", "\xc2\xb5g",
+					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
+	size_t o = 0;
+
+	while (*in && o + 8 < len) {
+		int i;
+
+		for (i = 0; from[i]; i++)
+			if (!strncmp(in, from[i], strlen(from[i])))
+				break;
+		if (from[i]) {
+			size_t l = strlen(to[i]);
+
+			memcpy(out + o, to[i], l);
+			o += l;
+			in += strlen(from[i]);
+		} else {
+			out[o++] = *in++;
+		}
+	}
+	out[o] = '\0';
+}
+
 void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
 {
 	json_t *arr = json_object_get(obj, "warnings"), *w;

@@ -61,6 +61,14 @@ void ssc_summary_add(json_t *summary, const char *channel,
 	json_array_append_new(summary, o);
 }
 
+void ssc_summary_warn_last(json_t *summary)
+{
+	json_t *last = json_array_get(summary, json_array_size(summary) - 1);
+
+	if (last)
+		json_object_set_new(last, "status", json_string("warning"));
+}
+
 int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out)
 {
 	struct ssc_out o;
