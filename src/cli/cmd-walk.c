@@ -216,8 +216,9 @@ static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
 		return ssc_fail(cmd, rc, &d, "allan");
 	if (res->have_fit) {
 		for (int i = 0; i < 5; i++)
-			if (res->fit.coef[i].fitted && res->fit.coef[i].value > 0) {
-				t->coef[i] = res->fit.coef[i].value;
+			/* unresolved terms enter with their point estimate */
+			if (sscope_noise_coef_predictive(&res->fit.coef[i]) > 0) {
+				t->coef[i] = sscope_noise_coef_predictive(&res->fit.coef[i]);
 				t->have = true;
 			}
 		t->n_lo = res->fit.coef[SSCOPE_TERM_N].lo;
