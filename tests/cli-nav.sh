@@ -41,6 +41,12 @@ run "seed 5, one thread" 0 navsim --arw 0.2deg/sqrt\(h\) --vrw 0.05m/s/sqrt\(h\)
 run "seed 5, two threads" 0 navsim --arw 0.2deg/sqrt\(h\) --vrw 0.05m/s/sqrt\(h\) --runs 8 --duration 30 --seed 5 --threads 2 --format json -o "$T/b.json"
 if cmp -s "$T/a.json" "$T/b.json"; then ok "thread count does not change the result"; else not_ok "threads change the result"; fi
 
+# progress on stderr only when asked (stderr is not a terminal here)
+run "navsim --progress" 0 navsim --arw 0.1deg/sqrt\(h\) --runs 3 --duration 20 --progress
+has "progress counts the runs" "$T/err" 'Monte-Carlo run 3 of 3'
+run "navsim without --progress" 0 navsim --arw 0.1deg/sqrt\(h\) --runs 3 --duration 20
+if [ -s "$T/err" ]; then not_ok "quiet stderr by default"; diag "$T/err"; else ok "quiet stderr by default"; fi
+
 # sources: a spec, an allan result, a calib result
 run "navsim --sensor" 0 navsim --sensor "$SAMPLES/gyro-mems-250.ini" --runs 4 --duration 30 --format json
 json_check "spec's terms and random constants" "$T/out" \

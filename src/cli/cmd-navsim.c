@@ -887,6 +887,14 @@ out:
 	return SSC_EXIT_OK;
 }
 
+/* "run 12 of 100" on stderr (only when progress is on) */
+static void progress(void *ctx, size_t done, size_t total)
+{
+	(void)ctx;
+	fprintf(stderr, "\rnavsim: Monte-Carlo run %zu of %zu   ", done, total);
+	fflush(stderr);
+}
+
 static int run(const struct ssc_stage_env *env, void *opts,
 	       struct ssc_stage_out *sout)
 {
@@ -916,6 +924,8 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	no.turn_rate_rad_s = o.turn_rate;
 	no.free_vertical = o.free_vertical;
 	no.threads = o.threads;
+	if (ssc_progress_on(env->co))
+		no.progress = progress;
 	if (o.motion == SSCOPE_NAVSIM_TABLE) {
 		rc = load_table(cmd, o.traj_file, &tb);
 		if (rc)
@@ -942,6 +952,8 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	rc = sscope_navsim_monte_carlo(r.ns, &in.imu, o.runs, o.seed, r.st, NULL,
 				       &r.clipped, &d);
+	if (no.progress)
+		ssc_progress_end(env->co);
 	if (rc) {
 		rc = ssc_fail(cmd, rc, &d, "Monte Carlo");
 		goto done;
