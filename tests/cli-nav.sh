@@ -62,6 +62,10 @@ json_check "calib's bias and misalignment" "$T/out" '(.imu.accel.bias[0] - 0.206
 run "navsim --trajectory file" 0 navsim --trajectory "$SAMPLES/drive-trajectory.csv" --runs 1 --format json
 json_check "a perfect IMU follows the drive" "$T/out" \
 	'.trajectory.kind == "file" and .duration_s == 600 and ([.percentiles.p50.north_m[], .percentiles.p50.east_m[] | fabs] | max) < 1e-3'
+run "trajectory shorter than --duration" 0 navsim --trajectory "$SAMPLES/drive-trajectory.csv" --duration 1h --runs 1
+has "says the span" "$T/err" 'spans 600 s'
+run "too much memory" 1 navsim --trajectory straight:10m/s --rate 10000 --duration 2h
+one_line_error "too much memory"
 run "turn" 0 navsim --trajectory turn:10deg/s:10m/s --runs 1 --duration 60 --format json
 json_check "a perfect IMU turning" "$T/out" '([.percentiles.p50.yaw_rad[] | fabs] | max) < 1e-8'
 

@@ -937,6 +937,22 @@ static int run(const struct ssc_stage_env *env, void *opts,
 		if (!o.set_duration)
 			no.duration_s = 0;
 	}
+	{
+		/* memory: perfect increments (48 bytes a sample) unless at
+		 * rest, and every run's errors (72 bytes a record) */
+		double span = o.motion == SSCOPE_NAVSIM_TABLE ?
+				      tb.cap->time_s[tb.cap->n - 1] : o.duration;
+		double rec = o.step > 0 ? span / o.step : 600;
+		double bytes = (o.motion == SSCOPE_NAVSIM_STATIC ? 0 : 48 * span * o.rate) +
+			       72.0 * (double)o.runs * (rec + 1);
+
+		if (bytes > 2147483648.0) {
+			ssc_err(cmd, "this simulation needs about %.0f MB (more than 2 GB): lower --rate, --duration or --runs, or raise --output-step",
+				bytes / 1e6);
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+	}
 	rc = sscope_navsim_new(&r.ns, &no, &d);
 	if (rc) {
 		rc = o.traj_file ? ssc_nav_fail(cmd, rc, &d, o.traj_file) : ssc_fail(cmd, rc, &d, "navsim");
@@ -944,6 +960,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	r.n = sscope_navsim_n_out(r.ns);
 	dur = sscope_navsim_time(r.ns, r.n - 1);
+	if (o.set_duration && dur < o.duration - 2 / o.rate)
+		ssc_warn(env->co, "%s spans %g s: simulating that, not --duration %g s",
+			 o.traj_file ? o.traj_file : "the trajectory", dur, o.duration);
 	r.st = calloc(r.n, sizeof(*r.st));
 	if (!r.st) {
 		ssc_err(cmd, "out of memory");
