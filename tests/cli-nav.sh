@@ -205,6 +205,11 @@ run "report on two gyros" 0 report -o "$T/gyros" "$SAMPLES/gyro-static.csv"
 if [ -s "$T/gyros/walk.json" ]; then ok "walk inferred"; else not_ok "walk inferred"; fi
 run "report on a moving IMU" 0 report -o "$T/moving" "$SAMPLES/imu-multipose.csv"
 has "walk refused with its reason" "$T/moving/report.html" "Stage 'walk': inferred, but refused by the data.*moves"
+mkdir -p "$T/sc"
+cp "$SAMPLES/drive-trajectory.csv" "$T/sc/drive.csv"
+printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\ntrajectory-file = drive.csv\n\n[report]\nformats = text\n' >"$T/sc/ns.ini"
+run "navsim scene, trajectory relative to the scene" 0 run "$T/sc/ns.ini" -o "$T/sc/out" -q
+has "the scene's trajectory" "$T/sc/out/report.txt" 'trajectory .*sc/drive.csv'
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\n\n[report]\nformats = text\n' >"$T/ns.ini"
 run "navsim in a scene without captures" 0 run "$T/ns.ini" -o "$T/ns" -q
 has "navsim's own keys" "$T/ns/report.txt" 'fixed gyro bias \(x, y, z\): 0, 10, 0 deg/h'

@@ -34,6 +34,7 @@ enum {
 	O_HEIGHT,
 	O_HEADING,
 	O_TRAJ,
+	O_TRAJ_FILE,
 	O_DURATION,
 	O_RATE,
 	O_RUNS,
@@ -63,6 +64,8 @@ static const struct ssc_option navsim_opts[] = {
 	{ "heading", required_argument, O_HEADING, "DEG", "initial heading (default 0, north)" },
 	{ "trajectory", required_argument, O_TRAJ, "KIND",
 	  "reference motion: static (default), straight:SPEED, turn:RATE[:SPEED] or FILE.csv" },
+	{ "trajectory-file", required_argument, O_TRAJ_FILE, "FILE.csv",
+	  "the same as --trajectory FILE.csv (in a scene: relative to the scene file)" },
 	{ "duration", required_argument, O_DURATION, "T", "simulated span (default 10 min; a file: its span)" },
 	{ "rate", required_argument, O_RATE, "HZ", "IMU sample rate (default 100 Hz)" },
 	{ "runs", required_argument, O_RUNS, "M", "Monte-Carlo runs (default 100)" },
@@ -225,6 +228,10 @@ static int handler(int key, const char *arg, void *ctx)
 			       SSC_EXIT_USAGE : 0;
 	case O_TRAJ:
 		return parse_traj(o, arg);
+	case O_TRAJ_FILE:
+		o->motion = SSCOPE_NAVSIM_TABLE;
+		o->traj_file = o->traj_text = arg;
+		return 0;
 	case O_DURATION:
 		if (ssc_arg_quantity(cmd, "duration", arg, "s", &o->duration))
 			return SSC_EXIT_USAGE;
