@@ -103,6 +103,7 @@ struct sscope_reader {
 	struct sscope_source *src;
 	/* a mapped binary file: pages before `dropped` were given back */
 	size_t dropped, pagesz;
+	size_t last_used; /* last column converted (SIZE_MAX: none) */
 };
 
 /* ------------------------------------------------------------ source */
@@ -224,6 +225,8 @@ static const char *line_end(const char *p, const char *end)
 
 	return q ? q : end;
 }
+
+static bool skip_line(const char *p, const char *e);
 
 static char *dup_range(const char *a, const char *b)
 {
@@ -430,6 +433,29 @@ static long find_column(struct sscope_reader *r, const char *key)
 	return -1;
 }
 
+/* The 1-based numbers of the columns whose name equals column i's (case
+ * aside), "2, 3 and 4" into buf; returns how many there are. */
+static size_t same_name(const struct sscope_reader *r, size_t i, char *buf,
+			size_t len)
+{
+	size_t n = 0, used = 0, last = 0;
+
+	buf[0] = '\0';
+	for (size_t k = 0; k < r->ncols; k++) {
+		if (ssc_strcasecmp(r->cols[k].name, r->cols[i].name))
+			continue;
+		if (n && used + 24 < len)
+			used += (size_t)snprintf(buf + used, len - used, "%s%zu",
+						 n > 1 ? ", " : "", last);
+		last = k + 1;
+		n++;
+	}
+	if (used + 24 < len)
+		snprintf(buf + used, len - used, "%s%zu", n > 1 ? " and " : "",
+			 last);
+	return n;
+}
+
 static int column_list(struct sscope_reader *r, char *buf, size_t len)
 {
 	size_t used = 0;
@@ -547,6 +573,18 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 				free(copy);
 				return rc;
 			}
+			if (strcmp(tok, r->cols[idx].name) == 0 ||
+			    ssc_strcasecmp(tok, r->cols[idx].name) == 0) {
+				/* a name, not an index: it must be unique */
+				if (same_name(r, (size_t)idx, names,
+					      sizeof(names)) > 1) {
+					rc = ssc_diag(diag, -EINVAL,
+						      "%s: '%s' names columns %s: select one by its number",
+						      r->disp, tok, names);
+					free(copy);
+					return rc;
+				}
+			}
 			if (r->cols[idx].dest >= 0)
 				continue; /* named twice */
 			if (r->nsel >= r->ncols)
@@ -564,12 +602,31 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 			r->sel[r->nsel++] = i;
 		}
 	}
+	r->last_used = SIZE_MAX;
 	for (size_t i = 0; i < r->ncols; i++) {
 		struct colx *c = &r->cols[i];
 
 		c->is_time = (long)i == r->time_col;
 		c->is_temp = (long)i == r->temp_col;
 		c->used = c->dest >= 0 || c->is_time || c->is_temp;
+		if (c->used)
+			r->last_used = i;
+	}
+	/* two columns in use under one name: results could not tell them
+	 * apart (t,gx,gx,gx) */
+	for (size_t i = 0; i < r->ncols; i++) {
+		if (!r->cols[i].used)
+			continue;
+		for (size_t k = i + 1; k < r->ncols; k++)
+			if (r->cols[k].used &&
+			    !ssc_strcasecmp(r->cols[i].name, r->cols[k].name)) {
+				size_t n = same_name(r, i, names, sizeof(names));
+
+				return ssc_diag(diag, -EINVAL,
+						"%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",
+						r->disp, names, n > 2 ? "all" : "both",
+						r->cols[i].name);
+			}
 	}
 	for (size_t k = 0; k < r->nsel; k++) {
 		rc = check_unit(r, &r->cols[r->sel[k]], diag);
@@ -1225,7 +1282,10 @@ const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
 
 /* ------------------------------------------------------------ open */
 
-int sscope_reader_open(struct sscope_reader **reader, const char *path,
+/* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
+ * a mapped file) when mem is not NULL, else the file at path. */
+static int reader_open(struct sscope_reader **reader, const char *path,
+		       const void *mem, size_t mem_len,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag)
 {
@@ -1263,16 +1323,24 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
-	if (!(r->opts->raw && *r->opts->raw) && ssc_rosbag2_is_dir(path)) {
+	if (!mem && !(r->opts->raw && *r->opts->raw) &&
+	    ssc_rosbag2_is_dir(path)) {
 		r->kind = K_TABLE;
 		rc = ssc_rosbag2_open(&r->tab, path, r->opts->topic, diag);
 		if (!rc)
 			rc = table_columns(r);
 		goto opened;
 	}
-	rc = src_open(r, diag);
-	if (rc)
-		goto fail;
+	if (mem) {
+		r->base = mem;
+		r->len = mem_len;
+		r->size = mem_len;
+		r->eof = true;
+	} else {
+		rc = src_open(r, diag);
+		if (rc)
+			goto fail;
+	}
 	if (r->opts->raw && *r->opts->raw) {
 		r->kind = K_RAW;
 		rc = open_raw(r, diag);
@@ -1343,6 +1411,40 @@ opened:
 fail:
 	sscope_reader_close(r);
 	return rc;
+}
+
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag)
+{
+	return reader_open(reader, path, NULL, 0, opts, diag);
+}
+
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag)
+{
+	if (!buf)
+		return ssc_diag(diag, -EINVAL, "no input buffer");
+	return reader_open(reader, name ? name : "(memory)", buf, len, opts,
+			   diag);
+}
+
+bool sscope_reader_unterminated(const struct sscope_reader *r)
+{
+	const char *p, *e;
+
+	if (!r || r->kind != K_TEXT || !r->eof || r->pos < r->len || !r->len)
+		return false;
+	e = r->base + r->len;
+	if (e[-1] == '\n')
+		return false;
+	/* the last line is still in the buffer: a pipe's buffer slides by
+	 * whole lines */
+	p = memrchr(r->base, '\n', r->len);
+	p = p ? p + 1 : r->base;
+	return !skip_line(p, e);
 }
 
 size_t sscope_reader_n_channels(const struct sscope_reader *r)
@@ -1628,6 +1730,60 @@ static int parse_line(const struct sscope_reader *r, const char *p,
  * by the delimiter, the line ending with '\n'.  Returns the start of the
  * next line, or NULL to let the careful path (messages, blanks, NaN,
  * comments) handle the line -- it rewrites the whole row. */
+/* bytes of a 64-bit word equal to the byte in every lane of pat: the high
+ * bit of each such byte (exact, no false positives) */
+static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
+{
+	const uint64_t lo7 = 0x7f7f7f7f7f7f7f7full;
+	uint64_t x = w ^ pat;
+
+	return ~(((x & lo7) + lo7) | x | lo7);
+}
+
+#define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
+
+/* first d or newline at or after p (or end), eight bytes at a time: the
+ * scan over the cells nobody asked for */
+static const char *skip_cell(const char *p, const char *end, char d)
+{
+	const uint64_t pd = BYTES(d), pn = BYTES('\n');
+
+	for (; end - p >= 8; p += 8) {
+		uint64_t w, hit;
+
+		memcpy(&w, p, 8);
+		hit = eq_bytes(w, pd) | eq_bytes(w, pn);
+		if (hit) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+			return p + (__builtin_ctzll(hit) >> 3);
+#else
+			break;
+#endif
+		}
+	}
+	while (p < end && *p != d && *p != '\n')
+		p++;
+	return p;
+}
+
+/* occurrences of d in [p, e) */
+static size_t count_byte(const char *p, const char *e, char d)
+{
+	const uint64_t pd = BYTES(d);
+	size_t n = 0;
+
+	for (; e - p >= 8; p += 8) {
+		uint64_t w;
+
+		memcpy(&w, p, 8);
+		/* one bit per matching byte, summed by a multiply */
+		n += (size_t)(((eq_bytes(w, pd) >> 7) * BYTES(1)) >> 56);
+	}
+	for (; p < e; p++)
+		n += *p == d;
+	return n;
+}
+
 static const char *fast_line(const struct sscope_reader *r, const char *p,
 			     const char *end, bool eof,
 			     struct sscope_chunk *ch, size_t row)
@@ -1646,9 +1802,23 @@ static const char *fast_line(const struct sscope_reader *r, const char *p,
 				return NULL;
 			p += n;
 			put_cell(r, c, ch, row, a, p, v);
+			if (col == r->last_used && col + 1 < r->ncols) {
+				/* the cells after the last one in use: find
+				 * the end of the line, count the delimiters */
+				const char *nl;
+
+				if (p >= end || *p != d)
+					return NULL;
+				nl = memchr(p, '\n', (size_t)(end - p));
+				if (!nl && !eof)
+					return NULL;
+				if (count_byte(p, nl ? nl : end, d) !=
+				    r->ncols - 1 - col)
+					return NULL;
+				return nl ? nl + 1 : end;
+			}
 		} else {
-			while (p < end && *p != d && *p != '\n')
-				p++;
+			p = skip_cell(p, end, d);
 		}
 		if (col + 1 < r->ncols) {
 			if (p >= end || *p != d)
@@ -2160,6 +2330,32 @@ static bool host_order(const struct sscope_reader *r)
 #endif
 }
 
+/* whether x[0..n) holds only finite values, on vectors where available */
+static bool all_finite(const double *x, size_t n)
+{
+	double z = 0;
+	size_t i = 0;
+
+#if defined(__GNUC__)
+	typedef double v4 __attribute__((vector_size(32)));
+	v4 a = { 0 }, b = { 0 };
+
+	for (; i + 8 <= n; i += 8) {
+		v4 u, w;
+
+		memcpy(&u, x + i, sizeof(u));
+		memcpy(&w, x + i + 4, sizeof(w));
+		a += u * 0.0;
+		b += w * 0.0;
+	}
+	a += b;
+	z = (a[0] + a[1]) + (a[2] + a[3]);
+#endif
+	for (; i < n; i++)
+		z += x[i] * 0.0;
+	return z == 0;
+}
+
 bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 			     double **x, size_t *n, size_t *n_nan,
 			     void **map, size_t *map_len)
@@ -2176,11 +2372,17 @@ bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 	    r->len % sizeof(double) || ((uintptr_t)base & 63))
 		return false;
 	len = r->len / sizeof(double);
-	/* NaN (a gap, if allowed) and infinities, counted in one pass */
-	for (size_t i = 0; i < len; i++) {
-		nn += v[i] != v[i];
-		ninf += fabs(v[i]) > DBL_MAX;
-	}
+#ifdef MADV_POPULATE_READ
+	/* the page tables in one call instead of a fault per 64 KiB */
+	madvise(base, r->len, MADV_POPULATE_READ);
+#endif
+	/* NaN (a gap, if allowed) and infinities, counted in one pass when
+	 * a quick one finds any (0 * x is 0 for every finite x) */
+	if (!all_finite(v, len))
+		for (size_t i = 0; i < len; i++) {
+			nn += v[i] != v[i];
+			ninf += fabs(v[i]) > DBL_MAX;
+		}
 	if (ninf || (nn && !allow_nan))
 		return false; /* the row-by-row path reports it */
 	madvise(base, r->len, MADV_NORMAL);

@@ -4,8 +4,10 @@
  * rows against the row-by-row path (the same file in the other byte order,
  * which takes it), gaps and bad values inside a block with their exact
  * location, captures used in place (mapped, read-only) and their pages
- * given back, and the Allan engine's release callback (every sample
- * released once, results unchanged).
+ * given back, the Allan engine's release callback (every sample released
+ * once, results unchanged), the fit of an all-tau grid on its dense
+ * taus, one-pass statistics (vector and scalar blocks), and CSV cells
+ * skipped after the last column in use.
  */
 #include "internal.h"
 
@@ -384,6 +386,174 @@ START_TEST(analyze_skip_fit)
 }
 END_TEST
 
+/* an all-tau grid is fitted on its dense taus: the same fit as the dense
+ * grid's, from points equal to the dense grid's own */
+START_TEST(all_grid_fit_dense)
+{
+	size_t n = 6000;
+	double *y = malloc(n * sizeof(double));
+	struct sscope_allan_result *all = NULL, *dense = NULL;
+	uint64_t s = 88172645463325252ull;
+	double w = 0;
+
+	ck_assert_ptr_nonnull(y);
+	for (size_t i = 0; i < n; i++) {
+		s ^= s << 13;
+		s ^= s >> 7;
+		s ^= s << 17;
+		w += ((double)(s >> 11) * 0x1p-53 - 0.5) * 0.01;
+		y[i] = (double)(s >> 11) * 0x1p-53 + w;
+	}
+	for (int dev = 0; dev < 2; dev++) {
+		struct sscope_allan_opts ao = { .dev = dev ? SSCOPE_DEV_MDEV :
+							     SSCOPE_DEV_OADEV };
+
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_ALL,
+						      &ao, NULL, &all, NULL), 0);
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_DENSE,
+						      &ao, NULL, &dense, NULL), 0);
+		ck_assert_uint_eq(all->n_points, dev ? n / 3 : n / 2);
+		ck_assert(all->oadev != all->points);
+		ck_assert_uint_eq(all->n_oadev, dense->n_oadev);
+		for (size_t j = 0; j < dense->n_oadev; j++) {
+			ck_assert_uint_eq(all->oadev[j].m, dense->oadev[j].m);
+			ck_assert(all->oadev[j].dev == dense->oadev[j].dev);
+			ck_assert(all->oadev[j].edf == dense->oadev[j].edf);
+		}
+		ck_assert(all->have_fit && dense->have_fit);
+		ck_assert_uint_eq(all->fit.terms, dense->fit.terms);
+		for (int t = 0; t < 5; t++) {
+			ck_assert(all->fit.coef[t].value == dense->fit.coef[t].value ||
+				  (isnan(all->fit.coef[t].value) &&
+				   isnan(dense->fit.coef[t].value)));
+			ck_assert(all->fit.coef[t].hi == dense->fit.coef[t].hi ||
+				  (isnan(all->fit.coef[t].hi) &&
+				   isnan(dense->fit.coef[t].hi)));
+		}
+		sscope_allan_result_free(all);
+		sscope_allan_result_free(dense);
+	}
+	free(y);
+}
+END_TEST
+
+/* one-pass statistics: the vector blocks, the sample-by-sample blocks
+ * (strided, or holding NaN) and a long-double two-pass reference agree */
+START_TEST(stats_one_pass)
+{
+	const size_t n = 100003;
+	double *x = malloc(2 * n * sizeof(double));
+	uint64_t s = 88172645463325252ull;
+
+	ck_assert_ptr_nonnull(x);
+	for (int pass = 0; pass < 3; pass++) {
+		struct sscope_stats a, b;
+		long double m = 0, v = 0;
+		size_t c = 0, nn = 0;
+		double lo = INFINITY, hi = -INFINITY;
+
+		for (size_t i = 0; i < n; i++) {
+			s ^= s << 13;
+			s ^= s >> 7;
+			s ^= s << 17;
+			x[2 * i] = (pass == 2 ? 2.385e9 : 0.7) +
+				   ((double)(s >> 11) * 0x1p-53 - 0.5) * 2.385;
+			x[2 * i + 1] = NAN;
+			if (pass == 1 && i % 9973 == 17)
+				x[2 * i] = NAN;
+		}
+		for (size_t i = 0; i < n; i++) {
+			double y = x[2 * i];
+
+			if (isnan(y)) {
+				nn++;
+				continue;
+			}
+			m += y;
+			c++;
+			lo = fmin(lo, y);
+			hi = fmax(hi, y);
+		}
+		m /= (long double)c;
+		for (size_t i = 0; i < n; i++)
+			if (!isnan(x[2 * i]))
+				v += (x[2 * i] - m) * (x[2 * i] - m);
+		v = sqrtl(v / (long double)(c - 1));
+		/* strided: sample by sample */
+		ck_assert_int_eq(sscope_stats_compute(x, 2, n, &a), 0);
+		/* contiguous: vectors */
+		for (size_t i = 0; i < n; i++)
+			x[i] = x[2 * i];
+		ck_assert_int_eq(sscope_stats_compute(x, 1, n, &b), 0);
+		ck_assert_uint_eq(a.n, c);
+		ck_assert_uint_eq(b.n, c);
+		ck_assert_uint_eq(a.n_nan, nn);
+		ck_assert_uint_eq(b.n_nan, nn);
+		ck_assert(a.min == lo && b.min == lo && a.max == hi && b.max == hi);
+		{
+			double md = (double)m;
+			long double ulp = nextafter(fabs(md), INFINITY) - fabs(md);
+
+			/* two ulps of the mean, or 1e-17 of the spread */
+			ck_assert_msg(fabsl(a.mean - m) <= 2 * ulp + 1e-17L &&
+				      fabsl(b.mean - m) <= 2 * ulp + 1e-17L,
+				      "mean %.17g %.17g %.17Lg", a.mean, b.mean, m);
+		}
+		ck_assert_rel(a.sd, (double)v, pass == 2 ? 1e-6 : 1e-14);
+		ck_assert_rel(b.sd, (double)v, pass == 2 ? 1e-6 : 1e-14);
+	}
+	free(x);
+}
+END_TEST
+
+/* CSV cells after the last column in use are skipped by a count of the
+ * delimiters: the values equal those of an all-column read, and a row with
+ * too few or too many cells, CRLF endings and a last line without newline
+ * behave as before */
+START_TEST(csv_skipped_columns)
+{
+	char *text = malloc(1 << 20), *q = text;
+	struct sscope_read_opts o = { .columns = "gx" };
+	struct sscope_capture *one = NULL, *all = NULL;
+	struct sscope_diag d = { "" };
+	const char *p;
+
+	ck_assert_ptr_nonnull(text);
+	q += sprintf(q, "time [s],gx [deg/s],gy [deg/s],gz [deg/s],note,ax [g],ay [g]\r\n");
+	for (int i = 0; i < 5000; i++)
+		q += sprintf(q, "%.2f,%.9g,%.9g,%d,x%d,%.6g,%.3g%s", i * 0.01,
+			     sin(i * 0.1) * 2.385, cos(i * 0.3), i, i % 7,
+			     i * 1e-4, 1.5, i == 4999 ? "" : i % 2 ? "\r\n" : "\n");
+	p = put("seven.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), 0);
+	o.columns = "gx,gy,gz,ax,ay";
+	ck_assert_int_eq(sscope_capture_load(&all, p, &o, &d), 0);
+	ck_assert_uint_eq(one->n, 5000);
+	ck_assert_uint_eq(all->n, 5000);
+	ck_assert(memcmp(one->channels[0].data, all->channels[0].data,
+			 5000 * sizeof(double)) == 0);
+	ck_assert(memcmp(one->time_s, all->time_s, 5000 * sizeof(double)) == 0);
+	/* deg/s to rad/s of a value written with 9 digits */
+	ck_assert_rel(one->channels[0].data[1234],
+		      sin(1234 * 0.1) * 2.385 * 0.017453292519943295, 1e-8);
+	sscope_capture_free(one);
+	sscope_capture_free(all);
+	/* a missing and an extra cell after the last used column */
+	o.columns = "gx";
+	q = text;
+	q += sprintf(q, "t,gx,gy,gz\n1,2,3,4\n2,3,4,5\n3,4,5\n");
+	p = put("short.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), -EBADMSG);
+	ck_assert_ptr_nonnull(strstr(d.msg, "line 4: 3 columns where the header has 4"));
+	q = text;
+	q += sprintf(q, "t,gx,gy,gz\n1,2,3,4\n2,3,4,5,6\n3,4,5,6\n");
+	p = put("long.csv", text, (size_t)(q - text));
+	ck_assert_int_eq(sscope_capture_load(&one, p, &o, &d), -EBADMSG);
+	ck_assert_ptr_nonnull(strstr(d.msg, "line 3: 5 columns where the header has 4"));
+	free(text);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("rawfast");
@@ -396,6 +566,9 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, in_place);
 	tcase_add_test(tc, allan_release);
 	tcase_add_test(tc, analyze_skip_fit);
+	tcase_add_test(tc, all_grid_fit_dense);
+	tcase_add_test(tc, stats_one_pass);
+	tcase_add_test(tc, csv_skipped_columns);
 	suite_add_tcase(s, tc);
 	return s;
 }
