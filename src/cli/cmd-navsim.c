@@ -49,7 +49,7 @@ static const struct ssc_option navsim_opts[] = {
 	{ "sensor", required_argument, O_SENSOR, "SPEC.ini",
 	  "sensor spec (a gyro and an accelerometer file may both be given): noise terms, range; bias and scale_factor_error as 1-sigma constants drawn per run" },
 	{ "from-allan", required_argument, O_ALLAN, "RESULT.json",
-	  "noise terms Q, N, B, K, R from a JSON result of 'allan' (the worst gyro and accelerometer channel)" },
+	  "noise terms from a JSON result of 'allan': those it resolved, of the worst gyro and accelerometer channel" },
 	{ "from-calib", required_argument, O_CALIB, "RESULT.json",
 	  "fixed biases, scale factors and misalignments from a JSON result of 'calib' (the uncompensated sensor)" },
 	{ "gyro-bias", required_argument, O_GBIAS, "V[,V,V]",
