@@ -842,13 +842,6 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 	return fmax(b, 0);
 }
 
-double sscope_noise_coef_predictive(const struct sscope_noise_coef *c)
-{
-	double v = c->fitted ? c->value : c->estimate;
-
-	return isfinite(v) && v > 0 ? v : 0;
-}
-
 int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		     double rate_hz, size_t n_phase,
 		     const struct sscope_noise_fit_opts *opts,

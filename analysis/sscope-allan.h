@@ -281,16 +281,6 @@ struct sscope_noise_coef {
 	bool fitted;   /**< the term was selected */
 };
 
-/**
- * The value of a noise term to predict with (random-walk envelopes,
- * navigation error): the fitted value of a resolved term, otherwise its
- * unconstrained point estimate (a term the record cannot separate from
- * zero is not absent, and leaving it out makes a prediction too narrow).
- * @param c  a coefficient of struct sscope_noise_fit.
- * @return the value, SI (as sscope_noise_avar()); 0 when there is none.
- */
-double sscope_noise_coef_predictive(const struct sscope_noise_coef *c);
-
 /** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
  *  sscope_noise_readoff() picks the points by local slope alone; the
  *  read-offs in struct sscope_noise_fit use the fitted model instead: N

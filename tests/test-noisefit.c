@@ -426,23 +426,6 @@ START_TEST(round_trip_coverage)
 END_TEST
 
 /* the value to predict with: fitted value, else the point estimate */
-START_TEST(predictive_value)
-{
-	struct sscope_noise_coef c = { .value = 2.385, .estimate = 2.385,
-				       .fitted = true };
-
-	ck_assert_double_eq(sscope_noise_coef_predictive(&c), 2.385);
-	c.fitted = false;
-	c.value = (double)NAN;
-	c.estimate = 0.7318;
-	ck_assert_double_eq(sscope_noise_coef_predictive(&c), 0.7318);
-	c.estimate = (double)NAN;
-	ck_assert_double_eq(sscope_noise_coef_predictive(&c), 0);
-	c.estimate = -1;
-	ck_assert_double_eq(sscope_noise_coef_predictive(&c), 0);
-}
-END_TEST
-
 START_TEST(readoffs_and_errors)
 {
 	const double c[5] = { 0, 2.385e-3, 2.385e-4, 2.385e-6, 0 };
@@ -555,7 +538,6 @@ static Suite *make_suite(void)
 	tcase_add_test(t, fit_exact_curves);
 	tcase_add_test(t, round_trip_coverage);
 	tcase_add_test(t, readoffs_and_errors);
-	tcase_add_test(t, predictive_value);
 	suite_add_tcase(s, t);
 	return s;
 }

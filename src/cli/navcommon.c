@@ -53,12 +53,10 @@ static int terms_of_channel(const json_t *ch, struct ssc_nav_terms *t)
 	t->ci_level = json_number_value(json_object_get(ch, "ci_level"));
 	for (int i = 0; i < 5; i++) {
 		const json_t *c = json_object_get(nz, key[i]);
-		/* a term the record does not resolve still has its point
-		 * estimate: the best model for a prediction */
-		const json_t *si = json_object_get(c, json_is_false(json_object_get(c, "fitted")) ?
-							      "si_estimate" : "si");
+		const json_t *si = json_object_get(c, "si");
 
-		if (json_is_number(si) && json_number_value(si) > 0) {
+		if (!json_is_false(json_object_get(c, "fitted")) && json_is_number(si) &&
+		    json_number_value(si) > 0) {
 			t->coef[i] = json_number_value(si);
 			t->have = true;
 		}
