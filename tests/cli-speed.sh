@@ -6,7 +6,8 @@
 # OpenMP threads wait passively; a raw float64 record used in place gives
 # the same Allan deviations as the copied one (standard input), and raw
 # rows in the host's byte order (block converter) the same spectrum as the
-# byte-swapped file (row by row).  The speed itself: make bench.
+# byte-swapped file (row by row); the report's provenance hash, computed
+# beside the reading, is the file's.  The speed itself: make bench.
 . "$(dirname "$0")/lib.sh"
 
 if head -c 4 "$SSCOPE" | grep -q 'ELF'; then
@@ -69,5 +70,11 @@ if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
 	ok "block converter and row-by-row reader give the same spectrum"
 else
 	not_ok "block converter and row-by-row reader give the same spectrum"
+fi
+# the report's provenance hashes (hashed on a thread beside the reading)
+run "report of a capture" 0 report -q -o "$T/rep" "$SAMPLES/gyro-static.csv"
+if command -v sha256sum >/dev/null 2>&1; then
+	h=$(sha256sum "$SAMPLES/gyro-static.csv" | cut -c1-64)
+	has "report.html: the capture's SHA-256" "$T/rep/report.html" "$h"
 fi
 done_testing
