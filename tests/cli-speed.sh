@@ -71,6 +71,24 @@ if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
 else
 	not_ok "block converter and row-by-row reader give the same spectrum"
 fi
+# a record used in place and the Allan workspace are never both whole in
+# memory: peak RSS at most 1.2 x the file plus the program (GNU time)
+if [ -x /usr/bin/time ] && [ -z "$SSCOPE_RUN" ]; then
+	perl -e '$s = 7; for (1 .. 2000000) { $s = ($s * 16807) % 2147483647;
+		print pack("d<", $s / 2147483647) }' >"$T/big.f64"
+	/usr/bin/time -f '%M' -o "$T/rss" "$SSCOPE" allan --raw f64:1:le \
+		--rate 100 --taus octave --ci none --no-fit "$T/big.f64" >/dev/null
+	kb=$(tail -n 1 "$T/rss")
+	if [ "$kb" -le $((16000 * 12 / 10 + 10000)) ]; then
+		ok "allan in place: peak RSS $kb KiB for a 16 MB record"
+	else
+		not_ok "allan in place: peak RSS $kb KiB for a 16 MB record"
+	fi
+	rm -f "$T/big.f64"
+else
+	skip "allan in place: peak RSS" "no /usr/bin/time or under $SSCOPE_RUN"
+fi
+
 # the report's provenance hashes (hashed on a thread beside the reading)
 run "report of a capture" 0 report -q -o "$T/rep" "$SAMPLES/gyro-static.csv"
 if command -v sha256sum >/dev/null 2>&1; then
