@@ -6,7 +6,8 @@
 # OpenMP threads wait passively; a raw float64 record used in place gives
 # the same Allan deviations as the copied one (standard input), and raw
 # rows in the host's byte order (block converter) the same spectrum as the
-# byte-swapped file (row by row); the report's provenance hash, computed
+# byte-swapped file (row by row); a streamed psd reading ahead reports a
+# bad cell at its line; the report's provenance hash, computed
 # beside the reading, is the file's.  The speed itself: make bench.
 . "$(dirname "$0")/lib.sh"
 
@@ -71,6 +72,25 @@ if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
 else
 	not_ok "block converter and row-by-row reader give the same spectrum"
 fi
+# psd reads the next chunk while it transforms the last: a bad cell three
+# chunks in is still reported at its line, and the spectrum of a pipe is
+# the file's
+awk 'BEGIN { print "t [s],gx [deg/s]"; for (i = 0; i < 200000; i++)
+	printf "%.2f,%s\n", i / 100, (i == 150000 ? "oops" : sin(i * 0.37)) }' \
+	>"$T/bad.csv"
+run "psd: bad cell deep in a streamed CSV" 1 psd "$T/bad.csv"
+has "psd: the bad cell's line" "$T/err" "line 150002"
+run "psd of a CSV" 0 psd --format json "$SAMPLES/gyro-static.csv"
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/s1"
+run_in "psd of the same CSV through a pipe" 0 "$SAMPLES/gyro-static.csv" \
+	psd --format json -
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/s2"
+if [ -s "$T/s1" ] && cmp -s "$T/s1" "$T/s2"; then
+	ok "psd: file and pipe give the same spectrum"
+else
+	not_ok "psd: file and pipe give the same spectrum"
+fi
+
 # a record used in place and the Allan workspace are never both whole in
 # memory: peak RSS at most 1.2 x the file plus the program (GNU time)
 if [ -x /usr/bin/time ] && [ -z "$SSCOPE_RUN" ]; then
