@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "prefetch.h"
 #include "stage.h"
 
 enum {
@@ -354,7 +355,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 	struct sscope_read_opts ro;
 	struct sscope_reader *rd = NULL;
 	struct sscope_diag d = { "" };
-	struct sscope_chunk ch = { 0 };
+	struct ssc_prefetch *pf = NULL;
+	const struct sscope_chunk *cur;
 	struct progress_ctx pc = { co, R->path };
 	const size_t cap = 65536;
 	double *scratch = NULL, med = 0, last_t = 0;
@@ -378,20 +380,16 @@ static int stream(const struct ssc_common *co, struct run *R)
 	}
 	R->nch = sscope_reader_n_channels(rd);
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
-	ch.data = calloc(R->nch ? R->nch : 1, sizeof(double *));
-	if (!R->ch || !ch.data)
+	if (!R->ch)
 		goto nomem;
-	ch.capacity = cap;
 	use_time = !(co->rate_hz > 0) && sscope_reader_time_column(rd);
 	if (use_time) {
-		ch.time_s = malloc(cap * sizeof(double));
 		scratch = malloc(cap * sizeof(double));
-		if (!ch.time_s || !scratch)
+		if (!scratch)
 			goto nomem;
 	}
 	for (size_t k = 0; k < R->nch; k++) {
-		ch.data[k] = malloc(cap * sizeof(double));
-		if (!ch.data[k] || copy_col(&R->ch[k].col, sscope_reader_channel(rd, k)))
+		if (copy_col(&R->ch[k].col, sscope_reader_channel(rd, k)))
 			goto nomem;
 		rc = sscope_psd_new(&R->ch[k].p, &R->a.po);
 		if (rc) {
@@ -399,16 +397,20 @@ static int stream(const struct ssc_common *co, struct run *R)
 			goto out;
 		}
 	}
+	/* the next chunk is read while this one is transformed */
+	rc = ssc_prefetch_start(&pf, rd, R->nch, cap, use_time);
+	if (rc)
+		goto nomem;
 	for (;;) {
-		rc = sscope_reader_read(rd, &ch, &d);
+		rc = ssc_prefetch_next(pf, &cur, &d);
 		if (rc) {
 			ssc_fail(co->cmd, rc, &d, R->path);
 			goto out;
 		}
-		if (ch.rows == 0)
+		if (cur->rows == 0)
 			break;
 		for (size_t k = 0; k < R->nch; k++) {
-			rc = sscope_psd_feed(R->ch[k].p, ch.data[k], 1, ch.rows);
+			rc = sscope_psd_feed(R->ch[k].p, cur->data[k], 1, cur->rows);
 			if (rc) {
 				ssc_err(co->cmd, "%s: channel %s: %s", R->path,
 					R->ch[k].col.name, sscope_strerror(rc));
@@ -421,15 +423,15 @@ static int stream(const struct ssc_common *co, struct run *R)
 			 * mean regular interval gives the rate */
 			struct sscope_timing tm;
 
-			sscope_time_order_feed(&ord, ch.time_s, ch.rows);
-			if (!have_med && ch.rows >= 2 &&
-			    sscope_timing_analyze(ch.time_s, ch.rows, 1.5, &tm,
+			sscope_time_order_feed(&ord, cur->time_s, cur->rows);
+			if (!have_med && cur->rows >= 2 &&
+			    sscope_timing_analyze(cur->time_s, cur->rows, 1.5, &tm,
 						  NULL, 0, NULL, scratch) == 0) {
 				have_med = true;
 				med = tm.dt_median_s;
 			}
-			for (size_t i = 0; i < ch.rows && have_med; i++) {
-				double t = ch.time_s[i];
+			for (size_t i = 0; i < cur->rows && have_med; i++) {
+				double t = cur->time_s[i];
 
 				if (have_last) {
 					double dt = t - last_t;
@@ -444,12 +446,12 @@ static int stream(const struct ssc_common *co, struct run *R)
 				last_t = t;
 				have_last = true;
 			}
-			if (!have_med && ch.rows == 1) {
-				last_t = ch.time_s[0];
+			if (!have_med && cur->rows == 1) {
+				last_t = cur->time_s[0];
 				have_last = true;
 			}
 		}
-		R->rows += ch.rows;
+		R->rows += cur->rows;
 	}
 	ssc_progress_end(co);
 	if (R->rows == 0) {
@@ -509,11 +511,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 nomem:
 	ssc_err(co->cmd, "out of memory");
 out:
-	if (ch.data)
-		for (size_t k = 0; k < R->nch; k++)
-			free(ch.data[k]);
-	free(ch.data);
-	free(ch.time_s);
+	ssc_prefetch_stop(pf);
 	free(scratch);
 	sscope_reader_close(rd);
 	return ex;
