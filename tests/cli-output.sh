@@ -254,6 +254,20 @@ run "a folder with other files" 2 run -q "$T/scene.ini"
 one_err "a folder with other files" "holds 'notes.txt', which is not part of a report"
 [ -s "$T/rep/notes.txt" ] && ok "notes kept" || not_ok "notes lost"
 run "report folder is a file" 1 run -q -o "$T/cap.csv" "$T/scene.ini"
+# a stage's output inside the report folder would leave with the old
+# folder: refused before anything is written, the folder there or not
+rm -f "$T/rep/notes.txt"
+old=$(cat "$T/rep"/* | cksum)
+for k in rep/imu.yaml rep/allan.json ./rep/../rep/imu.yaml; do
+	printf '[input]\nfiles = %s\n[allan]\nkalibr = %s\n[report]\nformats = text, json\noutput = rep\n' "$SM" "$k" >"$T/inrep.ini"
+	run "stage output $k in the report folder" 2 run -q "$T/inrep.ini"
+	one_err "stage output $k in the report folder" "^sensorscope: run: --kalibr $T/$k: inside the report folder $T/rep, which is replaced as a whole"
+done
+[ "$(cat "$T/rep"/* | cksum)" = "$old" ] && ok "the report folder is untouched" || not_ok "the report folder was changed"
+printf '[input]\nfiles = %s\n[allan]\nkalibr = newrep/imu.yaml\n[report]\noutput = newrep\n' "$SM" >"$T/inrep.ini"
+run "stage output in a report folder not made yet" 2 run -q "$T/inrep.ini"
+one_err "stage output in a report folder not made yet" "inside the report folder $T/newrep, which is replaced"
+[ ! -e "$T/newrep" ] && ok "no folder made" || not_ok "a folder was made"
 
 # ------------------------------------------------------------ 7. signals
 # a long simulate interrupted: no temporary file, the old file kept

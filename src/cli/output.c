@@ -410,6 +410,33 @@ static bool inside(const char *path, const struct ident *dir)
 	return in;
 }
 
+/* Is the output @p path (existing or not) in the report folder @p dpath
+ * (ident @p dir), at any depth?  By name while the folder does not exist
+ * yet. */
+static bool in_folder(const char *path, const char *dpath,
+		      const struct ident *dir)
+{
+	size_t n = strlen(dpath);
+	const char *sl = strrchr(path, '/');
+	char *parent;
+	struct stat st;
+	bool in;
+
+	while (n > 1 && dpath[n - 1] == '/')
+		n--;
+	if (!strncmp(path, dpath, n) && path[n] == '/')
+		return true;
+	if (!dir->exists || !S_ISDIR(dir->mode))
+		return false;
+	parent = sl ? strndup(path, sl == path ? 1 : (size_t)(sl - path)) :
+		      strdup(".");
+	in = parent && stat(parent, &st) == 0 &&
+	     ((st.st_dev == dir->dev && st.st_ino == dir->ino) ||
+	      inside(parent, dir));
+	free(parent);
+	return in;
+}
+
 int ssc_guard_check(const char *cmd, const struct ssc_guard_item *items,
 		    size_t n, bool stdout_out)
 {
@@ -462,6 +489,19 @@ int ssc_guard_check(const char *cmd, const struct ssc_guard_item *items,
 			}
 		}
 	}
+	/* a file written into a report folder would go with the old folder
+	 * when the new one is put in its place */
+	for (size_t i = 0; i < n && !rc; i++)
+		for (size_t j = 0; j < n && !rc; j++)
+			if (items[i].role == SSC_GUARD_OUT &&
+			    items[j].role == SSC_GUARD_DIR &&
+			    strcmp(items[i].path, "-") &&
+			    in_folder(items[i].path, items[j].path, &ids[j])) {
+				ssc_err(cmd, "%s %s: inside the %s %s, which is replaced as a whole: write it outside the folder",
+					items[i].what, items[i].path, items[j].what,
+					items[j].path);
+				rc = SSC_EXIT_USAGE;
+			}
 	if (!rc && stdout_out) {
 		struct stat st;
 		struct ident so = { 0 };
