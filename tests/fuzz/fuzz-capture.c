@@ -11,7 +11,10 @@
  * chunks of 7 rows (ASan sees any read past its end), as a file through
  * sscope_capture_load (mmap, row counting, time-column analysis), and as
  * a pipe on standard input (the sliding buffer; see below).  What was read is then
- * summarised (statistics, timing) as info does.
+ * summarised (statistics, timing) as info does, and its first channel
+ * analysed as allan (OADEV, noise fit), psd (Welch) and vibration
+ * (kurtosis) do: the sums of squares of any finite samples (issue 13,
+ * item 8) under UBSan.
  */
 #include "fuzz.h"
 
@@ -20,6 +23,9 @@
 #include <string.h>
 
 #include "internal.h"
+#include "sscope-allan.h"
+#include "sscope-psd.h"
+#include "sscope-vibration.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
@@ -27,6 +33,33 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 	(void)argv;
 	fuzz_quiet();
 	return 0;
+}
+
+/* The analyses that square sums, on the first channel, serially. */
+static void analyse(const struct sscope_capture *cap)
+{
+	const double *x = cap->channels[0].data;
+	const double fs = cap->rate_hz > 0 ? cap->rate_hz : 100;
+	struct sscope_allan_opts ao = { .threads = 1 };
+	struct sscope_allan_result *ar = NULL;
+	struct sscope_psd_opts po;
+	struct sscope_spectrum sp = { 0 };
+	struct sscope_diag d = { "" };
+	double k;
+
+	if (cap->n < 8 || cap->n > 4096)
+		return;
+	if (sscope_allan_analyze(x, 1, cap->n, fs, SSCOPE_TAUS_OCTAVE, &ao,
+				 NULL, &ar, &d) == 0)
+		sscope_allan_result_free(ar);
+	sscope_psd_opts_init(&po);
+	po.nperseg = 16;
+	po.noverlap = 8;
+	po.skip_nonfinite = true;
+	po.threads = 1;
+	if (sscope_psd_welch(x, 1, cap->n, fs, &po, &sp) == 0)
+		sscope_spectrum_clear(&sp);
+	sscope_kurtosis(x, 1, cap->n, &k);
 }
 
 static void summarise(const struct sscope_capture *cap)
@@ -46,6 +79,8 @@ static void summarise(const struct sscope_capture *cap)
 					      4, &ng, scratch);
 		free(scratch);
 	}
+	if (cap->n_channels)
+		analyse(cap);
 }
 
 static void load(const char *path, const struct sscope_read_opts *o)
