@@ -714,7 +714,7 @@ int main(int argc, char **argv)
 	if (only && !strcmp(only, "mcap-none"))
 		write_mcap(dir, "imu-none.mcap", &r, "", false, 1);
 	if (only)
-		return 0;
+		goto out;
 	write_bag(dir, "imu-none.bag", &r, "none");
 	write_bag(dir, "imu-bz2.bag", &r, "bz2");
 	write_mcap(dir, "imu-lz4.mcap", &r, "lz4", false, 1);
@@ -731,5 +731,10 @@ int main(int argc, char **argv)
 	write_db3(p, &r);
 	write_metadata(p, "sqlite3", "rosbag2_0.db3", &r);
 #endif
+out:
+	free(r.stamp);
+	free(r.v);
+	free(r.tstamp);
+	free(r.temp);
 	return 0;
 }
