@@ -10,6 +10,17 @@ if [ -z "$py" ] || ! "$py" -c 'import numpy' 2>/dev/null; then
 	echo "1..0 # SKIP no Python 3 with numpy (apt-get install python3-numpy)"
 	exit 0
 fi
+# a sanitizer build's library needs the ASan runtime loaded first: preloaded
+# into the interpreter (whose own allocations are not checked for leaks)
+if [ "${SSCOPE_SANITIZERS:-0}" = 1 ]; then
+	if [ ! -f "${SSCOPE_ASAN_LIB:-}" ]; then
+		echo "1..0 # SKIP sanitizer build without a libasan.so to preload"
+		exit 0
+	fi
+	LD_PRELOAD="$SSCOPE_ASAN_LIB${LD_PRELOAD:+:$LD_PRELOAD}"
+	ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+	export LD_PRELOAD ASAN_OPTIONS
+fi
 PYTHONPATH="$top_srcdir/src/python${PYTHONPATH:+:$PYTHONPATH}" \
 SENSORSCOPE_LIB="$top_builddir/src/.libs/libsensorscope.so" \
 	exec "$py" "$top_srcdir/tests/python/test_module.py"
