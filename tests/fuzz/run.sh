@@ -2,24 +2,43 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # make fuzz: run every libFuzzer harness for SECONDS, seeded from
 # tests/fuzz/corpus/NAME; new inputs and crash artifacts go to
-# BUILDDIR/fuzz-out/NAME/.  Prints each harness's executions and the total;
-# exits 1 when any harness found a crash, a hang (-timeout) or a sanitizer
-# report, naming the artifact to add to the corpus after the fix.
-# Usage: run.sh BUILDDIR SRCDIR SECONDS [NAME...]
+# BUILDDIR/fuzz-out/NAME/.  PARALLEL harnesses run at once (default 1; the
+# libFuzzer processes are independent).  Prints each harness's executions
+# and the total; exits 1 when any harness found a crash, a hang (-timeout)
+# or a sanitizer report, naming the artifact to add to the corpus after
+# the fix.
+# Usage: run.sh BUILDDIR SRCDIR SECONDS [PARALLEL [NAME...]]
 set -u
 build=$1 src=$2 secs=$3
-shift 3
+par=${4:-1}
+[ $# -ge 4 ] && shift 4 || shift 3
 names=${*:-text raw mat spec scene json tilt inl}
 total=0 status=0 start=$(date +%s)
-for name in $names; do
-	h="$build/tests/fuzz/fuzz-$name"
-	out="$build/fuzz-out/$name"
+
+one() { # NAME: run one harness, its log in fuzz-out/NAME/log
+	h="$build/tests/fuzz/fuzz-$1"
+	out="$build/fuzz-out/$1"
 	mkdir -p "$out/corpus" "$out/artifacts"
 	"$h" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
 		-max_len=65536 -close_fd_mask=3 -print_final_stats=1 \
 		-artifact_prefix="$out/artifacts/" \
-		"$out/corpus" "$src/tests/fuzz/corpus/$name" >"$out/log" 2>&1
-	rc=$?
+		"$out/corpus" "$src/tests/fuzz/corpus/$1" >"$out/log" 2>&1
+	echo $? >"$out/rc"
+}
+
+running=0
+for name in $names; do
+	one "$name" &
+	running=$((running + 1))
+	if [ "$running" -ge "$par" ]; then
+		wait
+		running=0
+	fi
+done
+wait
+for name in $names; do
+	out="$build/fuzz-out/$name"
+	rc=$(cat "$out/rc" 2>/dev/null || echo 1)
 	execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$out/log" | tail -n 1)
 	execs=${execs:-0}
 	total=$((total + execs))
