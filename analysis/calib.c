@@ -628,6 +628,11 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
 	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	/* least squares on squared magnitudes: samples in a sane range */
+	if ((rc = ssc_magnitude_check(x, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(y, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(z, stride, n, 250, "calibration", diag)))
+		return rc;
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
 	window = (size_t)lround(win_s * rate_hz);
@@ -840,6 +845,12 @@ int sscope_calib_gyro_fit(const double *const g[3],
 	for (int i = 0; i < 3; i++)
 		if (!g[i] || !accel_cal[i])
 			return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	for (int i = 0; i < 3; i++)
+		if ((rc = ssc_magnitude_check(g[i], stride, n, 250, "gyro calibration",
+					      diag)) ||
+		    (rc = ssc_magnitude_check(accel_cal[i], stride, n, 250,
+					      "gyro calibration", diag)))
+			return rc;
 	for (size_t k = 0; k < n_iv; k++)
 		if (iv[k].end <= iv[k].start || iv[k].end > n ||
 		    (k && iv[k].start < iv[k - 1].end))
