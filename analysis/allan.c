@@ -56,7 +56,9 @@
 #define SSC_CLONES
 #endif
 
-#if defined(__GNUC__)
+/* GCC vector extensions (__builtin_shuffle is GCC's; clang builds, such
+ * as the fuzz harnesses', take the scalar path) */
+#if defined(__GNUC__) && !defined(__clang__)
 #define SSC_VEC 1
 typedef double ssc_v8 __attribute__((vector_size(64)));
 #define V8LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_v8))

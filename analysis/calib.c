@@ -568,6 +568,48 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
+int sscope_calib_static_reference(const double *x, const double *y,
+				  const double *z, size_t stride, size_t n,
+				  double rate_hz, double init_static_s,
+				  const double *vs, double *work,
+				  double *reference, struct sscope_diag *diag)
+{
+	size_t nf = 0;
+
+	if (!x || !y || !z || !vs || !work || !reference || stride == 0 ||
+	    !(rate_hz > 0))
+		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
+	if (init_static_s > 0) {
+		size_t m = (size_t)lround(init_static_s * rate_hz);
+		double v2 = 0;
+
+		if (m < 3 || m > n)
+			return ssc_diag(diag, -EDOM,
+					"initial static period of %g s does not fit the capture",
+					init_static_s);
+		for (int ch = 0; ch < 3; ch++) {
+			const double *p = ch == 0 ? x : ch == 1 ? y : z;
+			struct sscope_stats st;
+
+			sscope_stats_compute(p, stride, m, &st);
+			v2 += st.sd * st.sd * st.sd * st.sd;
+		}
+		*reference = sqrt(v2);
+	} else {
+		for (size_t i = 0; i < n; i++)
+			if (isfinite(vs[i]))
+				work[nf++] = vs[i];
+		if (nf == 0)
+			return ssc_diag(diag, -EDOM, "capture too short");
+		qsort(work, nf, sizeof(double), cmp_double);
+		*reference = work[(nf - 1) / 10];
+	}
+	if (!(*reference > 0))
+		return ssc_diag(diag, -EDOM,
+				"the detector's channels do not vary at all (zero noise): cannot set a static threshold");
+	return 0;
+}
+
 int sscope_calib_accel_multipos(const double *x, const double *y,
 				const double *z, size_t stride, size_t n,
 				double rate_hz, double gravity_m_s2,
@@ -577,7 +619,7 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 				double *work2, struct sscope_diag *diag)
 {
 	double win_s, min_s, (*means)[3] = NULL;
-	size_t window, min_len, nf = 0;
+	size_t window, min_len;
 	double best = INFINITY, best_k = 0;
 	int rc, last_rc = -EDOM;
 	struct sscope_diag last = { "" };
@@ -597,34 +639,11 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 		return ssc_diag(diag, rc == -EDOM ? -EDOM : rc,
 				"%zu samples: shorter than the %g s variance window",
 				n, win_s);
-	if (det->init_static_s > 0) {
-		size_t m = (size_t)lround(det->init_static_s * rate_hz);
-		double v2 = 0;
-
-		if (m < 3 || m > n)
-			return ssc_diag(diag, -EDOM,
-					"initial static period of %g s does not fit the capture",
-					det->init_static_s);
-		for (int ch = 0; ch < 3; ch++) {
-			const double *p = ch == 0 ? x : ch == 1 ? y : z;
-			struct sscope_stats st;
-
-			sscope_stats_compute(p, stride, m, &st);
-			v2 += st.sd * st.sd * st.sd * st.sd;
-		}
-		det->reference = sqrt(v2);
-	} else {
-		for (size_t i = 0; i < n; i++)
-			if (isfinite(work[i]))
-				work2[nf++] = work[i];
-		if (nf == 0)
-			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work2, nf, sizeof(double), cmp_double);
-		det->reference = work2[(nf - 1) / 10];
-	}
-	if (!(det->reference > 0))
-		return ssc_diag(diag, -EDOM,
-				"the accelerometer does not vary at all (zero noise): cannot set a static threshold");
+	rc = sscope_calib_static_reference(x, y, z, stride, n, rate_hz,
+					   det->init_static_s, work, work2,
+					   &det->reference, diag);
+	if (rc)
+		return rc;
 	means = ssc_alloc_array(max_iv, sizeof(*means));
 	if (!means)
 		return -ENOMEM;

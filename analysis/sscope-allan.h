@@ -275,6 +275,9 @@ struct sscope_noise_coef {
 			    not fitted lo = 0 and hi is an upper limit */
 	double var_sd; /**< standard deviation of the estimate of the
 			    coefficient squared (the fitted variable) */
+	double estimate; /**< sqrt(max(0, estimated square)) whether or not
+			      the term is resolved (for comparisons of two
+			      fits of the same noise), U */
 	bool fitted;   /**< the term was selected */
 };
 
@@ -296,7 +299,7 @@ struct sscope_noise_readoff {
 };
 
 /** Options of the fit.  Zero-initialised = every term allowed, 68.27 %
- *  intervals, 1 % model error, the whole curve. */
+ *  intervals, no model error, terms resolved at 3 sd, the whole curve. */
 struct sscope_noise_fit_opts {
 	/** Confidence level of the intervals; 0 selects 0.6827. */
 	double ci_level;
@@ -307,10 +310,14 @@ struct sscope_noise_fit_opts {
 	 *  adds to them.  0: fully automatic. */
 	unsigned forced;
 	/** Relative standard deviation of the five-term model itself at each
-	 *  tau, added (independently per point) to the sampling covariance:
-	 *  real sensors are not exactly five power laws.  0 selects 0.01; a
-	 *  negative value uses none. */
+	 *  tau, added (independently per point) to the sampling covariance,
+	 *  for sensors that are not five power laws.  0 or negative: none
+	 *  (the sampling covariance is exact for the five processes; the
+	 *  intervals' coverage is checked by simulation in make bench). */
 	double model_error;
+	/** A term is reported as fitted (resolved) when its squared
+	 *  coefficient exceeds this many standard deviations; 0 selects 3. */
+	double detect_sigma;
 	/** Fit only points with tau_min_s <= tau <= tau_max_s (0: no limit). */
 	double tau_min_s, tau_max_s;
 	/** sscope_allan_analyze(): the deviations only, no fit (have_fit

@@ -93,6 +93,23 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 				    size_t window, double *out);
 
 /**
+ * The detector's noise reference (the rule of struct sscope_calib_detect):
+ * with @p init_static_s > 0, varsigma of the first init_static_s seconds
+ * (the root sum of the channels' variances squared), else the 10th
+ * percentile of the finite values of @p vs.
+ * @param vs      n values from sscope_calib_variance_magnitude().
+ * @param work    n doubles of workspace.
+ * @param reference  receives the reference, (input unit)^2.
+ * @return 0; -EINVAL (NULL, rate not positive); -EDOM (the initial period
+ *         does not fit the record, no finite value, a zero reference).
+ */
+int sscope_calib_static_reference(const double *x, const double *y,
+				  const double *z, size_t stride, size_t n,
+				  double rate_hz, double init_static_s,
+				  const double *vs, double *work,
+				  double *reference, struct sscope_diag *diag);
+
+/**
  * Static runs of @p vs (from sscope_calib_variance_magnitude()) below
  * @p threshold that last at least @p min_len samples.
  * @param iv      receives up to @p max intervals.

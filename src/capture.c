@@ -207,7 +207,13 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		n = ch.rows;
 	} else {
-		cap_rows = (size_t)1 << 16;
+		/* 64 Ki rows, or fewer for many channels (a 4 MiB start; 2555
+		 * raw channels on a pipe asked for 1.3 GB up front); the
+		 * arrays double as the rows come */
+		cap_rows = ((size_t)4 << 20) / (sizeof(double) *
+						 (cap->n_channels + 2));
+		cap_rows = cap_rows < 256 ? 256 :
+			   cap_rows > ((size_t)1 << 16) ? (size_t)1 << 16 : cap_rows;
 		for (;;) {
 			rc = grow(cap, cap_rows);
 			if (rc)
@@ -240,6 +246,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	if (rc)
 		goto fail;
 	cap->n = n;
+	cap->unterminated = sscope_reader_unterminated(r);
 	if (sscope_reader_source(r)) {
 		cap->source_info = ssc_reader_take_source(r, n);
 		if (!cap->source_info) {

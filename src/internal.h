@@ -91,6 +91,15 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads);
 int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
 			struct sscope_diag *diag);
 
+/* Open a capture held in memory (buf is read in place and must outlive
+ * the reader; name is used in messages): the same formats and errors as
+ * sscope_reader_open().  For the fuzz harnesses, where ASan sees a read
+ * past the end of an exact-size buffer that a mapped file would hide. */
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag);
+
 /*
  * A raw file of one float64 channel in the host's byte order, without
  * scaling or unit conversion, is used in place: on success *x points at its

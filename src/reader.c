@@ -226,6 +226,8 @@ static const char *line_end(const char *p, const char *end)
 	return q ? q : end;
 }
 
+static bool skip_line(const char *p, const char *e);
+
 static char *dup_range(const char *a, const char *b)
 {
 	char *s;
@@ -431,6 +433,29 @@ static long find_column(struct sscope_reader *r, const char *key)
 	return -1;
 }
 
+/* The 1-based numbers of the columns whose name equals column i's (case
+ * aside), "2, 3 and 4" into buf; returns how many there are. */
+static size_t same_name(const struct sscope_reader *r, size_t i, char *buf,
+			size_t len)
+{
+	size_t n = 0, used = 0, last = 0;
+
+	buf[0] = '\0';
+	for (size_t k = 0; k < r->ncols; k++) {
+		if (ssc_strcasecmp(r->cols[k].name, r->cols[i].name))
+			continue;
+		if (n && used + 24 < len)
+			used += (size_t)snprintf(buf + used, len - used, "%s%zu",
+						 n > 1 ? ", " : "", last);
+		last = k + 1;
+		n++;
+	}
+	if (used + 24 < len)
+		snprintf(buf + used, len - used, "%s%zu", n > 1 ? " and " : "",
+			 last);
+	return n;
+}
+
 static int column_list(struct sscope_reader *r, char *buf, size_t len)
 {
 	size_t used = 0;
@@ -548,6 +573,18 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 				free(copy);
 				return rc;
 			}
+			if (strcmp(tok, r->cols[idx].name) == 0 ||
+			    ssc_strcasecmp(tok, r->cols[idx].name) == 0) {
+				/* a name, not an index: it must be unique */
+				if (same_name(r, (size_t)idx, names,
+					      sizeof(names)) > 1) {
+					rc = ssc_diag(diag, -EINVAL,
+						      "%s: '%s' names columns %s: select one by its number",
+						      r->disp, tok, names);
+					free(copy);
+					return rc;
+				}
+			}
 			if (r->cols[idx].dest >= 0)
 				continue; /* named twice */
 			if (r->nsel >= r->ncols)
@@ -574,6 +611,22 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		c->used = c->dest >= 0 || c->is_time || c->is_temp;
 		if (c->used)
 			r->last_used = i;
+	}
+	/* two columns in use under one name: results could not tell them
+	 * apart (t,gx,gx,gx) */
+	for (size_t i = 0; i < r->ncols; i++) {
+		if (!r->cols[i].used)
+			continue;
+		for (size_t k = i + 1; k < r->ncols; k++)
+			if (r->cols[k].used &&
+			    !ssc_strcasecmp(r->cols[i].name, r->cols[k].name)) {
+				size_t n = same_name(r, i, names, sizeof(names));
+
+				return ssc_diag(diag, -EINVAL,
+						"%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",
+						r->disp, names, n > 2 ? "all" : "both",
+						r->cols[i].name);
+			}
 	}
 	for (size_t k = 0; k < r->nsel; k++) {
 		rc = check_unit(r, &r->cols[r->sel[k]], diag);
@@ -1229,7 +1282,10 @@ const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
 
 /* ------------------------------------------------------------ open */
 
-int sscope_reader_open(struct sscope_reader **reader, const char *path,
+/* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
+ * a mapped file) when mem is not NULL, else the file at path. */
+static int reader_open(struct sscope_reader **reader, const char *path,
+		       const void *mem, size_t mem_len,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag)
 {
@@ -1267,16 +1323,24 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
-	if (!(r->opts->raw && *r->opts->raw) && ssc_rosbag2_is_dir(path)) {
+	if (!mem && !(r->opts->raw && *r->opts->raw) &&
+	    ssc_rosbag2_is_dir(path)) {
 		r->kind = K_TABLE;
 		rc = ssc_rosbag2_open(&r->tab, path, r->opts->topic, diag);
 		if (!rc)
 			rc = table_columns(r);
 		goto opened;
 	}
-	rc = src_open(r, diag);
-	if (rc)
-		goto fail;
+	if (mem) {
+		r->base = mem;
+		r->len = mem_len;
+		r->size = mem_len;
+		r->eof = true;
+	} else {
+		rc = src_open(r, diag);
+		if (rc)
+			goto fail;
+	}
 	if (r->opts->raw && *r->opts->raw) {
 		r->kind = K_RAW;
 		rc = open_raw(r, diag);
@@ -1347,6 +1411,40 @@ opened:
 fail:
 	sscope_reader_close(r);
 	return rc;
+}
+
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag)
+{
+	return reader_open(reader, path, NULL, 0, opts, diag);
+}
+
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag)
+{
+	if (!buf)
+		return ssc_diag(diag, -EINVAL, "no input buffer");
+	return reader_open(reader, name ? name : "(memory)", buf, len, opts,
+			   diag);
+}
+
+bool sscope_reader_unterminated(const struct sscope_reader *r)
+{
+	const char *p, *e;
+
+	if (!r || r->kind != K_TEXT || !r->eof || r->pos < r->len || !r->len)
+		return false;
+	e = r->base + r->len;
+	if (e[-1] == '\n')
+		return false;
+	/* the last line is still in the buffer: a pipe's buffer slides by
+	 * whole lines */
+	p = memrchr(r->base, '\n', r->len);
+	p = p ? p + 1 : r->base;
+	return !skip_line(p, e);
 }
 
 size_t sscope_reader_n_channels(const struct sscope_reader *r)

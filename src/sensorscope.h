@@ -349,6 +349,14 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 int sscope_raw_layout_check(const char *layout, size_t *channels,
 			    size_t *value_bytes, struct sscope_diag *diag);
 
+/**
+ * @return true when the reader has read a text capture to its end and
+ *         the last data line has no newline: the capture may have been
+ *         cut short (that line was read as a row; a cell cut off entirely
+ *         is an error, a number cut short is not detectable).
+ */
+bool sscope_reader_unterminated(const struct sscope_reader *reader);
+
 /** @return the number of selected data channels. */
 size_t sscope_reader_n_channels(const struct sscope_reader *reader);
 
@@ -440,6 +448,8 @@ struct sscope_capture {
 	 *  reallocated by the caller. */
 	void *mapping;
 	size_t mapping_len;     /**< bytes of the mapping */
+	/** the last data line had no newline (sscope_reader_unterminated) */
+	bool unterminated;
 };
 
 /**
@@ -604,6 +614,47 @@ struct sscope_stats {
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st);
 
+/**
+ * Order of a time column, fed in pieces (a streaming reader feeds every
+ * chunk).  Zero-initialise.  Counts intervals that are not positive and
+ * recognises a swapped pair of rows (a backward step whose exchange with
+ * the row before restores the order).
+ */
+struct sscope_time_order {
+	size_t n;            /**< stamps fed */
+	size_t n_repeats;    /**< intervals of exactly 0 (a repeated stamp) */
+	size_t n_decreasing; /**< negative intervals */
+	size_t n_swaps;      /**< of those, swapped pairs of adjacent rows
+				  (complete after sscope_time_order_check) */
+	size_t first_row;    /**< 0-based row of the first interval that is
+				  not positive (0: none) */
+	double first_t_s;    /**< that row's stamp */
+	double first_prev_s; /**< and the stamp before it */
+	double t0_s;         /**< the first stamp */
+	/* private: the last three stamps and a backward step waiting for the
+	 * next stamp to tell whether it was a swap */
+	double last_s[3];
+	int pending;
+};
+
+/** Feed the next @p n stamps (seconds); NaN stamps are not expected. */
+void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
+			    size_t n);
+
+/**
+ * Is the time column usable as sampling times?
+ * @param diag  receives the problem as a phrase to follow the column's
+ *              name: "has one row", "is constant (every row has the same
+ *              stamp)", "decreases in every row (...)", "has rows 3 and 4
+ *              in reverse order (...)", "repeats the stamp of row 3 at
+ *              row 4 (...)", "goes backwards 2 times (first at row 9:
+ *              ...)", with a count of further cases (rows 1-based).
+ * @return 0 when the stamps strictly increase (two or more of them);
+ *         -EDOM otherwise; -EINVAL for a NULL @p o.
+ */
+int sscope_time_order_check(const struct sscope_time_order *o,
+			    struct sscope_diag *diag);
+
 /** Sampling of a time column. */
 struct sscope_timing {
 	double dt_median_s; /**< median interval */
@@ -615,6 +666,9 @@ struct sscope_timing {
 	size_t n_gaps;        /**< intervals longer than gap_factor * median */
 	size_t n_missing;     /**< samples missing in those gaps (estimated) */
 	size_t n_backwards;   /**< non-increasing intervals */
+	/** order of the stamps (filled also when the analysis returns
+	 *  -EDOM); see sscope_time_order_check() */
+	struct sscope_time_order order;
 };
 
 /** A gap in time stamps. */
@@ -626,7 +680,9 @@ struct sscope_gap {
 };
 
 /**
- * Analyse time stamps.
+ * Analyse time stamps.  Intervals that are not positive, and the two
+ * around a backward step (a swapped pair of rows makes them long), are
+ * neither gaps nor part of the rate.
  * @param t_s         n time stamps in seconds.
  * @param gap_factor  an interval longer than gap_factor times the median is
  *                    a gap (1.5 is usual).

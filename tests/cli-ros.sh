@@ -134,7 +134,7 @@ gn=$(jq '[.channels[] | select(.quantity == "angular rate") | .noise.N.si] | max
 gx=$(jq '[.channels[] | select(.name == "gx") | .noise.N.si] | max' "$T/out")
 close() { awk -v a="$1" -v b="$2" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 2e-6 * (a < 0 ? -a : a)) }'; }
 v=$(sed -n 's/^  gyroscope_noise_density: \([^ ]*\).*/\1/p' "$T/ov.yaml")
-if close "$v" "$(awk -v x="$gn" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gn" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "openvins: gyroscope_noise_density = 3 x the largest gyro N ($v)"
 else
 	not_ok "openvins: gyroscope_noise_density $v, fit $gn x 3"
@@ -148,7 +148,7 @@ for key in accelerometer_noise_density accelerometer_random_walk gyroscope_rando
 	has "openvins: $key" "$T/ov.yaml" "^  $key: [0-9.]+e-0[0-9] +# \\["
 done
 v=$(sed -n 's/^gyroscope_noise_density: \([^ ]*\).*/\1/p' "$T/k.yaml")
-if close "$v" "$(awk -v x="$gn" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gn" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "kalibr: inflated like openvins"
 else
 	not_ok "kalibr: gyroscope_noise_density $v"
@@ -158,7 +158,7 @@ has "imu_utils: layout" "$T/iu.yaml" '^%YAML:1.0$'
 has "imu_utils: Gyr block in rad/s" "$T/iu.yaml" '^Gyr:$'
 has "imu_utils: Acc unit" "$T/iu.yaml" '^   unit: " m/s\^2"$'
 v=$(awk '/^   x-axis:/ { getline; print $2; exit }' "$T/iu.yaml")
-if close "$v" "$(awk -v x="$gx" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gx" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "imu_utils: x-axis gyr_n = 3 x N of gx"
 else
 	not_ok "imu_utils: x-axis gyr_n $v, gx N $gx"

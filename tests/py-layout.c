@@ -80,6 +80,7 @@ int main(void)
 	F(sscope_capture, source_info);
 	F(sscope_capture, mapping);
 	F(sscope_capture, mapping_len);
+	F(sscope_capture, unterminated);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);
@@ -108,6 +109,7 @@ int main(void)
 	F(sscope_noise_coef, lo);
 	F(sscope_noise_coef, hi);
 	F(sscope_noise_coef, var_sd);
+	F(sscope_noise_coef, estimate);
 	F(sscope_noise_coef, fitted);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);
@@ -121,6 +123,7 @@ int main(void)
 	F(sscope_noise_fit_opts, allowed);
 	F(sscope_noise_fit_opts, forced);
 	F(sscope_noise_fit_opts, model_error);
+	F(sscope_noise_fit_opts, detect_sigma);
 	F(sscope_noise_fit_opts, tau_min_s);
 	F(sscope_noise_fit_opts, tau_max_s);
 	F(sscope_noise_fit_opts, skip);

@@ -139,6 +139,27 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
 
+/* Warn that a text capture's last line has no newline (cut short?). */
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows);
+
+/* Refuse an input named twice: standard input ('-') twice, or two names
+ * of one file (same device and inode: a second path, a link, '-' fed
+ * from that file).  Several files mean several captures (power cycles,
+ * poses); one read twice would fake agreement.  Returns an exit code. */
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n);
+
+/* Judge a time column's order (sscope_time_order_check).  For an analysis
+ * that assumes uniform sampling (@p uniform) a disordered column is an
+ * error naming the problem, unless the rate came from --rate or a header
+ * (then a warning); otherwise (info) a warning.  Returns an exit code. */
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform);
+/* The same for a loaded capture (nothing to judge without a time column). */
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform);
+
 /* Is progress shown? (auto: stderr is a terminal and not quiet) */
 bool ssc_progress_on(const struct ssc_common *co);
 /* Progress line on stderr: "label: 42% ..." (total 0: bytes only). */
@@ -222,6 +243,10 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/* A unit for people: deg -> degree sign, sqrt(h) -> root, ug -> micro,
+ * ^2 -> superscript (figures and reports; the JSON keeps the ASCII form). */
+void ssc_unit_pretty(const char *in, char *out, size_t len);
+
 /* Append {"code", "message"} to obj's "warnings" array (made when
  * missing): a result the analysis itself doubts (a rejected fit, an
  * unresolved term, too few samples, clipped data), which reports show as a
@@ -237,6 +262,12 @@ void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
  */
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 		      const char *si_unit, bool fitted);
+
+/* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
+ * it; prints errors, returns exit code (cmd-inclino.c). */
+struct sscope_inclino_lut;
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut);
 
 /* Load the [sensor] section of a spec file; prints errors, returns exit. */
 int ssc_load_sensor(const char *cmd, const char *path,
@@ -283,5 +314,8 @@ int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
 int ssc_cmd_adc(int argc, char **argv);
+int ssc_cmd_heading(int argc, char **argv);
+int ssc_cmd_walk(int argc, char **argv);
+int ssc_cmd_navsim(int argc, char **argv);
 
 #endif

@@ -270,6 +270,7 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 		struct sscope_sim *sim = NULL;
 		struct sscope_adc *adc = NULL;
 		struct sscope_allan_result *res_in = NULL, *res_out = NULL;
+		struct sscope_noise_fit_opts fo = { 0 };
 		double sin_ = 0, sout = 0;
 
 		so.seed = o->seed + r;
@@ -300,12 +301,17 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 		}
 		sscope_sim_free(sim);
 		sscope_adc_free(adc);
+		/* the terms compared (the simulated sensor has no ramp and its
+		 * quantization is what is being judged): a free R or Q would
+		 * only add estimation noise to B and K */
+		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
+			     (1u << SSCOPE_TERM_K);
 		if (!rc)
 			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  NULL, &res_in, d);
+						  &fo, &res_in, d);
 		if (!rc)
 			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  NULL, &res_out, d);
+						  &fo, &res_out, d);
 		if (rc) {
 			sscope_allan_result_free(res_in);
 			sscope_allan_result_free(res_out);
@@ -316,9 +322,11 @@ static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
 			const struct sscope_noise_coef *ci = &res_in->fit.coef[term];
 			const struct sscope_noise_coef *co = &res_out->fit.coef[term];
 
+			/* the estimates, resolved or not: the same noise
+			 * realization goes in and out */
 			vals[t * R + r] = res_in->have_fit && res_out->have_fit &&
-						  ci->fitted && co->fitted && ci->value > 0 ?
-					  co->value / ci->value : (double)NAN;
+						  ci->estimate > 0 && co->estimate > 0 ?
+					  co->estimate / ci->estimate : (double)NAN;
 		}
 		for (size_t i = 0; i < n; i++) {
 			sin_ += x[i];
@@ -1122,6 +1130,11 @@ static int cmd_quantize(int argc, char **argv)
 	}
 	if (o.mode >= 0)
 		spec.mode = (enum sscope_adc_mode)o.mode;
+	if (spec.mode == SSCOPE_ADC_INTEGRATE) {
+		rc = ssc_time_check(&co, argv[first], cap, true);
+		if (rc)
+			goto done;
+	}
 	if (spec.mode == SSCOPE_ADC_INTEGRATE && !(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "--mode integrate needs the sample rate (--rate or a time column)");
 		goto done;
@@ -1354,6 +1367,9 @@ static int cmd_test(int argc, char **argv)
 	rc = ssc_load(&co, argv[first], &cap);
 	if (rc)
 		return rc;
+	rc = ssc_time_check(&co, argv[first], cap, true);
+	if (rc)
+		goto done;
 	if (!(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "no sample rate: give --rate or a time column");
 		goto done;

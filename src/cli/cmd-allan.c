@@ -54,11 +54,11 @@ static const struct ssc_option allan_opts[] = {
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
-	  "terms the fit may use, e.g. N,B,K (default auto: Q,N,B,K,R, selected by AIC)" },
+	  "terms the fit may use, e.g. N,B,K (default Q,N,B,K,R; those above 3 sd are reported as resolved)" },
 	{ "fit-tau", required_argument, OPT_FIT_TAU, "MIN:MAX",
 	  "fit only taus in [MIN, MAX] seconds (either may be empty)" },
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
-	  "relative error of the five-term model per point (default 0.01; 0 none)" },
+	  "relative error of the five-term model per point (default 0: none)" },
 	{ "stride", required_argument, OPT_STRIDE, "K",
 	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
@@ -426,6 +426,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 
 	fr->path = path;
 	fr->cap = cap;
+	rc = ssc_time_check(co, path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
 			path);
@@ -535,8 +538,19 @@ static size_t chan_warnings(const struct args *a, const struct chan *c,
 	char b1[32], b2[32], b3[32];
 	size_t n = 0;
 
-	if (a->no_fit || !c->res->have_fit)
+	if (a->no_fit)
 		return 0;
+	if (!c->res->have_fit) {
+		/* too short a record, too few points: said, not hidden */
+		if (max) {
+			w[0].code = "fit_failed";
+			snprintf(w[0].msg, sizeof(w[0].msg),
+				 "%s: no noise terms: %s", c->col->name,
+				 c->fit_msg[0] ? c->fit_msg : "the fit failed");
+			return 1;
+		}
+		return 0;
+	}
 	if (fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),
@@ -628,7 +642,7 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, terms %s selected by AIC; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, resolved above 3 sd: %s; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
 			sel, ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
@@ -764,6 +778,18 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 
 			json_object_set_new(jc, "resolved",
 					    json_boolean(term_resolved(cf)));
+			/* the unconstrained point estimate, resolved or not:
+			 * what a prediction (walk, navsim, heading) uses */
+			{
+				double ev;
+
+				json_object_set_new(jc, "si_estimate",
+						    ssc_jreal(cf->estimate));
+				if (sscope_convert(cf->estimate, u->term_si[t],
+						   u->term[t], &ev))
+					ev = cf->estimate;
+				json_object_set_new(jc, "estimate", ssc_jreal(ev));
+			}
 			json_object_set_new(nz, key[t], jc);
 			if (cf->fitted)
 				json_array_append_new(terms, json_string(key[t]));
@@ -772,7 +798,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 		if (r->have_fit) {
 			json_object_set_new(fit, "terms", terms);
 			json_object_set_new(fit, "method",
-					    json_string("weighted least squares on OADEV (EDF weights), every term subset, AIC selection with the model covariance; sandwich intervals"));
+					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds by inverting the test with the model covariance at the bound"));
 			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
 			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
@@ -783,9 +809,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 			json_object_set_new(fit, "reject_below_p",
 					    json_real(FIT_REJECT_P));
 			json_object_set_new(fit, "model_error",
-					    json_real(a->fo.model_error == 0 ? 0.01 :
-						      a->fo.model_error < 0 ? 0 :
-									      a->fo.model_error));
+					    json_real(a->fo.model_error > 0 ? a->fo.model_error : 0));
 		} else {
 			json_decref(terms);
 			json_object_set_new(fit, "error", json_string(c->fit_msg));
@@ -896,35 +920,6 @@ static int write_exports(const struct ssc_common *co, const struct args *a,
 /* Plot                                                                */
 /* ------------------------------------------------------------------ */
 
-/* a unit for humans: deg -> degree sign, sqrt(h) -> root, ug -> micro */
-static void pretty(const char *in, char *out, size_t len)
-{
-	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
-					    "ug", "^2", "^3", "*", NULL };
-	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
-					  "\xe2\x88\x9ah", "\xc2\xb5g",
-					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
-	size_t o = 0;
-
-	while (*in && o + 8 < len) {
-		int i;
-
-		for (i = 0; from[i]; i++)
-			if (!strncmp(in, from[i], strlen(from[i])))
-				break;
-		if (from[i]) {
-			size_t l = strlen(to[i]);
-
-			memcpy(out + o, to[i], l);
-			o += l;
-			in += strlen(from[i]);
-		} else {
-			out[o++] = *in++;
-		}
-	}
-	out[o] = '\0';
-}
-
 /* y range of a channel's points and intervals, in the shown unit */
 static void chan_range(const struct chan *c, double *lo, double *hi)
 {
@@ -987,7 +982,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		tmax = fmax(tmax, p->tau_s);
 		k++;
 	}
-	pretty(u->show, un, sizeof(un));
+	ssc_unit_pretty(u->show, un, sizeof(un));
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
 	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
@@ -1038,7 +1033,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 						 .dash = SSC_DASHED };
 			int dg;
 
-			pretty(u->term[t], cu, sizeof(cu));
+			ssc_unit_pretty(u->term[t], cu, sizeof(cu));
 			if (term_resolved(cf)) {
 				one[t] = cf->value;
 				for (int i = 0; i < NG; i++)
@@ -1199,16 +1194,22 @@ static void summarize(json_t *summary, const struct args *a,
 			 100 * ft->ci_level);
 		for (int t = 1; t <= 3; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
+			char nt[160];
 
 			if (!cf->fitted)
 				continue;
 			snprintf(what, sizeof(what), "%s %c",
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
+			snprintf(nt, sizeof(nt), "%s%s%s", note,
+				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
+				 term_resolved(cf) ? "" : "; not resolved: the interval reaches 0");
 			ssc_summary_add(summary, c->col->name, what,
 					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
-					c->u.term[t], note);
+					c->u.term[t], nt);
+			if (fit_rejected(ft) || !term_resolved(cf))
+				ssc_summary_warn_last(summary);
 		}
 	}
 }

@@ -1692,6 +1692,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	for (size_t fi = 0; fi < nfiles; fi++) {
 		r.cap = env->caps[fi];
+		rc = ssc_time_check(&co, env->paths[fi], r.cap, true);
+		if (rc)
+			goto done;
 		if (!(r.cap->rate_hz > 0)) {
 			ssc_err(co.cmd, "%s: unknown sample rate (give --rate)",
 				env->paths[fi]);

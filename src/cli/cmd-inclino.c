@@ -709,7 +709,8 @@ static int get3(json_t *a, double v[3])
 	return 0;
 }
 
-static int read_lut(const char *cmd, const char *path, struct sscope_inclino_lut *lut)
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut)
 {
 	json_error_t je;
 	json_t *root = json_load_file(path, 0, &je), *l, *nodes, *g;
@@ -805,7 +806,7 @@ static int apply_main(int argc, char **argv)
 				       co.plot ? "--plot: no figure here (apply writes a capture)" :
 						 "--no-gyro: and --gyro or --rate-tol?");
 	}
-	rc = read_lut(co.cmd, o.lut, lut);
+	rc = ssc_inclino_lut_read(co.cmd, o.lut, lut);
 	if (rc)
 		goto done;
 	g = lut->gravity_m_s2;

@@ -117,12 +117,11 @@ static int analyse(const struct ssc_common *co, const char *path,
 							&fi->tm, fi->gaps,
 							MAX_GAPS_LISTED,
 							&fi->n_gaps, scratch) == 0;
-		if (fi->have_timing && fi->tm.n_backwards)
-			ssc_warn(co, "%s: time goes backwards or repeats %zu times",
-				 path, fi->tm.n_backwards);
 		receive_times(cap, fi, scratch);
 		free(scratch);
 	}
+	/* a time column that is not increasing: name what is wrong with it */
+	ssc_time_check(co, path, cap, false);
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
@@ -176,6 +175,9 @@ static void text_file(FILE *f, const char *path, const struct file_info *fi)
 	if (cap->rate_hz > 0)
 		fprintf(f, "  rate:        %s Hz (%s)\n",
 			ssc_fmt(a, sizeof(a), cap->rate_hz, 8), rate_source(cap));
+	else if (cap->time_s)
+		fprintf(f, "  rate:        unknown (time column '%s' not increasing; give --rate)\n",
+			cap->time_col.name);
 	else
 		fprintf(f, "  rate:        unknown (no time column; give --rate)\n");
 	if (cap->rate_hz > 0)
@@ -300,6 +302,16 @@ static json_t *json_file(const char *path, const struct file_info *fi)
 		json_array_append_new(gaps, g);
 	}
 	json_object_set_new(o, "gaps", gaps);
+	if (cap->time_s) {
+		/* what is wrong with the time column's order, or null */
+		struct sscope_time_order ord = { 0 };
+		struct sscope_diag d = { "" };
+
+		sscope_time_order_feed(&ord, cap->time_s, cap->n);
+		json_object_set_new(o, "time_order",
+				    sscope_time_order_check(&ord, &d) ?
+				    json_string(d.msg) : json_null());
+	}
 	if (cap->source_info) {
 		const struct sscope_source *si = cap->source_info;
 		json_t *tps = json_array();

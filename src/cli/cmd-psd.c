@@ -28,6 +28,7 @@ enum {
 	OPT_METHOD,
 	OPT_SPECTROGRAM,
 	OPT_SG_COLS,
+	OPT_PEAK_ALPHA,
 };
 
 static const struct ssc_option psd_opts[] = {
@@ -46,7 +47,9 @@ static const struct ssc_option psd_opts[] = {
 	{ "method", required_argument, OPT_METHOD, "welch|periodogram",
 	  "Welch's average (default, streamed) or one periodogram of the whole record" },
 	{ "peaks", required_argument, OPT_PEAKS, "K",
-	  "report the K strongest peaks (default 5; 0: none)" },
+	  "report the K strongest peaks that stand out of the noise (default 5; 0: none)" },
+	{ "peak-alpha", required_argument, OPT_PEAK_ALPHA, "A",
+	  "false-alarm probability of the peak test per spectrum (default 0.01)" },
 	{ "bands", required_argument, OPT_BANDS, "octave|third|LO:HI[,...]",
 	  "band RMS: IEC 61260-1 octaves or thirds, or the given bands in Hz" },
 	{ "spectrogram", no_argument, OPT_SPECTROGRAM, NULL,
@@ -69,6 +72,11 @@ static const struct ssc_command_spec spec = {
 		"their frequency and sine amplitude interpolated between bins (a\n"
 		"least-squares fit of the window's exact response to five bins, so\n"
 		"the amplitude is corrected for the window and the scalloping loss),\n"
+		"listed only when they stand out of the local noise floor (each bin\n"
+		"is chi-square with the estimate's equivalent degrees of freedom, the\n"
+		"overlap correction included; an F test against the median of the\n"
+		"neighbouring bins at the level --peak-alpha divided by the bins\n"
+		"searched, so noise alone lists a peak in about 1 spectrum in 100),\n"
 		"band RMS, and the spectrogram.  The capture is streamed: memory does\n"
 		"not grow with the record length (except --method periodogram).",
 	.options = psd_opts,
@@ -89,6 +97,7 @@ struct args {
 	struct sscope_psd_opts po;
 	double overlap;
 	size_t peaks;
+	double peak_alpha;
 	const char *bands;
 	bool spectrogram;
 	size_t sg_cols;
@@ -161,6 +170,12 @@ static int handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (a->peaks > 100)
 			return ssc_usage_error("psd", "--peaks: at most 100");
+		return 0;
+	case OPT_PEAK_ALPHA:
+		if (ssc_arg_double("psd", "peak-alpha", arg, &a->peak_alpha))
+			return SSC_EXIT_USAGE;
+		if (!(a->peak_alpha > 0 && a->peak_alpha < 1))
+			return ssc_usage_error("psd", "--peak-alpha: a probability between 0 and 1, exclusive");
 		return 0;
 	case OPT_BANDS:
 		a->bands = arg;
@@ -265,8 +280,9 @@ struct chan {
 	struct sscope_spectrum s;
 	struct sscope_spectrogram sg;
 	bool have_sg;
-	struct sscope_peak peaks[100];
+	struct sscope_sig_peak peaks[100];
 	size_t n_peaks;
+	struct sscope_peak_test test;
 	double *band_rms;
 };
 
@@ -346,6 +362,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 	double *scratch = NULL, med = 0, last_t = 0;
 	bool have_med = false, have_last = false, use_time;
 	struct ksum tsum = { 0, 0 };
+	struct sscope_time_order ord = { 0 };
+	bool disorder = false;
 	size_t nreg = 0;
 	int rc, ex = SSC_EXIT_FAIL;
 
@@ -405,6 +423,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 			 * mean regular interval gives the rate */
 			struct sscope_timing tm;
 
+			sscope_time_order_feed(&ord, cur->time_s, cur->rows);
 			if (!have_med && cur->rows >= 2 &&
 			    sscope_timing_analyze(cur->time_s, cur->rows, 1.5, &tm,
 						  NULL, 0, NULL, scratch) == 0) {
@@ -439,10 +458,21 @@ static int stream(const struct ssc_common *co, struct run *R)
 		ssc_err(co->cmd, "%s: no data rows", R->path);
 		goto out;
 	}
+	if (sscope_reader_unterminated(rd))
+		ssc_warn_unterminated(co, R->path, R->rows);
+	if (use_time && sscope_time_order_check(&ord, NULL)) {
+		/* an error naming the problem, or a warning when a header
+		 * gives the rate */
+		disorder = true;
+		if (ssc_time_verdict(co, R->path, sscope_reader_time_column(rd)->name,
+				     &ord, sscope_reader_header_rate(rd) > 0 ?
+				     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE, true))
+			goto out;
+	}
 	if (co->rate_hz > 0) {
 		R->fs = co->rate_hz;
 		R->rate_source = "given";
-	} else if (use_time && nreg > 0 && (tsum.s + tsum.c) > 0) {
+	} else if (use_time && !disorder && nreg > 0 && (tsum.s + tsum.c) > 0) {
 		R->fs = (double)nreg / (tsum.s + tsum.c);
 		R->rate_source = "time column";
 	} else if (sscope_reader_header_rate(rd) > 0) {
@@ -453,7 +483,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 			R->path);
 		goto out;
 	}
-	if (R->time_gaps)
+	if (R->time_gaps && !disorder)
 		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
 			 R->path, R->time_gaps);
 	for (size_t k = 0; k < R->nch; k++) {
@@ -501,6 +531,9 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 {
 	int rc;
 
+	rc = ssc_time_check(co, R->path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
 			R->path);
@@ -569,8 +602,9 @@ static void finish(struct run *R)
 		struct chan *c = &R->ch[k];
 		double sc = uscale(c);
 
-		sscope_spectrum_peaks(&c->s, R->a.peaks, 0, R->fs / 2, c->peaks,
-				      &c->n_peaks);
+		sscope_spectrum_significant_peaks(&c->s, R->a.peaks, 0, R->fs / 2,
+						  R->a.peak_alpha, c->peaks,
+						  &c->n_peaks, &c->test);
 		if (R->bands.n) {
 			c->band_rms = calloc(R->bands.n, sizeof(double));
 			for (size_t i = 0; c->band_rms && i < R->bands.n; i++) {
@@ -662,16 +696,36 @@ static json_t *json_run(const struct run *R)
 		json_object_set_new(o, "psd", p);
 		json_object_set_new(o, "rms", ssc_jreal(s->rms / sc));
 		for (size_t i = 0; i < c->n_peaks; i++) {
+			const struct sscope_sig_peak *sp = &c->peaks[i];
 			json_t *e = json_object();
 
-			json_object_set_new(e, "frequency_hz", ssc_jreal(c->peaks[i].frequency_hz));
-			json_object_set_new(e, "value", ssc_jreal(c->peaks[i].value / sc2));
-			json_object_set_new(e, "amplitude", ssc_jreal(c->peaks[i].amplitude / sc));
-			json_object_set_new(e, "rms", ssc_jreal(c->peaks[i].rms / sc));
-			json_object_set_new(e, "bin", json_integer((json_int_t)c->peaks[i].bin));
+			json_object_set_new(e, "frequency_hz", ssc_jreal(sp->peak.frequency_hz));
+			json_object_set_new(e, "value", ssc_jreal(sp->peak.value / sc2));
+			json_object_set_new(e, "amplitude", ssc_jreal(sp->peak.amplitude / sc));
+			json_object_set_new(e, "rms", ssc_jreal(sp->peak.rms / sc));
+			json_object_set_new(e, "bin", json_integer((json_int_t)sp->peak.bin));
+			json_object_set_new(e, "floor", ssc_jreal(sp->floor / sc2));
+			json_object_set_new(e, "ratio", ssc_jreal(sp->ratio));
+			json_object_set_new(e, "p_value", ssc_jreal(sp->p_value));
 			json_array_append_new(pk, e);
 		}
 		json_object_set_new(o, "peaks", pk);
+		{
+			const struct sscope_peak_test *t = &c->test;
+			json_t *e = json_object();
+
+			json_object_set_new(e, "method", json_string(
+				"F test of each local maximum against the local noise floor (median of the neighbouring bins outside the main lobe, over the median of chi2(nu)/nu), nu the Welch estimate's equivalent degrees of freedom with the overlap correction (Percival & Walden 1993), at the level alpha / bins (Bonferroni); weaker peaks also against the leakage of stronger ones"));
+			json_object_set_new(e, "alpha", json_real(t->alpha));
+			json_object_set_new(e, "edf", ssc_jreal(t->edf));
+			json_object_set_new(e, "floor_edf", ssc_jreal(t->floor_edf));
+			json_object_set_new(e, "bins_tested", json_integer((json_int_t)t->bins_tested));
+			json_object_set_new(e, "p_threshold", ssc_jreal(t->p_threshold));
+			json_object_set_new(e, "ratio_threshold", ssc_jreal(t->ratio_threshold));
+			json_object_set_new(e, "floor_half_width_bins",
+					    json_integer((json_int_t)t->floor_half_width));
+			json_object_set_new(o, "peak_test", e);
+		}
 		if (R->a.bands) {
 			json_t *b = json_array();
 
@@ -752,18 +806,24 @@ static void text_run(FILE *f, const struct run *R)
 		if (c->s.n_skipped)
 			fprintf(f, " (%zu segments with NaN skipped)", c->s.n_skipped);
 		fputc('\n', f);
-		if (c->n_peaks) {
-			fprintf(f, "    %-14s %-16s %-14s\n", "peak (Hz)",
+		if (R->a.peaks && c->n_peaks) {
+			fprintf(f, "    %-14s %-16s %-14s %s\n", "peak (Hz)",
 				c->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "spectrum",
-				"amplitude");
+				"amplitude", "over floor");
 			for (size_t i = 0; i < c->n_peaks; i++)
-				fprintf(f, "    %-14s %-16s %-14s\n",
-					ssc_fmt(a, sizeof(a), c->peaks[i].frequency_hz, 7),
-					ssc_fmt(b, sizeof(b), c->peaks[i].value / (sc * sc), 5),
-					ssc_fmt(c3, sizeof(c3), c->peaks[i].amplitude / sc, 5));
+				fprintf(f, "    %-14s %-16s %-14s %s\n",
+					ssc_fmt(a, sizeof(a), c->peaks[i].peak.frequency_hz, 7),
+					ssc_fmt(b, sizeof(b), c->peaks[i].peak.value / (sc * sc), 5),
+					ssc_fmt(c3, sizeof(c3), c->peaks[i].peak.amplitude / sc, 5),
+					ssc_fmt((char[32]){ 0 }, 32, c->peaks[i].ratio, 3));
 			fprintf(f, "    (PSD in %s; amplitude: of the sine, peak, in %s)\n",
 				pu, *u ? u : "the data's unit");
 		}
+		if (R->a.peaks)
+			fprintf(f, "    %s peak stands out of the noise floor at false-alarm probability %s (F test per bin at %s over %zu bins, %s dof)\n",
+				c->n_peaks ? "each listed" : "no", ssc_fmt(a, sizeof(a), c->test.alpha, 2),
+				ssc_fmt(b, sizeof(b), c->test.p_threshold, 2), c->test.bins_tested,
+				ssc_fmt(c3, sizeof(c3), c->test.edf, 3));
 		if (R->a.bands && R->bands.n) {
 			fprintf(f, "    %-12s %-12s %-12s %s\n", "band lo (Hz)",
 				R->bands.nominal ? "centre" : "centre (geo)",
@@ -803,29 +863,6 @@ static void csv_run(FILE *f, const struct run *R)
 	}
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return x < y ? -1 : x > y;
-}
-
-/* median of a spectrum: peaks worth a label stand 10x above it */
-static double median_of(const double *v, size_t n)
-{
-	double *c = malloc(n * sizeof(double)), m;
-
-	if (!c || n == 0) {
-		free(c);
-		return 0;
-	}
-	memcpy(c, v, n * sizeof(double));
-	qsort(c, n, sizeof(double), cmp_double);
-	m = c[n / 2];
-	free(c);
-	return m;
-}
-
 static int plot(const struct ssc_common *co, const struct run *R)
 {
 	size_t nch = R->nch < 6 ? R->nch : 6;
@@ -856,17 +893,14 @@ static int plot(const struct ssc_common *co, const struct run *R)
 		struct ssc_style mk = { .color = ssc_plot_color(k), .width = -1,
 					.marker = SSC_MK_CIRCLE, .marker_size = 7 };
 		double sc2 = uscale(c) * uscale(c);
-		double floor = median_of(c->s.value, c->s.n_bins);
 
 		for (size_t i = 0; i < c->s.n_bins; i++)
 			y[i] = c->s.value[i] / sc2;
 		ssc_ax_line(ax, c->s.freq_hz, y, c->s.n_bins, &st, c->col.name);
+		/* the significant peaks only */
 		for (size_t i = 0; i < c->n_peaks && i < 5; i++) {
-			double px = c->peaks[i].frequency_hz;
-			double py = c->peaks[i].value / sc2;
-
-			if (!(c->peaks[i].value > 10 * floor))
-				continue;
+			double px = c->peaks[i].peak.frequency_hz;
+			double py = c->peaks[i].peak.value / sc2;
 
 			ssc_ax_line(ax, &px, &py, 1, &mk, NULL);
 			if (k == 0) {
@@ -950,6 +984,7 @@ static void init(void *opts)
 	sscope_psd_opts_init(&a->po);
 	a->overlap = 0.5;
 	a->peaks = 5;
+	a->peak_alpha = 0.01;
 	a->sg_cols = 400;
 }
 
@@ -1026,10 +1061,11 @@ static int present_run(const struct ssc_common *co, struct run *R,
 		if (c->n_peaks) {
 			char note[96];
 
-			snprintf(note, sizeof(note), "amplitude %.4g %s",
-				 c->peaks[0].amplitude / uscale(c), u);
+			snprintf(note, sizeof(note), "amplitude %.4g %s, %.3g x the noise floor",
+				 c->peaks[0].peak.amplitude / uscale(c), u,
+				 c->peaks[0].ratio);
 			ssc_summary_add(out->summary, c->col.name, "strongest peak",
-					c->peaks[0].frequency_hz, NAN, NAN, "Hz",
+					c->peaks[0].peak.frequency_hz, NAN, NAN, "Hz",
 					note);
 		}
 	}

@@ -634,6 +634,9 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	cap = env->caps[0];
 	path = env->paths[0];
+	rc = ssc_time_check(co, path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
 			path);

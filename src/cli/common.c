@@ -12,6 +12,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "plot.h"
@@ -701,6 +702,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	ssc_progress_end(co);
 	if (rc)
 		return ssc_fail(co->cmd, rc, &d, path);
+	if ((*cap)->unterminated)
+		ssc_warn_unterminated(co, path, (*cap)->n);
 	if (co->calibration) {
 		rc = ssc_calibration_apply(co, path, *cap);
 		if (rc) {
@@ -725,6 +728,75 @@ int ssc_load(const struct ssc_common *co, const char *path,
 				 path, co->rate_hz, implied);
 	}
 	return SSC_EXIT_OK;
+}
+
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows)
+{
+	ssc_warn(co, "%s: the last line (row %zu) has no newline: was the capture cut short?",
+		 strcmp(path, "-") ? path : "(stdin)", rows);
+}
+
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		struct stat a;
+		bool ha = !strcmp(paths[i], "-") ? fstat(STDIN_FILENO, &a) == 0 :
+						     stat(paths[i], &a) == 0;
+
+		for (size_t j = i + 1; j < n; j++) {
+			struct stat b;
+			bool hb;
+
+			if (!strcmp(paths[i], "-") && !strcmp(paths[j], "-"))
+				return ssc_usage_error(cmd,
+						       "standard input ('-') is given twice (inputs %zu and %zu): it can be read once",
+						       i + 1, j + 1);
+			hb = !strcmp(paths[j], "-") ? fstat(STDIN_FILENO, &b) == 0 :
+						      stat(paths[j], &b) == 0;
+			if (ha && hb && a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+				return ssc_usage_error(cmd,
+						       "inputs %zu and %zu ('%s' and '%s') are the same file: give each capture once",
+						       i + 1, j + 1, paths[i], paths[j]);
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform)
+{
+	struct sscope_diag d = { "" };
+	const char *p = strcmp(path, "-") ? path : "(stdin)";
+
+	if (!sscope_time_order_check(o, &d))
+		return SSC_EXIT_OK;
+	if (!uniform) {
+		ssc_warn(co, "%s: time column '%s' %s", p, column, d.msg);
+		return SSC_EXIT_OK;
+	}
+	if (rate_source == SSCOPE_RATE_GIVEN || rate_source == SSCOPE_RATE_HEADER) {
+		ssc_warn(co, "%s: time column '%s' %s: the samples are taken as evenly spaced at the %s rate",
+			 p, column, d.msg,
+			 rate_source == SSCOPE_RATE_GIVEN ? "given" : "header's");
+		return SSC_EXIT_OK;
+	}
+	ssc_err(co->cmd, "%s: time column '%s' %s: fix the time stamps, or give --rate to take the samples as evenly spaced",
+		p, column, d.msg);
+	return SSC_EXIT_FAIL;
+}
+
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform)
+{
+	struct sscope_time_order o = { 0 };
+
+	if (!cap->time_s)
+		return SSC_EXIT_OK;
+	sscope_time_order_feed(&o, cap->time_s, cap->n);
+	return ssc_time_verdict(co, path, cap->time_col.name, &o,
+				cap->rate_source, uniform);
 }
 
 json_t *ssc_jreal(double v)
@@ -843,6 +915,34 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	json_object_set_new(o, "si_unit", json_string(si_unit ? si_unit : ""));
 	json_object_set_new(o, "fitted", json_boolean(fitted));
 	return o;
+}
+
+void ssc_unit_pretty(const char *in, char *out, size_t len)
+{
+	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
+					    "ug", "^2", "^3", "*", NULL };
+	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
+					  "\xe2\x88\x9ah", "\xc2\xb5g",
+					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
+	size_t o = 0;
+
+	while (*in && o + 8 < len) {
+		int i;
+
+		for (i = 0; from[i]; i++)
+			if (!strncmp(in, from[i], strlen(from[i])))
+				break;
+		if (from[i]) {
+			size_t l = strlen(to[i]);
+
+			memcpy(out + o, to[i], l);
+			o += l;
+			in += strlen(from[i]);
+		} else {
+			out[o++] = *in++;
+		}
+	}
+	out[o] = '\0';
 }
 
 void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)

@@ -45,6 +45,12 @@ static const struct command commands[] = {
 	  ssc_cmd_inclino },
 	{ "adc", "will this ADC degrade the sensor: selection report, re-quantize, IEEE 1241 test",
 	  ssc_cmd_adc },
+	{ "heading", "heading from a vertical gyro, bias re-estimated at every stop, error envelope",
+	  ssc_cmd_heading },
+	{ "walk", "the random-walk fan of a stationary gyro against its noise terms",
+	  ssc_cmd_walk },
+	{ "navsim", "strapdown navigation error simulation over Monte-Carlo runs",
+	  ssc_cmd_navsim },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -1663,9 +1663,16 @@ int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
 
 int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
 {
-	char *buf = NULL;
+	char *buf = NULL, id[48];
 	size_t len = 0;
-	int rc = ssc_fig_svg(f, NULL, &buf, &len);
+	const char *b = strrchr(path, '/');
+	int rc;
+
+	/* ids from the file name: figures inlined in one page stay apart */
+	snprintf(id, sizeof(id), "f-%s", b ? b + 1 : path);
+	if (strrchr(id, '.'))
+		*strrchr(id, '.') = '\0';
+	rc = ssc_fig_svg(f, id, &buf, &len);
 
 	if (rc)
 		return rc;
@@ -1917,6 +1924,24 @@ enum ssc_plot_format ssc_plot_format_of(const char *path)
 
 int ssc_fig_save(struct ssc_fig *f, const char *path)
 {
+	size_t l = path ? strlen(path) : 0, k = strlen(SSC_PLOT_SVG_AND_PNG);
+
+	if (l > k && !strcmp(path + l - k, SSC_PLOT_SVG_AND_PNG)) {
+		char *p = malloc(l + 1);
+		int rc;
+
+		if (!p)
+			return -ENOMEM;
+		memcpy(p, path, l - k);
+		strcpy(p + l - k, ".svg");
+		rc = ssc_fig_save_svg(f, p);
+		if (!rc) {
+			strcpy(p + l - k, ".png");
+			rc = ssc_fig_save_png(f, p);
+		}
+		free(p);
+		return rc;
+	}
 	switch (ssc_plot_format_of(path)) {
 	case SSC_PLOT_PNG:
 		return ssc_fig_save_png(f, path);

@@ -23,10 +23,12 @@
 
 #include "hashjob.h"
 #include "html.h"
+#include "plot.h"
+#include "report.h"
 
 enum {
 	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
-	S_CALIB, S_BUDGET, S_COUNT_
+	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_COUNT_
 };
 
 static const struct ssc_stage_def stages[] = {
@@ -94,6 +96,27 @@ static const struct ssc_stage_def stages[] = {
 		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
 		       "K sqrt(t) growth, 95 % inside +-2 sigma; total = root sum "
 		       "of squares." },
+	[S_HEADING] = { "heading", &ssc_heading_stage, 1u << S_ALLAN,
+			"Heading = integral of the vertical rate minus the bias; "
+			"stops by the static detector of calib (variance magnitude "
+			"below k times a noise reference), the bias re-estimated "
+			"and the heading held at each; predicted error variance "
+			"after a stop for the IEEE 952 terms: -2 sum c_i c_j "
+			"D(|t_i - t_j|) with D = Q^2 + N^2 t/2 - (B^2/2 pi) t^2 "
+			"ln t - K^2 t^3/12." },
+	[S_WALK] = { "walk", &ssc_walk_stage, 1u << S_ALLAN,
+		     "Runs integrated after bias removal; envelope +-2 sigma of "
+		     "the predicted variance (angle random walk N^2 t plus the "
+		     "bias-instability, rate-random-walk and bias-estimate "
+		     "parts); implied N from the mean square of the runs, "
+		     "chi-squared interval with as many degrees of freedom as "
+		     "runs." },
+	[S_NAVSIM] = { "navsim", &ssc_navsim_stage, (1u << S_ALLAN) | (1u << S_CALIB),
+		       "WGS 84 Earth, normal gravity (Somigliana); local-level "
+		       "strapdown mechanisation with two-sample coning and "
+		       "sculling corrections, Earth rate, transport rate and "
+		       "Coriolis; sensor noise from the simulator; Monte-Carlo "
+		       "percentiles beside the budget's Schuler-bounded curves." },
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
@@ -261,7 +284,8 @@ static struct ssc_scene *scene_new(void)
 	if (!sc)
 		exit(SSC_EXIT_FAIL);
 	sc->scale = 1;
-	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG;
+	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG |
+		      SSC_OUT_SVG;
 	for (size_t i = 0; i < N_STAGES; i++) {
 		const struct ssc_stage_ops *ops = stages[i].ops;
 
@@ -275,12 +299,16 @@ static struct ssc_scene *scene_new(void)
 }
 
 /* Split a comma list into trimmed items (modifies s). */
-static size_t split_list(char *s, char **items, size_t max)
+/* Split a comma list into at most max items; *more (may be NULL) tells
+ * whether items were left over (an error for lists of inputs). */
+static size_t split_list_n(char *s, char **items, size_t max, bool *more)
 {
 	size_t n = 0;
 	char *save = NULL;
 
-	for (char *t = strtok_r(s, ",", &save); t && n < max;
+	if (more)
+		*more = false;
+	for (char *t = strtok_r(s, ",", &save); t;
 	     t = strtok_r(NULL, ",", &save)) {
 		char *e;
 
@@ -289,10 +317,21 @@ static size_t split_list(char *s, char **items, size_t max)
 		e = t + strlen(t);
 		while (e > t && isspace((unsigned char)e[-1]))
 			*--e = '\0';
-		if (*t)
-			items[n++] = t;
+		if (!*t)
+			continue;
+		if (n == max) {
+			if (more)
+				*more = true;
+			break;
+		}
+		items[n++] = t;
 	}
 	return n;
+}
+
+static size_t split_list(char *s, char **items, size_t max)
+{
+	return split_list_n(s, items, max, NULL);
 }
 
 /* ------------------------------------------------------------ parsing */
@@ -336,8 +375,13 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
 	{
 		char *copy = xstrdup(v), *items[64];
-		size_t n = split_list(copy, items, 64);
+		bool more;
+		size_t n = split_list_n(copy, items, 64, &more);
 
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "files: more than 64 captures");
+		}
 		sc->files = calloc(n ? n : 1, sizeof(char *));
 		for (size_t i = 0; i < n; i++) {
 			struct stat st;
@@ -354,6 +398,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		free(copy);
 		if (!n)
 			return scene_error(cmd, sc, line, "files: empty list");
+		rc = ssc_check_inputs(cmd, (const char *const *)sc->files,
+				      sc->n_files);
+		if (rc)
+			return rc;
 	}
 	sc->columns = xstrdup(sscope_ini_get(sc->ini, "input", "columns", NULL));
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
@@ -502,7 +550,13 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 		return SSC_EXIT_OK;
 	{
 		char *copy = xstrdup(spec), *items[8];
-		size_t n = split_list(copy, items, 8);
+		bool more;
+		size_t n = split_list_n(copy, items, 8, &more);
+
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "spec: more than 8 converters");
+		}
 
 		for (size_t i = 0; i < n; i++) {
 			sc->adc_paths[i] = join_path(sc->dir, items[i]);
@@ -547,9 +601,11 @@ static int parse_report(const char *cmd, struct ssc_scene *sc)
 				sc->formats |= SSC_OUT_HTML;
 			else if (!strcasecmp(items[i], "png"))
 				sc->formats |= SSC_OUT_PNG;
+			else if (!strcasecmp(items[i], "svg"))
+				sc->formats |= SSC_OUT_SVG;
 			else {
 				int rc = scene_error(cmd, sc, line,
-						     "formats: '%s' is not text, json, html or png",
+						     "formats: '%s' is not text, json, html, png or svg",
 						     items[i]);
 
 				free(copy);
@@ -669,7 +725,8 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 			return scene_error(cmd, sc, 0,
 					   "impossible request: [%s] needs captures: give [input] files = ...",
 					   stages[s].name);
-		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
+		if ((s == S_BUDGET || s == S_NAVSIM) && !sc->uses[s] &&
+		    !sc->have_sensor) {
 			/* noise terms from the scene's own analyses */
 			sc->uses[s] = sc->want & stages[s].deps;
 			if (!sc->uses[s] && sc->n_files)
@@ -848,6 +905,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		bool temp;
 		uint64_t bit;
 		int e;
+		char heading_ref[64] = "";
 
 		ssc_read_opts(co, &ro);
 		e = sscope_reader_open(&r, files[i], &ro, &d);
@@ -873,6 +931,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 
 			if (!strcmp(nm, "roll_ref") || !strcmp(nm, "pitch_ref"))
 				tilt = true;
+			/* a true heading beside a gyro: a drive to check */
+			if (q == SSCOPE_QTY_ANGLE && strcasestr(nm, "heading") &&
+			    strlen(nm) < sizeof(heading_ref))
+				strcpy(heading_ref, nm);
 
 			if (q == SSCOPE_QTY_ACCELERATION)
 				acc = true;
@@ -892,6 +954,30 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			sc->want |= 1u << S_INCLINO;
 			sc->file_mask[S_INCLINO] |= bit;
 			continue;
+		}
+		if (gyro && heading_ref[0]) {
+			if (!(sc->want & (1u << S_HEADING))) {
+				set_why(sc, S_HEADING,
+					"inferred: a gyro with a true heading column (%s): heading with the bias re-estimated at stops",
+					heading_ref);
+				if (sc->n_owned < 64) {
+					/* the stage keeps the name */
+					char *ref = xstrdup(heading_ref);
+
+					sc->owned[sc->n_owned++] = ref;
+					set_option(sc, S_HEADING, "reference", ref);
+				}
+			}
+			sc->want |= 1u << S_HEADING;
+			sc->file_mask[S_HEADING] |= bit;
+		} else if (gyro && !temp) {
+			/* a stationary gyro gets the random-walk fan (the
+			 * stage refuses a record that moves) */
+			if (!(sc->want & (1u << S_WALK)))
+				set_why(sc, S_WALK,
+					"inferred: a gyro record without temperature: the random-walk fan");
+			sc->want |= 1u << S_WALK;
+			sc->file_mask[S_WALK] |= bit;
 		}
 		if (temp && (acc || gyro)) {
 			if (!(sc->want & (1u << S_TEMPBIAS)))
@@ -1076,6 +1162,8 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 		fprintf(f, " report.txt");
 	if (sc->formats & SSC_OUT_PNG)
 		fprintf(f, " STAGE.png");
+	if (sc->formats & SSC_OUT_SVG)
+		fprintf(f, " STAGE.svg");
 	fputc('\n', f);
 	free(cols);
 }
@@ -1188,36 +1276,76 @@ static int guard_paths(const struct ssc_scene *sc, const char *cmd)
 	return rc;
 }
 
-static void fmt_interval(char *buf, size_t len, json_t *row)
+/* Remove a figure's files in the formats not kept. */
+static void unlink_fig(const char *base, unsigned keep)
 {
-	json_t *jv = json_object_get(row, "value");
-	double v = json_number_value(jv);
-	json_t *lo = json_object_get(row, "lo"), *hi = json_object_get(row, "hi");
-	char a[32], b[32], c[32];
+	char p[1100];
 
-	if (!json_is_number(jv)) {
-		snprintf(buf, len, "%s", "");
-		return;
+	if (!(keep & SSC_OUT_SVG)) {
+		snprintf(p, sizeof(p), "%s.svg", base);
+		unlink(p);
 	}
-	ssc_fmt(a, sizeof(a), v, 4);
-	if (json_is_number(lo) && json_is_number(hi))
-		snprintf(buf, len, "%s [%s, %s]", a,
-			 ssc_fmt(b, sizeof(b), json_number_value(lo), 3),
-			 ssc_fmt(c, sizeof(c), json_number_value(hi), 3));
-	else
-		snprintf(buf, len, "%s", a);
+	if (!(keep & SSC_OUT_PNG)) {
+		snprintf(p, sizeof(p), "%s.png", base);
+		unlink(p);
+	}
+}
+
+/* The figures of one stage as the report names them. */
+struct fig_names {
+	char svg[64][1100];
+	const char *svgp[65], *link[65];
+};
+
+/* The stages that ran, for the report: results, texts and figures (their
+ * SVG files, and the names to link them by when the files stay). */
+static size_t report_stages(const struct ssc_scene *sc,
+			    const struct ssc_stage_out *outs,
+			    char *(*figs)[64], struct fig_names *fn,
+			    struct ssc_report_stage *st)
+{
+	size_t n = 0;
+
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i], r;
+
+		for (r = 0; r < 64 && figs[s][r]; r++) {
+			const char *slash = strrchr(figs[s][r], '/');
+
+			snprintf(fn[s].svg[r], sizeof(fn[s].svg[r]), "%s.svg",
+				 figs[s][r]);
+			fn[s].svgp[r] = fn[s].svg[r];
+			slash = strrchr(fn[s].svg[r], '/');
+			fn[s].link[r] = sc->formats & SSC_OUT_SVG ?
+					(slash ? slash + 1 : fn[s].svg[r]) :
+					NULL;
+		}
+		fn[s].svgp[r] = NULL;
+		st[n] = (struct ssc_report_stage){
+			.name = stages[s].name,
+			.title = stages[s].ops->title,
+			.why = sc->why[s],
+			.definitions = stages[s].definitions,
+			.result = outs[s].json,
+			.text = outs[s].text,
+			.figs = fn[s].svgp,
+			.links = fn[s].link,
+		};
+		n++;
+	}
+	return n;
 }
 
 static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 			json_t *summary, struct ssc_stage_out *outs,
-			char *(*pngs)[64], const char *cols)
+			char *(*figs)[64], const char *cols)
 {
 	char buf[512], now[64];
 	time_t t = time(NULL);
-	static const char *const sum_head[] = { "stage", "channel", "quantity",
-						"value [interval]", "unit",
-						"note" };
 	static const char *const prov_head[] = { "input", "bytes", "SHA-256" };
+	struct ssc_report_stage rs[N_STAGES];
+	struct fig_names *fn = calloc(N_STAGES, sizeof(*fn));
+	size_t n = fn ? report_stages(sc, outs, figs, fn, rs) : 0;
 
 	strftime(now, sizeof(now), "%Y-%m-%d %H:%M:%S UTC", gmtime(&t));
 	snprintf(buf, sizeof(buf), "%s", sc->title ? sc->title :
@@ -1225,42 +1353,7 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 	ssc_html_h1(h, buf);
 	ssc_html_note(h, "sensorscope %s, %s. Intervals are the stated confidence level of each analysis.",
 		      PACKAGE_VERSION, now);
-	ssc_html_h2(h, "summary", "Summary");
-	ssc_html_table_begin(h, "summary", sum_head, 6);
-	for (size_t i = 0; i < json_array_size(summary); i++) {
-		json_t *r = json_array_get(summary, i);
-		char val[128];
-		const char *cells[6];
-
-		fmt_interval(val, sizeof(val), r);
-		cells[0] = json_string_value(json_object_get(r, "stage"));
-		cells[1] = json_string_value(json_object_get(r, "channel"));
-		cells[2] = json_string_value(json_object_get(r, "quantity"));
-		cells[3] = val;
-		cells[4] = json_string_value(json_object_get(r, "unit"));
-		cells[5] = json_string_value(json_object_get(r, "note"));
-		ssc_html_table_row(h, cells, 6);
-	}
-	ssc_html_table_end(h);
-	for (size_t i = 0; i < sc->n_order; i++) {
-		size_t s = sc->order[i];
-
-		ssc_html_section(h, stages[s].name);
-		ssc_html_h2(h, NULL, stages[s].ops->title);
-		ssc_html_note(h, "Stage '%s': %s.", stages[s].name, sc->why[s]);
-		for (size_t r = 0; r < 64 && pngs[s][r]; r++)
-			ssc_html_image(h, pngs[s][r], stages[s].ops->title);
-		if (outs[s].text)
-			ssc_html_pre(h, outs[s].text);
-		ssc_html_section_end(h);
-	}
-	ssc_html_h2(h, "definitions", "Definitions used");
-	for (size_t i = 0; i < sc->n_order; i++) {
-		size_t s = sc->order[i];
-
-		if (stages[s].definitions)
-			ssc_html_def(h, stages[s].ops->title, stages[s].definitions);
-	}
+	ssc_report_body(h, summary, rs, n);
 	ssc_html_h2(h, "provenance", "Provenance");
 	ssc_html_table_begin(h, NULL, prov_head, 3);
 	for (size_t i = 0; i < sc->n_files; i++) {
@@ -1319,15 +1412,17 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		}
 		ssc_html_p(h, "Options of [%s]: %s", sec, used ? line : "(defaults)");
 	}
+	free(fn);
 }
 
 /* Run stage s once on the captures idx[0..n) (run > 0: the run-th of a
- * stage run per capture, drawn into STAGE-run.png). */
+ * stage run per capture, drawn into STAGE-run.svg/png).  *fig_out gets the
+ * figure's path without its extension when one was drawn. */
 static int run_stage(struct ssc_scene *sc, size_t s,
 		     const struct ssc_common *co, struct sscope_capture **caps,
 		     const size_t *idx, size_t n, int run,
 		     const struct ssc_stage_out *outs, struct ssc_stage_out *out,
-		     char **png_out)
+		     char **fig_out)
 {
 	const struct ssc_stage_ops *ops = stages[s].ops;
 	struct ssc_common sco = *co;
@@ -1336,7 +1431,9 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 	const char **paths = calloc(n ? n : 1, sizeof(*paths));
 	const char *want = sc->stage_columns[s] ? sc->stage_columns[s] :
 						  sc->columns;
-	char png[1024];
+	char base[1024], fig[1100];
+	bool svg = sc->formats & (SSC_OUT_SVG | SSC_OUT_HTML);
+	bool png = (sc->formats & SSC_OUT_PNG) && ssc_plot_available();
 	json_t *up = json_object();
 	int rc;
 
@@ -1350,11 +1447,14 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 		if (sc->uses[s] & (1u << u) && outs[u].json)
 			json_object_set(up, stages[u].name, outs[u].json);
 	if (run)
-		snprintf(png, sizeof(png), "%s/%s-%d.png", sc->out_dir,
+		snprintf(base, sizeof(base), "%s/%s-%d", sc->out_dir,
 			 stages[s].name, run);
 	else
-		snprintf(png, sizeof(png), "%s/%s.png", sc->out_dir,
+		snprintf(base, sizeof(base), "%s/%s", sc->out_dir,
 			 stages[s].name);
+	/* one drawing, in the formats asked for (the HTML inlines the SVG) */
+	snprintf(fig, sizeof(fig), "%s%s", base,
+		 svg && png ? SSC_PLOT_SVG_AND_PNG : svg ? ".svg" : ".png");
 	env.co = &sco;
 	env.caps = v;
 	env.paths = paths;
@@ -1365,9 +1465,7 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 		env.adc_paths[a] = sc->adc_paths[a];
 	env.n_adc = sc->n_adc;
 	env.adc_ini = sc->adc_ini;
-	env.plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
-				!sc->no_plot[s] && ssc_plot_available() ?
-			png : NULL;
+	env.plot_path = (svg || png) && !sc->no_plot[s] ? fig : NULL;
 	env.upstream = up;
 	out->summary = json_array();
 	rc = ops->run(&env, sc->opts[s], out);
@@ -1376,8 +1474,9 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 	free(v);
 	free(paths);
 	json_decref(up);
-	if (!rc && env.plot_path && access(png, R_OK) == 0)
-		*png_out = xstrdup(png);
+	snprintf(fig, sizeof(fig), "%s%s", base, svg ? ".svg" : ".png");
+	if (!rc && env.plot_path && access(fig, R_OK) == 0)
+		*fig_out = xstrdup(base);
 	return rc;
 }
 
@@ -1450,7 +1549,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	struct ssc_common co = { 0 };
 	struct sscope_capture **caps = NULL;
 	struct ssc_stage_out outs[N_STAGES];
-	char *pngs[N_STAGES][64] = { { 0 } };
+	char *figs[N_STAGES][64] = { { 0 } };
 	json_t *results = json_object(), *summary = json_array(), *all;
 	char *cols = columns_to_read(sc);
 	struct ssc_membuf txt;
@@ -1526,7 +1625,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 
 			rc = run_stage(sc, s, &co, caps, fan ? idx + r : idx,
 				       fan ? 1 : n_in, fan ? (int)r + 1 : 0, outs,
-				       &o, &pngs[s][r]);
+				       &o, &figs[s][r]);
 			if (!rc)
 				merge_out(&outs[s], &o, fan, stages[s].name,
 					  fan ? sc->files[idx[r]] : NULL);
@@ -1544,10 +1643,10 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 			set_why(sc, s, "inferred, but refused by the data: %s",
 				ssc_last_error());
 			ssc_stage_out_free(&outs[s]);
-			for (size_t r = 0; r < 64 && pngs[s][r]; r++) {
-				unlink(pngs[s][r]);
-				free(pngs[s][r]);
-				pngs[s][r] = NULL;
+			for (size_t r = 0; r < 64 && figs[s][r]; r++) {
+				unlink_fig(figs[s][r], 0);
+				free(figs[s][r]);
+				figs[s][r] = NULL;
 			}
 			rc = SSC_EXIT_OK;
 			continue;
@@ -1614,17 +1713,25 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 						  "sensorscope report");
 		char p[1024];
 
-		html_report(sc, h, summary, outs, pngs, cols);
+		html_report(sc, h, summary, outs, figs, cols);
 		snprintf(p, sizeof(p), "%s/report.html", sc->out_dir);
 		e = ssc_html_write(h, p);
 		ssc_html_free(h);
 		if (e)
 			rc = ssc_write_failed(co.cmd, p, e);
 	}
-	if (!(sc->formats & SSC_OUT_PNG))
-		for (size_t s = 0; s < N_STAGES; s++)
-			for (size_t r = 0; r < 64 && pngs[s][r]; r++)
-				unlink(pngs[s][r]);
+	for (size_t s = 0; s < N_STAGES; s++)
+		for (size_t r = 0; r < 64 && figs[s][r]; r++)
+			unlink_fig(figs[s][r], sc->formats);
+	if (!rc && !sc->quiet) {
+		/* the results for the person at the terminal */
+		struct ssc_report_stage st[N_STAGES];
+		struct fig_names *fn = calloc(N_STAGES, sizeof(*fn));
+		size_t n = fn ? report_stages(sc, outs, figs, fn, st) : 0;
+
+		ssc_report_terminal(stdout, summary, st, n);
+		free(fn);
+	}
 done:
 	ssc_hashjob_free(sc->hashes);
 	sc->hashes = NULL;
@@ -1642,7 +1749,7 @@ done:
 	for (size_t s = 0; s < N_STAGES; s++) {
 		ssc_stage_out_free(&outs[s]);
 		for (size_t r = 0; r < 64; r++)
-			free(pngs[s][r]);
+			free(figs[s][r]);
 	}
 	json_decref(results);
 	json_decref(summary);

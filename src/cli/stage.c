@@ -61,6 +61,14 @@ void ssc_summary_add(json_t *summary, const char *channel,
 	json_array_append_new(summary, o);
 }
 
+void ssc_summary_warn_last(json_t *summary)
+{
+	json_t *last = json_array_get(summary, json_array_size(summary) - 1);
+
+	if (last)
+		json_object_set_new(last, "status", json_string("warning"));
+}
+
 int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out)
 {
 	struct ssc_out o;
@@ -117,6 +125,10 @@ int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
 				     ops->max_files, ops->max_files == 1 ? "" : "s");
 		goto done;
 	}
+	rc = ssc_check_inputs(co.cmd, (const char *const *)argv + first,
+			      (size_t)n);
+	if (rc)
+		goto done;
 	if (ops->check) {
 		rc = ops->check(&co, opts);
 		if (rc)

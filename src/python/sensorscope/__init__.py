@@ -481,7 +481,9 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
             "hysteresis": {"max": r.hysteresis_max,
                            "at_degc": r.hysteresis_at_degc,
                            "eta": r.hysteresis if r.have_hysteresis
-                           else None},
+                           else None,
+                           "collinear_with_gradient": r.hyst_grad_collinear,
+                           "gradient_vif": r.hyst_grad_vif},
             "gradient": r.gradient if r.have_gradient else None,
             "turn_on_repeatability": {"sd": r.repeat_sd,
                                       "range": r.repeat_range,

@@ -90,7 +90,8 @@ class Capture(C.Structure):
                 ("time_col", Column), ("temp_col", Column),
                 ("rate_hz", c_dbl), ("rate_source", C.c_int),
                 ("n_nan", c_size), ("source_info", C.POINTER(Source)),
-                ("mapping", C.c_void_p), ("mapping_len", c_size)]
+                ("mapping", C.c_void_p), ("mapping_len", c_size),
+                ("unterminated", C.c_bool)]
 
 
 class AllanOpts(C.Structure):
@@ -110,7 +111,8 @@ class AllanPoint(C.Structure):
 
 class NoiseCoef(C.Structure):
     _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
-                ("var_sd", c_dbl), ("fitted", C.c_bool)]
+                ("var_sd", c_dbl), ("estimate", c_dbl),
+                ("fitted", C.c_bool)]
 
 
 class NoiseReadoff(C.Structure):
@@ -121,6 +123,7 @@ class NoiseReadoff(C.Structure):
 class NoiseFitOpts(C.Structure):
     _fields_ = [("ci_level", c_dbl), ("allowed", C.c_uint),
                 ("forced", C.c_uint), ("model_error", c_dbl),
+                ("detect_sigma", c_dbl),
                 ("tau_min_s", c_dbl), ("tau_max_s", c_dbl),
                 ("skip", C.c_bool)]
 
