@@ -33,6 +33,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_statistics_double.h>
 #include <gsl/gsl_vector.h>
 
 #define PI 3.14159265358979323846
@@ -561,13 +562,6 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *z, size_t stride, size_t n,
 				  double rate_hz, double init_static_s,
@@ -601,8 +595,8 @@ int sscope_calib_static_reference(const double *x, const double *y,
 				work[nf++] = vs[i];
 		if (nf == 0)
 			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work, nf, sizeof(double), cmp_double);
-		*reference = work[(nf - 1) / 10];
+		/* the 10th percentile by selection (O(n)), not a sort */
+		*reference = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,
