@@ -568,14 +568,29 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
+int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
+			 size_t min_finite, double *p10, double *p90)
+{
+	size_t nf = 0;
+
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(vs[i]))
+			work[nf++] = vs[i];
+	if (nf == 0 || nf < min_finite)
+		return -EDOM;
+	qsort(work, nf, sizeof(double), cmp_double);
+	*p10 = work[(nf - 1) / 10];
+	if (p90)
+		*p90 = work[(nf - 1) * 9 / 10];
+	return 0;
+}
+
 int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *z, size_t stride, size_t n,
 				  double rate_hz, double init_static_s,
 				  const double *vs, double *work,
 				  double *reference, struct sscope_diag *diag)
 {
-	size_t nf = 0;
-
 	if (!x || !y || !z || !vs || !work || !reference || stride == 0 ||
 	    !(rate_hz > 0))
 		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
@@ -595,14 +610,8 @@ int sscope_calib_static_reference(const double *x, const double *y,
 			v2 += st.sd * st.sd * st.sd * st.sd;
 		}
 		*reference = sqrt(v2);
-	} else {
-		for (size_t i = 0; i < n; i++)
-			if (isfinite(vs[i]))
-				work[nf++] = vs[i];
-		if (nf == 0)
-			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work, nf, sizeof(double), cmp_double);
-		*reference = work[(nf - 1) / 10];
+	} else if (ssc_calib_vs_deciles(vs, n, work, 1, reference, NULL)) {
+		return ssc_diag(diag, -EDOM, "capture too short");
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,
