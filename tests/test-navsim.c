@@ -20,6 +20,9 @@
  * - angle random walk: the Monte-Carlo spread of the attitude errors
  *   against N sqrt(t) (chi-squared bounds on the variance), percentiles
  *   against the normal quantiles;
+ * - a converter: at rest its rounding acts as the fixed biases it makes;
+ *   its noise and quantization add to the angle random walk as the
+ *   budget (sscope_adc_analyze()) says;
  * - determinism across thread counts, trajectory tables, refused input.
  */
 #include "internal.h"
@@ -545,6 +548,137 @@ START_TEST(test_arw_monte_carlo)
 }
 END_TEST
 
+/* a converter in sensor units: bits, +-half range, round mode */
+static struct sscope_adc_spec adc_spec(enum sscope_quantity q, int bits,
+				       double half, double noise)
+{
+	struct sscope_adc_spec a;
+
+	memset(&a, 0, sizeof(a));
+	a.bits = bits;
+	a.lo = -half;
+	a.hi = half;
+	a.quantity = q;
+	a.noise = noise;
+	a.mode = SSCOPE_ADC_ROUND;
+	return a;
+}
+
+START_TEST(test_adc_quantization)
+{
+	/* At rest a perfect IMU reads the Earth rate and -g: a coarse
+	 * converter rounds them to its levels (multiples of q), and the
+	 * navigation error is that of the fixed biases the rounding makes */
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu adc = { 0 }, eq = { 0 };
+	struct sscope_adc_spec ga, aa;
+	struct sscope_navsim *ns;
+	double *e1, *e2, w[3], g, qg, qa, f[3];
+	uint64_t clipped = 1;
+	size_t n;
+
+	o.rate_hz = 50;
+	o.duration_s = 600;
+	o.output_step_s = 10;
+	o.start.lat_rad = 45 * D2R;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 2048 * 3.7e-5, 0);
+	aa = adc_spec(SSCOPE_QTY_ACCELERATION, 10, 20.48, 0);
+	qg = 3.7e-5;
+	qa = 0.04;
+	adc.gyro_adc = &ga;
+	adc.accel_adc = &aa;
+	/* body = NED (level, north): the readings and their levels */
+	sscope_nav_earth_rate(o.start.lat_rad, w);
+	g = sscope_nav_gravity(o.start.lat_rad, 0);
+	f[0] = f[1] = 0;
+	f[2] = -g;
+	for (int i = 0; i < 3; i++) {
+		eq.gyro_bias_rad_s[i] = round(w[i] / qg) * qg - w[i];
+		eq.accel_bias_m_s2[i] = round(f[i] / qa) * qa - f[i];
+	}
+	ck_assert(fabs(eq.gyro_bias_rad_s[0]) > 1e-6 && fabs(eq.accel_bias_m_s2[2]) > 1e-3);
+	e1 = calloc(n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+	ck_assert_ptr_nonnull(e1);
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, &clipped, NULL), 0);
+	ck_assert(clipped == 0);
+	e2 = run1(ns, &eq);
+	for (int c = 0; c < SSCOPE_NAVSIM_N_COMP; c++) {
+		double peak = worst(e2, n, c, c + 1);
+
+		if (c == SSCOPE_NAVSIM_DOWN || c == SSCOPE_NAVSIM_VD)
+			continue; /* aided */
+		ck_assert_msg(peak > 0, "component %d", c);
+		for (size_t k = 0; k < n; k++)
+			ck_assert_msg(fabs(e1[k * SSCOPE_NAVSIM_N_COMP + c] -
+					   e2[k * SSCOPE_NAVSIM_N_COMP + c]) <= 1e-9 * peak,
+				      "component %d at %zu: %g with the converter, %g with its biases",
+				      c, k, e1[k * SSCOPE_NAVSIM_N_COMP + c],
+				      e2[k * SSCOPE_NAVSIM_N_COMP + c]);
+	}
+	/* a range too small clips, and says so */
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 4e-5, 0);
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, &clipped, NULL), 0);
+	ck_assert(clipped >= 2 * sscope_navsim_n_samples(ns));
+	/* a converter the library refuses */
+	ga.bits = 0;
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, NULL, NULL), -EINVAL);
+	free(e1);
+	free(e2);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_adc_noise_monte_carlo)
+{
+	/* A gyro of N at fs behind a converter with input noise sigma_a and
+	 * step q, both of the size of the sensor's per-sample noise sigma
+	 * (so the quantization error is uniform and white): the attitude
+	 * errors grow as the density sqrt(N^2 + (sigma_a^2 + q^2/12)/fs)
+	 * that the budget takes from sscope_adc_analyze() */
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_budget_params bp;
+	struct sscope_adc_spec ga;
+	struct sscope_navsim *ns;
+	struct sscope_navsim_stat *st;
+	const size_t M = 200;
+	double N = 0.15 * D2R / 60, fs = 50, sig, ntot, lo, hi;
+	size_t n;
+
+	o.rate_hz = fs;
+	o.duration_s = 120;
+	o.output_step_s = 30;
+	o.start.lat_rad = 45 * D2R;
+	sig = N * sqrt(fs);
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 16, 32768 * sig, sig);
+	imu.gyro.n = N;
+	imu.gyro_adc = &ga;
+	ns = make(&o);
+	sscope_navsim_budget(ns, &imu, &bp);
+	ntot = sqrt(N * N + (sig * sig + sig * sig / 12) / fs);
+	ck_assert_msg(fabs(bp.arw_rad_sqrt_s / ntot - 1) < 1e-12, "budget ARW %g, expected %g",
+		      bp.arw_rad_sqrt_s, ntot);
+	n = sscope_navsim_n_out(ns);
+	st = calloc(n, sizeof(*st));
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, M, 5, st, NULL, NULL, NULL), 0);
+	/* M s^2 / sigma^2 ~ chi^2_M: two-sided 1e-4 */
+	lo = gsl_cdf_chisq_Pinv(5e-5, (double)M) / (double)M;
+	hi = gsl_cdf_chisq_Qinv(5e-5, (double)M) / (double)M;
+	for (size_t k = 1; k < n; k++)
+		for (int c = SSCOPE_NAVSIM_ROLL; c <= SSCOPE_NAVSIM_YAW; c++) {
+			double r = st[k].rms[c] * st[k].rms[c] / (ntot * ntot * st[k].t_s);
+
+			ck_assert_msg(r > lo && r < hi,
+				      "t %g comp %d: rms^2 / (N_total^2 t) = %g outside [%g, %g]",
+				      st[k].t_s, c, r, lo, hi);
+		}
+	free(st);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
 START_TEST(test_deterministic)
 {
 	struct sscope_navsim_opts o = { 0 };
@@ -765,6 +899,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_gyro_bias);
 	tcase_add_test(tc, test_linear_error_model);
 	tcase_add_test(tc, test_arw_monte_carlo);
+	tcase_add_test(tc, test_adc_quantization);
+	tcase_add_test(tc, test_adc_noise_monte_carlo);
 	tcase_add_test(tc, test_deterministic);
 	tcase_add_test(tc, test_table);
 	tcase_add_test(tc, test_refused);
