@@ -206,6 +206,16 @@ int ssc_dev_order(enum sscope_dev dev)
 	return dev == SSCOPE_DEV_HDEV || dev == SSCOPE_DEV_OHDEV ? 3 : 2;
 }
 
+enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
+						enum sscope_allan_input input)
+{
+	if (input != SSCOPE_ALLAN_ANGLE)
+		return q;
+	return q == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
+	       q == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
+					  SSCOPE_QTY_UNKNOWN;
+}
+
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
 {
 	return input == SSCOPE_ALLAN_ANGLE ? n : n + 1;
@@ -1426,7 +1436,8 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			goto fail;
 	}
 	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
-					  res->n_phase, fopts, &res->fit, NULL);
+					  res->n_phase, fopts, &res->fit,
+					  &res->fit_diag);
 	res->have_fit = res->fit_error == 0;
 	sscope_allan_free(p);
 	*resp = res;

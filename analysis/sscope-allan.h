@@ -84,6 +84,15 @@ enum sscope_tau_grid {
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n);
 
 /**
+ * The quantity whose noise terms an analysis of samples of quantity @p q
+ * gives: @p q itself for rate input; for angle input its rate (an angle
+ * gives an angular rate, a velocity an acceleration, anything else
+ * SSCOPE_QTY_UNKNOWN).
+ */
+enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
+						enum sscope_allan_input input);
+
+/**
  * Largest averaging factor @p dev accepts for @p n_phase phase points (the
  * limits in the file comment).
  * @return the largest m, or 0 when even m = 1 has no term.
@@ -393,6 +402,7 @@ struct sscope_allan_result {
 	bool have_fit;      /**< false when the fit failed (fit_error) */
 	int fit_error;      /**< the fit's return code */
 	struct sscope_noise_fit fit;
+	struct sscope_diag fit_diag; /**< why the fit failed (may be empty) */
 };
 
 /**

@@ -354,10 +354,32 @@ int sscope_reader_read(struct sscope_reader *reader,
 /** Close a reader (NULL is ignored). */
 void sscope_reader_close(struct sscope_reader *reader);
 
+/** Sampling of a time column. */
+struct sscope_timing {
+	double dt_median_s; /**< median interval */
+	double dt_min_s;
+	double dt_max_s;
+	double jitter_rms_s;  /**< rms deviation of the regular intervals from
+				   their mean (gaps excluded) */
+	double rate_hz;       /**< 1 / mean regular interval */
+	size_t n_gaps;        /**< intervals longer than gap_factor * median */
+	size_t n_missing;     /**< samples missing in those gaps (estimated) */
+	size_t n_backwards;   /**< non-increasing intervals */
+};
+
+/** A gap in time stamps. */
+struct sscope_gap {
+	size_t index;     /**< first sample after the gap */
+	double t_s;       /**< its time */
+	double length_s;  /**< the interval */
+	size_t missing;   /**< round(length / median) - 1 */
+};
+
 /** One data channel of a loaded capture. */
 struct sscope_channel {
 	struct sscope_column col; /**< name, unit, quantity (owned) */
 	double *data;             /**< n samples in SI (owned) */
+	size_t n_nan;             /**< NaN samples (gaps) among them */
 };
 
 /** A capture in memory. */
@@ -373,7 +395,22 @@ struct sscope_capture {
 	double rate_hz;         /**< nominal rate; 0 when unknown */
 	enum sscope_rate_source rate_source;
 	size_t n_nan;           /**< NaN cells read as gaps */
+	/** Sampling of the time column (sscope_timing_analyze() with gap
+	 *  factor 1.5), valid when has_timing: loaded captures with a time
+	 *  column of two or more increasing stamps. */
+	struct sscope_timing timing;
+	bool has_timing;
+	/** The first SSCOPE_CAPTURE_GAPS gaps of the time column (n_gaps of
+	 *  them; timing.n_gaps counts all). */
+	struct sscope_gap *gaps;
+	size_t n_gaps;
+	/** A view made by sscope_capture_view(): samples, names, time and
+	 *  temperature belong to another capture. */
+	bool is_view;
 };
+
+/** Gaps of the time column a loaded capture lists (struct sscope_capture). */
+#define SSCOPE_CAPTURE_GAPS 100
 
 /**
  * Read a whole capture (the selected columns only).
@@ -408,6 +445,31 @@ void sscope_capture_free(struct sscope_capture *cap);
 
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);
+
+/**
+ * Keep only the channels a column list names, in the list's order: the one
+ * rule by which channels are chosen everywhere (a command's -c, a scene's
+ * columns, after a calibration is applied).  The list is
+ * "NAME|INDEX[,...]": a NAME is a channel's name (exact, else ignoring
+ * case), an INDEX the 1-based column of the source file; blanks around an
+ * item are ignored, empty items skipped, an item naming a channel already
+ * chosen counts once.
+ * @param cap      the capture, changed in place (dropped channels freed).
+ * @param columns  the list; NULL or "" keeps every channel.
+ * @return 0; -EINVAL when an item names no data channel of @p cap (diag
+ *         names it and lists the channels); -ENOMEM.
+ */
+int sscope_capture_select(struct sscope_capture *cap, const char *columns,
+			  struct sscope_diag *diag);
+
+/**
+ * sscope_capture_select() as a view: a capture holding the chosen channels
+ * of @p cap without copying samples.  The view is valid while @p cap is;
+ * sscope_capture_free() frees only what the view owns.
+ * @return as sscope_capture_select().
+ */
+int sscope_capture_view(const struct sscope_capture *cap, const char *columns,
+			struct sscope_capture **view, struct sscope_diag *diag);
 
 /* ------------------------------------------------------------------ */
 /* Capture writers                                                     */
@@ -489,27 +551,6 @@ struct sscope_stats {
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st);
 
-/** Sampling of a time column. */
-struct sscope_timing {
-	double dt_median_s; /**< median interval */
-	double dt_min_s;
-	double dt_max_s;
-	double jitter_rms_s;  /**< rms deviation of the regular intervals from
-				   their mean (gaps excluded) */
-	double rate_hz;       /**< 1 / mean regular interval */
-	size_t n_gaps;        /**< intervals longer than gap_factor * median */
-	size_t n_missing;     /**< samples missing in those gaps (estimated) */
-	size_t n_backwards;   /**< non-increasing intervals */
-};
-
-/** A gap in time stamps. */
-struct sscope_gap {
-	size_t index;     /**< first sample after the gap */
-	double t_s;       /**< its time */
-	double length_s;  /**< the interval */
-	size_t missing;   /**< round(length / median) - 1 */
-};
-
 /**
  * Analyse time stamps.
  * @param t_s         n time stamps in seconds.
@@ -523,6 +564,38 @@ struct sscope_gap {
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  struct sscope_timing *tm, struct sscope_gap *gaps,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
+
+/**
+ * Streaming form of sscope_timing_analyze() for a record read in chunks
+ * (memory independent of its length).  The median interval is taken over
+ * the first SSCOPE_TIMING_STREAM_BLOCK intervals (all of them in a shorter
+ * record, where every result but jitter_rms_s equals
+ * sscope_timing_analyze()'s exactly); later intervals are classified
+ * against it.  Jitter comes from sums about that median.
+ */
+struct sscope_timing_stream;
+
+/** Intervals the streaming median is taken over. */
+#define SSCOPE_TIMING_STREAM_BLOCK 65536
+
+/** @return 0, -EINVAL (gap_factor <= 1), -ENOMEM. */
+int sscope_timing_stream_new(struct sscope_timing_stream **ts,
+			     double gap_factor);
+
+/** Feed the next @p n stamps (s, any chunking).  @return 0, -EINVAL. */
+int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
+			      const double *t_s, size_t n);
+
+/**
+ * The timing of the stamps fed so far.
+ * @return 0; -EDOM for fewer than two stamps or a non-positive median
+ *         interval; -EINVAL.
+ */
+int sscope_timing_stream_result(struct sscope_timing_stream *ts,
+				struct sscope_timing *tm);
+
+/** Free (NULL is ignored). */
+void sscope_timing_stream_free(struct sscope_timing_stream *ts);
 
 
 /* ------------------------------------------------------------------ */

@@ -1,0 +1,168 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Streaming timing analysis: sscope_timing_analyze() for records read in
+ * chunks.  The first SSCOPE_TIMING_STREAM_BLOCK intervals are held until
+ * their median is known (GSL), then every interval is classified against
+ * it as sscope_timing_analyze() does: an interval longer than gap_factor
+ * times the median is a gap, the others are summed in order with
+ * Neumaier compensation, so the rate (their count over their sum) is the
+ * same number whenever the medians agree.  The jitter comes from
+ * compensated sums of (d - median) and (d - median)^2, which do not cancel
+ * the way raw second moments would.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_statistics_double.h>
+
+struct sscope_timing_stream {
+	double factor;
+	double *block;        /* the first intervals, until the median */
+	double *sorted;       /* scratch for the median */
+	size_t n_block;
+	bool have_median;
+	bool no_median;       /* the first block had no usable median */
+	double median;
+	bool have_last;
+	double last;
+	size_t n_stamps;
+	double lo, hi;
+	size_t n_backwards, n_gaps, n_missing, n_regular;
+	struct ssc_ksum sum, s1, s2;
+};
+
+int sscope_timing_stream_new(struct sscope_timing_stream **out,
+			     double gap_factor)
+{
+	struct sscope_timing_stream *ts;
+
+	if (!out)
+		return -EINVAL;
+	*out = NULL;
+	if (!(gap_factor > 1))
+		return -EINVAL;
+	ts = calloc(1, sizeof(*ts));
+	if (!ts)
+		return -ENOMEM;
+	ts->block = malloc(SSCOPE_TIMING_STREAM_BLOCK * sizeof(double));
+	ts->sorted = malloc(SSCOPE_TIMING_STREAM_BLOCK * sizeof(double));
+	if (!ts->block || !ts->sorted) {
+		sscope_timing_stream_free(ts);
+		return -ENOMEM;
+	}
+	ts->factor = gap_factor;
+	ts->lo = INFINITY;
+	ts->hi = -INFINITY;
+	*out = ts;
+	return 0;
+}
+
+void sscope_timing_stream_free(struct sscope_timing_stream *ts)
+{
+	if (!ts)
+		return;
+	free(ts->block);
+	free(ts->sorted);
+	free(ts);
+}
+
+/* One interval once the median is known. */
+static void classify(struct sscope_timing_stream *ts, double d)
+{
+	if (d > ts->factor * ts->median) {
+		ts->n_gaps++;
+		ts->n_missing += (size_t)llround(d / ts->median) - 1;
+		return;
+	}
+	ssc_ksum_add(&ts->sum, d);
+	ssc_ksum_add(&ts->s1, d - ts->median);
+	ssc_ksum_add(&ts->s2, (d - ts->median) * (d - ts->median));
+	ts->n_regular++;
+}
+
+/* The median of the held intervals, then classify them (false: no usable
+ * median). */
+static bool settle(struct sscope_timing_stream *ts)
+{
+	if (ts->have_median)
+		return true;
+	if (!ts->n_block || ts->no_median)
+		return false;
+	memcpy(ts->sorted, ts->block, ts->n_block * sizeof(double));
+	ts->median = gsl_stats_median(ts->sorted, 1, ts->n_block);
+	if (!(ts->median > 0) || !isfinite(ts->median))
+		return false;
+	ts->have_median = true;
+	for (size_t i = 0; i < ts->n_block; i++)
+		classify(ts, ts->block[i]);
+	return true;
+}
+
+int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
+			      const double *t_s, size_t n)
+{
+	if (!ts || (!t_s && n))
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++) {
+		double t = t_s[i], d;
+
+		ts->n_stamps++;
+		if (!ts->have_last) {
+			ts->have_last = true;
+			ts->last = t;
+			continue;
+		}
+		d = t - ts->last;
+		ts->last = t;
+		if (d < ts->lo)
+			ts->lo = d;
+		if (d > ts->hi)
+			ts->hi = d;
+		if (!(d > 0))
+			ts->n_backwards++;
+		if (ts->have_median) {
+			classify(ts, d);
+			continue;
+		}
+		if (ts->no_median)
+			continue;
+		ts->block[ts->n_block++] = d;
+		if (ts->n_block == SSCOPE_TIMING_STREAM_BLOCK && !settle(ts))
+			ts->no_median = true; /* the result says so */
+	}
+	return 0;
+}
+
+int sscope_timing_stream_result(struct sscope_timing_stream *ts,
+				struct sscope_timing *tm)
+{
+	double mean, m1, var;
+
+	if (!ts || !tm)
+		return -EINVAL;
+	memset(tm, 0, sizeof(*tm));
+	if (ts->n_stamps < 2)
+		return -EDOM;
+	tm->dt_min_s = ts->lo;
+	tm->dt_max_s = ts->hi;
+	tm->n_backwards = ts->n_backwards;
+	if (!settle(ts))
+		return -EDOM;
+	tm->dt_median_s = ts->median;
+	tm->n_gaps = ts->n_gaps;
+	tm->n_missing = ts->n_missing;
+	mean = ts->n_regular ? ssc_ksum_value(&ts->sum) / (double)ts->n_regular :
+			       ts->median;
+	if (!(mean > 0))
+		return -EDOM;
+	tm->rate_hz = 1 / mean;
+	if (ts->n_regular) {
+		m1 = ssc_ksum_value(&ts->s1) / (double)ts->n_regular;
+		var = ssc_ksum_value(&ts->s2) / (double)ts->n_regular - m1 * m1;
+		tm->jitter_rms_s = var > 0 ? sqrt(var) : 0;
+	}
+	return 0;
+}
