@@ -255,62 +255,6 @@ int ssc_calfile_read(const char *cmd, const char *path,
 	return SSC_EXIT_OK;
 }
 
-/* keep only the channels -c names (names or 1-based file columns) */
-static int select_columns(const struct ssc_common *co,
-			  struct sscope_capture *cap)
-{
-	char *list = strdup(co->columns), *save = NULL, *tok;
-	struct sscope_channel *keep;
-	bool *used;
-	size_t nk = 0;
-
-	keep = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*keep));
-	used = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*used));
-	if (!list || !keep || !used) {
-		free(list);
-		free(keep);
-		free(used);
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	for (tok = strtok_r(list, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save)) {
-		size_t k, idx = 0;
-		bool num = *tok != 0;
-
-		for (const char *p = tok; *p; p++)
-			if (*p < '0' || *p > '9')
-				num = false;
-		if (num)
-			idx = (size_t)strtoul(tok, NULL, 10);
-		for (k = 0; k < cap->n_channels; k++)
-			if (!used[k] && (num ? cap->channels[k].col.index + 1 == idx :
-					       !strcmp(cap->channels[k].col.name, tok)))
-				break;
-		if (k == cap->n_channels) {
-			ssc_err(co->cmd, "--column: no data column '%s'", tok);
-			free(list);
-			free(keep);
-			free(used);
-			return SSC_EXIT_USAGE;
-		}
-		used[k] = true;
-		keep[nk++] = cap->channels[k];
-	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (!used[k]) {
-			free((char *)cap->channels[k].col.name);
-			free((char *)cap->channels[k].col.unit_label);
-			free(cap->channels[k].data);
-		}
-	free(cap->channels);
-	cap->channels = keep;
-	cap->n_channels = nk;
-	free(list);
-	free(used);
-	return SSC_EXIT_OK;
-}
-
 int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 			  struct sscope_capture *cap)
 {
@@ -403,8 +347,6 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 			co->calibration, path);
 		rc = SSC_EXIT_FAIL;
 	}
-	if (!rc && co->columns && *co->columns)
-		rc = select_columns(co, cap);
 out:
 	free(t);
 	return rc;

@@ -687,32 +687,63 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 	return rc;
 }
 
-static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_out *out)
+struct report_res {
+	struct sscope_sensor_spec ss; /* the sensor */
+	const char *spath;
+	struct adc_res ar[MAX_ADC];
+	int n, order[MAX_ADC];
+};
+
+static void r_free(void *result)
+{
+	struct report_res *R = result;
+
+	for (int i = 0; i < R->n; i++) {
+		ssc_adc_profile_free(&R->ar[i].prof);
+		free(R->ar[i].tau);
+		free(R->ar[i].dev_in);
+		free(R->ar[i].dev_out);
+	}
+	free(R);
+}
+
+static int r_check(struct ssc_common *co, void *opts)
+{
+	struct ropts *o = opts;
+
+	if (o->plot)
+		co->plot = o->plot;
+	return SSC_EXIT_OK;
+}
+
+static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	struct ropts *o = opts;
 	const char *cmd = env->co->cmd;
-	struct sscope_sensor_spec ss;
 	const struct sscope_sensor_spec *sp;
-	const char *spath;
 	const char *paths[MAX_ADC];
-	struct adc_res ar[MAX_ADC];
-	int n = 0, order[MAX_ADC], rc = SSC_EXIT_OK, inline_at = -1;
-	struct ssc_membuf mb;
-	json_t *root, *arr;
+	struct report_res *R = calloc(1, sizeof(*R));
+	struct adc_res *ar;
+	int n = 0, inline_at = -1, rc;
 
-	memset(ar, 0, sizeof(ar));
+	if (!R) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	*result = R;
+	ar = R->ar;
 	if (o->sensor) {
-		rc = ssc_load_sensor(cmd, o->sensor, &ss);
+		rc = ssc_load_sensor(cmd, o->sensor, &R->ss);
 		if (rc)
 			return rc;
-		sp = &ss;
-		spath = o->sensor;
+		R->spath = o->sensor;
 	} else if (env->sensor) {
-		sp = env->sensor;
-		spath = env->sensor_path;
+		R->ss = *env->sensor;
+		R->spath = env->sensor_path;
 	} else {
 		return ssc_usage_error(cmd, "no sensor: give --sensor SENSOR.ini");
 	}
+	sp = &R->ss;
 	for (int i = 0; i < o->n_adc; i++)
 		paths[n++] = o->adc[i];
 	for (size_t i = 0; i < env->n_adc && n < MAX_ADC; i++)
@@ -723,7 +754,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 	}
 	if (!n)
 		return ssc_usage_error(cmd, "no converter: give --adc ADC.ini");
-	for (int i = 0; i < n; i++) {
+	for (int i = 0; i < n; i++, R->n++) {
 		struct sscope_diag d = { "" };
 		int e;
 
@@ -732,17 +763,19 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			    sscope_adc_spec_from_ini(env->adc_ini, "adc", &ar[i].spec, &d) :
 			    sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
 		if (e) {
-			rc = ssc_fail(cmd, e, &d, "adc spec");
-			goto done;
+			R->n++;
+			return ssc_fail(cmd, e, &d, "adc spec");
 		}
 		rc = ssc_adc_profile_load(cmd, paths[i], &ar[i].spec, &ar[i].prof);
-		if (rc)
-			goto done;
+		if (rc) {
+			R->n++;
+			return rc;
+		}
 		e = sscope_adc_analyze(sp, &ar[i].spec, o->rate, &ar[i].an, &d);
 		if (e) {
+			R->n++;
 			ssc_err(cmd, "%s: %s", paths[i], d.msg[0] ? d.msg : sscope_strerror(e));
-			rc = SSC_EXIT_FAIL;
-			goto done;
+			return SSC_EXIT_FAIL;
 		}
 	}
 	for (int i = 0; i < n; i++) {
@@ -757,120 +790,127 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			ssc_progress_end(env->co);
 			ssc_err(cmd, "Monte Carlo of %s: %s", paths[i],
 				d.msg[0] ? d.msg : sscope_strerror(e));
-			rc = SSC_EXIT_FAIL;
-			goto done;
+			return SSC_EXIT_FAIL;
 		}
 	}
 	ssc_progress_end(env->co);
 	for (int i = 0; i < n; i++)
-		order[i] = i;
+		R->order[i] = i;
 	for (int i = 1; i < n; i++) /* insertion sort: stable, n <= 8 */
-		for (int j = i; j > 0 && rank_cmp(&ar[order[j]], &ar[order[j - 1]]) < 0; j--) {
-			int t = order[j];
+		for (int j = i; j > 0 && rank_cmp(&ar[R->order[j]], &ar[R->order[j - 1]]) < 0; j--) {
+			int t = R->order[j];
 
-			order[j] = order[j - 1];
-			order[j - 1] = t;
+			R->order[j] = R->order[j - 1];
+			R->order[j - 1] = t;
 		}
 	for (int i = 0; i < n; i++)
-		ar[order[i]].rank = i + 1;
-	root = json_object();
-	arr = json_array();
+		ar[R->order[i]].rank = i + 1;
+	return SSC_EXIT_OK;
+}
+
+static json_t *r_json(const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+	json_t *root = json_object(), *arr = json_array();
+
+	(void)opts;
 	json_object_set_new(root, "command", json_string("adc report"));
-	json_object_set_new(root, "sensor", sensor_json(sp, spath));
-	for (int i = 0; i < n; i++)
-		json_array_append_new(arr, adc_json(sp, &ar[i]));
+	json_object_set_new(root, "sensor", sensor_json(&R->ss, R->spath));
+	for (int i = 0; i < R->n; i++)
+		json_array_append_new(arr, adc_json(&R->ss, &R->ar[i]));
 	json_object_set_new(root, "adcs", arr);
-	out->json = root;
-	if (ssc_membuf_open(&mb)) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
+	return root;
+}
+
+static void r_text(FILE *f, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+	const struct sscope_sensor_spec *sp = &R->ss;
+	char b1[64], b2[64];
+	enum sscope_quantity q = sp->quantity;
+
+	(void)opts;
+	fprintf(f, "sensor %s (%s)", sp->name, R->spath ? R->spath : "[sensor]");
+	if (sp->has & SSCOPE_SPEC_N)
+		fprintf(f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
+					   qty_unit(q, SSCOPE_TERM_N, false), 3));
+	if (sp->has & SSCOPE_SPEC_B)
+		fprintf(f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
+					   qty_unit(q, SSCOPE_TERM_B, false), 3));
+	fputc('\n', f);
+	for (int i = 0; i < R->n; i++)
+		adc_text(f, sp, &R->ar[i]);
+	fprintf(f, "\nselection (pass first, then fewest bits, then margin):\n");
+	fprintf(f, "  %-4s %-24s %4s %12s %8s %-9s %-16s %s\n", "rank", "converter",
+		"bits", "LSB", "min bits", "verdict", "limiting", "margin");
+	for (int k = 0; k < R->n; k++) {
+		const struct adc_res *a = &R->ar[R->order[k]];
+		char l[64], m[32], mbits[16];
+
+		if (a->an.min_bits > 0)
+			snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+		else
+			snprintf(mbits, sizeof(mbits), "none");
+		fprintf(f, "  %-4d %-24.24s %4d %12s %8s %-9s %-16s x%s\n", k + 1,
+			a->spec.name, a->spec.bits,
+			fmtu(l, sizeof(l), a->an.lsb, qty_unit(q, SSCOPE_TERM_B, true),
+			     qty_unit(q, SSCOPE_TERM_B, false), 4),
+			mbits, sscope_adc_verdict_name(a->an.verdict),
+			sscope_adc_term_name(a->an.limiting),
+			ssc_fmt(m, sizeof(m), a->an.margin, 3));
 	}
-	{
-		char b1[64], b2[64];
-		enum sscope_quantity q = sp->quantity;
+}
 
-		fprintf(mb.f, "sensor %s (%s)", sp->name, spath ? spath : "[sensor]");
-		if (sp->has & SSCOPE_SPEC_N)
-			fprintf(mb.f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
-						      qty_unit(q, SSCOPE_TERM_N, false), 3));
-		if (sp->has & SSCOPE_SPEC_B)
-			fprintf(mb.f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
-						      qty_unit(q, SSCOPE_TERM_B, false), 3));
-		fputc('\n', mb.f);
-		for (int i = 0; i < n; i++)
-			adc_text(mb.f, sp, &ar[i]);
-		fprintf(mb.f, "\nselection (pass first, then fewest bits, then margin):\n");
-		fprintf(mb.f, "  %-4s %-24s %4s %12s %8s %-9s %-16s %s\n", "rank", "converter",
-			"bits", "LSB", "min bits", "verdict", "limiting", "margin");
-		for (int k = 0; k < n; k++) {
-			const struct adc_res *a = &ar[order[k]];
-			char l[64], m[32];
+/* CSV: the selection table */
+static void r_csv(FILE *f, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
 
-			char mbits[16];
+	(void)opts;
+	fprintf(f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
+	for (int k = 0; k < R->n; k++) {
+		const struct adc_res *a = &R->ar[R->order[k]];
+		char mbits[16] = "";
 
-			if (a->an.min_bits > 0)
-				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
-			else
-				snprintf(mbits, sizeof(mbits), "none");
-			fprintf(mb.f, "  %-4d %-24.24s %4d %12s %8s %-9s %-16s x%s\n", k + 1,
-				a->spec.name, a->spec.bits,
-				fmtu(l, sizeof(l), a->an.lsb, qty_unit(q, SSCOPE_TERM_B, true),
-				     qty_unit(q, SSCOPE_TERM_B, false), 4),
-				mbits, sscope_adc_verdict_name(a->an.verdict),
-				sscope_adc_term_name(a->an.limiting),
-				ssc_fmt(m, sizeof(m), a->an.margin, 3));
-		}
+		if (a->an.min_bits > 0)
+			snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+		fprintf(f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
+			k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
+			mbits, sscope_adc_verdict_name(a->an.verdict),
+			sscope_adc_term_name(a->an.limiting), a->an.margin,
+			a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
 	}
-	out->text = ssc_membuf_take(&mb);
-	/* CSV: the selection table */
-	if (!ssc_membuf_open(&mb)) {
-		fprintf(mb.f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
-		for (int k = 0; k < n; k++) {
-			const struct adc_res *a = &ar[order[k]];
-			char mbits[16] = "";
+}
 
-			if (a->an.min_bits > 0)
-				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
-			fprintf(mb.f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
-				k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
-				mbits, sscope_adc_verdict_name(a->an.verdict),
-				sscope_adc_term_name(a->an.limiting), a->an.margin,
-				a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
-		}
-		out->csv = ssc_membuf_take(&mb);
-	}
-	for (int i = 0; i < n; i++) {
+static void r_summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+
+	(void)opts;
+	for (int i = 0; i < R->n; i++) {
+		const struct adc_res *a = &R->ar[i];
 		char note[96];
 
-		snprintf(note, sizeof(note), "%d bits, limiting %s", ar[i].spec.bits,
-			 sscope_adc_term_name(ar[i].an.limiting));
-		ssc_summary_add(out->summary, ar[i].spec.name,
-				ar[i].an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
-				ar[i].an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
-									   "ADC verdict: fail",
-				ar[i].an.margin, (double)NAN, (double)NAN, "", note);
+		snprintf(note, sizeof(note), "%d bits, limiting %s", a->spec.bits,
+			 sscope_adc_term_name(a->an.limiting));
+		ssc_summary_add(rows, a->spec.name,
+				a->an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
+				a->an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
+									"ADC verdict: fail",
+				a->an.margin, (double)NAN, (double)NAN, "", note);
 	}
-	if (env->plot_path || o->plot) {
-		const char *pp = env->plot_path ? env->plot_path : o->plot;
-		int e = plot_report(pp, sp, ar, n);
+}
 
-		if (e == -EDOM) {
-			rc = ssc_usage_error(cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
-			goto done;
-		}
-		if (e) {
-			rc = ssc_fail(cmd, e, NULL, pp);
-			goto done;
-		}
-	}
-done:
-	for (int i = 0; i < n; i++) {
-		ssc_adc_profile_free(&ar[i].prof);
-		free(ar[i].tau);
-		free(ar[i].dev_in);
-		free(ar[i].dev_out);
-	}
-	return rc;
+static int r_plot(const struct ssc_common *co, const void *opts,
+		  const void *result, const char *path)
+{
+	const struct report_res *R = result;
+	int e = plot_report(path, &R->ss, R->ar, R->n);
+
+	(void)opts;
+	if (e == -EDOM)
+		return ssc_usage_error(co->cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
+	return e ? ssc_fail(co->cmd, e, NULL, path) : SSC_EXIT_OK;
 }
 
 const struct ssc_stage_ops ssc_adc_stage = {
@@ -882,7 +922,14 @@ const struct ssc_stage_ops ssc_adc_stage = {
 	.opts_size = sizeof(struct ropts),
 	.init = r_init,
 	.handle = r_handle,
+	.check = r_check,
 	.run = r_run,
+	.json = r_json,
+	.text = r_text,
+	.csv = r_csv,
+	.summary = r_summary,
+	.plot = r_plot,
+	.free_result = r_free,
 };
 
 /* ------------------------------------------------------------ quantize */

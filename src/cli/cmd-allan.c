@@ -6,7 +6,7 @@
  * and Kalibr's IMU noise YAML.
  */
 #include "cli.h"
-#include "stage.h"
+#include "results.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -253,34 +253,6 @@ static int handler(int key, const char *arg, void *ctx)
 
 /* ------------------------------------------------------------------ */
 
-/* units of one channel's results */
-struct units {
-	enum sscope_quantity rq; /* quantity of the rate */
-	char rate[64];           /* the rate unit as text ("deg/s") */
-	char rate_si[64];        /* its SI form ("rad/s") */
-	char dev[96];            /* unit of the deviation values in JSON */
-	double dev_scale;        /* SI per JSON dev unit */
-	char show[96];           /* unit of deviations in text/CSV/plot */
-	double show_scale;       /* SI per shown unit */
-	char term[5][96];        /* conventional unit of each term */
-	char term_si[5][96];     /* SI unit of each term */
-};
-
-struct chan {
-	const struct sscope_column *col;
-	struct units u;
-	struct sscope_allan_result *res;
-	size_t n, nan;
-	char fit_msg[320];
-};
-
-struct file_res {
-	const char *path;
-	struct sscope_capture *cap;
-	struct chan *ch;
-	size_t n_ch;
-};
-
 static double unit_scale(const char *text)
 {
 	struct sscope_unit u;
@@ -291,7 +263,7 @@ static double unit_scale(const char *text)
 }
 
 static void set_units(const struct args *a, const struct sscope_column *col,
-		      struct units *u)
+		      struct ssc_allan_units *u)
 {
 	static const char *const fmt[5] = { "%s*s", "%s/sqrt(Hz)", "%s",
 					    "%s/s/sqrt(Hz)", "%s/s" };
@@ -300,11 +272,8 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 	struct sscope_unit ru;
 
 	memset(u, 0, sizeof(*u));
-	u->rq = col->quantity;
+	u->rq = sscope_allan_rate_quantity(col->quantity, a->ao.input);
 	if (angle) {
-		u->rq = col->quantity == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
-			col->quantity == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
-			SSCOPE_QTY_UNKNOWN;
 		snprintf(u->rate, sizeof(u->rate), "%s/s", lab[0] ? lab : "1");
 	} else {
 		snprintf(u->rate, sizeof(u->rate), "%s", lab[0] ? lab : "1");
@@ -375,9 +344,16 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 	return v;
 }
 
+/* why the noise fit failed */
+static const char *fit_msg(const struct ssc_allan_chan *c)
+{
+	return c->res->fit_diag.msg[0] ? c->res->fit_diag.msg :
+					 sscope_strerror(c->res->fit_error);
+}
+
 static int analyse_file(const struct ssc_common *co, const struct args *a,
 			const char *path, struct sscope_capture *cap,
-			struct file_res *fr)
+			struct ssc_allan_file *fr)
 {
 	int rc;
 
@@ -388,17 +364,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 			path);
 		return SSC_EXIT_FAIL;
 	}
-	if (cap->time_s && cap->n > 2) {
-		struct sscope_timing tm;
-		double *scratch = malloc((cap->n - 1) * sizeof(double));
-
-		if (scratch && sscope_timing_analyze(cap->time_s, cap->n, 1.5, &tm,
-						     NULL, 0, NULL, scratch) == 0 &&
-		    tm.n_gaps)
-			ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
-				 path, tm.n_gaps, tm.n_missing);
-		free(scratch);
-	}
+	if (cap->has_timing && cap->timing.n_gaps)
+		ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
+			 path, cap->timing.n_gaps, cap->timing.n_missing);
 	fr->n_ch = cap->n_channels;
 	fr->ch = calloc(fr->n_ch ? fr->n_ch : 1, sizeof(*fr->ch));
 	if (!fr->ch) {
@@ -406,14 +374,13 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		return SSC_EXIT_FAIL;
 	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		struct chan *c = &fr->ch[k];
+		struct ssc_allan_chan *c = &fr->ch[k];
 		struct sscope_diag d = { "" };
 		struct sscope_allan_opts ao = a->ao;
 
 		c->col = &cap->channels[k].col;
 		c->n = cap->n;
-		for (size_t i = 0; i < cap->n; i++)
-			c->nan += isnan(cap->channels[k].data[i]);
+		c->nan = cap->channels[k].n_nan;
 		set_units(a, c->col, &c->u);
 		ao.ci_level = a->ci;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
@@ -426,19 +393,8 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		}
 		if (a->no_fit)
 			continue;
-		if (!c->res->have_fit) {
-			struct sscope_diag fd = { "" };
-			struct sscope_noise_fit tmp;
-
-			/* rerun for the message */
-			sscope_noise_fit(c->res->oadev, c->res->n_oadev,
-					 cap->rate_hz, c->res->n_phase, &a->fo,
-					 &tmp, &fd);
-			snprintf(c->fit_msg, sizeof(c->fit_msg), "%s",
-				 fd.msg[0] ? fd.msg :
-					     sscope_strerror(c->res->fit_error));
-			ssc_warn(co, "%s: %s: %s", path, c->col->name, c->fit_msg);
-		}
+		if (!c->res->have_fit)
+			ssc_warn(co, "%s: %s: %s", path, c->col->name, fit_msg(c));
 	}
 	return SSC_EXIT_OK;
 }
@@ -473,11 +429,11 @@ static const char *term_label(enum sscope_quantity q, int t)
 	return term_names[t];
 }
 
-static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
-		      const struct chan *c)
+static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file *fr,
+		      const struct ssc_allan_chan *c)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	double ci = a->fo.ci_level;
 	char b1[32], b2[32], b3[32], b4[32], b5[32];
 
@@ -523,7 +479,7 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 	if (a->no_fit)
 		return;
 	if (!r->have_fit) {
-		fprintf(f, "  noise terms: not fitted: %s\n", c->fit_msg);
+		fprintf(f, "  noise terms: not fitted: %s\n", fit_msg(c));
 		return;
 	}
 	{
@@ -591,11 +547,11 @@ static json_t *jval(double si, const char *si_unit, const char *unit)
 	return o;
 }
 
-static json_t *json_chan(const struct args *a, const struct file_res *fr,
-			 const struct chan *c)
+static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
+			 const struct ssc_allan_chan *c)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	json_t *o = json_object(), *pts = json_array();
 
 	json_object_set_new(o, "name", json_string(c->col->name));
@@ -669,7 +625,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 									      a->fo.model_error));
 		} else {
 			json_decref(terms);
-			json_object_set_new(fit, "error", json_string(c->fit_msg));
+			json_object_set_new(fit, "error", json_string(fit_msg(c)));
 		}
 		json_object_set_new(o, "fit", fit);
 		{
@@ -685,7 +641,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 	return o;
 }
 
-static json_t *json_file(const struct args *a, const struct file_res *fr)
+static json_t *json_file(const struct args *a, const struct ssc_allan_file *fr)
 {
 	json_t *o = json_object(), *chs = json_array();
 
@@ -697,10 +653,10 @@ static json_t *json_file(const struct args *a, const struct file_res *fr)
 	return o;
 }
 
-static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
+static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file *fr)
 {
 	for (size_t k = 0; k < fr->n_ch; k++) {
-		const struct chan *c = &fr->ch[k];
+		const struct ssc_allan_chan *c = &fr->ch[k];
 		const char *un = a->dev_unit ? c->u.show : c->u.dev;
 		double s = c->u.dev_scale / unit_scale(un);
 
@@ -722,7 +678,7 @@ static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
 /* ------------------------------------------------------------------ */
 
 /* largest (most conservative) value over the channels of a quantity */
-static bool kalibr_pick(struct file_res *fr, size_t nf, enum sscope_quantity q,
+static bool kalibr_pick(const struct ssc_allan_file *fr, size_t nf, enum sscope_quantity q,
 			int t, double *v, char *note, size_t nl)
 {
 	bool any = false;
@@ -732,7 +688,7 @@ static bool kalibr_pick(struct file_res *fr, size_t nf, enum sscope_quantity q,
 	note[0] = '\0';
 	for (size_t i = 0; i < nf; i++)
 		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			const struct chan *c = &fr[i].ch[k];
+			const struct ssc_allan_chan *c = &fr[i].ch[k];
 			const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
 			double x = cf->fitted ? cf->value : cf->hi;
 			int w;
@@ -751,16 +707,21 @@ static bool kalibr_pick(struct file_res *fr, size_t nf, enum sscope_quantity q,
 	return any;
 }
 
-static int write_kalibr(const struct ssc_common *co, const struct args *a,
-			struct file_res *fr, size_t nf)
+static int write_kalibr(const struct ssc_common *co, const void *opts,
+			const void *result)
 {
+	const struct args *a = opts;
+	const struct ssc_allan_res *R = result;
+	const struct ssc_allan_file *fr = R->fr;
+	size_t nf = R->n_files;
 	struct ssc_atomic at;
 	double n, k;
 	char note[512];
 	bool gyro = false, acc = false;
 	int rc;
 
-	(void)a;
+	if (!a->kalibr)
+		return SSC_EXIT_OK;
 	rc = ssc_atomic_open(&at, a->kalibr);
 	if (rc) {
 		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
@@ -839,10 +800,10 @@ static void pretty(const char *in, char *out, size_t len)
 }
 
 static int plot_chan(struct ssc_ax *ax, const struct args *a,
-		     const struct chan *c)
+		     const struct ssc_allan_chan *c)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	size_t n = r->n_points, k = 0;
 	double *x = calloc(n + 1, sizeof(double)), *y = calloc(n + 1, sizeof(double));
 	double *lo = calloc(n + 1, sizeof(double)), *hi = calloc(n + 1, sizeof(double));
@@ -964,9 +925,13 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 /* one panel per channel of every file (at most MAX_PANELS) */
 #define MAX_PANELS 12
 
-static int plot(const struct ssc_common *co, const struct args *a,
-		const struct file_res *fr, size_t nfiles)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct args *a = opts;
+	const struct ssc_allan_res *R = result;
+	const struct ssc_allan_file *fr = R->fr;
+	size_t nfiles = R->n_files;
 	size_t n = 0, cols, rows, p = 0;
 	struct ssc_fig *fig;
 	char title[512];
@@ -1002,10 +967,10 @@ static int plot(const struct ssc_common *co, const struct args *a,
 						  (int)(p % cols)),
 				       a, &fr[i].ch[k]);
 	if (!rc)
-		rc = ssc_fig_save_png(fig, co->plot);
+		rc = ssc_fig_save_png(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
 		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
@@ -1013,7 +978,7 @@ static int plot(const struct ssc_common *co, const struct args *a,
 
 /* ------------------------------------------------------------------ */
 
-static void free_file(struct file_res *fr)
+static void free_file(struct ssc_allan_file *fr)
 {
 	for (size_t k = 0; k < fr->n_ch; k++)
 		sscope_allan_result_free(fr->ch[k].res);
@@ -1022,12 +987,12 @@ static void free_file(struct file_res *fr)
 
 /* the fitted N, B, K of each channel for a report's summary table */
 static void summarize(json_t *summary, const struct args *a,
-		      const struct file_res *fr)
+		      const struct ssc_allan_file *fr)
 {
 	if (a->no_fit || !summary)
 		return;
 	for (size_t k = 0; k < fr->n_ch; k++) {
-		const struct chan *c = &fr->ch[k];
+		const struct ssc_allan_chan *c = &fr->ch[k];
 		const struct sscope_noise_fit *ft = &c->res->fit;
 		char note[64], what[64];
 
@@ -1060,7 +1025,7 @@ static void init(void *opts)
 	a->ci = 0.683;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct args *a = opts;
 
@@ -1073,74 +1038,78 @@ static int check(const struct ssc_common *co, void *opts)
 	return 0;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
 {
-	struct ssc_common co = *env->co;
-	struct args *a = opts;
-	struct file_res *fr;
-	size_t nfiles = env->n_caps;
-	struct ssc_membuf text, csv;
+	struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		free_file(&R->fr[i]);
+	free(R->fr);
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	struct ssc_allan_res *R = calloc(1, sizeof(*R));
 	int rc = SSC_EXIT_OK;
 
-	fr = calloc(nfiles ? nfiles : 1, sizeof(*fr));
-	if (!fr) {
-		ssc_err(co.cmd, "out of memory");
+	if (R)
+		R->fr = calloc(env->n_caps ? env->n_caps : 1, sizeof(*R->fr));
+	if (!R || !R->fr) {
+		free(R);
+		ssc_err(env->co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t i = 0; i < nfiles; i++) {
-		rc = analyse_file(&co, a, env->paths[i], env->caps[i], &fr[i]);
-		if (rc)
-			goto done;
-	}
-	if (env->plot_path) {
-		co.plot = env->plot_path;
-		rc = plot(&co, a, fr, nfiles);
-		if (rc)
-			goto done;
-	}
-	if (a->kalibr) {
-		rc = write_kalibr(&co, a, fr, nfiles);
-		if (rc)
-			goto done;
-	}
-	if (nfiles == 1) {
-		sout->json = json_file(a, &fr[0]);
-	} else {
-		json_t *files = json_array();
-
-		sout->json = json_object();
-		json_object_set_new(sout->json, "command", json_string("allan"));
-		for (size_t i = 0; i < nfiles; i++)
-			json_array_append_new(files, json_file(a, &fr[i]));
-		json_object_set_new(sout->json, "files", files);
-	}
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		ssc_err(co.cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	fprintf(csv.f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
-	for (size_t i = 0; i < nfiles; i++) {
-		csv_file(csv.f, a, &fr[i]);
-		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			if (i || k)
-				fputc('\n', text.f);
-			text_chan(text.f, a, &fr[i], &fr[i].ch[k]);
-		}
-		summarize(sout->summary, a, &fr[i]);
-	}
-	sout->text = ssc_membuf_take(&text);
-	sout->csv = ssc_membuf_take(&csv);
-	if (!sout->text || !sout->csv) {
-		ssc_err(co.cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-	}
-done:
-	for (size_t i = 0; i < nfiles; i++)
-		free_file(&fr[i]);
-	free(fr);
+	*result = R;
+	for (size_t i = 0; i < env->n_caps && !rc; i++, R->n_files++)
+		rc = analyse_file(env->co, opts, env->paths[i], env->caps[i],
+				  &R->fr[i]);
 	return rc;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+	json_t *o, *files;
+
+	if (R->n_files == 1)
+		return json_file(opts, &R->fr[0]);
+	o = json_object();
+	files = json_array();
+	json_object_set_new(o, "command", json_string("allan"));
+	for (size_t i = 0; i < R->n_files; i++)
+		json_array_append_new(files, json_file(opts, &R->fr[i]));
+	json_object_set_new(o, "files", files);
+	return o;
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		for (size_t k = 0; k < R->fr[i].n_ch; k++) {
+			if (i || k)
+				fputc('\n', f);
+			text_chan(f, opts, &R->fr[i], &R->fr[i].ch[k]);
+		}
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	fprintf(f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
+	for (size_t i = 0; i < R->n_files; i++)
+		csv_file(f, opts, &R->fr[i]);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		summarize(rows, opts, &R->fr[i]);
 }
 
 const struct ssc_stage_ops ssc_allan_stage = {
@@ -1154,6 +1123,13 @@ const struct ssc_stage_ops ssc_allan_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.write = write_kalibr,
+	.free_result = free_result,
 };
 
 int ssc_cmd_allan(int argc, char **argv)

@@ -7,14 +7,13 @@
  * g-dependent gyro bias; writes a calibration file for --calibration.
  */
 #include "cli.h"
-#include "calibfile.h"
+#include "results.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "plot.h"
-#include "stage.h"
 
 #define PI 3.14159265358979323846
 #define MAX_IV 4096
@@ -322,18 +321,7 @@ static double pooled_sd(const double *x, const struct sscope_calib_interval *iv,
 /* Results                                                             */
 /* ------------------------------------------------------------------ */
 
-struct triad_out {
-	struct ssc_caltriad t;
-	enum sscope_quantity q;  /* output quantity */
-	const char *residual_unit;
-	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
-	bool error_model;        /* input and output of one dimension */
-	double A[3][3];          /* error model: reading = A u + b (SI) */
-	int grade;               /* row of sscope_calib_grades(), < 0 none */
-	double grade_dist;
-};
-
-static void finish_triad(struct triad_out *o)
+static void finish_triad(struct ssc_calib_triad_out *o)
 {
 	const struct sscope_calib_triad *c = &o->t.c;
 	struct sscope_unit iu, ou;
@@ -410,7 +398,7 @@ static json_t *jmat(const double m[3][3], double mul)
 	return a;
 }
 
-static json_t *triad_json(const struct triad_out *o)
+static json_t *triad_json(const struct ssc_calib_triad_out *o)
 {
 	json_t *j = ssc_calfile_triad_json(&o->t);
 	const struct sscope_calib_triad *c = &o->t.c;
@@ -500,7 +488,7 @@ static json_t *triad_json(const struct triad_out *o)
 	return j;
 }
 
-static void triad_text(FILE *f, const struct triad_out *o)
+static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 {
 	const struct sscope_calib_triad *c = &o->t.c;
 	double s = ssc_calfile_unit_scale(o->t.input_unit);
@@ -586,15 +574,16 @@ static void triad_text(FILE *f, const struct triad_out *o)
 /* ------------------------------------------------------------------ */
 
 struct run {
-	const struct ssc_common *co;
-	struct opts *o;
+	struct ssc_calib_res pub; /* the triads (first: results.h) */
+	const struct ssc_common *co; /* during run() only */
+	struct opts o;          /* the options, with the detector's outputs */
+	const char *const *paths;
+	size_t n_files;
 	struct sscope_capture *cap;
 	long ai[3], gi[3];
 	struct sscope_calib_interval *iv;
 	size_t n_iv;
 	double *vs;             /* variance magnitude, for the plot */
-	struct triad_out out[2];
-	int n_out;
 	/* pose norms before/after (plot) */
 	double *pose_before, *pose_after;
 	size_t n_pose;
@@ -605,7 +594,7 @@ struct run {
 	bool have_lf;
 };
 
-static void fill_triad(struct triad_out *t, const char *kind,
+static void fill_triad(struct ssc_calib_triad_out *t, const char *kind,
 		       const struct sscope_capture *cap, const long idx[3],
 		       enum sscope_quantity q, const struct sscope_calib_triad *c)
 {
@@ -642,7 +631,7 @@ static int accel_multipos(struct run *r)
 		return SSC_EXIT_FAIL;
 	}
 	rc = sscope_calib_accel_multipos(x, y, z, 1, cap->n, cap->rate_hz,
-					 r->o->gravity, &r->o->det, r->iv, MAX_IV,
+					 r->o.gravity, &r->o.det, r->iv, MAX_IV,
 					 &c, r->vs, w2, &d);
 	free(w2);
 	if (rc) {
@@ -650,10 +639,10 @@ static int accel_multipos(struct run *r)
 			d.msg[0] ? d.msg : sscope_strerror(rc));
 		return SSC_EXIT_FAIL;
 	}
-	r->n_iv = r->o->det.n_intervals;
-	fill_triad(&r->out[r->n_out], "accel", cap, r->ai,
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[r->pub.n_out], "accel", cap, r->ai,
 		   SSCOPE_QTY_ACCELERATION, &c);
-	r->out[r->n_out].residual_unit = "m/s^2";
+	r->pub.out[r->pub.n_out].residual_unit = "m/s^2";
 	{
 		double nd = 0;
 
@@ -663,7 +652,7 @@ static int accel_multipos(struct run *r)
 
 			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
 		}
-		r->out[r->n_out].noise_density = sqrt(nd / 3 / cap->rate_hz);
+		r->pub.out[r->pub.n_out].noise_density = sqrt(nd / 3 / cap->rate_hz);
 	}
 	/* pose norms for the plot */
 	r->pose_before = malloc(r->n_iv * sizeof(double));
@@ -688,15 +677,15 @@ static int accel_multipos(struct run *r)
 			r->pose_before[k] = sqrt(nb) -
 					    (cap->channels[r->ai[0]].col.quantity ==
 							     SSCOPE_QTY_ACCELERATION ?
-						     r->o->gravity :
+						     r->o.gravity :
 						     sqrt(nb));
 			r->pose_after[k] = sqrt(u[0] * u[0] + u[1] * u[1] +
 						u[2] * u[2]) -
-					   r->o->gravity;
+					   r->o.gravity;
 		}
 	}
-	finish_triad(&r->out[r->n_out]);
-	r->n_out++;
+	finish_triad(&r->pub.out[r->pub.n_out]);
+	r->pub.n_out++;
 	return SSC_EXIT_OK;
 }
 
@@ -720,7 +709,7 @@ static int gyro_multipos(struct run *r)
 		}
 		memcpy(ac[i], cap->channels[r->ai[i]].data, cap->n * sizeof(double));
 	}
-	sscope_calib_apply(&r->out[0].t.c, ac[0], ac[1], ac[2], 1, cap->n, NULL, 1);
+	sscope_calib_apply(&r->pub.out[0].t.c, ac[0], ac[1], ac[2], 1, cap->n, NULL, 1);
 	{
 		const double *g[3] = { cap->channels[r->gi[0]].data,
 				       cap->channels[r->gi[1]].data,
@@ -730,7 +719,7 @@ static int gyro_multipos(struct run *r)
 			  SSCOPE_QTY_ANGULAR_RATE;
 
 		rc = sscope_calib_gyro_fit(g, a, 1, cap->n, cap->rate_hz,
-					   si ? 1 : 0, r->iv, r->n_iv, r->o->gsens,
+					   si ? 1 : 0, r->iv, r->n_iv, r->o.gsens,
 					   &c, &d);
 	}
 	if (rc) {
@@ -739,12 +728,12 @@ static int gyro_multipos(struct run *r)
 		rc = SSC_EXIT_FAIL;
 		goto out;
 	}
-	fill_triad(&r->out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
-	r->out[1].residual_unit = "1";
+	fill_triad(&r->pub.out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	r->pub.out[1].residual_unit = "1";
 	if (c.has_gsens)
 		for (int i = 0; i < 3; i++)
-			snprintf(r->out[1].t.accel_channels[i], 64, "%s",
-				 r->out[0].t.channels[i]);
+			snprintf(r->pub.out[1].t.accel_channels[i], 64, "%s",
+				 r->pub.out[0].t.channels[i]);
 	{
 		double nd = 0;
 
@@ -754,10 +743,10 @@ static int gyro_multipos(struct run *r)
 
 			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
 		}
-		r->out[1].noise_density = sqrt(nd / 3 / cap->rate_hz);
+		r->pub.out[1].noise_density = sqrt(nd / 3 / cap->rate_hz);
 	}
-	finish_triad(&r->out[1]);
-	r->n_out = 2;
+	finish_triad(&r->pub.out[1]);
+	r->pub.n_out = 2;
 	rc = SSC_EXIT_OK;
 out:
 	for (int i = 0; i < 3; i++)
@@ -769,7 +758,7 @@ out:
 static int detect_fixed(struct run *r, double k)
 {
 	struct sscope_capture *cap = r->cap;
-	struct sscope_calib_detect *det = &r->o->det;
+	struct sscope_calib_detect *det = &r->o.det;
 	const double *x = cap->channels[r->ai[0]].data,
 		     *y = cap->channels[r->ai[1]].data,
 		     *z = cap->channels[r->ai[2]].data;
@@ -845,7 +834,7 @@ static int accel_sixpos(struct run *r)
 	struct sscope_calib_triad c, bc;
 	struct sscope_calib_linear lf;
 	struct sscope_diag d = { "" }, bd = { "" };
-	double k0 = r->o->det.k;
+	double k0 = r->o.det.k;
 	int rc = -EDOM;
 
 	if (!m)
@@ -858,7 +847,7 @@ static int accel_sixpos(struct run *r)
 			break;
 		pose_means(r, r->ai, m);
 		rc = sscope_calib_accel_sixpos((const double(*)[3])m, r->n_iv,
-					       r->o->gravity, &lf, &c, &d);
+					       r->o.gravity, &lf, &c, &d);
 		if (rc == 0 && c.residual_rms < best) {
 			best = c.residual_rms;
 			bk = k;
@@ -880,12 +869,12 @@ static int accel_sixpos(struct run *r)
 	}
 	detect_fixed(r, bk);
 	free(m);
-	fill_triad(&r->out[0], "accel", r->cap, r->ai, SSCOPE_QTY_ACCELERATION,
+	fill_triad(&r->pub.out[0], "accel", r->cap, r->ai, SSCOPE_QTY_ACCELERATION,
 		   &bc);
-	r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
-					  r->out[0].t.input_unit : "counts";
+	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
+					  r->pub.out[0].t.input_unit : "counts";
 	/* residual_rms of a linear fit is in held units: show input units */
-	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
+	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
 	{
 		double nd = 0;
 
@@ -895,10 +884,10 @@ static int accel_sixpos(struct run *r)
 
 			nd += sd * fabs(bc.scale[i]) * sd * fabs(bc.scale[i]);
 		}
-		r->out[0].noise_density = sqrt(nd / 3 / r->cap->rate_hz);
+		r->pub.out[0].noise_density = sqrt(nd / 3 / r->cap->rate_hz);
 	}
-	finish_triad(&r->out[0]);
-	r->n_out = 1;
+	finish_triad(&r->pub.out[0]);
+	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
 
@@ -917,7 +906,7 @@ static int gyro_tilt(struct run *r)
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	rc = detect_fixed(r, r->o->det.k > 0 ? r->o->det.k : 4);
+	rc = detect_fixed(r, r->o.det.k > 0 ? r->o.det.k : 4);
 	if (rc) {
 		ssc_err(co->cmd, "%s: no static intervals: %s", cap->source,
 			sscope_strerror(rc));
@@ -965,19 +954,19 @@ static int gyro_tilt(struct run *r)
 	c.residual_rms = sqrt((lf.residual_rms[0] * lf.residual_rms[0] +
 			       lf.residual_rms[1] * lf.residual_rms[1] +
 			       lf.residual_rms[2] * lf.residual_rms[2]) / 3);
-	fill_triad(&r->out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
 	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
 		ssc_err(co->cmd, "%s: tilt mode needs gyro channels in physical units (the scale is not estimated)",
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
-	r->out[0].residual_unit = r->out[0].t.input_unit;
+	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
+	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit;
 	for (int i = 0; i < 3; i++)
-		snprintf(r->out[0].t.accel_channels[i], 64, "%s",
+		snprintf(r->pub.out[0].t.accel_channels[i], 64, "%s",
 			 cap->channels[r->ai[i]].col.name);
-	finish_triad(&r->out[0]);
-	r->n_out = 1;
+	finish_triad(&r->pub.out[0]);
+	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
 
@@ -986,9 +975,9 @@ static int rate_table_file(struct run *r, int file_no)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	size_t nref = r->o->reference ? list_count(r->o->reference) : 1, nseg;
+	size_t nref = r->o.reference ? list_count(r->o.reference) : 1, nseg;
 	long ri[3] = { -1, -1, -1 };
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 	double *key, fs = 0;
 	char b[128];
 	int axis = -1;
@@ -997,11 +986,11 @@ static int rate_table_file(struct run *r, int file_no)
 	const double *rc[3] = { NULL, NULL, NULL };
 	double *sched_ref = NULL;
 
-	if (r->o->schedule) {
+	if (r->o.schedule) {
 		double *sv;
 		size_t ns;
-		int e = ssc_read_intervals(co, "schedule", r->o->schedule, "VALUE", 1,
-					   sscope_quantity_si_unit(r->o->gyro ?
+		int e = ssc_read_intervals(co, "schedule", r->o.schedule, "VALUE", 1,
+					   sscope_quantity_si_unit(r->o.gyro ?
 									   SSCOPE_QTY_ANGULAR_RATE :
 									   SSCOPE_QTY_ACCELERATION),
 					   NULL, &sv, &ns);
@@ -1030,7 +1019,7 @@ static int rate_table_file(struct run *r, int file_no)
 		if (nref != 1 && nref != 3)
 			return ssc_usage_error(co->cmd, "--reference: one or three columns");
 		for (size_t j = 0; j < nref; j++) {
-			list_item(r->o->reference, (int)j, b, sizeof(b));
+			list_item(r->o.reference, (int)j, b, sizeof(b));
 			ri[j] = sscope_capture_find(cap, b);
 			if (ri[j] < 0) {
 				ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
@@ -1052,7 +1041,7 @@ static int rate_table_file(struct run *r, int file_no)
 			fs = fmax(fs, fabs(key[i]));
 	}
 	{
-		size_t settle = (size_t)lround((r->o->settle_s >= 0 ? r->o->settle_s : 1) *
+		size_t settle = (size_t)lround((r->o.settle_s >= 0 ? r->o.settle_s : 1) *
 					       cap->rate_hz);
 		size_t minl = (size_t)lround(0.5 * cap->rate_hz);
 
@@ -1071,10 +1060,10 @@ static int rate_table_file(struct run *r, int file_no)
 	if (nref == 1) {
 		char ax[16] = "auto";
 
-		if (r->o->table_axis &&
-		    !list_item(r->o->table_axis, file_no, ax, sizeof(ax)) &&
-		    list_count(r->o->table_axis) == 1)
-			list_item(r->o->table_axis, 0, ax, sizeof(ax));
+		if (r->o.table_axis &&
+		    !list_item(r->o.table_axis, file_no, ax, sizeof(ax)) &&
+		    list_count(r->o.table_axis) == 1)
+			list_item(r->o.table_axis, 0, ax, sizeof(ax));
 		if (!strcmp(ax, "x"))
 			axis = 0;
 		else if (!strcmp(ax, "y"))
@@ -1160,11 +1149,11 @@ static int rate_table_fit(struct run *r)
 	const struct ssc_common *co = r->co;
 	struct sscope_diag d = { "" };
 	struct sscope_calib_triad c;
-	enum sscope_quantity q = r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE :
+	enum sscope_quantity q = r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE :
 					      SSCOPE_QTY_ACCELERATION;
 	int rc = sscope_calib_linear_fit((const double(*)[3])r->ry,
 					 (const double(*)[3])r->rr, r->n_pts,
-					 r->o->cubic, &r->lf, &d);
+					 r->o.cubic, &r->lf, &d);
 
 	if (rc) {
 		ssc_err(co->cmd, "rate table: %s", d.msg[0] ? d.msg : sscope_strerror(rc));
@@ -1172,14 +1161,14 @@ static int rate_table_fit(struct run *r)
 	}
 	r->have_lf = true;
 	if (sscope_calib_linear_to_triad(&r->lf, &c) == 0) {
-		fill_triad(&r->out[0], r->o->gyro ? "gyro" : "accel", r->cap,
-			   r->o->gyro ? r->gi : r->ai, q, &c);
-		r->out[0].t.c.residual_rms /=
-			ssc_calfile_unit_scale(r->out[0].t.input_unit);
-		r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
-						  r->out[0].t.input_unit : "counts";
-		finish_triad(&r->out[0]);
-		r->n_out = 1;
+		fill_triad(&r->pub.out[0], r->o.gyro ? "gyro" : "accel", r->cap,
+			   r->o.gyro ? r->gi : r->ai, q, &c);
+		r->pub.out[0].t.c.residual_rms /=
+			ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
+		r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
+						  r->pub.out[0].t.input_unit : "counts";
+		finish_triad(&r->pub.out[0]);
+		r->pub.n_out = 1;
 	}
 	return SSC_EXIT_OK;
 }
@@ -1187,10 +1176,10 @@ static int rate_table_fit(struct run *r)
 /* the sensor channels have the dimension of the reference */
 static bool rt_ratio(const struct run *r)
 {
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 
 	return r->cap->channels[ci[0]].col.quantity ==
-	       (r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
+	       (r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
 }
 
 static json_t *rate_table_json(const struct run *r)
@@ -1198,12 +1187,12 @@ static json_t *rate_table_json(const struct run *r)
 	json_t *o = json_object(), *axes = json_array();
 	const struct sscope_calib_linear *lf = &r->lf;
 	const char *ch = "xyz";
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 	double s = ssc_calfile_unit_scale(r->cap->channels[ci[0]].col.unit_label);
 	/* sensitivities: ratios when the sensor's unit has the reference's
 	 * dimension (held data are SI then), else input units per SI */
 	double sa = rt_ratio(r) ? 1 : s;
-	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+	const char *si = sscope_quantity_si_unit(r->o.gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
 
@@ -1256,9 +1245,9 @@ static json_t *rate_table_json(const struct run *r)
 static void rate_table_text(FILE *f, const struct run *r)
 {
 	const struct sscope_calib_linear *lf = &r->lf;
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 	const char *iu = r->cap->channels[ci[0]].col.unit_label;
-	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+	const char *si = sscope_quantity_si_unit(r->o.gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
 	double s = ssc_calfile_unit_scale(iu), sa = rt_ratio(r) ? 1 : s;
@@ -1301,15 +1290,18 @@ static void rate_table_text(FILE *f, const struct run *r)
 /* Plot                                                                */
 /* ------------------------------------------------------------------ */
 
-static int plot(const struct ssc_common *co, const struct run *r)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct run *r = result;
 	struct ssc_fig *fig;
 	int rc;
 	char buf[200];
 
+	(void)opts;
 	if (r->have_lf) {
 		const struct sscope_calib_linear *lf = &r->lf;
-		const long *ci = r->o->gyro ? r->gi : r->ai;
+		const long *ci = r->o.gyro ? r->gi : r->ai;
 		int na = 0;
 
 		for (int i = 0; i < 3; i++)
@@ -1361,7 +1353,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 				 r->cap->channels[ci[i]].col.name);
 			ssc_ax_ylabel(ax, buf);
 			snprintf(buf, sizeof(buf), "reference on input %c (%s)", "xyz"[i],
-				 sscope_quantity_si_unit(r->o->gyro ?
+				 sscope_quantity_si_unit(r->o.gyro ?
 								 SSCOPE_QTY_ANGULAR_RATE :
 								 SSCOPE_QTY_ACCELERATION));
 			ssc_ax_xlabel(ax, buf);
@@ -1381,7 +1373,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 
 		fig = ssc_fig_new(1100, 800, 2, 1);
 		snprintf(buf, sizeof(buf), "calib %s (%s): %s",
-			 r->o->gyro ? "gyro" : "accel", mode_names[r->o->mode],
+			 r->o.gyro ? "gyro" : "accel", mode_names[r->o.mode],
 			 cap->source);
 		ssc_fig_title(fig, buf);
 		ax = ssc_fig_ax(fig, 0, 0);
@@ -1390,7 +1382,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 				t[i] = (double)i / cap->rate_hz;
 			ssc_ax_log(ax, false, true);
 			ssc_ax_line(ax, t, r->vs, cap->n, &st, "accelerometer variance magnitude");
-			ssc_ax_hline(ax, r->o->det.threshold, &th, "threshold");
+			ssc_ax_hline(ax, r->o.det.threshold, &th, "threshold");
 			{
 				double *xs = malloc(2 * r->n_iv * sizeof(double));
 				double *ys = malloc(2 * r->n_iv * sizeof(double));
@@ -1398,7 +1390,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 
 				if (xs && ys) {
 					for (size_t k = 0; k < r->n_iv; k++) {
-						double yy = r->o->det.threshold / 3;
+						double yy = r->o.det.threshold / 3;
 
 						/* one segment per interval, NaN breaks */
 						xs[2 * k] = (double)r->iv[k].start / cap->rate_hz;
@@ -1420,7 +1412,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 			ssc_ax_ylabel(ax, buf);
 			ssc_ax_xlabel(ax, "time (s)");
 			snprintf(buf, sizeof(buf), "%zu static intervals\nthreshold %.3g x reference",
-				 r->n_iv, r->o->det.k);
+				 r->n_iv, r->o.det.k);
 			ssc_ax_note(ax, buf, SSC_LEGEND_UL);
 		}
 		free(t);
@@ -1448,10 +1440,10 @@ static int plot(const struct ssc_common *co, const struct run *r)
 			ssc_ax_legend(ax, SSC_LEGEND_AUTO);
 		}
 	}
-	rc = ssc_fig_save_png(fig, co->plot);
+	rc = ssc_fig_save_png(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->plot, sscope_strerror(rc));
+		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
 		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
@@ -1490,7 +1482,7 @@ static void init(void *opts)
 	o->settle_s = 1;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
@@ -1505,165 +1497,197 @@ static int check(const struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
 {
-	struct ssc_common co = *env->co;
-	struct opts *o = opts;
-	struct run r = { 0 };
-	struct ssc_membuf text, csv;
+	struct run *r = result;
+
+	free(r->iv);
+	free(r->vs);
+	free(r->pose_before);
+	free(r->pose_after);
+	free(r->ry);
+	free(r->rr);
+	free(r);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	const struct ssc_common *co = env->co;
+	struct opts *o;
+	struct run *r = calloc(1, sizeof(*r));
 	size_t nfiles = env->n_caps;
-	char cmdname[32];
-	json_t *root, *tr, *files;
 	int rc = SSC_EXIT_OK;
 
-	snprintf(cmdname, sizeof(cmdname), "calib %s", o->gyro ? "gyro" : "accel");
-	if (o->mode != M_RATE_TABLE && nfiles > 1)
-		return ssc_usage_error(co.cmd, "--mode %s takes one input file",
-				       mode_names[o->mode]);
-	r.co = &co;
-	r.o = o;
-	r.iv = malloc(MAX_IV * sizeof(*r.iv));
-	if (!r.iv) {
-		ssc_err(co.cmd, "out of memory");
+	if (r)
+		r->iv = malloc(MAX_IV * sizeof(*r->iv));
+	if (!r || !r->iv) {
+		free(r);
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t fi = 0; fi < nfiles; fi++) {
-		r.cap = env->caps[fi];
-		if (!(r.cap->rate_hz > 0)) {
-			ssc_err(co.cmd, "%s: unknown sample rate (give --rate)",
+	*result = r;
+	r->o = *(struct opts *)opts;
+	o = &r->o;
+	if (o->mode != M_RATE_TABLE && nfiles > 1)
+		return ssc_usage_error(co->cmd, "--mode %s takes one input file",
+				       mode_names[o->mode]);
+	r->co = co;
+	r->paths = env->paths;
+	r->n_files = nfiles;
+	for (size_t fi = 0; fi < nfiles && !rc; fi++) {
+		r->cap = env->caps[fi];
+		if (!(r->cap->rate_hz > 0)) {
+			ssc_err(co->cmd, "%s: unknown sample rate (give --rate)",
 				env->paths[fi]);
 			rc = SSC_EXIT_FAIL;
-			goto done;
+			break;
 		}
 		if (o->gyro || o->mode == M_TILT) {
-			rc = pick3(&co, r.cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
-				   o->reference, "gyro", r.gi);
+			rc = pick3(co, r->cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
+				   o->reference, "gyro", r->gi);
 			if (rc)
-				goto done;
+				break;
 		}
 		if (!o->gyro || o->mode != M_RATE_TABLE) {
-			rc = pick3(&co, r.cap, o->accel, SSCOPE_QTY_ACCELERATION,
-				   o->reference, "accel", r.ai);
+			rc = pick3(co, r->cap, o->accel, SSCOPE_QTY_ACCELERATION,
+				   o->reference, "accel", r->ai);
 			if (rc)
-				goto done;
+				break;
 		}
 		switch (o->mode) {
 		case M_MULTIPOS:
-			rc = o->gyro ? gyro_multipos(&r) : accel_multipos(&r);
+			rc = o->gyro ? gyro_multipos(r) : accel_multipos(r);
 			break;
 		case M_SIXPOS:
-			rc = accel_sixpos(&r);
+			rc = accel_sixpos(r);
 			break;
 		case M_TILT:
-			rc = gyro_tilt(&r);
+			rc = gyro_tilt(r);
 			break;
 		case M_RATE_TABLE:
-			rc = rate_table_file(&r, (int)fi);
+			rc = rate_table_file(r, (int)fi);
 			break;
 		}
-		if (rc)
-			goto done;
 	}
-	if (o->mode == M_RATE_TABLE) {
-		rc = rate_table_fit(&r);
-		if (rc)
-			goto done;
+	if (!rc && o->mode == M_RATE_TABLE)
+		rc = rate_table_fit(r);
+	if (!rc && o->save && r->pub.n_out == 0) {
+		ssc_err(co->cmd, "--save-calibration: the runs did not excite all three axes: no full triad to save");
+		rc = SSC_EXIT_FAIL;
 	}
-	if (env->plot_path) {
-		co.plot = env->plot_path;
-		rc = plot(&co, &r);
-		if (rc)
-			goto done;
-	}
-	if (o->save) {
-		struct ssc_caltriad t[2];
+	r->co = NULL;
+	return rc;
+}
 
-		if (r.n_out == 0) {
-			ssc_err(co.cmd, "--save-calibration: the runs did not excite all three axes: no full triad to save");
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		for (int i = 0; i < r.n_out; i++)
-			t[i] = r.out[i].t;
-		co.cmd = cmdname;
-		rc = ssc_calfile_write(&co, o->save, t, (size_t)r.n_out);
-		co.cmd = env->co->cmd;
-		if (rc)
-			goto done;
-	}
-	root = json_object();
-	tr = json_array();
-	files = json_array();
-	json_object_set_new(root, "command", json_string(cmdname));
+static const char *cmd_name(const struct run *r)
+{
+	return r->o.gyro ? "calib gyro" : "calib accel";
+}
+
+/* --save-calibration */
+static int write_cal(const struct ssc_common *co, const void *opts,
+		     const void *result)
+{
+	const struct run *r = result;
+	struct ssc_common c2 = *co;
+	struct ssc_caltriad t[2];
+
+	(void)opts;
+	if (!r->o.save)
+		return SSC_EXIT_OK;
+	for (int i = 0; i < r->pub.n_out; i++)
+		t[i] = r->pub.out[i].t;
+	c2.cmd = cmd_name(r);
+	return ssc_calfile_write(&c2, r->o.save, t, (size_t)r->pub.n_out);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct run *r = result;
+	const struct opts *o = &r->o;
+	json_t *root = json_object(), *tr = json_array(), *files = json_array();
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string(cmd_name(r)));
 	json_object_set_new(root, "mode", json_string(mode_names[o->mode]));
-	for (size_t fi = 0; fi < nfiles; fi++)
-		json_array_append_new(files, json_string(env->paths[fi]));
-	json_object_set_new(root, "file", json_string(env->paths[0]));
+	for (size_t fi = 0; fi < r->n_files; fi++)
+		json_array_append_new(files, json_string(r->paths[fi]));
+	json_object_set_new(root, "file", json_string(r->paths[0]));
 	json_object_set_new(root, "files", files);
 	json_object_set_new(root, "gravity_m_s2", json_real(o->gravity));
 	if (o->mode != M_RATE_TABLE)
 		json_object_set_new(root, "detection", detection_json(o));
-	for (int i = 0; i < r.n_out; i++)
-		json_array_append_new(tr, triad_json(&r.out[i]));
+	for (int i = 0; i < r->pub.n_out; i++)
+		json_array_append_new(tr, triad_json(&r->pub.out[i]));
 	json_object_set_new(root, "triads", tr);
-	if (r.have_lf)
-		json_object_set_new(root, "rate_table", rate_table_json(&r));
+	if (r->have_lf)
+		json_object_set_new(root, "rate_table", rate_table_json(r));
 	if (o->save)
 		json_object_set_new(root, "calibration_file", json_string(o->save));
-	sout->json = root;
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	fprintf(csv.f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
-	for (int i = 0; i < r.n_out; i++) {
-		const struct triad_out *t = &r.out[i];
+	return root;
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct run *r = result;
+
+	(void)opts;
+	fprintf(f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
+	for (int i = 0; i < r->pub.n_out; i++) {
+		const struct ssc_calib_triad_out *t = &r->pub.out[i];
 		double sc = ssc_calfile_unit_scale(t->t.input_unit);
 
 		for (int j = 0; j < 3; j++)
-			fprintf(csv.f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
+			fprintf(f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
 				t->t.kind, t->t.channels[j], t->t.input_unit,
 				t->t.output_unit, t->t.c.bias[j] / sc,
 				t->t.c.bias_sd[j] / sc, t->t.c.scale[j] * sc,
 				t->t.c.scale_sd[j] * sc, t->t.c.mis[j][0],
 				t->t.c.mis[j][1], t->t.c.mis[j][2],
 				t->t.c.residual_rms, t->t.c.poses);
-		for (int j = 0; j < 3; j++) {
-			char q[64];
+	}
+}
 
-			snprintf(q, sizeof(q), "%s bias", t->t.kind);
-			ssc_summary_add(sout->summary, t->t.channels[j], q,
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct run *r = result;
+
+	(void)opts;
+	for (int i = 0; i < r->pub.n_out; i++) {
+		const struct ssc_calib_triad_out *t = &r->pub.out[i];
+		double sc = ssc_calfile_unit_scale(t->t.input_unit);
+		char q[64];
+
+		snprintf(q, sizeof(q), "%s bias", t->t.kind);
+		for (int j = 0; j < 3; j++)
+			ssc_summary_add(rows, t->t.channels[j], q,
 					t->t.c.bias[j] / sc,
 					(t->t.c.bias[j] - 2 * t->t.c.bias_sd[j]) / sc,
 					(t->t.c.bias[j] + 2 * t->t.c.bias_sd[j]) / sc,
 					t->t.input_unit, "interval: +-2 sd");
-		}
 	}
-	fprintf(text.f, "%s (%s): %s%s\n", cmdname, mode_names[o->mode],
-		env->paths[0], nfiles > 1 ? " ..." : "");
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct run *r = result;
+	const struct opts *o = &r->o;
+
+	(void)opts;
+	fprintf(f, "%s (%s): %s%s\n", cmd_name(r), mode_names[o->mode],
+		r->paths[0], r->n_files > 1 ? " ..." : "");
 	if (o->mode != M_RATE_TABLE)
-		fprintf(text.f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
+		fprintf(f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
 			o->det.window_s > 0 ? o->det.window_s : 1,
 			o->det.init_static_s > 0 ? "reference from the initial static period" :
 			"reference = 10th percentile of the variance magnitude",
 			o->det.k, o->det.threshold, o->det.n_intervals);
-	if (r.have_lf)
-		rate_table_text(text.f, &r);
-	for (int i = 0; i < r.n_out; i++)
-		triad_text(text.f, &r.out[i]);
+	if (r->have_lf)
+		rate_table_text(f, r);
+	for (int i = 0; i < r->pub.n_out; i++)
+		triad_text(f, &r->pub.out[i]);
 	if (o->save)
-		fprintf(text.f, "  calibration written to %s\n", o->save);
-	sout->text = ssc_membuf_take(&text);
-	sout->csv = ssc_membuf_take(&csv);
-done:
-	free(r.iv);
-	free(r.vs);
-	free(r.pose_before);
-	free(r.pose_after);
-	free(r.ry);
-	free(r.rr);
-	return rc;
+		fprintf(f, "  calibration written to %s\n", o->save);
 }
 
 const struct ssc_stage_ops ssc_calib_stage = {
@@ -1677,6 +1701,13 @@ const struct ssc_stage_ops ssc_calib_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.write = write_cal,
+	.free_result = free_result,
 };
 
 int ssc_cmd_calib(int argc, char **argv)

@@ -322,15 +322,26 @@ static json_t *lut_json(const struct sscope_inclino_lut *lut, bool cubic)
 	return l;
 }
 
-static int cal_plot(const struct ssc_common *co, const char *path,
-		    const struct sscope_inclino_lut *lut)
+struct incl_res {
+	const char *const *paths;
+	size_t n_files;
+	struct sscope_inclino_lut *lut;
+	struct sscope_inclino_validation v;
+	size_t nv;
+	bool have_v;
+};
+
+static int cal_plot(const struct ssc_common *co, const void *opts,
+		    const void *result, const char *path)
 {
+	const struct sscope_inclino_lut *lut = ((const struct incl_res *)result)->lut;
 	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
 	struct ssc_ax *a0, *a1;
 	double t[SSCOPE_INCLINO_MAX_NODES], y[SSCOPE_INCLINO_MAX_NODES];
 	double lo[SSCOPE_INCLINO_MAX_NODES], hi[SSCOPE_INCLINO_MAX_NODES];
 	int rc;
 
+	(void)opts;
 	if (!fig) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
@@ -376,37 +387,47 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_OK;
 }
 
-static int cal_run(const struct ssc_stage_env *env, void *opts,
-		   struct ssc_stage_out *out)
+static void cal_free(void *result)
+{
+	struct incl_res *R = result;
+
+	free(R->lut);
+	free(R);
+}
+
+static int cal_run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct ssc_common *co = env->co;
 	struct cal_opts_s *o = opts;
 	struct sscope_inclino_pose *poses = calloc(MAX_POSES, sizeof(*poses));
-	struct sscope_inclino_lut *lut = malloc(sizeof(*lut));
+	struct incl_res *R = calloc(1, sizeof(*R));
 	struct sscope_inclino_plan *plan = NULL;
-	struct sscope_inclino_validation v;
 	struct sscope_diag d = { "" };
-	struct ssc_membuf text, csv;
-	size_t np = 0, nv = 0;
-	bool have_v = false;
-	json_t *root;
+	size_t np = 0;
 	int rc = 0;
 
-	if (!poses || !lut) {
+	if (R)
+		R->lut = malloc(sizeof(*R->lut));
+	if (!poses || !R || !R->lut) {
+		free(poses);
+		if (R)
+			cal_free(R);
 		ssc_err(co->cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
+		return SSC_EXIT_FAIL;
 	}
+	*result = R;
+	R->paths = env->paths;
+	R->n_files = env->n_caps;
 	for (size_t j = 0; j < env->n_caps && !rc; j++)
 		rc = cap_poses(co, o, env->caps[j], env->paths[j], poses, &np);
 	if (rc)
 		goto done;
-	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, lut, &d);
+	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, R->lut, &d);
 	if (rc) {
 		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
 		goto done;
 	}
-	rc = sscope_inclino_plan_new(&plan, lut, o->cubic, &d);
+	rc = sscope_inclino_plan_new(&plan, R->lut, o->cubic, &d);
 	if (rc) {
 		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
 		goto done;
@@ -423,46 +444,71 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 		}
 		if (rc)
 			goto done;
-		if (sscope_inclino_validate(plan, poses, np, &v)) {
+		if (sscope_inclino_validate(plan, poses, np, &R->v)) {
 			ssc_err(co->cmd, "%s: no validation pose within +-85 degrees of pitch",
 				o->validate[0]);
 			rc = SSC_EXIT_FAIL;
 			goto done;
 		}
-		have_v = true;
-		nv = v.poses;
-		if (v.clamped)
+		R->have_v = true;
+		R->nv = R->v.poses;
+		if (R->v.clamped)
 			ssc_warn(co, "%zu validation poses outside the calibrated range %.1f .. %.1f degC (clamped)",
-				 v.clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+				 R->v.clamped, R->lut->temp_degc[0],
+				 R->lut->temp_degc[R->lut->n - 1]);
 	}
-	if (env->plot_path) {
-		rc = cal_plot(co, env->plot_path, lut);
-		if (rc)
-			goto done;
-	}
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		ssc_err(co->cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	root = json_object();
-	json_object_set_new(root, "command", json_string("inclino calibrate"));
-	json_object_set_new(root, "file", json_string(env->paths[0]));
-	{
-		json_t *f = json_array();
+done:
+	sscope_inclino_plan_free(plan);
+	free(poses);
+	return rc;
+}
 
-		for (size_t j = 0; j < env->n_caps; j++)
-			json_array_append_new(f, json_string(env->paths[j]));
-		json_object_set_new(root, "files", f);
+static json_t *cal_json(const void *opts, const void *result)
+{
+	const struct cal_opts_s *o = opts;
+	const struct incl_res *R = result;
+	const struct sscope_inclino_validation *v = &R->v;
+	json_t *root = json_object(), *f = json_array();
+
+	json_object_set_new(root, "command", json_string("inclino calibrate"));
+	json_object_set_new(root, "file", json_string(R->paths[0]));
+	for (size_t j = 0; j < R->n_files; j++)
+		json_array_append_new(f, json_string(R->paths[j]));
+	json_object_set_new(root, "files", f);
+	json_object_set_new(root, "lut", lut_json(R->lut, o->cubic));
+	if (R->have_v) {
+		json_t *jv = json_object();
+
+		json_object_set_new(jv, "poses", json_integer((json_int_t)R->nv));
+		json_object_set_new(jv, "max_deg", json_real(v->max_deg));
+		json_object_set_new(jv, "rms_deg", json_real(v->rms_deg));
+		json_object_set_new(jv, "uncompensated_max_deg", json_real(v->max_uncomp_deg));
+		json_object_set_new(jv, "uncompensated_rms_deg", json_real(v->rms_uncomp_deg));
+		json_object_set_new(jv, "class_deg", json_real(0.1));
+		json_object_set_new(jv, "within_class", json_boolean(v->max_deg <= 0.1));
+		json_object_set_new(jv, "offset_deg", ssc_jreal(v->offset_deg));
+		json_object_set_new(jv, "scale_deg", ssc_jreal(v->scale_deg));
+		json_object_set_new(jv, "misalignment_deg", ssc_jreal(v->mis_deg));
+		json_object_set_new(jv, "dominant", v->dominant ? json_string(v->dominant) : json_null());
+		json_object_set_new(jv, "clamped", json_integer((json_int_t)v->clamped));
+		json_object_set_new(root, "validation", jv);
 	}
-	json_object_set_new(root, "lut", lut_json(lut, o->cubic));
-	fprintf(text.f, "inclino calibrate: %s%s: %zu temperature node%s, %s interpolation, clamped outside %.1f .. %.1f degC\n",
-		env->paths[0], env->n_caps > 1 ? " ..." : "", lut->n, lut->n == 1 ? "" : "s",
+	return root;
+}
+
+static void cal_text(FILE *f, const void *opts, const void *result)
+{
+	const struct cal_opts_s *o = opts;
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+	const struct sscope_inclino_validation *v = &R->v;
+
+	fprintf(f, "inclino calibrate: %s%s: %zu temperature node%s, %s interpolation, clamped outside %.1f .. %.1f degC\n",
+		R->paths[0], R->n_files > 1 ? " ..." : "", lut->n, lut->n == 1 ? "" : "s",
 		o->cubic && lut->n >= 3 ? "cubic-spline" : "linear", lut->temp_degc[0],
 		lut->temp_degc[lut->n - 1]);
-	fprintf(text.f, "  %8s %4s %5s %10s %8s %10s %8s %9s %9s\n", "T degC", "axis", "poses",
+	fprintf(f, "  %8s %4s %5s %10s %8s %10s %8s %9s %9s\n", "T degC", "axis", "poses",
 		"offset mg", "sd", "scale %", "sd", "mis mrad", "(j, k)");
-	fprintf(csv.f, "temp_degc,axis,offset_mg,offset_sd_mg,scale,scale_sd,mis_j_mrad,mis_k_mrad,residual_rms_mg,poses\n");
 	for (size_t i = 0; i < lut->n; i++) {
 		const struct sscope_inclino_params *p = &lut->p[i];
 		double k = 1e3 / lut->gravity_m_s2;
@@ -470,51 +516,55 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 		for (int a = 0; a < 3; a++) {
 			int j = (a + 1) % 3, l = (a + 2) % 3;
 
-			fprintf(text.f, "  %8.2f %4c %5zu %10.4f %8.4f %10.4f %8.4f %9.3f %9.3f\n",
+			fprintf(f, "  %8.2f %4c %5zu %10.4f %8.4f %10.4f %8.4f %9.3f %9.3f\n",
 				lut->temp_degc[i], "xyz"[a], p->poses, p->offset[a] * k,
 				p->offset_sd[a] * k, (p->scale[a] - 1) * 100, p->scale_sd[a] * 100,
 				p->mis[a][j] * 1e3, p->mis[a][l] * 1e3);
-			fprintf(csv.f, "%.4f,%c,%.8g,%.4g,%.10g,%.4g,%.6g,%.6g,%.4g,%zu\n",
+		}
+	}
+	if (R->have_v) {
+		fprintf(f, "  validation (%zu poses): max %.4f deg, rms %.4f deg calibrated (0.1 deg class: %s); uncompensated max %.3f deg, rms %.3f deg\n",
+			R->nv, v->max_deg, v->rms_deg, v->max_deg <= 0.1 ? "within" : "OUTSIDE",
+			v->max_uncomp_deg, v->rms_uncomp_deg);
+		if (v->dominant)
+			fprintf(f, "  residual terms (as tilt error, AN-1057 equivalents): offset %.3g deg, scale %.3g deg, misalignment %.3g deg: %s dominates\n",
+				v->offset_deg, v->scale_deg, v->mis_deg, v->dominant);
+	}
+}
+
+static void cal_csv(FILE *f, const void *opts, const void *result)
+{
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+
+	(void)opts;
+	fprintf(f, "temp_degc,axis,offset_mg,offset_sd_mg,scale,scale_sd,mis_j_mrad,mis_k_mrad,residual_rms_mg,poses\n");
+	for (size_t i = 0; i < lut->n; i++) {
+		const struct sscope_inclino_params *p = &lut->p[i];
+		double k = 1e3 / lut->gravity_m_s2;
+
+		for (int a = 0; a < 3; a++) {
+			int j = (a + 1) % 3, l = (a + 2) % 3;
+
+			fprintf(f, "%.4f,%c,%.8g,%.4g,%.10g,%.4g,%.6g,%.6g,%.4g,%zu\n",
 				lut->temp_degc[i], "xyz"[a], p->offset[a] * k, p->offset_sd[a] * k,
 				p->scale[a], p->scale_sd[a], p->mis[a][j] * 1e3, p->mis[a][l] * 1e3,
 				p->residual_rms * k, p->poses);
 		}
 	}
-	if (have_v) {
-		json_t *jv = json_object();
+}
 
-		json_object_set_new(jv, "poses", json_integer((json_int_t)nv));
-		json_object_set_new(jv, "max_deg", json_real(v.max_deg));
-		json_object_set_new(jv, "rms_deg", json_real(v.rms_deg));
-		json_object_set_new(jv, "uncompensated_max_deg", json_real(v.max_uncomp_deg));
-		json_object_set_new(jv, "uncompensated_rms_deg", json_real(v.rms_uncomp_deg));
-		json_object_set_new(jv, "class_deg", json_real(0.1));
-		json_object_set_new(jv, "within_class", json_boolean(v.max_deg <= 0.1));
-		json_object_set_new(jv, "offset_deg", ssc_jreal(v.offset_deg));
-		json_object_set_new(jv, "scale_deg", ssc_jreal(v.scale_deg));
-		json_object_set_new(jv, "misalignment_deg", ssc_jreal(v.mis_deg));
-		json_object_set_new(jv, "dominant", v.dominant ? json_string(v.dominant) : json_null());
-		json_object_set_new(jv, "clamped", json_integer((json_int_t)v.clamped));
-		json_object_set_new(root, "validation", jv);
-		fprintf(text.f, "  validation (%zu poses): max %.4f deg, rms %.4f deg calibrated (0.1 deg class: %s); uncompensated max %.3f deg, rms %.3f deg\n",
-			nv, v.max_deg, v.rms_deg, v.max_deg <= 0.1 ? "within" : "OUTSIDE",
-			v.max_uncomp_deg, v.rms_uncomp_deg);
-		if (v.dominant)
-			fprintf(text.f, "  residual terms (as tilt error, AN-1057 equivalents): offset %.3g deg, scale %.3g deg, misalignment %.3g deg: %s dominates\n",
-				v.offset_deg, v.scale_deg, v.mis_deg, v.dominant);
-		ssc_summary_add(out->summary, NULL, "tilt error after calibration (max)", v.max_deg,
-				NAN, NAN, "deg", "validation poses");
-		ssc_summary_add(out->summary, NULL, "tilt error uncompensated (max)", v.max_uncomp_deg,
-				NAN, NAN, "deg", "validation poses");
-	}
-	out->json = root;
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-done:
-	sscope_inclino_plan_free(plan);
-	free(poses);
-	free(lut);
-	return rc;
+static void cal_summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct incl_res *R = result;
+
+	(void)opts;
+	if (!R->have_v)
+		return;
+	ssc_summary_add(rows, NULL, "tilt error after calibration (max)", R->v.max_deg,
+			NAN, NAN, "deg", "validation poses");
+	ssc_summary_add(rows, NULL, "tilt error uncompensated (max)", R->v.max_uncomp_deg,
+			NAN, NAN, "deg", "validation poses");
 }
 
 const struct ssc_stage_ops ssc_inclino_stage = {
@@ -527,6 +577,12 @@ const struct ssc_stage_ops ssc_inclino_stage = {
 	.init = cal_init,
 	.handle = cal_handler,
 	.run = cal_run,
+	.json = cal_json,
+	.text = cal_text,
+	.csv = cal_csv,
+	.summary = cal_summary,
+	.plot = cal_plot,
+	.free_result = cal_free,
 };
 
 /* ------------------------------------------------------------------ */
