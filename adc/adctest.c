@@ -5,7 +5,9 @@
  * (4.1.4 / Annex B; linear least squares and Levenberg-Marquardt from GSL),
  * SINAD and ENOB (9.3, 9.4), THD and SFDR from a windowed FFT (FFTW,
  * 4-term Blackman-Harris), and the code-density (histogram) test with a
- * sine input (6.4.3: transition levels T_k = C - A cos(pi CH_{k-1} / S)).
+ * sine input (6.4.3: transition levels T_k = C - A cos(pi CH_{k-1} / S))
+ * with the record length it needs (6.4.4: a mid-scale code's count is
+ * binomial with mean 2 S / (pi n), so DNL has sd sqrt(pi n / (2 S)) LSB).
  */
 #include "internal.h"
 
@@ -422,5 +424,30 @@ int sscope_adc_histogram_test(const int64_t *codes, size_t n, size_t nc,
 	}
 	free(h);
 	free(T);
+	return 0;
+}
+
+int sscope_adc_histogram_quality(const int64_t *codes, size_t n,
+				 double dnl_tol_lsb,
+				 struct sscope_adc_hist_quality *q)
+{
+	int64_t lo, hi;
+	double nc;
+
+	if (!codes || !q || n == 0 || !(dnl_tol_lsb > 0) || !isfinite(dnl_tol_lsb))
+		return -EINVAL;
+	lo = hi = codes[0];
+	for (size_t i = 1; i < n; i++) {
+		if (codes[i] < lo)
+			lo = codes[i];
+		if (codes[i] > hi)
+			hi = codes[i];
+	}
+	q->codes_spanned = (size_t)(hi - lo) + 1;
+	nc = (double)q->codes_spanned;
+	q->samples_per_code = (double)n / nc;
+	q->dnl_sd_lsb = sqrt(PI * nc / (2 * (double)n));
+	q->samples_needed = ceil(PI * nc / (2 * dnl_tol_lsb * dnl_tol_lsb));
+	q->resolved = q->dnl_sd_lsb <= dnl_tol_lsb;
 	return 0;
 }

@@ -358,6 +358,31 @@ int sscope_adc_histogram_test(const int64_t *codes, size_t n, size_t n_codes,
 			      double *dnl, double *inl, double *dnl_max,
 			      double *inl_max);
 
+/** How well a histogram test's counts resolve DNL (IEEE 1241 section
+ *  6.4: the count of a mid-scale code of a sine histogram is binomial,
+ *  mean 2 S / (pi n), so DNL there has sd sqrt(pi n / (2 S)) LSB). */
+struct sscope_adc_hist_quality {
+	size_t codes_spanned;    /**< n: highest minus lowest code hit, + 1 */
+	double samples_per_code; /**< S / n */
+	double dnl_sd_lsb;       /**< sd of a mid-scale DNL estimate, LSB */
+	/** samples for dnl_sd_lsb = tolerance: pi n / (2 tol^2) (IEEE 1241's
+	 *  pi 2^(N-1) Z^2 / beta^2 with Z = 1) */
+	double samples_needed;
+	bool resolved;           /**< dnl_sd_lsb <= tolerance */
+};
+
+/**
+ * Whether @p n codes hold enough samples for the histogram test to
+ * resolve DNL to @p dnl_tol_lsb (1 sigma).
+ * @param codes       n codes (any values; only min and max are used).
+ * @param dnl_tol_lsb wanted DNL standard deviation, LSB (> 0).
+ * @param q           receives the assessment.
+ * @return 0, -EINVAL (NULL, n = 0, tolerance not positive).
+ */
+int sscope_adc_histogram_quality(const int64_t *codes, size_t n,
+				 double dnl_tol_lsb,
+				 struct sscope_adc_hist_quality *q);
+
 #ifdef __cplusplus
 }
 #endif

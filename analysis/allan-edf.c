@@ -15,10 +15,16 @@
  * frequency noises and table 5's simple estimates for the phase noises,
  * as Stable32 (checked against its published bounds).
  *
- * Noise identification: W. J. Riley and C. A. Greenhall, "Power law noise
- * identification using the lag 1 autocorrelation", 18th EFTF, 2004: the
- * lag-1 autocorrelation r1 of the averaged data, differenced until
- * rho = r1 / (1 + r1) < 0.25, gives alpha = -2 (rho + d) (+2 for phase).
+ * Noise identification (NIST SP 1065 section 5.6, as Stable32): with at
+ * least 30 analysis points, W. J. Riley and C. A. Greenhall, "Power law
+ * noise identification using the lag 1 autocorrelation", 18th EFTF, 2004:
+ * the lag-1 autocorrelation r1 of the averaged data (no detrending),
+ * differenced until rho = r1 / (1 + r1) < 0.25, gives alpha = -2 (rho + d)
+ * (+2 for phase); with fewer, Barnes' B1 ratio (standard over two-sample
+ * variance of the averages) against its theoretical values, and R(n) =
+ * MVAR / AVAR between white and flicker phase (Howe, Beard, Greenhall,
+ * Riley, 32nd PTTI 2000, tables 3-4; NIST TN 1337); with too few averages
+ * for B1 the caller carries the last identification.
  *
  * Bounds: sigma^2 edf / chi^2_{(1 +- p)/2}(edf) (NIST SP 1065 eq 45), GSL
  * chi-squared quantiles.
@@ -31,6 +37,8 @@
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
+
+#define PI_ 3.14159265358979323846
 
 /* ------------------------------------------------------------------ */
 /* Greenhall & Riley EDF                                               */
@@ -341,67 +349,8 @@ void ssc_allan_ci(double dev, double edf, double level, double *lo,
 /* Noise identification                                                */
 /* ------------------------------------------------------------------ */
 
-/* remove a least-squares polynomial of degree deg (1 or 2) over the valid
- * points, by Gram-Schmidt on centred, scaled abscissae */
-static void detrend(double *u, const unsigned char *v, size_t n, int deg)
-{
-	double h = n > 1 ? (double)(n - 1) / 2 : 1, c = h;
-	double s0 = 0, st = 0, stt = 0, su = 0, sut = 0;
-	double tbar, q1q1 = 0, t2bar = 0, t2q1 = 0, b, q2q2 = 0, uq2 = 0, cu;
-
-	for (size_t k = 0; k < n; k++) {
-		double t = ((double)k - c) / h;
-
-		if (v && !v[k])
-			continue;
-		s0 += 1;
-		st += t;
-		stt += t * t;
-		su += u[k];
-	}
-	if (s0 == 0)
-		return;
-	tbar = st / s0;
-	t2bar = stt / s0;
-	cu = su / s0;
-	for (size_t k = 0; k < n; k++) {
-		double t = ((double)k - c) / h, q1 = t - tbar;
-
-		if (v && !v[k])
-			continue;
-		u[k] -= cu;
-		q1q1 += q1 * q1;
-		sut += u[k] * q1;
-		t2q1 += t * t * q1;
-	}
-	b = q1q1 > 0 ? t2q1 / q1q1 : 0;
-	for (size_t k = 0; k < n; k++) {
-		double t = ((double)k - c) / h, q1 = t - tbar;
-
-		if (v && !v[k])
-			continue;
-		if (q1q1 > 0)
-			u[k] -= sut / q1q1 * q1;
-		if (deg >= 2) {
-			double q2 = t * t - t2bar - b * q1;
-
-			q2q2 += q2 * q2;
-			uq2 += u[k] * q2;
-		}
-	}
-	if (deg < 2 || !(q2q2 > 0))
-		return;
-	for (size_t k = 0; k < n; k++) {
-		double t = ((double)k - c) / h, q1 = t - tbar;
-		double q2 = t * t - t2bar - b * q1;
-
-		if (v && !v[k])
-			continue;
-		u[k] -= uq2 / q2q2 * q2;
-	}
-}
-
-/* lag-1 autocorrelation over valid points (pairs both valid) */
+/* lag-1 autocorrelation over valid points (pairs both valid), scaled by
+ * (c - 1) / c as Stable32 does (c valid points) */
 static int lag1(const double *u, const unsigned char *v, size_t n, double *r1)
 {
 	double mu = 0, a = 0, b = 0;
@@ -424,12 +373,113 @@ static int lag1(const double *u, const unsigned char *v, size_t n, double *r1)
 	}
 	if (!(b > 0))
 		return -EDOM;
-	*r1 = a / b;
+	*r1 = a / b * (double)(c - 1) / (double)c;
+	return 0;
+}
+
+/*
+ * Barnes' B1 bias function: expected ratio of the N-sample to the
+ * two-sample variance for an AVAR exponent mu (Howe, Beard, Greenhall,
+ * Riley, 32nd PTTI 2000, table 3), written so that large N cannot
+ * overflow.
+ */
+static double b1_theory(double N, int mu)
+{
+	switch (mu) {
+	case -2:
+		return (N + 1) / (1.5 * N);
+	case -1:
+		return 1;
+	case 0:
+		return N * log(N) / (2 * (N - 1) * log(2.0));
+	case 1:
+		return N / 2;
+	default:
+		return N * (N + 1) / 6;
+	}
+}
+
+/* R(n) = MVAR / AVAR expected for flicker phase (NIST TN 1337 A-6, the
+ * measurement bandwidth 1 / (2 tau0)); white phase gives 1 / m */
+static double rn_fpm(double m)
+{
+	return 3.37 / (1.04 + 3 * log(PI_ * m));
+}
+
+/*
+ * B1-ratio identification (NIST SP 1065 section 5.6, as Stable32 for
+ * fewer than 30 analysis points): the standard variance of the averages
+ * over their two-sample variance, compared with B1 at the geometric means
+ * of neighbouring noise types (arithmetic between mu = 1 and 2); white
+ * and flicker phase (mu = -2) are told apart by R(n) when the caller has
+ * it, else flicker phase is taken.
+ */
+static int b1_id(const double *z, const unsigned char *valid, size_t n,
+		 bool rate_like, const struct ssc_nid_few *few, int *alpha,
+		 double *alpha_est)
+{
+	double s = 0, s2 = 0, a2 = 0, mean, svar, avar, b1;
+	size_t c = 0, ca = 0, prev = SIZE_MAX;
+	int mu = -2;
+
+	for (size_t k = 0; k + 1 < n; k++) {
+		bool ok = !valid ||
+			  (rate_like ? valid[k] : valid[k] && valid[k + 1]);
+		double yk = z[k + 1] - z[k];
+
+		if (!ok) {
+			prev = SIZE_MAX;
+			continue;
+		}
+		s += yk;
+		c++;
+		if (prev != SIZE_MAX) {
+			double dy = yk - (z[prev + 1] - z[prev]);
+
+			a2 += dy * dy;
+			ca++;
+		}
+		prev = k;
+	}
+	if (c < few->min_averages || c < 2 || ca == 0)
+		return -EDOM;
+	mean = s / (double)c;
+	for (size_t k = 0; k + 1 < n; k++) {
+		bool ok = !valid ||
+			  (rate_like ? valid[k] : valid[k] && valid[k + 1]);
+		double yk = z[k + 1] - z[k] - mean;
+
+		if (ok)
+			s2 += yk * yk;
+	}
+	svar = s2 / (double)(c - 1);
+	avar = a2 / (2 * (double)ca);
+	if (!(avar > 0) || !isfinite(svar))
+		return -EDOM;
+	b1 = svar / avar;
+	for (int m = -1; m <= 2; m++) {
+		double lo = b1_theory(few->n_points, m - 1);
+		double hi = b1_theory(few->n_points, m);
+		double bound = m == 2 ? 0.5 * (lo + hi) : sqrt(lo * hi);
+
+		if (b1 > bound)
+			mu = m;
+	}
+	if (mu == -2) {
+		double rn_b = sqrt(rn_fpm((double)few->m) / (double)few->m);
+
+		*alpha = isfinite(few->rn) && few->rn < rn_b ? 2 : 1;
+	} else {
+		*alpha = -mu - 1;
+	}
+	if (alpha_est)
+		*alpha_est = *alpha;
 	return 0;
 }
 
 int ssc_noise_id_series(const double *z, const unsigned char *valid,
-			size_t n, bool rate_like, int dmax, int *alpha,
+			size_t n, bool rate_like, int dmax,
+			const struct ssc_nid_few *few, int *alpha,
 			double *alpha_est, double *u, unsigned char *vw)
 {
 	size_t len, nvalid = 0;
@@ -453,8 +503,8 @@ int ssc_noise_id_series(const double *z, const unsigned char *valid,
 	for (size_t k = 0; k < len; k++)
 		nvalid += vw[k];
 	if (nvalid < SSC_NOISE_ID_MIN)
-		return -EDOM;
-	detrend(u, vw, len, rate_like ? 1 : 2);
+		return few ? b1_id(z, valid, n, rate_like, few, alpha, alpha_est) :
+			     -EDOM;
 	for (;;) {
 		double r1, rho;
 		int rc = lag1(u, vw, len, &r1);
@@ -505,7 +555,7 @@ int sscope_allan_noise_id(const double *phase, size_t np, size_t m,
 	}
 	for (size_t k = 0; k < K; k++)
 		buf[k] = phase[k * m];
-	rc = ssc_noise_id_series(buf, NULL, K, rate_like, dmax, alpha,
+	rc = ssc_noise_id_series(buf, NULL, K, rate_like, dmax, NULL, alpha,
 				 alpha_est, buf + K, vw);
 	free(buf);
 	free(vw);

@@ -16,13 +16,34 @@
 /* Averages the lag-1 method needs (Riley & Greenhall 2004). */
 #define SSC_NOISE_ID_MIN 30
 
+/* Averages the B1 fallback needs before it carries the last
+ * identification instead (Stable32's behaviour on its reference sets;
+ * TOTDEV, whose reflected extension triples the record, needs fewer). */
+#define SSC_B1_MIN_AVERAGES 8
+#define SSC_B1_MIN_AVERAGES_TOTDEV 4
+
+/* What the B1 / R(n) fallback for fewer than SSC_NOISE_ID_MIN points
+ * needs (NIST SP 1065 section 5.6). */
+struct ssc_nid_few {
+	double n_points;     /* analysis points of the deviation (the N of
+				Barnes' B1 function, as Stable32) */
+	size_t m;            /* averaging factor */
+	size_t min_averages; /* fewer valid averages: -EDOM (carry) */
+	double rn;           /* MVAR / AVAR at m for modified deviations
+				(tells white from flicker phase), else NaN */
+};
+
 /*
  * Noise identification on an already decimated series z[0..n) (phase
- * points z_k = x(k m)), with optional validity flags (NULL: all valid).
- * Work space: 2 n doubles and n bytes, given by the caller.
+ * points z_k = x(k m)), with optional validity flags (NULL: all valid):
+ * the lag-1 autocorrelation with at least SSC_NOISE_ID_MIN analysis
+ * points, else the B1 ratio when few is given.  Work space: 2 n doubles
+ * and n bytes, given by the caller.  -EDOM: not identified (too few
+ * points, constant data).
  */
 int ssc_noise_id_series(const double *z, const unsigned char *valid,
-			size_t n, bool rate_like, int dmax, int *alpha,
+			size_t n, bool rate_like, int dmax,
+			const struct ssc_nid_few *few, int *alpha,
 			double *alpha_est, double *work, unsigned char *vwork);
 
 /* quantile of chi-squared (safeguarded Newton; never calls the GSL

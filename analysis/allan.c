@@ -1038,13 +1038,42 @@ static void sum_totdev(const struct sscope_allan *p, size_t m,
 /* Compute                                                             */
 /* ------------------------------------------------------------------ */
 
-/* gather the decimated phase for noise identification */
-static int point_alpha(struct sscope_allan *p, bool angle, bool gaps,
-		       size_t m, int dmax, int *alpha)
+/* overlapping AVAR at m from the phase (terms touching a gap skipped),
+ * for the R(n) ratio of the few-points identification */
+static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
+{
+	struct ssc_ksum acc = { 0 };
+	size_t cnt = 0;
+
+	for (size_t i = 0; i + 2 * m < p->np; i++) {
+		double d;
+
+		if (gaps && nan_count(p, i, i + 2 * m + 1))
+			continue;
+		d = xat(p, i + 2 * m) - 2 * xat(p, i + m) + xat(p, i);
+		ssc_ksum_add(&acc, d * d);
+		cnt++;
+	}
+	return cnt ? ssc_ksum_value(&acc) / (2 * (double)m * (double)m * (double)cnt) :
+		     (double)NAN;
+}
+
+/*
+ * Noise type at m: the lag-1 autocorrelation of the decimated phase
+ * (angle input) or of the averages (rate input) with at least 30 analysis
+ * points, else the B1 ratio (R(n) for the modified deviations), as NIST
+ * SP 1065 section 5.6 and Stable32; -EDOM when too few averages remain
+ * (the caller carries the last identification).  mvar: the point's
+ * modified variance (MDEV/TDEV), else NaN.
+ */
+static int point_alpha(struct sscope_allan *p, enum sscope_dev dev,
+		       bool angle, bool gaps, size_t m, size_t terms,
+		       double mvar, int *alpha)
 {
 	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
 	double *z = p->nid;
 	unsigned char *v = p->nidv;
+	struct ssc_nid_few few;
 
 	if (K > SSC_NOISE_ID_MAX + 1)
 		K = SSC_NOISE_ID_MAX + 1;
@@ -1059,8 +1088,16 @@ static int point_alpha(struct sscope_allan *p, bool angle, bool gaps,
 		else if (k + 1 < K)
 			v[k] = nan_count(p, k * m, (k + 1) * m) == 0;
 	}
-	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle, dmax, alpha,
-				   NULL, z + SSC_NOISE_ID_MAX + 2,
+	few.n_points = (double)terms;
+	few.m = m;
+	few.min_averages = dev == SSCOPE_DEV_TOTDEV ? SSC_B1_MIN_AVERAGES_TOTDEV :
+						      SSC_B1_MIN_AVERAGES;
+	few.rn = NAN;
+	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
+		few.rn = mvar / avar_at(p, gaps, m);
+	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle,
+				   ssc_dev_order(dev), &few, alpha, NULL,
+				   z + SSC_NOISE_ID_MAX + 2,
 				   v + SSC_NOISE_ID_MAX + 2);
 }
 
@@ -1309,8 +1346,12 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		/* noise type */
 		if (p->opts.alpha_fixed) {
 			alpha = p->opts.alpha;
-		} else if (point_alpha(p, angle, gaps, m[j],
-				       ssc_dev_order(dev), &alpha) == 0) {
+		} else if (point_alpha(p, dev, angle, gaps, m[j], used[j],
+				       dev == SSCOPE_DEV_MDEV ||
+						       dev == SSCOPE_DEV_TDEV ?
+					       var :
+					       (double)NAN,
+				       &alpha) == 0) {
 			pt->alpha_identified = true;
 			carry_alpha = alpha;
 			have_carry = true;

@@ -920,6 +920,65 @@ out:
 	return rc;
 }
 
+int sscope_calib_gyro_motion_errors(const double *const g[3],
+				    const double *const accel_cal[3],
+				    size_t stride, size_t n, double rate_hz,
+				    const struct sscope_calib_interval *iv,
+				    size_t n_iv,
+				    const struct sscope_calib_triad *c,
+				    double *angle_rad)
+{
+	struct gyro_ctx gc = { 0 };
+	double C[3][3];
+
+	if (!g || !accel_cal || !c || !iv || !angle_rad || stride == 0 ||
+	    !(rate_hz > 0) || n_iv < 2)
+		return -EINVAL;
+	for (int i = 0; i < 3; i++)
+		if (!g[i] || !accel_cal[i])
+			return -EINVAL;
+	for (size_t k = 0; k < n_iv; k++)
+		if (iv[k].end <= iv[k].start || iv[k].end > n ||
+		    (k && iv[k].start < iv[k - 1].end))
+			return -EINVAL;
+	gc.g = g;
+	gc.a = accel_cal;
+	gc.stride = stride;
+	gc.n = n;
+	gc.dt = 1 / rate_hz;
+	gc.with_g = c->has_gsens;
+	for (int i = 0; i < 3; i++) {
+		gc.bias[i] = c->bias[i];
+		for (int j = 0; j < 3; j++)
+			gc.G[i][j] = c->gsens[i][j];
+	}
+	triad_matrix(c, C);
+	for (size_t k = 1; k < n_iv; k++) {
+		double u0[3], u1[3], pred[3], d2 = 0, n0 = 0, n1 = 0;
+
+		for (int i = 0; i < 3; i++) {
+			sscope_calib_interval_mean(accel_cal[i], stride, &iv[k - 1],
+						   &u0[i], NULL);
+			sscope_calib_interval_mean(accel_cal[i], stride, &iv[k],
+						   &u1[i], NULL);
+			n0 += u0[i] * u0[i];
+			n1 += u1[i] * u1[i];
+		}
+		if (!(n0 > 0) || !(n1 > 0))
+			return -EDOM;
+		for (int i = 0; i < 3; i++) {
+			u0[i] /= sqrt(n0);
+			u1[i] /= sqrt(n1);
+		}
+		gyro_rotate(&gc, C, iv[k - 1].end - 1, iv[k].start, u0, pred);
+		for (int i = 0; i < 3; i++)
+			d2 += (u1[i] - pred[i]) * (u1[i] - pred[i]);
+		/* chord of two unit vectors -> angle between them */
+		angle_rad[k - 1] = 2 * asin(fmin(1, sqrt(d2) / 2));
+	}
+	return 0;
+}
+
 /* ------------------------------------------------------------------ */
 /* Known-reference (linear) fits                                       */
 /* ------------------------------------------------------------------ */

@@ -228,10 +228,15 @@ double sscope_allan_edf(int alpha, int d, size_t m, size_t n_phase,
 /**
  * Dominant power-law noise at averaging factor @p m by the lag-1
  * autocorrelation method (Riley & Greenhall, "Power law noise
- * identification using the lag 1 autocorrelation", EFTF 2004), on phase
- * points: averaged rate (first differences of the phase decimated by m,
- * linear trend removed) or decimated phase (quadratic trend removed),
- * differenced until rho = r1 / (1 + r1) < 0.25 or d = dmax.
+ * identification using the lag 1 autocorrelation", EFTF 2004; NIST SP
+ * 1065 section 5.6), on phase points: averaged rate (first differences of
+ * the phase decimated by m) or decimated phase, mean removed, r1 scaled by
+ * (n - 1) / n as Stable32, differenced until rho = r1 / (1 + r1) < 0.25 or
+ * d = dmax.  No trend is removed: a polynomial fit to a few dozen points
+ * pulls r1 towards 0 (a random walk of 56 points detrended to second
+ * order reads as white phase); remove deterministic drift beforehand.
+ * sscope_allan_compute() falls back to the B1 ratio (and R(n)) below 30
+ * analysis points, as Stable32.
  * @param phase     np phase points (any units).
  * @param np        number of phase points.
  * @param m         averaging factor.

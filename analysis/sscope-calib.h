@@ -214,6 +214,29 @@ int sscope_calib_gyro_fit(const double *const g[3],
 			  struct sscope_diag *diag);
 
 /**
+ * How well a gyro correction predicts the motions between static poses:
+ * for each motion k (from the end of interval k to the start of k + 1) the
+ * angle between the calibrated gravity direction of pose k + 1 and that of
+ * pose k carried by the rotation the corrected gyro integrates (the check
+ * sscope_calib_gyro_fit() minimises, as an angle).  With the fitted triad
+ * the rms of 2 sin(angle / 2) is the fit's residual_rms; with a triad that
+ * only removes the bias it shows the uncalibrated error.
+ * @param g, accel_cal, stride, n, rate_hz, iv, n_iv  as
+ *                    sscope_calib_gyro_fit().
+ * @param c           the correction (its bias, T K and, when has_gsens, G).
+ * @param angle_rad   n_iv - 1 angles, rad (caller's array).
+ * @return 0; -EINVAL (NULL, fewer than 2 intervals, bad intervals or
+ *         rate); -EDOM when the accelerometer reads zero in a pose.
+ */
+int sscope_calib_gyro_motion_errors(const double *const g[3],
+				    const double *const accel_cal[3],
+				    size_t stride, size_t n, double rate_hz,
+				    const struct sscope_calib_interval *iv,
+				    size_t n_iv,
+				    const struct sscope_calib_triad *c,
+				    double *angle_rad);
+
+/**
  * Result of a fit against known stimuli (rate table, centrifuge, six
  * positions): y = b + A r + c2 .* r_own^2 + c3 .* r_own^3, where r_own is
  * each output axis' own input.

@@ -540,8 +540,12 @@ static void stability(const struct ctx *c, const struct fit *f,
 	if (!sscope_allan_analyze(r, 1, n, 1 / c->b[jl].dt, SSCOPE_TAUS_OCTAVE,
 				  NULL, NULL, &ar, NULL)) {
 		for (size_t i = 0; i < ar->n_points; i++)
+			/* reliable points: 10 degrees of freedom for white
+			 * rate noise, whatever the identification says at
+			 * few averages */
 			if (isfinite(ar->points[i].dev) &&
-			    ar->points[i].edf >= 10 &&
+			    sscope_allan_edf(0, 2, ar->points[i].m, n + 1,
+					     false, 1) >= 10 &&
 			    !(ar->points[i].dev >= res->stability)) {
 				res->stability = ar->points[i].dev;
 				res->stability_tau_s = ar->points[i].tau_s;

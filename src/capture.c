@@ -13,6 +13,8 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include "io-formats.h"
+
 static int copy_column(struct sscope_column *dst, const struct sscope_column *src)
 {
 	*dst = *src;
@@ -49,6 +51,7 @@ void sscope_capture_free(struct sscope_capture *cap)
 	free_column(&cap->temp_col);
 	free(cap->source);
 	free(cap->gaps);
+	ssc_source_free(cap->source_info);
 	free(cap);
 }
 
@@ -199,6 +202,13 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	if (rc)
 		goto fail;
 	cap->n = n;
+	if (sscope_reader_source(r)) {
+		cap->source_info = ssc_reader_take_source(r, n);
+		if (!cap->source_info) {
+			rc = -ENOMEM;
+			goto fail;
+		}
+	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		size_t nan = 0;
 

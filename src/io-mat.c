@@ -88,6 +88,7 @@ static int element(const struct ssc_mat *m, const unsigned char *p,
 		   const unsigned char **next)
 {
 	uint32_t t, n;
+	size_t pad;
 
 	if (end - p < 8)
 		return -EBADMSG;
@@ -108,9 +109,10 @@ static int element(const struct ssc_mat *m, const unsigned char *p,
 	*type = (int)t;
 	*data = p + 8;
 	*nbytes = n;
-	/* the last element of a file may lack its padding */
-	*next = (size_t)(end - p - 8) >= ((n + 7) & ~(uint32_t)7) ?
-			p + 8 + ((n + 7) & ~(uint32_t)7) : end;
+	/* the last element of a file may lack its padding (in size_t: n + 7
+	 * may not fit 32 bits) */
+	pad = ((size_t)n + 7) & ~(size_t)7;
+	*next = (size_t)(end - p - 8) >= pad ? p + 8 + pad : end;
 	return 0;
 }
 
@@ -146,7 +148,7 @@ static int matrix(struct ssc_mat *m, const unsigned char *p,
 		  const unsigned char *end)
 {
 	const unsigned char *d, *next;
-	size_t nb, rows, cols, esz;
+	size_t nb, rows, cols, esz, count, bytes;
 	int t, rc, cls;
 	uint32_t flags;
 	char name[64];
@@ -166,6 +168,8 @@ static int matrix(struct ssc_mat *m, const unsigned char *p,
 		return 0; /* more than two dimensions: not a capture */
 	rows = rd32(m, d);
 	cols = rd32(m, d + 4);
+	if (rows > INT32_MAX || cols > INT32_MAX)
+		return -EBADMSG; /* negative int32 dimensions */
 	p = next;
 	/* name */
 	rc = element(m, p, end, &t, &d, &nb, &next);
@@ -176,17 +180,21 @@ static int matrix(struct ssc_mat *m, const unsigned char *p,
 	memcpy(name, d, nb);
 	name[nb] = '\0';
 	p = next;
-	/* numeric classes 6 (double) .. 15 (uint64), real, not sparse */
-	if (cls < 6 || cls > 15 || (flags & 0x800) || rows * cols < 2 || !name[0])
+	/* numeric classes 6 (double) .. 15 (uint64), real, not sparse; every
+	 * product of dimensions overflow-checked (a crafted file must not
+	 * wrap rows * cols * esz to the size of its data) */
+	if (!ssc_mul(rows, cols, &count))
+		return -EBADMSG;
+	if (cls < 6 || cls > 15 || (flags & 0x800) || count < 2 || !name[0])
 		return 0;
 	rc = element(m, p, end, &t, &d, &nb, &next);
 	if (rc)
 		return rc;
 	esz = type_size(t);
-	if (!esz || t == MI_UTF8 || nb != rows * cols * esz)
+	if (!esz || t == MI_UTF8 || !ssc_mul(count, esz, &bytes) || nb != bytes)
 		return -EBADMSG;
 	if (rows == 1 || cols == 1)
-		return add_chan(m, name, 0, d, 1, t, rows * cols);
+		return add_chan(m, name, 0, d, 1, t, count);
 	if (rows >= cols) {
 		for (size_t c = 0; c < cols && c < 4096; c++) {
 			rc = add_chan(m, name, (int)c + 1, d + c * rows * esz, 1,

@@ -5,6 +5,10 @@
  * "#timestamp [ns],w_RS_S_x [rad s^-1],..."), the sensorscope binary capture
  * (a two-line text header, then little-endian float32/float64 rows), raw
  * binary (--raw TYPE:CHANNELS[:le|be]) and MATLAB 5 MAT-files (io-mat.c).
+ * Other formats are recognised by their leading bytes (io-formats.h): gzip
+ * is undone as a stream (then recognised again), containers (ROS bags,
+ * MCAP, rosbag2, npy) are decoded into a table served like the columns of
+ * a file.
  *
  * Regular files are memory-mapped; pipes are read in 4 MiB blocks into a
  * buffer that slides over the input, so memory does not grow with the
@@ -24,12 +28,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "io-formats.h"
 #include "io-mat.h"
 
 #define BLOCK (4u << 20)
 #define BIN_MAGIC "#sensorscope-binary"
 
-enum kind { K_TEXT, K_BIN, K_RAW, K_MAT };
+enum kind { K_TEXT, K_BIN, K_RAW, K_MAT, K_TABLE };
 enum rawtype { R_I16, R_U16, R_I24, R_I32, R_U32, R_F32, R_F64 };
 
 struct colx {
@@ -41,6 +46,7 @@ struct colx {
 	bool is_time;
 	bool is_temp;
 	bool used;        /* converted at all */
+	bool hidden;      /* not in the default selection (text, metadata) */
 };
 
 struct sscope_reader {
@@ -87,6 +93,13 @@ struct sscope_reader {
 	/* MATLAB 5 MAT-file (io-mat.c) */
 	struct ssc_mat *mat;
 	size_t mat_row;
+	unsigned char *matz; /* expanded MATLAB v7 file (io-matz.c) */
+	/* gzip stream (io-gzip.c), decoded containers (io-formats.h) */
+	struct ssc_gz *gz;
+	struct ssc_table *tab;
+	size_t tab_row;
+	int64_t tab_t0;
+	struct sscope_source *src;
 };
 
 /* ------------------------------------------------------------ source */
@@ -157,7 +170,14 @@ static int src_fill(struct sscope_reader *r, size_t want,
 			r->base = nb;
 			r->cap = ncap;
 		}
-		got = read(r->fd, r->buf + r->len, r->cap - r->len);
+		if (r->gz) {
+			got = ssc_gz_read(r->gz, r->buf + r->len,
+					  r->cap - r->len, r->disp, diag);
+			if (got < 0)
+				return (int)got;
+		} else {
+			got = read(r->fd, r->buf + r->len, r->cap - r->len);
+		}
 		if (got < 0) {
 			if (errno == EINTR)
 				continue;
@@ -435,6 +455,10 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 					"%s: no time column '%s' (columns: %s)",
 					r->disp, o->time_column, names);
 		}
+	} else if (r->kind == K_TABLE) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if (r->tab->cols[i].role == SSCOPE_ROLE_TIME)
+				r->time_col = (long)i;
 	} else if (r->kind == K_TEXT || r->kind == K_BIN || r->kind == K_MAT) {
 		for (size_t i = 0; i < r->ncols; i++)
 			if (name_is(r->cols[i].name, time_names)) {
@@ -452,6 +476,10 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 					"%s: no temperature column '%s' (columns: %s)",
 					r->disp, o->temp_column, names);
 		}
+	} else if (r->kind == K_TABLE) {
+		for (size_t i = 0; i < r->ncols; i++)
+			if (r->tab->cols[i].role == SSCOPE_ROLE_TEMP)
+				r->temp_col = (long)i;
 	} else if (r->kind != K_RAW) {
 		for (size_t i = 0; i < r->ncols; i++)
 			if ((long)i != r->time_col &&
@@ -532,7 +560,8 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		free(copy);
 	} else {
 		for (size_t i = 0; i < r->ncols; i++) {
-			if (r->cols[i].c.role != SSCOPE_ROLE_DATA)
+			if (r->cols[i].c.role != SSCOPE_ROLE_DATA ||
+			    r->cols[i].hidden)
 				continue;
 			r->cols[i].dest = (int)r->nsel;
 			r->sel[r->nsel++] = i;
@@ -667,6 +696,9 @@ static void header_rate(struct sscope_reader *r, const char *p, const char *e)
 	}
 }
 
+static bool skip_line(const char *p, const char *e);
+static int text_columns(struct sscope_reader *r);
+
 static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
@@ -683,17 +715,18 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 	if (end - p >= 3 && !memcmp(p, "\xef\xbb\xbf", 3)) /* UTF-8 BOM */
 		p += 3;
 	for (;;) {
-		const char *e = line_end(p, end), *q = p;
+		const char *e, *q = p;
 		bool numeric = true;
 
 		if (p >= end)
 			return ssc_diag(diag, -EDOM, "%s: no data rows",
 					r->disp);
+		e = line_end(p, end);
 		r->line++;
 		while (q < e && blank(*q))
 			q++;
 		if (q >= e) { /* blank line */
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (*q == '#') {
@@ -701,7 +734,7 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 			cm_s = q + 1;
 			cm_e = e;
 			cm_line = r->line;
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		r->delim = detect_delim(q, e);
@@ -719,7 +752,8 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 				return ssc_diag(diag, -EDOM,
 						"%s: header but no data rows",
 						r->disp);
-			return add_columns(r, fs, fe, nf, true);
+			rc = add_columns(r, fs, fe, nf, true);
+			return rc ? rc : text_columns(r);
 		}
 		/* data: a '#' comment right above it with as many fields, some
 		 * of them names, is the header (EuRoC's "#timestamp [ns],...") */
@@ -739,6 +773,53 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 		}
 		return add_columns(r, fs, fe, nf, false);
 	}
+}
+
+/* Columns whose first data cell is text (a frame id) stay out of the
+ * default selection; a `rostopic echo -p` header gets the bag reader's
+ * names and units (io-rostopic.c). */
+static int text_columns(struct sscope_reader *r)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	const char *p = r->base + r->pos, *end = r->base + r->len;
+	bool stamp = false;
+
+	while (p < end) {
+		const char *e = line_end(p, end);
+
+		if (!skip_line(p, e)) {
+			size_t nf = split_fields(p, e, r->delim, fs, fe, MAXF);
+
+			for (size_t i = 0; i < nf && i < r->ncols && i < MAXF; i++)
+				if (!field_is_number(fs[i], fe[i]))
+					r->cols[i].hidden = true;
+			break;
+		}
+		p = e + 1;
+	}
+	if (!r->ncols || !ssc_rostopic_detect(r->cols[0].name))
+		return 0;
+	for (size_t i = 0; i < r->ncols; i++)
+		stamp |= !strcmp(r->cols[i].name, "field.header.stamp");
+	for (size_t i = 0; i < r->ncols; i++) {
+		struct colx *c = &r->cols[i];
+		const char *name, *unit;
+		bool hide;
+
+		ssc_rostopic_column(c->name, stamp, &name, &unit, &hide);
+		c->hidden |= hide;
+		if (name) {
+			free(c->name);
+			c->name = ssc_strdup(name);
+		}
+		if (unit) {
+			free(c->unit_label);
+			c->unit_label = ssc_strdup(unit);
+		}
+		if (!c->name || !c->unit_label)
+			return -ENOMEM;
+	}
+	return 0;
 }
 
 /* ------------------------------------------------------------ binary */
@@ -827,7 +908,7 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
 	const char *p = r->base, *end = r->base + r->len, *e1, *e2;
-	char type[8] = "", endian[8] = "";
+	char type[8] = "", endian[8] = "", l1[64];
 	size_t nh, data_off;
 	int rc;
 
@@ -835,7 +916,13 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	if (e1 >= end)
 		return ssc_diag(diag, -EBADMSG, "%s: truncated binary header",
 				r->disp);
-	if (sscanf(p, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
+	/* sscanf needs a string: the first line alone, terminated */
+	if ((size_t)(e1 - p) >= sizeof(l1))
+		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
+				r->disp);
+	memcpy(l1, p, (size_t)(e1 - p));
+	l1[e1 - p] = '\0';
+	if (sscanf(l1, BIN_MAGIC " 1 %7s %7s", type, endian) != 2 ||
 	    (strcmp(type, "f32") && strcmp(type, "f64")) ||
 	    (strcmp(endian, "le") && strcmp(endian, "be")))
 		return ssc_diag(diag, -EBADMSG, "%s: line 1: bad binary header",
@@ -872,15 +959,24 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 static int open_mat(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	const char *fs[MAXF], *fe[MAXF];
-	size_t n;
+	size_t n, zlen;
 	int rc = src_fill(r, SIZE_MAX, diag);
 
 	if (rc)
 		return rc;
-	rc = ssc_mat_open(&r->mat, (const unsigned char *)r->base, r->len,
-			  r->disp, diag);
+	rc = ssc_matz_expand((const unsigned char *)r->base, r->len, &r->matz,
+			     &zlen, r->disp, diag);
 	if (rc)
 		return rc;
+	rc = ssc_mat_open(&r->mat, r->matz ? r->matz :
+				   (const unsigned char *)r->base,
+			  r->matz ? zlen : r->len, r->disp, diag);
+	if (rc)
+		return rc;
+	r->src = ssc_source_new(r->matz ? "MATLAB v7 MAT-file (compressed)" :
+					  "MATLAB 5 MAT-file");
+	if (!r->src)
+		return -ENOMEM;
 	n = ssc_mat_n_channels(r->mat);
 	if (n > MAXF)
 		n = MAXF;
@@ -933,6 +1029,152 @@ static int read_mat(struct sscope_reader *r, struct sscope_chunk *ch,
 	return 0;
 }
 
+/* ------------------------------------------------------------ tables */
+
+static int table_columns(struct sscope_reader *r)
+{
+	const char *fs[MAXF], *fe[MAXF];
+	size_t n = r->tab->ncols < MAXF ? r->tab->ncols : MAXF;
+
+	for (size_t i = 0; i < n; i++) {
+		fs[i] = r->tab->cols[i].label;
+		fe[i] = fs[i] + strlen(fs[i]);
+	}
+	return add_columns(r, fs, fe, n, true);
+}
+
+/* A container (bag, MCAP, .db3, npy) read whole, then decoded. */
+static int open_table(struct sscope_reader *r, enum ssc_container kind,
+		      struct sscope_diag *diag)
+{
+	int rc = src_fill(r, SIZE_MAX, diag);
+
+	if (rc)
+		return rc;
+	rc = ssc_container_open(&r->tab, kind, (const unsigned char *)r->base,
+				r->len, r->disp, r->opts->topic, diag);
+	return rc ? rc : table_columns(r);
+}
+
+/* gzip: from here on src_fill() reads decompressed bytes */
+static int open_gzip(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	int rc;
+
+	if (r->mapped) {
+		rc = ssc_gz_open(&r->gz, (const unsigned char *)r->base, r->len,
+				 -1, (void *)r->base, r->len);
+		if (rc)
+			return rc;
+		r->mapped = false;
+	} else {
+		rc = ssc_gz_open(&r->gz, (const unsigned char *)r->base + r->pos,
+				 r->len - r->pos, r->fd, NULL, 0);
+		if (rc)
+			return rc;
+	}
+	if (!r->buf) {
+		r->cap = BLOCK;
+		r->buf = malloc(r->cap);
+		if (!r->buf)
+			return -ENOMEM;
+	}
+	r->base = r->buf;
+	r->len = r->pos = 0;
+	r->eof = false;
+	r->size = 0;
+	r->consumed = 0;
+	return src_fill(r, 1u << 20, diag);
+}
+
+static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
+		      struct sscope_diag *diag)
+{
+	size_t n = r->tab->nrows - r->tab_row, r0 = r->tab_row;
+
+	if (n > ch->capacity)
+		n = ch->capacity;
+	for (size_t c = 0; c < r->ncols; c++) {
+		const struct colx *cx = &r->cols[c];
+		const struct ssc_tcol *tc = &r->tab->cols[c];
+		double *dst = cx->dest >= 0 ? ch->data[cx->dest] : NULL;
+		double sc = cx->c.unit.scale, of = cx->c.unit.offset;
+
+		if (!cx->used)
+			continue;
+		if (cx->is_time && !r->have_t0 && r->tab->nrows) {
+			r->have_t0 = true;
+			r->tab_t0 = tc->type == SSC_V_I64 ? ssc_table_i64(tc, 0) : 0;
+			r->t0_double = ssc_table_value(tc, 0);
+		}
+		for (size_t i = 0; i < n; i++) {
+			double v = ssc_table_value(tc, r0 + i);
+
+			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
+			    isinf(v))
+				return ssc_diag(diag, -EBADMSG,
+						"%s: %s, row %zu: %s", r->disp,
+						cx->name, r0 + i + 1,
+						isinf(v) ? "infinite value" :
+						cx->is_time ? "NaN time stamp" :
+						"NaN (use --allow-nan to read gaps)");
+			if (dst)
+				dst[i] = v * sc + of;
+			if (cx->is_temp && ch->temp_degc)
+				ch->temp_degc[i] = v * sc + of;
+			if (cx->is_time && ch->time_s)
+				/* exact integer difference, one rounding */
+				ch->time_s[i] = tc->type == SSC_V_I64 ?
+					(double)(int64_t)((uint64_t)ssc_table_i64(tc, r0 + i) -
+							  (uint64_t)r->tab_t0) * sc :
+					(v - r->t0_double) * sc;
+		}
+	}
+	r->tab_row += n;
+	ch->rows = n;
+	return 0;
+}
+
+/* name the format of what a gzip stream held */
+static int gzip_source(struct sscope_reader *r)
+{
+	char f[160];
+	const char *inner = r->kind == K_TEXT ? "text" :
+			    r->kind == K_BIN ? "sensorscope binary" :
+			    r->src ? r->src->format : r->tab ? r->tab->src->format :
+			    "data";
+	struct sscope_source *s;
+
+	snprintf(f, sizeof(f), "gzip-compressed %s", inner);
+	s = ssc_source_new(f);
+	if (!s)
+		return -ENOMEM;
+	if (r->tab) {
+		free((char *)r->tab->src->format);
+		r->tab->src->format = s->format;
+		s->format = NULL;
+		ssc_source_free(s);
+	} else {
+		ssc_source_free(r->src);
+		r->src = s;
+	}
+	return 0;
+}
+
+struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
+					     size_t rows)
+{
+	if (r->tab)
+		return ssc_source_copy(r->tab->src, r->tab->rx_ns,
+				       r->tab->rx_ns ? rows : 0, r->tab_t0);
+	return r->src ? ssc_source_copy(r->src, NULL, 0, 0) : NULL;
+}
+
+const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
+{
+	return r->tab ? r->tab->src : r->src;
+}
+
 /* ------------------------------------------------------------ open */
 
 int sscope_reader_open(struct sscope_reader **reader, const char *path,
@@ -941,6 +1183,7 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 {
 	static const struct sscope_read_opts defaults;
 	struct sscope_reader *r;
+	enum ssc_container kind;
 	int rc;
 
 	*reader = NULL;
@@ -972,6 +1215,13 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
+	if (!(r->opts->raw && *r->opts->raw) && ssc_rosbag2_is_dir(path)) {
+		r->kind = K_TABLE;
+		rc = ssc_rosbag2_open(&r->tab, path, r->opts->topic, diag);
+		if (!rc)
+			rc = table_columns(r);
+		goto opened;
+	}
 	rc = src_open(r, diag);
 	if (rc)
 		goto fail;
@@ -986,9 +1236,22 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			rc = ssc_diag(diag, -EDOM, "%s: empty file", r->disp);
 			goto fail;
 		}
-		if (ssc_mat_detect(r->base, r->len)) {
+		kind = ssc_container_detect(r->base, r->len);
+		if (kind == SSC_C_GZIP) {
+			rc = open_gzip(r, diag);
+			if (!rc && r->len == 0)
+				rc = ssc_diag(diag, -EDOM, "%s: empty file (gzip)",
+					      r->disp);
+			if (rc)
+				goto fail;
+			kind = ssc_container_detect(r->base, r->len);
+		}
+		if (kind == SSC_C_MAT) {
 			r->kind = K_MAT;
 			rc = open_mat(r, diag);
+		} else if (kind != SSC_C_NONE && kind != SSC_C_GZIP) {
+			r->kind = K_TABLE;
+			rc = open_table(r, kind, diag);
 		} else if (r->len >= strlen(BIN_MAGIC) &&
 		    !memcmp(r->base, BIN_MAGIC, strlen(BIN_MAGIC))) {
 			r->kind = K_BIN;
@@ -1003,9 +1266,19 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			r->kind = K_TEXT;
 			rc = open_text(r, diag);
 		}
+		if (!rc && r->gz)
+			rc = gzip_source(r);
 	}
+opened:
 	if (rc)
 		goto fail;
+	if (r->opts->topic && *r->opts->topic &&
+	    !(r->tab && r->tab->src->n_topics)) {
+		rc = ssc_diag(diag, -EINVAL,
+			      "%s: --topic applies to ROS bags, rosbag2 and MCAP files",
+			      r->disp);
+		goto fail;
+	}
 	rc = assign_roles(r, diag);
 	if (!rc)
 		rc = select_columns(r, diag);
@@ -1086,6 +1359,10 @@ void sscope_reader_close(struct sscope_reader *r)
 	free(r->parts);
 	free(r->path);
 	ssc_mat_free(r->mat);
+	free(r->matz);
+	ssc_gz_close(r->gz);
+	ssc_table_free(r->tab);
+	ssc_source_free(r->src);
 	free(r);
 }
 
@@ -1409,7 +1686,7 @@ static int init_t0(struct sscope_reader *r, struct sscope_diag *diag)
 			e = end;
 		ln++;
 		if (skip_line(p, e)) {
-			p = e + 1;
+			p = e + (e < end);
 			continue;
 		}
 		if (e > p && e[-1] == '\r')
@@ -1559,6 +1836,8 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 
 	if (r->kind == K_MAT)
 		return ssc_mat_rows(r->mat) - r->mat_row;
+	if (r->kind == K_TABLE)
+		return r->tab->nrows - r->tab_row;
 	if (r->kind != K_TEXT) {
 		if (!r->size || !r->mapped)
 			return 0;
@@ -1791,5 +2070,7 @@ int sscope_reader_read(struct sscope_reader *r, struct sscope_chunk *ch,
 		return read_text(r, ch, diag);
 	if (r->kind == K_MAT)
 		return read_mat(r, ch, diag);
+	if (r->kind == K_TABLE)
+		return read_table(r, ch, diag);
 	return read_binary(r, ch, diag);
 }

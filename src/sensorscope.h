@@ -279,6 +279,34 @@ struct sscope_read_opts {
 	 *  total is 0 when unknown (a pipe). */
 	void (*progress)(void *ctx, uint64_t done, uint64_t total);
 	void *progress_ctx;
+	/** ROS bag, rosbag2 and MCAP inputs: the topic to read, or
+	 *  "DATA,TEMPERATURE" (a sensor_msgs/Temperature topic interpolated
+	 *  at the data topic's stamps); NULL: the only IMU topic. */
+	const char *topic;
+};
+
+/** A topic (message stream) of a ROS bag, rosbag2 or MCAP file. */
+struct sscope_topic {
+	const char *name;  /**< e.g. "/imu/data" */
+	const char *type;  /**< e.g. "sensor_msgs/Imu", "sensor_msgs/msg/Imu" */
+	uint64_t messages; /**< messages of the topic in the file */
+	bool readable; /**< sensor_msgs/Imu, sensor_msgs/Temperature or
+			    geometry_msgs/Vector3Stamped */
+	bool selected; /**< read into the capture (data or temperature) */
+};
+
+/**
+ * What a container or compressed input held beyond its channels: the
+ * format, the topics of a bag, and the receive (log) times of the rows.
+ */
+struct sscope_source {
+	const char *format;  /**< e.g. "ROS 1 bag v2.0 (lz4 chunks)" */
+	size_t n_topics;
+	const struct sscope_topic *topics;
+	/** Receive time of each row (the bag's or MCAP's log time), s, on
+	 *  the time axis of the capture (0 = the first header stamp); NULL
+	 *  when the format has none.  In a capture: cap->n values. */
+	const double *receive_s;
 };
 
 /** An open capture source read in chunks (streaming). */
@@ -329,6 +357,14 @@ double sscope_reader_header_rate(const struct sscope_reader *reader);
 
 /** @return the source size in bytes, 0 when unknown (a pipe). */
 uint64_t sscope_reader_size(const struct sscope_reader *reader);
+
+/**
+ * @return the container details of the source (format, topics), owned by
+ *         @p reader, or NULL for delimited text, raw and sensorscope binary
+ *         files.  receive_s is NULL here (see struct sscope_capture).
+ */
+const struct sscope_source *
+sscope_reader_source(const struct sscope_reader *reader);
 
 /** Caller-owned destination of sscope_reader_read(). */
 struct sscope_chunk {
@@ -395,6 +431,9 @@ struct sscope_capture {
 	double rate_hz;         /**< nominal rate; 0 when unknown */
 	enum sscope_rate_source rate_source;
 	size_t n_nan;           /**< NaN cells read as gaps */
+	/** Container details (format, topics, receive times), or NULL for
+	 *  delimited text, raw and sensorscope binary files (owned). */
+	struct sscope_source *source_info;
 	/** Sampling of the time column (sscope_timing_analyze() with gap
 	 *  factor 1.5), valid when has_timing: loaded captures with a time
 	 *  column of two or more increasing stamps. */
@@ -470,6 +509,19 @@ int sscope_capture_select(struct sscope_capture *cap, const char *columns,
  */
 int sscope_capture_view(const struct sscope_capture *cap, const char *columns,
 			struct sscope_capture **view, struct sscope_diag *diag);
+
+/**
+ * Is the rate derived from the time column plausible (1e-3 .. 1e7 Hz)?
+ * An implausible one usually means time stamps in another unit than their
+ * header says (nanoseconds read as seconds).
+ * @param cap   a loaded capture.
+ * @param hint  receives, when implausible, one sentence naming the rate,
+ *              the likely unit and the fix.
+ * @return 0 (plausible, or the rate did not come from a time column), or
+ *         -EDOM with @p hint filled.
+ */
+int sscope_capture_check_rate(const struct sscope_capture *cap,
+			      struct sscope_diag *hint);
 
 /* ------------------------------------------------------------------ */
 /* Capture writers                                                     */
@@ -737,5 +789,10 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-tempbias.h"
 #include "sscope-inclino.h"
 #include "sscope-adc.h"
+#include "sscope-nav.h"
+#include "sscope-strapdown.h"
+#include "sscope-navsim.h"
+#include "sscope-heading.h"
+#include "sscope-walk.h"
 
 #endif /* SENSORSCOPE_H */

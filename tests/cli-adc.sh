@@ -107,11 +107,22 @@ printf '[sensor]\nname = quiet\nnoise_density = 1e-6 deg/sqrt(h)\n' >"$T/s.ini"
 run "sine" 0 simulate --sensor "$T/s.ini" --rate 1000 --duration 8.192 --tone 37.1234:0.999 --no-clip -o "$T/sine.csv"
 run "sine through 10 bits" 0 adc quantize --bits 10 --range -1:1 "$T/sine.csv" -o "$T/sq.csv"
 run "adc test" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --format json
+cp "$T/out" "$T/out.json"
 json_check "ENOB 10 within 0.1, frequency found" "$T/out" '.channels[0] | ((.enob - 10) | fabs) < 0.1 and ((.sine_fit.frequency_hz - 37.1234) | fabs) < 1e-4 and .histogram.bits == 10'
 run "adc test --plot without --bits" 2 adc test "$T/sq.csv" --plot "$T/x.png"
 one_line_error "adc test --plot without --bits"
 run "adc test text" 0 adc test "$T/sq.csv"
 has "text shows SINAD" "$T/out" 'SINAD'
+# the histogram needs about 157 samples per code for DNL to 0.1 LSB: 8192
+# samples resolve 4 bits, not 10 or 16 (0.125 samples per code)
+json_check "10 bits, 8 samples per code: DNL not resolved" "$T/out.json" \
+	'.channels[0].histogram | .resolved == false and ((.samples_per_code - 8) | fabs) < 0.2 and ((.dnl_sd_lsb - 0.443) | fabs) < 0.01'
+run "sine through 16 bits" 0 adc quantize --bits 16 --range -1:1 "$T/sine.csv" -o "$T/sq16.csv"
+run "adc test 16 bits" 0 adc test --bits 16 --range -1:1 "$T/sq16.csv"
+has "16 bits: DNL/INL flagged" "$T/out" 'DNL/INL not resolved'
+run "sine through 4 bits" 0 adc quantize --bits 4 --range -1:1 "$T/sine.csv" -o "$T/sq4.csv"
+run "adc test 4 bits" 0 adc test --bits 4 --range -1:1 "$T/sq4.csv" --format json
+json_check "4 bits, 512 samples per code: resolved" "$T/out" '.channels[0].histogram.resolved == true'
 
 # simulate --adc: the quiet gyro through 16 bits reads multiples of the LSB
 run "simulate --adc" 0 simulate --sensor "$QUIET" --adc "$A16" --rate 100 --duration 10 -o "$T/sa.csv"

@@ -134,4 +134,21 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "--plot without OpenCV" 2 allan --plot "$T/allan.png" "$G"
 fi
+
+# what the fit doubts: the README's accelerometer example (a thermal run)
+# is rejected in text and JSON; the static gyro's fits are not, and its
+# gx K, whose interval reaches zero, is flagged as not resolved
+A="$SAMPLES/accel-thermal.csv"
+run "rejected fit, text" 0 allan --ci 0.95 --terms N,B,K -c ax,ay,az "$A"
+has "rejected fit, text warning" "$T/out" '^  warning: ax: fit rejected: chi2 [0-9.e+]+ for 34 dof, p = [0-9.e-]+ < 0.01'
+run "rejected fit, JSON" 0 allan --ci 0.95 --terms N,B,K -c ax,ay,az --format json "$A"
+json_check "rejected fit, JSON warning" "$T/out" '[.channels[] | .fit.rejected and (.warnings | map(.code) | index("fit_rejected") != null)] | all'
+run "static gyro, JSON" 0 allan --format json "$G"
+json_check "static gyro: fits accepted" "$T/out" '[.channels[].fit.rejected] == [false, false, false]'
+# a K whose interval reaches zero is unresolved and warned about; a K whose
+# interval excludes zero is resolved and not warned about (both occur here)
+json_check "static gyro: K resolved exactly when its interval excludes 0" "$T/out" \
+	'[.channels[] | (.noise.K.lo > 0) == .noise.K.resolved and ((.noise.K.resolved | not) == ((.warnings // []) | map(.code) | index("term_unresolved") != null))] | all'
+json_check "static gyro: one K unresolved, one resolved" "$T/out" \
+	'([.channels[] | select(.noise.K.resolved | not)] | length) >= 1 and ([.channels[] | select(.noise.K.resolved)] | length) >= 1'
 done_testing

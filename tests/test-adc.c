@@ -417,6 +417,57 @@ static int spec_err(const char *text, char *msg)
 	return rc;
 }
 
+/*
+ * Record length of the histogram test: with random phases a mid-scale
+ * code's count is binomial with mean 2 S / (pi n), so its DNL has sd
+ * sqrt(pi n / (2 S)); the spread of the measured DNL over the 64 central
+ * codes (where the sine density is flat within 3 %) must match it within
+ * 4 sd of a sample sd from 64 values (1 / sqrt(126)).  Then the verdict
+ * and the formula for the samples needed, and the error codes.
+ */
+START_TEST(test_histogram_record_length)
+{
+	const size_t nc = 256, S = 40000;
+	int64_t *codes = malloc(S * sizeof(int64_t));
+	double *dnl = malloc(nc * sizeof(double)), *inl = malloc(nc * sizeof(double));
+	double s2 = 0, want, got;
+	struct sscope_adc_hist_quality q;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	ck_assert(codes && dnl && inl && r);
+	gsl_rng_set(r, 2385);
+	for (size_t i = 0; i < S; i++) {
+		double v = 1.02 * sin(2 * PI * gsl_rng_uniform(r));
+		double k = floor((v + 1) / 2 * (double)nc);
+
+		codes[i] = k < 0 ? 0 : k > (double)(nc - 1) ? (int64_t)(nc - 1) : (int64_t)k;
+	}
+	ck_assert_int_eq(sscope_adc_histogram_test(codes, S, nc, dnl, inl, NULL, NULL), 0);
+	for (size_t k = nc / 2 - 32; k < nc / 2 + 32; k++)
+		s2 += dnl[k] * dnl[k];
+	got = sqrt(s2 / 64);
+	ck_assert_int_eq(sscope_adc_histogram_quality(codes, S, 0.1, &q), 0);
+	ck_assert_uint_eq(q.codes_spanned, nc);
+	want = sqrt(PI * (double)nc / (2.0 * (double)S));
+	ck_assert(fabs(q.dnl_sd_lsb / want - 1) < 1e-12);
+	ck_assert_msg(fabs(got / want - 1) < 4 / sqrt(126.0),
+		      "DNL sd %g, predicted %g", got, want);
+	/* 156 samples per code: not resolved to 0.1 LSB; the samples needed
+	 * are pi n / (2 0.01) */
+	ck_assert(!q.resolved);
+	ck_assert(q.samples_needed == ceil(PI * (double)nc / 0.02));
+	ck_assert_int_eq(sscope_adc_histogram_quality(codes, S, 0.2, &q), 0);
+	ck_assert(q.resolved);
+	ck_assert_int_eq(sscope_adc_histogram_quality(codes, S, 0, &q), -EINVAL);
+	ck_assert_int_eq(sscope_adc_histogram_quality(NULL, S, 0.1, &q), -EINVAL);
+	ck_assert_int_eq(sscope_adc_histogram_quality(codes, 0, 0.1, &q), -EINVAL);
+	free(codes);
+	free(dnl);
+	free(inl);
+	gsl_rng_free(r);
+}
+END_TEST
+
 START_TEST(test_spec_errors)
 {
 	char msg[320];
@@ -602,6 +653,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_enob_ideal);
 	tcase_add_test(tc, test_thd);
 	tcase_add_test(tc, test_histogram);
+	tcase_add_test(tc, test_histogram_record_length);
 	tcase_add_test(tc, test_spec_errors);
 	tcase_add_test(tc, test_seed_case);
 	suite_add_tcase(s, tc);

@@ -249,6 +249,115 @@ START_TEST(stable32_bounds)
 }
 END_TEST
 
+/*
+ * Stable32's noise identification on PHASE.DAT, the phase form of the
+ * NBS14 1000-point set (x_0 = 0, x_{k+1} = x_k + y_k - mean y: its printed
+ * maximum 4.356529, minimum -4.707879 and mean -0.5403683 are reproduced),
+ * from the "all tau" tables published with allantools' test suite
+ * (tests/phase.dat/phase_dat_oadev.txt, phase_dat_totdev.txt,
+ * tests/phase_dat_mdev.txt): alpha is 0 for m = 1..68 in all three; from
+ * m = 69 (fewer than 30 decimated points) it comes from the B1 ratio.
+ */
+struct s32alpha {
+	unsigned short m;
+	signed char alpha;
+};
+
+/* OADEV and MDEV print the same alphas, m = 69..247 */
+static const struct s32alpha s32_phase_dat_oadev[] = {
+	{ 69, 1 },  { 70, 1 },  { 71, 1 },  { 73, 0 },  { 75, 0 },  { 77, 0 },
+	{ 79, 0 },  { 81, 0 },  { 83, 1 },  { 85, 0 },  { 87, 1 },  { 89, 1 },
+	{ 91, 0 },  { 93, 0 },  { 95, 0 },  { 97, 0 },  { 99, 1 },  { 101, 1 },
+	{ 103, 1 }, { 105, 0 }, { 107, 1 }, { 109, 1 }, { 111, 1 }, { 113, 0 },
+	{ 115, 0 }, { 117, 0 }, { 119, 0 }, { 121, 0 }, { 123, 1 }, { 125, 1 },
+	{ 127, 1 }, { 129, 1 }, { 131, 1 }, { 133, 1 }, { 135, 1 }, { 137, 1 },
+	{ 139, 1 }, { 141, 1 }, { 143, 1 }, { 146, 1 }, { 149, 1 }, { 152, 1 },
+	{ 155, 1 }, { 158, 1 }, { 161, 1 }, { 164, 1 }, { 167, 1 }, { 170, 1 },
+	{ 173, 1 }, { 176, 1 }, { 179, 1 }, { 182, 1 }, { 185, 1 }, { 188, 1 },
+	{ 191, 1 }, { 194, 1 }, { 197, 1 }, { 200, 1 }, { 203, 1 }, { 206, 1 },
+	{ 209, 1 }, { 212, 1 }, { 215, 1 }, { 219, 1 }, { 223, 1 }, { 227, 1 },
+	{ 231, 1 }, { 235, 1 }, { 239, 1 }, { 243, 1 }, { 247, 1 },
+};
+
+/* TOTDEV: as OADEV to m = 146, then its own, to m = 499 */
+static const struct s32alpha s32_phase_dat_totdev[] = {
+	{ 149, 0 }, { 152, 1 }, { 155, 0 }, { 158, 0 }, { 161, 0 }, { 164, 0 },
+	{ 167, 0 }, { 170, 1 }, { 173, 1 }, { 176, 0 }, { 179, 1 }, { 182, 1 },
+	{ 185, 1 }, { 188, 0 }, { 191, 0 }, { 194, 0 }, { 197, 1 }, { 200, 0 },
+	{ 203, 1 }, { 206, 1 }, { 209, 1 }, { 212, 0 }, { 215, 0 }, { 219, 0 },
+	{ 223, 0 }, { 227, 0 }, { 231, 0 }, { 235, 0 }, { 239, 0 }, { 243, 1 },
+	{ 247, 1 }, { 251, 1 }, { 255, 1 }, { 259, 1 }, { 263, 1 }, { 267, 1 },
+	{ 271, 1 }, { 275, 1 }, { 279, 1 }, { 283, 1 }, { 287, 1 }, { 292, 1 },
+	{ 297, 1 }, { 302, 1 }, { 307, 1 }, { 312, 1 }, { 317, 1 }, { 322, 1 },
+	{ 327, 1 }, { 332, 1 }, { 337, 1 }, { 342, 1 }, { 347, 1 }, { 352, 1 },
+	{ 357, 1 }, { 363, 1 }, { 369, 1 }, { 375, 1 }, { 381, 1 }, { 387, 1 },
+	{ 393, 1 }, { 399, 1 }, { 405, 1 }, { 411, 1 }, { 417, 1 }, { 423, 1 },
+	{ 429, 1 }, { 436, 1 }, { 443, 1 }, { 450, 1 }, { 457, 1 }, { 464, 1 },
+	{ 471, 1 }, { 478, 1 }, { 485, 1 }, { 492, 1 }, { 499, 1 },
+};
+
+static void phase_dat_check(enum sscope_dev dev, const double *x,
+			    const struct s32alpha *tail, size_t ntail,
+			    const struct s32alpha *head, size_t nhead)
+{
+	size_t m[400], want[400], n = 0, np;
+	struct sscope_allan_point pt[400];
+	int bad = 0;
+
+	for (size_t k = 1; k <= 68; k++) {
+		m[n] = k;
+		want[n++] = 0;
+	}
+	for (size_t k = 0; k < nhead; k++) {
+		m[n] = head[k].m;
+		want[n++] = (size_t)head[k].alpha;
+	}
+	for (size_t k = 0; k < ntail; k++) {
+		m[n] = tail[k].m;
+		want[n++] = (size_t)tail[k].alpha;
+	}
+	dev_at(dev, SSCOPE_ALLAN_ANGLE, x, 1001, 1, m, n, pt, &np, -99);
+	ck_assert_uint_eq(np, n);
+	for (size_t k = 0; k < n; k++)
+		if (pt[k].alpha != (int)want[k]) {
+			fprintf(stderr, "%s m=%zu: alpha %d, Stable32 %zu\n",
+				sscope_dev_name(dev), m[k], pt[k].alpha, want[k]);
+			bad++;
+		}
+	ck_assert_msg(bad == 0, "%s: %d of %zu identifications differ from Stable32",
+		      sscope_dev_name(dev), bad, n);
+}
+
+START_TEST(stable32_noise_id)
+{
+	double y[1000], x[1001], mean = 0, mx = -INFINITY, mn = INFINITY, avg = 0;
+	const size_t no = sizeof(s32_phase_dat_oadev) / sizeof(s32_phase_dat_oadev[0]);
+	size_t head = 0;
+
+	nbs1000(y);
+	for (int i = 0; i < 1000; i++)
+		mean += y[i] / 1000;
+	x[0] = 0;
+	for (int i = 0; i < 1000; i++)
+		x[i + 1] = x[i] + (y[i] - mean);
+	for (int i = 0; i <= 1000; i++) {
+		mx = fmax(mx, x[i]);
+		mn = fmin(mn, x[i]);
+		avg += x[i] / 1001;
+	}
+	ck_digits(mx, 4.356529, 7);
+	ck_digits(mn, -4.707879, 7);
+	ck_digits(avg, -5.403683e-01, 7);
+	phase_dat_check(SSCOPE_DEV_OADEV, x, s32_phase_dat_oadev, no, NULL, 0);
+	phase_dat_check(SSCOPE_DEV_MDEV, x, s32_phase_dat_oadev, no, NULL, 0);
+	while (s32_phase_dat_oadev[head].m <= 146)
+		head++;
+	phase_dat_check(SSCOPE_DEV_TOTDEV, x, s32_phase_dat_totdev,
+			sizeof(s32_phase_dat_totdev) / sizeof(s32_phase_dat_totdev[0]),
+			s32_phase_dat_oadev, head);
+}
+END_TEST
+
 START_TEST(edf_properties)
 {
 	/* white phase, unmodified: the exact sum equals Greenhall's case 4
@@ -1027,6 +1136,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, nbs14_10point);
 	tcase_add_test(t, nbs14_1000point);
 	tcase_add_test(t, stable32_bounds);
+	tcase_add_test(t, stable32_noise_id);
 	tcase_add_test(t, edf_properties);
 	tcase_add_test(t, grids);
 	tcase_add_test(t, ramp_exact);

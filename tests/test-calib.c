@@ -589,6 +589,86 @@ START_TEST(test_gyro_fit_errors)
 }
 END_TEST
 
+/* Motion errors: single-axis rotations of 2 pi / 16 about body x with a
+ * gyro whose x scale is 1.02 (reading = rate / 1.02): the bias-only
+ * correction turns each motion by 1/1.02 of the true angle, so gravity
+ * (perpendicular to x) is off by (2 pi / 16)(1 - 1/1.02); the true
+ * correction leaves only the integration error.  On a fitted triad the
+ * angles agree with the fit's own residual. */
+START_TEST(test_gyro_motion_errors)
+{
+	struct sscope_calib_triad ca, cg, bias_only, tru, est;
+	struct sscope_calib_interval iv[16];
+	struct series s;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	double ang[15], want = 2 * PI / 16 * (1 - 1 / 1.02), sum = 0;
+	size_t ns = 300, nm = 150, h = 50;
+
+	sscope_calib_triad_identity(&ca);
+	sscope_calib_triad_identity(&cg);
+	cg.scale[0] = 1.02;
+	cg.bias[0] = 0.01;
+	bias_only = ca;
+	bias_only.bias[0] = 0.01;
+	gsl_rng_set(r, 5);
+	make_series(r, 16, 100, 3, 1.5, &ca, 0, &cg, 0, 1, &s);
+	for (size_t p = 0; p < 16; p++) {
+		iv[p].start = p * (ns + nm) + (p ? h : 0);
+		iv[p].end = p * (ns + nm) + ns - h;
+	}
+	{
+		const double *g[3] = { s.w, s.w + 1, s.w + 2 };
+		const double *a[3] = { s.f, s.f + 1, s.f + 2 };
+
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100, iv, 16,
+								 &bias_only, ang), 0);
+		for (int k = 0; k < 15; k++)
+			ck_assert_msg(fabs(ang[k] - want) < 1e-4 * want,
+				      "motion %d: %.9g rad, want %.9g", k, ang[k], want);
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100, iv, 16,
+								 &cg, ang), 0);
+		for (int k = 0; k < 15; k++)
+			ck_assert_msg(ang[k] < 1e-6, "motion %d: %g rad", k, ang[k]);
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100, iv, 1,
+								 &cg, ang), -EINVAL);
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 0, iv, 16,
+								 &cg, ang), -EINVAL);
+		iv[3].start = iv[2].start;
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100, iv, 16,
+								 &cg, ang), -EINVAL);
+	}
+	free_series(&s);
+	/* a fitted triad: rms of the chords equals the fit's residual */
+	ck_assert_int_eq(gyro_run(41, 1, 1, 0, &tru, &est, NULL), 0);
+	{
+		struct sscope_calib_triad ca2;
+		struct sscope_calib_interval iv2[16];
+
+		sscope_calib_triad_identity(&ca2);
+		gsl_rng_set(r, 41);
+		make_series(r, 16, 100, 3, 1.5, &ca2, 0.01, &tru, 0.05 * D2R, 0, &s);
+		for (size_t p = 0; p < 16; p++) {
+			iv2[p].start = p * (ns + nm) + (p ? h : 0);
+			iv2[p].end = p * (ns + nm) + ns - h;
+		}
+		{
+			const double *g[3] = { s.w, s.w + 1, s.w + 2 };
+			const double *a[3] = { s.f, s.f + 1, s.f + 2 };
+
+			ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100,
+									 iv2, 16, &est,
+									 ang), 0);
+		}
+		for (int k = 0; k < 15; k++)
+			sum += 4 * sin(ang[k] / 2) * sin(ang[k] / 2);
+		ck_assert_msg(fabs(sqrt(sum / 45) - est.residual_rms) < 1e-9 * est.residual_rms,
+			      "%.12g vs %.12g", sqrt(sum / 45), est.residual_rms);
+		free_series(&s);
+	}
+	gsl_rng_free(r);
+}
+END_TEST
+
 START_TEST(test_gsens)
 {
 	/* static tilt poses: omega = b + G a + noise */
@@ -798,6 +878,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_gyro_fit_coverage);
 	tcase_add_test(tc, test_gyro_fit_counts);
 	tcase_add_test(tc, test_gyro_fit_errors);
+	tcase_add_test(tc, test_gyro_motion_errors);
 	tcase_add_test(tc, test_gsens);
 	tcase_add_test(tc, test_rate_table_cubic);
 	tcase_add_test(tc, test_sixpos_and_apply);

@@ -3,8 +3,11 @@
  * Plotting layer: tick generation (exact expectations), rendering of a
  * figure that exercises every element (log axes, error bars, bands, dashes,
  * markers, notes, legend, image with colour bar, a million-point series),
- * PNG signature and atomic output; -ENOTSUP without OpenCV.
- * The figure is kept as tests/plot-demo.png for people to look at.
+ * PNG signature and atomic output; -ENOTSUP without OpenCV.  The same
+ * figure as SVG (always built): the document's frame, escaping of hostile
+ * text, labelled 1-2-5 ticks on short log axes, font metrics and UTF-8
+ * decoding of the layout.  The figures are kept as tests/plot-demo.png and
+ * tests/plot-demo.svg for people to look at.
  */
 #include "config.h"
 
@@ -14,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "canvas.h"
 #include "plot.h"
 #include "check-main.h"
 
@@ -126,6 +130,14 @@ START_TEST(render_demo)
 	ssc_ax_ylabel(d, "frequency (Hz)");
 	ssc_ax_title(d, "spectrogram");
 
+#ifdef HAVE_OPENCV
+	/* the drawing module, which the command finds next to itself */
+	if (!getenv("SSCOPE_PLOT_MODULE") && getenv("top_builddir")) {
+		snprintf(path, sizeof(path), "%s/src/cli/.libs/plot-opencv.so",
+			 getenv("top_builddir"));
+		setenv("SSCOPE_PLOT_MODULE", path, 1);
+	}
+#endif
 	snprintf(path, sizeof(path), "%s/tests/plot-demo.png",
 		 getenv("top_builddir") ? getenv("top_builddir") : ".");
 	rc = ssc_fig_save_png(fig, path);
@@ -142,9 +154,104 @@ START_TEST(render_demo)
 	(void)f;
 	(void)sig;
 #endif
+	snprintf(path, sizeof(path), "%s/tests/plot-demo.svg",
+		 getenv("top_builddir") ? getenv("top_builddir") : ".");
+	ck_assert_int_eq(ssc_fig_save(fig, path), 0);
+	f = fopen(path, "rb");
+	ck_assert_ptr_nonnull(f);
+	{
+		char head[64] = "";
+
+		ck_assert_uint_gt(fread(head, 1, sizeof(head) - 1, f), 40);
+		ck_assert(strncmp(head, "<svg xmlns=\"http://www.w3.org/2000/svg\" ",
+				  40) == 0);
+	}
+	fclose(f);
+	ck_assert_int_eq(ssc_fig_save(fig, "/nonexistent/dir/x.svg"), -ENOENT);
+	ck_assert_int_eq(ssc_fig_save(fig, "x.jpg"), -EINVAL);
 	ssc_fig_free(fig);
 	free(x);
 	free(y);
+}
+END_TEST
+
+static char *svg_of(struct ssc_fig *fig)
+{
+	char *buf = NULL;
+	size_t len = 0;
+
+	ck_assert_int_eq(ssc_fig_svg(fig, "t", &buf, &len), 0);
+	ck_assert_uint_eq(strlen(buf), len);
+	ck_assert(strncmp(buf, "<svg ", 5) == 0);
+	ck_assert(strcmp(buf + len - 7, "</svg>\n") == 0);
+	return buf;
+}
+
+START_TEST(svg_text)
+{
+	struct ssc_fig *fig = ssc_fig_new(800, 500, 1, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	double x[3] = { 1, 2, 3 }, y[3] = { 1.5, 7.25, 29 };
+	char *svg, *p;
+
+	/* an empty figure has nothing to draw */
+	ck_assert_int_eq(ssc_fig_svg(fig, NULL, &svg, &(size_t){ 0 }), -EINVAL);
+	/* markup, XML specials, a control byte and invalid UTF-8 */
+	ssc_fig_title(fig, "a<b & \"c\" \x01 \xff\xfe end");
+	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	ssc_ax_ylabel(ax, "a (m/s^{2})");
+	ssc_ax_log(ax, false, true);
+	ck_assert_int_eq(ssc_ax_line(ax, x, y, 3, NULL, "line"), 0);
+	ck_assert_int_eq(ssc_ax_note(ax, "N = 0.15 \xc2\xb0/\xe2\x88\x9ah", SSC_LEGEND_LL), 0);
+	svg = svg_of(fig);
+	ck_assert_ptr_nonnull(strstr(svg, "a&lt;b &amp; &quot;c&quot; \xef\xbf\xbd \xef\xbf\xbd\xef\xbf\xbd end"));
+	ck_assert_ptr_null(strchr(svg, '\x01'));
+	ck_assert_ptr_null(strstr(svg, "\xff"));
+	/* the superscript is a raised, smaller tspan */
+	ck_assert_ptr_nonnull(strstr(svg, "a (m/s<tspan dy=\"-"));
+	/* one to 30 on a log axis: 2, 5, 10 and 20 are labelled too */
+	ck_assert_ptr_nonnull(strstr(svg, ">2</text>"));
+	ck_assert_ptr_nonnull(strstr(svg, ">5</text>"));
+	ck_assert_ptr_nonnull(strstr(svg, ">20</text>"));
+	/* the legend and the note sit right of the plot area */
+	p = strstr(svg, "class=\"legend\"");
+	ck_assert_ptr_nonnull(p);
+	ck_assert_ptr_nonnull(strstr(p, "class=\"note\""));
+	ck_assert_ptr_nonnull(strstr(svg, "class=\"plot-area\""));
+	ck_assert_ptr_nonnull(strstr(svg, "clip-path=\"url(#t-clip1)\""));
+	free(svg);
+	ssc_fig_free(fig);
+}
+END_TEST
+
+START_TEST(svg_helpers)
+{
+	const char *s = "A\xcf\x84\xe2\x88\x9a\xc0\xaf\xed\xa0\x80z", *e;
+
+	ck_assert_int_eq(ssc_plot_format_of("a.SVG"), SSC_PLOT_SVG);
+	ck_assert_int_eq(ssc_plot_format_of("b.png"), SSC_PLOT_PNG);
+	ck_assert_int_eq(ssc_plot_format_of("c.pdf"), SSC_PLOT_NONE);
+	ck_assert_int_eq(ssc_plot_format_of(".svg"), SSC_PLOT_NONE);
+	/* DejaVu Sans: 'A' is 1401/2048 em, tau 1233, an unknown 0.6 em */
+	ck_assert(fabs(ssc_font_advance_em('A') - 1401 / 2048.0) < 1e-12);
+	ck_assert(fabs(ssc_font_advance_em(0x3c4) - 1233 / 2048.0) < 1e-12);
+	ck_assert(fabs(ssc_font_advance_em(0x10000) - 0.6) < 1e-12);
+	/* UTF-8: overlong and surrogate forms are replaced byte by byte */
+	e = s + strlen(s);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 'A');
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0x3c4);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0x221a);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0xfffd);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0xfffd);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0xfffd);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0xfffd);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 0xfffd);
+	ck_assert_uint_eq(ssc_utf8_next(&s, e), 'z');
+	ck_assert(s == e);
+	/* viridis ends */
+	ck_assert_uint_eq(ssc_viridis(0), 0x440154);
+	ck_assert_uint_eq(ssc_viridis(1), 0xfde725);
+	ck_assert_uint_eq(ssc_viridis(NAN), 0x440154);
 }
 END_TEST
 
@@ -157,6 +264,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, linear_ticks);
 	tcase_add_test(tc, log_ticks);
 	tcase_add_test(tc, render_demo);
+	tcase_add_test(tc, svg_text);
+	tcase_add_test(tc, svg_helpers);
 	suite_add_tcase(s, tc);
 	return s;
 }

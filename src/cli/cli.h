@@ -45,6 +45,7 @@ struct ssc_common {
 	const char *time_column;
 	const char *temp_column;
 	const char *calibration; /* --calibration FILE, applied by ssc_load */
+	const char *topic;     /* --topic NAME[,TEMPERATURE] of a ROS bag/MCAP */
 };
 
 /* A command-specific option: getopt_long entry plus help text. */
@@ -167,6 +168,13 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/* Append {"code", "message"} to obj's "warnings" array (made when
+ * missing): a result the analysis itself doubts (a rejected fit, an
+ * unresolved term, too few samples, clipped data), which reports show as a
+ * banner. */
+void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
+	__attribute__((format(printf, 3, 4)));
+
 /*
  * A coefficient object of the JSON contract:
  * {"value","unit","lo","hi","si","si_unit","fitted"}; value/lo/hi are the
@@ -195,9 +203,12 @@ int ssc_adc_new(struct sscope_adc **adc, const struct sscope_adc_spec *spec,
 		double zero_v, uint64_t seed, struct sscope_diag *diag);
 void ssc_adc_profile_free(struct ssc_inl_profile *prof);
 
-/* Plots: exit 2 with a message when built without OpenCV. */
+/* Plots: PNG needs OpenCV (exit 2 with a message without it), SVG is
+ * always built.  ssc_plot_check() returns 0 for a usable --plot path, else
+ * the exit code after printing why. */
 bool ssc_plot_available(void);
 int ssc_plot_unavailable(const char *cmd);
+int ssc_plot_check(const char *cmd, const char *path);
 
 /* Text formatting of a number with @p sig significant digits (no
  * exponent for ordinary magnitudes). */

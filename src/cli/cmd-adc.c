@@ -37,6 +37,9 @@ enum {
 	O_FREQ,
 };
 
+
+/* DNL resolution the histogram test must reach (1 sigma), LSB */
+#define ADC_DNL_TOL_LSB 0.1
 /* ------------------------------------------------------------ helpers */
 
 static double in_unit(double si, const char *si_unit, const char *unit)
@@ -70,8 +73,8 @@ static const struct ssc_option report_opts[] = {
 	{ "mc-duration", required_argument, O_MC_DURATION, "S",
 	  "length of each simulated record (default 3600 s; units allowed: 2h)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
-	{ "plot", required_argument, 'p', "PATH.png",
-	  "ADEV of the sensor alone and through each converter (needs OpenCV)" },
+	{ "plot", required_argument, 'p', "PATH.svg|PATH.png",
+	  "ADEV of the sensor alone and through each converter (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -161,12 +164,10 @@ static int r_handle(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case 'p': {
-		size_t l = strlen(arg);
+		int rc = ssc_plot_check(cmd, arg);
 
-		if (l < 5 || strcasecmp(arg + l - 4, ".png"))
-			return ssc_usage_error(cmd, "--plot: the figure is a PNG file (PATH.png)");
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(cmd);
+		if (rc)
+			return rc;
 		o->plot = arg;
 		return 0;
 	}
@@ -682,7 +683,7 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		return -EDOM;
 	}
 	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	return rc;
 }
@@ -1260,7 +1261,7 @@ static int plot_dnl_inl(const char *path, const char *name, const double *dnl,
 		ssc_ax_line(ax, k, r ? inl : dnl, nc, &st, r ? "INL" : "DNL");
 		ssc_ax_legend(ax, SSC_LEGEND_NONE);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(k);
 	return rc;
@@ -1398,6 +1399,13 @@ static int cmd_test(int argc, char **argv)
 			e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl, &dmax, &imax);
 			if (!e) {
 				json_t *h = json_object(), *jd = json_array(), *ji = json_array();
+				struct sscope_adc_hist_quality hq;
+
+				sscope_adc_histogram_quality(codes, cap->n, ADC_DNL_TOL_LSB, &hq);
+				json_object_set_new(h, "samples_per_code", json_real(hq.samples_per_code));
+				json_object_set_new(h, "dnl_sd_lsb", json_real(hq.dnl_sd_lsb));
+				json_object_set_new(h, "samples_needed", json_real(hq.samples_needed));
+				json_object_set_new(h, "resolved", json_boolean(hq.resolved));
 
 				for (size_t k = 0; k < nc; k++) {
 					json_array_append_new(jd, ssc_jreal(dnl[k]));
@@ -1412,6 +1420,13 @@ static int cmd_test(int argc, char **argv)
 				fprintf(mb.f, "  histogram   %d bits: max |DNL| %s LSB, max |INL| %s LSB (best-fit line)\n",
 					bits, ssc_fmt(b1, sizeof(b1), dmax, 3),
 					ssc_fmt(b2, sizeof(b2), imax, 3));
+				if (!hq.resolved)
+					fprintf(mb.f, "  warning     DNL/INL not resolved: %s samples per code give DNL an sd of %s LSB; %s samples (%s per code) are needed for %g LSB\n",
+						ssc_fmt(b1, sizeof(b1), hq.samples_per_code, 3),
+						ssc_fmt(b2, sizeof(b2), hq.dnl_sd_lsb, 3),
+						ssc_fmt(b3, sizeof(b3), hq.samples_needed, 3),
+						ssc_fmt(b4, sizeof(b4), hq.samples_needed / (double)hq.codes_spanned, 3),
+						ADC_DNL_TOL_LSB);
 				if (co.plot && c == 0) {
 					int pe = plot_dnl_inl(co.plot, ch->col.name, dnl, inl, nc);
 

@@ -3,7 +3,7 @@
  * sensorscope allan: Allan-family deviations of each channel with
  * confidence intervals, the five IEEE 952 noise coefficients with
  * intervals and the classic read-offs; text, JSON, CSV, a log-log plot
- * and Kalibr's IMU noise YAML.
+ * and the noise files of Kalibr, OpenVINS and imu_utils (noise-export.c).
  */
 #include "cli.h"
 #include "results.h"
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic.h"
+#include "noise-export.h"
 #include "plot.h"
 
 enum {
@@ -29,6 +29,9 @@ enum {
 	OPT_NO_FIT,
 	OPT_DEV_UNIT,
 	OPT_THREADS,
+	OPT_OPENVINS,
+	OPT_IMU_UTILS,
+	OPT_INFLATE,
 };
 
 static const struct ssc_option allan_opts[] = {
@@ -42,6 +45,12 @@ static const struct ssc_option allan_opts[] = {
 	  "confidence level of the intervals (default 0.683)" },
 	{ "kalibr", required_argument, OPT_KALIBR, "PATH.yaml",
 	  "write Kalibr's IMU noise parameters (largest axis per sensor)" },
+	{ "openvins", required_argument, OPT_OPENVINS, "PATH.yaml",
+	  "write OpenVINS' kalibr_imu_chain.yaml (needs gyro and accelerometer channels)" },
+	{ "imu-utils", required_argument, OPT_IMU_UTILS, "PATH.yaml",
+	  "write the imu_utils parameter YAML (per axis and avg-axis; *_w is the random walk K)" },
+	{ "inflate", required_argument, OPT_INFLATE, "F",
+	  "multiply the exported noise values by F >= 1 (default 1; Kalibr and OpenVINS advise inflating Allan values, e.g. 2-10)" },
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
@@ -75,6 +84,7 @@ static const struct ssc_command_spec spec = {
 	.notes = "Examples:\n"
 		 "  sensorscope allan samples/gyro-static.csv\n"
 		 "  sensorscope allan --plot allan.png --kalibr imu.yaml samples/gyro-static.csv\n"
+		 "  sensorscope allan --openvins kalibr_imu_chain.yaml --inflate 2 imu.bag\n"
 		 "  sensorscope allan --dev mdev --taus octave --format json log.csv\n"
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
@@ -87,6 +97,9 @@ struct args {
 	struct sscope_noise_fit_opts fo;
 	enum sscope_tau_grid grid;
 	const char *kalibr;
+	const char *openvins;
+	const char *imu_utils;
+	double inflate;
 	const char *dev_unit;
 	bool no_fit;
 	double ci;
@@ -164,6 +177,20 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_KALIBR:
 		a->kalibr = arg;
+		return 0;
+	case OPT_OPENVINS:
+		a->openvins = arg;
+		return 0;
+	case OPT_IMU_UTILS:
+		a->imu_utils = arg;
+		return 0;
+	case OPT_INFLATE:
+		if (ssc_arg_double("allan", "inflate", arg, &a->inflate))
+			return SSC_EXIT_USAGE;
+		if (!(a->inflate >= 1 && a->inflate <= 1000))
+			return ssc_usage_error("allan",
+					       "--inflate: %s is not a factor between 1 and 1000",
+					       arg);
 		return 0;
 	case OPT_NOISE_TYPE: {
 		static const char *const n[] = { "wpm", "fpm", "wfm", "ffm",
@@ -332,6 +359,21 @@ static int idigits(double v, double lo, double hi)
 	return d < 3 ? 3 : d > 8 ? 8 : d;
 }
 
+/* A fit whose chi-squared p-value is below this is rejected: the
+ * five-term model does not describe the data (1 % level). */
+#define FIT_REJECT_P 0.01
+
+static bool fit_rejected(const struct sscope_noise_fit *ft)
+{
+	return ft->p_value < FIT_REJECT_P;
+}
+
+/* A term is resolved when it was fitted and its interval excludes zero. */
+static bool term_resolved(const struct sscope_noise_coef *cf)
+{
+	return cf->fitted && cf->lo > 0;
+}
+
 /* value (SI) in unit; NaN stays NaN */
 static double in_unit(double si, const char *si_unit, const char *unit)
 {
@@ -427,6 +469,49 @@ static const char *term_label(enum sscope_quantity q, int t)
 		       q == SSCOPE_QTY_ACCELERATION ? "velocity quantization" :
 						      "quantization";
 	return term_names[t];
+}
+
+/* What the analysis doubts in a channel's fit: the text, JSON and report
+ * show the same messages. */
+struct warn {
+	const char *code;
+	char msg[480];
+};
+
+static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c,
+			    struct warn *w, size_t max)
+{
+	const struct sscope_noise_fit *ft = &c->res->fit;
+	const struct ssc_allan_units *u = &c->u;
+	char b1[32], b2[32], b3[32];
+	size_t n = 0;
+
+	if (a->no_fit || !c->res->have_fit)
+		return 0;
+	if (fit_rejected(ft) && n < max) {
+		w[n].code = "fit_rejected";
+		snprintf(w[n].msg, sizeof(w[n].msg),
+			 "%s: fit rejected: chi2 %s for %s dof, p = %s < %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
+			 c->col->name, ssc_fmt(b1, sizeof(b1), ft->chi2, 3),
+			 ssc_fmt(b2, sizeof(b2), ft->dof, 3),
+			 ssc_fmt(b3, sizeof(b3), ft->p_value, 2), FIT_REJECT_P);
+		n++;
+	}
+	for (int t = 0; t < 5 && n < max; t++) {
+		const struct sscope_noise_coef *cf = &ft->coef[t];
+
+		if (!cf->fitted || term_resolved(cf))
+			continue;
+		w[n].code = "term_unresolved";
+		snprintf(w[n].msg, sizeof(w[n].msg),
+			 "%s: %c not resolved: its %s %% interval [0, %s] %s reaches zero; the record bounds it, it does not measure it",
+			 c->col->name, "QNBKR"[t],
+			 ssc_fmt(b1, sizeof(b1), 100 * ft->ci_level, 3),
+			 ssc_fmt(b2, sizeof(b2), in_unit(cf->hi, u->term_si[t], u->term[t]), 3),
+			 u->term[t]);
+		n++;
+	}
+	return n;
 }
 
 static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file *fr,
@@ -530,6 +615,13 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
 			u->term[3]);
 	}
+	{
+		struct warn w[6];
+		size_t nw = chan_warnings(a, c, w, 6);
+
+		for (size_t i = 0; i < nw; i++)
+			fprintf(f, "  warning: %s\n", w[i].msg);
+	}
 }
 
 /* ------------------------------------------------------------------ */
@@ -602,10 +694,13 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		for (int t = 0; t < 5; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
 
-			json_object_set_new(nz, key[t],
-					    ssc_json_coef(cf->value, cf->lo, cf->hi,
-							  u->term[t], u->term_si[t],
-							  cf->fitted));
+			json_t *jc = ssc_json_coef(cf->value, cf->lo, cf->hi,
+						   u->term[t], u->term_si[t],
+						   cf->fitted);
+
+			json_object_set_new(jc, "resolved",
+					    json_boolean(term_resolved(cf)));
+			json_object_set_new(nz, key[t], jc);
 			if (cf->fitted)
 				json_array_append_new(terms, json_string(key[t]));
 		}
@@ -619,6 +714,10 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
 			json_object_set_new(fit, "dof", ssc_jreal(ft->dof));
 			json_object_set_new(fit, "p_value", ssc_jreal(ft->p_value));
+			json_object_set_new(fit, "rejected",
+					    json_boolean(fit_rejected(ft)));
+			json_object_set_new(fit, "reject_below_p",
+					    json_real(FIT_REJECT_P));
 			json_object_set_new(fit, "model_error",
 					    json_real(a->fo.model_error == 0 ? 0.01 :
 						      a->fo.model_error < 0 ? 0 :
@@ -636,6 +735,13 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
 			json_object_set_new(o, "readoff", ro);
+		}
+		{
+			struct warn w[6];
+			size_t nw = chan_warnings(a, c, w, 6);
+
+			for (size_t i = 0; i < nw; i++)
+				ssc_json_warn(o, w[i].code, "%s", w[i].msg);
 		}
 	}
 	return o;
@@ -674,96 +780,56 @@ static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file 
 }
 
 /* ------------------------------------------------------------------ */
-/* Kalibr                                                              */
+/* Noise files for estimators                                          */
 /* ------------------------------------------------------------------ */
 
-/* largest (most conservative) value over the channels of a quantity */
-static bool kalibr_pick(const struct ssc_allan_file *fr, size_t nf, enum sscope_quantity q,
-			int t, double *v, char *note, size_t nl)
-{
-	bool any = false;
-	size_t used = 0;
-
-	*v = 0;
-	note[0] = '\0';
-	for (size_t i = 0; i < nf; i++)
-		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			const struct ssc_allan_chan *c = &fr[i].ch[k];
-			const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
-			double x = cf->fitted ? cf->value : cf->hi;
-			int w;
-
-			if (c->u.rq != q || !c->res->have_fit || !isfinite(x))
-				continue;
-			any = true;
-			if (x > *v)
-				*v = x;
-			w = snprintf(note + used, nl - used, "%s%s %.4g%s",
-				     used ? ", " : "", c->col->name, x,
-				     cf->fitted ? "" : " (upper limit)");
-			if (w > 0 && (size_t)w < nl - used)
-				used += (size_t)w;
-		}
-	return any;
-}
-
-static int write_kalibr(const struct ssc_common *co, const void *opts,
-			const void *result)
+static int write_exports(const struct ssc_common *co, const void *opts,
+			 const void *result)
 {
 	const struct args *a = opts;
 	const struct ssc_allan_res *R = result;
 	const struct ssc_allan_file *fr = R->fr;
 	size_t nf = R->n_files;
-	struct ssc_atomic at;
-	double n, k;
-	char note[512];
-	bool gyro = false, acc = false;
-	int rc;
+	struct ssc_noise_export e = { 0 };
+	struct ssc_noise_chan *ch;
+	const struct sscope_source *si = fr[0].cap->source_info;
+	size_t n = 0;
+	int rc = SSC_EXIT_OK;
 
-	if (!a->kalibr)
+	if (!(a->kalibr || a->openvins || a->imu_utils))
 		return SSC_EXIT_OK;
-	rc = ssc_atomic_open(&at, a->kalibr);
-	if (rc) {
-		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
+	for (size_t i = 0; i < nf; i++)
+		n += fr[i].n_ch;
+	ch = calloc(n ? n : 1, sizeof(*ch));
+	if (!ch) {
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	fprintf(at.f, "# Kalibr IMU noise model from sensorscope %s allan (IEEE 952 fit on OADEV)\n",
-		PACKAGE_VERSION);
-	fprintf(at.f, "# data: %s%s; the largest axis of each sensor is used\n",
-		fr[0].path, nf > 1 ? " and more" : "");
-	fprintf(at.f, "rostopic: /imu0 # edit to your topic\n");
-	fprintf(at.f, "update_rate: %.10g # Hz\n", fr[0].cap->rate_hz);
-	if (kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 1, &n, note, sizeof(note))) {
-		fprintf(at.f, "# gyro N per axis (rad/s/sqrt(Hz)): %s\n", note);
-		kalibr_pick(fr, nf, SSCOPE_QTY_ANGULAR_RATE, 3, &k, note, sizeof(note));
-		fprintf(at.f, "# gyro K per axis (rad/s^2/sqrt(Hz)): %s\n", note);
-		fprintf(at.f, "gyroscope_noise_density: %.6e # rad/s/sqrt(Hz) (continuous time)\n", n);
-		fprintf(at.f, "gyroscope_random_walk: %.6e # rad/s^2/sqrt(Hz)\n", k);
-		gyro = true;
-	}
-	if (kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 1, &n, note, sizeof(note))) {
-		fprintf(at.f, "# accelerometer N per axis (m/s^2/sqrt(Hz)): %s\n", note);
-		kalibr_pick(fr, nf, SSCOPE_QTY_ACCELERATION, 3, &k, note, sizeof(note));
-		fprintf(at.f, "# accelerometer K per axis (m/s^3/sqrt(Hz)): %s\n", note);
-		fprintf(at.f, "accelerometer_noise_density: %.6e # m/s^2/sqrt(Hz) (continuous time)\n", n);
-		fprintf(at.f, "accelerometer_random_walk: %.6e # m/s^3/sqrt(Hz)\n", k);
-		acc = true;
-	}
-	if (!gyro && !acc) {
-		ssc_atomic_abort(&at);
-		ssc_err(co->cmd, "--kalibr: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");
-		return SSC_EXIT_FAIL;
-	}
-	if (!gyro || !acc)
-		fprintf(at.f, "# no %s channel was analysed: its keys are missing\n",
-			gyro ? "accelerometer" : "gyro");
-	rc = ssc_atomic_commit(&at);
-	if (rc) {
-		ssc_atomic_abort(&at);
-		ssc_err(co->cmd, "--kalibr: %s: %s", a->kalibr, strerror(-rc));
-		return SSC_EXIT_FAIL;
-	}
-	return SSC_EXIT_OK;
+	for (size_t i = 0; i < nf; i++)
+		for (size_t k = 0; k < fr[i].n_ch; k++) {
+			const struct ssc_allan_chan *c = &fr[i].ch[k];
+
+			ch[e.n++] = (struct ssc_noise_chan){
+				c->col->name, c->u.rq,
+				c->res->have_fit ? &c->res->fit : NULL
+			};
+		}
+	e.ch = ch;
+	e.rate_hz = fr[0].cap->rate_hz;
+	e.inflate = a->inflate;
+	e.source = nf > 1 ? "several files" : fr[0].path;
+	for (size_t i = 0; si && i < si->n_topics; i++)
+		if (si->topics[i].selected && !e.topic &&
+		    !strstr(si->topics[i].type, "Temperature"))
+			e.topic = si->topics[i].name;
+	if (a->kalibr)
+		rc = ssc_export_kalibr(co->cmd, a->kalibr, &e);
+	if (!rc && a->openvins)
+		rc = ssc_export_openvins(co->cmd, a->openvins, &e);
+	if (!rc && a->imu_utils)
+		rc = ssc_export_imu_utils(co->cmd, a->imu_utils, &e);
+	free(ch);
+	return rc;
 }
 
 /* ------------------------------------------------------------------ */
@@ -799,16 +865,43 @@ static void pretty(const char *in, char *out, size_t len)
 	out[o] = '\0';
 }
 
+/* y range of a channel's points and intervals, in the shown unit */
+static void chan_range(const struct ssc_allan_chan *c, double *lo, double *hi)
+{
+	const struct ssc_allan_units *u = &c->u;
+	double s = 1 / u->show_scale;
+
+	*lo = INFINITY;
+	*hi = 0;
+	for (size_t i = 0; i < c->res->n_points; i++) {
+		const struct sscope_allan_point *p = &c->res->points[i];
+
+		if (!(p->dev > 0))
+			continue;
+		*lo = fmin(*lo, p->dev * s);
+		if (p->dev_lo > 0)
+			*lo = fmin(*lo, p->dev_lo * s);
+		*hi = fmax(*hi, p->dev * s);
+		if (isfinite(p->dev_hi))
+			*hi = fmax(*hi, p->dev_hi * s);
+	}
+}
+
+/* The deviation of one channel with its intervals, the fitted model, each
+ * resolved term (B's plateau drawn at its height 0.664 B and labelled so),
+ * each unresolved term as an upper bound (dotted, down-pointing triangles)
+ * and the coefficients in a box beside the axes. */
 static int plot_chan(struct ssc_ax *ax, const struct args *a,
-		     const struct ssc_allan_chan *c)
+		     const struct ssc_allan_chan *c, double ylo, double yhi, double tlo,
+		     double thi)
 {
 	const struct sscope_allan_result *r = c->res;
 	const struct ssc_allan_units *u = &c->u;
 	size_t n = r->n_points, k = 0;
 	double *x = calloc(n + 1, sizeof(double)), *y = calloc(n + 1, sizeof(double));
 	double *lo = calloc(n + 1, sizeof(double)), *hi = calloc(n + 1, sizeof(double));
-	double s = u->dev_scale / u->show_scale, tmin = INFINITY, tmax = 0;
-	char buf[512], un[96], upper[16] = "";
+	double s = 1 / u->show_scale, tmin = INFINITY, tmax = 0;
+	char buf[512], un[96], upper[16] = "", lv[32] = "";
 	struct ssc_style pst = { .color = 0x1f77b4, .width = -1,
 				 .marker = SSC_MK_CIRCLE, .marker_size = 6 };
 	static const uint32_t tcol[5] = { 0x9467bd, 0xd62728, 0x2ca02c,
@@ -827,9 +920,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		if (!(p->dev > 0))
 			continue;
 		x[k] = p->tau_s;
-		y[k] = p->dev / u->dev_scale * s;
-		lo[k] = isfinite(p->dev_lo) ? p->dev_lo / u->dev_scale * s : y[k];
-		hi[k] = isfinite(p->dev_hi) ? p->dev_hi / u->dev_scale * s : y[k];
+		y[k] = p->dev * s;
+		lo[k] = isfinite(p->dev_lo) ? p->dev_lo * s : y[k];
+		hi[k] = isfinite(p->dev_hi) ? p->dev_hi * s : y[k];
 		tmin = fmin(tmin, p->tau_s);
 		tmax = fmax(tmax, p->tau_s);
 		k++;
@@ -837,82 +930,118 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 	pretty(u->show, un, sizeof(un));
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
-	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
-	snprintf(buf, sizeof(buf), "\xcf\x83(\xcf\x84) (%s)", un);
-	ssc_ax_ylabel(ax, buf);
+	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
 	for (size_t i = 0; i < sizeof(upper) - 1 && sscope_dev_name(a->ao.dev)[i]; i++)
 		upper[i] = (char)(sscope_dev_name(a->ao.dev)[i] - 'a' + 'A');
-	snprintf(buf, sizeof(buf), "%s: %s%s", c->col->name, upper,
-		 a->ci >= 0 ? "" : " (no intervals)");
-	if (a->ci >= 0) {
-		char lv[32];
-
-		snprintf(buf + strlen(buf), sizeof(buf) - strlen(buf),
-			 " with %s%% intervals",
-			 ssc_fmt(lv, sizeof(lv), 100 * a->ci, 3));
-	}
-	ssc_ax_title(ax, buf);
+	snprintf(buf, sizeof(buf), "%s \xcf\x83(\xcf\x84) (%s)", upper, un);
+	ssc_ax_ylabel(ax, buf);
+	ssc_ax_title(ax, c->col->name);
+	if (a->ci >= 0)
+		ssc_fmt(lv, sizeof(lv), 100 * a->ci, 3);
 	if (k) {
-		double ylo = INFINITY, yhi = 0;
-
-		for (size_t i = 0; i < k; i++) {
-			if (lo[i] > 0)
-				ylo = fmin(ylo, lo[i]);
-			ylo = fmin(ylo, y[i]);
-			yhi = fmax(yhi, fmax(hi[i], y[i]));
-		}
-		/* the data decide the range; term lines are clipped */
-		if (isfinite(yhi) && yhi > 0)
+		/* the data decide the range (shared by the channels of one
+		 * unit); term lines are clipped */
+		if (isfinite(ylo) && yhi > ylo)
 			ssc_ax_ylim(ax, ylo / 2, yhi * 2);
-		ssc_ax_xlim(ax, tmin / 1.5, tmax * 1.5);
-		ssc_ax_errorbar(ax, x, y, lo, hi, k, &pst, upper);
+		ssc_ax_xlim(ax, tlo / 1.5, thi * 1.5);
+		if (a->ci >= 0)
+			snprintf(buf, sizeof(buf), "%s, %s %% intervals", upper, lv);
+		else
+			snprintf(buf, sizeof(buf), "%s", upper);
+		ssc_ax_errorbar(ax, x, y, lo, hi, k, &pst, buf);
 	}
 	if (k >= 2 && !a->no_fit && r->have_fit) {
 		const struct sscope_noise_fit *ft = &r->fit;
 		enum { NG = 160 };
-		double gx[NG], gy[NG], coef[5], note_pos = 0;
-		char note[1024] = "";
+		double gx[NG], gy[NG], coef[5];
+		char note[1024] = "", v1[32], v2[32], v3[32], cu[96];
 		size_t nl = 0;
 		struct ssc_style fst = { .color = 0x202020, .width = 2 };
 
+#define NOTE(...)                                                          \
+	do {                                                               \
+		nl += (size_t)snprintf(note + nl, sizeof(note) - nl, __VA_ARGS__); \
+		if (nl >= sizeof(note))                                    \
+			nl = sizeof(note) - 1;                             \
+	} while (0)
 		for (int t = 0; t < 5; t++)
 			coef[t] = ft->coef[t].fitted ? ft->coef[t].value : 0;
 		for (int i = 0; i < NG; i++) {
 			gx[i] = tmin * pow(tmax / tmin, (double)i / (NG - 1));
-			gy[i] = sqrt(sscope_noise_avar(coef, gx[i])) / u->show_scale;
+			gy[i] = sqrt(sscope_noise_avar(coef, gx[i])) * s;
 		}
-		ssc_ax_line(ax, gx, gy, NG, &fst, "fit");
+		ssc_ax_line(ax, gx, gy, NG, &fst, "fitted model");
 		for (int t = 0; t < 5; t++) {
-			double one[5] = { 0 };
-			struct ssc_style dst = { .color = tcol[t], .width = 1.5,
+			const struct sscope_noise_coef *cf = &ft->coef[t];
+			double one[5] = { 0 }, bound;
+			struct ssc_style dst = { .color = tcol[t], .width = 1.8,
 						 .dash = SSC_DASHED };
-			char v1[32], v2[32], v3[32], cu[96];
 			int dg;
 
-			if (!ft->coef[t].fitted)
-				continue;
-			one[t] = coef[t];
-			for (int i = 0; i < NG; i++)
-				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) / u->show_scale;
 			pretty(u->term[t], cu, sizeof(cu));
-			snprintf(buf, sizeof(buf), "%c = %s %s", "QNBKR"[t],
-				 ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), 3),
-				 cu);
-			ssc_ax_line(ax, gx, gy, NG, &dst, buf);
-			dg = idigits(coef[t], ft->coef[t].lo, ft->coef[t].hi);
-			nl += (size_t)snprintf(note + nl, sizeof(note) - nl,
-					       "%s%c %s [%s, %s] %s", nl ? "\n" : "",
-					       "QNBKR"[t],
-					       ssc_fmt(v1, sizeof(v1), in_unit(coef[t], u->term_si[t], u->term[t]), dg),
-					       ssc_fmt(v2, sizeof(v2), in_unit(ft->coef[t].lo, u->term_si[t], u->term[t]), dg),
-					       ssc_fmt(v3, sizeof(v3), in_unit(ft->coef[t].hi, u->term_si[t], u->term[t]), dg),
-					       cu);
-			if (nl >= sizeof(note))
-				nl = sizeof(note) - 1;
+			if (term_resolved(cf)) {
+				one[t] = cf->value;
+				for (int i = 0; i < NG; i++)
+					gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
+				ssc_fmt(v1, sizeof(v1),
+					in_unit(cf->value, u->term_si[t], u->term[t]), 3);
+				if (t == SSCOPE_TERM_B)
+					snprintf(buf, sizeof(buf),
+						 "B = %s %s (line at 0.664\xc2\xb7" "B)",
+						 v1, cu);
+				else
+					snprintf(buf, sizeof(buf), "%c = %s %s",
+						 "QNBKR"[t], v1, cu);
+				ssc_ax_line(ax, gx, gy, NG, &dst, buf);
+				dg = idigits(cf->value, cf->lo, cf->hi);
+				NOTE("%s%c %s [%s, %s] %s", nl ? "\n" : "", "QNBKR"[t],
+				     ssc_fmt(v1, sizeof(v1), in_unit(cf->value, u->term_si[t], u->term[t]), dg),
+				     ssc_fmt(v2, sizeof(v2), in_unit(cf->lo, u->term_si[t], u->term[t]), dg),
+				     ssc_fmt(v3, sizeof(v3), in_unit(cf->hi, u->term_si[t], u->term[t]), dg),
+				     cu);
+				continue;
+			}
+			/* unresolved: the bound the data put on the term */
+			bound = cf->hi;
+			if (!(isfinite(bound) && bound > 0))
+				continue;
+			one[t] = bound;
+			for (int i = 0; i < NG; i++)
+				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
+			ssc_fmt(v1, sizeof(v1), in_unit(bound, u->term_si[t], u->term[t]), 3);
+			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound)",
+				 "QNBKR"[t], v1, cu);
+			{
+				struct ssc_style bst = { .color = tcol[t],
+							 .width = 1.2,
+							 .dash = SSC_DOTTED };
+				double mx[NG / 20 + 2], my[NG / 20 + 2];
+				size_t nm = 0;
+
+				/* a power law is straight on log-log axes: a
+				 * few points draw it, each with a marker */
+				bst.marker = SSC_MK_TRIANGLE_DOWN;
+				bst.marker_size = 9;
+				for (int i = 0; i < NG; i += 20) {
+					mx[nm] = gx[i];
+					my[nm++] = gy[i];
+				}
+				mx[nm] = gx[NG - 1];
+				my[nm++] = gy[NG - 1];
+				ssc_ax_line(ax, mx, my, nm, &bst, buf);
+			}
+			NOTE("%s%c < %s %s (not resolved)", nl ? "\n" : "",
+			     "QNBKR"[t], v1, cu);
 		}
-		(void)note_pos;
-		if (nl)
-			ssc_ax_note(ax, note, SSC_LEGEND_LL);
+		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p = %s", nl ? "\n" : "",
+		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
+		     ssc_fmt(v2, sizeof(v2), ft->dof, 3),
+		     ssc_fmt(v3, sizeof(v3), ft->p_value, 2));
+		if (fit_rejected(ft))
+			NOTE("\nFIT REJECTED (p < %g): terms indicative only",
+			     FIT_REJECT_P);
+#undef NOTE
+		ssc_ax_note(ax, note, SSC_LEGEND_AUTO);
 	}
 	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
 	free(x);
@@ -922,7 +1051,8 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 	return 0;
 }
 
-/* one panel per channel of every file (at most MAX_PANELS) */
+/* one panel per channel of every file (at most MAX_PANELS), stacked, with
+ * one scale for the channels of one unit */
 #define MAX_PANELS 12
 
 static int plot(const struct ssc_common *co, const void *opts,
@@ -932,7 +1062,9 @@ static int plot(const struct ssc_common *co, const void *opts,
 	const struct ssc_allan_res *R = result;
 	const struct ssc_allan_file *fr = R->fr;
 	size_t nfiles = R->n_files;
-	size_t n = 0, cols, rows, p = 0;
+	size_t n = 0, p = 0;
+	const struct ssc_allan_chan *ch[MAX_PANELS];
+	double ylo[MAX_PANELS], yhi[MAX_PANELS], tlo = INFINITY, thi = 0;
 	struct ssc_fig *fig;
 	char title[512];
 	int rc = 0;
@@ -946,11 +1078,23 @@ static int plot(const struct ssc_common *co, const void *opts,
 			 n, MAX_PANELS);
 		n = MAX_PANELS;
 	}
-	cols = n < 3 ? n : (n == 4 ? 2 : 3);
-	rows = (n + cols - 1) / cols;
-	fig = ssc_fig_new((int)(cols == 1 ? 1000 : 720 * cols),
-			  (int)(rows * (cols == 1 ? 720 : 620) + 60), (int)rows,
-			  (int)cols);
+	for (size_t i = 0; i < nfiles; i++)
+		for (size_t k = 0; k < fr[i].n_ch && p < n; k++, p++) {
+			ch[p] = &fr[i].ch[k];
+			chan_range(ch[p], &ylo[p], &yhi[p]);
+			for (size_t j = 0; j < ch[p]->res->n_points; j++)
+				if (ch[p]->res->points[j].dev > 0) {
+					tlo = fmin(tlo, ch[p]->res->points[j].tau_s);
+					thi = fmax(thi, ch[p]->res->points[j].tau_s);
+				}
+		}
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = 0; j < n; j++)
+			if (!strcmp(ch[i]->u.show, ch[j]->u.show)) {
+				ylo[i] = fmin(ylo[i], ylo[j]);
+				yhi[i] = fmax(yhi[i], yhi[j]);
+			}
+	fig = ssc_fig_new(1050, (int)(n * (n > 6 ? 360 : 420) + 60), (int)n, 1);
 	if (!fig) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
@@ -961,13 +1105,11 @@ static int plot(const struct ssc_common *co, const void *opts,
 		snprintf(title, sizeof(title), "%s and %zu more files", fr->path,
 			 nfiles - 1);
 	ssc_fig_title(fig, title);
-	for (size_t i = 0; i < nfiles && !rc; i++)
-		for (size_t k = 0; k < fr[i].n_ch && p < n && !rc; k++, p++)
-			rc = plot_chan(ssc_fig_ax(fig, (int)(p / cols),
-						  (int)(p % cols)),
-				       a, &fr[i].ch[k]);
+	for (p = 0; p < n && !rc; p++)
+		rc = plot_chan(ssc_fig_ax(fig, (int)p, 0), a, ch[p], ylo[p],
+			       yhi[p], tlo, thi);
 	if (!rc)
-		rc = ssc_fig_save_png(fig, path);
+		rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
@@ -1023,6 +1165,7 @@ static void init(void *opts)
 	memset(a, 0, sizeof(*a));
 	a->grid = SSCOPE_TAUS_DENSE;
 	a->ci = 0.683;
+	a->inflate = 1;
 }
 
 static int check(struct ssc_common *co, void *opts)
@@ -1032,8 +1175,10 @@ static int check(struct ssc_common *co, void *opts)
 	if (a->ao.stride_div && a->ao.dev != SSCOPE_DEV_OADEV &&
 	    a->ao.dev != SSCOPE_DEV_OHDEV)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
-	if (a->kalibr && a->no_fit)
-		return ssc_usage_error(co->cmd, "--kalibr needs the fit (drop --no-fit)");
+	if ((a->kalibr || a->openvins || a->imu_utils) && a->no_fit)
+		return ssc_usage_error(co->cmd, "--%s needs the fit (drop --no-fit)",
+				       a->kalibr ? "kalibr" :
+				       a->openvins ? "openvins" : "imu-utils");
 	a->fo.ci_level = a->ci > 0 ? a->ci : 0.683;
 	return 0;
 }
@@ -1128,7 +1273,7 @@ const struct ssc_stage_ops ssc_allan_stage = {
 	.csv = csv,
 	.summary = summary,
 	.plot = plot,
-	.write = write_kalibr,
+	.write = write_exports,
 	.free_result = free_result,
 };
 

@@ -74,8 +74,8 @@ static const struct ssc_option budget_opts[] = {
 	  "realisations of the random-walk check (default 1000; 0 off)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
 	{ "gravity", required_argument, O_GRAVITY, "G", "gravity (default 9.80665 m/s^2)" },
-	{ "plot", required_argument, O_PLOT, "PATH.png",
-	  "draw error against time (log-log) and Monte-Carlo walks (needs OpenCV)" },
+	{ "plot", required_argument, O_PLOT, "PATH.svg|PATH.png",
+	  "draw error against time (log-log) and Monte-Carlo walks (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -503,7 +503,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 		free(hi);
 	}
 	(void)opts;
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
@@ -733,13 +733,10 @@ static int check(struct ssc_common *co, void *opts)
 	struct opts *o = opts;
 
 	if (o->plot) {
-		size_t l = strlen(o->plot);
+		int rc = ssc_plot_check(co->cmd, o->plot);
 
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(co->cmd);
-		if (l < 5 || strcmp(o->plot + l - 4, ".png"))
-			return ssc_usage_error(co->cmd, "--plot: '%s' must end in .png",
-					       o->plot);
+		if (rc)
+			return rc;
 		co->plot = o->plot;
 	}
 	return SSC_EXIT_OK;

@@ -426,6 +426,16 @@ static json_t *triad_json(const struct ssc_calib_triad_out *o)
 	json_object_set_new(j, "parameters", json_integer(c->n_params));
 	json_object_set_new(j, "iterations", json_integer(c->iterations));
 	json_object_set_new(j, "condition", ssc_jreal(c->cond));
+	if (o->n_motion) {
+		json_t *m = json_object();
+
+		json_object_set_new(m, "motions", json_integer((json_int_t)o->n_motion));
+		json_object_set_new(m, "rms", ssc_jreal(o->motion_rms * 180 / PI));
+		json_object_set_new(m, "max", ssc_jreal(o->motion_max * 180 / PI));
+		json_object_set_new(m, "rms_bias_only",
+				    ssc_jreal(o->motion_rms_bias_only * 180 / PI));
+		json_object_set_new(j, "motion_error_deg", m);
+	}
 	if (o->error_model) {
 		json_t *em = json_object(), *sf = json_array();
 		const char *si = sscope_quantity_si_unit(o->q);
@@ -507,6 +517,11 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 	if (c->iterations)
 		fprintf(f, ", %u LM iterations", c->iterations);
 	fprintf(f, ", condition %s\n", ssc_fmt(a, sizeof(a), c->cond, 3));
+	if (o->n_motion)
+		fprintf(f, "    over its %zu motions the calibrated gyro carries gravity to within %s deg rms (max %s deg) of the next pose; %s deg rms with the bias removed only\n",
+			o->n_motion, ssc_fmt(a, sizeof(a), o->motion_rms * 180 / PI, 3),
+			ssc_fmt(b, sizeof(b), o->motion_max * 180 / PI, 3),
+			ssc_fmt((char[32]){ 0 }, 32, o->motion_rms_bias_only * 180 / PI, 3));
 	fprintf(f, "    %-6s %16s %16s   %s\n", "axis", "bias", "scale",
 		"misalignment row (T)");
 	for (int i = 0; i < 3; i++) {
@@ -587,6 +602,10 @@ struct run {
 	/* pose norms before/after (plot) */
 	double *pose_before, *pose_after;
 	size_t n_pose;
+	/* gyro: error of each motion with the bias removed only / calibrated,
+	 * rad (plot) */
+	double *mot_before, *mot_after;
+	size_t n_mot;
 	/* rate table */
 	struct sscope_calib_linear lf;
 	double (*ry)[3], (*rr)[3];
@@ -689,6 +708,59 @@ static int accel_multipos(struct run *r)
 	return SSC_EXIT_OK;
 }
 
+/* How the gyro predicts each motion between poses, calibrated and with
+ * its bias removed only (nominal scale: 1 for a rate in SI units, else the
+ * fitted scales' mean magnitude); kept for the text, JSON and figure. */
+static void motion_errors(struct run *r, double *const ac[3],
+			  const struct sscope_calib_triad *c)
+{
+	const struct sscope_capture *cap = r->cap;
+	const double *g[3] = { cap->channels[r->gi[0]].data,
+			       cap->channels[r->gi[1]].data,
+			       cap->channels[r->gi[2]].data };
+	const double *a[3] = { ac[0], ac[1], ac[2] };
+	struct sscope_calib_triad nominal;
+	struct ssc_calib_triad_out *o = &r->pub.out[1];
+	double s0 = (fabs(c->scale[0]) + fabs(c->scale[1]) + fabs(c->scale[2])) / 3;
+	size_t m = r->n_iv - 1;
+
+	o->n_motion = 0;
+	r->mot_before = malloc(m * sizeof(double));
+	r->mot_after = malloc(m * sizeof(double));
+	if (!r->mot_before || !r->mot_after || r->n_iv < 2)
+		return;
+	sscope_calib_triad_identity(&nominal);
+	for (int i = 0; i < 3; i++) {
+		nominal.bias[i] = c->bias[i];
+		nominal.scale[i] = cap->channels[r->gi[0]].col.quantity ==
+						   SSCOPE_QTY_ANGULAR_RATE ?
+					   1 :
+					   copysign(s0, c->scale[i]);
+		for (int j = 0; j < 3; j++)
+			nominal.gsens[i][j] = c->gsens[i][j];
+	}
+	nominal.has_gsens = c->has_gsens;
+	if (sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
+					    r->n_iv, c, r->mot_after) ||
+	    sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
+					    r->n_iv, &nominal, r->mot_before))
+		return;
+	{
+		double s2 = 0, b2 = 0, mx = 0;
+
+		for (size_t k = 0; k < m; k++) {
+			s2 += r->mot_after[k] * r->mot_after[k];
+			b2 += r->mot_before[k] * r->mot_before[k];
+			mx = fmax(mx, r->mot_after[k]);
+		}
+		o->motion_rms = sqrt(s2 / (double)m);
+		o->motion_rms_bias_only = sqrt(b2 / (double)m);
+		o->motion_max = mx;
+	}
+	r->n_mot = m;
+	o->n_motion = m;
+}
+
 static int gyro_multipos(struct run *r)
 {
 	const struct ssc_common *co = r->co;
@@ -730,6 +802,7 @@ static int gyro_multipos(struct run *r)
 	}
 	fill_triad(&r->pub.out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
 	r->pub.out[1].residual_unit = "1";
+	motion_errors(r, ac, &c);
 	if (c.has_gsens)
 		for (int i = 0; i < 3; i++)
 			snprintf(r->pub.out[1].t.accel_channels[i], 64, "%s",
@@ -1290,6 +1363,97 @@ static void rate_table_text(FILE *f, const struct run *r)
 /* Plot                                                                */
 /* ------------------------------------------------------------------ */
 
+/* The static intervals as thick segments at height y. */
+static void plot_intervals(struct ssc_ax *ax, const struct run *r, double y)
+{
+	struct ssc_style sm = { .color = 0x2ca02c, .width = 4 };
+
+	for (size_t k = 0; k < r->n_iv; k++) {
+		double xs[2] = { (double)r->iv[k].start / r->cap->rate_hz,
+				 (double)r->iv[k].end / r->cap->rate_hz };
+		double ys[2] = { y, y };
+
+		ssc_ax_line(ax, xs, ys, 2, &sm, k ? NULL : "static intervals");
+	}
+}
+
+/* Gyro multi-position: the rate magnitude with the static poses, and how
+ * far the gyro carries gravity off over each motion, with the bias
+ * removed only and calibrated. */
+static void plot_gyro(struct ssc_fig *fig, const struct run *r)
+{
+	const struct sscope_capture *cap = r->cap;
+	const struct ssc_calib_triad_out *o = &r->pub.out[1];
+	double *t = malloc(cap->n * sizeof(double));
+	double *w = malloc(cap->n * sizeof(double));
+	double *k = malloc(r->n_mot * sizeof(double));
+	double *b = malloc(r->n_mot * sizeof(double));
+	double *a = malloc(r->n_mot * sizeof(double));
+	bool si = cap->channels[r->gi[0]].col.quantity == SSCOPE_QTY_ANGULAR_RATE;
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	char buf[256];
+
+	if (t && w) {
+		double lo = INFINITY;
+		struct ssc_style st = { .color = 0x1f77b4, .width = 1 };
+
+		for (size_t i = 0; i < cap->n; i++) {
+			double s = 0;
+
+			for (int j = 0; j < 3; j++) {
+				double v = cap->channels[r->gi[j]].data[i] -
+					   o->t.c.bias[j];
+
+				s += v * v;
+			}
+			t[i] = (double)i / cap->rate_hz;
+			w[i] = sqrt(s) * (si ? 180 / PI : 1);
+			if (w[i] > 0)
+				lo = fmin(lo, w[i]);
+		}
+		ssc_ax_log(ax, false, true);
+		ssc_ax_line(ax, t, w, cap->n, &st, "gyro rate magnitude, bias removed");
+		if (isfinite(lo))
+			plot_intervals(ax, r, lo / 2);
+		ssc_ax_ylabel(ax, si ? "|\xcf\x89| (\xc2\xb0/s)" : "|\xcf\x89| (input units)");
+		ssc_ax_xlabel(ax, "time (s)");
+		ssc_ax_title(ax, "gyro rate between the static poses");
+		snprintf(buf, sizeof(buf), "%zu static poses\n%zu motions", r->n_iv,
+			 r->n_mot);
+		ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
+	}
+	ax = ssc_fig_ax(fig, 1, 0);
+	if (k && b && a) {
+		struct ssc_style sb = { .color = 0x7f7f7f, .width = -1,
+					.marker = SSC_MK_SQUARE };
+		struct ssc_style sa = { .color = 0x1f77b4, .width = -1,
+					.marker = SSC_MK_CIRCLE };
+
+		for (size_t i = 0; i < r->n_mot; i++) {
+			k[i] = (double)i + 1;
+			b[i] = r->mot_before[i] * 180 / PI;
+			a[i] = r->mot_after[i] * 180 / PI;
+		}
+		ssc_ax_log(ax, false, true);
+		ssc_ax_line(ax, k, b, r->n_mot, &sb,
+			    si ? "bias removed only (nominal scale)" :
+				 "bias removed only (mean scale)");
+		ssc_ax_line(ax, k, a, r->n_mot, &sa, "calibrated");
+		ssc_ax_xlim(ax, 0.5, (double)r->n_mot + 0.5);
+		ssc_ax_ylabel(ax, "gravity direction error (\xc2\xb0)");
+		ssc_ax_xlabel(ax, "motion between static poses");
+		ssc_ax_title(ax, "gyro-integrated rotation against the next pose");
+		snprintf(buf, sizeof(buf), "rms %.3g\xc2\xb0 calibrated\n%.3g\xc2\xb0 bias removed only",
+			 o->motion_rms * 180 / PI, o->motion_rms_bias_only * 180 / PI);
+		ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
+	}
+	free(t);
+	free(w);
+	free(k);
+	free(b);
+	free(a);
+}
+
 static int plot(const struct ssc_common *co, const void *opts,
 		const void *result, const char *path)
 {
@@ -1299,7 +1463,13 @@ static int plot(const struct ssc_common *co, const void *opts,
 	char buf[200];
 
 	(void)opts;
-	if (r->have_lf) {
+	if (!r->have_lf && r->o.gyro && r->n_mot) {
+		fig = ssc_fig_new(1100, 860, 2, 1);
+		snprintf(buf, sizeof(buf), "calib gyro (%s): %s",
+			 mode_names[r->o.mode], r->cap->source);
+		ssc_fig_title(fig, buf);
+		plot_gyro(fig, r);
+	} else if (r->have_lf) {
 		const struct sscope_calib_linear *lf = &r->lf;
 		const long *ci = r->o.gyro ? r->gi : r->ai;
 		int na = 0;
@@ -1383,28 +1553,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 			ssc_ax_log(ax, false, true);
 			ssc_ax_line(ax, t, r->vs, cap->n, &st, "accelerometer variance magnitude");
 			ssc_ax_hline(ax, r->o.det.threshold, &th, "threshold");
-			{
-				double *xs = malloc(2 * r->n_iv * sizeof(double));
-				double *ys = malloc(2 * r->n_iv * sizeof(double));
-				struct ssc_style sm = { .color = 0x2ca02c, .width = 4 };
-
-				if (xs && ys) {
-					for (size_t k = 0; k < r->n_iv; k++) {
-						double yy = r->o.det.threshold / 3;
-
-						/* one segment per interval, NaN breaks */
-						xs[2 * k] = (double)r->iv[k].start / cap->rate_hz;
-						ys[2 * k] = yy;
-						xs[2 * k + 1] = (double)r->iv[k].end / cap->rate_hz;
-						ys[2 * k + 1] = yy;
-					}
-					for (size_t k = 0; k < r->n_iv; k++)
-						ssc_ax_line(ax, xs + 2 * k, ys + 2 * k, 2, &sm,
-							    k ? NULL : "static intervals");
-				}
-				free(xs);
-				free(ys);
-			}
+			plot_intervals(ax, r, r->o.det.threshold / 3);
 			snprintf(buf, sizeof(buf), "variance magnitude ((%s)^{2})",
 				 cap->channels[r->ai[0]].col.quantity ==
 						 SSCOPE_QTY_ACCELERATION ?
@@ -1440,7 +1589,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 			ssc_ax_legend(ax, SSC_LEGEND_AUTO);
 		}
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
@@ -1505,6 +1654,8 @@ static void free_result(void *result)
 	free(r->vs);
 	free(r->pose_before);
 	free(r->pose_after);
+	free(r->mot_before);
+	free(r->mot_after);
 	free(r->ry);
 	free(r->rr);
 	free(r);

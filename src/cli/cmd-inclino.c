@@ -378,7 +378,7 @@ static int cal_plot(const struct ssc_common *co, const void *opts,
 	ssc_ax_legend(a1, SSC_LEGEND_AUTO);
 	ssc_ax_grid(a0, true);
 	ssc_ax_grid(a1, true);
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));

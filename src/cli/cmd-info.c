@@ -27,7 +27,12 @@ static const struct ssc_command_spec spec = {
 	.notes = "Examples:\n"
 		 "  sensorscope info samples/gyro-static.csv\n"
 		 "  sensorscope info --raw i16:6:le --scale 0.01 -u deg/s -r 100 imu.bin\n"
-		 "  sensorscope info --format json - < capture.csv",
+		 "  sensorscope info --format json - < capture.csv\n"
+		 "  sensorscope info --topic /imu/data recording.bag\n"
+		 "ROS bags, rosbag2 (.db3 or the bag folder) and MCAP files list their\n"
+		 "topics; the header stamps are the time column, and the container's\n"
+		 "receive times are compared with them (latency, and rate or gaps when\n"
+		 "they disagree).",
 };
 
 struct file_info {
@@ -36,12 +41,48 @@ struct file_info {
 	struct sscope_stats *st;
 	struct sscope_stats temp;
 	bool have_temp;
+	/* receive times of a ROS container */
+	bool have_rx;
+	struct sscope_timing rx;
+	double lat_median_s, lat_min_s, lat_max_s;
+	bool rx_disagree;
 };
 
 struct info_res {
 	size_t n;
 	struct file_info *fi;
 };
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* receive times against header stamps: latency, and rate and gaps */
+static void receive_times(const struct sscope_capture *cap,
+			  struct file_info *fi, double *scratch)
+{
+	const double *rx = cap->source_info ? cap->source_info->receive_s : NULL;
+
+	if (!rx || !cap->time_s || cap->n < 2)
+		return;
+	fi->have_rx = sscope_timing_analyze(rx, cap->n, 1.5, &fi->rx, NULL, 0,
+					    NULL, scratch) == 0;
+	if (!fi->have_rx)
+		return;
+	for (size_t i = 0; i < cap->n - 1; i++)
+		scratch[i] = rx[i] - cap->time_s[i];
+	qsort(scratch, cap->n - 1, sizeof(double), cmp_double);
+	fi->lat_median_s = scratch[(cap->n - 1) / 2];
+	fi->lat_min_s = scratch[0];
+	fi->lat_max_s = scratch[cap->n - 2];
+	fi->rx_disagree = cap->has_timing &&
+			  (fabs(fi->rx.rate_hz / cap->timing.rate_hz - 1) > 1e-3 ||
+			   fi->rx.n_gaps != cap->timing.n_gaps ||
+			   fi->rx.n_backwards != cap->timing.n_backwards);
+}
 
 static double to_unit(const struct sscope_column *c, double si)
 {
@@ -72,6 +113,16 @@ static int analyse(const struct ssc_common *co, const char *path,
 	if (cap->has_timing && cap->timing.n_backwards)
 		ssc_warn(co, "%s: time goes backwards or repeats %zu times",
 			 path, cap->timing.n_backwards);
+	if (cap->time_s && cap->n >= 2) {
+		double *scratch = malloc((cap->n - 1) * sizeof(double));
+
+		if (!scratch) {
+			ssc_err(co->cmd, "out of memory");
+			return SSC_EXIT_FAIL;
+		}
+		receive_times(cap, fi, scratch);
+		free(scratch);
+	}
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
@@ -108,6 +159,21 @@ static void text_file(FILE *f, const struct file_info *fi)
 	size_t wn = 7, wu = 4, wq = 8;
 
 	fprintf(f, "%s\n", strcmp(path, "-") ? path : "(stdin)");
+	if (cap->source_info) {
+		const struct sscope_source *si = cap->source_info;
+
+		fprintf(f, "  format:      %s\n", si->format);
+		for (size_t i = 0; i < si->n_topics; i++) {
+			const struct sscope_topic *t = &si->topics[i];
+
+			fprintf(f, "  %-12s %s  %s  %llu message%s%s\n",
+				i ? "" : "topics:", t->name, t->type,
+				(unsigned long long)t->messages,
+				t->messages == 1 ? "" : "s",
+				t->selected ? "  (read)" :
+				t->readable ? "" : "  (not an IMU type)");
+		}
+	}
 	fprintf(f, "  rows:        %zu\n", cap->n);
 	if (cap->rate_hz > 0)
 		fprintf(f, "  rate:        %s Hz (%s)\n",
@@ -140,6 +206,20 @@ static void text_file(FILE *f, const struct file_info *fi)
 				fprintf(f, "               ... (--format json lists up to %d)\n",
 					SSCOPE_CAPTURE_GAPS);
 		}
+	}
+	if (fi->have_rx) {
+		fprintf(f, "  receive times: latency after the header stamps median %s s, min %s s, max %s s\n",
+			ssc_fmt(a, sizeof(a), fi->lat_median_s, 4),
+			ssc_fmt(b, sizeof(b), fi->lat_min_s, 4),
+			ssc_fmt(c, sizeof(c), fi->lat_max_s, 4));
+		if (fi->rx_disagree)
+			fprintf(f, "               they disagree with the stamps: rate %s Hz, %zu gaps, %zu backwards (stamps: %s Hz, %zu gaps, %zu backwards)\n",
+				ssc_fmt(a, sizeof(a), fi->rx.rate_hz, 8),
+				fi->rx.n_gaps, fi->rx.n_backwards,
+				ssc_fmt(b, sizeof(b), tm->rate_hz, 8),
+				tm->n_gaps, tm->n_backwards);
+		else
+			fprintf(f, "               rate and gaps agree with the header stamps\n");
 	}
 	if (cap->n_nan)
 		fprintf(f, "  NaN cells:   %zu (read as gaps)\n", cap->n_nan);
@@ -224,6 +304,39 @@ static json_t *json_file(const struct file_info *fi)
 		json_array_append_new(gaps, g);
 	}
 	json_object_set_new(o, "gaps", gaps);
+	if (cap->source_info) {
+		const struct sscope_source *si = cap->source_info;
+		json_t *tps = json_array();
+
+		json_object_set_new(o, "format", json_string(si->format));
+		for (size_t i = 0; i < si->n_topics; i++) {
+			json_t *t = json_object();
+
+			json_object_set_new(t, "name", json_string(si->topics[i].name));
+			json_object_set_new(t, "type", json_string(si->topics[i].type));
+			json_object_set_new(t, "messages",
+					    json_integer((json_int_t)si->topics[i].messages));
+			json_object_set_new(t, "readable", json_boolean(si->topics[i].readable));
+			json_object_set_new(t, "selected", json_boolean(si->topics[i].selected));
+			json_array_append_new(tps, t);
+		}
+		if (si->n_topics)
+			json_object_set_new(o, "topics", tps);
+		else
+			json_decref(tps);
+	}
+	if (fi->have_rx) {
+		json_t *t = json_object();
+
+		json_object_set_new(t, "rate_hz", json_real(fi->rx.rate_hz));
+		json_object_set_new(t, "gaps", json_integer((json_int_t)fi->rx.n_gaps));
+		json_object_set_new(t, "backwards", json_integer((json_int_t)fi->rx.n_backwards));
+		json_object_set_new(t, "latency_median_s", json_real(fi->lat_median_s));
+		json_object_set_new(t, "latency_min_s", json_real(fi->lat_min_s));
+		json_object_set_new(t, "latency_max_s", json_real(fi->lat_max_s));
+		json_object_set_new(t, "agree", json_boolean(!fi->rx_disagree));
+		json_object_set_new(o, "receive_times", t);
+	}
 	if (cap->has_timing) {
 		json_t *t = json_object();
 
@@ -297,7 +410,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 	for (size_t i = 0; i < cap->n; i++)
 		t[i] = cap->time_s ? cap->time_s[i] :
 		       cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
-	fig = ssc_fig_new(1100, 220 + 200 * rows, rows, 1);
+	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", path);
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < nch; k++) {
@@ -311,9 +424,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
 			 col->unit_label[0] ? col->unit_label : "no unit");
 		ssc_ax_ylabel(ax, buf);
-		if ((int)k == rows - 1)
-			ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ?
-					  "time (s)" : "sample");
+		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
+								    "sample");
 	}
 	if (cap->temp_degc) {
 		struct ssc_ax *ax = ssc_fig_ax(fig, rows - 1, 0);
@@ -324,7 +436,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	rc = ssc_fig_save_png(fig, png);
+	rc = ssc_fig_save(fig, png);
 	ssc_fig_free(fig);
 	free(t);
 	free(y);

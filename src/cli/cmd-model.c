@@ -51,8 +51,8 @@ static const struct ssc_option model_opts[] = {
 	  "fog: vacuum wavelength (e.g. 1550 nm)" },
 	{ "rate", required_argument, O_RATE, "V[,V...]",
 	  "fog: rates for the phase table (default 1 deg/s, 15 deg/h)" },
-	{ "plot", required_argument, O_PLOT, "PATH.png",
-	  "accel: step response; fog: phase against rate (needs OpenCV)" },
+	{ "plot", required_argument, O_PLOT, "PATH.svg|PATH.png",
+	  "accel: step response; fog: phase against rate (PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -156,7 +156,7 @@ static int handler(int key, const char *arg, void *ctx)
 
 static int save_fig(struct ssc_fig *fig, const char *path)
 {
-	int rc = ssc_fig_save_png(fig, path);
+	int rc = ssc_fig_save(fig, path);
 
 	ssc_fig_free(fig);
 	if (rc) {
@@ -486,14 +486,7 @@ int ssc_cmd_model(int argc, char **argv)
 		return rc < 0 ? SSC_EXIT_OK : rc;
 	if (first < argc)
 		return ssc_usage_error(co.cmd, "unexpected operand '%s'", argv[first]);
-	if (o.plot) {
-		size_t l = strlen(o.plot);
-
-		if (!ssc_plot_available())
-			return ssc_plot_unavailable(co.cmd);
-		if (l < 5 || strcmp(o.plot + l - 4, ".png"))
-			return ssc_usage_error(co.cmd, "--plot: '%s' must end in .png",
-					       o.plot);
-	}
+	if (o.plot && (rc = ssc_plot_check(co.cmd, o.plot)))
+		return rc;
 	return accel ? do_accel(&co, &o) : do_fog(&co, &o);
 }

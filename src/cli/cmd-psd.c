@@ -881,7 +881,7 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 			free(z);
 		}
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(y);
 	if (rc) {

@@ -468,7 +468,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 		free(y);
 		free(rr);
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));

@@ -507,13 +507,19 @@ static int plot(const struct ssc_common *co, const void *opts,
 				free(c);
 			}
 		}
-		ssc_ax_log(ax, false, true);
+		/* log frequency: the shaft orders sit at the low end */
+		ssc_ax_log(ax, true, true);
 		ssc_ax_line(ax, r->accel.freq_hz, amp, r->accel.n_bins, &st, NULL);
-		ssc_ax_xlim(ax, 0, fhi);
+		if (r->accel.n_bins > 1)
+			ssc_ax_xlim(ax, r->accel.freq_hz[1], fhi);
 		if (a->rpm > 0)
-			for (size_t i = 0; i < r->n_orders; i++)
+			for (size_t i = 0; i < r->n_orders; i++) {
+				snprintf(buf, sizeof(buf),
+					 "shaft orders 1\xc3\x97, 2\xc3\x97, 3\xc3\x97 of %.4g Hz",
+					 a->rpm / 60);
 				marker(ax, r->orders[i].expected_hz, 0xd62728,
-				       i ? NULL : "shaft orders 1x, 2x, 3x");
+				       i ? NULL : buf);
+			}
 		for (size_t i = 0; i < r->n_peaks && i < 5; i++) {
 			struct ssc_style mk = { .color = 0x1f77b4, .width = -1,
 						.marker = SSC_MK_CIRCLE };
@@ -523,7 +529,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 			if (px > fhi || r->peaks[i].value < 10 * amp_floor)
 				continue;
 			ssc_ax_line(ax, &px, &py, 1, &mk, NULL);
-			snprintf(buf, sizeof(buf), "%.4g Hz", px);
+			snprintf(buf, sizeof(buf), " %.4g Hz", px);
 			ssc_ax_text(ax, px, py * 1.5, buf, -1, 0x1f77b4);
 		}
 		{
@@ -598,7 +604,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 			free(ea);
 		}
 	}
-	rc = ssc_fig_save_png(fig, path);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc) {
 		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));

@@ -14,6 +14,10 @@
 #include <unistd.h>
 
 #include "atomic.h"
+#include "plot.h"
+#ifdef HAVE_OPENCV
+#include "cvload.h"
+#endif
 
 enum {
 	OPT_FORMAT = 1000,
@@ -28,6 +32,7 @@ enum {
 	OPT_TEMP_COLUMN,
 	OPT_HELP,
 	OPT_CALIBRATION,
+	OPT_TOPIC,
 };
 
 static const struct ssc_option analysis_opts[] = {
@@ -49,10 +54,12 @@ static const struct ssc_option analysis_opts[] = {
 	  "the time column (default: a column named t, time or timestamp)" },
 	{ "temp-column", required_argument, OPT_TEMP_COLUMN, "NAME",
 	  "the temperature column (default: temp or temperature)" },
+	{ "topic", required_argument, OPT_TOPIC, "NAME[,TEMP]",
+	  "ROS bag, rosbag2 or MCAP input: the topic to read (default: the only IMU topic), and a sensor_msgs/Temperature topic for the temperature column" },
 	{ "calibration", required_argument, OPT_CALIBRATION, "FILE",
 	  "apply a calibration file of 'sensorscope calib' to the channels it names" },
-	{ "plot", required_argument, OPT_PLOT, "PATH.png",
-	  "draw the command's figure (needs OpenCV)" },
+	{ "plot", required_argument, OPT_PLOT, "PATH.svg|PATH.png",
+	  "draw the command's figure (SVG; PNG needs OpenCV)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -406,6 +413,9 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_CALIBRATION:
 			co->calibration = optarg;
 			break;
+		case OPT_TOPIC:
+			co->topic = optarg;
+			break;
 		default:
 		own:
 			if (!handler) {
@@ -424,19 +434,10 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 			break;
 		}
 	}
-	if (co->plot && !ssc_plot_available()) {
-		rc = ssc_plot_unavailable(co->cmd);
-		goto out;
-	}
 	if (co->plot) {
-		size_t l = strlen(co->plot);
-
-		if (l < 5 || strcmp(co->plot + l - 4, ".png")) {
-			rc = ssc_usage_error(co->cmd,
-					     "--plot: '%s' must end in .png",
-					     co->plot);
+		rc = ssc_plot_check(co->cmd, co->plot);
+		if (rc)
 			goto out;
-		}
 	}
 	*first = optind;
 out:
@@ -499,6 +500,7 @@ void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o)
 	o->temp_column = co->temp_column;
 	o->rate_hz = co->rate_hz;
 	o->nan_as_gap = co->allow_nan;
+	o->topic = co->topic;
 }
 
 int ssc_load(const struct ssc_common *co, const char *path,
@@ -532,6 +534,12 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		sscope_capture_free(*cap);
 		*cap = NULL;
 		return rc;
+	}
+	{
+		struct sscope_diag h = { "" };
+
+		if (sscope_capture_check_rate(*cap, &h))
+			ssc_warn(co, "%s: %s", path, h.msg);
 	}
 	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->has_timing &&
 	    fabs((*cap)->timing.rate_hz / co->rate_hz - 1) > 0.01)
@@ -665,7 +673,7 @@ const char *ssc_fmt(char *buf, size_t len, double v, int sig)
 bool ssc_plot_available(void)
 {
 #ifdef HAVE_OPENCV
-	return true;
+	return ssc_cv_load(NULL, 0) == 0;
 #else
 	return false;
 #endif
@@ -673,9 +681,31 @@ bool ssc_plot_available(void)
 
 int ssc_plot_unavailable(const char *cmd)
 {
+#ifdef HAVE_OPENCV
+	char why[512];
+
+	if (ssc_cv_load(why, sizeof(why))) {
+		ssc_err(cmd, "--plot: cannot load the drawing module: %s", why);
+		return SSC_EXIT_USAGE;
+	}
+#endif
 	ssc_err(cmd, "--plot: this sensorscope was built without OpenCV; "
-		"rebuild with OpenCV (Debian: libopencv-dev) for PNG plots");
+		"write an SVG figure (PATH.svg) or rebuild with OpenCV "
+		"(Debian: libopencv-dev) for PNG plots");
 	return SSC_EXIT_USAGE;
+}
+
+int ssc_plot_check(const char *cmd, const char *path)
+{
+	switch (ssc_plot_format_of(path)) {
+	case SSC_PLOT_SVG:
+		return 0;
+	case SSC_PLOT_PNG:
+		return ssc_plot_available() ? 0 : ssc_plot_unavailable(cmd);
+	default:
+		return ssc_usage_error(cmd, "--plot: '%s' must end in .png or .svg",
+				       path);
+	}
 }
 
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
@@ -700,6 +730,25 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	json_object_set_new(o, "si_unit", json_string(si_unit ? si_unit : ""));
 	json_object_set_new(o, "fitted", json_boolean(fitted));
 	return o;
+}
+
+void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
+{
+	json_t *arr = json_object_get(obj, "warnings"), *w;
+	char msg[1024];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(msg, sizeof(msg), fmt, ap);
+	va_end(ap);
+	if (!json_is_array(arr)) {
+		arr = json_array();
+		json_object_set_new(obj, "warnings", arr);
+	}
+	w = json_object();
+	json_object_set_new(w, "code", json_string(code));
+	json_object_set_new(w, "message", json_string(msg));
+	json_array_append_new(arr, w);
 }
 
 int ssc_load_sensor(const char *cmd, const char *path,

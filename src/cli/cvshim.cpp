@@ -3,7 +3,8 @@
  * OpenCV drawing shim with a C ABI (see cvshim.h): anti-aliased lines and
  * shapes with 4 fractional bits of sub-pixel precision, translucent fills,
  * TrueType text through OpenCV's freetype module when available (Hershey
- * otherwise), viridis images, PNG encoding.  No exception crosses the ABI.
+ * otherwise), viridis images, PNG encoding (libpng, pngenc.c: OpenCV's
+ * image codecs pull in some 140 libraries).  No exception crosses the ABI.
  */
 #include "config.h"
 
@@ -14,13 +15,13 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #ifdef SSCOPE_HAVE_FREETYPE
 #include <opencv2/freetype.hpp>
 #endif
 
 #include "cvshim.h"
+#include "pngenc.h"
 
 struct ssc_canvas {
 	cv::Mat img;
@@ -326,19 +327,12 @@ void ssc_canvas_image(struct ssc_canvas *c, int x, int y, int w, int h,
 
 int ssc_canvas_png(struct ssc_canvas *c, unsigned char **buf, size_t *len)
 {
-	try {
-		std::vector<uchar> out;
-		if (!cv::imencode(".png", c->img, out))
-			return -1;
-		*buf = (unsigned char *)std::malloc(out.size());
-		if (!*buf)
-			return -1;
-		std::memcpy(*buf, out.data(), out.size());
-		*len = out.size();
-		return 0;
-	} catch (...) {
+	const cv::Mat &m = c->img;
+
+	if (m.type() != CV_8UC3)
 		return -1;
-	}
+	return ssc_png_encode(m.ptr<unsigned char>(0), m.cols, m.rows,
+			      m.step[0], 1, buf, len) ? -1 : 0;
 }
 
 } // extern "C"

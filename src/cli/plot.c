@@ -4,8 +4,10 @@
  * for graph labels", Graphics Gems, 1990), decade ticks on log axes, margins
  * aligned across a grid of axes, dashes, pixel-column decimation of long
  * series (first/min/max/last per column, so a million-sample trace keeps
- * its envelope), legends placed where they hide the fewest points.  Pixels
- * are drawn by cvshim.cpp; without OpenCV only the layout code is built and
+ * its envelope), legends and notes in a panel beside the axes, outside the
+ * data.  The figure is laid out with the text metrics of its surface
+ * (canvas.h) and drawn through it: SVG (svg.c) always, PNG through the
+ * OpenCV canvas (cvshim.cpp) when built with OpenCV, else
  * ssc_fig_save_png() returns -ENOTSUP.
  */
 #include "config.h"
@@ -16,8 +18,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "atomic.h"
+#include "canvas.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
 #include "cvshim.h"
@@ -486,8 +490,6 @@ size_t ssc_ticks_log(double lo, double hi, double *major, size_t max_major,
 
 /* ------------------------------------------------------------ rendering */
 
-#ifdef HAVE_OPENCV
-
 #define MAXT 64
 
 struct axis {
@@ -508,15 +510,24 @@ struct layout {
 	double zmaj[MAXT];
 	size_t nz;
 	char zlabels[MAXT][40];
+	double cbar_w;         /* colour bar and its labels */
+	double side_w, side_h; /* legend and notes panel */
 };
 
 struct render {
-	struct ssc_canvas *cv;
-	double fs;     /* base font size px */
+	const struct ssc_surface *S;
+	double fs;             /* base font size px */
 	double px, py, pw, ph; /* plot rectangle */
 	struct layout *L;
-	unsigned taken; /* corners (1 << pos) holding a note */
 };
+
+/* Sizes relative to the base font size. */
+#define FS_TICK 0.9
+#define FS_LEGEND 0.9
+#define FS_NOTE 0.9
+#define FS_TEXT 0.85
+#define SIDE_GAP 16 /* plot (or colour bar) to the side panel, px */
+#define SAMPLE_W 30 /* legend sample line */
 
 static double tx(const struct axis *a, double v)
 {
@@ -544,135 +555,85 @@ static bool ok_val(const struct axis *a, double v)
 	return isfinite(v) && (!a->log || v > 0);
 }
 
-/* ---- rich text: "^{...}" superscript, "_{...}" subscript */
+/* ---- text through the surface */
 
-struct run {
-	const char *s;
-	size_t n;
-	int level; /* 0 normal, 1 sup, -1 sub */
-};
+static double text_w(const struct ssc_surface *S, const char *t, double fs)
+{
+	return S->ops->text_width(S->ctx, t, fs);
+}
 
-static size_t split_rich(const char *t, struct run *runs, size_t max)
+static void text_at(const struct ssc_surface *S, double x, double y,
+		    const char *t, double fs, uint32_t color, int align)
+{
+	S->ops->text(S->ctx, x, y, t, fs, color, align, 0);
+}
+
+static void group(const struct ssc_surface *S, const char *cls,
+		  const char *attrs)
+{
+	S->ops->group(S->ctx, cls, attrs);
+}
+
+static void line2(const struct ssc_surface *S, double x0, double y0,
+		  double x1, double y1, uint32_t color, double width)
+{
+	double p[4] = { x0, y0, x1, y1 };
+
+	S->ops->polyline(S->ctx, p, 2, color, width, NULL);
+}
+
+/* Split text at '\n' and break lines wider than maxw at spaces outside
+ * markup braces; a word wider than maxw stays whole on its line. */
+static size_t wrap(const struct ssc_surface *S, const char *t, double fs,
+		   double maxw, char lines[][160], size_t max)
 {
 	size_t n = 0;
 
-	while (*t && n < max) {
-		if ((t[0] == '^' || t[0] == '_') && t[1] == '{') {
-			const char *e = strchr(t + 2, '}');
+	while (t && *t && n < max) {
+		const char *e = strchr(t, '\n');
+		size_t len = e ? (size_t)(e - t) : strlen(t), start = 0;
+		char para[160];
 
-			if (e) {
-				runs[n++] = (struct run){ t + 2, (size_t)(e - t - 2),
-							  t[0] == '^' ? 1 : -1 };
-				t = e + 1;
-				continue;
+		if (len > 159)
+			len = 159;
+		memcpy(para, t, len);
+		para[len] = '\0';
+		while (n < max) {
+			size_t best = 0, depth = 0;
+			char cand[160];
+
+			/* the longest prefix ending before a space that fits */
+			for (size_t i = start; i <= len; i++) {
+				if (para[i] == '{')
+					depth++;
+				else if (para[i] == '}' && depth)
+					depth--;
+				if ((para[i] == ' ' && !depth) || i == len) {
+					memcpy(cand, para + start, i - start);
+					cand[i - start] = '\0';
+					if (best && text_w(S, cand, fs) > maxw)
+						break;
+					best = i;
+					if (i == len)
+						break;
+				}
 			}
+			if (!best)
+				best = len;
+			memcpy(lines[n], para + start, best - start);
+			lines[n][best - start] = '\0';
+			n++;
+			start = best;
+			while (start < len && para[start] == ' ')
+				start++;
+			if (start >= len)
+				break;
 		}
-		{
-			const char *e = t;
-
-			while (*e && !((e[0] == '^' || e[0] == '_') && e[1] == '{'))
-				e++;
-			if (e == t)
-				e++;
-			runs[n++] = (struct run){ t, (size_t)(e - t), 0 };
-			t = e;
-		}
+		if (!e)
+			break;
+		t = e + 1;
 	}
 	return n;
-}
-
-static double rich_width(struct ssc_canvas *cv, const char *t, double fs)
-{
-	struct run runs[16];
-	size_t n = split_rich(t, runs, 16);
-	double w = 0;
-
-	for (size_t i = 0; i < n; i++) {
-		char buf[256];
-		double rw, a, d;
-		size_t len = runs[i].n < 255 ? runs[i].n : 255;
-
-		memcpy(buf, runs[i].s, len);
-		buf[len] = '\0';
-		ssc_canvas_text_size(cv, buf, runs[i].level ? fs * 0.72 : fs,
-				     &rw, &a, &d);
-		w += rw;
-	}
-	return w;
-}
-
-/* Draw rich text with its baseline at y; align -1 left, 0 centre, 1 right */
-static void rich_text(struct ssc_canvas *cv, double x, double y, const char *t,
-		      double fs, uint32_t color, int align)
-{
-	struct run runs[16];
-	size_t n = split_rich(t, runs, 16);
-	double w = rich_width(cv, t, fs);
-
-	x -= align == 0 ? w / 2 : align > 0 ? w : 0;
-	for (size_t i = 0; i < n; i++) {
-		char buf[256];
-		double rw, a, d, s = runs[i].level ? fs * 0.72 : fs;
-		size_t len = runs[i].n < 255 ? runs[i].n : 255;
-
-		memcpy(buf, runs[i].s, len);
-		buf[len] = '\0';
-		ssc_canvas_text(cv, x,
-				y - (runs[i].level > 0 ? 0.42 * fs :
-				     runs[i].level < 0 ? -0.2 * fs : 0),
-				buf, s, color, 0);
-		ssc_canvas_text_size(cv, buf, s, &rw, &a, &d);
-		x += rw;
-	}
-}
-
-/* Vertical labels cannot carry runs: map "^{2}" to Unicode superscripts. */
-static void flatten_sup(const char *in, char *out, size_t len)
-{
-	static const char *const sup[] = { "\xe2\x81\xb0", "\xc2\xb9",
-					   "\xc2\xb2", "\xc2\xb3",
-					   "\xe2\x81\xb4", "\xe2\x81\xb5",
-					   "\xe2\x81\xb6", "\xe2\x81\xb7",
-					   "\xe2\x81\xb8", "\xe2\x81\xb9" };
-	size_t o = 0;
-
-	while (*in && o + 8 < len) {
-		if (in[0] == '^' && in[1] == '{') {
-			const char *e = strchr(in + 2, '}');
-			bool conv = e != NULL;
-
-			for (const char *p = in + 2; conv && p < e; p++)
-				if (!((*p >= '0' && *p <= '9') || *p == '-'))
-					conv = false;
-			if (conv) {
-				for (const char *p = in + 2; p < e && o + 8 < len;
-				     p++) {
-					const char *s = *p == '-' ? "\xe2\x81\xbb" :
-								    sup[*p - '0'];
-
-					memcpy(out + o, s, strlen(s));
-					o += strlen(s);
-				}
-				in = e + 1;
-				continue;
-			}
-		}
-		if ((in[0] == '^' || in[0] == '_') && in[1] == '{') {
-			const char *e = strchr(in + 2, '}');
-
-			if (e) {
-				out[o++] = in[0];
-				out[o++] = '(';
-				for (const char *p = in + 2; p < e && o + 4 < len; p++)
-					out[o++] = *p;
-				out[o++] = ')';
-				in = e + 1;
-				continue;
-			}
-		}
-		out[o++] = *in++;
-	}
-	out[o] = '\0';
 }
 
 /* ---- limits and ticks */
@@ -774,6 +735,25 @@ static void fmt_linear(struct axis *a, double step)
 	}
 }
 
+/* Label of a tick m x 10^k on a log axis: plain from 0.01 to 1000 (and
+ * from 10^-3 when plain is asked for), else 10^{k} or m×10^{k}. */
+static void log_label(char *buf, size_t len, double v, bool plain)
+{
+	int k = (int)floor(log10(v) + 1e-9);
+	int m = (int)lround(v / pow(10, k));
+
+	if (m >= 10) {
+		m /= 10;
+		k++;
+	}
+	if (k >= (plain ? -3 : -2) && k <= 3)
+		snprintf(buf, len, "%.*f", k < 0 ? -k : 0, m * pow(10, k));
+	else if (m == 1)
+		snprintf(buf, len, "10^{%d}", k);
+	else
+		snprintf(buf, len, "%d\xc3\x97" "10^{%d}", m, k);
+}
+
 static void make_axis(struct axis *a, bool logv, bool set, double slo,
 		      double shi, double dlo, double dhi, bool pad, bool img,
 		      double px_len, double px_per_tick)
@@ -811,42 +791,58 @@ static void make_axis(struct axis *a, bool logv, bool set, double slo,
 			a->hi += 0.05 * span;
 		}
 	}
+	a->mult[0] = '\0';
 	if (logv && a->lo > 0 && a->hi > a->lo) {
+		double decades = log10(a->hi / a->lo);
+
 		a->nmaj = ssc_ticks_log(a->lo, a->hi, a->major, MAXT, a->minor,
 					8 * MAXT, &a->nmin);
-		if (a->nmaj >= 2) {
+		if (a->nmaj >= 2 && decades > 2.6) {
 			size_t every = 1;
 
 			while (a->nmaj / every > target + 1)
 				every++;
-			a->mult[0] = '\0';
 			for (size_t i = 0; i < a->nmaj; i++) {
 				int k = (int)lround(log10(a->major[i]));
 
-				if (k == 0)
-					snprintf(a->labels[i], 40, "1");
-				else if (k == 1)
-					snprintf(a->labels[i], 40, "10");
-				else
-					snprintf(a->labels[i], 40, "10^{%d}", k);
+				log_label(a->labels[i], 40, a->major[i], false);
 				a->show[i] = (k % (int)every) == 0;
 			}
 			return;
 		}
-		/* less than a decade: 1-2-5 ticks, plain labels */
-		a->nmaj = 0;
-		for (size_t i = 0; i < a->nmin && a->nmaj < MAXT; i++) {
-			double m = a->minor[i] /
-				   pow(10, floor(log10(a->minor[i]) + 1e-9));
+		/* up to about two decades: 1-2-5 ticks, labelled, so a
+		 * reader finds values without counting minor ticks */
+		{
+			double all[MAXT];
+			size_t n = 0, i = 0, j = 0;
 
-			if (fabs(m - 2) < 1e-6 || fabs(m - 5) < 1e-6)
-				a->major[a->nmaj++] = a->minor[i];
+			for (size_t k = 0; k < a->nmin && n < MAXT; k++) {
+				double m = a->minor[k] /
+					   pow(10, floor(log10(a->minor[k]) + 1e-9));
+
+				if (fabs(m - 2) < 1e-6 || fabs(m - 5) < 1e-6)
+					all[n++] = a->minor[k];
+			}
+			/* merge the decades and the 2s and 5s in order */
+			{
+				double merged[MAXT];
+				size_t nm = 0;
+
+				while ((i < a->nmaj || j < n) && nm < MAXT) {
+					if (j >= n || (i < a->nmaj &&
+						       a->major[i] < all[j]))
+						merged[nm++] = a->major[i++];
+					else
+						merged[nm++] = all[j++];
+				}
+				memcpy(a->major, merged, nm * sizeof(double));
+				a->nmaj = nm;
+			}
 		}
 		for (size_t i = 0; i < a->nmaj; i++) {
-			snprintf(a->labels[i], 40, "%g", a->major[i]);
+			log_label(a->labels[i], 40, a->major[i], true);
 			a->show[i] = true;
 		}
-		a->mult[0] = '\0';
 		return;
 	}
 	a->log = false;
@@ -855,29 +851,76 @@ static void make_axis(struct axis *a, bool logv, bool set, double slo,
 	fmt_linear(a, step);
 }
 
-static void plan(struct ssc_canvas *cv, struct ssc_ax *ax, struct layout *L,
-		 double cw, double ch, double fs)
+/* Widest text a legend or note may have before it wraps. */
+static double side_text_max(double cw)
 {
-	double dlo, dhi, w, a, d, maxw = 0;
+	return fmax(160, 0.27 * cw);
+}
+
+/* Size of the legend box and of each note box in the side panel. */
+static void side_boxes(const struct ssc_surface *S, const struct ssc_ax *ax,
+		       double fs, double cw, double *legend_w, double *legend_h,
+		       size_t *n_legend, double *note_w, double *note_h)
+{
+	double fl = fs * FS_LEGEND, fn = fs * FS_NOTE, maxt = side_text_max(cw);
+	char lines[16][160];
+	size_t nl = 0;
+
+	*legend_w = *legend_h = *note_w = *note_h = 0;
+	*n_legend = 0;
+	for (size_t k = 0; k < ax->n_items; k++) {
+		const struct item *it = &ax->items[k];
+
+		if (it->kind == IT_NOTE) {
+			size_t n = wrap(S, it->text, fn, maxt, lines, 16);
+
+			for (size_t i = 0; i < n; i++)
+				*note_w = fmax(*note_w,
+					       text_w(S, lines[i], fn) + 20);
+			*note_h += fn * 1.4 * (double)n + 10 + 10;
+			continue;
+		}
+		if (!it->label || it->kind == IT_IMAGE ||
+		    ax->legend == SSC_LEGEND_NONE)
+			continue;
+		{
+			size_t n = wrap(S, it->label, fl, maxt, lines, 16);
+
+			for (size_t i = 0; i < n; i++)
+				*legend_w = fmax(*legend_w,
+						 10 + SAMPLE_W + 8 +
+							 text_w(S, lines[i], fl) +
+							 10);
+			nl += n;
+			(*n_legend)++;
+		}
+	}
+	if (*n_legend)
+		*legend_h = 8 + fl * 1.45 * (double)nl + 4;
+}
+
+static void plan(const struct ssc_surface *S, struct ssc_ax *ax,
+		 struct layout *L, double cw, double ch, double fs)
+{
+	double dlo, dhi, w, maxw = 0, lw, lh, nw, nh;
+	size_t nlg;
 	bool img;
 
 	memset(L, 0, sizeof(*L));
 	data_range(ax, true, ax->logx, &dlo, &dhi, &img);
 	make_axis(&L->x, ax->logx, ax->xlim_set, ax->xlo, ax->xhi, dlo, dhi,
-		  false, img, cw * 0.8, ax->logx ? 55 : 90);
+		  false, img, cw * 0.6, ax->logx ? 55 : 100);
 	data_range(ax, false, ax->logy, &dlo, &dhi, &img);
 	make_axis(&L->y, ax->logy, ax->ylim_set, ax->ylo, ax->yhi, dlo, dhi,
-		  true, img, ch * 0.75, ax->logy ? 28 : 45);
+		  true, img, ch * 0.7, ax->logy ? 30 : 48);
 	for (size_t i = 0; i < L->y.nmaj; i++) {
-		w = rich_width(cv, L->y.labels[i], fs * 0.9);
+		w = text_w(S, L->y.labels[i], fs * FS_TICK);
 		if (w > maxw)
 			maxw = w;
 	}
-	ssc_canvas_text_size(cv, "0", fs, &w, &a, &d);
 	L->left = 10 + maxw + 8 + 6 + (ax->ylabel ? fs * 1.3 + 6 : 0);
 	L->bottom = 6 + 4 + fs * 1.2 + (ax->xlabel ? fs * 1.4 + 6 : 0) + 8;
 	L->top = (ax->title ? fs * 1.8 : 0) + (L->y.mult[0] ? fs : 0) + 12;
-	L->right = 24;
 	for (size_t k = 0; k < ax->n_items; k++)
 		if (ax->items[k].kind == IT_IMAGE) {
 			const struct item *it = &ax->items[k];
@@ -893,8 +936,7 @@ static void plan(struct ssc_canvas *cv, struct ssc_ax *ax, struct layout *L,
 						      mn, 8 * MAXT, &nn);
 				for (size_t i = 0; i < L->nz; i++) {
 					L->zmaj[i] = mj[i];
-					snprintf(L->zlabels[i], 40, "10^{%d}",
-						 (int)lround(log10(mj[i])));
+					log_label(L->zlabels[i], 40, mj[i], false);
 				}
 			} else {
 				struct axis za;
@@ -910,23 +952,27 @@ static void plan(struct ssc_canvas *cv, struct ssc_ax *ax, struct layout *L,
 				}
 			}
 			for (size_t i = 0; i < L->nz; i++) {
-				w = rich_width(cv, L->zlabels[i], fs * 0.9);
+				w = text_w(S, L->zlabels[i], fs * FS_TICK);
 				if (w > zmax)
 					zmax = w;
 			}
-			L->right = 16 + 16 + 6 + zmax + 10 +
-				   (it->label ? fs * 1.3 : 0) + 10;
+			L->cbar_w = 16 + 16 + 8 + zmax + 10 +
+				    (it->label ? fs * 1.3 : 0);
 		}
+	side_boxes(S, ax, fs, cw, &lw, &lh, &nlg, &nw, &nh);
+	L->side_w = fmax(lw, nw);
+	L->side_h = lh + (lh > 0 && nh > 0 ? 10 : 0) + nh;
+	L->right = L->cbar_w + (L->side_w > 0 ? SIDE_GAP + L->side_w : 0) + 24;
 }
 
-/* ---- drawing primitives on top of the shim */
+/* ---- drawing primitives on the surface */
 
 static const double dash_on_off[4][4] = {
 	{ 0, 0, 0, 0 }, { 9, 5, 9, 5 }, { 2, 4, 2, 4 }, { 9, 4, 2, 4 }
 };
 
 /* Draw a polyline (pixel coords) with a dash pattern. */
-static void stroke(struct ssc_canvas *cv, const double *xy, size_t n,
+static void stroke(const struct ssc_surface *S, const double *xy, size_t n,
 		   uint32_t color, double width, enum ssc_dash dash)
 {
 	double seg[512 * 2];
@@ -937,7 +983,15 @@ static void stroke(struct ssc_canvas *cv, const double *xy, size_t n,
 	if (n < 2)
 		return;
 	if (dash == SSC_SOLID) {
-		ssc_canvas_polyline(cv, xy, n, color, width);
+		S->ops->polyline(S->ctx, xy, n, color, width, NULL);
+		return;
+	}
+	if (S->native_dash) {
+		double d[4];
+
+		for (int i = 0; i < 4; i++)
+			d[i] = dash_on_off[dash][i] * scale;
+		S->ops->polyline(S->ctx, xy, n, color, width, d);
 		return;
 	}
 	left = dash_on_off[dash][0] * scale;
@@ -958,7 +1012,8 @@ static void stroke(struct ssc_canvas *cv, const double *xy, size_t n,
 				seg[2 * ns] = x0 + t * (x1 - x0);
 				seg[2 * ns + 1] = y0 + t * (y1 - y0);
 				ns++;
-				ssc_canvas_polyline(cv, seg, ns, color, width);
+				S->ops->polyline(S->ctx, seg, ns, color, width,
+						 NULL);
 				ns = 0;
 			} else { /* start of an "on" piece */
 				seg[0] = x0 + t * (x1 - x0);
@@ -971,7 +1026,8 @@ static void stroke(struct ssc_canvas *cv, const double *xy, size_t n,
 		left -= len - pos;
 		if (!(phase & 1)) {
 			if (ns == 512) {
-				ssc_canvas_polyline(cv, seg, ns, color, width);
+				S->ops->polyline(S->ctx, seg, ns, color, width,
+						 NULL);
 				seg[0] = seg[2 * ns - 2];
 				seg[1] = seg[2 * ns - 1];
 				ns = 1;
@@ -982,30 +1038,34 @@ static void stroke(struct ssc_canvas *cv, const double *xy, size_t n,
 		}
 	}
 	if (!(phase & 1) && ns >= 2)
-		ssc_canvas_polyline(cv, seg, ns, color, width);
+		S->ops->polyline(S->ctx, seg, ns, color, width, NULL);
 }
 
-static void marker(struct ssc_canvas *cv, double x, double y,
+static void marker(const struct ssc_surface *S, double x, double y,
 		   enum ssc_marker m, double size, uint32_t color)
 {
 	double r = size / 2, p[8];
 
 	switch (m) {
 	case SSC_MK_CIRCLE:
-		ssc_canvas_circle(cv, x, y, r, color, 1, 1);
+		S->ops->circle(S->ctx, x, y, r, color, 1, 1);
 		break;
 	case SSC_MK_SQUARE:
-		ssc_canvas_rect(cv, x - r, y - r, 2 * r, 2 * r, color, 1, 1);
+		S->ops->rect(S->ctx, x - r, y - r, 2 * r, 2 * r, color, 1, 1);
 		break;
 	case SSC_MK_TRIANGLE:
+	case SSC_MK_TRIANGLE_DOWN: {
+		double sgn = m == SSC_MK_TRIANGLE ? 1 : -1;
+
 		p[0] = x;
-		p[1] = y - r * 1.15;
+		p[1] = y - sgn * r * 1.15;
 		p[2] = x + r;
-		p[3] = y + r * 0.7;
+		p[3] = y + sgn * r * 0.7;
 		p[4] = x - r;
-		p[5] = y + r * 0.7;
-		ssc_canvas_fill(cv, p, 3, color, 1);
+		p[5] = y + sgn * r * 0.7;
+		S->ops->fill(S->ctx, p, 3, color, 1);
 		break;
+	}
 	case SSC_MK_DIAMOND:
 		p[0] = x;
 		p[1] = y - r * 1.2;
@@ -1015,19 +1075,11 @@ static void marker(struct ssc_canvas *cv, double x, double y,
 		p[5] = y + r * 1.2;
 		p[6] = x - r;
 		p[7] = y;
-		ssc_canvas_fill(cv, p, 4, color, 1);
+		S->ops->fill(S->ctx, p, 4, color, 1);
 		break;
 	case SSC_MK_CROSS:
-		p[0] = x - r;
-		p[1] = y - r;
-		p[2] = x + r;
-		p[3] = y + r;
-		ssc_canvas_polyline(cv, p, 2, color, 2);
-		p[0] = x - r;
-		p[1] = y + r;
-		p[2] = x + r;
-		p[3] = y - r;
-		ssc_canvas_polyline(cv, p, 2, color, 2);
+		line2(S, x - r, y - r, x + r, y + r, color, 2);
+		line2(S, x - r, y + r, x + r, y - r, color, 2);
 		break;
 	default:
 		break;
@@ -1083,7 +1135,7 @@ static void draw_series(struct render *r, const struct item *it)
 			if (decimate)
 				FLUSH_COL();
 			if (it->st.width > 0)
-				stroke(r->cv, xy, n, it->st.color, it->st.width,
+				stroke(r->S, xy, n, it->st.color, it->st.width,
 				       it->st.dash);
 			n = 0;
 			col = LONG_MIN;
@@ -1112,7 +1164,7 @@ static void draw_series(struct render *r, const struct item *it)
 	if (it->st.marker != SSC_MK_NONE && it->n <= 5000)
 		for (size_t i = 0; i < it->n; i++)
 			if (ok_val(ax, it->x[i]) && ok_val(ay, it->y[i]))
-				marker(r->cv, X(r, it->x[i]), Y(r, it->y[i]),
+				marker(r->S, X(r, it->x[i]), Y(r, it->y[i]),
 				       it->st.marker, it->st.marker_size,
 				       it->st.color);
 out:
@@ -1126,7 +1178,7 @@ static void draw_errbar(struct render *r, const struct item *it)
 	const struct axis *ax = &r->L->x, *ay = &r->L->y;
 
 	for (size_t i = 0; i < it->n; i++) {
-		double x, p[4], lo = it->lo[i], hi = it->hi[i];
+		double x, lo = it->lo[i], hi = it->hi[i];
 
 		if (!ok_val(ax, it->x[i]))
 			continue;
@@ -1134,24 +1186,14 @@ static void draw_errbar(struct render *r, const struct item *it)
 		if (ay->log && !(lo > 0))
 			lo = ay->lo * 1e-3;
 		if (ok_val(ay, hi) && isfinite(lo)) {
-			p[0] = x;
-			p[1] = Y(r, lo);
-			p[2] = x;
-			p[3] = Y(r, hi);
-			ssc_canvas_polyline(r->cv, p, 2, it->st.color, 1.2);
-			p[0] = x - 3.5;
-			p[2] = x + 3.5;
-			p[1] = p[3] = Y(r, hi);
-			ssc_canvas_polyline(r->cv, p, 2, it->st.color, 1.2);
-			p[1] = p[3] = Y(r, lo);
-			ssc_canvas_polyline(r->cv, p, 2, it->st.color, 1.2);
+			line2(r->S, x, Y(r, lo), x, Y(r, hi), it->st.color, 1.2);
+			line2(r->S, x - 3.5, Y(r, hi), x + 3.5, Y(r, hi),
+			      it->st.color, 1.2);
+			line2(r->S, x - 3.5, Y(r, lo), x + 3.5, Y(r, lo),
+			      it->st.color, 1.2);
 		}
 	}
-	{
-		struct item line = *it;
-
-		draw_series(r, &line);
-	}
+	draw_series(r, it);
 }
 
 static void draw_band(struct render *r, const struct item *it)
@@ -1179,211 +1221,94 @@ static void draw_band(struct render *r, const struct item *it)
 				p[2 * m + 1] = Y(r, it->lo[i]);
 				m++;
 			}
-			ssc_canvas_fill(r->cv, p, m, it->st.color, it->alpha);
+			r->S->ops->fill(r->S->ctx, p, m, it->st.color,
+					it->alpha);
 		}
 		start = end + 1;
 	}
 	free(p);
 }
 
-/* Lines of a note. */
-static size_t note_lines(const char *t, char lines[][160], size_t max)
+static void box(const struct ssc_surface *S, double x, double y, double w,
+		double h, uint32_t bg)
 {
-	size_t n = 0;
+	double p[8] = { x, y, x + w, y, x + w, y + h, x, y + h };
 
-	while (*t && n < max) {
-		const char *e = strchr(t, '\n');
-		size_t len = e ? (size_t)(e - t) : strlen(t);
-
-		if (len > 159)
-			len = 159;
-		memcpy(lines[n], t, len);
-		lines[n][len] = '\0';
-		n++;
-		if (!e)
-			break;
-		t = e + 1;
-	}
-	return n;
+	S->ops->fill(S->ctx, p, 4, bg, 1);
+	S->ops->rect(S->ctx, x, y, w, h, 0xb0b0b0, 1, 0);
 }
 
-/* Count data points of the axes inside a pixel box (legend placement). */
-static size_t points_in(const struct render *r, const struct ssc_ax *ax,
-			double bx, double by, double bw, double bh)
+/* The legend in the side panel, right of the plot: returns its height. */
+static double draw_legend(struct render *r, const struct ssc_ax *ax,
+			  double bx, double by, double bw, double cw)
 {
-	size_t c = 0;
+	const struct ssc_surface *S = r->S;
+	double fs = r->fs * FS_LEGEND, lh = fs * 1.45, y = by + 8, lw, lhh, nw,
+	       nh;
+	char lines[16][160];
+	size_t n;
 
-	for (size_t k = 0; k < ax->n_items; k++) {
-		const struct item *it = &ax->items[k];
-		size_t step;
-
-		if (it->kind != IT_LINE && it->kind != IT_ERRBAR &&
-		    it->kind != IT_BAND)
-			continue;
-		step = it->n > 2000 ? it->n / 2000 : 1;
-		for (size_t i = 0; i < it->n; i += step) {
-			const double *ys[3] = { it->y, it->lo, it->hi };
-
-			if (!ok_val(&r->L->x, it->x[i]))
-				continue;
-			for (int j = 0; j < 3; j++) {
-				double px, py;
-
-				if (!ys[j] || !ok_val(&r->L->y, ys[j][i]))
-					continue;
-				px = X(r, it->x[i]);
-				py = Y(r, ys[j][i]);
-				if (px >= bx && px <= bx + bw && py >= by &&
-				    py <= by + bh)
-					c++;
-			}
-		}
-	}
-	return c;
-}
-
-static void box_at(const struct render *r, const struct ssc_ax *ax,
-		   enum ssc_legend_pos pos, double bw, double bh, double *bx,
-		   double *by)
-{
-	const double m = 10;
-	enum ssc_legend_pos cand[4] = { SSC_LEGEND_UR, SSC_LEGEND_UL,
-					SSC_LEGEND_LR, SSC_LEGEND_LL };
-	size_t best = SIZE_MAX;
-
-	if (pos == SSC_LEGEND_AUTO) {
-		for (int i = 0; i < 4; i++) {
-			double x, y;
-			size_t c;
-
-			box_at(r, ax, cand[i], bw, bh, &x, &y);
-			c = points_in(r, ax, x, y, bw, bh);
-			if (r->taken & (1u << cand[i]))
-				c = SIZE_MAX - 1; /* a note is there */
-			if (c < best) {
-				best = c;
-				pos = cand[i];
-			}
-		}
-	}
-	*bx = (pos == SSC_LEGEND_UL || pos == SSC_LEGEND_LL) ?
-		      r->px + m :
-		      r->px + r->pw - m - bw;
-	*by = (pos == SSC_LEGEND_UL || pos == SSC_LEGEND_UR) ?
-		      r->py + m :
-		      r->py + r->ph - m - bh;
-}
-
-static void draw_legend(struct render *r, const struct ssc_ax *ax)
-{
-	double fs = r->fs * 0.88, lh = fs * 1.45, maxw = 0, bw, bh, bx, by;
-	size_t n = 0, i = 0;
-
-	if (ax->legend == SSC_LEGEND_NONE)
-		return;
-	for (size_t k = 0; k < ax->n_items; k++)
-		if (ax->items[k].label && ax->items[k].kind != IT_IMAGE) {
-			double w = rich_width(r->cv, ax->items[k].label, fs);
-
-			if (w > maxw)
-				maxw = w;
-			n++;
-		}
+	side_boxes(S, ax, r->fs, cw, &lw, &lhh, &n, &nw, &nh);
 	if (!n)
-		return;
-	bw = 12 + 30 + 8 + maxw + 12;
-	bh = 8 + lh * (double)n + 4;
-	box_at(r, ax, ax->legend, bw, bh, &bx, &by);
-	{
-		double p[8] = { bx, by, bx + bw, by, bx + bw, by + bh, bx, by + bh };
-
-		ssc_canvas_fill(r->cv, p, 4, 0xffffff, 0.88);
-		ssc_canvas_rect(r->cv, bx, by, bw, bh, 0xb0b0b0, 1, 0);
-	}
+		return 0;
+	group(S, "legend", NULL);
+	box(S, bx, by, bw, lhh, 0xffffff);
 	for (size_t k = 0; k < ax->n_items; k++) {
 		const struct item *it = &ax->items[k];
-		double y = by + 8 + lh * (double)i + lh * 0.5, x = bx + 12;
+		double x = bx + 10, yc = y + lh * 0.5;
+		size_t nl;
 
-		if (!it->label || it->kind == IT_IMAGE)
+		if (!it->label || it->kind == IT_IMAGE || it->kind == IT_NOTE)
 			continue;
+		nl = wrap(S, it->label, fs, side_text_max(cw), lines, 16);
+		group(S, "legend-entry", NULL);
 		if (it->kind == IT_BAND) {
-			double p[8] = { x, y - 6, x + 30, y - 6, x + 30, y + 6,
-					x, y + 6 };
+			double p[8] = { x, yc - 6, x + SAMPLE_W, yc - 6,
+					x + SAMPLE_W, yc + 6, x, yc + 6 };
 
-			ssc_canvas_fill(r->cv, p, 4, it->st.color, it->alpha);
+			S->ops->fill(S->ctx, p, 4, it->st.color, it->alpha);
 		} else {
-			double p[4] = { x, y, x + 30, y };
+			double p[4] = { x, yc, x + SAMPLE_W, yc };
 
 			if (it->st.width > 0)
-				stroke(r->cv, p, 2, it->st.color,
-				       it->st.width, it->st.dash);
-			if (it->kind == IT_ERRBAR) {
-				double q[4] = { x + 15, y - 7, x + 15, y + 7 };
-
-				ssc_canvas_polyline(r->cv, q, 2, it->st.color,
-						    1.2);
-			}
+				stroke(S, p, 2, it->st.color, it->st.width,
+				       it->st.dash);
+			if (it->kind == IT_ERRBAR)
+				line2(S, x + SAMPLE_W / 2.0, yc - 7,
+				      x + SAMPLE_W / 2.0, yc + 7, it->st.color,
+				      1.2);
 			if (it->st.marker)
-				marker(r->cv, x + 15, y, it->st.marker,
+				marker(S, x + SAMPLE_W / 2.0, yc, it->st.marker,
 				       it->st.marker_size, it->st.color);
 		}
-		rich_text(r->cv, x + 38, y + fs * 0.35, it->label, fs, 0x202020,
-			  -1);
-		i++;
+		for (size_t i = 0; i < nl; i++)
+			text_at(S, x + SAMPLE_W + 8,
+				y + lh * (double)i + lh * 0.5 + fs * 0.35,
+				lines[i], fs, 0x202020, -1);
+		group(S, NULL, NULL);
+		y += lh * (double)nl;
 	}
+	group(S, NULL, NULL);
+	return lhh;
 }
 
-static void draw_note(struct render *r, const struct ssc_ax *ax,
-		      const struct item *it)
+/* A note box in the side panel: returns its height. */
+static double draw_note(struct render *r, const struct item *it, double bx,
+			double by, double bw, double cw)
 {
+	const struct ssc_surface *S = r->S;
 	char lines[16][160];
-	size_t n = note_lines(it->text, lines, 16);
-	double fs = r->fs * 0.85, lh = fs * 1.4, maxw = 0, bw, bh, bx, by;
+	double fs = r->fs * FS_NOTE, lh = fs * 1.4, bh;
+	size_t n = wrap(S, it->text, fs, side_text_max(cw), lines, 16);
 
-	for (size_t i = 0; i < n; i++) {
-		double w = rich_width(r->cv, lines[i], fs);
-
-		if (w > maxw)
-			maxw = w;
-	}
-	enum ssc_legend_pos pos = it->pos;
-
-	bw = maxw + 20;
 	bh = lh * (double)n + 10;
-	if (pos == SSC_LEGEND_NONE || pos == SSC_LEGEND_AUTO) {
-		/* the free corner with the fewest points */
-		static const enum ssc_legend_pos c4[4] = {
-			SSC_LEGEND_UR, SSC_LEGEND_UL, SSC_LEGEND_LR, SSC_LEGEND_LL
-		};
-		size_t best = SIZE_MAX;
-
-		for (int i = 0; i < 4; i++) {
-			double x, y;
-			size_t c;
-
-			if (r->taken & (1u << c4[i]))
-				continue;
-			box_at(r, ax, c4[i], bw, bh, &x, &y);
-			c = points_in(r, ax, x, y, bw, bh);
-			if (c < best) {
-				best = c;
-				pos = c4[i];
-			}
-		}
-		if (best == SIZE_MAX)
-			pos = SSC_LEGEND_UR;
-	}
-	r->taken |= 1u << pos;
-	box_at(r, ax, pos, bw, bh, &bx, &by);
-	{
-		double p[8] = { bx, by, bx + bw, by, bx + bw, by + bh, bx, by + bh };
-
-		ssc_canvas_fill(r->cv, p, 4, 0xfffff4, 0.9);
-		ssc_canvas_rect(r->cv, bx, by, bw, bh, 0xb0b0b0, 1, 0);
-	}
+	group(S, "note", NULL);
+	box(S, bx, by, bw, bh, 0xfffff4);
 	for (size_t i = 0; i < n; i++)
-		rich_text(r->cv, bx + 10, by + 5 + lh * (double)i + lh * 0.72,
-			  lines[i], fs, 0x202020, -1);
+		text_at(S, bx + 10, by + 5 + lh * (double)i + lh * 0.72,
+			lines[i], fs, 0x202020, -1);
+	group(S, NULL, NULL);
+	return bh;
 }
 
 static void draw_image(struct render *r, const struct item *it)
@@ -1404,56 +1329,49 @@ static void draw_image(struct render *r, const struct item *it)
 			z = z > 0 ? log10(z) : (double)NAN;
 		v[i] = isfinite(z) ? (z - lo) / (hi - lo) : (double)NAN;
 	}
-	ssc_canvas_image(r->cv, (int)lround(fmin(x0, x1)),
-			 (int)lround(fmin(y0, y1)), (int)lround(fabs(x1 - x0)),
-			 (int)lround(fabs(y1 - y0)), v, (int)it->nx,
-			 (int)it->ny);
+	r->S->ops->image(r->S->ctx, fmin(x0, x1), fmin(y0, y1), fabs(x1 - x0),
+			 fabs(y1 - y0), v, (int)it->nx, (int)it->ny);
 	free(v);
 }
 
 static void draw_colorbar(struct render *r)
 {
+	const struct ssc_surface *S = r->S;
 	const struct item *it = r->L->img;
 	double bx = r->px + r->pw + 16, by = r->py, bw = 16, bh = r->ph;
-	double v[256], lo, hi, fs = r->fs * 0.9, maxw = 0;
+	double v[256], lo, hi, fs = r->fs * FS_TICK, maxw = 0;
 
+	group(S, "colorbar", NULL);
 	for (int i = 0; i < 256; i++)
 		v[i] = i / 255.0;
-	ssc_canvas_image(r->cv, (int)bx, (int)by, (int)bw, (int)bh, v, 1, 256);
-	ssc_canvas_rect(r->cv, bx, by, bw, bh, 0x000000, 1, 0);
+	S->ops->image(S->ctx, bx, by, bw, bh, v, 1, 256);
+	S->ops->rect(S->ctx, bx, by, bw, bh, 0x000000, 1, 0);
 	lo = it->zlog ? log10(it->zlo) : it->zlo;
 	hi = it->zlog ? log10(it->zhi) : it->zhi;
 	for (size_t i = 0; i < r->L->nz; i++) {
 		double z = it->zlog ? log10(r->L->zmaj[i]) : r->L->zmaj[i];
-		double y = by + bh - (z - lo) / (hi - lo) * bh, p[4], w;
+		double y = by + bh - (z - lo) / (hi - lo) * bh, w;
 
-		p[0] = bx + bw;
-		p[1] = p[3] = y;
-		p[2] = bx + bw + 5;
-		ssc_canvas_polyline(r->cv, p, 2, 0, 1);
-		rich_text(r->cv, bx + bw + 8, y + fs * 0.35, r->L->zlabels[i],
-			  fs, 0x202020, -1);
-		w = rich_width(r->cv, r->L->zlabels[i], fs);
+		line2(S, bx + bw, y, bx + bw + 5, y, 0, 1);
+		text_at(S, bx + bw + 8, y + fs * 0.35, r->L->zlabels[i], fs,
+			0x202020, -1);
+		w = text_w(S, r->L->zlabels[i], fs);
 		if (w > maxw)
 			maxw = w;
 	}
-	if (it->label) {
-		char flat[256];
-
-		flatten_sup(it->label, flat, sizeof(flat));
-		ssc_canvas_text(r->cv, bx + bw + 8 + maxw + 8 + r->fs,
-				by + bh / 2 + rich_width(r->cv, flat, r->fs) / 2,
-				flat, r->fs, 0x202020, 1);
-	}
+	if (it->label)
+		S->ops->text(S->ctx, bx + bw + 8 + maxw + 8 + r->fs,
+			     by + bh / 2, it->label, r->fs, 0x202020, 0, 1);
+	group(S, NULL, NULL);
 }
 
-static void render_ax(struct ssc_canvas *cv, struct ssc_ax *ax,
+static void render_ax(const struct ssc_surface *S, struct ssc_ax *ax,
 		      struct layout *L, double cx, double cy, double cw,
 		      double ch, double left, double right, double top,
 		      double bottom, double fs)
 {
-	struct render r = { .cv = cv, .fs = fs, .L = L };
-	double p[4];
+	struct render r = { .S = S, .fs = fs, .L = L };
+	double fx = fs * FS_TICK;
 
 	r.px = cx + left;
 	r.py = cy + top;
@@ -1461,49 +1379,35 @@ static void render_ax(struct ssc_canvas *cv, struct ssc_ax *ax,
 	r.ph = ch - top - bottom;
 	if (r.pw < 20 || r.ph < 20)
 		return;
-	/* grid */
+	group(S, "axes", NULL);
 	if (ax->grid) {
-		for (size_t i = 0; i < L->x.nmin; i++) {
-			p[0] = p[2] = X(&r, L->x.minor[i]);
-			p[1] = r.py;
-			p[3] = r.py + r.ph;
-			ssc_canvas_polyline(cv, p, 2, 0xf0f0f0, 1);
-		}
-		for (size_t i = 0; i < L->y.nmin; i++) {
-			p[1] = p[3] = Y(&r, L->y.minor[i]);
-			p[0] = r.px;
-			p[2] = r.px + r.pw;
-			ssc_canvas_polyline(cv, p, 2, 0xf0f0f0, 1);
-		}
-		for (size_t i = 0; i < L->x.nmaj; i++) {
-			p[0] = p[2] = X(&r, L->x.major[i]);
-			p[1] = r.py;
-			p[3] = r.py + r.ph;
-			ssc_canvas_polyline(cv, p, 2, 0xd8d8d8, 1);
-		}
-		for (size_t i = 0; i < L->y.nmaj; i++) {
-			p[1] = p[3] = Y(&r, L->y.major[i]);
-			p[0] = r.px;
-			p[2] = r.px + r.pw;
-			ssc_canvas_polyline(cv, p, 2, 0xd8d8d8, 1);
-		}
+		group(S, "grid", NULL);
+		for (size_t i = 0; i < L->x.nmin; i++)
+			line2(S, X(&r, L->x.minor[i]), r.py,
+			      X(&r, L->x.minor[i]), r.py + r.ph, 0xf0f0f0, 1);
+		for (size_t i = 0; i < L->y.nmin; i++)
+			line2(S, r.px, Y(&r, L->y.minor[i]), r.px + r.pw,
+			      Y(&r, L->y.minor[i]), 0xf0f0f0, 1);
+		for (size_t i = 0; i < L->x.nmaj; i++)
+			line2(S, X(&r, L->x.major[i]), r.py,
+			      X(&r, L->x.major[i]), r.py + r.ph, 0xd8d8d8, 1);
+		for (size_t i = 0; i < L->y.nmaj; i++)
+			line2(S, r.px, Y(&r, L->y.major[i]), r.px + r.pw,
+			      Y(&r, L->y.major[i]), 0xd8d8d8, 1);
+		group(S, NULL, NULL);
 	}
 	/* data, clipped to the plot rectangle */
-	ssc_canvas_clip(cv, (int)floor(r.px), (int)floor(r.py),
-			(int)ceil(r.pw) + 1, (int)ceil(r.ph) + 1);
+	group(S, "data", NULL);
 	for (size_t k = 0; k < ax->n_items; k++)
-		if (ax->items[k].kind == IT_IMAGE) {
-			ssc_canvas_clip(cv, 0, 0, 0, 0);
+		if (ax->items[k].kind == IT_IMAGE)
 			draw_image(&r, &ax->items[k]);
-			ssc_canvas_clip(cv, (int)floor(r.px), (int)floor(r.py),
-					(int)ceil(r.pw) + 1,
-					(int)ceil(r.ph) + 1);
-		}
+	S->ops->clip(S->ctx, r.px, r.py, r.pw, r.ph);
 	for (size_t k = 0; k < ax->n_items; k++)
 		if (ax->items[k].kind == IT_BAND)
 			draw_band(&r, &ax->items[k]);
 	for (size_t k = 0; k < ax->n_items; k++) {
 		const struct item *it = &ax->items[k];
+		double p[4];
 
 		switch (it->kind) {
 		case IT_LINE:
@@ -1517,7 +1421,7 @@ static void render_ax(struct ssc_canvas *cv, struct ssc_ax *ax,
 				p[0] = p[2] = X(&r, it->x[0]);
 				p[1] = r.py;
 				p[3] = r.py + r.ph;
-				stroke(cv, p, 2, it->st.color, it->st.width,
+				stroke(S, p, 2, it->st.color, it->st.width,
 				       it->st.dash);
 			}
 			break;
@@ -1526,7 +1430,7 @@ static void render_ax(struct ssc_canvas *cv, struct ssc_ax *ax,
 				p[1] = p[3] = Y(&r, it->x[0]);
 				p[0] = r.px;
 				p[2] = r.px + r.pw;
-				stroke(cv, p, 2, it->st.color, it->st.width,
+				stroke(S, p, 2, it->st.color, it->st.width,
 				       it->st.dash);
 			}
 			break;
@@ -1534,149 +1438,448 @@ static void render_ax(struct ssc_canvas *cv, struct ssc_ax *ax,
 			break;
 		}
 	}
-	ssc_canvas_clip(cv, 0, 0, 0, 0);
 	for (size_t k = 0; k < ax->n_items; k++) {
 		const struct item *it = &ax->items[k];
 
 		if (it->kind == IT_TEXT && ok_val(&L->x, it->x[0]) &&
 		    ok_val(&L->y, it->y[0]))
-			rich_text(cv, X(&r, it->x[0]), Y(&r, it->y[0]),
-				  it->text, fs * 0.85,
-				  it->st.color ? it->st.color : 0x202020,
-				  it->align);
+			text_at(S, X(&r, it->x[0]), Y(&r, it->y[0]), it->text,
+				fs * FS_TEXT,
+				it->st.color ? it->st.color : 0x202020,
+				it->align);
 	}
+	S->ops->clip(S->ctx, 0, 0, 0, 0);
+	group(S, NULL, NULL);
 	/* frame and ticks */
-	ssc_canvas_rect(cv, r.px, r.py, r.pw, r.ph, 0x000000, 1, 0);
+	group(S, "plot-area", NULL);
+	S->ops->rect(S->ctx, r.px, r.py, r.pw, r.ph, 0x000000, 1, 0);
+	group(S, NULL, NULL);
+	group(S, "xaxis", NULL);
 	for (size_t i = 0; i < L->x.nmaj; i++) {
 		double x = X(&r, L->x.major[i]);
 
-		p[0] = p[2] = x;
-		p[1] = r.py + r.ph;
-		p[3] = r.py + r.ph + 6;
-		ssc_canvas_polyline(cv, p, 2, 0, 1);
+		line2(S, x, r.py + r.ph, x, r.py + r.ph + 6, 0, 1);
 		if (L->x.show[i])
-			rich_text(cv, x, r.py + r.ph + 10 + fs * 0.9,
-				  L->x.labels[i], fs * 0.9, 0x202020, 0);
+			text_at(S, x, r.py + r.ph + 10 + fx, L->x.labels[i], fx,
+				0x202020, 0);
 	}
-	for (size_t i = 0; i < L->x.nmin; i++) {
-		p[0] = p[2] = X(&r, L->x.minor[i]);
-		p[1] = r.py + r.ph;
-		p[3] = r.py + r.ph + 3;
-		ssc_canvas_polyline(cv, p, 2, 0, 1);
+	for (size_t i = 0; i < L->x.nmin; i++)
+		line2(S, X(&r, L->x.minor[i]), r.py + r.ph,
+		      X(&r, L->x.minor[i]), r.py + r.ph + 3, 0, 1);
+	if (L->x.mult[0])
+		text_at(S, r.px + r.pw, r.py + r.ph + 10 + fs * 2.1, L->x.mult,
+			fx, 0x202020, 1);
+	if (ax->xlabel) {
+		group(S, "xlabel", NULL);
+		text_at(S, r.px + r.pw / 2, cy + ch - 10, ax->xlabel, fs,
+			0x000000, 0);
+		group(S, NULL, NULL);
 	}
+	group(S, NULL, NULL);
+	group(S, "yaxis", NULL);
 	for (size_t i = 0; i < L->y.nmaj; i++) {
 		double y = Y(&r, L->y.major[i]);
 
-		p[1] = p[3] = y;
-		p[0] = r.px - 6;
-		p[2] = r.px;
-		ssc_canvas_polyline(cv, p, 2, 0, 1);
+		line2(S, r.px - 6, y, r.px, y, 0, 1);
 		if (L->y.show[i])
-			rich_text(cv, r.px - 10, y + fs * 0.32, L->y.labels[i],
-				  fs * 0.9, 0x202020, 1);
+			text_at(S, r.px - 10, y + fs * 0.32, L->y.labels[i], fx,
+				0x202020, 1);
 	}
-	for (size_t i = 0; i < L->y.nmin; i++) {
-		p[1] = p[3] = Y(&r, L->y.minor[i]);
-		p[0] = r.px - 3;
-		p[2] = r.px;
-		ssc_canvas_polyline(cv, p, 2, 0, 1);
-	}
-	if (L->x.mult[0])
-		rich_text(cv, r.px + r.pw, r.py + r.ph + 10 + fs * 2.1,
-			  L->x.mult, fs * 0.9, 0x202020, 1);
+	for (size_t i = 0; i < L->y.nmin; i++)
+		line2(S, r.px - 3, Y(&r, L->y.minor[i]), r.px,
+		      Y(&r, L->y.minor[i]), 0, 1);
 	if (L->y.mult[0])
-		rich_text(cv, r.px, r.py - 6, L->y.mult, fs * 0.9, 0x202020, -1);
-	if (ax->xlabel)
-		rich_text(cv, r.px + r.pw / 2, cy + ch - 10, ax->xlabel, fs,
-			  0x000000, 0);
+		text_at(S, r.px, r.py - 6, L->y.mult, fx, 0x202020, -1);
 	if (ax->ylabel) {
-		char flat[256];
-		double w;
-
-		flatten_sup(ax->ylabel, flat, sizeof(flat));
-		w = rich_width(cv, flat, fs);
-		ssc_canvas_text(cv, cx + 8 + fs, r.py + r.ph / 2 + w / 2, flat, fs,
-				0x000000, 1);
+		group(S, "ylabel", NULL);
+		S->ops->text(S->ctx, cx + 8 + fs, r.py + r.ph / 2, ax->ylabel,
+			     fs, 0x000000, 0, 1);
+		group(S, NULL, NULL);
 	}
-	if (ax->title)
-		rich_text(cv, r.px + r.pw / 2,
-			  r.py - (L->y.mult[0] ? fs : 0) - 12, ax->title,
-			  fs * 1.08, 0x000000, 0);
+	group(S, NULL, NULL);
+	if (ax->title) {
+		group(S, "title", NULL);
+		text_at(S, r.px + r.pw / 2, r.py - (L->y.mult[0] ? fs : 0) - 12,
+			ax->title, fs * 1.08, 0x000000, 0);
+		group(S, NULL, NULL);
+	}
 	if (L->image)
 		draw_colorbar(&r);
-	for (size_t k = 0; k < ax->n_items; k++)
-		if (ax->items[k].kind == IT_NOTE)
-			draw_note(&r, ax, &ax->items[k]);
-	draw_legend(&r, ax);
+	if (L->side_w > 0) {
+		double bx = r.px + r.pw + L->cbar_w + SIDE_GAP, by = r.py;
+		double bw = right - 24 - L->cbar_w - SIDE_GAP;
+
+		by += draw_legend(&r, ax, bx, by, bw, cw);
+		for (size_t k = 0; k < ax->n_items; k++)
+			if (ax->items[k].kind == IT_NOTE) {
+				by += 10;
+				by += draw_note(&r, &ax->items[k], bx, by, bw,
+						cw);
+			}
+	}
+	group(S, NULL, NULL);
 }
 
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
-{
-	struct ssc_canvas *cv;
-	struct layout *L;
-	double fs, top, cw, ch, *left, *right, *tops, *bottoms;
-	unsigned char *png = NULL;
-	size_t len = 0;
-	struct ssc_atomic out;
-	int rc = 0, n = f->rows * f->cols;
-	const char *font = getenv("SSCOPE_FONT");
+/* ---- the figure on a surface */
 
-	cv = ssc_canvas_new(f->w, f->h, font && *font ? font : SSCOPE_FONT_PATH);
-	L = calloc((size_t)n, sizeof(*L));
-	left = calloc((size_t)(2 * f->cols + 2 * f->rows), sizeof(double));
-	if (!cv || !L || !left) {
-		ssc_canvas_free(cv);
-		free(L);
-		free(left);
+struct fig_layout {
+	struct layout *L;
+	double fs, top, cw, ch, h;
+	double *left, *right, *tops, *bottoms;
+};
+
+static void fig_layout_free(struct fig_layout *fl)
+{
+	free(fl->L);
+	free(fl->left);
+	memset(fl, 0, sizeof(*fl));
+}
+
+/* Lay the figure out for the surface's text metrics; fl->h may exceed the
+ * figure's height when a side panel needs taller rows. */
+static int fig_layout(struct ssc_fig *f, const struct ssc_surface *S,
+		      double h, struct fig_layout *fl)
+{
+	int n = f->rows * f->cols;
+	double need = 0;
+
+	memset(fl, 0, sizeof(*fl));
+	fl->L = calloc((size_t)n, sizeof(*fl->L));
+	fl->left = calloc((size_t)(2 * f->cols + 2 * f->rows), sizeof(double));
+	if (!fl->L || !fl->left) {
+		fig_layout_free(fl);
 		return -ENOMEM;
 	}
-	right = left + f->cols;
-	tops = right + f->cols;
-	bottoms = tops + f->rows;
-	fs = fmin(f->w, f->h) / 48.0;
-	if (fs < 12)
-		fs = 12;
-	if (fs > 20)
-		fs = 20;
-	top = f->title ? fs * 2.4 : 4;
-	cw = f->w / (double)f->cols;
-	ch = (f->h - top) / (double)f->rows;
+	fl->right = fl->left + f->cols;
+	fl->tops = fl->right + f->cols;
+	fl->bottoms = fl->tops + f->rows;
+	/* text no smaller than 15 px at the figure's own size */
+	fl->fs = fmax(15, fmin(22, f->w / 72.0));
+	fl->top = f->title ? fl->fs * 2.4 : 4;
+	fl->cw = f->w / (double)f->cols;
+	fl->ch = (h - fl->top) / (double)f->rows;
 	for (int i = 0; i < n; i++) {
 		int row = i / f->cols, col = i % f->cols;
+		struct layout *L = &fl->L[i];
 
-		plan(cv, &f->axes[i], &L[i], cw, ch, fs);
-		left[col] = fmax(left[col], L[i].left);
-		right[col] = fmax(right[col], L[i].right);
-		tops[row] = fmax(tops[row], L[i].top);
-		bottoms[row] = fmax(bottoms[row], L[i].bottom);
+		plan(S, &f->axes[i], L, fl->cw, fl->ch, fl->fs);
+		fl->left[col] = fmax(fl->left[col], L->left);
+		fl->right[col] = fmax(fl->right[col], L->right);
+		fl->tops[row] = fmax(fl->tops[row], L->top);
+		fl->bottoms[row] = fmax(fl->bottoms[row], L->bottom);
 	}
-	if (f->title)
-		rich_text(cv, f->w / 2.0, fs * 1.7, f->title, fs * 1.25, 0, 0);
 	for (int i = 0; i < n; i++) {
+		int row = i / f->cols;
+
+		need = fmax(need, fl->tops[row] + fl->bottoms[row] +
+					  fmax(fl->L[i].side_h, 100));
+	}
+	if (need > fl->ch)
+		fl->ch = ceil(need);
+	fl->h = fl->top + fl->ch * f->rows;
+	return 0;
+}
+
+static void fig_draw(struct ssc_fig *f, const struct ssc_surface *S,
+		     const struct fig_layout *fl)
+{
+	if (f->title) {
+		group(S, "figure-title", NULL);
+		text_at(S, f->w / 2.0, fl->fs * 1.7, f->title, fl->fs * 1.25, 0,
+			0);
+		group(S, NULL, NULL);
+	}
+	for (int i = 0; i < f->rows * f->cols; i++) {
 		int row = i / f->cols, col = i % f->cols;
 		struct ssc_ax *ax = &f->axes[i];
 
 		if (!ax->n_items && !ax->title)
 			continue;
-		render_ax(cv, ax, &L[i], col * cw, top + row * ch, cw, ch,
-			  left[col], right[col], tops[row], bottoms[row], fs);
+		render_ax(S, ax, &fl->L[i], col * fl->cw, fl->top + row * fl->ch,
+			  fl->cw, fl->ch, fl->left[col], fl->right[col],
+			  fl->tops[row], fl->bottoms[row], fl->fs);
 	}
-	if (ssc_canvas_png(cv, &png, &len))
-		rc = -EIO;
-	ssc_canvas_free(cv);
-	free(L);
-	free(left);
+}
+
+static int write_file(const char *path, const void *buf, size_t len)
+{
+	struct ssc_atomic out;
+	int rc = ssc_atomic_open(&out, path);
+
 	if (rc)
 		return rc;
-	rc = ssc_atomic_open(&out, path);
-	if (!rc) {
-		if (fwrite(png, 1, len, out.f) != len) {
-			ssc_atomic_abort(&out);
-			rc = -EIO;
-		} else {
-			rc = ssc_atomic_commit(&out);
-		}
+	if (fwrite(buf, 1, len, out.f) != len) {
+		ssc_atomic_abort(&out);
+		return -EIO;
 	}
+	return ssc_atomic_commit(&out);
+}
+
+static bool fig_empty(const struct ssc_fig *f)
+{
+	for (int i = 0; i < f->rows * f->cols; i++)
+		if (f->axes[i].n_items || f->axes[i].title)
+			return false;
+	return true;
+}
+
+int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
+		size_t *len)
+{
+	struct ssc_surface S;
+	struct fig_layout fl;
+	struct ssc_svg *svg;
+	double h = f->h;
+	int rc;
+
+	if (!f || fig_empty(f))
+		return -EINVAL;
+	/* lay out with the metrics of the SVG surface, then write */
+	svg = ssc_svg_new(f->w, h, id_prefix, &S);
+	if (!svg)
+		return -ENOMEM;
+	rc = fig_layout(f, &S, h, &fl);
+	ssc_svg_free(svg);
+	if (rc)
+		return rc;
+	svg = ssc_svg_new(f->w, fl.h, id_prefix, &S);
+	if (!svg) {
+		fig_layout_free(&fl);
+		return -ENOMEM;
+	}
+	fig_draw(f, &S, &fl);
+	fig_layout_free(&fl);
+	return ssc_svg_finish(svg, buf, len);
+}
+
+int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
+{
+	char *buf = NULL;
+	size_t len = 0;
+	int rc = ssc_fig_svg(f, NULL, &buf, &len);
+
+	if (rc)
+		return rc;
+	rc = write_file(path, buf, len);
+	free(buf);
+	return rc;
+}
+
+#ifdef HAVE_OPENCV
+
+/* The OpenCV canvas as a surface: rich text is drawn run by run; vertical
+ * text, which the canvas draws in one piece, maps "^{2}" to Unicode
+ * superscripts. */
+
+static void cv_clip(void *c, double x, double y, double w, double h)
+{
+	if (w <= 0 || h <= 0)
+		ssc_canvas_clip(c, 0, 0, 0, 0);
+	else
+		ssc_canvas_clip(c, (int)floor(x), (int)floor(y),
+				(int)ceil(w) + 1, (int)ceil(h) + 1);
+}
+
+static void cv_polyline(void *c, const double *xy, size_t n, uint32_t rgb,
+			double width, const double *dash)
+{
+	(void)dash; /* native_dash is false: plot.c cuts the dashes */
+	ssc_canvas_polyline(c, xy, n, rgb, width);
+}
+
+static void cv_fill(void *c, const double *xy, size_t n, uint32_t rgb,
+		    double alpha)
+{
+	ssc_canvas_fill(c, xy, n, rgb, alpha);
+}
+
+static void cv_rect(void *c, double x, double y, double w, double h,
+		    uint32_t rgb, double width, int filled)
+{
+	ssc_canvas_rect(c, x, y, w, h, rgb, width, filled);
+}
+
+static void cv_circle(void *c, double x, double y, double r, uint32_t rgb,
+		      double width, int filled)
+{
+	ssc_canvas_circle(c, x, y, r, rgb, width, filled);
+}
+
+static void run_str(const struct ssc_rich_run *run, char *buf, size_t len)
+{
+	size_t n = run->n < len - 1 ? run->n : len - 1;
+
+	memcpy(buf, run->s, n);
+	buf[n] = '\0';
+}
+
+static double cv_text_width(void *c, const char *t, double fs)
+{
+	struct ssc_rich_run runs[32];
+	size_t n = ssc_rich_split(t, runs, 32);
+	double w = 0;
+
+	for (size_t i = 0; i < n; i++) {
+		char buf[256];
+		double rw, a, d;
+
+		run_str(&runs[i], buf, sizeof(buf));
+		ssc_canvas_text_size(c, buf,
+				     runs[i].level ? fs * SSC_SCRIPT_SCALE : fs,
+				     &rw, &a, &d);
+		w += rw;
+	}
+	return w;
+}
+
+/* Vertical labels cannot carry runs: map "^{2}" to Unicode superscripts. */
+static void flatten_sup(const char *in, char *out, size_t len)
+{
+	static const char *const sup[] = { "\xe2\x81\xb0", "\xc2\xb9",
+					   "\xc2\xb2", "\xc2\xb3",
+					   "\xe2\x81\xb4", "\xe2\x81\xb5",
+					   "\xe2\x81\xb6", "\xe2\x81\xb7",
+					   "\xe2\x81\xb8", "\xe2\x81\xb9" };
+	size_t o = 0;
+
+	while (*in && o + 8 < len) {
+		if (in[0] == '^' && in[1] == '{') {
+			const char *e = strchr(in + 2, '}');
+			bool conv = e != NULL;
+
+			for (const char *p = in + 2; conv && p < e; p++)
+				if (!((*p >= '0' && *p <= '9') || *p == '-'))
+					conv = false;
+			if (conv) {
+				for (const char *p = in + 2; p < e && o + 8 < len;
+				     p++) {
+					const char *s = *p == '-' ? "\xe2\x81\xbb" :
+								    sup[*p - '0'];
+
+					memcpy(out + o, s, strlen(s));
+					o += strlen(s);
+				}
+				in = e + 1;
+				continue;
+			}
+		}
+		if ((in[0] == '^' || in[0] == '_') && in[1] == '{') {
+			const char *e = strchr(in + 2, '}');
+
+			if (e) {
+				out[o++] = in[0];
+				out[o++] = '(';
+				for (const char *p = in + 2; p < e && o + 4 < len; p++)
+					out[o++] = *p;
+				out[o++] = ')';
+				in = e + 1;
+				continue;
+			}
+		}
+		out[o++] = *in++;
+	}
+	out[o] = '\0';
+}
+
+static void cv_text(void *c, double x, double y, const char *t, double fs,
+		    uint32_t color, int align, int vertical)
+{
+	struct ssc_rich_run runs[32];
+	size_t n;
+	double w;
+
+	if (vertical) {
+		char flat[256];
+
+		flatten_sup(t, flat, sizeof(flat));
+		w = cv_text_width(c, flat, fs);
+		/* the canvas anchors vertical text at its bottom end */
+		ssc_canvas_text(c, x,
+				y + (align == 0 ? w / 2 : align > 0 ? w : 0),
+				flat, fs, color, 1);
+		return;
+	}
+	n = ssc_rich_split(t, runs, 32);
+	w = cv_text_width(c, t, fs);
+	x -= align == 0 ? w / 2 : align > 0 ? w : 0;
+	for (size_t i = 0; i < n; i++) {
+		char buf[256];
+		double rw, a, d,
+			s = runs[i].level ? fs * SSC_SCRIPT_SCALE : fs;
+
+		run_str(&runs[i], buf, sizeof(buf));
+		ssc_canvas_text(c, x,
+				y - (runs[i].level > 0 ? SSC_SUP_SHIFT * fs :
+				     runs[i].level < 0 ? -SSC_SUB_SHIFT * fs :
+							 0),
+				buf, s, color, 0);
+		ssc_canvas_text_size(c, buf, s, &rw, &a, &d);
+		x += rw;
+	}
+}
+
+static void cv_image(void *c, double x, double y, double w, double h,
+		     const double *v, int iw, int ih)
+{
+	ssc_canvas_image(c, (int)lround(x), (int)lround(y), (int)lround(w),
+			 (int)lround(h), v, iw, ih);
+}
+
+static void cv_group(void *c, const char *cls, const char *attrs)
+{
+	(void)c;
+	(void)cls;
+	(void)attrs;
+}
+
+static const struct ssc_surface_ops cv_ops = {
+	.clip = cv_clip,
+	.polyline = cv_polyline,
+	.fill = cv_fill,
+	.rect = cv_rect,
+	.circle = cv_circle,
+	.text = cv_text,
+	.text_width = cv_text_width,
+	.image = cv_image,
+	.group = cv_group,
+};
+
+int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+{
+	const char *font = getenv("SSCOPE_FONT");
+	struct ssc_canvas *cv = NULL;
+	struct ssc_surface S;
+	struct fig_layout fl = { 0 };
+	unsigned char *png = NULL;
+	size_t len = 0;
+	double h = f->h;
+	int rc;
+
+	if (fig_empty(f))
+		return -EINVAL;
+	for (int pass = 0; pass < 2; pass++) {
+		ssc_canvas_free(cv);
+		fig_layout_free(&fl);
+		cv = ssc_canvas_new(f->w, (int)ceil(h),
+				    font && *font ? font : SSCOPE_FONT_PATH);
+		if (!cv)
+			return -ENOMEM;
+		S = (struct ssc_surface){ .ops = &cv_ops, .ctx = cv };
+		rc = fig_layout(f, &S, h, &fl);
+		if (rc) {
+			ssc_canvas_free(cv);
+			return rc;
+		}
+		if (fl.h <= ceil(h))
+			break;
+		h = fl.h;
+	}
+	fig_draw(f, &S, &fl);
+	fig_layout_free(&fl);
+	rc = ssc_canvas_png(cv, &png, &len) ? -EIO : 0;
+	ssc_canvas_free(cv);
+	if (!rc)
+		rc = write_file(path, png, len);
 	free(png);
 	return rc;
 }
@@ -1691,3 +1894,26 @@ int ssc_fig_save_png(struct ssc_fig *f, const char *path)
 }
 
 #endif
+
+enum ssc_plot_format ssc_plot_format_of(const char *path)
+{
+	size_t l = path ? strlen(path) : 0;
+
+	if (l > 4 && !strcasecmp(path + l - 4, ".png"))
+		return SSC_PLOT_PNG;
+	if (l > 4 && !strcasecmp(path + l - 4, ".svg"))
+		return SSC_PLOT_SVG;
+	return SSC_PLOT_NONE;
+}
+
+int ssc_fig_save(struct ssc_fig *f, const char *path)
+{
+	switch (ssc_plot_format_of(path)) {
+	case SSC_PLOT_PNG:
+		return ssc_fig_save_png(f, path);
+	case SSC_PLOT_SVG:
+		return ssc_fig_save_svg(f, path);
+	default:
+		return -EINVAL;
+	}
+}

@@ -3,9 +3,10 @@
  * Plotting layer for every figure sensorscope draws: figures with a grid of
  * axes, linear or logarithmic scales with decade ticks, lines, markers,
  * error bars, shaded bands, images (spectrograms) with a colour bar,
- * legends, titles and labels.  Layout and ticks are computed here in C;
- * pixels are drawn by the OpenCV shim (cvshim.cpp).  Text may use the
- * markup "^{...}" for superscripts and "_{...}" for subscripts.
+ * legends, titles and labels.  Layout and ticks are computed here in C from
+ * one description; it is drawn as SVG (always available) or as PNG by the
+ * OpenCV shim (cvshim.cpp).  Text may use the markup "^{...}" for
+ * superscripts and "_{...}" for subscripts.
  */
 #ifndef SSCOPE_PLOT_H
 #define SSCOPE_PLOT_H
@@ -26,10 +27,15 @@ enum ssc_marker {
 	SSC_MK_TRIANGLE,
 	SSC_MK_DIAMOND,
 	SSC_MK_CROSS,
+	SSC_MK_TRIANGLE_DOWN, /* an upper bound */
 };
 
+/* Legends and notes are drawn in a panel right of the axes, outside the
+ * data, in the order they were added (legend first); SSC_LEGEND_NONE hides
+ * an axes' legend.  The corner values are kept for callers and mean the
+ * same panel. */
 enum ssc_legend_pos {
-	SSC_LEGEND_AUTO = 0, /* the corner hiding the fewest points */
+	SSC_LEGEND_AUTO = 0,
 	SSC_LEGEND_UR,
 	SSC_LEGEND_UL,
 	SSC_LEGEND_LR,
@@ -93,8 +99,23 @@ int ssc_ax_image(struct ssc_ax *ax, const double *z, size_t nx, size_t ny,
 		 double zhi, bool zlog, const char *zlabel);
 
 /* Render and write a PNG atomically.  Returns 0, -ENOTSUP without OpenCV,
- * -EINVAL for an empty figure, -errno from the file system. */
+ * -EINVAL for an empty figure, -errno from the file system.  A figure may
+ * come out taller than asked when its legends need the room. */
 int ssc_fig_save_png(struct ssc_fig *fig, const char *path);
+/* The same as an SVG file (no OpenCV needed). */
+int ssc_fig_save_svg(struct ssc_fig *fig, const char *path);
+/* The figure as an SVG document in memory (*buf malloc'ed, NUL-terminated)
+ * whose ids start with id_prefix (NULL: "fig"), for embedding in HTML.
+ * Returns 0, -EINVAL for an empty figure, -ENOMEM. */
+int ssc_fig_svg(struct ssc_fig *fig, const char *id_prefix, char **buf,
+		size_t *len);
+
+enum ssc_plot_format { SSC_PLOT_NONE = 0, SSC_PLOT_PNG, SSC_PLOT_SVG };
+/* The format a figure path asks for, by its extension (.png, .svg, any
+ * case). */
+enum ssc_plot_format ssc_plot_format_of(const char *path);
+/* Write in the format of the path's extension (-EINVAL for another). */
+int ssc_fig_save(struct ssc_fig *fig, const char *path);
 
 /* Tick computation (exported for tests): up to max ticks. */
 size_t ssc_ticks_linear(double lo, double hi, size_t target, double *ticks,

@@ -58,6 +58,9 @@ struct ssc_calib_triad_out {
 	double A[3][3];          /* error model: reading = A u + b (SI) */
 	int grade;               /* row of sscope_calib_grades(), < 0 none */
 	double grade_dist;
+	/* gyro multi-position: gravity carried over each motion, rad */
+	size_t n_motion;
+	double motion_rms, motion_max, motion_rms_bias_only;
 };
 
 /* The calib stage's result starts with this (cmd-calib.c extends it). */

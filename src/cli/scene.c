@@ -110,6 +110,7 @@ struct ssc_scene {
 	size_t n_files;
 	/* [input] */
 	char *columns, *units, *temp_column, *time_column, *raw, *calibration;
+	char *topic;
 	double rate_hz, scale, offset;
 	bool allow_nan;
 	/* [sensor], [adc] */
@@ -245,6 +246,7 @@ void ssc_scene_free(struct ssc_scene *sc)
 	free(sc->units);
 	free(sc->temp_column);
 	free(sc->time_column);
+	free(sc->topic);
 	free(sc->raw);
 	free(sc->calibration);
 	free(sc->sensor_path);
@@ -350,7 +352,7 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	static const char *const keys[] = { "files", "columns", "rate", "units",
 					    "temp_column", "time_column", "raw",
 					    "scale", "offset", "allow_nan",
-					    "calibration", NULL };
+					    "calibration", "topic", NULL };
 	struct sscope_diag d = { "" };
 	size_t line = 0;
 	const char *v;
@@ -388,6 +390,7 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
 	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
 	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
+	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
 	sc->raw = xstrdup(sscope_ini_get(sc->ini, "input", "raw", NULL));
 	v = sscope_ini_get(sc->ini, "input", "calibration", NULL);
 	if (v)
@@ -852,6 +855,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	sc->units = xstrdup(co->units);
 	sc->temp_column = xstrdup(co->temp_column);
 	sc->time_column = xstrdup(co->time_column);
+	sc->topic = xstrdup(co->topic);
 	sc->raw = xstrdup(co->raw);
 	sc->calibration = xstrdup(co->calibration);
 	sc->rate_hz = co->rate_hz;
@@ -1109,6 +1113,8 @@ static void print_commands(const struct ssc_scene *sc, size_t s, FILE *f)
 				put_opt(f, "time-column", sc->time_column);
 			if (sc->temp_column)
 				put_opt(f, "temp-column", sc->temp_column);
+			if (sc->topic)
+				put_opt(f, "topic", sc->topic);
 			if (sc->calibration)
 				put_opt(f, "calibration", sc->calibration);
 		}
@@ -1407,6 +1413,7 @@ static void scene_common(const struct ssc_scene *sc, const char *cmd,
 	co->allow_nan = sc->allow_nan;
 	co->time_column = sc->time_column;
 	co->temp_column = sc->temp_column;
+	co->topic = sc->topic;
 	co->calibration = sc->calibration;
 }
 

@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Strapdown mechanisation in the local-level NED frame (see
+ * sscope-strapdown.h): Savage's two-sample coning and sculling algorithms
+ * (J. Guidance, Control and Dynamics 21(1-2), 1998) with the navigation
+ * equations of Groves (2013, sec. 5.4-5.5): quaternion attitude with the
+ * frame-rotation correction, the Coriolis theorem for velocity relative
+ * to the rotating Earth, v' = C_b^n f - (2 omega_ie + omega_en) x v + g,
+ * and trapezoidal position in latitude, longitude and height.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "sscope-nav.h"
+#include "sscope-strapdown.h"
+
+#define PI 3.14159265358979323846
+
+static void cross(const double a[3], const double b[3], double r[3])
+{
+	double x = a[1] * b[2] - a[2] * b[1];
+	double y = a[2] * b[0] - a[0] * b[2];
+	double z = a[0] * b[1] - a[1] * b[0];
+
+	r[0] = x;
+	r[1] = y;
+	r[2] = z;
+}
+
+int sscope_strapdown_init(struct sscope_strapdown_state *s, double lat,
+			  double lon, double h, const double v[3],
+			  double roll, double pitch, double yaw)
+{
+	double C[3][3];
+
+	if (!s || !v || !isfinite(lat) || !isfinite(lon) || !isfinite(h) ||
+	    !isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2]) ||
+	    !isfinite(roll) || !isfinite(pitch) || !isfinite(yaw) ||
+	    !(fabs(lat) < PI / 2))
+		return -EINVAL;
+	s->lat_rad = lat;
+	s->lon_rad = lon;
+	s->height_m = h;
+	memcpy(s->v_ned_m_s, v, 3 * sizeof(double));
+	sscope_nav_dcm_from_euler(roll, pitch, yaw, C);
+	sscope_nav_quat_from_dcm(C, s->q_bn);
+	return 0;
+}
+
+void sscope_strapdown_euler(const struct sscope_strapdown_state *s,
+			    double *roll, double *pitch, double *yaw)
+{
+	double C[3][3];
+
+	sscope_nav_dcm_from_quat(s->q_bn, C);
+	sscope_nav_euler_from_dcm(C, roll, pitch, yaw);
+}
+
+void sscope_strapdown_step2(struct sscope_strapdown_state *s,
+			    const double a1[3], const double a2[3],
+			    const double v1[3], const double v2[3], double dt)
+{
+	const double T = 2 * dt;
+	double a[3], dv[3], c[3], phi[3], dvb[3], C[3][3], fn[3];
+	double lat = s->lat_rad, h = s->height_m, *v = s->v_ned_m_s;
+	double lat_m = lat, h_m = h, vm[3] = { v[0], v[1], v[2] };
+	double vn[3], latn = lat, lonn = s->lon_rad, hn = h, zeta[3];
+	double rn0, re0;
+
+	/* body side: coning and sculling (Savage's two-sample forms) */
+	for (int i = 0; i < 3; i++) {
+		a[i] = a1[i] + a2[i];
+		dv[i] = v1[i] + v2[i];
+	}
+	cross(a1, a2, c);
+	for (int i = 0; i < 3; i++)
+		phi[i] = a[i] + 2.0 / 3.0 * c[i];
+	/* rotation compensation for the whole update, exact for a constant
+	 * rate (Savage 1998, eq. 40): (1 - cos|a|)/|a|^2 a x dv +
+	 * (1 - sin|a|/|a|)/|a|^2 a x (a x dv), i.e. 1/2 and 1/6 to second
+	 * order */
+	{
+		double t2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2], k1, k2, cc[3];
+
+		if (t2 < 1e-6) {
+			k1 = 0.5 - t2 / 24 + t2 * t2 / 720;
+			k2 = 1.0 / 6 - t2 / 120 + t2 * t2 / 5040;
+		} else {
+			double t = sqrt(t2);
+
+			k1 = (1 - cos(t)) / t2;
+			k2 = (1 - sin(t) / t) / t2;
+		}
+		cross(a, dv, c);
+		cross(a, c, cc);
+		for (int i = 0; i < 3; i++)
+			dvb[i] = dv[i] + k1 * c[i] + k2 * cc[i];
+	}
+	{
+		double s1[3], s2[3];
+
+		cross(a1, v2, s1);
+		cross(v1, a2, s2);
+		for (int i = 0; i < 3; i++)
+			dvb[i] += 2.0 / 3.0 * (s1[i] + s2[i]);
+	}
+	sscope_nav_dcm_from_quat(s->q_bn, C);
+	for (int i = 0; i < 3; i++)
+		fn[i] = C[i][0] * dvb[0] + C[i][1] * dvb[1] + C[i][2] * dvb[2];
+	sscope_nav_radii(lat, &rn0, &re0);
+	/* navigation side: predictor (start values), then corrector (mid) */
+	for (int pass = 0; pass < 2; pass++) {
+		double wie[3], wen[3], w2[3], cor[3], zf[3], g, rn, re, rn1, re1;
+
+		sscope_nav_earth_rate(lat_m, wie);
+		sscope_nav_transport_rate(lat_m, h_m, vm, wen);
+		g = sscope_nav_gravity(lat_m, h_m);
+		for (int i = 0; i < 3; i++) {
+			zeta[i] = (wie[i] + wen[i]) * T;
+			w2[i] = 2 * wie[i] + wen[i];
+		}
+		cross(w2, vm, cor);
+		cross(zeta, fn, zf);
+		for (int i = 0; i < 3; i++)
+			vn[i] = v[i] + fn[i] - 0.5 * zf[i] - cor[i] * T;
+		vn[2] += g * T;
+		/* position: trapezoid, radii at the old and the new latitude */
+		hn = h - 0.5 * T * (v[2] + vn[2]);
+		rn = rn0;
+		re = re0;
+		sscope_nav_radii(pass ? latn : lat, &rn1, &re1);
+		latn = lat + 0.5 * T * (v[0] / (rn + h) + vn[0] / (rn1 + hn));
+		sscope_nav_radii(latn, &rn1, &re1);
+		lonn = s->lon_rad +
+		       0.5 * T * (v[1] / ((re + h) * cos(lat)) +
+				  vn[1] / ((re1 + hn) * cos(latn)));
+		lat_m = 0.5 * (lat + latn);
+		h_m = 0.5 * (h + hn);
+		for (int i = 0; i < 3; i++)
+			vm[i] = 0.5 * (v[i] + vn[i]);
+	}
+	/* attitude: q(k) = exp(-zeta) q(k-1) exp(phi) */
+	{
+		double qb[4], qn[4], t[4], mz[3] = { -zeta[0], -zeta[1], -zeta[2] };
+
+		sscope_nav_quat_from_rotvec(phi, qb);
+		sscope_nav_quat_from_rotvec(mz, qn);
+		sscope_nav_quat_mul(s->q_bn, qb, t);
+		sscope_nav_quat_mul(qn, t, s->q_bn);
+		sscope_nav_quat_normalize(s->q_bn);
+	}
+	memcpy(v, vn, sizeof(vn));
+	s->lat_rad = latn;
+	s->lon_rad = remainder(lonn, 2 * PI);
+	s->height_m = hn;
+}

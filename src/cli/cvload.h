@@ -1,0 +1,18 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Loading of the drawing module (cvshim.cpp with OpenCV and libpng), which
+ * the command opens only when it draws a figure; see cvload.c.
+ */
+#ifndef SSCOPE_CVLOAD_H
+#define SSCOPE_CVLOAD_H
+
+#include <stddef.h>
+
+/*
+ * Open the drawing module once (later calls return the first outcome).
+ * Returns 0, or -ENOENT/-ENOEXEC with the reason in why[len] (why may be
+ * NULL).
+ */
+int ssc_cv_load(char *why, size_t len);
+
+#endif

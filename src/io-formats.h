@@ -1,0 +1,187 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Input formats beyond delimited text (internal): a decoded "table" that
+ * the capture reader serves like any other source, and the decoders that
+ * fill it -- ROS 1 bags (io-bag.c), MCAP (io-mcap.c), rosbag2 SQLite files
+ * and bag folders (io-db3.c, io-rosbag2.c), NumPy .npy (io-npy.c) -- plus
+ * the stream filters gzip (io-gzip.c) and MATLAB v7 compression
+ * (io-matz.c), the chunk decompressors (io-decomp.c) and the header of
+ * `rostopic echo -p` CSV files (io-rostopic.c).
+ *
+ * Every decoder reads a caller's buffer with bounds checked before each
+ * access: a truncated or corrupt file is -EBADMSG with a message naming
+ * the format, the byte offset and the fix, never a read past the end.
+ */
+#ifndef SSCOPE_IO_FORMATS_H
+#define SSCOPE_IO_FORMATS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <sys/types.h>
+
+struct sscope_diag;
+struct sscope_source;
+
+/* ------------------------------------------------------------ table */
+
+/* storage type of a table column */
+enum ssc_vtype {
+	SSC_V_F64 = 0, SSC_V_F32, SSC_V_I8, SSC_V_U8, SSC_V_I16, SSC_V_U16,
+	SSC_V_I32, SSC_V_U32, SSC_V_I64, SSC_V_U64
+};
+
+struct ssc_tcol {
+	char *label;               /* "gx [rad/s]" (owned) */
+	int role;                  /* enum sscope_role */
+	const unsigned char *data; /* value of row 0 */
+	size_t stride;             /* bytes between rows */
+	enum ssc_vtype type;
+	bool swap;                 /* stored in the other byte order */
+};
+
+/* A decoded capture: columns that are strided views into buffers the
+ * table owns (or the caller's buffer, which must outlive the table). */
+struct ssc_table {
+	size_t ncols, nrows;
+	struct ssc_tcol *cols;
+	void **owned;
+	size_t n_owned;
+	/* receive times of the rows, ns (owned), or NULL */
+	int64_t *rx_ns;
+	/* format, topics (owned; receive_s stays NULL here) */
+	struct sscope_source *src;
+};
+
+struct ssc_table *ssc_table_new(const char *format);
+/* take ownership of p (freed with the table; freed now on failure) */
+int ssc_table_own(struct ssc_table *t, void *p);
+int ssc_table_add(struct ssc_table *t, const char *label, int role,
+		  const void *data, size_t stride, enum ssc_vtype type,
+		  bool swap);
+double ssc_table_value(const struct ssc_tcol *c, size_t row);
+/* exact integer value of an I64 column (time stamps in ns) */
+int64_t ssc_table_i64(const struct ssc_tcol *c, size_t row);
+void ssc_table_free(struct ssc_table *t);
+/* a deep copy of the source description with receive_s filled from the
+ * table's receive times of rows [0, n) relative to stamp t0_ns */
+struct sscope_source *ssc_source_copy(const struct sscope_source *s,
+				      const int64_t *rx_ns, size_t n,
+				      int64_t t0_ns);
+void ssc_source_free(struct sscope_source *s);
+/* a source description holding only a format name */
+struct sscope_source *ssc_source_new(const char *format);
+
+/* ------------------------------------------------------------ detection */
+
+enum ssc_container {
+	SSC_C_NONE = 0, SSC_C_BAG, SSC_C_MCAP, SSC_C_SQLITE, SSC_C_NPY,
+	SSC_C_GZIP, SSC_C_MAT
+};
+
+/* Recognise a format by its leading bytes. */
+enum ssc_container ssc_container_detect(const void *buf, size_t len);
+
+/* Decode a whole container held in buf (bag, MCAP, SQLite, npy) into a
+ * table; topic as sscope_read_opts.topic. */
+int ssc_container_open(struct ssc_table **t, enum ssc_container kind,
+		       const unsigned char *buf, size_t len, const char *disp,
+		       const char *topic, struct sscope_diag *diag);
+
+/* A rosbag2 folder (metadata.yaml and its .db3 or .mcap files). */
+bool ssc_rosbag2_is_dir(const char *path);
+int ssc_rosbag2_open(struct ssc_table **t, const char *dir, const char *topic,
+		     struct sscope_diag *diag);
+
+/* ------------------------------------------------------------ ROS messages */
+
+enum ssc_ros_enc { SSC_ENC_UNKNOWN = 0, SSC_ENC_ROS1, SSC_ENC_CDR };
+
+/* Collects the messages of every topic of one recording (several files
+ * for a split rosbag2), decoding those of readable types. */
+struct ssc_ros;
+
+int ssc_ros_new(struct ssc_ros **c, const char *disp);
+/* Register a topic (idempotent by name); *idx receives its number. */
+int ssc_ros_topic(struct ssc_ros *c, const char *name, const char *type,
+		  enum ssc_ros_enc enc, size_t *idx);
+/* One message of topic idx received at rx_ns.  `where` (a byte offset or
+ * row) goes into messages about a malformed message. */
+int ssc_ros_message(struct ssc_ros *c, size_t idx, const unsigned char *data,
+		    size_t len, int64_t rx_ns, uint64_t where,
+		    struct sscope_diag *diag);
+/* Add n messages to a topic without decoding (counts of other types). */
+void ssc_ros_count(struct ssc_ros *c, size_t idx, uint64_t n);
+/* Is topic idx of a type that is decoded? */
+bool ssc_ros_readable(const struct ssc_ros *c, size_t idx);
+/* Note a format detail ("lz4 chunks") for the format name. */
+void ssc_ros_note(struct ssc_ros *c, const char *detail);
+/* Select the topics and build the table. */
+int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
+		   struct ssc_table **t, struct sscope_diag *diag);
+void ssc_ros_free(struct ssc_ros *c);
+
+/* Container walkers: feed every topic and message to the collector. */
+int ssc_bag_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
+		 const char *disp, struct sscope_diag *diag);
+int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
+		  const char *disp, struct sscope_diag *diag);
+/* -ENOTSUP when built without SQLite */
+int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
+		 const char *disp, struct sscope_diag *diag);
+
+/* ------------------------------------------------------------ npy */
+
+int ssc_npy_open(struct ssc_table **t, const unsigned char *buf, size_t len,
+		 const char *disp, struct sscope_diag *diag);
+
+/* ------------------------------------------------------------ codecs */
+
+enum ssc_codec { SSC_CODEC_BZ2, SSC_CODEC_LZ4, SSC_CODEC_ZSTD };
+
+/* Decompress src into exactly dst_len bytes of dst. */
+int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
+		   size_t src_len, unsigned char *dst, size_t dst_len,
+		   const char *disp, const char *what,
+		   struct sscope_diag *diag);
+/* CRC-32 (zlib's) of a buffer of any size. */
+uint32_t ssc_crc32(const unsigned char *p, size_t n);
+
+/* Streaming gzip (several members allowed): the compressed bytes come
+ * first from `pre` (npre bytes: a mapped file or what was already read
+ * from a pipe), then from fd (-1: none).  `map`/`map_len`, when not NULL,
+ * is unmapped by ssc_gz_close(); without it `pre` is copied. */
+struct ssc_gz;
+int ssc_gz_open(struct ssc_gz **g, const unsigned char *pre, size_t npre,
+		int fd, void *map, size_t map_len);
+/* Up to n decompressed bytes; 0 at the end; -EBADMSG corrupt/truncated
+ * (diag says which), -EIO. */
+ssize_t ssc_gz_read(struct ssc_gz *g, void *buf, size_t n, const char *disp,
+		    struct sscope_diag *diag);
+void ssc_gz_close(struct ssc_gz *g);
+
+/* MATLAB v7: a copy of the MAT-file with every compressed element
+ * (miCOMPRESSED, zlib) replaced by the element it holds; *out is NULL
+ * (and 0 returned) when nothing is compressed. */
+int ssc_matz_expand(const unsigned char *buf, size_t len, unsigned char **out,
+		    size_t *out_len, const char *disp,
+		    struct sscope_diag *diag);
+
+/* The reader's container details for a capture of `rows` rows (a copy
+ * with the receive times), or NULL for plain files (reader.c). */
+struct sscope_reader;
+struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
+					     size_t rows);
+
+/* ------------------------------------------------------------ rostopic */
+
+/* Is this header cell the first of a `rostopic echo -p` CSV ("%time")? */
+bool ssc_rostopic_detect(const char *first_name);
+/* For a column of such a file: its name and unit in sensorscope terms
+ * (static strings, or NULL to keep the original), and whether it stays
+ * out of the default selection (seq, frame_id, covariances, ...). */
+void ssc_rostopic_column(const char *name, bool has_stamp,
+			 const char **new_name, const char **unit,
+			 bool *hidden);
+
+#endif

@@ -1,0 +1,388 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""ctypes declarations of the libsensorscope structures and functions used by
+the module.  Every structure mirrors its C declaration field by field (the
+test suite compares sizes and offsets with the C compiler's)."""
+
+import ctypes as C
+import ctypes.util
+import os
+import pathlib
+
+c_size = C.c_size_t
+c_dbl = C.c_double
+c_dptr = C.POINTER(C.c_double)
+
+
+def _find_library():
+    env = os.environ.get("SENSORSCOPE_LIB")
+    if env:
+        return env
+    here = pathlib.Path(__file__).resolve().parent
+    # the build tree: src/python/sensorscope -> src/.libs
+    for cand in (here.parents[1] / ".libs" / "libsensorscope.so",):
+        if cand.exists():
+            return str(cand)
+    try:
+        from . import _config  # written by make install
+        cand = pathlib.Path(_config.LIBDIR) / "libsensorscope.so.0"
+        if cand.exists():
+            return str(cand)
+    except ImportError:
+        pass
+    name = ctypes.util.find_library("sensorscope")
+    if name:
+        return name
+    raise OSError("libsensorscope not found: build sensorscope, install it, "
+                  "or set SENSORSCOPE_LIB to the library's path")
+
+
+lib = C.CDLL(_find_library())
+
+
+class Diag(C.Structure):
+    _fields_ = [("msg", C.c_char * 320)]
+
+
+class Unit(C.Structure):
+    _fields_ = [("scale", c_dbl), ("offset", c_dbl), ("dim2", C.c_int8 * 6)]
+
+
+class Column(C.Structure):
+    _fields_ = [("name", C.c_char_p), ("unit_label", C.c_char_p),
+                ("unit", Unit), ("quantity", C.c_int), ("role", C.c_int),
+                ("index", c_size)]
+
+
+PROGRESS = C.CFUNCTYPE(None, C.c_void_p, C.c_uint64, C.c_uint64)
+
+
+class ReadOpts(C.Structure):
+    _fields_ = [("raw", C.c_char_p), ("raw_scale", c_dbl),
+                ("raw_offset", c_dbl), ("default_unit", C.c_char_p),
+                ("columns", C.c_char_p), ("time_column", C.c_char_p),
+                ("temp_column", C.c_char_p), ("rate_hz", c_dbl),
+                ("nan_as_gap", C.c_bool), ("no_time", C.c_bool),
+                ("threads", C.c_uint), ("progress", PROGRESS),
+                ("progress_ctx", C.c_void_p), ("topic", C.c_char_p)]
+
+
+class Topic(C.Structure):
+    _fields_ = [("name", C.c_char_p), ("type", C.c_char_p),
+                ("messages", C.c_uint64), ("readable", C.c_bool),
+                ("selected", C.c_bool)]
+
+
+class Source(C.Structure):
+    _fields_ = [("format", C.c_char_p), ("n_topics", c_size),
+                ("topics", C.POINTER(Topic)), ("receive_s", c_dptr)]
+
+
+class Channel(C.Structure):
+    _fields_ = [("col", Column), ("data", c_dptr), ("n_nan", c_size)]
+
+
+class Timing(C.Structure):
+    _fields_ = [("dt_median_s", c_dbl), ("dt_min_s", c_dbl),
+                ("dt_max_s", c_dbl), ("jitter_rms_s", c_dbl),
+                ("rate_hz", c_dbl), ("n_gaps", c_size), ("n_missing", c_size),
+                ("n_backwards", c_size)]
+
+
+class Gap(C.Structure):
+    _fields_ = [("index", c_size), ("t_s", c_dbl), ("length_s", c_dbl),
+                ("missing", c_size)]
+
+
+class Capture(C.Structure):
+    _fields_ = [("source", C.c_char_p), ("n", c_size),
+                ("n_channels", c_size), ("channels", C.POINTER(Channel)),
+                ("time_s", c_dptr), ("temp_degc", c_dptr),
+                ("time_col", Column), ("temp_col", Column),
+                ("rate_hz", c_dbl), ("rate_source", C.c_int),
+                ("n_nan", c_size), ("source_info", C.POINTER(Source)),
+                ("timing", Timing), ("has_timing", C.c_bool),
+                ("gaps", C.POINTER(Gap)), ("n_gaps", c_size),
+                ("is_view", C.c_bool)]
+
+
+class AllanOpts(C.Structure):
+    _fields_ = [("dev", C.c_int), ("input", C.c_int), ("ci_level", c_dbl),
+                ("alpha_fixed", C.c_bool), ("alpha", C.c_int),
+                ("stride_div", c_size), ("threads", C.c_uint)]
+
+
+class AllanPoint(C.Structure):
+    _fields_ = [("tau_s", c_dbl), ("m", c_size), ("terms", c_size),
+                ("skipped", c_size), ("stride", c_size), ("dev", c_dbl),
+                ("dev_lo", c_dbl), ("dev_hi", c_dbl), ("edf", c_dbl),
+                ("edf_full", c_dbl), ("alpha", C.c_int),
+                ("alpha_identified", C.c_bool)]
+
+
+class NoiseCoef(C.Structure):
+    _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
+                ("var_sd", c_dbl), ("fitted", C.c_bool)]
+
+
+class NoiseReadoff(C.Structure):
+    _fields_ = [("n", c_dbl), ("b", c_dbl), ("b_tau_s", c_dbl), ("k", c_dbl)]
+
+
+class NoiseFitOpts(C.Structure):
+    _fields_ = [("ci_level", c_dbl), ("allowed", C.c_uint),
+                ("forced", C.c_uint), ("model_error", c_dbl),
+                ("tau_min_s", c_dbl), ("tau_max_s", c_dbl)]
+
+
+class NoiseFit(C.Structure):
+    _fields_ = [("coef", NoiseCoef * 5), ("terms", C.c_uint),
+                ("ci_level", c_dbl), ("n_points", c_size), ("chi2", c_dbl),
+                ("dof", c_dbl), ("p_value", c_dbl), ("aic", c_dbl),
+                ("n_plausible", c_size), ("readoff", NoiseReadoff)]
+
+
+class AllanResult(C.Structure):
+    _fields_ = [("n_points", c_size), ("points", C.POINTER(AllanPoint)),
+                ("oadev", C.POINTER(AllanPoint)), ("n_oadev", c_size),
+                ("n_phase", c_size), ("have_fit", C.c_bool),
+                ("fit_error", C.c_int), ("fit", NoiseFit),
+                ("fit_diag", Diag)]
+
+
+class PsdOpts(C.Structure):
+    _fields_ = [("window", C.c_int), ("nperseg", c_size),
+                ("noverlap", c_size), ("nfft", c_size), ("detrend", C.c_int),
+                ("scaling", C.c_int), ("skip_nonfinite", C.c_bool),
+                ("shorten", C.c_bool), ("spectrogram_cols", c_size),
+                ("measure", C.c_bool), ("threads", C.c_uint)]
+
+
+class Spectrum(C.Structure):
+    _fields_ = [("n_bins", c_size), ("freq_hz", c_dptr), ("value", c_dptr),
+                ("fs_hz", c_dbl), ("scaling", C.c_int), ("window", C.c_int),
+                ("detrend", C.c_int), ("nperseg", c_size),
+                ("noverlap", c_size), ("nfft", c_size),
+                ("n_segments", c_size), ("n_skipped", c_size),
+                ("n_samples", C.c_uint64), ("enbw_hz", c_dbl),
+                ("bin_hz", c_dbl), ("rms", c_dbl)]
+
+
+class SensorSpec(C.Structure):
+    _fields_ = [("name", C.c_char * 64), ("quantity", C.c_int),
+                ("has", C.c_uint), ("range", c_dbl), ("q", c_dbl),
+                ("n", c_dbl), ("b", c_dbl), ("k", c_dbl), ("r", c_dbl),
+                ("bias", c_dbl), ("scale_factor_error", c_dbl),
+                ("bias_tempco", c_dbl), ("temp_min_degc", c_dbl),
+                ("temp_max_degc", c_dbl), ("sensitivity", c_dbl),
+                ("zero_output_v", c_dbl), ("bandwidth_hz", c_dbl),
+                ("filter_order", C.c_int)]
+
+
+class SimTone(C.Structure):
+    _fields_ = [("freq_hz", c_dbl), ("amplitude", c_dbl),
+                ("phase_rad", c_dbl)]
+
+
+class SimOpts(C.Structure):
+    _fields_ = [("rate_hz", c_dbl), ("seed", C.c_uint64),
+                ("stream", C.c_uint64), ("temp_profile", C.c_int),
+                ("temp_degc", c_dbl), ("temp2_degc", c_dbl),
+                ("temp_rate_degc_s", c_dbl), ("temp_period_s", c_dbl),
+                ("temp_wave", C.c_int), ("temp_noise_degc", c_dbl),
+                ("ref_temp_degc", c_dbl), ("bias_poly", c_dbl * 4),
+                ("hysteresis", c_dbl),
+                ("hysteresis_deadband_degc_s", c_dbl), ("gradient", c_dbl),
+                ("tones", SimTone * 8), ("n_tones", c_size),
+                ("quant_step", c_dbl), ("flicker_tau_min_s", c_dbl),
+                ("flicker_tau_max_s", c_dbl), ("no_clip", C.c_bool)]
+
+
+class TempbiasRun(C.Structure):
+    _fields_ = [("x", c_dptr), ("stride", c_size), ("temp_degc", c_dptr),
+                ("n", c_size), ("rate_hz", c_dbl)]
+
+
+class TempbiasOpts(C.Structure):
+    _fields_ = [("order", C.c_int), ("order_auto", C.c_bool),
+                ("ref_temp_set", C.c_bool), ("ref_temp_degc", c_dbl),
+                ("block_s", c_dbl), ("smooth_s", c_dbl), ("bin_degc", c_dbl),
+                ("deadband_degc_s", c_dbl), ("rate_deadband", C.c_bool),
+                ("no_hysteresis", C.c_bool), ("no_gradient", C.c_bool),
+                ("warmup_set", C.c_bool), ("warmup_s", c_dbl),
+                ("min_span_degc", c_dbl), ("alpha", c_dbl),
+                ("table_step_degc", c_dbl)]
+
+
+class TempbiasRunInfo(C.Structure):
+    _fields_ = [("warmup_s", c_dbl), ("offset", c_dbl), ("offset_sd", c_dbl),
+                ("mean_temp_degc", c_dbl), ("used", c_size)]
+
+
+class TempbiasResult(C.Structure):
+    _fields_ = [("order", C.c_int), ("order_requested", C.c_int),
+                ("order_cap", C.c_int), ("levels", C.c_int),
+                ("order_lowered", C.c_bool), ("note", C.c_char * 200),
+                ("ref_temp_degc", c_dbl), ("half_span_degc", c_dbl),
+                ("temp_min_degc", c_dbl), ("temp_max_degc", c_dbl),
+                ("coef", c_dbl * 5), ("coef_sd", c_dbl * 5), ("dof", c_dbl),
+                ("have_hysteresis", C.c_bool), ("hysteresis", c_dbl),
+                ("hysteresis_sd", c_dbl), ("hysteresis_max", c_dbl),
+                ("hysteresis_at_degc", c_dbl), ("have_split", C.c_bool),
+                ("heat_coef", c_dbl * 5), ("cool_coef", c_dbl * 5),
+                ("have_gradient", C.c_bool), ("gradient", c_dbl),
+                ("gradient_sd", c_dbl), ("deadband_degc_s", c_dbl),
+                ("turn_band_degc", c_dbl), ("smooth_s", c_dbl),
+                ("block_s", c_dbl), ("bin_degc", c_dbl),
+                ("residual_rms", c_dbl), ("sensitivity", c_dbl),
+                ("sensitivity_sd", c_dbl), ("peak_to_peak", c_dbl),
+                ("n_runs", c_size), ("runs", C.POINTER(TempbiasRunInfo)),
+                ("repeat_sd", c_dbl), ("repeat_range", c_dbl),
+                ("stability", c_dbl), ("stability_tau_s", c_dbl),
+                ("n_bins", c_size), ("bins", C.c_void_p),
+                ("n_table", c_size), ("table_temp_degc", c_dptr),
+                ("table_bias", c_dptr), ("used", c_size),
+                ("dropped", c_size)]
+
+
+class CalibDetect(C.Structure):
+    _fields_ = [("window_s", c_dbl), ("min_static_s", c_dbl),
+                ("init_static_s", c_dbl), ("k", c_dbl), ("reference", c_dbl),
+                ("threshold", c_dbl), ("n_intervals", c_size)]
+
+
+class CalibInterval(C.Structure):
+    _fields_ = [("start", c_size), ("end", c_size)]
+
+
+M33 = (c_dbl * 3) * 3
+
+
+class CalibTriad(C.Structure):
+    _fields_ = [("bias", c_dbl * 3), ("scale", c_dbl * 3), ("mis", M33),
+                ("gsens", M33), ("bias_sd", c_dbl * 3),
+                ("scale_sd", c_dbl * 3), ("mis_sd", M33), ("gsens_sd", M33),
+                ("has_gsens", C.c_bool), ("n_params", C.c_uint),
+                ("poses", c_size), ("residual_rms", c_dbl),
+                ("iterations", C.c_uint), ("cond", c_dbl)]
+
+
+class AdcSpec(C.Structure):
+    _fields_ = [("name", C.c_char * 64), ("bits", C.c_int), ("lo", c_dbl),
+                ("hi", c_dbl), ("analog", C.c_bool), ("quantity", C.c_int),
+                ("has", C.c_uint), ("rate_hz", c_dbl), ("noise", c_dbl),
+                ("enob", c_dbl), ("inl_lsb", c_dbl), ("dnl_lsb", c_dbl),
+                ("offset", c_dbl), ("gain_error", c_dbl),
+                ("offset_drift", c_dbl), ("gain_drift", c_dbl),
+                ("ref_temp_degc", c_dbl), ("reference", C.c_int),
+                ("mode", C.c_int), ("coding", C.c_char * 24),
+                ("oversample", C.c_uint), ("inl_profile", C.c_char * 256)]
+
+
+class AdcTermResult(C.Structure):
+    _fields_ = [("value", c_dbl), ("reference", c_dbl), ("ratio", c_dbl),
+                ("pass_limit", c_dbl), ("fail_limit", c_dbl),
+                ("verdict", C.c_int)]
+
+
+class AdcAnalysis(C.Structure):
+    _fields_ = [("lsb", c_dbl), ("rate_hz", c_dbl), ("sigma_sensor", c_dbl),
+                ("sigma_adc", c_dbl), ("sigma_over_q", c_dbl),
+                ("dithered", C.c_bool), ("n_quant", c_dbl),
+                ("q_quant", c_dbl), ("n_adc", c_dbl), ("n_total", c_dbl),
+                ("noise_degradation", c_dbl), ("adev_q_100s", c_dbl),
+                ("bias_bound", c_dbl), ("temp_span_degc", c_dbl),
+                ("temp_span_default", C.c_bool),
+                ("offset_drift_bias", c_dbl), ("scale_drift", c_dbl),
+                ("range_lo", c_dbl), ("range_hi", c_dbl),
+                ("headroom", c_dbl), ("min_bits", C.c_int),
+                ("term", AdcTermResult * 5), ("verdict", C.c_int),
+                ("limiting", C.c_int), ("margin", c_dbl)]
+
+
+# every structure mirrored, by C name, for the layout test
+STRUCTS = {
+    "sscope_diag": Diag, "sscope_unit": Unit, "sscope_column": Column,
+    "sscope_read_opts": ReadOpts, "sscope_topic": Topic,
+    "sscope_source": Source, "sscope_channel": Channel,
+    "sscope_timing": Timing, "sscope_gap": Gap,
+    "sscope_capture": Capture, "sscope_allan_opts": AllanOpts,
+    "sscope_allan_point": AllanPoint, "sscope_noise_coef": NoiseCoef,
+    "sscope_noise_readoff": NoiseReadoff,
+    "sscope_noise_fit_opts": NoiseFitOpts, "sscope_noise_fit": NoiseFit,
+    "sscope_allan_result": AllanResult, "sscope_psd_opts": PsdOpts,
+    "sscope_spectrum": Spectrum, "sscope_sensor_spec": SensorSpec,
+    "sscope_sim_tone": SimTone, "sscope_sim_opts": SimOpts,
+    "sscope_tempbias_run": TempbiasRun, "sscope_tempbias_opts": TempbiasOpts,
+    "sscope_tempbias_runinfo": TempbiasRunInfo,
+    "sscope_tempbias_result": TempbiasResult,
+    "sscope_calib_detect": CalibDetect,
+    "sscope_calib_interval": CalibInterval,
+    "sscope_calib_triad": CalibTriad, "sscope_adc_spec": AdcSpec,
+    "sscope_adc_term_result": AdcTermResult,
+    "sscope_adc_analysis": AdcAnalysis,
+}
+
+
+def _fn(name, res, *args):
+    f = getattr(lib, name)
+    f.restype = res
+    f.argtypes = list(args)
+    return f
+
+
+strerror = _fn("sscope_strerror", C.c_char_p, C.c_int)
+version = _fn("sscope_version", C.c_char_p)
+capture_load = _fn("sscope_capture_load", C.c_int,
+                   C.POINTER(C.POINTER(Capture)), C.c_char_p,
+                   C.POINTER(ReadOpts), C.POINTER(Diag))
+capture_free = _fn("sscope_capture_free", None, C.POINTER(Capture))
+capture_check_rate = _fn("sscope_capture_check_rate", C.c_int,
+                         C.POINTER(Capture), C.POINTER(Diag))
+quantity_name = _fn("sscope_quantity_name", C.c_char_p, C.c_int)
+term_unit = _fn("sscope_term_unit", C.c_char_p, C.c_int, C.c_int)
+term_si_unit = _fn("sscope_term_si_unit", C.c_char_p, C.c_int, C.c_int)
+unit_parse = _fn("sscope_unit_parse", C.c_int, C.c_char_p, C.POINTER(Unit),
+                 C.POINTER(Diag))
+unit_quantity = _fn("sscope_unit_quantity", C.c_int, C.POINTER(Unit))
+convert = _fn("sscope_convert", C.c_int, c_dbl, C.c_char_p, C.c_char_p,
+              c_dptr)
+dev_parse = _fn("sscope_dev_parse", C.c_int, C.c_char_p, C.POINTER(C.c_int))
+allan_analyze = _fn("sscope_allan_analyze", C.c_int, c_dptr, c_size, c_size,
+                    c_dbl, C.c_int, C.POINTER(AllanOpts),
+                    C.POINTER(NoiseFitOpts),
+                    C.POINTER(C.POINTER(AllanResult)), C.POINTER(Diag))
+allan_result_free = _fn("sscope_allan_result_free", None,
+                        C.POINTER(AllanResult))
+noise_fit = _fn("sscope_noise_fit", C.c_int, C.POINTER(AllanPoint), c_size,
+                c_dbl, c_size, C.POINTER(NoiseFitOpts), C.POINTER(NoiseFit),
+                C.POINTER(Diag))
+psd_opts_init = _fn("sscope_psd_opts_init", None, C.POINTER(PsdOpts))
+window_from_name = _fn("sscope_window_from_name", C.c_int, C.c_char_p,
+                       C.POINTER(C.c_int))
+psd_welch = _fn("sscope_psd_welch", C.c_int, c_dptr, c_size, c_size, c_dbl,
+                C.POINTER(PsdOpts), C.POINTER(Spectrum))
+spectrum_clear = _fn("sscope_spectrum_clear", None, C.POINTER(Spectrum))
+sensor_spec_load = _fn("sscope_sensor_spec_load", C.c_int, C.c_char_p,
+                       C.POINTER(SensorSpec), C.POINTER(Diag))
+sim_new = _fn("sscope_sim_new", C.c_int, C.POINTER(C.c_void_p),
+              C.POINTER(SensorSpec), C.POINTER(SimOpts), C.POINTER(Diag))
+sim_generate = _fn("sscope_sim_generate", C.c_int, C.c_void_p, c_dptr, c_dptr,
+                   c_dptr, c_size)
+sim_free = _fn("sscope_sim_free", None, C.c_void_p)
+tempbias_fit = _fn("sscope_tempbias_fit", C.c_int, C.POINTER(TempbiasRun),
+                   c_size, C.POINTER(TempbiasOpts),
+                   C.POINTER(C.POINTER(TempbiasResult)), C.POINTER(Diag))
+tempbias_result_free = _fn("sscope_tempbias_result_free", None,
+                           C.POINTER(TempbiasResult))
+calib_accel_multipos = _fn("sscope_calib_accel_multipos", C.c_int, c_dptr,
+                           c_dptr, c_dptr, c_size, c_size, c_dbl, c_dbl,
+                           C.POINTER(CalibDetect), C.POINTER(CalibInterval),
+                           c_size, C.POINTER(CalibTriad), c_dptr, c_dptr,
+                           C.POINTER(Diag))
+adc_spec_load = _fn("sscope_adc_spec_load", C.c_int, C.c_char_p,
+                    C.POINTER(AdcSpec), C.POINTER(Diag))
+adc_analyze = _fn("sscope_adc_analyze", C.c_int, C.POINTER(SensorSpec),
+                  C.POINTER(AdcSpec), c_dbl, C.POINTER(AdcAnalysis),
+                  C.POINTER(Diag))
+adc_verdict_name = _fn("sscope_adc_verdict_name", C.c_char_p, C.c_int)
+adc_term_name = _fn("sscope_adc_term_name", C.c_char_p, C.c_int)

@@ -1,0 +1,214 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Coverage benchmark of the IEEE 952 noise fit (make bench): simulated
+ * gyros (the library's simulator: Q white angle, N white rate, B flicker
+ * rate, K rate random walk, no rate ramp) over records of 1 to 24 h, at
+ * least 200 realisations per length; for each coefficient it prints how
+ * often the reported interval (or, for a term not fitted, the upper bound
+ * "not resolved: below X") holds the truth, how often the term is fitted,
+ * and the median relative error of the fitted values.  R is zero in the
+ * truth: its line counts how often a spurious ramp is reported as fitted.
+ *
+ * Usage: bench-noisefit [REALISATIONS [HOURS,...]]  (default 200;
+ * 1,3,6,12,24).  Realisations run in parallel over the cores (OpenMP);
+ * run it niced on a shared machine.
+ */
+#include "config.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "sensorscope.h"
+#include "sscope-allan.h"
+#include "sscope-sim.h"
+
+#define D2R (3.14159265358979323846 / 180)
+
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+struct tally {
+	int runs, fitted[5], cover[5], cover_fitted[5], bound_ok[5], bound_n[5];
+	double *relerr[5];
+	int n_relerr[5];
+};
+
+static int one_run(const struct sscope_sensor_spec *spec, double fs,
+		   size_t n, uint64_t seed, double *y, struct sscope_noise_fit *fit)
+{
+	struct sscope_sim_opts so = { 0 };
+	struct sscope_sim *sim = NULL;
+	struct sscope_allan_result *res = NULL;
+	int rc;
+
+	so.rate_hz = fs;
+	so.seed = seed;
+	so.no_clip = true;
+	rc = sscope_sim_new(&sim, spec, &so, NULL);
+	if (rc)
+		return rc;
+	rc = sscope_sim_generate(sim, NULL, y, NULL, n);
+	sscope_sim_free(sim);
+	if (rc)
+		return rc;
+	{
+		struct sscope_allan_opts ao = { 0 };
+
+		ao.threads = 1;
+		rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, &ao,
+					  NULL, &res, NULL);
+	}
+	if (rc)
+		return rc;
+	if (!res->have_fit) {
+		rc = res->fit_error;
+	} else {
+		*fit = res->fit;
+	}
+	sscope_allan_result_free(res);
+	return rc;
+}
+
+int main(int argc, char **argv)
+{
+	const double fs = 100;
+	int reps = argc > 1 ? atoi(argv[1]) : 200;
+	double hours[16] = { 1, 3, 6, 12, 24 };
+	int n_hours = 5;
+	struct sscope_sensor_spec spec;
+	double truth[5];
+	const char *names = "QNBKR";
+	const char *units[5] = { "arcsec", "deg/sqrt(h)", "deg/h", "deg/h/sqrt(h)",
+				 "deg/h/h" };
+	const double to_disp[5] = { 3600 / D2R, 60 / D2R, 3600 / D2R,
+				    3600 * 60 / D2R, 3600 * 3600 / D2R };
+	double t_all = now_s();
+
+	if (argc > 2) {
+		char *s = argv[2], *e;
+
+		n_hours = 0;
+		while (*s && n_hours < 16) {
+			hours[n_hours++] = strtod(s, &e);
+			if (e == s)
+				break;
+			s = *e == ',' ? e + 1 : e;
+		}
+	}
+	if (reps < 1)
+		reps = 1;
+	memset(&spec, 0, sizeof(spec));
+	spec.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	spec.range = 1e3;
+	/* a MEMS-class gyro: 1.8 arcsec angle white noise, 0.15 deg/sqrt(h),
+	 * a 1 deg/h flicker floor, 3 deg/h/sqrt(h) */
+	spec.q = 1.8 / 3600 * D2R;
+	spec.n = 0.15 / 60 * D2R;
+	spec.b = 1.0 / 3600 * D2R;
+	spec.k = 3.0 / 3600 / 60 * D2R;
+	spec.r = 0;
+	truth[0] = spec.q;
+	truth[1] = spec.n;
+	truth[2] = spec.b;
+	truth[3] = spec.k;
+	truth[4] = 0;
+	printf("# noise-fit coverage: %d realisations per record length, %g Hz, "
+	       "nominal level 68.3 %%\n", reps, fs);
+	printf("# truth: Q %.3g %s, N %.3g %s, B %.3g %s, K %.3g %s, R 0\n",
+	       truth[0] * to_disp[0], units[0], truth[1] * to_disp[1], units[1],
+	       truth[2] * to_disp[2], units[2], truth[3] * to_disp[3], units[3]);
+	printf("# cover: truth inside [lo, hi] (a term not fitted: [0, upper bound]);\n"
+	       "# fitted: share of runs that fit the term; bias: median (value/truth - 1)\n"
+	       "# of the fitted values; bound: upper bound >= truth when not fitted\n");
+	printf("%6s %4s %8s %8s %9s %10s %7s\n", "hours", "term", "cover%",
+	       "fitted%", "bias%", "bound_ok%", "time_s");
+	for (int h = 0; h < n_hours; h++) {
+		size_t n = (size_t)(hours[h] * 3600 * fs);
+		struct tally t;
+		double t0 = now_s();
+		int failed = 0;
+
+		memset(&t, 0, sizeof(t));
+		for (int j = 0; j < 5; j++)
+			t.relerr[j] = calloc((size_t)reps, sizeof(double));
+#ifdef _OPENMP
+#pragma omp parallel
+#endif
+		{
+			double *y = malloc(n * sizeof(double));
+
+#ifdef _OPENMP
+#pragma omp for schedule(dynamic, 1) reduction(+ : failed)
+#endif
+			for (int r = 0; r < reps; r++) {
+				struct sscope_noise_fit fit;
+
+				if (!y || one_run(&spec, fs, n,
+						  (uint64_t)(1000 * h + r + 1), y,
+						  &fit)) {
+					failed++;
+					continue;
+				}
+#ifdef _OPENMP
+#pragma omp critical
+#endif
+				{
+					t.runs++;
+					for (int j = 0; j < 5; j++) {
+						const struct sscope_noise_coef *c = &fit.coef[j];
+						bool in = truth[j] >= c->lo && truth[j] <= c->hi;
+
+						t.cover[j] += in;
+						if (c->fitted) {
+							t.fitted[j]++;
+							if (truth[j] > 0)
+								t.relerr[j][t.n_relerr[j]++] =
+									c->value / truth[j] - 1;
+						} else {
+							t.bound_n[j]++;
+							t.bound_ok[j] += truth[j] <= c->hi;
+						}
+					}
+				}
+			}
+			free(y);
+		}
+		for (int j = 0; j < 5; j++) {
+			double bias = NAN;
+
+			if (t.n_relerr[j]) {
+				qsort(t.relerr[j], (size_t)t.n_relerr[j],
+				      sizeof(double), cmp_d);
+				bias = t.relerr[j][t.n_relerr[j] / 2];
+			}
+			printf("%6g %4c %8.1f %8.1f %9.1f %10.1f %7.1f\n", hours[h],
+			       names[j], 100.0 * t.cover[j] / (t.runs ? t.runs : 1),
+			       100.0 * t.fitted[j] / (t.runs ? t.runs : 1),
+			       100 * bias,
+			       t.bound_n[j] ? 100.0 * t.bound_ok[j] / t.bound_n[j] :
+					      (double)NAN,
+			       now_s() - t0);
+			free(t.relerr[j]);
+		}
+		if (failed)
+			printf("# %g h: %d runs failed\n", hours[h], failed);
+		fflush(stdout);
+	}
+	printf("# total %.1f s\n", now_s() - t_all);
+	return 0;
+}

@@ -1,0 +1,60 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Every figure sensorscope draws, as SVG (built with or without OpenCV):
+# each command's --plot FILE.svg on the samples, then a real XML parser
+# (Python's xml.etree) checks each document's structure (tests/svgcheck.py):
+# well-formed, axis labels on every axes with data, legends and notes
+# outside every plot area and inside the figure, and no text under 10 px
+# with the figure shown at the report's 1100 px column.
+. "${top_srcdir:-$(dirname "$0")/..}/tests/lib.sh"
+: "${PYTHON3:=python3}"
+
+F="$T/fig"
+mkdir -p "$F"
+printf '[sensor]\nname = quiet\nnoise_density = 1e-6 deg/sqrt(h)\n' >"$T/s.ini"
+ss simulate --sensor "$T/s.ini" --rate 1000 --duration 2.048 --tone 37.1234:0.999 \
+	--no-clip -o "$T/sine.csv" >/dev/null 2>&1
+ss adc quantize --bits 10 --range -1:1 "$T/sine.csv" -o "$T/sq.csv" >/dev/null 2>&1
+
+run "info" 0 info --plot "$F/info.svg" "$SAMPLES/accel-thermal.csv"
+run "allan" 0 allan --plot "$F/allan.svg" "$SAMPLES/gyro-static.csv"
+run "allan, accelerometer" 0 allan --terms N,B,K -c ax,ay,az --plot "$F/allan-accel.svg" \
+	"$SAMPLES/accel-thermal.csv"
+run "psd" 0 psd --plot "$F/psd.svg" --nperseg 1024 "$SAMPLES/vibration.csv"
+run "psd --spectrogram" 0 psd --spectrogram --plot "$F/spectrogram.svg" "$SAMPLES/vibration.csv"
+run "vibration" 0 vibration --rpm 1797 --bearing 9,7.94,39.04 --plot "$F/vibration.svg" \
+	"$SAMPLES/bearing-outer.csv"
+run "tempbias" 0 tempbias -c az --plot "$F/tempbias.svg" "$SAMPLES/accel-thermal.csv"
+run "inclino calibrate" 0 inclino calibrate --plot "$F/inclino.svg" "$SAMPLES/inclino-cal.csv"
+run "calib gyro" 0 calib gyro --plot "$F/calib-gyro.svg" "$SAMPLES/imu-multipose.csv"
+run "calib accel" 0 calib accel --plot "$F/calib-accel.svg" "$SAMPLES/imu-multipose.csv"
+run "calib gyro rate table" 0 calib gyro --mode rate-table --reference rate_cmd \
+	--plot "$F/calib-ratetable.svg" "$SAMPLES/gyro-ratetable.csv"
+run "budget" 0 budget --gyro-bias 10deg/h --accel-bias 1mg --arw 0.1deg/sqrt\(h\) \
+	--vrw 0.05m/s/sqrt\(h\) --time 60 --plot "$F/budget.svg"
+run "model accel" 0 model accel --fn 2.4kHz --zeta 0.7 --plot "$F/model-accel.svg"
+run "model fog" 0 model fog --radius 5cm --turns 1000 --wavelength 1550nm --plot "$F/model-fog.svg"
+run "adc report" 0 adc report --sensor "$SAMPLES/gyro-seed-mems.ini" \
+	--adc "$SAMPLES/adc-seed-16bit.ini" --adc "$SAMPLES/adc-seed-16bit-os16.ini" \
+	--monte-carlo 4 --mc-duration 600 --plot "$F/adc-report.svg"
+run "adc test" 0 adc test --bits 10 --range -1:1 --plot "$F/adc-test.svg" "$T/sq.csv"
+
+# an upper-case extension is an SVG too; anything else is a usage error
+run "--plot X.SVG" 0 info --plot "$T/upper.SVG" "$SAMPLES/accel-thermal.csv"
+run "--plot X.pdf" 2 info --plot "$T/x.pdf" "$SAMPLES/accel-thermal.csv"
+one_line_error "--plot X.pdf"
+has "--plot X.pdf names the formats" "$T/err" "must end in .png or .svg"
+
+if command -v "$PYTHON3" >/dev/null 2>&1; then
+	for f in "$F"/*.svg "$T/upper.SVG"; do
+		if "$PYTHON3" "$top_srcdir/tests/svgcheck.py" "$f" >"$T/check" 2>&1; then
+			ok "$(cat "$T/check")"
+		else
+			not_ok "structure of $(basename "$f")"
+			diag "$T/check"
+		fi
+	done
+else
+	skip "SVG structure" "python3 not installed"
+fi
+done_testing

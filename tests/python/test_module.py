@@ -1,0 +1,310 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Tests of the Python module (TAP on stdout), run by tests/py-module.sh:
+the ctypes layouts against the C compiler's, every function against the
+CLI's JSON on the bundled samples, OADEV against an allantools-style numpy
+reference, zero-copy inputs, containers, and errors as exceptions."""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import warnings
+
+import numpy as np
+
+import sensorscope as ss
+from sensorscope import _capi
+
+SSCOPE = os.environ["SSCOPE"]
+SRC = os.environ["top_srcdir"]
+BUILD = os.environ["top_builddir"]
+SAMPLES = os.path.join(SRC, "samples")
+n_test = 0
+failed = 0
+
+
+def ok(cond, desc, detail=""):
+    global n_test, failed
+    n_test += 1
+    print("%s %d - %s" % ("ok" if cond else "not ok", n_test, desc))
+    if not cond:
+        failed += 1
+        for line in str(detail).splitlines()[:20]:
+            print("# " + line)
+
+
+def cli(*args):
+    r = subprocess.run([SSCOPE] + list(args), capture_output=True, text=True)
+    if r.returncode:
+        raise RuntimeError(r.stderr)
+    return json.loads(r.stdout)
+
+
+def conv(v, frm, to):
+    r = _capi.C.c_double()
+    assert _capi.convert(v, frm.encode(), to.encode(), _capi.C.byref(r)) == 0
+    return r.value
+
+
+def rel(a, b):
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    return float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1e-300)))
+
+
+# ---------------------------------------------------------------- layouts
+lay = subprocess.run([os.path.join(BUILD, "tests", "py-layout")],
+                     capture_output=True, text=True, check=True).stdout
+c_lay = dict(line.rsplit(" ", 1) for line in lay.splitlines())
+bad = []
+for cname, cls in _capi.STRUCTS.items():
+    if int(c_lay[cname]) != _capi.C.sizeof(cls):
+        bad.append("%s: size C %s, ctypes %d" % (cname, c_lay[cname],
+                                                 _capi.C.sizeof(cls)))
+    for f in cls._fields_:
+        off = getattr(cls, f[0]).offset
+        if int(c_lay["%s.%s" % (cname, f[0])]) != off:
+            bad.append("%s.%s: C %s, ctypes %d" % (
+                cname, f[0], c_lay["%s.%s" % (cname, f[0])], off))
+ok(not bad, "ctypes layouts equal the C compiler's (%d structures)" %
+   len(_capi.STRUCTS), "\n".join(bad))
+
+# ---------------------------------------------------------------- load
+gyro = os.path.join(SAMPLES, "gyro-static.csv")
+cap = ss.load(gyro)
+info = cli("info", "--format", "json", gyro)
+ok(cap.n == info["rows"] and cap.rate_hz == info["rate_hz"] and
+   list(cap) == [c["name"] for c in info["channels"]],
+   "load: rows, rate and channels as info's JSON")
+means = [conv(float(np.mean(cap[c["name"]])), "rad/s", c["unit"])
+         for c in info["channels"]]
+ok(rel(means, [c["mean"] for c in info["channels"]]) < 1e-9,
+   "load: means (SI) equal info's means in the channel unit",
+   (means, [c["mean"] for c in info["channels"]]))
+ok(cap.units["gx"] == "deg/s" and cap.quantities["gx"] == "angular rate",
+   "load: unit labels and quantities")
+gx = cap["gx"]
+ok(not gx.flags.owndata and not gx.flags.writeable,
+   "load: channels are read-only views of the library's arrays")
+del cap
+ok(abs(float(np.sum(gx)) - float(np.sum(np.array(gx)))) == 0,
+   "load: a view outlives its Capture object")
+
+# ---------------------------------------------------------------- allan
+j = cli("allan", "--format", "json", "-c", "gx", gyro)["channels"][0]
+cap = ss.load(gyro, columns="gx")
+r = ss.allan(cap["gx"], cap.rate_hz, unit="rad/s")
+dev_cli = [conv(p["dev"], j["dev_unit"], "rad/s") for p in j["points"]]
+ok(len(r.dev) == len(j["points"]) and rel(r.tau_s, [p["tau_s"] for p in
+                                                    j["points"]]) == 0,
+   "allan: the taus of the CLI")
+ok(rel(r.dev, dev_cli) < 1e-12, "allan: deviations equal the CLI's JSON",
+   rel(r.dev, dev_cli))
+ok(rel(r.dev_lo, [conv(p["dev_lo"], j["dev_unit"], "rad/s")
+                  for p in j["points"]]) < 1e-12 and
+   rel(r.edf, [p["edf"] for p in j["points"]]) < 1e-12,
+   "allan: intervals and EDF equal the CLI's")
+terms_ok = True
+detail = []
+for t in "NBK":
+    c = j["noise"][t]
+    if c["fitted"] != r.noise[t].fitted or (
+            c["fitted"] and rel(r.noise[t].value, c["si"]) > 1e-12):
+        terms_ok = False
+        detail.append((t, c, r.noise[t]))
+ok(terms_ok, "allan: the noise fit (N, B, K in SI) equals the CLI's", detail)
+ok(r.noise["N"].si_unit == "rad/s/sqrt(Hz)", "allan: SI units of the terms")
+v, lo, hi = r.noise["N"].to("deg/sqrt(h)")
+ok(abs(v - j["noise"]["N"]["value"]) <= 1e-9 * abs(v),
+   "allan: N converted to deg/sqrt(h) equals the CLI's value")
+
+# allantools-style reference: phase = cumsum / rate, second differences
+rng = np.random.default_rng(7)
+x = rng.normal(0, 2.385, 100000)
+rate = 50.0
+
+
+def oadev_ref(y, rate, m):
+    phase = np.concatenate(([0.0], np.cumsum(y))) / rate
+    tau = m / rate
+    d = phase[2 * m:] - 2 * phase[m:-m] + phase[:-2 * m]
+    return math.sqrt(np.sum(d * d) / (2 * len(d) * tau * tau))
+
+
+r = ss.allan(x, rate, taus="octave", fit=False)
+ref = [oadev_ref(x, rate, int(m)) for m in r.m]
+ok(rel(r.dev, ref) < 1e-9, "allan: OADEV equals an allantools-style numpy "
+   "reference on %d taus" % len(ref), rel(r.dev, ref))
+# zero copy and strides
+big = rng.normal(size=200001)
+a1 = ss.allan(big[::2], 10.0, taus="octave", fit=False)
+a2 = ss.allan(np.ascontiguousarray(big[::2]), 10.0, taus="octave", fit=False)
+# equal up to the last bits of the threads' partial sums
+ok(rel(a1.dev, a2.dev) < 1e-12, "allan: a strided view reads in place "
+   "and equals the contiguous copy", rel(a1.dev, a2.dev))
+p, stride, n, keep = ss._vector(big[::3])
+ok(keep.base is big or keep is big or (stride == 3 and n == 66667),
+   "allan: float64 strided input is not copied (stride %d)" % stride)
+r = ss.allan(np.arange(1000, dtype=np.int16).astype(float) * 0 + 1, 10.0,
+             taus="octave")
+ok(r.dev[0] == 0, "allan: a constant gives zero deviation")
+
+# ---------------------------------------------------------------- psd
+vib = os.path.join(SAMPLES, "vibration.csv")
+j = cli("psd", "--format", "json", "--nperseg", "1024", vib)["channels"][0]
+cap = ss.load(vib)
+name = j["name"]
+s = ss.psd(cap[name], cap.rate_hz, nperseg=1024)
+unit = j["unit"]
+scale = conv(1.0, cap.units[name], "m/s^2") if cap.quantities[name] == \
+    "acceleration" else 1.0
+ok(rel(s.frequency_hz[1:], j["frequency_hz"][1:]) < 1e-12 and
+   rel(s.psd[1:] / scale ** 2, j["psd"][1:]) < 1e-9,
+   "psd: equals the CLI's JSON (%s, %d bins)" % (name, len(s.psd)),
+   rel(s.psd[1:] / scale ** 2, j["psd"][1:]))
+try:
+    from scipy.signal import welch
+    f, pxx = welch(np.asarray(cap[name]), fs=cap.rate_hz, nperseg=1024)
+    ok(rel(s.psd[1:], pxx[1:]) < 1e-10, "psd: equals scipy.signal.welch")
+except ImportError:
+    ok(True, "psd: scipy not installed # SKIP")
+
+# ---------------------------------------------------------------- simulate
+spec = os.path.join(SAMPLES, "gyro-mems-250.ini")
+if not os.path.exists(spec):
+    specs = [os.path.join(SAMPLES, "specs", f)
+             for f in sorted(os.listdir(os.path.join(SAMPLES, "specs")))
+             if f.endswith(".ini")] if os.path.isdir(
+        os.path.join(SAMPLES, "specs")) else []
+    spec = specs[0] if specs else None
+if spec:
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "sim.csv")
+        subprocess.run([SSCOPE, "simulate", "--sensor", spec, "--rate", "100",
+                        "--duration", "20", "--seed", "5", "--axes", "2",
+                        "--digits", "17", "-o", out], check=True)
+        sim = ss.simulate(spec, 100, 20, seed=5, axes=2)
+        ref = ss.load(out)
+        names = [k for k in sim if k != "t"]
+        ok(names == list(ref) and all(
+            rel(sim[k], ref[k]) < 1e-12 for k in names),
+           "simulate: the same samples as `sensorscope simulate` (%s)" %
+           os.path.basename(spec),
+           [(k, rel(sim[k], ref[k])) for k in names if k in ref])
+else:
+    ok(True, "simulate: no sensor spec among the samples # SKIP")
+
+# ---------------------------------------------------------------- tempbias
+th = os.path.join(SAMPLES, "accel-thermal.csv")
+j = cli("tempbias", "--format", "json", th)["channels"][0]
+cap = ss.load(th)
+tb = ss.tempbias(cap[j["channel"]], cap.temp_degc, cap.rate_hz)
+u = conv(1.0, j["unit"], "m/s^2")
+ok(tb["order"] == j["fit"]["order"] and
+   abs(tb["ref_temp_degc"] - j["fit"]["ref_temp_degc"]) < 1e-12 and
+   rel(np.array(tb["coefficients"]) / u, j["fit"]["coefficients"]) < 1e-12
+   and rel(tb["residual_rms"] / u, j["fit"]["residual_rms"]) < 1e-12,
+   "tempbias: order, T_ref, coefficients and residual equal the CLI's JSON "
+   "(%s)" % j["channel"], (tb["coefficients"], j["fit"]))
+ok(len(tb["table"]) == len(j["table"]) and
+   rel([b / u for _, b in tb["table"]], [r["bias"] for r in j["table"]])
+   < 1e-12, "tempbias: the compensation table equals the CLI's")
+
+# ---------------------------------------------------------------- calib
+mp = os.path.join(SAMPLES, "imu-multipose.csv")
+j = cli("calib", "accel", "--format", "json", mp)["triads"][0]
+cap = ss.load(mp)
+cb = ss.calib(*(cap[c] for c in j["channels"]), cap.rate_hz)
+g = conv(1.0, j["input_unit"], "m/s^2")
+ok(cb["poses"] == j.get("poses", cb["poses"]) and
+   rel(np.array(cb["bias"]) / g, j["bias"]) < 1e-6 and
+   rel(np.array(cb["scale"]) * g, j["scale"]) < 1e-6 and
+   np.max(np.abs(np.array(cb["misalignment"]) -
+                 np.array(j["misalignment"]))) < 1e-7,
+   "calib: bias, scale and misalignment equal the CLI's JSON (input in %s, "
+   "here SI)" % j["input_unit"], (cb, j))
+
+# ---------------------------------------------------------------- adc
+sensor = os.path.join(SAMPLES, "gyro-seed-quiet.ini")
+adcs = [os.path.join(SAMPLES, f) for f in
+        ("adc-seed-16bit.ini", "adc-seed-18bit.ini")]
+j = cli("adc", "report", "--format", "json", "--sensor", sensor,
+        "--adc", adcs[0], "--adc", adcs[1])["adcs"]
+rep = ss.adc_report(sensor, adcs)
+ok(len(rep) == 2 and all(
+    r["name"] == c["name"] and r["bits"] == c["bits"] and
+    rel(r["lsb"], c["lsb"]["si"]) < 1e-12 and r["dithered"] == c["dithered"]
+    and r["min_bits"] == c["min_bits"] for r, c in zip(rep, j)),
+   "adc_report: LSB, dithering and minimum word length equal the CLI's",
+   (rep, j))
+ok(all(r["verdict"] == c["verdict"] for r, c in zip(rep, j)),
+   "adc_report: verdicts equal the CLI's (%s)" %
+   ", ".join(r["verdict"] for r in rep))
+
+# ---------------------------------------------------------------- containers
+with tempfile.TemporaryDirectory() as d:
+    subprocess.run([os.path.join(BUILD, "tests", "gen-ros"), d, "200", "10"],
+                   check=True)
+    csv = ss.load(os.path.join(d, "imu.csv"))
+    same = True
+    for f in ("imu-none.bag", "imu-bz2.bag", "imu-lz4.bag", "imu-zstd.mcap",
+              "imu-lz4.mcap", "rosbag2-mcap"):
+        c = ss.load(os.path.join(d, f))
+        same &= all(np.array_equal(c[k], csv[k]) for k in csv) and \
+            np.array_equal(c.time_s, csv.time_s)
+    ok(same, "load: bags and MCAP give the CSV's channels and stamps bit "
+       "for bit")
+    c = ss.load(os.path.join(d, "imu-lz4.bag"))
+    ok(c.format == "ROS 1 bag v2.0 (lz4 chunks)" and
+       [t["name"] for t in c.topics if t["selected"]] ==
+       ["/imu/temperature", "/imu/data"] and
+       abs(float(c.receive_s[10] - c.time_s[10]) - 0.0015) < 1e-9 and
+       c.temp_degc is not None,
+       "load: format, topics, receive times and temperature of a bag")
+    try:
+        ss.load(os.path.join(d, "two-imu.mcap"))
+        ok(False, "load: two IMU topics raise")
+    except ss.Error as e:
+        ok(e.code == -22 and "--topic" in str(e) and "/imu1/data" in str(e),
+           "load: two IMU topics raise ss.Error naming them", e)
+    c = ss.load(os.path.join(d, "two-imu.mcap"), topic="/imu1/data")
+    ok(c.n == 2000, "load: topic= selects one")
+    np.save(os.path.join(d, "x.npy"), np.asfortranarray(
+        np.arange(30.0).reshape(10, 3)))
+    c = ss.load(os.path.join(d, "x.npy"), rate=10, units="deg/s")
+    ok(list(c) == ["col1", "col2", "col3"] and c["col2"][3] ==
+       conv(10.0, "deg/s", "rad/s"), "load: a Fortran-order npy")
+    with open(os.path.join(d, "ns.csv"), "w") as f:
+        f.write("t,gx\n")
+        for i in range(50):
+            f.write("%d,%d\n" % (1700000000000000000 + 5000000 * i, i % 3))
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        ss.load(os.path.join(d, "ns.csv"))
+    ok(any("stamps are in ns the rate is 200 Hz" in str(x.message)
+           for x in w), "load: ns read as s gives a RuntimeWarning",
+       [str(x.message) for x in w])
+
+# ---------------------------------------------------------------- errors
+try:
+    ss.load("/nonexistent/capture.csv")
+    ok(False, "errors: a missing file raises")
+except ss.Error as e:
+    ok(e.code == -2 and "/nonexistent/capture.csv" in str(e),
+       "errors: a missing file raises ss.Error with the library's message",
+       e)
+try:
+    ss.allan(np.ones(1), 10.0)
+    ok(False, "errors: a too-short record raises")
+except ss.Error as e:
+    ok(e.code < 0 and str(e), "errors: a too-short record raises ss.Error "
+       "(%s)" % e)
+try:
+    ss.allan(np.ones(100), 10.0, dev="xdev")
+    ok(False, "errors: an unknown deviation raises")
+except ValueError as e:
+    ok("xdev" in str(e), "errors: an unknown deviation raises ValueError")
+
+print("1..%d" % n_test)

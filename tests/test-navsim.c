@@ -1,0 +1,648 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Unit tests of analysis/strapdown.c and analysis/navsim.c:
+ * - a perfect IMU at rest for 1 h at 45 deg (free vertical channel): the
+ *   mechanisation, the gravity model and the Earth rate agree (< 1 mm,
+ *   < 1e-9 rad); moving along a straight line and a turn, the
+ *   mechanisation's closed forms (radii, transport rate, Coriolis) agree
+ *   with the reference computed through ECEF;
+ * - classical coning and an oscillating roll (sculling) with increments
+ *   by fine quadrature: the two-sample corrections keep attitude and
+ *   velocity where the uncorrected update drifts;
+ * - a north accelerometer bias: Schuler period 2 pi sqrt(R/g) and
+ *   amplitude b R / g within 1 %;
+ * - a 10 deg/h gyro bias: 137 m after 120 s within 2 % (g b t^3 / 6) and
+ *   the Schuler-bounded growth over 4 h, not t^3;
+ * - angle random walk: the Monte-Carlo spread of the attitude errors
+ *   against N sqrt(t) (chi-squared bounds on the variance), percentiles
+ *   against the normal quantiles;
+ * - determinism across thread counts, trajectory tables, refused input.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include "check-main.h"
+
+#define PI 3.14159265358979323846
+#define D2R (PI / 180)
+#define G0 9.80665
+
+static struct sscope_navsim *make(struct sscope_navsim_opts *o)
+{
+	struct sscope_navsim *ns = NULL;
+	struct sscope_diag d = { "" };
+	int rc = sscope_navsim_new(&ns, o, &d);
+
+	ck_assert_msg(rc == 0, "navsim_new: %d %s", rc, d.msg);
+	return ns;
+}
+
+/* max |error| of components [c0, c1) over a run */
+static double worst(const double *e, size_t n, int c0, int c1)
+{
+	double m = 0;
+
+	for (size_t k = 0; k < n; k++)
+		for (int c = c0; c < c1; c++)
+			m = fmax(m, fabs(e[k * SSCOPE_NAVSIM_N_COMP + c]));
+	return m;
+}
+
+static double *run1(struct sscope_navsim *ns, const struct sscope_navsim_imu *imu)
+{
+	size_t n = sscope_navsim_n_out(ns);
+	double *e = calloc(n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+	struct sscope_diag d = { "" };
+
+	ck_assert_ptr_nonnull(e);
+	ck_assert_msg(sscope_navsim_run(ns, imu, 1, 0, e, NULL, &d) == 0, "%s", d.msg);
+	return e;
+}
+
+START_TEST(test_perfect_static)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns;
+	double *e;
+	size_t n;
+
+	o.rate_hz = 100;
+	o.duration_s = 3600;
+	o.start.lat_rad = 45 * D2R;
+	o.start.lon_rad = 7 * D2R;
+	o.start.height_m = 250;
+	o.roll_rad = 2 * D2R;
+	o.pitch_rad = -3 * D2R;
+	o.yaw_rad = 120 * D2R;
+	o.free_vertical = true;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	ck_assert_int_eq(sscope_navsim_n_samples(ns), 360000);
+	ck_assert(fabs(sscope_navsim_time(ns, n - 1) - 3600) < 1e-9);
+	e = run1(ns, &imu);
+	ck_assert_msg(worst(e, n, 0, 3) < 1e-3, "position error %g m", worst(e, n, 0, 3));
+	ck_assert_msg(worst(e, n, 6, 9) < 1e-9, "attitude error %g rad", worst(e, n, 6, 9));
+	free(e);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_perfect_moving)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns;
+	struct sscope_navsim_pose p0, p1;
+	double *e;
+	size_t n;
+
+	/* a straight line at 25 m/s, heading 30 deg, 10 min */
+	o.rate_hz = 100;
+	o.duration_s = 600;
+	o.start.lat_rad = 45 * D2R;
+	o.start.height_m = 100;
+	o.yaw_rad = 30 * D2R;
+	o.motion = SSCOPE_NAVSIM_STRAIGHT;
+	o.speed_m_s = 25;
+	o.free_vertical = true;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	sscope_navsim_truth(ns, 0, &p0);
+	sscope_navsim_truth(ns, n - 1, &p1);
+	/* 15 km along the great circle, height within a metre */
+	ck_assert(fabs(p1.pos.height_m - 100) < 1);
+	ck_assert(fabs(hypot(p1.v_ned_m_s[0], p1.v_ned_m_s[1]) - 25) < 1e-6);
+	e = run1(ns, &imu);
+	ck_assert_msg(worst(e, n, 0, 3) < 1e-4, "straight: position %g m", worst(e, n, 0, 3));
+	ck_assert_msg(worst(e, n, 3, 6) < 1e-6, "straight: velocity %g m/s", worst(e, n, 3, 6));
+	ck_assert_msg(worst(e, n, 6, 9) < 1e-9, "straight: attitude %g rad", worst(e, n, 6, 9));
+	free(e);
+	sscope_navsim_free(ns);
+	/* a turn at 10 deg/s and 10 m/s (radius 57 m) */
+	o.motion = SSCOPE_NAVSIM_TURN;
+	o.speed_m_s = 10;
+	o.turn_rate_rad_s = 10 * D2R;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	e = run1(ns, &imu);
+	ck_assert_msg(worst(e, n, 0, 3) < 1e-3, "turn: position %g m", worst(e, n, 0, 3));
+	ck_assert_msg(worst(e, n, 6, 9) < 1e-9, "turn: attitude %g rad", worst(e, n, 6, 9));
+	free(e);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+/* A motion at a fixed point (latitude 45 deg) plus a small translation:
+ * attitude q_b^n, body rate relative to NED, velocity and acceleration
+ * (NED) of the translation. */
+typedef void (*motion_fn)(double t, double q[4], double w_nb[3], double v[3],
+			  double a[3]);
+
+/* body rate and specific force (Coriolis included; the transport rate of
+ * millimetre motions is below 1e-9 rad/s and left out) */
+static void sense(motion_fn m, double lat, double t, double w[3], double f[3])
+{
+	double q[4], C[3][3], wie[3], wnb[3], v[3], a[3], fn[3];
+	double g = sscope_nav_gravity(lat, 0);
+
+	m(t, q, wnb, v, a);
+	sscope_nav_dcm_from_quat(q, C);
+	sscope_nav_earth_rate(lat, wie);
+	fn[0] = a[0] + 2 * (wie[1] * v[2] - wie[2] * v[1]);
+	fn[1] = a[1] + 2 * (wie[2] * v[0] - wie[0] * v[2]);
+	fn[2] = a[2] + 2 * (wie[0] * v[1] - wie[1] * v[0]) - g;
+	for (int i = 0; i < 3; i++) {
+		w[i] = wnb[i] + C[0][i] * wie[0] + C[1][i] * wie[1] + C[2][i] * wie[2];
+		f[i] = C[0][i] * fn[0] + C[1][i] * fn[1] + C[2][i] * fn[2];
+	}
+}
+
+/* Gauss-Legendre increments over [t, t + h] in 16 sub-intervals */
+static void increments(motion_fn m, double lat, double t, double h, double a[3],
+		       double v[3])
+{
+	const double gx[3] = { -sqrt(0.6), 0, sqrt(0.6) }, gw[3] = { 5.0 / 9, 8.0 / 9, 5.0 / 9 };
+	const int sub = 16;
+
+	memset(a, 0, 3 * sizeof(double));
+	memset(v, 0, 3 * sizeof(double));
+	for (int s = 0; s < sub; s++)
+		for (int q = 0; q < 3; q++) {
+			double w[3], f[3], hs = h / sub;
+
+			sense(m, lat, t + hs * (s + 0.5 * (1 + gx[q])), w, f);
+			for (int i = 0; i < 3; i++) {
+				a[i] += 0.5 * hs * gw[q] * w[i];
+				v[i] += 0.5 * hs * gw[q] * f[i];
+			}
+		}
+}
+
+/* classical coning: half-angle 1 deg at 2 Hz */
+static void coning(double t, double q[4], double w[3], double v[3], double a[3])
+{
+	double al = 1 * D2R, W = 2 * PI * 2, c = cos(al / 2), s = sin(al / 2);
+
+	q[0] = c;
+	q[1] = 0;
+	q[2] = s * cos(W * t);
+	q[3] = s * sin(W * t);
+	w[0] = -2 * s * s * W;
+	w[1] = -sin(al) * W * sin(W * t);
+	w[2] = sin(al) * W * cos(W * t);
+	memset(v, 0, 3 * sizeof(double));
+	memset(a, 0, 3 * sizeof(double));
+}
+
+/* classical sculling: roll rate about x in phase with an east (body y)
+ * acceleration, 1 deg and 2 m/s^2 at 5 Hz */
+static void sculling(double t, double q[4], double w[3], double v[3], double a[3])
+{
+	double th = 1 * D2R, A = 2, W = 2 * PI * 5, r = th * sin(W * t);
+
+	q[0] = cos(r / 2);
+	q[1] = sin(r / 2);
+	q[2] = q[3] = 0;
+	w[0] = th * W * cos(W * t);
+	w[1] = w[2] = 0;
+	v[0] = v[2] = 0;
+	v[1] = A / W * sin(W * t);
+	a[0] = a[2] = 0;
+	a[1] = A * cos(W * t);
+}
+
+/* attitude and velocity error after `secs` at `fs` Hz, with or without
+ * the two-sample corrections (without: both halves get the mean
+ * increments, so the cross products vanish) */
+static void fly(motion_fn m, double fs, double secs, bool corrected,
+		double *att_err, double *vel_err)
+{
+	const double lat = 45 * D2R, dt = 1 / fs;
+	struct sscope_strapdown_state s;
+	double q0[4], w[3], C[3][3], e[3], v0[3], a0[3];
+	size_t n = (size_t)lround(secs * fs / 2);
+
+	m(0, q0, w, v0, a0);
+	sscope_nav_dcm_from_quat(q0, C);
+	sscope_nav_euler_from_dcm(C, &e[0], &e[1], &e[2]);
+	ck_assert_int_eq(sscope_strapdown_init(&s, lat, 0, 0, v0, e[0], e[1], e[2]), 0);
+	for (size_t k = 0; k < n; k++) {
+		double a1[3], a2[3], v1[3], v2[3], t = 2 * (double)k * dt;
+
+		increments(m, lat, t, dt, a1, v1);
+		increments(m, lat, t + dt, dt, a2, v2);
+		if (!corrected)
+			for (int i = 0; i < 3; i++) {
+				a1[i] = a2[i] = 0.5 * (a1[i] + a2[i]);
+				v1[i] = v2[i] = 0.5 * (v1[i] + v2[i]);
+			}
+		sscope_strapdown_step2(&s, a1, a2, v1, v2, dt);
+	}
+	{
+		double qt[4], qc[4], d[4], rv[3], vt[3], at[3];
+
+		m(2 * (double)n * dt, qt, w, vt, at);
+		qc[0] = qt[0];
+		for (int i = 1; i < 4; i++)
+			qc[i] = -qt[i];
+		sscope_nav_quat_mul(qc, s.q_bn, d);
+		sscope_nav_rotvec_from_quat(d, rv);
+		*att_err = sqrt(rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2]);
+		*vel_err = sqrt((s.v_ned_m_s[0] - vt[0]) * (s.v_ned_m_s[0] - vt[0]) +
+				(s.v_ned_m_s[1] - vt[1]) * (s.v_ned_m_s[1] - vt[1]) +
+				(s.v_ned_m_s[2] - vt[2]) * (s.v_ned_m_s[2] - vt[2]));
+	}
+}
+
+START_TEST(test_coning_sculling)
+{
+	double a_c, v_c, a_u, v_u;
+
+	/* the coning body rate is 2 conj(q) q' (central differences) */
+	{
+		double q[4], w[3], qp[4], qm[4], qd[4], cq[4], r[4], z[3], h = 1e-6;
+
+		coning(0.123, q, w, z, z);
+		coning(0.123 + h, qp, r, z, z);
+		coning(0.123 - h, qm, r, z, z);
+		for (int i = 0; i < 4; i++)
+			qd[i] = (qp[i] - qm[i]) / (2 * h);
+		cq[0] = q[0];
+		for (int i = 1; i < 4; i++)
+			cq[i] = -q[i];
+		sscope_nav_quat_mul(cq, qd, r);
+		for (int i = 0; i < 3; i++)
+			ck_assert(fabs(2 * r[i + 1] - w[i]) < 1e-7);
+	}
+	fly(coning, 100, 60, true, &a_c, &v_c);
+	fly(coning, 100, 60, false, &a_u, &v_u);
+	ck_assert_msg(a_c < 1e-6 && a_u > 100 * a_c,
+		      "coning: attitude error %g rad corrected, %g uncorrected", a_c, a_u);
+	fly(sculling, 100, 60, true, &a_c, &v_c);
+	fly(sculling, 100, 60, false, &a_u, &v_u);
+	ck_assert_msg(v_c < 1e-3 && v_u > 30 * v_c,
+		      "sculling: velocity error %g m/s corrected, %g uncorrected", v_c, v_u);
+	ck_assert(a_c < 1e-8);
+}
+END_TEST
+
+START_TEST(test_schuler_accel_bias)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns;
+	double *e, rn, g, b = 1e-3 * G0, Ts, best = 0, t_best = 0;
+	size_t n;
+
+	o.rate_hz = 20;
+	o.start.lat_rad = 45 * D2R;
+	sscope_nav_radii(o.start.lat_rad, &rn, NULL);
+	g = sscope_nav_gravity(o.start.lat_rad, 0);
+	Ts = 2 * PI * sqrt(rn / g);
+	ck_assert(fabs(Ts / 60 - 84.4) < 0.1);
+	o.duration_s = Ts;
+	o.output_step_s = 1;
+	imu.accel_bias_m_s2[0] = b; /* north (yaw 0) */
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	e = run1(ns, &imu);
+	for (size_t k = 0; k < n; k++) {
+		double h = hypot(e[k * SSCOPE_NAVSIM_N_COMP], e[k * SSCOPE_NAVSIM_N_COMP + 1]);
+
+		if (h > best) {
+			best = h;
+			t_best = sscope_navsim_time(ns, k);
+		}
+	}
+	/* (b R / g)(1 - cos(w t)) (turned slowly by the Earth rate, so the
+	 * horizontal magnitude): peak 2 b R / g at half the period */
+	ck_assert_msg(fabs(best / 2 / (b * rn / g) - 1) < 0.01,
+		      "amplitude %g m, b R / g = %g m", best / 2, b * rn / g);
+	ck_assert_msg(fabs(2 * t_best / Ts - 1) < 0.01, "period %g s, expected %g s",
+		      2 * t_best, Ts);
+	/* the down error is held at zero by the aided vertical channel */
+	ck_assert(worst(e, n, 2, 3) == 0);
+	free(e);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_gyro_bias)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_budget_params bp;
+	struct sscope_budget_point sch, t3;
+	struct sscope_navsim *ns;
+	double *e, bg = 10 * D2R / 3600, h120 = -1, h4;
+	size_t n;
+
+	o.rate_hz = 20;
+	o.start.lat_rad = 45 * D2R;
+	o.duration_s = 4 * 3600;
+	o.output_step_s = 10;
+	imu.gyro_bias_rad_s[1] = bg; /* east axis: pitch, north error */
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	e = run1(ns, &imu);
+	for (size_t k = 0; k < n; k++)
+		if (fabs(sscope_navsim_time(ns, k) - 120) < 1e-9)
+			h120 = hypot(e[k * SSCOPE_NAVSIM_N_COMP], e[k * SSCOPE_NAVSIM_N_COMP + 1]);
+	/* the open-loop figure g b t^3 / 6 = 136.9 m */
+	ck_assert_msg(fabs(h120 / (G0 * bg * 120 * 120 * 120 / 6) - 1) < 0.02,
+		      "120 s: %g m", h120);
+	h4 = hypot(e[(n - 1) * SSCOPE_NAVSIM_N_COMP], e[(n - 1) * SSCOPE_NAVSIM_N_COMP + 1]);
+	sscope_navsim_budget(ns, &imu, &bp);
+	ck_assert(bp.model == SSCOPE_BUDGET_SCHULER && bp.gyro_bias_rad_s == bg);
+	sscope_budget_source_eval(&bp, SSCOPE_BUDGET_GYRO_BIAS, 4 * 3600, &sch);
+	bp.model = SSCOPE_BUDGET_OPEN_LOOP;
+	sscope_budget_source_eval(&bp, SSCOPE_BUDGET_GYRO_BIAS, 4 * 3600, &t3);
+	/* bounded as the Schuler solution R b (t - sin(w t) / w): within
+	 * 15 % after 4 h (the single channel leaves out the Earth-rate
+	 * coupling), and 50 times below the t^3 curve */
+	ck_assert_msg(fabs(h4 / sch.position_m - 1) < 0.15 && t3.position_m > 50 * h4,
+		      "4 h: %g m, Schuler %g m, t^3 %g m", h4, sch.position_m,
+		      t3.position_m);
+	free(e);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_arw_monte_carlo)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns;
+	struct sscope_navsim_stat *st;
+	const size_t M = 300;
+	double N = 0.15 * D2R / 60, lo, hi;
+	size_t n;
+
+	o.rate_hz = 50;
+	o.duration_s = 120;
+	o.output_step_s = 30;
+	o.start.lat_rad = 45 * D2R;
+	imu.gyro.n = N;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	st = calloc(n, sizeof(*st));
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, M, 3, st, NULL, NULL, NULL), 0);
+	/* M s^2 / sigma^2 ~ chi^2_M (zero-mean errors): two-sided 1e-4 */
+	lo = gsl_cdf_chisq_Pinv(5e-5, (double)M) / (double)M;
+	hi = gsl_cdf_chisq_Qinv(5e-5, (double)M) / (double)M;
+	for (size_t k = 1; k < n; k++) {
+		double t = st[k].t_s, s2 = N * N * t;
+
+		for (int c = SSCOPE_NAVSIM_ROLL; c <= SSCOPE_NAVSIM_YAW; c++) {
+			double r = st[k].rms[c] * st[k].rms[c] / s2;
+
+			/* Schuler and Earth-rate coupling change the
+			 * variance by less than 0.1 % within 2 min */
+			ck_assert_msg(r > lo && r < hi,
+				      "t %g comp %d: rms^2 / (N^2 t) = %g outside [%g, %g]",
+				      t, c, r, lo, hi);
+		}
+		/* percentiles of a normal: +-1.645 sigma, loose (sampling) */
+		ck_assert(fabs(st[k].p95[SSCOPE_NAVSIM_YAW] - st[k].p05[SSCOPE_NAVSIM_YAW]) /
+				  (2 * 1.645 * N * sqrt(t)) > 0.75);
+		ck_assert(fabs(st[k].p95[SSCOPE_NAVSIM_YAW] - st[k].p05[SSCOPE_NAVSIM_YAW]) /
+				  (2 * 1.645 * N * sqrt(t)) < 1.25);
+		ck_assert(st[k].horiz_p50 <= st[k].horiz_p95);
+	}
+	free(st);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_deterministic)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns1, *ns2;
+	double *a, *b;
+	size_t n, M = 5;
+	struct sscope_navsim_stat *st;
+
+	o.rate_hz = 50;
+	o.duration_s = 60;
+	o.start.lat_rad = -33 * D2R;
+	o.motion = SSCOPE_NAVSIM_TURN;
+	o.turn_rate_rad_s = -5 * D2R;
+	o.speed_m_s = 8;
+	imu.gyro.n = 0.2 * D2R / 60;
+	imu.gyro.b = 3 * D2R / 3600;
+	imu.gyro.bias = 5 * D2R / 3600;
+	imu.accel.n = 1e-3;
+	imu.accel.scale_factor_error = 300e-6;
+	imu.accel_m[0][1] = 1e-3;
+	o.threads = 1;
+	ns1 = make(&o);
+	o.threads = 2;
+	ns2 = make(&o);
+	n = sscope_navsim_n_out(ns1);
+	a = calloc(M * n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+	b = calloc(M * n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+	st = calloc(n, sizeof(*st));
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns1, &imu, M, 42, st, a, NULL, NULL), 0);
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns2, &imu, M, 42, st, b, NULL, NULL), 0);
+	ck_assert(memcmp(a, b, M * n * SSCOPE_NAVSIM_N_COMP * sizeof(double)) == 0);
+	/* run r of the Monte Carlo is sscope_navsim_run(seed, r) */
+	{
+		double *c = calloc(n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+
+		ck_assert_int_eq(sscope_navsim_run(ns1, &imu, 42, 3, c, NULL, NULL), 0);
+		ck_assert(memcmp(c, a + 3 * n * SSCOPE_NAVSIM_N_COMP,
+				 n * SSCOPE_NAVSIM_N_COMP * sizeof(double)) == 0);
+		/* another seed differs */
+		ck_assert_int_eq(sscope_navsim_run(ns1, &imu, 43, 3, c, NULL, NULL), 0);
+		ck_assert(memcmp(c, a + 3 * n * SSCOPE_NAVSIM_N_COMP,
+				 n * SSCOPE_NAVSIM_N_COMP * sizeof(double)) != 0);
+		free(c);
+	}
+	free(a);
+	free(b);
+	free(st);
+	sscope_navsim_free(ns1);
+	sscope_navsim_free(ns2);
+}
+END_TEST
+
+START_TEST(test_table)
+{
+	/* the turn sampled at 10 Hz into a table: the spline reference is
+	 * close to the analytic one and a perfect IMU follows it */
+	struct sscope_navsim_opts o = { 0 }, ot;
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns, *nt;
+	const size_t rows = 1201;
+	double *t = calloc(rows, sizeof(double)), (*x)[3] = calloc(rows, sizeof(*x));
+	double (*eu)[3] = calloc(rows, sizeof(*eu)), *e;
+	double r = 6 * D2R, v = 5, y0 = 0.3;
+	size_t n;
+
+	for (size_t i = 0; i < rows; i++) {
+		double ti = 0.1 * (double)i, y = y0 + r * ti;
+
+		t[i] = 1000 + ti; /* times need not start at 0 */
+		x[i][0] = v / r * (sin(y) - sin(y0));
+		x[i][1] = -v / r * (cos(y) - cos(y0));
+		x[i][2] = 0;
+		eu[i][0] = 0.01;
+		eu[i][1] = -0.02;
+		eu[i][2] = remainder(y, 2 * PI);
+	}
+	o.rate_hz = 50;
+	o.duration_s = 120;
+	o.output_step_s = 10;
+	o.start.lat_rad = 10 * D2R;
+	o.motion = SSCOPE_NAVSIM_TURN;
+	o.turn_rate_rad_s = r;
+	o.speed_m_s = v;
+	o.yaw_rad = y0;
+	o.roll_rad = 0.01;
+	o.pitch_rad = -0.02;
+	ot = o;
+	ot.motion = SSCOPE_NAVSIM_TABLE;
+	ot.duration_s = 0; /* the table's span */
+	ot.table_t_s = t;
+	ot.table_ned_m = (const double(*)[3])x;
+	ot.table_euler_rad = (const double(*)[3])eu;
+	ot.n_table = rows;
+	ns = make(&o);
+	nt = make(&ot);
+	n = sscope_navsim_n_out(nt);
+	ck_assert_int_eq(n, sscope_navsim_n_out(ns));
+	for (size_t k = 0; k < n; k++) {
+		struct sscope_navsim_pose a, b;
+
+		sscope_navsim_truth(ns, k, &a);
+		sscope_navsim_truth(nt, k, &b);
+		ck_assert(fabs(a.pos.lat_rad - b.pos.lat_rad) * 6.4e6 < 1e-3);
+		/* the natural spline's end conditions (zero acceleration)
+		 * bend the ends; compare velocities inside */
+		if (k > 0 && k + 1 < n)
+			ck_assert(fabs(a.v_ned_m_s[0] - b.v_ned_m_s[0]) < 1e-3);
+		ck_assert(fabs(remainder(a.euler_rad[2] - b.euler_rad[2], 2 * PI)) < 1e-6);
+	}
+	e = run1(nt, &imu);
+	ck_assert_msg(worst(e, n, 0, 3) < 0.01, "table: position %g m", worst(e, n, 0, 3));
+	ck_assert_msg(worst(e, n, 6, 9) < 1e-7, "table: attitude %g rad", worst(e, n, 6, 9));
+	free(e);
+	sscope_navsim_free(ns);
+	sscope_navsim_free(nt);
+	/* refused tables */
+	ot.n_table = 2;
+	ck_assert_int_eq(sscope_navsim_new(&nt, &ot, NULL), -EINVAL);
+	ot.n_table = rows;
+	t[5] = t[4];
+	ck_assert_int_eq(sscope_navsim_new(&nt, &ot, NULL), -EINVAL);
+	t[5] = t[4] + 0.1;
+	eu[7][1] = 89.5 * D2R;
+	ck_assert_int_eq(sscope_navsim_new(&nt, &ot, NULL), -EINVAL);
+	eu[7][1] = -0.02;
+	x[3][1] = NAN;
+	ck_assert_int_eq(sscope_navsim_new(&nt, &ot, NULL), -EINVAL);
+	free(t);
+	free(x);
+	free(eu);
+}
+END_TEST
+
+START_TEST(test_refused)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns = NULL;
+	struct sscope_diag d = { "" };
+	double e[SSCOPE_NAVSIM_N_COMP * 4];
+
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* rate */
+	o.rate_hz = 100;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* duration */
+	o.duration_s = 0.01;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EDOM); /* 1 sample */
+	o.duration_s = 10;
+	o.start.lat_rad = 91 * D2R;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL);
+	ck_assert(strstr(d.msg, "latitude") != NULL);
+	o.start.lat_rad = 0;
+	o.motion = SSCOPE_NAVSIM_STRAIGHT;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* speed */
+	o.motion = SSCOPE_NAVSIM_TURN;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* rate 0 */
+	o.motion = SSCOPE_NAVSIM_TABLE;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* no data */
+	o.motion = SSCOPE_NAVSIM_STATIC;
+	o.output_step_s = 1;
+	ns = make(&o);
+	ck_assert_int_eq(sscope_navsim_n_out(ns), 11);
+	imu.gyro.n = -1;
+	ck_assert_int_eq(sscope_navsim_run(ns, &imu, 1, 0, e, NULL, &d), -EINVAL);
+	imu.gyro.n = 0;
+	imu.accel_m[1][2] = INFINITY;
+	ck_assert_int_eq(sscope_navsim_run(ns, &imu, 1, 0, e, NULL, &d), -EINVAL);
+	imu.accel_m[1][2] = 0;
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, 0, 1, NULL, NULL, NULL, &d),
+			 -EINVAL);
+	{
+		struct sscope_navsim_pose p;
+
+		ck_assert_int_eq(sscope_navsim_truth(ns, 11, &p), -EINVAL);
+	}
+	ck_assert_str_eq(sscope_navsim_comp_name(SSCOPE_NAVSIM_YAW), "yaw");
+	ck_assert_ptr_null(sscope_navsim_comp_name(SSCOPE_NAVSIM_N_COMP));
+	sscope_navsim_free(ns);
+	sscope_navsim_free(NULL);
+}
+END_TEST
+
+START_TEST(test_clipping)
+{
+	/* a turn faster than the gyro's range is clipped and counted */
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_navsim *ns;
+	struct sscope_navsim_stat st[11];
+	uint64_t clipped = 0;
+
+	o.rate_hz = 50;
+	o.duration_s = 10;
+	o.output_step_s = 1;
+	o.motion = SSCOPE_NAVSIM_TURN;
+	o.turn_rate_rad_s = 150 * D2R;
+	imu.gyro.has = SSCOPE_SPEC_RANGE;
+	imu.gyro.range = 100 * D2R;
+	ns = make(&o);
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, 1, 1, st, NULL, &clipped, NULL), 0);
+	ck_assert_int_eq(clipped, 500);
+	/* the heading lags by 50 deg/s: -500 deg after 10 s */
+	ck_assert(fabs(st[10].p50[SSCOPE_NAVSIM_YAW] - remainder(-500 * D2R, 2 * PI)) < 1e-3);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("navsim");
+	TCase *tc = tcase_create("core");
+
+	tcase_set_timeout(tc, 300);
+	tcase_add_test(tc, test_perfect_static);
+	tcase_add_test(tc, test_perfect_moving);
+	tcase_add_test(tc, test_coning_sculling);
+	tcase_add_test(tc, test_schuler_accel_bias);
+	tcase_add_test(tc, test_gyro_bias);
+	tcase_add_test(tc, test_arw_monte_carlo);
+	tcase_add_test(tc, test_deterministic);
+	tcase_add_test(tc, test_table);
+	tcase_add_test(tc, test_refused);
+	tcase_add_test(tc, test_clipping);
+	suite_add_tcase(s, tc);
+	return s;
+}
