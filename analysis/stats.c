@@ -10,6 +10,8 @@
 
 #include <math.h>
 
+#include <gsl/gsl_cdf.h>
+
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st)
 {
@@ -58,6 +60,45 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			     (double)(used - 1);
 
 		st->sd = var > 0 ? sqrt(var) : 0;
+	}
+	return 0;
+}
+
+int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
+			       double level, double *mean, double *lo,
+			       double *hi, size_t *used)
+{
+	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 };
+	size_t k = 0;
+	double m;
+
+	if (!x || !mean || !lo || !hi || stride == 0 || !(level > 0 && level < 1))
+		return -EINVAL;
+	*mean = *lo = *hi = NAN;
+	if (used)
+		*used = 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride])) {
+			ssc_ksum_add(&s, x[i * stride]);
+			k++;
+		}
+	if (used)
+		*used = k;
+	if (!k)
+		return -EDOM;
+	m = ssc_ksum_value(&s) / (double)k;
+	*mean = m;
+	if (k < 2)
+		return 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride]))
+			ssc_ksum_add(&q, (x[i * stride] - m) * (x[i * stride] - m));
+	{
+		double se = sqrt(ssc_ksum_value(&q) / (double)(k - 1) / (double)k);
+		double t = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(k - 1));
+
+		*lo = m - t * se;
+		*hi = m + t * se;
 	}
 	return 0;
 }

@@ -390,6 +390,19 @@ int sscope_reader_read(struct sscope_reader *reader,
 /** Close a reader (NULL is ignored). */
 void sscope_reader_close(struct sscope_reader *reader);
 
+/**
+ * Mean of the finite values of x[k*stride], k < n, with its Student-t
+ * interval mean -+ t(level, k - 1) s / sqrt(k) (s the sample sd of the k
+ * finite values) -- the interval of a mean over a few runs.
+ * @param level  two-sided level in (0, 1), e.g. 0.6827.
+ * @param lo, hi receive the interval (NaN with fewer than two values).
+ * @param used   receives k (may be NULL).
+ * @return 0; -EDOM when no value is finite (mean NaN); -EINVAL.
+ */
+int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
+			       double level, double *mean, double *lo,
+			       double *hi, size_t *used);
+
 /** Sampling of a time column. */
 struct sscope_timing {
 	double dt_median_s; /**< median interval */

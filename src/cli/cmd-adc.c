@@ -17,7 +17,6 @@
 #include <string.h>
 #include <strings.h>
 
-#include <gsl/gsl_cdf.h>
 
 #include "plot.h"
 #include "stage.h"
@@ -176,190 +175,24 @@ static int r_handle(int key, const char *arg, void *ctx)
 	}
 }
 
-/* one Monte-Carlo ratio */
-struct mc_ratio {
-	double mean, lo, hi;
-	size_t n;
-};
-
 struct adc_res {
 	const char *path;
 	struct sscope_adc_spec spec;
 	struct ssc_inl_profile prof; /* inl_profile, or empty */
 	struct sscope_adc_analysis an;
 	bool mc_done;
-	size_t mc_runs;
-	double mc_duration;
-	struct mc_ratio ratio[3]; /* N, B, K */
-	struct mc_ratio bias_shift; /* mean(out) - mean(in), U */
-	size_t clipped;
-	/* ADEV of run 0: sensor alone (shared) and through this converter */
-	double *tau, *dev_in, *dev_out;
-	size_t n_pts;
+	struct sscope_adc_mc mc;  /* ratios, bias shift, ADEV curves of run 0 */
 	int rank;
 };
 
-static void ratio_stats(const double *v, size_t n, struct mc_ratio *r)
-{
-	double m = 0, s = 0;
-	size_t k = 0;
-
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(v[i])) {
-			m += v[i];
-			k++;
-		}
-	r->n = k;
-	if (!k) {
-		r->mean = r->lo = r->hi = (double)NAN;
-		return;
-	}
-	m /= (double)k;
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(v[i]))
-			s += (v[i] - m) * (v[i] - m);
-	r->mean = m;
-	if (k < 2) {
-		r->lo = r->hi = (double)NAN;
-		return;
-	}
-	s = sqrt(s / (double)(k - 1) / (double)k);
-	{
-		double t = gsl_cdf_tdist_Pinv(0.5 + 0.6827 / 2, (double)(k - 1));
-
-		r->lo = m - t * s;
-		r->hi = m + t * s;
-	}
-}
-
-static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
-		  struct adc_res *ar, struct sscope_diag *d)
-{
-	double fs = ar->an.rate_hz;
-	size_t n = (size_t)llround(o->mc_duration * fs), R = o->mc;
-	size_t M = ar->spec.oversample > 1 ? ar->spec.oversample : 1, blk = 4096;
-	double *x = NULL, *y = NULL, *vals = NULL, *fx = NULL, *fy = NULL;
-	struct sscope_sim_opts so;
-	int rc = 0;
-
-	if (n < 1000) {
-		snprintf(d->msg, sizeof(d->msg),
-			 "--mc-duration gives %zu samples (need 1000)", n);
-		return -EDOM;
-	}
-	x = malloc(n * sizeof(double));
-	y = malloc(n * sizeof(double));
-	vals = malloc(4 * R * sizeof(double));
-	fx = malloc(blk * M * sizeof(double));
-	fy = malloc(blk * M * sizeof(double));
-	if (!x || !y || !vals || !fx || !fy) {
-		rc = -ENOMEM;
-		goto out;
-	}
-	memset(&so, 0, sizeof(so));
-	so.rate_hz = fs * (double)M; /* the conversion rate */
-	so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
-	so.flicker_tau_max_s = fmax(1e6, 10 * o->mc_duration);
-	for (size_t r = 0; r < R; r++) {
-		struct sscope_sim *sim = NULL;
-		struct sscope_adc *adc = NULL;
-		struct sscope_allan_result *res_in = NULL, *res_out = NULL;
-		double sin_ = 0, sout = 0;
-
-		so.seed = o->seed + r;
-		rc = sscope_sim_new(&sim, ss, &so, d);
-		if (!rc)
-			rc = ssc_adc_new(&adc, &ar->spec, &ar->prof, ss->sensitivity,
-					 (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
-					 o->seed + r, d);
-		/* conversions at M fs, averaged in blocks of M (the sensor
-		 * alone is averaged the same way) */
-		for (size_t i0 = 0; !rc && i0 < n; i0 += blk) {
-			size_t b = n - i0 < blk ? n - i0 : blk;
-
-			rc = sscope_sim_generate(sim, NULL, fx, NULL, b * M);
-			if (!rc)
-				rc = sscope_adc_digitize(adc, fx, 1, b * M, fs * (double)M,
-							 NULL, fy, NULL, &ar->clipped);
-			for (size_t i = 0; !rc && i < b; i++) {
-				double sx = 0, sy = 0;
-
-				for (size_t j = 0; j < M; j++) {
-					sx += fx[i * M + j];
-					sy += fy[i * M + j];
-				}
-				x[i0 + i] = sx / (double)M;
-				y[i0 + i] = sy / (double)M;
-			}
-		}
-		sscope_sim_free(sim);
-		sscope_adc_free(adc);
-		if (!rc)
-			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  NULL, &res_in, d);
-		if (!rc)
-			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  NULL, &res_out, d);
-		if (rc) {
-			sscope_allan_result_free(res_in);
-			sscope_allan_result_free(res_out);
-			goto out;
-		}
-		for (int t = 0; t < 3; t++) {
-			int term = SSCOPE_TERM_N + t;
-			const struct sscope_noise_coef *ci = &res_in->fit.coef[term];
-			const struct sscope_noise_coef *co = &res_out->fit.coef[term];
-
-			vals[t * R + r] = res_in->have_fit && res_out->have_fit &&
-						  ci->fitted && co->fitted && ci->value > 0 ?
-					  co->value / ci->value : (double)NAN;
-		}
-		for (size_t i = 0; i < n; i++) {
-			sin_ += x[i];
-			sout += y[i];
-		}
-		vals[3 * R + r] = (sout - sin_) / (double)n;
-		if (r == 0 && res_in->n_points == res_out->n_points) {
-			size_t np = res_in->n_points;
-
-			ar->tau = malloc(np * sizeof(double));
-			ar->dev_in = malloc(np * sizeof(double));
-			ar->dev_out = malloc(np * sizeof(double));
-			if (ar->tau && ar->dev_in && ar->dev_out) {
-				for (size_t i = 0; i < np; i++) {
-					ar->tau[i] = res_in->points[i].tau_s;
-					ar->dev_in[i] = res_in->points[i].dev;
-					ar->dev_out[i] = res_out->points[i].dev;
-				}
-				ar->n_pts = np;
-			}
-		}
-		sscope_allan_result_free(res_in);
-		sscope_allan_result_free(res_out);
-	}
-	for (int t = 0; t < 3; t++)
-		ratio_stats(vals + (size_t)t * R, R, &ar->ratio[t]);
-	ratio_stats(vals + 3 * R, R, &ar->bias_shift);
-	ar->mc_done = true;
-	ar->mc_runs = R;
-	ar->mc_duration = (double)n / fs;
-out:
-	free(x);
-	free(y);
-	free(fx);
-	free(fy);
-	free(vals);
-	return rc;
-}
-
-static json_t *jratio(const struct mc_ratio *r)
+static json_t *jratio(const struct sscope_adc_mc_ratio *r)
 {
 	json_t *o = json_object();
 
 	json_object_set_new(o, "value", ssc_jreal(r->mean));
 	json_object_set_new(o, "lo", ssc_jreal(r->lo));
 	json_object_set_new(o, "hi", ssc_jreal(r->hi));
-	json_object_set_new(o, "runs", json_integer((json_int_t)r->n));
+	json_object_set_new(o, "runs", json_integer((json_int_t)r->runs));
 	return o;
 }
 
@@ -477,19 +310,19 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 	if (ar->mc_done) {
 		json_t *m = json_object();
 
-		json_object_set_new(m, "N_ratio", ssc_jreal(ar->ratio[0].mean));
-		json_object_set_new(m, "B_ratio", ssc_jreal(ar->ratio[1].mean));
-		json_object_set_new(m, "K_ratio", ssc_jreal(ar->ratio[2].mean));
-		json_object_set_new(m, "N", jratio(&ar->ratio[0]));
-		json_object_set_new(m, "B", jratio(&ar->ratio[1]));
-		json_object_set_new(m, "K", jratio(&ar->ratio[2]));
+		json_object_set_new(m, "N_ratio", ssc_jreal(ar->mc.ratio[0].mean));
+		json_object_set_new(m, "B_ratio", ssc_jreal(ar->mc.ratio[1].mean));
+		json_object_set_new(m, "K_ratio", ssc_jreal(ar->mc.ratio[2].mean));
+		json_object_set_new(m, "N", jratio(&ar->mc.ratio[0]));
+		json_object_set_new(m, "B", jratio(&ar->mc.ratio[1]));
+		json_object_set_new(m, "K", jratio(&ar->mc.ratio[2]));
 		json_object_set_new(m, "bias_shift",
-				    ssc_json_coef(ar->bias_shift.mean, ar->bias_shift.lo,
-						  ar->bias_shift.hi, bu, bsi, true));
-		json_object_set_new(m, "runs", json_integer((json_int_t)ar->mc_runs));
-		json_object_set_new(m, "duration_s", json_real(ar->mc_duration));
+				    ssc_json_coef(ar->mc.bias_shift.mean, ar->mc.bias_shift.lo,
+						  ar->mc.bias_shift.hi, bu, bsi, true));
+		json_object_set_new(m, "runs", json_integer((json_int_t)ar->mc.runs));
+		json_object_set_new(m, "duration_s", json_real(ar->mc.duration_s));
 		json_object_set_new(m, "interval_level", json_real(0.6827));
-		json_object_set_new(m, "clipped_samples", json_integer((json_int_t)ar->clipped));
+		json_object_set_new(m, "clipped_samples", json_integer((json_int_t)ar->mc.clipped));
 		json_object_set_new(o, "monte_carlo", m);
 	} else {
 		json_object_set_new(o, "monte_carlo", json_null());
@@ -595,9 +428,9 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 		static const char tn[] = "NBK";
 
 		fprintf(f, "  Monte Carlo (%zu x %s s): fitted term with / without converter\n",
-			ar->mc_runs, ssc_fmt(b1, sizeof(b1), ar->mc_duration, 6));
+			ar->mc.runs, ssc_fmt(b1, sizeof(b1), ar->mc.duration_s, 6));
 		for (int t = 0; t < 3; t++) {
-			const struct mc_ratio *r = &ar->ratio[t];
+			const struct sscope_adc_mc_ratio *r = &ar->mc.ratio[t];
 
 			if (!isfinite(r->mean)) {
 				fprintf(f, "    %c ratio  not fitted in both\n", tn[t]);
@@ -609,24 +442,12 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 					ssc_fmt(b3, sizeof(b3), r->hi, 4));
 			fputc('\n', f);
 		}
-		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->bias_shift.mean, bsi, bu, 3));
-		if (isfinite(ar->bias_shift.lo))
-			fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), in_unit(ar->bias_shift.lo, bsi, bu), 3),
-				ssc_fmt(b3, sizeof(b3), in_unit(ar->bias_shift.hi, bsi, bu), 3));
+		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->mc.bias_shift.mean, bsi, bu, 3));
+		if (isfinite(ar->mc.bias_shift.lo))
+			fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), in_unit(ar->mc.bias_shift.lo, bsi, bu), 3),
+				ssc_fmt(b3, sizeof(b3), in_unit(ar->mc.bias_shift.hi, bsi, bu), 3));
 		fputc('\n', f);
 	}
-}
-
-static int rank_cmp(const struct adc_res *a, const struct adc_res *b)
-{
-	double ma = isfinite(a->an.margin) ? a->an.margin : (double)INFINITY;
-	double mb = isfinite(b->an.margin) ? b->an.margin : (double)INFINITY;
-
-	if (a->an.verdict != b->an.verdict)
-		return a->an.verdict < b->an.verdict ? -1 : 1;
-	if (a->an.verdict == SSCOPE_ADC_PASS && a->spec.bits != b->spec.bits)
-		return a->spec.bits < b->spec.bits ? -1 : 1; /* cheapest passing */
-	return ma > mb ? -1 : ma < mb ? 1 : 0;
 }
 
 static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
@@ -651,29 +472,29 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		double *yi, *yo;
 		struct ssc_style st = { .color = ssc_plot_color((size_t)i + 1), .width = 2 };
 
-		if (!ar[i].n_pts)
+		if (!ar[i].mc.n_points)
 			continue;
-		yi = malloc(ar[i].n_pts * sizeof(double));
-		yo = malloc(ar[i].n_pts * sizeof(double));
+		yi = malloc(ar[i].mc.n_points * sizeof(double));
+		yo = malloc(ar[i].mc.n_points * sizeof(double));
 		if (!yi || !yo) {
 			free(yi);
 			free(yo);
 			ssc_fig_free(fig);
 			return -ENOMEM;
 		}
-		for (size_t k = 0; k < ar[i].n_pts; k++) {
-			yi[k] = ar[i].dev_in[k] * scale;
-			yo[k] = ar[i].dev_out[k] * scale;
+		for (size_t k = 0; k < ar[i].mc.n_points; k++) {
+			yi[k] = ar[i].mc.dev_in[k] * scale;
+			yo[k] = ar[i].mc.dev_out[k] * scale;
 		}
 		if (!drawn) {
 			struct ssc_style s0 = { .color = 0x202020, .width = 3 };
 
-			ssc_ax_line(ax, ar[i].tau, yi, ar[i].n_pts, &s0, "sensor alone");
+			ssc_ax_line(ax, ar[i].mc.tau_s, yi, ar[i].mc.n_points, &s0, "sensor alone");
 		}
 		snprintf(buf, sizeof(buf), "%s (%d b): %s", ar[i].spec.name, ar[i].spec.bits,
 			 sscope_adc_verdict_name(ar[i].an.verdict));
 		st.dash = SSC_DASHED;
-		ssc_ax_line(ax, ar[i].tau, yo, ar[i].n_pts, &st, buf);
+		ssc_ax_line(ax, ar[i].mc.tau_s, yo, ar[i].mc.n_points, &st, buf);
 		drawn++;
 		free(yi);
 		free(yo);
@@ -701,9 +522,7 @@ static void r_free(void *result)
 
 	for (int i = 0; i < R->n; i++) {
 		ssc_adc_profile_free(&R->ar[i].prof);
-		free(R->ar[i].tau);
-		free(R->ar[i].dev_in);
-		free(R->ar[i].dev_out);
+		sscope_adc_mc_clear(&R->ar[i].mc);
 	}
 	free(R);
 }
@@ -781,29 +600,40 @@ static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	for (int i = 0; i < n; i++) {
 		struct sscope_diag d = { "" };
+		struct sscope_adc_mc_opts mo = { o->mc, o->mc_duration, o->seed,
+						 0.6827, ar[i].an.rate_hz };
 		int e;
 
 		if (!o->mc)
 			break;
 		ssc_progress(env->co, "Monte Carlo", (double)i, (double)n);
-		e = run_mc(o, sp, &ar[i], &d);
+		e = sscope_adc_monte_carlo(sp, &ar[i].spec, ar[i].prof.inl,
+					   ar[i].prof.n, sp->sensitivity,
+					   (sp->has & SSCOPE_SPEC_ZERO) ?
+						   sp->zero_output_v : 0,
+					   &mo, &ar[i].mc, &d);
 		if (e) {
 			ssc_progress_end(env->co);
 			ssc_err(cmd, "Monte Carlo of %s: %s", paths[i],
 				d.msg[0] ? d.msg : sscope_strerror(e));
 			return SSC_EXIT_FAIL;
 		}
+		ar[i].mc_done = true;
 	}
 	ssc_progress_end(env->co);
-	for (int i = 0; i < n; i++)
-		R->order[i] = i;
-	for (int i = 1; i < n; i++) /* insertion sort: stable, n <= 8 */
-		for (int j = i; j > 0 && rank_cmp(&ar[R->order[j]], &ar[R->order[j - 1]]) < 0; j--) {
-			int t = R->order[j];
+	{
+		struct sscope_adc_analysis an[MAX_ADC];
+		int bits[MAX_ADC];
+		size_t order[MAX_ADC];
 
-			R->order[j] = R->order[j - 1];
-			R->order[j - 1] = t;
+		for (int i = 0; i < n; i++) {
+			an[i] = ar[i].an;
+			bits[i] = ar[i].spec.bits;
 		}
+		sscope_adc_rank(an, bits, (size_t)n, order);
+		for (int i = 0; i < n; i++)
+			R->order[i] = (int)order[i];
+	}
 	for (int i = 0; i < n; i++)
 		ar[R->order[i]].rank = i + 1;
 	return SSC_EXIT_OK;
@@ -879,7 +709,7 @@ static void r_csv(FILE *f, const void *opts, const void *result)
 			k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
 			mbits, sscope_adc_verdict_name(a->an.verdict),
 			sscope_adc_term_name(a->an.limiting), a->an.margin,
-			a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
+			a->mc.ratio[0].mean, a->mc.ratio[1].mean, a->mc.ratio[2].mean);
 	}
 }
 
