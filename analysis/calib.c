@@ -481,30 +481,23 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-int sscope_calib_accel_multipos(const double *x, const double *y,
-				const double *z, size_t stride, size_t n,
-				double rate_hz, double gravity_m_s2,
-				struct sscope_calib_detect *det,
-				struct sscope_calib_interval *iv, size_t max_iv,
-				struct sscope_calib_triad *c, double *work,
-				double *work2, struct sscope_diag *diag)
+int sscope_calib_detect_reference(const double *x, const double *y,
+				  const double *z, size_t stride, size_t n,
+				  double rate_hz, struct sscope_calib_detect *det,
+				  double *work, double *work2,
+				  struct sscope_diag *diag)
 {
-	double win_s, min_s, (*means)[3] = NULL;
-	size_t window, min_len, nf = 0;
-	double best = INFINITY, best_k = 0;
-	int rc, last_rc = -EDOM;
-	struct sscope_diag last = { "" };
-	struct sscope_calib_triad trial;
+	double win_s;
+	size_t window, nf = 0;
+	int rc;
 
-	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
-	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
+	if (!x || !y || !z || !det || !work || !work2 || !(rate_hz > 0) ||
+	    stride == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
-	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
 	window = (size_t)lround(win_s * rate_hz);
 	if (window < 3)
 		window = 3;
-	min_len = (size_t)lround(min_s * rate_hz);
 	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
 	if (rc)
 		return ssc_diag(diag, rc == -EDOM ? -EDOM : rc,
@@ -538,6 +531,33 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 	if (!(det->reference > 0))
 		return ssc_diag(diag, -EDOM,
 				"the accelerometer does not vary at all (zero noise): cannot set a static threshold");
+	return 0;
+}
+
+int sscope_calib_accel_multipos(const double *x, const double *y,
+				const double *z, size_t stride, size_t n,
+				double rate_hz, double gravity_m_s2,
+				struct sscope_calib_detect *det,
+				struct sscope_calib_interval *iv, size_t max_iv,
+				struct sscope_calib_triad *c, double *work,
+				double *work2, struct sscope_diag *diag)
+{
+	double min_s, (*means)[3] = NULL;
+	size_t min_len;
+	double best = INFINITY, best_k = 0;
+	int rc, last_rc = -EDOM;
+	struct sscope_diag last = { "" };
+	struct sscope_calib_triad trial;
+
+	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
+	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
+		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
+	min_len = (size_t)lround(min_s * rate_hz);
+	rc = sscope_calib_detect_reference(x, y, z, stride, n, rate_hz, det,
+					   work, work2, diag);
+	if (rc)
+		return rc;
 	means = ssc_alloc_array(max_iv, sizeof(*means));
 	if (!means)
 		return -ENOMEM;

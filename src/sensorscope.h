@@ -403,6 +403,19 @@ int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
 			       double level, double *mean, double *lo,
 			       double *hi, size_t *used);
 
+/**
+ * The values an interval table gives each sample (a rate-table schedule,
+ * a tilt table): @p rows holds n_rows rows of START END V1 .. Vk (k =
+ * @p n_val; times in s from the record's first sample); sample i, at
+ * t = t_s[i] - t_s[0] (or i / rate_hz when t_s is NULL), takes the values
+ * of the first row with START <= t < END, NaN outside every row.
+ * @param out  n_val arrays of n values.
+ * @return 0; -EINVAL (NULL, no time base, n_val 0).
+ */
+int sscope_intervals_sample(const double *t_s, double rate_hz, size_t n,
+			    const double *rows, size_t n_rows, size_t n_val,
+			    double *const *out);
+
 /** Sampling of a time column. */
 struct sscope_timing {
 	double dt_median_s; /**< median interval */

@@ -242,6 +242,73 @@ START_TEST(timing_stream_long)
 }
 END_TEST
 
+/* A calibration file's triads on a capture: parameters in the file's
+ * units (g), data held in SI: corrected = T K (y - b), output units, file
+ * columns kept; partial triads, other units and missing ones refused. */
+START_TEST(calibration_applied)
+{
+	static const char *const names[4] = { "ax", "ay", "az", "gx" };
+	struct sscope_capture *c = sscope_capture_new(4, 2, false, false);
+	struct sscope_calib_file_triad t[2];
+	struct sscope_diag d;
+	unsigned skipped;
+	size_t applied;
+	const double G = 9.80665;
+
+	ck_assert_ptr_nonnull(c);
+	c->source = ssc_strdup("imu.csv");
+	for (size_t k = 0; k < 4; k++) {
+		ck_assert_int_eq(sscope_capture_set_channel(c, k, names[k],
+							    k < 3 ? "g" : "rad/s"), 0);
+		c->channels[k].col.index = k + 1;
+		for (size_t i = 0; i < 2; i++)
+			c->channels[k].data[i] = (k < 3 ? G : 1) * (0.25 * (double)k + (double)i);
+	}
+	memset(t, 0, sizeof(t));
+	strcpy(t[0].kind, "accel");
+	strcpy(t[0].input_unit, "g");
+	strcpy(t[0].output_unit, "m/s^2");
+	for (int i = 0; i < 3; i++)
+		strcpy(t[0].channels[i], names[i]);
+	sscope_calib_triad_identity(&t[0].c);
+	t[0].c.bias[0] = 0.01;        /* g */
+	t[0].c.scale[1] = 2 * G;      /* m/s^2 per g */
+	t[0].c.mis[0][1] = 0.5;
+	t[1] = t[0];
+	strcpy(t[1].kind, "gyro");
+	strcpy(t[1].channels[0], "gx");
+	strcpy(t[1].channels[1], "gy");
+	strcpy(t[1].channels[2], "gz");
+	ck_assert_int_eq(sscope_calib_apply_capture(c, t, 1, &skipped, &applied, &d), 0);
+	ck_assert_uint_eq(applied, 1);
+	ck_assert_uint_eq(skipped, 0);
+	/* row 1: y = (1, 1.25, 1.5) g; K = (1, 2 G, 1) m/s^2 per g, so
+	 * K (y - b) = (0.99, 2.5 G, 1.5) m/s^2, then T adds 0.5 of the second
+	 * to the first */
+	ck_assert_rel(c->channels[0].data[1], 0.99 + 0.5 * 2.5 * G, 1e-14);
+	ck_assert_rel(c->channels[1].data[1], 2.5 * G, 1e-14);
+	ck_assert_str_eq(c->channels[0].col.unit_label, "m/s^2");
+	ck_assert_int_eq(c->channels[0].col.quantity, SSCOPE_QTY_ACCELERATION);
+	ck_assert_uint_eq(c->channels[2].col.index, 3);
+	/* the gyro triad: only gx is there */
+	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
+	ck_assert_ptr_nonnull(strstr(d.msg, "needs all three channels"));
+	/* a triad in g on a channel in rad/s */
+	strcpy(t[1].channels[1], "ay");
+	strcpy(t[1].channels[2], "az");
+	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
+	ck_assert_ptr_nonnull(strstr(d.msg, "channel gx is in rad/s, the calibration expects g"));
+	/* no channel of it */
+	strcpy(t[1].channels[0], "wx");
+	strcpy(t[1].channels[1], "wy");
+	strcpy(t[1].channels[2], "wz");
+	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, &applied, &d), -EDOM);
+	ck_assert_uint_eq(applied, 0);
+	ck_assert_ptr_nonnull(strstr(d.msg, "imu.csv"));
+	sscope_capture_free(c);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("capture");
@@ -253,6 +320,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, loaded_capture_carries_timing);
 	tcase_add_test(tc, timing_stream_equals_whole);
 	tcase_add_test(tc, timing_stream_long);
+	tcase_add_test(tc, calibration_applied);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -290,94 +290,25 @@ static void held_unit(const struct sscope_column *col, char *out, size_t len)
 	snprintf(out, len, "%s", col->unit_label);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
-/* pooled within-interval sd of x */
-static double pooled_sd(const double *x, const struct sscope_calib_interval *iv,
-			size_t n_iv)
-{
-	double ss = 0, dof = 0;
-
-	for (size_t k = 0; k < n_iv; k++) {
-		double m, sd;
-
-		if (sscope_calib_interval_mean(x, 1, &iv[k], &m, &sd) == 0 &&
-		    isfinite(sd)) {
-			double d = (double)(iv[k].end - iv[k].start - 1);
-
-			ss += sd * sd * d;
-			dof += d;
-		}
-	}
-	return dof > 0 ? sqrt(ss / dof) : (double)NAN;
-}
-
 /* ------------------------------------------------------------------ */
 /* Results                                                             */
 /* ------------------------------------------------------------------ */
 
+/* the error model (when input and output have one dimension) and the
+ * class of the sensor */
 static void finish_triad(struct ssc_calib_triad_out *o)
 {
-	const struct sscope_calib_triad *c = &o->t.c;
 	struct sscope_unit iu, ou;
-	double C[3][3], sf = 0, gs = NAN, bias = 0;
 
-	o->error_model = false;
-	if (o->t.input_unit[0] &&
-	    !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
-	    !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
-	    sscope_unit_compatible(&iu, &ou)) {
-		/* A = (T K)^-1 in SI/SI */
-		double d;
-
-		for (int i = 0; i < 3; i++)
-			for (int j = 0; j < 3; j++)
-				C[i][j] = c->mis[i][j] * c->scale[j];
-		d = C[0][0] * (C[1][1] * C[2][2] - C[1][2] * C[2][1]) -
-		    C[0][1] * (C[1][0] * C[2][2] - C[1][2] * C[2][0]) +
-		    C[0][2] * (C[1][0] * C[2][1] - C[1][1] * C[2][0]);
-		if (fabs(d) > 0) {
-			o->A[0][0] = (C[1][1] * C[2][2] - C[1][2] * C[2][1]) / d;
-			o->A[0][1] = (C[0][2] * C[2][1] - C[0][1] * C[2][2]) / d;
-			o->A[0][2] = (C[0][1] * C[1][2] - C[0][2] * C[1][1]) / d;
-			o->A[1][0] = (C[1][2] * C[2][0] - C[1][0] * C[2][2]) / d;
-			o->A[1][1] = (C[0][0] * C[2][2] - C[0][2] * C[2][0]) / d;
-			o->A[1][2] = (C[0][2] * C[1][0] - C[0][0] * C[1][2]) / d;
-			o->A[2][0] = (C[1][0] * C[2][1] - C[1][1] * C[2][0]) / d;
-			o->A[2][1] = (C[0][1] * C[2][0] - C[0][0] * C[2][1]) / d;
-			o->A[2][2] = (C[0][0] * C[1][1] - C[0][1] * C[1][0]) / d;
-			o->error_model = true;
-		}
-	}
-	if (o->error_model) {
-		for (int i = 0; i < 3; i++) {
-			sf = fmax(sf, fabs(o->A[i][i] - 1));
-			bias = fmax(bias, fabs(c->bias[i]));
-		}
-		if (c->has_gsens) {
-			gs = 0;
-			for (int i = 0; i < 3; i++)
-				for (int j = 0; j < 3; j++)
-					gs = fmax(gs, fabs(c->gsens[i][j]));
-		}
-	} else {
-		/* raw input: the bias in output units, C b; no scale error */
-		for (int i = 0; i < 3; i++) {
-			double v = 0;
-
-			for (int j = 0; j < 3; j++)
-				v += c->mis[i][j] * c->scale[j] * c->bias[j];
-			bias = fmax(bias, fabs(v));
-		}
-		sf = NAN;
-	}
-	o->grade = sscope_calib_grade(o->q, bias, sf, o->noise_density, gs,
-				      &o->grade_dist);
+	o->error_model = o->t.input_unit[0] &&
+			 !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
+			 !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
+			 sscope_unit_compatible(&iu, &ou) &&
+			 sscope_calib_error_model(&o->t.c, o->A) == 0;
+	o->grade = sscope_calib_triad_grade(o->q, &o->t.c,
+					    o->error_model ? (const double(*)[3])o->A :
+							     NULL,
+					    o->noise_density, &o->grade_dist);
 }
 
 static json_t *jvec(const double v[3], double mul)
@@ -631,12 +562,33 @@ static void fill_triad(struct ssc_calib_triad_out *t, const char *kind,
 	t->noise_density = NAN;
 }
 
+/* the three channels idx of the capture */
+static const double *const *chans(const struct run *r, const long idx[3],
+				  const double *ch[3])
+{
+	for (int i = 0; i < 3; i++)
+		ch[i] = r->cap->channels[idx[i]].data;
+	return ch;
+}
+
+/* the output's noise density from the static poses */
+static void noise_density(const struct run *r, const long idx[3],
+			  struct ssc_calib_triad_out *o)
+{
+	const double *ch[3];
+
+	sscope_calib_noise_density(chans(r, idx, ch), 1, r->iv, r->n_iv,
+				   o->t.c.scale, r->cap->rate_hz,
+				   &o->noise_density);
+}
+
 static int accel_multipos(struct run *r)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
 	struct sscope_diag d = { "" };
 	struct sscope_calib_triad c;
+	const double *ch[3];
 	double *w2 = malloc(cap->n * sizeof(double));
 	const double *x = cap->channels[r->ai[0]].data,
 		     *y = cap->channels[r->ai[1]].data,
@@ -662,103 +614,47 @@ static int accel_multipos(struct run *r)
 	fill_triad(&r->pub.out[r->pub.n_out], "accel", cap, r->ai,
 		   SSCOPE_QTY_ACCELERATION, &c);
 	r->pub.out[r->pub.n_out].residual_unit = "m/s^2";
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(cap->channels[r->ai[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
-		}
-		r->pub.out[r->pub.n_out].noise_density = sqrt(nd / 3 / cap->rate_hz);
-	}
+	noise_density(r, r->ai, &r->pub.out[r->pub.n_out]);
 	/* pose norms for the plot */
-	r->pose_before = malloc(r->n_iv * sizeof(double));
-	r->pose_after = malloc(r->n_iv * sizeof(double));
-	if (r->pose_before && r->pose_after) {
+	r->pose_before = malloc((r->n_iv ? r->n_iv : 1) * sizeof(double));
+	r->pose_after = malloc((r->n_iv ? r->n_iv : 1) * sizeof(double));
+	if (r->pose_before && r->pose_after &&
+	    sscope_calib_pose_errors(chans(r, r->ai, ch), 1, r->iv, r->n_iv, &c,
+				     r->o.gravity,
+				     cap->channels[r->ai[0]].col.quantity ==
+					     SSCOPE_QTY_ACCELERATION,
+				     r->pose_before, r->pose_after) == 0)
 		r->n_pose = r->n_iv;
-		for (size_t k = 0; k < r->n_iv; k++) {
-			double m[3], u[3], nb = 0;
-
-			for (int i = 0; i < 3; i++) {
-				sscope_calib_interval_mean(cap->channels[r->ai[i]].data,
-							   1, &r->iv[k], &m[i], NULL);
-				u[i] = m[i];
-			}
-			{
-				double *p[3] = { &u[0], &u[1], &u[2] };
-
-				sscope_calib_apply(&c, p[0], p[1], p[2], 1, 1, NULL, 1);
-			}
-			for (int i = 0; i < 3; i++)
-				nb += m[i] * m[i];
-			r->pose_before[k] = sqrt(nb) -
-					    (cap->channels[r->ai[0]].col.quantity ==
-							     SSCOPE_QTY_ACCELERATION ?
-						     r->o.gravity :
-						     sqrt(nb));
-			r->pose_after[k] = sqrt(u[0] * u[0] + u[1] * u[1] +
-						u[2] * u[2]) -
-					   r->o.gravity;
-		}
-	}
 	finish_triad(&r->pub.out[r->pub.n_out]);
 	r->pub.n_out++;
 	return SSC_EXIT_OK;
 }
 
 /* How the gyro predicts each motion between poses, calibrated and with
- * its bias removed only (nominal scale: 1 for a rate in SI units, else the
- * fitted scales' mean magnitude); kept for the text, JSON and figure. */
+ * its bias removed only; kept for the text, JSON and figure. */
 static void motion_errors(struct run *r, double *const ac[3],
 			  const struct sscope_calib_triad *c)
 {
-	const struct sscope_capture *cap = r->cap;
-	const double *g[3] = { cap->channels[r->gi[0]].data,
-			       cap->channels[r->gi[1]].data,
-			       cap->channels[r->gi[2]].data };
-	const double *a[3] = { ac[0], ac[1], ac[2] };
-	struct sscope_calib_triad nominal;
+	const double *g[3], *a[3] = { ac[0], ac[1], ac[2] };
 	struct ssc_calib_triad_out *o = &r->pub.out[1];
-	double s0 = (fabs(c->scale[0]) + fabs(c->scale[1]) + fabs(c->scale[2])) / 3;
-	size_t m = r->n_iv - 1;
+	struct sscope_calib_motion ms;
+	size_t m = r->n_iv ? r->n_iv - 1 : 0;
 
 	o->n_motion = 0;
-	r->mot_before = malloc(m * sizeof(double));
-	r->mot_after = malloc(m * sizeof(double));
-	if (!r->mot_before || !r->mot_after || r->n_iv < 2)
+	r->mot_before = malloc((m ? m : 1) * sizeof(double));
+	r->mot_after = malloc((m ? m : 1) * sizeof(double));
+	if (!r->mot_before || !r->mot_after ||
+	    sscope_calib_motion_summary(chans(r, r->gi, g), a, 1, r->cap->n,
+					r->cap->rate_hz, r->iv, r->n_iv, c,
+					r->cap->channels[r->gi[0]].col.quantity ==
+						SSCOPE_QTY_ANGULAR_RATE,
+					r->mot_after, r->mot_before, &ms))
 		return;
-	sscope_calib_triad_identity(&nominal);
-	for (int i = 0; i < 3; i++) {
-		nominal.bias[i] = c->bias[i];
-		nominal.scale[i] = cap->channels[r->gi[0]].col.quantity ==
-						   SSCOPE_QTY_ANGULAR_RATE ?
-					   1 :
-					   copysign(s0, c->scale[i]);
-		for (int j = 0; j < 3; j++)
-			nominal.gsens[i][j] = c->gsens[i][j];
-	}
-	nominal.has_gsens = c->has_gsens;
-	if (sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
-					    r->n_iv, c, r->mot_after) ||
-	    sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
-					    r->n_iv, &nominal, r->mot_before))
-		return;
-	{
-		double s2 = 0, b2 = 0, mx = 0;
-
-		for (size_t k = 0; k < m; k++) {
-			s2 += r->mot_after[k] * r->mot_after[k];
-			b2 += r->mot_before[k] * r->mot_before[k];
-			mx = fmax(mx, r->mot_after[k]);
-		}
-		o->motion_rms = sqrt(s2 / (double)m);
-		o->motion_rms_bias_only = sqrt(b2 / (double)m);
-		o->motion_max = mx;
-	}
-	r->n_mot = m;
-	o->n_motion = m;
+	o->motion_rms = ms.rms_rad;
+	o->motion_rms_bias_only = ms.rms_bias_only_rad;
+	o->motion_max = ms.max_rad;
+	r->n_mot = ms.motions;
+	o->n_motion = ms.motions;
 }
 
 static int gyro_multipos(struct run *r)
@@ -807,17 +703,7 @@ static int gyro_multipos(struct run *r)
 		for (int i = 0; i < 3; i++)
 			snprintf(r->pub.out[1].t.accel_channels[i], 64, "%s",
 				 r->pub.out[0].t.channels[i]);
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(cap->channels[r->gi[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
-		}
-		r->pub.out[1].noise_density = sqrt(nd / 3 / cap->rate_hz);
-	}
+	noise_density(r, r->gi, &r->pub.out[1]);
 	finish_triad(&r->pub.out[1]);
 	r->pub.n_out = 2;
 	rc = SSC_EXIT_OK;
@@ -827,138 +713,40 @@ out:
 	return rc;
 }
 
-/* Static intervals with a fixed k (sixpos, tilt) or a scan (sixpos). */
-static int detect_fixed(struct run *r, double k)
-{
-	struct sscope_capture *cap = r->cap;
-	struct sscope_calib_detect *det = &r->o.det;
-	const double *x = cap->channels[r->ai[0]].data,
-		     *y = cap->channels[r->ai[1]].data,
-		     *z = cap->channels[r->ai[2]].data;
-	double win = det->window_s > 0 ? det->window_s : 1;
-	double mins = det->min_static_s > 0 ? det->min_static_s : 2;
-	size_t w = (size_t)lround(win * cap->rate_hz);
-
-	if (!r->vs) {
-		double *tmp = malloc(cap->n * sizeof(double));
-		size_t nf = 0;
-
-		r->vs = malloc(cap->n * sizeof(double));
-		if (!r->vs || !tmp) {
-			free(tmp);
-			return -ENOMEM;
-		}
-		if (sscope_calib_variance_magnitude(x, y, z, 1, cap->n,
-						    w < 3 ? 3 : w, r->vs)) {
-			free(tmp);
-			return -EDOM;
-		}
-		if (det->init_static_s > 0) {
-			size_t m = (size_t)lround(det->init_static_s * cap->rate_hz);
-			double v2 = 0;
-
-			if (m < 3 || m > cap->n) {
-				free(tmp);
-				return -EDOM;
-			}
-			for (int c = 0; c < 3; c++) {
-				struct sscope_stats st;
-
-				sscope_stats_compute(c == 0 ? x : c == 1 ? y : z, 1, m,
-						     &st);
-				v2 += st.sd * st.sd * st.sd * st.sd;
-			}
-			det->reference = sqrt(v2);
-		} else {
-			for (size_t i = 0; i < cap->n; i++)
-				if (isfinite(r->vs[i]))
-					tmp[nf++] = r->vs[i];
-			qsort(tmp, nf, sizeof(double), cmp_double);
-			det->reference = nf ? tmp[(nf - 1) / 10] : 0;
-		}
-		free(tmp);
-		if (!(det->reference > 0))
-			return -EDOM;
-	}
-	det->k = k;
-	det->threshold = k * det->reference;
-	sscope_calib_static_intervals(r->vs, cap->n, det->threshold,
-				      (size_t)lround(mins * cap->rate_hz), r->iv,
-				      MAX_IV, &r->n_iv);
-	if (r->n_iv > MAX_IV)
-		r->n_iv = MAX_IV;
-	det->n_intervals = r->n_iv;
-	return 0;
-}
-
-static int pose_means(struct run *r, const long idx[3], double (*m)[3])
-{
-	for (size_t k = 0; k < r->n_iv; k++)
-		for (int i = 0; i < 3; i++)
-			sscope_calib_interval_mean(r->cap->channels[idx[i]].data, 1,
-						   &r->iv[k], &m[k][i], NULL);
-	return 0;
-}
-
 static int accel_sixpos(struct run *r)
 {
 	const struct ssc_common *co = r->co;
-	double (*m)[3] = malloc(MAX_IV * sizeof(*m)), best = INFINITY, bk = 0;
-	struct sscope_calib_triad c, bc;
-	struct sscope_calib_linear lf;
-	struct sscope_diag d = { "" }, bd = { "" };
-	double k0 = r->o.det.k;
-	int rc = -EDOM;
+	struct sscope_capture *cap = r->cap;
+	struct sscope_calib_triad c;
+	struct sscope_diag d = { "" };
+	const double *ch[3];
+	double *w2 = malloc(cap->n * sizeof(double));
+	int rc;
 
-	if (!m)
-		return SSC_EXIT_FAIL;
-	for (int kk = 2; kk <= 10; kk++) {
-		double k = k0 > 0 ? k0 : (double)kk;
-
-		rc = detect_fixed(r, k);
-		if (rc)
-			break;
-		pose_means(r, r->ai, m);
-		rc = sscope_calib_accel_sixpos((const double(*)[3])m, r->n_iv,
-					       r->o.gravity, &lf, &c, &d);
-		if (rc == 0 && c.residual_rms < best) {
-			best = c.residual_rms;
-			bk = k;
-			bc = c;
-			r->lf = lf;
-		} else if (rc) {
-			bd = d;
-		}
-		if (k0 > 0)
-			break;
-	}
-	if (!isfinite(best)) {
-		free(m);
-		ssc_err(co->cmd, "%s: six-position calibration: %s", r->cap->source,
-			bd.msg[0] ? bd.msg : rc == -EDOM ?
-			"no static intervals (capture shorter than the window, or zero noise)" :
-			sscope_strerror(rc));
+	r->vs = malloc(cap->n * sizeof(double));
+	if (!w2 || !r->vs) {
+		free(w2);
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	detect_fixed(r, bk);
-	free(m);
-	fill_triad(&r->pub.out[0], "accel", r->cap, r->ai, SSCOPE_QTY_ACCELERATION,
-		   &bc);
+	chans(r, r->ai, ch);
+	rc = sscope_calib_accel_sixpos_run(ch[0], ch[1], ch[2], 1, cap->n,
+					   cap->rate_hz, r->o.gravity, &r->o.det,
+					   r->iv, MAX_IV, &r->lf, &c, r->vs, w2, &d);
+	free(w2);
+	if (rc) {
+		ssc_err(co->cmd, "%s: six-position calibration: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[0], "accel", cap, r->ai, SSCOPE_QTY_ACCELERATION,
+		   &c);
 	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
-					  r->pub.out[0].t.input_unit : "counts";
+					      r->pub.out[0].t.input_unit : "counts";
 	/* residual_rms of a linear fit is in held units: show input units */
 	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(r->cap->channels[r->ai[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(bc.scale[i]) * sd * fabs(bc.scale[i]);
-		}
-		r->pub.out[0].noise_density = sqrt(nd / 3 / r->cap->rate_hz);
-	}
+	noise_density(r, r->ai, &r->pub.out[0]);
 	finish_triad(&r->pub.out[0]);
 	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
@@ -968,10 +756,10 @@ static int gyro_tilt(struct run *r)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	double (*gm)[3], (*am)[3];
-	struct sscope_calib_linear lf;
 	struct sscope_calib_triad c;
 	struct sscope_diag d = { "" };
+	const double *g[3], *a[3];
+	double *w2;
 	int rc;
 
 	if (cap->channels[r->ai[0]].col.quantity != SSCOPE_QTY_ACCELERATION) {
@@ -979,60 +767,29 @@ static int gyro_tilt(struct run *r)
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	rc = detect_fixed(r, r->o.det.k > 0 ? r->o.det.k : 4);
-	if (rc) {
-		ssc_err(co->cmd, "%s: no static intervals: %s", cap->source,
-			sscope_strerror(rc));
-		return SSC_EXIT_FAIL;
-	}
-	gm = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*gm));
-	am = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*am));
-	if (!gm || !am) {
-		free(gm);
-		free(am);
-		return SSC_EXIT_FAIL;
-	}
-	pose_means(r, r->gi, gm);
-	pose_means(r, r->ai, am);
-	rc = sscope_calib_linear_fit((const double(*)[3])gm,
-				     (const double(*)[3])am, r->n_iv, false, &lf,
-				     &d);
-	free(gm);
-	free(am);
-	if (!rc && !(lf.axis_excited[0] && lf.axis_excited[1] &&
-		     lf.axis_excited[2])) {
-		rc = -EDOM;
-		snprintf(d.msg, sizeof(d.msg),
-			 "%zu poses do not tilt gravity onto all three axes",
-			 r->n_iv);
-	}
-	if (rc) {
-		ssc_err(co->cmd, "%s: g-sensitivity: %s", cap->source,
-			d.msg[0] ? d.msg : sscope_strerror(rc));
-		return SSC_EXIT_FAIL;
-	}
-	sscope_calib_triad_identity(&c);
-	c.has_gsens = true;
-	for (int i = 0; i < 3; i++) {
-		c.bias[i] = lf.bias[i];
-		c.bias_sd[i] = lf.bias_sd[i];
-		c.scale_sd[i] = NAN;
-		for (int j = 0; j < 3; j++) {
-			c.gsens[i][j] = lf.A[i][j];
-			c.gsens_sd[i][j] = lf.A_sd[i][j];
-		}
-	}
-	c.n_params = 12;
-	c.poses = r->n_iv;
-	c.residual_rms = sqrt((lf.residual_rms[0] * lf.residual_rms[0] +
-			       lf.residual_rms[1] * lf.residual_rms[1] +
-			       lf.residual_rms[2] * lf.residual_rms[2]) / 3);
-	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
 	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
 		ssc_err(co->cmd, "%s: tilt mode needs gyro channels in physical units (the scale is not estimated)",
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
+	w2 = malloc(cap->n * sizeof(double));
+	r->vs = malloc(cap->n * sizeof(double));
+	if (!w2 || !r->vs) {
+		free(w2);
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = sscope_calib_gyro_gsens_run(chans(r, r->gi, g), chans(r, r->ai, a), 1,
+					 cap->n, cap->rate_hz, &r->o.det, r->iv,
+					 MAX_IV, &c, r->vs, w2, &d);
+	free(w2);
+	if (rc) {
+		ssc_err(co->cmd, "%s: g-sensitivity: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
 	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
 	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit;
 	for (int i = 0; i < 3; i++)
@@ -1043,31 +800,47 @@ static int gyro_tilt(struct run *r)
 	return SSC_EXIT_OK;
 }
 
-/* one rate-table file: segment means and reference vectors appended */
+/* the table axis of file file_no from --table-axis: 0..2, -1 for auto,
+ * -2 for a bad value */
+static int table_axis(const struct opts *o, int file_no)
+{
+	char ax[16] = "auto";
+
+	if (o->table_axis && !list_item(o->table_axis, file_no, ax, sizeof(ax)) &&
+	    list_count(o->table_axis) == 1)
+		list_item(o->table_axis, 0, ax, sizeof(ax));
+	return !strcmp(ax, "x") ? 0 : !strcmp(ax, "y") ? 1 :
+	       !strcmp(ax, "z") ? 2 : !strcmp(ax, "auto") ? -1 : -2;
+}
+
+/* one rate-table file: its steps' means appended to r->ry, r->rr */
 static int rate_table_file(struct run *r, int file_no)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	size_t nref = r->o.reference ? list_count(r->o.reference) : 1, nseg;
-	long ri[3] = { -1, -1, -1 };
+	size_t nref = r->o.reference ? list_count(r->o.reference) : 1, nseg = 0;
 	const long *ci = r->o.gyro ? r->gi : r->ai;
-	double *key, fs = 0;
+	const double *ref[3] = { NULL, NULL, NULL }, *y[3];
+	double *sched_ref = NULL, (*ny)[3], (*nr)[3];
+	size_t base = r->n_pts;
 	char b[128];
-	int axis = -1;
-	struct sscope_calib_interval *seg = r->iv;
+	int axis = -1, e;
 
-	const double *rc[3] = { NULL, NULL, NULL };
-	double *sched_ref = NULL;
-
+	if (nref == 1) {
+		axis = table_axis(&r->o, file_no);
+		if (axis == -2)
+			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
+					       r->o.table_axis);
+	}
 	if (r->o.schedule) {
 		double *sv;
 		size_t ns;
-		int e = ssc_read_intervals(co, "schedule", r->o.schedule, "VALUE", 1,
-					   sscope_quantity_si_unit(r->o.gyro ?
-									   SSCOPE_QTY_ANGULAR_RATE :
-									   SSCOPE_QTY_ACCELERATION),
-					   NULL, &sv, &ns);
 
+		e = ssc_read_intervals(co, "schedule", r->o.schedule, "VALUE", 1,
+				       sscope_quantity_si_unit(r->o.gyro ?
+								       SSCOPE_QTY_ANGULAR_RATE :
+								       SSCOPE_QTY_ACCELERATION),
+				       NULL, &sv, &ns);
 		if (e)
 			return e;
 		nref = 1;
@@ -1076,144 +849,62 @@ static int rate_table_file(struct run *r, int file_no)
 			free(sv);
 			return SSC_EXIT_FAIL;
 		}
-		for (size_t i = 0; i < cap->n; i++) {
-			double t = cap->time_s ? cap->time_s[i] : (double)i / cap->rate_hz;
-
-			sched_ref[i] = NAN;
-			for (size_t q = 0; q < ns; q++)
-				if (t >= sv[3 * q] && t < sv[3 * q + 1]) {
-					sched_ref[i] = sv[3 * q + 2];
-					break;
-				}
-		}
+		sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, sv, ns, 1,
+					&sched_ref);
 		free(sv);
-		rc[0] = sched_ref;
+		ref[0] = sched_ref;
 	} else {
 		if (nref != 1 && nref != 3)
 			return ssc_usage_error(co->cmd, "--reference: one or three columns");
 		for (size_t j = 0; j < nref; j++) {
+			long k;
+
 			list_item(r->o.reference, (int)j, b, sizeof(b));
-			ri[j] = sscope_capture_find(cap, b);
-			if (ri[j] < 0) {
+			k = sscope_capture_find(cap, b);
+			if (k < 0) {
 				ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
 				return SSC_EXIT_FAIL;
 			}
-			rc[j] = cap->channels[ri[j]].data;
+			ref[j] = cap->channels[k].data;
 		}
 	}
-	key = malloc(cap->n * sizeof(double));
-	if (!key) {
-		free(sched_ref);
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t i = 0; i < cap->n; i++) {
-		key[i] = rc[0][i];
-		if (nref == 3)
-			key[i] += 1.6180339887 * rc[1][i] + 2.7182818285 * rc[2][i];
-		if (isfinite(key[i]))
-			fs = fmax(fs, fabs(key[i]));
-	}
-	{
-		size_t settle = (size_t)lround((r->o.settle_s >= 0 ? r->o.settle_s : 1) *
-					       cap->rate_hz);
-		size_t minl = (size_t)lround(0.5 * cap->rate_hz);
-
-		sscope_calib_constant_segments(key, 1, cap->n, 1e-9 * fs, settle,
-					       minl < 2 ? 2 : minl, seg, MAX_IV, &nseg);
-	}
-	free(key);
-	if (nseg > MAX_IV)
-		nseg = MAX_IV;
-	if (nseg < 2) {
+	ny = realloc(r->ry, (base + MAX_IV) * sizeof(*ny));
+	if (ny)
+		r->ry = ny;
+	nr = ny ? realloc(r->rr, (base + MAX_IV) * sizeof(*nr)) : NULL;
+	if (nr)
+		r->rr = nr;
+	e = nr ? sscope_calib_rate_table_steps(chans(r, ci, y), ref, nref, 1,
+					       cap->n, cap->rate_hz,
+					       r->o.settle_s >= 0 ? r->o.settle_s : 1,
+					       r->iv, MAX_IV, r->ry + base,
+					       r->rr + base, &nseg) :
+		 -ENOMEM;
+	free(sched_ref);
+	if (e == -EDOM) {
 		ssc_err(co->cmd, "%s: %zu steps of constant reference found (need 2 or more)",
 			cap->source, nseg);
-		free(sched_ref);
+		return SSC_EXIT_FAIL;
+	}
+	if (e) {
+		ssc_err(co->cmd, "%s: rate table: %s", cap->source, sscope_strerror(e));
 		return SSC_EXIT_FAIL;
 	}
 	if (nref == 1) {
-		char ax[16] = "auto";
-
-		if (r->o.table_axis &&
-		    !list_item(r->o.table_axis, file_no, ax, sizeof(ax)) &&
-		    list_count(r->o.table_axis) == 1)
-			list_item(r->o.table_axis, 0, ax, sizeof(ax));
-		if (!strcmp(ax, "x"))
-			axis = 0;
-		else if (!strcmp(ax, "y"))
-			axis = 1;
-		else if (!strcmp(ax, "z"))
-			axis = 2;
-		else if (strcmp(ax, "auto")) {
-			free(sched_ref);
-			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
-					       ax);
-		}
-	}
-	{
-		size_t base = r->n_pts;
-		double (*ny)[3] = realloc(r->ry, (base + nseg) * sizeof(*ny));
-		double (*nr)[3];
-
-		if (!ny) {
-			free(sched_ref);
-			return SSC_EXIT_FAIL;
-		}
-		r->ry = ny;
-		nr = realloc(r->rr, (base + nseg) * sizeof(*nr));
-		if (!nr) {
-			free(sched_ref);
-			return SSC_EXIT_FAIL;
-		}
-		r->rr = nr;
+		/* the reference drives the table axis: given, or the sensor
+		 * axis with the largest |slope| */
+		if (axis < 0)
+			axis = sscope_calib_table_axis((const double(*)[3])(r->ry + base),
+						       (const double(*)[3])(r->rr + base),
+						       nseg);
 		for (size_t k = 0; k < nseg; k++) {
-			for (int i = 0; i < 3; i++)
-				sscope_calib_interval_mean(cap->channels[ci[i]].data, 1,
-							   &seg[k], &r->ry[base + k][i],
-							   NULL);
-			for (int i = 0; i < 3; i++)
-				r->rr[base + k][i] = 0;
-			for (size_t i = 0; i < nref; i++)
-				sscope_calib_interval_mean(rc[i], 1, &seg[k],
-							   &r->rr[base + k][i], NULL);
+			double v = r->rr[base + k][0];
+
+			r->rr[base + k][0] = 0;
+			r->rr[base + k][axis] = v;
 		}
-		if (nref == 1) {
-			/* the table axis: given, or the largest |slope| */
-			if (axis < 0) {
-				double best = -1;
-
-				for (int i = 0; i < 3; i++) {
-					double sxy = 0, sxx = 0, mx = 0, my = 0;
-
-					for (size_t k = 0; k < nseg; k++) {
-						mx += r->rr[base + k][0];
-						my += r->ry[base + k][i];
-					}
-					mx /= (double)nseg;
-					my /= (double)nseg;
-					for (size_t k = 0; k < nseg; k++) {
-						double dx = r->rr[base + k][0] - mx;
-
-						sxx += dx * dx;
-						sxy += dx * (r->ry[base + k][i] - my);
-					}
-					if (sxx > 0 && fabs(sxy / sxx) > best) {
-						best = fabs(sxy / sxx);
-						axis = i;
-					}
-				}
-				if (axis < 0)
-					axis = 0;
-			}
-			for (size_t k = 0; k < nseg; k++) {
-				double v = r->rr[base + k][0];
-
-				r->rr[base + k][0] = 0;
-				r->rr[base + k][axis] = v;
-			}
-		}
-		r->n_pts = base + nseg;
 	}
-	free(sched_ref);
+	r->n_pts = base + nseg;
 	return SSC_EXIT_OK;
 }
 
@@ -1741,7 +1432,7 @@ static int write_cal(const struct ssc_common *co, const void *opts,
 {
 	const struct run *r = result;
 	struct ssc_common c2 = *co;
-	struct ssc_caltriad t[2];
+	struct sscope_calib_file_triad t[2];
 
 	(void)opts;
 	if (!r->o.save)

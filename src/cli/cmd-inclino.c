@@ -195,25 +195,14 @@ static int tilt_table(const struct ssc_common *co, const char *path,
 		      const struct sscope_capture *cap, double *roll,
 		      double *pitch)
 {
-	double *v;
+	double *v, *out[2] = { roll, pitch };
 	size_t rows;
 	int rc = ssc_read_intervals(co, "tilt-table", path, "ROLL PITCH", 2,
 				    "rad", "deg", &v, &rows);
 
 	if (rc)
 		return rc;
-	for (size_t i = 0; i < cap->n; i++) {
-		double t = cap->time_s ? cap->time_s[i] - cap->time_s[0] :
-			   (double)i / cap->rate_hz;
-
-		roll[i] = pitch[i] = (double)NAN;
-		for (size_t q = 0; q < rows; q++)
-			if (t >= v[4 * q] && t < v[4 * q + 1]) {
-				roll[i] = v[4 * q + 2];
-				pitch[i] = v[4 * q + 3];
-				break;
-			}
-	}
+	sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, v, rows, 2, out);
 	free(v);
 	return 0;
 }
@@ -748,7 +737,7 @@ static int apply_main(int argc, char **argv)
 	struct sscope_diag d = { "" };
 	struct ssc_out out = { 0 };
 	long a[3], gi[3] = { -1, -1, -1 };
-	size_t n_still = 0, n_clamped = 0, n_bad = 0;
+	struct sscope_inclino_apply_stats st = { 0, 0, 0 };
 	int first, rc;
 	double g;
 
@@ -831,47 +820,57 @@ static int apply_main(int argc, char **argv)
 			o.axes, o.axes == 1 ? "pitch = asin(-ax/g)" : "pitch = atan2(-ax, az), x-z plane, full circle");
 	fprintf(out.f, "%stemp [degC],%s,still\n", cap->time_s ? "time [s]," : "",
 		o.axes == 3 ? "roll_deg,pitch_deg" : "pitch_deg,sens [mg/deg]");
-	for (size_t i = 0; i < cap->n; i++) {
-		double raw[3], c[3], r, p, sens = NAN, T = cap->temp_degc[i];
-		bool cl = false, still;
+	{
+		const double *ac[3], *w[3];
+		double *r = malloc(cap->n * sizeof(double)),
+		       *p = malloc(cap->n * sizeof(double)),
+		       *sens = malloc(cap->n * sizeof(double));
+		bool *still = malloc(cap->n * sizeof(bool));
 
-		for (int k = 0; k < 3; k++)
-			raw[k] = cap->channels[a[k]].data[i];
-		if (!isfinite(T) || !isfinite(raw[0] + raw[1] + raw[2]) ||
-		    sscope_inclino_correct(plan, T, raw, c, &cl)) {
-			n_bad++;
-			r = p = NAN;
-			still = false;
-		} else {
-			sscope_inclino_tilt((enum sscope_inclino_axes)o.axes, c, g, &r, &p, &sens);
-			still = fabs(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) - g) <= o.still_tol;
-			if (still && gi[0] >= 0) {
-				double w = 0;
-
-				for (int k = 0; k < 3; k++)
-					w += cap->channels[gi[k]].data[i] * cap->channels[gi[k]].data[i];
-				still = sqrt(w) <= o.rate_tol;
-			}
+		for (int k = 0; k < 3; k++) {
+			ac[k] = cap->channels[a[k]].data;
+			w[k] = gi[0] >= 0 ? cap->channels[gi[k]].data : NULL;
 		}
-		n_clamped += cl;
-		n_still += still;
-		if (cap->time_s)
-			fprintf(out.f, "%.9g,", cap->time_s[i]);
-		if (o.axes == 3)
-			fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r * R2D, p * R2D, still ? 1 : 0);
-		else
-			fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p * R2D,
-				sens / R2D / (1e-3 * g), still ? 1 : 0);
+		if (!r || !p || !sens || !still ||
+		    sscope_inclino_apply(plan, (enum sscope_inclino_axes)o.axes, g, ac,
+					 cap->temp_degc, gi[0] >= 0 ? w : NULL, cap->n,
+					 o.still_tol, o.rate_tol, r, p, sens, still,
+					 &st)) {
+			free(r);
+			free(p);
+			free(sens);
+			free(still);
+			ssc_out_close(&co, &out, false);
+			ssc_err(co.cmd, "out of memory");
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		for (size_t i = 0; i < cap->n; i++) {
+			double T = cap->temp_degc[i];
+
+			if (cap->time_s)
+				fprintf(out.f, "%.9g,", cap->time_s[i]);
+			if (o.axes == 3)
+				fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r[i] * R2D,
+					p[i] * R2D, still[i] ? 1 : 0);
+			else
+				fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p[i] * R2D,
+					sens[i] / R2D / (1e-3 * g), still[i] ? 1 : 0);
+		}
+		free(r);
+		free(p);
+		free(sens);
+		free(still);
 	}
 	rc = ssc_out_close(&co, &out, !ferror(out.f));
 	if (rc)
 		goto done;
-	if (n_clamped)
+	if (st.n_clamped)
 		ssc_warn(&co, "%zu samples outside the table's range %.1f .. %.1f degC: parameters clamped",
-			 n_clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+			 st.n_clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
 	if (!co.quiet)
 		fprintf(stderr, "sensorscope: inclino apply: %zu samples, %zu still, %zu flagged moving, %zu without a value\n",
-			cap->n, n_still, cap->n - n_still - n_bad, n_bad);
+			cap->n, st.n_still, cap->n - st.n_still - st.n_bad, st.n_bad);
 done:
 	sscope_capture_free(cap);
 	sscope_inclino_plan_free(plan);

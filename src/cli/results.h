@@ -50,7 +50,7 @@ struct ssc_allan_res {
 
 /* One calibrated triad and what the report derives from it. */
 struct ssc_calib_triad_out {
-	struct ssc_caltriad t;   /* names, units, the correction (library) */
+	struct sscope_calib_file_triad t;   /* names, units, the correction (library) */
 	enum sscope_quantity q;  /* output quantity */
 	const char *residual_unit;
 	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
