@@ -635,3 +635,13 @@ out:
 	gsl_rng_free(r);
 	return rc;
 }
+
+double sscope_budget_mc_expected(size_t realisations, double *sd)
+{
+	double p = erf(sqrt(2.0));
+
+	if (sd)
+		*sd = realisations ? sqrt(p * (1 - p) / (double)realisations) :
+				     (double)NAN;
+	return p;
+}

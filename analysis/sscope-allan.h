@@ -372,6 +372,17 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
  * @param pts    deviation points (OADEV or ADEV), increasing tau.
  * @return 0, or -EDOM when fewer than 3 positive points.
  */
+/**
+ * Whether a fit's chi-squared test rejects the five-term model at level
+ * @p p_level (its p-value below it; 0.01 is usual): a deterministic trend
+ * or a process outside the model, the terms indicative only.
+ */
+bool sscope_noise_fit_rejected(const struct sscope_noise_fit *fit,
+			       double p_level);
+
+/** Whether a term is resolved: fitted, and its interval excludes zero. */
+bool sscope_noise_coef_resolved(const struct sscope_noise_coef *c);
+
 int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n_pts,
 			 struct sscope_noise_readoff *r);
 

@@ -222,6 +222,15 @@ struct sscope_budget_mc_point {
  * @return 0; -EINVAL (zero steps or realisations, t_end <= 0, strength
  *         <= 0, a time outside (0, t_end]); -ENOMEM.
  */
+/**
+ * What sscope_budget_mc()'s fractions should be: a Gaussian walk stays
+ * inside +-2 sigma with probability erf(sqrt(2)) = 0.9545, and a fraction
+ * over @p realisations runs has the binomial sd sqrt(p (1 - p) / runs).
+ * @param sd  receives that sd (may be NULL; NaN for no runs).
+ * @return the expected fraction.
+ */
+double sscope_budget_mc_expected(size_t realisations, double *sd);
+
 int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		     const double *times, size_t n_times,
 		     struct sscope_budget_mc_point *out, double *paths,

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Streaming timing analysis: sscope_timing_analyze() for records read in
- * chunks.  The first SSCOPE_TIMING_STREAM_BLOCK intervals are held until
+ * chunks; and receive times against stamps (latency, agreement).  The first SSCOPE_TIMING_STREAM_BLOCK intervals are held until
  * their median is known (GSL), then every interval is classified against
  * it as sscope_timing_analyze() does: an interval longer than gap_factor
  * times the median is a gap, the others are summed in order with
@@ -165,4 +165,38 @@ int sscope_timing_stream_result(struct sscope_timing_stream *ts,
 		tm->jitter_rms_s = var > 0 ? sqrt(var) : 0;
 	}
 	return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+int sscope_timing_latency(const double *rx_s, const double *t_s, size_t n,
+			  double *median_s, double *min_s, double *max_s,
+			  double *scratch)
+{
+	if (!rx_s || !t_s || !median_s || !min_s || !max_s || !scratch)
+		return -EINVAL;
+	if (n < 1)
+		return -EDOM;
+	for (size_t i = 0; i < n; i++) {
+		scratch[i] = rx_s[i] - t_s[i];
+		if (!isfinite(scratch[i]))
+			return -EDOM;
+	}
+	qsort(scratch, n, sizeof(double), cmp_double);
+	*median_s = scratch[(n - 1) / 2];
+	*min_s = scratch[0];
+	*max_s = scratch[n - 1];
+	return 0;
+}
+
+bool sscope_timing_agree(const struct sscope_timing *a,
+			 const struct sscope_timing *b, double rel_tol)
+{
+	return a && b && fabs(a->rate_hz / b->rate_hz - 1) <= rel_tol &&
+	       a->n_gaps == b->n_gaps && a->n_backwards == b->n_backwards;
 }

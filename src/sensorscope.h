@@ -644,6 +644,23 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
 
 /**
+ * Latency of receive times against the stamps they carry (a ROS
+ * container's receive times against the header stamps): rx[i] - t[i].
+ * @param scratch  n doubles of workspace.
+ * @return 0; -EDOM for n < 1 or non-finite latencies; -EINVAL.
+ */
+int sscope_timing_latency(const double *rx_s, const double *t_s, size_t n,
+			  double *median_s, double *min_s, double *max_s,
+			  double *scratch);
+
+/**
+ * Whether two timings of one record agree: rates within @p rel_tol and
+ * the same counts of gaps and of backward steps.
+ */
+bool sscope_timing_agree(const struct sscope_timing *a,
+			 const struct sscope_timing *b, double rel_tol);
+
+/**
  * Streaming form of sscope_timing_analyze() for a record read in chunks
  * (memory independent of its length).  The median interval is taken over
  * the first SSCOPE_TIMING_STREAM_BLOCK intervals (all of them in a shorter

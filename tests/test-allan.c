@@ -1124,6 +1124,24 @@ START_TEST(rate_quantity_and_fit_message)
 	ck_assert_str_eq(r->fit_diag.msg, d.msg);
 	ck_assert(d.msg[0] != '\0');
 	sscope_allan_result_free(r);
+	/* the decisions on a fit: rejected below the level, a term resolved
+	 * when fitted with an interval above zero */
+	{
+		struct sscope_noise_fit ft;
+		struct sscope_noise_coef c = { .value = 1, .lo = 0.5, .hi = 2, .fitted = true };
+
+		memset(&ft, 0, sizeof(ft));
+		ft.p_value = 0.009;
+		ck_assert(sscope_noise_fit_rejected(&ft, 0.01));
+		ft.p_value = 0.011;
+		ck_assert(!sscope_noise_fit_rejected(&ft, 0.01));
+		ck_assert(sscope_noise_coef_resolved(&c));
+		c.lo = 0;
+		ck_assert(!sscope_noise_coef_resolved(&c));
+		c.lo = 0.5;
+		c.fitted = false;
+		ck_assert(!sscope_noise_coef_resolved(&c));
+	}
 }
 END_TEST
 

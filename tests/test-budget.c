@@ -349,6 +349,15 @@ START_TEST(test_take_noise_and_calib)
 	ck_assert_uint_eq(r, 0);
 	ck_assert(p.gyro_bias_rad_s == 0 && p.arw_rad_sqrt_s == 0);
 	ck_assert_rel(p.gyro_sf, 1e-4, 1e-15); /* the scale factor always */
+	/* what the Monte-Carlo fractions should be */
+	{
+		double sd, e = sscope_budget_mc_expected(1000, &sd);
+
+		ck_assert_rel(e, 0.954499736103642, 1e-14);
+		ck_assert_rel(sd, sqrt(e * (1 - e) / 1000), 1e-15);
+		sscope_budget_mc_expected(0, &sd);
+		ck_assert(isnan(sd));
+	}
 }
 END_TEST
 

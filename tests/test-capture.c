@@ -309,6 +309,32 @@ START_TEST(calibration_applied)
 }
 END_TEST
 
+/* Receive times against stamps: latency statistics, agreement. */
+START_TEST(latency_and_agreement)
+{
+	double t[5] = { 0, 0.01, 0.02, 0.03, 0.04 }, rx[5], sc[5], med, lo, hi;
+	struct sscope_timing a = { .rate_hz = 100, .n_gaps = 1, .n_backwards = 0 };
+	struct sscope_timing b = a;
+
+	for (int i = 0; i < 5; i++)
+		rx[i] = t[i] + 0.001 * (i == 3 ? 7 : i + 1);
+	ck_assert_int_eq(sscope_timing_latency(rx, t, 5, &med, &lo, &hi, sc), 0);
+	ck_assert_rel(med, 0.003, 1e-12);
+	ck_assert_rel(lo, 0.001, 1e-12);
+	ck_assert_rel(hi, 0.007, 1e-12);
+	rx[2] = NAN;
+	ck_assert_int_eq(sscope_timing_latency(rx, t, 5, &med, &lo, &hi, sc), -EDOM);
+	ck_assert_int_eq(sscope_timing_latency(rx, t, 0, &med, &lo, &hi, sc), -EDOM);
+	ck_assert(sscope_timing_agree(&a, &b, 1e-3));
+	b.rate_hz = 100.2;
+	ck_assert(!sscope_timing_agree(&a, &b, 1e-3));
+	b.rate_hz = 100.05;
+	ck_assert(sscope_timing_agree(&a, &b, 1e-3));
+	b.n_backwards = 1;
+	ck_assert(!sscope_timing_agree(&a, &b, 1e-3));
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("capture");
@@ -321,6 +347,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, timing_stream_equals_whole);
 	tcase_add_test(tc, timing_stream_long);
 	tcase_add_test(tc, calibration_applied);
+	tcase_add_test(tc, latency_and_agreement);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -365,13 +365,12 @@ static int idigits(double v, double lo, double hi)
 
 static bool fit_rejected(const struct sscope_noise_fit *ft)
 {
-	return ft->p_value < FIT_REJECT_P;
+	return sscope_noise_fit_rejected(ft, FIT_REJECT_P);
 }
 
-/* A term is resolved when it was fitted and its interval excludes zero. */
 static bool term_resolved(const struct sscope_noise_coef *cf)
 {
-	return cf->fitted && cf->lo > 0;
+	return sscope_noise_coef_resolved(cf);
 }
 
 /* value (SI) in unit; NaN stays NaN */

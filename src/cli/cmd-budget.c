@@ -357,7 +357,7 @@ static int run_mc(const struct opts *o, bool gyro, double t_end, bool paths,
 static json_t *mc_json(const struct mc_res *m)
 {
 	json_t *o = json_object(), *pts = json_array();
-	double p = erf(sqrt(2.0)), M = (double)m->o.realisations;
+	double sd, p = sscope_budget_mc_expected(m->o.realisations, &sd);
 
 	json_object_set_new(o, "term", json_string(m->o.gyro ? "arw" : "vrw"));
 	json_object_set_new(o, "walk", json_string(m->o.gyro ? "attitude_rad" :
@@ -366,7 +366,7 @@ static json_t *mc_json(const struct mc_res *m)
 	json_object_set_new(o, "steps", json_integer((json_int_t)m->o.steps));
 	json_object_set_new(o, "seed", json_integer((json_int_t)m->o.seed));
 	json_object_set_new(o, "expected_inside", json_real(p));
-	json_object_set_new(o, "binomial_sd", json_real(sqrt(p * (1 - p) / M)));
+	json_object_set_new(o, "binomial_sd", json_real(sd));
 	for (size_t j = 0; j < m->n; j++) {
 		json_t *q = json_object();
 
@@ -1037,11 +1037,11 @@ static void text(FILE *f, const void *opts, const void *result)
 	}
 	for (int i = 0; i < R->n_mc; i++) {
 		const struct mc_res *m = &R->mc[i];
-		double p = erf(sqrt(2.0));
+		double sd, p = sscope_budget_mc_expected(m->o.realisations, &sd);
 
 		fprintf(f, "\n  Monte Carlo (%s, %zu seeded realisations, seed %lu): fraction inside +-2 sigma sqrt(t), expected %.4f +- %.4f (binomial sd)\n",
 			m->o.gyro ? "ARW" : "VRW", m->o.realisations, m->o.seed, p,
-			sqrt(p * (1 - p) / (double)m->o.realisations));
+			sd);
 		for (size_t j = 0; j < m->n; j++)
 			fprintf(f, "    t = %-8s %s inside %.4f (sd ratio %.4f), position inside %.4f (sd ratio %.4f)\n",
 				ssc_fmt(a, sizeof(a), m->pt[j].t_s, 5),

@@ -53,13 +53,6 @@ struct info_res {
 	struct file_info *fi;
 };
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 /* receive times against header stamps: latency, and rate and gaps */
 static void receive_times(const struct sscope_capture *cap,
 			  struct file_info *fi, double *scratch)
@@ -72,16 +65,14 @@ static void receive_times(const struct sscope_capture *cap,
 					    NULL, scratch) == 0;
 	if (!fi->have_rx)
 		return;
-	for (size_t i = 0; i < cap->n - 1; i++)
-		scratch[i] = rx[i] - cap->time_s[i];
-	qsort(scratch, cap->n - 1, sizeof(double), cmp_double);
-	fi->lat_median_s = scratch[(cap->n - 1) / 2];
-	fi->lat_min_s = scratch[0];
-	fi->lat_max_s = scratch[cap->n - 2];
+	/* the first n - 1 samples, as the stamps' intervals */
+	if (sscope_timing_latency(rx, cap->time_s, cap->n - 1, &fi->lat_median_s,
+				  &fi->lat_min_s, &fi->lat_max_s, scratch)) {
+		fi->have_rx = false;
+		return;
+	}
 	fi->rx_disagree = cap->has_timing &&
-			  (fabs(fi->rx.rate_hz / cap->timing.rate_hz - 1) > 1e-3 ||
-			   fi->rx.n_gaps != cap->timing.n_gaps ||
-			   fi->rx.n_backwards != cap->timing.n_backwards);
+			  !sscope_timing_agree(&fi->rx, &cap->timing, 1e-3);
 }
 
 static double to_unit(const struct sscope_column *c, double si)

@@ -186,9 +186,9 @@ struct bandset {
 	bool nominal;
 };
 
-/* Parse --bands once the sample rate and bin width are known. */
-static int make_bands(const char *cmd, const char *arg, double fs, double bin,
-		      struct bandset *bs)
+/* Parse --bands once the spectrum (its rate and bins) is known. */
+static int make_bands(const char *cmd, const char *arg, double fs,
+		      const struct sscope_spectrum *sp, struct bandset *bs)
 {
 	size_t n = 0;
 
@@ -197,20 +197,15 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		return 0;
 	if (!strcmp(arg, "octave") || !strcmp(arg, "third")) {
 		unsigned frac = arg[0] == 'o' ? 1 : 3;
-		size_t all, k = 0;
+		size_t all;
 
-		if (sscope_octave_bands(frac, bin / 2, fs / 2, NULL, 0, &all) ||
+		if (!sp || sscope_spectrum_octave_bands(sp, frac, NULL, 0, &all) ||
 		    all == 0)
 			return 0;
 		bs->b = calloc(all, sizeof(*bs->b));
 		if (!bs->b)
 			return SSC_EXIT_FAIL;
-		sscope_octave_bands(frac, bin / 2, fs / 2, bs->b, all, &all);
-		/* bands narrower than a bin say nothing */
-		for (size_t i = 0; i < all; i++)
-			if (bs->b[i].hi_hz - bs->b[i].lo_hz >= bin)
-				bs->b[k++] = bs->b[i];
-		bs->n = k;
+		sscope_spectrum_octave_bands(sp, frac, bs->b, all, &bs->n);
 		bs->nominal = true;
 		return 0;
 	}
@@ -224,6 +219,7 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		char buf[64];
 		size_t l = e ? (size_t)(e - p) : strlen(p);
 		double lo, hi;
+		int rc;
 
 		if (l >= sizeof(buf))
 			goto bad;
@@ -233,18 +229,16 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		if (!c)
 			goto bad;
 		if (sscope_parse_double(buf, c, &lo) != (size_t)(c - buf) ||
-		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1) ||
-		    !(lo >= 0) || !(hi > lo) || !isfinite(hi))
+		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1))
 			goto bad;
-		if (lo >= fs / 2) {
+		rc = sscope_band_edges(lo, hi, fs / 2, &bs->b[bs->n]);
+		if (rc == -EDOM) {
 			ssc_err(cmd, "--bands: %g:%g lies above the Nyquist frequency %g Hz",
 				lo, hi, fs / 2);
 			return SSC_EXIT_USAGE;
 		}
-		bs->b[bs->n].lo_hz = lo;
-		bs->b[bs->n].hi_hz = hi > fs / 2 ? fs / 2 : hi;
-		bs->b[bs->n].center_hz = sqrt(lo * bs->b[bs->n].hi_hz);
-		bs->b[bs->n].nominal_hz = (double)NAN;
+		if (rc)
+			goto bad;
 		bs->n++;
 		p += l + (e ? 1 : 0);
 	}
@@ -747,29 +741,6 @@ static void csv_run(FILE *f, const struct run *R)
 	}
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return x < y ? -1 : x > y;
-}
-
-/* median of a spectrum: peaks worth a label stand 10x above it */
-static double median_of(const double *v, size_t n)
-{
-	double *c = malloc(n * sizeof(double)), m;
-
-	if (!c || n == 0) {
-		free(c);
-		return 0;
-	}
-	memcpy(c, v, n * sizeof(double));
-	qsort(c, n, sizeof(double), cmp_double);
-	m = c[n / 2];
-	free(c);
-	return m;
-}
-
 static int plot_fig(const struct ssc_common *co, const void *opts,
 		    const void *result, const char *path)
 {
@@ -803,7 +774,10 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 		struct ssc_style mk = { .color = ssc_plot_color(k), .width = -1,
 					.marker = SSC_MK_CIRCLE, .marker_size = 7 };
 		double sc2 = uscale(c) * uscale(c);
-		double floor = median_of(c->s.value, c->s.n_bins);
+		double floor = 0;
+
+		/* peaks worth a label stand 10x above the floor */
+		sscope_spectrum_floor(&c->s, &floor);
 
 		for (size_t i = 0; i < c->s.n_bins; i++)
 			y[i] = c->s.value[i] / sc2;
@@ -949,7 +923,7 @@ static int finish_run(const struct ssc_common *co, struct run *R)
 	if (R->nch && R->ch[0].s.rms == 0)
 		ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
 			 R->path);
-	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? R->ch[0].s.bin_hz : 1,
+	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? &R->ch[0].s : NULL,
 			&R->bands);
 	if (rc)
 		return rc;
