@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_statistics_double.h>
+
 /* records are simulated and converted in blocks of this many output
  * samples (M conversions each) */
 #define MC_BLOCK 4096
@@ -25,29 +27,75 @@ void sscope_adc_mc_clear(struct sscope_adc_mc *mc)
 	free(mc->dev_in);
 	free(mc->dev_out);
 	mc->tau_s = mc->dev_in = mc->dev_out = NULL;
-	mc->n_points = 0;
+	mc->n_points = mc->n_runs = 0;
 }
 
-/* The ADEV curves of run 0, alone and through the converter. */
+/* The ADEV curves of run r, alone and through the converter (every run
+ * has the grid of run 0: same length and rate). */
 static int keep_curves(const struct sscope_allan_result *in,
-		       const struct sscope_allan_result *out,
-		       struct sscope_adc_mc *mc)
+		       const struct sscope_allan_result *out, size_t r,
+		       size_t runs, struct sscope_adc_mc *mc)
 {
 	size_t np = in->n_points;
 
-	if (np != out->n_points)
-		return 0;
-	mc->tau_s = malloc((np ? np : 1) * sizeof(double));
-	mc->dev_in = malloc((np ? np : 1) * sizeof(double));
-	mc->dev_out = malloc((np ? np : 1) * sizeof(double));
-	if (!mc->tau_s || !mc->dev_in || !mc->dev_out)
-		return -ENOMEM;
-	for (size_t i = 0; i < np; i++) {
-		mc->tau_s[i] = in->points[i].tau_s;
-		mc->dev_in[i] = in->points[i].dev;
-		mc->dev_out[i] = out->points[i].dev;
+	if (r == 0) {
+		if (np != out->n_points || !np)
+			return 0;
+		mc->tau_s = ssc_alloc_array(np, sizeof(double));
+		mc->dev_in = ssc_alloc_array(runs * np, sizeof(double));
+		mc->dev_out = ssc_alloc_array(runs * np, sizeof(double));
+		if (!mc->tau_s || !mc->dev_in || !mc->dev_out)
+			return -ENOMEM;
+		for (size_t i = 0; i < np; i++)
+			mc->tau_s[i] = in->points[i].tau_s;
+		mc->n_points = np;
 	}
-	mc->n_points = np;
+	if (!mc->n_points || np != mc->n_points || out->n_points != np ||
+	    mc->n_runs != r)
+		return 0;
+	for (size_t i = 0; i < np; i++) {
+		mc->dev_in[r * np + i] = in->points[i].dev;
+		mc->dev_out[r * np + i] = out->points[i].dev;
+	}
+	mc->n_runs = r + 1;
+	return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+int sscope_adc_mc_band(const struct sscope_adc_mc *mc,
+		       enum sscope_adc_mc_curve which, size_t i, double q[3])
+{
+	size_t np, k = 0;
+	double *s;
+
+	if (!mc || !q || i >= mc->n_points)
+		return -EINVAL;
+	np = mc->n_points;
+	q[0] = q[1] = q[2] = NAN;
+	s = ssc_alloc_array(mc->n_runs ? mc->n_runs : 1, sizeof(double));
+	if (!s)
+		return -ENOMEM;
+	for (size_t r = 0; r < mc->n_runs; r++) {
+		double v = which == SSCOPE_ADC_MC_ALONE ? mc->dev_in[r * np + i] :
+			   which == SSCOPE_ADC_MC_THROUGH ? mc->dev_out[r * np + i] :
+			   mc->dev_out[r * np + i] / mc->dev_in[r * np + i];
+
+		if (isfinite(v) && v > 0)
+			s[k++] = v;
+	}
+	if (k) {
+		qsort(s, k, sizeof(double), cmp_double);
+		q[0] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.1);
+		q[1] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.5);
+		q[2] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.9);
+	}
+	free(s);
 	return 0;
 }
 
@@ -164,8 +212,8 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 		if (!rc)
 			vals[3 * R + r] = (ssc_ksum_value(&sout) - ssc_ksum_value(&sin_)) /
 					  (double)n;
-		if (!rc && r == 0)
-			rc = keep_curves(ri, ro, out);
+		if (!rc)
+			rc = keep_curves(ri, ro, r, R, out);
 		sscope_allan_result_free(ri);
 		sscope_allan_result_free(ro);
 	}

@@ -302,11 +302,29 @@ struct sscope_adc_mc {
 	size_t runs;
 	double duration_s;    /**< of each record (whole samples) */
 	double rate_hz;       /**< output rate used */
-	/** ADEV of run 0, alone and through the converter, at tau_s (owned:
-	 *  sscope_adc_mc_clear()); n_points 0 when the grids differ */
+	/** ADEV of every run, alone and through the converter: run r at
+	 *  dev_in[r * n_points + i], tau tau_s[i] (owned:
+	 *  sscope_adc_mc_clear()); n_runs runs (each has the same grid) */
 	double *tau_s, *dev_in, *dev_out;
-	size_t n_points;
+	size_t n_points, n_runs;
 };
+
+/** Which curve of a Monte-Carlo result. */
+enum sscope_adc_mc_curve {
+	SSCOPE_ADC_MC_ALONE = 0, /**< ADEV of the sensor alone */
+	SSCOPE_ADC_MC_THROUGH,   /**< ADEV through the converter */
+	SSCOPE_ADC_MC_RATIO      /**< through / alone, run by run (the
+				      sensor's own scatter cancels) */
+};
+
+/**
+ * The 10, 50 and 90 % points over the runs of a Monte-Carlo curve at tau
+ * point @p i (GSL quantiles of the sorted positive finite values).
+ * @param q  receives them (NaN when no run has a value).
+ * @return 0; -EINVAL (i out of range); -ENOMEM.
+ */
+int sscope_adc_mc_band(const struct sscope_adc_mc *mc,
+		       enum sscope_adc_mc_curve which, size_t i, double q[3]);
 
 /**
  * The Monte-Carlo check of a converter behind a sensor: each run simulates

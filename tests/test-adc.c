@@ -680,6 +680,29 @@ START_TEST(test_monte_carlo)
 		if (fabs(mc.tau_s[i] - 1) < 1e-9)
 			ck_assert_msg(fabs(mc.dev_out[i] / mc.dev_in[i] / want - 1) < 0.02,
 				      "ADEV ratio at 1 s %.4f", mc.dev_out[i] / mc.dev_in[i]);
+	/* every run's curves are kept; the band over the runs: the median of
+	 * three values is the middle one, the 10 and 90 % points interpolate
+	 * towards the ends */
+	ck_assert_uint_eq(mc.n_runs, 3);
+	{
+		size_t np = mc.n_points, i = np / 2;
+		double qb[3], v[3], t;
+
+		for (int r = 0; r < 3; r++)
+			v[r] = mc.dev_out[r * np + i] / mc.dev_in[r * np + i];
+		for (int a = 0; a < 2; a++) /* sort three */
+			for (int b = 0; b < 2 - a; b++)
+				if (v[b] > v[b + 1]) {
+					t = v[b];
+					v[b] = v[b + 1];
+					v[b + 1] = t;
+				}
+		ck_assert_int_eq(sscope_adc_mc_band(&mc, SSCOPE_ADC_MC_RATIO, i, qb), 0);
+		ck_assert(qb[1] == v[1]);
+		ck_assert_rel(qb[0], v[0] + 0.2 * (v[1] - v[0]), 1e-12);
+		ck_assert_rel(qb[2], v[1] + 0.8 * (v[2] - v[1]), 1e-12);
+		ck_assert_int_eq(sscope_adc_mc_band(&mc, SSCOPE_ADC_MC_ALONE, np, qb), -EINVAL);
+	}
 	sscope_adc_mc_clear(&mc);
 	sscope_adc_mc_clear(&mc); /* twice is harmless */
 	/* errors */
