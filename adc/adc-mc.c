@@ -186,24 +186,33 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 	for (size_t r = 0; r < R && !rc; r++) {
 		struct sscope_allan_result *ri = NULL, *ro = NULL;
 		struct ssc_ksum sin_ = { 0, 0 }, sout = { 0, 0 };
+		struct sscope_noise_fit_opts fo = { 0 };
 
 		rc = one_run(sensor, spec, inl_lsb, n_inl, sensitivity, zero_v,
 			     &so, o->seed + r, fs, M, n, x, y, fx, fy,
 			     &out->clipped, diag);
+		/* the terms compared (the simulated sensor has no ramp and its
+		 * quantization is what is being judged): a free R or Q would
+		 * only add estimation noise to B and K */
+		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
+			     (1u << SSCOPE_TERM_K);
 		if (!rc)
 			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE,
-						  NULL, NULL, &ri, diag);
+						  NULL, &fo, &ri, diag);
 		if (!rc)
 			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE,
-						  NULL, NULL, &ro, diag);
+						  NULL, &fo, &ro, diag);
 		for (int t = 0; !rc && t < 3; t++) {
 			const struct sscope_noise_coef *ci = &ri->fit.coef[SSCOPE_TERM_N + t];
 			const struct sscope_noise_coef *co = &ro->fit.coef[SSCOPE_TERM_N + t];
 
+			/* the estimates, resolved or not: the same noise
+			 * realization goes in and out */
 			vals[(size_t)t * R + r] = ri->have_fit && ro->have_fit &&
-							  ci->fitted && co->fitted &&
-							  ci->value > 0 ?
-						  co->value / ci->value : (double)NAN;
+							  ci->estimate > 0 &&
+							  co->estimate > 0 ?
+						  co->estimate / ci->estimate :
+						  (double)NAN;
 		}
 		for (size_t i = 0; !rc && i < n; i++) {
 			ssc_ksum_add(&sin_, x[i]);

@@ -56,10 +56,14 @@
 #define SSC_CLONES
 #endif
 
-#if defined(__GNUC__)
+/* GCC vector extensions (__builtin_shuffle is GCC's; clang builds, such
+ * as the fuzz harnesses', take the scalar path) */
+#if defined(__GNUC__) && !defined(__clang__)
 #define SSC_VEC 1
 typedef double ssc_v8 __attribute__((vector_size(64)));
 #define V8LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_v8))
+typedef double ssc_v4 __attribute__((vector_size(32)));
+#define V4LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_v4))
 #endif
 
 /* Terms summed per kernel call before the partial is added to a
@@ -76,25 +80,38 @@ SSC_CLONES static double k2(const double *x, size_t m, size_t n)
 	size_t i = 0;
 
 #ifdef SSC_VEC
-	ssc_v8 s0 = { 0 }, s1 = { 0 };
+	/* eight lanes per accumulator, kept as two halves of four: GCC
+	 * lowers 64-byte vectors through the stack on AVX2 and SSE2 */
+	ssc_v4 s0 = { 0 }, s0h = { 0 }, s1 = { 0 }, s1h = { 0 };
 
 	for (; i + 16 <= n; i += 16) {
-		ssc_v8 a0, b0, c0, a1, b1, c1, d0, d1;
+		ssc_v4 a0, b0, c0, a1, b1, c1, a2, b2, c2, a3, b3, c3, d;
 
-		V8LOAD(a0, a + i);
-		V8LOAD(b0, b + i);
-		V8LOAD(c0, c + i);
-		V8LOAD(a1, a + i + 8);
-		V8LOAD(b1, b + i + 8);
-		V8LOAD(c1, c + i + 8);
-		d0 = (c0 - b0) - (b0 - a0);
-		d1 = (c1 - b1) - (b1 - a1);
-		s0 += d0 * d0;
-		s1 += d1 * d1;
+		V4LOAD(a0, a + i);
+		V4LOAD(b0, b + i);
+		V4LOAD(c0, c + i);
+		V4LOAD(a1, a + i + 4);
+		V4LOAD(b1, b + i + 4);
+		V4LOAD(c1, c + i + 4);
+		V4LOAD(a2, a + i + 8);
+		V4LOAD(b2, b + i + 8);
+		V4LOAD(c2, c + i + 8);
+		V4LOAD(a3, a + i + 12);
+		V4LOAD(b3, b + i + 12);
+		V4LOAD(c3, c + i + 12);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s0h += d * d;
+		d = (c2 - b2) - (b2 - a2);
+		s1 += d * d;
+		d = (c3 - b3) - (b3 - a3);
+		s1h += d * d;
 	}
 	s0 += s1;
+	s0h += s1h;
 	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
 #endif
 	for (; i < n; i++) {
 		double d = (c[i] - b[i]) - (b[i] - a[i]);
@@ -115,31 +132,33 @@ SSC_CLONES static double k3(const double *x, size_t m, size_t n)
 	size_t i = 0;
 
 #ifdef SSC_VEC
-	ssc_v8 s0 = { 0 }, s1 = { 0 };
+	ssc_v4 s0 = { 0 }, s0h = { 0 }, s1 = { 0 }, s1h = { 0 };
 
+#define K3Q(acc, o)                                                            \
+	do {                                                                   \
+		ssc_v4 a0, b0, c0, e0, d, f, g;                                \
+                                                                               \
+		V4LOAD(a0, a + i + (o));                                       \
+		V4LOAD(b0, b + i + (o));                                       \
+		V4LOAD(c0, c + i + (o));                                       \
+		V4LOAD(e0, e + i + (o));                                       \
+		f = b0 - a0;                                                   \
+		g = c0 - b0;                                                   \
+		d = ((e0 - c0) - g) - (g - f);                                 \
+		acc += d * d;                                                  \
+	} while (0)
 	for (; i + 16 <= n; i += 16) {
-		ssc_v8 a0, b0, c0, e0, a1, b1, c1, e1, d0, d1, f0, f1, g0, g1;
-
-		V8LOAD(a0, a + i);
-		V8LOAD(b0, b + i);
-		V8LOAD(c0, c + i);
-		V8LOAD(e0, e + i);
-		V8LOAD(a1, a + i + 8);
-		V8LOAD(b1, b + i + 8);
-		V8LOAD(c1, c + i + 8);
-		V8LOAD(e1, e + i + 8);
-		f0 = b0 - a0;
-		g0 = c0 - b0;
-		d0 = ((e0 - c0) - g0) - (g0 - f0);
-		f1 = b1 - a1;
-		g1 = c1 - b1;
-		d1 = ((e1 - c1) - g1) - (g1 - f1);
-		s0 += d0 * d0;
-		s1 += d1 * d1;
+		K3Q(s0, 0);
+		K3Q(s0h, 4);
+		K3Q(s1, 8);
+		K3Q(s1h, 12);
 	}
+#undef K3Q
+	/* the lanes of the two eight-lane accumulators of k2's layout */
 	s0 += s1;
+	s0h += s1h;
 	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
 #endif
 	for (; i < n; i++) {
 		double f = b[i] - a[i], g = c[i] - b[i];
@@ -328,9 +347,10 @@ struct sscope_allan {
 	size_t nb_words;
 	/* layout of the current record */
 	size_t np, S, shift, Lp;
-	/* noise-id scratch */
+	/* noise-id scratch, nid_half doubles and bytes (twice) per thread */
 	double *nid;
 	unsigned char *nidv;
+	size_t nid_half;
 	bool contiguous; /* ssc_allan_force_contiguous() */
 };
 
@@ -420,8 +440,11 @@ int sscope_allan_new(struct sscope_allan **plan,
 	if (sh)
 		p->win = ssc_alloc_array((size_t)p->nthreads * p->win_cap,
 					 sizeof(double));
-	p->nid = ssc_alloc_array(2 * (SSC_NOISE_ID_MAX + 2), sizeof(double));
-	p->nidv = malloc(2 * (SSC_NOISE_ID_MAX + 2));
+	/* the identification looks at up to n_max + 1 points */
+	p->nid_half = (n_max < SSC_NOISE_ID_MAX ? n_max + 1 : SSC_NOISE_ID_MAX) + 2;
+	p->nid = ssc_alloc_array((size_t)p->nthreads * 2 * p->nid_half,
+				 sizeof(double));
+	p->nidv = ssc_alloc_array(p->nthreads, 2 * p->nid_half);
 	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv) {
 		sscope_allan_free(p);
 		return -ENOMEM;
@@ -468,6 +491,7 @@ static size_t nan_count(const struct sscope_allan *p, size_t a, size_t b)
 struct src {
 	const double *y;
 	size_t stride, n;
+	const struct sscope_allan_opts *o; /* the release callback */
 	bool angle;
 	double m0, delta; /* rate: increment = (y - m0) - delta */
 	double y0, slope, fs; /* angle: x = ((y - y0) - slope k) fs */
@@ -581,16 +605,19 @@ SSC_CLONES static void scan_block(const double *y, size_t stride, size_t n,
 
 #ifdef SSC_VEC
 		if (stride == 1) {
-			ssc_v8 a = { 0 };
+			/* eight lanes as two halves (see k2) */
+			ssc_v4 a = { 0 }, ah = { 0 };
 
 			for (; i + 8 <= len; i += 8) {
-				ssc_v8 v;
+				ssc_v4 v, vh;
 
-				V8LOAD(v, y + b + i);
+				V4LOAD(v, y + b + i);
+				V4LOAD(vh, y + b + i + 4);
 				a += v - m0;
+				ah += vh - m0;
 			}
 			part = ((a[0] + a[1]) + (a[2] + a[3])) +
-			       ((a[4] + a[5]) + (a[6] + a[7]));
+			       ((ah[0] + ah[1]) + (ah[2] + ah[3]));
 		}
 #endif
 		for (; i < len; i++)
@@ -749,6 +776,23 @@ static int build_gaps(struct sscope_allan *p, const struct src *s)
 	return 0;
 }
 
+/* samples read between release calls */
+#define RELEASE_STEP ((size_t)1 << 18)
+
+/* the samples [*done, upto) have been read for the last time: tell the
+ * caller, in steps of RELEASE_STEP or at the end (last) */
+static void release_to(const struct src *s, size_t *done, size_t upto,
+		       bool last)
+{
+	if (upto > s->n)
+		upto = s->n;
+	if (!s->o->release || upto <= *done ||
+	    (!last && upto - *done < RELEASE_STEP))
+		return;
+	s->o->release(s->o->release_ctx, s->y, s->stride, *done, upto - *done);
+	*done = upto;
+}
+
 /* contiguous phase, written in parallel chunks */
 static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
@@ -757,11 +801,16 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 	for (unsigned t = 0; t < T; t++) {
 		struct run r;
 		size_t lo = chunk_at(p->np, T, t, 1);
-		size_t hi = chunk_at(p->np, T, t + 1, 1);
+		size_t hi = chunk_at(p->np, T, t + 1, 1), done = lo;
 
 		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t];
 		r.k = lo;
-		fill_phase(s, &r, p->x + lo, hi - lo);
+		while (r.k < hi) {
+			size_t len = hi - r.k < RELEASE_STEP ? hi - r.k : RELEASE_STEP;
+
+			fill_phase(s, &r, p->x + r.k, len);
+			release_to(s, &done, r.k, r.k >= hi);
+		}
 	}
 }
 
@@ -790,7 +839,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	const size_t S = p->S, np = p->np, grp = TILE_COLS * S;
 	const size_t W = (size_t)ts->d * ts->mshort_max + SHORT_BLOCK;
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
-	size_t kend = hi + W < np ? hi + W : np;
+	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
 
 	G = (G + grp - 1) / grp * grp;
@@ -804,6 +853,8 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		if (stop > wbase + filled)
 			fill_phase(s, &r, win + filled, stop - wbase - filled);
 		filled = stop - wbase;
+		/* the next chunk's thread reads the lookahead too */
+		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
 		/* short taus on terms starting in [wbase, gend) */
 		for (size_t j = 0; j < ts->n; j++) {
 			size_t m = ts->m[j], nt, a, b;
@@ -1066,13 +1117,14 @@ static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
  * (the caller carries the last identification).  mvar: the point's
  * modified variance (MDEV/TDEV), else NaN.
  */
-static int point_alpha(struct sscope_allan *p, enum sscope_dev dev,
+static int point_alpha(const struct sscope_allan *p, enum sscope_dev dev,
 		       bool angle, bool gaps, size_t m, size_t terms,
-		       double mvar, int *alpha)
+		       double mvar, unsigned me, int *alpha)
 {
 	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
-	double *z = p->nid;
-	unsigned char *v = p->nidv;
+	const size_t half = p->nid_half;
+	double *z = p->nid + (size_t)me * 2 * half;
+	unsigned char *v = p->nidv + (size_t)me * 2 * half;
 	struct ssc_nid_few few;
 
 	if (K > SSC_NOISE_ID_MAX + 1)
@@ -1097,8 +1149,7 @@ static int point_alpha(struct sscope_allan *p, enum sscope_dev dev,
 		few.rn = mvar / avar_at(p, gaps, m);
 	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle,
 				   ssc_dev_order(dev), &few, alpha, NULL,
-				   z + SSC_NOISE_ID_MAX + 2,
-				   v + SSC_NOISE_ID_MAX + 2);
+				   z + half, v + half);
 }
 
 /* samples needed for one term at averaging factor m */
@@ -1158,6 +1209,8 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
 	bool *big = NULL, gaps, tiled, strided;
+	unsigned char *idok = NULL;
+	int *alph = NULL;
 	unsigned T;
 	int rc = 0, carry_alpha = 0;
 	bool have_carry = false;
@@ -1188,6 +1241,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 	s.y = y;
 	s.stride = stride;
 	s.n = n;
+	s.o = &p->opts;
 	s.angle = angle;
 	s.fs = rate_hz;
 	T = p->nthreads;
@@ -1300,14 +1354,29 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 			}
 		}
 	}
-	/* points */
+	/*
+	 * Points, in three steps so that a grid of many taus (--taus all)
+	 * uses every thread: deviations and noise identification per tau in
+	 * parallel; the carry of the last identified type to the taus with
+	 * too few averages, in order; EDF and intervals in parallel.
+	 */
 	level = p->opts.ci_level == 0 ? 0.682689492137086 : p->opts.ci_level;
+	idok = calloc(nacc, 1);
+	alph = calloc(nacc, sizeof(int));
+	if (!idok || !alph) {
+		rc = -ENOMEM;
+		goto out;
+	}
+SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 	for (size_t j = 0; j < nacc; j++) {
-		struct sscope_allan_point *pt = &pts[*n_pts];
+		struct sscope_allan_point *pt = &pts[j];
 		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;
-		size_t st = 1, npe;
-		int alpha;
+		size_t st = 1;
+		unsigned me = 0;
 
+#ifdef _OPENMP
+		me = (unsigned)omp_get_thread_num();
+#endif
 		memset(pt, 0, sizeof(*pt));
 		pt->m = m[j];
 		pt->tau_s = md / rate_hz;
@@ -1321,7 +1390,6 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		if (used[j] == 0) {
 			pt->dev = pt->dev_lo = pt->dev_hi = NAN;
 			pt->edf = pt->edf_full = NAN;
-			(*n_pts)++;
 			continue;
 		}
 		switch (dev) {
@@ -1344,21 +1412,38 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		if (dev == SSCOPE_DEV_TDEV)
 			pt->dev *= pt->tau_s / sqrt(3.0);
 		/* noise type */
+		if (!p->opts.alpha_fixed &&
+		    point_alpha(p, dev, angle, gaps, m[j], used[j],
+				dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV ?
+					var :
+					(double)NAN,
+				me, &alph[j]) == 0)
+			idok[j] = 1;
+	}
+	for (size_t j = 0; j < nacc; j++) {
+		int alpha;
+
+		if (used[j] == 0)
+			continue;
 		if (p->opts.alpha_fixed) {
 			alpha = p->opts.alpha;
-		} else if (point_alpha(p, dev, angle, gaps, m[j], used[j],
-				       dev == SSCOPE_DEV_MDEV ||
-						       dev == SSCOPE_DEV_TDEV ?
-					       var :
-					       (double)NAN,
-				       &alpha) == 0) {
-			pt->alpha_identified = true;
-			carry_alpha = alpha;
+		} else if (idok[j]) {
+			pts[j].alpha_identified = true;
+			alpha = carry_alpha = alph[j];
 			have_carry = true;
 		} else {
 			alpha = have_carry ? carry_alpha : 0;
 		}
-		alpha = clamp_alpha(dev, alpha);
+		alph[j] = clamp_alpha(dev, alpha);
+	}
+SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
+	for (size_t j = 0; j < nacc; j++) {
+		struct sscope_allan_point *pt = &pts[j];
+		size_t st = pt->stride, npe;
+		int alpha = alph[j];
+
+		if (used[j] == 0)
+			continue;
 		pt->alpha = alpha;
 		/* phase points equivalent to the terms actually used */
 		if (dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV)
@@ -1379,14 +1464,16 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 			ssc_allan_ci(pt->dev, pt->edf, level, &pt->dev_lo,
 				     &pt->dev_hi);
 		}
-		(*n_pts)++;
 	}
+	*n_pts = nacc;
 out:
 	free(bases);
 	free(acc);
 	free(used);
 	free(skipped);
 	free(big);
+	free(idok);
+	free(alph);
 	return rc;
 }
 
@@ -1435,6 +1522,31 @@ static int grid_points(struct sscope_allan *p, const double *x,
 	return rc;
 }
 
+/* res->oadev: the points of res->points whose m is on the dense grid */
+static int dense_subset(struct sscope_allan_result *res)
+{
+	size_t cnt, *m, k = 0;
+	const size_t mmax = res->n_points ? res->points[res->n_points - 1].m : 0;
+
+	sscope_allan_grid(SSCOPE_TAUS_DENSE, mmax, NULL, 0, &cnt);
+	m = ssc_alloc_array(cnt ? cnt : 1, sizeof(size_t));
+	res->oadev = ssc_alloc_array(cnt ? cnt : 1, sizeof(*res->oadev));
+	if (!m || !res->oadev) {
+		free(m);
+		return -ENOMEM;
+	}
+	sscope_allan_grid(SSCOPE_TAUS_DENSE, mmax, m, cnt, &cnt);
+	res->n_oadev = 0;
+	for (size_t j = 0; j < res->n_points && k < cnt; j++) {
+		while (k < cnt && m[k] < res->points[j].m)
+			k++;
+		if (k < cnt && m[k] == res->points[j].m)
+			res->oadev[res->n_oadev++] = res->points[j];
+	}
+	free(m);
+	return 0;
+}
+
 int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 double rate_hz, enum sscope_tau_grid grid,
 			 const struct sscope_allan_opts *aopts,
@@ -1445,6 +1557,7 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	struct sscope_allan_opts o = { 0 };
 	struct sscope_allan *p = NULL;
 	struct sscope_allan_result *res;
+	enum sscope_tau_grid fit_grid;
 	int rc;
 
 	if (!resp || !x || n == 0)
@@ -1463,23 +1576,34 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 &res->n_points, diag);
 	if (rc)
 		goto fail;
-	if (o.dev == SSCOPE_DEV_OADEV) {
+	/* the fit of an all-tau grid uses its dense points: neighbouring taus
+	 * are almost fully correlated, add nothing to the fit and would make
+	 * its covariance (quadratic in the points) the whole cost */
+	fit_grid = grid == SSCOPE_TAUS_ALL ? SSCOPE_TAUS_DENSE : grid;
+	if ((o.dev == SSCOPE_DEV_OADEV && fit_grid == grid) ||
+	    (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
+	} else if (o.dev == SSCOPE_DEV_OADEV) {
+		rc = dense_subset(res);
+		if (rc)
+			goto fail;
 	} else {
 		struct sscope_diag d2;
 
 		p->opts.dev = SSCOPE_DEV_OADEV;
 		p->opts.stride_div = 0;
-		rc = grid_points(p, x, stride, n, rate_hz, grid, &res->oadev,
-				 &res->n_oadev, &d2);
+		rc = grid_points(p, x, stride, n, rate_hz, fit_grid,
+				 &res->oadev, &res->n_oadev, &d2);
 		if (rc)
 			goto fail;
 	}
-	res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev, rate_hz,
-					  res->n_phase, fopts, &res->fit,
-					  &res->fit_diag);
-	res->have_fit = res->fit_error == 0;
+	if (!fopts || !fopts->skip) {
+		res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev,
+						  rate_hz, res->n_phase, fopts,
+						  &res->fit, &res->fit_diag);
+		res->have_fit = res->fit_error == 0;
+	}
 	sscope_allan_free(p);
 	*resp = res;
 	return 0;

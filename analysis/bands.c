@@ -1,16 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Bands of a spectrum: bands between given edges, the IEC 61260-1
- * fractional-octave bands a spectrum resolves (at least one bin wide),
- * and the spectrum's floor (its median: peaks stand above it).
+ * fractional-octave bands a spectrum resolves (at least one bin wide).
  */
 #include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <gsl/gsl_statistics_double.h>
 
 int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
 		      struct sscope_band *band)
@@ -57,21 +54,4 @@ int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
 	free(all);
 	*n_found = k;
 	return bands && k > max ? -ERANGE : 0;
-}
-
-int sscope_spectrum_floor(const struct sscope_spectrum *s, double *floor_v)
-{
-	double *c;
-
-	if (!s || !floor_v || (!s->value && s->n_bins))
-		return -EINVAL;
-	if (!s->n_bins)
-		return -EDOM;
-	c = ssc_alloc_array(s->n_bins, sizeof(double));
-	if (!c)
-		return -ENOMEM;
-	memcpy(c, s->value, s->n_bins * sizeof(double));
-	*floor_v = gsl_stats_median(c, 1, s->n_bins);
-	free(c);
-	return 0;
 }

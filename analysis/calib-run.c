@@ -16,6 +16,33 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* varsigma into work and the detector's reference into det */
+static int detect_reference(const double *x, const double *y, const double *z,
+			    size_t stride, size_t n, double rate_hz,
+			    struct sscope_calib_detect *det, double *work,
+			    double *work2, struct sscope_diag *diag)
+{
+	double win_s;
+	size_t window;
+	int rc;
+
+	if (!x || !y || !z || !det || !work || !work2 || !(rate_hz > 0) ||
+	    stride == 0)
+		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	win_s = det->window_s > 0 ? det->window_s : 1.0;
+	window = (size_t)lround(win_s * rate_hz);
+	if (window < 3)
+		window = 3;
+	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
+	if (rc)
+		return ssc_diag(diag, rc,
+				"%zu samples: shorter than the %g s variance window",
+				n, win_s);
+	return sscope_calib_static_reference(x, y, z, stride, n, rate_hz,
+					     det->init_static_s, work, work2,
+					     &det->reference, diag);
+}
+
 int sscope_calib_detect_static(const double *x, const double *y,
 			       const double *z, size_t stride, size_t n,
 			       double rate_hz, struct sscope_calib_detect *det,
@@ -28,7 +55,7 @@ int sscope_calib_detect_static(const double *x, const double *y,
 
 	if (!det || !(det->k > 1) || !iv || max_iv == 0)
 		return ssc_diag(diag, -EINVAL, "static detection: bad parameter");
-	rc = sscope_calib_detect_reference(x, y, z, stride, n, rate_hz, det,
+	rc = detect_reference(x, y, z, stride, n, rate_hz, det,
 					   work, work2, diag);
 	if (rc)
 		return rc;
@@ -75,7 +102,7 @@ int sscope_calib_accel_sixpos_run(const double *x, const double *y,
 	m = ssc_alloc_array(max_iv, sizeof(*m));
 	if (!m)
 		return -ENOMEM;
-	rc = sscope_calib_detect_reference(x, y, z, stride, n, rate_hz, det,
+	rc = detect_reference(x, y, z, stride, n, rate_hz, det,
 					   work, work2, &bd);
 	for (int kk = 2; !rc && kk <= 10; kk++) {
 		double k = k0 > 0 ? k0 : (double)kk;

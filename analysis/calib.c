@@ -337,10 +337,55 @@ struct lm_out {
 	size_t iter;
 };
 
-static int lm_solve(gsl_multifit_nlinear_fdf *fdf, const double *x0,
+/*
+ * Central-difference Jacobian with absolute steps 1e-6 max(|x_j|, 1):
+ * GSL's own steps are relative to |x_j|, so a parameter near 0 (a
+ * misalignment of 1e-3) gets a step of 1e-11 and a Jacobian column that
+ * is mostly rounding noise, which stops the iteration wherever the noise
+ * wins (1e-9 apart for the same data in other raw units).  The parameters
+ * here are dimensionless and of order 1e-3..1.
+ */
+struct fd_wrap {
+	int (*f)(const gsl_vector *x, void *params, gsl_vector *f);
+	void *params;
+	gsl_vector *xp, *fp, *fm;
+};
+
+static int fd_f(const gsl_vector *x, void *params, gsl_vector *f)
+{
+	const struct fd_wrap *fw = params;
+
+	return fw->f(x, fw->params, f);
+}
+
+static int fd_df(const gsl_vector *x, void *params, gsl_matrix *J)
+{
+	const struct fd_wrap *fw = params;
+
+	gsl_vector_memcpy(fw->xp, x);
+	for (size_t j = 0; j < x->size; j++) {
+		double xj = gsl_vector_get(x, j);
+		double h = 1e-6 * fmax(fabs(xj), 1);
+
+		gsl_vector_set(fw->xp, j, xj + h);
+		fw->f(fw->xp, fw->params, fw->fp);
+		gsl_vector_set(fw->xp, j, xj - h);
+		fw->f(fw->xp, fw->params, fw->fm);
+		gsl_vector_set(fw->xp, j, xj);
+		for (size_t i = 0; i < J->size1; i++)
+			gsl_matrix_set(J, i, j,
+				       (gsl_vector_get(fw->fp, i) -
+					gsl_vector_get(fw->fm, i)) / (2 * h));
+	}
+	return GSL_SUCCESS;
+}
+
+static int lm_solve(gsl_multifit_nlinear_fdf *fdf_in, const double *x0,
 		    struct lm_out *o)
 {
-	size_t p = fdf->p, n = fdf->n;
+	size_t p = fdf_in->p, n = fdf_in->n;
+	struct fd_wrap fw = { fdf_in->f, fdf_in->params, NULL, NULL, NULL };
+	gsl_multifit_nlinear_fdf fdf_fd = *fdf_in, *fdf = &fdf_fd;
 	gsl_multifit_nlinear_parameters fp =
 		gsl_multifit_nlinear_default_parameters();
 	gsl_multifit_nlinear_workspace *w;
@@ -350,9 +395,15 @@ static int lm_solve(gsl_multifit_nlinear_fdf *fdf, const double *x0,
 
 	fp.trs = gsl_multifit_nlinear_trs_lm;
 	fp.scale = gsl_multifit_nlinear_scale_more;
+	fdf->f = fd_f;
+	fdf->df = fd_df;
+	fdf->params = &fw;
+	fw.xp = gsl_vector_alloc(p);
+	fw.fp = gsl_vector_alloc(n);
+	fw.fm = gsl_vector_alloc(n);
 	w = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, n, p);
 	cov = gsl_matrix_alloc(p, p);
-	if (!w || !cov) {
+	if (!w || !cov || !fw.xp || !fw.fp || !fw.fm) {
 		rc = -ENOMEM;
 		goto out;
 	}
@@ -386,8 +437,12 @@ static int lm_solve(gsl_multifit_nlinear_fdf *fdf, const double *x0,
 				rc = -EDOM;
 	}
 out:
-	gsl_multifit_nlinear_free(w);
+	if (w)
+		gsl_multifit_nlinear_free(w);
 	gsl_matrix_free(cov);
+	gsl_vector_free(fw.xp);
+	gsl_vector_free(fw.fp);
+	gsl_vector_free(fw.fm);
 	return rc;
 }
 
@@ -399,6 +454,7 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	gsl_multifit_nlinear_fdf fdf;
 	struct lm_out o;
 	double x0[9] = { 0, 0, 0, 1, 1, 1, 0, 0, 0 }, norm = 0, s2;
+	double ctr[3], dsc[3], (*um)[3];
 	int rc;
 
 	if (!means || !c || !(gravity_m_s2 > 0) || !isfinite(gravity_m_s2))
@@ -407,30 +463,57 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 		return ssc_diag(diag, -EDOM,
 				"%zu static poses: the 9-parameter accelerometer model needs at least 10",
 				n_poses);
-	for (size_t k = 0; k < n_poses; k++) {
+	for (size_t k = 0; k < n_poses; k++)
 		for (int i = 0; i < 3; i++)
 			if (!isfinite(means[k][i]))
 				return ssc_diag(diag, -EINVAL,
 						"pose %zu: non-finite mean", k + 1);
-		norm += sqrt(means[k][0] * means[k][0] +
-			     means[k][1] * means[k][1] +
-			     means[k][2] * means[k][2]);
+	/*
+	 * Centre and scale each axis by the mean and sd of the pose means:
+	 * a = ctr + D u turns T K (a - b) into T (K D) (u - D^-1 (b - ctr)),
+	 * the same model, so the fit in u is the same whatever affine units
+	 * the raw columns have (counts with a large offset included), and the
+	 * excitation test sees the spread of the poses, not their offset.
+	 */
+	for (int i = 0; i < 3; i++) {
+		struct ssc_ksum sm = { 0, 0 }, sv = { 0, 0 };
+
+		for (size_t k = 0; k < n_poses; k++)
+			ssc_ksum_add(&sm, means[k][i]);
+		ctr[i] = ssc_ksum_value(&sm) / (double)n_poses;
+		for (size_t k = 0; k < n_poses; k++)
+			ssc_ksum_add(&sv, (means[k][i] - ctr[i]) * (means[k][i] - ctr[i]));
+		dsc[i] = sqrt(ssc_ksum_value(&sv) / (double)n_poses);
+		if (!(dsc[i] > 0))
+			return ssc_diag(diag, -EDOM,
+					"the %zu poses do not determine the 9 parameters: axis %c reads the same in every pose: turn the sensor about all three axes",
+					n_poses, "xyz"[i]);
+	}
+	um = ssc_alloc_array(n_poses, sizeof(*um));
+	if (!um)
+		return -ENOMEM;
+	for (size_t k = 0; k < n_poses; k++) {
+		for (int i = 0; i < 3; i++)
+			um[k][i] = (means[k][i] - ctr[i]) / dsc[i];
+		norm += sqrt(um[k][0] * um[k][0] + um[k][1] * um[k][1] +
+			     um[k][2] * um[k][2]);
 	}
 	norm /= (double)n_poses;
-	if (!(norm > 0))
-		return ssc_diag(diag, -EDOM, "all poses read zero");
+	a.m = (const double(*)[3])um;
 	{
 		double M[3][3] = { { 0 } }, e;
 
 		for (size_t k = 0; k < n_poses; k++)
 			for (int i = 0; i < 3; i++)
 				for (int j = 0; j < 3; j++)
-					M[i][j] += means[k][i] * means[k][j];
+					M[i][j] += um[k][i] * um[k][j];
 		e = min_eig_ratio(M);
-		if (e < EXCITE_MIN)
+		if (e < EXCITE_MIN) {
+			free(um);
 			return ssc_diag(diag, -EDOM,
 					"the %zu poses do not determine the 9 parameters: gravity never points along one direction (%.2g %% of the spread, need 1 %%): turn the sensor about all three axes",
 					n_poses, 100 * e);
+		}
 	}
 	a.s0 = gravity_m_s2 / norm;
 	fdf.f = accel_f;
@@ -440,6 +523,7 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	fdf.p = 9;
 	fdf.params = &a;
 	rc = lm_solve(&fdf, x0, &o);
+	free(um);
 	if (rc == -ENOMEM)
 		return rc;
 	if (rc == -ERANGE)
@@ -461,9 +545,12 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 		c->mis_sd[0][2] = sd[1];
 		c->mis_sd[1][2] = sd[2];
 		c->mis_sd[1][0] = c->mis_sd[2][0] = c->mis_sd[2][1] = 0;
+		/* back from u: K = K_u / d, b = ctr + d b_u */
 		for (int i = 0; i < 3; i++) {
-			c->scale_sd[i] = sd[3 + i] * a.s0;
-			c->bias_sd[i] = sd[6 + i] * gravity_m_s2 / a.s0;
+			c->scale[i] /= dsc[i];
+			c->bias[i] = ctr[i] + dsc[i] * c->bias[i];
+			c->scale_sd[i] = sd[3 + i] * a.s0 / dsc[i];
+			c->bias_sd[i] = sd[6 + i] * gravity_m_s2 / a.s0 * dsc[i];
 		}
 	}
 	c->n_params = 9;
@@ -481,36 +568,25 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-int sscope_calib_detect_reference(const double *x, const double *y,
+int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *z, size_t stride, size_t n,
-				  double rate_hz, struct sscope_calib_detect *det,
-				  double *work, double *work2,
-				  struct sscope_diag *diag)
+				  double rate_hz, double init_static_s,
+				  const double *vs, double *work,
+				  double *reference, struct sscope_diag *diag)
 {
-	double win_s;
-	size_t window, nf = 0;
-	int rc;
+	size_t nf = 0;
 
-	if (!x || !y || !z || !det || !work || !work2 || !(rate_hz > 0) ||
-	    stride == 0)
-		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
-	win_s = det->window_s > 0 ? det->window_s : 1.0;
-	window = (size_t)lround(win_s * rate_hz);
-	if (window < 3)
-		window = 3;
-	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
-	if (rc)
-		return ssc_diag(diag, rc == -EDOM ? -EDOM : rc,
-				"%zu samples: shorter than the %g s variance window",
-				n, win_s);
-	if (det->init_static_s > 0) {
-		size_t m = (size_t)lround(det->init_static_s * rate_hz);
+	if (!x || !y || !z || !vs || !work || !reference || stride == 0 ||
+	    !(rate_hz > 0))
+		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
+	if (init_static_s > 0) {
+		size_t m = (size_t)lround(init_static_s * rate_hz);
 		double v2 = 0;
 
 		if (m < 3 || m > n)
 			return ssc_diag(diag, -EDOM,
 					"initial static period of %g s does not fit the capture",
-					det->init_static_s);
+					init_static_s);
 		for (int ch = 0; ch < 3; ch++) {
 			const double *p = ch == 0 ? x : ch == 1 ? y : z;
 			struct sscope_stats st;
@@ -518,19 +594,19 @@ int sscope_calib_detect_reference(const double *x, const double *y,
 			sscope_stats_compute(p, stride, m, &st);
 			v2 += st.sd * st.sd * st.sd * st.sd;
 		}
-		det->reference = sqrt(v2);
+		*reference = sqrt(v2);
 	} else {
 		for (size_t i = 0; i < n; i++)
-			if (isfinite(work[i]))
-				work2[nf++] = work[i];
+			if (isfinite(vs[i]))
+				work[nf++] = vs[i];
 		if (nf == 0)
 			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work2, nf, sizeof(double), cmp_double);
-		det->reference = work2[(nf - 1) / 10];
+		qsort(work, nf, sizeof(double), cmp_double);
+		*reference = work[(nf - 1) / 10];
 	}
-	if (!(det->reference > 0))
+	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,
-				"the accelerometer does not vary at all (zero noise): cannot set a static threshold");
+				"the detector's channels do not vary at all (zero noise): cannot set a static threshold");
 	return 0;
 }
 
@@ -542,8 +618,8 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 				struct sscope_calib_triad *c, double *work,
 				double *work2, struct sscope_diag *diag)
 {
-	double min_s, (*means)[3] = NULL;
-	size_t min_len;
+	double win_s, min_s, (*means)[3] = NULL;
+	size_t window, min_len;
 	double best = INFINITY, best_k = 0;
 	int rc, last_rc = -EDOM;
 	struct sscope_diag last = { "" };
@@ -552,10 +628,20 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
 	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	win_s = det->window_s > 0 ? det->window_s : 1.0;
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
+	window = (size_t)lround(win_s * rate_hz);
+	if (window < 3)
+		window = 3;
 	min_len = (size_t)lround(min_s * rate_hz);
-	rc = sscope_calib_detect_reference(x, y, z, stride, n, rate_hz, det,
-					   work, work2, diag);
+	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
+	if (rc)
+		return ssc_diag(diag, rc == -EDOM ? -EDOM : rc,
+				"%zu samples: shorter than the %g s variance window",
+				n, win_s);
+	rc = sscope_calib_static_reference(x, y, z, stride, n, rate_hz,
+					   det->init_static_s, work, work2,
+					   &det->reference, diag);
 	if (rc)
 		return rc;
 	means = ssc_alloc_array(max_iv, sizeof(*means));
@@ -745,7 +831,7 @@ int sscope_calib_gyro_fit(const double *const g[3],
 	struct gyro_ctx gc = { 0 };
 	gsl_multifit_nlinear_fdf fdf;
 	struct lm_out o;
-	double x0[9] = { 0, 0, 0, 0, 0, 0, 1, 1, 1 }, s2;
+	double x0[9] = { 0, 0, 0, 0, 0, 0, 1, 1, 1 }, s2, w_rms = 0;
 	int rc = 0;
 
 	if (!g || !accel_cal || !c || !iv || stride == 0 || !(rate_hz > 0) ||
@@ -851,13 +937,18 @@ int sscope_calib_gyro_fit(const double *const g[3],
 			return rc;
 		}
 	}
-	/* excitation of the motions */
+	/* excitation of the motions; their rms rate (raw units) sets the
+	 * scale of the starting-value search, so that the search, and with
+	 * it the fit, is the same in any affine raw units */
 	{
 		double M[3][3] = { { 0 } }, e;
+		size_t cnt = 0;
 
 		for (size_t k = 1; k < n_iv; k++)
 			for (size_t q = iv[k - 1].end; q < iv[k].start; q++) {
 				double w[3];
+
+				cnt++;
 
 				for (int i = 0; i < 3; i++)
 					w[i] = g[i][q * stride] - gc.bias[i];
@@ -865,8 +956,9 @@ int sscope_calib_gyro_fit(const double *const g[3],
 					for (int j = 0; j < 3; j++)
 						M[i][j] += w[i] * w[j];
 			}
+		w_rms = cnt ? sqrt((M[0][0] + M[1][1] + M[2][2]) / (double)cnt) : 0;
 		e = min_eig_ratio(M);
-		if (e < EXCITE_MIN) {
+		if (e < EXCITE_MIN || !(w_rms > 0)) {
 			free(gc.u);
 			return ssc_diag(diag, -EDOM,
 					"the %zu rotations do not determine the 9 gyro parameters: one direction carries %.2g %% of the rotation (need 1 %%): rotate about all three axes",
@@ -879,10 +971,11 @@ int sscope_calib_gyro_fit(const double *const g[3],
 	} else {
 		double bestc = INFINITY, bests = 1;
 
-		for (int e = -90; e <= 30; e++) {
+		/* 1 rad/s per rms raw unit, times 1e-6 .. 1e6 */
+		for (int e = -60; e <= 60; e++) {
 			double p[9] = { 0, 0, 0, 0, 0, 0, 1, 1, 1 }, cst;
 
-			gc.s0 = pow(10, e / 10.0);
+			gc.s0 = pow(10, e / 10.0) / w_rms;
 			cst = gyro_cost(&gc, p);
 			if (cst < bestc) {
 				bestc = cst;

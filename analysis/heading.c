@@ -5,18 +5,20 @@
  * detector (Tedaldi, Pretto and Menegatti, ICRA 2014, sec. IV-A:
  * sscope_calib_variance_magnitude() and sscope_calib_static_intervals()).
  *
- * The drift variance: the error e = int h(t) x(t) dt with the weight
- * h = 1 on [0, tau] and -tau/T on [-T, 0] is a combination of three
- * integrals of x over [0, t_j], t_j in {tau + T, tau, T}, with weights
- * w = {-2c, 2(1 + c), 2c(1 + c)} (c = tau / T) whose sum of t_j^2 vanishes;
- * for a stationary-increment noise with structure function D(t) =
- * E[(int_0^t x)^2] / 2 the variance is sum w_j D(t_j) (the identity behind
- * the Allan variance: at tau = T it is 2 tau^2 AVAR(tau)).  White noise
- * gives D = N^2 t / 2, rate random walk -K^2 t^3 / 12 and flicker
+ * The drift variance: an integrated rate with a bias estimate removed is a
+ * combination sum c_i X(t_i) of the integral X of the rate at a few times,
+ * with sum c_i = 0 and sum c_i t_i = 0 (e.g. X(tau) - (1 + c) X(0) +
+ * c X(-T), c = tau / T, for a bias from the T seconds before 0).  For a
+ * noise with stationary increments and structure function
+ * D(t) = E[(X(s + t) - X(s))^2] / 2 its variance is
+ * -2 sum_{i<j} c_i c_j D(|t_i - t_j|) (the identity behind the Allan
+ * variance: at tau = T it is 2 tau^2 AVAR(tau)).  White noise gives
+ * D = N^2 t / 2, rate random walk -K^2 t^3 / 12 and flicker
  * -(B^2 / 2 pi) t^2 ln t once the terms that cancel in the combination are
  * dropped (the flicker integral itself diverges at low frequency: only the
  * combination is finite, the reason a bias must be estimated from data at
- * all); white angle noise adds Q^2 per end point.
+ * all); white angle noise gives Q^2, and a rate ramp the deterministic
+ * (R / 2 sum c_i t_i^2)^2.
  */
 #include "internal.h"
 
@@ -24,25 +26,48 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
 
 #define PI 3.14159265358979323846
 
-/* the structure function without the flicker part (below) */
-static double structure(const double c[5], double t)
+double sscope_heading_drift_var_points(const double coef[5], const double *t,
+					const double *c, size_t n)
 {
-	if (t <= 0)
-		return 0;
-	return c[SSCOPE_TERM_Q] * c[SSCOPE_TERM_Q] +
-	       c[SSCOPE_TERM_N] * c[SSCOPE_TERM_N] * t / 2 -
-	       c[SSCOPE_TERM_K] * c[SSCOPE_TERM_K] * t * t * t / 12;
+	double v = 0, scale = 0, m2 = 0;
+	const double Q2 = coef[SSCOPE_TERM_Q] * coef[SSCOPE_TERM_Q];
+	const double N2 = coef[SSCOPE_TERM_N] * coef[SSCOPE_TERM_N];
+	const double B2 = coef[SSCOPE_TERM_B] * coef[SSCOPE_TERM_B] / (2 * PI);
+	const double K2 = coef[SSCOPE_TERM_K] * coef[SSCOPE_TERM_K];
+
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = i + 1; j < n; j++)
+			scale = fmax(scale, fabs(t[i] - t[j]));
+	/* -2 sum_{i<j} c_i c_j D(|t_i - t_j|); the flicker logarithm taken
+	 * relative to the largest distance (the sum of c_i c_j d^2 is 0) */
+	for (size_t i = 0; i < n; i++)
+		for (size_t j = i + 1; j < n; j++) {
+			double d = fabs(t[i] - t[j]), D;
+
+			if (d == 0)
+				continue;
+			D = Q2 + N2 * d / 2 - K2 * d * d * d / 12;
+			if (B2 > 0)
+				D -= B2 * d * d * log(d / scale);
+			v -= 2 * c[i] * c[j] * D;
+		}
+	/* the rate ramp: deterministic, (R / 2 sum c_i t_i^2)^2 */
+	for (size_t i = 0; i < n; i++)
+		m2 += c[i] * t[i] * t[i];
+	v += coef[SSCOPE_TERM_R] * coef[SSCOPE_TERM_R] * m2 * m2 / 4;
+	return v > 0 ? v : 0;
 }
 
 double sscope_heading_drift_var(const double coef[5], double tau, double T)
 {
-	double c, v, B, R;
+	double c, t[3], w[3];
 
 	if (!coef || !(tau >= 0) || !(T > 0) || !isfinite(tau) || !isfinite(T))
 		return (double)NAN;
@@ -51,19 +76,15 @@ double sscope_heading_drift_var(const double coef[5], double tau, double T)
 			return (double)NAN;
 	if (tau == 0)
 		return 0;
+	/* X(tau) - (1 + c) X(0) + c X(-T), X the integral of the rate */
 	c = tau / T;
-	v = -2 * c * structure(coef, tau + T) + 2 * (1 + c) * structure(coef, tau) +
-	    2 * c * (1 + c) * structure(coef, T);
-	/* flicker: sum w_j t_j^2 ln t_j is scale-free (sum w_j t_j^2 = 0),
-	 * so take the logarithms relative to T */
-	B = coef[SSCOPE_TERM_B];
-	if (B > 0)
-		v -= B * B / (2 * PI) * T * T *
-		     (-2 * c * (1 + c) * (1 + c) * log1p(c) +
-		      2 * (1 + c) * c * c * log(c));
-	R = coef[SSCOPE_TERM_R];
-	v += R * R * tau * tau * (tau + T) * (tau + T) / 4;
-	return v > 0 ? v : 0;
+	t[0] = tau;
+	t[1] = 0;
+	t[2] = -T;
+	w[0] = 1;
+	w[1] = -(1 + c);
+	w[2] = c;
+	return sscope_heading_drift_var_points(coef, t, w, 3);
 }
 
 void sscope_heading_result_free(struct sscope_heading_result *r)
@@ -79,6 +100,19 @@ void sscope_heading_result_free(struct sscope_heading_result *r)
 	free(r);
 }
 
+void sscope_heading_set_initial(struct sscope_heading_result *r, double h)
+{
+	double d;
+
+	if (!r || r->first >= r->n || !isfinite(h))
+		return;
+	d = h - r->heading_rad[r->first];
+	for (size_t i = r->first; i < r->n; i++) {
+		r->heading_rad[i] = remainder(r->heading_rad[i] + d, 2 * PI);
+		r->heading_once_rad[i] = remainder(r->heading_once_rad[i] + d, 2 * PI);
+	}
+}
+
 static int cmp_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
@@ -86,42 +120,19 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-/* detector reference: the calibration module's rule (sscope-calib.h);
- * *p90 receives the 90th percentile of the variance magnitude */
-static int reference(const double *const det[3], size_t ds, size_t n,
-		     double fs, double init_s, const double *vs, double *work,
-		     double *ref, double *p90, struct sscope_diag *diag)
+int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
+			   double *p10, double *p90)
 {
 	size_t nf = 0;
 
 	for (size_t i = 0; i < n; i++)
 		if (isfinite(vs[i]))
 			work[nf++] = vs[i];
-	if (nf == 0)
-		return ssc_diag(diag, -EDOM, "record shorter than the detector window");
+	if (nf < 10)
+		return -EDOM;
 	qsort(work, nf, sizeof(double), cmp_double);
+	*p10 = work[(nf - 1) / 10];
 	*p90 = work[(nf - 1) * 9 / 10];
-	if (init_s > 0) {
-		size_t m = (size_t)lround(init_s * fs);
-		double v2 = 0;
-
-		if (m < 3 || m > n)
-			return ssc_diag(diag, -EDOM,
-					"initial still period of %g s does not fit the record",
-					init_s);
-		for (int c = 0; c < 3; c++) {
-			struct sscope_stats st;
-
-			sscope_stats_compute(det[c], ds, m, &st);
-			v2 += st.sd * st.sd * st.sd * st.sd;
-		}
-		*ref = sqrt(v2);
-	} else {
-		*ref = work[(nf - 1) / 10];
-	}
-	if (!(*ref > 0))
-		return ssc_diag(diag, -EDOM,
-				"the detector channels do not vary at all: cannot tell stops from motion");
 	return 0;
 }
 
@@ -148,7 +159,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 {
 	struct sscope_heading_result *r = NULL;
 	struct sscope_calib_interval *iv = NULL;
-	double *vs = NULL, *work = NULL, dt, win_s, min_s, k, sgn, p90 = 0, contrast;
+	double *vs = NULL, *work = NULL, dt, win_s, min_s, k, sgn, p10, p90 = 0, contrast;
 	size_t window, min_len, cnt, max_iv;
 	int rc = 0;
 
@@ -157,21 +168,21 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	*resp = NULL;
 	if (!rate || !det || !det[0] || !det[1] || !det[2] || !o || stride == 0 ||
 	    ds == 0 || !(o->rate_hz > 0) || !isfinite(o->rate_hz))
-		return ssc_diag(diag, -EINVAL, "heading: bad parameter");
+		return ssc_diag(diag, -EINVAL, "bad parameter");
 	if (o->window_s < 0 || o->min_static_s < 0 || o->k < 0 || o->min_contrast < 0 ||
 	    o->init_static_s < 0 || !isfinite(o->initial_heading_rad) ||
 	    (unsigned)o->bias_model > SSCOPE_HEADING_INTERPOLATE ||
 	    (!isnan(o->latitude_rad) && !(fabs(o->latitude_rad) <= PI / 2)))
-		return ssc_diag(diag, -EINVAL, "heading: bad option");
+		return ssc_diag(diag, -EINVAL, "bad option");
 	for (int i = 0; i < 5; i++)
 		if (!(o->coef[i] >= 0) || !isfinite(o->coef[i]))
 			return ssc_diag(diag, -EINVAL,
-					"heading: noise terms must be finite and non-negative");
+					"noise terms must be finite and non-negative");
 	for (size_t i = 0; i < n; i++)
 		if (!isfinite(rate[i * stride]) || !isfinite(det[0][i * ds]) ||
 		    !isfinite(det[1][i * ds]) || !isfinite(det[2][i * ds]))
 			return ssc_diag(diag, -EINVAL,
-					"heading: sample %zu is not finite", i + 1);
+					"sample %zu is not finite", i + 1);
 	dt = 1 / o->rate_hz;
 	win_s = o->window_s > 0 ? o->window_s : 1.0;
 	min_s = o->min_static_s > 0 ? o->min_static_s : 2.0;
@@ -198,11 +209,14 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	rc = sscope_calib_variance_magnitude(det[0], det[1], det[2], ds, n,
 					     window, vs);
 	if (rc) {
-		rc = ssc_diag(diag, rc, "heading: static detector failed");
+		rc = ssc_diag(diag, rc, "static detector failed");
 		goto fail;
 	}
-	rc = reference(det, ds, n, o->rate_hz, o->init_static_s, vs, work,
-		       &r->reference, &p90, diag);
+	rc = sscope_calib_static_reference(det[0], det[1], det[2], ds, n, o->rate_hz,
+					   o->init_static_s, vs, work, &r->reference,
+					   diag);
+	if (!rc)
+		rc = ssc_nav_vs_percentiles(vs, n, work, &p10, &p90);
 	if (rc)
 		goto fail;
 	r->threshold = k * r->reference;
@@ -237,6 +251,12 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	}
 	sscope_calib_static_intervals(vs, n, r->threshold, min_len, iv, max_iv,
 				      &cnt);
+	/* the detector cannot judge the half windows at the ends: a stop
+	 * reaching them holds to the end */
+	if (iv[0].start <= window / 2)
+		iv[0].start = 0;
+	if (iv[cnt - 1].end + window / 2 >= n)
+		iv[cnt - 1].end = n;
 	r->n_stops = cnt;
 	/* per-stop bias and the pooled within-stop scatter */
 	{

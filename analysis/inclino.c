@@ -431,6 +431,55 @@ static double wrap_deg(double d)
 	return d;
 }
 
+/* Roll and pitch errors of one pose, calibrated (e) and raw (eu), deg;
+ * false for a pose that is not used (beyond 85 degrees of pitch). */
+static bool pose_error(struct sscope_inclino_plan *pl,
+		       const struct sscope_inclino_pose *pose, double e[2],
+		       double eu[2], bool *clamped)
+{
+	double c[3], r, p, ru, pu, g = pl->lut.gravity_m_s2;
+
+	if (fabs(pose->pitch_rad) > 85 * PI / 180)
+		return false;
+	if (sscope_inclino_correct(pl, pose->temp_degc, pose->a, c, clamped))
+		return false;
+	sscope_inclino_tilt(SSCOPE_INCLINO_3AXIS, c, g, &r, &p, NULL);
+	sscope_inclino_tilt(SSCOPE_INCLINO_3AXIS, pose->a, g, &ru, &pu, NULL);
+	e[0] = wrap_deg((r - pose->roll_rad) * 180 / PI);
+	e[1] = wrap_deg((p - pose->pitch_rad) * 180 / PI);
+	eu[0] = wrap_deg((ru - pose->roll_rad) * 180 / PI);
+	eu[1] = wrap_deg((pu - pose->pitch_rad) * 180 / PI);
+	return true;
+}
+
+int sscope_inclino_pose_errors(struct sscope_inclino_plan *pl,
+			       const struct sscope_inclino_pose *poses,
+			       size_t n, double (*err_deg)[2],
+			       double (*raw_deg)[2])
+{
+	size_t m = 0;
+
+	if (!pl || !poses || !err_deg)
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++) {
+		double e[2], eu[2];
+		bool cl;
+
+		if (!pose_error(pl, &poses[i], e, eu, &cl)) {
+			e[0] = e[1] = eu[0] = eu[1] = NAN;
+		} else {
+			m++;
+		}
+		err_deg[i][0] = e[0];
+		err_deg[i][1] = e[1];
+		if (raw_deg) {
+			raw_deg[i][0] = eu[0];
+			raw_deg[i][1] = eu[1];
+		}
+	}
+	return m ? 0 : -EDOM;
+}
+
 int sscope_inclino_validate(struct sscope_inclino_plan *pl,
 			    const struct sscope_inclino_pose *poses, size_t n,
 			    struct sscope_inclino_validation *v)
@@ -443,28 +492,17 @@ int sscope_inclino_validate(struct sscope_inclino_plan *pl,
 	memset(v, 0, sizeof(*v));
 	g = pl->lut.gravity_m_s2;
 	for (size_t i = 0; i < n; i++) {
-		double c[3], r, p, ru, pu;
+		double e[2], eu[2];
 		bool cl;
 
-		if (fabs(poses[i].pitch_rad) > 85 * PI / 180)
-			continue;
-		if (sscope_inclino_correct(pl, poses[i].temp_degc, poses[i].a, c, &cl))
+		if (!pose_error(pl, &poses[i], e, eu, &cl))
 			continue;
 		v->clamped += cl;
-		sscope_inclino_tilt(SSCOPE_INCLINO_3AXIS, c, g, &r, &p, NULL);
-		sscope_inclino_tilt(SSCOPE_INCLINO_3AXIS, poses[i].a, g, &ru, &pu, NULL);
-		{
-			double e[2] = { wrap_deg((r - poses[i].roll_rad) * 180 / PI),
-					wrap_deg((p - poses[i].pitch_rad) * 180 / PI) };
-			double eu[2] = { wrap_deg((ru - poses[i].roll_rad) * 180 / PI),
-					 wrap_deg((pu - poses[i].pitch_rad) * 180 / PI) };
-
-			for (int k = 0; k < 2; k++) {
-				v->max_deg = fmax(v->max_deg, fabs(e[k]));
-				v->max_uncomp_deg = fmax(v->max_uncomp_deg, fabs(eu[k]));
-				s2 += e[k] * e[k];
-				s2u += eu[k] * eu[k];
-			}
+		for (int k = 0; k < 2; k++) {
+			v->max_deg = fmax(v->max_deg, fabs(e[k]));
+			v->max_uncomp_deg = fmax(v->max_uncomp_deg, fabs(eu[k]));
+			s2 += e[k] * e[k];
+			s2u += eu[k] * eu[k];
 		}
 		m++;
 	}

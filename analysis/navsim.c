@@ -227,28 +227,28 @@ static int table_init(struct traj *tr, const struct sscope_navsim_opts *o,
 	int rc = 0;
 
 	if (!o->table_t_s || !o->table_ned_m || !o->table_euler_rad)
-		return ssc_diag(diag, -EINVAL, "navsim: table without data");
+		return ssc_diag(diag, -EINVAL, "table without data");
 	if (n < 3)
 		return ssc_diag(diag, -EINVAL,
-				"navsim: a trajectory table needs at least 3 rows (has %zu)",
+				"a trajectory table needs at least 3 rows (has %zu)",
 				n);
 	for (size_t i = 0; i < n; i++) {
 		if (!isfinite(o->table_t_s[i]))
-			return ssc_diag(diag, -EINVAL, "navsim: table row %zu: time is not finite",
+			return ssc_diag(diag, -EINVAL, "table row %zu: time is not finite",
 					i + 1);
 		if (i && !(o->table_t_s[i] > o->table_t_s[i - 1]))
 			return ssc_diag(diag, -EINVAL,
-					"navsim: table row %zu: time does not increase",
+					"table row %zu: time does not increase",
 					i + 1);
 		for (int k = 0; k < 3; k++)
 			if (!isfinite(o->table_ned_m[i][k]) ||
 			    !isfinite(o->table_euler_rad[i][k]))
 				return ssc_diag(diag, -EINVAL,
-						"navsim: table row %zu: a non-finite value",
+						"table row %zu: a non-finite value",
 						i + 1);
 		if (fabs(o->table_euler_rad[i][1]) >= 89 * PI / 180)
 			return ssc_diag(diag, -EINVAL,
-					"navsim: table row %zu: pitch of 89 degrees or more (Euler angles are singular at 90)",
+					"table row %zu: pitch of 89 degrees or more (Euler angles are singular at 90)",
 					i + 1);
 	}
 	y = ssc_alloc_array(n, sizeof(double));
@@ -345,37 +345,37 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 		return -EINVAL;
 	*nsp = NULL;
 	if (!o)
-		return ssc_diag(diag, -EINVAL, "navsim: no options");
+		return ssc_diag(diag, -EINVAL, "no options");
 	if (!(o->rate_hz > 0) || !isfinite(o->rate_hz))
-		return ssc_diag(diag, -EINVAL, "navsim: the rate must be positive");
+		return ssc_diag(diag, -EINVAL, "the rate must be positive");
 	if (o->motion != SSCOPE_NAVSIM_TABLE &&
 	    (!(o->duration_s > 0) || !isfinite(o->duration_s)))
-		return ssc_diag(diag, -EINVAL, "navsim: the duration must be positive");
+		return ssc_diag(diag, -EINVAL, "the duration must be positive");
 	if (!isfinite(o->start.lat_rad) || !isfinite(o->start.lon_rad) ||
 	    !isfinite(o->start.height_m) ||
 	    fabs(o->start.lat_rad) >= 89.9 * PI / 180)
 		return ssc_diag(diag, -EINVAL,
-				"navsim: the start latitude must be within +-89.9 degrees");
+				"the start latitude must be within +-89.9 degrees");
 	if (!isfinite(o->roll_rad) || !isfinite(o->pitch_rad) ||
 	    !isfinite(o->yaw_rad) || fabs(o->pitch_rad) >= 89 * PI / 180)
 		return ssc_diag(diag, -EINVAL,
-				"navsim: bad start attitude (|pitch| must be below 89 degrees)");
+				"bad start attitude (|pitch| must be below 89 degrees)");
 	if (!(o->output_step_s >= 0) || !isfinite(o->output_step_s))
-		return ssc_diag(diag, -EINVAL, "navsim: bad output step");
+		return ssc_diag(diag, -EINVAL, "bad output step");
 	if ((unsigned)o->motion > SSCOPE_NAVSIM_TABLE)
-		return ssc_diag(diag, -EINVAL, "navsim: unknown motion");
+		return ssc_diag(diag, -EINVAL, "unknown motion");
 	if (o->motion == SSCOPE_NAVSIM_STRAIGHT &&
 	    (!(o->speed_m_s > 0) || !isfinite(o->speed_m_s)))
-		return ssc_diag(diag, -EINVAL, "navsim: a straight line needs a positive speed");
+		return ssc_diag(diag, -EINVAL, "a straight line needs a positive speed");
 	if (o->motion == SSCOPE_NAVSIM_TURN &&
 	    (!(o->speed_m_s >= 0) || !isfinite(o->speed_m_s) ||
 	     o->turn_rate_rad_s == 0 || !isfinite(o->turn_rate_rad_s)))
 		return ssc_diag(diag, -EINVAL,
-				"navsim: a turn needs a non-zero turn rate and a speed >= 0");
+				"a turn needs a non-zero turn rate and a speed >= 0");
 	tr.o = o;
 	rc = sscope_nav_ltp_init(&tr.ltp, &o->start);
 	if (rc)
-		return ssc_diag(diag, rc, "navsim: bad start point");
+		return ssc_diag(diag, rc, "bad start point");
 	{
 		double rn, re;
 
@@ -397,13 +397,13 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 	}
 	if (!(dur * o->rate_hz < 4e15)) {
 		free_traj(&tr);
-		return ssc_diag(diag, -ERANGE, "navsim: too many samples");
+		return ssc_diag(diag, -ERANGE, "too many samples");
 	}
 	n2 = (size_t)floor(dur * o->rate_hz / 2 + 1e-9);
 	if (n2 < 1) {
 		free_traj(&tr);
 		return ssc_diag(diag, -EDOM,
-				"navsim: %g s at %g Hz is shorter than two samples",
+				"%g s at %g Hz is shorter than two samples",
 				dur, o->rate_hz);
 	}
 	ns = calloc(1, sizeof(*ns));
@@ -554,18 +554,18 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 	int rc = 0;
 
 	if (!ns || !imu || !err)
-		return ssc_diag(diag, -EINVAL, "navsim: bad parameter");
+		return ssc_diag(diag, -EINVAL, "bad parameter");
 	if (!spec_ok(&imu->gyro) || !spec_ok(&imu->accel))
 		return ssc_diag(diag, -EINVAL,
-				"navsim: noise terms, biases and scale-factor errors must be finite and non-negative");
+				"noise terms, biases and scale-factor errors must be finite and non-negative");
 	for (int i = 0; i < 3; i++) {
 		if (!isfinite(imu->gyro_bias_rad_s[i]) ||
 		    !isfinite(imu->accel_bias_m_s2[i]))
-			return ssc_diag(diag, -EINVAL, "navsim: biases must be finite");
+			return ssc_diag(diag, -EINVAL, "biases must be finite");
 		for (int k = 0; k < 3; k++)
 			if (!isfinite(imu->gyro_m[i][k]) || !isfinite(imu->accel_m[i][k]))
 				return ssc_diag(diag, -EINVAL,
-						"navsim: error matrices must be finite");
+						"error matrices must be finite");
 	}
 	c.noisy[0] = has_noise(&imu->gyro);
 	c.noisy[1] = has_noise(&imu->accel);
@@ -627,7 +627,7 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 					   t0->euler_rad[0], t0->euler_rad[1],
 					   t0->euler_rad[2]);
 		if (rc) {
-			rc = ssc_diag(diag, rc, "navsim: bad start state");
+			rc = ssc_diag(diag, rc, "bad start state");
 			goto out;
 		}
 	}
@@ -716,10 +716,10 @@ int sscope_navsim_monte_carlo(const struct sscope_navsim *ns,
 	unsigned T;
 
 	if (!ns || !imu || !out || runs == 0)
-		return ssc_diag(diag, -EINVAL, "navsim: bad parameter (runs must be >= 1)");
+		return ssc_diag(diag, -EINVAL, "bad parameter (runs must be >= 1)");
 	if (!ssc_mul(ns->n_out, NC, &per) || !ssc_mul(per, runs, &total) ||
 	    !ssc_mul(total, sizeof(double), &(size_t){ 0 }))
-		return ssc_diag(diag, -ERANGE, "navsim: %zu runs x %zu records is too large",
+		return ssc_diag(diag, -ERANGE, "%zu runs x %zu records is too large",
 				runs, ns->n_out);
 	all = err_all ? err_all : ssc_alloc_array(total, sizeof(double));
 	if (!all)
@@ -816,9 +816,12 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 	double rn, re, gb = 0, ab = 0;
 
 	memset(p, 0, sizeof(*p));
+	/* bias instability counts as a 1-sigma bias, as in `budget` */
 	for (int i = 0; i < 2; i++) {
-		gb = fmax(gb, hypot(imu->gyro_bias_rad_s[i], imu->gyro.bias));
-		ab = fmax(ab, hypot(imu->accel_bias_m_s2[i], imu->accel.bias));
+		gb = fmax(gb, hypot(hypot(imu->gyro_bias_rad_s[i], imu->gyro.bias),
+				    imu->gyro.b));
+		ab = fmax(ab, hypot(hypot(imu->accel_bias_m_s2[i], imu->accel.bias),
+				    imu->accel.b));
 	}
 	p->gyro_bias_rad_s = gb;
 	p->accel_bias_m_s2 = ab;

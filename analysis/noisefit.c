@@ -369,7 +369,7 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 
 	if (!pts || !r)
 		return -EINVAL;
-	r->n = r->b = r->b_tau_s = r->k = NAN;
+	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
 	for (size_t i = 0; i < n && k < 4096; i++)
 		if (pts[i].dev > 0 && isfinite(pts[i].dev) && pts[i].tau_s > 0)
 			idx[k++] = i;
@@ -388,14 +388,68 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 		if (fabs(sl + 0.5) < 0.25 && fabs(sl + 0.5) < best_n) {
 			best_n = fabs(sl + 0.5);
 			r->n = p->dev * sqrt(p->tau_s);
+			r->n_tau_s = p->tau_s;
 		}
 		if (fabs(sl - 0.5) < 0.25 && fabs(sl - 0.5) < best_k) {
 			best_k = fabs(sl - 0.5);
 			r->k = p->dev * sqrt(3 / p->tau_s);
+			r->k_tau_s = p->tau_s;
 		}
 	}
 	r->b = dmin / sqrt(2 * LN2 / PI);
 	return 0;
+}
+
+/*
+ * Read-offs where the fitted model (squared coefficients th) says each
+ * term dominates: N and K at the point where their share of the model
+ * AVAR is largest, B at the minimum of the curve; each only when its
+ * share there is at least one half.
+ */
+static void readoff_model(const struct sscope_allan_point *pts, size_t n,
+			  const double th[5], struct sscope_noise_readoff *r)
+{
+	double sn = 0, sk = 0, dmin = INFINITY;
+	size_t imin = SIZE_MAX;
+
+	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
+	for (size_t i = 0; i < n; i++) {
+		const struct sscope_allan_point *p = &pts[i];
+		double mu = 0, qn, qk;
+
+		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0))
+			continue;
+		for (int j = 0; j < 5; j++)
+			mu += th[j] * basis(j, p->tau_s);
+		if (!(mu > 0))
+			continue;
+		qn = th[1] * basis(1, p->tau_s) / mu;
+		qk = th[3] * basis(3, p->tau_s) / mu;
+		if (qn >= 0.5 && qn > sn) {
+			sn = qn;
+			r->n = p->dev * sqrt(p->tau_s);
+			r->n_tau_s = p->tau_s;
+		}
+		if (qk >= 0.5 && qk > sk) {
+			sk = qk;
+			r->k = p->dev * sqrt(3 / p->tau_s);
+			r->k_tau_s = p->tau_s;
+		}
+		if (p->dev < dmin) {
+			dmin = p->dev;
+			imin = i;
+		}
+	}
+	if (imin != SIZE_MAX) {
+		double t = pts[imin].tau_s, mu = 0;
+
+		for (int j = 0; j < 5; j++)
+			mu += th[j] * basis(j, t);
+		if (mu > 0 && th[2] * basis(2, t) / mu >= 0.5) {
+			r->b = dmin / sqrt(2 * LN2 / PI);
+			r->b_tau_s = t;
+		}
+	}
 }
 
 /* ------------------------------------------------------------------ */
@@ -736,56 +790,56 @@ static int popcount(unsigned x)
 }
 
 /*
- * Intervals of the terms under one model (mask, squared coefficients th,
- * model values mu): a term of the model gets [sqrt(th - z sd),
- * sqrt(th + z sd)] with the sandwich sd under that model's covariance; an
- * allowed term outside it gets [0, upper limit], the limit from the model
- * plus that term (its own variance included, a negative estimate counting
- * as 0).  Uses f->S and f->Sc as scratch; tmp holds n doubles.
+ * Standard deviation of the estimate of th[j] if its true value were v
+ * (the other squares as estimated, negative ones as 0): the sampling
+ * covariance of the AVAR points under that model, through the fixed
+ * weights of the estimator (mu: the model the weights came from).
  */
-static int model_intervals(struct fitdata *f, unsigned mask,
-			   const double th[NT], const double *mu,
-			   unsigned allowed, double z, double lo[NT],
-			   double hi[NT], double sdv[NT], double *tmp)
+static double sd_if(struct fitdata *f, unsigned mask, const double th[NT],
+		    int j, double v, const double *mu)
 {
-	double c[NT], sd[NT];
-	int rc;
+	double t2[NT], c[NT], sd[NT];
 
-	th_to_coef(th, c);
+	for (int k = 0; k < NT; k++)
+		t2[k] = fmax(th[k], 0);
+	t2[j] = fmax(v, 0);
+	th_to_coef(t2, c);
 	model_cov(f, c, mu, f->S);
-	rc = sandwich(f, mask, mu, f->S, sd, NULL);
-	if (rc)
-		return rc;
-	for (int j = 0; j < NT; j++) {
-		lo[j] = hi[j] = sdv[j] = NAN;
-		if (mask & (1u << j)) {
-			sdv[j] = sd[j];
-			lo[j] = sqrt(fmax(0, th[j] - z * sd[j]));
-			hi[j] = sqrt(th[j] + z * sd[j]);
-		} else if (allowed & (1u << j)) {
-			unsigned m2 = mask | (1u << j);
-			double sd2[NT], th2[NT], c2[NT];
+	if (sandwich(f, mask, mu, f->S, sd, NULL))
+		return NAN;
+	return sd[j];
+}
 
-			lo[j] = 0;
-			if ((size_t)popcount(m2) > f->n ||
-			    sandwich(f, m2, mu, f->S, sd2, th2))
-				continue;
-			for (int t = 0; t < NT; t++)
-				th2[t] = fmax(0, th2[t]);
-			th_to_coef(th2, c2);
-			for (size_t k = 0; k < f->n; k++) {
-				tmp[k] = 0;
-				for (int t = 0; t < NT; t++)
-					tmp[k] += th2[t] * basis(t, f->tau[k]);
-			}
-			model_cov(f, c2, tmp, f->Sc);
-			if (sandwich(f, m2, mu, f->Sc, sd2, NULL) == 0) {
-				sdv[j] = sd2[j];
-				hi[j] = sqrt(th2[j] + z * sd2[j]);
-			}
-		}
+/*
+ * Bound of th[j] by inverting the test: the value b at which the estimate
+ * lies z of its own standard deviations away, b = th + s z sd(b) (s = +1
+ * upper, -1 lower), by fixed-point iteration from the estimate.  The sd
+ * of a square grows with the square (few degrees of freedom at long tau),
+ * so a bound from the sd at the estimate is too close to it whenever the
+ * estimate is low -- exactly when "not resolved: below X" is quoted.
+ * Returns 0 for a lower bound below zero, INFINITY when no finite upper
+ * bound exists (z sd grows faster than the square).
+ */
+static double invert_bound(struct fitdata *f, unsigned mask,
+			   const double th[NT], int j, double z, int s,
+			   const double *mu)
+{
+	double b = fmax(th[j], 0), prev = -1, sd;
+
+	for (int it = 0; it < 60; it++) {
+		sd = sd_if(f, mask, th, j, b, mu);
+		if (!isfinite(sd))
+			return s > 0 ? (double)INFINITY : 0;
+		b = th[j] + s * z * sd;
+		if (s < 0 && b <= 0)
+			return 0;
+		if (s > 0 && b > 1e6 * (fabs(th[j]) + sd))
+			return INFINITY;
+		if (fabs(b - prev) <= 1e-9 * fabs(b))
+			break;
+		prev = b;
 	}
-	return 0;
+	return fmax(b, 0);
 }
 
 int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
@@ -795,12 +849,10 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 {
 	struct sscope_noise_fit_opts o = { 0 };
 	struct fitdata f = { 0 };
-	unsigned allowed, best_mask = 0;
-	double best_crit = INFINITY, best_th[NT] = { 0 }, best_chi2 = 0, z;
-	double *mu = NULL, *bmu = NULL, (*ths)[NT] = NULL, *mus = NULL;
-	double crits[1u << NT];
-	bool feas[1u << NT] = { false };
-	int rc = 0;
+	unsigned allowed, fitted = 0;
+	double th[NT] = { 0 }, sd[NT] = { 0 }, z, z1, zdet, chi2 = NAN;
+	double *mu = NULL, *bmu = NULL;
+	int rc = 0, p;
 
 	(void)n_phase;
 	if (!pts || !fit || !(rate_hz > 0))
@@ -814,8 +866,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	    o.tau_min_s < 0 || o.tau_max_s < 0)
 		return ssc_diag(diag, -EINVAL, "noise fit: bad options");
 	allowed = o.allowed ? o.allowed : (1u << NT) - 1;
-	f.model_error = o.model_error == 0 ? 0.01 :
-			o.model_error < 0 ? 0 : o.model_error;
+	f.model_error = o.model_error > 0 ? o.model_error : 0;
 	memset(fit, 0, sizeof(*fit));
 	fit->ci_level = o.ci_level;
 	for (int j = 0; j < NT; j++) {
@@ -838,27 +889,27 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		bool any_positive = false;
 
 		for (size_t i = 0; i < n_pts; i++) {
-			const struct sscope_allan_point *p = &pts[i];
+			const struct sscope_allan_point *pp = &pts[i];
 
-			if (p->dev > 0)
+			if (pp->dev > 0)
 				any_positive = true;
-			if (!(p->dev > 0) || !isfinite(p->dev) || p->terms == 0 ||
-			    !(p->edf > 0) || p->m == 0)
+			if (!(pp->dev > 0) || !isfinite(pp->dev) || pp->terms == 0 ||
+			    !(pp->edf > 0) || pp->m == 0)
 				continue;
-			if ((o.tau_min_s > 0 && p->tau_s < o.tau_min_s) ||
-			    (o.tau_max_s > 0 && p->tau_s > o.tau_max_s))
+			if ((o.tau_min_s > 0 && pp->tau_s < o.tau_min_s) ||
+			    (o.tau_max_s > 0 && pp->tau_s > o.tau_max_s))
 				continue;
-			f.tau[f.n] = p->tau_s;
-			f.y[f.n] = p->dev * p->dev;
-			f.edf[f.n] = p->edf;
-			f.scale[f.n] = p->edf_full > p->edf ?
-					       sqrt(p->edf_full / p->edf) :
+			f.tau[f.n] = pp->tau_s;
+			f.y[f.n] = pp->dev * pp->dev;
+			f.edf[f.n] = pp->edf;
+			f.scale[f.n] = pp->edf_full > pp->edf ?
+					       sqrt(pp->edf_full / pp->edf) :
 					       1;
-			f.m[f.n] = p->m;
+			f.m[f.n] = pp->m;
 			/* the covariance is for the full overlapping estimator
 			 * over the same span */
-			f.terms[f.n] = p->stride > 1 ? (p->terms - 1) * p->stride + 1 :
-						       p->terms;
+			f.terms[f.n] = pp->stride > 1 ? (pp->terms - 1) * pp->stride + 1 :
+						       pp->terms;
 			f.n++;
 		}
 		if (!any_positive) {
@@ -899,146 +950,92 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		goto out;
 	}
 	/*
-	 * Every subset containing the forced terms, fitted by iterated WLS;
-	 * those with a non-positive coefficient are infeasible.  The one with
-	 * the smallest weighted residual (fixed weights EDF / 2 y^2) is the
-	 * non-negative least-squares solution: its model gives the reference
-	 * covariance with which every feasible subset is then scored, Akaike
-	 * style, chi2 + 2 p (one covariance for all, so the scores compare).
+	 * One weighted least-squares fit of every allowed term, coefficients
+	 * squared free of sign (iterated weights EDF / (2 model^2)): each
+	 * estimate is then a linear, unbiased function of the AVAR estimates,
+	 * and the sandwich covariance under the fitted model (negative squares
+	 * taken as 0 there) is its sampling covariance.  No subset selection:
+	 * choosing terms by a criterion and then quoting the chosen model's
+	 * intervals under-covers (the choice is not free), and dropping a term
+	 * that is there biases the others.  A term counts as resolved when
+	 * its square exceeds zdet standard deviations (forced terms always);
+	 * its interval is [sqrt(th - z sd), sqrt(th + z sd)] at the level.
+	 * A term not resolved gets the one-sided bound sqrt(th + z1 sd), z1
+	 * the level's one-sided quantile, so "below X" holds at the level.
+	 * Coverage of both is checked by simulation (tests/bench-noisefit.c).
 	 */
-	ths = ssc_alloc_array(1u << NT, sizeof(*ths));
-	mus = ssc_alloc_array((size_t)(1u << NT) * f.n, sizeof(double));
-	if (!ths || !mus) {
+	p = popcount(allowed);
+	if ((size_t)p > f.n) {
+		rc = ssc_diag(diag, -EDOM,
+			      "noise fit: %zu points for %d terms: allow fewer terms (--terms)",
+			      f.n, p);
+		goto out;
+	}
+	f.ws = gsl_multifit_linear_alloc(f.n, (size_t)p);
+	if (!f.ws) {
 		rc = -ENOMEM;
 		goto out;
 	}
-	{
-		double chiw[1u << NT], chiw_min = INFINITY;
-		unsigned ref = 0;
-		bool any = false;
-
-		for (unsigned mask = 1; mask < (1u << NT); mask++) {
-			double *m_ = mus + (size_t)mask * f.n;
-			int p = popcount(mask);
-			bool ok = true;
-
-			crits[mask] = INFINITY;
-			if ((mask & ~allowed) || (mask & o.forced) != o.forced ||
-			    (size_t)p > f.n)
-				continue;
-			f.ws = gsl_multifit_linear_alloc(f.n, (size_t)p);
-			if (!f.ws) {
-				rc = -ENOMEM;
-				break;
-			}
-			if (wls(&f, mask, ths[mask], m_, 4))
-				ok = false;
-			gsl_multifit_linear_free(f.ws);
-			f.ws = NULL;
-			for (int j = 0; j < NT && ok; j++)
-				if ((mask & (1u << j)) && !(ths[mask][j] > 0))
-					ok = false;
-			for (size_t k = 0; k < f.n && ok; k++)
-				if (!(m_[k] > 0))
-					ok = false;
-			if (!ok)
-				continue;
-			feas[mask] = true;
-			chiw[mask] = 0;
-			for (size_t k = 0; k < f.n; k++) {
-				double r = (f.y[k] - m_[k]) / f.y[k];
-
-				chiw[mask] += f.edf[k] / (2 * f.scale[k] * f.scale[k]) * r * r;
-			}
-			chiw_min = fmin(chiw_min, chiw[mask]);
-		}
-		/* the reference: the feasible model with the smallest
-		 * weighted residual, i.e. the non-negative least-squares
-		 * solution; its covariance scores every candidate */
-		for (unsigned mask = 1; mask < (1u << NT); mask++)
-			if (feas[mask] && chiw[mask] == chiw_min && !ref) {
-				ref = mask;
-				any = true;
-			}
-		if (!rc && any && ref_factor(&f, ths[ref], mus + (size_t)ref * f.n))
-			any = false;
-		for (unsigned mask = 1; mask < (1u << NT) && !rc && any; mask++) {
-			double chi2;
-
-			if (!feas[mask])
-				continue;
-			chi2 = gchi2(&f, mus + (size_t)mask * f.n, mus + (size_t)ref * f.n);
-			crits[mask] = chi2 + 2 * popcount(mask);
-			if (crits[mask] < best_crit) {
-				best_crit = crits[mask];
-				best_mask = mask;
-				best_chi2 = chi2;
-				memcpy(best_th, ths[mask], sizeof(best_th));
-				memcpy(bmu, mus + (size_t)mask * f.n, f.n * sizeof(double));
-			}
-		}
-	}
-	if (rc)
-		goto out;
-	if (!best_mask) {
+	if (wls(&f, allowed, th, mu, 4)) {
 		rc = ssc_diag(diag, -EDOM,
-			      "noise fit: no combination of the allowed terms fits with positive coefficients");
+			      "noise fit: the allowed terms are not separable on these taus (singular design)");
 		goto out;
 	}
-	/*
-	 * Intervals: the selected model's, widened to the union over every
-	 * model whose criterion is within z^2 of the best (not rejected at
-	 * the level, as a one-parameter likelihood-ratio test would have
-	 * it), so that an ambiguous choice between, say, K and B + R over a
-	 * short record shows in the intervals instead of hiding in the
-	 * selection.  A model without a term contributes [0, upper limit].
-	 */
-	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
+	for (size_t k = 0; k < f.n; k++)
+		bmu[k] = mu[k] > 0 ? mu[k] : f.y[k];
 	{
-		double lo[NT], hi[NT], sdv[NT];
+		double c[NT];
 
-		rc = model_intervals(&f, best_mask, best_th, bmu, allowed, z,
-				     lo, hi, sdv, mu);
-		if (rc)
+		th_to_coef(th, c);
+		model_cov(&f, c, bmu, f.S);
+		rc = sandwich(&f, allowed, bmu, f.S, sd, NULL);
+		if (rc) {
+			rc = ssc_diag(diag, rc,
+				      "noise fit: the covariance of the estimates is singular");
 			goto out;
-		for (int j = 0; j < NT; j++) {
-			struct sscope_noise_coef *cf = &fit->coef[j];
-
-			cf->fitted = (best_mask >> j) & 1;
-			cf->value = cf->fitted ? sqrt(best_th[j]) : (double)NAN;
-			cf->lo = lo[j];
-			cf->hi = hi[j];
-			cf->var_sd = sdv[j];
 		}
-		for (unsigned mask = 1; mask < (1u << NT); mask++) {
-			if (mask == best_mask || !feas[mask] ||
-			    !(crits[mask] - best_crit <= z * z))
-				continue;
-			if (model_intervals(&f, mask, ths[mask],
-					    mus + (size_t)mask * f.n, allowed, z,
-					    lo, hi, sdv, mu))
-				continue;
-			for (int j = 0; j < NT; j++) {
-				struct sscope_noise_coef *cf = &fit->coef[j];
+		if (ref_factor(&f, th, bmu) == 0)
+			chi2 = gchi2(&f, mu, bmu);
+	}
+	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
+	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
+	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
+	for (int j = 0; j < NT; j++) {
+		struct sscope_noise_coef *cf = &fit->coef[j];
 
-				if (isfinite(lo[j]) && !(cf->lo <= lo[j]))
-					cf->lo = lo[j];
-				if (isfinite(hi[j]) && !(cf->hi >= hi[j]))
-					cf->hi = hi[j];
-			}
-			fit->n_plausible++;
+		if (!(allowed & (1u << j))) {
+			cf->fitted = false;
+			continue;
+		}
+		cf->var_sd = sd[j];
+		cf->estimate = sqrt(fmax(th[j], 0));
+		cf->fitted = (o.forced & (1u << j)) ? th[j] > 0 :
+						      th[j] > zdet * sd[j] && th[j] > 0;
+		if (cf->fitted) {
+			fitted |= 1u << j;
+			cf->value = sqrt(th[j]);
+			cf->lo = sqrt(invert_bound(&f, allowed, th, j, z, -1, bmu));
+			cf->hi = sqrt(invert_bound(&f, allowed, th, j, z, +1, bmu));
+		} else {
+			cf->lo = 0;
+			cf->hi = sqrt(invert_bound(&f, allowed, th, j, z1, +1, bmu));
 		}
 	}
-	fit->terms = best_mask;
-	fit->chi2 = best_chi2;
-	fit->dof = (double)f.n - popcount(best_mask);
-	fit->p_value = fit->dof > 0 ? gsl_cdf_chisq_Q(best_chi2, fit->dof) : (double)NAN;
-	fit->aic = best_crit;
+	if ((o.forced & ~fitted) != 0) {
+		rc = ssc_diag(diag, -EDOM,
+			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");
+		goto out;
+	}
+	readoff_model(pts, n_pts, th, &fit->readoff);
+	fit->terms = fitted;
+	fit->chi2 = chi2;
+	fit->dof = (double)f.n - p;
+	fit->p_value = fit->dof > 0 && isfinite(chi2) ? gsl_cdf_chisq_Q(chi2, fit->dof) :
+						       (double)NAN;
+	fit->aic = chi2 + 2 * p;
 out:
 	free(mu);
 	free(bmu);
-	free(ths);
-	free(mus);
 	free_fitdata(&f);
 	return rc;
 }

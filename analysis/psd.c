@@ -16,6 +16,12 @@
  *
  * Octave bands: IEC 61260-1:2014, base-10 (G = 10^(3/10)).
  *
+ * Significant peaks: each bin of a Welch estimate over its expectation is
+ * chi-square with the equivalent degrees of freedom of Percival & Walden
+ * (1993, eq. 292b, the overlap correction); a peak is listed when its ratio
+ * to the local floor (median of the neighbours) passes an F test at a
+ * Bonferroni level over the bins searched (see sscope-psd.h).
+ *
  * Streaming: samples are staged in a buffer that holds one batch of
  * segments (nperseg + (B - 1) step samples); a full batch is transformed on
  * OpenMP threads (FFTW r2c, plan made once, executed with the new-array
@@ -29,6 +35,8 @@
 #include <string.h>
 
 #include <fftw3.h>
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -1066,5 +1074,237 @@ int sscope_octave_bands(unsigned b, double fmin, double fmax,
 		n++;
 	}
 	*n_found = bands && n > max ? max : n;
+	return rc;
+}
+
+/* ------------------------------------------------------------ significant peaks */
+
+/*
+ * Statistics of a Welch estimate (Welch 1967; D. B. Percival and A. T.
+ * Walden, "Spectral Analysis for Physical Applications", 1993, sec. 6.17):
+ * in a bin away from DC and Nyquist, the estimate over its expectation is
+ * chi-square with nu degrees of freedom over nu, where for K segments of N
+ * samples shifted by D,
+ *   nu = 2K / (1 + 2 sum_{j=1}^{K-1} (1 - j/K) rho(jD)^2),
+ *   rho(m) = sum_n w[n] w[n + m] / sum_n w[n]^2
+ * (the overlap correction: rho = 1/6 for Hann at half overlap).
+ */
+double sscope_spectrum_edf(const struct sscope_spectrum *s)
+{
+	double *w, sw2 = 0, den = 1;
+	size_t N, D, K;
+
+	if (!s || s->n_segments == 0 || s->nperseg == 0)
+		return NAN;
+	N = s->nperseg;
+	K = s->n_segments;
+	D = N - s->noverlap;
+	if (K == 1 || D >= N)
+		return 2.0 * (double)K;
+	w = ssc_alloc_array(N, sizeof(double));
+	if (!w || sscope_window_fill(s->window, N, w)) {
+		free(w);
+		return NAN;
+	}
+	for (size_t n = 0; n < N; n++)
+		sw2 += w[n] * w[n];
+	for (size_t j = 1; j < K && j * D < N; j++) {
+		double c = 0;
+
+		for (size_t n = 0; n + j * D < N; n++)
+			c += w[n] * w[n + j * D];
+		c /= sw2;
+		den += 2 * (1 - (double)j / (double)K) * c * c;
+	}
+	free(w);
+	return 2.0 * (double)K / den;
+}
+
+/* The x with F(x) = target for a decreasing tail function F on (0, inf),
+ * by bisection on log x (GSL's own inverses give up on far tails). */
+static double tail_inverse(double (*F)(double, double, double), double a,
+			   double b, double target)
+{
+	double lo = -30, hi = 30;
+
+	for (int i = 0; i < 200 && hi - lo > 1e-13; i++) {
+		double mid = (lo + hi) / 2;
+
+		if (F(exp(mid), a, b) > target)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return exp((lo + hi) / 2);
+}
+
+static double chisq_q(double x, double nu, double unused)
+{
+	(void)unused;
+	return gsl_cdf_chisq_Q(x, nu);
+}
+
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+/* Bins of a window's main lobe each side of a tone (about twice the
+ * equivalent noise bandwidth; more with zero padding). */
+static size_t lobe_bins(const struct sscope_spectrum *s)
+{
+	struct sscope_window_figures f;
+	double pad = (double)s->nfft / (double)s->nperseg;
+
+	if (sscope_window_figures(s->window, s->nperseg, &f))
+		return 2;
+	return (size_t)ceil(2 * f.enbw_bins * pad);
+}
+
+/* Largest leakage of a tone at fractional bin position t into bin k,
+ * relative to its peak bin value v at bin position b (the envelope over
+ * +-half a bin of frequency uncertainty). */
+static double leak(const struct sscope_spectrum *s, double v, double t,
+		   double b, size_t k)
+{
+	double w0 = sscope_window_response(s->window, s->nperseg, s->nfft,
+					   b - t);
+	double m = 0;
+
+	if (!(w0 > 0))
+		return 0;
+	for (int i = -5; i <= 5; i++) {
+		double r = sscope_window_response(s->window, s->nperseg, s->nfft,
+						  (double)k - t + i * 0.1);
+
+		if (r > m)
+			m = r;
+	}
+	return v * (m / w0) * (m / w0);
+}
+
+int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
+				      size_t max, double fmin_hz,
+				      double fmax_hz, double alpha,
+				      struct sscope_sig_peak *peaks,
+				      size_t *n_found,
+				      struct sscope_peak_test *test)
+{
+	size_t h, L, M = 0, nc = 0, *cand = NULL, na = 0;
+	double nu, *nb = NULL, *floor_ = NULL, thr_p, med1, fm, nuf, nfit;
+	int rc = 0;
+
+	if (!s || !s->value || !n_found || (max && !peaks) || !(fmax_hz >= fmin_hz))
+		return -EINVAL;
+	if (alpha == 0)
+		alpha = 0.01;
+	if (!(alpha > 0 && alpha < 1))
+		return -EINVAL;
+	*n_found = 0;
+	nu = sscope_spectrum_edf(s);
+	if (!(nu > 0))
+		return -EINVAL;
+	h = lobe_bins(s);
+	L = 32 > 4 * h ? 32 : 4 * h;
+	for (size_t k = 1; k + 1 < s->n_bins; k++)
+		if (s->freq_hz[k] >= fmin_hz && s->freq_hz[k] <= fmax_hz)
+			M++;
+	/* the floor: the median of the neighbours beyond the main lobe,
+	 * divided by the median of chi2(nu)/nu; its own scatter is that of
+	 * chi2(nuf)/nuf with nuf = 8 n f(m)^2 m^2 (the large-sample variance
+	 * of a median, n neighbours, f the density at the median m), n
+	 * counted in independent bins (nperseg / nfft of them) */
+	med1 = tail_inverse(chisq_q, nu, 0, 0.5) / nu;
+	fm = nu * gsl_ran_chisq_pdf(med1 * nu, nu);
+	nfit = (double)(2 * (L - h)) * (double)s->nperseg / (double)s->nfft;
+	nuf = 8 * nfit * fm * fm * med1 * med1;
+	thr_p = M ? alpha / (double)M : alpha;
+	if (test) {
+		test->alpha = alpha;
+		test->edf = nu;
+		test->floor_edf = nuf;
+		test->bins_tested = M;
+		test->p_threshold = thr_p;
+		test->ratio_threshold = tail_inverse(gsl_cdf_fdist_Q, nu, nuf,
+						     thr_p);
+		test->floor_half_width = L;
+		test->lobe_half_width = h;
+	}
+	if (max == 0 || s->n_bins < 3 || M == 0)
+		return 0;
+	cand = ssc_alloc_array(s->n_bins, sizeof(size_t));
+	floor_ = ssc_alloc_array(s->n_bins, sizeof(double));
+	nb = ssc_alloc_array(2 * L + 1, sizeof(double));
+	if (!cand || !floor_ || !nb) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	/* candidates: local maxima passing the test against the floor alone
+	 * (leakage of other peaks can only raise what they are tested
+	 * against) */
+	for (size_t k = 1; k + 1 < s->n_bins; k++) {
+		size_t lo, hi, n = 0;
+
+		if (s->freq_hz[k] < fmin_hz || s->freq_hz[k] > fmax_hz ||
+		    !local_max(s->value, k))
+			continue;
+		lo = k > L ? k - L : 1;
+		hi = k + L + 1 < s->n_bins ? k + L : s->n_bins - 2;
+		/* keep the window's width near the edges */
+		if (hi - lo < 2 * L) {
+			if (lo == 1)
+				hi = lo + 2 * L < s->n_bins - 1 ? lo + 2 * L :
+								  s->n_bins - 2;
+			else
+				lo = hi > 2 * L ? hi - 2 * L : 1;
+		}
+		for (size_t i = lo; i <= hi; i++)
+			if (i + h < k || i > k + h)
+				nb[n++] = s->value[i];
+		if (n < 3)
+			continue;
+		qsort(nb, n, sizeof(double), cmp_dbl);
+		floor_[k] = (n % 2 ? nb[n / 2] : (nb[n / 2 - 1] + nb[n / 2]) / 2) /
+			    med1;
+		if (!(floor_[k] > 0) ||
+		    gsl_cdf_fdist_Q(s->value[k] / floor_[k], nu, nuf) >= thr_p)
+			continue;
+		cand[nc++] = k;
+	}
+	/* strongest first; each tested against its floor plus the leakage
+	 * of the stronger peaks already accepted */
+	for (size_t a = 1; a < nc; a++)
+		for (size_t b = a; b > 0 && s->value[cand[b - 1]] < s->value[cand[b]]; b--) {
+			size_t t = cand[b];
+
+			cand[b] = cand[b - 1];
+			cand[b - 1] = t;
+		}
+	for (size_t c = 0; c < nc && na < max; c++) {
+		size_t k = cand[c];
+		double ref = floor_[k], p;
+		struct sscope_sig_peak *pk = &peaks[na];
+
+		for (size_t j = 0; j < na; j++)
+			ref += leak(s, peaks[j].peak.value,
+				    (double)peaks[j].peak.bin + peaks[j].peak.offset_bins,
+				    (double)peaks[j].peak.bin, k);
+		p = gsl_cdf_fdist_Q(s->value[k] / ref, nu, nuf);
+		if (p >= thr_p)
+			continue;
+		if (sscope_spectrum_peak_at(s, k, &pk->peak))
+			continue;
+		pk->floor = floor_[k];
+		pk->ratio = s->value[k] / ref;
+		pk->p_value = p;
+		na++;
+	}
+	*n_found = na;
+out:
+	free(cand);
+	free(floor_);
+	free(nb);
 	return rc;
 }

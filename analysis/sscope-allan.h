@@ -137,6 +137,16 @@ struct sscope_allan_opts {
 	 *  when built without OpenMP.  Results do not depend on it beyond
 	 *  the last bits of a sum. */
 	unsigned threads;
+	/** Optional: called, possibly from several threads at once, with
+	 *  ranges of samples (x[k * stride], from <= k < from + n) that the
+	 *  engine has finished reading in the current computation (a later
+	 *  call reads them again).  With sscope_capture_release() and the
+	 *  capture as @p release_ctx, a capture mapped from its file gives its
+	 *  pages back behind the phase pass, so that the record and the phase
+	 *  workspace are never both whole in memory.  NULL: not called. */
+	void (*release)(void *ctx, const double *x, size_t stride,
+			size_t from, size_t n);
+	void *release_ctx;
 };
 
 /** One tau of a deviation. */
@@ -274,21 +284,31 @@ struct sscope_noise_coef {
 			    not fitted lo = 0 and hi is an upper limit */
 	double var_sd; /**< standard deviation of the estimate of the
 			    coefficient squared (the fitted variable) */
+	double estimate; /**< sqrt(max(0, estimated square)) whether or not
+			      the term is resolved (for comparisons of two
+			      fits of the same noise), U */
 	bool fitted;   /**< the term was selected */
 };
 
-/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found). */
+/** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
+ *  sscope_noise_readoff() picks the points by local slope alone; the
+ *  read-offs in struct sscope_noise_fit use the fitted model instead: N
+ *  (K) is read at the tau where that term's share of the model AVAR is
+ *  largest, B at the minimum, and each only where its term is at least
+ *  half of the model there (NaN otherwise: the term dominates nowhere). */
 struct sscope_noise_readoff {
 	double n;       /**< sigma(1 s) on the -1/2 line through the point
-			     whose local slope is closest to -1/2, U/sqrt(Hz) */
+			     used, U/sqrt(Hz) */
+	double n_tau_s; /**< that point's tau, s */
 	double b;       /**< minimum deviation / 0.6643, U */
 	double b_tau_s; /**< where that minimum is, s */
 	double k;       /**< sigma(3 s) on the +1/2 line through the point
-			     whose local slope is closest to +1/2, U/s/sqrt(Hz) */
+			     used, U/s/sqrt(Hz) */
+	double k_tau_s; /**< that point's tau, s */
 };
 
 /** Options of the fit.  Zero-initialised = every term allowed, 68.27 %
- *  intervals, 1 % model error, the whole curve. */
+ *  intervals, no model error, terms resolved at 3 sd, the whole curve. */
 struct sscope_noise_fit_opts {
 	/** Confidence level of the intervals; 0 selects 0.6827. */
 	double ci_level;
@@ -299,12 +319,19 @@ struct sscope_noise_fit_opts {
 	 *  adds to them.  0: fully automatic. */
 	unsigned forced;
 	/** Relative standard deviation of the five-term model itself at each
-	 *  tau, added (independently per point) to the sampling covariance:
-	 *  real sensors are not exactly five power laws.  0 selects 0.01; a
-	 *  negative value uses none. */
+	 *  tau, added (independently per point) to the sampling covariance,
+	 *  for sensors that are not five power laws.  0 or negative: none
+	 *  (the sampling covariance is exact for the five processes; the
+	 *  intervals' coverage is checked by simulation in make bench). */
 	double model_error;
+	/** A term is reported as fitted (resolved) when its squared
+	 *  coefficient exceeds this many standard deviations; 0 selects 3. */
+	double detect_sigma;
 	/** Fit only points with tau_min_s <= tau <= tau_max_s (0: no limit). */
 	double tau_min_s, tau_max_s;
+	/** sscope_allan_analyze(): the deviations only, no fit (have_fit
+	 *  false, fit_error 0). */
+	bool skip;
 };
 
 /** Result of the noise fit. */
@@ -411,7 +438,10 @@ struct sscope_allan_result {
 	size_t n_points;
 	struct sscope_allan_point *points; /**< the requested deviation */
 	/** OADEV points the fit used: the same array as points when the
-	 *  deviation is OADEV, else a separate one */
+	 *  deviation is OADEV or no fit was asked for (skip), else a
+	 *  separate one.  For SSCOPE_TAUS_ALL these are the taus of the
+	 *  dense grid (about ten per decade): neighbouring taus are almost
+	 *  fully correlated and add nothing to the fit but cost. */
 	struct sscope_allan_point *oadev;
 	size_t n_oadev;
 	size_t n_phase;     /**< phase points of the record */

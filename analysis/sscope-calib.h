@@ -93,6 +93,23 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 				    size_t window, double *out);
 
 /**
+ * The detector's noise reference (the rule of struct sscope_calib_detect):
+ * with @p init_static_s > 0, varsigma of the first init_static_s seconds
+ * (the root sum of the channels' variances squared), else the 10th
+ * percentile of the finite values of @p vs.
+ * @param vs      n values from sscope_calib_variance_magnitude().
+ * @param work    n doubles of workspace.
+ * @param reference  receives the reference, (input unit)^2.
+ * @return 0; -EINVAL (NULL, rate not positive); -EDOM (the initial period
+ *         does not fit the record, no finite value, a zero reference).
+ */
+int sscope_calib_static_reference(const double *x, const double *y,
+				  const double *z, size_t stride, size_t n,
+				  double rate_hz, double init_static_s,
+				  const double *vs, double *work,
+				  double *reference, struct sscope_diag *diag);
+
+/**
  * Static runs of @p vs (from sscope_calib_variance_magnitude()) below
  * @p threshold that last at least @p min_len samples.
  * @param iv      receives up to @p max intervals.
@@ -114,25 +131,14 @@ int sscope_calib_interval_mean(const double *x, size_t stride,
 			       double *mean, double *sd);
 
 /**
- * The reference of the static detector: varsigma(i) of the three channels
- * into @p work (sscope_calib_variance_magnitude(), window det->window_s)
- * and det->reference by the stated rule (initial static period, or the
- * 10th percentile of varsigma).
- * @param work, work2  n doubles each (work receives varsigma).
- * @return 0; -EINVAL; -EDOM (shorter than the window, an initial period
- *         that does not fit, zero noise: diag says which).
- */
-int sscope_calib_detect_reference(const double *x, const double *y,
-				  const double *z, size_t stride, size_t n,
-				  double rate_hz, struct sscope_calib_detect *det,
-				  double *work, double *work2,
-				  struct sscope_diag *diag);
-
-/**
  * Static intervals at a fixed threshold det->k * reference (k > 1):
- * sscope_calib_detect_reference() then sscope_calib_static_intervals()
- * with det->min_static_s; det->threshold and det->n_intervals are set.
- * @return as sscope_calib_detect_reference(); -EINVAL for k <= 1.
+ * sscope_calib_variance_magnitude() over det->window_s into @p work,
+ * sscope_calib_static_reference() into det->reference, then
+ * sscope_calib_static_intervals() with det->min_static_s; det->threshold
+ * and det->n_intervals are set.
+ * @param work, work2  n doubles each (work receives varsigma).
+ * @return 0; -EINVAL (k <= 1, NULL); -EDOM (shorter than the window, an
+ *         initial period that does not fit, zero noise: diag says which).
  */
 int sscope_calib_detect_static(const double *x, const double *y,
 			       const double *z, size_t stride, size_t n,

@@ -50,6 +50,18 @@ extern "C" {
 double sscope_heading_drift_var(const double coef[5], double tau_s,
 				double est_s);
 
+/**
+ * Variance of sum_i c_i X(t_i), X the integral of a rate with the IEEE 952
+ * terms @p coef, for coefficients with sum c_i = 0 and sum c_i t_i = 0
+ * (any integral of the rate minus a bias estimated as a mean over other
+ * times is such a combination): -2 sum_{i<j} c_i c_j D(|t_i - t_j|) with
+ * the structure function above, plus the rate ramp's (R/2 sum c t^2)^2.
+ * @param t, c  @p n times (s) and coefficients.
+ * @return the variance, (U s)^2 (no argument checks: a hot path).
+ */
+double sscope_heading_drift_var_points(const double coef[5], const double *t,
+				       const double *c, size_t n);
+
 /** How the bias between stops is formed. */
 enum sscope_heading_bias {
 	SSCOPE_HEADING_HOLD = 0,  /**< the last stop's estimate (causal) */
@@ -142,6 +154,13 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 
 /** Free (NULL is ignored). */
 void sscope_heading_result_free(struct sscope_heading_result *res);
+
+/**
+ * Turn both heading series so that the heading at the first stop is
+ * @p heading_rad (e.g. a reference's value found only after detection).
+ */
+void sscope_heading_set_initial(struct sscope_heading_result *res,
+				double heading_rad);
 
 /** Heading error against a reference. */
 struct sscope_heading_cmp {

@@ -216,6 +216,20 @@ int sscope_inclino_validate(struct sscope_inclino_plan *plan,
 			    const struct sscope_inclino_pose *poses, size_t n,
 			    struct sscope_inclino_validation *v);
 
+/**
+ * The roll and pitch error of each reference pose that
+ * sscope_inclino_validate() summarises: with the LUT and, when @p raw_deg
+ * is not NULL, without correction; NaN for a pose it skips (beyond +-85
+ * degrees of pitch).
+ * @param err_deg  receives n (roll, pitch) errors, deg (caller's array).
+ * @param raw_deg  receives n uncorrected errors, deg, or NULL.
+ * @return 0, -EINVAL, -EDOM (no usable pose).
+ */
+int sscope_inclino_pose_errors(struct sscope_inclino_plan *plan,
+			       const struct sscope_inclino_pose *poses,
+			       size_t n, double (*err_deg)[2],
+			       double (*raw_deg)[2]);
+
 #ifdef __cplusplus
 }
 #endif

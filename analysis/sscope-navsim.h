@@ -206,9 +206,11 @@ int sscope_navsim_monte_carlo(const struct sscope_navsim *ns,
  * The single-channel budget (sscope-budget.h) that corresponds to an IMU
  * and a simulation: Schuler-bounded forms with the normal gravity and the
  * mean radius sqrt(R_N R_E) + h at the start; biases are the larger
- * horizontal axis' root sum of squares of the fixed and random values,
- * ARW and VRW the triads' N.  Scale factor and misalignment are not
- * mapped (the budget needs a motion profile for them).
+ * horizontal axis' root sum of squares of the fixed and random values and
+ * the bias instability B (a 1-sigma bias, as `budget` takes it), ARW and
+ * VRW the triads' N.  Rate random walk, scale factor and misalignment are
+ * not mapped (the budget has no term for the first and needs a motion
+ * profile for the others).
  */
 void sscope_navsim_budget(const struct sscope_navsim *ns,
 			  const struct sscope_navsim_imu *imu,

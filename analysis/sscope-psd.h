@@ -308,6 +308,68 @@ int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f_hz,
 			      double tol_hz, struct sscope_peak *pk);
 
 /**
+ * Equivalent degrees of freedom of each bin (away from DC and Nyquist) of
+ * a Welch estimate: the estimate over its expectation is chi-square with
+ * nu degrees of freedom over nu, nu = 2K / (1 + 2 sum_{j=1}^{K-1} (1 - j/K)
+ * rho(jD)^2) for K segments shifted by D samples, rho(m) = sum w[n]
+ * w[n+m] / sum w^2 (Percival & Walden 1993, eq. 292b: the overlap
+ * correction; 2K without overlap, 2 for a periodogram).
+ * @return nu, or NaN for an empty spectrum.
+ */
+double sscope_spectrum_edf(const struct sscope_spectrum *s);
+
+/** How sscope_spectrum_significant_peaks() decided (for reports). */
+struct sscope_peak_test {
+	double alpha;            /**< probability of listing a peak in a
+				      spectrum of noise alone */
+	double edf;              /**< nu of each bin */
+	double floor_edf;        /**< equivalent dof of the floor estimate */
+	size_t bins_tested;      /**< M: bins searched (Bonferroni) */
+	double p_threshold;      /**< alpha / M */
+	double ratio_threshold;  /**< value / floor needed with no leakage */
+	size_t floor_half_width; /**< neighbours each side for the floor */
+	size_t lobe_half_width;  /**< main-lobe bins left out each side */
+};
+
+/** A peak that passed the test. */
+struct sscope_sig_peak {
+	struct sscope_peak peak; /**< interpolated as sscope_spectrum_peak_at */
+	double floor;            /**< local noise floor at its bin (the
+				      spectrum's scaling) */
+	double ratio;            /**< value / (floor + leakage of stronger
+				      peaks) */
+	double p_value;          /**< of that ratio under noise alone */
+};
+
+/**
+ * The @p max strongest peaks between @p fmin_hz and @p fmax_hz that stand
+ * out of the local noise floor, strongest first.
+ *
+ * Test: at a local maximum k, the floor is the median of the 2L bins
+ * around it (L = max(32, 4h)) outside its main lobe (h bins each side,
+ * about twice the window's ENBW), divided by the median of chi2(nu)/nu,
+ * nu = sscope_spectrum_edf().  Under noise alone the ratio of the bin to
+ * the floor is F-distributed with (nu, nuf) degrees of freedom, nuf the
+ * equivalent dof of a median of that many independent bins (large-sample
+ * variance of a median).  A peak is listed when P(F > ratio) < alpha / M,
+ * M the bins searched (Bonferroni): a spectrum of noise alone lists a peak
+ * with probability at most about alpha.  Peaks are taken strongest first;
+ * a weaker one is tested against its floor plus the leakage of the
+ * stronger ones already listed (their window's response, its envelope over
+ * half a bin), so the skirts of a strong tone are not listed as lines.
+ * @param alpha   family-wise false-alarm probability; 0 selects 0.01.
+ * @param test    receives the test's figures (may be NULL).
+ * @return 0; -EINVAL (NULL, alpha outside (0, 1), fmax < fmin, empty
+ *         spectrum); -ENOMEM.
+ */
+int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
+				      size_t max, double fmin_hz,
+				      double fmax_hz, double alpha,
+				      struct sscope_sig_peak *peaks,
+				      size_t *n_found,
+				      struct sscope_peak_test *test);
+
+/**
  * Mean square of the signal in [lo_hz, hi_hz): each bin's power
  * (density * bin width) is spread evenly over its interval [f - bin/2,
  * f + bin/2] clipped to [0, fs/2], so adjacent bands add up and the whole
@@ -365,13 +427,6 @@ int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
 int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
 				 unsigned fraction, struct sscope_band *bands,
 				 size_t max, size_t *n_found);
-
-/**
- * The floor of a spectrum: the median of its values (a peak worth naming
- * stands well above it).
- * @return 0; -EINVAL; -EDOM for an empty spectrum; -ENOMEM.
- */
-int sscope_spectrum_floor(const struct sscope_spectrum *s, double *floor_v);
 
 #ifdef __cplusplus
 }

@@ -30,7 +30,11 @@
  * the number of distinct temperature levels (cells of span / 20 holding
  * at least 1 % of the data) and at SSCOPE_TEMPBIAS_MAX_ORDER, and
  * lowered when the design is singular (reciprocal condition number below
- * 1e-10).  In-run stability is the minimum ADEV among taus whose EDF is
+ * 1e-10).  The gradient term is left out when its variance inflation
+ * factor on the other columns exceeds SSCOPE_TEMPBIAS_VIF_MAX (ramps of
+ * one rate each way make dT/dt follow the heating/cooling state), and
+ * the hysteresis is then the combined heating - cooling gap.  In-run
+ * stability is the minimum ADEV among taus whose EDF for white noise is
  * at least 10.  Warm-up (unless given): after a fit, the end of the last
  * window (2 % of the run, >= 5 blocks) in the first half of a run whose
  * mean residual departs from the median of the second half by more than
@@ -48,6 +52,10 @@ extern "C" {
 
 #define SSCOPE_TEMPBIAS_MAX_ORDER 4 /**< highest polynomial order */
 #define SSCOPE_TEMPBIAS_MAX_RUNS 64 /**< power cycles per fit */
+/** variance inflation factor above which the gradient term is not
+ *  separated from the hysteresis term (the usual rule of thumb: the
+ *  coefficient's variance is 10 times what an orthogonal design gives) */
+#define SSCOPE_TEMPBIAS_VIF_MAX 10.0
 
 /** One record (power cycle). */
 struct sscope_tempbias_run {
@@ -133,6 +141,16 @@ struct sscope_tempbias_result {
 	bool have_split;
 	double heat_coef[SSCOPE_TEMPBIAS_MAX_ORDER + 1];
 	double cool_coef[SSCOPE_TEMPBIAS_MAX_ORDER + 1];
+	/** the hysteresis and gradient columns are (nearly) collinear:
+	 *  variance inflation factor of the gradient term above
+	 *  SSCOPE_TEMPBIAS_VIF_MAX (ramps of one rate up and one rate down:
+	 *  dT/dt = a + b s); the gradient term is then left out and
+	 *  hysteresis is the combined heating - cooling gap 2 eta + g (r_heat
+	 *  + r_cool) at the profile's rates */
+	bool hyst_grad_collinear;
+	double hyst_grad_vif;    /**< that factor (NaN: not computed) */
+	double rate_heat_degc_s; /**< mean dT/dt while heating, degC/s */
+	double rate_cool_degc_s; /**< mean dT/dt while cooling, degC/s */
 	bool have_gradient;      /**< g fitted */
 	double gradient;         /**< g, U per degC/s */
 	double gradient_sd;      /**< U per degC/s */

@@ -33,6 +33,11 @@ struct sscope_walk_opts {
 	double coef[5];  /**< Q, N, B, K, R of the channel (SI), for the
 			      envelope and the implied N */
 	double k_sigma;  /**< envelope half-width in sigmas (0 -> 2) */
+	/** the record must be still: the 90th percentile of the variance
+	 *  over sliding windows of max(1 s, 11 samples) may be at most this
+	 *  multiple of the 10th percentile (0 -> 9, the contrast rule of
+	 *  sscope-heading.h; negative: no check) */
+	double max_contrast;
 };
 
 /** The fan. */
@@ -45,11 +50,16 @@ struct sscope_walk_result {
 	bool global;      /**< the record's mean was removed */
 	double k_sigma;
 	double *paths;    /**< n_runs x n_points integrated values, U s */
-	double *sigma;    /**< n_points: predicted 1-sigma */
+	double *sigma;    /**< n_points: predicted 1-sigma (root mean square
+			       over the runs for the record's mean) */
 	double *spread;   /**< n_points: root mean square over the runs */
 	double *inside;   /**< n_points: fraction with |path| <= k sigma
 			       (NaN at t = 0) */
 	double inside_mean; /**< mean of inside over t > 0 */
+	double *var_n1;     /**< n_points: mean predicted variance for N = 1
+				 and no other term (t + t^2 / T for a window) */
+	double *var_other;  /**< n_points: mean predicted variance of the
+				 terms other than N */
 };
 
 /**
@@ -59,7 +69,7 @@ struct sscope_walk_result {
  * @return 0; -EINVAL (NULL, rate or run length not positive, negative or
  *         non-finite noise terms, every term zero, non-finite samples);
  *         -EDOM (fewer than 2 runs fit in the record, a run shorter than
- *         2 samples); -ENOMEM.
+ *         2 samples, a record that moves); -ENOMEM.
  */
 int sscope_walk_compute(const double *x, size_t stride, size_t n,
 			const struct sscope_walk_opts *o,
@@ -80,14 +90,13 @@ struct sscope_walk_implied {
 
 /**
  * N implied by the spread at point @p k: the mean square over the runs,
- * less the predicted variance of the terms other than N, divided by
- * t + t^2 / T (white noise through the bias removal).
+ * less the predicted variance of the terms other than N (var_other),
+ * divided by the variance per unit N^2 (var_n1).
  * @param level  confidence level in (0, 1) (0 -> 0.6827).
  * @return 0; -EINVAL (k = 0 or out of range, bad level).
  */
-int sscope_walk_implied_n(const struct sscope_walk_result *r,
-			  const double coef[5], size_t k, double level,
-			  struct sscope_walk_implied *out);
+int sscope_walk_implied_n(const struct sscope_walk_result *r, size_t k,
+			  double level, struct sscope_walk_implied *out);
 
 #ifdef __cplusplus
 }

@@ -1,66 +1,205 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Summary statistics.  Two-pass algorithm (mean first, then the sum of
- * squared deviations) with Neumaier-compensated sums and the correction
- * term of Chan, Golub & LeVeque ("Algorithms for computing the sample
- * variance", Am. Stat. 1983, eq. 1.7), so a large offset does not eat the
- * digits of a small spread.
+ * Summary statistics in one pass over memory.  The record is taken in
+ * blocks of a few kilobytes; each block, while it is in the L1 cache, gets
+ * the two-pass treatment (its mean, then the sum of squared deviations from
+ * it with the correction term of Chan, Golub & LeVeque, "Algorithms for
+ * computing the sample variance", Am. Stat. 1983, eq. 1.7), and the blocks
+ * are merged with the pairwise update of the same paper (eq. 1.5b).  Values
+ * are shifted by the first finite sample and the block sums and merged
+ * squares are added with Neumaier compensation, so an offset 1e9 times the
+ * spread still leaves the mean and the spread their digits.  Contiguous
+ * blocks without NaN run on vectors (GCC vector extensions, lanes summed
+ * in a fixed order); a block holding NaN is redone sample by sample.
  */
 #include "internal.h"
 
 #include <math.h>
+#include <string.h>
+
+#define SBLOCK 1024
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
+	defined(__GLIBC__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define SSC_SCLONES __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef SSC_SCLONES
+#define SSC_SCLONES
+#endif
+
+#if defined(__GNUC__)
+typedef double ssc_sv4 __attribute__((vector_size(32)));
+typedef long long ssc_sv4i __attribute__((vector_size(32)));
+#define SV4LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_sv4))
+#endif
+
+struct blk {
+	size_t cnt, nan;
+	double sum, q, c; /* shifted sum; squares and sum of deviations */
+	double lo, hi;
+};
+
+/* one block of contiguous samples without NaN, on vectors; false when a
+ * NaN shows (the caller redoes the block) */
+SSC_SCLONES static bool block_vec(const double *x, size_t len, double v0,
+				  struct blk *o)
+{
+#if defined(__GNUC__)
+	const ssc_sv4 inf = { INFINITY, INFINITY, INFINITY, INFINITY };
+	ssc_sv4 a = { 0 }, ah = { 0 }, lo = inf, hi = -inf, q = { 0 },
+		qh = { 0 }, c = { 0 }, ch = { 0 };
+	double mb;
+	size_t i;
+
+	if (len % 8)
+		return false;
+	for (i = 0; i < len; i += 8) {
+		ssc_sv4 v, vh;
+		ssc_sv4i m;
+
+		SV4LOAD(v, x + i);
+		SV4LOAD(vh, x + i + 4);
+		a += v - v0;
+		ah += vh - v0;
+		m = (ssc_sv4i)(v < lo);
+		lo = (ssc_sv4)(((ssc_sv4i)v & m) | ((ssc_sv4i)lo & ~m));
+		m = (ssc_sv4i)(vh < lo);
+		lo = (ssc_sv4)(((ssc_sv4i)vh & m) | ((ssc_sv4i)lo & ~m));
+		m = (ssc_sv4i)(v > hi);
+		hi = (ssc_sv4)(((ssc_sv4i)v & m) | ((ssc_sv4i)hi & ~m));
+		m = (ssc_sv4i)(vh > hi);
+		hi = (ssc_sv4)(((ssc_sv4i)vh & m) | ((ssc_sv4i)hi & ~m));
+	}
+	a += ah;
+	o->sum = (a[0] + a[1]) + (a[2] + a[3]);
+	if (isnan(o->sum))
+		return false;
+	o->cnt = len;
+	o->nan = 0;
+	o->lo = fmin(fmin(lo[0], lo[1]), fmin(lo[2], lo[3]));
+	o->hi = fmax(fmax(hi[0], hi[1]), fmax(hi[2], hi[3]));
+	mb = o->sum / (double)len;
+	for (i = 0; i < len; i += 8) {
+		ssc_sv4 v, vh, d, dh;
+
+		SV4LOAD(v, x + i);
+		SV4LOAD(vh, x + i + 4);
+		d = (v - v0) - mb;
+		dh = (vh - v0) - mb;
+		q += d * d;
+		qh += dh * dh;
+		c += d;
+		ch += dh;
+	}
+	q += qh;
+	c += ch;
+	o->q = (q[0] + q[1]) + (q[2] + q[3]);
+	o->c = (c[0] + c[1]) + (c[2] + c[3]);
+	return true;
+#else
+	(void)x;
+	(void)len;
+	(void)v0;
+	(void)o;
+	return false;
+#endif
+}
+
+/* any block, sample by sample */
+static void block_scalar(const double *x, size_t stride, size_t len,
+			 double v0, struct blk *o)
+{
+	double a[4] = { 0, 0, 0, 0 }, q[4] = { 0, 0, 0, 0 };
+	double c[4] = { 0, 0, 0, 0 }, lo = INFINITY, hi = -INFINITY, mb;
+	size_t nan = 0;
+
+	for (size_t i = 0; i < len; i++) {
+		double v = x[i * stride];
+
+		if (isnan(v)) {
+			nan++;
+			continue;
+		}
+		a[i & 3] += v - v0;
+		lo = v < lo ? v : lo;
+		hi = v > hi ? v : hi;
+	}
+	o->cnt = len - nan;
+	o->nan = nan;
+	o->lo = lo;
+	o->hi = hi;
+	o->sum = (a[0] + a[1]) + (a[2] + a[3]);
+	if (!o->cnt)
+		return;
+	mb = o->sum / (double)o->cnt;
+	for (size_t i = 0; i < len; i++) {
+		double v = x[i * stride], d;
+
+		if (isnan(v))
+			continue;
+		d = (v - v0) - mb;
+		q[i & 3] += d * d;
+		c[i & 3] += d;
+	}
+	o->q = (q[0] + q[1]) + (q[2] + q[3]);
+	o->c = (c[0] + c[1]) + (c[2] + c[3]);
+}
 
 #include <gsl/gsl_cdf.h>
 
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st)
 {
-	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 }, c = { 0, 0 };
-	size_t used = 0;
-	double mean, lo = INFINITY, hi = -INFINITY;
+	struct ssc_ksum s = { 0, 0 }, m2 = { 0, 0 };
+	size_t used = 0, nan, first = 0;
+	double v0, lo = INFINITY, hi = -INFINITY, m2v;
 
 	if (!x || !st || stride == 0)
 		return -EINVAL;
 	st->n = 0;
 	st->n_nan = 0;
-	for (size_t i = 0; i < n; i++) {
-		double v = x[i * stride];
-
-		if (isnan(v)) {
-			st->n_nan++;
-			continue;
-		}
-		ssc_ksum_add(&s, v);
-		if (v < lo)
-			lo = v;
-		if (v > hi)
-			hi = v;
-		used++;
-	}
-	if (used == 0)
+	while (first < n && isnan(x[first * stride]))
+		first++;
+	if (first == n) {
+		st->n_nan = n;
 		return -EDOM;
-	mean = ssc_ksum_value(&s) / (double)used;
-	for (size_t i = 0; i < n; i++) {
-		double v = x[i * stride];
-
-		if (isnan(v))
-			continue;
-		ssc_ksum_add(&q, (v - mean) * (v - mean));
-		ssc_ksum_add(&c, v - mean);
 	}
+	nan = first;
+	v0 = x[first * stride];
+	for (size_t b = first; b < n; b += SBLOCK) {
+		const size_t len = n - b < SBLOCK ? n - b : SBLOCK;
+		struct blk k;
+		double mb;
+
+		if (stride != 1 || !block_vec(x + b, len, v0, &k))
+			block_scalar(x + b * stride, stride, len, v0, &k);
+		nan += k.nan;
+		if (k.cnt == 0)
+			continue;
+		lo = k.lo < lo ? k.lo : lo;
+		hi = k.hi > hi ? k.hi : hi;
+		mb = k.sum / (double)k.cnt;
+		/* M2 += M2_b + delta^2 n_a n_b / (n_a + n_b) */
+		ssc_ksum_add(&m2, k.q - k.c * k.c / (double)k.cnt);
+		if (used) {
+			double delta = mb - ssc_ksum_value(&s) / (double)used;
+
+			ssc_ksum_add(&m2, delta * delta *
+						  ((double)used * (double)k.cnt /
+						   (double)(used + k.cnt)));
+		}
+		ssc_ksum_add(&s, k.sum);
+		used += k.cnt;
+	}
+	m2v = ssc_ksum_value(&m2);
 	st->n = used;
-	st->mean = mean;
+	st->n_nan = nan;
+	st->mean = v0 + ssc_ksum_value(&s) / (double)used;
 	st->min = lo;
 	st->max = hi;
-	if (used < 2) {
-		st->sd = 0;
-	} else {
-		double cc = ssc_ksum_value(&c);
-		double var = (ssc_ksum_value(&q) - cc * cc / (double)used) /
-			     (double)(used - 1);
-
-		st->sd = var > 0 ? sqrt(var) : 0;
-	}
+	st->sd = used < 2 || !(m2v > 0) ? 0 : sqrt(m2v / (double)(used - 1));
 	return 0;
 }
 

@@ -376,6 +376,52 @@ static double f_pvalue(const struct fit *lo, const struct fit *hi)
 	return gsl_cdf_fdist_Q(F, (double)(hi->p - lo->p), hi->dof);
 }
 
+/*
+ * Variance inflation factor of the gradient column: 1 / (1 - R^2) of the
+ * weighted regression of the bins' mean dT/dt on the other columns (run
+ * offsets, u^1..u^K, the heating/cooling state).  Ramps of two rates
+ * make dT/dt = a + b s outside the turning points, exactly collinear
+ * with the offsets and the state; only a rate that varies within heating
+ * or within cooling (a sine cycle, several ramp rates, soaks at constant
+ * temperature) separates the two terms.  Returns NAN when not computable.
+ */
+static double gradient_vif(const struct ctx *c, int K)
+{
+	struct fit *t = calloc(1, sizeof(*t));
+	struct acc *b2 = ssc_alloc_array(c->nbins, sizeof(*b2));
+	double vif = NAN, sw = 0, sy = 0, syy = 0;
+
+	if (!t || !b2)
+		goto out;
+	/* the same bins with y = dT/dt (scaled) */
+	for (size_t i = 0; i < c->nbins; i++) {
+		b2[i] = c->bins[i];
+		b2[i].x = c->bins[i].dtdt / c->gsc;
+		if (b2[i].n > 0) {
+			double y = b2[i].x / b2[i].n;
+
+			sw += b2[i].n;
+			sy += b2[i].n * y;
+			syy += b2[i].n * y * y;
+		}
+	}
+	if (!(sw > 0))
+		goto out;
+	{
+		double tss = syy - sy * sy / sw;
+		int rc = do_fit(b2, c->nbins, c->J, K, true, false, c->gsc, t);
+
+		if (rc == -EDOM && t->rows > t->p)
+			vif = INFINITY; /* singular: collinear */
+		else if (!rc && tss > 0)
+			vif = tss / fmax(t->chisq, tss * 1e-300);
+	}
+out:
+	free(t);
+	free(b2);
+	return vif;
+}
+
 /* Weighted polynomial of order K in u on bins of one state; y corrected. */
 static int split_fit(const struct ctx *c, const struct fit *f, int state,
 		     double *coef, double *umin, double *umax)
@@ -619,6 +665,25 @@ static int results(struct ctx *c, const struct fit *f,
 		res->hysteresis = 2 * f->beta[col];
 		res->hysteresis_sd = 2 * sqrt(f->cov[col][col]);
 	}
+	{
+		double nh = 0, sh = 0, nc = 0, sc = 0;
+
+		for (size_t i = 0; i < c->nbins; i++) {
+			const struct acc *a = &c->bins[i];
+
+			if (!(a->n > 0))
+				continue;
+			if (a->state > 0) {
+				nh += a->n;
+				sh += a->dtdt;
+			} else if (a->state < 0) {
+				nc += a->n;
+				sc += a->dtdt;
+			}
+		}
+		res->rate_heat_degc_s = nh > 0 ? sh / nh : (double)NAN;
+		res->rate_cool_degc_s = nc > 0 ? sc / nc : (double)NAN;
+	}
 	res->have_gradient = f->grad;
 	res->gradient = res->gradient_sd = NAN;
 	if (f->grad) {
@@ -820,6 +885,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		rc = -ENOMEM;
 		goto fail;
 	}
+	res->hyst_grad_vif = NAN;
 	res->runs = calloc(n_runs, sizeof(*res->runs));
 	if (!res->runs) {
 		rc = -ENOMEM;
@@ -1005,6 +1071,15 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		hyst = hyst_ok;
 		grad = grad_ok;
 		fill_bins(&c, hyst);
+		res->hyst_grad_collinear = false;
+		res->hyst_grad_vif = NAN;
+		if (hyst && grad) {
+			res->hyst_grad_vif = gradient_vif(&c, K);
+			if (!(res->hyst_grad_vif <= SSCOPE_TEMPBIAS_VIF_MAX)) {
+				grad = false;
+				res->hyst_grad_collinear = true;
+			}
+		}
 		rc = fit_terms(&c, K, &hyst, &grad, f, note, sizeof(note));
 		if (rc == -EDOM) {
 			rc = ssc_diag(diag, -EDOM,
@@ -1051,6 +1126,14 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 			if (!any)
 				break;
 		}
+	}
+	if (res->hyst_grad_collinear) {
+		char b[200];
+
+		snprintf(b, sizeof(b),
+			 "hysteresis and gradient collinear (VIF %.3g): hysteresis is their combined heating-cooling gap",
+			 res->hyst_grad_vif);
+		add_note(res, b);
 	}
 	rc = results(&c, f, res);
 	if (rc)

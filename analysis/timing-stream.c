@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Streaming timing analysis: sscope_timing_analyze() for records read in
- * chunks; and receive times against stamps (latency, agreement).  The first SSCOPE_TIMING_STREAM_BLOCK intervals are held until
- * their median is known (GSL), then every interval is classified against
- * it as sscope_timing_analyze() does: an interval longer than gap_factor
+ * chunks; and receive times against stamps (latency, agreement).  The
+ * first SSCOPE_TIMING_STREAM_BLOCK intervals are held until their median
+ * is known (GSL), then every interval is classified against it as
+ * sscope_timing_analyze() does, one stamp late (an interval next to a
+ * backward step is disorder, neither gap nor regular): an interval longer than gap_factor
  * times the median is a gap, the others are summed in order with
  * Neumaier compensation, so the rate (their count over their sum) is the
  * same number whenever the medians agree.  The jitter comes from
@@ -21,17 +23,23 @@
 struct sscope_timing_stream {
 	double factor;
 	double *block;        /* the first intervals, until the median */
+	bool *fwd;            /* which of them are forward (decided ones) */
 	double *sorted;       /* scratch for the median */
 	size_t n_block;
 	bool have_median;
 	bool no_median;       /* the first block had no usable median */
 	double median;
-	bool have_last;
-	double last;
+	/* the last interval waits for the next stamp to tell whether it is
+	 * next to a backward step */
+	bool have_last, have_pending;
+	double last, pending, before; /* last stamp; the waiting interval and
+					 the one before it */
+	bool have_before;
 	size_t n_stamps;
 	double lo, hi;
 	size_t n_backwards, n_gaps, n_missing, n_regular;
 	struct ssc_ksum sum, s1, s2;
+	struct sscope_time_order order;
 };
 
 int sscope_timing_stream_new(struct sscope_timing_stream **out,
@@ -48,8 +56,9 @@ int sscope_timing_stream_new(struct sscope_timing_stream **out,
 	if (!ts)
 		return -ENOMEM;
 	ts->block = malloc(SSCOPE_TIMING_STREAM_BLOCK * sizeof(double));
+	ts->fwd = malloc(SSCOPE_TIMING_STREAM_BLOCK * sizeof(bool));
 	ts->sorted = malloc(SSCOPE_TIMING_STREAM_BLOCK * sizeof(double));
-	if (!ts->block || !ts->sorted) {
+	if (!ts->block || !ts->fwd || !ts->sorted) {
 		sscope_timing_stream_free(ts);
 		return -ENOMEM;
 	}
@@ -65,11 +74,12 @@ void sscope_timing_stream_free(struct sscope_timing_stream *ts)
 	if (!ts)
 		return;
 	free(ts->block);
+	free(ts->fwd);
 	free(ts->sorted);
 	free(ts);
 }
 
-/* One interval once the median is known. */
+/* One forward interval once the median is known. */
 static void classify(struct sscope_timing_stream *ts, double d)
 {
 	if (d > ts->factor * ts->median) {
@@ -83,9 +93,10 @@ static void classify(struct sscope_timing_stream *ts, double d)
 	ts->n_regular++;
 }
 
-/* The median of the held intervals, then classify them (false: no usable
+/* The median of the held intervals (all of them, as sscope_timing_analyze
+ * takes it), then classify the decided forward ones (false: no usable
  * median). */
-static bool settle(struct sscope_timing_stream *ts)
+static bool settle(struct sscope_timing_stream *ts, size_t n_decided)
 {
 	if (ts->have_median)
 		return true;
@@ -96,9 +107,27 @@ static bool settle(struct sscope_timing_stream *ts)
 	if (!(ts->median > 0) || !isfinite(ts->median))
 		return false;
 	ts->have_median = true;
-	for (size_t i = 0; i < ts->n_block; i++)
-		classify(ts, ts->block[i]);
+	for (size_t i = 0; i < n_decided; i++)
+		if (ts->fwd[i])
+			classify(ts, ts->block[i]);
 	return true;
+}
+
+/* The waiting interval is decided: forward when positive and neither the
+ * interval before nor the one after (@p next, absent at the end) goes
+ * backwards.  Interval k of the record is block[k] while the block fills. */
+static void decide(struct sscope_timing_stream *ts, size_t k, bool has_next,
+		   double next)
+{
+	bool fwd = ts->pending > 0 && !(ts->have_before && ts->before < 0) &&
+		   !(has_next && next < 0);
+
+	if (ts->have_median) {
+		if (fwd)
+			classify(ts, ts->pending);
+	} else if (k < ts->n_block) {
+		ts->fwd[k] = fwd;
+	}
 }
 
 int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
@@ -106,8 +135,10 @@ int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
 {
 	if (!ts || (!t_s && n))
 		return -EINVAL;
+	sscope_time_order_feed(&ts->order, t_s, n);
 	for (size_t i = 0; i < n; i++) {
 		double t = t_s[i], d;
+		size_t k; /* index of the new interval */
 
 		ts->n_stamps++;
 		if (!ts->have_last) {
@@ -117,39 +148,51 @@ int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
 		}
 		d = t - ts->last;
 		ts->last = t;
+		k = ts->n_stamps - 2;
 		if (d < ts->lo)
 			ts->lo = d;
 		if (d > ts->hi)
 			ts->hi = d;
 		if (!(d > 0))
 			ts->n_backwards++;
-		if (ts->have_median) {
-			classify(ts, d);
-			continue;
+		if (ts->have_pending) {
+			decide(ts, k - 1, true, d);
+			ts->before = ts->pending;
+			ts->have_before = true;
 		}
-		if (ts->no_median)
+		ts->pending = d;
+		ts->have_pending = true;
+		if (ts->have_median || ts->no_median)
 			continue;
 		ts->block[ts->n_block++] = d;
-		if (ts->n_block == SSCOPE_TIMING_STREAM_BLOCK && !settle(ts))
+		/* the block's last interval is still waiting */
+		if (ts->n_block == SSCOPE_TIMING_STREAM_BLOCK &&
+		    !settle(ts, ts->n_block - 1))
 			ts->no_median = true; /* the result says so */
 	}
 	return 0;
 }
 
-int sscope_timing_stream_result(struct sscope_timing_stream *ts,
+int sscope_timing_stream_result(struct sscope_timing_stream *stream,
 				struct sscope_timing *tm)
 {
+	struct sscope_timing_stream c, *ts = &c;
 	double mean, m1, var;
 
-	if (!ts || !tm)
+	if (!stream || !tm)
 		return -EINVAL;
+	/* on a copy: more stamps may follow */
+	c = *stream;
 	memset(tm, 0, sizeof(*tm));
+	tm->order = ts->order;
+	if (ts->have_pending)
+		decide(ts, ts->n_stamps - 2, false, 0);
 	if (ts->n_stamps < 2)
 		return -EDOM;
 	tm->dt_min_s = ts->lo;
 	tm->dt_max_s = ts->hi;
 	tm->n_backwards = ts->n_backwards;
-	if (!settle(ts))
+	if (!settle(ts, ts->n_block))
 		return -EDOM;
 	tm->dt_median_s = ts->median;
 	tm->n_gaps = ts->n_gaps;
@@ -167,13 +210,6 @@ int sscope_timing_stream_result(struct sscope_timing_stream *ts,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 int sscope_timing_latency(const double *rx_s, const double *t_s, size_t n,
 			  double *median_s, double *min_s, double *max_s,
 			  double *scratch)
@@ -182,15 +218,17 @@ int sscope_timing_latency(const double *rx_s, const double *t_s, size_t n,
 		return -EINVAL;
 	if (n < 1)
 		return -EDOM;
+	*min_s = INFINITY;
+	*max_s = -INFINITY;
 	for (size_t i = 0; i < n; i++) {
 		scratch[i] = rx_s[i] - t_s[i];
 		if (!isfinite(scratch[i]))
 			return -EDOM;
+		*min_s = fmin(*min_s, scratch[i]);
+		*max_s = fmax(*max_s, scratch[i]);
 	}
-	qsort(scratch, n, sizeof(double), cmp_double);
-	*median_s = scratch[(n - 1) / 2];
-	*min_s = scratch[0];
-	*max_s = scratch[n - 1];
+	/* quickselect: scratch is reordered */
+	*median_s = gsl_stats_median(scratch, 1, n);
 	return 0;
 }
 

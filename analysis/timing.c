@@ -6,7 +6,10 @@
  * over their compensated sum (their mean, which for an unbroken record is
  * the span over n - 1: one rounding, where a median of differences of
  * rounded stamps would carry their rounding); jitter is the rms deviation
- * of the regular intervals from that mean.
+ * of the regular intervals from that mean.  Intervals that are not
+ * positive, and the two around a backward step (rows swapped), are
+ * disorder, counted and described (sscope_time_order_*) but neither gaps
+ * nor regular intervals.
  */
 #include "internal.h"
 
@@ -14,6 +17,107 @@
 #include <string.h>
 
 #include <gsl/gsl_statistics_double.h>
+
+#include <stdio.h>
+
+/*
+ * Order of the stamps: a backward step at row i is a swapped pair when
+ * exchanging rows i - 1 and i restores the order around them, t[i-2] <
+ * t[i] and t[i-1] < t[i+1]; the second condition waits for the next stamp
+ * (o->pending), or for the end of the data.
+ */
+void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
+			    size_t n)
+{
+	for (size_t k = 0; k < n; k++) {
+		double t = t_s[k], prev = o->last_s[0];
+
+		if (o->n == 0) {
+			o->t0_s = t;
+		} else {
+			if (o->pending) {
+				if (o->last_s[1] < t)
+					o->n_swaps++;
+				o->pending = 0;
+			}
+			if (!(t > prev)) {
+				if (t == prev) {
+					o->n_repeats++;
+				} else {
+					o->n_decreasing++;
+					o->pending = o->n < 2 || o->last_s[1] < t;
+				}
+				if (o->n_repeats + o->n_decreasing == 1) {
+					o->first_row = o->n;
+					o->first_t_s = t;
+					o->first_prev_s = prev;
+				}
+			}
+		}
+		o->last_s[2] = o->last_s[1];
+		o->last_s[1] = o->last_s[0];
+		o->last_s[0] = t;
+		o->n++;
+	}
+}
+
+int sscope_time_order_check(const struct sscope_time_order *o,
+			    struct sscope_diag *diag)
+{
+	size_t swaps, bad, more;
+	char tail[64] = "", count[32];
+
+	if (!o)
+		return -EINVAL;
+	if (o->n < 2)
+		return ssc_diag(diag, -EDOM, o->n ? "has one row" : "has no rows");
+	if (o->n_repeats == o->n - 1)
+		return ssc_diag(diag, -EDOM,
+				"is constant (every row has the same stamp)");
+	if (o->n_decreasing == o->n - 1)
+		return ssc_diag(diag, -EDOM,
+				"decreases in every row (the last stamp is %.9g s before the first)",
+				o->t0_s - o->last_s[0]);
+	bad = o->n_repeats + o->n_decreasing;
+	if (bad == 0)
+		return 0;
+	more = bad - 1;
+	swaps = o->n_swaps + (o->pending ? 1 : 0);
+	if (more)
+		snprintf(tail, sizeof(tail), " and %zu more %s", more,
+			 o->n_repeats ? (more > 1 ? "times" : "time") :
+			 more > 1 ? "swapped pairs" : "swapped pair");
+	if (o->n_repeats == 0 && swaps == o->n_decreasing)
+		return ssc_diag(diag, -EDOM,
+				"has rows %zu and %zu in reverse order (%.9g s and %.9g s from the first stamp)%s",
+				o->first_row, o->first_row + 1,
+				o->first_prev_s - o->t0_s, o->first_t_s - o->t0_s,
+				tail);
+	if (o->n_decreasing == 0)
+		return ssc_diag(diag, -EDOM,
+				"repeats the stamp of row %zu at row %zu (%.9g s from the first stamp)%s",
+				o->first_row, o->first_row + 1,
+				o->first_t_s - o->t0_s, tail);
+	if (o->n_repeats)
+		snprintf(tail, sizeof(tail), ", repeats a stamp %zu time%s,",
+			 o->n_repeats, o->n_repeats > 1 ? "s" : "");
+	if (o->n_decreasing == 1)
+		snprintf(count, sizeof(count), "once");
+	else
+		snprintf(count, sizeof(count), "%zu times", o->n_decreasing);
+	return ssc_diag(diag, -EDOM,
+			"goes backwards %s%s (first at row %zu: %.9g s after %.9g s from the first stamp)",
+			count, tail, o->first_row + 1,
+			o->first_t_s - o->t0_s, o->first_prev_s - o->t0_s);
+}
+
+/* Interval i (from row i - 1 to row i) can be a regular interval or a gap:
+ * positive and not next to a backward step. */
+static bool forward(const double *t, size_t n, size_t i)
+{
+	return t[i] > t[i - 1] && !(i >= 2 && t[i - 1] < t[i - 2]) &&
+	       !(i + 1 < n && t[i + 1] < t[i]);
+}
 
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  struct sscope_timing *tm, struct sscope_gap *gaps,
@@ -28,6 +132,7 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	memset(tm, 0, sizeof(*tm));
 	if (n_gaps_out)
 		*n_gaps_out = 0;
+	sscope_time_order_feed(&tm->order, t_s, n);
 	if (n < 2)
 		return -EDOM;
 	for (size_t i = 1; i < n; i++) {
@@ -50,6 +155,8 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	for (size_t i = 1; i < n; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
+		if (!forward(t_s, n, i))
+			continue;
 		if (d > gap_factor * med) {
 			size_t miss = (size_t)llround(d / med) - 1;
 
@@ -74,7 +181,7 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	for (size_t i = 1; i < n; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
-		if (d > gap_factor * med)
+		if (!forward(t_s, n, i) || d > gap_factor * med)
 			continue;
 		ssc_ksum_add(&j, (d - mean) * (d - mean));
 	}

@@ -1,28 +1,47 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Atomic output files: data go to a temporary file in the destination's
- * directory, which is renamed over the destination only when complete, so
- * an error never leaves a half-written result.  "-" is standard output
- * (written directly).  Compiled into both the library and the CLI.
+ * Output files that never destroy what the user owns.  A regular file (or
+ * a name that does not exist yet) is written to a temporary file beside it
+ * and renamed over it only when complete, so an error never leaves a
+ * half-written result; a symbolic link is followed and its target replaced
+ * the same way (the link stays a link).  Everything else is written
+ * directly and never replaced: "-", /dev/stdout, /dev/stderr and /dev/fd/N
+ * (the open descriptor), FIFOs, character and block devices.  The first
+ * write error's errno is kept, so "No space left on device" can be said
+ * whatever the size of the output.  Compiled into both the library and
+ * the CLI.
  */
 #ifndef SSCOPE_ATOMIC_H
 #define SSCOPE_ATOMIC_H
 
+#include <stdbool.h>
 #include <stdio.h>
 
 struct ssc_atomic {
 	FILE *f;      /* write here */
-	char *path;   /* destination, NULL for stdout */
-	char *tmp;    /* temporary name */
+	char *path;   /* file renamed over at commit (links resolved), or
+			 NULL when written directly */
+	char *tmp;    /* temporary name, or NULL when written directly */
+	int fd;       /* descriptor under f */
+	int err;      /* errno of the first failed write, 0 if none */
+	bool own_fd;  /* close fd at the end (not for standard output) */
+	bool discard; /* aborting: drop what is still buffered */
 };
 
-/* Open; returns 0 or -errno. */
+/* Open; returns 0 or -errno.  @p a must stay at its address until
+ * commit or abort (the stream refers to it). */
 int ssc_atomic_open(struct ssc_atomic *a, const char *path);
 
-/* Flush, sync, close and rename into place; returns 0 or -errno. */
+/* The write error so far: 0, or -errno (-EIO when the stream failed
+ * without one). */
+int ssc_atomic_error(const struct ssc_atomic *a);
+
+/* Flush, sync, close and rename into place; returns 0 or -errno.  On
+ * failure the temporary file is removed. */
 int ssc_atomic_commit(struct ssc_atomic *a);
 
-/* Close and remove the temporary file (safe after a failed commit). */
+/* Drop what is buffered, close and remove the temporary file (safe after a
+ * failed commit). */
 void ssc_atomic_abort(struct ssc_atomic *a);
 
 #endif

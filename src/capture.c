@@ -31,6 +31,37 @@ static void free_column(struct sscope_column *c)
 	c->unit_label = NULL;
 }
 
+static bool in_mapping(const struct sscope_capture *cap, const void *p)
+{
+	const char *m = cap->mapping;
+
+	return m && (const char *)p >= m && (const char *)p < m + cap->mapping_len;
+}
+
+void sscope_capture_release(void *capture, const double *x, size_t stride,
+			    size_t from, size_t n)
+{
+	struct sscope_capture *cap = capture;
+	const char *m, *a, *b;
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
+
+	if (!cap || !x || !n || !in_mapping(cap, x))
+		return;
+	m = cap->mapping;
+	a = (const char *)(x + from * stride);
+	b = (const char *)(x + (from + n - 1) * stride + 1);
+	if (a < m)
+		a = m;
+	if (b > m + cap->mapping_len)
+		b = m + cap->mapping_len;
+	/* whole pages inside the range only */
+	a = (const char *)(((uintptr_t)a + ps - 1) / ps * ps);
+	b = (const char *)((uintptr_t)b / ps * ps);
+	if (b > a)
+		madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
+}
+
 void sscope_capture_free(struct sscope_capture *cap)
 {
 	if (!cap)
@@ -42,8 +73,11 @@ void sscope_capture_free(struct sscope_capture *cap)
 	}
 	for (size_t k = 0; cap->channels && k < cap->n_channels; k++) {
 		free_column(&cap->channels[k].col);
-		free(cap->channels[k].data);
+		if (!in_mapping(cap, cap->channels[k].data))
+			free(cap->channels[k].data);
 	}
+	if (cap->mapping)
+		munmap(cap->mapping, cap->mapping_len);
 	free(cap->channels);
 	free(cap->time_s);
 	free(cap->temp_degc);
@@ -146,6 +180,18 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		if (rc)
 			goto fail;
 	}
+	if (opts && opts->in_place && cap->n_channels == 1 &&
+	    ssc_reader_take_inplace(r, opts->nan_as_gap, &cap->channels[0].data,
+				    &n, &cap->n_nan, &cap->mapping,
+				    &cap->mapping_len)) {
+		if (n == 0) {
+			rc = ssc_diag(diag, -EDOM, "%s: no data rows", path);
+			goto fail;
+		}
+		cap->n = n;
+		cap->channels[0].n_nan = cap->n_nan;
+		goto rate;
+	}
 	/* A mapped file (or any source of known size) is read in one pass,
 	 * on several threads for text, into arrays sized from a bound on the
 	 * row count, then trimmed; a pipe grows its arrays. */
@@ -169,7 +215,13 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		n = ch.rows;
 	} else {
-		cap_rows = (size_t)1 << 16;
+		/* 64 Ki rows, or fewer for many channels (a 4 MiB start; 2555
+		 * raw channels on a pipe asked for 1.3 GB up front); the
+		 * arrays double as the rows come */
+		cap_rows = ((size_t)4 << 20) / (sizeof(double) *
+						 (cap->n_channels + 2));
+		cap_rows = cap_rows < 256 ? 256 :
+			   cap_rows > ((size_t)1 << 16) ? (size_t)1 << 16 : cap_rows;
 		for (;;) {
 			rc = grow(cap, cap_rows);
 			if (rc)
@@ -202,6 +254,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	if (rc)
 		goto fail;
 	cap->n = n;
+	cap->unterminated = sscope_reader_unterminated(r);
 	if (sscope_reader_source(r)) {
 		cap->source_info = ssc_reader_take_source(r, n);
 		if (!cap->source_info) {
@@ -217,6 +270,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		cap->channels[k].n_nan = nan;
 		cap->n_nan += nan;
 	}
+rate:
 	if (cap->time_s && n >= 2) {
 		double *scratch = ssc_alloc_array(n - 1, sizeof(double));
 
@@ -505,7 +559,8 @@ int sscope_capture_select(struct sscope_capture *cap, const char *columns,
 	for (size_t j = 0; j < cap->n_channels; j++)
 		if (!kept[j]) {
 			free_column(&cap->channels[j].col);
-			free(cap->channels[j].data);
+			if (!in_mapping(cap, cap->channels[j].data))
+				free(cap->channels[j].data);
 		}
 	free(cap->channels);
 	cap->channels = ch;

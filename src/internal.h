@@ -91,6 +91,27 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads);
 int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
 			struct sscope_diag *diag);
 
+/* Open a capture held in memory (buf is read in place and must outlive
+ * the reader; name is used in messages): the same formats and errors as
+ * sscope_reader_open().  For the fuzz harnesses, where ASan sees a read
+ * past the end of an exact-size buffer that a mapped file would hide. */
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag);
+
+/*
+ * A raw file of one float64 channel in the host's byte order, without
+ * scaling or unit conversion, is used in place: on success *x points at its
+ * *n samples inside a private mapping (*map, *map_len bytes) that the caller
+ * now owns and must munmap(); it is read-only.  *n_nan counts NaN samples (gaps, only when allow_nan).  Returns
+ * false, changing nothing, for any other source or when a value is not
+ * finite and not an allowed gap (the reader then reports it as usual).
+ */
+bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
+			     double **x, size_t *n, size_t *n_nan,
+			     void **map, size_t *map_len);
+
 /* Case-insensitive ASCII comparison of two strings. */
 int ssc_strcasecmp(const char *a, const char *b);
 

@@ -23,6 +23,7 @@
 
 #define BAG_MAGIC "#ROSBAG V2.0\n"
 #define MAX_CONN (1u << 20)
+#define MAX_CHUNK (1u << 30)
 
 struct bag {
 	struct ssc_ros *c;
@@ -178,6 +179,10 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 	}
 	ssc_ros_note(b->c, codec == SSC_CODEC_BZ2 ? "bz2 chunks" : "lz4 chunks");
 	free(comp);
+	/* rosbag writes chunks of about 768 KiB: a size field of gigabytes
+	 * is corruption, not a reason to allocate it */
+	if (size > MAX_CHUNK)
+		return bad(b, at, "chunk larger than 1 GiB", diag);
 	if (size > b->scratch_cap) {
 		unsigned char *s = realloc(b->scratch, size);
 

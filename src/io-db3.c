@@ -150,7 +150,8 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 		n = sqlite3_column_bytes(st, 2);
 		rc = ssc_ros_message(c, map[id] - 1, d ? d : (const unsigned char *)"",
 				     (size_t)n, sqlite3_column_int64(st, 1),
-				     (uint64_t)sqlite3_column_int64(st, 3), diag);
+				     (uint64_t)sqlite3_column_int64(st, 3) | 1ULL << 63,
+				     diag);
 		if (rc)
 			goto out;
 	}

@@ -63,8 +63,8 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 						(unsigned int)src_len, 0, 0);
 		if (rc == BZ_MEM_ERROR)
 			return -ENOMEM;
+		got = rc == BZ_OK ? n : 0;
 		rc = rc == BZ_OK ? 0 : -EBADMSG;
-		got = n;
 		break;
 	}
 	case SSC_CODEC_LZ4:

@@ -105,8 +105,9 @@ int ssc_ros_new(struct ssc_ros **c, const char *disp);
 /* Register a topic (idempotent by name); *idx receives its number. */
 int ssc_ros_topic(struct ssc_ros *c, const char *name, const char *type,
 		  enum ssc_ros_enc enc, size_t *idx);
-/* One message of topic idx received at rx_ns.  `where` (a byte offset or
- * row) goes into messages about a malformed message. */
+/* One message of topic idx received at rx_ns.  `where` (a byte offset,
+ * or a row number with bit 63 set) goes into messages about a malformed
+ * message. */
 int ssc_ros_message(struct ssc_ros *c, size_t idx, const unsigned char *data,
 		    size_t len, int64_t rx_ns, uint64_t where,
 		    struct sscope_diag *diag);

@@ -239,9 +239,11 @@ int ssc_ros_message(struct ssc_ros *c, size_t idx, const unsigned char *d,
 
 		if (len < 4 || d[0] != 0 || d[1] > 1)
 			return ssc_diag(diag, -EBADMSG,
-					"%s: topic %s, message at %llu: CDR encapsulation %02x %02x is not plain CDR",
+					"%s: topic %s, message %s %llu: CDR encapsulation %02x %02x is not plain CDR",
 					c->disp, t->name,
-					(unsigned long long)where, len ? d[0] : 0,
+					where >> 63 ? "row" : "at byte",
+					(unsigned long long)(where & ~(1ULL << 63)),
+					len ? d[0] : 0,
 					len > 1 ? d[1] : 0);
 		be = d[1] == 0;
 		len -= 4;
@@ -277,8 +279,10 @@ int ssc_ros_message(struct ssc_ros *c, size_t idx, const unsigned char *d,
 	return 0;
 short_msg:
 	return ssc_diag(diag, -EBADMSG,
-			"%s: topic %s (%s), message at %llu: %zu bytes are too few for the type",
-			c->disp, t->name, t->type, (unsigned long long)where, len);
+			"%s: topic %s (%s), message %s %llu: %zu bytes are too few for the type (truncated or corrupt)",
+			c->disp, t->name, t->type,
+			where >> 63 ? "row" : "at byte",
+			(unsigned long long)(where & ~(1ULL << 63)), len);
 }
 
 /* ------------------------------------------------------------ selection */

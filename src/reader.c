@@ -18,6 +18,7 @@
 #include "internal.h"
 
 #include <fcntl.h>
+#include <float.h>
 #include <pthread.h>
 #include <math.h>
 #include <stdio.h>
@@ -100,6 +101,9 @@ struct sscope_reader {
 	size_t tab_row;
 	int64_t tab_t0;
 	struct sscope_source *src;
+	/* a mapped binary file: pages before `dropped` were given back */
+	size_t dropped, pagesz;
+	size_t last_used; /* last column converted (SIZE_MAX: none) */
 };
 
 /* ------------------------------------------------------------ source */
@@ -126,7 +130,10 @@ static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 			       r->fd, 0);
 
 		if (m != MAP_FAILED) {
+			long pg = sysconf(_SC_PAGESIZE);
+
 			madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
+			r->pagesz = pg > 0 ? (size_t)pg : 4096;
 			r->mapped = true;
 			r->base = m;
 			r->len = (size_t)st.st_size;
@@ -218,6 +225,8 @@ static const char *line_end(const char *p, const char *end)
 
 	return q ? q : end;
 }
+
+static bool skip_line(const char *p, const char *e);
 
 static char *dup_range(const char *a, const char *b)
 {
@@ -424,6 +433,29 @@ static long find_column(struct sscope_reader *r, const char *key)
 	return -1;
 }
 
+/* The 1-based numbers of the columns whose name equals column i's (case
+ * aside), "2, 3 and 4" into buf; returns how many there are. */
+static size_t same_name(const struct sscope_reader *r, size_t i, char *buf,
+			size_t len)
+{
+	size_t n = 0, used = 0, last = 0;
+
+	buf[0] = '\0';
+	for (size_t k = 0; k < r->ncols; k++) {
+		if (ssc_strcasecmp(r->cols[k].name, r->cols[i].name))
+			continue;
+		if (n && used + 24 < len)
+			used += (size_t)snprintf(buf + used, len - used, "%s%zu",
+						 n > 1 ? ", " : "", last);
+		last = k + 1;
+		n++;
+	}
+	if (used + 24 < len)
+		snprintf(buf + used, len - used, "%s%zu", n > 1 ? " and " : "",
+			 last);
+	return n;
+}
+
 static int column_list(struct sscope_reader *r, char *buf, size_t len)
 {
 	size_t used = 0;
@@ -550,6 +582,18 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 				free(copy);
 				return rc;
 			}
+			if (strcmp(tok, r->cols[idx].name) == 0 ||
+			    ssc_strcasecmp(tok, r->cols[idx].name) == 0) {
+				/* a name, not an index: it must be unique */
+				if (same_name(r, (size_t)idx, names,
+					      sizeof(names)) > 1) {
+					rc = ssc_diag(diag, -EINVAL,
+						      "%s: '%s' names columns %s: select one by its number",
+						      r->disp, tok, names);
+					free(copy);
+					return rc;
+				}
+			}
 			if (r->cols[idx].dest >= 0)
 				continue; /* named twice */
 			if (r->nsel >= r->ncols)
@@ -567,12 +611,31 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 			r->sel[r->nsel++] = i;
 		}
 	}
+	r->last_used = SIZE_MAX;
 	for (size_t i = 0; i < r->ncols; i++) {
 		struct colx *c = &r->cols[i];
 
 		c->is_time = (long)i == r->time_col;
 		c->is_temp = (long)i == r->temp_col;
 		c->used = c->dest >= 0 || c->is_time || c->is_temp;
+		if (c->used)
+			r->last_used = i;
+	}
+	/* two columns in use under one name: results could not tell them
+	 * apart (t,gx,gx,gx) */
+	for (size_t i = 0; i < r->ncols; i++) {
+		if (!r->cols[i].used)
+			continue;
+		for (size_t k = i + 1; k < r->ncols; k++)
+			if (r->cols[k].used &&
+			    !ssc_strcasecmp(r->cols[i].name, r->cols[k].name)) {
+				size_t n = same_name(r, i, names, sizeof(names));
+
+				return ssc_diag(diag, -EINVAL,
+						"%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",
+						r->disp, names, n > 2 ? "all" : "both",
+						r->cols[i].name);
+			}
 	}
 	for (size_t k = 0; k < r->nsel; k++) {
 		rc = check_unit(r, &r->cols[r->sel[k]], diag);
@@ -824,54 +887,100 @@ static int text_columns(struct sscope_reader *r)
 
 /* ------------------------------------------------------------ binary */
 
+static const struct {
+	const char *n;
+	enum rawtype t;
+	size_t sz;
+} raw_types[] = { { "i16", R_I16, 2 }, { "u16", R_U16, 2 },
+		  { "i24", R_I24, 3 }, { "i32", R_I32, 4 },
+		  { "u32", R_U32, 4 }, { "f32", R_F32, 4 },
+		  { "f64", R_F64, 8 } };
+
+#define RAW_FORM "expected TYPE:CHANNELS[:le|be], TYPE one of i16 u16 i24 i32 u32 f32 f64"
+
+/* "TYPE:CHANNELS[:le|be]": *type is an index of raw_types[]. */
+static int raw_layout(const char *spec, size_t *type, size_t *channels,
+		      bool *big_endian, struct sscope_diag *diag)
+{
+	const char *c1, *c2, *p;
+	size_t ch = 0, i, tl;
+
+	if (!spec || !*spec)
+		return ssc_diag(diag, -EINVAL, "empty raw layout (" RAW_FORM ")");
+	c1 = strchr(spec, ':');
+	tl = c1 ? (size_t)(c1 - spec) : strlen(spec);
+	for (i = 0; i < sizeof(raw_types) / sizeof(raw_types[0]); i++)
+		if (strlen(raw_types[i].n) == tl && !strncmp(raw_types[i].n, spec, tl))
+			break;
+	if (i == sizeof(raw_types) / sizeof(raw_types[0]))
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': %s type (" RAW_FORM ")",
+				spec, tl ? "unknown" : "missing");
+	if (!c1)
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': no channel count (" RAW_FORM ")",
+				spec);
+	/* decimal digits only: no sign, no blanks, no wrap-around */
+	for (p = c1 + 1; *p >= '0' && *p <= '9'; p++) {
+		ch = ch * 10 + (size_t)(*p - '0');
+		if (ch > MAXF)
+			break;
+	}
+	while (*p >= '0' && *p <= '9')
+		p++;
+	if (p == c1 + 1 || (*p && *p != ':'))
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': the channel count is not a whole number (" RAW_FORM ")",
+				spec);
+	if (ch < 1 || ch > MAXF)
+		return ssc_diag(diag, -EINVAL,
+				"bad raw layout '%.40s': channels must be 1 to %d",
+				spec, MAXF);
+	c2 = p;
+	*big_endian = false;
+	if (*c2 == ':') {
+		if (!strcmp(c2 + 1, "be"))
+			*big_endian = true;
+		else if (strcmp(c2 + 1, "le"))
+			return ssc_diag(diag, -EINVAL,
+					"bad raw layout '%.40s': byte order '%.8s' is not le or be",
+					spec, c2 + 1);
+	}
+	*type = i;
+	*channels = ch;
+	return 0;
+}
+
+int sscope_raw_layout_check(const char *layout, size_t *channels,
+			    size_t *value_bytes, struct sscope_diag *diag)
+{
+	size_t t, ch;
+	bool be;
+	int rc = raw_layout(layout, &t, &ch, &be, diag);
+
+	if (rc)
+		return rc;
+	if (channels)
+		*channels = ch;
+	if (value_bytes)
+		*value_bytes = raw_types[t].sz;
+	return 0;
+}
+
 static int parse_raw_spec(struct sscope_reader *r, const char *spec,
 			  struct sscope_diag *diag)
 {
-	static const struct {
-		const char *n;
-		enum rawtype t;
-		size_t sz;
-	} types[] = { { "i16", R_I16, 2 }, { "u16", R_U16, 2 },
-		      { "i24", R_I24, 3 }, { "i32", R_I32, 4 },
-		      { "u32", R_U32, 4 }, { "f32", R_F32, 4 },
-		      { "f64", R_F64, 8 } };
-	char type[8] = "", endian[8] = "le";
-	unsigned long ch = 0;
-	char *end;
-	const char *c1 = strchr(spec, ':'), *c2;
-	size_t i;
+	size_t t, ch;
+	bool be;
+	int rc = raw_layout(spec, &t, &ch, &be, diag);
 
-	if (!c1 || c1 - spec >= (long)sizeof(type))
-		goto bad;
-	memcpy(type, spec, (size_t)(c1 - spec));
-	type[c1 - spec] = '\0';
-	ch = strtoul(c1 + 1, &end, 10);
-	if (end == c1 + 1 || ch == 0 || ch > MAXF)
-		goto bad;
-	c2 = end;
-	if (*c2 == ':') {
-		if (strlen(c2 + 1) >= sizeof(endian))
-			goto bad;
-		strcpy(endian, c2 + 1);
-	} else if (*c2) {
-		goto bad;
-	}
-	if (strcmp(endian, "le") && strcmp(endian, "be"))
-		goto bad;
-	for (i = 0; i < sizeof(types) / sizeof(types[0]); i++)
-		if (!strcmp(types[i].n, type))
-			break;
-	if (i == sizeof(types) / sizeof(types[0]))
-		goto bad;
-	r->rtype = types[i].t;
-	r->rsize = types[i].sz;
-	r->big_endian = !strcmp(endian, "be");
+	if (rc)
+		return rc;
+	r->rtype = raw_types[t].t;
+	r->rsize = raw_types[t].sz;
+	r->big_endian = be;
 	r->ncols = ch;
 	return 0;
-bad:
-	return ssc_diag(diag, -EINVAL,
-			"bad raw layout '%s' (expected TYPE:CHANNELS[:le|be], TYPE one of i16 u16 i24 i32 u32 f32 f64)",
-			spec);
 }
 
 static int open_raw(struct sscope_reader *r, struct sscope_diag *diag)
@@ -1108,7 +1217,12 @@ static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
 			r->t0_double = ssc_table_value(tc, 0);
 		}
 		for (size_t i = 0; i < n; i++) {
-			double v = ssc_table_value(tc, r0 + i);
+			double v;
+
+			if (tc->type == SSC_V_F64 && !tc->swap) /* decoded arrays */
+				memcpy(&v, tc->data + (r0 + i) * tc->stride, 8);
+			else
+				v = ssc_table_value(tc, r0 + i);
 
 			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
 			    isinf(v))
@@ -1177,7 +1291,10 @@ const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
 
 /* ------------------------------------------------------------ open */
 
-int sscope_reader_open(struct sscope_reader **reader, const char *path,
+/* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
+ * a mapped file) when mem is not NULL, else the file at path. */
+static int reader_open(struct sscope_reader **reader, const char *path,
+		       const void *mem, size_t mem_len,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag)
 {
@@ -1215,16 +1332,24 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 			goto fail;
 		}
 	}
-	if (!(r->opts->raw && *r->opts->raw) && ssc_rosbag2_is_dir(path)) {
+	if (!mem && !(r->opts->raw && *r->opts->raw) &&
+	    ssc_rosbag2_is_dir(path)) {
 		r->kind = K_TABLE;
 		rc = ssc_rosbag2_open(&r->tab, path, r->opts->topic, diag);
 		if (!rc)
 			rc = table_columns(r);
 		goto opened;
 	}
-	rc = src_open(r, diag);
-	if (rc)
-		goto fail;
+	if (mem) {
+		r->base = mem;
+		r->len = mem_len;
+		r->size = mem_len;
+		r->eof = true;
+	} else {
+		rc = src_open(r, diag);
+		if (rc)
+			goto fail;
+	}
 	if (r->opts->raw && *r->opts->raw) {
 		r->kind = K_RAW;
 		rc = open_raw(r, diag);
@@ -1295,6 +1420,40 @@ opened:
 fail:
 	sscope_reader_close(r);
 	return rc;
+}
+
+int sscope_reader_open(struct sscope_reader **reader, const char *path,
+		       const struct sscope_read_opts *opts,
+		       struct sscope_diag *diag)
+{
+	return reader_open(reader, path, NULL, 0, opts, diag);
+}
+
+int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
+			size_t len, const char *name,
+			const struct sscope_read_opts *opts,
+			struct sscope_diag *diag)
+{
+	if (!buf)
+		return ssc_diag(diag, -EINVAL, "no input buffer");
+	return reader_open(reader, name ? name : "(memory)", buf, len, opts,
+			   diag);
+}
+
+bool sscope_reader_unterminated(const struct sscope_reader *r)
+{
+	const char *p, *e;
+
+	if (!r || r->kind != K_TEXT || !r->eof || r->pos < r->len || !r->len)
+		return false;
+	e = r->base + r->len;
+	if (e[-1] == '\n')
+		return false;
+	/* the last line is still in the buffer: a pipe's buffer slides by
+	 * whole lines */
+	p = memrchr(r->base, '\n', r->len);
+	p = p ? p + 1 : r->base;
+	return !skip_line(p, e);
 }
 
 size_t sscope_reader_n_channels(const struct sscope_reader *r)
@@ -1580,6 +1739,60 @@ static int parse_line(const struct sscope_reader *r, const char *p,
  * by the delimiter, the line ending with '\n'.  Returns the start of the
  * next line, or NULL to let the careful path (messages, blanks, NaN,
  * comments) handle the line -- it rewrites the whole row. */
+/* bytes of a 64-bit word equal to the byte in every lane of pat: the high
+ * bit of each such byte (exact, no false positives) */
+static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
+{
+	const uint64_t lo7 = 0x7f7f7f7f7f7f7f7full;
+	uint64_t x = w ^ pat;
+
+	return ~(((x & lo7) + lo7) | x | lo7);
+}
+
+#define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
+
+/* first d or newline at or after p (or end), eight bytes at a time: the
+ * scan over the cells nobody asked for */
+static const char *skip_cell(const char *p, const char *end, char d)
+{
+	const uint64_t pd = BYTES(d), pn = BYTES('\n');
+
+	for (; end - p >= 8; p += 8) {
+		uint64_t w, hit;
+
+		memcpy(&w, p, 8);
+		hit = eq_bytes(w, pd) | eq_bytes(w, pn);
+		if (hit) {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+			return p + (__builtin_ctzll(hit) >> 3);
+#else
+			break;
+#endif
+		}
+	}
+	while (p < end && *p != d && *p != '\n')
+		p++;
+	return p;
+}
+
+/* occurrences of d in [p, e) */
+static size_t count_byte(const char *p, const char *e, char d)
+{
+	const uint64_t pd = BYTES(d);
+	size_t n = 0;
+
+	for (; e - p >= 8; p += 8) {
+		uint64_t w;
+
+		memcpy(&w, p, 8);
+		/* one bit per matching byte, summed by a multiply */
+		n += (size_t)(((eq_bytes(w, pd) >> 7) * BYTES(1)) >> 56);
+	}
+	for (; p < e; p++)
+		n += *p == d;
+	return n;
+}
+
 static const char *fast_line(const struct sscope_reader *r, const char *p,
 			     const char *end, bool eof,
 			     struct sscope_chunk *ch, size_t row)
@@ -1598,9 +1811,23 @@ static const char *fast_line(const struct sscope_reader *r, const char *p,
 				return NULL;
 			p += n;
 			put_cell(r, c, ch, row, a, p, v);
+			if (col == r->last_used && col + 1 < r->ncols) {
+				/* the cells after the last one in use: find
+				 * the end of the line, count the delimiters */
+				const char *nl;
+
+				if (p >= end || *p != d)
+					return NULL;
+				nl = memchr(p, '\n', (size_t)(end - p));
+				if (!nl && !eof)
+					return NULL;
+				if (count_byte(p, nl ? nl : end, d) !=
+				    r->ncols - 1 - col)
+					return NULL;
+				return nl ? nl + 1 : end;
+			}
 		} else {
-			while (p < end && *p != d && *p != '\n')
-				p++;
+			p = skip_cell(p, end, d);
 		}
 		if (col + 1 < r->ncols) {
 			if (p >= end || *p != d)
@@ -1992,14 +2219,223 @@ static double raw_value(const struct sscope_reader *r, const unsigned char *b)
 	}
 }
 
+/*
+ * Fast path of binary rows in the host's byte order: the block of `rows`
+ * whole rows at b is converted column by column (loops the compiler
+ * vectorises), with the same arithmetic as the row-by-row path.  Returns
+ * false, having written nothing that matters, when a value is not finite:
+ * the careful path then redoes the block (gaps, messages).
+ */
+static bool convert_block(struct sscope_reader *r, const unsigned char *b,
+			  size_t rows, struct sscope_chunk *ch, size_t row)
+{
+	const size_t rowb = r->ncols * r->rsize;
+	const double off = r->roffset, sc = r->rscale;
+
+	for (size_t c = 0; c < r->ncols; c++) {
+		const struct colx *cx = &r->cols[c];
+		const unsigned char *p = b + c * r->rsize;
+		double *out[3] = { NULL, NULL, NULL };
+		double mul[3], add[3];
+		int bad = 0;
+
+		if (!cx->used)
+			continue;
+		if (cx->dest >= 0 && ch->data[cx->dest]) {
+			out[0] = ch->data[cx->dest] + row;
+			mul[0] = cx->c.unit.scale;
+			add[0] = cx->c.unit.offset;
+		}
+		if (cx->is_time) {
+			if (!r->have_t0) {
+				double v0 = (raw_value(r, p) + off) * sc;
+
+				if (!isfinite(v0))
+					return false;
+				r->have_t0 = true;
+				r->t0_double = v0;
+				r->t0_exp = 1000;
+			}
+			if (ch->time_s)
+				out[1] = ch->time_s + row;
+		}
+		if (cx->is_temp && ch->temp_degc) {
+			out[2] = ch->temp_degc + row;
+			mul[2] = cx->c.unit.scale;
+			add[2] = cx->c.unit.offset;
+		}
+		for (int k = 0; k < 3; k++) {
+			double *o = out[k];
+			const double t0 = r->t0_double, us = cx->c.unit.scale;
+
+			if (!o)
+				continue;
+#define CONV(T)                                                                \
+	for (size_t i = 0; i < rows; i++) {                                    \
+		T t;                                                           \
+		double v;                                                      \
+                                                                               \
+		memcpy(&t, p + i * rowb, sizeof(t));                           \
+		v = ((double)t + off) * sc;                                    \
+		bad |= !(fabs(v) <= DBL_MAX);                                  \
+		o[i] = k == 1 ? (v - t0) * us : v * mul[k] + add[k];           \
+	}
+			switch (r->rtype) {
+			case R_F64:
+				CONV(double);
+				break;
+			case R_F32:
+				CONV(float);
+				break;
+			case R_I16:
+				CONV(int16_t);
+				break;
+			case R_U16:
+				CONV(uint16_t);
+				break;
+			case R_I32:
+				CONV(int32_t);
+				break;
+			case R_U32:
+				CONV(uint32_t);
+				break;
+			default:
+				return false;
+			}
+#undef CONV
+			if (bad)
+				return false;
+		}
+	}
+	return true;
+}
+
+/* Give back the pages of a mapped file that the reader has passed: a
+ * streamed record then holds only its chunk in memory (the pages stay in
+ * the page cache). */
+static void drop_behind(struct sscope_reader *r)
+{
+	size_t to;
+
+	if (!r->mapped || !r->pagesz)
+		return;
+	to = r->pos / r->pagesz * r->pagesz;
+	if (to >= r->dropped + (4u << 20)) {
+		madvise((char *)r->base + r->dropped, to - r->dropped,
+			MADV_DONTNEED);
+		r->dropped = to;
+	}
+}
+
+static bool host_order(const struct sscope_reader *r)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+	return !r->big_endian;
+#elif defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+	return r->big_endian;
+#else
+	(void)r;
+	return false;
+#endif
+}
+
+/* whether x[0..n) holds only finite values, on vectors where available */
+static bool all_finite(const double *x, size_t n)
+{
+	double z = 0;
+	size_t i = 0;
+
+#if defined(__GNUC__)
+	typedef double v4 __attribute__((vector_size(32)));
+	v4 a = { 0 }, b = { 0 };
+
+	for (; i + 8 <= n; i += 8) {
+		v4 u, w;
+
+		memcpy(&u, x + i, sizeof(u));
+		memcpy(&w, x + i + 4, sizeof(w));
+		a += u * 0.0;
+		b += w * 0.0;
+	}
+	a += b;
+	z = (a[0] + a[1]) + (a[2] + a[3]);
+#endif
+	for (; i < n; i++)
+		z += x[i] * 0.0;
+	return z == 0;
+}
+
+bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
+			     double **x, size_t *n, size_t *n_nan,
+			     void **map, size_t *map_len)
+{
+	const struct colx *c = r->ncols == 1 ? &r->cols[0] : NULL;
+	const double *v = (const double *)r->base;
+	size_t len, nn = 0, ninf = 0;
+	void *base = (void *)r->base;
+
+	if (r->kind != K_RAW || !r->mapped || r->rtype != R_F64 ||
+	    !host_order(r) || !c || r->nsel != 1 || c->dest != 0 ||
+	    c->is_time || c->is_temp || r->rscale != 1 || r->roffset != 0 ||
+	    c->c.unit.scale != 1 || c->c.unit.offset != 0 || r->pos != 0 ||
+	    r->len % sizeof(double) || ((uintptr_t)base & 63))
+		return false;
+	len = r->len / sizeof(double);
+#ifdef MADV_POPULATE_READ
+	/* the page tables in one call instead of a fault per 64 KiB */
+	madvise(base, r->len, MADV_POPULATE_READ);
+#endif
+	/* NaN (a gap, if allowed) and infinities, counted in one pass when
+	 * a quick one finds any (0 * x is 0 for every finite x) */
+	if (!all_finite(v, len))
+		for (size_t i = 0; i < len; i++) {
+			nn += v[i] != v[i];
+			ninf += fabs(v[i]) > DBL_MAX;
+		}
+	if (ninf || (nn && !allow_nan))
+		return false; /* the row-by-row path reports it */
+	madvise(base, r->len, MADV_NORMAL);
+	*x = (double *)base;
+	*n = len;
+	*n_nan = nn;
+	*map = base;
+	*map_len = r->len;
+	r->mapped = false; /* the caller unmaps it */
+	r->base = NULL;
+	r->pos = r->len = 0;
+	return true;
+}
+
 static int read_binary(struct sscope_reader *r, struct sscope_chunk *ch,
 		       struct sscope_diag *diag)
 {
-	size_t rowb = r->ncols * r->rsize, row = 0;
+	size_t rowb = r->ncols * r->rsize, row = 0, slow = 0;
+	const bool fast = host_order(r) && r->rtype != R_I24;
 	int rc;
 
 	while (row < ch->capacity) {
 		const unsigned char *b;
+
+		if (slow)
+			slow--;
+		else if (fast && r->len - r->pos >= rowb) {
+			size_t rows = (r->len - r->pos) / rowb;
+
+			if (rows > ch->capacity - row)
+				rows = ch->capacity - row;
+			/* blocks of at most 1 MiB: a failed block is redone */
+			if (rows > (1u << 20) / rowb + 1)
+				rows = (1u << 20) / rowb + 1;
+			if (convert_block(r, (const unsigned char *)r->base + r->pos,
+					  rows, ch, row)) {
+				r->pos += rows * rowb;
+				r->line += rows;
+				row += rows;
+				drop_behind(r);
+				continue;
+			}
+			slow = rows; /* this block row by row */
+		}
 
 		if (r->len - r->pos < rowb) {
 			if (!r->eof) {

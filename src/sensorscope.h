@@ -34,6 +34,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -275,6 +276,12 @@ struct sscope_read_opts {
 	/** Threads for parsing a whole text file (sscope_capture_load); 0:
 	 *  one per online CPU, at most 8. */
 	unsigned threads;
+	/** sscope_capture_load(): a raw file of one float64 channel in the
+	 *  host's byte order with no scaling (the common dump of a logger)
+	 *  is used in place, memory-mapped read-only instead of copied (see
+	 *  sscope_capture.mapping); the caller promises not to write the
+	 *  channel data. */
+	bool in_place;
 	/** Progress callback (may be NULL): @p done of @p total bytes read;
 	 *  total is 0 when unknown (a pipe). */
 	void (*progress)(void *ctx, uint64_t done, uint64_t total);
@@ -326,6 +333,29 @@ struct sscope_reader;
 int sscope_reader_open(struct sscope_reader **reader, const char *path,
 		       const struct sscope_read_opts *opts,
 		       struct sscope_diag *diag);
+
+/**
+ * Check a raw binary layout "TYPE:CHANNELS[:le|be]" (sscope_read_opts.raw)
+ * without opening anything, so that a caller can refuse a bad one as a
+ * usage error before reading.
+ * @param layout      the layout text.
+ * @param channels    receives the channel count (1..4096; may be NULL).
+ * @param value_bytes receives the bytes per value (may be NULL).
+ * @param diag        optional: what is wrong, in one line.
+ * @return 0; -EINVAL for an empty or malformed layout (unknown type, a
+ *         channel count that is not a whole number in 1..4096, a byte
+ *         order other than le or be).
+ */
+int sscope_raw_layout_check(const char *layout, size_t *channels,
+			    size_t *value_bytes, struct sscope_diag *diag);
+
+/**
+ * @return true when the reader has read a text capture to its end and
+ *         the last data line has no newline: the capture may have been
+ *         cut short (that line was read as a row; a cell cut off entirely
+ *         is an error, a number cut short is not detectable).
+ */
+bool sscope_reader_unterminated(const struct sscope_reader *reader);
 
 /** @return the number of selected data channels. */
 size_t sscope_reader_n_channels(const struct sscope_reader *reader);
@@ -416,6 +446,47 @@ int sscope_intervals_sample(const double *t_s, double rate_hz, size_t n,
 			    const double *rows, size_t n_rows, size_t n_val,
 			    double *const *out);
 
+/**
+ * Order of a time column, fed in pieces (a streaming reader feeds every
+ * chunk).  Zero-initialise.  Counts intervals that are not positive and
+ * recognises a swapped pair of rows (a backward step whose exchange with
+ * the row before restores the order).
+ */
+struct sscope_time_order {
+	size_t n;            /**< stamps fed */
+	size_t n_repeats;    /**< intervals of exactly 0 (a repeated stamp) */
+	size_t n_decreasing; /**< negative intervals */
+	size_t n_swaps;      /**< of those, swapped pairs of adjacent rows
+				  (complete after sscope_time_order_check) */
+	size_t first_row;    /**< 0-based row of the first interval that is
+				  not positive (0: none) */
+	double first_t_s;    /**< that row's stamp */
+	double first_prev_s; /**< and the stamp before it */
+	double t0_s;         /**< the first stamp */
+	/* private: the last three stamps and a backward step waiting for the
+	 * next stamp to tell whether it was a swap */
+	double last_s[3];
+	int pending;
+};
+
+/** Feed the next @p n stamps (seconds); NaN stamps are not expected. */
+void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
+			    size_t n);
+
+/**
+ * Is the time column usable as sampling times?
+ * @param diag  receives the problem as a phrase to follow the column's
+ *              name: "has one row", "is constant (every row has the same
+ *              stamp)", "decreases in every row (...)", "has rows 3 and 4
+ *              in reverse order (...)", "repeats the stamp of row 3 at
+ *              row 4 (...)", "goes backwards 2 times (first at row 9:
+ *              ...)", with a count of further cases (rows 1-based).
+ * @return 0 when the stamps strictly increase (two or more of them);
+ *         -EDOM otherwise; -EINVAL for a NULL @p o.
+ */
+int sscope_time_order_check(const struct sscope_time_order *o,
+			    struct sscope_diag *diag);
+
 /** Sampling of a time column. */
 struct sscope_timing {
 	double dt_median_s; /**< median interval */
@@ -427,6 +498,9 @@ struct sscope_timing {
 	size_t n_gaps;        /**< intervals longer than gap_factor * median */
 	size_t n_missing;     /**< samples missing in those gaps (estimated) */
 	size_t n_backwards;   /**< non-increasing intervals */
+	/** order of the stamps (filled also when the analysis returns
+	 *  -EDOM); see sscope_time_order_check() */
+	struct sscope_time_order order;
 };
 
 /** A gap in time stamps. */
@@ -460,6 +534,14 @@ struct sscope_capture {
 	/** Container details (format, topics, receive times), or NULL for
 	 *  delimited text, raw and sensorscope binary files (owned). */
 	struct sscope_source *source_info;
+	/** A read-only file mapping that holds the channel data (read with
+	 *  sscope_read_opts.in_place), released by sscope_capture_free();
+	 *  NULL otherwise.  Such data must not be written, freed or
+	 *  reallocated by the caller. */
+	void *mapping;
+	size_t mapping_len;     /**< bytes of the mapping */
+	/** the last data line had no newline (sscope_reader_unterminated) */
+	bool unterminated;
 	/** Sampling of the time column (sscope_timing_analyze() with gap
 	 *  factor 1.5), valid when has_timing: loaded captures with a time
 	 *  column of two or more increasing stamps. */
@@ -507,6 +589,18 @@ int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 
 /** Free a capture (NULL is ignored). */
 void sscope_capture_free(struct sscope_capture *cap);
+
+/**
+ * Say that samples x[k * stride], from <= k < from + n, of a channel of
+ * @p capture (a struct sscope_capture *) will not be read for a while: when
+ * the capture is mapped from its file (sscope_read_opts.in_place) their
+ * memory pages are given back (a later read fetches them from the file
+ * again, or from the page cache); otherwise nothing happens.  Meant as
+ * sscope_allan_opts.release, so that a record and the Allan workspace are
+ * never both whole in memory.  Thread-safe.
+ */
+void sscope_capture_release(void *capture, const double *x, size_t stride,
+			    size_t from, size_t n);
 
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);
@@ -571,7 +665,10 @@ struct sscope_writer_column {
 
 /**
  * Create a capture file.  Data go to a temporary file beside @p path which
- * sscope_writer_commit() renames; sscope_writer_abort() removes it.
+ * sscope_writer_commit() renames; sscope_writer_abort() removes it.  A
+ * symbolic link's target is replaced (the link stays); "-" (standard
+ * output), /dev/stdout, FIFOs and devices are written directly, never
+ * replaced.
  * @param digits  significant digits for CSV (0 -> 17, exact round trip).
  * @return 0, -EINVAL (unknown unit, no columns), -errno from the OS.
  */
@@ -581,8 +678,19 @@ int sscope_writer_open(struct sscope_writer **w, const char *path,
 		       int digits, struct sscope_diag *diag);
 
 /**
+ * As sscope_writer_open(), on a stream the caller owns (a pipe, or a file
+ * the caller replaces atomically itself): sscope_writer_commit() flushes
+ * and checks @p f but neither closes nor renames it.
+ * @return 0, -EINVAL (unknown unit, no columns, NULL stream).
+ */
+int sscope_writer_fopen(struct sscope_writer **w, FILE *f,
+			enum sscope_capture_format fmt,
+			const struct sscope_writer_column *cols, size_t n_cols,
+			int digits, struct sscope_diag *diag);
+
+/**
  * Append @p rows rows; @p values is row-major, n_cols values per row, in SI.
- * @return 0 or -EIO.
+ * @return 0, or -errno of the failed write (-EIO when not known).
  */
 int sscope_writer_append(struct sscope_writer *w, const double *values,
 			 size_t rows);
@@ -590,7 +698,9 @@ int sscope_writer_append(struct sscope_writer *w, const double *values,
 /** Append a comment line ("# ..."); CSV only, ignored for binary. */
 int sscope_writer_comment(struct sscope_writer *w, const char *text);
 
-/** Flush, sync and rename into place; frees @p w.  @return 0 or -EIO. */
+/** Flush, sync and rename into place; frees @p w.
+ * @return 0, or -errno of the failed write, sync or rename (-EIO when not
+ * known). */
 int sscope_writer_commit(struct sscope_writer *w);
 
 /** Discard the temporary file; frees @p w (NULL is ignored). */
@@ -604,6 +714,12 @@ void sscope_writer_abort(struct sscope_writer *w);
 int sscope_capture_write(const struct sscope_capture *cap, const char *path,
 			 enum sscope_capture_format fmt, int digits,
 			 struct sscope_diag *diag);
+
+/** As sscope_capture_write(), on a stream the caller owns (see
+ * sscope_writer_fopen()). */
+int sscope_capture_fwrite(const struct sscope_capture *cap, FILE *f,
+			  enum sscope_capture_format fmt, int digits,
+			  struct sscope_diag *diag);
 
 /* ------------------------------------------------------------------ */
 /* Statistics and timing (analysis/stats.c, analysis/timing.c)          */
@@ -621,8 +737,9 @@ struct sscope_stats {
 
 /**
  * Mean, standard deviation, extremes of x[k*stride], k < n, skipping NaN.
- * Two passes with compensated sums: exact to a few ulps even with an offset
- * 1e9 times the spread.
+ * One pass over memory, each cache-sized block in two passes, blocks merged
+ * pairwise, sums compensated: exact to a few ulps even with an offset 1e9
+ * times the spread.
  * @return 0; -EDOM when fewer than one finite sample (sd needs two: with
  *         one sample sd is 0); -EINVAL for stride 0.
  */
@@ -630,7 +747,9 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st);
 
 /**
- * Analyse time stamps.
+ * Analyse time stamps.  Intervals that are not positive, and the two
+ * around a backward step (a swapped pair of rows makes them long), are
+ * neither gaps nor part of the rate.
  * @param t_s         n time stamps in seconds.
  * @param gap_factor  an interval longer than gap_factor times the median is
  *                    a gap (1.5 is usual).

@@ -47,7 +47,7 @@ const char *sscope_strerror(int err)
 	case ENOSPC:
 		return "no space left on device";
 	default:
-		return "unexpected error";
+		return strerror(err); /* the OS's text (read-only file system, ...) */
 	}
 }
 

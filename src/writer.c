@@ -6,7 +6,8 @@
  *   line 2: the CSV header ("time [s],gx [deg/s],...")
  *   then rows of little-endian IEEE 754 values, no padding.
  * Row counts follow from the file size, so a stream can be written without
- * seeking back.  Output is atomic (atomic.c).
+ * seeking back.  Output is atomic (atomic.c), or goes to a stream the
+ * caller owns (sscope_writer_fopen).
  */
 #include "internal.h"
 
@@ -18,7 +19,9 @@
 #include "atomic.h"
 
 struct sscope_writer {
-	struct ssc_atomic out;
+	struct ssc_atomic out; /* when the writer owns the file */
+	FILE *f;               /* where rows go (out.f or the caller's) */
+	bool own;
 	enum sscope_capture_format fmt;
 	size_t n_cols;
 	struct sscope_unit *units;
@@ -34,17 +37,18 @@ static bool host_little_endian(void)
 	return b == 1;
 }
 
-int sscope_writer_open(struct sscope_writer **wp, const char *path,
-		       enum sscope_capture_format fmt,
-		       const struct sscope_writer_column *cols, size_t n_cols,
-		       int digits, struct sscope_diag *diag)
+/* A writer on @p f, or on an atomic file at @p path when f is NULL. */
+static int writer_new(struct sscope_writer **wp, const char *path, FILE *f,
+		      enum sscope_capture_format fmt,
+		      const struct sscope_writer_column *cols, size_t n_cols,
+		      int digits, struct sscope_diag *diag)
 {
 	struct sscope_writer *w;
 	int rc;
 
 	*wp = NULL;
-	if (!path || !cols || n_cols == 0 || digits < 0 || digits > 17 ||
-	    fmt > SSCOPE_CAPTURE_BIN64)
+	if ((!path && !f) || !cols || n_cols == 0 || digits < 0 ||
+	    digits > 17 || fmt > SSCOPE_CAPTURE_BIN64)
 		return ssc_diag(diag, -EINVAL, "bad writer parameters");
 	w = calloc(1, sizeof(*w));
 	if (!w)
@@ -66,25 +70,63 @@ int sscope_writer_open(struct sscope_writer **wp, const char *path,
 			return rc;
 		}
 	}
-	rc = ssc_atomic_open(&w->out, path);
-	if (rc) {
-		free(w->units);
-		free(w);
-		return ssc_diag(diag, rc, "%s: %s", path, sscope_strerror(rc));
+	if (!f) {
+		rc = ssc_atomic_open(&w->out, path);
+		if (rc) {
+			free(w->units);
+			free(w);
+			return ssc_diag(diag, rc, "%s: %s", path,
+					strerror(-rc));
+		}
+		f = w->out.f;
+		w->own = true;
 	}
+	w->f = f;
 	if (fmt != SSCOPE_CAPTURE_CSV)
-		fprintf(w->out.f, "#sensorscope-binary 1 %s le\n",
+		fprintf(f, "#sensorscope-binary 1 %s le\n",
 			fmt == SSCOPE_CAPTURE_BIN32 ? "f32" : "f64");
 	for (size_t i = 0; i < n_cols; i++) {
 		const char *u = cols[i].unit ? cols[i].unit : "";
 
-		fprintf(w->out.f, "%s%s", i ? "," : "", cols[i].name);
+		fprintf(f, "%s%s", i ? "," : "", cols[i].name);
 		if (*u)
-			fprintf(w->out.f, " [%s]", u);
+			fprintf(f, " [%s]", u);
 	}
-	fputc('\n', w->out.f);
+	fputc('\n', f);
 	*wp = w;
 	return 0;
+}
+
+int sscope_writer_open(struct sscope_writer **wp, const char *path,
+		       enum sscope_capture_format fmt,
+		       const struct sscope_writer_column *cols, size_t n_cols,
+		       int digits, struct sscope_diag *diag)
+{
+	if (!path) {
+		*wp = NULL;
+		return ssc_diag(diag, -EINVAL, "bad writer parameters");
+	}
+	return writer_new(wp, path, NULL, fmt, cols, n_cols, digits, diag);
+}
+
+int sscope_writer_fopen(struct sscope_writer **wp, FILE *f,
+			enum sscope_capture_format fmt,
+			const struct sscope_writer_column *cols, size_t n_cols,
+			int digits, struct sscope_diag *diag)
+{
+	if (!f) {
+		*wp = NULL;
+		return ssc_diag(diag, -EINVAL, "bad writer parameters");
+	}
+	return writer_new(wp, NULL, f, fmt, cols, n_cols, digits, diag);
+}
+
+/* 0, or the stream's error (-errno when the atomic file knows it). */
+static int writer_error(const struct sscope_writer *w)
+{
+	if (w->own)
+		return ssc_atomic_error(&w->out);
+	return ferror(w->f) ? -EIO : 0;
 }
 
 static void put_le(FILE *f, const void *v, size_t n)
@@ -105,7 +147,7 @@ static void put_le(FILE *f, const void *v, size_t n)
 int sscope_writer_append(struct sscope_writer *w, const double *values,
 			 size_t rows)
 {
-	FILE *f = w->out.f;
+	FILE *f = w->f;
 
 	for (size_t r = 0; r < rows; r++) {
 		const double *row = values + r * w->n_cols;
@@ -131,20 +173,25 @@ int sscope_writer_append(struct sscope_writer *w, const double *values,
 		if (w->fmt == SSCOPE_CAPTURE_CSV)
 			fputc('\n', f);
 	}
-	return ferror(f) ? -EIO : 0;
+	return writer_error(w);
 }
 
 int sscope_writer_comment(struct sscope_writer *w, const char *text)
 {
 	if (w->fmt != SSCOPE_CAPTURE_CSV)
 		return 0;
-	fprintf(w->out.f, "# %s\n", text);
-	return ferror(w->out.f) ? -EIO : 0;
+	fprintf(w->f, "# %s\n", text);
+	return writer_error(w);
 }
 
 int sscope_writer_commit(struct sscope_writer *w)
 {
-	int rc = ssc_atomic_commit(&w->out);
+	int rc;
+
+	if (w->own)
+		rc = ssc_atomic_commit(&w->out);
+	else
+		rc = fflush(w->f) != 0 || ferror(w->f) ? -EIO : 0;
 
 	free(w->units);
 	free(w);
@@ -155,13 +202,14 @@ void sscope_writer_abort(struct sscope_writer *w)
 {
 	if (!w)
 		return;
-	ssc_atomic_abort(&w->out);
+	if (w->own)
+		ssc_atomic_abort(&w->out);
 	free(w->units);
 	free(w);
 }
 
-int sscope_capture_write(const struct sscope_capture *cap, const char *path,
-			 enum sscope_capture_format fmt, int digits,
+static int capture_write(const struct sscope_capture *cap, const char *path,
+			 FILE *f, enum sscope_capture_format fmt, int digits,
 			 struct sscope_diag *diag)
 {
 	struct sscope_writer_column *cols;
@@ -186,7 +234,7 @@ int sscope_capture_write(const struct sscope_capture *cap, const char *path,
 	if (cap->temp_degc)
 		cols[c++] = (struct sscope_writer_column){ cap->temp_col.name,
 							   cap->temp_col.unit_label };
-	rc = sscope_writer_open(&w, path, fmt, cols, nc, digits, diag);
+	rc = writer_new(&w, path, f, fmt, cols, nc, digits, diag);
 	for (size_t i = 0; !rc && i < cap->n; i++) {
 		c = 0;
 		if (cap->time_s)
@@ -202,8 +250,27 @@ int sscope_capture_write(const struct sscope_capture *cap, const char *path,
 	else
 		sscope_writer_abort(w);
 	if (rc)
-		ssc_diag(diag, rc, "%s: %s", path, sscope_strerror(rc));
+		ssc_diag(diag, rc, "%s: %s", path ? path : "(stream)",
+			 sscope_strerror(rc));
 	free(cols);
 	free(row);
 	return rc;
+}
+
+int sscope_capture_write(const struct sscope_capture *cap, const char *path,
+			 enum sscope_capture_format fmt, int digits,
+			 struct sscope_diag *diag)
+{
+	if (!path)
+		return ssc_diag(diag, -EINVAL, "bad writer parameters");
+	return capture_write(cap, path, NULL, fmt, digits, diag);
+}
+
+int sscope_capture_fwrite(const struct sscope_capture *cap, FILE *f,
+			  enum sscope_capture_format fmt, int digits,
+			  struct sscope_diag *diag)
+{
+	if (!f)
+		return ssc_diag(diag, -EINVAL, "bad writer parameters");
+	return capture_write(cap, NULL, f, fmt, digits, diag);
 }

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Coverage benchmark of the IEEE 952 noise fit (make bench): simulated
- * gyros (the library's simulator: Q white angle, N white rate, B flicker
+ * gyros at 10 Hz (the library's simulator: Q white angle, N white rate, B flicker
  * rate, K rate random walk, no rate ramp) over records of 1 to 24 h, at
  * least 200 realisations per length; for each coefficient it prints how
  * often the reported interval (or, for a term not fitted, the upper bound
@@ -9,8 +9,8 @@
  * and the median relative error of the fitted values.  R is zero in the
  * truth: its line counts how often a spurious ramp is reported as fitted.
  *
- * Usage: bench-noisefit [REALISATIONS [HOURS,...]]  (default 200;
- * 1,3,6,12,24).  Realisations run in parallel over the cores (OpenMP);
+ * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR]]]
+ * (default 200; 1,3,6,12,24; 0).  Realisations run in parallel over the cores (OpenMP);
  * run it niced on a shared machine.
  */
 #include "config.h"
@@ -48,6 +48,8 @@ struct tally {
 	int n_relerr[5];
 };
 
+static double g_model_error;
+
 static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		   size_t n, uint64_t seed, double *y, struct sscope_noise_fit *fit)
 {
@@ -68,10 +70,12 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		return rc;
 	{
 		struct sscope_allan_opts ao = { 0 };
+		struct sscope_noise_fit_opts fo = { 0 };
 
 		ao.threads = 1;
+		fo.model_error = g_model_error;
 		rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, &ao,
-					  NULL, &res, NULL);
+					  &fo, &res, NULL);
 	}
 	if (rc)
 		return rc;
@@ -86,7 +90,7 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 
 int main(int argc, char **argv)
 {
-	const double fs = 100;
+	const double fs = 10;
 	int reps = argc > 1 ? atoi(argv[1]) : 200;
 	double hours[16] = { 1, 3, 6, 12, 24 };
 	int n_hours = 5;
@@ -110,14 +114,17 @@ int main(int argc, char **argv)
 			s = *e == ',' ? e + 1 : e;
 		}
 	}
+	if (argc > 3)
+		g_model_error = atof(argv[3]);
 	if (reps < 1)
 		reps = 1;
 	memset(&spec, 0, sizeof(spec));
 	spec.quantity = SSCOPE_QTY_ANGULAR_RATE;
 	spec.range = 1e3;
-	/* a MEMS-class gyro: 1.8 arcsec angle white noise, 0.15 deg/sqrt(h),
-	 * a 1 deg/h flicker floor, 3 deg/h/sqrt(h) */
-	spec.q = 1.8 / 3600 * D2R;
+	/* a MEMS-class gyro at 10 Hz: 5 arcsec angle white noise (dominant
+	 * below 0.9 s), 0.15 deg/sqrt(h), a 1 deg/h flicker floor, 3
+	 * deg/h/sqrt(h) */
+	spec.q = 5.0 / 3600 * D2R;
 	spec.n = 0.15 / 60 * D2R;
 	spec.b = 1.0 / 3600 * D2R;
 	spec.k = 3.0 / 3600 / 60 * D2R;

@@ -33,7 +33,8 @@ json_check "LSB 10.99 deg/h" "$T/out" '.adcs[0].lsb.unit == "deg/h" and ((.adcs[
 json_check "ARW_q 0.00529 deg/sqrt(h)" "$T/out" '.adcs[0].terms.quantization_arw.unit == "deg/sqrt(h)" and ((.adcs[0].terms.quantization_arw.value - 0.0052858) | fabs) < 1e-6'
 json_check "16 bits pass, dithered" "$T/out" '.adcs[0].verdict == "pass" and .adcs[0].dithered and .adcs[0].min_bits == 14'
 if [ -z "$SSCOPE_RUN" ]; then
-	json_check "Monte Carlo: N and B kept within 1 %" "$T/out" '.adcs[0].monte_carlo | (.N.lo > 0.99 and .N.hi < 1.01 and .B.lo > 0.97 and .B.hi < 1.03)'
+	# N within 1 %; B, estimated with N and K free over 20 min, within 5 %
+	json_check "Monte Carlo: N and B kept within 1 % and 5 %" "$T/out" '.adcs[0].monte_carlo | (.N.lo > 0.99 and .N.hi < 1.01 and .B.lo > 0.95 and .B.hi < 1.05)'
 fi
 
 # seed case, quiet gyro: 16 bits fail (sigma/q = 0.27), 18 needed

@@ -24,6 +24,31 @@ run "rate-table needs --reference" 2 calib gyro --mode rate-table "$RT"
 # 1/0.993, 1/1.006 g per g, alpha_yz 0.004, alpha_zy -0.003, alpha_zx 0.005)
 run "calib accel multipos" 0 calib accel --format json "$MP"
 cp "$T/out" "$T/acc.json"
+
+# raw units: any affine change of the raw columns (here x' = 1e3 x + 1e4 on
+# counts) gives the same calibration: bias' = 1e3 b + 1e4, scale' =
+# scale / 1e3, misalignment and residual equal, within 1e-9 relative
+awk -F, 'NR==1{print;next} NR==2{print "time [s],gx [counts],gy [counts],gz [counts],ax [counts],ay [counts],az [counts]";next} {print}' "$MP" >"$T/raw.csv"
+awk -F, 'NR<=2{print;next} {printf "%s",$1; for(i=2;i<=7;i++) printf ",%.17g",1e3*$i+1e4; print ""}' "$T/raw.csv" >"$T/raw2.csv"
+for triad in accel gyro; do
+	run "calib $triad on counts" 0 calib $triad --accel ax,ay,az --gyro gx,gy,gz --format json "$T/raw.csv"
+	cp "$T/out" "$T/r1.json"
+	run "calib $triad on 1e3 counts + 1e4" 0 calib $triad --accel ax,ay,az --gyro gx,gy,gz --format json "$T/raw2.csv"
+	cp "$T/out" "$T/r2.json"
+	if ! command -v jq >/dev/null 2>&1; then
+		skip "calib $triad: affine change of the raw units" "jq not installed"
+	elif jq -e -n --slurpfile a "$T/r1.json" --slurpfile b "$T/r2.json" '
+		[range($a[0].triads | length) as $k | $a[0].triads[$k] as $p | $b[0].triads[$k] as $q |
+		 (range(3) as $i | ((($q.bias[$i] - 1e4) / 1e3 - $p.bias[$i]) / $p.bias[$i] | fabs),
+		  ($q.scale[$i] * 1e3 / $p.scale[$i] - 1 | fabs),
+		  (range(3) as $j | ($q.misalignment[$i][$j] - $p.misalignment[$i][$j]) | fabs)),
+		 ($q.residual_rms / $p.residual_rms - 1 | fabs)] | max < 1e-9 and
+		$a[0].detection.intervals == $b[0].detection.intervals' >/dev/null; then
+		ok "calib $triad: affine change of the raw units gives the same calibration (1e-9)"
+	else
+		not_ok "calib $triad: affine change of the raw units gives the same calibration (1e-9)"
+	fi
+done
 json_check "20 static intervals found" "$T/acc.json" '.detection.intervals == 20 and .triads[0].poses == 20'
 json_check "threshold rule reported" "$T/acc.json" '(.detection.rule | test("percentile")) and .detection.k >= 2 and .detection.threshold > 0'
 json_check "accel bias within 4 sd" "$T/acc.json" \

@@ -40,19 +40,34 @@ compare() {
 			n_cmds=$((n_cmds + 1))
 			ss "$@" --format json </dev/null >"$T/cmd.json" 2>"$T/cmd.err"
 			got=$?
+			want="$dir/$stage.json"
+			if [ ! -e "$want" ] && [ "$got" -ne 0 ]; then
+				# an inferred stage the data refused: the command
+				# refuses them with the same words
+				msg=$(sed -n "s/^sensorscope: $stage: //p" "$T/cmd.err")
+				if [ "$got" -eq 1 ] && [ -n "$msg" ] &&
+				   grep -qF "sensorscope: report: $stage: $msg" "$dir.err"; then
+					ok "$label: $stage: refused by the data, as the command refuses them"
+				else
+					not_ok "$label: $stage: the command refuses what the scene refused (exit $got)"
+					diag "$T/cmd.err"
+					diag "$dir.err"
+				fi
+				k=$((k + 1))
+				continue
+			fi
 			if [ "$got" -ne 0 ]; then
 				not_ok "$label: $stage: the command ran (exit $got)"
 				diag "$T/cmd.err"
 				k=$((k + 1))
 				continue
 			fi
-			want="$dir/$stage.json"
 			[ "$n" -gt 1 ] && want="$want#/files/$k"
-			# budget reads allan/calib from their JSON files (15
-			# significant digits) where the scene hands it the
-			# numbers themselves
+			# budget, navsim, heading and walk read allan/calib from
+			# their JSON files (15 significant digits) where the
+			# scene hands them the numbers themselves
 			tol=0
-			case $cmdline in *--result=*) tol=1e-12 ;; esac
+			case $cmdline in *--result=* | *--from-allan=* | *--from-calib=*) tol=1e-12 ;; esac
 			if "$SAME" "$want" "$T/cmd.json" $tol 2>"$T/same.err"; then
 				what=$stage
 				[ "$n" -gt 1 ] && what="$stage (capture $((k + 1)))"
@@ -81,6 +96,7 @@ for sc in "$SAMPLES"/*.scene.ini; do
 	run "scene $b: plan" 0 run --dry-run -o "$out" "$sc"
 	cp "$T/out" "$T/plan-$b"
 	run "scene $b: run" 0 run -q -o "$out" "$sc"
+	cp "$T/err" "$out.err"
 	compare "$out" "$T/plan-$b" "scene $b"
 done
 
@@ -93,6 +109,7 @@ for cap in "$SAMPLES"/*.csv "$SAMPLES"/imu-raw.bin; do
 	run "report $b: plan" 0 report --dry-run -o "$out" "$@" "$cap"
 	cp "$T/out" "$T/plan-$b"
 	run "report $b: run" 0 report -q -o "$out" "$@" "$cap"
+	cp "$T/err" "$out.err"
 	compare "$out" "$T/plan-$b" "report $b"
 done
 

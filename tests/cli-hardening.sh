@@ -42,4 +42,103 @@ for f in dims-overflow dims-overflow-positive; do
 		info -c x_1 "$CORPUS/mat/$f.mat"
 done
 
+# ---- 12. a malformed --raw layout is a usage error (exit 2, one line that
+# says what is wrong), on the command line and in a scene; '' is refused
+raw_bad() { # LAYOUT PATTERN
+	bad "--raw '$1'" 2 "info: --raw: $2" info --raw "$1" -r 100 \
+		"$SAMPLES/imu-raw.bin"
+}
+raw_bad i16:0 "bad raw layout 'i16:0': channels must be 1 to 4096"
+raw_bad u64:1 "bad raw layout 'u64:1': unknown type"
+raw_bad i16:3:xx "bad raw layout 'i16:3:xx': byte order 'xx' is not le or be"
+raw_bad i16:-1 "bad raw layout 'i16:-1': the channel count is not a whole number"
+raw_bad : "bad raw layout ':': missing type"
+raw_bad i16:65536 "bad raw layout 'i16:65536': channels must be 1 to 4096"
+raw_bad i16:18446744073709551617 "bad raw layout .i16:18446744073709551617.: channels must be 1 to 4096"
+raw_bad i16 "bad raw layout 'i16': no channel count"
+raw_bad '' "empty raw layout"
+run "--raw i16:6:be reads" 0 info --raw i16:6:be -r 100 "$SAMPLES/imu-raw.bin"
+cp "$SAMPLES/imu-raw.bin" "$T/imu-raw.bin"
+printf '[input]\nfiles = imu-raw.bin\nraw = i16:0\nrate = 100\n[allan]\n' \
+	>"$T/raw.scene.ini"
+bad "scene raw = i16:0" 2 'raw.scene.ini: line 3: raw: bad raw layout .i16:0.' \
+	run --dry-run "$T/raw.scene.ini"
+
+# ---- 9. a time column that is not increasing is named as such: info
+# warns (exit 0), allan and psd refuse (exit 1) unless --rate is given
+# (then a warning); a swapped pair is not "2 gaps", a repeated stamp not
+# a missing sample
+time_case() { # FILE PROBLEM
+	f="$CORPUS/text/$1.csv"
+	run "info $1" 0 info "$f"
+	has "info $1: warning" "$T/err" "warning: .*$1.csv: time column 't' $2"
+	lacks "info $1: no gaps claimed" "$T/out" 'missing|no time column'
+	for cmd in allan psd; do
+		bad "$cmd $1" 1 "$cmd: .*$1.csv: time column 't' $2.*give --rate" $cmd "$f"
+		bad_in "$cmd $1 (stdin)" 1 "$cmd: \(stdin\): time column 't' $2" "$f" $cmd -
+	done
+	[ "$1" = time-one-row ] && return # too short for allan anyway
+	run "allan -r 100 $1" 0 allan -r 100 "$f"
+	has "allan -r 100 $1: warning" "$T/err" "time column 't' $2.*: the samples are taken as evenly spaced at the given rate"
+}
+time_case time-decreasing 'decreases in every row'
+time_case time-constant 'is constant \(every row has the same stamp\)'
+time_case time-one-row 'has one row'
+time_case time-swapped 'has rows 3 and 4 in reverse order'
+time_case time-repeated 'repeats the stamp of row 3 at row 4'
+run "info swapped: rate from the ordered intervals" 0 info --format json "$CORPUS/text/time-swapped.csv"
+json_check "info swapped: 100 Hz, no gaps" "$T/out" '(.channels[0].rate_hz - 100 | fabs) < 1e-9 and (.gaps | length) == 0'
+
+# ---- found by fuzzing: 2555 raw channels on a pipe allocated 64 Ki rows of
+# each (1.3 GB) before reading a byte; now the arrays start small and grow
+head -c 81760 /dev/zero >"$T/zeros.bin"
+if (ulimit -v 400000 && ss --version) >/dev/null 2>&1; then
+	(ulimit -v 400000 && cat "$T/zeros.bin" |
+		ss info --raw f64:2555 -r 1 - >"$T/out" 2>"$T/err")
+	if [ $? -eq 0 ] && grep -q 'rows: *4$' "$T/out"; then
+		ok "2555 raw channels from a pipe in 400 MB of address space"
+	else
+		not_ok "2555 raw channels from a pipe in 400 MB of address space"
+		diag "$T/err"
+	fi
+else
+	skip "2555 raw channels from a pipe" "no address-space limit under this build"
+fi
+
+# ---- 10. inputs once accepted silently
+# duplicate column names: the channels could not be told apart
+DUP="$CORPUS/text/duplicate-columns.csv"
+bad "columns named alike" 1 "columns 2, 3 and 4 are all named 'gx': rename them" info "$DUP"
+bad "-c naming several columns" 1 "'gx' names columns 2, 3 and 4: select one by its number" info -c gx "$DUP"
+bad "allan on columns named alike" 1 "all named 'gx'" allan "$DUP"
+run "-c 3 picks one of them" 0 info --format json -c 3 "$DUP"
+json_check "-c 3: column 3's values" "$T/out" '.channels | length == 1 and .[0].mean == 2'
+# the same capture twice: two power cycles that agree to 1e-15, or a pipe
+# read twice; every multi-file command and scenes refuse it (exit 2)
+TH="$SAMPLES/accel-thermal.csv"
+bad "tempbias, one file twice" 2 "inputs 1 and 2 .* are the same file: give each capture once" \
+	tempbias "$TH" "$TH"
+ln -s "$TH" "$T/link.csv"
+bad "tempbias, a file and a link to it" 2 "are the same file" tempbias "$TH" "$T/link.csv"
+bad "tempbias - - from a pipe" 2 "standard input \('-'\) is given twice" tempbias - - <"$TH"
+cat "$SAMPLES/vibration.csv" | ss info - - >"$T/out" 2>"$T/err"
+[ $? -eq 2 ] && ok "info - - from a pipe (exit 2)" || not_ok "info - - from a pipe"
+has "info - - from a pipe: message" "$T/err" "standard input \('-'\) is given twice \(inputs 1 and 2\)"
+bad "info FILE - with FILE on stdin" 2 "inputs 1 and 2 .* are the same file" \
+	info "$SAMPLES/vibration.csv" - <"$SAMPLES/vibration.csv"
+bad "report, one file twice" 2 "are the same file" report -o "$T/rep" "$TH" "$TH"
+cp "$TH" "$T/th.csv"
+printf '[input]\nfiles = th.csv, ./th.csv\n[tempbias]\n' >"$T/twice.scene.ini"
+bad "scene naming one file twice" 2 "are the same file" run --dry-run "$T/twice.scene.ini"
+run "tempbias, two different files" 0 tempbias "$TH" "$T/th.csv"
+lacks "different paths, different files: no refusal" "$T/err" "same file"
+# a last data line without a newline (cut short?): read, with a warning
+CUT="$CORPUS/text/last-line-cut.csv"
+run "last line without newline" 0 info -r 10 "$CUT"
+has "last line: warning" "$T/err" "warning: .*last-line-cut.csv: the last line \(row 3\) has no newline: was the capture cut short\?"
+run_in "last line without newline, stdin" 0 "$CUT" psd -r 10 -
+has "last line, stdin: warning" "$T/err" "\(stdin\): the last line \(row 3\) has no newline"
+run "a complete last line" 0 info -r 10 "$SAMPLES/vibration.csv"
+lacks "complete: no warning" "$T/err" "no newline"
+
 done_testing

@@ -148,4 +148,23 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "--plot without OpenCV" 2 psd --plot "$T/psd.png" "$SAMPLES/vibration.csv"
 fi
+
+# peaks are listed only when they stand out of the local noise floor:
+# none in white noise (so no "strongest peak"), the four tones of the
+# vibration sample, each with its test
+printf '[sensor]\nname = white\nnoise_density = 0.2 deg/sqrt(h)\n' >"$T/white.ini"
+run "white noise capture" 0 simulate --sensor "$T/white.ini" --rate 100 --duration 600 --axes 3 -o "$T/white.csv"
+run "white noise: JSON" 0 psd --format json "$T/white.csv"
+json_check "white noise: no peak, the test stated" "$T/out" \
+	'[.channels[] | (.peaks == []) and .peak_test.alpha == 0.01 and .peak_test.bins_tested == 127 and .peak_test.edf > 100] | all'
+run "white noise: text" 0 psd "$T/white.csv"
+has "white noise: the text says no peak stands out" "$T/out" 'no peak stands out of the noise floor at false-alarm probability 0.01'
+run "tones: JSON" 0 psd --format json --nperseg 1024 -c ax "$SAMPLES/vibration.csv"
+json_check "tones: the four lines, each past the threshold" "$T/out" \
+	'.channels[0] as $c | ($c.peaks | length) == 4 and ([$c.peaks[] | .p_value < $c.peak_test.p_threshold and .ratio > $c.peak_test.ratio_threshold] | all)
+	 and ([$c.peaks[].frequency_hz | round] | sort) == [29, 59, 89, 360]'
+for bad in 0 1 -0.1 x; do
+	run "--peak-alpha $bad" 2 psd --peak-alpha "$bad" "$SAMPLES/vibration.csv"
+done
+one_line_error "--peak-alpha x"
 done_testing

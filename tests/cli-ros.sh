@@ -19,6 +19,12 @@ for f in imu-none.bag imu-bz2.bag imu-lz4.bag imu-zstd.mcap imu-lz4.mcap \
 	 imu-ros1.mcap rosbag2-mcap rosbag2 rosbag2/rosbag2_0.db3; do
 	case $f in rosbag2|rosbag2/*)
 		if [ $have_db3 = 0 ]; then
+			# recognised by its leading bytes, refused with the fix
+			mkdir -p "$T/r/rosbag2"
+			{ printf 'SQLite format 3\000'; head -c 4080 /dev/zero; } \
+				>"$T/r/rosbag2/rosbag2_0.db3"
+			printf 'rosbag2_bagfile_information:\n  storage_identifier: sqlite3\n  relative_file_paths:\n    - rosbag2_0.db3\n' \
+				>"$T/r/rosbag2/metadata.yaml"
 			run "$f without SQLite" 2 info "$T/r/$f"
 			has "$f: names the fix" "$T/err" 'without SQLite.*--with-sqlite3'
 			one_line_error "$f"
@@ -128,7 +134,7 @@ gn=$(jq '[.channels[] | select(.quantity == "angular rate") | .noise.N.si] | max
 gx=$(jq '[.channels[] | select(.name == "gx") | .noise.N.si] | max' "$T/out")
 close() { awk -v a="$1" -v b="$2" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 2e-6 * (a < 0 ? -a : a)) }'; }
 v=$(sed -n 's/^  gyroscope_noise_density: \([^ ]*\).*/\1/p' "$T/ov.yaml")
-if close "$v" "$(awk -v x="$gn" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gn" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "openvins: gyroscope_noise_density = 3 x the largest gyro N ($v)"
 else
 	not_ok "openvins: gyroscope_noise_density $v, fit $gn x 3"
@@ -142,7 +148,7 @@ for key in accelerometer_noise_density accelerometer_random_walk gyroscope_rando
 	has "openvins: $key" "$T/ov.yaml" "^  $key: [0-9.]+e-0[0-9] +# \\["
 done
 v=$(sed -n 's/^gyroscope_noise_density: \([^ ]*\).*/\1/p' "$T/k.yaml")
-if close "$v" "$(awk -v x="$gn" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gn" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "kalibr: inflated like openvins"
 else
 	not_ok "kalibr: gyroscope_noise_density $v"
@@ -152,7 +158,7 @@ has "imu_utils: layout" "$T/iu.yaml" '^%YAML:1.0$'
 has "imu_utils: Gyr block in rad/s" "$T/iu.yaml" '^Gyr:$'
 has "imu_utils: Acc unit" "$T/iu.yaml" '^   unit: " m/s\^2"$'
 v=$(awk '/^   x-axis:/ { getline; print $2; exit }' "$T/iu.yaml")
-if close "$v" "$(awk -v x="$gx" 'BEGIN { print 3 * x }')"; then
+if close "$v" "$(awk -v x="$gx" 'BEGIN { printf "%.17g", 3 * x }')"; then
 	ok "imu_utils: x-axis gyr_n = 3 x N of gx"
 else
 	not_ok "imu_utils: x-axis gyr_n $v, gx N $gx"
@@ -162,6 +168,13 @@ one_line_error "--inflate below 1"
 run "openvins without accelerometer" 1 allan -c gx,gy,gz --openvins "$T/ov2.yaml" "$T/r/imu-lz4.bag"
 has "openvins without accelerometer: says what it needs" "$T/err" 'needs both a gyro .* and an accelerometer'
 if [ -e "$T/ov2.yaml" ]; then not_ok "openvins: no file on failure"; else ok "openvins: no file on failure"; fi
+
+# a scene names the topic in [input]
+cp "$T/r/two-imu.mcap" "$T/two.mcap"
+printf '[input]\nfiles = two.mcap\ntopic = /imu1/data\n[allan]\n[report]\nformats = json\noutput = sc\n' >"$T/s.ini"
+run "scene with [input] topic" 0 run "$T/s.ini"
+json_check "scene: allan on the named topic" "$T/sc/report.json" \
+  '.results.allan.channels[0].samples == 6000 and (.results.allan.channels | length) == 6'
 
 # allan on a 1 h 200 Hz IMU topic equals allan on the same data as CSV
 "$GEN" "$T/h" 200 3600 csv && "$GEN" "$T/h" 200 3600 mcap || not_ok "gen-ros 1 h"

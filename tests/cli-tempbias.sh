@@ -47,6 +47,30 @@ json_check "repeatability over 3 runs" "$T/out" '.channels[0].turn_on_repeatabil
 json_check "slope 0.1 mg/degC within 4 sd" "$T/out" '((.channels[0].sensitivity - 0.1) | fabs) <= 4 * .channels[0].sensitivity_sd'
 json_check "hysteresis 0.5 mg within 10 %" "$T/out" '((.channels[0].hysteresis.term - 0.5) | fabs) <= 0.05'
 
+# hysteresis vs gradient: on ramps of equal |dT/dt| up and down dT/dt is
+# +-r with the heating/cooling state, so the two terms are collinear: the
+# fit names it and reports the combined heating - cooling gap (truth 3 deg/h
+# of hysteresis, no gradient) within 4 of its sd; on a sine cycle the rate
+# varies within heating and cooling and both terms are recovered (truth
+# 3 deg/h and 0.5 deg/h per degC/min) within 4 sd
+cat >"$T/gyro.ini" <<'INI'
+[sensor]
+noise_density = 0.15 deg/sqrt(h)
+bias_tempco = 2 deg/h/degC
+INI
+ss simulate --sensor "$T/gyro.ini" --rate 1 --duration 8h --seed 7 --temp-cycle -10:50:7200:triangle \
+   --temp-noise 0.01 --hysteresis 3 --units deg/h -o "$T/tri.csv" 2>"$T/err" || { not_ok "simulate triangle"; diag "$T/err"; }
+run "symmetric ramps" 0 tempbias --format json --order 1 "$T/tri.csv"
+json_check "symmetric ramps: collinearity named, combined gap 3 deg/h within 4 sd" "$T/out" \
+  '.channels[0].hysteresis as $h | $h.collinear_with_gradient == true and $h.gradient_vif > 10 and ($h.separate_with | test("sine")) and ((($h.combined_gap.value - 3) | fabs) <= 4 * $h.combined_gap.sd) and .channels[0].gradient_sensitivity == null'
+run "symmetric ramps, text" 0 tempbias --order 1 "$T/tri.csv"
+has "text names the collinearity" "$T/out" 'collinear on this profile'
+ss simulate --sensor "$T/gyro.ini" --rate 1 --duration 8h --seed 7 --temp-cycle -10:50:7200:sine \
+   --temp-noise 0.01 --hysteresis 3 --gradient 30 --units deg/h -o "$T/sine.csv" 2>"$T/err" || { not_ok "simulate sine"; diag "$T/err"; }
+run "sine cycle" 0 tempbias --format json --order 1 "$T/sine.csv"
+json_check "sine cycle: hysteresis and gradient both within 4 sd" "$T/out" \
+  '.channels[0] as $c | $c.hysteresis.collinear_with_gradient == false and ((($c.hysteresis.term - 3) | fabs) <= 4 * $c.hysteresis.term_sd) and ((($c.gradient_sensitivity - 30) | fabs) <= 4 * $c.gradient_sensitivity_sd)'
+
 # errors
 cat >"$T/notemp.csv" <<'CSV'
 time [s],ax [g]

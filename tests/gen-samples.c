@@ -17,6 +17,8 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "drive-sim.h"
+
 #define PI 3.14159265358979323846
 #define D2R (PI / 180)
 
@@ -645,6 +647,72 @@ static void inclino(const char *dir)
 	gsl_rng_free(r);
 }
 
+/*
+ * drive-stops.csv: a car's vertical gyro and accelerometers on a 20-min
+ * drive with stops (tests/drive-sim.h, seed 1012, latitude 48 deg), 10 Hz:
+ * still for the first 60 s, then 30 s stops every 180 s of driving;
+ * the gyro bias follows the warming engine bay (20 -> 45 degC), so the
+ * heading drifts unless the bias is re-estimated at the stops; the true
+ * heading is in heading_ref.
+ */
+static void drive_stops(const char *dir)
+{
+	struct drive d;
+	FILE *f = open_out(dir, "drive-stops.csv");
+
+	if (drive_simulate(&d, 10, 1200, 1012, 48 * D2R)) {
+		fprintf(stderr, "gen-samples: drive simulation failed\n");
+		exit(1);
+	}
+	fprintf(f, "# sensorscope sample: vertical gyro on a drive with stops (simulated by sensorscope, seed 1012; samples/README.md)\n"
+		   "# rate: 10 Hz\n"
+		   "gz [deg/s],ax [m/s^2],ay [m/s^2],az [m/s^2],temp [degC],heading_ref [deg]\n");
+	for (size_t i = 0; i < d.n; i++) {
+		double h = fmod(d.heading[i] / D2R, 360);
+
+		fprintf(f, "%.5f,%.3f,%.3f,%.3f,%.2f,%.4f\n", d.gz[i] / D2R, d.acc[0][i],
+			d.acc[1][i], d.acc[2][i], d.temp[i], h < 0 ? h + 360 : h);
+	}
+	fclose(f);
+	drive_free(&d);
+}
+
+/*
+ * drive-trajectory.csv: true motion of a 10-min drive for `navsim
+ * --trajectory`, 1 Hz rows (the simulator interpolates them by cubic
+ * splines): speed up to 15 m/s in 20 s, six turns (raised-cosine yaw-rate
+ * pulses of +-6 to 12 deg/s over 10 s) with the body banking into them
+ * (roll 0.5 v r / g), slowing to a stop over the last 20 s; flat (down 0).
+ * Deterministic, no random numbers.
+ */
+static void drive_trajectory(const char *dir)
+{
+	const double fs = 100, T = 600, g = 9.80665;
+	const double turn_t[6] = { 60, 140, 230, 320, 410, 500 };
+	const double turn_r[6] = { 8, -12, 6, 10, -9, -6 };
+	FILE *f = open_out(dir, "drive-trajectory.csv");
+	double n = 0, e = 0, yaw = 20 * D2R;
+
+	fprintf(f, "# sensorscope sample: true motion of a 10-min drive, tangent plane of the start (samples/README.md)\n"
+		   "time [s],north [m],east [m],down [m],roll [deg],pitch [deg],yaw [deg]\n");
+	for (size_t i = 0; i <= (size_t)(T * fs); i++) {
+		double t = (double)i / fs, v, r = 0;
+
+		v = t < 20 ? 15 * 0.5 * (1 - cos(PI * t / 20)) :
+		    t > T - 20 ? 15 * 0.5 * (1 + cos(PI * (t - T + 20) / 20)) : 15;
+		for (int k = 0; k < 6; k++)
+			if (t >= turn_t[k] && t < turn_t[k] + 10)
+				r = turn_r[k] * D2R * 0.5 * (1 - cos(2 * PI * (t - turn_t[k]) / 10));
+		if (i % (size_t)fs == 0)
+			fprintf(f, "%.0f,%.4f,%.4f,0,%.5f,0,%.5f\n", t, n, e,
+				0.5 * v * r / g / D2R, yaw / D2R);
+		n += v * cos(yaw) / fs;
+		e += v * sin(yaw) / fs;
+		yaw += r / fs;
+	}
+	fclose(f);
+}
+
 int main(int argc, char **argv)
 {
 	const char *dir = argc > 1 ? argv[1] : "samples";
@@ -659,5 +727,7 @@ int main(int argc, char **argv)
 	imu_multipose(dir);
 	gyro_ratetable(dir);
 	inclino(dir);
+	drive_stops(dir);
+	drive_trajectory(dir);
 	return 0;
 }

@@ -3,7 +3,9 @@
  * json-same A.json[#/POINTER] B.json[#/POINTER] [REL]: exit 0 when the two
  * JSON values are the same -- objects with the same keys, arrays of the
  * same length, equal strings, booleans and nulls, and numbers equal within
- * the relative tolerance REL (default 0: bit-equal) -- else print the
+ * the relative tolerance REL (default 0: bit-equal; in an array of numbers,
+ * relative to its largest magnitude, so that a curve passing near zero is
+ * held to its own scale) -- else print the
  * first difference (its path and both values) and exit 1; 2 for a
  * missing or malformed file.  POINTER selects a member (RFC 6901), e.g.
  * "#/files/1".  Used by the equivalence tests of scenes and commands.
@@ -71,14 +73,33 @@ static int differ(const char *path, json_t *a, json_t *b)
 	return 1;
 }
 
-static int same(const char *path, json_t *a, json_t *b)
+/* The largest magnitude in two arrays when both hold only numbers, else 0. */
+static double array_scale(json_t *a, json_t *b)
+{
+	double m = 0;
+
+	for (size_t i = 0; i < json_array_size(a); i++) {
+		json_t *x = json_array_get(a, i), *y = json_array_get(b, i);
+
+		if (!json_is_number(x) || !json_is_number(y))
+			return 0;
+		m = fmax(m, fmax(fabs(json_number_value(x)),
+				 fabs(json_number_value(y))));
+	}
+	return m;
+}
+
+static int same(const char *path, json_t *a, json_t *b);
+
+static int same_scaled(const char *path, json_t *a, json_t *b, double scale)
 {
 	char sub[1024];
 
 	if (json_is_number(a) && json_is_number(b)) {
 		double x = json_number_value(a), y = json_number_value(b);
 
-		if (x == y || fabs(x - y) <= rel_tol * fmax(fabs(x), fabs(y)))
+		if (x == y ||
+		    fabs(x - y) <= rel_tol * fmax(scale, fmax(fabs(x), fabs(y))))
 			return 0;
 		return differ(path, a, b);
 	}
@@ -104,14 +125,22 @@ static int same(const char *path, json_t *a, json_t *b)
 	if (json_is_array(a)) {
 		if (json_array_size(a) != json_array_size(b))
 			return differ(path, a, b);
+		double m = array_scale(a, b);
+
 		for (size_t i = 0; i < json_array_size(a); i++) {
 			snprintf(sub, sizeof(sub), "%s/%zu", path, i);
-			if (same(sub, json_array_get(a, i), json_array_get(b, i)))
+			if (same_scaled(sub, json_array_get(a, i),
+					json_array_get(b, i), m))
 				return 1;
 		}
 		return 0;
 	}
 	return json_equal(a, b) ? 0 : differ(path, a, b);
+}
+
+static int same(const char *path, json_t *a, json_t *b)
+{
+	return same_scaled(path, a, b, 0);
 }
 
 int main(int argc, char **argv)

@@ -136,6 +136,18 @@ START_TEST(test_variance_magnitude)
 		}
 		ck_assert_rel(vs[i], sqrt(v2), 1e-9);
 	}
+	/* affine raw units (x' = 1e3 x + 33000): the magnitude scales by
+	 * 1e6, so the static detector's thresholds (multiples of a
+	 * percentile of it) pick the same samples */
+	{
+		double x2[3 * N], vs2[N];
+
+		for (int i = 0; i < 3 * N; i++)
+			x2[i] = 1e3 * x[i] + 33000;
+		sscope_calib_variance_magnitude(x2, x2 + 1, x2 + 2, 3, N, W, vs2);
+		for (int i = W / 2; i + W / 2 < N; i++)
+			ck_assert_rel(vs2[i], 1e6 * vs[i], 1e-9);
+	}
 	/* a constant gives zero */
 	for (int i = 0; i < 3 * N; i++)
 		x[i] = 2.385;
@@ -286,6 +298,29 @@ START_TEST(test_accel_fit_errors)
 	m[3][1] = NAN;
 	ck_assert_int_eq(sscope_calib_accel_fit((const double(*)[3])m, 30, G0,
 						&est, NULL), -EINVAL);
+	/* raw counts: an offset of 33000 and 414 counts per m/s^2 give the
+	 * same calibration as the SI means (bias' = 414 b + 33000, scale' =
+	 * scale / 414), to 1e-9 */
+	{
+		struct sscope_calib_triad e1, e2;
+
+		sim_poses(r, &tru, 30, 1e-3, m);
+		ck_assert_int_eq(sscope_calib_accel_fit((const double(*)[3])m, 30, G0,
+							&e1, NULL), 0);
+		for (int k = 0; k < 30; k++)
+			for (int i = 0; i < 3; i++)
+				m[k][i] = 414 * m[k][i] + 33000;
+		ck_assert_int_eq(sscope_calib_accel_fit((const double(*)[3])m, 30, G0,
+							&e2, NULL), 0);
+		for (int i = 0; i < 3; i++) {
+			ck_assert_rel((e2.bias[i] - 33000) / 414, e1.bias[i], 1e-9);
+			ck_assert_rel(e2.scale[i] * 414, e1.scale[i], 1e-9);
+			ck_assert_rel(e2.scale_sd[i] * 414, e1.scale_sd[i], 1e-7);
+			for (int j = 0; j < 3; j++)
+				ck_assert(fabs(e2.mis[i][j] - e1.mis[i][j]) < 1e-9);
+		}
+		ck_assert_rel(e2.residual_rms, e1.residual_rms, 1e-9);
+	}
 	gsl_rng_free(r);
 }
 END_TEST

@@ -203,6 +203,37 @@ START_TEST(timing_stream_equals_whole)
 		sscope_timing_stream_free(ts);
 	}
 	ck_assert_uint_eq(a.n_gaps, 6);
+	/* disorder: a swapped pair and a step back at the end are neither
+	 * gaps nor regular intervals, in both forms; the interval after a
+	 * repeated stamp (rows 1 and 2000) is a gap of two periods; the
+	 * order is described alike */
+	t[1] = t[0];
+	{
+		double x = t[100];
+
+		t[100] = t[101];
+		t[101] = x;
+	}
+	t[2000] = t[1999];
+	t[N - 1] = t[N - 3];
+	ck_assert_int_eq(sscope_timing_analyze(t, N, 1.5, &a, NULL, 0, NULL, scratch), 0);
+	ck_assert_uint_eq(a.n_gaps, 8);
+	for (size_t c = 0; c < sizeof(chunks) / sizeof(chunks[0]); c++) {
+		ck_assert_int_eq(sscope_timing_stream_new(&ts, 1.5), 0);
+		for (size_t i = 0; i < N; i += chunks[c])
+			ck_assert_int_eq(sscope_timing_stream_feed(ts, t + i,
+				i + chunks[c] <= N ? chunks[c] : N - i), 0);
+		ck_assert_int_eq(sscope_timing_stream_result(ts, &b), 0);
+		ck_assert(b.rate_hz == a.rate_hz);
+		ck_assert_uint_eq(b.n_gaps, a.n_gaps);
+		ck_assert_uint_eq(b.n_missing, a.n_missing);
+		ck_assert_uint_eq(b.n_backwards, a.n_backwards);
+		ck_assert_uint_eq(b.order.n_swaps, a.order.n_swaps);
+		ck_assert_uint_eq(b.order.n_repeats, a.order.n_repeats);
+		ck_assert_uint_eq(b.order.first_row, a.order.first_row);
+		ck_assert_rel(b.jitter_rms_s, a.jitter_rms_s, 1e-9);
+		sscope_timing_stream_free(ts);
+	}
 }
 END_TEST
 

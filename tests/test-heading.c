@@ -286,6 +286,45 @@ START_TEST(test_heading_refused)
 }
 END_TEST
 
+START_TEST(test_static_reference)
+{
+	/* calib's detector reference, shared with heading */
+	double x[200], vs[200], work[200], ref = 0;
+	struct sscope_diag d = { "" };
+
+	for (int i = 0; i < 200; i++)
+		x[i] = sin(0.37 * i) * (i < 100 ? 1 : 10);
+	ck_assert_int_eq(sscope_calib_variance_magnitude(x, x, x, 1, 200, 11, vs), 0);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), 0);
+	ck_assert(ref > 0 && ref < 1);
+	/* the first 5 s (quiet half): sqrt(3 var^2) of those samples */
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 5, vs, work,
+						       &ref, &d), 0);
+	{
+		struct sscope_stats st;
+
+		sscope_stats_compute(x, 1, 50, &st);
+		ck_assert_rel(ref, sqrt(3.0) * st.sd * st.sd, 1e-14);
+	}
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 30, vs, work,
+						       &ref, &d), -EDOM);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 0, 0, vs, work,
+						       &ref, &d), -EINVAL);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, NULL, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EINVAL);
+	for (int i = 0; i < 200; i++)
+		x[i] = 2.5;
+	sscope_calib_variance_magnitude(x, x, x, 1, 200, 11, vs);
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EDOM);
+	for (int i = 0; i < 200; i++)
+		vs[i] = INFINITY;
+	ck_assert_int_eq(sscope_calib_static_reference(x, x, x, 1, 200, 10, 0, vs, work,
+						       &ref, &d), -EDOM);
+}
+END_TEST
+
 static double *white(size_t n, double fs, double N, double B, double K,
 		     unsigned long seed)
 {
@@ -333,7 +372,7 @@ START_TEST(test_walk_fan)
 	/* the bias window inflates the spread: N^2 (t + t^2 / T) */
 	ck_assert_rel(r->sigma[500], N * sqrt(50 + 2500 / 10.0), 1e-12);
 	ck_assert(isnan(r->inside[0]) && r->sigma[0] == 0 && r->paths[0] == 0);
-	ck_assert_int_eq(sscope_walk_implied_n(r, o.coef, 500, 0.99, &im), 0);
+	ck_assert_int_eq(sscope_walk_implied_n(r, 500, 0.99, &im), 0);
 	ck_assert_msg(im.lo < N && N < im.hi, "implied N %g [%g, %g], truth %g", im.n,
 		      im.lo, im.hi, N);
 	ck_assert(fabs(im.t_s - 50) < 1e-12);
@@ -344,10 +383,11 @@ START_TEST(test_walk_fan)
 	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r, NULL), 0);
 	ck_assert(r->global && r->n_runs == 600);
 	ck_assert_msg(fabs(r->inside_mean - p) < 0.03, "global: inside %g", r->inside_mean);
-	ck_assert_rel(r->sigma[600], N * sqrt(60 + 3600 / 36000.0), 1e-12);
-	ck_assert_int_eq(sscope_walk_implied_n(r, o.coef, 600, 0, &im), 0);
+	/* the run lies inside the mean's window: N^2 (t - t^2 / T) */
+	ck_assert_rel(r->sigma[600], N * sqrt(60 - 3600 / 36000.0), 1e-12);
+	ck_assert_int_eq(sscope_walk_implied_n(r, 600, 0, &im), 0);
 	ck_assert(fabs(im.n / N - 1) < 0.05);
-	ck_assert_int_eq(sscope_walk_implied_n(r, o.coef, 0, 0, &im), -EINVAL);
+	ck_assert_int_eq(sscope_walk_implied_n(r, 0, 0, &im), -EINVAL);
 	sscope_walk_result_free(r);
 	free(x);
 }
@@ -386,7 +426,7 @@ END_TEST
 
 START_TEST(test_walk_refused)
 {
-	double x[100] = { 0 }, c[5] = { 0 };
+	double x[100] = { 0 };
 	struct sscope_walk_opts o = { 0 };
 	struct sscope_walk_result *r = NULL;
 	struct sscope_diag d = { "" };
@@ -412,7 +452,20 @@ START_TEST(test_walk_refused)
 	o.coef[2] = 0;
 	ck_assert_int_eq(sscope_walk_compute(x, 1, 100, &o, &r, &d), 0);
 	ck_assert_int_eq(r->n_runs, 5);
-	ck_assert_int_eq(sscope_walk_implied_n(r, c, 3, 1.5, NULL), -EINVAL);
+	sscope_walk_result_free(r);
+	{
+		/* a record that moves: quiet, then rotating back and forth */
+		double *y = white(2000, 10, 1e-3, 0, 0, 19106);
+
+		for (size_t i = 1000; i < 2000; i++)
+			y[i] += 0.5 * sin(0.3 * (double)i);
+		ck_assert_int_eq(sscope_walk_compute(y, 1, 2000, &o, &r, &d), -EDOM);
+		ck_assert(strstr(d.msg, "moves") != NULL);
+		o.max_contrast = -1;
+		ck_assert_int_eq(sscope_walk_compute(y, 1, 2000, &o, &r, &d), 0);
+		free(y);
+	}
+	ck_assert_int_eq(sscope_walk_implied_n(r, 3, 1.5, NULL), -EINVAL);
 	sscope_walk_result_free(r);
 	sscope_walk_result_free(NULL);
 }
@@ -429,6 +482,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_heading_drive);
 	tcase_add_test(tc, test_heading_envelope);
 	tcase_add_test(tc, test_heading_refused);
+	tcase_add_test(tc, test_static_reference);
 	tcase_add_test(tc, test_walk_fan);
 	tcase_add_test(tc, test_walk_all_terms);
 	tcase_add_test(tc, test_walk_refused);

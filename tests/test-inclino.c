@@ -170,6 +170,30 @@ START_TEST(lut_calibration)
 	ck_assert_int_eq(sscope_inclino_validate(plan, poses, np, &v), 0);
 	printf("# cubic spline: calibrated max %.4f deg\n", v.max_deg);
 	ck_assert(v.max_deg <= 0.1);
+	/* the per-pose errors are what the summary summarises; a pose past
+	 * 85 degrees of pitch is skipped (NaN) */
+	{
+		double (*e)[2] = malloc(np * sizeof(*e)), (*u)[2] = malloc(np * sizeof(*u));
+		double mx = 0, mu = 0, s2 = 0, pitch0 = poses[0].pitch_rad;
+
+		ck_assert_int_eq(sscope_inclino_pose_errors(plan, poses, np, e, u), 0);
+		for (size_t i = 0; i < np; i++)
+			for (int c = 0; c < 2; c++) {
+				mx = fmax(mx, fabs(e[i][c]));
+				mu = fmax(mu, fabs(u[i][c]));
+				s2 += e[i][c] * e[i][c];
+			}
+		ck_assert(mx == v.max_deg && mu == v.max_uncomp_deg);
+		ck_assert(fabs(sqrt(s2 / (2.0 * (double)np)) - v.rms_deg) < 1e-12 * v.rms_deg);
+		poses[0].pitch_rad = 86 * D2R;
+		ck_assert_int_eq(sscope_inclino_pose_errors(plan, poses, np, e, NULL), 0);
+		ck_assert(isnan(e[0][0]) && isnan(e[0][1]) && isfinite(e[1][0]));
+		ck_assert_int_eq(sscope_inclino_pose_errors(plan, poses, 1, e, NULL), -EDOM);
+		ck_assert_int_eq(sscope_inclino_pose_errors(plan, NULL, 1, e, NULL), -EINVAL);
+		poses[0].pitch_rad = pitch0;
+		free(e);
+		free(u);
+	}
 	/* clamping outside the range */
 	{
 		struct sscope_inclino_params a, b;

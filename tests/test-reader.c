@@ -343,6 +343,34 @@ START_TEST(raw_layouts)
 }
 END_TEST
 
+/* sscope_raw_layout_check: every malformed layout is -EINVAL with a
+ * message; good ones give their channels and value size */
+START_TEST(raw_layout_check)
+{
+	static const char *const bad[] = { "", ":", "i16", "i16:", "i16:0",
+					   "u64:1", "i16:3:xx", "i16:-1",
+					   "i16:+1", "i16: 3", "i16:65536",
+					   "i16:4097", "i16:18446744073709551617",
+					   "i16:2:le:", "I16:2", "i16:2x" };
+	struct sscope_diag d;
+	size_t ch = 0, sz = 0;
+
+	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+		d.msg[0] = '\0';
+		ck_assert_msg(sscope_raw_layout_check(bad[i], &ch, &sz, &d) == -EINVAL,
+			      "'%s' accepted", bad[i]);
+		ck_assert_msg(d.msg[0] != '\0', "'%s': no message", bad[i]);
+	}
+	ck_assert_int_eq(sscope_raw_layout_check(NULL, NULL, NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_raw_layout_check("i24:4096:be", &ch, &sz, &d), 0);
+	ck_assert_uint_eq(ch, 4096);
+	ck_assert_uint_eq(sz, 3);
+	ck_assert_int_eq(sscope_raw_layout_check("f64:1", &ch, &sz, NULL), 0);
+	ck_assert_uint_eq(ch, 1);
+	ck_assert_uint_eq(sz, 8);
+}
+END_TEST
+
 static struct sscope_capture *sample_capture(size_t n)
 {
 	struct sscope_capture *cap = sscope_capture_new(2, n, true, true);
@@ -473,6 +501,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, unselected_unknown_unit_ok);
 	tcase_add_test(tc, missing_file);
 	tcase_add_test(tc, raw_layouts);
+	tcase_add_test(tc, raw_layout_check);
 	tcase_add_test(tc, round_trips);
 	tcase_add_test(tc, atomic_abort);
 	tcase_add_test(tc, chunked_equals_whole);

@@ -6,6 +6,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <string.h>
 #include <stdlib.h>
 
 #include <gsl/gsl_randist.h>
@@ -133,6 +134,98 @@ START_TEST(mean_interval)
 }
 END_TEST
 
+/* feed t in pieces of `piece` stamps and check; returns the code and
+ * leaves the message in d */
+static int order_of(const double *t, size_t n, size_t piece,
+		    struct sscope_time_order *o, struct sscope_diag *d)
+{
+	*o = (struct sscope_time_order){ 0 };
+	for (size_t i = 0; i < n; i += piece)
+		sscope_time_order_feed(o, t + i, n - i < piece ? n - i : piece);
+	d->msg[0] = '\0';
+	return sscope_time_order_check(o, d);
+}
+
+/* Time columns that are not increasing: each problem named, the same
+ * whether fed at once or stamp by stamp (a streaming reader's chunks) */
+START_TEST(time_order)
+{
+	double t[64], scratch[63];
+	struct sscope_time_order o;
+	struct sscope_timing tm;
+	struct sscope_diag d;
+	const size_t n = 40;
+
+	for (size_t piece = 1; piece <= n; piece += 13) {
+		for (size_t i = 0; i < n; i++)
+			t[i] = 0.01 * (double)i;
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), 0);
+		ck_assert_int_eq(order_of(t, 1, piece, &o, &d), -EDOM);
+		ck_assert_str_eq(d.msg, "has one row");
+		/* one swapped pair (rows 3 and 4, 1-based) */
+		t[2] = 0.03;
+		t[3] = 0.02;
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "has rows 3 and 4 in reverse order"),
+			      "%s", d.msg);
+		ck_assert_uint_eq(o.n_decreasing, 1);
+		/* a second pair, at the very end */
+		t[n - 2] = 0.01 * (double)(n - 1);
+		t[n - 1] = 0.01 * (double)(n - 2);
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "and 1 more swapped pair"), "%s", d.msg);
+		/* a repeated stamp (row 4 repeats row 3) */
+		for (size_t i = 0; i < n; i++)
+			t[i] = 0.01 * (double)i;
+		t[3] = t[2];
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "repeats the stamp of row 3 at row 4"),
+			      "%s", d.msg);
+		ck_assert_uint_eq(o.n_repeats, 1);
+		ck_assert_uint_eq(o.n_decreasing, 0);
+		/* a clock reset: backwards, not a swap */
+		for (size_t i = 0; i < n; i++)
+			t[i] = 0.01 * (double)(i < 20 ? i + 100 : i);
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "goes backwards once (first at row 21"),
+			      "%s", d.msg);
+		/* constant; decreasing */
+		for (size_t i = 0; i < n; i++)
+			t[i] = 2.5;
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "is constant"), "%s", d.msg);
+		for (size_t i = 0; i < n; i++)
+			t[i] = -0.01 * (double)i;
+		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
+		ck_assert_msg(strstr(d.msg, "decreases in every row"), "%s", d.msg);
+	}
+	ck_assert_int_eq(sscope_time_order_check(NULL, NULL), -EINVAL);
+	/* the analysis: a swapped pair is neither two gaps nor part of the
+	 * rate; a repeated stamp does not lower the rate */
+	for (size_t i = 0; i < n; i++)
+		t[i] = 0.01 * (double)i;
+	t[10] = 0.11;
+	t[11] = 0.10;
+	ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,
+					       scratch), 0);
+	ck_assert_uint_eq(tm.n_gaps, 0);
+	ck_assert_uint_eq(tm.n_backwards, 1);
+	ck_assert_rel(tm.rate_hz, 100, 1e-12);
+	ck_assert_int_eq(sscope_time_order_check(&tm.order, NULL), -EDOM);
+	for (size_t i = 0; i < n; i++)
+		t[i] = 0.01 * (double)(i < 10 ? i : i - 1);
+	ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,
+					       scratch), 0);
+	ck_assert_uint_eq(tm.n_gaps, 0);
+	ck_assert_uint_eq(tm.order.n_repeats, 1);
+	ck_assert_rel(tm.rate_hz, 100, 1e-12);
+	/* -EDOM analyses still describe the order */
+	ck_assert_int_eq(sscope_timing_analyze(t, 1, 1.5, &tm, NULL, 0, NULL,
+					       scratch), -EDOM);
+	ck_assert_uint_eq(tm.order.n, 1);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("stats");
@@ -143,6 +236,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, nan_and_edges);
 	tcase_add_test(tc, timing_gaps);
 	tcase_add_test(tc, mean_interval);
+	tcase_add_test(tc, time_order);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -367,6 +367,12 @@ out:
 	return NULL;
 }
 
+/* the capture's name in messages */
+static const char *shown(const char *path)
+{
+	return strcmp(path, "-") ? path : "standard output";
+}
+
 static int open_writer(struct engine *e, struct sscope_diag *diag)
 {
 	const struct ssc_acq_config *cfg = e->cfg;
@@ -390,8 +396,8 @@ static int open_writer(struct engine *e, struct sscope_diag *diag)
 	if (rc) {
 		sscope_writer_abort(e->w);
 		e->w = NULL;
-		return ssc_acq_diag(diag, rc, "%s: %s", cfg->path,
-				    sscope_strerror(rc));
+		return ssc_acq_diag(diag, rc, "%s: %s", shown(cfg->path),
+				    strerror(-rc));
 	}
 	return 0;
 }
@@ -525,8 +531,8 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	if (e->writer_err) {
 		res->stop = SSC_STOP_ERROR;
 		res->error = e->writer_err;
-		rc = ssc_acq_diag(diag, e->writer_err, "%s: %s", cfg->path,
-				  sscope_strerror(e->writer_err));
+		rc = ssc_acq_diag(diag, e->writer_err, "%s: %s", shown(cfg->path),
+				  strerror(-e->writer_err));
 		sscope_writer_abort(e->w);
 		e->w = NULL;
 	} else {
@@ -553,8 +559,8 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 			sscope_writer_abort(e->w);
 		e->w = NULL;
 		if (wrc) {
-			rc = ssc_acq_diag(diag, wrc, "%s: %s", cfg->path,
-					  sscope_strerror(wrc));
+			rc = ssc_acq_diag(diag, wrc, "%s: %s", shown(cfg->path),
+					  strerror(-wrc));
 			res->error = wrc;
 			res->stop = SSC_STOP_ERROR;
 		} else {

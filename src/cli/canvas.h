@@ -14,7 +14,7 @@
 
 /* Size of super- and subscripts relative to their text, and their shift
  * of the baseline in units of the text's size. */
-#define SSC_SCRIPT_SCALE 0.8
+#define SSC_SCRIPT_SCALE 0.85
 #define SSC_SUP_SHIFT 0.42
 #define SSC_SUB_SHIFT 0.2
 

@@ -66,6 +66,7 @@ struct ssc_command_spec {
 	const struct ssc_option *options; /* NULL-name terminated, or NULL */
 	bool analysis;        /* accepts the shared analysis options */
 	bool output_opts;     /* accepts --format/-o (non-analysis commands) */
+	bool output_dir;      /* -o names a folder replaced as a whole */
 	const char *notes;    /* extra help text after the options, or NULL */
 };
 
@@ -90,7 +91,6 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		    int (*handler)(int key, const char *arg, void *ctx),
 		    void *ctx, int *first);
 
-/* Print "sensorscope: CMD: message" to stderr. */
 /* Read an interval table: lines "START END V1 ... Vn" (nval values, at
  * most 6; comma or blanks; '#' comments).  Times in s unless a unit says
  * otherwise; values in SI unit `si` unless a unit says otherwise, bare
@@ -104,8 +104,16 @@ int ssc_read_intervals(const struct ssc_common *co, const char *opt,
 
 /* The text of the last ssc_err() message (without the prefix). */
 const char *ssc_last_error(void);
+/* Print "sensorscope: CMD: message" to stderr.  Messages (and warnings,
+ * usage errors) are one line: bytes a terminal would act on (control
+ * characters, bidirectional overrides, bytes that are not UTF-8) are
+ * written as \xNN, and a quoted excerpt longer than 64 bytes is cut, with
+ * its length. */
 void ssc_err(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
+/* Messages of commands run inside another (the stages of `run`) start
+ * "sensorscope: OUTER: CMD: "; NULL ends it. */
+void ssc_set_outer(const char *outer);
 /* Print "sensorscope: CMD: warning: message" unless quiet. */
 void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
@@ -147,6 +155,27 @@ int ssc_select(const struct ssc_common *co, struct sscope_capture *cap);
 int ssc_view(const struct ssc_common *co, const struct sscope_capture *cap,
 	     struct sscope_capture **view);
 
+/* Warn that a text capture's last line has no newline (cut short?). */
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows);
+
+/* Refuse an input named twice: standard input ('-') twice, or two names
+ * of one file (same device and inode: a second path, a link, '-' fed
+ * from that file).  Several files mean several captures (power cycles,
+ * poses); one read twice would fake agreement.  Returns an exit code. */
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n);
+
+/* Judge a time column's order (sscope_time_order_check).  For an analysis
+ * that assumes uniform sampling (@p uniform) a disordered column is an
+ * error naming the problem, unless the rate came from --rate or a header
+ * (then a warning); otherwise (info) a warning.  Returns an exit code. */
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform);
+/* The same for a loaded capture (nothing to judge without a time column). */
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform);
+
 /* Is progress shown? (auto: stderr is a terminal and not quiet) */
 bool ssc_progress_on(const struct ssc_common *co);
 /* Progress line on stderr: "label: 42% ..." (total 0: bytes only). */
@@ -154,19 +183,85 @@ void ssc_progress(const struct ssc_common *co, const char *label,
 		  double done, double total);
 void ssc_progress_end(const struct ssc_common *co);
 
-/* Output sink: stdout or an atomic file (-o). */
+/*
+ * The output layer (output.c).  Every file the CLI writes goes through it:
+ * regular files are replaced atomically (a link's target, the link kept),
+ * FIFOs, devices and standard output are written directly; a failed write
+ * is one message "CMD: PATH: <errno text>"; temporary files and staging
+ * folders are removed on SIGINT/SIGTERM/SIGHUP/SIGPIPE.
+ */
 struct ssc_out {
 	FILE *f;
 	void *priv;
 };
+/* Open the sink for @p path (NULL or "-": standard output).  Prints
+ * errors; returns an exit code. */
+int ssc_file_open(const char *cmd, const char *path, struct ssc_out *out);
+/* Commit (ok) or discard.  A write error is reported here, also when the
+ * caller saw it (ok false because ferror()); returns the exit code. */
+int ssc_file_close(struct ssc_out *out, bool ok);
+/* The same for the command's -o (or standard output). */
 int ssc_out_open(const struct ssc_common *co, struct ssc_out *out);
-/* Commit (ok) or discard; returns the exit code to use. */
 int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok);
+/* Write a whole file (a figure, a page); returns 0 or -errno, prints
+ * nothing. */
+int ssc_file_put(const char *path, const void *buf, size_t len);
+/* The one message for an output that could not be written: "CMD: PATH:
+ * <strerror>".  Returns the exit code (2 for -ENOTSUP, else 1). */
+int ssc_write_failed(const char *cmd, const char *path, int rc);
+/* Flush standard output (at the end of a command, or where a command
+ * flushes it itself); a failure is said once.  Returns an exit code. */
+int ssc_stdout_finish(const char *cmd);
+/* Install the SIGINT/SIGTERM/SIGHUP/SIGPIPE cleanup (signals the caller
+ * ignores stay ignored). */
+void ssc_signals_init(void);
+
+/* Outputs compared with inputs before anything is written. */
+enum { SSC_GUARD_IN, SSC_GUARD_OUT, SSC_GUARD_DIR };
+struct ssc_guard_item {
+	const char *what; /* how the user named it: "-o", "--plot", ... */
+	const char *path;
+	int role;         /* SSC_GUARD_IN, _OUT (a file), _DIR (a folder
+			     replaced as a whole) */
+};
+/* Usage error (exit 2) when an output is an input (same device and inode;
+ * for a folder: an input inside it), when two outputs are the same file,
+ * or when an output's name is empty; @p stdout_out: standard output is
+ * an output too. */
+int ssc_guard_check(const char *cmd, const struct ssc_guard_item *items,
+		    size_t n, bool stdout_out);
+/* How messages name the long option @p name when it writes a file ("-o",
+ * "--plot", "--kalibr", ...), or NULL when it does not write one. */
+const char *ssc_output_option(const char *name);
+
+/* A report folder built in a staging folder beside it and put into place
+ * (exchanged with the old one) only when complete. */
+struct ssc_outdir {
+	char *dir;    /* write here: the staging folder */
+	char *target; /* the folder it becomes (links resolved) */
+	char *shown;  /* its name in messages */
+	const char *const *stages; /* names of STAGE.ext files it may hold */
+	int slot;
+	bool existed;
+};
+/* Check @p dir (an existing one must hold only report files: report.*,
+ * STAGE.ext, STAGE-N.ext for @p stages) and create the staging folder.
+ * Prints errors; returns an exit code. */
+int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
+		     const char *const *stages, struct ssc_outdir *od);
+/* Put the staging folder into place and remove the previous report. */
+int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od);
+/* Remove the staging folder. */
+void ssc_outdir_abort(struct ssc_outdir *od);
 
 /* JSON helpers: non-finite numbers become null. */
 json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
+
+/* A unit for people: deg -> degree sign, sqrt(h) -> root, ug -> micro,
+ * ^2 -> superscript (figures and reports; the JSON keeps the ASCII form). */
+void ssc_unit_pretty(const char *in, char *out, size_t len);
 
 /* Append {"code", "message"} to obj's "warnings" array (made when
  * missing): a result the analysis itself doubts (a rejected fit, an
@@ -183,6 +278,12 @@ void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
  */
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 		      const char *si_unit, bool fitted);
+
+/* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
+ * it; prints errors, returns exit code (cmd-inclino.c). */
+struct sscope_inclino_lut;
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut);
 
 /* Load the [sensor] section of a spec file; prints errors, returns exit. */
 int ssc_load_sensor(const char *cmd, const char *path,
@@ -229,5 +330,8 @@ int ssc_cmd_model(int argc, char **argv);
 int ssc_cmd_allan(int argc, char **argv);
 int ssc_cmd_simulate(int argc, char **argv);
 int ssc_cmd_adc(int argc, char **argv);
+int ssc_cmd_heading(int argc, char **argv);
+int ssc_cmd_walk(int argc, char **argv);
+int ssc_cmd_navsim(int argc, char **argv);
 
 #endif

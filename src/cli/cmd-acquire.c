@@ -612,7 +612,10 @@ int ssc_cmd_acquire(int argc, char **argv)
 	} else if (res.samples || !rc) {
 		text_summary(sf, &o, co.output, &src->info, &res);
 	}
-	fflush(sf);
+	if (sf == stdout) /* a failed summary is said like every output */
+		ssc_stdout_finish(co.cmd);
+	else
+		fflush(sf);
 	ssc_source_close(src);
 
 	if (rc) {

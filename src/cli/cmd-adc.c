@@ -111,6 +111,7 @@ struct ropts {
 	double mc_duration;
 	unsigned long seed;
 	const char *plot;
+	const char *mc_opt; /* --mc-duration or --seed given */
 };
 
 static void r_init(void *p)
@@ -153,6 +154,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->mc_duration > 0))
 			return ssc_usage_error(cmd, "--mc-duration: must be positive");
+		o->mc_opt = "mc-duration";
 		return 0;
 	case O_SEED: {
 		size_t v;
@@ -160,6 +162,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 		if (ssc_arg_size(cmd, "seed", arg, &v))
 			return SSC_EXIT_USAGE;
 		o->seed = (unsigned long)v;
+		o->mc_opt = "seed";
 		return 0;
 	}
 	case 'p': {
@@ -450,60 +453,102 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	}
 }
 
+/* Top: ADEV of the sensor alone and through each converter, the median of
+ * the Monte-Carlo runs with their 10-90 % band; bottom: the ratio of the
+ * two in each run (same realisation, so the sensor's own scatter cancels),
+ * which is what the verdict is about. */
 static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		       const struct adc_res *ar, int n)
 {
-	struct ssc_fig *fig = ssc_fig_new(1000, 650, 1, 1);
-	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
+	struct ssc_fig *fig = ssc_fig_new(1000, 1000, 2, 1);
+	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0), *rx = ssc_fig_ax(fig, 1, 0);
 	enum sscope_quantity q = ss->quantity;
 	const char *bu = qty_unit(q, SSCOPE_TERM_B, false), *bsi = qty_unit(q, SSCOPE_TERM_B, true);
 	double scale = in_unit(1, bsi, bu);
-	char buf[160];
+	char buf[200];
 	int rc, drawn = 0;
+	size_t runs = 0;
 
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
-	ssc_ax_xlabel(ax, "\xcf\x84 (s)");
+	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
 	snprintf(buf, sizeof(buf), "ADEV (%s)", bu);
 	ssc_ax_ylabel(ax, buf);
 	snprintf(buf, sizeof(buf), "%s: alone and through each converter", ss->name);
 	ssc_ax_title(ax, buf);
+	ssc_ax_log(rx, true, false);
+	ssc_ax_grid(rx, true);
+	ssc_ax_xlabel(rx, "averaging time \xcf\x84 (s)");
+	ssc_ax_ylabel(rx, "ADEV through / ADEV alone");
+	ssc_ax_title(rx, "what each converter adds, run by run");
 	for (int i = 0; i < n; i++) {
-		double *yi, *yo;
-		struct ssc_style st = { .color = ssc_plot_color((size_t)i + 1), .width = 2 };
+		const struct adc_res *a = &ar[i];
+		size_t np = a->mc.n_points, nr = a->mc.n_runs;
+		double *m = malloc(3 * np * sizeof(double));
+		double *lo = malloc(3 * np * sizeof(double));
+		double *hi = malloc(3 * np * sizeof(double));
+		uint32_t col = ssc_plot_color((size_t)i + 1);
+		struct ssc_style st = { .color = col, .width = 2, .dash = SSC_DASHED };
 
-		if (!ar[i].mc.n_points)
+		if (!np || !nr) {
+			free(m);
+			free(lo);
+			free(hi);
 			continue;
-		yi = malloc(ar[i].mc.n_points * sizeof(double));
-		yo = malloc(ar[i].mc.n_points * sizeof(double));
-		if (!yi || !yo) {
-			free(yi);
-			free(yo);
+		}
+		if (!m || !lo || !hi) {
+			free(m);
+			free(lo);
+			free(hi);
 			ssc_fig_free(fig);
 			return -ENOMEM;
 		}
-		for (size_t k = 0; k < ar[i].mc.n_points; k++) {
-			yi[k] = ar[i].mc.dev_in[k] * scale;
-			yo[k] = ar[i].mc.dev_out[k] * scale;
+		runs = nr;
+		for (size_t k = 0; k < np; k++) {
+			double qv[3];
+
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_ALONE, k, qv);
+			lo[k] = qv[0] * scale;
+			m[k] = qv[1] * scale;
+			hi[k] = qv[2] * scale;
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_THROUGH, k, qv);
+			lo[np + k] = qv[0] * scale;
+			m[np + k] = qv[1] * scale;
+			hi[np + k] = qv[2] * scale;
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_RATIO, k, qv);
+			lo[2 * np + k] = qv[0];
+			m[2 * np + k] = qv[1];
+			hi[2 * np + k] = qv[2];
 		}
 		if (!drawn) {
-			struct ssc_style s0 = { .color = 0x202020, .width = 3 };
+			struct ssc_style s0 = { .color = 0x202020, .width = 2.5 };
 
-			ssc_ax_line(ax, ar[i].mc.tau_s, yi, ar[i].mc.n_points, &s0, "sensor alone");
+			ssc_ax_band(ax, a->mc.tau_s, lo, hi, np, 0x202020, 0.15, NULL);
+			ssc_ax_line(ax, a->mc.tau_s, m, np, &s0, "sensor alone");
 		}
-		snprintf(buf, sizeof(buf), "%s (%d b): %s", ar[i].spec.name, ar[i].spec.bits,
-			 sscope_adc_verdict_name(ar[i].an.verdict));
-		st.dash = SSC_DASHED;
-		ssc_ax_line(ax, ar[i].mc.tau_s, yo, ar[i].mc.n_points, &st, buf);
+		snprintf(buf, sizeof(buf), "%s (%d b): %s", a->spec.name, a->spec.bits,
+			 sscope_adc_verdict_name(a->an.verdict));
+		ssc_ax_band(ax, a->mc.tau_s, lo + np, hi + np, np, col, 0.18, NULL);
+		ssc_ax_line(ax, a->mc.tau_s, m + np, np, &st, buf);
+		st.dash = SSC_SOLID;
+		ssc_ax_band(rx, a->mc.tau_s, lo + 2 * np, hi + 2 * np, np, col, 0.2, NULL);
+		ssc_ax_line(rx, a->mc.tau_s, m + 2 * np, np, &st, buf);
 		drawn++;
-		free(yi);
-		free(yo);
+		free(m);
+		free(lo);
+		free(hi);
 	}
 	if (!drawn) {
 		ssc_fig_free(fig);
 		return -EDOM;
 	}
-	ssc_ax_legend(ax, SSC_LEGEND_AUTO);
+	{
+		struct ssc_style one = { .color = 0x202020, .width = 1.2, .dash = SSC_DOTTED };
+
+		ssc_ax_hline(rx, 1, &one, "no change");
+	}
+	snprintf(buf, sizeof(buf), "lines: median of %zu Monte-Carlo runs\nbands: 10-90 %% of the runs\nsensor alone: the first converter's runs; each converter has its own realisations (compare below)", runs);
+	ssc_ax_note(ax, buf, SSC_LEGEND_AUTO);
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	return rc;
@@ -533,6 +578,10 @@ static int r_check(struct ssc_common *co, void *opts)
 
 	if (o->plot)
 		co->plot = o->plot;
+	/* options that would be ignored */
+	if (o->mc_opt && o->mc == 0)
+		return ssc_usage_error(co->cmd, "--%s: no Monte-Carlo check (--monte-carlo 0)",
+				       o->mc_opt);
 	return SSC_EXIT_OK;
 }
 
@@ -741,8 +790,9 @@ static int r_plot(const struct ssc_common *co, const void *opts,
 	(void)opts;
 	if (e == -EDOM)
 		return ssc_usage_error(co->cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
-	return e ? ssc_fail(co->cmd, e, NULL, path) : SSC_EXIT_OK;
+	return e ? ssc_write_failed(co->cmd, path, e) : SSC_EXIT_OK;
 }
+
 
 const struct ssc_stage_ops ssc_adc_stage = {
 	.spec = &report_spec,
@@ -866,6 +916,7 @@ static int cmd_quantize(int argc, char **argv)
 	double *buf = NULL;
 	size_t clipped = 0;
 	bool added_time = false;
+	struct ssc_out sink;
 	int first, rc;
 
 	rc = ssc_parse(&quant_spec, argc, argv, &co, q_handle, &o, &first);
@@ -908,6 +959,11 @@ static int cmd_quantize(int argc, char **argv)
 	}
 	if (o.mode >= 0)
 		spec.mode = (enum sscope_adc_mode)o.mode;
+	if (spec.mode == SSCOPE_ADC_INTEGRATE) {
+		rc = ssc_time_check(&co, argv[first], cap, true);
+		if (rc)
+			goto done;
+	}
 	if (spec.mode == SSCOPE_ADC_INTEGRATE && !(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "--mode integrate needs the sample rate (--rate or a time column)");
 		goto done;
@@ -978,17 +1034,22 @@ static int cmd_quantize(int argc, char **argv)
 		cap->time_col.quantity = SSCOPE_QTY_TIME;
 		added_time = true;
 	}
-	rc = sscope_capture_write(cap, co.output ? co.output : "-", o.fmt, 0, &d);
+	rc = ssc_out_open(&co, &sink);
+	if (!rc) {
+		int e = sscope_capture_fwrite(cap, sink.f, o.fmt, 0, &d);
+
+		if (e && !ferror(sink.f)) /* not a write error: said here */
+			ssc_fail(co.cmd, e, &d, co.output ? co.output : "standard output");
+		rc = ssc_out_close(&co, &sink, e == 0);
+	}
 	if (added_time) {
 		/* not owned by the capture's allocator: give it back ourselves */
 		free(cap->time_s);
 		cap->time_s = NULL;
 		memset(&cap->time_col, 0, sizeof(cap->time_col));
 	}
-	if (rc) {
-		rc = ssc_fail(co.cmd, rc, &d, co.output ? co.output : "(stdout)");
+	if (rc)
 		goto done;
-	}
 	if (clipped)
 		ssc_warn(&co, "%zu samples clipped at the range", clipped);
 	rc = SSC_EXIT_OK;
@@ -1135,6 +1196,9 @@ static int cmd_test(int argc, char **argv)
 	rc = ssc_load(&co, argv[first], &cap);
 	if (rc)
 		return rc;
+	rc = ssc_time_check(&co, argv[first], cap, true);
+	if (rc)
+		goto done;
 	if (!(cap->rate_hz > 0)) {
 		rc = ssc_usage_error(co.cmd, "no sample rate: give --rate or a time column");
 		goto done;
@@ -1265,7 +1329,7 @@ static int cmd_test(int argc, char **argv)
 						free(dnl);
 						free(inl);
 						json_decref(j);
-						rc = ssc_fail(co.cmd, pe, NULL, co.plot);
+						rc = ssc_write_failed(co.cmd, co.plot, pe);
 						goto done_json;
 					}
 				}

@@ -54,16 +54,16 @@ static const struct ssc_option allan_opts[] = {
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
-	  "terms the fit may use, e.g. N,B,K (default auto: Q,N,B,K,R, selected by AIC)" },
+	  "terms the fit may use, e.g. N,B,K (default Q,N,B,K,R; those above 3 sd are reported as resolved)" },
 	{ "fit-tau", required_argument, OPT_FIT_TAU, "MIN:MAX",
 	  "fit only taus in [MIN, MAX] seconds (either may be empty)" },
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
-	  "relative error of the five-term model per point (default 0.01; 0 none)" },
+	  "relative error of the five-term model per point (default 0: none)" },
 	{ "stride", required_argument, OPT_STRIDE, "K",
 	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
-	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's)" },
+	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
 	{ "threads", required_argument, OPT_THREADS, "N",
 	  "threads of the computation (default: all)" },
 	{ NULL, 0, 0, NULL, NULL },
@@ -253,6 +253,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_NO_FIT:
 		a->no_fit = true;
+		a->fo.skip = true;
 		return 0;
 	case OPT_DEV_UNIT: {
 		struct sscope_unit u;
@@ -318,7 +319,7 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
 	u->dev_scale = unit_scale(u->dev);
 	/* shown unit: --dev-unit, or the conventional bias unit */
-	if (a->dev_unit && a->ao.dev != SSCOPE_DEV_TDEV) {
+	if (a->dev_unit) {
 		struct sscope_unit want, have;
 
 		sscope_unit_parse(a->dev_unit, &want, NULL);
@@ -400,6 +401,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 
 	fr->path = path;
 	fr->cap = cap;
+	rc = ssc_time_check(co, path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
 			path);
@@ -424,6 +428,10 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		c->nan = cap->channels[k].n_nan;
 		set_units(a, c->col, &c->u);
 		ao.ci_level = a->ci;
+		/* a capture used in place gives its pages back behind the
+		 * phase pass */
+		ao.release = sscope_capture_release;
+		ao.release_ctx = cap;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &a->fo,
 					  &c->res, &d);
@@ -485,8 +493,20 @@ static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c
 	char b1[32], b2[32], b3[32];
 	size_t n = 0;
 
-	if (a->no_fit || !c->res->have_fit)
+	if (a->no_fit)
 		return 0;
+	if (!c->res->have_fit) {
+		/* too short a record, too few points: said, not hidden */
+		if (max) {
+			w[0].code = "fit_failed";
+			snprintf(w[0].msg, sizeof(w[0].msg),
+				 "%s: no noise terms: %s", c->col->name,
+				 c->res->fit_diag.msg[0] || c->res->fit_error ?
+				 fit_msg(c) : "the fit failed");
+			return 1;
+		}
+		return 0;
+	}
 	if (fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),
@@ -578,7 +598,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, terms %s selected by AIC; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, resolved above 3 sd: %s; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
 			sel, ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
@@ -605,14 +625,29 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 				fprintf(f, "    %c  %-22s %11s %-16s (not fitted)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu);
 		}
-		fprintf(f, "  classic read-offs: N = sigma(1 s) on the -1/2 line: %s %s; B = min/0.6643: %s %s at tau = %s s; K = sigma(3 s) on the +1/2 line: %s %s\n",
-			ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
-			u->term[1],
-			ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
-			u->term[2],
-			ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
-			ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
-			u->term[3]);
+		/* the classic read-offs, where the fitted model says each term
+		 * dominates (or that it dominates nowhere) */
+		fprintf(f, "  classic read-offs where the fit says the term dominates:");
+		if (isfinite(ft->readoff.n))
+			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
+				ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
+				u->term[1]);
+		else
+			fprintf(f, " N: no tau where N dominates;");
+		if (isfinite(ft->readoff.b))
+			fprintf(f, " B = min/0.6643: %s %s at tau = %s s;",
+				ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
+				u->term[2], ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4));
+		else
+			fprintf(f, " B: the minimum is not dominated by B;");
+		if (isfinite(ft->readoff.k))
+			fprintf(f, " K = sigma(3 s) on the +1/2 line through tau = %s s: %s %s\n",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.k_tau_s, 4),
+				ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
+				u->term[3]);
+		else
+			fprintf(f, " K: no tau where K dominates\n");
 	}
 	{
 		struct warn w[6];
@@ -707,7 +742,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		if (r->have_fit) {
 			json_object_set_new(fit, "terms", terms);
 			json_object_set_new(fit, "method",
-					    json_string("weighted least squares on OADEV (EDF weights), every term subset, AIC selection with the model covariance; sandwich intervals"));
+					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds by inverting the test with the model covariance at the bound"));
 			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
 			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
@@ -718,9 +753,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(fit, "reject_below_p",
 					    json_real(FIT_REJECT_P));
 			json_object_set_new(fit, "model_error",
-					    json_real(a->fo.model_error == 0 ? 0.01 :
-						      a->fo.model_error < 0 ? 0 :
-									      a->fo.model_error));
+					    json_real(a->fo.model_error > 0 ? a->fo.model_error : 0));
 		} else {
 			json_decref(terms);
 			json_object_set_new(fit, "error", json_string(fit_msg(c)));
@@ -732,7 +765,9 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(ro, "N", jval(ft->readoff.n, u->term_si[1], u->term[1]));
 			json_object_set_new(ro, "B", jval(ft->readoff.b, u->term_si[2], u->term[2]));
 			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
+			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
+			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
 			json_object_set_new(o, "readoff", ro);
 		}
 		{
@@ -835,35 +870,6 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 /* Plot                                                                */
 /* ------------------------------------------------------------------ */
 
-/* a unit for humans: deg -> degree sign, sqrt(h) -> root, ug -> micro */
-static void pretty(const char *in, char *out, size_t len)
-{
-	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
-					    "ug", "^2", "^3", "*", NULL };
-	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
-					  "\xe2\x88\x9ah", "\xc2\xb5g",
-					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
-	size_t o = 0;
-
-	while (*in && o + 8 < len) {
-		int i;
-
-		for (i = 0; from[i]; i++)
-			if (!strncmp(in, from[i], strlen(from[i])))
-				break;
-		if (from[i]) {
-			size_t l = strlen(to[i]);
-
-			memcpy(out + o, to[i], l);
-			o += l;
-			in += strlen(from[i]);
-		} else {
-			out[o++] = *in++;
-		}
-	}
-	out[o] = '\0';
-}
-
 /* y range of a channel's points and intervals, in the shown unit */
 static void chan_range(const struct ssc_allan_chan *c, double *lo, double *hi)
 {
@@ -926,7 +932,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		tmax = fmax(tmax, p->tau_s);
 		k++;
 	}
-	pretty(u->show, un, sizeof(un));
+	ssc_unit_pretty(u->show, un, sizeof(un));
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
 	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
@@ -977,7 +983,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 						 .dash = SSC_DASHED };
 			int dg;
 
-			pretty(u->term[t], cu, sizeof(cu));
+			ssc_unit_pretty(u->term[t], cu, sizeof(cu));
 			if (term_resolved(cf)) {
 				one[t] = cf->value;
 				for (int i = 0; i < NG; i++)
@@ -1008,8 +1014,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			for (int i = 0; i < NG; i++)
 				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
 			ssc_fmt(v1, sizeof(v1), in_unit(bound, u->term_si[t], u->term[t]), 3);
-			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound)",
-				 "QNBKR"[t], v1, cu);
+			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound%s)",
+				 "QNBKR"[t], v1, cu,
+				 t == SSCOPE_TERM_B ? "; line at 0.664\xc2\xb7" "B" : "");
 			{
 				struct ssc_style bst = { .color = tcol[t],
 							 .width = 1.2,
@@ -1110,10 +1117,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	if (!rc)
 		rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1143,16 +1148,22 @@ static void summarize(json_t *summary, const struct args *a,
 			 100 * ft->ci_level);
 		for (int t = 1; t <= 3; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
+			char nt[160];
 
 			if (!cf->fitted)
 				continue;
 			snprintf(what, sizeof(what), "%s %c",
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
+			snprintf(nt, sizeof(nt), "%s%s%s", note,
+				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
+				 term_resolved(cf) ? "" : "; not resolved: the interval reaches 0");
 			ssc_summary_add(summary, c->col->name, what,
 					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
-					c->u.term[t], note);
+					c->u.term[t], nt);
+			if (fit_rejected(ft) || !term_resolved(cf))
+				ssc_summary_warn_last(summary);
 		}
 	}
 }
@@ -1182,6 +1193,36 @@ static int check(struct ssc_common *co, void *opts)
 	return 0;
 }
 
+/* --dev-unit must fit the deviations of a channel: fitting none is a
+ * usage error, each channel it does not fit a warning. */
+static int check_dev_unit(const struct ssc_common *co, const struct args *a,
+			  const struct ssc_stage_env *env)
+{
+	size_t fit = 0;
+	struct ssc_allan_units u;
+
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			set_units(a, &env->caps[i]->channels[k].col, &u);
+			fit += !strcmp(u.show, a->dev_unit);
+		}
+	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
+		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
+			const struct sscope_column *col = &env->caps[i]->channels[k].col;
+
+			set_units(a, col, &u);
+			if (!strcmp(u.show, a->dev_unit))
+				continue;
+			if (!fit)
+				return ssc_usage_error(co->cmd,
+						       "--dev-unit: '%s' does not fit the deviations of %s (%s)",
+						       a->dev_unit, col->name, u.dev);
+			ssc_warn(co, "%s: %s: --dev-unit %s does not fit its deviations (%s): shown in %s",
+				 env->paths[i], col->name, a->dev_unit, u.dev, u.show);
+		}
+	return SSC_EXIT_OK;
+}
+
 static void free_result(void *result)
 {
 	struct ssc_allan_res *R = result;
@@ -1197,6 +1238,11 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	struct ssc_allan_res *R = calloc(1, sizeof(*R));
 	int rc = SSC_EXIT_OK;
 
+	rc = check_dev_unit(env->co, opts, env);
+	if (rc) {
+		free(R);
+		return rc;
+	}
 	if (R)
 		R->fr = calloc(env->n_caps ? env->n_caps : 1, sizeof(*R->fr));
 	if (!R || !R->fr) {
@@ -1205,6 +1251,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		return SSC_EXIT_FAIL;
 	}
 	*result = R;
+	R->ci_level = ((const struct args *)opts)->ci > 0 ?
+		      ((const struct args *)opts)->ci : 0;
 	for (size_t i = 0; i < env->n_caps && !rc; i++, R->n_files++)
 		rc = analyse_file(env->co, opts, env->paths[i], env->caps[i],
 				  &R->fr[i]);

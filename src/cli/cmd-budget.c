@@ -114,6 +114,7 @@ struct opts {
 	size_t mc;
 	unsigned long seed;
 	const char *plot;
+	bool seed_set, gsf_set, asf_set; /* given on the command line */
 };
 
 static int parse_ratio(const char *opt, const char *arg, double *out)
@@ -165,8 +166,10 @@ static int handler(int key, const char *arg, void *ctx)
 		return ssc_arg_quantity("budget", "vrw", arg, "m/s/sqrt(s)",
 					&p->vrw_m_s_sqrt_s);
 	case O_GSF:
+		o->gsf_set = true;
 		return parse_ratio("gyro-sf", arg, &p->gyro_sf);
 	case O_ASF:
+		o->asf_set = true;
 		return parse_ratio("accel-sf", arg, &p->accel_sf);
 	case O_TURN:
 		return ssc_arg_quantity("budget", "turn-rate", arg, "rad/s",
@@ -272,6 +275,7 @@ static int handler(int key, const char *arg, void *ctx)
 		if (ssc_arg_size("budget", "seed", arg, &v))
 			return SSC_EXIT_USAGE;
 		o->seed = (unsigned long)v;
+		o->seed_set = true;
 		return 0;
 	}
 	case O_GRAVITY:
@@ -505,10 +509,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	(void)opts;
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -739,6 +741,11 @@ static int check(struct ssc_common *co, void *opts)
 			return rc;
 		co->plot = o->plot;
 	}
+	/* options that would be ignored */
+	if (o->p.switch_time_s > 0 && o->p.model != SSCOPE_BUDGET_AUTO)
+		return ssc_usage_error(co->cmd, "--switch-time: applies to --model auto only");
+	if (o->seed_set && o->mc == 0)
+		return ssc_usage_error(co->cmd, "--seed: no Monte-Carlo check (--monte-carlo 0)");
 	return SSC_EXIT_OK;
 }
 
@@ -791,6 +798,13 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 			return rc;
 	}
 	take_upstream(o, R->from, env);
+	/* a scale-factor error adds nothing without its motion profile */
+	if ((o->gsf_set && o->p.turn_rate_rad_s == 0) ||
+	    (o->p.turn_rate_rad_s != 0 && o->p.gyro_sf == 0))
+		ssc_warn(co, "the gyro scale-factor term needs both --gyro-sf (or the sensor's scale_factor_error) and --turn-rate: it is 0");
+	if ((o->asf_set && o->p.accel_profile_m_s2 == 0) ||
+	    (o->p.accel_profile_m_s2 != 0 && o->p.accel_sf == 0))
+		ssc_warn(co, "the accelerometer scale-factor term needs both --accel-sf (or the sensor's scale_factor_error) and --accel-profile: it is 0");
 	if (o->p.gyro_bias_rad_s == 0 && o->p.accel_bias_m_s2 == 0 &&
 	    o->p.arw_rad_sqrt_s == 0 && o->p.vrw_m_s_sqrt_s == 0 &&
 	    (o->p.gyro_sf * o->p.turn_rate_rad_s) == 0 &&

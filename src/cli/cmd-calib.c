@@ -113,7 +113,7 @@ struct opts {
 	const char *accel, *gyro_names, *reference, *table_axis, *save;
 	const char *schedule;
 	double settle_s;
-	bool cubic, gsens;
+	bool cubic, gsens, settle_set;
 	bool triad_set;
 };
 
@@ -164,6 +164,7 @@ static int handler(int key, const char *arg, void *ctx)
 			o->det.init_static_s = v;
 		else
 			o->settle_s = v;
+		o->settle_set |= key == O_SETTLE;
 		return 0;
 	}
 	case O_THRESHOLD:
@@ -1282,10 +1283,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	}
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1334,6 +1333,17 @@ static int check(struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--mode sixpos is for 'calib accel'");
 	if (o->mode == M_RATE_TABLE && !o->reference == !o->schedule)
 		return ssc_usage_error(co->cmd, "--mode rate-table needs --reference or --schedule");
+	/* options of another mode would be ignored */
+	if (o->mode != M_RATE_TABLE) {
+		const char *x = o->reference ? "reference" : o->schedule ? "schedule" :
+				o->table_axis ? "table-axis" : o->settle_set ? "settle" :
+				o->cubic ? "cubic" : NULL;
+
+		if (x)
+			return ssc_usage_error(co->cmd, "--%s: applies to --mode rate-table only", x);
+	}
+	if (o->gsens && !(o->gyro && o->mode == M_MULTIPOS))
+		return ssc_usage_error(co->cmd, "--g-sensitivity: applies to 'calib gyro' --mode multipos only");
 	return SSC_EXIT_OK;
 }
 
@@ -1378,6 +1388,9 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	r->n_files = nfiles;
 	for (size_t fi = 0; fi < nfiles && !rc; fi++) {
 		r->cap = env->caps[fi];
+		rc = ssc_time_check(co, env->paths[fi], r->cap, true);
+		if (rc)
+			break;
 		if (!(r->cap->rate_hz > 0)) {
 			ssc_err(co->cmd, "%s: unknown sample rate (give --rate)",
 				env->paths[fi]);

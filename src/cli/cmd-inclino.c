@@ -103,7 +103,7 @@ static const struct ssc_option cal_opts[] = {
 	  "validation capture (same columns) at other temperatures/angles; repeatable" },
 	{ "cubic", no_argument, O_CUBIC, NULL, "cubic-spline interpolation (3+ nodes; default linear)" },
 	{ "tilt-table", required_argument, O_TILTS, "FILE",
-	  "tilts by time for captures without reference columns: lines 'START END ROLL PITCH' (s from the capture's start, degrees)" },
+	  "tilts by time, used instead of the calibration captures' reference columns: lines 'START END ROLL PITCH' (s from the capture's start, degrees)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -207,10 +207,12 @@ static int tilt_table(const struct ssc_common *co, const char *path,
 	return 0;
 }
 
-/* Poses of a capture appended to *poses. */
+/* Poses of a capture appended to *poses: its tilts from the tilt table
+ * when @p table (a calibration capture and --tilt-table), else from its
+ * reference columns. */
 static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 		     const struct sscope_capture *cap, const char *path,
-		     struct sscope_inclino_pose *poses, size_t *np)
+		     bool table, struct sscope_inclino_pose *poses, size_t *np)
 {
 	long a[3], ir, ip;
 	size_t got = 0;
@@ -222,15 +224,20 @@ static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 	}
 	ir = sscope_capture_find(cap, o->roll);
 	ip = sscope_capture_find(cap, o->pitch);
-	if ((ir < 0 || ip < 0) && !o->tilts) {
-		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME or --tilt-table FILE)",
-			path, ir < 0 ? o->roll : o->pitch);
+	table = table && o->tilts;
+	if ((ir < 0 || ip < 0) && !table) {
+		ssc_err(co->cmd, "%s: no tilt reference column '%s' (give --roll-ref/--pitch-ref NAME%s)",
+			path, ir < 0 ? o->roll : o->pitch,
+			o->tilts ? "" : " or --tilt-table FILE");
 		return SSC_EXIT_FAIL;
 	}
+	if (table && ir >= 0 && ip >= 0)
+		ssc_warn(co, "%s: --tilt-table gives the tilts: the reference columns '%s' and '%s' are not used",
+			 path, o->roll, o->pitch);
 	rc = pick_accel(co->cmd, cap, o->accel, path, a);
 	if (rc)
 		return rc;
-	if (ir < 0 || ip < 0) {
+	if (table) {
 		double *ref = malloc(2 * (cap->n ? cap->n : 1) * sizeof(double));
 
 		if (!(cap->time_s || cap->rate_hz > 0)) {
@@ -318,13 +325,72 @@ struct incl_res {
 	struct sscope_inclino_validation v;
 	size_t nv;
 	bool have_v;
+	/* the validation poses and each one's (roll, pitch) error,
+	 * calibrated and uncompensated, deg (n_err of them; 0: none) */
+	struct sscope_inclino_pose *vposes;
+	double (*err)[2], (*raw)[2];
+	size_t n_err;
 };
+
+/* The validation: each pose's roll and pitch error, calibrated and
+ * uncompensated, against the 0.1 degree class (poses in file order, their
+ * temperature range in the title). */
+static void val_plot(struct ssc_ax *ax, const struct sscope_inclino_pose *vp,
+		     const double (*e)[2], const double (*u)[2], size_t n)
+{
+	double *t = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	static const char *const lab[2][2] = {
+		{ "roll, uncompensated", "pitch, uncompensated" },
+		{ "roll, calibrated", "pitch, calibrated" }
+	};
+	struct ssc_style cls = { .color = 0xd62728, .width = 1.5,
+				 .dash = SSC_DASHED };
+	double tlo = INFINITY, thi = -INFINITY;
+	char buf[160];
+
+	if (!t || !y) {
+		free(t);
+		free(y);
+		return;
+	}
+	for (int cal = 0; cal < 2; cal++)
+		for (int c = 0; c < 2; c++) {
+			struct ssc_style st = {
+				.color = cal ? ssc_plot_color((size_t)c) : 0xa0a0a0,
+				.width = -1,
+				.marker = c ? SSC_MK_SQUARE : SSC_MK_CIRCLE,
+				.marker_size = cal ? 7 : 5
+			};
+
+			for (size_t i = 0; i < n; i++) {
+				t[i] = (double)i + 1;
+				y[i] = cal ? e[i][c] : u[i][c];
+				tlo = fmin(tlo, vp[i].temp_degc);
+				thi = fmax(thi, vp[i].temp_degc);
+			}
+			ssc_ax_line(ax, t, y, n, &st, lab[cal][c]);
+		}
+	ssc_ax_hline(ax, 0.1, &cls, "0.1\xc2\xb0 class");
+	ssc_ax_hline(ax, -0.1, &cls, NULL);
+	ssc_ax_xlim(ax, 0, (double)n + 1);
+	ssc_ax_xlabel(ax, "validation pose");
+	ssc_ax_ylabel(ax, "tilt error (\xc2\xb0)");
+	snprintf(buf, sizeof(buf),
+		 "validation: tilt error of %zu poses at %.3g to %.3g \xc2\xb0" "C",
+		 n, tlo, thi);
+	ssc_ax_title(ax, buf);
+	ssc_ax_grid(ax, true);
+	free(t);
+	free(y);
+}
 
 static int cal_plot(const struct ssc_common *co, const void *opts,
 		    const void *result, const char *path)
 {
-	const struct sscope_inclino_lut *lut = ((const struct incl_res *)result)->lut;
-	struct ssc_fig *fig = ssc_fig_new(1000, 800, 2, 1);
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+	size_t nv = R->n_err;
+	struct ssc_fig *fig = ssc_fig_new(1000, nv ? 1150 : 800, nv ? 3 : 2, 1);
 	struct ssc_ax *a0, *a1;
 	double t[SSCOPE_INCLINO_MAX_NODES], y[SSCOPE_INCLINO_MAX_NODES];
 	double lo[SSCOPE_INCLINO_MAX_NODES], hi[SSCOPE_INCLINO_MAX_NODES];
@@ -367,12 +433,15 @@ static int cal_plot(const struct ssc_common *co, const void *opts,
 	ssc_ax_legend(a1, SSC_LEGEND_AUTO);
 	ssc_ax_grid(a0, true);
 	ssc_ax_grid(a1, true);
+	ssc_ax_title(a0, "offset of each axis at the calibration nodes");
+	ssc_ax_title(a1, "scale error of each axis at the calibration nodes");
+	if (nv)
+		val_plot(ssc_fig_ax(fig, 2, 0), R->vposes,
+			 (const double(*)[2])R->err, (const double(*)[2])R->raw, nv);
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -381,6 +450,9 @@ static void cal_free(void *result)
 	struct incl_res *R = result;
 
 	free(R->lut);
+	free(R->vposes);
+	free(R->err);
+	free(R->raw);
 	free(R);
 }
 
@@ -408,7 +480,8 @@ static int cal_run(const struct ssc_stage_env *env, void *opts, void **result)
 	R->paths = env->paths;
 	R->n_files = env->n_caps;
 	for (size_t j = 0; j < env->n_caps && !rc; j++)
-		rc = cap_poses(co, o, env->caps[j], env->paths[j], poses, &np);
+		rc = cap_poses(co, o, env->caps[j], env->paths[j], true, poses,
+			       &np);
 	if (rc)
 		goto done;
 	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, R->lut, &d);
@@ -428,7 +501,8 @@ static int cal_run(const struct ssc_stage_env *env, void *opts, void **result)
 
 			rc = ssc_load(co, o->validate[j], &cap);
 			if (!rc)
-				rc = cap_poses(co, o, cap, o->validate[j], poses, &np);
+				rc = cap_poses(co, o, cap, o->validate[j], false,
+					       poses, &np);
 			sscope_capture_free(cap);
 		}
 		if (rc)
@@ -445,6 +519,17 @@ static int cal_run(const struct ssc_stage_env *env, void *opts, void **result)
 			ssc_warn(co, "%zu validation poses outside the calibrated range %.1f .. %.1f degC (clamped)",
 				 R->v.clamped, R->lut->temp_degc[0],
 				 R->lut->temp_degc[R->lut->n - 1]);
+	}
+	if (R->have_v) {
+		/* each validation pose's error, for the figure */
+		R->err = malloc(np * sizeof(*R->err));
+		R->raw = malloc(np * sizeof(*R->raw));
+		if (R->err && R->raw &&
+		    !sscope_inclino_pose_errors(plan, poses, np, R->err, R->raw)) {
+			R->vposes = poses;
+			poses = NULL;
+			R->n_err = np;
+		}
 	}
 done:
 	sscope_inclino_plan_free(plan);
@@ -612,7 +697,7 @@ static const struct ssc_command_spec app_spec = {
 
 struct app_opts_s {
 	const char *lut, *accel, *gyro;
-	bool no_gyro, cubic;
+	bool no_gyro, cubic, rate_tol_set;
 	double still_tol, rate_tol;
 	int axes;
 };
@@ -653,6 +738,7 @@ static int app_handler(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->rate_tol > 0))
 			return ssc_usage_error("inclino", "--rate-tol: must be positive");
+		o->rate_tol_set = true;
 		return 0;
 	}
 	return SSC_EXIT_USAGE;
@@ -672,7 +758,8 @@ static int get3(json_t *a, double v[3])
 	return 0;
 }
 
-static int read_lut(const char *cmd, const char *path, struct sscope_inclino_lut *lut)
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut)
 {
 	json_error_t je;
 	json_t *root = json_load_file(path, 0, &je), *l, *nodes, *g;
@@ -760,7 +847,15 @@ static int apply_main(int argc, char **argv)
 		free(lut);
 		return ssc_usage_error(co.cmd, "give one input file");
 	}
-	rc = read_lut(co.cmd, o.lut, lut);
+	/* options that would be ignored */
+	if (co.format == SSC_FMT_JSON || co.plot || (o.no_gyro && (o.gyro || o.rate_tol_set))) {
+		free(lut);
+		return ssc_usage_error(co.cmd, "%s",
+				       co.format == SSC_FMT_JSON ? "--format json: apply writes a capture (CSV)" :
+				       co.plot ? "--plot: no figure here (apply writes a capture)" :
+						 "--no-gyro: and --gyro or --rate-tol?");
+	}
+	rc = ssc_inclino_lut_read(co.cmd, o.lut, lut);
 	if (rc)
 		goto done;
 	g = lut->gravity_m_s2;

@@ -101,9 +101,6 @@ static int analyse(const struct ssc_common *co, const char *path,
 					 &fi->st[k]) == -EDOM)
 			ssc_warn(co, "%s: channel %s holds no finite sample",
 				 path, cap->channels[k].col.name);
-	if (cap->has_timing && cap->timing.n_backwards)
-		ssc_warn(co, "%s: time goes backwards or repeats %zu times",
-			 path, cap->timing.n_backwards);
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 
@@ -114,6 +111,8 @@ static int analyse(const struct ssc_common *co, const char *path,
 		receive_times(cap, fi, scratch);
 		free(scratch);
 	}
+	/* a time column that is not increasing: name what is wrong with it */
+	ssc_time_check(co, path, cap, false);
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
@@ -169,6 +168,9 @@ static void text_file(FILE *f, const struct file_info *fi)
 	if (cap->rate_hz > 0)
 		fprintf(f, "  rate:        %s Hz (%s)\n",
 			ssc_fmt(a, sizeof(a), cap->rate_hz, 8), rate_source(cap));
+	else if (cap->time_s)
+		fprintf(f, "  rate:        unknown (time column '%s' not increasing; give --rate)\n",
+			cap->time_col.name);
 	else
 		fprintf(f, "  rate:        unknown (no time column; give --rate)\n");
 	if (cap->rate_hz > 0)
@@ -295,6 +297,16 @@ static json_t *json_file(const struct file_info *fi)
 		json_array_append_new(gaps, g);
 	}
 	json_object_set_new(o, "gaps", gaps);
+	if (cap->time_s) {
+		/* what is wrong with the time column's order, or null */
+		struct sscope_time_order ord = { 0 };
+		struct sscope_diag d = { "" };
+
+		sscope_time_order_feed(&ord, cap->time_s, cap->n);
+		json_object_set_new(o, "time_order",
+				    sscope_time_order_check(&ord, &d) ?
+				    json_string(d.msg) : json_null());
+	}
 	if (cap->source_info) {
 		const struct sscope_source *si = cap->source_info;
 		json_t *tps = json_array();
@@ -431,10 +443,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	ssc_fig_free(fig);
 	free(t);
 	free(y);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", png, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, png, rc);
 	return SSC_EXIT_OK;
 }
 

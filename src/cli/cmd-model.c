@@ -83,6 +83,7 @@ struct opts {
 	double rates[32];
 	size_t n_rates;
 	const char *plot;
+	const char *accel_opt, *fog_opt; /* an option of each model given */
 };
 
 static int pos_number(const char *opt, const char *arg, double *out)
@@ -108,6 +109,11 @@ static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
 
+	/* the options of the other model would be ignored: remember one */
+	if (key >= O_MASS && key <= O_DURATION)
+		o->accel_opt = model_opts[key - O_MASS].name;
+	else if (key >= O_RADIUS && key <= O_RATE)
+		o->fog_opt = model_opts[key - O_MASS].name;
 	switch (key) {
 	case O_MASS:
 		return pos_number("mass", arg, &o->mass);
@@ -159,10 +165,8 @@ static int save_fig(struct ssc_fig *fig, const char *path)
 	int rc = ssc_fig_save(fig, path);
 
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err("model", "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed("model", path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -472,6 +476,10 @@ int ssc_cmd_model(int argc, char **argv)
 		return rc < 0 ? SSC_EXIT_OK : rc;
 	if (first < argc)
 		return ssc_usage_error(co.cmd, "unexpected operand '%s'", argv[first]);
+	if (accel ? o.fog_opt != NULL : o.accel_opt != NULL)
+		return ssc_usage_error(co.cmd, "--%s: an option of 'model %s', not of 'model %s'",
+				       accel ? o.fog_opt : o.accel_opt,
+				       accel ? "fog" : "accel", accel ? "accel" : "fog");
 	if (o.plot && (rc = ssc_plot_check(co.cmd, o.plot)))
 		return rc;
 	return accel ? do_accel(&co, &o) : do_fog(&co, &o);

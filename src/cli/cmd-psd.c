@@ -27,6 +27,7 @@ enum {
 	OPT_METHOD,
 	OPT_SPECTROGRAM,
 	OPT_SG_COLS,
+	OPT_PEAK_ALPHA,
 };
 
 static const struct ssc_option psd_opts[] = {
@@ -45,7 +46,9 @@ static const struct ssc_option psd_opts[] = {
 	{ "method", required_argument, OPT_METHOD, "welch|periodogram",
 	  "Welch's average (default, streamed) or one periodogram of the whole record" },
 	{ "peaks", required_argument, OPT_PEAKS, "K",
-	  "report the K strongest peaks (default 5; 0: none)" },
+	  "report the K strongest peaks that stand out of the noise (default 5; 0: none)" },
+	{ "peak-alpha", required_argument, OPT_PEAK_ALPHA, "A",
+	  "false-alarm probability of the peak test per spectrum (default 0.01)" },
 	{ "bands", required_argument, OPT_BANDS, "octave|third|LO:HI[,...]",
 	  "band RMS: IEC 61260-1 octaves or thirds, or the given bands in Hz" },
 	{ "spectrogram", no_argument, OPT_SPECTROGRAM, NULL,
@@ -68,6 +71,11 @@ static const struct ssc_command_spec spec = {
 		"their frequency and sine amplitude interpolated between bins (a\n"
 		"least-squares fit of the window's exact response to five bins, so\n"
 		"the amplitude is corrected for the window and the scalloping loss),\n"
+		"listed only when they stand out of the local noise floor (each bin\n"
+		"is chi-square with the estimate's equivalent degrees of freedom, the\n"
+		"overlap correction included; an F test against the median of the\n"
+		"neighbouring bins at the level --peak-alpha divided by the bins\n"
+		"searched, so noise alone lists a peak in about 1 spectrum in 100),\n"
 		"band RMS, and the spectrogram.  The capture is streamed: memory does\n"
 		"not grow with the record length (except --method periodogram).",
 	.options = psd_opts,
@@ -88,11 +96,12 @@ struct args {
 	struct sscope_psd_opts po;
 	double overlap;
 	size_t peaks;
+	double peak_alpha;
 	const char *bands;
 	bool spectrogram;
 	size_t sg_cols;
 	bool periodogram;
-	bool nperseg_set;
+	bool nperseg_set, overlap_set, sg_cols_set;
 };
 
 static int handle(int key, const char *arg, void *ctx)
@@ -120,6 +129,7 @@ static int handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(a->overlap >= 0 && a->overlap < 1))
 			return ssc_usage_error("psd", "--overlap: must be in [0, 1)");
+		a->overlap_set = true;
 		return 0;
 	case OPT_NFFT:
 		if (ssc_arg_size("psd", "nfft", arg, &v))
@@ -160,6 +170,12 @@ static int handle(int key, const char *arg, void *ctx)
 		if (a->peaks > 100)
 			return ssc_usage_error("psd", "--peaks: at most 100");
 		return 0;
+	case OPT_PEAK_ALPHA:
+		if (ssc_arg_double("psd", "peak-alpha", arg, &a->peak_alpha))
+			return SSC_EXIT_USAGE;
+		if (!(a->peak_alpha > 0 && a->peak_alpha < 1))
+			return ssc_usage_error("psd", "--peak-alpha: a probability between 0 and 1, exclusive");
+		return 0;
 	case OPT_BANDS:
 		a->bands = arg;
 		return 0;
@@ -172,6 +188,7 @@ static int handle(int key, const char *arg, void *ctx)
 		if (v < 2 || v > 100000)
 			return ssc_usage_error("psd", "--spectrogram-columns: must be 2 to 100000");
 		a->sg_cols = v;
+		a->sg_cols_set = true;
 		return 0;
 	default:
 		return ssc_usage_error("psd", "unexpected option");
@@ -256,8 +273,9 @@ struct chan {
 	struct sscope_spectrum s;
 	struct sscope_spectrogram sg;
 	bool have_sg;
-	struct sscope_peak peaks[100];
+	struct sscope_sig_peak peaks[100];
 	size_t n_peaks;
+	struct sscope_peak_test test;
 	double *band_rms;
 };
 
@@ -322,7 +340,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 	const size_t cap = 65536;
 	struct sscope_timing_stream *ts = NULL;
 	struct sscope_timing tm;
-	bool use_time;
+	bool use_time, disorder = false;
 	int rc, ex = SSC_EXIT_FAIL;
 
 	ssc_read_opts(co, &ro);
@@ -385,7 +403,25 @@ static int stream(const struct ssc_common *co, struct run *R)
 		ssc_err(co->cmd, "%s: no data rows", R->path);
 		goto out;
 	}
-	use_time = use_time && sscope_timing_stream_result(ts, &tm) == 0;
+	if (sscope_reader_unterminated(rd))
+		ssc_warn_unterminated(co, R->path, R->rows);
+	if (use_time) {
+		int trc = sscope_timing_stream_result(ts, &tm);
+
+		if (sscope_time_order_check(&tm.order, NULL)) {
+			/* an error naming the problem, or a warning when a
+			 * header gives the rate */
+			disorder = true;
+			if (ssc_time_verdict(co, R->path,
+					     sscope_reader_time_column(rd)->name,
+					     &tm.order,
+					     sscope_reader_header_rate(rd) > 0 ?
+					     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE,
+					     true))
+				goto out;
+		}
+		use_time = trc == 0 && !disorder;
+	}
 	if (use_time)
 		R->time_gaps = tm.n_gaps;
 	if (co->rate_hz > 0) {
@@ -451,6 +487,9 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 {
 	int rc;
 
+	rc = ssc_time_check(co, R->path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
 			R->path);
@@ -459,7 +498,10 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 	R->fs = cap->rate_hz;
 	R->rate_source = rate_source_name(cap);
 	R->rows = cap->n;
-	R->time_gaps = cap->has_timing ? cap->timing.n_gaps : 0;
+	/* gaps, unless the stamps are out of order (said above) */
+	R->time_gaps = cap->has_timing &&
+		       !sscope_time_order_check(&cap->timing.order, NULL) ?
+		       cap->timing.n_gaps : 0;
 	R->nch = cap->n_channels;
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
 	if (!R->ch)
@@ -507,8 +549,9 @@ static void finish(struct run *R)
 		struct chan *c = &R->ch[k];
 		double sc = uscale(c);
 
-		sscope_spectrum_peaks(&c->s, R->a.peaks, 0, R->fs / 2, c->peaks,
-				      &c->n_peaks);
+		sscope_spectrum_significant_peaks(&c->s, R->a.peaks, 0, R->fs / 2,
+						  R->a.peak_alpha, c->peaks,
+						  &c->n_peaks, &c->test);
 		if (R->bands.n) {
 			c->band_rms = calloc(R->bands.n, sizeof(double));
 			for (size_t i = 0; c->band_rms && i < R->bands.n; i++) {
@@ -600,16 +643,36 @@ static json_t *json_run(const struct run *R)
 		json_object_set_new(o, "psd", p);
 		json_object_set_new(o, "rms", ssc_jreal(s->rms / sc));
 		for (size_t i = 0; i < c->n_peaks; i++) {
+			const struct sscope_sig_peak *sp = &c->peaks[i];
 			json_t *e = json_object();
 
-			json_object_set_new(e, "frequency_hz", ssc_jreal(c->peaks[i].frequency_hz));
-			json_object_set_new(e, "value", ssc_jreal(c->peaks[i].value / sc2));
-			json_object_set_new(e, "amplitude", ssc_jreal(c->peaks[i].amplitude / sc));
-			json_object_set_new(e, "rms", ssc_jreal(c->peaks[i].rms / sc));
-			json_object_set_new(e, "bin", json_integer((json_int_t)c->peaks[i].bin));
+			json_object_set_new(e, "frequency_hz", ssc_jreal(sp->peak.frequency_hz));
+			json_object_set_new(e, "value", ssc_jreal(sp->peak.value / sc2));
+			json_object_set_new(e, "amplitude", ssc_jreal(sp->peak.amplitude / sc));
+			json_object_set_new(e, "rms", ssc_jreal(sp->peak.rms / sc));
+			json_object_set_new(e, "bin", json_integer((json_int_t)sp->peak.bin));
+			json_object_set_new(e, "floor", ssc_jreal(sp->floor / sc2));
+			json_object_set_new(e, "ratio", ssc_jreal(sp->ratio));
+			json_object_set_new(e, "p_value", ssc_jreal(sp->p_value));
 			json_array_append_new(pk, e);
 		}
 		json_object_set_new(o, "peaks", pk);
+		{
+			const struct sscope_peak_test *t = &c->test;
+			json_t *e = json_object();
+
+			json_object_set_new(e, "method", json_string(
+				"F test of each local maximum against the local noise floor (median of the neighbouring bins outside the main lobe, over the median of chi2(nu)/nu), nu the Welch estimate's equivalent degrees of freedom with the overlap correction (Percival & Walden 1993), at the level alpha / bins (Bonferroni); weaker peaks also against the leakage of stronger ones"));
+			json_object_set_new(e, "alpha", json_real(t->alpha));
+			json_object_set_new(e, "edf", ssc_jreal(t->edf));
+			json_object_set_new(e, "floor_edf", ssc_jreal(t->floor_edf));
+			json_object_set_new(e, "bins_tested", json_integer((json_int_t)t->bins_tested));
+			json_object_set_new(e, "p_threshold", ssc_jreal(t->p_threshold));
+			json_object_set_new(e, "ratio_threshold", ssc_jreal(t->ratio_threshold));
+			json_object_set_new(e, "floor_half_width_bins",
+					    json_integer((json_int_t)t->floor_half_width));
+			json_object_set_new(o, "peak_test", e);
+		}
 		if (R->a.bands) {
 			json_t *b = json_array();
 
@@ -690,18 +753,24 @@ static void text_run(FILE *f, const struct run *R)
 		if (c->s.n_skipped)
 			fprintf(f, " (%zu segments with NaN skipped)", c->s.n_skipped);
 		fputc('\n', f);
-		if (c->n_peaks) {
-			fprintf(f, "    %-14s %-16s %-14s\n", "peak (Hz)",
+		if (R->a.peaks && c->n_peaks) {
+			fprintf(f, "    %-14s %-16s %-14s %s\n", "peak (Hz)",
 				c->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "spectrum",
-				"amplitude");
+				"amplitude", "over floor");
 			for (size_t i = 0; i < c->n_peaks; i++)
-				fprintf(f, "    %-14s %-16s %-14s\n",
-					ssc_fmt(a, sizeof(a), c->peaks[i].frequency_hz, 7),
-					ssc_fmt(b, sizeof(b), c->peaks[i].value / (sc * sc), 5),
-					ssc_fmt(c3, sizeof(c3), c->peaks[i].amplitude / sc, 5));
+				fprintf(f, "    %-14s %-16s %-14s %s\n",
+					ssc_fmt(a, sizeof(a), c->peaks[i].peak.frequency_hz, 7),
+					ssc_fmt(b, sizeof(b), c->peaks[i].peak.value / (sc * sc), 5),
+					ssc_fmt(c3, sizeof(c3), c->peaks[i].peak.amplitude / sc, 5),
+					ssc_fmt((char[32]){ 0 }, 32, c->peaks[i].ratio, 3));
 			fprintf(f, "    (PSD in %s; amplitude: of the sine, peak, in %s)\n",
 				pu, *u ? u : "the data's unit");
 		}
+		if (R->a.peaks)
+			fprintf(f, "    %s peak stands out of the noise floor at false-alarm probability %s (F test per bin at %s over %zu bins, %s dof)\n",
+				c->n_peaks ? "each listed" : "no", ssc_fmt(a, sizeof(a), c->test.alpha, 2),
+				ssc_fmt(b, sizeof(b), c->test.p_threshold, 2), c->test.bins_tested,
+				ssc_fmt(c3, sizeof(c3), c->test.edf, 3));
 		if (R->a.bands && R->bands.n) {
 			fprintf(f, "    %-12s %-12s %-12s %s\n", "band lo (Hz)",
 				R->bands.nominal ? "centre" : "centre (geo)",
@@ -774,20 +843,14 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 		struct ssc_style mk = { .color = ssc_plot_color(k), .width = -1,
 					.marker = SSC_MK_CIRCLE, .marker_size = 7 };
 		double sc2 = uscale(c) * uscale(c);
-		double floor = 0;
-
-		/* peaks worth a label stand 10x above the floor */
-		sscope_spectrum_floor(&c->s, &floor);
 
 		for (size_t i = 0; i < c->s.n_bins; i++)
 			y[i] = c->s.value[i] / sc2;
 		ssc_ax_line(ax, c->s.freq_hz, y, c->s.n_bins, &st, c->col.name);
+		/* the significant peaks only */
 		for (size_t i = 0; i < c->n_peaks && i < 5; i++) {
-			double px = c->peaks[i].frequency_hz;
-			double py = c->peaks[i].value / sc2;
-
-			if (!(c->peaks[i].value > 10 * floor))
-				continue;
+			double px = c->peaks[i].peak.frequency_hz;
+			double py = c->peaks[i].peak.value / sc2;
 
 			ssc_ax_line(ax, &px, &py, 1, &mk, NULL);
 			if (k == 0) {
@@ -858,10 +921,8 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(y);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -881,6 +942,7 @@ static void init(void *opts)
 	sscope_psd_opts_init(&a->po);
 	a->overlap = 0.5;
 	a->peaks = 5;
+	a->peak_alpha = 0.01;
 	a->sg_cols = 400;
 }
 
@@ -892,8 +954,13 @@ static int check(struct ssc_common *co, void *opts)
 	if (a->po.nfft && a->po.nfft < a->po.nperseg)
 		return ssc_usage_error(co->cmd, "--nfft %zu is shorter than --nperseg %zu",
 				       a->po.nfft, a->po.nperseg);
-	if (a->periodogram && (a->spectrogram || a->nperseg_set))
-		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg or --spectrogram");
+	if (a->periodogram && (a->spectrogram || a->nperseg_set || a->overlap_set))
+		return ssc_usage_error(co->cmd, "--method periodogram takes no --nperseg, --overlap or --spectrogram");
+	/* options that would be ignored */
+	if (a->spectrogram && co->format != SSC_FMT_JSON && !co->plot)
+		return ssc_usage_error(co->cmd, "--spectrogram: the spectrogram is part of the JSON output (--format json) and of the figure (--plot)");
+	if (a->sg_cols_set && !a->spectrogram && !co->plot)
+		return ssc_usage_error(co->cmd, "--spectrogram-columns: no --spectrogram or --plot");
 	a->po.noverlap = (size_t)floor(a->overlap * (double)a->po.nperseg);
 	if (a->po.noverlap >= a->po.nperseg)
 		a->po.noverlap = a->po.nperseg - 1;
@@ -997,10 +1064,11 @@ static void summary(json_t *rows, const void *opts, const void *result)
 		if (c->n_peaks) {
 			char note[96];
 
-			snprintf(note, sizeof(note), "amplitude %.4g %s",
-				 c->peaks[0].amplitude / uscale(c), u);
+			snprintf(note, sizeof(note), "amplitude %.4g %s, %.3g x the noise floor",
+				 c->peaks[0].peak.amplitude / uscale(c), u,
+				 c->peaks[0].ratio);
 			ssc_summary_add(rows, c->col.name, "strongest peak",
-					c->peaks[0].frequency_hz, NAN, NAN, "Hz",
+					c->peaks[0].peak.frequency_hz, NAN, NAN, "Hz",
 					note);
 		}
 	}

@@ -25,12 +25,18 @@ static const struct ssc_command_spec run_spec = {
 		"rate, units, temp_column), the sensor and ADC specifications\n"
 		"([sensor], [adc]: 'spec = FILE' or inline keys), one section per\n"
 		"wanted output whose keys are that command's long options, and\n"
-		"[report] formats = text,json,html,png and output = DIR.  Only the\n"
-		"stages the outputs need are run, each once; each capture is read once,\n"
-		"with only the columns in use.  Paths are relative to the scene file;\n"
-		"-o DIR overrides the scene's output directory.",
+		"[report] formats = text,json,html,png,svg and output = DIR.  Only\n"
+		"the stages the outputs need are run, each once; each capture is read\n"
+		"once, with only the columns in use.  Paths are relative to the scene\n"
+		"file; -o DIR overrides the scene's output directory.  The report is\n"
+		"built in a staging folder beside DIR and replaces DIR only when every\n"
+		"stage succeeded; an existing DIR may hold only report files, no input.\n"
+		"The summary table and any warning are printed on standard output;\n"
+		"report.html has the results as tables, a banner for each result the\n"
+		"analysis doubts, the figures inline as SVG and the formulas in MathML.",
 	.options = run_opts,
 	.output_opts = true,
+	.output_dir = true,
 	.notes = "Example:\n  sensorscope run samples/gyro-static.scene.ini\n"
 		 "  sensorscope run --dry-run samples/gyro-static.scene.ini",
 };
@@ -63,6 +69,11 @@ int ssc_cmd_run(int argc, char **argv)
 		return rc < 0 ? SSC_EXIT_OK : rc;
 	if (argc - first != 1)
 		return ssc_usage_error(co.cmd, "expected one scene file");
+	if (co.format != SSC_FMT_TEXT)
+		return ssc_usage_error(co.cmd,
+				       "--format: a report is a folder; its formats are the scene's [report] formats");
+	/* errors of the stages say "sensorscope: run: STAGE: ..." */
+	ssc_set_outer(co.cmd);
 	rc = ssc_scene_load(co.cmd, argv[first], &sc);
 	if (rc)
 		return rc;
@@ -88,10 +99,14 @@ static const struct ssc_command_spec report_spec = {
 		"roll_ref/pitch_ref columns and a temperature -> inclino only;\n"
 		"inertial channels with a temperature column -> tempbias; rate gyros\n"
 		"and accelerometers below 500 Hz -> allan; accelerometers at 500 Hz\n"
-		"and above -> vibration; every data channel -> psd.  An inferred\n"
-		"analysis the data refuse is left out of the report with its reason.",
+		"and above -> vibration; a gyro with a true heading column (an angle\n"
+		"named *heading*) -> heading against it; any other gyro record\n"
+		"without temperature -> walk (refused when it moves); every data\n"
+		"channel -> psd.  An inferred analysis the data refuse is left out of\n"
+		"the report with its reason.",
 	.options = run_opts,
 	.analysis = true,
+	.output_dir = true,
 	.notes = "Example:\n  sensorscope report samples/gyro-static.csv\n"
 		 "  sensorscope report -o thermal-report samples/accel-thermal.csv",
 };
@@ -113,6 +128,11 @@ int ssc_cmd_report(int argc, char **argv)
 				       "--format: a report is a directory of text, JSON, PNG and HTML");
 	if (co.plot)
 		return ssc_usage_error(co.cmd, "--plot: the report draws every figure itself");
+	ssc_set_outer(co.cmd);
+	rc = ssc_check_inputs(co.cmd, (const char *const *)argv + first,
+			      (size_t)(argc - first));
+	if (rc)
+		return rc;
 	rc = ssc_scene_infer(&co, argv + first, (size_t)(argc - first),
 			     co.output ? co.output : "sensorscope-report", &sc);
 	if (rc)

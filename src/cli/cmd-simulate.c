@@ -56,7 +56,7 @@ static const struct ssc_option sim_opts[] = {
 	{ "units", required_argument, 'u', "UNIT",
 	  "unit of the data columns (default deg/s for gyros, m/s^2 for accelerometers)" },
 	{ "output", required_argument, 'o', "PATH",
-	  "write the capture there, atomically (default stdout)" },
+	  "write the capture there (default stdout): a file atomically, a FIFO or device written through, never an input" },
 	{ "binary", required_argument, OPT_BINARY, "f32|f64",
 	  "sensorscope binary capture instead of CSV" },
 	{ "digits", required_argument, OPT_DIGITS, "N",
@@ -127,7 +127,7 @@ struct args {
 	size_t axes;
 	int digits;
 	enum sscope_capture_format fmt;
-	bool have_temp, have_ref, quiet;
+	bool have_temp, have_ref, quiet, have_digits;
 	const char *input_text;
 	const char *coeffs, *hyst, *grad, *quant;
 	const char *adc;
@@ -239,6 +239,7 @@ bad_seed:
 		if (d < 3 || d > 17)
 			return ssc_usage_error("simulate", "--digits: 3..17");
 		a->digits = (int)d;
+		a->have_digits = true;
 		return 0;
 	}
 	case OPT_INPUT:
@@ -377,6 +378,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 	struct ssc_inl_profile prof = { NULL, 0 };
 	size_t adc_clipped = 0;
 	struct sscope_writer *w = NULL;
+	struct ssc_out sink = { NULL, NULL };
 	struct sscope_writer_column *cols = NULL;
 	char (*names)[64] = NULL;
 	double **outb = NULL, *temp = NULL, *rows = NULL, *inb = NULL;
@@ -403,6 +405,13 @@ int ssc_cmd_simulate(int argc, char **argv)
 		return ssc_usage_error(co.cmd, "--rate is required");
 	if (!(a.duration > 0))
 		return ssc_usage_error(co.cmd, "--duration is required");
+	/* options that would be ignored */
+	if (a.have_digits && a.fmt != SSCOPE_CAPTURE_CSV)
+		return ssc_usage_error(co.cmd, "--digits: a binary capture keeps every digit");
+	if (a.so.temp_noise_degc > 0 && !a.have_temp)
+		return ssc_usage_error(co.cmd, "--temp-noise: no temperature column (give --temp, --temp-ramp or --temp-cycle)");
+	if (a.so.hysteresis_deadband_degc_s > 0 && !a.hyst)
+		return ssc_usage_error(co.cmd, "--hysteresis-band: no --hysteresis");
 	if (a.duration * a.rate > 1e12)
 		return ssc_usage_error(co.cmd, "--duration x --rate: more than 1e12 samples");
 	n = (size_t)llround(a.duration * a.rate);
@@ -580,8 +589,10 @@ int ssc_cmd_simulate(int argc, char **argv)
 		cols[ncol - 1].name = "temp";
 		cols[ncol - 1].unit = "degC";
 	}
-	rc = sscope_writer_open(&w, a.out ? a.out : "-", a.fmt, cols, ncol,
-				a.digits, &d);
+	rc = ssc_file_open(co.cmd, a.out, &sink);
+	if (rc)
+		goto done;
+	rc = sscope_writer_fopen(&w, sink.f, a.fmt, cols, ncol, a.digits, &d);
 	if (rc) {
 		rc = ssc_fail(co.cmd, rc, &d, a.out ? a.out : "(stdout)");
 		goto done;
@@ -619,21 +630,16 @@ int ssc_cmd_simulate(int argc, char **argv)
 				r[ncol - 1] = temp[i];
 		}
 		if (sscope_writer_append(w, rows, c)) {
-			ssc_err(co.cmd, "%s: write error", a.out ? a.out : "(stdout)");
-			sscope_writer_abort(w);
-			w = NULL;
-			rc = SSC_EXIT_FAIL;
+			rc = SSC_EXIT_FAIL; /* said when the sink is closed */
 			goto done;
 		}
 		done_n += c;
 	}
 	rc = sscope_writer_commit(w);
 	w = NULL;
-	if (rc) {
-		ssc_err(co.cmd, "%s: %s", a.out ? a.out : "(stdout)", sscope_strerror(rc));
-		rc = SSC_EXIT_FAIL;
+	rc = ssc_file_close(&sink, rc == 0);
+	if (rc)
 		goto done;
-	}
 	for (size_t k = 0; k < a.axes; k++)
 		if (sscope_sim_clipped(sims[k]))
 			ssc_warn(&co, "%s: %llu samples clipped to the range %g %s",
@@ -650,6 +656,8 @@ oom:
 done:
 	if (w)
 		sscope_writer_abort(w);
+	if (sink.priv)
+		ssc_file_close(&sink, false);
 	for (size_t k = 0; sims && k < a.axes; k++) {
 		sscope_sim_free(sims[k]);
 		if (adcs)

@@ -29,6 +29,11 @@ enum {
 	O_MINSPAN,
 };
 
+/* what separates the hysteresis and gradient terms (shown when they are
+ * collinear) */
+#define TB_SEPARATE \
+	"a profile whose rate varies within heating and within cooling, e.g. a sine cycle"
+
 static const struct ssc_option tb_opts[] = {
 	{ "order", required_argument, O_ORDER, "K|auto",
 	  "polynomial order 0..4 (default auto: F test at 1 %, at most one order per 5 degC of span)" },
@@ -246,6 +251,21 @@ static json_t *chan_json(const struct chan *ch, size_t n_runs)
 			json_object_set_new(h, "turn_band_degc", json_real(r->turn_band_degc));
 		else
 			json_object_set_new(h, "deadband_degc_s", json_real(r->deadband_degc_s));
+		if (r->hyst_grad_collinear) {
+			json_t *g = json_object();
+
+			/* the gap the profile measures: heating - cooling at
+			 * its own rates (hysteresis + gradient x rate gap) */
+			json_object_set_new(g, "value", ssc_jreal(du(&ch->d, r->hysteresis)));
+			json_object_set_new(g, "sd", ssc_jreal(du(&ch->d, r->hysteresis_sd)));
+			json_object_set_new(g, "heating_rate_degc_s", ssc_jreal(r->rate_heat_degc_s));
+			json_object_set_new(g, "cooling_rate_degc_s", ssc_jreal(r->rate_cool_degc_s));
+			json_object_set_new(h, "combined_gap", g);
+		}
+		json_object_set_new(h, "collinear_with_gradient", json_boolean(r->hyst_grad_collinear));
+		json_object_set_new(h, "gradient_vif", ssc_jreal(r->hyst_grad_vif));
+		if (r->hyst_grad_collinear)
+			json_object_set_new(h, "separate_with", json_string(TB_SEPARATE));
 		json_object_set_new(o, "hysteresis", h);
 	}
 	json_object_set_new(o, "gradient_sensitivity", ssc_jreal(du(&ch->d, r->gradient)));
@@ -330,6 +350,11 @@ static void chan_text(FILE *f, const struct chan *ch, size_t n_runs)
 			r->hysteresis_at_degc);
 	else
 		fputc('\n', f);
+	if (r->hyst_grad_collinear)
+		fprintf(f, "  hysteresis and gradient (dT/dt) terms are collinear on this profile (variance inflation %.3g):\n"
+			   "    the hysteresis above is their combined heating - cooling gap at heating %.3g and cooling %.3g degC/min;\n"
+			   "    to separate them use %s\n",
+			r->hyst_grad_vif, 60 * r->rate_heat_degc_s, 60 * r->rate_cool_degc_s, TB_SEPARATE);
 	if (r->have_gradient)
 		fprintf(f, "  gradient: %s +- %s %s per degC/min\n",
 			ssc_fmt(a, sizeof(a), du(&ch->d, r->gradient) / 60, 4),
@@ -470,10 +495,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	}
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 

@@ -87,7 +87,7 @@ struct args {
 	struct sscope_vib_opts vo;
 	double overlap;
 	double rpm;
-	bool bearing;
+	bool bearing, tol_set;
 	const char *env_band;
 };
 
@@ -163,6 +163,7 @@ bad_bearing:
 			return SSC_EXIT_USAGE;
 		if (!(a->vo.tolerance >= 0 && a->vo.tolerance < 0.2))
 			return ssc_usage_error("vibration", "--tolerance: must be in [0, 0.2)");
+		a->tol_set = true;
 		return 0;
 	case OPT_ENV_BAND:
 		return parse_pair("vibration", "envelope-band", arg,
@@ -606,10 +607,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 	}
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -628,6 +627,8 @@ static int check(struct ssc_common *co, void *opts)
 
 	if (a->bearing && !(a->rpm > 0))
 		return ssc_usage_error(co->cmd, "--bearing needs --rpm (the shaft speed)");
+	if (a->tol_set && !(a->rpm > 0))
+		return ssc_usage_error(co->cmd, "--tolerance: matches shaft orders and bearing defects, which need --rpm");
 	a->vo.shaft_hz = a->rpm / 60;
 	a->vo.have_bearing = a->bearing;
 	return SSC_EXIT_OK;
@@ -651,6 +652,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	struct args *a;
 	struct sscope_capture *cap;
 	const char *path;
+	int rc;
 
 	if (env->n_caps != 1) {
 		ssc_err(co->cmd, "one input capture at a time");
@@ -658,6 +660,9 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	cap = env->caps[0];
 	path = env->paths[0];
+	rc = ssc_time_check(co, path, cap, true);
+	if (rc)
+		return rc;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
 			path);
@@ -686,7 +691,6 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	for (size_t k = 0; k < cap->n_channels; k++, R->n++) {
 		const struct sscope_column *col = &cap->channels[k].col;
 		struct sscope_diag d = { "" };
-		int rc;
 
 		R->cr[k].col = col;
 		if (col->quantity != SSCOPE_QTY_ACCELERATION) {

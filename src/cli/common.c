@@ -6,14 +6,15 @@
  */
 #include "cli.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
-#include "atomic.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
 #include "cvload.h"
@@ -67,7 +68,7 @@ static const struct ssc_option output_opts[] = {
 	{ "format", required_argument, OPT_FORMAT, "text|json|csv",
 	  "output format (default text)" },
 	{ "output", required_argument, 'o', "PATH",
-	  "write the result there, atomically (default stdout)" },
+	  "write the result there (default stdout): a file atomically, a FIFO or device written through, never an input" },
 	{ "quiet", no_argument, 'q', NULL, "no warnings, no progress" },
 	{ "progress", no_argument, OPT_PROGRESS, NULL,
 	  "show progress on stderr" },
@@ -77,11 +78,181 @@ static const struct ssc_option output_opts[] = {
 	{ NULL, 0, 0, NULL, NULL },
 };
 
-static char last_error[512];
+/* ------------------------------------------------------------ messages */
+
+/* A message line is at most this long; a quoted excerpt longer than
+ * EXCERPT_MAX bytes keeps its first EXCERPT_KEEP. */
+#define MSG_MAX 1024
+#define EXCERPT_MAX 64
+#define EXCERPT_KEEP 48
+
+static char last_error[MSG_MAX];
+
+/* Where options come from when not from the command line ("scene.ini:
+ * line 12"), and the command a stage runs inside; the CLI is
+ * single-threaded. */
+static const char *option_context;
+static const char *outer_cmd;
 
 const char *ssc_last_error(void)
 {
 	return last_error;
+}
+
+void ssc_set_context(const char *ctx)
+{
+	option_context = ctx;
+}
+
+void ssc_set_outer(const char *outer)
+{
+	outer_cmd = outer;
+}
+
+/* Length of the UTF-8 sequence at s and its code point, 0 when it is not
+ * one (overlong, surrogate, beyond U+10FFFF, cut short). */
+static size_t utf8_seq(const unsigned char *s, unsigned long *cp)
+{
+	size_t n = s[0] >= 0xf0 ? 4 : s[0] >= 0xe0 ? 3 : s[0] >= 0xc2 ? 2 : 0;
+	unsigned long v;
+
+	if (!n || s[0] > 0xf4)
+		return 0;
+	v = s[0] & (0x7fu >> n);
+	for (size_t i = 1; i < n; i++) {
+		if ((s[i] & 0xc0) != 0x80)
+			return 0;
+		v = v << 6 | (s[i] & 0x3fu);
+	}
+	if ((n == 3 && v < 0x800) || (n == 4 && (v < 0x10000 || v > 0x10ffff)) ||
+	    (v >= 0xd800 && v <= 0xdfff))
+		return 0;
+	*cp = v;
+	return n;
+}
+
+struct line {
+	char *p;
+	size_t n, cap; /* cap: room for the text, "..." and the NUL kept */
+	bool full;
+};
+
+static void put(struct line *l, const char *s, size_t n)
+{
+	if (l->full)
+		return;
+	if (l->n + n > l->cap) {
+		memcpy(l->p + l->n, "...", 4);
+		l->n += 3;
+		l->full = true;
+		return;
+	}
+	memcpy(l->p + l->n, s, n);
+	l->n += n;
+	l->p[l->n] = '\0';
+}
+
+/* Append in[0..n) with every byte a terminal would act on as \xNN:
+ * C0 controls, DEL, C1 controls, bidirectional embeddings/overrides/
+ * isolates, and bytes that are not UTF-8. */
+static void put_escaped(struct line *l, const char *in, size_t n)
+{
+	const unsigned char *s = (const unsigned char *)in;
+
+	for (size_t i = 0; i < n;) {
+		unsigned long cp = 0;
+		size_t k = s[i] < 0x80 ? 1 : utf8_seq(s + i, &cp);
+		bool bad = s[i] < 0x20 || s[i] == 0x7f || k == 0 || i + k > n ||
+			   (cp >= 0x80 && cp <= 0x9f) ||
+			   (cp >= 0x202a && cp <= 0x202e) ||
+			   (cp >= 0x2066 && cp <= 0x2069);
+
+		if (bad) {
+			size_t m = k && i + k <= n ? k : 1;
+
+			for (size_t j = 0; j < m; j++) {
+				char x[5];
+
+				snprintf(x, sizeof(x), "\\x%02x", s[i + j]);
+				put(l, x, 4);
+			}
+			i += m;
+		} else {
+			put(l, in + i, k);
+			i += k;
+		}
+	}
+}
+
+/* Clean a message: escape (put_escaped) and cut quoted excerpts ('...' or
+ * "...", opened after a non-alphanumeric character, closed before one)
+ * longer than EXCERPT_MAX bytes. */
+static void clean(struct line *l, const char *in)
+{
+	size_t len = strlen(in), i = 0;
+
+	while (i < len) {
+		size_t run = i, j = len;
+		char q;
+
+		/* quotes are ASCII: never inside a multibyte character */
+		while (run < len && in[run] != '\'' && in[run] != '"')
+			run++;
+		put_escaped(l, in + i, run - i);
+		if (run >= len)
+			break;
+		i = run;
+		q = in[i];
+		if (i == 0 || !isalnum((unsigned char)in[i - 1]))
+			for (j = i + 1; j < len; j++)
+				if (in[j] == q && !isalnum((unsigned char)in[j + 1]))
+					break;
+		if (j < len && j - i - 1 > EXCERPT_MAX) {
+			size_t keep = EXCERPT_KEEP;
+			char note[48];
+
+			/* cut on a character boundary */
+			while (keep > 0 &&
+			       ((unsigned char)in[i + 1 + keep] & 0xc0) == 0x80)
+				keep--;
+			put(l, &q, 1);
+			put_escaped(l, in + i + 1, keep);
+			snprintf(note, sizeof(note), "...%c (%zu bytes)", q,
+				 j - i - 1);
+			put(l, note, strlen(note));
+			i = j + 1;
+			continue;
+		}
+		put(l, &q, 1);
+		i++;
+	}
+}
+
+/* "sensorscope: [OUTER: ][CMD: ][KIND][CTX: ]message[HINT]\n" on stderr,
+ * the context and message cleaned; the message is also kept for
+ * ssc_last_error(). */
+static void say(const char *cmd, const char *kind, const char *ctx,
+		const char *hint, const char *fmt, va_list ap)
+{
+	char *msg = NULL, buf[MSG_MAX + 8], cbuf[MSG_MAX + 8];
+	struct line l = { buf, 0, MSG_MAX, false };
+	struct line c = { cbuf, 0, MSG_MAX, false };
+	const char *outer = outer_cmd && cmd && strcmp(outer_cmd, cmd) ?
+				    outer_cmd : NULL;
+
+	buf[0] = cbuf[0] = '\0';
+	if (vasprintf(&msg, fmt, ap) < 0)
+		msg = NULL;
+	clean(&l, msg ? msg : fmt);
+	free(msg);
+	if (ctx) {
+		clean(&c, ctx);
+		put(&c, ": ", 2);
+	}
+	snprintf(last_error, sizeof(last_error), "%s", buf);
+	fprintf(stderr, "sensorscope: %s%s%s%s%s%s%s%s\n", outer ? outer : "",
+		outer ? ": " : "", cmd ? cmd : "", cmd ? ": " : "",
+		kind ? kind : "", cbuf, buf, hint ? hint : "");
 }
 
 void ssc_err(const char *cmd, const char *fmt, ...)
@@ -89,51 +260,33 @@ void ssc_err(const char *cmd, const char *fmt, ...)
 	va_list ap;
 
 	va_start(ap, fmt);
-	vsnprintf(last_error, sizeof(last_error), fmt, ap);
+	say(cmd, NULL, NULL, NULL, fmt, ap);
 	va_end(ap);
-	fprintf(stderr, "sensorscope: %s%s", cmd ? cmd : "", cmd ? ": " : "");
-	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
-	va_end(ap);
-	fputc('\n', stderr);
 }
 
 void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 {
+	char keep[MSG_MAX];
 	va_list ap;
 
 	if (co->quiet)
 		return;
-	fprintf(stderr, "sensorscope: %s: warning: ", co->cmd);
+	memcpy(keep, last_error, sizeof(keep)); /* a warning is no error */
 	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
+	say(co->cmd, "warning: ", NULL, NULL, fmt, ap);
 	va_end(ap);
-	fputc('\n', stderr);
-}
-
-/* Where options come from when not from the command line ("scene.ini:
- * line 12"); the CLI is single-threaded. */
-static const char *option_context;
-
-void ssc_set_context(const char *ctx)
-{
-	option_context = ctx;
+	memcpy(last_error, keep, sizeof(keep));
 }
 
 int ssc_usage_error(const char *cmd, const char *fmt, ...)
 {
+	char hint[96];
 	va_list ap;
 
-	fprintf(stderr, "sensorscope: %s: ", cmd);
-	if (option_context)
-		fprintf(stderr, "%s: ", option_context);
+	snprintf(hint, sizeof(hint), " (see 'sensorscope %s --help')", cmd);
 	va_start(ap, fmt);
-	vfprintf(stderr, fmt, ap);
+	say(cmd, NULL, option_context, option_context ? NULL : hint, fmt, ap);
 	va_end(ap);
-	if (option_context)
-		fputc('\n', stderr);
-	else
-		fprintf(stderr, " (see 'sensorscope %s --help')\n", cmd);
 	return SSC_EXIT_USAGE;
 }
 
@@ -294,16 +447,21 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		   count_opts(output_opts) + 1;
 	struct option *lo = calloc(n, sizeof(*lo));
 	char *so = calloc(3 * n + 2, 1);
-	size_t nl = 0, ns = 0;
+	/* every path the command line names, compared before anything is
+	 * written */
+	struct ssc_guard_item *paths = calloc((size_t)argc + 1, sizeof(*paths));
+	size_t nl = 0, ns = 0, np = 0;
+	bool to_stdout = !spec->output_dir, raw_scaled = false;
 	int c, rc = SSC_EXIT_OK;
 
 	memset(co, 0, sizeof(*co));
 	co->cmd = spec->name;
 	co->progress = -1;
 	co->scale = 1;
-	if (!lo || !so) {
+	if (!lo || !so || !paths) {
 		free(lo);
 		free(so);
+		free(paths);
 		ssc_err(spec->name, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
@@ -317,6 +475,21 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 	optind = 1;
 	opterr = 0;
 	while ((c = getopt_long(argc, argv, so, lo, NULL)) != -1) {
+		if (optarg && c != '?' && c != ':' && np < (size_t)argc) {
+			const char *what = NULL;
+
+			for (size_t i = 0; i < nl && !what; i++)
+				if (lo[i].val == c)
+					what = ssc_output_option(lo[i].name);
+			paths[np].what = what;
+			paths[np].path = optarg;
+			paths[np].role = !what ? SSC_GUARD_IN :
+					 c == 'o' && spec->output_dir ? SSC_GUARD_DIR :
+									SSC_GUARD_OUT;
+			if (c == 'o')
+				to_stdout = !spec->output_dir && !strcmp(optarg, "-");
+			np++;
+		}
 		switch (c) {
 		case OPT_HELP:
 			print_help(spec);
@@ -386,10 +559,18 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_NO_PROGRESS:
 			co->progress = 0;
 			break;
-		case OPT_RAW:
+		case OPT_RAW: {
+			struct sscope_diag d = { "" };
+
+			if (sscope_raw_layout_check(optarg, NULL, NULL, &d)) {
+				rc = ssc_usage_error(co->cmd, "--raw: %s", d.msg);
+				goto out;
+			}
 			co->raw = optarg;
 			break;
+		}
 		case OPT_SCALE:
+			raw_scaled = true;
 			rc = ssc_arg_double(co->cmd, "scale", optarg, &co->scale);
 			if (!rc && co->scale == 0)
 				rc = ssc_usage_error(co->cmd, "--scale: must not be 0");
@@ -397,6 +578,7 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 				goto out;
 			break;
 		case OPT_OFFSET:
+			raw_scaled = true;
 			rc = ssc_arg_double(co->cmd, "offset", optarg, &co->offset);
 			if (rc)
 				goto out;
@@ -439,10 +621,20 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		if (rc)
 			goto out;
 	}
+	if (raw_scaled && !co->raw) {
+		rc = ssc_usage_error(co->cmd, "--scale and --offset apply to --raw input only");
+		goto out;
+	}
+	for (int i = optind; i < argc && np < (size_t)argc; i++)
+		paths[np++] = (struct ssc_guard_item){ NULL, argv[i], SSC_GUARD_IN };
+	rc = ssc_guard_check(co->cmd, paths, np, to_stdout);
+	if (rc)
+		goto out;
 	*first = optind;
 out:
 	free(lo);
 	free(so);
+	free(paths);
 	return rc;
 }
 
@@ -516,17 +708,18 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	 * every channel, since triads need all three */
 	if (co->calibration)
 		o.columns = NULL;
+	else
+		o.in_place = true; /* (calibration drops channels: copies) */
 	if (ssc_progress_on(co)) {
 		o.progress = read_progress;
 		o.progress_ctx = &pc;
 	}
 	rc = sscope_capture_load(cap, path, &o, &d);
 	ssc_progress_end(co);
-	if (rc) {
-		if (rc == -EINVAL && co->raw && !d.msg[0])
-			return ssc_usage_error(co->cmd, "bad --raw '%s'", co->raw);
+	if (rc)
 		return ssc_fail(co->cmd, rc, &d, path);
-	}
+	if ((*cap)->unterminated)
+		ssc_warn_unterminated(co, path, (*cap)->n);
 	rc = co->calibration ? ssc_calibration_apply(co, path, *cap) : 0;
 	if (!rc)
 		rc = ssc_select(co, *cap);
@@ -565,53 +758,73 @@ int ssc_view(const struct ssc_common *co, const struct sscope_capture *cap,
 	return rc ? ssc_fail(co->cmd, rc, &d, cap->source) : SSC_EXIT_OK;
 }
 
-int ssc_out_open(const struct ssc_common *co, struct ssc_out *out)
+void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
+			   size_t rows)
 {
-	struct ssc_atomic *a = calloc(1, sizeof(*a));
-	int rc;
+	ssc_warn(co, "%s: the last line (row %zu) has no newline: was the capture cut short?",
+		 strcmp(path, "-") ? path : "(stdin)", rows);
+}
 
-	out->f = NULL;
-	out->priv = a;
-	if (!a) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
+int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		struct stat a;
+		bool ha = !strcmp(paths[i], "-") ? fstat(STDIN_FILENO, &a) == 0 :
+						     stat(paths[i], &a) == 0;
+
+		for (size_t j = i + 1; j < n; j++) {
+			struct stat b;
+			bool hb;
+
+			if (!strcmp(paths[i], "-") && !strcmp(paths[j], "-"))
+				return ssc_usage_error(cmd,
+						       "standard input ('-') is given twice (inputs %zu and %zu): it can be read once",
+						       i + 1, j + 1);
+			hb = !strcmp(paths[j], "-") ? fstat(STDIN_FILENO, &b) == 0 :
+						      stat(paths[j], &b) == 0;
+			if (ha && hb && a.st_dev == b.st_dev && a.st_ino == b.st_ino)
+				return ssc_usage_error(cmd,
+						       "inputs %zu and %zu ('%s' and '%s') are the same file: give each capture once",
+						       i + 1, j + 1, paths[i], paths[j]);
+		}
 	}
-	rc = ssc_atomic_open(a, co->output ? co->output : "-");
-	if (rc) {
-		ssc_err(co->cmd, "%s: %s", co->output, strerror(-rc));
-		free(a);
-		out->priv = NULL;
-		return SSC_EXIT_FAIL;
-	}
-	out->f = a->f;
 	return SSC_EXIT_OK;
 }
 
-int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok)
+int ssc_time_verdict(const struct ssc_common *co, const char *path,
+		     const char *column, const struct sscope_time_order *o,
+		     enum sscope_rate_source rate_source, bool uniform)
 {
-	struct ssc_atomic *a = out->priv;
-	int rc = SSC_EXIT_OK;
+	struct sscope_diag d = { "" };
+	const char *p = strcmp(path, "-") ? path : "(stdin)";
 
-	if (!a)
-		return ok ? SSC_EXIT_OK : SSC_EXIT_FAIL;
-	if (ok) {
-		int e = ssc_atomic_commit(a);
-
-		if (e) {
-			ssc_err(co->cmd, "%s: %s",
-				co->output ? co->output : "(stdout)",
-				strerror(-e));
-			ssc_atomic_abort(a);
-			rc = SSC_EXIT_FAIL;
-		}
-	} else {
-		ssc_atomic_abort(a);
-		rc = SSC_EXIT_FAIL;
+	if (!sscope_time_order_check(o, &d))
+		return SSC_EXIT_OK;
+	if (!uniform) {
+		ssc_warn(co, "%s: time column '%s' %s", p, column, d.msg);
+		return SSC_EXIT_OK;
 	}
-	free(a);
-	out->priv = NULL;
-	out->f = NULL;
-	return rc;
+	if (rate_source == SSCOPE_RATE_GIVEN || rate_source == SSCOPE_RATE_HEADER) {
+		ssc_warn(co, "%s: time column '%s' %s: the samples are taken as evenly spaced at the %s rate",
+			 p, column, d.msg,
+			 rate_source == SSCOPE_RATE_GIVEN ? "given" : "header's");
+		return SSC_EXIT_OK;
+	}
+	ssc_err(co->cmd, "%s: time column '%s' %s: fix the time stamps, or give --rate to take the samples as evenly spaced",
+		p, column, d.msg);
+	return SSC_EXIT_FAIL;
+}
+
+int ssc_time_check(const struct ssc_common *co, const char *path,
+		   const struct sscope_capture *cap, bool uniform)
+{
+	struct sscope_time_order o = { 0 };
+
+	if (!cap->time_s)
+		return SSC_EXIT_OK;
+	sscope_time_order_feed(&o, cap->time_s, cap->n);
+	return ssc_time_verdict(co, path, cap->time_col.name, &o,
+				cap->rate_source, uniform);
 }
 
 json_t *ssc_jreal(double v)
@@ -730,6 +943,34 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	json_object_set_new(o, "si_unit", json_string(si_unit ? si_unit : ""));
 	json_object_set_new(o, "fitted", json_boolean(fitted));
 	return o;
+}
+
+void ssc_unit_pretty(const char *in, char *out, size_t len)
+{
+	static const char *const from[] = { "deg", "sqrt(Hz)", "sqrt(h)",
+					    "ug", "^2", "^3", "*", NULL };
+	static const char *const to[] = { "\xc2\xb0", "\xe2\x88\x9aHz",
+					  "\xe2\x88\x9ah", "\xc2\xb5g",
+					  "\xc2\xb2", "\xc2\xb3", "\xc2\xb7" };
+	size_t o = 0;
+
+	while (*in && o + 8 < len) {
+		int i;
+
+		for (i = 0; from[i]; i++)
+			if (!strncmp(in, from[i], strlen(from[i])))
+				break;
+		if (from[i]) {
+			size_t l = strlen(to[i]);
+
+			memcpy(out + o, to[i], l);
+			o += l;
+			in += strlen(from[i]);
+		} else {
+			out[o++] = *in++;
+		}
+	}
+	out[o] = '\0';
 }
 
 void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)

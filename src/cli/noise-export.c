@@ -26,7 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "atomic.h"
 #include "noise-export.h"
 
 /* value of term t of channel c: the estimate or the upper limit */
@@ -71,31 +70,6 @@ static bool pick(const struct ssc_noise_export *e, enum sscope_quantity q,
 	return any;
 }
 
-static int open_out(const char *cmd, const char *opt, const char *path,
-		    struct ssc_atomic *at)
-{
-	int rc = ssc_atomic_open(at, path);
-
-	if (rc) {
-		ssc_err(cmd, "--%s: %s: %s", opt, path, strerror(-rc));
-		return SSC_EXIT_FAIL;
-	}
-	return SSC_EXIT_OK;
-}
-
-static int close_out(const char *cmd, const char *opt, const char *path,
-		     struct ssc_atomic *at)
-{
-	int rc = ssc_atomic_commit(at);
-
-	if (rc) {
-		ssc_atomic_abort(at);
-		ssc_err(cmd, "--%s: %s: %s", opt, path, strerror(-rc));
-		return SSC_EXIT_FAIL;
-	}
-	return SSC_EXIT_OK;
-}
-
 static void header(FILE *f, const struct ssc_noise_export *e,
 		   const char *what)
 {
@@ -111,11 +85,11 @@ static void header(FILE *f, const struct ssc_noise_export *e,
 int ssc_export_kalibr(const char *cmd, const char *path,
 		      const struct ssc_noise_export *e)
 {
-	struct ssc_atomic at;
+	struct ssc_out at;
 	double n, k;
 	char note[512];
 	bool gyro = false, acc = false;
-	int rc = open_out(cmd, "kalibr", path, &at);
+	int rc = ssc_file_open(cmd, path, &at);
 
 	if (rc)
 		return rc;
@@ -144,20 +118,20 @@ int ssc_export_kalibr(const char *cmd, const char *path,
 		acc = true;
 	}
 	if (!gyro && !acc) {
-		ssc_atomic_abort(&at);
+		ssc_file_close(&at, false);
 		ssc_err(cmd, "--kalibr: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");
 		return SSC_EXIT_FAIL;
 	}
 	if (!gyro || !acc)
 		fprintf(at.f, "# no %s channel was analysed: its keys are missing\n",
 			gyro ? "accelerometer" : "gyro");
-	return close_out(cmd, "kalibr", path, &at);
+	return ssc_file_close(&at, true);
 }
 
 int ssc_export_openvins(const char *cmd, const char *path,
 			const struct ssc_noise_export *e)
 {
-	struct ssc_atomic at;
+	struct ssc_out at;
 	double gn, gk, an, ak;
 	char gnote[512], anote[512], tmp[512];
 	int rc;
@@ -169,7 +143,7 @@ int ssc_export_openvins(const char *cmd, const char *path,
 	}
 	pick(e, SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_K, &gk, tmp, sizeof(tmp));
 	pick(e, SSCOPE_QTY_ACCELERATION, SSCOPE_TERM_K, &ak, tmp, sizeof(tmp));
-	rc = open_out(cmd, "openvins", path, &at);
+	rc = ssc_file_open(cmd, path, &at);
 	if (rc)
 		return rc;
 	fprintf(at.f, "%%YAML:1.0 # need to specify the file type at the top!\n");
@@ -195,7 +169,7 @@ int ssc_export_openvins(const char *cmd, const char *path,
 	fprintf(at.f, "  time_offset: 0.0\n");
 	fprintf(at.f, "  update_rate: %.10g\n", e->rate_hz);
 	fprintf(at.f, "  model: \"kalibr\"\n");
-	return close_out(cmd, "openvins", path, &at);
+	return ssc_file_close(&at, true);
 }
 
 /* one imu_utils block (Gyr or Acc): avg-axis and up to three axes */
@@ -243,9 +217,9 @@ static bool imu_utils_block(FILE *f, const struct ssc_noise_export *e,
 int ssc_export_imu_utils(const char *cmd, const char *path,
 			 const struct ssc_noise_export *e)
 {
-	struct ssc_atomic at;
+	struct ssc_out at;
 	bool g, a;
-	int rc = open_out(cmd, "imu-utils", path, &at);
+	int rc = ssc_file_open(cmd, path, &at);
 
 	if (rc)
 		return rc;
@@ -256,9 +230,9 @@ int ssc_export_imu_utils(const char *cmd, const char *path,
 	g = imu_utils_block(at.f, e, SSCOPE_QTY_ANGULAR_RATE, "Gyr", "rad/s", "gyr");
 	a = imu_utils_block(at.f, e, SSCOPE_QTY_ACCELERATION, "Acc", "m/s^2", "acc");
 	if (!g && !a) {
-		ssc_atomic_abort(&at);
+		ssc_file_close(&at, false);
 		ssc_err(cmd, "--imu-utils: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");
 		return SSC_EXIT_FAIL;
 	}
-	return close_out(cmd, "imu-utils", path, &at);
+	return ssc_file_close(&at, true);
 }

@@ -20,7 +20,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "atomic.h"
+#include "cli.h"
 #include "canvas.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
@@ -899,6 +899,23 @@ static void side_boxes(const struct ssc_surface *S, const struct ssc_ax *ax,
 		*legend_h = 8 + fl * 1.45 * (double)nl + 4;
 }
 
+/* The axes draws points without lines only (a scatter plot). */
+static bool markers_only(const struct ssc_ax *ax)
+{
+	bool any = false;
+
+	for (size_t k = 0; k < ax->n_items; k++) {
+		const struct item *it = &ax->items[k];
+
+		if (it->kind == IT_BAND || it->kind == IT_IMAGE ||
+		    (it->kind == IT_LINE && it->st.width > 0))
+			return false;
+		if (it->kind == IT_LINE || it->kind == IT_ERRBAR)
+			any = true;
+	}
+	return any;
+}
+
 static void plan(const struct ssc_surface *S, struct ssc_ax *ax,
 		 struct layout *L, double cw, double ch, double fs)
 {
@@ -908,8 +925,9 @@ static void plan(const struct ssc_surface *S, struct ssc_ax *ax,
 
 	memset(L, 0, sizeof(*L));
 	data_range(ax, true, ax->logx, &dlo, &dhi, &img);
+	/* markers alone would sit half outside a frame drawn at their ends */
 	make_axis(&L->x, ax->logx, ax->xlim_set, ax->xlo, ax->xhi, dlo, dhi,
-		  false, img, cw * 0.6, ax->logx ? 55 : 100);
+		  markers_only(ax), img, cw * 0.6, ax->logx ? 55 : 100);
 	data_range(ax, false, ax->logy, &dlo, &dhi, &img);
 	make_axis(&L->y, ax->logy, ax->ylim_set, ax->ylo, ax->yhi, dlo, dhi,
 		  true, img, ch * 0.7, ax->logy ? 30 : 48);
@@ -1603,16 +1621,7 @@ static void fig_draw(struct ssc_fig *f, const struct ssc_surface *S,
 
 static int write_file(const char *path, const void *buf, size_t len)
 {
-	struct ssc_atomic out;
-	int rc = ssc_atomic_open(&out, path);
-
-	if (rc)
-		return rc;
-	if (fwrite(buf, 1, len, out.f) != len) {
-		ssc_atomic_abort(&out);
-		return -EIO;
-	}
-	return ssc_atomic_commit(&out);
+	return ssc_file_put(path, buf, len);
 }
 
 static bool fig_empty(const struct ssc_fig *f)
@@ -1654,9 +1663,16 @@ int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
 
 int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
 {
-	char *buf = NULL;
+	char *buf = NULL, id[48];
 	size_t len = 0;
-	int rc = ssc_fig_svg(f, NULL, &buf, &len);
+	const char *b = strrchr(path, '/');
+	int rc;
+
+	/* ids from the file name: figures inlined in one page stay apart */
+	snprintf(id, sizeof(id), "f-%s", b ? b + 1 : path);
+	if (strrchr(id, '.'))
+		*strrchr(id, '.') = '\0';
+	rc = ssc_fig_svg(f, id, &buf, &len);
 
 	if (rc)
 		return rc;
@@ -1908,6 +1924,24 @@ enum ssc_plot_format ssc_plot_format_of(const char *path)
 
 int ssc_fig_save(struct ssc_fig *f, const char *path)
 {
+	size_t l = path ? strlen(path) : 0, k = strlen(SSC_PLOT_SVG_AND_PNG);
+
+	if (l > k && !strcmp(path + l - k, SSC_PLOT_SVG_AND_PNG)) {
+		char *p = malloc(l + 1);
+		int rc;
+
+		if (!p)
+			return -ENOMEM;
+		memcpy(p, path, l - k);
+		strcpy(p + l - k, ".svg");
+		rc = ssc_fig_save_svg(f, p);
+		if (!rc) {
+			strcpy(p + l - k, ".png");
+			rc = ssc_fig_save_png(f, p);
+		}
+		free(p);
+		return rc;
+	}
 	switch (ssc_plot_format_of(path)) {
 	case SSC_PLOT_PNG:
 		return ssc_fig_save_png(f, path);

@@ -114,7 +114,10 @@ enum ssc_plot_format { SSC_PLOT_NONE = 0, SSC_PLOT_PNG, SSC_PLOT_SVG };
 /* The format a figure path asks for, by its extension (.png, .svg, any
  * case). */
 enum ssc_plot_format ssc_plot_format_of(const char *path);
-/* Write in the format of the path's extension (-EINVAL for another). */
+/* Write in the format of the path's extension (-EINVAL for another); a
+ * path ending in SSC_PLOT_SVG_AND_PNG writes both files, BASE.svg and
+ * BASE.png, from one drawing (scenes that keep both). */
+#define SSC_PLOT_SVG_AND_PNG ".{svg,png}"
 int ssc_fig_save(struct ssc_fig *fig, const char *path);
 
 /* Tick computation (exported for tests): up to max ticks. */

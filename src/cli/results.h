@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Typed results of the stages that other stages read (budget reads allan's
- * noise terms and calib's remaining uncertainty): plain structs around the
+ * Typed results of the stages that other stages read (budget, heading,
+ * walk and navsim read allan's noise terms; budget calib's remaining
+ * uncertainty, navsim calib's error model): plain structs around the
  * library's result structs, so a later stage takes numbers and quantities
  * directly, never from re-parsed JSON or unit strings.
  */
@@ -44,6 +45,7 @@ struct ssc_allan_file {
 struct ssc_allan_res {
 	struct ssc_allan_file *fr;
 	size_t n_files;
+	double ci_level; /* level of the channels' intervals (0: none) */
 };
 
 /* ------------------------------------------------------------ calib */

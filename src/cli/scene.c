@@ -22,10 +22,12 @@
 #include <unistd.h>
 
 #include "html.h"
+#include "plot.h"
+#include "report.h"
 
 enum {
 	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
-	S_CALIB, S_BUDGET, S_COUNT_
+	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_COUNT_
 };
 
 static const struct ssc_stage_def stages[] = {
@@ -94,6 +96,28 @@ static const struct ssc_stage_def stages[] = {
 		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
 		       "K sqrt(t) growth, 95 % inside +-2 sigma; total = root sum "
 		       "of squares." },
+	[S_HEADING] = { "heading", &ssc_heading_stage, 1u << S_ALLAN, NULL,
+			"Heading = integral of the vertical rate minus the bias; "
+			"stops by the static detector of calib (variance magnitude "
+			"below k times a noise reference), the bias re-estimated "
+			"and the heading held at each; predicted error variance "
+			"after a stop for the IEEE 952 terms: -2 sum c_i c_j "
+			"D(|t_i - t_j|) with D = Q^2 + N^2 t/2 - (B^2/2 pi) t^2 "
+			"ln t - K^2 t^3/12." },
+	[S_WALK] = { "walk", &ssc_walk_stage, 1u << S_ALLAN, NULL,
+		     "Runs integrated after bias removal; envelope +-2 sigma of "
+		     "the predicted variance (angle random walk N^2 t plus the "
+		     "bias-instability, rate-random-walk and bias-estimate "
+		     "parts); implied N from the mean square of the runs, "
+		     "chi-squared interval with as many degrees of freedom as "
+		     "runs." },
+	[S_NAVSIM] = { "navsim", &ssc_navsim_stage, (1u << S_ALLAN) | (1u << S_CALIB),
+		       NULL,
+		       "WGS 84 Earth, normal gravity (Somigliana); local-level "
+		       "strapdown mechanisation with two-sample coning and "
+		       "sculling corrections, Earth rate, transport rate and "
+		       "Coriolis; sensor noise from the simulator; Monte-Carlo "
+		       "percentiles beside the budget's Schuler-bounded curves." },
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
@@ -141,6 +165,12 @@ struct ssc_scene {
 	double t_read_s, t_stage_s[S_COUNT_];
 	/* the captures each stage runs on (bit f: file f), all by default */
 	uint64_t file_mask[S_COUNT_];
+	/* files named by stage options (made relative to the scene file),
+	 * and for each the option when it writes the file ("--kalibr"), NULL
+	 * when it reads it: checked against the inputs before a run */
+	char *io_path[64];
+	const char *io_out[64];
+	size_t n_io;
 };
 
 /* ------------------------------------------------------------ helpers */
@@ -240,6 +270,8 @@ void ssc_scene_free(struct ssc_scene *sc)
 	}
 	for (size_t i = 0; i < sc->n_adc; i++)
 		free(sc->adc_paths[i]);
+	for (size_t i = 0; i < sc->n_io; i++)
+		free(sc->io_path[i]);
 	sscope_ini_free(sc->adc_ini);
 	sscope_ini_free(sc->ini);
 	free(sc->columns);
@@ -299,19 +331,24 @@ static struct ssc_scene *scene_new(void)
 	if (!sc)
 		exit(SSC_EXIT_FAIL);
 	sc->scale = 1;
-	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG;
+	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG |
+		      SSC_OUT_SVG;
 	for (size_t i = 0; i < N_STAGES; i++)
 		add_arg(sc, i, NULL, stages[i].name, NULL);
 	return sc;
 }
 
 /* Split a comma list into trimmed items (modifies s). */
-static size_t split_list(char *s, char **items, size_t max)
+/* Split a comma list into at most max items; *more (may be NULL) tells
+ * whether items were left over (an error for lists of inputs). */
+static size_t split_list_n(char *s, char **items, size_t max, bool *more)
 {
 	size_t n = 0;
 	char *save = NULL;
 
-	for (char *t = strtok_r(s, ",", &save); t && n < max;
+	if (more)
+		*more = false;
+	for (char *t = strtok_r(s, ",", &save); t;
 	     t = strtok_r(NULL, ",", &save)) {
 		char *e;
 
@@ -320,10 +357,21 @@ static size_t split_list(char *s, char **items, size_t max)
 		e = t + strlen(t);
 		while (e > t && isspace((unsigned char)e[-1]))
 			*--e = '\0';
-		if (*t)
-			items[n++] = t;
+		if (!*t)
+			continue;
+		if (n == max) {
+			if (more)
+				*more = true;
+			break;
+		}
+		items[n++] = t;
 	}
 	return n;
+}
+
+static size_t split_list(char *s, char **items, size_t max)
+{
+	return split_list_n(s, items, max, NULL);
 }
 
 /* ------------------------------------------------------------ parsing */
@@ -367,8 +415,13 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
 	{
 		char *copy = xstrdup(v), *items[64];
-		size_t n = split_list(copy, items, 64);
+		bool more;
+		size_t n = split_list_n(copy, items, 64, &more);
 
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "files: more than 64 captures");
+		}
 		sc->files = calloc(n ? n : 1, sizeof(char *));
 		for (size_t i = 0; i < n; i++) {
 			struct stat st;
@@ -385,13 +438,20 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		free(copy);
 		if (!n)
 			return scene_error(cmd, sc, line, "files: empty list");
+		rc = ssc_check_inputs(cmd, (const char *const *)sc->files,
+				      sc->n_files);
+		if (rc)
+			return rc;
 	}
 	sc->columns = xstrdup(sscope_ini_get(sc->ini, "input", "columns", NULL));
 	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
 	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
 	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
 	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
-	sc->raw = xstrdup(sscope_ini_get(sc->ini, "input", "raw", NULL));
+	v = sscope_ini_get(sc->ini, "input", "raw", &line);
+	if (v && sscope_raw_layout_check(v, NULL, NULL, &d))
+		return scene_error(cmd, sc, line, "raw: %s", d.msg);
+	sc->raw = xstrdup(v);
 	v = sscope_ini_get(sc->ini, "input", "calibration", NULL);
 	if (v)
 		sc->calibration = join_path(sc->dir, v);
@@ -412,6 +472,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
+	if (!sc->raw && (sscope_ini_get(sc->ini, "input", "scale", &line) ||
+			 sscope_ini_get(sc->ini, "input", "offset", &line)))
+		return scene_error(cmd, sc, line,
+				   "scale and offset apply to raw input only (raw = TYPE:CH)");
 	v = sscope_ini_get(sc->ini, "input", "allow_nan", &line);
 	if (v && !truthy(v, &sc->allow_nan))
 		return scene_error(cmd, sc, line, "allow_nan: expected yes or no");
@@ -529,7 +593,13 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 		return SSC_EXIT_OK;
 	{
 		char *copy = xstrdup(spec), *items[8];
-		size_t n = split_list(copy, items, 8);
+		bool more;
+		size_t n = split_list_n(copy, items, 8, &more);
+
+		if (more) {
+			free(copy);
+			return scene_error(cmd, sc, line, "spec: more than 8 converters");
+		}
 
 		for (size_t i = 0; i < n; i++) {
 			sc->adc_paths[i] = join_path(sc->dir, items[i]);
@@ -574,9 +644,11 @@ static int parse_report(const char *cmd, struct ssc_scene *sc)
 				sc->formats |= SSC_OUT_HTML;
 			else if (!strcasecmp(items[i], "png"))
 				sc->formats |= SSC_OUT_PNG;
+			else if (!strcasecmp(items[i], "svg"))
+				sc->formats |= SSC_OUT_SVG;
 			else {
 				int rc = scene_error(cmd, sc, line,
-						     "formats: '%s' is not text, json, html or png",
+						     "formats: '%s' is not text, json, html, png or svg",
 						     items[i]);
 
 				free(copy);
@@ -663,13 +735,17 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 						   "%s: expected yes or no", key);
 			if (on)
 				add_arg(sc, s, o->name, NULL, ctx);
-		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH")) &&
-			   value[0] != '/') {
+		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH"))) {
 			/* a file named in a scene is relative to the scene */
 			char *path = join_path(sc->dir, value);
 
 			add_arg(sc, s, o->name, path, ctx);
-			free(path);
+			if (sc->n_io < 64) {
+				sc->io_out[sc->n_io] = ssc_output_option(o->name);
+				sc->io_path[sc->n_io++] = path;
+			} else {
+				free(path);
+			}
 		} else {
 			add_arg(sc, s, o->name, value, ctx);
 		}
@@ -697,7 +773,8 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 			return scene_error(cmd, sc, 0,
 					   "impossible request: [%s] needs captures: give [input] files = ...",
 					   stages[s].name);
-		if (s == S_BUDGET && !sc->uses[s] && !sc->have_sensor) {
+		if ((s == S_BUDGET || s == S_NAVSIM) && !sc->uses[s] &&
+		    !sc->have_sensor) {
 			/* noise terms from the scene's own analyses */
 			sc->uses[s] = sc->want & stages[s].deps;
 			if (!sc->uses[s] && sc->n_files)
@@ -876,6 +953,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		bool temp;
 		uint64_t bit;
 		int e;
+		char heading_ref[64] = "";
 
 		ssc_read_opts(co, &ro);
 		e = sscope_reader_open(&r, files[i], &ro, &d);
@@ -901,6 +979,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 
 			if (!strcmp(nm, "roll_ref") || !strcmp(nm, "pitch_ref"))
 				tilt = true;
+			/* a true heading beside a gyro: a drive to check */
+			if (q == SSCOPE_QTY_ANGLE && strcasestr(nm, "heading") &&
+			    strlen(nm) < sizeof(heading_ref))
+				strcpy(heading_ref, nm);
 
 			if (q == SSCOPE_QTY_ACCELERATION)
 				acc = true;
@@ -920,6 +1002,24 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			sc->want |= 1u << S_INCLINO;
 			sc->file_mask[S_INCLINO] |= bit;
 			continue;
+		}
+		if (gyro && heading_ref[0]) {
+			if (!(sc->want & (1u << S_HEADING))) {
+				set_why(sc, S_HEADING,
+					"inferred: a gyro with a true heading column (%s): heading with the bias re-estimated at stops",
+					heading_ref);
+				set_option(sc, S_HEADING, "reference", heading_ref);
+			}
+			sc->want |= 1u << S_HEADING;
+			sc->file_mask[S_HEADING] |= bit;
+		} else if (gyro && !temp) {
+			/* a stationary gyro gets the random-walk fan (the
+			 * stage refuses a record that moves) */
+			if (!(sc->want & (1u << S_WALK)))
+				set_why(sc, S_WALK,
+					"inferred: a gyro record without temperature: the random-walk fan");
+			sc->want |= 1u << S_WALK;
+			sc->file_mask[S_WALK] |= bit;
 		}
 		if (temp && (acc || gyro)) {
 			if (!(sc->want & (1u << S_TEMPBIAS)))
@@ -1071,6 +1171,24 @@ static void put_opt(FILE *f, const char *name, const char *value)
 	put_arg(f, buf);
 }
 
+/* The option of stage s that reads the saved result of stage u. */
+static const char *result_option(size_t s, size_t u)
+{
+	if (s == S_BUDGET)
+		return "result";
+	return u == S_CALIB ? "from-calib" : "from-allan";
+}
+
+/* Does stage s read the scene's [sensor] (as its --sensor would)? */
+static bool takes_sensor(const struct ssc_scene *sc, size_t s)
+{
+	if (!sc->have_sensor)
+		return false;
+	if (s == S_HEADING) /* a gyro's spec only */
+		return sc->sensor.quantity == SSCOPE_QTY_ANGULAR_RATE;
+	return s == S_ADC || s == S_BUDGET || s == S_WALK || s == S_NAVSIM;
+}
+
 /* The command line that computes what stage s computes in this scene (one
  * per capture for a stage run per capture): the same options, the same
  * inputs, the earlier results it uses as --result files. */
@@ -1118,7 +1236,8 @@ static void print_commands(const struct ssc_scene *sc, size_t s, FILE *f)
 			if (sc->calibration)
 				put_opt(f, "calibration", sc->calibration);
 		}
-		if ((s == S_ADC || s == S_BUDGET) && sc->have_sensor)
+		/* navsim applies its own --sensor files first */
+		if (takes_sensor(sc, s) && s != S_NAVSIM)
 			put_opt(f, "sensor", sc->sensor_path ? sc->sensor_path :
 				"(the scene's [sensor])");
 		for (size_t a = 0; s == S_ADC && a < sc->n_adc; a++)
@@ -1131,10 +1250,13 @@ static void print_commands(const struct ssc_scene *sc, size_t s, FILE *f)
 
 				snprintf(p, sizeof(p), "%s/%s.json", sc->out_dir,
 					 stages[u].name);
-				put_opt(f, "result", p);
+				put_opt(f, result_option(s, u), p);
 			}
 		for (int k = 1; k < sc->n_args[s]; k++)
 			put_arg(f, sc->args[s][k]);
+		if (takes_sensor(sc, s) && s == S_NAVSIM)
+			put_opt(f, "sensor", sc->sensor_path ? sc->sensor_path :
+				"(the scene's [sensor])");
 		for (size_t j = 0; j < n; j++)
 			if (runs == 1 || j == r)
 				put_arg(f, sc->files[idx[j]]);
@@ -1207,6 +1329,8 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 		fprintf(f, " report.txt");
 	if (sc->formats & SSC_OUT_PNG)
 		fprintf(f, " STAGE.png");
+	if (sc->formats & SSC_OUT_SVG)
+		fprintf(f, " STAGE.svg");
 	fputc('\n', f);
 	free(cols);
 }
@@ -1240,58 +1364,131 @@ static int write_json(const char *path, json_t *j)
 	return ssc_emit_json(&co, j);
 }
 
-static int mkdir_p(const char *dir)
-{
-	char *copy = xstrdup(dir);
+/* What the scene keeps of a stage: one call per run (one per capture for
+ * a one-capture stage on several captures) and the outputs made of them. */
+struct stage_out {
+	struct ssc_stage_call *calls;
+	size_t n_calls;
+	json_t *json;    /* the stage's result, or {"command", "files"} */
+	char *text;
+	json_t *summary;
+	struct ssc_result *results; /* the typed results, for later stages */
+};
 
-	for (char *p = copy + 1; *p; p++) {
-		if (*p != '/')
-			continue;
-		*p = '\0';
-		if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
-			free(copy);
-			return -errno;
-		}
-		*p = '/';
+static void stage_out_free(struct stage_out *o)
+{
+	for (size_t i = 0; i < o->n_calls; i++) {
+		ssc_stage_call_clear(&o->calls[i]);
+		free((void *)o->calls[i].paths);
 	}
-	if (mkdir(copy, 0755) != 0 && errno != EEXIST) {
-		free(copy);
-		return -errno;
-	}
-	free(copy);
-	return 0;
+	free(o->calls);
+	free(o->results);
+	json_decref(o->json);
+	json_decref(o->summary);
+	free(o->text);
+	memset(o, 0, sizeof(*o));
 }
 
-static void fmt_interval(char *buf, size_t len, json_t *row)
+/* Outputs against inputs before anything is written: the report folder
+ * holds no input, no stage option writes over one (output.c). */
+static int guard_paths(const struct ssc_scene *sc, const char *cmd)
 {
-	json_t *jv = json_object_get(row, "value");
-	double v = json_number_value(jv);
-	json_t *lo = json_object_get(row, "lo"), *hi = json_object_get(row, "hi");
-	char a[32], b[32], c[32];
+	size_t n = 0, max = sc->n_files + sc->n_io + sc->n_adc + 3;
+	struct ssc_guard_item *it = calloc(max, sizeof(*it));
+	int rc;
 
-	if (!json_is_number(jv)) {
-		snprintf(buf, len, "%s", "");
-		return;
+	if (!it) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
 	}
-	ssc_fmt(a, sizeof(a), v, 4);
-	if (json_is_number(lo) && json_is_number(hi))
-		snprintf(buf, len, "%s [%s, %s]", a,
-			 ssc_fmt(b, sizeof(b), json_number_value(lo), 3),
-			 ssc_fmt(c, sizeof(c), json_number_value(hi), 3));
-	else
-		snprintf(buf, len, "%s", a);
+	for (size_t i = 0; i < sc->n_files; i++)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->files[i], SSC_GUARD_IN };
+	for (size_t i = 0; i < sc->n_adc; i++)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->adc_paths[i], SSC_GUARD_IN };
+	for (size_t i = 0; i < sc->n_io; i++)
+		it[n++] = (struct ssc_guard_item){ sc->io_out[i], sc->io_path[i],
+						   sc->io_out[i] ? SSC_GUARD_OUT :
+								      SSC_GUARD_IN };
+	if (sc->path)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->path, SSC_GUARD_IN };
+	if (sc->sensor_path)
+		it[n++] = (struct ssc_guard_item){ NULL, sc->sensor_path, SSC_GUARD_IN };
+	it[n++] = (struct ssc_guard_item){ "report folder", sc->out_dir, SSC_GUARD_DIR };
+	rc = ssc_guard_check(cmd, it, n, false);
+	free(it);
+	return rc;
+}
+
+/* Remove a figure's files in the formats not kept. */
+static void unlink_fig(const char *base, unsigned keep)
+{
+	char p[1100];
+
+	if (!(keep & SSC_OUT_SVG)) {
+		snprintf(p, sizeof(p), "%s.svg", base);
+		unlink(p);
+	}
+	if (!(keep & SSC_OUT_PNG)) {
+		snprintf(p, sizeof(p), "%s.png", base);
+		unlink(p);
+	}
+}
+
+/* The figures of one stage as the report names them. */
+struct fig_names {
+	char svg[64][1100];
+	const char *svgp[65], *link[65];
+};
+
+/* The stages that ran, for the report: results, texts and figures (their
+ * SVG files, and the names to link them by when the files stay). */
+static size_t report_stages(const struct ssc_scene *sc,
+			    const struct stage_out *outs,
+			    char *(*figs)[64], struct fig_names *fn,
+			    struct ssc_report_stage *st)
+{
+	size_t n = 0;
+
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i], r;
+
+		for (r = 0; r < 64 && figs[s][r]; r++) {
+			const char *slash = strrchr(figs[s][r], '/');
+
+			snprintf(fn[s].svg[r], sizeof(fn[s].svg[r]), "%s.svg",
+				 figs[s][r]);
+			fn[s].svgp[r] = fn[s].svg[r];
+			slash = strrchr(fn[s].svg[r], '/');
+			fn[s].link[r] = sc->formats & SSC_OUT_SVG ?
+					(slash ? slash + 1 : fn[s].svg[r]) :
+					NULL;
+		}
+		fn[s].svgp[r] = NULL;
+		st[n] = (struct ssc_report_stage){
+			.name = stages[s].name,
+			.title = stages[s].ops->title,
+			.why = sc->why[s],
+			.definitions = stages[s].definitions,
+			.result = outs[s].json,
+			.text = outs[s].text,
+			.figs = fn[s].svgp,
+			.links = fn[s].link,
+		};
+		n++;
+	}
+	return n;
 }
 
 static void html_report(struct ssc_scene *sc, struct ssc_html *h,
-			json_t *summary, char *const *texts,
-			char *(*pngs)[64], const char *cols)
+			json_t *summary, const struct stage_out *outs,
+			char *(*figs)[64], const char *cols)
 {
 	char buf[512], now[64];
 	time_t t = time(NULL);
-	static const char *const sum_head[] = { "stage", "channel", "quantity",
-						"value [interval]", "unit",
-						"note" };
 	static const char *const prov_head[] = { "input", "bytes", "SHA-256" };
+	struct ssc_report_stage rs[N_STAGES];
+	struct fig_names *fn = calloc(N_STAGES, sizeof(*fn));
+	size_t n = fn ? report_stages(sc, outs, figs, fn, rs) : 0;
 
 	strftime(now, sizeof(now), "%Y-%m-%d %H:%M:%S UTC", gmtime(&t));
 	snprintf(buf, sizeof(buf), "%s", sc->title ? sc->title :
@@ -1299,42 +1496,7 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 	ssc_html_h1(h, buf);
 	ssc_html_note(h, "sensorscope %s, %s. Intervals are the stated confidence level of each analysis.",
 		      PACKAGE_VERSION, now);
-	ssc_html_h2(h, "summary", "Summary");
-	ssc_html_table_begin(h, "summary", sum_head, 6);
-	for (size_t i = 0; i < json_array_size(summary); i++) {
-		json_t *r = json_array_get(summary, i);
-		char val[128];
-		const char *cells[6];
-
-		fmt_interval(val, sizeof(val), r);
-		cells[0] = json_string_value(json_object_get(r, "stage"));
-		cells[1] = json_string_value(json_object_get(r, "channel"));
-		cells[2] = json_string_value(json_object_get(r, "quantity"));
-		cells[3] = val;
-		cells[4] = json_string_value(json_object_get(r, "unit"));
-		cells[5] = json_string_value(json_object_get(r, "note"));
-		ssc_html_table_row(h, cells, 6);
-	}
-	ssc_html_table_end(h);
-	for (size_t i = 0; i < sc->n_order; i++) {
-		size_t s = sc->order[i];
-
-		ssc_html_section(h, stages[s].name);
-		ssc_html_h2(h, NULL, stages[s].ops->title);
-		ssc_html_note(h, "Stage '%s': %s.", stages[s].name, sc->why[s]);
-		for (size_t r = 0; r < 64 && pngs[s][r]; r++)
-			ssc_html_image(h, pngs[s][r], stages[s].ops->title);
-		if (texts[s])
-			ssc_html_pre(h, texts[s]);
-		ssc_html_section_end(h);
-	}
-	ssc_html_h2(h, "definitions", "Definitions used");
-	for (size_t i = 0; i < sc->n_order; i++) {
-		size_t s = sc->order[i];
-
-		if (stages[s].definitions)
-			ssc_html_def(h, stages[s].ops->title, stages[s].definitions);
-	}
+	ssc_report_body(h, summary, rs, n);
 	ssc_html_h2(h, "provenance", "Provenance");
 	ssc_html_table_begin(h, NULL, prov_head, 3);
 	for (size_t i = 0; i < sc->n_files; i++) {
@@ -1393,6 +1555,7 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		}
 		ssc_html_p(h, "Options of [%s]: %s", sec, used ? line : "(defaults)");
 	}
+	free(fn);
 }
 
 /* The shared options of the scene ([input], or the report's command
@@ -1415,6 +1578,10 @@ static void scene_common(const struct ssc_scene *sc, const char *cmd,
 	co->temp_column = sc->temp_column;
 	co->topic = sc->topic;
 	co->calibration = sc->calibration;
+	/* a scene's stages give their results as the JSON objects of their
+	 * commands (the files, the report, the terminal summary): checked
+	 * as `CMD --format json` is */
+	co->format = SSC_FMT_JSON;
 }
 
 /* A call of stage s with the scene's inputs and specifications. */
@@ -1457,44 +1624,22 @@ static int check_stages(const char *cmd, struct ssc_scene *sc)
 	return SSC_EXIT_OK;
 }
 
-/* What the scene keeps of a stage: one call per run (one per capture for
- * a one-capture stage on several captures) and the outputs made of them. */
-struct stage_out {
-	struct ssc_stage_call *calls;
-	size_t n_calls;
-	json_t *json;    /* the stage's result, or {"command", "files"} */
-	char *text;
-	json_t *summary;
-	struct ssc_result *results; /* the typed results, for later stages */
-};
-
-static void stage_out_free(struct stage_out *o)
-{
-	for (size_t i = 0; i < o->n_calls; i++) {
-		ssc_stage_call_clear(&o->calls[i]);
-		free((void *)o->calls[i].paths);
-	}
-	free(o->calls);
-	free(o->results);
-	json_decref(o->json);
-	json_decref(o->summary);
-	free(o->text);
-	memset(o, 0, sizeof(*o));
-}
-
 /* Run stage s once on the captures idx[0..n) (run > 0: the run-th of a
- * stage run per capture, drawn into STAGE-run.png). */
+ * stage run per capture, drawn into STAGE-run.svg/png).  *fig_out gets the
+ * figure's path without its extension when one was drawn. */
 static int run_stage(struct ssc_scene *sc, size_t s,
 		     const struct ssc_common *base, struct sscope_capture **caps,
 		     const size_t *idx, size_t n, int run,
 		     const struct stage_out *outs, struct ssc_stage_call *c,
-		     char **png_out)
+		     char **fig_out)
 {
 	struct sscope_capture **v = calloc(n ? n : 1, sizeof(*v));
 	const char **paths = calloc(n ? n : 1, sizeof(*paths));
 	struct ssc_result *up = NULL;
 	size_t n_up = 0;
-	char png[1024];
+	char base_name[1024], fig[1100];
+	bool svg = sc->formats & (SSC_OUT_SVG | SSC_OUT_HTML);
+	bool png = (sc->formats & SSC_OUT_PNG) && ssc_plot_available();
 	int rc;
 
 	if (!v || !paths)
@@ -1515,26 +1660,31 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 			for (size_t r = 0; r < outs[u].n_calls; r++)
 				up[n_up++] = outs[u].calls[r].result;
 	if (run)
-		snprintf(png, sizeof(png), "%s/%s-%d.png", sc->out_dir,
+		snprintf(base_name, sizeof(base_name), "%s/%s-%d", sc->out_dir,
 			 stages[s].name, run);
 	else
-		snprintf(png, sizeof(png), "%s/%s.png", sc->out_dir,
+		snprintf(base_name, sizeof(base_name), "%s/%s", sc->out_dir,
 			 stages[s].name);
+	/* one drawing, in the formats asked for (the HTML inlines the SVG) */
+	snprintf(fig, sizeof(fig), "%s%s", base_name,
+		 svg && png ? SSC_PLOT_SVG_AND_PNG : svg ? ".svg" : ".png");
 	stage_call(sc, s, base, c);
 	c->caps = v;
 	c->paths = paths;
 	c->n_caps = n;
 	c->upstream = up;
 	c->n_upstream = n_up;
+	/* JSON for the files, the HTML report and the summary printed on
+	 * the terminal (its warnings) */
 	c->want = SSC_WANT_SUMMARY |
-		  (sc->formats & SSC_OUT_JSON ? SSC_WANT_JSON : 0) |
+		  (sc->formats & (SSC_OUT_JSON | SSC_OUT_HTML) || !sc->quiet ?
+		   SSC_WANT_JSON : 0) |
 		  (sc->formats & (SSC_OUT_TEXT | SSC_OUT_HTML) ? SSC_WANT_TEXT : 0);
-	c->plot_path = (sc->formats & (SSC_OUT_PNG | SSC_OUT_HTML)) &&
-				!sc->no_plot[s] && ssc_plot_available() ?
-			png : NULL;
+	c->plot_path = (svg || png) && !sc->no_plot[s] ? fig : NULL;
 	rc = ssc_stage_exec(stages[s].ops, c);
-	if (!rc && c->plot_path && access(png, R_OK) == 0)
-		*png_out = xstrdup(png);
+	snprintf(fig, sizeof(fig), "%s%s", base_name, svg ? ".svg" : ".png");
+	if (!rc && c->plot_path && access(fig, R_OK) == 0)
+		*fig_out = xstrdup(base_name);
 	c->plot_path = NULL;
 	c->upstream = NULL;
 	c->n_upstream = 0;
@@ -1613,23 +1763,34 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	struct ssc_common co, base;
 	struct sscope_capture **caps = NULL;
 	struct stage_out outs[N_STAGES];
-	char *texts[N_STAGES] = { 0 };
-	char *pngs[N_STAGES][64] = { { 0 } };
+	char *figs[N_STAGES][64] = { { 0 } };
 	json_t *results = json_object(), *summary = json_array(), *all;
 	char *cols = columns_to_read(sc);
 	struct ssc_membuf txt;
+	struct ssc_outdir od;
+	const char *stage_names[N_STAGES + 1] = { NULL };
+	char *final_dir = sc->out_dir;
 	int rc = SSC_EXIT_OK, e;
 
 	memset(outs, 0, sizeof(outs));
 	scene_common(sc, co_cli->cmd, co_cli, &base);
 	co = base;
 	co.columns = cols;
-	e = mkdir_p(sc->out_dir);
-	if (e) {
-		ssc_err(co.cmd, "%s: %s", sc->out_dir, strerror(-e));
-		rc = SSC_EXIT_FAIL;
-		goto done;
+	/* the report is built in a staging folder beside out_dir and put in
+	 * its place only when every stage succeeded */
+	for (size_t s = 0; s < N_STAGES; s++)
+		stage_names[s] = stages[s].name;
+	rc = guard_paths(sc, co.cmd);
+	if (!rc)
+		rc = ssc_outdir_begin(co.cmd, "report folder", sc->out_dir,
+				      stage_names, &od);
+	if (rc) {
+		free(cols);
+		json_decref(results);
+		json_decref(summary);
+		return rc;
 	}
+	sc->out_dir = od.dir;
 	caps = calloc(sc->n_files ? sc->n_files : 1, sizeof(*caps));
 	sc->t_read_s = wall_s();
 	for (size_t i = 0; i < sc->n_files && !rc; i++) {
@@ -1665,7 +1826,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		for (size_t r = 0; r < runs && !rc; r++) {
 			rc = run_stage(sc, s, &base, caps, fan ? idx + r : idx,
 				       fan ? 1 : n_in, fan ? (int)r + 1 : 0, outs,
-				       &outs[s].calls[r], &pngs[s][r]);
+				       &outs[s].calls[r], &figs[s][r]);
 			outs[s].n_calls++;
 		}
 		sc->t_stage_s[s] = wall_s() - sc->t_stage_s[s];
@@ -1680,10 +1841,10 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 			set_why(sc, s, "inferred, but refused by the data: %s",
 				ssc_last_error());
 			stage_out_free(&outs[s]);
-			for (size_t r = 0; r < 64 && pngs[s][r]; r++) {
-				unlink(pngs[s][r]);
-				free(pngs[s][r]);
-				pngs[s][r] = NULL;
+			for (size_t r = 0; r < 64 && figs[s][r]; r++) {
+				unlink_fig(figs[s][r], 0);
+				free(figs[s][r]);
+				figs[s][r] = NULL;
 			}
 			rc = SSC_EXIT_OK;
 			continue;
@@ -1691,7 +1852,6 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		if (rc)
 			break;
 		assemble(&outs[s], fan, stages[s].name, sc->files, idx);
-		texts[s] = outs[s].text;
 		if (outs[s].json)
 			json_object_set(results, stages[s].name, outs[s].json);
 		for (size_t r = 0; r < json_array_size(outs[s].summary); r++) {
@@ -1740,7 +1900,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 			size_t s = sc->order[i];
 
 			fprintf(txt.f, "== %s (%s)\n%s\n", stages[s].ops->title,
-				stages[s].name, texts[s] ? texts[s] : "");
+				stages[s].name, outs[s].text ? outs[s].text : "");
 		}
 		t = ssc_membuf_take(&txt);
 		snprintf(p, sizeof(p), "%s/report.txt", sc->out_dir);
@@ -1753,28 +1913,40 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 						  "sensorscope report");
 		char p[1024];
 
-		html_report(sc, h, summary, texts, pngs, cols);
+		html_report(sc, h, summary, outs, figs, cols);
 		snprintf(p, sizeof(p), "%s/report.html", sc->out_dir);
 		e = ssc_html_write(h, p);
 		ssc_html_free(h);
-		if (e) {
-			ssc_err(co.cmd, "%s: %s", p, strerror(-e));
-			rc = SSC_EXIT_FAIL;
-		} else if (!sc->quiet) {
-			fprintf(stderr, "sensorscope: %s: wrote %s\n", co.cmd, p);
-		}
+		if (e)
+			rc = ssc_write_failed(co.cmd, p, e);
 	}
-	if (!(sc->formats & SSC_OUT_PNG))
-		for (size_t s = 0; s < N_STAGES; s++)
-			for (size_t r = 0; r < 64 && pngs[s][r]; r++)
-				unlink(pngs[s][r]);
+	for (size_t s = 0; s < N_STAGES; s++)
+		for (size_t r = 0; r < 64 && figs[s][r]; r++)
+			unlink_fig(figs[s][r], sc->formats);
+	if (!rc && !sc->quiet) {
+		/* the results for the person at the terminal */
+		struct ssc_report_stage st[N_STAGES];
+		struct fig_names *fn = calloc(N_STAGES, sizeof(*fn));
+		size_t n = fn ? report_stages(sc, outs, figs, fn, st) : 0;
+
+		ssc_report_terminal(stdout, summary, st, n);
+		free(fn);
+	}
 done:
+	sc->out_dir = final_dir;
+	if (!rc)
+		rc = ssc_outdir_commit(co.cmd, &od);
+	else
+		ssc_outdir_abort(&od);
+	if (!rc && (sc->formats & SSC_OUT_HTML) && !sc->quiet && !co.quiet)
+		fprintf(stderr, "sensorscope: %s: wrote %s/report.html\n", co.cmd,
+			sc->out_dir);
 	/* later stages' results point into earlier ones' inputs: results
 	 * first, captures last */
 	for (size_t s = 0; s < N_STAGES; s++) {
 		stage_out_free(&outs[s]);
 		for (size_t r = 0; r < 64; r++)
-			free(pngs[s][r]);
+			free(figs[s][r]);
 	}
 	for (size_t i = 0; caps && i < sc->n_files; i++)
 		sscope_capture_free(caps[i]);

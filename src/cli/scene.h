@@ -27,6 +27,7 @@ enum {
 	SSC_OUT_JSON = 1u << 1,
 	SSC_OUT_HTML = 1u << 2,
 	SSC_OUT_PNG = 1u << 3,
+	SSC_OUT_SVG = 1u << 4,
 };
 
 struct ssc_scene;

@@ -52,6 +52,14 @@ void ssc_summary_add(json_t *summary, const char *channel,
 	json_array_append_new(summary, o);
 }
 
+void ssc_summary_warn_last(json_t *summary)
+{
+	json_t *last = json_array_get(summary, json_array_size(summary) - 1);
+
+	if (last)
+		json_object_set_new(last, "status", json_string("warning"));
+}
+
 void ssc_result_free(struct ssc_result *r)
 {
 	if (r->data && r->ops && r->ops->free_result)
@@ -176,6 +184,11 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		rc = ssc_usage_error(co.cmd, "at most %d input file%s",
 				     ops->max_files, ops->max_files == 1 ? "" : "s");
 		goto done;
+	}
+	if (!scene && !call->check_only) {
+		rc = ssc_check_inputs(co.cmd, paths, (size_t)n);
+		if (rc)
+			goto done;
 	}
 	/* 2. their cross-checks and consequences */
 	if (ops->check) {

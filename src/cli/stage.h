@@ -176,6 +176,10 @@ void ssc_summary_add(json_t *summary, const char *channel,
 		     const char *quantity, double value, double lo, double hi,
 		     const char *unit, const char *note);
 
+/* Mark the last summary row as a result the analysis doubts ("status":
+ * "warning"): reports flag it. */
+void ssc_summary_warn_last(json_t *summary);
+
 /* The stages (one per analysis command). */
 extern const struct ssc_stage_ops ssc_info_stage;
 extern const struct ssc_stage_ops ssc_psd_stage;
@@ -186,5 +190,8 @@ extern const struct ssc_stage_ops ssc_allan_stage;
 extern const struct ssc_stage_ops ssc_tempbias_stage;
 extern const struct ssc_stage_ops ssc_inclino_stage;
 extern const struct ssc_stage_ops ssc_adc_stage;
+extern const struct ssc_stage_ops ssc_heading_stage;
+extern const struct ssc_stage_ops ssc_walk_stage;
+extern const struct ssc_stage_ops ssc_navsim_stage;
 
 #endif

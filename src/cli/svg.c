@@ -8,6 +8,9 @@
  * become <g class="..."> elements that tests and style sheets can find.
  * Text is escaped for XML; invalid UTF-8 and control characters are
  * replaced, so any column or file name gives a well-formed document.
+ * Images (spectrograms) are embedded as PNG data (PNG 1.2: 8-bit RGB rows,
+ * filter 0, deflated by zlib, CRCs by zlib's crc32; base64 by nettle),
+ * drawn with pixelated scaling, so the SVG needs no OpenCV.
  */
 #include "config.h"
 
@@ -18,7 +21,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <zlib.h>
+
 #include "canvas.h"
+#include "html.h"
 
 struct ssc_svg {
 	char *buf;
@@ -93,6 +99,20 @@ static void num(struct ssc_svg *s, double v)
 	puts_(s, b);
 }
 
+/* ' x="" y="" width="" height=""' of a rectangle */
+static void xywh(struct ssc_svg *s, double x, double y, double w, double h)
+{
+	puts_(s, " x=\"");
+	num(s, x);
+	puts_(s, "\" y=\"");
+	num(s, y);
+	puts_(s, "\" width=\"");
+	num(s, w);
+	puts_(s, "\" height=\"");
+	num(s, h);
+	puts_(s, "\"");
+}
+
 static void color(struct ssc_svg *s, uint32_t rgb)
 {
 	putf(s, "#%06x", (unsigned)(rgb & 0xffffff));
@@ -148,15 +168,9 @@ static void sv_clip(void *ctx, double x, double y, double w, double h)
 	if (w <= 0 || h <= 0)
 		return;
 	s->n_clip++;
-	putf(s, "<clipPath id=\"%s-clip%u\"><rect x=\"", s->prefix, s->n_clip);
-	num(s, x);
-	puts_(s, "\" y=\"");
-	num(s, y);
-	puts_(s, "\" width=\"");
-	num(s, w);
-	puts_(s, "\" height=\"");
-	num(s, h);
-	putf(s, "\"/></clipPath>\n<g clip-path=\"url(#%s-clip%u)\">\n",
+	putf(s, "<clipPath id=\"%s-clip%u\"><rect", s->prefix, s->n_clip);
+	xywh(s, x, y, w, h);
+	putf(s, "/></clipPath>\n<g clip-path=\"url(#%s-clip%u)\">\n",
 	     s->prefix, s->n_clip);
 	s->clipped = true;
 }
@@ -218,15 +232,8 @@ static void sv_rect(void *ctx, double x, double y, double w, double h,
 {
 	struct ssc_svg *s = ctx;
 
-	puts_(s, "<rect x=\"");
-	num(s, w < 0 ? x + w : x);
-	puts_(s, "\" y=\"");
-	num(s, h < 0 ? y + h : y);
-	puts_(s, "\" width=\"");
-	num(s, fabs(w));
-	puts_(s, "\" height=\"");
-	num(s, fabs(h));
-	puts_(s, "\"");
+	puts_(s, "<rect");
+	xywh(s, w < 0 ? x + w : x, h < 0 ? y + h : y, fabs(w), fabs(h));
 	if (filled) {
 		puts_(s, " fill=\"");
 		color(s, rgb);
@@ -336,52 +343,103 @@ static void sv_text(void *ctx, double x, double y, const char *rich,
 	puts_(s, "</text>\n");
 }
 
-/* Images as runs of equal colour per row (exact, and small for the
- * smooth images the figures draw). */
+/* A PNG chunk: length, type, data, CRC of type and data. */
+static unsigned char *chunk(unsigned char *o, const char *type,
+			    const unsigned char *data, uint32_t len)
+{
+	uLong crc;
+
+	o[0] = (unsigned char)(len >> 24);
+	o[1] = (unsigned char)(len >> 16);
+	o[2] = (unsigned char)(len >> 8);
+	o[3] = (unsigned char)len;
+	memcpy(o + 4, type, 4);
+	if (len)
+		memcpy(o + 8, data, len);
+	crc = crc32(0L, o + 4, 4 + len);
+	o[8 + len] = (unsigned char)(crc >> 24);
+	o[9 + len] = (unsigned char)(crc >> 16);
+	o[10 + len] = (unsigned char)(crc >> 8);
+	o[11 + len] = (unsigned char)crc;
+	return o + 12 + len;
+}
+
+/* The image's cells coloured by viridis (NaN white) as a PNG in memory;
+ * row 0 of v is the bottom row.  NULL when out of memory. */
+static unsigned char *png_of(const double *v, int iw, int ih, size_t *len)
+{
+	size_t raw_len = (size_t)ih * (3 * (size_t)iw + 1);
+	uLongf zlen = compressBound((uLong)raw_len);
+	unsigned char *raw = malloc(raw_len), *z = malloc(zlen), *png = NULL;
+	unsigned char ihdr[13] = { 0 };
+
+	if (!raw || !z)
+		goto out;
+	for (int r = 0; r < ih; r++) {
+		unsigned char *row = raw + (size_t)r * (3 * (size_t)iw + 1);
+		const double *src = v + (size_t)(ih - 1 - r) * (size_t)iw;
+
+		row[0] = 0; /* filter: none */
+		for (int k = 0; k < iw; k++) {
+			uint32_t c = isfinite(src[k]) ? ssc_viridis(src[k]) :
+							0xffffff;
+
+			row[1 + 3 * k] = (unsigned char)(c >> 16);
+			row[2 + 3 * k] = (unsigned char)(c >> 8);
+			row[3 + 3 * k] = (unsigned char)c;
+		}
+	}
+	if (compress2(z, &zlen, raw, (uLong)raw_len, 9) != Z_OK)
+		goto out;
+	png = malloc(8 + 25 + 12 + zlen + 12);
+	if (!png)
+		goto out;
+	memcpy(png, "\x89PNG\r\n\x1a\n", 8);
+	for (int i = 0; i < 4; i++) {
+		ihdr[i] = (unsigned char)((unsigned)iw >> (24 - 8 * i));
+		ihdr[4 + i] = (unsigned char)((unsigned)ih >> (24 - 8 * i));
+	}
+	ihdr[8] = 8; /* bit depth */
+	ihdr[9] = 2; /* truecolour */
+	{
+		unsigned char *o = chunk(png + 8, "IHDR", ihdr, 13);
+
+		o = chunk(o, "IDAT", z, (uint32_t)zlen);
+		o = chunk(o, "IEND", NULL, 0);
+		*len = (size_t)(o - png);
+	}
+out:
+	free(raw);
+	free(z);
+	return png;
+}
+
 static void sv_image(void *ctx, double x, double y, double w, double h,
 		     const double *v, int iw, int ih)
 {
 	struct ssc_svg *s = ctx;
-	double cw, ch;
+	unsigned char *png;
+	char *txt;
+	size_t len = 0, n = 0;
 
 	if (w <= 0 || h <= 0 || iw <= 0 || ih <= 0)
 		return;
-	cw = w / iw;
-	ch = h / ih;
-	puts_(s, "<g class=\"image\" shape-rendering=\"crispEdges\">\n");
-	for (int r = 0; r < ih; r++) {
-		int k = 0;
-
-		while (k < iw) {
-			double t = v[(size_t)r * (size_t)iw + (size_t)k];
-			uint32_t c = isfinite(t) ? ssc_viridis(t) : 0xffffff;
-			int e = k + 1;
-
-			while (e < iw) {
-				double u = v[(size_t)r * (size_t)iw + (size_t)e];
-				uint32_t d = isfinite(u) ? ssc_viridis(u) :
-							   0xffffff;
-
-				if (d != c)
-					break;
-				e++;
-			}
-			puts_(s, "<rect x=\"");
-			num(s, x + k * cw);
-			puts_(s, "\" y=\"");
-			num(s, y + h - (r + 1) * ch);
-			puts_(s, "\" width=\"");
-			/* overlap by a hair so no seam shows between cells */
-			num(s, (e - k) * cw + 0.3);
-			puts_(s, "\" height=\"");
-			num(s, ch + 0.3);
-			puts_(s, "\" fill=\"");
-			color(s, c);
-			puts_(s, "\"/>\n");
-			k = e;
-		}
+	png = png_of(v, iw, ih, &len);
+	txt = png ? ssc_base64(png, len, &n) : NULL;
+	if (!txt) {
+		free(png);
+		s->failed = true;
+		return;
 	}
-	puts_(s, "</g>\n");
+	puts_(s, "<image class=\"image\"");
+	xywh(s, x, y, w, h);
+	puts_(s, " preserveAspectRatio=\"none\" "
+		 "style=\"image-rendering:pixelated\" "
+		 "xlink:href=\"data:image/png;base64,");
+	put(s, txt, n);
+	puts_(s, "\"/>\n");
+	free(txt);
+	free(png);
 }
 
 static void sv_group(void *ctx, const char *cls, const char *attrs)
@@ -433,7 +491,8 @@ struct ssc_svg *ssc_svg_new(double w, double h, const char *id_prefix,
 						*p == '-' || *p == '_' ?
 					*p :
 					'_');
-	puts_(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" "
+	puts_(s, "<svg xmlns=\"http://www.w3.org/2000/svg\" "
+		 "xmlns:xlink=\"http://www.w3.org/1999/xlink\" version=\"1.1\" "
 		 "width=\"");
 	num(s, w);
 	puts_(s, "\" height=\"");

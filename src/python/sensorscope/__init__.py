@@ -319,9 +319,10 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
             out.dof = r.fit.dof
             out.p_value = r.fit.p_value
             out.ci_level = r.fit.ci_level
-            out.readoff = {"N": r.fit.readoff.n, "B": r.fit.readoff.b,
-                           "B_tau_s": r.fit.readoff.b_tau_s,
-                           "K": r.fit.readoff.k}
+            ro = r.fit.readoff
+            out.readoff = {"N": ro.n, "N_tau_s": ro.n_tau_s, "B": ro.b,
+                           "B_tau_s": ro.b_tau_s, "K": ro.k,
+                           "K_tau_s": ro.k_tau_s}
         elif fit:
             out.fit_error = _c.strerror(r.fit_error).decode()
         return out
@@ -480,7 +481,9 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
             "hysteresis": {"max": r.hysteresis_max,
                            "at_degc": r.hysteresis_at_degc,
                            "eta": r.hysteresis if r.have_hysteresis
-                           else None},
+                           else None,
+                           "collinear_with_gradient": r.hyst_grad_collinear,
+                           "gradient_vif": r.hyst_grad_vif},
             "gradient": r.gradient if r.have_gradient else None,
             "turn_on_repeatability": {"sd": r.repeat_sd,
                                       "range": r.repeat_range,

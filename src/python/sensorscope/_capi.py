@@ -54,6 +54,7 @@ class Column(C.Structure):
 
 
 PROGRESS = C.CFUNCTYPE(None, C.c_void_p, C.c_uint64, C.c_uint64)
+RELEASE = C.CFUNCTYPE(None, C.c_void_p, c_dptr, c_size, c_size, c_size)
 
 
 class ReadOpts(C.Structure):
@@ -62,7 +63,8 @@ class ReadOpts(C.Structure):
                 ("columns", C.c_char_p), ("time_column", C.c_char_p),
                 ("temp_column", C.c_char_p), ("rate_hz", c_dbl),
                 ("nan_as_gap", C.c_bool), ("no_time", C.c_bool),
-                ("threads", C.c_uint), ("progress", PROGRESS),
+                ("threads", C.c_uint), ("in_place", C.c_bool),
+                ("progress", PROGRESS),
                 ("progress_ctx", C.c_void_p), ("topic", C.c_char_p)]
 
 
@@ -81,11 +83,19 @@ class Channel(C.Structure):
     _fields_ = [("col", Column), ("data", c_dptr), ("n_nan", c_size)]
 
 
+class TimeOrder(C.Structure):
+    _fields_ = [("n", c_size), ("n_repeats", c_size),
+                ("n_decreasing", c_size), ("n_swaps", c_size),
+                ("first_row", c_size), ("first_t_s", c_dbl),
+                ("first_prev_s", c_dbl), ("t0_s", c_dbl),
+                ("last_s", c_dbl * 3), ("pending", C.c_int)]
+
+
 class Timing(C.Structure):
     _fields_ = [("dt_median_s", c_dbl), ("dt_min_s", c_dbl),
                 ("dt_max_s", c_dbl), ("jitter_rms_s", c_dbl),
                 ("rate_hz", c_dbl), ("n_gaps", c_size), ("n_missing", c_size),
-                ("n_backwards", c_size)]
+                ("n_backwards", c_size), ("order", TimeOrder)]
 
 
 class Gap(C.Structure):
@@ -100,6 +110,8 @@ class Capture(C.Structure):
                 ("time_col", Column), ("temp_col", Column),
                 ("rate_hz", c_dbl), ("rate_source", C.c_int),
                 ("n_nan", c_size), ("source_info", C.POINTER(Source)),
+                ("mapping", C.c_void_p), ("mapping_len", c_size),
+                ("unterminated", C.c_bool),
                 ("timing", Timing), ("has_timing", C.c_bool),
                 ("gaps", C.POINTER(Gap)), ("n_gaps", c_size),
                 ("is_view", C.c_bool)]
@@ -108,7 +120,8 @@ class Capture(C.Structure):
 class AllanOpts(C.Structure):
     _fields_ = [("dev", C.c_int), ("input", C.c_int), ("ci_level", c_dbl),
                 ("alpha_fixed", C.c_bool), ("alpha", C.c_int),
-                ("stride_div", c_size), ("threads", C.c_uint)]
+                ("stride_div", c_size), ("threads", C.c_uint),
+                ("release", RELEASE), ("release_ctx", C.c_void_p)]
 
 
 class AllanPoint(C.Structure):
@@ -121,17 +134,21 @@ class AllanPoint(C.Structure):
 
 class NoiseCoef(C.Structure):
     _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
-                ("var_sd", c_dbl), ("fitted", C.c_bool)]
+                ("var_sd", c_dbl), ("estimate", c_dbl),
+                ("fitted", C.c_bool)]
 
 
 class NoiseReadoff(C.Structure):
-    _fields_ = [("n", c_dbl), ("b", c_dbl), ("b_tau_s", c_dbl), ("k", c_dbl)]
+    _fields_ = [("n", c_dbl), ("n_tau_s", c_dbl), ("b", c_dbl),
+                ("b_tau_s", c_dbl), ("k", c_dbl), ("k_tau_s", c_dbl)]
 
 
 class NoiseFitOpts(C.Structure):
     _fields_ = [("ci_level", c_dbl), ("allowed", C.c_uint),
                 ("forced", C.c_uint), ("model_error", c_dbl),
-                ("tau_min_s", c_dbl), ("tau_max_s", c_dbl)]
+                ("detect_sigma", c_dbl),
+                ("tau_min_s", c_dbl), ("tau_max_s", c_dbl),
+                ("skip", C.c_bool)]
 
 
 class NoiseFit(C.Structure):
@@ -229,6 +246,8 @@ class TempbiasResult(C.Structure):
                 ("hysteresis_sd", c_dbl), ("hysteresis_max", c_dbl),
                 ("hysteresis_at_degc", c_dbl), ("have_split", C.c_bool),
                 ("heat_coef", c_dbl * 5), ("cool_coef", c_dbl * 5),
+                ("hyst_grad_collinear", C.c_bool), ("hyst_grad_vif", c_dbl),
+                ("rate_heat_degc_s", c_dbl), ("rate_cool_degc_s", c_dbl),
                 ("have_gradient", C.c_bool), ("gradient", c_dbl),
                 ("gradient_sd", c_dbl), ("deadband_degc_s", c_dbl),
                 ("turn_band_degc", c_dbl), ("smooth_s", c_dbl),
@@ -304,7 +323,8 @@ STRUCTS = {
     "sscope_diag": Diag, "sscope_unit": Unit, "sscope_column": Column,
     "sscope_read_opts": ReadOpts, "sscope_topic": Topic,
     "sscope_source": Source, "sscope_channel": Channel,
-    "sscope_timing": Timing, "sscope_gap": Gap,
+    "sscope_timing": Timing, "sscope_time_order": TimeOrder,
+    "sscope_gap": Gap,
     "sscope_capture": Capture, "sscope_allan_opts": AllanOpts,
     "sscope_allan_point": AllanPoint, "sscope_noise_coef": NoiseCoef,
     "sscope_noise_readoff": NoiseReadoff,

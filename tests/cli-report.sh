@@ -1,0 +1,120 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The report as a document: the quick-start report of the README (report
+# samples/gyro-static.csv) has its results in tables, figures inline as
+# SVG, formulas in MathML, print CSS and the summary on the terminal; in a
+# headless browser at 1280 px no figure text is under 10 px and no legend
+# or note box overlaps a plot area, and at the A4 column (703 px) none is
+# under 7 px; it prints to PDF.  The thermal scene's rejected fits show in
+# the text, JSON and HTML; a white-noise capture lists no peak.  The pages
+# and the PDF a reviewer looks at are left in tests/ of the build tree
+# (report-1280.png, report-print.png, report.pdf).
+. "${top_srcdir:-$(dirname "$0")/..}/tests/lib.sh"
+: "${PYTHON3:=python3}"
+: "${top_builddir:=$top_srcdir}"
+
+R="$T/rep"
+run "quick-start report" 0 report -o "$R" "$SAMPLES/gyro-static.csv"
+has "terminal: the summary table" "$T/out" '^stage/chan +quantity +value +interval +unit +note$'
+has "terminal: gx's random walk with its interval" "$T/out" \
+	'^allan/gx +angle random walk N +0\.1[45][0-9]* +\[0\.1[45][0-9]*, 0\.1[45][0-9]*\] +deg/sqrt\(h\)'
+H="$R/report.html"
+has "summary in a table" "$H" '<table class="summary">'
+has "noise terms in tables with a status" "$H" '<td class="ok">resolved</td>'
+has "info in a table" "$H" '<table class="info">'
+has "figures inline as SVG" "$H" '^<svg xmlns="http://www.w3.org/2000/svg"'
+has "a link to each figure alone" "$H" '<a href="allan.svg">Open the figure alone</a>'
+has "formulas in MathML" "$H" '<math display="block">'
+has "each section links its definitions" "$H" '<a href="#def-allan">'
+has "definitions are there" "$H" '<dt id="def-allan">'
+has "print style" "$H" '@media print\{'
+if [ "$(grep -c '<pre>' "$H")" = "$(grep -c '<details>' "$H")" ]; then
+	ok "command-line text only in collapsed details"
+else
+	not_ok "command-line text only in collapsed details"
+fi
+lacks "no network resource" "$H" '(src|href)="https?:'
+for f in info allan psd; do
+	if [ -s "$R/$f.svg" ]; then ok "report wrote $f.svg"; else not_ok "report wrote $f.svg"; fi
+done
+if command -v "$PYTHON3" >/dev/null 2>&1; then
+	if "$PYTHON3" "$top_srcdir/tests/svgcheck.py" "$R"/*.svg >"$T/check" 2>&1; then
+		ok "report figures: $(tr '\n' ';' <"$T/check")"
+	else
+		not_ok "report figures"
+		diag "$T/check"
+	fi
+else
+	skip "report figures" "python3 not installed"
+fi
+
+# the thermal scene: fits rejected, said in text, JSON and HTML
+run "thermal scene" 0 run -o "$T/th" "$SAMPLES/thermal.scene.ini"
+has "thermal: terminal warning" "$T/out" '^  warning: ax: fit rejected: chi2'
+has "thermal: text warning" "$T/th/report.txt" '^  warning: ax: fit rejected: chi2'
+json_check "thermal: JSON fits rejected, summary rows flagged" "$T/th/report.json" \
+	'(.results.allan.channels | map(.fit.rejected) | all) and
+	 ([.summary[] | select(.stage == "allan") | .status == "warning"] | all)'
+has "thermal: HTML banner" "$T/th/report.html" '<div class="banner warn" role="note"><strong>Fit rejected.</strong> ax: fit rejected'
+has "thermal: HTML table status" "$T/th/report.html" '<td class="warn">fitted, model rejected</td>'
+
+# white noise: no peak stands out, so no "strongest peak"
+printf '[sensor]\nname = white\nnoise_density = 0.2 deg/sqrt(h)\n' >"$T/white.ini"
+run "white-noise capture" 0 simulate --sensor "$T/white.ini" --rate 100 --duration 600 --axes 3 -o "$T/white.csv"
+run "white-noise report" 0 report -o "$T/wn" "$T/white.csv"
+json_check "white noise: no strongest peak, no peak" "$T/wn/report.json" \
+	'([.summary[] | select(.quantity == "strongest peak")] | length == 0) and ([.results.psd.channels[].peaks | length] | all(. == 0))'
+has "white noise: the HTML says no line" "$T/wn/report.html" 'No spectral line.'
+lacks "white noise: no strongest peak in the terminal" "$T/out" 'strongest peak'
+
+# a real browser at 1280 px and at the A4 column, and printed
+BROWSER=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)
+# chrome K ARGS...: one headless run with a fresh profile $T/chrK
+chrome() {
+	k=$1
+	shift
+	HOME="$T" timeout 180 "$BROWSER" --headless --no-sandbox --disable-gpu \
+		--disable-quic --no-first-run --disable-background-networking \
+		--disable-component-update --disable-sync \
+		--user-data-dir="$T/chr$k" "$@" 2>/dev/null
+}
+if [ -n "$BROWSER" ]; then
+	chrome 1 --window-size=1280,1000 --dump-dom "file://$H" >"$T/dom1280"
+	f=$(grep -o 'data-figures="[^"]*"' "$T/dom1280")
+	# data-figures="3 figures, min text X px, K overlaps, T tables, ..."
+	if echo "$f" | awk '{ sub(/.*min text /, ""); split($0, a, " "); exit !(a[1] >= 10) }' &&
+		echo "$f" | grep -q '"3 figures, .* 0 overlaps, [0-9]* tables'; then
+		ok "at 1280 px: $f"
+	else
+		not_ok "at 1280 px: $f"
+	fi
+	chrome 2 --window-size=718,1000 --dump-dom "file://$H" >"$T/dom703"
+	f=$(grep -o 'data-figures="[^"]*"' "$T/dom703")
+	if echo "$f" | awk '{ sub(/.*min text /, ""); split($0, a, " "); exit !(a[1] >= 7) }' &&
+		echo "$f" | grep -q '0 overlaps.*width 70[0-9]\"'; then
+		ok "at the A4 column: $f"
+	else
+		not_ok "at the A4 column: $f"
+	fi
+	chrome 3 --window-size=1280,4000 --hide-scrollbars \
+		--screenshot="$top_builddir/tests/report-1280.png" "file://$H" >/dev/null
+	chrome 4 --window-size=718,4000 --hide-scrollbars \
+		--screenshot="$top_builddir/tests/report-print.png" "file://$H" >/dev/null
+	if [ "$(od -An -tx1 -N8 "$top_builddir/tests/report-1280.png" 2>/dev/null | tr -d ' \n')" = 89504e470d0a1a0a ]; then
+		ok "screenshot tests/report-1280.png"
+	else
+		not_ok "screenshot tests/report-1280.png"
+	fi
+	chrome 5 --no-pdf-header-footer --print-to-pdf="$top_builddir/tests/report.pdf" "file://$H" >/dev/null
+	pages=$(grep -ao '/Count [0-9]*' "$top_builddir/tests/report.pdf" 2>/dev/null | head -n 1 | cut -d' ' -f2)
+	if [ "$(head -c 5 "$top_builddir/tests/report.pdf" 2>/dev/null)" = "%PDF-" ] && [ "${pages:-0}" -ge 2 ]; then
+		ok "printed to tests/report.pdf ($pages pages)"
+	else
+		not_ok "printed to tests/report.pdf"
+	fi
+else
+	for t in "at 1280 px" "at the A4 column" "screenshot" "printed"; do
+		skip "$t" "no chromium"
+	done
+fi
+done_testing

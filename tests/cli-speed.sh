@@ -1,0 +1,73 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# What keeps the command fast, and that the fast paths give the numbers of
+# the careful ones: the built program is the real binary; commands that
+# draw nothing do not load OpenCV (figures open the drawing module);
+# OpenMP threads wait passively; a raw float64 record used in place gives
+# the same Allan deviations as the copied one (standard input), and raw
+# rows in the host's byte order (block converter) the same spectrum as the
+# byte-swapped file (row by row).  The speed itself: make bench.
+. "$(dirname "$0")/lib.sh"
+
+if head -c 4 "$SSCOPE" | grep -q 'ELF'; then
+	ok "the built program is the binary, not a wrapper script"
+else
+	not_ok "the built program is the binary, not a wrapper script"
+fi
+
+if [ -n "$SSCOPE_RUN" ]; then
+	skip "--help loads no OpenCV" "under $SSCOPE_RUN"
+	skip "OpenMP waits passively" "under $SSCOPE_RUN"
+else
+	LD_DEBUG=files "$SSCOPE" --help >/dev/null 2>"$T/ld"
+	lacks "--help loads no OpenCV, no C++ runtime" "$T/ld" 'opencv|libstdc\+\+|plot-opencv'
+	if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
+		LD_DEBUG=files "$SSCOPE" info --plot "$T/i.png" \
+			"$SAMPLES/gyro-static.csv" >/dev/null 2>"$T/ld"
+		has "a figure opens the drawing module" "$T/ld" 'plot-opencv\.so'
+	fi
+	# libgomp prints its settings when loaded: the second run has them
+	OMP_DISPLAY_ENV=true "$SSCOPE" psd --nperseg 256 \
+		"$SAMPLES/gyro-static.csv" >/dev/null 2>"$T/omp"
+	if grep -q 'OPENMP DISPLAY ENVIRONMENT' "$T/omp"; then
+		has "OpenMP waits passively" "$T/omp" "OMP_WAIT_POLICY = 'PASSIVE'"
+		OMP_WAIT_POLICY=active OMP_DISPLAY_ENV=true "$SSCOPE" psd \
+			--nperseg 256 "$SAMPLES/gyro-static.csv" >/dev/null 2>"$T/omp"
+		lacks "a policy the user set is kept" "$T/omp" "PASSIVE"
+	else
+		skip "OpenMP waits passively" "built without OpenMP"
+	fi
+fi
+
+# 300000 float64 samples, both byte orders (perl is in every Debian)
+perl -e '$s = 1; for (1 .. 300000) { $s = ($s * 16807) % 2147483647;
+	print pack("d<", $s / 2147483647 + 0.3) }' >"$T/le.f64"
+perl -e '$s = 1; for (1 .. 300000) { $s = ($s * 16807) % 2147483647;
+	print pack("d>", $s / 2147483647 + 0.3) }' >"$T/be.f64"
+
+run "allan on a raw float64 file (in place)" 0 allan --raw f64:1:le --rate 10 \
+	--format json "$T/le.f64"
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/a1"
+run_in "allan on the same from standard input (copied)" 0 "$T/le.f64" allan \
+	--raw f64:1:le --rate 10 --format json -
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/a2"
+if [ -s "$T/a1" ] && cmp -s "$T/a1" "$T/a2"; then
+	ok "in place and copied give the same JSON"
+else
+	not_ok "in place and copied give the same JSON"
+fi
+run "allan --no-fit" 0 allan --raw f64:1:le --rate 10 --no-fit --format json "$T/le.f64"
+lacks "allan --no-fit: no noise terms" "$T/out" '"noise":\{'
+
+run "psd, host byte order" 0 psd --raw f64:1:le --rate 10 --nperseg 1024 \
+	--format json "$T/le.f64"
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/p1"
+run "psd, swapped byte order" 0 psd --raw f64:1:be --rate 10 --nperseg 1024 \
+	--format json "$T/be.f64"
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/p2"
+if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
+	ok "block converter and row-by-row reader give the same spectrum"
+else
+	not_ok "block converter and row-by-row reader give the same spectrum"
+fi
+done_testing
