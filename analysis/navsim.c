@@ -49,6 +49,8 @@ struct sscope_navsim {
 	size_t aid_stride;
 	bool free_vertical;
 	unsigned threads;
+	void (*progress)(void *ctx, size_t done, size_t total);
+	void *progress_ctx;
 	struct sscope_navsim_pose *truth; /* n_out */
 };
 
@@ -417,6 +419,8 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 	ns->n_samp = 2 * n2;
 	ns->free_vertical = o->free_vertical;
 	ns->threads = o->threads;
+	ns->progress = o->progress;
+	ns->progress_ctx = o->progress_ctx;
 	if (o->output_step_s > 0)
 		ns->out_every = (size_t)fmax(1, round(o->output_step_s / (2 * ns->dt)));
 	else
@@ -709,7 +713,7 @@ int sscope_navsim_monte_carlo(const struct sscope_navsim *ns,
 			      struct sscope_diag *diag)
 {
 	const size_t NC = SSCOPE_NAVSIM_N_COMP;
-	size_t per, total;
+	size_t per, total, done = 0;
 	double *all;
 	uint64_t clip = 0;
 	int rc = 0;
@@ -735,13 +739,16 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1) reduction(+ : clip)
 						   &cl, &d);
 
 		clip += cl;
-		if (e) {
 SSC_OMP(omp critical(ssc_navsim_rc))
-			if (!rc) {
+		{
+			if (e && !rc) {
 				rc = e;
 				if (diag)
 					*diag = d;
 			}
+			done++;
+			if (ns->progress)
+				ns->progress(ns->progress_ctx, done, runs);
 		}
 	}
 	if (rc)

@@ -106,6 +106,10 @@ struct sscope_navsim_opts {
 	size_t n_table;
 	bool free_vertical; /**< leave the vertical channel unaided */
 	unsigned threads;   /**< OpenMP threads (0: the default) */
+	/** called after each Monte-Carlo run with the runs done and asked
+	 *  (from one thread at a time; may be NULL) */
+	void (*progress)(void *ctx, size_t done, size_t total);
+	void *progress_ctx;
 };
 
 /** A simulation: the reference trajectory and its perfect increments. */

@@ -154,6 +154,8 @@ json_check "static gyro: fits accepted" "$T/out" '[.channels[].fit.rejected] == 
 # comes with a finite upper bound instead
 json_check "static gyro: resolved = fitted = interval excludes 0, no unresolved-term warning" "$T/out" \
 	'([.channels[] | .noise | to_entries[] | .value | select(type == "object") | (.resolved == .fitted) and ((.fitted | not) or .lo > 0)] | all) and ([.channels[] | (.warnings // []) | map(.code) | index("term_unresolved")] | all(. == null))'
+json_check "static gyro: every term has its point estimate, equal to the value when fitted" "$T/out" \
+	'[.channels[].noise[] | select(type == "object") | (.estimate >= 0) and (.si_estimate >= 0) and ((.fitted | not) or (.estimate == .value))] | all'
 json_check "static gyro: K bounded, not resolved, on 1 h" "$T/out" \
 	'[.channels[] | .noise.K | (.resolved | not) and .lo == 0 and .hi > 0] | all'
 done_testing

@@ -81,9 +81,9 @@ chrome() {
 if [ -n "$BROWSER" ]; then
 	chrome 1 --window-size=1280,1000 --dump-dom "file://$H" >"$T/dom1280"
 	f=$(grep -o 'data-figures="[^"]*"' "$T/dom1280")
-	# data-figures="3 figures, min text X px, K overlaps, T tables, ..."
+	# data-figures="N figures, min text X px, K overlaps, T tables, ..."
 	if echo "$f" | awk '{ sub(/.*min text /, ""); split($0, a, " "); exit !(a[1] >= 10) }' &&
-		echo "$f" | grep -q '"3 figures, .* 0 overlaps, [0-9]* tables'; then
+		echo "$f" | grep -q "\"$(grep -c '<figure>' "$H") figures, .* 0 overlaps, [0-9]* tables"; then
 		ok "at 1280 px: $f"
 	else
 		not_ok "at 1280 px: $f"

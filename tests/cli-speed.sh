@@ -6,7 +6,9 @@
 # OpenMP threads wait passively; a raw float64 record used in place gives
 # the same Allan deviations as the copied one (standard input), and raw
 # rows in the host's byte order (block converter) the same spectrum as the
-# byte-swapped file (row by row).  The speed itself: make bench.
+# byte-swapped file (row by row); a streamed psd reading ahead reports a
+# bad cell at its line; the report's provenance hash, computed
+# beside the reading, is the file's.  The speed itself: make bench.
 . "$(dirname "$0")/lib.sh"
 
 if head -c 4 "$SSCOPE" | grep -q 'ELF'; then
@@ -69,5 +71,48 @@ if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
 	ok "block converter and row-by-row reader give the same spectrum"
 else
 	not_ok "block converter and row-by-row reader give the same spectrum"
+fi
+# psd reads the next chunk while it transforms the last: a bad cell three
+# chunks in is still reported at its line, and the spectrum of a pipe is
+# the file's
+awk 'BEGIN { print "t [s],gx [deg/s]"; for (i = 0; i < 200000; i++)
+	printf "%.2f,%s\n", i / 100, (i == 150000 ? "oops" : sin(i * 0.37)) }' \
+	>"$T/bad.csv"
+run "psd: bad cell deep in a streamed CSV" 1 psd "$T/bad.csv"
+has "psd: the bad cell's line" "$T/err" "line 150002"
+run "psd of a CSV" 0 psd --format json "$SAMPLES/gyro-static.csv"
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/s1"
+run_in "psd of the same CSV through a pipe" 0 "$SAMPLES/gyro-static.csv" \
+	psd --format json -
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/s2"
+if [ -s "$T/s1" ] && cmp -s "$T/s1" "$T/s2"; then
+	ok "psd: file and pipe give the same spectrum"
+else
+	not_ok "psd: file and pipe give the same spectrum"
+fi
+
+# a record used in place and the Allan workspace are never both whole in
+# memory: peak RSS at most 1.2 x the file plus the program (GNU time)
+if [ -x /usr/bin/time ] && [ -z "$SSCOPE_RUN" ]; then
+	perl -e '$s = 7; for (1 .. 2000000) { $s = ($s * 16807) % 2147483647;
+		print pack("d<", $s / 2147483647) }' >"$T/big.f64"
+	/usr/bin/time -f '%M' -o "$T/rss" "$SSCOPE" allan --raw f64:1:le \
+		--rate 100 --taus octave --ci none --no-fit "$T/big.f64" >/dev/null
+	kb=$(tail -n 1 "$T/rss")
+	if [ "$kb" -le $((16000 * 12 / 10 + 10000)) ]; then
+		ok "allan in place: peak RSS $kb KiB for a 16 MB record"
+	else
+		not_ok "allan in place: peak RSS $kb KiB for a 16 MB record"
+	fi
+	rm -f "$T/big.f64"
+else
+	skip "allan in place: peak RSS" "no /usr/bin/time or under $SSCOPE_RUN"
+fi
+
+# the report's provenance hashes (hashed on a thread beside the reading)
+run "report of a capture" 0 report -q -o "$T/rep" "$SAMPLES/gyro-static.csv"
+if command -v sha256sum >/dev/null 2>&1; then
+	h=$(sha256sum "$SAMPLES/gyro-static.csv" | cut -c1-64)
+	has "report.html: the capture's SHA-256" "$T/rep/report.html" "$h"
 fi
 done_testing

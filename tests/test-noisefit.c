@@ -425,6 +425,7 @@ START_TEST(round_trip_coverage)
 }
 END_TEST
 
+/* the value to predict with: fitted value, else the point estimate */
 START_TEST(readoffs_and_errors)
 {
 	const double c[5] = { 0, 2.385e-3, 2.385e-4, 2.385e-6, 0 };

@@ -734,6 +734,18 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 
 			json_object_set_new(jc, "resolved",
 					    json_boolean(term_resolved(cf)));
+			/* the unconstrained point estimate, resolved or not:
+			 * what a prediction (walk, navsim, heading) uses */
+			{
+				double ev;
+
+				json_object_set_new(jc, "si_estimate",
+						    ssc_jreal(cf->estimate));
+				if (sscope_convert(cf->estimate, u->term_si[t],
+						   u->term[t], &ev))
+					ev = cf->estimate;
+				json_object_set_new(jc, "estimate", ssc_jreal(ev));
+			}
 			json_object_set_new(nz, key[t], jc);
 			if (cf->fitted)
 				json_array_append_new(terms, json_string(key[t]));

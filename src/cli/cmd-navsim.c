@@ -34,6 +34,7 @@ enum {
 	O_HEIGHT,
 	O_HEADING,
 	O_TRAJ,
+	O_TRAJ_FILE,
 	O_DURATION,
 	O_RATE,
 	O_RUNS,
@@ -48,7 +49,7 @@ static const struct ssc_option navsim_opts[] = {
 	{ "sensor", required_argument, O_SENSOR, "SPEC.ini",
 	  "sensor spec (a gyro and an accelerometer file may both be given): noise terms, range; bias and scale_factor_error as 1-sigma constants drawn per run" },
 	{ "from-allan", required_argument, O_ALLAN, "RESULT.json",
-	  "noise terms Q, N, B, K, R from a JSON result of 'allan' (the worst gyro and accelerometer channel)" },
+	  "noise terms from a JSON result of 'allan': those it resolved, of the worst gyro and accelerometer channel" },
 	{ "from-calib", required_argument, O_CALIB, "RESULT.json",
 	  "fixed biases, scale factors and misalignments from a JSON result of 'calib' (the uncompensated sensor)" },
 	{ "gyro-bias", required_argument, O_GBIAS, "V[,V,V]",
@@ -63,6 +64,8 @@ static const struct ssc_option navsim_opts[] = {
 	{ "heading", required_argument, O_HEADING, "DEG", "initial heading (default 0, north)" },
 	{ "trajectory", required_argument, O_TRAJ, "KIND",
 	  "reference motion: static (default), straight:SPEED, turn:RATE[:SPEED] or FILE.csv" },
+	{ "trajectory-file", required_argument, O_TRAJ_FILE, "FILE.csv",
+	  "the same as --trajectory FILE.csv (in a scene: relative to the scene file)" },
 	{ "duration", required_argument, O_DURATION, "T", "simulated span (default 10 min; a file: its span)" },
 	{ "rate", required_argument, O_RATE, "HZ", "IMU sample rate (default 100 Hz)" },
 	{ "runs", required_argument, O_RUNS, "M", "Monte-Carlo runs (default 100)" },
@@ -225,6 +228,10 @@ static int handler(int key, const char *arg, void *ctx)
 			       SSC_EXIT_USAGE : 0;
 	case O_TRAJ:
 		return parse_traj(o, arg);
+	case O_TRAJ_FILE:
+		o->motion = SSCOPE_NAVSIM_TABLE;
+		o->traj_file = o->traj_text = arg;
+		return 0;
 	case O_DURATION:
 		if (ssc_arg_quantity(cmd, "duration", arg, "s", &o->duration))
 			return SSC_EXIT_USAGE;
@@ -945,6 +952,14 @@ static void free_result(void *result)
 	free(r);
 }
 
+/* "run 12 of 100" on stderr (only when progress is on) */
+static void progress(void *ctx, size_t done, size_t total)
+{
+	(void)ctx;
+	fprintf(stderr, "\rnavsim: Monte-Carlo run %zu of %zu   ", done, total);
+	fflush(stderr);
+}
+
 static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const char *cmd = env->co->cmd;
@@ -977,6 +992,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	no.turn_rate_rad_s = o->turn_rate;
 	no.free_vertical = o->free_vertical;
 	no.threads = o->threads;
+	if (ssc_progress_on(env->co))
+		no.progress = progress;
 	if (o->motion == SSCOPE_NAVSIM_TABLE) {
 		rc = load_table(cmd, o->traj_file, &tb);
 		if (rc)
@@ -988,6 +1005,22 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		if (!o->set_duration)
 			no.duration_s = 0;
 	}
+	{
+		/* memory: perfect increments (48 bytes a sample) unless at
+		 * rest, and every run's errors (72 bytes a record) */
+		double span = o->motion == SSCOPE_NAVSIM_TABLE ?
+				      tb.cap->time_s[tb.cap->n - 1] : o->duration;
+		double rec = o->step > 0 ? span / o->step : 600;
+		double bytes = (o->motion == SSCOPE_NAVSIM_STATIC ? 0 : 48 * span * o->rate) +
+			       72.0 * (double)o->runs * (rec + 1);
+
+		if (bytes > 2147483648.0) {
+			ssc_err(cmd, "this simulation needs about %.0f MB (more than 2 GB): lower --rate, --duration or --runs, or raise --output-step",
+				bytes / 1e6);
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+	}
 	rc = sscope_navsim_new(&r->ns, &no, &d);
 	if (rc) {
 		rc = o->traj_file ? ssc_nav_fail(cmd, rc, &d, o->traj_file) :
@@ -996,6 +1029,10 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	r->n = sscope_navsim_n_out(r->ns);
 	r->dur = sscope_navsim_time(r->ns, r->n - 1);
+	if (o->set_duration && r->dur < o->duration - 2 / o->rate)
+		ssc_warn(env->co, "%s spans %g s: simulating that, not --duration %g s",
+			 o->traj_file ? o->traj_file : "the trajectory", r->dur,
+			 o->duration);
 	r->st = calloc(r->n, sizeof(*r->st));
 	if (!r->st) {
 		ssc_err(cmd, "out of memory");
@@ -1004,6 +1041,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	rc = sscope_navsim_monte_carlo(r->ns, &r->in.imu, o->runs, o->seed, r->st,
 				       NULL, &r->clipped, &d);
+	if (no.progress)
+		ssc_progress_end(env->co);
 	if (rc) {
 		rc = ssc_fail(cmd, rc, &d, "Monte Carlo");
 		goto done;

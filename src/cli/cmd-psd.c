@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "prefetch.h"
 #include "stage.h"
 
 enum {
@@ -335,7 +336,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 	struct sscope_read_opts ro;
 	struct sscope_reader *rd = NULL;
 	struct sscope_diag d = { "" };
-	struct sscope_chunk ch = { 0 };
+	struct ssc_prefetch *pf = NULL;
+	const struct sscope_chunk *cur;
 	struct progress_ctx pc = { co, R->path };
 	const size_t cap = 65536;
 	struct sscope_timing_stream *ts = NULL;
@@ -356,21 +358,17 @@ static int stream(const struct ssc_common *co, struct run *R)
 	}
 	R->nch = sscope_reader_n_channels(rd);
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
-	ch.data = calloc(R->nch ? R->nch : 1, sizeof(double *));
-	if (!R->ch || !ch.data)
+	if (!R->ch)
 		goto nomem;
-	ch.capacity = cap;
 	/* the time column as the capture loader reads it (its streaming
 	 * form): rate and gaps */
 	use_time = sscope_reader_time_column(rd) != NULL;
 	if (use_time) {
-		ch.time_s = malloc(cap * sizeof(double));
-		if (!ch.time_s || sscope_timing_stream_new(&ts, 1.5))
+		if (sscope_timing_stream_new(&ts, 1.5))
 			goto nomem;
 	}
 	for (size_t k = 0; k < R->nch; k++) {
-		ch.data[k] = malloc(cap * sizeof(double));
-		if (!ch.data[k] || copy_col(&R->ch[k].col, sscope_reader_channel(rd, k)))
+		if (copy_col(&R->ch[k].col, sscope_reader_channel(rd, k)))
 			goto nomem;
 		rc = sscope_psd_new(&R->ch[k].p, &R->a.po);
 		if (rc) {
@@ -378,16 +376,20 @@ static int stream(const struct ssc_common *co, struct run *R)
 			goto out;
 		}
 	}
+	/* the next chunk is read while this one is transformed */
+	rc = ssc_prefetch_start(&pf, rd, R->nch, cap, use_time);
+	if (rc)
+		goto nomem;
 	for (;;) {
-		rc = sscope_reader_read(rd, &ch, &d);
+		rc = ssc_prefetch_next(pf, &cur, &d);
 		if (rc) {
 			ssc_fail(co->cmd, rc, &d, R->path);
 			goto out;
 		}
-		if (ch.rows == 0)
+		if (cur->rows == 0)
 			break;
 		for (size_t k = 0; k < R->nch; k++) {
-			rc = sscope_psd_feed(R->ch[k].p, ch.data[k], 1, ch.rows);
+			rc = sscope_psd_feed(R->ch[k].p, cur->data[k], 1, cur->rows);
 			if (rc) {
 				ssc_err(co->cmd, "%s: channel %s: %s", R->path,
 					R->ch[k].col.name, sscope_strerror(rc));
@@ -395,8 +397,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 			}
 		}
 		if (use_time)
-			sscope_timing_stream_feed(ts, ch.time_s, ch.rows);
-		R->rows += ch.rows;
+			sscope_timing_stream_feed(ts, cur->time_s, cur->rows);
+		R->rows += cur->rows;
 	}
 	ssc_progress_end(co);
 	if (R->rows == 0) {
@@ -463,11 +465,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 nomem:
 	ssc_err(co->cmd, "out of memory");
 out:
-	if (ch.data)
-		for (size_t k = 0; k < R->nch; k++)
-			free(ch.data[k]);
-	free(ch.data);
-	free(ch.time_s);
+	ssc_prefetch_stop(pf);
 	sscope_timing_stream_free(ts);
 	sscope_reader_close(rd);
 	return ex;

@@ -38,7 +38,7 @@ static const struct ssc_option walk_opts[] = {
 	{ "run-length", required_argument, O_RUN, "T",
 	  "integration length of each run (default: 60 s, shorter when fewer than 20 runs fit)" },
 	{ "bias-window", required_argument, O_BIASW, "T",
-	  "remove the mean of the T seconds before each run (default 0: the record's mean)" },
+	  "remove the mean of the T seconds before each run (default: the run length; 0: the record's mean)" },
 	{ "sigma", required_argument, O_SIGMA, "K", "envelope half-width in sigmas (default 2)" },
 	{ "ci", required_argument, O_CI, "LEVEL",
 	  "confidence level of the implied N and of allan's fit (default 0.683)" },
@@ -60,7 +60,8 @@ static const struct ssc_command_spec spec = {
 	.summary =
 		"The random-walk fan of a stationary gyro or accelerometer: the record is\n"
 		"cut into runs, each integrated (to angle or velocity) after its bias is\n"
-		"removed, and drawn against the +-2 sigma envelope its noise terms predict\n"
+		"removed (the mean of the stretch before it, or the record's mean), and\n"
+		"drawn against the +-2 sigma envelope its noise terms predict\n"
 		"(angle random walk 2 N sqrt(t), plus the bias-instability and rate-random-\n"
 		"walk parts and the error of the removed bias).  Reports the fraction of\n"
 		"runs inside the envelope against time and the N the spread implies,\n"
@@ -145,6 +146,7 @@ static void init(void *opts)
 	memset(o, 0, sizeof(*o));
 	o->k = 2;
 	o->ci = 0.683;
+	o->bias_s = -1; /* the run length */
 	o->paths = 100;
 	o->contrast = 9;
 }
@@ -199,8 +201,13 @@ static int option_terms(const char *cmd, const struct opts *o, enum sscope_quant
 	return 0;
 }
 
+/* allan on the record: the resolved terms (shown beside the fan) and for
+ * the envelope the fit's estimates of N, B and K, resolved or not (an
+ * unresolved rate random walk still makes the runs wander), with Q and
+ * the deterministic ramp R only when resolved */
 static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
-		       enum sscope_quantity q, double ci, struct ssc_nav_terms *t)
+		       enum sscope_quantity q, double ci, struct ssc_nav_terms *t,
+		       struct ssc_nav_terms *est)
 {
 	struct sscope_allan_result *res = NULL;
 	struct sscope_noise_fit_opts fo = { 0 };
@@ -210,19 +217,34 @@ static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
 	memset(t, 0, sizeof(*t));
 	t->quantity = q;
 	t->n_lo = t->n_hi = (double)NAN;
+	*est = *t;
 	fo.ci_level = ci;
 	rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL, &fo, &res, &d);
 	if (rc)
 		return ssc_fail(cmd, rc, &d, "allan");
 	if (res->have_fit) {
-		for (int i = 0; i < 5; i++)
-			if (res->fit.coef[i].fitted && res->fit.coef[i].value > 0) {
-				t->coef[i] = res->fit.coef[i].value;
+		for (int i = 0; i < 5; i++) {
+			const struct sscope_noise_coef *c = &res->fit.coef[i];
+
+			if (c->fitted && c->value > 0) {
+				t->coef[i] = c->value;
 				t->have = true;
 			}
-		t->n_lo = res->fit.coef[SSCOPE_TERM_N].lo;
-		t->n_hi = res->fit.coef[SSCOPE_TERM_N].hi;
-		t->ci_level = res->fit.ci_level;
+			/* N, B, K as estimated; Q and the deterministic
+			 * ramp R only when resolved */
+			if ((i == SSCOPE_TERM_N || i == SSCOPE_TERM_B ||
+			     i == SSCOPE_TERM_K) ? c->estimate > 0 :
+						   c->fitted && c->value > 0) {
+				est->coef[i] = i == SSCOPE_TERM_N || i == SSCOPE_TERM_B ||
+							       i == SSCOPE_TERM_K ?
+						       c->estimate :
+						       c->value;
+				est->have = true;
+			}
+		}
+		t->n_lo = est->n_lo = res->fit.coef[SSCOPE_TERM_N].lo;
+		t->n_hi = est->n_hi = res->fit.coef[SSCOPE_TERM_N].hi;
+		t->ci_level = est->ci_level = res->fit.ci_level;
 	}
 	sscope_allan_result_free(res);
 	return 0;
@@ -256,13 +278,14 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		c->allan = *p;
 		/* the same words for a file and the scene's stage */
 		c->terms_from = "allan result";
+		c->terms = c->allan;
 	} else {
-		rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan);
+		rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan,
+				 &c->terms);
 		if (rc)
 			return rc;
-		c->terms_from = "allan on this record";
+		c->terms_from = "allan on this record: N, B, K estimated, resolved or not";
 	}
-	c->terms = c->allan;
 	if (o->set_terms) {
 		rc = option_terms(cmd, o, q, &c->terms);
 		if (rc)
@@ -291,8 +314,10 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	}
 	c->run_s = o->run_s;
 	if (!(c->run_s > 0)) {
-		/* 60 s, or the longest whole second that leaves 20 runs */
-		c->run_s = fmin(60, floor(dur / 20 - o->bias_s));
+		/* 60 s, or the longest whole second that leaves 20 runs
+		 * (with their bias windows) */
+		c->run_s = o->bias_s < 0 ? fmin(60, floor(dur / 40)) :
+					   fmin(60, floor(dur / 20 - o->bias_s));
 		if (c->run_s < 1) {
 			ssc_err(cmd, "%s: %g s is too short for 20 runs of 1 s (give --run-length)",
 				path, dur);
@@ -301,7 +326,7 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	}
 	wo.rate_hz = c->fs;
 	wo.run_s = c->run_s;
-	wo.bias_s = o->bias_s;
+	wo.bias_s = o->bias_s < 0 ? c->run_s : o->bias_s;
 	wo.k_sigma = o->k;
 	wo.max_contrast = o->contrast > 0 ? o->contrast : -1;
 	memcpy(wo.coef, c->terms.coef, sizeof(wo.coef));

@@ -21,6 +21,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "hashjob.h"
 #include "html.h"
 #include "plot.h"
 #include "report.h"
@@ -126,6 +127,7 @@ struct ssc_scene;
 static int check_stages(const char *cmd, struct ssc_scene *sc);
 
 struct ssc_scene {
+	struct ssc_hashjob *hashes; /* provenance, while running */
 	char *path;             /* scene file, or NULL when inferred */
 	char *dir;              /* its directory */
 	char *title;
@@ -1504,7 +1506,7 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		struct stat st;
 		const char *cells[3];
 
-		if (ssc_sha256_file(sc->files[i], hex))
+		if (ssc_hashjob_get(sc->hashes, sc->files, i, hex))
 			snprintf(hex, sizeof(hex), "(unreadable)");
 		if (!stat(sc->files[i], &st))
 			snprintf(bytes, sizeof(bytes), "%lld", (long long)st.st_size);
@@ -1792,6 +1794,9 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	}
 	sc->out_dir = od.dir;
 	caps = calloc(sc->n_files ? sc->n_files : 1, sizeof(*caps));
+	/* the report's provenance hashes, beside the reading */
+	if (sc->formats & SSC_OUT_HTML)
+		sc->hashes = ssc_hashjob_start(sc->files, sc->n_files);
 	sc->t_read_s = wall_s();
 	for (size_t i = 0; i < sc->n_files && !rc; i++) {
 		if (tracing())
@@ -1933,6 +1938,8 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		free(fn);
 	}
 done:
+	ssc_hashjob_free(sc->hashes);
+	sc->hashes = NULL;
 	sc->out_dir = final_dir;
 	if (!rc)
 		rc = ssc_outdir_commit(co.cmd, &od);
