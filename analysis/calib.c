@@ -33,6 +33,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_statistics_double.h>
 #include <gsl/gsl_vector.h>
 
 #define PI 3.14159265358979323846
@@ -561,13 +562,6 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *z, size_t stride, size_t n,
 				  double rate_hz, double init_static_s,
@@ -601,8 +595,8 @@ int sscope_calib_static_reference(const double *x, const double *y,
 				work[nf++] = vs[i];
 		if (nf == 0)
 			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work, nf, sizeof(double), cmp_double);
-		*reference = work[(nf - 1) / 10];
+		/* the 10th percentile by selection (O(n)), not a sort */
+		*reference = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,
@@ -628,6 +622,11 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
 	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	/* least squares on squared magnitudes: samples in a sane range */
+	if ((rc = ssc_magnitude_check(x, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(y, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(z, stride, n, 250, "calibration", diag)))
+		return rc;
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
 	window = (size_t)lround(win_s * rate_hz);
@@ -840,6 +839,12 @@ int sscope_calib_gyro_fit(const double *const g[3],
 	for (int i = 0; i < 3; i++)
 		if (!g[i] || !accel_cal[i])
 			return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	for (int i = 0; i < 3; i++)
+		if ((rc = ssc_magnitude_check(g[i], stride, n, 250, "gyro calibration",
+					      diag)) ||
+		    (rc = ssc_magnitude_check(accel_cal[i], stride, n, 250,
+					      "gyro calibration", diag)))
+			return rc;
 	for (size_t k = 0; k < n_iv; k++)
 		if (iv[k].end <= iv[k].start || iv[k].end > n ||
 		    (k && iv[k].start < iv[k - 1].end))

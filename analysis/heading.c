@@ -26,6 +26,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_statistics_double.h>
+
 #include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
@@ -113,13 +115,6 @@ void sscope_heading_set_initial(struct sscope_heading_result *r, double h)
 	}
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
 			   double *p10, double *p90)
 {
@@ -130,9 +125,10 @@ int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
 			work[nf++] = vs[i];
 	if (nf < 10)
 		return -EDOM;
-	qsort(work, nf, sizeof(double), cmp_double);
-	*p10 = work[(nf - 1) / 10];
-	*p90 = work[(nf - 1) * 9 / 10];
+	/* order statistics by selection (GSL's quickselect, O(n); a full
+	 * sort of a day's record took seconds), the values a sort gives */
+	*p10 = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
+	*p90 = gsl_stats_select(work, 1, nf, (nf - 1) * 9 / 10);
 	return 0;
 }
 

@@ -263,10 +263,21 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		}
 	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
+		const double *d = cap->channels[k].data;
 		size_t nan = 0;
 
-		for (size_t i = 0; i < n; i++)
-			nan += isnan(cap->channels[k].data[i]);
+		for (size_t i = 0; i < n; i++) {
+			nan += isnan(d[i]);
+			/* finite in the file, infinite in SI (1e308 g) */
+			if (isinf(d[i])) {
+				rc = ssc_diag(diag, -ERANGE,
+					      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
+					      strcmp(path, "-") ? path : "(stdin)",
+					      cap->channels[k].col.name, i + 1,
+					      cap->channels[k].col.unit_label);
+				goto fail;
+			}
+		}
 		cap->channels[k].n_nan = nan;
 		cap->n_nan += nan;
 	}
