@@ -456,9 +456,15 @@ static size_t same_name(const struct sscope_reader *r, size_t i, char *buf,
 	return n;
 }
 
+struct named {
+	const char *name;
+	size_t col;
+};
+
 static int cmp_name(const void *a, const void *b)
 {
-	return ssc_strcasecmp(*(const char *const *)a, *(const char *const *)b);
+	return ssc_strcasecmp(((const struct named *)a)->name,
+			      ((const struct named *)b)->name);
 }
 
 static int column_list(struct sscope_reader *r, char *buf, size_t len)
@@ -629,20 +635,19 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 	/* two columns in use under one name: results could not tell them
 	 * apart (t,gx,gx,gx); the used names sorted, neighbours compared */
 	{
-		const char **un = ssc_alloc_array(r->ncols + 1, sizeof(*un));
+		struct named *un = ssc_alloc_array(r->ncols + 1, sizeof(*un));
 		size_t nu = 0;
 
 		if (!un)
 			return -ENOMEM;
 		for (size_t i = 0; i < r->ncols; i++)
 			if (r->cols[i].used)
-				un[nu++] = r->cols[i].name;
+				un[nu++] = (struct named){ r->cols[i].name, i };
 		qsort(un, nu, sizeof(*un), cmp_name);
 		for (size_t i = 1; i < nu; i++)
-			if (!ssc_strcasecmp(un[i - 1], un[i])) {
-				long k = find_column(r, un[i]);
-				size_t n = same_name(r, (size_t)k, names,
-						     sizeof(names));
+			if (!ssc_strcasecmp(un[i - 1].name, un[i].name)) {
+				size_t k = un[i].col;
+				size_t n = same_name(r, k, names, sizeof(names));
 
 				rc = ssc_diag(diag, -EINVAL,
 					      "%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",

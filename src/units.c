@@ -124,6 +124,7 @@ struct parser {
 	int n_factors;        /* atoms and numbers multiplied in */
 	const struct atom *last_atom;
 	bool lone_power_one;  /* the only atom has exponent 1 */
+	int depth;            /* parentheses and roots open */
 };
 
 struct val {
@@ -284,7 +285,22 @@ static int parse_atom(struct parser *ps, struct val *out)
 	return 0;
 }
 
+static int primary(struct parser *ps, struct val *out);
+
+/* Nesting is bounded: "((((...": an error, never a stack overflow. */
 static int parse_primary(struct parser *ps, struct val *out)
+{
+	int rc;
+
+	if (ps->depth >= 32)
+		return err_at(ps, "parentheses nested deeper than 32");
+	ps->depth++;
+	rc = primary(ps, out);
+	ps->depth--;
+	return rc;
+}
+
+static int primary(struct parser *ps, struct val *out)
 {
 	int rc;
 

@@ -105,6 +105,15 @@ else
 	skip "2555 raw channels from a pipe" "no address-space limit under this build"
 fi
 
+# ---- found by make fuzz (issue 13, item 13): two columns named by the same
+# number ("1") were looked up as column 1 (an index out of range); units
+# nested in thousands of parentheses overflowed the parser's stack
+printf 't,0,1,1\n0,1,2,3\n1,2,3,4\n' >"$T/numnames.csv"
+bad "columns named by one number" 1 "columns 3 and 4 are both named '1'" info "$T/numnames.csv"
+bad "the fuzzer's input" 1 "columns 2 and 4 are both named '0'" info "$CORPUS/text/numeric-names-twice.csv"
+printf 'ax [%s g]\n1\n2\n' "$(head -c 5000 /dev/zero | tr '\0' '(')" >"$T/paren.csv"
+bad "units nested 5000 deep" 1 "parentheses nested deeper than 32" info -r 1 "$T/paren.csv"
+
 # ---- 10. inputs once accepted silently
 # duplicate column names: the channels could not be told apart
 DUP="$CORPUS/text/duplicate-columns.csv"
