@@ -221,8 +221,15 @@ struct sscope_source *ssc_source_copy(const struct sscope_source *s,
 
 		if (!r)
 			goto fail;
-		for (size_t i = 0; i < n; i++)
-			r[i] = (double)(rx_ns[i] - t0_ns) * 1e-9;
+		for (size_t i = 0; i < n; i++) {
+			int64_t d;
+
+			/* a corrupt stamp far from t0: the difference in
+			 * double, never a signed overflow */
+			r[i] = __builtin_sub_overflow(rx_ns[i], t0_ns, &d) ?
+				       ((double)rx_ns[i] - (double)t0_ns) * 1e-9 :
+				       (double)d * 1e-9;
+		}
 		c->receive_s = r;
 	}
 	return c;
