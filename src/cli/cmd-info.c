@@ -41,6 +41,7 @@ static const struct ssc_command_spec spec = {
 struct file_info {
 	struct sscope_capture *cap;
 	struct sscope_stats *st;
+	struct sscope_clip *clip; /* samples piled at a channel's extremes */
 	bool have_timing;
 	struct sscope_timing tm;
 	struct sscope_gap gaps[MAX_GAPS_LISTED];
@@ -92,6 +93,16 @@ static double to_unit_diff(const struct sscope_column *c, double si)
 	return si / c->unit.scale;
 }
 
+/* What a sensor or its converter outputs, where a range ends: clipping is
+ * looked for there, not in a trajectory's angles and positions (whose
+ * noise-free plateaus would read as a pile-up). */
+static bool sensor_output(enum sscope_quantity q)
+{
+	return q == SSCOPE_QTY_ANGULAR_RATE || q == SSCOPE_QTY_ACCELERATION ||
+	       q == SSCOPE_QTY_VOLTAGE || q == SSCOPE_QTY_COUNTS ||
+	       q == SSCOPE_QTY_UNKNOWN || q == SSCOPE_QTY_DIMENSIONLESS;
+}
+
 static int analyse(const struct ssc_common *co, const char *path,
 		   struct sscope_capture *cap, struct file_info *fi)
 {
@@ -106,6 +117,16 @@ static int analyse(const struct ssc_common *co, const char *path,
 					 &fi->st[k]) == -EDOM)
 			ssc_warn(co, "%s: channel %s holds no finite sample",
 				 path, cap->channels[k].col.name);
+	fi->clip = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->clip));
+	if (!fi->clip) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (sensor_output(cap->channels[k].col.quantity))
+			sscope_clip_detect(cap->channels[k].data, 1, cap->n,
+					   SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
+					   &fi->clip[k]);
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 
@@ -147,6 +168,33 @@ static const char *rate_source(const struct sscope_capture *cap)
 	default:
 		return "unknown";
 	}
+}
+
+/* The clipping warning of channel k, or false when it is not clipped. */
+static bool clip_message(const struct file_info *fi, size_t k, char *msg,
+			 size_t len)
+{
+	const struct sscope_column *col = &fi->cap->channels[k].col;
+	const struct sscope_clip *c = &fi->clip[k];
+	size_t n = (c->low ? c->n_lo : 0) + (c->high ? c->n_hi : 0);
+	char a[32], b[32], p[32];
+	const char *u = col->unit_label[0] ? col->unit_label : "";
+
+	if (!c->low && !c->high)
+		return false;
+	ssc_fmt(p, sizeof(p), 100.0 * (double)n / (double)fi->st[k].n, 2);
+	if (c->low && c->high)
+		snprintf(msg, len, "%s: clipped: %zu samples (%s %%) sit at its smallest value %s %s or its largest %s %s (%zu and %zu; the values next inward hold %zu and %zu): the sensor or its converter reached the end of its range, and analyses of this channel are unreliable",
+			 col->name, n, p,
+			 ssc_fmt(a, sizeof(a), to_unit(col, c->lo), 6), u,
+			 ssc_fmt(b, sizeof(b), to_unit(col, c->hi), 6), u,
+			 c->n_lo, c->n_hi, c->n_lo_next, c->n_hi_next);
+	else
+		snprintf(msg, len, "%s: clipped: %zu samples (%s %%) sit at its %s value %s %s (the value next inward holds %zu): the sensor or its converter reached the end of its range, and analyses of this channel are unreliable",
+			 col->name, n, p, c->high ? "largest" : "smallest",
+			 ssc_fmt(a, sizeof(a), to_unit(col, c->high ? c->hi : c->lo), 6),
+			 u, c->high ? c->n_hi_next : c->n_lo_next);
+	return true;
 }
 
 static void text_file(FILE *f, const char *path, const struct file_info *fi)
@@ -257,6 +305,12 @@ static void text_file(FILE *f, const char *path, const struct file_info *fi)
 			ssc_fmt(c, sizeof(c), s->n ? to_unit(col, s->min) : (double)NAN, 7),
 			ssc_fmt(d, sizeof(d), s->n ? to_unit(col, s->max) : (double)NAN, 7));
 	}
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		char msg[640];
+
+		if (clip_message(fi, k, msg, sizeof(msg)))
+			fprintf(f, "  warning: %s\n", msg);
+	}
 }
 
 static json_t *json_file(const char *path, const struct file_info *fi)
@@ -289,9 +343,25 @@ static json_t *json_file(const char *path, const struct file_info *fi)
 		json_object_set_new(c, "sd", s->n ? ssc_jreal(to_unit_diff(col, s->sd)) : json_null());
 		json_object_set_new(c, "min", s->n ? ssc_jreal(to_unit(col, s->min)) : json_null());
 		json_object_set_new(c, "max", s->n ? ssc_jreal(to_unit(col, s->max)) : json_null());
+		{
+			/* samples piled at each end of the range, 0: none */
+			json_t *cl = json_object();
+
+			json_object_set_new(cl, "low", json_integer(fi->clip[k].low ?
+				(json_int_t)fi->clip[k].n_lo : 0));
+			json_object_set_new(cl, "high", json_integer(fi->clip[k].high ?
+				(json_int_t)fi->clip[k].n_hi : 0));
+			json_object_set_new(c, "clipped", cl);
+		}
 		json_array_append_new(chs, c);
 	}
 	json_object_set_new(o, "channels", chs);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		char msg[640];
+
+		if (clip_message(fi, k, msg, sizeof(msg)))
+			ssc_json_warn(o, "clipped", "%s", msg);
+	}
 	for (size_t i = 0; i < fi->n_gaps; i++) {
 		json_t *g = json_object();
 
@@ -494,6 +564,18 @@ static int run(const struct ssc_stage_env *env, void *opts,
 			if (cap->rate_hz > 0)
 				ssc_summary_add(out->summary, NULL, "record length",
 						duration(cap), NAN, NAN, "s", NULL);
+			for (size_t k = 0; k < cap->n_channels; k++) {
+				const struct sscope_clip *c = &fi[i].clip[k];
+
+				if (!c->low && !c->high)
+					continue;
+				ssc_summary_add(out->summary, cap->channels[k].col.name,
+						"clipped samples",
+						(double)((c->low ? c->n_lo : 0) +
+							 (c->high ? c->n_hi : 0)),
+						NAN, NAN, "", "at the end of the range");
+				ssc_summary_warn_last(out->summary);
+			}
 			if (fi[i].have_temp) {
 				char note[96], a[32], b[32];
 
@@ -509,8 +591,10 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	out->text = ssc_membuf_take(&text);
 	out->csv = ssc_membuf_take(&csv);
-	for (size_t i = 0; i < env->n_caps; i++)
+	for (size_t i = 0; i < env->n_caps; i++) {
 		free(fi[i].st);
+		free(fi[i].clip);
+	}
 	free(fi);
 	return rc;
 }
