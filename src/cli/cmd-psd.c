@@ -986,6 +986,7 @@ static void init(void *opts)
 	a->peaks = 5;
 	a->peak_alpha = 0.01;
 	a->sg_cols = 400;
+	a->po.shorten = true; /* a scene's stage too: the record, if shorter */
 }
 
 /* Cross-checks of the options, and the estimator's options from them. */
