@@ -445,7 +445,17 @@ size_t ssc_ticks_linear(double lo, double hi, size_t target, double *ticks,
 	if (!(hi > lo) || !isfinite(lo) || !isfinite(hi) || target < 2)
 		return 0;
 	step = nice((hi - lo) / (double)(target - 1), true);
-	first = ceil(lo / step - 1e-9) * step;
+	/* rounding the step up can leave one or two labels on the axis:
+	 * the next smaller nice step (5 -> 2 -> 1 -> 0.5) until there are
+	 * three, so a reader can interpolate */
+	for (int pass = 0; pass < 4; pass++) {
+		double m = step / pow(10, floor(log10(step) + 1e-9));
+
+		first = ceil(lo / step - 1e-9) * step;
+		if (target < 3 || first + 2 * step <= hi + step * 1e-9)
+			break;
+		step *= m > 4.5 ? 0.4 : 0.5;
+	}
 	for (size_t i = 0; n < max; i++) {
 		double t = first + (double)i * step;
 
