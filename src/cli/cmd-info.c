@@ -103,6 +103,24 @@ static bool sensor_output(enum sscope_quantity q)
 	       q == SSCOPE_QTY_UNKNOWN || q == SSCOPE_QTY_DIMENSIONLESS;
 }
 
+/* samples piled at each channel's extremes */
+static int clip_channels(const struct ssc_common *co, struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+
+	fi->clip = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->clip));
+	if (!fi->clip) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (sensor_output(cap->channels[k].col.quantity))
+			sscope_clip_detect(cap->channels[k].data, 1, cap->n,
+					   SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
+					   &fi->clip[k]);
+	return SSC_EXIT_OK;
+}
+
 static int analyse(const struct ssc_common *co, const char *path,
 		   struct sscope_capture *cap, struct file_info *fi)
 {
@@ -126,16 +144,6 @@ static int analyse(const struct ssc_common *co, const char *path,
 			return SSC_EXIT_FAIL;
 		}
 	}
-	fi->clip = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->clip));
-	if (!fi->clip) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (sensor_output(cap->channels[k].col.quantity))
-			sscope_clip_detect(cap->channels[k].data, 1, cap->n,
-					   SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
-					   &fi->clip[k]);
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 
@@ -155,7 +163,7 @@ static int analyse(const struct ssc_common *co, const char *path,
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
-	return SSC_EXIT_OK;
+	return clip_channels(co, fi);
 }
 
 static double duration(const struct sscope_capture *cap)
