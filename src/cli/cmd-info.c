@@ -22,7 +22,10 @@ static const struct ssc_command_spec spec = {
 		"Describe captures: channels, units and quantities, sample rate (and\n"
 		"whether it came from --rate or the time column), duration, time-stamp\n"
 		"gaps and jitter, per-channel mean, standard deviation, minimum and\n"
-		"maximum in the channel's unit, and the temperature range.",
+		"maximum in the channel's unit, and the temperature range.  A rate,\n"
+		"acceleration, voltage or count channel with samples piled up on its\n"
+		"smallest or largest value (at least 8, over 4 times the next value\n"
+		"inward) is reported as clipped: a warning, JSON \"clipped\".",
 	.analysis = true,
 	.notes = "Examples:\n"
 		 "  sensorscope info samples/gyro-static.csv\n"
