@@ -94,8 +94,9 @@ json_check "short record: JSON warning" "$T/sr/report.json" \
 has "short record: HTML banner" "$T/sr/report.html" '<strong>Too few samples.</strong> gx: no noise term resolved'
 has "short record: refused analysis listed" "$T/sr/report.html" '<strong>Not in the report.</strong> Random-walk fan: inferred, but refused by the data'
 lacks "short record: nothing claims all is well" "$T/sr/report.html" 'Nothing flagged'
-json_check "short record: the spectrum of the record (one segment)" "$T/sr/report.json" \
-	'.results.psd.channels | length == 3'
+json_check "short record: the spectrum of the record (one segment), said" "$T/sr/report.json" \
+	'(.results.psd.channels | length == 3) and (.results.psd.warnings[0].code == "too_few_samples")'
+has "short record: the spectrum's banner" "$T/sr/report.html" '<strong>Too few samples.</strong> [^<]*short.csv: 197 samples, fewer than one segment of 256'
 
 # a real browser at 1280 px and at the A4 column, and printed
 BROWSER=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)
