@@ -1789,6 +1789,20 @@ static void flatten_sup(const char *in, char *out, size_t len)
 				continue;
 			}
 		}
+		/* units as users write them: "m/s^2", "Hz^-1" */
+		if (in[0] == '^' && ((in[1] >= '0' && in[1] <= '9') ||
+				     (in[1] == '-' && in[2] >= '0' && in[2] <= '9'))) {
+			if (*++in == '-') {
+				memcpy(out + o, "\xe2\x81\xbb", 3);
+				o += 3;
+				in++;
+			}
+			for (; *in >= '0' && *in <= '9' && o + 8 < len; in++) {
+				memcpy(out + o, sup[*in - '0'], strlen(sup[*in - '0']));
+				o += strlen(sup[*in - '0']);
+			}
+			continue;
+		}
 		if ((in[0] == '^' || in[0] == '_') && in[1] == '{') {
 			const char *e = strchr(in + 2, '}');
 
