@@ -240,6 +240,10 @@ cp "$SAMPLES/drive-trajectory.csv" "$T/sc/drive.csv"
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\ntrajectory-file = drive.csv\n\n[report]\nformats = text\n' >"$T/sc/ns.ini"
 run "navsim scene, trajectory relative to the scene" 0 run "$T/sc/ns.ini" -o "$T/sc/out" -q
 has "the scene's trajectory" "$T/sc/out/report.txt" 'trajectory .*sc/drive.csv'
+cp "$T/c16.ini" "$T/sc/conv.ini"
+printf '[navsim]\nsensor = %s\ngyro-adc = conv.ini\nruns = 2\nduration = 1 min\n\n[report]\nformats = text\n' "$T/fog.ini" >"$T/sc/adc.ini"
+run "navsim scene, converter relative to the scene" 0 run "$T/sc/adc.ini" -o "$T/sc/adcout" -q
+has "the scene's converter" "$T/sc/adcout/report.txt" 'gyro converter c16: 16 bits'
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\n\n[report]\nformats = text\n' >"$T/ns.ini"
 run "navsim in a scene without captures" 0 run "$T/ns.ini" -o "$T/ns" -q
 has "navsim's own keys" "$T/ns/report.txt" 'fixed gyro bias \(x, y, z\): 0, 10, 0 deg/h'
