@@ -337,7 +337,7 @@ struct sscope_adc_dynamic {
  * SINAD, ENOB, THD, SFDR of a sine record (IEEE 1241 sections 7-8).
  * Spectrum: 4-term Blackman-Harris window, FFTW; a tone takes +-4 bins.
  * @param fsr  full-scale range (hi - lo) in the unit of x, or 0.
- * @return as sscope_sine_fit4().
+ * @return as sscope_sine_fit4(); -ERANGE for samples beyond 2^+-250.
  */
 int sscope_adc_dynamic_test(const double *x, size_t n, double rate_hz,
 			    double fsr, struct sscope_adc_dynamic *res);

@@ -231,10 +231,26 @@ int sscope_budget_source_eval(const struct sscope_budget_params *p,
 	return 0;
 }
 
+/* root sum of squares, scaled by the largest term (neither 1e200^2 nor
+ * 1e-200^2 leaves the double range) */
+static double rss(const double *v, int n)
+{
+	double m = 0, s = 0;
+
+	for (int i = 0; i < n; i++)
+		m = fmax(m, fabs(v[i]));
+	if (!(m > 0) || !isfinite(m))
+		return m;
+	for (int i = 0; i < n; i++)
+		s += (v[i] / m) * (v[i] / m);
+	return m * sqrt(s);
+}
+
 int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 			struct sscope_budget_point *out)
 {
-	double a = 0, v = 0, x = 0;
+	double a[SSCOPE_BUDGET_N_SOURCES], v[SSCOPE_BUDGET_N_SOURCES],
+		x[SSCOPE_BUDGET_N_SOURCES];
 
 	if (!out)
 		return -EINVAL;
@@ -245,13 +261,16 @@ int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 
 		if (rc)
 			return rc;
-		a += pt.attitude_rad * pt.attitude_rad;
-		v += pt.velocity_m_s * pt.velocity_m_s;
-		x += pt.position_m * pt.position_m;
+		a[s] = pt.attitude_rad;
+		v[s] = pt.velocity_m_s;
+		x[s] = pt.position_m;
 	}
-	out->attitude_rad = sqrt(a);
-	out->velocity_m_s = sqrt(v);
-	out->position_m = sqrt(x);
+	out->attitude_rad = rss(a, SSCOPE_BUDGET_N_SOURCES);
+	out->velocity_m_s = rss(v, SSCOPE_BUDGET_N_SOURCES);
+	out->position_m = rss(x, SSCOPE_BUDGET_N_SOURCES);
+	if (!isfinite(out->attitude_rad) || !isfinite(out->velocity_m_s) ||
+	    !isfinite(out->position_m))
+		return -ERANGE;
 	return 0;
 }
 
@@ -360,7 +379,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 	struct seg *sg = NULL;
 	double *sw = NULL, *sp = NULL, *iw = NULL, *ip = NULL;
 	size_t nseg = 0;
-	int dim, rc = 0;
+	int dim, rc = 0, ne = 0;
 	gsl_rng *r = NULL;
 
 	if (!o || (n_times && (!times || !out)) || o->steps == 0 ||
@@ -371,7 +390,13 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		if (!(times[j] > 0) || times[j] > o->t_end_s * (1 + 1e-12))
 			return -EINVAL;
 	h = o->t_end_s / (double)o->steps;
+	/* the walks are linear in N: simulated with N scaled by a power of
+	 * two into [0.5, 1) when it is extreme (1e-300 squared underflows),
+	 * results scaled back by 2^ne */
 	N = o->strength;
+	if (ssc_safe_scale(N) != 1)
+		frexp(N, &ne);
+	N = ldexp(N, -ne);
 	g = o->gravity_m_s2 > 0 ? o->gravity_m_s2 : 9.80665;
 	dim = o->gyro ? 3 : 2;
 	if (chol(dim, Q0, L))
@@ -470,7 +495,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 				}
 			}
 			if (path && sg[q].node >= 0)
-				path[sg[q].node] = s[0];
+				path[sg[q].node] = ldexp(s[0], ne);
 			if (sg[q].ck >= 0) {
 				size_t j = (size_t)sg[q].ck;
 				double t = times[j], wsd, psd, pos;
@@ -490,12 +515,13 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		double t = times[j], M = (double)o->realisations;
 
 		out[j].t_s = t;
-		out[j].walk_sd = sqrt(sw[j] / M);
-		out[j].walk_sd_theory = N * sqrt(t);
+		out[j].walk_sd = ldexp(sqrt(sw[j] / M), ne);
+		out[j].walk_sd_theory = ldexp(N * sqrt(t), ne);
 		out[j].walk_inside = iw[j] / M;
-		out[j].pos_sd = sqrt(sp[j] / M);
-		out[j].pos_sd_theory = o->gyro ? g * N * sqrt(pow(t, 5) / 20) :
-						 N * sqrt(t * t * t / 3);
+		out[j].pos_sd = ldexp(sqrt(sp[j] / M), ne);
+		out[j].pos_sd_theory = ldexp(o->gyro ? g * N * sqrt(pow(t, 5) / 20) :
+						       N * sqrt(t * t * t / 3),
+					     ne);
 		out[j].pos_inside = ip[j] / M;
 	}
 out:

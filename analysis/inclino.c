@@ -81,6 +81,12 @@ int sscope_inclino_poses(const double *ax, const double *ay, const double *az,
 	if (!ax || !ay || !az || !temp || !roll || !pitch || !n_poses ||
 	    (cap && !poses))
 		return -EINVAL;
+	/* pose means feed fits of squared magnitudes */
+	if (ssc_magnitude_check(ax, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(ay, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(az, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(temp, 1, n, 250, "", NULL))
+		return -ERANGE;
 	if (!(tol > 0))
 		tol = 1;
 	while (i < n) {

@@ -197,7 +197,13 @@ void sscope_allan_free(struct sscope_allan *plan);
  * @param diag     optional detail of a failure.
  * @return 0; -EINVAL (NULL pointer, stride 0, rate not positive, n > n_max,
  *         m not increasing or 0); -EDOM (record too short for any given m,
- *         fewer than two finite samples, gaps with TOTDEV); -ENOMEM.
+ *         fewer than two finite samples, gaps with TOTDEV); -ERANGE (a
+ *         rate that puts 1/rate_hz below 2^-200 s or n/rate_hz above
+ *         2^200 s; a deviation beyond the double range); -ENOMEM.
+ *         Samples of any finite magnitude are handled: when the squared
+ *         sums leave the double range (beyond about 1e150, below 1e-150)
+ *         the record is computed again from a copy scaled by a power of
+ *         two (exact) and the deviations scaled back.
  */
 int sscope_allan_compute(struct sscope_allan *plan, const double *x,
 			 size_t stride, size_t n, double rate_hz,

@@ -96,7 +96,9 @@ int sscope_budget_source_eval(const struct sscope_budget_params *p,
 			      enum sscope_budget_source s, double t_s,
 			      struct sscope_budget_point *out);
 
-/** Root sum of squares of every source at @p t_s.  @return as above. */
+/** Root sum of squares of every source at @p t_s (scaled by the largest:
+ *  no overflow of the squares).  @return as above; -ERANGE when a total
+ *  is beyond the double range. */
 int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 			struct sscope_budget_point *out);
 

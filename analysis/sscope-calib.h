@@ -181,7 +181,8 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
  *                 intervals of the chosen k.
  * @param work     n doubles of workspace (variance magnitude).
  * @param work2    n doubles of workspace (percentile).
- * @return as sscope_calib_accel_fit(); -EINVAL for rate_hz <= 0.
+ * @return as sscope_calib_accel_fit(); -EINVAL for rate_hz <= 0; -ERANGE
+ *         for samples beyond 2^+-250.
  */
 int sscope_calib_accel_multipos(const double *x, const double *y,
 				const double *z, size_t stride, size_t n,
@@ -216,7 +217,8 @@ void sscope_calib_apply(const struct sscope_calib_triad *c, double *x,
  *                    from 1e-9 to 1e3 (counts of unknown weight).
  * @param with_gsens  also estimate the g-sensitivity matrix G (needs 5 or
  *                    more poses that are not coplanar).
- * @return 0; -EINVAL; -EDOM with fewer than 6 poses (5 rotations), motions
+ * @return 0; -EINVAL; -ERANGE (samples beyond 2^+-250); -EDOM with fewer
+ *         than 6 poses (5 rotations), motions
  *         that do not determine the parameters (the excitation rule: the
  *         smallest eigenvalue of sum(w w^T) / sum(|w|^2) over the motion
  *         samples is below 0.01, e.g. all rotations about one axis; or a

@@ -92,7 +92,8 @@ struct sscope_inclino_pose {
  * @param pose_tol_degc  temperature tolerance within a pose (0: 1 degC).
  * @param poses       receives up to @p cap poses.
  * @param n_poses     receives the number of poses found (may exceed cap).
- * @return 0, -EINVAL (NULL pointer), -EDOM (no finite sample).
+ * @return 0, -EINVAL (NULL pointer), -EDOM (no finite sample), -ERANGE
+ *         (samples beyond 2^+-250).
  */
 int sscope_inclino_poses(const double *ax, const double *ay, const double *az,
 			 const double *temp_degc, const double *roll_rad,

@@ -254,9 +254,22 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		for (size_t i = 0; i < n; i++)
-			cap->n_nan += isnan(cap->channels[k].data[i]);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const double *d = cap->channels[k].data;
+
+		for (size_t i = 0; i < n; i++) {
+			cap->n_nan += isnan(d[i]);
+			/* finite in the file, infinite in SI (1e308 g) */
+			if (isinf(d[i])) {
+				rc = ssc_diag(diag, -ERANGE,
+					      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
+					      strcmp(path, "-") ? path : "(stdin)",
+					      cap->channels[k].col.name, i + 1,
+					      cap->channels[k].col.unit_label);
+				goto fail;
+			}
+		}
+	}
 rate:
 	if (opts && opts->rate_hz > 0) {
 		cap->rate_hz = opts->rate_hz;

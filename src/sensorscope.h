@@ -607,9 +607,12 @@ struct sscope_stats {
  * Mean, standard deviation, extremes of x[k*stride], k < n, skipping NaN.
  * One pass over memory, each cache-sized block in two passes, blocks merged
  * pairwise, sums compensated: exact to a few ulps even with an offset 1e9
- * times the spread.
+ * times the spread, and for any finite samples (1e308 or 1e-300: summed
+ * again scaled by a power of two).
  * @return 0; -EDOM when fewer than one finite sample (sd needs two: with
- *         one sample sd is 0); -EINVAL for stride 0.
+ *         one sample sd is 0); -ERANGE when the sd exceeds the double
+ *         range (samples near +-1.8e308, or infinite ones; the other
+ *         fields are set); -EINVAL for stride 0.
  */
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st);

@@ -228,7 +228,7 @@ struct ssc_acq_config {
 	size_t ring_capacity;       /* samples */
 	int rt_priority;            /* SCHED_FIFO priority of the reader, 0 */
 	bool lock_memory;           /* mlockall */
-	bool handle_signals;        /* stop cleanly on SIGINT and SIGTERM */
+	bool handle_signals;        /* stop cleanly on SIGINT, SIGTERM, SIGHUP */
 	const char *const *comments;/* CSV comment lines after the header */
 	void (*live)(const struct ssc_acq_live *snap, void *ctx);
 	void *live_ctx;

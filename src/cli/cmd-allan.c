@@ -418,6 +418,47 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 	return v;
 }
 
+/* Results of extreme samples (1e308 deg/s) can be finite in SI and
+ * beyond the double range in the units shown (deg/h): an error, never
+ * "inf" in a table.  Returns an exit code. */
+static int check_shown(const struct ssc_common *co, const struct args *a,
+		       const char *path, const struct chan *c)
+{
+	const struct units *u = &c->u;
+	double dmax = 0;
+
+	for (size_t i = 0; i < c->res->n_points; i++) {
+		const struct sscope_allan_point *p = &c->res->points[i];
+
+		if (isfinite(p->dev_hi) && p->dev_hi > dmax)
+			dmax = p->dev_hi;
+		if (isfinite(p->dev) && p->dev > dmax)
+			dmax = p->dev;
+	}
+	if (!isfinite(dmax / u->dev_scale) || !isfinite(dmax / u->show_scale)) {
+		ssc_err(co->cmd, "%s: %s: deviations up to %g %s exceed the double range in %s; give --dev-unit %s",
+			path, c->col->name, dmax, u->rate_si,
+			isfinite(dmax / u->dev_scale) ? u->show : u->dev,
+			u->rate_si);
+		return SSC_EXIT_FAIL;
+	}
+	if (a->no_fit || !c->res->have_fit)
+		return SSC_EXIT_OK;
+	for (int t = 0; t < 5; t++) {
+		const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
+		double v = fmax(isfinite(cf->value) ? cf->value : 0,
+				isfinite(cf->hi) ? cf->hi : 0);
+
+		if (v > 0 && !isfinite(in_unit(v, u->term_si[t], u->term[t]))) {
+			ssc_err(co->cmd, "%s: %s: the %c term (up to %g %s) exceeds the double range in %s; give --no-fit",
+				path, c->col->name, "QNBKR"[t], v, u->term_si[t],
+				u->term[t]);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
 static int analyse_file(const struct ssc_common *co, const struct args *a,
 			const char *path, struct sscope_capture *cap,
 			struct file_res *fr)
@@ -474,6 +515,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
 			return rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 		}
+		rc = check_shown(co, a, path, c);
+		if (rc)
+			return rc;
 		if (a->no_fit)
 			continue;
 		if (!c->res->have_fit) {

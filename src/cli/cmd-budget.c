@@ -796,6 +796,15 @@ static int run(const struct ssc_stage_env *env, void *opts,
 	}
 	qsort(o.times, o.n_times, sizeof(double), cmp_double);
 	t_max = o.times[o.n_times - 1];
+	for (size_t j = 0; j < o.n_times; j++) {
+		struct sscope_budget_point pt;
+
+		if (sscope_budget_total(&o.p, o.times[j], &pt) == -ERANGE) {
+			ssc_err(co.cmd, "the drift at t = %g s exceeds the double range: check the sources' values and units",
+				o.times[j]);
+			return SSC_EXIT_FAIL;
+		}
+	}
 	if (o.mc > 0) {
 		if (o.p.arw_rad_sqrt_s != 0) {
 			rc = run_mc(&o, true, t_max, &mc[n_mc]);

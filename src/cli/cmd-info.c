@@ -101,11 +101,20 @@ static int analyse(const struct ssc_common *co, const char *path,
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (sscope_stats_compute(cap->channels[k].data, 1, cap->n,
-					 &fi->st[k]) == -EDOM)
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		int rc = sscope_stats_compute(cap->channels[k].data, 1, cap->n,
+					      &fi->st[k]);
+
+		if (rc == -EDOM)
 			ssc_warn(co, "%s: channel %s holds no finite sample",
 				 path, cap->channels[k].col.name);
+		if (rc == -ERANGE) {
+			ssc_err(co->cmd, "%s: channel %s: the standard deviation exceeds the double range",
+				strcmp(path, "-") ? path : "(stdin)",
+				cap->channels[k].col.name);
+			return SSC_EXIT_FAIL;
+		}
+	}
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 

@@ -349,6 +349,35 @@ static int copy_col(struct sscope_column *dst, const struct sscope_column *src)
 	return dst->name && dst->unit_label ? 0 : -ENOMEM;
 }
 
+/* A spectrum finite in SI can overflow in the channel's unit (mg, uV):
+ * an error, never "inf" in a table.  Returns an exit code. */
+static int check_shown(const struct ssc_common *co, const struct run *R,
+		       const struct chan *c)
+{
+	double vmax = 0, u = uscale(c);
+
+	for (size_t k = 0; k < c->s.n_bins; k++)
+		vmax = c->s.value[k] > vmax ? c->s.value[k] : vmax;
+	if (isfinite(vmax / u / u) && isfinite(c->s.rms / u))
+		return SSC_EXIT_OK;
+	ssc_err(co->cmd, "%s: channel %s: spectrum values up to %g in SI units exceed the double range in %s",
+		R->path, c->col.name, vmax, c->col.unit_label);
+	return SSC_EXIT_FAIL;
+}
+
+/* Why sscope_psd_result() failed, for -EDOM and -ERANGE. */
+static const char *result_error(int rc, double fs)
+{
+	static char buf[200];
+
+	if (rc == -EDOM)
+		return "every segment holds a NaN gap";
+	snprintf(buf, sizeof(buf),
+		 "at %g Hz the spectrum leaves the double range (values above 1.8e308 or all below 1e-292 in SI units): check --rate and the data's unit",
+		 fs);
+	return buf;
+}
+
 /* Streamed Welch estimate of every selected channel. */
 static int stream(const struct ssc_common *co, struct run *R)
 {
@@ -490,15 +519,17 @@ static int stream(const struct ssc_common *co, struct run *R)
 		struct chan *c = &R->ch[k];
 
 		rc = sscope_psd_result(c->p, R->fs, &c->s);
-		if (rc == -EDOM) {
-			ssc_err(co->cmd, "%s: channel %s: every segment holds a NaN gap",
-				R->path, c->col.name);
+		if (rc == -EDOM || rc == -ERANGE) {
+			ssc_err(co->cmd, "%s: channel %s: %s", R->path,
+				c->col.name, result_error(rc, R->fs));
 			goto out;
 		}
 		if (rc) {
 			ssc_fail(co->cmd, rc, NULL, R->path);
 			goto out;
 		}
+		if (check_shown(co, R, c))
+			goto out;
 		if (R->a.po.spectrogram_cols) {
 			if (c->s.nperseg == R->a.po.nperseg) {
 				rc = sscope_psd_spectrogram(c->p, R->fs, &c->sg);
@@ -573,10 +604,13 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 			rc = sscope_psd_result(c->p, R->fs, &c->s);
 		if (rc) {
 			ssc_err(co->cmd, "%s: channel %s: %s", R->path, c->col.name,
-				rc == -EDOM ? "every segment holds a NaN gap" :
-					      sscope_strerror(rc));
+				rc == -EDOM || rc == -ERANGE ?
+					result_error(rc, R->fs) :
+					sscope_strerror(rc));
 			return SSC_EXIT_FAIL;
 		}
+		if (check_shown(co, R, c))
+			return SSC_EXIT_FAIL;
 		if (R->a.po.spectrogram_cols && c->s.nperseg == R->a.po.nperseg)
 			c->have_sg = sscope_psd_spectrogram(c->p, R->fs, &c->sg) == 0;
 	}
