@@ -225,6 +225,16 @@ int ssc_dev_order(enum sscope_dev dev)
 	return dev == SSCOPE_DEV_HDEV || dev == SSCOPE_DEV_OHDEV ? 3 : 2;
 }
 
+enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
+						enum sscope_allan_input input)
+{
+	if (input != SSCOPE_ALLAN_ANGLE)
+		return q;
+	return q == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
+	       q == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
+					  SSCOPE_QTY_UNKNOWN;
+}
+
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
 {
 	return input == SSCOPE_ALLAN_ANGLE ? n : n + 1;
@@ -1542,7 +1552,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 		      double rate_hz, size_t n_phase,
 		      const struct sscope_noise_fit_opts *fopts,
-		      struct sscope_noise_fit *fit)
+		      struct sscope_noise_fit *fit, struct sscope_diag *diag)
 {
 	struct sscope_allan_point *q;
 	double dmax = 0;
@@ -1553,7 +1563,7 @@ static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 			dmax = pts[j].dev;
 	if (!(dmax > 0) || (dmax > 0x1p-100 && dmax < 0x1p100))
 		return sscope_noise_fit(pts, n, rate_hz, n_phase, fopts, fit,
-					NULL);
+					diag);
 	frexp(dmax, &e); /* points scaled by 2^-e, results by 2^e */
 	q = ssc_alloc_array(n, sizeof(*q));
 	if (!q)
@@ -1564,10 +1574,11 @@ static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 		q[j].dev_lo = ldexp(q[j].dev_lo, -e);
 		q[j].dev_hi = ldexp(q[j].dev_hi, -e);
 	}
-	rc = sscope_noise_fit(q, n, rate_hz, n_phase, fopts, fit, NULL);
+	rc = sscope_noise_fit(q, n, rate_hz, n_phase, fopts, fit, diag);
 	free(q);
 	for (int t = 0; t < 5; t++) {
 		fit->coef[t].value = ldexp(fit->coef[t].value, e);
+		fit->coef[t].estimate = ldexp(fit->coef[t].estimate, e);
 		fit->coef[t].lo = ldexp(fit->coef[t].lo, e);
 		fit->coef[t].hi = ldexp(fit->coef[t].hi, e);
 		fit->coef[t].var_sd = ldexp(fit->coef[t].var_sd, 2 * e);
@@ -1701,7 +1712,8 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	}
 	if (!fopts || !fopts->skip) {
 		res->fit_error = fit_scaled(res->oadev, res->n_oadev, rate_hz,
-					    res->n_phase, fopts, &res->fit);
+					    res->n_phase, fopts, &res->fit,
+					    &res->fit_diag);
 		res->have_fit = res->fit_error == 0;
 	}
 	sscope_allan_free(p);

@@ -412,6 +412,27 @@ int sscope_octave_bands(unsigned fraction, double fmin_hz, double fmax_hz,
 			struct sscope_band *bands, size_t max,
 			size_t *n_found);
 
+/**
+ * A band between two edges for a spectrum of Nyquist frequency
+ * @p nyquist_hz: the upper edge clipped to it, the centre the geometric
+ * mean of the edges, no nominal frequency (NaN).
+ * @return 0; -EINVAL (lo < 0, hi <= lo, not finite); -EDOM when the band
+ *         starts at or above the Nyquist frequency.
+ */
+int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
+		      struct sscope_band *band);
+
+/**
+ * The fractional-octave bands (sscope_octave_bands()) a spectrum
+ * resolves: inside [bin/2, fs/2] and at least one bin wide (a narrower
+ * band says nothing).
+ * @param bands, max, n_found  as sscope_octave_bands().
+ * @return as sscope_octave_bands().
+ */
+int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
+				 unsigned fraction, struct sscope_band *bands,
+				 size_t max, size_t *n_found);
+
 #ifdef __cplusplus
 }
 #endif

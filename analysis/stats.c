@@ -180,6 +180,8 @@ static void block_scalar(const double *x, size_t stride, size_t len,
 	o->c = (c[0] + c[1]) + (c[2] + c[3]);
 }
 
+#include <gsl/gsl_cdf.h>
+
 /* one pass; sc != 1: samples scaled by sc, sample by sample, and not
  * shifted (one huge sample first would leave its rounding in every term) */
 static void pass(const double *x, size_t stride, size_t n, size_t first,
@@ -255,5 +257,44 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 	 * the largest magnitude) can leave the range */
 	if (!isfinite(st->sd))
 		return -ERANGE;
+	return 0;
+}
+
+int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
+			       double level, double *mean, double *lo,
+			       double *hi, size_t *used)
+{
+	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 };
+	size_t k = 0;
+	double m;
+
+	if (!x || !mean || !lo || !hi || stride == 0 || !(level > 0 && level < 1))
+		return -EINVAL;
+	*mean = *lo = *hi = NAN;
+	if (used)
+		*used = 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride])) {
+			ssc_ksum_add(&s, x[i * stride]);
+			k++;
+		}
+	if (used)
+		*used = k;
+	if (!k)
+		return -EDOM;
+	m = ssc_ksum_value(&s) / (double)k;
+	*mean = m;
+	if (k < 2)
+		return 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride]))
+			ssc_ksum_add(&q, (x[i * stride] - m) * (x[i * stride] - m));
+	{
+		double se = sqrt(ssc_ksum_value(&q) / (double)(k - 1) / (double)k);
+		double t = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(k - 1));
+
+		*lo = m - t * se;
+		*hi = m + t * se;
+	}
 	return 0;
 }

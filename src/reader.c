@@ -566,9 +566,18 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		for (tok = strtok_r(copy, ",", &save); tok;
 		     tok = strtok_r(NULL, ",", &save)) {
 			long idx;
+			char *e;
 
-			while (*tok == ' ')
+			/* blanks around an item are not part of it (as
+			 * sscope_capture_select() reads the list) */
+			while (*tok == ' ' || *tok == '\t')
 				tok++;
+			e = tok + strlen(tok);
+			while (e > tok && (e[-1] == ' ' || e[-1] == '\t' ||
+					   e[-1] == '\r' || e[-1] == '\n'))
+				*--e = '\0';
+			if (!*tok)
+				continue;
 			idx = find_column(r, tok);
 			if (idx < 0) {
 				column_list(r, names, sizeof(names));

@@ -166,6 +166,8 @@ struct ssc_intervals {
 };
 void ssc_intervals_add(struct ssc_intervals *iv, double dt_s);
 double ssc_intervals_sd(const struct ssc_intervals *iv);
+/* rms pacing lateness of a source, s (NaN before any) */
+double ssc_source_late_rms(const struct ssc_source_counts *c);
 
 /*
  * Samples lost between two time stamps dt_s apart at a nominal period:

@@ -378,7 +378,7 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 			info->nominal_time ? "; simulated time stamps" : "");
 	if (r->src.late_n)
 		fprintf(f, "pacing:          late by %s s rms, %s s at most\n",
-			ssc_fmt(a, sizeof(a), sqrt(r->src.late_sum2_s2 / (double)r->src.late_n), 3),
+			ssc_fmt(a, sizeof(a), ssc_source_late_rms(&r->src), 3),
 			ssc_fmt(b, sizeof(b), r->src.late_max_s, 3));
 	fprintf(f, "drops:           %llu (", (unsigned long long)d.total);
 	if (info->has_counter)
