@@ -562,14 +562,30 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	return 0;
 }
 
+int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
+			 size_t min_finite, double *p10, double *p90)
+{
+	size_t nf = 0;
+
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(vs[i]))
+			work[nf++] = vs[i];
+	if (nf == 0 || nf < min_finite)
+		return -EDOM;
+	/* order statistics by selection (GSL's quickselect, O(n); a full
+	 * sort of a day's record took seconds), the values a sort gives */
+	*p10 = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
+	if (p90)
+		*p90 = gsl_stats_select(work, 1, nf, (nf - 1) * 9 / 10);
+	return 0;
+}
+
 int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *z, size_t stride, size_t n,
 				  double rate_hz, double init_static_s,
 				  const double *vs, double *work,
 				  double *reference, struct sscope_diag *diag)
 {
-	size_t nf = 0;
-
 	if (!x || !y || !z || !vs || !work || !reference || stride == 0 ||
 	    !(rate_hz > 0))
 		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
@@ -589,14 +605,8 @@ int sscope_calib_static_reference(const double *x, const double *y,
 			v2 += st.sd * st.sd * st.sd * st.sd;
 		}
 		*reference = sqrt(v2);
-	} else {
-		for (size_t i = 0; i < n; i++)
-			if (isfinite(vs[i]))
-				work[nf++] = vs[i];
-		if (nf == 0)
-			return ssc_diag(diag, -EDOM, "capture too short");
-		/* the 10th percentile by selection (O(n)), not a sort */
-		*reference = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
+	} else if (ssc_calib_vs_deciles(vs, n, work, 1, reference, NULL)) {
+		return ssc_diag(diag, -EDOM, "capture too short");
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,

@@ -26,9 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_statistics_double.h>
-
-#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
@@ -115,23 +112,6 @@ void sscope_heading_set_initial(struct sscope_heading_result *r, double h)
 	}
 }
 
-int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
-			   double *p10, double *p90)
-{
-	size_t nf = 0;
-
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(vs[i]))
-			work[nf++] = vs[i];
-	if (nf < 10)
-		return -EDOM;
-	/* order statistics by selection (GSL's quickselect, O(n); a full
-	 * sort of a day's record took seconds), the values a sort gives */
-	*p10 = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
-	*p90 = gsl_stats_select(work, 1, nf, (nf - 1) * 9 / 10);
-	return 0;
-}
-
 /* bias between the centres of stop j and the next (constant outside) */
 static double interp_bias(const struct sscope_heading_result *r, size_t j,
 			  double t)
@@ -212,7 +192,8 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 					   o->init_static_s, vs, work, &r->reference,
 					   diag);
 	if (!rc)
-		rc = ssc_nav_vs_percentiles(vs, n, work, &p10, &p90);
+		rc = ssc_calib_vs_deciles(vs, n, work, 10, &p10, &p90) ?
+			     ssc_diag(diag, -EDOM, "capture too short") : 0;
 	if (rc)
 		goto fail;
 	r->threshold = k * r->reference;

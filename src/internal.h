@@ -51,6 +51,13 @@ static inline bool ssc_add(size_t a, size_t b, size_t *out)
 /* malloc of a * b bytes with overflow check; NULL on failure. */
 void *ssc_alloc_array(size_t count, size_t size);
 
+/* 10th and 90th percentiles (lower order statistics) of the finite values
+ * of a sliding variance (sscope_calib_variance_magnitude()), through
+ * @p work (n doubles); p90 may be NULL.  Returns 0, or -EDOM when fewer
+ * than max(1, min_finite) values are finite.  In analysis/calib.c. */
+int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
+			 size_t min_finite, double *p10, double *p90);
+
 /* strdup that accepts NULL (returns NULL) */
 char *ssc_strdup(const char *s);
 
