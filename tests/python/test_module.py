@@ -137,6 +137,10 @@ r = ss.allan(x, rate, taus="octave", fit=False)
 ref = [oadev_ref(x, rate, int(m)) for m in r.m]
 ok(rel(r.dev, ref) < 1e-9, "allan: OADEV equals an allantools-style numpy "
    "reference on %d taus" % len(ref), rel(r.dev, ref))
+rf = ss.allan(x, rate, taus="octave")
+ok(r.noise is None and r.fit_error is None and rf.noise is not None and
+   np.array_equal(r.dev, rf.dev) and np.array_equal(r.edf, rf.edf),
+   "allan: fit=False (no fit computed) gives the same deviations, no terms")
 # zero copy and strides
 big = rng.normal(size=200001)
 a1 = ss.allan(big[::2], 10.0, taus="octave", fit=False)

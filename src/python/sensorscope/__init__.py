@@ -269,6 +269,7 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         ao.alpha = {v: k for k, v in _NOISE.items()}[noise_type.upper()]
     fo = _c.NoiseFitOpts()
     fo.ci_level = float(ci) if ci else 0.683
+    fo.skip = not fit  # no fit computed that nobody asked for
     if isinstance(taus, str):
         if taus not in _GRIDS:
             raise ValueError("taus: %r is not dense, octave, decade or all"
