@@ -285,6 +285,10 @@ int sscope_adc_dynamic_test(const double *x, size_t n, double fs, double fsr,
 	if (!x || !res || !(fs > 0))
 		return -EINVAL;
 	memset(res, 0, sizeof(*res));
+	/* fits and powers: samples in a sane range */
+	rc = ssc_magnitude_check(x, 1, n, 250, "adc test", NULL);
+	if (rc)
+		return rc;
 	rc = sscope_sine_fit4(x, n, fs, 0, &res->fit);
 	if (rc)
 		return rc;

@@ -273,6 +273,95 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *sensor,
 		       struct sscope_adc_analysis *res,
 		       struct sscope_diag *diag);
 
+/** A ratio of the Monte-Carlo check over its runs. */
+struct sscope_adc_mc_ratio {
+	double mean;    /**< mean over the runs that gave a value */
+	double lo, hi;  /**< mean -+ t s / sqrt(k), Student t with k - 1
+			     degrees of freedom at the level asked (NaN with
+			     fewer than two values) */
+	size_t runs;    /**< runs that gave a value */
+};
+
+/** Options of sscope_adc_monte_carlo(). */
+struct sscope_adc_mc_opts {
+	size_t runs;          /**< simulated records (>= 1) */
+	double duration_s;    /**< length of each record (>= 1000 samples) */
+	unsigned long seed;   /**< run r simulates and converts with seed + r */
+	double ci_level;      /**< level of the ratio intervals (0: 0.6827) */
+	double rate_hz;       /**< output rate (0: the converter's) */
+};
+
+/** What the Monte-Carlo check found. */
+struct sscope_adc_mc {
+	/** N, B, K fitted through the converter over the sensor alone
+	 *  (SSCOPE_TERM_N + i for i = 0, 1, 2); a run whose fits lack the
+	 *  term gives no value */
+	struct sscope_adc_mc_ratio ratio[3];
+	struct sscope_adc_mc_ratio bias_shift; /**< mean(through) - mean(alone), U */
+	size_t clipped;       /**< converted samples clipped, all runs */
+	size_t runs;
+	double duration_s;    /**< of each record (whole samples) */
+	double rate_hz;       /**< output rate used */
+	/** ADEV of every run, alone and through the converter: run r at
+	 *  dev_in[r * n_points + i], tau tau_s[i] (owned:
+	 *  sscope_adc_mc_clear()); n_runs runs (each has the same grid) */
+	double *tau_s, *dev_in, *dev_out;
+	size_t n_points, n_runs;
+};
+
+/** Which curve of a Monte-Carlo result. */
+enum sscope_adc_mc_curve {
+	SSCOPE_ADC_MC_ALONE = 0, /**< ADEV of the sensor alone */
+	SSCOPE_ADC_MC_THROUGH,   /**< ADEV through the converter */
+	SSCOPE_ADC_MC_RATIO      /**< through / alone, run by run (the
+				      sensor's own scatter cancels) */
+};
+
+/**
+ * The 10, 50 and 90 % points over the runs of a Monte-Carlo curve at tau
+ * point @p i (GSL quantiles of the sorted positive finite values).
+ * @param q  receives them (NaN when no run has a value).
+ * @return 0; -EINVAL (i out of range); -ENOMEM.
+ */
+int sscope_adc_mc_band(const struct sscope_adc_mc *mc,
+		       enum sscope_adc_mc_curve which, size_t i, double q[3]);
+
+/**
+ * The Monte-Carlo check of a converter behind a sensor: each run simulates
+ * the sensor (sscope_sim, constant temperature) at the conversion rate M
+ * fs (M the spec's oversampling), digitizes it, averages blocks of M
+ * samples of both (the sensor alone the same way), fits the Allan terms of
+ * both records (sscope_allan_analyze, dense grid) and keeps the ratios of
+ * N, B and K and the bias shift; the ratios' intervals are Student-t
+ * intervals of the mean over the runs.
+ * @param inl_lsb  optional INL profile of the converter (n_inl values,
+ *                 sscope_adc_set_inl()), or NULL.
+ * @param sensitivity, zero_v  the analog front end (sscope_adc_new()).
+ * @return 0; -EINVAL (NULL, no runs, no rate); -EDOM (a record shorter
+ *         than 1000 samples: diag says so); -ENOMEM; errors of the
+ *         simulator, converter and Allan analysis.
+ */
+int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
+			   const struct sscope_adc_spec *spec,
+			   const double *inl_lsb, size_t n_inl,
+			   double sensitivity, double zero_v,
+			   const struct sscope_adc_mc_opts *o,
+			   struct sscope_adc_mc *out, struct sscope_diag *diag);
+
+/** Free what a Monte-Carlo result owns (NULL is ignored). */
+void sscope_adc_mc_clear(struct sscope_adc_mc *mc);
+
+/**
+ * Order converters for a selection: passing before marginal before
+ * failing (and informational); among passing ones the fewest bits first
+ * (the cheapest that passes); then the largest margin (a non-finite margin
+ * counts as infinite).  A stable order.
+ * @param an, bits  n converters' analyses and word lengths.
+ * @param order     receives the indices 0..n-1 in rank order.
+ */
+void sscope_adc_rank(const struct sscope_adc_analysis *an, const int *bits,
+		     size_t n, size_t *order);
+
 /**
  * Widrow-Kollar bound of the mean error of a quantizer of step q under
  * Gaussian noise of sd sigma: (q/pi) exp(-2 pi^2 sigma^2 / q^2).
@@ -337,7 +426,7 @@ struct sscope_adc_dynamic {
  * SINAD, ENOB, THD, SFDR of a sine record (IEEE 1241 sections 7-8).
  * Spectrum: 4-term Blackman-Harris window, FFTW; a tone takes +-4 bins.
  * @param fsr  full-scale range (hi - lo) in the unit of x, or 0.
- * @return as sscope_sine_fit4().
+ * @return as sscope_sine_fit4(); -ERANGE for samples beyond 2^+-250.
  */
 int sscope_adc_dynamic_test(const double *x, size_t n, double rate_hz,
 			    double fsr, struct sscope_adc_dynamic *res);

@@ -225,6 +225,16 @@ int ssc_dev_order(enum sscope_dev dev)
 	return dev == SSCOPE_DEV_HDEV || dev == SSCOPE_DEV_OHDEV ? 3 : 2;
 }
 
+enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
+						enum sscope_allan_input input)
+{
+	if (input != SSCOPE_ALLAN_ANGLE)
+		return q;
+	return q == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
+	       q == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
+					  SSCOPE_QTY_UNKNOWN;
+}
+
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
 {
 	return input == SSCOPE_ALLAN_ANGLE ? n : n + 1;
@@ -1186,11 +1196,11 @@ static int clamp_alpha(enum sscope_dev dev, int a)
 	return a < lo ? lo : a > 2 ? 2 : a;
 }
 
-int sscope_allan_compute(struct sscope_allan *p, const double *y,
-			 size_t stride, size_t n, double rate_hz,
-			 const size_t *m, size_t n_m,
-			 struct sscope_allan_point *pts, size_t *n_pts,
-			 struct sscope_diag *diag)
+static int compute(struct sscope_allan *p, const double *y,
+		   size_t stride, size_t n, double rate_hz,
+		   const size_t *m, size_t n_m,
+		   struct sscope_allan_point *pts, size_t *n_pts,
+		   struct sscope_diag *diag)
 {
 	const enum sscope_dev dev = p ? p->opts.dev : SSCOPE_DEV_OADEV;
 	const bool angle = p && p->opts.input == SSCOPE_ALLAN_ANGLE;
@@ -1403,6 +1413,7 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			pt->dev *= pt->tau_s / sqrt(3.0);
 		/* noise type */
 		if (!p->opts.alpha_fixed &&
+		    isfinite(var) && /* overflowed: redone scaled */
 		    point_alpha(p, dev, angle, gaps, m[j], used[j],
 				dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV ?
 					var :
@@ -1464,6 +1475,117 @@ out:
 	free(big);
 	free(idok);
 	free(alph);
+	return rc;
+}
+
+/*
+ * Extreme magnitudes.  The sums square differences of the phase, so
+ * samples beyond about 1e150 overflow and below 1e-150 underflow.  A
+ * result that shows it (a deviation not finite, zero or beyond 2^+-450)
+ * is computed again from a copy of the samples scaled by a power of two
+ * (exact) into [0.5, 1), and scaled back; data in the ordinary range cost
+ * nothing more.  Taus must stay within 2^+-200 s so that the fit's tau^2
+ * and tau^-2 rows stay in range.
+ */
+static bool out_of_range(const struct sscope_allan_point *pts, size_t n)
+{
+	for (size_t j = 0; j < n; j++)
+		if (pts[j].terms &&
+		    !(pts[j].dev >= 0x1p-450 && pts[j].dev <= 0x1p450))
+			return true;
+	return false;
+}
+
+int sscope_allan_compute(struct sscope_allan *p, const double *y,
+			 size_t stride, size_t n, double rate_hz,
+			 const size_t *m, size_t n_m,
+			 struct sscope_allan_point *pts, size_t *n_pts,
+			 struct sscope_diag *diag)
+{
+	double amax = 0, sc, *copy;
+	void (*release)(void *, const double *, size_t, size_t, size_t);
+	int rc;
+
+	if (rate_hz > 0 && isfinite(rate_hz) &&
+	    !(1 / rate_hz >= 0x1p-200 && (double)n / rate_hz <= 0x1p200))
+		return ssc_diag(diag, -ERANGE,
+				"allan: a sample rate of %g Hz puts taus outside 2^-200 .. 2^200 s",
+				rate_hz);
+	rc = compute(p, y, stride, n, rate_hz, m, n_m, pts, n_pts, diag);
+	if (rc || !out_of_range(pts, *n_pts))
+		return rc;
+	for (size_t k = 0; k < n; k++) {
+		double a = fabs(y[k * stride]);
+
+		if (a > amax && isfinite(a))
+			amax = a;
+	}
+	sc = ssc_safe_scale(amax);
+	if (sc == 1)
+		return 0; /* constant data: zero is the answer */
+	copy = ssc_alloc_array(n, sizeof(double));
+	if (!copy)
+		return -ENOMEM;
+	for (size_t k = 0; k < n; k++)
+		copy[k] = y[k * stride] * sc;
+	release = p->opts.release; /* the copy is not the caller's */
+	p->opts.release = NULL;
+	rc = compute(p, copy, 1, n, rate_hz, m, n_m, pts, n_pts, diag);
+	p->opts.release = release;
+	free(copy);
+	if (rc)
+		return rc;
+	for (size_t j = 0; j < *n_pts; j++) {
+		pts[j].dev /= sc;
+		pts[j].dev_lo /= sc;
+		pts[j].dev_hi /= sc;
+		if (pts[j].terms && !isfinite(pts[j].dev))
+			return ssc_diag(diag, -ERANGE,
+					"allan: the deviation at tau %g s exceeds the double range",
+					pts[j].tau_s);
+	}
+	return 0;
+}
+
+/* The fit on points scaled into an ordinary range (its covariances hold
+ * AVAR^2 = dev^4), its coefficients scaled back. */
+static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
+		      double rate_hz, size_t n_phase,
+		      const struct sscope_noise_fit_opts *fopts,
+		      struct sscope_noise_fit *fit, struct sscope_diag *diag)
+{
+	struct sscope_allan_point *q;
+	double dmax = 0;
+	int rc, e;
+
+	for (size_t j = 0; j < n; j++)
+		if (isfinite(pts[j].dev) && pts[j].dev > dmax)
+			dmax = pts[j].dev;
+	if (!(dmax > 0) || (dmax > 0x1p-100 && dmax < 0x1p100))
+		return sscope_noise_fit(pts, n, rate_hz, n_phase, fopts, fit,
+					diag);
+	frexp(dmax, &e); /* points scaled by 2^-e, results by 2^e */
+	q = ssc_alloc_array(n, sizeof(*q));
+	if (!q)
+		return -ENOMEM;
+	for (size_t j = 0; j < n; j++) {
+		q[j] = pts[j];
+		q[j].dev = ldexp(q[j].dev, -e);
+		q[j].dev_lo = ldexp(q[j].dev_lo, -e);
+		q[j].dev_hi = ldexp(q[j].dev_hi, -e);
+	}
+	rc = sscope_noise_fit(q, n, rate_hz, n_phase, fopts, fit, diag);
+	free(q);
+	for (int t = 0; t < 5; t++) {
+		fit->coef[t].value = ldexp(fit->coef[t].value, e);
+		fit->coef[t].estimate = ldexp(fit->coef[t].estimate, e);
+		fit->coef[t].lo = ldexp(fit->coef[t].lo, e);
+		fit->coef[t].hi = ldexp(fit->coef[t].hi, e);
+		fit->coef[t].var_sd = ldexp(fit->coef[t].var_sd, 2 * e);
+	}
+	fit->readoff.n = ldexp(fit->readoff.n, e);
+	fit->readoff.b = ldexp(fit->readoff.b, e);
+	fit->readoff.k = ldexp(fit->readoff.k, e);
 	return rc;
 }
 
@@ -1589,9 +1711,9 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			goto fail;
 	}
 	if (!fopts || !fopts->skip) {
-		res->fit_error = sscope_noise_fit(res->oadev, res->n_oadev,
-						  rate_hz, res->n_phase, fopts,
-						  &res->fit, NULL);
+		res->fit_error = fit_scaled(res->oadev, res->n_oadev, rate_hz,
+					    res->n_phase, fopts, &res->fit,
+					    &res->fit_diag);
 		res->have_fit = res->fit_error == 0;
 	}
 	sscope_allan_free(p);

@@ -231,10 +231,26 @@ int sscope_budget_source_eval(const struct sscope_budget_params *p,
 	return 0;
 }
 
+/* root sum of squares, scaled by the largest term (neither 1e200^2 nor
+ * 1e-200^2 leaves the double range) */
+static double rss(const double *v, int n)
+{
+	double m = 0, s = 0;
+
+	for (int i = 0; i < n; i++)
+		m = fmax(m, fabs(v[i]));
+	if (!(m > 0) || !isfinite(m))
+		return m;
+	for (int i = 0; i < n; i++)
+		s += (v[i] / m) * (v[i] / m);
+	return m * sqrt(s);
+}
+
 int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 			struct sscope_budget_point *out)
 {
-	double a = 0, v = 0, x = 0;
+	double a[SSCOPE_BUDGET_N_SOURCES], v[SSCOPE_BUDGET_N_SOURCES],
+		x[SSCOPE_BUDGET_N_SOURCES];
 
 	if (!out)
 		return -EINVAL;
@@ -245,13 +261,16 @@ int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 
 		if (rc)
 			return rc;
-		a += pt.attitude_rad * pt.attitude_rad;
-		v += pt.velocity_m_s * pt.velocity_m_s;
-		x += pt.position_m * pt.position_m;
+		a[s] = pt.attitude_rad;
+		v[s] = pt.velocity_m_s;
+		x[s] = pt.position_m;
 	}
-	out->attitude_rad = sqrt(a);
-	out->velocity_m_s = sqrt(v);
-	out->position_m = sqrt(x);
+	out->attitude_rad = rss(a, SSCOPE_BUDGET_N_SOURCES);
+	out->velocity_m_s = rss(v, SSCOPE_BUDGET_N_SOURCES);
+	out->position_m = rss(x, SSCOPE_BUDGET_N_SOURCES);
+	if (!isfinite(out->attitude_rad) || !isfinite(out->velocity_m_s) ||
+	    !isfinite(out->position_m))
+		return -ERANGE;
 	return 0;
 }
 
@@ -310,6 +329,133 @@ int sscope_budget_time_to(const struct sscope_budget_params *p, int source,
 }
 
 /* Cholesky factor of a symmetric positive definite n x n (n <= 3). */
+int sscope_budget_dominant(const struct sscope_budget_params *p, double t_s,
+			   double *position_m)
+{
+	int best = -1;
+	double bv = 0;
+
+	for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+		struct sscope_budget_point pt;
+
+		if (sscope_budget_source_eval(p, (enum sscope_budget_source)s,
+					      t_s, &pt))
+			return -1;
+		if (pt.position_m > bv) {
+			bv = pt.position_m;
+			best = s;
+		}
+	}
+	if (position_m)
+		*position_m = bv;
+	return best;
+}
+
+int sscope_budget_crossovers(const struct sscope_budget_params *p,
+			     double t0_s, double t1_s,
+			     struct sscope_budget_crossover *out, size_t max,
+			     size_t *n_out)
+{
+	size_t n = 0;
+	double prev_t = t0_s;
+	int prev;
+
+	if (!p || !n_out || (max && !out) || !(t0_s > 0) || !(t1_s >= t0_s))
+		return -EINVAL;
+	prev = sscope_budget_dominant(p, t0_s, NULL);
+	for (double t = t0_s * 1.01; t <= t1_s * 1.0001 && n < max; t *= 1.01) {
+		int d = sscope_budget_dominant(p, t, NULL);
+
+		if (d != prev && prev >= 0 && d >= 0) {
+			double lo = prev_t, hi = t;
+
+			for (int it = 0; it < 60; it++) {
+				double mid = 0.5 * (lo + hi);
+
+				if (sscope_budget_dominant(p, mid, NULL) == prev)
+					lo = mid;
+				else
+					hi = mid;
+			}
+			out[n].t_s = hi;
+			out[n].from = (enum sscope_budget_source)prev;
+			out[n].to = (enum sscope_budget_source)d;
+			n++;
+		}
+		prev = d;
+		prev_t = t;
+	}
+	*n_out = n;
+	return 0;
+}
+
+/* the larger of *dst and |v| into *dst; true when v raised it */
+static bool raise_to(double *dst, double v)
+{
+	if (isfinite(v) && fabs(v) > fabs(*dst)) {
+		*dst = fabs(v);
+		return true;
+	}
+	return false;
+}
+
+unsigned sscope_budget_take_noise(struct sscope_budget_params *p,
+				  enum sscope_quantity q, double n_si,
+				  double b_si, unsigned keep, bool *used)
+{
+	bool gyro = q == SSCOPE_QTY_ANGULAR_RATE;
+	int bias = gyro ? SSCOPE_BUDGET_GYRO_BIAS : SSCOPE_BUDGET_ACCEL_BIAS;
+	int walk = gyro ? SSCOPE_BUDGET_ARW : SSCOPE_BUDGET_VRW;
+	unsigned raised = 0;
+
+	if (used)
+		*used = false;
+	if (!p || (!gyro && q != SSCOPE_QTY_ACCELERATION))
+		return 0;
+	if (!(keep & (1u << walk))) {
+		if (raise_to(gyro ? &p->arw_rad_sqrt_s : &p->vrw_m_s_sqrt_s, n_si))
+			raised |= 1u << walk;
+		if (used)
+			*used = true;
+	}
+	if (!(keep & (1u << bias)) && isfinite(b_si)) {
+		if (raise_to(gyro ? &p->gyro_bias_rad_s : &p->accel_bias_m_s2, b_si))
+			raised |= 1u << bias;
+		if (used)
+			*used = true;
+	}
+	return raised;
+}
+
+unsigned sscope_budget_take_calib(struct sscope_budget_params *p,
+				  enum sscope_quantity q,
+				  const struct sscope_calib_triad *c,
+				  double noise_density, unsigned keep)
+{
+	bool gyro = q == SSCOPE_QTY_ANGULAR_RATE;
+	int bias = gyro ? SSCOPE_BUDGET_GYRO_BIAS : SSCOPE_BUDGET_ACCEL_BIAS;
+	int walk = gyro ? SSCOPE_BUDGET_ARW : SSCOPE_BUDGET_VRW;
+	unsigned raised = 0;
+
+	if (!p || !c || (!gyro && q != SSCOPE_QTY_ACCELERATION))
+		return 0;
+	for (int k = 0; k < 3; k++) {
+		/* bias sd in input units -> output SI through the scale */
+		if (!(keep & (1u << bias)) && isfinite(c->bias_sd[k]) &&
+		    raise_to(gyro ? &p->gyro_bias_rad_s : &p->accel_bias_m_s2,
+			     c->bias_sd[k] * c->scale[k]))
+			raised |= 1u << bias;
+		if (isfinite(c->scale_sd[k]) && c->scale[k] != 0)
+			raise_to(gyro ? &p->gyro_sf : &p->accel_sf,
+				 c->scale_sd[k] / c->scale[k]);
+	}
+	if (!(keep & (1u << walk)) &&
+	    raise_to(gyro ? &p->arw_rad_sqrt_s : &p->vrw_m_s_sqrt_s,
+		     noise_density))
+		raised |= 1u << walk;
+	return raised;
+}
+
 static int chol(int n, double A[3][3], double L[3][3])
 {
 	memset(L, 0, 9 * sizeof(double));
@@ -360,7 +506,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 	struct seg *sg = NULL;
 	double *sw = NULL, *sp = NULL, *iw = NULL, *ip = NULL;
 	size_t nseg = 0;
-	int dim, rc = 0;
+	int dim, rc = 0, ne = 0;
 	gsl_rng *r = NULL;
 
 	if (!o || (n_times && (!times || !out)) || o->steps == 0 ||
@@ -371,7 +517,13 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		if (!(times[j] > 0) || times[j] > o->t_end_s * (1 + 1e-12))
 			return -EINVAL;
 	h = o->t_end_s / (double)o->steps;
+	/* the walks are linear in N: simulated with N scaled by a power of
+	 * two into [0.5, 1) when it is extreme (1e-300 squared underflows),
+	 * results scaled back by 2^ne */
 	N = o->strength;
+	if (ssc_safe_scale(N) != 1)
+		frexp(N, &ne);
+	N = ldexp(N, -ne);
 	g = o->gravity_m_s2 > 0 ? o->gravity_m_s2 : 9.80665;
 	dim = o->gyro ? 3 : 2;
 	if (chol(dim, Q0, L))
@@ -470,7 +622,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 				}
 			}
 			if (path && sg[q].node >= 0)
-				path[sg[q].node] = s[0];
+				path[sg[q].node] = ldexp(s[0], ne);
 			if (sg[q].ck >= 0) {
 				size_t j = (size_t)sg[q].ck;
 				double t = times[j], wsd, psd, pos;
@@ -490,12 +642,13 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		double t = times[j], M = (double)o->realisations;
 
 		out[j].t_s = t;
-		out[j].walk_sd = sqrt(sw[j] / M);
-		out[j].walk_sd_theory = N * sqrt(t);
+		out[j].walk_sd = ldexp(sqrt(sw[j] / M), ne);
+		out[j].walk_sd_theory = ldexp(N * sqrt(t), ne);
 		out[j].walk_inside = iw[j] / M;
-		out[j].pos_sd = sqrt(sp[j] / M);
-		out[j].pos_sd_theory = o->gyro ? g * N * sqrt(pow(t, 5) / 20) :
-						 N * sqrt(t * t * t / 3);
+		out[j].pos_sd = ldexp(sqrt(sp[j] / M), ne);
+		out[j].pos_sd_theory = ldexp(o->gyro ? g * N * sqrt(pow(t, 5) / 20) :
+						       N * sqrt(t * t * t / 3),
+					     ne);
 		out[j].pos_inside = ip[j] / M;
 	}
 out:
@@ -507,4 +660,14 @@ out:
 	free(ip);
 	gsl_rng_free(r);
 	return rc;
+}
+
+double sscope_budget_mc_expected(size_t realisations, double *sd)
+{
+	double p = erf(sqrt(2.0));
+
+	if (sd)
+		*sd = realisations ? sqrt(p * (1 - p) / (double)realisations) :
+				     (double)NAN;
+	return p;
 }

@@ -33,6 +33,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_statistics_double.h>
 #include <gsl/gsl_vector.h>
 
 #define PI 3.14159265358979323846
@@ -561,11 +562,22 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
+int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
+			 size_t min_finite, double *p10, double *p90)
 {
-	double x = *(const double *)a, y = *(const double *)b;
+	size_t nf = 0;
 
-	return (x > y) - (x < y);
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(vs[i]))
+			work[nf++] = vs[i];
+	if (nf == 0 || nf < min_finite)
+		return -EDOM;
+	/* order statistics by selection (GSL's quickselect, O(n); a full
+	 * sort of a day's record took seconds), the values a sort gives */
+	*p10 = gsl_stats_select(work, 1, nf, (nf - 1) / 10);
+	if (p90)
+		*p90 = gsl_stats_select(work, 1, nf, (nf - 1) * 9 / 10);
+	return 0;
 }
 
 int sscope_calib_static_reference(const double *x, const double *y,
@@ -574,8 +586,6 @@ int sscope_calib_static_reference(const double *x, const double *y,
 				  const double *vs, double *work,
 				  double *reference, struct sscope_diag *diag)
 {
-	size_t nf = 0;
-
 	if (!x || !y || !z || !vs || !work || !reference || stride == 0 ||
 	    !(rate_hz > 0))
 		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
@@ -595,14 +605,8 @@ int sscope_calib_static_reference(const double *x, const double *y,
 			v2 += st.sd * st.sd * st.sd * st.sd;
 		}
 		*reference = sqrt(v2);
-	} else {
-		for (size_t i = 0; i < n; i++)
-			if (isfinite(vs[i]))
-				work[nf++] = vs[i];
-		if (nf == 0)
-			return ssc_diag(diag, -EDOM, "capture too short");
-		qsort(work, nf, sizeof(double), cmp_double);
-		*reference = work[(nf - 1) / 10];
+	} else if (ssc_calib_vs_deciles(vs, n, work, 1, reference, NULL)) {
+		return ssc_diag(diag, -EDOM, "capture too short");
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,
@@ -628,6 +632,11 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 	if (!x || !y || !z || !det || !iv || !c || !work || !work2 ||
 	    !(rate_hz > 0) || stride == 0 || max_iv == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	/* least squares on squared magnitudes: samples in a sane range */
+	if ((rc = ssc_magnitude_check(x, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(y, stride, n, 250, "calibration", diag)) ||
+	    (rc = ssc_magnitude_check(z, stride, n, 250, "calibration", diag)))
+		return rc;
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
 	window = (size_t)lround(win_s * rate_hz);
@@ -840,6 +849,12 @@ int sscope_calib_gyro_fit(const double *const g[3],
 	for (int i = 0; i < 3; i++)
 		if (!g[i] || !accel_cal[i])
 			return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
+	for (int i = 0; i < 3; i++)
+		if ((rc = ssc_magnitude_check(g[i], stride, n, 250, "gyro calibration",
+					      diag)) ||
+		    (rc = ssc_magnitude_check(accel_cal[i], stride, n, 250,
+					      "gyro calibration", diag)))
+			return rc;
 	for (size_t k = 0; k < n_iv; k++)
 		if (iv[k].end <= iv[k].start || iv[k].end > n ||
 		    (k && iv[k].start < iv[k - 1].end))

@@ -26,7 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
@@ -113,29 +112,6 @@ void sscope_heading_set_initial(struct sscope_heading_result *r, double h)
 	}
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
-int ssc_nav_vs_percentiles(const double *vs, size_t n, double *work,
-			   double *p10, double *p90)
-{
-	size_t nf = 0;
-
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(vs[i]))
-			work[nf++] = vs[i];
-	if (nf < 10)
-		return -EDOM;
-	qsort(work, nf, sizeof(double), cmp_double);
-	*p10 = work[(nf - 1) / 10];
-	*p90 = work[(nf - 1) * 9 / 10];
-	return 0;
-}
-
 /* bias between the centres of stop j and the next (constant outside) */
 static double interp_bias(const struct sscope_heading_result *r, size_t j,
 			  double t)
@@ -216,7 +192,8 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 					   o->init_static_s, vs, work, &r->reference,
 					   diag);
 	if (!rc)
-		rc = ssc_nav_vs_percentiles(vs, n, work, &p10, &p90);
+		rc = ssc_calib_vs_deciles(vs, n, work, 10, &p10, &p90) ?
+			     ssc_diag(diag, -EDOM, "capture too short") : 0;
 	if (rc)
 		goto fail;
 	r->threshold = k * r->reference;

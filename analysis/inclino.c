@@ -81,6 +81,12 @@ int sscope_inclino_poses(const double *ax, const double *ay, const double *az,
 	if (!ax || !ay || !az || !temp || !roll || !pitch || !n_poses ||
 	    (cap && !poses))
 		return -EINVAL;
+	/* pose means feed fits of squared magnitudes */
+	if (ssc_magnitude_check(ax, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(ay, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(az, 1, n, 250, "", NULL) ||
+	    ssc_magnitude_check(temp, 1, n, 250, "", NULL))
+		return -ERANGE;
 	if (!(tol > 0))
 		tol = 1;
 	while (i < n) {
@@ -539,6 +545,46 @@ int sscope_inclino_validate(struct sscope_inclino_plan *pl,
 				      v->scale_deg >= v->mis_deg ? "scale" : "misalignment";
 		}
 		free(vl);
+	}
+	return 0;
+}
+
+int sscope_inclino_apply(struct sscope_inclino_plan *plan,
+			 enum sscope_inclino_axes axes, double g_m_s2,
+			 const double *const a[3], const double *temp,
+			 const double *const w[3], size_t n, double still_tol,
+			 double rate_tol, double *roll, double *pitch,
+			 double *sens, bool *still,
+			 struct sscope_inclino_apply_stats *st)
+{
+	if (!plan || !a || !temp || !pitch || !still || !st || !(g_m_s2 > 0))
+		return -EINVAL;
+	memset(st, 0, sizeof(*st));
+	for (size_t i = 0; i < n; i++) {
+		double raw[3] = { a[0][i], a[1][i], a[2][i] }, c[3];
+		double r = NAN, p = NAN, sn = NAN;
+		bool cl = false, ok;
+
+		ok = isfinite(temp[i]) && isfinite(raw[0] + raw[1] + raw[2]) &&
+		     sscope_inclino_correct(plan, temp[i], raw, c, &cl) == 0;
+		still[i] = false;
+		if (ok) {
+			sscope_inclino_tilt(axes, c, g_m_s2, &r, &p, &sn);
+			still[i] = fabs(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) -
+					g_m_s2) <= still_tol;
+			if (still[i] && w)
+				still[i] = sqrt(w[0][i] * w[0][i] + w[1][i] * w[1][i] +
+						w[2][i] * w[2][i]) <= rate_tol;
+		} else {
+			st->n_bad++;
+		}
+		st->n_clamped += cl;
+		st->n_still += still[i];
+		if (roll)
+			roll[i] = r;
+		pitch[i] = p;
+		if (sens)
+			sens[i] = sn;
 	}
 	return 0;
 }

@@ -18,6 +18,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 #define PI 3.14159265358979323846
 
@@ -167,4 +168,45 @@ double sscope_model_fog_phase(const struct sscope_model_fog *f,
 			      double rate_rad_s)
 {
 	return f->scale_factor_s * rate_rad_s;
+}
+
+int sscope_model_accel_rk4_check(const struct sscope_model_accel *m,
+				 double a_m_s2, double t_end_s,
+				 size_t max_steps, double **x_m,
+				 struct sscope_model_rk4_check *chk)
+{
+	double dt, *xr, maxdev = 0;
+	size_t nr;
+
+	if (x_m)
+		*x_m = NULL;
+	if (!m || !chk || !(t_end_s > 0) || !isfinite(t_end_s) || max_steps < 3 ||
+	    !(m->fn_hz > 0))
+		return -EINVAL;
+	dt = 1 / (m->fn_hz * 400);
+	if (ceil(t_end_s / dt) + 2 > (double)max_steps) {
+		nr = max_steps;
+		dt = t_end_s / (double)(nr - 2);
+	} else {
+		nr = (size_t)ceil(t_end_s / dt) + 2;
+	}
+	xr = malloc(nr * sizeof(double));
+	if (!xr)
+		return -ENOMEM;
+	sscope_model_accel_step_rk4(m, a_m_s2, dt, nr, xr);
+	/* compare where the grids meet: analytic at k dt */
+	for (size_t k = 0; k < nr; k += 1 + nr / 5000) {
+		double tk = (double)k * dt, xk;
+
+		sscope_model_accel_step(m, a_m_s2, &tk, 1, &xk);
+		maxdev = fmax(maxdev, fabs(xk - xr[k]));
+	}
+	chk->dt_s = dt;
+	chk->n = nr;
+	chk->max_dev_m = maxdev;
+	if (x_m)
+		*x_m = xr;
+	else
+		free(xr);
+	return 0;
 }

@@ -21,6 +21,7 @@
 #include <omp.h>
 #endif
 
+#include "sscope-adc.h"
 #include "sscope-nav.h"
 #include "sscope-navsim.h"
 #include "sscope-sim.h"
@@ -531,8 +532,10 @@ static void record(const struct sscope_navsim *ns, size_t k,
 
 struct run_ctx {
 	struct sscope_sim *sim[7];
+	struct sscope_adc *adc[6];
 	double *in[6], *out[6];
-	bool noisy[2];
+	bool noisy[2], buffered[2];
+	size_t adc_clipped; /* samples clipped by the converters */
 };
 
 static void run_ctx_free(struct run_ctx *c)
@@ -540,9 +543,20 @@ static void run_ctx_free(struct run_ctx *c)
 	for (int i = 0; i < 7; i++)
 		sscope_sim_free(c->sim[i]);
 	for (int i = 0; i < 6; i++) {
+		sscope_adc_free(c->adc[i]);
 		free(c->in[i]);
 		free(c->out[i]);
 	}
+}
+
+/* seed of the converter of axis ax in run @p run: splitmix64 of both */
+static uint64_t adc_seed(uint64_t seed, uint64_t run, int ax)
+{
+	uint64_t z = seed ^ ((run * 8 + (uint64_t)ax + 1) * 0x9E3779B97F4A7C15u);
+
+	z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
+	z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
+	return z ^ (z >> 31);
 }
 
 int sscope_navsim_run(const struct sscope_navsim *ns,
@@ -575,8 +589,10 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 	c.noisy[1] = has_noise(&imu->accel);
 	for (int tri = 0; tri < 2; tri++) {
 		const struct sscope_sensor_spec *sp = tri ? &imu->accel : &imu->gyro;
+		const struct sscope_adc_spec *as = tri ? imu->accel_adc : imu->gyro_adc;
 
-		if (!c.noisy[tri])
+		c.buffered[tri] = c.noisy[tri] || as;
+		if (!c.buffered[tri])
 			continue;
 		for (int a = 0; a < 3; a++) {
 			struct sscope_sensor_spec s = *sp;
@@ -589,7 +605,13 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			so.rate_hz = ns->fs;
 			so.seed = seed;
 			so.stream = run * 8 + (uint64_t)ax;
-			rc = sscope_sim_new(&c.sim[ax], &s, &so, diag);
+			if (c.noisy[tri])
+				rc = sscope_sim_new(&c.sim[ax], &s, &so, diag);
+			if (!rc && as)
+				rc = sscope_adc_new(&c.adc[ax], as,
+						    as->analog ? sp->sensitivity : 1,
+						    as->analog ? sp->zero_output_v : 0,
+						    adc_seed(seed, run, ax), diag);
 			c.in[ax] = malloc(BLOCK * sizeof(double));
 			c.out[ax] = malloc(BLOCK * sizeof(double));
 			if (!rc && (!c.in[ax] || !c.out[ax]))
@@ -648,7 +670,7 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 
 				mv(Mx[tri], u + 3 * tri, y);
 				for (int a = 0; a < 3; a++) {
-					if (c.noisy[tri])
+					if (c.buffered[tri])
 						c.in[3 * tri + a][i] = y[a] / dt;
 					else
 						meas[i][3 * tri + a] = y[a] + bx[tri][a] * dt;
@@ -656,11 +678,22 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			}
 		}
 		for (int ax = 0; ax < 6; ax++) {
-			if (!c.noisy[ax / 3])
+			const double b = bx[ax / 3][ax % 3];
+
+			if (!c.buffered[ax / 3])
 				continue;
-			sscope_sim_generate(c.sim[ax], c.in[ax], c.out[ax], NULL, nb);
+			if (c.sim[ax])
+				sscope_sim_generate(c.sim[ax], c.in[ax], c.out[ax], NULL, nb);
+			else
+				memcpy(c.out[ax], c.in[ax], nb * sizeof(double));
+			if (c.adc[ax]) {
+				for (size_t i = 0; i < nb; i++)
+					c.out[ax][i] += b;
+				sscope_adc_digitize(c.adc[ax], c.out[ax], 1, nb, ns->fs,
+						    NULL, c.out[ax], NULL, &c.adc_clipped);
+			}
 			for (size_t i = 0; i < nb; i++)
-				meas[i][ax] = (c.out[ax][i] + bx[ax / 3][ax % 3]) * dt;
+				meas[i][ax] = (c.out[ax][i] + (c.adc[ax] ? 0 : b)) * dt;
 		}
 		for (size_t i = 0; i + 1 < nb; i += 2) {
 			sscope_strapdown_step2(&st, meas[i], meas[i + 1],
@@ -682,6 +715,7 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		for (int ax = 0; ax < 6; ax++)
 			if (c.sim[ax])
 				*clipped += sscope_sim_clipped(c.sim[ax]);
+		*clipped += c.adc_clipped;
 	}
 out:
 	run_ctx_free(&c);
@@ -834,6 +868,36 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 	p->accel_bias_m_s2 = ab;
 	p->arw_rad_sqrt_s = imu->gyro.n;
 	p->vrw_m_s_sqrt_s = imu->accel.n;
+	/* a converter adds its noise and quantization to the white noise
+	 * (as `adc report` computes them) and its offset error to the bias */
+	for (int tri = 0; tri < 2; tri++) {
+		const struct sscope_adc_spec *as = tri ? imu->accel_adc : imu->gyro_adc;
+		struct sscope_sensor_spec ss = tri ? imu->accel : imu->gyro;
+		struct sscope_adc_spec ac;
+		struct sscope_adc_analysis an;
+		double off;
+
+		if (!as)
+			continue;
+		/* what the run uses, whether or not a spec file said it */
+		ac = *as;
+		if (ac.noise > 0)
+			ac.has |= SSCOPE_ADC_HAS_NOISE;
+		if (ss.n > 0)
+			ss.has |= SSCOPE_SPEC_N;
+		if (ss.sensitivity > 0)
+			ss.has |= SSCOPE_SPEC_SENSITIVITY | SSCOPE_SPEC_ZERO;
+		if (sscope_adc_analyze(&ss, &ac, ns->fs, &an, NULL))
+			continue;
+		off = ac.offset / (ac.analog ? ss.sensitivity : 1);
+		if (tri) {
+			p->vrw_m_s_sqrt_s = an.n_total;
+			p->accel_bias_m_s2 = hypot(ab, off);
+		} else {
+			p->arw_rad_sqrt_s = an.n_total;
+			p->gyro_bias_rad_s = hypot(gb, off);
+		}
+	}
 	sscope_nav_radii(t0->pos.lat_rad, &rn, &re);
 	p->gravity_m_s2 = sscope_nav_gravity(t0->pos.lat_rad, t0->pos.height_m);
 	p->radius_m = sqrt(rn * re) + t0->pos.height_m;

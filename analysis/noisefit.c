@@ -1474,3 +1474,14 @@ out:
 	free_fitdata(&f);
 	return rc;
 }
+
+bool sscope_noise_fit_rejected(const struct sscope_noise_fit *fit,
+			       double p_level)
+{
+	return fit && fit->p_value < p_level;
+}
+
+bool sscope_noise_coef_resolved(const struct sscope_noise_coef *c)
+{
+	return c && c->fitted && c->lo > 0;
+}

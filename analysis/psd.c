@@ -227,6 +227,11 @@ struct sscope_psd {
 	uint64_t n_samples;
 	double *pg;        /* batch x nbins periodograms */
 	unsigned char *bad;
+	/* extreme magnitudes: a segment beyond 2^+-300 is transformed scaled
+	 * by 2^-e (seg_exp, 0 otherwise); acc, comp and sg hold sums scaled
+	 * by 2^(-2 acc_exp) */
+	int *seg_exp;
+	int acc_exp;
 	/* accumulation */
 	double *acc, *comp;
 	size_t nseg, nskip;
@@ -263,6 +268,7 @@ void sscope_psd_free(struct sscope_psd *p)
 	free(p->stage);
 	free(p->pg);
 	free(p->bad);
+	free(p->seg_exp);
 	free(p->acc);
 	free(p->comp);
 	free(p->sg);
@@ -283,6 +289,7 @@ void sscope_psd_reset(struct sscope_psd *p)
 	p->nskip = 0;
 	memset(p->acc, 0, p->nbins * sizeof(double));
 	memset(p->comp, 0, p->nbins * sizeof(double));
+	p->acc_exp = 0;
 	p->sg_n = 0;
 	p->sg_per = 1;
 }
@@ -349,12 +356,14 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 	p->tout = calloc((size_t)p->nth, sizeof(*p->tout));
 	p->stage = ssc_alloc_array(p->stage_cap, sizeof(double));
 	p->bad = calloc(p->batch, 1);
+	p->seg_exp = calloc(p->batch, sizeof(int));
 	p->acc = calloc(p->nbins, sizeof(double));
 	p->comp = calloc(p->nbins, sizeof(double));
 	if (!ssc_mul(p->batch, p->nbins, &sz))
 		goto nomem;
 	p->pg = ssc_alloc_array(sz, sizeof(double));
 	if (!p->win || !p->tin || !p->tout || !p->stage || !p->bad ||
+	    !p->seg_exp ||
 	    !p->acc || !p->comp || !p->pg)
 		goto nomem;
 	for (int t = 0; t < p->nth; t++) {
@@ -490,6 +499,71 @@ static void sg_add(struct sscope_psd *p, const double *pg, bool used,
 	}
 }
 
+/* A segment of finite samples whose largest magnitude lies outside
+ * 2^+-300: copied into in[] scaled by 2^-e (exact), *e set; false for
+ * ordinary (or non-finite) segments. */
+static bool rescaled(const struct sscope_psd *p, const double *seg,
+		     double *in, int *e)
+{
+	double amax = 0, sc;
+
+	for (size_t i = 0; i < p->m; i++) {
+		double a = fabs(seg[i]);
+
+		if (!isfinite(a))
+			return false;
+		amax = amax > a ? amax : a;
+	}
+	sc = ssc_safe_scale(amax);
+	if (sc == 1)
+		return false;
+	frexp(amax, e);
+	for (size_t i = 0; i < p->m; i++)
+		in[i] = seg[i] * sc;
+	return true;
+}
+
+/* Bring the batch's periodograms and the sums to one exponent, the
+ * largest: smaller ones are negligible beside it.  Nothing to do for
+ * ordinary data. */
+static void common_exponent(struct sscope_psd *p, size_t count)
+{
+	bool any = p->acc_exp != 0, first = true;
+	int emax = p->acc_exp;
+
+	for (size_t j = 0; j < count; j++) {
+		if (p->bad[j])
+			continue;
+		any |= p->seg_exp[j] != 0;
+		/* before the first sums the exponent is free (tiny data) */
+		if ((first && p->nseg == 0) || p->seg_exp[j] > emax)
+			emax = p->seg_exp[j];
+		first = false;
+	}
+	if (!any)
+		return;
+	if (emax > p->acc_exp || (p->nseg == 0 && emax != p->acc_exp)) {
+		int d = 2 * (p->acc_exp - emax);
+
+		for (size_t k = 0; k < p->nbins; k++) {
+			p->acc[k] = ldexp(p->acc[k], d);
+			p->comp[k] = ldexp(p->comp[k], d);
+		}
+		for (size_t k = 0; p->sg && k < p->sg_n * p->nbins; k++)
+			p->sg[k] = ldexp(p->sg[k], d);
+		p->acc_exp = emax;
+	}
+	for (size_t j = 0; j < count; j++) {
+		double *pg = p->pg + j * p->nbins;
+		int d = 2 * (p->seg_exp[j] - p->acc_exp);
+
+		if (p->bad[j] || d == 0)
+			continue;
+		for (size_t k = 0; k < p->nbins; k++)
+			pg[k] = ldexp(pg[k], d);
+	}
+}
+
 /* Transform `count` segments starting at base[0], base[step], ...: the
  * stage, or the caller's buffer itself when it holds whole batches.
  * Dynamic scheduling: on a loaded machine a thread that loses its core
@@ -511,17 +585,35 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 		double *in = p->tin[t], *pg = p->pg + (size_t)j * p->nbins;
 		fftw_complex *out = p->tout[t];
 
-		p->bad[j] = !prepare(p, base + (size_t)j * p->step, in);
-		if (p->bad[j])
-			continue;
-		fftw_execute_dft_r2c(p->plan, in, out);
-		for (size_t k = 0; k < p->nbins; k++)
-			pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+		const double *seg = base + (size_t)j * p->step;
+		double pmax = 0;
+
+		p->seg_exp[j] = 0;
+		p->bad[j] = !prepare(p, seg, in);
+		if (!p->bad[j]) {
+			fftw_execute_dft_r2c(p->plan, in, out);
+			for (size_t k = 0; k < p->nbins; k++) {
+				pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+				pmax = pmax > pg[k] ? pmax : pg[k];
+			}
+		}
+		/* squares beyond the double range (or a sum of samples that
+		 * overflowed): the segment again, scaled */
+		if ((p->bad[j] || !(pmax >= 0x1p-800 && pmax <= 0x1p800)) &&
+		    rescaled(p, seg, in, &p->seg_exp[j])) {
+			p->bad[j] = !prepare(p, in, in);
+			if (p->bad[j])
+				continue;
+			fftw_execute_dft_r2c(p->plan, in, out);
+			for (size_t k = 0; k < p->nbins; k++)
+				pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+		}
 	}
 	for (size_t j = 0; j < count; j++) {
 		if (p->bad[j] && !p->o.skip_nonfinite)
 			return -EDOM;
 	}
+	common_exponent(p, count);
 	/* Neumaier sums of the bins, segments in order within each bin (the
 	 * same result on any number of threads); each thread takes a block
 	 * of bins and walks the segments row by row through it */
@@ -666,13 +758,60 @@ static double psd_scale(const struct sscope_psd *p, double fs)
 		       1.0 / (p->sum_w * p->sum_w);
 }
 
-static void fill_freq(double *f, size_t nbins, size_t nfft, double fs)
+static int fill_freq(double *f, size_t nbins, size_t nfft, double fs)
 {
-	/* numpy.fft.rfftfreq: k * (1 / (n * d)) with d = 1 / fs */
+	/* numpy.fft.rfftfreq: k * (1 / (n * d)) with d = 1 / fs; at rates
+	 * whose reciprocal leaves the normal range, fs / n directly */
 	double val = 1.0 / ((double)nfft * (1.0 / fs));
 
+	if (!isnormal(1.0 / fs))
+		val = fs / (double)nfft;
+	if (!isnormal(val))
+		return -ERANGE;
 	for (size_t k = 0; k < nbins; k++)
 		f[k] = (double)k * val;
+	return 0;
+}
+
+/*
+ * The spectrum's values from the sums: sum * one-sided factor / segments
+ * (in the sums' scale 2^(-2 acc_exp)) over fs sum w^2 or (sum w)^2.  For
+ * ordinary data and rates, scipy's order of operations; otherwise
+ * exponents kept apart (fs as mantissa and exponent) and put together
+ * once, so that only a result outside the double range fails: -ERANGE
+ * when a value overflows or the largest underflows (closer than 2^52 to
+ * the smallest normal double).
+ */
+static int values(const struct sscope_psd *p, double fs, const double *sum,
+		  double n_avg, double *out)
+{
+	double scale = psd_scale(p, fs), vmax = 0, smax = 0, fm;
+	int fe;
+
+	bool plain = p->acc_exp == 0 && isnormal(scale) &&
+		     isnormal(fs * p->sum_w2) && isnormal(1.0 / fs);
+
+	fm = frexp(fs, &fe);
+	for (size_t k = 0; k < p->nbins; k++) {
+		double a = sum[k];
+
+		if (plain)
+			out[k] = a * scale * one_sided(p, k) / n_avg;
+		else if (p->o.scaling == SSCOPE_SCALING_DENSITY)
+			out[k] = ldexp(a * one_sided(p, k) / n_avg / p->sum_w2 / fm,
+				       2 * p->acc_exp - fe);
+		else
+			out[k] = ldexp(a * one_sided(p, k) / n_avg /
+					       (p->sum_w * p->sum_w),
+				       2 * p->acc_exp);
+		if (!isfinite(out[k]))
+			return -ERANGE;
+		vmax = out[k] > vmax ? out[k] : vmax;
+		smax = a > smax ? a : smax;
+	}
+	if (smax > 0 && vmax < 0x1p-970)
+		return -ERANGE;
+	return 0;
 }
 
 /* A record shorter than one segment: the record is the segment. */
@@ -702,7 +841,6 @@ static int short_result(struct sscope_psd *p, double fs,
 int sscope_psd_result(struct sscope_psd *p, double fs,
 		      struct sscope_spectrum *s)
 {
-	double scale;
 	struct ssc_ksum tot = { 0, 0 };
 	int rc;
 
@@ -724,11 +862,15 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 		return -ENOMEM;
 	}
 	s->n_bins = p->nbins;
-	scale = psd_scale(p, fs);
-	fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
 	for (size_t k = 0; k < p->nbins; k++)
-		s->value[k] = (p->acc[k] + p->comp[k]) * scale *
-			      one_sided(p, k) / (double)p->nseg;
+		s->value[k] = p->acc[k] + p->comp[k];
+	rc = fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
+	if (!rc)
+		rc = values(p, fs, s->value, (double)p->nseg, s->value);
+	if (rc) {
+		sscope_spectrum_clear(s);
+		return rc;
+	}
 	s->fs_hz = fs;
 	s->scaling = p->o.scaling;
 	s->window = p->o.window;
@@ -740,19 +882,32 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 	s->n_skipped = p->nskip;
 	s->n_samples = p->n_samples;
 	s->enbw_hz = fs * p->sum_w2 / (p->sum_w * p->sum_w);
+	if (!isfinite(s->enbw_hz))
+		s->enbw_hz = fs * (p->sum_w2 / (p->sum_w * p->sum_w));
 	s->bin_hz = fs / (double)p->nfft;
-	for (size_t k = 0; k < p->nbins; k++)
-		ssc_ksum_add(&tot, s->value[k]);
-	s->rms = sqrt(ssc_ksum_value(&tot) * s->bin_hz *
-		      (s->scaling == SSCOPE_SCALING_SPECTRUM ? 1 / s->enbw_hz :
-							      1));
+	if (p->acc_exp == 0 && isnormal(psd_scale(p, fs)) &&
+	    isnormal(fs * p->sum_w2)) {
+		for (size_t k = 0; k < p->nbins; k++)
+			ssc_ksum_add(&tot, s->value[k]);
+		s->rms = sqrt(ssc_ksum_value(&tot) * s->bin_hz *
+			      (s->scaling == SSCOPE_SCALING_SPECTRUM ?
+				       1 / s->enbw_hz : 1));
+	} else {
+		/* sum of value * bin width (/ ENBW for "spectrum") is the
+		 * same for both scalings and free of fs: from the sums */
+		for (size_t k = 0; k < p->nbins; k++)
+			ssc_ksum_add(&tot, (p->acc[k] + p->comp[k]) *
+						   one_sided(p, k));
+		s->rms = ldexp(sqrt(ssc_ksum_value(&tot) / (double)p->nseg /
+				    (p->sum_w2 * (double)p->nfft)),
+			       p->acc_exp);
+	}
 	return 0;
 }
 
 int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
 			   struct sscope_spectrogram *s)
 {
-	double scale;
 	size_t sz;
 	int rc;
 
@@ -776,21 +931,22 @@ int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
 	s->n_times = p->sg_n;
 	s->n_bins = p->nbins;
 	s->segments_per_column = p->sg_per;
-	scale = psd_scale(p, fs);
-	fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
-	for (size_t c = 0; c < p->sg_n; c++) {
+	rc = fill_freq(s->freq_hz, p->nbins, p->nfft, fs);
+	for (size_t c = 0; !rc && c < p->sg_n; c++) {
 		const double *col = p->sg + c * p->nbins;
 		double *v = s->value + c * p->nbins;
 
 		s->time_s[c] = (p->sg_start[c] / (double)p->sg_slots[c] +
 				(double)p->m / 2) / fs;
-		for (size_t k = 0; k < p->nbins; k++)
-			v[k] = p->sg_used[c] ?
-				       col[k] * scale * one_sided(p, k) /
-					       (double)p->sg_used[c] :
-				       (double)NAN;
+		if (p->sg_used[c])
+			rc = values(p, fs, col, (double)p->sg_used[c], v);
+		else
+			for (size_t k = 0; k < p->nbins; k++)
+				v[k] = (double)NAN;
 	}
-	return 0;
+	if (rc)
+		sscope_spectrogram_clear(s);
+	return rc;
 }
 
 int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs,

@@ -84,6 +84,15 @@ enum sscope_tau_grid {
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n);
 
 /**
+ * The quantity whose noise terms an analysis of samples of quantity @p q
+ * gives: @p q itself for rate input; for angle input its rate (an angle
+ * gives an angular rate, a velocity an acceleration, anything else
+ * SSCOPE_QTY_UNKNOWN).
+ */
+enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
+						enum sscope_allan_input input);
+
+/**
  * Largest averaging factor @p dev accepts for @p n_phase phase points (the
  * limits in the file comment).
  * @return the largest m, or 0 when even m = 1 has no term.
@@ -197,7 +206,13 @@ void sscope_allan_free(struct sscope_allan *plan);
  * @param diag     optional detail of a failure.
  * @return 0; -EINVAL (NULL pointer, stride 0, rate not positive, n > n_max,
  *         m not increasing or 0); -EDOM (record too short for any given m,
- *         fewer than two finite samples, gaps with TOTDEV); -ENOMEM.
+ *         fewer than two finite samples, gaps with TOTDEV); -ERANGE (a
+ *         rate that puts 1/rate_hz below 2^-200 s or n/rate_hz above
+ *         2^200 s; a deviation beyond the double range); -ENOMEM.
+ *         Samples of any finite magnitude are handled: when the squared
+ *         sums leave the double range (beyond about 1e150, below 1e-150)
+ *         the record is computed again from a copy scaled by a power of
+ *         two (exact) and the deviations scaled back.
  */
 int sscope_allan_compute(struct sscope_allan *plan, const double *x,
 			 size_t stride, size_t n, double rate_hz,
@@ -391,6 +406,17 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
  * @param pts    deviation points (OADEV or ADEV), increasing tau.
  * @return 0, or -EDOM when fewer than 3 positive points.
  */
+/**
+ * Whether a fit's chi-squared test rejects the five-term model at level
+ * @p p_level (its p-value below it; 0.01 is usual): a deterministic trend
+ * or a process outside the model, the terms indicative only.
+ */
+bool sscope_noise_fit_rejected(const struct sscope_noise_fit *fit,
+			       double p_level);
+
+/** Whether a term is resolved: fitted, and its interval excludes zero. */
+bool sscope_noise_coef_resolved(const struct sscope_noise_coef *c);
+
 int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n_pts,
 			 struct sscope_noise_readoff *r);
 
@@ -429,6 +455,7 @@ struct sscope_allan_result {
 	bool have_fit;      /**< false when the fit failed (fit_error) */
 	int fit_error;      /**< the fit's return code */
 	struct sscope_noise_fit fit;
+	struct sscope_diag fit_diag; /**< why the fit failed (may be empty) */
 };
 
 /**

@@ -96,9 +96,75 @@ int sscope_budget_source_eval(const struct sscope_budget_params *p,
 			      enum sscope_budget_source s, double t_s,
 			      struct sscope_budget_point *out);
 
-/** Root sum of squares of every source at @p t_s.  @return as above. */
+/** Root sum of squares of every source at @p t_s (scaled by the largest:
+ *  no overflow of the squares).  @return as above; -ERANGE when a total
+ *  is beyond the double range. */
 int sscope_budget_total(const struct sscope_budget_params *p, double t_s,
 			struct sscope_budget_point *out);
+
+/**
+ * The source with the largest position error at @p t_s.
+ * @param position_m  receives that error, m (may be NULL; 0 when none).
+ * @return the source, or -1 when every source is zero at @p t_s (or the
+ *         parameters are invalid).
+ */
+int sscope_budget_dominant(const struct sscope_budget_params *p, double t_s,
+			   double *position_m);
+
+/** A change of the dominant source. */
+struct sscope_budget_crossover {
+	double t_s;                       /**< where it changes */
+	enum sscope_budget_source from;   /**< dominant before */
+	enum sscope_budget_source to;     /**< dominant after */
+};
+
+/**
+ * Times in [t0_s, t1_s] where the dominant source changes: a log-spaced
+ * scan (ratio 1.01) finds each change, 60 bisection steps place it (the
+ * first time the new source dominates, to about 1e-18 relative).
+ * @param out    receives up to @p max changes, in time order.
+ * @param n_out  receives the number written.
+ * @return 0; -EINVAL (NULL, t0_s <= 0, t1_s < t0_s).
+ */
+int sscope_budget_crossovers(const struct sscope_budget_params *p,
+			     double t0_s, double t1_s,
+			     struct sscope_budget_crossover *out, size_t max,
+			     size_t *n_out);
+
+/**
+ * Budget sources from the measured noise terms of one sensor axis (an
+ * Allan fit, a datasheet): for a gyro (@p q angular rate) N is the angle
+ * random walk and B the gyro bias (bias instability taken as a 1-sigma
+ * bias), for an accelerometer the velocity random walk and the
+ * accelerometer bias.  Several axes: call once per axis; each source keeps
+ * the worst (largest) value.  Non-finite values are ignored.
+ * @param n_si  N, rad/s/sqrt(Hz) or m/s^2/sqrt(Hz) (NaN: none).
+ * @param b_si  B, rad/s or m/s^2 (NaN: none).
+ * @param keep  sources to leave alone (bit 1 << source: given otherwise).
+ * @param used  receives whether the axis counts (a gyro or an
+ *              accelerometer with a source not kept); may be NULL.
+ * @return the sources whose value this axis raised (bits 1 << source).
+ */
+unsigned sscope_budget_take_noise(struct sscope_budget_params *p,
+				  enum sscope_quantity q, double n_si,
+				  double b_si, unsigned keep, bool *used);
+
+/**
+ * Budget sources from what a calibration leaves: the 1-sigma uncertainty
+ * of the bias (bias_sd through the scale, output SI) as the bias, the
+ * relative uncertainty of the scale factor (scale_sd / scale) as the
+ * scale-factor error, and the noise density as the random walk; the worst
+ * axis of the triad counts, and of several triads (call once per triad).
+ * @param q              the triad's output quantity.
+ * @param noise_density  its noise density, SI/sqrt(Hz) (NaN: none).
+ * @param keep           as sscope_budget_take_noise() (the scale factor
+ *                       is always raised to the worst value).
+ * @return the sources raised (bias and random walk only), as above.
+ */
+unsigned sscope_budget_take_calib(struct sscope_budget_params *p,
+				  enum sscope_quantity q,
+				  const struct sscope_calib_triad *c,
+				  double noise_density, unsigned keep);
 
 /** Which error of a point. */
 enum sscope_budget_quantity {
@@ -158,6 +224,15 @@ struct sscope_budget_mc_point {
  * @return 0; -EINVAL (zero steps or realisations, t_end <= 0, strength
  *         <= 0, a time outside (0, t_end]); -ENOMEM.
  */
+/**
+ * What sscope_budget_mc()'s fractions should be: a Gaussian walk stays
+ * inside +-2 sigma with probability erf(sqrt(2)) = 0.9545, and a fraction
+ * over @p realisations runs has the binomial sd sqrt(p (1 - p) / runs).
+ * @param sd  receives that sd (may be NULL; NaN for no runs).
+ * @return the expected fraction.
+ */
+double sscope_budget_mc_expected(size_t realisations, double *sd);
+
 int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 		     const double *times, size_t n_times,
 		     struct sscope_budget_mc_point *out, double *paths,

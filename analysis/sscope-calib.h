@@ -130,6 +130,23 @@ int sscope_calib_interval_mean(const double *x, size_t stride,
 			       const struct sscope_calib_interval *iv,
 			       double *mean, double *sd);
 
+/**
+ * Static intervals at a fixed threshold det->k * reference (k > 1):
+ * sscope_calib_variance_magnitude() over det->window_s into @p work,
+ * sscope_calib_static_reference() into det->reference, then
+ * sscope_calib_static_intervals() with det->min_static_s; det->threshold
+ * and det->n_intervals are set.
+ * @param work, work2  n doubles each (work receives varsigma).
+ * @return 0; -EINVAL (k <= 1, NULL); -EDOM (shorter than the window, an
+ *         initial period that does not fit, zero noise: diag says which).
+ */
+int sscope_calib_detect_static(const double *x, const double *y,
+			       const double *z, size_t stride, size_t n,
+			       double rate_hz, struct sscope_calib_detect *det,
+			       struct sscope_calib_interval *iv, size_t max_iv,
+			       double *work, double *work2,
+			       struct sscope_diag *diag);
+
 /** A calibrated triad: the correction u' = T K (y - b - G a'). */
 struct sscope_calib_triad {
 	double bias[3];        /**< b, input units */
@@ -181,7 +198,8 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
  *                 intervals of the chosen k.
  * @param work     n doubles of workspace (variance magnitude).
  * @param work2    n doubles of workspace (percentile).
- * @return as sscope_calib_accel_fit(); -EINVAL for rate_hz <= 0.
+ * @return as sscope_calib_accel_fit(); -EINVAL for rate_hz <= 0; -ERANGE
+ *         for samples beyond 2^+-250.
  */
 int sscope_calib_accel_multipos(const double *x, const double *y,
 				const double *z, size_t stride, size_t n,
@@ -216,7 +234,8 @@ void sscope_calib_apply(const struct sscope_calib_triad *c, double *x,
  *                    from 1e-9 to 1e3 (counts of unknown weight).
  * @param with_gsens  also estimate the g-sensitivity matrix G (needs 5 or
  *                    more poses that are not coplanar).
- * @return 0; -EINVAL; -EDOM with fewer than 6 poses (5 rotations), motions
+ * @return 0; -EINVAL; -ERANGE (samples beyond 2^+-250); -EDOM with fewer
+ *         than 6 poses (5 rotations), motions
  *         that do not determine the parameters (the excitation rule: the
  *         smallest eigenvalue of sum(w w^T) / sum(|w|^2) over the motion
  *         samples is below 0.01, e.g. all rotations about one axis; or a
@@ -329,6 +348,175 @@ int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,
 				   double tol, size_t settle, size_t min_len,
 				   struct sscope_calib_interval *iv,
 				   size_t max, size_t *n_iv);
+
+/**
+ * The six-position test on a capture: static poses at each threshold k in
+ * 2..10 (or det->k when given), sscope_calib_accel_sixpos() on their
+ * means, the k with the smallest residual kept (det, @p iv, @p lf and
+ * @p c describe it).
+ * @param work, work2  n doubles each.
+ * @return 0; -EINVAL; -EDOM when no k gives the six orientations (diag
+ *         says why); -ENOMEM.
+ */
+int sscope_calib_accel_sixpos_run(const double *x, const double *y,
+				  const double *z, size_t stride, size_t n,
+				  double rate_hz, double gravity_m_s2,
+				  struct sscope_calib_detect *det,
+				  struct sscope_calib_interval *iv, size_t max_iv,
+				  struct sscope_calib_linear *lf,
+				  struct sscope_calib_triad *c, double *work,
+				  double *work2, struct sscope_diag *diag);
+
+/**
+ * The g-dependent gyro bias from static tilts: static poses of the
+ * accelerometer @p a (threshold det->k, 4 when not given), then
+ * omega = b + G a fitted to the poses' means; @p c receives b, G and
+ * their sd (scale and misalignment not estimated: identity, scale_sd
+ * NaN), 12 parameters.
+ * @param g, a  gyro (rate, SI) and accelerometer (m/s^2) channels.
+ * @return 0; -EINVAL; -EDOM (detection, too few poses, poses that do not
+ *         tilt gravity onto all three axes); -ENOMEM.
+ */
+int sscope_calib_gyro_gsens_run(const double *const g[3],
+				const double *const a[3], size_t stride,
+				size_t n, double rate_hz,
+				struct sscope_calib_detect *det,
+				struct sscope_calib_interval *iv, size_t max_iv,
+				struct sscope_calib_triad *c, double *work,
+				double *work2, struct sscope_diag *diag);
+
+/**
+ * The noise density of a calibrated triad from its static poses: the sd
+ * of each channel pooled over the intervals (sum of (len - 1) sd^2 over
+ * the sum of (len - 1)), through |scale|, as sqrt(mean over the axes of
+ * sd^2 / rate_hz) -- white noise per axis, output SI / sqrt(Hz).
+ * @return 0; -EINVAL; -EDOM when no interval has two samples.
+ */
+int sscope_calib_noise_density(const double *const ch[3], size_t stride,
+			       const struct sscope_calib_interval *iv,
+			       size_t n_iv, const double scale[3],
+			       double rate_hz, double *nd);
+
+/**
+ * The error model of a triad whose readings have the output's dimension
+ * (seed eqs 93-94): reading = A u + b with A = (T K)^-1; A_ii - 1 are the
+ * scale-factor errors, A_ij (i != j) the misalignments.
+ * @return 0; -EDOM when T K is singular; -EINVAL.
+ */
+int sscope_calib_error_model(const struct sscope_calib_triad *c,
+			     double A[3][3]);
+
+/**
+ * The class of a calibrated triad (sscope_calib_grade()): from the
+ * largest |bias|, the largest |A_ii - 1| and |G_ij| when @p A (the error
+ * model) is given; for raw readings (A NULL) from the bias in output units
+ * |T K b| alone, with the noise density in both cases.
+ * @return as sscope_calib_grade().
+ */
+int sscope_calib_triad_grade(enum sscope_quantity q,
+			     const struct sscope_calib_triad *c,
+			     const double (*A)[3], double noise_density,
+			     double *distance);
+
+/**
+ * How far each static pose's norm is from gravity before and after a
+ * correction: before[k] = |m_k| - g (0 when the readings are not in SI,
+ * @p raw_is_si false), after[k] = |T K (m_k - b)| - g, m_k the pose mean.
+ * @return 0 or -EINVAL.
+ */
+int sscope_calib_pose_errors(const double *const ch[3], size_t stride,
+			     const struct sscope_calib_interval *iv,
+			     size_t n_iv, const struct sscope_calib_triad *c,
+			     double gravity_m_s2, bool raw_is_si,
+			     double *before, double *after);
+
+/** sscope_calib_motion_summary()'s figures. */
+struct sscope_calib_motion {
+	size_t motions;             /**< n_iv - 1 */
+	double rms_rad;             /**< rms gravity error, calibrated */
+	double max_rad;             /**< largest, calibrated */
+	double rms_bias_only_rad;   /**< rms with the bias removed only */
+};
+
+/**
+ * sscope_calib_gyro_motion_errors() of a fitted gyro triad and of the
+ * same triad with only its bias (and G) applied at the nominal scale (1
+ * for a rate in SI, @p rate_in_si; else the mean |scale|), with their rms
+ * and maximum: what the calibration gains over the motions.
+ * @param after, before  n_iv - 1 angles each, rad.
+ * @return as sscope_calib_gyro_motion_errors().
+ */
+int sscope_calib_motion_summary(const double *const g[3],
+				const double *const accel_cal[3],
+				size_t stride, size_t n, double rate_hz,
+				const struct sscope_calib_interval *iv,
+				size_t n_iv, const struct sscope_calib_triad *c,
+				bool rate_in_si, double *after, double *before,
+				struct sscope_calib_motion *sum);
+
+/**
+ * The steps of a rate-table (or centrifuge) run: where the commanded
+ * reference (one channel, or three of a three-axis command) stays
+ * constant, less @p settle_s after each change and at least 0.5 s long
+ * (sscope_calib_constant_segments() with a tolerance of 1e-9 of the
+ * largest |reference|); per step the mean of the sensor's three channels
+ * (@p ym) and of the references (@p rm, zero for missing ones).
+ * @param seg         receives up to @p max steps.
+ * @param n_steps     receives their number.
+ * @return 0; -EDOM with fewer than two steps; -EINVAL; -ENOMEM.
+ */
+int sscope_calib_rate_table_steps(const double *const y[3],
+				  const double *const ref[3], size_t n_ref,
+				  size_t stride, size_t n, double rate_hz,
+				  double settle_s,
+				  struct sscope_calib_interval *seg, size_t max,
+				  double (*ym)[3], double (*rm)[3],
+				  size_t *n_steps);
+
+/**
+ * The sensor axis a single reference drives: the one whose step means
+ * have the largest |slope| against the reference (rm[k][0]).
+ * @return 0, 1 or 2 (0 when no slope is defined).
+ */
+int sscope_calib_table_axis(const double (*ym)[3], const double (*rm)[3],
+			    size_t n);
+
+/**
+ * A triad of a calibration file (what `calib --save-calibration` writes):
+ * the channels it corrects and the correction, its parameters in the
+ * file's units -- bias in @p input_unit (the raw channels' unit; "" for
+ * raw counts), scale in @p output_unit per input unit, G in input units
+ * per m/s^2.
+ */
+struct sscope_calib_file_triad {
+	char kind[8];               /**< "accel" or "gyro" */
+	char channels[3][64];
+	char accel_channels[3][64]; /**< the accelerometer for G (gyros) */
+	char input_unit[32];
+	char output_unit[32];
+	struct sscope_calib_triad c;
+};
+
+/**
+ * Apply calibration triads to a loaded capture, in their order
+ * (accelerometers before the gyros whose G uses them): each triad whose
+ * channels the capture holds is converted to the units the capture holds
+ * them in (SI of the channel's unit, or raw values for channels without
+ * one), applied in place (sscope_calib_apply()), and the channels take
+ * the output unit (names and file columns kept).  A triad of which the
+ * capture holds none of the channels is skipped.
+ * @param gsens_skipped  receives bit i set when triad i has G but the
+ *                       capture lacks its accelerometer channels (G is
+ *                       then not corrected); may be NULL.
+ * @param applied        receives the triads applied; may be NULL.
+ * @return 0; -EINVAL (a triad of which only some channels are present, a
+ *         channel in a unit the triad does not expect: diag names them);
+ *         -EDOM when no triad applies; -ENOMEM.
+ */
+int sscope_calib_apply_capture(struct sscope_capture *cap,
+			       const struct sscope_calib_file_triad *t,
+			       size_t n, unsigned *gsens_skipped,
+			       size_t *applied, struct sscope_diag *diag);
 
 /** A class of sensors with typical performance ranges. */
 struct sscope_grade {

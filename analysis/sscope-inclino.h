@@ -92,7 +92,8 @@ struct sscope_inclino_pose {
  * @param pose_tol_degc  temperature tolerance within a pose (0: 1 degC).
  * @param poses       receives up to @p cap poses.
  * @param n_poses     receives the number of poses found (may exceed cap).
- * @return 0, -EINVAL (NULL pointer), -EDOM (no finite sample).
+ * @return 0, -EINVAL (NULL pointer), -EDOM (no finite sample), -ERANGE
+ *         (samples beyond 2^+-250).
  */
 int sscope_inclino_poses(const double *ax, const double *ay, const double *az,
 			 const double *temp_degc, const double *roll_rad,
@@ -160,6 +161,36 @@ void sscope_inclino_params_at(struct sscope_inclino_plan *plan,
  */
 int sscope_inclino_correct(struct sscope_inclino_plan *plan, double temp_degc,
 			   const double raw[3], double out[3], bool *clamped);
+
+/** Counts of sscope_inclino_apply(). */
+struct sscope_inclino_apply_stats {
+	size_t n_bad;     /**< samples without a value (non-finite input) */
+	size_t n_clamped; /**< temperatures outside the table (clamped) */
+	size_t n_still;   /**< samples flagged still */
+};
+
+/**
+ * Apply a table to a record: per sample the corrected acceleration
+ * (sscope_inclino_correct()), the tilt (sscope_inclino_tilt(): roll and
+ * pitch, or pitch and its sensitivity for 1 and 2 axes) and the still
+ * flag -- the tilt is valid only when the platform is still: the norm of
+ * the corrected acceleration within @p still_tol of g and, with gyro
+ * channels, the rotation rate's norm at most @p rate_tol.  A sample with a
+ * non-finite temperature or reading gets NaN and is not still.
+ * @param a      three accelerometer channels, m/s^2.
+ * @param temp   temperatures, degC.
+ * @param w      three gyro channels, rad/s, or NULL.
+ * @param roll, pitch, sens  n values each (roll or sens may be NULL).
+ * @param still  n flags.
+ * @return 0, -EINVAL.
+ */
+int sscope_inclino_apply(struct sscope_inclino_plan *plan,
+			 enum sscope_inclino_axes axes, double g_m_s2,
+			 const double *const a[3], const double *temp,
+			 const double *const w[3], size_t n, double still_tol,
+			 double rate_tol, double *roll, double *pitch,
+			 double *sens, bool *still,
+			 struct sscope_inclino_apply_stats *st);
 
 /** Validation against reference poses. */
 struct sscope_inclino_validation {

@@ -88,6 +88,28 @@ int sscope_model_accel_step_rk4(const struct sscope_model_accel *m,
 				double a_m_s2, double dt_s, size_t n,
 				double *x_m);
 
+/** The Runge-Kutta cross-check of the analytic step response. */
+struct sscope_model_rk4_check {
+	double dt_s;        /**< RK4 step: 1 / (400 fn), or longer so that at
+			       most @p max_steps steps cover the span */
+	size_t n;           /**< RK4 samples, at t = i dt_s */
+	double max_dev_m;   /**< largest |analytic - RK4| where the grids
+			       meet (every 1 + n/5000-th sample) */
+};
+
+/**
+ * Integrate the step response over [0, t_end_s] by classical Runge-Kutta
+ * on a grid of 400 steps per natural period (at most @p max_steps) and
+ * compare it with sscope_model_accel_step().
+ * @param x_m   receives the RK4 deflections (n values, caller frees with
+ *              free()), or NULL to discard them.
+ * @return 0; -EINVAL (t_end <= 0, max_steps < 3); -ENOMEM.
+ */
+int sscope_model_accel_rk4_check(const struct sscope_model_accel *m,
+				 double a_m_s2, double t_end_s,
+				 size_t max_steps, double **x_m,
+				 struct sscope_model_rk4_check *chk);
+
 /** Interferometric fibre-optic gyro coil. */
 struct sscope_model_fog {
 	double radius_m;

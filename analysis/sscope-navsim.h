@@ -162,6 +162,13 @@ struct sscope_navsim_imu {
 	double accel_bias_m_s2[3];
 	double gyro_m[3][3];        /**< fixed error matrix M (ratio) */
 	double accel_m[3][3];
+	/** optional converters that digitize each axis of a triad (NULL:
+	 *  none): the sensor's reading, biases included, goes through
+	 *  sscope_adc_digitize() at the simulation rate and the reference
+	 *  temperature, one converter per axis and run with its own seed
+	 *  (a converter in volts uses the triad's sensitivity and
+	 *  zero_output_v).  The INL profile of a spec is not modelled. */
+	const struct sscope_adc_spec *gyro_adc, *accel_adc;
 };
 
 /**
@@ -169,8 +176,8 @@ struct sscope_navsim_imu {
  * @param seed  seed of the experiment; @p run selects independent noise.
  * @param err   receives n_out x SSCOPE_NAVSIM_N_COMP values.
  * @param clipped  optional: receives the samples clipped to a range.
- * @return 0; -EINVAL (NULL, negative or non-finite noise terms);
- *         -ENOMEM.
+ * @return 0; -EINVAL (NULL, negative or non-finite noise terms, a
+ *         converter spec sscope_adc_new() refuses); -ENOMEM.
  */
 int sscope_navsim_run(const struct sscope_navsim *ns,
 		      const struct sscope_navsim_imu *imu, uint64_t seed,
@@ -212,7 +219,9 @@ int sscope_navsim_monte_carlo(const struct sscope_navsim *ns,
  * mean radius sqrt(R_N R_E) + h at the start; biases are the larger
  * horizontal axis' root sum of squares of the fixed and random values and
  * the bias instability B (a 1-sigma bias, as `budget` takes it), ARW and
- * VRW the triads' N.  Rate random walk, scale factor and misalignment are
+ * VRW the triads' N (with a converter: the density of sensor, converter
+ * noise and quantization of sscope_adc_analyze(), and its offset error
+ * counted as a bias).  Rate random walk, scale factor and misalignment are
  * not mapped (the budget has no term for the first and needs a motion
  * profile for the others).
  */

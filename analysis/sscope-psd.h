@@ -217,7 +217,12 @@ int sscope_psd_feed(struct sscope_psd *psd, const double *x, size_t stride,
  *         averaged (record shorter than nperseg without opts.shorten, no
  *         sample, every segment non-finite) or when a segment still
  *         waiting to be transformed holds a non-finite sample and
- *         skip_nonfinite is off; -ENOMEM.
+ *         skip_nonfinite is off; -ERANGE when the spectrum leaves the
+ *         double range (a value overflows, or the largest lies below
+ *         2^-970 so its neighbours would be subnormal; or fs_hz / nfft
+ *         is not a normal double) -- segments of extreme samples are
+ *         transformed scaled by powers of two, so any finite record whose
+ *         spectrum is representable gets it; -ENOMEM.
  */
 int sscope_psd_result(struct sscope_psd *psd, double fs_hz,
 		      struct sscope_spectrum *out);
@@ -227,7 +232,7 @@ int sscope_psd_result(struct sscope_psd *psd, double fs_hz,
  * @param fs_hz sample rate, Hz.
  * @param out   receives it; free with sscope_spectrogram_clear().
  * @return 0; -EINVAL (no spectrogram was asked for, bad fs_hz); -EDOM (no
- *         segment yet); -ENOMEM.
+ *         segment yet); -ERANGE as sscope_psd_result(); -ENOMEM.
  */
 int sscope_psd_spectrogram(struct sscope_psd *psd, double fs_hz,
 			   struct sscope_spectrogram *out);
@@ -406,6 +411,27 @@ struct sscope_band {
 int sscope_octave_bands(unsigned fraction, double fmin_hz, double fmax_hz,
 			struct sscope_band *bands, size_t max,
 			size_t *n_found);
+
+/**
+ * A band between two edges for a spectrum of Nyquist frequency
+ * @p nyquist_hz: the upper edge clipped to it, the centre the geometric
+ * mean of the edges, no nominal frequency (NaN).
+ * @return 0; -EINVAL (lo < 0, hi <= lo, not finite); -EDOM when the band
+ *         starts at or above the Nyquist frequency.
+ */
+int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
+		      struct sscope_band *band);
+
+/**
+ * The fractional-octave bands (sscope_octave_bands()) a spectrum
+ * resolves: inside [bin/2, fs/2] and at least one bin wide (a narrower
+ * band says nothing).
+ * @param bands, max, n_found  as sscope_octave_bands().
+ * @return as sscope_octave_bands().
+ */
+int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
+				 unsigned fraction, struct sscope_band *bands,
+				 size_t max, size_t *n_found);
 
 #ifdef __cplusplus
 }

@@ -188,7 +188,8 @@ struct sscope_tempbias_result {
  * @return 0; -EINVAL (NULL pointer, no runs, rate not positive, bad
  *         option); -EDOM (temperature span below min_span_degc with one
  *         run, too few samples or bins for any fit, non-finite
- *         temperatures only); -ENOMEM.
+ *         temperatures only); -ERANGE (samples or temperatures beyond
+ *         2^+-250); -ENOMEM.
  */
 int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 			const struct sscope_tempbias_opts *opts,

@@ -82,7 +82,8 @@ int sscope_velocity_ms(const struct sscope_spectrum *accel, double lo_hz,
 
 /**
  * Kurtosis m4 / m2^2 (Pearson's: 3 for a Gaussian, 1.5 for a sine),
- * two passes about the mean.  Non-finite samples are an error.
+ * two passes about the mean (samples beyond 2^+-120 scaled by a power of
+ * two first: exact).  Non-finite samples are an error.
  * @return 0; -EDOM (fewer than 4 samples, a constant, a non-finite
  *         sample); -EINVAL.
  */
@@ -220,7 +221,9 @@ struct sscope_vib_result {
  *   1e-3 per bin).
  * @param diag optional detail of a failure.
  * @return 0; -EINVAL (bad options, fs_hz not positive); -EDOM (record too
- *         short, non-finite samples, a constant); -ENOMEM.
+ *         short, non-finite samples, a constant); -ERANGE (samples beyond
+ *         2^+-120, where the envelope's 4th powers leave the double
+ *         range); -ENOMEM.
  */
 int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 			     double fs_hz, const struct sscope_vib_opts *o,

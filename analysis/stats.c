@@ -11,6 +11,10 @@
  * spread still leaves the mean and the spread their digits.  Contiguous
  * blocks without NaN run on vectors (GCC vector extensions, lanes summed
  * in a fixed order); a block holding NaN is redone sample by sample.
+ * Samples whose largest magnitude lies outside [2^-300, 2^300] are summed
+ * again, sample by sample, scaled by a power of two (exact), so that
+ * neither the differences (1e308 - -1e308) nor the squares (1e200^2,
+ * 1e-300^2) leave the double range; the results are scaled back.
  */
 #include "internal.h"
 
@@ -34,6 +38,35 @@ typedef double ssc_sv4 __attribute__((vector_size(32)));
 typedef long long ssc_sv4i __attribute__((vector_size(32)));
 #define SV4LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_sv4))
 #endif
+
+double ssc_safe_scale(double amax)
+{
+	int e;
+
+	if (!(amax > 0x1p-300 && amax < 0x1p300) && amax > 0 && isfinite(amax)) {
+		frexp(amax, &e);
+		return ldexp(1.0, -e);
+	}
+	return 1;
+}
+
+int ssc_magnitude_check(const double *x, size_t stride, size_t n, int lim,
+			const char *what, struct sscope_diag *diag)
+{
+	double amax = 0;
+
+	for (size_t k = 0; k < n; k++) {
+		double a = fabs(x[k * stride]);
+
+		if (a > amax && isfinite(a))
+			amax = a;
+	}
+	if (amax > ldexp(1.0, lim) || (amax > 0 && amax < ldexp(1.0, -lim)))
+		return ssc_diag(diag, -ERANGE,
+				"%s: the largest magnitude, %g, lies outside 2^-%d .. 2^%d, the range this analysis squares without overflow or underflow",
+				what, amax, lim, lim);
+	return 0;
+}
 
 struct blk {
 	size_t cnt, nan;
@@ -107,16 +140,16 @@ SSC_SCLONES static bool block_vec(const double *x, size_t len, double v0,
 #endif
 }
 
-/* any block, sample by sample */
+/* any block, sample by sample, samples times sc (a power of two) */
 static void block_scalar(const double *x, size_t stride, size_t len,
-			 double v0, struct blk *o)
+			 double v0, double sc, struct blk *o)
 {
 	double a[4] = { 0, 0, 0, 0 }, q[4] = { 0, 0, 0, 0 };
 	double c[4] = { 0, 0, 0, 0 }, lo = INFINITY, hi = -INFINITY, mb;
 	size_t nan = 0;
 
 	for (size_t i = 0; i < len; i++) {
-		double v = x[i * stride];
+		double v = x[i * stride] * sc;
 
 		if (isnan(v)) {
 			nan++;
@@ -135,7 +168,7 @@ static void block_scalar(const double *x, size_t stride, size_t len,
 		return;
 	mb = o->sum / (double)o->cnt;
 	for (size_t i = 0; i < len; i++) {
-		double v = x[i * stride], d;
+		double v = x[i * stride] * sc, d;
 
 		if (isnan(v))
 			continue;
@@ -147,32 +180,25 @@ static void block_scalar(const double *x, size_t stride, size_t len,
 	o->c = (c[0] + c[1]) + (c[2] + c[3]);
 }
 
-int sscope_stats_compute(const double *x, size_t stride, size_t n,
-			 struct sscope_stats *st)
+#include <gsl/gsl_cdf.h>
+
+/* one pass; sc != 1: samples scaled by sc, sample by sample, and not
+ * shifted (one huge sample first would leave its rounding in every term) */
+static void pass(const double *x, size_t stride, size_t n, size_t first,
+		 double sc, struct sscope_stats *st)
 {
 	struct ssc_ksum s = { 0, 0 }, m2 = { 0, 0 };
-	size_t used = 0, nan, first = 0;
-	double v0, lo = INFINITY, hi = -INFINITY, m2v;
+	size_t used = 0, nan = first;
+	double v0 = sc == 1 ? x[first * stride] : 0, lo = INFINITY,
+	       hi = -INFINITY, m2v;
 
-	if (!x || !st || stride == 0)
-		return -EINVAL;
-	st->n = 0;
-	st->n_nan = 0;
-	while (first < n && isnan(x[first * stride]))
-		first++;
-	if (first == n) {
-		st->n_nan = n;
-		return -EDOM;
-	}
-	nan = first;
-	v0 = x[first * stride];
 	for (size_t b = first; b < n; b += SBLOCK) {
 		const size_t len = n - b < SBLOCK ? n - b : SBLOCK;
 		struct blk k;
 		double mb;
 
-		if (stride != 1 || !block_vec(x + b, len, v0, &k))
-			block_scalar(x + b * stride, stride, len, v0, &k);
+		if (sc != 1 || stride != 1 || !block_vec(x + b, len, v0, &k))
+			block_scalar(x + b * stride, stride, len, v0, sc, &k);
 		nan += k.nan;
 		if (k.cnt == 0)
 			continue;
@@ -194,9 +220,81 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 	m2v = ssc_ksum_value(&m2);
 	st->n = used;
 	st->n_nan = nan;
-	st->mean = v0 + ssc_ksum_value(&s) / (double)used;
-	st->min = lo;
-	st->max = hi;
-	st->sd = used < 2 || !(m2v > 0) ? 0 : sqrt(m2v / (double)(used - 1));
+	st->mean = (v0 + ssc_ksum_value(&s) / (double)used) / sc;
+	st->min = lo / sc;
+	st->max = hi / sc;
+	st->sd = used < 2 || !(m2v > 0) ? 0 :
+					  sqrt(m2v / (double)(used - 1)) / sc;
+}
+
+int sscope_stats_compute(const double *x, size_t stride, size_t n,
+			 struct sscope_stats *st)
+{
+	size_t first = 0;
+	double lo, hi, sc;
+
+	if (!x || !st || stride == 0)
+		return -EINVAL;
+	st->n = 0;
+	st->n_nan = 0;
+	while (first < n && isnan(x[first * stride]))
+		first++;
+	if (first == n) {
+		st->n_nan = n;
+		return -EDOM;
+	}
+	pass(x, stride, n, first, 1, st);
+	/* extremes: the sums again, scaled; min and max as found */
+	sc = ssc_safe_scale(fmax(fabs(st->min), fabs(st->max)));
+	if (sc != 1) {
+		lo = st->min;
+		hi = st->max;
+		pass(x, stride, n, first, sc, st);
+		st->min = lo;
+		st->max = hi;
+	}
+	/* the mean lies within [min, max]; only the sd (up to sqrt(2) times
+	 * the largest magnitude) can leave the range */
+	if (!isfinite(st->sd))
+		return -ERANGE;
+	return 0;
+}
+
+int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
+			       double level, double *mean, double *lo,
+			       double *hi, size_t *used)
+{
+	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 };
+	size_t k = 0;
+	double m;
+
+	if (!x || !mean || !lo || !hi || stride == 0 || !(level > 0 && level < 1))
+		return -EINVAL;
+	*mean = *lo = *hi = NAN;
+	if (used)
+		*used = 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride])) {
+			ssc_ksum_add(&s, x[i * stride]);
+			k++;
+		}
+	if (used)
+		*used = k;
+	if (!k)
+		return -EDOM;
+	m = ssc_ksum_value(&s) / (double)k;
+	*mean = m;
+	if (k < 2)
+		return 0;
+	for (size_t i = 0; i < n; i++)
+		if (isfinite(x[i * stride]))
+			ssc_ksum_add(&q, (x[i * stride] - m) * (x[i * stride] - m));
+	{
+		double se = sqrt(ssc_ksum_value(&q) / (double)(k - 1) / (double)k);
+		double t = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(k - 1));
+
+		*lo = m - t * se;
+		*hi = m + t * se;
+	}
 	return 0;
 }

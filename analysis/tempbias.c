@@ -872,6 +872,13 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		if (!runs[j].x || !runs[j].temp_degc || runs[j].stride == 0 ||
 		    !(runs[j].rate_hz > 0) || !isfinite(runs[j].rate_hz))
 			return ssc_diag(diag, -EINVAL, "run %zu: bad record", j + 1);
+	/* centred, scaled polynomial fits still square the samples */
+	for (size_t j = 0; j < n_runs; j++)
+		if ((rc = ssc_magnitude_check(runs[j].x, runs[j].stride, runs[j].n,
+					      250, "tempbias", diag)) ||
+		    (rc = ssc_magnitude_check(runs[j].temp_degc, 1, runs[j].n,
+					      250, "tempbias temperature", diag)))
+			return rc;
 	block_s = o->block_s > 0 ? o->block_s : 1;
 	smooth_s = o->smooth_s > 0 ? o->smooth_s : 60;
 	min_span = o->min_span_degc > 0 ? o->min_span_degc : 1;

@@ -139,7 +139,8 @@ int sscope_velocity_ms(const struct sscope_spectrum *s, double lo, double hi,
 int sscope_kurtosis(const double *x, size_t stride, size_t n, double *kurt)
 {
 	struct ssc_ksum s = { 0, 0 }, s2 = { 0, 0 }, s4 = { 0, 0 };
-	double mean, m2, m4;
+	double mean, m2, m4, amax = 0, sc = 1;
+	int e;
 
 	if (!x || !kurt || stride == 0)
 		return -EINVAL;
@@ -148,11 +149,19 @@ int sscope_kurtosis(const double *x, size_t stride, size_t n, double *kurt)
 	for (size_t i = 0; i < n; i++) {
 		if (!isfinite(x[i * stride]))
 			return -EDOM;
-		ssc_ksum_add(&s, x[i * stride]);
+		amax = fmax(amax, fabs(x[i * stride]));
 	}
+	/* 4th powers leave the double range beyond 2^+-250: a power of two
+	 * (exact; the ratio does not change) brings the samples near 1 */
+	if (amax > 0 && (amax > 0x1p120 || amax < 0x1p-120)) {
+		frexp(amax, &e);
+		sc = ldexp(1.0, -e);
+	}
+	for (size_t i = 0; i < n; i++)
+		ssc_ksum_add(&s, x[i * stride] * sc);
 	mean = ssc_ksum_value(&s) / (double)n;
 	for (size_t i = 0; i < n; i++) {
-		double d = x[i * stride] - mean, d2 = d * d;
+		double d = x[i * stride] * sc - mean, d2 = d * d;
 
 		ssc_ksum_add(&s2, d2);
 		ssc_ksum_add(&s4, d2 * d2);
@@ -679,6 +688,10 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 		return ssc_diag(diag, -EDOM,
 				"%zu samples: too short for vibration analysis",
 				n);
+	/* the envelope's kurtosis takes 4th powers of the analytic signal */
+	rc = ssc_magnitude_check(x, stride, n, 120, "vibration", diag);
+	if (rc)
+		return rc;
 	rc = sscope_kurtosis(x, stride, n, &r->kurtosis);
 	if (rc)
 		return ssc_diag(diag, rc, "%s",

@@ -15,7 +15,6 @@
 
 #include <gsl/gsl_cdf.h>
 
-#include "nav-internal.h"
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
@@ -32,7 +31,7 @@ static int still_contrast(const double *x, size_t stride, size_t n, double fs,
 	if (!rc)
 		rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
 	if (!rc)
-		rc = ssc_nav_vs_percentiles(v, n, work, &lo, &hi);
+		rc = ssc_calib_vs_deciles(v, n, work, 10, &lo, &hi);
 	if (!rc)
 		*ratio = lo > 0 ? hi / lo : hi > 0 ? (double)INFINITY : 1;
 	free(v);

@@ -6,7 +6,9 @@
  * bits are kept, a new file gets 0666 less the umask.  Direct writes open
  * the existing node without O_CREAT or O_TRUNC.  The stream is a
  * fopencookie(3) stream over the descriptor so that the errno of a failed
- * write(2) is kept for the message (stdio forgets it).
+ * write(2) is kept for the message (stdio forgets it).  A file with other
+ * hard links is not renamed over (that would part it from its other
+ * names): the complete temporary file is copied into it.
  */
 #include "config.h"
 
@@ -286,6 +288,74 @@ int ssc_atomic_error(const struct ssc_atomic *a)
 	return a->f && ferror(a->f) ? -EIO : 0;
 }
 
+/*
+ * A regular file with other hard links: renaming over it would leave the
+ * other names with the old content, so the complete temporary file is
+ * copied into it instead.  Its blocks are reserved first (fallocate
+ * without changing the size), so a full file system is found before the
+ * old content is touched; then written, cut to size, synced.
+ */
+static int copy_into(const char *tmp, const char *path)
+{
+	_Alignas(8) char buf[1 << 16];
+	struct stat st;
+	int in, out, rc = 0;
+	off_t off = 0;
+
+	in = open(tmp, O_RDONLY | O_CLOEXEC);
+	if (in < 0)
+		return -errno;
+	out = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC);
+	if (out < 0 || fstat(in, &st) != 0) {
+		rc = -errno;
+		goto out;
+	}
+	if (st.st_size > 0 &&
+	    fallocate(out, FALLOC_FL_KEEP_SIZE, 0, st.st_size) != 0 &&
+	    errno != EOPNOTSUPP && errno != ENOSYS) {
+		rc = -errno;
+		goto out;
+	}
+	for (;;) {
+		ssize_t n = read(in, buf, sizeof(buf)), w = 0;
+
+		if (n < 0 && errno == EINTR)
+			continue;
+		if (n < 0) {
+			rc = -errno;
+			goto out;
+		}
+		if (n == 0)
+			break;
+		while (w < n) {
+			ssize_t k = pwrite(out, buf + w, (size_t)(n - w), off);
+
+			if (k < 0 && errno == EINTR)
+				continue;
+			if (k <= 0) {
+				rc = k < 0 ? -errno : -EIO;
+				goto out;
+			}
+			w += k;
+			off += k;
+		}
+	}
+	if (ftruncate(out, off) != 0 || fsync(out) != 0)
+		rc = -errno;
+out:
+	if (out >= 0 && close(out) != 0 && !rc)
+		rc = -errno;
+	close(in);
+	return rc;
+}
+
+static bool has_other_links(const char *path)
+{
+	struct stat st;
+
+	return stat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_nlink > 1;
+}
+
 int ssc_atomic_commit(struct ssc_atomic *a)
 {
 	int rc = 0;
@@ -299,8 +369,12 @@ int ssc_atomic_commit(struct ssc_atomic *a)
 	if (fclose(a->f) != 0 && !rc)
 		rc = a->err ? -a->err : -EIO;
 	a->f = NULL;
-	if (!rc && a->tmp && rename(a->tmp, a->path) != 0)
+	if (!rc && a->tmp && has_other_links(a->path)) {
+		rc = copy_into(a->tmp, a->path);
+		unlink(a->tmp);
+	} else if (!rc && a->tmp && rename(a->tmp, a->path) != 0) {
 		rc = -errno;
+	}
 	if (rc && a->tmp)
 		unlink(a->tmp);
 	free(a->path);

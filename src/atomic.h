@@ -4,7 +4,9 @@
  * a name that does not exist yet) is written to a temporary file beside it
  * and renamed over it only when complete, so an error never leaves a
  * half-written result; a symbolic link is followed and its target replaced
- * the same way (the link stays a link).  Everything else is written
+ * the same way (the link stays a link).  A file with other hard links is
+ * written in place once the output is complete (blocks reserved first), so
+ * every name keeps sharing it.  Everything else is written
  * directly and never replaced: "-", /dev/stdout, /dev/stderr and /dev/fd/N
  * (the open descriptor), FIFOs, character and block devices.  The first
  * write error's errno is kept, so "No space left on device" can be said

@@ -7,6 +7,7 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
@@ -65,6 +66,11 @@ void sscope_capture_free(struct sscope_capture *cap)
 {
 	if (!cap)
 		return;
+	if (cap->is_view) {
+		free(cap->channels);
+		free(cap);
+		return;
+	}
 	for (size_t k = 0; cap->channels && k < cap->n_channels; k++) {
 		free_column(&cap->channels[k].col);
 		if (!in_mapping(cap, cap->channels[k].data))
@@ -78,6 +84,7 @@ void sscope_capture_free(struct sscope_capture *cap)
 	free_column(&cap->time_col);
 	free_column(&cap->temp_col);
 	free(cap->source);
+	free(cap->gaps);
 	ssc_source_free(cap->source_info);
 	free(cap);
 }
@@ -182,6 +189,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 		cap->n = n;
+		cap->channels[0].n_nan = cap->n_nan;
 		goto rate;
 	}
 	/* A mapped file (or any source of known size) is read in one pass,
@@ -254,31 +262,51 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		for (size_t i = 0; i < n; i++)
-			cap->n_nan += isnan(cap->channels[k].data[i]);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const double *d = cap->channels[k].data;
+		size_t nan = 0;
+
+		for (size_t i = 0; i < n; i++) {
+			nan += isnan(d[i]);
+			/* finite in the file, infinite in SI (1e308 g) */
+			if (isinf(d[i])) {
+				rc = ssc_diag(diag, -ERANGE,
+					      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
+					      strcmp(path, "-") ? path : "(stdin)",
+					      cap->channels[k].col.name, i + 1,
+					      cap->channels[k].col.unit_label);
+				goto fail;
+			}
+		}
+		cap->channels[k].n_nan = nan;
+		cap->n_nan += nan;
+	}
 rate:
-	if (opts && opts->rate_hz > 0) {
-		cap->rate_hz = opts->rate_hz;
-		cap->rate_source = SSCOPE_RATE_GIVEN;
-	} else if (cap->time_s && n >= 2) {
-		struct sscope_timing tm;
+	if (cap->time_s && n >= 2) {
 		double *scratch = ssc_alloc_array(n - 1, sizeof(double));
 
-		if (!scratch) {
+		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
+		if (!scratch || !cap->gaps) {
+			free(scratch);
 			rc = -ENOMEM;
 			goto fail;
 		}
-		rc = sscope_timing_analyze(cap->time_s, n, 1.5, &tm, NULL, 0,
-					   NULL, scratch);
+		rc = sscope_timing_analyze(cap->time_s, n, 1.5, &cap->timing,
+					   cap->gaps, SSCOPE_CAPTURE_GAPS,
+					   &cap->n_gaps, scratch);
 		free(scratch);
-		if (rc == 0) {
-			cap->rate_hz = tm.rate_hz;
-			cap->rate_source = SSCOPE_RATE_TIME_COLUMN;
-		} else if (rc != -EDOM) {
+		if (rc == 0)
+			cap->has_timing = true;
+		else if (rc != -EDOM)
 			goto fail;
-		}
 		rc = 0;
+	}
+	if (opts && opts->rate_hz > 0) {
+		cap->rate_hz = opts->rate_hz;
+		cap->rate_source = SSCOPE_RATE_GIVEN;
+	} else if (cap->has_timing) {
+		cap->rate_hz = cap->timing.rate_hz;
+		cap->rate_source = SSCOPE_RATE_TIME_COLUMN;
 	}
 	if (cap->rate_source == SSCOPE_RATE_NONE &&
 	    sscope_reader_header_rate(r) > 0) {
@@ -373,4 +401,182 @@ long sscope_capture_find(const struct sscope_capture *cap, const char *name)
 		if (!strcmp(cap->channels[k].col.name, name))
 			return (long)k;
 	return -1;
+}
+
+/* Trimmed items of a column list, one at a time: the next item of *p
+ * (advanced) into buf, false at the end.  Empty items are skipped. */
+static bool next_item(const char **p, char *buf, size_t len, bool *too_long)
+{
+	while (**p) {
+		const char *s = *p, *e = strchr(s, ',');
+		size_t n;
+
+		if (!e)
+			e = s + strlen(s);
+		*p = *e ? e + 1 : e;
+		while (s < e && (*s == ' ' || *s == '\t'))
+			s++;
+		while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' ||
+				 e[-1] == '\n'))
+			e--;
+		n = (size_t)(e - s);
+		if (!n)
+			continue;
+		*too_long = n >= len;
+		if (*too_long)
+			n = len - 1;
+		memcpy(buf, s, n);
+		buf[n] = '\0';
+		return true;
+	}
+	return false;
+}
+
+static long find_item(const struct sscope_capture *cap, const char *item)
+{
+	char *end;
+	long idx = strtol(item, &end, 10);
+
+	if (!*end) {
+		for (size_t k = 0; k < cap->n_channels; k++)
+			if ((long)cap->channels[k].col.index + 1 == idx)
+				return (long)k;
+		return -1;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (!strcmp(cap->channels[k].col.name, item))
+			return (long)k;
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (!ssc_strcasecmp(cap->channels[k].col.name, item))
+			return (long)k;
+	return -1;
+}
+
+/* The channels a column list names, in its order: idx[0..*n). */
+static int resolve(const struct sscope_capture *cap, const char *columns,
+		   size_t *idx, size_t *n, struct sscope_diag *diag)
+{
+	const char *p = columns;
+	char item[256];
+	bool too_long;
+
+	*n = 0;
+	if (!columns || !*columns) {
+		for (size_t k = 0; k < cap->n_channels; k++)
+			idx[(*n)++] = k;
+		return 0;
+	}
+	while (next_item(&p, item, sizeof(item), &too_long)) {
+		long k = too_long ? -1 : find_item(cap, item);
+		bool dup = false;
+
+		if (k < 0) {
+			char names[200] = "";
+			size_t used = 0;
+
+			for (size_t j = 0; j < cap->n_channels && used + 4 < sizeof(names); j++) {
+				int w = snprintf(names + used, sizeof(names) - used,
+						 "%s%s", j ? ", " : "",
+						 cap->channels[j].col.name);
+
+				if (w < 0)
+					break;
+				used += (size_t)w;
+			}
+			return ssc_diag(diag, -EINVAL,
+					"%s: no column '%s' (columns: %s)",
+					cap->source && strcmp(cap->source, "-") ?
+						cap->source : "(stdin)",
+					item, names);
+		}
+		for (size_t j = 0; j < *n; j++)
+			dup |= idx[j] == (size_t)k;
+		if (!dup)
+			idx[(*n)++] = (size_t)k;
+	}
+	return 0;
+}
+
+int sscope_capture_view(const struct sscope_capture *cap, const char *columns,
+			struct sscope_capture **view, struct sscope_diag *diag)
+{
+	struct sscope_capture *v;
+	size_t *idx, n;
+	int rc;
+
+	if (!cap || !view)
+		return -EINVAL;
+	*view = NULL;
+	idx = ssc_alloc_array(cap->n_channels + 1, sizeof(*idx));
+	v = malloc(sizeof(*v));
+	if (!idx || !v) {
+		free(idx);
+		free(v);
+		return -ENOMEM;
+	}
+	rc = resolve(cap, columns, idx, &n, diag);
+	if (rc) {
+		free(idx);
+		free(v);
+		return rc;
+	}
+	*v = *cap;
+	v->is_view = true;
+	v->n_channels = n;
+	v->channels = ssc_alloc_array(n + 1, sizeof(*v->channels));
+	if (!v->channels) {
+		free(idx);
+		free(v);
+		return -ENOMEM;
+	}
+	v->n_nan = 0;
+	for (size_t k = 0; k < n; k++) {
+		v->channels[k] = cap->channels[idx[k]];
+		v->n_nan += v->channels[k].n_nan;
+	}
+	free(idx);
+	*view = v;
+	return 0;
+}
+
+int sscope_capture_select(struct sscope_capture *cap, const char *columns,
+			  struct sscope_diag *diag)
+{
+	struct sscope_channel *ch;
+	size_t *idx, n;
+	bool *kept;
+	int rc;
+
+	if (!cap || cap->is_view)
+		return -EINVAL;
+	if (!columns || !*columns)
+		return 0;
+	idx = ssc_alloc_array(cap->n_channels + 1, sizeof(*idx));
+	kept = calloc(cap->n_channels + 1, sizeof(*kept));
+	ch = ssc_alloc_array(cap->n_channels + 1, sizeof(*ch));
+	rc = idx && kept && ch ? resolve(cap, columns, idx, &n, diag) : -ENOMEM;
+	if (rc) {
+		free(idx);
+		free(kept);
+		free(ch);
+		return rc;
+	}
+	cap->n_nan = 0;
+	for (size_t k = 0; k < n; k++) {
+		ch[k] = cap->channels[idx[k]];
+		kept[idx[k]] = true;
+		cap->n_nan += ch[k].n_nan;
+	}
+	for (size_t j = 0; j < cap->n_channels; j++)
+		if (!kept[j]) {
+			free_column(&cap->channels[j].col);
+			if (!in_mapping(cap, cap->channels[j].data))
+				free(cap->channels[j].data);
+		}
+	free(cap->channels);
+	cap->channels = ch;
+	cap->n_channels = n;
+	free(idx);
+	free(kept);
+	return 0;
 }

@@ -51,6 +51,13 @@ static inline bool ssc_add(size_t a, size_t b, size_t *out)
 /* malloc of a * b bytes with overflow check; NULL on failure. */
 void *ssc_alloc_array(size_t count, size_t size);
 
+/* 10th and 90th percentiles (lower order statistics) of the finite values
+ * of a sliding variance (sscope_calib_variance_magnitude()), through
+ * @p work (n doubles); p90 may be NULL.  Returns 0, or -EDOM when fewer
+ * than max(1, min_finite) values are finite.  In analysis/calib.c. */
+int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
+			 size_t min_finite, double *p10, double *p90);
+
 /* strdup that accepts NULL (returns NULL) */
 char *ssc_strdup(const char *s);
 
@@ -111,6 +118,19 @@ int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
 bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 			     double **x, size_t *n, size_t *n_nan,
 			     void **map, size_t *map_len);
+
+/* Scale for sums of squares over samples whose largest magnitude is
+ * amax: 1 when amax lies in [2^-300, 2^300] (or is 0), else the power of
+ * two that brings amax into [0.5, 1) -- exact, so results scaled back are
+ * those of a wider exponent range (analysis/stats.c). */
+double ssc_safe_scale(double amax);
+
+/* Analyses that square (or raise to the 4th power) sums of samples
+ * without scaling them: -ERANGE, with a message naming `what`, when the
+ * largest finite magnitude of x lies outside [2^-lim, 2^lim] (0 passes);
+ * one pass over the samples. */
+int ssc_magnitude_check(const double *x, size_t stride, size_t n, int lim,
+			const char *what, struct sscope_diag *diag);
 
 /* Case-insensitive ASCII comparison of two strings. */
 int ssc_strcasecmp(const char *a, const char *b);

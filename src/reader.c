@@ -456,6 +456,11 @@ static size_t same_name(const struct sscope_reader *r, size_t i, char *buf,
 	return n;
 }
 
+static int cmp_name(const void *a, const void *b)
+{
+	return ssc_strcasecmp(*(const char *const *)a, *(const char *const *)b);
+}
+
 static int column_list(struct sscope_reader *r, char *buf, size_t len)
 {
 	size_t used = 0;
@@ -561,9 +566,18 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		for (tok = strtok_r(copy, ",", &save); tok;
 		     tok = strtok_r(NULL, ",", &save)) {
 			long idx;
+			char *e;
 
-			while (*tok == ' ')
+			/* blanks around an item are not part of it (as
+			 * sscope_capture_select() reads the list) */
+			while (*tok == ' ' || *tok == '\t')
 				tok++;
+			e = tok + strlen(tok);
+			while (e > tok && (e[-1] == ' ' || e[-1] == '\t' ||
+					   e[-1] == '\r' || e[-1] == '\n'))
+				*--e = '\0';
+			if (!*tok)
+				continue;
 			idx = find_column(r, tok);
 			if (idx < 0) {
 				column_list(r, names, sizeof(names));
@@ -613,20 +627,31 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 			r->last_used = i;
 	}
 	/* two columns in use under one name: results could not tell them
-	 * apart (t,gx,gx,gx) */
-	for (size_t i = 0; i < r->ncols; i++) {
-		if (!r->cols[i].used)
-			continue;
-		for (size_t k = i + 1; k < r->ncols; k++)
-			if (r->cols[k].used &&
-			    !ssc_strcasecmp(r->cols[i].name, r->cols[k].name)) {
-				size_t n = same_name(r, i, names, sizeof(names));
+	 * apart (t,gx,gx,gx); the used names sorted, neighbours compared */
+	{
+		const char **un = ssc_alloc_array(r->ncols + 1, sizeof(*un));
+		size_t nu = 0;
 
-				return ssc_diag(diag, -EINVAL,
-						"%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",
-						r->disp, names, n > 2 ? "all" : "both",
-						r->cols[i].name);
+		if (!un)
+			return -ENOMEM;
+		for (size_t i = 0; i < r->ncols; i++)
+			if (r->cols[i].used)
+				un[nu++] = r->cols[i].name;
+		qsort(un, nu, sizeof(*un), cmp_name);
+		for (size_t i = 1; i < nu; i++)
+			if (!ssc_strcasecmp(un[i - 1], un[i])) {
+				long k = find_column(r, un[i]);
+				size_t n = same_name(r, (size_t)k, names,
+						     sizeof(names));
+
+				rc = ssc_diag(diag, -EINVAL,
+					      "%s: columns %s are %s named '%s': rename them in the header, or select one by its number (-c)",
+					      r->disp, names, n > 2 ? "all" : "both",
+					      r->cols[k].name);
+				free(un);
+				return rc;
 			}
+		free(un);
 	}
 	for (size_t k = 0; k < r->nsel; k++) {
 		rc = check_unit(r, &r->cols[r->sel[k]], diag);

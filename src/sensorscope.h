@@ -420,10 +420,102 @@ int sscope_reader_read(struct sscope_reader *reader,
 /** Close a reader (NULL is ignored). */
 void sscope_reader_close(struct sscope_reader *reader);
 
+/**
+ * Mean of the finite values of x[k*stride], k < n, with its Student-t
+ * interval mean -+ t(level, k - 1) s / sqrt(k) (s the sample sd of the k
+ * finite values) -- the interval of a mean over a few runs.
+ * @param level  two-sided level in (0, 1), e.g. 0.6827.
+ * @param lo, hi receive the interval (NaN with fewer than two values).
+ * @param used   receives k (may be NULL).
+ * @return 0; -EDOM when no value is finite (mean NaN); -EINVAL.
+ */
+int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,
+			       double level, double *mean, double *lo,
+			       double *hi, size_t *used);
+
+/**
+ * The values an interval table gives each sample (a rate-table schedule,
+ * a tilt table): @p rows holds n_rows rows of START END V1 .. Vk (k =
+ * @p n_val; times in s from the record's first sample); sample i, at
+ * t = t_s[i] - t_s[0] (or i / rate_hz when t_s is NULL), takes the values
+ * of the first row with START <= t < END, NaN outside every row.
+ * @param out  n_val arrays of n values.
+ * @return 0; -EINVAL (NULL, no time base, n_val 0).
+ */
+int sscope_intervals_sample(const double *t_s, double rate_hz, size_t n,
+			    const double *rows, size_t n_rows, size_t n_val,
+			    double *const *out);
+
+/**
+ * Order of a time column, fed in pieces (a streaming reader feeds every
+ * chunk).  Zero-initialise.  Counts intervals that are not positive and
+ * recognises a swapped pair of rows (a backward step whose exchange with
+ * the row before restores the order).
+ */
+struct sscope_time_order {
+	size_t n;            /**< stamps fed */
+	size_t n_repeats;    /**< intervals of exactly 0 (a repeated stamp) */
+	size_t n_decreasing; /**< negative intervals */
+	size_t n_swaps;      /**< of those, swapped pairs of adjacent rows
+				  (complete after sscope_time_order_check) */
+	size_t first_row;    /**< 0-based row of the first interval that is
+				  not positive (0: none) */
+	double first_t_s;    /**< that row's stamp */
+	double first_prev_s; /**< and the stamp before it */
+	double t0_s;         /**< the first stamp */
+	/* private: the last three stamps and a backward step waiting for the
+	 * next stamp to tell whether it was a swap */
+	double last_s[3];
+	int pending;
+};
+
+/** Feed the next @p n stamps (seconds); NaN stamps are not expected. */
+void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
+			    size_t n);
+
+/**
+ * Is the time column usable as sampling times?
+ * @param diag  receives the problem as a phrase to follow the column's
+ *              name: "has one row", "is constant (every row has the same
+ *              stamp)", "decreases in every row (...)", "has rows 3 and 4
+ *              in reverse order (...)", "repeats the stamp of row 3 at
+ *              row 4 (...)", "goes backwards 2 times (first at row 9:
+ *              ...)", with a count of further cases (rows 1-based).
+ * @return 0 when the stamps strictly increase (two or more of them);
+ *         -EDOM otherwise; -EINVAL for a NULL @p o.
+ */
+int sscope_time_order_check(const struct sscope_time_order *o,
+			    struct sscope_diag *diag);
+
+/** Sampling of a time column. */
+struct sscope_timing {
+	double dt_median_s; /**< median interval */
+	double dt_min_s;
+	double dt_max_s;
+	double jitter_rms_s;  /**< rms deviation of the regular intervals from
+				   their mean (gaps excluded) */
+	double rate_hz;       /**< 1 / mean regular interval */
+	size_t n_gaps;        /**< intervals longer than gap_factor * median */
+	size_t n_missing;     /**< samples missing in those gaps (estimated) */
+	size_t n_backwards;   /**< non-increasing intervals */
+	/** order of the stamps (filled also when the analysis returns
+	 *  -EDOM); see sscope_time_order_check() */
+	struct sscope_time_order order;
+};
+
+/** A gap in time stamps. */
+struct sscope_gap {
+	size_t index;     /**< first sample after the gap */
+	double t_s;       /**< its time */
+	double length_s;  /**< the interval */
+	size_t missing;   /**< round(length / median) - 1 */
+};
+
 /** One data channel of a loaded capture. */
 struct sscope_channel {
 	struct sscope_column col; /**< name, unit, quantity (owned) */
 	double *data;             /**< n samples in SI (owned) */
+	size_t n_nan;             /**< NaN samples (gaps) among them */
 };
 
 /** A capture in memory. */
@@ -450,7 +542,22 @@ struct sscope_capture {
 	size_t mapping_len;     /**< bytes of the mapping */
 	/** the last data line had no newline (sscope_reader_unterminated) */
 	bool unterminated;
+	/** Sampling of the time column (sscope_timing_analyze() with gap
+	 *  factor 1.5), valid when has_timing: loaded captures with a time
+	 *  column of two or more increasing stamps. */
+	struct sscope_timing timing;
+	bool has_timing;
+	/** The first SSCOPE_CAPTURE_GAPS gaps of the time column (n_gaps of
+	 *  them; timing.n_gaps counts all). */
+	struct sscope_gap *gaps;
+	size_t n_gaps;
+	/** A view made by sscope_capture_view(): samples, names, time and
+	 *  temperature belong to another capture. */
+	bool is_view;
 };
+
+/** Gaps of the time column a loaded capture lists (struct sscope_capture). */
+#define SSCOPE_CAPTURE_GAPS 100
 
 /**
  * Read a whole capture (the selected columns only).
@@ -497,6 +604,31 @@ void sscope_capture_release(void *capture, const double *x, size_t stride,
 
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);
+
+/**
+ * Keep only the channels a column list names, in the list's order: the one
+ * rule by which channels are chosen everywhere (a command's -c, a scene's
+ * columns, after a calibration is applied).  The list is
+ * "NAME|INDEX[,...]": a NAME is a channel's name (exact, else ignoring
+ * case), an INDEX the 1-based column of the source file; blanks around an
+ * item are ignored, empty items skipped, an item naming a channel already
+ * chosen counts once.
+ * @param cap      the capture, changed in place (dropped channels freed).
+ * @param columns  the list; NULL or "" keeps every channel.
+ * @return 0; -EINVAL when an item names no data channel of @p cap (diag
+ *         names it and lists the channels); -ENOMEM.
+ */
+int sscope_capture_select(struct sscope_capture *cap, const char *columns,
+			  struct sscope_diag *diag);
+
+/**
+ * sscope_capture_select() as a view: a capture holding the chosen channels
+ * of @p cap without copying samples.  The view is valid while @p cap is;
+ * sscope_capture_free() frees only what the view owns.
+ * @return as sscope_capture_select().
+ */
+int sscope_capture_view(const struct sscope_capture *cap, const char *columns,
+			struct sscope_capture **view, struct sscope_diag *diag);
 
 /**
  * Is the rate derived from the time column plausible (1e-3 .. 1e7 Hz)?
@@ -607,77 +739,15 @@ struct sscope_stats {
  * Mean, standard deviation, extremes of x[k*stride], k < n, skipping NaN.
  * One pass over memory, each cache-sized block in two passes, blocks merged
  * pairwise, sums compensated: exact to a few ulps even with an offset 1e9
- * times the spread.
+ * times the spread, and for any finite samples (1e308 or 1e-300: summed
+ * again scaled by a power of two).
  * @return 0; -EDOM when fewer than one finite sample (sd needs two: with
- *         one sample sd is 0); -EINVAL for stride 0.
+ *         one sample sd is 0); -ERANGE when the sd exceeds the double
+ *         range (samples near +-1.8e308, or infinite ones; the other
+ *         fields are set); -EINVAL for stride 0.
  */
 int sscope_stats_compute(const double *x, size_t stride, size_t n,
 			 struct sscope_stats *st);
-
-/**
- * Order of a time column, fed in pieces (a streaming reader feeds every
- * chunk).  Zero-initialise.  Counts intervals that are not positive and
- * recognises a swapped pair of rows (a backward step whose exchange with
- * the row before restores the order).
- */
-struct sscope_time_order {
-	size_t n;            /**< stamps fed */
-	size_t n_repeats;    /**< intervals of exactly 0 (a repeated stamp) */
-	size_t n_decreasing; /**< negative intervals */
-	size_t n_swaps;      /**< of those, swapped pairs of adjacent rows
-				  (complete after sscope_time_order_check) */
-	size_t first_row;    /**< 0-based row of the first interval that is
-				  not positive (0: none) */
-	double first_t_s;    /**< that row's stamp */
-	double first_prev_s; /**< and the stamp before it */
-	double t0_s;         /**< the first stamp */
-	/* private: the last three stamps and a backward step waiting for the
-	 * next stamp to tell whether it was a swap */
-	double last_s[3];
-	int pending;
-};
-
-/** Feed the next @p n stamps (seconds); NaN stamps are not expected. */
-void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
-			    size_t n);
-
-/**
- * Is the time column usable as sampling times?
- * @param diag  receives the problem as a phrase to follow the column's
- *              name: "has one row", "is constant (every row has the same
- *              stamp)", "decreases in every row (...)", "has rows 3 and 4
- *              in reverse order (...)", "repeats the stamp of row 3 at
- *              row 4 (...)", "goes backwards 2 times (first at row 9:
- *              ...)", with a count of further cases (rows 1-based).
- * @return 0 when the stamps strictly increase (two or more of them);
- *         -EDOM otherwise; -EINVAL for a NULL @p o.
- */
-int sscope_time_order_check(const struct sscope_time_order *o,
-			    struct sscope_diag *diag);
-
-/** Sampling of a time column. */
-struct sscope_timing {
-	double dt_median_s; /**< median interval */
-	double dt_min_s;
-	double dt_max_s;
-	double jitter_rms_s;  /**< rms deviation of the regular intervals from
-				   their mean (gaps excluded) */
-	double rate_hz;       /**< 1 / mean regular interval */
-	size_t n_gaps;        /**< intervals longer than gap_factor * median */
-	size_t n_missing;     /**< samples missing in those gaps (estimated) */
-	size_t n_backwards;   /**< non-increasing intervals */
-	/** order of the stamps (filled also when the analysis returns
-	 *  -EDOM); see sscope_time_order_check() */
-	struct sscope_time_order order;
-};
-
-/** A gap in time stamps. */
-struct sscope_gap {
-	size_t index;     /**< first sample after the gap */
-	double t_s;       /**< its time */
-	double length_s;  /**< the interval */
-	size_t missing;   /**< round(length / median) - 1 */
-};
 
 /**
  * Analyse time stamps.  Intervals that are not positive, and the two
@@ -694,6 +764,55 @@ struct sscope_gap {
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  struct sscope_timing *tm, struct sscope_gap *gaps,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
+
+/**
+ * Latency of receive times against the stamps they carry (a ROS
+ * container's receive times against the header stamps): rx[i] - t[i].
+ * @param scratch  n doubles of workspace.
+ * @return 0; -EDOM for n < 1 or non-finite latencies; -EINVAL.
+ */
+int sscope_timing_latency(const double *rx_s, const double *t_s, size_t n,
+			  double *median_s, double *min_s, double *max_s,
+			  double *scratch);
+
+/**
+ * Whether two timings of one record agree: rates within @p rel_tol and
+ * the same counts of gaps and of backward steps.
+ */
+bool sscope_timing_agree(const struct sscope_timing *a,
+			 const struct sscope_timing *b, double rel_tol);
+
+/**
+ * Streaming form of sscope_timing_analyze() for a record read in chunks
+ * (memory independent of its length).  The median interval is taken over
+ * the first SSCOPE_TIMING_STREAM_BLOCK intervals (all of them in a shorter
+ * record, where every result but jitter_rms_s equals
+ * sscope_timing_analyze()'s exactly); later intervals are classified
+ * against it.  Jitter comes from sums about that median.
+ */
+struct sscope_timing_stream;
+
+/** Intervals the streaming median is taken over. */
+#define SSCOPE_TIMING_STREAM_BLOCK 65536
+
+/** @return 0, -EINVAL (gap_factor <= 1), -ENOMEM. */
+int sscope_timing_stream_new(struct sscope_timing_stream **ts,
+			     double gap_factor);
+
+/** Feed the next @p n stamps (s, any chunking).  @return 0, -EINVAL. */
+int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
+			      const double *t_s, size_t n);
+
+/**
+ * The timing of the stamps fed so far.
+ * @return 0; -EDOM for fewer than two stamps or a non-positive median
+ *         interval; -EINVAL.
+ */
+int sscope_timing_stream_result(struct sscope_timing_stream *ts,
+				struct sscope_timing *tm);
+
+/** Free (NULL is ignored). */
+void sscope_timing_stream_free(struct sscope_timing_stream *ts);
 
 
 /* ------------------------------------------------------------------ */

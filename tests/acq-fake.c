@@ -146,6 +146,7 @@ static struct model {
 	unsigned gap_len;
 	long bad_crc_at;      /* sample whose burst is corrupted, -1 none */
 	bool bad_crc_done;
+	unsigned slow_bursts; /* the first bursts answered 12 ms late */
 	/* state */
 	uint64_t k;           /* samples produced */
 	uint16_t cntr;
@@ -402,7 +403,7 @@ static void spi_message(UMockdevIoctlClient *c, UMockdevIoctlData *arg,
 	uint8_t fb[4096], fr[4096];
 	size_t flen = 0, first = 0, total = 0;
 	uint32_t fspeed = 0;
-	bool burst_served = false;
+	bool burst_served = false, slow;
 	GError *err = NULL;
 
 	if (n == 0 || n > MAX_XFERS) {
@@ -466,7 +467,15 @@ static void spi_message(UMockdevIoctlClient *c, UMockdevIoctlData *arg,
 	}
 	if (burst_served && M.pacing == P_LOCKSTEP)
 		emit_locked(); /* the next data-ready edge */
+	slow = burst_served && M.slow_bursts && M.slow_bursts--;
 	pthread_mutex_unlock(&M.mu);
+	if (slow) {
+		/* a reader that cannot keep up: more than 16 periods pass,
+		 * the event queue fills and drops the newest edges */
+		struct timespec ts = { 0, 12000000 };
+
+		nanosleep(&ts, NULL);
+	}
 	umockdev_ioctl_client_complete(c, (glong)total, 0);
 out:
 	for (unsigned i = 0; i < n; i++) {
@@ -679,6 +688,7 @@ struct scenario {
 	long gap_at;
 	unsigned gap_len;
 	long bad_crc_at;
+	unsigned slow_bursts;
 };
 
 static const struct scenario base = {
@@ -713,6 +723,7 @@ static void start(const struct scenario *s)
 	M.gap_len = s->gap_len;
 	M.bad_crc_at = s->bad_crc_at;
 	M.bad_crc_done = false;
+	M.slow_bursts = s->slow_bursts;
 	M.k = 0;
 	M.cntr = M.cntr0;
 	M.ts_ns = 0;
@@ -1275,6 +1286,34 @@ static void scenario_free(void)
 	fidelity("free-running");
 }
 
+/* A reader too slow at the start: every one of the first 30 bursts finds
+ * the edge queue full, so each edge read is stale by several periods; the
+ * time stamps must still follow the device counter from the first row. */
+static void scenario_slow_start(void)
+{
+	struct scenario s = base;
+	const char *a[] = { "--spi", "/dev/spidev0.0", "--drdy", "gpiochip0:25",
+			    "--device", "adis16470", "--count", "300",
+			    "--format", "json", "-o", tpath("slow.csv"), NULL };
+	json_t *j;
+	int rc;
+
+	s.pacing = P_FREE;
+	s.slow_bursts = 30;
+	start(&s);
+	rc = acquire(a, 0, 0);
+	stop();
+	tap(rc == 0, "slow start: exit 0 (got %d)", rc);
+	if (rc)
+		show_file(tpath("err"));
+	j = summary();
+	tap(M.queue_drops > 0, "slow start: the edge queue overflowed (%u edges lost)",
+	    M.queue_drops);
+	consistency("slow start", tpath("slow.csv"), j,
+		    1e-9 * (double)s.period_ns, true);
+	json_decref(j);
+}
+
 static void scenario_poll(void)
 {
 	struct scenario s = base;
@@ -1554,6 +1593,7 @@ int main(void)
 				 "no answer from the device (PROD_ID reads 0xffff)");
 		scenario_rate_and_polarity();
 		scenario_free();
+		scenario_slow_start();
 		scenario_signal();
 	} else {
 		note("sensorscope built without libgpiod: data-ready scenarios replaced by the not-built check");

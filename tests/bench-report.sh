@@ -42,9 +42,19 @@ mb=$(du -m "$T/imu.csv" | cut -f1)
 echo "capture: $rows rows x 6 channels, $mb MB of CSV (simulated in $(echo "$t1 - $t0" | bc) s)"
 
 t0=$(date +%s.%N)
-"$S" report -q -o "$T/rep" "$T/imu.csv"
+if [ -x /usr/bin/time ]; then
+	# CPU time (user + system, every thread) and peak RSS beside the
+	# wall time: on a loaded machine the wall time is mostly waiting
+	/usr/bin/time -f '%U %S %M' -o "$T/cpu" "$S" report -q -o "$T/rep" "$T/imu.csv"
+else
+	"$S" report -q -o "$T/rep" "$T/imu.csv"
+fi
 t1=$(date +%s.%N)
-echo "report: $(echo "$t1 - $t0" | bc) s wall in total"
+echo "report: $(echo "$t1 - $t0" | bc) s wall in total (load average $(cut -d' ' -f1 /proc/loadavg))"
+if [ -s "$T/cpu" ]; then
+	read -r u s m <"$T/cpu"
+	echo "  CPU $(echo "$u + $s" | bc) s (user $u, system $s), peak RSS $((m / 1024)) MB"
+fi
 if command -v jq >/dev/null 2>&1; then
 	jq -r '.wall_time_s | to_entries[] | "  \(.key): \(.value * 1000 | round / 1000) s"' "$T/rep/report.json"
 	# the simulated N is 0.2 deg/sqrt(h) on each gyro axis

@@ -66,7 +66,7 @@ else
 fi
 
 # clean stops: everything read is in a valid file
-for sig in INT TERM; do
+for sig in INT TERM HUP; do
 	$SSCOPE_RUN "$SSCOPE" acquire --source sim:rate=2000 --format json \
 		-o "$T/s$sig.csv" >"$T/out" 2>"$T/err" &
 	pid=$!

@@ -141,4 +141,117 @@ has "last line, stdin: warning" "$T/err" "\(stdin\): the last line \(row 3\) has
 run "a complete last line" 0 info -r 10 "$SAMPLES/vibration.csv"
 lacks "complete: no warning" "$T/err" "no newline"
 
+# ---- 8. samples at the ends of the double range: the right answer, or
+# exit 1 naming the range -- never 0, nan or inf at exit 0.  Oracle: the
+# same record scaled into the ordinary range by sensorscope itself, the
+# results scaled back (relative 1e-9: the decimal scaling rounds).
+# gen FILE FACTOR SPIKE: 2000 rows of a fixed pseudo-random walk-free
+# sequence times FACTOR, row 1000 replaced by SPIKE (0: none)
+gen() {
+	awk -v f="$2" -v s="$3" 'BEGIN {
+		print "gx [deg/s]"; x = 12345
+		for (i = 0; i < 2000; i++) {
+			x = (x * 1103515245 + 12345) % 2147483648
+			v = (x / 2147483648 - 0.5) * 2.385 * f
+			if (i == 1000 && s != 0) v = s
+			printf "%.17g\n", v
+		}
+	}' >"$1"
+}
+# num FILE JQ: one number from a JSON file
+num() { jq -r "$2" "$1"; }
+# close A B: |A/B - 1| <= 1e-9
+close() { awk -v a="$1" -v b="$2" 'BEGIN { d = a / b - 1; exit !(d <= 1e-9 && d >= -1e-9) }'; }
+if command -v jq >/dev/null 2>&1; then
+	for case in "308 1e308 1e-300" "200 1e200 1e-200" "160 1e160 1e-150" \
+		"tiny 0 1e300"; do
+		set -- $case
+		if [ "$1" = tiny ]; then
+			gen "$T/x.csv" 1e-300 0
+			gen "$T/ref.csv" 1 0
+		else
+			gen "$T/x.csv" 1 "$2"
+			gen "$T/ref.csv" "$3" "$(awk -v a="$2" -v b="$3" 'BEGIN { printf "%.17g", a * b }')"
+		fi
+		sc=$(awk -v s="$3" 'BEGIN { printf "%.17g", 1 / s }')
+		run "allan, spike $1" 0 allan -r 100 --taus octave --dev-unit deg/s --format json --no-fit "$T/x.csv"
+		cp "$T/out" "$T/a.json"
+		ss allan -r 100 --taus octave --dev-unit deg/s --format json --no-fit "$T/ref.csv" >"$T/b.json"
+		a=$(num "$T/a.json" '.channels[0].points[2].dev')
+		b=$(num "$T/b.json" '.channels[0].points[2].dev')
+		if close "$a" "$(awk -v b="$b" -v s="$sc" 'BEGIN { printf "%.17g", b * s }')"; then
+			ok "allan, spike $1: oadev(4 tau0) $a = the scaled record's"
+		else
+			not_ok "allan, spike $1: oadev $a, scaled record gives $b x $sc"
+		fi
+		run "info, spike $1" 0 info --format json "$T/x.csv"
+		cp "$T/out" "$T/a.json"
+		ss info --format json "$T/ref.csv" >"$T/b.json"
+		a=$(num "$T/a.json" '.channels[0].sd')
+		b=$(num "$T/b.json" '.channels[0].sd')
+		if close "$a" "$(awk -v b="$b" -v s="$sc" 'BEGIN { printf "%.17g", b * s }')"; then
+			ok "info, spike $1: sd $a = the scaled record's"
+		else
+			not_ok "info, spike $1: sd $a, scaled record gives $b x $sc"
+		fi
+	done
+	# the deviations of 1e308 deg/s in deg/h (the default display) and
+	# the noise terms do not fit a double: exit 1 saying so
+	gen "$T/x.csv" 1 1e308
+	bad "allan, 1e308 in deg/h" 1 "deviations up to .* exceed the double range in deg/h; give --dev-unit" \
+		allan -r 100 "$T/x.csv"
+	bad "allan, 1e308 noise terms" 1 "term .* exceeds the double range in .*; give --no-fit" \
+		allan -r 100 --dev-unit rad/s "$T/x.csv"
+	# spectra: 1e308 (1e616 per Hz) and 1e160 refused; 1e150 right
+	bad "psd, spike 1e308" 1 "the spectrum leaves the double range" psd -r 100 "$T/x.csv"
+	gen "$T/x.csv" 1 1e160
+	bad "psd, spike 1e160" 1 "the spectrum leaves the double range" psd -r 100 "$T/x.csv"
+	gen "$T/x.csv" 1 1e150
+	gen "$T/ref.csv" 1e-150 1
+	run "psd, spike 1e150" 0 psd -r 100 --format json "$T/x.csv"
+	cp "$T/out" "$T/a.json"
+	ss psd -r 100 --format json "$T/ref.csv" >"$T/b.json"
+	a=$(num "$T/a.json" '.channels[0].rms')
+	b=$(num "$T/b.json" '.channels[0].rms')
+	if close "$a" "$(awk -v b="$b" 'BEGIN { printf "%.17g", b * 1e150 }')"; then
+		ok "psd, spike 1e150: rms $a = the scaled record's"
+	else
+		not_ok "psd, spike 1e150: rms $a, scaled record gives $b x 1e150"
+	fi
+	# N(0, 1e-300): a spectrum of 1e-600 per Hz is refused, not "rms 0"
+	gen "$T/x.csv" 1e-300 0
+	bad "psd, N(0, 1e-300)" 1 "the spectrum leaves the double range" psd -r 100 "$T/x.csv"
+	# rates at the ends: no frequency step, or a density of 1e-308
+	gen "$T/x.csv" 1 0
+	bad "psd -r 4.9e-324" 1 "at 4.94066e-324 Hz the spectrum leaves the double range" \
+		psd -r 4.9e-324 "$T/x.csv"
+	bad "psd -r 1e308" 1 "at 1e\+308 Hz the spectrum leaves the double range" \
+		psd -r 1e308 "$T/x.csv"
+	lacks "psd -r 1e308: no 'constant input'" "$T/err" "constant"
+	bad "allan -r 4.9e-324" 1 "puts taus outside 2\^-200 .. 2\^200 s" allan -r 4.9e-324 "$T/x.csv"
+	# a value finite in g and infinite in m/s^2
+	printf 'ax [g]\n1\n1e308\n' >"$T/g.csv"
+	bad "1e308 g" 1 "row 2: the value in g exceeds the double range in SI units" info -r 1 "$T/g.csv"
+	# random bytes read as f64: read, and every command exits 0 with
+	# finite numbers or 1 with one line
+	for cmd in info allan psd; do
+		ss $cmd --raw f64:3 -r 100 "$DATA/random-f64.bin" >"$T/out" 2>"$T/err"
+		rc=$?
+		if [ $rc -eq 0 ] && ! grep -qiE 'nan|inf' "$T/out"; then
+			ok "$cmd on random f64 bytes: exit 0, finite numbers"
+		elif [ $rc -eq 1 ] && [ "$(wc -l <"$T/err")" -eq 1 ]; then
+			ok "$cmd on random f64 bytes: exit 1, one line"
+		else
+			not_ok "$cmd on random f64 bytes (exit $rc)"
+			diag "$T/err"
+		fi
+	done
+	bad "vibration on random f64 bytes" 1 "lies outside 2\^-120 .. 2\^120" \
+		vibration --raw f64:3 -u m/s^2 -r 1000 "$DATA/random-f64.bin"
+	bad "budget beyond the double range" 1 "exceeds the double range: check the sources" \
+		budget --gyro-bias 1e305 --accel-bias 1 --arw 1 --vrw 1 --time 1000
+else
+	skip "extreme values" "jq not installed"
+fi
+
 done_testing

@@ -157,6 +157,17 @@ has "-o - writes standard output" "$T/out" 'rows: +2997'
 chmod 640 "$T/target"
 run "replacing keeps the mode" 0 info -q -o "$T/target" "$SM"
 [ "$(stat -c %a "$T/target")" = 640 ] && ok "mode 640 kept" || not_ok "mode $(stat -c %a "$T/target") instead of 640"
+# a file with another hard link: written in place, both names share it
+echo old >"$T/hl-a.txt"
+ln -f "$T/hl-a.txt" "$T/hl-b.txt"
+run "-o a file with another hard link" 0 info -q -o "$T/hl-b.txt" "$SM"
+[ "$(stat -c %i "$T/hl-a.txt")" = "$(stat -c %i "$T/hl-b.txt")" ] && cmp -s "$T/hl-a.txt" "$T/hl-b.txt" &&
+	grep -q 'rows: *2997' "$T/hl-a.txt" && ok "hard link: both names share the new content" ||
+	not_ok "hard link: the names were parted"
+run "-o a shorter output over a hard-linked file" 0 info -q --format json -o "$T/hl-a.txt" "$SM"
+ss info -q --format json "$SM" >"$T/hl-want.json" 2>/dev/null
+cmp -s "$T/hl-b.txt" "$T/hl-want.json" && ok "hard link: cut to the new size" || not_ok "hard link: old bytes left after the new content"
+no_temp "hard link" "$T"
 run "-o a folder" 1 info -q -o "$T" "$SM"
 one_err "-o a folder" ": Is a directory$"
 rm -f "$T/fifo.svg" "$T/got"

@@ -123,6 +123,42 @@ scene adc3.ini '[adc]\nspec = %s\n' "$SAMPLES/adc-16bit.ini"
 run "[adc] without a sensor" 2 run "$T/adc3.ini"
 has "impossible without [sensor]" "$T/err" 'impossible request: \[adc\] needs a \[sensor\]'
 
+# ---- a stage in a scene is its command: check() runs, the intervals
+# are the fit's, -c shapes the captures the same way everywhere
+run "bearing scene" 0 run -q -o "$T/bear" "$SAMPLES/bearing.scene.ini"
+json_check "the scene finds the outer-race defect, as the command does" "$T/bear/vibration.json" \
+	'[.diagnosis[].finding] | any(test("outer-race"))'
+has "the text report says so" "$T/bear/report.txt" 'outer-race defect: .*BPFO'
+run "gyro scene" 0 run -q -o "$T/gyro" "$SAMPLES/gyro-static.scene.ini"
+lacks "no report says 0% intervals" "$T/gyro/report.txt" ' 0% interval'
+lacks "no HTML report says 0% intervals" "$T/gyro/report.html" ' 0% interval'
+has "the text prints the JSON's level" "$T/gyro/report.txt" '68\.3% intervals'
+json_check "the JSON's level" "$T/gyro/allan.json" '[.channels[].fit.ci_level] | all(. == 0.683)'
+json_check "summary notes the JSON's level" "$T/gyro/report.json" \
+	'[.summary[] | select(.stage == "allan") | .note] | all(. == "fit, 68.3 % interval")'
+cp "$SAMPLES/imu-multipose.csv" "$T/imu.csv"
+run "a calibration file" 0 calib gyro --save-calibration "$T/cal.json" -q "$T/imu.csv"
+run "-c 'ax, ay'" 0 info --format json -c 'ax, ay' "$T/imu.csv"
+json_check "-c 'ax, ay': two channels in order" "$T/out" '(.channels | map(.name)) == ["ax", "ay"]'
+run "-c 'ax, ay' with --calibration" 0 info --format json --calibration "$T/cal.json" -c 'ax, ay' "$T/imu.csv"
+json_check "-c 'ax, ay' with --calibration: the same channels" "$T/out" '(.channels | map(.name)) == ["ax", "ay"] and (.channels | map(.unit)) == ["m/s^2", "m/s^2"]'
+run "-c ' ay,2 ' (a file column index)" 0 info --format json -c ' ay,2 ' "$T/imu.csv"
+json_check "-c ' ay,2 ': ay then column 2" "$T/out" '(.channels | map(.name)) == ["ay", "gx"]'
+scene col.ini '[input]\nfiles = imu.csv\ncolumns = ax, ay\n[psd]\n[report]\nformats = json\n'
+run "columns = ax, ay in a scene" 0 run -o "$T/col" "$T/col.ini"
+json_check "the scene's stages get ax, ay" "$T/col/report.json" '(.results.psd.channels | map(.name)) == ["ax", "ay"] and (.results.info.channels | map(.name)) == ["ax", "ay"]'
+scene colc.ini '[input]\nfiles = imu.csv\ncalibration = cal.json\n[psd]\ncolumns = ax, ay\n[report]\nformats = json\n'
+run "columns = ax, ay with a calibration in a scene" 0 run -o "$T/colc" "$T/colc.ini"
+json_check "the calibrated ax, ay" "$T/colc/psd.json" '(.channels | map(.name)) == ["ax", "ay"] and (.channels | map(.unit)) == ["m/s^2", "m/s^2"]'
+# unknown names are errors everywhere (a scene used to drop them)
+run "-c with an unknown name" 1 info -c 'ax, bogus' "$T/imu.csv"
+has "names it" "$T/err" "no column 'bogus'"
+run "-c with an unknown name and --calibration" 1 info --calibration "$T/cal.json" -c 'ax, bogus' "$T/imu.csv"
+has "names it" "$T/err" "no column 'bogus'"
+scene colu.ini '[input]\nfiles = imu.csv\n[psd]\ncolumns = ax, bogus\n[report]\nformats = json\n'
+run "an unknown column in a scene" 1 run -o "$T/colu" "$T/colu.ini"
+has "names it" "$T/err" "no column 'bogus'"
+
 # every sample scene runs
 for sc in "$SAMPLES"/*.scene.ini; do
 	b=$(basename "$sc" .scene.ini)

@@ -640,6 +640,116 @@ START_TEST(test_seed_case)
 }
 END_TEST
 
+/* The Monte-Carlo check of the report, shipped: a dithered sensor (sigma
+ * = 1.03 q) through 10 bits over +-100 deg/s at 100 Hz gains white noise
+ * q^2/12, so its fitted N grows by sqrt(1 + q^2 / (12 fs N^2)) = 1.0387
+ * while B is unchanged and the mean shifts by nothing but the error's
+ * mean (sd q / sqrt(12 n)).  The two records share the sensor's noise, so
+ * the ratio scatters only through the quantizer's share: about
+ * (r^2 - 1) / r^2 / sqrt(2 EDF) ~ 0.3 % per run; 1 % covers 4 sd of the
+ * mean over 3 runs.  Student-t intervals must hold the mean, the run-0
+ * ADEV curves follow the fits. */
+START_TEST(test_monte_carlo)
+{
+	struct sscope_adc_spec s = ideal(10, -100 * DEG, 100 * DEG);
+	struct sscope_sensor_spec ss;
+	struct sscope_adc_mc_opts mo = { 3, 600, 7, 0.6827, 100 };
+	struct sscope_adc_mc mc;
+	struct sscope_diag d = { "" };
+	double q = 200 * DEG / 1024, N = 1.03 * q / 10; /* sigma = N sqrt(fs) */
+	double want = sqrt(1 + q * q / (12 * 100 * N * N));
+
+	memset(&ss, 0, sizeof(ss));
+	ss.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	ss.has = SSCOPE_SPEC_RANGE | SSCOPE_SPEC_N;
+	ss.range = 100 * DEG;
+	ss.n = N;
+	s.rate_hz = 100;
+	ck_assert_int_eq(sscope_adc_monte_carlo(&ss, &s, NULL, 0, 1, 0, &mo, &mc, &d), 0);
+	ck_assert_uint_eq(mc.runs, 3);
+	ck_assert_uint_eq(mc.ratio[0].runs, 3);
+	ck_assert_msg(fabs(mc.ratio[0].mean / want - 1) < 0.01,
+		      "N ratio %.5f, closed form %.5f", mc.ratio[0].mean, want);
+	ck_assert(mc.ratio[0].lo < mc.ratio[0].mean && mc.ratio[0].mean < mc.ratio[0].hi);
+	ck_assert(fabs(mc.bias_shift.mean) < 4 * q / sqrt(12 * 60000.0));
+	ck_assert_uint_eq(mc.clipped, 0);
+	ck_assert_rel(mc.duration_s, 600, 1e-15);
+	ck_assert_uint_ge(mc.n_points, 10);
+	/* at tau = 1 s the ADEV through the converter is up by about the N ratio */
+	for (size_t i = 0; i < mc.n_points; i++)
+		if (fabs(mc.tau_s[i] - 1) < 1e-9)
+			ck_assert_msg(fabs(mc.dev_out[i] / mc.dev_in[i] / want - 1) < 0.02,
+				      "ADEV ratio at 1 s %.4f", mc.dev_out[i] / mc.dev_in[i]);
+	/* every run's curves are kept; the band over the runs: the median of
+	 * three values is the middle one, the 10 and 90 % points interpolate
+	 * towards the ends */
+	ck_assert_uint_eq(mc.n_runs, 3);
+	{
+		size_t np = mc.n_points, i = np / 2;
+		double qb[3], v[3], t;
+
+		for (int r = 0; r < 3; r++)
+			v[r] = mc.dev_out[r * np + i] / mc.dev_in[r * np + i];
+		for (int a = 0; a < 2; a++) /* sort three */
+			for (int b = 0; b < 2 - a; b++)
+				if (v[b] > v[b + 1]) {
+					t = v[b];
+					v[b] = v[b + 1];
+					v[b + 1] = t;
+				}
+		ck_assert_int_eq(sscope_adc_mc_band(&mc, SSCOPE_ADC_MC_RATIO, i, qb), 0);
+		ck_assert(qb[1] == v[1]);
+		ck_assert_rel(qb[0], v[0] + 0.2 * (v[1] - v[0]), 1e-12);
+		ck_assert_rel(qb[2], v[1] + 0.8 * (v[2] - v[1]), 1e-12);
+		ck_assert_int_eq(sscope_adc_mc_band(&mc, SSCOPE_ADC_MC_ALONE, np, qb), -EINVAL);
+	}
+	sscope_adc_mc_clear(&mc);
+	sscope_adc_mc_clear(&mc); /* twice is harmless */
+	/* errors */
+	mo.duration_s = 5; /* 500 samples */
+	ck_assert_int_eq(sscope_adc_monte_carlo(&ss, &s, NULL, 0, 1, 0, &mo, &mc, &d), -EDOM);
+	ck_assert_ptr_nonnull(strstr(d.msg, "need 1000"));
+	mo.duration_s = 600;
+	mo.runs = 0;
+	ck_assert_int_eq(sscope_adc_monte_carlo(&ss, &s, NULL, 0, 1, 0, &mo, &mc, &d), -EINVAL);
+}
+END_TEST
+
+/* Ranking: pass before marginal before fail; the fewest bits among the
+ * passing ones; else the larger margin, infinite for a non-finite one;
+ * stable. */
+START_TEST(test_rank)
+{
+	struct sscope_adc_analysis an[5];
+	int bits[5] = { 18, 16, 12, 16, 14 };
+	size_t order[5];
+
+	memset(an, 0, sizeof(an));
+	an[0].verdict = SSCOPE_ADC_PASS;
+	an[0].margin = 9;
+	an[1].verdict = SSCOPE_ADC_PASS;
+	an[1].margin = 1.2;
+	an[2].verdict = SSCOPE_ADC_FAIL;
+	an[2].margin = 0.1;
+	an[3].verdict = SSCOPE_ADC_MARGINAL;
+	an[3].margin = 0.8;
+	an[4].verdict = SSCOPE_ADC_MARGINAL;
+	an[4].margin = NAN;
+	sscope_adc_rank(an, bits, 5, order);
+	ck_assert_uint_eq(order[0], 1); /* 16 bits pass: the cheapest */
+	ck_assert_uint_eq(order[1], 0);
+	ck_assert_uint_eq(order[2], 4); /* marginal, margin unknown: infinite */
+	ck_assert_uint_eq(order[3], 3);
+	ck_assert_uint_eq(order[4], 2);
+	/* equal keys keep their order */
+	bits[0] = 16;
+	an[0].margin = 1.2;
+	sscope_adc_rank(an, bits, 2, order);
+	ck_assert_uint_eq(order[0], 0);
+	ck_assert_uint_eq(order[1], 1);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("adc");
@@ -656,6 +766,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_histogram_record_length);
 	tcase_add_test(tc, test_spec_errors);
 	tcase_add_test(tc, test_seed_case);
+	tcase_add_test(tc, test_monte_carlo);
+	tcase_add_test(tc, test_rank);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -1094,6 +1094,57 @@ START_TEST(errors)
 }
 END_TEST
 
+/* What an analysis measures, and why its fit failed (kept in the result,
+ * not recomputed by callers). */
+START_TEST(rate_quantity_and_fit_message)
+{
+	double y[40];
+	struct sscope_allan_result *r = NULL;
+	struct sscope_noise_fit f;
+	struct sscope_diag d = { "" };
+	int e;
+
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_ANGULAR_RATE,
+						    SSCOPE_ALLAN_RATE),
+			 SSCOPE_QTY_ANGULAR_RATE);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_ANGLE, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QTY_ANGULAR_RATE);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_VELOCITY, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QTY_ACCELERATION);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_VOLTAGE, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QTY_UNKNOWN);
+	/* a constant record has nothing to fit: the result says why */
+	for (int i = 0; i < 40; i++)
+		y[i] = 2.385;
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, 40, 10, SSCOPE_TAUS_OCTAVE,
+					      NULL, NULL, &r, NULL), 0);
+	ck_assert(!r->have_fit);
+	e = sscope_noise_fit(r->oadev, r->n_oadev, 10, r->n_phase, NULL, &f, &d);
+	ck_assert_int_eq(e, r->fit_error);
+	ck_assert_str_eq(r->fit_diag.msg, d.msg);
+	ck_assert(d.msg[0] != '\0');
+	sscope_allan_result_free(r);
+	/* the decisions on a fit: rejected below the level, a term resolved
+	 * when fitted with an interval above zero */
+	{
+		struct sscope_noise_fit ft;
+		struct sscope_noise_coef c = { .value = 1, .lo = 0.5, .hi = 2, .fitted = true };
+
+		memset(&ft, 0, sizeof(ft));
+		ft.p_value = 0.009;
+		ck_assert(sscope_noise_fit_rejected(&ft, 0.01));
+		ft.p_value = 0.011;
+		ck_assert(!sscope_noise_fit_rejected(&ft, 0.01));
+		ck_assert(sscope_noise_coef_resolved(&c));
+		c.lo = 0;
+		ck_assert(!sscope_noise_coef_resolved(&c));
+		c.lo = 0.5;
+		c.fitted = false;
+		ck_assert(!sscope_noise_coef_resolved(&c));
+	}
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("allan");
@@ -1118,6 +1169,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, tiled_engine);
 	tcase_add_test(t, noise_identification);
 	tcase_add_test(t, errors);
+	tcase_add_test(t, rate_quantity_and_fit_message);
 	suite_add_tcase(s, t);
 	return s;
 }

@@ -269,6 +269,98 @@ START_TEST(test_monte_carlo)
 }
 END_TEST
 
+/* Dominant source and its changes: open loop, an accelerometer bias a
+ * (a t^2 / 2) dominates until the gyro bias b (g b t^3 / 6) overtakes it
+ * at t = 3 a / (g b) exactly. */
+START_TEST(test_dominant_crossovers)
+{
+	struct sscope_budget_params p = { 0 };
+	struct sscope_budget_crossover c[4];
+	double a = 2.385e-3 * G0, b = 7.3 * D2R / 3600, tx = 3 * a / (G0 * b), v;
+	size_t n;
+
+	p.accel_bias_m_s2 = a;
+	p.gyro_bias_rad_s = b;
+	p.model = SSCOPE_BUDGET_OPEN_LOOP;
+	ck_assert_int_eq(sscope_budget_dominant(&p, tx / 2, &v), SSCOPE_BUDGET_ACCEL_BIAS);
+	ck_assert_rel(v, a * tx * tx / 8, 1e-14);
+	ck_assert_int_eq(sscope_budget_dominant(&p, 2 * tx, NULL), SSCOPE_BUDGET_GYRO_BIAS);
+	ck_assert_int_eq(sscope_budget_crossovers(&p, 1, 1e4, c, 4, &n), 0);
+	ck_assert_uint_eq(n, 1);
+	ck_assert_int_eq(c[0].from, SSCOPE_BUDGET_ACCEL_BIAS);
+	ck_assert_int_eq(c[0].to, SSCOPE_BUDGET_GYRO_BIAS);
+	ck_assert_rel(c[0].t_s, tx, 1e-12);
+	/* no change inside the span, none at all without sources */
+	ck_assert_int_eq(sscope_budget_crossovers(&p, 2 * tx, 1e4, c, 4, &n), 0);
+	ck_assert_uint_eq(n, 0);
+	memset(&p, 0, sizeof(p));
+	ck_assert_int_eq(sscope_budget_dominant(&p, 10, &v), -1);
+	ck_assert(v == 0);
+	ck_assert_int_eq(sscope_budget_crossovers(&p, 1, 1e4, c, 4, &n), 0);
+	ck_assert_uint_eq(n, 0);
+	ck_assert_int_eq(sscope_budget_crossovers(&p, 0, 1e4, c, 4, &n), -EINVAL);
+	ck_assert_int_eq(sscope_budget_crossovers(&p, 10, 1, c, 4, &n), -EINVAL);
+}
+END_TEST
+
+/* Sources from measured terms: the worst axis, kept sources untouched. */
+START_TEST(test_take_noise_and_calib)
+{
+	struct sscope_budget_params p = { 0 };
+	struct sscope_calib_triad c;
+	unsigned r;
+	bool used;
+
+	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 7.3e-5, 2.1e-5, 0, &used);
+	ck_assert(used);
+	ck_assert_uint_eq(r, (1u << SSCOPE_BUDGET_ARW) | (1u << SSCOPE_BUDGET_GYRO_BIAS));
+	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 9.1e-5, 1.7e-5, 0, &used);
+	ck_assert_uint_eq(r, 1u << SSCOPE_BUDGET_ARW);
+	ck_assert(p.arw_rad_sqrt_s == 9.1e-5 && p.gyro_bias_rad_s == 2.1e-5);
+	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ACCELERATION, 1.2e-3, NAN, 0, &used);
+	ck_assert_uint_eq(r, 1u << SSCOPE_BUDGET_VRW);
+	ck_assert(p.vrw_m_s_sqrt_s == 1.2e-3 && p.accel_bias_m_s2 == 0);
+	/* a source given otherwise is kept; other quantities do not count */
+	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 1, 1,
+				     (1u << SSCOPE_BUDGET_ARW) | (1u << SSCOPE_BUDGET_GYRO_BIAS),
+				     &used);
+	ck_assert_uint_eq(r, 0);
+	ck_assert(!used && p.arw_rad_sqrt_s == 9.1e-5);
+	ck_assert_uint_eq(sscope_budget_take_noise(&p, SSCOPE_QTY_VOLTAGE, 1, 1, 0, &used), 0);
+	ck_assert(!used);
+	/* a calibration leaves bias_sd * scale (output SI), scale_sd / scale */
+	memset(&p, 0, sizeof(p));
+	sscope_calib_triad_identity(&c);
+	c.bias_sd[0] = 1e-3;
+	c.bias_sd[1] = 3e-3;
+	c.bias_sd[2] = NAN;
+	c.scale[0] = 2.5;
+	c.scale[1] = 0.5;
+	c.scale_sd[0] = 2.5e-4;
+	c.scale_sd[1] = 1e-5;
+	c.scale_sd[2] = NAN;
+	r = sscope_budget_take_calib(&p, SSCOPE_QTY_ACCELERATION, &c, 4e-4, 0);
+	ck_assert_uint_eq(r, (1u << SSCOPE_BUDGET_ACCEL_BIAS) | (1u << SSCOPE_BUDGET_VRW));
+	ck_assert_rel(p.accel_bias_m_s2, 2.5e-3, 1e-15);
+	ck_assert_rel(p.accel_sf, 1e-4, 1e-15);
+	ck_assert(p.vrw_m_s_sqrt_s == 4e-4 && p.gyro_bias_rad_s == 0);
+	r = sscope_budget_take_calib(&p, SSCOPE_QTY_ANGULAR_RATE, &c, NAN,
+				     1u << SSCOPE_BUDGET_GYRO_BIAS);
+	ck_assert_uint_eq(r, 0);
+	ck_assert(p.gyro_bias_rad_s == 0 && p.arw_rad_sqrt_s == 0);
+	ck_assert_rel(p.gyro_sf, 1e-4, 1e-15); /* the scale factor always */
+	/* what the Monte-Carlo fractions should be */
+	{
+		double sd, e = sscope_budget_mc_expected(1000, &sd);
+
+		ck_assert_rel(e, 0.954499736103642, 1e-14);
+		ck_assert_rel(sd, sqrt(e * (1 - e) / 1000), 1e-15);
+		sscope_budget_mc_expected(0, &sd);
+		ck_assert(isnan(sd));
+	}
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("budget");
@@ -279,6 +371,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_schuler);
 	tcase_add_test(tc, test_total_and_time_to);
 	tcase_add_test(tc, test_monte_carlo);
+	tcase_add_test(tc, test_dominant_crossovers);
+	tcase_add_test(tc, test_take_noise_and_calib);
 	suite_add_tcase(s, tc);
 	return s;
 }

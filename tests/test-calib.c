@@ -899,6 +899,362 @@ START_TEST(test_grades)
 }
 END_TEST
 
+/* ---- calibration runs (analysis/calib-run.c) ---- */
+
+/* A capture of poses: static for ns samples (gravity along f[k]), then nm
+ * samples of motion (readings swinging by 3 m/s^2, far above the noise). */
+static size_t pose_capture(gsl_rng *r, const struct sscope_calib_triad *c,
+			   const double (*f)[3], size_t poses, size_t ns,
+			   size_t nm, double sd, double *x[3])
+{
+	size_t n = poses * ns + (poses - 1) * nm, k = 0;
+
+	for (int i = 0; i < 3; i++)
+		x[i] = malloc(n * sizeof(double));
+	for (size_t p = 0; p < poses; p++) {
+		for (size_t i = 0; i < ns + (p + 1 < poses ? nm : 0); i++, k++) {
+			double y[3];
+
+			measure(c, f[p], y);
+			for (int a = 0; a < 3; a++)
+				x[a][k] = y[a] + sd * gsl_ran_gaussian_ziggurat(r, 1) +
+					  (i >= ns ? 3 * sin(0.37 * (double)i + a) : 0);
+		}
+	}
+	return n;
+}
+
+/* The six-position test on a capture: the six poses found, the threshold
+ * chosen among 2..10, the parameters within 3 of their sd (11 of 12). */
+START_TEST(test_sixpos_run)
+{
+	const double f[6][3] = { { G0, 0, 0 }, { -G0, 0, 0 }, { 0, G0, 0 },
+				 { 0, -G0, 0 }, { 0, 0, G0 }, { 0, 0, -G0 } };
+	struct sscope_calib_triad tru, est;
+	struct sscope_calib_linear lf;
+	struct sscope_calib_detect det = { 0 };
+	struct sscope_calib_interval iv[32];
+	struct sscope_diag d = { "" };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	double *x[3], *w1, *w2, nd;
+	size_t n;
+	int ok = 0;
+
+	true_accel(&tru);
+	gsl_rng_set(r, 61);
+	n = pose_capture(r, &tru, f, 6, 500, 200, 0.02, x);
+	w1 = malloc(n * sizeof(double));
+	w2 = malloc(n * sizeof(double));
+	ck_assert_int_eq(sscope_calib_accel_sixpos_run(x[0], x[1], x[2], 1, n, 100,
+						       G0, &det, iv, 32, &lf, &est,
+						       w1, w2, &d), 0);
+	ck_assert_uint_eq(det.n_intervals, 6);
+	ck_assert(det.k >= 2 && det.k <= 10);
+	ck_assert_rel(det.threshold, det.k * det.reference, 1e-15);
+	for (int i = 0; i < 3; i++) {
+		ok += within(est.bias[i], tru.bias[i], est.bias_sd[i], 3);
+		ok += within(est.scale[i], tru.scale[i], est.scale_sd[i], 3);
+		for (int j = 0; j < 3; j++)
+			if (i < j)
+				ok += within(est.mis[i][j], tru.mis[i][j],
+					     est.mis_sd[i][j], 3);
+	}
+	ck_assert_int_ge(ok, 8);
+	/* the pooled noise density: sd 0.02 through the scales, per sqrt(Hz)
+	 * (relative sd of a pooled sd over ~2000 dof: 1.6 %; 5 % is > 3 sd) */
+	{
+		const double *ch[3] = { x[0], x[1], x[2] };
+		double want = 0;
+
+		for (int i = 0; i < 3; i++)
+			want += 0.02 * est.scale[i] * 0.02 * est.scale[i];
+		want = sqrt(want / 3 / 100);
+		ck_assert_int_eq(sscope_calib_noise_density(ch, 1, iv, 6, est.scale,
+							    100, &nd), 0);
+		ck_assert_rel(nd, want, 0.05);
+		ck_assert_int_eq(sscope_calib_noise_density(ch, 1, iv, 0, est.scale,
+							    100, &nd), -EDOM);
+		ck_assert(isnan(nd));
+	}
+	/* at a threshold below the noise nothing is static */
+	det.k = 1.01;
+	det.min_static_s = 4.9;
+	ck_assert_int_eq(sscope_calib_accel_sixpos_run(x[0], x[1], x[2], 1, n, 100,
+						       G0, &det, iv, 32, &lf, &est,
+						       w1, w2, &d), -EDOM);
+	ck_assert(d.msg[0] != '\0');
+	for (int i = 0; i < 3; i++)
+		free(x[i]);
+	free(w1);
+	free(w2);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* The g-dependent gyro bias from static tilts of a capture. */
+START_TEST(test_gsens_run)
+{
+	enum { P = 14 };
+	const double G[3][3] = { { 2.1e-4, -0.7e-4, 0.3e-4 },
+				 { 0.5e-4, -1.4e-4, 0.9e-4 },
+				 { -0.2e-4, 0.6e-4, 3.3e-4 } };
+	const double b[3] = { 1.3e-3, -2.2e-3, 0.7e-3 };
+	double f[P][3], *a[3], *g[3], *w1, *w2;
+	struct sscope_calib_triad ida, c;
+	struct sscope_calib_detect det = { 0 };
+	struct sscope_calib_interval iv[32];
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t n;
+	int ok = 0;
+
+	gsl_rng_set(r, 62);
+	for (int k = 0; k < P; k++) {
+		double q[4], R[3][3];
+
+		random_quat(r, q);
+		q2r(q, R);
+		for (int i = 0; i < 3; i++)
+			f[k][i] = R[2][i] * G0;
+	}
+	sscope_calib_triad_identity(&ida);
+	n = pose_capture(r, &ida, (const double(*)[3])f, P, 400, 150, 0.01, a);
+	for (int i = 0; i < 3; i++)
+		g[i] = malloc(n * sizeof(double));
+	for (size_t k = 0; k < n; k++)
+		for (int i = 0; i < 3; i++)
+			g[i][k] = b[i] + G[i][0] * a[0][k] + G[i][1] * a[1][k] +
+				  G[i][2] * a[2][k] + 1e-3 * gsl_ran_gaussian_ziggurat(r, 1);
+	w1 = malloc(n * sizeof(double));
+	w2 = malloc(n * sizeof(double));
+	ck_assert_int_eq(sscope_calib_gyro_gsens_run((const double *const *)g,
+						     (const double *const *)a, 1, n,
+						     100, &det, iv, 32, &c, w1, w2,
+						     NULL), 0);
+	ck_assert(det.k == 4); /* the default threshold */
+	ck_assert_uint_eq(det.n_intervals, P);
+	ck_assert(c.has_gsens && c.n_params == 12 && c.poses == P);
+	for (int i = 0; i < 3; i++) {
+		ok += within(c.bias[i], b[i], c.bias_sd[i], 3);
+		for (int j = 0; j < 3; j++)
+			ok += within(c.gsens[i][j], G[i][j], c.gsens_sd[i][j], 3);
+		ck_assert(c.scale[i] == 1 && isnan(c.scale_sd[i]));
+	}
+	ck_assert_int_ge(ok, 11);
+	for (int i = 0; i < 3; i++) {
+		free(a[i]);
+		free(g[i]);
+	}
+	free(w1);
+	free(w2);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* The error model is the inverse of T K; the class from its figures. */
+START_TEST(test_error_model_and_grade)
+{
+	struct sscope_calib_triad c;
+	double A[3][3], dist, dist2;
+	int g1, g2;
+
+	true_accel(&c);
+	ck_assert_int_eq(sscope_calib_error_model(&c, A), 0);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			double p = 0;
+
+			for (int k = 0; k < 3; k++)
+				p += A[i][k] * c.mis[k][j] * c.scale[j];
+			ck_assert_msg(fabs(p - (i == j)) < 1e-14, "(A T K)[%d][%d] = %g", i, j, p);
+		}
+	/* the class from the largest |bias|, |A_ii - 1| and noise */
+	{
+		double sf = 0, bias = 0;
+
+		for (int i = 0; i < 3; i++) {
+			sf = fmax(sf, fabs(A[i][i] - 1));
+			bias = fmax(bias, fabs(c.bias[i]));
+		}
+		g1 = sscope_calib_triad_grade(SSCOPE_QTY_ACCELERATION, &c,
+					      (const double(*)[3])A, 3e-3, &dist);
+		g2 = sscope_calib_grade(SSCOPE_QTY_ACCELERATION, bias, sf, 3e-3, NAN,
+					&dist2);
+		ck_assert_int_eq(g1, g2);
+		ck_assert(dist == dist2);
+	}
+	/* raw readings: the bias through T K, no scale error */
+	{
+		double tkb = 0;
+
+		for (int i = 0; i < 3; i++) {
+			double v = 0;
+
+			for (int j = 0; j < 3; j++)
+				v += c.mis[i][j] * c.scale[j] * c.bias[j];
+			tkb = fmax(tkb, fabs(v));
+		}
+		g1 = sscope_calib_triad_grade(SSCOPE_QTY_ACCELERATION, &c, NULL, NAN, &dist);
+		g2 = sscope_calib_grade(SSCOPE_QTY_ACCELERATION, tkb, NAN, NAN, NAN, &dist2);
+		ck_assert_int_eq(g1, g2);
+		ck_assert(dist == dist2);
+	}
+	c.scale[1] = 0;
+	ck_assert_int_eq(sscope_calib_error_model(&c, A), -EDOM);
+}
+END_TEST
+
+/* Pose norms: the true correction puts every pose on |g|. */
+START_TEST(test_pose_errors)
+{
+	const double f[3][3] = { { G0, 0, 0 }, { 0, 0, -G0 },
+				 { 0.6 * G0, 0.8 * G0, 0 } };
+	struct sscope_calib_triad tru, id;
+	struct sscope_calib_interval iv[3];
+	double *x[3], before[3], after[3];
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	true_accel(&tru);
+	sscope_calib_triad_identity(&id);
+	gsl_rng_set(r, 63);
+	pose_capture(r, &tru, f, 3, 100, 20, 0, x);
+	for (size_t p = 0; p < 3; p++) {
+		iv[p].start = p * 120;
+		iv[p].end = p * 120 + 100;
+	}
+	ck_assert_int_eq(sscope_calib_pose_errors((const double *const *)x, 1, iv, 3,
+						  &tru, G0, true, before, after), 0);
+	for (int p = 0; p < 3; p++) {
+		double y[3], nb;
+
+		measure(&tru, f[p], y);
+		nb = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+		ck_assert_msg(fabs(after[p]) < 1e-12, "pose %d: %g", p, after[p]);
+		ck_assert_rel(before[p] + G0, nb, 1e-14);
+	}
+	ck_assert_int_eq(sscope_calib_pose_errors((const double *const *)x, 1, iv, 3,
+						  &id, G0, false, before, after), 0);
+	ck_assert(before[0] == 0);
+	for (int i = 0; i < 3; i++)
+		free(x[i]);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* The motion summary is the rms and maximum of
+ * sscope_calib_gyro_motion_errors() for the triad and for its bias alone
+ * at the nominal scale. */
+START_TEST(test_motion_summary)
+{
+	struct sscope_calib_triad ca, cg, bias_only;
+	struct sscope_calib_interval iv[16];
+	struct sscope_calib_motion ms;
+	struct series s;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	double after[15], before[15], ang[15], want = 2 * PI / 16 * (1 - 1 / 1.02);
+	size_t ns = 300, nm = 150, h = 50;
+
+	sscope_calib_triad_identity(&ca);
+	sscope_calib_triad_identity(&cg);
+	cg.scale[0] = 1.02;
+	cg.bias[0] = 0.01;
+	bias_only = ca;
+	bias_only.bias[0] = 0.01;
+	gsl_rng_set(r, 5);
+	make_series(r, 16, 100, 3, 1.5, &ca, 0, &cg, 0, 1, &s);
+	for (size_t p = 0; p < 16; p++) {
+		iv[p].start = p * (ns + nm) + (p ? h : 0);
+		iv[p].end = p * (ns + nm) + ns - h;
+	}
+	{
+		const double *g[3] = { s.w, s.w + 1, s.w + 2 };
+		const double *a[3] = { s.f, s.f + 1, s.f + 2 };
+
+		ck_assert_int_eq(sscope_calib_motion_summary(g, a, 3, s.n, 100, iv, 16,
+							     &cg, true, after, before,
+							     &ms), 0);
+		ck_assert_uint_eq(ms.motions, 15);
+		ck_assert(ms.rms_rad < 1e-6 && ms.max_rad < 1e-6);
+		/* nominal scale 1: the bias-only error of the true triad */
+		ck_assert_rel(ms.rms_bias_only_rad, want, 1e-4);
+		ck_assert_int_eq(sscope_calib_gyro_motion_errors(g, a, 3, s.n, 100, iv,
+								 16, &bias_only, ang), 0);
+		for (int k = 0; k < 15; k++)
+			ck_assert(before[k] == ang[k]);
+		ck_assert_int_eq(sscope_calib_motion_summary(g, a, 3, s.n, 100, iv, 1,
+							     &cg, true, after, before,
+							     &ms), -EINVAL);
+	}
+	free_series(&s);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* Rate-table steps: levels held 3 s with a settling transient, the table
+ * driving the sensor's y axis; the steps' means, the axis found. */
+START_TEST(test_rate_table_steps)
+{
+	enum { L = 7, HOLD = 300, N = L * HOLD };
+	const double lv[L] = { -1.5, -1, -0.5, 0, 0.5, 1, 1.5 };
+	double *ref = malloc(N * sizeof(double)), *y[3], ym[16][3], rm[16][3];
+	const double *rf[3] = { ref, NULL, NULL };
+	struct sscope_calib_interval seg[16];
+	size_t ns;
+
+	for (int i = 0; i < 3; i++)
+		y[i] = malloc(N * sizeof(double));
+	for (size_t k = 0; k < N; k++) {
+		size_t l = k / HOLD, in = k % HOLD;
+
+		ref[k] = lv[l];
+		/* the table overshoots for 0.2 s after each change */
+		y[1][k] = 0.01 + 0.997 * lv[l] + (l && in < 20 ? 0.3 : 0);
+		y[0][k] = 0.002 * lv[l] - 0.004;
+		y[2][k] = -0.001 * lv[l];
+	}
+	ck_assert_int_eq(sscope_calib_rate_table_steps((const double *const *)y, rf,
+						       1, 1, N, 100, 0.5, seg, 16, ym,
+						       rm, &ns), 0);
+	ck_assert_uint_eq(ns, L);
+	for (size_t k = 0; k < ns; k++) {
+		ck_assert_uint_eq(seg[k].start, k * HOLD + 50); /* settled */
+		ck_assert_rel(ym[k][1], 0.01 + 0.997 * lv[k], 1e-12);
+		ck_assert(rm[k][0] == lv[k] && rm[k][1] == 0 && rm[k][2] == 0);
+	}
+	ck_assert_int_eq(sscope_calib_table_axis((const double(*)[3])ym,
+						 (const double(*)[3])rm, ns), 1);
+	/* one level only: fewer than two steps */
+	ck_assert_int_eq(sscope_calib_rate_table_steps((const double *const *)y, rf,
+						       1, 1, HOLD, 100, 0.5, seg, 16,
+						       ym, rm, &ns), -EDOM);
+	ck_assert_uint_eq(ns, 1);
+	ck_assert_int_eq(sscope_calib_rate_table_steps((const double *const *)y, rf,
+						       2, 1, N, 100, 0.5, seg, 16, ym,
+						       rm, &ns), -EINVAL);
+	for (int i = 0; i < 3; i++)
+		free(y[i]);
+	free(ref);
+}
+END_TEST
+
+/* An interval table sampled on a time column and on a rate. */
+START_TEST(test_intervals_sample)
+{
+	const double rows[] = { 0.5, 1.5, 10, -1, 2, 3, 20, -2 };
+	double t[5] = { 100, 100.4, 100.5, 101.49, 102.9 }, a[5], b[5];
+	double *out[2] = { a, b };
+
+	ck_assert_int_eq(sscope_intervals_sample(t, 0, 5, rows, 2, 2, out), 0);
+	ck_assert(isnan(a[0]) && isnan(b[1]));
+	ck_assert(a[2] == 10 && b[2] == -1 && a[3] == 10);
+	ck_assert(a[4] == 20 && b[4] == -2);
+	ck_assert_int_eq(sscope_intervals_sample(NULL, 2, 5, rows, 2, 2, out), 0);
+	/* t = 0, 0.5, 1, 1.5, 2 */
+	ck_assert(isnan(a[0]) && a[1] == 10 && a[2] == 10 && isnan(a[3]) && a[4] == 20);
+	ck_assert_int_eq(sscope_intervals_sample(NULL, 0, 5, rows, 2, 2, out), -EINVAL);
+	ck_assert_int_eq(sscope_intervals_sample(t, 0, 5, rows, 2, 0, out), -EINVAL);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("calib");
@@ -918,6 +1274,13 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_rate_table_cubic);
 	tcase_add_test(tc, test_sixpos_and_apply);
 	tcase_add_test(tc, test_grades);
+	tcase_add_test(tc, test_sixpos_run);
+	tcase_add_test(tc, test_gsens_run);
+	tcase_add_test(tc, test_error_model_and_grade);
+	tcase_add_test(tc, test_pose_errors);
+	tcase_add_test(tc, test_motion_summary);
+	tcase_add_test(tc, test_rate_table_steps);
+	tcase_add_test(tc, test_intervals_sample);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -225,6 +225,58 @@ START_TEST(lut_calibration)
 }
 END_TEST
 
+/* Applying a table: tilt and the still flag per sample.  A one-node table
+ * of the ideal sensor leaves the readings as they are, so roll and pitch
+ * are the closed forms; a norm 2 % off g, a rotation of 1 deg/s or a NaN
+ * temperature is not still. */
+START_TEST(apply_record)
+{
+	struct sscope_inclino_lut *lut = calloc(1, sizeof(*lut));
+	struct sscope_inclino_plan *plan = NULL;
+	struct sscope_inclino_apply_stats st;
+	double roll = 12.5 * D2R, pitch = -31 * D2R;
+	double ax[4], ay[4], az[4], T[4] = { 25, 25, 25, NAN };
+	double wx[4] = { 0, 0, 1 * D2R, 0 }, wy[4] = { 0 }, wz[4] = { 0 };
+	const double *a[3] = { ax, ay, az }, *w[3] = { wx, wy, wz };
+	double r[4], p[4], sens[4];
+	bool still[4];
+
+	ck_assert_ptr_nonnull(lut);
+	lut->n = 1;
+	lut->gravity_m_s2 = G0;
+	lut->temp_degc[0] = 20;
+	for (int i = 0; i < 3; i++)
+		lut->p[0].scale[i] = 1;
+	ck_assert_int_eq(sscope_inclino_plan_new(&plan, lut, false, NULL), 0);
+	for (int k = 0; k < 4; k++) {
+		double f = k == 1 ? 1.02 : 1;
+
+		ax[k] = -G0 * sin(pitch) * f;
+		ay[k] = G0 * sin(roll) * cos(pitch) * f;
+		az[k] = G0 * cos(roll) * cos(pitch) * f;
+	}
+	ck_assert_int_eq(sscope_inclino_apply(plan, SSCOPE_INCLINO_3AXIS, G0, a, T, w,
+					      4, 0.01 * G0, 0.5 * D2R, r, p, sens,
+					      still, &st), 0);
+	ck_assert(fabs(r[0] - roll) < 1e-12 && fabs(p[0] - pitch) < 1e-12);
+	ck_assert(still[0] && !still[1] && !still[2] && !still[3]);
+	ck_assert(isnan(r[3]) && isnan(p[3]));
+	ck_assert_uint_eq(st.n_still, 1);
+	ck_assert_uint_eq(st.n_bad, 1);
+	ck_assert_uint_eq(st.n_clamped, 3); /* 25 degC is outside a one-node table */
+	/* without gyros the rotation is not looked at */
+	ck_assert_int_eq(sscope_inclino_apply(plan, SSCOPE_INCLINO_3AXIS, G0, a, T, NULL,
+					      4, 0.01 * G0, 0.5 * D2R, NULL, p, NULL,
+					      still, &st), 0);
+	ck_assert(still[2]);
+	ck_assert_int_eq(sscope_inclino_apply(plan, SSCOPE_INCLINO_3AXIS, 0, a, T, NULL,
+					      4, 0.01 * G0, 0.5 * D2R, NULL, p, NULL,
+					      still, &st), -EINVAL);
+	sscope_inclino_plan_free(plan);
+	free(lut);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("inclino");
@@ -233,6 +285,7 @@ static Suite *make_suite(void)
 	tcase_set_timeout(tc, 120);
 	tcase_add_test(tc, tilt_closed_form);
 	tcase_add_test(tc, lut_calibration);
+	tcase_add_test(tc, apply_record);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -88,6 +88,33 @@ START_TEST(test_accel_step)
 }
 END_TEST
 
+/* The cross-check the command reports: RK4 at 400 steps per period
+ * agrees with the analytic response to (w dt)^4 ~ 6e-8 of the static
+ * deflection; a step cap lengthens dt to cover the span. */
+START_TEST(test_accel_rk4_check)
+{
+	struct sscope_model_accel m;
+	struct sscope_model_rk4_check chk;
+	double *x = NULL, T;
+
+	ck_assert_int_eq(sscope_model_accel_fn(812.3, 0.4, &m), 0);
+	T = 1.5 * m.settling_time_s;
+	ck_assert_int_eq(sscope_model_accel_rk4_check(&m, 9.80665, T, 20000000,
+						      &x, &chk), 0);
+	ck_assert_rel(chk.dt_s, 1 / (812.3 * 400), 1e-15);
+	ck_assert_uint_eq(chk.n, (size_t)ceil(T / chk.dt_s) + 2);
+	ck_assert(chk.max_dev_m > 0 && chk.max_dev_m < 1e-6 * m.displacement_per_g_m);
+	ck_assert(x[0] == 0);
+	free(x);
+	ck_assert_int_eq(sscope_model_accel_rk4_check(&m, 9.80665, T, 100, NULL,
+						      &chk), 0);
+	ck_assert_uint_eq(chk.n, 100);
+	ck_assert_rel(chk.dt_s * 98, T, 1e-15);
+	ck_assert_int_eq(sscope_model_accel_rk4_check(&m, 9.80665, 0, 100, NULL,
+						      &chk), -EINVAL);
+}
+END_TEST
+
 START_TEST(test_accel_mkc)
 {
 	struct sscope_model_accel m;
@@ -120,6 +147,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_fog);
 	tcase_add_test(tc, test_accel_step);
 	tcase_add_test(tc, test_accel_mkc);
+	tcase_add_test(tc, test_accel_rk4_check);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -13,9 +13,16 @@
  *   amplitude b R / g within 1 %;
  * - a 10 deg/h gyro bias: 137 m after 120 s within 2 % (g b t^3 / 6) and
  *   the Schuler-bounded growth over 4 h, not t^3;
+ * - small biases on every gyro and two accelerometers over 4 h: the
+ *   errors equal the linearised error model of a stationary
+ *   local-level system (Earth-rate coupling, Coriolis, Schuler loop),
+ *   integrated here independently by an ODE solver;
  * - angle random walk: the Monte-Carlo spread of the attitude errors
  *   against N sqrt(t) (chi-squared bounds on the variance), percentiles
  *   against the normal quantiles;
+ * - a converter: at rest its rounding acts as the fixed biases it makes;
+ *   its noise and quantization add to the angle random walk as the
+ *   budget (sscope_adc_analyze()) says;
  * - determinism across thread counts, trajectory tables, refused input.
  */
 #include "internal.h"
@@ -25,6 +32,8 @@
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include "check-main.h"
 
@@ -365,12 +374,131 @@ START_TEST(test_gyro_bias)
 	sscope_budget_source_eval(&bp, SSCOPE_BUDGET_GYRO_BIAS, 4 * 3600, &t3);
 	/* bounded as the Schuler solution R b (t - sin(w t) / w): within
 	 * 15 % after 4 h (the single channel leaves out the Earth-rate
-	 * coupling), and 50 times below the t^3 curve */
+	 * coupling, which test_linear_error_model checks, and the attitude
+	 * error of 40 deg is far from small), and 50 times below t^3 */
 	ck_assert_msg(fabs(h4 / sch.position_m - 1) < 0.15 && t3.position_m > 50 * h4,
 		      "4 h: %g m, Schuler %g m, t^3 %g m", h4, sch.position_m,
 		      t3.position_m);
 	free(e);
 	sscope_navsim_free(ns);
+}
+END_TEST
+
+/*
+ * The linearised error model of a stationary local-level (NED) system
+ * with the vertical channel aided (Titterton & Weston, ch. 12; Groves,
+ * sec. 14.2): states dr_N, dr_E (m), dv_N, dv_E (m/s) and the attitude
+ * error e (rad; Euler angle errors of a level, north-pointing body),
+ *   e'  = b_g - dw_in - w_ie x e,
+ *   dw_in = (-W sinL dL + dv_E/R_E, -dv_N/R_N, -W cosL dL - dv_E tanL/R_E),
+ *   dv' = e x (0, 0, -g) + b_a - 2 w_ie x dv,   dr' = dv,  dL = dr_N/R_N.
+ */
+struct lin_model {
+	double lat, rn, re, g, w[3], bg[3], ba[2];
+};
+
+static int lin_rhs(double t, const double y[], double f[], void *p)
+{
+	const struct lin_model *m = p;
+	const double *w = m->w, *e = y + 4;
+	double dl = y[0] / m->rn, win[3];
+
+	(void)t;
+	win[0] = w[2] * dl + y[3] / m->re; /* w[2] = -W sinL */
+	win[1] = -y[2] / m->rn;
+	win[2] = -w[0] * dl - y[3] * tan(m->lat) / m->re; /* w[0] = W cosL */
+	f[0] = y[2];
+	f[1] = y[3];
+	/* w x dv with dv_D = 0 */
+	f[2] = -m->g * e[1] + m->ba[0] + 2 * w[2] * y[3];
+	f[3] = m->g * e[0] + m->ba[1] - 2 * w[2] * y[2];
+	f[4] = m->bg[0] - win[0] - (w[1] * e[2] - w[2] * e[1]);
+	f[5] = m->bg[1] - win[1] - (w[2] * e[0] - w[0] * e[2]);
+	f[6] = m->bg[2] - win[2] - (w[0] * e[1] - w[1] * e[0]);
+	return GSL_SUCCESS;
+}
+
+/*
+ * navsim against the model for biases times @p scale: the largest
+ * departure of each state over 4 h relative to its peak (rel), and the
+ * size of the second-order terms the model leaves out (the largest
+ * attitude error, or horizontal position error over R_N).
+ */
+static void lin_compare(double scale, double rel[7], double *second)
+{
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct lin_model m;
+	struct sscope_navsim *ns;
+	gsl_odeiv2_system sys = { lin_rhs, NULL, 7, &m };
+	gsl_odeiv2_driver *drv;
+	double *e, y[7] = { 0 }, t = 0, peak[7] = { 0 }, dev[7] = { 0 };
+	/* navsim's components for the model's states */
+	const int comp[7] = { SSCOPE_NAVSIM_NORTH, SSCOPE_NAVSIM_EAST,
+			      SSCOPE_NAVSIM_VN, SSCOPE_NAVSIM_VE,
+			      SSCOPE_NAVSIM_ROLL, SSCOPE_NAVSIM_PITCH,
+			      SSCOPE_NAVSIM_YAW };
+	size_t n;
+
+	o.rate_hz = 20;
+	o.start.lat_rad = 45 * D2R;
+	o.duration_s = 4 * 3600;
+	o.output_step_s = 60;
+	imu.gyro_bias_rad_s[0] = scale * 0.0123 * D2R / 3600;
+	imu.gyro_bias_rad_s[1] = scale * -0.0187 * D2R / 3600;
+	imu.gyro_bias_rad_s[2] = scale * 0.0315 * D2R / 3600;
+	imu.accel_bias_m_s2[0] = scale * 23.85e-6 * G0;
+	imu.accel_bias_m_s2[1] = scale * -17.2e-6 * G0;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	e = run1(ns, &imu);
+
+	memset(&m, 0, sizeof(m));
+	m.lat = o.start.lat_rad;
+	sscope_nav_radii(m.lat, &m.rn, &m.re);
+	m.g = sscope_nav_gravity(m.lat, 0);
+	sscope_nav_earth_rate(m.lat, m.w);
+	memcpy(m.bg, imu.gyro_bias_rad_s, sizeof(m.bg));
+	memcpy(m.ba, imu.accel_bias_m_s2, sizeof(m.ba));
+	drv = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1, 1e-14, 1e-12);
+	ck_assert_ptr_nonnull(drv);
+	for (size_t k = 0; k < n; k++) {
+		ck_assert_int_eq(gsl_odeiv2_driver_apply(drv, &t, sscope_navsim_time(ns, k), y),
+				 GSL_SUCCESS);
+		for (int i = 0; i < 7; i++) {
+			peak[i] = fmax(peak[i], fabs(y[i]));
+			dev[i] = fmax(dev[i], fabs(e[k * SSCOPE_NAVSIM_N_COMP + comp[i]] - y[i]));
+		}
+	}
+	gsl_odeiv2_driver_free(drv);
+	*second = fmax(fmax(peak[4], peak[5]), fmax(peak[6], hypot(peak[0], peak[1]) / m.rn));
+	for (int i = 0; i < 7; i++) {
+		ck_assert_msg(peak[i] > 0, "state %d stays zero", i);
+		rel[i] = dev[i] / peak[i];
+	}
+	free(e);
+	sscope_navsim_free(ns);
+}
+
+START_TEST(test_linear_error_model)
+{
+	double rel1[7], rel4[7], s1, s4;
+
+	/* biases of a navigation-grade IMU (0.01-0.03 deg/h, 20 ug) */
+	lin_compare(1, rel1, &s1);
+	lin_compare(0.25, rel4, &s4);
+	for (int i = 0; i < 7; i++) {
+		/* navsim equals the model up to the terms it leaves out ... */
+		ck_assert_msg(rel1[i] < 2 * s1,
+			      "state %d: navsim departs from the linear model by %g of its peak (second-order terms %g)",
+			      i, rel1[i], s1);
+		/* ... and the departure is of second order: a quarter of
+		 * the biases leaves a sixteenth of the error (a quarter of
+		 * it relative to the peak) */
+		ck_assert_msg(rel4[i] < 0.3 * rel1[i],
+			      "state %d: departure %g at 1/4 of the biases, %g at full: not second order",
+			      i, rel4[i], rel1[i]);
+	}
 }
 END_TEST
 
@@ -415,6 +543,137 @@ START_TEST(test_arw_monte_carlo)
 				  (2 * 1.645 * N * sqrt(t)) < 1.25);
 		ck_assert(st[k].horiz_p50 <= st[k].horiz_p95);
 	}
+	free(st);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+/* a converter in sensor units: bits, +-half range, round mode */
+static struct sscope_adc_spec adc_spec(enum sscope_quantity q, int bits,
+				       double half, double noise)
+{
+	struct sscope_adc_spec a;
+
+	memset(&a, 0, sizeof(a));
+	a.bits = bits;
+	a.lo = -half;
+	a.hi = half;
+	a.quantity = q;
+	a.noise = noise;
+	a.mode = SSCOPE_ADC_ROUND;
+	return a;
+}
+
+START_TEST(test_adc_quantization)
+{
+	/* At rest a perfect IMU reads the Earth rate and -g: a coarse
+	 * converter rounds them to its levels (multiples of q), and the
+	 * navigation error is that of the fixed biases the rounding makes */
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu adc = { 0 }, eq = { 0 };
+	struct sscope_adc_spec ga, aa;
+	struct sscope_navsim *ns;
+	double *e1, *e2, w[3], g, qg, qa, f[3];
+	uint64_t clipped = 1;
+	size_t n;
+
+	o.rate_hz = 50;
+	o.duration_s = 600;
+	o.output_step_s = 10;
+	o.start.lat_rad = 45 * D2R;
+	ns = make(&o);
+	n = sscope_navsim_n_out(ns);
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 2048 * 3.7e-5, 0);
+	aa = adc_spec(SSCOPE_QTY_ACCELERATION, 10, 20.48, 0);
+	qg = 3.7e-5;
+	qa = 0.04;
+	adc.gyro_adc = &ga;
+	adc.accel_adc = &aa;
+	/* body = NED (level, north): the readings and their levels */
+	sscope_nav_earth_rate(o.start.lat_rad, w);
+	g = sscope_nav_gravity(o.start.lat_rad, 0);
+	f[0] = f[1] = 0;
+	f[2] = -g;
+	for (int i = 0; i < 3; i++) {
+		eq.gyro_bias_rad_s[i] = round(w[i] / qg) * qg - w[i];
+		eq.accel_bias_m_s2[i] = round(f[i] / qa) * qa - f[i];
+	}
+	ck_assert(fabs(eq.gyro_bias_rad_s[0]) > 1e-6 && fabs(eq.accel_bias_m_s2[2]) > 1e-3);
+	e1 = calloc(n * SSCOPE_NAVSIM_N_COMP, sizeof(double));
+	ck_assert_ptr_nonnull(e1);
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, &clipped, NULL), 0);
+	ck_assert(clipped == 0);
+	e2 = run1(ns, &eq);
+	for (int c = 0; c < SSCOPE_NAVSIM_N_COMP; c++) {
+		double peak = worst(e2, n, c, c + 1);
+
+		if (c == SSCOPE_NAVSIM_DOWN || c == SSCOPE_NAVSIM_VD)
+			continue; /* aided */
+		ck_assert_msg(peak > 0, "component %d", c);
+		for (size_t k = 0; k < n; k++)
+			ck_assert_msg(fabs(e1[k * SSCOPE_NAVSIM_N_COMP + c] -
+					   e2[k * SSCOPE_NAVSIM_N_COMP + c]) <= 1e-9 * peak,
+				      "component %d at %zu: %g with the converter, %g with its biases",
+				      c, k, e1[k * SSCOPE_NAVSIM_N_COMP + c],
+				      e2[k * SSCOPE_NAVSIM_N_COMP + c]);
+	}
+	/* a range too small clips, and says so */
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 4e-5, 0);
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, &clipped, NULL), 0);
+	ck_assert(clipped >= 2 * sscope_navsim_n_samples(ns));
+	/* a converter the library refuses */
+	ga.bits = 0;
+	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, NULL, NULL), -EINVAL);
+	free(e1);
+	free(e2);
+	sscope_navsim_free(ns);
+}
+END_TEST
+
+START_TEST(test_adc_noise_monte_carlo)
+{
+	/* A gyro of N at fs behind a converter with input noise sigma_a and
+	 * step q, both of the size of the sensor's per-sample noise sigma
+	 * (so the quantization error is uniform and white): the attitude
+	 * errors grow as the density sqrt(N^2 + (sigma_a^2 + q^2/12)/fs)
+	 * that the budget takes from sscope_adc_analyze() */
+	struct sscope_navsim_opts o = { 0 };
+	struct sscope_navsim_imu imu = { 0 };
+	struct sscope_budget_params bp;
+	struct sscope_adc_spec ga;
+	struct sscope_navsim *ns;
+	struct sscope_navsim_stat *st;
+	const size_t M = 200;
+	double N = 0.15 * D2R / 60, fs = 50, sig, ntot, lo, hi;
+	size_t n;
+
+	o.rate_hz = fs;
+	o.duration_s = 120;
+	o.output_step_s = 30;
+	o.start.lat_rad = 45 * D2R;
+	sig = N * sqrt(fs);
+	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 16, 32768 * sig, sig);
+	imu.gyro.n = N;
+	imu.gyro_adc = &ga;
+	ns = make(&o);
+	sscope_navsim_budget(ns, &imu, &bp);
+	ntot = sqrt(N * N + (sig * sig + sig * sig / 12) / fs);
+	ck_assert_msg(fabs(bp.arw_rad_sqrt_s / ntot - 1) < 1e-12, "budget ARW %g, expected %g",
+		      bp.arw_rad_sqrt_s, ntot);
+	n = sscope_navsim_n_out(ns);
+	st = calloc(n, sizeof(*st));
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, M, 5, st, NULL, NULL, NULL), 0);
+	/* M s^2 / sigma^2 ~ chi^2_M: two-sided 1e-4 */
+	lo = gsl_cdf_chisq_Pinv(5e-5, (double)M) / (double)M;
+	hi = gsl_cdf_chisq_Qinv(5e-5, (double)M) / (double)M;
+	for (size_t k = 1; k < n; k++)
+		for (int c = SSCOPE_NAVSIM_ROLL; c <= SSCOPE_NAVSIM_YAW; c++) {
+			double r = st[k].rms[c] * st[k].rms[c] / (ntot * ntot * st[k].t_s);
+
+			ck_assert_msg(r > lo && r < hi,
+				      "t %g comp %d: rms^2 / (N_total^2 t) = %g outside [%g, %g]",
+				      st[k].t_s, c, r, lo, hi);
+		}
 	free(st);
 	sscope_navsim_free(ns);
 }
@@ -638,7 +897,10 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_coning_sculling);
 	tcase_add_test(tc, test_schuler_accel_bias);
 	tcase_add_test(tc, test_gyro_bias);
+	tcase_add_test(tc, test_linear_error_model);
 	tcase_add_test(tc, test_arw_monte_carlo);
+	tcase_add_test(tc, test_adc_quantization);
+	tcase_add_test(tc, test_adc_noise_monte_carlo);
 	tcase_add_test(tc, test_deterministic);
 	tcase_add_test(tc, test_table);
 	tcase_add_test(tc, test_refused);

@@ -776,6 +776,47 @@ START_TEST(error_codes)
 }
 END_TEST
 
+/* Bands a spectrum resolves and its floor.  A 1 kHz record with 1 Hz bins
+ * (1024-point periodogram at 1024 Hz): the octave bands inside [0.5, 512]
+ * Hz at least one bin wide; the floor of white noise is the median of its
+ * periodogram's exponentially distributed bins, ln 2 of their mean
+ * (sampling error of the median of 511 bins about 7 %: 20 % is 3 sd);
+ * given edges clipped at the Nyquist frequency. */
+START_TEST(bands_and_floor)
+{
+	enum { N = 1024 };
+	double x[N];
+	struct sscope_spectrum sp = { 0 };
+	struct sscope_band b[32];
+	size_t n, m;
+
+	uint64_t st = 2385;
+
+	for (int i = 0; i < N; i++) { /* uniform white noise (64-bit LCG) */
+		st = st * 6364136223846793005ULL + 1442695040888963407ULL;
+		x[i] = 1.7 * ((double)(st >> 11) / 9007199254740992.0 - 0.5);
+	}
+	ck_assert_int_eq(sscope_psd_periodogram(x, 1, N, 1024, SSCOPE_WINDOW_BOXCAR, 0,
+						SSCOPE_DETREND_CONSTANT,
+						SSCOPE_SCALING_DENSITY, &sp), 0);
+	ck_assert_int_eq(sscope_spectrum_octave_bands(&sp, 1, b, 32, &n), 0);
+	ck_assert_uint_ge(n, 5);
+	for (size_t i = 0; i < n; i++) {
+		ck_assert(b[i].hi_hz - b[i].lo_hz >= sp.bin_hz);
+		ck_assert(b[i].lo_hz >= sp.bin_hz / 2 && b[i].hi_hz <= 512 * (1 + 1e-12));
+	}
+	ck_assert_int_eq(sscope_spectrum_octave_bands(&sp, 1, b, 1, &m), -ERANGE);
+	ck_assert_uint_eq(m, n);
+	ck_assert_int_eq(sscope_band_edges(10, 900, 512, &b[0]), 0);
+	ck_assert(b[0].hi_hz == 512);
+	ck_assert_rel(b[0].center_hz, sqrt(10 * 512.0), 1e-15);
+	ck_assert(isnan(b[0].nominal_hz));
+	ck_assert_int_eq(sscope_band_edges(600, 900, 512, &b[0]), -EDOM);
+	ck_assert_int_eq(sscope_band_edges(20, 10, 512, &b[0]), -EINVAL);
+	sscope_spectrum_clear(&sp);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("psd");
@@ -794,6 +835,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, band_rms_partition);
 	tcase_add_test(tc, degenerate_inputs);
 	tcase_add_test(tc, error_codes);
+	tcase_add_test(tc, bands_and_floor);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -109,6 +109,31 @@ START_TEST(timing_gaps)
 }
 END_TEST
 
+/* The Student-t interval of a mean: with two values t has one degree of
+ * freedom (Cauchy, quantile tan(pi (p - 1/2))): level 0.5 -> t = 1, so
+ * {1, 3} gives 2 -+ s / sqrt(2) = 2 -+ 1; NaN values are skipped. */
+START_TEST(mean_interval)
+{
+	double x[] = { 1, NAN, 3 }, m, lo, hi;
+	size_t k;
+
+	ck_assert_int_eq(sscope_stats_mean_interval(x, 1, 3, 0.5, &m, &lo, &hi, &k), 0);
+	ck_assert_uint_eq(k, 2);
+	ck_assert(m == 2);
+	ck_assert_rel(lo, 1, 1e-12);
+	ck_assert_rel(hi, 3, 1e-12);
+	/* level 0.9: tan(0.45 pi) = 6.3138 */
+	ck_assert_int_eq(sscope_stats_mean_interval(x, 1, 3, 0.9, &m, &lo, &hi, NULL), 0);
+	ck_assert_rel(hi - m, tan(0.45 * 3.14159265358979323846), 1e-9);
+	/* one value: a mean, no interval; none: -EDOM */
+	ck_assert_int_eq(sscope_stats_mean_interval(x, 2, 1, 0.5, &m, &lo, &hi, &k), 0);
+	ck_assert(m == 1 && isnan(lo) && isnan(hi) && k == 1);
+	ck_assert_int_eq(sscope_stats_mean_interval(x + 1, 1, 1, 0.5, &m, &lo, &hi, &k), -EDOM);
+	ck_assert(isnan(m) && k == 0);
+	ck_assert_int_eq(sscope_stats_mean_interval(x, 1, 3, 1, &m, &lo, &hi, &k), -EINVAL);
+}
+END_TEST
+
 /* feed t in pieces of `piece` stamps and check; returns the code and
  * leaves the message in d */
 static int order_of(const double *t, size_t n, size_t piece,
@@ -210,6 +235,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, large_offset);
 	tcase_add_test(tc, nan_and_edges);
 	tcase_add_test(tc, timing_gaps);
+	tcase_add_test(tc, mean_interval);
 	tcase_add_test(tc, time_order);
 	suite_add_tcase(s, tc);
 	return s;

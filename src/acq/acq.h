@@ -166,6 +166,8 @@ struct ssc_intervals {
 };
 void ssc_intervals_add(struct ssc_intervals *iv, double dt_s);
 double ssc_intervals_sd(const struct ssc_intervals *iv);
+/* rms pacing lateness of a source, s (NaN before any) */
+double ssc_source_late_rms(const struct ssc_source_counts *c);
 
 /*
  * Samples lost between two time stamps dt_s apart at a nominal period:
@@ -228,7 +230,7 @@ struct ssc_acq_config {
 	size_t ring_capacity;       /* samples */
 	int rt_priority;            /* SCHED_FIFO priority of the reader, 0 */
 	bool lock_memory;           /* mlockall */
-	bool handle_signals;        /* stop cleanly on SIGINT and SIGTERM */
+	bool handle_signals;        /* stop cleanly on SIGINT, SIGTERM, SIGHUP */
 	const char *const *comments;/* CSV comment lines after the header */
 	void (*live)(const struct ssc_acq_live *snap, void *ctx);
 	void *live_ctx;

@@ -4,8 +4,8 @@
  * source as they become ready (optionally at SCHED_FIFO priority), a
  * lock-free single-producer single-consumer ring (ring.c), and a writer
  * thread that streams rows to the capture file and keeps the live
- * statistics.  The calling thread waits for SIGINT/SIGTERM with
- * sigtimedwait (both signals blocked in every thread of the run), feeds
+ * statistics.  The calling thread waits for SIGINT/SIGTERM/SIGHUP with
+ * sigtimedwait (the three signals blocked in every thread of the run), feeds
  * the live view and decides the end.
  *
  * Gaps: a source reports how many samples it knows were lost before each
@@ -435,11 +435,13 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		return -ENOMEM;
 	e->cfg = cfg;
 	e->src = cfg->src;
-	/* from here on SIGINT/SIGTERM only ask for a clean stop: blocked
-	 * before any file exists, so none is left behind */
+	/* from here on SIGINT/SIGTERM/SIGHUP (a closed terminal or ssh
+	 * session) only ask for a clean stop: blocked before any file
+	 * exists, so none is left behind */
 	sigemptyset(&set);
 	sigaddset(&set, SIGINT);
 	sigaddset(&set, SIGTERM);
+	sigaddset(&set, SIGHUP);
 	if (cfg->handle_signals)
 		pthread_sigmask(SIG_BLOCK, &set, &old);
 	atomic_init(&e->stop, false);

@@ -22,7 +22,10 @@
  * the edge, and its time stamp is the edge's plus those whole periods of
  * the device clock.  Such corrections are counted (time_estimated).  The
  * chain starts from the first ANCHOR_N samples, held back until their
- * common offset to the device clock is known (see anchor()).
+ * common offset to the device clock is known (see anchor()); while no
+ * held edge is known fresh (one new edge since the last read and the next
+ * counter value: a reader keeping up), the oldest is let go and the
+ * capture starts later.
  */
 #include "acq.h"
 #include "drdy.h"
@@ -35,6 +38,7 @@
 
 #define BAD_RUN_LIMIT 50 /* consecutive refused frames: give up */
 #define ANCHOR_N 8       /* samples held to anchor the time stamps */
+#define ANCHOR_SLIDES 1000 /* samples skipped at most waiting for a fresh edge */
 
 struct spisrc {
 	struct ssc_spi spi;
@@ -56,12 +60,15 @@ struct spisrc {
 	unsigned bad_run;
 	bool last_full;             /* the last event read found a full queue */
 	unsigned anchor_tries;
+	unsigned anchor_slides;
 	/* the first samples, held until their time stamps are anchored */
 	bool anchored;
 	size_t n_hold, pos_out;
 	struct held {
 		struct ssc_acq_sample s;
 		uint64_t u;             /* counter steps since the first */
+		uint64_t lost;          /* counted in counter_missing */
+		bool fresh;             /* its edge is its own, not a stale one */
 	} hold[ANCHOR_N];
 };
 
@@ -290,25 +297,57 @@ static void anchor(struct ssc_source *src, struct spisrc *p)
 		p->last_t = p->hold[p->n_hold - 1].s.t_ns;
 }
 
+/* whether one of the held edges is known fresh: its time stamp is then
+ * the sample's own, which anchors the rest */
+static bool any_fresh(const struct spisrc *p)
+{
+	for (size_t j = 0; j < p->n_hold; j++)
+		if (p->hold[j].fresh)
+			return true;
+	return false;
+}
+
 static int adis_next(struct ssc_source *src, struct ssc_acq_sample *s,
 		     struct sscope_diag *diag)
 {
 	struct spisrc *p = src->priv;
 	struct held *h;
+	uint64_t lost0;
 	int rc;
 
 	if (p->anchored && p->pos_out < p->n_hold) {
 		*s = p->hold[p->pos_out++].s;
 		return 0;
 	}
+	lost0 = src->counts.counter_missing;
 	rc = adis_read(src, s, diag);
 	if (rc || !p->drdy || p->anchored)
 		return rc;
 	h = &p->hold[p->n_hold];
 	h->s = *s;
 	h->u = p->n_hold ? p->hold[p->n_hold - 1].u + s->missing + 1 : 0;
+	h->lost = src->counts.counter_missing - lost0;
+	/* one new edge since the last read and the counter value after the
+	 * last held sample's: the reader keeps up, so the edge is this
+	 * sample's own (had the burst come after a newer edge, that edge
+	 * would be queued at the next read; a first sample has no such
+	 * check, its burst may have come late) */
+	h->fresh = p->n_hold > 0 && !p->last_full && p->ticks_lost == 0 &&
+		   s->missing == 0;
 	if (++p->n_hold < ANCHOR_N)
 		return -EAGAIN;
+	if (!any_fresh(p) && p->anchor_slides++ < ANCHOR_SLIDES) {
+		/* every held edge may be stale: the capture starts one
+		 * sample later, so the oldest is not a row and the gap
+		 * before the new first one is not a loss */
+		memmove(&p->hold[0], &p->hold[1], (ANCHOR_N - 1) * sizeof(p->hold[0]));
+		p->n_hold--;
+		src->counts.counter_missing -= p->hold[0].lost;
+		p->hold[0].lost = 0;
+		p->hold[0].s.missing = 0;
+		p->hold[0].s.cause = 0;
+		return -EAGAIN;
+	}
 	anchor(src, p);
 	*s = p->hold[0].s;
 	p->pos_out = 1;

@@ -117,3 +117,8 @@ double ssc_run_adev_get(const struct ssc_run_adev *a, size_t k)
 		return (double)NAN;
 	return sqrt(a->sum2[k] / (2.0 * (double)a->n[k]));
 }
+
+double ssc_source_late_rms(const struct ssc_source_counts *c)
+{
+	return c->late_n ? sqrt(c->late_sum2_s2 / (double)c->late_n) : (double)NAN;
+}

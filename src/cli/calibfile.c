@@ -54,7 +54,7 @@ double ssc_calfile_unit_scale(const char *unit)
 	return u.scale;
 }
 
-json_t *ssc_calfile_triad_json(const struct ssc_caltriad *t)
+json_t *ssc_calfile_triad_json(const struct sscope_calib_file_triad *t)
 {
 	json_t *o = json_object(), *ch = json_array();
 	double s = ssc_calfile_unit_scale(t->input_unit);
@@ -88,7 +88,7 @@ json_t *ssc_calfile_triad_json(const struct ssc_caltriad *t)
 }
 
 int ssc_calfile_write(const struct ssc_common *co, const char *path,
-		      const struct ssc_caltriad *t, size_t n)
+		      const struct sscope_calib_file_triad *t, size_t n)
 {
 	struct ssc_common c2 = *co;
 	json_t *root = json_object(), *arr = json_array();
@@ -179,11 +179,11 @@ static int get_names(json_t *o, const char *key, char names[3][64])
 }
 
 int ssc_calfile_read(const char *cmd, const char *path,
-		     struct ssc_caltriad **out, size_t *n_out)
+		     struct sscope_calib_file_triad **out, size_t *n_out)
 {
 	json_error_t err;
 	json_t *root = json_load_file(path, 0, &err), *arr;
-	struct ssc_caltriad *t = NULL;
+	struct sscope_calib_file_triad *t = NULL;
 	size_t n;
 
 	*out = NULL;
@@ -255,157 +255,31 @@ int ssc_calfile_read(const char *cmd, const char *path,
 	return SSC_EXIT_OK;
 }
 
-/* keep only the channels -c names (names or 1-based file columns) */
-static int select_columns(const struct ssc_common *co,
-			  struct sscope_capture *cap)
-{
-	char *list = strdup(co->columns), *save = NULL, *tok;
-	struct sscope_channel *keep;
-	bool *used;
-	size_t nk = 0;
-
-	keep = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*keep));
-	used = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*used));
-	if (!list || !keep || !used) {
-		free(list);
-		free(keep);
-		free(used);
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	for (tok = strtok_r(list, ",", &save); tok;
-	     tok = strtok_r(NULL, ",", &save)) {
-		size_t k, idx = 0;
-		bool num = *tok != 0;
-
-		for (const char *p = tok; *p; p++)
-			if (*p < '0' || *p > '9')
-				num = false;
-		if (num)
-			idx = (size_t)strtoul(tok, NULL, 10);
-		for (k = 0; k < cap->n_channels; k++)
-			if (!used[k] && (num ? cap->channels[k].col.index + 1 == idx :
-					       !strcmp(cap->channels[k].col.name, tok)))
-				break;
-		if (k == cap->n_channels) {
-			ssc_err(co->cmd, "--column: no data column '%s'", tok);
-			free(list);
-			free(keep);
-			free(used);
-			return SSC_EXIT_USAGE;
-		}
-		used[k] = true;
-		keep[nk++] = cap->channels[k];
-	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (!used[k]) {
-			free((char *)cap->channels[k].col.name);
-			free((char *)cap->channels[k].col.unit_label);
-			free(cap->channels[k].data);
-		}
-	free(cap->channels);
-	cap->channels = keep;
-	cap->n_channels = nk;
-	free(list);
-	free(used);
-	return SSC_EXIT_OK;
-}
-
 int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 			  struct sscope_capture *cap)
 {
-	struct ssc_caltriad *t;
-	size_t n, applied = 0;
+	struct sscope_calib_file_triad *t;
+	struct sscope_diag d = { "" };
+	unsigned skipped;
+	size_t n;
 	int rc = ssc_calfile_read(co->cmd, co->calibration, &t, &n);
 
 	if (rc)
 		return rc;
-	for (size_t i = 0; i < n; i++) {
-		long idx[3];
-		int found = 0;
-		struct sscope_calib_triad c = t[i].c;
-		double s = ssc_calfile_unit_scale(t[i].input_unit);
-		struct sscope_unit fu;
-		const double *a[3] = { NULL, NULL, NULL };
-
-		for (int j = 0; j < 3; j++) {
-			idx[j] = sscope_capture_find(cap, t[i].channels[j]);
-			found += idx[j] >= 0;
-		}
-		if (found == 0)
-			continue;
-		if (found < 3) {
-			ssc_err(co->cmd, "--calibration: %s: the triad %s,%s,%s needs all three channels",
-				path, t[i].channels[0], t[i].channels[1],
-				t[i].channels[2]);
-			rc = SSC_EXIT_FAIL;
-			break;
-		}
-		if (*t[i].input_unit)
-			sscope_unit_parse(t[i].input_unit, &fu, NULL);
-		for (int j = 0; j < 3; j++) {
-			const struct sscope_column *col = &cap->channels[idx[j]].col;
-
-			if (col->unit_label[0] && *t[i].input_unit &&
-			    !sscope_unit_compatible(&col->unit, &fu)) {
-				ssc_err(co->cmd, "--calibration: %s: channel %s is in %s, the calibration expects %s",
-					path, col->name, col->unit_label,
-					t[i].input_unit);
-				rc = SSC_EXIT_FAIL;
-				goto out;
-			}
-		}
-		/* parameters in the units the data are held in: SI of the
-		 * channel's unit, or raw values for channels without one */
-		if (cap->channels[idx[0]].col.unit_label[0])
-			for (int j = 0; j < 3; j++) {
-				c.bias[j] *= s;
-				c.scale[j] /= s;
-				for (int k = 0; k < 3; k++)
-					c.gsens[j][k] *= s;
-			}
-		if (c.has_gsens) {
-			for (int j = 0; j < 3; j++) {
-				long q = sscope_capture_find(cap, t[i].accel_channels[j]);
-
-				a[j] = q >= 0 ? cap->channels[q].data : NULL;
-			}
-			if (!a[0] || !a[1] || !a[2]) {
+	rc = sscope_calib_apply_capture(cap, t, n, &skipped, NULL, &d);
+	if (rc == -ENOMEM) {
+		ssc_err(co->cmd, "out of memory");
+	} else if (rc) {
+		ssc_err(co->cmd, "--calibration: %s: %s: %s", co->calibration,
+			path, d.msg[0] ? d.msg : sscope_strerror(rc));
+	} else {
+		for (size_t i = 0; i < n && i < 8 * sizeof(unsigned); i++)
+			if (skipped & (1u << i))
 				ssc_warn(co, "%s: no accelerometer channels %s,%s,%s: g-sensitivity not corrected",
 					 path, t[i].accel_channels[0],
-					 t[i].accel_channels[1], t[i].accel_channels[2]);
-				c.has_gsens = false;
-			}
-		}
-		sscope_calib_apply(&c, cap->channels[idx[0]].data,
-				   cap->channels[idx[1]].data,
-				   cap->channels[idx[2]].data, 1, cap->n,
-				   c.has_gsens ? a : NULL, 1);
-		for (int j = 0; j < 3; j++) {
-			struct sscope_channel *ch = &cap->channels[idx[j]];
-			char *name = strdup(ch->col.name);
-			size_t fi = ch->col.index;
-
-			if (!name || sscope_capture_set_channel(cap, (size_t)idx[j], name,
-								 t[i].output_unit)) {
-				free(name);
-				ssc_err(co->cmd, "out of memory");
-				rc = SSC_EXIT_FAIL;
-				goto out;
-			}
-			free(name);
-			ch->col.index = fi;
-		}
-		applied++;
+					 t[i].accel_channels[1],
+					 t[i].accel_channels[2]);
 	}
-	if (!rc && applied == 0) {
-		ssc_err(co->cmd, "--calibration: %s: none of its channels is in %s",
-			co->calibration, path);
-		rc = SSC_EXIT_FAIL;
-	}
-	if (!rc && co->columns && *co->columns)
-		rc = select_columns(co, cap);
-out:
 	free(t);
-	return rc;
+	return rc ? SSC_EXIT_FAIL : SSC_EXIT_OK;
 }

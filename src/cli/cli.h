@@ -83,6 +83,14 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 	      int (*handler)(int key, const char *arg, void *ctx), void *ctx,
 	      int *first);
 
+/* ssc_parse() for options that come from elsewhere than the command line
+ * (a scene): where[i] names the origin of argv[i] ("scene.ini: line 12")
+ * in usage errors of the handler (NULL entries: none). */
+int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
+		    const char *const *where, struct ssc_common *co,
+		    int (*handler)(int key, const char *arg, void *ctx),
+		    void *ctx, int *first);
+
 /* Read an interval table: lines "START END V1 ... Vn" (nval values, at
  * most 6; comma or blanks; '#' comments).  Times in s unless a unit says
  * otherwise; values in SI unit `si` unless a unit says otherwise, bare
@@ -135,9 +143,17 @@ void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o);
 int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 			  struct sscope_capture *cap);
 
-/* Load a capture with the shared options; prints errors.  Returns exit. */
+/* Load a capture with the shared options: the columns -c names (in its
+ * order), --calibration applied; prints errors.  Returns exit. */
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
+
+/* Shape a capture to -c (sscope_capture_select(), in place) or make a view
+ * of it (sscope_capture_view()); an unknown name is a data error (exit 1,
+ * as the reader's).  Print errors, return exit codes. */
+int ssc_select(const struct ssc_common *co, struct sscope_capture *cap);
+int ssc_view(const struct ssc_common *co, const struct sscope_capture *cap,
+	     struct sscope_capture **view);
 
 /* Warn that a text capture's last line has no newline (cut short?). */
 void ssc_warn_unterminated(const struct ssc_common *co, const char *path,

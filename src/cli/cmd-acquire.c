@@ -9,6 +9,7 @@
 #include "cli.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -80,8 +81,8 @@ static const struct ssc_command_spec spec = {
 		"way -- a jump of the device's sample counter, lost data-ready edges, ring\n"
 		"overruns, frames failing their checksum -- are counted, reported and\n"
 		"marked in the capture (a '# gap: ...' comment before the next row of a CSV,\n"
-		"and always the time stamps); nothing is interpolated.  Ctrl-C (SIGINT) or\n"
-		"SIGTERM stops cleanly: everything read is written and the file is valid.\n"
+		"and always the time stamps); nothing is interpolated.  Ctrl-C (SIGINT),\n"
+		"SIGTERM or SIGHUP stops cleanly: everything read is written and the file is valid.\n"
 		"The summary (text, or --format json) gives samples, effective rate,\n"
 		"jitter of the data-ready intervals, drops and checksum errors.",
 	.options = options,
@@ -358,7 +359,8 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 	fprintf(f, "source:          %s\n", info->desc);
 	fprintf(f, "stopped by:      %s%s\n", stop_name(r->stop),
 		r->stop == SSC_STOP_SIGNAL && r->signal
-			? (r->signal == 2 ? " (SIGINT)" : " (SIGTERM)")
+			? (r->signal == SIGINT ? " (SIGINT)" :
+			   r->signal == SIGHUP ? " (SIGHUP)" : " (SIGTERM)")
 			: "");
 	fprintf(f, "samples:         %llu\n", (unsigned long long)r->samples);
 	fprintf(f, "duration:        %s s\n", ssc_fmt(a, sizeof(a), r->duration_s, 8));
@@ -376,7 +378,7 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 			info->nominal_time ? "; simulated time stamps" : "");
 	if (r->src.late_n)
 		fprintf(f, "pacing:          late by %s s rms, %s s at most\n",
-			ssc_fmt(a, sizeof(a), sqrt(r->src.late_sum2_s2 / (double)r->src.late_n), 3),
+			ssc_fmt(a, sizeof(a), ssc_source_late_rms(&r->src), 3),
 			ssc_fmt(b, sizeof(b), r->src.late_max_s, 3));
 	fprintf(f, "drops:           %llu (", (unsigned long long)d.total);
 	if (info->has_counter)

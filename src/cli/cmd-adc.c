@@ -17,9 +17,6 @@
 #include <string.h>
 #include <strings.h>
 
-#include <gsl/gsl_cdf.h>
-#include <gsl/gsl_sort.h>
-#include <gsl/gsl_statistics_double.h>
 
 #include "plot.h"
 #include "stage.h"
@@ -181,205 +178,24 @@ static int r_handle(int key, const char *arg, void *ctx)
 	}
 }
 
-/* one Monte-Carlo ratio */
-struct mc_ratio {
-	double mean, lo, hi;
-	size_t n;
-};
-
 struct adc_res {
 	const char *path;
 	struct sscope_adc_spec spec;
 	struct ssc_inl_profile prof; /* inl_profile, or empty */
 	struct sscope_adc_analysis an;
 	bool mc_done;
-	size_t mc_runs;
-	double mc_duration;
-	struct mc_ratio ratio[3]; /* N, B, K */
-	struct mc_ratio bias_shift; /* mean(out) - mean(in), U */
-	size_t clipped;
-	/* ADEV of every run (run r at [r * n_pts]): the sensor alone at this
-	 * converter's rate and through the converter, same realisation */
-	double *tau, *dev_in, *dev_out;
-	size_t n_pts, n_runs;
+	struct sscope_adc_mc mc;  /* ratios, bias shift, ADEV curves of run 0 */
 	int rank;
 };
 
-static void ratio_stats(const double *v, size_t n, struct mc_ratio *r)
-{
-	double m = 0, s = 0;
-	size_t k = 0;
-
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(v[i])) {
-			m += v[i];
-			k++;
-		}
-	r->n = k;
-	if (!k) {
-		r->mean = r->lo = r->hi = (double)NAN;
-		return;
-	}
-	m /= (double)k;
-	for (size_t i = 0; i < n; i++)
-		if (isfinite(v[i]))
-			s += (v[i] - m) * (v[i] - m);
-	r->mean = m;
-	if (k < 2) {
-		r->lo = r->hi = (double)NAN;
-		return;
-	}
-	s = sqrt(s / (double)(k - 1) / (double)k);
-	{
-		double t = gsl_cdf_tdist_Pinv(0.5 + 0.6827 / 2, (double)(k - 1));
-
-		r->lo = m - t * s;
-		r->hi = m + t * s;
-	}
-}
-
-static int run_mc(const struct ropts *o, const struct sscope_sensor_spec *ss,
-		  struct adc_res *ar, struct sscope_diag *d)
-{
-	double fs = ar->an.rate_hz;
-	size_t n = (size_t)llround(o->mc_duration * fs), R = o->mc;
-	size_t M = ar->spec.oversample > 1 ? ar->spec.oversample : 1, blk = 4096;
-	double *x = NULL, *y = NULL, *vals = NULL, *fx = NULL, *fy = NULL;
-	struct sscope_sim_opts so;
-	int rc = 0;
-
-	if (n < 1000) {
-		snprintf(d->msg, sizeof(d->msg),
-			 "--mc-duration gives %zu samples (need 1000)", n);
-		return -EDOM;
-	}
-	x = malloc(n * sizeof(double));
-	y = malloc(n * sizeof(double));
-	vals = malloc(4 * R * sizeof(double));
-	fx = malloc(blk * M * sizeof(double));
-	fy = malloc(blk * M * sizeof(double));
-	if (!x || !y || !vals || !fx || !fy) {
-		rc = -ENOMEM;
-		goto out;
-	}
-	memset(&so, 0, sizeof(so));
-	so.rate_hz = fs * (double)M; /* the conversion rate */
-	so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
-	so.flicker_tau_max_s = fmax(1e6, 10 * o->mc_duration);
-	for (size_t r = 0; r < R; r++) {
-		struct sscope_sim *sim = NULL;
-		struct sscope_adc *adc = NULL;
-		struct sscope_allan_result *res_in = NULL, *res_out = NULL;
-		struct sscope_noise_fit_opts fo = { 0 };
-		double sin_ = 0, sout = 0;
-
-		so.seed = o->seed + r;
-		rc = sscope_sim_new(&sim, ss, &so, d);
-		if (!rc)
-			rc = ssc_adc_new(&adc, &ar->spec, &ar->prof, ss->sensitivity,
-					 (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0,
-					 o->seed + r, d);
-		/* conversions at M fs, averaged in blocks of M (the sensor
-		 * alone is averaged the same way) */
-		for (size_t i0 = 0; !rc && i0 < n; i0 += blk) {
-			size_t b = n - i0 < blk ? n - i0 : blk;
-
-			rc = sscope_sim_generate(sim, NULL, fx, NULL, b * M);
-			if (!rc)
-				rc = sscope_adc_digitize(adc, fx, 1, b * M, fs * (double)M,
-							 NULL, fy, NULL, &ar->clipped);
-			for (size_t i = 0; !rc && i < b; i++) {
-				double sx = 0, sy = 0;
-
-				for (size_t j = 0; j < M; j++) {
-					sx += fx[i * M + j];
-					sy += fy[i * M + j];
-				}
-				x[i0 + i] = sx / (double)M;
-				y[i0 + i] = sy / (double)M;
-			}
-		}
-		sscope_sim_free(sim);
-		sscope_adc_free(adc);
-		/* the terms compared (the simulated sensor has no ramp and its
-		 * quantization is what is being judged): a free R or Q would
-		 * only add estimation noise to B and K */
-		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
-			     (1u << SSCOPE_TERM_K);
-		if (!rc)
-			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  &fo, &res_in, d);
-		if (!rc)
-			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, NULL,
-						  &fo, &res_out, d);
-		if (rc) {
-			sscope_allan_result_free(res_in);
-			sscope_allan_result_free(res_out);
-			goto out;
-		}
-		for (int t = 0; t < 3; t++) {
-			int term = SSCOPE_TERM_N + t;
-			const struct sscope_noise_coef *ci = &res_in->fit.coef[term];
-			const struct sscope_noise_coef *co = &res_out->fit.coef[term];
-
-			/* the estimates, resolved or not: the same noise
-			 * realization goes in and out */
-			vals[t * R + r] = res_in->have_fit && res_out->have_fit &&
-						  ci->estimate > 0 && co->estimate > 0 ?
-					  co->estimate / ci->estimate : (double)NAN;
-		}
-		for (size_t i = 0; i < n; i++) {
-			sin_ += x[i];
-			sout += y[i];
-		}
-		vals[3 * R + r] = (sout - sin_) / (double)n;
-		if (r == 0 && res_in->n_points == res_out->n_points) {
-			size_t np = res_in->n_points;
-
-			ar->tau = malloc(np * sizeof(double));
-			ar->dev_in = malloc(R * np * sizeof(double));
-			ar->dev_out = malloc(R * np * sizeof(double));
-			if (ar->tau && ar->dev_in && ar->dev_out) {
-				for (size_t i = 0; i < np; i++)
-					ar->tau[i] = res_in->points[i].tau_s;
-				ar->n_pts = np;
-			}
-		}
-		/* every run has the same tau grid (same length and rate) */
-		if (ar->n_pts && res_in->n_points == ar->n_pts &&
-		    res_out->n_points == ar->n_pts) {
-			for (size_t i = 0; i < ar->n_pts; i++) {
-				ar->dev_in[r * ar->n_pts + i] = res_in->points[i].dev;
-				ar->dev_out[r * ar->n_pts + i] = res_out->points[i].dev;
-			}
-			ar->n_runs = r + 1;
-		}
-		sscope_allan_result_free(res_in);
-		sscope_allan_result_free(res_out);
-	}
-	for (int t = 0; t < 3; t++)
-		ratio_stats(vals + (size_t)t * R, R, &ar->ratio[t]);
-	ratio_stats(vals + 3 * R, R, &ar->bias_shift);
-	ar->mc_done = true;
-	ar->mc_runs = R;
-	ar->mc_duration = (double)n / fs;
-out:
-	free(x);
-	free(y);
-	free(fx);
-	free(fy);
-	free(vals);
-	return rc;
-}
-
-static json_t *jratio(const struct mc_ratio *r)
+static json_t *jratio(const struct sscope_adc_mc_ratio *r)
 {
 	json_t *o = json_object();
 
 	json_object_set_new(o, "value", ssc_jreal(r->mean));
 	json_object_set_new(o, "lo", ssc_jreal(r->lo));
 	json_object_set_new(o, "hi", ssc_jreal(r->hi));
-	json_object_set_new(o, "runs", json_integer((json_int_t)r->n));
+	json_object_set_new(o, "runs", json_integer((json_int_t)r->runs));
 	return o;
 }
 
@@ -497,19 +313,19 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 	if (ar->mc_done) {
 		json_t *m = json_object();
 
-		json_object_set_new(m, "N_ratio", ssc_jreal(ar->ratio[0].mean));
-		json_object_set_new(m, "B_ratio", ssc_jreal(ar->ratio[1].mean));
-		json_object_set_new(m, "K_ratio", ssc_jreal(ar->ratio[2].mean));
-		json_object_set_new(m, "N", jratio(&ar->ratio[0]));
-		json_object_set_new(m, "B", jratio(&ar->ratio[1]));
-		json_object_set_new(m, "K", jratio(&ar->ratio[2]));
+		json_object_set_new(m, "N_ratio", ssc_jreal(ar->mc.ratio[0].mean));
+		json_object_set_new(m, "B_ratio", ssc_jreal(ar->mc.ratio[1].mean));
+		json_object_set_new(m, "K_ratio", ssc_jreal(ar->mc.ratio[2].mean));
+		json_object_set_new(m, "N", jratio(&ar->mc.ratio[0]));
+		json_object_set_new(m, "B", jratio(&ar->mc.ratio[1]));
+		json_object_set_new(m, "K", jratio(&ar->mc.ratio[2]));
 		json_object_set_new(m, "bias_shift",
-				    ssc_json_coef(ar->bias_shift.mean, ar->bias_shift.lo,
-						  ar->bias_shift.hi, bu, bsi, true));
-		json_object_set_new(m, "runs", json_integer((json_int_t)ar->mc_runs));
-		json_object_set_new(m, "duration_s", json_real(ar->mc_duration));
+				    ssc_json_coef(ar->mc.bias_shift.mean, ar->mc.bias_shift.lo,
+						  ar->mc.bias_shift.hi, bu, bsi, true));
+		json_object_set_new(m, "runs", json_integer((json_int_t)ar->mc.runs));
+		json_object_set_new(m, "duration_s", json_real(ar->mc.duration_s));
 		json_object_set_new(m, "interval_level", json_real(0.6827));
-		json_object_set_new(m, "clipped_samples", json_integer((json_int_t)ar->clipped));
+		json_object_set_new(m, "clipped_samples", json_integer((json_int_t)ar->mc.clipped));
 		json_object_set_new(o, "monte_carlo", m);
 	} else {
 		json_object_set_new(o, "monte_carlo", json_null());
@@ -615,9 +431,9 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 		static const char tn[] = "NBK";
 
 		fprintf(f, "  Monte Carlo (%zu x %s s): fitted term with / without converter\n",
-			ar->mc_runs, ssc_fmt(b1, sizeof(b1), ar->mc_duration, 6));
+			ar->mc.runs, ssc_fmt(b1, sizeof(b1), ar->mc.duration_s, 6));
 		for (int t = 0; t < 3; t++) {
-			const struct mc_ratio *r = &ar->ratio[t];
+			const struct sscope_adc_mc_ratio *r = &ar->mc.ratio[t];
 
 			if (!isfinite(r->mean)) {
 				fprintf(f, "    %c ratio  not fitted in both\n", tn[t]);
@@ -629,48 +445,12 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 					ssc_fmt(b3, sizeof(b3), r->hi, 4));
 			fputc('\n', f);
 		}
-		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->bias_shift.mean, bsi, bu, 3));
-		if (isfinite(ar->bias_shift.lo))
-			fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), in_unit(ar->bias_shift.lo, bsi, bu), 3),
-				ssc_fmt(b3, sizeof(b3), in_unit(ar->bias_shift.hi, bsi, bu), 3));
+		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->mc.bias_shift.mean, bsi, bu, 3));
+		if (isfinite(ar->mc.bias_shift.lo))
+			fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), in_unit(ar->mc.bias_shift.lo, bsi, bu), 3),
+				ssc_fmt(b3, sizeof(b3), in_unit(ar->mc.bias_shift.hi, bsi, bu), 3));
 		fputc('\n', f);
 	}
-}
-
-static int rank_cmp(const struct adc_res *a, const struct adc_res *b)
-{
-	double ma = isfinite(a->an.margin) ? a->an.margin : (double)INFINITY;
-	double mb = isfinite(b->an.margin) ? b->an.margin : (double)INFINITY;
-
-	if (a->an.verdict != b->an.verdict)
-		return a->an.verdict < b->an.verdict ? -1 : 1;
-	if (a->an.verdict == SSCOPE_ADC_PASS && a->spec.bits != b->spec.bits)
-		return a->spec.bits < b->spec.bits ? -1 : 1; /* cheapest passing */
-	return ma > mb ? -1 : ma < mb ? 1 : 0;
-}
-
-/* The 10th, 50th and 90th percentiles over the runs of column i of a
- * runs x np array (f: NULL for the values, else the ratio v / f). */
-static void run_pct(const double *v, const double *f, size_t runs, size_t np,
-		    size_t i, double q[3])
-{
-	double s[1000];
-	size_t k = 0;
-
-	for (size_t r = 0; r < runs && k < 1000; r++) {
-		double x = v[r * np + i] / (f ? f[r * np + i] : 1);
-
-		if (isfinite(x) && x > 0)
-			s[k++] = x;
-	}
-	if (!k) {
-		q[0] = q[1] = q[2] = NAN;
-		return;
-	}
-	gsl_sort(s, 1, k);
-	q[0] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.1);
-	q[1] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.5);
-	q[2] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.9);
 }
 
 /* Top: ADEV of the sensor alone and through each converter, the median of
@@ -703,7 +483,7 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 	ssc_ax_title(rx, "what each converter adds, run by run");
 	for (int i = 0; i < n; i++) {
 		const struct adc_res *a = &ar[i];
-		size_t np = a->n_pts, nr = a->n_runs;
+		size_t np = a->mc.n_points, nr = a->mc.n_runs;
 		double *m = malloc(3 * np * sizeof(double));
 		double *lo = malloc(3 * np * sizeof(double));
 		double *hi = malloc(3 * np * sizeof(double));
@@ -727,15 +507,15 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		for (size_t k = 0; k < np; k++) {
 			double qv[3];
 
-			run_pct(a->dev_in, NULL, nr, np, k, qv);
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_ALONE, k, qv);
 			lo[k] = qv[0] * scale;
 			m[k] = qv[1] * scale;
 			hi[k] = qv[2] * scale;
-			run_pct(a->dev_out, NULL, nr, np, k, qv);
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_THROUGH, k, qv);
 			lo[np + k] = qv[0] * scale;
 			m[np + k] = qv[1] * scale;
 			hi[np + k] = qv[2] * scale;
-			run_pct(a->dev_out, a->dev_in, nr, np, k, qv);
+			sscope_adc_mc_band(&a->mc, SSCOPE_ADC_MC_RATIO, k, qv);
 			lo[2 * np + k] = qv[0];
 			m[2 * np + k] = qv[1];
 			hi[2 * np + k] = qv[2];
@@ -743,16 +523,16 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 		if (!drawn) {
 			struct ssc_style s0 = { .color = 0x202020, .width = 2.5 };
 
-			ssc_ax_band(ax, a->tau, lo, hi, np, 0x202020, 0.15, NULL);
-			ssc_ax_line(ax, a->tau, m, np, &s0, "sensor alone");
+			ssc_ax_band(ax, a->mc.tau_s, lo, hi, np, 0x202020, 0.15, NULL);
+			ssc_ax_line(ax, a->mc.tau_s, m, np, &s0, "sensor alone");
 		}
 		snprintf(buf, sizeof(buf), "%s (%d b): %s", a->spec.name, a->spec.bits,
 			 sscope_adc_verdict_name(a->an.verdict));
-		ssc_ax_band(ax, a->tau, lo + np, hi + np, np, col, 0.18, NULL);
-		ssc_ax_line(ax, a->tau, m + np, np, &st, buf);
+		ssc_ax_band(ax, a->mc.tau_s, lo + np, hi + np, np, col, 0.18, NULL);
+		ssc_ax_line(ax, a->mc.tau_s, m + np, np, &st, buf);
 		st.dash = SSC_SOLID;
-		ssc_ax_band(rx, a->tau, lo + 2 * np, hi + 2 * np, np, col, 0.2, NULL);
-		ssc_ax_line(rx, a->tau, m + 2 * np, np, &st, buf);
+		ssc_ax_band(rx, a->mc.tau_s, lo + 2 * np, hi + 2 * np, np, col, 0.2, NULL);
+		ssc_ax_line(rx, a->mc.tau_s, m + 2 * np, np, &st, buf);
 		drawn++;
 		free(m);
 		free(lo);
@@ -774,32 +554,65 @@ static int plot_report(const char *path, const struct sscope_sensor_spec *ss,
 	return rc;
 }
 
-static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_out *out)
+struct report_res {
+	struct sscope_sensor_spec ss; /* the sensor */
+	const char *spath;
+	struct adc_res ar[MAX_ADC];
+	int n, order[MAX_ADC];
+};
+
+static void r_free(void *result)
+{
+	struct report_res *R = result;
+
+	for (int i = 0; i < R->n; i++) {
+		ssc_adc_profile_free(&R->ar[i].prof);
+		sscope_adc_mc_clear(&R->ar[i].mc);
+	}
+	free(R);
+}
+
+static int r_check(struct ssc_common *co, void *opts)
+{
+	struct ropts *o = opts;
+
+	if (o->plot)
+		co->plot = o->plot;
+	/* options that would be ignored */
+	if (o->mc_opt && o->mc == 0)
+		return ssc_usage_error(co->cmd, "--%s: no Monte-Carlo check (--monte-carlo 0)",
+				       o->mc_opt);
+	return SSC_EXIT_OK;
+}
+
+static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	struct ropts *o = opts;
 	const char *cmd = env->co->cmd;
-	struct sscope_sensor_spec ss;
 	const struct sscope_sensor_spec *sp;
-	const char *spath;
 	const char *paths[MAX_ADC];
-	struct adc_res ar[MAX_ADC];
-	int n = 0, order[MAX_ADC], rc = SSC_EXIT_OK, inline_at = -1;
-	struct ssc_membuf mb;
-	json_t *root, *arr;
+	struct report_res *R = calloc(1, sizeof(*R));
+	struct adc_res *ar;
+	int n = 0, inline_at = -1, rc;
 
-	memset(ar, 0, sizeof(ar));
+	if (!R) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	*result = R;
+	ar = R->ar;
 	if (o->sensor) {
-		rc = ssc_load_sensor(cmd, o->sensor, &ss);
+		rc = ssc_load_sensor(cmd, o->sensor, &R->ss);
 		if (rc)
 			return rc;
-		sp = &ss;
-		spath = o->sensor;
+		R->spath = o->sensor;
 	} else if (env->sensor) {
-		sp = env->sensor;
-		spath = env->sensor_path;
+		R->ss = *env->sensor;
+		R->spath = env->sensor_path;
 	} else {
 		return ssc_usage_error(cmd, "no sensor: give --sensor SENSOR.ini");
 	}
+	sp = &R->ss;
 	for (int i = 0; i < o->n_adc; i++)
 		paths[n++] = o->adc[i];
 	for (size_t i = 0; i < env->n_adc && n < MAX_ADC; i++)
@@ -810,7 +623,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 	}
 	if (!n)
 		return ssc_usage_error(cmd, "no converter: give --adc ADC.ini");
-	for (int i = 0; i < n; i++) {
+	for (int i = 0; i < n; i++, R->n++) {
 		struct sscope_diag d = { "" };
 		int e;
 
@@ -819,157 +632,167 @@ static int r_run(const struct ssc_stage_env *env, void *opts, struct ssc_stage_o
 			    sscope_adc_spec_from_ini(env->adc_ini, "adc", &ar[i].spec, &d) :
 			    sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
 		if (e) {
-			rc = ssc_fail(cmd, e, &d, "adc spec");
-			goto done;
+			R->n++;
+			return ssc_fail(cmd, e, &d, "adc spec");
 		}
 		rc = ssc_adc_profile_load(cmd, paths[i], &ar[i].spec, &ar[i].prof);
-		if (rc)
-			goto done;
+		if (rc) {
+			R->n++;
+			return rc;
+		}
 		e = sscope_adc_analyze(sp, &ar[i].spec, o->rate, &ar[i].an, &d);
 		if (e) {
+			R->n++;
 			ssc_err(cmd, "%s: %s", paths[i], d.msg[0] ? d.msg : sscope_strerror(e));
-			rc = SSC_EXIT_FAIL;
-			goto done;
+			return SSC_EXIT_FAIL;
 		}
 	}
 	for (int i = 0; i < n; i++) {
 		struct sscope_diag d = { "" };
+		struct sscope_adc_mc_opts mo = { o->mc, o->mc_duration, o->seed,
+						 0.6827, ar[i].an.rate_hz };
 		int e;
 
 		if (!o->mc)
 			break;
 		ssc_progress(env->co, "Monte Carlo", (double)i, (double)n);
-		e = run_mc(o, sp, &ar[i], &d);
+		e = sscope_adc_monte_carlo(sp, &ar[i].spec, ar[i].prof.inl,
+					   ar[i].prof.n, sp->sensitivity,
+					   (sp->has & SSCOPE_SPEC_ZERO) ?
+						   sp->zero_output_v : 0,
+					   &mo, &ar[i].mc, &d);
 		if (e) {
 			ssc_progress_end(env->co);
 			ssc_err(cmd, "Monte Carlo of %s: %s", paths[i],
 				d.msg[0] ? d.msg : sscope_strerror(e));
-			rc = SSC_EXIT_FAIL;
-			goto done;
+			return SSC_EXIT_FAIL;
 		}
+		ar[i].mc_done = true;
 	}
 	ssc_progress_end(env->co);
-	for (int i = 0; i < n; i++)
-		order[i] = i;
-	for (int i = 1; i < n; i++) /* insertion sort: stable, n <= 8 */
-		for (int j = i; j > 0 && rank_cmp(&ar[order[j]], &ar[order[j - 1]]) < 0; j--) {
-			int t = order[j];
-
-			order[j] = order[j - 1];
-			order[j - 1] = t;
-		}
-	for (int i = 0; i < n; i++)
-		ar[order[i]].rank = i + 1;
-	root = json_object();
-	arr = json_array();
-	json_object_set_new(root, "command", json_string("adc report"));
-	json_object_set_new(root, "sensor", sensor_json(sp, spath));
-	for (int i = 0; i < n; i++)
-		json_array_append_new(arr, adc_json(sp, &ar[i]));
-	json_object_set_new(root, "adcs", arr);
-	out->json = root;
-	if (ssc_membuf_open(&mb)) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
 	{
-		char b1[64], b2[64];
-		enum sscope_quantity q = sp->quantity;
+		struct sscope_adc_analysis an[MAX_ADC];
+		int bits[MAX_ADC];
+		size_t order[MAX_ADC];
 
-		fprintf(mb.f, "sensor %s (%s)", sp->name, spath ? spath : "[sensor]");
-		if (sp->has & SSCOPE_SPEC_N)
-			fprintf(mb.f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
-						      qty_unit(q, SSCOPE_TERM_N, false), 3));
-		if (sp->has & SSCOPE_SPEC_B)
-			fprintf(mb.f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
-						      qty_unit(q, SSCOPE_TERM_B, false), 3));
-		fputc('\n', mb.f);
+		for (int i = 0; i < n; i++) {
+			an[i] = ar[i].an;
+			bits[i] = ar[i].spec.bits;
+		}
+		sscope_adc_rank(an, bits, (size_t)n, order);
 		for (int i = 0; i < n; i++)
-			adc_text(mb.f, sp, &ar[i]);
-		fprintf(mb.f, "\nselection (pass first, then fewest bits, then margin):\n");
-		fprintf(mb.f, "  %-4s %-24s %4s %12s %8s %-9s %-16s %s\n", "rank", "converter",
-			"bits", "LSB", "min bits", "verdict", "limiting", "margin");
-		for (int k = 0; k < n; k++) {
-			const struct adc_res *a = &ar[order[k]];
-			char l[64], m[32];
-
-			char mbits[16];
-
-			if (a->an.min_bits > 0)
-				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
-			else
-				snprintf(mbits, sizeof(mbits), "none");
-			fprintf(mb.f, "  %-4d %-24.24s %4d %12s %8s %-9s %-16s x%s\n", k + 1,
-				a->spec.name, a->spec.bits,
-				fmtu(l, sizeof(l), a->an.lsb, qty_unit(q, SSCOPE_TERM_B, true),
-				     qty_unit(q, SSCOPE_TERM_B, false), 4),
-				mbits, sscope_adc_verdict_name(a->an.verdict),
-				sscope_adc_term_name(a->an.limiting),
-				ssc_fmt(m, sizeof(m), a->an.margin, 3));
-		}
+			R->order[i] = (int)order[i];
 	}
-	out->text = ssc_membuf_take(&mb);
-	/* CSV: the selection table */
-	if (!ssc_membuf_open(&mb)) {
-		fprintf(mb.f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
-		for (int k = 0; k < n; k++) {
-			const struct adc_res *a = &ar[order[k]];
-			char mbits[16] = "";
-
-			if (a->an.min_bits > 0)
-				snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
-			fprintf(mb.f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
-				k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
-				mbits, sscope_adc_verdict_name(a->an.verdict),
-				sscope_adc_term_name(a->an.limiting), a->an.margin,
-				a->ratio[0].mean, a->ratio[1].mean, a->ratio[2].mean);
-		}
-		out->csv = ssc_membuf_take(&mb);
-	}
-	for (int i = 0; i < n; i++) {
-		char note[96];
-
-		snprintf(note, sizeof(note), "%d bits, limiting %s", ar[i].spec.bits,
-			 sscope_adc_term_name(ar[i].an.limiting));
-		ssc_summary_add(out->summary, ar[i].spec.name,
-				ar[i].an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
-				ar[i].an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
-									   "ADC verdict: fail",
-				ar[i].an.margin, (double)NAN, (double)NAN, "", note);
-	}
-	if (env->plot_path || o->plot) {
-		const char *pp = env->plot_path ? env->plot_path : o->plot;
-		int e = plot_report(pp, sp, ar, n);
-
-		if (e == -EDOM) {
-			rc = ssc_usage_error(cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
-			goto done;
-		}
-		if (e) {
-			rc = ssc_write_failed(cmd, pp, e);
-			goto done;
-		}
-	}
-done:
-	for (int i = 0; i < n; i++) {
-		ssc_adc_profile_free(&ar[i].prof);
-		free(ar[i].tau);
-		free(ar[i].dev_in);
-		free(ar[i].dev_out);
-	}
-	return rc;
-}
-
-/* Options that would be ignored. */
-static int r_check(const struct ssc_common *co, void *opts)
-{
-	const struct ropts *o = opts;
-
-	if (o->mc_opt && o->mc == 0)
-		return ssc_usage_error(co->cmd, "--%s: no Monte-Carlo check (--monte-carlo 0)",
-				       o->mc_opt);
+	for (int i = 0; i < n; i++)
+		ar[R->order[i]].rank = i + 1;
 	return SSC_EXIT_OK;
 }
+
+static json_t *r_json(const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+	json_t *root = json_object(), *arr = json_array();
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string("adc report"));
+	json_object_set_new(root, "sensor", sensor_json(&R->ss, R->spath));
+	for (int i = 0; i < R->n; i++)
+		json_array_append_new(arr, adc_json(&R->ss, &R->ar[i]));
+	json_object_set_new(root, "adcs", arr);
+	return root;
+}
+
+static void r_text(FILE *f, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+	const struct sscope_sensor_spec *sp = &R->ss;
+	char b1[64], b2[64];
+	enum sscope_quantity q = sp->quantity;
+
+	(void)opts;
+	fprintf(f, "sensor %s (%s)", sp->name, R->spath ? R->spath : "[sensor]");
+	if (sp->has & SSCOPE_SPEC_N)
+		fprintf(f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
+					   qty_unit(q, SSCOPE_TERM_N, false), 3));
+	if (sp->has & SSCOPE_SPEC_B)
+		fprintf(f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
+					   qty_unit(q, SSCOPE_TERM_B, false), 3));
+	fputc('\n', f);
+	for (int i = 0; i < R->n; i++)
+		adc_text(f, sp, &R->ar[i]);
+	fprintf(f, "\nselection (pass first, then fewest bits, then margin):\n");
+	fprintf(f, "  %-4s %-24s %4s %12s %8s %-9s %-16s %s\n", "rank", "converter",
+		"bits", "LSB", "min bits", "verdict", "limiting", "margin");
+	for (int k = 0; k < R->n; k++) {
+		const struct adc_res *a = &R->ar[R->order[k]];
+		char l[64], m[32], mbits[16];
+
+		if (a->an.min_bits > 0)
+			snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+		else
+			snprintf(mbits, sizeof(mbits), "none");
+		fprintf(f, "  %-4d %-24.24s %4d %12s %8s %-9s %-16s x%s\n", k + 1,
+			a->spec.name, a->spec.bits,
+			fmtu(l, sizeof(l), a->an.lsb, qty_unit(q, SSCOPE_TERM_B, true),
+			     qty_unit(q, SSCOPE_TERM_B, false), 4),
+			mbits, sscope_adc_verdict_name(a->an.verdict),
+			sscope_adc_term_name(a->an.limiting),
+			ssc_fmt(m, sizeof(m), a->an.margin, 3));
+	}
+}
+
+/* CSV: the selection table */
+static void r_csv(FILE *f, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+
+	(void)opts;
+	fprintf(f, "rank,name,file,bits,lsb_si,min_bits,verdict,limiting,margin,N_ratio,B_ratio,K_ratio\n");
+	for (int k = 0; k < R->n; k++) {
+		const struct adc_res *a = &R->ar[R->order[k]];
+		char mbits[16] = "";
+
+		if (a->an.min_bits > 0)
+			snprintf(mbits, sizeof(mbits), "%d", a->an.min_bits);
+		fprintf(f, "%d,\"%s\",\"%s\",%d,%.10g,%s,%s,%s,%.6g,%.6g,%.6g,%.6g\n",
+			k + 1, a->spec.name, a->path, a->spec.bits, a->an.lsb,
+			mbits, sscope_adc_verdict_name(a->an.verdict),
+			sscope_adc_term_name(a->an.limiting), a->an.margin,
+			a->mc.ratio[0].mean, a->mc.ratio[1].mean, a->mc.ratio[2].mean);
+	}
+}
+
+static void r_summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct report_res *R = result;
+
+	(void)opts;
+	for (int i = 0; i < R->n; i++) {
+		const struct adc_res *a = &R->ar[i];
+		char note[96];
+
+		snprintf(note, sizeof(note), "%d bits, limiting %s", a->spec.bits,
+			 sscope_adc_term_name(a->an.limiting));
+		ssc_summary_add(rows, a->spec.name,
+				a->an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
+				a->an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
+									"ADC verdict: fail",
+				a->an.margin, (double)NAN, (double)NAN, "", note);
+	}
+}
+
+static int r_plot(const struct ssc_common *co, const void *opts,
+		  const void *result, const char *path)
+{
+	const struct report_res *R = result;
+	int e = plot_report(path, &R->ss, R->ar, R->n);
+
+	(void)opts;
+	if (e == -EDOM)
+		return ssc_usage_error(co->cmd, "--plot needs the Monte-Carlo check (--monte-carlo > 0)");
+	return e ? ssc_write_failed(co->cmd, path, e) : SSC_EXIT_OK;
+}
+
 
 const struct ssc_stage_ops ssc_adc_stage = {
 	.spec = &report_spec,
@@ -982,6 +805,12 @@ const struct ssc_stage_ops ssc_adc_stage = {
 	.handle = r_handle,
 	.check = r_check,
 	.run = r_run,
+	.json = r_json,
+	.text = r_text,
+	.csv = r_csv,
+	.summary = r_summary,
+	.plot = r_plot,
+	.free_result = r_free,
 };
 
 /* ------------------------------------------------------------ quantize */

@@ -6,7 +6,7 @@
  * and the noise files of Kalibr, OpenVINS and imu_utils (noise-export.c).
  */
 #include "cli.h"
-#include "stage.h"
+#include "results.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -281,34 +281,6 @@ static int handler(int key, const char *arg, void *ctx)
 
 /* ------------------------------------------------------------------ */
 
-/* units of one channel's results */
-struct units {
-	enum sscope_quantity rq; /* quantity of the rate */
-	char rate[64];           /* the rate unit as text ("deg/s") */
-	char rate_si[64];        /* its SI form ("rad/s") */
-	char dev[96];            /* unit of the deviation values in JSON */
-	double dev_scale;        /* SI per JSON dev unit */
-	char show[96];           /* unit of deviations in text/CSV/plot */
-	double show_scale;       /* SI per shown unit */
-	char term[5][96];        /* conventional unit of each term */
-	char term_si[5][96];     /* SI unit of each term */
-};
-
-struct chan {
-	const struct sscope_column *col;
-	struct units u;
-	struct sscope_allan_result *res;
-	size_t n, nan;
-	char fit_msg[320];
-};
-
-struct file_res {
-	const char *path;
-	struct sscope_capture *cap;
-	struct chan *ch;
-	size_t n_ch;
-};
-
 static double unit_scale(const char *text)
 {
 	struct sscope_unit u;
@@ -319,7 +291,7 @@ static double unit_scale(const char *text)
 }
 
 static void set_units(const struct args *a, const struct sscope_column *col,
-		      struct units *u)
+		      struct ssc_allan_units *u)
 {
 	static const char *const fmt[5] = { "%s*s", "%s/sqrt(Hz)", "%s",
 					    "%s/s/sqrt(Hz)", "%s/s" };
@@ -328,11 +300,8 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 	struct sscope_unit ru;
 
 	memset(u, 0, sizeof(*u));
-	u->rq = col->quantity;
+	u->rq = sscope_allan_rate_quantity(col->quantity, a->ao.input);
 	if (angle) {
-		u->rq = col->quantity == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
-			col->quantity == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
-			SSCOPE_QTY_UNKNOWN;
 		snprintf(u->rate, sizeof(u->rate), "%s/s", lab[0] ? lab : "1");
 	} else {
 		snprintf(u->rate, sizeof(u->rate), "%s", lab[0] ? lab : "1");
@@ -397,13 +366,12 @@ static int idigits(double v, double lo, double hi)
 
 static bool fit_rejected(const struct sscope_noise_fit *ft)
 {
-	return ft->p_value < FIT_REJECT_P;
+	return sscope_noise_fit_rejected(ft, FIT_REJECT_P);
 }
 
-/* A term is resolved when it was fitted and its interval excludes zero. */
 static bool term_resolved(const struct sscope_noise_coef *cf)
 {
-	return cf->fitted && cf->lo > 0;
+	return sscope_noise_coef_resolved(cf);
 }
 
 /* value (SI) in unit; NaN stays NaN */
@@ -418,9 +386,57 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 	return v;
 }
 
+/* why the noise fit failed */
+static const char *fit_msg(const struct ssc_allan_chan *c)
+{
+	return c->res->fit_diag.msg[0] ? c->res->fit_diag.msg :
+					 sscope_strerror(c->res->fit_error);
+}
+
+/* Results of extreme samples (1e308 deg/s) can be finite in SI and
+ * beyond the double range in the units shown (deg/h): an error, never
+ * "inf" in a table.  Returns an exit code. */
+static int check_shown(const struct ssc_common *co, const struct args *a,
+		       const char *path, const struct ssc_allan_chan *c)
+{
+	const struct ssc_allan_units *u = &c->u;
+	double dmax = 0;
+
+	for (size_t i = 0; i < c->res->n_points; i++) {
+		const struct sscope_allan_point *p = &c->res->points[i];
+
+		if (isfinite(p->dev_hi) && p->dev_hi > dmax)
+			dmax = p->dev_hi;
+		if (isfinite(p->dev) && p->dev > dmax)
+			dmax = p->dev;
+	}
+	if (!isfinite(dmax / u->dev_scale) || !isfinite(dmax / u->show_scale)) {
+		ssc_err(co->cmd, "%s: %s: deviations up to %g %s exceed the double range in %s; give --dev-unit %s",
+			path, c->col->name, dmax, u->rate_si,
+			isfinite(dmax / u->dev_scale) ? u->show : u->dev,
+			u->rate_si);
+		return SSC_EXIT_FAIL;
+	}
+	if (a->no_fit || !c->res->have_fit)
+		return SSC_EXIT_OK;
+	for (int t = 0; t < 5; t++) {
+		const struct sscope_noise_coef *cf = &c->res->fit.coef[t];
+		double v = fmax(isfinite(cf->value) ? cf->value : 0,
+				isfinite(cf->hi) ? cf->hi : 0);
+
+		if (v > 0 && !isfinite(in_unit(v, u->term_si[t], u->term[t]))) {
+			ssc_err(co->cmd, "%s: %s: the %c term (up to %g %s) exceeds the double range in %s; give --no-fit",
+				path, c->col->name, "QNBKR"[t], v, u->term_si[t],
+				u->term[t]);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	return SSC_EXIT_OK;
+}
+
 static int analyse_file(const struct ssc_common *co, const struct args *a,
 			const char *path, struct sscope_capture *cap,
-			struct file_res *fr)
+			struct ssc_allan_file *fr)
 {
 	int rc;
 
@@ -434,17 +450,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 			path);
 		return SSC_EXIT_FAIL;
 	}
-	if (cap->time_s && cap->n > 2) {
-		struct sscope_timing tm;
-		double *scratch = malloc((cap->n - 1) * sizeof(double));
-
-		if (scratch && sscope_timing_analyze(cap->time_s, cap->n, 1.5, &tm,
-						     NULL, 0, NULL, scratch) == 0 &&
-		    tm.n_gaps)
-			ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
-				 path, tm.n_gaps, tm.n_missing);
-		free(scratch);
-	}
+	if (cap->has_timing && cap->timing.n_gaps)
+		ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
+			 path, cap->timing.n_gaps, cap->timing.n_missing);
 	fr->n_ch = cap->n_channels;
 	fr->ch = calloc(fr->n_ch ? fr->n_ch : 1, sizeof(*fr->ch));
 	if (!fr->ch) {
@@ -452,14 +460,13 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		return SSC_EXIT_FAIL;
 	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		struct chan *c = &fr->ch[k];
+		struct ssc_allan_chan *c = &fr->ch[k];
 		struct sscope_diag d = { "" };
 		struct sscope_allan_opts ao = a->ao;
 
 		c->col = &cap->channels[k].col;
 		c->n = cap->n;
-		for (size_t i = 0; cap->n_nan && i < cap->n; i++)
-			c->nan += isnan(cap->channels[k].data[i]);
+		c->nan = cap->channels[k].n_nan;
 		set_units(a, c->col, &c->u);
 		ao.ci_level = a->ci;
 		/* a capture used in place gives its pages back behind the
@@ -474,21 +481,13 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
 			return rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 		}
+		rc = check_shown(co, a, path, c);
+		if (rc)
+			return rc;
 		if (a->no_fit)
 			continue;
-		if (!c->res->have_fit) {
-			struct sscope_diag fd = { "" };
-			struct sscope_noise_fit tmp;
-
-			/* rerun for the message */
-			sscope_noise_fit(c->res->oadev, c->res->n_oadev,
-					 cap->rate_hz, c->res->n_phase, &a->fo,
-					 &tmp, &fd);
-			snprintf(c->fit_msg, sizeof(c->fit_msg), "%s",
-				 fd.msg[0] ? fd.msg :
-					     sscope_strerror(c->res->fit_error));
-			ssc_warn(co, "%s: %s: %s", path, c->col->name, c->fit_msg);
-		}
+		if (!c->res->have_fit)
+			ssc_warn(co, "%s: %s: %s", path, c->col->name, fit_msg(c));
 	}
 	return SSC_EXIT_OK;
 }
@@ -530,11 +529,11 @@ struct warn {
 	char msg[480];
 };
 
-static size_t chan_warnings(const struct args *a, const struct chan *c,
+static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c,
 			    struct warn *w, size_t max)
 {
 	const struct sscope_noise_fit *ft = &c->res->fit;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	char b1[32], b2[32], b3[32];
 	size_t n = 0;
 
@@ -546,7 +545,8 @@ static size_t chan_warnings(const struct args *a, const struct chan *c,
 			w[0].code = "fit_failed";
 			snprintf(w[0].msg, sizeof(w[0].msg),
 				 "%s: no noise terms: %s", c->col->name,
-				 c->fit_msg[0] ? c->fit_msg : "the fit failed");
+				 c->res->fit_diag.msg[0] || c->res->fit_error ?
+				 fit_msg(c) : "the fit failed");
 			return 1;
 		}
 		return 0;
@@ -577,11 +577,11 @@ static size_t chan_warnings(const struct args *a, const struct chan *c,
 	return n;
 }
 
-static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
-		      const struct chan *c)
+static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file *fr,
+		      const struct ssc_allan_chan *c)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	double ci = a->fo.ci_level;
 	char b1[32], b2[32], b3[32], b4[32], b5[32];
 
@@ -627,7 +627,7 @@ static void text_chan(FILE *f, const struct args *a, const struct file_res *fr,
 	if (a->no_fit)
 		return;
 	if (!r->have_fit) {
-		fprintf(f, "  noise terms: not fitted: %s\n", c->fit_msg);
+		fprintf(f, "  noise terms: not fitted: %s\n", fit_msg(c));
 		return;
 	}
 	{
@@ -717,11 +717,11 @@ static json_t *jval(double si, const char *si_unit, const char *unit)
 	return o;
 }
 
-static json_t *json_chan(const struct args *a, const struct file_res *fr,
-			 const struct chan *c)
+static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
+			 const struct ssc_allan_chan *c)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	json_t *o = json_object(), *pts = json_array();
 
 	json_object_set_new(o, "name", json_string(c->col->name));
@@ -812,7 +812,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 					    json_real(a->fo.model_error > 0 ? a->fo.model_error : 0));
 		} else {
 			json_decref(terms);
-			json_object_set_new(fit, "error", json_string(c->fit_msg));
+			json_object_set_new(fit, "error", json_string(fit_msg(c)));
 		}
 		json_object_set_new(o, "fit", fit);
 		{
@@ -837,7 +837,7 @@ static json_t *json_chan(const struct args *a, const struct file_res *fr,
 	return o;
 }
 
-static json_t *json_file(const struct args *a, const struct file_res *fr)
+static json_t *json_file(const struct args *a, const struct ssc_allan_file *fr)
 {
 	json_t *o = json_object(), *chs = json_array();
 
@@ -849,10 +849,10 @@ static json_t *json_file(const struct args *a, const struct file_res *fr)
 	return o;
 }
 
-static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
+static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file *fr)
 {
 	for (size_t k = 0; k < fr->n_ch; k++) {
-		const struct chan *c = &fr->ch[k];
+		const struct ssc_allan_chan *c = &fr->ch[k];
 		const char *un = a->dev_unit ? c->u.show : c->u.dev;
 		double s = c->u.dev_scale / unit_scale(un);
 
@@ -873,15 +873,21 @@ static void csv_file(FILE *f, const struct args *a, const struct file_res *fr)
 /* Noise files for estimators                                          */
 /* ------------------------------------------------------------------ */
 
-static int write_exports(const struct ssc_common *co, const struct args *a,
-			 struct file_res *fr, size_t nf)
+static int write_exports(const struct ssc_common *co, const void *opts,
+			 const void *result)
 {
+	const struct args *a = opts;
+	const struct ssc_allan_res *R = result;
+	const struct ssc_allan_file *fr = R->fr;
+	size_t nf = R->n_files;
 	struct ssc_noise_export e = { 0 };
 	struct ssc_noise_chan *ch;
 	const struct sscope_source *si = fr[0].cap->source_info;
 	size_t n = 0;
 	int rc = SSC_EXIT_OK;
 
+	if (!(a->kalibr || a->openvins || a->imu_utils))
+		return SSC_EXIT_OK;
 	for (size_t i = 0; i < nf; i++)
 		n += fr[i].n_ch;
 	ch = calloc(n ? n : 1, sizeof(*ch));
@@ -891,7 +897,7 @@ static int write_exports(const struct ssc_common *co, const struct args *a,
 	}
 	for (size_t i = 0; i < nf; i++)
 		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			const struct chan *c = &fr[i].ch[k];
+			const struct ssc_allan_chan *c = &fr[i].ch[k];
 
 			ch[e.n++] = (struct ssc_noise_chan){
 				c->col->name, c->u.rq,
@@ -921,9 +927,9 @@ static int write_exports(const struct ssc_common *co, const struct args *a,
 /* ------------------------------------------------------------------ */
 
 /* y range of a channel's points and intervals, in the shown unit */
-static void chan_range(const struct chan *c, double *lo, double *hi)
+static void chan_range(const struct ssc_allan_chan *c, double *lo, double *hi)
 {
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	double s = 1 / u->show_scale;
 
 	*lo = INFINITY;
@@ -947,11 +953,11 @@ static void chan_range(const struct chan *c, double *lo, double *hi)
  * each unresolved term as an upper bound (dotted, down-pointing triangles)
  * and the coefficients in a box beside the axes. */
 static int plot_chan(struct ssc_ax *ax, const struct args *a,
-		     const struct chan *c, double ylo, double yhi, double tlo,
+		     const struct ssc_allan_chan *c, double ylo, double yhi, double tlo,
 		     double thi)
 {
 	const struct sscope_allan_result *r = c->res;
-	const struct units *u = &c->u;
+	const struct ssc_allan_units *u = &c->u;
 	size_t n = r->n_points, k = 0;
 	double *x = calloc(n + 1, sizeof(double)), *y = calloc(n + 1, sizeof(double));
 	double *lo = calloc(n + 1, sizeof(double)), *hi = calloc(n + 1, sizeof(double));
@@ -1111,11 +1117,15 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
  * one scale for the channels of one unit */
 #define MAX_PANELS 12
 
-static int plot(const struct ssc_common *co, const struct args *a,
-		const struct file_res *fr, size_t nfiles)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct args *a = opts;
+	const struct ssc_allan_res *R = result;
+	const struct ssc_allan_file *fr = R->fr;
+	size_t nfiles = R->n_files;
 	size_t n = 0, p = 0;
-	const struct chan *ch[MAX_PANELS];
+	const struct ssc_allan_chan *ch[MAX_PANELS];
 	double ylo[MAX_PANELS], yhi[MAX_PANELS], tlo = INFINITY, thi = 0;
 	struct ssc_fig *fig;
 	char title[512];
@@ -1161,16 +1171,16 @@ static int plot(const struct ssc_common *co, const struct args *a,
 		rc = plot_chan(ssc_fig_ax(fig, (int)p, 0), a, ch[p], ylo[p],
 			       yhi[p], tlo, thi);
 	if (!rc)
-		rc = ssc_fig_save(fig, co->plot);
+		rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
-		return ssc_write_failed(co->cmd, co->plot, rc);
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
 /* ------------------------------------------------------------------ */
 
-static void free_file(struct file_res *fr)
+static void free_file(struct ssc_allan_file *fr)
 {
 	for (size_t k = 0; k < fr->n_ch; k++)
 		sscope_allan_result_free(fr->ch[k].res);
@@ -1179,12 +1189,12 @@ static void free_file(struct file_res *fr)
 
 /* the fitted N, B, K of each channel for a report's summary table */
 static void summarize(json_t *summary, const struct args *a,
-		      const struct file_res *fr)
+		      const struct ssc_allan_file *fr)
 {
 	if (a->no_fit || !summary)
 		return;
 	for (size_t k = 0; k < fr->n_ch; k++) {
-		const struct chan *c = &fr->ch[k];
+		const struct ssc_allan_chan *c = &fr->ch[k];
 		const struct sscope_noise_fit *ft = &c->res->fit;
 		char note[64], what[64];
 
@@ -1224,7 +1234,7 @@ static void init(void *opts)
 	a->inflate = 1;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct args *a = opts;
 
@@ -1245,7 +1255,7 @@ static int check_dev_unit(const struct ssc_common *co, const struct args *a,
 			  const struct ssc_stage_env *env)
 {
 	size_t fit = 0;
-	struct units u;
+	struct ssc_allan_units u;
 
 	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
 		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
@@ -1269,77 +1279,85 @@ static int check_dev_unit(const struct ssc_common *co, const struct args *a,
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
 {
-	struct ssc_common co = *env->co;
-	struct args *a = opts;
-	struct file_res *fr;
-	size_t nfiles = env->n_caps;
-	struct ssc_membuf text, csv;
+	struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		free_file(&R->fr[i]);
+	free(R->fr);
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	struct ssc_allan_res *R = calloc(1, sizeof(*R));
 	int rc = SSC_EXIT_OK;
 
-	rc = check_dev_unit(&co, a, env);
-	if (rc)
+	rc = check_dev_unit(env->co, opts, env);
+	if (rc) {
+		free(R);
 		return rc;
-	fr = calloc(nfiles ? nfiles : 1, sizeof(*fr));
-	if (!fr) {
-		ssc_err(co.cmd, "out of memory");
+	}
+	if (R)
+		R->fr = calloc(env->n_caps ? env->n_caps : 1, sizeof(*R->fr));
+	if (!R || !R->fr) {
+		free(R);
+		ssc_err(env->co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t i = 0; i < nfiles; i++) {
-		rc = analyse_file(&co, a, env->paths[i], env->caps[i], &fr[i]);
-		if (rc)
-			goto done;
-	}
-	if (env->plot_path) {
-		co.plot = env->plot_path;
-		rc = plot(&co, a, fr, nfiles);
-		if (rc)
-			goto done;
-	}
-	if (a->kalibr || a->openvins || a->imu_utils) {
-		rc = write_exports(&co, a, fr, nfiles);
-		if (rc)
-			goto done;
-	}
-	if (nfiles == 1) {
-		sout->json = json_file(a, &fr[0]);
-	} else {
-		json_t *files = json_array();
-
-		sout->json = json_object();
-		json_object_set_new(sout->json, "command", json_string("allan"));
-		for (size_t i = 0; i < nfiles; i++)
-			json_array_append_new(files, json_file(a, &fr[i]));
-		json_object_set_new(sout->json, "files", files);
-	}
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		ssc_err(co.cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	fprintf(csv.f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
-	for (size_t i = 0; i < nfiles; i++) {
-		csv_file(csv.f, a, &fr[i]);
-		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			if (i || k)
-				fputc('\n', text.f);
-			text_chan(text.f, a, &fr[i], &fr[i].ch[k]);
-		}
-		summarize(sout->summary, a, &fr[i]);
-	}
-	sout->text = ssc_membuf_take(&text);
-	sout->csv = ssc_membuf_take(&csv);
-	if (!sout->text || !sout->csv) {
-		ssc_err(co.cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-	}
-done:
-	for (size_t i = 0; i < nfiles; i++)
-		free_file(&fr[i]);
-	free(fr);
+	*result = R;
+	R->ci_level = ((const struct args *)opts)->ci > 0 ?
+		      ((const struct args *)opts)->ci : 0;
+	for (size_t i = 0; i < env->n_caps && !rc; i++, R->n_files++)
+		rc = analyse_file(env->co, opts, env->paths[i], env->caps[i],
+				  &R->fr[i]);
 	return rc;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+	json_t *o, *files;
+
+	if (R->n_files == 1)
+		return json_file(opts, &R->fr[0]);
+	o = json_object();
+	files = json_array();
+	json_object_set_new(o, "command", json_string("allan"));
+	for (size_t i = 0; i < R->n_files; i++)
+		json_array_append_new(files, json_file(opts, &R->fr[i]));
+	json_object_set_new(o, "files", files);
+	return o;
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		for (size_t k = 0; k < R->fr[i].n_ch; k++) {
+			if (i || k)
+				fputc('\n', f);
+			text_chan(f, opts, &R->fr[i], &R->fr[i].ch[k]);
+		}
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	fprintf(f, "file,channel,deviation,unit,tau_s,m,terms,dev,dev_lo,dev_hi,edf,alpha\n");
+	for (size_t i = 0; i < R->n_files; i++)
+		csv_file(f, opts, &R->fr[i]);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct ssc_allan_res *R = result;
+
+	for (size_t i = 0; i < R->n_files; i++)
+		summarize(rows, opts, &R->fr[i]);
 }
 
 const struct ssc_stage_ops ssc_allan_stage = {
@@ -1353,6 +1371,13 @@ const struct ssc_stage_ops ssc_allan_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.write = write_exports,
+	.free_result = free_result,
 };
 
 int ssc_cmd_allan(int argc, char **argv)

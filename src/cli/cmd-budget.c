@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "plot.h"
-#include "stage.h"
+#include "results.h"
 
 #define PI 3.14159265358979323846
 #define MAX_TIMES 256
@@ -298,64 +298,6 @@ static const char *model_name(const struct sscope_budget_params *p, double t)
 	return sscope_budget_is_schuler(p, t) ? "schuler" : "open_loop";
 }
 
-/* the source with the largest position error at t (-1: none) */
-static int dominant(const struct sscope_budget_params *p, double t, double *v)
-{
-	int best = -1;
-	double bv = 0;
-
-	for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
-		struct sscope_budget_point pt;
-
-		sscope_budget_source_eval(p, (enum sscope_budget_source)s, t, &pt);
-		if (pt.position_m > bv) {
-			bv = pt.position_m;
-			best = s;
-		}
-	}
-	if (v)
-		*v = bv;
-	return best;
-}
-
-struct crossing {
-	double t;
-	int from, to;
-};
-
-/* where the dominant source changes, on a log grid refined by bisection */
-static size_t crossovers(const struct sscope_budget_params *p, double t0,
-			 double t1, struct crossing *c, size_t max)
-{
-	size_t n = 0;
-	double prev_t = t0;
-	int prev = dominant(p, t0, NULL);
-
-	for (double t = t0 * 1.01; t <= t1 * 1.0001 && n < max; t *= 1.01) {
-		int d = dominant(p, t, NULL);
-
-		if (d != prev && prev >= 0 && d >= 0) {
-			double lo = prev_t, hi = t;
-
-			for (int it = 0; it < 60; it++) {
-				double mid = 0.5 * (lo + hi);
-
-				if (dominant(p, mid, NULL) == prev)
-					lo = mid;
-				else
-					hi = mid;
-			}
-			c[n].t = hi;
-			c[n].from = prev;
-			c[n].to = d;
-			n++;
-		}
-		prev = d;
-		prev_t = t;
-	}
-	return n;
-}
-
 static const char *qty_name(enum sscope_budget_quantity q)
 {
 	return q == SSCOPE_BUDGET_POSITION ? "position" :
@@ -377,7 +319,7 @@ struct mc_res {
 	size_t n_paths;
 };
 
-static int run_mc(const struct opts *o, bool gyro, double t_end,
+static int run_mc(const struct opts *o, bool gyro, double t_end, bool paths,
 		  struct mc_res *m)
 {
 	size_t nt = 0;
@@ -391,7 +333,7 @@ static int run_mc(const struct opts *o, bool gyro, double t_end,
 	m->o.realisations = o->mc;
 	m->o.seed = o->seed + (gyro ? 0 : 1);
 	m->pt = calloc(o->n_times, sizeof(*m->pt));
-	m->n_paths = o->plot ? 40 : 0;
+	m->n_paths = paths ? 40 : 0;
 	m->paths = m->n_paths ? calloc(m->n_paths * (m->o.steps + 1), sizeof(double)) :
 				NULL;
 	if (!m->pt || (m->n_paths && !m->paths))
@@ -419,7 +361,7 @@ static int run_mc(const struct opts *o, bool gyro, double t_end,
 static json_t *mc_json(const struct mc_res *m)
 {
 	json_t *o = json_object(), *pts = json_array();
-	double p = erf(sqrt(2.0)), M = (double)m->o.realisations;
+	double sd, p = sscope_budget_mc_expected(m->o.realisations, &sd);
 
 	json_object_set_new(o, "term", json_string(m->o.gyro ? "arw" : "vrw"));
 	json_object_set_new(o, "walk", json_string(m->o.gyro ? "attitude_rad" :
@@ -428,7 +370,7 @@ static json_t *mc_json(const struct mc_res *m)
 	json_object_set_new(o, "steps", json_integer((json_int_t)m->o.steps));
 	json_object_set_new(o, "seed", json_integer((json_int_t)m->o.seed));
 	json_object_set_new(o, "expected_inside", json_real(p));
-	json_object_set_new(o, "binomial_sd", json_real(sqrt(p * (1 - p) / M)));
+	json_object_set_new(o, "binomial_sd", json_real(sd));
 	for (size_t j = 0; j < m->n; j++) {
 		json_t *q = json_object();
 
@@ -445,9 +387,24 @@ static json_t *mc_json(const struct mc_res *m)
 	return o;
 }
 
-static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
-		double t_max)
+struct budget_res {
+	struct opts o;          /* with the sources taken from specs/results */
+	const char *from[4];    /* where each of the four came from */
+	struct mc_res mc[2];
+	int n_mc;
+	struct sscope_budget_crossover cr[32];
+	size_t n_cr;
+	double t_max;
+};
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct budget_res *R = result;
+	const struct opts *o = &R->o;
+	const struct mc_res *mc = R->mc;
+	int n_mc = R->n_mc;
+	double t_max = R->t_max;
 	int rows = n_mc > 0 ? 2 : 1, rc;
 	struct ssc_fig *fig = ssc_fig_new(1100, rows == 2 ? 1150 : 650, rows, 1);
 	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
@@ -549,37 +506,127 @@ static int plot(const struct opts *o, const struct mc_res *mc, int n_mc,
 		free(lo);
 		free(hi);
 	}
-	rc = ssc_fig_save(fig, o->plot);
+	(void)opts;
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
-		return ssc_write_failed("budget", o->plot, rc);
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
-/* largest of a value into *dst (sources from several axes: the worst) */
-static void take_max(double *dst, double v, const char **from, const char *what)
+/* the sources given directly (by option) are kept */
+static unsigned kept(const struct opts *o)
 {
-	if (isfinite(v) && fabs(v) > fabs(*dst)) {
-		*dst = fabs(v);
-		*from = what;
+	return (o->set[0] ? 1u << SSCOPE_BUDGET_GYRO_BIAS : 0) |
+	       (o->set[1] ? 1u << SSCOPE_BUDGET_ACCEL_BIAS : 0) |
+	       (o->set[2] ? 1u << SSCOPE_BUDGET_ARW : 0) |
+	       (o->set[3] ? 1u << SSCOPE_BUDGET_VRW : 0);
+}
+
+/* name the origin of each source a result raised */
+static void mark(const char **from, unsigned raised, const char *bias,
+		 const char *walk)
+{
+	static const int idx[4] = { SSCOPE_BUDGET_GYRO_BIAS, SSCOPE_BUDGET_ACCEL_BIAS,
+				    SSCOPE_BUDGET_ARW, SSCOPE_BUDGET_VRW };
+
+	for (int i = 0; i < 4; i++)
+		if (raised & (1u << idx[i]))
+			from[i] = i < 2 ? bias : walk;
+}
+
+/* One axis of an allan result: N and B of the rate it measured. */
+static int take_allan_axis(struct opts *o, const char **from,
+			   enum sscope_quantity rq, double n_si, double b_si)
+{
+	bool used;
+	unsigned r = sscope_budget_take_noise(&o->p, rq, n_si, b_si, kept(o),
+					      &used);
+
+	mark(from, r, "allan B (bias instability)", "allan N");
+	return used;
+}
+
+/* One triad of a calib result. */
+static int take_calib_triad(struct opts *o, const char **from,
+			    enum sscope_quantity q,
+			    const struct sscope_calib_triad *c, double nd)
+{
+	unsigned r = sscope_budget_take_calib(&o->p, q, c, nd, kept(o));
+
+	mark(from, r, "calib bias uncertainty", "calib noise density");
+	return q == SSCOPE_QTY_ANGULAR_RATE || q == SSCOPE_QTY_ACCELERATION;
+}
+
+/* Sources from the typed results of a scene's allan and calib stages. */
+static void take_upstream(struct opts *o, const char **from,
+			  const struct ssc_stage_env *env)
+{
+	for (size_t i = 0; i < env->n_upstream; i++) {
+		const struct ssc_result *r = &env->upstream[i];
+
+		if (r->ops == &ssc_allan_stage) {
+			const struct ssc_allan_res *a = r->data;
+
+			for (size_t f = 0; f < a->n_files; f++)
+				for (size_t k = 0; k < a->fr[f].n_ch; k++) {
+					const struct ssc_allan_chan *c = &a->fr[f].ch[k];
+					const struct sscope_noise_fit *ft = &c->res->fit;
+
+					take_allan_axis(o, from, c->u.rq,
+							ft->coef[SSCOPE_TERM_N].value,
+							ft->coef[SSCOPE_TERM_B].value);
+				}
+		} else if (r->ops == &ssc_calib_stage) {
+			const struct ssc_calib_res *c = r->data;
+
+			for (int t = 0; t < c->n_out; t++)
+				take_calib_triad(o, from, c->out[t].q,
+						 &c->out[t].t.c,
+						 c->out[t].noise_density);
+		}
 	}
 }
 
-/*
- * Sources from a JSON result: an `allan` result gives N (random walk) and
- * B (bias instability, as the bias) per channel, by the SI unit of the
- * coefficient; a `calib` result gives what remains after its calibration
- * is applied: the 1-sigma uncertainty of the bias, of the scale factor
- * (relative) and the noise density.  The worst axis counts.
- */
-/* Sources from an allan or calib result (root is borrowed). */
-static int apply_result(struct opts *o, json_t *root, const char *path,
-			const char **from)
+/* The quantity (gyro or accelerometer) whose term t has the SI unit
+ * si_unit, by dimension; SSCOPE_QTY_UNKNOWN for others. */
+static enum sscope_quantity term_quantity(const char *si_unit, enum sscope_term t)
 {
-	json_t *a;
+	static const enum sscope_quantity qs[2] = { SSCOPE_QTY_ANGULAR_RATE,
+						    SSCOPE_QTY_ACCELERATION };
+	struct sscope_unit u, w;
+
+	if (!si_unit || sscope_unit_parse(si_unit, &u, NULL))
+		return SSCOPE_QTY_UNKNOWN;
+	for (int i = 0; i < 2; i++)
+		if (!sscope_unit_parse(sscope_term_si_unit(qs[i], t), &w, NULL) &&
+		    sscope_unit_compatible(&u, &w))
+			return qs[i];
+	return SSCOPE_QTY_UNKNOWN;
+}
+
+/* A number of a JSON result (NaN when absent or null). */
+static double jnum(json_t *j)
+{
+	return json_is_number(j) ? json_number_value(j) : (double)NAN;
+}
+
+/*
+ * --result FILE: a saved JSON result of 'allan' (N and B of each axis) or
+ * 'calib' (what remains after the calibration), read into the same
+ * quantities the typed results give.
+ */
+static int load_result(struct opts *o, const char *path, const char **from)
+{
+	json_error_t err;
+	json_t *root = json_load_file(path, 0, &err), *a;
 	const char *cmd;
 	int used = 0;
 
+	if (!root) {
+		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
+		return SSC_EXIT_FAIL;
+	}
 	cmd = json_string_value(json_object_get(root, "command"));
 	if (cmd && !strcmp(cmd, "allan") &&
 	    json_is_array(a = json_object_get(root, "channels"))) {
@@ -588,25 +635,14 @@ static int apply_result(struct opts *o, json_t *root, const char *path,
 
 		json_array_foreach(a, i, ch) {
 			json_t *nz = json_object_get(ch, "noise");
-			json_t *N = json_object_get(nz, "N"), *B = json_object_get(nz, "B");
-			const char *nu = json_string_value(json_object_get(N, "si_unit"));
-			bool gyro = nu && !strcmp(nu, "rad/s/sqrt(Hz)");
-			bool acc = nu && !strcmp(nu, "m/s^2/sqrt(Hz)");
+			enum sscope_quantity q = term_quantity(
+				json_string_value(json_object_get(json_object_get(nz, "N"),
+								  "si_unit")),
+				SSCOPE_TERM_N);
 
-			if (!gyro && !acc)
-				continue;
-			if (!o->set[gyro ? 2 : 3]) {
-				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
-					 json_number_value(json_object_get(N, "si")),
-					 &from[gyro ? 2 : 3], "allan N");
-				used++;
-			}
-			if (!o->set[gyro ? 0 : 1] && json_is_number(json_object_get(B, "si"))) {
-				take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
-					 json_number_value(json_object_get(B, "si")),
-					 &from[gyro ? 0 : 1], "allan B (bias instability)");
-				used++;
-			}
+			used += take_allan_axis(o, from, q,
+						jnum(json_object_get(json_object_get(nz, "N"), "si")),
+						jnum(json_object_get(json_object_get(nz, "B"), "si")));
 		}
 	} else if (cmd && !strncmp(cmd, "calib", 5) &&
 		   json_is_array(a = json_object_get(root, "triads"))) {
@@ -615,61 +651,37 @@ static int apply_result(struct opts *o, json_t *root, const char *path,
 
 		json_array_foreach(a, i, t) {
 			const char *kind = json_string_value(json_object_get(t, "kind"));
-			bool gyro = kind && !strcmp(kind, "gyro");
-			json_t *bsd = json_object_get(t, "bias_sd");
-			json_t *sc = json_object_get(t, "scale"), *ssd = json_object_get(t, "scale_sd");
-			json_t *nd = json_object_get(json_object_get(t, "noise_density"), "si");
+			struct sscope_calib_triad c;
 
 			if (!kind)
 				continue;
+			sscope_calib_triad_identity(&c);
 			for (size_t k = 0; k < 3; k++) {
-				double b = json_number_value(json_array_get(bsd, k));
-				double s1 = json_number_value(json_array_get(sc, k));
-				double s2 = json_number_value(json_array_get(ssd, k));
-
-				/* bias sd in input units -> output SI through the scale */
-				if (!o->set[gyro ? 0 : 1] && json_is_number(json_array_get(bsd, k)))
-					take_max(gyro ? &o->p.gyro_bias_rad_s : &o->p.accel_bias_m_s2,
-						 b * s1, &from[gyro ? 0 : 1],
-						 "calib bias uncertainty");
-				if (json_is_number(json_array_get(ssd, k)) && s1 != 0) {
-					double *dst = gyro ? &o->p.gyro_sf : &o->p.accel_sf;
-
-					if (fabs(s2 / s1) > *dst)
-						*dst = fabs(s2 / s1);
-				}
+				/* the file's units: bias in input units, scale
+				 * in output SI per input unit */
+				c.bias_sd[k] = jnum(json_array_get(json_object_get(t, "bias_sd"), k));
+				c.scale[k] = jnum(json_array_get(json_object_get(t, "scale"), k));
+				c.scale_sd[k] = jnum(json_array_get(json_object_get(t, "scale_sd"), k));
 			}
-			if (!o->set[gyro ? 2 : 3] && json_is_number(nd))
-				take_max(gyro ? &o->p.arw_rad_sqrt_s : &o->p.vrw_m_s_sqrt_s,
-					 json_number_value(nd), &from[gyro ? 2 : 3],
-					 "calib noise density");
-			used++;
+			used += take_calib_triad(o, from,
+						 !strcmp(kind, "gyro") ? SSCOPE_QTY_ANGULAR_RATE :
+									 SSCOPE_QTY_ACCELERATION,
+						 &c,
+						 jnum(json_object_get(json_object_get(t, "noise_density"),
+								      "si")));
 		}
 	} else {
+		json_decref(root);
 		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",
 			path);
 		return SSC_EXIT_FAIL;
 	}
+	json_decref(root);
 	if (!used) {
 		ssc_err("budget", "--result: %s: no gyro or accelerometer terms in it", path);
 		return SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
-}
-
-static int load_result(struct opts *o, const char *path, const char **from)
-{
-	json_error_t err;
-	json_t *root = json_load_file(path, 0, &err);
-	int rc;
-
-	if (!root) {
-		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
-		return SSC_EXIT_FAIL;
-	}
-	rc = apply_result(o, root, path, from);
-	json_decref(root);
-	return rc;
 }
 
 /* Sources from a sensor specification (unless given directly). */
@@ -718,12 +730,17 @@ static void init(void *opts)
 	o->seed = 1;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
-	if (o->plot && ssc_plot_check(co->cmd, o->plot))
-		return SSC_EXIT_USAGE;
+	if (o->plot) {
+		int rc = ssc_plot_check(co->cmd, o->plot);
+
+		if (rc)
+			return rc;
+		co->plot = o->plot;
+	}
 	/* options that would be ignored */
 	if (o->p.switch_time_s > 0 && o->p.model != SSCOPE_BUDGET_AUTO)
 		return ssc_usage_error(co->cmd, "--switch-time: applies to --model auto only");
@@ -732,353 +749,347 @@ static int check(const struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
 {
-	const struct ssc_common co = *env->co;
-	struct opts o = *(struct opts *)opts;
-	const double deft[] = { 10, 30, 60, 120, 300, 600, 1800, 3600 };
-	struct mc_res mc[2] = { { 0 } };
-	int n_mc = 0, rc;
-	double t_max;
-	const char *bias_from[4] = { "option", "option", "option", "option" };
-	struct crossing cr[32];
-	size_t n_cr;
-	const char *keys[] = { "allan", "calib" };
+	struct budget_res *R = result;
 
-	if (env->plot_path)
-		o.plot = env->plot_path;
-	for (int i = 0; i < o.n_sensor; i++) {
+	for (int i = 0; i < 2; i++) {
+		free(R->mc[i].pt);
+		free(R->mc[i].paths);
+	}
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	const struct ssc_common *co = env->co;
+	const double deft[] = { 10, 30, 60, 120, 300, 600, 1800, 3600 };
+	struct budget_res *R = calloc(1, sizeof(*R));
+	struct opts *o;
+	int rc;
+
+	if (!R) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	*result = R;
+	R->o = *(struct opts *)opts;
+	o = &R->o;
+	for (int i = 0; i < 4; i++)
+		R->from[i] = "option";
+	for (int i = 0; i < o->n_sensor; i++) {
 		struct sscope_sensor_spec s;
 
-		rc = ssc_load_sensor(co.cmd, o.sensor[i], &s);
+		rc = ssc_load_sensor(co->cmd, o->sensor[i], &s);
 		if (!rc)
-			rc = apply_sensor(&o, &s, o.sensor[i], bias_from);
+			rc = apply_sensor(o, &s, o->sensor[i], R->from);
 		if (rc)
 			return rc;
 	}
 	if (env->sensor) {
-		rc = apply_sensor(&o, env->sensor, env->sensor_path ?
-				  env->sensor_path : "[sensor]", bias_from);
+		rc = apply_sensor(o, env->sensor, env->sensor_path ?
+				  env->sensor_path : "[sensor]", R->from);
 		if (rc)
 			return rc;
 	}
-	for (int i = 0; i < o.n_result; i++) {
-		rc = load_result(&o, o.result[i], bias_from);
+	for (int i = 0; i < o->n_result; i++) {
+		rc = load_result(o, o->result[i], R->from);
 		if (rc)
 			return rc;
 	}
-	for (size_t k = 0; env->upstream && k < 2; k++) {
-		json_t *r = json_object_get(env->upstream, keys[k]);
-
-		if (r) {
-			rc = apply_result(&o, r, keys[k], bias_from);
-			if (rc)
-				return rc;
-		}
-	}
+	take_upstream(o, R->from, env);
 	/* a scale-factor error adds nothing without its motion profile */
-	if ((o.gsf_set && o.p.turn_rate_rad_s == 0) ||
-	    (o.p.turn_rate_rad_s != 0 && o.p.gyro_sf == 0))
-		ssc_warn(&co, "the gyro scale-factor term needs both --gyro-sf (or the sensor's scale_factor_error) and --turn-rate: it is 0");
-	if ((o.asf_set && o.p.accel_profile_m_s2 == 0) ||
-	    (o.p.accel_profile_m_s2 != 0 && o.p.accel_sf == 0))
-		ssc_warn(&co, "the accelerometer scale-factor term needs both --accel-sf (or the sensor's scale_factor_error) and --accel-profile: it is 0");
-	if (o.p.gyro_bias_rad_s == 0 && o.p.accel_bias_m_s2 == 0 &&
-	    o.p.arw_rad_sqrt_s == 0 && o.p.vrw_m_s_sqrt_s == 0 &&
-	    (o.p.gyro_sf * o.p.turn_rate_rad_s) == 0 &&
-	    (o.p.accel_sf * o.p.accel_profile_m_s2) == 0)
-		return ssc_usage_error(co.cmd, "no error source: give --sensor or --gyro-bias, --accel-bias, --arw, --vrw");
-	sout->summary = sout->summary ? sout->summary : json_array();
-	if (o.n_times == 0) {
-		memcpy(o.times, deft, sizeof(deft));
-		o.n_times = sizeof(deft) / sizeof(deft[0]);
+	if ((o->gsf_set && o->p.turn_rate_rad_s == 0) ||
+	    (o->p.turn_rate_rad_s != 0 && o->p.gyro_sf == 0))
+		ssc_warn(co, "the gyro scale-factor term needs both --gyro-sf (or the sensor's scale_factor_error) and --turn-rate: it is 0");
+	if ((o->asf_set && o->p.accel_profile_m_s2 == 0) ||
+	    (o->p.accel_profile_m_s2 != 0 && o->p.accel_sf == 0))
+		ssc_warn(co, "the accelerometer scale-factor term needs both --accel-sf (or the sensor's scale_factor_error) and --accel-profile: it is 0");
+	if (o->p.gyro_bias_rad_s == 0 && o->p.accel_bias_m_s2 == 0 &&
+	    o->p.arw_rad_sqrt_s == 0 && o->p.vrw_m_s_sqrt_s == 0 &&
+	    (o->p.gyro_sf * o->p.turn_rate_rad_s) == 0 &&
+	    (o->p.accel_sf * o->p.accel_profile_m_s2) == 0)
+		return ssc_usage_error(co->cmd, "no error source: give --sensor or --gyro-bias, --accel-bias, --arw, --vrw");
+	if (o->n_times == 0) {
+		memcpy(o->times, deft, sizeof(deft));
+		o->n_times = sizeof(deft) / sizeof(deft[0]);
 	}
-	qsort(o.times, o.n_times, sizeof(double), cmp_double);
-	t_max = o.times[o.n_times - 1];
-	if (o.mc > 0) {
-		if (o.p.arw_rad_sqrt_s != 0) {
-			rc = run_mc(&o, true, t_max, &mc[n_mc]);
-			if (rc) {
-				ssc_err(co.cmd, "Monte Carlo: %s", sscope_strerror(rc));
-				rc = SSC_EXIT_FAIL;
-				goto done;
-			}
-			n_mc++;
-		}
-		if (o.p.vrw_m_s_sqrt_s != 0) {
-			rc = run_mc(&o, false, t_max, &mc[n_mc]);
-			if (rc) {
-				ssc_err(co.cmd, "Monte Carlo: %s", sscope_strerror(rc));
-				rc = SSC_EXIT_FAIL;
-				goto done;
-			}
-			n_mc++;
-		}
-	}
-	n_cr = crossovers(&o.p, fmin(0.1, o.times[0]), t_max, cr, 32);
-	if (o.plot) {
-		rc = plot(&o, mc, n_mc, t_max);
-		if (rc)
-			goto done;
-	}
-	{
-		json_t *root = json_object(), *ts = json_array(), *srcs = json_array();
-		json_t *tot = json_object(), *tp = json_array(), *tv = json_array(),
-		       *ta = json_array(), *models = json_array(), *dom = json_array();
-		json_t *in = json_object(), *jcr = json_array(), *tt = json_array();
+	qsort(o->times, o->n_times, sizeof(double), cmp_double);
+	R->t_max = o->times[o->n_times - 1];
+	for (size_t j = 0; j < o->n_times; j++) {
+		struct sscope_budget_point pt;
 
-		json_object_set_new(root, "command", json_string("budget"));
-		for (size_t j = 0; j < o.n_times; j++) {
+		if (sscope_budget_total(&o->p, o->times[j], &pt) == -ERANGE) {
+			ssc_err(co->cmd, "the drift at t = %g s exceeds the double range: check the sources' values and units",
+				o->times[j]);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	for (int g = 1; o->mc > 0 && g >= 0; g--) {
+		if ((g ? o->p.arw_rad_sqrt_s : o->p.vrw_m_s_sqrt_s) == 0)
+			continue;
+		rc = run_mc(o, g, R->t_max, co->plot != NULL, &R->mc[R->n_mc]);
+		if (rc) {
+			ssc_err(co->cmd, "Monte Carlo: %s", sscope_strerror(rc));
+			return SSC_EXIT_FAIL;
+		}
+		R->n_mc++;
+	}
+	sscope_budget_crossovers(&o->p, fmin(0.1, o->times[0]), R->t_max, R->cr,
+				 32, &R->n_cr);
+	return SSC_EXIT_OK;
+}
+
+static const char *source_name(int s)
+{
+	return sscope_budget_source_name((enum sscope_budget_source)s);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct budget_res *R = result;
+	const struct opts *o = &R->o;
+	json_t *root = json_object(), *ts = json_array(), *srcs = json_array();
+	json_t *tot = json_object(), *tp = json_array(), *tv = json_array(),
+	       *ta = json_array(), *models = json_array(), *dom = json_array();
+	json_t *in = json_object(), *jcr = json_array(), *tt = json_array();
+	int rc;
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string("budget"));
+	for (size_t j = 0; j < o->n_times; j++) {
+		struct sscope_budget_point pt;
+		int d = sscope_budget_dominant(&o->p, o->times[j], NULL);
+
+		json_array_append_new(ts, json_real(o->times[j]));
+		sscope_budget_total(&o->p, o->times[j], &pt);
+		json_array_append_new(tp, ssc_jreal(pt.position_m));
+		json_array_append_new(tv, ssc_jreal(pt.velocity_m_s));
+		json_array_append_new(ta, ssc_jreal(pt.attitude_rad));
+		json_array_append_new(models, json_string(model_name(&o->p, o->times[j])));
+		json_array_append_new(dom, d >= 0 ? json_string(source_name(d)) : json_null());
+	}
+	json_object_set_new(root, "times_s", ts);
+	for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+		json_t *so = json_object(), *p = json_array(), *v = json_array(),
+		       *a = json_array();
+
+		for (size_t j = 0; j < o->n_times; j++) {
 			struct sscope_budget_point pt;
-			int d = dominant(&o.p, o.times[j], NULL);
 
-			json_array_append_new(ts, json_real(o.times[j]));
-			sscope_budget_total(&o.p, o.times[j], &pt);
-			json_array_append_new(tp, ssc_jreal(pt.position_m));
-			json_array_append_new(tv, ssc_jreal(pt.velocity_m_s));
-			json_array_append_new(ta, ssc_jreal(pt.attitude_rad));
-			json_array_append_new(models, json_string(model_name(&o.p, o.times[j])));
-			json_array_append_new(dom, d >= 0 ? json_string(sscope_budget_source_name(
-							     (enum sscope_budget_source)d)) :
-							     json_null());
+			sscope_budget_source_eval(&o->p, (enum sscope_budget_source)s,
+						  o->times[j], &pt);
+			json_array_append_new(p, ssc_jreal(pt.position_m));
+			json_array_append_new(v, ssc_jreal(pt.velocity_m_s));
+			json_array_append_new(a, ssc_jreal(pt.attitude_rad));
 		}
-		json_object_set_new(root, "times_s", ts);
+		json_object_set_new(so, "name", json_string(source_name(s)));
+		json_object_set_new(so, "random", json_boolean(sscope_budget_source_random(
+						   (enum sscope_budget_source)s)));
+		json_object_set_new(so, "position_m", p);
+		json_object_set_new(so, "velocity_m_s", v);
+		json_object_set_new(so, "attitude_rad", a);
+		json_array_append_new(srcs, so);
+	}
+	json_object_set_new(root, "sources", srcs);
+	json_object_set_new(tot, "position_m", tp);
+	json_object_set_new(tot, "velocity_m_s", tv);
+	json_object_set_new(tot, "attitude_rad", ta);
+	json_object_set_new(tot, "combination", json_string("root sum of squares"));
+	json_object_set_new(root, "total", tot);
+	json_object_set_new(root, "model", models);
+	json_object_set_new(root, "switch_time_s",
+			    o->p.model == SSCOPE_BUDGET_AUTO ?
+				    json_real(o->p.switch_time_s > 0 ? o->p.switch_time_s : 300) :
+				    json_null());
+	json_object_set_new(root, "schuler_period_s",
+			    json_real(2 * PI / sscope_budget_schuler_rad_s(&o->p)));
+	json_object_set_new(root, "dominant", dom);
+	for (size_t i = 0; i < R->n_cr; i++) {
+		json_t *c = json_object();
+
+		json_object_set_new(c, "t_s", json_real(R->cr[i].t_s));
+		json_object_set_new(c, "from", json_string(source_name((int)R->cr[i].from)));
+		json_object_set_new(c, "to", json_string(source_name((int)R->cr[i].to)));
+		json_array_append_new(jcr, c);
+	}
+	json_object_set_new(root, "crossovers", jcr);
+	for (size_t e = 0; e < o->n_err; e++) {
+		json_t *c = json_object(), *per = json_object();
+		double t;
+
+		json_object_set_new(c, "quantity", json_string(qty_name(o->err_q[e])));
+		json_object_set_new(c, "value", json_real(o->err[e]));
+		json_object_set_new(c, "unit", json_string(qty_unit(o->err_q[e])));
+		rc = sscope_budget_time_to(&o->p, -1, o->err_q[e], o->err[e], 1e7, &t);
+		json_object_set_new(c, "total_s", rc ? json_null() : json_real(t));
 		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
-			json_t *so = json_object(), *p = json_array(), *v = json_array(),
-			       *a = json_array();
-
-			for (size_t j = 0; j < o.n_times; j++) {
-				struct sscope_budget_point pt;
-
-				sscope_budget_source_eval(&o.p, (enum sscope_budget_source)s,
-							  o.times[j], &pt);
-				json_array_append_new(p, ssc_jreal(pt.position_m));
-				json_array_append_new(v, ssc_jreal(pt.velocity_m_s));
-				json_array_append_new(a, ssc_jreal(pt.attitude_rad));
-			}
-			json_object_set_new(so, "name", json_string(sscope_budget_source_name(
-							 (enum sscope_budget_source)s)));
-			json_object_set_new(so, "random", json_boolean(sscope_budget_source_random(
-							   (enum sscope_budget_source)s)));
-			json_object_set_new(so, "position_m", p);
-			json_object_set_new(so, "velocity_m_s", v);
-			json_object_set_new(so, "attitude_rad", a);
-			json_array_append_new(srcs, so);
+			rc = sscope_budget_time_to(&o->p, s, o->err_q[e], o->err[e], 1e7, &t);
+			json_object_set_new(per, source_name(s), rc ? json_null() : json_real(t));
 		}
-		json_object_set_new(root, "sources", srcs);
-		json_object_set_new(tot, "position_m", tp);
-		json_object_set_new(tot, "velocity_m_s", tv);
-		json_object_set_new(tot, "attitude_rad", ta);
-		json_object_set_new(tot, "combination", json_string("root sum of squares"));
-		json_object_set_new(root, "total", tot);
-		json_object_set_new(root, "model", models);
-		json_object_set_new(root, "switch_time_s",
-				    o.p.model == SSCOPE_BUDGET_AUTO ?
-					    json_real(o.p.switch_time_s > 0 ? o.p.switch_time_s : 300) :
-					    json_null());
-		json_object_set_new(root, "schuler_period_s",
-				    json_real(2 * PI / sscope_budget_schuler_rad_s(&o.p)));
-		json_object_set_new(root, "dominant", dom);
-		for (size_t i = 0; i < n_cr; i++) {
-			json_t *c = json_object();
-
-			json_object_set_new(c, "t_s", json_real(cr[i].t));
-			json_object_set_new(c, "from", json_string(sscope_budget_source_name(
-							  (enum sscope_budget_source)cr[i].from)));
-			json_object_set_new(c, "to", json_string(sscope_budget_source_name(
-							(enum sscope_budget_source)cr[i].to)));
-			json_array_append_new(jcr, c);
-		}
-		json_object_set_new(root, "crossovers", jcr);
-		for (size_t e = 0; e < o.n_err; e++) {
-			json_t *c = json_object(), *per = json_object();
-			double t;
-
-			json_object_set_new(c, "quantity", json_string(qty_name(o.err_q[e])));
-			json_object_set_new(c, "value", json_real(o.err[e]));
-			json_object_set_new(c, "unit", json_string(qty_unit(o.err_q[e])));
-			rc = sscope_budget_time_to(&o.p, -1, o.err_q[e], o.err[e], 1e7, &t);
-			json_object_set_new(c, "total_s", rc ? json_null() : json_real(t));
-			for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
-				rc = sscope_budget_time_to(&o.p, s, o.err_q[e], o.err[e], 1e7, &t);
-				json_object_set_new(per, sscope_budget_source_name(
-								 (enum sscope_budget_source)s),
-						    rc ? json_null() : json_real(t));
-			}
-			json_object_set_new(c, "sources_s", per);
-			json_array_append_new(tt, c);
-		}
-		json_object_set_new(root, "time_to", tt);
-		json_object_set_new(in, "gyro_bias_rad_s", json_real(o.p.gyro_bias_rad_s));
-		json_object_set_new(in, "gyro_bias_from", json_string(bias_from[0]));
-		json_object_set_new(in, "accel_bias_m_s2", json_real(o.p.accel_bias_m_s2));
-		json_object_set_new(in, "accel_bias_from", json_string(bias_from[1]));
-		json_object_set_new(in, "arw_rad_sqrt_s", json_real(o.p.arw_rad_sqrt_s));
-		json_object_set_new(in, "arw_from", json_string(bias_from[2]));
-		json_object_set_new(in, "vrw_from", json_string(bias_from[3]));
-		json_object_set_new(in, "vrw_m_s_sqrt_s", json_real(o.p.vrw_m_s_sqrt_s));
-		json_object_set_new(in, "gyro_sf", json_real(o.p.gyro_sf));
-		json_object_set_new(in, "accel_sf", json_real(o.p.accel_sf));
-		json_object_set_new(in, "turn_rate_rad_s", json_real(o.p.turn_rate_rad_s));
-		json_object_set_new(in, "accel_profile_m_s2", json_real(o.p.accel_profile_m_s2));
-		json_object_set_new(root, "inputs", in);
-		if (n_mc) {
-			json_t *m = json_array();
-
-			for (int i = 0; i < n_mc; i++)
-				json_array_append_new(m, mc_json(&mc[i]));
-			json_object_set_new(root, "monte_carlo", m);
-		}
-		sout->json = root;
+		json_object_set_new(c, "sources_s", per);
+		json_array_append_new(tt, c);
 	}
-	{
-		struct ssc_membuf text, csv;
-		char a[32];
+	json_object_set_new(root, "time_to", tt);
+	json_object_set_new(in, "gyro_bias_rad_s", json_real(o->p.gyro_bias_rad_s));
+	json_object_set_new(in, "gyro_bias_from", json_string(R->from[0]));
+	json_object_set_new(in, "accel_bias_m_s2", json_real(o->p.accel_bias_m_s2));
+	json_object_set_new(in, "accel_bias_from", json_string(R->from[1]));
+	json_object_set_new(in, "arw_rad_sqrt_s", json_real(o->p.arw_rad_sqrt_s));
+	json_object_set_new(in, "arw_from", json_string(R->from[2]));
+	json_object_set_new(in, "vrw_from", json_string(R->from[3]));
+	json_object_set_new(in, "vrw_m_s_sqrt_s", json_real(o->p.vrw_m_s_sqrt_s));
+	json_object_set_new(in, "gyro_sf", json_real(o->p.gyro_sf));
+	json_object_set_new(in, "accel_sf", json_real(o->p.accel_sf));
+	json_object_set_new(in, "turn_rate_rad_s", json_real(o->p.turn_rate_rad_s));
+	json_object_set_new(in, "accel_profile_m_s2", json_real(o->p.accel_profile_m_s2));
+	json_object_set_new(root, "inputs", in);
+	if (R->n_mc) {
+		json_t *m = json_array();
 
-		if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		{
-			FILE *cf = csv.f;
+		for (int i = 0; i < R->n_mc; i++)
+			json_array_append_new(m, mc_json(&R->mc[i]));
+		json_object_set_new(root, "monte_carlo", m);
+	}
+	return root;
+}
 
-			fprintf(cf, "t_s,source,position_m,velocity_m_s,attitude_rad,model\n");
-			for (size_t j = 0; j < o.n_times; j++) {
-				for (int s = 0; s <= SSCOPE_BUDGET_N_SOURCES; s++) {
-					struct sscope_budget_point pt;
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct budget_res *R = result;
+	const struct opts *o = &R->o;
 
-					if (s < SSCOPE_BUDGET_N_SOURCES)
-						sscope_budget_source_eval(&o.p,
-									  (enum sscope_budget_source)s,
-									  o.times[j], &pt);
-					else
-						sscope_budget_total(&o.p, o.times[j], &pt);
-					fprintf(cf, "%.10g,%s,%.10g,%.10g,%.10g,%s\n",
-						o.times[j],
-						s < SSCOPE_BUDGET_N_SOURCES ?
-							sscope_budget_source_name((enum sscope_budget_source)s) :
-							"total",
-						pt.position_m, pt.velocity_m_s, pt.attitude_rad,
-						model_name(&o.p, o.times[j]));
-				}
-			}
-		}
-		{
-			FILE *f = text.f;
-
-			fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
-				o.p.gravity_m_s2 > 0 ? o.p.gravity_m_s2 : 9.80665,
-				2 * PI / sscope_budget_schuler_rad_s(&o.p) / 60);
-			fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
-				ssc_fmt(a, sizeof(a), o.p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],
-				ssc_fmt((char[32]){ 0 }, 32, o.p.accel_bias_m_s2 / 9.80665e-6, 4), bias_from[1],
-				ssc_fmt((char[32]){ 0 }, 32, o.p.arw_rad_sqrt_s * 180 / PI * 60, 4),
-				ssc_fmt((char[32]){ 0 }, 32, o.p.vrw_m_s_sqrt_s * 60, 4));
-			if (o.p.gyro_sf * o.p.turn_rate_rad_s != 0 ||
-			    o.p.accel_sf * o.p.accel_profile_m_s2 != 0)
-				fprintf(f, ", scale factor %s ppm at %s deg/s, %s ppm at %s m/s^2",
-					ssc_fmt(a, sizeof(a), o.p.gyro_sf * 1e6, 4),
-					ssc_fmt((char[32]){ 0 }, 32, o.p.turn_rate_rad_s * 180 / PI, 4),
-					ssc_fmt((char[32]){ 0 }, 32, o.p.accel_sf * 1e6, 4),
-					ssc_fmt((char[32]){ 0 }, 32, o.p.accel_profile_m_s2, 4));
-			fputc('\n', f);
-			if (o.p.model == SSCOPE_BUDGET_AUTO)
-				fprintf(f, "  formulas: open loop up to %g s, Schuler-bounded after (the t^3 form is 0.7 %% high at 300 s)\n",
-					o.p.switch_time_s > 0 ? o.p.switch_time_s : 300);
-			else
-				fprintf(f, "  formulas: %s at every time\n",
-					o.p.model == SSCOPE_BUDGET_SCHULER ? "Schuler-bounded" : "open loop");
-			fprintf(f, "\n  position error (m; random walks 1 sigma, +-2 sigma holds 95 %%)\n");
-			fprintf(f, "  %10s %11s %11s %11s %11s %12s %11s  %-12s %s\n", "t (s)",
-				"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor",
-				"total", "dominant", "model");
-			for (size_t j = 0; j < o.n_times; j++) {
-				struct sscope_budget_point pt;
-				int d = dominant(&o.p, o.times[j], NULL);
-
-				fprintf(f, "  %10s", ssc_fmt(a, sizeof(a), o.times[j], 6));
-				for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
-					sscope_budget_source_eval(&o.p, (enum sscope_budget_source)s,
-								  o.times[j], &pt);
-					fprintf(f, s == 4 ? " %12s" : " %11s",
-						ssc_fmt(a, sizeof(a), pt.position_m, 4));
-				}
-				sscope_budget_total(&o.p, o.times[j], &pt);
-				fprintf(f, " %11s  %-12s %s\n", ssc_fmt(a, sizeof(a), pt.position_m, 4),
-					d >= 0 ? sscope_budget_source_name((enum sscope_budget_source)d) : "-",
-					model_name(&o.p, o.times[j]));
-			}
-			fprintf(f, "\n  total velocity (m/s) and attitude (deg) error\n");
-			for (size_t j = 0; j < o.n_times; j++) {
-				struct sscope_budget_point pt;
-
-				sscope_budget_total(&o.p, o.times[j], &pt);
-				fprintf(f, "  %10s %11s %11s\n", ssc_fmt(a, sizeof(a), o.times[j], 6),
-					ssc_fmt((char[32]){ 0 }, 32, pt.velocity_m_s, 4),
-					ssc_fmt((char[32]){ 0 }, 32, pt.attitude_rad * 180 / PI, 4));
-			}
-			if (n_cr) {
-				fprintf(f, "\n  dominant source changes:\n");
-				for (size_t i = 0; i < n_cr; i++)
-					fprintf(f, "    at %s s: %s -> %s\n",
-						ssc_fmt(a, sizeof(a), cr[i].t, 4),
-						sscope_budget_source_name((enum sscope_budget_source)cr[i].from),
-						sscope_budget_source_name((enum sscope_budget_source)cr[i].to));
-			}
-			for (size_t e = 0; e < o.n_err; e++) {
-				double t;
-
-				fprintf(f, "\n  time to %s error %s %s:", qty_name(o.err_q[e]),
-					ssc_fmt(a, sizeof(a), o.err[e], 4), qty_unit(o.err_q[e]));
-				if (sscope_budget_time_to(&o.p, -1, o.err_q[e], o.err[e], 1e7, &t) == 0)
-					fprintf(f, " total %s s", ssc_fmt(a, sizeof(a), t, 5));
-				else
-					fprintf(f, " total not reached within 1e7 s");
-				for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++)
-					if (sscope_budget_time_to(&o.p, s, o.err_q[e], o.err[e], 1e7, &t) == 0)
-						fprintf(f, "; %s %s s",
-							sscope_budget_source_name((enum sscope_budget_source)s),
-							ssc_fmt(a, sizeof(a), t, 5));
-				fputc('\n', f);
-			}
-			for (int i = 0; i < n_mc; i++) {
-				const struct mc_res *m = &mc[i];
-				double p = erf(sqrt(2.0));
-
-				fprintf(f, "\n  Monte Carlo (%s, %zu seeded realisations, seed %lu): fraction inside +-2 sigma sqrt(t), expected %.4f +- %.4f (binomial sd)\n",
-					m->o.gyro ? "ARW" : "VRW", m->o.realisations, m->o.seed, p,
-					sqrt(p * (1 - p) / (double)m->o.realisations));
-				for (size_t j = 0; j < m->n; j++)
-					fprintf(f, "    t = %-8s %s inside %.4f (sd ratio %.4f), position inside %.4f (sd ratio %.4f)\n",
-						ssc_fmt(a, sizeof(a), m->pt[j].t_s, 5),
-						m->o.gyro ? "attitude" : "velocity",
-						m->pt[j].walk_inside,
-						m->pt[j].walk_sd / m->pt[j].walk_sd_theory,
-						m->pt[j].pos_inside,
-						m->pt[j].pos_sd / m->pt[j].pos_sd_theory);
-			}
-		}
-		sout->text = ssc_membuf_take(&text);
-		sout->csv = ssc_membuf_take(&csv);
-		for (size_t j = 0; j < o.n_times; j++) {
+	(void)opts;
+	fprintf(f, "t_s,source,position_m,velocity_m_s,attitude_rad,model\n");
+	for (size_t j = 0; j < o->n_times; j++) {
+		for (int s = 0; s <= SSCOPE_BUDGET_N_SOURCES; s++) {
 			struct sscope_budget_point pt;
-			char q[64];
 
-			sscope_budget_total(&o.p, o.times[j], &pt);
-			snprintf(q, sizeof(q), "position error after %s s",
-				 ssc_fmt(a, sizeof(a), o.times[j], 5));
-			ssc_summary_add(sout->summary, NULL, q, pt.position_m, NAN,
-					NAN, "m", "root sum of squares of the sources");
+			if (s < SSCOPE_BUDGET_N_SOURCES)
+				sscope_budget_source_eval(&o->p, (enum sscope_budget_source)s,
+							  o->times[j], &pt);
+			else
+				sscope_budget_total(&o->p, o->times[j], &pt);
+			fprintf(f, "%.10g,%s,%.10g,%.10g,%.10g,%s\n", o->times[j],
+				s < SSCOPE_BUDGET_N_SOURCES ? source_name(s) : "total",
+				pt.position_m, pt.velocity_m_s, pt.attitude_rad,
+				model_name(&o->p, o->times[j]));
 		}
-		rc = SSC_EXIT_OK;
 	}
-done:
-	for (int i = 0; i < 2; i++) {
-		free(mc[i].pt);
-		free(mc[i].paths);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct budget_res *R = result;
+	const struct opts *o = &R->o;
+	const char *const *bias_from = R->from;
+	char a[32];
+
+	(void)opts;
+	fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
+		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : 9.80665,
+		2 * PI / sscope_budget_schuler_rad_s(&o->p) / 60);
+	fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
+		ssc_fmt(a, sizeof(a), o->p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],
+		ssc_fmt((char[32]){ 0 }, 32, o->p.accel_bias_m_s2 / 9.80665e-6, 4), bias_from[1],
+		ssc_fmt((char[32]){ 0 }, 32, o->p.arw_rad_sqrt_s * 180 / PI * 60, 4),
+		ssc_fmt((char[32]){ 0 }, 32, o->p.vrw_m_s_sqrt_s * 60, 4));
+	if (o->p.gyro_sf * o->p.turn_rate_rad_s != 0 ||
+	    o->p.accel_sf * o->p.accel_profile_m_s2 != 0)
+		fprintf(f, ", scale factor %s ppm at %s deg/s, %s ppm at %s m/s^2",
+			ssc_fmt(a, sizeof(a), o->p.gyro_sf * 1e6, 4),
+			ssc_fmt((char[32]){ 0 }, 32, o->p.turn_rate_rad_s * 180 / PI, 4),
+			ssc_fmt((char[32]){ 0 }, 32, o->p.accel_sf * 1e6, 4),
+			ssc_fmt((char[32]){ 0 }, 32, o->p.accel_profile_m_s2, 4));
+	fputc('\n', f);
+	if (o->p.model == SSCOPE_BUDGET_AUTO)
+		fprintf(f, "  formulas: open loop up to %g s, Schuler-bounded after (the t^3 form is 0.7 %% high at 300 s)\n",
+			o->p.switch_time_s > 0 ? o->p.switch_time_s : 300);
+	else
+		fprintf(f, "  formulas: %s at every time\n",
+			o->p.model == SSCOPE_BUDGET_SCHULER ? "Schuler-bounded" : "open loop");
+	fprintf(f, "\n  position error (m; random walks 1 sigma, +-2 sigma holds 95 %%)\n");
+	fprintf(f, "  %10s %11s %11s %11s %11s %12s %11s  %-12s %s\n", "t (s)",
+		"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor",
+		"total", "dominant", "model");
+	for (size_t j = 0; j < o->n_times; j++) {
+		struct sscope_budget_point pt;
+		int d = sscope_budget_dominant(&o->p, o->times[j], NULL);
+
+		fprintf(f, "  %10s", ssc_fmt(a, sizeof(a), o->times[j], 6));
+		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
+			sscope_budget_source_eval(&o->p, (enum sscope_budget_source)s,
+						  o->times[j], &pt);
+			fprintf(f, s == 4 ? " %12s" : " %11s",
+				ssc_fmt(a, sizeof(a), pt.position_m, 4));
+		}
+		sscope_budget_total(&o->p, o->times[j], &pt);
+		fprintf(f, " %11s  %-12s %s\n", ssc_fmt(a, sizeof(a), pt.position_m, 4),
+			d >= 0 ? source_name(d) : "-", model_name(&o->p, o->times[j]));
 	}
-	return rc;
+	fprintf(f, "\n  total velocity (m/s) and attitude (deg) error\n");
+	for (size_t j = 0; j < o->n_times; j++) {
+		struct sscope_budget_point pt;
+
+		sscope_budget_total(&o->p, o->times[j], &pt);
+		fprintf(f, "  %10s %11s %11s\n", ssc_fmt(a, sizeof(a), o->times[j], 6),
+			ssc_fmt((char[32]){ 0 }, 32, pt.velocity_m_s, 4),
+			ssc_fmt((char[32]){ 0 }, 32, pt.attitude_rad * 180 / PI, 4));
+	}
+	if (R->n_cr) {
+		fprintf(f, "\n  dominant source changes:\n");
+		for (size_t i = 0; i < R->n_cr; i++)
+			fprintf(f, "    at %s s: %s -> %s\n",
+				ssc_fmt(a, sizeof(a), R->cr[i].t_s, 4),
+				source_name((int)R->cr[i].from), source_name((int)R->cr[i].to));
+	}
+	for (size_t e = 0; e < o->n_err; e++) {
+		double t;
+
+		fprintf(f, "\n  time to %s error %s %s:", qty_name(o->err_q[e]),
+			ssc_fmt(a, sizeof(a), o->err[e], 4), qty_unit(o->err_q[e]));
+		if (sscope_budget_time_to(&o->p, -1, o->err_q[e], o->err[e], 1e7, &t) == 0)
+			fprintf(f, " total %s s", ssc_fmt(a, sizeof(a), t, 5));
+		else
+			fprintf(f, " total not reached within 1e7 s");
+		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++)
+			if (sscope_budget_time_to(&o->p, s, o->err_q[e], o->err[e], 1e7, &t) == 0)
+				fprintf(f, "; %s %s s", source_name(s),
+					ssc_fmt(a, sizeof(a), t, 5));
+		fputc('\n', f);
+	}
+	for (int i = 0; i < R->n_mc; i++) {
+		const struct mc_res *m = &R->mc[i];
+		double sd, p = sscope_budget_mc_expected(m->o.realisations, &sd);
+
+		fprintf(f, "\n  Monte Carlo (%s, %zu seeded realisations, seed %lu): fraction inside +-2 sigma sqrt(t), expected %.4f +- %.4f (binomial sd)\n",
+			m->o.gyro ? "ARW" : "VRW", m->o.realisations, m->o.seed, p,
+			sd);
+		for (size_t j = 0; j < m->n; j++)
+			fprintf(f, "    t = %-8s %s inside %.4f (sd ratio %.4f), position inside %.4f (sd ratio %.4f)\n",
+				ssc_fmt(a, sizeof(a), m->pt[j].t_s, 5),
+				m->o.gyro ? "attitude" : "velocity", m->pt[j].walk_inside,
+				m->pt[j].walk_sd / m->pt[j].walk_sd_theory,
+				m->pt[j].pos_inside, m->pt[j].pos_sd / m->pt[j].pos_sd_theory);
+	}
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct budget_res *R = result;
+	const struct opts *o = &R->o;
+	char a[32], q[64];
+
+	(void)opts;
+	for (size_t j = 0; j < o->n_times; j++) {
+		struct sscope_budget_point pt;
+
+		sscope_budget_total(&o->p, o->times[j], &pt);
+		snprintf(q, sizeof(q), "position error after %s s",
+			 ssc_fmt(a, sizeof(a), o->times[j], 5));
+		ssc_summary_add(rows, NULL, q, pt.position_m, NAN, NAN, "m",
+				"root sum of squares of the sources");
+	}
 }
 
 const struct ssc_stage_ops ssc_budget_stage = {
@@ -1092,6 +1103,12 @@ const struct ssc_stage_ops ssc_budget_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_budget(int argc, char **argv)

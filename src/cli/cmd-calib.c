@@ -7,14 +7,13 @@
  * g-dependent gyro bias; writes a calibration file for --calibration.
  */
 #include "cli.h"
-#include "calibfile.h"
+#include "results.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "plot.h"
-#include "stage.h"
 
 #define PI 3.14159265358979323846
 #define MAX_IV 4096
@@ -292,108 +291,25 @@ static void held_unit(const struct sscope_column *col, char *out, size_t len)
 	snprintf(out, len, "%s", col->unit_label);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
-/* pooled within-interval sd of x */
-static double pooled_sd(const double *x, const struct sscope_calib_interval *iv,
-			size_t n_iv)
-{
-	double ss = 0, dof = 0;
-
-	for (size_t k = 0; k < n_iv; k++) {
-		double m, sd;
-
-		if (sscope_calib_interval_mean(x, 1, &iv[k], &m, &sd) == 0 &&
-		    isfinite(sd)) {
-			double d = (double)(iv[k].end - iv[k].start - 1);
-
-			ss += sd * sd * d;
-			dof += d;
-		}
-	}
-	return dof > 0 ? sqrt(ss / dof) : (double)NAN;
-}
-
 /* ------------------------------------------------------------------ */
 /* Results                                                             */
 /* ------------------------------------------------------------------ */
 
-struct triad_out {
-	struct ssc_caltriad t;
-	enum sscope_quantity q;  /* output quantity */
-	const char *residual_unit;
-	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
-	bool error_model;        /* input and output of one dimension */
-	double A[3][3];          /* error model: reading = A u + b (SI) */
-	int grade;               /* row of sscope_calib_grades(), < 0 none */
-	double grade_dist;
-	/* gyro multi-position: gravity carried over each motion, rad */
-	size_t n_motion;
-	double motion_rms, motion_max, motion_rms_bias_only;
-};
-
-static void finish_triad(struct triad_out *o)
+/* the error model (when input and output have one dimension) and the
+ * class of the sensor */
+static void finish_triad(struct ssc_calib_triad_out *o)
 {
-	const struct sscope_calib_triad *c = &o->t.c;
 	struct sscope_unit iu, ou;
-	double C[3][3], sf = 0, gs = NAN, bias = 0;
 
-	o->error_model = false;
-	if (o->t.input_unit[0] &&
-	    !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
-	    !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
-	    sscope_unit_compatible(&iu, &ou)) {
-		/* A = (T K)^-1 in SI/SI */
-		double d;
-
-		for (int i = 0; i < 3; i++)
-			for (int j = 0; j < 3; j++)
-				C[i][j] = c->mis[i][j] * c->scale[j];
-		d = C[0][0] * (C[1][1] * C[2][2] - C[1][2] * C[2][1]) -
-		    C[0][1] * (C[1][0] * C[2][2] - C[1][2] * C[2][0]) +
-		    C[0][2] * (C[1][0] * C[2][1] - C[1][1] * C[2][0]);
-		if (fabs(d) > 0) {
-			o->A[0][0] = (C[1][1] * C[2][2] - C[1][2] * C[2][1]) / d;
-			o->A[0][1] = (C[0][2] * C[2][1] - C[0][1] * C[2][2]) / d;
-			o->A[0][2] = (C[0][1] * C[1][2] - C[0][2] * C[1][1]) / d;
-			o->A[1][0] = (C[1][2] * C[2][0] - C[1][0] * C[2][2]) / d;
-			o->A[1][1] = (C[0][0] * C[2][2] - C[0][2] * C[2][0]) / d;
-			o->A[1][2] = (C[0][2] * C[1][0] - C[0][0] * C[1][2]) / d;
-			o->A[2][0] = (C[1][0] * C[2][1] - C[1][1] * C[2][0]) / d;
-			o->A[2][1] = (C[0][1] * C[2][0] - C[0][0] * C[2][1]) / d;
-			o->A[2][2] = (C[0][0] * C[1][1] - C[0][1] * C[1][0]) / d;
-			o->error_model = true;
-		}
-	}
-	if (o->error_model) {
-		for (int i = 0; i < 3; i++) {
-			sf = fmax(sf, fabs(o->A[i][i] - 1));
-			bias = fmax(bias, fabs(c->bias[i]));
-		}
-		if (c->has_gsens) {
-			gs = 0;
-			for (int i = 0; i < 3; i++)
-				for (int j = 0; j < 3; j++)
-					gs = fmax(gs, fabs(c->gsens[i][j]));
-		}
-	} else {
-		/* raw input: the bias in output units, C b; no scale error */
-		for (int i = 0; i < 3; i++) {
-			double v = 0;
-
-			for (int j = 0; j < 3; j++)
-				v += c->mis[i][j] * c->scale[j] * c->bias[j];
-			bias = fmax(bias, fabs(v));
-		}
-		sf = NAN;
-	}
-	o->grade = sscope_calib_grade(o->q, bias, sf, o->noise_density, gs,
-				      &o->grade_dist);
+	o->error_model = o->t.input_unit[0] &&
+			 !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
+			 !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
+			 sscope_unit_compatible(&iu, &ou) &&
+			 sscope_calib_error_model(&o->t.c, o->A) == 0;
+	o->grade = sscope_calib_triad_grade(o->q, &o->t.c,
+					    o->error_model ? (const double(*)[3])o->A :
+							     NULL,
+					    o->noise_density, &o->grade_dist);
 }
 
 static json_t *jvec(const double v[3], double mul)
@@ -414,7 +330,7 @@ static json_t *jmat(const double m[3][3], double mul)
 	return a;
 }
 
-static json_t *triad_json(const struct triad_out *o)
+static json_t *triad_json(const struct ssc_calib_triad_out *o)
 {
 	json_t *j = ssc_calfile_triad_json(&o->t);
 	const struct sscope_calib_triad *c = &o->t.c;
@@ -514,7 +430,7 @@ static json_t *triad_json(const struct triad_out *o)
 	return j;
 }
 
-static void triad_text(FILE *f, const struct triad_out *o)
+static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 {
 	const struct sscope_calib_triad *c = &o->t.c;
 	double s = ssc_calfile_unit_scale(o->t.input_unit);
@@ -605,15 +521,16 @@ static void triad_text(FILE *f, const struct triad_out *o)
 /* ------------------------------------------------------------------ */
 
 struct run {
-	const struct ssc_common *co;
-	struct opts *o;
+	struct ssc_calib_res pub; /* the triads (first: results.h) */
+	const struct ssc_common *co; /* during run() only */
+	struct opts o;          /* the options, with the detector's outputs */
+	const char *const *paths;
+	size_t n_files;
 	struct sscope_capture *cap;
 	long ai[3], gi[3];
 	struct sscope_calib_interval *iv;
 	size_t n_iv;
 	double *vs;             /* variance magnitude, for the plot */
-	struct triad_out out[2];
-	int n_out;
 	/* pose norms before/after (plot) */
 	double *pose_before, *pose_after;
 	size_t n_pose;
@@ -628,7 +545,7 @@ struct run {
 	bool have_lf;
 };
 
-static void fill_triad(struct triad_out *t, const char *kind,
+static void fill_triad(struct ssc_calib_triad_out *t, const char *kind,
 		       const struct sscope_capture *cap, const long idx[3],
 		       enum sscope_quantity q, const struct sscope_calib_triad *c)
 {
@@ -646,12 +563,33 @@ static void fill_triad(struct triad_out *t, const char *kind,
 	t->noise_density = NAN;
 }
 
+/* the three channels idx of the capture */
+static const double *const *chans(const struct run *r, const long idx[3],
+				  const double *ch[3])
+{
+	for (int i = 0; i < 3; i++)
+		ch[i] = r->cap->channels[idx[i]].data;
+	return ch;
+}
+
+/* the output's noise density from the static poses */
+static void noise_density(const struct run *r, const long idx[3],
+			  struct ssc_calib_triad_out *o)
+{
+	const double *ch[3];
+
+	sscope_calib_noise_density(chans(r, idx, ch), 1, r->iv, r->n_iv,
+				   o->t.c.scale, r->cap->rate_hz,
+				   &o->noise_density);
+}
+
 static int accel_multipos(struct run *r)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
 	struct sscope_diag d = { "" };
 	struct sscope_calib_triad c;
+	const double *ch[3];
 	double *w2 = malloc(cap->n * sizeof(double));
 	const double *x = cap->channels[r->ai[0]].data,
 		     *y = cap->channels[r->ai[1]].data,
@@ -665,7 +603,7 @@ static int accel_multipos(struct run *r)
 		return SSC_EXIT_FAIL;
 	}
 	rc = sscope_calib_accel_multipos(x, y, z, 1, cap->n, cap->rate_hz,
-					 r->o->gravity, &r->o->det, r->iv, MAX_IV,
+					 r->o.gravity, &r->o.det, r->iv, MAX_IV,
 					 &c, r->vs, w2, &d);
 	free(w2);
 	if (rc) {
@@ -673,107 +611,51 @@ static int accel_multipos(struct run *r)
 			d.msg[0] ? d.msg : sscope_strerror(rc));
 		return SSC_EXIT_FAIL;
 	}
-	r->n_iv = r->o->det.n_intervals;
-	fill_triad(&r->out[r->n_out], "accel", cap, r->ai,
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[r->pub.n_out], "accel", cap, r->ai,
 		   SSCOPE_QTY_ACCELERATION, &c);
-	r->out[r->n_out].residual_unit = "m/s^2";
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(cap->channels[r->ai[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
-		}
-		r->out[r->n_out].noise_density = sqrt(nd / 3 / cap->rate_hz);
-	}
+	r->pub.out[r->pub.n_out].residual_unit = "m/s^2";
+	noise_density(r, r->ai, &r->pub.out[r->pub.n_out]);
 	/* pose norms for the plot */
-	r->pose_before = malloc(r->n_iv * sizeof(double));
-	r->pose_after = malloc(r->n_iv * sizeof(double));
-	if (r->pose_before && r->pose_after) {
+	r->pose_before = malloc((r->n_iv ? r->n_iv : 1) * sizeof(double));
+	r->pose_after = malloc((r->n_iv ? r->n_iv : 1) * sizeof(double));
+	if (r->pose_before && r->pose_after &&
+	    sscope_calib_pose_errors(chans(r, r->ai, ch), 1, r->iv, r->n_iv, &c,
+				     r->o.gravity,
+				     cap->channels[r->ai[0]].col.quantity ==
+					     SSCOPE_QTY_ACCELERATION,
+				     r->pose_before, r->pose_after) == 0)
 		r->n_pose = r->n_iv;
-		for (size_t k = 0; k < r->n_iv; k++) {
-			double m[3], u[3], nb = 0;
-
-			for (int i = 0; i < 3; i++) {
-				sscope_calib_interval_mean(cap->channels[r->ai[i]].data,
-							   1, &r->iv[k], &m[i], NULL);
-				u[i] = m[i];
-			}
-			{
-				double *p[3] = { &u[0], &u[1], &u[2] };
-
-				sscope_calib_apply(&c, p[0], p[1], p[2], 1, 1, NULL, 1);
-			}
-			for (int i = 0; i < 3; i++)
-				nb += m[i] * m[i];
-			r->pose_before[k] = sqrt(nb) -
-					    (cap->channels[r->ai[0]].col.quantity ==
-							     SSCOPE_QTY_ACCELERATION ?
-						     r->o->gravity :
-						     sqrt(nb));
-			r->pose_after[k] = sqrt(u[0] * u[0] + u[1] * u[1] +
-						u[2] * u[2]) -
-					   r->o->gravity;
-		}
-	}
-	finish_triad(&r->out[r->n_out]);
-	r->n_out++;
+	finish_triad(&r->pub.out[r->pub.n_out]);
+	r->pub.n_out++;
 	return SSC_EXIT_OK;
 }
 
 /* How the gyro predicts each motion between poses, calibrated and with
- * its bias removed only (nominal scale: 1 for a rate in SI units, else the
- * fitted scales' mean magnitude); kept for the text, JSON and figure. */
+ * its bias removed only; kept for the text, JSON and figure. */
 static void motion_errors(struct run *r, double *const ac[3],
 			  const struct sscope_calib_triad *c)
 {
-	const struct sscope_capture *cap = r->cap;
-	const double *g[3] = { cap->channels[r->gi[0]].data,
-			       cap->channels[r->gi[1]].data,
-			       cap->channels[r->gi[2]].data };
-	const double *a[3] = { ac[0], ac[1], ac[2] };
-	struct sscope_calib_triad nominal;
-	struct triad_out *o = &r->out[1];
-	double s0 = (fabs(c->scale[0]) + fabs(c->scale[1]) + fabs(c->scale[2])) / 3;
-	size_t m = r->n_iv - 1;
+	const double *g[3], *a[3] = { ac[0], ac[1], ac[2] };
+	struct ssc_calib_triad_out *o = &r->pub.out[1];
+	struct sscope_calib_motion ms;
+	size_t m = r->n_iv ? r->n_iv - 1 : 0;
 
 	o->n_motion = 0;
-	r->mot_before = malloc(m * sizeof(double));
-	r->mot_after = malloc(m * sizeof(double));
-	if (!r->mot_before || !r->mot_after || r->n_iv < 2)
+	r->mot_before = malloc((m ? m : 1) * sizeof(double));
+	r->mot_after = malloc((m ? m : 1) * sizeof(double));
+	if (!r->mot_before || !r->mot_after ||
+	    sscope_calib_motion_summary(chans(r, r->gi, g), a, 1, r->cap->n,
+					r->cap->rate_hz, r->iv, r->n_iv, c,
+					r->cap->channels[r->gi[0]].col.quantity ==
+						SSCOPE_QTY_ANGULAR_RATE,
+					r->mot_after, r->mot_before, &ms))
 		return;
-	sscope_calib_triad_identity(&nominal);
-	for (int i = 0; i < 3; i++) {
-		nominal.bias[i] = c->bias[i];
-		nominal.scale[i] = cap->channels[r->gi[0]].col.quantity ==
-						   SSCOPE_QTY_ANGULAR_RATE ?
-					   1 :
-					   copysign(s0, c->scale[i]);
-		for (int j = 0; j < 3; j++)
-			nominal.gsens[i][j] = c->gsens[i][j];
-	}
-	nominal.has_gsens = c->has_gsens;
-	if (sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
-					    r->n_iv, c, r->mot_after) ||
-	    sscope_calib_gyro_motion_errors(g, a, 1, cap->n, cap->rate_hz, r->iv,
-					    r->n_iv, &nominal, r->mot_before))
-		return;
-	{
-		double s2 = 0, b2 = 0, mx = 0;
-
-		for (size_t k = 0; k < m; k++) {
-			s2 += r->mot_after[k] * r->mot_after[k];
-			b2 += r->mot_before[k] * r->mot_before[k];
-			mx = fmax(mx, r->mot_after[k]);
-		}
-		o->motion_rms = sqrt(s2 / (double)m);
-		o->motion_rms_bias_only = sqrt(b2 / (double)m);
-		o->motion_max = mx;
-	}
-	r->n_mot = m;
-	o->n_motion = m;
+	o->motion_rms = ms.rms_rad;
+	o->motion_rms_bias_only = ms.rms_bias_only_rad;
+	o->motion_max = ms.max_rad;
+	r->n_mot = ms.motions;
+	o->n_motion = ms.motions;
 }
 
 static int gyro_multipos(struct run *r)
@@ -796,7 +678,7 @@ static int gyro_multipos(struct run *r)
 		}
 		memcpy(ac[i], cap->channels[r->ai[i]].data, cap->n * sizeof(double));
 	}
-	sscope_calib_apply(&r->out[0].t.c, ac[0], ac[1], ac[2], 1, cap->n, NULL, 1);
+	sscope_calib_apply(&r->pub.out[0].t.c, ac[0], ac[1], ac[2], 1, cap->n, NULL, 1);
 	{
 		const double *g[3] = { cap->channels[r->gi[0]].data,
 				       cap->channels[r->gi[1]].data,
@@ -806,7 +688,7 @@ static int gyro_multipos(struct run *r)
 			  SSCOPE_QTY_ANGULAR_RATE;
 
 		rc = sscope_calib_gyro_fit(g, a, 1, cap->n, cap->rate_hz,
-					   si ? 1 : 0, r->iv, r->n_iv, r->o->gsens,
+					   si ? 1 : 0, r->iv, r->n_iv, r->o.gsens,
 					   &c, &d);
 	}
 	if (rc) {
@@ -815,26 +697,16 @@ static int gyro_multipos(struct run *r)
 		rc = SSC_EXIT_FAIL;
 		goto out;
 	}
-	fill_triad(&r->out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
-	r->out[1].residual_unit = "1";
+	fill_triad(&r->pub.out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	r->pub.out[1].residual_unit = "1";
 	motion_errors(r, ac, &c);
 	if (c.has_gsens)
 		for (int i = 0; i < 3; i++)
-			snprintf(r->out[1].t.accel_channels[i], 64, "%s",
-				 r->out[0].t.channels[i]);
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(cap->channels[r->gi[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(c.scale[i]) * sd * fabs(c.scale[i]);
-		}
-		r->out[1].noise_density = sqrt(nd / 3 / cap->rate_hz);
-	}
-	finish_triad(&r->out[1]);
-	r->n_out = 2;
+			snprintf(r->pub.out[1].t.accel_channels[i], 64, "%s",
+				 r->pub.out[0].t.channels[i]);
+	noise_density(r, r->gi, &r->pub.out[1]);
+	finish_triad(&r->pub.out[1]);
+	r->pub.n_out = 2;
 	rc = SSC_EXIT_OK;
 out:
 	for (int i = 0; i < 3; i++)
@@ -842,140 +714,42 @@ out:
 	return rc;
 }
 
-/* Static intervals with a fixed k (sixpos, tilt) or a scan (sixpos). */
-static int detect_fixed(struct run *r, double k)
-{
-	struct sscope_capture *cap = r->cap;
-	struct sscope_calib_detect *det = &r->o->det;
-	const double *x = cap->channels[r->ai[0]].data,
-		     *y = cap->channels[r->ai[1]].data,
-		     *z = cap->channels[r->ai[2]].data;
-	double win = det->window_s > 0 ? det->window_s : 1;
-	double mins = det->min_static_s > 0 ? det->min_static_s : 2;
-	size_t w = (size_t)lround(win * cap->rate_hz);
-
-	if (!r->vs) {
-		double *tmp = malloc(cap->n * sizeof(double));
-		size_t nf = 0;
-
-		r->vs = malloc(cap->n * sizeof(double));
-		if (!r->vs || !tmp) {
-			free(tmp);
-			return -ENOMEM;
-		}
-		if (sscope_calib_variance_magnitude(x, y, z, 1, cap->n,
-						    w < 3 ? 3 : w, r->vs)) {
-			free(tmp);
-			return -EDOM;
-		}
-		if (det->init_static_s > 0) {
-			size_t m = (size_t)lround(det->init_static_s * cap->rate_hz);
-			double v2 = 0;
-
-			if (m < 3 || m > cap->n) {
-				free(tmp);
-				return -EDOM;
-			}
-			for (int c = 0; c < 3; c++) {
-				struct sscope_stats st;
-
-				sscope_stats_compute(c == 0 ? x : c == 1 ? y : z, 1, m,
-						     &st);
-				v2 += st.sd * st.sd * st.sd * st.sd;
-			}
-			det->reference = sqrt(v2);
-		} else {
-			for (size_t i = 0; i < cap->n; i++)
-				if (isfinite(r->vs[i]))
-					tmp[nf++] = r->vs[i];
-			qsort(tmp, nf, sizeof(double), cmp_double);
-			det->reference = nf ? tmp[(nf - 1) / 10] : 0;
-		}
-		free(tmp);
-		if (!(det->reference > 0))
-			return -EDOM;
-	}
-	det->k = k;
-	det->threshold = k * det->reference;
-	sscope_calib_static_intervals(r->vs, cap->n, det->threshold,
-				      (size_t)lround(mins * cap->rate_hz), r->iv,
-				      MAX_IV, &r->n_iv);
-	if (r->n_iv > MAX_IV)
-		r->n_iv = MAX_IV;
-	det->n_intervals = r->n_iv;
-	return 0;
-}
-
-static int pose_means(struct run *r, const long idx[3], double (*m)[3])
-{
-	for (size_t k = 0; k < r->n_iv; k++)
-		for (int i = 0; i < 3; i++)
-			sscope_calib_interval_mean(r->cap->channels[idx[i]].data, 1,
-						   &r->iv[k], &m[k][i], NULL);
-	return 0;
-}
-
 static int accel_sixpos(struct run *r)
 {
 	const struct ssc_common *co = r->co;
-	double (*m)[3] = malloc(MAX_IV * sizeof(*m)), best = INFINITY, bk = 0;
-	struct sscope_calib_triad c, bc;
-	struct sscope_calib_linear lf;
-	struct sscope_diag d = { "" }, bd = { "" };
-	double k0 = r->o->det.k;
-	int rc = -EDOM;
+	struct sscope_capture *cap = r->cap;
+	struct sscope_calib_triad c;
+	struct sscope_diag d = { "" };
+	const double *ch[3];
+	double *w2 = malloc(cap->n * sizeof(double));
+	int rc;
 
-	if (!m)
-		return SSC_EXIT_FAIL;
-	for (int kk = 2; kk <= 10; kk++) {
-		double k = k0 > 0 ? k0 : (double)kk;
-
-		rc = detect_fixed(r, k);
-		if (rc)
-			break;
-		pose_means(r, r->ai, m);
-		rc = sscope_calib_accel_sixpos((const double(*)[3])m, r->n_iv,
-					       r->o->gravity, &lf, &c, &d);
-		if (rc == 0 && c.residual_rms < best) {
-			best = c.residual_rms;
-			bk = k;
-			bc = c;
-			r->lf = lf;
-		} else if (rc) {
-			bd = d;
-		}
-		if (k0 > 0)
-			break;
-	}
-	if (!isfinite(best)) {
-		free(m);
-		ssc_err(co->cmd, "%s: six-position calibration: %s", r->cap->source,
-			bd.msg[0] ? bd.msg : rc == -EDOM ?
-			"no static intervals (capture shorter than the window, or zero noise)" :
-			sscope_strerror(rc));
+	r->vs = malloc(cap->n * sizeof(double));
+	if (!w2 || !r->vs) {
+		free(w2);
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	detect_fixed(r, bk);
-	free(m);
-	fill_triad(&r->out[0], "accel", r->cap, r->ai, SSCOPE_QTY_ACCELERATION,
-		   &bc);
-	r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
-					  r->out[0].t.input_unit : "counts";
+	chans(r, r->ai, ch);
+	rc = sscope_calib_accel_sixpos_run(ch[0], ch[1], ch[2], 1, cap->n,
+					   cap->rate_hz, r->o.gravity, &r->o.det,
+					   r->iv, MAX_IV, &r->lf, &c, r->vs, w2, &d);
+	free(w2);
+	if (rc) {
+		ssc_err(co->cmd, "%s: six-position calibration: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[0], "accel", cap, r->ai, SSCOPE_QTY_ACCELERATION,
+		   &c);
+	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
+					      r->pub.out[0].t.input_unit : "counts";
 	/* residual_rms of a linear fit is in held units: show input units */
-	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
-	{
-		double nd = 0;
-
-		for (int i = 0; i < 3; i++) {
-			double sd = pooled_sd(r->cap->channels[r->ai[i]].data, r->iv,
-					      r->n_iv);
-
-			nd += sd * fabs(bc.scale[i]) * sd * fabs(bc.scale[i]);
-		}
-		r->out[0].noise_density = sqrt(nd / 3 / r->cap->rate_hz);
-	}
-	finish_triad(&r->out[0]);
-	r->n_out = 1;
+	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
+	noise_density(r, r->ai, &r->pub.out[0]);
+	finish_triad(&r->pub.out[0]);
+	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
 
@@ -983,10 +757,10 @@ static int gyro_tilt(struct run *r)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	double (*gm)[3], (*am)[3];
-	struct sscope_calib_linear lf;
 	struct sscope_calib_triad c;
 	struct sscope_diag d = { "" };
+	const double *g[3], *a[3];
+	double *w2;
 	int rc;
 
 	if (cap->channels[r->ai[0]].col.quantity != SSCOPE_QTY_ACCELERATION) {
@@ -994,95 +768,80 @@ static int gyro_tilt(struct run *r)
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	rc = detect_fixed(r, r->o->det.k > 0 ? r->o->det.k : 4);
-	if (rc) {
-		ssc_err(co->cmd, "%s: no static intervals: %s", cap->source,
-			sscope_strerror(rc));
-		return SSC_EXIT_FAIL;
-	}
-	gm = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*gm));
-	am = malloc((r->n_iv ? r->n_iv : 1) * sizeof(*am));
-	if (!gm || !am) {
-		free(gm);
-		free(am);
-		return SSC_EXIT_FAIL;
-	}
-	pose_means(r, r->gi, gm);
-	pose_means(r, r->ai, am);
-	rc = sscope_calib_linear_fit((const double(*)[3])gm,
-				     (const double(*)[3])am, r->n_iv, false, &lf,
-				     &d);
-	free(gm);
-	free(am);
-	if (!rc && !(lf.axis_excited[0] && lf.axis_excited[1] &&
-		     lf.axis_excited[2])) {
-		rc = -EDOM;
-		snprintf(d.msg, sizeof(d.msg),
-			 "%zu poses do not tilt gravity onto all three axes",
-			 r->n_iv);
-	}
-	if (rc) {
-		ssc_err(co->cmd, "%s: g-sensitivity: %s", cap->source,
-			d.msg[0] ? d.msg : sscope_strerror(rc));
-		return SSC_EXIT_FAIL;
-	}
-	sscope_calib_triad_identity(&c);
-	c.has_gsens = true;
-	for (int i = 0; i < 3; i++) {
-		c.bias[i] = lf.bias[i];
-		c.bias_sd[i] = lf.bias_sd[i];
-		c.scale_sd[i] = NAN;
-		for (int j = 0; j < 3; j++) {
-			c.gsens[i][j] = lf.A[i][j];
-			c.gsens_sd[i][j] = lf.A_sd[i][j];
-		}
-	}
-	c.n_params = 12;
-	c.poses = r->n_iv;
-	c.residual_rms = sqrt((lf.residual_rms[0] * lf.residual_rms[0] +
-			       lf.residual_rms[1] * lf.residual_rms[1] +
-			       lf.residual_rms[2] * lf.residual_rms[2]) / 3);
-	fill_triad(&r->out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
 	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
 		ssc_err(co->cmd, "%s: tilt mode needs gyro channels in physical units (the scale is not estimated)",
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	r->out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->out[0].t.input_unit);
-	r->out[0].residual_unit = r->out[0].t.input_unit;
+	w2 = malloc(cap->n * sizeof(double));
+	r->vs = malloc(cap->n * sizeof(double));
+	if (!w2 || !r->vs) {
+		free(w2);
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = sscope_calib_gyro_gsens_run(chans(r, r->gi, g), chans(r, r->ai, a), 1,
+					 cap->n, cap->rate_hz, &r->o.det, r->iv,
+					 MAX_IV, &c, r->vs, w2, &d);
+	free(w2);
+	if (rc) {
+		ssc_err(co->cmd, "%s: g-sensitivity: %s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	r->n_iv = r->o.det.n_intervals;
+	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
+	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit;
 	for (int i = 0; i < 3; i++)
-		snprintf(r->out[0].t.accel_channels[i], 64, "%s",
+		snprintf(r->pub.out[0].t.accel_channels[i], 64, "%s",
 			 cap->channels[r->ai[i]].col.name);
-	finish_triad(&r->out[0]);
-	r->n_out = 1;
+	finish_triad(&r->pub.out[0]);
+	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
 
-/* one rate-table file: segment means and reference vectors appended */
+/* the table axis of file file_no from --table-axis: 0..2, -1 for auto,
+ * -2 for a bad value */
+static int table_axis(const struct opts *o, int file_no)
+{
+	char ax[16] = "auto";
+
+	if (o->table_axis && !list_item(o->table_axis, file_no, ax, sizeof(ax)) &&
+	    list_count(o->table_axis) == 1)
+		list_item(o->table_axis, 0, ax, sizeof(ax));
+	return !strcmp(ax, "x") ? 0 : !strcmp(ax, "y") ? 1 :
+	       !strcmp(ax, "z") ? 2 : !strcmp(ax, "auto") ? -1 : -2;
+}
+
+/* one rate-table file: its steps' means appended to r->ry, r->rr */
 static int rate_table_file(struct run *r, int file_no)
 {
 	const struct ssc_common *co = r->co;
 	struct sscope_capture *cap = r->cap;
-	size_t nref = r->o->reference ? list_count(r->o->reference) : 1, nseg;
-	long ri[3] = { -1, -1, -1 };
-	const long *ci = r->o->gyro ? r->gi : r->ai;
-	double *key, fs = 0;
+	size_t nref = r->o.reference ? list_count(r->o.reference) : 1, nseg = 0;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
+	const double *ref[3] = { NULL, NULL, NULL }, *y[3];
+	double *sched_ref = NULL, (*ny)[3], (*nr)[3];
+	size_t base = r->n_pts;
 	char b[128];
-	int axis = -1;
-	struct sscope_calib_interval *seg = r->iv;
+	int axis = -1, e;
 
-	const double *rc[3] = { NULL, NULL, NULL };
-	double *sched_ref = NULL;
-
-	if (r->o->schedule) {
+	if (nref == 1) {
+		axis = table_axis(&r->o, file_no);
+		if (axis == -2)
+			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
+					       r->o.table_axis);
+	}
+	if (r->o.schedule) {
 		double *sv;
 		size_t ns;
-		int e = ssc_read_intervals(co, "schedule", r->o->schedule, "VALUE", 1,
-					   sscope_quantity_si_unit(r->o->gyro ?
-									   SSCOPE_QTY_ANGULAR_RATE :
-									   SSCOPE_QTY_ACCELERATION),
-					   NULL, &sv, &ns);
 
+		e = ssc_read_intervals(co, "schedule", r->o.schedule, "VALUE", 1,
+				       sscope_quantity_si_unit(r->o.gyro ?
+								       SSCOPE_QTY_ANGULAR_RATE :
+								       SSCOPE_QTY_ACCELERATION),
+				       NULL, &sv, &ns);
 		if (e)
 			return e;
 		nref = 1;
@@ -1091,144 +850,62 @@ static int rate_table_file(struct run *r, int file_no)
 			free(sv);
 			return SSC_EXIT_FAIL;
 		}
-		for (size_t i = 0; i < cap->n; i++) {
-			double t = cap->time_s ? cap->time_s[i] : (double)i / cap->rate_hz;
-
-			sched_ref[i] = NAN;
-			for (size_t q = 0; q < ns; q++)
-				if (t >= sv[3 * q] && t < sv[3 * q + 1]) {
-					sched_ref[i] = sv[3 * q + 2];
-					break;
-				}
-		}
+		sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, sv, ns, 1,
+					&sched_ref);
 		free(sv);
-		rc[0] = sched_ref;
+		ref[0] = sched_ref;
 	} else {
 		if (nref != 1 && nref != 3)
 			return ssc_usage_error(co->cmd, "--reference: one or three columns");
 		for (size_t j = 0; j < nref; j++) {
-			list_item(r->o->reference, (int)j, b, sizeof(b));
-			ri[j] = sscope_capture_find(cap, b);
-			if (ri[j] < 0) {
+			long k;
+
+			list_item(r->o.reference, (int)j, b, sizeof(b));
+			k = sscope_capture_find(cap, b);
+			if (k < 0) {
 				ssc_err(co->cmd, "%s: --reference: no column '%s'", cap->source, b);
 				return SSC_EXIT_FAIL;
 			}
-			rc[j] = cap->channels[ri[j]].data;
+			ref[j] = cap->channels[k].data;
 		}
 	}
-	key = malloc(cap->n * sizeof(double));
-	if (!key) {
-		free(sched_ref);
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t i = 0; i < cap->n; i++) {
-		key[i] = rc[0][i];
-		if (nref == 3)
-			key[i] += 1.6180339887 * rc[1][i] + 2.7182818285 * rc[2][i];
-		if (isfinite(key[i]))
-			fs = fmax(fs, fabs(key[i]));
-	}
-	{
-		size_t settle = (size_t)lround((r->o->settle_s >= 0 ? r->o->settle_s : 1) *
-					       cap->rate_hz);
-		size_t minl = (size_t)lround(0.5 * cap->rate_hz);
-
-		sscope_calib_constant_segments(key, 1, cap->n, 1e-9 * fs, settle,
-					       minl < 2 ? 2 : minl, seg, MAX_IV, &nseg);
-	}
-	free(key);
-	if (nseg > MAX_IV)
-		nseg = MAX_IV;
-	if (nseg < 2) {
+	ny = realloc(r->ry, (base + MAX_IV) * sizeof(*ny));
+	if (ny)
+		r->ry = ny;
+	nr = ny ? realloc(r->rr, (base + MAX_IV) * sizeof(*nr)) : NULL;
+	if (nr)
+		r->rr = nr;
+	e = nr ? sscope_calib_rate_table_steps(chans(r, ci, y), ref, nref, 1,
+					       cap->n, cap->rate_hz,
+					       r->o.settle_s >= 0 ? r->o.settle_s : 1,
+					       r->iv, MAX_IV, r->ry + base,
+					       r->rr + base, &nseg) :
+		 -ENOMEM;
+	free(sched_ref);
+	if (e == -EDOM) {
 		ssc_err(co->cmd, "%s: %zu steps of constant reference found (need 2 or more)",
 			cap->source, nseg);
-		free(sched_ref);
+		return SSC_EXIT_FAIL;
+	}
+	if (e) {
+		ssc_err(co->cmd, "%s: rate table: %s", cap->source, sscope_strerror(e));
 		return SSC_EXIT_FAIL;
 	}
 	if (nref == 1) {
-		char ax[16] = "auto";
-
-		if (r->o->table_axis &&
-		    !list_item(r->o->table_axis, file_no, ax, sizeof(ax)) &&
-		    list_count(r->o->table_axis) == 1)
-			list_item(r->o->table_axis, 0, ax, sizeof(ax));
-		if (!strcmp(ax, "x"))
-			axis = 0;
-		else if (!strcmp(ax, "y"))
-			axis = 1;
-		else if (!strcmp(ax, "z"))
-			axis = 2;
-		else if (strcmp(ax, "auto")) {
-			free(sched_ref);
-			return ssc_usage_error(co->cmd, "--table-axis: '%s' is not x, y, z or auto",
-					       ax);
-		}
-	}
-	{
-		size_t base = r->n_pts;
-		double (*ny)[3] = realloc(r->ry, (base + nseg) * sizeof(*ny));
-		double (*nr)[3];
-
-		if (!ny) {
-			free(sched_ref);
-			return SSC_EXIT_FAIL;
-		}
-		r->ry = ny;
-		nr = realloc(r->rr, (base + nseg) * sizeof(*nr));
-		if (!nr) {
-			free(sched_ref);
-			return SSC_EXIT_FAIL;
-		}
-		r->rr = nr;
+		/* the reference drives the table axis: given, or the sensor
+		 * axis with the largest |slope| */
+		if (axis < 0)
+			axis = sscope_calib_table_axis((const double(*)[3])(r->ry + base),
+						       (const double(*)[3])(r->rr + base),
+						       nseg);
 		for (size_t k = 0; k < nseg; k++) {
-			for (int i = 0; i < 3; i++)
-				sscope_calib_interval_mean(cap->channels[ci[i]].data, 1,
-							   &seg[k], &r->ry[base + k][i],
-							   NULL);
-			for (int i = 0; i < 3; i++)
-				r->rr[base + k][i] = 0;
-			for (size_t i = 0; i < nref; i++)
-				sscope_calib_interval_mean(rc[i], 1, &seg[k],
-							   &r->rr[base + k][i], NULL);
+			double v = r->rr[base + k][0];
+
+			r->rr[base + k][0] = 0;
+			r->rr[base + k][axis] = v;
 		}
-		if (nref == 1) {
-			/* the table axis: given, or the largest |slope| */
-			if (axis < 0) {
-				double best = -1;
-
-				for (int i = 0; i < 3; i++) {
-					double sxy = 0, sxx = 0, mx = 0, my = 0;
-
-					for (size_t k = 0; k < nseg; k++) {
-						mx += r->rr[base + k][0];
-						my += r->ry[base + k][i];
-					}
-					mx /= (double)nseg;
-					my /= (double)nseg;
-					for (size_t k = 0; k < nseg; k++) {
-						double dx = r->rr[base + k][0] - mx;
-
-						sxx += dx * dx;
-						sxy += dx * (r->ry[base + k][i] - my);
-					}
-					if (sxx > 0 && fabs(sxy / sxx) > best) {
-						best = fabs(sxy / sxx);
-						axis = i;
-					}
-				}
-				if (axis < 0)
-					axis = 0;
-			}
-			for (size_t k = 0; k < nseg; k++) {
-				double v = r->rr[base + k][0];
-
-				r->rr[base + k][0] = 0;
-				r->rr[base + k][axis] = v;
-			}
-		}
-		r->n_pts = base + nseg;
 	}
-	free(sched_ref);
+	r->n_pts = base + nseg;
 	return SSC_EXIT_OK;
 }
 
@@ -1237,11 +914,11 @@ static int rate_table_fit(struct run *r)
 	const struct ssc_common *co = r->co;
 	struct sscope_diag d = { "" };
 	struct sscope_calib_triad c;
-	enum sscope_quantity q = r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE :
+	enum sscope_quantity q = r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE :
 					      SSCOPE_QTY_ACCELERATION;
 	int rc = sscope_calib_linear_fit((const double(*)[3])r->ry,
 					 (const double(*)[3])r->rr, r->n_pts,
-					 r->o->cubic, &r->lf, &d);
+					 r->o.cubic, &r->lf, &d);
 
 	if (rc) {
 		ssc_err(co->cmd, "rate table: %s", d.msg[0] ? d.msg : sscope_strerror(rc));
@@ -1249,14 +926,14 @@ static int rate_table_fit(struct run *r)
 	}
 	r->have_lf = true;
 	if (sscope_calib_linear_to_triad(&r->lf, &c) == 0) {
-		fill_triad(&r->out[0], r->o->gyro ? "gyro" : "accel", r->cap,
-			   r->o->gyro ? r->gi : r->ai, q, &c);
-		r->out[0].t.c.residual_rms /=
-			ssc_calfile_unit_scale(r->out[0].t.input_unit);
-		r->out[0].residual_unit = r->out[0].t.input_unit[0] ?
-						  r->out[0].t.input_unit : "counts";
-		finish_triad(&r->out[0]);
-		r->n_out = 1;
+		fill_triad(&r->pub.out[0], r->o.gyro ? "gyro" : "accel", r->cap,
+			   r->o.gyro ? r->gi : r->ai, q, &c);
+		r->pub.out[0].t.c.residual_rms /=
+			ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
+		r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
+						  r->pub.out[0].t.input_unit : "counts";
+		finish_triad(&r->pub.out[0]);
+		r->pub.n_out = 1;
 	}
 	return SSC_EXIT_OK;
 }
@@ -1264,10 +941,10 @@ static int rate_table_fit(struct run *r)
 /* the sensor channels have the dimension of the reference */
 static bool rt_ratio(const struct run *r)
 {
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 
 	return r->cap->channels[ci[0]].col.quantity ==
-	       (r->o->gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
+	       (r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
 }
 
 static json_t *rate_table_json(const struct run *r)
@@ -1275,12 +952,12 @@ static json_t *rate_table_json(const struct run *r)
 	json_t *o = json_object(), *axes = json_array();
 	const struct sscope_calib_linear *lf = &r->lf;
 	const char *ch = "xyz";
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 	double s = ssc_calfile_unit_scale(r->cap->channels[ci[0]].col.unit_label);
 	/* sensitivities: ratios when the sensor's unit has the reference's
 	 * dimension (held data are SI then), else input units per SI */
 	double sa = rt_ratio(r) ? 1 : s;
-	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+	const char *si = sscope_quantity_si_unit(r->o.gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
 
@@ -1333,9 +1010,9 @@ static json_t *rate_table_json(const struct run *r)
 static void rate_table_text(FILE *f, const struct run *r)
 {
 	const struct sscope_calib_linear *lf = &r->lf;
-	const long *ci = r->o->gyro ? r->gi : r->ai;
+	const long *ci = r->o.gyro ? r->gi : r->ai;
 	const char *iu = r->cap->channels[ci[0]].col.unit_label;
-	const char *si = sscope_quantity_si_unit(r->o->gyro ?
+	const char *si = sscope_quantity_si_unit(r->o.gyro ?
 							 SSCOPE_QTY_ANGULAR_RATE :
 							 SSCOPE_QTY_ACCELERATION);
 	double s = ssc_calfile_unit_scale(iu), sa = rt_ratio(r) ? 1 : s;
@@ -1398,7 +1075,7 @@ static void plot_intervals(struct ssc_ax *ax, const struct run *r, double y)
 static void plot_gyro(struct ssc_fig *fig, const struct run *r)
 {
 	const struct sscope_capture *cap = r->cap;
-	const struct triad_out *o = &r->out[1];
+	const struct ssc_calib_triad_out *o = &r->pub.out[1];
 	double *t = malloc(cap->n * sizeof(double));
 	double *w = malloc(cap->n * sizeof(double));
 	double *k = malloc(r->n_mot * sizeof(double));
@@ -1469,21 +1146,24 @@ static void plot_gyro(struct ssc_fig *fig, const struct run *r)
 	free(a);
 }
 
-static int plot(const struct ssc_common *co, const struct run *r)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct run *r = result;
 	struct ssc_fig *fig;
 	int rc;
 	char buf[200];
 
-	if (!r->have_lf && r->o->gyro && r->n_mot) {
+	(void)opts;
+	if (!r->have_lf && r->o.gyro && r->n_mot) {
 		fig = ssc_fig_new(1100, 860, 2, 1);
 		snprintf(buf, sizeof(buf), "calib gyro (%s): %s",
-			 mode_names[r->o->mode], r->cap->source);
+			 mode_names[r->o.mode], r->cap->source);
 		ssc_fig_title(fig, buf);
 		plot_gyro(fig, r);
 	} else if (r->have_lf) {
 		const struct sscope_calib_linear *lf = &r->lf;
-		const long *ci = r->o->gyro ? r->gi : r->ai;
+		const long *ci = r->o.gyro ? r->gi : r->ai;
 		int na = 0;
 
 		for (int i = 0; i < 3; i++)
@@ -1535,7 +1215,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 				 r->cap->channels[ci[i]].col.name);
 			ssc_ax_ylabel(ax, buf);
 			snprintf(buf, sizeof(buf), "reference on input %c (%s)", "xyz"[i],
-				 sscope_quantity_si_unit(r->o->gyro ?
+				 sscope_quantity_si_unit(r->o.gyro ?
 								 SSCOPE_QTY_ANGULAR_RATE :
 								 SSCOPE_QTY_ACCELERATION));
 			ssc_ax_xlabel(ax, buf);
@@ -1555,7 +1235,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 
 		fig = ssc_fig_new(1100, 800, 2, 1);
 		snprintf(buf, sizeof(buf), "calib %s (%s): %s",
-			 r->o->gyro ? "gyro" : "accel", mode_names[r->o->mode],
+			 r->o.gyro ? "gyro" : "accel", mode_names[r->o.mode],
 			 cap->source);
 		ssc_fig_title(fig, buf);
 		ax = ssc_fig_ax(fig, 0, 0);
@@ -1564,8 +1244,8 @@ static int plot(const struct ssc_common *co, const struct run *r)
 				t[i] = (double)i / cap->rate_hz;
 			ssc_ax_log(ax, false, true);
 			ssc_ax_line(ax, t, r->vs, cap->n, &st, "accelerometer variance magnitude");
-			ssc_ax_hline(ax, r->o->det.threshold, &th, "threshold");
-			plot_intervals(ax, r, r->o->det.threshold / 3);
+			ssc_ax_hline(ax, r->o.det.threshold, &th, "threshold");
+			plot_intervals(ax, r, r->o.det.threshold / 3);
 			snprintf(buf, sizeof(buf), "variance magnitude ((%s)^{2})",
 				 cap->channels[r->ai[0]].col.quantity ==
 						 SSCOPE_QTY_ACCELERATION ?
@@ -1573,7 +1253,7 @@ static int plot(const struct ssc_common *co, const struct run *r)
 			ssc_ax_ylabel(ax, buf);
 			ssc_ax_xlabel(ax, "time (s)");
 			snprintf(buf, sizeof(buf), "%zu static intervals\nthreshold %.3g x reference",
-				 r->n_iv, r->o->det.k);
+				 r->n_iv, r->o.det.k);
 			ssc_ax_note(ax, buf, SSC_LEGEND_UL);
 		}
 		free(t);
@@ -1601,10 +1281,10 @@ static int plot(const struct ssc_common *co, const struct run *r)
 			ssc_ax_legend(ax, SSC_LEGEND_AUTO);
 		}
 	}
-	rc = ssc_fig_save(fig, co->plot);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
-		return ssc_write_failed(co->cmd, co->plot, rc);
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -1641,7 +1321,7 @@ static void init(void *opts)
 	o->settle_s = 1;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
@@ -1667,170 +1347,202 @@ static int check(const struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
 {
-	struct ssc_common co = *env->co;
-	struct opts *o = opts;
-	struct run r = { 0 };
-	struct ssc_membuf text, csv;
+	struct run *r = result;
+
+	free(r->iv);
+	free(r->vs);
+	free(r->pose_before);
+	free(r->pose_after);
+	free(r->mot_before);
+	free(r->mot_after);
+	free(r->ry);
+	free(r->rr);
+	free(r);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	const struct ssc_common *co = env->co;
+	struct opts *o;
+	struct run *r = calloc(1, sizeof(*r));
 	size_t nfiles = env->n_caps;
-	char cmdname[32];
-	json_t *root, *tr, *files;
 	int rc = SSC_EXIT_OK;
 
-	snprintf(cmdname, sizeof(cmdname), "calib %s", o->gyro ? "gyro" : "accel");
-	if (o->mode != M_RATE_TABLE && nfiles > 1)
-		return ssc_usage_error(co.cmd, "--mode %s takes one input file",
-				       mode_names[o->mode]);
-	r.co = &co;
-	r.o = o;
-	r.iv = malloc(MAX_IV * sizeof(*r.iv));
-	if (!r.iv) {
-		ssc_err(co.cmd, "out of memory");
+	if (r)
+		r->iv = malloc(MAX_IV * sizeof(*r->iv));
+	if (!r || !r->iv) {
+		free(r);
+		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t fi = 0; fi < nfiles; fi++) {
-		r.cap = env->caps[fi];
-		rc = ssc_time_check(&co, env->paths[fi], r.cap, true);
+	*result = r;
+	r->o = *(struct opts *)opts;
+	o = &r->o;
+	if (o->mode != M_RATE_TABLE && nfiles > 1)
+		return ssc_usage_error(co->cmd, "--mode %s takes one input file",
+				       mode_names[o->mode]);
+	r->co = co;
+	r->paths = env->paths;
+	r->n_files = nfiles;
+	for (size_t fi = 0; fi < nfiles && !rc; fi++) {
+		r->cap = env->caps[fi];
+		rc = ssc_time_check(co, env->paths[fi], r->cap, true);
 		if (rc)
-			goto done;
-		if (!(r.cap->rate_hz > 0)) {
-			ssc_err(co.cmd, "%s: unknown sample rate (give --rate)",
+			break;
+		if (!(r->cap->rate_hz > 0)) {
+			ssc_err(co->cmd, "%s: unknown sample rate (give --rate)",
 				env->paths[fi]);
 			rc = SSC_EXIT_FAIL;
-			goto done;
+			break;
 		}
 		if (o->gyro || o->mode == M_TILT) {
-			rc = pick3(&co, r.cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
-				   o->reference, "gyro", r.gi);
+			rc = pick3(co, r->cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
+				   o->reference, "gyro", r->gi);
 			if (rc)
-				goto done;
+				break;
 		}
 		if (!o->gyro || o->mode != M_RATE_TABLE) {
-			rc = pick3(&co, r.cap, o->accel, SSCOPE_QTY_ACCELERATION,
-				   o->reference, "accel", r.ai);
+			rc = pick3(co, r->cap, o->accel, SSCOPE_QTY_ACCELERATION,
+				   o->reference, "accel", r->ai);
 			if (rc)
-				goto done;
+				break;
 		}
 		switch (o->mode) {
 		case M_MULTIPOS:
-			rc = o->gyro ? gyro_multipos(&r) : accel_multipos(&r);
+			rc = o->gyro ? gyro_multipos(r) : accel_multipos(r);
 			break;
 		case M_SIXPOS:
-			rc = accel_sixpos(&r);
+			rc = accel_sixpos(r);
 			break;
 		case M_TILT:
-			rc = gyro_tilt(&r);
+			rc = gyro_tilt(r);
 			break;
 		case M_RATE_TABLE:
-			rc = rate_table_file(&r, (int)fi);
+			rc = rate_table_file(r, (int)fi);
 			break;
 		}
-		if (rc)
-			goto done;
 	}
-	if (o->mode == M_RATE_TABLE) {
-		rc = rate_table_fit(&r);
-		if (rc)
-			goto done;
+	if (!rc && o->mode == M_RATE_TABLE)
+		rc = rate_table_fit(r);
+	if (!rc && o->save && r->pub.n_out == 0) {
+		ssc_err(co->cmd, "--save-calibration: the runs did not excite all three axes: no full triad to save");
+		rc = SSC_EXIT_FAIL;
 	}
-	if (env->plot_path) {
-		co.plot = env->plot_path;
-		rc = plot(&co, &r);
-		if (rc)
-			goto done;
-	}
-	if (o->save) {
-		struct ssc_caltriad t[2];
+	r->co = NULL;
+	return rc;
+}
 
-		if (r.n_out == 0) {
-			ssc_err(co.cmd, "--save-calibration: the runs did not excite all three axes: no full triad to save");
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		for (int i = 0; i < r.n_out; i++)
-			t[i] = r.out[i].t;
-		co.cmd = cmdname;
-		rc = ssc_calfile_write(&co, o->save, t, (size_t)r.n_out);
-		co.cmd = env->co->cmd;
-		if (rc)
-			goto done;
-	}
-	root = json_object();
-	tr = json_array();
-	files = json_array();
-	json_object_set_new(root, "command", json_string(cmdname));
+static const char *cmd_name(const struct run *r)
+{
+	return r->o.gyro ? "calib gyro" : "calib accel";
+}
+
+/* --save-calibration */
+static int write_cal(const struct ssc_common *co, const void *opts,
+		     const void *result)
+{
+	const struct run *r = result;
+	struct ssc_common c2 = *co;
+	struct sscope_calib_file_triad t[2];
+
+	(void)opts;
+	if (!r->o.save)
+		return SSC_EXIT_OK;
+	for (int i = 0; i < r->pub.n_out; i++)
+		t[i] = r->pub.out[i].t;
+	c2.cmd = cmd_name(r);
+	return ssc_calfile_write(&c2, r->o.save, t, (size_t)r->pub.n_out);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct run *r = result;
+	const struct opts *o = &r->o;
+	json_t *root = json_object(), *tr = json_array(), *files = json_array();
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string(cmd_name(r)));
 	json_object_set_new(root, "mode", json_string(mode_names[o->mode]));
-	for (size_t fi = 0; fi < nfiles; fi++)
-		json_array_append_new(files, json_string(env->paths[fi]));
-	json_object_set_new(root, "file", json_string(env->paths[0]));
+	for (size_t fi = 0; fi < r->n_files; fi++)
+		json_array_append_new(files, json_string(r->paths[fi]));
+	json_object_set_new(root, "file", json_string(r->paths[0]));
 	json_object_set_new(root, "files", files);
 	json_object_set_new(root, "gravity_m_s2", json_real(o->gravity));
 	if (o->mode != M_RATE_TABLE)
 		json_object_set_new(root, "detection", detection_json(o));
-	for (int i = 0; i < r.n_out; i++)
-		json_array_append_new(tr, triad_json(&r.out[i]));
+	for (int i = 0; i < r->pub.n_out; i++)
+		json_array_append_new(tr, triad_json(&r->pub.out[i]));
 	json_object_set_new(root, "triads", tr);
-	if (r.have_lf)
-		json_object_set_new(root, "rate_table", rate_table_json(&r));
+	if (r->have_lf)
+		json_object_set_new(root, "rate_table", rate_table_json(r));
 	if (o->save)
 		json_object_set_new(root, "calibration_file", json_string(o->save));
-	sout->json = root;
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	fprintf(csv.f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
-	for (int i = 0; i < r.n_out; i++) {
-		const struct triad_out *t = &r.out[i];
+	return root;
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct run *r = result;
+
+	(void)opts;
+	fprintf(f, "kind,channel,input_unit,output_unit,bias,bias_sd,scale,scale_sd,T0,T1,T2,residual_rms,poses\n");
+	for (int i = 0; i < r->pub.n_out; i++) {
+		const struct ssc_calib_triad_out *t = &r->pub.out[i];
 		double sc = ssc_calfile_unit_scale(t->t.input_unit);
 
 		for (int j = 0; j < 3; j++)
-			fprintf(csv.f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
+			fprintf(f, "%s,%s,%s,%s,%.10g,%.4g,%.10g,%.4g,%.8g,%.8g,%.8g,%.6g,%zu\n",
 				t->t.kind, t->t.channels[j], t->t.input_unit,
 				t->t.output_unit, t->t.c.bias[j] / sc,
 				t->t.c.bias_sd[j] / sc, t->t.c.scale[j] * sc,
 				t->t.c.scale_sd[j] * sc, t->t.c.mis[j][0],
 				t->t.c.mis[j][1], t->t.c.mis[j][2],
 				t->t.c.residual_rms, t->t.c.poses);
-		for (int j = 0; j < 3; j++) {
-			char q[64];
+	}
+}
 
-			snprintf(q, sizeof(q), "%s bias", t->t.kind);
-			ssc_summary_add(sout->summary, t->t.channels[j], q,
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct run *r = result;
+
+	(void)opts;
+	for (int i = 0; i < r->pub.n_out; i++) {
+		const struct ssc_calib_triad_out *t = &r->pub.out[i];
+		double sc = ssc_calfile_unit_scale(t->t.input_unit);
+		char q[64];
+
+		snprintf(q, sizeof(q), "%s bias", t->t.kind);
+		for (int j = 0; j < 3; j++)
+			ssc_summary_add(rows, t->t.channels[j], q,
 					t->t.c.bias[j] / sc,
 					(t->t.c.bias[j] - 2 * t->t.c.bias_sd[j]) / sc,
 					(t->t.c.bias[j] + 2 * t->t.c.bias_sd[j]) / sc,
 					t->t.input_unit, "interval: +-2 sd");
-		}
 	}
-	fprintf(text.f, "%s (%s): %s%s\n", cmdname, mode_names[o->mode],
-		env->paths[0], nfiles > 1 ? " ..." : "");
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct run *r = result;
+	const struct opts *o = &r->o;
+
+	(void)opts;
+	fprintf(f, "%s (%s): %s%s\n", cmd_name(r), mode_names[o->mode],
+		r->paths[0], r->n_files > 1 ? " ..." : "");
 	if (o->mode != M_RATE_TABLE)
-		fprintf(text.f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
+		fprintf(f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
 			o->det.window_s > 0 ? o->det.window_s : 1,
 			o->det.init_static_s > 0 ? "reference from the initial static period" :
 			"reference = 10th percentile of the variance magnitude",
 			o->det.k, o->det.threshold, o->det.n_intervals);
-	if (r.have_lf)
-		rate_table_text(text.f, &r);
-	for (int i = 0; i < r.n_out; i++)
-		triad_text(text.f, &r.out[i]);
+	if (r->have_lf)
+		rate_table_text(f, r);
+	for (int i = 0; i < r->pub.n_out; i++)
+		triad_text(f, &r->pub.out[i]);
 	if (o->save)
-		fprintf(text.f, "  calibration written to %s\n", o->save);
-	sout->text = ssc_membuf_take(&text);
-	sout->csv = ssc_membuf_take(&csv);
-done:
-	free(r.iv);
-	free(r.vs);
-	free(r.pose_before);
-	free(r.pose_after);
-	free(r.mot_before);
-	free(r.mot_after);
-	free(r.ry);
-	free(r.rr);
-	return rc;
+		fprintf(f, "  calibration written to %s\n", o->save);
 }
 
 const struct ssc_stage_ops ssc_calib_stage = {
@@ -1844,6 +1556,13 @@ const struct ssc_stage_ops ssc_calib_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.write = write_cal,
+	.free_result = free_result,
 };
 
 int ssc_cmd_calib(int argc, char **argv)

@@ -283,6 +283,8 @@ static int pick_detect(const char *cmd, const struct sscope_capture *cap,
 /* ------------------------------------------------------------ run */
 
 struct res {
+	const char *path;
+	struct opts o;
 	struct sscope_heading_result *r;
 	const struct sscope_capture *cap;
 	long axis, det[3], ref;
@@ -490,8 +492,10 @@ static void unwrap(const double *h, size_t first, size_t n, double *out)
 	}
 }
 
-static int plot(const char *cmd, const char *path, const struct res *s)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct res *s = result;
 	const struct sscope_heading_result *r = s->r;
 	size_t n = r->n;
 	struct ssc_fig *fig = ssc_fig_new(1100, 1150, 2, 1);
@@ -517,20 +521,13 @@ static int plot(const char *cmd, const char *path, const struct res *s)
 		unwrap(r->heading_rad, r->first, n, y1);
 		unwrap(r->heading_once_rad, r->first, n, y2);
 		if (s->have_cmp) {
-			double *rr = malloc(n * sizeof(double));
+			unwrap(s->refv, r->first, n, y3);
+			/* the reference on the branch of the estimate */
+			if (r->first < n) {
+				double sh = 360 * round((y1[r->first] - y3[r->first]) / 360);
 
-			if (rr) {
-				for (size_t i = 0; i < n; i++)
-					rr[i] = s->refv[i];
-				unwrap(rr, r->first, n, y3);
-				/* the reference on the branch of the estimate */
-				if (r->first < n) {
-					double sh = 360 * round((y1[r->first] - y3[r->first]) / 360);
-
-					for (size_t i = r->first; i < n; i++)
-						y3[i] += sh;
-				}
-				free(rr);
+				for (size_t i = r->first; i < n; i++)
+					y3[i] += sh;
 			}
 		}
 		for (size_t i = r->first; i < n; i++) {
@@ -599,10 +596,9 @@ out:
 	free(y3);
 	free(lo);
 	free(hi);
-	if (rc) {
-		ssc_err(cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	(void)opts;
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -611,7 +607,7 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 		 const char *axis_name, struct res *s)
 {
 	const char *cmd = env->co->cmd;
-	const json_t *up = env->upstream ? json_object_get(env->upstream, "allan") : NULL;
+	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
 
 	memset(&s->terms, 0, sizeof(s->terms));
 	s->terms.quantity = SSCOPE_QTY_ANGULAR_RATE;
@@ -627,13 +623,18 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 		struct ssc_nav_terms *t;
 		const struct ssc_nav_terms *p;
 		size_t n;
-		int rc = o->allan ? ssc_nav_load_json(cmd, "from-allan", o->allan, &root) : 0;
+		int rc;
 
-		if (!rc)
-			rc = ssc_nav_terms_from_allan(cmd, root ? root : up,
-						      o->allan ? o->allan : "the allan stage",
-						      &t, &n);
-		json_decref(root);
+		if (o->allan) {
+			rc = ssc_nav_load_json(cmd, "from-allan", o->allan, &root);
+			if (!rc)
+				rc = ssc_nav_terms_from_allan(cmd, root, o->allan, &t,
+							      &n);
+			json_decref(root);
+		} else {
+			rc = ssc_nav_terms_from_allan_res(cmd, up->data,
+							  "the allan stage", &t, &n);
+		}
 		if (rc)
 			return rc;
 		p = ssc_nav_terms_pick(t, n, axis_name, SSCOPE_QTY_ANGULAR_RATE);
@@ -665,107 +666,133 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
+{
+	struct res *s = result;
+
+	sscope_heading_result_free(s->r);
+	free(s);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const char *cmd = env->co->cmd, *path = env->paths[0];
-	struct opts o = *(struct opts *)opts;
 	const struct sscope_capture *cap = env->caps[0];
-	struct res s = { 0 };
+	struct res *s = calloc(1, sizeof(*s));
+	struct opts *o;
 	struct sscope_diag d = { "" };
 	const double *det[3];
 	int rc;
 
-	s.cap = cap;
-	s.ref = -1;
-	s.fs = cap->rate_hz;
-	if (!(s.fs > 0)) {
+	if (!s) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	*result = s;
+	s->path = path;
+	s->o = *(struct opts *)opts;
+	o = &s->o;
+	s->cap = cap;
+	s->ref = -1;
+	s->fs = cap->rate_hz;
+	rc = ssc_time_check(env->co, path, cap, true);
+	if (rc)
+		return rc;
+	if (!(s->fs > 0)) {
 		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
 		return SSC_EXIT_FAIL;
 	}
-	rc = pick_axis(cmd, cap, o.axis, path, &s.axis);
+	rc = pick_axis(cmd, cap, o->axis, path, &s->axis);
 	if (!rc)
-		rc = pick_detect(cmd, cap, o.detect, s.axis, path, s.det);
+		rc = pick_detect(cmd, cap, o->detect, s->axis, path, s->det);
 	if (rc)
 		return rc;
-	if (o.ref) {
-		s.ref = find(cap, o.ref);
-		if (s.ref < 0) {
-			ssc_err(cmd, "%s: no channel '%s' (--reference)", path, o.ref);
+	if (o->ref) {
+		s->ref = find(cap, o->ref);
+		if (s->ref < 0) {
+			ssc_err(cmd, "%s: no channel '%s' (--reference)", path, o->ref);
 			return SSC_EXIT_FAIL;
 		}
-		if (cap->channels[s.ref].col.quantity != SSCOPE_QTY_ANGLE) {
+		if (cap->channels[s->ref].col.quantity != SSCOPE_QTY_ANGLE) {
 			ssc_err(cmd, "%s: reference '%s' is not an angle (give its unit, e.g. 'heading_ref [deg]')",
-				path, o.ref);
+				path, o->ref);
 			return SSC_EXIT_FAIL;
 		}
-		s.refv = cap->channels[s.ref].data;
+		s->refv = cap->channels[s->ref].data;
 	}
-	rc = terms(env, &o, cap->channels[s.axis].col.name, &s);
+	rc = terms(env, o, cap->channels[s->axis].col.name, s);
 	if (rc)
 		return rc;
-	memcpy(o.ho.coef, s.terms.coef, sizeof(o.ho.coef));
-	o.ho.rate_hz = s.fs;
-	o.ho.axis_up = o.axis_up;
+	memcpy(o->ho.coef, s->terms.coef, sizeof(o->ho.coef));
+	o->ho.rate_hz = s->fs;
+	o->ho.axis_up = o->axis_up;
 	for (int k = 0; k < 3; k++)
-		det[k] = cap->channels[s.det[k]].data;
-	rc = sscope_heading_compute(cap->channels[s.axis].data, 1, cap->n, det, 1, &o.ho,
-				    &s.r, &d);
+		det[k] = cap->channels[s->det[k]].data;
+	rc = sscope_heading_compute(cap->channels[s->axis].data, 1, cap->n, det, 1,
+				    &o->ho, &s->r, &d);
 	if (rc)
 		return ssc_nav_fail(cmd, rc, &d, path);
 	/* without --initial-heading, start from the reference */
-	if (!o.set_initial && s.refv)
-		sscope_heading_set_initial(s.r, s.refv[s.r->first]);
-	if (s.r->coef_from_stops)
-		memcpy(s.terms.coef, s.r->coef, sizeof(s.terms.coef));
-	if (s.r->first > 0)
+	if (!o->set_initial && s->refv)
+		sscope_heading_set_initial(s->r, s->refv[s->r->first]);
+	if (s->r->coef_from_stops)
+		memcpy(s->terms.coef, s->r->coef, sizeof(s->terms.coef));
+	if (s->r->first > 0)
 		ssc_warn(env->co, "%s: the record moves for %g s before the first stop: no heading there",
-			 path, (double)s.r->first / s.fs);
-	if (s.refv) {
-		s.have_cmp = sscope_heading_compare(s.r->heading_rad, s.r->sigma_rad, s.refv, 1,
-						    cap->n, s.r->first, &s.cmp) == 0 &&
-			     sscope_heading_compare(s.r->heading_once_rad, s.r->sigma_once_rad,
-						    s.refv, 1, cap->n, s.r->first,
-						    &s.cmp_once) == 0;
+			 path, (double)s->r->first / s->fs);
+	if (s->refv) {
+		s->have_cmp = sscope_heading_compare(s->r->heading_rad, s->r->sigma_rad,
+						     s->refv, 1, cap->n, s->r->first,
+						     &s->cmp) == 0 &&
+			      sscope_heading_compare(s->r->heading_once_rad,
+						     s->r->sigma_once_rad, s->refv, 1,
+						     cap->n, s->r->first,
+						     &s->cmp_once) == 0;
 	}
-	if (env->plot_path) {
-		rc = plot(cmd, env->plot_path, &s);
-		if (rc)
-			goto done;
-	}
-	sout->json = make_json(path, &o, &s);
-	{
-		struct ssc_membuf text, csv;
+	return SSC_EXIT_OK;
+}
 
-		if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-			ssc_err(cmd, "out of memory");
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		write_text(text.f, path, &o, &s);
-		write_csv(csv.f, &s);
-		sout->text = ssc_membuf_take(&text);
-		sout->csv = ssc_membuf_take(&csv);
-	}
-	{
-		const char *ax = cap->channels[s.axis].col.name;
+static json_t *json(const void *opts, const void *result)
+{
+	const struct res *s = result;
 
-		ssc_summary_add(sout->summary, ax, "stops found", (double)s.r->n_stops, NAN, NAN,
-				"", "static detector of calib");
-		ssc_summary_add(sout->summary, ax, "predicted heading error at the end, 1 sigma",
-				s.r->sigma_rad[s.r->n - 1] / D2R, NAN, NAN, "deg", s.terms_from);
-		if (s.have_cmp) {
-			ssc_summary_add(sout->summary, ax, "heading error rms, re-estimated at stops",
-					s.cmp.rms_rad / D2R, NAN, NAN, "deg", "against the reference");
-			ssc_summary_add(sout->summary, ax, "heading error rms, first bias only",
-					s.cmp_once.rms_rad / D2R, NAN, NAN, "deg",
-					"against the reference");
-		}
+	(void)opts;
+	return make_json(s->path, &s->o, s);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct res *s = result;
+
+	(void)opts;
+	write_text(f, s->path, &s->o, s);
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	(void)opts;
+	write_csv(f, result);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct res *s = result;
+	const char *ax = s->cap->channels[s->axis].col.name;
+
+	(void)opts;
+	ssc_summary_add(rows, ax, "stops found", (double)s->r->n_stops, NAN, NAN,
+			"", "static detector of calib");
+	ssc_summary_add(rows, ax, "predicted heading error at the end, 1 sigma",
+			s->r->sigma_rad[s->r->n - 1] / D2R, NAN, NAN, "deg",
+			s->terms_from);
+	if (s->have_cmp) {
+		ssc_summary_add(rows, ax, "heading error rms, re-estimated at stops",
+				s->cmp.rms_rad / D2R, NAN, NAN, "deg",
+				"against the reference");
+		ssc_summary_add(rows, ax, "heading error rms, first bias only",
+				s->cmp_once.rms_rad / D2R, NAN, NAN, "deg",
+				"against the reference");
 	}
-	rc = SSC_EXIT_OK;
-done:
-	sscope_heading_result_free(s.r);
-	return rc;
 }
 
 const struct ssc_stage_ops ssc_heading_stage = {
@@ -778,6 +805,12 @@ const struct ssc_stage_ops ssc_heading_stage = {
 	.init = init,
 	.handle = handler,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_heading(int argc, char **argv)

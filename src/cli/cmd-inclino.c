@@ -195,25 +195,14 @@ static int tilt_table(const struct ssc_common *co, const char *path,
 		      const struct sscope_capture *cap, double *roll,
 		      double *pitch)
 {
-	double *v;
+	double *v, *out[2] = { roll, pitch };
 	size_t rows;
 	int rc = ssc_read_intervals(co, "tilt-table", path, "ROLL PITCH", 2,
 				    "rad", "deg", &v, &rows);
 
 	if (rc)
 		return rc;
-	for (size_t i = 0; i < cap->n; i++) {
-		double t = cap->time_s ? cap->time_s[i] - cap->time_s[0] :
-			   (double)i / cap->rate_hz;
-
-		roll[i] = pitch[i] = (double)NAN;
-		for (size_t q = 0; q < rows; q++)
-			if (t >= v[4 * q] && t < v[4 * q + 1]) {
-				roll[i] = v[4 * q + 2];
-				pitch[i] = v[4 * q + 3];
-				break;
-			}
-	}
+	sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, v, rows, 2, out);
 	free(v);
 	return 0;
 }
@@ -329,6 +318,20 @@ static json_t *lut_json(const struct sscope_inclino_lut *lut, bool cubic)
 	return l;
 }
 
+struct incl_res {
+	const char *const *paths;
+	size_t n_files;
+	struct sscope_inclino_lut *lut;
+	struct sscope_inclino_validation v;
+	size_t nv;
+	bool have_v;
+	/* the validation poses and each one's (roll, pitch) error,
+	 * calibrated and uncompensated, deg (n_err of them; 0: none) */
+	struct sscope_inclino_pose *vposes;
+	double (*err)[2], (*raw)[2];
+	size_t n_err;
+};
+
 /* The validation: each pose's roll and pitch error, calibrated and
  * uncompensated, against the 0.1 degree class (poses in file order, their
  * temperature range in the title). */
@@ -381,17 +384,19 @@ static void val_plot(struct ssc_ax *ax, const struct sscope_inclino_pose *vp,
 	free(y);
 }
 
-static int cal_plot(const struct ssc_common *co, const char *path,
-		    const struct sscope_inclino_lut *lut,
-		    const struct sscope_inclino_pose *vp, const double (*e)[2],
-		    const double (*u)[2], size_t nv)
+static int cal_plot(const struct ssc_common *co, const void *opts,
+		    const void *result, const char *path)
 {
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+	size_t nv = R->n_err;
 	struct ssc_fig *fig = ssc_fig_new(1000, nv ? 1150 : 800, nv ? 3 : 2, 1);
 	struct ssc_ax *a0, *a1;
 	double t[SSCOPE_INCLINO_MAX_NODES], y[SSCOPE_INCLINO_MAX_NODES];
 	double lo[SSCOPE_INCLINO_MAX_NODES], hi[SSCOPE_INCLINO_MAX_NODES];
 	int rc;
 
+	(void)opts;
 	if (!fig) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
@@ -431,7 +436,8 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 	ssc_ax_title(a0, "offset of each axis at the calibration nodes");
 	ssc_ax_title(a1, "scale error of each axis at the calibration nodes");
 	if (nv)
-		val_plot(ssc_fig_ax(fig, 2, 0), vp, e, u, nv);
+		val_plot(ssc_fig_ax(fig, 2, 0), R->vposes,
+			 (const double(*)[2])R->err, (const double(*)[2])R->raw, nv);
 	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
@@ -439,38 +445,51 @@ static int cal_plot(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_OK;
 }
 
-static int cal_run(const struct ssc_stage_env *env, void *opts,
-		   struct ssc_stage_out *out)
+static void cal_free(void *result)
+{
+	struct incl_res *R = result;
+
+	free(R->lut);
+	free(R->vposes);
+	free(R->err);
+	free(R->raw);
+	free(R);
+}
+
+static int cal_run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct ssc_common *co = env->co;
 	struct cal_opts_s *o = opts;
 	struct sscope_inclino_pose *poses = calloc(MAX_POSES, sizeof(*poses));
-	struct sscope_inclino_lut *lut = malloc(sizeof(*lut));
+	struct incl_res *R = calloc(1, sizeof(*R));
 	struct sscope_inclino_plan *plan = NULL;
-	struct sscope_inclino_validation v;
 	struct sscope_diag d = { "" };
-	struct ssc_membuf text, csv;
-	size_t np = 0, nv = 0;
-	bool have_v = false;
-	json_t *root;
+	size_t np = 0;
 	int rc = 0;
 
-	if (!poses || !lut) {
+	if (R)
+		R->lut = malloc(sizeof(*R->lut));
+	if (!poses || !R || !R->lut) {
+		free(poses);
+		if (R)
+			cal_free(R);
 		ssc_err(co->cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
+		return SSC_EXIT_FAIL;
 	}
+	*result = R;
+	R->paths = env->paths;
+	R->n_files = env->n_caps;
 	for (size_t j = 0; j < env->n_caps && !rc; j++)
 		rc = cap_poses(co, o, env->caps[j], env->paths[j], true, poses,
 			       &np);
 	if (rc)
 		goto done;
-	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, lut, &d);
+	rc = sscope_inclino_build(poses, np, o->gravity, o->node_gap, R->lut, &d);
 	if (rc) {
 		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
 		goto done;
 	}
-	rc = sscope_inclino_plan_new(&plan, lut, o->cubic, &d);
+	rc = sscope_inclino_plan_new(&plan, R->lut, o->cubic, &d);
 	if (rc) {
 		rc = ssc_fail(co->cmd, rc, &d, env->paths[0]);
 		goto done;
@@ -488,62 +507,82 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 		}
 		if (rc)
 			goto done;
-		if (sscope_inclino_validate(plan, poses, np, &v)) {
+		if (sscope_inclino_validate(plan, poses, np, &R->v)) {
 			ssc_err(co->cmd, "%s: no validation pose within +-85 degrees of pitch",
 				o->validate[0]);
 			rc = SSC_EXIT_FAIL;
 			goto done;
 		}
-		have_v = true;
-		nv = v.poses;
-		if (v.clamped)
+		R->have_v = true;
+		R->nv = R->v.poses;
+		if (R->v.clamped)
 			ssc_warn(co, "%zu validation poses outside the calibrated range %.1f .. %.1f degC (clamped)",
-				 v.clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+				 R->v.clamped, R->lut->temp_degc[0],
+				 R->lut->temp_degc[R->lut->n - 1]);
 	}
-	if (env->plot_path) {
-		double (*e)[2] = NULL, (*u)[2] = NULL;
-
-		if (have_v) {
-			e = malloc(np * sizeof(*e));
-			u = malloc(np * sizeof(*u));
-			if (!e || !u ||
-			    sscope_inclino_pose_errors(plan, poses, np, e, u)) {
-				free(e);
-				free(u);
-				e = u = NULL;
-			}
+	if (R->have_v) {
+		/* each validation pose's error, for the figure */
+		R->err = malloc(np * sizeof(*R->err));
+		R->raw = malloc(np * sizeof(*R->raw));
+		if (R->err && R->raw &&
+		    !sscope_inclino_pose_errors(plan, poses, np, R->err, R->raw)) {
+			R->vposes = poses;
+			poses = NULL;
+			R->n_err = np;
 		}
-		rc = cal_plot(co, env->plot_path, lut, poses,
-			      (const double(*)[2])e, (const double(*)[2])u,
-			      e ? np : 0);
-		free(e);
-		free(u);
-		if (rc)
-			goto done;
 	}
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		ssc_err(co->cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	root = json_object();
-	json_object_set_new(root, "command", json_string("inclino calibrate"));
-	json_object_set_new(root, "file", json_string(env->paths[0]));
-	{
-		json_t *f = json_array();
+done:
+	sscope_inclino_plan_free(plan);
+	free(poses);
+	return rc;
+}
 
-		for (size_t j = 0; j < env->n_caps; j++)
-			json_array_append_new(f, json_string(env->paths[j]));
-		json_object_set_new(root, "files", f);
+static json_t *cal_json(const void *opts, const void *result)
+{
+	const struct cal_opts_s *o = opts;
+	const struct incl_res *R = result;
+	const struct sscope_inclino_validation *v = &R->v;
+	json_t *root = json_object(), *f = json_array();
+
+	json_object_set_new(root, "command", json_string("inclino calibrate"));
+	json_object_set_new(root, "file", json_string(R->paths[0]));
+	for (size_t j = 0; j < R->n_files; j++)
+		json_array_append_new(f, json_string(R->paths[j]));
+	json_object_set_new(root, "files", f);
+	json_object_set_new(root, "lut", lut_json(R->lut, o->cubic));
+	if (R->have_v) {
+		json_t *jv = json_object();
+
+		json_object_set_new(jv, "poses", json_integer((json_int_t)R->nv));
+		json_object_set_new(jv, "max_deg", json_real(v->max_deg));
+		json_object_set_new(jv, "rms_deg", json_real(v->rms_deg));
+		json_object_set_new(jv, "uncompensated_max_deg", json_real(v->max_uncomp_deg));
+		json_object_set_new(jv, "uncompensated_rms_deg", json_real(v->rms_uncomp_deg));
+		json_object_set_new(jv, "class_deg", json_real(0.1));
+		json_object_set_new(jv, "within_class", json_boolean(v->max_deg <= 0.1));
+		json_object_set_new(jv, "offset_deg", ssc_jreal(v->offset_deg));
+		json_object_set_new(jv, "scale_deg", ssc_jreal(v->scale_deg));
+		json_object_set_new(jv, "misalignment_deg", ssc_jreal(v->mis_deg));
+		json_object_set_new(jv, "dominant", v->dominant ? json_string(v->dominant) : json_null());
+		json_object_set_new(jv, "clamped", json_integer((json_int_t)v->clamped));
+		json_object_set_new(root, "validation", jv);
 	}
-	json_object_set_new(root, "lut", lut_json(lut, o->cubic));
-	fprintf(text.f, "inclino calibrate: %s%s: %zu temperature node%s, %s interpolation, clamped outside %.1f .. %.1f degC\n",
-		env->paths[0], env->n_caps > 1 ? " ..." : "", lut->n, lut->n == 1 ? "" : "s",
+	return root;
+}
+
+static void cal_text(FILE *f, const void *opts, const void *result)
+{
+	const struct cal_opts_s *o = opts;
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+	const struct sscope_inclino_validation *v = &R->v;
+
+	fprintf(f, "inclino calibrate: %s%s: %zu temperature node%s, %s interpolation, clamped outside %.1f .. %.1f degC\n",
+		R->paths[0], R->n_files > 1 ? " ..." : "", lut->n, lut->n == 1 ? "" : "s",
 		o->cubic && lut->n >= 3 ? "cubic-spline" : "linear", lut->temp_degc[0],
 		lut->temp_degc[lut->n - 1]);
-	fprintf(text.f, "  %8s %4s %5s %10s %8s %10s %8s %9s %9s\n", "T degC", "axis", "poses",
+	fprintf(f, "  %8s %4s %5s %10s %8s %10s %8s %9s %9s\n", "T degC", "axis", "poses",
 		"offset mg", "sd", "scale %", "sd", "mis mrad", "(j, k)");
-	fprintf(csv.f, "temp_degc,axis,offset_mg,offset_sd_mg,scale,scale_sd,mis_j_mrad,mis_k_mrad,residual_rms_mg,poses\n");
 	for (size_t i = 0; i < lut->n; i++) {
 		const struct sscope_inclino_params *p = &lut->p[i];
 		double k = 1e3 / lut->gravity_m_s2;
@@ -551,51 +590,55 @@ static int cal_run(const struct ssc_stage_env *env, void *opts,
 		for (int a = 0; a < 3; a++) {
 			int j = (a + 1) % 3, l = (a + 2) % 3;
 
-			fprintf(text.f, "  %8.2f %4c %5zu %10.4f %8.4f %10.4f %8.4f %9.3f %9.3f\n",
+			fprintf(f, "  %8.2f %4c %5zu %10.4f %8.4f %10.4f %8.4f %9.3f %9.3f\n",
 				lut->temp_degc[i], "xyz"[a], p->poses, p->offset[a] * k,
 				p->offset_sd[a] * k, (p->scale[a] - 1) * 100, p->scale_sd[a] * 100,
 				p->mis[a][j] * 1e3, p->mis[a][l] * 1e3);
-			fprintf(csv.f, "%.4f,%c,%.8g,%.4g,%.10g,%.4g,%.6g,%.6g,%.4g,%zu\n",
+		}
+	}
+	if (R->have_v) {
+		fprintf(f, "  validation (%zu poses): max %.4f deg, rms %.4f deg calibrated (0.1 deg class: %s); uncompensated max %.3f deg, rms %.3f deg\n",
+			R->nv, v->max_deg, v->rms_deg, v->max_deg <= 0.1 ? "within" : "OUTSIDE",
+			v->max_uncomp_deg, v->rms_uncomp_deg);
+		if (v->dominant)
+			fprintf(f, "  residual terms (as tilt error, AN-1057 equivalents): offset %.3g deg, scale %.3g deg, misalignment %.3g deg: %s dominates\n",
+				v->offset_deg, v->scale_deg, v->mis_deg, v->dominant);
+	}
+}
+
+static void cal_csv(FILE *f, const void *opts, const void *result)
+{
+	const struct incl_res *R = result;
+	const struct sscope_inclino_lut *lut = R->lut;
+
+	(void)opts;
+	fprintf(f, "temp_degc,axis,offset_mg,offset_sd_mg,scale,scale_sd,mis_j_mrad,mis_k_mrad,residual_rms_mg,poses\n");
+	for (size_t i = 0; i < lut->n; i++) {
+		const struct sscope_inclino_params *p = &lut->p[i];
+		double k = 1e3 / lut->gravity_m_s2;
+
+		for (int a = 0; a < 3; a++) {
+			int j = (a + 1) % 3, l = (a + 2) % 3;
+
+			fprintf(f, "%.4f,%c,%.8g,%.4g,%.10g,%.4g,%.6g,%.6g,%.4g,%zu\n",
 				lut->temp_degc[i], "xyz"[a], p->offset[a] * k, p->offset_sd[a] * k,
 				p->scale[a], p->scale_sd[a], p->mis[a][j] * 1e3, p->mis[a][l] * 1e3,
 				p->residual_rms * k, p->poses);
 		}
 	}
-	if (have_v) {
-		json_t *jv = json_object();
+}
 
-		json_object_set_new(jv, "poses", json_integer((json_int_t)nv));
-		json_object_set_new(jv, "max_deg", json_real(v.max_deg));
-		json_object_set_new(jv, "rms_deg", json_real(v.rms_deg));
-		json_object_set_new(jv, "uncompensated_max_deg", json_real(v.max_uncomp_deg));
-		json_object_set_new(jv, "uncompensated_rms_deg", json_real(v.rms_uncomp_deg));
-		json_object_set_new(jv, "class_deg", json_real(0.1));
-		json_object_set_new(jv, "within_class", json_boolean(v.max_deg <= 0.1));
-		json_object_set_new(jv, "offset_deg", ssc_jreal(v.offset_deg));
-		json_object_set_new(jv, "scale_deg", ssc_jreal(v.scale_deg));
-		json_object_set_new(jv, "misalignment_deg", ssc_jreal(v.mis_deg));
-		json_object_set_new(jv, "dominant", v.dominant ? json_string(v.dominant) : json_null());
-		json_object_set_new(jv, "clamped", json_integer((json_int_t)v.clamped));
-		json_object_set_new(root, "validation", jv);
-		fprintf(text.f, "  validation (%zu poses): max %.4f deg, rms %.4f deg calibrated (0.1 deg class: %s); uncompensated max %.3f deg, rms %.3f deg\n",
-			nv, v.max_deg, v.rms_deg, v.max_deg <= 0.1 ? "within" : "OUTSIDE",
-			v.max_uncomp_deg, v.rms_uncomp_deg);
-		if (v.dominant)
-			fprintf(text.f, "  residual terms (as tilt error, AN-1057 equivalents): offset %.3g deg, scale %.3g deg, misalignment %.3g deg: %s dominates\n",
-				v.offset_deg, v.scale_deg, v.mis_deg, v.dominant);
-		ssc_summary_add(out->summary, NULL, "tilt error after calibration (max)", v.max_deg,
-				NAN, NAN, "deg", "validation poses");
-		ssc_summary_add(out->summary, NULL, "tilt error uncompensated (max)", v.max_uncomp_deg,
-				NAN, NAN, "deg", "validation poses");
-	}
-	out->json = root;
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-done:
-	sscope_inclino_plan_free(plan);
-	free(poses);
-	free(lut);
-	return rc;
+static void cal_summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct incl_res *R = result;
+
+	(void)opts;
+	if (!R->have_v)
+		return;
+	ssc_summary_add(rows, NULL, "tilt error after calibration (max)", R->v.max_deg,
+			NAN, NAN, "deg", "validation poses");
+	ssc_summary_add(rows, NULL, "tilt error uncompensated (max)", R->v.max_uncomp_deg,
+			NAN, NAN, "deg", "validation poses");
 }
 
 const struct ssc_stage_ops ssc_inclino_stage = {
@@ -608,6 +651,12 @@ const struct ssc_stage_ops ssc_inclino_stage = {
 	.init = cal_init,
 	.handle = cal_handler,
 	.run = cal_run,
+	.json = cal_json,
+	.text = cal_text,
+	.csv = cal_csv,
+	.summary = cal_summary,
+	.plot = cal_plot,
+	.free_result = cal_free,
 };
 
 /* ------------------------------------------------------------------ */
@@ -775,7 +824,7 @@ static int apply_main(int argc, char **argv)
 	struct sscope_diag d = { "" };
 	struct ssc_out out = { 0 };
 	long a[3], gi[3] = { -1, -1, -1 };
-	size_t n_still = 0, n_clamped = 0, n_bad = 0;
+	struct sscope_inclino_apply_stats st = { 0, 0, 0 };
 	int first, rc;
 	double g;
 
@@ -866,47 +915,57 @@ static int apply_main(int argc, char **argv)
 			o.axes, o.axes == 1 ? "pitch = asin(-ax/g)" : "pitch = atan2(-ax, az), x-z plane, full circle");
 	fprintf(out.f, "%stemp [degC],%s,still\n", cap->time_s ? "time [s]," : "",
 		o.axes == 3 ? "roll_deg,pitch_deg" : "pitch_deg,sens [mg/deg]");
-	for (size_t i = 0; i < cap->n; i++) {
-		double raw[3], c[3], r, p, sens = NAN, T = cap->temp_degc[i];
-		bool cl = false, still;
+	{
+		const double *ac[3], *w[3];
+		double *r = malloc(cap->n * sizeof(double)),
+		       *p = malloc(cap->n * sizeof(double)),
+		       *sens = malloc(cap->n * sizeof(double));
+		bool *still = malloc(cap->n * sizeof(bool));
 
-		for (int k = 0; k < 3; k++)
-			raw[k] = cap->channels[a[k]].data[i];
-		if (!isfinite(T) || !isfinite(raw[0] + raw[1] + raw[2]) ||
-		    sscope_inclino_correct(plan, T, raw, c, &cl)) {
-			n_bad++;
-			r = p = NAN;
-			still = false;
-		} else {
-			sscope_inclino_tilt((enum sscope_inclino_axes)o.axes, c, g, &r, &p, &sens);
-			still = fabs(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) - g) <= o.still_tol;
-			if (still && gi[0] >= 0) {
-				double w = 0;
-
-				for (int k = 0; k < 3; k++)
-					w += cap->channels[gi[k]].data[i] * cap->channels[gi[k]].data[i];
-				still = sqrt(w) <= o.rate_tol;
-			}
+		for (int k = 0; k < 3; k++) {
+			ac[k] = cap->channels[a[k]].data;
+			w[k] = gi[0] >= 0 ? cap->channels[gi[k]].data : NULL;
 		}
-		n_clamped += cl;
-		n_still += still;
-		if (cap->time_s)
-			fprintf(out.f, "%.9g,", cap->time_s[i]);
-		if (o.axes == 3)
-			fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r * R2D, p * R2D, still ? 1 : 0);
-		else
-			fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p * R2D,
-				sens / R2D / (1e-3 * g), still ? 1 : 0);
+		if (!r || !p || !sens || !still ||
+		    sscope_inclino_apply(plan, (enum sscope_inclino_axes)o.axes, g, ac,
+					 cap->temp_degc, gi[0] >= 0 ? w : NULL, cap->n,
+					 o.still_tol, o.rate_tol, r, p, sens, still,
+					 &st)) {
+			free(r);
+			free(p);
+			free(sens);
+			free(still);
+			ssc_out_close(&co, &out, false);
+			ssc_err(co.cmd, "out of memory");
+			rc = SSC_EXIT_FAIL;
+			goto done;
+		}
+		for (size_t i = 0; i < cap->n; i++) {
+			double T = cap->temp_degc[i];
+
+			if (cap->time_s)
+				fprintf(out.f, "%.9g,", cap->time_s[i]);
+			if (o.axes == 3)
+				fprintf(out.f, "%.6g,%.6f,%.6f,%d\n", T, r[i] * R2D,
+					p[i] * R2D, still[i] ? 1 : 0);
+			else
+				fprintf(out.f, "%.6g,%.6f,%.4f,%d\n", T, p[i] * R2D,
+					sens[i] / R2D / (1e-3 * g), still[i] ? 1 : 0);
+		}
+		free(r);
+		free(p);
+		free(sens);
+		free(still);
 	}
 	rc = ssc_out_close(&co, &out, !ferror(out.f));
 	if (rc)
 		goto done;
-	if (n_clamped)
+	if (st.n_clamped)
 		ssc_warn(&co, "%zu samples outside the table's range %.1f .. %.1f degC: parameters clamped",
-			 n_clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
+			 st.n_clamped, lut->temp_degc[0], lut->temp_degc[lut->n - 1]);
 	if (!co.quiet)
 		fprintf(stderr, "sensorscope: inclino apply: %zu samples, %zu still, %zu flagged moving, %zu without a value\n",
-			cap->n, n_still, cap->n - n_still - n_bad, n_bad);
+			cap->n, st.n_still, cap->n - st.n_still - st.n_bad, st.n_bad);
 done:
 	sscope_capture_free(cap);
 	sscope_inclino_plan_free(plan);

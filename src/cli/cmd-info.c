@@ -11,12 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_statistics_double.h>
-
 #include "plot.h"
 #include "stage.h"
 
-#define MAX_GAPS_LISTED 100
 
 static const struct ssc_command_spec spec = {
 	.name = "info",
@@ -39,12 +36,9 @@ static const struct ssc_command_spec spec = {
 };
 
 struct file_info {
+	const char *path;
 	struct sscope_capture *cap;
 	struct sscope_stats *st;
-	bool have_timing;
-	struct sscope_timing tm;
-	struct sscope_gap gaps[MAX_GAPS_LISTED];
-	size_t n_gaps;
 	struct sscope_stats temp;
 	bool have_temp;
 	/* receive times of a ROS container */
@@ -52,6 +46,11 @@ struct file_info {
 	struct sscope_timing rx;
 	double lat_median_s, lat_min_s, lat_max_s;
 	bool rx_disagree;
+};
+
+struct info_res {
+	size_t n;
+	struct file_info *fi;
 };
 
 /* receive times against header stamps: latency, and rate and gaps */
@@ -66,19 +65,14 @@ static void receive_times(const struct sscope_capture *cap,
 					    NULL, scratch) == 0;
 	if (!fi->have_rx)
 		return;
-	fi->lat_min_s = INFINITY;
-	fi->lat_max_s = -INFINITY;
-	for (size_t i = 0; i < cap->n - 1; i++) {
-		scratch[i] = rx[i] - cap->time_s[i];
-		fi->lat_min_s = fmin(fi->lat_min_s, scratch[i]);
-		fi->lat_max_s = fmax(fi->lat_max_s, scratch[i]);
+	/* the first n - 1 samples, as the stamps' intervals */
+	if (sscope_timing_latency(rx, cap->time_s, cap->n - 1, &fi->lat_median_s,
+				  &fi->lat_min_s, &fi->lat_max_s, scratch)) {
+		fi->have_rx = false;
+		return;
 	}
-	/* quickselect: the data are reordered */
-	fi->lat_median_s = gsl_stats_median(scratch, 1, cap->n - 1);
-	fi->rx_disagree = fi->have_timing &&
-			  (fabs(fi->rx.rate_hz / fi->tm.rate_hz - 1) > 1e-3 ||
-			   fi->rx.n_gaps != fi->tm.n_gaps ||
-			   fi->rx.n_backwards != fi->tm.n_backwards);
+	fi->rx_disagree = cap->has_timing &&
+			  !sscope_timing_agree(&fi->rx, &cap->timing, 1e-3);
 }
 
 static double to_unit(const struct sscope_column *c, double si)
@@ -95,17 +89,27 @@ static double to_unit_diff(const struct sscope_column *c, double si)
 static int analyse(const struct ssc_common *co, const char *path,
 		   struct sscope_capture *cap, struct file_info *fi)
 {
+	fi->path = path;
 	fi->cap = cap;
 	fi->st = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->st));
 	if (!fi->st) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (sscope_stats_compute(cap->channels[k].data, 1, cap->n,
-					 &fi->st[k]) == -EDOM)
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		int rc = sscope_stats_compute(cap->channels[k].data, 1, cap->n,
+					      &fi->st[k]);
+
+		if (rc == -EDOM)
 			ssc_warn(co, "%s: channel %s holds no finite sample",
 				 path, cap->channels[k].col.name);
+		if (rc == -ERANGE) {
+			ssc_err(co->cmd, "%s: channel %s: the standard deviation exceeds the double range",
+				strcmp(path, "-") ? path : "(stdin)",
+				cap->channels[k].col.name);
+			return SSC_EXIT_FAIL;
+		}
+	}
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 
@@ -113,10 +117,6 @@ static int analyse(const struct ssc_common *co, const char *path,
 			ssc_err(co->cmd, "out of memory");
 			return SSC_EXIT_FAIL;
 		}
-		fi->have_timing = sscope_timing_analyze(cap->time_s, cap->n, 1.5,
-							&fi->tm, fi->gaps,
-							MAX_GAPS_LISTED,
-							&fi->n_gaps, scratch) == 0;
 		receive_times(cap, fi, scratch);
 		free(scratch);
 	}
@@ -149,9 +149,11 @@ static const char *rate_source(const struct sscope_capture *cap)
 	}
 }
 
-static void text_file(FILE *f, const char *path, const struct file_info *fi)
+static void text_file(FILE *f, const struct file_info *fi)
 {
 	const struct sscope_capture *cap = fi->cap;
+	const struct sscope_timing *tm = &cap->timing;
+	const char *path = fi->path;
 	char a[32], b[32], c[32], d[32];
 	size_t wn = 7, wu = 4, wq = 8;
 
@@ -183,28 +185,28 @@ static void text_file(FILE *f, const char *path, const struct file_info *fi)
 	if (cap->rate_hz > 0)
 		fprintf(f, "  duration:    %s s\n",
 			ssc_fmt(a, sizeof(a), duration(cap), 6));
-	if (fi->have_timing) {
+	if (cap->has_timing) {
 		fprintf(f, "  time column: %s [%s], interval median %s s, min %s s, max %s s, jitter %s s rms\n",
 			cap->time_col.name, cap->time_col.unit_label[0] ?
 			cap->time_col.unit_label : "s",
-			ssc_fmt(a, sizeof(a), fi->tm.dt_median_s, 6),
-			ssc_fmt(b, sizeof(b), fi->tm.dt_min_s, 6),
-			ssc_fmt(c, sizeof(c), fi->tm.dt_max_s, 6),
-			ssc_fmt(d, sizeof(d), fi->tm.jitter_rms_s, 3));
-		if (fi->tm.n_gaps == 0) {
+			ssc_fmt(a, sizeof(a), tm->dt_median_s, 6),
+			ssc_fmt(b, sizeof(b), tm->dt_min_s, 6),
+			ssc_fmt(c, sizeof(c), tm->dt_max_s, 6),
+			ssc_fmt(d, sizeof(d), tm->jitter_rms_s, 3));
+		if (tm->n_gaps == 0) {
 			fprintf(f, "  gaps:        none\n");
 		} else {
 			fprintf(f, "  gaps:        %zu (about %zu samples missing)\n",
-				fi->tm.n_gaps, fi->tm.n_missing);
-			for (size_t i = 0; i < fi->n_gaps && i < 10; i++)
+				tm->n_gaps, tm->n_missing);
+			for (size_t i = 0; i < cap->n_gaps && i < 10; i++)
 				fprintf(f, "               at t = %s s (row %zu): %s s, ~%zu missing\n",
-					ssc_fmt(a, sizeof(a), fi->gaps[i].t_s, 8),
-					fi->gaps[i].index + 1,
-					ssc_fmt(b, sizeof(b), fi->gaps[i].length_s, 6),
-					fi->gaps[i].missing);
-			if (fi->tm.n_gaps > 10)
+					ssc_fmt(a, sizeof(a), cap->gaps[i].t_s, 8),
+					cap->gaps[i].index + 1,
+					ssc_fmt(b, sizeof(b), cap->gaps[i].length_s, 6),
+					cap->gaps[i].missing);
+			if (tm->n_gaps > 10)
 				fprintf(f, "               ... (--format json lists up to %d)\n",
-					MAX_GAPS_LISTED);
+					SSCOPE_CAPTURE_GAPS);
 		}
 	}
 	if (fi->have_rx) {
@@ -216,8 +218,8 @@ static void text_file(FILE *f, const char *path, const struct file_info *fi)
 			fprintf(f, "               they disagree with the stamps: rate %s Hz, %zu gaps, %zu backwards (stamps: %s Hz, %zu gaps, %zu backwards)\n",
 				ssc_fmt(a, sizeof(a), fi->rx.rate_hz, 8),
 				fi->rx.n_gaps, fi->rx.n_backwards,
-				ssc_fmt(b, sizeof(b), fi->tm.rate_hz, 8),
-				fi->tm.n_gaps, fi->tm.n_backwards);
+				ssc_fmt(b, sizeof(b), tm->rate_hz, 8),
+				tm->n_gaps, tm->n_backwards);
 		else
 			fprintf(f, "               rate and gaps agree with the header stamps\n");
 	}
@@ -259,9 +261,11 @@ static void text_file(FILE *f, const char *path, const struct file_info *fi)
 	}
 }
 
-static json_t *json_file(const char *path, const struct file_info *fi)
+static json_t *json_file(const struct file_info *fi)
 {
 	const struct sscope_capture *cap = fi->cap;
+	const struct sscope_timing *tm = &cap->timing;
+	const char *path = fi->path;
 	json_t *o = json_object(), *chs = json_array(), *gaps = json_array();
 
 	json_object_set_new(o, "command", json_string("info"));
@@ -292,13 +296,13 @@ static json_t *json_file(const char *path, const struct file_info *fi)
 		json_array_append_new(chs, c);
 	}
 	json_object_set_new(o, "channels", chs);
-	for (size_t i = 0; i < fi->n_gaps; i++) {
+	for (size_t i = 0; i < cap->n_gaps; i++) {
 		json_t *g = json_object();
 
-		json_object_set_new(g, "row", json_integer((json_int_t)fi->gaps[i].index + 1));
-		json_object_set_new(g, "t_s", json_real(fi->gaps[i].t_s));
-		json_object_set_new(g, "length_s", json_real(fi->gaps[i].length_s));
-		json_object_set_new(g, "missing", json_integer((json_int_t)fi->gaps[i].missing));
+		json_object_set_new(g, "row", json_integer((json_int_t)cap->gaps[i].index + 1));
+		json_object_set_new(g, "t_s", json_real(cap->gaps[i].t_s));
+		json_object_set_new(g, "length_s", json_real(cap->gaps[i].length_s));
+		json_object_set_new(g, "missing", json_integer((json_int_t)cap->gaps[i].missing));
 		json_array_append_new(gaps, g);
 	}
 	json_object_set_new(o, "gaps", gaps);
@@ -345,17 +349,17 @@ static json_t *json_file(const char *path, const struct file_info *fi)
 		json_object_set_new(t, "agree", json_boolean(!fi->rx_disagree));
 		json_object_set_new(o, "receive_times", t);
 	}
-	if (fi->have_timing) {
+	if (cap->has_timing) {
 		json_t *t = json_object();
 
 		json_object_set_new(t, "column", json_string(cap->time_col.name));
-		json_object_set_new(t, "interval_median_s", json_real(fi->tm.dt_median_s));
-		json_object_set_new(t, "interval_min_s", json_real(fi->tm.dt_min_s));
-		json_object_set_new(t, "interval_max_s", json_real(fi->tm.dt_max_s));
-		json_object_set_new(t, "jitter_rms_s", json_real(fi->tm.jitter_rms_s));
-		json_object_set_new(t, "gaps", json_integer((json_int_t)fi->tm.n_gaps));
-		json_object_set_new(t, "missing", json_integer((json_int_t)fi->tm.n_missing));
-		json_object_set_new(t, "backwards", json_integer((json_int_t)fi->tm.n_backwards));
+		json_object_set_new(t, "interval_median_s", json_real(tm->dt_median_s));
+		json_object_set_new(t, "interval_min_s", json_real(tm->dt_min_s));
+		json_object_set_new(t, "interval_max_s", json_real(tm->dt_max_s));
+		json_object_set_new(t, "jitter_rms_s", json_real(tm->jitter_rms_s));
+		json_object_set_new(t, "gaps", json_integer((json_int_t)tm->n_gaps));
+		json_object_set_new(t, "missing", json_integer((json_int_t)tm->n_missing));
+		json_object_set_new(t, "backwards", json_integer((json_int_t)tm->n_backwards));
 		json_object_set_new(o, "timing", t);
 	} else {
 		json_object_set_new(o, "timing", json_null());
@@ -375,9 +379,10 @@ static json_t *json_file(const char *path, const struct file_info *fi)
 	return o;
 }
 
-static void csv_file(FILE *f, const char *path, const struct file_info *fi)
+static void csv_file(FILE *f, const struct file_info *fi)
 {
 	const struct sscope_capture *cap = fi->cap;
+	const char *path = fi->path;
 
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		const struct sscope_column *col = &cap->channels[k].col;
@@ -392,16 +397,22 @@ static void csv_file(FILE *f, const char *path, const struct file_info *fi)
 	}
 }
 
-static int plot(const struct ssc_common *co, const char *png,
-		const char *path, const struct file_info *fi)
+/* every channel (at most 6) and the temperature against time, of the
+ * first file */
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *png)
 {
+	const struct info_res *r = result;
+	const struct file_info *fi = r->fi;
 	const struct sscope_capture *cap = fi->cap;
+	const char *path = fi->path;
 	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
 	int rows = (int)nch + (cap->temp_degc ? 1 : 0), rc;
 	struct ssc_fig *fig;
 	double *t = malloc(cap->n * sizeof(double)), *y = malloc(cap->n * sizeof(double));
 	char buf[256];
 
+	(void)opts;
 	if (!t || !y || rows == 0) {
 		free(t);
 		free(y);
@@ -446,73 +457,101 @@ static int plot(const struct ssc_common *co, const char *png,
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *out)
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct ssc_common *co = env->co;
-	struct file_info *fi = calloc(env->n_caps ? env->n_caps : 1, sizeof(*fi));
-	struct ssc_membuf text, csv;
+	struct info_res *r = calloc(1, sizeof(*r));
 	int rc = SSC_EXIT_OK;
 
 	(void)opts;
-	if (!fi || ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		free(fi);
+	if (r)
+		r->fi = calloc(env->n_caps ? env->n_caps : 1, sizeof(*r->fi));
+	if (!r || !r->fi) {
+		free(r);
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t i = 0; i < env->n_caps && !rc; i++)
-		rc = analyse(co, env->paths[i], env->caps[i], &fi[i]);
-	if (!rc && env->plot_path && env->n_caps)
-		rc = plot(co, env->plot_path, env->paths[0], &fi[0]);
-	if (!rc) {
-		fprintf(csv.f, "file,channel,unit,quantity,rate_hz,samples,nan,duration_s,mean,sd,min,max\n");
-		for (size_t i = 0; i < env->n_caps; i++) {
-			if (i)
-				fputc('\n', text.f);
-			text_file(text.f, env->paths[i], &fi[i]);
-			csv_file(csv.f, env->paths[i], &fi[i]);
+	*result = r;
+	for (size_t i = 0; i < env->n_caps && !rc; i++, r->n++)
+		rc = analyse(co, env->paths[i], env->caps[i], &r->fi[i]);
+	return rc;
+}
+
+static void free_result(void *result)
+{
+	struct info_res *r = result;
+
+	for (size_t i = 0; i < r->n; i++)
+		free(r->fi[i].st);
+	free(r->fi);
+	free(r);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct info_res *r = result;
+
+	(void)opts;
+	for (size_t i = 0; i < r->n; i++) {
+		if (i)
+			fputc('\n', f);
+		text_file(f, &r->fi[i]);
+	}
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct info_res *r = result;
+
+	(void)opts;
+	fprintf(f, "file,channel,unit,quantity,rate_hz,samples,nan,duration_s,mean,sd,min,max\n");
+	for (size_t i = 0; i < r->n; i++)
+		csv_file(f, &r->fi[i]);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct info_res *r = result;
+	json_t *o, *files;
+
+	(void)opts;
+	if (r->n == 1)
+		return json_file(&r->fi[0]);
+	o = json_object();
+	files = json_array();
+	json_object_set_new(o, "command", json_string("info"));
+	for (size_t i = 0; i < r->n; i++)
+		json_array_append_new(files, json_file(&r->fi[i]));
+	json_object_set_new(o, "files", files);
+	return o;
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct info_res *r = result;
+
+	(void)opts;
+	for (size_t i = 0; i < r->n; i++) {
+		const struct file_info *fi = &r->fi[i];
+		const struct sscope_capture *cap = fi->cap;
+
+		if (cap->rate_hz > 0) {
+			ssc_summary_add(rows, NULL, "sample rate", cap->rate_hz,
+					NAN, NAN, "Hz", rate_source(cap));
+			ssc_summary_add(rows, NULL, "record length",
+					duration(cap), NAN, NAN, "s", NULL);
 		}
-		if (env->n_caps == 1) {
-			out->json = json_file(env->paths[0], &fi[0]);
-		} else {
-			json_t *files = json_array();
+		if (fi->have_temp) {
+			char note[96], a[32], b[32];
 
-			out->json = json_object();
-			json_object_set_new(out->json, "command", json_string("info"));
-			for (size_t i = 0; i < env->n_caps; i++)
-				json_array_append_new(files,
-						      json_file(env->paths[i], &fi[i]));
-			json_object_set_new(out->json, "files", files);
-		}
-		for (size_t i = 0; i < env->n_caps; i++) {
-			const struct sscope_capture *cap = fi[i].cap;
-
-			if (cap->rate_hz > 0)
-				ssc_summary_add(out->summary, NULL, "sample rate",
-						cap->rate_hz, NAN, NAN, "Hz",
-						rate_source(cap));
-			if (cap->rate_hz > 0)
-				ssc_summary_add(out->summary, NULL, "record length",
-						duration(cap), NAN, NAN, "s", NULL);
-			if (fi[i].have_temp) {
-				char note[96], a[32], b[32];
-
-				snprintf(note, sizeof(note), "from %s to %s degC",
-					 ssc_fmt(a, sizeof(a), fi[i].temp.min, 4),
-					 ssc_fmt(b, sizeof(b), fi[i].temp.max, 4));
-				ssc_summary_add(out->summary, NULL,
-						"temperature span",
-						fi[i].temp.max - fi[i].temp.min,
-						NAN, NAN, "degC", note);
-			}
+			snprintf(note, sizeof(note), "from %s to %s degC",
+				 ssc_fmt(a, sizeof(a), fi->temp.min, 4),
+				 ssc_fmt(b, sizeof(b), fi->temp.max, 4));
+			ssc_summary_add(rows, NULL, "temperature span",
+					fi->temp.max - fi->temp.min, NAN, NAN,
+					"degC", note);
 		}
 	}
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-	for (size_t i = 0; i < env->n_caps; i++)
-		free(fi[i].st);
-	free(fi);
-	return rc;
 }
 
 const struct ssc_stage_ops ssc_info_stage = {
@@ -522,6 +561,12 @@ const struct ssc_stage_ops ssc_info_stage = {
 	.min_files = 1,
 	.max_files = -1,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_info(int argc, char **argv)

@@ -173,6 +173,7 @@ static int save_fig(struct ssc_fig *fig, const char *path)
 static int do_accel(struct ssc_common *co, struct opts *o)
 {
 	struct sscope_model_accel m;
+	struct sscope_model_rk4_check chk;
 	int rc;
 	double T, dt, t[NSTEP], xa[NSTEP], *xr, maxdev = 0;
 	size_t nr;
@@ -195,27 +196,12 @@ static int do_accel(struct ssc_common *co, struct opts *o)
 		t[i] = T * i / (NSTEP - 1);
 	sscope_model_accel_step(&m, o->step, t, NSTEP, xa);
 	/* the RK4 cross-check on a grid 400 steps per natural period */
-	dt = 1 / (m.fn_hz * 400);
-	nr = (size_t)ceil(T / dt) + 2;
-	if (nr > 20000000) {
-		nr = 20000000;
-		dt = T / (double)(nr - 2);
-	}
-	xr = malloc(nr * sizeof(double));
-	if (!xr) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	sscope_model_accel_step_rk4(&m, o->step, dt, nr, xr);
-	{
-		/* compare where the grids meet: analytic at k dt */
-		for (size_t k = 0; k < nr; k += 1 + nr / 5000) {
-			double tk = (double)k * dt, xk;
-
-			sscope_model_accel_step(&m, o->step, &tk, 1, &xk);
-			maxdev = fmax(maxdev, fabs(xk - xr[k]));
-		}
-	}
+	rc = sscope_model_accel_rk4_check(&m, o->step, T, 20000000, &xr, &chk);
+	if (rc)
+		return ssc_fail(co->cmd, rc, NULL, "model accel");
+	dt = chk.dt_s;
+	nr = chk.n;
+	maxdev = chk.max_dev_m;
 	if (o->plot) {
 		enum { NP = 600 };
 		double tp[NP], xp[NP], xq[NP];

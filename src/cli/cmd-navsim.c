@@ -302,11 +302,18 @@ static void init(void *opts)
 	o->traj_text = "static";
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
-	return o->plot ? ssc_plot_check(co->cmd, o->plot) : SSC_EXIT_OK;
+	if (o->plot) {
+		int rc = ssc_plot_check(co->cmd, o->plot);
+
+		if (rc)
+			return rc;
+		co->plot = o->plot;
+	}
+	return SSC_EXIT_OK;
 }
 
 /* ------------------------------------------------------------ inputs */
@@ -343,15 +350,10 @@ static int apply_spec(const char *cmd, struct imu_in *in,
 	return SSC_EXIT_OK;
 }
 
-static int apply_allan(const char *cmd, struct imu_in *in, const json_t *root,
-		       const char *what)
+/* the worst gyro and accelerometer channel of an allan result's terms */
+static void apply_terms(struct imu_in *in, const struct ssc_nav_terms *t,
+			size_t n, const char *what)
 {
-	struct ssc_nav_terms *t;
-	size_t n;
-	int rc = ssc_nav_terms_from_allan(cmd, root, what, &t, &n);
-
-	if (rc)
-		return rc;
 	for (int k = 0; k < 2; k++) {
 		const struct ssc_nav_terms *p = ssc_nav_terms_pick(
 			t, n, NULL, k ? SSCOPE_QTY_ACCELERATION : SSCOPE_QTY_ANGULAR_RATE);
@@ -365,8 +367,20 @@ static int apply_allan(const char *cmd, struct imu_in *in, const json_t *root,
 		d->k = p->coef[SSCOPE_TERM_K];
 		d->r = p->coef[SSCOPE_TERM_R];
 	}
-	free(t);
 	add_from(in, "noise terms of %s", what);
+}
+
+static int apply_allan(const char *cmd, struct imu_in *in, const json_t *root,
+		       const char *what)
+{
+	struct ssc_nav_terms *t;
+	size_t n;
+	int rc = ssc_nav_terms_from_allan(cmd, root, what, &t, &n);
+
+	if (rc)
+		return rc;
+	apply_terms(in, t, n, "an allan result");
+	free(t);
 	return SSC_EXIT_OK;
 }
 
@@ -389,7 +403,28 @@ static int apply_calib(const char *cmd, struct imu_in *in, const json_t *root,
 			what);
 		return SSC_EXIT_FAIL;
 	}
-	add_from(in, "biases, scale factors and misalignments of %s", what);
+	/* the same words for a file and the scene's stage */
+	add_from(in, "biases, scale factors and misalignments of %s",
+		 "a calib result");
+	return SSC_EXIT_OK;
+}
+
+static int apply_calib_res(const char *cmd, struct imu_in *in,
+			   const struct ssc_calib_res *c, const char *what)
+{
+	int found = 0;
+
+	if (ssc_nav_calib_errors_res(c, "gyro", in->imu.gyro_bias_rad_s, in->imu.gyro_m) == 0)
+		found++;
+	if (ssc_nav_calib_errors_res(c, "accel", in->imu.accel_bias_m_s2, in->imu.accel_m) == 0)
+		found++;
+	if (!found) {
+		ssc_err(cmd, "%s: no triad with an error model in physical units", what);
+		return SSC_EXIT_FAIL;
+	}
+	(void)what;
+	add_from(in, "biases, scale factors and misalignments of %s",
+		 "a calib result");
 	return SSC_EXIT_OK;
 }
 
@@ -415,13 +450,23 @@ static int gather(const struct ssc_stage_env *env, const struct opts *o,
 		if (rc)
 			return rc;
 	}
-	if (env->upstream) {
-		const json_t *a = json_object_get(env->upstream, "allan");
-		const json_t *c = json_object_get(env->upstream, "calib");
+	{
+		/* the scene's allan and calib stages */
+		const struct ssc_result *a = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
+		const struct ssc_result *c = ssc_stage_upstream(env, &ssc_calib_stage, NULL);
 
-		if (a && (rc = apply_allan(cmd, in, a, "the allan stage")))
-			return rc;
-		if (c && (rc = apply_calib(cmd, in, c, "the calib stage")))
+		if (a) {
+			struct ssc_nav_terms *t;
+			size_t n;
+
+			rc = ssc_nav_terms_from_allan_res(cmd, a->data,
+							  "the allan stage", &t, &n);
+			if (rc)
+				return rc;
+			apply_terms(in, t, n, "an allan result");
+			free(t);
+		}
+		if (c && (rc = apply_calib_res(cmd, in, c->data, "the calib stage")))
 			return rc;
 	}
 	if (o->allan) {
@@ -544,6 +589,9 @@ static void free_table(struct table *t)
 /* ------------------------------------------------------------ output */
 
 struct result {
+	struct opts o;
+	struct imu_in in;
+	double dur;
 	struct sscope_navsim *ns;
 	struct sscope_navsim_stat *st;
 	size_t n;
@@ -804,9 +852,11 @@ static void write_csv(FILE *f, const struct result *r, bool single)
 	}
 }
 
-static int plot(const char *cmd, const char *path, const struct opts *o,
-		const struct result *r)
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct result *r = result;
+	const struct opts *o = &r->o;
 	struct ssc_fig *fig = ssc_fig_new(1100, 1500, 3, 1);
 	double *t = malloc(r->n * sizeof(double)), *lo = malloc(r->n * sizeof(double));
 	double *hi = malloc(r->n * sizeof(double)), *md = malloc(r->n * sizeof(double));
@@ -887,11 +937,19 @@ out:
 	free(md);
 	free(bl);
 	free(bh);
-	if (rc) {
-		ssc_err(cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	(void)opts;
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
+}
+
+static void free_result(void *result)
+{
+	struct result *r = result;
+
+	free(r->st);
+	sscope_navsim_free(r->ns);
+	free(r);
 }
 
 /* "run 12 of 100" on stderr (only when progress is on) */
@@ -902,56 +960,59 @@ static void progress(void *ctx, size_t done, size_t total)
 	fflush(stderr);
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const char *cmd = env->co->cmd;
-	struct opts o = *(struct opts *)opts;
-	struct imu_in in;
+	struct result *r = calloc(1, sizeof(*r));
+	struct opts *o;
 	struct table tb = { 0 };
 	struct sscope_navsim_opts no = { 0 };
-	struct result r = { 0 };
 	struct sscope_diag d = { "" };
-	const char *plot_path = env->plot_path ? env->plot_path : o.plot;
-	double dur;
 	int rc;
 
-	rc = gather(env, &o, &in);
+	if (!r) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	*result = r;
+	r->o = *(struct opts *)opts;
+	o = &r->o;
+	rc = gather(env, o, &r->in);
 	if (rc)
 		return rc;
-	no.rate_hz = o.rate;
-	no.duration_s = o.duration;
-	no.output_step_s = o.step;
-	no.start.lat_rad = o.lat;
-	no.start.lon_rad = o.lon;
-	no.start.height_m = o.height;
-	no.yaw_rad = o.heading;
-	no.motion = o.motion;
-	no.speed_m_s = o.speed;
-	no.turn_rate_rad_s = o.turn_rate;
-	no.free_vertical = o.free_vertical;
-	no.threads = o.threads;
+	no.rate_hz = o->rate;
+	no.duration_s = o->duration;
+	no.output_step_s = o->step;
+	no.start.lat_rad = o->lat;
+	no.start.lon_rad = o->lon;
+	no.start.height_m = o->height;
+	no.yaw_rad = o->heading;
+	no.motion = o->motion;
+	no.speed_m_s = o->speed;
+	no.turn_rate_rad_s = o->turn_rate;
+	no.free_vertical = o->free_vertical;
+	no.threads = o->threads;
 	if (ssc_progress_on(env->co))
 		no.progress = progress;
-	if (o.motion == SSCOPE_NAVSIM_TABLE) {
-		rc = load_table(cmd, o.traj_file, &tb);
+	if (o->motion == SSCOPE_NAVSIM_TABLE) {
+		rc = load_table(cmd, o->traj_file, &tb);
 		if (rc)
 			goto done;
 		no.table_t_s = tb.cap->time_s;
 		no.table_ned_m = (const double(*)[3])tb.ned;
 		no.table_euler_rad = (const double(*)[3])tb.eu;
 		no.n_table = tb.cap->n;
-		if (!o.set_duration)
+		if (!o->set_duration)
 			no.duration_s = 0;
 	}
 	{
 		/* memory: perfect increments (48 bytes a sample) unless at
 		 * rest, and every run's errors (72 bytes a record) */
-		double span = o.motion == SSCOPE_NAVSIM_TABLE ?
-				      tb.cap->time_s[tb.cap->n - 1] : o.duration;
-		double rec = o.step > 0 ? span / o.step : 600;
-		double bytes = (o.motion == SSCOPE_NAVSIM_STATIC ? 0 : 48 * span * o.rate) +
-			       72.0 * (double)o.runs * (rec + 1);
+		double span = o->motion == SSCOPE_NAVSIM_TABLE ?
+				      tb.cap->time_s[tb.cap->n - 1] : o->duration;
+		double rec = o->step > 0 ? span / o->step : 600;
+		double bytes = (o->motion == SSCOPE_NAVSIM_STATIC ? 0 : 48 * span * o->rate) +
+			       72.0 * (double)o->runs * (rec + 1);
 
 		if (bytes > 2147483648.0) {
 			ssc_err(cmd, "this simulation needs about %.0f MB (more than 2 GB): lower --rate, --duration or --runs, or raise --output-step",
@@ -960,71 +1021,80 @@ static int run(const struct ssc_stage_env *env, void *opts,
 			goto done;
 		}
 	}
-	rc = sscope_navsim_new(&r.ns, &no, &d);
+	rc = sscope_navsim_new(&r->ns, &no, &d);
 	if (rc) {
-		rc = o.traj_file ? ssc_nav_fail(cmd, rc, &d, o.traj_file) : ssc_fail(cmd, rc, &d, "navsim");
+		rc = o->traj_file ? ssc_nav_fail(cmd, rc, &d, o->traj_file) :
+				    ssc_fail(cmd, rc, &d, "navsim");
 		goto done;
 	}
-	r.n = sscope_navsim_n_out(r.ns);
-	dur = sscope_navsim_time(r.ns, r.n - 1);
-	if (o.set_duration && dur < o.duration - 2 / o.rate)
+	r->n = sscope_navsim_n_out(r->ns);
+	r->dur = sscope_navsim_time(r->ns, r->n - 1);
+	if (o->set_duration && r->dur < o->duration - 2 / o->rate)
 		ssc_warn(env->co, "%s spans %g s: simulating that, not --duration %g s",
-			 o.traj_file ? o.traj_file : "the trajectory", dur, o.duration);
-	r.st = calloc(r.n, sizeof(*r.st));
-	if (!r.st) {
+			 o->traj_file ? o->traj_file : "the trajectory", r->dur,
+			 o->duration);
+	r->st = calloc(r->n, sizeof(*r->st));
+	if (!r->st) {
 		ssc_err(cmd, "out of memory");
 		rc = SSC_EXIT_FAIL;
 		goto done;
 	}
-	rc = sscope_navsim_monte_carlo(r.ns, &in.imu, o.runs, o.seed, r.st, NULL,
-				       &r.clipped, &d);
+	rc = sscope_navsim_monte_carlo(r->ns, &r->in.imu, o->runs, o->seed, r->st,
+				       NULL, &r->clipped, &d);
 	if (no.progress)
 		ssc_progress_end(env->co);
 	if (rc) {
 		rc = ssc_fail(cmd, rc, &d, "Monte Carlo");
 		goto done;
 	}
-	sscope_navsim_budget(r.ns, &in.imu, &r.bp);
-	if (plot_path) {
-		rc = plot(cmd, plot_path, &o, &r);
-		if (rc)
-			goto done;
-	}
-	sout->json = make_json(&o, &in, &r, dur);
-	{
-		struct ssc_membuf text, csv;
-
-		if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-			ssc_err(cmd, "out of memory");
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		write_text(text.f, &o, &in, &r, dur);
-		write_csv(csv.f, &r, o.runs == 1);
-		sout->text = ssc_membuf_take(&text);
-		sout->csv = ssc_membuf_take(&csv);
-	}
-	{
-		const struct sscope_navsim_stat *s = &r.st[r.n - 1];
-		char q[96], a[32];
-
-		ssc_fmt(a, sizeof(a), s->t_s, 5);
-		snprintf(q, sizeof(q), "horizontal position error after %s s, median", a);
-		ssc_summary_add(sout->summary, NULL, q, s->horiz_p50, NAN, NAN, "m",
-				"navsim Monte Carlo");
-		snprintf(q, sizeof(q), "horizontal position error after %s s, 95 %%", a);
-		ssc_summary_add(sout->summary, NULL, q, s->horiz_p95, NAN, NAN, "m",
-				"navsim Monte Carlo");
-		snprintf(q, sizeof(q), "heading error after %s s, rms", a);
-		ssc_summary_add(sout->summary, NULL, q, s->rms[SSCOPE_NAVSIM_YAW] / D2R, NAN,
-				NAN, "deg", "navsim Monte Carlo");
-	}
+	sscope_navsim_budget(r->ns, &r->in.imu, &r->bp);
 	rc = SSC_EXIT_OK;
 done:
 	free_table(&tb);
-	free(r.st);
-	sscope_navsim_free(r.ns);
 	return rc;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct result *r = result;
+
+	(void)opts;
+	return make_json(&r->o, &r->in, r, r->dur);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct result *r = result;
+
+	(void)opts;
+	write_text(f, &r->o, &r->in, r, r->dur);
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct result *r = result;
+
+	(void)opts;
+	write_csv(f, r, r->o.runs == 1);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct result *r = result;
+	const struct sscope_navsim_stat *s = &r->st[r->n - 1];
+	char q[96], a[32];
+
+	(void)opts;
+	ssc_fmt(a, sizeof(a), s->t_s, 5);
+	snprintf(q, sizeof(q), "horizontal position error after %s s, median", a);
+	ssc_summary_add(rows, NULL, q, s->horiz_p50, NAN, NAN, "m",
+			"navsim Monte Carlo");
+	snprintf(q, sizeof(q), "horizontal position error after %s s, 95 %%", a);
+	ssc_summary_add(rows, NULL, q, s->horiz_p95, NAN, NAN, "m",
+			"navsim Monte Carlo");
+	snprintf(q, sizeof(q), "heading error after %s s, rms", a);
+	ssc_summary_add(rows, NULL, q, s->rms[SSCOPE_NAVSIM_YAW] / D2R, NAN,
+			NAN, "deg", "navsim Monte Carlo");
 }
 
 const struct ssc_stage_ops ssc_navsim_stage = {
@@ -1038,6 +1108,12 @@ const struct ssc_stage_ops ssc_navsim_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_navsim(int argc, char **argv)

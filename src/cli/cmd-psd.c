@@ -204,9 +204,9 @@ struct bandset {
 	bool nominal;
 };
 
-/* Parse --bands once the sample rate and bin width are known. */
-static int make_bands(const char *cmd, const char *arg, double fs, double bin,
-		      struct bandset *bs)
+/* Parse --bands once the spectrum (its rate and bins) is known. */
+static int make_bands(const char *cmd, const char *arg, double fs,
+		      const struct sscope_spectrum *sp, struct bandset *bs)
 {
 	size_t n = 0;
 
@@ -215,20 +215,15 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		return 0;
 	if (!strcmp(arg, "octave") || !strcmp(arg, "third")) {
 		unsigned frac = arg[0] == 'o' ? 1 : 3;
-		size_t all, k = 0;
+		size_t all;
 
-		if (sscope_octave_bands(frac, bin / 2, fs / 2, NULL, 0, &all) ||
+		if (!sp || sscope_spectrum_octave_bands(sp, frac, NULL, 0, &all) ||
 		    all == 0)
 			return 0;
 		bs->b = calloc(all, sizeof(*bs->b));
 		if (!bs->b)
 			return SSC_EXIT_FAIL;
-		sscope_octave_bands(frac, bin / 2, fs / 2, bs->b, all, &all);
-		/* bands narrower than a bin say nothing */
-		for (size_t i = 0; i < all; i++)
-			if (bs->b[i].hi_hz - bs->b[i].lo_hz >= bin)
-				bs->b[k++] = bs->b[i];
-		bs->n = k;
+		sscope_spectrum_octave_bands(sp, frac, bs->b, all, &bs->n);
 		bs->nominal = true;
 		return 0;
 	}
@@ -242,6 +237,7 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		char buf[64];
 		size_t l = e ? (size_t)(e - p) : strlen(p);
 		double lo, hi;
+		int rc;
 
 		if (l >= sizeof(buf))
 			goto bad;
@@ -251,18 +247,16 @@ static int make_bands(const char *cmd, const char *arg, double fs, double bin,
 		if (!c)
 			goto bad;
 		if (sscope_parse_double(buf, c, &lo) != (size_t)(c - buf) ||
-		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1) ||
-		    !(lo >= 0) || !(hi > lo) || !isfinite(hi))
+		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1))
 			goto bad;
-		if (lo >= fs / 2) {
+		rc = sscope_band_edges(lo, hi, fs / 2, &bs->b[bs->n]);
+		if (rc == -EDOM) {
 			ssc_err(cmd, "--bands: %g:%g lies above the Nyquist frequency %g Hz",
 				lo, hi, fs / 2);
 			return SSC_EXIT_USAGE;
 		}
-		bs->b[bs->n].lo_hz = lo;
-		bs->b[bs->n].hi_hz = hi > fs / 2 ? fs / 2 : hi;
-		bs->b[bs->n].center_hz = sqrt(lo * bs->b[bs->n].hi_hz);
-		bs->b[bs->n].nominal_hz = (double)NAN;
+		if (rc)
+			goto bad;
 		bs->n++;
 		p += l + (e ? 1 : 0);
 	}
@@ -316,19 +310,6 @@ static void psd_unit(const struct chan *c, enum sscope_scaling sc, char *buf,
 			 sc == SSCOPE_SCALING_DENSITY ? "/Hz" : "");
 }
 
-/* Neumaier-compensated sum of the regular time-stamp intervals */
-struct ksum {
-	double s, c;
-};
-
-static void ksum_add(struct ksum *k, double x)
-{
-	double t = k->s + x;
-
-	k->c += fabs(k->s) >= fabs(x) ? (k->s - t) + x : (x - t) + k->s;
-	k->s = t;
-}
-
 struct progress_ctx {
 	const struct ssc_common *co;
 	const char *label;
@@ -349,6 +330,35 @@ static int copy_col(struct sscope_column *dst, const struct sscope_column *src)
 	return dst->name && dst->unit_label ? 0 : -ENOMEM;
 }
 
+/* A spectrum finite in SI can overflow in the channel's unit (mg, uV):
+ * an error, never "inf" in a table.  Returns an exit code. */
+static int check_shown(const struct ssc_common *co, const struct run *R,
+		       const struct chan *c)
+{
+	double vmax = 0, u = uscale(c);
+
+	for (size_t k = 0; k < c->s.n_bins; k++)
+		vmax = c->s.value[k] > vmax ? c->s.value[k] : vmax;
+	if (isfinite(vmax / u / u) && isfinite(c->s.rms / u))
+		return SSC_EXIT_OK;
+	ssc_err(co->cmd, "%s: channel %s: spectrum values up to %g in SI units exceed the double range in %s",
+		R->path, c->col.name, vmax, c->col.unit_label);
+	return SSC_EXIT_FAIL;
+}
+
+/* Why sscope_psd_result() failed, for -EDOM and -ERANGE. */
+static const char *result_error(int rc, double fs)
+{
+	static char buf[200];
+
+	if (rc == -EDOM)
+		return "every segment holds a NaN gap";
+	snprintf(buf, sizeof(buf),
+		 "at %g Hz the spectrum leaves the double range (values above 1.8e308 or all below 1e-292 in SI units): check --rate and the data's unit",
+		 fs);
+	return buf;
+}
+
 /* Streamed Welch estimate of every selected channel. */
 static int stream(const struct ssc_common *co, struct run *R)
 {
@@ -359,12 +369,9 @@ static int stream(const struct ssc_common *co, struct run *R)
 	const struct sscope_chunk *cur;
 	struct progress_ctx pc = { co, R->path };
 	const size_t cap = 65536;
-	double *scratch = NULL, med = 0, last_t = 0;
-	bool have_med = false, have_last = false, use_time;
-	struct ksum tsum = { 0, 0 };
-	struct sscope_time_order ord = { 0 };
-	bool disorder = false;
-	size_t nreg = 0;
+	struct sscope_timing_stream *ts = NULL;
+	struct sscope_timing tm;
+	bool use_time, disorder = false;
 	int rc, ex = SSC_EXIT_FAIL;
 
 	ssc_read_opts(co, &ro);
@@ -382,10 +389,11 @@ static int stream(const struct ssc_common *co, struct run *R)
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
 	if (!R->ch)
 		goto nomem;
-	use_time = !(co->rate_hz > 0) && sscope_reader_time_column(rd);
+	/* the time column as the capture loader reads it (its streaming
+	 * form): rate and gaps */
+	use_time = sscope_reader_time_column(rd) != NULL;
 	if (use_time) {
-		scratch = malloc(cap * sizeof(double));
-		if (!scratch)
+		if (sscope_timing_stream_new(&ts, 1.5))
 			goto nomem;
 	}
 	for (size_t k = 0; k < R->nch; k++) {
@@ -417,40 +425,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 				goto out;
 			}
 		}
-		if (use_time) {
-			/* the rate as the capture loader finds it: median
-			 * interval (of the first chunk) separates gaps, the
-			 * mean regular interval gives the rate */
-			struct sscope_timing tm;
-
-			sscope_time_order_feed(&ord, cur->time_s, cur->rows);
-			if (!have_med && cur->rows >= 2 &&
-			    sscope_timing_analyze(cur->time_s, cur->rows, 1.5, &tm,
-						  NULL, 0, NULL, scratch) == 0) {
-				have_med = true;
-				med = tm.dt_median_s;
-			}
-			for (size_t i = 0; i < cur->rows && have_med; i++) {
-				double t = cur->time_s[i];
-
-				if (have_last) {
-					double dt = t - last_t;
-
-					if (dt > 1.5 * med) {
-						R->time_gaps++;
-					} else {
-						ksum_add(&tsum, dt);
-						nreg++;
-					}
-				}
-				last_t = t;
-				have_last = true;
-			}
-			if (!have_med && cur->rows == 1) {
-				last_t = cur->time_s[0];
-				have_last = true;
-			}
-		}
+		if (use_time)
+			sscope_timing_stream_feed(ts, cur->time_s, cur->rows);
 		R->rows += cur->rows;
 	}
 	ssc_progress_end(co);
@@ -460,20 +436,30 @@ static int stream(const struct ssc_common *co, struct run *R)
 	}
 	if (sscope_reader_unterminated(rd))
 		ssc_warn_unterminated(co, R->path, R->rows);
-	if (use_time && sscope_time_order_check(&ord, NULL)) {
-		/* an error naming the problem, or a warning when a header
-		 * gives the rate */
-		disorder = true;
-		if (ssc_time_verdict(co, R->path, sscope_reader_time_column(rd)->name,
-				     &ord, sscope_reader_header_rate(rd) > 0 ?
-				     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE, true))
-			goto out;
+	if (use_time) {
+		int trc = sscope_timing_stream_result(ts, &tm);
+
+		if (sscope_time_order_check(&tm.order, NULL)) {
+			/* an error naming the problem, or a warning when a
+			 * header gives the rate */
+			disorder = true;
+			if (ssc_time_verdict(co, R->path,
+					     sscope_reader_time_column(rd)->name,
+					     &tm.order,
+					     sscope_reader_header_rate(rd) > 0 ?
+					     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE,
+					     true))
+				goto out;
+		}
+		use_time = trc == 0 && !disorder;
 	}
+	if (use_time)
+		R->time_gaps = tm.n_gaps;
 	if (co->rate_hz > 0) {
 		R->fs = co->rate_hz;
 		R->rate_source = "given";
-	} else if (use_time && !disorder && nreg > 0 && (tsum.s + tsum.c) > 0) {
-		R->fs = (double)nreg / (tsum.s + tsum.c);
+	} else if (use_time) {
+		R->fs = tm.rate_hz;
 		R->rate_source = "time column";
 	} else if (sscope_reader_header_rate(rd) > 0) {
 		R->fs = sscope_reader_header_rate(rd);
@@ -483,22 +469,21 @@ static int stream(const struct ssc_common *co, struct run *R)
 			R->path);
 		goto out;
 	}
-	if (R->time_gaps && !disorder)
-		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
-			 R->path, R->time_gaps);
 	for (size_t k = 0; k < R->nch; k++) {
 		struct chan *c = &R->ch[k];
 
 		rc = sscope_psd_result(c->p, R->fs, &c->s);
-		if (rc == -EDOM) {
-			ssc_err(co->cmd, "%s: channel %s: every segment holds a NaN gap",
-				R->path, c->col.name);
+		if (rc == -EDOM || rc == -ERANGE) {
+			ssc_err(co->cmd, "%s: channel %s: %s", R->path,
+				c->col.name, result_error(rc, R->fs));
 			goto out;
 		}
 		if (rc) {
 			ssc_fail(co->cmd, rc, NULL, R->path);
 			goto out;
 		}
+		if (check_shown(co, R, c))
+			goto out;
 		if (R->a.po.spectrogram_cols) {
 			if (c->s.nperseg == R->a.po.nperseg) {
 				rc = sscope_psd_spectrogram(c->p, R->fs, &c->sg);
@@ -512,7 +497,7 @@ nomem:
 	ssc_err(co->cmd, "out of memory");
 out:
 	ssc_prefetch_stop(pf);
-	free(scratch);
+	sscope_timing_stream_free(ts);
 	sscope_reader_close(rd);
 	return ex;
 }
@@ -542,6 +527,10 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 	R->fs = cap->rate_hz;
 	R->rate_source = rate_source_name(cap);
 	R->rows = cap->n;
+	/* gaps, unless the stamps are out of order (said above) */
+	R->time_gaps = cap->has_timing &&
+		       !sscope_time_order_check(&cap->timing.order, NULL) ?
+		       cap->timing.n_gaps : 0;
 	R->nch = cap->n_channels;
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
 	if (!R->ch)
@@ -573,27 +562,17 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 			rc = sscope_psd_result(c->p, R->fs, &c->s);
 		if (rc) {
 			ssc_err(co->cmd, "%s: channel %s: %s", R->path, c->col.name,
-				rc == -EDOM ? "every segment holds a NaN gap" :
-					      sscope_strerror(rc));
+				rc == -EDOM || rc == -ERANGE ?
+					result_error(rc, R->fs) :
+					sscope_strerror(rc));
 			return SSC_EXIT_FAIL;
 		}
+		if (check_shown(co, R, c))
+			return SSC_EXIT_FAIL;
 		if (R->a.po.spectrogram_cols && c->s.nperseg == R->a.po.nperseg)
 			c->have_sg = sscope_psd_spectrogram(c->p, R->fs, &c->sg) == 0;
 	}
 	return SSC_EXIT_OK;
-}
-
-/* The periodogram needs the whole record in memory. */
-static int whole(const struct ssc_common *co, struct run *R)
-{
-	struct sscope_capture *cap;
-	int rc = ssc_load(co, R->path, &cap);
-
-	if (rc)
-		return rc;
-	rc = from_capture(co, R, cap);
-	sscope_capture_free(cap);
-	return rc;
 }
 
 static void finish(struct run *R)
@@ -863,8 +842,10 @@ static void csv_run(FILE *f, const struct run *R)
 	}
 }
 
-static int plot(const struct ssc_common *co, const struct run *R)
+static int plot_fig(const struct ssc_common *co, const void *opts,
+		    const void *result, const char *path)
 {
+	const struct run *R = result;
 	size_t nch = R->nch < 6 ? R->nch : 6;
 	const struct chan *c0 = &R->ch[0];
 	bool sg = c0->have_sg && c0->sg.n_times >= 2;
@@ -874,6 +855,7 @@ static int plot(const struct ssc_common *co, const struct run *R)
 	double *y = NULL;
 	int rc;
 
+	(void)opts;
 	if (!fig)
 		return SSC_EXIT_FAIL;
 	snprintf(buf, sizeof(buf), "%s: %s, %s window, nperseg %zu", R->path,
@@ -968,12 +950,20 @@ static int plot(const struct ssc_common *co, const struct run *R)
 			free(z);
 		}
 	}
-	rc = ssc_fig_save(fig, co->plot);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	free(y);
 	if (rc)
-		return ssc_write_failed(co->cmd, co->plot, rc);
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
+}
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
+{
+	const struct run *R = result;
+
+	return R->nch ? plot_fig(co, opts, result, path) : SSC_EXIT_OK;
 }
 
 static void init(void *opts)
@@ -989,7 +979,7 @@ static void init(void *opts)
 }
 
 /* Cross-checks of the options, and the estimator's options from them. */
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct args *a = opts;
 
@@ -1012,14 +1002,14 @@ static int check(const struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
-/* Everything after the estimate: warnings, peaks, bands, the figure and
- * the three forms of the result. */
-static int present_run(const struct ssc_common *co, struct run *R,
-		       const char *plot_path, struct ssc_stage_out *out)
+/* Everything after the estimate: warnings, peaks, bands. */
+static int finish_run(const struct ssc_common *co, struct run *R)
 {
-	struct ssc_membuf text, csv;
 	int rc;
 
+	if (R->time_gaps)
+		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
+			 R->path, R->time_gaps);
 	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
 		ssc_warn(co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
 			 R->path, R->a.po.nperseg, (unsigned long long)R->rows,
@@ -1032,31 +1022,76 @@ static int present_run(const struct ssc_common *co, struct run *R,
 	if (R->nch && R->ch[0].s.rms == 0)
 		ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
 			 R->path);
-	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? R->ch[0].s.bin_hz : 1,
+	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? &R->ch[0].s : NULL,
 			&R->bands);
 	if (rc)
 		return rc;
 	finish(R);
-	if (plot_path && R->nch) {
-		struct ssc_common pco = *co;
+	return SSC_EXIT_OK;
+}
 
-		pco.plot = plot_path;
-		rc = plot(&pco, R);
-		if (rc)
-			return rc;
-	}
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv))
+/* Welch's estimate streams the file when the command reads it itself;
+ * the periodogram needs the whole record. */
+static bool streams(const void *opts)
+{
+	return !((const struct args *)opts)->periodogram;
+}
+
+static void free_result(void *result)
+{
+	free_run(result);
+	free(result);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	struct run *R = calloc(1, sizeof(*R));
+	int rc;
+
+	if (!R) {
+		ssc_err(env->co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
-	text_run(text.f, R);
-	csv_run(csv.f, R);
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-	out->json = json_run(R);
+	}
+	*result = R;
+	R->a = *(struct args *)opts;
+	if (env->n_caps != 1) {
+		ssc_err(env->co->cmd, "one input capture at a time");
+		return SSC_EXIT_USAGE;
+	}
+	R->path = env->paths[0];
+	rc = env->caps ? from_capture(env->co, R, env->caps[0]) :
+			 stream(env->co, R);
+	return rc ? rc : finish_run(env->co, R);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	(void)opts;
+	text_run(f, result);
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	(void)opts;
+	csv_run(f, result);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	(void)opts;
+	return json_run(result);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct run *R = result;
+
+	(void)opts;
 	for (size_t k = 0; k < R->nch; k++) {
 		const struct chan *c = &R->ch[k];
 		const char *u = c->col.unit_label;
 
-		ssc_summary_add(out->summary, c->col.name, "RMS (PSD integral)",
+		ssc_summary_add(rows, c->col.name, "RMS (PSD integral)",
 				c->s.rms / uscale(c), NAN, NAN, u, NULL);
 		if (c->n_peaks) {
 			char note[96];
@@ -1064,34 +1099,11 @@ static int present_run(const struct ssc_common *co, struct run *R,
 			snprintf(note, sizeof(note), "amplitude %.4g %s, %.3g x the noise floor",
 				 c->peaks[0].peak.amplitude / uscale(c), u,
 				 c->peaks[0].ratio);
-			ssc_summary_add(out->summary, c->col.name, "strongest peak",
+			ssc_summary_add(rows, c->col.name, "strongest peak",
 					c->peaks[0].peak.frequency_hz, NAN, NAN, "Hz",
 					note);
 		}
 	}
-	return SSC_EXIT_OK;
-}
-
-static int stage_run(const struct ssc_stage_env *env, void *opts,
-		     struct ssc_stage_out *out)
-{
-	struct run R;
-	int rc;
-
-	memset(&R, 0, sizeof(R));
-	R.a = *(struct args *)opts;
-	if (env->n_caps != 1) {
-		ssc_err(env->co->cmd, "one input capture at a time");
-		return SSC_EXIT_USAGE;
-	}
-	R.path = env->paths[0];
-	if (env->plot_path)
-		R.a.po.spectrogram_cols = R.a.sg_cols;
-	rc = from_capture(env->co, &R, env->caps[0]);
-	if (!rc)
-		rc = present_run(env->co, &R, env->plot_path, out);
-	free_run(&R);
-	return rc;
 }
 
 const struct ssc_stage_ops ssc_psd_stage = {
@@ -1104,38 +1116,17 @@ const struct ssc_stage_ops ssc_psd_stage = {
 	.init = init,
 	.handle = handle,
 	.check = check,
-	.run = stage_run,
+	.streams = streams,
+	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
-/* The command streams the capture (memory independent of its length)
- * rather than loading it as the generic stage driver does. */
 int ssc_cmd_psd(int argc, char **argv)
 {
-	struct ssc_common co;
-	struct ssc_stage_out out = { 0 };
-	struct run R;
-	int first, rc;
-
-	memset(&R, 0, sizeof(R));
-	init(&R.a);
-	rc = ssc_parse(&spec, argc, argv, &co, handle, &R.a, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	if (argc - first != 1)
-		return ssc_usage_error(co.cmd, argc - first < 1 ? "no input file" :
-					       "one input file at a time");
-	R.path = argv[first];
-	rc = check(&co, &R.a);
-	if (rc)
-		return rc;
-	rc = R.a.periodogram ? whole(&co, &R) : stream(&co, &R);
-	if (!rc) {
-		out.summary = json_array();
-		rc = present_run(&co, &R, co.plot, &out);
-	}
-	if (!rc)
-		rc = ssc_stage_present(&co, &out);
-	ssc_stage_out_free(&out);
-	free_run(&R);
-	return rc;
+	return ssc_stage_main(&ssc_psd_stage, argc, argv);
 }

@@ -206,7 +206,7 @@ static json_t *chan_json(const struct chan *ch, size_t n_runs)
 	const struct sscope_tempbias_result *r = ch->res;
 	json_t *o = json_object(), *fit = json_object(), *c = json_array(),
 	       *csd = json_array(), *tab = json_array(), *runs = json_array();
-	char k[16];
+	char k[48];
 
 	json_object_set_new(o, "channel", json_string(ch->name));
 	json_object_set_new(o, "unit", json_string(ch->d.label));
@@ -380,14 +380,26 @@ static void chan_text(FILE *f, const struct chan *ch, size_t n_runs)
 			ssc_fmt(a, sizeof(a), du(&ch->d, r->table_bias[i]), 6), u);
 }
 
-static int plot(const struct ssc_common *co, const char *path,
-		const struct chan *ch, size_t nch, const char *file)
+struct tb_res {
+	const char *const *paths;
+	size_t nf;
+	struct chan *ch;
+	size_t nch;
+};
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct tb_res *R = result;
+	const struct chan *ch = R->ch;
+	size_t nch = R->nch;
+	const char *file = R->paths[0];
 	size_t np = nch > 3 ? 3 : nch;
 	struct ssc_fig *fig = ssc_fig_new(1000, 120 + 620 * (int)np, 2 * (int)np, 1);
 	char buf[200];
 	int rc;
 
+	(void)opts;
 	if (!fig) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
@@ -488,17 +500,24 @@ static int plot(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *out)
+static void free_result(void *result)
+{
+	struct tb_res *R = result;
+
+	for (size_t k = 0; k < R->nch; k++)
+		sscope_tempbias_result_free(R->ch[k].res);
+	free(R->ch);
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct ssc_common *co = env->co;
 	struct opts *o = opts;
 	struct sscope_capture *c0;
 	struct sscope_tempbias_run runs[SSCOPE_TEMPBIAS_MAX_RUNS];
-	struct chan *ch = NULL;
-	struct ssc_membuf text, csv;
+	struct tb_res *R;
 	size_t nch, nf = env->n_caps;
-	json_t *root = NULL, *jch;
 	int rc = SSC_EXIT_OK;
 
 	if (nf == 0)
@@ -536,92 +555,111 @@ static int run(const struct ssc_stage_env *env, void *opts,
 		ssc_err(co->cmd, "%s: no data channel", env->paths[0]);
 		return SSC_EXIT_FAIL;
 	}
-	ch = calloc(nch, sizeof(*ch));
-	if (!ch) {
+	R = calloc(1, sizeof(*R));
+	if (R)
+		R->ch = calloc(nch, sizeof(*R->ch));
+	if (!R || !R->ch) {
+		free(R);
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
+	*result = R;
+	R->paths = env->paths;
+	R->nf = nf;
+	R->nch = nch;
 	for (size_t k = 0; k < nch && !rc; k++) {
 		struct sscope_diag d = { "" };
+		struct chan *ch = &R->ch[k];
 		int e;
 
-		ch[k].name = c0->channels[k].col.name;
-		display_unit(&c0->channels[k].col, &ch[k].d);
+		ch->name = c0->channels[k].col.name;
+		display_unit(&c0->channels[k].col, &ch->d);
 		for (size_t j = 0; j < nf; j++)
 			runs[j] = (struct sscope_tempbias_run){
 				env->caps[j]->channels[k].data, 1, env->caps[j]->temp_degc,
 				env->caps[j]->n, env->caps[j]->rate_hz };
-		e = sscope_tempbias_fit(runs, nf, &o->t, &ch[k].res, &d);
+		e = sscope_tempbias_fit(runs, nf, &o->t, &ch->res, &d);
 		if (e) {
 			char what[160];
 
 			snprintf(what, sizeof(what), "%s%s: channel %s", env->paths[0],
-				 nf > 1 ? " ..." : "", ch[k].name);
+				 nf > 1 ? " ..." : "", ch->name);
 			rc = ssc_fail(co->cmd, e, &d, what);
 		}
 	}
-	if (!rc && env->plot_path)
-		rc = plot(co, env->plot_path, ch, nch, env->paths[0]);
-	if (rc)
-		goto done;
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		ssc_err(co->cmd, "out of memory");
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	root = json_object();
-	jch = json_array();
-	json_object_set_new(root, "command", json_string("tempbias"));
-	json_object_set_new(root, "file", json_string(env->paths[0]));
-	{
-		json_t *files = json_array();
-
-		for (size_t j = 0; j < nf; j++)
-			json_array_append_new(files, json_string(env->paths[j]));
-		json_object_set_new(root, "files", files);
-	}
-	fprintf(text.f, "tempbias: %s%s (%zu file%s = power cycle%s)\n", env->paths[0],
-		nf > 1 ? " ..." : "", nf, nf > 1 ? "s" : "", nf > 1 ? "s" : "");
-	fprintf(csv.f, "channel,unit,temp_degc,bias\n");
-	for (size_t k = 0; k < nch; k++) {
-		const struct sscope_tempbias_result *r = ch[k].res;
-		char q[64];
-
-		json_array_append_new(jch, chan_json(&ch[k], nf));
-		chan_text(text.f, &ch[k], nf);
-		for (size_t i = 0; i < r->n_table; i++)
-			fprintf(csv.f, "%s,%s,%.6g,%.10g\n", ch[k].name, ch[k].d.label,
-				r->table_temp_degc[i], du(&ch[k].d, r->table_bias[i]));
-		snprintf(q, sizeof(q), "bias sensitivity at %.3g degC", r->ref_temp_degc);
-		{
-			char un[48];
-
-			snprintf(un, sizeof(un), "%s/degC", ch[k].d.label);
-			ssc_summary_add(out->summary, ch[k].name, q,
-					du(&ch[k].d, r->sensitivity),
-					du(&ch[k].d, r->sensitivity - 2 * r->sensitivity_sd),
-					du(&ch[k].d, r->sensitivity + 2 * r->sensitivity_sd),
-					un, "interval: +-2 sd");
-		}
-		ssc_summary_add(out->summary, ch[k].name, "bias peak-to-peak over the range",
-				du(&ch[k].d, r->peak_to_peak), NAN, NAN, ch[k].d.label, NULL);
-		if (r->have_split)
-			ssc_summary_add(out->summary, ch[k].name, "hysteresis (max gap)",
-					du(&ch[k].d, fabs(r->hysteresis_max)), NAN, NAN,
-					ch[k].d.label, NULL);
-		if (nf >= 2)
-			ssc_summary_add(out->summary, ch[k].name, "turn-on repeatability (1 sigma)",
-					du(&ch[k].d, r->repeat_sd), NAN, NAN, ch[k].d.label, NULL);
-	}
-	json_object_set_new(root, "channels", jch);
-	out->json = root;
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-done:
-	for (size_t k = 0; k < nch; k++)
-		sscope_tempbias_result_free(ch[k].res);
-	free(ch);
 	return rc;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct tb_res *R = result;
+	json_t *root = json_object(), *jch = json_array(), *files = json_array();
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string("tempbias"));
+	json_object_set_new(root, "file", json_string(R->paths[0]));
+	for (size_t j = 0; j < R->nf; j++)
+		json_array_append_new(files, json_string(R->paths[j]));
+	json_object_set_new(root, "files", files);
+	for (size_t k = 0; k < R->nch; k++)
+		json_array_append_new(jch, chan_json(&R->ch[k], R->nf));
+	json_object_set_new(root, "channels", jch);
+	return root;
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct tb_res *R = result;
+	size_t nf = R->nf;
+
+	(void)opts;
+	fprintf(f, "tempbias: %s%s (%zu file%s = power cycle%s)\n", R->paths[0],
+		nf > 1 ? " ..." : "", nf, nf > 1 ? "s" : "", nf > 1 ? "s" : "");
+	for (size_t k = 0; k < R->nch; k++)
+		chan_text(f, &R->ch[k], nf);
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct tb_res *R = result;
+
+	(void)opts;
+	fprintf(f, "channel,unit,temp_degc,bias\n");
+	for (size_t k = 0; k < R->nch; k++) {
+		const struct sscope_tempbias_result *r = R->ch[k].res;
+
+		for (size_t i = 0; i < r->n_table; i++)
+			fprintf(f, "%s,%s,%.6g,%.10g\n", R->ch[k].name, R->ch[k].d.label,
+				r->table_temp_degc[i], du(&R->ch[k].d, r->table_bias[i]));
+	}
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct tb_res *R = result;
+
+	(void)opts;
+	for (size_t k = 0; k < R->nch; k++) {
+		const struct chan *ch = &R->ch[k];
+		const struct sscope_tempbias_result *r = ch->res;
+		char q[64], un[48];
+
+		snprintf(q, sizeof(q), "bias sensitivity at %.3g degC", r->ref_temp_degc);
+		snprintf(un, sizeof(un), "%s/degC", ch->d.label);
+		ssc_summary_add(rows, ch->name, q, du(&ch->d, r->sensitivity),
+				du(&ch->d, r->sensitivity - 2 * r->sensitivity_sd),
+				du(&ch->d, r->sensitivity + 2 * r->sensitivity_sd),
+				un, "interval: +-2 sd");
+		ssc_summary_add(rows, ch->name, "bias peak-to-peak over the range",
+				du(&ch->d, r->peak_to_peak), NAN, NAN, ch->d.label, NULL);
+		if (r->have_split)
+			ssc_summary_add(rows, ch->name, "hysteresis (max gap)",
+					du(&ch->d, fabs(r->hysteresis_max)), NAN, NAN,
+					ch->d.label, NULL);
+		if (R->nf >= 2)
+			ssc_summary_add(rows, ch->name, "turn-on repeatability (1 sigma)",
+					du(&ch->d, r->repeat_sd), NAN, NAN, ch->d.label, NULL);
+	}
 }
 
 const struct ssc_stage_ops ssc_tempbias_stage = {
@@ -634,6 +672,12 @@ const struct ssc_stage_ops ssc_tempbias_stage = {
 	.init = init,
 	.handle = handler,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_tempbias(int argc, char **argv)

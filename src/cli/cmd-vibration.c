@@ -447,9 +447,22 @@ static void marker(struct ssc_ax *ax, double x, uint32_t color,
 	ssc_ax_vline(ax, x, &st, label);
 }
 
-static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
-		const struct args *a, const struct chres *cr, size_t nch)
+struct vib_res {
+	const char *path;
+	const struct sscope_capture *cap;
+	struct args a;     /* the options as run (overlap resolved) */
+	struct chres *cr;
+	size_t n;
+};
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct vib_res *R = result;
+	const struct sscope_capture *cap = R->cap;
+	const struct args *a = &R->a;
+	const struct chres *cr = R->cr;
+	size_t nch = R->n;
 	size_t np = nch < 3 ? nch : 3;
 	bool env = cr[0].r.have_bearing;
 	int rows = (int)(np * (env ? 2 : 1)), row = 0, rc;
@@ -458,7 +471,12 @@ static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
 
 	if (!fig)
 		return SSC_EXIT_FAIL;
-	snprintf(buf, sizeof(buf), "%s: vibration", co->plot ? cap->source : "");
+	(void)opts;
+	if (!nch) {
+		ssc_fig_free(fig);
+		return SSC_EXIT_OK;
+	}
+	snprintf(buf, sizeof(buf), "%s: vibration", R->path);
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < np; k++) {
 		const struct sscope_vib_result *r = &cr[k].r;
@@ -587,10 +605,10 @@ static int plot(const struct ssc_common *co, const struct sscope_capture *cap,
 			free(ea);
 		}
 	}
-	rc = ssc_fig_save(fig, co->plot);
+	rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
 	if (rc)
-		return ssc_write_failed(co->cmd, co->plot, rc);
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
@@ -603,7 +621,7 @@ static void init(void *opts)
 	a->overlap = 0.5;
 }
 
-static int check(const struct ssc_common *co, void *opts)
+static int check(struct ssc_common *co, void *opts)
 {
 	struct args *a = opts;
 
@@ -616,17 +634,25 @@ static int check(const struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *out)
+static void free_result(void *result)
+{
+	struct vib_res *R = result;
+
+	for (size_t k = 0; k < R->n; k++)
+		if (R->cr[k].done)
+			sscope_vib_result_clear(&R->cr[k].r);
+	free(R->cr);
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct ssc_common *co = env->co;
-	struct args a = *(struct args *)opts;
+	struct vib_res *R;
+	struct args *a;
 	struct sscope_capture *cap;
 	const char *path;
-	struct chres *cr = NULL;
-	struct ssc_membuf text, csv;
-	json_t *chs, *dg;
-	int rc = SSC_EXIT_OK;
+	int rc;
 
 	if (env->n_caps != 1) {
 		ssc_err(co->cmd, "one input capture at a time");
@@ -642,107 +668,122 @@ static int run(const struct ssc_stage_env *env, void *opts,
 			path);
 		return SSC_EXIT_FAIL;
 	}
-	if (a.vo.psd.nperseg)
-		a.vo.psd.noverlap = (size_t)floor(a.overlap * (double)a.vo.psd.nperseg);
-	else if (a.overlap != 0.5)
-		a.vo.psd.noverlap = (size_t)floor(a.overlap *
-			(double)sscope_vib_default_nperseg(cap->n));
-	if (a.vo.psd.nperseg == 0 && a.overlap != 0.5)
-		a.vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
-	cr = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*cr));
-	if (!cr) {
+	R = calloc(1, sizeof(*R));
+	if (R)
+		R->cr = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*R->cr));
+	if (!R || !R->cr) {
+		free(R);
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t k = 0; k < cap->n_channels; k++) {
+	*result = R;
+	R->path = path;
+	R->cap = cap;
+	R->a = *(struct args *)opts;
+	a = &R->a;
+	if (a->vo.psd.nperseg)
+		a->vo.psd.noverlap = (size_t)floor(a->overlap * (double)a->vo.psd.nperseg);
+	else if (a->overlap != 0.5)
+		a->vo.psd.noverlap = (size_t)floor(a->overlap *
+			(double)sscope_vib_default_nperseg(cap->n));
+	if (a->vo.psd.nperseg == 0 && a->overlap != 0.5)
+		a->vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
+	for (size_t k = 0; k < cap->n_channels; k++, R->n++) {
 		const struct sscope_column *col = &cap->channels[k].col;
 		struct sscope_diag d = { "" };
 
-		cr[k].col = col;
+		R->cr[k].col = col;
 		if (col->quantity != SSCOPE_QTY_ACCELERATION) {
-			ssc_err(co->cmd, "%s: channel %s %s%s%s: not an acceleration (select accelerometer channels with -c; -u m/s^2 or g for unlabelled columns)",
+			ssc_err(co->cmd, "%s: channel %s %s%s: not an acceleration (select accelerometer channels with -c; -u m/s^2 or g for unlabelled columns)",
 				path, col->name, col->unit_label[0] ? "is in " : "has no unit",
-				col->unit_label, "");
-			rc = SSC_EXIT_FAIL;
-			goto done;
+				col->unit_label);
+			return SSC_EXIT_FAIL;
 		}
 		rc = sscope_vibration_analyze(cap->channels[k].data, 1, cap->n,
-					      cap->rate_hz, &a.vo, &cr[k].r, &d);
+					      cap->rate_hz, &a->vo, &R->cr[k].r, &d);
 		if (rc) {
 			ssc_err(co->cmd, "%s: channel %s: %s", path, col->name,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
-			rc = rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-			goto done;
+			return rc == -EINVAL ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 		}
-		cr[k].done = true;
+		R->cr[k].done = true;
 	}
-	if (cap->n_channels && a.vo.iso_hi_hz > cap->rate_hz / 2)
+	if (cap->n_channels && a->vo.iso_hi_hz > cap->rate_hz / 2)
 		ssc_warn(co, "%s: the velocity band ends at the Nyquist frequency %g Hz, not %g Hz",
-			 path, cap->rate_hz / 2, a.vo.iso_hi_hz);
-	if (env->plot_path) {
-		struct ssc_common pco = *co;
+			 path, cap->rate_hz / 2, a->vo.iso_hi_hz);
+	return SSC_EXIT_OK;
+}
 
-		pco.plot = env->plot_path;
-		rc = plot(&pco, cap, &a, cr, cap->n_channels);
-		if (rc)
-			goto done;
-	}
-	out->json = json_object();
-	chs = json_array();
-	dg = json_array();
-	json_object_set_new(out->json, "command", json_string("vibration"));
-	json_object_set_new(out->json, "file", json_string(path));
-	json_object_set_new(out->json, "iso_edition", json_string(sscope_iso_edition()));
-	for (size_t k = 0; k < cap->n_channels; k++)
-		json_array_append_new(chs, json_channel(cap, &a, &cr[k], dg));
-	json_object_set_new(out->json, "channels", chs);
-	json_object_set_new(out->json, "diagnosis", dg);
-	if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	fprintf(csv.f, "file,channel,unit,rate_hz,samples,rms,velocity_rms_mm_s,zone,kurtosis,findings\n");
-	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_vib_result *r = &cr[k].r;
+static json_t *json(const void *opts, const void *result)
+{
+	const struct vib_res *R = result;
+	json_t *o = json_object(), *chs = json_array(), *dg = json_array();
 
-		fprintf(csv.f, "%s,%s,%s,%.15g,%zu,%.15g,%.15g,%s%c,%.15g,", path,
-			cr[k].col->name, cr[k].col->unit_label, cap->rate_hz, cap->n,
-			r->accel_rms_m_s2 / usc(cr[k].col), r->velocity_rms_m_s * 1e3,
-			"", r->zone ? r->zone : '-', r->kurtosis);
+	(void)opts;
+	json_object_set_new(o, "command", json_string("vibration"));
+	json_object_set_new(o, "file", json_string(R->path));
+	json_object_set_new(o, "iso_edition", json_string(sscope_iso_edition()));
+	for (size_t k = 0; k < R->n; k++)
+		json_array_append_new(chs, json_channel(R->cap, &R->a, &R->cr[k], dg));
+	json_object_set_new(o, "channels", chs);
+	json_object_set_new(o, "diagnosis", dg);
+	return o;
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct vib_res *R = result;
+
+	(void)opts;
+	fprintf(f, "file,channel,unit,rate_hz,samples,rms,velocity_rms_mm_s,zone,kurtosis,findings\n");
+	for (size_t k = 0; k < R->n; k++) {
+		const struct sscope_vib_result *r = &R->cr[k].r;
+
+		fprintf(f, "%s,%s,%s,%.15g,%zu,%.15g,%.15g,%c,%.15g,", R->path,
+			R->cr[k].col->name, R->cr[k].col->unit_label, R->cap->rate_hz,
+			R->cap->n, r->accel_rms_m_s2 / usc(R->cr[k].col),
+			r->velocity_rms_m_s * 1e3, r->zone ? r->zone : '-',
+			r->kurtosis);
 		for (size_t i = 0; i < r->n_findings; i++)
-			fprintf(csv.f, "%s%s", i ? ";" : "", r->findings[i].finding);
-		fputc('\n', csv.f);
+			fprintf(f, "%s%s", i ? ";" : "", r->findings[i].finding);
+		fputc('\n', f);
 	}
-	fprintf(text.f, "%s\n", strcmp(path, "-") ? path : "(stdin)");
-	fprintf(text.f, "  rate: %g Hz, %zu samples; spectrum: %s window, nperseg %zu (%.3g Hz bins)\n",
-		cap->rate_hz, cap->n, sscope_window_name(a.vo.psd.window),
-		cap->n_channels ? cr[0].r.accel.nperseg : 0,
-		cap->n_channels ? cr[0].r.accel.bin_hz : 0.0);
-	fprintf(text.f, "  severity zones: %s\n", sscope_iso_edition());
-	for (size_t k = 0; k < cap->n_channels; k++)
-		text_channel(text.f, &a, &cr[k]);
-	out->text = ssc_membuf_take(&text);
-	out->csv = ssc_membuf_take(&csv);
-	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_vib_result *r = &cr[k].r;
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct vib_res *R = result;
+
+	(void)opts;
+	fprintf(f, "%s\n", strcmp(R->path, "-") ? R->path : "(stdin)");
+	fprintf(f, "  rate: %g Hz, %zu samples; spectrum: %s window, nperseg %zu (%.3g Hz bins)\n",
+		R->cap->rate_hz, R->cap->n, sscope_window_name(R->a.vo.psd.window),
+		R->n ? R->cr[0].r.accel.nperseg : 0,
+		R->n ? R->cr[0].r.accel.bin_hz : 0.0);
+	fprintf(f, "  severity zones: %s\n", sscope_iso_edition());
+	for (size_t k = 0; k < R->n; k++)
+		text_channel(f, &R->a, &R->cr[k]);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct vib_res *R = result;
+
+	(void)opts;
+	for (size_t k = 0; k < R->n; k++) {
+		const struct sscope_vib_result *r = &R->cr[k].r;
 		char note[64] = "";
 
 		if (r->zone)
 			snprintf(note, sizeof(note), "ISO 10816 zone %c", r->zone);
-		ssc_summary_add(out->summary, cr[k].col->name, "velocity RMS",
+		ssc_summary_add(rows, R->cr[k].col->name, "velocity RMS",
 				r->velocity_rms_m_s * 1e3, NAN, NAN, "mm/s", note);
-		ssc_summary_add(out->summary, cr[k].col->name, "kurtosis",
+		ssc_summary_add(rows, R->cr[k].col->name, "kurtosis",
 				r->kurtosis, NAN, NAN, "", NULL);
 		for (size_t i = 0; i < r->n_findings; i++)
-			ssc_summary_add(out->summary, cr[k].col->name, "finding",
+			ssc_summary_add(rows, R->cr[k].col->name, "finding",
 					NAN, NAN, NAN, "", r->findings[i].finding);
 	}
-done:
-	for (size_t k = 0; cr && k < cap->n_channels; k++)
-		if (cr[k].done)
-			sscope_vib_result_clear(&cr[k].r);
-	free(cr);
-	return rc;
 }
 
 const struct ssc_stage_ops ssc_vibration_stage = {
@@ -756,6 +797,12 @@ const struct ssc_stage_ops ssc_vibration_stage = {
 	.handle = handle,
 	.check = check,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_vibration(int argc, char **argv)

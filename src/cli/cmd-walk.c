@@ -276,7 +276,8 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 			return SSC_EXIT_FAIL;
 		}
 		c->allan = *p;
-		c->terms_from = o->allan ? "allan result" : "the allan stage";
+		/* the same words for a file and the scene's stage */
+		c->terms_from = "allan result";
 		c->terms = c->allan;
 	} else {
 		rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan,
@@ -445,9 +446,20 @@ static void chan_text(FILE *f, const struct opts *o, const struct chan *c)
 	}
 }
 
-static int plot(const char *cmd, const char *path, const struct opts *o,
-		struct chan *ch, size_t n)
+struct walk_res {
+	const char *path;
+	struct opts o;
+	struct chan *ch;
+	size_t n;
+};
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *path)
 {
+	const struct walk_res *R = result;
+	const struct opts *o = &R->o;
+	const struct chan *ch = R->ch;
+	size_t n = R->n;
 	size_t rows = n < 3 ? n : 3;
 	struct ssc_fig *fig = ssc_fig_new(1100, (int)(rows * 560 + 60), (int)rows, 1);
 	int rc = 0;
@@ -512,125 +524,154 @@ static int plot(const char *cmd, const char *path, const struct opts *o,
 		free(y);
 		free(lo);
 	}
+	(void)opts;
 	if (!rc)
 		rc = ssc_fig_save(fig, path);
 	ssc_fig_free(fig);
-	if (rc) {
-		ssc_err(cmd, "%s: %s", path, sscope_strerror(rc));
-		return rc == -ENOTSUP ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
-	}
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
 	return SSC_EXIT_OK;
 }
 
-static int run(const struct ssc_stage_env *env, void *opts,
-	       struct ssc_stage_out *sout)
+static void free_result(void *result)
+{
+	struct walk_res *R = result;
+
+	for (size_t i = 0; i < R->n; i++)
+		sscope_walk_result_free(R->ch[i].w);
+	free(R->ch);
+	free(R);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const char *cmd = env->co->cmd, *path = env->paths[0];
 	const struct opts *o = opts;
 	const struct sscope_capture *cap = env->caps[0];
-	struct chan *ch = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*ch));
+	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
+	struct walk_res *R = calloc(1, sizeof(*R));
 	struct ssc_nav_terms *given = NULL;
-	size_t n = 0, n_given = 0;
+	size_t n_given = 0;
 	int rc = 0;
 
-	if (!ch) {
+	if (R)
+		R->ch = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*R->ch));
+	if (!R || !R->ch) {
+		free(R);
 		ssc_err(cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
+	*result = R;
+	R->path = path;
+	R->o = *o;
+	rc = ssc_time_check(env->co, path, cap, true);
+	if (rc)
+		goto done;
 	if (!(cap->rate_hz > 0)) {
 		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
 		rc = SSC_EXIT_FAIL;
 		goto done;
 	}
-	if (o->allan || (env->upstream && json_object_get(env->upstream, "allan"))) {
+	if (o->allan) {
 		json_t *root = NULL;
 
-		if (o->allan)
-			rc = ssc_nav_load_json(cmd, "from-allan", o->allan, &root);
+		rc = ssc_nav_load_json(cmd, "from-allan", o->allan, &root);
 		if (!rc)
-			rc = ssc_nav_terms_from_allan(cmd, root ? root :
-							    json_object_get(env->upstream, "allan"),
-						      o->allan ? o->allan : "the allan stage",
-						      &given, &n_given);
+			rc = ssc_nav_terms_from_allan(cmd, root, o->allan, &given,
+						      &n_given);
 		json_decref(root);
-		if (rc)
-			goto done;
+	} else if (up) {
+		rc = ssc_nav_terms_from_allan_res(cmd, up->data, "the allan stage",
+						  &given, &n_given);
 	}
+	if (rc)
+		goto done;
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		enum sscope_quantity q = cap->channels[k].col.quantity;
 
 		if (q != SSCOPE_QTY_ANGULAR_RATE && q != SSCOPE_QTY_ACCELERATION)
 			continue;
-		rc = analyse(env, o, path, cap, k, given, n_given, &ch[n]);
+		rc = analyse(env, o, path, cap, k, given, n_given, &R->ch[R->n]);
+		if (R->ch[R->n].w)
+			R->n++;
 		if (rc)
 			goto done;
-		n++;
 	}
-	if (!n) {
+	if (!R->n) {
 		ssc_err(cmd, "%s: no angular-rate or acceleration channel (give units, e.g. 'gx [deg/s]' or -u deg/s)",
 			path);
 		rc = SSC_EXIT_FAIL;
-		goto done;
-	}
-	if (env->plot_path) {
-		rc = plot(cmd, env->plot_path, o, ch, n);
-		if (rc)
-			goto done;
-	}
-	{
-		json_t *root = json_object(), *a = json_array();
-		struct ssc_membuf text, csv;
-
-		json_object_set_new(root, "command", json_string("walk"));
-		json_object_set_new(root, "file", json_string(path));
-		for (size_t i = 0; i < n; i++)
-			json_array_append_new(a, chan_json(o, &ch[i]));
-		json_object_set_new(root, "channels", a);
-		sout->json = root;
-		if (ssc_membuf_open(&text) || ssc_membuf_open(&csv)) {
-			ssc_err(cmd, "out of memory");
-			rc = SSC_EXIT_FAIL;
-			goto done;
-		}
-		fprintf(csv.f, "channel,t_s,sigma,spread,inside,unit\n");
-		for (size_t i = 0; i < n; i++) {
-			const struct sscope_walk_result *w = ch[i].w;
-			double s = angle_scale(ch[i].col->quantity);
-
-			if (i)
-				fputc('\n', text.f);
-			chan_text(text.f, o, &ch[i]);
-			for (size_t k = 1; k < w->n_points; k++)
-				fprintf(csv.f, "%s,%.10g,%.8g,%.8g,%.6g,%s\n", ch[i].col->name,
-					(double)k * w->dt_s, w->sigma[k] * s, w->spread[k] * s,
-					w->inside[k], angle_unit(ch[i].col->quantity));
-			{
-				const struct sscope_walk_implied *im = &ch[i].im[ch[i].n_idx - 1];
-				const char *u;
-				enum sscope_quantity q = ch[i].col->quantity;
-
-				ssc_summary_add(sout->summary, ch[i].col->name,
-						"runs inside +-2 sigma (mean over time)",
-						100 * w->inside_mean, NAN, NAN, "%",
-						"expected 95.45 %");
-				double nv = ssc_nav_term_value(im->n, q, SSCOPE_TERM_N, &u);
-				double nl = ssc_nav_term_value(im->lo, q, SSCOPE_TERM_N, &u);
-				double nh = ssc_nav_term_value(im->hi, q, SSCOPE_TERM_N, &u);
-
-				ssc_summary_add(sout->summary, ch[i].col->name,
-						"N implied by the fan", nv, nl, nh, u,
-						"spread of the runs at their end");
-			}
-		}
-		sout->text = ssc_membuf_take(&text);
-		sout->csv = ssc_membuf_take(&csv);
 	}
 done:
-	for (size_t i = 0; i < n; i++)
-		sscope_walk_result_free(ch[i].w);
-	free(ch);
 	free(given);
 	return rc;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	const struct walk_res *R = result;
+	json_t *root = json_object(), *a = json_array();
+
+	(void)opts;
+	json_object_set_new(root, "command", json_string("walk"));
+	json_object_set_new(root, "file", json_string(R->path));
+	for (size_t i = 0; i < R->n; i++)
+		json_array_append_new(a, chan_json(&R->o, &R->ch[i]));
+	json_object_set_new(root, "channels", a);
+	return root;
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	const struct walk_res *R = result;
+
+	(void)opts;
+	for (size_t i = 0; i < R->n; i++) {
+		if (i)
+			fputc('\n', f);
+		chan_text(f, &R->o, &R->ch[i]);
+	}
+}
+
+static void csv(FILE *f, const void *opts, const void *result)
+{
+	const struct walk_res *R = result;
+
+	(void)opts;
+	fprintf(f, "channel,t_s,sigma,spread,inside,unit\n");
+	for (size_t i = 0; i < R->n; i++) {
+		const struct sscope_walk_result *w = R->ch[i].w;
+		double s = angle_scale(R->ch[i].col->quantity);
+
+		for (size_t k = 1; k < w->n_points; k++)
+			fprintf(f, "%s,%.10g,%.8g,%.8g,%.6g,%s\n", R->ch[i].col->name,
+				(double)k * w->dt_s, w->sigma[k] * s, w->spread[k] * s,
+				w->inside[k], angle_unit(R->ch[i].col->quantity));
+	}
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	const struct walk_res *R = result;
+
+	(void)opts;
+	for (size_t i = 0; i < R->n; i++) {
+		const struct chan *c = &R->ch[i];
+		const struct sscope_walk_implied *im = &c->im[c->n_idx - 1];
+		enum sscope_quantity q = c->col->quantity;
+		const char *u;
+		double nv, nl, nh;
+
+		ssc_summary_add(rows, c->col->name,
+				"runs inside +-2 sigma (mean over time)",
+				100 * c->w->inside_mean, NAN, NAN, "%",
+				"expected 95.45 %");
+		nv = ssc_nav_term_value(im->n, q, SSCOPE_TERM_N, &u);
+		nl = ssc_nav_term_value(im->lo, q, SSCOPE_TERM_N, &u);
+		nh = ssc_nav_term_value(im->hi, q, SSCOPE_TERM_N, &u);
+		ssc_summary_add(rows, c->col->name, "N implied by the fan", nv, nl,
+				nh, u, "spread of the runs at their end");
+	}
 }
 
 const struct ssc_stage_ops ssc_walk_stage = {
@@ -643,6 +684,12 @@ const struct ssc_stage_ops ssc_walk_stage = {
 	.init = init,
 	.handle = handler,
 	.run = run,
+	.json = json,
+	.text = text,
+	.csv = csv,
+	.summary = summary,
+	.plot = plot,
+	.free_result = free_result,
 };
 
 int ssc_cmd_walk(int argc, char **argv)

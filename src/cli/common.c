@@ -435,6 +435,14 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 	      int (*handler)(int key, const char *arg, void *ctx), void *ctx,
 	      int *first)
 {
+	return ssc_parse_where(spec, argc, argv, NULL, co, handler, ctx, first);
+}
+
+int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
+		    const char *const *where, struct ssc_common *co,
+		    int (*handler)(int key, const char *arg, void *ctx),
+		    void *ctx, int *first)
+{
 	size_t n = count_opts(spec->options) + count_opts(analysis_opts) +
 		   count_opts(output_opts) + 1;
 	struct option *lo = calloc(n, sizeof(*lo));
@@ -596,7 +604,13 @@ int ssc_parse(const struct ssc_command_spec *spec, int argc, char **argv,
 				rc = ssc_usage_error(spec->name, "unexpected option");
 				goto out;
 			}
+			/* a scene writes one "--key=value" per key: its line
+			 * is where argv[optind - 1] came from */
+			if (where && optind >= 1 && where[optind - 1])
+				ssc_set_context(where[optind - 1]);
 			rc = handler(c, optarg, ctx);
+			if (where)
+				ssc_set_context(NULL);
 			if (rc)
 				goto out;
 			break;
@@ -690,8 +704,10 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	int rc;
 
 	ssc_read_opts(co, &o);
+	/* the reader reads only the columns -c names; with a calibration
+	 * every channel, since triads need all three */
 	if (co->calibration)
-		o.columns = NULL; /* triads need all their channels; -c later */
+		o.columns = NULL;
 	else
 		o.in_place = true; /* (calibration drops channels: copies) */
 	if (ssc_progress_on(co)) {
@@ -704,13 +720,13 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		return ssc_fail(co->cmd, rc, &d, path);
 	if ((*cap)->unterminated)
 		ssc_warn_unterminated(co, path, (*cap)->n);
-	if (co->calibration) {
-		rc = ssc_calibration_apply(co, path, *cap);
-		if (rc) {
-			sscope_capture_free(*cap);
-			*cap = NULL;
-			return rc;
-		}
+	rc = co->calibration ? ssc_calibration_apply(co, path, *cap) : 0;
+	if (!rc)
+		rc = ssc_select(co, *cap);
+	if (rc) {
+		sscope_capture_free(*cap);
+		*cap = NULL;
+		return rc;
 	}
 	{
 		struct sscope_diag h = { "" };
@@ -718,16 +734,28 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		if (sscope_capture_check_rate(*cap, &h))
 			ssc_warn(co, "%s: %s", path, h.msg);
 	}
-	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->time_s &&
-	    (*cap)->n > 2) {
-		double span = (*cap)->time_s[(*cap)->n - 1] - (*cap)->time_s[0];
-		double implied = (double)((*cap)->n - 1) / span;
-
-		if (span > 0 && fabs(implied / co->rate_hz - 1) > 0.01)
-			ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
-				 path, co->rate_hz, implied);
-	}
+	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->has_timing &&
+	    fabs((*cap)->timing.rate_hz / co->rate_hz - 1) > 0.01)
+		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
+			 path, co->rate_hz, (*cap)->timing.rate_hz);
 	return SSC_EXIT_OK;
+}
+
+int ssc_select(const struct ssc_common *co, struct sscope_capture *cap)
+{
+	struct sscope_diag d = { "" };
+	int rc = sscope_capture_select(cap, co->columns, &d);
+
+	return rc ? ssc_fail(co->cmd, rc, &d, cap->source) : SSC_EXIT_OK;
+}
+
+int ssc_view(const struct ssc_common *co, const struct sscope_capture *cap,
+	     struct sscope_capture **view)
+{
+	struct sscope_diag d = { "" };
+	int rc = sscope_capture_view(cap, co->columns, view, &d);
+
+	return rc ? ssc_fail(co->cmd, rc, &d, cap->source) : SSC_EXIT_OK;
 }
 
 void ssc_warn_unterminated(const struct ssc_common *co, const char *path,

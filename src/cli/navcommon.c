@@ -3,6 +3,7 @@
  * Helpers of the navigation commands (see navcommon.h).
  */
 #include "navcommon.h"
+#include "results.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -123,6 +124,68 @@ int ssc_nav_terms_from_allan(const char *cmd, const json_t *root,
 	return SSC_EXIT_OK;
 }
 
+/* One channel of a typed allan result: the terms its JSON carries. */
+static int terms_of_chan(const struct ssc_allan_chan *c, double ci_level,
+			 struct ssc_nav_terms *t)
+{
+	const struct sscope_noise_fit *ft = &c->res->fit;
+	const struct sscope_noise_coef *cn = &ft->coef[SSCOPE_TERM_N];
+
+	memset(t, 0, sizeof(*t));
+	t->n_lo = t->n_hi = (double)NAN;
+	if (c->u.rq != SSCOPE_QTY_ANGULAR_RATE &&
+	    c->u.rq != SSCOPE_QTY_ACCELERATION)
+		return -1;
+	t->quantity = c->u.rq;
+	snprintf(t->name, sizeof(t->name), "%s", c->col->name);
+	t->ci_level = ci_level;
+	for (int i = 0; i < 5; i++) {
+		const struct sscope_noise_coef *cf = &ft->coef[i];
+
+		if (cf->fitted && cf->value > 0) {
+			t->coef[i] = cf->value;
+			t->have = true;
+		}
+	}
+	if (t->coef[SSCOPE_TERM_N] > 0 && isfinite(cn->lo) && isfinite(cn->hi)) {
+		t->n_lo = cn->lo;
+		t->n_hi = cn->hi;
+	}
+	return t->have ? 0 : -1;
+}
+
+int ssc_nav_terms_from_allan_res(const char *cmd,
+				 const struct ssc_allan_res *a,
+				 const char *what, struct ssc_nav_terms **out,
+				 size_t *n)
+{
+	struct ssc_nav_terms *t;
+	size_t cap = 0;
+
+	*out = NULL;
+	*n = 0;
+	for (size_t f = 0; f < a->n_files; f++)
+		cap += a->fr[f].n_ch;
+	t = calloc(cap ? cap : 1, sizeof(*t));
+	if (!t) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t f = 0; f < a->n_files; f++)
+		for (size_t k = 0; k < a->fr[f].n_ch; k++)
+			if (a->fr[f].ch[k].res &&
+			    terms_of_chan(&a->fr[f].ch[k], a->ci_level, &t[*n]) == 0)
+				(*n)++;
+	if (*n == 0) {
+		free(t);
+		ssc_err(cmd, "%s: no gyro or accelerometer channel with fitted noise terms",
+			what);
+		return SSC_EXIT_FAIL;
+	}
+	*out = t;
+	return SSC_EXIT_OK;
+}
+
 const struct ssc_nav_terms *ssc_nav_terms_pick(const struct ssc_nav_terms *t,
 					       size_t n, const char *name,
 					       enum sscope_quantity q)
@@ -176,6 +239,28 @@ int ssc_nav_calib_errors(const json_t *root, const char *kind, double bias[3],
 				M[a][c] = a == c ?
 						  1e-6 * json_number_value(json_array_get(sf, a)) :
 						  json_number_value(json_array_get(json_array_get(mis, a), c));
+		}
+		return 0;
+	}
+	return 1;
+}
+
+int ssc_nav_calib_errors_res(const struct ssc_calib_res *c, const char *kind,
+			     double bias[3], double M[3][3])
+{
+	for (int k = 0; k < c->n_out; k++) {
+		const struct ssc_calib_triad_out *o = &c->out[k];
+
+		if (strcmp(o->t.kind, kind) || !o->error_model)
+			continue;
+		for (size_t a = 0; a < 3; a++) {
+			bias[a] = o->t.c.bias[a];
+			for (size_t j = 0; j < 3; j++)
+				/* as its JSON says: no scale factor without
+				 * its uncertainty */
+				M[a][j] = a != j ? o->A[a][j] :
+					  isfinite(o->t.c.scale_sd[a]) ?
+					  o->A[a][a] - 1 : 0;
 		}
 		return 0;
 	}

@@ -26,6 +26,13 @@ int ssc_nav_terms_from_allan(const char *cmd, const json_t *root,
 			     const char *what, struct ssc_nav_terms **out,
 			     size_t *n);
 
+/* The same from the allan stage's typed result (a scene's upstream). */
+struct ssc_allan_res;
+int ssc_nav_terms_from_allan_res(const char *cmd,
+				 const struct ssc_allan_res *a,
+				 const char *what, struct ssc_nav_terms **out,
+				 size_t *n);
+
 /* A library failure about @p path: "path: detail" (or the error's text);
  * returns the exit code (ssc_fail's). */
 int ssc_nav_fail(const char *cmd, int rc, const struct sscope_diag *d,
@@ -50,6 +57,11 @@ void ssc_nav_terms_from_spec(const struct sscope_sensor_spec *s,
  * result has no such triad or no error model (bias in counts). */
 int ssc_nav_calib_errors(const json_t *root, const char *kind, double bias[3],
 			 double M[3][3]);
+
+/* The same from the calib stage's typed result. */
+struct ssc_calib_res;
+int ssc_nav_calib_errors_res(const struct ssc_calib_res *c, const char *kind,
+			     double bias[3], double M[3][3]);
 
 /* "V" or "V,V,V" with units, each converted to @p si; one value is used
  * for every axis.  Prints usage errors; returns an exit code. */

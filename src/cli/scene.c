@@ -32,18 +32,18 @@ enum {
 };
 
 static const struct ssc_stage_def stages[] = {
-	[S_INFO] = { "info", &ssc_info_stage, 0,
+	[S_INFO] = { "info", &ssc_info_stage, 0, NULL,
 		     "Sample rate: from --rate, else the time column (mean of the "
 		     "regular intervals; gaps are intervals longer than 1.5 times "
 		     "the median), else a '# rate:' header comment." },
-	[S_PSD] = { "psd", &ssc_psd_stage, 0,
+	[S_PSD] = { "psd", &ssc_psd_stage, 0, NULL,
 		    "One-sided power spectral density by Welch's method with "
 		    "scipy.signal.welch's conventions: DFT-even window, per-segment "
 		    "detrending, density = |X|^2 / (fs sum w^2) in unit^2/Hz; RMS is "
 		    "the square root of its integral (Parseval). Peak frequency and "
 		    "amplitude are interpolated by a least-squares fit of the "
 		    "window's exact response to five bins." },
-	[S_VIBRATION] = { "vibration", &ssc_vibration_stage, 0,
+	[S_VIBRATION] = { "vibration", &ssc_vibration_stage, 0, NULL,
 			  "Velocity RMS: frequency-domain integration of the "
 			  "acceleration PSD over 10-1000 Hz; severity zones of ISO "
 			  "10816-1:1995 Annex B. Shaft orders n x rpm/60; bearing "
@@ -51,7 +51,7 @@ static const struct ssc_stage_def stages[] = {
 			  "BPFI = (n/2) fr (1 + d/D cos phi), BSF, FTF; envelope "
 			  "spectrum = |Hilbert| of the band-passed signal; kurtosis "
 			  "3 for Gaussian noise." },
-	[S_ALLAN] = { "allan", &ssc_allan_stage, 0,
+	[S_ALLAN] = { "allan", &ssc_allan_stage, 0, NULL,
 		      "Overlapping Allan deviation (NIST SP 1065) with "
 		      "Greenhall-Riley equivalent degrees of freedom and "
 		      "chi-squared intervals; IEEE 952-1997 terms from "
@@ -59,7 +59,7 @@ static const struct ssc_stage_def stages[] = {
 		      "K^2 tau/3 + R^2 tau^2/2, fitted by weighted least squares "
 		      "with AIC term selection; intervals from the fit "
 		      "covariance." },
-	[S_TEMPBIAS] = { "tempbias", &ssc_tempbias_stage, 0,
+	[S_TEMPBIAS] = { "tempbias", &ssc_tempbias_stage, 0, NULL,
 			 "Bias b(T) by weighted least squares (QR, GSL) in the "
 			 "centred and scaled temperature, one offset per power "
 			 "cycle, heating/cooling and dT/dt terms; order by an F "
@@ -67,14 +67,14 @@ static const struct ssc_stage_def stages[] = {
 			 "turn-on repeatability = sd of the per-cycle offsets; "
 			 "in-run stability = minimum Allan deviation of the "
 			 "compensated residuals." },
-	[S_INCLINO] = { "inclino", &ssc_inclino_stage, 0,
+	[S_INCLINO] = { "inclino", &ssc_inclino_stage, 0, "inclino calibrate",
 			"Roll = atan2(ay, az), pitch = atan2(-ax, sqrt(ay^2 + "
 			"az^2)); per temperature node a least-squares fit of "
 			"offset, scale and cross-coupling to the reference "
 			"tilts; look-up table interpolated linearly (or by "
 			"cubic spline) in temperature, clamped outside the "
 			"calibrated range." },
-	[S_ADC] = { "adc", &ssc_adc_stage, 0,
+	[S_ADC] = { "adc", &ssc_adc_stage, 0, "adc report",
 		    "LSB q = range / 2^bits; white quantization noise q^2/12 "
 		    "(rate rounding: AVAR q^2 / (12 fs tau); integrating: "
 		    "3 Q^2 / tau^2 with Q = q / sqrt(12)) added to the "
@@ -83,7 +83,7 @@ static const struct ssc_stage_def stages[] = {
 		    "loses; offset and reference drift over the spec's "
 		    "temperature range; Monte Carlo: simulate, digitize, "
 		    "refit N, B, K and compare." },
-	[S_CALIB] = { "calib", &ssc_calib_stage, 0,
+	[S_CALIB] = { "calib", &ssc_calib_stage, 0, NULL,
 		      "Error model corrected = T K (reading - bias) (Tedaldi, "
 		      "Pretto & Menegatti, ICRA 2014): static intervals found by "
 		      "a variance threshold, accelerometer parameters by "
@@ -91,12 +91,13 @@ static const struct ssc_stage_def stages[] = {
 		      "matching the rotation of gravity between poses; "
 		      "uncertainties s^2 (J^T J)^-1." },
 	[S_BUDGET] = { "budget", &ssc_budget_stage, (1u << S_ALLAN) | (1u << S_CALIB),
+		       NULL,
 		       "Open loop: accelerometer bias b t^2 / 2, gyro bias "
 		       "g b t^3 / 6; Schuler-bounded forms with omega_s = "
 		       "sqrt(g/R) past the switch time; random walks: 1-sigma "
 		       "K sqrt(t) growth, 95 % inside +-2 sigma; total = root sum "
 		       "of squares." },
-	[S_HEADING] = { "heading", &ssc_heading_stage, 1u << S_ALLAN,
+	[S_HEADING] = { "heading", &ssc_heading_stage, 1u << S_ALLAN, NULL,
 			"Heading = integral of the vertical rate minus the bias; "
 			"stops by the static detector of calib (variance magnitude "
 			"below k times a noise reference), the bias re-estimated "
@@ -104,7 +105,7 @@ static const struct ssc_stage_def stages[] = {
 			"after a stop for the IEEE 952 terms: -2 sum c_i c_j "
 			"D(|t_i - t_j|) with D = Q^2 + N^2 t/2 - (B^2/2 pi) t^2 "
 			"ln t - K^2 t^3/12." },
-	[S_WALK] = { "walk", &ssc_walk_stage, 1u << S_ALLAN,
+	[S_WALK] = { "walk", &ssc_walk_stage, 1u << S_ALLAN, NULL,
 		     "Runs integrated after bias removal; envelope +-2 sigma of "
 		     "the predicted variance (angle random walk N^2 t plus the "
 		     "bias-instability, rate-random-walk and bias-estimate "
@@ -112,6 +113,7 @@ static const struct ssc_stage_def stages[] = {
 		     "chi-squared interval with as many degrees of freedom as "
 		     "runs." },
 	[S_NAVSIM] = { "navsim", &ssc_navsim_stage, (1u << S_ALLAN) | (1u << S_CALIB),
+		       NULL,
 		       "WGS 84 Earth, normal gravity (Somigliana); local-level "
 		       "strapdown mechanisation with two-sample coning and "
 		       "sculling corrections, Earth rate, transport rate and "
@@ -120,6 +122,9 @@ static const struct ssc_stage_def stages[] = {
 };
 
 #define N_STAGES (sizeof(stages) / sizeof(stages[0]))
+
+struct ssc_scene;
+static int check_stages(const char *cmd, struct ssc_scene *sc);
 
 struct ssc_scene {
 	struct ssc_hashjob *hashes; /* provenance, while running */
@@ -130,7 +135,7 @@ struct ssc_scene {
 	char **files;
 	size_t n_files;
 	/* [input] */
-	char *columns, *units, *temp_column, *time_column, *raw;
+	char *columns, *units, *temp_column, *time_column, *raw, *calibration;
 	char *topic;
 	double rate_hz, scale, offset;
 	bool allow_nan;
@@ -146,7 +151,11 @@ struct ssc_scene {
 	unsigned run;           /* bit per stage: will run */
 	unsigned uses[N_STAGES]; /* results each consumes */
 	char *why[N_STAGES];    /* why it runs / is skipped */
-	void *opts[N_STAGES];
+	/* each stage's options as a command line: args[s][0] the command,
+	 * then "--key=value"; where[s][i] the scene line of args[s][i] */
+	char **args[N_STAGES];
+	char **where[N_STAGES];
+	int n_args[N_STAGES];
 	char *stage_columns[N_STAGES];
 	bool no_plot[N_STAGES];
 	size_t order[N_STAGES], n_order;
@@ -156,13 +165,14 @@ struct ssc_scene {
 	bool quiet;
 	/* wall time of the reads and of each stage, s */
 	double t_read_s, t_stage_s[S_COUNT_];
-	/* paths of stage options, made relative to the scene file, and
-	 * whether each is written ("--kalibr") or read (NULL) */
-	char *owned[64];
-	const char *owned_out[64];
-	size_t n_owned;
 	/* the captures each stage runs on (bit f: file f), all by default */
 	uint64_t file_mask[S_COUNT_];
+	/* files named by stage options (made relative to the scene file),
+	 * and for each the option when it writes the file ("--kalibr"), NULL
+	 * when it reads it: checked against the inputs before a run */
+	char *io_path[64];
+	const char *io_out[64];
+	size_t n_io;
 };
 
 /* ------------------------------------------------------------ helpers */
@@ -251,14 +261,19 @@ void ssc_scene_free(struct ssc_scene *sc)
 		free(sc->files[i]);
 	free(sc->files);
 	for (size_t i = 0; i < N_STAGES; i++) {
-		if (sc->opts[i] && stages[i].ops->fini)
-			stages[i].ops->fini(sc->opts[i]);
-		free(sc->opts[i]);
+		for (int k = 0; k < sc->n_args[i]; k++) {
+			free(sc->args[i][k]);
+			free(sc->where[i][k]);
+		}
+		free(sc->args[i]);
+		free(sc->where[i]);
 		free(sc->why[i]);
 		free(sc->stage_columns[i]);
 	}
 	for (size_t i = 0; i < sc->n_adc; i++)
 		free(sc->adc_paths[i]);
+	for (size_t i = 0; i < sc->n_io; i++)
+		free(sc->io_path[i]);
 	sscope_ini_free(sc->adc_ini);
 	sscope_ini_free(sc->ini);
 	free(sc->columns);
@@ -267,14 +282,48 @@ void ssc_scene_free(struct ssc_scene *sc)
 	free(sc->time_column);
 	free(sc->topic);
 	free(sc->raw);
+	free(sc->calibration);
 	free(sc->sensor_path);
 	free(sc->out_dir);
-	for (size_t i = 0; i < sc->n_owned; i++)
-		free(sc->owned[i]);
 	free(sc->title);
 	free(sc->path);
 	free(sc->dir);
 	free(sc);
+}
+
+/* Append an option of stage s to its command line: "--name=value", or
+ * "--name" for a flag (value NULL); name NULL appends value as it is. */
+static void add_arg(struct ssc_scene *sc, size_t s, const char *name,
+		    const char *value, const char *where)
+{
+	char **a = realloc(sc->args[s], (size_t)(sc->n_args[s] + 2) * sizeof(*a));
+	char **w = a ? realloc(sc->where[s], (size_t)(sc->n_args[s] + 2) * sizeof(*w)) :
+		       NULL;
+	char *arg;
+
+	if (a)
+		sc->args[s] = a;
+	if (!a || !w) {
+		fprintf(stderr, "sensorscope: out of memory\n");
+		exit(SSC_EXIT_FAIL);
+	}
+	sc->where[s] = w;
+	if (!name) {
+		arg = xstrdup(value);
+	} else {
+		size_t n = strlen(name) + (value ? strlen(value) : 0) + 4;
+
+		arg = malloc(n);
+		if (!arg)
+			exit(SSC_EXIT_FAIL);
+		snprintf(arg, n, "--%s%s%s", name, value ? "=" : "",
+			 value ? value : "");
+	}
+	a[sc->n_args[s]] = arg;
+	w[sc->n_args[s]] = xstrdup(where);
+	sc->n_args[s]++;
+	a[sc->n_args[s]] = NULL;
+	w[sc->n_args[s]] = NULL;
 }
 
 static struct ssc_scene *scene_new(void)
@@ -286,15 +335,8 @@ static struct ssc_scene *scene_new(void)
 	sc->scale = 1;
 	sc->formats = SSC_OUT_TEXT | SSC_OUT_JSON | SSC_OUT_HTML | SSC_OUT_PNG |
 		      SSC_OUT_SVG;
-	for (size_t i = 0; i < N_STAGES; i++) {
-		const struct ssc_stage_ops *ops = stages[i].ops;
-
-		sc->opts[i] = calloc(1, ops->opts_size ? ops->opts_size : 1);
-		if (!sc->opts[i])
-			exit(SSC_EXIT_FAIL);
-		if (ops->init)
-			ops->init(sc->opts[i]);
-	}
+	for (size_t i = 0; i < N_STAGES; i++)
+		add_arg(sc, i, NULL, stages[i].name, NULL);
 	return sc;
 }
 
@@ -359,8 +401,8 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 {
 	static const char *const keys[] = { "files", "columns", "rate", "units",
 					    "temp_column", "time_column", "raw",
-					    "scale", "offset", "allow_nan", "topic",
-					    NULL };
+					    "scale", "offset", "allow_nan",
+					    "calibration", "topic", NULL };
 	struct sscope_diag d = { "" };
 	size_t line = 0;
 	const char *v;
@@ -412,6 +454,9 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	if (v && sscope_raw_layout_check(v, NULL, NULL, &d))
 		return scene_error(cmd, sc, line, "raw: %s", d.msg);
 	sc->raw = xstrdup(v);
+	v = sscope_ini_get(sc->ini, "input", "calibration", NULL);
+	if (v)
+		sc->calibration = join_path(sc->dir, v);
 	rc = sscope_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
 	if (rc && rc != -ENOENT) {
 		ssc_err(cmd, "%s", d.msg);
@@ -638,7 +683,14 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 		int rc;
 
 		if (!strcasecmp(key, "column") || !strcasecmp(key, "columns")) {
+			free(sc->stage_columns[s]);
 			sc->stage_columns[s] = xstrdup(value);
+			if (ops->spec->analysis) {
+				char at[320];
+
+				snprintf(at, sizeof(at), "%s: line %zu", sc->path, line);
+				add_arg(sc, s, "column", value, at);
+			}
 			continue;
 		}
 		if (s == S_ADC && (!strcasecmp(key, "spec") || !stage_key(s, key)))
@@ -677,30 +729,28 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 					   "unknown key '%s' in [%s] (keys are the long options of 'sensorscope %s')",
 					   key, sec, ops->spec->name);
 		snprintf(ctx, sizeof(ctx), "%s: line %zu", sc->path, line);
-		ssc_set_context(ctx);
 		if (o->has_arg == no_argument) {
 			bool on;
 
-			if (!truthy(value, &on)) {
-				ssc_set_context(NULL);
+			if (!truthy(value, &on))
 				return scene_error(cmd, sc, line,
 						   "%s: expected yes or no", key);
-			}
-			rc = on ? ops->handle(o->key, NULL, sc->opts[s]) : 0;
-		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH")) &&
-			   sc->n_owned < 64) {
+			if (on)
+				add_arg(sc, s, o->name, NULL, ctx);
+		} else if (o->arg && (strstr(o->arg, "FILE") || strstr(o->arg, "PATH"))) {
 			/* a file named in a scene is relative to the scene */
 			char *path = join_path(sc->dir, value);
 
-			sc->owned_out[sc->n_owned] = ssc_output_option(o->name);
-			sc->owned[sc->n_owned++] = path;
-			rc = ops->handle(o->key, path, sc->opts[s]);
+			add_arg(sc, s, o->name, path, ctx);
+			if (sc->n_io < 64) {
+				sc->io_out[sc->n_io] = ssc_output_option(o->name);
+				sc->io_path[sc->n_io++] = path;
+			} else {
+				free(path);
+			}
 		} else {
-			rc = ops->handle(o->key, value, sc->opts[s]);
+			add_arg(sc, s, o->name, value, ctx);
 		}
-		ssc_set_context(NULL);
-		if (rc)
-			return rc;
 	}
 	return SSC_EXIT_OK;
 }
@@ -850,6 +900,8 @@ int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
 			rc = parse_stage(cmd, sc, s);
 	if (!rc)
 		rc = resolve(cmd, sc);
+	if (!rc)
+		rc = check_stages(cmd, sc);
 	if (rc)
 		goto fail;
 	if (!sc->out_dir)
@@ -864,13 +916,10 @@ fail:
 /* ------------------------------------------------------------ inference */
 
 /* Set a stage option by its long name, as a scene key would. */
-static int set_option(struct ssc_scene *sc, size_t s, const char *name,
-		      const char *value)
+static void set_option(struct ssc_scene *sc, size_t s, const char *name,
+		       const char *value)
 {
-	const struct ssc_option *o = find_option(s, name);
-
-	return o ? stages[s].ops->handle(o->key, value, sc->opts[s]) :
-		   SSC_EXIT_USAGE;
+	add_arg(sc, s, name, value, NULL);
 }
 
 int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
@@ -887,6 +936,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	sc->time_column = xstrdup(co->time_column);
 	sc->topic = xstrdup(co->topic);
 	sc->raw = xstrdup(co->raw);
+	sc->calibration = xstrdup(co->calibration);
 	sc->rate_hz = co->rate_hz;
 	sc->scale = co->scale;
 	sc->offset = co->offset;
@@ -960,13 +1010,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 				set_why(sc, S_HEADING,
 					"inferred: a gyro with a true heading column (%s): heading with the bias re-estimated at stops",
 					heading_ref);
-				if (sc->n_owned < 64) {
-					/* the stage keeps the name */
-					char *ref = xstrdup(heading_ref);
-
-					sc->owned[sc->n_owned++] = ref;
-					set_option(sc, S_HEADING, "reference", ref);
-				}
+				set_option(sc, S_HEADING, "reference", heading_ref);
 			}
 			sc->want |= 1u << S_HEADING;
 			sc->file_mask[S_HEADING] |= bit;
@@ -1019,7 +1063,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			}
 		}
 	}
-	if (resolve(co->cmd, sc)) {
+	if (resolve(co->cmd, sc) || check_stages(co->cmd, sc)) {
 		ssc_scene_free(sc);
 		return SSC_EXIT_FAIL;
 	}
@@ -1098,6 +1142,130 @@ static char *columns_to_read(const struct ssc_scene *sc)
 	return u;
 }
 
+/* An argument as the shell reads it. */
+static void put_arg(FILE *f, const char *a)
+{
+	bool plain = *a != '\0';
+
+	for (const char *p = a; *p; p++)
+		if (!isalnum((unsigned char)*p) && !strchr("_./:=,+-@%^", *p))
+			plain = false;
+	if (plain) {
+		fprintf(f, " %s", a);
+		return;
+	}
+	fputs(" '", f);
+	for (const char *p = a; *p; p++)
+		if (*p == '\'')
+			fputs("'\\''", f);
+		else
+			fputc(*p, f);
+	fputc('\'', f);
+}
+
+/* "--name=value" (or "--name" without a value) as one argument */
+static void put_opt(FILE *f, const char *name, const char *value)
+{
+	char buf[1200];
+
+	snprintf(buf, sizeof(buf), "--%s%s%s", name, value ? "=" : "",
+		 value ? value : "");
+	put_arg(f, buf);
+}
+
+/* The option of stage s that reads the saved result of stage u. */
+static const char *result_option(size_t s, size_t u)
+{
+	if (s == S_BUDGET)
+		return "result";
+	return u == S_CALIB ? "from-calib" : "from-allan";
+}
+
+/* Does stage s read the scene's [sensor] (as its --sensor would)? */
+static bool takes_sensor(const struct ssc_scene *sc, size_t s)
+{
+	if (!sc->have_sensor)
+		return false;
+	if (s == S_HEADING) /* a gyro's spec only */
+		return sc->sensor.quantity == SSCOPE_QTY_ANGULAR_RATE;
+	return s == S_ADC || s == S_BUDGET || s == S_WALK || s == S_NAVSIM;
+}
+
+/* The command line that computes what stage s computes in this scene (one
+ * per capture for a stage run per capture): the same options, the same
+ * inputs, the earlier results it uses as --result files. */
+static void print_commands(const struct ssc_scene *sc, size_t s, FILE *f)
+{
+	const struct ssc_stage_ops *ops = stages[s].ops;
+	bool data = ops->needs & SSC_NEED_DATA;
+	size_t idx[64], n = 0, runs;
+	char buf[64];
+
+	for (size_t j = 0; data && j < sc->n_files && j < 64; j++)
+		if ((sc->file_mask[s] >> j) & 1)
+			idx[n++] = j;
+	runs = ops->max_files == 1 && n > 1 ? n : 1;
+	for (size_t r = 0; r < runs; r++) {
+		fprintf(f, "     command: sensorscope %s",
+			stages[s].command ? stages[s].command : ops->spec->name);
+		if (ops->spec->analysis) {
+			if (sc->columns && !sc->stage_columns[s])
+				put_opt(f, "column", sc->columns);
+			if (sc->rate_hz > 0) {
+				snprintf(buf, sizeof(buf), "%.17g", sc->rate_hz);
+				put_opt(f, "rate", buf);
+			}
+			if (sc->units)
+				put_opt(f, "units", sc->units);
+			if (sc->raw)
+				put_opt(f, "raw", sc->raw);
+			if (sc->raw && sc->scale != 1) {
+				snprintf(buf, sizeof(buf), "%.17g", sc->scale);
+				put_opt(f, "scale", buf);
+			}
+			if (sc->raw && sc->offset != 0) {
+				snprintf(buf, sizeof(buf), "%.17g", sc->offset);
+				put_opt(f, "offset", buf);
+			}
+			if (sc->allow_nan)
+				put_opt(f, "allow-nan", NULL);
+			if (sc->time_column)
+				put_opt(f, "time-column", sc->time_column);
+			if (sc->temp_column)
+				put_opt(f, "temp-column", sc->temp_column);
+			if (sc->topic)
+				put_opt(f, "topic", sc->topic);
+			if (sc->calibration)
+				put_opt(f, "calibration", sc->calibration);
+		}
+		/* navsim applies its own --sensor files first */
+		if (takes_sensor(sc, s) && s != S_NAVSIM)
+			put_opt(f, "sensor", sc->sensor_path ? sc->sensor_path :
+				"(the scene's [sensor])");
+		for (size_t a = 0; s == S_ADC && a < sc->n_adc; a++)
+			put_opt(f, "adc", sc->adc_paths[a]);
+		if (s == S_ADC && sc->adc_ini)
+			put_opt(f, "adc", "(the scene's [adc])");
+		for (size_t u = 0; u < N_STAGES; u++)
+			if (sc->uses[s] & (1u << u)) {
+				char p[1100];
+
+				snprintf(p, sizeof(p), "%s/%s.json", sc->out_dir,
+					 stages[u].name);
+				put_opt(f, result_option(s, u), p);
+			}
+		for (int k = 1; k < sc->n_args[s]; k++)
+			put_arg(f, sc->args[s][k]);
+		if (takes_sensor(sc, s) && s == S_NAVSIM)
+			put_opt(f, "sensor", sc->sensor_path ? sc->sensor_path :
+				"(the scene's [sensor])");
+		for (size_t j = 0; j < n; j++)
+			if (runs == 1 || j == r)
+				put_arg(f, sc->files[idx[j]]);
+		fputc('\n', f);
+	}
+}
+
 void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 {
 	char *cols = columns_to_read(sc), buf[256];
@@ -1147,6 +1315,7 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 				fprintf(f, "; once per file");
 		}
 		fputc('\n', f);
+		print_commands(sc, s, f);
 	}
 	fprintf(f, "stages skipped:%s\n", sc->run == (1u << N_STAGES) - 1 ?
 		" none" : "");
@@ -1177,55 +1346,6 @@ static bool tracing(void)
 	return t && *t && strcmp(t, "0");
 }
 
-/* A capture holding only the named channels, or every channel when
- * columns is NULL (shares the data with c). */
-static struct sscope_capture *view(const struct sscope_capture *c,
-				   const char *columns)
-{
-	struct sscope_capture *v = malloc(sizeof(*v));
-	char *copy, *items[64];
-	size_t n;
-
-	if (!v)
-		exit(SSC_EXIT_FAIL);
-	*v = *c;
-	v->channels = calloc(c->n_channels + 1, sizeof(*v->channels));
-	if (!v->channels)
-		exit(SSC_EXIT_FAIL);
-	if (!columns) {
-		memcpy(v->channels, c->channels,
-		       c->n_channels * sizeof(*v->channels));
-		return v;
-	}
-	v->n_channels = 0;
-	copy = xstrdup(columns);
-	n = split_list(copy, items, 64);
-	for (size_t i = 0; i < n; i++) {
-		long k = sscope_capture_find(c, items[i]);
-
-		if (k < 0) { /* a 1-based column index of the file */
-			char *end;
-			long idx = strtol(items[i], &end, 10);
-
-			for (size_t j = 0; !*end && j < c->n_channels; j++)
-				if ((long)c->channels[j].col.index + 1 == idx)
-					k = (long)j;
-		}
-		if (k >= 0)
-			v->channels[v->n_channels++] = c->channels[k];
-	}
-	free(copy);
-	return v;
-}
-
-static void free_view(struct sscope_capture *v)
-{
-	if (v) {
-		free(v->channels);
-		free(v);
-	}
-}
-
 static int write_text(const char *path, const char *text)
 {
 	struct ssc_common co = { .cmd = "run", .output = path };
@@ -1246,11 +1366,36 @@ static int write_json(const char *path, json_t *j)
 	return ssc_emit_json(&co, j);
 }
 
+/* What the scene keeps of a stage: one call per run (one per capture for
+ * a one-capture stage on several captures) and the outputs made of them. */
+struct stage_out {
+	struct ssc_stage_call *calls;
+	size_t n_calls;
+	json_t *json;    /* the stage's result, or {"command", "files"} */
+	char *text;
+	json_t *summary;
+	struct ssc_result *results; /* the typed results, for later stages */
+};
+
+static void stage_out_free(struct stage_out *o)
+{
+	for (size_t i = 0; i < o->n_calls; i++) {
+		ssc_stage_call_clear(&o->calls[i]);
+		free((void *)o->calls[i].paths);
+	}
+	free(o->calls);
+	free(o->results);
+	json_decref(o->json);
+	json_decref(o->summary);
+	free(o->text);
+	memset(o, 0, sizeof(*o));
+}
+
 /* Outputs against inputs before anything is written: the report folder
  * holds no input, no stage option writes over one (output.c). */
 static int guard_paths(const struct ssc_scene *sc, const char *cmd)
 {
-	size_t n = 0, max = sc->n_files + sc->n_owned + sc->n_adc + 3;
+	size_t n = 0, max = sc->n_files + sc->n_io + sc->n_adc + 3;
 	struct ssc_guard_item *it = calloc(max, sizeof(*it));
 	int rc;
 
@@ -1262,9 +1407,9 @@ static int guard_paths(const struct ssc_scene *sc, const char *cmd)
 		it[n++] = (struct ssc_guard_item){ NULL, sc->files[i], SSC_GUARD_IN };
 	for (size_t i = 0; i < sc->n_adc; i++)
 		it[n++] = (struct ssc_guard_item){ NULL, sc->adc_paths[i], SSC_GUARD_IN };
-	for (size_t i = 0; i < sc->n_owned; i++)
-		it[n++] = (struct ssc_guard_item){ sc->owned_out[i], sc->owned[i],
-						   sc->owned_out[i] ? SSC_GUARD_OUT :
+	for (size_t i = 0; i < sc->n_io; i++)
+		it[n++] = (struct ssc_guard_item){ sc->io_out[i], sc->io_path[i],
+						   sc->io_out[i] ? SSC_GUARD_OUT :
 								      SSC_GUARD_IN };
 	if (sc->path)
 		it[n++] = (struct ssc_guard_item){ NULL, sc->path, SSC_GUARD_IN };
@@ -1300,7 +1445,7 @@ struct fig_names {
 /* The stages that ran, for the report: results, texts and figures (their
  * SVG files, and the names to link them by when the files stay). */
 static size_t report_stages(const struct ssc_scene *sc,
-			    const struct ssc_stage_out *outs,
+			    const struct stage_out *outs,
 			    char *(*figs)[64], struct fig_names *fn,
 			    struct ssc_report_stage *st)
 {
@@ -1337,7 +1482,7 @@ static size_t report_stages(const struct ssc_scene *sc,
 }
 
 static void html_report(struct ssc_scene *sc, struct ssc_html *h,
-			json_t *summary, struct ssc_stage_out *outs,
+			json_t *summary, const struct stage_out *outs,
 			char *(*figs)[64], const char *cols)
 {
 	char buf[512], now[64];
@@ -1415,123 +1560,194 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 	free(fn);
 }
 
+/* The shared options of the scene ([input], or the report's command
+ * line), as a stage sees them. */
+static void scene_common(const struct ssc_scene *sc, const char *cmd,
+			 const struct ssc_common *cli, struct ssc_common *co)
+{
+	memset(co, 0, sizeof(*co));
+	co->cmd = cmd;
+	co->quiet = cli ? cli->quiet : sc->quiet;
+	co->progress = cli ? cli->progress : 0;
+	co->columns = sc->columns;
+	co->units = sc->units;
+	co->rate_hz = sc->rate_hz;
+	co->raw = sc->raw;
+	co->scale = sc->scale;
+	co->offset = sc->offset;
+	co->allow_nan = sc->allow_nan;
+	co->time_column = sc->time_column;
+	co->temp_column = sc->temp_column;
+	co->topic = sc->topic;
+	co->calibration = sc->calibration;
+	/* a scene's stages give their results as the JSON objects of their
+	 * commands (the files, the report, the terminal summary): checked
+	 * as `CMD --format json` is */
+	co->format = SSC_FMT_JSON;
+}
+
+/* A call of stage s with the scene's inputs and specifications. */
+static void stage_call(const struct ssc_scene *sc, size_t s,
+		       const struct ssc_common *base, struct ssc_stage_call *c)
+{
+	memset(c, 0, sizeof(*c));
+	c->name = stages[s].name;
+	c->argc = sc->n_args[s];
+	c->argv = sc->args[s];
+	c->where = (const char *const *)sc->where[s];
+	c->context = sc->path;
+	c->base = base;
+	c->sensor = sc->have_sensor ? &sc->sensor : NULL;
+	c->sensor_path = sc->sensor_path;
+	c->adc_paths = (const char *const *)sc->adc_paths;
+	c->n_adc = sc->n_adc;
+	c->adc_ini = sc->adc_ini;
+}
+
+/* Check every stage's options as its command would (at load time, so a
+ * bad value stops the scene before anything runs). */
+static int check_stages(const char *cmd, struct ssc_scene *sc)
+{
+	struct ssc_common base;
+
+	scene_common(sc, cmd, NULL, &base);
+	for (size_t s = 0; s < N_STAGES; s++) {
+		struct ssc_stage_call c;
+		int rc;
+
+		if (!(sc->run & (1u << s)))
+			continue;
+		stage_call(sc, s, &base, &c);
+		c.check_only = true;
+		rc = ssc_stage_exec(stages[s].ops, &c);
+		if (rc)
+			return rc;
+	}
+	return SSC_EXIT_OK;
+}
+
 /* Run stage s once on the captures idx[0..n) (run > 0: the run-th of a
  * stage run per capture, drawn into STAGE-run.svg/png).  *fig_out gets the
  * figure's path without its extension when one was drawn. */
 static int run_stage(struct ssc_scene *sc, size_t s,
-		     const struct ssc_common *co, struct sscope_capture **caps,
+		     const struct ssc_common *base, struct sscope_capture **caps,
 		     const size_t *idx, size_t n, int run,
-		     const struct ssc_stage_out *outs, struct ssc_stage_out *out,
+		     const struct stage_out *outs, struct ssc_stage_call *c,
 		     char **fig_out)
 {
-	const struct ssc_stage_ops *ops = stages[s].ops;
-	struct ssc_common sco = *co;
-	struct ssc_stage_env env = { 0 };
 	struct sscope_capture **v = calloc(n ? n : 1, sizeof(*v));
 	const char **paths = calloc(n ? n : 1, sizeof(*paths));
-	const char *want = sc->stage_columns[s] ? sc->stage_columns[s] :
-						  sc->columns;
-	char base[1024], fig[1100];
+	struct ssc_result *up = NULL;
+	size_t n_up = 0;
+	char base_name[1024], fig[1100];
 	bool svg = sc->formats & (SSC_OUT_SVG | SSC_OUT_HTML);
 	bool png = (sc->formats & SSC_OUT_PNG) && ssc_plot_available();
-	json_t *up = json_object();
 	int rc;
 
-	sco.cmd = stages[s].name;
-	sco.columns = want;
+	if (!v || !paths)
+		exit(SSC_EXIT_FAIL);
 	for (size_t f = 0; f < n; f++) {
-		v[f] = view(caps[idx[f]], want);
+		v[f] = caps[idx[f]];
 		paths[f] = sc->files[idx[f]];
 	}
 	for (size_t u = 0; u < N_STAGES; u++)
-		if (sc->uses[s] & (1u << u) && outs[u].json)
-			json_object_set(up, stages[u].name, outs[u].json);
+		if (sc->uses[s] & (1u << u))
+			n_up += outs[u].n_calls;
+	up = calloc(n_up ? n_up : 1, sizeof(*up));
+	if (!up)
+		exit(SSC_EXIT_FAIL);
+	n_up = 0;
+	for (size_t u = 0; u < N_STAGES; u++)
+		if (sc->uses[s] & (1u << u))
+			for (size_t r = 0; r < outs[u].n_calls; r++)
+				up[n_up++] = outs[u].calls[r].result;
 	if (run)
-		snprintf(base, sizeof(base), "%s/%s-%d", sc->out_dir,
+		snprintf(base_name, sizeof(base_name), "%s/%s-%d", sc->out_dir,
 			 stages[s].name, run);
 	else
-		snprintf(base, sizeof(base), "%s/%s", sc->out_dir,
+		snprintf(base_name, sizeof(base_name), "%s/%s", sc->out_dir,
 			 stages[s].name);
 	/* one drawing, in the formats asked for (the HTML inlines the SVG) */
-	snprintf(fig, sizeof(fig), "%s%s", base,
+	snprintf(fig, sizeof(fig), "%s%s", base_name,
 		 svg && png ? SSC_PLOT_SVG_AND_PNG : svg ? ".svg" : ".png");
-	env.co = &sco;
-	env.caps = v;
-	env.paths = paths;
-	env.n_caps = n;
-	env.sensor = sc->have_sensor ? &sc->sensor : NULL;
-	env.sensor_path = sc->sensor_path;
-	for (size_t a = 0; a < sc->n_adc; a++)
-		env.adc_paths[a] = sc->adc_paths[a];
-	env.n_adc = sc->n_adc;
-	env.adc_ini = sc->adc_ini;
-	env.plot_path = (svg || png) && !sc->no_plot[s] ? fig : NULL;
-	env.upstream = up;
-	out->summary = json_array();
-	rc = ops->run(&env, sc->opts[s], out);
-	for (size_t f = 0; f < n; f++)
-		free_view(v[f]);
+	stage_call(sc, s, base, c);
+	c->caps = v;
+	c->paths = paths;
+	c->n_caps = n;
+	c->upstream = up;
+	c->n_upstream = n_up;
+	/* JSON for the files, the HTML report and the summary printed on
+	 * the terminal (its warnings) */
+	c->want = SSC_WANT_SUMMARY |
+		  (sc->formats & (SSC_OUT_JSON | SSC_OUT_HTML) || !sc->quiet ?
+		   SSC_WANT_JSON : 0) |
+		  (sc->formats & (SSC_OUT_TEXT | SSC_OUT_HTML) ? SSC_WANT_TEXT : 0);
+	c->plot_path = (svg || png) && !sc->no_plot[s] ? fig : NULL;
+	rc = ssc_stage_exec(stages[s].ops, c);
+	snprintf(fig, sizeof(fig), "%s%s", base_name, svg ? ".svg" : ".png");
+	if (!rc && c->plot_path && access(fig, R_OK) == 0)
+		*fig_out = xstrdup(base_name);
+	c->plot_path = NULL;
+	c->upstream = NULL;
+	c->n_upstream = 0;
+	c->caps = NULL;
+	free(up);
 	free(v);
-	free(paths);
-	json_decref(up);
-	snprintf(fig, sizeof(fig), "%s%s", base, svg ? ".svg" : ".png");
-	if (!rc && env.plot_path && access(fig, R_OK) == 0)
-		*fig_out = xstrdup(base);
+	/* c->paths stays: the result may point to it (stage_out_free) */
 	return rc;
 }
 
-/* Add one run's output to a stage's: a stage run per capture gives
- * {"command", "files": [result...]}, texts one after the other, CSV with
- * one header, summary rows naming the file. */
-static void merge_out(struct ssc_stage_out *acc, struct ssc_stage_out *o,
-		      bool fan, const char *name, const char *path)
+/* A stage's outputs from its calls: one call gives its own; a stage run
+ * per capture gives {"command", "files": [result...]}, the texts one after
+ * the other and summary rows that name their file. */
+static void assemble(struct stage_out *o, bool fan, const char *name,
+		     char *const *files, const size_t *idx)
 {
+	struct ssc_membuf m;
+
+	o->summary = json_array();
+	o->results = calloc(o->n_calls ? o->n_calls : 1, sizeof(*o->results));
+	if (!o->summary || !o->results)
+		exit(SSC_EXIT_FAIL);
+	for (size_t i = 0; i < o->n_calls; i++)
+		o->results[i] = o->calls[i].result;
 	if (!fan) {
-		*acc = *o;
-		memset(o, 0, sizeof(*o));
+		struct ssc_stage_call *c = &o->calls[0];
+
+		o->json = c->json;
+		o->text = c->text;
+		c->json = NULL;
+		c->text = NULL;
+		json_array_extend(o->summary, c->summary);
 		return;
 	}
-	if (!acc->json) {
-		acc->json = json_object();
-		json_object_set_new(acc->json, "command", json_string(name));
-		json_object_set_new(acc->json, "files", json_array());
-		acc->summary = json_array();
-	}
-	json_array_append(json_object_get(acc->json, "files"), o->json);
-	for (size_t r = 0; r < json_array_size(o->summary); r++) {
-		json_t *row = json_array_get(o->summary, r);
-		const char *ch = json_string_value(json_object_get(row, "channel"));
-		const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-		char buf[512];
+	if (o->calls[0].json) {
+		json_t *arr = json_array();
 
-		snprintf(buf, sizeof(buf), "%s%s%s", base, ch && *ch ? ": " : "",
-			 ch ? ch : "");
-		json_object_set_new(row, "channel", json_string(buf));
-		json_array_append(acc->summary, row);
+		o->json = json_object();
+		json_object_set_new(o->json, "command", json_string(name));
+		for (size_t i = 0; i < o->n_calls; i++)
+			json_array_append(arr, o->calls[i].json);
+		json_object_set_new(o->json, "files", arr);
 	}
-	if (o->text) {
-		size_t la = acc->text ? strlen(acc->text) : 0, lb = strlen(o->text);
-		char *t = realloc(acc->text, la + lb + 2);
-
-		if (t) {
-			if (la)
-				t[la++] = '\n';
-			memcpy(t + la, o->text, lb + 1);
-			acc->text = t;
-		}
+	if (o->calls[0].text && !ssc_membuf_open(&m)) {
+		for (size_t i = 0; i < o->n_calls; i++)
+			fprintf(m.f, "%s%s", i ? "\n" : "", o->calls[i].text);
+		o->text = ssc_membuf_take(&m);
 	}
-	if (o->csv) {
-		const char *body = o->csv;
-		size_t la = acc->csv ? strlen(acc->csv) : 0, lb;
-		char *t;
+	for (size_t i = 0; i < o->n_calls; i++) {
+		const char *path = files[idx[i]];
+		const char *b = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
 
-		if (acc->csv && strchr(body, '\n'))
-			body = strchr(body, '\n') + 1; /* one header */
-		lb = strlen(body);
-		t = realloc(acc->csv, la + lb + 1);
-		if (t) {
-			memcpy(t + la, body, lb + 1);
-			acc->csv = t;
+		for (size_t r = 0; r < json_array_size(o->calls[i].summary); r++) {
+			json_t *row = json_array_get(o->calls[i].summary, r);
+			const char *ch = json_string_value(json_object_get(row, "channel"));
+			char buf[512];
+
+			snprintf(buf, sizeof(buf), "%s%s%s", b, ch && *ch ? ": " : "",
+				 ch ? ch : "");
+			json_object_set_new(row, "channel", json_string(buf));
+			json_array_append(o->summary, row);
 		}
 	}
 }
@@ -1546,9 +1762,9 @@ static double wall_s(void)
 
 int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 {
-	struct ssc_common co = { 0 };
+	struct ssc_common co, base;
 	struct sscope_capture **caps = NULL;
-	struct ssc_stage_out outs[N_STAGES];
+	struct stage_out outs[N_STAGES];
 	char *figs[N_STAGES][64] = { { 0 } };
 	json_t *results = json_object(), *summary = json_array(), *all;
 	char *cols = columns_to_read(sc);
@@ -1559,19 +1775,8 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	int rc = SSC_EXIT_OK, e;
 
 	memset(outs, 0, sizeof(outs));
-	co.cmd = co_cli->cmd;
-	co.quiet = co_cli->quiet;
-	co.progress = co_cli->progress;
-	co.units = sc->units;
-	co.rate_hz = sc->rate_hz;
-	co.raw = sc->raw;
-	co.scale = sc->scale;
-	co.offset = sc->offset;
-	co.allow_nan = sc->allow_nan;
-	co.time_column = sc->time_column;
-	co.temp_column = sc->temp_column;
-	co.topic = sc->topic;
-	co.calibration = co_cli->calibration; /* report --calibration */
+	scene_common(sc, co_cli->cmd, co_cli, &base);
+	co = base;
 	co.columns = cols;
 	/* the report is built in a staging folder beside out_dir and put in
 	 * its place only when every stage succeeded */
@@ -1619,17 +1824,15 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		runs = fan ? n_in : 1;
 		if (tracing())
 			fprintf(stderr, "trace: stage %s\n", stages[s].name);
+		outs[s].calls = calloc(runs, sizeof(*outs[s].calls));
+		if (!outs[s].calls)
+			exit(SSC_EXIT_FAIL);
 		sc->t_stage_s[s] = wall_s();
 		for (size_t r = 0; r < runs && !rc; r++) {
-			struct ssc_stage_out o = { 0 };
-
-			rc = run_stage(sc, s, &co, caps, fan ? idx + r : idx,
+			rc = run_stage(sc, s, &base, caps, fan ? idx + r : idx,
 				       fan ? 1 : n_in, fan ? (int)r + 1 : 0, outs,
-				       &o, &figs[s][r]);
-			if (!rc)
-				merge_out(&outs[s], &o, fan, stages[s].name,
-					  fan ? sc->files[idx[r]] : NULL);
-			ssc_stage_out_free(&o);
+				       &outs[s].calls[r], &figs[s][r]);
+			outs[s].n_calls++;
 		}
 		sc->t_stage_s[s] = wall_s() - sc->t_stage_s[s];
 		if (tracing())
@@ -1642,7 +1845,7 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 				 stages[s].name, "the reason is above");
 			set_why(sc, s, "inferred, but refused by the data: %s",
 				ssc_last_error());
-			ssc_stage_out_free(&outs[s]);
+			stage_out_free(&outs[s]);
 			for (size_t r = 0; r < 64 && figs[s][r]; r++) {
 				unlink_fig(figs[s][r], 0);
 				free(figs[s][r]);
@@ -1653,7 +1856,9 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		}
 		if (rc)
 			break;
-		json_object_set(results, stages[s].name, outs[s].json);
+		assemble(&outs[s], fan, stages[s].name, sc->files, idx);
+		if (outs[s].json)
+			json_object_set(results, stages[s].name, outs[s].json);
 		for (size_t r = 0; r < json_array_size(outs[s].summary); r++) {
 			json_t *row = json_array_get(outs[s].summary, r);
 
@@ -1743,14 +1948,16 @@ done:
 	if (!rc && (sc->formats & SSC_OUT_HTML) && !sc->quiet && !co.quiet)
 		fprintf(stderr, "sensorscope: %s: wrote %s/report.html\n", co.cmd,
 			sc->out_dir);
-	for (size_t i = 0; caps && i < sc->n_files; i++)
-		sscope_capture_free(caps[i]);
-	free(caps);
+	/* later stages' results point into earlier ones' inputs: results
+	 * first, captures last */
 	for (size_t s = 0; s < N_STAGES; s++) {
-		ssc_stage_out_free(&outs[s]);
+		stage_out_free(&outs[s]);
 		for (size_t r = 0; r < 64; r++)
 			free(figs[s][r]);
 	}
+	for (size_t i = 0; caps && i < sc->n_files; i++)
+		sscope_capture_free(caps[i]);
+	free(caps);
 	json_decref(results);
 	json_decref(summary);
 	free(cols);

@@ -16,6 +16,8 @@ struct ssc_stage_def {
 	const char *name;                 /* scene section, e.g. "allan" */
 	const struct ssc_stage_ops *ops;  /* the command it runs */
 	unsigned deps;                    /* bit i: consumes stage i's result */
+	const char *command;              /* its command line's words (NULL:
+					     the command's name) */
 	const char *definitions;          /* definitions used, for reports */
 };
 

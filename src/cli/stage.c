@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * The command-line driver of a stage (see stage.h) and helpers shared by
- * stages.
+ * The one driver of a stage (see stage.h), for the command line and for
+ * scenes, and helpers shared by stages.
  */
 #include "stage.h"
 
@@ -33,15 +33,6 @@ char *ssc_membuf_take(struct ssc_membuf *m)
 	return b;
 }
 
-void ssc_stage_out_free(struct ssc_stage_out *out)
-{
-	json_decref(out->json);
-	json_decref(out->summary);
-	free(out->text);
-	free(out->csv);
-	memset(out, 0, sizeof(*out));
-}
-
 void ssc_summary_add(json_t *summary, const char *channel,
 		     const char *quantity, double value, double lo, double hi,
 		     const char *unit, const char *note)
@@ -69,39 +60,91 @@ void ssc_summary_warn_last(json_t *summary)
 		json_object_set_new(last, "status", json_string("warning"));
 }
 
-int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out)
+void ssc_result_free(struct ssc_result *r)
+{
+	if (r->data && r->ops && r->ops->free_result)
+		r->ops->free_result(r->data);
+	r->data = NULL;
+	r->ops = NULL;
+}
+
+void ssc_stage_call_clear(struct ssc_stage_call *call)
+{
+	ssc_result_free(&call->result);
+	json_decref(call->json);
+	json_decref(call->summary);
+	free(call->text);
+	call->json = NULL;
+	call->summary = NULL;
+	call->text = NULL;
+	for (size_t i = 0; i < call->n_views; i++)
+		sscope_capture_free(call->views[i]);
+	free(call->views);
+	call->views = NULL;
+	call->n_views = 0;
+}
+
+const struct ssc_result *ssc_stage_upstream(const struct ssc_stage_env *env,
+					    const struct ssc_stage_ops *ops,
+					    size_t *n)
+{
+	const struct ssc_result *first = NULL;
+	size_t k = 0;
+
+	for (size_t i = 0; i < env->n_upstream; i++)
+		if (env->upstream[i].ops == ops && env->upstream[i].data) {
+			if (!first)
+				first = &env->upstream[i];
+			k++;
+		}
+	if (n)
+		*n = k;
+	return first;
+}
+
+/* The result's text, or NULL when out of memory. */
+static char *render_text(const struct ssc_stage_ops *ops, const void *opts,
+			 const void *res,
+			 void (*fn)(FILE *, const void *, const void *))
+{
+	struct ssc_membuf m;
+
+	(void)ops;
+	if (ssc_membuf_open(&m))
+		return NULL;
+	fn(m.f, opts, res);
+	return ssc_membuf_take(&m);
+}
+
+/* The command's output: its --format to -o or stdout. */
+static int present(const struct ssc_stage_ops *ops, const struct ssc_common *co,
+		   const void *opts, const void *res)
 {
 	struct ssc_out o;
-	const char *s;
 	int rc;
 
-	if (!out->json || !out->text) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	if (co->format == SSC_FMT_JSON) {
-		json_incref(out->json);
-		return ssc_emit_json(co, out->json);
-	}
-	s = co->format == SSC_FMT_CSV ? out->csv : out->text;
-	if (!s)
-		return ssc_usage_error(co->cmd, "--format %s is not available here",
-				       co->format == SSC_FMT_CSV ? "csv" : "text");
+	if (co->format == SSC_FMT_JSON)
+		return ssc_emit_json(co, ops->json(opts, res));
 	rc = ssc_out_open(co, &o);
 	if (rc)
 		return rc;
-	fputs(s, o.f);
+	if (co->format == SSC_FMT_CSV)
+		ops->csv(o.f, opts, res);
+	else
+		ops->text(o.f, opts, res);
 	return ssc_out_close(co, &o, !ferror(o.f));
 }
 
-int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
+int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 {
 	struct ssc_common co;
-	struct ssc_stage_out out = { 0 };
 	struct ssc_stage_env env = { 0 };
 	struct sscope_capture **caps = NULL;
+	const char *const *paths = NULL;
 	void *opts = calloc(1, ops->opts_size ? ops->opts_size : 1);
-	int first, rc, n = 0;
+	void *res = NULL;
+	bool scene = call->base != NULL;
+	int first, rc, n = 0, loaded = 0;
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -109,58 +152,148 @@ int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
 	}
 	if (ops->init)
 		ops->init(opts);
-	rc = ssc_parse(ops->spec, argc, argv, &co, ops->handle, opts, &first);
+	/* 1. options */
+	rc = ssc_parse_where(ops->spec, call->argc, call->argv, call->where,
+			     &co, ops->handle, opts, &first);
 	if (rc) {
 		rc = rc < 0 ? SSC_EXIT_OK : rc;
 		goto done;
 	}
-	n = argc - first;
-	if (n < ops->min_files) {
+	if (scene) {
+		/* the scene's shared options, its section's -c */
+		const char *columns = co.columns;
+
+		co = *call->base;
+		co.cmd = call->name ? call->name : ops->spec->name;
+		co.plot = call->plot_path;
+		if (columns)
+			co.columns = columns;
+		n = (int)call->n_caps;
+		paths = call->paths;
+	} else {
+		n = call->argc - first;
+		paths = (const char *const *)call->argv + first;
+	}
+	if (call->check_only && scene) {
+		/* the scene hands the captures over when it runs */
+	} else if (n < ops->min_files) {
 		rc = ssc_usage_error(co.cmd, n ? "too few input files" :
 						 "no input file");
 		goto done;
-	}
-	if (ops->max_files >= 0 && n > ops->max_files) {
+	} else if (ops->max_files >= 0 && n > ops->max_files) {
 		rc = ssc_usage_error(co.cmd, "at most %d input file%s",
 				     ops->max_files, ops->max_files == 1 ? "" : "s");
 		goto done;
 	}
-	rc = ssc_check_inputs(co.cmd, (const char *const *)argv + first,
-			      (size_t)n);
-	if (rc)
-		goto done;
-	if (ops->check) {
-		rc = ops->check(&co, opts);
+	if (!scene && !call->check_only) {
+		rc = ssc_check_inputs(co.cmd, paths, (size_t)n);
 		if (rc)
 			goto done;
 	}
+	/* 2. their cross-checks and consequences */
+	if (ops->check) {
+		ssc_set_context(call->context);
+		rc = ops->check(&co, opts);
+		ssc_set_context(NULL);
+		if (rc)
+			goto done;
+	}
+	if (!scene && co.format == SSC_FMT_CSV && !ops->csv) {
+		rc = ssc_usage_error(co.cmd, "--format csv is not available here");
+		goto done;
+	}
+	if (call->check_only)
+		goto done;
+	/* 3. inputs: the scene's captures shaped by -c, or the files */
 	caps = calloc((size_t)(n ? n : 1), sizeof(*caps));
 	if (!caps) {
+		ssc_err(co.cmd, "out of memory");
 		rc = SSC_EXIT_FAIL;
 		goto done;
 	}
-	for (int i = 0; i < n; i++) {
-		rc = ssc_load(&co, argv[first + i], &caps[i]);
+	if (scene) {
+		for (; loaded < n && !rc; loaded++)
+			rc = ssc_view(&co, call->caps[loaded], &caps[loaded]);
+	} else if (!(ops->streams && ops->streams(opts))) {
+		for (; loaded < n && !rc; loaded++)
+			rc = ssc_load(&co, paths[loaded], &caps[loaded]);
+	}
+	if (rc)
+		goto done;
+	env.co = &co;
+	env.caps = loaded ? caps : NULL;
+	env.paths = paths;
+	env.n_caps = (size_t)n;
+	env.sensor = call->sensor;
+	env.sensor_path = call->sensor_path;
+	env.adc_paths = call->adc_paths;
+	env.n_adc = call->n_adc;
+	env.adc_ini = call->adc_ini;
+	env.upstream = call->upstream;
+	env.n_upstream = call->n_upstream;
+	/* 4. the computation */
+	ssc_set_context(call->context);
+	rc = ops->run(&env, opts, &res);
+	ssc_set_context(NULL);
+	if (rc)
+		goto done;
+	/* 5. what was asked for: the figure, files named by options, the
+	 * output in its form */
+	if (co.plot && ops->plot) {
+		rc = ops->plot(&co, opts, res, co.plot);
 		if (rc)
 			goto done;
 	}
-	env.co = &co;
-	env.caps = caps;
-	env.paths = (const char *const *)argv + first;
-	env.n_caps = (size_t)n;
-	env.plot_path = co.plot;
-	out.summary = json_array();
-	rc = ops->run(&env, opts, &out);
-	if (rc)
+	if (ops->write) {
+		rc = ops->write(&co, opts, res);
+		if (rc)
+			goto done;
+	}
+	if (!scene) {
+		rc = present(ops, &co, opts, res);
 		goto done;
-	rc = ssc_stage_present(&co, &out);
+	}
+	if (call->want & SSC_WANT_JSON) {
+		call->json = ops->json(opts, res);
+		if (!call->json)
+			rc = SSC_EXIT_FAIL;
+	}
+	if (!rc && (call->want & SSC_WANT_TEXT)) {
+		call->text = render_text(ops, opts, res, ops->text);
+		if (!call->text)
+			rc = SSC_EXIT_FAIL;
+	}
+	if (!rc && (call->want & SSC_WANT_SUMMARY)) {
+		call->summary = json_array();
+		if (ops->summary)
+			ops->summary(call->summary, opts, res);
+	}
+	if (rc) {
+		ssc_err(co.cmd, "out of memory");
+		goto done;
+	}
+	call->result.ops = ops;
+	call->result.data = res;
+	res = NULL;
+	/* the result may point into its inputs: they live with it */
+	call->views = caps;
+	call->n_views = (size_t)loaded;
+	caps = NULL;
 done:
-	for (int i = 0; caps && i < n; i++)
+	if (res && ops->free_result)
+		ops->free_result(res);
+	for (int i = 0; caps && i < loaded; i++)
 		sscope_capture_free(caps[i]);
 	free(caps);
-	ssc_stage_out_free(&out);
 	if (ops->fini)
 		ops->fini(opts);
 	free(opts);
 	return rc;
+}
+
+int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv)
+{
+	struct ssc_stage_call call = { .argc = argc, .argv = argv };
+
+	return ssc_stage_exec(ops, &call);
 }

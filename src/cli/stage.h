@@ -2,41 +2,50 @@
 /*
  * Commands as stages.  An analysis command is written once as a stage:
  * options (the command's long options, also the keys of its scene
- * section), and a run() that computes on loaded inputs and returns its
- * result in all three forms -- the contract's JSON object, the text for
- * people, CSV for machines -- drawing its figure when asked.  The same
- * stage serves `sensorscope CMD ...` (ssc_stage_main) and the scene runner
- * (`run`, `report`), which loads each capture once and hands the results of
- * earlier stages to later ones.
+ * section), a check of them, a run() that computes a typed result (a
+ * struct of the stage, made of the library's result structs, declared in
+ * results.h so that later stages read it directly), and renderers that
+ * present that result in the form asked for -- the contract's JSON object,
+ * the text for people, CSV for machines, the summary rows of a report, the
+ * figure, the files its options name (--kalibr, --save-calibration).
+ *
+ * ssc_stage_exec() is the one sequence parse -> check -> inputs -> run ->
+ * present.  `sensorscope CMD ...` (ssc_stage_main) and the scene runner
+ * (`run`, `report`) both call it: a scene hands it the options of its
+ * section as a command line, the captures it has loaded once, and the
+ * results of earlier stages, so a stage cannot behave differently in a
+ * scene than as a command.
  */
 #ifndef SSCOPE_STAGE_H
 #define SSCOPE_STAGE_H
 
 #include "cli.h"
 
-/* What a stage receives. */
+struct ssc_stage_ops;
+
+/* A stage's typed result (owned by whoever ran it; ssc_result_free). */
+struct ssc_result {
+	const struct ssc_stage_ops *ops; /* the stage that made it */
+	void *data;                      /* its result struct (results.h) */
+};
+
+/* What a stage's run() receives. */
 struct ssc_stage_env {
 	const struct ssc_common *co;      /* shared options */
-	struct sscope_capture **caps;     /* loaded inputs (may be 0 of them) */
+	struct sscope_capture *const *caps; /* inputs shaped by -c (may be
+					       0 of them; NULL when the
+					       stage streams them) */
 	const char *const *paths;         /* their names */
 	size_t n_caps;
 	const struct sscope_sensor_spec *sensor; /* scene's [sensor] or NULL */
 	const char *sensor_path;          /* its file, or NULL */
-	const char *adc_paths[8];         /* scene's [adc] spec files */
+	const char *const *adc_paths;     /* scene's [adc] spec files */
 	size_t n_adc;
 	/* scene's inline [adc] specification (section "adc"), or NULL */
 	const struct sscope_ini *adc_ini;
-	const char *plot_path;            /* draw the figure here, or NULL */
-	json_t *upstream;                 /* {"stage": result, ...} or NULL */
-};
-
-/* What a stage returns (owned by the caller after run). */
-struct ssc_stage_out {
-	json_t *json;    /* the contract's object */
-	char *text;      /* for people */
-	char *csv;       /* for machines (NULL: no CSV form) */
-	json_t *summary; /* array of {"channel","quantity","value","lo","hi",
-			    "unit","note"} for a report's summary table */
+	/* results of earlier stages this one uses (scene), or none */
+	const struct ssc_result *upstream;
+	size_t n_upstream;
 };
 
 /* Inputs a stage needs (for scene planning). */
@@ -55,22 +64,102 @@ struct ssc_stage_ops {
 	size_t opts_size;
 	void (*init)(void *opts);
 	int (*handle)(int key, const char *arg, void *opts);
-	/* after all options: cross-checks (usage errors) */
-	int (*check)(const struct ssc_common *co, void *opts);
-	int (*run)(const struct ssc_stage_env *env, void *opts,
-		   struct ssc_stage_out *out);
+	/* after all options: cross-checks (usage errors) and what follows
+	 * from the options (a stage's own --plot sets co->plot); called for
+	 * the command and in scenes alike */
+	int (*check)(struct ssc_common *co, void *opts);
+	/* optional: true when the command should read its input itself
+	 * (streaming, memory independent of the record); run() then gets
+	 * paths without captures */
+	bool (*streams)(const void *opts);
+	/* compute: *result receives the stage's result struct, which may
+	 * point into env's captures and paths (they live as long as it) */
+	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);
+	/* present the result (each called only when its form is asked for) */
+	json_t *(*json)(const void *opts, const void *result);
+	void (*text)(FILE *f, const void *opts, const void *result);
+	void (*csv)(FILE *f, const void *opts, const void *result); /* or NULL */
+	/* rows {"channel","quantity","value","lo","hi","unit","note"} */
+	void (*summary)(json_t *rows, const void *opts, const void *result);
+	/* the figure (NULL: none); returns an exit code */
+	int (*plot)(const struct ssc_common *co, const void *opts,
+		    const void *result, const char *path);
+	/* files the options ask for besides the output (NULL: none) */
+	int (*write)(const struct ssc_common *co, const void *opts,
+		     const void *result);
+	void (*free_result)(void *result);
 	void (*fini)(void *opts);
 };
 
-/* `sensorscope CMD [OPTIONS] FILE...` for a stage: parse, load, run,
- * present in the chosen format.  Returns the exit code. */
+/* Forms a scene asks for. */
+enum {
+	SSC_WANT_TEXT = 1u << 0,
+	SSC_WANT_JSON = 1u << 1,
+	SSC_WANT_SUMMARY = 1u << 2,
+};
+
+/* One invocation of a stage. */
+struct ssc_stage_call {
+	/* options as a command line: argv[0] the command, then options (a
+	 * scene writes one "--key=value" per key of its section) and, for
+	 * the command, the input files */
+	int argc;
+	char **argv;
+	const char *const *where; /* where argv[i] came from ("scene.ini:
+				     line 12"), or NULL */
+	const char *name;    /* scene: the stage's name in messages */
+	const char *context; /* scene: its file, for usage errors of
+				check() and run() */
+	/* a scene: its shared options ([input]), loaded inputs, specs and
+	 * earlier results; base == NULL: the command line */
+	const struct ssc_common *base;
+	struct sscope_capture *const *caps;
+	const char *const *paths;
+	size_t n_caps;
+	const struct sscope_sensor_spec *sensor;
+	const char *sensor_path;
+	const char *const *adc_paths;
+	size_t n_adc;
+	const struct sscope_ini *adc_ini;
+	const struct ssc_result *upstream;
+	size_t n_upstream;
+	bool check_only;       /* parse and check the options, nothing else */
+	unsigned want;         /* scene: SSC_WANT_* */
+	const char *plot_path; /* scene: draw the figure there, or NULL */
+	/* out (scene): owned by the caller, ssc_stage_call_clear() */
+	struct ssc_result result;
+	json_t *json;
+	char *text;
+	json_t *summary;
+	/* the inputs the result may point into (views of the scene's
+	 * captures), freed with it */
+	struct sscope_capture **views;
+	size_t n_views;
+};
+
+/*
+ * Parse the options, check them, shape (or load) the inputs, run the stage
+ * and present its result: for the command line in its --format to -o (or
+ * stdout), for a scene into call->json/text/summary as asked, with the
+ * typed result in call->result.  Prints errors.  Returns the exit code.
+ */
+int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call);
+
+/* Free what ssc_stage_exec() left in a call. */
+void ssc_stage_call_clear(struct ssc_stage_call *call);
+
+/* `sensorscope CMD [OPTIONS] FILE...`: ssc_stage_exec() of argv. */
 int ssc_stage_main(const struct ssc_stage_ops *ops, int argc, char **argv);
 
-/* Write an output in the command's --format to its -o (or stdout). */
-int ssc_stage_present(const struct ssc_common *co, struct ssc_stage_out *out);
+/* Free a result (and set it empty). */
+void ssc_result_free(struct ssc_result *r);
 
-/* Free the contents of an output. */
-void ssc_stage_out_free(struct ssc_stage_out *out);
+/* The first result of stage @p ops among @p env's upstream results, and
+ * the number of them in *n (a stage run once per capture leaves one per
+ * capture); NULL when none. */
+const struct ssc_result *ssc_stage_upstream(const struct ssc_stage_env *env,
+					    const struct ssc_stage_ops *ops,
+					    size_t *n);
 
 /* In-memory text building (open_memstream). */
 struct ssc_membuf {
@@ -86,6 +175,7 @@ char *ssc_membuf_take(struct ssc_membuf *m);
 void ssc_summary_add(json_t *summary, const char *channel,
 		     const char *quantity, double value, double lo, double hi,
 		     const char *unit, const char *note);
+
 /* Mark the last summary row as a result the analysis doubts ("status":
  * "warning"): reports flag it. */
 void ssc_summary_warn_last(json_t *summary);

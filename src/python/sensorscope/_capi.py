@@ -80,7 +80,27 @@ class Source(C.Structure):
 
 
 class Channel(C.Structure):
-    _fields_ = [("col", Column), ("data", c_dptr)]
+    _fields_ = [("col", Column), ("data", c_dptr), ("n_nan", c_size)]
+
+
+class TimeOrder(C.Structure):
+    _fields_ = [("n", c_size), ("n_repeats", c_size),
+                ("n_decreasing", c_size), ("n_swaps", c_size),
+                ("first_row", c_size), ("first_t_s", c_dbl),
+                ("first_prev_s", c_dbl), ("t0_s", c_dbl),
+                ("last_s", c_dbl * 3), ("pending", C.c_int)]
+
+
+class Timing(C.Structure):
+    _fields_ = [("dt_median_s", c_dbl), ("dt_min_s", c_dbl),
+                ("dt_max_s", c_dbl), ("jitter_rms_s", c_dbl),
+                ("rate_hz", c_dbl), ("n_gaps", c_size), ("n_missing", c_size),
+                ("n_backwards", c_size), ("order", TimeOrder)]
+
+
+class Gap(C.Structure):
+    _fields_ = [("index", c_size), ("t_s", c_dbl), ("length_s", c_dbl),
+                ("missing", c_size)]
 
 
 class Capture(C.Structure):
@@ -91,7 +111,10 @@ class Capture(C.Structure):
                 ("rate_hz", c_dbl), ("rate_source", C.c_int),
                 ("n_nan", c_size), ("source_info", C.POINTER(Source)),
                 ("mapping", C.c_void_p), ("mapping_len", c_size),
-                ("unterminated", C.c_bool)]
+                ("unterminated", C.c_bool),
+                ("timing", Timing), ("has_timing", C.c_bool),
+                ("gaps", C.POINTER(Gap)), ("n_gaps", c_size),
+                ("is_view", C.c_bool)]
 
 
 class AllanOpts(C.Structure):
@@ -139,7 +162,8 @@ class AllanResult(C.Structure):
     _fields_ = [("n_points", c_size), ("points", C.POINTER(AllanPoint)),
                 ("oadev", C.POINTER(AllanPoint)), ("n_oadev", c_size),
                 ("n_phase", c_size), ("have_fit", C.c_bool),
-                ("fit_error", C.c_int), ("fit", NoiseFit)]
+                ("fit_error", C.c_int), ("fit", NoiseFit),
+                ("fit_diag", Diag)]
 
 
 class PsdOpts(C.Structure):
@@ -299,6 +323,8 @@ STRUCTS = {
     "sscope_diag": Diag, "sscope_unit": Unit, "sscope_column": Column,
     "sscope_read_opts": ReadOpts, "sscope_topic": Topic,
     "sscope_source": Source, "sscope_channel": Channel,
+    "sscope_timing": Timing, "sscope_time_order": TimeOrder,
+    "sscope_gap": Gap,
     "sscope_capture": Capture, "sscope_allan_opts": AllanOpts,
     "sscope_allan_point": AllanPoint, "sscope_noise_coef": NoiseCoef,
     "sscope_noise_readoff": NoiseReadoff,
