@@ -1192,7 +1192,7 @@ static double boot_cdf(const struct boot *bt, double b, double b0, double x)
  * One bound of th[j] from the replicates around b0: s = +1 the largest b
  * with P_b(th* <= x) >= beta(b), s = -1 the smallest b >= 0 with
  * P_b(th* >= x) >= alpha - beta(b).  INFINITY when no finite upper bound
- * is found.
+ * is found (the estimate itself when no lower one is).
  */
 static double boot_solve(const struct boot *bt, double x, double b0, int s,
 			 bool forced, double scale)
@@ -1221,7 +1221,7 @@ static double boot_solve(const struct boot *bt, double x, double b0, int s,
 			lo = hi;
 			hi = 2 * hi;
 			if (hi > 1e6 * (fabs(x) + scale))
-				return INFINITY;
+				return x; /* degenerate replicates: no bound */
 		}
 	}
 	for (int it = 0; it < 60 && hi - lo > 1e-9 * hi; it++) {
