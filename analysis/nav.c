@@ -476,42 +476,79 @@ void sscope_nav_quat_normalize(double q[4])
 
 /* ------------------------------------------------------------ Earth */
 
-void sscope_nav_radii(double lat, double *r_n, double *r_e)
+/* radii from s = sin(lat); sw receives sqrt(1 - e^2 s^2) */
+static void radii_sin(double s, double *r_n, double *r_e, double *sw_out)
 {
-	double s = sin(lat), w = 1 - wgs84.e2 * s * s, sw = sqrt(w);
+	double w = 1 - wgs84.e2 * s * s, sw = sqrt(w);
 
 	if (r_n)
 		*r_n = wgs84.a * (1 - wgs84.e2) / (w * sw);
 	if (r_e)
 		*r_e = wgs84.a / sw;
+	if (sw_out)
+		*sw_out = sw;
 }
 
-double sscope_nav_gravity(double lat, double h)
+/* normal gravity from s2 = sin^2(lat) and sw = sqrt(1 - e^2 s2) */
+static double gravity_sin(double s2, double sw, double h)
 {
-	double s2 = sin(lat) * sin(lat);
-	double g0 = SSCOPE_WGS84_GAMMA_E * (1 + wgs84.k * s2) /
-		    sqrt(1 - wgs84.e2 * s2);
+	double g0 = SSCOPE_WGS84_GAMMA_E * (1 + wgs84.k * s2) / sw;
 
 	return g0 * (1 - 2 / wgs84.a * (1 + wgs84.f + wgs84.m - 2 * wgs84.f * s2) * h +
 		     3 * h * h / (wgs84.a * wgs84.a));
 }
 
+void sscope_nav_radii(double lat, double *r_n, double *r_e)
+{
+	radii_sin(sin(lat), r_n, r_e, NULL);
+}
+
+double sscope_nav_gravity(double lat, double h)
+{
+	double s = sin(lat);
+
+	return gravity_sin(s * s, sqrt(1 - wgs84.e2 * s * s), h);
+}
+
+void sscope_nav_earth_at(double lat, double h, struct sscope_nav_earth *e)
+{
+	double sw;
+
+	e->sin_lat = sin(lat);
+	e->cos_lat = cos(lat);
+	radii_sin(e->sin_lat, &e->r_n_m, &e->r_e_m, &sw);
+	e->gravity_m_s2 = gravity_sin(e->sin_lat * e->sin_lat, sw, h);
+}
+
+void sscope_nav_rates_at(const struct sscope_nav_earth *e, double h,
+			 const double v[3], double w_ie[3], double w_en[3])
+{
+	if (w_ie) {
+		w_ie[0] = SSCOPE_WGS84_OMEGA * e->cos_lat;
+		w_ie[1] = 0;
+		w_ie[2] = -SSCOPE_WGS84_OMEGA * e->sin_lat;
+	}
+	if (w_en) {
+		w_en[0] = v[1] / (e->r_e_m + h);
+		w_en[1] = -v[0] / (e->r_n_m + h);
+		w_en[2] = -v[1] * (e->sin_lat / e->cos_lat) / (e->r_e_m + h);
+	}
+}
+
 void sscope_nav_earth_rate(double lat, double w[3])
 {
-	w[0] = SSCOPE_WGS84_OMEGA * cos(lat);
-	w[1] = 0;
-	w[2] = -SSCOPE_WGS84_OMEGA * sin(lat);
+	struct sscope_nav_earth e = { .sin_lat = sin(lat), .cos_lat = cos(lat) };
+
+	sscope_nav_rates_at(&e, 0, NULL, w, NULL);
 }
 
 void sscope_nav_transport_rate(double lat, double h, const double v[3],
 			       double w[3])
 {
-	double rn, re;
+	struct sscope_nav_earth e;
 
-	sscope_nav_radii(lat, &rn, &re);
-	w[0] = v[1] / (re + h);
-	w[1] = -v[0] / (rn + h);
-	w[2] = -v[1] * tan(lat) / (re + h);
+	sscope_nav_earth_at(lat, h, &e);
+	sscope_nav_rates_at(&e, h, v, NULL, w);
 }
 
 double sscope_nav_wander_rate(double lat, double h, const double v[3])

@@ -869,7 +869,9 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 	p->arw_rad_sqrt_s = imu->gyro.n;
 	p->vrw_m_s_sqrt_s = imu->accel.n;
 	/* a converter adds its noise and quantization to the white noise
-	 * (as `adc report` computes them) and its offset error to the bias */
+	 * (as `adc report` computes them), and its offset error and the
+	 * bound of the bias a quantizer loses when the noise does not dither
+	 * it (Widrow-Kollar, 0 when it does) to the bias */
 	for (int tri = 0; tri < 2; tri++) {
 		const struct sscope_adc_spec *as = tri ? imu->accel_adc : imu->gyro_adc;
 		struct sscope_sensor_spec ss = tri ? imu->accel : imu->gyro;
@@ -889,7 +891,7 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 			ss.has |= SSCOPE_SPEC_SENSITIVITY | SSCOPE_SPEC_ZERO;
 		if (sscope_adc_analyze(&ss, &ac, ns->fs, &an, NULL))
 			continue;
-		off = ac.offset / (ac.analog ? ss.sensitivity : 1);
+		off = hypot(ac.offset / (ac.analog ? ss.sensitivity : 1), an.bias_bound);
 		if (tri) {
 			p->vrw_m_s_sqrt_s = an.n_total;
 			p->accel_bias_m_s2 = hypot(ab, off);

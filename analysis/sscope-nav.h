@@ -210,6 +210,25 @@ void sscope_nav_radii(double lat_rad, double *r_n_m, double *r_e_m);
  */
 double sscope_nav_gravity(double lat_rad, double height_m);
 
+/** The Earth model at one point, computed once for several uses. */
+struct sscope_nav_earth {
+	double sin_lat, cos_lat;
+	double r_n_m, r_e_m;    /**< sscope_nav_radii() */
+	double gravity_m_s2;    /**< sscope_nav_gravity() */
+};
+
+/** Fill @p e for latitude and height (one sine, one cosine, one root). */
+void sscope_nav_earth_at(double lat_rad, double height_m,
+			 struct sscope_nav_earth *e);
+
+/**
+ * Earth rate and transport rate in NED at the point of @p e (as
+ * sscope_nav_earth_rate() and sscope_nav_transport_rate()); either output
+ * may be NULL.
+ */
+void sscope_nav_rates_at(const struct sscope_nav_earth *e, double height_m,
+			 const double v_ned[3], double w_ie[3], double w_en[3]);
+
 /** Earth rate in NED: omega (cos lat, 0, -sin lat), rad/s. */
 void sscope_nav_earth_rate(double lat_rad, double w_ned[3]);
 

@@ -221,7 +221,8 @@ int sscope_navsim_monte_carlo(const struct sscope_navsim *ns,
  * the bias instability B (a 1-sigma bias, as `budget` takes it), ARW and
  * VRW the triads' N (with a converter: the density of sensor, converter
  * noise and quantization of sscope_adc_analyze(), and its offset error
- * counted as a bias).  Rate random walk, scale factor and misalignment are
+ * and the bound of the bias an undithered quantizer loses counted as a
+ * bias).  Rate random walk, scale factor and misalignment are
  * not mapped (the budget has no term for the first and needs a motion
  * profile for the others).
  */

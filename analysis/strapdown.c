@@ -67,7 +67,9 @@ void sscope_strapdown_step2(struct sscope_strapdown_state *s,
 	double lat = s->lat_rad, h = s->height_m, *v = s->v_ned_m_s;
 	double lat_m = lat, h_m = h, vm[3] = { v[0], v[1], v[2] };
 	double vn[3], latn = lat, lonn = s->lon_rad, hn = h, zeta[3];
-	double rn0, re0;
+	/* the Earth model at the old latitude, the mid point and the new
+	 * latitude (each computed once) */
+	struct sscope_nav_earth e0, em, en;
 
 	/* body side: coning and sculling (Savage's two-sample forms) */
 	for (int i = 0; i < 3; i++) {
@@ -109,14 +111,18 @@ void sscope_strapdown_step2(struct sscope_strapdown_state *s,
 	sscope_nav_dcm_from_quat(s->q_bn, C);
 	for (int i = 0; i < 3; i++)
 		fn[i] = C[i][0] * dvb[0] + C[i][1] * dvb[1] + C[i][2] * dvb[2];
-	sscope_nav_radii(lat, &rn0, &re0);
+	sscope_nav_earth_at(lat, h, &e0);
+	en = e0;
 	/* navigation side: predictor (start values), then corrector (mid) */
 	for (int pass = 0; pass < 2; pass++) {
-		double wie[3], wen[3], w2[3], cor[3], zf[3], g, rn, re, rn1, re1;
+		double wie[3], wen[3], w2[3], cor[3], zf[3], g;
 
-		sscope_nav_earth_rate(lat_m, wie);
-		sscope_nav_transport_rate(lat_m, h_m, vm, wen);
-		g = sscope_nav_gravity(lat_m, h_m);
+		if (pass)
+			sscope_nav_earth_at(lat_m, h_m, &em);
+		else
+			em = e0;
+		sscope_nav_rates_at(&em, h_m, vm, wie, wen);
+		g = em.gravity_m_s2;
 		for (int i = 0; i < 3; i++) {
 			zeta[i] = (wie[i] + wen[i]) * T;
 			w2[i] = 2 * wie[i] + wen[i];
@@ -126,16 +132,14 @@ void sscope_strapdown_step2(struct sscope_strapdown_state *s,
 		for (int i = 0; i < 3; i++)
 			vn[i] = v[i] + fn[i] - 0.5 * zf[i] - cor[i] * T;
 		vn[2] += g * T;
-		/* position: trapezoid, radii at the old and the new latitude */
+		/* position: trapezoid, radii at the old and the new latitude
+		 * (the new one from the previous estimate, then updated) */
 		hn = h - 0.5 * T * (v[2] + vn[2]);
-		rn = rn0;
-		re = re0;
-		sscope_nav_radii(pass ? latn : lat, &rn1, &re1);
-		latn = lat + 0.5 * T * (v[0] / (rn + h) + vn[0] / (rn1 + hn));
-		sscope_nav_radii(latn, &rn1, &re1);
+		latn = lat + 0.5 * T * (v[0] / (e0.r_n_m + h) + vn[0] / (en.r_n_m + hn));
+		sscope_nav_earth_at(latn, hn, &en);
 		lonn = s->lon_rad +
-		       0.5 * T * (v[1] / ((re + h) * cos(lat)) +
-				  vn[1] / ((re1 + hn) * cos(latn)));
+		       0.5 * T * (v[1] / ((e0.r_e_m + h) * e0.cos_lat) +
+				  vn[1] / ((en.r_e_m + hn) * en.cos_lat));
 		lat_m = 0.5 * (lat + latn);
 		h_m = 0.5 * (h + hn);
 		for (int i = 0; i < 3; i++)

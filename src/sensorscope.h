@@ -959,5 +959,6 @@ int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *spec,
 #include "sscope-navsim.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
+#include "sscope-clip.h"
 
 #endif /* SENSORSCOPE_H */

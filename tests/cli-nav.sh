@@ -58,6 +58,36 @@ run "calib result" 0 calib accel -c ax,ay,az --format json -o "$T/cal.json" "$SA
 run "navsim --from-calib" 0 navsim --from-calib "$T/cal.json" --runs 1 --duration 30 --format json
 json_check "calib's bias and misalignment" "$T/out" '(.imu.accel.bias[0] - 0.206 | fabs) < 0.01 and (.imu.accel.error_matrix[0][1] | fabs) > 1e-4'
 
+# a converter behind the gyros: a 16-bit rounding converter over +-500 deg/s
+# (LSB 55 deg/h) behind a quiet gyro rounds the Earth rate (10.6 and -10.6
+# deg/h on x and z at rest at 45 deg) to zero, a bias of that size; integrating, or
+# with 24 bits, the error is the gyro's own
+cat >"$T/fog.ini" <<'EOF2'
+[sensor]
+range = 500 deg/s
+noise_density = 0.01 deg/sqrt(h)
+EOF2
+printf '[adc]\nname = c16\nbits = 16\nrange = -500:500 deg/s\n' >"$T/c16.ini"
+printf '[adc]\nbits = 16\nrange = -500:500 deg/s\nmode = integrate\n' >"$T/c16i.ini"
+printf '[adc]\nbits = 24\nrange = -500:500 deg/s\n' >"$T/c24.ini"
+printf '[adc]\nbits = 10\nrange = -8:8 g\n' >"$T/a10.ini"
+printf '[adc]\nbits = 16\nrange = 0:5 V\n' >"$T/volts.ini"
+for c in c16 c16i c24; do
+	run "navsim --gyro-adc $c" 0 navsim --sensor "$T/fog.ini" --gyro-adc "$T/$c.ini" --runs 4 --duration 2min --rate 50 --format json -o "$T/$c.json"
+done
+run "navsim without a converter" 0 navsim --sensor "$T/fog.ini" --runs 4 --duration 2min --rate 50 --format json -o "$T/c0.json"
+command -v jq >/dev/null 2>&1 &&
+	jq -s . "$T/c0.json" "$T/c16.json" "$T/c16i.json" "$T/c24.json" >"$T/adc-all.json"
+json_check "the 16-bit converter's lost Earth rate" "$T/adc-all.json" \
+	'.[1].imu.gyro.adc.bits == 16 and (.[1].imu.gyro.adc.lsb_si / (3.141592653589793 / 180 / 3600) - 54.93 | fabs) < 0.01 and .[1].horizontal_m.p50[-1] > 20 * .[0].horizontal_m.p95[-1] and .[1].budget.position_m[-1] > 0.5 * .[1].horizontal_m.p50[-1]'
+json_check "integrating or 24 bits: the gyro's own error" "$T/adc-all.json" \
+	'(.[2].horizontal_m.p50[-1] / .[0].horizontal_m.p50[-1] - 1 | fabs) < 0.05 and (.[3].horizontal_m.p50[-1] / .[0].horizontal_m.p50[-1] - 1 | fabs) < 0.05'
+run "converter of the wrong quantity" 2 navsim --sensor "$T/fog.ini" --gyro-adc "$T/a10.ini"
+one_line_error "converter of the wrong quantity"
+run "converter in volts without a sensitivity" 2 navsim --sensor "$T/fog.ini" --gyro-adc "$T/volts.ini"
+has "says sensitivity" "$T/err" 'sensitivity'
+run "missing converter spec" 1 navsim --gyro-adc "$T/none.ini"
+
 # a trajectory file
 run "navsim --trajectory file" 0 navsim --trajectory "$SAMPLES/drive-trajectory.csv" --runs 1 --format json
 json_check "a perfect IMU follows the drive" "$T/out" \
@@ -210,6 +240,10 @@ cp "$SAMPLES/drive-trajectory.csv" "$T/sc/drive.csv"
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\ntrajectory-file = drive.csv\n\n[report]\nformats = text\n' >"$T/sc/ns.ini"
 run "navsim scene, trajectory relative to the scene" 0 run "$T/sc/ns.ini" -o "$T/sc/out" -q
 has "the scene's trajectory" "$T/sc/out/report.txt" 'trajectory .*sc/drive.csv'
+cp "$T/c16.ini" "$T/sc/conv.ini"
+printf '[navsim]\nsensor = %s\ngyro-adc = conv.ini\nruns = 2\nduration = 1 min\n\n[report]\nformats = text\n' "$T/fog.ini" >"$T/sc/adc.ini"
+run "navsim scene, converter relative to the scene" 0 run "$T/sc/adc.ini" -o "$T/sc/adcout" -q
+has "the scene's converter" "$T/sc/adcout/report.txt" 'gyro converter c16: 16 bits'
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\n\n[report]\nformats = text\n' >"$T/ns.ini"
 run "navsim in a scene without captures" 0 run "$T/ns.ini" -o "$T/ns" -q
 has "navsim's own keys" "$T/ns/report.txt" 'fixed gyro bias \(x, y, z\): 0, 10, 0 deg/h'

@@ -6,7 +6,8 @@
 # headless browser at 1280 px no figure text is under 10 px and no legend
 # or note box overlaps a plot area, and at the A4 column (703 px) none is
 # under 7 px; it prints to PDF.  The thermal scene's rejected fits show in
-# the text, JSON and HTML; a white-noise capture lists no peak.  The pages
+# the text, JSON and HTML; a white-noise capture lists no peak; a clipped
+# capture and a record too short to measure a term are flagged.  The pages
 # and the PDF a reviewer looks at are left in tests/ of the build tree
 # (report-1280.png, report-print.png, report.pdf).
 . "${top_srcdir:-$(dirname "$0")/..}/tests/lib.sh"
@@ -66,6 +67,36 @@ json_check "white noise: no strongest peak, no peak" "$T/wn/report.json" \
 	'([.summary[] | select(.quantity == "strongest peak")] | length == 0) and ([.results.psd.channels[].peaks | length] | all(. == 0))'
 has "white noise: the HTML says no line" "$T/wn/report.html" 'No spectral line.'
 lacks "white noise: no strongest peak in the terminal" "$T/out" 'strongest peak'
+
+# a capture driven into its range: clipped, said in text, JSON, the
+# summary and a banner; a sample that is not clipped says nothing
+printf '[sensor]\nname = small range\nrange = 100 deg/s\nnoise_density = 0.2 deg/sqrt(h)\n' >"$T/clip.ini"
+run "clipped capture" 0 simulate --sensor "$T/clip.ini" --rate 200 --duration 60 --tone 3.1:120 -o "$T/clip.csv"
+run "clipped: info" 0 info "$T/clip.csv"
+has "clipped: text warning" "$T/out" '^  warning: gx: clipped: [0-9]+ samples \([0-9.]+ %\) sit at its smallest value -100 deg/s or its largest 100 deg/s'
+run "clipped: info JSON" 0 info --format json "$T/clip.csv"
+json_check "clipped: JSON counts and warning" "$T/out" \
+	'(.channels[0].clipped | .low > 1000 and .high > 1000) and (.warnings[0].code == "clipped")'
+run "clipped: report" 0 report -o "$T/cr" "$T/clip.csv"
+has "clipped: terminal summary flagged" "$T/out" '^info/gx +clipped samples +[0-9]+ +\[!\] at the end of the range'
+has "clipped: HTML banner" "$T/cr/report.html" '<strong>Clipped data.</strong> gx: clipped'
+run "not clipped: info JSON" 0 info --format json "$SAMPLES/gyro-static.csv"
+json_check "not clipped: counts 0, no warning" "$T/out" \
+	'([.channels[].clipped | .low + .high] | add == 0) and (has("warnings") | not)'
+
+# a record too short to measure anything: said, and the analyses it
+# refused are listed among the checks
+head -n 200 "$SAMPLES/gyro-static.csv" >"$T/short.csv"
+run "short record: report" 0 report -o "$T/sr" "$T/short.csv"
+has "short record: terminal warning" "$T/out" '^  warning: gx: no noise term resolved: 197 samples are too few'
+json_check "short record: JSON warning" "$T/sr/report.json" \
+	'[.results.allan.channels[].warnings[].code] | index("too_few_samples") != null'
+has "short record: HTML banner" "$T/sr/report.html" '<strong>Too few samples.</strong> gx: no noise term resolved'
+has "short record: refused analysis listed" "$T/sr/report.html" '<strong>Not in the report.</strong> Random-walk fan: inferred, but refused by the data'
+lacks "short record: nothing claims all is well" "$T/sr/report.html" 'Nothing flagged'
+json_check "short record: the spectrum of the record (one segment), said" "$T/sr/report.json" \
+	'(.results.psd.channels | length == 3) and (.results.psd.warnings[0].code == "too_few_samples")'
+has "short record: the spectrum's banner" "$T/sr/report.html" '<strong>Too few samples.</strong> [^<]*short.csv: 197 samples, fewer than one segment of 256'
 
 # a real browser at 1280 px and at the A4 column, and printed
 BROWSER=$(command -v chromium || command -v chromium-browser || command -v google-chrome || true)

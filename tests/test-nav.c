@@ -435,6 +435,26 @@ START_TEST(test_earth_rates)
 	ck_assert_rel(hypot(ww[0], ww[1]), hypot(t[0], t[1]), 1e-14);
 	ck_assert_rel(sscope_nav_wander_rate(lat, h, v),
 		      v[1] / ((re + h) * cos(lat)) * sin(lat), 1e-14);
+	/* the Earth model at one point equals the single functions */
+	for (double la = -89.5; la <= 89.5; la += 7.25) {
+		struct sscope_nav_earth e;
+		double wi[3], wn[3], w1[3], w2[3];
+
+		sscope_nav_earth_at(la * D2R, h, &e);
+		sscope_nav_radii(la * D2R, &rn, &re);
+		ck_assert_rel(e.r_n_m, rn, 1e-15);
+		ck_assert_rel(e.r_e_m, re, 1e-15);
+		ck_assert_rel(e.gravity_m_s2, sscope_nav_gravity(la * D2R, h), 1e-15);
+		sscope_nav_rates_at(&e, h, v, wi, wn);
+		sscope_nav_earth_rate(la * D2R, w1);
+		sscope_nav_transport_rate(la * D2R, h, v, w2);
+		for (int k = 0; k < 3; k++) {
+			ck_assert(wi[k] == w1[k]);
+			ck_assert(fabs(wn[k] - w2[k]) <= 1e-15 * fabs(w2[k]));
+		}
+		/* against the closed forms with tan */
+		ck_assert_rel(wn[2], -v[1] * tan(la * D2R) / (re + h), 1e-14);
+	}
 }
 END_TEST
 

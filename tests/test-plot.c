@@ -38,6 +38,14 @@ START_TEST(linear_ticks)
 	n = ssc_ticks_linear(1e-7, 5e-7, 5, t, 32, &step);
 	ck_assert_rel(step, 1e-7, 1e-12);
 	ck_assert_uint_eq(n, 5);
+	/* the rounded step (0.05) would leave one label: a smaller one */
+	n = ssc_ticks_linear(-0.083, -0.017, 3, t, 32, &step);
+	ck_assert_rel(step, 0.02, 1e-12);
+	ck_assert_uint_eq(n, 4);
+	ck_assert_rel(t[0], -0.08, 1e-12);
+	ck_assert_rel(t[3], -0.02, 1e-12);
+	n = ssc_ticks_linear(0.2811, 0.3189, 3, t, 32, &step);
+	ck_assert_uint_ge(n, 3);
 }
 END_TEST
 

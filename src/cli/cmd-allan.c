@@ -574,6 +574,16 @@ static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c
 			 u->term[t]);
 		n++;
 	}
+	/* nothing resolved: the record is too short to measure a term */
+	if (n < max && !term_resolved(&ft->coef[0]) &&
+	    !term_resolved(&ft->coef[1]) && !term_resolved(&ft->coef[2]) &&
+	    !term_resolved(&ft->coef[3]) && !term_resolved(&ft->coef[4])) {
+		w[n].code = "too_few_samples";
+		snprintf(w[n].msg, sizeof(w[n].msg),
+			 "%s: no noise term resolved: %zu samples are too few to measure any; the record only bounds them",
+			 c->col->name, c->n);
+		n++;
+	}
 	return n;
 }
 
@@ -694,8 +704,8 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			fprintf(f, " K: no tau where K dominates\n");
 	}
 	{
-		struct warn w[6];
-		size_t nw = chan_warnings(a, c, w, 6);
+		struct warn w[7];
+		size_t nw = chan_warnings(a, c, w, 7);
 
 		for (size_t i = 0; i < nw; i++)
 			fprintf(f, "  warning: %s\n", w[i].msg);
@@ -827,8 +837,8 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(o, "readoff", ro);
 		}
 		{
-			struct warn w[6];
-			size_t nw = chan_warnings(a, c, w, 6);
+			struct warn w[7];
+			size_t nw = chan_warnings(a, c, w, 7);
 
 			for (size_t i = 0; i < nw; i++)
 				ssc_json_warn(o, w[i].code, "%s", w[i].msg);

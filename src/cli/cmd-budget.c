@@ -444,7 +444,9 @@ static int plot(const struct ssc_common *co, const void *opts,
 
 			ds.dash = SSC_DASHED;
 			ds.width = 1.2;
-			ssc_ax_line(ax, t, y2, NG, &ds, "±2σ envelope");
+			snprintf(buf, sizeof(buf), "%s ±2σ envelope",
+				 sscope_budget_source_name((enum sscope_budget_source)s));
+			ssc_ax_line(ax, t, y2, NG, &ds, buf);
 		}
 	}
 	{

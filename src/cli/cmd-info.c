@@ -22,7 +22,10 @@ static const struct ssc_command_spec spec = {
 		"Describe captures: channels, units and quantities, sample rate (and\n"
 		"whether it came from --rate or the time column), duration, time-stamp\n"
 		"gaps and jitter, per-channel mean, standard deviation, minimum and\n"
-		"maximum in the channel's unit, and the temperature range.",
+		"maximum in the channel's unit, and the temperature range.  A rate,\n"
+		"acceleration, voltage or count channel with samples piled up on its\n"
+		"smallest or largest value (at least 8, over 4 times the next value\n"
+		"inward) is reported as clipped: a warning, JSON \"clipped\".",
 	.analysis = true,
 	.notes = "Examples:\n"
 		 "  sensorscope info samples/gyro-static.csv\n"
@@ -39,6 +42,7 @@ struct file_info {
 	const char *path;
 	struct sscope_capture *cap;
 	struct sscope_stats *st;
+	struct sscope_clip *clip; /* samples piled at a channel's extremes */
 	struct sscope_stats temp;
 	bool have_temp;
 	/* receive times of a ROS container */
@@ -86,6 +90,34 @@ static double to_unit_diff(const struct sscope_column *c, double si)
 	return si / c->unit.scale;
 }
 
+/* What a sensor or its converter outputs, where a range ends: clipping is
+ * looked for there, not in a trajectory's angles and positions (whose
+ * noise-free plateaus would read as a pile-up). */
+static bool sensor_output(enum sscope_quantity q)
+{
+	return q == SSCOPE_QTY_ANGULAR_RATE || q == SSCOPE_QTY_ACCELERATION ||
+	       q == SSCOPE_QTY_VOLTAGE || q == SSCOPE_QTY_COUNTS ||
+	       q == SSCOPE_QTY_UNKNOWN || q == SSCOPE_QTY_DIMENSIONLESS;
+}
+
+/* samples piled at each channel's extremes */
+static int clip_channels(const struct ssc_common *co, struct file_info *fi)
+{
+	const struct sscope_capture *cap = fi->cap;
+
+	fi->clip = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->clip));
+	if (!fi->clip) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (sensor_output(cap->channels[k].col.quantity))
+			sscope_clip_detect(cap->channels[k].data, 1, cap->n,
+					   SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
+					   &fi->clip[k]);
+	return SSC_EXIT_OK;
+}
+
 static int analyse(const struct ssc_common *co, const char *path,
 		   struct sscope_capture *cap, struct file_info *fi)
 {
@@ -125,7 +157,7 @@ static int analyse(const struct ssc_common *co, const char *path,
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
-	return SSC_EXIT_OK;
+	return clip_channels(co, fi);
 }
 
 static double duration(const struct sscope_capture *cap)
@@ -147,6 +179,33 @@ static const char *rate_source(const struct sscope_capture *cap)
 	default:
 		return "unknown";
 	}
+}
+
+/* The clipping warning of channel k, or false when it is not clipped. */
+static bool clip_message(const struct file_info *fi, size_t k, char *msg,
+			 size_t len)
+{
+	const struct sscope_column *col = &fi->cap->channels[k].col;
+	const struct sscope_clip *c = &fi->clip[k];
+	size_t n = (c->low ? c->n_lo : 0) + (c->high ? c->n_hi : 0);
+	char a[32], b[32], p[32];
+	const char *u = col->unit_label[0] ? col->unit_label : "";
+
+	if (!c->low && !c->high)
+		return false;
+	ssc_fmt(p, sizeof(p), 100.0 * (double)n / (double)fi->st[k].n, 2);
+	if (c->low && c->high)
+		snprintf(msg, len, "%s: clipped: %zu samples (%s %%) sit at its smallest value %s %s or its largest %s %s (%zu and %zu; the values next inward hold %zu and %zu): the sensor or its converter reached the end of its range, and analyses of this channel are unreliable",
+			 col->name, n, p,
+			 ssc_fmt(a, sizeof(a), to_unit(col, c->lo), 6), u,
+			 ssc_fmt(b, sizeof(b), to_unit(col, c->hi), 6), u,
+			 c->n_lo, c->n_hi, c->n_lo_next, c->n_hi_next);
+	else
+		snprintf(msg, len, "%s: clipped: %zu samples (%s %%) sit at its %s value %s %s (the value next inward holds %zu): the sensor or its converter reached the end of its range, and analyses of this channel are unreliable",
+			 col->name, n, p, c->high ? "largest" : "smallest",
+			 ssc_fmt(a, sizeof(a), to_unit(col, c->high ? c->hi : c->lo), 6),
+			 u, c->high ? c->n_hi_next : c->n_lo_next);
+	return true;
 }
 
 static void text_file(FILE *f, const struct file_info *fi)
@@ -259,6 +318,12 @@ static void text_file(FILE *f, const struct file_info *fi)
 			ssc_fmt(c, sizeof(c), s->n ? to_unit(col, s->min) : (double)NAN, 7),
 			ssc_fmt(d, sizeof(d), s->n ? to_unit(col, s->max) : (double)NAN, 7));
 	}
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		char msg[640];
+
+		if (clip_message(fi, k, msg, sizeof(msg)))
+			fprintf(f, "  warning: %s\n", msg);
+	}
 }
 
 static json_t *json_file(const struct file_info *fi)
@@ -293,9 +358,25 @@ static json_t *json_file(const struct file_info *fi)
 		json_object_set_new(c, "sd", s->n ? ssc_jreal(to_unit_diff(col, s->sd)) : json_null());
 		json_object_set_new(c, "min", s->n ? ssc_jreal(to_unit(col, s->min)) : json_null());
 		json_object_set_new(c, "max", s->n ? ssc_jreal(to_unit(col, s->max)) : json_null());
+		{
+			/* samples piled at each end of the range, 0: none */
+			json_t *cl = json_object();
+
+			json_object_set_new(cl, "low", json_integer(fi->clip[k].low ?
+				(json_int_t)fi->clip[k].n_lo : 0));
+			json_object_set_new(cl, "high", json_integer(fi->clip[k].high ?
+				(json_int_t)fi->clip[k].n_hi : 0));
+			json_object_set_new(c, "clipped", cl);
+		}
 		json_array_append_new(chs, c);
 	}
 	json_object_set_new(o, "channels", chs);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		char msg[640];
+
+		if (clip_message(fi, k, msg, sizeof(msg)))
+			ssc_json_warn(o, "clipped", "%s", msg);
+	}
 	for (size_t i = 0; i < cap->n_gaps; i++) {
 		json_t *g = json_object();
 
@@ -481,8 +562,10 @@ static void free_result(void *result)
 {
 	struct info_res *r = result;
 
-	for (size_t i = 0; i < r->n; i++)
+	for (size_t i = 0; i < r->n; i++) {
 		free(r->fi[i].st);
+		free(r->fi[i].clip);
+	}
 	free(r->fi);
 	free(r);
 }
@@ -540,6 +623,18 @@ static void summary(json_t *rows, const void *opts, const void *result)
 					NAN, NAN, "Hz", rate_source(cap));
 			ssc_summary_add(rows, NULL, "record length",
 					duration(cap), NAN, NAN, "s", NULL);
+		}
+		for (size_t k = 0; k < cap->n_channels; k++) {
+			const struct sscope_clip *c = &fi->clip[k];
+
+			if (!c->low && !c->high)
+				continue;
+			ssc_summary_add(rows, cap->channels[k].col.name,
+					"clipped samples",
+					(double)((c->low ? c->n_lo : 0) +
+						 (c->high ? c->n_hi : 0)),
+					NAN, NAN, "", "at the end of the range");
+			ssc_summary_warn_last(rows);
 		}
 		if (fi->have_temp) {
 			char note[96], a[32], b[32];

@@ -43,6 +43,8 @@ enum {
 	O_VERTICAL,
 	O_THREADS,
 	O_PLOT,
+	O_GADC,
+	O_AADC,
 };
 
 static const struct ssc_option navsim_opts[] = {
@@ -52,6 +54,10 @@ static const struct ssc_option navsim_opts[] = {
 	  "noise terms from a JSON result of 'allan': those it resolved, of the worst gyro and accelerometer channel" },
 	{ "from-calib", required_argument, O_CALIB, "RESULT.json",
 	  "fixed biases, scale factors and misalignments from a JSON result of 'calib' (the uncompensated sensor)" },
+	{ "gyro-adc", required_argument, O_GADC, "FILE.ini",
+	  "digitize every gyro axis through this converter ([adc] spec; a range in volts uses the gyro spec's sensitivity)" },
+	{ "accel-adc", required_argument, O_AADC, "FILE.ini",
+	  "digitize every accelerometer axis through this converter" },
 	{ "gyro-bias", required_argument, O_GBIAS, "V[,V,V]",
 	  "fixed gyro bias, one value for every axis or x,y,z (e.g. 10 deg/h)" },
 	{ "accel-bias", required_argument, O_ABIAS, "V[,V,V]",
@@ -108,6 +114,7 @@ struct opts {
 	const char *sensor[2];
 	int n_sensor;
 	const char *allan, *calib;
+	const char *adc[2]; /* gyro, accelerometer converter specs */
 	double gbias[3], abias[3];
 	bool set_gbias, set_abias;
 	double arw, vrw;
@@ -185,6 +192,10 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_CALIB:
 		o->calib = arg;
+		return 0;
+	case O_GADC:
+	case O_AADC:
+		o->adc[key == O_AADC] = arg;
 		return 0;
 	case O_GBIAS:
 		o->set_gbias = true;
@@ -321,13 +332,14 @@ static int check(struct ssc_common *co, void *opts)
 struct imu_in {
 	struct sscope_navsim_imu imu;
 	struct ssc_nav_terms gyro, accel; /* noise terms used */
-	char from[4][160];                /* where each part came from */
+	struct sscope_adc_spec adc[2];    /* converters (gyro, accel) */
+	char from[6][160];                /* where each part came from */
 	size_t n_from;
 };
 
 static void add_from(struct imu_in *in, const char *fmt, const char *what)
 {
-	if (in->n_from < 4)
+	if (in->n_from < sizeof(in->from) / sizeof(in->from[0]))
 		snprintf(in->from[in->n_from++], sizeof(in->from[0]), fmt, what);
 }
 
@@ -428,6 +440,35 @@ static int apply_calib_res(const char *cmd, struct imu_in *in,
 	return SSC_EXIT_OK;
 }
 
+/* --gyro-adc (k 0) or --accel-adc (k 1): a converter for that triad */
+static int load_adc(const char *cmd, struct imu_in *in, int k, const char *path)
+{
+	struct sscope_adc_spec *a = &in->adc[k];
+	const struct sscope_sensor_spec *s = k ? &in->imu.accel : &in->imu.gyro;
+	const char *opt = k ? "accel-adc" : "gyro-adc";
+	struct sscope_diag d = { "" };
+	int rc = sscope_adc_spec_load(path, a, &d);
+
+	if (rc)
+		return ssc_fail(cmd, rc, &d, path);
+	if (a->analog && !((s->has & SSCOPE_SPEC_SENSITIVITY) && s->sensitivity > 0))
+		return ssc_usage_error(cmd, "--%s: %s has a range in volts but no %s spec gives a sensitivity",
+				       opt, path, k ? "accelerometer" : "gyro");
+	if (!a->analog && a->quantity != s->quantity)
+		return ssc_usage_error(cmd, "--%s: %s converts %s, not %s", opt, path,
+				       sscope_quantity_name(a->quantity),
+				       sscope_quantity_name(s->quantity));
+	if (a->oversample > 1 || a->inl_profile[0])
+		return ssc_usage_error(cmd, "--%s: %s: %s is modelled by 'adc report' only",
+				       opt, path, a->oversample > 1 ? "oversample" : "inl_profile");
+	if (k)
+		in->imu.accel_adc = a;
+	else
+		in->imu.gyro_adc = a;
+	add_from(in, "converter %s", path);
+	return SSC_EXIT_OK;
+}
+
 static int gather(const struct ssc_stage_env *env, const struct opts *o,
 		  struct imu_in *in)
 {
@@ -507,6 +548,11 @@ static int gather(const struct ssc_stage_env *env, const struct opts *o,
 	}
 	in->imu.gyro.quantity = SSCOPE_QTY_ANGULAR_RATE;
 	in->imu.accel.quantity = SSCOPE_QTY_ACCELERATION;
+	for (int k = 0; k < 2; k++) {
+		rc = o->adc[k] ? load_adc(cmd, in, k, o->adc[k]) : SSC_EXIT_OK;
+		if (rc)
+			return rc;
+	}
 	ssc_nav_terms_from_spec(&in->imu.gyro, &in->gyro);
 	ssc_nav_terms_from_spec(&in->imu.accel, &in->accel);
 	return SSC_EXIT_OK;
@@ -627,9 +673,33 @@ static json_t *vec_json(const double v[3])
 	return a;
 }
 
+/* LSB of a triad's converter in the triad's SI unit */
+static double adc_lsb(const struct sscope_adc_spec *a,
+		      const struct sscope_sensor_spec *s)
+{
+	return (a->hi - a->lo) / ldexp(1, a->bits) / (a->analog ? s->sensitivity : 1);
+}
+
+static json_t *adc_json(const struct sscope_adc_spec *a,
+			const struct sscope_sensor_spec *s)
+{
+	json_t *o;
+
+	if (!a)
+		return json_null();
+	o = json_object();
+	json_object_set_new(o, "name", json_string(a->name));
+	json_object_set_new(o, "bits", json_integer(a->bits));
+	json_object_set_new(o, "lsb_si", ssc_jreal(adc_lsb(a, s)));
+	json_object_set_new(o, "analog", json_boolean(a->analog));
+	json_object_set_new(o, "mode", json_string(a->mode == SSCOPE_ADC_INTEGRATE ?
+							   "integrate" : "round"));
+	return o;
+}
+
 static json_t *triad_json(const struct sscope_sensor_spec *s,
 			  const struct ssc_nav_terms *t, const double bias[3],
-			  const double M[3][3])
+			  const double M[3][3], const struct sscope_adc_spec *adc)
 {
 	json_t *o = json_object(), *m = json_array();
 
@@ -642,6 +712,7 @@ static json_t *triad_json(const struct sscope_sensor_spec *s,
 	for (int i = 0; i < 3; i++)
 		json_array_append_new(m, vec_json(M[i]));
 	json_object_set_new(o, "error_matrix", m);
+	json_object_set_new(o, "adc", adc_json(adc, s));
 	return o;
 }
 
@@ -675,10 +746,11 @@ static json_t *make_json(const struct opts *o, const struct imu_in *in,
 	json_object_set_new(root, "seed", json_integer((json_int_t)o->seed));
 	json_object_set_new(root, "vertical", json_string(o->free_vertical ? "free" : "aided"));
 	json_object_set_new(imu, "gyro", triad_json(&in->imu.gyro, &in->gyro,
-						     in->imu.gyro_bias_rad_s, in->imu.gyro_m));
+						     in->imu.gyro_bias_rad_s, in->imu.gyro_m,
+						     in->imu.gyro_adc));
 	json_object_set_new(imu, "accel", triad_json(&in->imu.accel, &in->accel,
 						      in->imu.accel_bias_m_s2,
-						      in->imu.accel_m));
+						      in->imu.accel_m, in->imu.accel_adc));
 	for (size_t i = 0; i < in->n_from; i++)
 		json_array_append_new(from, json_string(in->from[i]));
 	json_object_set_new(imu, "sources", from);
@@ -800,12 +872,24 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 			fprintf(f, "  fixed accel bias (x, y, z): %g, %g, %g ug\n",
 				c[0] / 9.80665e-6, c[1] / 9.80665e-6, c[2] / 9.80665e-6);
 	}
+	for (int k = 0; k < 2; k++) {
+		const struct sscope_adc_spec *ad = k ? in->imu.accel_adc : in->imu.gyro_adc;
+
+		if (ad)
+			fprintf(f, "  %s converter %s: %d bits, LSB %s %s (%s)\n",
+				k ? "accel" : "gyro", ad->name[0] ? ad->name : "(unnamed)",
+				ad->bits,
+				ssc_fmt(a, sizeof(a), adc_lsb(ad, k ? &in->imu.accel : &in->imu.gyro) /
+						      (k ? 9.80665e-6 : D2R / 3600), 4),
+				k ? "ug" : "deg/h",
+				ad->mode == SSCOPE_ADC_INTEGRATE ? "integrating" : "rounding");
+	}
 	for (size_t i = 0; i < in->n_from; i++)
 		fprintf(f, "  from %s\n", in->from[i]);
 	if (!in->n_from)
 		fprintf(f, "  perfect IMU: the errors are those of the mechanisation\n");
 	if (r->clipped)
-		fprintf(f, "  warning: %llu samples clipped to the sensor range\n",
+		fprintf(f, "  warning: %llu samples clipped to the sensor's or converter's range\n",
 			(unsigned long long)r->clipped);
 	fprintf(f, "\n  %9s %11s %11s %11s %11s %11s %11s %9s %9s %9s %10s\n", "t (s)",
 		"horiz p50", "horiz p95", "north rms", "east rms", "budget 1ch",

@@ -744,6 +744,10 @@ static json_t *json_run(const struct run *R)
 		json_array_append_new(chs, o);
 	}
 	json_object_set_new(root, "channels", chs);
+	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
+		ssc_json_warn(root, "too_few_samples",
+			      "%s: %llu samples, fewer than one segment of %zu: the spectrum is a single periodogram, each bin with 2 degrees of freedom (its sd equals its value)",
+			      R->path, (unsigned long long)R->rows, R->a.po.nperseg);
 	return root;
 }
 
@@ -976,6 +980,7 @@ static void init(void *opts)
 	a->peaks = 5;
 	a->peak_alpha = 0.01;
 	a->sg_cols = 400;
+	a->po.shorten = true; /* a scene's stage too: the record, if shorter */
 }
 
 /* Cross-checks of the options, and the estimator's options from them. */

@@ -445,7 +445,17 @@ size_t ssc_ticks_linear(double lo, double hi, size_t target, double *ticks,
 	if (!(hi > lo) || !isfinite(lo) || !isfinite(hi) || target < 2)
 		return 0;
 	step = nice((hi - lo) / (double)(target - 1), true);
-	first = ceil(lo / step - 1e-9) * step;
+	/* rounding the step up can leave one or two labels on the axis:
+	 * the next smaller nice step (5 -> 2 -> 1 -> 0.5) until there are
+	 * three, so a reader can interpolate */
+	for (int pass = 0; pass < 4; pass++) {
+		double m = step / pow(10, floor(log10(step) + 1e-9));
+
+		first = ceil(lo / step - 1e-9) * step;
+		if (target < 3 || first + 2 * step <= hi + step * 1e-9)
+			break;
+		step *= m > 4.5 ? 0.4 : 0.5;
+	}
 	for (size_t i = 0; n < max; i++) {
 		double t = first + (double)i * step;
 
@@ -1778,6 +1788,20 @@ static void flatten_sup(const char *in, char *out, size_t len)
 				in = e + 1;
 				continue;
 			}
+		}
+		/* units as users write them: "m/s^2", "Hz^-1" */
+		if (in[0] == '^' && ((in[1] >= '0' && in[1] <= '9') ||
+				     (in[1] == '-' && in[2] >= '0' && in[2] <= '9'))) {
+			if (*++in == '-') {
+				memcpy(out + o, "\xe2\x81\xbb", 3);
+				o += 3;
+				in++;
+			}
+			for (; *in >= '0' && *in <= '9' && o + 8 < len; in++) {
+				memcpy(out + o, sup[*in - '0'], strlen(sup[*in - '0']));
+				o += strlen(sup[*in - '0']);
+			}
+			continue;
 		}
 		if ((in[0] == '^' || in[0] == '_') && in[1] == '{') {
 			const char *e = strchr(in + 2, '}');

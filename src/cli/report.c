@@ -116,6 +116,8 @@ static void banner_one(const json_t *w, void *ctx)
 	const char *title = !strcmp(code, "fit_rejected") ? "Fit rejected." :
 			    !strcmp(code, "term_unresolved") ? "Term not resolved." :
 			    !strcmp(code, "fit_failed") ? "No noise terms." :
+			    !strcmp(code, "too_few_samples") ? "Too few samples." :
+			    !strcmp(code, "clipped") ? "Clipped data." :
 							  "Check.";
 
 	ssc_html_banner(b->h, "warn", title, jstr(w, "message"), b->href);
@@ -396,10 +398,10 @@ static const struct {
 	  "<mn>2</mn><msub><mi>x</mi><mrow><mi>i</mi><mo>+</mo><mi>m</mi></mrow></msub>"
 	  "<mo>+</mo><msub><mi>x</mi><mi>i</mi></msub><mo>)</mo></mrow><mn>2</mn></msup>"
 	  "</math>"
-	  "<p>The five IEEE 952 terms, fitted by weighted least squares (terms "
-	  "chosen by Akaike's criterion; the model is rejected when its "
-	  "chi-squared p-value is below 0.01; a term whose interval reaches zero "
-	  "is not resolved and is shown as an upper bound):</p>"
+	  "<p>The five IEEE 952 terms, fitted together by weighted least squares "
+	  "(no term selection; a term is resolved when its square exceeds three "
+	  "standard deviations, otherwise it is shown as an upper bound; the "
+	  "model is rejected when its chi-squared p-value is below 0.01):</p>"
 	  "<math display=\"block\"><msup><mi>&#963;</mi><mn>2</mn></msup><mo>(</mo>"
 	  "<mi>&#964;</mi><mo>)</mo><mo>=</mo><mfrac><mrow><mn>3</mn><msup><mi>Q</mi>"
 	  "<mn>2</mn></msup></mrow><msup><mi>&#964;</mi><mn>2</mn></msup></mfrac><mo>+</mo>"
@@ -525,10 +527,20 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 		snprintf(href, sizeof(href), "#%s", st[i].name);
 		warnings += ssc_report_count_warnings(st[i].result);
 		walk_warnings(st[i].result, banner_one, &b);
+		if (!st[i].result && st[i].why) {
+			/* an analysis the data refused */
+			char msg[1024];
+
+			snprintf(msg, sizeof(msg), "%s: %s.", st[i].title,
+				 st[i].why);
+			ssc_html_banner(h, "warn", "Not in the report.", msg,
+					href);
+			warnings++;
+		}
 	}
 	if (!warnings)
 		ssc_html_banner(h, "ok", "Nothing flagged.",
-				"No analysis doubts its own result: every fit is accepted and every term reported is resolved.",
+				"No analysis doubts its own result: every fit is accepted, every term reported is resolved, no channel is clipped.",
 				NULL);
 	for (size_t i = 0; i < n; i++) {
 		char href[80];

@@ -56,9 +56,9 @@ static const struct ssc_stage_def stages[] = {
 		      "Greenhall-Riley equivalent degrees of freedom and "
 		      "chi-squared intervals; IEEE 952-1997 terms from "
 		      "sigma^2(tau) = 3Q^2/tau^2 + N^2/tau + (2 ln2/pi) B^2 + "
-		      "K^2 tau/3 + R^2 tau^2/2, fitted by weighted least squares "
-		      "with AIC term selection; intervals from the fit "
-		      "covariance." },
+		      "K^2 tau/3 + R^2 tau^2/2, all fitted together by weighted "
+		      "least squares; a term is resolved above 3 sd, its "
+		      "interval or bound from the fit covariance." },
 	[S_TEMPBIAS] = { "tempbias", &ssc_tempbias_stage, 0, NULL,
 			 "Bias b(T) by weighted least squares (QR, GSL) in the "
 			 "centred and scaled temperature, one offset per power "

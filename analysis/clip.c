@@ -1,0 +1,67 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Clipped data (see sscope-clip.h): one pass keeps, for each side, the
+ * extreme, the next distinct value inward and how many samples equal
+ * each; a side is clipped when its extreme holds at least min_count
+ * samples and more than ratio times the next value's.  The bound on an
+ * unclipped signal is the arcsine density's (a sine's) largest ratio of
+ * its outermost code to the next, 2.41; noise has tails that fall.
+ */
+#include "internal.h"
+
+#include <math.h>
+
+/* the top two distinct values and their counts */
+struct top2 {
+	double v, next;
+	size_t n, n_next;
+};
+
+static void top2_add(struct top2 *t, double x)
+{
+	if (x > t->v) {
+		t->next = t->v;
+		t->n_next = t->n;
+		t->v = x;
+		t->n = 1;
+	} else if (x == t->v) {
+		t->n++;
+	} else if (x > t->next) {
+		t->next = x;
+		t->n_next = 1;
+	} else if (x == t->next) {
+		t->n_next++;
+	}
+}
+
+int sscope_clip_detect(const double *x, size_t stride, size_t n,
+		       size_t min_count, double ratio, struct sscope_clip *c)
+{
+	struct top2 hi = { -INFINITY, -INFINITY, 0, 0 };
+	struct top2 lo = { -INFINITY, -INFINITY, 0, 0 };
+
+	if (!x || !c || stride == 0 || min_count < 2 || !(ratio > 1) ||
+	    !isfinite(ratio))
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++) {
+		double v = x[i * stride];
+
+		if (!isfinite(v))
+			continue;
+		top2_add(&hi, v);
+		top2_add(&lo, -v); /* the bottom, mirrored */
+	}
+	if (hi.n == 0)
+		return -EDOM;
+	c->hi = hi.v;
+	c->lo = -lo.v;
+	c->n_hi = hi.n;
+	c->n_lo = lo.n;
+	c->n_hi_next = hi.n_next;
+	c->n_lo_next = lo.n_next;
+	c->high = hi.n_next && hi.n >= min_count &&
+		  (double)hi.n > ratio * (double)hi.n_next;
+	c->low = lo.n_next && lo.n >= min_count &&
+		 (double)lo.n > ratio * (double)lo.n_next;
+	return 0;
+}

@@ -1,0 +1,176 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Clipped data (analysis/clip.c): Gaussian noise continuous and quantized
+ * and sines of many amplitudes are never called clipped (the arcsine
+ * bound 1 / (sqrt 2 - 1) on a sine's outermost code is checked too); the
+ * same signals limited to a range are, on the side that was limited;
+ * constant, NaN and bad arguments.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+
+#define N 20000
+
+static struct sscope_clip detect(const double *x, size_t n)
+{
+	struct sscope_clip c;
+
+	ck_assert_int_eq(sscope_clip_detect(x, 1, n, SSCOPE_CLIP_MIN_COUNT,
+					    SSCOPE_CLIP_RATIO, &c), 0);
+	return c;
+}
+
+/* x limited to [lo, hi]; how many were moved on each side */
+static void limit(double *x, size_t n, double lo, double hi, size_t *nlo,
+		  size_t *nhi)
+{
+	*nlo = *nhi = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (x[i] <= lo) {
+			x[i] = lo;
+			++*nlo;
+		} else if (x[i] >= hi) {
+			x[i] = hi;
+			++*nhi;
+		}
+	}
+}
+
+START_TEST(noise)
+{
+	double *x = malloc(N * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_clip c;
+	size_t nlo, nhi;
+
+	ck_assert_ptr_nonnull(x);
+	for (unsigned long seed = 1; seed <= 100; seed++) {
+		/* continuous, then quantized to 1 LSB at sd 0.45, 0.6, 1.7 and
+		 * 23.85 LSB around 2.385 LSB: never clipped */
+		static const double sd[] = { 0, 0.45, 0.6, 1.7, 23.85 };
+
+		for (size_t s = 0; s < sizeof(sd) / sizeof(sd[0]); s++) {
+			gsl_rng_set(r, seed);
+			for (size_t i = 0; i < N; i++) {
+				double v = 2.385 + gsl_ran_gaussian_ziggurat(r, sd[s] ? sd[s] : 1);
+
+				x[i] = sd[s] ? round(v) : v;
+			}
+			c = detect(x, N);
+			ck_assert_msg(!c.low && !c.high,
+				      "seed %lu sd %g: %zu at %g (next %zu), %zu at %g (next %zu)",
+				      seed, sd[s], c.n_lo, c.lo, c.n_lo_next,
+				      c.n_hi, c.hi, c.n_hi_next);
+			if (!sd[s])
+				ck_assert(c.n_hi == 1 && c.n_lo == 1);
+		}
+	}
+	/* the continuous noise limited above at 2 sd: high only, and every
+	 * sample moved is counted at the limit */
+	gsl_rng_set(r, 7);
+	for (size_t i = 0; i < N; i++)
+		x[i] = 0.013 * gsl_ran_gaussian_ziggurat(r, 1);
+	limit(x, N, -1, 0.026, &nlo, &nhi);
+	c = detect(x, N);
+	ck_assert(c.high && !c.low);
+	ck_assert_uint_eq(c.n_hi, nhi);
+	ck_assert_uint_eq(c.n_hi_next, 1);
+	ck_assert(c.hi == 0.026);
+	/* quantized at sd 23.85 LSB, limited below at -2 sd: low only (the
+	 * tail beyond t sd over one code at t, Q(t) / (phi(t) h) for codes
+	 * h sd wide, is 10 here; at 3 LSB it would be 1.3: a limit in the
+	 * tail of coarsely quantized noise is not told from the tail) */
+	gsl_rng_set(r, 8);
+	for (size_t i = 0; i < N; i++)
+		x[i] = round(23.85 * gsl_ran_gaussian_ziggurat(r, 1));
+	limit(x, N, -48, 1000, &nlo, &nhi);
+	c = detect(x, N);
+	ck_assert(c.low && !c.high);
+	ck_assert_uint_eq(c.n_lo, nlo);
+	ck_assert(c.lo == -48);
+	gsl_rng_free(r);
+	free(x);
+}
+END_TEST
+
+START_TEST(sines)
+{
+	double *x = malloc(N * sizeof(double)), worst = 0;
+	size_t nlo, nhi;
+
+	ck_assert_ptr_nonnull(x);
+	/* amplitudes 1.3 .. 400 LSB, quantized, 0.0127321 cycles a sample */
+	for (double a = 1.3; a < 400; a *= 1.0371) {
+		struct sscope_clip c;
+
+		for (size_t i = 0; i < N; i++)
+			x[i] = round(a * sin(2 * M_PI * 0.0127321 * (double)i + 0.3));
+		c = detect(x, N);
+		ck_assert_msg(!c.low && !c.high, "amplitude %g", a);
+		worst = fmax(worst, (double)c.n_hi / (double)c.n_hi_next);
+		/* the same sine limited at 97 % of its crest: both sides once
+		 * the limit is 3 codes inside it (the pile-up over one code at
+		 * the limit is about twice the overshoot in codes) */
+		limit(x, N, round(-0.97 * a), round(0.97 * a), &nlo, &nhi);
+		c = detect(x, N);
+		if (0.03 * a > 3)
+			ck_assert_msg(c.low && c.high, "limited, amplitude %g", a);
+	}
+	/* the arcsine bound, with 3 % for the finite record */
+	ck_assert_msg(worst < 1.03 / (sqrt(2) - 1), "worst ratio %g", worst);
+	ck_assert_msg(worst > 1.5, "worst ratio %g", worst);
+	free(x);
+}
+END_TEST
+
+START_TEST(edges)
+{
+	const double k[] = { 3.5, 3.5, 3.5, 3.5, 3.5, 3.5, 3.5, 3.5, 3.5, 3.5 };
+	double y[12];
+	struct sscope_clip c;
+
+	/* constant: nothing inward, not clipped */
+	c = detect(k, 10);
+	ck_assert(!c.low && !c.high && c.n_hi == 10 && c.n_hi_next == 0);
+	/* NaN and inf are skipped; 9 at the top over 1 below */
+	for (size_t i = 0; i < 12; i++)
+		y[i] = i < 9 ? 1.25 : -0.5;
+	y[9] = NAN;
+	y[10] = INFINITY;
+	c = detect(y, 12);
+	ck_assert(c.high && !c.low && c.n_hi == 9 && c.n_hi_next == 1);
+	/* below min_count: not a clip */
+	ck_assert_int_eq(sscope_clip_detect(y, 1, 12, 10, 4, &c), 0);
+	ck_assert(!c.high);
+	/* stride */
+	ck_assert_int_eq(sscope_clip_detect(y, 3, 4, 2, 4, &c), 0);
+	ck_assert(c.n_hi == 3 && c.n_hi_next == 0 && c.hi == 1.25);
+	ck_assert_int_eq(sscope_clip_detect(y + 9, 1, 2, 8, 4, &c), -EDOM);
+	ck_assert_int_eq(sscope_clip_detect(NULL, 1, 2, 8, 4, &c), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect(y, 0, 2, 8, 4, &c), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect(y, 1, 2, 1, 4, &c), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect(y, 1, 2, 8, 1, &c), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect(y, 1, 2, 8, NAN, &c), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect(y, 1, 2, 8, 4, NULL), -EINVAL);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("clip");
+	TCase *tc = tcase_create("clip");
+
+	tcase_set_timeout(tc, 60);
+	tcase_add_test(tc, noise);
+	tcase_add_test(tc, sines);
+	tcase_add_test(tc, edges);
+	suite_add_tcase(s, tc);
+	return s;
+}
