@@ -352,6 +352,33 @@ done:
 	return rc;
 }
 
+int sscope_adc_codes(const double *x, size_t stride, size_t n, double lo,
+		     double hi, size_t n_codes, int64_t *codes, size_t *clipped)
+{
+	double q = (hi - lo) / (double)n_codes;
+	size_t c = 0;
+
+	if (clipped)
+		*clipped = 0;
+	if (!x || !codes || stride == 0 || n_codes < 2 || !(hi > lo) ||
+	    !isfinite(q) || !(q > 0))
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++) {
+		double k = floor((x[i * stride] - lo) / q + 0.5);
+
+		if (!isfinite(x[i * stride]))
+			return -EDOM;
+		if (k < 0 || k > (double)(n_codes - 1)) {
+			k = k < 0 ? 0 : (double)(n_codes - 1);
+			c++;
+		}
+		codes[i] = (int64_t)k;
+	}
+	if (clipped)
+		*clipped = c;
+	return 0;
+}
+
 int sscope_adc_histogram_test(const int64_t *codes, size_t n, size_t nc,
 			      double *dnl, double *inl, double *dnl_max,
 			      double *inl_max)

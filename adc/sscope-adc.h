@@ -432,6 +432,19 @@ int sscope_adc_dynamic_test(const double *x, size_t n, double rate_hz,
 			    double fsr, struct sscope_adc_dynamic *res);
 
 /**
+ * The codes an ideal mid-tread converter gives for decoded values:
+ * k = floor((x - lo) / q + 1/2) with q = (hi - lo) / n_codes, clamped to
+ * 0 .. n_codes - 1 (the inverse of decoding to lo + k q).
+ * @param x        n values in the unit of lo and hi, x[i * stride].
+ * @param codes    receives n codes.
+ * @param clipped  optional: receives how many values were clamped.
+ * @return 0, -EINVAL (NULL, stride 0, n_codes < 2, hi <= lo or not
+ *         finite), -EDOM (a sample is NaN or infinite).
+ */
+int sscope_adc_codes(const double *x, size_t stride, size_t n, double lo,
+		     double hi, size_t n_codes, int64_t *codes, size_t *clipped);
+
+/**
  * Code-density (histogram) test with a sine (IEEE 1241 section 6.3):
  * transition levels from the cumulative histogram, T_k = -cos(pi CH_{k-1}
  * / S), gain and offset removed by a least-squares line over the codes

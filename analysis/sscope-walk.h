@@ -56,6 +56,10 @@ struct sscope_walk_result {
 	double *inside;   /**< n_points: fraction with |path| <= k sigma
 			       (NaN at t = 0) */
 	double inside_mean; /**< mean of inside over t > 0 */
+	double inside_expected; /**< the fraction a Gaussian puts inside
+				     +-k sigma: erf(k / sqrt 2) */
+	double inside_sd;   /**< binomial sd of one point's fraction over
+				 n_runs runs: sqrt(p (1 - p) / n_runs) */
 	double *var_n1;     /**< n_points: mean predicted variance for N = 1
 				 and no other term (t + t^2 / T for a window) */
 	double *var_other;  /**< n_points: mean predicted variance of the

@@ -200,6 +200,9 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 		}
 		r->inside_mean = ssc_ksum_value(&in_sum) / (double)L;
 	}
+	r->inside_expected = erf(r->k_sigma / sqrt(2.0));
+	r->inside_sd = sqrt(r->inside_expected * (1 - r->inside_expected) /
+			    (double)r->n_runs);
 	*resp = r;
 	return 0;
 }

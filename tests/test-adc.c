@@ -718,6 +718,43 @@ END_TEST
 /* Ranking: pass before marginal before fail; the fewest bits among the
  * passing ones; else the larger margin, infinite for a non-finite one;
  * stable. */
+/* Ideal codes of decoded values: decoding lo + k q and encoding again
+ * gives k back, code k spans k -+ q/2 (mid-tread), values beyond
+ * the range are clamped and counted, bad input is refused. */
+START_TEST(test_codes)
+{
+	enum { NC = 4096 };
+	const double lo = -2.385, hi = 3.117, q = (hi - lo) / NC;
+	static double x[NC];
+	static int64_t k[NC];
+	double edge[4] = { lo - 0.49 * q, lo + 0.51 * q, hi + 10 * q, lo - 10 * q };
+	int64_t ke[4];
+	size_t clipped = 99;
+
+	for (size_t i = 0; i < NC; i++)
+		x[i] = lo + (double)i * q;
+	ck_assert_int_eq(sscope_adc_codes(x, 1, NC, lo, hi, NC, k, &clipped), 0);
+	for (size_t i = 0; i < NC; i++)
+		ck_assert_int_eq(k[i], (int64_t)i);
+	ck_assert_uint_eq(clipped, 0);
+	/* every other sample through a stride */
+	ck_assert_int_eq(sscope_adc_codes(x, 2, NC / 2, lo, hi, NC, k, NULL), 0);
+	ck_assert_int_eq(k[NC / 2 - 1], NC - 2);
+	ck_assert_int_eq(sscope_adc_codes(edge, 1, 4, lo, hi, NC, ke, &clipped), 0);
+	ck_assert_int_eq(ke[0], 0);
+	ck_assert_int_eq(ke[1], 1);
+	ck_assert_int_eq(ke[2], NC - 1);
+	ck_assert_int_eq(ke[3], 0);
+	ck_assert_uint_eq(clipped, 2);
+	ck_assert_int_eq(sscope_adc_codes(x, 1, NC, hi, lo, NC, k, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_adc_codes(x, 0, NC, lo, hi, NC, k, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_adc_codes(x, 1, NC, lo, hi, 1, k, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_adc_codes(NULL, 1, NC, lo, hi, NC, k, NULL), -EINVAL);
+	x[7] = NAN;
+	ck_assert_int_eq(sscope_adc_codes(x, 1, NC, lo, hi, NC, k, NULL), -EDOM);
+}
+END_TEST
+
 START_TEST(test_rank)
 {
 	struct sscope_adc_analysis an[5];
@@ -768,6 +805,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_seed_case);
 	tcase_add_test(tc, test_monte_carlo);
 	tcase_add_test(tc, test_rank);
+	tcase_add_test(tc, test_codes);
 	suite_add_tcase(s, tc);
 	return s;
 }

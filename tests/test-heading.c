@@ -367,6 +367,11 @@ START_TEST(test_walk_fan)
 	ck_assert(!r->global && r->est_s == 10);
 	/* the textbook's figure: 95.4 % inside +-2 sigma (+-3 points) */
 	ck_assert_msg(fabs(r->inside_mean - p) < 0.03, "inside %g", r->inside_mean);
+	/* what a Gaussian puts inside, and its binomial sd over the runs
+	 * (0.9544997361036416, sqrt(p (1 - p) / 600) = 0.0085093...) */
+	ck_assert_rel(r->inside_expected, 0.9544997361036416, 1e-15);
+	ck_assert_rel(r->inside_sd, sqrt(0.9544997361036416 * 0.0455002638963584 / 600),
+		      1e-14);
 	ck_assert_msg(fabs(r->inside[r->n_points - 1] - p) < 0.03, "inside at 50 s %g",
 		      r->inside[r->n_points - 1]);
 	/* the bias window inflates the spread: N^2 (t + t^2 / T) */

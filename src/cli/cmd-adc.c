@@ -1271,7 +1271,7 @@ static int cmd_test(int argc, char **argv)
 			ssc_fmt(b1, sizeof(b1), dy.snr_db, 4));
 		if (bits && have_range) {
 			size_t nc = (size_t)1 << bits;
-			double q = (hi - lo) / (double)nc, dmax = 0, imax = 0;
+			double dmax = 0, imax = 0;
 			int64_t *codes = malloc((cap->n ? cap->n : 1) * sizeof(int64_t));
 			double *dnl = malloc(nc * sizeof(double)), *inl = malloc(nc * sizeof(double));
 			int e;
@@ -1285,12 +1285,10 @@ static int cmd_test(int argc, char **argv)
 				rc = SSC_EXIT_FAIL;
 				goto done_json;
 			}
-			for (size_t i = 0; i < cap->n; i++) {
-				double k = floor((ch->data[i] - lo) / q + 0.5);
-
-				codes[i] = k < 0 ? 0 : k > (double)(nc - 1) ? (int64_t)(nc - 1) : (int64_t)k;
-			}
-			e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl, &dmax, &imax);
+			e = sscope_adc_codes(ch->data, 1, cap->n, lo, hi, nc, codes, NULL);
+			if (!e)
+				e = sscope_adc_histogram_test(codes, cap->n, nc, dnl, inl,
+							      &dmax, &imax);
 			if (!e) {
 				json_t *h = json_object(), *jd = json_array(), *ji = json_array();
 				struct sscope_adc_hist_quality hq;

@@ -351,7 +351,6 @@ static json_t *chan_json(const struct opts *o, const struct chan *c)
 	json_t *j = json_object(), *in = json_object(), *pts = json_array(),
 	       *imp = json_array();
 	const struct sscope_walk_result *w = c->w;
-	double p = erf(o->k / sqrt(2.0));
 	enum sscope_quantity q = c->col->quantity;
 
 	json_object_set_new(j, "name", json_string(c->col->name));
@@ -367,8 +366,8 @@ static json_t *chan_json(const struct opts *o, const struct chan *c)
 	json_object_set_new(j, "noise", ssc_nav_terms_json(&c->terms));
 	json_object_set_new(j, "noise_from", json_string(c->terms_from));
 	json_object_set_new(in, "mean", ssc_jreal(w->inside_mean));
-	json_object_set_new(in, "expected", json_real(p));
-	json_object_set_new(in, "binomial_sd", json_real(sqrt(p * (1 - p) / (double)w->n_runs)));
+	json_object_set_new(in, "expected", json_real(w->inside_expected));
+	json_object_set_new(in, "binomial_sd", json_real(w->inside_sd));
 	for (size_t i = 0; i < c->n_idx; i++) {
 		json_t *pt = json_object(), *m = json_object();
 		size_t k = c->idx[i];
@@ -404,11 +403,11 @@ static json_t *chan_json(const struct opts *o, const struct chan *c)
 	return j;
 }
 
-static void chan_text(FILE *f, const struct opts *o, const struct chan *c)
+static void chan_text(FILE *f, const struct chan *c)
 {
 	const struct sscope_walk_result *w = c->w;
 	enum sscope_quantity q = c->col->quantity;
-	double p = erf(o->k / sqrt(2.0)), s = angle_scale(q);
+	double s = angle_scale(q);
 	char a[32], b[32], e[32], buf[256];
 	const char *u;
 
@@ -434,7 +433,7 @@ static void chan_text(FILE *f, const struct opts *o, const struct chan *c)
 	}
 	fprintf(f, "  sigma, spread in %s; inside: fraction of runs within +-%g sigma, mean %s (expected %s +- %s)\n",
 		angle_unit(q), w->k_sigma, ssc_fmt(a, 32, w->inside_mean, 4),
-		ssc_fmt(b, 32, p, 4), ssc_fmt(e, 32, sqrt(p * (1 - p) / (double)w->n_runs), 2));
+		ssc_fmt(b, 32, w->inside_expected, 4), ssc_fmt(e, 32, w->inside_sd, 2));
 	if (c->allan.coef[SSCOPE_TERM_N] > 0) {
 		double nv = ssc_nav_term_value(c->allan.coef[SSCOPE_TERM_N], q, SSCOPE_TERM_N, &u);
 		double nl = ssc_nav_term_value(c->allan.n_lo, q, SSCOPE_TERM_N, &u);
@@ -629,7 +628,7 @@ static void text(FILE *f, const void *opts, const void *result)
 	for (size_t i = 0; i < R->n; i++) {
 		if (i)
 			fputc('\n', f);
-		chan_text(f, &R->o, &R->ch[i]);
+		chan_text(f, &R->ch[i]);
 	}
 }
 
