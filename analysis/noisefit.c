@@ -36,6 +36,9 @@
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <gsl/gsl_sf_gamma.h>
 #include <gsl/gsl_vector.h>
 
 #ifdef _OPENMP
@@ -842,6 +845,424 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 	return fmax(b, 0);
 }
 
+/* ------------------------------------------------------------------ */
+/* Intervals: parametric bootstrap of the estimator (Neyman inversion)  */
+/* ------------------------------------------------------------------ */
+
+/*
+ * The estimate of a square is th_j = h_j' y, h_j the row of the hat matrix
+ * (A'WA)^-1 A'W of the final weights.  Where a term is carried by the last
+ * few points of a record, y there are chi-squared with a few degrees of
+ * freedom: th_j is strongly skewed, and a normal interval, even inverted
+ * with the sd at the bound, leaves the truth above the upper end far more
+ * often than its level says (a chi-squared variable with 1 degree of
+ * freedom lies below mean - 0.47 sd 44 % of the time, not 32 %).  So the
+ * bounds come from the distribution of th_j itself, simulated from the
+ * fitted model with that term set to the bound being tested: the AVAR
+ * points as Gamma variables (mean the model, shape from the model's
+ * variance of each point) tied by a Gaussian copula with the correlation
+ * of the model covariance.  Every replicate is linear in the tested value
+ * b (th*_r(b) = u_r + (b - b0) v_r, the shapes and correlation held at
+ * b0), so each bound is found by bisection on b without new draws; it is
+ * then recomputed with b0 at the bound found.  Common random numbers
+ * (one draw of BOOT_REPS x n standard normals, a fixed generator seed)
+ * make the bounds smooth in b and the output reproducible.
+ *
+ * The ordering of the acceptance regions (which outcomes count as
+ * "extreme" for a truth b) goes from one-sided, for a b the record cannot
+ * resolve, to central, for a b it resolves: the upper tail holds
+ * (alpha / 2) P(resolved | b) of the probability, the lower tail
+ * beta(b) = alpha - that, P(resolved | b) ~ Phi(b / sd(b) - zdet).  Reporting a
+ * one-sided "below X" for a term not resolved and a two-sided interval for
+ * a resolved one then covers at the level whatever the truth (reporting
+ * each at its own nominal level flip-flops and under-covers where a term
+ * is resolved about half the time; G. J. Feldman, R. D. Cousins, Phys.
+ * Rev. D 57, 3873, 1998, discuss the same problem).
+ */
+#define BOOT_REPS 1000
+#define BOOT_SEED 952u
+#define GT_NU 20   /* gamma quantile table: shapes (chi2 dof) 0.1 .. 16 */
+#define GT_Z 81    /* normal scores -5 .. 5 */
+#define GT_NU_LO 0.1
+#define GT_NU_HI 16.0
+#define GT_Z_MAX 5.0
+
+struct boot {
+	size_t n, reps;
+	double alpha, zdet;
+	double *e;      /* reps x n standard normals */
+	double *L;      /* n x n Cholesky factor of the correlation */
+	double *H;      /* NT x n hat rows */
+	double *nu, *mu0, *u, *v;
+	double var_u, cov_uv, var_v; /* moments of the replicates */
+	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
+	double tab[GT_NU][GT_Z];
+};
+
+/* Wilson-Hilferty: chi2_nu quantile at normal score z, divided by nu */
+static double wh(double nu, double z)
+{
+	double s = 2 / (9 * nu), c = 1 - s + z * sqrt(s);
+
+	return c > 0 ? c * c * c : 0;
+}
+
+static double gt_nu(int k)
+{
+	return GT_NU_LO * pow(GT_NU_HI / GT_NU_LO, (double)k / (GT_NU - 1));
+}
+
+/*
+ * Quantile of chi2_nu at probability P: far in the lower tail (where
+ * gsl_cdf_chisq_Pinv does not converge for nu below 0.3) from the series
+ * P = (x/2)^k e^(-x/2) (1 + x / (2 (k + 1)) + ...) / Gamma(k + 1), k = nu/2,
+ * solved by fixed point (relative error below 3e-4 where x < 0.05);
+ * elsewhere GSL's inverse.  Checked over nu 0.05 .. 20, z -5 .. 5.
+ */
+static double chisq_quantile(double P, double nu)
+{
+	double k = nu / 2, lg = gsl_sf_lngamma(k + 1);
+	double x = 2 * exp((log(P) + lg) / k);
+
+	if (x < 0.1) {
+		for (int i = 0; i < 50; i++)
+			x = 2 * exp((log(P) + lg + x / 2 - log1p(x / (2 * (k + 1)))) / k);
+		if (x < 0.05)
+			return x;
+	}
+	return gsl_cdf_chisq_Pinv(P, nu);
+}
+
+static void gt_fill(struct boot *bt)
+{
+	for (int k = 0; k < GT_NU; k++) {
+		double nu = gt_nu(k);
+
+		for (int i = 0; i < GT_Z; i++) {
+			double z = -GT_Z_MAX + 2 * GT_Z_MAX * i / (GT_Z - 1);
+			double q = chisq_quantile(gsl_cdf_ugaussian_P(z), nu);
+
+			bt->tab[k][i] = (isfinite(q) ? q / nu : 0) - wh(nu, z);
+		}
+	}
+}
+
+/* chi2_nu / nu at normal score z (the Gamma margin of the copula) */
+static double gq(const struct boot *bt, double nu, double z)
+{
+	double x, y, fx, fy, c;
+	int k, i;
+
+	if (!(nu < GT_NU_HI))
+		return isfinite(nu) ? wh(nu, z) : 1;
+	z = fmin(fmax(z, -GT_Z_MAX), GT_Z_MAX);
+	x = log(fmax(nu, GT_NU_LO) / GT_NU_LO) / log(GT_NU_HI / GT_NU_LO) *
+	    (GT_NU - 1);
+	y = (z + GT_Z_MAX) / (2 * GT_Z_MAX) * (GT_Z - 1);
+	k = (int)x;
+	i = (int)y;
+	if (k >= GT_NU - 1)
+		k = GT_NU - 2;
+	if (i >= GT_Z - 1)
+		i = GT_Z - 2;
+	fx = x - k;
+	fy = y - i;
+	c = (1 - fx) * ((1 - fy) * bt->tab[k][i] + fy * bt->tab[k][i + 1]) +
+	    fx * ((1 - fy) * bt->tab[k + 1][i] + fy * bt->tab[k + 1][i + 1]);
+	return fmax(wh(nu, z) + c, 0);
+}
+
+/* hat rows (A'WA)^-1 A'W of the terms of mask, weights from mu, columns
+ * scaled for the inverse; rows of other terms 0 */
+static int hat_rows(const struct fitdata *f, unsigned mask, const double *mu,
+		    double *H)
+{
+	int cols[NT], p = 0, rc = 0;
+	double cs[NT];
+	gsl_matrix *M = NULL, *Minv = NULL;
+
+	for (int j = 0; j < NT; j++)
+		if (mask & (1u << j))
+			cols[p++] = j;
+	memset(H, 0, NT * f->n * sizeof(double));
+	M = gsl_matrix_calloc((size_t)p, (size_t)p);
+	Minv = gsl_matrix_alloc((size_t)p, (size_t)p);
+	if (!M || !Minv) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	for (int j = 0; j < p; j++) {
+		double mx = 0;
+
+		for (size_t k = 0; k < f->n; k++)
+			mx = fmax(mx, basis(cols[j], f->tau[k]) / mu[k]);
+		cs[j] = mx > 0 ? mx : 1;
+	}
+	for (size_t k = 0; k < f->n; k++) {
+		double w = f->edf[k] /
+			   (2 * f->scale[k] * f->scale[k] * mu[k] * mu[k]);
+
+		for (int a = 0; a < p; a++)
+			for (int b = 0; b < p; b++)
+				*gsl_matrix_ptr(M, (size_t)a, (size_t)b) +=
+					w * basis(cols[a], f->tau[k]) / cs[a] *
+					basis(cols[b], f->tau[k]) / cs[b];
+	}
+	if (spd_inverse(M, Minv)) {
+		rc = -EDOM;
+		goto out;
+	}
+	for (size_t k = 0; k < f->n; k++) {
+		double w = f->edf[k] /
+			   (2 * f->scale[k] * f->scale[k] * mu[k] * mu[k]);
+
+		for (int a = 0; a < p; a++) {
+			double s = 0;
+
+			for (int b = 0; b < p; b++)
+				s += gsl_matrix_get(Minv, (size_t)a, (size_t)b) *
+				     basis(cols[b], f->tau[k]) / cs[b];
+			H[(size_t)cols[a] * f->n + k] = s * w / cs[a];
+		}
+	}
+out:
+	gsl_matrix_free(M);
+	gsl_matrix_free(Minv);
+	return rc;
+}
+
+static void boot_free(struct boot *bt)
+{
+	free(bt->e);
+	free(bt->L);
+	free(bt->H);
+	free(bt->nu);
+	free(bt->mu0);
+	free(bt->u);
+	free(bt->v);
+}
+
+static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
+		     const double *mu, double alpha, double zdet)
+{
+	gsl_rng *rng;
+	size_t n = f->n, R = BOOT_REPS;
+
+	memset(bt, 0, sizeof(*bt));
+	bt->n = n;
+	bt->reps = R;
+	bt->alpha = alpha;
+	bt->zdet = zdet;
+	bt->e = ssc_alloc_array(R * n, sizeof(double));
+	bt->L = ssc_alloc_array(n * n, sizeof(double));
+	bt->H = ssc_alloc_array(NT * n, sizeof(double));
+	bt->nu = ssc_alloc_array(n, sizeof(double));
+	bt->mu0 = ssc_alloc_array(n, sizeof(double));
+	bt->u = ssc_alloc_array(R, sizeof(double));
+	bt->v = ssc_alloc_array(R, sizeof(double));
+	rng = gsl_rng_alloc(gsl_rng_mt19937);
+	if (!bt->e || !bt->L || !bt->H || !bt->nu || !bt->mu0 ||
+	    !bt->u || !bt->v || !rng) {
+		gsl_rng_free(rng);
+		boot_free(bt);
+		return -ENOMEM;
+	}
+	gsl_rng_set(rng, BOOT_SEED);
+	for (size_t i = 0; i < R * n; i++)
+		bt->e[i] = gsl_ran_gaussian_ziggurat(rng, 1);
+	gsl_rng_free(rng);
+	gt_fill(bt);
+	if (hat_rows(f, mask, mu, bt->H)) {
+		boot_free(bt);
+		return -EDOM;
+	}
+	return 0;
+}
+
+/*
+ * Replicates of the estimate of th[j] under the fitted model with th[j]
+ * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).
+ */
+static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
+		     int j, double b0)
+{
+	double t2[NT], c[NT];
+	const double *h = bt->H + (size_t)j * f->n;
+	size_t n = f->n;
+
+	for (int k = 0; k < NT; k++)
+		t2[k] = fmax(th[k], 0);
+	t2[j] = fmax(b0, 0);
+	th_to_coef(t2, c);
+	for (size_t a = 0; a < n; a++) {
+		bt->mu0[a] = 0;
+		for (int k = 0; k < NT; k++)
+			bt->mu0[a] += t2[k] * basis(k, f->tau[a]);
+		if (!(bt->mu0[a] > 0))
+			return -EDOM;
+	}
+	model_cov(f, c, bt->mu0, f->S);
+	for (size_t a = 0; a < n; a++) {
+		double saa = gsl_matrix_get(f->S, a, a);
+
+		if (!(saa > 0))
+			return -EDOM;
+		bt->nu[a] = 2 * bt->mu0[a] * bt->mu0[a] / saa;
+		for (size_t b = 0; b <= a; b++)
+			bt->L[a * n + b] = gsl_matrix_get(f->S, a, b) /
+					   sqrt(saa * gsl_matrix_get(f->S, b, b));
+	}
+	if (chol(bt->L, n, n)) {
+		/* nearly singular correlation: shrink it a little */
+		for (size_t a = 0; a < n; a++)
+			for (size_t b = 0; b <= a; b++) {
+				double s = gsl_matrix_get(f->S, a, b) /
+					   sqrt(gsl_matrix_get(f->S, a, a) *
+						gsl_matrix_get(f->S, b, b));
+
+				bt->L[a * n + b] = a == b ? 1 : 0.999 * s;
+			}
+		if (chol(bt->L, n, n))
+			return -EDOM;
+	}
+	for (size_t r = 0; r < bt->reps; r++) {
+		const double *e = bt->e + r * n;
+		double u = 0, v = 0;
+
+		for (size_t a = 0; a < n; a++) {
+			const double *l = bt->L + a * n;
+			double z = 0, g;
+
+			for (size_t k = 0; k <= a; k++)
+				z += l[k] * e[k];
+			g = gq(bt, bt->nu[a], z);
+			u += h[a] * bt->mu0[a] * g;
+			v += h[a] * basis(j, f->tau[a]) * g;
+		}
+		bt->u[r] = u;
+		bt->v[r] = v;
+	}
+	{
+		double su = 0, sv = 0, suu = 0, suv = 0, svv = 0;
+		double R = (double)bt->reps;
+
+		for (size_t r = 0; r < bt->reps; r++) {
+			su += bt->u[r];
+			sv += bt->v[r];
+		}
+		su /= R;
+		sv /= R;
+		for (size_t r = 0; r < bt->reps; r++) {
+			double du = bt->u[r] - su, dv = bt->v[r] - sv;
+
+			suu += du * du;
+			suv += du * dv;
+			svv += dv * dv;
+		}
+		bt->var_u = suu / (R - 1);
+		bt->cov_uv = suv / (R - 1);
+		bt->var_v = svv / (R - 1);
+	}
+	return 0;
+}
+
+/* lower-tail share beta(b) of the acceptance region at b */
+static double boot_beta(const struct boot *bt, double b, double b0,
+			bool forced)
+{
+	double d = b - b0;
+	double var = bt->var_u + 2 * d * bt->cov_uv + d * d * bt->var_v;
+
+	if (forced || !(var > 0))
+		return bt->alpha / 2;
+	return bt->alpha * (1 - gsl_cdf_ugaussian_P(b / sqrt(var) - bt->zdet) / 2);
+}
+
+/* share of replicates with th*(b) <= x */
+static double boot_cdf(const struct boot *bt, double b, double b0, double x)
+{
+	size_t c = 0;
+
+	for (size_t r = 0; r < bt->reps; r++)
+		c += bt->u[r] + (b - b0) * bt->v[r] <= x;
+	return (double)c / (double)bt->reps;
+}
+
+/*
+ * One bound of th[j] from the replicates around b0: s = +1 the largest b
+ * with P_b(th* <= x) >= beta(b), s = -1 the smallest b >= 0 with
+ * P_b(th* >= x) >= alpha - beta(b).  INFINITY when no finite upper bound
+ * is found (the estimate itself when no lower one is).
+ */
+static double boot_solve(const struct boot *bt, double x, double b0, int s,
+			 bool forced, double scale)
+{
+	double lo, hi;
+
+	if (s > 0) {
+		lo = fmax(x, 0);
+		if (boot_cdf(bt, lo, b0, x) < boot_beta(bt, lo, b0, forced))
+			return lo;
+		hi = fmax(lo, b0) + scale;
+		while (boot_cdf(bt, hi, b0, x) >= boot_beta(bt, hi, b0, forced)) {
+			lo = hi;
+			hi = 2 * hi;
+			if (hi > 1e6 * (fabs(x) + scale))
+				return INFINITY;
+		}
+	} else {
+		if (x <= 0 || 1 - boot_cdf(bt, 0, b0, x) >=
+				      bt->alpha - boot_beta(bt, 0, b0, forced))
+			return 0;
+		lo = 0;
+		hi = x;
+		while (1 - boot_cdf(bt, hi, b0, x) <
+		       bt->alpha - boot_beta(bt, hi, b0, forced)) {
+			lo = hi;
+			hi = 2 * hi;
+			if (hi > 1e6 * (fabs(x) + scale))
+				return x; /* degenerate replicates: no bound */
+		}
+	}
+	for (int it = 0; it < 60 && hi - lo > 1e-9 * hi; it++) {
+		double m = (lo + hi) / 2;
+		bool in = s > 0 ? boot_cdf(bt, m, b0, x) >=
+					  boot_beta(bt, m, b0, forced) :
+				  1 - boot_cdf(bt, m, b0, x) <
+					  bt->alpha - boot_beta(bt, m, b0, forced);
+
+		if (in)
+			lo = m;
+		else
+			hi = m;
+	}
+	return (lo + hi) / 2;
+}
+
+/*
+ * Bootstrap bound of th[j] (s = +1 upper, -1 lower), starting from the
+ * normal bound b_start; returns b_start when the replicates cannot be
+ * drawn (a degenerate model).
+ */
+static double boot_bound(struct boot *bt, struct fitdata *f,
+			 const double th[NT], int j, int s, bool forced,
+			 double b_start, double sd)
+{
+	double b0 = b_start, b = b_start;
+
+	if (!isfinite(b_start))
+		return b_start;
+	for (int pass = 0; pass < 2; pass++) {
+		if (boot_pass(bt, f, th, j, b0))
+			return b;
+		b = boot_solve(bt, th[j], b0, s, forced, sd > 0 ? sd : fabs(th[j]));
+		if (!isfinite(b) || fabs(b - b0) <= 1e-3 * fabs(b))
+			break;
+		b0 = b;
+	}
+	return b;
+}
+
 int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		     double rate_hz, size_t n_phase,
 		     const struct sscope_noise_fit_opts *opts,
@@ -852,6 +1273,8 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	unsigned allowed, fitted = 0;
 	double th[NT] = { 0 }, sd[NT] = { 0 }, z, z1, zdet, chi2 = NAN;
 	double *mu = NULL, *bmu = NULL;
+	struct boot bt;
+	bool have_boot;
 	int rc = 0, p;
 
 	(void)n_phase;
@@ -958,11 +1381,11 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	 * choosing terms by a criterion and then quoting the chosen model's
 	 * intervals under-covers (the choice is not free), and dropping a term
 	 * that is there biases the others.  A term counts as resolved when
-	 * its square exceeds zdet standard deviations (forced terms always);
-	 * its interval is [sqrt(th - z sd), sqrt(th + z sd)] at the level.
-	 * A term not resolved gets the one-sided bound sqrt(th + z1 sd), z1
-	 * the level's one-sided quantile, so "below X" holds at the level.
-	 * Coverage of both is checked by simulation (tests/bench-noisefit.c).
+	 * its square exceeds zdet standard deviations (forced terms always).
+	 * Its interval, and the bound "below X" of a term not resolved, come
+	 * from the parametric bootstrap above (Neyman inversion), started
+	 * from the normal bounds th -+ z sd(bound) (z1 one-sided).  Coverage
+	 * of both is checked by simulation (tests/bench-noisefit.c).
 	 */
 	p = popcount(allowed);
 	if ((size_t)p > f.n) {
@@ -1000,8 +1423,11 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
 	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
 	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
+	have_boot = boot_init(&bt, &f, allowed, bmu, 1 - o.ci_level, zdet) == 0;
 	for (int j = 0; j < NT; j++) {
 		struct sscope_noise_coef *cf = &fit->coef[j];
+		bool forced = o.forced & (1u << j);
+		double hi;
 
 		if (!(allowed & (1u << j))) {
 			cf->fitted = false;
@@ -1009,18 +1435,27 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		}
 		cf->var_sd = sd[j];
 		cf->estimate = sqrt(fmax(th[j], 0));
-		cf->fitted = (o.forced & (1u << j)) ? th[j] > 0 :
-						      th[j] > zdet * sd[j] && th[j] > 0;
+		cf->fitted = forced ? th[j] > 0 : th[j] > zdet * sd[j] && th[j] > 0;
+		/* the normal bounds start the bootstrap's search (and stand in
+		 * when the replicates cannot be drawn) */
+		hi = invert_bound(&f, allowed, th, j, cf->fitted ? z : z1, +1, bmu);
+		if (have_boot)
+			hi = boot_bound(&bt, &f, th, j, +1, forced, hi, sd[j]);
+		cf->hi = sqrt(hi);
 		if (cf->fitted) {
+			double lo = invert_bound(&f, allowed, th, j, z, -1, bmu);
+
+			if (have_boot)
+				lo = boot_bound(&bt, &f, th, j, -1, forced, lo, sd[j]);
 			fitted |= 1u << j;
 			cf->value = sqrt(th[j]);
-			cf->lo = sqrt(invert_bound(&f, allowed, th, j, z, -1, bmu));
-			cf->hi = sqrt(invert_bound(&f, allowed, th, j, z, +1, bmu));
+			cf->lo = sqrt(lo);
 		} else {
 			cf->lo = 0;
-			cf->hi = sqrt(invert_bound(&f, allowed, th, j, z1, +1, bmu));
 		}
 	}
+	if (have_boot)
+		boot_free(&bt);
 	if ((o.forced & ~fitted) != 0) {
 		rc = ssc_diag(diag, -EDOM,
 			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");

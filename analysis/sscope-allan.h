@@ -293,7 +293,8 @@ struct sscope_noise_coef {
 	double estimate; /**< sqrt(max(0, estimated square)) whether or not
 			      the term is resolved (for comparisons of two
 			      fits of the same noise), U */
-	bool fitted;   /**< the term was selected */
+	bool fitted;   /**< the term is resolved (its square above
+			    detect_sigma standard deviations, or forced) */
 };
 
 /** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
@@ -347,41 +348,41 @@ struct sscope_noise_fit {
 	double ci_level;    /**< level of the intervals */
 	size_t n_points;    /**< points used */
 	double chi2;        /**< generalised chi-squared r' C^-1 r of the
-				 selected model's residuals (C: see above) */
-	double dof;         /**< n_points - number of fitted terms */
+				 fit's residuals (C: see above) */
+	double dof;         /**< n_points - number of allowed terms */
 	double p_value;     /**< P(chi2 >= observed) under the model */
-	double aic;         /**< chi2 + 2 p of the selected model */
-	size_t n_plausible; /**< other models within z^2 of the best, whose
-				 intervals widened the reported ones */
+	double aic;         /**< chi2 + 2 p, p the allowed terms */
+	size_t n_plausible; /**< always 0 (kept for the layout: no model
+				 selection any more) */
 	struct sscope_noise_readoff readoff; /**< classic read-offs */
 };
 
 /**
  * Fit the five IEEE 952 terms to overlapping Allan variances.
  *
- * Method: weighted least squares on AVAR with rows a(tau) = [3/tau^2,
- * 1/tau, 2 ln2/pi, tau/3, tau^2/2] and unknowns (Q^2, N^2, B^2, K^2, R^2),
- * weights EDF / (2 model^2) (iterated with the model), for every subset of
- * the allowed terms; subsets with a non-positive coefficient are rejected;
- * the feasible subset with the smallest weighted residual is the
- * non-negative least-squares solution, and the covariance of the
- * overlapping AVAR estimates under that model scores every feasible subset
- * by Akaike's criterion chi2 + 2 p (chi2 = r' C^-1 r, one C for all, so the
- * scores compare; correlated points are not counted as independent).  The
- * covariance C is computed for a five-term
- * model (Q white angle, N white rate, B flicker rate, K random-walk rate,
- * exact for the sampled processes of Q, N, K; R deterministic) by summing
- * squared cross-covariances of the second differences (Gaussian fourth
- * moments), plus the model_error term.  The coefficient covariance is the
- * sandwich (A'WA)^-1 A'W C_s W A (A'WA)^-1 with C_s the covariance under
- * the selected model; intervals are Gaussian on the squared coefficient,
- * truncated at 0, then square-rooted.  A term not selected gets lo = 0 and
- * as hi the upper limit from the selected terms plus that one (a negative
- * estimate counting as 0).  Model uncertainty: each interval is the union
- * of the intervals under every feasible model whose criterion is within
- * z^2 of the best (z the normal quantile of the level), so an ambiguous
- * selection (K versus B + R over a short record, say) widens the
- * intervals instead of hiding in the choice.
+ * Method: one weighted least-squares fit of every allowed term on AVAR,
+ * rows a(tau) = [3/tau^2, 1/tau, 2 ln2/pi, tau/3, tau^2/2], unknowns the
+ * squares (Q^2, N^2, B^2, K^2, R^2) free of sign, weights EDF / (2 model^2)
+ * iterated with the model; no subset selection (quoting a chosen model's
+ * intervals as if the choice were free under-covers).  The covariance C of
+ * the overlapping AVAR estimates under the fitted model (Q white angle, N
+ * white rate, B flicker rate, K random-walk rate, exact for the sampled
+ * processes of Q, N, K; R deterministic; Gaussian fourth moments; plus the
+ * model_error term) gives the sandwich covariance (A'WA)^-1 A'W C W A
+ * (A'WA)^-1 of the squares and chi2 = r' C^-1 r.  A term is resolved
+ * (fitted) when its square exceeds detect_sigma standard deviations.
+ * Intervals are Neyman intervals from a parametric bootstrap of the
+ * estimator: for a tested value b of a square, 1000 replicates of the
+ * AVAR points are drawn from the fitted model with that square set to b
+ * (Gamma margins of the model's mean and variance, Gaussian copula with
+ * the correlation of C, a fixed generator seed) and pushed through the
+ * estimator; the bounds are the b at which the estimate lies at the tail
+ * probability of the level.  The acceptance regions run from one-sided
+ * (a b the record cannot resolve) to central (a b it resolves), so that
+ * the interval of a resolved term and the "not resolved: below hi" of
+ * the others cover at the level together (checked by simulation in make
+ * bench).  Skewed estimates (few degrees of freedom at long tau) get
+ * skewed intervals.
  *
  * @param pts      OADEV points (stride 1 or strided; dev > 0) from
  *                 sscope_allan_compute() of a rate or angle record.

@@ -9,8 +9,9 @@
  * and the median relative error of the fitted values.  R is zero in the
  * truth: its line counts how often a spurious ramp is reported as fitted.
  *
- * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR]]]
- * (default 200; 1,3,6,12,24; 0).  Realisations run in parallel over the cores (OpenMP);
+ * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR [SEED]]]]
+ * (default 200; 1,3,6,12,24; 0; 0: realisation r of the h-th length uses
+ * the simulator's seed SEED + 1000 h + r + 1).  Realisations run in parallel over the cores (OpenMP);
  * run it niced on a shared machine.
  */
 #include "config.h"
@@ -49,6 +50,7 @@ struct tally {
 };
 
 static double g_model_error;
+static uint64_t g_seed;
 
 static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		   size_t n, uint64_t seed, double *y, struct sscope_noise_fit *fit)
@@ -116,6 +118,8 @@ int main(int argc, char **argv)
 	}
 	if (argc > 3)
 		g_model_error = atof(argv[3]);
+	if (argc > 4)
+		g_seed = strtoull(argv[4], NULL, 10);
 	if (reps < 1)
 		reps = 1;
 	memset(&spec, 0, sizeof(spec));
@@ -166,7 +170,7 @@ int main(int argc, char **argv)
 				struct sscope_noise_fit fit;
 
 				if (!y || one_run(&spec, fs, n,
-						  (uint64_t)(1000 * h + r + 1), y,
+						  g_seed + (uint64_t)(1000 * h + r + 1), y,
 						  &fit)) {
 					failed++;
 					continue;

@@ -425,6 +425,60 @@ START_TEST(round_trip_coverage)
 }
 END_TEST
 
+/*
+ * The bound "not resolved: below X" and the interval of a term carried by
+ * the last few points of a record (few degrees of freedom, a skewed
+ * estimate) cover the truth at their level: white rate noise and a rate
+ * random walk over 2000 s at 10 Hz, where K dominates only the last
+ * points.  Coverage of the 68.3 % statement (interval when resolved, bound
+ * when not) over 300 records within 4 binomial standard deviations (a
+ * normal interval on the square covered about 57 % here).
+ */
+START_TEST(bound_coverage_few_dof)
+{
+	const double fs = 10, kt = 2.385e-5, nt = 2.385e-3;
+	const size_t n = 20000;
+	int runs = under_valgrind() ? 2 : 300, cover = 0, resolved = 0;
+	double *y = malloc(n * sizeof(double)), p = 0.682689492137086, sd;
+
+	ck_assert_ptr_nonnull(y);
+	for (int s = 0; s < runs; s++) {
+		struct sscope_sensor_spec sp = { 0 };
+		struct sscope_sim_opts o = { 0 };
+		struct sscope_sim *sim;
+		struct sscope_allan_result *res;
+		struct sscope_noise_fit_opts fo = { 0 };
+		const struct sscope_noise_coef *cf;
+
+		sp.n = nt;
+		sp.k = kt;
+		o.rate_hz = fs;
+		o.seed = 7000 + (uint64_t)s;
+		ck_assert_int_eq(sscope_sim_new(&sim, &sp, &o, NULL), 0);
+		sscope_sim_generate(sim, NULL, y, NULL, n);
+		sscope_sim_free(sim);
+		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
+			     (1u << SSCOPE_TERM_K);
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, fs,
+						      SSCOPE_TAUS_DENSE, NULL,
+						      &fo, &res, NULL), 0);
+		ck_assert(res->have_fit);
+		cf = &res->fit.coef[SSCOPE_TERM_K];
+		ck_assert(cf->hi >= 0 && cf->lo >= 0 && cf->lo <= cf->hi);
+		resolved += cf->fitted;
+		cover += cf->lo <= kt && kt <= cf->hi;
+		sscope_allan_result_free(res);
+	}
+	free(y);
+	sd = sqrt(p * (1 - p) / runs);
+	fprintf(stderr, "# K over 2000 s: covered in %d of %d records (%d resolved)\n",
+		cover, runs, resolved);
+	if (runs >= 100)
+		ck_assert_msg(fabs((double)cover / runs - p) <= 4 * sd,
+			      "K covered %d of %d", cover, runs);
+}
+END_TEST
+
 /* the value to predict with: fitted value, else the point estimate */
 START_TEST(readoffs_and_errors)
 {
@@ -537,6 +591,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, covariance_monte_carlo);
 	tcase_add_test(t, fit_exact_curves);
 	tcase_add_test(t, round_trip_coverage);
+	tcase_add_test(t, bound_coverage_few_dof);
 	tcase_add_test(t, readoffs_and_errors);
 	suite_add_tcase(s, t);
 	return s;

@@ -808,7 +808,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		if (r->have_fit) {
 			json_object_set_new(fit, "terms", terms);
 			json_object_set_new(fit, "method",
-					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds by inverting the test with the model covariance at the bound"));
+					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds are Neyman intervals from a parametric bootstrap of the fit under the fitted model (1000 replicates), one-sided for a value the record cannot resolve, central for one it resolves"));
 			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
 			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
