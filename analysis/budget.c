@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Drift budget of a strapdown navigator, one horizontal channel (seed eqs
+ * Drift budget of a strapdown navigator, one horizontal channel (textbook eqs
  * 95-101; D. H. Titterton and J. L. Weston, "Strapdown Inertial Navigation
  * Technology", 2nd ed., 2004, ch. 12 "Inertial navigation system error
  * analysis": the single-channel error model with Schuler feedback).

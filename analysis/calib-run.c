@@ -7,7 +7,7 @@
  * static tilts, the steps of a rate table or centrifuge (segments of
  * constant reference, Lawrence, "Modern Inertial Technology", ch. 4 test
  * procedures), the noise density pooled over the static poses, the error
- * model A = (T K)^-1 of seed eqs 93-94 and the class of the sensor, and
+ * model A = (T K)^-1 of textbook eqs 93-94 and the class of the sensor, and
  * how a correction does over the poses and motions it was fitted to.
  */
 #include "internal.h"

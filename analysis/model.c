@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Sensor physics calculators (seed section 5.1).
+ * Sensor physics calculators (textbook section 5.1).
  *
  * Second-order accelerometer: the mass-spring-damper of any textbook on
  * vibration (e.g. W. T. Thomson, "Theory of Vibration with Applications",

@@ -2,7 +2,7 @@
 /**
  * @file sscope-budget.h
  * @brief Drift budget: navigation error against time from each sensor
- *        error source (seed eqs 95-101).
+ *        error source (textbook eqs 95-101).
  *
  * One horizontal channel of a strapdown navigator, errors small and
  * independent.  With g gravity, R the Earth's radius and

@@ -3,7 +3,7 @@
  * @file sscope-calib.h
  * @brief Error-model calibration of accelerometer and gyro triads.
  *
- * The error model per axis (seed eqs 93-94): a gyro axis reads
+ * The error model per axis (textbook eqs 93-94): a gyro axis reads
  * delta_omega = b + b_g a + s_f omega_x + m_y omega_y + m_z omega_z + eta,
  * an accelerometer axis delta_f = b + s_f a_x + m_y a_y + m_z a_z + eta.
  * In matrix form the measurement is y = A u + b (+ G a for a gyro), with
@@ -399,7 +399,7 @@ int sscope_calib_noise_density(const double *const ch[3], size_t stride,
 
 /**
  * The error model of a triad whose readings have the output's dimension
- * (seed eqs 93-94): reading = A u + b with A = (T K)^-1; A_ii - 1 are the
+ * (textbook eqs 93-94): reading = A u + b with A = (T K)^-1; A_ii - 1 are the
  * scale-factor errors, A_ij (i != j) the misalignments.
  * @return 0; -EDOM when T K is singular; -EINVAL.
  */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /**
  * @file sscope-model.h
- * @brief Sensor physics calculators (seed section 5.1): the second-order
+ * @brief Sensor physics calculators (textbook section 5.1): the second-order
  *        proof-mass accelerometer and the Sagnac phase of a fibre-optic
  *        gyro.
  *

@@ -2,7 +2,7 @@
 /*
  * Benchmark of the ADC report's Monte-Carlo check, the shipped code
  * (sscope_adc_monte_carlo, what `adc report` runs per converter): the
- * seed's gyros (+-100 deg/s, B 1 deg/h, N 0.1 and 0.005 deg/sqrt(h))
+ * textbook's gyros (+-100 deg/s, B 1 deg/h, N 0.1 and 0.005 deg/sqrt(h))
  * through 16 bits at 100 Hz.  For record lengths 600 s .. 2 h, R runs
  * each; reports the wall time per run and the N and B ratios (mean and
  * standard error over the runs, from their 68.27 % Student-t interval) --

@@ -1,15 +1,15 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# sensorscope adc: the seed's case (+-100 deg/s, 1 deg/h, 100 Hz: 16 bits
+# sensorscope adc: the textbook's case (+-100 deg/s, 1 deg/h, 100 Hz: 16 bits
 # pass for ARW 0.1 deg/sqrt(h), fail for 0.005 deg/sqrt(h)), the
 # REFERENCE.md word-length numbers, the Monte-Carlo check, bad specs,
 # quantize (composing with allan) and the IEEE 1241 test.
 . "$(dirname "$0")/lib.sh"
 
-MEMS="$SAMPLES/gyro-seed-mems.ini"
-QUIET="$SAMPLES/gyro-seed-quiet.ini"
-A16="$SAMPLES/adc-seed-16bit.ini"
-A18="$SAMPLES/adc-seed-18bit.ini"
+MEMS="$SAMPLES/gyro-textbook-mems.ini"
+QUIET="$SAMPLES/gyro-textbook-quiet.ini"
+A16="$SAMPLES/adc-textbook-16bit.ini"
+A18="$SAMPLES/adc-textbook-18bit.ini"
 # the Monte-Carlo checks are statistical; under valgrind only a short run
 if [ -n "$SSCOPE_RUN" ]; then MC="--monte-carlo 2 --mc-duration 20"; else MC="--monte-carlo 3 --mc-duration 1200"; fi
 
@@ -46,7 +46,7 @@ if [ -z "$SSCOPE_RUN" ]; then
 fi
 # oversampling 16x: the quiet gyro's white noise to 800 Hz dithers the
 # conversions (sigma/q 1.09) and the average gains 2 bits: 16 bits pass
-run "seed quiet, 16 bits oversampled" 0 adc report --sensor "$QUIET" --adc "$SAMPLES/adc-seed-16bit-os16.ini" $MC --format json
+run "seed quiet, 16 bits oversampled" 0 adc report --sensor "$QUIET" --adc "$SAMPLES/adc-textbook-16bit-os16.ini" $MC --format json
 json_check "oversampled 16 bits pass" "$T/out" '.adcs[0].verdict == "pass" and .adcs[0].dithered and .adcs[0].oversample == 16 and ((.adcs[0].terms.quantization_arw.value - 0.0052858 / 4) | fabs) < 1e-6'
 if [ -z "$SSCOPE_RUN" ]; then
 	json_check "Monte Carlo: N ratio 1.034 (analytic), B kept" "$T/out" '.adcs[0].monte_carlo | (((.N.value - 1.0342) | fabs) < 0.01 and .B.lo > 0.97 and .B.hi < 1.03)'

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# sensorscope budget and sensorscope model: the seed's numbers, the
+# sensorscope budget and sensorscope model: the textbook's numbers, the
 # Monte-Carlo envelope check, spec files, and usage errors.
 . "$(dirname "$0")/lib.sh"
 
@@ -14,7 +14,7 @@ run "wrong unit for --gyro-bias" 2 budget --gyro-bias 3m
 run "--plot not png" 2 budget --gyro-bias 1deg/h --plot x.jpg
 run "operand refused" 2 budget --gyro-bias 1deg/h file.csv
 
-# the seed: 10 deg/h for 120 s -> g b t^3 / 6 = 136.93 m ("about 140 m")
+# the textbook: 10 deg/h for 120 s -> g b t^3 / 6 = 136.93 m ("about 140 m")
 run "gyro bias 10 deg/h" 0 budget --gyro-bias 10deg/h --time 120 --format json
 json_check "137 m after 120 s" "$T/out" '((.sources[] | select(.name == "gyro_bias") | .position_m[0]) - 136.926665 | fabs) < 1e-5'
 json_check "contract shape" "$T/out" '.times_s == [120] and (.sources | map(.name)) == ["gyro_bias","accel_bias","arw","vrw","scale_factor"] and (.total.position_m | length) == 1'
@@ -69,7 +69,7 @@ has "csv rows" "$T/out" '^10,total,'
 run "model fog" 0 model fog --radius 5cm --turns 1000 --wavelength 1550nm --rate 10deg/s --format json
 json_check "Sagnac phase" "$T/out" '((.rates[0].phase_rad - 0.0741403629) | fabs) < 1e-9 and ((.max_rate_deg_s - 211.8679) | fabs) < 1e-3'
 run "model fog text" 0 model fog --radius 5cm --turns 1000 --wavelength 1550nm
-has "notes the seed's eq. 92" "$T/out" 'omits R\^2 and lambda'
+has "notes the textbook's eq. 92" "$T/out" 'omits R\^2 and lambda'
 run "model accel" 0 model accel --mass 1e-9 --stiffness 1 --damping 6.3245553e-5 --format json
 json_check "displacement per g = m g / k" "$T/out" '((.displacement_per_g_m - 9.80665e-9) | fabs) < 1e-20 and ((.damping_ratio - 1) | fabs) < 1e-6'
 json_check "analytic step matches Runge-Kutta" "$T/out" '.step.max_rk4_deviation_m < 1e-6 * .displacement_per_g_m'

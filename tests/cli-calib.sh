@@ -137,7 +137,7 @@ json_check "tilt: G diagonal near 0.05 deg/s/g" "$T/out" \
 	'.triads[0] as $t | all(range(3); (($t.g_sensitivity[.][.] * 9.80665 - 0.05) | fabs) <= 4 * $t.g_sensitivity_sd[.][.] * 9.80665)'
 
 run "text output" 0 calib gyro "$MP"
-has "text names the error model" "$T/out" 'error model \(seed eqs 93-94\)'
+has "text names the error model" "$T/out" 'error model \(textbook eqs 93-94\)'
 run "csv output" 0 calib accel --format csv "$MP"
 has "csv header" "$T/out" '^kind,channel,input_unit'
 

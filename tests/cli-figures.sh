@@ -37,8 +37,8 @@ run "budget" 0 budget --gyro-bias 10deg/h --accel-bias 1mg --arw 0.1deg/sqrt\(h\
 	--vrw 0.05m/s/sqrt\(h\) --time 60 --plot "$F/budget.svg"
 run "model accel" 0 model accel --fn 2.4kHz --zeta 0.7 --plot "$F/model-accel.svg"
 run "model fog" 0 model fog --radius 5cm --turns 1000 --wavelength 1550nm --plot "$F/model-fog.svg"
-run "adc report" 0 adc report --sensor "$SAMPLES/gyro-seed-mems.ini" \
-	--adc "$SAMPLES/adc-seed-16bit.ini" --adc "$SAMPLES/adc-seed-16bit-os16.ini" \
+run "adc report" 0 adc report --sensor "$SAMPLES/gyro-textbook-mems.ini" \
+	--adc "$SAMPLES/adc-textbook-16bit.ini" --adc "$SAMPLES/adc-textbook-16bit-os16.ini" \
 	--monte-carlo 4 --mc-duration 600 --plot "$F/adc-report.svg"
 run "adc test" 0 adc test --bits 10 --range -1:1 --plot "$F/adc-test.svg" "$T/sq.csv"
 run "navsim" 0 navsim --arw 0.2deg/sqrt\(h\) --runs 5 --duration 60 --plot "$F/navsim.svg"

@@ -76,7 +76,7 @@ one_line_error "malformed scene"
 # a budget from its own keys needs no captures
 scene bk.ini '[budget]\ntime = 120\ngyro-bias = 10deg/h\n[report]\nformats = json\n'
 run "budget without captures" 0 run -o "$T/bk" "$T/bk.ini"
-json_check "the seed's 137 m" "$T/bk/budget.json" '((.sources[] | select(.name == "gyro_bias") | .position_m[0]) - 136.926665 | fabs) < 1e-5'
+json_check "the textbook's 137 m" "$T/bk/budget.json" '((.sources[] | select(.name == "gyro_bias") | .position_m[0]) - 136.926665 | fabs) < 1e-5'
 
 # ---- report: the scene inferred from the data
 run "report dry run" 0 report --dry-run "$T/gyro-static.csv"
@@ -105,17 +105,17 @@ json_check "allan reported, tempbias not" "$T/flat/report.json" '(.results | has
 has "the HTML says why" "$T/flat/report.html" "Stage 'tempbias': inferred, but refused by the data: temperature span"
 
 # [adc]: files or an inline specification; the ADC report needs a sensor
-cp "$SAMPLES/gyro-seed-mems.ini" "$T/"
-scene adc1.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nname = inline 16\nbits = 16\nrange = -100:100 deg/s\nrate = 100 Hz\nmonte-carlo = 0\n[report]\nformats = json\n'
+cp "$SAMPLES/gyro-textbook-mems.ini" "$T/"
+scene adc1.ini '[sensor]\nspec = gyro-textbook-mems.ini\n\n[adc]\nname = inline 16\nbits = 16\nrange = -100:100 deg/s\nrate = 100 Hz\nmonte-carlo = 0\n[report]\nformats = json\n'
 run "inline [adc]" 0 run -o "$T/adc1" "$T/adc1.ini"
-json_check "the seed's LSB from the inline spec" "$T/adc1/adc.json" '(.adcs[0].lsb.value - 10.986 | fabs) < 0.01 and .adcs[0].verdict == "pass"'
+json_check "the textbook's LSB from the inline spec" "$T/adc1/adc.json" '(.adcs[0].lsb.value - 10.986 | fabs) < 0.01 and .adcs[0].verdict == "pass"'
 # an inline [adc] with an inl_profile: the path is relative to the scene
-mkdir -p "$T/prof" && cp "$SAMPLES/gyro-seed-mems.ini" "$T/prof/"
+mkdir -p "$T/prof" && cp "$SAMPLES/gyro-textbook-mems.ini" "$T/prof/"
 awk 'BEGIN { for (k = 0; k < 256; k++) printf "%.9f\n", 0.5 * sin(2 * 3.14159265358979 * k / 256) }' >"$T/prof/inl.txt"
-scene prof/adcp.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nbits = 8\nrange = -100:100 deg/s\nrate = 100 Hz\ninl_profile = inl.txt\nmonte-carlo = 0\n[report]\nformats = json\n'
+scene prof/adcp.ini '[sensor]\nspec = gyro-textbook-mems.ini\n\n[adc]\nbits = 8\nrange = -100:100 deg/s\nrate = 100 Hz\ninl_profile = inl.txt\nmonte-carlo = 0\n[report]\nformats = json\n'
 run "inline [adc] with an inl_profile" 0 run -o "$T/adcp" "$T/prof/adcp.ini"
 json_check "the INL bound from the profile" "$T/adcp/adc.json" '.adcs[0] | ((.inl_lsb - 0.5) | fabs) < 1e-6 and .inl_from == "profile"'
-scene adc2.ini '[sensor]\nspec = gyro-seed-mems.ini\n\n[adc]\nbits = 16\nrange = -100:100 deg/sfoo\n'
+scene adc2.ini '[sensor]\nspec = gyro-textbook-mems.ini\n\n[adc]\nbits = 16\nrange = -100:100 deg/sfoo\n'
 run "inline [adc] with a bad unit" 2 run "$T/adc2.ini"
 one_line_error "inline [adc] with a bad unit"
 has "names the scene line" "$T/err" "adc2.ini: line 6: range: unknown unit"

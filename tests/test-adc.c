@@ -230,7 +230,7 @@ START_TEST(test_dither_bound)
 			      "sigma/q %.2f: bias %.4g q well below the bound %.4g q",
 			      ratios[k], bias / q, bound / q);
 		(void)second;
-		/* an arbitrary mean (the seed's 0.37 deg/h at q = 10.99 deg/h):
+		/* an arbitrary mean (the textbook's 0.37 deg/h at q = 10.99 deg/h):
 		 * the first harmonic sscope_adc_bias_error() is the mean error
 		 * within the second harmonic's amplitude (q/2pi) exp(-8 pi^2
 		 * sigma^2/q^2) and 4 standard errors */
@@ -552,7 +552,7 @@ static struct sscope_sensor_spec seed_gyro(double arw_deg_sqrt_h)
 	return g;
 }
 
-/* REFERENCE.md word-length table, +-100 deg/s at 100 Hz, and the seed's
+/* REFERENCE.md word-length table, +-100 deg/s at 100 Hz, and the textbook's
  * verdicts: 16 bits pass for ARW 0.1, fail for 0.005 deg/sqrt(h) */
 START_TEST(test_seed_case)
 {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * Unit tests of analysis/budget.c: the seed's numbers (10 deg/h for 120 s
+ * Unit tests of analysis/budget.c: the textbook's numbers (10 deg/h for 120 s
  * -> 137 m; accelerometer bias -> b t^2 / 2), the Schuler forms against
  * numerical quadrature of the impulse responses and against their
  * short-time limits, time-to-error inversion, and the Monte-Carlo check of
@@ -27,7 +27,7 @@ START_TEST(test_seed_numbers)
 	p.accel_bias_m_s2 = 1e-3 * G0;
 	ck_assert_int_eq(sscope_budget_source_eval(&p, SSCOPE_BUDGET_GYRO_BIAS,
 						   120, &pt), 0);
-	/* the seed: "approximately 140 m"; g b t^3 / 6 = 136.93 m */
+	/* the textbook: "approximately 140 m"; g b t^3 / 6 = 136.93 m */
 	ck_assert_rel(pt.position_m, G0 * p.gyro_bias_rad_s * 120 * 120 * 120 / 6,
 		      1e-14);
 	ck_assert(fabs(pt.position_m - 137) < 0.5);

@@ -93,9 +93,9 @@ static const struct ssc_command_spec report_spec = {
 	.options = report_opts,
 	.output_opts = true,
 	.notes = "Examples:\n"
-		 "  sensorscope adc report --sensor samples/gyro-seed-mems.ini \\\n"
+		 "  sensorscope adc report --sensor samples/gyro-textbook-mems.ini \\\n"
 		 "      --adc samples/adc-16bit.ini --adc samples/adc-12bit.ini\n"
-		 "  sensorscope adc report --sensor samples/gyro-seed-quiet.ini \\\n"
+		 "  sensorscope adc report --sensor samples/gyro-textbook-quiet.ini \\\n"
 		 "      --adc samples/adc-16bit.ini --format json\n"
 		 "Thresholds: noise-density increase <= 5 % pass, > 20 % fail; lost bias\n"
 		 "<= 0.1 B pass, > 0.5 B fail; drifts <= 0.3 of the sensor's own pass,\n"

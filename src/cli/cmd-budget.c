@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sensorscope budget: attitude, velocity and position error against time
- * from each sensor error source (seed eqs 95-101), which source dominates
+ * from each sensor error source (textbook eqs 95-101), which source dominates
  * when, the time to reach a given error, and a Monte-Carlo check of the
  * random-walk terms (fraction of seeded realisations inside +-2 sigma).
  */

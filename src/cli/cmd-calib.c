@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * sensorscope calib accel|gyro: error-model calibration of a triad
- * (seed eqs 93-94) by the multi-position method of Tedaldi, Pretto and
+ * (textbook eqs 93-94) by the multi-position method of Tedaldi, Pretto and
  * Menegatti (ICRA 2014), the six-position test, rate-table / centrifuge
  * runs against a reference column, and static tilt poses for the
  * g-dependent gyro bias; writes a calibration file for --calibration.
@@ -489,7 +489,7 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 			bmax = fmax(bmax, fabs(c->bias[i]));
 		if (o->q == SSCOPE_QTY_ACCELERATION && bmax >= 1e-3 * 9.80665)
 			bu = "mg";
-		fprintf(f, "    error model (seed eqs 93-94): ");
+		fprintf(f, "    error model (textbook eqs 93-94): ");
 		for (int i = 0; i < 3; i++) {
 			double v = c->bias[i];
 

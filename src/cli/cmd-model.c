@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * sensorscope model accel|fog: sensor physics calculators (seed section
+ * sensorscope model accel|fog: sensor physics calculators (textbook section
  * 5.1): the second-order proof-mass accelerometer and the Sagnac phase of
  * an interferometric fibre-optic gyro.
  */
@@ -66,7 +66,7 @@ static const struct ssc_command_spec spec = {
 		"response (analytic, checked against a Runge-Kutta integration).\n"
 		"fog: Sagnac phase dphi = 8 pi^2 N R^2 Omega / (lambda c) of a coil of N\n"
 		"turns of radius R at wavelength lambda, the scale factor and the largest\n"
-		"rate inside the +-90 deg open-loop phase range.  (The seed prints its\n"
+		"rate inside the +-90 deg open-loop phase range.  (The textbook prints its\n"
 		"eq. 92 without R^2 and lambda; this is the dimensionally correct form.)",
 	.options = model_opts,
 	.output_opts = true,
@@ -433,7 +433,7 @@ static int do_fog(struct ssc_common *co, struct opts *o)
 				ssc_fmt(a, sizeof(a), f.radius_m, 5),
 				ssc_fmt(b, sizeof(b), f.turns, 6),
 				ssc_fmt((char[32]){ 0 }, 32, f.wavelength_m * 1e9, 6));
-			fprintf(fo, "  Sagnac phase dphi = 8 pi^2 N R^2 Omega / (lambda c)  (the seed's eq. 92 omits R^2 and lambda)\n");
+			fprintf(fo, "  Sagnac phase dphi = 8 pi^2 N R^2 Omega / (lambda c)  (the textbook's eq. 92 omits R^2 and lambda)\n");
 			fprintf(fo, "  fibre length     %s m\n", ssc_fmt(a, sizeof(a), f.fibre_length_m, 6));
 			fprintf(fo, "  scale factor     %s rad per rad/s (%s deg per deg/s)\n",
 				ssc_fmt(a, sizeof(a), f.scale_factor_s, 6),

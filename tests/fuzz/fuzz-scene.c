@@ -38,10 +38,10 @@ static const struct {
 	{ "accel-thermal.csv", capture_text },
 	{ "capture.csv", capture_text },
 	{ "gyro.ini", sensor_text },
-	{ "gyro-seed-quiet.ini", sensor_text },
-	{ "adc-seed-16bit.ini", adc_text },
-	{ "adc-seed-18bit.ini", adc_text },
-	{ "adc-seed-16bit-os16.ini", adc_text },
+	{ "gyro-textbook-quiet.ini", sensor_text },
+	{ "adc-textbook-16bit.ini", adc_text },
+	{ "adc-textbook-18bit.ini", adc_text },
+	{ "adc-textbook-16bit-os16.ini", adc_text },
 	{ "adc.ini", adc_text },
 };
 

@@ -231,9 +231,9 @@ ok(cb["poses"] == j.get("poses", cb["poses"]) and
    "here SI)" % j["input_unit"], (cb, j))
 
 # ---------------------------------------------------------------- adc
-sensor = os.path.join(SAMPLES, "gyro-seed-quiet.ini")
+sensor = os.path.join(SAMPLES, "gyro-textbook-quiet.ini")
 adcs = [os.path.join(SAMPLES, f) for f in
-        ("adc-seed-16bit.ini", "adc-seed-18bit.ini")]
+        ("adc-textbook-16bit.ini", "adc-textbook-18bit.ini")]
 j = cli("adc", "report", "--format", "json", "--sensor", sensor,
         "--adc", adcs[0], "--adc", adcs[1])["adcs"]
 rep = ss.adc_report(sensor, adcs)
