@@ -183,6 +183,9 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 	 * is corruption, not a reason to allocate it */
 	if (size > MAX_CHUNK)
 		return bad(b, at, "chunk larger than 1 GiB", diag);
+	if (size > ssc_decompress_bound(codec, dl))
+		return bad(b, at, "chunk larger than its compressed data can hold",
+			   diag);
 	if (size > b->scratch_cap) {
 		unsigned char *s = realloc(b->scratch, size);
 

@@ -43,6 +43,19 @@ static int lz4_frame(const unsigned char *src, size_t src_len,
 	return LZ4F_isError(r) || r != 0 ? -EBADMSG : 0;
 }
 
+size_t ssc_decompress_bound(enum ssc_codec codec, size_t src_len)
+{
+	/* LZ4: a match token adds at most 255 bytes per input byte (the
+	 * format's maximal ratio); Zstandard: an RLE block of 128 KiB takes a
+	 * 3-byte header and one byte (RFC 8878, 3.1.1.2) */
+	size_t per = codec == SSC_CODEC_LZ4 ? 255 :
+		     codec == SSC_CODEC_ZSTD ? (size_t)128 * 1024 / 4 : 0;
+
+	if (per == 0 || src_len > (SIZE_MAX - 131072) / per)
+		return SIZE_MAX;
+	return src_len * per + 131072;
+}
+
 int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 		   size_t src_len, unsigned char *dst, size_t dst_len,
 		   const char *disp, const char *what,

@@ -145,6 +145,10 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 		   size_t src_len, unsigned char *dst, size_t dst_len,
 		   const char *disp, const char *what,
 		   struct sscope_diag *diag);
+/* The most bytes src_len compressed bytes of codec can decode to (LZ4:
+ * 255 per byte; Zstandard: a 128 KiB block from 4 bytes; bzip2: no
+ * bound), so that a corrupt size field is refused before it is allocated. */
+size_t ssc_decompress_bound(enum ssc_codec codec, size_t src_len);
 /* CRC-32 (zlib's) of a buffer of any size. */
 uint32_t ssc_crc32(const unsigned char *p, size_t n);
 

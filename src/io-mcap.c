@@ -29,6 +29,7 @@ struct mcap {
 	struct ssc_ros *c;
 	const char *disp;
 	char *schema[65536];   /* schema id -> name */
+	size_t n_schema;       /* highest schema id named + 1 */
 	uint32_t chan[65536];  /* channel id -> topic index + 1 */
 	unsigned char *scratch;
 	size_t scratch_cap;
@@ -129,6 +130,9 @@ static int chunk(struct mcap *m, const unsigned char *p,
 		 * corruption, not a reason to allocate it */
 		if (usize > ((uint64_t)1 << 30))
 			return bad(m, at, "chunk larger than 1 GiB", diag);
+		if (usize > ssc_decompress_bound(codec, rlen))
+			return bad(m, at, "chunk larger than its compressed data can hold",
+				   diag);
 		if (usize > m->scratch_cap) {
 			unsigned char *s = realloc(m->scratch, usize ? usize : 1);
 
@@ -190,6 +194,8 @@ static int records(struct mcap *m, const unsigned char *p, size_t n,
 				m->schema[id] = dup_n(s, sl);
 				if (!m->schema[id])
 					return -ENOMEM;
+				if (id >= m->n_schema)
+					m->n_schema = (size_t)id + 1;
 			}
 			break;
 		}
@@ -274,7 +280,9 @@ int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 	if (!rc && !end)
 		rc = bad(m, len, "no data end or footer record (file cut short)",
 			 diag);
-	for (size_t i = 0; i < 65536; i++)
+	/* only the ids named: 65536 calls of free() cost more than a small
+	 * file's whole read */
+	for (size_t i = 0; i < m->n_schema; i++)
 		free(m->schema[i]);
 	free(m->scratch);
 	free(m);
