@@ -2149,7 +2149,24 @@ static void *part_run(void *arg)
 static size_t count_nl(const char *p, const char *end)
 {
 	size_t n = 0;
+#ifdef __SSE2__
+	/* byte counters (each compare adds 0 or 1, at most 255 times), then
+	 * summed by the sum of absolute differences */
+	const __m128i nl = _mm_set1_epi8('\n'), zero = _mm_setzero_si128();
 
+	while (end - p >= 16) {
+		__m128i acc = zero, sums;
+		size_t k = 0;
+
+		for (; k < 255 && end - p >= 16; k++, p += 16)
+			acc = _mm_sub_epi8(acc, _mm_cmpeq_epi8(_mm_loadu_si128(
+						(const __m128i *)(const void *)p),
+						nl));
+		sums = _mm_sad_epu8(acc, zero);
+		n += (size_t)_mm_cvtsi128_si32(sums) +
+		     (size_t)_mm_cvtsi128_si32(_mm_srli_si128(sums, 8));
+	}
+#endif
 	while ((p = memchr(p, '\n', (size_t)(end - p)))) {
 		n++;
 		p++;
