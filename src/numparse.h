@@ -51,6 +51,36 @@ static inline uint64_t ssc_parse8(uint64_t v)
 	return (((v & mask) * mul1) + (((v >> 16) & mask) * mul2)) >> 32;
 }
 
+/* Where the digits (or the point) of the cell of len bytes ending at e
+ * start in the 16 bytes before e: after the sign; 16 when the cell cannot
+ * be a plain decimal of at most 15 bytes. */
+static inline unsigned ssc_cell_start(const char *e, size_t len, bool *neg)
+{
+	if (len - 1 >= 15)
+		return 16;
+	*neg = e[-(ptrdiff_t)len] == '-';
+	return 16 - (unsigned)len + (*neg | (e[-(ptrdiff_t)len] == '+'));
+}
+
+/* The cell's value from its exact decimal +-m * 10^-f (m below 2^53,
+ * f <= 14): one correctly rounded division (Clinger). */
+static inline bool ssc_cell_value(uint64_t m, unsigned f, bool neg, double *v,
+				  int64_t *mant, int *frac)
+{
+	static const double p10[] = { 1e0, 1e1, 1e2,  1e3,  1e4,
+				      1e5, 1e6, 1e7,  1e8,  1e9,
+				      1e10, 1e11, 1e12, 1e13, 1e14 };
+	double x = (double)(int64_t)m / p10[f];
+	uint64_t bits;
+
+	memcpy(&bits, &x, 8);
+	bits |= (uint64_t)neg << 63;
+	memcpy(v, &bits, 8);
+	*mant = neg ? -(int64_t)m : (int64_t)m;
+	*frac = (int)f;
+	return true;
+}
+
 #if defined(__SIZEOF_INT128__) && defined(__BYTE_ORDER__) && \
 	__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
 #define SSC_HAVE_PARSE_CELL 1
@@ -81,22 +111,15 @@ static inline uint64_t ssc_nondigits8(uint64_t w)
 static inline bool ssc_parse_cell(const char *e, size_t len, double *v,
 				  int64_t *mant, int *frac)
 {
-	static const double p10[] = { 1e0, 1e1, 1e2,  1e3,  1e4,
-				      1e5, 1e6, 1e7,  1e8,  1e9,
-				      1e10, 1e11, 1e12, 1e13, 1e14 };
 	const ssc_u128 zeros = (ssc_u128)0x3030303030303030u << 64 |
 			       0x3030303030303030u;
 	ssc_u128 w, nd, low;
-	uint64_t m, bits;
+	uint64_t m;
 	unsigned j, q, f;
-	bool neg, dot;
-	double x;
+	bool neg = false, dot;
 
-	if (len - 1 >= 15)
-		return false;
-	neg = e[-(ptrdiff_t)len] == '-';
 	/* the digits (and the point) start at byte j */
-	j = 16 - (unsigned)len + (neg | (e[-(ptrdiff_t)len] == '+'));
+	j = ssc_cell_start(e, len, &neg);
 	if (j == 16)
 		return false;
 	memcpy(&w, e - 16, 16);
@@ -122,13 +145,7 @@ static inline bool ssc_parse_cell(const char *e, size_t len, double *v,
 	w = (w & ~low) | (zeros & low);
 	/* at most 15 digits: below 2^53, exact as a double */
 	m = ssc_parse8((uint64_t)w) * 100000000u + ssc_parse8((uint64_t)(w >> 64));
-	x = (double)(int64_t)m / p10[f];
-	memcpy(&bits, &x, 8);
-	bits |= (uint64_t)neg << 63;
-	memcpy(v, &bits, 8);
-	*mant = neg ? -(int64_t)m : (int64_t)m;
-	*frac = (int)f;
-	return true;
+	return ssc_cell_value(m, f, neg, v, mant, frac);
 }
 #endif
 
@@ -146,23 +163,16 @@ __attribute__((target("ssse3"))) static inline bool
 ssc_parse_cell_ssse3(const char *e, size_t len, double *v, int64_t *mant,
 		     int *frac)
 {
-	static const double p10[] = { 1e0, 1e1, 1e2,  1e3,  1e4,
-				      1e5, 1e6, 1e7,  1e8,  1e9,
-				      1e10, 1e11, 1e12, 1e13, 1e14 };
 	const __m128i iota = _mm_setr_epi8(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10,
 					   11, 12, 13, 14, 15);
 	__m128i x, t, idx;
 	unsigned j, nd, f;
 	int q;
-	uint64_t m, bits;
-	bool neg;
-	double y;
+	uint64_t m;
+	bool neg = false;
 
-	if (len - 1 >= 15)
-		return false;
-	neg = e[-(ptrdiff_t)len] == '-';
 	/* the digits (and the point) start at byte j */
-	j = 16 - (unsigned)len + (neg | (e[-(ptrdiff_t)len] == '+'));
+	j = ssc_cell_start(e, len, &neg);
 	if (j == 16)
 		return false;
 	x = _mm_loadu_si128((const __m128i *)(const void *)(e - 16));
@@ -193,13 +203,7 @@ ssc_parse_cell_ssse3(const char *e, size_t len, double *v, int64_t *mant,
 	/* at most 15 digits: below 2^53, exact as a double */
 	m = (uint64_t)(uint32_t)_mm_cvtsi128_si32(t) * 100000000u +
 	    (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(t, 4));
-	y = (double)(int64_t)m / p10[f];
-	memcpy(&bits, &y, 8);
-	bits |= (uint64_t)neg << 63;
-	memcpy(v, &bits, 8);
-	*mant = neg ? -(int64_t)m : (int64_t)m;
-	*frac = (int)f;
-	return true;
+	return ssc_cell_value(m, f, neg, v, mant, frac);
 }
 #endif
 
