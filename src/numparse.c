@@ -22,6 +22,7 @@
  * (fast_float and double-conversion are C++).
  */
 #include "internal.h"
+#include "numparse.h"
 
 #include <locale.h>
 #include <math.h>
@@ -195,40 +196,6 @@ static inline bool is_digit(char c)
 	return (unsigned char)(c - '0') < 10;
 }
 
-/*
- * Eight digits at once (SWAR), after Lemire, "Fast number parsing without
- * fallback" (Software: Practice and Experience, 2023): test that 8 bytes
- * are all ASCII digits, then combine them in three multiplications.
- */
-static inline uint64_t load8(const char *p)
-{
-	uint64_t v;
-
-	memcpy(&v, p, 8);
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-	v = __builtin_bswap64(v);
-#endif
-	return v;
-}
-
-static inline bool all8_digits(uint64_t v)
-{
-	return ((v & 0xF0F0F0F0F0F0F0F0u) |
-		(((v + 0x0606060606060606u) & 0xF0F0F0F0F0F0F0F0u) >> 4)) ==
-	       0x3333333333333333u;
-}
-
-static inline uint64_t parse8(uint64_t v)
-{
-	const uint64_t mask = 0x000000FF000000FFu;
-	const uint64_t mul1 = 100 + (UINT64_C(1000000) << 32);
-	const uint64_t mul2 = 1 + (UINT64_C(10000) << 32);
-
-	v -= 0x3030303030303030u;
-	v = (v * 10) + (v >> 8);
-	return (((v & mask) * mul1) + (((v >> 16) & mask) * mul2)) >> 32;
-}
-
 /* Accumulate the digits at p into *mant (may wrap: callers count digits
  * and leave long significands to strtod). */
 static inline const char *digits(const char *p, const char *end,
@@ -237,11 +204,11 @@ static inline const char *digits(const char *p, const char *end,
 	uint64_t m = *mant;
 
 	while (end - p >= 8) {
-		uint64_t v = load8(p);
+		uint64_t v = ssc_load8(p);
 
-		if (!all8_digits(v))
+		if (!ssc_all8_digits(v))
 			break;
-		m = m * 100000000u + parse8(v);
+		m = m * 100000000u + ssc_parse8(v);
 		p += 8;
 	}
 	while (p < end && is_digit(*p))

@@ -28,8 +28,12 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include "io-formats.h"
+#include "numparse.h"
 #include "io-mat.h"
 
 #define BLOCK (4u << 20)
@@ -1590,20 +1594,20 @@ static void set_t0(struct sscope_reader *r, const char *a, const char *b,
 		r->t0_exp = 1000; /* marks "not exact" */
 }
 
-/* Time since the first row from the exact decimal text when both stamps
- * have the same number of decimals (one rounding), else from doubles. */
-static double time_value(const struct sscope_reader *r, const char *a,
-			 const char *b, double v)
+/* Time since the first row from the exact decimal mant * 10^x when both
+ * stamps have the same number of decimals (one rounding), else from the
+ * doubles. */
+static double time_since(const struct sscope_reader *r, bool exact,
+			 int64_t m, int x, double v)
 {
 	static const double p10[] = { 1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
 				      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
 				      1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
 				      1e21, 1e22 };
-	int64_t m, d;
-	int x;
+	int64_t d;
 
-	if (r->t0_exp != 1000 && parse_exact(a, b, &m, &x) &&
-	    x == r->t0_exp && !__builtin_sub_overflow(m, r->t0_mant, &d)) {
+	if (exact && r->t0_exp != 1000 && x == r->t0_exp &&
+	    !__builtin_sub_overflow(m, r->t0_mant, &d)) {
 		double dd = (double)d;
 
 		if (x < 0 && x >= -22)
@@ -1611,6 +1615,17 @@ static double time_value(const struct sscope_reader *r, const char *a,
 		return x == 0 ? dd : dd * pow(10, x);
 	}
 	return v - r->t0_double;
+}
+
+/* The same from the text of the time cell. */
+static double time_value(const struct sscope_reader *r, const char *a,
+			 const char *b, double v)
+{
+	int64_t m = 0;
+	int x = 0;
+	bool exact = parse_exact(a, b, &m, &x);
+
+	return time_since(r, exact, m, x, v);
 }
 
 static int bad_cell(const struct sscope_reader *r, size_t line, size_t col,
@@ -1756,10 +1771,6 @@ static int parse_line(const struct sscope_reader *r, const char *p,
 	return col == r->ncols ? 0 : ragged(r, line, col, diag);
 }
 
-/* Fast path of a data line: cells that are plain numbers directly followed
- * by the delimiter, the line ending with '\n'.  Returns the start of the
- * next line, or NULL to let the careful path (messages, blanks, NaN,
- * comments) handle the line -- it rewrites the whole row. */
 /* bytes of a 64-bit word equal to the byte in every lane of pat: the high
  * bit of each such byte (exact, no false positives) */
 static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
@@ -1772,95 +1783,147 @@ static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
 
 #define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
 
-/* first d or newline at or after p (or end), eight bytes at a time: the
- * scan over the cells nobody asked for */
-static const char *skip_cell(const char *p, const char *end, char d)
+/*
+ * Fast path of the data lines: the positions of the delimiters and
+ * newlines are found 64 bytes at a time as a bit mask (the structural
+ * index of simdjson: Langdale and Lemire, "Parsing gigabytes of JSON per
+ * second", VLDB Journal 2019), so every cell's extent is known before it
+ * is converted and the conversions of successive cells overlap in the
+ * processor instead of waiting for each other.  Cells of columns nobody
+ * asked for cost one bit each.
+ */
+struct sepscan {
+	const char *blk; /* 64 bytes scanned */
+	uint64_t m;      /* bit i: blk[i] is a separator not yet consumed */
+};
+
+/* bit i set when p[i] is d or a newline, 0 <= i < 64 */
+static inline uint64_t sep_mask(const char *p, char d)
 {
+	uint64_t m = 0;
+#ifdef __SSE2__
+	const __m128i vd = _mm_set1_epi8(d), vn = _mm_set1_epi8('\n');
+
+	for (unsigned k = 0; k < 4; k++) {
+		__m128i x = _mm_loadu_si128((const __m128i *)(const void *)(p + 16 * k));
+
+		m |= (uint64_t)(unsigned)_mm_movemask_epi8(
+			     _mm_or_si128(_mm_cmpeq_epi8(x, vd),
+					  _mm_cmpeq_epi8(x, vn)))
+		     << (16 * k);
+	}
+#else
 	const uint64_t pd = BYTES(d), pn = BYTES('\n');
 
-	for (; end - p >= 8; p += 8) {
+	for (unsigned k = 0; k < 8; k++) {
 		uint64_t w, hit;
 
-		memcpy(&w, p, 8);
-		hit = eq_bytes(w, pd) | eq_bytes(w, pn);
-		if (hit) {
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-			return p + (__builtin_ctzll(hit) >> 3);
-#else
-			break;
+		memcpy(&w, p + 8 * k, 8);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+		w = __builtin_bswap64(w);
 #endif
-		}
+		hit = (eq_bytes(w, pd) | eq_bytes(w, pn)) >> 7;
+		/* gather the lowest bit of each byte into one byte */
+		m |= ((hit * 0x0102040810204080ull) >> 56) << (8 * k);
 	}
-	while (p < end && *p != d && *p != '\n')
-		p++;
-	return p;
+#endif
+	return m;
 }
 
-/* occurrences of d in [p, e) */
-static size_t count_byte(const char *p, const char *e, char d)
+/* The next separator, or NULL when the next 64 bytes are not all before
+ * end (the scan is then spent). */
+static inline const char *next_sep(struct sepscan *sc, const char *end,
+				   char d)
 {
-	const uint64_t pd = BYTES(d);
-	size_t n = 0;
+	const char *b;
 
-	for (; e - p >= 8; p += 8) {
-		uint64_t w;
-
-		memcpy(&w, p, 8);
-		/* one bit per matching byte, summed by a multiply */
-		n += (size_t)(((eq_bytes(w, pd) >> 7) * BYTES(1)) >> 56);
+	while (!sc->m) {
+		sc->blk += 64;
+		if (end - sc->blk < 64)
+			return NULL;
+		sc->m = sep_mask(sc->blk, d);
 	}
-	for (; p < e; p++)
-		n += *p == d;
-	return n;
+	b = sc->blk + __builtin_ctzll(sc->m);
+	sc->m &= sc->m - 1;
+	return b;
 }
 
-static const char *fast_line(const struct sscope_reader *r, const char *p,
-			     const char *end, bool eof,
-			     struct sscope_chunk *ch, size_t row)
+/* The value of the plain decimal cell [a, e), with the 16 bytes before e
+ * readable, and its exact decimal (numparse.h); false for other cells. */
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+static ALWAYS_INLINE bool plain_cell(const char *a, const char *e, bool simd,
+				     double *v, int64_t *m, int *f)
+{
+#ifdef SSC_HAVE_PARSE_CELL_SSSE3
+	if (simd)
+		return ssc_parse_cell_ssse3(e, (size_t)(e - a), v, m, f);
+#endif
+	(void)simd;
+#ifdef SSC_HAVE_PARSE_CELL
+	return ssc_parse_cell(e, (size_t)(e - a), v, m, f);
+#else
+	(void)a, (void)e, (void)v, (void)m, (void)f;
+	return false;
+#endif
+}
+
+/* Convert the cell [a, e) of a column in use when it is a plain finite
+ * number; false sends the line to the careful path. */
+static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
+				   const struct colx *c,
+				   struct sscope_chunk *ch, size_t row,
+				   const char *a, const char *e, bool simd)
+{
+	double v;
+	int64_t m;
+	int f;
+	size_t n;
+
+	if (e - r->base >= 16 && plain_cell(a, e, simd, &v, &m, &f)) {
+		if (c->dest >= 0 && ch->data[c->dest])
+			ch->data[c->dest][row] =
+				v * c->c.unit.scale + c->c.unit.offset;
+		if (c->is_time && ch->time_s)
+			ch->time_s[row] = time_since(r, true, m, -f, v) *
+					  c->c.unit.scale;
+		if (c->is_temp && ch->temp_degc)
+			ch->temp_degc[row] =
+				v * c->c.unit.scale + c->c.unit.offset;
+		return true;
+	}
+	n = sscope_parse_double(a, e, &v);
+	if (!n || n != (size_t)(e - a) || !isfinite(v))
+		return false;
+	put_cell(r, c, ch, row, a, e, v);
+	return true;
+}
+
+/* One line at p whose cells are all plain numbers, the line ending with
+ * '\n' (CR LF too): returns the start of the next line, or NULL to let the
+ * careful path (messages, blanks, NaN, comments) handle the line -- it
+ * rewrites the whole row. */
+static ALWAYS_INLINE const char *
+scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
+	  const char *end, struct sscope_chunk *ch, size_t row, bool simd)
 {
 	const char d = r->delim;
+	const size_t last = r->ncols - 1;
 
-	for (size_t col = 0; col < r->ncols; col++) {
-		const struct colx *c = &r->cols[col];
-		const char *a = p;
+	for (size_t col = 0; col <= last; col++) {
+		const char *b = next_sep(sc, end, d), *e;
 
-		if (c->used) {
-			double v;
-			size_t n = sscope_parse_double(p, end, &v);
-
-			if (!n || !isfinite(v))
+		if (!b || *b != (col < last ? d : '\n'))
+			return NULL;
+		if (r->cols[col].used) {
+			e = b;
+			if (col == last && e > p && e[-1] == '\r')
+				e--;
+			if (!fast_cell(r, &r->cols[col], ch, row, p, e, simd))
 				return NULL;
-			p += n;
-			put_cell(r, c, ch, row, a, p, v);
-			if (col == r->last_used && col + 1 < r->ncols) {
-				/* the cells after the last one in use: find
-				 * the end of the line, count the delimiters */
-				const char *nl;
-
-				if (p >= end || *p != d)
-					return NULL;
-				nl = memchr(p, '\n', (size_t)(end - p));
-				if (!nl && !eof)
-					return NULL;
-				if (count_byte(p, nl ? nl : end, d) !=
-				    r->ncols - 1 - col)
-					return NULL;
-				return nl ? nl + 1 : end;
-			}
-		} else {
-			p = skip_cell(p, end, d);
 		}
-		if (col + 1 < r->ncols) {
-			if (p >= end || *p != d)
-				return NULL;
-			p++;
-		}
+		p = b + 1;
 	}
-	if (p < end && *p == '\r')
-		p++;
-	if (p >= end)
-		return eof ? p : NULL;
-	return *p == '\n' ? p + 1 : NULL;
+	return p;
 }
 
 static bool skip_line(const char *p, const char *e)
@@ -1873,23 +1936,35 @@ static bool skip_line(const char *p, const char *e)
 /* Parse rows from [p, end) into ch starting at row `row` until max_rows are
  * filled or the text ends.  A final line without newline is parsed only
  * when `eof`.  *line counts lines; *stop receives where parsing stopped. */
-static int parse_rows(const struct sscope_reader *r, const char *p,
-		      const char *end, bool eof, size_t *line,
-		      struct sscope_chunk *ch, size_t row, size_t max_rows,
-		      size_t *rows_out, const char **stop,
-		      struct sscope_diag *diag)
+static ALWAYS_INLINE int
+parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
+		bool eof, size_t *line, struct sscope_chunk *ch, size_t row,
+		size_t max_rows, size_t *rows_out, const char **stop,
+		struct sscope_diag *diag, bool simd)
 {
 	size_t n = 0, ln = *line;
+	struct sepscan sc = { 0 };
+	bool synced = false;
 	int rc = 0;
 
 	while (n < max_rows && p < end) {
 		const char *e, *next;
 
-		if (r->delim != ' ' && (next = fast_line(r, p, end, eof, ch, row + n))) {
-			ln++;
-			n++;
-			p = next;
-			continue;
+		if (r->delim != ' ') {
+			if (!synced && end - p >= 64) {
+				sc.blk = p;
+				sc.m = sep_mask(p, r->delim);
+				synced = true;
+			}
+			if (synced &&
+			    (next = scan_line(r, &sc, p, end, ch, row + n,
+					       simd))) {
+				ln++;
+				n++;
+				p = next;
+				continue;
+			}
+			synced = false;
 		}
 		e = memchr(p, '\n', (size_t)(end - p));
 		if (!e) {
@@ -1913,6 +1988,44 @@ static int parse_rows(const struct sscope_reader *r, const char *p,
 	*rows_out = n;
 	*stop = p;
 	return rc;
+}
+
+static int parse_rows_plain(const struct sscope_reader *r, const char *p,
+			    const char *end, bool eof, size_t *line,
+			    struct sscope_chunk *ch, size_t row,
+			    size_t max_rows, size_t *rows_out,
+			    const char **stop, struct sscope_diag *diag)
+{
+	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
+			       rows_out, stop, diag, false);
+}
+
+#ifdef SSC_HAVE_PARSE_CELL_SSSE3
+__attribute__((target("ssse3"))) static int
+parse_rows_ssse3(const struct sscope_reader *r, const char *p,
+		 const char *end, bool eof, size_t *line,
+		 struct sscope_chunk *ch, size_t row, size_t max_rows,
+		 size_t *rows_out, const char **stop, struct sscope_diag *diag)
+{
+	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
+			       rows_out, stop, diag, true);
+}
+#endif
+
+/* The same, with the processor's byte shuffles when it has them. */
+static int parse_rows(const struct sscope_reader *r, const char *p,
+		      const char *end, bool eof, size_t *line,
+		      struct sscope_chunk *ch, size_t row, size_t max_rows,
+		      size_t *rows_out, const char **stop,
+		      struct sscope_diag *diag)
+{
+#ifdef SSC_HAVE_PARSE_CELL_SSSE3
+	if (__builtin_cpu_supports("ssse3"))
+		return parse_rows_ssse3(r, p, end, eof, line, ch, row,
+					max_rows, rows_out, stop, diag);
+#endif
+	return parse_rows_plain(r, p, end, eof, line, ch, row, max_rows,
+				rows_out, stop, diag);
 }
 
 /* The time origin is the first data row's time cell; find it before
@@ -2036,7 +2149,24 @@ static void *part_run(void *arg)
 static size_t count_nl(const char *p, const char *end)
 {
 	size_t n = 0;
+#ifdef __SSE2__
+	/* byte counters (each compare adds 0 or 1, at most 255 times), then
+	 * summed by the sum of absolute differences */
+	const __m128i nl = _mm_set1_epi8('\n'), zero = _mm_setzero_si128();
 
+	while (end - p >= 16) {
+		__m128i acc = zero, sums;
+		size_t k = 0;
+
+		for (; k < 255 && end - p >= 16; k++, p += 16)
+			acc = _mm_sub_epi8(acc, _mm_cmpeq_epi8(_mm_loadu_si128(
+						(const __m128i *)(const void *)p),
+						nl));
+		sums = _mm_sad_epu8(acc, zero);
+		n += (size_t)_mm_cvtsi128_si32(sums) +
+		     (size_t)_mm_cvtsi128_si32(_mm_srli_si128(sums, 8));
+	}
+#endif
 	while ((p = memchr(p, '\n', (size_t)(end - p)))) {
 		n++;
 		p++;

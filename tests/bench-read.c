@@ -3,7 +3,9 @@
  * Benchmark: reading a 1,000,000-row, 7-column CSV (time + 6 channels,
  * values printed with %.9g as IMU loggers do, and again with %.17g as
  * pandas does), reported as MB/s, and the parse checked value by value
- * against strtod (correctly rounded) -- run time against error.
+ * against strtod (correctly rounded) -- run time against error.  With a
+ * file argument: the load of that capture instead (`bench-read FILE
+ * [COLUMNS]`), e.g. the 24 h capture of tests/bench-report.sh.
  */
 #include "internal.h"
 
@@ -90,11 +92,45 @@ static int run(const char *path, int digits, size_t rows)
 	return bad != 0;
 }
 
-int main(void)
+/* `bench-read FILE [COLUMNS]`: the load of a capture the user has (all
+ * columns, or those named), best of 3 on one and on all processors */
+static int run_file(const char *path, const char *columns)
+{
+	for (unsigned th = 1; th <= 2; th++) {
+		struct sscope_read_opts o = { .columns = columns,
+					      .threads = th == 1 ? 1 : 0 };
+		struct sscope_capture *cap;
+		struct sscope_diag d;
+		double best = 1e9, t0;
+		size_t n = 0;
+
+		for (int rep = 0; rep < 3; rep++) {
+			t0 = now();
+			if (sscope_capture_load(&cap, path, &o, &d)) {
+				fprintf(stderr, "load failed: %s\n", d.msg);
+				return 1;
+			}
+			t0 = now() - t0;
+			if (t0 < best)
+				best = t0;
+			n = cap->n;
+			sscope_capture_free(cap);
+		}
+		printf("%s (%s): %zu rows, %s: best of 3 %.3f s\n", path,
+		       columns ? columns : "all columns", n,
+		       th == 1 ? "one thread" : "every processor", best);
+	}
+	return 0;
+}
+
+int main(int argc, char **argv)
 {
 	const char *path = "bench-read.tmp.csv";
-	int rc = run(path, 9, 1000000);
+	int rc;
 
+	if (argc > 1)
+		return run_file(argv[1], argc > 2 ? argv[2] : NULL);
+	rc = run(path, 9, 1000000);
 	rc |= run(path, 17, 1000000);
 	return rc;
 }

@@ -4,7 +4,8 @@
  * and sines of many amplitudes are never called clipped (the arcsine
  * bound 1 / (sqrt 2 - 1) on a sine's outermost code is checked too); the
  * same signals limited to a range are, on the side that was limited;
- * constant, NaN and bad arguments.
+ * constant, NaN and bad arguments; the skipping of blocks against the plain
+ * one-pass definition.
  */
 #include "internal.h"
 
@@ -162,6 +163,81 @@ START_TEST(edges)
 }
 END_TEST
 
+
+/* The plain one-pass definition, sample by sample: the oracle for the
+ * block skipping of clip.c. */
+struct ref_top2 {
+	double v, next;
+	size_t n, n_next;
+};
+
+static void ref_add(struct ref_top2 *t, double x)
+{
+	if (x > t->v) {
+		t->next = t->v;
+		t->n_next = t->n;
+		t->v = x;
+		t->n = 1;
+	} else if (x == t->v) {
+		t->n++;
+	} else if (x > t->next) {
+		t->next = x;
+		t->n_next = 1;
+	} else if (x == t->next) {
+		t->n_next++;
+	}
+}
+
+START_TEST(blocks_equal_plain_pass)
+{
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	const size_t n = 5000;
+	double *x = malloc(3 * n * sizeof(double));
+
+	ck_assert_ptr_nonnull(x);
+	gsl_rng_set(r, 1511);
+	for (int t = 0; t < 400; t++) {
+		size_t stride = 1 + (size_t)(t % 3), m = 1 + gsl_rng_uniform_int(r, n);
+		double q = t % 4 == 0 ? 0 : ldexp(1, -(int)gsl_rng_uniform_int(r, 8));
+		struct ref_top2 hi = { -INFINITY, -INFINITY, 0, 0 }, lo = hi;
+		struct sscope_clip c;
+
+		for (size_t i = 0; i < m * stride; i++) {
+			double v = gsl_ran_gaussian(r, 1.0);
+
+			/* quantized, clipped, the extreme late, NaN and inf */
+			if (q > 0)
+				v = q * nearbyint(v / q);
+			if (t % 5 == 1)
+				v = v > 1.5 ? 1.5 : v < -1.5 ? -1.5 : v;
+			if (gsl_rng_uniform(r) < 0.001)
+				v = (double[]){ NAN, INFINITY, -INFINITY, 9.5, -9.5 }
+					[gsl_rng_uniform_int(r, 5)];
+			if (t % 7 == 3 && i + 10 * stride > m * stride)
+				v = 20 + (double)(i % 2);
+			x[i] = v;
+		}
+		for (size_t i = 0; i < m; i++) {
+			double v = x[i * stride];
+
+			if (isfinite(v)) {
+				ref_add(&hi, v);
+				ref_add(&lo, -v);
+			}
+		}
+		ck_assert_int_eq(sscope_clip_detect(x, stride, m, SSCOPE_CLIP_MIN_COUNT,
+						    SSCOPE_CLIP_RATIO, &c), 0);
+		ck_assert(c.hi == hi.v && c.lo == -lo.v);
+		ck_assert_uint_eq(c.n_hi, hi.n);
+		ck_assert_uint_eq(c.n_lo, lo.n);
+		ck_assert_uint_eq(c.n_hi_next, hi.n_next);
+		ck_assert_uint_eq(c.n_lo_next, lo.n_next);
+	}
+	free(x);
+	gsl_rng_free(r);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("clip");
@@ -171,6 +247,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, noise);
 	tcase_add_test(tc, sines);
 	tcase_add_test(tc, edges);
+	tcase_add_test(tc, blocks_equal_plain_pass);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -16,6 +16,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "check-main.h"
+#include "numparse.h"
 
 static void same(const char *s)
 {
@@ -160,6 +161,151 @@ START_TEST(halfway_near)
 }
 END_TEST
 
+
+/*
+ * The known-extent cell parsers of the CSV reader (numparse.h) against
+ * strtod: a cell they take must be one sscope_parse_double reads whole,
+ * with the same bits and the exact decimal; a cell they refuse is left to
+ * sscope_parse_double.  The cell sits at the end of a 16-byte window whose
+ * leading bytes are garbage (digits, points, signs), as in a file.
+ */
+static unsigned long cells_taken;
+
+static void cell_one(const char *cell, size_t len, const char *junk)
+{
+	char buf[40];
+	char *e = buf + 20;
+	double v = 0, ref;
+	int64_t m = 0;
+	int f = 0;
+	bool ok;
+	char *end, z[32];
+
+	memcpy(buf, junk, 20);
+	memcpy(e - len, cell, len);
+	memcpy(e, ",9\n", 3);
+	memcpy(z, cell, len);
+	z[len] = '\0';
+	for (int k = 0; k < 2; k++) {
+#ifdef SSC_HAVE_PARSE_CELL_SSSE3
+		if (k == 1) {
+			if (!__builtin_cpu_supports("ssse3"))
+				continue;
+			ok = ssc_parse_cell_ssse3(e, len, &v, &m, &f);
+		} else
+#endif
+		{
+#ifdef SSC_HAVE_PARSE_CELL
+			if (k == 1)
+				continue;
+			ok = ssc_parse_cell(e, len, &v, &m, &f);
+#else
+			continue;
+#endif
+		}
+		if (!ok)
+			continue;
+		cells_taken++;
+		ref = strtod(z, &end);
+		ck_assert_msg(end == z + len && len > 0, "'%s' taken, strtod reads %td",
+			      z, end - z);
+		ck_assert_msg(memcmp(&v, &ref, sizeof(v)) == 0,
+			      "'%s' (parser %d): %.17g != strtod %.17g", z, k, v,
+			      ref);
+		/* the exact decimal: the digits as written, the count of
+		 * digits after the point */
+		{
+			int64_t em = 0;
+			int ef = 0;
+			bool point = false;
+
+			for (size_t i = 0; i < len; i++) {
+				if (z[i] == '.')
+					point = true;
+				else if (z[i] >= '0' && z[i] <= '9') {
+					em = em * 10 + (z[i] - '0');
+					ef += point;
+				}
+			}
+			if (z[0] == '-')
+				em = -em;
+			ck_assert_msg(m == em && f == ef,
+				      "'%s': exact %lld e-%d, expected %lld e-%d",
+				      z, (long long)m, f, (long long)em, ef);
+		}
+	}
+}
+
+START_TEST(known_cells)
+{
+	static const char *const fixed[] = {
+		"0", "-0", "+0", "0.0", "-0.000", "5.", ".5", "-.5", "+.5",
+		"-5.", "123456789012345", "12345678901234.5",
+		"0.00000000000001", "-0.0000000000001", "999999999999999",
+		"9007199254740993", "1e5", "1.5e-3", "nan", "-inf", "Infinity",
+		".", "-", "+", "-.", "+.", "..5", "1.2.3", "--1", "+-1", "1-",
+		" 1", "1 ", "1\r", "\r", "", "0x10", "1,5", "\t2", "1..",
+		"3.14159265358979", "-3.1415926535897", "0.1", "0.2", "0.3",
+		"1.7976931348623", "4.9406564584124", "00000000000001",
+		"-00000000000.01",
+	};
+	static const char alpha[] = "0123456789.-+e \r\0xn";
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	char junk[20], cell[16];
+
+	gsl_rng_set(r, 15151);
+	for (int t = 0; t < 4; t++) {
+		for (size_t i = 0; i < sizeof(junk); i++)
+			junk[i] = "0123456789.-+,\n"[gsl_rng_uniform_int(r, 15)];
+		for (size_t i = 0; i < sizeof(fixed) / sizeof(fixed[0]); i++)
+			cell_one(fixed[i], strlen(fixed[i]), junk);
+		/* NULs inside */
+		cell_one("1\0", 2, junk);
+		cell_one("\0", 1, junk);
+		cell_one("5\0.5", 4, junk);
+		cell_one("-\0", 2, junk);
+	}
+	/* random cells: mostly digits with a point and a sign, every length
+	 * 0-16, every position of the point */
+	for (int i = 0; i < 1000000; i++) {
+		size_t len = gsl_rng_uniform_int(r, 17);
+
+		for (size_t k = 0; k < sizeof(junk); k++)
+			junk[k] = "0123456789.-+,\n"[gsl_rng_uniform_int(r, 15)];
+		for (size_t k = 0; k < len; k++)
+			cell[k] = (char)('0' + gsl_rng_uniform_int(r, 10));
+		if (len && gsl_rng_uniform(r) < 0.8)
+			cell[gsl_rng_uniform_int(r, len)] = '.';
+		if (len && gsl_rng_uniform(r) < 0.4)
+			cell[0] = gsl_rng_uniform(r) < 0.8 ? '-' : '+';
+		if (len && gsl_rng_uniform(r) < 0.1)
+			cell[gsl_rng_uniform_int(r, len)] =
+				alpha[gsl_rng_uniform_int(r, sizeof(alpha) - 1)];
+		cell_one(cell, len, junk);
+	}
+	/* printf's renderings of random doubles that fit */
+	for (int i = 0; i < 300000; i++) {
+		char buf[64];
+		double d = ldexp(gsl_rng_uniform(r) - 0.5,
+				 (int)gsl_rng_uniform_int(r, 60) - 40);
+		int n;
+
+		n = snprintf(buf, sizeof(buf), "%.*g",
+			     1 + (int)gsl_rng_uniform_int(r, 16), d);
+		if (n <= 16)
+			cell_one(buf, (size_t)n, "00000000000000000000");
+		n = snprintf(buf, sizeof(buf), "%.*f",
+			     (int)gsl_rng_uniform_int(r, 14), d * 1000);
+		if (n <= 16)
+			cell_one(buf, (size_t)n, "1.1.1.1.1.1.1.1.1.1.");
+	}
+	gsl_rng_free(r);
+#if defined(SSC_HAVE_PARSE_CELL)
+	ck_assert_uint_gt(cells_taken, 500000);
+#endif
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("numparse");
@@ -170,6 +316,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, random_doubles);
 	tcase_add_test(tc, random_digits);
 	tcase_add_test(tc, halfway_near);
+	tcase_add_test(tc, known_cells);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -485,6 +485,197 @@ START_TEST(chunked_equals_whole)
 }
 END_TEST
 
+
+/*
+ * The reader's fast path (cells located 64 bytes at a time, plain numbers
+ * converted without a loop) against strtod, cell by cell, on a file large
+ * enough to be split between two threads: short and 17-digit numbers,
+ * exponents, signs, "5." and ".5", blanks around cells, CR LF, comments,
+ * blank lines, with and without a final newline; then a bad cell and a
+ * ragged line deep in the file, reported at their line as before.
+ */
+static uint64_t lcg_state;
+
+static double lcg(void)
+{
+	lcg_state = lcg_state * 6364136223846793005ULL + 1442695040888963407ULL;
+	return (double)(lcg_state >> 11) / 9007199254740992.0;
+}
+
+static size_t random_cell(char *b, size_t cap)
+{
+	double u = lcg(), x = (lcg() - 0.5) * pow(10, (int)(lcg() * 8) - 4);
+
+	if (u < 0.55)
+		return (size_t)snprintf(b, cap, "%.9g", x);
+	if (u < 0.65)
+		return (size_t)snprintf(b, cap, "%.17g", x);
+	if (u < 0.72)
+		return (size_t)snprintf(b, cap, "%.4e", x);
+	if (u < 0.78)
+		return (size_t)snprintf(b, cap, "+%.6f", fabs(x));
+	if (u < 0.82)
+		return (size_t)snprintf(b, cap, "%d.", (int)(x * 100));
+	if (u < 0.86)
+		return (size_t)snprintf(b, cap, "%s.%06d", x < 0 ? "-" : "",
+					(int)(lcg() * 999999));
+	if (u < 0.88)
+		return (size_t)snprintf(b, cap, " %.5f\t", x);
+	if (u < 0.90)
+		return (size_t)snprintf(b, cap, "%015.8f", x);
+	return (size_t)snprintf(b, cap, "%.12g", x);
+}
+
+/* A big CSV; every data cell's text kept for the oracle. */
+static char *big_csv(size_t rows, bool final_newline, char ***cells,
+		     size_t *len)
+{
+	size_t cap = rows * 120 + 256, n = 0;
+	char *t = malloc(cap);
+
+	*cells = calloc(rows * 4, sizeof(**cells));
+	ck_assert(t && *cells);
+	n += (size_t)sprintf(t, "t [s],a,b,c,d\n");
+	for (size_t i = 0; i < rows; i++) {
+		double u = lcg();
+
+		if (u < 0.005)
+			n += (size_t)sprintf(t + n, "# comment %zu\n", i);
+		else if (u < 0.01)
+			n += (size_t)sprintf(t + n, "%s", lcg() < 0.5 ? "\n" : " \r\n");
+		n += (size_t)sprintf(t + n, "%zu.%02zu", i / 100, i % 100);
+		for (int k = 0; k < 4; k++) {
+			char c[64];
+			size_t l = random_cell(c, sizeof(c));
+
+			t[n++] = ',';
+			memcpy(t + n, c, l);
+			n += l;
+			(*cells)[i * 4 + (size_t)k] = strndup(c, l);
+		}
+		if (i + 1 < rows || final_newline)
+			n += (size_t)sprintf(t + n, "%s", lcg() < 0.1 ? "\r\n" : "\n");
+	}
+	*len = n;
+	return t;
+}
+
+START_TEST(fast_path_equals_strtod)
+{
+	const size_t rows = 130000; /* about 10 MB: two threads */
+
+	lcg_state = 1515;
+	for (int nl = 0; nl < 2; nl++) {
+		char **cells, *text;
+		size_t len;
+		const char *p;
+
+		text = big_csv(rows, nl, &cells, &len);
+		p = put("big.csv", text, len);
+		for (unsigned th = 1; th <= 2; th++) {
+			struct sscope_read_opts o = { .threads = th };
+			struct sscope_capture *cap;
+			struct sscope_diag d;
+
+			ck_assert_msg(load(p, &o, &cap, &d) == 0, "%s", d.msg);
+			ck_assert_uint_eq(cap->n, rows);
+			ck_assert_uint_eq(cap->n_channels, 4);
+			for (size_t i = 0; i < rows; i++) {
+				ck_assert_msg(cap->time_s[i] == (double)i / 100,
+					      "row %zu: t %.17g", i, cap->time_s[i]);
+				for (size_t k = 0; k < 4; k++) {
+					/* the unit's scale and offset (1, 0)
+					 * applied: -0 reads as +0 */
+					double ref = strtod(cells[i * 4 + k], NULL) *
+							     1.0 + 0.0;
+
+					ck_assert_msg(memcmp(&ref, &cap->channels[k].data[i],
+							     8) == 0,
+						      "row %zu '%s': %.17g != strtod %.17g",
+						      i, cells[i * 4 + k],
+						      cap->channels[k].data[i], ref);
+				}
+			}
+			sscope_capture_free(cap);
+		}
+		/* from memory, in chunks of 777 rows */
+		{
+			struct sscope_reader *r;
+			struct sscope_diag d;
+			double c[4][777], t[777];
+			double *ptr[4] = { c[0], c[1], c[2], c[3] };
+			struct sscope_chunk ch = { 777, 0, ptr, t, NULL };
+			size_t got = 0;
+
+			ck_assert_int_eq(ssc_reader_open_mem(&r, text, len, "m", NULL, &d), 0);
+			for (;;) {
+				ck_assert_int_eq(sscope_reader_read(r, &ch, &d), 0);
+				if (!ch.rows)
+					break;
+				for (size_t i = 0; i < ch.rows; i++)
+					for (size_t k = 0; k < 4; k++)
+						ck_assert(c[k][i] ==
+							  strtod(cells[(got + i) * 4 + k], NULL));
+				got += ch.rows;
+			}
+			ck_assert_uint_eq(got, rows);
+			sscope_reader_close(r);
+		}
+		for (size_t i = 0; i < rows * 4; i++)
+			free(cells[i]);
+		free(cells);
+		free(text);
+	}
+}
+END_TEST
+
+START_TEST(fast_path_errors_located)
+{
+	const size_t rows = 130000;
+	char **cells, *text, *q;
+	size_t len, line;
+
+	lcg_state = 2727;
+	text = big_csv(rows, true, &cells, &len);
+	/* a line far into the second half: find its start */
+	q = text;
+	for (line = 1; line < 120001; line++)
+		q = strchr(q, '\n') + 1;
+	for (int c = 0; c < 2; c++) {
+		char *bad = malloc(len + 16), expect[128];
+		const char *p;
+		size_t at = (size_t)(q - text);
+
+		memcpy(bad, text, at);
+		if (c == 0) { /* a cell that is no number */
+			memcpy(bad + at, "1.25,1.2.3,", 11);
+			snprintf(expect, sizeof(expect),
+				 "line %zu, column 2 (a): not a number '1.2.3'", line);
+		} else { /* a short line */
+			memcpy(bad + at, "1.25,1.5\n", 9);
+			snprintf(expect, sizeof(expect),
+				 "line %zu: 2 columns where the header has 5", line);
+		}
+		memcpy(bad + at + (c ? 9 : 11), text + at, len - at);
+		p = put("bad.csv", bad, len + (c ? 9 : 11));
+		for (unsigned th = 1; th <= 2; th++) {
+			struct sscope_read_opts o = { .threads = th };
+			struct sscope_capture *cap = NULL;
+			struct sscope_diag d;
+
+			ck_assert_int_eq(load(p, &o, &cap, &d), -EBADMSG);
+			ck_assert_msg(strstr(d.msg, expect), "'%s' lacks '%s'",
+				      d.msg, expect);
+		}
+		free(bad);
+	}
+	for (size_t i = 0; i < rows * 4; i++)
+		free(cells[i]);
+	free(cells);
+	free(text);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("reader");
@@ -505,6 +696,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, round_trips);
 	tcase_add_test(tc, atomic_abort);
 	tcase_add_test(tc, chunked_equals_whole);
+	tcase_add_test(tc, fast_path_equals_strtod);
+	tcase_add_test(tc, fast_path_errors_located);
 	suite_add_tcase(s, tc);
 	return s;
 }
