@@ -231,6 +231,8 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	env.adc_ini = call->adc_ini;
 	env.upstream = call->upstream;
 	env.n_upstream = call->n_upstream;
+	env.earlier = call->earlier;
+	env.n_earlier = call->n_earlier;
 	/* 4. the computation */
 	ssc_set_context(call->context);
 	rc = ops->run(&env, opts, &res);
