@@ -47,6 +47,9 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 				    size_t window, double *out)
 {
 	const double *ch[3] = { x, y, z };
+	/* one channel given three times (a one-axis detector) is summed
+	 * once: the same numbers */
+	int nc = x == y && y == z ? 1 : 3;
 	size_t h, w;
 
 	if (!x || !y || !z || !out || stride == 0 || window < 3)
@@ -65,7 +68,7 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 		size_t lo = i - h;
 
 		if ((lo % w) == 0) {
-			for (int c = 0; c < 3; c++) {
+			for (int c = 0; c < nc; c++) {
 				shift[c] = ch[c][lo * stride];
 				s1[c] = s2[c] = 0;
 				for (size_t j = lo; j < lo + w; j++) {
@@ -76,7 +79,7 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 				}
 			}
 		} else {
-			for (int c = 0; c < 3; c++) {
+			for (int c = 0; c < nc; c++) {
 				double dout = ch[c][(lo - 1) * stride] - shift[c];
 				double din = ch[c][(i + h) * stride] - shift[c];
 
@@ -84,16 +87,17 @@ int sscope_calib_variance_magnitude(const double *x, const double *y,
 				s2[c] += din * din - dout * dout;
 			}
 		}
-		double v2 = 0;
+		double v2 = 0, v[3];
 
-		for (int c = 0; c < 3; c++) {
-			double v = (s2[c] - s1[c] * s1[c] / (double)w) /
-				   (double)(w - 1);
-
-			if (v < 0)
-				v = 0;
-			v2 += v * v;
+		for (int c = 0; c < nc; c++) {
+			v[c] = (s2[c] - s1[c] * s1[c] / (double)w) / (double)(w - 1);
+			if (v[c] < 0)
+				v[c] = 0;
 		}
+		for (int c = nc; c < 3; c++)
+			v[c] = v[0];
+		for (int c = 0; c < 3; c++)
+			v2 += v[c] * v[c];
 		out[i] = sqrt(v2);
 	}
 	return 0;
