@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int ssc_membuf_open(struct ssc_membuf *m)
 {
@@ -102,6 +103,30 @@ const struct ssc_result *ssc_stage_upstream(const struct ssc_stage_env *env,
 	return first;
 }
 
+/* SSCOPE_TRACE=1: the time of each part of a stage on stderr */
+static double trace_clock(void)
+{
+	const char *t = getenv("SSCOPE_TRACE");
+	struct timespec ts;
+
+	if (!t || !*t || !strcmp(t, "0"))
+		return -1;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* "trace: STAGE PART S s" since *t0, and *t0 set to now */
+static void trace_part(const struct ssc_stage_ops *ops, const char *part,
+		       double *t0)
+{
+	double t = *t0 >= 0 ? trace_clock() : -1;
+
+	if (t < 0)
+		return;
+	fprintf(stderr, "trace: %s %s %.3f s\n", ops->spec->name, part, t - *t0);
+	*t0 = t;
+}
+
 /* The result's text, or NULL when out of memory. */
 static char *render_text(const struct ssc_stage_ops *ops, const void *opts,
 			 const void *res,
@@ -145,6 +170,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	void *res = NULL;
 	bool scene = call->base != NULL;
 	int first, rc, n = 0, loaded = 0;
+	double t0 = -1;
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -234,15 +260,18 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	env.earlier = call->earlier;
 	env.n_earlier = call->n_earlier;
 	/* 4. the computation */
+	t0 = trace_clock();
 	ssc_set_context(call->context);
 	rc = ops->run(&env, opts, &res);
 	ssc_set_context(NULL);
+	trace_part(ops, "computation", &t0);
 	if (rc)
 		goto done;
 	/* 5. what was asked for: the figure, files named by options, the
 	 * output in its form */
 	if (co.plot && ops->plot) {
 		rc = ops->plot(&co, opts, res, co.plot);
+		trace_part(ops, "figure", &t0);
 		if (rc)
 			goto done;
 	}
@@ -253,22 +282,26 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	}
 	if (!scene) {
 		rc = present(ops, &co, opts, res);
+		trace_part(ops, "output", &t0);
 		goto done;
 	}
 	if (call->want & SSC_WANT_JSON) {
 		call->json = ops->json(opts, res);
 		if (!call->json)
 			rc = SSC_EXIT_FAIL;
+		trace_part(ops, "json", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_TEXT)) {
 		call->text = render_text(ops, opts, res, ops->text);
 		if (!call->text)
 			rc = SSC_EXIT_FAIL;
+		trace_part(ops, "text", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_SUMMARY)) {
 		call->summary = json_array();
 		if (ops->summary)
 			ops->summary(call->summary, opts, res);
+		trace_part(ops, "summary", &t0);
 	}
 	if (rc) {
 		ssc_err(co.cmd, "out of memory");
