@@ -389,10 +389,10 @@ static json_t *json_file(const struct file_info *fi)
 	json_object_set_new(o, "gaps", gaps);
 	if (cap->time_s) {
 		/* what is wrong with the time column's order, or null */
-		struct sscope_time_order ord = { 0 };
+		struct sscope_time_order ord;
 		struct sscope_diag d = { "" };
 
-		sscope_time_order_feed(&ord, cap->time_s, cap->n);
+		ssc_time_order(cap, &ord);
 		json_object_set_new(o, "time_order",
 				    sscope_time_order_check(&ord, &d) ?
 				    json_string(d.msg) : json_null());
