@@ -11,6 +11,8 @@
 
 #include <math.h>
 
+#define CLIP_BLOCK 512
+
 /* the top two distinct values and their counts */
 struct top2 {
 	double v, next;
@@ -43,13 +45,41 @@ int sscope_clip_detect(const double *x, size_t stride, size_t n,
 	if (!x || !c || stride == 0 || min_count < 2 || !(ratio > 1) ||
 	    !isfinite(ratio))
 		return -EINVAL;
-	for (size_t i = 0; i < n; i++) {
-		double v = x[i * stride];
+	for (size_t b = 0; b < n; b += CLIP_BLOCK) {
+		size_t e = b + CLIP_BLOCK < n ? b + CLIP_BLOCK : n;
+		double m[4] = { -INFINITY, -INFINITY, -INFINITY, -INFINITY };
+		double l[4] = { INFINITY, INFINITY, INFINITY, INFINITY };
+		size_t i = b;
 
-		if (!isfinite(v))
+		/* a block whose values all lie strictly between the two
+		 * runners-up changes neither top (top2_add does nothing
+		 * for them): its extremes decide that in a branch-free pass
+		 * (NaN compares false and is left out, as below) */
+		for (; i + 4 <= e; i += 4)
+			for (int k = 0; k < 4; k++) {
+				double v = x[(i + (size_t)k) * stride];
+
+				m[k] = v > m[k] ? v : m[k];
+				l[k] = v < l[k] ? v : l[k];
+			}
+		for (; i < e; i++) {
+			double v = x[i * stride];
+
+			m[0] = v > m[0] ? v : m[0];
+			l[0] = v < l[0] ? v : l[0];
+		}
+		m[0] = fmax(fmax(m[0], m[1]), fmax(m[2], m[3]));
+		l[0] = fmin(fmin(l[0], l[1]), fmin(l[2], l[3]));
+		if (m[0] < hi.next && -l[0] < lo.next)
 			continue;
-		top2_add(&hi, v);
-		top2_add(&lo, -v); /* the bottom, mirrored */
+		for (i = b; i < e; i++) {
+			double v = x[i * stride];
+
+			if (!isfinite(v))
+				continue;
+			top2_add(&hi, v);
+			top2_add(&lo, -v); /* the bottom, mirrored */
+		}
 	}
 	if (hi.n == 0)
 		return -EDOM;
