@@ -103,27 +103,38 @@ const struct ssc_result *ssc_stage_upstream(const struct ssc_stage_env *env,
 	return first;
 }
 
-/* SSCOPE_TRACE=1: the time of each part of a stage on stderr */
-static double trace_clock(void)
+/* SSCOPE_TRACE=1: the time of each part of a stage on stderr, wall and
+ * CPU (every thread of the process) */
+struct trace_t {
+	double wall, cpu; /* wall < 0: not tracing */
+};
+
+static struct trace_t trace_clock(void)
 {
 	const char *t = getenv("SSCOPE_TRACE");
+	struct trace_t r = { -1, 0 };
 	struct timespec ts;
 
 	if (!t || !*t || !strcmp(t, "0"))
-		return -1;
+		return r;
 	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+	r.wall = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	r.cpu = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+	return r;
 }
 
-/* "trace: STAGE PART S s" since *t0, and *t0 set to now */
+/* "trace: STAGE PART S s (CPU C s)" since *t0, and *t0 set to now */
 static void trace_part(const struct ssc_stage_ops *ops, const char *part,
-		       double *t0)
+		       struct trace_t *t0)
 {
-	double t = *t0 >= 0 ? trace_clock() : -1;
+	struct trace_t t;
 
-	if (t < 0)
+	if (t0->wall < 0)
 		return;
-	fprintf(stderr, "trace: %s %s %.3f s\n", ops->spec->name, part, t - *t0);
+	t = trace_clock();
+	fprintf(stderr, "trace: %s %s %.3f s (CPU %.3f s)\n", ops->spec->name,
+		part, t.wall - t0->wall, t.cpu - t0->cpu);
 	*t0 = t;
 }
 
@@ -170,7 +181,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	void *res = NULL;
 	bool scene = call->base != NULL;
 	int first, rc, n = 0, loaded = 0;
-	double t0 = -1;
+	struct trace_t t0 = { -1, 0 };
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
