@@ -155,6 +155,7 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 	       *fy = NULL;
 	size_t n, R, M;
 	struct sscope_sim_opts so;
+	struct sscope_noise_plan *plan = NULL;
 	int rc = 0;
 
 	if (!sensor || !spec || !o || !out || o->runs == 0)
@@ -179,6 +180,10 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 		rc = -ENOMEM;
 		goto done;
 	}
+	/* every run's two fits are of one length, rate and grid: the fit's
+	 * covariance sums are computed once (the same numbers) */
+	if (sscope_noise_plan_new(&plan))
+		plan = NULL;
 	memset(&so, 0, sizeof(so));
 	so.rate_hz = fs * (double)M; /* the conversion rate */
 	so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
@@ -196,6 +201,7 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 		 * only add estimation noise to B and K */
 		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
 			     (1u << SSCOPE_TERM_K);
+		fo.plan = plan;
 		if (!rc)
 			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE,
 						  NULL, &fo, &ri, diag);
@@ -240,6 +246,7 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 done:
 	if (rc)
 		sscope_adc_mc_clear(out);
+	sscope_noise_plan_free(plan);
 	free(x);
 	free(y);
 	free(fx);

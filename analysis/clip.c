@@ -14,6 +14,8 @@
 
 #include <math.h>
 
+#define CLIP_BLOCK 512
+
 /* the top two distinct values and their counts */
 struct top2 {
 	double v, next;

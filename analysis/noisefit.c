@@ -463,7 +463,8 @@ struct fitdata {
 	size_t n;
 	double *tau, *y, *edf, *scale; /* scale: strided-estimator factor */
 	size_t *m, *terms;
-	struct pairsum *ps;
+	const struct pairsum *ps;
+	struct pairsum *ps_own; /* ps when not borrowed from a plan */
 	double dt, model_error;
 	/* work */
 	gsl_matrix *X, *cov;
@@ -762,7 +763,7 @@ static void free_fitdata(struct fitdata *f)
 	free(f->scale);
 	free(f->m);
 	free(f->terms);
-	free(f->ps);
+	free(f->ps_own);
 	if (f->X)
 		gsl_matrix_free(f->X);
 	if (f->cov)
@@ -897,6 +898,18 @@ struct boot {
 	double var_u, cov_uv, var_v; /* moments of the replicates */
 	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
 	double tab[GT_NU][GT_Z];
+};
+
+/* What depends only on the record's rate, length and tau grid (see
+ * sscope_noise_plan_new()). */
+struct sscope_noise_plan {
+	double dt;            /* sample period of the pair sums, s */
+	size_t n;             /* points whose pair sums are held */
+	size_t *m, *terms;    /* their averaging factors and term counts */
+	struct pairsum *ps;   /* n x n, upper triangle */
+	double *e;            /* the bootstrap's normals ... */
+	size_t n_e;           /* ... the first n_e of its sequence */
+	double tab[GT_NU][GT_Z]; /* quantile table (valid when n_e > 0) */
 };
 
 /* Wilson-Hilferty: chi2_nu quantile at normal score z, divided by nu */
@@ -1042,10 +1055,26 @@ static void boot_free(struct boot *bt)
 	free(bt->v);
 }
 
-static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
-		     const double *mu, double alpha, double zdet)
+/* the first @p count standard normals of the bootstrap's fixed sequence */
+static int boot_normals(double *e, size_t count)
 {
-	gsl_rng *rng;
+	gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+
+	if (!rng)
+		return -ENOMEM;
+	gsl_rng_set(rng, BOOT_SEED);
+	for (size_t i = 0; i < count; i++)
+		e[i] = gsl_ran_gaussian_ziggurat(rng, 1);
+	gsl_rng_free(rng);
+	return 0;
+}
+
+static int plan_boot(struct sscope_noise_plan *pl, size_t count);
+
+static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
+		     const double *mu, double alpha, double zdet,
+		     struct sscope_noise_plan *plan)
+{
 	size_t n = f->n, R = BOOT_REPS;
 
 	memset(bt, 0, sizeof(*bt));
@@ -1060,18 +1089,24 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
 	bt->v = ssc_alloc_array(R, sizeof(double));
-	rng = gsl_rng_alloc(gsl_rng_mt19937);
 	if (!bt->e || !bt->L || !bt->H || !bt->nu || !bt->mu0 ||
-	    !bt->u || !bt->v || !rng) {
-		gsl_rng_free(rng);
+	    !bt->u || !bt->v) {
 		boot_free(bt);
 		return -ENOMEM;
 	}
-	gsl_rng_set(rng, BOOT_SEED);
-	for (size_t i = 0; i < R * n; i++)
-		bt->e[i] = gsl_ran_gaussian_ziggurat(rng, 1);
-	gsl_rng_free(rng);
-	gt_fill(bt);
+	/* the normals and the quantile table depend on nothing of the
+	 * record: a plan keeps them (the same numbers: the sequence of a
+	 * fixed seed, of which fewer points use a prefix) */
+	if (plan && plan_boot(plan, R * n) == 0) {
+		memcpy(bt->e, plan->e, R * n * sizeof(double));
+		memcpy(bt->tab, plan->tab, sizeof(bt->tab));
+	} else {
+		if (boot_normals(bt->e, R * n)) {
+			boot_free(bt);
+			return -ENOMEM;
+		}
+		gt_fill(bt);
+	}
 	if (hat_rows(f, mask, mu, bt->H)) {
 		boot_free(bt);
 		return -EDOM;
@@ -1263,6 +1298,136 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
 	return b;
 }
 
+/* ------------------------------------------------------------------ */
+/* Plan: what depends only on the record's rate, length and tau grid    */
+/* ------------------------------------------------------------------ */
+
+
+int sscope_noise_plan_new(struct sscope_noise_plan **plan)
+{
+	if (!plan)
+		return -EINVAL;
+	*plan = calloc(1, sizeof(**plan));
+	return *plan ? 0 : -ENOMEM;
+}
+
+static void plan_drop_pairs(struct sscope_noise_plan *pl)
+{
+	free(pl->m);
+	free(pl->terms);
+	free(pl->ps);
+	pl->m = pl->terms = NULL;
+	pl->ps = NULL;
+	pl->n = 0;
+}
+
+void sscope_noise_plan_free(struct sscope_noise_plan *plan)
+{
+	if (!plan)
+		return;
+	plan_drop_pairs(plan);
+	free(plan->e);
+	free(plan);
+}
+
+static int plan_boot(struct sscope_noise_plan *pl, size_t count)
+{
+	if (pl->n_e >= count)
+		return 0;
+	if (pl->n_e == 0) {
+		struct boot *tmp = malloc(sizeof(*tmp));
+
+		if (!tmp)
+			return -ENOMEM;
+		gt_fill(tmp);
+		memcpy(pl->tab, tmp->tab, sizeof(pl->tab));
+		free(tmp);
+	}
+	{
+		double *e = ssc_alloc_array(count, sizeof(double));
+
+		if (!e || boot_normals(e, count)) {
+			free(e);
+			return -ENOMEM;
+		}
+		free(pl->e);
+		pl->e = e;
+		pl->n_e = count;
+	}
+	return 0;
+}
+
+/*
+ * f->ps: borrowed from the plan when it holds the pair sums of exactly
+ * these points, gathered from it when they are some of its points (in
+ * the same order), else computed (and then kept by the plan).  The pair
+ * sums of two points depend only on their lags, term counts and the
+ * sample period, so the numbers are the same either way.
+ */
+static int fit_pairs(struct fitdata *f, struct sscope_noise_plan *pl)
+{
+	size_t *idx = NULL, n = f->n;
+	bool all = pl && pl->ps && pl->dt == f->dt;
+
+	if (all) {
+		idx = ssc_alloc_array(n, sizeof(size_t));
+		if (!idx)
+			return -ENOMEM;
+		for (size_t a = 0, j = 0; a < n && all; a++) {
+			while (j < pl->n && (pl->m[j] != f->m[a] ||
+					     pl->terms[j] != f->terms[a]))
+				j++;
+			if (j == pl->n)
+				all = false;
+			else
+				idx[a] = j++;
+		}
+	}
+	if (all && n == pl->n) {
+		free(idx);
+		f->ps = pl->ps;
+		return 0;
+	}
+	if (all) {
+		f->ps_own = ssc_alloc_array(n * n, sizeof(*f->ps_own));
+		if (!f->ps_own) {
+			free(idx);
+			return -ENOMEM;
+		}
+		for (size_t a = 0; a < n; a++)
+			for (size_t b = a; b < n; b++)
+				f->ps_own[a * n + b] = pl->ps[idx[a] * pl->n + idx[b]];
+		free(idx);
+		f->ps = f->ps_own;
+		return 0;
+	}
+	free(idx);
+	f->ps_own = all_pairs(f->m, f->terms, n, f->dt);
+	if (!f->ps_own)
+		return -ENOMEM;
+	f->ps = f->ps_own;
+	if (pl) {
+		size_t *m = ssc_alloc_array(n, sizeof(size_t));
+		size_t *t = ssc_alloc_array(n, sizeof(size_t));
+
+		if (!m || !t) {
+			free(m);
+			free(t);
+			return 0; /* the fit goes on without keeping them */
+		}
+		memcpy(m, f->m, n * sizeof(size_t));
+		memcpy(t, f->terms, n * sizeof(size_t));
+		plan_drop_pairs(pl);
+		pl->m = m;
+		pl->terms = t;
+		pl->ps = f->ps_own;
+		pl->n = n;
+		pl->dt = f->dt;
+		f->ps_own = NULL; /* now the plan's */
+	}
+	return 0;
+}
+
 int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		     double rate_hz, size_t n_phase,
 		     const struct sscope_noise_fit_opts *opts,
@@ -1367,8 +1532,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		rc = -ENOMEM;
 		goto out;
 	}
-	f.ps = all_pairs(f.m, f.terms, f.n, f.dt);
-	if (!f.ps) {
+	if (fit_pairs(&f, o.plan)) {
 		rc = -ENOMEM;
 		goto out;
 	}
@@ -1423,7 +1587,8 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
 	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
 	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
-	have_boot = boot_init(&bt, &f, allowed, bmu, 1 - o.ci_level, zdet) == 0;
+	have_boot = boot_init(&bt, &f, allowed, bmu, 1 - o.ci_level, zdet,
+			      o.plan) == 0;
 	for (int j = 0; j < NT; j++) {
 		struct sscope_noise_coef *cf = &fit->coef[j];
 		bool forced = o.forced & (1u << j);

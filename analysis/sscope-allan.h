@@ -314,6 +314,8 @@ struct sscope_noise_readoff {
 	double k_tau_s; /**< that point's tau, s */
 };
 
+struct sscope_noise_plan;
+
 /** Options of the fit.  Zero-initialised = every term allowed, 68.27 %
  *  intervals, no model error, terms resolved at 3 sd, the whole curve. */
 struct sscope_noise_fit_opts {
@@ -339,6 +341,10 @@ struct sscope_noise_fit_opts {
 	/** sscope_allan_analyze(): the deviations only, no fit (have_fit
 	 *  false, fit_error 0). */
 	bool skip;
+	/** Optional plan (sscope_noise_plan_new()) shared by the fits of
+	 *  several records of one rate and length: NULL computes everything
+	 *  per fit.  The fit fills it and later fits reuse it. */
+	struct sscope_noise_plan *plan;
 };
 
 /** Result of the noise fit. */
@@ -400,6 +406,25 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		     double rate_hz, size_t n_phase,
 		     const struct sscope_noise_fit_opts *opts,
 		     struct sscope_noise_fit *fit, struct sscope_diag *diag);
+
+/**
+ * A plan for sscope_noise_fit(): a cache of what the fit computes that
+ * depends only on the sample rate and the points' averaging factors and
+ * term counts (the sums of the AVAR covariance over every pair of points,
+ * the bootstrap's random numbers and quantile table), not on the data.
+ * The fits of several channels of one capture (or of records of one
+ * length and rate) through one plan compute these once; the results are
+ * the same numbers as without a plan.  A plan starts empty, is filled by
+ * the first fit that uses it and refilled when a fit's points differ; it
+ * is owned by the caller and must not be used by two fits at once (one
+ * plan per thread).
+ * @param plan  receives the plan; free with sscope_noise_plan_free().
+ * @return 0, -EINVAL (NULL), -ENOMEM.
+ */
+int sscope_noise_plan_new(struct sscope_noise_plan **plan);
+
+/** Free a plan (NULL is ignored). */
+void sscope_noise_plan_free(struct sscope_noise_plan *plan);
 
 /**
  * The classic read-offs alone (no fit).

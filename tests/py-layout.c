@@ -159,6 +159,7 @@ int main(void)
 	F(sscope_noise_fit_opts, tau_min_s);
 	F(sscope_noise_fit_opts, tau_max_s);
 	F(sscope_noise_fit_opts, skip);
+	F(sscope_noise_fit_opts, plan);
 	S(sscope_noise_fit);
 	F(sscope_noise_fit, coef);
 	F(sscope_noise_fit, terms);

@@ -1255,6 +1255,58 @@ START_TEST(test_intervals_sample)
 }
 END_TEST
 
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+/* the deciles of a sliding variance are the order statistics a sort gives,
+ * by whichever path they are found (the one-pass brackets of a long
+ * record, or selection when a bracket misses: ties, sorted data) */
+START_TEST(deciles_exact)
+{
+	const size_t n = 400000;
+	double *v = malloc(n * sizeof(double)), *w = malloc(n * sizeof(double));
+	double *sorted = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	ck_assert(v && w && sorted && r);
+	gsl_rng_set(r, 2385);
+	for (int kind = 0; kind < 6; kind++) {
+		size_t nf = 0;
+		double p10, p90;
+
+		for (size_t i = 0; i < n; i++) {
+			double x = gsl_ran_gamma(r, 2.385, 1.0);
+
+			v[i] = kind == 1 ? round(x * 4) / 4 : /* many ties */
+			       kind == 2 ? (double)i : /* sorted */
+			       kind == 3 ? (double)(n - i) :
+			       kind == 4 ? 2.385 : /* constant */
+			       x;
+			if (kind == 5 && i % 7 == 0)
+				v[i] = i % 2 ? (double)NAN : (double)INFINITY;
+		}
+		for (size_t i = 0; i < n; i++)
+			if (isfinite(v[i]))
+				sorted[nf++] = v[i];
+		qsort(sorted, nf, sizeof(double), cmp_dbl);
+		ck_assert_int_eq(ssc_calib_vs_deciles(v, n, w, 10, &p10, &p90), 0);
+		ck_assert_msg(p10 == sorted[(nf - 1) / 10], "kind %d: p10", kind);
+		ck_assert_msg(p90 == sorted[(nf - 1) * 9 / 10], "kind %d: p90", kind);
+		ck_assert_int_eq(ssc_calib_vs_deciles(v, n, w, 10, &p10, NULL), 0);
+		ck_assert(p10 == sorted[(nf - 1) / 10]);
+	}
+	gsl_rng_free(r);
+	free(v);
+	free(w);
+	free(sorted);
+}
+END_TEST
+
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("calib");
@@ -1281,6 +1333,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_motion_summary);
 	tcase_add_test(tc, test_rate_table_steps);
 	tcase_add_test(tc, test_intervals_sample);
+	tcase_add_test(tc, deciles_exact);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -238,6 +238,76 @@ START_TEST(blocks_equal_plain_pass)
 }
 END_TEST
 
+/* the counts equal a direct count of the two largest and two smallest
+ * distinct finite values, on long records whose blocks are mostly skipped
+ * (quantized noise with NaN and inf, a ramp up, a ramp down, stride 3) */
+static void direct(const double *x, size_t stride, size_t n, double top[2],
+		   size_t cnt[2], double bot[2], size_t cb[2])
+{
+	top[0] = top[1] = -INFINITY;
+	bot[0] = bot[1] = INFINITY;
+	for (size_t i = 0; i < n; i++) {
+		double v = x[i * stride];
+
+		if (!isfinite(v))
+			continue;
+		if (v > top[0]) {
+			top[1] = top[0];
+			top[0] = v;
+		} else if (v < top[0] && v > top[1]) {
+			top[1] = v;
+		}
+		if (v < bot[0]) {
+			bot[1] = bot[0];
+			bot[0] = v;
+		} else if (v > bot[0] && v < bot[1]) {
+			bot[1] = v;
+		}
+	}
+	cnt[0] = cnt[1] = cb[0] = cb[1] = 0;
+	for (size_t i = 0; i < n; i++) {
+		double v = x[i * stride];
+
+		cnt[0] += v == top[0];
+		cnt[1] += v == top[1];
+		cb[0] += v == bot[0];
+		cb[1] += v == bot[1];
+	}
+}
+
+START_TEST(long_records)
+{
+	const size_t n = 300001;
+	double *x = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	ck_assert(x && r);
+	gsl_rng_set(r, 2385);
+	for (int kind = 0; kind < 4; kind++) {
+		size_t stride = kind == 3 ? 3 : 1, m = n / stride, cnt[2], cb[2];
+		double top[2], bot[2];
+		struct sscope_clip c;
+
+		for (size_t i = 0; i < n; i++)
+			x[i] = kind == 1 ? (double)i * 0.25 :
+			       kind == 2 ? -(double)i * 0.25 :
+			       round(gsl_ran_gaussian(r, 2.385) * 8) / 8;
+		if (kind == 0)
+			for (size_t i = 0; i < n; i += 1009)
+				x[i] = i % 2 ? (double)NAN : (double)INFINITY;
+		direct(x, stride, m, top, cnt, bot, cb);
+		ck_assert_int_eq(sscope_clip_detect(x, stride, m, 2, 4, &c), 0);
+		ck_assert_msg(c.hi == top[0] && c.lo == bot[0] &&
+				      c.n_hi == cnt[0] && c.n_hi_next == cnt[1] &&
+				      c.n_lo == cb[0] && c.n_lo_next == cb[1],
+			      "kind %d: %g x%zu %g x%zu vs %g x%zu %g x%zu", kind,
+			      c.hi, c.n_hi, c.lo, c.n_lo, top[0], cnt[0], bot[0], cb[0]);
+	}
+	gsl_rng_free(r);
+	free(x);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("clip");
@@ -248,6 +318,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, sines);
 	tcase_add_test(tc, edges);
 	tcase_add_test(tc, blocks_equal_plain_pass);
+	tcase_add_test(tc, long_records);
 	suite_add_tcase(s, tc);
 	return s;
 }

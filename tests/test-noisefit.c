@@ -479,6 +479,96 @@ START_TEST(bound_coverage_few_dof)
 }
 END_TEST
 
+/* a plan shared by fits gives the numbers of fits without one: records of
+ * one length and rate (the plan reused), another length and rate (the
+ * plan refilled), a tau range (a subset of the plan's points) */
+static void fit_of(const double *y, size_t n, double fs, double tau_max_s,
+		   struct sscope_noise_plan *plan, struct sscope_noise_fit *f)
+{
+	struct sscope_noise_fit_opts fo = { 0 };
+	struct sscope_allan_result *res;
+
+	fo.plan = plan;
+	fo.tau_max_s = tau_max_s;
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE,
+					      NULL, &fo, &res, NULL), 0);
+	ck_assert(res->have_fit);
+	*f = res->fit;
+	sscope_allan_result_free(res);
+}
+
+static bool same_bits(double a, double b)
+{
+	return memcmp(&a, &b, sizeof(a)) == 0;
+}
+
+static bool same_fit(const struct sscope_noise_fit *a,
+		     const struct sscope_noise_fit *b)
+{
+	const struct sscope_noise_readoff *p = &a->readoff, *q = &b->readoff;
+	bool eq = a->terms == b->terms && a->n_points == b->n_points &&
+		  same_bits(a->ci_level, b->ci_level) &&
+		  same_bits(a->chi2, b->chi2) && same_bits(a->dof, b->dof) &&
+		  same_bits(a->p_value, b->p_value) &&
+		  same_bits(a->aic, b->aic) && same_bits(p->n, q->n) &&
+		  same_bits(p->b, q->b) && same_bits(p->k, q->k) &&
+		  same_bits(p->n_tau_s, q->n_tau_s) &&
+		  same_bits(p->b_tau_s, q->b_tau_s) &&
+		  same_bits(p->k_tau_s, q->k_tau_s);
+
+	for (int t = 0; t < 5; t++) {
+		const struct sscope_noise_coef *x = &a->coef[t], *y = &b->coef[t];
+
+		eq = eq && x->fitted == y->fitted && same_bits(x->value, y->value) &&
+		     same_bits(x->lo, y->lo) && same_bits(x->hi, y->hi) &&
+		     same_bits(x->var_sd, y->var_sd) &&
+		     same_bits(x->estimate, y->estimate);
+	}
+	return eq;
+}
+
+START_TEST(plan_same_numbers)
+{
+	static const struct {
+		size_t n;
+		double fs, tau_max_s;
+		uint64_t seed;
+	} rec[] = { { 30000, 100, 0, 1 }, { 30000, 100, 0, 2 },
+		    { 12000, 100, 0, 3 }, { 30000, 100, 0, 4 },
+		    { 30000, 100, 20, 5 }, { 30000, 250, 0, 6 },
+		    { 30000, 250, 0, 7 } };
+	const size_t nmax = 30000;
+	double *y = malloc(nmax * sizeof(double));
+	struct sscope_noise_plan *plan;
+
+	ck_assert_ptr_nonnull(y);
+	ck_assert_int_eq(sscope_noise_plan_new(NULL), -EINVAL);
+	ck_assert_int_eq(sscope_noise_plan_new(&plan), 0);
+	for (size_t r = 0; r < sizeof(rec) / sizeof(rec[0]); r++) {
+		struct sscope_sensor_spec sp = { 0 };
+		struct sscope_sim_opts o = { 0 };
+		struct sscope_sim *sim;
+		struct sscope_noise_fit a, b;
+
+		sp.n = 2.385e-3;
+		sp.b = 3.1e-4;
+		sp.k = 2.385e-5;
+		o.rate_hz = rec[r].fs;
+		o.seed = 9100 + rec[r].seed;
+		ck_assert_int_eq(sscope_sim_new(&sim, &sp, &o, NULL), 0);
+		sscope_sim_generate(sim, NULL, y, NULL, rec[r].n);
+		sscope_sim_free(sim);
+		fit_of(y, rec[r].n, rec[r].fs, rec[r].tau_max_s, NULL, &a);
+		fit_of(y, rec[r].n, rec[r].fs, rec[r].tau_max_s, plan, &b);
+		ck_assert_msg(same_fit(&a, &b),
+			      "record %zu: the fit through the plan differs", r);
+	}
+	sscope_noise_plan_free(plan);
+	sscope_noise_plan_free(NULL);
+	free(y);
+}
+END_TEST
+
 /* the value to predict with: fitted value, else the point estimate */
 START_TEST(readoffs_and_errors)
 {
@@ -593,6 +683,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, round_trip_coverage);
 	tcase_add_test(t, bound_coverage_few_dof);
 	tcase_add_test(t, readoffs_and_errors);
+	tcase_add_test(t, plan_same_numbers);
 	suite_add_tcase(s, t);
 	return s;
 }

@@ -172,6 +172,10 @@ int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n);
 int ssc_time_verdict(const struct ssc_common *co, const char *path,
 		     const char *column, const struct sscope_time_order *o,
 		     enum sscope_rate_source rate_source, bool uniform);
+/* The order of a capture's time stamps (what its timing analysis found
+ * when it has one, else fed here). */
+void ssc_time_order(const struct sscope_capture *cap,
+		    struct sscope_time_order *o);
 /* The same for a loaded capture (nothing to judge without a time column). */
 int ssc_time_check(const struct ssc_common *co, const char *path,
 		   const struct sscope_capture *cap, bool uniform);

@@ -436,8 +436,9 @@ static int check_shown(const struct ssc_common *co, const struct args *a,
 
 static int analyse_file(const struct ssc_common *co, const struct args *a,
 			const char *path, struct sscope_capture *cap,
-			struct ssc_allan_file *fr)
+			struct sscope_noise_plan *plan, struct ssc_allan_file *fr)
 {
+	struct sscope_noise_fit_opts fo = a->fo;
 	int rc;
 
 	fr->path = path;
@@ -454,6 +455,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",
 			 path, cap->timing.n_gaps, cap->timing.n_missing);
 	fr->n_ch = cap->n_channels;
+	/* the channels share the fit's covariance sums (one length, rate
+	 * and tau grid) */
+	fo.plan = plan;
 	fr->ch = calloc(fr->n_ch ? fr->n_ch : 1, sizeof(*fr->ch));
 	if (!fr->ch) {
 		ssc_err(co->cmd, "out of memory");
@@ -474,7 +478,7 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		ao.release = sscope_capture_release;
 		ao.release_ctx = cap;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
-					  cap->rate_hz, a->grid, &ao, &a->fo,
+					  cap->rate_hz, a->grid, &ao, &fo,
 					  &c->res, &d);
 		if (rc) {
 			ssc_err(co->cmd, "%s: %s: %s", path, c->col->name,
@@ -1302,6 +1306,7 @@ static void free_result(void *result)
 static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	struct ssc_allan_res *R = calloc(1, sizeof(*R));
+	struct sscope_noise_plan *plan = NULL;
 	int rc = SSC_EXIT_OK;
 
 	rc = check_dev_unit(env->co, opts, env);
@@ -1319,10 +1324,48 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	*result = R;
 	R->ci_level = ((const struct args *)opts)->ci > 0 ?
 		      ((const struct args *)opts)->ci : 0;
+	R->grid = ((const struct args *)opts)->grid;
+	R->ao = ((const struct args *)opts)->ao;
+	R->ao.ci_level = ((const struct args *)opts)->ci;
+	R->fo = ((const struct args *)opts)->fo;
+	if (sscope_noise_plan_new(&plan))
+		plan = NULL; /* each fit computes its own */
 	for (size_t i = 0; i < env->n_caps && !rc; i++, R->n_files++)
 		rc = analyse_file(env->co, opts, env->paths[i], env->caps[i],
-				  &R->fr[i]);
+				  plan, &R->fr[i]);
+	sscope_noise_plan_free(plan);
 	return rc;
+}
+
+const struct sscope_allan_result *
+ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
+		   double rate_hz, enum sscope_tau_grid grid,
+		   const struct sscope_allan_opts *ao,
+		   const struct sscope_noise_fit_opts *fo)
+{
+	const struct sscope_allan_opts *a = &R->ao;
+	const struct sscope_noise_fit_opts *f = &R->fo;
+
+	if (R->grid != grid || a->dev != ao->dev || a->input != ao->input ||
+	    a->ci_level != ao->ci_level || a->alpha_fixed != ao->alpha_fixed ||
+	    (a->alpha_fixed && a->alpha != ao->alpha) ||
+	    a->stride_div != ao->stride_div || a->threads != ao->threads ||
+	    f->ci_level != fo->ci_level || f->allowed != fo->allowed ||
+	    f->forced != fo->forced || f->model_error != fo->model_error ||
+	    f->detect_sigma != fo->detect_sigma ||
+	    f->tau_min_s != fo->tau_min_s || f->tau_max_s != fo->tau_max_s ||
+	    f->skip != fo->skip)
+		return NULL;
+	for (size_t i = 0; i < R->n_files; i++) {
+		const struct ssc_allan_file *fr = &R->fr[i];
+
+		if (!fr->cap || fr->cap->n != n || fr->cap->rate_hz != rate_hz)
+			continue;
+		for (size_t k = 0; k < fr->n_ch && k < fr->cap->n_channels; k++)
+			if (fr->cap->channels[k].data == data && fr->ch[k].res)
+				return fr->ch[k].res;
+	}
+	return NULL;
 }
 
 static json_t *json(const void *opts, const void *result)

@@ -389,10 +389,10 @@ static json_t *json_file(const struct file_info *fi)
 	json_object_set_new(o, "gaps", gaps);
 	if (cap->time_s) {
 		/* what is wrong with the time column's order, or null */
-		struct sscope_time_order ord = { 0 };
+		struct sscope_time_order ord;
 		struct sscope_diag d = { "" };
 
-		sscope_time_order_feed(&ord, cap->time_s, cap->n);
+		ssc_time_order(cap, &ord);
 		json_object_set_new(o, "time_order",
 				    sscope_time_order_check(&ord, &d) ?
 				    json_string(d.msg) : json_null());
@@ -490,19 +490,20 @@ static int plot(const struct ssc_common *co, const void *opts,
 	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
 	int rows = (int)nch + (cap->temp_degc ? 1 : 0), rc;
 	struct ssc_fig *fig;
-	double *t = malloc(cap->n * sizeof(double)), *y = malloc(cap->n * sizeof(double));
+	/* the time stamps as they are, else times made from the rate; the
+	 * samples converted to their unit as they are drawn */
+	double *tmade = cap->time_s ? NULL : malloc(cap->n * sizeof(double));
+	const double *t = cap->time_s ? cap->time_s : tmade;
 	char buf[256];
 
 	(void)opts;
-	if (!t || !y || rows == 0) {
-		free(t);
-		free(y);
+	if (!t || rows == 0) {
+		free(tmade);
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
-	for (size_t i = 0; i < cap->n; i++)
-		t[i] = cap->time_s ? cap->time_s[i] :
-		       cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
+	for (size_t i = 0; tmade && i < cap->n; i++)
+		tmade[i] = cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
 	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", path);
 	ssc_fig_title(fig, buf);
@@ -511,9 +512,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 		struct ssc_ax *ax = ssc_fig_ax(fig, (int)k, 0);
 		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1 };
 
-		for (size_t i = 0; i < cap->n; i++)
-			y[i] = to_unit(col, cap->channels[k].data[i]);
-		ssc_ax_line(ax, t, y, cap->n, &st, NULL);
+		ssc_ax_line_scaled(ax, t, cap->channels[k].data, cap->n,
+				   col->unit.offset, col->unit.scale, &st, NULL);
 		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
 			 col->unit_label[0] ? col->unit_label : "no unit");
 		ssc_ax_ylabel(ax, buf);
@@ -531,8 +531,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 	}
 	rc = ssc_fig_save(fig, png);
 	ssc_fig_free(fig);
-	free(t);
-	free(y);
+	free(tmade);
 	if (rc)
 		return ssc_write_failed(co->cmd, png, rc);
 	return SSC_EXIT_OK;

@@ -14,6 +14,7 @@
 
 #include "navcommon.h"
 #include "plot.h"
+#include "results.h"
 #include "stage.h"
 
 #define PI 3.14159265358979323846
@@ -204,12 +205,18 @@ static int option_terms(const char *cmd, const struct opts *o, enum sscope_quant
 /* allan on the record: the resolved terms (shown beside the fan) and for
  * the envelope the fit's estimates of N, B and K, resolved or not (an
  * unresolved rate random walk still makes the runs wander), with Q and
- * the deterministic ramp R only when resolved */
-static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
-		       enum sscope_quantity q, double ci, struct ssc_nav_terms *t,
+ * the deterministic ramp R only when resolved.  The very computation an
+ * earlier allan stage of the scene made on these samples is taken from
+ * it; the channels of a capture share the fit's plan. */
+static int allan_terms(const struct ssc_stage_env *env, const double *x,
+		       size_t n, double fs, enum sscope_quantity q, double ci,
+		       struct sscope_noise_plan *plan, struct ssc_nav_terms *t,
 		       struct ssc_nav_terms *est)
 {
+	const char *cmd = env->co->cmd;
+	const struct sscope_allan_result *done = NULL;
 	struct sscope_allan_result *res = NULL;
+	struct sscope_allan_opts ao = { 0 };
 	struct sscope_noise_fit_opts fo = { 0 };
 	struct sscope_diag d = { "" };
 	int rc;
@@ -218,13 +225,23 @@ static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
 	t->quantity = q;
 	t->n_lo = t->n_hi = (double)NAN;
 	*est = *t;
+	ao.ci_level = ci;
 	fo.ci_level = ci;
-	rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, NULL, &fo, &res, &d);
-	if (rc)
-		return ssc_fail(cmd, rc, &d, "allan");
-	if (res->have_fit) {
+	for (size_t i = 0; i < env->n_earlier && !done; i++)
+		if (env->earlier[i].ops == &ssc_allan_stage && env->earlier[i].data)
+			done = ssc_allan_res_find(env->earlier[i].data, x, n, fs,
+						  SSCOPE_TAUS_DENSE, &ao, &fo);
+	if (!done) {
+		fo.plan = plan;
+		rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, &ao, &fo,
+					  &res, &d);
+		if (rc)
+			return ssc_fail(cmd, rc, &d, "allan");
+		done = res;
+	}
+	if (done->have_fit) {
 		for (int i = 0; i < 5; i++) {
-			const struct sscope_noise_coef *c = &res->fit.coef[i];
+			const struct sscope_noise_coef *c = &done->fit.coef[i];
 
 			if (c->fitted && c->value > 0) {
 				t->coef[i] = c->value;
@@ -242,9 +259,9 @@ static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
 				est->have = true;
 			}
 		}
-		t->n_lo = est->n_lo = res->fit.coef[SSCOPE_TERM_N].lo;
-		t->n_hi = est->n_hi = res->fit.coef[SSCOPE_TERM_N].hi;
-		t->ci_level = est->ci_level = res->fit.ci_level;
+		t->n_lo = est->n_lo = done->fit.coef[SSCOPE_TERM_N].lo;
+		t->n_hi = est->n_hi = done->fit.coef[SSCOPE_TERM_N].hi;
+		t->ci_level = est->ci_level = done->fit.ci_level;
 	}
 	sscope_allan_result_free(res);
 	return 0;
@@ -252,7 +269,8 @@ static int allan_terms(const char *cmd, const double *x, size_t n, double fs,
 
 static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		   const char *path, const struct sscope_capture *cap, size_t k,
-		   const struct ssc_nav_terms *given, size_t n_given, struct chan *c)
+		   const struct ssc_nav_terms *given, size_t n_given,
+		   struct sscope_noise_plan *plan, struct chan *c)
 {
 	const char *cmd = env->co->cmd;
 	const struct sscope_channel *ch = &cap->channels[k];
@@ -280,8 +298,8 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		c->terms_from = "allan result";
 		c->terms = c->allan;
 	} else {
-		rc = allan_terms(cmd, ch->data, cap->n, c->fs, q, o->ci, &c->allan,
-				 &c->terms);
+		rc = allan_terms(env, ch->data, cap->n, c->fs, q, o->ci, plan,
+				 &c->allan, &c->terms);
 		if (rc)
 			return rc;
 		c->terms_from = "allan on this record: N, B, K estimated, resolved or not";
@@ -550,6 +568,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
 	struct walk_res *R = calloc(1, sizeof(*R));
 	struct ssc_nav_terms *given = NULL;
+	struct sscope_noise_plan *plan = NULL;
 	size_t n_given = 0;
 	int rc = 0;
 
@@ -585,12 +604,15 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	if (rc)
 		goto done;
+	if (!n_given && sscope_noise_plan_new(&plan))
+		plan = NULL; /* each fit computes its own */
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		enum sscope_quantity q = cap->channels[k].col.quantity;
 
 		if (q != SSCOPE_QTY_ANGULAR_RATE && q != SSCOPE_QTY_ACCELERATION)
 			continue;
-		rc = analyse(env, o, path, cap, k, given, n_given, &R->ch[R->n]);
+		rc = analyse(env, o, path, cap, k, given, n_given, plan,
+			     &R->ch[R->n]);
 		if (R->ch[R->n].w)
 			R->n++;
 		if (rc)
@@ -602,6 +624,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		rc = SSC_EXIT_FAIL;
 	}
 done:
+	sscope_noise_plan_free(plan);
 	free(given);
 	return rc;
 }

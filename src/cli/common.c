@@ -815,14 +815,27 @@ int ssc_time_verdict(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_FAIL;
 }
 
+void ssc_time_order(const struct sscope_capture *cap,
+		    struct sscope_time_order *o)
+{
+	/* the capture's timing analysis fed every stamp once already */
+	if (cap->has_timing) {
+		*o = cap->timing.order;
+		return;
+	}
+	memset(o, 0, sizeof(*o));
+	if (cap->time_s)
+		sscope_time_order_feed(o, cap->time_s, cap->n);
+}
+
 int ssc_time_check(const struct ssc_common *co, const char *path,
 		   const struct sscope_capture *cap, bool uniform)
 {
-	struct sscope_time_order o = { 0 };
+	struct sscope_time_order o;
 
 	if (!cap->time_s)
 		return SSC_EXIT_OK;
-	sscope_time_order_feed(&o, cap->time_s, cap->n);
+	ssc_time_order(cap, &o);
 	return ssc_time_verdict(co, path, cap->time_col.name, &o,
 				cap->rate_source, uniform);
 }

@@ -244,10 +244,12 @@ static double *dup_arr(const double *a, size_t n)
  * pixel column.  A day at 100 Hz is then 16k points instead of 8.6M. */
 #define LINE_BUCKETS 4096
 
+/* y shown as (y - off) / sc (a unit conversion) */
 static int line_reduced(struct item *it, const double *x, const double *y,
-			size_t n)
+			size_t n, double off, double sc)
 {
 	size_t cap = 5 * LINE_BUCKETS, m = 0;
+	bool same = off == 0 && sc == 1;
 
 	it->x = malloc(cap * sizeof(double));
 	it->y = malloc(cap * sizeof(double));
@@ -257,19 +259,26 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 		size_t i0 = n * b / LINE_BUCKETS, i1 = n * (b + 1) / LINE_BUCKETS;
 		size_t imin = SIZE_MAX, imax = SIZE_MAX, ibad = SIZE_MAX;
 		size_t keep[5], nk = 0;
+		double ymin = 0, ymax = 0;
 
 		if (i0 >= i1)
 			continue;
 		for (size_t i = i0; i < i1; i++) {
-			if (!isfinite(x[i]) || !isfinite(y[i])) {
+			double v = same ? y[i] : (y[i] - off) / sc;
+
+			if (!isfinite(x[i]) || !isfinite(v)) {
 				if (ibad == SIZE_MAX)
 					ibad = i;
 				continue;
 			}
-			if (imin == SIZE_MAX || y[i] < y[imin])
+			if (imin == SIZE_MAX || v < ymin) {
 				imin = i;
-			if (imax == SIZE_MAX || y[i] > y[imax])
+				ymin = v;
+			}
+			if (imax == SIZE_MAX || v > ymax) {
 				imax = i;
+				ymax = v;
+			}
 		}
 		keep[nk++] = i0;
 		if (imin != SIZE_MAX)
@@ -291,7 +300,7 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 			if (a && keep[a] == keep[a - 1])
 				continue;
 			it->x[m] = x[keep[a]];
-			it->y[m] = y[keep[a]];
+			it->y[m] = (y[keep[a]] - off) / sc;
 			m++;
 		}
 	}
@@ -299,19 +308,30 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 	return 0;
 }
 
-int ssc_ax_line(struct ssc_ax *ax, const double *x, const double *y, size_t n,
-		const struct ssc_style *st, const char *label)
+int ssc_ax_line_scaled(struct ssc_ax *ax, const double *x, const double *y,
+		       size_t n, double offset, double scale,
+		       const struct ssc_style *st, const char *label)
 {
 	struct item *it = new_item(ax, IT_LINE, st, label);
+	bool same = offset == 0 && scale == 1;
 
 	if (!it)
 		return -ENOMEM;
 	if (n > 8 * LINE_BUCKETS && !ax->logx && !ax->logy && x && y)
-		return line_reduced(it, x, y, n);
+		return line_reduced(it, x, y, n, offset, scale);
 	it->n = n;
 	it->x = dup_arr(x, n);
 	it->y = dup_arr(y, n);
+	if (it->y && !same)
+		for (size_t i = 0; i < n; i++)
+			it->y[i] = (it->y[i] - offset) / scale;
 	return (it->x && it->y) ? 0 : -ENOMEM;
+}
+
+int ssc_ax_line(struct ssc_ax *ax, const double *x, const double *y, size_t n,
+		const struct ssc_style *st, const char *label)
+{
+	return ssc_ax_line_scaled(ax, x, y, n, 0, 1, st, label);
 }
 
 int ssc_ax_errorbar(struct ssc_ax *ax, const double *x, const double *y,

@@ -74,6 +74,11 @@ void ssc_ax_grid(struct ssc_ax *ax, bool on);
  * non-positive points are skipped. */
 int ssc_ax_line(struct ssc_ax *ax, const double *x, const double *y, size_t n,
 		const struct ssc_style *st, const char *label);
+/* The same with y shown as (y - offset) / scale (a unit conversion as
+ * sscope_unit_from_si()), without a converted copy of a long series. */
+int ssc_ax_line_scaled(struct ssc_ax *ax, const double *x, const double *y,
+		       size_t n, double offset, double scale,
+		       const struct ssc_style *st, const char *label);
 /* Vertical error bars from lo[i] to hi[i] at x[i], with the point y[i]. */
 int ssc_ax_errorbar(struct ssc_ax *ax, const double *x, const double *y,
 		    const double *lo, const double *hi, size_t n,

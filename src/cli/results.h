@@ -46,7 +46,24 @@ struct ssc_allan_res {
 	struct ssc_allan_file *fr;
 	size_t n_files;
 	double ci_level; /* level of the channels' intervals (0: none) */
+	/* what every channel was computed with (sscope_allan_analyze()'s
+	 * grid and options; no release callback, no plan) */
+	enum sscope_tau_grid grid;
+	struct sscope_allan_opts ao;
+	struct sscope_noise_fit_opts fo;
 };
+
+/*
+ * The result an allan stage computed for the samples data[0..n) at
+ * rate_hz (a channel of one of its captures, the very array) with this
+ * grid and these options (release and plan ignored), or NULL: a later
+ * stage that needs exactly that takes it instead of computing it again.
+ */
+const struct sscope_allan_result *
+ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
+		   double rate_hz, enum sscope_tau_grid grid,
+		   const struct sscope_allan_opts *ao,
+		   const struct sscope_noise_fit_opts *fo);
 
 /* ------------------------------------------------------------ calib */
 

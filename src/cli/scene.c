@@ -1637,8 +1637,8 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 {
 	struct sscope_capture **v = calloc(n ? n : 1, sizeof(*v));
 	const char **paths = calloc(n ? n : 1, sizeof(*paths));
-	struct ssc_result *up = NULL;
-	size_t n_up = 0;
+	struct ssc_result *up = NULL, *earlier = NULL;
+	size_t n_up = 0, n_earlier = 0;
 	char base_name[1024], fig[1100];
 	bool svg = sc->formats & (SSC_OUT_SVG | SSC_OUT_HTML);
 	bool png = (sc->formats & SSC_OUT_PNG) && ssc_plot_available();
@@ -1661,6 +1661,17 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 		if (sc->uses[s] & (1u << u))
 			for (size_t r = 0; r < outs[u].n_calls; r++)
 				up[n_up++] = outs[u].calls[r].result;
+	/* every result so far (outs[s] itself: earlier runs of a stage run
+	 * per capture) */
+	for (size_t u = 0; u < N_STAGES; u++)
+		n_earlier += outs[u].n_calls;
+	earlier = calloc(n_earlier ? n_earlier : 1, sizeof(*earlier));
+	if (!earlier)
+		exit(SSC_EXIT_FAIL);
+	n_earlier = 0;
+	for (size_t u = 0; u < N_STAGES; u++)
+		for (size_t r = 0; r < outs[u].n_calls; r++)
+			earlier[n_earlier++] = outs[u].calls[r].result;
 	if (run)
 		snprintf(base_name, sizeof(base_name), "%s/%s-%d", sc->out_dir,
 			 stages[s].name, run);
@@ -1676,6 +1687,8 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 	c->n_caps = n;
 	c->upstream = up;
 	c->n_upstream = n_up;
+	c->earlier = earlier;
+	c->n_earlier = n_earlier;
 	/* JSON for the files, the HTML report and the summary printed on
 	 * the terminal (its warnings) */
 	c->want = SSC_WANT_SUMMARY |
@@ -1690,8 +1703,11 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 	c->plot_path = NULL;
 	c->upstream = NULL;
 	c->n_upstream = 0;
+	c->earlier = NULL;
+	c->n_earlier = 0;
 	c->caps = NULL;
 	free(up);
+	free(earlier);
 	free(v);
 	/* c->paths stays: the result may point to it (stage_out_free) */
 	return rc;

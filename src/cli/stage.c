@@ -7,6 +7,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int ssc_membuf_open(struct ssc_membuf *m)
 {
@@ -102,6 +103,41 @@ const struct ssc_result *ssc_stage_upstream(const struct ssc_stage_env *env,
 	return first;
 }
 
+/* SSCOPE_TRACE=1: the time of each part of a stage on stderr, wall and
+ * CPU (every thread of the process) */
+struct trace_t {
+	double wall, cpu; /* wall < 0: not tracing */
+};
+
+static struct trace_t trace_clock(void)
+{
+	const char *t = getenv("SSCOPE_TRACE");
+	struct trace_t r = { -1, 0 };
+	struct timespec ts;
+
+	if (!t || !*t || !strcmp(t, "0"))
+		return r;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	r.wall = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	r.cpu = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+	return r;
+}
+
+/* "trace: STAGE PART S s (CPU C s)" since *t0, and *t0 set to now */
+static void trace_part(const struct ssc_stage_ops *ops, const char *part,
+		       struct trace_t *t0)
+{
+	struct trace_t t;
+
+	if (t0->wall < 0)
+		return;
+	t = trace_clock();
+	fprintf(stderr, "trace: %s %s %.3f s (CPU %.3f s)\n", ops->spec->name,
+		part, t.wall - t0->wall, t.cpu - t0->cpu);
+	*t0 = t;
+}
+
 /* The result's text, or NULL when out of memory. */
 static char *render_text(const struct ssc_stage_ops *ops, const void *opts,
 			 const void *res,
@@ -145,6 +181,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	void *res = NULL;
 	bool scene = call->base != NULL;
 	int first, rc, n = 0, loaded = 0;
+	struct trace_t t0 = { -1, 0 };
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -231,16 +268,21 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	env.adc_ini = call->adc_ini;
 	env.upstream = call->upstream;
 	env.n_upstream = call->n_upstream;
+	env.earlier = call->earlier;
+	env.n_earlier = call->n_earlier;
 	/* 4. the computation */
+	t0 = trace_clock();
 	ssc_set_context(call->context);
 	rc = ops->run(&env, opts, &res);
 	ssc_set_context(NULL);
+	trace_part(ops, "computation", &t0);
 	if (rc)
 		goto done;
 	/* 5. what was asked for: the figure, files named by options, the
 	 * output in its form */
 	if (co.plot && ops->plot) {
 		rc = ops->plot(&co, opts, res, co.plot);
+		trace_part(ops, "figure", &t0);
 		if (rc)
 			goto done;
 	}
@@ -251,22 +293,26 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	}
 	if (!scene) {
 		rc = present(ops, &co, opts, res);
+		trace_part(ops, "output", &t0);
 		goto done;
 	}
 	if (call->want & SSC_WANT_JSON) {
 		call->json = ops->json(opts, res);
 		if (!call->json)
 			rc = SSC_EXIT_FAIL;
+		trace_part(ops, "json", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_TEXT)) {
 		call->text = render_text(ops, opts, res, ops->text);
 		if (!call->text)
 			rc = SSC_EXIT_FAIL;
+		trace_part(ops, "text", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_SUMMARY)) {
 		call->summary = json_array();
 		if (ops->summary)
 			ops->summary(call->summary, opts, res);
+		trace_part(ops, "summary", &t0);
 	}
 	if (rc) {
 		ssc_err(co.cmd, "out of memory");

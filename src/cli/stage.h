@@ -46,6 +46,12 @@ struct ssc_stage_env {
 	/* results of earlier stages this one uses (scene), or none */
 	const struct ssc_result *upstream;
 	size_t n_upstream;
+	/* results of every stage a scene ran before this one, used or not:
+	 * a stage takes from them only the very computation it would
+	 * repeat (the same samples and options), so that its result is the
+	 * same with or without them */
+	const struct ssc_result *earlier;
+	size_t n_earlier;
 };
 
 /* Inputs a stage needs (for scene planning). */
@@ -123,6 +129,8 @@ struct ssc_stage_call {
 	const struct sscope_ini *adc_ini;
 	const struct ssc_result *upstream;
 	size_t n_upstream;
+	const struct ssc_result *earlier; /* see ssc_stage_env */
+	size_t n_earlier;
 	bool check_only;       /* parse and check the options, nothing else */
 	unsigned want;         /* scene: SSC_WANT_* */
 	const char *plot_path; /* scene: draw the figure there, or NULL */

@@ -79,24 +79,58 @@ putf(struct ssc_svg *s, const char *fmt, ...)
 	put(s, tmp, (size_t)n < sizeof(tmp) ? (size_t)n : sizeof(tmp) - 1);
 }
 
-/* A coordinate with two decimals, without "-0" and trailing zeros. */
+/* A coordinate with two decimals, without "-0" and trailing zeros: what
+ * "%.2f" prints, trimmed.  The digits come from the integer nearest to
+ * 100 |v| (at most 1e8, so the product is within 2^-26 of the exact one
+ * and its nearest integer is the exact one's unless the fraction is
+ * within 1e-6 of a half); those near-ties are left to snprintf, which
+ * rounds the exact binary value.  A figure has hundreds of thousands of
+ * coordinates. */
 static void num(struct ssc_svg *s, double v)
 {
-	char b[40];
-	size_t n;
+	char b[40], d[24];
+	size_t n = 0, k = 0;
+	double a, c, r, f;
+	unsigned long long q;
+	unsigned ip, fr;
 
 	if (!isfinite(v))
 		v = 0;
 	v = fmax(-1e6, fmin(1e6, v));
-	n = (size_t)snprintf(b, sizeof(b), "%.2f", v);
-	while (n > 1 && b[n - 1] == '0')
-		n--;
-	if (b[n - 1] == '.')
-		n--;
-	b[n] = '\0';
-	if (!strcmp(b, "-0"))
-		strcpy(b, "0");
-	puts_(s, b);
+	a = fabs(v);
+	c = a * 100;
+	r = floor(c);
+	f = c - r;
+	if (fabs(f - 0.5) < 1e-6) {
+		n = (size_t)snprintf(b, sizeof(b), "%.2f", v);
+		while (n > 1 && b[n - 1] == '0')
+			n--;
+		if (b[n - 1] == '.')
+			n--;
+		b[n] = '\0';
+		if (!strcmp(b, "-0"))
+			strcpy(b, "0");
+		puts_(s, b);
+		return;
+	}
+	q = (unsigned long long)r + (f > 0.5);
+	ip = (unsigned)(q / 100);
+	fr = (unsigned)(q % 100);
+	if (q && v < 0)
+		b[n++] = '-';
+	do {
+		d[k++] = (char)('0' + ip % 10);
+		ip /= 10;
+	} while (ip);
+	while (k)
+		b[n++] = d[--k];
+	if (fr) {
+		b[n++] = '.';
+		b[n++] = (char)('0' + fr / 10);
+		if (fr % 10)
+			b[n++] = (char)('0' + fr % 10);
+	}
+	put(s, b, n);
 }
 
 /* ' x="" y="" width="" height=""' of a rectangle */

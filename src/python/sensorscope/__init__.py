@@ -15,6 +15,7 @@ sensorscope.Error carrying the library's message.
 
 import ctypes as C
 import math
+import threading
 
 import numpy as np
 
@@ -247,6 +248,34 @@ def _si_units(quantity):
     return [_c.term_si_unit(q, t).decode() for t in range(5)]
 
 
+class _NoisePlan:
+    """A noise-fit plan (sscope_noise_plan_new): what the fit computes that
+    depends only on the rate, the length and the taus, kept between calls
+    (the results are the same numbers).  One per thread: a plan serves one
+    fit at a time."""
+
+    def __init__(self):
+        self.ptr = C.c_void_p()
+        if _c.noise_plan_new(C.byref(self.ptr)) != 0:
+            raise MemoryError("noise plan")
+
+    def __del__(self):
+        free = getattr(_c, "noise_plan_free", None)
+        if free is not None and self.ptr:
+            free(self.ptr)
+            self.ptr = C.c_void_p()
+
+
+_plans = threading.local()
+
+
+def _noise_plan():
+    plan = getattr(_plans, "plan", None)
+    if plan is None:
+        plan = _plans.plan = _NoisePlan()
+    return plan.ptr
+
+
 def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
           fit=True, unit=None, threads=0, noise_type=None):
     """Allan-family deviation of x (samples at `rate` Hz, SI units) with
@@ -270,6 +299,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     fo = _c.NoiseFitOpts()
     fo.ci_level = float(ci) if ci else 0.683
     fo.skip = not fit  # no fit computed that nobody asked for
+    if fit:
+        fo.plan = _noise_plan()
     if isinstance(taus, str):
         if taus not in _GRIDS:
             raise ValueError("taus: %r is not dense, octave, decade or all"

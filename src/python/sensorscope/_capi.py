@@ -148,7 +148,7 @@ class NoiseFitOpts(C.Structure):
                 ("forced", C.c_uint), ("model_error", c_dbl),
                 ("detect_sigma", c_dbl),
                 ("tau_min_s", c_dbl), ("tau_max_s", c_dbl),
-                ("skip", C.c_bool)]
+                ("skip", C.c_bool), ("plan", C.c_void_p)]
 
 
 class NoiseFit(C.Structure):
@@ -376,6 +376,9 @@ allan_result_free = _fn("sscope_allan_result_free", None,
 noise_fit = _fn("sscope_noise_fit", C.c_int, C.POINTER(AllanPoint), c_size,
                 c_dbl, c_size, C.POINTER(NoiseFitOpts), C.POINTER(NoiseFit),
                 C.POINTER(Diag))
+noise_plan_new = _fn("sscope_noise_plan_new", C.c_int,
+                     C.POINTER(C.c_void_p))
+noise_plan_free = _fn("sscope_noise_plan_free", None, C.c_void_p)
 psd_opts_init = _fn("sscope_psd_opts_init", None, C.POINTER(PsdOpts))
 window_from_name = _fn("sscope_window_from_name", C.c_int, C.c_char_p,
                        C.POINTER(C.c_int))
