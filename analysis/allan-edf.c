@@ -289,7 +289,7 @@ double ssc_totdev_edf(int alpha, size_t m, size_t np)
  */
 double ssc_chi2_quantile(double p, double nu)
 {
-	double z, h, x, lo = 0, hi = INFINITY, target;
+	double z, h, x, lo = 0, hi = INFINITY, target, lgh;
 	bool upper;
 
 	if (!(p > 0 && p < 1) || !(nu > 0))
@@ -308,9 +308,14 @@ double ssc_chi2_quantile(double p, double nu)
 	target = upper ? 1 - p : p;
 	if (!(x > 0) || !isfinite(x))
 		x = nu * 1e-3 + 1e-300;
+	/* Halley steps (the density's log-derivative is (nu/2 - 1)/x - 1/2):
+	 * from the start above, and a last step taken without the evaluation
+	 * that would confirm it: one or two tail evaluations, not four or
+	 * five as Newton's, which an all-tau grid pays 30,000 times */
+	lgh = lgamma(nu / 2) + nu / 2 * 0.69314718055994531;
 	for (int it = 0; it < 200; it++) {
 		double F = upper ? gsl_cdf_chisq_Q(x, nu) : gsl_cdf_chisq_P(x, nu);
-		double f = gsl_ran_chisq_pdf(x, nu), nx;
+		double f = exp((nu / 2 - 1) * log(x) - x / 2 - lgh), nx, dx;
 		bool below = upper ? F > target : F < target;
 
 		/* x is below the quantile when the lower tail is too small */
@@ -320,9 +325,12 @@ double ssc_chi2_quantile(double p, double nu)
 			hi = x;
 		if (fabs(F - target) <= 1e-14 * target)
 			break;
-		nx = f > 0 ? x + (upper ? (F - target) : (target - F)) / f : (double)NAN;
+		dx = f > 0 ? (upper ? (F - target) : (target - F)) / f : (double)NAN;
+		nx = x + dx / (1 + 0.5 * dx * ((nu / 2 - 1) / x - 0.5));
 		if (!(nx > lo && nx < hi) || !isfinite(nx))
 			nx = isinf(hi) ? 2 * x + 1 : 0.5 * (lo + hi);
+		else if (fabs(nx - x) <= 1e-6 * x)
+			return nx; /* Halley's error cubes: now ~1e-18 */
 		if (fabs(nx - x) <= 1e-13 * x)
 			break;
 		x = nx;

@@ -420,10 +420,14 @@ static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 	if (!isfinite(sum))
 		return false;
 	if (p->o.detrend != SSCOPE_DETREND_NONE) {
-		int same = 1;
+		size_t k = 1;
+		bool same;
 
-		for (size_t i = 0; i < m; i++)
-			same &= seg[i] == seg[0];
+		/* stops at the first sample that differs: almost always the
+		 * second, so no extra pass over the segment */
+		while (k < m && seg[k] == seg[0])
+			k++;
+		same = k >= m;
 		/* a constant segment detrends to exact zeros */
 		mean = same ? seg[0] : sum / (double)m;
 		if (p->o.detrend == SSCOPE_DETREND_LINEAR && m > 2 && !same) {
