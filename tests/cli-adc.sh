@@ -37,6 +37,14 @@ if [ -z "$SSCOPE_RUN" ]; then
 	json_check "Monte Carlo: N and B kept within 1 % and 5 %" "$T/out" '.adcs[0].monte_carlo | (.N.lo > 0.99 and .N.hi < 1.01 and .B.lo > 0.95 and .B.hi < 1.05)'
 fi
 
+# the text report of a dithered converter: the bias error vanishes like
+# exp(-2 pi^2 sigma^2 / q^2); it is said to be below 1e-9 %, not printed as 1e-254 %
+run "MEMS, 16 bits, text" 0 adc report --sensor "$MEMS" --adc "$A16"
+has "a dithered bias error is below 1e-9 %" "$T/out" 'reads *0.37 deg/h *\(below 1e-9 % error'
+lacks "no vanishing percentage printed" "$T/out" 'e-[0-9][0-9][0-9] % error'
+run "quiet, 16 bits, text" 0 adc report --sensor "$QUIET" --adc "$A16"
+has "an undithered bias error is printed" "$T/out" '\(-46 % error, first harmonic\)'
+
 # seed case, quiet gyro: 16 bits fail (sigma/q = 0.27), 18 needed
 run "seed quiet, 16 bits" 0 adc report --sensor "$QUIET" --adc "$A16" $MC --format json
 json_check "16 bits fail, not dithered" "$T/out" '.adcs[0].verdict == "fail" and (.adcs[0].dithered | not) and ((.adcs[0].sigma_over_q - 0.273) | fabs) < 0.002 and .adcs[0].min_bits == 18'

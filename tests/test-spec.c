@@ -87,7 +87,7 @@ START_TEST(sensor_gyro)
 	struct sscope_diag d;
 	struct sscope_sensor_spec s;
 
-	ck_assert_int_eq(parse("[sensor]\nname = seed gyro\nrange = 100 deg/s\n"
+	ck_assert_int_eq(parse("[sensor]\nname = textbook gyro\nrange = 100 deg/s\n"
 			       "noise_density = 0.15 deg/sqrt(h)\n"
 			       "bias_instability = 1 deg/h\n"
 			       "rate_random_walk = 0.5 deg/h/sqrt(h)\n"
@@ -98,7 +98,7 @@ START_TEST(sensor_gyro)
 			       "zero_output = 2.5 V\nbandwidth = 40 Hz\nfilter_order = 2\n",
 			       &ini, &d), 0);
 	ck_assert_int_eq(sscope_sensor_spec_from_ini(ini, "sensor", &s, &d), 0);
-	ck_assert_str_eq(s.name, "seed gyro");
+	ck_assert_str_eq(s.name, "textbook gyro");
 	ck_assert(s.quantity == SSCOPE_QTY_ANGULAR_RATE);
 	ck_assert_rel(s.range, 1.7453292519943295, 1e-15);
 	ck_assert_rel(s.n, 0.15 * 2.9088820866572158e-4, 1e-14);

@@ -421,11 +421,18 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	if ((ss->has & SSCOPE_SPEC_BIAS) && ss->bias != 0 &&
 	    ar->spec.mode == SSCOPE_ADC_ROUND) {
 		double e = sscope_adc_bias_error(a->lsb, a->sigma_over_q * a->lsb, ss->bias);
+		double pct = 100 * e / ss->bias;
 
+		/* Dither makes the first harmonic vanish like exp(-2 pi^2
+		 * sigma^2 / q^2): below 1e-9 % say so instead of printing a
+		 * number like 1e-254 that no instrument could see. */
+		if (fabs(pct) < 1e-9)
+			snprintf(b3, sizeof(b3), "below 1e-9");
+		else
+			ssc_fmt(b3, sizeof(b3), pct, 2);
 		fprintf(f, "  sensor bias %s reads    %s  (%s %% error, first harmonic)\n",
 			fmtu(b1, sizeof(b1), ss->bias, bsi, bu, 3),
-			fmtu(b2, sizeof(b2), ss->bias + e, bsi, bu, 3),
-			ssc_fmt(b3, sizeof(b3), 100 * e / ss->bias, 2));
+			fmtu(b2, sizeof(b2), ss->bias + e, bsi, bu, 3), b3);
 	}
 	if (ar->mc_done) {
 		static const char tn[] = "NBK";

@@ -668,6 +668,8 @@ static void summary(json_t *rows, const void *opts, const void *result)
 		nv = ssc_nav_term_value(im->n, q, SSCOPE_TERM_N, &u);
 		nl = ssc_nav_term_value(im->lo, q, SSCOPE_TERM_N, &u);
 		nh = ssc_nav_term_value(im->hi, q, SSCOPE_TERM_N, &u);
+		if (!isfinite(nv))
+			nl = nh = NAN;	/* no estimate: no interval either */
 		ssc_summary_add(rows, c->col->name, "N implied by the fan", nv, nl,
 				nh, u, "spread of the runs at their end");
 	}
