@@ -75,7 +75,7 @@ static const struct ssc_command_spec spec = {
 	.notes = "Examples:\n"
 		 "  sensorscope vibration --rpm 1770 --iso-class II samples/vibration.csv\n"
 		 "  sensorscope vibration --rpm 1797 --bearing 9,7.94,39.04 samples/bearing-outer.csv\n"
-		 "  sensorscope vibration -r 12000 -u m/s^2 --rpm 1797 --bearing 9,7.94,39.04 tests/data/bearing.mat\n"
+		 "  sensorscope vibration -r 12000 -u m/s^2 --rpm 1797 --bearing 9,7.94,39.04 record.mat\n"
 		 "\n"
 		 "Unbalance and misalignment are reported when the velocity reaches zone C\n"
 		 "of the class (class I without --iso-class); bearing defects whatever the\n"
