@@ -203,10 +203,10 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 			     (1u << SSCOPE_TERM_K);
 		fo.plan = plan;
 		if (!rc)
-			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE,
+			rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE,
 						  NULL, &fo, &ri, diag);
 		if (!rc)
-			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE,
+			rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE,
 						  NULL, &fo, &ro, diag);
 		for (int t = 0; !rc && t < 3; t++) {
 			const struct sscope_noise_coef *ci = &ri->fit.coef[SSCOPE_TERM_N + t];

@@ -77,7 +77,7 @@ int sscope_adc_range_parse(const char *text, double *lo_si, double *hi_si,
 			return ssc_diag(diag, -EINVAL, "'%s': too long", text);
 		memcpy(buf, text, len);
 		buf[len] = 0;
-		k = sscope_parse_double(skip_ws(buf), buf + len, &lo);
+		k = ssc_parse_double(skip_ws(buf), buf + len, &lo);
 		if (!k)
 			return ssc_diag(diag, -EINVAL, "'%s': LO is not a number", text);
 		if (*skip_ws(skip_ws(buf) + k)) {
@@ -93,7 +93,7 @@ int sscope_adc_range_parse(const char *text, double *lo_si, double *hi_si,
 	{
 		const char *h = skip_ws(colon + 1);
 
-		k = sscope_parse_double(h, end, &hi);
+		k = ssc_parse_double(h, end, &hi);
 		if (!k)
 			return ssc_diag(diag, -EINVAL, "'%s': HI is not a number", text);
 		if (*skip_ws(h + k)) {
@@ -103,7 +103,7 @@ int sscope_adc_range_parse(const char *text, double *lo_si, double *hi_si,
 			if (rc)
 				return ssc_diag(diag, -EINVAL, "%s", d.msg);
 			/* a unit written only after HI applies to both */
-			if (sscope_unit_quantity(&u1) == SSCOPE_QTY_DIMENSIONLESS &&
+			if (sscope_unit_quantity(&u1) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 			    u1.scale == 1)
 				lo = sscope_unit_to_si(&u2, lo);
 			else if (!sscope_unit_compatible(&u1, &u2))
@@ -127,7 +127,7 @@ int sscope_adc_range_parse(const char *text, double *lo_si, double *hi_si,
 static int parse_lsb(const char *v, double *out)
 {
 	const char *p = skip_ws(v), *end = p + strlen(p);
-	size_t k = sscope_parse_double(p, end, out);
+	size_t k = ssc_parse_double(p, end, out);
 
 	if (!k || !isfinite(*out))
 		return -EINVAL;
@@ -150,7 +150,7 @@ static int parse_ratio(const char *v, double per_degc, double *out,
 		*why = "unknown unit";
 		return -EINVAL;
 	}
-	if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS && u.scale == 1 &&
+	if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS && u.scale == 1 &&
 	    !per_degc) {
 		*out = x * 1e-6;
 		return 0;
@@ -158,7 +158,7 @@ static int parse_ratio(const char *v, double per_degc, double *out,
 	if (per_degc) {
 		if (sscope_unit_parse("ppm/degC", &want, NULL))
 			return -EINVAL;
-		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+		if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 		    u.scale == 1) {
 			*out = x * 1e-6;
 			return 0;
@@ -170,7 +170,7 @@ static int parse_ratio(const char *v, double per_degc, double *out,
 		*out = x; /* SI: ratio per degC */
 		return 0;
 	}
-	if (sscope_unit_quantity(&u) != SSCOPE_QTY_DIMENSIONLESS) {
+	if (sscope_unit_quantity(&u) != SSCOPE_QUANTITY_DIMENSIONLESS) {
 		*why = "wrong unit (expected a ratio, e.g. ppm or %)";
 		return -EINVAL;
 	}
@@ -178,10 +178,10 @@ static int parse_ratio(const char *v, double per_degc, double *out,
 	return 0;
 }
 
-int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
-			     struct sscope_adc_spec *s, struct sscope_diag *diag)
+int ssc_adc_spec_from_ini(const struct ssc_ini *ini, const char *section,
+			  struct sscope_adc_spec *s, struct sscope_diag *diag)
 {
-	const char *file = sscope_ini_name(ini), *v, *why = "";
+	const char *file = ssc_ini_name(ini), *v, *why = "";
 	struct sscope_diag d = { "" };
 	struct sscope_unit ru;
 	char si[64];
@@ -192,22 +192,22 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 	memset(s, 0, sizeof(*s));
 	s->ref_temp_degc = 25;
 	s->oversample = 1;
-	if (!sscope_ini_has_section(ini, section))
+	if (!ssc_ini_has_section(ini, section))
 		return ssc_diag(diag, -EINVAL, "%s: no [%s] section", file, section);
-	rc = sscope_ini_check_keys(ini, section, adc_keys, diag);
+	rc = ssc_ini_check_keys(ini, section, adc_keys, diag);
 	if (rc)
 		return rc;
-	v = sscope_ini_get(ini, section, "name", &line);
+	v = ssc_ini_get(ini, section, "name", &line);
 	snprintf(s->name, sizeof(s->name), "%s", v ? v : file);
-	rc = sscope_ini_integer(ini, section, "bits", 1, SSCOPE_ADC_MAX_BITS,
-				&bits, &d);
+	rc = ssc_ini_integer(ini, section, "bits", 1, SSCOPE_ADC_MAX_BITS,
+			     &bits, &d);
 	if (rc == -ENOENT)
 		return ssc_diag(diag, -EINVAL, "%s: [%s] bits: missing", file, section);
 	if (rc)
 		return ssc_diag(diag, -EINVAL, "%s (bits: an integer 1..%d)", d.msg,
 				SSCOPE_ADC_MAX_BITS);
 	s->bits = (int)bits;
-	v = sscope_ini_get(ini, section, "range", &line);
+	v = ssc_ini_get(ini, section, "range", &line);
 	if (!v)
 		return ssc_diag(diag, -EINVAL, "%s: [%s] range: missing", file, section);
 	rc = sscope_adc_range_parse(v, &s->lo, &s->hi, &ru, &d);
@@ -216,11 +216,11 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 				d.msg);
 	s->quantity = sscope_unit_quantity(&ru);
 	switch (s->quantity) {
-	case SSCOPE_QTY_VOLTAGE:
+	case SSCOPE_QUANTITY_VOLTAGE:
 		s->analog = true;
 		break;
-	case SSCOPE_QTY_ANGULAR_RATE:
-	case SSCOPE_QTY_ACCELERATION:
+	case SSCOPE_QUANTITY_ANGULAR_RATE:
+	case SSCOPE_QUANTITY_ACCELERATION:
 		break;
 	default:
 		return ssc_diag(diag, -EINVAL,
@@ -228,7 +228,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 				file, line, v);
 	}
 	snprintf(si, sizeof(si), "%s", sscope_quantity_si_unit(s->quantity));
-	rc = sscope_ini_quantity(ini, section, "rate", "Hz", &s->rate_hz, diag);
+	rc = ssc_ini_quantity(ini, section, "rate", "Hz", &s->rate_hz, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
 	if (!rc) {
@@ -237,7 +237,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, section);
 		s->has |= SSCOPE_ADC_HAS_RATE;
 	}
-	rc = sscope_ini_quantity(ini, section, "noise", si, &s->noise, diag);
+	rc = ssc_ini_quantity(ini, section, "noise", si, &s->noise, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
 	if (!rc) {
@@ -246,7 +246,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, section);
 		s->has |= SSCOPE_ADC_HAS_NOISE;
 	}
-	v = sscope_ini_get(ini, section, "enob", &line);
+	v = ssc_ini_get(ini, section, "enob", &line);
 	if (v) {
 		if (parse_lsb(v, &s->enob) || !(s->enob > 0) || s->enob > s->bits)
 			return ssc_diag(diag, -EINVAL,
@@ -254,11 +254,11 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, line, v);
 		s->has |= SSCOPE_ADC_HAS_ENOB;
 	}
-	v = sscope_ini_get(ini, section, "snr", &line);
+	v = ssc_ini_get(ini, section, "snr", &line);
 	if (v) {
 		double db;
 		const char *p = skip_ws(v);
-		size_t k = sscope_parse_double(p, p + strlen(p), &db);
+		size_t k = ssc_parse_double(p, p + strlen(p), &db);
 
 		if (!k || (*skip_ws(p + k) && strcasecmp(skip_ws(p + k), "dB")))
 			return ssc_diag(diag, -EINVAL,
@@ -277,7 +277,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 	if ((s->has & SSCOPE_ADC_HAS_ENOB) && (s->has & SSCOPE_ADC_HAS_NOISE))
 		return ssc_diag(diag, -EINVAL, "%s: [%s] noise: give noise or enob/snr, not both",
 				file, section);
-	v = sscope_ini_get(ini, section, "inl", &line);
+	v = ssc_ini_get(ini, section, "inl", &line);
 	if (v) {
 		if (parse_lsb(v, &s->inl_lsb) || s->inl_lsb < 0)
 			return ssc_diag(diag, -EINVAL,
@@ -285,7 +285,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, line, v);
 		s->has |= SSCOPE_ADC_HAS_INL;
 	}
-	v = sscope_ini_get(ini, section, "dnl", &line);
+	v = ssc_ini_get(ini, section, "dnl", &line);
 	if (v) {
 		if (parse_lsb(v, &s->dnl_lsb) || s->dnl_lsb < 0 || s->dnl_lsb >= 1)
 			return ssc_diag(diag, -EINVAL,
@@ -293,7 +293,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, line, v);
 		s->has |= SSCOPE_ADC_HAS_DNL;
 	}
-	v = sscope_ini_get(ini, section, "inl_profile", &line);
+	v = ssc_ini_get(ini, section, "inl_profile", &line);
 	if (v) {
 		if (!*v)
 			return ssc_diag(diag, -EINVAL, "%s: line %zu: inl_profile: empty (a file name)",
@@ -312,10 +312,10 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, section);
 		snprintf(s->inl_profile, sizeof(s->inl_profile), "%s", v);
 	}
-	rc = sscope_ini_quantity(ini, section, "offset", si, &s->offset, diag);
+	rc = ssc_ini_quantity(ini, section, "offset", si, &s->offset, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
-	v = sscope_ini_get(ini, section, "gain_error", &line);
+	v = ssc_ini_get(ini, section, "gain_error", &line);
 	if (v && parse_ratio(v, 0, &s->gain_error, &why))
 		return ssc_diag(diag, -EINVAL, "%s: line %zu: gain_error: '%s': %s",
 				file, line, v, why);
@@ -323,8 +323,8 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 		char per[80];
 
 		snprintf(per, sizeof(per), "%s/degC", si);
-		rc = sscope_ini_quantity(ini, section, "offset_drift", per,
-					 &s->offset_drift, diag);
+		rc = ssc_ini_quantity(ini, section, "offset_drift", per,
+				      &s->offset_drift, diag);
 		if (rc && rc != -ENOENT)
 			return rc;
 		if (!rc) {
@@ -335,7 +335,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 			s->has |= SSCOPE_ADC_HAS_OFFSET_DRIFT;
 		}
 	}
-	v = sscope_ini_get(ini, section, "gain_drift", &line);
+	v = ssc_ini_get(ini, section, "gain_drift", &line);
 	if (v) {
 		if (parse_ratio(v, 1, &s->gain_drift, &why))
 			return ssc_diag(diag, -EINVAL, "%s: line %zu: gain_drift: '%s': %s",
@@ -346,11 +346,11 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					file, section);
 		s->has |= SSCOPE_ADC_HAS_GAIN_DRIFT;
 	}
-	rc = sscope_ini_quantity(ini, section, "ref_temp", "degC",
-				 &s->ref_temp_degc, diag);
+	rc = ssc_ini_quantity(ini, section, "ref_temp", "degC",
+			      &s->ref_temp_degc, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
-	v = sscope_ini_get(ini, section, "reference", &line);
+	v = ssc_ini_get(ini, section, "reference", &line);
 	if (v) {
 		if (!strcasecmp(v, "absolute"))
 			s->reference = SSCOPE_ADC_ABSOLUTE;
@@ -361,7 +361,7 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 					"%s: line %zu: reference: '%s' (absolute|ratiometric)",
 					file, line, v);
 	}
-	v = sscope_ini_get(ini, section, "mode", &line);
+	v = ssc_ini_get(ini, section, "mode", &line);
 	if (v) {
 		if (!strcasecmp(v, "round"))
 			s->mode = SSCOPE_ADC_ROUND;
@@ -375,13 +375,13 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 	{
 		long os = 1;
 
-		rc = sscope_ini_integer(ini, section, "oversample", 1, 65536, &os, &d);
+		rc = ssc_ini_integer(ini, section, "oversample", 1, 65536, &os, &d);
 		if (rc && rc != -ENOENT)
 			return ssc_diag(diag, -EINVAL, "%s (oversample: an integer 1..65536)",
 					d.msg);
 		s->oversample = (unsigned)os;
 	}
-	v = sscope_ini_get(ini, section, "coding", &line);
+	v = ssc_ini_get(ini, section, "coding", &line);
 	if (v) {
 		static const char *const codings[] = {
 			"twos-complement", "offset-binary", "straight-binary",
@@ -407,13 +407,13 @@ int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
 int sscope_adc_spec_load(const char *path, struct sscope_adc_spec *spec,
 			 struct sscope_diag *diag)
 {
-	struct sscope_ini *ini = NULL;
-	int rc = sscope_ini_load(&ini, path, diag);
+	struct ssc_ini *ini = NULL;
+	int rc = ssc_ini_load(&ini, path, diag);
 
 	if (rc)
 		return rc;
-	rc = sscope_adc_spec_from_ini(ini, "adc", spec, diag);
-	sscope_ini_free(ini);
+	rc = ssc_adc_spec_from_ini(ini, "adc", spec, diag);
+	ssc_ini_free(ini);
 	return rc;
 }
 
@@ -698,7 +698,7 @@ static void wordlength_terms(const struct sscope_sensor_spec *ss,
 			     struct sscope_adc_analysis *r)
 {
 	double sig = sqrt(sig_s * sig_s + sig_a * sig_a);
-	double nq2, na = sig_a / sqrt(fs), N = (ss->has & SSCOPE_SPEC_N) ? ss->n : (double)NAN;
+	double nq2, na = sig_a / sqrt(fs), N = (ss->has & SSCOPE_SENSOR_HAS_N) ? ss->n : (double)NAN;
 
 	r->lsb = q;
 	r->sigma_over_q = sig / q;
@@ -722,7 +722,7 @@ static void wordlength_terms(const struct sscope_sensor_spec *ss,
 	judge(&r->term[SSCOPE_ADC_T_NOISE], sqrt(nq2 + na * na), N,
 	      r->noise_degradation, 0.05, 0.20, false);
 	{
-		double B = (ss->has & SSCOPE_SPEC_B) && ss->b > 0 ? ss->b : (double)NAN;
+		double B = (ss->has & SSCOPE_SENSOR_HAS_B) && ss->b > 0 ? ss->b : (double)NAN;
 
 		judge(&r->term[SSCOPE_ADC_T_BIAS], r->bias_bound, B,
 		      r->bias_bound / B, 0.1, 0.5, false);
@@ -746,12 +746,12 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 				"no sample rate: give the converter's rate or --rate");
 	uq = ss->quantity;
 	if (as->analog) {
-		if (!(ss->has & SSCOPE_SPEC_SENSITIVITY) || !(ss->sensitivity > 0))
+		if (!(ss->has & SSCOPE_SENSOR_HAS_SENSITIVITY) || !(ss->sensitivity > 0))
 			return ssc_diag(diag, -EINVAL,
 					"the converter's range is in volts but the sensor spec gives no sensitivity");
 		sens = ss->sensitivity;
-		zero = (ss->has & SSCOPE_SPEC_ZERO) ? ss->zero_output_v : 0;
-	} else if (as->quantity != uq && uq != SSCOPE_QTY_UNKNOWN) {
+		zero = (ss->has & SSCOPE_SENSOR_HAS_ZERO) ? ss->zero_output_v : 0;
+	} else if (as->quantity != uq && uq != SSCOPE_QUANTITY_UNKNOWN) {
 		return ssc_diag(diag, -EINVAL,
 				"the converter's range is in %s units, the sensor measures %s",
 				sscope_quantity_name(as->quantity),
@@ -763,11 +763,11 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 	r->range_hi = (as->hi - zero) / sens;
 	fsr_u = r->range_hi - r->range_lo;
 	nbw = fs / 2;
-	if ((ss->has & SSCOPE_SPEC_BANDWIDTH) && ss->bandwidth_hz > 0)
+	if ((ss->has & SSCOPE_SENSOR_HAS_BANDWIDTH) && ss->bandwidth_hz > 0)
 		nbw = fmin(nbw, ss->bandwidth_hz *
 				sscope_adc_nbw_factor(ss->filter_order > 0 ?
 						      ss->filter_order : 1));
-	sig_s = (ss->has & SSCOPE_SPEC_N) ? ss->n * sqrt(2 * nbw) : 0;
+	sig_s = (ss->has & SSCOPE_SENSOR_HAS_N) ? ss->n * sqrt(2 * nbw) : 0;
 	if (as->has & SSCOPE_ADC_HAS_NOISE) {
 		sig_a = as->noise / sens;
 	} else if (as->has & SSCOPE_ADC_HAS_ENOB) {
@@ -782,7 +782,7 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 	wordlength_terms(ss, as, fsr_u / ldexp(1, as->bits), fs, sig_s, sig_a, r);
 
 	/* temperature terms */
-	if ((ss->has & SSCOPE_SPEC_TEMPS) && ss->temp_max_degc > ss->temp_min_degc) {
+	if ((ss->has & SSCOPE_SENSOR_HAS_TEMPS) && ss->temp_max_degc > ss->temp_min_degc) {
 		r->temp_span_degc = ss->temp_max_degc - ss->temp_min_degc;
 	} else {
 		r->temp_span_degc = 60;
@@ -792,9 +792,9 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 	{
 		double ref = (double)NAN;
 
-		if ((ss->has & SSCOPE_SPEC_TEMPCO) && ss->bias_tempco > 0)
+		if ((ss->has & SSCOPE_SENSOR_HAS_TEMPCO) && ss->bias_tempco > 0)
 			ref = ss->bias_tempco * r->temp_span_degc;
-		else if ((ss->has & SSCOPE_SPEC_B) && ss->b > 0)
+		else if ((ss->has & SSCOPE_SENSOR_HAS_B) && ss->b > 0)
 			ref = ss->b;
 		judge(&r->term[SSCOPE_ADC_T_OFFSET_DRIFT], r->offset_drift_bias, ref,
 		      r->offset_drift_bias / ref, 0.3, 1, false);
@@ -802,13 +802,13 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 	r->scale_drift = as->reference == SSCOPE_ADC_RATIOMETRIC ? 0 :
 			 as->gain_drift * r->temp_span_degc;
 	{
-		double ref = (ss->has & SSCOPE_SPEC_SF) && ss->scale_factor_error > 0 ?
+		double ref = (ss->has & SSCOPE_SENSOR_HAS_SF) && ss->scale_factor_error > 0 ?
 			     ss->scale_factor_error : (double)NAN;
 
 		judge(&r->term[SSCOPE_ADC_T_SCALE_DRIFT], r->scale_drift, ref,
 		      r->scale_drift / ref, 0.3, 1, false);
 	}
-	if ((ss->has & SSCOPE_SPEC_RANGE) && ss->range > 0) {
+	if ((ss->has & SSCOPE_SENSOR_HAS_RANGE) && ss->range > 0) {
 		double cover = r->range_lo < 0 ? fmin(r->range_hi, -r->range_lo) :
 						 r->range_hi;
 

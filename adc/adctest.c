@@ -25,7 +25,7 @@
 
 #define PI 3.14159265358979323846
 
-static void finish_fit(struct sscope_sine_fit *f)
+static void finish_fit(struct sscope_adc_sine_fit *f)
 {
 	f->amplitude = hypot(f->a, f->b);
 	/* a cos + b sin = amp cos(wt + phase), phase = atan2(-b, a) */
@@ -33,7 +33,7 @@ static void finish_fit(struct sscope_sine_fit *f)
 }
 
 static double resid_rms(const double *x, size_t n, double fs,
-			const struct sscope_sine_fit *f)
+			const struct sscope_adc_sine_fit *f)
 {
 	struct ssc_ksum s = { 0, 0 };
 	double w = 2 * PI * f->freq_hz;
@@ -47,8 +47,8 @@ static double resid_rms(const double *x, size_t n, double fs,
 	return sqrt(ssc_ksum_value(&s) / (double)n);
 }
 
-int sscope_sine_fit3(const double *x, size_t n, double fs, double f0,
-		     struct sscope_sine_fit *fit)
+int sscope_adc_sine_fit3(const double *x, size_t n, double fs, double f0,
+			 struct sscope_adc_sine_fit *fit)
 {
 	gsl_matrix *X;
 	gsl_vector *y, *c;
@@ -180,10 +180,10 @@ static int f4_df(const gsl_vector *p, void *ctx, gsl_matrix *J)
 	return GSL_SUCCESS;
 }
 
-int sscope_sine_fit4(const double *x, size_t n, double fs, double f0,
-		     struct sscope_sine_fit *fit)
+int sscope_adc_sine_fit4(const double *x, size_t n, double fs, double f0,
+			 struct sscope_adc_sine_fit *fit)
 {
-	struct sscope_sine_fit f3;
+	struct sscope_adc_sine_fit f3;
 	struct fit4_data d = { x, n, fs };
 	gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
 	gsl_multifit_nlinear_workspace *w = NULL;
@@ -200,7 +200,7 @@ int sscope_sine_fit4(const double *x, size_t n, double fs, double f0,
 		if (rc)
 			return rc;
 	}
-	rc = sscope_sine_fit3(x, n, fs, f0, &f3);
+	rc = sscope_adc_sine_fit3(x, n, fs, f0, &f3);
 	if (rc)
 		return rc;
 	fdf.f = f4_f;
@@ -289,7 +289,7 @@ int sscope_adc_dynamic_test(const double *x, size_t n, double fs, double fsr,
 	rc = ssc_magnitude_check(x, 1, n, 250, "adc test", NULL);
 	if (rc)
 		return rc;
-	rc = sscope_sine_fit4(x, n, fs, 0, &res->fit);
+	rc = sscope_adc_sine_fit4(x, n, fs, 0, &res->fit);
 	if (rc)
 		return rc;
 	res->sinad_db = 20 * log10(res->fit.amplitude / sqrt(2.0) /

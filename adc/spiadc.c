@@ -85,7 +85,7 @@ static int parse_num(const char *v, size_t n, double *out)
 {
 	double x;
 
-	if (n == 0 || sscope_parse_double(v, v + n, &x) != n || !isfinite(x))
+	if (n == 0 || ssc_parse_double(v, v + n, &x) != n || !isfinite(x))
 		return -EINVAL;
 	*out = x;
 	return 0;
@@ -292,7 +292,7 @@ int sscope_spiadc_parse(const char *spec, struct sscope_spiadc_frame *f,
 				   sscope_quantity_parse(buf, &sc.sens,
 							 &sc.sens_unit, NULL) ||
 				   !(sc.sens > 0) ||
-				   sc.sens_unit.dim2[SSCOPE_DIM_VOLTAGE] != 2) {
+				   sc.sens_unit.dim2[SSCOPE_UNIT_DIM_VOLTAGE] != 2) {
 				return ssc_diag(diag, -EINVAL,
 						"sens: '%.*s' is not a positive sensitivity in volts per unit, such as 6mV/(deg/s)",
 						(int)vn, v);

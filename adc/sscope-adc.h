@@ -17,7 +17,10 @@
 #ifndef SSCOPE_ADC_H
 #define SSCOPE_ADC_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-quantity.h"
+#include "sscope-unit.h"
+#include "sscope-sensor.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -85,22 +88,6 @@ struct sscope_adc_spec {
 
 /** @return the keys an [adc] section may hold (NULL-terminated). */
 const char *const *sscope_adc_spec_keys(void);
-
-/**
- * Read a converter spec from section @p section of @p ini.  Keys: name,
- * bits, range ("LO:HI UNIT"), rate, noise (rms, e.g. "30 uV") or snr (dB)
- * or enob, inl, dnl (LSB), offset, gain_error (ppm), offset_drift
- * ("2 uV/degC"), gain_drift (ppm/degC), ref_temp, reference
- * (absolute|ratiometric), mode (round|integrate), coding, oversample
- * (conversions averaged per output sample), inl_profile (a file of 2^bits
- * INL values, stored as written; not with inl or dnl, which it defines,
- * and only for bits <= SSCOPE_ADC_TABLE_BITS).  Every error
- * names the file and the key ("A.ini: [adc] bits: missing").
- * @return 0 or -EINVAL.
- */
-int sscope_adc_spec_from_ini(const struct sscope_ini *ini, const char *section,
-			     struct sscope_adc_spec *spec,
-			     struct sscope_diag *diag);
 
 /** Load the [adc] section of a file.  @return as above, -errno. */
 int sscope_adc_spec_load(const char *path, struct sscope_adc_spec *spec,
@@ -385,7 +372,7 @@ double sscope_adc_nbw_factor(int order);
 /* ------------------------------------------------------------------ */
 
 /** A fitted sine x = A cos(w t) + B sin(w t) + C. */
-struct sscope_sine_fit {
+struct sscope_adc_sine_fit {
 	double freq_hz;
 	double amplitude;  /**< sqrt(A^2 + B^2) */
 	double phase_rad;  /**< x = amplitude cos(w t + phase) + offset */
@@ -399,8 +386,8 @@ struct sscope_sine_fit {
  * Three-parameter fit (known frequency) by linear least squares (GSL).
  * @return 0, -EINVAL, -EDOM (n < 4), -ENOMEM.
  */
-int sscope_sine_fit3(const double *x, size_t n, double rate_hz, double freq_hz,
-		     struct sscope_sine_fit *fit);
+int sscope_adc_sine_fit3(const double *x, size_t n, double rate_hz, double freq_hz,
+			 struct sscope_adc_sine_fit *fit);
 
 /**
  * Four-parameter fit: start from the interpolated FFT peak (FFTW) and a
@@ -408,12 +395,12 @@ int sscope_sine_fit3(const double *x, size_t n, double rate_hz, double freq_hz,
  * @param freq_hz  starting frequency (0: from the spectrum).
  * @return 0, -EINVAL, -EDOM, -ENOMEM, -ERANGE (no convergence).
  */
-int sscope_sine_fit4(const double *x, size_t n, double rate_hz, double freq_hz,
-		     struct sscope_sine_fit *fit);
+int sscope_adc_sine_fit4(const double *x, size_t n, double rate_hz, double freq_hz,
+			 struct sscope_adc_sine_fit *fit);
 
 /** Results of a dynamic test. */
 struct sscope_adc_dynamic {
-	struct sscope_sine_fit fit; /**< four-parameter fit */
+	struct sscope_adc_sine_fit fit; /**< four-parameter fit */
 	double sinad_db;  /**< 20 log10((A/sqrt2) / NAD) */
 	double enob;      /**< log2(FSR / (NAD sqrt 12)), or (SINAD - 1.76)
 			       / 6.02 when no FSR was given */
@@ -426,7 +413,7 @@ struct sscope_adc_dynamic {
  * SINAD, ENOB, THD, SFDR of a sine record (IEEE 1241 sections 7-8).
  * Spectrum: 4-term Blackman-Harris window, FFTW; a tone takes +-4 bins.
  * @param fsr  full-scale range (hi - lo) in the unit of x, or 0.
- * @return as sscope_sine_fit4(); -ERANGE for samples beyond 2^+-250.
+ * @return as sscope_adc_sine_fit4(); -ERANGE for samples beyond 2^+-250.
  */
 int sscope_adc_dynamic_test(const double *x, size_t n, double rate_hz,
 			    double fsr, struct sscope_adc_dynamic *res);
@@ -484,6 +471,7 @@ struct sscope_adc_hist_quality {
 int sscope_adc_histogram_quality(const int64_t *codes, size_t n,
 				 double dnl_tol_lsb,
 				 struct sscope_adc_hist_quality *q);
+
 
 #ifdef __cplusplus
 }

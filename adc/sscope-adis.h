@@ -19,7 +19,7 @@
 #ifndef SSCOPE_ADIS_H
 #define SSCOPE_ADIS_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -38,7 +38,7 @@
 #ifndef SSCOPE_SPIADC_H
 #define SSCOPE_SPIADC_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -62,6 +62,6 @@ double ssc_totdev_edf(int alpha, size_t m, size_t n_phase);
 void ssc_allan_force_contiguous(struct sscope_allan *plan, bool on);
 
 /* Difference order and whether a deviation is a "modified" one */
-int ssc_dev_order(enum sscope_dev dev);
+int ssc_dev_order(enum sscope_allan_dev dev);
 
 #endif

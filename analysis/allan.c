@@ -199,30 +199,30 @@ static inline double term(int d, const double *x, size_t i, size_t m)
 /* Names, grids, limits                                                */
 /* ------------------------------------------------------------------ */
 
-static const char *const dev_names[SSCOPE_DEV_COUNT_] = {
+static const char *const dev_names[SSCOPE_ALLAN_DEV_COUNT_] = {
 	"oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev"
 };
 
-const char *sscope_dev_name(enum sscope_dev dev)
+const char *sscope_allan_dev_name(enum sscope_allan_dev dev)
 {
-	return (unsigned)dev < SSCOPE_DEV_COUNT_ ? dev_names[dev] : "";
+	return (unsigned)dev < SSCOPE_ALLAN_DEV_COUNT_ ? dev_names[dev] : "";
 }
 
-int sscope_dev_parse(const char *name, enum sscope_dev *dev)
+int sscope_allan_dev_parse(const char *name, enum sscope_allan_dev *dev)
 {
 	if (!name || !dev)
 		return -EINVAL;
-	for (int i = 0; i < SSCOPE_DEV_COUNT_; i++)
+	for (int i = 0; i < SSCOPE_ALLAN_DEV_COUNT_; i++)
 		if (!ssc_strcasecmp(name, dev_names[i])) {
-			*dev = (enum sscope_dev)i;
+			*dev = (enum sscope_allan_dev)i;
 			return 0;
 		}
 	return -EINVAL;
 }
 
-int ssc_dev_order(enum sscope_dev dev)
+int ssc_dev_order(enum sscope_allan_dev dev)
 {
-	return dev == SSCOPE_DEV_HDEV || dev == SSCOPE_DEV_OHDEV ? 3 : 2;
+	return dev == SSCOPE_ALLAN_DEV_HDEV || dev == SSCOPE_ALLAN_DEV_OHDEV ? 3 : 2;
 }
 
 enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
@@ -230,9 +230,9 @@ enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
 {
 	if (input != SSCOPE_ALLAN_ANGLE)
 		return q;
-	return q == SSCOPE_QTY_ANGLE ? SSCOPE_QTY_ANGULAR_RATE :
-	       q == SSCOPE_QTY_VELOCITY ? SSCOPE_QTY_ACCELERATION :
-					  SSCOPE_QTY_UNKNOWN;
+	return q == SSCOPE_QUANTITY_ANGLE ? SSCOPE_QUANTITY_ANGULAR_RATE :
+	       q == SSCOPE_QUANTITY_VELOCITY ? SSCOPE_QUANTITY_ACCELERATION :
+					  SSCOPE_QUANTITY_UNKNOWN;
 }
 
 size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
@@ -240,16 +240,16 @@ size_t sscope_allan_n_phase(enum sscope_allan_input input, size_t n)
 	return input == SSCOPE_ALLAN_ANGLE ? n : n + 1;
 }
 
-size_t sscope_allan_max_m(enum sscope_dev dev, size_t np)
+size_t sscope_allan_max_m(enum sscope_allan_dev dev, size_t np)
 {
 	if (np < 3)
 		return 0;
 	switch (dev) {
-	case SSCOPE_DEV_MDEV:
-	case SSCOPE_DEV_TDEV:
+	case SSCOPE_ALLAN_DEV_MDEV:
+	case SSCOPE_ALLAN_DEV_TDEV:
 		return np / 3;
-	case SSCOPE_DEV_HDEV:
-	case SSCOPE_DEV_OHDEV:
+	case SSCOPE_ALLAN_DEV_HDEV:
+	case SSCOPE_ALLAN_DEV_OHDEV:
 		return (np - 1) / 3;
 	default:
 		return (np - 1) / 2;
@@ -270,12 +270,12 @@ static size_t round5(size_t m)
 	return (m + q / 2) / q * q;
 }
 
-int sscope_allan_grid(enum sscope_tau_grid grid, size_t m_max, size_t *m,
+int sscope_allan_grid(enum sscope_allan_tau_grid grid, size_t m_max, size_t *m,
 		      size_t cap, size_t *count)
 {
 	size_t n = 0, last = 0;
 
-	if (!count || (unsigned)grid > SSCOPE_TAUS_ALL)
+	if (!count || (unsigned)grid > SSCOPE_ALLAN_TAUS_ALL)
 		return -EINVAL;
 #define PUT(v)                                                                \
 	do {                                                                  \
@@ -287,11 +287,11 @@ int sscope_allan_grid(enum sscope_tau_grid grid, size_t m_max, size_t *m,
 		}                                                             \
 	} while (0)
 	switch (grid) {
-	case SSCOPE_TAUS_OCTAVE:
+	case SSCOPE_ALLAN_TAUS_OCTAVE:
 		for (size_t v = 1; v && v <= m_max; v <<= 1)
 			PUT(v);
 		break;
-	case SSCOPE_TAUS_DECADE:
+	case SSCOPE_ALLAN_TAUS_DECADE:
 		for (size_t dec = 1; dec && dec <= m_max; dec *= 10) {
 			PUT(dec);
 			PUT(2 * dec);
@@ -300,11 +300,11 @@ int sscope_allan_grid(enum sscope_tau_grid grid, size_t m_max, size_t *m,
 				break;
 		}
 		break;
-	case SSCOPE_TAUS_ALL:
+	case SSCOPE_ALLAN_TAUS_ALL:
 		for (size_t v = 1; v <= m_max; v++)
 			PUT(v);
 		break;
-	case SSCOPE_TAUS_DENSE:
+	case SSCOPE_ALLAN_TAUS_DENSE:
 		for (int k = 0;; k++) {
 			double f = pow(10.0, k / 10.0);
 			size_t v;
@@ -403,7 +403,7 @@ int sscope_allan_new(struct sscope_allan **plan,
 	if (!plan)
 		return -EINVAL;
 	*plan = NULL;
-	if (n_max == 0 || (opts && ((unsigned)opts->dev >= SSCOPE_DEV_COUNT_ ||
+	if (n_max == 0 || (opts && ((unsigned)opts->dev >= SSCOPE_ALLAN_DEV_COUNT_ ||
 				    opts->input > SSCOPE_ALLAN_ANGLE ||
 				    !(opts->ci_level < 1) ||
 				    isnan(opts->ci_level))))
@@ -1117,7 +1117,7 @@ static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
  * (the caller carries the last identification).  mvar: the point's
  * modified variance (MDEV/TDEV), else NaN.
  */
-static int point_alpha(const struct sscope_allan *p, enum sscope_dev dev,
+static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 		       bool angle, bool gaps, size_t m, size_t terms,
 		       double mvar, unsigned me, int *alpha)
 {
@@ -1142,7 +1142,7 @@ static int point_alpha(const struct sscope_allan *p, enum sscope_dev dev,
 	}
 	few.n_points = (double)terms;
 	few.m = m;
-	few.min_averages = dev == SSCOPE_DEV_TOTDEV ? SSC_B1_MIN_AVERAGES_TOTDEV :
+	few.min_averages = dev == SSCOPE_ALLAN_DEV_TOTDEV ? SSC_B1_MIN_AVERAGES_TOTDEV :
 						      SSC_B1_MIN_AVERAGES;
 	few.rn = NAN;
 	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
@@ -1153,17 +1153,17 @@ static int point_alpha(const struct sscope_allan *p, enum sscope_dev dev,
 }
 
 /* samples needed for one term at averaging factor m */
-static size_t min_samples(enum sscope_dev dev, size_t m, bool angle)
+static size_t min_samples(enum sscope_allan_dev dev, size_t m, bool angle)
 {
 	size_t np;
 
 	switch (dev) {
-	case SSCOPE_DEV_MDEV:
-	case SSCOPE_DEV_TDEV:
+	case SSCOPE_ALLAN_DEV_MDEV:
+	case SSCOPE_ALLAN_DEV_TDEV:
 		np = 3 * m;
 		break;
-	case SSCOPE_DEV_HDEV:
-	case SSCOPE_DEV_OHDEV:
+	case SSCOPE_ALLAN_DEV_HDEV:
+	case SSCOPE_ALLAN_DEV_OHDEV:
 		np = 3 * m + 1;
 		break;
 	default:
@@ -1173,23 +1173,23 @@ static size_t min_samples(enum sscope_dev dev, size_t m, bool angle)
 	return angle ? np : np - 1;
 }
 
-static double point_edf(enum sscope_dev dev, int alpha, size_t m, size_t npe,
+static double point_edf(enum sscope_allan_dev dev, int alpha, size_t m, size_t npe,
 			size_t stride)
 {
 	int d = ssc_dev_order(dev);
 
 	switch (dev) {
-	case SSCOPE_DEV_MDEV:
-	case SSCOPE_DEV_TDEV:
+	case SSCOPE_ALLAN_DEV_MDEV:
+	case SSCOPE_ALLAN_DEV_TDEV:
 		return sscope_allan_edf(alpha, 2, m, npe, true, 1);
-	case SSCOPE_DEV_TOTDEV:
+	case SSCOPE_ALLAN_DEV_TOTDEV:
 		return ssc_totdev_edf(alpha, m, npe);
 	default:
 		return sscope_allan_edf(alpha, d, m, npe, false, stride);
 	}
 }
 
-static int clamp_alpha(enum sscope_dev dev, int a)
+static int clamp_alpha(enum sscope_allan_dev dev, int a)
 {
 	int lo = ssc_dev_order(dev) == 3 ? -4 : -2;
 
@@ -1202,7 +1202,7 @@ static int compute(struct sscope_allan *p, const double *y,
 		   struct sscope_allan_point *pts, size_t *n_pts,
 		   struct sscope_diag *diag)
 {
-	const enum sscope_dev dev = p ? p->opts.dev : SSCOPE_DEV_OADEV;
+	const enum sscope_allan_dev dev = p ? p->opts.dev : SSCOPE_ALLAN_DEV_OADEV;
 	const bool angle = p && p->opts.input == SSCOPE_ALLAN_ANGLE;
 	const int d = ssc_dev_order(dev);
 	struct src s = { 0 };
@@ -1235,7 +1235,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	if (nacc == 0)
 		return ssc_diag(diag, -EDOM,
 				"too short for %s: %zu sample%s (averaging factor %zu needs %zu)",
-				sscope_dev_name(dev), n, n == 1 ? "" : "s",
+				sscope_allan_dev_name(dev), n, n == 1 ? "" : "s",
 				n_m ? m[0] : (size_t)1,
 				min_samples(dev, n_m ? m[0] : 1, angle));
 	s.y = y;
@@ -1255,10 +1255,10 @@ static int compute(struct sscope_allan *p, const double *y,
 		goto out;
 	}
 	strided = p->opts.stride_div > 0 &&
-		  (dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV);
+		  (dev == SSCOPE_ALLAN_DEV_OADEV || dev == SSCOPE_ALLAN_DEV_OHDEV);
 	/* layout: tiled only for fully overlapping OADEV / OHDEV */
 	p->shift = 0;
-	if ((dev == SSCOPE_DEV_OADEV || dev == SSCOPE_DEV_OHDEV) && !strided &&
+	if ((dev == SSCOPE_ALLAN_DEV_OADEV || dev == SSCOPE_ALLAN_DEV_OHDEV) && !strided &&
 	    !p->contiguous)
 		p->shift = pick_shift(p->np);
 	/* every long m must be a multiple of S */
@@ -1288,7 +1288,7 @@ static int compute(struct sscope_allan *p, const double *y,
 		goto out;
 	}
 	gaps = nnan > 0;
-	if (gaps && dev == SSCOPE_DEV_TOTDEV) {
+	if (gaps && dev == SSCOPE_ALLAN_DEV_TOTDEV) {
 		rc = ssc_diag(diag, -EDOM,
 			      "totdev needs a record without gaps (%zu NaN samples)",
 			      nnan);
@@ -1326,8 +1326,8 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 			size_t mj = m[j];
 
 			switch (dev) {
-			case SSCOPE_DEV_OADEV:
-			case SSCOPE_DEV_OHDEV: {
+			case SSCOPE_ALLAN_DEV_OADEV:
+			case SSCOPE_ALLAN_DEV_OHDEV: {
 				size_t st = strided ? mj / p->opts.stride_div : 1;
 
 				sum_strided(p, angle, gaps, d, mj, st ? st : 1,
@@ -1335,18 +1335,18 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 					    &used[j], &skipped[j]);
 				break;
 			}
-			case SSCOPE_DEV_ADEV:
-			case SSCOPE_DEV_HDEV:
+			case SSCOPE_ALLAN_DEV_ADEV:
+			case SSCOPE_ALLAN_DEV_HDEV:
 				sum_strided(p, angle, gaps, d, mj, mj,
 					    p->np - (size_t)d * mj, &acc[j],
 					    &used[j], &skipped[j]);
 				break;
-			case SSCOPE_DEV_MDEV:
-			case SSCOPE_DEV_TDEV:
+			case SSCOPE_ALLAN_DEV_MDEV:
+			case SSCOPE_ALLAN_DEV_TDEV:
 				sum_mdev(p, angle, gaps, mj, &acc[j], &used[j],
 					 &skipped[j]);
 				break;
-			case SSCOPE_DEV_TOTDEV:
+			case SSCOPE_ALLAN_DEV_TOTDEV:
 				sum_totdev(p, mj, &acc[j], &used[j]);
 				break;
 			default:
@@ -1382,7 +1382,7 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		pt->tau_s = md / rate_hz;
 		pt->terms = used[j];
 		pt->skipped = skipped[j];
-		if (dev == SSCOPE_DEV_ADEV || dev == SSCOPE_DEV_HDEV)
+		if (dev == SSCOPE_ALLAN_DEV_ADEV || dev == SSCOPE_ALLAN_DEV_HDEV)
 			st = m[j];
 		else if (strided)
 			st = m[j] / p->opts.stride_div ? m[j] / p->opts.stride_div : 1;
@@ -1393,15 +1393,15 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			continue;
 		}
 		switch (dev) {
-		case SSCOPE_DEV_MDEV:
-		case SSCOPE_DEV_TDEV:
+		case SSCOPE_ALLAN_DEV_MDEV:
+		case SSCOPE_ALLAN_DEV_TDEV:
 			var = sum / (2 * md * md * md * md * (double)used[j]);
 			break;
-		case SSCOPE_DEV_HDEV:
-		case SSCOPE_DEV_OHDEV:
+		case SSCOPE_ALLAN_DEV_HDEV:
+		case SSCOPE_ALLAN_DEV_OHDEV:
 			var = sum / (6 * md * md * (double)used[j]);
 			break;
-		case SSCOPE_DEV_TOTDEV:
+		case SSCOPE_ALLAN_DEV_TOTDEV:
 			var = sum / (2 * md * md * (double)(p->np - 2));
 			break;
 		default:
@@ -1409,13 +1409,13 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			break;
 		}
 		pt->dev = sqrt(var > 0 ? var : 0);
-		if (dev == SSCOPE_DEV_TDEV)
+		if (dev == SSCOPE_ALLAN_DEV_TDEV)
 			pt->dev *= pt->tau_s / sqrt(3.0);
 		/* noise type */
 		if (!p->opts.alpha_fixed &&
 		    isfinite(var) && /* overflowed: redone scaled */
 		    point_alpha(p, dev, angle, gaps, m[j], used[j],
-				dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV ?
+				dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV ?
 					var :
 					(double)NAN,
 				me, &alph[j]) == 0)
@@ -1447,15 +1447,15 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			continue;
 		pt->alpha = alpha;
 		/* phase points equivalent to the terms actually used */
-		if (dev == SSCOPE_DEV_MDEV || dev == SSCOPE_DEV_TDEV)
+		if (dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV)
 			npe = used[j] + 3 * m[j] - 1;
-		else if (dev == SSCOPE_DEV_TOTDEV)
+		else if (dev == SSCOPE_ALLAN_DEV_TOTDEV)
 			npe = p->np;
 		else
 			npe = (used[j] - 1) * st + (size_t)d * m[j] + 1;
 		pt->edf = point_edf(dev, alpha, m[j], npe, st);
-		pt->edf_full = st == 1 || dev == SSCOPE_DEV_ADEV ||
-					       dev == SSCOPE_DEV_HDEV ?
+		pt->edf_full = st == 1 || dev == SSCOPE_ALLAN_DEV_ADEV ||
+					       dev == SSCOPE_ALLAN_DEV_HDEV ?
 				       pt->edf :
 				       point_edf(dev, alpha, m[j],
 						 p->np - 0, 1);
@@ -1595,7 +1595,7 @@ static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 
 static int grid_points(struct sscope_allan *p, const double *x,
 		       size_t stride, size_t n, double rate_hz,
-		       enum sscope_tau_grid grid,
+		       enum sscope_allan_tau_grid grid,
 		       struct sscope_allan_point **pts, size_t *n_pts,
 		       struct sscope_diag *diag)
 {
@@ -1610,7 +1610,7 @@ static int grid_points(struct sscope_allan *p, const double *x,
 	if (cnt == 0)
 		return ssc_diag(diag, -EDOM,
 				"too short for %s: %zu sample%s (averaging factor 1 needs %zu)",
-				sscope_dev_name(p->opts.dev), n,
+				sscope_allan_dev_name(p->opts.dev), n,
 				n == 1 ? "" : "s",
 				min_samples(p->opts.dev, 1,
 					    p->opts.input == SSCOPE_ALLAN_ANGLE));
@@ -1640,14 +1640,14 @@ static int dense_subset(struct sscope_allan_result *res)
 	size_t cnt, *m, k = 0;
 	const size_t mmax = res->n_points ? res->points[res->n_points - 1].m : 0;
 
-	sscope_allan_grid(SSCOPE_TAUS_DENSE, mmax, NULL, 0, &cnt);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, NULL, 0, &cnt);
 	m = ssc_alloc_array(cnt ? cnt : 1, sizeof(size_t));
 	res->oadev = ssc_alloc_array(cnt ? cnt : 1, sizeof(*res->oadev));
 	if (!m || !res->oadev) {
 		free(m);
 		return -ENOMEM;
 	}
-	sscope_allan_grid(SSCOPE_TAUS_DENSE, mmax, m, cnt, &cnt);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, m, cnt, &cnt);
 	res->n_oadev = 0;
 	for (size_t j = 0; j < res->n_points && k < cnt; j++) {
 		while (k < cnt && m[k] < res->points[j].m)
@@ -1660,7 +1660,7 @@ static int dense_subset(struct sscope_allan_result *res)
 }
 
 int sscope_allan_analyze(const double *x, size_t stride, size_t n,
-			 double rate_hz, enum sscope_tau_grid grid,
+			 double rate_hz, enum sscope_allan_tau_grid grid,
 			 const struct sscope_allan_opts *aopts,
 			 const struct sscope_noise_fit_opts *fopts,
 			 struct sscope_allan_result **resp,
@@ -1669,7 +1669,7 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	struct sscope_allan_opts o = { 0 };
 	struct sscope_allan *p = NULL;
 	struct sscope_allan_result *res;
-	enum sscope_tau_grid fit_grid;
+	enum sscope_allan_tau_grid fit_grid;
 	int rc;
 
 	if (!resp || !x || n == 0)
@@ -1691,19 +1691,19 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	/* the fit of an all-tau grid uses its dense points: neighbouring taus
 	 * are almost fully correlated, add nothing to the fit and would make
 	 * its covariance (quadratic in the points) the whole cost */
-	fit_grid = grid == SSCOPE_TAUS_ALL ? SSCOPE_TAUS_DENSE : grid;
-	if ((o.dev == SSCOPE_DEV_OADEV && fit_grid == grid) ||
+	fit_grid = grid == SSCOPE_ALLAN_TAUS_ALL ? SSCOPE_ALLAN_TAUS_DENSE : grid;
+	if ((o.dev == SSCOPE_ALLAN_DEV_OADEV && fit_grid == grid) ||
 	    (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
-	} else if (o.dev == SSCOPE_DEV_OADEV) {
+	} else if (o.dev == SSCOPE_ALLAN_DEV_OADEV) {
 		rc = dense_subset(res);
 		if (rc)
 			goto fail;
 	} else {
 		struct sscope_diag d2;
 
-		p->opts.dev = SSCOPE_DEV_OADEV;
+		p->opts.dev = SSCOPE_ALLAN_DEV_OADEV;
 		p->opts.stride_div = 0;
 		rc = grid_points(p, x, stride, n, rate_hz, fit_grid,
 				 &res->oadev, &res->n_oadev, &d2);

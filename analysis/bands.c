@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
-		      struct sscope_band *band)
+int sscope_psd_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
+			  struct sscope_psd_band *band)
 {
 	if (!band || !(lo_hz >= 0) || !(hi_hz > lo_hz) || !isfinite(hi_hz) ||
 	    !(nyquist_hz > 0))
@@ -25,25 +25,25 @@ int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
 	return 0;
 }
 
-int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
-				 unsigned fraction, struct sscope_band *bands,
-				 size_t max, size_t *n_found)
+int sscope_psd_spectrum_octave_bands(const struct sscope_psd_spectrum *s,
+				     unsigned fraction, struct sscope_psd_band *bands,
+				     size_t max, size_t *n_found)
 {
-	struct sscope_band *all;
+	struct sscope_psd_band *all;
 	size_t na, k = 0;
 	int rc;
 
 	if (!s || !n_found || !(s->bin_hz > 0) || !(s->fs_hz > 0))
 		return -EINVAL;
 	*n_found = 0;
-	rc = sscope_octave_bands(fraction, s->bin_hz / 2, s->fs_hz / 2, NULL, 0,
-				 &na);
+	rc = sscope_psd_octave_bands(fraction, s->bin_hz / 2, s->fs_hz / 2, NULL, 0,
+				     &na);
 	if (rc)
 		return rc;
 	all = ssc_alloc_array(na ? na : 1, sizeof(*all));
 	if (!all)
 		return -ENOMEM;
-	sscope_octave_bands(fraction, s->bin_hz / 2, s->fs_hz / 2, all, na, &na);
+	sscope_psd_octave_bands(fraction, s->bin_hz / 2, s->fs_hz / 2, all, na, &na);
 	for (size_t i = 0; i < na; i++) {
 		if (all[i].hi_hz - all[i].lo_hz < s->bin_hz)
 			continue;

@@ -56,7 +56,7 @@ static double grav(const struct sscope_budget_params *p)
 
 static double radius(const struct sscope_budget_params *p)
 {
-	return p->radius_m > 0 ? p->radius_m : SSCOPE_EARTH_RADIUS_M;
+	return p->radius_m > 0 ? p->radius_m : SSCOPE_BUDGET_EARTH_RADIUS_M;
 }
 
 double sscope_budget_schuler_rad_s(const struct sscope_budget_params *p)
@@ -403,14 +403,14 @@ unsigned sscope_budget_take_noise(struct sscope_budget_params *p,
 				  enum sscope_quantity q, double n_si,
 				  double b_si, unsigned keep, bool *used)
 {
-	bool gyro = q == SSCOPE_QTY_ANGULAR_RATE;
+	bool gyro = q == SSCOPE_QUANTITY_ANGULAR_RATE;
 	int bias = gyro ? SSCOPE_BUDGET_GYRO_BIAS : SSCOPE_BUDGET_ACCEL_BIAS;
 	int walk = gyro ? SSCOPE_BUDGET_ARW : SSCOPE_BUDGET_VRW;
 	unsigned raised = 0;
 
 	if (used)
 		*used = false;
-	if (!p || (!gyro && q != SSCOPE_QTY_ACCELERATION))
+	if (!p || (!gyro && q != SSCOPE_QUANTITY_ACCELERATION))
 		return 0;
 	if (!(keep & (1u << walk))) {
 		if (raise_to(gyro ? &p->arw_rad_sqrt_s : &p->vrw_m_s_sqrt_s, n_si))
@@ -432,12 +432,12 @@ unsigned sscope_budget_take_calib(struct sscope_budget_params *p,
 				  const struct sscope_calib_triad *c,
 				  double noise_density, unsigned keep)
 {
-	bool gyro = q == SSCOPE_QTY_ANGULAR_RATE;
+	bool gyro = q == SSCOPE_QUANTITY_ANGULAR_RATE;
 	int bias = gyro ? SSCOPE_BUDGET_GYRO_BIAS : SSCOPE_BUDGET_ACCEL_BIAS;
 	int walk = gyro ? SSCOPE_BUDGET_ARW : SSCOPE_BUDGET_VRW;
 	unsigned raised = 0;
 
-	if (!p || !c || (!gyro && q != SSCOPE_QTY_ACCELERATION))
+	if (!p || !c || (!gyro && q != SSCOPE_QUANTITY_ACCELERATION))
 		return 0;
 	for (int k = 0; k < 3; k++) {
 		/* bias sd in input units -> output SI through the scale */

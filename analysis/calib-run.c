@@ -498,7 +498,7 @@ int sscope_calib_apply_capture(struct sscope_capture *cap,
 			return ssc_diag(diag, -EINVAL, "unknown unit '%s'",
 					t[i].input_unit);
 		for (int j = 0; j < 3; j++) {
-			const struct sscope_column *col = &cap->channels[idx[j]].col;
+			const struct sscope_capture_column *col = &cap->channels[idx[j]].col;
 
 			if (col->unit_label[0] && *t[i].input_unit &&
 			    !sscope_unit_compatible(&col->unit, &fu))
@@ -532,7 +532,7 @@ int sscope_calib_apply_capture(struct sscope_capture *cap,
 				   cap->channels[idx[2]].data, 1, cap->n,
 				   c.has_gsens ? a : NULL, 1);
 		for (int j = 0; j < 3; j++) {
-			struct sscope_channel *ch = &cap->channels[idx[j]];
+			struct sscope_capture_channel *ch = &cap->channels[idx[j]];
 			char *name = ssc_strdup(ch->col.name);
 			size_t fi = ch->col.index;
 			int e = name ? sscope_capture_set_channel(cap, (size_t)idx[j],

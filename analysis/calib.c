@@ -1544,8 +1544,8 @@ int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,
 
 #define DPH (PI / 180 / 3600)            /* deg/h in rad/s */
 #define DPSH (PI / 180 / 60)             /* deg/sqrt(h) in rad/sqrt(s) */
-#define UG (SSCOPE_GRAVITY_STD * 1e-6)   /* ug in m/s^2 */
-#define DPHG (DPH / SSCOPE_GRAVITY_STD)  /* deg/h/g in rad/s per m/s^2 */
+#define UG (SSCOPE_CALIB_GRAVITY_STD * 1e-6)   /* ug in m/s^2 */
+#define DPHG (DPH / SSCOPE_CALIB_GRAVITY_STD)  /* deg/h/g in rad/s per m/s^2 */
 
 /*
  * Typical performance by technology, orders of magnitude only.  Gyros after
@@ -1557,31 +1557,31 @@ int sscope_calib_constant_segments(const double *r, size_t stride, size_t n,
  * grade).  The ranges were recalled, not copied from the books: they are
  * labelled "typical" in every output and are no specification.
  */
-static const struct sscope_grade grades[] = {
-	{ "ring laser gyro (RLG)", SSCOPE_QTY_ANGULAR_RATE,
+static const struct sscope_calib_class grades[] = {
+	{ "ring laser gyro (RLG)", SSCOPE_QUANTITY_ANGULAR_RATE,
 	  0.001 * DPH, 10 * DPH, 1e-6, 100e-6, 0.0005 * DPSH, 0.01 * DPSH,
 	  0, 0.01 * DPHG },
-	{ "fibre optic gyro (FOG)", SSCOPE_QTY_ANGULAR_RATE,
+	{ "fibre optic gyro (FOG)", SSCOPE_QUANTITY_ANGULAR_RATE,
 	  0.01 * DPH, 50 * DPH, 10e-6, 1000e-6, 0.001 * DPSH, 0.5 * DPSH,
 	  0, 1 * DPHG },
-	{ "ceramic vibrating-structure gyro", SSCOPE_QTY_ANGULAR_RATE,
+	{ "ceramic vibrating-structure gyro", SSCOPE_QUANTITY_ANGULAR_RATE,
 	  360 * DPH, 3600 * DPH, 5000e-6, 50000e-6, 0.5 * DPSH, 5 * DPSH,
 	  36 * DPHG, 360 * DPHG },
-	{ "silicon vibrating-structure gyro (MEMS)", SSCOPE_QTY_ANGULAR_RATE,
+	{ "silicon vibrating-structure gyro (MEMS)", SSCOPE_QUANTITY_ANGULAR_RATE,
 	  1 * DPH, 1800 * DPH, 100e-6, 20000e-6, 0.01 * DPSH, 1 * DPSH,
 	  3.6 * DPHG, 360 * DPHG },
-	{ "navigation-grade accelerometer", SSCOPE_QTY_ACCELERATION,
+	{ "navigation-grade accelerometer", SSCOPE_QUANTITY_ACCELERATION,
 	  10 * UG, 100 * UG, 10e-6, 200e-6, 5 * UG, 30 * UG, 0, 0 },
-	{ "intermediate-grade accelerometer", SSCOPE_QTY_ACCELERATION,
+	{ "intermediate-grade accelerometer", SSCOPE_QUANTITY_ACCELERATION,
 	  100 * UG, 1000 * UG, 100e-6, 1000e-6, 20 * UG, 100 * UG, 0, 0 },
-	{ "tactical-grade accelerometer", SSCOPE_QTY_ACCELERATION,
+	{ "tactical-grade accelerometer", SSCOPE_QUANTITY_ACCELERATION,
 	  1000 * UG, 10000 * UG, 300e-6, 3000e-6, 50 * UG, 300 * UG, 0, 0 },
-	{ "consumer/automotive accelerometer", SSCOPE_QTY_ACCELERATION,
+	{ "consumer/automotive accelerometer", SSCOPE_QUANTITY_ACCELERATION,
 	  10000 * UG, 100000 * UG, 1000e-6, 30000e-6, 100 * UG, 1000 * UG, 0,
 	  0 },
 };
 
-const struct sscope_grade *sscope_calib_grades(size_t *n)
+const struct sscope_calib_class *sscope_calib_grades(size_t *n)
 {
 	if (n)
 		*n = sizeof(grades) / sizeof(grades[0]);
@@ -1603,11 +1603,11 @@ int sscope_calib_grade(enum sscope_quantity q, double bias, double sf,
 		       double noise, double gsens, double *distance)
 {
 	size_t n, best_i = 0;
-	const struct sscope_grade *g = sscope_calib_grades(&n);
+	const struct sscope_calib_class *g = sscope_calib_grades(&n);
 	double best = INFINITY;
 	int used = 0;
 
-	if (q != SSCOPE_QTY_ANGULAR_RATE && q != SSCOPE_QTY_ACCELERATION)
+	if (q != SSCOPE_QUANTITY_ANGULAR_RATE && q != SSCOPE_QUANTITY_ACCELERATION)
 		return -EINVAL;
 	used = (isfinite(bias) && bias > 0) + (isfinite(sf) && sf > 0) +
 	       (isfinite(noise) && noise > 0) + (isfinite(gsens) && gsens > 0);

@@ -264,7 +264,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 		}
 	}
 	if (!isnan(o->latitude_rad))
-		r->earth_rate_rad_s = -sgn * SSCOPE_WGS84_OMEGA *
+		r->earth_rate_rad_s = -sgn * SSCOPE_NAV_WGS84_OMEGA *
 				      sin(o->latitude_rad);
 	for (size_t j = 0; j < cnt; j++) {
 		struct sscope_heading_stop *s = &r->stops[j];

@@ -8,9 +8,9 @@
 
 #include <math.h>
 
-int sscope_intervals_sample(const double *t_s, double rate_hz, size_t n,
-			    const double *rows, size_t n_rows, size_t n_val,
-			    double *const *out)
+int sscope_timing_intervals_sample(const double *t_s, double rate_hz, size_t n,
+				   const double *rows, size_t n_rows, size_t n_val,
+				   double *const *out)
 {
 	size_t w = 2 + n_val;
 

@@ -159,7 +159,7 @@ int sscope_model_fog_coil(double radius_m, double turns, double wavelength_m,
 	o->wavelength_m = wavelength_m;
 	o->fibre_length_m = 2 * PI * radius_m * turns;
 	o->scale_factor_s = 8 * PI * PI * turns * radius_m * radius_m /
-			    (wavelength_m * SSCOPE_SPEED_OF_LIGHT);
+			    (wavelength_m * SSCOPE_MODEL_SPEED_OF_LIGHT);
 	o->max_rate_rad_s = (PI / 2) / o->scale_factor_s;
 	return 0;
 }

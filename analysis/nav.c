@@ -31,20 +31,20 @@
 #define PI 3.14159265358979323846
 
 static const struct sscope_nav_wgs84 wgs84 = {
-	.a = SSCOPE_WGS84_A,
-	.f = 1 / SSCOPE_WGS84_INV_F,
+	.a = SSCOPE_NAV_WGS84_A,
+	.f = 1 / SSCOPE_NAV_WGS84_INV_F,
 	/* b = a (1 - f) */
-	.b = SSCOPE_WGS84_A * (1 - 1 / SSCOPE_WGS84_INV_F),
+	.b = SSCOPE_NAV_WGS84_A * (1 - 1 / SSCOPE_NAV_WGS84_INV_F),
 	/* e^2 = f (2 - f) */
-	.e2 = (1 / SSCOPE_WGS84_INV_F) * (2 - 1 / SSCOPE_WGS84_INV_F),
+	.e2 = (1 / SSCOPE_NAV_WGS84_INV_F) * (2 - 1 / SSCOPE_NAV_WGS84_INV_F),
 	/* k = b gamma_p / (a gamma_e) - 1 */
-	.k = (1 - 1 / SSCOPE_WGS84_INV_F) * SSCOPE_WGS84_GAMMA_P /
-		     SSCOPE_WGS84_GAMMA_E -
+	.k = (1 - 1 / SSCOPE_NAV_WGS84_INV_F) * SSCOPE_NAV_WGS84_GAMMA_P /
+		     SSCOPE_NAV_WGS84_GAMMA_E -
 	     1,
 	/* m = omega^2 a^2 b / GM */
-	.m = SSCOPE_WGS84_OMEGA * SSCOPE_WGS84_OMEGA * SSCOPE_WGS84_A *
-	     SSCOPE_WGS84_A * SSCOPE_WGS84_A * (1 - 1 / SSCOPE_WGS84_INV_F) /
-	     SSCOPE_WGS84_GM,
+	.m = SSCOPE_NAV_WGS84_OMEGA * SSCOPE_NAV_WGS84_OMEGA * SSCOPE_NAV_WGS84_A *
+	     SSCOPE_NAV_WGS84_A * SSCOPE_NAV_WGS84_A * (1 - 1 / SSCOPE_NAV_WGS84_INV_F) /
+	     SSCOPE_NAV_WGS84_GM,
 };
 
 const struct sscope_nav_wgs84 *sscope_nav_wgs84(void)
@@ -262,7 +262,7 @@ void sscope_nav_dcm_ecef_to_wander(double lat, double lon, double alpha,
 
 void sscope_nav_dcm_eci_to_ecef(double t_s, double C[3][3])
 {
-	double a = SSCOPE_WGS84_OMEGA * t_s, s = sin(a), c = cos(a);
+	double a = SSCOPE_NAV_WGS84_OMEGA * t_s, s = sin(a), c = cos(a);
 
 	C[0][0] = c;
 	C[0][1] = s;
@@ -492,7 +492,7 @@ static void radii_sin(double s, double *r_n, double *r_e, double *sw_out)
 /* normal gravity from s2 = sin^2(lat) and sw = sqrt(1 - e^2 s2) */
 static double gravity_sin(double s2, double sw, double h)
 {
-	double g0 = SSCOPE_WGS84_GAMMA_E * (1 + wgs84.k * s2) / sw;
+	double g0 = SSCOPE_NAV_WGS84_GAMMA_E * (1 + wgs84.k * s2) / sw;
 
 	return g0 * (1 - 2 / wgs84.a * (1 + wgs84.f + wgs84.m - 2 * wgs84.f * s2) * h +
 		     3 * h * h / (wgs84.a * wgs84.a));
@@ -524,9 +524,9 @@ void sscope_nav_rates_at(const struct sscope_nav_earth *e, double h,
 			 const double v[3], double w_ie[3], double w_en[3])
 {
 	if (w_ie) {
-		w_ie[0] = SSCOPE_WGS84_OMEGA * e->cos_lat;
+		w_ie[0] = SSCOPE_NAV_WGS84_OMEGA * e->cos_lat;
 		w_ie[1] = 0;
-		w_ie[2] = -SSCOPE_WGS84_OMEGA * e->sin_lat;
+		w_ie[2] = -SSCOPE_NAV_WGS84_OMEGA * e->sin_lat;
 	}
 	if (w_en) {
 		w_en[0] = v[1] / (e->r_e_m + h);

@@ -174,8 +174,8 @@ static void truth_at(const struct traj *tr, double t, struct tp *p)
 	sscope_nav_dcm_ecef_to_ned(g.lat_rad, g.lon_rad, Cen);
 	mv(Cen, rd, p->v);
 	/* f = C_e^n (r'' + 2 Omega x r') - g^n */
-	fe[0] = rdd[0] - 2 * SSCOPE_WGS84_OMEGA * rd[1];
-	fe[1] = rdd[1] + 2 * SSCOPE_WGS84_OMEGA * rd[0];
+	fe[0] = rdd[0] - 2 * SSCOPE_NAV_WGS84_OMEGA * rd[1];
+	fe[1] = rdd[1] + 2 * SSCOPE_NAV_WGS84_OMEGA * rd[0];
 	fe[2] = rdd[2];
 	mv(Cen, fe, fn);
 	fn[2] -= sscope_nav_gravity(g.lat_rad, g.height_m);
@@ -193,7 +193,7 @@ static void truth_at(const struct traj *tr, double t, struct tp *p)
 		double jh[3] = { c * cl, c * sl, s };
 		double D = det3(jp, jl, jh);
 		double latd = det3(rd, jl, jh) / D, lond = det3(jp, rd, jh) / D;
-		double wie_e[3] = { 0, 0, SSCOPE_WGS84_OMEGA }, wie[3];
+		double wie_e[3] = { 0, 0, SSCOPE_NAV_WGS84_OMEGA }, wie[3];
 
 		/* omega_in = omega_ie + omega_en; omega_en from the rates */
 		mv(Cen, wie_e, wie);
@@ -500,13 +500,13 @@ static bool spec_ok(const struct sscope_sensor_spec *s)
 	for (size_t i = 0; i < sizeof(v) / sizeof(v[0]); i++)
 		if (!(v[i] >= 0) || !isfinite(v[i]))
 			return false;
-	return !(s->has & SSCOPE_SPEC_RANGE) || s->range > 0;
+	return !(s->has & SSCOPE_SENSOR_HAS_RANGE) || s->range > 0;
 }
 
 static bool has_noise(const struct sscope_sensor_spec *s)
 {
 	return s->q > 0 || s->n > 0 || s->b > 0 || s->k > 0 || s->r > 0 ||
-	       (s->has & SSCOPE_SPEC_RANGE);
+	       (s->has & SSCOPE_SENSOR_HAS_RANGE);
 }
 
 /* errors of a state against record k */
@@ -886,9 +886,9 @@ void sscope_navsim_budget(const struct sscope_navsim *ns,
 		if (ac.noise > 0)
 			ac.has |= SSCOPE_ADC_HAS_NOISE;
 		if (ss.n > 0)
-			ss.has |= SSCOPE_SPEC_N;
+			ss.has |= SSCOPE_SENSOR_HAS_N;
 		if (ss.sensitivity > 0)
-			ss.has |= SSCOPE_SPEC_SENSITIVITY | SSCOPE_SPEC_ZERO;
+			ss.has |= SSCOPE_SENSOR_HAS_SENSITIVITY | SSCOPE_SENSOR_HAS_ZERO;
 		if (sscope_adc_analyze(&ss, &ac, ns->fs, &an, NULL))
 			continue;
 		off = hypot(ac.offset / (ac.analog ? ss.sensitivity : 1), an.bias_bound);

@@ -53,57 +53,57 @@ struct wdef {
 	double a[5];
 };
 
-static const struct wdef wdefs[SSCOPE_WINDOW_COUNT_] = {
-	[SSCOPE_WINDOW_HANN] = { "hann", 2, { 0.5, 0.5 } },
-	[SSCOPE_WINDOW_HAMMING] = { "hamming", 2, { 0.54, 0.46 } },
-	[SSCOPE_WINDOW_BLACKMAN] = { "blackman", 3, { 0.42, 0.50, 0.08 } },
-	[SSCOPE_WINDOW_BLACKMANHARRIS] = { "blackmanharris", 4,
+static const struct wdef wdefs[SSCOPE_PSD_WINDOW_COUNT_] = {
+	[SSCOPE_PSD_WINDOW_HANN] = { "hann", 2, { 0.5, 0.5 } },
+	[SSCOPE_PSD_WINDOW_HAMMING] = { "hamming", 2, { 0.54, 0.46 } },
+	[SSCOPE_PSD_WINDOW_BLACKMAN] = { "blackman", 3, { 0.42, 0.50, 0.08 } },
+	[SSCOPE_PSD_WINDOW_BLACKMANHARRIS] = { "blackmanharris", 4,
 					   { 0.35875, 0.48829, 0.14128,
 					     0.01168 } },
-	[SSCOPE_WINDOW_FLATTOP] = { "flattop", 5,
+	[SSCOPE_PSD_WINDOW_FLATTOP] = { "flattop", 5,
 				    { 0.21557895, 0.41663158, 0.277263158,
 				      0.083578947, 0.006947368 } },
-	[SSCOPE_WINDOW_BOXCAR] = { "boxcar", 1, { 1 } },
+	[SSCOPE_PSD_WINDOW_BOXCAR] = { "boxcar", 1, { 1 } },
 };
 
 static const struct wdef boxcar1 = { "boxcar", 1, { 1 } };
 
 /* scipy returns ones for a window of one sample */
-static const struct wdef *wdef_of(enum sscope_window w, size_t n)
+static const struct wdef *wdef_of(enum sscope_psd_window w, size_t n)
 {
-	if ((unsigned)w >= SSCOPE_WINDOW_COUNT_)
+	if ((unsigned)w >= SSCOPE_PSD_WINDOW_COUNT_)
 		return NULL;
 	return n == 1 ? &boxcar1 : &wdefs[w];
 }
 
-const char *sscope_window_name(enum sscope_window w)
+const char *sscope_psd_window_name(enum sscope_psd_window w)
 {
-	return (unsigned)w < SSCOPE_WINDOW_COUNT_ ? wdefs[w].name : NULL;
+	return (unsigned)w < SSCOPE_PSD_WINDOW_COUNT_ ? wdefs[w].name : NULL;
 }
 
-int sscope_window_from_name(const char *name, enum sscope_window *w)
+int sscope_psd_window_from_name(const char *name, enum sscope_psd_window *w)
 {
 	if (!name || !w)
 		return -EINVAL;
-	for (unsigned i = 0; i < SSCOPE_WINDOW_COUNT_; i++)
+	for (unsigned i = 0; i < SSCOPE_PSD_WINDOW_COUNT_; i++)
 		if (!ssc_strcasecmp(name, wdefs[i].name)) {
-			*w = (enum sscope_window)i;
+			*w = (enum sscope_psd_window)i;
 			return 0;
 		}
 	if (!ssc_strcasecmp(name, "hanning")) {
-		*w = SSCOPE_WINDOW_HANN;
+		*w = SSCOPE_PSD_WINDOW_HANN;
 		return 0;
 	}
 	if (!ssc_strcasecmp(name, "rect") ||
 	    !ssc_strcasecmp(name, "rectangular") ||
 	    !ssc_strcasecmp(name, "boxcar")) {
-		*w = SSCOPE_WINDOW_BOXCAR;
+		*w = SSCOPE_PSD_WINDOW_BOXCAR;
 		return 0;
 	}
 	return -EINVAL;
 }
 
-int sscope_window_fill(enum sscope_window w, size_t n, double *out)
+int sscope_psd_window_fill(enum sscope_psd_window w, size_t n, double *out)
 {
 	const struct wdef *d = wdef_of(w, n);
 
@@ -139,8 +139,8 @@ static void dirichlet_add(double x, size_t m, double c, double *re, double *im)
 	*im += c * mag * sin(ph);
 }
 
-double sscope_window_response(enum sscope_window w, size_t n, size_t nfft,
-			      double bins)
+double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nfft,
+				  double bins)
 {
 	const struct wdef *d = wdef_of(w, n);
 	double re = 0, im = 0, nu;
@@ -182,8 +182,8 @@ static double psum(const double *x, size_t n)
 	}
 }
 
-int sscope_window_figures(enum sscope_window w, size_t n,
-			  struct sscope_window_figures *f)
+int sscope_psd_window_figures(enum sscope_psd_window w, size_t n,
+			      struct sscope_psd_window_figures *f)
 {
 	double *win;
 	struct ssc_ksum s = { 0, 0 }, q = { 0, 0 };
@@ -193,7 +193,7 @@ int sscope_window_figures(enum sscope_window w, size_t n,
 	win = ssc_alloc_array(n, sizeof(double));
 	if (!win)
 		return -ENOMEM;
-	sscope_window_fill(w, n, win);
+	sscope_psd_window_fill(w, n, win);
 	for (size_t i = 0; i < n; i++) {
 		ssc_ksum_add(&s, win[i]);
 		ssc_ksum_add(&q, win[i] * win[i]);
@@ -203,8 +203,8 @@ int sscope_window_figures(enum sscope_window w, size_t n,
 	f->sum_sq = ssc_ksum_value(&q);
 	f->coherent_gain = f->sum / (double)n;
 	f->enbw_bins = (double)n * f->sum_sq / (f->sum * f->sum);
-	f->scalloping_db = 20 * log10(sscope_window_response(w, n, n, 0.5) /
-				      sscope_window_response(w, n, n, 0));
+	f->scalloping_db = 20 * log10(sscope_psd_window_response(w, n, n, 0.5) /
+				      sscope_psd_window_response(w, n, n, 0));
 	return 0;
 }
 
@@ -245,11 +245,11 @@ struct sscope_psd {
 void sscope_psd_opts_init(struct sscope_psd_opts *o)
 {
 	memset(o, 0, sizeof(*o));
-	o->window = SSCOPE_WINDOW_HANN;
+	o->window = SSCOPE_PSD_WINDOW_HANN;
 	o->nperseg = 256;
 	o->noverlap = SSCOPE_PSD_HALF_OVERLAP;
-	o->detrend = SSCOPE_DETREND_CONSTANT;
-	o->scaling = SSCOPE_SCALING_DENSITY;
+	o->detrend = SSCOPE_PSD_DETREND_CONSTANT;
+	o->scaling = SSCOPE_PSD_SCALING_DENSITY;
 }
 
 void sscope_psd_free(struct sscope_psd *p)
@@ -321,9 +321,9 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 		sscope_psd_opts_init(&def);
 		opts = &def;
 	}
-	if ((unsigned)opts->window >= SSCOPE_WINDOW_COUNT_ ||
-	    (unsigned)opts->detrend > SSCOPE_DETREND_NONE ||
-	    (unsigned)opts->scaling > SSCOPE_SCALING_SPECTRUM ||
+	if ((unsigned)opts->window >= SSCOPE_PSD_WINDOW_COUNT_ ||
+	    (unsigned)opts->detrend > SSCOPE_PSD_DETREND_NONE ||
+	    (unsigned)opts->scaling > SSCOPE_PSD_SCALING_SPECTRUM ||
 	    opts->nperseg == 0 || opts->nperseg > INT32_MAX)
 		return -EINVAL;
 	p = calloc(1, sizeof(*p));
@@ -372,7 +372,7 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 		if (!p->tin[t] || !p->tout[t])
 			goto nomem;
 	}
-	sscope_window_fill(opts->window, p->m, p->win);
+	sscope_psd_window_fill(opts->window, p->m, p->win);
 	p->sum_w = psum(p->win, p->m);
 	{
 		struct ssc_ksum q = { 0, 0 };
@@ -419,7 +419,7 @@ static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 
 	if (!isfinite(sum))
 		return false;
-	if (p->o.detrend != SSCOPE_DETREND_NONE) {
+	if (p->o.detrend != SSCOPE_PSD_DETREND_NONE) {
 		size_t k = 1;
 		bool same;
 
@@ -430,7 +430,7 @@ static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 		same = k >= m;
 		/* a constant segment detrends to exact zeros */
 		mean = same ? seg[0] : sum / (double)m;
-		if (p->o.detrend == SSCOPE_DETREND_LINEAR && m > 2 && !same) {
+		if (p->o.detrend == SSCOPE_PSD_DETREND_LINEAR && m > 2 && !same) {
 			double s = 0, d = (double)m;
 
 			for (size_t i = 0; i < m; i++)
@@ -730,7 +730,7 @@ static double one_sided(const struct sscope_psd *p, size_t k)
 	return 2;
 }
 
-void sscope_spectrum_clear(struct sscope_spectrum *s)
+void sscope_psd_spectrum_clear(struct sscope_psd_spectrum *s)
 {
 	if (!s)
 		return;
@@ -741,7 +741,7 @@ void sscope_spectrum_clear(struct sscope_spectrum *s)
 	s->n_bins = 0;
 }
 
-void sscope_spectrogram_clear(struct sscope_spectrogram *s)
+void sscope_psd_spectrogram_clear(struct sscope_psd_spectrogram *s)
 {
 	if (!s)
 		return;
@@ -757,7 +757,7 @@ void sscope_spectrogram_clear(struct sscope_spectrogram *s)
 
 static double psd_scale(const struct sscope_psd *p, double fs)
 {
-	return p->o.scaling == SSCOPE_SCALING_DENSITY ?
+	return p->o.scaling == SSCOPE_PSD_SCALING_DENSITY ?
 		       1.0 / (fs * p->sum_w2) :
 		       1.0 / (p->sum_w * p->sum_w);
 }
@@ -801,7 +801,7 @@ static int values(const struct sscope_psd *p, double fs, const double *sum,
 
 		if (plain)
 			out[k] = a * scale * one_sided(p, k) / n_avg;
-		else if (p->o.scaling == SSCOPE_SCALING_DENSITY)
+		else if (p->o.scaling == SSCOPE_PSD_SCALING_DENSITY)
 			out[k] = ldexp(a * one_sided(p, k) / n_avg / p->sum_w2 / fm,
 				       2 * p->acc_exp - fe);
 		else
@@ -820,7 +820,7 @@ static int values(const struct sscope_psd *p, double fs, const double *sum,
 
 /* A record shorter than one segment: the record is the segment. */
 static int short_result(struct sscope_psd *p, double fs,
-			struct sscope_spectrum *s)
+			struct sscope_psd_spectrum *s)
 {
 	struct sscope_psd_opts o = p->o;
 	struct sscope_psd *q;
@@ -843,7 +843,7 @@ static int short_result(struct sscope_psd *p, double fs,
 }
 
 int sscope_psd_result(struct sscope_psd *p, double fs,
-		      struct sscope_spectrum *s)
+		      struct sscope_psd_spectrum *s)
 {
 	struct ssc_ksum tot = { 0, 0 };
 	int rc;
@@ -862,7 +862,7 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 	s->freq_hz = ssc_alloc_array(p->nbins, sizeof(double));
 	s->value = ssc_alloc_array(p->nbins, sizeof(double));
 	if (!s->freq_hz || !s->value) {
-		sscope_spectrum_clear(s);
+		sscope_psd_spectrum_clear(s);
 		return -ENOMEM;
 	}
 	s->n_bins = p->nbins;
@@ -872,7 +872,7 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 	if (!rc)
 		rc = values(p, fs, s->value, (double)p->nseg, s->value);
 	if (rc) {
-		sscope_spectrum_clear(s);
+		sscope_psd_spectrum_clear(s);
 		return rc;
 	}
 	s->fs_hz = fs;
@@ -894,7 +894,7 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 		for (size_t k = 0; k < p->nbins; k++)
 			ssc_ksum_add(&tot, s->value[k]);
 		s->rms = sqrt(ssc_ksum_value(&tot) * s->bin_hz *
-			      (s->scaling == SSCOPE_SCALING_SPECTRUM ?
+			      (s->scaling == SSCOPE_PSD_SCALING_SPECTRUM ?
 				       1 / s->enbw_hz : 1));
 	} else {
 		/* sum of value * bin width (/ ENBW for "spectrum") is the
@@ -910,7 +910,7 @@ int sscope_psd_result(struct sscope_psd *p, double fs,
 }
 
 int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
-			   struct sscope_spectrogram *s)
+			   struct sscope_psd_spectrogram *s)
 {
 	size_t sz;
 	int rc;
@@ -929,7 +929,7 @@ int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
 	s->freq_hz = ssc_alloc_array(p->nbins, sizeof(double));
 	s->value = ssc_alloc_array(sz, sizeof(double));
 	if (!s->time_s || !s->freq_hz || !s->value) {
-		sscope_spectrogram_clear(s);
+		sscope_psd_spectrogram_clear(s);
 		return -ENOMEM;
 	}
 	s->n_times = p->sg_n;
@@ -949,13 +949,13 @@ int sscope_psd_spectrogram(struct sscope_psd *p, double fs,
 				v[k] = (double)NAN;
 	}
 	if (rc)
-		sscope_spectrogram_clear(s);
+		sscope_psd_spectrogram_clear(s);
 	return rc;
 }
 
 int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs,
 		     const struct sscope_psd_opts *opts,
-		     struct sscope_spectrum *out)
+		     struct sscope_psd_spectrum *out)
 {
 	struct sscope_psd_opts o;
 	struct sscope_psd *p;
@@ -986,10 +986,10 @@ int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs,
 }
 
 int sscope_psd_periodogram(const double *x, size_t stride, size_t n,
-			   double fs, enum sscope_window window, size_t nfft,
-			   enum sscope_detrend detrend,
-			   enum sscope_scaling scaling,
-			   struct sscope_spectrum *out)
+			   double fs, enum sscope_psd_window window, size_t nfft,
+			   enum sscope_psd_detrend detrend,
+			   enum sscope_psd_scaling scaling,
+			   struct sscope_psd_spectrum *out)
 {
 	struct sscope_psd_opts o;
 
@@ -1014,7 +1014,7 @@ int sscope_psd_periodogram(const double *x, size_t stride, size_t n,
 /* Least-squares fit of the window's power response, centred at
  * k + delta bins, to the values of bins k-2 .. k+2 (DC excluded):
  * the scale c is linear (solved in closed form), the residual returned. */
-static double fit_resid(const struct sscope_spectrum *s, size_t k,
+static double fit_resid(const struct sscope_psd_spectrum *s, size_t k,
 			double delta, double w0, double *c)
 {
 	size_t j0 = k >= 3 ? k - 2 : 1, j1 = k + 2 < s->n_bins ? k + 2 :
@@ -1022,9 +1022,9 @@ static double fit_resid(const struct sscope_spectrum *s, size_t k,
 	double m[5], svm = 0, smm = 0, r = 0, cc;
 
 	for (size_t j = j0; j <= j1; j++) {
-		double a = sscope_window_response(s->window, s->nperseg,
-						  s->nfft,
-						  (double)j - (double)k - delta) /
+		double a = sscope_psd_window_response(s->window, s->nperseg,
+						      s->nfft,
+						      (double)j - (double)k - delta) /
 			   w0;
 
 		m[j - j0] = a * a;
@@ -1041,15 +1041,15 @@ static double fit_resid(const struct sscope_spectrum *s, size_t k,
 	return r;
 }
 
-int sscope_spectrum_peak_at(const struct sscope_spectrum *s, size_t k,
-			    struct sscope_peak *pk)
+int sscope_psd_spectrum_peak_at(const struct sscope_psd_spectrum *s, size_t k,
+				struct sscope_psd_peak *pk)
 {
 	const double span = 1.5, g = (sqrt(5.0) - 1) / 2;
 	double w0, best = 0, rbest = (double)INFINITY, c, a, b, pspec;
 
 	if (!s || !pk || !s->value || k == 0 || k + 1 >= s->n_bins)
 		return -EINVAL;
-	w0 = sscope_window_response(s->window, s->nperseg, s->nfft, 0);
+	w0 = sscope_psd_window_response(s->window, s->nperseg, s->nfft, 0);
 	/* a coarse scan (the flat-top window's response is not monotonic
 	 * near its centre), then golden-section refinement */
 	for (int i = 0; i <= 120; i++) {
@@ -1088,7 +1088,7 @@ int sscope_spectrum_peak_at(const struct sscope_spectrum *s, size_t k,
 	fit_resid(s, k, best, w0, &c);
 	/* c is the value the spectrum would show with the tone centred on a
 	 * bin: A^2 / 2 in "spectrum" scaling */
-	pspec = s->scaling == SSCOPE_SCALING_DENSITY ? c * s->enbw_hz : c;
+	pspec = s->scaling == SSCOPE_PSD_SCALING_DENSITY ? c * s->enbw_hz : c;
 	pk->bin = k;
 	pk->offset_bins = best;
 	pk->frequency_hz = ((double)k + best) * s->bin_hz;
@@ -1103,9 +1103,9 @@ static bool local_max(const double *v, size_t k)
 	return v[k] > v[k - 1] && v[k] >= v[k + 1] && v[k] > 0;
 }
 
-int sscope_spectrum_peaks(const struct sscope_spectrum *s, size_t max,
-			  double fmin, double fmax, struct sscope_peak *peaks,
-			  size_t *n_found)
+int sscope_psd_spectrum_peaks(const struct sscope_psd_spectrum *s, size_t max,
+			      double fmin, double fmax, struct sscope_psd_peak *peaks,
+			      size_t *n_found)
 {
 	size_t *top, nt = 0;
 
@@ -1134,14 +1134,14 @@ int sscope_spectrum_peaks(const struct sscope_spectrum *s, size_t max,
 		top[i] = k;
 	}
 	for (size_t i = 0; i < nt; i++)
-		sscope_spectrum_peak_at(s, top[i], &peaks[i]);
+		sscope_psd_spectrum_peak_at(s, top[i], &peaks[i]);
 	*n_found = nt;
 	free(top);
 	return 0;
 }
 
-int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f,
-			      double tol, struct sscope_peak *pk)
+int sscope_psd_spectrum_peak_near(const struct sscope_psd_spectrum *s, double f,
+				  double tol, struct sscope_psd_peak *pk)
 {
 	size_t best = 0;
 
@@ -1155,13 +1155,13 @@ int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f,
 	}
 	if (!best)
 		return -ENOENT;
-	return sscope_spectrum_peak_at(s, best, pk);
+	return sscope_psd_spectrum_peak_at(s, best, pk);
 }
 
 /* ------------------------------------------------------------ bands */
 
-int sscope_spectrum_band_ms(const struct sscope_spectrum *s, double lo,
-			    double hi, double *ms)
+int sscope_psd_spectrum_band_ms(const struct sscope_psd_spectrum *s, double lo,
+				double hi, double *ms)
 {
 	struct ssc_ksum acc = { 0, 0 };
 	double nyq, df, conv;
@@ -1170,7 +1170,7 @@ int sscope_spectrum_band_ms(const struct sscope_spectrum *s, double lo,
 		return -EINVAL;
 	nyq = s->fs_hz / 2;
 	df = s->bin_hz;
-	conv = s->scaling == SSCOPE_SCALING_SPECTRUM ? 1 / s->enbw_hz : 1;
+	conv = s->scaling == SSCOPE_PSD_SCALING_SPECTRUM ? 1 / s->enbw_hz : 1;
 	for (size_t k = 0; k < s->n_bins; k++) {
 		double a = s->freq_hz[k] - df / 2, b = s->freq_hz[k] + df / 2;
 		double oa, ob;
@@ -1187,8 +1187,8 @@ int sscope_spectrum_band_ms(const struct sscope_spectrum *s, double lo,
 	return 0;
 }
 
-int sscope_octave_bands(unsigned b, double fmin, double fmax,
-			struct sscope_band *bands, size_t max, size_t *n_found)
+int sscope_psd_octave_bands(unsigned b, double fmin, double fmax,
+			    struct sscope_psd_band *bands, size_t max, size_t *n_found)
 {
 	static const double r10[10] = { 1, 1.25, 1.6, 2, 2.5,
 					3.15, 4, 5, 6.3, 8 };
@@ -1206,7 +1206,7 @@ int sscope_octave_bands(unsigned b, double fmin, double fmax,
 	for (long x = x0; x <= x1; x++) {
 		double e = b % 2 ? (double)x / b : (2.0 * (double)x + 1) / (2.0 * b);
 		double fm = 1000 * pow(g, e), h = pow(g, 1.0 / (2.0 * b));
-		struct sscope_band bd;
+		struct sscope_psd_band bd;
 
 		bd.center_hz = fm;
 		bd.lo_hz = fm / h;
@@ -1249,7 +1249,7 @@ int sscope_octave_bands(unsigned b, double fmin, double fmax,
  *   rho(m) = sum_n w[n] w[n + m] / sum_n w[n]^2
  * (the overlap correction: rho = 1/6 for Hann at half overlap).
  */
-double sscope_spectrum_edf(const struct sscope_spectrum *s)
+double sscope_psd_spectrum_edf(const struct sscope_psd_spectrum *s)
 {
 	double *w, sw2 = 0, den = 1;
 	size_t N, D, K;
@@ -1262,7 +1262,7 @@ double sscope_spectrum_edf(const struct sscope_spectrum *s)
 	if (K == 1 || D >= N)
 		return 2.0 * (double)K;
 	w = ssc_alloc_array(N, sizeof(double));
-	if (!w || sscope_window_fill(s->window, N, w)) {
+	if (!w || sscope_psd_window_fill(s->window, N, w)) {
 		free(w);
 		return NAN;
 	}
@@ -1313,12 +1313,12 @@ static int cmp_dbl(const void *a, const void *b)
 
 /* Bins of a window's main lobe each side of a tone (about twice the
  * equivalent noise bandwidth; more with zero padding). */
-static size_t lobe_bins(const struct sscope_spectrum *s)
+static size_t lobe_bins(const struct sscope_psd_spectrum *s)
 {
-	struct sscope_window_figures f;
+	struct sscope_psd_window_figures f;
 	double pad = (double)s->nfft / (double)s->nperseg;
 
-	if (sscope_window_figures(s->window, s->nperseg, &f))
+	if (sscope_psd_window_figures(s->window, s->nperseg, &f))
 		return 2;
 	return (size_t)ceil(2 * f.enbw_bins * pad);
 }
@@ -1326,18 +1326,18 @@ static size_t lobe_bins(const struct sscope_spectrum *s)
 /* Largest leakage of a tone at fractional bin position t into bin k,
  * relative to its peak bin value v at bin position b (the envelope over
  * +-half a bin of frequency uncertainty). */
-static double leak(const struct sscope_spectrum *s, double v, double t,
+static double leak(const struct sscope_psd_spectrum *s, double v, double t,
 		   double b, size_t k)
 {
-	double w0 = sscope_window_response(s->window, s->nperseg, s->nfft,
-					   b - t);
+	double w0 = sscope_psd_window_response(s->window, s->nperseg, s->nfft,
+					       b - t);
 	double m = 0;
 
 	if (!(w0 > 0))
 		return 0;
 	for (int i = -5; i <= 5; i++) {
-		double r = sscope_window_response(s->window, s->nperseg, s->nfft,
-						  (double)k - t + i * 0.1);
+		double r = sscope_psd_window_response(s->window, s->nperseg, s->nfft,
+						      (double)k - t + i * 0.1);
 
 		if (r > m)
 			m = r;
@@ -1345,12 +1345,12 @@ static double leak(const struct sscope_spectrum *s, double v, double t,
 	return v * (m / w0) * (m / w0);
 }
 
-int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
-				      size_t max, double fmin_hz,
-				      double fmax_hz, double alpha,
-				      struct sscope_sig_peak *peaks,
-				      size_t *n_found,
-				      struct sscope_peak_test *test)
+int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
+					  size_t max, double fmin_hz,
+					  double fmax_hz, double alpha,
+					  struct sscope_psd_sig_peak *peaks,
+					  size_t *n_found,
+					  struct sscope_psd_peak_test *test)
 {
 	size_t h, L, M = 0, nc = 0, *cand = NULL, na = 0;
 	double nu, *nb = NULL, *floor_ = NULL, thr_p, med1, fm, nuf, nfit;
@@ -1363,7 +1363,7 @@ int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
 	if (!(alpha > 0 && alpha < 1))
 		return -EINVAL;
 	*n_found = 0;
-	nu = sscope_spectrum_edf(s);
+	nu = sscope_psd_spectrum_edf(s);
 	if (!(nu > 0))
 		return -EINVAL;
 	h = lobe_bins(s);
@@ -1445,7 +1445,7 @@ int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
 	for (size_t c = 0; c < nc && na < max; c++) {
 		size_t k = cand[c];
 		double ref = floor_[k], p;
-		struct sscope_sig_peak *pk = &peaks[na];
+		struct sscope_psd_sig_peak *pk = &peaks[na];
 
 		for (size_t j = 0; j < na; j++)
 			ref += leak(s, peaks[j].peak.value,
@@ -1454,7 +1454,7 @@ int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
 		p = gsl_cdf_fdist_Q(s->value[k] / ref, nu, nuf);
 		if (p >= thr_p)
 			continue;
-		if (sscope_spectrum_peak_at(s, k, &pk->peak))
+		if (sscope_psd_spectrum_peak_at(s, k, &pk->peak))
 			continue;
 		pk->floor = floor_[k];
 		pk->ratio = s->value[k] / ref;

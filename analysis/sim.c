@@ -274,7 +274,7 @@ int sscope_sim_generate(struct sscope_sim *s, const double *input,
 	const bool given = o->temp_profile == SSCOPE_SIM_TEMP_GIVEN;
 	const double dt = s->dt, fs = o->rate_hz;
 	const double sn = sp->n * sqrt(fs), sk = sp->k * sqrt(dt);
-	const double range = (sp->has & SSCOPE_SPEC_RANGE) && !o->no_clip ?
+	const double range = (sp->has & SSCOPE_SENSOR_HAS_RANGE) && !o->no_clip ?
 				     sp->range :
 				     (double)INFINITY;
 	const bool thermal = s->poly[0] != 0 || s->poly[1] != 0 ||

@@ -22,14 +22,16 @@
 #ifndef SSCOPE_BUDGET_H
 #define SSCOPE_BUDGET_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-quantity.h"
+#include "sscope-calib.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Mean Earth radius used for the Schuler frequency, m. */
-#define SSCOPE_EARTH_RADIUS_M 6371000.0
+#define SSCOPE_BUDGET_EARTH_RADIUS_M 6371000.0
 
 /** Error sources of the budget (JSON names in sscope_budget_source_name). */
 enum sscope_budget_source {
@@ -60,7 +62,7 @@ struct sscope_budget_params {
 	double turn_rate_rad_s;    /**< motion profile: sustained turn rate */
 	double accel_profile_m_s2; /**< motion profile: sustained acceleration */
 	double gravity_m_s2;       /**< 0 -> 9.80665 */
-	double radius_m;           /**< 0 -> SSCOPE_EARTH_RADIUS_M */
+	double radius_m;           /**< 0 -> SSCOPE_BUDGET_EARTH_RADIUS_M */
 	enum sscope_budget_model model;
 	double switch_time_s;      /**< AUTO switch; 0 -> 300 s (the t^3 form
 				        is then 0.7 % above the Schuler form) */

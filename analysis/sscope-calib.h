@@ -42,14 +42,16 @@
 #ifndef SSCOPE_CALIB_H
 #define SSCOPE_CALIB_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-quantity.h"
+#include "sscope-capture.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Standard gravity, m/s^2 (the default local gravity). */
-#define SSCOPE_GRAVITY_STD 9.80665
+#define SSCOPE_CALIB_GRAVITY_STD 9.80665
 
 /** A half-open range of samples [start, end). */
 struct sscope_calib_interval {
@@ -519,7 +521,7 @@ int sscope_calib_apply_capture(struct sscope_capture *cap,
 			       size_t *applied, struct sscope_diag *diag);
 
 /** A class of sensors with typical performance ranges. */
-struct sscope_grade {
+struct sscope_calib_class {
 	const char *name;
 	enum sscope_quantity quantity; /**< ANGULAR_RATE or ACCELERATION */
 	double bias_lo, bias_hi;       /**< |bias| (g-independent), SI */
@@ -537,7 +539,7 @@ struct sscope_grade {
  * @param n   receives the number of rows.
  * @return a static array.
  */
-const struct sscope_grade *sscope_calib_grades(size_t *n);
+const struct sscope_calib_class *sscope_calib_grades(size_t *n);
 
 /**
  * Classify a sensor against sscope_calib_grades(): for each class of the

@@ -20,7 +20,7 @@
 #ifndef SSCOPE_CLIP_H
 #define SSCOPE_CLIP_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

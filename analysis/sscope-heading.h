@@ -22,7 +22,7 @@
 #ifndef SSCOPE_HEADING_H
 #define SSCOPE_HEADING_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -26,7 +26,7 @@
 #ifndef SSCOPE_INCLINO_H
 #define SSCOPE_INCLINO_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -21,14 +21,14 @@
 #ifndef SSCOPE_MODEL_H
 #define SSCOPE_MODEL_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Speed of light in vacuum, m/s (exact). */
-#define SSCOPE_SPEED_OF_LIGHT 299792458.0
+#define SSCOPE_MODEL_SPEED_OF_LIGHT 299792458.0
 
 /** Second-order accelerometer. */
 struct sscope_model_accel {

@@ -5,7 +5,7 @@
  *
  * Frames (all right-handed):
  * - i, inertial: origin at the Earth's centre, z along the spin axis, x at
- *   the Greenwich meridian at t = 0 (the Earth turns at SSCOPE_WGS84_OMEGA
+ *   the Greenwich meridian at t = 0 (the Earth turns at SSCOPE_NAV_WGS84_OMEGA
  *   about z);
  * - e, ECEF (Earth-centred Earth-fixed): x at the equator and Greenwich
  *   meridian, z along the spin axis;
@@ -39,24 +39,24 @@
 #ifndef SSCOPE_NAV_H
 #define SSCOPE_NAV_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** WGS 84 semi-major axis, m. */
-#define SSCOPE_WGS84_A 6378137.0
+#define SSCOPE_NAV_WGS84_A 6378137.0
 /** WGS 84 inverse flattening. */
-#define SSCOPE_WGS84_INV_F 298.257223563
+#define SSCOPE_NAV_WGS84_INV_F 298.257223563
 /** WGS 84 angular rate of the Earth, rad/s. */
-#define SSCOPE_WGS84_OMEGA 7.292115e-5
+#define SSCOPE_NAV_WGS84_OMEGA 7.292115e-5
 /** WGS 84 gravitational constant GM (with the atmosphere), m^3/s^2. */
-#define SSCOPE_WGS84_GM 3.986004418e14
+#define SSCOPE_NAV_WGS84_GM 3.986004418e14
 /** WGS 84 normal gravity at the equator, m/s^2. */
-#define SSCOPE_WGS84_GAMMA_E 9.7803253359
+#define SSCOPE_NAV_WGS84_GAMMA_E 9.7803253359
 /** WGS 84 normal gravity at the poles, m/s^2. */
-#define SSCOPE_WGS84_GAMMA_P 9.8321849378
+#define SSCOPE_NAV_WGS84_GAMMA_P 9.8321849378
 
 /** A point in geodetic coordinates (WGS 84). */
 struct sscope_nav_geodetic {

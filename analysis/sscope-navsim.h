@@ -49,7 +49,11 @@
 #ifndef SSCOPE_NAVSIM_H
 #define SSCOPE_NAVSIM_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-sensor.h"
+#include "sscope-adc.h"
+#include "sscope-budget.h"
+#include "sscope-nav.h"
 #include "sscope-budget.h"
 #include "sscope-nav.h"
 
@@ -154,7 +158,7 @@ int sscope_navsim_truth(const struct sscope_navsim *ns, size_t k,
 /** Errors of an IMU (see the file comment).  Zero = a perfect IMU. */
 struct sscope_navsim_imu {
 	/** noise terms q, n, b, k, r; range (clipping, when has &
-	 *  SSCOPE_SPEC_RANGE); bias and scale_factor_error as 1-sigma
+	 *  SSCOPE_SENSOR_HAS_RANGE); bias and scale_factor_error as 1-sigma
 	 *  values of constants drawn per run and axis.  Other fields are
 	 *  ignored. */
 	struct sscope_sensor_spec gyro, accel;

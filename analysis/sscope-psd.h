@@ -30,54 +30,54 @@
 #ifndef SSCOPE_PSD_H
 #define SSCOPE_PSD_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Windows of scipy.signal.get_window (DFT-even). */
-enum sscope_window {
-	SSCOPE_WINDOW_HANN = 0,       /**< a = 0.5, 0.5 */
-	SSCOPE_WINDOW_HAMMING,        /**< a = 0.54, 0.46 */
-	SSCOPE_WINDOW_BLACKMAN,       /**< a = 0.42, 0.50, 0.08 */
-	SSCOPE_WINDOW_BLACKMANHARRIS, /**< 4-term, -92 dB sidelobes */
-	SSCOPE_WINDOW_FLATTOP,        /**< 5-term flat top (scipy's) */
-	SSCOPE_WINDOW_BOXCAR,         /**< rectangular */
-	SSCOPE_WINDOW_COUNT_          /**< number of windows (not a window) */
+enum sscope_psd_window {
+	SSCOPE_PSD_WINDOW_HANN = 0,       /**< a = 0.5, 0.5 */
+	SSCOPE_PSD_WINDOW_HAMMING,        /**< a = 0.54, 0.46 */
+	SSCOPE_PSD_WINDOW_BLACKMAN,       /**< a = 0.42, 0.50, 0.08 */
+	SSCOPE_PSD_WINDOW_BLACKMANHARRIS, /**< 4-term, -92 dB sidelobes */
+	SSCOPE_PSD_WINDOW_FLATTOP,        /**< 5-term flat top (scipy's) */
+	SSCOPE_PSD_WINDOW_BOXCAR,         /**< rectangular */
+	SSCOPE_PSD_WINDOW_COUNT_          /**< number of windows (not a window) */
 };
 
 /** Detrending of each segment. */
-enum sscope_detrend {
-	SSCOPE_DETREND_CONSTANT = 0, /**< remove the mean (scipy's default) */
-	SSCOPE_DETREND_LINEAR,       /**< remove the least-squares line */
-	SSCOPE_DETREND_NONE          /**< nothing */
+enum sscope_psd_detrend {
+	SSCOPE_PSD_DETREND_CONSTANT = 0, /**< remove the mean (scipy's default) */
+	SSCOPE_PSD_DETREND_LINEAR,       /**< remove the least-squares line */
+	SSCOPE_PSD_DETREND_NONE          /**< nothing */
 };
 
 /** Scaling of the estimate. */
-enum sscope_scaling {
-	SSCOPE_SCALING_DENSITY = 0, /**< unit^2/Hz, 1 / (fs sum w^2) */
-	SSCOPE_SCALING_SPECTRUM     /**< unit^2, 1 / (sum w)^2 */
+enum sscope_psd_scaling {
+	SSCOPE_PSD_SCALING_DENSITY = 0, /**< unit^2/Hz, 1 / (fs sum w^2) */
+	SSCOPE_PSD_SCALING_SPECTRUM     /**< unit^2, 1 / (sum w)^2 */
 };
 
 /** @return the name of @p w ("hann", ...), or NULL; a static string. */
-const char *sscope_window_name(enum sscope_window w);
+const char *sscope_psd_window_name(enum sscope_psd_window w);
 
 /**
  * Look a window up by name (hann, hamming, blackman, blackmanharris,
  * flattop, boxcar; "hanning" and "rect"/"rectangular" are accepted).
  * @return 0, or -EINVAL for an unknown name.
  */
-int sscope_window_from_name(const char *name, enum sscope_window *w);
+int sscope_psd_window_from_name(const char *name, enum sscope_psd_window *w);
 
 /**
  * Fill @p out with the DFT-even window of @p n samples.
  * @return 0, or -EINVAL (unknown window, n == 0, out NULL).
  */
-int sscope_window_fill(enum sscope_window w, size_t n, double *out);
+int sscope_psd_window_fill(enum sscope_psd_window w, size_t n, double *out);
 
 /** Figures of merit of a window of n samples. */
-struct sscope_window_figures {
+struct sscope_psd_window_figures {
 	double sum;            /**< sum w */
 	double sum_sq;         /**< sum w^2 */
 	double coherent_gain;  /**< sum w / n: amplitude of a bin-centred
@@ -92,8 +92,8 @@ struct sscope_window_figures {
  * Compute the figures of the window of @p n samples.
  * @return 0, or -EINVAL (unknown window, n == 0, f NULL).
  */
-int sscope_window_figures(enum sscope_window w, size_t n,
-			  struct sscope_window_figures *f);
+int sscope_psd_window_figures(enum sscope_psd_window w, size_t n,
+			      struct sscope_psd_window_figures *f);
 
 /**
  * Magnitude of the window's discrete-time Fourier transform (the
@@ -102,8 +102,8 @@ int sscope_window_figures(enum sscope_window w, size_t n,
  * kernels).  At 0 it equals sum w.
  * @return the magnitude, or NaN for bad arguments.
  */
-double sscope_window_response(enum sscope_window w, size_t n, size_t nfft,
-			      double bins);
+double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nfft,
+				  double bins);
 
 /** Default overlap: nperseg / 2, as scipy. */
 #define SSCOPE_PSD_HALF_OVERLAP ((size_t)-1)
@@ -111,15 +111,15 @@ double sscope_window_response(enum sscope_window w, size_t n, size_t nfft,
 /** Options of a Welch estimate.  sscope_psd_opts_init() sets scipy's
  *  defaults. */
 struct sscope_psd_opts {
-	enum sscope_window window;   /**< default hann */
+	enum sscope_psd_window window;   /**< default hann */
 	size_t nperseg;              /**< samples per segment; default 256 */
 	size_t noverlap;             /**< samples shared by neighbouring
 					  segments, < nperseg; default
 					  SSCOPE_PSD_HALF_OVERLAP */
 	size_t nfft;                 /**< FFT length >= nperseg (zero
 					  padding); 0: nperseg */
-	enum sscope_detrend detrend; /**< default constant */
-	enum sscope_scaling scaling; /**< default density */
+	enum sscope_psd_detrend detrend; /**< default constant */
+	enum sscope_psd_scaling scaling; /**< default density */
 	/** Segments holding a NaN or an infinity are left out of the mean
 	 *  (counted in n_skipped) instead of failing with -EDOM. */
 	bool skip_nonfinite;
@@ -143,15 +143,15 @@ struct sscope_psd_opts {
 void sscope_psd_opts_init(struct sscope_psd_opts *o);
 
 /** A one-sided spectrum (the result of an estimate). */
-struct sscope_spectrum {
+struct sscope_psd_spectrum {
 	size_t n_bins;       /**< nfft / 2 + 1 */
 	double *freq_hz;     /**< n_bins frequencies k fs / nfft (owned) */
 	double *value;       /**< n_bins values: unit^2/Hz (density) or
 				  unit^2 (spectrum) (owned) */
 	double fs_hz;        /**< sample rate */
-	enum sscope_scaling scaling;
-	enum sscope_window window;
-	enum sscope_detrend detrend;
+	enum sscope_psd_scaling scaling;
+	enum sscope_psd_window window;
+	enum sscope_psd_detrend detrend;
 	size_t nperseg, noverlap, nfft; /**< as used (nperseg may have been
 					     shortened) */
 	size_t n_segments;   /**< segments averaged */
@@ -164,10 +164,10 @@ struct sscope_spectrum {
 };
 
 /** Free the arrays of @p s (not @p s itself); NULL is ignored. */
-void sscope_spectrum_clear(struct sscope_spectrum *s);
+void sscope_psd_spectrum_clear(struct sscope_psd_spectrum *s);
 
 /** A spectrogram: short-time PSDs over time. */
-struct sscope_spectrogram {
+struct sscope_psd_spectrogram {
 	size_t n_times;      /**< columns */
 	size_t n_bins;       /**< rows per column */
 	double *time_s;      /**< n_times: centre of each column's segments,
@@ -180,7 +180,7 @@ struct sscope_spectrogram {
 };
 
 /** Free the arrays of @p s (not @p s itself); NULL is ignored. */
-void sscope_spectrogram_clear(struct sscope_spectrogram *s);
+void sscope_psd_spectrogram_clear(struct sscope_psd_spectrogram *s);
 
 /** A Welch workspace: plans and buffers made once, then fed any number of
  *  samples in chunks (streaming); memory does not grow with the record. */
@@ -212,7 +212,7 @@ int sscope_psd_feed(struct sscope_psd *psd, const double *x, size_t stride,
  * The estimate of everything fed so far (feeding may continue after).
  * @param fs_hz sample rate, Hz (> 0).
  * @param out   receives the spectrum; free its arrays with
- *              sscope_spectrum_clear().
+ *              sscope_psd_spectrum_clear().
  * @return 0; -EINVAL (fs_hz not positive); -EDOM when no segment could be
  *         averaged (record shorter than nperseg without opts.shorten, no
  *         sample, every segment non-finite) or when a segment still
@@ -225,17 +225,17 @@ int sscope_psd_feed(struct sscope_psd *psd, const double *x, size_t stride,
  *         spectrum is representable gets it; -ENOMEM.
  */
 int sscope_psd_result(struct sscope_psd *psd, double fs_hz,
-		      struct sscope_spectrum *out);
+		      struct sscope_psd_spectrum *out);
 
 /**
  * The spectrogram of everything fed so far (needs opts.spectrogram_cols).
  * @param fs_hz sample rate, Hz.
- * @param out   receives it; free with sscope_spectrogram_clear().
+ * @param out   receives it; free with sscope_psd_spectrogram_clear().
  * @return 0; -EINVAL (no spectrogram was asked for, bad fs_hz); -EDOM (no
  *         segment yet); -ERANGE as sscope_psd_result(); -ENOMEM.
  */
 int sscope_psd_spectrogram(struct sscope_psd *psd, double fs_hz,
-			   struct sscope_spectrogram *out);
+			   struct sscope_psd_spectrogram *out);
 
 /** Forget everything fed (plans and buffers are kept). */
 void sscope_psd_reset(struct sscope_psd *psd);
@@ -247,13 +247,13 @@ void sscope_psd_free(struct sscope_psd *psd);
  * Welch's estimate of a whole buffer, as scipy.signal.welch(x, fs, ...):
  * nperseg larger than n is shortened to n (scipy warns and does the same;
  * the default overlap is then recomputed).
- * @param out receives the spectrum (free with sscope_spectrum_clear()).
+ * @param out receives the spectrum (free with sscope_psd_spectrum_clear()).
  * @return as sscope_psd_new() and sscope_psd_result(); -EDOM for n == 0 or
  *         a non-finite sample (unless skip_nonfinite).
  */
 int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs_hz,
 		     const struct sscope_psd_opts *opts,
-		     struct sscope_spectrum *out);
+		     struct sscope_psd_spectrum *out);
 
 /**
  * The periodogram, as scipy.signal.periodogram(x, fs, window, nfft,
@@ -262,13 +262,13 @@ int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs_hz,
  * @return as sscope_psd_welch().
  */
 int sscope_psd_periodogram(const double *x, size_t stride, size_t n,
-			   double fs_hz, enum sscope_window window,
-			   size_t nfft, enum sscope_detrend detrend,
-			   enum sscope_scaling scaling,
-			   struct sscope_spectrum *out);
+			   double fs_hz, enum sscope_psd_window window,
+			   size_t nfft, enum sscope_psd_detrend detrend,
+			   enum sscope_psd_scaling scaling,
+			   struct sscope_psd_spectrum *out);
 
 /** A spectral peak. */
-struct sscope_peak {
+struct sscope_psd_peak {
 	size_t bin;          /**< index of the local maximum */
 	double frequency_hz; /**< interpolated frequency */
 	double offset_bins;  /**< interpolated offset from bin, bins */
@@ -286,31 +286,31 @@ struct sscope_peak {
  * Interpolation (exact for one noise-free sine): with the larger of the
  * two neighbours of the peak bin, the ratio of their values is matched to
  * |W(1 - d)|^2 / |W(d)|^2, W the window's transform in closed form
- * (sscope_window_response()), solved for the offset d in [0, 1/2] by
+ * (sscope_psd_window_response()), solved for the offset d in [0, 1/2] by
  * bisection; the amplitude follows from the peak bin's value divided by
  * |W(d) / W(0)|^2.
  * @param n_found receives the number of peaks written.
  * @return 0; -EINVAL (NULL arguments).
  */
-int sscope_spectrum_peaks(const struct sscope_spectrum *s, size_t max,
-			  double fmin_hz, double fmax_hz,
-			  struct sscope_peak *peaks, size_t *n_found);
+int sscope_psd_spectrum_peaks(const struct sscope_psd_spectrum *s, size_t max,
+			      double fmin_hz, double fmax_hz,
+			      struct sscope_psd_peak *peaks, size_t *n_found);
 
 /**
  * Interpolate the peak at local-maximum bin @p bin of @p s (see
- * sscope_spectrum_peaks()).
+ * sscope_psd_spectrum_peaks()).
  * @return 0; -EINVAL (bin out of range or not an interior bin).
  */
-int sscope_spectrum_peak_at(const struct sscope_spectrum *s, size_t bin,
-			    struct sscope_peak *pk);
+int sscope_psd_spectrum_peak_at(const struct sscope_psd_spectrum *s, size_t bin,
+				struct sscope_psd_peak *pk);
 
 /**
  * The strongest local maximum within @p tol_hz of @p f_hz, interpolated.
  * @return 0; -ENOENT when there is no local maximum in that range;
  *         -EINVAL.
  */
-int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f_hz,
-			      double tol_hz, struct sscope_peak *pk);
+int sscope_psd_spectrum_peak_near(const struct sscope_psd_spectrum *s, double f_hz,
+				  double tol_hz, struct sscope_psd_peak *pk);
 
 /**
  * Equivalent degrees of freedom of each bin (away from DC and Nyquist) of
@@ -321,10 +321,10 @@ int sscope_spectrum_peak_near(const struct sscope_spectrum *s, double f_hz,
  * correction; 2K without overlap, 2 for a periodogram).
  * @return nu, or NaN for an empty spectrum.
  */
-double sscope_spectrum_edf(const struct sscope_spectrum *s);
+double sscope_psd_spectrum_edf(const struct sscope_psd_spectrum *s);
 
-/** How sscope_spectrum_significant_peaks() decided (for reports). */
-struct sscope_peak_test {
+/** How sscope_psd_spectrum_significant_peaks() decided (for reports). */
+struct sscope_psd_peak_test {
 	double alpha;            /**< probability of listing a peak in a
 				      spectrum of noise alone */
 	double edf;              /**< nu of each bin */
@@ -337,8 +337,8 @@ struct sscope_peak_test {
 };
 
 /** A peak that passed the test. */
-struct sscope_sig_peak {
-	struct sscope_peak peak; /**< interpolated as sscope_spectrum_peak_at */
+struct sscope_psd_sig_peak {
+	struct sscope_psd_peak peak; /**< interpolated as sscope_psd_spectrum_peak_at */
 	double floor;            /**< local noise floor at its bin (the
 				      spectrum's scaling) */
 	double ratio;            /**< value / (floor + leakage of stronger
@@ -353,7 +353,7 @@ struct sscope_sig_peak {
  * Test: at a local maximum k, the floor is the median of the 2L bins
  * around it (L = max(32, 4h)) outside its main lobe (h bins each side,
  * about twice the window's ENBW), divided by the median of chi2(nu)/nu,
- * nu = sscope_spectrum_edf().  Under noise alone the ratio of the bin to
+ * nu = sscope_psd_spectrum_edf().  Under noise alone the ratio of the bin to
  * the floor is F-distributed with (nu, nuf) degrees of freedom, nuf the
  * equivalent dof of a median of that many independent bins (large-sample
  * variance of a median).  A peak is listed when P(F > ratio) < alpha / M,
@@ -367,12 +367,12 @@ struct sscope_sig_peak {
  * @return 0; -EINVAL (NULL, alpha outside (0, 1), fmax < fmin, empty
  *         spectrum); -ENOMEM.
  */
-int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
-				      size_t max, double fmin_hz,
-				      double fmax_hz, double alpha,
-				      struct sscope_sig_peak *peaks,
-				      size_t *n_found,
-				      struct sscope_peak_test *test);
+int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
+					  size_t max, double fmin_hz,
+					  double fmax_hz, double alpha,
+					  struct sscope_psd_sig_peak *peaks,
+					  size_t *n_found,
+					  struct sscope_psd_peak_test *test);
 
 /**
  * Mean square of the signal in [lo_hz, hi_hz): each bin's power
@@ -382,11 +382,11 @@ int sscope_spectrum_significant_peaks(const struct sscope_spectrum *s,
  * @param ms receives the mean square, unit^2.
  * @return 0; -EINVAL (hi < lo, NULL).
  */
-int sscope_spectrum_band_ms(const struct sscope_spectrum *s, double lo_hz,
-			    double hi_hz, double *ms);
+int sscope_psd_spectrum_band_ms(const struct sscope_psd_spectrum *s, double lo_hz,
+				double hi_hz, double *ms);
 
 /** A frequency band. */
-struct sscope_band {
+struct sscope_psd_band {
 	double lo_hz;      /**< lower edge */
 	double center_hz;  /**< exact mid-band frequency */
 	double hi_hz;      /**< upper edge */
@@ -408,9 +408,9 @@ struct sscope_band {
  *         fmax_hz < fmin_hz); -ERANGE when @p max is too small (the first
  *         max bands are written).
  */
-int sscope_octave_bands(unsigned fraction, double fmin_hz, double fmax_hz,
-			struct sscope_band *bands, size_t max,
-			size_t *n_found);
+int sscope_psd_octave_bands(unsigned fraction, double fmin_hz, double fmax_hz,
+			    struct sscope_psd_band *bands, size_t max,
+			    size_t *n_found);
 
 /**
  * A band between two edges for a spectrum of Nyquist frequency
@@ -419,19 +419,19 @@ int sscope_octave_bands(unsigned fraction, double fmin_hz, double fmax_hz,
  * @return 0; -EINVAL (lo < 0, hi <= lo, not finite); -EDOM when the band
  *         starts at or above the Nyquist frequency.
  */
-int sscope_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
-		      struct sscope_band *band);
+int sscope_psd_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
+			  struct sscope_psd_band *band);
 
 /**
- * The fractional-octave bands (sscope_octave_bands()) a spectrum
+ * The fractional-octave bands (sscope_psd_octave_bands()) a spectrum
  * resolves: inside [bin/2, fs/2] and at least one bin wide (a narrower
  * band says nothing).
- * @param bands, max, n_found  as sscope_octave_bands().
- * @return as sscope_octave_bands().
+ * @param bands, max, n_found  as sscope_psd_octave_bands().
+ * @return as sscope_psd_octave_bands().
  */
-int sscope_spectrum_octave_bands(const struct sscope_spectrum *s,
-				 unsigned fraction, struct sscope_band *bands,
-				 size_t max, size_t *n_found);
+int sscope_psd_spectrum_octave_bands(const struct sscope_psd_spectrum *s,
+				     unsigned fraction, struct sscope_psd_band *bands,
+				     size_t max, size_t *n_found);
 
 #ifdef __cplusplus
 }

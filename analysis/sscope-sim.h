@@ -43,7 +43,8 @@
 #ifndef SSCOPE_SIM_H
 #define SSCOPE_SIM_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-sensor.h"
 
 #ifdef __cplusplus
 extern "C" {

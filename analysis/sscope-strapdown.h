@@ -31,7 +31,7 @@
 #ifndef SSCOPE_STRAPDOWN_H
 #define SSCOPE_STRAPDOWN_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -44,7 +44,7 @@
 #ifndef SSCOPE_TEMPBIAS_H
 #define SSCOPE_TEMPBIAS_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

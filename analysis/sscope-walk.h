@@ -18,7 +18,7 @@
 #ifndef SSCOPE_WALK_H
 #define SSCOPE_WALK_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -583,7 +583,7 @@ static void stability(const struct ctx *c, const struct fit *f,
 		return;
 	for (size_t i = 0; i < n; i++)
 		r[i] = block_resid(c, f, jl, c->b[jl].first + i);
-	if (!sscope_allan_analyze(r, 1, n, 1 / c->b[jl].dt, SSCOPE_TAUS_OCTAVE,
+	if (!sscope_allan_analyze(r, 1, n, 1 / c->b[jl].dt, SSCOPE_ALLAN_TAUS_OCTAVE,
 				  NULL, NULL, &ar, NULL)) {
 		for (size_t i = 0; i < ar->n_points; i++)
 			/* reliable points: 10 degrees of freedom for white

@@ -39,7 +39,7 @@ struct sscope_timing_stream {
 	double lo, hi;
 	size_t n_backwards, n_gaps, n_missing, n_regular;
 	struct ssc_ksum sum, s1, s2;
-	struct sscope_time_order order;
+	struct sscope_timing_order order;
 };
 
 int sscope_timing_stream_new(struct sscope_timing_stream **out,
@@ -135,7 +135,7 @@ int sscope_timing_stream_feed(struct sscope_timing_stream *ts,
 {
 	if (!ts || (!t_s && n))
 		return -EINVAL;
-	sscope_time_order_feed(&ts->order, t_s, n);
+	sscope_timing_order_feed(&ts->order, t_s, n);
 	for (size_t i = 0; i < n; i++) {
 		double t = t_s[i], d;
 		size_t k; /* index of the new interval */

@@ -8,7 +8,7 @@
  * rounded stamps would carry their rounding); jitter is the rms deviation
  * of the regular intervals from that mean.  Intervals that are not
  * positive, and the two around a backward step (rows swapped), are
- * disorder, counted and described (sscope_time_order_*) but neither gaps
+ * disorder, counted and described (sscope_timing_order_*) but neither gaps
  * nor regular intervals.
  */
 #include "internal.h"
@@ -26,8 +26,8 @@
  * t[i] and t[i-1] < t[i+1]; the second condition waits for the next stamp
  * (o->pending), or for the end of the data.
  */
-void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
-			    size_t n)
+void sscope_timing_order_feed(struct sscope_timing_order *o, const double *t_s,
+			      size_t n)
 {
 	for (size_t k = 0; k < n; k++) {
 		double t = t_s[k], prev = o->last_s[0];
@@ -61,8 +61,8 @@ void sscope_time_order_feed(struct sscope_time_order *o, const double *t_s,
 	}
 }
 
-int sscope_time_order_check(const struct sscope_time_order *o,
-			    struct sscope_diag *diag)
+int sscope_timing_order_check(const struct sscope_timing_order *o,
+			      struct sscope_diag *diag)
 {
 	size_t swaps, bad, more;
 	char tail[64] = "", count[32];
@@ -120,7 +120,7 @@ static bool forward(const double *t, size_t n, size_t i)
 }
 
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
-			  struct sscope_timing *tm, struct sscope_gap *gaps,
+			  struct sscope_timing *tm, struct sscope_timing_gap *gaps,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch)
 {
 	struct ssc_ksum j = { 0, 0 }, sum = { 0, 0 };
@@ -132,7 +132,7 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	memset(tm, 0, sizeof(*tm));
 	if (n_gaps_out)
 		*n_gaps_out = 0;
-	sscope_time_order_feed(&tm->order, t_s, n);
+	sscope_timing_order_feed(&tm->order, t_s, n);
 	if (n < 2)
 		return -EDOM;
 	for (size_t i = 1; i < n; i++) {

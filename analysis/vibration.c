@@ -36,14 +36,14 @@
 #include <gsl/gsl_sort.h>
 #include <gsl/gsl_statistics_double.h>
 
-#include "sscope-vibration.h"
+#include "sscope-vib.h"
 
 #define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------ bearings */
 
-int sscope_bearing_frequencies(const struct sscope_bearing *b, double fr,
-			       struct sscope_bearing_freqs *f)
+int sscope_vib_bearing_frequencies(const struct sscope_vib_bearing *b, double fr,
+				   struct sscope_vib_bearing_freqs *f)
 {
 	double r;
 
@@ -78,26 +78,26 @@ static const double iso_table_mm_s[4][3] = {
 	{ 2.8, 7.1, 18.0 },  /* class IV */
 };
 
-const char *sscope_iso_edition(void)
+const char *sscope_vib_iso_edition(void)
 {
 	return "ISO 10816-1:1995 Annex B, Table B.1 (typical zone boundaries; "
 	       "check against your copy)";
 }
 
-int sscope_iso_limits(enum sscope_iso_class c, double lim[3])
+int sscope_vib_iso_limits(enum sscope_vib_iso_class c, double lim[3])
 {
-	if (c < SSCOPE_ISO_I || c > SSCOPE_ISO_IV || !lim)
+	if (c < SSCOPE_VIB_ISO_I || c > SSCOPE_VIB_ISO_IV || !lim)
 		return -EINVAL;
 	for (int i = 0; i < 3; i++)
-		lim[i] = iso_table_mm_s[c - SSCOPE_ISO_I][i] / 1000;
+		lim[i] = iso_table_mm_s[c - SSCOPE_VIB_ISO_I][i] / 1000;
 	return 0;
 }
 
-int sscope_iso_zone(enum sscope_iso_class c, double v, char *zone)
+int sscope_vib_iso_zone(enum sscope_vib_iso_class c, double v, char *zone)
 {
 	double lim[3];
 
-	if (!zone || !(v >= 0) || sscope_iso_limits(c, lim))
+	if (!zone || !(v >= 0) || sscope_vib_iso_limits(c, lim))
 		return -EINVAL;
 	*zone = v < lim[0] ? 'A' : v < lim[1] ? 'B' : v < lim[2] ? 'C' : 'D';
 	return 0;
@@ -105,8 +105,8 @@ int sscope_iso_zone(enum sscope_iso_class c, double v, char *zone)
 
 /* ------------------------------------------------------------ velocity */
 
-int sscope_velocity_ms(const struct sscope_spectrum *s, double lo, double hi,
-		       double *ms)
+int sscope_vib_velocity_ms(const struct sscope_psd_spectrum *s, double lo, double hi,
+			   double *ms)
 {
 	struct ssc_ksum acc = { 0, 0 };
 	double nyq, df, conv;
@@ -115,7 +115,7 @@ int sscope_velocity_ms(const struct sscope_spectrum *s, double lo, double hi,
 		return -EINVAL;
 	nyq = s->fs_hz / 2;
 	df = s->bin_hz;
-	conv = s->scaling == SSCOPE_SCALING_SPECTRUM ? 1 / s->enbw_hz : 1;
+	conv = s->scaling == SSCOPE_PSD_SCALING_SPECTRUM ? 1 / s->enbw_hz : 1;
 	for (size_t k = 0; k < s->n_bins; k++) {
 		double a = s->freq_hz[k] - df / 2, b = s->freq_hz[k] + df / 2;
 		double oa, ob, dens;
@@ -136,7 +136,7 @@ int sscope_velocity_ms(const struct sscope_spectrum *s, double lo, double hi,
 
 /* ------------------------------------------------------------ kurtosis */
 
-int sscope_kurtosis(const double *x, size_t stride, size_t n, double *kurt)
+int sscope_vib_kurtosis(const double *x, size_t stride, size_t n, double *kurt)
 {
 	struct ssc_ksum s = { 0, 0 }, s2 = { 0, 0 }, s4 = { 0, 0 };
 	double mean, m2, m4, amax = 0, sc = 1;
@@ -176,7 +176,7 @@ int sscope_kurtosis(const double *x, size_t stride, size_t n, double *kurt)
 
 /* ------------------------------------------------------------ envelope */
 
-struct sscope_envelope {
+struct sscope_vib_envelope {
 	size_t n;
 	double *xin;
 	fftw_complex *X; /* n/2 + 1 */
@@ -186,7 +186,7 @@ struct sscope_envelope {
 	bool set;
 };
 
-void sscope_envelope_free(struct sscope_envelope *e)
+void sscope_vib_envelope_free(struct sscope_vib_envelope *e)
 {
 	if (!e)
 		return;
@@ -200,9 +200,9 @@ void sscope_envelope_free(struct sscope_envelope *e)
 	free(e);
 }
 
-int sscope_envelope_new(struct sscope_envelope **out, size_t n)
+int sscope_vib_envelope_new(struct sscope_vib_envelope **out, size_t n)
 {
-	struct sscope_envelope *e;
+	struct sscope_vib_envelope *e;
 
 	if (!out)
 		return -EINVAL;
@@ -226,12 +226,12 @@ int sscope_envelope_new(struct sscope_envelope **out, size_t n)
 	*out = e;
 	return 0;
 nomem:
-	sscope_envelope_free(e);
+	sscope_vib_envelope_free(e);
 	return -ENOMEM;
 }
 
-int sscope_envelope_set(struct sscope_envelope *e, const double *x,
-			size_t stride)
+int sscope_vib_envelope_set(struct sscope_vib_envelope *e, const double *x,
+			    size_t stride)
 {
 	if (!e || !x || stride == 0)
 		return -EINVAL;
@@ -248,8 +248,8 @@ int sscope_envelope_set(struct sscope_envelope *e, const double *x,
 	return 0;
 }
 
-int sscope_envelope_band(struct sscope_envelope *e, double fs, double lo,
-			 double hi, double *env, double *sk)
+int sscope_vib_envelope_band(struct sscope_vib_envelope *e, double fs, double lo,
+			     double hi, double *env, double *sk)
 {
 	size_t n, half, k0, k1;
 	struct ssc_ksum s2 = { 0, 0 }, s4 = { 0, 0 };
@@ -323,8 +323,8 @@ void sscope_vib_result_clear(struct sscope_vib_result *r)
 {
 	if (!r)
 		return;
-	sscope_spectrum_clear(&r->accel);
-	sscope_spectrum_clear(&r->envelope);
+	sscope_psd_spectrum_clear(&r->accel);
+	sscope_psd_spectrum_clear(&r->envelope);
 }
 
 static void add_finding(struct sscope_vib_result *r, const char *finding,
@@ -340,7 +340,7 @@ static void add_finding(struct sscope_vib_result *r, const char *finding,
 }
 
 /* median of a spectrum around bin k (excluding the peak) */
-static double local_floor(const struct sscope_spectrum *s, size_t k)
+static double local_floor(const struct sscope_psd_spectrum *s, size_t k)
 {
 	double buf[64];
 	size_t n = 0, lo = k > 26 ? k - 26 : 1;
@@ -476,7 +476,7 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 			    struct sscope_vib_result *r,
 			    struct sscope_diag *diag)
 {
-	const struct sscope_bearing_freqs *bf = &r->bearing;
+	const struct sscope_vib_bearing_freqs *bf = &r->bearing;
 	const double fr = o->shaft_hz, nyq = fs / 2;
 	struct defect d[4] = {
 		{ "BPFO", "outer-race defect", bf->bpfo_hz },
@@ -484,7 +484,7 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 		{ "BSF", "rolling-element defect", bf->bsf_hz },
 		{ "FTF", "cage defect", bf->ftf_hz },
 	};
-	struct sscope_envelope *e = NULL;
+	struct sscope_vib_envelope *e = NULL;
 	struct sscope_psd_opts po;
 	double *env = NULL, fhigh = 0, lo = o->env_lo_hz, hi = o->env_hi_hz;
 	double thr, res, fmin_env, fmax_env;
@@ -492,14 +492,14 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 
 	for (int i = 0; i < 4; i++)
 		fhigh = fmax(fhigh, d[i].f * (i == 2 ? 2 : 1));
-	rc = sscope_envelope_new(&e, n);
+	rc = sscope_vib_envelope_new(&e, n);
 	if (rc)
 		return rc == -EINVAL ?
 			       ssc_diag(diag, -EDOM,
 					"record too short for envelope analysis (%zu samples)",
 					n) :
 			       rc;
-	rc = sscope_envelope_set(e, x, stride);
+	rc = sscope_vib_envelope_set(e, x, stride);
 	if (rc)
 		goto out;
 	if (!(lo > 0 || hi > 0)) {
@@ -520,9 +520,9 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 
 					if (a < 2 * fhigh)
 						continue;
-					if (sscope_envelope_band(e, fs, a,
-								 fmin(a + w, nyq),
-								 NULL, &sk))
+					if (sscope_vib_envelope_band(e, fs, a,
+								     fmin(a + w, nyq),
+								     NULL, &sk))
 						continue;
 					if (sk > best) {
 						best = sk;
@@ -553,7 +553,7 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 		rc = -ENOMEM;
 		goto out;
 	}
-	rc = sscope_envelope_band(e, fs, lo, hi, env, &r->env_sk);
+	rc = sscope_vib_envelope_band(e, fs, lo, hi, env, &r->env_sk);
 	if (rc) {
 		rc = ssc_diag(diag, -EDOM, "no signal in the envelope band %g-%g Hz",
 			      lo, hi);
@@ -565,7 +565,7 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 	 * of interest (cage or shaft) */
 	res = fmin(bf->ftf_hz, fr) / 4;
 	sscope_psd_opts_init(&po);
-	po.scaling = SSCOPE_SCALING_SPECTRUM;
+	po.scaling = SSCOPE_PSD_SCALING_SPECTRUM;
 	po.nperseg = 256;
 	while (po.nperseg < n && fs / (double)po.nperseg > res &&
 	       po.nperseg < ((size_t)1 << 24))
@@ -582,11 +582,11 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 	fmin_env = fmax(2 * r->envelope.bin_hz, 0.5 * fmin(fr, bf->ftf_hz));
 	fmax_env = fmin(hi - lo, 5.5 * fhigh);
 	{
-		struct sscope_peak pk[SSCOPE_VIB_ENV_PEAKS];
+		struct sscope_psd_peak pk[SSCOPE_VIB_ENV_PEAKS];
 		size_t np;
 
-		sscope_spectrum_peaks(&r->envelope, SSCOPE_VIB_ENV_PEAKS,
-				      fmin_env, fmax_env, pk, &np);
+		sscope_psd_spectrum_peaks(&r->envelope, SSCOPE_VIB_ENV_PEAKS,
+					  fmin_env, fmax_env, pk, &np);
 		for (size_t i = 0; i < np; i++) {
 			struct sscope_vib_env_peak *ep = &r->env_peaks[i];
 
@@ -607,15 +607,15 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 		bool fund = false;
 
 		for (unsigned h = 1; h <= 5; h++) {
-			struct sscope_peak pk;
+			struct sscope_psd_peak pk;
 			double fe = h * d[i].f, snr;
 			int w;
 
 			if (fe > fmax_env)
 				break;
-			if (sscope_spectrum_peak_near(&r->envelope, fe,
-						      match_tol(o, fe, r->envelope.bin_hz),
-						      &pk))
+			if (sscope_psd_spectrum_peak_near(&r->envelope, fe,
+							  match_tol(o, fe, r->envelope.bin_hz),
+							  &pk))
 				continue;
 			snr = pk.value / local_floor(&r->envelope, pk.bin);
 			if (!(snr >= thr) ||
@@ -642,11 +642,11 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 			continue;
 		if (i == 1 && left > 1) {
 			/* inner race: sidebands at +-1x (load modulation) */
-			struct sscope_peak a, b;
+			struct sscope_psd_peak a, b;
 			double tol = match_tol(o, fr, r->envelope.bin_hz);
-			bool sa = !sscope_spectrum_peak_near(&r->envelope, d[1].f - fr, tol, &a) &&
+			bool sa = !sscope_psd_spectrum_peak_near(&r->envelope, d[1].f - fr, tol, &a) &&
 				  a.value / local_floor(&r->envelope, a.bin) >= thr;
-			bool sb = !sscope_spectrum_peak_near(&r->envelope, d[1].f + fr, tol, &b) &&
+			bool sb = !sscope_psd_spectrum_peak_near(&r->envelope, d[1].f + fr, tol, &b) &&
 				  b.value / local_floor(&r->envelope, b.bin) >= thr;
 			int w = snprintf(p, left, "; sidebands at BPFI -+1x: %s",
 					 sa && sb ? "both" : sa || sb ? "one" : "none");
@@ -665,14 +665,14 @@ static int bearing_analysis(const double *x, size_t stride, size_t n,
 	rc = 0;
 out:
 	free(env);
-	sscope_envelope_free(e);
+	sscope_vib_envelope_free(e);
 	return rc;
 }
 
-int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
-			     double fs, const struct sscope_vib_opts *o,
-			     struct sscope_vib_result *r,
-			     struct sscope_diag *diag)
+int sscope_vib_analyze(const double *x, size_t stride, size_t n,
+		       double fs, const struct sscope_vib_opts *o,
+		       struct sscope_vib_result *r,
+		       struct sscope_diag *diag)
 {
 	struct sscope_psd_opts po;
 	double lim[3], ms, hi;
@@ -681,7 +681,7 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 	if (!x || !o || !r || stride == 0 || !(fs > 0) || !isfinite(fs) ||
 	    !(o->tolerance >= 0) || !(o->iso_lo_hz > 0) ||
 	    !(o->iso_hi_hz > o->iso_lo_hz) || o->shaft_hz < 0 ||
-	    (o->iso_class != SSCOPE_ISO_NONE && sscope_iso_limits(o->iso_class, lim)))
+	    (o->iso_class != SSCOPE_VIB_ISO_NONE && sscope_vib_iso_limits(o->iso_class, lim)))
 		return ssc_diag(diag, -EINVAL, "bad vibration options");
 	memset(r, 0, sizeof(*r));
 	if (n < 16)
@@ -692,7 +692,7 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 	rc = ssc_magnitude_check(x, stride, n, 120, "vibration", diag);
 	if (rc)
 		return rc;
-	rc = sscope_kurtosis(x, stride, n, &r->kurtosis);
+	rc = sscope_vib_kurtosis(x, stride, n, &r->kurtosis);
 	if (rc)
 		return ssc_diag(diag, rc, "%s",
 				"the record is constant or holds a non-finite sample");
@@ -708,15 +708,15 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 	r->iso_lo_hz = o->iso_lo_hz;
 	r->iso_hi_hz = hi;
 	r->velocity_rms_m_s = (double)NAN;
-	if (hi > o->iso_lo_hz && !sscope_velocity_ms(&r->accel, o->iso_lo_hz, hi, &ms))
+	if (hi > o->iso_lo_hz && !sscope_vib_velocity_ms(&r->accel, o->iso_lo_hz, hi, &ms))
 		r->velocity_rms_m_s = sqrt(ms);
-	if (o->iso_class != SSCOPE_ISO_NONE && isfinite(r->velocity_rms_m_s))
-		sscope_iso_zone(o->iso_class, r->velocity_rms_m_s, &r->zone);
+	if (o->iso_class != SSCOPE_VIB_ISO_NONE && isfinite(r->velocity_rms_m_s))
+		sscope_vib_iso_zone(o->iso_class, r->velocity_rms_m_s, &r->zone);
 	{
 		size_t np = o->n_peaks < 16 ? o->n_peaks : 16;
 
-		sscope_spectrum_peaks(&r->accel, np, 0, fs / 2, r->peaks,
-				      &r->n_peaks);
+		sscope_psd_spectrum_peaks(&r->accel, np, 0, fs / 2, r->peaks,
+					  &r->n_peaks);
 	}
 	if (o->shaft_hz > 0) {
 		double thr = line_threshold(r->accel.n_segments);
@@ -733,7 +733,7 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 			r->n_orders = k;
 			/* a line: a local maximum within the tolerance that
 			 * stands above the noise */
-			od->found = !sscope_spectrum_peak_near(
+			od->found = !sscope_psd_spectrum_peak_near(
 					    &r->accel, f,
 					    match_tol(o, f, r->accel.bin_hz),
 					    &od->peak) &&
@@ -745,9 +745,9 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 						       (2 * PI * od->peak.frequency_hz) /
 						       sqrt(2.0);
 		}
-		sscope_iso_limits(o->iso_class != SSCOPE_ISO_NONE ?
-					  o->iso_class : SSCOPE_ISO_I,
-				  lim);
+		sscope_vib_iso_limits(o->iso_class != SSCOPE_VIB_ISO_NONE ?
+					  o->iso_class : SSCOPE_VIB_ISO_I,
+				      lim);
 		orders_findings(r, lim[1]);
 	}
 	if (o->have_bearing) {
@@ -756,8 +756,8 @@ int sscope_vibration_analyze(const double *x, size_t stride, size_t n,
 			return ssc_diag(diag, -EINVAL,
 					"bearing analysis needs the shaft speed");
 		}
-		rc = sscope_bearing_frequencies(&o->bearing, o->shaft_hz,
-						&r->bearing);
+		rc = sscope_vib_bearing_frequencies(&o->bearing, o->shaft_hz,
+						    &r->bearing);
 		if (rc) {
 			sscope_vib_result_clear(r);
 			return ssc_diag(diag, rc, "bad bearing geometry");

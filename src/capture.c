@@ -15,7 +15,7 @@
 
 #include "io-formats.h"
 
-static int copy_column(struct sscope_column *dst, const struct sscope_column *src)
+static int copy_column(struct sscope_capture_column *dst, const struct sscope_capture_column *src)
 {
 	*dst = *src;
 	dst->name = ssc_strdup(src->name);
@@ -23,7 +23,7 @@ static int copy_column(struct sscope_column *dst, const struct sscope_column *sr
 	return (dst->name && dst->unit_label) ? 0 : -ENOMEM;
 }
 
-static void free_column(struct sscope_column *c)
+static void free_column(struct sscope_capture_column *c)
 {
 	free((char *)c->name);
 	free((char *)c->unit_label);
@@ -38,8 +38,8 @@ static bool in_mapping(const struct sscope_capture *cap, const void *p)
 	return m && (const char *)p >= m && (const char *)p < m + cap->mapping_len;
 }
 
-void sscope_capture_release(void *capture, const double *x, size_t stride,
-			    size_t from, size_t n)
+void sscope_capture_evict(void *capture, const double *x, size_t stride,
+			  size_t from, size_t n)
 {
 	struct sscope_capture *cap = capture;
 	const char *m, *a, *b;
@@ -135,12 +135,12 @@ static int grow(struct sscope_capture *cap, size_t rows)
 }
 
 int sscope_capture_load(struct sscope_capture **out, const char *path,
-			const struct sscope_read_opts *opts,
+			const struct sscope_reader_opts *opts,
 			struct sscope_diag *diag)
 {
 	struct sscope_reader *r = NULL;
 	struct sscope_capture *cap;
-	struct sscope_chunk ch = { 0 };
+	struct sscope_reader_chunk ch = { 0 };
 	double **ptrs = NULL;
 	size_t cap_rows, n = 0;
 	unsigned threads;
@@ -208,7 +208,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		for (size_t k = 0; k < cap->n_channels; k++)
 			ptrs[k] = cap->channels[k].data;
-		ch = (struct sscope_chunk){ cap_rows, 0, ptrs, cap->time_s,
+		ch = (struct sscope_reader_chunk){ cap_rows, 0, ptrs, cap->time_s,
 					    cap->temp_degc };
 		rc = ssc_reader_read_all(r, &ch, diag);
 		if (rc)
@@ -228,7 +228,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 				goto fail;
 			for (size_t k = 0; k < cap->n_channels; k++)
 				ptrs[k] = cap->channels[k].data + n;
-			ch = (struct sscope_chunk){
+			ch = (struct sscope_reader_chunk){
 				cap_rows - n, 0, ptrs,
 				cap->time_s ? cap->time_s + n : NULL,
 				cap->temp_degc ? cap->temp_degc + n : NULL
@@ -303,15 +303,15 @@ rate:
 	}
 	if (opts && opts->rate_hz > 0) {
 		cap->rate_hz = opts->rate_hz;
-		cap->rate_source = SSCOPE_RATE_GIVEN;
+		cap->rate_source = SSCOPE_CAPTURE_RATE_GIVEN;
 	} else if (cap->has_timing) {
 		cap->rate_hz = cap->timing.rate_hz;
-		cap->rate_source = SSCOPE_RATE_TIME_COLUMN;
+		cap->rate_source = SSCOPE_CAPTURE_RATE_TIME_COLUMN;
 	}
-	if (cap->rate_source == SSCOPE_RATE_NONE &&
+	if (cap->rate_source == SSCOPE_CAPTURE_RATE_NONE &&
 	    sscope_reader_header_rate(r) > 0) {
 		cap->rate_hz = sscope_reader_header_rate(r);
-		cap->rate_source = SSCOPE_RATE_HEADER;
+		cap->rate_source = SSCOPE_CAPTURE_RATE_HEADER;
 	}
 	free(ptrs);
 	sscope_reader_close(r);
@@ -354,8 +354,8 @@ struct sscope_capture *sscope_capture_new(size_t n_channels, size_t n,
 			goto fail;
 		memset(cap->time_s, 0, n * sizeof(double));
 		sscope_unit_parse("s", &cap->time_col.unit, NULL);
-		cap->time_col.quantity = SSCOPE_QTY_TIME;
-		cap->time_col.role = SSCOPE_ROLE_TIME;
+		cap->time_col.quantity = SSCOPE_QUANTITY_TIME;
+		cap->time_col.role = SSCOPE_CAPTURE_ROLE_TIME;
 	}
 	if (with_temp) {
 		cap->temp_degc = ssc_alloc_array(n, sizeof(double));
@@ -366,8 +366,8 @@ struct sscope_capture *sscope_capture_new(size_t n_channels, size_t n,
 			goto fail;
 		memset(cap->temp_degc, 0, n * sizeof(double));
 		sscope_unit_parse("degC", &cap->temp_col.unit, NULL);
-		cap->temp_col.quantity = SSCOPE_QTY_TEMPERATURE;
-		cap->temp_col.role = SSCOPE_ROLE_TEMP;
+		cap->temp_col.quantity = SSCOPE_QUANTITY_TEMPERATURE;
+		cap->temp_col.role = SSCOPE_CAPTURE_ROLE_TEMP;
 	}
 	return cap;
 fail:
@@ -378,7 +378,7 @@ fail:
 int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 			       const char *name, const char *unit)
 {
-	struct sscope_column c = { 0 };
+	struct sscope_capture_column c = { 0 };
 	int rc;
 
 	if (!cap || k >= cap->n_channels || !name || !unit)
@@ -388,8 +388,8 @@ int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 		return rc;
 	c.name = name;
 	c.unit_label = unit;
-	c.quantity = *unit ? sscope_unit_quantity(&c.unit) : SSCOPE_QTY_UNKNOWN;
-	c.role = SSCOPE_ROLE_DATA;
+	c.quantity = *unit ? sscope_unit_quantity(&c.unit) : SSCOPE_QUANTITY_UNKNOWN;
+	c.role = SSCOPE_CAPTURE_ROLE_DATA;
 	c.index = k;
 	free_column(&cap->channels[k].col);
 	return copy_column(&cap->channels[k].col, &c);
@@ -542,7 +542,7 @@ int sscope_capture_view(const struct sscope_capture *cap, const char *columns,
 int sscope_capture_select(struct sscope_capture *cap, const char *columns,
 			  struct sscope_diag *diag)
 {
-	struct sscope_channel *ch;
+	struct sscope_capture_channel *ch;
 	size_t *idx, n;
 	bool *kept;
 	int rc;

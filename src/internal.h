@@ -16,6 +16,7 @@
 #include <stdint.h>
 
 #include "sensorscope.h"
+#include "ssc.h"
 
 #if defined(__GNUC__)
 #define SSC_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -95,7 +96,7 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads);
 
 /* Read every remaining row into ch (capacity >= ssc_reader_max_rows()),
  * one thread per part of a split text file; other sources sequentially. */
-int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
+int ssc_reader_read_all(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 			struct sscope_diag *diag);
 
 /* Open a capture held in memory (buf is read in place and must outlive
@@ -104,7 +105,7 @@ int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
  * past the end of an exact-size buffer that a mapped file would hide. */
 int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
 			size_t len, const char *name,
-			const struct sscope_read_opts *opts,
+			const struct sscope_reader_opts *opts,
 			struct sscope_diag *diag);
 
 /*

@@ -21,7 +21,7 @@
 #include <sys/types.h>
 
 struct sscope_diag;
-struct sscope_source;
+struct sscope_capture_source;
 
 /* ------------------------------------------------------------ table */
 
@@ -33,7 +33,7 @@ enum ssc_vtype {
 
 struct ssc_tcol {
 	char *label;               /* "gx [rad/s]" (owned) */
-	int role;                  /* enum sscope_role */
+	int role;                  /* enum sscope_capture_role */
 	const unsigned char *data; /* value of row 0 */
 	size_t stride;             /* bytes between rows */
 	enum ssc_vtype type;
@@ -50,7 +50,7 @@ struct ssc_table {
 	/* receive times of the rows, ns (owned), or NULL */
 	int64_t *rx_ns;
 	/* format, topics (owned; receive_s stays NULL here) */
-	struct sscope_source *src;
+	struct sscope_capture_source *src;
 };
 
 struct ssc_table *ssc_table_new(const char *format);
@@ -65,12 +65,12 @@ int64_t ssc_table_i64(const struct ssc_tcol *c, size_t row);
 void ssc_table_free(struct ssc_table *t);
 /* a deep copy of the source description with receive_s filled from the
  * table's receive times of rows [0, n) relative to stamp t0_ns */
-struct sscope_source *ssc_source_copy(const struct sscope_source *s,
-				      const int64_t *rx_ns, size_t n,
-				      int64_t t0_ns);
-void ssc_source_free(struct sscope_source *s);
+struct sscope_capture_source *ssc_source_copy(const struct sscope_capture_source *s,
+					      const int64_t *rx_ns, size_t n,
+					      int64_t t0_ns);
+void ssc_source_free(struct sscope_capture_source *s);
 /* a source description holding only a format name */
-struct sscope_source *ssc_source_new(const char *format);
+struct sscope_capture_source *ssc_source_new(const char *format);
 
 /* ------------------------------------------------------------ detection */
 
@@ -83,7 +83,7 @@ enum ssc_container {
 enum ssc_container ssc_container_detect(const void *buf, size_t len);
 
 /* Decode a whole container held in buf (bag, MCAP, SQLite, npy) into a
- * table; topic as sscope_read_opts.topic. */
+ * table; topic as sscope_reader_opts.topic. */
 int ssc_container_open(struct ssc_table **t, enum ssc_container kind,
 		       const unsigned char *buf, size_t len, const char *disp,
 		       const char *topic, struct sscope_diag *diag);
@@ -175,8 +175,8 @@ int ssc_matz_expand(const unsigned char *buf, size_t len, unsigned char **out,
 /* The reader's container details for a capture of `rows` rows (a copy
  * with the receive times), or NULL for plain files (reader.c). */
 struct sscope_reader;
-struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
-					     size_t rows);
+struct sscope_capture_source *ssc_reader_take_source(struct sscope_reader *r,
+						     size_t rows);
 
 /* ------------------------------------------------------------ rostopic */
 

@@ -209,7 +209,7 @@ int ssc_npy_open(struct ssc_table **out, const unsigned char *buf, size_t len,
 			char lab[24];
 
 			snprintf(lab, sizeof(lab), "col%zu", k + 1);
-			rc = ssc_table_add(t, lab, SSCOPE_ROLE_DATA,
+			rc = ssc_table_add(t, lab, SSCOPE_CAPTURE_ROLE_DATA,
 					   buf + off + k * (wide ? si : sj) * esz,
 					   (wide ? sj : si) * esz, type, swap);
 		}

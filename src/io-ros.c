@@ -453,7 +453,7 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 	static const char *const vec_lab[] = { "x", "y", "z" };
 	struct ssc_table *t;
 	struct topic *td;
-	struct sscope_topic *tp;
+	struct sscope_capture_topic *tp;
 	char fmt[200];
 	double *tv = NULL;
 	long di, ti;
@@ -499,7 +499,7 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 	}
 	rc = ssc_table_own(t, td->stamp);
 	if (!rc)
-		rc = ssc_table_add(t, "time [ns]", SSCOPE_ROLE_TIME, td->stamp,
+		rc = ssc_table_add(t, "time [ns]", SSCOPE_CAPTURE_ROLE_TIME, td->stamp,
 				   sizeof(int64_t), SSC_V_I64, false);
 	td->stamp = NULL;
 	t->rx_ns = td->rx;
@@ -511,7 +511,7 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 
 		rc = ssc_table_own(t, td->v[k]);
 		if (!rc)
-			rc = ssc_table_add(t, lab, SSCOPE_ROLE_DATA, td->v[k],
+			rc = ssc_table_add(t, lab, SSCOPE_CAPTURE_ROLE_DATA, td->v[k],
 					   sizeof(double), SSC_V_F64, false);
 		td->v[k] = NULL;
 	}
@@ -521,7 +521,7 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 		else
 			free(tv);
 		if (!rc)
-			rc = ssc_table_add(t, "temp [degC]", SSCOPE_ROLE_TEMP, tv,
+			rc = ssc_table_add(t, "temp [degC]", SSCOPE_CAPTURE_ROLE_TEMP, tv,
 					   sizeof(double), SSC_V_F64, false);
 	}
 	if (rc) {

@@ -165,9 +165,9 @@ void ssc_table_free(struct ssc_table *t)
 
 /* ------------------------------------------------------------ sources */
 
-struct sscope_source *ssc_source_new(const char *format)
+struct sscope_capture_source *ssc_source_new(const char *format)
 {
-	struct sscope_source *s = calloc(1, sizeof(*s));
+	struct sscope_capture_source *s = calloc(1, sizeof(*s));
 
 	if (!s)
 		return NULL;
@@ -179,7 +179,7 @@ struct sscope_source *ssc_source_new(const char *format)
 	return s;
 }
 
-void ssc_source_free(struct sscope_source *s)
+void ssc_source_free(struct sscope_capture_source *s)
 {
 	if (!s)
 		return;
@@ -193,12 +193,12 @@ void ssc_source_free(struct sscope_source *s)
 	free(s);
 }
 
-struct sscope_source *ssc_source_copy(const struct sscope_source *s,
-				      const int64_t *rx_ns, size_t n,
-				      int64_t t0_ns)
+struct sscope_capture_source *ssc_source_copy(const struct sscope_capture_source *s,
+					      const int64_t *rx_ns, size_t n,
+					      int64_t t0_ns)
 {
-	struct sscope_source *c = ssc_source_new(s->format);
-	struct sscope_topic *tp;
+	struct sscope_capture_source *c = ssc_source_new(s->format);
+	struct sscope_capture_topic *tp;
 
 	if (!c)
 		return NULL;

@@ -217,7 +217,7 @@ static inline const char *digits(const char *p, const char *end,
 	return p;
 }
 
-size_t sscope_parse_double(const char *p, const char *end, double *out)
+size_t ssc_parse_double(const char *p, const char *end, double *out)
 {
 	const char *s = p, *d0, *sig, *f0;
 	bool neg = false;

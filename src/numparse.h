@@ -103,7 +103,7 @@ static inline uint64_t ssc_nondigits8(uint64_t w)
  * [+-].DIGITS, set *v to its value (bit-identical to strtod), *mant and
  * *frac to the exact decimal *mant * 10^-*frac, and return true.  Anything
  * else (exponents, NaN, blanks, garbage, longer cells) returns false: the
- * caller then parses the cell with sscope_parse_double.
+ * caller then parses the cell with ssc_parse_double.
  *
  * The 16 bytes before e are one little-endian number w (byte i is
  * e[i - 16]), the cell in its top len bytes.

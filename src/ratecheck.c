@@ -24,7 +24,7 @@ int sscope_capture_check_rate(const struct sscope_capture *cap,
 	const char *label, *likely = NULL;
 	size_t bi = 0;
 
-	if (!cap || cap->rate_source != SSCOPE_RATE_TIME_COLUMN)
+	if (!cap || cap->rate_source != SSCOPE_CAPTURE_RATE_TIME_COLUMN)
 		return 0;
 	rate = cap->rate_hz;
 	if (rate >= 1e-3 && rate <= 1e7)

@@ -43,7 +43,7 @@ enum kind { K_TEXT, K_BIN, K_RAW, K_MAT, K_TABLE };
 enum rawtype { R_I16, R_U16, R_I24, R_I32, R_U32, R_F32, R_F64 };
 
 struct colx {
-	struct sscope_column c;
+	struct sscope_capture_column c;
 	char *name;
 	char *unit_label;
 	int unit_rc;      /* result of parsing the unit (0 ok) */
@@ -93,8 +93,8 @@ struct sscope_reader {
 	struct part *parts;
 	size_t np;
 	size_t split_pos;
-	const struct sscope_read_opts *opts;
-	struct sscope_read_opts opts_copy;
+	const struct sscope_reader_opts *opts;
+	struct sscope_reader_opts opts_copy;
 	/* MATLAB 5 MAT-file (io-mat.c) */
 	struct ssc_mat *mat;
 	size_t mat_row;
@@ -104,7 +104,7 @@ struct sscope_reader {
 	struct ssc_table *tab;
 	size_t tab_row;
 	int64_t tab_t0;
-	struct sscope_source *src;
+	struct sscope_capture_source *src;
 	/* a mapped binary file: pages before `dropped` were given back */
 	size_t dropped, pagesz;
 	size_t last_used; /* last column converted (SIZE_MAX: none) */
@@ -321,7 +321,7 @@ static bool field_is_number(const char *a, const char *b)
 		b--;
 	if (a == b)
 		return true; /* empty cell: a gap, not a name */
-	n = sscope_parse_double(a, b, &v);
+	n = ssc_parse_double(a, b, &v);
 	return n == (size_t)(b - a);
 }
 
@@ -402,18 +402,18 @@ static void col_units(struct sscope_reader *r)
 		c->c.name = c->name;
 		c->c.index = i;
 		if (!*u && r->opts->default_unit &&
-		    c->c.role == SSCOPE_ROLE_DATA) {
+		    c->c.role == SSCOPE_CAPTURE_ROLE_DATA) {
 			free(c->unit_label);
 			c->unit_label = ssc_strdup(r->opts->default_unit);
 			u = c->unit_label ? c->unit_label : "";
 		}
 		c->c.unit_label = u;
 		c->unit_rc = sscope_unit_parse(
-			*u ? u : (c->c.role == SSCOPE_ROLE_TIME ? "s" :
-				  c->c.role == SSCOPE_ROLE_TEMP ? "degC" : ""),
+			*u ? u : (c->c.role == SSCOPE_CAPTURE_ROLE_TIME ? "s" :
+				  c->c.role == SSCOPE_CAPTURE_ROLE_TEMP ? "degC" : ""),
 			&c->c.unit, NULL);
-		c->c.quantity = c->unit_rc || (!*u && c->c.role == SSCOPE_ROLE_DATA) ?
-					SSCOPE_QTY_UNKNOWN :
+		c->c.quantity = c->unit_rc || (!*u && c->c.role == SSCOPE_CAPTURE_ROLE_DATA) ?
+					SSCOPE_QUANTITY_UNKNOWN :
 					sscope_unit_quantity(&c->c.unit);
 	}
 }
@@ -489,7 +489,7 @@ static int column_list(struct sscope_reader *r, char *buf, size_t len)
 
 static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 {
-	const struct sscope_read_opts *o = r->opts;
+	const struct sscope_reader_opts *o = r->opts;
 	char names[200];
 
 	r->time_col = -1;
@@ -504,7 +504,7 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 		}
 	} else if (r->kind == K_TABLE) {
 		for (size_t i = 0; i < r->ncols; i++)
-			if (r->tab->cols[i].role == SSCOPE_ROLE_TIME)
+			if (r->tab->cols[i].role == SSCOPE_CAPTURE_ROLE_TIME)
 				r->time_col = (long)i;
 	} else if (r->kind == K_TEXT || r->kind == K_BIN || r->kind == K_MAT) {
 		for (size_t i = 0; i < r->ncols; i++)
@@ -525,7 +525,7 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 		}
 	} else if (r->kind == K_TABLE) {
 		for (size_t i = 0; i < r->ncols; i++)
-			if (r->tab->cols[i].role == SSCOPE_ROLE_TEMP)
+			if (r->tab->cols[i].role == SSCOPE_CAPTURE_ROLE_TEMP)
 				r->temp_col = (long)i;
 	} else if (r->kind != K_RAW) {
 		for (size_t i = 0; i < r->ncols; i++)
@@ -536,9 +536,9 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 			}
 	}
 	for (size_t i = 0; i < r->ncols; i++) {
-		r->cols[i].c.role = (long)i == r->time_col ? SSCOPE_ROLE_TIME :
-				    (long)i == r->temp_col ? SSCOPE_ROLE_TEMP :
-							     SSCOPE_ROLE_DATA;
+		r->cols[i].c.role = (long)i == r->time_col ? SSCOPE_CAPTURE_ROLE_TIME :
+				    (long)i == r->temp_col ? SSCOPE_CAPTURE_ROLE_TEMP :
+							     SSCOPE_CAPTURE_ROLE_DATA;
 		r->cols[i].dest = -1;
 	}
 	col_units(r);
@@ -619,7 +619,7 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		free(copy);
 	} else {
 		for (size_t i = 0; i < r->ncols; i++) {
-			if (r->cols[i].c.role != SSCOPE_ROLE_DATA ||
+			if (r->cols[i].c.role != SSCOPE_CAPTURE_ROLE_DATA ||
 			    r->cols[i].hidden)
 				continue;
 			r->cols[i].dest = (int)r->nsel;
@@ -673,7 +673,7 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		rc = check_unit(r, c, diag);
 		if (rc)
 			return rc;
-		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QTY_TIME)
+		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QUANTITY_TIME)
 			return ssc_diag(diag, -EINVAL,
 					"%s: time column '%s' has unit '%s', not a time",
 					r->disp, c->name, c->c.unit_label);
@@ -684,7 +684,7 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		rc = check_unit(r, c, diag);
 		if (rc)
 			return rc;
-		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QTY_TEMPERATURE)
+		if (sscope_unit_quantity(&c->c.unit) != SSCOPE_QUANTITY_TEMPERATURE)
 			return ssc_diag(diag, -EINVAL,
 					"%s: temperature column '%s' has unit '%s', not a temperature",
 					r->disp, c->name, c->c.unit_label);
@@ -775,7 +775,7 @@ static void header_rate(struct sscope_reader *r, const char *p, const char *e)
 		if (sscope_quantity_parse(buf, &v, &u, NULL))
 			return;
 		sscope_unit_parse("Hz", &hz, NULL);
-		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+		if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 		    u.scale == 1)
 			u = hz;
 		if (sscope_unit_compatible(&u, &hz) && v > 0 && isfinite(v))
@@ -976,8 +976,8 @@ static int raw_layout(const char *spec, size_t *type, size_t *channels,
 	return 0;
 }
 
-int sscope_raw_layout_check(const char *layout, size_t *channels,
-			    size_t *value_bytes, struct sscope_diag *diag)
+int sscope_reader_raw_layout_check(const char *layout, size_t *channels,
+				   size_t *value_bytes, struct sscope_diag *diag)
 {
 	size_t t, ch;
 	bool be;
@@ -1121,7 +1121,7 @@ static int open_mat(struct sscope_reader *r, struct sscope_diag *diag)
 	return add_columns(r, fs, fe, n, true);
 }
 
-static int read_mat(struct sscope_reader *r, struct sscope_chunk *ch,
+static int read_mat(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		    struct sscope_diag *diag)
 {
 	size_t row = 0, nrows = ssc_mat_rows(r->mat);
@@ -1221,7 +1221,7 @@ static int open_gzip(struct sscope_reader *r, struct sscope_diag *diag)
 	return src_fill(r, 1u << 20, diag);
 }
 
-static int read_table(struct sscope_reader *r, struct sscope_chunk *ch,
+static int read_table(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		      struct sscope_diag *diag)
 {
 	size_t n = r->tab->nrows - r->tab_row, r0 = r->tab_row;
@@ -1282,7 +1282,7 @@ static int gzip_source(struct sscope_reader *r)
 			    r->kind == K_BIN ? "sensorscope binary" :
 			    r->src ? r->src->format : r->tab ? r->tab->src->format :
 			    "data";
-	struct sscope_source *s;
+	struct sscope_capture_source *s;
 
 	snprintf(f, sizeof(f), "gzip-compressed %s", inner);
 	s = ssc_source_new(f);
@@ -1300,8 +1300,8 @@ static int gzip_source(struct sscope_reader *r)
 	return 0;
 }
 
-struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
-					     size_t rows)
+struct sscope_capture_source *ssc_reader_take_source(struct sscope_reader *r,
+						     size_t rows)
 {
 	if (r->tab)
 		return ssc_source_copy(r->tab->src, r->tab->rx_ns,
@@ -1309,7 +1309,7 @@ struct sscope_source *ssc_reader_take_source(struct sscope_reader *r,
 	return r->src ? ssc_source_copy(r->src, NULL, 0, 0) : NULL;
 }
 
-const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
+const struct sscope_capture_source *sscope_reader_source(const struct sscope_reader *r)
 {
 	return r->tab ? r->tab->src : r->src;
 }
@@ -1320,10 +1320,10 @@ const struct sscope_source *sscope_reader_source(const struct sscope_reader *r)
  * a mapped file) when mem is not NULL, else the file at path. */
 static int reader_open(struct sscope_reader **reader, const char *path,
 		       const void *mem, size_t mem_len,
-		       const struct sscope_read_opts *opts,
+		       const struct sscope_reader_opts *opts,
 		       struct sscope_diag *diag)
 {
-	static const struct sscope_read_opts defaults;
+	static const struct sscope_reader_opts defaults;
 	struct sscope_reader *r;
 	enum ssc_container kind;
 	int rc;
@@ -1448,7 +1448,7 @@ fail:
 }
 
 int sscope_reader_open(struct sscope_reader **reader, const char *path,
-		       const struct sscope_read_opts *opts,
+		       const struct sscope_reader_opts *opts,
 		       struct sscope_diag *diag)
 {
 	return reader_open(reader, path, NULL, 0, opts, diag);
@@ -1456,7 +1456,7 @@ int sscope_reader_open(struct sscope_reader **reader, const char *path,
 
 int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
 			size_t len, const char *name,
-			const struct sscope_read_opts *opts,
+			const struct sscope_reader_opts *opts,
 			struct sscope_diag *diag)
 {
 	if (!buf)
@@ -1486,19 +1486,19 @@ size_t sscope_reader_n_channels(const struct sscope_reader *r)
 	return r->nsel;
 }
 
-const struct sscope_column *sscope_reader_channel(const struct sscope_reader *r,
-						  size_t k)
+const struct sscope_capture_column *sscope_reader_channel(const struct sscope_reader *r,
+							  size_t k)
 {
 	return k < r->nsel ? &r->cols[r->sel[k]].c : NULL;
 }
 
-const struct sscope_column *
+const struct sscope_capture_column *
 sscope_reader_time_column(const struct sscope_reader *r)
 {
 	return r->time_col >= 0 ? &r->cols[r->time_col].c : NULL;
 }
 
-const struct sscope_column *
+const struct sscope_capture_column *
 sscope_reader_temp_column(const struct sscope_reader *r)
 {
 	return r->temp_col >= 0 ? &r->cols[r->temp_col].c : NULL;
@@ -1509,8 +1509,8 @@ size_t sscope_reader_n_columns(const struct sscope_reader *r)
 	return r->ncols;
 }
 
-const struct sscope_column *sscope_reader_column(const struct sscope_reader *r,
-						 size_t k)
+const struct sscope_capture_column *sscope_reader_column(const struct sscope_reader *r,
+							 size_t k)
 {
 	return k < r->ncols ? &r->cols[k].c : NULL;
 }
@@ -1664,7 +1664,7 @@ static int cell_value(const struct sscope_reader *r, size_t line, size_t col,
 		*v = NAN;
 		return 0;
 	}
-	used = sscope_parse_double(a, b, v);
+	used = ssc_parse_double(a, b, v);
 	if (used != (size_t)(b - a))
 		return bad_cell(r, line, col, a, b, "not a number", diag);
 	if (isnan(*v) && (!r->opts->nan_as_gap || c->is_time))
@@ -1678,7 +1678,7 @@ static int cell_value(const struct sscope_reader *r, size_t line, size_t col,
 }
 
 static inline void put_cell(const struct sscope_reader *r,
-			    const struct colx *c, struct sscope_chunk *ch,
+			    const struct colx *c, struct sscope_reader_chunk *ch,
 			    size_t row, const char *a, const char *b, double v)
 {
 	if (c->dest >= 0 && ch->data[c->dest])
@@ -1699,7 +1699,7 @@ static int ragged(const struct sscope_reader *r, size_t line, size_t cols,
 
 /* One data line [p, e) (no newline).  Reentrant: reads r, writes ch. */
 static int parse_line(const struct sscope_reader *r, const char *p,
-		      const char *e, size_t line, struct sscope_chunk *ch,
+		      const char *e, size_t line, struct sscope_reader_chunk *ch,
 		      size_t row, struct sscope_diag *diag)
 {
 	size_t col = 0;
@@ -1742,7 +1742,7 @@ static int parse_line(const struct sscope_reader *r, const char *p,
 		}
 		if (r->cols[col].used) {
 			double v;
-			size_t n = sscope_parse_double(p, e, &v);
+			size_t n = ssc_parse_double(p, e, &v);
 
 			b = p + n;
 			if (!(n && (b == e || *b == d) && isfinite(v))) {
@@ -1871,7 +1871,7 @@ static ALWAYS_INLINE bool plain_cell(const char *a, const char *e, bool simd,
  * number; false sends the line to the careful path. */
 static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
 				   const struct colx *c,
-				   struct sscope_chunk *ch, size_t row,
+				   struct sscope_reader_chunk *ch, size_t row,
 				   const char *a, const char *e, bool simd)
 {
 	double v;
@@ -1891,7 +1891,7 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
 				v * c->c.unit.scale + c->c.unit.offset;
 		return true;
 	}
-	n = sscope_parse_double(a, e, &v);
+	n = ssc_parse_double(a, e, &v);
 	if (!n || n != (size_t)(e - a) || !isfinite(v))
 		return false;
 	put_cell(r, c, ch, row, a, e, v);
@@ -1904,7 +1904,7 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * rewrites the whole row. */
 static ALWAYS_INLINE const char *
 scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
-	  const char *end, struct sscope_chunk *ch, size_t row, bool simd)
+	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd)
 {
 	const char d = r->delim;
 	const size_t last = r->ncols - 1;
@@ -1938,7 +1938,7 @@ static bool skip_line(const char *p, const char *e)
  * when `eof`.  *line counts lines; *stop receives where parsing stopped. */
 static ALWAYS_INLINE int
 parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
-		bool eof, size_t *line, struct sscope_chunk *ch, size_t row,
+		bool eof, size_t *line, struct sscope_reader_chunk *ch, size_t row,
 		size_t max_rows, size_t *rows_out, const char **stop,
 		struct sscope_diag *diag, bool simd)
 {
@@ -1992,7 +1992,7 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 
 static int parse_rows_plain(const struct sscope_reader *r, const char *p,
 			    const char *end, bool eof, size_t *line,
-			    struct sscope_chunk *ch, size_t row,
+			    struct sscope_reader_chunk *ch, size_t row,
 			    size_t max_rows, size_t *rows_out,
 			    const char **stop, struct sscope_diag *diag)
 {
@@ -2004,7 +2004,7 @@ static int parse_rows_plain(const struct sscope_reader *r, const char *p,
 __attribute__((target("ssse3"))) static int
 parse_rows_ssse3(const struct sscope_reader *r, const char *p,
 		 const char *end, bool eof, size_t *line,
-		 struct sscope_chunk *ch, size_t row, size_t max_rows,
+		 struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
 		 size_t *rows_out, const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
@@ -2015,7 +2015,7 @@ parse_rows_ssse3(const struct sscope_reader *r, const char *p,
 /* The same, with the processor's byte shuffles when it has them. */
 static int parse_rows(const struct sscope_reader *r, const char *p,
 		      const char *end, bool eof, size_t *line,
-		      struct sscope_chunk *ch, size_t row, size_t max_rows,
+		      struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
 		      size_t *rows_out, const char **stop,
 		      struct sscope_diag *diag)
 {
@@ -2081,7 +2081,7 @@ static int init_t0(struct sscope_reader *r, struct sscope_diag *diag)
 	return 0;
 }
 
-static int read_text(struct sscope_reader *r, struct sscope_chunk *ch,
+static int read_text(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		     struct sscope_diag *diag)
 {
 	size_t row = 0;
@@ -2128,7 +2128,7 @@ struct part {
 	size_t row0;         /* first row it writes */
 	size_t nl;           /* newlines in it */
 	size_t cap;          /* rows it may write */
-	struct sscope_chunk *ch;
+	struct sscope_reader_chunk *ch;
 	size_t rows;
 	size_t line_err;
 	int rc;
@@ -2263,7 +2263,7 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 	return total;
 }
 
-int ssc_reader_read_all(struct sscope_reader *r, struct sscope_chunk *ch,
+int ssc_reader_read_all(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 			struct sscope_diag *diag)
 {
 	struct part *parts = r->parts;
@@ -2378,7 +2378,7 @@ static double raw_value(const struct sscope_reader *r, const unsigned char *b)
  * the careful path then redoes the block (gaps, messages).
  */
 static bool convert_block(struct sscope_reader *r, const unsigned char *b,
-			  size_t rows, struct sscope_chunk *ch, size_t row)
+			  size_t rows, struct sscope_reader_chunk *ch, size_t row)
 {
 	const size_t rowb = r->ncols * r->rsize;
 	const double off = r->roffset, sc = r->rscale;
@@ -2557,7 +2557,7 @@ bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 	return true;
 }
 
-static int read_binary(struct sscope_reader *r, struct sscope_chunk *ch,
+static int read_binary(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		       struct sscope_diag *diag)
 {
 	size_t rowb = r->ncols * r->rsize, row = 0, slow = 0;
@@ -2647,7 +2647,7 @@ static int read_binary(struct sscope_reader *r, struct sscope_chunk *ch,
 	return 0;
 }
 
-int sscope_reader_read(struct sscope_reader *r, struct sscope_chunk *ch,
+int sscope_reader_read(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		       struct sscope_diag *diag)
 {
 	if (!r || !ch || (r->nsel && !ch->data))

@@ -31,7 +31,7 @@ struct ini_section {
 	size_t n, cap;
 };
 
-struct sscope_ini {
+struct ssc_ini {
 	char *name; /* file name for messages */
 	struct ini_section *sec;
 	size_t n, cap;
@@ -53,7 +53,7 @@ static char *trim_dup(const char *a, const char *b)
 	return s;
 }
 
-void sscope_ini_free(struct sscope_ini *ini)
+void ssc_ini_free(struct ssc_ini *ini)
 {
 	if (!ini)
 		return;
@@ -70,7 +70,7 @@ void sscope_ini_free(struct sscope_ini *ini)
 	free(ini);
 }
 
-static struct ini_section *add_section(struct sscope_ini *ini, char *name,
+static struct ini_section *add_section(struct ssc_ini *ini, char *name,
 				       size_t line)
 {
 	if (ini->n == ini->cap) {
@@ -103,10 +103,10 @@ static int add_kv(struct ini_section *s, char *key, char *value, size_t line)
 	return 0;
 }
 
-int sscope_ini_parse(struct sscope_ini **out, const char *text, size_t len,
-		     const char *name, struct sscope_diag *diag)
+int ssc_ini_parse(struct ssc_ini **out, const char *text, size_t len,
+		  const char *name, struct sscope_diag *diag)
 {
-	struct sscope_ini *ini = calloc(1, sizeof(*ini));
+	struct ssc_ini *ini = calloc(1, sizeof(*ini));
 	struct ini_section *cur = NULL;
 	const char *p = text, *end = text + len;
 	size_t line = 0;
@@ -228,12 +228,12 @@ int sscope_ini_parse(struct sscope_ini **out, const char *text, size_t len,
 	*out = ini;
 	return 0;
 fail:
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 	return rc;
 }
 
-int sscope_ini_load(struct sscope_ini **out, const char *path,
-		    struct sscope_diag *diag)
+int ssc_ini_load(struct ssc_ini **out, const char *path,
+		 struct sscope_diag *diag)
 {
 	FILE *f;
 	char *buf = NULL;
@@ -284,23 +284,23 @@ int sscope_ini_load(struct sscope_ini **out, const char *path,
 		return ssc_diag(diag, -EBADMSG, "%s: binary data, not an INI file",
 				path);
 	}
-	rc = sscope_ini_parse(out, buf, len, path, diag);
+	rc = ssc_ini_parse(out, buf, len, path, diag);
 	free(buf);
 	return rc;
 }
 
-const char *sscope_ini_name(const struct sscope_ini *ini)
+const char *ssc_ini_name(const struct ssc_ini *ini)
 {
 	return ini->name;
 }
 
-size_t sscope_ini_n_sections(const struct sscope_ini *ini)
+size_t ssc_ini_n_sections(const struct ssc_ini *ini)
 {
 	return ini->n;
 }
 
-const char *sscope_ini_section(const struct sscope_ini *ini, size_t i,
-			       size_t *line)
+const char *ssc_ini_section(const struct ssc_ini *ini, size_t i,
+			    size_t *line)
 {
 	if (i >= ini->n)
 		return NULL;
@@ -309,7 +309,7 @@ const char *sscope_ini_section(const struct sscope_ini *ini, size_t i,
 	return ini->sec[i].name;
 }
 
-static const struct ini_section *find_section(const struct sscope_ini *ini,
+static const struct ini_section *find_section(const struct ssc_ini *ini,
 					      const char *section)
 {
 	for (size_t i = 0; i < ini->n; i++)
@@ -318,20 +318,20 @@ static const struct ini_section *find_section(const struct sscope_ini *ini,
 	return NULL;
 }
 
-bool sscope_ini_has_section(const struct sscope_ini *ini, const char *section)
+bool ssc_ini_has_section(const struct ssc_ini *ini, const char *section)
 {
 	return find_section(ini, section) != NULL;
 }
 
-size_t sscope_ini_n_keys(const struct sscope_ini *ini, const char *section)
+size_t ssc_ini_n_keys(const struct ssc_ini *ini, const char *section)
 {
 	const struct ini_section *s = find_section(ini, section);
 
 	return s ? s->n : 0;
 }
 
-const char *sscope_ini_key(const struct sscope_ini *ini, const char *section,
-			   size_t k, const char **value, size_t *line)
+const char *ssc_ini_key(const struct ssc_ini *ini, const char *section,
+			size_t k, const char **value, size_t *line)
 {
 	const struct ini_section *s = find_section(ini, section);
 
@@ -344,8 +344,8 @@ const char *sscope_ini_key(const struct sscope_ini *ini, const char *section,
 	return s->kv[k].key;
 }
 
-const char *sscope_ini_get(const struct sscope_ini *ini, const char *section,
-			   const char *key, size_t *line)
+const char *ssc_ini_get(const struct ssc_ini *ini, const char *section,
+			const char *key, size_t *line)
 {
 	const struct ini_section *s = find_section(ini, section);
 
@@ -360,8 +360,8 @@ const char *sscope_ini_get(const struct sscope_ini *ini, const char *section,
 	return NULL;
 }
 
-int sscope_ini_check_keys(const struct sscope_ini *ini, const char *section,
-			  const char *const *allowed, struct sscope_diag *diag)
+int ssc_ini_check_keys(const struct ssc_ini *ini, const char *section,
+		       const char *const *allowed, struct sscope_diag *diag)
 {
 	const struct ini_section *s = find_section(ini, section);
 
@@ -381,14 +381,14 @@ int sscope_ini_check_keys(const struct sscope_ini *ini, const char *section,
 	return 0;
 }
 
-int sscope_ini_quantity(const struct sscope_ini *ini, const char *section,
-			const char *key, const char *si_unit, double *out,
-			struct sscope_diag *diag)
+int ssc_ini_quantity(const struct ssc_ini *ini, const char *section,
+		     const char *key, const char *si_unit, double *out,
+		     struct sscope_diag *diag)
 {
 	struct sscope_unit u, want;
 	struct sscope_diag d = { "" };
 	size_t line = 0;
-	const char *v = sscope_ini_get(ini, section, key, &line);
+	const char *v = ssc_ini_get(ini, section, key, &line);
 	double x;
 	int rc;
 
@@ -401,7 +401,7 @@ int sscope_ini_quantity(const struct sscope_ini *ini, const char *section,
 	if (rc)
 		return ssc_diag(diag, -EINVAL, "%s: line %zu: %s: %s", ini->name,
 				line, key, d.msg);
-	if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+	if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 	    u.scale == 1 && !sscope_unit_compatible(&u, &want)) {
 		/* a bare number is taken in the SI unit */
 		x = sscope_unit_to_si(&want, x);
@@ -417,12 +417,12 @@ int sscope_ini_quantity(const struct sscope_ini *ini, const char *section,
 	return 0;
 }
 
-int sscope_ini_integer(const struct sscope_ini *ini, const char *section,
-		       const char *key, long lo, long hi, long *out,
-		       struct sscope_diag *diag)
+int ssc_ini_integer(const struct ssc_ini *ini, const char *section,
+		    const char *key, long lo, long hi, long *out,
+		    struct sscope_diag *diag)
 {
 	size_t line = 0;
-	const char *v = sscope_ini_get(ini, section, key, &line);
+	const char *v = ssc_ini_get(ini, section, key, &line);
 	char *end;
 	long x;
 
@@ -464,7 +464,7 @@ static void unit_for(char *buf, size_t len, const char *U, const char *suffix)
 	snprintf(buf, len, "%s%s", U, suffix);
 }
 
-static int detect_quantity(const struct sscope_ini *ini, const char *sec,
+static int detect_quantity(const struct ssc_ini *ini, const char *sec,
 			   enum sscope_quantity *q, struct sscope_diag *diag)
 {
 	static const char *const probe[] = { "range", "noise_density",
@@ -473,13 +473,13 @@ static int detect_quantity(const struct sscope_ini *ini, const char *sec,
 	static const struct {
 		enum sscope_quantity q;
 		const char *U;
-	} kinds[] = { { SSCOPE_QTY_ANGULAR_RATE, "rad/s" },
-		      { SSCOPE_QTY_ACCELERATION, "m/s^2" } };
+	} kinds[] = { { SSCOPE_QUANTITY_ANGULAR_RATE, "rad/s" },
+		      { SSCOPE_QUANTITY_ACCELERATION, "m/s^2" } };
 	static const char *const suffix[] = { "", "/sqrt(Hz)", "", "",
 					      "/s/sqrt(Hz)" };
 
 	for (size_t i = 0; probe[i]; i++) {
-		const char *v = sscope_ini_get(ini, sec, probe[i], NULL);
+		const char *v = ssc_ini_get(ini, sec, probe[i], NULL);
 		struct sscope_unit u;
 		double x;
 
@@ -499,13 +499,13 @@ static int detect_quantity(const struct sscope_ini *ini, const char *sec,
 	}
 	return ssc_diag(diag, -EINVAL,
 			"%s: [%s]: cannot tell a gyro from an accelerometer: give 'range' or 'noise_density' with a unit (e.g. 250 deg/s, 0.15 deg/sqrt(h))",
-			sscope_ini_name(ini), sec);
+			ssc_ini_name(ini), sec);
 }
 
-int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
-				const char *section,
-				struct sscope_sensor_spec *s,
-				struct sscope_diag *diag)
+int ssc_sensor_spec_from_ini(const struct ssc_ini *ini,
+			     const char *section,
+			     struct sscope_sensor_spec *s,
+			     struct sscope_diag *diag)
 {
 	static const struct {
 		const char *key;
@@ -514,24 +514,24 @@ int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
 		unsigned flag;
 	} fields[] = {
 		{ "range", "", offsetof(struct sscope_sensor_spec, range),
-		  SSCOPE_SPEC_RANGE },
+		  SSCOPE_SENSOR_HAS_RANGE },
 		{ "quantization", "*s",
-		  offsetof(struct sscope_sensor_spec, q), SSCOPE_SPEC_Q },
+		  offsetof(struct sscope_sensor_spec, q), SSCOPE_SENSOR_HAS_Q },
 		{ "noise_density", "/sqrt(Hz)",
-		  offsetof(struct sscope_sensor_spec, n), SSCOPE_SPEC_N },
+		  offsetof(struct sscope_sensor_spec, n), SSCOPE_SENSOR_HAS_N },
 		{ "bias_instability", "",
-		  offsetof(struct sscope_sensor_spec, b), SSCOPE_SPEC_B },
+		  offsetof(struct sscope_sensor_spec, b), SSCOPE_SENSOR_HAS_B },
 		{ "rate_random_walk", "/s/sqrt(Hz)",
-		  offsetof(struct sscope_sensor_spec, k), SSCOPE_SPEC_K },
+		  offsetof(struct sscope_sensor_spec, k), SSCOPE_SENSOR_HAS_K },
 		{ "rate_ramp", "/s", offsetof(struct sscope_sensor_spec, r),
-		  SSCOPE_SPEC_R },
+		  SSCOPE_SENSOR_HAS_R },
 		{ "bias", "", offsetof(struct sscope_sensor_spec, bias),
-		  SSCOPE_SPEC_BIAS },
+		  SSCOPE_SENSOR_HAS_BIAS },
 		{ "bias_tempco", "/degC",
 		  offsetof(struct sscope_sensor_spec, bias_tempco),
-		  SSCOPE_SPEC_TEMPCO },
+		  SSCOPE_SENSOR_HAS_TEMPCO },
 		{ "sensitivity", "", offsetof(struct sscope_sensor_spec, sensitivity),
-		  SSCOPE_SPEC_SENSITIVITY },
+		  SSCOPE_SENSOR_HAS_SENSITIVITY },
 	};
 	const char *U;
 	const char *v;
@@ -539,17 +539,17 @@ int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
 	long order;
 
 	memset(s, 0, sizeof(*s));
-	if (!sscope_ini_has_section(ini, section))
+	if (!ssc_ini_has_section(ini, section))
 		return ssc_diag(diag, -EINVAL, "%s: no [%s] section",
-				sscope_ini_name(ini), section);
-	rc = sscope_ini_check_keys(ini, section, sensor_keys, diag);
+				ssc_ini_name(ini), section);
+	rc = ssc_ini_check_keys(ini, section, sensor_keys, diag);
 	if (rc)
 		return rc;
 	rc = detect_quantity(ini, section, &s->quantity, diag);
 	if (rc)
 		return rc;
-	U = s->quantity == SSCOPE_QTY_ANGULAR_RATE ? "rad/s" : "m/s^2";
-	v = sscope_ini_get(ini, section, "name", NULL);
+	U = s->quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "rad/s" : "m/s^2";
+	v = ssc_ini_get(ini, section, "name", NULL);
 	snprintf(s->name, sizeof(s->name), "%s", v ? v : section);
 	for (size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); i++) {
 		char want[64];
@@ -559,8 +559,8 @@ int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
 			snprintf(want, sizeof(want), "V/(%s)", U);
 		else
 			unit_for(want, sizeof(want), U, fields[i].suffix);
-		rc = sscope_ini_quantity(ini, section, fields[i].key, want, &x,
-					 diag);
+		rc = ssc_ini_quantity(ini, section, fields[i].key, want, &x,
+				      diag);
 		if (rc == -ENOENT)
 			continue;
 		if (rc)
@@ -570,65 +570,65 @@ int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
 		     strcmp(fields[i].key, "bias_tempco")))
 			return ssc_diag(diag, -EINVAL,
 					"%s: [%s] %s must be a non-negative number",
-					sscope_ini_name(ini), section,
+					ssc_ini_name(ini), section,
 					fields[i].key);
 		*(double *)((char *)s + fields[i].off) = x;
 		s->has |= fields[i].flag;
 	}
-	if ((s->has & SSCOPE_SPEC_RANGE) && !(s->range > 0))
+	if ((s->has & SSCOPE_SENSOR_HAS_RANGE) && !(s->range > 0))
 		return ssc_diag(diag, -EINVAL, "%s: [%s] range must be positive",
-				sscope_ini_name(ini), section);
-	rc = sscope_ini_quantity(ini, section, "scale_factor_error", "1",
-				 &s->scale_factor_error, diag);
+				ssc_ini_name(ini), section);
+	rc = ssc_ini_quantity(ini, section, "scale_factor_error", "1",
+			      &s->scale_factor_error, diag);
 	if (rc == 0)
-		s->has |= SSCOPE_SPEC_SF;
+		s->has |= SSCOPE_SENSOR_HAS_SF;
 	else if (rc != -ENOENT)
 		return rc;
 	/* a bare scale-factor error is in ppm, as datasheets give it */
-	v = sscope_ini_get(ini, section, "scale_factor_error", NULL);
+	v = ssc_ini_get(ini, section, "scale_factor_error", NULL);
 	if (v && rc == 0) {
 		struct sscope_unit u;
 		double x;
 
 		if (!sscope_quantity_parse(v, &x, &u, NULL) &&
-		    sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+		    sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 		    u.scale == 1)
 			s->scale_factor_error = x * 1e-6;
 	}
-	rc = sscope_ini_quantity(ini, section, "temp_min", "degC",
-				 &s->temp_min_degc, diag);
+	rc = ssc_ini_quantity(ini, section, "temp_min", "degC",
+			      &s->temp_min_degc, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
-	rc = sscope_ini_quantity(ini, section, "temp_max", "degC",
-				 &s->temp_max_degc, diag);
+	rc = ssc_ini_quantity(ini, section, "temp_max", "degC",
+			      &s->temp_max_degc, diag);
 	if (rc && rc != -ENOENT)
 		return rc;
-	if (sscope_ini_get(ini, section, "temp_min", NULL) &&
-	    sscope_ini_get(ini, section, "temp_max", NULL)) {
+	if (ssc_ini_get(ini, section, "temp_min", NULL) &&
+	    ssc_ini_get(ini, section, "temp_max", NULL)) {
 		if (!(s->temp_max_degc > s->temp_min_degc))
 			return ssc_diag(diag, -EINVAL,
 					"%s: [%s] temp_max must exceed temp_min",
-					sscope_ini_name(ini), section);
-		s->has |= SSCOPE_SPEC_TEMPS;
+					ssc_ini_name(ini), section);
+		s->has |= SSCOPE_SENSOR_HAS_TEMPS;
 	}
-	rc = sscope_ini_quantity(ini, section, "zero_output", "V",
-				 &s->zero_output_v, diag);
+	rc = ssc_ini_quantity(ini, section, "zero_output", "V",
+			      &s->zero_output_v, diag);
 	if (rc == 0)
-		s->has |= SSCOPE_SPEC_ZERO;
+		s->has |= SSCOPE_SENSOR_HAS_ZERO;
 	else if (rc != -ENOENT)
 		return rc;
-	rc = sscope_ini_quantity(ini, section, "bandwidth", "Hz",
-				 &s->bandwidth_hz, diag);
+	rc = ssc_ini_quantity(ini, section, "bandwidth", "Hz",
+			      &s->bandwidth_hz, diag);
 	if (rc == 0) {
 		if (!(s->bandwidth_hz > 0))
 			return ssc_diag(diag, -EINVAL,
 					"%s: [%s] bandwidth must be positive",
-					sscope_ini_name(ini), section);
-		s->has |= SSCOPE_SPEC_BANDWIDTH;
+					ssc_ini_name(ini), section);
+		s->has |= SSCOPE_SENSOR_HAS_BANDWIDTH;
 	} else if (rc != -ENOENT) {
 		return rc;
 	}
-	rc = sscope_ini_integer(ini, section, "filter_order", 1, 8, &order, diag);
+	rc = ssc_ini_integer(ini, section, "filter_order", 1, 8, &order, diag);
 	if (rc == 0)
 		s->filter_order = (int)order;
 	else if (rc != -ENOENT)
@@ -641,12 +641,12 @@ int sscope_sensor_spec_from_ini(const struct sscope_ini *ini,
 int sscope_sensor_spec_load(const char *path, struct sscope_sensor_spec *s,
 			    struct sscope_diag *diag)
 {
-	struct sscope_ini *ini;
-	int rc = sscope_ini_load(&ini, path, diag);
+	struct ssc_ini *ini;
+	int rc = ssc_ini_load(&ini, path, diag);
 
 	if (rc)
 		return rc;
-	rc = sscope_sensor_spec_from_ini(ini, "sensor", s, diag);
-	sscope_ini_free(ini);
+	rc = ssc_sensor_spec_from_ini(ini, "sensor", s, diag);
+	ssc_ini_free(ini);
 	return rc;
 }

@@ -17,14 +17,14 @@
 
 #define PI 3.14159265358979323846
 
-enum { L = SSCOPE_DIM_LENGTH, T = SSCOPE_DIM_TIME, A = SSCOPE_DIM_ANGLE,
-       K = SSCOPE_DIM_TEMP, V = SSCOPE_DIM_VOLTAGE, C = SSCOPE_DIM_COUNTS };
+enum { L = SSCOPE_UNIT_DIM_LENGTH, T = SSCOPE_UNIT_DIM_TIME, A = SSCOPE_UNIT_DIM_ANGLE,
+       K = SSCOPE_UNIT_DIM_TEMP, V = SSCOPE_UNIT_DIM_VOLTAGE, C = SSCOPE_UNIT_DIM_COUNTS };
 
 struct atom {
 	const char *name;
 	double scale;
 	double offset; /* only for a lone absolute temperature */
-	int8_t dim2[SSCOPE_DIM_COUNT];
+	int8_t dim2[SSCOPE_UNIT_DIM_COUNT];
 };
 
 #define D(l, t, a, k, v, c) { 2 * (l), 2 * (t), 2 * (a), 2 * (k), 2 * (v), 2 * (c) }
@@ -129,7 +129,7 @@ struct parser {
 
 struct val {
 	double scale;
-	int dim2[SSCOPE_DIM_COUNT];
+	int dim2[SSCOPE_UNIT_DIM_COUNT];
 };
 
 static int parse_expr(struct parser *ps, struct val *out);
@@ -231,7 +231,7 @@ static void val_pow(struct val *v, int e2)
 	int i;
 
 	v->scale = pow(v->scale, e2 / 2.0);
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 		v->dim2[i] = v->dim2[i] * e2 / 2;
 }
 
@@ -240,7 +240,7 @@ static bool pow_ok(const struct val *v, int e2)
 {
 	int i;
 
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 		if ((v->dim2[i] * e2) % 2)
 			return false;
 	return true;
@@ -278,7 +278,7 @@ static int parse_atom(struct parser *ps, struct val *out)
 	}
 	ps->p = start + best_len;
 	out->scale = best->scale;
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 		out->dim2[i] = best->dim2[i];
 	ps->n_factors++;
 	ps->last_atom = best;
@@ -335,7 +335,7 @@ static int primary(struct parser *ps, struct val *out)
 		}
 		ps->n_factors++; /* a root is never a lone temperature */
 		out->scale = sqrt(out->scale);
-		for (int i = 0; i < SSCOPE_DIM_COUNT; i++) {
+		for (int i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++) {
 			if (out->dim2[i] % 2)
 				return err_at(ps, "square root of a square root");
 			out->dim2[i] /= 2;
@@ -431,11 +431,11 @@ static int parse_expr(struct parser *ps, struct val *out)
 			return rc;
 		if (divide) {
 			out->scale /= rhs.scale;
-			for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+			for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 				out->dim2[i] -= rhs.dim2[i];
 		} else {
 			out->scale *= rhs.scale;
-			for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+			for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 				out->dim2[i] += rhs.dim2[i];
 		}
 	}
@@ -463,7 +463,7 @@ int sscope_unit_parse(const char *text, struct sscope_unit *unit,
 	skip_blanks(&ps);
 	if (*ps.p != '\0')
 		return err_at(&ps, "unexpected text");
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++) {
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++) {
 		if (v.dim2[i] > 127 || v.dim2[i] < -128)
 			return err_at(&ps, "exponent too large");
 	}
@@ -472,7 +472,7 @@ int sscope_unit_parse(const char *text, struct sscope_unit *unit,
 				text);
 	unit->scale = v.scale;
 	unit->offset = 0;
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 		unit->dim2[i] = (int8_t)v.dim2[i];
 	/* an absolute temperature only when the unit is one temperature atom */
 	if (ps.n_factors == 1 && ps.lone_power_one && ps.last_atom &&
@@ -506,8 +506,8 @@ int sscope_unit_convert(double value, const struct sscope_unit *from,
 	return 0;
 }
 
-int sscope_convert(double value, const char *from, const char *to,
-		   double *out)
+int sscope_unit_convert_text(double value, const char *from, const char *to,
+			     double *out)
 {
 	struct sscope_unit a, b;
 	int rc;
@@ -524,22 +524,22 @@ static const struct {
 	enum sscope_quantity q;
 	const char *name;
 	const char *si;
-	int8_t dim2[SSCOPE_DIM_COUNT];
+	int8_t dim2[SSCOPE_UNIT_DIM_COUNT];
 } quantities[] = {
-	{ SSCOPE_QTY_DIMENSIONLESS, "dimensionless", "1", D(0, 0, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_COUNTS, "counts", "counts", D(0, 0, 0, 0, 0, 1) },
-	{ SSCOPE_QTY_ANGULAR_RATE, "angular rate", "rad/s", D(0, -1, 1, 0, 0, 0) },
-	{ SSCOPE_QTY_ACCELERATION, "acceleration", "m/s^2", D(1, -2, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_ANGLE, "angle", "rad", D(0, 0, 1, 0, 0, 0) },
-	{ SSCOPE_QTY_VELOCITY, "velocity", "m/s", D(1, -1, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_LENGTH, "length", "m", D(1, 0, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_TIME, "time", "s", D(0, 1, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_FREQUENCY, "frequency", "Hz", D(0, -1, 0, 0, 0, 0) },
-	{ SSCOPE_QTY_TEMPERATURE, "temperature", "degC", D(0, 0, 0, 1, 0, 0) },
-	{ SSCOPE_QTY_VOLTAGE, "voltage", "V", D(0, 0, 0, 0, 1, 0) },
-	{ SSCOPE_QTY_ANGULAR_ACCEL, "angular acceleration", "rad/s^2",
+	{ SSCOPE_QUANTITY_DIMENSIONLESS, "dimensionless", "1", D(0, 0, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_COUNTS, "counts", "counts", D(0, 0, 0, 0, 0, 1) },
+	{ SSCOPE_QUANTITY_ANGULAR_RATE, "angular rate", "rad/s", D(0, -1, 1, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_ACCELERATION, "acceleration", "m/s^2", D(1, -2, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_ANGLE, "angle", "rad", D(0, 0, 1, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_VELOCITY, "velocity", "m/s", D(1, -1, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_LENGTH, "length", "m", D(1, 0, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_TIME, "time", "s", D(0, 1, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_FREQUENCY, "frequency", "Hz", D(0, -1, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_TEMPERATURE, "temperature", "degC", D(0, 0, 0, 1, 0, 0) },
+	{ SSCOPE_QUANTITY_VOLTAGE, "voltage", "V", D(0, 0, 0, 0, 1, 0) },
+	{ SSCOPE_QUANTITY_ANGULAR_ACCEL, "angular acceleration", "rad/s^2",
 	  D(0, -2, 1, 0, 0, 0) },
-	{ SSCOPE_QTY_JERK, "jerk", "m/s^3", D(1, -3, 0, 0, 0, 0) },
+	{ SSCOPE_QUANTITY_JERK, "jerk", "m/s^3", D(1, -3, 0, 0, 0, 0) },
 };
 
 #define N_QTY (sizeof(quantities) / sizeof(quantities[0]))
@@ -551,7 +551,7 @@ enum sscope_quantity sscope_unit_quantity(const struct sscope_unit *unit)
 	for (i = 0; i < N_QTY; i++)
 		if (!memcmp(unit->dim2, quantities[i].dim2, sizeof(unit->dim2)))
 			return quantities[i].q;
-	return SSCOPE_QTY_UNKNOWN;
+	return SSCOPE_QUANTITY_UNKNOWN;
 }
 
 const char *sscope_quantity_name(enum sscope_quantity q)
@@ -574,7 +574,7 @@ const char *sscope_quantity_si_unit(enum sscope_quantity q)
 	return "";
 }
 
-static const char *const dim_sym[SSCOPE_DIM_COUNT] = {
+static const char *const dim_sym[SSCOPE_UNIT_DIM_COUNT] = {
 	[L] = "m", [T] = "s", [A] = "rad", [K] = "degC", [V] = "V",
 	[C] = "counts",
 };
@@ -601,14 +601,14 @@ int sscope_unit_si_string(const struct sscope_unit *unit, char *buf,
 			  size_t len)
 {
 	static const int order[] = { L, A, V, C, K };
-	int d[SSCOPE_DIM_COUNT], i;
+	int d[SSCOPE_UNIT_DIM_COUNT], i;
 	bool root_hz = false, any = false;
 	size_t used;
 
 	if (!len)
 		return -ERANGE;
 	buf[0] = '\0';
-	for (i = 0; i < SSCOPE_DIM_COUNT; i++)
+	for (i = 0; i < SSCOPE_UNIT_DIM_COUNT; i++)
 		d[i] = unit->dim2[i];
 	/* noise densities: X s^(1/2) is written X/sqrt(Hz) with X s^-1 */
 	if (d[T] % 2) {
@@ -658,7 +658,7 @@ int sscope_quantity_parse(const char *text, double *si_value,
 	while (*p == ' ' || *p == '\t')
 		p++;
 	end = p + strlen(p);
-	used = sscope_parse_double(p, end, &x);
+	used = ssc_parse_double(p, end, &x);
 	if (!used || !isfinite(x))
 		return ssc_diag(diag, -EINVAL, "'%s' is not a number", text);
 	rc = sscope_unit_parse(p + used, &u, diag);
@@ -689,9 +689,9 @@ static const char *term_unit(enum sscope_quantity q, enum sscope_term t,
 
 	if (t < 0 || t >= SSCOPE_TERM_COUNT_)
 		return NULL;
-	if (q == SSCOPE_QTY_ANGULAR_RATE)
+	if (q == SSCOPE_QUANTITY_ANGULAR_RATE)
 		k = 0;
-	else if (q == SSCOPE_QTY_ACCELERATION)
+	else if (q == SSCOPE_QUANTITY_ACCELERATION)
 		k = 1;
 	else
 		return NULL;

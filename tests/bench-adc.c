@@ -62,7 +62,7 @@ int main(int argc, char **argv)
 	as.bits = 16;
 	as.lo = -100 * DEG;
 	as.hi = 100 * DEG;
-	as.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	as.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	as.rate_hz = fs;
 	as.ref_temp_degc = 25;
 	printf("# adc report Monte Carlo (sscope_adc_monte_carlo): 16 bits over +-100 deg/s at 100 Hz, %zu runs per row\n", R);
@@ -73,8 +73,8 @@ int main(int argc, char **argv)
 		struct sscope_adc_analysis an;
 
 		memset(&ss, 0, sizeof(ss));
-		ss.quantity = SSCOPE_QTY_ANGULAR_RATE;
-		ss.has = SSCOPE_SPEC_RANGE | SSCOPE_SPEC_N | SSCOPE_SPEC_B;
+		ss.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
+		ss.has = SSCOPE_SENSOR_HAS_RANGE | SSCOPE_SENSOR_HAS_N | SSCOPE_SENSOR_HAS_B;
 		ss.range = 100 * DEG;
 		ss.n = arws[a] * DEG / 60;
 		ss.b = 1 * DEG / 3600;

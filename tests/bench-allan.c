@@ -92,8 +92,8 @@ static size_t grid(int dense, size_t n, size_t *m, size_t cap)
 {
 	size_t c;
 
-	sscope_allan_grid(dense ? SSCOPE_TAUS_DENSE : SSCOPE_TAUS_OCTAVE,
-			  sscope_allan_max_m(SSCOPE_DEV_OADEV, n + 1), m, cap, &c);
+	sscope_allan_grid(dense ? SSCOPE_ALLAN_TAUS_DENSE : SSCOPE_ALLAN_TAUS_OCTAVE,
+			  sscope_allan_max_m(SSCOPE_ALLAN_DEV_OADEV, n + 1), m, cap, &c);
 	return c < cap ? c : cap;
 }
 

@@ -76,7 +76,7 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 
 		ao.threads = 1;
 		fo.model_error = g_model_error;
-		rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE, &ao,
+		rc = sscope_allan_analyze(y, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE, &ao,
 					  &fo, &res, NULL);
 	}
 	if (rc)
@@ -123,7 +123,7 @@ int main(int argc, char **argv)
 	if (reps < 1)
 		reps = 1;
 	memset(&spec, 0, sizeof(spec));
-	spec.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	spec.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	spec.range = 1e3;
 	/* a MEMS-class gyro at 10 Hz: 5 arcsec angle white noise (dominant
 	 * below 0.9 s), 0.15 deg/sqrt(h), a 1 deg/h flicker floor, 3

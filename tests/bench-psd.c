@@ -42,7 +42,7 @@ static double time_welch(const double *x, size_t n, size_t nperseg,
 
 	for (int rep = 0; rep < 3; rep++) {
 		struct sscope_psd_opts o;
-		struct sscope_spectrum s;
+		struct sscope_psd_spectrum s;
 		double t0 = now();
 
 		sscope_psd_opts_init(&o);
@@ -55,7 +55,7 @@ static double time_welch(const double *x, size_t n, size_t nperseg,
 		if (t0 < best)
 			best = t0;
 		*nseg = s.n_segments;
-		sscope_spectrum_clear(&s);
+		sscope_psd_spectrum_clear(&s);
 	}
 	return best;
 }
@@ -132,7 +132,7 @@ int main(void)
 		const size_t ns = 16384, m = 1024, nb = m / 2 + 1;
 		long double *ref = malloc(nb * sizeof(long double));
 		struct sscope_psd_opts o;
-		struct sscope_spectrum s;
+		struct sscope_psd_spectrum s;
 		double worst = 0, t0 = now();
 
 		reference(x, ns, m, ref);
@@ -148,7 +148,7 @@ int main(void)
 		printf("error against a long-double direct DFT (16384 samples, nperseg 1024, hann): max relative %.2e over bins 1..%zu (reference took %.2f s)\n",
 		       worst, nb - 1, t0);
 		rc |= !(worst < 1e-12);
-		sscope_spectrum_clear(&s);
+		sscope_psd_spectrum_clear(&s);
 		free(ref);
 	}
 	/* 1e8 samples streamed in chunks: white noise level 2 (1/12) / fs */
@@ -156,7 +156,7 @@ int main(void)
 		const size_t total = 100000000, chunk = 65536;
 		struct sscope_psd_opts o;
 		struct sscope_psd *p;
-		struct sscope_spectrum s;
+		struct sscope_psd_spectrum s;
 		double t0 = now(), mean = 0, want = 2.0 / 12 / 1000, tol;
 		size_t done = 0;
 
@@ -179,7 +179,7 @@ int main(void)
 		printf("1e8 samples streamed in chunks of %zu (generation included): %.2f s, %zu segments, white level %.6g vs 2 sigma^2/fs = %.6g (relative %.1e, 4 sd = %.1e)\n",
 		       chunk, t0, s.n_segments, mean, want, mean / want - 1, tol);
 		rc |= !(fabs(mean / want - 1) < tol);
-		sscope_spectrum_clear(&s);
+		sscope_psd_spectrum_clear(&s);
 		sscope_psd_free(p);
 	}
 	free(x);

@@ -35,7 +35,7 @@ static int run(const char *path, int digits, size_t rows)
 	uint64_t seed = 42;
 	struct sscope_capture *cap;
 	struct sscope_diag d;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	double t0, best = 1e9, mb;
 	size_t bytes, bad = 0;
 	char *line = NULL;
@@ -97,7 +97,7 @@ static int run(const char *path, int digits, size_t rows)
 static int run_file(const char *path, const char *columns)
 {
 	for (unsigned th = 1; th <= 2; th++) {
-		struct sscope_read_opts o = { .columns = columns,
+		struct sscope_reader_opts o = { .columns = columns,
 					      .threads = th == 1 ? 1 : 0 };
 		struct sscope_capture *cap;
 		struct sscope_diag d;

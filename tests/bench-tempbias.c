@@ -57,7 +57,7 @@ int main(void)
 
 	if (!x || !t)
 		return 1;
-	sp.quantity = SSCOPE_QTY_ACCELERATION;
+	sp.quantity = SSCOPE_QUANTITY_ACCELERATION;
 	sp.n = 1.2e-3;
 	sp.bias = 0.02;
 	o.rate_hz = 100;

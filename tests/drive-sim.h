@@ -105,7 +105,7 @@ static int drive_simulate(struct drive *d, double fs, double secs,
 			d->acc[a][i] = gsl_ran_gaussian_ziggurat(r, d->moving[i] ? 0.4 : 0.02);
 		d->acc[2][i] -= 9.80665;
 	}
-	sp.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	sp.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	sp.n = 0.3 * d2r / 60;
 	sp.b = 5 * d2r / 3600;
 	sp.bias = 0.05 * d2r - 7.292115e-5 * sin(lat_rad);

@@ -77,7 +77,7 @@ static void gyro_static(const char *dir)
 
 	for (int k = 0; k < 3; k++) {
 		memset(&sp[k], 0, sizeof(sp[k]));
-		sp[k].quantity = SSCOPE_QTY_ANGULAR_RATE;
+		sp[k].quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 		sp[k].n = 0.15 * D2R / 60;             /* 0.15 deg/sqrt(h) */
 		sp[k].b = 2.0 * D2R / 3600;            /* 2 deg/h */
 		sp[k].k = 10.0 * D2R / 3600 / 60;      /* 10 deg/h/sqrt(h) */
@@ -120,7 +120,7 @@ static void accel_thermal(const char *dir)
 
 	for (int k = 0; k < 3; k++) {
 		memset(&sp[k], 0, sizeof(sp[k]));
-		sp[k].quantity = SSCOPE_QTY_ACCELERATION;
+		sp[k].quantity = SSCOPE_QUANTITY_ACCELERATION;
 		sp[k].n = 120e-6 * g; /* 120 ug/sqrt(Hz) */
 		sp[k].bias = b0[k] * g;
 		y[k] = malloc(n * sizeof(double));
@@ -590,7 +590,7 @@ static void inclino_model(double T, const double t[3], double raw[3])
 	for (int a = 0; a < 3; a++) {
 		double dT = T - 20;
 
-		raw[a] = (o20[a] + k[a] * dT + 0.001 * dT * dT) * 1e-3 * SSCOPE_GRAVITY_STD +
+		raw[a] = (o20[a] + k[a] * dT + 0.001 * dT * dT) * 1e-3 * SSCOPE_CALIB_GRAVITY_STD +
 			 sc[a] * t[a];
 		for (int b = 0; b < 3; b++)
 			if (a != b)
@@ -601,7 +601,7 @@ static void inclino_model(double T, const double t[3], double raw[3])
 static void inclino_pose(FILE *f, gsl_rng *r, double *time, double T,
 			 double roll, double pitch)
 {
-	double g = SSCOPE_GRAVITY_STD, t[3], raw[3];
+	double g = SSCOPE_CALIB_GRAVITY_STD, t[3], raw[3];
 
 	t[0] = -g * sin(pitch * D2R);
 	t[1] = g * sin(roll * D2R) * cos(pitch * D2R);

@@ -38,7 +38,7 @@ static struct sscope_adc_spec ideal(int bits, double lo, double hi)
 	s.bits = bits;
 	s.lo = lo;
 	s.hi = hi;
-	s.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	s.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	s.ref_temp_degc = 25;
 	return s;
 }
@@ -405,15 +405,15 @@ END_TEST
 
 static int spec_err(const char *text, char *msg)
 {
-	struct sscope_ini *ini = NULL;
+	struct ssc_ini *ini = NULL;
 	struct sscope_adc_spec s;
 	struct sscope_diag d = { "" };
-	int rc = sscope_ini_parse(&ini, text, strlen(text), "A.ini", NULL);
+	int rc = ssc_ini_parse(&ini, text, strlen(text), "A.ini", NULL);
 
 	ck_assert_int_eq(rc, 0);
-	rc = sscope_adc_spec_from_ini(ini, "adc", &s, &d);
+	rc = ssc_adc_spec_from_ini(ini, "adc", &s, &d);
 	strcpy(msg, d.msg);
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 	return rc;
 }
 
@@ -503,27 +503,27 @@ START_TEST(test_spec_errors)
 	ck_assert_int_eq(spec_err("[adc]\nbits = 8\nrange = 0:5 V\ninl_profile = dir/p.txt\n", msg),
 			 0);
 	{
-		struct sscope_ini *ini = NULL;
+		struct ssc_ini *ini = NULL;
 		struct sscope_adc_spec s;
 		const char *t = "[adc]\nbits = 8\nrange = 0:5 V\ninl_profile = dir/p.txt\n";
 
-		ck_assert_int_eq(sscope_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
-		ck_assert_int_eq(sscope_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
+		ck_assert_int_eq(ssc_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
+		ck_assert_int_eq(ssc_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
 		ck_assert_str_eq(s.inl_profile, "dir/p.txt");
 		ck_assert(!(s.has & SSCOPE_ADC_HAS_INL)); /* the CLI sets it from the file */
-		sscope_ini_free(ini);
+		ssc_ini_free(ini);
 	}
 	/* a good one */
 	{
-		struct sscope_ini *ini = NULL;
+		struct ssc_ini *ini = NULL;
 		struct sscope_adc_spec s;
 		const char *t = "[adc]\nname = x\nbits = 16\nrange = 0:3.3 V\nrate = 1 kHz\n"
 				"noise = 30 uV\ninl = 2 LSB\ndnl = 0.5\n"
 				"offset_drift = 2 uV/degC\ngain_drift = 20 ppm/degC\n"
 				"reference = ratiometric\nmode = integrate\noversample = 4\n";
 
-		ck_assert_int_eq(sscope_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
-		ck_assert_int_eq(sscope_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
+		ck_assert_int_eq(ssc_ini_parse(&ini, t, strlen(t), "A.ini", NULL), 0);
+		ck_assert_int_eq(ssc_adc_spec_from_ini(ini, "adc", &s, NULL), 0);
 		ck_assert(s.analog);
 		ck_assert_rel(s.hi, 3.3, 1e-15);
 		ck_assert_rel(s.rate_hz, 1000, 1e-15);
@@ -534,7 +534,7 @@ START_TEST(test_spec_errors)
 		ck_assert_int_eq(s.reference, SSCOPE_ADC_RATIOMETRIC);
 		ck_assert_int_eq(s.mode, SSCOPE_ADC_INTEGRATE);
 		ck_assert_uint_eq(s.oversample, 4);
-		sscope_ini_free(ini);
+		ssc_ini_free(ini);
 	}
 }
 END_TEST
@@ -544,8 +544,8 @@ static struct sscope_sensor_spec seed_gyro(double arw_deg_sqrt_h)
 	struct sscope_sensor_spec g;
 
 	memset(&g, 0, sizeof(g));
-	g.quantity = SSCOPE_QTY_ANGULAR_RATE;
-	g.has = SSCOPE_SPEC_RANGE | SSCOPE_SPEC_N | SSCOPE_SPEC_B;
+	g.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
+	g.has = SSCOPE_SENSOR_HAS_RANGE | SSCOPE_SENSOR_HAS_N | SSCOPE_SENSOR_HAS_B;
 	g.range = 100 * DEG;
 	g.n = arw_deg_sqrt_h * DEG / 60;
 	g.b = 1 * DEG / 3600;
@@ -620,10 +620,10 @@ START_TEST(test_seed_case)
 		struct sscope_sensor_spec g = mems;
 
 		s.analog = true;
-		s.quantity = SSCOPE_QTY_VOLTAGE;
+		s.quantity = SSCOPE_QUANTITY_VOLTAGE;
 		s.offset_drift = 2e-6;
 		s.gain_drift = 20e-6;
-		g.has |= SSCOPE_SPEC_SENSITIVITY | SSCOPE_SPEC_ZERO | SSCOPE_SPEC_TEMPS;
+		g.has |= SSCOPE_SENSOR_HAS_SENSITIVITY | SSCOPE_SENSOR_HAS_ZERO | SSCOPE_SENSOR_HAS_TEMPS;
 		g.sensitivity = 6e-3 / DEG;
 		g.zero_output_v = 2.5;
 		g.temp_min_degc = -10;
@@ -660,8 +660,8 @@ START_TEST(test_monte_carlo)
 	double want = sqrt(1 + q * q / (12 * 100 * N * N));
 
 	memset(&ss, 0, sizeof(ss));
-	ss.quantity = SSCOPE_QTY_ANGULAR_RATE;
-	ss.has = SSCOPE_SPEC_RANGE | SSCOPE_SPEC_N;
+	ss.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
+	ss.has = SSCOPE_SENSOR_HAS_RANGE | SSCOPE_SENSOR_HAS_N;
 	ss.range = 100 * DEG;
 	ss.n = N;
 	s.rate_hz = 100;

@@ -27,7 +27,7 @@ static bool under_valgrind(void)
 	return f && !strcmp(f, "no");
 }
 
-static void dev_at(enum sscope_dev dev, enum sscope_allan_input in,
+static void dev_at(enum sscope_allan_dev dev, enum sscope_allan_input in,
 		   const double *y, size_t n, double fs, const size_t *m,
 		   size_t nm, struct sscope_allan_point *pt, size_t *np,
 		   int alpha)
@@ -61,31 +61,31 @@ static const double nbs10[9] = { 892, 809, 823, 798, 671, 644, 883, 903, 677 };
 START_TEST(nbs14_10point)
 {
 	/* NIST SP 1065 pp. 107-108, tau = 1, 2 */
-	static const double ref[SSCOPE_DEV_COUNT_][2] = {
-		[SSCOPE_DEV_ADEV] = { 91.22945, 115.8082 },
-		[SSCOPE_DEV_OADEV] = { 91.22945, 85.95287 },
-		[SSCOPE_DEV_MDEV] = { 91.22945, 74.78849 },
-		[SSCOPE_DEV_TDEV] = { 52.67135, 86.35831 },
+	static const double ref[SSCOPE_ALLAN_DEV_COUNT_][2] = {
+		[SSCOPE_ALLAN_DEV_ADEV] = { 91.22945, 115.8082 },
+		[SSCOPE_ALLAN_DEV_OADEV] = { 91.22945, 85.95287 },
+		[SSCOPE_ALLAN_DEV_MDEV] = { 91.22945, 74.78849 },
+		[SSCOPE_ALLAN_DEV_TDEV] = { 52.67135, 86.35831 },
 		/* SP 1065 prints 70.80608 for HDEV and 70.80607 for OHDEV at
 		 * tau = 1, the same number (70.806073): one unit of slack */
-		[SSCOPE_DEV_HDEV] = { 70.80608, 116.7980 },
-		[SSCOPE_DEV_OHDEV] = { 70.80607, 85.61487 },
-		[SSCOPE_DEV_TOTDEV] = { 91.22945, 93.90379 },
+		[SSCOPE_ALLAN_DEV_HDEV] = { 70.80608, 116.7980 },
+		[SSCOPE_ALLAN_DEV_OHDEV] = { 70.80607, 85.61487 },
+		[SSCOPE_ALLAN_DEV_TOTDEV] = { 91.22945, 93.90379 },
 	};
 	/* terms by definition for 10 phase points */
-	static const size_t terms[SSCOPE_DEV_COUNT_][2] = {
-		[SSCOPE_DEV_ADEV] = { 8, 3 },  [SSCOPE_DEV_OADEV] = { 8, 6 },
-		[SSCOPE_DEV_MDEV] = { 8, 5 },  [SSCOPE_DEV_TDEV] = { 8, 5 },
-		[SSCOPE_DEV_HDEV] = { 7, 2 },  [SSCOPE_DEV_OHDEV] = { 7, 4 },
-		[SSCOPE_DEV_TOTDEV] = { 8, 8 },
+	static const size_t terms[SSCOPE_ALLAN_DEV_COUNT_][2] = {
+		[SSCOPE_ALLAN_DEV_ADEV] = { 8, 3 },  [SSCOPE_ALLAN_DEV_OADEV] = { 8, 6 },
+		[SSCOPE_ALLAN_DEV_MDEV] = { 8, 5 },  [SSCOPE_ALLAN_DEV_TDEV] = { 8, 5 },
+		[SSCOPE_ALLAN_DEV_HDEV] = { 7, 2 },  [SSCOPE_ALLAN_DEV_OHDEV] = { 7, 4 },
+		[SSCOPE_ALLAN_DEV_TOTDEV] = { 8, 8 },
 	};
 	const size_t m[2] = { 1, 2 };
 
-	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+	for (int dv = 0; dv < SSCOPE_ALLAN_DEV_COUNT_; dv++) {
 		struct sscope_allan_point pt[2];
 		size_t np;
 
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, nbs10, 9, 1, m, 2,
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, nbs10, 9, 1, m, 2,
 		       pt, &np, 0);
 		ck_assert_uint_eq(np, 2);
 		for (int k = 0; k < 2; k++) {
@@ -109,36 +109,36 @@ static void nbs1000(double *y)
 
 START_TEST(nbs14_1000point)
 {
-	static const double ref[SSCOPE_DEV_COUNT_][3] = {
-		[SSCOPE_DEV_ADEV] = { 2.922319e-01, 9.965736e-02, 3.897804e-02 },
-		[SSCOPE_DEV_OADEV] = { 2.922319e-01, 9.159953e-02, 3.241343e-02 },
-		[SSCOPE_DEV_MDEV] = { 2.922319e-01, 6.172376e-02, 2.170921e-02 },
-		[SSCOPE_DEV_TDEV] = { 1.687202e-01, 3.563623e-01, 1.253382e+00 },
-		[SSCOPE_DEV_HDEV] = { 2.943883e-01, 1.052754e-01, 3.910860e-02 },
-		[SSCOPE_DEV_OHDEV] = { 2.943883e-01, 9.581083e-02, 3.237638e-02 },
-		[SSCOPE_DEV_TOTDEV] = { 2.922319e-01, 9.134743e-02, 3.406530e-02 },
+	static const double ref[SSCOPE_ALLAN_DEV_COUNT_][3] = {
+		[SSCOPE_ALLAN_DEV_ADEV] = { 2.922319e-01, 9.965736e-02, 3.897804e-02 },
+		[SSCOPE_ALLAN_DEV_OADEV] = { 2.922319e-01, 9.159953e-02, 3.241343e-02 },
+		[SSCOPE_ALLAN_DEV_MDEV] = { 2.922319e-01, 6.172376e-02, 2.170921e-02 },
+		[SSCOPE_ALLAN_DEV_TDEV] = { 1.687202e-01, 3.563623e-01, 1.253382e+00 },
+		[SSCOPE_ALLAN_DEV_HDEV] = { 2.943883e-01, 1.052754e-01, 3.910860e-02 },
+		[SSCOPE_ALLAN_DEV_OHDEV] = { 2.943883e-01, 9.581083e-02, 3.237638e-02 },
+		[SSCOPE_ALLAN_DEV_TOTDEV] = { 2.922319e-01, 9.134743e-02, 3.406530e-02 },
 	};
 	const size_t m[3] = { 1, 10, 100 };
 	double y[1000];
 
 	nbs1000(y);
 	ck_assert(y[1] == 395529916.0 / 2147483647.0);
-	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
+	for (int dv = 0; dv < SSCOPE_ALLAN_DEV_COUNT_; dv++) {
 		struct sscope_allan_point pt[3];
 		size_t np;
 
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, 1000, 1, m, 3,
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, 1000, 1, m, 3,
 		       pt, &np, 0);
 		ck_assert_uint_eq(np, 3);
 		for (int k = 0; k < 3; k++)
 			ck_digits(pt[k].dev, ref[dv][k], 7);
 		/* published term counts (1001 phase points) */
-		if (dv == SSCOPE_DEV_OADEV) {
+		if (dv == SSCOPE_ALLAN_DEV_OADEV) {
 			ck_assert_uint_eq(pt[0].terms, 999);
 			ck_assert_uint_eq(pt[1].terms, 981);
 			ck_assert_uint_eq(pt[2].terms, 801);
 		}
-		if (dv == SSCOPE_DEV_MDEV) {
+		if (dv == SSCOPE_ALLAN_DEV_MDEV) {
 			ck_assert_uint_eq(pt[0].terms, 999);
 			ck_assert_uint_eq(pt[1].terms, 972);
 			ck_assert_uint_eq(pt[2].terms, 702);
@@ -213,7 +213,7 @@ static const struct s32row s32_totdev[] = {
 	{ 65536, 1, 3.7976e-13, 4.1817e-13, 4.7121e-13 },
 };
 
-static void s32_check(enum sscope_dev dev, const struct s32row *r, size_t n)
+static void s32_check(enum sscope_allan_dev dev, const struct s32row *r, size_t n)
 {
 	const size_t N = 241218;
 
@@ -221,31 +221,31 @@ static void s32_check(enum sscope_dev dev, const struct s32row *r, size_t n)
 		double edf, lo, hi, tol = 1e-3;
 		int d = ssc_dev_order(dev);
 
-		if (dev == SSCOPE_DEV_TOTDEV) {
+		if (dev == SSCOPE_ALLAN_DEV_TOTDEV) {
 			edf = ssc_totdev_edf(r[i].alpha, r[i].m, N);
 			if (r[i].m >= 32768)
 				tol = 3.5e-3;
 		} else {
 			edf = sscope_allan_edf(r[i].alpha, d, r[i].m, N,
-					       dev == SSCOPE_DEV_MDEV,
-					       dev == SSCOPE_DEV_HDEV ? r[i].m : 1);
+					       dev == SSCOPE_ALLAN_DEV_MDEV,
+					       dev == SSCOPE_ALLAN_DEV_HDEV ? r[i].m : 1);
 		}
 		ssc_allan_ci(r[i].sigma, edf, 0.683, &lo, &hi);
 		ck_assert_msg(fabs(lo / r[i].lo - 1) <= tol &&
 				      fabs(hi / r[i].hi - 1) <= tol,
 			      "%s m=%zu alpha=%d edf %g: [%.5g, %.5g] vs Stable32 [%.5g, %.5g]",
-			      sscope_dev_name(dev), r[i].m, r[i].alpha, edf, lo, hi,
+			      sscope_allan_dev_name(dev), r[i].m, r[i].alpha, edf, lo, hi,
 			      r[i].lo, r[i].hi);
 	}
 }
 
 START_TEST(stable32_bounds)
 {
-	s32_check(SSCOPE_DEV_OADEV, s32_oadev, sizeof(s32_oadev) / sizeof(s32_oadev[0]));
-	s32_check(SSCOPE_DEV_MDEV, s32_mdev, sizeof(s32_mdev) / sizeof(s32_mdev[0]));
-	s32_check(SSCOPE_DEV_HDEV, s32_hdev, sizeof(s32_hdev) / sizeof(s32_hdev[0]));
-	s32_check(SSCOPE_DEV_OHDEV, s32_ohdev, sizeof(s32_ohdev) / sizeof(s32_ohdev[0]));
-	s32_check(SSCOPE_DEV_TOTDEV, s32_totdev, sizeof(s32_totdev) / sizeof(s32_totdev[0]));
+	s32_check(SSCOPE_ALLAN_DEV_OADEV, s32_oadev, sizeof(s32_oadev) / sizeof(s32_oadev[0]));
+	s32_check(SSCOPE_ALLAN_DEV_MDEV, s32_mdev, sizeof(s32_mdev) / sizeof(s32_mdev[0]));
+	s32_check(SSCOPE_ALLAN_DEV_HDEV, s32_hdev, sizeof(s32_hdev) / sizeof(s32_hdev[0]));
+	s32_check(SSCOPE_ALLAN_DEV_OHDEV, s32_ohdev, sizeof(s32_ohdev) / sizeof(s32_ohdev[0]));
+	s32_check(SSCOPE_ALLAN_DEV_TOTDEV, s32_totdev, sizeof(s32_totdev) / sizeof(s32_totdev[0]));
 }
 END_TEST
 
@@ -296,7 +296,7 @@ static const struct s32alpha s32_phase_dat_totdev[] = {
 	{ 471, 1 }, { 478, 1 }, { 485, 1 }, { 492, 1 }, { 499, 1 },
 };
 
-static void phase_dat_check(enum sscope_dev dev, const double *x,
+static void phase_dat_check(enum sscope_allan_dev dev, const double *x,
 			    const struct s32alpha *tail, size_t ntail,
 			    const struct s32alpha *head, size_t nhead)
 {
@@ -321,11 +321,11 @@ static void phase_dat_check(enum sscope_dev dev, const double *x,
 	for (size_t k = 0; k < n; k++)
 		if (pt[k].alpha != (int)want[k]) {
 			fprintf(stderr, "%s m=%zu: alpha %d, Stable32 %zu\n",
-				sscope_dev_name(dev), m[k], pt[k].alpha, want[k]);
+				sscope_allan_dev_name(dev), m[k], pt[k].alpha, want[k]);
 			bad++;
 		}
 	ck_assert_msg(bad == 0, "%s: %d of %zu identifications differ from Stable32",
-		      sscope_dev_name(dev), bad, n);
+		      sscope_allan_dev_name(dev), bad, n);
 }
 
 START_TEST(stable32_noise_id)
@@ -348,11 +348,11 @@ START_TEST(stable32_noise_id)
 	ck_digits(mx, 4.356529, 7);
 	ck_digits(mn, -4.707879, 7);
 	ck_digits(avg, -5.403683e-01, 7);
-	phase_dat_check(SSCOPE_DEV_OADEV, x, s32_phase_dat_oadev, no, NULL, 0);
-	phase_dat_check(SSCOPE_DEV_MDEV, x, s32_phase_dat_oadev, no, NULL, 0);
+	phase_dat_check(SSCOPE_ALLAN_DEV_OADEV, x, s32_phase_dat_oadev, no, NULL, 0);
+	phase_dat_check(SSCOPE_ALLAN_DEV_MDEV, x, s32_phase_dat_oadev, no, NULL, 0);
 	while (s32_phase_dat_oadev[head].m <= 146)
 		head++;
-	phase_dat_check(SSCOPE_DEV_TOTDEV, x, s32_phase_dat_totdev,
+	phase_dat_check(SSCOPE_ALLAN_DEV_TOTDEV, x, s32_phase_dat_totdev,
 			sizeof(s32_phase_dat_totdev) / sizeof(s32_phase_dat_totdev[0]),
 			s32_phase_dat_oadev, head);
 }
@@ -427,22 +427,22 @@ START_TEST(grids)
 					   32, 40, 50, 64, 80, 100, 128, 160,
 					   200, 248, 320, 400, 496, 640, 800, 992 };
 
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 100, m, 256, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, 100, m, 256, &n), 0);
 	ck_assert_uint_eq(n, 7);
 	ck_assert_uint_eq(m[6], 64);
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DECADE, 1000, m, 256, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_DECADE, 1000, m, 256, &n), 0);
 	ck_assert_uint_eq(n, 10);
 	ck_assert(m[0] == 1 && m[1] == 2 && m[2] == 4 && m[3] == 10 &&
 		  m[8] == 400 && m[9] == 1000);
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_ALL, 5, m, 256, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_ALL, 5, m, 256, &n), 0);
 	ck_assert(n == 5 && m[4] == 5);
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000, m, 256, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, 1000, m, 256, &n), 0);
 	ck_assert_uint_eq(n, sizeof(dense_ref) / sizeof(dense_ref[0]));
 	for (size_t i = 0; i < n; i++)
 		ck_assert_uint_eq(m[i], dense_ref[i]);
 	/* to 1e9: increasing, about 10 per decade, large m with the power-
 	 * of-two factor the engine relies on, at most 3.2 % off the grid */
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000000000, m, 256, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, 1000000000, m, 256, &n), 0);
 	ck_assert(n >= 80 && n <= 92);
 	for (size_t i = 0; i < n; i++) {
 		if (i)
@@ -456,29 +456,29 @@ START_TEST(grids)
 		}
 	}
 	/* counting only; a count beyond cap */
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 1 << 20, NULL, 0, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, 1 << 20, NULL, 0, &n), 0);
 	ck_assert_uint_eq(n, 21);
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 1 << 20, m, 3, &n), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, 1 << 20, m, 3, &n), 0);
 	ck_assert(n == 21 && m[2] == 4);
-	ck_assert_int_eq(sscope_allan_grid((enum sscope_tau_grid)9, 10, m, 3, &n), -EINVAL);
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 10, m, 3, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_allan_grid((enum sscope_allan_tau_grid)9, 10, m, 3, &n), -EINVAL);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, 10, m, 3, NULL), -EINVAL);
 	/* limits (Stable32) */
-	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_OADEV, 10), 4);
-	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_TOTDEV, 11), 5);
-	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_MDEV, 10), 3);
-	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_OHDEV, 10), 3);
-	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_DEV_ADEV, 2), 0);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_ALLAN_DEV_OADEV, 10), 4);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_ALLAN_DEV_TOTDEV, 11), 5);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_ALLAN_DEV_MDEV, 10), 3);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_ALLAN_DEV_OHDEV, 10), 3);
+	ck_assert_uint_eq(sscope_allan_max_m(SSCOPE_ALLAN_DEV_ADEV, 2), 0);
 	ck_assert_uint_eq(sscope_allan_n_phase(SSCOPE_ALLAN_RATE, 9), 10);
 	ck_assert_uint_eq(sscope_allan_n_phase(SSCOPE_ALLAN_ANGLE, 9), 9);
 	/* names */
-	for (int d = 0; d < SSCOPE_DEV_COUNT_; d++) {
-		enum sscope_dev back;
+	for (int d = 0; d < SSCOPE_ALLAN_DEV_COUNT_; d++) {
+		enum sscope_allan_dev back;
 
-		ck_assert_int_eq(sscope_dev_parse(sscope_dev_name((enum sscope_dev)d), &back), 0);
+		ck_assert_int_eq(sscope_allan_dev_parse(sscope_allan_dev_name((enum sscope_allan_dev)d), &back), 0);
 		ck_assert_int_eq(back, d);
 	}
-	ck_assert_str_eq(sscope_dev_name((enum sscope_dev)42), "");
-	ck_assert_int_eq(sscope_dev_parse("xdev", &(enum sscope_dev){ 0 }), -EINVAL);
+	ck_assert_str_eq(sscope_allan_dev_name((enum sscope_allan_dev)42), "");
+	ck_assert_int_eq(sscope_allan_dev_parse("xdev", &(enum sscope_allan_dev){ 0 }), -EINVAL);
 }
 END_TEST
 
@@ -501,19 +501,19 @@ START_TEST(ramp_exact)
 
 	for (size_t k = 0; k < n; k++)
 		y[k] = R * (double)k * dt + c;
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, 2000, m, 64, &nm);
-	for (int dv = SSCOPE_DEV_OADEV; dv <= SSCOPE_DEV_OHDEV; dv++) {
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1 / dt, m,
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, 2000, m, 64, &nm);
+	for (int dv = SSCOPE_ALLAN_DEV_OADEV; dv <= SSCOPE_ALLAN_DEV_OHDEV; dv++) {
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1 / dt, m,
 		       nm, pt, &np, -2);
 		for (size_t i = 0; i < np; i++) {
 			double want = R * pt[i].tau_s / sqrt(2);
 
-			if (dv == SSCOPE_DEV_TDEV)
+			if (dv == SSCOPE_ALLAN_DEV_TDEV)
 				want *= pt[i].tau_s / sqrt(3);
 			/* third differences of the quadratic phase cancel
 			 * to its rounding: 16 ulps of the largest phase
 			 * value R dt n^2 / 2 over m */
-			if (dv == SSCOPE_DEV_HDEV || dv == SSCOPE_DEV_OHDEV)
+			if (dv == SSCOPE_ALLAN_DEV_HDEV || dv == SSCOPE_ALLAN_DEV_OHDEV)
 				ck_assert_msg(pt[i].dev <= 16 * 2.3e-16 * R * dt *
 								   (double)n * (double)n / 2 /
 								   (double)pt[i].m,
@@ -536,14 +536,14 @@ START_TEST(constant_zero)
 
 	for (size_t k = 0; k < n; k++)
 		y[k] = 2.385;
-	sscope_allan_grid(SSCOPE_TAUS_DENSE, 1000, m, 64, &nm);
-	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 100, m, nm,
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, 1000, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_ALLAN_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, n, 100, m, nm,
 		       pt, &np, -99);
 		ck_assert_uint_gt(np, 10);
 		for (size_t i = 0; i < np; i++) {
 			ck_assert_msg(pt[i].dev == 0, "%s m %zu: %g",
-				      sscope_dev_name((enum sscope_dev)dv),
+				      sscope_allan_dev_name((enum sscope_allan_dev)dv),
 				      pt[i].m, pt[i].dev);
 			ck_assert(pt[i].dev_lo == 0 && pt[i].dev_hi == 0);
 			ck_assert(isfinite(pt[i].edf) && pt[i].edf > 0);
@@ -569,21 +569,21 @@ START_TEST(white_rate)
 	gsl_rng_set(r, 11);
 	for (size_t k = 0; k < n; k++)
 		y[k] = 0.37 + gsl_ran_gaussian_ziggurat(r, s);
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
-	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, fs, m, nm,
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_ALLAN_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, n, fs, m, nm,
 		       pt, &np, 0);
 		for (size_t i = 0; i < np; i++) {
 			double md = (double)pt[i].m, var = pt[i].dev * pt[i].dev;
 			double want = s * s / md;
 
-			if (dv == SSCOPE_DEV_MDEV || dv == SSCOPE_DEV_TDEV)
+			if (dv == SSCOPE_ALLAN_DEV_MDEV || dv == SSCOPE_ALLAN_DEV_TDEV)
 				want = s * s * (md * md + 1) / (2 * md * md * md);
-			if (dv == SSCOPE_DEV_TDEV)
+			if (dv == SSCOPE_ALLAN_DEV_TDEV)
 				want *= pt[i].tau_s * pt[i].tau_s / 3;
 			ck_assert_msg(fabs(var / want - 1) <= 4 * rel_sd(pt[i].edf),
 				      "%s m %zu: %g vs %g (edf %g)",
-				      sscope_dev_name((enum sscope_dev)dv),
+				      sscope_allan_dev_name((enum sscope_allan_dev)dv),
 				      pt[i].m, var, want, pt[i].edf);
 			/* the interval is around the estimate */
 			ck_assert(pt[i].dev_lo < pt[i].dev && pt[i].dev < pt[i].dev_hi);
@@ -609,8 +609,8 @@ START_TEST(rate_random_walk)
 		w += gsl_ran_gaussian_ziggurat(r, K * sqrt(dt));
 		y[k] = w;
 	}
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
-	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, fs, m, nm, pt, &np, -2);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, fs, m, nm, pt, &np, -2);
 	for (size_t i = 0; i < np; i++) {
 		double t = pt[i].tau_s, var = pt[i].dev * pt[i].dev;
 		double want = K * K * t / 3 + K * K * dt * dt / (6 * t);
@@ -640,9 +640,9 @@ START_TEST(white_angle)
 		x[k] = 0.5 + 1e-3 * (double)k + gsl_ran_gaussian_ziggurat(r, q);
 	for (size_t k = 0; k + 1 < n; k++)
 		y[k] = (x[k + 1] - x[k]) * fs;
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
-	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, fs, m, nm, a, &np1, 2);
-	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n - 1, fs, m, nm, b, &np2, 2);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, fs, m, nm, a, &np1, 2);
+	dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n - 1, fs, m, nm, b, &np2, 2);
 	ck_assert_uint_eq(np1, np2);
 	for (size_t i = 0; i < np1; i++) {
 		double t = a[i].tau_s, var = a[i].dev * a[i].dev;
@@ -676,11 +676,11 @@ START_TEST(large_offset)
 		y[k] = c + gsl_ran_gaussian_ziggurat(r, 1.0);
 		z[k] = y[k] - c;
 	}
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 4, m, 64, &nm);
-	for (int dv = 0; dv < SSCOPE_DEV_COUNT_; dv++) {
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, a,
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 4, m, 64, &nm);
+	for (int dv = 0; dv < SSCOPE_ALLAN_DEV_COUNT_; dv++) {
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, a,
 		       &np, 0);
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, z, n, 1, m, nm, b,
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, z, n, 1, m, nm, b,
 		       &np, 0);
 		for (size_t i = 0; i < np; i++)
 			ck_assert_rel(a[i].dev, b[i].dev, 1e-9);
@@ -740,7 +740,7 @@ START_TEST(gaps)
 		y[k] = NAN;
 	y[n - 1] = NAN;
 	for (int dv = 0; dv < 2; dv++) {
-		dev_at(dv ? SSCOPE_DEV_ADEV : SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE,
+		dev_at(dv ? SSCOPE_ALLAN_DEV_ADEV : SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_RATE,
 		       y, n, 10, m, 5, pt, &np, 0);
 		ck_assert_uint_eq(np, 5);
 		for (size_t i = 0; i < np; i++) {
@@ -754,15 +754,15 @@ START_TEST(gaps)
 		}
 	}
 	/* MDEV and the Hadamard deviations skip too, and stay finite */
-	for (int dv = SSCOPE_DEV_MDEV; dv <= SSCOPE_DEV_OHDEV; dv++) {
-		dev_at((enum sscope_dev)dv, SSCOPE_ALLAN_RATE, y, n, 10, m, 5, pt,
+	for (int dv = SSCOPE_ALLAN_DEV_MDEV; dv <= SSCOPE_ALLAN_DEV_OHDEV; dv++) {
+		dev_at((enum sscope_allan_dev)dv, SSCOPE_ALLAN_RATE, y, n, 10, m, 5, pt,
 		       &np, 0);
 		for (size_t i = 0; i < np; i++)
 			ck_assert(pt[i].skipped > 0 && isfinite(pt[i].dev) &&
 				  pt[i].dev > 0);
 	}
 	/* TOTDEV needs a complete record */
-	o.dev = SSCOPE_DEV_TOTDEV;
+	o.dev = SSCOPE_ALLAN_DEV_TOTDEV;
 	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
 	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 10, m, 5, pt, &np, &d), -EDOM);
 	ck_assert(strstr(d.msg, "gaps") != NULL);
@@ -786,7 +786,7 @@ START_TEST(gaps_angle)
 	for (size_t k = 0; k < n; k++)
 		x[k] = gsl_ran_gaussian_ziggurat(r, 1);
 	x[500] = NAN;
-	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, 1, m, 3, pt, &np, 2);
+	dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, 1, m, 3, pt, &np, 2);
 	for (size_t i = 0; i < np; i++) {
 		/* terms i <= 500 <= i + 2m are skipped: 2m + 1 of them */
 		ck_assert_uint_eq(pt[i].skipped, 2 * m[i] + 1);
@@ -812,8 +812,8 @@ START_TEST(strided)
 	gsl_rng_set(r, 17);
 	for (size_t k = 0; k < n; k++)
 		y[k] = gsl_ran_gaussian_ziggurat(r, 1);
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 8, m, 64, &nm);
-	dev_at(SSCOPE_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, full, &np, 0);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 8, m, 64, &nm);
+	dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, full, &np, 0);
 	o.alpha_fixed = true;
 	o.stride_div = 4;
 	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
@@ -837,7 +837,7 @@ START_TEST(strided)
 	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
 	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, st, &np2, NULL), 0);
 	sscope_allan_free(p);
-	dev_at(SSCOPE_DEV_ADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, nov, &np, 0);
+	dev_at(SSCOPE_ALLAN_DEV_ADEV, SSCOPE_ALLAN_RATE, y, n, 1, m, nm, nov, &np, 0);
 	for (size_t i = 0; i < np; i++) {
 		ck_assert_uint_eq(st[i].terms, nov[i].terms);
 		ck_assert_rel(st[i].dev, nov[i].dev, 1e-13);
@@ -893,12 +893,12 @@ START_TEST(tiled_engine)
 		w += gsl_ran_gaussian_ziggurat(r, 1e-3);
 		y[k] = 12.5 + w + gsl_ran_gaussian_ziggurat(r, 1);
 	}
-	sscope_allan_grid(SSCOPE_TAUS_DENSE, n / 4, m, 128, &nm);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, n / 4, m, 128, &nm);
 	for (int d = 2; d <= 3; d++) {
 		struct sscope_allan_opts o = { 0 };
 		struct sscope_allan *p;
 
-		o.dev = d == 2 ? SSCOPE_DEV_OADEV : SSCOPE_DEV_OHDEV;
+		o.dev = d == 2 ? SSCOPE_ALLAN_DEV_OADEV : SSCOPE_ALLAN_DEV_OHDEV;
 		o.ci_level = -1;
 		o.alpha_fixed = true;
 		o.threads = 1;
@@ -1022,9 +1022,9 @@ START_TEST(errors)
 		y[i] = sin(i * 2.385);
 	ck_assert_int_eq(sscope_allan_new(NULL, 10, NULL), -EINVAL);
 	ck_assert_int_eq(sscope_allan_new(&p, 0, NULL), -EINVAL);
-	o.dev = (enum sscope_dev)99;
+	o.dev = (enum sscope_allan_dev)99;
 	ck_assert_int_eq(sscope_allan_new(&p, 10, &o), -EINVAL);
-	o.dev = SSCOPE_DEV_OADEV;
+	o.dev = SSCOPE_ALLAN_DEV_OADEV;
 	o.ci_level = 1.5;
 	ck_assert_int_eq(sscope_allan_new(&p, 10, &o), -EINVAL);
 	o.ci_level = 0;
@@ -1073,17 +1073,17 @@ START_TEST(errors)
 	{
 		struct sscope_allan_result *res;
 
-		ck_assert_int_eq(sscope_allan_analyze(NULL, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+		ck_assert_int_eq(sscope_allan_analyze(NULL, 1, 64, 1, SSCOPE_ALLAN_TAUS_OCTAVE,
 						      NULL, NULL, &res, &d), -EINVAL);
-		ck_assert_int_eq(sscope_allan_analyze(y, 1, 1, 1, SSCOPE_TAUS_OCTAVE,
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 1, 1, SSCOPE_ALLAN_TAUS_OCTAVE,
 						      NULL, NULL, &res, &d), -EDOM);
-		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_ALLAN_TAUS_OCTAVE,
 						      NULL, NULL, &res, &d), 0);
 		ck_assert(res->points == res->oadev && res->n_points == 6);
 		sscope_allan_result_free(res);
 		o.alpha_fixed = false;
-		o.dev = SSCOPE_DEV_MDEV;
-		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_TAUS_OCTAVE,
+		o.dev = SSCOPE_ALLAN_DEV_MDEV;
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, 64, 1, SSCOPE_ALLAN_TAUS_OCTAVE,
 						      &o, NULL, &res, &d), 0);
 		/* MDEV stops at m <= 65 / 3, OADEV at m <= 32 */
 		ck_assert(res->points != res->oadev && res->n_points == 5 &&
@@ -1104,19 +1104,19 @@ START_TEST(rate_quantity_and_fit_message)
 	struct sscope_diag d = { "" };
 	int e;
 
-	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_ANGULAR_RATE,
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QUANTITY_ANGULAR_RATE,
 						    SSCOPE_ALLAN_RATE),
-			 SSCOPE_QTY_ANGULAR_RATE);
-	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_ANGLE, SSCOPE_ALLAN_ANGLE),
-			 SSCOPE_QTY_ANGULAR_RATE);
-	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_VELOCITY, SSCOPE_ALLAN_ANGLE),
-			 SSCOPE_QTY_ACCELERATION);
-	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QTY_VOLTAGE, SSCOPE_ALLAN_ANGLE),
-			 SSCOPE_QTY_UNKNOWN);
+			 SSCOPE_QUANTITY_ANGULAR_RATE);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QUANTITY_ANGLE, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QUANTITY_ANGULAR_RATE);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QUANTITY_VELOCITY, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QUANTITY_ACCELERATION);
+	ck_assert_int_eq(sscope_allan_rate_quantity(SSCOPE_QUANTITY_VOLTAGE, SSCOPE_ALLAN_ANGLE),
+			 SSCOPE_QUANTITY_UNKNOWN);
 	/* a constant record has nothing to fit: the result says why */
 	for (int i = 0; i < 40; i++)
 		y[i] = 2.385;
-	ck_assert_int_eq(sscope_allan_analyze(y, 1, 40, 10, SSCOPE_TAUS_OCTAVE,
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, 40, 10, SSCOPE_ALLAN_TAUS_OCTAVE,
 					      NULL, NULL, &r, NULL), 0);
 	ck_assert(!r->have_fit);
 	e = sscope_noise_fit(r->oadev, r->n_oadev, 10, r->n_phase, NULL, &f, &d);

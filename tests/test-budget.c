@@ -101,7 +101,7 @@ START_TEST(test_schuler)
 {
 	struct sscope_budget_params p = { 0 };
 	struct sscope_budget_point pt, ol;
-	double w, g = G0, R = SSCOPE_EARTH_RADIUS_M;
+	double w, g = G0, R = SSCOPE_BUDGET_EARTH_RADIUS_M;
 
 	p.model = SSCOPE_BUDGET_SCHULER;
 	w = sscope_budget_schuler_rad_s(&p);
@@ -311,22 +311,22 @@ START_TEST(test_take_noise_and_calib)
 	unsigned r;
 	bool used;
 
-	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 7.3e-5, 2.1e-5, 0, &used);
+	r = sscope_budget_take_noise(&p, SSCOPE_QUANTITY_ANGULAR_RATE, 7.3e-5, 2.1e-5, 0, &used);
 	ck_assert(used);
 	ck_assert_uint_eq(r, (1u << SSCOPE_BUDGET_ARW) | (1u << SSCOPE_BUDGET_GYRO_BIAS));
-	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 9.1e-5, 1.7e-5, 0, &used);
+	r = sscope_budget_take_noise(&p, SSCOPE_QUANTITY_ANGULAR_RATE, 9.1e-5, 1.7e-5, 0, &used);
 	ck_assert_uint_eq(r, 1u << SSCOPE_BUDGET_ARW);
 	ck_assert(p.arw_rad_sqrt_s == 9.1e-5 && p.gyro_bias_rad_s == 2.1e-5);
-	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ACCELERATION, 1.2e-3, NAN, 0, &used);
+	r = sscope_budget_take_noise(&p, SSCOPE_QUANTITY_ACCELERATION, 1.2e-3, NAN, 0, &used);
 	ck_assert_uint_eq(r, 1u << SSCOPE_BUDGET_VRW);
 	ck_assert(p.vrw_m_s_sqrt_s == 1.2e-3 && p.accel_bias_m_s2 == 0);
 	/* a source given otherwise is kept; other quantities do not count */
-	r = sscope_budget_take_noise(&p, SSCOPE_QTY_ANGULAR_RATE, 1, 1,
+	r = sscope_budget_take_noise(&p, SSCOPE_QUANTITY_ANGULAR_RATE, 1, 1,
 				     (1u << SSCOPE_BUDGET_ARW) | (1u << SSCOPE_BUDGET_GYRO_BIAS),
 				     &used);
 	ck_assert_uint_eq(r, 0);
 	ck_assert(!used && p.arw_rad_sqrt_s == 9.1e-5);
-	ck_assert_uint_eq(sscope_budget_take_noise(&p, SSCOPE_QTY_VOLTAGE, 1, 1, 0, &used), 0);
+	ck_assert_uint_eq(sscope_budget_take_noise(&p, SSCOPE_QUANTITY_VOLTAGE, 1, 1, 0, &used), 0);
 	ck_assert(!used);
 	/* a calibration leaves bias_sd * scale (output SI), scale_sd / scale */
 	memset(&p, 0, sizeof(p));
@@ -339,12 +339,12 @@ START_TEST(test_take_noise_and_calib)
 	c.scale_sd[0] = 2.5e-4;
 	c.scale_sd[1] = 1e-5;
 	c.scale_sd[2] = NAN;
-	r = sscope_budget_take_calib(&p, SSCOPE_QTY_ACCELERATION, &c, 4e-4, 0);
+	r = sscope_budget_take_calib(&p, SSCOPE_QUANTITY_ACCELERATION, &c, 4e-4, 0);
 	ck_assert_uint_eq(r, (1u << SSCOPE_BUDGET_ACCEL_BIAS) | (1u << SSCOPE_BUDGET_VRW));
 	ck_assert_rel(p.accel_bias_m_s2, 2.5e-3, 1e-15);
 	ck_assert_rel(p.accel_sf, 1e-4, 1e-15);
 	ck_assert(p.vrw_m_s_sqrt_s == 4e-4 && p.gyro_bias_rad_s == 0);
-	r = sscope_budget_take_calib(&p, SSCOPE_QTY_ANGULAR_RATE, &c, NAN,
+	r = sscope_budget_take_calib(&p, SSCOPE_QUANTITY_ANGULAR_RATE, &c, NAN,
 				     1u << SSCOPE_BUDGET_GYRO_BIAS);
 	ck_assert_uint_eq(r, 0);
 	ck_assert(p.gyro_bias_rad_s == 0 && p.arw_rad_sqrt_s == 0);

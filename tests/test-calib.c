@@ -18,7 +18,7 @@
 
 #include "check-main.h"
 
-#define G0 SSCOPE_GRAVITY_STD
+#define G0 SSCOPE_CALIB_GRAVITY_STD
 #define PI 3.14159265358979323846
 #define D2R (PI / 180)
 
@@ -875,26 +875,26 @@ END_TEST
 START_TEST(test_grades)
 {
 	size_t n;
-	const struct sscope_grade *g = sscope_calib_grades(&n);
+	const struct sscope_calib_class *g = sscope_calib_grades(&n);
 	int i;
 
 	ck_assert(n >= 6);
 	/* a MEMS gyro: 0.3 deg/s bias, 0.5 % scale, 0.3 deg/sqrt(h) */
-	i = sscope_calib_grade(SSCOPE_QTY_ANGULAR_RATE, 0.3 * D2R, 5e-3,
+	i = sscope_calib_grade(SSCOPE_QUANTITY_ANGULAR_RATE, 0.3 * D2R, 5e-3,
 			       0.3 * D2R / 60, NAN, NULL);
 	ck_assert_int_ge(i, 0);
 	ck_assert_msg(strstr(g[i].name, "silicon") != NULL, "%s", g[i].name);
 	/* a navigation RLG: 0.003 deg/h, 5 ppm, 0.002 deg/sqrt(h) */
-	i = sscope_calib_grade(SSCOPE_QTY_ANGULAR_RATE, 0.003 * D2R / 3600, 5e-6,
+	i = sscope_calib_grade(SSCOPE_QUANTITY_ANGULAR_RATE, 0.003 * D2R / 3600, 5e-6,
 			       0.002 * D2R / 60, NAN, NULL);
 	ck_assert_msg(strstr(g[i].name, "ring laser") != NULL, "%s", g[i].name);
 	/* a 5 mg accelerometer is tactical */
-	i = sscope_calib_grade(SSCOPE_QTY_ACCELERATION, 5e-3 * G0, NAN, NAN, NAN,
+	i = sscope_calib_grade(SSCOPE_QUANTITY_ACCELERATION, 5e-3 * G0, NAN, NAN, NAN,
 			       NULL);
 	ck_assert_msg(strstr(g[i].name, "tactical") != NULL, "%s", g[i].name);
-	ck_assert_int_eq(sscope_calib_grade(SSCOPE_QTY_ANGULAR_RATE, NAN, NAN,
+	ck_assert_int_eq(sscope_calib_grade(SSCOPE_QUANTITY_ANGULAR_RATE, NAN, NAN,
 					    NAN, NAN, NULL), -EDOM);
-	ck_assert_int_eq(sscope_calib_grade(SSCOPE_QTY_VOLTAGE, 1, 1, 1, 1, NULL),
+	ck_assert_int_eq(sscope_calib_grade(SSCOPE_QUANTITY_VOLTAGE, 1, 1, 1, 1, NULL),
 			 -EINVAL);
 }
 END_TEST
@@ -1075,9 +1075,9 @@ START_TEST(test_error_model_and_grade)
 			sf = fmax(sf, fabs(A[i][i] - 1));
 			bias = fmax(bias, fabs(c.bias[i]));
 		}
-		g1 = sscope_calib_triad_grade(SSCOPE_QTY_ACCELERATION, &c,
+		g1 = sscope_calib_triad_grade(SSCOPE_QUANTITY_ACCELERATION, &c,
 					      (const double(*)[3])A, 3e-3, &dist);
-		g2 = sscope_calib_grade(SSCOPE_QTY_ACCELERATION, bias, sf, 3e-3, NAN,
+		g2 = sscope_calib_grade(SSCOPE_QUANTITY_ACCELERATION, bias, sf, 3e-3, NAN,
 					&dist2);
 		ck_assert_int_eq(g1, g2);
 		ck_assert(dist == dist2);
@@ -1093,8 +1093,8 @@ START_TEST(test_error_model_and_grade)
 				v += c.mis[i][j] * c.scale[j] * c.bias[j];
 			tkb = fmax(tkb, fabs(v));
 		}
-		g1 = sscope_calib_triad_grade(SSCOPE_QTY_ACCELERATION, &c, NULL, NAN, &dist);
-		g2 = sscope_calib_grade(SSCOPE_QTY_ACCELERATION, tkb, NAN, NAN, NAN, &dist2);
+		g1 = sscope_calib_triad_grade(SSCOPE_QUANTITY_ACCELERATION, &c, NULL, NAN, &dist);
+		g2 = sscope_calib_grade(SSCOPE_QUANTITY_ACCELERATION, tkb, NAN, NAN, NAN, &dist2);
 		ck_assert_int_eq(g1, g2);
 		ck_assert(dist == dist2);
 	}
@@ -1243,15 +1243,15 @@ START_TEST(test_intervals_sample)
 	double t[5] = { 100, 100.4, 100.5, 101.49, 102.9 }, a[5], b[5];
 	double *out[2] = { a, b };
 
-	ck_assert_int_eq(sscope_intervals_sample(t, 0, 5, rows, 2, 2, out), 0);
+	ck_assert_int_eq(sscope_timing_intervals_sample(t, 0, 5, rows, 2, 2, out), 0);
 	ck_assert(isnan(a[0]) && isnan(b[1]));
 	ck_assert(a[2] == 10 && b[2] == -1 && a[3] == 10);
 	ck_assert(a[4] == 20 && b[4] == -2);
-	ck_assert_int_eq(sscope_intervals_sample(NULL, 2, 5, rows, 2, 2, out), 0);
+	ck_assert_int_eq(sscope_timing_intervals_sample(NULL, 2, 5, rows, 2, 2, out), 0);
 	/* t = 0, 0.5, 1, 1.5, 2 */
 	ck_assert(isnan(a[0]) && a[1] == 10 && a[2] == 10 && isnan(a[3]) && a[4] == 20);
-	ck_assert_int_eq(sscope_intervals_sample(NULL, 0, 5, rows, 2, 2, out), -EINVAL);
-	ck_assert_int_eq(sscope_intervals_sample(t, 0, 5, rows, 2, 0, out), -EINVAL);
+	ck_assert_int_eq(sscope_timing_intervals_sample(NULL, 0, 5, rows, 2, 2, out), -EINVAL);
+	ck_assert_int_eq(sscope_timing_intervals_sample(t, 0, 5, rows, 2, 0, out), -EINVAL);
 }
 END_TEST
 

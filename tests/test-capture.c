@@ -121,7 +121,7 @@ START_TEST(loaded_capture_carries_timing)
 {
 	char dir[] = "/tmp/sscope-cap-XXXXXX", path[64];
 	struct sscope_capture *c;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	struct sscope_diag d;
 	double t[2000], scratch[2000];
 	struct sscope_timing tm;
@@ -319,7 +319,7 @@ START_TEST(calibration_applied)
 	ck_assert_rel(c->channels[0].data[1], 0.99 + 0.5 * 2.5 * G, 1e-14);
 	ck_assert_rel(c->channels[1].data[1], 2.5 * G, 1e-14);
 	ck_assert_str_eq(c->channels[0].col.unit_label, "m/s^2");
-	ck_assert_int_eq(c->channels[0].col.quantity, SSCOPE_QTY_ACCELERATION);
+	ck_assert_int_eq(c->channels[0].col.quantity, SSCOPE_QUANTITY_ACCELERATION);
 	ck_assert_uint_eq(c->channels[2].col.index, 3);
 	/* the gyro triad: only gx is there */
 	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, NULL, &d), -EINVAL);

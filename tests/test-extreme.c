@@ -20,7 +20,7 @@
 #include "sscope-allan.h"
 #include "sscope-budget.h"
 #include "sscope-psd.h"
-#include "sscope-vibration.h"
+#include "sscope-vib.h"
 #include "check-main.h"
 
 #define N 4096
@@ -98,10 +98,10 @@ static void oadev(const double *x, const struct sscope_allan_opts *o,
 
 START_TEST(allan_scaled)
 {
-	static const enum sscope_dev devs[] = { SSCOPE_DEV_OADEV,
-						SSCOPE_DEV_MDEV,
-						SSCOPE_DEV_OHDEV,
-						SSCOPE_DEV_TOTDEV };
+	static const enum sscope_allan_dev devs[] = { SSCOPE_ALLAN_DEV_OADEV,
+						SSCOPE_ALLAN_DEV_MDEV,
+						SSCOPE_ALLAN_DEV_OHDEV,
+						SSCOPE_ALLAN_DEV_TOTDEV };
 	double *x = record(12, 0);
 	struct sscope_allan_point a[6], b[6];
 	size_t na, nb;
@@ -134,13 +134,13 @@ START_TEST(allan_fit_scaled)
 	struct sscope_allan_result *a, *b;
 	struct sscope_diag d = { "" };
 
-	ck_assert_int_eq(sscope_allan_analyze(x, 1, N, 100, SSCOPE_TAUS_OCTAVE,
+	ck_assert_int_eq(sscope_allan_analyze(x, 1, N, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
 					      NULL, NULL, &a, &d), 0);
 	ck_assert(a->have_fit);
 	for (size_t j = 0; j < sizeof(ks) / sizeof(ks[0]); j++) {
 		double *y = scaled(x, ks[j]);
 
-		ck_assert_msg(sscope_allan_analyze(y, 1, N, 100, SSCOPE_TAUS_OCTAVE,
+		ck_assert_msg(sscope_allan_analyze(y, 1, N, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
 						   NULL, NULL, &b, &d) == 0,
 			      "%s", d.msg);
 		ck_assert(b->have_fit);
@@ -198,16 +198,16 @@ START_TEST(allan_rate_range)
 	struct sscope_diag d = { "" };
 
 	ck_assert_int_eq(sscope_allan_analyze(x, 1, N, 4.9e-324,
-					      SSCOPE_TAUS_OCTAVE, NULL, NULL,
+					      SSCOPE_ALLAN_TAUS_OCTAVE, NULL, NULL,
 					      &r, &d), -ERANGE);
 	ck_assert_msg(strstr(d.msg, "outside 2^-200"), "%s", d.msg);
-	ck_assert_int_eq(sscope_allan_analyze(x, 1, N, 1e308, SSCOPE_TAUS_OCTAVE,
+	ck_assert_int_eq(sscope_allan_analyze(x, 1, N, 1e308, SSCOPE_ALLAN_TAUS_OCTAVE,
 					      NULL, NULL, &r, &d), -ERANGE);
 	free(x);
 }
 END_TEST
 
-static int welch(const double *x, double fs, struct sscope_spectrum *s)
+static int welch(const double *x, double fs, struct sscope_psd_spectrum *s)
 {
 	struct sscope_psd_opts o;
 
@@ -220,7 +220,7 @@ static int welch(const double *x, double fs, struct sscope_spectrum *s)
 START_TEST(psd_scaled)
 {
 	double *x = record(16, 0), x0;
-	struct sscope_spectrum a, b;
+	struct sscope_psd_spectrum a, b;
 
 	/* data times 2^k at 100 * 2^kf Hz: a density 2^(2k - kf) times,
 	 * chosen within the double range */
@@ -240,7 +240,7 @@ START_TEST(psd_scaled)
 			ck_assert_rel(b.freq_hz[i], ldexp(a.freq_hz[i], kf), 1e-15);
 		}
 		ck_assert_rel(b.rms, ldexp(a.rms, k), 1e-13);
-		sscope_spectrum_clear(&b);
+		sscope_psd_spectrum_clear(&b);
 		free(y);
 	}
 	/* beyond the range: 1e308 data at 100 Hz (1e616 per Hz), any data
@@ -261,8 +261,8 @@ START_TEST(psd_scaled)
 	ck_assert_int_eq(welch(x, 1e300, &b), -ERANGE);
 	ck_assert_int_eq(welch(x, 1e200, &b), 0); /* 1e-200 per Hz: fine */
 	ck_assert_rel(b.rms, a.rms, 1e-13);
-	sscope_spectrum_clear(&b);
-	sscope_spectrum_clear(&a);
+	sscope_psd_spectrum_clear(&b);
+	sscope_psd_spectrum_clear(&a);
 	free(x);
 }
 END_TEST
@@ -271,11 +271,11 @@ START_TEST(kurtosis_scaled)
 {
 	double *x = record(17, 0), ka, kb;
 
-	ck_assert_int_eq(sscope_kurtosis(x, 1, N, &ka), 0);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, N, &ka), 0);
 	for (size_t j = 0; j < sizeof(ks) / sizeof(ks[0]); j++) {
 		double *y = scaled(x, ks[j]);
 
-		ck_assert_int_eq(sscope_kurtosis(y, 1, N, &kb), 0);
+		ck_assert_int_eq(sscope_vib_kurtosis(y, 1, N, &kb), 0);
 		ck_assert_rel(kb, ka, 1e-14);
 		free(y);
 	}
@@ -293,7 +293,7 @@ START_TEST(refusals)
 	struct sscope_diag d = { "" };
 
 	sscope_vib_opts_init(&vo);
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, N, 1000, &vo, &vr, &d),
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, N, 1000, &vo, &vr, &d),
 			 -ERANGE);
 	ck_assert_msg(strstr(d.msg, "lies outside 2^-120 .. 2^120"), "%s", d.msg);
 	x[N / 2] = 1e70;

@@ -143,7 +143,7 @@ START_TEST(test_heading_drive)
 	/* the stop biases follow the temperature; with the latitude the
 	 * Earth rate (-omega sin(lat) along down) is removed */
 	ck_assert(r->earth_rate_rad_s < 0);
-	ck_assert_rel(r->earth_rate_rad_s, -SSCOPE_WGS84_OMEGA * sin(lat), 1e-12);
+	ck_assert_rel(r->earth_rate_rad_s, -SSCOPE_NAV_WGS84_OMEGA * sin(lat), 1e-12);
 	for (size_t j = 0; j < r->n_stops; j++) {
 		const struct sscope_heading_stop *s = &r->stops[j];
 		size_t mid = (s->start + s->end) / 2;

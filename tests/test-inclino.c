@@ -19,7 +19,7 @@
 
 #include "check-main.h"
 
-#define G0 SSCOPE_GRAVITY_STD
+#define G0 SSCOPE_CALIB_GRAVITY_STD
 #define PI 3.14159265358979323846
 #define D2R (PI / 180)
 #define MG (1e-3 * G0)

@@ -29,7 +29,7 @@ static const char *data_path(const char *name)
 START_TEST(small_mat)
 {
 	struct sscope_capture *cap;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	struct sscope_diag d = { "" };
 	const double x[5] = { 1.5, -2.25, 3, 4e10, 5e-7 };
 	const double m1[5] = { 1, 3, 5, 7, 32767 }, m2[5] = { -2, -4, -6, -8, -32768 };
@@ -48,7 +48,7 @@ START_TEST(small_mat)
 	}
 	/* "t" is the time column: the rate follows from it */
 	ck_assert(cap->time_s != NULL);
-	ck_assert_int_eq(cap->rate_source, SSCOPE_RATE_TIME_COLUMN);
+	ck_assert_int_eq(cap->rate_source, SSCOPE_CAPTURE_RATE_TIME_COLUMN);
 	ck_assert_rel(cap->rate_hz, 10, 1e-12);
 	sscope_capture_free(cap);
 	/* a default unit and a selection */
@@ -68,8 +68,8 @@ START_TEST(chunked)
 	struct sscope_diag d = { "" };
 	double a[2], t[2];
 	double *data[1] = { a };
-	struct sscope_chunk ch = { 2, 0, data, t, NULL };
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_chunk ch = { 2, 0, data, t, NULL };
+	struct sscope_reader_opts o = { 0 };
 	size_t total = 0;
 
 	o.columns = "x";

@@ -275,13 +275,13 @@ START_TEST(test_frames)
 		/* one sidereal day turns ECI back onto ECEF */
 		double C[3][3];
 
-		sscope_nav_dcm_eci_to_ecef(2 * PI / SSCOPE_WGS84_OMEGA, C);
+		sscope_nav_dcm_eci_to_ecef(2 * PI / SSCOPE_NAV_WGS84_OMEGA, C);
 		check_rotation(C);
 		for (int i = 0; i < 3; i++)
 			for (int j = 0; j < 3; j++)
 				ck_assert(fabs(C[i][j] - (i == j)) < 1e-12);
 		sscope_nav_dcm_eci_to_ecef(3600, C);
-		ck_assert_rel(atan2(C[0][1], C[0][0]), SSCOPE_WGS84_OMEGA * 3600, 1e-14);
+		ck_assert_rel(atan2(C[0][1], C[0][0]), SSCOPE_NAV_WGS84_OMEGA * 3600, 1e-14);
 	}
 }
 END_TEST
@@ -406,7 +406,7 @@ START_TEST(test_earth_rates)
 
 	sscope_nav_earth_rate(lat, w);
 	ck_assert_rel(sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]),
-		      SSCOPE_WGS84_OMEGA, 1e-15);
+		      SSCOPE_NAV_WGS84_OMEGA, 1e-15);
 	ck_assert(w[1] == 0 && w[2] < 0);
 	/* the Earth rate is the ECEF z axis seen in NED */
 	{
@@ -414,7 +414,7 @@ START_TEST(test_earth_rates)
 
 		sscope_nav_dcm_ecef_to_ned(lat, 0.7, C);
 		for (int k = 0; k < 3; k++)
-			ck_assert(fabs(C[k][2] * SSCOPE_WGS84_OMEGA - w[k]) < 1e-19);
+			ck_assert(fabs(C[k][2] * SSCOPE_NAV_WGS84_OMEGA - w[k]) < 1e-19);
 	}
 	/* radii */
 	sscope_nav_radii(0, &rn, &re);

@@ -583,8 +583,8 @@ START_TEST(test_adc_quantization)
 	o.start.lat_rad = 45 * D2R;
 	ns = make(&o);
 	n = sscope_navsim_n_out(ns);
-	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 2048 * 3.7e-5, 0);
-	aa = adc_spec(SSCOPE_QTY_ACCELERATION, 10, 20.48, 0);
+	ga = adc_spec(SSCOPE_QUANTITY_ANGULAR_RATE, 12, 2048 * 3.7e-5, 0);
+	aa = adc_spec(SSCOPE_QUANTITY_ACCELERATION, 10, 20.48, 0);
 	qg = 3.7e-5;
 	qa = 0.04;
 	adc.gyro_adc = &ga;
@@ -618,7 +618,7 @@ START_TEST(test_adc_quantization)
 				      e2[k * SSCOPE_NAVSIM_N_COMP + c]);
 	}
 	/* a range too small clips, and says so */
-	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 12, 4e-5, 0);
+	ga = adc_spec(SSCOPE_QUANTITY_ANGULAR_RATE, 12, 4e-5, 0);
 	ck_assert_int_eq(sscope_navsim_run(ns, &adc, 1, 0, e1, &clipped, NULL), 0);
 	ck_assert(clipped >= 2 * sscope_navsim_n_samples(ns));
 	/* a converter the library refuses */
@@ -652,7 +652,7 @@ START_TEST(test_adc_noise_monte_carlo)
 	o.output_step_s = 30;
 	o.start.lat_rad = 45 * D2R;
 	sig = N * sqrt(fs);
-	ga = adc_spec(SSCOPE_QTY_ANGULAR_RATE, 16, 32768 * sig, sig);
+	ga = adc_spec(SSCOPE_QUANTITY_ANGULAR_RATE, 16, 32768 * sig, sig);
 	imu.gyro.n = N;
 	imu.gyro_adc = &ga;
 	ns = make(&o);
@@ -875,7 +875,7 @@ START_TEST(test_clipping)
 	o.output_step_s = 1;
 	o.motion = SSCOPE_NAVSIM_TURN;
 	o.turn_rate_rad_s = 150 * D2R;
-	imu.gyro.has = SSCOPE_SPEC_RANGE;
+	imu.gyro.has = SSCOPE_SENSOR_HAS_RANGE;
 	imu.gyro.range = 100 * D2R;
 	ns = make(&o);
 	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, 1, 1, st, NULL, &clipped, NULL), 0);

@@ -241,7 +241,7 @@ static size_t model_points(const double c[5], double fs, size_t n,
 {
 	size_t m[128], nm, np = n + 1;
 
-	sscope_allan_grid(SSCOPE_TAUS_DENSE, sscope_allan_max_m(SSCOPE_DEV_OADEV, np), m, 128, &nm);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, sscope_allan_max_m(SSCOPE_ALLAN_DEV_OADEV, np), m, 128, &nm);
 	if (nm > cap)
 		nm = cap;
 	for (size_t i = 0; i < nm; i++) {
@@ -372,7 +372,7 @@ static void round_trip(const struct rt_case *rc, int seeds, double level,
 		sscope_sim_free(sim);
 		fo.ci_level = level;
 		ck_assert_msg(sscope_allan_analyze(y, 1, rc->n, rc->fs,
-						   SSCOPE_TAUS_DENSE, NULL, &fo,
+						   SSCOPE_ALLAN_TAUS_DENSE, NULL, &fo,
 						   &res, &d) == 0, "%s", d.msg);
 		ck_assert_msg(res->have_fit, "%s seed %d: fit failed %d", rc->name,
 			      s, res->fit_error);
@@ -460,7 +460,7 @@ START_TEST(bound_coverage_few_dof)
 		fo.allowed = (1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
 			     (1u << SSCOPE_TERM_K);
 		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, fs,
-						      SSCOPE_TAUS_DENSE, NULL,
+						      SSCOPE_ALLAN_TAUS_DENSE, NULL,
 						      &fo, &res, NULL), 0);
 		ck_assert(res->have_fit);
 		cf = &res->fit.coef[SSCOPE_TERM_K];
@@ -490,7 +490,7 @@ static void fit_of(const double *y, size_t n, double fs, double tau_max_s,
 
 	fo.plan = plan;
 	fo.tau_max_s = tau_max_s;
-	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, fs, SSCOPE_TAUS_DENSE,
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE,
 					      NULL, &fo, &res, NULL), 0);
 	ck_assert(res->have_fit);
 	*f = res->fit;

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * sscope_parse_double must be bit-identical to glibc's strtod (correctly
+ * ssc_parse_double must be bit-identical to glibc's strtod (correctly
  * rounded) on every input: hard cases from the literature (Paxson, "A
  * program for testing IEEE decimal-binary conversion", 1991; halfway
  * cases), shortest and long representations of random doubles, and random
@@ -21,7 +21,7 @@
 static void same(const char *s)
 {
 	double a, b;
-	size_t n = sscope_parse_double(s, s + strlen(s), &a);
+	size_t n = ssc_parse_double(s, s + strlen(s), &a);
 	char *end;
 
 	b = strtod(s, &end);
@@ -65,23 +65,23 @@ START_TEST(partial_and_invalid)
 	const char *s;
 
 	s = "1.5abc";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 3);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 3);
 	ck_assert(v == 1.5);
 	s = "1e";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 1);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 1);
 	s = "1e+";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 1);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 1);
 	s = "abc";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 0);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 0);
 	s = ".";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 0);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 0);
 	s = "-";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 0);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 0);
 	s = " 1";
-	ck_assert_uint_eq(sscope_parse_double(s, s + strlen(s), &v), 0);
+	ck_assert_uint_eq(ssc_parse_double(s, s + strlen(s), &v), 0);
 	/* not NUL-terminated: stops at end */
 	s = "123456";
-	ck_assert_uint_eq(sscope_parse_double(s, s + 3, &v), 3);
+	ck_assert_uint_eq(ssc_parse_double(s, s + 3, &v), 3);
 	ck_assert(v == 123);
 }
 END_TEST
@@ -164,9 +164,9 @@ END_TEST
 
 /*
  * The known-extent cell parsers of the CSV reader (numparse.h) against
- * strtod: a cell they take must be one sscope_parse_double reads whole,
+ * strtod: a cell they take must be one ssc_parse_double reads whole,
  * with the same bits and the exact decimal; a cell they refuse is left to
- * sscope_parse_double.  The cell sits at the end of a 16-byte window whose
+ * ssc_parse_double.  The cell sits at the end of a 16-byte window whose
  * leading bytes are garbage (digits, points, signs), as in a file.
  */
 static unsigned long cells_taken;

@@ -29,8 +29,8 @@ static void noise(gsl_rng *r, double *x, size_t n, double sd)
 		x[i] = sd * gsl_ran_gaussian_ziggurat(r, 1);
 }
 
-static void welch(const double *x, size_t n, enum sscope_window w,
-		  size_t nperseg, size_t noverlap, struct sscope_spectrum *s)
+static void welch(const double *x, size_t n, enum sscope_psd_window w,
+		  size_t nperseg, size_t noverlap, struct sscope_psd_spectrum *s)
 {
 	struct sscope_psd_opts o;
 
@@ -45,30 +45,30 @@ START_TEST(edf_closed_forms)
 {
 	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
 	double *x = malloc(8192 * sizeof(double));
-	struct sscope_spectrum s = { 0 };
+	struct sscope_psd_spectrum s = { 0 };
 	double K;
 
 	gsl_rng_set(r, 11);
 	noise(r, x, 8192, 1);
 	/* boxcar, no overlap: independent segments, 2 K */
-	welch(x, 8192, SSCOPE_WINDOW_BOXCAR, 256, 0, &s);
+	welch(x, 8192, SSCOPE_PSD_WINDOW_BOXCAR, 256, 0, &s);
 	ck_assert_uint_eq(s.n_segments, 32);
-	ck_assert(fabs(sscope_spectrum_edf(&s) - 64) < 1e-12);
-	sscope_spectrum_clear(&s);
+	ck_assert(fabs(sscope_psd_spectrum_edf(&s) - 64) < 1e-12);
+	sscope_psd_spectrum_clear(&s);
 	/* Hann at half overlap: rho(N/2) = (N/16) / (3N/8) = 1/6 */
-	welch(x, 8192, SSCOPE_WINDOW_HANN, 256, 128, &s);
+	welch(x, 8192, SSCOPE_PSD_WINDOW_HANN, 256, 128, &s);
 	K = (double)s.n_segments;
 	ck_assert_uint_eq(s.n_segments, 63);
-	ck_assert(fabs(sscope_spectrum_edf(&s) -
+	ck_assert(fabs(sscope_psd_spectrum_edf(&s) -
 		       2 * K / (1 + 2 * (1 - 1 / K) / 36)) < 1e-9);
-	sscope_spectrum_clear(&s);
+	sscope_psd_spectrum_clear(&s);
 	/* one segment */
-	ck_assert_int_eq(sscope_psd_periodogram(x, 1, 1000, 1000, SSCOPE_WINDOW_HANN,
-						0, SSCOPE_DETREND_CONSTANT,
-						SSCOPE_SCALING_DENSITY, &s), 0);
-	ck_assert(sscope_spectrum_edf(&s) == 2);
-	sscope_spectrum_clear(&s);
-	ck_assert(isnan(sscope_spectrum_edf(NULL)));
+	ck_assert_int_eq(sscope_psd_periodogram(x, 1, 1000, 1000, SSCOPE_PSD_WINDOW_HANN,
+						0, SSCOPE_PSD_DETREND_CONSTANT,
+						SSCOPE_PSD_SCALING_DENSITY, &s), 0);
+	ck_assert(sscope_psd_spectrum_edf(&s) == 2);
+	sscope_psd_spectrum_clear(&s);
+	ck_assert(isnan(sscope_psd_spectrum_edf(NULL)));
 	free(x);
 	gsl_rng_free(r);
 }
@@ -83,22 +83,22 @@ static int false_alarms(int R, int periodogram, double alpha)
 
 	gsl_rng_set(r, periodogram ? 303 : 202);
 	for (int k = 0; k < R; k++) {
-		struct sscope_spectrum s = { 0 };
-		struct sscope_sig_peak pk[4];
+		struct sscope_psd_spectrum s = { 0 };
+		struct sscope_psd_sig_peak pk[4];
 		size_t n;
 
 		noise(r, x, 8192, 2.385);
 		if (periodogram)
 			ck_assert_int_eq(sscope_psd_periodogram(x, 1, 2048, 1000,
-								SSCOPE_WINDOW_HANN, 0,
-								SSCOPE_DETREND_CONSTANT,
-								SSCOPE_SCALING_DENSITY, &s), 0);
+								SSCOPE_PSD_WINDOW_HANN, 0,
+								SSCOPE_PSD_DETREND_CONSTANT,
+								SSCOPE_PSD_SCALING_DENSITY, &s), 0);
 		else
-			welch(x, 8192, SSCOPE_WINDOW_HANN, 256, 128, &s);
-		ck_assert_int_eq(sscope_spectrum_significant_peaks(&s, 4, 0, 500, alpha,
-								   pk, &n, NULL), 0);
+			welch(x, 8192, SSCOPE_PSD_WINDOW_HANN, 256, 128, &s);
+		ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 4, 0, 500, alpha,
+								       pk, &n, NULL), 0);
 		hits += n > 0;
-		sscope_spectrum_clear(&s);
+		sscope_psd_spectrum_clear(&s);
 	}
 	free(x);
 	gsl_rng_free(r);
@@ -126,42 +126,42 @@ START_TEST(tones)
 	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
 	size_t n = 65536, found;
 	double *x = malloc(n * sizeof(double)), f0 = 123.4567;
-	struct sscope_spectrum s = { 0 };
-	struct sscope_sig_peak pk[8];
-	struct sscope_peak_test t;
+	struct sscope_psd_spectrum s = { 0 };
+	struct sscope_psd_sig_peak pk[8];
+	struct sscope_psd_peak_test t;
 
 	gsl_rng_set(r, 7);
 	/* a weak tone: its bin stands about 7x above the floor */
 	noise(r, x, n, 1);
 	for (size_t i = 0; i < n; i++)
 		x[i] += 0.2 * sin(2 * PI * f0 * (double)i / 1000);
-	welch(x, n, SSCOPE_WINDOW_HANN, 1024, 512, &s);
-	ck_assert_int_eq(sscope_spectrum_significant_peaks(&s, 8, 0, 500, 0, pk,
-							   &found, &t), 0);
+	welch(x, n, SSCOPE_PSD_WINDOW_HANN, 1024, 512, &s);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 0, 500, 0, pk,
+							       &found, &t), 0);
 	ck_assert_uint_eq(found, 1);
 	ck_assert(fabs(pk[0].peak.frequency_hz - f0) < 0.1 * s.bin_hz);
 	ck_assert(pk[0].ratio > t.ratio_threshold && pk[0].p_value < t.p_threshold);
 	ck_assert(t.alpha == 0.01 && t.bins_tested == s.n_bins - 2 && t.lobe_half_width == 3);
-	ck_assert(fabs(t.edf - sscope_spectrum_edf(&s)) < 1e-12);
-	sscope_spectrum_clear(&s);
+	ck_assert(fabs(t.edf - sscope_psd_spectrum_edf(&s)) < 1e-12);
+	sscope_psd_spectrum_clear(&s);
 	/* 90 dB above the noise: one line, its skirts are not listed */
 	noise(r, x, n, 1e-3);
 	for (size_t i = 0; i < n; i++)
 		x[i] += 30 * sin(2 * PI * f0 * (double)i / 1000);
-	welch(x, n, SSCOPE_WINDOW_HANN, 1024, 512, &s);
-	ck_assert_int_eq(sscope_spectrum_significant_peaks(&s, 8, 0, 500, 0, pk,
-							   &found, NULL), 0);
+	welch(x, n, SSCOPE_PSD_WINDOW_HANN, 1024, 512, &s);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 0, 500, 0, pk,
+							       &found, NULL), 0);
 	ck_assert_msg(found == 1, "%zu peaks, the second at %g Hz", found,
 		      found > 1 ? pk[1].peak.frequency_hz : 0);
 	ck_assert(fabs(pk[0].peak.amplitude - 30) < 0.03);
 	/* errors */
-	ck_assert_int_eq(sscope_spectrum_significant_peaks(&s, 8, 0, 500, 1, pk,
-							   &found, NULL), -EINVAL);
-	ck_assert_int_eq(sscope_spectrum_significant_peaks(&s, 8, 10, 5, 0, pk,
-							   &found, NULL), -EINVAL);
-	ck_assert_int_eq(sscope_spectrum_significant_peaks(NULL, 8, 0, 500, 0, pk,
-							   &found, NULL), -EINVAL);
-	sscope_spectrum_clear(&s);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 0, 500, 1, pk,
+							       &found, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 10, 5, 0, pk,
+							       &found, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(NULL, 8, 0, 500, 0, pk,
+							       &found, NULL), -EINVAL);
+	sscope_psd_spectrum_clear(&s);
 	free(x);
 	gsl_rng_free(r);
 }

@@ -127,7 +127,7 @@ START_TEST(blocks_equal_rows)
 	for (size_t t = 0; t < sizeof(types) / sizeof(types[0]); t++) {
 		size_t len = (size_t)ROWS * CH * types[t].size;
 		unsigned char *b = malloc(len);
-		struct sscope_read_opts o = { 0 };
+		struct sscope_reader_opts o = { 0 };
 		struct sscope_capture *fast = NULL, *slow = NULL;
 		struct sscope_diag d = { "" };
 		char spec[2][32];
@@ -189,7 +189,7 @@ START_TEST(bad_values_located)
 {
 	size_t n = 200000, len = n * CH * sizeof(double);
 	double *v = malloc(len);
-	struct sscope_read_opts o = { .raw = little_endian() ? "f64:3:le" : "f64:3:be" };
+	struct sscope_reader_opts o = { .raw = little_endian() ? "f64:3:le" : "f64:3:be" };
 	struct sscope_capture *cap = NULL;
 	struct sscope_diag d = { "" };
 	const char *p;
@@ -228,7 +228,7 @@ START_TEST(in_place)
 {
 	size_t n = 1 << 20;
 	double *v = malloc(n * sizeof(double));
-	struct sscope_read_opts o = { .raw = little_endian() ? "f64:1:le" : "f64:1:be",
+	struct sscope_reader_opts o = { .raw = little_endian() ? "f64:1:le" : "f64:1:be",
 				      .in_place = true };
 	struct sscope_capture *cap = NULL;
 	struct sscope_diag d = { "" };
@@ -245,9 +245,9 @@ START_TEST(in_place)
 	ck_assert_uint_eq(cap->n, n);
 	ck_assert(memcmp(cap->channels[0].data, v, n * sizeof(double)) == 0);
 	/* give everything back, in pieces: still readable, still equal */
-	sscope_capture_release(cap, cap->channels[0].data, 1, 0, n / 2);
-	sscope_capture_release(cap, cap->channels[0].data, 1, n / 2, n - n / 2);
-	sscope_capture_release(cap, v, 1, 0, n); /* not the capture's: ignored */
+	sscope_capture_evict(cap, cap->channels[0].data, 1, 0, n / 2);
+	sscope_capture_evict(cap, cap->channels[0].data, 1, n / 2, n - n / 2);
+	sscope_capture_evict(cap, v, 1, 0, n); /* not the capture's: ignored */
 	ck_assert(memcmp(cap->channels[0].data, v, n * sizeof(double)) == 0);
 	sscope_capture_free(cap);
 
@@ -322,12 +322,12 @@ START_TEST(allan_release)
 		s ^= s << 17;
 		y[i] = 0.3 + (double)(s >> 11) * 0x1p-53;
 	}
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_TAUS_OCTAVE, n / 2, m, 64, &nm), 0);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 2, m, 64, &nm), 0);
 	t.x = y;
 	t.n = n;
 	t.seen = calloc(n, 1);
 	for (int dev = 0; dev < 2; dev++) {
-		struct sscope_allan_opts o = { .dev = dev ? SSCOPE_DEV_MDEV : SSCOPE_DEV_OADEV,
+		struct sscope_allan_opts o = { .dev = dev ? SSCOPE_ALLAN_DEV_MDEV : SSCOPE_ALLAN_DEV_OADEV,
 					       .ci_level = -1 };
 		struct sscope_allan *p = NULL;
 		size_t na = 0, nb = 0;
@@ -364,13 +364,13 @@ START_TEST(analyze_skip_fit)
 	size_t n = 20000;
 	double *y = malloc(n * sizeof(double));
 	struct sscope_noise_fit_opts fo = { .skip = true };
-	struct sscope_allan_opts ao = { .dev = SSCOPE_DEV_MDEV };
+	struct sscope_allan_opts ao = { .dev = SSCOPE_ALLAN_DEV_MDEV };
 	struct sscope_allan_result *r = NULL;
 
 	ck_assert_ptr_nonnull(y);
 	for (size_t i = 0; i < n; i++)
 		y[i] = sin((double)i * 1.7) + 0.01 * (double)(i % 13);
-	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_OCTAVE, &ao,
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_ALLAN_TAUS_OCTAVE, &ao,
 					      &fo, &r, NULL), 0);
 	ck_assert(!r->have_fit);
 	ck_assert_int_eq(r->fit_error, 0);
@@ -378,7 +378,7 @@ START_TEST(analyze_skip_fit)
 	ck_assert_uint_gt(r->n_points, 5);
 	sscope_allan_result_free(r);
 	fo.skip = false;
-	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_OCTAVE, &ao,
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_ALLAN_TAUS_OCTAVE, &ao,
 					      &fo, &r, NULL), 0);
 	ck_assert(r->oadev != r->points);
 	sscope_allan_result_free(r);
@@ -405,12 +405,12 @@ START_TEST(all_grid_fit_dense)
 		y[i] = (double)(s >> 11) * 0x1p-53 + w;
 	}
 	for (int dev = 0; dev < 2; dev++) {
-		struct sscope_allan_opts ao = { .dev = dev ? SSCOPE_DEV_MDEV :
-							     SSCOPE_DEV_OADEV };
+		struct sscope_allan_opts ao = { .dev = dev ? SSCOPE_ALLAN_DEV_MDEV :
+							     SSCOPE_ALLAN_DEV_OADEV };
 
-		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_ALL,
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_ALLAN_TAUS_ALL,
 						      &ao, NULL, &all, NULL), 0);
-		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_TAUS_DENSE,
+		ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 10, SSCOPE_ALLAN_TAUS_DENSE,
 						      &ao, NULL, &dense, NULL), 0);
 		ck_assert_uint_eq(all->n_points, dev ? n / 3 : n / 2);
 		ck_assert(all->oadev != all->points);
@@ -513,7 +513,7 @@ END_TEST
 START_TEST(csv_skipped_columns)
 {
 	char *text = malloc(1 << 20), *q = text;
-	struct sscope_read_opts o = { .columns = "gx" };
+	struct sscope_reader_opts o = { .columns = "gx" };
 	struct sscope_capture *one = NULL, *all = NULL;
 	struct sscope_diag d = { "" };
 	const char *p;

@@ -48,7 +48,7 @@ static const char *puts_(const char *name, const char *text)
 	return put(name, text, strlen(text));
 }
 
-static int load(const char *path, const struct sscope_read_opts *o,
+static int load(const char *path, const struct sscope_reader_opts *o,
 		struct sscope_capture **cap, struct sscope_diag *d)
 {
 	d->msg[0] = '\0';
@@ -74,15 +74,15 @@ START_TEST(csv_units_and_roles)
 	ck_assert_uint_eq(cap->n_channels, 3);
 	ck_assert_str_eq(cap->channels[0].col.name, "gx");
 	ck_assert_str_eq(cap->channels[1].col.unit_label, "deg/s");
-	ck_assert(cap->channels[0].col.quantity == SSCOPE_QTY_ANGULAR_RATE);
-	ck_assert(cap->channels[2].col.quantity == SSCOPE_QTY_ACCELERATION);
+	ck_assert(cap->channels[0].col.quantity == SSCOPE_QUANTITY_ANGULAR_RATE);
+	ck_assert(cap->channels[2].col.quantity == SSCOPE_QUANTITY_ACCELERATION);
 	ck_assert_rel(cap->channels[0].data[2], 3.5 * D2R, 1e-15);
 	ck_assert_rel(cap->channels[2].data[1], 0.5 * 9.80665, 1e-15);
 	ck_assert_ptr_nonnull(cap->time_s);
 	ck_assert_ptr_nonnull(cap->temp_degc);
 	ck_assert_rel(cap->temp_degc[2], 26.0, 1e-15);
 	ck_assert_rel(cap->time_s[2], 0.02, 1e-15);
-	ck_assert(cap->rate_source == SSCOPE_RATE_TIME_COLUMN);
+	ck_assert(cap->rate_source == SSCOPE_CAPTURE_RATE_TIME_COLUMN);
 	ck_assert_rel(cap->rate_hz, 100, 1e-12);
 	sscope_capture_free(cap);
 }
@@ -111,8 +111,8 @@ START_TEST(euroc)
 	ck_assert_uint_eq(cap->n_channels, 6);
 	ck_assert_str_eq(cap->time_col.name, "timestamp");
 	ck_assert_str_eq(cap->channels[0].col.name, "w_RS_S_x");
-	ck_assert(cap->channels[0].col.quantity == SSCOPE_QTY_ANGULAR_RATE);
-	ck_assert(cap->channels[3].col.quantity == SSCOPE_QTY_ACCELERATION);
+	ck_assert(cap->channels[0].col.quantity == SSCOPE_QUANTITY_ANGULAR_RATE);
+	ck_assert(cap->channels[3].col.quantity == SSCOPE_QUANTITY_ACCELERATION);
 	/* nanosecond stamps near 1.4e18 keep full resolution */
 	for (int i = 0; i < 400; i++)
 		ck_assert_msg(cap->time_s[i] == i * 5000000 * 1e-9,
@@ -153,7 +153,7 @@ START_TEST(no_header_and_selection)
 {
 	struct sscope_capture *cap;
 	struct sscope_diag d;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	const char *p = puts_("n.csv", "1,2,3\n4,5,6\n7,8,9\n");
 
 	o.default_unit = "mg";
@@ -165,7 +165,7 @@ START_TEST(no_header_and_selection)
 	ck_assert_str_eq(cap->channels[1].col.name, "col1");
 	ck_assert_str_eq(cap->channels[0].col.unit_label, "mg");
 	ck_assert_rel(cap->channels[0].data[2], 9 * 9.80665e-3, 1e-15);
-	ck_assert(cap->rate_source == SSCOPE_RATE_GIVEN);
+	ck_assert(cap->rate_source == SSCOPE_CAPTURE_RATE_GIVEN);
 	ck_assert_ptr_null(cap->time_s);
 	sscope_capture_free(cap);
 }
@@ -179,13 +179,13 @@ START_TEST(header_rate_comment)
 				       "gx [deg/s]\n1\n2\n");
 
 	ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
-	ck_assert(cap->rate_source == SSCOPE_RATE_HEADER);
+	ck_assert(cap->rate_source == SSCOPE_CAPTURE_RATE_HEADER);
 	ck_assert_rel(cap->rate_hz, 2000, 1e-15);
 	sscope_capture_free(cap);
 	p = puts_("r2.csv", "# fs = 100\ngx\n1\n2\n");
 	ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
 	ck_assert_rel(cap->rate_hz, 100, 1e-15);
-	ck_assert(cap->channels[0].col.quantity == SSCOPE_QTY_UNKNOWN);
+	ck_assert(cap->channels[0].col.quantity == SSCOPE_QUANTITY_UNKNOWN);
 	sscope_capture_free(cap);
 }
 END_TEST
@@ -194,7 +194,7 @@ START_TEST(nan_gaps)
 {
 	struct sscope_capture *cap;
 	struct sscope_diag d;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	const char *p = puts_("g.csv", "t,a [g]\n0,1\n1,nan\n2,\n3,4\n");
 
 	ck_assert_int_eq(load(p, NULL, &cap, &d), -EBADMSG);
@@ -259,7 +259,7 @@ START_TEST(unselected_unknown_unit_ok)
 {
 	struct sscope_capture *cap;
 	struct sscope_diag d;
-	struct sscope_read_opts o = { .columns = "a" };
+	struct sscope_reader_opts o = { .columns = "a" };
 	const char *p = puts_("u.csv", "a [g],b [furlong]\n1,2\n3,4\n");
 
 	ck_assert_int_eq(load(p, &o, &cap, &d), 0);
@@ -288,7 +288,7 @@ START_TEST(raw_layouts)
 {
 	struct sscope_capture *cap;
 	struct sscope_diag d;
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	unsigned char le16[] = { 0x01, 0x00, 0xff, 0xff, 0x00, 0x80, 0xff, 0x7f };
 	unsigned char be16[] = { 0x00, 0x01, 0xff, 0xff, 0x80, 0x00, 0x7f, 0xff };
 	unsigned char i24[] = { 0xff, 0xff, 0xff, 0x00, 0x00, 0x80 };
@@ -343,7 +343,7 @@ START_TEST(raw_layouts)
 }
 END_TEST
 
-/* sscope_raw_layout_check: every malformed layout is -EINVAL with a
+/* sscope_reader_raw_layout_check: every malformed layout is -EINVAL with a
  * message; good ones give their channels and value size */
 START_TEST(raw_layout_check)
 {
@@ -357,15 +357,15 @@ START_TEST(raw_layout_check)
 
 	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
 		d.msg[0] = '\0';
-		ck_assert_msg(sscope_raw_layout_check(bad[i], &ch, &sz, &d) == -EINVAL,
+		ck_assert_msg(sscope_reader_raw_layout_check(bad[i], &ch, &sz, &d) == -EINVAL,
 			      "'%s' accepted", bad[i]);
 		ck_assert_msg(d.msg[0] != '\0', "'%s': no message", bad[i]);
 	}
-	ck_assert_int_eq(sscope_raw_layout_check(NULL, NULL, NULL, NULL), -EINVAL);
-	ck_assert_int_eq(sscope_raw_layout_check("i24:4096:be", &ch, &sz, &d), 0);
+	ck_assert_int_eq(sscope_reader_raw_layout_check(NULL, NULL, NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_reader_raw_layout_check("i24:4096:be", &ch, &sz, &d), 0);
 	ck_assert_uint_eq(ch, 4096);
 	ck_assert_uint_eq(sz, 3);
-	ck_assert_int_eq(sscope_raw_layout_check("f64:1", &ch, &sz, NULL), 0);
+	ck_assert_int_eq(sscope_reader_raw_layout_check("f64:1", &ch, &sz, NULL), 0);
 	ck_assert_uint_eq(ch, 1);
 	ck_assert_uint_eq(sz, 8);
 }
@@ -453,7 +453,7 @@ START_TEST(chunked_equals_whole)
 	struct sscope_diag d;
 	char path[128];
 	double c0[7], c1[7], t[7], tc[7], *ptr[2] = { c0, c1 };
-	struct sscope_chunk ch = { 7, 0, ptr, t, tc };
+	struct sscope_reader_chunk ch = { 7, 0, ptr, t, tc };
 	size_t got = 0;
 
 	snprintf(path, sizeof(path), "%s/ch.csv", dir);
@@ -573,7 +573,7 @@ START_TEST(fast_path_equals_strtod)
 		text = big_csv(rows, nl, &cells, &len);
 		p = put("big.csv", text, len);
 		for (unsigned th = 1; th <= 2; th++) {
-			struct sscope_read_opts o = { .threads = th };
+			struct sscope_reader_opts o = { .threads = th };
 			struct sscope_capture *cap;
 			struct sscope_diag d;
 
@@ -604,7 +604,7 @@ START_TEST(fast_path_equals_strtod)
 			struct sscope_diag d;
 			double c[4][777], t[777];
 			double *ptr[4] = { c[0], c[1], c[2], c[3] };
-			struct sscope_chunk ch = { 777, 0, ptr, t, NULL };
+			struct sscope_reader_chunk ch = { 777, 0, ptr, t, NULL };
 			size_t got = 0;
 
 			ck_assert_int_eq(ssc_reader_open_mem(&r, text, len, "m", NULL, &d), 0);
@@ -659,7 +659,7 @@ START_TEST(fast_path_errors_located)
 		memcpy(bad + at + (c ? 9 : 11), text + at, len - at);
 		p = put("bad.csv", bad, len + (c ? 9 : 11));
 		for (unsigned th = 1; th <= 2; th++) {
-			struct sscope_read_opts o = { .threads = th };
+			struct sscope_reader_opts o = { .threads = th };
 			struct sscope_capture *cap = NULL;
 			struct sscope_diag d;
 

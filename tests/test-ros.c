@@ -42,7 +42,7 @@ static const char *path(const char *name)
 static struct sscope_capture *load(const char *name, const char *topic,
 				   int want)
 {
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	struct sscope_capture *cap = NULL;
 	struct sscope_diag d = { "" };
 	int rc;
@@ -94,7 +94,7 @@ END_TEST
 START_TEST(topics_listed)
 {
 	struct sscope_capture *c = load("imu-lz4.bag", NULL, 0);
-	const struct sscope_source *s = c->source_info;
+	const struct sscope_capture_source *s = c->source_info;
 	bool imu = false, chatter = false;
 
 	ck_assert_str_eq(s->format, "ROS 1 bag v2.0 (lz4 chunks)");
@@ -118,7 +118,7 @@ END_TEST
 
 START_TEST(topic_selection)
 {
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	struct sscope_capture *c;
 	struct sscope_diag d = { "" };
 

@@ -152,7 +152,7 @@ static void term_check(struct sscope_sensor_spec sp, double fs, size_t n,
 	sscope_sim_generate(s, NULL, y, NULL, n);
 	ao.alpha_fixed = true;
 	ao.alpha = alpha;
-	sscope_allan_grid(SSCOPE_TAUS_OCTAVE, (size_t)(tau_max * fs), m, 64, &nm);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, (size_t)(tau_max * fs), m, 64, &nm);
 	ck_assert_int_eq(sscope_allan_new(&p, n, &ao), 0);
 	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, fs, m, nm, pt, &np, NULL), 0);
 	for (size_t i = 0; i < np; i++) {
@@ -302,7 +302,7 @@ START_TEST(bias_scale_tones_quantization)
 	memset(&sp, 0, sizeof(sp));
 	sp.n = 1;
 	sp.range = 2;
-	sp.has = SSCOPE_SPEC_RANGE;
+	sp.has = SSCOPE_SENSOR_HAS_RANGE;
 	o.n_tones = 0;
 	o.quant_step = 0.25;
 	s = mk(&sp, &o);

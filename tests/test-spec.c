@@ -11,16 +11,16 @@
 
 #include "check-main.h"
 
-static int parse(const char *text, struct sscope_ini **ini,
+static int parse(const char *text, struct ssc_ini **ini,
 		 struct sscope_diag *d)
 {
 	d->msg[0] = '\0';
-	return sscope_ini_parse(ini, text, strlen(text), "t.ini", d);
+	return ssc_ini_parse(ini, text, strlen(text), "t.ini", d);
 }
 
 START_TEST(ini_basics)
 {
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	struct sscope_diag d;
 	size_t line;
 	const char *v;
@@ -30,29 +30,29 @@ START_TEST(ini_basics)
 	ck_assert_int_eq(parse("# comment\n; also\n[Sensor]\nName = My gyro  # trailing\n"
 			       "range: 250 deg/s\n\n[adc]\nbits = 16\n",
 			       &ini, &d), 0);
-	ck_assert_uint_eq(sscope_ini_n_sections(ini), 2);
-	ck_assert_str_eq(sscope_ini_section(ini, 1, &line), "adc");
+	ck_assert_uint_eq(ssc_ini_n_sections(ini), 2);
+	ck_assert_str_eq(ssc_ini_section(ini, 1, &line), "adc");
 	ck_assert_uint_eq(line, 7);
-	v = sscope_ini_get(ini, "sensor", "name", &line);
+	v = ssc_ini_get(ini, "sensor", "name", &line);
 	ck_assert_str_eq(v, "My gyro");
 	ck_assert_uint_eq(line, 4);
-	ck_assert_int_eq(sscope_ini_quantity(ini, "sensor", "range", "rad/s", &x, &d), 0);
+	ck_assert_int_eq(ssc_ini_quantity(ini, "sensor", "range", "rad/s", &x, &d), 0);
 	ck_assert_rel(x, 250 * 0.017453292519943295, 1e-15);
-	ck_assert_int_eq(sscope_ini_quantity(ini, "sensor", "absent", "rad/s", &x, &d),
+	ck_assert_int_eq(ssc_ini_quantity(ini, "sensor", "absent", "rad/s", &x, &d),
 			 -ENOENT);
-	ck_assert_int_eq(sscope_ini_quantity(ini, "sensor", "range", "m/s^2", &x, &d),
+	ck_assert_int_eq(ssc_ini_quantity(ini, "sensor", "range", "m/s^2", &x, &d),
 			 -EINVAL);
 	ck_assert_msg(strstr(d.msg, "t.ini: line 5: range = 250 deg/s: wrong unit") != NULL,
 		      "%s", d.msg);
-	ck_assert_int_eq(sscope_ini_integer(ini, "adc", "bits", 1, 32, &k, &d), 0);
+	ck_assert_int_eq(ssc_ini_integer(ini, "adc", "bits", 1, 32, &k, &d), 0);
 	ck_assert_int_eq(k, 16);
-	ck_assert_int_eq(sscope_ini_integer(ini, "adc", "bits", 1, 8, &k, &d), -EINVAL);
-	ck_assert_int_eq(sscope_ini_check_keys(ini, "sensor",
-					       (const char *const[]){ "name", NULL }, &d),
+	ck_assert_int_eq(ssc_ini_integer(ini, "adc", "bits", 1, 8, &k, &d), -EINVAL);
+	ck_assert_int_eq(ssc_ini_check_keys(ini, "sensor",
+					    (const char *const[]){ "name", NULL }, &d),
 			 -EINVAL);
 	ck_assert_msg(strstr(d.msg, "line 5: unknown key 'range' in [Sensor]") != NULL,
 		      "%s", d.msg);
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 }
 END_TEST
 
@@ -70,7 +70,7 @@ START_TEST(ini_errors)
 	};
 
 	for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
-		struct sscope_ini *ini = NULL;
+		struct ssc_ini *ini = NULL;
 		struct sscope_diag d;
 
 		ck_assert_int_eq(parse(cases[i].text, &ini, &d), -EBADMSG);
@@ -83,7 +83,7 @@ END_TEST
 
 START_TEST(sensor_gyro)
 {
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	struct sscope_diag d;
 	struct sscope_sensor_spec s;
 
@@ -97,9 +97,9 @@ START_TEST(sensor_gyro)
 			       "temp_max = 85\nsensitivity = 6 mV/(deg/s)\n"
 			       "zero_output = 2.5 V\nbandwidth = 40 Hz\nfilter_order = 2\n",
 			       &ini, &d), 0);
-	ck_assert_int_eq(sscope_sensor_spec_from_ini(ini, "sensor", &s, &d), 0);
+	ck_assert_int_eq(ssc_sensor_spec_from_ini(ini, "sensor", &s, &d), 0);
 	ck_assert_str_eq(s.name, "textbook gyro");
-	ck_assert(s.quantity == SSCOPE_QTY_ANGULAR_RATE);
+	ck_assert(s.quantity == SSCOPE_QUANTITY_ANGULAR_RATE);
 	ck_assert_rel(s.range, 1.7453292519943295, 1e-15);
 	ck_assert_rel(s.n, 0.15 * 2.9088820866572158e-4, 1e-14);
 	ck_assert_rel(s.b, 4.8481368110953599e-6, 1e-14);
@@ -116,13 +116,13 @@ START_TEST(sensor_gyro)
 	ck_assert_rel(s.bandwidth_hz, 40, 1e-15);
 	ck_assert_int_eq(s.filter_order, 2);
 	ck_assert_uint_eq(s.has, 0x1fffu);
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 }
 END_TEST
 
 START_TEST(sensor_accel)
 {
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	struct sscope_diag d;
 	struct sscope_sensor_spec s;
 
@@ -130,13 +130,13 @@ START_TEST(sensor_accel)
 			       "bias_instability = 20 ug\nrate_random_walk = 0.02 m/s^2/s/sqrt(Hz)\n"
 			       "scale_factor_error = 0.1 %\n",
 			       &ini, &d), 0);
-	ck_assert_int_eq(sscope_sensor_spec_from_ini(ini, "sensor", &s, &d), 0);
-	ck_assert(s.quantity == SSCOPE_QTY_ACCELERATION);
+	ck_assert_int_eq(ssc_sensor_spec_from_ini(ini, "sensor", &s, &d), 0);
+	ck_assert(s.quantity == SSCOPE_QUANTITY_ACCELERATION);
 	ck_assert_rel(s.n, 60 * 9.80665e-6, 1e-15);
 	ck_assert_rel(s.b, 20 * 9.80665e-6, 1e-15);
 	ck_assert_rel(s.scale_factor_error, 1e-3, 1e-15);
 	ck_assert_int_eq(s.filter_order, 1);
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 }
 END_TEST
 
@@ -157,16 +157,16 @@ START_TEST(sensor_refusals)
 	};
 
 	for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
-		struct sscope_ini *ini;
+		struct ssc_ini *ini;
 		struct sscope_diag d;
 		struct sscope_sensor_spec s;
 
 		ck_assert_int_eq(parse(cases[i].text, &ini, &d), 0);
-		ck_assert_int_eq(sscope_sensor_spec_from_ini(ini, "sensor", &s, &d),
+		ck_assert_int_eq(ssc_sensor_spec_from_ini(ini, "sensor", &s, &d),
 				 -EINVAL);
 		ck_assert_msg(strstr(d.msg, cases[i].needle) != NULL, "%zu: %s", i,
 			      d.msg);
-		sscope_ini_free(ini);
+		ssc_ini_free(ini);
 	}
 }
 END_TEST

@@ -76,7 +76,7 @@ START_TEST(timing_gaps)
 {
 	double t[1000], scratch[999];
 	struct sscope_timing tm;
-	struct sscope_gap g[4];
+	struct sscope_timing_gap g[4];
 	size_t ng, k = 0;
 
 	for (size_t i = 0; i < 1003; i++) {
@@ -137,13 +137,13 @@ END_TEST
 /* feed t in pieces of `piece` stamps and check; returns the code and
  * leaves the message in d */
 static int order_of(const double *t, size_t n, size_t piece,
-		    struct sscope_time_order *o, struct sscope_diag *d)
+		    struct sscope_timing_order *o, struct sscope_diag *d)
 {
-	*o = (struct sscope_time_order){ 0 };
+	*o = (struct sscope_timing_order){ 0 };
 	for (size_t i = 0; i < n; i += piece)
-		sscope_time_order_feed(o, t + i, n - i < piece ? n - i : piece);
+		sscope_timing_order_feed(o, t + i, n - i < piece ? n - i : piece);
 	d->msg[0] = '\0';
-	return sscope_time_order_check(o, d);
+	return sscope_timing_order_check(o, d);
 }
 
 /* Time columns that are not increasing: each problem named, the same
@@ -151,7 +151,7 @@ static int order_of(const double *t, size_t n, size_t piece,
 START_TEST(time_order)
 {
 	double t[64], scratch[63];
-	struct sscope_time_order o;
+	struct sscope_timing_order o;
 	struct sscope_timing tm;
 	struct sscope_diag d;
 	const size_t n = 40;
@@ -199,7 +199,7 @@ START_TEST(time_order)
 		ck_assert_int_eq(order_of(t, n, piece, &o, &d), -EDOM);
 		ck_assert_msg(strstr(d.msg, "decreases in every row"), "%s", d.msg);
 	}
-	ck_assert_int_eq(sscope_time_order_check(NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_timing_order_check(NULL, NULL), -EINVAL);
 	/* the analysis: a swapped pair is neither two gaps nor part of the
 	 * rate; a repeated stamp does not lower the rate */
 	for (size_t i = 0; i < n; i++)
@@ -211,7 +211,7 @@ START_TEST(time_order)
 	ck_assert_uint_eq(tm.n_gaps, 0);
 	ck_assert_uint_eq(tm.n_backwards, 1);
 	ck_assert_rel(tm.rate_hz, 100, 1e-12);
-	ck_assert_int_eq(sscope_time_order_check(&tm.order, NULL), -EDOM);
+	ck_assert_int_eq(sscope_timing_order_check(&tm.order, NULL), -EDOM);
 	for (size_t i = 0; i < n; i++)
 		t[i] = 0.01 * (double)(i < 10 ? i : i - 1);
 	ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,

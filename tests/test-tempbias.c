@@ -49,7 +49,7 @@ static void thermal_run(uint64_t seed, double dur_s, double *x, double *t,
 	struct sscope_sim *s = NULL;
 	struct sscope_diag d = { "" };
 
-	sp.quantity = SSCOPE_QTY_ACCELERATION;
+	sp.quantity = SSCOPE_QUANTITY_ACCELERATION;
 	sp.n = NOISE;
 	sp.bias = C0;
 	o.rate_hz = 1;

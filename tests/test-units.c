@@ -16,7 +16,7 @@
 static double conv(const char *from, const char *to)
 {
 	double out = NAN;
-	int rc = sscope_convert(1.0, from, to, &out);
+	int rc = sscope_unit_convert_text(1.0, from, to, &out);
 
 	ck_assert_msg(rc == 0, "%s -> %s: %d", from, to, rc);
 	return out;
@@ -74,16 +74,16 @@ START_TEST(temperature)
 {
 	double v;
 
-	ck_assert_int_eq(sscope_convert(32, "degF", "degC", &v), 0);
+	ck_assert_int_eq(sscope_unit_convert_text(32, "degF", "degC", &v), 0);
 	ck_assert_rel(v + 1, 1, 1e-15);
-	ck_assert_int_eq(sscope_convert(300, "K", "degC", &v), 0);
+	ck_assert_int_eq(sscope_unit_convert_text(300, "K", "degC", &v), 0);
 	ck_assert_rel(v, 26.85, 1e-14);
-	ck_assert_int_eq(sscope_convert(25, "\xc2\xb0" "C", "degC", &v), 0);
+	ck_assert_int_eq(sscope_unit_convert_text(25, "\xc2\xb0" "C", "degC", &v), 0);
 	ck_assert_rel(v, 25, 1e-16);
 	/* in a compound, a temperature is a difference: no offset */
-	ck_assert_int_eq(sscope_convert(1, "mV/K", "mV/degC", &v), 0);
+	ck_assert_int_eq(sscope_unit_convert_text(1, "mV/K", "mV/degC", &v), 0);
 	ck_assert_rel(v, 1, 1e-16);
-	ck_assert_int_eq(sscope_convert(9, "ppm/degF", "ppm/degC", &v), 0);
+	ck_assert_int_eq(sscope_unit_convert_text(9, "ppm/degF", "ppm/degC", &v), 0);
 	ck_assert_rel(v, 16.2, 1e-14);
 }
 END_TEST
@@ -102,8 +102,8 @@ START_TEST(errors)
 	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++)
 		ck_assert_msg(sscope_unit_parse(bad[i], &u, NULL) == -EINVAL,
 			      "'%s' accepted", bad[i]);
-	ck_assert_int_eq(sscope_convert(1, "deg/s", "m/s^2", &v), -EDOM);
-	ck_assert_int_eq(sscope_convert(1, "deg/s", "nonsense", &v), -EINVAL);
+	ck_assert_int_eq(sscope_unit_convert_text(1, "deg/s", "m/s^2", &v), -EDOM);
+	ck_assert_int_eq(sscope_unit_convert_text(1, "deg/s", "nonsense", &v), -EINVAL);
 }
 END_TEST
 
@@ -113,21 +113,21 @@ START_TEST(quantities)
 		const char *u;
 		enum sscope_quantity q;
 	} cases[] = {
-		{ "deg/s", SSCOPE_QTY_ANGULAR_RATE },
-		{ "rad s^-1", SSCOPE_QTY_ANGULAR_RATE },
-		{ "rpm", SSCOPE_QTY_ANGULAR_RATE },
-		{ "g", SSCOPE_QTY_ACCELERATION },
-		{ "m s^-2", SSCOPE_QTY_ACCELERATION },
-		{ "deg", SSCOPE_QTY_ANGLE },
-		{ "mV", SSCOPE_QTY_VOLTAGE },
-		{ "degC", SSCOPE_QTY_TEMPERATURE },
-		{ "ns", SSCOPE_QTY_TIME },
-		{ "Hz", SSCOPE_QTY_FREQUENCY },
-		{ "counts", SSCOPE_QTY_COUNTS },
-		{ "ppm", SSCOPE_QTY_DIMENSIONLESS },
-		{ "m/s", SSCOPE_QTY_VELOCITY },
-		{ "deg/s^2", SSCOPE_QTY_ANGULAR_ACCEL },
-		{ "deg/sqrt(h)", SSCOPE_QTY_UNKNOWN },
+		{ "deg/s", SSCOPE_QUANTITY_ANGULAR_RATE },
+		{ "rad s^-1", SSCOPE_QUANTITY_ANGULAR_RATE },
+		{ "rpm", SSCOPE_QUANTITY_ANGULAR_RATE },
+		{ "g", SSCOPE_QUANTITY_ACCELERATION },
+		{ "m s^-2", SSCOPE_QUANTITY_ACCELERATION },
+		{ "deg", SSCOPE_QUANTITY_ANGLE },
+		{ "mV", SSCOPE_QUANTITY_VOLTAGE },
+		{ "degC", SSCOPE_QUANTITY_TEMPERATURE },
+		{ "ns", SSCOPE_QUANTITY_TIME },
+		{ "Hz", SSCOPE_QUANTITY_FREQUENCY },
+		{ "counts", SSCOPE_QUANTITY_COUNTS },
+		{ "ppm", SSCOPE_QUANTITY_DIMENSIONLESS },
+		{ "m/s", SSCOPE_QUANTITY_VELOCITY },
+		{ "deg/s^2", SSCOPE_QUANTITY_ANGULAR_ACCEL },
+		{ "deg/sqrt(h)", SSCOPE_QUANTITY_UNKNOWN },
 	};
 
 	for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); i++) {
@@ -138,8 +138,8 @@ START_TEST(quantities)
 			      cases[i].u,
 			      sscope_quantity_name(sscope_unit_quantity(&u)));
 	}
-	ck_assert_str_eq(sscope_quantity_si_unit(SSCOPE_QTY_ANGULAR_RATE), "rad/s");
-	ck_assert_str_eq(sscope_quantity_name(SSCOPE_QTY_ACCELERATION),
+	ck_assert_str_eq(sscope_quantity_si_unit(SSCOPE_QUANTITY_ANGULAR_RATE), "rad/s");
+	ck_assert_str_eq(sscope_quantity_name(SSCOPE_QUANTITY_ACCELERATION),
 			 "acceleration");
 }
 END_TEST
@@ -186,7 +186,7 @@ START_TEST(quantity_values)
 	ck_assert_rel(v, -1.7453292519943295, 1e-15);
 	ck_assert_int_eq(sscope_quantity_parse("2.5", &v, &u, NULL), 0);
 	ck_assert_rel(v, 2.5, 1e-16);
-	ck_assert(sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS);
+	ck_assert(sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS);
 	ck_assert_int_eq(sscope_quantity_parse("fast", &v, &u, &d), -EINVAL);
 	ck_assert_int_eq(sscope_quantity_parse("3 parsecs", &v, &u, &d), -EINVAL);
 	ck_assert_msg(strstr(d.msg, "parsecs") != NULL, "%s", d.msg);
@@ -210,8 +210,8 @@ START_TEST(term_units_consistent)
 	 * K = U/s/sqrt(Hz), R = U/s */
 	static const char *const suffix[] = { "*s", "/sqrt(Hz)", "", "/s/sqrt(Hz)",
 					      "/s", "" };
-	static const enum sscope_quantity qs[] = { SSCOPE_QTY_ANGULAR_RATE,
-						   SSCOPE_QTY_ACCELERATION };
+	static const enum sscope_quantity qs[] = { SSCOPE_QUANTITY_ANGULAR_RATE,
+						   SSCOPE_QUANTITY_ACCELERATION };
 
 	for (int i = 0; i < 2; i++)
 		for (int t = 0; t < SSCOPE_TERM_COUNT_; t++) {
@@ -220,14 +220,14 @@ START_TEST(term_units_consistent)
 
 			snprintf(want, sizeof(want), "%s%s",
 				 i ? "m/s^2" : "rad/s", suffix[t]);
-			ck_assert_int_eq(sscope_convert(1, sscope_term_unit(qs[i], t),
-							sscope_term_si_unit(qs[i], t), &v), 0);
-			ck_assert_int_eq(sscope_convert(1, sscope_term_si_unit(qs[i], t),
-							want, &v), 0);
+			ck_assert_int_eq(sscope_unit_convert_text(1, sscope_term_unit(qs[i], t),
+								  sscope_term_si_unit(qs[i], t), &v), 0);
+			ck_assert_int_eq(sscope_unit_convert_text(1, sscope_term_si_unit(qs[i], t),
+								  want, &v), 0);
 			ck_assert_rel(v, 1, 1e-15);
 		}
-	ck_assert_ptr_null(sscope_term_unit(SSCOPE_QTY_VOLTAGE, SSCOPE_TERM_N));
-	ck_assert_str_eq(sscope_term_unit(SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_B), "deg/h");
+	ck_assert_ptr_null(sscope_term_unit(SSCOPE_QUANTITY_VOLTAGE, SSCOPE_TERM_N));
+	ck_assert_str_eq(sscope_term_unit(SSCOPE_QUANTITY_ANGULAR_RATE, SSCOPE_TERM_B), "deg/h");
 }
 END_TEST
 

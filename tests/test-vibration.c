@@ -23,19 +23,19 @@
 
 /* SKF 6205-2RS JEM (CWRU drive end): 9 balls, d = 0.3126 in,
  * D = 1.537 in, contact angle 0 */
-static const struct sscope_bearing skf6205 = { 9, 0.3126 * 0.0254,
+static const struct sscope_vib_bearing skf6205 = { 9, 0.3126 * 0.0254,
 					       1.537 * 0.0254, 0 };
 
 START_TEST(bearing_frequencies)
 {
-	struct sscope_bearing_freqs f;
-	struct sscope_bearing b = skf6205;
+	struct sscope_vib_bearing_freqs f;
+	struct sscope_vib_bearing b = skf6205;
 	const double fr = 1797.0 / 60;
 
 	/* CWRU's published defect frequencies, multiples of the shaft
 	 * frequency: inner 5.4152, outer 3.5848, cage 0.39828, rolling
 	 * element 4.7135 (= 2 BSF: a ball defect strikes both races) */
-	ck_assert_int_eq(sscope_bearing_frequencies(&b, fr, &f), 0);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&b, fr, &f), 0);
 	ck_assert_rel(f.bpfi_hz / fr, 5.4152, 1e-4);
 	ck_assert_rel(f.bpfo_hz / fr, 3.5848, 1e-4);
 	ck_assert_rel(f.ftf_hz / fr, 0.39828, 2e-4);
@@ -43,20 +43,20 @@ START_TEST(bearing_frequencies)
 	/* kinematic identities, any angle: BPFO + BPFI = n fr,
 	 * FTF = BPFO / n */
 	b.contact_angle_rad = 15 * PI / 180;
-	ck_assert_int_eq(sscope_bearing_frequencies(&b, fr, &f), 0);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&b, fr, &f), 0);
 	ck_assert_rel(f.bpfo_hz + f.bpfi_hz, 9 * fr, 1e-14);
 	ck_assert_rel(f.ftf_hz, f.bpfo_hz / 9, 1e-14);
 	/* errors */
 	b = skf6205;
 	b.ball_diameter_m = b.pitch_diameter_m;
-	ck_assert_int_eq(sscope_bearing_frequencies(&b, fr, &f), -EINVAL);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&b, fr, &f), -EINVAL);
 	b = skf6205;
 	b.n_elements = 0;
-	ck_assert_int_eq(sscope_bearing_frequencies(&b, fr, &f), -EINVAL);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&b, fr, &f), -EINVAL);
 	b = skf6205;
 	b.contact_angle_rad = PI / 2;
-	ck_assert_int_eq(sscope_bearing_frequencies(&b, fr, &f), -EINVAL);
-	ck_assert_int_eq(sscope_bearing_frequencies(&skf6205, 0, &f), -EINVAL);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&b, fr, &f), -EINVAL);
+	ck_assert_int_eq(sscope_vib_bearing_frequencies(&skf6205, 0, &f), -EINVAL);
 }
 END_TEST
 
@@ -65,24 +65,24 @@ START_TEST(iso_zones)
 	double lim[3];
 	char z;
 
-	ck_assert(strstr(sscope_iso_edition(), "10816-1:1995") != NULL);
-	ck_assert_int_eq(sscope_iso_limits(SSCOPE_ISO_II, lim), 0);
+	ck_assert(strstr(sscope_vib_iso_edition(), "10816-1:1995") != NULL);
+	ck_assert_int_eq(sscope_vib_iso_limits(SSCOPE_VIB_ISO_II, lim), 0);
 	ck_assert_rel(lim[0], 1.12e-3, 1e-15);
 	ck_assert_rel(lim[1], 2.8e-3, 1e-15);
 	ck_assert_rel(lim[2], 7.1e-3, 1e-15);
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_II, 2.79e-3, &z), 0);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_II, 2.79e-3, &z), 0);
 	ck_assert_int_eq(z, 'B');
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_II, 2.8e-3, &z), 0);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_II, 2.8e-3, &z), 0);
 	ck_assert_int_eq(z, 'C'); /* a boundary belongs to the zone above */
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_I, 0.7e-3, &z), 0);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_I, 0.7e-3, &z), 0);
 	ck_assert_int_eq(z, 'A');
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_IV, 18e-3, &z), 0);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_IV, 18e-3, &z), 0);
 	ck_assert_int_eq(z, 'D');
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_III, 0, &z), 0);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_III, 0, &z), 0);
 	ck_assert_int_eq(z, 'A');
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_NONE, 1e-3, &z), -EINVAL);
-	ck_assert_int_eq(sscope_iso_zone(SSCOPE_ISO_I, NAN, &z), -EINVAL);
-	ck_assert_int_eq(sscope_iso_limits((enum sscope_iso_class)9, lim), -EINVAL);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_NONE, 1e-3, &z), -EINVAL);
+	ck_assert_int_eq(sscope_vib_iso_zone(SSCOPE_VIB_ISO_I, NAN, &z), -EINVAL);
+	ck_assert_int_eq(sscope_vib_iso_limits((enum sscope_vib_iso_class)9, lim), -EINVAL);
 }
 END_TEST
 
@@ -95,7 +95,7 @@ START_TEST(velocity_of_a_sine)
 	const size_t n = 50000;
 	const double fs = 5000, A = 2.385;
 	double *x = malloc(n * sizeof(double)), ms;
-	struct sscope_spectrum s;
+	struct sscope_psd_spectrum s;
 	struct sscope_psd_opts o;
 
 	for (size_t i = 0; i < n; i++) {
@@ -107,11 +107,11 @@ START_TEST(velocity_of_a_sine)
 	sscope_psd_opts_init(&o);
 	o.nperseg = 4096;
 	ck_assert_int_eq(sscope_psd_welch(x, 1, n, fs, &o, &s), 0);
-	ck_assert_int_eq(sscope_velocity_ms(&s, 10, 1000, &ms), 0);
+	ck_assert_int_eq(sscope_vib_velocity_ms(&s, 10, 1000, &ms), 0);
 	ck_assert_rel(sqrt(ms), A / (2 * PI * 100.3) / sqrt(2.0), 2e-3);
-	ck_assert_int_eq(sscope_velocity_ms(&s, 0, 1000, &ms), -EINVAL);
-	ck_assert_int_eq(sscope_velocity_ms(&s, 100, 10, &ms), -EINVAL);
-	sscope_spectrum_clear(&s);
+	ck_assert_int_eq(sscope_vib_velocity_ms(&s, 0, 1000, &ms), -EINVAL);
+	ck_assert_int_eq(sscope_vib_velocity_ms(&s, 100, 10, &ms), -EINVAL);
+	sscope_psd_spectrum_clear(&s);
 	free(x);
 }
 END_TEST
@@ -125,22 +125,22 @@ START_TEST(kurtosis)
 	/* a sine over whole periods: 3/8 / (1/2)^2 = 1.5 exactly */
 	for (size_t i = 0; i < 1000; i++)
 		x[i] = 2.385 * sin(2 * PI * 7 * (double)i / 1000) + 4;
-	ck_assert_int_eq(sscope_kurtosis(x, 1, 1000, &k), 0);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, 1000, &k), 0);
 	ck_assert_rel(k, 1.5, 1e-12);
 	/* Gaussian: 3, sd sqrt(24 / n) */
 	gsl_rng_set(r, 21);
 	for (size_t i = 0; i < n; i++)
 		x[i] = gsl_ran_gaussian_ziggurat(r, 2.385);
-	ck_assert_int_eq(sscope_kurtosis(x, 1, n, &k), 0);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, n, &k), 0);
 	ck_assert_msg(fabs(k - 3) < 4 * sqrt(24.0 / (double)n), "kurtosis %g", k);
 	/* errors */
-	ck_assert_int_eq(sscope_kurtosis(x, 1, 3, &k), -EDOM);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, 3, &k), -EDOM);
 	for (size_t i = 0; i < 10; i++)
 		x[i] = 1.25;
-	ck_assert_int_eq(sscope_kurtosis(x, 1, 10, &k), -EDOM);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, 10, &k), -EDOM);
 	x[3] = NAN;
-	ck_assert_int_eq(sscope_kurtosis(x, 1, 10, &k), -EDOM);
-	ck_assert_int_eq(sscope_kurtosis(x, 0, 10, &k), -EINVAL);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 1, 10, &k), -EDOM);
+	ck_assert_int_eq(sscope_vib_kurtosis(x, 0, 10, &k), -EINVAL);
 	free(x);
 	gsl_rng_free(r);
 }
@@ -154,7 +154,7 @@ START_TEST(envelope_closed_form)
 	const double fs = 4000, fc = 1000, fm = 37, m = 0.5;
 	double *x = malloc(n * sizeof(double)), *e = malloc(n * sizeof(double));
 	double sk;
-	struct sscope_envelope *env;
+	struct sscope_vib_envelope *env;
 	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
 
 	for (size_t i = 0; i < n; i++) {
@@ -163,32 +163,32 @@ START_TEST(envelope_closed_form)
 		x[i] = (1 + m * cos(2 * PI * fm * t)) * cos(2 * PI * fc * t) +
 		       0.7 * sin(2 * PI * 113 * t); /* outside the band */
 	}
-	ck_assert_int_eq(sscope_envelope_new(&env, n), 0);
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 900, 1100, e, &sk), -EINVAL);
-	ck_assert_int_eq(sscope_envelope_set(env, x, 1), 0);
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 900, 1100, e, &sk), 0);
+	ck_assert_int_eq(sscope_vib_envelope_new(&env, n), 0);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 900, 1100, e, &sk), -EINVAL);
+	ck_assert_int_eq(sscope_vib_envelope_set(env, x, 1), 0);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 900, 1100, e, &sk), 0);
 	for (size_t i = 0; i < n; i++)
 		ck_assert_msg(fabs(e[i] - (1 + m * cos(2 * PI * fm * (double)i / fs))) < 1e-12,
 			      "envelope[%zu] = %.15g", i, e[i]);
 	/* a steady tone: spectral kurtosis -1 */
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 100, 130, NULL, &sk), 0);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 100, 130, NULL, &sk), 0);
 	ck_assert_rel(sk, -1, 1e-12);
 	/* no energy there; bad bands */
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 1500, 1600, NULL, &sk), -EDOM);
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 1500, 2500, NULL, &sk), -EINVAL);
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 600, 500, NULL, &sk), -EINVAL);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 1500, 1600, NULL, &sk), -EDOM);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 1500, 2500, NULL, &sk), -EINVAL);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 600, 500, NULL, &sk), -EINVAL);
 	/* Gaussian noise: spectral kurtosis 0 (sd about sqrt(4 / (n B/fs)) for
 	 * the n B / fs independent samples of the band) */
 	gsl_rng_set(r, 22);
 	for (size_t i = 0; i < n; i++)
 		x[i] = gsl_ran_gaussian_ziggurat(r, 1);
-	ck_assert_int_eq(sscope_envelope_set(env, x, 1), 0);
-	ck_assert_int_eq(sscope_envelope_band(env, fs, 500, 1500, NULL, &sk), 0);
+	ck_assert_int_eq(sscope_vib_envelope_set(env, x, 1), 0);
+	ck_assert_int_eq(sscope_vib_envelope_band(env, fs, 500, 1500, NULL, &sk), 0);
 	ck_assert_msg(fabs(sk) < 4 * sqrt(4.0 / (n * 1000.0 / fs)), "sk %g", sk);
 	x[7] = NAN;
-	ck_assert_int_eq(sscope_envelope_set(env, x, 1), -EDOM);
-	sscope_envelope_free(env);
-	ck_assert_int_eq(sscope_envelope_new(&env, 3), -EINVAL);
+	ck_assert_int_eq(sscope_vib_envelope_set(env, x, 1), -EDOM);
+	sscope_vib_envelope_free(env);
+	ck_assert_int_eq(sscope_vib_envelope_new(&env, 3), -EINVAL);
 	free(x);
 	free(e);
 	gsl_rng_free(r);
@@ -268,8 +268,8 @@ START_TEST(unbalance)
 
 	sscope_vib_opts_init(&o);
 	o.shaft_hz = m.fr;
-	o.iso_class = SSCOPE_ISO_II;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+	o.iso_class = SSCOPE_VIB_ISO_II;
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
 	dump(&r);
 	ck_assert(has_finding(&r, "unbalance"));
 	ck_assert(!has_finding(&r, "misalignment"));
@@ -302,7 +302,7 @@ START_TEST(misalignment)
 
 	sscope_vib_opts_init(&o);
 	o.shaft_hz = m.fr;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
 	dump(&r);
 	ck_assert(has_finding(&r, "misalignment"));
 	ck_assert(!has_finding(&r, "unbalance"));
@@ -320,18 +320,18 @@ START_TEST(outer_race)
 	struct machine m = { 12000, 2, 1797.0 / 60, 0.05, 0.02, 0, 0.5, 1.5, 0, 0, 33 };
 	struct sscope_vib_opts o;
 	struct sscope_vib_result r;
-	struct sscope_bearing_freqs f;
+	struct sscope_vib_bearing_freqs f;
 	size_t n, nb = 0;
 	double *x;
 
-	sscope_bearing_frequencies(&skf6205, m.fr, &f);
+	sscope_vib_bearing_frequencies(&skf6205, m.fr, &f);
 	m.f_imp = f.bpfo_hz;
 	x = machine(&m, &n);
 	sscope_vib_opts_init(&o);
 	o.shaft_hz = m.fr;
 	o.have_bearing = true;
 	o.bearing = skf6205;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
 	dump(&r);
 	ck_assert(has_finding(&r, "outer-race"));
 	ck_assert(!has_finding(&r, "inner-race"));
@@ -359,18 +359,18 @@ START_TEST(inner_race)
 	struct machine m = { 12000, 2, 1797.0 / 60, 0.05, 0.02, 0, 0.5, 1.5, 0, 0.8, 34 };
 	struct sscope_vib_opts o;
 	struct sscope_vib_result r;
-	struct sscope_bearing_freqs f;
+	struct sscope_vib_bearing_freqs f;
 	size_t n;
 	double *x;
 
-	sscope_bearing_frequencies(&skf6205, m.fr, &f);
+	sscope_vib_bearing_frequencies(&skf6205, m.fr, &f);
 	m.f_imp = f.bpfi_hz;
 	x = machine(&m, &n);
 	sscope_vib_opts_init(&o);
 	o.shaft_hz = m.fr;
 	o.have_bearing = true;
 	o.bearing = skf6205;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
 	dump(&r);
 	ck_assert(has_finding(&r, "inner-race"));
 	ck_assert(!has_finding(&r, "outer-race"));
@@ -394,8 +394,8 @@ START_TEST(healthy)
 		o.shaft_hz = m.fr;
 		o.have_bearing = true;
 		o.bearing = skf6205;
-		o.iso_class = SSCOPE_ISO_I;
-		ck_assert_int_eq(sscope_vibration_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+		o.iso_class = SSCOPE_VIB_ISO_I;
+		ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
 		dump(&r);
 		ck_assert_uint_eq(r.n_findings, 0);
 		ck_assert_int_eq(r.zone, 'A');
@@ -416,23 +416,23 @@ START_TEST(analysis_errors)
 	for (int i = 0; i < 64; i++)
 		x[i] = sin(i * 0.7);
 	sscope_vib_opts_init(&o);
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 10, 100, &o, &r, &d), -EDOM);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 10, 100, &o, &r, &d), -EDOM);
 	ck_assert(strstr(d.msg, "too short") != NULL);
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 64, 0, &o, &r, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 64, 0, &o, &r, NULL), -EINVAL);
 	o.have_bearing = true;
 	o.bearing = skf6205;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 64, 100, &o, &r, &d), -EINVAL);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 64, 100, &o, &r, &d), -EINVAL);
 	ck_assert(strstr(d.msg, "shaft speed") != NULL);
 	sscope_vib_opts_init(&o);
-	o.iso_class = (enum sscope_iso_class)12;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 64, 100, &o, &r, NULL), -EINVAL);
+	o.iso_class = (enum sscope_vib_iso_class)12;
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 64, 100, &o, &r, NULL), -EINVAL);
 	sscope_vib_opts_init(&o);
 	for (int i = 0; i < 64; i++)
 		x[i] = 3;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 64, 100, &o, &r, &d), -EDOM);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 64, 100, &o, &r, &d), -EDOM);
 	ck_assert(strstr(d.msg, "constant") != NULL);
 	x[5] = NAN;
-	ck_assert_int_eq(sscope_vibration_analyze(x, 1, 64, 100, &o, &r, &d), -EDOM);
+	ck_assert_int_eq(sscope_vib_analyze(x, 1, 64, 100, &o, &r, &d), -EDOM);
 	ck_assert_uint_eq(sscope_vib_default_nperseg(100), 100);
 	ck_assert_uint_eq(sscope_vib_default_nperseg(10000), 2048);
 	ck_assert_uint_eq(sscope_vib_default_nperseg(100000000), 65536);

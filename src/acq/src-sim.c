@@ -12,6 +12,7 @@
  * Annex C) around a constant true input.
  */
 #include "acq.h"
+#include "ssc.h"
 
 #include <errno.h>
 #include <math.h>
@@ -112,7 +113,7 @@ static int opt_quantity(const char *key, const char *v, const char *si,
 		return ssc_acq_diag(diag, -EINVAL,
 				    "sim: %s: '%s' is not a non-negative quantity",
 				    key, v);
-	if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS)
+	if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS)
 		x = sscope_unit_to_si(&want, x); /* bare number: SI */
 	else if (!sscope_unit_compatible(&u, &want))
 		return ssc_acq_diag(diag, -EINVAL,
@@ -194,7 +195,7 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		} else if (!strcmp(item, "temp")) {
 			double x;
 
-			if (sscope_parse_double(v, v + strlen(v), &x) !=
+			if (ssc_parse_double(v, v + strlen(v), &x) !=
 				    strlen(v) ||
 			    !*v || !isfinite(x))
 				rc = ssc_acq_diag(diag, -EINVAL,
@@ -204,8 +205,8 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		} else if (!strcmp(item, "speed")) {
 			if (!strcmp(v, "max")) {
 				s->speed = 0;
-			} else if (sscope_parse_double(v, v + strlen(v),
-						       &s->speed) != strlen(v) ||
+			} else if (ssc_parse_double(v, v + strlen(v),
+						    &s->speed) != strlen(v) ||
 				   !*v || !(s->speed > 0) ||
 				   !isfinite(s->speed)) {
 				rc = ssc_acq_diag(diag, -EINVAL,
@@ -232,8 +233,8 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 					      .ref_temp_degc = s->temp_degc,
 					      .no_clip = true };
 
-		spec.quantity = gyro ? SSCOPE_QTY_ANGULAR_RATE :
-				       SSCOPE_QTY_ACCELERATION;
+		spec.quantity = gyro ? SSCOPE_QUANTITY_ANGULAR_RATE :
+				       SSCOPE_QUANTITY_ACCELERATION;
 		spec.n = gyro ? arw : vrw;
 		rc = sscope_sim_new(&s->sim[c], &spec, &so, diag);
 		if (rc)

@@ -79,7 +79,7 @@ int ssc_adc_profile_load(const char *cmd, const char *spec_path,
 			*--e = '\0';
 		if (!*p)
 			continue;
-		k = sscope_parse_double(p, e, &v);
+		k = ssc_parse_double(p, e, &v);
 		if (k != (size_t)(e - p) || !isfinite(v)) {
 			ssc_err(cmd, "%s: line %zu: '%s' is not a number (INL of one transition, LSB)",
 				path, lineno, p);

@@ -17,6 +17,7 @@
 #include <jansson.h>
 
 #include "sensorscope.h"
+#include "ssc.h"
 
 /* Exit codes (documented in --help, the README and the man page). */
 enum {
@@ -137,7 +138,7 @@ int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double *out);
 
 /* Fill read options from the shared options (progress hooked up). */
-void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o);
+void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o);
 
 /* Apply the --calibration file to a loaded capture (calibfile.c). */
 int ssc_calibration_apply(const struct ssc_common *co, const char *path,
@@ -165,17 +166,17 @@ void ssc_warn_unterminated(const struct ssc_common *co, const char *path,
  * poses); one read twice would fake agreement.  Returns an exit code. */
 int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n);
 
-/* Judge a time column's order (sscope_time_order_check).  For an analysis
+/* Judge a time column's order (sscope_timing_order_check).  For an analysis
  * that assumes uniform sampling (@p uniform) a disordered column is an
  * error naming the problem, unless the rate came from --rate or a header
  * (then a warning); otherwise (info) a warning.  Returns an exit code. */
 int ssc_time_verdict(const struct ssc_common *co, const char *path,
-		     const char *column, const struct sscope_time_order *o,
-		     enum sscope_rate_source rate_source, bool uniform);
+		     const char *column, const struct sscope_timing_order *o,
+		     enum sscope_capture_rate_source rate_source, bool uniform);
 /* The order of a capture's time stamps (what its timing analysis found
  * when it has one, else fed here). */
 void ssc_time_order(const struct sscope_capture *cap,
-		    struct sscope_time_order *o);
+		    struct sscope_timing_order *o);
 /* The same for a loaded capture (nothing to judge without a time column). */
 int ssc_time_check(const struct ssc_common *co, const char *path,
 		   const struct sscope_capture *cap, bool uniform);

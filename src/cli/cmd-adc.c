@@ -45,7 +45,7 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 {
 	double v;
 
-	if (!unit || !si_unit || !isfinite(si) || sscope_convert(si, si_unit, unit, &v))
+	if (!unit || !si_unit || !isfinite(si) || sscope_unit_convert_text(si, si_unit, unit, &v))
 		return si;
 	return v;
 }
@@ -207,24 +207,24 @@ static json_t *sensor_json(const struct sscope_sensor_spec *ss, const char *path
 	json_object_set_new(o, "name", json_string(ss->name));
 	json_object_set_new(o, "file", path ? json_string(path) : json_null());
 	json_object_set_new(o, "quantity", json_string(sscope_quantity_name(q)));
-	if (ss->has & SSCOPE_SPEC_RANGE)
+	if (ss->has & SSCOPE_SENSOR_HAS_RANGE)
 		json_object_set_new(o, "range",
 				    ssc_json_coef(ss->range, (double)NAN, (double)NAN,
-						  q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : NULL,
+						  q == SSCOPE_QUANTITY_ANGULAR_RATE ? "deg/s" : NULL,
 						  sscope_quantity_si_unit(q), true));
-	if (ss->has & SSCOPE_SPEC_N)
+	if (ss->has & SSCOPE_SENSOR_HAS_N)
 		json_object_set_new(o, "N", ssc_json_coef(ss->n, (double)NAN, (double)NAN,
 							  qty_unit(q, SSCOPE_TERM_N, false),
 							  qty_unit(q, SSCOPE_TERM_N, true), true));
-	if (ss->has & SSCOPE_SPEC_B)
+	if (ss->has & SSCOPE_SENSOR_HAS_B)
 		json_object_set_new(o, "B", ssc_json_coef(ss->b, (double)NAN, (double)NAN,
 							  qty_unit(q, SSCOPE_TERM_B, false),
 							  qty_unit(q, SSCOPE_TERM_B, true), true));
-	if (ss->has & SSCOPE_SPEC_K)
+	if (ss->has & SSCOPE_SENSOR_HAS_K)
 		json_object_set_new(o, "K", ssc_json_coef(ss->k, (double)NAN, (double)NAN,
 							  qty_unit(q, SSCOPE_TERM_K, false),
 							  qty_unit(q, SSCOPE_TERM_K, true), true));
-	if (ss->has & SSCOPE_SPEC_SENSITIVITY)
+	if (ss->has & SSCOPE_SENSOR_HAS_SENSITIVITY)
 		json_object_set_new(o, "sensitivity_si", json_real(ss->sensitivity));
 	return o;
 }
@@ -290,7 +290,7 @@ static json_t *adc_json(const struct sscope_sensor_spec *ss, const struct adc_re
 					  bu, bsi, true));
 	json_object_set_new(terms, "reference_drift_scale_ppm", ssc_jreal(a->scale_drift * 1e6));
 	json_object_set_new(terms, "range_headroom", ssc_jreal(a->headroom));
-	if ((ss->has & SSCOPE_SPEC_BIAS) && ar->spec.mode == SSCOPE_ADC_ROUND)
+	if ((ss->has & SSCOPE_SENSOR_HAS_BIAS) && ar->spec.mode == SSCOPE_ADC_ROUND)
 		json_object_set_new(terms, "sensor_bias_error",
 				    ssc_json_coef(sscope_adc_bias_error(a->lsb, a->sigma_over_q * a->lsb,
 									ss->bias),
@@ -360,9 +360,9 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	fprintf(f, "  LSB                     %s  (range %s .. %s)\n",
 		fmtu(b1, sizeof(b1), a->lsb, bsi, bu, 4),
 		fmtu(b2, sizeof(b2), a->range_lo, sscope_quantity_si_unit(q),
-		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5),
+		     q == SSCOPE_QUANTITY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5),
 		fmtu(b3, sizeof(b3), a->range_hi, sscope_quantity_si_unit(q),
-		     q == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5));
+		     q == SSCOPE_QUANTITY_ANGULAR_RATE ? "deg/s" : sscope_quantity_si_unit(q), 5));
 	if (ar->spec.has & SSCOPE_ADC_HAS_INL)
 		fprintf(f, "  INL                     %s LSB = %s  (%s%s)\n",
 			ssc_fmt(b1, sizeof(b1), ar->spec.inl_lsb, 3),
@@ -394,8 +394,8 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	fprintf(f, "  bias it can hide        %s%s%s  %s\n",
 		a->bias_bound < 1e-9 * a->lsb ? "< 1e-9 LSB" :
 		fmtu(b1, sizeof(b1), a->bias_bound, bsi, bu, 3),
-		(ss->has & SSCOPE_SPEC_B) ? " vs B " : "",
-		(ss->has & SSCOPE_SPEC_B) ? fmtu(b2, sizeof(b2), ss->b, bsi, bu, 3) : "",
+		(ss->has & SSCOPE_SENSOR_HAS_B) ? " vs B " : "",
+		(ss->has & SSCOPE_SENSOR_HAS_B) ? fmtu(b2, sizeof(b2), ss->b, bsi, bu, 3) : "",
 		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_BIAS].verdict));
 	fprintf(f, "  offset drift -> bias    %s over %s degC%s  %s\n",
 		fmtu(b1, sizeof(b1), a->offset_drift_bias, bsi, bu, 3),
@@ -418,7 +418,7 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 	fprintf(f, "  verdict                 %s (limiting: %s, margin x%s)\n",
 		sscope_adc_verdict_name(a->verdict), sscope_adc_term_name(a->limiting),
 		ssc_fmt(b1, sizeof(b1), a->margin, 3));
-	if ((ss->has & SSCOPE_SPEC_BIAS) && ss->bias != 0 &&
+	if ((ss->has & SSCOPE_SENSOR_HAS_BIAS) && ss->bias != 0 &&
 	    ar->spec.mode == SSCOPE_ADC_ROUND) {
 		double e = sscope_adc_bias_error(a->lsb, a->sigma_over_q * a->lsb, ss->bias);
 		double pct = 100 * e / ss->bias;
@@ -626,7 +626,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 		paths[n++] = env->adc_paths[i];
 	if (env->adc_ini && n < MAX_ADC) {
 		inline_at = n;
-		paths[n++] = sscope_ini_name(env->adc_ini);
+		paths[n++] = ssc_ini_name(env->adc_ini);
 	}
 	if (!n)
 		return ssc_usage_error(cmd, "no converter: give --adc ADC.ini");
@@ -636,7 +636,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 
 		ar[i].path = paths[i];
 		e = i == inline_at ?
-			    sscope_adc_spec_from_ini(env->adc_ini, "adc", &ar[i].spec, &d) :
+			    ssc_adc_spec_from_ini(env->adc_ini, "adc", &ar[i].spec, &d) :
 			    sscope_adc_spec_load(paths[i], &ar[i].spec, &d);
 		if (e) {
 			R->n++;
@@ -665,7 +665,7 @@ static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 		ssc_progress(env->co, "Monte Carlo", (double)i, (double)n);
 		e = sscope_adc_monte_carlo(sp, &ar[i].spec, ar[i].prof.inl,
 					   ar[i].prof.n, sp->sensitivity,
-					   (sp->has & SSCOPE_SPEC_ZERO) ?
+					   (sp->has & SSCOPE_SENSOR_HAS_ZERO) ?
 						   sp->zero_output_v : 0,
 					   &mo, &ar[i].mc, &d);
 		if (e) {
@@ -718,10 +718,10 @@ static void r_text(FILE *f, const void *opts, const void *result)
 
 	(void)opts;
 	fprintf(f, "sensor %s (%s)", sp->name, R->spath ? R->spath : "[sensor]");
-	if (sp->has & SSCOPE_SPEC_N)
+	if (sp->has & SSCOPE_SENSOR_HAS_N)
 		fprintf(f, ": N %s", fmtu(b1, sizeof(b1), sp->n, qty_unit(q, SSCOPE_TERM_N, true),
 					   qty_unit(q, SSCOPE_TERM_N, false), 3));
-	if (sp->has & SSCOPE_SPEC_B)
+	if (sp->has & SSCOPE_SENSOR_HAS_B)
 		fprintf(f, ", B %s", fmtu(b2, sizeof(b2), sp->b, qty_unit(q, SSCOPE_TERM_B, true),
 					   qty_unit(q, SSCOPE_TERM_B, false), 3));
 	fputc('\n', f);
@@ -982,7 +982,7 @@ static int cmd_quantize(int argc, char **argv)
 		goto done;
 	}
 	for (size_t c = 0; c < cap->n_channels; c++) {
-		struct sscope_channel *ch = &cap->channels[c];
+		struct sscope_capture_channel *ch = &cap->channels[c];
 		struct sscope_adc_spec s = spec;
 		struct sscope_adc *adc = NULL;
 
@@ -994,7 +994,7 @@ static int cmd_quantize(int argc, char **argv)
 				rc = ssc_usage_error(co.cmd, "--range: %s", d.msg);
 				goto done;
 			}
-			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS && u.scale == 1) {
+			if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS && u.scale == 1) {
 				/* bare: the channel's unit */
 				s.lo = sscope_unit_to_si(&ch->col.unit, s.lo);
 				s.hi = sscope_unit_to_si(&ch->col.unit, s.hi);
@@ -1037,8 +1037,8 @@ static int cmd_quantize(int argc, char **argv)
 		memset(&cap->time_col, 0, sizeof(cap->time_col));
 		cap->time_col.name = "t";
 		cap->time_col.unit_label = "s";
-		cap->time_col.role = SSCOPE_ROLE_TIME;
-		cap->time_col.quantity = SSCOPE_QTY_TIME;
+		cap->time_col.role = SSCOPE_CAPTURE_ROLE_TIME;
+		cap->time_col.quantity = SSCOPE_QUANTITY_TIME;
 		added_time = true;
 	}
 	rc = ssc_out_open(&co, &sink);
@@ -1217,7 +1217,7 @@ static int cmd_test(int argc, char **argv)
 			rc = ssc_usage_error(co.cmd, "--range: %s", d.msg);
 			goto done;
 		}
-		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS && u.scale == 1 &&
+		if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS && u.scale == 1 &&
 		    cap->n_channels) {
 			lo = sscope_unit_to_si(&cap->channels[0].col.unit, lo);
 			hi = sscope_unit_to_si(&cap->channels[0].col.unit, hi);
@@ -1233,7 +1233,7 @@ static int cmd_test(int argc, char **argv)
 		goto done;
 	}
 	for (size_t c = 0; c < cap->n_channels; c++) {
-		struct sscope_channel *ch = &cap->channels[c];
+		struct sscope_capture_channel *ch = &cap->channels[c];
 		struct sscope_adc_dynamic dy;
 		json_t *j = json_object(), *fit = json_object();
 		double sc = sscope_unit_from_si(&ch->col.unit, 1);

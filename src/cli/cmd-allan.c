@@ -95,7 +95,7 @@ static const struct ssc_command_spec spec = {
 struct args {
 	struct sscope_allan_opts ao;
 	struct sscope_noise_fit_opts fo;
-	enum sscope_tau_grid grid;
+	enum sscope_allan_tau_grid grid;
 	const char *kalibr;
 	const char *openvins;
 	const char *imu_utils;
@@ -134,20 +134,20 @@ static int handler(int key, const char *arg, void *ctx)
 
 	switch (key) {
 	case OPT_DEV:
-		if (sscope_dev_parse(arg, &a->ao.dev))
+		if (sscope_allan_dev_parse(arg, &a->ao.dev))
 			return ssc_usage_error("allan",
 					       "--dev: '%s' is not oadev, adev, mdev, tdev, hdev, ohdev or totdev",
 					       arg);
 		return 0;
 	case OPT_TAUS:
 		if (!strcmp(arg, "dense"))
-			a->grid = SSCOPE_TAUS_DENSE;
+			a->grid = SSCOPE_ALLAN_TAUS_DENSE;
 		else if (!strcmp(arg, "octave"))
-			a->grid = SSCOPE_TAUS_OCTAVE;
+			a->grid = SSCOPE_ALLAN_TAUS_OCTAVE;
 		else if (!strcmp(arg, "decade"))
-			a->grid = SSCOPE_TAUS_DECADE;
+			a->grid = SSCOPE_ALLAN_TAUS_DECADE;
 		else if (!strcmp(arg, "all"))
-			a->grid = SSCOPE_TAUS_ALL;
+			a->grid = SSCOPE_ALLAN_TAUS_ALL;
 		else
 			return ssc_usage_error("allan",
 					       "--taus: '%s' is not dense, octave, decade or all",
@@ -290,7 +290,7 @@ static double unit_scale(const char *text)
 	return u.scale;
 }
 
-static void set_units(const struct args *a, const struct sscope_column *col,
+static void set_units(const struct args *a, const struct sscope_capture_column *col,
 		      struct ssc_allan_units *u)
 {
 	static const char *const fmt[5] = { "%s*s", "%s/sqrt(Hz)", "%s",
@@ -311,9 +311,9 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 		snprintf(u->rate_si, sizeof(u->rate_si), "%s", u->rate);
 	/* TDEV is an angle: the channel's unit for angle input, rate * s
 	 * otherwise */
-	if (a->ao.dev == SSCOPE_DEV_TDEV && angle)
+	if (a->ao.dev == SSCOPE_ALLAN_DEV_TDEV && angle)
 		snprintf(u->dev, sizeof(u->dev), "%s", lab[0] ? lab : "1");
-	else if (a->ao.dev == SSCOPE_DEV_TDEV)
+	else if (a->ao.dev == SSCOPE_ALLAN_DEV_TDEV)
 		snprintf(u->dev, sizeof(u->dev), "%s*s", u->rate);
 	else
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
@@ -331,7 +331,7 @@ static void set_units(const struct args *a, const struct sscope_column *col,
 		const char *b = sscope_term_unit(u->rq, SSCOPE_TERM_B);
 
 		snprintf(u->show, sizeof(u->show), "%s",
-			 b && a->ao.dev != SSCOPE_DEV_TDEV ? b : u->dev);
+			 b && a->ao.dev != SSCOPE_ALLAN_DEV_TDEV ? b : u->dev);
 	}
 	u->show_scale = unit_scale(u->show);
 	for (int t = 0; t < 5; t++) {
@@ -381,7 +381,7 @@ static double in_unit(double si, const char *si_unit, const char *unit)
 
 	if (!isfinite(si))
 		return si;
-	if (sscope_convert(si, si_unit, unit, &v))
+	if (sscope_unit_convert_text(si, si_unit, unit, &v))
 		return NAN;
 	return v;
 }
@@ -475,7 +475,7 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		ao.ci_level = a->ci;
 		/* a capture used in place gives its pages back behind the
 		 * phase pass */
-		ao.release = sscope_capture_release;
+		ao.release = sscope_capture_evict;
 		ao.release_ctx = cap;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &fo,
@@ -516,12 +516,12 @@ static const char *noise_name(int alpha)
 static const char *term_label(enum sscope_quantity q, int t)
 {
 	if (t == 1)
-		return q == SSCOPE_QTY_ANGULAR_RATE ? "angle random walk" :
-		       q == SSCOPE_QTY_ACCELERATION ? "velocity random walk" :
+		return q == SSCOPE_QUANTITY_ANGULAR_RATE ? "angle random walk" :
+		       q == SSCOPE_QUANTITY_ACCELERATION ? "velocity random walk" :
 						      "random walk";
 	if (t == 0)
-		return q == SSCOPE_QTY_ANGULAR_RATE ? "angle quantization" :
-		       q == SSCOPE_QTY_ACCELERATION ? "velocity quantization" :
+		return q == SSCOPE_QUANTITY_ANGULAR_RATE ? "angle quantization" :
+		       q == SSCOPE_QUANTITY_ACCELERATION ? "velocity quantization" :
 						      "quantization";
 	return term_names[t];
 }
@@ -610,11 +610,11 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 	fputc('\n', f);
 	if (a->ci > 0)
 		fprintf(f, "  %12s %9s %11s  %14s  %-27s %10s  %s\n", "tau (s)",
-			"m", "terms", sscope_dev_name(a->ao.dev), "interval",
+			"m", "terms", sscope_allan_dev_name(a->ao.dev), "interval",
 			"edf", "noise");
 	else
 		fprintf(f, "  %12s %9s %11s  %14s  %10s  %s\n", "tau (s)", "m",
-			"terms", sscope_dev_name(a->ao.dev), "edf", "noise");
+			"terms", sscope_allan_dev_name(a->ao.dev), "edf", "noise");
 	fprintf(f, "  %12s %9s %11s  %14s\n", "", "", "", u->show);
 	for (size_t i = 0; i < r->n_points; i++) {
 		const struct sscope_allan_point *p = &r->points[i];
@@ -747,7 +747,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 	json_object_set_new(o, "nan", json_integer((json_int_t)c->nan));
 	json_object_set_new(o, "input", json_string(a->ao.input == SSCOPE_ALLAN_ANGLE ?
 							   "angle" : "rate"));
-	json_object_set_new(o, "deviation", json_string(sscope_dev_name(a->ao.dev)));
+	json_object_set_new(o, "deviation", json_string(sscope_allan_dev_name(a->ao.dev)));
 	json_object_set_new(o, "dev_unit", json_string(u->dev));
 	json_object_set_new(o, "ci_level", a->ci < 0 ? json_null() :
 					   json_real(a->ci));
@@ -767,8 +767,8 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		if (p->skipped)
 			json_object_set_new(q, "skipped",
 					    json_integer((json_int_t)p->skipped));
-		if (p->stride != 1 && a->ao.dev != SSCOPE_DEV_ADEV &&
-		    a->ao.dev != SSCOPE_DEV_HDEV) {
+		if (p->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
+		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
 			json_object_set_new(q, "stride",
 					    json_integer((json_int_t)p->stride));
 			json_object_set_new(q, "edf_full", ssc_jreal(p->edf_full));
@@ -799,8 +799,8 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 
 				json_object_set_new(jc, "si_estimate",
 						    ssc_jreal(cf->estimate));
-				if (sscope_convert(cf->estimate, u->term_si[t],
-						   u->term[t], &ev))
+				if (sscope_unit_convert_text(cf->estimate, u->term_si[t],
+							     u->term[t], &ev))
 					ev = cf->estimate;
 				json_object_set_new(jc, "estimate", ssc_jreal(ev));
 			}
@@ -874,7 +874,7 @@ static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file 
 			const struct sscope_allan_point *p = &c->res->points[i];
 
 			fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,%.10g,%.10g,%.6g,%d\n",
-				fr->path, c->col->name, sscope_dev_name(a->ao.dev),
+				fr->path, c->col->name, sscope_allan_dev_name(a->ao.dev),
 				un, p->tau_s, p->m, p->terms,
 				p->dev / c->u.dev_scale * s,
 				p->dev_lo / c->u.dev_scale * s,
@@ -896,7 +896,7 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 	size_t nf = R->n_files;
 	struct ssc_noise_export e = { 0 };
 	struct ssc_noise_chan *ch;
-	const struct sscope_source *si = fr[0].cap->source_info;
+	const struct sscope_capture_source *si = fr[0].cap->source_info;
 	size_t n = 0;
 	int rc = SSC_EXIT_OK;
 
@@ -1006,8 +1006,8 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
 	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
-	for (size_t i = 0; i < sizeof(upper) - 1 && sscope_dev_name(a->ao.dev)[i]; i++)
-		upper[i] = (char)(sscope_dev_name(a->ao.dev)[i] - 'a' + 'A');
+	for (size_t i = 0; i < sizeof(upper) - 1 && sscope_allan_dev_name(a->ao.dev)[i]; i++)
+		upper[i] = (char)(sscope_allan_dev_name(a->ao.dev)[i] - 'a' + 'A');
 	snprintf(buf, sizeof(buf), "%s \xcf\x83(\xcf\x84) (%s)", upper, un);
 	ssc_ax_ylabel(ax, buf);
 	ssc_ax_title(ax, c->col->name);
@@ -1243,7 +1243,7 @@ static void init(void *opts)
 	struct args *a = opts;
 
 	memset(a, 0, sizeof(*a));
-	a->grid = SSCOPE_TAUS_DENSE;
+	a->grid = SSCOPE_ALLAN_TAUS_DENSE;
 	a->ci = 0.683;
 	a->inflate = 1;
 }
@@ -1252,8 +1252,8 @@ static int check(struct ssc_common *co, void *opts)
 {
 	struct args *a = opts;
 
-	if (a->ao.stride_div && a->ao.dev != SSCOPE_DEV_OADEV &&
-	    a->ao.dev != SSCOPE_DEV_OHDEV)
+	if (a->ao.stride_div && a->ao.dev != SSCOPE_ALLAN_DEV_OADEV &&
+	    a->ao.dev != SSCOPE_ALLAN_DEV_OHDEV)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
 	if ((a->kalibr || a->openvins || a->imu_utils) && a->no_fit)
 		return ssc_usage_error(co->cmd, "--%s needs the fit (drop --no-fit)",
@@ -1278,7 +1278,7 @@ static int check_dev_unit(const struct ssc_common *co, const struct args *a,
 		}
 	for (size_t i = 0; a->dev_unit && i < env->n_caps; i++)
 		for (size_t k = 0; k < env->caps[i]->n_channels; k++) {
-			const struct sscope_column *col = &env->caps[i]->channels[k].col;
+			const struct sscope_capture_column *col = &env->caps[i]->channels[k].col;
 
 			set_units(a, col, &u);
 			if (!strcmp(u.show, a->dev_unit))
@@ -1339,7 +1339,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 
 const struct sscope_allan_result *
 ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
-		   double rate_hz, enum sscope_tau_grid grid,
+		   double rate_hz, enum sscope_allan_tau_grid grid,
 		   const struct sscope_allan_opts *ao,
 		   const struct sscope_noise_fit_opts *fo)
 {

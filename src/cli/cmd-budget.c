@@ -125,7 +125,7 @@ static int parse_ratio(const char *opt, const char *arg, double *out)
 
 	if (sscope_quantity_parse(arg, &v, &u, &d))
 		return ssc_usage_error("budget", "--%s: %s", opt, d.msg);
-	if (sscope_unit_quantity(&u) != SSCOPE_QTY_DIMENSIONLESS)
+	if (sscope_unit_quantity(&u) != SSCOPE_QUANTITY_DIMENSIONLESS)
 		return ssc_usage_error("budget", "--%s: '%s' is not a ratio", opt, arg);
 	if (u.scale == 1)
 		v *= 1e-6; /* bare number: ppm */
@@ -242,11 +242,11 @@ static int handler(int key, const char *arg, void *ctx)
 				break;
 			}
 			q = sscope_unit_quantity(&u);
-			if (q == SSCOPE_QTY_LENGTH)
+			if (q == SSCOPE_QUANTITY_LENGTH)
 				o->err_q[o->n_err] = SSCOPE_BUDGET_POSITION;
-			else if (q == SSCOPE_QTY_VELOCITY)
+			else if (q == SSCOPE_QUANTITY_VELOCITY)
 				o->err_q[o->n_err] = SSCOPE_BUDGET_VELOCITY;
-			else if (q == SSCOPE_QTY_ANGLE)
+			else if (q == SSCOPE_QUANTITY_ANGLE)
 				o->err_q[o->n_err] = SSCOPE_BUDGET_ATTITUDE;
 			else {
 				rc = ssc_usage_error("budget", "--error: '%s' is not a length, velocity or angle",
@@ -557,7 +557,7 @@ static int take_calib_triad(struct opts *o, const char **from,
 	unsigned r = sscope_budget_take_calib(&o->p, q, c, nd, kept(o));
 
 	mark(from, r, "calib bias uncertainty", "calib noise density");
-	return q == SSCOPE_QTY_ANGULAR_RATE || q == SSCOPE_QTY_ACCELERATION;
+	return q == SSCOPE_QUANTITY_ANGULAR_RATE || q == SSCOPE_QUANTITY_ACCELERATION;
 }
 
 /* Sources from the typed results of a scene's allan and calib stages. */
@@ -591,20 +591,20 @@ static void take_upstream(struct opts *o, const char **from,
 }
 
 /* The quantity (gyro or accelerometer) whose term t has the SI unit
- * si_unit, by dimension; SSCOPE_QTY_UNKNOWN for others. */
+ * si_unit, by dimension; SSCOPE_QUANTITY_UNKNOWN for others. */
 static enum sscope_quantity term_quantity(const char *si_unit, enum sscope_term t)
 {
-	static const enum sscope_quantity qs[2] = { SSCOPE_QTY_ANGULAR_RATE,
-						    SSCOPE_QTY_ACCELERATION };
+	static const enum sscope_quantity qs[2] = { SSCOPE_QUANTITY_ANGULAR_RATE,
+						    SSCOPE_QUANTITY_ACCELERATION };
 	struct sscope_unit u, w;
 
 	if (!si_unit || sscope_unit_parse(si_unit, &u, NULL))
-		return SSCOPE_QTY_UNKNOWN;
+		return SSCOPE_QUANTITY_UNKNOWN;
 	for (int i = 0; i < 2; i++)
 		if (!sscope_unit_parse(sscope_term_si_unit(qs[i], t), &w, NULL) &&
 		    sscope_unit_compatible(&u, &w))
 			return qs[i];
-	return SSCOPE_QTY_UNKNOWN;
+	return SSCOPE_QUANTITY_UNKNOWN;
 }
 
 /* A number of a JSON result (NaN when absent or null). */
@@ -666,8 +666,8 @@ static int load_result(struct opts *o, const char *path, const char **from)
 				c.scale_sd[k] = jnum(json_array_get(json_object_get(t, "scale_sd"), k));
 			}
 			used += take_calib_triad(o, from,
-						 !strcmp(kind, "gyro") ? SSCOPE_QTY_ANGULAR_RATE :
-									 SSCOPE_QTY_ACCELERATION,
+						 !strcmp(kind, "gyro") ? SSCOPE_QUANTITY_ANGULAR_RATE :
+									 SSCOPE_QUANTITY_ACCELERATION,
 						 &c,
 						 jnum(json_object_get(json_object_get(t, "noise_density"),
 								      "si")));
@@ -690,23 +690,23 @@ static int load_result(struct opts *o, const char *path, const char **from)
 static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
 			const char *path, const char **from)
 {
-	if (s->quantity == SSCOPE_QTY_ANGULAR_RATE) {
-		if (!o->set[0] && (s->has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
-			o->p.gyro_bias_rad_s = (s->has & SSCOPE_SPEC_BIAS) ? s->bias : s->b;
-			from[0] = (s->has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+	if (s->quantity == SSCOPE_QUANTITY_ANGULAR_RATE) {
+		if (!o->set[0] && (s->has & (SSCOPE_SENSOR_HAS_BIAS | SSCOPE_SENSOR_HAS_B))) {
+			o->p.gyro_bias_rad_s = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? s->bias : s->b;
+			from[0] = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? "bias" : "bias_instability";
 		}
-		if (!o->set[2] && (s->has & SSCOPE_SPEC_N))
+		if (!o->set[2] && (s->has & SSCOPE_SENSOR_HAS_N))
 			o->p.arw_rad_sqrt_s = s->n;
-		if (o->p.gyro_sf == 0 && (s->has & SSCOPE_SPEC_SF))
+		if (o->p.gyro_sf == 0 && (s->has & SSCOPE_SENSOR_HAS_SF))
 			o->p.gyro_sf = s->scale_factor_error;
-	} else if (s->quantity == SSCOPE_QTY_ACCELERATION) {
-		if (!o->set[1] && (s->has & (SSCOPE_SPEC_BIAS | SSCOPE_SPEC_B))) {
-			o->p.accel_bias_m_s2 = (s->has & SSCOPE_SPEC_BIAS) ? s->bias : s->b;
-			from[1] = (s->has & SSCOPE_SPEC_BIAS) ? "bias" : "bias_instability";
+	} else if (s->quantity == SSCOPE_QUANTITY_ACCELERATION) {
+		if (!o->set[1] && (s->has & (SSCOPE_SENSOR_HAS_BIAS | SSCOPE_SENSOR_HAS_B))) {
+			o->p.accel_bias_m_s2 = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? s->bias : s->b;
+			from[1] = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? "bias" : "bias_instability";
 		}
-		if (!o->set[3] && (s->has & SSCOPE_SPEC_N))
+		if (!o->set[3] && (s->has & SSCOPE_SENSOR_HAS_N))
 			o->p.vrw_m_s_sqrt_s = s->n;
-		if (o->p.accel_sf == 0 && (s->has & SSCOPE_SPEC_SF))
+		if (o->p.accel_sf == 0 && (s->has & SSCOPE_SENSOR_HAS_SF))
 			o->p.accel_sf = s->scale_factor_error;
 	} else {
 		ssc_err("budget", "%s: neither a gyro nor an accelerometer (give range or noise_density with a unit)",

@@ -286,7 +286,7 @@ static int pick3(const struct ssc_common *co, const struct sscope_capture *cap,
 }
 
 /* the unit of the raw channel ("" for raw values without a unit) */
-static void held_unit(const struct sscope_column *col, char *out, size_t len)
+static void held_unit(const struct sscope_capture_column *col, char *out, size_t len)
 {
 	snprintf(out, len, "%s", col->unit_label);
 }
@@ -337,7 +337,7 @@ static json_t *triad_json(const struct ssc_calib_triad_out *o)
 	double s = ssc_calfile_unit_scale(o->t.input_unit);
 	char buf[96];
 	size_t ng;
-	const struct sscope_grade *gr = sscope_calib_grades(&ng);
+	const struct sscope_calib_class *gr = sscope_calib_grades(&ng);
 
 	json_object_set_new(j, "bias_unit", json_string(o->t.input_unit));
 	json_object_set_new(j, "bias_sd", jvec(c->bias_sd, 1 / s));
@@ -437,7 +437,7 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 	const char *iu = o->t.input_unit[0] ? o->t.input_unit : "counts";
 	char a[32], b[32];
 	size_t ng;
-	const struct sscope_grade *gr = sscope_calib_grades(&ng);
+	const struct sscope_calib_class *gr = sscope_calib_grades(&ng);
 
 	fprintf(f, "  %s triad %s,%s,%s  (%s -> %s)\n", o->t.kind,
 		o->t.channels[0], o->t.channels[1], o->t.channels[2], iu,
@@ -487,13 +487,13 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 
 		for (int i = 0; i < 3; i++)
 			bmax = fmax(bmax, fabs(c->bias[i]));
-		if (o->q == SSCOPE_QTY_ACCELERATION && bmax >= 1e-3 * 9.80665)
+		if (o->q == SSCOPE_QUANTITY_ACCELERATION && bmax >= 1e-3 * 9.80665)
 			bu = "mg";
 		fprintf(f, "    error model (textbook eqs 93-94): ");
 		for (int i = 0; i < 3; i++) {
 			double v = c->bias[i];
 
-			sscope_convert(c->bias[i], si, bu, &v);
+			sscope_unit_convert_text(c->bias[i], si, bu, &v);
 			fprintf(f, "%sb=%s %s", i ? "; " : "",
 				ssc_fmt(a, sizeof(a), v, 4), bu);
 			if (isfinite(c->scale_sd[i]))
@@ -506,8 +506,8 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 		double v = o->noise_density;
 		const char *nu = sscope_term_unit(o->q, SSCOPE_TERM_N);
 
-		sscope_convert(o->noise_density,
-			       sscope_term_si_unit(o->q, SSCOPE_TERM_N), nu, &v);
+		sscope_unit_convert_text(o->noise_density,
+					 sscope_term_si_unit(o->q, SSCOPE_TERM_N), nu, &v);
 		fprintf(f, "    noise density (static intervals): %s %s\n",
 			ssc_fmt(a, sizeof(a), v, 3), nu);
 	}
@@ -613,7 +613,7 @@ static int accel_multipos(struct run *r)
 	}
 	r->n_iv = r->o.det.n_intervals;
 	fill_triad(&r->pub.out[r->pub.n_out], "accel", cap, r->ai,
-		   SSCOPE_QTY_ACCELERATION, &c);
+		   SSCOPE_QUANTITY_ACCELERATION, &c);
 	r->pub.out[r->pub.n_out].residual_unit = "m/s^2";
 	noise_density(r, r->ai, &r->pub.out[r->pub.n_out]);
 	/* pose norms for the plot */
@@ -623,7 +623,7 @@ static int accel_multipos(struct run *r)
 	    sscope_calib_pose_errors(chans(r, r->ai, ch), 1, r->iv, r->n_iv, &c,
 				     r->o.gravity,
 				     cap->channels[r->ai[0]].col.quantity ==
-					     SSCOPE_QTY_ACCELERATION,
+					     SSCOPE_QUANTITY_ACCELERATION,
 				     r->pose_before, r->pose_after) == 0)
 		r->n_pose = r->n_iv;
 	finish_triad(&r->pub.out[r->pub.n_out]);
@@ -648,7 +648,7 @@ static void motion_errors(struct run *r, double *const ac[3],
 	    sscope_calib_motion_summary(chans(r, r->gi, g), a, 1, r->cap->n,
 					r->cap->rate_hz, r->iv, r->n_iv, c,
 					r->cap->channels[r->gi[0]].col.quantity ==
-						SSCOPE_QTY_ANGULAR_RATE,
+						SSCOPE_QUANTITY_ANGULAR_RATE,
 					r->mot_after, r->mot_before, &ms))
 		return;
 	o->motion_rms = ms.rms_rad;
@@ -685,7 +685,7 @@ static int gyro_multipos(struct run *r)
 				       cap->channels[r->gi[2]].data };
 		const double *a[3] = { ac[0], ac[1], ac[2] };
 		bool si = cap->channels[r->gi[0]].col.quantity ==
-			  SSCOPE_QTY_ANGULAR_RATE;
+			  SSCOPE_QUANTITY_ANGULAR_RATE;
 
 		rc = sscope_calib_gyro_fit(g, a, 1, cap->n, cap->rate_hz,
 					   si ? 1 : 0, r->iv, r->n_iv, r->o.gsens,
@@ -697,7 +697,7 @@ static int gyro_multipos(struct run *r)
 		rc = SSC_EXIT_FAIL;
 		goto out;
 	}
-	fill_triad(&r->pub.out[1], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	fill_triad(&r->pub.out[1], "gyro", cap, r->gi, SSCOPE_QUANTITY_ANGULAR_RATE, &c);
 	r->pub.out[1].residual_unit = "1";
 	motion_errors(r, ac, &c);
 	if (c.has_gsens)
@@ -741,7 +741,7 @@ static int accel_sixpos(struct run *r)
 		return SSC_EXIT_FAIL;
 	}
 	r->n_iv = r->o.det.n_intervals;
-	fill_triad(&r->pub.out[0], "accel", cap, r->ai, SSCOPE_QTY_ACCELERATION,
+	fill_triad(&r->pub.out[0], "accel", cap, r->ai, SSCOPE_QUANTITY_ACCELERATION,
 		   &c);
 	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
 					      r->pub.out[0].t.input_unit : "counts";
@@ -763,12 +763,12 @@ static int gyro_tilt(struct run *r)
 	double *w2;
 	int rc;
 
-	if (cap->channels[r->ai[0]].col.quantity != SSCOPE_QTY_ACCELERATION) {
+	if (cap->channels[r->ai[0]].col.quantity != SSCOPE_QUANTITY_ACCELERATION) {
 		ssc_err(co->cmd, "%s: tilt mode needs accelerometer channels in physical units (or --calibration)",
 			cap->source);
 		return SSC_EXIT_FAIL;
 	}
-	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
+	if (cap->channels[r->gi[0]].col.quantity != SSCOPE_QUANTITY_ANGULAR_RATE) {
 		ssc_err(co->cmd, "%s: tilt mode needs gyro channels in physical units (the scale is not estimated)",
 			cap->source);
 		return SSC_EXIT_FAIL;
@@ -790,7 +790,7 @@ static int gyro_tilt(struct run *r)
 		return SSC_EXIT_FAIL;
 	}
 	r->n_iv = r->o.det.n_intervals;
-	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QTY_ANGULAR_RATE, &c);
+	fill_triad(&r->pub.out[0], "gyro", cap, r->gi, SSCOPE_QUANTITY_ANGULAR_RATE, &c);
 	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
 	r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit;
 	for (int i = 0; i < 3; i++)
@@ -839,8 +839,8 @@ static int rate_table_file(struct run *r, int file_no)
 
 		e = ssc_read_intervals(co, "schedule", r->o.schedule, "VALUE", 1,
 				       sscope_quantity_si_unit(r->o.gyro ?
-								       SSCOPE_QTY_ANGULAR_RATE :
-								       SSCOPE_QTY_ACCELERATION),
+								       SSCOPE_QUANTITY_ANGULAR_RATE :
+								       SSCOPE_QUANTITY_ACCELERATION),
 				       NULL, &sv, &ns);
 		if (e)
 			return e;
@@ -850,8 +850,8 @@ static int rate_table_file(struct run *r, int file_no)
 			free(sv);
 			return SSC_EXIT_FAIL;
 		}
-		sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, sv, ns, 1,
-					&sched_ref);
+		sscope_timing_intervals_sample(cap->time_s, cap->rate_hz, cap->n, sv, ns, 1,
+					       &sched_ref);
 		free(sv);
 		ref[0] = sched_ref;
 	} else {
@@ -914,8 +914,8 @@ static int rate_table_fit(struct run *r)
 	const struct ssc_common *co = r->co;
 	struct sscope_diag d = { "" };
 	struct sscope_calib_triad c;
-	enum sscope_quantity q = r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE :
-					      SSCOPE_QTY_ACCELERATION;
+	enum sscope_quantity q = r->o.gyro ? SSCOPE_QUANTITY_ANGULAR_RATE :
+					      SSCOPE_QUANTITY_ACCELERATION;
 	int rc = sscope_calib_linear_fit((const double(*)[3])r->ry,
 					 (const double(*)[3])r->rr, r->n_pts,
 					 r->o.cubic, &r->lf, &d);
@@ -944,7 +944,7 @@ static bool rt_ratio(const struct run *r)
 	const long *ci = r->o.gyro ? r->gi : r->ai;
 
 	return r->cap->channels[ci[0]].col.quantity ==
-	       (r->o.gyro ? SSCOPE_QTY_ANGULAR_RATE : SSCOPE_QTY_ACCELERATION);
+	       (r->o.gyro ? SSCOPE_QUANTITY_ANGULAR_RATE : SSCOPE_QUANTITY_ACCELERATION);
 }
 
 static json_t *rate_table_json(const struct run *r)
@@ -958,8 +958,8 @@ static json_t *rate_table_json(const struct run *r)
 	 * dimension (held data are SI then), else input units per SI */
 	double sa = rt_ratio(r) ? 1 : s;
 	const char *si = sscope_quantity_si_unit(r->o.gyro ?
-							 SSCOPE_QTY_ANGULAR_RATE :
-							 SSCOPE_QTY_ACCELERATION);
+							 SSCOPE_QUANTITY_ANGULAR_RATE :
+							 SSCOPE_QUANTITY_ACCELERATION);
 
 	json_object_set_new(o, "points", json_integer((json_int_t)lf->points));
 	json_object_set_new(o, "reference_si_unit", json_string(si));
@@ -1013,8 +1013,8 @@ static void rate_table_text(FILE *f, const struct run *r)
 	const long *ci = r->o.gyro ? r->gi : r->ai;
 	const char *iu = r->cap->channels[ci[0]].col.unit_label;
 	const char *si = sscope_quantity_si_unit(r->o.gyro ?
-							 SSCOPE_QTY_ANGULAR_RATE :
-							 SSCOPE_QTY_ACCELERATION);
+							 SSCOPE_QUANTITY_ANGULAR_RATE :
+							 SSCOPE_QUANTITY_ACCELERATION);
 	double s = ssc_calfile_unit_scale(iu), sa = rt_ratio(r) ? 1 : s;
 	char a[32], b[32];
 
@@ -1081,7 +1081,7 @@ static void plot_gyro(struct ssc_fig *fig, const struct run *r)
 	double *k = malloc(r->n_mot * sizeof(double));
 	double *b = malloc(r->n_mot * sizeof(double));
 	double *a = malloc(r->n_mot * sizeof(double));
-	bool si = cap->channels[r->gi[0]].col.quantity == SSCOPE_QTY_ANGULAR_RATE;
+	bool si = cap->channels[r->gi[0]].col.quantity == SSCOPE_QUANTITY_ANGULAR_RATE;
 	struct ssc_ax *ax = ssc_fig_ax(fig, 0, 0);
 	char buf[256];
 
@@ -1216,8 +1216,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 			ssc_ax_ylabel(ax, buf);
 			snprintf(buf, sizeof(buf), "reference on input %c (%s)", "xyz"[i],
 				 sscope_quantity_si_unit(r->o.gyro ?
-								 SSCOPE_QTY_ANGULAR_RATE :
-								 SSCOPE_QTY_ACCELERATION));
+								 SSCOPE_QUANTITY_ANGULAR_RATE :
+								 SSCOPE_QUANTITY_ACCELERATION));
 			ssc_ax_xlabel(ax, buf);
 			snprintf(buf, sizeof(buf), "non-linearity %.3g %% FS",
 				 lf->nonlinearity[i] * 100);
@@ -1248,7 +1248,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 			plot_intervals(ax, r, r->o.det.threshold / 3);
 			snprintf(buf, sizeof(buf), "variance magnitude ((%s)^{2})",
 				 cap->channels[r->ai[0]].col.quantity ==
-						 SSCOPE_QTY_ACCELERATION ?
+						 SSCOPE_QUANTITY_ACCELERATION ?
 					 "m/s^{2}" : "input");
 			ssc_ax_ylabel(ax, buf);
 			ssc_ax_xlabel(ax, "time (s)");
@@ -1269,7 +1269,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 				k[i] = (double)i + 1;
 			if (k) {
 				if (cap->channels[r->ai[0]].col.quantity ==
-				    SSCOPE_QTY_ACCELERATION)
+				    SSCOPE_QUANTITY_ACCELERATION)
 					ssc_ax_line(ax, k, r->pose_before, r->n_pose, &sb,
 						    "|a| - g, raw");
 				ssc_ax_line(ax, k, r->pose_after, r->n_pose, &sa,
@@ -1317,7 +1317,7 @@ static void init(void *opts)
 	struct opts *o = opts;
 
 	memset(o, 0, sizeof(*o));
-	o->gravity = SSCOPE_GRAVITY_STD;
+	o->gravity = SSCOPE_CALIB_GRAVITY_STD;
 	o->settle_s = 1;
 }
 
@@ -1398,13 +1398,13 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 			break;
 		}
 		if (o->gyro || o->mode == M_TILT) {
-			rc = pick3(co, r->cap, o->gyro_names, SSCOPE_QTY_ANGULAR_RATE,
+			rc = pick3(co, r->cap, o->gyro_names, SSCOPE_QUANTITY_ANGULAR_RATE,
 				   o->reference, "gyro", r->gi);
 			if (rc)
 				break;
 		}
 		if (!o->gyro || o->mode != M_RATE_TABLE) {
-			rc = pick3(co, r->cap, o->accel, SSCOPE_QTY_ACCELERATION,
+			rc = pick3(co, r->cap, o->accel, SSCOPE_QUANTITY_ACCELERATION,
 				   o->reference, "accel", r->ai);
 			if (rc)
 				break;

@@ -218,7 +218,7 @@ static int pick_axis(const char *cmd, const struct sscope_capture *cap,
 			ssc_err(cmd, "%s: no channel '%s' (--axis)", path, want);
 			return SSC_EXIT_FAIL;
 		}
-		if (cap->channels[*axis].col.quantity != SSCOPE_QTY_ANGULAR_RATE) {
+		if (cap->channels[*axis].col.quantity != SSCOPE_QUANTITY_ANGULAR_RATE) {
 			ssc_err(cmd, "%s: channel '%s' is not an angular rate (give its unit, e.g. 'gz [deg/s]' or -u deg/s)",
 				path, want);
 			return SSC_EXIT_FAIL;
@@ -226,7 +226,7 @@ static int pick_axis(const char *cmd, const struct sscope_capture *cap,
 		return 0;
 	}
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		if (cap->channels[k].col.quantity != SSCOPE_QTY_ANGULAR_RATE)
+		if (cap->channels[k].col.quantity != SSCOPE_QUANTITY_ANGULAR_RATE)
 			continue;
 		n_rate++;
 		only = (long)k;
@@ -266,8 +266,8 @@ static int pick_detect(const char *cmd, const struct sscope_capture *cap,
 		return 0;
 	}
 	for (int pass = 0; pass < 2; pass++) {
-		enum sscope_quantity q = pass ? SSCOPE_QTY_ANGULAR_RATE :
-						SSCOPE_QTY_ACCELERATION;
+		enum sscope_quantity q = pass ? SSCOPE_QUANTITY_ANGULAR_RATE :
+						SSCOPE_QUANTITY_ACCELERATION;
 		int k = 0;
 
 		for (size_t c = 0; c < cap->n_channels && k < 3; c++)
@@ -610,7 +610,7 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
 
 	memset(&s->terms, 0, sizeof(s->terms));
-	s->terms.quantity = SSCOPE_QTY_ANGULAR_RATE;
+	s->terms.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	s->terms.n_lo = s->terms.n_hi = (double)NAN;
 	s->terms_from = "N from the scatter within the stops";
 	if (o->set_terms) {
@@ -637,7 +637,7 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 		}
 		if (rc)
 			return rc;
-		p = ssc_nav_terms_pick(t, n, axis_name, SSCOPE_QTY_ANGULAR_RATE);
+		p = ssc_nav_terms_pick(t, n, axis_name, SSCOPE_QUANTITY_ANGULAR_RATE);
 		if (!p) {
 			free(t);
 			ssc_err(cmd, "%s: no gyro channel", o->allan ? o->allan : "allan");
@@ -652,13 +652,13 @@ static int terms(const struct ssc_stage_env *env, const struct opts *o,
 
 		if (rc)
 			return rc;
-		if (sp.quantity != SSCOPE_QTY_ANGULAR_RATE) {
+		if (sp.quantity != SSCOPE_QUANTITY_ANGULAR_RATE) {
 			ssc_err(cmd, "%s: not a gyro specification", o->sensor);
 			return SSC_EXIT_FAIL;
 		}
 		ssc_nav_terms_from_spec(&sp, &s->terms);
 		s->terms_from = "sensor spec";
-	} else if (env->sensor && env->sensor->quantity == SSCOPE_QTY_ANGULAR_RATE) {
+	} else if (env->sensor && env->sensor->quantity == SSCOPE_QUANTITY_ANGULAR_RATE) {
 		/* a scene's [sensor], when it is a gyro */
 		ssc_nav_terms_from_spec(env->sensor, &s->terms);
 		s->terms_from = "sensor spec";
@@ -713,7 +713,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 			ssc_err(cmd, "%s: no channel '%s' (--reference)", path, o->ref);
 			return SSC_EXIT_FAIL;
 		}
-		if (cap->channels[s->ref].col.quantity != SSCOPE_QTY_ANGLE) {
+		if (cap->channels[s->ref].col.quantity != SSCOPE_QUANTITY_ANGLE) {
 			ssc_err(cmd, "%s: reference '%s' is not an angle (give its unit, e.g. 'heading_ref [deg]')",
 				path, o->ref);
 			return SSC_EXIT_FAIL;

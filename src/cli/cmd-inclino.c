@@ -69,13 +69,13 @@ static int pick_accel(const char *cmd, const struct sscope_capture *cap,
 		return 0;
 	}
 	for (size_t i = 0, k = 0; i < cap->n_channels && k < 3; i++)
-		if (cap->channels[i].col.quantity == SSCOPE_QTY_ACCELERATION)
+		if (cap->channels[i].col.quantity == SSCOPE_QUANTITY_ACCELERATION)
 			idx[k++] = (long)i;
 	{
 		int k = 0;
 
 		for (size_t i = 0; i < cap->n_channels; i++)
-			k += cap->channels[i].col.quantity == SSCOPE_QTY_ACCELERATION;
+			k += cap->channels[i].col.quantity == SSCOPE_QUANTITY_ACCELERATION;
 		if (k < 3) {
 			ssc_err(cmd, "%s: %d acceleration column%s, 3 needed (give units, or --accel X,Y,Z)",
 				path, k, k == 1 ? "" : "s");
@@ -185,7 +185,7 @@ static void cal_init(void *opts)
 	memset(o, 0, sizeof(*o));
 	o->roll = "roll_ref";
 	o->pitch = "pitch_ref";
-	o->gravity = SSCOPE_GRAVITY_STD;
+	o->gravity = SSCOPE_CALIB_GRAVITY_STD;
 }
 
 /* A tilt table (--tilt-table: "START END ROLL PITCH", s from the
@@ -202,7 +202,7 @@ static int tilt_table(const struct ssc_common *co, const char *path,
 
 	if (rc)
 		return rc;
-	sscope_intervals_sample(cap->time_s, cap->rate_hz, cap->n, v, rows, 2, out);
+	sscope_timing_intervals_sample(cap->time_s, cap->rate_hz, cap->n, v, rows, 2, out);
 	free(v);
 	return 0;
 }
@@ -830,7 +830,7 @@ static int apply_main(int argc, char **argv)
 
 	if (!lut)
 		return SSC_EXIT_FAIL;
-	o.still_tol = 20e-3 * SSCOPE_GRAVITY_STD;
+	o.still_tol = 20e-3 * SSCOPE_CALIB_GRAVITY_STD;
 	o.axes = 3;
 	o.rate_tol = 0.5 * PI / 180;
 	rc = ssc_parse(&app_spec, argc, argv, &co, app_handler, &o, &first);
@@ -898,7 +898,7 @@ static int apply_main(int argc, char **argv)
 		size_t k = 0;
 
 		for (size_t i = 0; i < cap->n_channels && k < 3; i++)
-			if (cap->channels[i].col.quantity == SSCOPE_QTY_ANGULAR_RATE)
+			if (cap->channels[i].col.quantity == SSCOPE_QUANTITY_ANGULAR_RATE)
 				gi[k++] = (long)i;
 		if (k < 3)
 			gi[0] = -1;

@@ -79,13 +79,13 @@ static void receive_times(const struct sscope_capture *cap,
 			  !sscope_timing_agree(&fi->rx, &cap->timing, 1e-3);
 }
 
-static double to_unit(const struct sscope_column *c, double si)
+static double to_unit(const struct sscope_capture_column *c, double si)
 {
 	return sscope_unit_from_si(&c->unit, si);
 }
 
 /* sd and spreads are differences: no offset */
-static double to_unit_diff(const struct sscope_column *c, double si)
+static double to_unit_diff(const struct sscope_capture_column *c, double si)
 {
 	return si / c->unit.scale;
 }
@@ -95,9 +95,9 @@ static double to_unit_diff(const struct sscope_column *c, double si)
  * noise-free plateaus would read as a pile-up). */
 static bool sensor_output(enum sscope_quantity q)
 {
-	return q == SSCOPE_QTY_ANGULAR_RATE || q == SSCOPE_QTY_ACCELERATION ||
-	       q == SSCOPE_QTY_VOLTAGE || q == SSCOPE_QTY_COUNTS ||
-	       q == SSCOPE_QTY_UNKNOWN || q == SSCOPE_QTY_DIMENSIONLESS;
+	return q == SSCOPE_QUANTITY_ANGULAR_RATE || q == SSCOPE_QUANTITY_ACCELERATION ||
+	       q == SSCOPE_QUANTITY_VOLTAGE || q == SSCOPE_QUANTITY_COUNTS ||
+	       q == SSCOPE_QUANTITY_UNKNOWN || q == SSCOPE_QUANTITY_DIMENSIONLESS;
 }
 
 /* samples piled at each channel's extremes */
@@ -170,11 +170,11 @@ static double duration(const struct sscope_capture *cap)
 static const char *rate_source(const struct sscope_capture *cap)
 {
 	switch (cap->rate_source) {
-	case SSCOPE_RATE_GIVEN:
+	case SSCOPE_CAPTURE_RATE_GIVEN:
 		return "given";
-	case SSCOPE_RATE_TIME_COLUMN:
+	case SSCOPE_CAPTURE_RATE_TIME_COLUMN:
 		return "time column";
-	case SSCOPE_RATE_HEADER:
+	case SSCOPE_CAPTURE_RATE_HEADER:
 		return "header";
 	default:
 		return "unknown";
@@ -185,7 +185,7 @@ static const char *rate_source(const struct sscope_capture *cap)
 static bool clip_message(const struct file_info *fi, size_t k, char *msg,
 			 size_t len)
 {
-	const struct sscope_column *col = &fi->cap->channels[k].col;
+	const struct sscope_capture_column *col = &fi->cap->channels[k].col;
 	const struct sscope_clip *c = &fi->clip[k];
 	size_t n = (c->low ? c->n_lo : 0) + (c->high ? c->n_hi : 0);
 	char a[32], b[32], p[32];
@@ -218,11 +218,11 @@ static void text_file(FILE *f, const struct file_info *fi)
 
 	fprintf(f, "%s\n", strcmp(path, "-") ? path : "(stdin)");
 	if (cap->source_info) {
-		const struct sscope_source *si = cap->source_info;
+		const struct sscope_capture_source *si = cap->source_info;
 
 		fprintf(f, "  format:      %s\n", si->format);
 		for (size_t i = 0; i < si->n_topics; i++) {
-			const struct sscope_topic *t = &si->topics[i];
+			const struct sscope_capture_topic *t = &si->topics[i];
 
 			fprintf(f, "  %-12s %s  %s  %llu message%s%s\n",
 				i ? "" : "topics:", t->name, t->type,
@@ -291,7 +291,7 @@ static void text_file(FILE *f, const struct file_info *fi)
 			ssc_fmt(c, sizeof(c), fi->temp.mean, 5),
 			cap->temp_col.name);
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		size_t l = strlen(col->name);
 
 		if (l > wn)
@@ -307,7 +307,7 @@ static void text_file(FILE *f, const struct file_info *fi)
 		"channel", (int)wu, "unit", (int)wq, "quantity", "mean", "sd",
 		"min", "max");
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		const struct sscope_stats *s = &fi->st[k];
 
 		fprintf(f, "  %-*s  %-*s  %-*s  %13s  %13s  %13s  %13s\n", (int)wn,
@@ -340,7 +340,7 @@ static json_t *json_file(const struct file_info *fi)
 				     json_null());
 	json_object_set_new(o, "rate_source", json_string(rate_source(cap)));
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		const struct sscope_stats *s = &fi->st[k];
 		json_t *c = json_object();
 
@@ -389,16 +389,16 @@ static json_t *json_file(const struct file_info *fi)
 	json_object_set_new(o, "gaps", gaps);
 	if (cap->time_s) {
 		/* what is wrong with the time column's order, or null */
-		struct sscope_time_order ord;
+		struct sscope_timing_order ord;
 		struct sscope_diag d = { "" };
 
 		ssc_time_order(cap, &ord);
 		json_object_set_new(o, "time_order",
-				    sscope_time_order_check(&ord, &d) ?
+				    sscope_timing_order_check(&ord, &d) ?
 				    json_string(d.msg) : json_null());
 	}
 	if (cap->source_info) {
-		const struct sscope_source *si = cap->source_info;
+		const struct sscope_capture_source *si = cap->source_info;
 		json_t *tps = json_array();
 
 		json_object_set_new(o, "format", json_string(si->format));
@@ -466,7 +466,7 @@ static void csv_file(FILE *f, const struct file_info *fi)
 	const char *path = fi->path;
 
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		const struct sscope_stats *s = &fi->st[k];
 
 		fprintf(f, "%s,%s,%s,%s,%.15g,%zu,%zu,%.15g,%.15g,%.15g,%.15g,%.15g\n",
@@ -508,7 +508,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 	snprintf(buf, sizeof(buf), "%s", path);
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < nch; k++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		struct ssc_ax *ax = ssc_fig_ax(fig, (int)k, 0);
 		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1 };
 

@@ -348,9 +348,9 @@ static int apply_spec(const char *cmd, struct imu_in *in,
 {
 	struct sscope_sensor_spec *d;
 
-	if (s->quantity == SSCOPE_QTY_ANGULAR_RATE)
+	if (s->quantity == SSCOPE_QUANTITY_ANGULAR_RATE)
 		d = &in->imu.gyro;
-	else if (s->quantity == SSCOPE_QTY_ACCELERATION)
+	else if (s->quantity == SSCOPE_QUANTITY_ACCELERATION)
 		d = &in->imu.accel;
 	else {
 		ssc_err(cmd, "%s: neither a gyro nor an accelerometer (give range or noise_density with a unit)",
@@ -368,7 +368,7 @@ static void apply_terms(struct imu_in *in, const struct ssc_nav_terms *t,
 {
 	for (int k = 0; k < 2; k++) {
 		const struct ssc_nav_terms *p = ssc_nav_terms_pick(
-			t, n, NULL, k ? SSCOPE_QTY_ACCELERATION : SSCOPE_QTY_ANGULAR_RATE);
+			t, n, NULL, k ? SSCOPE_QUANTITY_ACCELERATION : SSCOPE_QUANTITY_ANGULAR_RATE);
 		struct sscope_sensor_spec *d = k ? &in->imu.accel : &in->imu.gyro;
 
 		if (!p)
@@ -451,7 +451,7 @@ static int load_adc(const char *cmd, struct imu_in *in, int k, const char *path)
 
 	if (rc)
 		return ssc_fail(cmd, rc, &d, path);
-	if (a->analog && !((s->has & SSCOPE_SPEC_SENSITIVITY) && s->sensitivity > 0))
+	if (a->analog && !((s->has & SSCOPE_SENSOR_HAS_SENSITIVITY) && s->sensitivity > 0))
 		return ssc_usage_error(cmd, "--%s: %s has a range in volts but no %s spec gives a sensitivity",
 				       opt, path, k ? "accelerometer" : "gyro");
 	if (!a->analog && a->quantity != s->quantity)
@@ -546,8 +546,8 @@ static int gather(const struct ssc_stage_env *env, const struct opts *o,
 		in->imu.accel.n = o->vrw;
 		add_from(in, "%s", "--vrw");
 	}
-	in->imu.gyro.quantity = SSCOPE_QTY_ANGULAR_RATE;
-	in->imu.accel.quantity = SSCOPE_QTY_ACCELERATION;
+	in->imu.gyro.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
+	in->imu.accel.quantity = SSCOPE_QUANTITY_ACCELERATION;
 	for (int k = 0; k < 2; k++) {
 		rc = o->adc[k] ? load_adc(cmd, in, k, o->adc[k]) : SSC_EXIT_OK;
 		if (rc)
@@ -579,7 +579,7 @@ static int column(const char *cmd, const char *path, const struct sscope_capture
 		return SSC_EXIT_FAIL;
 	}
 	have = cap->channels[k].col.quantity;
-	if (have != q && have != SSCOPE_QTY_DIMENSIONLESS && have != SSCOPE_QTY_UNKNOWN) {
+	if (have != q && have != SSCOPE_QUANTITY_DIMENSIONLESS && have != SSCOPE_QUANTITY_UNKNOWN) {
 		ssc_err(cmd, "%s: column '%s' is in %s, not %s", path, name,
 			cap->channels[k].col.unit_label, sscope_quantity_si_unit(q));
 		return SSC_EXIT_FAIL;
@@ -606,7 +606,7 @@ static int load_table(const char *cmd, const char *path, struct table *t)
 	}
 	for (int i = 0; i < 6; i++) {
 		rc = column(cmd, path, t->cap, names[i],
-			    i < 3 ? SSCOPE_QTY_LENGTH : SSCOPE_QTY_ANGLE,
+			    i < 3 ? SSCOPE_QUANTITY_LENGTH : SSCOPE_QUANTITY_ANGLE,
 			    i == 0 || i == 1 || i == 5, &c[i]);
 		if (rc)
 			return rc;
@@ -706,7 +706,7 @@ static json_t *triad_json(const struct sscope_sensor_spec *s,
 	json_object_set_new(o, "noise", ssc_nav_terms_json(t));
 	json_object_set_new(o, "bias_sd", ssc_jreal(s->bias));
 	json_object_set_new(o, "scale_factor_sd", ssc_jreal(s->scale_factor_error));
-	json_object_set_new(o, "range", (s->has & SSCOPE_SPEC_RANGE) ?
+	json_object_set_new(o, "range", (s->has & SSCOPE_SENSOR_HAS_RANGE) ?
 						ssc_jreal(s->range) : json_null());
 	json_object_set_new(o, "bias", vec_json(bias));
 	for (int i = 0; i < 3; i++)

@@ -112,7 +112,7 @@ static int handle(int key, const char *arg, void *ctx)
 
 	switch (key) {
 	case OPT_WINDOW:
-		if (sscope_window_from_name(arg, &a->po.window))
+		if (sscope_psd_window_from_name(arg, &a->po.window))
 			return ssc_usage_error("psd",
 					       "--window: '%s' is not hann, hamming, blackman, blackmanharris, flattop or boxcar",
 					       arg);
@@ -141,19 +141,19 @@ static int handle(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_DETREND:
 		if (!strcmp(arg, "constant"))
-			a->po.detrend = SSCOPE_DETREND_CONSTANT;
+			a->po.detrend = SSCOPE_PSD_DETREND_CONSTANT;
 		else if (!strcmp(arg, "linear"))
-			a->po.detrend = SSCOPE_DETREND_LINEAR;
+			a->po.detrend = SSCOPE_PSD_DETREND_LINEAR;
 		else if (!strcmp(arg, "none"))
-			a->po.detrend = SSCOPE_DETREND_NONE;
+			a->po.detrend = SSCOPE_PSD_DETREND_NONE;
 		else
 			return ssc_usage_error("psd", "--detrend: '%s' is not constant, linear or none", arg);
 		return 0;
 	case OPT_SCALING:
 		if (!strcmp(arg, "density"))
-			a->po.scaling = SSCOPE_SCALING_DENSITY;
+			a->po.scaling = SSCOPE_PSD_SCALING_DENSITY;
 		else if (!strcmp(arg, "spectrum"))
-			a->po.scaling = SSCOPE_SCALING_SPECTRUM;
+			a->po.scaling = SSCOPE_PSD_SCALING_SPECTRUM;
 		else
 			return ssc_usage_error("psd", "--scaling: '%s' is not density or spectrum", arg);
 		return 0;
@@ -200,13 +200,13 @@ static int handle(int key, const char *arg, void *ctx)
 
 struct bandset {
 	size_t n;
-	struct sscope_band *b;
+	struct sscope_psd_band *b;
 	bool nominal;
 };
 
 /* Parse --bands once the spectrum (its rate and bins) is known. */
 static int make_bands(const char *cmd, const char *arg, double fs,
-		      const struct sscope_spectrum *sp, struct bandset *bs)
+		      const struct sscope_psd_spectrum *sp, struct bandset *bs)
 {
 	size_t n = 0;
 
@@ -217,13 +217,13 @@ static int make_bands(const char *cmd, const char *arg, double fs,
 		unsigned frac = arg[0] == 'o' ? 1 : 3;
 		size_t all;
 
-		if (!sp || sscope_spectrum_octave_bands(sp, frac, NULL, 0, &all) ||
+		if (!sp || sscope_psd_spectrum_octave_bands(sp, frac, NULL, 0, &all) ||
 		    all == 0)
 			return 0;
 		bs->b = calloc(all, sizeof(*bs->b));
 		if (!bs->b)
 			return SSC_EXIT_FAIL;
-		sscope_spectrum_octave_bands(sp, frac, bs->b, all, &bs->n);
+		sscope_psd_spectrum_octave_bands(sp, frac, bs->b, all, &bs->n);
 		bs->nominal = true;
 		return 0;
 	}
@@ -246,10 +246,10 @@ static int make_bands(const char *cmd, const char *arg, double fs,
 		c = strchr(buf, ':');
 		if (!c)
 			goto bad;
-		if (sscope_parse_double(buf, c, &lo) != (size_t)(c - buf) ||
-		    sscope_parse_double(c + 1, buf + l, &hi) != strlen(c + 1))
+		if (ssc_parse_double(buf, c, &lo) != (size_t)(c - buf) ||
+		    ssc_parse_double(c + 1, buf + l, &hi) != strlen(c + 1))
 			goto bad;
-		rc = sscope_band_edges(lo, hi, fs / 2, &bs->b[bs->n]);
+		rc = sscope_psd_band_edges(lo, hi, fs / 2, &bs->b[bs->n]);
 		if (rc == -EDOM) {
 			ssc_err(cmd, "--bands: %g:%g lies above the Nyquist frequency %g Hz",
 				lo, hi, fs / 2);
@@ -269,14 +269,14 @@ bad:
 /* ------------------------------------------------------------ analysis */
 
 struct chan {
-	struct sscope_column col; /* name and unit (strings owned) */
+	struct sscope_capture_column col; /* name and unit (strings owned) */
 	struct sscope_psd *p;
-	struct sscope_spectrum s;
-	struct sscope_spectrogram sg;
+	struct sscope_psd_spectrum s;
+	struct sscope_psd_spectrogram sg;
 	bool have_sg;
-	struct sscope_sig_peak peaks[100];
+	struct sscope_psd_sig_peak peaks[100];
 	size_t n_peaks;
-	struct sscope_peak_test test;
+	struct sscope_psd_peak_test test;
 	double *band_rms;
 };
 
@@ -289,7 +289,7 @@ struct run {
 	double fs;
 	const char *rate_source;
 	struct bandset bands;
-	struct sscope_window_figures wf;
+	struct sscope_psd_window_figures wf;
 	size_t time_gaps;
 };
 
@@ -298,16 +298,16 @@ static double uscale(const struct chan *c)
 	return c->col.unit.scale != 0 ? c->col.unit.scale : 1;
 }
 
-static void psd_unit(const struct chan *c, enum sscope_scaling sc, char *buf,
+static void psd_unit(const struct chan *c, enum sscope_psd_scaling sc, char *buf,
 		     size_t len)
 {
 	const char *u = c->col.unit_label;
 
 	if (!u || !*u)
-		snprintf(buf, len, "%s", sc == SSCOPE_SCALING_DENSITY ? "1/Hz" : "1");
+		snprintf(buf, len, "%s", sc == SSCOPE_PSD_SCALING_DENSITY ? "1/Hz" : "1");
 	else
 		snprintf(buf, len, "(%s)^2%s", u,
-			 sc == SSCOPE_SCALING_DENSITY ? "/Hz" : "");
+			 sc == SSCOPE_PSD_SCALING_DENSITY ? "/Hz" : "");
 }
 
 struct progress_ctx {
@@ -322,7 +322,7 @@ static void read_progress(void *ctx, uint64_t done, uint64_t total)
 	ssc_progress(p->co, p->label, (double)done, (double)total);
 }
 
-static int copy_col(struct sscope_column *dst, const struct sscope_column *src)
+static int copy_col(struct sscope_capture_column *dst, const struct sscope_capture_column *src)
 {
 	*dst = *src;
 	dst->name = strdup(src->name);
@@ -362,11 +362,11 @@ static const char *result_error(int rc, double fs)
 /* Streamed Welch estimate of every selected channel. */
 static int stream(const struct ssc_common *co, struct run *R)
 {
-	struct sscope_read_opts ro;
+	struct sscope_reader_opts ro;
 	struct sscope_reader *rd = NULL;
 	struct sscope_diag d = { "" };
 	struct ssc_prefetch *pf = NULL;
-	const struct sscope_chunk *cur;
+	const struct sscope_reader_chunk *cur;
 	struct progress_ctx pc = { co, R->path };
 	const size_t cap = 65536;
 	struct sscope_timing_stream *ts = NULL;
@@ -439,7 +439,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 	if (use_time) {
 		int trc = sscope_timing_stream_result(ts, &tm);
 
-		if (sscope_time_order_check(&tm.order, NULL)) {
+		if (sscope_timing_order_check(&tm.order, NULL)) {
 			/* an error naming the problem, or a warning when a
 			 * header gives the rate */
 			disorder = true;
@@ -447,7 +447,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 					     sscope_reader_time_column(rd)->name,
 					     &tm.order,
 					     sscope_reader_header_rate(rd) > 0 ?
-					     SSCOPE_RATE_HEADER : SSCOPE_RATE_NONE,
+					     SSCOPE_CAPTURE_RATE_HEADER : SSCOPE_CAPTURE_RATE_NONE,
 					     true))
 				goto out;
 		}
@@ -504,9 +504,9 @@ out:
 
 static const char *rate_source_name(const struct sscope_capture *cap)
 {
-	return cap->rate_source == SSCOPE_RATE_GIVEN ? "given" :
-	       cap->rate_source == SSCOPE_RATE_TIME_COLUMN ? "time column" :
-	       cap->rate_source == SSCOPE_RATE_HEADER ? "header" : "unknown";
+	return cap->rate_source == SSCOPE_CAPTURE_RATE_GIVEN ? "given" :
+	       cap->rate_source == SSCOPE_CAPTURE_RATE_TIME_COLUMN ? "time column" :
+	       cap->rate_source == SSCOPE_CAPTURE_RATE_HEADER ? "header" : "unknown";
 }
 
 /* The estimate from a capture in memory: the periodogram (which needs the
@@ -529,7 +529,7 @@ static int from_capture(const struct ssc_common *co, struct run *R,
 	R->rows = cap->n;
 	/* gaps, unless the stamps are out of order (said above) */
 	R->time_gaps = cap->has_timing &&
-		       !sscope_time_order_check(&cap->timing.order, NULL) ?
+		       !sscope_timing_order_check(&cap->timing.order, NULL) ?
 		       cap->timing.n_gaps : 0;
 	R->nch = cap->n_channels;
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
@@ -581,16 +581,16 @@ static void finish(struct run *R)
 		struct chan *c = &R->ch[k];
 		double sc = uscale(c);
 
-		sscope_spectrum_significant_peaks(&c->s, R->a.peaks, 0, R->fs / 2,
-						  R->a.peak_alpha, c->peaks,
-						  &c->n_peaks, &c->test);
+		sscope_psd_spectrum_significant_peaks(&c->s, R->a.peaks, 0, R->fs / 2,
+						      R->a.peak_alpha, c->peaks,
+						      &c->n_peaks, &c->test);
 		if (R->bands.n) {
 			c->band_rms = calloc(R->bands.n, sizeof(double));
 			for (size_t i = 0; c->band_rms && i < R->bands.n; i++) {
 				double ms = 0;
 
-				sscope_spectrum_band_ms(&c->s, R->bands.b[i].lo_hz,
-							R->bands.b[i].hi_hz, &ms);
+				sscope_psd_spectrum_band_ms(&c->s, R->bands.b[i].lo_hz,
+							    R->bands.b[i].hi_hz, &ms);
 				c->band_rms[i] = sqrt(ms) / sc;
 			}
 		}
@@ -603,8 +603,8 @@ static void free_run(struct run *R)
 		struct chan *c = &R->ch[k];
 
 		sscope_psd_free(c->p);
-		sscope_spectrum_clear(&c->s);
-		sscope_spectrogram_clear(&c->sg);
+		sscope_psd_spectrum_clear(&c->s);
+		sscope_psd_spectrogram_clear(&c->sg);
 		free(c->band_rms);
 		free((char *)c->col.name);
 		free((char *)c->col.unit_label);
@@ -615,16 +615,16 @@ static void free_run(struct run *R)
 
 /* ------------------------------------------------------------ output */
 
-static const char *detrend_name(enum sscope_detrend d)
+static const char *detrend_name(enum sscope_psd_detrend d)
 {
-	return d == SSCOPE_DETREND_CONSTANT ? "constant" :
-	       d == SSCOPE_DETREND_LINEAR   ? "linear" :
+	return d == SSCOPE_PSD_DETREND_CONSTANT ? "constant" :
+	       d == SSCOPE_PSD_DETREND_LINEAR   ? "linear" :
 					      "none";
 }
 
-static const char *scaling_name(enum sscope_scaling s)
+static const char *scaling_name(enum sscope_psd_scaling s)
 {
-	return s == SSCOPE_SCALING_DENSITY ? "density" : "spectrum";
+	return s == SSCOPE_PSD_SCALING_DENSITY ? "density" : "spectrum";
 }
 
 static json_t *json_run(const struct run *R)
@@ -638,12 +638,12 @@ static json_t *json_run(const struct run *R)
 			    json_string("least-squares fit of the window's exact response to 5 bins; amplitude corrected for window and scalloping"));
 	for (size_t k = 0; k < R->nch; k++) {
 		const struct chan *c = &R->ch[k];
-		const struct sscope_spectrum *s = &c->s;
+		const struct sscope_psd_spectrum *s = &c->s;
 		double sc = uscale(c), sc2 = sc * sc;
 		json_t *o = json_object(), *f = json_array(), *p = json_array();
 		json_t *pk = json_array(), *w = json_object();
 		char pu[96];
-		struct sscope_window_figures wf;
+		struct sscope_psd_window_figures wf;
 
 		psd_unit(c, s->scaling, pu, sizeof(pu));
 		json_object_set_new(o, "name", json_string(c->col.name));
@@ -653,8 +653,8 @@ static json_t *json_run(const struct run *R)
 		json_object_set_new(o, "samples", json_integer((json_int_t)s->n_samples));
 		json_object_set_new(o, "scaling", json_string(scaling_name(s->scaling)));
 		json_object_set_new(o, "psd_unit", json_string(pu));
-		sscope_window_figures(s->window, s->nperseg, &wf);
-		json_object_set_new(w, "name", json_string(sscope_window_name(s->window)));
+		sscope_psd_window_figures(s->window, s->nperseg, &wf);
+		json_object_set_new(w, "name", json_string(sscope_psd_window_name(s->window)));
 		json_object_set_new(w, "nperseg", json_integer((json_int_t)s->nperseg));
 		json_object_set_new(w, "noverlap", json_integer((json_int_t)s->noverlap));
 		json_object_set_new(w, "nfft", json_integer((json_int_t)s->nfft));
@@ -675,7 +675,7 @@ static json_t *json_run(const struct run *R)
 		json_object_set_new(o, "psd", p);
 		json_object_set_new(o, "rms", ssc_jreal(s->rms / sc));
 		for (size_t i = 0; i < c->n_peaks; i++) {
-			const struct sscope_sig_peak *sp = &c->peaks[i];
+			const struct sscope_psd_sig_peak *sp = &c->peaks[i];
 			json_t *e = json_object();
 
 			json_object_set_new(e, "frequency_hz", ssc_jreal(sp->peak.frequency_hz));
@@ -690,7 +690,7 @@ static json_t *json_run(const struct run *R)
 		}
 		json_object_set_new(o, "peaks", pk);
 		{
-			const struct sscope_peak_test *t = &c->test;
+			const struct sscope_psd_peak_test *t = &c->test;
 			json_t *e = json_object();
 
 			json_object_set_new(e, "method", json_string(
@@ -760,13 +760,13 @@ static void text_run(FILE *f, const struct run *R)
 		ssc_fmt(a, sizeof(a), R->fs, 8), R->rate_source,
 		(unsigned long long)R->rows);
 	if (R->nch) {
-		const struct sscope_spectrum *s = &R->ch[0].s;
-		struct sscope_window_figures wf;
+		const struct sscope_psd_spectrum *s = &R->ch[0].s;
+		struct sscope_psd_window_figures wf;
 
-		sscope_window_figures(s->window, s->nperseg, &wf);
+		sscope_psd_window_figures(s->window, s->nperseg, &wf);
 		fprintf(f, "  method:   %s, %s window, nperseg %zu, noverlap %zu, nfft %zu, detrend %s, %s\n",
 			R->a.periodogram ? "periodogram" : "Welch",
-			sscope_window_name(s->window), s->nperseg, s->noverlap,
+			sscope_psd_window_name(s->window), s->nperseg, s->noverlap,
 			s->nfft, detrend_name(s->detrend), scaling_name(s->scaling));
 		fprintf(f, "  window:   coherent gain %s, ENBW %s bins = %s Hz, scalloping loss %s dB\n",
 			ssc_fmt(a, sizeof(a), wf.coherent_gain, 5),
@@ -791,7 +791,7 @@ static void text_run(FILE *f, const struct run *R)
 		fputc('\n', f);
 		if (R->a.peaks && c->n_peaks) {
 			fprintf(f, "    %-14s %-16s %-14s %s\n", "peak (Hz)",
-				c->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "spectrum",
+				c->s.scaling == SSCOPE_PSD_SCALING_DENSITY ? "PSD" : "spectrum",
 				"amplitude", "over floor");
 			for (size_t i = 0; i < c->n_peaks; i++)
 				fprintf(f, "    %-14s %-16s %-14s %s\n",
@@ -864,7 +864,7 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 		return SSC_EXIT_FAIL;
 	snprintf(buf, sizeof(buf), "%s: %s, %s window, nperseg %zu", R->path,
 		 R->a.periodogram ? "periodogram" : "Welch PSD",
-		 sscope_window_name(c0->s.window), c0->s.nperseg);
+		 sscope_psd_window_name(c0->s.window), c0->s.nperseg);
 	ssc_fig_title(fig, buf);
 	ax = ssc_fig_ax(fig, 0, 0);
 	ssc_ax_log(ax, true, true);
@@ -900,7 +900,7 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 		ssc_ax_xlim(ax, c0->s.freq_hz[1], R->fs / 2);
 	psd_unit(c0, c0->s.scaling, pu, sizeof(pu));
 	snprintf(buf, sizeof(buf), "%s (%s)",
-		 c0->s.scaling == SSCOPE_SCALING_DENSITY ? "PSD" : "power spectrum", pu);
+		 c0->s.scaling == SSCOPE_PSD_SCALING_DENSITY ? "PSD" : "power spectrum", pu);
 	ssc_ax_ylabel(ax, buf);
 	ssc_ax_grid(ax, true);
 	if (nch > 1)
@@ -910,7 +910,7 @@ static int plot_fig(const struct ssc_common *co, const void *opts,
 	if (sg) {
 		/* the spectrogram of the first channel, frequency rows
 		 * averaged down to at most 400 */
-		const struct sscope_spectrogram *g = &c0->sg;
+		const struct sscope_psd_spectrogram *g = &c0->sg;
 		size_t ny = g->n_bins > 400 ? 400 : g->n_bins, nx = g->n_times;
 		size_t per = (g->n_bins + ny - 1) / ny;
 		double *z, zlo = INFINITY, zhi = 0, sc2 = uscale(c0) * uscale(c0);

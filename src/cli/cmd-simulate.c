@@ -346,7 +346,7 @@ static int out_value(const char *opt, const char *arg, const char *unit,
 
 		if (sscope_quantity_parse(arg, &v, &u, &d))
 			return ssc_usage_error("simulate", "--%s: %s", opt, d.msg);
-		if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+		if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 		    u.scale == 1) {
 			struct sscope_unit w;
 
@@ -422,7 +422,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 		rc = sscope_adc_spec_load(a.adc, &aspec, &d);
 		if (rc)
 			return ssc_fail(co.cmd, rc, &d, "adc spec");
-		if (aspec.analog && !((sp.has & SSCOPE_SPEC_SENSITIVITY) && sp.sensitivity > 0))
+		if (aspec.analog && !((sp.has & SSCOPE_SENSOR_HAS_SENSITIVITY) && sp.sensitivity > 0))
 			return ssc_usage_error(co.cmd,
 					       "--adc: %s has a range in volts but %s gives no sensitivity",
 					       a.adc, a.sensor);
@@ -438,12 +438,12 @@ int ssc_cmd_simulate(int argc, char **argv)
 	if (rc)
 		return rc;
 	unit = a.units ? a.units :
-	       sp.quantity == SSCOPE_QTY_ANGULAR_RATE ? "deg/s" : "m/s^2";
+	       sp.quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "deg/s" : "m/s^2";
 	{
 		struct sscope_unit u, want;
 
 		sscope_unit_parse(unit, &u, NULL);
-		sscope_unit_parse(sp.quantity == SSCOPE_QTY_ANGULAR_RATE ? "rad/s" : "m/s^2",
+		sscope_unit_parse(sp.quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "rad/s" : "m/s^2",
 				  &want, NULL);
 		if (!sscope_unit_compatible(&u, &want))
 			return ssc_usage_error(co.cmd, "--units: %s is not a unit of %s",
@@ -501,7 +501,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 			inb[i] = v;
 	}
 	if (!a.have_ref)
-		a.so.ref_temp_degc = (sp.has & SSCOPE_SPEC_TEMPS) ?
+		a.so.ref_temp_degc = (sp.has & SSCOPE_SENSOR_HAS_TEMPS) ?
 					     (sp.temp_min_degc + sp.temp_max_degc) / 2 :
 					     25;
 	if (!a.have_temp)
@@ -531,7 +531,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 		goto oom;
 	{
 		const char *p = a.names;
-		char base = sp.quantity == SSCOPE_QTY_ANGULAR_RATE ? 'g' : 'a';
+		char base = sp.quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? 'g' : 'a';
 
 		for (size_t k = 0; k < a.axes; k++) {
 			if (p && *p) {
@@ -572,7 +572,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 		}
 		if (a.adc) {
 			rc = ssc_adc_new(&adcs[k], &aspec, &prof, sp.sensitivity,
-					 (sp.has & SSCOPE_SPEC_ZERO) ? sp.zero_output_v : 0,
+					 (sp.has & SSCOPE_SENSOR_HAS_ZERO) ? sp.zero_output_v : 0,
 					 a.seed + k, &d);
 			if (rc) {
 				rc = ssc_fail(co.cmd, rc, &d, a.adc);
@@ -644,7 +644,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 		if (sscope_sim_clipped(sims[k]))
 			ssc_warn(&co, "%s: %llu samples clipped to the range %g %s",
 				 names[k], (unsigned long long)sscope_sim_clipped(sims[k]),
-				 sp.range, sp.quantity == SSCOPE_QTY_ANGULAR_RATE ? "rad/s" : "m/s^2");
+				 sp.range, sp.quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "rad/s" : "m/s^2");
 	if (adc_clipped)
 		ssc_warn(&co, "%s: %zu samples clipped at the converter's range", a.adc,
 			 adc_clipped);

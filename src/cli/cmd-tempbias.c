@@ -173,13 +173,13 @@ struct dunit {
 	struct sscope_unit u;
 };
 
-static void display_unit(const struct sscope_column *col, struct dunit *d)
+static void display_unit(const struct sscope_capture_column *col, struct dunit *d)
 {
 	const char *l = NULL;
 
-	if (col->quantity == SSCOPE_QTY_ANGULAR_RATE)
+	if (col->quantity == SSCOPE_QUANTITY_ANGULAR_RATE)
 		l = "deg/h";
-	else if (col->quantity == SSCOPE_QTY_ACCELERATION)
+	else if (col->quantity == SSCOPE_QUANTITY_ACCELERATION)
 		l = "mg";
 	if (l && !sscope_unit_parse(l, &d->u, NULL)) {
 		snprintf(d->label, sizeof(d->label), "%s", l);

@@ -96,8 +96,8 @@ static int parse_pair(const char *cmd, const char *opt, const char *arg,
 {
 	const char *c = strchr(arg, ':');
 
-	if (!c || sscope_parse_double(arg, c, lo) != (size_t)(c - arg) ||
-	    sscope_parse_double(c + 1, c + strlen(c), hi) != strlen(c + 1) ||
+	if (!c || ssc_parse_double(arg, c, lo) != (size_t)(c - arg) ||
+	    ssc_parse_double(c + 1, c + strlen(c), hi) != strlen(c + 1) ||
 	    !(*lo >= 0) || !(*hi > *lo) || !isfinite(*hi))
 		return ssc_usage_error(cmd, "--%s: '%s' is not LO:HI in Hz", opt, arg);
 	return 0;
@@ -124,7 +124,7 @@ static int handle(int key, const char *arg, void *ctx)
 			const char *e = strchr(p, ',');
 			size_t l = e ? (size_t)(e - p) : strlen(p);
 
-			if (sscope_parse_double(p, p + l, &f[n]) != l || l == 0)
+			if (ssc_parse_double(p, p + l, &f[n]) != l || l == 0)
 				goto bad_bearing;
 			n++;
 			if (!e)
@@ -148,13 +148,13 @@ bad_bearing:
 	}
 	case OPT_ISO:
 		if (!strcmp(arg, "I") || !strcmp(arg, "1"))
-			a->vo.iso_class = SSCOPE_ISO_I;
+			a->vo.iso_class = SSCOPE_VIB_ISO_I;
 		else if (!strcmp(arg, "II") || !strcmp(arg, "2"))
-			a->vo.iso_class = SSCOPE_ISO_II;
+			a->vo.iso_class = SSCOPE_VIB_ISO_II;
 		else if (!strcmp(arg, "III") || !strcmp(arg, "3"))
-			a->vo.iso_class = SSCOPE_ISO_III;
+			a->vo.iso_class = SSCOPE_VIB_ISO_III;
 		else if (!strcmp(arg, "IV") || !strcmp(arg, "4"))
-			a->vo.iso_class = SSCOPE_ISO_IV;
+			a->vo.iso_class = SSCOPE_VIB_ISO_IV;
 		else
 			return ssc_usage_error("vibration", "--iso-class: '%s' is not I, II, III or IV", arg);
 		return 0;
@@ -176,7 +176,7 @@ bad_bearing:
 			return ssc_usage_error("vibration", "--iso-band: the lower edge must be positive");
 		return 0;
 	case OPT_WINDOW:
-		if (sscope_window_from_name(arg, &a->vo.psd.window))
+		if (sscope_psd_window_from_name(arg, &a->vo.psd.window))
 			return ssc_usage_error("vibration", "--window: unknown window '%s'", arg);
 		return 0;
 	case OPT_NPERSEG:
@@ -204,19 +204,19 @@ bad_bearing:
 }
 
 struct chres {
-	const struct sscope_column *col;
+	const struct sscope_capture_column *col;
 	struct sscope_vib_result r;
 	bool done;
 };
 
-static const char *class_name(enum sscope_iso_class c)
+static const char *class_name(enum sscope_vib_iso_class c)
 {
 	static const char *const n[] = { NULL, "I", "II", "III", "IV" };
 
-	return c >= SSCOPE_ISO_I && c <= SSCOPE_ISO_IV ? n[c] : NULL;
+	return c >= SSCOPE_VIB_ISO_I && c <= SSCOPE_VIB_ISO_IV ? n[c] : NULL;
 }
 
-static double usc(const struct sscope_column *c)
+static double usc(const struct sscope_capture_column *c)
 {
 	return c->unit.scale != 0 ? c->unit.scale : 1;
 }
@@ -237,7 +237,7 @@ static json_t *json_channel(const struct sscope_capture *cap,
 			    json_t *alldiag)
 {
 	const struct sscope_vib_result *r = &c->r;
-	const struct sscope_column *col = c->col;
+	const struct sscope_capture_column *col = c->col;
 	double sc = usc(col);
 	json_t *o = json_object(), *pk = json_array(), *sev = json_object();
 	json_t *ord = json_array(), *ep = json_array(), *dg = json_array();
@@ -279,12 +279,12 @@ static json_t *json_channel(const struct sscope_capture *cap,
 		json_array_append_new(b, json_real(r->iso_lo_hz));
 		json_array_append_new(b, json_real(r->iso_hi_hz));
 		json_object_set_new(sev, "band_hz", b);
-		for (int k = SSCOPE_ISO_I; k <= SSCOPE_ISO_IV; k++) {
+		for (int k = SSCOPE_VIB_ISO_I; k <= SSCOPE_VIB_ISO_IV; k++) {
 			char z[2] = { 0, 0 };
 
 			if (isfinite(r->velocity_rms_m_s) &&
-			    !sscope_iso_zone((enum sscope_iso_class)k, r->velocity_rms_m_s, &z[0]))
-				json_object_set_new(zs, class_name((enum sscope_iso_class)k), json_string(z));
+			    !sscope_vib_iso_zone((enum sscope_vib_iso_class)k, r->velocity_rms_m_s, &z[0]))
+				json_object_set_new(zs, class_name((enum sscope_vib_iso_class)k), json_string(z));
 		}
 		json_object_set_new(sev, "zones", zs);
 	}
@@ -354,7 +354,7 @@ static json_t *json_channel(const struct sscope_capture *cap,
 static void text_channel(FILE *f, const struct args *a, const struct chres *c)
 {
 	const struct sscope_vib_result *r = &c->r;
-	const struct sscope_column *col = c->col;
+	const struct sscope_capture_column *col = c->col;
 	const char *u = col->unit_label;
 	double sc = usc(col);
 	char b1[32], b2[32], b3[32];
@@ -369,12 +369,12 @@ static void text_channel(FILE *f, const struct args *a, const struct chres *c)
 		fprintf(f, ", zone %c (class %s)\n", r->zone, class_name(a->vo.iso_class));
 	} else {
 		fprintf(f, ", zones by class:");
-		for (int k = SSCOPE_ISO_I; k <= SSCOPE_ISO_IV; k++) {
+		for (int k = SSCOPE_VIB_ISO_I; k <= SSCOPE_VIB_ISO_IV; k++) {
 			char z = 0;
 
 			if (isfinite(r->velocity_rms_m_s))
-				sscope_iso_zone((enum sscope_iso_class)k, r->velocity_rms_m_s, &z);
-			fprintf(f, " %s %c", class_name((enum sscope_iso_class)k), z ? z : '-');
+				sscope_vib_iso_zone((enum sscope_vib_iso_class)k, r->velocity_rms_m_s, &z);
+			fprintf(f, " %s %c", class_name((enum sscope_vib_iso_class)k), z ? z : '-');
 		}
 		fprintf(f, " (--iso-class picks one)\n");
 	}
@@ -480,7 +480,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < np; k++) {
 		const struct sscope_vib_result *r = &cr[k].r;
-		const struct sscope_column *col = cr[k].col;
+		const struct sscope_capture_column *col = cr[k].col;
 		double sc = usc(col), fhi = cap->rate_hz / 2, ymax = 0;
 		double *amp = malloc(r->accel.n_bins * sizeof(double));
 		struct ssc_ax *ax = ssc_fig_ax(fig, row++, 0);
@@ -689,18 +689,18 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	if (a->vo.psd.nperseg == 0 && a->overlap != 0.5)
 		a->vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
 	for (size_t k = 0; k < cap->n_channels; k++, R->n++) {
-		const struct sscope_column *col = &cap->channels[k].col;
+		const struct sscope_capture_column *col = &cap->channels[k].col;
 		struct sscope_diag d = { "" };
 
 		R->cr[k].col = col;
-		if (col->quantity != SSCOPE_QTY_ACCELERATION) {
+		if (col->quantity != SSCOPE_QUANTITY_ACCELERATION) {
 			ssc_err(co->cmd, "%s: channel %s %s%s: not an acceleration (select accelerometer channels with -c; -u m/s^2 or g for unlabelled columns)",
 				path, col->name, col->unit_label[0] ? "is in " : "has no unit",
 				col->unit_label);
 			return SSC_EXIT_FAIL;
 		}
-		rc = sscope_vibration_analyze(cap->channels[k].data, 1, cap->n,
-					      cap->rate_hz, &a->vo, &R->cr[k].r, &d);
+		rc = sscope_vib_analyze(cap->channels[k].data, 1, cap->n,
+					cap->rate_hz, &a->vo, &R->cr[k].r, &d);
 		if (rc) {
 			ssc_err(co->cmd, "%s: channel %s: %s", path, col->name,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
@@ -722,7 +722,7 @@ static json_t *json(const void *opts, const void *result)
 	(void)opts;
 	json_object_set_new(o, "command", json_string("vibration"));
 	json_object_set_new(o, "file", json_string(R->path));
-	json_object_set_new(o, "iso_edition", json_string(sscope_iso_edition()));
+	json_object_set_new(o, "iso_edition", json_string(sscope_vib_iso_edition()));
 	for (size_t k = 0; k < R->n; k++)
 		json_array_append_new(chs, json_channel(R->cap, &R->a, &R->cr[k], dg));
 	json_object_set_new(o, "channels", chs);
@@ -757,10 +757,10 @@ static void text(FILE *f, const void *opts, const void *result)
 	(void)opts;
 	fprintf(f, "%s\n", strcmp(R->path, "-") ? R->path : "(stdin)");
 	fprintf(f, "  rate: %g Hz, %zu samples; spectrum: %s window, nperseg %zu (%.3g Hz bins)\n",
-		R->cap->rate_hz, R->cap->n, sscope_window_name(R->a.vo.psd.window),
+		R->cap->rate_hz, R->cap->n, sscope_psd_window_name(R->a.vo.psd.window),
 		R->n ? R->cr[0].r.accel.nperseg : 0,
 		R->n ? R->cr[0].r.accel.bin_hz : 0.0);
-	fprintf(f, "  severity zones: %s\n", sscope_iso_edition());
+	fprintf(f, "  severity zones: %s\n", sscope_vib_iso_edition());
 	for (size_t k = 0; k < R->n; k++)
 		text_channel(f, &R->a, &R->cr[k]);
 }

@@ -155,7 +155,7 @@ static void init(void *opts)
 /* ------------------------------------------------------------ per channel */
 
 struct chan {
-	const struct sscope_column *col;
+	const struct sscope_capture_column *col;
 	double fs;
 	size_t n;
 	struct sscope_walk_result *w;
@@ -170,12 +170,12 @@ struct chan {
 
 static const char *angle_unit(enum sscope_quantity q)
 {
-	return q == SSCOPE_QTY_ANGULAR_RATE ? "deg" : "m/s";
+	return q == SSCOPE_QUANTITY_ANGULAR_RATE ? "deg" : "m/s";
 }
 
 static double angle_scale(enum sscope_quantity q)
 {
-	return q == SSCOPE_QTY_ANGULAR_RATE ? 1 / D2R : 1;
+	return q == SSCOPE_QUANTITY_ANGULAR_RATE ? 1 / D2R : 1;
 }
 
 /* option values in the SI units of the channel's terms */
@@ -230,10 +230,10 @@ static int allan_terms(const struct ssc_stage_env *env, const double *x,
 	for (size_t i = 0; i < env->n_earlier && !done; i++)
 		if (env->earlier[i].ops == &ssc_allan_stage && env->earlier[i].data)
 			done = ssc_allan_res_find(env->earlier[i].data, x, n, fs,
-						  SSCOPE_TAUS_DENSE, &ao, &fo);
+						  SSCOPE_ALLAN_TAUS_DENSE, &ao, &fo);
 	if (!done) {
 		fo.plan = plan;
-		rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_TAUS_DENSE, &ao, &fo,
+		rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE, &ao, &fo,
 					  &res, &d);
 		if (rc)
 			return ssc_fail(cmd, rc, &d, "allan");
@@ -273,7 +273,7 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		   struct sscope_noise_plan *plan, struct chan *c)
 {
 	const char *cmd = env->co->cmd;
-	const struct sscope_channel *ch = &cap->channels[k];
+	const struct sscope_capture_channel *ch = &cap->channels[k];
 	enum sscope_quantity q = ch->col.quantity;
 	struct sscope_walk_opts wo = { 0 };
 	struct sscope_diag d = { "" };
@@ -533,7 +533,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 		ssc_ax_note(ax, lab, SSC_LEGEND_LL);
 		ssc_ax_xlabel(ax, "time in the run (s)");
 		snprintf(lab, sizeof(lab), "integrated %s (%s)",
-			 c->col->quantity == SSCOPE_QTY_ANGULAR_RATE ? "rate" : "acceleration",
+			 c->col->quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "rate" : "acceleration",
 			 angle_unit(c->col->quantity));
 		ssc_ax_ylabel(ax, lab);
 		ssc_ax_legend(ax, SSC_LEGEND_UL);
@@ -609,7 +609,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		enum sscope_quantity q = cap->channels[k].col.quantity;
 
-		if (q != SSCOPE_QTY_ANGULAR_RATE && q != SSCOPE_QTY_ACCELERATION)
+		if (q != SSCOPE_QUANTITY_ANGULAR_RATE && q != SSCOPE_QUANTITY_ACCELERATION)
 			continue;
 		rc = analyse(env, o, path, cap, k, given, n_given, plan,
 			     &R->ch[R->n]);

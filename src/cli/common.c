@@ -309,7 +309,7 @@ int ssc_arg_double(const char *cmd, const char *opt, const char *arg,
 		   double *out)
 {
 	double v;
-	size_t n = sscope_parse_double(arg, arg + strlen(arg), &v);
+	size_t n = ssc_parse_double(arg, arg + strlen(arg), &v);
 
 	if (!*arg || n != strlen(arg) || !isfinite(v))
 		return ssc_usage_error(cmd, "--%s: '%s' is not a number", opt,
@@ -347,11 +347,11 @@ int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 	if (sscope_quantity_parse(arg, &v, &u, &d))
 		return ssc_usage_error(cmd, "--%s: %s", opt, d.msg);
 	sscope_unit_parse(si, &target, NULL);
-	if (sscope_unit_quantity(&u) != SSCOPE_QTY_DIMENSIONLESS &&
+	if (sscope_unit_quantity(&u) != SSCOPE_QUANTITY_DIMENSIONLESS &&
 	    !sscope_unit_compatible(&u, &target))
 		return ssc_usage_error(cmd, "--%s: '%s' is not in units of %s",
 				       opt, arg, si);
-	if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+	if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 	    u.scale == 1)
 		v = sscope_unit_to_si(&target, v); /* bare number: SI */
 	*out = v;
@@ -562,7 +562,7 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		case OPT_RAW: {
 			struct sscope_diag d = { "" };
 
-			if (sscope_raw_layout_check(optarg, NULL, NULL, &d)) {
+			if (sscope_reader_raw_layout_check(optarg, NULL, NULL, &d)) {
 				rc = ssc_usage_error(co->cmd, "--raw: %s", d.msg);
 				goto out;
 			}
@@ -680,7 +680,7 @@ static void read_progress(void *ctx, uint64_t done, uint64_t total)
 	ssc_progress(p->co, p->label, (double)done, (double)total);
 }
 
-void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o)
+void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o)
 {
 	memset(o, 0, sizeof(*o));
 	o->raw = co->raw;
@@ -698,7 +698,7 @@ void ssc_read_opts(const struct ssc_common *co, struct sscope_read_opts *o)
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap)
 {
-	struct sscope_read_opts o;
+	struct sscope_reader_opts o;
 	struct sscope_diag d = { "" };
 	struct progress_ctx pc = { co, path };
 	int rc;
@@ -734,7 +734,7 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		if (sscope_capture_check_rate(*cap, &h))
 			ssc_warn(co, "%s: %s", path, h.msg);
 	}
-	if ((*cap)->rate_source == SSCOPE_RATE_GIVEN && (*cap)->has_timing &&
+	if ((*cap)->rate_source == SSCOPE_CAPTURE_RATE_GIVEN && (*cap)->has_timing &&
 	    fabs((*cap)->timing.rate_hz / co->rate_hz - 1) > 0.01)
 		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
 			 path, co->rate_hz, (*cap)->timing.rate_hz);
@@ -792,22 +792,22 @@ int ssc_check_inputs(const char *cmd, const char *const *paths, size_t n)
 }
 
 int ssc_time_verdict(const struct ssc_common *co, const char *path,
-		     const char *column, const struct sscope_time_order *o,
-		     enum sscope_rate_source rate_source, bool uniform)
+		     const char *column, const struct sscope_timing_order *o,
+		     enum sscope_capture_rate_source rate_source, bool uniform)
 {
 	struct sscope_diag d = { "" };
 	const char *p = strcmp(path, "-") ? path : "(stdin)";
 
-	if (!sscope_time_order_check(o, &d))
+	if (!sscope_timing_order_check(o, &d))
 		return SSC_EXIT_OK;
 	if (!uniform) {
 		ssc_warn(co, "%s: time column '%s' %s", p, column, d.msg);
 		return SSC_EXIT_OK;
 	}
-	if (rate_source == SSCOPE_RATE_GIVEN || rate_source == SSCOPE_RATE_HEADER) {
+	if (rate_source == SSCOPE_CAPTURE_RATE_GIVEN || rate_source == SSCOPE_CAPTURE_RATE_HEADER) {
 		ssc_warn(co, "%s: time column '%s' %s: the samples are taken as evenly spaced at the %s rate",
 			 p, column, d.msg,
-			 rate_source == SSCOPE_RATE_GIVEN ? "given" : "header's");
+			 rate_source == SSCOPE_CAPTURE_RATE_GIVEN ? "given" : "header's");
 		return SSC_EXIT_OK;
 	}
 	ssc_err(co->cmd, "%s: time column '%s' %s: fix the time stamps, or give --rate to take the samples as evenly spaced",
@@ -816,7 +816,7 @@ int ssc_time_verdict(const struct ssc_common *co, const char *path,
 }
 
 void ssc_time_order(const struct sscope_capture *cap,
-		    struct sscope_time_order *o)
+		    struct sscope_timing_order *o)
 {
 	/* the capture's timing analysis fed every stamp once already */
 	if (cap->has_timing) {
@@ -825,13 +825,13 @@ void ssc_time_order(const struct sscope_capture *cap,
 	}
 	memset(o, 0, sizeof(*o));
 	if (cap->time_s)
-		sscope_time_order_feed(o, cap->time_s, cap->n);
+		sscope_timing_order_feed(o, cap->time_s, cap->n);
 }
 
 int ssc_time_check(const struct ssc_common *co, const char *path,
 		   const struct sscope_capture *cap, bool uniform)
 {
-	struct sscope_time_order o;
+	struct sscope_timing_order o;
 
 	if (!cap->time_s)
 		return SSC_EXIT_OK;
@@ -940,10 +940,10 @@ json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 	json_t *o = json_object();
 	double v = si, lo = si_lo, hi = si_hi;
 
-	if (unit && si_unit && sscope_convert(si, si_unit, unit, &v) == 0) {
-		if (sscope_convert(si_lo, si_unit, unit, &lo))
+	if (unit && si_unit && sscope_unit_convert_text(si, si_unit, unit, &v) == 0) {
+		if (sscope_unit_convert_text(si_lo, si_unit, unit, &lo))
 			lo = NAN;
-		if (sscope_convert(si_hi, si_unit, unit, &hi))
+		if (sscope_unit_convert_text(si_hi, si_unit, unit, &hi))
 			hi = NAN;
 	} else {
 		unit = si_unit;
@@ -1066,13 +1066,13 @@ int ssc_read_intervals(const struct ssc_common *co, const char *opt,
 			if (sscope_quantity_parse(tok[j], &x[j], &u, NULL) ||
 			    !isfinite(x[j]))
 				goto bad;
-			if (sscope_unit_quantity(&u) == SSCOPE_QTY_DIMENSIONLESS &&
+			if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
 			    u.scale == 1) {
 				if (j >= 2) /* bare value */
 					x[j] = sscope_unit_to_si(&bare_u, x[j]);
 				continue;
 			}
-			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QTY_TIME :
+			if (j < 2 ? sscope_unit_quantity(&u) != SSCOPE_QUANTITY_TIME :
 				    !sscope_unit_compatible(&u, &target))
 				goto bad;
 		}

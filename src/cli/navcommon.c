@@ -44,9 +44,9 @@ static int terms_of_channel(const json_t *ch, struct ssc_nav_terms *t)
 		return -1;
 	nu = json_string_value(json_object_get(json_object_get(nz, "N"), "si_unit"));
 	if (nu && !strcmp(nu, "rad/s/sqrt(Hz)"))
-		t->quantity = SSCOPE_QTY_ANGULAR_RATE;
+		t->quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	else if (nu && !strcmp(nu, "m/s^2/sqrt(Hz)"))
-		t->quantity = SSCOPE_QTY_ACCELERATION;
+		t->quantity = SSCOPE_QUANTITY_ACCELERATION;
 	else
 		return -1;
 	name = json_string_value(json_object_get(ch, "name"));
@@ -133,8 +133,8 @@ static int terms_of_chan(const struct ssc_allan_chan *c, double ci_level,
 
 	memset(t, 0, sizeof(*t));
 	t->n_lo = t->n_hi = (double)NAN;
-	if (c->u.rq != SSCOPE_QTY_ANGULAR_RATE &&
-	    c->u.rq != SSCOPE_QTY_ACCELERATION)
+	if (c->u.rq != SSCOPE_QUANTITY_ANGULAR_RATE &&
+	    c->u.rq != SSCOPE_QUANTITY_ACCELERATION)
 		return -1;
 	t->quantity = c->u.rq;
 	snprintf(t->name, sizeof(t->name), "%s", c->col->name);
@@ -300,7 +300,7 @@ double ssc_nav_term_value(double si, enum sscope_quantity q, enum sscope_term t,
 	double v = si;
 
 	*unit = s ? s : "";
-	if (u && s && sscope_convert(si, s, u, &v) == 0)
+	if (u && s && sscope_unit_convert_text(si, s, u, &v) == 0)
 		*unit = u;
 	return v;
 }

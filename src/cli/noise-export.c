@@ -97,9 +97,9 @@ int ssc_export_kalibr(const char *cmd, const char *path,
 	fprintf(at.f, "rostopic: %s%s\n", e->topic ? e->topic : "/imu0",
 		e->topic ? "" : " # edit to your topic");
 	fprintf(at.f, "update_rate: %.10g # Hz\n", e->rate_hz);
-	if (pick(e, SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_N, &n, note, sizeof(note))) {
+	if (pick(e, SSCOPE_QUANTITY_ANGULAR_RATE, SSCOPE_TERM_N, &n, note, sizeof(note))) {
 		fprintf(at.f, "# gyro N per axis (rad/s/sqrt(Hz)): %s\n", note);
-		pick(e, SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_K, &k, note, sizeof(note));
+		pick(e, SSCOPE_QUANTITY_ANGULAR_RATE, SSCOPE_TERM_K, &k, note, sizeof(note));
 		fprintf(at.f, "# gyro K per axis (rad/s^2/sqrt(Hz)): %s\n", note);
 		fprintf(at.f, "gyroscope_noise_density: %.6e # rad/s/sqrt(Hz) (continuous time)\n",
 			n * e->inflate);
@@ -107,9 +107,9 @@ int ssc_export_kalibr(const char *cmd, const char *path,
 			k * e->inflate);
 		gyro = true;
 	}
-	if (pick(e, SSCOPE_QTY_ACCELERATION, SSCOPE_TERM_N, &n, note, sizeof(note))) {
+	if (pick(e, SSCOPE_QUANTITY_ACCELERATION, SSCOPE_TERM_N, &n, note, sizeof(note))) {
 		fprintf(at.f, "# accelerometer N per axis (m/s^2/sqrt(Hz)): %s\n", note);
-		pick(e, SSCOPE_QTY_ACCELERATION, SSCOPE_TERM_K, &k, note, sizeof(note));
+		pick(e, SSCOPE_QUANTITY_ACCELERATION, SSCOPE_TERM_K, &k, note, sizeof(note));
 		fprintf(at.f, "# accelerometer K per axis (m/s^3/sqrt(Hz)): %s\n", note);
 		fprintf(at.f, "accelerometer_noise_density: %.6e # m/s^2/sqrt(Hz) (continuous time)\n",
 			n * e->inflate);
@@ -136,13 +136,13 @@ int ssc_export_openvins(const char *cmd, const char *path,
 	char gnote[512], anote[512], tmp[512];
 	int rc;
 
-	if (!pick(e, SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_N, &gn, gnote, sizeof(gnote)) ||
-	    !pick(e, SSCOPE_QTY_ACCELERATION, SSCOPE_TERM_N, &an, anote, sizeof(anote))) {
+	if (!pick(e, SSCOPE_QUANTITY_ANGULAR_RATE, SSCOPE_TERM_N, &gn, gnote, sizeof(gnote)) ||
+	    !pick(e, SSCOPE_QUANTITY_ACCELERATION, SSCOPE_TERM_N, &an, anote, sizeof(anote))) {
 		ssc_err(cmd, "--openvins: kalibr_imu_chain.yaml needs both a gyro (rad/s, deg/s, ...) and an accelerometer (m/s^2, g, ...) channel with a fit");
 		return SSC_EXIT_FAIL;
 	}
-	pick(e, SSCOPE_QTY_ANGULAR_RATE, SSCOPE_TERM_K, &gk, tmp, sizeof(tmp));
-	pick(e, SSCOPE_QTY_ACCELERATION, SSCOPE_TERM_K, &ak, tmp, sizeof(tmp));
+	pick(e, SSCOPE_QUANTITY_ANGULAR_RATE, SSCOPE_TERM_K, &gk, tmp, sizeof(tmp));
+	pick(e, SSCOPE_QUANTITY_ACCELERATION, SSCOPE_TERM_K, &ak, tmp, sizeof(tmp));
 	rc = ssc_file_open(cmd, path, &at);
 	if (rc)
 		return rc;
@@ -227,8 +227,8 @@ int ssc_export_imu_utils(const char *cmd, const char *path,
 	header(at.f, e, "imu_utils IMU parameters");
 	fprintf(at.f, "# avg-axis is the mean of the axes, as imu_utils writes it\n");
 	fprintf(at.f, "type: IMU\nname: %s\n", e->name ? e->name : "imu");
-	g = imu_utils_block(at.f, e, SSCOPE_QTY_ANGULAR_RATE, "Gyr", "rad/s", "gyr");
-	a = imu_utils_block(at.f, e, SSCOPE_QTY_ACCELERATION, "Acc", "m/s^2", "acc");
+	g = imu_utils_block(at.f, e, SSCOPE_QUANTITY_ANGULAR_RATE, "Gyr", "rad/s", "gyr");
+	a = imu_utils_block(at.f, e, SSCOPE_QUANTITY_ACCELERATION, "Acc", "m/s^2", "acc");
 	if (!g && !a) {
 		ssc_file_close(&at, false);
 		ssc_err(cmd, "--imu-utils: no fitted gyro (rad/s, deg/s, ...) or accelerometer (m/s^2, g, ...) channel");

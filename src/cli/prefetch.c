@@ -19,7 +19,7 @@
 enum { EMPTY, FULL };
 
 struct slot {
-	struct sscope_chunk ch;
+	struct sscope_reader_chunk ch;
 	int state, rc;
 	struct sscope_diag diag;
 };
@@ -74,7 +74,7 @@ static void *producer(void *arg)
 static void free_slots(struct ssc_prefetch *pf)
 {
 	for (int i = 0; i < 2; i++) {
-		struct sscope_chunk *c = &pf->slot[i].ch;
+		struct sscope_reader_chunk *c = &pf->slot[i].ch;
 
 		for (size_t k = 0; c->data && k < pf->n_channels; k++)
 			free(c->data[k]);
@@ -94,7 +94,7 @@ int ssc_prefetch_start(struct ssc_prefetch **out, struct sscope_reader *rd,
 	pf->rd = rd;
 	pf->n_channels = n_channels;
 	for (int i = 0; i < 2; i++) {
-		struct sscope_chunk *c = &pf->slot[i].ch;
+		struct sscope_reader_chunk *c = &pf->slot[i].ch;
 
 		c->capacity = capacity;
 		c->data = calloc(n_channels ? n_channels : 1, sizeof(double *));
@@ -128,7 +128,7 @@ nomem:
 	return -ENOMEM;
 }
 
-int ssc_prefetch_next(struct ssc_prefetch *pf, const struct sscope_chunk **ch,
+int ssc_prefetch_next(struct ssc_prefetch *pf, const struct sscope_reader_chunk **ch,
 		      struct sscope_diag *diag)
 {
 	struct slot *s = &pf->slot[pf->next];

@@ -26,7 +26,7 @@ int ssc_prefetch_start(struct ssc_prefetch **pf, struct sscope_reader *rd,
  * the next call, which hands it back to the reading thread.  Returns 0 or
  * the reader's error with its detail in diag (the end of the stream).
  */
-int ssc_prefetch_next(struct ssc_prefetch *pf, const struct sscope_chunk **ch,
+int ssc_prefetch_next(struct ssc_prefetch *pf, const struct sscope_reader_chunk **ch,
 		      struct sscope_diag *diag);
 
 /* Stop the thread (after the chunk it is reading) and free (NULL ok). */

@@ -29,7 +29,7 @@ struct ssc_allan_units {
 };
 
 struct ssc_allan_chan {
-	const struct sscope_column *col;
+	const struct sscope_capture_column *col;
 	struct ssc_allan_units u;
 	struct sscope_allan_result *res; /* deviations and the noise fit */
 	size_t n, nan;
@@ -48,7 +48,7 @@ struct ssc_allan_res {
 	double ci_level; /* level of the channels' intervals (0: none) */
 	/* what every channel was computed with (sscope_allan_analyze()'s
 	 * grid and options; no release callback, no plan) */
-	enum sscope_tau_grid grid;
+	enum sscope_allan_tau_grid grid;
 	struct sscope_allan_opts ao;
 	struct sscope_noise_fit_opts fo;
 };
@@ -61,7 +61,7 @@ struct ssc_allan_res {
  */
 const struct sscope_allan_result *
 ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
-		   double rate_hz, enum sscope_tau_grid grid,
+		   double rate_hz, enum sscope_allan_tau_grid grid,
 		   const struct sscope_allan_opts *ao,
 		   const struct sscope_noise_fit_opts *fo);
 

@@ -25,6 +25,7 @@
 #include "html.h"
 #include "plot.h"
 #include "report.h"
+#include "ssc.h"
 
 enum {
 	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
@@ -131,7 +132,7 @@ struct ssc_scene {
 	char *path;             /* scene file, or NULL when inferred */
 	char *dir;              /* its directory */
 	char *title;
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	char **files;
 	size_t n_files;
 	/* [input] */
@@ -145,7 +146,7 @@ struct ssc_scene {
 	char *sensor_path;
 	char *adc_paths[8];
 	size_t n_adc;
-	struct sscope_ini *adc_ini; /* inline [adc] specification */
+	struct ssc_ini *adc_ini; /* inline [adc] specification */
 	/* stages */
 	unsigned want;          /* bit per stage: requested */
 	unsigned run;           /* bit per stage: will run */
@@ -274,8 +275,8 @@ void ssc_scene_free(struct ssc_scene *sc)
 		free(sc->adc_paths[i]);
 	for (size_t i = 0; i < sc->n_io; i++)
 		free(sc->io_path[i]);
-	sscope_ini_free(sc->adc_ini);
-	sscope_ini_free(sc->ini);
+	ssc_ini_free(sc->adc_ini);
+	ssc_ini_free(sc->ini);
 	free(sc->columns);
 	free(sc->units);
 	free(sc->temp_column);
@@ -408,11 +409,11 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 	const char *v;
 	int rc;
 
-	if (sscope_ini_check_keys(sc->ini, "input", keys, &d)) {
+	if (ssc_ini_check_keys(sc->ini, "input", keys, &d)) {
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
-	v = sscope_ini_get(sc->ini, "input", "files", &line);
+	v = ssc_ini_get(sc->ini, "input", "files", &line);
 	if (!v || !*v)
 		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
 	{
@@ -445,40 +446,40 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		if (rc)
 			return rc;
 	}
-	sc->columns = xstrdup(sscope_ini_get(sc->ini, "input", "columns", NULL));
-	sc->units = xstrdup(sscope_ini_get(sc->ini, "input", "units", NULL));
-	sc->temp_column = xstrdup(sscope_ini_get(sc->ini, "input", "temp_column", NULL));
-	sc->time_column = xstrdup(sscope_ini_get(sc->ini, "input", "time_column", NULL));
-	sc->topic = xstrdup(sscope_ini_get(sc->ini, "input", "topic", NULL));
-	v = sscope_ini_get(sc->ini, "input", "raw", &line);
-	if (v && sscope_raw_layout_check(v, NULL, NULL, &d))
+	sc->columns = xstrdup(ssc_ini_get(sc->ini, "input", "columns", NULL));
+	sc->units = xstrdup(ssc_ini_get(sc->ini, "input", "units", NULL));
+	sc->temp_column = xstrdup(ssc_ini_get(sc->ini, "input", "temp_column", NULL));
+	sc->time_column = xstrdup(ssc_ini_get(sc->ini, "input", "time_column", NULL));
+	sc->topic = xstrdup(ssc_ini_get(sc->ini, "input", "topic", NULL));
+	v = ssc_ini_get(sc->ini, "input", "raw", &line);
+	if (v && sscope_reader_raw_layout_check(v, NULL, NULL, &d))
 		return scene_error(cmd, sc, line, "raw: %s", d.msg);
 	sc->raw = xstrdup(v);
-	v = sscope_ini_get(sc->ini, "input", "calibration", NULL);
+	v = ssc_ini_get(sc->ini, "input", "calibration", NULL);
 	if (v)
 		sc->calibration = join_path(sc->dir, v);
-	rc = sscope_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
+	rc = ssc_ini_quantity(sc->ini, "input", "rate", "Hz", &sc->rate_hz, &d);
 	if (rc && rc != -ENOENT) {
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
 	if (!rc && !(sc->rate_hz > 0))
 		return scene_error(cmd, sc, 0, "[input] rate must be positive");
-	rc = sscope_ini_quantity(sc->ini, "input", "scale", "1", &sc->scale, &d);
+	rc = ssc_ini_quantity(sc->ini, "input", "scale", "1", &sc->scale, &d);
 	if (rc && rc != -ENOENT) {
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
-	rc = sscope_ini_quantity(sc->ini, "input", "offset", "1", &sc->offset, &d);
+	rc = ssc_ini_quantity(sc->ini, "input", "offset", "1", &sc->offset, &d);
 	if (rc && rc != -ENOENT) {
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
-	if (!sc->raw && (sscope_ini_get(sc->ini, "input", "scale", &line) ||
-			 sscope_ini_get(sc->ini, "input", "offset", &line)))
+	if (!sc->raw && (ssc_ini_get(sc->ini, "input", "scale", &line) ||
+			 ssc_ini_get(sc->ini, "input", "offset", &line)))
 		return scene_error(cmd, sc, line,
 				   "scale and offset apply to raw input only (raw = TYPE:CH)");
-	v = sscope_ini_get(sc->ini, "input", "allow_nan", &line);
+	v = ssc_ini_get(sc->ini, "input", "allow_nan", &line);
 	if (v && !truthy(v, &sc->allow_nan))
 		return scene_error(cmd, sc, line, "allow_nan: expected yes or no");
 	if (sc->units) {
@@ -496,17 +497,17 @@ static int parse_sensor(const char *cmd, struct ssc_scene *sc)
 {
 	struct sscope_diag d = { "" };
 	size_t line = 0;
-	const char *spec = sscope_ini_get(sc->ini, "sensor", "spec", &line);
+	const char *spec = ssc_ini_get(sc->ini, "sensor", "spec", &line);
 	int rc;
 
 	if (spec) {
-		if (sscope_ini_n_keys(sc->ini, "sensor") > 1)
+		if (ssc_ini_n_keys(sc->ini, "sensor") > 1)
 			return scene_error(cmd, sc, line,
 					   "[sensor] takes either 'spec = FILE' or inline keys, not both");
 		sc->sensor_path = join_path(sc->dir, spec);
 		rc = sscope_sensor_spec_load(sc->sensor_path, &sc->sensor, &d);
 	} else {
-		rc = sscope_sensor_spec_from_ini(sc->ini, "sensor", &sc->sensor, &d);
+		rc = ssc_sensor_spec_from_ini(sc->ini, "sensor", &sc->sensor, &d);
 	}
 	if (rc) {
 		ssc_err(cmd, "%s", d.msg);
@@ -540,18 +541,18 @@ static bool stage_key(size_t s, const char *key)
 static int parse_adc(const char *cmd, struct ssc_scene *sc)
 {
 	size_t line = 0, sec_line = 0, n_inline = 0, len = 0, cur = 1;
-	const char *spec = sscope_ini_get(sc->ini, "adc", "spec", &line);
+	const char *spec = ssc_ini_get(sc->ini, "adc", "spec", &line);
 	char *text;
 
-	for (size_t k = 0; k < sscope_ini_n_sections(sc->ini); k++) {
+	for (size_t k = 0; k < ssc_ini_n_sections(sc->ini); k++) {
 		size_t l;
-		const char *name = sscope_ini_section(sc->ini, k, &l);
+		const char *name = ssc_ini_section(sc->ini, k, &l);
 
 		if (!strcasecmp(name, "adc"))
 			sec_line = l;
 	}
-	for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, "adc"); k++) {
-		const char *v, *key = sscope_ini_key(sc->ini, "adc", k, &v, &line);
+	for (size_t k = 0; k < ssc_ini_n_keys(sc->ini, "adc"); k++) {
+		const char *v, *key = ssc_ini_key(sc->ini, "adc", k, &v, &line);
 
 		if (strcasecmp(key, "spec") && !stage_key(S_ADC, key)) {
 			n_inline++;
@@ -571,8 +572,8 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 			strcat(text, "\n");
 		strcat(text, "[adc]\n");
 		cur++;
-		for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, "adc"); k++) {
-			const char *v, *key = sscope_ini_key(sc->ini, "adc", k, &v, &line);
+		for (size_t k = 0; k < ssc_ini_n_keys(sc->ini, "adc"); k++) {
+			const char *v, *key = ssc_ini_key(sc->ini, "adc", k, &v, &line);
 
 			if (!strcasecmp(key, "spec") || stage_key(S_ADC, key))
 				continue;
@@ -581,10 +582,10 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 			sprintf(text + strlen(text), "%s = %s\n", key, v);
 			cur++;
 		}
-		e = sscope_ini_parse(&sc->adc_ini, text, strlen(text), sc->path, &d);
+		e = ssc_ini_parse(&sc->adc_ini, text, strlen(text), sc->path, &d);
 		free(text);
 		if (!e)
-			e = sscope_adc_spec_from_ini(sc->adc_ini, "adc", &tmp, &d);
+			e = ssc_adc_spec_from_ini(sc->adc_ini, "adc", &tmp, &d);
 		if (e) {
 			ssc_err(cmd, "%s", d.msg[0] ? d.msg : sscope_strerror(e));
 			return SSC_EXIT_USAGE;
@@ -627,11 +628,11 @@ static int parse_report(const char *cmd, struct ssc_scene *sc)
 	size_t line = 0;
 	const char *v;
 
-	if (sscope_ini_check_keys(sc->ini, "report", keys, &d)) {
+	if (ssc_ini_check_keys(sc->ini, "report", keys, &d)) {
 		ssc_err(cmd, "%s", d.msg);
 		return SSC_EXIT_USAGE;
 	}
-	v = sscope_ini_get(sc->ini, "report", "formats", &line);
+	v = ssc_ini_get(sc->ini, "report", "formats", &line);
 	if (v) {
 		char *copy = xstrdup(v), *items[8];
 		size_t n = split_list(copy, items, 8);
@@ -659,10 +660,10 @@ static int parse_report(const char *cmd, struct ssc_scene *sc)
 		}
 		free(copy);
 	}
-	v = sscope_ini_get(sc->ini, "report", "output", NULL);
+	v = ssc_ini_get(sc->ini, "report", "output", NULL);
 	if (v)
 		sc->out_dir = join_path(sc->dir, v);
-	v = sscope_ini_get(sc->ini, "report", "title", NULL);
+	v = ssc_ini_get(sc->ini, "report", "title", NULL);
 	if (v)
 		sc->title = xstrdup(v);
 	return SSC_EXIT_OK;
@@ -674,10 +675,10 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 	const struct ssc_stage_ops *ops = stages[s].ops;
 	const char *sec = stages[s].name;
 
-	for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, sec); k++) {
+	for (size_t k = 0; k < ssc_ini_n_keys(sc->ini, sec); k++) {
 		const char *value;
 		size_t line;
-		const char *key = sscope_ini_key(sc->ini, sec, k, &value, &line);
+		const char *key = ssc_ini_key(sc->ini, sec, k, &value, &line);
 		const struct ssc_option *o;
 		char ctx[320];
 		int rc;
@@ -858,15 +859,15 @@ int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
 	*out = NULL;
 	sc->path = xstrdup(path);
 	sc->dir = dir_of(path);
-	rc = sscope_ini_load(&sc->ini, path, &d);
+	rc = ssc_ini_load(&sc->ini, path, &d);
 	if (rc) {
 		ssc_err(cmd, "%s", d.msg[0] ? d.msg : sscope_strerror(rc));
 		ssc_scene_free(sc);
 		return rc == -EBADMSG ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
 	}
-	for (size_t i = 0; i < sscope_ini_n_sections(sc->ini); i++) {
+	for (size_t i = 0; i < ssc_ini_n_sections(sc->ini); i++) {
 		size_t line;
-		const char *name = sscope_ini_section(sc->ini, i, &line);
+		const char *name = ssc_ini_section(sc->ini, i, &line);
 		long s;
 
 		if (!strcasecmp(name, "input") || !strcasecmp(name, "sensor") ||
@@ -887,13 +888,13 @@ int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **out)
 		sc->want |= 1u << s;
 	}
 	rc = 0;
-	if (sscope_ini_has_section(sc->ini, "input"))
+	if (ssc_ini_has_section(sc->ini, "input"))
 		rc = parse_input(cmd, sc);
-	if (!rc && sscope_ini_has_section(sc->ini, "sensor"))
+	if (!rc && ssc_ini_has_section(sc->ini, "sensor"))
 		rc = parse_sensor(cmd, sc);
-	if (!rc && sscope_ini_has_section(sc->ini, "adc"))
+	if (!rc && ssc_ini_has_section(sc->ini, "adc"))
 		rc = parse_adc(cmd, sc);
-	if (!rc && sscope_ini_has_section(sc->ini, "report"))
+	if (!rc && ssc_ini_has_section(sc->ini, "report"))
 		rc = parse_report(cmd, sc);
 	for (size_t s = 0; !rc && s < N_STAGES; s++)
 		if (sc->want & (1u << s))
@@ -947,7 +948,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 	/* the data decide what runs: look at each file's columns and rate
 	 * (header and first rows only; the run reads each file once) */
 	for (size_t i = 0; i < n; i++) {
-		struct sscope_read_opts ro;
+		struct sscope_reader_opts ro;
 		struct sscope_reader *r = NULL;
 		struct sscope_diag d = { "" };
 		double rate = co->rate_hz;
@@ -968,7 +969,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			rate = sscope_reader_header_rate(r);
 		if (!(rate > 0) && sscope_reader_time_column(r)) {
 			double t[512], *cols[64] = { 0 };
-			struct sscope_chunk ch = { 512, 0, cols, t, NULL };
+			struct sscope_reader_chunk ch = { 512, 0, cols, t, NULL };
 
 			if (sscope_reader_n_channels(r) <= 64 &&
 			    !sscope_reader_read(r, &ch, NULL) && ch.rows >= 2 &&
@@ -982,13 +983,13 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			if (!strcmp(nm, "roll_ref") || !strcmp(nm, "pitch_ref"))
 				tilt = true;
 			/* a true heading beside a gyro: a drive to check */
-			if (q == SSCOPE_QTY_ANGLE && strcasestr(nm, "heading") &&
+			if (q == SSCOPE_QUANTITY_ANGLE && strcasestr(nm, "heading") &&
 			    strlen(nm) < sizeof(heading_ref))
 				strcpy(heading_ref, nm);
 
-			if (q == SSCOPE_QTY_ACCELERATION)
+			if (q == SSCOPE_QUANTITY_ACCELERATION)
 				acc = true;
-			else if (q == SSCOPE_QTY_ANGULAR_RATE)
+			else if (q == SSCOPE_QUANTITY_ANGULAR_RATE)
 				gyro = true;
 			else
 				other = true;
@@ -1187,7 +1188,7 @@ static bool takes_sensor(const struct ssc_scene *sc, size_t s)
 	if (!sc->have_sensor)
 		return false;
 	if (s == S_HEADING) /* a gyro's spec only */
-		return sc->sensor.quantity == SSCOPE_QTY_ANGULAR_RATE;
+		return sc->sensor.quantity == SSCOPE_QUANTITY_ANGULAR_RATE;
 	return s == S_ADC || s == S_BUDGET || s == S_WALK || s == S_NAVSIM;
 }
 
@@ -1545,10 +1546,10 @@ static void html_report(struct ssc_scene *sc, struct ssc_html *h,
 		char line[1024] = "";
 		size_t used = 0;
 
-		if (!sc->ini || !sscope_ini_has_section(sc->ini, sec))
+		if (!sc->ini || !ssc_ini_has_section(sc->ini, sec))
 			continue;
-		for (size_t k = 0; k < sscope_ini_n_keys(sc->ini, sec); k++) {
-			const char *v, *key = sscope_ini_key(sc->ini, sec, k, &v, NULL);
+		for (size_t k = 0; k < ssc_ini_n_keys(sc->ini, sec); k++) {
+			const char *v, *key = ssc_ini_key(sc->ini, sec, k, &v, NULL);
 			int w = snprintf(line + used, sizeof(line) - used, "%s%s = %s",
 					 used ? "; " : "", key, v);
 

@@ -42,7 +42,7 @@ struct ssc_stage_env {
 	const char *const *adc_paths;     /* scene's [adc] spec files */
 	size_t n_adc;
 	/* scene's inline [adc] specification (section "adc"), or NULL */
-	const struct sscope_ini *adc_ini;
+	const struct ssc_ini *adc_ini;
 	/* results of earlier stages this one uses (scene), or none */
 	const struct ssc_result *upstream;
 	size_t n_upstream;
@@ -126,7 +126,7 @@ struct ssc_stage_call {
 	const char *sensor_path;
 	const char *const *adc_paths;
 	size_t n_adc;
-	const struct sscope_ini *adc_ini;
+	const struct ssc_ini *adc_ini;
 	const struct ssc_result *upstream;
 	size_t n_upstream;
 	const struct ssc_result *earlier; /* see ssc_stage_env */

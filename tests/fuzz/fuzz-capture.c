@@ -4,7 +4,7 @@
  *   FUZZ_TEXT  delimited text and the sensorscope binary capture (the
  *              format is detected from the bytes, as for a user's file);
  *   FUZZ_RAW   raw binary: the input's first line is the --raw layout
- *              (checked by sscope_raw_layout_check), the rest the data;
+ *              (checked by sscope_reader_raw_layout_check), the rest the data;
  *   FUZZ_MAT   MATLAB 5 MAT-files (an input without the 128-byte header
  *              is given one).
  * Each input is read three ways: from an exact-size memory buffer in
@@ -25,7 +25,7 @@
 #include "internal.h"
 #include "sscope-allan.h"
 #include "sscope-psd.h"
-#include "sscope-vibration.h"
+#include "sscope-vib.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
@@ -43,13 +43,13 @@ static void analyse(const struct sscope_capture *cap)
 	struct sscope_allan_opts ao = { .threads = 1 };
 	struct sscope_allan_result *ar = NULL;
 	struct sscope_psd_opts po;
-	struct sscope_spectrum sp = { 0 };
+	struct sscope_psd_spectrum sp = { 0 };
 	struct sscope_diag d = { "" };
 	double k;
 
 	if (cap->n < 8 || cap->n > 4096)
 		return;
-	if (sscope_allan_analyze(x, 1, cap->n, fs, SSCOPE_TAUS_OCTAVE, &ao,
+	if (sscope_allan_analyze(x, 1, cap->n, fs, SSCOPE_ALLAN_TAUS_OCTAVE, &ao,
 				 NULL, &ar, &d) == 0)
 		sscope_allan_result_free(ar);
 	sscope_psd_opts_init(&po);
@@ -58,8 +58,8 @@ static void analyse(const struct sscope_capture *cap)
 	po.skip_nonfinite = true;
 	po.threads = 1;
 	if (sscope_psd_welch(x, 1, cap->n, fs, &po, &sp) == 0)
-		sscope_spectrum_clear(&sp);
-	sscope_kurtosis(x, 1, cap->n, &k);
+		sscope_psd_spectrum_clear(&sp);
+	sscope_vib_kurtosis(x, 1, cap->n, &k);
 }
 
 static void summarise(const struct sscope_capture *cap)
@@ -71,7 +71,7 @@ static void summarise(const struct sscope_capture *cap)
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 		struct sscope_timing tm;
-		struct sscope_gap gaps[4];
+		struct sscope_timing_gap gaps[4];
 		size_t ng;
 
 		if (scratch)
@@ -83,7 +83,7 @@ static void summarise(const struct sscope_capture *cap)
 		analyse(cap);
 }
 
-static void load(const char *path, const struct sscope_read_opts *o)
+static void load(const char *path, const struct sscope_reader_opts *o)
 {
 	struct sscope_capture *cap;
 	struct sscope_diag d = { "" };
@@ -95,12 +95,12 @@ static void load(const char *path, const struct sscope_read_opts *o)
 }
 
 static void chunks(const uint8_t *data, size_t size,
-		   const struct sscope_read_opts *o)
+		   const struct sscope_reader_opts *o)
 {
 	struct sscope_reader *r;
 	struct sscope_diag d = { "" };
 	double *cols[64], buf[64][7], t[7], temp[7];
-	struct sscope_chunk ch = { 7, 0, cols, t, temp };
+	struct sscope_reader_chunk ch = { 7, 0, cols, t, temp };
 	size_t n;
 
 	if (ssc_reader_open_mem(&r, data, size, "fuzz", o, &d))
@@ -120,7 +120,7 @@ static void chunks(const uint8_t *data, size_t size,
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	struct sscope_read_opts o = { 0 };
+	struct sscope_reader_opts o = { 0 };
 	char path[64];
 	int fd;
 #ifdef FUZZ_RAW
@@ -131,7 +131,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	memcpy(layout, data, (size_t)(nl - data));
 	layout[nl - data] = '\0';
-	if (sscope_raw_layout_check(layout, NULL, NULL, NULL))
+	if (sscope_reader_raw_layout_check(layout, NULL, NULL, NULL))
 		return 0;
 	size -= (size_t)(nl + 1 - data);
 	data = nl + 1;

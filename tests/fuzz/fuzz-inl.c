@@ -23,7 +23,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	struct sscope_adc_spec spec;
 	struct ssc_inl_profile prof;
 	struct sscope_diag d = { "" };
@@ -39,8 +39,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	snprintf(text, sizeof(text),
 		 "[adc]\nbits = %d\nrange = -2.5:2.5 V\nrate = 100 Hz\ninl_profile = %s\n",
 		 bits, path);
-	if (sscope_ini_parse(&ini, text, strlen(text), "fuzz.ini", &d) == 0) {
-		if (sscope_adc_spec_from_ini(ini, "adc", &spec, &d) == 0 &&
+	if (ssc_ini_parse(&ini, text, strlen(text), "fuzz.ini", &d) == 0) {
+		if (ssc_adc_spec_from_ini(ini, "adc", &spec, &d) == 0 &&
 		    ssc_adc_profile_load("adc", "fuzz.ini", &spec, &prof) == 0) {
 			struct sscope_adc *adc;
 
@@ -57,7 +57,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			}
 			ssc_adc_profile_free(&prof);
 		}
-		sscope_ini_free(ini);
+		ssc_ini_free(ini);
 	}
 	fuzz_file_close(fd);
 	return 0;

@@ -22,18 +22,18 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	struct sscope_ini *ini;
+	struct ssc_ini *ini;
 	struct sscope_sensor_spec s;
 	struct sscope_adc_spec a;
 	struct sscope_diag d = { "" };
 	bool have_s, have_a;
 
-	if (memchr(data, '\0', size)) /* refused by sscope_ini_load */
+	if (memchr(data, '\0', size)) /* refused by ssc_ini_load */
 		return 0;
-	if (sscope_ini_parse(&ini, (const char *)data, size, "fuzz.ini", &d))
+	if (ssc_ini_parse(&ini, (const char *)data, size, "fuzz.ini", &d))
 		return 0;
-	have_s = sscope_sensor_spec_from_ini(ini, "sensor", &s, &d) == 0;
-	have_a = sscope_adc_spec_from_ini(ini, "adc", &a, &d) == 0;
+	have_s = ssc_sensor_spec_from_ini(ini, "sensor", &s, &d) == 0;
+	have_a = ssc_adc_spec_from_ini(ini, "adc", &a, &d) == 0;
 	if (have_a && a.bits <= 16) {
 		struct sscope_adc *adc;
 		double x[8] = { 0, 1e-3, -2.5, 7, 1e3, -1e9, 0.3, 1e-300 };
@@ -55,6 +55,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
 		sscope_adc_analyze(&s, &a, 0, &res, &d);
 	}
-	sscope_ini_free(ini);
+	ssc_ini_free(ini);
 	return 0;
 }

@@ -320,17 +320,17 @@ class AdcAnalysis(C.Structure):
 
 # every structure mirrored, by C name, for the layout test
 STRUCTS = {
-    "sscope_diag": Diag, "sscope_unit": Unit, "sscope_column": Column,
-    "sscope_read_opts": ReadOpts, "sscope_topic": Topic,
-    "sscope_source": Source, "sscope_channel": Channel,
-    "sscope_timing": Timing, "sscope_time_order": TimeOrder,
-    "sscope_gap": Gap,
+    "sscope_diag": Diag, "sscope_unit": Unit, "sscope_capture_column": Column,
+    "sscope_reader_opts": ReadOpts, "sscope_capture_topic": Topic,
+    "sscope_capture_source": Source, "sscope_capture_channel": Channel,
+    "sscope_timing": Timing, "sscope_timing_order": TimeOrder,
+    "sscope_timing_gap": Gap,
     "sscope_capture": Capture, "sscope_allan_opts": AllanOpts,
     "sscope_allan_point": AllanPoint, "sscope_noise_coef": NoiseCoef,
     "sscope_noise_readoff": NoiseReadoff,
     "sscope_noise_fit_opts": NoiseFitOpts, "sscope_noise_fit": NoiseFit,
     "sscope_allan_result": AllanResult, "sscope_psd_opts": PsdOpts,
-    "sscope_spectrum": Spectrum, "sscope_sensor_spec": SensorSpec,
+    "sscope_psd_spectrum": Spectrum, "sscope_sensor_spec": SensorSpec,
     "sscope_sim_tone": SimTone, "sscope_sim_opts": SimOpts,
     "sscope_tempbias_run": TempbiasRun, "sscope_tempbias_opts": TempbiasOpts,
     "sscope_tempbias_runinfo": TempbiasRunInfo,
@@ -364,9 +364,9 @@ term_si_unit = _fn("sscope_term_si_unit", C.c_char_p, C.c_int, C.c_int)
 unit_parse = _fn("sscope_unit_parse", C.c_int, C.c_char_p, C.POINTER(Unit),
                  C.POINTER(Diag))
 unit_quantity = _fn("sscope_unit_quantity", C.c_int, C.POINTER(Unit))
-convert = _fn("sscope_convert", C.c_int, c_dbl, C.c_char_p, C.c_char_p,
+convert = _fn("sscope_unit_convert_text", C.c_int, c_dbl, C.c_char_p, C.c_char_p,
               c_dptr)
-dev_parse = _fn("sscope_dev_parse", C.c_int, C.c_char_p, C.POINTER(C.c_int))
+dev_parse = _fn("sscope_allan_dev_parse", C.c_int, C.c_char_p, C.POINTER(C.c_int))
 allan_analyze = _fn("sscope_allan_analyze", C.c_int, c_dptr, c_size, c_size,
                     c_dbl, C.c_int, C.POINTER(AllanOpts),
                     C.POINTER(NoiseFitOpts),
@@ -380,11 +380,11 @@ noise_plan_new = _fn("sscope_noise_plan_new", C.c_int,
                      C.POINTER(C.c_void_p))
 noise_plan_free = _fn("sscope_noise_plan_free", None, C.c_void_p)
 psd_opts_init = _fn("sscope_psd_opts_init", None, C.POINTER(PsdOpts))
-window_from_name = _fn("sscope_window_from_name", C.c_int, C.c_char_p,
+window_from_name = _fn("sscope_psd_window_from_name", C.c_int, C.c_char_p,
                        C.POINTER(C.c_int))
 psd_welch = _fn("sscope_psd_welch", C.c_int, c_dptr, c_size, c_size, c_dbl,
                 C.POINTER(PsdOpts), C.POINTER(Spectrum))
-spectrum_clear = _fn("sscope_spectrum_clear", None, C.POINTER(Spectrum))
+spectrum_clear = _fn("sscope_psd_spectrum_clear", None, C.POINTER(Spectrum))
 sensor_spec_load = _fn("sscope_sensor_spec_load", C.c_int, C.c_char_p,
                        C.POINTER(SensorSpec), C.POINTER(Diag))
 sim_new = _fn("sscope_sim_new", C.c_int, C.POINTER(C.c_void_p),
