@@ -114,6 +114,30 @@ run "--rate makes it work" 0 allan -r 10 --no-fit "$T/norate.csv"
 run "kalibr without a gyro" 1 allan --kalibr "$T/v.yaml" -q "$T/const.csv"
 one_line_error "kalibr without a gyro"
 
+# the command writes an all-tau grid's points as text, a scene dumps the
+# tree: the same bytes, also with gaps (skipped terms) and a stride
+# (edf_full), two channels
+cp "$G" "$T/gyro-static.csv"
+printf '[input]\nfiles = gyro-static.csv\ncolumns = gx,gy\n[allan]\ntaus = all\n[report]\nformats = json\noutput = sc-plain\n' >"$T/all-plain.ini"
+printf '[input]\nfiles = gaps.csv\ncolumns = gx,gy\nallow_nan = yes\n[allan]\ntaus = all\nstride = 4\n[report]\nformats = json\noutput = sc-gaps\n' >"$T/all-gaps.ini"
+for v in "plain gyro-static.csv" "gaps gaps.csv --allow-nan --stride 4"; do
+	# shellcheck disable=SC2086
+	set -- $v
+	name=$1 in=$2
+	shift 2
+	(cd "$T" && ss allan --format json --taus all -c gx,gy "$@" "$in" >"all-$name.json" &&
+	 ss run -q "all-$name.ini" >/dev/null)
+	if [ -s "$T/all-$name.json" ] && cmp -s "$T/all-$name.json" "$T/sc-$name/allan.json"; then
+		ok "all taus, $name: the command's JSON is the scene's allan.json"
+	else
+		not_ok "all taus, $name: the command's JSON is the scene's allan.json"
+	fi
+done
+json_check "all taus: every point of both channels" "$T/all-plain.json" \
+	'[.channels[] | (.points | length) == 18000 and .points[17999].m == 18000 and (.points[0].dev > 0)] == [true, true]'
+json_check "all taus, gaps: skipped terms, strides and edf_full written" "$T/all-gaps.json" \
+	'.channels[0].points[0].skipped > 0 and .channels[0].points[99].stride == 25 and .channels[0].points[99].edf_full > 0'
+
 # usage errors
 for bad in "--dev xdev" "--taus weekly" "--input phase" "--ci 1.5" "--ci x" \
 	   "--noise-type pink" "--terms N,X" "--fit-tau 5:1" "--stride 0" \

@@ -264,6 +264,22 @@ json_t *ssc_jreal(double v);
 /* Dump @p root (stolen) to the command's output; returns exit code. */
 int ssc_emit_json(const struct ssc_common *co, json_t *root);
 
+/* Longest text of ssc_json_real_text, with its NUL. */
+#define SSC_JSON_REAL_MAX 32
+/* The text ssc_emit_json writes for json_real(v) (null when v is not
+ * finite) into buf (SSC_JSON_REAL_MAX bytes); returns its length. */
+size_t ssc_json_real_text(char *buf, double v);
+/* A placeholder for slot @p k of ssc_emit_json_slots (a new string). */
+json_t *ssc_json_slot(size_t k);
+/* ssc_emit_json, with slot k's placeholder replaced by the JSON text
+ * fill(f, k, ctx) writes (returns false on a write error).  Returns
+ * -EAGAIN, having written nothing, when the dump does not hold each
+ * placeholder exactly once and in order (the caller then dumps a tree
+ * without slots); else an exit code.  @p root is stolen. */
+int ssc_emit_json_slots(const struct ssc_common *co, json_t *root,
+			size_t n_slots,
+			bool (*fill)(FILE *f, size_t k, void *ctx), void *ctx);
+
 /* A unit for people: deg -> degree sign, sqrt(h) -> root, ug -> micro,
  * ^2 -> superscript (figures and reports; the JSON keeps the ASCII form). */
 void ssc_unit_pretty(const char *in, char *out, size_t len);

@@ -731,12 +731,13 @@ static json_t *jval(double si, const char *si_unit, const char *unit)
 	return o;
 }
 
+/* A channel's JSON; its "points" are @p slot when given (emit_json). */
 static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
-			 const struct ssc_allan_chan *c)
+			 const struct ssc_allan_chan *c, json_t *slot)
 {
 	const struct sscope_allan_result *r = c->res;
 	const struct ssc_allan_units *u = &c->u;
-	json_t *o = json_object(), *pts = json_array();
+	json_t *o = json_object(), *pts = slot ? slot : json_array();
 
 	json_object_set_new(o, "name", json_string(c->col->name));
 	json_object_set_new(o, "unit", json_string(c->col->unit_label));
@@ -751,7 +752,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 	json_object_set_new(o, "dev_unit", json_string(u->dev));
 	json_object_set_new(o, "ci_level", a->ci < 0 ? json_null() :
 					   json_real(a->ci));
-	for (size_t i = 0; i < r->n_points; i++) {
+	for (size_t i = 0; !slot && i < r->n_points; i++) {
 		const struct sscope_allan_point *p = &r->points[i];
 		json_t *q = json_object();
 
@@ -851,14 +852,18 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 	return o;
 }
 
-static json_t *json_file(const struct args *a, const struct ssc_allan_file *fr)
+/* slot: the next slot number when the points are slots, else NULL */
+static json_t *json_file(const struct args *a, const struct ssc_allan_file *fr,
+			 size_t *slot)
 {
 	json_t *o = json_object(), *chs = json_array();
 
 	json_object_set_new(o, "command", json_string("allan"));
 	json_object_set_new(o, "file", json_string(fr->path));
 	for (size_t k = 0; k < fr->n_ch; k++)
-		json_array_append_new(chs, json_chan(a, fr, &fr->ch[k]));
+		json_array_append_new(chs, json_chan(a, fr, &fr->ch[k],
+						     slot ? ssc_json_slot((*slot)++) :
+							    NULL));
 	json_object_set_new(o, "channels", chs);
 	return o;
 }
@@ -1368,20 +1373,107 @@ ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
 	return NULL;
 }
 
-static json_t *json(const void *opts, const void *result)
+static json_t *json_tree(const void *opts, const void *result, size_t *slot)
 {
 	const struct ssc_allan_res *R = result;
 	json_t *o, *files;
 
 	if (R->n_files == 1)
-		return json_file(opts, &R->fr[0]);
+		return json_file(opts, &R->fr[0], slot);
 	o = json_object();
 	files = json_array();
 	json_object_set_new(o, "command", json_string("allan"));
 	for (size_t i = 0; i < R->n_files; i++)
-		json_array_append_new(files, json_file(opts, &R->fr[i]));
+		json_array_append_new(files, json_file(opts, &R->fr[i], slot));
 	json_object_set_new(o, "files", files);
 	return o;
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	return json_tree(opts, result, NULL);
+}
+
+/* the text of json_chan's "points" array */
+struct pts_out {
+	const struct ssc_allan_res *R;
+	const struct args *a;
+};
+
+static bool put_real(FILE *f, const char *key, size_t klen, double v)
+{
+	char b[SSC_JSON_REAL_MAX];
+	size_t n = ssc_json_real_text(b, v);
+
+	return fwrite(key, 1, klen, f) == klen && fwrite(b, 1, n, f) == n;
+}
+
+#define PUT_REAL(f, key, v) put_real(f, key, sizeof(key) - 1, v)
+
+static bool put_int(FILE *f, const char *key, long long v)
+{
+	return fprintf(f, "%s%lld", key, v) > 0;
+}
+
+static bool points_text(FILE *f, size_t slot, void *ctx)
+{
+	const struct pts_out *po = ctx;
+	const struct ssc_allan_file *fr = NULL;
+	const struct ssc_allan_chan *c = NULL;
+	const struct args *a = po->a;
+	bool ok;
+
+	/* slots number the channels of the files in order */
+	for (size_t i = 0; i < po->R->n_files && !c; i++) {
+		if (slot < po->R->fr[i].n_ch) {
+			fr = &po->R->fr[i];
+			c = &fr->ch[slot];
+		} else {
+			slot -= po->R->fr[i].n_ch;
+		}
+	}
+	if (!c)
+		return false;
+	ok = fputc('[', f) != EOF;
+	for (size_t i = 0; ok && i < c->res->n_points; i++) {
+		const struct sscope_allan_point *p = &c->res->points[i];
+		const double sc = c->u.dev_scale;
+
+		ok = (i == 0 || fputc(',', f) != EOF) &&
+		     PUT_REAL(f, "{\"tau_s\":", p->tau_s) &&
+		     put_int(f, ",\"m\":", (long long)p->m) &&
+		     put_int(f, ",\"terms\":", (long long)p->terms) &&
+		     PUT_REAL(f, ",\"dev\":", p->dev / sc) &&
+		     PUT_REAL(f, ",\"dev_lo\":", p->dev_lo / sc) &&
+		     PUT_REAL(f, ",\"dev_hi\":", p->dev_hi / sc) &&
+		     PUT_REAL(f, ",\"edf\":", p->edf) &&
+		     put_int(f, ",\"alpha\":", p->alpha) &&
+		     fprintf(f, ",\"noise\":\"%s\"", noise_name(p->alpha)) > 0;
+		if (ok && p->skipped)
+			ok = put_int(f, ",\"skipped\":", (long long)p->skipped);
+		if (ok && p->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
+		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV)
+			ok = put_int(f, ",\"stride\":", (long long)p->stride) &&
+			     PUT_REAL(f, ",\"edf_full\":", p->edf_full);
+		ok = ok && fputc('}', f) != EOF;
+	}
+	return ok && fputc(']', f) != EOF;
+}
+
+/* the JSON as json() dumps, the points written as text (a tree of an
+ * all-tau grid's points costs more than the analysis) */
+static int emit_json(const struct ssc_common *co, const void *opts,
+		     const void *result)
+{
+	struct pts_out po = { result, opts };
+	size_t n_slots = 0;
+	json_t *root = json_tree(opts, result, &n_slots);
+	int rc;
+
+	rc = ssc_emit_json_slots(co, root, n_slots, points_text, &po);
+	if (rc == -EAGAIN)
+		rc = ssc_emit_json(co, json(opts, result));
+	return rc;
 }
 
 static void text(FILE *f, const void *opts, const void *result)
@@ -1425,6 +1517,7 @@ const struct ssc_stage_ops ssc_allan_stage = {
 	.check = check,
 	.run = run,
 	.json = json,
+	.emit_json = emit_json,
 	.text = text,
 	.csv = csv,
 	.summary = summary,

@@ -867,6 +867,124 @@ int ssc_emit_json(const struct ssc_common *co, json_t *root)
 	return ssc_out_close(co, &out, ok);
 }
 
+size_t ssc_json_real_text(char *buf, double v)
+{
+	char *e;
+	int n;
+
+	if (!isfinite(v)) {
+		memcpy(buf, "null", 5);
+		return 4;
+	}
+	/* jansson's real: "%.15g" (JSON_REAL_PRECISION(15)), ".0" when the
+	 * text has neither '.' nor 'e', the exponent without '+' and
+	 * without leading zeros */
+	n = snprintf(buf, SSC_JSON_REAL_MAX, "%.15g", v);
+	e = memchr(buf, 'e', (size_t)n);
+	if (!e) {
+		if (!memchr(buf, '.', (size_t)n)) {
+			memcpy(buf + n, ".0", 3);
+			n += 2;
+		}
+		return (size_t)n;
+	}
+	{
+		char *d = e + 1, *s = e + 1;
+
+		if (*s == '+')
+			s++;
+		else if (*s == '-')
+			*d++ = *s++;
+		while (*s == '0' && s[1])
+			s++;
+		while (*s)
+			*d++ = *s++;
+		*d = '\0';
+		return (size_t)(d - buf);
+	}
+}
+
+/* the text a slot's placeholder dumps as */
+#define SLOT_FMT "\x1fssc-slot-%zu\x1f"
+#define SLOT_DUMPED "\"\\u001Fssc-slot-%zu\\u001F\""
+
+json_t *ssc_json_slot(size_t k)
+{
+	char b[48];
+
+	snprintf(b, sizeof(b), SLOT_FMT, k);
+	return json_string(b);
+}
+
+int ssc_emit_json_slots(const struct ssc_common *co, json_t *root,
+			size_t n_slots,
+			bool (*fill)(FILE *f, size_t k, void *ctx), void *ctx)
+{
+	struct ssc_out out;
+	char *text, **at = NULL;
+	size_t len;
+	int rc;
+	bool ok = true;
+
+	if (!root) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	text = json_dumps(root, JSON_REAL_PRECISION(15) | JSON_COMPACT);
+	json_decref(root);
+	at = calloc(n_slots ? n_slots : 1, sizeof(*at));
+	if (!text || !at) {
+		free(text);
+		free(at);
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	len = strlen(text);
+	/* each placeholder exactly once, in order (a user's string that
+	 * spells one is not a slot: then the caller dumps the whole tree) */
+	for (size_t k = 0; k < n_slots; k++) {
+		char m[64], *p;
+		size_t ml = (size_t)snprintf(m, sizeof(m), SLOT_DUMPED, k);
+
+		p = memmem(text, len, m, ml);
+		if (!p || memmem(p + 1, len - (size_t)(p + 1 - text), m, ml) ||
+		    (k && p < at[k - 1])) {
+			free(text);
+			free(at);
+			return -EAGAIN;
+		}
+		at[k] = p;
+	}
+	rc = ssc_out_open(co, &out);
+	if (rc) {
+		free(text);
+		free(at);
+		return rc;
+	}
+	{
+		const char *from = text;
+
+		for (size_t k = 0; k < n_slots && ok; k++) {
+			char m[64];
+			size_t ml = (size_t)snprintf(m, sizeof(m), SLOT_DUMPED, k);
+
+			ok = fwrite(from, 1, (size_t)(at[k] - from), out.f) ==
+				     (size_t)(at[k] - from) &&
+			     fill(out.f, k, ctx);
+			from = at[k] + ml;
+		}
+		if (ok) {
+			size_t rest = len - (size_t)(from - text);
+
+			ok = fwrite(from, 1, rest, out.f) == rest &&
+			     fputc('\n', out.f) != EOF;
+		}
+	}
+	free(text);
+	free(at);
+	return ssc_out_close(co, &out, ok);
+}
+
 const char *ssc_fmt(char *buf, size_t len, double v, int sig)
 {
 	double a = fabs(v);

@@ -160,7 +160,8 @@ static int present(const struct ssc_stage_ops *ops, const struct ssc_common *co,
 	int rc;
 
 	if (co->format == SSC_FMT_JSON)
-		return ssc_emit_json(co, ops->json(opts, res));
+		return ops->emit_json ? ops->emit_json(co, opts, res) :
+					ssc_emit_json(co, ops->json(opts, res));
 	rc = ssc_out_open(co, &o);
 	if (rc)
 		return rc;

@@ -83,6 +83,11 @@ struct ssc_stage_ops {
 	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);
 	/* present the result (each called only when its form is asked for) */
 	json_t *(*json)(const void *opts, const void *result);
+	/* optional: write the --format json output of the command itself,
+	 * the very text ssc_emit_json() makes of json() (large results
+	 * without a tree); returns an exit code */
+	int (*emit_json)(const struct ssc_common *co, const void *opts,
+			 const void *result);
 	void (*text)(FILE *f, const void *opts, const void *result);
 	void (*csv)(FILE *f, const void *opts, const void *result); /* or NULL */
 	/* rows {"channel","quantity","value","lo","hi","unit","note"} */
