@@ -24,6 +24,10 @@
  *    long taus are such multiples;
  *  - sums with explicit SIMD vectors (GCC vector extensions, cloned for
  *    AVX-512/AVX2/baseline where available) and compensated block sums.
+ *  An all-tau grid (every m, which the tiles cannot serve) sums groups of
+ *  neighbouring taus together over L1-sized stretches of the contiguous
+ *  phase, each tau's vector lanes kept between stretches, so that each
+ *  tau's sum is the per-tau kernel's to the last bit.
  * Parallelism is OpenMP; without it the same code runs serially.
  * Non-overlapping, modified, total and strided estimators, and records
  * with gaps, use the contiguous layout and per-tau kernels.
@@ -50,6 +54,7 @@
 	defined(__GLIBC__) && defined(__has_attribute)
 #if __has_attribute(target_clones)
 #define SSC_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
+#define SSC_CLONES_X86 1
 #endif
 #endif
 #ifndef SSC_CLONES
@@ -182,6 +187,175 @@ static void kd_total(int d, const double *x, size_t m, size_t n,
 		size_t k = n - i < KBLOCK ? n - i : KBLOCK;
 
 		ssc_ksum_add(acc, kd(d, x + i, m, k));
+	}
+}
+
+/*
+ * All-tau OADEV: k2's sums for a group of neighbouring taus at once, the
+ * record walked in tiles small enough for L1 (x[i], x[i+m], x[i+2m] of
+ * every tau of the group), each tau's sixteen lanes kept between tiles.
+ * Every lane adds the same terms in the same order as k2 does, so the
+ * sums are k2's (kd_total's) to the last bit; the three streams come from
+ * L1 instead of L2 for every tau.
+ */
+#define GRP_TAUS 32   /* taus per group */
+#define GRP_TILE 512  /* terms per tile: a multiple of 16 dividing KBLOCK */
+
+/* lanes[r] += d_i^2 over i0 <= i < i1, i = r mod 16 (i0, i1 multiples of
+ * 16); without vectors, lanes[0] += d_i^2 in order */
+SSC_CLONES static void k2_lanes(const double *x, size_t m, size_t i0,
+				size_t i1, double *lanes)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	size_t i = i0;
+
+#ifdef SSC_VEC
+	ssc_v4 s0, s0h, s1, s1h;
+
+	V4LOAD(s0, lanes);
+	V4LOAD(s0h, lanes + 4);
+	V4LOAD(s1, lanes + 8);
+	V4LOAD(s1h, lanes + 12);
+	for (; i < i1; i += 16) {
+		ssc_v4 a0, b0, c0, a1, b1, c1, a2, b2, c2, a3, b3, c3, d;
+
+		V4LOAD(a0, a + i);
+		V4LOAD(b0, b + i);
+		V4LOAD(c0, c + i);
+		V4LOAD(a1, a + i + 4);
+		V4LOAD(b1, b + i + 4);
+		V4LOAD(c1, c + i + 4);
+		V4LOAD(a2, a + i + 8);
+		V4LOAD(b2, b + i + 8);
+		V4LOAD(c2, c + i + 8);
+		V4LOAD(a3, a + i + 12);
+		V4LOAD(b3, b + i + 12);
+		V4LOAD(c3, c + i + 12);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s0h += d * d;
+		d = (c2 - b2) - (b2 - a2);
+		s1 += d * d;
+		d = (c3 - b3) - (b3 - a3);
+		s1h += d * d;
+	}
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 4, &s0h, sizeof(s0h));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+	memcpy(lanes + 12, &s1h, sizeof(s1h));
+#else
+	for (; i < i1; i++) {
+		double d = (c[i] - b[i]) - (b[i] - a[i]);
+
+		lanes[0] += d * d;
+	}
+#endif
+}
+
+#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
+/* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15) */
+__attribute__((target("avx512f"))) static void
+k2_lanes512(const double *x, size_t m, size_t i0, size_t i1, double *lanes)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	ssc_v8 s0, s1;
+
+	V8LOAD(s0, lanes);
+	V8LOAD(s1, lanes + 8);
+	for (size_t i = i0; i < i1; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, d;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s1 += d * d;
+	}
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+}
+#endif
+
+/* k2's end of a block from its lanes: the lane reduction, then the
+ * terms [i, n) in order */
+static double k2_finish(const double *x, size_t m, size_t i, size_t n,
+			const double *L)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	double s;
+
+#ifdef SSC_VEC
+	double s0[4], s0h[4];
+
+	for (int r = 0; r < 4; r++) {
+		s0[r] = L[r] + L[r + 8];
+		s0h[r] = L[r + 4] + L[r + 12];
+	}
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
+#else
+	s = L[0];
+#endif
+	for (; i < n; i++) {
+		double d = (c[i] - b[i]) - (b[i] - a[i]);
+
+		s += d * d;
+	}
+	return s;
+}
+
+/* kd_total(2, x, m[j], np - 2 m[j], &acc[j]) for the g increasing m[j] */
+static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
+		     bool wide, struct ssc_ksum *acc)
+{
+	double lanes[GRP_TAUS * 16];
+	const size_t nt0 = np - 2 * m[0];
+
+	(void)wide;
+	for (size_t ib = 0; ib < nt0; ib += KBLOCK) {
+		memset(lanes, 0, sizeof(lanes));
+		for (size_t t0 = ib; t0 < ib + KBLOCK && t0 < nt0; t0 += GRP_TILE)
+			for (size_t j = 0; j < g; j++) {
+				size_t nt = np - 2 * m[j], nb, vend, hi;
+
+				if (ib >= nt)
+					break; /* and for every larger m */
+				nb = nt - ib < KBLOCK ? nt - ib : KBLOCK;
+#ifdef SSC_VEC
+				vend = ib + (nb & ~(size_t)15);
+#else
+				vend = ib + nb;
+#endif
+				hi = t0 + GRP_TILE < vend ? t0 + GRP_TILE : vend;
+				if (t0 >= hi)
+					continue;
+#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
+				if (wide)
+					k2_lanes512(x, m[j], t0, hi, lanes + 16 * j);
+				else
+#endif
+					k2_lanes(x, m[j], t0, hi, lanes + 16 * j);
+			}
+		for (size_t j = 0; j < g; j++) {
+			size_t nt = np - 2 * m[j], nb, vend;
+
+			if (ib >= nt)
+				break;
+			nb = nt - ib < KBLOCK ? nt - ib : KBLOCK;
+#ifdef SSC_VEC
+			vend = ib + (nb & ~(size_t)15);
+#else
+			vend = ib + nb;
+#endif
+			ssc_ksum_add(&acc[j], k2_finish(x + ib, m[j], vend - ib,
+							nb, lanes + 16 * j));
+		}
 	}
 }
 
@@ -1085,6 +1259,32 @@ static void sum_totdev(const struct sscope_allan *p, size_t m,
 	*used = np - 2;
 }
 
+/* contiguous OADEV without gaps or strides (an all-tau grid): the taus
+ * in groups (k2_group), the groups over the threads */
+static void sums_grouped(const struct sscope_allan *p, const size_t *m,
+			 size_t n, unsigned T, struct ssc_ksum *acc,
+			 size_t *used, size_t *skipped)
+{
+	const size_t ng = (n + GRP_TAUS - 1) / GRP_TAUS;
+	bool wide = false;
+
+#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
+	wide = __builtin_cpu_supports("avx512f");
+#endif
+	(void)T;
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+	for (size_t k = 0; k < ng; k++) {
+		size_t j0 = k * GRP_TAUS;
+
+		k2_group(p->x, p->np, m + j0,
+			 n - j0 < GRP_TAUS ? n - j0 : GRP_TAUS, wide, acc + j0);
+	}
+	for (size_t j = 0; j < n; j++) {
+		used[j] = p->np - 2 * m[j];
+		skipped[j] = 0;
+	}
+}
+
 /* ------------------------------------------------------------------ */
 /* Compute                                                             */
 /* ------------------------------------------------------------------ */
@@ -1319,6 +1519,9 @@ static int compute(struct sscope_allan *p, const double *y,
 			goto out;
 		for (size_t j = 0; j < nacc; j++)
 			used[j] = p->np - (size_t)d * m[j];
+	} else if (dev == SSCOPE_ALLAN_DEV_OADEV && !strided && !gaps) {
+		phase_contiguous(p, &s, T, bases);
+		sums_grouped(p, m, nacc, T, acc, used, skipped);
 	} else {
 		phase_contiguous(p, &s, T, bases);
 SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))

@@ -937,6 +937,58 @@ START_TEST(tiled_engine)
 }
 END_TEST
 
+/* An all-tau OADEV grid sums its taus in groups over L1 tiles; with a
+ * stride divisor above every m the same taus take the per-tau kernel:
+ * the deviations must be the same doubles (records shorter than a lane
+ * row, within one block, over several blocks). */
+START_TEST(all_taus_grouped_exact)
+{
+	const size_t ns[] = { 5, 37, 1000, 30011 };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	gsl_rng_set(r, 23);
+	for (size_t c = 0; c < sizeof(ns) / sizeof(ns[0]); c++) {
+		const size_t n = ns[c];
+		double *y = malloc(n * sizeof(double)), w = 0;
+		size_t nm, np1, np2, *m = malloc(n * sizeof(size_t));
+		struct sscope_allan_point *a = malloc(n * sizeof(*a));
+		struct sscope_allan_point *b = malloc(n * sizeof(*b));
+		struct sscope_allan_opts o = { 0 };
+		struct sscope_allan *p;
+
+		for (size_t k = 0; k < n; k++) {
+			w += gsl_ran_gaussian_ziggurat(r, 2.385e-3);
+			y[k] = 0.3 + w + gsl_ran_gaussian_ziggurat(r, 0.01);
+		}
+		ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_ALL, n / 2, m, n, &nm), 0);
+		o.ci_level = -1;
+		o.alpha_fixed = true;
+		o.threads = 2;
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, a, &np1, NULL), 0);
+		sscope_allan_free(p);
+		o.stride_div = SIZE_MAX;
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, b, &np2, NULL), 0);
+		sscope_allan_free(p);
+		ck_assert_uint_eq(np1, nm);
+		ck_assert_uint_eq(np2, nm);
+		for (size_t i = 0; i < nm; i++) {
+			ck_assert_uint_eq(b[i].stride, 1);
+			ck_assert_uint_eq(a[i].terms, b[i].terms);
+			ck_assert_msg(a[i].dev == b[i].dev && a[i].dev > 0,
+				      "n %zu m %zu: %.17g vs %.17g", n, m[i],
+				      a[i].dev, b[i].dev);
+		}
+		free(y);
+		free(m);
+		free(a);
+		free(b);
+	}
+	gsl_rng_free(r);
+}
+END_TEST
+
 /* ------------------------------------------------------------ noise id */
 
 START_TEST(noise_identification)
@@ -1167,6 +1219,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, gaps_angle);
 	tcase_add_test(t, strided);
 	tcase_add_test(t, tiled_engine);
+	tcase_add_test(t, all_taus_grouped_exact);
 	tcase_add_test(t, noise_identification);
 	tcase_add_test(t, errors);
 	tcase_add_test(t, rate_quantity_and_fit_message);
