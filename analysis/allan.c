@@ -198,7 +198,7 @@ static void kd_total(int d, const double *x, size_t m, size_t n,
  * sums are k2's (kd_total's) to the last bit; the three streams come from
  * L1 instead of L2 for every tau.
  */
-#define GRP_TAUS 32   /* taus per group */
+#define GRP_TAUS 64   /* taus per group */
 #define GRP_TILE 512  /* terms per tile: a multiple of 16 dividing KBLOCK */
 
 /* lanes[r] += d_i^2 over i0 <= i < i1, i = r mod 16 (i0, i1 multiples of

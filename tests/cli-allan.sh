@@ -120,7 +120,11 @@ one_line_error "kalibr without a gyro"
 cp "$G" "$T/gyro-static.csv"
 printf '[input]\nfiles = gyro-static.csv\ncolumns = gx,gy\n[allan]\ntaus = all\n[report]\nformats = json\noutput = sc-plain\n' >"$T/all-plain.ini"
 printf '[input]\nfiles = gaps.csv\ncolumns = gx,gy\nallow_nan = yes\n[allan]\ntaus = all\nstride = 4\n[report]\nformats = json\noutput = sc-gaps\n' >"$T/all-gaps.ini"
-for v in "plain gyro-static.csv" "gaps gaps.csv --allow-nan --stride 4"; do
+# deviations near 1e-15 and 1e15: exponents both ways, the switch of
+# "%.15g" to an exponent at 1e15
+awk -F, 'NR <= 2 { print; next } NR == 3 { print "gx [deg/s],gy [deg/s]"; next } { printf "%.6e,%.6e\n", $1 * 1e-13, $2 * 1e18 }' "$G" >"$T/wide.csv"
+printf '[input]\nfiles = wide.csv\ncolumns = gx,gy\n[allan]\ntaus = all\n[report]\nformats = json\noutput = sc-wide\n' >"$T/all-wide.ini"
+for v in "plain gyro-static.csv" "gaps gaps.csv --allow-nan --stride 4" "wide wide.csv"; do
 	# shellcheck disable=SC2086
 	set -- $v
 	name=$1 in=$2

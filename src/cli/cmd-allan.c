@@ -1400,19 +1400,30 @@ struct pts_out {
 	const struct args *a;
 };
 
-static bool put_real(FILE *f, const char *key, size_t klen, double v)
-{
-	char b[SSC_JSON_REAL_MAX];
-	size_t n = ssc_json_real_text(b, v);
+/* append key (a literal) and a value's JSON text at *p */
+#define PUT_KEY(p, key) (memcpy(p, key, sizeof(key) - 1), p += sizeof(key) - 1)
 
-	return fwrite(key, 1, klen, f) == klen && fwrite(b, 1, n, f) == n;
+static char *put_real(char *p, double v)
+{
+	return p + ssc_json_real_text(p, v);
 }
 
-#define PUT_REAL(f, key, v) put_real(f, key, sizeof(key) - 1, v)
-
-static bool put_int(FILE *f, const char *key, long long v)
+static char *put_int(char *p, long long v)
 {
-	return fprintf(f, "%s%lld", key, v) > 0;
+	char t[24];
+	int n = 0;
+	unsigned long long a = v < 0 ? 0 - (unsigned long long)v :
+				       (unsigned long long)v;
+
+	if (v < 0)
+		*p++ = '-';
+	do {
+		t[n++] = (char)('0' + a % 10);
+		a /= 10;
+	} while (a);
+	while (n)
+		*p++ = t[--n];
+	return p;
 }
 
 static bool points_text(FILE *f, size_t slot, void *ctx)
@@ -1436,26 +1447,47 @@ static bool points_text(FILE *f, size_t slot, void *ctx)
 		return false;
 	ok = fputc('[', f) != EOF;
 	for (size_t i = 0; ok && i < c->res->n_points; i++) {
-		const struct sscope_allan_point *p = &c->res->points[i];
+		const struct sscope_allan_point *pt = &c->res->points[i];
 		const double sc = c->u.dev_scale;
+		const char *nn = noise_name(pt->alpha);
+		/* 9 numbers of at most 24 characters, keys, a name */
+		char line[512], *p = line;
 
-		ok = (i == 0 || fputc(',', f) != EOF) &&
-		     PUT_REAL(f, "{\"tau_s\":", p->tau_s) &&
-		     put_int(f, ",\"m\":", (long long)p->m) &&
-		     put_int(f, ",\"terms\":", (long long)p->terms) &&
-		     PUT_REAL(f, ",\"dev\":", p->dev / sc) &&
-		     PUT_REAL(f, ",\"dev_lo\":", p->dev_lo / sc) &&
-		     PUT_REAL(f, ",\"dev_hi\":", p->dev_hi / sc) &&
-		     PUT_REAL(f, ",\"edf\":", p->edf) &&
-		     put_int(f, ",\"alpha\":", p->alpha) &&
-		     fprintf(f, ",\"noise\":\"%s\"", noise_name(p->alpha)) > 0;
-		if (ok && p->skipped)
-			ok = put_int(f, ",\"skipped\":", (long long)p->skipped);
-		if (ok && p->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
-		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV)
-			ok = put_int(f, ",\"stride\":", (long long)p->stride) &&
-			     PUT_REAL(f, ",\"edf_full\":", p->edf_full);
-		ok = ok && fputc('}', f) != EOF;
+		if (i)
+			*p++ = ',';
+		PUT_KEY(p, "{\"tau_s\":");
+		p = put_real(p, pt->tau_s);
+		PUT_KEY(p, ",\"m\":");
+		p = put_int(p, (long long)pt->m);
+		PUT_KEY(p, ",\"terms\":");
+		p = put_int(p, (long long)pt->terms);
+		PUT_KEY(p, ",\"dev\":");
+		p = put_real(p, pt->dev / sc);
+		PUT_KEY(p, ",\"dev_lo\":");
+		p = put_real(p, pt->dev_lo / sc);
+		PUT_KEY(p, ",\"dev_hi\":");
+		p = put_real(p, pt->dev_hi / sc);
+		PUT_KEY(p, ",\"edf\":");
+		p = put_real(p, pt->edf);
+		PUT_KEY(p, ",\"alpha\":");
+		p = put_int(p, pt->alpha);
+		PUT_KEY(p, ",\"noise\":\"");
+		memcpy(p, nn, strlen(nn));
+		p += strlen(nn);
+		*p++ = '"';
+		if (pt->skipped) {
+			PUT_KEY(p, ",\"skipped\":");
+			p = put_int(p, (long long)pt->skipped);
+		}
+		if (pt->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
+		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
+			PUT_KEY(p, ",\"stride\":");
+			p = put_int(p, (long long)pt->stride);
+			PUT_KEY(p, ",\"edf_full\":");
+			p = put_real(p, pt->edf_full);
+		}
+		*p++ = '}';
+		ok = fwrite(line, 1, (size_t)(p - line), f) == (size_t)(p - line);
 	}
 	return ok && fputc(']', f) != EOF;
 }

@@ -8,6 +8,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -867,26 +868,17 @@ int ssc_emit_json(const struct ssc_common *co, json_t *root)
 	return ssc_out_close(co, &out, ok);
 }
 
-size_t ssc_json_real_text(char *buf, double v)
+/* jansson's fix-ups of a "%.15g" text of n characters in buf */
+static size_t jansson_fixup(char *buf, size_t n)
 {
-	char *e;
-	int n;
+	char *e = memchr(buf, 'e', n);
 
-	if (!isfinite(v)) {
-		memcpy(buf, "null", 5);
-		return 4;
-	}
-	/* jansson's real: "%.15g" (JSON_REAL_PRECISION(15)), ".0" when the
-	 * text has neither '.' nor 'e', the exponent without '+' and
-	 * without leading zeros */
-	n = snprintf(buf, SSC_JSON_REAL_MAX, "%.15g", v);
-	e = memchr(buf, 'e', (size_t)n);
 	if (!e) {
-		if (!memchr(buf, '.', (size_t)n)) {
+		if (!memchr(buf, '.', n)) {
 			memcpy(buf + n, ".0", 3);
 			n += 2;
 		}
-		return (size_t)n;
+		return n;
 	}
 	{
 		char *d = e + 1, *s = e + 1;
@@ -902,6 +894,129 @@ size_t ssc_json_real_text(char *buf, double v)
 		*d = '\0';
 		return (size_t)(d - buf);
 	}
+}
+
+#if LDBL_MANT_DIG == 64
+/*
+ * The 15 significant digits of |v| as "%.15g" rounds them, from one
+ * product or quotient in 64-bit long double (10^k is exact for |k| <= 27,
+ * so the scaled value carries one rounding, below 1e-4 in units of the
+ * last digit): taken only when it is farther than 1e-3 units from a
+ * rounding tie, else (and out of range) false and snprintf decides.
+ */
+static bool digits15(double v, char *dig, int *e10)
+{
+	static const long double p10[28] = {
+		1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,  1e7L,
+		1e8L,  1e9L,  1e10L, 1e11L, 1e12L, 1e13L, 1e14L, 1e15L,
+		1e16L, 1e17L, 1e18L, 1e19L, 1e20L, 1e21L, 1e22L, 1e23L,
+		1e24L, 1e25L, 1e26L, 1e27L
+	};
+	long double y, f;
+	unsigned long long D;
+	int e, k;
+
+	if (!(v > 0) || !isfinite(v))
+		return false;
+	e = (int)floor(log10(v));
+	for (int tries = 0; tries < 2; tries++) {
+		k = 14 - e;
+		if (k < -27 || k > 27)
+			return false;
+		y = k >= 0 ? (long double)v * p10[k] : (long double)v / p10[-k];
+		if (y < 1e14L)
+			e--;
+		else if (y >= 1e15L)
+			e++;
+		else
+			break;
+	}
+	if (!(y >= 1e14L && y < 1e15L))
+		return false;
+	f = y - floorl(y);
+	if (fabsl(f - 0.5L) < 1e-3L)
+		return false;
+	D = (unsigned long long)floorl(y) + (f > 0.5L);
+	if (D == 1000000000000000ULL) {
+		D = 100000000000000ULL;
+		e++;
+	}
+	for (int i = 14; i >= 0; i--) {
+		dig[i] = (char)('0' + D % 10);
+		D /= 10;
+	}
+	*e10 = e;
+	return true;
+}
+#endif
+
+size_t ssc_json_real_text(char *buf, double v)
+{
+#if LDBL_MANT_DIG == 64
+	char dig[15], *p = buf;
+	int e, nd = 15;
+
+	if (isfinite(v) && digits15(fabs(v), dig, &e)) {
+		while (nd > 1 && dig[nd - 1] == '0')
+			nd--;
+		if (v < 0)
+			*p++ = '-';
+		if (e >= -4 && e < 15) {
+			/* "%.15g" fixed: the digits around the point, trailing
+			 * zeros of the fraction dropped; jansson adds ".0" */
+			if (e < 0) {
+				*p++ = '0';
+				*p++ = '.';
+				for (int i = -1; i > e; i--)
+					*p++ = '0';
+				memcpy(p, dig, (size_t)nd);
+				p += nd;
+			} else {
+				memcpy(p, dig, (size_t)e + 1);
+				p += e + 1;
+				*p++ = '.';
+				if (nd > e + 1) {
+					memcpy(p, dig + e + 1, (size_t)(nd - e - 1));
+					p += nd - e - 1;
+				} else {
+					*p++ = '0';
+				}
+			}
+		} else {
+			/* exponential, the exponent as jansson leaves it */
+			int a = e < 0 ? -e : e;
+			char ex[8];
+			int ne = 0;
+
+			*p++ = dig[0];
+			if (nd > 1) {
+				*p++ = '.';
+				memcpy(p, dig + 1, (size_t)nd - 1);
+				p += nd - 1;
+			}
+			*p++ = 'e';
+			if (e < 0)
+				*p++ = '-';
+			do {
+				ex[ne++] = (char)('0' + a % 10);
+				a /= 10;
+			} while (a);
+			while (ne)
+				*p++ = ex[--ne];
+		}
+		*p = '\0';
+		return (size_t)(p - buf);
+	}
+#endif
+	if (!isfinite(v)) {
+		memcpy(buf, "null", 5);
+		return 4;
+	}
+	/* jansson's real: "%.15g" (JSON_REAL_PRECISION(15)), ".0" when the
+	 * text has neither '.' nor 'e', the exponent without '+' and
+	 * without leading zeros */
+	return jansson_fixup(buf, (size_t)snprintf(buf, SSC_JSON_REAL_MAX,
+						   "%.15g", v));
 }
 
 /* the text a slot's placeholder dumps as */
