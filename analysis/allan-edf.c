@@ -45,7 +45,7 @@
 /* ------------------------------------------------------------------ */
 
 /* eq (7): generalised autocovariance of power-law noise */
-static double sw(double t, int alpha)
+static inline __attribute__((always_inline)) double sw(double t, int alpha)
 {
 	double a = fabs(t);
 
@@ -70,7 +70,7 @@ static double sw(double t, int alpha)
 }
 
 /* eq (8): after the pre-filter of factor F (F infinite: the limit) */
-static double sx(double t, double F, int alpha)
+static inline __attribute__((always_inline)) double sx(double t, double F, int alpha)
 {
 	if (isinf(F))
 		return sw(t, alpha + 2);
@@ -87,7 +87,8 @@ static double sx(double t, double F, int alpha)
 }
 
 /* eq (9): the d-th difference */
-static double sz(double t, double F, int alpha, int d)
+static inline __attribute__((always_inline)) double sz(double t, double F, int alpha,
+						     int d)
 {
 	switch (d) {
 	case 1:
