@@ -102,31 +102,35 @@ static double count_at(const struct pairgeo *g, double k)
 	return hi > lo ? hi - lo : 0;
 }
 
-static double tlnt(double t)
-{
-	double a = fabs(t);
-
-	return a == 0 ? 0 : t * t * log(a);
-}
+/* the nine (p, q) of gvec, p = i / 3, q = i % 3: weights wgt[p] wgt[q]
+ * (exact) */
+static const double w9[9] = { 1, -2, 1, -2, 4, -2, 1, -2, 1 };
 
 /* cross-covariance per unit coefficient of the N, B, K terms at lag k
- * (samples, real for quadrature nodes); g[0] (Q) is left 0 */
+ * (samples, real for quadrature nodes); g[0] (Q) is left 0.  The nine
+ * logarithms of the B term (t^2 ln|t|, 0 at t = 0) are taken in a row,
+ * apart from the sums, in the same order as term by term. */
 static void gvec(const struct pairgeo *g, double k, double *v)
 {
-	double n = 0, b = 0, kk = 0;
+	double n = 0, b = 0, kk = 0, t[9], a[9];
 	double tc = k + g->mb - g->ma; /* offset of the two centres */
 
-	for (int p = 0; p < 3; p++)
-		for (int q = 0; q < 3; q++) {
-			double w = wgt[p] * wgt[q];
-			double t = k + q * g->mb - p * g->ma, a = fabs(t);
+	for (int i = 0; i < 9; i++) {
+		t[i] = k + (i % 3) * g->mb - (i / 3) * g->ma;
+		a[i] = fabs(t[i]);
+	}
+	for (int i = 0; i < 9; i++) {
+		n += w9[i] * a[i];
+		kk += w9[i] * (a[i] * a[i] * a[i] - a[i]);
+	}
+	if (fabs(tc) <= g->far) {
+		double lg[9];
 
-			n += w * a;
-			kk += w * (a * a * a - a);
-			if (fabs(tc) <= g->far)
-				b += w * tlnt(t);
-		}
-	if (fabs(tc) > g->far) {
+		for (int i = 0; i < 9; i++)
+			lg[i] = a[i] == 0 ? 0 : log(a[i]);
+		for (int i = 0; i < 9; i++)
+			b += w9[i] * (a[i] == 0 ? 0 : t[i] * t[i] * lg[i]);
+	} else {
 		/* sum_pq w (t_c + u)^2 ln|t_c + u| by its Taylor series:
 		 * m_a^2 m_b^2 f''''(t_c) + m_a^2 m_b^2 (m_a^2 + m_b^2) / 12
 		 * f''''''(t_c), f = t^2 ln|t|: f'''' = -2/t^2, f^(6) = -12/t^4 */
