@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "plot.h"
 #include "prefetch.h"
@@ -359,6 +360,42 @@ static const char *result_error(int rc, double fs)
 	return buf;
 }
 
+static int from_capture(const struct ssc_common *co, struct run *R,
+			const struct sscope_capture *cap);
+
+/*
+ * A raw file of one float64 channel that the reader can use in place (a
+ * regular file in the host's byte order, without scaling, every value
+ * finite) is transformed straight from its mapping: whole batches of
+ * segments without a copy, and no reader thread taking a core from the
+ * transforms.  The same segments in the same order: the same numbers.
+ * Anything else, or any refusal, takes the streamed path, which reads and
+ * reports as before.  Returns false when it did not run.
+ */
+static bool from_mapping(const struct ssc_common *co, struct run *R, int *ex)
+{
+	struct sscope_reader_opts o;
+	struct sscope_capture *cap = NULL;
+	size_t nch = 0, vbytes = 0;
+	struct stat st;
+
+	if (!co->raw || co->calibration || co->allow_nan || ssc_progress_on(co) ||
+	    !strcmp(R->path, "-") || stat(R->path, &st) || !S_ISREG(st.st_mode) ||
+	    sscope_reader_raw_layout_check(co->raw, &nch, &vbytes, NULL) ||
+	    nch != 1 || vbytes != sizeof(double))
+		return false;
+	ssc_read_opts(co, &o);
+	o.in_place = true;
+	if (sscope_capture_load(&cap, R->path, &o, NULL) || !cap->mapping ||
+	    cap->n_channels != 1) {
+		sscope_capture_free(cap);
+		return false;
+	}
+	*ex = from_capture(co, R, cap);
+	sscope_capture_free(cap);
+	return true;
+}
+
 /* Streamed Welch estimate of every selected channel. */
 static int stream(const struct ssc_common *co, struct run *R)
 {
@@ -374,6 +411,8 @@ static int stream(const struct ssc_common *co, struct run *R)
 	bool use_time, disorder = false;
 	int rc, ex = SSC_EXIT_FAIL;
 
+	if (from_mapping(co, R, &ex))
+		return ex;
 	ssc_read_opts(co, &ro);
 	if (ssc_progress_on(co)) {
 		ro.progress = read_progress;
