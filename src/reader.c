@@ -2516,6 +2516,25 @@ static bool all_finite(const double *x, size_t n)
 	return z == 0;
 }
 
+/* all_finite over blocks on the OpenMP threads: the pass reads the whole
+ * record and ran on one core while the other waited */
+static bool all_finite_par(const double *x, size_t n)
+{
+	const size_t blk = (size_t)1 << 18;
+	long nb = (long)((n + blk - 1) / blk);
+	bool ok = true;
+
+	(void)nb;
+SSC_OMP(omp parallel for schedule(static) reduction(&& : ok) if (nb > 1))
+	for (long b = 0; b < nb; b++) {
+		size_t a = (size_t)b * blk;
+
+		if (ok)
+			ok = all_finite(x + a, n - a < blk ? n - a : blk);
+	}
+	return ok;
+}
+
 bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 			     double **x, size_t *n, size_t *n_nan,
 			     void **map, size_t *map_len)
@@ -2538,7 +2557,7 @@ bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 #endif
 	/* NaN (a gap, if allowed) and infinities, counted in one pass when
 	 * a quick one finds any (0 * x is 0 for every finite x) */
-	if (!all_finite(v, len))
+	if (!all_finite_par(v, len))
 		for (size_t i = 0; i < len; i++) {
 			nn += v[i] != v[i];
 			ninf += fabs(v[i]) > DBL_MAX;
