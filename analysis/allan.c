@@ -855,18 +855,21 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		filled = stop - wbase;
 		/* the next chunk's thread reads the lookahead too */
 		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
-		/* short taus on terms starting in [wbase, gend) */
-		for (size_t j = 0; j < ts->n; j++) {
-			size_t m = ts->m[j], nt, a, b;
+		/* short taus on terms starting in [wbase, gend), block by
+		 * block and every tau on a block before the next: the block's
+		 * points are read from L1 by the small taus instead of from L2
+		 * once per tau (each tau's blocks are added in the same order) */
+		for (size_t i0 = wbase; i0 < gend; i0 += SHORT_BLOCK) {
+			for (size_t j = 0; j < ts->n; j++) {
+				size_t m = ts->m[j], nt, b, c;
 
-			if (ts->big[j])
-				continue;
-			nt = np - (size_t)ts->d * m; /* terms i < nt */
-			a = wbase;
-			b = gend < nt ? gend : nt;
-			for (size_t i0 = a; i0 < b; i0 += SHORT_BLOCK) {
-				size_t c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
-
+				if (ts->big[j])
+					continue;
+				nt = np - (size_t)ts->d * m; /* terms i < nt */
+				b = gend < nt ? gend : nt;
+				if (i0 >= b)
+					continue;
+				c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
 				ssc_ksum_add(&acc[j], kd(ts->d, win + (i0 - wbase), m, c));
 			}
 		}
