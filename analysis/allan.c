@@ -1211,7 +1211,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	struct src s = { 0 };
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
-	bool *big = NULL, gaps, tiled, strided;
+	bool *big = NULL, gaps, tiled, strided, idpar;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
 	unsigned T;
@@ -1370,7 +1370,10 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		rc = -ENOMEM;
 		goto out;
 	}
-SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
+	/* the identification reads up to SSC_NOISE_ID_MAX points per tau:
+	 * worth both threads from a few taus of a long record on */
+	idpar = nacc > 64 || (nacc > 1 && p->np > 4 * SSC_NOISE_ID_MAX);
+SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 ? 8 : 1))
 	for (size_t j = 0; j < nacc; j++) {
 		struct sscope_allan_point *pt = &pts[j];
 		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;
