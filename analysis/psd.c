@@ -165,7 +165,7 @@ double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nff
 
 #if defined(__GNUC__)
 #define SSC_PSD_VEC 1
-typedef double ssc_pv4 __attribute__((vector_size(32)));
+typedef double ssc_pv2 __attribute__((vector_size(16)));
 #endif
 
 /* Pairwise sum (as numpy's): error O(log n) ulps, vectorisable. */
@@ -175,20 +175,25 @@ static double psum(const double *x, size_t n)
 		double s;
 		size_t i = 0;
 #ifdef SSC_PSD_VEC
-		/* the eight lanes in registers (an array of eight went
-		 * through memory on every add) */
-		ssc_pv4 a = { 0 }, b = { 0 };
+		/* the eight lanes in registers, as four pairs (an array of
+		 * eight, or 32-byte vectors without AVX, went through memory
+		 * on every add) */
+		ssc_pv2 a = { 0 }, b = { 0 }, c = { 0 }, d = { 0 };
 
 		for (; i + 8 <= n; i += 8) {
-			ssc_pv4 u, v;
+			ssc_pv2 u, v, w, z;
 
 			memcpy(&u, x + i, sizeof(u));
-			memcpy(&v, x + i + 4, sizeof(v));
+			memcpy(&v, x + i + 2, sizeof(v));
+			memcpy(&w, x + i + 4, sizeof(w));
+			memcpy(&z, x + i + 6, sizeof(z));
 			a += u;
 			b += v;
+			c += w;
+			d += z;
 		}
-		s = ((a[0] + a[1]) + (a[2] + a[3])) +
-		    ((b[0] + b[1]) + (b[2] + b[3]));
+		s = ((a[0] + a[1]) + (b[0] + b[1])) +
+		    ((c[0] + c[1]) + (d[0] + d[1]));
 #else
 		double a[8] = { 0 };
 
@@ -646,6 +651,36 @@ static double power(const fftw_complex *out, double *pg, size_t n)
 	return pmax;
 }
 
+/* acc[k] + comp[k] += x[k], k < n, Neumaier's step; two bins at a time
+ * where SSE2 is (the same operations on each bin) */
+static void neumaier_add(double *acc, double *comp, const double *x, size_t n)
+{
+	size_t k = 0;
+
+#if defined(__SSE2__) && defined(__x86_64__)
+	const __m128d sign = _mm_set1_pd(-0.0);
+
+	for (; k + 2 <= n; k += 2) {
+		__m128d s = _mm_loadu_pd(acc + k), v = _mm_loadu_pd(x + k);
+		__m128d t = _mm_add_pd(s, v);
+		__m128d big = _mm_cmpge_pd(_mm_andnot_pd(sign, s),
+					   _mm_andnot_pd(sign, v));
+		__m128d e1 = _mm_add_pd(_mm_sub_pd(s, t), v);
+		__m128d e2 = _mm_add_pd(_mm_sub_pd(v, t), s);
+		__m128d e = _mm_or_pd(_mm_and_pd(big, e1), _mm_andnot_pd(big, e2));
+
+		_mm_storeu_pd(comp + k, _mm_add_pd(_mm_loadu_pd(comp + k), e));
+		_mm_storeu_pd(acc + k, t);
+	}
+#endif
+	for (; k < n; k++) {
+		double s = acc[k], v = x[k], t = s + v;
+
+		comp[k] += fabs(s) >= fabs(v) ? (s - t) + v : (v - t) + s;
+		acc[k] = t;
+	}
+}
+
 /* Transform `count` segments starting at base[0], base[step], ...: the
  * stage, or the caller's buffer itself when it holds whole batches.
  * Dynamic scheduling: on a loaded machine a thread that loses its core
@@ -721,13 +756,8 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 
 				if (p->bad[j])
 					continue;
-				for (size_t k = k0; k < k1; k++) {
-					double s = p->acc[k], x = pg[k], t = s + x;
-
-					p->comp[k] += fabs(s) >= fabs(x) ? (s - t) + x :
-									   (x - t) + s;
-					p->acc[k] = t;
-				}
+				neumaier_add(p->acc + k0, p->comp + k0, pg + k0,
+					     k1 - k0);
 			}
 		}
 	}
