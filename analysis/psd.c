@@ -788,23 +788,30 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 		    size_t n)
 {
+	const double *x0 = x;
+
 	if (!p || (!x && n) || stride == 0)
 		return -EINVAL;
-	/* whole batches straight from a contiguous buffer, without a copy */
-	while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
-		size_t adv = p->batch * p->step;
-		int rc = process(p, x, p->batch);
+	for (;;) {
+		size_t take;
+		double *d;
 
-		if (rc)
-			return rc;
-		x += adv;
-		n -= adv;
-		p->n_samples += adv;
-	}
-	while (n) {
-		size_t take = p->stage_cap - p->have;
-		double *d = p->stage + p->have;
+		/* whole batches straight from a contiguous buffer, without
+		 * a copy */
+		while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
+			size_t adv = p->batch * p->step;
+			int rc = process(p, x, p->batch);
 
+			if (rc)
+				return rc;
+			x += adv;
+			n -= adv;
+			p->n_samples += adv;
+		}
+		if (!n)
+			break;
+		take = p->stage_cap - p->have;
+		d = p->stage + p->have;
 		if (take > n)
 			take = n;
 		if (stride == 1) {
@@ -822,6 +829,17 @@ int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 
 			if (rc)
 				return rc;
+			/* the samples kept for the next segments came from
+			 * this buffer: read them there, so that a record fed
+			 * in large pieces is staged only across each piece's
+			 * end, not copied whole */
+			if (stride == 1 && p->have <= (size_t)(x - x0) &&
+			    n + p->have >= p->stage_cap) {
+				x -= p->have;
+				n += p->have;
+				p->n_samples -= p->have;
+				p->have = 0;
+			}
 		}
 	}
 	return 0;
