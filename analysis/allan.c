@@ -525,9 +525,11 @@ int sscope_allan_new(struct sscope_allan **plan,
 		G = (G + TILE_COLS * S - 1) / (TILE_COLS * S) * (TILE_COLS * S);
 		p->win_cap = G + W + TILE_COLS * S + 64;
 	}
-	if (sh)
-		p->win = ssc_alloc_array((size_t)p->nthreads * p->win_cap,
-					 sizeof(double));
+	/* on cache lines: the kernels' loads are then aligned for every
+	 * m that is a multiple of 8 (win_cap is one) */
+	if (sh && p->win_cap <= SIZE_MAX / sizeof(double) / p->nthreads)
+		p->win = aligned_alloc(64, (size_t)p->nthreads * p->win_cap *
+						   sizeof(double));
 	/* the identification looks at up to n_max + 1 points */
 	p->nid_half = (n_max < SSC_NOISE_ID_MAX ? n_max + 1 : SSC_NOISE_ID_MAX) + 2;
 	p->nid = ssc_alloc_array((size_t)p->nthreads * 2 * p->nid_half,
