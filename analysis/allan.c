@@ -251,7 +251,84 @@ SSC_K512 static double k3_512(const double *x, size_t m, size_t n)
 	}
 	return s;
 }
+
+/*
+ * k2_512 for two lags at once on the same points: the shared x[i] loaded
+ * once, and four chains of additions instead of two (one pair of chains
+ * bounded the single kernel on points in L1).  Each sum is k2_512's.
+ */
+SSC_K512 static void k2x2_512(const double *x, size_t m, size_t mb, size_t n,
+			      double *r, double *rb)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	const double *e = x + mb, *f = x + 2 * mb;
+	ssc_v8 s0 = { 0 }, s1 = { 0 }, t0 = { 0 }, t1 = { 0 };
+	double s, t;
+	size_t i = 0;
+
+	for (; i + 16 <= n; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, e0, f0, e1, f1, d;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		V8LOAD(e0, e + i);
+		V8LOAD(f0, f + i);
+		V8LOAD(e1, e + i + 8);
+		V8LOAD(f1, f + i + 8);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s1 += d * d;
+		d = (f0 - e0) - (e0 - a0);
+		t0 += d * d;
+		d = (f1 - e1) - (e1 - a1);
+		t1 += d * d;
+	}
+	s0 += s1;
+	t0 += t1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	t = ((t0[0] + t0[1]) + (t0[2] + t0[3])) +
+	    ((t0[4] + t0[5]) + (t0[6] + t0[7]));
+	for (size_t k = i; k < n; k++) {
+		double d = (c[k] - b[k]) - (b[k] - a[k]);
+
+		s += d * d;
+	}
+	for (size_t k = i; k < n; k++) {
+		double d = (f[k] - e[k]) - (e[k] - a[k]);
+
+		t += d * d;
+	}
+	*r = s;
+	*rb = t;
+}
 #endif
+
+/* whether k2x2_512 runs here */
+static bool have_pair_kernel(void)
+{
+#ifdef SSC_K512
+	return __builtin_cpu_supports("avx512f");
+#else
+	return false;
+#endif
+}
+
+static void k2_pair(const double *x, size_t m, size_t mb, size_t n, double *r,
+		    double *rb)
+{
+#ifdef SSC_K512
+	k2x2_512(x, m, mb, n, r, rb);
+#else
+	*r = k2(x, m, n);
+	*rb = k2(x, mb, n);
+#endif
+}
 
 static double kd(int d, const double *x, size_t m, size_t n)
 {
@@ -931,6 +1008,8 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
 	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
+	/* second differences two taus at a time where the kernel exists */
+	const bool pair = ts->d == 2 && have_pair_kernel();
 
 	G = (G + grp - 1) / grp * grp;
 	WB = G + W;
@@ -950,6 +1029,9 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		 * points are read from L1 by the small taus instead of from L2
 		 * once per tau (each tau's blocks are added in the same order) */
 		for (size_t i0 = wbase; i0 < gend; i0 += SHORT_BLOCK) {
+			const double *w = win + (i0 - wbase);
+			size_t pj = SIZE_MAX, pc = 0; /* a tau waiting for a pair */
+
 			for (size_t j = 0; j < ts->n; j++) {
 				size_t m = ts->m[j], nt, b, c;
 
@@ -960,8 +1042,26 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 				if (i0 >= b)
 					continue;
 				c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
-				ssc_ksum_add(&acc[j], kd(ts->d, win + (i0 - wbase), m, c));
+				if (!pair) {
+					ssc_ksum_add(&acc[j], kd(ts->d, w, m, c));
+					continue;
+				}
+				if (pj != SIZE_MAX && pc == c) {
+					double sa, sb;
+
+					k2_pair(w, ts->m[pj], m, c, &sa, &sb);
+					ssc_ksum_add(&acc[pj], sa);
+					ssc_ksum_add(&acc[j], sb);
+					pj = SIZE_MAX;
+					continue;
+				}
+				if (pj != SIZE_MAX)
+					ssc_ksum_add(&acc[pj], kd(2, w, ts->m[pj], pc));
+				pj = j;
+				pc = c;
 			}
+			if (pj != SIZE_MAX)
+				ssc_ksum_add(&acc[pj], kd(2, w, ts->m[pj], pc));
 		}
 		/* tiles of [wbase, gend): groups of 8 columns */
 		for (size_t g0 = wbase; g0 < gend; g0 += grp) {
