@@ -350,6 +350,34 @@ static void kd_total(int d, const double *x, size_t m, size_t n,
 	}
 }
 
+/*
+ * kd_total of second differences for lags m over n terms and mb over nb
+ * terms of the same points: the blocks both have of the same length
+ * through the pair kernel, each sum added to its accumulator in the same
+ * order as kd_total's.
+ */
+static void kd_total_pair(const double *x, size_t m, size_t n, size_t mb,
+			  size_t nb, struct ssc_ksum *acc, struct ssc_ksum *accb)
+{
+	for (size_t i = 0; i < n || i < nb; i += KBLOCK) {
+		size_t k = i < n ? (n - i < KBLOCK ? n - i : KBLOCK) : 0;
+		size_t kb = i < nb ? (nb - i < KBLOCK ? nb - i : KBLOCK) : 0;
+
+		if (k && k == kb) {
+			double sa, sb;
+
+			k2_pair(x + i, m, mb, k, &sa, &sb);
+			ssc_ksum_add(acc, sa);
+			ssc_ksum_add(accb, sb);
+			continue;
+		}
+		if (k)
+			ssc_ksum_add(acc, kd(2, x + i, m, k));
+		if (kb)
+			ssc_ksum_add(accb, kd(2, x + i, mb, kb));
+	}
+}
+
 /* one term of order d at i, lag m (differences of differences) */
 static inline double term(int d, const double *x, size_t i, size_t m)
 {
@@ -1107,6 +1135,8 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 
 	if (!part)
 		return -ENOMEM;
+	const bool pair = ts->d == 2 && have_pair_kernel();
+
 SSC_OMP(omp parallel num_threads(T))
 	{
 		unsigned me = 0;
@@ -1131,6 +1161,7 @@ SSC_OMP(omp for schedule(static, 1))
 SSC_OMP(omp for schedule(dynamic, 4))
 		for (size_t rr = 0; rr < p->S; rr++) {
 			const double *row = p->x + rr * p->Lp;
+			size_t pj = SIZE_MAX, pq = 0; /* a tau waiting for a pair */
 
 			for (size_t j = 0; j < ts->n; j++) {
 				size_t m = ts->m[j], nt, nq;
@@ -1141,8 +1172,19 @@ SSC_OMP(omp for schedule(dynamic, 4))
 				if (nt <= rr)
 					continue;
 				nq = (nt - rr + p->S - 1) >> p->shift;
-				kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
+				if (!pair) {
+					kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
+				} else if (pj == SIZE_MAX) {
+					pj = j;
+					pq = nq;
+				} else {
+					kd_total_pair(row, ts->m[pj] >> p->shift, pq,
+						      m >> p->shift, nq, &my[pj], &my[j]);
+					pj = SIZE_MAX;
+				}
 			}
+			if (pj != SIZE_MAX)
+				kd_total(ts->d, row, ts->m[pj] >> p->shift, pq, &my[pj]);
 		}
 	}
 	for (unsigned t = 0; t < T; t++)
