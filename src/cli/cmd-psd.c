@@ -375,17 +375,17 @@ static size_t segments_end(const struct sscope_psd_opts *o, size_t n)
 	return (n - m) / step * step + m;
 }
 
-/* samples per piece of a mapped record: 8 MiB */
-#define MAP_PIECE ((size_t)1 << 20)
+/* samples per piece of a mapped record (32 MiB): the estimate copies
+ * up to a batch of segments (4 MiB for nperseg 4096) across each end */
+#define MAP_PIECE ((size_t)1 << 22)
 
 /*
  * A raw record of one float64 channel in the host's byte order, without
  * scaling or unit conversion, in a regular file, is fed to the estimate
  * straight from a mapping of the file: whole batches of segments without
  * a copy, no reader thread taking a core from the transforms, the pages
- * given back behind (the memory of the streamed path).  The same
- * segments in the same order: the same numbers.  The result is computed
- * here (the rate is given).  A non-finite sample (a segment the estimate
+ * given back behind.  The same segments in the same order: the same
+ * numbers.  The result is computed here (the rate is given).  A non-finite sample (a segment the estimate
  * refuses, or one after the last segment) or any failure resets the
  * estimate and returns false: the streamed path then reads the record
  * and reports as before.
