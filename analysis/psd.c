@@ -735,12 +735,11 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 	 * left one of two threads a single bin. */
 	{
 		size_t nth = p->nth > 0 ? (size_t)p->nth : 1;
-		size_t bs = (p->nbins + 1023) / 1024;
+		size_t want = (p->nbins + 1023) / 1024, bs;
 		long nblk;
 
-		bs = (bs + nth - 1) / nth * nth;
-		bs = (p->nbins + bs - 1) / bs;
-		bs = (bs + 7) & ~(size_t)7;
+		want = (want + nth - 1) / nth * nth;
+		bs = ((p->nbins + want - 1) / want + 7) & ~(size_t)7;
 		nblk = (long)((p->nbins + bs - 1) / bs);
 
 #ifdef _OPENMP

@@ -385,10 +385,10 @@ static size_t segments_end(const struct sscope_psd_opts *o, size_t n)
  * straight from a mapping of the file: whole batches of segments without
  * a copy, no reader thread taking a core from the transforms, the pages
  * given back behind.  The same segments in the same order: the same
- * numbers.  The result is computed here (the rate is given).  A non-finite sample (a segment the estimate
- * refuses, or one after the last segment) or any failure resets the
- * estimate and returns false: the streamed path then reads the record
- * and reports as before.
+ * numbers.  The result is computed here (the rate is given).  A
+ * non-finite sample (a segment the estimate refuses, or one after the
+ * last segment) or any failure resets the estimate and returns false: the
+ * streamed path then reads the record and reports as before.
  */
 static bool fed_from_mapping(const struct ssc_common *co, struct run *R,
 			     struct sscope_reader *rd)
