@@ -174,8 +174,173 @@ SSC_CLONES static double k3(const double *x, size_t m, size_t n)
 	return s;
 }
 
+#if defined(SSC_VEC) && defined(__x86_64__) && defined(__has_attribute)
+#if __has_attribute(target)
+#define SSC_K512 __attribute__((target("avx512f")))
+#endif
+#endif
+
+#ifdef SSC_K512
+/*
+ * k2 and k3 on 64-byte vectors where AVX-512 is available (the clones
+ * above use 32-byte halves everywhere): half the loads and operations.
+ * Lane for lane the accumulators of k2 / k3 (the two halves of each
+ * eight-lane accumulator side by side) and the same final additions:
+ * the same sums to the bit.
+ */
+SSC_K512 static double k2_512(const double *x, size_t m, size_t n)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	ssc_v8 s0 = { 0 }, s1 = { 0 };
+	double s;
+	size_t i = 0;
+
+	for (; i + 16 <= n; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, d;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s1 += d * d;
+	}
+	s0 += s1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	for (; i < n; i++) {
+		double d = (c[i] - b[i]) - (b[i] - a[i]);
+
+		s += d * d;
+	}
+	return s;
+}
+
+SSC_K512 static double k3_512(const double *x, size_t m, size_t n)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
+	ssc_v8 s0 = { 0 }, s1 = { 0 };
+	double s;
+	size_t i = 0;
+
+#define K3O(acc, o)                                                            \
+	do {                                                                   \
+		ssc_v8 a0, b0, c0, e0, d, f, g;                                \
+                                                                               \
+		V8LOAD(a0, a + i + (o));                                       \
+		V8LOAD(b0, b + i + (o));                                       \
+		V8LOAD(c0, c + i + (o));                                       \
+		V8LOAD(e0, e + i + (o));                                       \
+		f = b0 - a0;                                                   \
+		g = c0 - b0;                                                   \
+		d = ((e0 - c0) - g) - (g - f);                                 \
+		acc += d * d;                                                  \
+	} while (0)
+	for (; i + 16 <= n; i += 16) {
+		K3O(s0, 0);
+		K3O(s1, 8);
+	}
+#undef K3O
+	s0 += s1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	for (; i < n; i++) {
+		double f = b[i] - a[i], g = c[i] - b[i];
+		double d = ((e[i] - c[i]) - g) - (g - f);
+
+		s += d * d;
+	}
+	return s;
+}
+
+/*
+ * k2_512 for two lags at once on the same points: the shared x[i] loaded
+ * once, and four chains of additions instead of two (one pair of chains
+ * bounded the single kernel on points in L1).  Each sum is k2_512's.
+ */
+SSC_K512 static void k2x2_512(const double *x, size_t m, size_t mb, size_t n,
+			      double *r, double *rb)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	const double *e = x + mb, *f = x + 2 * mb;
+	ssc_v8 s0 = { 0 }, s1 = { 0 }, t0 = { 0 }, t1 = { 0 };
+	double s, t;
+	size_t i = 0;
+
+	for (; i + 16 <= n; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, e0, f0, e1, f1, d;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		V8LOAD(e0, e + i);
+		V8LOAD(f0, f + i);
+		V8LOAD(e1, e + i + 8);
+		V8LOAD(f1, f + i + 8);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s1 += d * d;
+		d = (f0 - e0) - (e0 - a0);
+		t0 += d * d;
+		d = (f1 - e1) - (e1 - a1);
+		t1 += d * d;
+	}
+	s0 += s1;
+	t0 += t1;
+	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
+	t = ((t0[0] + t0[1]) + (t0[2] + t0[3])) +
+	    ((t0[4] + t0[5]) + (t0[6] + t0[7]));
+	for (size_t k = i; k < n; k++) {
+		double d = (c[k] - b[k]) - (b[k] - a[k]);
+
+		s += d * d;
+	}
+	for (size_t k = i; k < n; k++) {
+		double d = (f[k] - e[k]) - (e[k] - a[k]);
+
+		t += d * d;
+	}
+	*r = s;
+	*rb = t;
+}
+#endif
+
+/* whether k2x2_512 runs here */
+static bool have_pair_kernel(void)
+{
+#ifdef SSC_K512
+	return __builtin_cpu_supports("avx512f");
+#else
+	return false;
+#endif
+}
+
+static void k2_pair(const double *x, size_t m, size_t mb, size_t n, double *r,
+		    double *rb)
+{
+#ifdef SSC_K512
+	k2x2_512(x, m, mb, n, r, rb);
+#else
+	*r = k2(x, m, n);
+	*rb = k2(x, mb, n);
+#endif
+}
+
 static double kd(int d, const double *x, size_t m, size_t n)
 {
+#ifdef SSC_K512
+	if (__builtin_cpu_supports("avx512f"))
+		return d == 2 ? k2_512(x, m, n) : k3_512(x, m, n);
+#endif
 	return d == 2 ? k2(x, m, n) : k3(x, m, n);
 }
 
@@ -356,6 +521,34 @@ static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
 			ssc_ksum_add(&acc[j], k2_finish(x + ib, m[j], vend - ib,
 							nb, lanes + 16 * j));
 		}
+	}
+}
+
+/*
+ * kd_total of second differences for lags m over n terms and mb over nb
+ * terms of the same points: the blocks both have of the same length
+ * through the pair kernel, each sum added to its accumulator in the same
+ * order as kd_total's.
+ */
+static void kd_total_pair(const double *x, size_t m, size_t n, size_t mb,
+			  size_t nb, struct ssc_ksum *acc, struct ssc_ksum *accb)
+{
+	for (size_t i = 0; i < n || i < nb; i += KBLOCK) {
+		size_t k = i < n ? (n - i < KBLOCK ? n - i : KBLOCK) : 0;
+		size_t kb = i < nb ? (nb - i < KBLOCK ? nb - i : KBLOCK) : 0;
+
+		if (k && k == kb) {
+			double sa, sb;
+
+			k2_pair(x + i, m, mb, k, &sa, &sb);
+			ssc_ksum_add(acc, sa);
+			ssc_ksum_add(accb, sb);
+			continue;
+		}
+		if (k)
+			ssc_ksum_add(acc, kd(2, x + i, m, k));
+		if (kb)
+			ssc_ksum_add(accb, kd(2, x + i, mb, kb));
 	}
 }
 
@@ -611,9 +804,11 @@ int sscope_allan_new(struct sscope_allan **plan,
 		G = (G + TILE_COLS * S - 1) / (TILE_COLS * S) * (TILE_COLS * S);
 		p->win_cap = G + W + TILE_COLS * S + 64;
 	}
-	if (sh)
-		p->win = ssc_alloc_array((size_t)p->nthreads * p->win_cap,
-					 sizeof(double));
+	/* on cache lines: the kernels' loads are then aligned for every
+	 * m that is a multiple of 8 (win_cap is one) */
+	if (sh && p->win_cap <= SIZE_MAX / sizeof(double) / p->nthreads)
+		p->win = aligned_alloc(64, (size_t)p->nthreads * p->win_cap *
+						   sizeof(double));
 	/* the identification looks at up to n_max + 1 points */
 	p->nid_half = (n_max < SSC_NOISE_ID_MAX ? n_max + 1 : SSC_NOISE_ID_MAX) + 2;
 	p->nid = ssc_alloc_array((size_t)p->nthreads * 2 * p->nid_half,
@@ -1015,6 +1210,8 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
 	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
+	/* second differences two taus at a time where the kernel exists */
+	const bool pair = ts->d == 2 && have_pair_kernel();
 
 	G = (G + grp - 1) / grp * grp;
 	WB = G + W;
@@ -1029,20 +1226,44 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		filled = stop - wbase;
 		/* the next chunk's thread reads the lookahead too */
 		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
-		/* short taus on terms starting in [wbase, gend) */
-		for (size_t j = 0; j < ts->n; j++) {
-			size_t m = ts->m[j], nt, a, b;
+		/* short taus on terms starting in [wbase, gend), block by
+		 * block and every tau on a block before the next: the block's
+		 * points are read from L1 by the small taus instead of from L2
+		 * once per tau (each tau's blocks are added in the same order) */
+		for (size_t i0 = wbase; i0 < gend; i0 += SHORT_BLOCK) {
+			const double *w = win + (i0 - wbase);
+			size_t pj = SIZE_MAX, pc = 0; /* a tau waiting for a pair */
 
-			if (ts->big[j])
-				continue;
-			nt = np - (size_t)ts->d * m; /* terms i < nt */
-			a = wbase;
-			b = gend < nt ? gend : nt;
-			for (size_t i0 = a; i0 < b; i0 += SHORT_BLOCK) {
-				size_t c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
+			for (size_t j = 0; j < ts->n; j++) {
+				size_t m = ts->m[j], nt, b, c;
 
-				ssc_ksum_add(&acc[j], kd(ts->d, win + (i0 - wbase), m, c));
+				if (ts->big[j])
+					continue;
+				nt = np - (size_t)ts->d * m; /* terms i < nt */
+				b = gend < nt ? gend : nt;
+				if (i0 >= b)
+					continue;
+				c = b - i0 < SHORT_BLOCK ? b - i0 : SHORT_BLOCK;
+				if (!pair) {
+					ssc_ksum_add(&acc[j], kd(ts->d, w, m, c));
+					continue;
+				}
+				if (pj != SIZE_MAX && pc == c) {
+					double sa, sb;
+
+					k2_pair(w, ts->m[pj], m, c, &sa, &sb);
+					ssc_ksum_add(&acc[pj], sa);
+					ssc_ksum_add(&acc[j], sb);
+					pj = SIZE_MAX;
+					continue;
+				}
+				if (pj != SIZE_MAX)
+					ssc_ksum_add(&acc[pj], kd(2, w, ts->m[pj], pc));
+				pj = j;
+				pc = c;
 			}
+			if (pj != SIZE_MAX)
+				ssc_ksum_add(&acc[pj], kd(2, w, ts->m[pj], pc));
 		}
 		/* tiles of [wbase, gend): groups of 8 columns */
 		for (size_t g0 = wbase; g0 < gend; g0 += grp) {
@@ -1088,6 +1309,8 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 
 	if (!part)
 		return -ENOMEM;
+	const bool pair = ts->d == 2 && have_pair_kernel();
+
 SSC_OMP(omp parallel num_threads(T))
 	{
 		unsigned me = 0;
@@ -1112,6 +1335,7 @@ SSC_OMP(omp for schedule(static, 1))
 SSC_OMP(omp for schedule(dynamic, 4))
 		for (size_t rr = 0; rr < p->S; rr++) {
 			const double *row = p->x + rr * p->Lp;
+			size_t pj = SIZE_MAX, pq = 0; /* a tau waiting for a pair */
 
 			for (size_t j = 0; j < ts->n; j++) {
 				size_t m = ts->m[j], nt, nq;
@@ -1122,8 +1346,19 @@ SSC_OMP(omp for schedule(dynamic, 4))
 				if (nt <= rr)
 					continue;
 				nq = (nt - rr + p->S - 1) >> p->shift;
-				kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
+				if (!pair) {
+					kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
+				} else if (pj == SIZE_MAX) {
+					pj = j;
+					pq = nq;
+				} else {
+					kd_total_pair(row, ts->m[pj] >> p->shift, pq,
+						      m >> p->shift, nq, &my[pj], &my[j]);
+					pj = SIZE_MAX;
+				}
 			}
+			if (pj != SIZE_MAX)
+				kd_total(ts->d, row, ts->m[pj] >> p->shift, pq, &my[pj]);
 		}
 	}
 	for (unsigned t = 0; t < T; t++)
@@ -1408,7 +1643,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	struct src s = { 0 };
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
-	bool *big = NULL, gaps, tiled, strided;
+	bool *big = NULL, gaps, tiled, strided, idpar;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
 	unsigned T;
@@ -1570,7 +1805,10 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		rc = -ENOMEM;
 		goto out;
 	}
-SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
+	/* the identification reads up to SSC_NOISE_ID_MAX points per tau:
+	 * worth both threads from a few taus of a long record on */
+	idpar = nacc > 64 || (nacc > 1 && p->np > 4 * SSC_NOISE_ID_MAX);
+SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 ? 8 : 1))
 	for (size_t j = 0; j < nacc; j++) {
 		struct sscope_allan_point *pt = &pts[j];
 		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;

@@ -35,6 +35,9 @@
 #include <string.h>
 
 #include <fftw3.h>
+#if defined(__SSE2__) && defined(__x86_64__)
+#include <emmintrin.h>
+#endif
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #ifdef _OPENMP
@@ -160,18 +163,46 @@ double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nff
 	return hypot(re, im);
 }
 
+#if defined(__GNUC__)
+#define SSC_PSD_VEC 1
+typedef double ssc_pv2 __attribute__((vector_size(16)));
+#endif
+
 /* Pairwise sum (as numpy's): error O(log n) ulps, vectorisable. */
 static double psum(const double *x, size_t n)
 {
 	if (n <= 128) {
-		double a[8] = { 0 }, s;
+		double s;
 		size_t i = 0;
+#ifdef SSC_PSD_VEC
+		/* the eight lanes in registers, as four pairs (an array of
+		 * eight, or 32-byte vectors without AVX, went through memory
+		 * on every add) */
+		ssc_pv2 a = { 0 }, b = { 0 }, c = { 0 }, d = { 0 };
+
+		for (; i + 8 <= n; i += 8) {
+			ssc_pv2 u, v, w, z;
+
+			memcpy(&u, x + i, sizeof(u));
+			memcpy(&v, x + i + 2, sizeof(v));
+			memcpy(&w, x + i + 4, sizeof(w));
+			memcpy(&z, x + i + 6, sizeof(z));
+			a += u;
+			b += v;
+			c += w;
+			d += z;
+		}
+		s = ((a[0] + a[1]) + (b[0] + b[1])) +
+		    ((c[0] + c[1]) + (d[0] + d[1]));
+#else
+		double a[8] = { 0 };
 
 		for (; i + 8 <= n; i += 8)
 			for (size_t j = 0; j < 8; j++)
 				a[j] += x[i + j];
 		s = ((a[0] + a[1]) + (a[2] + a[3])) +
 		    ((a[4] + a[5]) + (a[6] + a[7]));
+#endif
 		for (; i < n; i++)
 			s += x[i];
 		return s;
@@ -568,6 +599,88 @@ static void common_exponent(struct sscope_psd *p, size_t count)
 	}
 }
 
+/*
+ * pg[k] = |out[k]|^2 for k < n; returns what the running maximum
+ * pmax = pmax > pg[k] ? pmax : pg[k] from pmax = 0 gives.  Four lanes of
+ * maxima instead of one chain of them (the chain was the loop's cost);
+ * without NaN the maximum does not depend on the order, with one (an
+ * overflowed transform) the chain is run as written.
+ */
+static double power(const fftw_complex *out, double *pg, size_t n)
+{
+	double pmax = 0;
+	size_t k = 0;
+
+#if defined(__SSE2__) && defined(__x86_64__)
+	__m128d m0 = _mm_setzero_pd(), m1 = m0, un = m0;
+
+	for (; k + 4 <= n; k += 4) {
+		__m128d a = _mm_loadu_pd(out[k]), b = _mm_loadu_pd(out[k + 1]);
+		__m128d c = _mm_loadu_pd(out[k + 2]), d = _mm_loadu_pd(out[k + 3]);
+		__m128d p01, p23;
+
+		a = _mm_mul_pd(a, a);
+		b = _mm_mul_pd(b, b);
+		c = _mm_mul_pd(c, c);
+		d = _mm_mul_pd(d, d);
+		/* re^2 + im^2 of each bin */
+		p01 = _mm_add_pd(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b));
+		p23 = _mm_add_pd(_mm_unpacklo_pd(c, d), _mm_unpackhi_pd(c, d));
+		_mm_storeu_pd(pg + k, p01);
+		_mm_storeu_pd(pg + k + 2, p23);
+		m0 = _mm_max_pd(m0, p01);
+		m1 = _mm_max_pd(m1, p23);
+		un = _mm_or_pd(un, _mm_cmpunord_pd(p01, p23));
+	}
+	if (_mm_movemask_pd(un)) {
+		for (size_t i = 0; i < k; i++)
+			pmax = pmax > pg[i] ? pmax : pg[i];
+	} else {
+		double l[4];
+
+		_mm_storeu_pd(l, m0);
+		_mm_storeu_pd(l + 2, m1);
+		for (int i = 0; i < 4; i++)
+			pmax = pmax > l[i] ? pmax : l[i];
+	}
+#endif
+	for (; k < n; k++) {
+		pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+		pmax = pmax > pg[k] ? pmax : pg[k];
+	}
+	return pmax;
+}
+
+/* acc[k] + comp[k] += x[k], k < n, Neumaier's step; two bins at a time
+ * where SSE2 is (the same operations on each bin) */
+static void neumaier_add(double *acc, double *comp, const double *x, size_t n)
+{
+	size_t k = 0;
+
+#if defined(__SSE2__) && defined(__x86_64__)
+	const __m128d sign = _mm_set1_pd(-0.0);
+
+	for (; k + 2 <= n; k += 2) {
+		__m128d s = _mm_loadu_pd(acc + k), v = _mm_loadu_pd(x + k);
+		__m128d t = _mm_add_pd(s, v);
+		__m128d big = _mm_cmpge_pd(_mm_andnot_pd(sign, s),
+					   _mm_andnot_pd(sign, v));
+		__m128d e1 = _mm_add_pd(_mm_sub_pd(s, t), v);
+		__m128d e2 = _mm_add_pd(_mm_sub_pd(v, t), s);
+		__m128d e = _mm_or_pd(_mm_and_pd(big, e1), _mm_andnot_pd(big, e2));
+
+		_mm_storeu_pd(comp + k, _mm_add_pd(_mm_loadu_pd(comp + k), e));
+		_mm_storeu_pd(acc + k, t);
+	}
+#endif
+	for (; k < n; k++) {
+		double s = acc[k], v = x[k], t = s + v;
+
+		comp[k] += fabs(s) >= fabs(v) ? (s - t) + v : (v - t) + s;
+		acc[k] = t;
+	}
+}
+
 /* Transform `count` segments starting at base[0], base[step], ...: the
  * stage, or the caller's buffer itself when it holds whole batches.
  * Dynamic scheduling: on a loaded machine a thread that loses its core
@@ -596,10 +709,7 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 		p->bad[j] = !prepare(p, seg, in);
 		if (!p->bad[j]) {
 			fftw_execute_dft_r2c(p->plan, in, out);
-			for (size_t k = 0; k < p->nbins; k++) {
-				pg[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
-				pmax = pmax > pg[k] ? pmax : pg[k];
-			}
+			pmax = power(out, pg, p->nbins);
 		}
 		/* squares beyond the double range (or a sum of samples that
 		 * overflowed): the segment again, scaled */
@@ -620,30 +730,33 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 	common_exponent(p, count);
 	/* Neumaier sums of the bins, segments in order within each bin (the
 	 * same result on any number of threads); each thread takes a block
-	 * of bins and walks the segments row by row through it */
+	 * of bins and walks the segments row by row through it.  Blocks of
+	 * at most 1024 bins, as many per thread: 2049 bins in blocks of 1024
+	 * left one of two threads a single bin. */
 	{
-		long nblk = (long)((p->nbins + 1023) / 1024);
+		size_t nth = p->nth > 0 ? (size_t)p->nth : 1;
+		size_t want = (p->nbins + 1023) / 1024, bs;
+		long nblk;
+
+		want = (want + nth - 1) / nth * nth;
+		bs = ((p->nbins + want - 1) / want + 7) & ~(size_t)7;
+		nblk = (long)((p->nbins + bs - 1) / bs);
 
 #ifdef _OPENMP
 #pragma omp parallel for num_threads(p->nth) schedule(static) \
 	if (cnt > 1 && (size_t)cnt * p->nbins >= ((size_t)1 << 18))
 #endif
 		for (long b = 0; b < nblk; b++) {
-			size_t k0 = (size_t)b * 1024;
-			size_t k1 = k0 + 1024 < p->nbins ? k0 + 1024 : p->nbins;
+			size_t k0 = (size_t)b * bs;
+			size_t k1 = k0 + bs < p->nbins ? k0 + bs : p->nbins;
 
 			for (size_t j = 0; j < count; j++) {
 				const double *pg = p->pg + j * p->nbins;
 
 				if (p->bad[j])
 					continue;
-				for (size_t k = k0; k < k1; k++) {
-					double s = p->acc[k], x = pg[k], t = s + x;
-
-					p->comp[k] += fabs(s) >= fabs(x) ? (s - t) + x :
-									   (x - t) + s;
-					p->acc[k] = t;
-				}
+				neumaier_add(p->acc + k0, p->comp + k0, pg + k0,
+					     k1 - k0);
 			}
 		}
 	}
@@ -674,23 +787,30 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 		    size_t n)
 {
+	const double *x0 = x;
+
 	if (!p || (!x && n) || stride == 0)
 		return -EINVAL;
-	/* whole batches straight from a contiguous buffer, without a copy */
-	while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
-		size_t adv = p->batch * p->step;
-		int rc = process(p, x, p->batch);
+	for (;;) {
+		size_t take;
+		double *d;
 
-		if (rc)
-			return rc;
-		x += adv;
-		n -= adv;
-		p->n_samples += adv;
-	}
-	while (n) {
-		size_t take = p->stage_cap - p->have;
-		double *d = p->stage + p->have;
+		/* whole batches straight from a contiguous buffer, without
+		 * a copy */
+		while (p->have == 0 && stride == 1 && n >= p->stage_cap) {
+			size_t adv = p->batch * p->step;
+			int rc = process(p, x, p->batch);
 
+			if (rc)
+				return rc;
+			x += adv;
+			n -= adv;
+			p->n_samples += adv;
+		}
+		if (!n)
+			break;
+		take = p->stage_cap - p->have;
+		d = p->stage + p->have;
 		if (take > n)
 			take = n;
 		if (stride == 1) {
@@ -708,6 +828,17 @@ int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 
 			if (rc)
 				return rc;
+			/* the samples kept for the next segments came from
+			 * this buffer: read them there, so that a record fed
+			 * in large pieces is staged only across each piece's
+			 * end, not copied whole */
+			if (stride == 1 && p->have <= (size_t)(x - x0) &&
+			    n + p->have >= p->stage_cap) {
+				x -= p->have;
+				n += p->have;
+				p->n_samples -= p->have;
+				p->have = 0;
+			}
 		}
 	}
 	return 0;

@@ -72,6 +72,27 @@ if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p2"; then
 else
 	not_ok "block converter and row-by-row reader give the same spectrum"
 fi
+# a raw float64 file is fed from its mapping: the spectrum of the copied
+# record (standard input), and a value the reader refuses, deep in a
+# segment or after the last one, reported as the streamed path does
+run_in "psd of the same from standard input" 0 "$T/le.f64" psd --raw f64:1:le \
+	--rate 10 --nperseg 1024 --format json -
+sed 's/"file":"[^"]*"//' "$T/out" >"$T/p3"
+if [ -s "$T/p1" ] && cmp -s "$T/p1" "$T/p3"; then
+	ok "psd: mapped file and standard input give the same spectrum"
+else
+	not_ok "psd: mapped file and standard input give the same spectrum"
+fi
+perl -e '$s = 1; for (1 .. 300000) { $s = ($s * 16807) % 2147483647;
+	print pack("d<", $_ == 200001 ? "NaN" : $s / 2147483647 + 0.3) }' >"$T/nan.f64"
+run "psd: NaN deep in a mapped raw file" 1 psd --raw f64:1:le --rate 10 \
+	--nperseg 1024 "$T/nan.f64"
+has "psd: the NaN's row" "$T/err" 'row 200001, column 1 \(ch1\): NaN \(use --allow-nan'
+perl -e '$s = 1; for (1 .. 300000) { $s = ($s * 16807) % 2147483647;
+	print pack("d<", $_ == 299999 ? "-Inf" : $s / 2147483647 + 0.3) }' >"$T/inf.f64"
+run "psd: infinity after the last segment of a mapped raw file" 1 psd \
+	--raw f64:1:le --rate 10 --nperseg 1024 "$T/inf.f64"
+has "psd: the infinity's row" "$T/err" 'row 299999, column 1 \(ch1\): infinite value'
 # psd reads the next chunk while it transforms the last: a bad cell three
 # chunks in is still reported at its line, and the spectrum of a pipe is
 # the file's
