@@ -61,6 +61,10 @@ double ssc_totdev_edf(int alpha, size_t m, size_t n_phase);
  * no fusion) for OADEV and OHDEV, to compare the two. */
 void ssc_allan_force_contiguous(struct sscope_allan *plan, bool on);
 
+/* Tests: leave the 64-byte (AVX-512) kernels unused on a CPU that has
+ * them, to show that both give the same sums (process-wide). */
+void ssc_allan_force_narrow(bool on);
+
 /* Difference order and whether a deviation is a "modified" one */
 int ssc_dev_order(enum sscope_allan_dev dev);
 

@@ -54,7 +54,6 @@
 	defined(__GLIBC__) && defined(__has_attribute)
 #if __has_attribute(target_clones)
 #define SSC_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#define SSC_CLONES_X86 1
 #endif
 #endif
 #ifndef SSC_CLONES
@@ -70,6 +69,34 @@ typedef double ssc_v8 __attribute__((vector_size(64)));
 typedef double ssc_v4 __attribute__((vector_size(32)));
 #define V4LOAD(v, p) memcpy(&(v), (p), sizeof(ssc_v4))
 #endif
+
+/* Kernels on 64-byte vectors, chosen at run time where the CPU has
+ * AVX-512 (the clones above compute on 32-byte halves even there).  They
+ * keep the lanes and final additions of the 32-byte kernels, so every
+ * sum is the same to the bit on every CPU (with -ffp-contract=off: no
+ * fused multiply-adds in any of them). */
+#if defined(SSC_VEC) && defined(__x86_64__) && defined(__has_attribute)
+#if __has_attribute(target)
+#define SSC_K512 __attribute__((target("avx512f")))
+#endif
+#endif
+
+static bool narrow_only; /* ssc_allan_force_narrow() */
+
+void ssc_allan_force_narrow(bool on)
+{
+	narrow_only = on;
+}
+
+/* whether the 64-byte kernels run here */
+static bool have_wide(void)
+{
+#ifdef SSC_K512
+	return !narrow_only && __builtin_cpu_supports("avx512f");
+#else
+	return false;
+#endif
+}
 
 /* Terms summed per kernel call before the partial is added to a
  * compensated accumulator: bounds the rounding of the lanes. */
@@ -173,12 +200,6 @@ SSC_CLONES static double k3(const double *x, size_t m, size_t n)
 	}
 	return s;
 }
-
-#if defined(SSC_VEC) && defined(__x86_64__) && defined(__has_attribute)
-#if __has_attribute(target)
-#define SSC_K512 __attribute__((target("avx512f")))
-#endif
-#endif
 
 #ifdef SSC_K512
 /*
@@ -314,16 +335,6 @@ SSC_K512 static void k2x2_512(const double *x, size_t m, size_t mb, size_t n,
 }
 #endif
 
-/* whether k2x2_512 runs here */
-static bool have_pair_kernel(void)
-{
-#ifdef SSC_K512
-	return __builtin_cpu_supports("avx512f");
-#else
-	return false;
-#endif
-}
-
 static void k2_pair(const double *x, size_t m, size_t mb, size_t n, double *r,
 		    double *rb)
 {
@@ -338,7 +349,7 @@ static void k2_pair(const double *x, size_t m, size_t mb, size_t n, double *r,
 static double kd(int d, const double *x, size_t m, size_t n)
 {
 #ifdef SSC_K512
-	if (__builtin_cpu_supports("avx512f"))
+	if (have_wide())
 		return d == 2 ? k2_512(x, m, n) : k3_512(x, m, n);
 #endif
 	return d == 2 ? k2(x, m, n) : k3(x, m, n);
@@ -418,10 +429,10 @@ SSC_CLONES static void k2_lanes(const double *x, size_t m, size_t i0,
 #endif
 }
 
-#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
+#ifdef SSC_K512
 /* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15) */
-__attribute__((target("avx512f"))) static void
-k2_lanes512(const double *x, size_t m, size_t i0, size_t i1, double *lanes)
+SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
+				 size_t i1, double *lanes)
 {
 	const double *a = x, *b = x + m, *c = x + 2 * m;
 	ssc_v8 s0, s1;
@@ -482,7 +493,7 @@ static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
 	double lanes[GRP_TAUS * 16];
 	const size_t nt0 = np - 2 * m[0];
 
-	(void)wide;
+	(void)wide; /* without the 64-byte kernels */
 	for (size_t ib = 0; ib < nt0; ib += KBLOCK) {
 		memset(lanes, 0, sizeof(lanes));
 		for (size_t t0 = ib; t0 < ib + KBLOCK && t0 < nt0; t0 += GRP_TILE)
@@ -500,7 +511,7 @@ static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
 				hi = t0 + GRP_TILE < vend ? t0 + GRP_TILE : vend;
 				if (t0 >= hi)
 					continue;
-#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
+#ifdef SSC_K512
 				if (wide)
 					k2_lanes512(x, m[j], t0, hi, lanes + 16 * j);
 				else
@@ -1211,7 +1222,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	size_t kend = hi + W < np ? hi + W : np, done = lo;
 	struct run r = { base, lo };
 	/* second differences two taus at a time where the kernel exists */
-	const bool pair = ts->d == 2 && have_pair_kernel();
+	const bool pair = ts->d == 2 && have_wide();
 
 	G = (G + grp - 1) / grp * grp;
 	WB = G + W;
@@ -1309,7 +1320,7 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 
 	if (!part)
 		return -ENOMEM;
-	const bool pair = ts->d == 2 && have_pair_kernel();
+	const bool pair = ts->d == 2 && have_wide();
 
 SSC_OMP(omp parallel num_threads(T))
 	{
@@ -1501,11 +1512,8 @@ static void sums_grouped(const struct sscope_allan *p, const size_t *m,
 			 size_t *used, size_t *skipped)
 {
 	const size_t ng = (n + GRP_TAUS - 1) / GRP_TAUS;
-	bool wide = false;
+	const bool wide = have_wide();
 
-#if defined(SSC_VEC) && defined(SSC_CLONES_X86)
-	wide = __builtin_cpu_supports("avx512f");
-#endif
 	(void)T;
 SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 	for (size_t k = 0; k < ng; k++) {
