@@ -1192,6 +1192,8 @@ static int boot_wls(struct boot *bt, const double *y, double th[NT])
 		}
 		for (int a = 0; a < p; a++)
 			th[cols[a]] = r[a] * d[a];
+		if (it + 1 == bt->iters)
+			break; /* the model is for the next weights */
 		for (size_t k = 0; k < n; k++) {
 			double m = 0;
 
