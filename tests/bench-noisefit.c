@@ -45,8 +45,9 @@ static double now_s(void)
 
 struct tally {
 	int runs, fitted[5], cover[5], cover_fitted[5], bound_ok[5], bound_n[5];
-	double *relerr[5];
-	int n_relerr[5];
+	int above[5], below[5];
+	double *relerr[5], *allerr[5];
+	int n_relerr[5], n_allerr[5];
 };
 
 static double g_model_error;
@@ -145,9 +146,13 @@ int main(int argc, char **argv)
 	       truth[2] * to_disp[2], units[2], truth[3] * to_disp[3], units[3]);
 	printf("# cover: truth inside [lo, hi] (a term not fitted: [0, upper bound]);\n"
 	       "# fitted: share of runs that fit the term; bias: median (value/truth - 1)\n"
-	       "# of the fitted values; bound: upper bound >= truth when not fitted\n");
-	printf("%6s %4s %8s %8s %9s %10s %7s\n", "hours", "term", "cover%",
-	       "fitted%", "bias%", "bound_ok%", "time_s");
+	       "# of the fitted values; bound: upper bound >= truth when not fitted;\n"
+	       "# low, high: truth below lo, above hi (the misses by side); est: median\n"
+	       "# (estimate/truth - 1) over all runs, the estimate of a term not fitted\n"
+	       "# included (a negative square as 0)\n");
+	printf("%6s %4s %8s %8s %9s %10s %7s %7s %7s %7s\n", "hours", "term",
+	       "cover%", "fitted%", "bias%", "bound_ok%", "low%", "high%", "est%",
+	       "time_s");
 	for (int h = 0; h < n_hours; h++) {
 		size_t n = (size_t)(hours[h] * 3600 * fs);
 		struct tally t;
@@ -157,6 +162,8 @@ int main(int argc, char **argv)
 		memset(&t, 0, sizeof(t));
 		for (int j = 0; j < 5; j++)
 			t.relerr[j] = calloc((size_t)reps, sizeof(double));
+		for (int j = 0; j < 5; j++)
+			t.allerr[j] = calloc((size_t)reps, sizeof(double));
 #ifdef _OPENMP
 #pragma omp parallel
 #endif
@@ -185,6 +192,11 @@ int main(int argc, char **argv)
 						bool in = truth[j] >= c->lo && truth[j] <= c->hi;
 
 						t.cover[j] += in;
+						t.above[j] += truth[j] > c->hi;
+						t.below[j] += truth[j] < c->lo;
+						if (truth[j] > 0)
+							t.allerr[j][t.n_allerr[j]++] =
+								c->estimate / truth[j] - 1;
 						if (c->fitted) {
 							t.fitted[j]++;
 							if (truth[j] > 0)
@@ -200,21 +212,27 @@ int main(int argc, char **argv)
 			free(y);
 		}
 		for (int j = 0; j < 5; j++) {
-			double bias = NAN;
+			double bias = NAN, est = NAN, runs = t.runs ? t.runs : 1;
 
 			if (t.n_relerr[j]) {
 				qsort(t.relerr[j], (size_t)t.n_relerr[j],
 				      sizeof(double), cmp_d);
 				bias = t.relerr[j][t.n_relerr[j] / 2];
 			}
-			printf("%6g %4c %8.1f %8.1f %9.1f %10.1f %7.1f\n", hours[h],
-			       names[j], 100.0 * t.cover[j] / (t.runs ? t.runs : 1),
-			       100.0 * t.fitted[j] / (t.runs ? t.runs : 1),
-			       100 * bias,
+			if (t.n_allerr[j]) {
+				qsort(t.allerr[j], (size_t)t.n_allerr[j],
+				      sizeof(double), cmp_d);
+				est = t.allerr[j][t.n_allerr[j] / 2];
+			}
+			printf("%6g %4c %8.1f %8.1f %9.1f %10.1f %7.1f %7.1f %7.1f %7.1f\n",
+			       hours[h], names[j], 100.0 * t.cover[j] / runs,
+			       100.0 * t.fitted[j] / runs, 100 * bias,
 			       t.bound_n[j] ? 100.0 * t.bound_ok[j] / t.bound_n[j] :
 					      (double)NAN,
-			       now_s() - t0);
+			       100.0 * t.below[j] / runs, 100.0 * t.above[j] / runs,
+			       100 * est, now_s() - t0);
 			free(t.relerr[j]);
+			free(t.allerr[j]);
 		}
 		if (failed)
 			printf("# %g h: %d runs failed\n", hours[h], failed);
