@@ -946,7 +946,8 @@ struct boot {
 	double *H;      /* NT x n hat rows */
 	double *B;      /* NT x n basis values at the taus */
 	double *w0;     /* n: EDF / (2 scale^2), the weight times model^2 */
-	double *ys, *ms; /* n: a replicate's AVAR points and its model */
+	unsigned threads; /* threads of the replicate loop */
+	double *ys, *ms; /* threads x n: a replicate's AVAR points, its model */
 	double *nu, *mu0, *u, *v;
 	double var_u, cov_uv, var_v; /* moments of the replicates */
 	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
@@ -1141,13 +1142,17 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->zdet = zdet;
 	bt->mask = mask;
 	bt->iters = iters;
+	bt->threads = 1;
+#ifdef _OPENMP
+	bt->threads = (unsigned)omp_get_max_threads();
+#endif
 	bt->e = ssc_alloc_array(R * n, sizeof(double));
 	bt->L = ssc_alloc_array(n * n, sizeof(double));
 	bt->H = ssc_alloc_array(NT * n, sizeof(double));
 	bt->B = ssc_alloc_array(NT * n, sizeof(double));
 	bt->w0 = ssc_alloc_array(n, sizeof(double));
-	bt->ys = ssc_alloc_array(n, sizeof(double));
-	bt->ms = ssc_alloc_array(n, sizeof(double));
+	bt->ys = ssc_alloc_array(bt->threads * n, sizeof(double));
+	bt->ms = ssc_alloc_array(bt->threads * n, sizeof(double));
 	bt->nu = ssc_alloc_array(n, sizeof(double));
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
@@ -1188,11 +1193,11 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
  * from the points themselves (normal equations scaled to a unit
  * diagonal), into th[NT].  Returns 0, or -EDOM when a system is singular.
  */
-static int boot_wls(struct boot *bt, const double *y, double th[NT])
+static int boot_wls(const struct boot *bt, const double *y, double *ms,
+		    double th[NT])
 {
 	int cols[NT], p = 0;
 	size_t n = bt->n;
-	double *ms = bt->ms;
 
 	for (int k = 0; k < NT; k++) {
 		th[k] = 0;
@@ -1304,10 +1309,17 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (chol(bt->L, n, n))
 			return -EDOM;
 	}
+	/* each replicate on its own (the same numbers on any thread count) */
+SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 	for (size_t r = 0; r < bt->reps; r++) {
 		const double *e = bt->e + r * n;
-		double u = 0, v = 0;
+		size_t t = 0;
+		double u = 0, v = 0, *ys, tr[NT];
 
+#ifdef _OPENMP
+		t = (size_t)omp_get_thread_num();
+#endif
+		ys = bt->ys + t * n;
 		for (size_t a = 0; a < n; a++) {
 			const double *l = bt->L + a * n;
 			double z = 0, g;
@@ -1315,16 +1327,12 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 			for (size_t k = 0; k <= a; k++)
 				z += l[k] * e[k];
 			g = gq(bt, bt->nu[a], z);
-			bt->ys[a] = bt->mu0[a] * g;
-			u += h[a] * bt->ys[a];
+			ys[a] = bt->mu0[a] * g;
+			u += h[a] * ys[a];
 			v += h[a] * bt->B[(size_t)j * n + a] * g;
 		}
-		{
-			double tr[NT];
-
-			if (boot_wls(bt, bt->ys, tr) == 0)
-				u = tr[j];
-		}
+		if (boot_wls(bt, ys, bt->ms + t * n, tr) == 0)
+			u = tr[j];
 		bt->u[r] = u;
 		bt->v[r] = v;
 	}

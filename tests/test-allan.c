@@ -989,6 +989,70 @@ START_TEST(all_taus_grouped_exact)
 }
 END_TEST
 
+/* The 64-byte (AVX-512) kernels, where this CPU has them, give the same
+ * doubles as the 32-byte ones every CPU runs, on every grid and through
+ * the grouped, tiled and fused paths (a CPU without them compares the
+ * narrow kernels with themselves). */
+START_TEST(wide_kernels_exact)
+{
+	const size_t ns[] = { 30011, 600037 };
+	const enum sscope_allan_dev devs[] = { SSCOPE_ALLAN_DEV_OADEV,
+					       SSCOPE_ALLAN_DEV_OHDEV,
+					       SSCOPE_ALLAN_DEV_HDEV,
+					       SSCOPE_ALLAN_DEV_MDEV };
+	const enum sscope_allan_tau_grid grid_of[] = { SSCOPE_ALLAN_TAUS_DENSE,
+						 SSCOPE_ALLAN_TAUS_OCTAVE,
+						 SSCOPE_ALLAN_TAUS_ALL };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	gsl_rng_set(r, 29);
+	for (size_t c = 0; c < sizeof(ns) / sizeof(ns[0]); c++) {
+		const size_t n = ns[c];
+		double *y = malloc(n * sizeof(double)), w = 0;
+		size_t *m = malloc(n * sizeof(size_t));
+		struct sscope_allan_point *a = malloc(n * sizeof(*a));
+		struct sscope_allan_point *b = malloc(n * sizeof(*b));
+
+		for (size_t k = 0; k < n; k++) {
+			w += gsl_ran_gaussian_ziggurat(r, 2.385e-3);
+			y[k] = 0.3 + w + gsl_ran_gaussian_ziggurat(r, 0.01);
+		}
+		for (size_t g = 0; g < sizeof(grid_of) / sizeof(grid_of[0]); g++)
+			for (size_t d = 0; d < sizeof(devs) / sizeof(devs[0]); d++) {
+				struct sscope_allan_opts o = { 0 };
+				struct sscope_allan *p;
+				size_t nm, np1, np2;
+
+				if (grid_of[g] == SSCOPE_ALLAN_TAUS_ALL && n > 40000)
+					continue;
+				o.dev = devs[d];
+				o.ci_level = -1;
+				o.alpha_fixed = true;
+				o.threads = 2;
+				ck_assert_int_eq(sscope_allan_grid(grid_of[g], sscope_allan_max_m(devs[d], n + 1), m, n, &nm), 0);
+				ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+				ssc_allan_force_narrow(false);
+				ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, a, &np1, NULL), 0);
+				ssc_allan_force_narrow(true);
+				ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, b, &np2, NULL), 0);
+				ssc_allan_force_narrow(false);
+				sscope_allan_free(p);
+				ck_assert_uint_eq(np1, np2);
+				for (size_t i = 0; i < np1; i++)
+					ck_assert_msg(a[i].dev == b[i].dev && a[i].dev > 0,
+						      "n %zu dev %d grid %d m %zu: %.17g vs %.17g",
+						      n, (int)devs[d], (int)grid_of[g],
+						      a[i].m, a[i].dev, b[i].dev);
+			}
+		free(y);
+		free(m);
+		free(a);
+		free(b);
+	}
+	gsl_rng_free(r);
+}
+END_TEST
+
 /* ------------------------------------------------------------ noise id */
 
 START_TEST(noise_identification)
@@ -1220,6 +1284,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, strided);
 	tcase_add_test(t, tiled_engine);
 	tcase_add_test(t, all_taus_grouped_exact);
+	tcase_add_test(t, wide_kernels_exact);
 	tcase_add_test(t, noise_identification);
 	tcase_add_test(t, errors);
 	tcase_add_test(t, rate_quantity_and_fit_message);
