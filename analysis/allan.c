@@ -24,7 +24,8 @@
  *    long taus are such multiples;
  *  - sums with explicit SIMD vectors (GCC vector extensions, cloned for
  *    AVX-512/AVX2/baseline where available) and compensated block sums.
- *  An all-tau grid (every m, which the tiles cannot serve) sums groups of
+ *  Untiled OADEV without gaps or strides (every all-tau grid, whose taus
+ *  the tiles cannot serve, and records too short for tiles) sums groups of
  *  neighbouring taus together over L1-sized stretches of the contiguous
  *  phase, each tau's vector lanes kept between stretches, so that each
  *  tau's sum is the per-tau kernel's to the last bit.
@@ -1505,7 +1506,8 @@ static void sum_totdev(const struct sscope_allan *p, size_t m,
 	*used = np - 2;
 }
 
-/* contiguous OADEV without gaps or strides (an all-tau grid): the taus
+/* contiguous OADEV without gaps or strides on a record too short for the
+ * tiles (every all-tau grid, and any grid of such a record): the taus
  * in groups (k2_group), the groups over the threads */
 static void sums_grouped(const struct sscope_allan *p, const size_t *m,
 			 size_t n, unsigned T, struct ssc_ksum *acc,
