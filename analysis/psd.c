@@ -784,6 +784,13 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 	return 0;
 }
 
+size_t sscope_psd_segments_end(const struct sscope_psd *p, size_t n)
+{
+	if (!p || n < p->m)
+		return 0;
+	return (n - p->m) / p->step * p->step + p->m;
+}
+
 int sscope_psd_feed(struct sscope_psd *p, const double *x, size_t stride,
 		    size_t n)
 {

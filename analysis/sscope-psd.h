@@ -209,6 +209,13 @@ int sscope_psd_feed(struct sscope_psd *psd, const double *x, size_t stride,
 		    size_t n);
 
 /**
+ * Where the last whole segment of a record of @p n samples ends: the
+ * samples from there on are never looked at (0 when no segment fits, or
+ * @p psd is NULL).
+ */
+size_t sscope_psd_segments_end(const struct sscope_psd *psd, size_t n);
+
+/**
  * The estimate of everything fed so far (feeding may continue after).
  * @param fs_hz sample rate, Hz (> 0).
  * @param out   receives the spectrum; free its arrays with

@@ -461,6 +461,13 @@ START_TEST(streaming_equals_one_shot)
 	ck_assert_int_eq(sscope_psd_result(p, 3, &b), 0);
 	ck_assert_uint_eq(a.n_segments, b.n_segments);
 	ck_assert_uint_eq(a.n_segments, (n - 333) / 667);
+	/* the last segment ends where the next one would not fit */
+	ck_assert_uint_eq(sscope_psd_segments_end(p, n),
+			  (a.n_segments - 1) * 667 + 1000);
+	ck_assert_uint_eq(sscope_psd_segments_end(p, 999), 0);
+	ck_assert_uint_eq(sscope_psd_segments_end(p, 1666), 1000);
+	ck_assert_uint_eq(sscope_psd_segments_end(p, 1667), 1667);
+	ck_assert_uint_eq(sscope_psd_segments_end(NULL, n), 0);
 	for (size_t k = 0; k < a.n_bins; k++)
 		ck_assert(a.value[k] == b.value[k]);
 	sscope_psd_spectrum_clear(&b);

@@ -364,17 +364,6 @@ static const char *result_error(int rc, double fs)
 }
 
 /* end of the last whole segment of n samples */
-static size_t segments_end(const struct sscope_psd_opts *o, size_t n)
-{
-	size_t m = o->nperseg;
-	size_t l = o->noverlap == SSCOPE_PSD_HALF_OVERLAP ? m / 2 : o->noverlap;
-	size_t step = m > l ? m - l : 1;
-
-	if (m == 0 || n < m)
-		return 0;
-	return (n - m) / step * step + m;
-}
-
 /* samples per piece of a mapped record (32 MiB): the estimate copies
  * up to a batch of segments (4 MiB for nperseg 4096) across each end */
 #define MAP_PIECE ((size_t)1 << 22)
@@ -453,7 +442,7 @@ static bool fed_from_mapping(const struct ssc_common *co, struct run *R,
 	}
 	/* the samples after the last whole segment, which the estimate
 	 * never looks at but the reader refuses when not finite */
-	seg_end = segments_end(&R->a.po, n);
+	seg_end = sscope_psd_segments_end(p, n);
 	for (size_t k = seg_end; ok && k < n; k++)
 		ok = isfinite(x[k]);
 	munmap(map, (size_t)st.st_size);
