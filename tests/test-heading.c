@@ -353,7 +353,7 @@ START_TEST(test_walk_fan)
 	const size_t n = 360000;
 	double *x = white(n, fs, N, 0, 0, 19104);
 	struct sscope_walk_opts o = { 0 };
-	struct sscope_walk_result *r = NULL;
+	struct sscope_walk_result *r = NULL, *r7 = NULL;
 	struct sscope_walk_implied im;
 	double p = erf(sqrt(2.0));
 
@@ -381,6 +381,27 @@ START_TEST(test_walk_fan)
 	ck_assert_msg(im.lo < N && N < im.hi, "implied N %g [%g, %g], truth %g", im.n,
 		      im.lo, im.hi, N);
 	ck_assert(fabs(im.t_s - 50) < 1e-12);
+	ck_assert_int_eq(r->n_paths, 600);
+	/* keeping the first 7 paths: the same statistics and paths, to the
+	 * bit; more than the runs keeps them all */
+	o.keep_paths = 7;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r7, NULL), 0);
+	ck_assert_int_eq(r7->n_paths, 7);
+	ck_assert_int_eq(r7->n_runs, 600);
+	ck_assert(!memcmp(r7->paths, r->paths, 7 * 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->sigma, r->sigma, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->spread, r->spread, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->inside + 1, r->inside + 1, 500 * sizeof(double)));
+	ck_assert(!memcmp(r7->var_n1, r->var_n1, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->var_other, r->var_other, 501 * sizeof(double)));
+	ck_assert(r7->inside_mean == r->inside_mean);
+	sscope_walk_result_free(r7);
+	o.keep_paths = 601;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r7, NULL), 0);
+	ck_assert_int_eq(r7->n_paths, 600);
+	ck_assert(!memcmp(r7->paths, r->paths, 600 * 501 * sizeof(double)));
+	sscope_walk_result_free(r7);
+	o.keep_paths = 0;
 	sscope_walk_result_free(r);
 	/* the global mean: the plain N sqrt(t) fan */
 	o.bias_s = 0;
