@@ -14,6 +14,8 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_statistics_double.h>
@@ -113,10 +115,97 @@ int sscope_timing_order_check(const struct sscope_timing_order *o,
 
 /* Interval i (from row i - 1 to row i) can be a regular interval or a gap:
  * positive and not next to a backward step. */
-static bool forward(const double *t, size_t n, size_t i)
+static inline bool forward(const double *t, size_t n, size_t i)
 {
 	return t[i] > t[i - 1] && !(i >= 2 && t[i - 1] < t[i - 2]) &&
 	       !(i + 1 < n && t[i + 1] < t[i]);
+}
+
+/*
+ * The intervals of a sampled record take few distinct values (stamps k/fs
+ * rounded to double: some 25 over a day at 100 Hz).  Their median is then
+ * found from a table of the distinct values and their counts, in one pass
+ * and without writing the n - 1 intervals out: the two middle order
+ * statistics are looked up, and combined by gsl_stats_median() itself (on
+ * those two values, so exactly as it combines them in the whole series).
+ * Returns 1 when the intervals hold more distinct values than the table.
+ */
+enum { FEW_SLOTS = 1024, FEW_MAX = FEW_SLOTS / 2 };
+
+struct few {
+	double v;
+	size_t count;
+};
+
+static int cmp_few(const void *a, const void *b)
+{
+	double x = ((const struct few *)a)->v, y = ((const struct few *)b)->v;
+
+	return (x > y) - (x < y);
+}
+
+static int median_few(const double *t_s, size_t n, double *med, double *lo,
+		      double *hi, size_t *n_back)
+{
+	struct few *tab = calloc(FEW_SLOTS, sizeof(*tab));
+	unsigned char *used = calloc(FEW_SLOTS, 1);
+	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0, nb = 0;
+	double mid[2] = { 0, 0 }, l = INFINITY, h = -INFINITY;
+	int rc = 0;
+
+	if (!tab || !used) {
+		rc = 1;
+		goto out;
+	}
+	for (size_t i = 1; i < n; i++) {
+		double d = t_s[i] - t_s[i - 1];
+		uint64_t b;
+		size_t k;
+
+		if (d < l)
+			l = d;
+		if (d > h)
+			h = d;
+		if (!(d > 0))
+			nb++;
+		if (isnan(d)) {
+			rc = 1;
+			goto out;
+		}
+		memcpy(&b, &d, sizeof(b));
+		k = (size_t)((b * 0x9e3779b97f4a7c15ull) >> 54);
+		while (used[k] && memcmp(&tab[k].v, &d, sizeof(d)))
+			k = (k + 1) & (FEW_SLOTS - 1);
+		if (!used[k]) {
+			if (distinct == FEW_MAX) {
+				rc = 1;
+				goto out;
+			}
+			used[k] = 1;
+			tab[k].v = d;
+			distinct++;
+		}
+		tab[k].count++;
+	}
+	for (size_t k = 0; k < FEW_SLOTS; k++)
+		if (used[k])
+			tab[j++] = tab[k];
+	qsort(tab, distinct, sizeof(*tab), cmp_few);
+	rank[0] = (m - 1) / 2;
+	rank[1] = m / 2;
+	for (size_t k = 0, r = 0; k < distinct && r < 2; k++) {
+		cum += tab[k].count;
+		while (r < 2 && rank[r] < cum)
+			mid[r++] = tab[k].v;
+	}
+	*med = rank[0] == rank[1] ? mid[0] : gsl_stats_median(mid, 1, 2);
+	*lo = l;
+	*hi = h;
+	*n_back = nb;
+out:
+	free(tab);
+	free(used);
+	return rc;
 }
 
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
@@ -135,18 +224,23 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	sscope_timing_order_feed(&tm->order, t_s, n);
 	if (n < 2)
 		return -EDOM;
-	for (size_t i = 1; i < n; i++) {
-		double d = t_s[i] - t_s[i - 1];
+	if (median_few(t_s, n, &med, &lo, &hi, &tm->n_backwards)) {
+		lo = INFINITY;
+		hi = -INFINITY;
+		tm->n_backwards = 0;
+		for (size_t i = 1; i < n; i++) {
+			double d = t_s[i] - t_s[i - 1];
 
-		scratch[i - 1] = d;
-		if (d < lo)
-			lo = d;
-		if (d > hi)
-			hi = d;
-		if (!(d > 0))
-			tm->n_backwards++;
+			scratch[i - 1] = d;
+			if (d < lo)
+				lo = d;
+			if (d > hi)
+				hi = d;
+			if (!(d > 0))
+				tm->n_backwards++;
+		}
+		med = gsl_stats_median(scratch, 1, n - 1);
 	}
-	med = gsl_stats_median(scratch, 1, n - 1);
 	tm->dt_min_s = lo;
 	tm->dt_max_s = hi;
 	if (!(med > 0) || !isfinite(med))
