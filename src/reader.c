@@ -1795,38 +1795,43 @@ static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
 struct sepscan {
 	const char *blk; /* 64 bytes scanned */
 	uint64_t m;      /* bit i: blk[i] is a separator not yet consumed */
+	uint64_t nl;     /* bit i: blk[i] is a newline */
 };
 
-/* bit i set when p[i] is d or a newline, 0 <= i < 64 */
-static inline uint64_t sep_mask(const char *p, char d)
+/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines */
+static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 {
-	uint64_t m = 0;
+	uint64_t m = 0, n = 0;
 #ifdef __SSE2__
 	const __m128i vd = _mm_set1_epi8(d), vn = _mm_set1_epi8('\n');
 
 	for (unsigned k = 0; k < 4; k++) {
 		__m128i x = _mm_loadu_si128((const __m128i *)(const void *)(p + 16 * k));
+		__m128i isn = _mm_cmpeq_epi8(x, vn);
 
 		m |= (uint64_t)(unsigned)_mm_movemask_epi8(
-			     _mm_or_si128(_mm_cmpeq_epi8(x, vd),
-					  _mm_cmpeq_epi8(x, vn)))
+			     _mm_or_si128(_mm_cmpeq_epi8(x, vd), isn))
 		     << (16 * k);
+		n |= (uint64_t)(unsigned)_mm_movemask_epi8(isn) << (16 * k);
 	}
 #else
 	const uint64_t pd = BYTES(d), pn = BYTES('\n');
 
 	for (unsigned k = 0; k < 8; k++) {
-		uint64_t w, hit;
+		uint64_t w, hd, hn;
 
 		memcpy(&w, p + 8 * k, 8);
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
 		w = __builtin_bswap64(w);
 #endif
-		hit = (eq_bytes(w, pd) | eq_bytes(w, pn)) >> 7;
+		hd = eq_bytes(w, pd) >> 7;
+		hn = eq_bytes(w, pn) >> 7;
 		/* gather the lowest bit of each byte into one byte */
-		m |= ((hit * 0x0102040810204080ull) >> 56) << (8 * k);
+		m |= (((hd | hn) * 0x0102040810204080ull) >> 56) << (8 * k);
+		n |= ((hn * 0x0102040810204080ull) >> 56) << (8 * k);
 	}
 #endif
+	*nl = n;
 	return m;
 }
 
@@ -1841,7 +1846,7 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d);
+		sc->m = sep_mask(sc->blk, d, &sc->nl);
 	}
 	b = sc->blk + __builtin_ctzll(sc->m);
 	sc->m &= sc->m - 1;
@@ -1902,14 +1907,44 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * '\n' (CR LF too): returns the start of the next line, or NULL to let the
  * careful path (messages, blanks, NaN, comments) handle the line -- it
  * rewrites the whole row. */
+/* Past the last column in use: the rest of the line is k separators, k - 1
+ * delimiters then the newline, counted from the masks without visiting
+ * them; the start of the next line, or NULL as next_sep. */
+static inline const char *skip_rest(struct sepscan *sc, const char *end,
+				    char d, size_t k)
+{
+	for (;;) {
+		uint64_t nl = sc->nl & sc->m;
+
+		if (nl) {
+			uint64_t upto = (nl & -nl) - 1; /* bits below the newline */
+
+			if ((size_t)__builtin_popcountll(sc->m & upto) != k - 1)
+				return NULL; /* ragged: the careful path says so */
+			sc->m &= ~(upto | (upto + 1));
+			return sc->blk + __builtin_ctzll(nl) + 1;
+		}
+		/* only delimiters left in this block */
+		if ((size_t)__builtin_popcountll(sc->m) > k - 1)
+			return NULL;
+		k -= (size_t)__builtin_popcountll(sc->m);
+		sc->m = 0;
+		sc->blk += 64;
+		if (end - sc->blk < 64)
+			return NULL;
+		sc->m = sep_mask(sc->blk, d, &sc->nl);
+	}
+}
+
 static ALWAYS_INLINE const char *
 scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
-	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd)
+	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd,
+	  size_t n_used)
 {
 	const char d = r->delim;
 	const size_t last = r->ncols - 1;
 
-	for (size_t col = 0; col <= last; col++) {
+	for (size_t col = 0; col < n_used; col++) {
 		const char *b = next_sep(sc, end, d), *e;
 
 		if (!b || *b != (col < last ? d : '\n'))
@@ -1923,7 +1958,7 @@ scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 		}
 		p = b + 1;
 	}
-	return p;
+	return n_used > last ? p : skip_rest(sc, end, d, last + 1 - n_used);
 }
 
 static bool skip_line(const char *p, const char *e)
@@ -1942,23 +1977,27 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		size_t max_rows, size_t *rows_out, const char **stop,
 		struct sscope_diag *diag, bool simd)
 {
-	size_t n = 0, ln = *line;
+	size_t n = 0, ln = *line, n_used = 0;
 	struct sepscan sc = { 0 };
 	bool synced = false;
 	int rc = 0;
 
+	/* the columns up to the last one in use are visited cell by cell */
+	for (size_t c = 0; c < r->ncols; c++)
+		if (r->cols[c].used)
+			n_used = c + 1;
 	while (n < max_rows && p < end) {
 		const char *e, *next;
 
 		if (r->delim != ' ') {
 			if (!synced && end - p >= 64) {
 				sc.blk = p;
-				sc.m = sep_mask(p, r->delim);
+				sc.m = sep_mask(p, r->delim, &sc.nl);
 				synced = true;
 			}
 			if (synced &&
 			    (next = scan_line(r, &sc, p, end, ch, row + n,
-					       simd))) {
+					       simd, n_used))) {
 				ln++;
 				n++;
 				p = next;
