@@ -2170,6 +2170,7 @@ struct part {
 	struct sscope_reader_chunk *ch;
 	size_t rows;
 	size_t line_err;
+	bool counted;        /* nl known before parsing */
 	int rc;
 	struct sscope_diag diag;
 };
@@ -2182,6 +2183,10 @@ static void *part_run(void *arg)
 
 	pt->rc = parse_rows(pt->r, pt->from, pt->to, true, &line, pt->ch,
 			    pt->row0, pt->cap, &pt->rows, &stop, &pt->diag);
+	if (!pt->counted && !pt->rc)
+		/* its newlines: the lines parsed, less an unterminated last */
+		pt->nl = line - pt->line0 -
+			 (pt->to > pt->from && pt->to[-1] != '\n');
 	return NULL;
 }
 
@@ -2246,6 +2251,44 @@ static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
 	return 0;
 }
 
+/*
+ * Newlines of the parts, for the row each part starts at.  The last part
+ * need not be counted: its rows go after all others, into arrays sized by
+ * a bound on its rows, and its parse counts its lines.  The bound costs
+ * address space only (pages never written are never backed), taken when
+ * it is at most twice the input's size; otherwise every part is counted.
+ * The counting is spread over all the threads, two pieces per part.
+ */
+static void count_parts(struct sscope_reader *r, size_t np)
+{
+	struct part *last = &r->parts[np - 1], job[2 * MAXP];
+	size_t arrays = r->nsel + (r->time_col >= 0) + (r->temp_col >= 0), bound, nc;
+
+	bound = (size_t)(last->to - last->from) / r->ncols + 1;
+	nc = np > 1 && arrays && bound <= 2 * r->len / (arrays * sizeof(double)) ?
+		     np - 1 : np;
+	for (size_t k = 0; k < nc; k++) {
+		const char *a = r->parts[k].from, *b = r->parts[k].to;
+		const char *mid = nc < np ? a + (b - a) / 2 : b;
+
+		job[2 * k] = (struct part){ .from = a, .to = mid };
+		job[2 * k + 1] = (struct part){ .from = mid, .to = b };
+	}
+	if (nc == np) {
+		/* one piece per part: the second halves are empty */
+		for (size_t k = 0; k < nc; k++)
+			job[k] = job[2 * k];
+		run_parts(job, nc, count_run);
+	} else {
+		run_parts(job, 2 * nc, count_run);
+	}
+	for (size_t k = 0; k < np; k++) {
+		r->parts[k].counted = k < nc;
+		r->parts[k].nl = k >= nc ? 0 :
+			nc == np ? job[k].nl : job[2 * k].nl + job[2 * k + 1].nl;
+	}
+}
+
 size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 {
 	const char *base, *end;
@@ -2290,14 +2333,18 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 		r->parts[k] = (struct part){ .r = r, .from = from, .to = to,
 					     .diag = { "" } };
 	}
-	run_parts(r->parts, np, count_run);
+	count_parts(r, np);
 	for (size_t k = 0; k < np; k++) {
-		/* every part but the last ends with a newline */
-		r->parts[k].cap = r->parts[k].nl + (k == np - 1);
-		r->parts[k].line0 = k ? r->parts[k - 1].line0 + r->parts[k - 1].nl :
-				       r->line;
-		r->parts[k].row0 = total;
-		total += r->parts[k].cap;
+		struct part *pt = &r->parts[k];
+
+		/* every part but the last ends with a newline; the last, when
+		 * not counted, holds at most one row per ncols bytes (a row
+		 * is at least its delimiters and newline) */
+		pt->cap = pt->counted ? pt->nl + (k == np - 1) :
+					(size_t)(pt->to - pt->from) / r->ncols + 1;
+		pt->line0 = k ? r->parts[k - 1].line0 + r->parts[k - 1].nl : r->line;
+		pt->row0 = total;
+		total += pt->cap;
 	}
 	return total;
 }
