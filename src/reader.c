@@ -1907,6 +1907,16 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * '\n' (CR LF too): returns the start of the next line, or NULL to let the
  * careful path (messages, blanks, NaN, comments) handle the line -- it
  * rewrites the whole row. */
+/* bits set in x (without the popcnt instruction, which SSSE3 processors
+ * may lack, and without a library call) */
+static inline size_t bits64(uint64_t x)
+{
+	x -= (x >> 1) & 0x5555555555555555ull;
+	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+	x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+	return (size_t)((x * 0x0101010101010101ull) >> 56);
+}
+
 /* Past the last column in use: the rest of the line is k separators, k - 1
  * delimiters then the newline, counted from the masks without visiting
  * them; the start of the next line, or NULL as next_sep. */
@@ -1919,15 +1929,15 @@ static inline const char *skip_rest(struct sepscan *sc, const char *end,
 		if (nl) {
 			uint64_t upto = (nl & -nl) - 1; /* bits below the newline */
 
-			if ((size_t)__builtin_popcountll(sc->m & upto) != k - 1)
+			if (bits64(sc->m & upto) != k - 1)
 				return NULL; /* ragged: the careful path says so */
 			sc->m &= ~(upto | (upto + 1));
 			return sc->blk + __builtin_ctzll(nl) + 1;
 		}
 		/* only delimiters left in this block */
-		if ((size_t)__builtin_popcountll(sc->m) > k - 1)
+		if (bits64(sc->m) > k - 1)
 			return NULL;
-		k -= (size_t)__builtin_popcountll(sc->m);
+		k -= bits64(sc->m);
 		sc->m = 0;
 		sc->blk += 64;
 		if (end - sc->blk < 64)
