@@ -122,6 +122,41 @@ static inline bool forward(const double *t, size_t n, size_t i)
 }
 
 /*
+ * What the first pass over the intervals gathers besides the median: their
+ * extremes, the non-increasing ones, and the compensated sum, count and
+ * largest of the forward ones.  When no forward interval turns out to be a
+ * gap (the usual record), that sum is the sum over the regular intervals,
+ * taken in the same order, and the pass that would form it is skipped.
+ */
+struct pass1 {
+	double lo, hi, fmax;
+	size_t nb, fn;
+	struct ssc_ksum fsum;
+};
+
+static void pass1_init(struct pass1 *a)
+{
+	*a = (struct pass1){ INFINITY, -INFINITY, -INFINITY, 0, 0, { 0, 0 } };
+}
+
+static inline void pass1_add(struct pass1 *a, const double *t, size_t n,
+			     size_t i, double d)
+{
+	if (d < a->lo)
+		a->lo = d;
+	if (d > a->hi)
+		a->hi = d;
+	if (!(d > 0))
+		a->nb++;
+	if (forward(t, n, i)) {
+		ssc_ksum_add(&a->fsum, d);
+		a->fn++;
+		if (d > a->fmax)
+			a->fmax = d;
+	}
+}
+
+/*
  * The intervals of a sampled record take few distinct values (stamps k/fs
  * rounded to double: some 25 over a day at 100 Hz).  Their median is then
  * found from a table of the distinct values and their counts, in one pass
@@ -144,13 +179,13 @@ static int cmp_few(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-static int median_few(const double *t_s, size_t n, double *med, double *lo,
-		      double *hi, size_t *n_back)
+static int median_few(const double *t_s, size_t n, double *med,
+		      struct pass1 *a)
 {
 	struct few *tab = calloc(FEW_SLOTS, sizeof(*tab));
 	unsigned char *used = calloc(FEW_SLOTS, 1);
-	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0, nb = 0;
-	double mid[2] = { 0, 0 }, l = INFINITY, h = -INFINITY;
+	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0;
+	double mid[2] = { 0, 0 };
 	int rc = 0;
 
 	if (!tab || !used) {
@@ -162,12 +197,7 @@ static int median_few(const double *t_s, size_t n, double *med, double *lo,
 		uint64_t b;
 		size_t k;
 
-		if (d < l)
-			l = d;
-		if (d > h)
-			h = d;
-		if (!(d > 0))
-			nb++;
+		pass1_add(a, t_s, n, i, d);
 		if (isnan(d)) {
 			rc = 1;
 			goto out;
@@ -199,9 +229,6 @@ static int median_few(const double *t_s, size_t n, double *med, double *lo,
 			mid[r++] = tab[k].v;
 	}
 	*med = rank[0] == rank[1] ? mid[0] : gsl_stats_median(mid, 1, 2);
-	*lo = l;
-	*hi = h;
-	*n_back = nb;
 out:
 	free(tab);
 	free(used);
@@ -213,8 +240,9 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch)
 {
 	struct ssc_ksum j = { 0, 0 }, sum = { 0, 0 };
+	struct pass1 a;
 	size_t nj = 0, ng = 0;
-	double med, mean, lo = INFINITY, hi = -INFINITY;
+	double med, mean;
 
 	if (!t_s || !tm || !scratch || !(gap_factor > 1))
 		return -EINVAL;
@@ -224,29 +252,29 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	sscope_timing_order_feed(&tm->order, t_s, n);
 	if (n < 2)
 		return -EDOM;
-	if (median_few(t_s, n, &med, &lo, &hi, &tm->n_backwards)) {
-		lo = INFINITY;
-		hi = -INFINITY;
-		tm->n_backwards = 0;
+	pass1_init(&a);
+	if (median_few(t_s, n, &med, &a)) {
+		pass1_init(&a);
 		for (size_t i = 1; i < n; i++) {
 			double d = t_s[i] - t_s[i - 1];
 
 			scratch[i - 1] = d;
-			if (d < lo)
-				lo = d;
-			if (d > hi)
-				hi = d;
-			if (!(d > 0))
-				tm->n_backwards++;
+			pass1_add(&a, t_s, n, i, d);
 		}
 		med = gsl_stats_median(scratch, 1, n - 1);
 	}
-	tm->dt_min_s = lo;
-	tm->dt_max_s = hi;
+	tm->n_backwards = a.nb;
+	tm->dt_min_s = a.lo;
+	tm->dt_max_s = a.hi;
 	if (!(med > 0) || !isfinite(med))
 		return -EDOM;
 	tm->dt_median_s = med;
-	for (size_t i = 1; i < n; i++) {
+	if (!(a.fmax > gap_factor * med)) {
+		/* no gap: the forward intervals are the regular ones */
+		sum = a.fsum;
+		nj = a.fn;
+	}
+	for (size_t i = 1; i < n && a.fmax > gap_factor * med; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
 		if (!forward(t_s, n, i))
