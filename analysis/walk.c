@@ -16,6 +16,9 @@
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_statistics_double.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "sscope-calib.h"
 #include "sscope-heading.h"
@@ -37,13 +40,18 @@ struct slide {
 	double s1, s2, shift;
 };
 
+/* positions whose window starts in [lo0, lo1), lo0 a multiple of w (an
+ * anchor: the sums there are what the whole run has there) */
 static void slide_init(struct slide *s, const double *x, size_t stride,
-		       size_t n, size_t window)
+		       size_t n, size_t window, size_t lo0, size_t lo1)
 {
-	*s = (struct slide){ .x = x, .stride = stride, .n = n };
+	*s = (struct slide){ .x = x, .stride = stride };
 	s->h = window / 2;
 	s->w = 2 * s->h + 1;
-	s->i = s->h;
+	s->i = lo0 + s->h;
+	s->anchor = lo0;
+	/* i + h < n and i - h < lo1 */
+	s->n = lo1 + 2 * s->h < n ? lo1 + 2 * s->h : n;
 }
 
 /* u at the next position; false past the last */
@@ -114,73 +122,130 @@ static inline size_t bin_of(double v)
  * (nf - 1) * 9 / 10 of the nf finite values, as ssc_calib_vs_deciles()
  * takes them) of the streamed moving variance, by a radix selection: one
  * pass counts the values per bin, a second keeps the values of the two
- * bins that hold the wanted ranks, GSL's selection finishes.  Returns 1
- * when those bins hold too many values to be worth it (a record of a few
- * distinct values): the caller stores the whole series instead.
+ * bins that hold the wanted ranks, GSL's selection finishes.  Both passes
+ * run on the threads in pieces that start at anchors (the same values);
+ * each piece writes its values at its own offset.  Returns 1 when those
+ * bins hold too many values to be worth it (a record of a few distinct
+ * values): the caller stores the whole series instead.
  */
+enum { MAX_PIECES = 16 };
+
 static int deciles_streamed(const double *x, size_t stride, size_t n,
 			    size_t window, double *lo, double *hi)
 {
-	size_t *count = calloc(N_BINS, sizeof(*count));
-	size_t nf = 0, k[2], bin[2] = { 0, 0 }, below[2] = { 0, 0 }, got[2] = { 0, 0 };
-	double *buf[2] = { NULL, NULL }, u;
+	size_t w = 2 * (window / 2) + 1, npos = n - w + 1, np = 1;
+	size_t *count[MAX_PIECES] = { NULL }, cut[MAX_PIECES + 1], nfp[MAX_PIECES];
+	size_t nf = 0, k[2], bin[2] = { 0, 0 }, below[2] = { 0, 0 }, tot[2];
+	size_t off[2][MAX_PIECES];
+	double *buf[2] = { NULL, NULL };
 	struct slide s;
 	int rc = 0;
 
-	if (!count)
-		return -ENOMEM;
-	slide_init(&s, x, stride, n, window);
-	while (slide_next(&s, &u))
-		if (slide_finite(&s, u)) {
-			count[bin_of(u)]++;
-			nf++;
-		}
+#ifdef _OPENMP
+	if (npos >= ((size_t)1 << 20)) {
+		int t = omp_get_max_threads();
+
+		np = t < 1 ? 1 : (size_t)t;
+		if (np > MAX_PIECES)
+			np = MAX_PIECES;
+	}
+#endif
+	/* piece p: window starts [cut[p], cut[p + 1]), cuts at anchors */
+	for (size_t p = 0; p <= np; p++)
+		cut[p] = p == np ? npos : npos / np * p / w * w;
+	for (size_t p = 0; p < np && !rc; p++) {
+		count[p] = calloc(N_BINS, sizeof(size_t));
+		if (!count[p])
+			rc = -ENOMEM;
+	}
+	if (rc)
+		goto out;
+	SSC_OMP(omp parallel for num_threads((int)np) schedule(static, 1) private(s))
+	for (size_t p = 0; p < np; p++) {
+		size_t *c = count[p], f = 0;
+		double u;
+
+		slide_init(&s, x, stride, n, window, cut[p], cut[p + 1]);
+		while (slide_next(&s, &u))
+			if (slide_finite(&s, u)) {
+				c[bin_of(u)]++;
+				f++;
+			}
+		nfp[p] = f;
+	}
+	for (size_t p = 0; p < np; p++)
+		nf += nfp[p];
+	for (size_t p = 1; p < np; p++)
+		for (size_t b = 0; b < N_BINS; b++)
+			count[0][b] += count[p][b];
 	if (nf < 10) {
-		free(count);
-		return -EDOM;
+		rc = -EDOM;
+		goto out;
 	}
 	k[0] = (nf - 1) / 10;
 	k[1] = (nf - 1) * 9 / 10;
 	for (int j = 0; j < 2; j++) {
 		size_t cum = 0, b = 0;
 
-		while (cum + count[b] <= k[j])
-			cum += count[b++];
+		while (cum + count[0][b] <= k[j])
+			cum += count[0][b++];
 		bin[j] = b;
 		below[j] = cum;
 	}
-	if (count[bin[0]] + (bin[1] != bin[0] ? count[bin[1]] : 0) > nf / 8 + 1024) {
-		free(count);
-		return 1;
+	tot[0] = count[0][bin[0]];
+	tot[1] = bin[1] != bin[0] ? count[0][bin[1]] : 0;
+	if (tot[0] + tot[1] > nf / 8 + 1024) {
+		rc = 1;
+		goto out;
 	}
-	buf[0] = ssc_alloc_array(count[bin[0]], sizeof(double));
-	buf[1] = bin[1] == bin[0] ? buf[0] :
-				    ssc_alloc_array(count[bin[1]], sizeof(double));
+	/* each piece's share of the two bins (count[0] now holds the sums:
+	 * a piece's own counts are the sums less the other pieces') */
+	memset(off, 0, sizeof(off));
+	for (int j = 0; j < (bin[1] != bin[0] ? 2 : 1); j++) {
+		size_t o = 0;
+
+		for (size_t p = np; p-- > 1;) {
+			size_t cp = count[p][bin[j]];
+
+			off[j][p] = tot[j] - o - cp;
+			o += cp;
+		}
+		off[j][0] = 0;
+	}
+	buf[0] = ssc_alloc_array(tot[0], sizeof(double));
+	buf[1] = bin[1] == bin[0] ? buf[0] : ssc_alloc_array(tot[1], sizeof(double));
 	if (!buf[0] || !buf[1]) {
 		rc = -ENOMEM;
 		goto out;
 	}
-	slide_init(&s, x, stride, n, window);
-	while (slide_next(&s, &u)) {
-		size_t b;
+	SSC_OMP(omp parallel for num_threads((int)np) schedule(static, 1) private(s))
+	for (size_t p = 0; p < np; p++) {
+		double *b0 = buf[0] + off[0][p], *b1 = buf[1] + off[1][p], u;
 
-		if (!slide_finite(&s, u))
-			continue;
-		b = bin_of(u);
-		if (b == bin[0])
-			buf[0][got[0]++] = u;
-		else if (b == bin[1])
-			buf[1][got[1]++] = u;
+		slide_init(&s, x, stride, n, window, cut[p], cut[p + 1]);
+		while (slide_next(&s, &u)) {
+			size_t b;
+
+			if (!slide_finite(&s, u))
+				continue;
+			b = bin_of(u);
+			if (b == bin[0])
+				*b0++ = u;
+			else if (b == bin[1])
+				*b1++ = u;
+		}
 	}
 	if (bin[1] == bin[0])
-		got[1] = got[0];
-	*lo = slide_value(&s, gsl_stats_select(buf[0], 1, got[0], k[0] - below[0]));
-	*hi = slide_value(&s, gsl_stats_select(buf[1], 1, got[1], k[1] - below[1]));
+		tot[1] = tot[0];
+	slide_init(&s, x, stride, n, window, 0, npos);
+	*lo = slide_value(&s, gsl_stats_select(buf[0], 1, tot[0], k[0] - below[0]));
+	*hi = slide_value(&s, gsl_stats_select(buf[1], 1, tot[1], k[1] - below[1]));
 out:
 	if (buf[1] != buf[0])
 		free(buf[1]);
 	free(buf[0]);
-	free(count);
+	for (size_t p = 0; p < np; p++)
+		free(count[p]);
 	return rc;
 }
 
