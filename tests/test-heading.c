@@ -497,6 +497,58 @@ START_TEST(test_walk_refused)
 }
 END_TEST
 
+/* The stillness check against its definition: the 90th over the 10th
+ * percentile of calib's moving variance, the order statistics taken by a
+ * sort.  A limit equal to that ratio passes and the next double below
+ * fails, on a record long enough to be split between threads (2^20 +
+ * positions) and on a short one. */
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+START_TEST(test_walk_still_ratio)
+{
+	static const size_t sizes[2] = { 5000, 1200000 };
+
+	for (int k = 0; k < 2; k++) {
+		const size_t n = sizes[k], w = 11; /* fs 10: 11-sample windows */
+		double *y = white(n, 10, 1e-3, 0, 0, 19107 + (unsigned)k);
+		double *v = malloc(n * sizeof(double)), ratio;
+		struct sscope_walk_opts o = { 0 };
+		struct sscope_walk_result *r = NULL;
+		struct sscope_diag d = { "" };
+		size_t nf = 0;
+
+		ck_assert(v != NULL);
+		/* a slowly swelling noise: percentiles far apart */
+		for (size_t i = 0; i < n; i++)
+			y[i] *= 1 + 0.8 * sin(6.2831853 * (double)i / (double)n);
+		ck_assert_int_eq(sscope_calib_variance_magnitude(y, y, y, 1, n, w, v), 0);
+		for (size_t i = 0; i < n; i++)
+			if (isfinite(v[i]))
+				v[nf++] = v[i];
+		qsort(v, nf, sizeof(double), cmp_dbl);
+		ratio = v[(nf - 1) * 9 / 10] / v[(nf - 1) / 10];
+		ck_assert(ratio > 1.5);
+		o.rate_hz = 10;
+		o.run_s = 2;
+		o.coef[SSCOPE_TERM_N] = 1e-3;
+		o.max_contrast = ratio;
+		ck_assert_msg(sscope_walk_compute(y, 1, n, &o, &r, &d) == 0, "n %zu: %s", n,
+			      d.msg);
+		sscope_walk_result_free(r);
+		o.max_contrast = nextafter(ratio, 0);
+		ck_assert_int_eq(sscope_walk_compute(y, 1, n, &o, &r, &d), -EDOM);
+		ck_assert(strstr(d.msg, "moves") != NULL);
+		free(v);
+		free(y);
+	}
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("heading");
@@ -512,6 +564,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_walk_fan);
 	tcase_add_test(tc, test_walk_all_terms);
 	tcase_add_test(tc, test_walk_refused);
+	tcase_add_test(tc, test_walk_still_ratio);
 	suite_add_tcase(s, tc);
 	return s;
 }
