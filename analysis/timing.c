@@ -179,12 +179,26 @@ static int cmp_few(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
+/* stamps fed to the order check at a time, each block's intervals
+ * examined while it is in cache (one pass over the stamps for both) */
+enum { ORDER_BLOCK = 4096 };
+
+/* feed the block of stamps from `from`; returns how many */
+static size_t feed_block(struct sscope_timing_order *o, const double *t_s,
+			 size_t n, size_t from)
+{
+	size_t k = n - from < ORDER_BLOCK ? n - from : ORDER_BLOCK;
+
+	sscope_timing_order_feed(o, t_s + from, k);
+	return k;
+}
+
 static int median_few(const double *t_s, size_t n, double *med,
-		      struct pass1 *a)
+		      struct pass1 *a, struct sscope_timing_order *o)
 {
 	struct few *tab = calloc(FEW_SLOTS, sizeof(*tab));
 	unsigned char *used = calloc(FEW_SLOTS, 1);
-	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0;
+	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0, fed = 0;
 	double mid[2] = { 0, 0 };
 	int rc = 0;
 
@@ -197,6 +211,8 @@ static int median_few(const double *t_s, size_t n, double *med,
 		uint64_t b;
 		size_t k;
 
+		if (i - 1 == fed)
+			fed += feed_block(o, t_s, n, fed);
 		pass1_add(a, t_s, n, i, d);
 		if (isnan(d)) {
 			rc = 1;
@@ -217,6 +233,8 @@ static int median_few(const double *t_s, size_t n, double *med,
 		}
 		tab[k].count++;
 	}
+	if (fed < n)
+		feed_block(o, t_s, n, fed);
 	for (size_t k = 0; k < FEW_SLOTS; k++)
 		if (used[k])
 			tab[j++] = tab[k];
@@ -249,18 +267,26 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	memset(tm, 0, sizeof(*tm));
 	if (n_gaps_out)
 		*n_gaps_out = 0;
-	sscope_timing_order_feed(&tm->order, t_s, n);
-	if (n < 2)
+	if (n < 2) {
+		sscope_timing_order_feed(&tm->order, t_s, n);
 		return -EDOM;
+	}
 	pass1_init(&a);
-	if (median_few(t_s, n, &med, &a)) {
+	if (median_few(t_s, n, &med, &a, &tm->order)) {
+		size_t fed = 0;
+
 		pass1_init(&a);
+		memset(&tm->order, 0, sizeof(tm->order));
 		for (size_t i = 1; i < n; i++) {
 			double d = t_s[i] - t_s[i - 1];
 
+			if (i - 1 == fed)
+				fed += feed_block(&tm->order, t_s, n, fed);
 			scratch[i - 1] = d;
 			pass1_add(&a, t_s, n, i, d);
 		}
+		if (fed < n)
+			feed_block(&tm->order, t_s, n, fed);
 		med = gsl_stats_median(scratch, 1, n - 1);
 	}
 	tm->n_backwards = a.nb;

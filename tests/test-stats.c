@@ -276,6 +276,38 @@ START_TEST(timing_median)
 }
 END_TEST
 
+/* The order check is fed block by block beside the intervals: every
+ * stamp once, the last one too (a record one stamp past a block, its last
+ * stamp a step back), on the table path and on the scratch path. */
+START_TEST(timing_order_blocks)
+{
+	static const size_t sizes[] = { 4097, 8193, 8192, 5000 };
+	double *t = malloc(8200 * sizeof(double)), *scratch = malloc(8200 * sizeof(double));
+
+	ck_assert(t && scratch);
+	for (int many = 0; many < 2; many++)
+		for (size_t k = 0; k < sizeof(sizes) / sizeof(sizes[0]); k++) {
+			size_t n = sizes[k];
+			struct sscope_timing tm;
+			struct sscope_timing_order whole;
+
+			memset(&whole, 0, sizeof(whole));
+			for (size_t i = 0; i < n; i++)
+				t[i] = 2.385 + 0.01 * (double)i +
+				       (many ? 1e-7 * (double)((i * 7919) % 1000) : 0);
+			t[n - 1] = t[n - 2] - 0.005;
+			sscope_timing_order_feed(&whole, t, n);
+			ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,
+							       scratch), 0);
+			ck_assert_uint_eq(tm.order.n, n);
+			ck_assert_uint_eq(tm.order.n_decreasing, 1);
+			ck_assert(!memcmp(&tm.order, &whole, sizeof(whole)));
+		}
+	free(t);
+	free(scratch);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("stats");
@@ -288,6 +320,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, mean_interval);
 	tcase_add_test(tc, time_order);
 	tcase_add_test(tc, timing_median);
+	tcase_add_test(tc, timing_order_blocks);
 	suite_add_tcase(s, tc);
 	return s;
 }
