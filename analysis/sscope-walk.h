@@ -38,6 +38,9 @@ struct sscope_walk_opts {
 	 *  multiple of the 10th percentile (0 -> 9, the contrast rule of
 	 *  sscope-heading.h; negative: no check) */
 	double max_contrast;
+	/** runs whose paths are kept in the result, the first ones (0: all;
+	 *  the statistics always use every run) */
+	size_t keep_paths;
 };
 
 /** The fan. */
@@ -49,7 +52,10 @@ struct sscope_walk_result {
 			       mean) */
 	bool global;      /**< the record's mean was removed */
 	double k_sigma;
-	double *paths;    /**< n_runs x n_points integrated values, U s */
+	size_t n_paths;   /**< runs whose paths are kept: n_runs, or
+			       keep_paths when that is fewer */
+	double *paths;    /**< n_paths x n_points integrated values, U s
+			       (the first runs) */
 	double *sigma;    /**< n_points: predicted 1-sigma (root mean square
 			       over the runs for the record's mean) */
 	double *spread;   /**< n_points: root mean square over the runs */

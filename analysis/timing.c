@@ -14,6 +14,8 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_statistics_double.h>
@@ -113,10 +115,142 @@ int sscope_timing_order_check(const struct sscope_timing_order *o,
 
 /* Interval i (from row i - 1 to row i) can be a regular interval or a gap:
  * positive and not next to a backward step. */
-static bool forward(const double *t, size_t n, size_t i)
+static inline bool forward(const double *t, size_t n, size_t i)
 {
 	return t[i] > t[i - 1] && !(i >= 2 && t[i - 1] < t[i - 2]) &&
 	       !(i + 1 < n && t[i + 1] < t[i]);
+}
+
+/*
+ * What the first pass over the intervals gathers besides the median: their
+ * extremes, the non-increasing ones, and the compensated sum, count and
+ * largest of the forward ones.  When no forward interval turns out to be a
+ * gap (the usual record), that sum is the sum over the regular intervals,
+ * taken in the same order, and the pass that would form it is skipped.
+ */
+struct pass1 {
+	double lo, hi, fmax;
+	size_t nb, fn;
+	struct ssc_ksum fsum;
+};
+
+static void pass1_init(struct pass1 *a)
+{
+	*a = (struct pass1){ INFINITY, -INFINITY, -INFINITY, 0, 0, { 0, 0 } };
+}
+
+static inline void pass1_add(struct pass1 *a, const double *t, size_t n,
+			     size_t i, double d)
+{
+	if (d < a->lo)
+		a->lo = d;
+	if (d > a->hi)
+		a->hi = d;
+	if (!(d > 0))
+		a->nb++;
+	if (forward(t, n, i)) {
+		ssc_ksum_add(&a->fsum, d);
+		a->fn++;
+		if (d > a->fmax)
+			a->fmax = d;
+	}
+}
+
+/*
+ * The intervals of a sampled record take few distinct values (stamps k/fs
+ * rounded to double: some 25 over a day at 100 Hz).  Their median is then
+ * found from a table of the distinct values and their counts, in one pass
+ * and without writing the n - 1 intervals out: the two middle order
+ * statistics are looked up, and combined by gsl_stats_median() itself (on
+ * those two values, so exactly as it combines them in the whole series).
+ * Returns 1 when the intervals hold more distinct values than the table.
+ */
+enum { FEW_SLOTS = 1024, FEW_MAX = FEW_SLOTS / 2 };
+
+struct few {
+	double v;
+	size_t count;
+};
+
+static int cmp_few(const void *a, const void *b)
+{
+	double x = ((const struct few *)a)->v, y = ((const struct few *)b)->v;
+
+	return (x > y) - (x < y);
+}
+
+/* stamps fed to the order check at a time, each block's intervals
+ * examined while it is in cache (one pass over the stamps for both) */
+enum { ORDER_BLOCK = 4096 };
+
+/* feed the block of stamps from `from`; returns how many */
+static size_t feed_block(struct sscope_timing_order *o, const double *t_s,
+			 size_t n, size_t from)
+{
+	size_t k = n - from < ORDER_BLOCK ? n - from : ORDER_BLOCK;
+
+	sscope_timing_order_feed(o, t_s + from, k);
+	return k;
+}
+
+static int median_few(const double *t_s, size_t n, double *med,
+		      struct pass1 *a, struct sscope_timing_order *o)
+{
+	struct few *tab = calloc(FEW_SLOTS, sizeof(*tab));
+	unsigned char *used = calloc(FEW_SLOTS, 1);
+	size_t distinct = 0, m = n - 1, cum = 0, rank[2], j = 0, fed = 0;
+	double mid[2] = { 0, 0 };
+	int rc = 0;
+
+	if (!tab || !used) {
+		rc = 1;
+		goto out;
+	}
+	for (size_t i = 1; i < n; i++) {
+		double d = t_s[i] - t_s[i - 1];
+		uint64_t b;
+		size_t k;
+
+		if (i - 1 == fed)
+			fed += feed_block(o, t_s, n, fed);
+		pass1_add(a, t_s, n, i, d);
+		if (isnan(d)) {
+			rc = 1;
+			goto out;
+		}
+		memcpy(&b, &d, sizeof(b));
+		k = (size_t)((b * 0x9e3779b97f4a7c15ull) >> 54);
+		while (used[k] && memcmp(&tab[k].v, &d, sizeof(d)))
+			k = (k + 1) & (FEW_SLOTS - 1);
+		if (!used[k]) {
+			if (distinct == FEW_MAX) {
+				rc = 1;
+				goto out;
+			}
+			used[k] = 1;
+			tab[k].v = d;
+			distinct++;
+		}
+		tab[k].count++;
+	}
+	if (fed < n)
+		feed_block(o, t_s, n, fed);
+	for (size_t k = 0; k < FEW_SLOTS; k++)
+		if (used[k])
+			tab[j++] = tab[k];
+	qsort(tab, distinct, sizeof(*tab), cmp_few);
+	rank[0] = (m - 1) / 2;
+	rank[1] = m / 2;
+	for (size_t k = 0, r = 0; k < distinct && r < 2; k++) {
+		cum += tab[k].count;
+		while (r < 2 && rank[r] < cum)
+			mid[r++] = tab[k].v;
+	}
+	*med = rank[0] == rank[1] ? mid[0] : gsl_stats_median(mid, 1, 2);
+out:
+	free(tab);
+	free(used);
+	return rc;
 }
 
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
@@ -124,35 +258,49 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch)
 {
 	struct ssc_ksum j = { 0, 0 }, sum = { 0, 0 };
+	struct pass1 a;
 	size_t nj = 0, ng = 0;
-	double med, mean, lo = INFINITY, hi = -INFINITY;
+	double med, mean;
 
 	if (!t_s || !tm || !scratch || !(gap_factor > 1))
 		return -EINVAL;
 	memset(tm, 0, sizeof(*tm));
 	if (n_gaps_out)
 		*n_gaps_out = 0;
-	sscope_timing_order_feed(&tm->order, t_s, n);
-	if (n < 2)
+	if (n < 2) {
+		sscope_timing_order_feed(&tm->order, t_s, n);
 		return -EDOM;
-	for (size_t i = 1; i < n; i++) {
-		double d = t_s[i] - t_s[i - 1];
-
-		scratch[i - 1] = d;
-		if (d < lo)
-			lo = d;
-		if (d > hi)
-			hi = d;
-		if (!(d > 0))
-			tm->n_backwards++;
 	}
-	med = gsl_stats_median(scratch, 1, n - 1);
-	tm->dt_min_s = lo;
-	tm->dt_max_s = hi;
+	pass1_init(&a);
+	if (median_few(t_s, n, &med, &a, &tm->order)) {
+		size_t fed = 0;
+
+		pass1_init(&a);
+		memset(&tm->order, 0, sizeof(tm->order));
+		for (size_t i = 1; i < n; i++) {
+			double d = t_s[i] - t_s[i - 1];
+
+			if (i - 1 == fed)
+				fed += feed_block(&tm->order, t_s, n, fed);
+			scratch[i - 1] = d;
+			pass1_add(&a, t_s, n, i, d);
+		}
+		if (fed < n)
+			feed_block(&tm->order, t_s, n, fed);
+		med = gsl_stats_median(scratch, 1, n - 1);
+	}
+	tm->n_backwards = a.nb;
+	tm->dt_min_s = a.lo;
+	tm->dt_max_s = a.hi;
 	if (!(med > 0) || !isfinite(med))
 		return -EDOM;
 	tm->dt_median_s = med;
-	for (size_t i = 1; i < n; i++) {
+	if (!(a.fmax > gap_factor * med)) {
+		/* no gap: the forward intervals are the regular ones */
+		sum = a.fsum;
+		nj = a.fn;
+	}
+	for (size_t i = 1; i < n && a.fmax > gap_factor * med; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
 		if (!forward(t_s, n, i))

@@ -10,32 +10,269 @@
 #include "internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_statistics_double.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
+
+/*
+ * The record's moving variance as sscope_calib_variance_magnitude() gives
+ * it for one channel given three times (the same sliding sums, re-anchored
+ * every w steps, the same operations in the same order), streamed one
+ * sample at a time, never stored.  What is streamed is u = s2 - s1^2 / w
+ * (0 for u <= 0): the detector's value, sqrt(3 v^2) with v = u / (w - 1),
+ * is a non-decreasing function of u in floating point too (each step is a
+ * correctly rounded monotone operation), so the order statistics of the
+ * values are that function of the order statistics of u.
+ */
+struct slide {
+	const double *x;
+	size_t stride, n, h, w, i, anchor;
+	double s1, s2, shift;
+};
+
+/* positions whose window starts in [lo0, lo1), lo0 a multiple of w (an
+ * anchor: the sums there are what the whole run has there) */
+static void slide_init(struct slide *s, const double *x, size_t stride,
+		       size_t n, size_t window, size_t lo0, size_t lo1)
+{
+	*s = (struct slide){ .x = x, .stride = stride };
+	s->h = window / 2;
+	s->w = 2 * s->h + 1;
+	s->i = lo0 + s->h;
+	s->anchor = lo0;
+	/* i + h < n and i - h < lo1 */
+	s->n = lo1 + 2 * s->h < n ? lo1 + 2 * s->h : n;
+}
+
+/* u at the next position; false past the last */
+static inline bool slide_next(struct slide *s, double *out)
+{
+	const double *x = s->x;
+	size_t st = s->stride, i = s->i, h = s->h, w = s->w, lo;
+	double u;
+
+	if (i + h >= s->n)
+		return false;
+	lo = i - h;
+	if (lo == s->anchor) {
+		s->anchor += w;
+		s->shift = x[lo * st];
+		s->s1 = s->s2 = 0;
+		for (size_t j = lo; j < lo + w; j++) {
+			double d = x[j * st] - s->shift;
+
+			s->s1 += d;
+			s->s2 += d * d;
+		}
+	} else {
+		double dout = x[(lo - 1) * st] - s->shift;
+		double din = x[(i + h) * st] - s->shift;
+
+		s->s1 += din - dout;
+		s->s2 += din * din - dout * dout;
+	}
+	u = s->s2 - s->s1 * s->s1 / (double)w;
+	*out = u <= 0 ? 0 : u; /* also -0: a zero variance */
+	s->i++;
+	return true;
+}
+
+/* the detector's value of u: sqrt(v^2 + v^2 + v^2), v = u / (w - 1) */
+static double slide_value(const struct slide *s, double u)
+{
+	double v = u / (double)(s->w - 1), v2 = 0;
+
+	if (v < 0)
+		v = 0;
+	for (int c = 0; c < 3; c++)
+		v2 += v * v;
+	return sqrt(v2);
+}
+
+/* the detector counts only finite values: those of large u are checked */
+static inline bool slide_finite(const struct slide *s, double u)
+{
+	return u < 1e150 || isfinite(slide_value(s, u));
+}
+
+/* histogram bin of a non-negative double: its top bits, which order such
+ * doubles as their values (sign clear, exponent, 8 bits of mantissa) */
+enum { BIN_SHIFT = 44, N_BINS = 1 << (63 - BIN_SHIFT) };
+
+static inline size_t bin_of(double v)
+{
+	uint64_t b;
+
+	memcpy(&b, &v, sizeof(b));
+	return (size_t)(b >> BIN_SHIFT);
+}
+
+/*
+ * The 10th and 90th percentiles (order statistics (nf - 1) / 10 and
+ * (nf - 1) * 9 / 10 of the nf finite values, as ssc_calib_vs_deciles()
+ * takes them) of the streamed moving variance, by a radix selection: one
+ * pass counts the values per bin, a second keeps the values of the two
+ * bins that hold the wanted ranks, GSL's selection finishes.  Both passes
+ * run on the threads in pieces that start at anchors (the same values);
+ * each piece writes its values at its own offset.  Returns 1 when those
+ * bins hold too many values to be worth it (a record of a few distinct
+ * values): the caller stores the whole series instead.
+ */
+enum { MAX_PIECES = 16 };
+
+static int deciles_streamed(const double *x, size_t stride, size_t n,
+			    size_t window, double *lo, double *hi)
+{
+	size_t w = 2 * (window / 2) + 1, npos = n - w + 1, np = 1;
+	size_t *count[MAX_PIECES] = { NULL }, cut[MAX_PIECES + 1], nfp[MAX_PIECES];
+	size_t nf = 0, k[2], bin[2] = { 0, 0 }, below[2] = { 0, 0 }, tot[2];
+	size_t off[2][MAX_PIECES];
+	double *buf[2] = { NULL, NULL };
+	struct slide s;
+	int rc = 0;
+
+#ifdef _OPENMP
+	if (npos >= ((size_t)1 << 20)) {
+		int t = omp_get_max_threads();
+
+		np = t < 1 ? 1 : (size_t)t;
+		if (np > MAX_PIECES)
+			np = MAX_PIECES;
+	}
+#endif
+	/* piece p: window starts [cut[p], cut[p + 1]), cuts at anchors */
+	for (size_t p = 0; p <= np; p++)
+		cut[p] = p == np ? npos : npos / np * p / w * w;
+	for (size_t p = 0; p < np && !rc; p++) {
+		count[p] = calloc(N_BINS, sizeof(size_t));
+		if (!count[p])
+			rc = -ENOMEM;
+	}
+	if (rc)
+		goto out;
+	SSC_OMP(omp parallel for num_threads((int)np) schedule(static, 1) private(s))
+	for (size_t p = 0; p < np; p++) {
+		size_t *c = count[p], f = 0;
+		double u;
+
+		slide_init(&s, x, stride, n, window, cut[p], cut[p + 1]);
+		while (slide_next(&s, &u))
+			if (slide_finite(&s, u)) {
+				c[bin_of(u)]++;
+				f++;
+			}
+		nfp[p] = f;
+	}
+	for (size_t p = 0; p < np; p++)
+		nf += nfp[p];
+	for (size_t p = 1; p < np; p++)
+		for (size_t b = 0; b < N_BINS; b++)
+			count[0][b] += count[p][b];
+	if (nf < 10) {
+		rc = -EDOM;
+		goto out;
+	}
+	k[0] = (nf - 1) / 10;
+	k[1] = (nf - 1) * 9 / 10;
+	for (int j = 0; j < 2; j++) {
+		size_t cum = 0, b = 0;
+
+		while (cum + count[0][b] <= k[j])
+			cum += count[0][b++];
+		bin[j] = b;
+		below[j] = cum;
+	}
+	tot[0] = count[0][bin[0]];
+	tot[1] = bin[1] != bin[0] ? count[0][bin[1]] : 0;
+	if (tot[0] + tot[1] > nf / 8 + 1024) {
+		rc = 1;
+		goto out;
+	}
+	/* each piece's share of the two bins (count[0] now holds the sums:
+	 * a piece's own counts are the sums less the other pieces') */
+	memset(off, 0, sizeof(off));
+	for (int j = 0; j < (bin[1] != bin[0] ? 2 : 1); j++) {
+		size_t o = 0;
+
+		for (size_t p = np; p-- > 1;) {
+			size_t cp = count[p][bin[j]];
+
+			off[j][p] = tot[j] - o - cp;
+			o += cp;
+		}
+		off[j][0] = 0;
+	}
+	buf[0] = ssc_alloc_array(tot[0], sizeof(double));
+	buf[1] = bin[1] == bin[0] ? buf[0] : ssc_alloc_array(tot[1], sizeof(double));
+	if (!buf[0] || !buf[1]) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	SSC_OMP(omp parallel for num_threads((int)np) schedule(static, 1) private(s))
+	for (size_t p = 0; p < np; p++) {
+		double *b0 = buf[0] + off[0][p], *b1 = buf[1] + off[1][p], u;
+
+		slide_init(&s, x, stride, n, window, cut[p], cut[p + 1]);
+		while (slide_next(&s, &u)) {
+			size_t b;
+
+			if (!slide_finite(&s, u))
+				continue;
+			b = bin_of(u);
+			if (b == bin[0])
+				*b0++ = u;
+			else if (b == bin[1])
+				*b1++ = u;
+		}
+	}
+	if (bin[1] == bin[0])
+		tot[1] = tot[0];
+	slide_init(&s, x, stride, n, window, 0, npos);
+	*lo = slide_value(&s, gsl_stats_select(buf[0], 1, tot[0], k[0] - below[0]));
+	*hi = slide_value(&s, gsl_stats_select(buf[1], 1, tot[1], k[1] - below[1]));
+out:
+	if (buf[1] != buf[0])
+		free(buf[1]);
+	free(buf[0]);
+	for (size_t p = 0; p < np; p++)
+		free(count[p]);
+	return rc;
+}
 
 /* 90th over 10th percentile of the sliding variance (calib's detector) */
 static int still_contrast(const double *x, size_t stride, size_t n, double fs,
 			  double *ratio)
 {
 	size_t w = (size_t)fmax(11, round(fs));
-	double *v = ssc_alloc_array(n, sizeof(double)), lo, hi;
-	double *work = ssc_alloc_array(n, sizeof(double));
-	int rc = v && work ? 0 : -ENOMEM;
+	double *v, *work, lo, hi;
+	int rc;
 
-	if (!rc)
-		rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
-	if (!rc)
-		rc = ssc_calib_vs_deciles(v, n, work, 10, &lo, &hi);
+	if (2 * (w / 2) + 1 > n)
+		return -EDOM;
+	rc = deciles_streamed(x, stride, n, w, &lo, &hi);
+	if (rc == 1) {
+		v = ssc_alloc_array(n, sizeof(double));
+		work = ssc_alloc_array(n, sizeof(double));
+		rc = v && work ? 0 : -ENOMEM;
+		if (!rc)
+			rc = sscope_calib_variance_magnitude(x, x, x, stride, n, w, v);
+		if (!rc)
+			rc = ssc_calib_vs_deciles(v, n, work, 10, &lo, &hi);
+		free(v);
+		free(work);
+	}
 	if (!rc)
 		*ratio = lo > 0 ? hi / lo : hi > 0 ? (double)INFINITY : 1;
-	free(v);
-	free(work);
 	return rc;
 }
 
@@ -59,7 +296,7 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 {
 	struct sscope_walk_result *r;
 	size_t L, Lb, block, M, np;
-	double dt, gmean = 0;
+	double dt, gmean = 0, *thr = NULL;
 	bool any = false;
 
 	if (!resp)
@@ -120,7 +357,9 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 	r = calloc(1, sizeof(*r));
 	if (!r)
 		return -ENOMEM;
-	r->paths = ssc_alloc_array(M, np * sizeof(double));
+	r->n_paths = o->keep_paths && o->keep_paths < M ? o->keep_paths : M;
+	/* the runs not kept are integrated into one buffer after the kept */
+	r->paths = ssc_alloc_array(r->n_paths + (r->n_paths < M), np * sizeof(double));
 	r->sigma = ssc_alloc_array(np, sizeof(double));
 	r->spread = ssc_alloc_array(np, sizeof(double));
 	r->inside = ssc_alloc_array(np, sizeof(double));
@@ -137,9 +376,42 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 	r->global = Lb == 0;
 	r->est_s = Lb ? (double)Lb * dt : (double)n * dt;
 	r->k_sigma = o->k_sigma > 0 ? o->k_sigma : 2;
+	/*
+	 * Run by run (each path is summed into the per-point sums while it is
+	 * in cache), the sums of each point taken over the runs in the same
+	 * order as point by point.  sigma, spread and inside hold the sums of
+	 * the predicted variances, of the squares and the counts inside until
+	 * the end.
+	 */
+	for (size_t k = 0; k < np; k++) {
+		r->sigma[k] = r->spread[k] = r->inside[k] = 0;
+		r->var_n1[k] = r->var_other[k] = 0;
+	}
+	if (Lb) {
+		/* a window before each run: the same for all */
+		double cN[5] = { 0, 1, 0, 0, 0 }, co[5];
+
+		thr = ssc_alloc_array(np, 2 * sizeof(double));
+		if (!thr) {
+			sscope_walk_result_free(r);
+			return -ENOMEM;
+		}
+		memcpy(co, o->coef, sizeof(co));
+		co[SSCOPE_TERM_N] = 0;
+		for (size_t k = 0; k < np; k++) {
+			double t = (double)k * dt;
+			double vw = sscope_heading_drift_var(o->coef, t, r->est_s);
+
+			r->var_n1[k] = sscope_heading_drift_var(cN, t, r->est_s);
+			r->var_other[k] = sscope_heading_drift_var(co, t, r->est_s);
+			thr[2 * k] = vw;
+			thr[2 * k + 1] = r->k_sigma * sqrt(vw);
+		}
+	}
 	for (size_t j = 0; j < M; j++) {
 		const double *p = x + j * block * stride;
-		double b = gmean, *path = r->paths + j * np;
+		double b = gmean;
+		double *path = r->paths + (j < r->n_paths ? j : r->n_paths) * np;
 		struct ssc_ksum s = { 0, 0 };
 
 		if (Lb) {
@@ -153,48 +425,47 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 			ssc_ksum_add(&s, (p[(Lb + i) * stride] - b) * dt);
 			path[i + 1] = ssc_ksum_value(&s);
 		}
+		if (Lb) {
+			for (size_t k = 0; k < np; k++) {
+				double v = path[k];
+
+				r->spread[k] += v * v;
+				r->sigma[k] += thr[2 * k];
+				r->inside[k] += fabs(v) <= thr[2 * k + 1];
+			}
+			continue;
+		}
+		for (size_t k = 0; k < np; k++) {
+			double v = path[k], var = 0;
+
+			if (k) {
+				/* X(a + t) - X(a) - (t / T)(X(T) - X(0)):
+				 * depends on where the run lies */
+				double t = (double)k * dt, T = (double)n * dt;
+				double a = (double)(j * block) * dt;
+				double tt[4] = { a + t, a, T, 0 };
+				double cc[4] = { 1, -1, -t / T, t / T };
+				double cN[5] = { 0, 1, 0, 0, 0 }, co[5];
+
+				memcpy(co, o->coef, sizeof(co));
+				co[SSCOPE_TERM_N] = 0;
+				var = sscope_heading_drift_var_points(o->coef, tt, cc, 4);
+				r->var_n1[k] += sscope_heading_drift_var_points(cN, tt, cc, 4) / (double)M;
+				r->var_other[k] += sscope_heading_drift_var_points(co, tt, cc, 4) / (double)M;
+			}
+			r->spread[k] += v * v;
+			r->sigma[k] += var;
+			r->inside[k] += fabs(v) <= r->k_sigma * sqrt(var);
+		}
 	}
+	free(thr);
 	{
 		struct ssc_ksum in_sum = { 0, 0 };
-		double cN[5] = { 0, 1, 0, 0, 0 }, co[5];
-		double T = (double)n * dt;
 
-		memcpy(co, o->coef, sizeof(co));
-		co[SSCOPE_TERM_N] = 0;
 		for (size_t k = 0; k < np; k++) {
-			double t = (double)k * dt, s2 = 0, v1 = 0, vo = 0, vall = 0;
-			double vw = 0;
-			size_t in = 0;
-
-			if (Lb) {
-				/* a window before each run: the same for all */
-				v1 = sscope_heading_drift_var(cN, t, r->est_s);
-				vo = sscope_heading_drift_var(co, t, r->est_s);
-				vw = sscope_heading_drift_var(o->coef, t, r->est_s);
-			}
-			for (size_t j = 0; j < M; j++) {
-				double v = r->paths[j * np + k], var = vw;
-
-				if (!Lb && k) {
-					/* X(a + t) - X(a) - (t / T)(X(T) - X(0)):
-					 * depends on where the run lies */
-					double a = (double)(j * block) * dt;
-					double tt[4] = { a + t, a, T, 0 };
-					double cc[4] = { 1, -1, -t / T, t / T };
-
-					var = sscope_heading_drift_var_points(o->coef, tt, cc, 4);
-					v1 += sscope_heading_drift_var_points(cN, tt, cc, 4) / (double)M;
-					vo += sscope_heading_drift_var_points(co, tt, cc, 4) / (double)M;
-				}
-				s2 += v * v;
-				vall += var;
-				in += fabs(v) <= r->k_sigma * sqrt(var);
-			}
-			r->sigma[k] = sqrt(vall / (double)M);
-			r->var_n1[k] = v1;
-			r->var_other[k] = vo;
-			r->spread[k] = sqrt(s2 / (double)M);
-			r->inside[k] = k ? (double)in / (double)M : (double)NAN;
+			r->sigma[k] = sqrt(r->sigma[k] / (double)M);
+			r->spread[k] = sqrt(r->spread[k] / (double)M);
+			r->inside[k] = k ? r->inside[k] / (double)M : (double)NAN;
 			if (k)
 				ssc_ksum_add(&in_sum, r->inside[k]);
 		}

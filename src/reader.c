@@ -1795,38 +1795,43 @@ static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
 struct sepscan {
 	const char *blk; /* 64 bytes scanned */
 	uint64_t m;      /* bit i: blk[i] is a separator not yet consumed */
+	uint64_t nl;     /* bit i: blk[i] is a newline */
 };
 
-/* bit i set when p[i] is d or a newline, 0 <= i < 64 */
-static inline uint64_t sep_mask(const char *p, char d)
+/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines */
+static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 {
-	uint64_t m = 0;
+	uint64_t m = 0, n = 0;
 #ifdef __SSE2__
 	const __m128i vd = _mm_set1_epi8(d), vn = _mm_set1_epi8('\n');
 
 	for (unsigned k = 0; k < 4; k++) {
 		__m128i x = _mm_loadu_si128((const __m128i *)(const void *)(p + 16 * k));
+		__m128i isn = _mm_cmpeq_epi8(x, vn);
 
 		m |= (uint64_t)(unsigned)_mm_movemask_epi8(
-			     _mm_or_si128(_mm_cmpeq_epi8(x, vd),
-					  _mm_cmpeq_epi8(x, vn)))
+			     _mm_or_si128(_mm_cmpeq_epi8(x, vd), isn))
 		     << (16 * k);
+		n |= (uint64_t)(unsigned)_mm_movemask_epi8(isn) << (16 * k);
 	}
 #else
 	const uint64_t pd = BYTES(d), pn = BYTES('\n');
 
 	for (unsigned k = 0; k < 8; k++) {
-		uint64_t w, hit;
+		uint64_t w, hd, hn;
 
 		memcpy(&w, p + 8 * k, 8);
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
 		w = __builtin_bswap64(w);
 #endif
-		hit = (eq_bytes(w, pd) | eq_bytes(w, pn)) >> 7;
+		hd = eq_bytes(w, pd) >> 7;
+		hn = eq_bytes(w, pn) >> 7;
 		/* gather the lowest bit of each byte into one byte */
-		m |= ((hit * 0x0102040810204080ull) >> 56) << (8 * k);
+		m |= (((hd | hn) * 0x0102040810204080ull) >> 56) << (8 * k);
+		n |= ((hn * 0x0102040810204080ull) >> 56) << (8 * k);
 	}
 #endif
+	*nl = n;
 	return m;
 }
 
@@ -1841,7 +1846,7 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d);
+		sc->m = sep_mask(sc->blk, d, &sc->nl);
 	}
 	b = sc->blk + __builtin_ctzll(sc->m);
 	sc->m &= sc->m - 1;
@@ -1902,14 +1907,54 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * '\n' (CR LF too): returns the start of the next line, or NULL to let the
  * careful path (messages, blanks, NaN, comments) handle the line -- it
  * rewrites the whole row. */
+/* bits set in x (without the popcnt instruction, which SSSE3 processors
+ * may lack, and without a library call) */
+static inline size_t bits64(uint64_t x)
+{
+	x -= (x >> 1) & 0x5555555555555555ull;
+	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+	x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
+	return (size_t)((x * 0x0101010101010101ull) >> 56);
+}
+
+/* Past the last column in use: the rest of the line is k separators, k - 1
+ * delimiters then the newline, counted from the masks without visiting
+ * them; the start of the next line, or NULL as next_sep. */
+static inline const char *skip_rest(struct sepscan *sc, const char *end,
+				    char d, size_t k)
+{
+	for (;;) {
+		uint64_t nl = sc->nl & sc->m;
+
+		if (nl) {
+			uint64_t upto = (nl & -nl) - 1; /* bits below the newline */
+
+			if (bits64(sc->m & upto) != k - 1)
+				return NULL; /* ragged: the careful path says so */
+			sc->m &= ~(upto | (upto + 1));
+			return sc->blk + __builtin_ctzll(nl) + 1;
+		}
+		/* only delimiters left in this block */
+		if (bits64(sc->m) > k - 1)
+			return NULL;
+		k -= bits64(sc->m);
+		sc->m = 0;
+		sc->blk += 64;
+		if (end - sc->blk < 64)
+			return NULL;
+		sc->m = sep_mask(sc->blk, d, &sc->nl);
+	}
+}
+
 static ALWAYS_INLINE const char *
 scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
-	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd)
+	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd,
+	  size_t n_used)
 {
 	const char d = r->delim;
 	const size_t last = r->ncols - 1;
 
-	for (size_t col = 0; col <= last; col++) {
+	for (size_t col = 0; col < n_used; col++) {
 		const char *b = next_sep(sc, end, d), *e;
 
 		if (!b || *b != (col < last ? d : '\n'))
@@ -1923,7 +1968,7 @@ scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 		}
 		p = b + 1;
 	}
-	return p;
+	return n_used > last ? p : skip_rest(sc, end, d, last + 1 - n_used);
 }
 
 static bool skip_line(const char *p, const char *e)
@@ -1942,23 +1987,27 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		size_t max_rows, size_t *rows_out, const char **stop,
 		struct sscope_diag *diag, bool simd)
 {
-	size_t n = 0, ln = *line;
+	size_t n = 0, ln = *line, n_used = 0;
 	struct sepscan sc = { 0 };
 	bool synced = false;
 	int rc = 0;
 
+	/* the columns up to the last one in use are visited cell by cell */
+	for (size_t c = 0; c < r->ncols; c++)
+		if (r->cols[c].used)
+			n_used = c + 1;
 	while (n < max_rows && p < end) {
 		const char *e, *next;
 
 		if (r->delim != ' ') {
 			if (!synced && end - p >= 64) {
 				sc.blk = p;
-				sc.m = sep_mask(p, r->delim);
+				sc.m = sep_mask(p, r->delim, &sc.nl);
 				synced = true;
 			}
 			if (synced &&
 			    (next = scan_line(r, &sc, p, end, ch, row + n,
-					       simd))) {
+					       simd, n_used))) {
 				ln++;
 				n++;
 				p = next;
@@ -2131,6 +2180,7 @@ struct part {
 	struct sscope_reader_chunk *ch;
 	size_t rows;
 	size_t line_err;
+	bool counted;        /* nl known before parsing */
 	int rc;
 	struct sscope_diag diag;
 };
@@ -2143,6 +2193,10 @@ static void *part_run(void *arg)
 
 	pt->rc = parse_rows(pt->r, pt->from, pt->to, true, &line, pt->ch,
 			    pt->row0, pt->cap, &pt->rows, &stop, &pt->diag);
+	if (!pt->counted && !pt->rc)
+		/* its newlines: the lines parsed, less an unterminated last */
+		pt->nl = line - pt->line0 -
+			 (pt->to > pt->from && pt->to[-1] != '\n');
 	return NULL;
 }
 
@@ -2207,6 +2261,44 @@ static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
 	return 0;
 }
 
+/*
+ * Newlines of the parts, for the row each part starts at.  The last part
+ * need not be counted: its rows go after all others, into arrays sized by
+ * a bound on its rows, and its parse counts its lines.  The bound costs
+ * address space only (pages never written are never backed), taken when
+ * it is at most twice the input's size; otherwise every part is counted.
+ * The counting is spread over all the threads, two pieces per part.
+ */
+static void count_parts(struct sscope_reader *r, size_t np)
+{
+	struct part *last = &r->parts[np - 1], job[2 * MAXP];
+	size_t arrays = r->nsel + (r->time_col >= 0) + (r->temp_col >= 0), bound, nc;
+
+	bound = (size_t)(last->to - last->from) / r->ncols + 1;
+	nc = np > 1 && arrays && bound <= 2 * r->len / (arrays * sizeof(double)) ?
+		     np - 1 : np;
+	for (size_t k = 0; k < nc; k++) {
+		const char *a = r->parts[k].from, *b = r->parts[k].to;
+		const char *mid = nc < np ? a + (b - a) / 2 : b;
+
+		job[2 * k] = (struct part){ .from = a, .to = mid };
+		job[2 * k + 1] = (struct part){ .from = mid, .to = b };
+	}
+	if (nc == np) {
+		/* one piece per part: the second halves are empty */
+		for (size_t k = 0; k < nc; k++)
+			job[k] = job[2 * k];
+		run_parts(job, nc, count_run);
+	} else {
+		run_parts(job, 2 * nc, count_run);
+	}
+	for (size_t k = 0; k < np; k++) {
+		r->parts[k].counted = k < nc;
+		r->parts[k].nl = k >= nc ? 0 :
+			nc == np ? job[k].nl : job[2 * k].nl + job[2 * k + 1].nl;
+	}
+}
+
 size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 {
 	const char *base, *end;
@@ -2251,14 +2343,18 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 		r->parts[k] = (struct part){ .r = r, .from = from, .to = to,
 					     .diag = { "" } };
 	}
-	run_parts(r->parts, np, count_run);
+	count_parts(r, np);
 	for (size_t k = 0; k < np; k++) {
-		/* every part but the last ends with a newline */
-		r->parts[k].cap = r->parts[k].nl + (k == np - 1);
-		r->parts[k].line0 = k ? r->parts[k - 1].line0 + r->parts[k - 1].nl :
-				       r->line;
-		r->parts[k].row0 = total;
-		total += r->parts[k].cap;
+		struct part *pt = &r->parts[k];
+
+		/* every part but the last ends with a newline; the last, when
+		 * not counted, holds at most one row per ncols bytes (a row
+		 * is at least its delimiters and newline) */
+		pt->cap = pt->counted ? pt->nl + (k == np - 1) :
+					(size_t)(pt->to - pt->from) / r->ncols + 1;
+		pt->line0 = k ? r->parts[k - 1].line0 + r->parts[k - 1].nl : r->line;
+		pt->row0 = total;
+		total += pt->cap;
 	}
 	return total;
 }

@@ -103,7 +103,9 @@ struct sscope_timing_gap {
  *                    a gap (1.5 is usual).
  * @param gaps        optional array receiving up to @p max_gaps gaps.
  * @param n_gaps_out  optional: number written to @p gaps.
- * @param scratch     n - 1 doubles of workspace (for the median).
+ * @param scratch     n - 1 doubles of workspace (for the median; written
+ *                    only when the intervals take more than 512 distinct
+ *                    values, so an untouched allocation costs no memory).
  * @return 0; -EDOM for n < 2 or a non-positive median interval; -EINVAL.
  */
 int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,

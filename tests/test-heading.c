@@ -353,7 +353,7 @@ START_TEST(test_walk_fan)
 	const size_t n = 360000;
 	double *x = white(n, fs, N, 0, 0, 19104);
 	struct sscope_walk_opts o = { 0 };
-	struct sscope_walk_result *r = NULL;
+	struct sscope_walk_result *r = NULL, *r7 = NULL;
 	struct sscope_walk_implied im;
 	double p = erf(sqrt(2.0));
 
@@ -381,6 +381,27 @@ START_TEST(test_walk_fan)
 	ck_assert_msg(im.lo < N && N < im.hi, "implied N %g [%g, %g], truth %g", im.n,
 		      im.lo, im.hi, N);
 	ck_assert(fabs(im.t_s - 50) < 1e-12);
+	ck_assert_int_eq(r->n_paths, 600);
+	/* keeping the first 7 paths: the same statistics and paths, to the
+	 * bit; more than the runs keeps them all */
+	o.keep_paths = 7;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r7, NULL), 0);
+	ck_assert_int_eq(r7->n_paths, 7);
+	ck_assert_int_eq(r7->n_runs, 600);
+	ck_assert(!memcmp(r7->paths, r->paths, 7 * 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->sigma, r->sigma, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->spread, r->spread, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->inside + 1, r->inside + 1, 500 * sizeof(double)));
+	ck_assert(!memcmp(r7->var_n1, r->var_n1, 501 * sizeof(double)));
+	ck_assert(!memcmp(r7->var_other, r->var_other, 501 * sizeof(double)));
+	ck_assert(r7->inside_mean == r->inside_mean);
+	sscope_walk_result_free(r7);
+	o.keep_paths = 601;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r7, NULL), 0);
+	ck_assert_int_eq(r7->n_paths, 600);
+	ck_assert(!memcmp(r7->paths, r->paths, 600 * 501 * sizeof(double)));
+	sscope_walk_result_free(r7);
+	o.keep_paths = 0;
 	sscope_walk_result_free(r);
 	/* the global mean: the plain N sqrt(t) fan */
 	o.bias_s = 0;
@@ -476,6 +497,58 @@ START_TEST(test_walk_refused)
 }
 END_TEST
 
+/* The stillness check against its definition: the 90th over the 10th
+ * percentile of calib's moving variance, the order statistics taken by a
+ * sort.  A limit equal to that ratio passes and the next double below
+ * fails, on a record long enough to be split between threads (2^20 +
+ * positions) and on a short one. */
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+START_TEST(test_walk_still_ratio)
+{
+	static const size_t sizes[2] = { 5000, 1200000 };
+
+	for (int k = 0; k < 2; k++) {
+		const size_t n = sizes[k], w = 11; /* fs 10: 11-sample windows */
+		double *y = white(n, 10, 1e-3, 0, 0, 19107 + (unsigned)k);
+		double *v = malloc(n * sizeof(double)), ratio;
+		struct sscope_walk_opts o = { 0 };
+		struct sscope_walk_result *r = NULL;
+		struct sscope_diag d = { "" };
+		size_t nf = 0;
+
+		ck_assert(v != NULL);
+		/* a slowly swelling noise: percentiles far apart */
+		for (size_t i = 0; i < n; i++)
+			y[i] *= 1 + 0.8 * sin(6.2831853 * (double)i / (double)n);
+		ck_assert_int_eq(sscope_calib_variance_magnitude(y, y, y, 1, n, w, v), 0);
+		for (size_t i = 0; i < n; i++)
+			if (isfinite(v[i]))
+				v[nf++] = v[i];
+		qsort(v, nf, sizeof(double), cmp_dbl);
+		ratio = v[(nf - 1) * 9 / 10] / v[(nf - 1) / 10];
+		ck_assert(ratio > 1.5);
+		o.rate_hz = 10;
+		o.run_s = 2;
+		o.coef[SSCOPE_TERM_N] = 1e-3;
+		o.max_contrast = ratio;
+		ck_assert_msg(sscope_walk_compute(y, 1, n, &o, &r, &d) == 0, "n %zu: %s", n,
+			      d.msg);
+		sscope_walk_result_free(r);
+		o.max_contrast = nextafter(ratio, 0);
+		ck_assert_int_eq(sscope_walk_compute(y, 1, n, &o, &r, &d), -EDOM);
+		ck_assert(strstr(d.msg, "moves") != NULL);
+		free(v);
+		free(y);
+	}
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("heading");
@@ -491,6 +564,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_walk_fan);
 	tcase_add_test(tc, test_walk_all_terms);
 	tcase_add_test(tc, test_walk_refused);
+	tcase_add_test(tc, test_walk_still_ratio);
 	suite_add_tcase(s, tc);
 	return s;
 }

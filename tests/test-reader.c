@@ -597,6 +597,28 @@ START_TEST(fast_path_equals_strtod)
 				}
 			}
 			sscope_capture_free(cap);
+			/* one column selected: the cells after it are only
+			 * counted (to the line's end), the same values */
+			if (th == 2) {
+				size_t k = nl ? 2 : 0, bad = 0, first = rows;
+
+				o.columns = k ? "c" : "a";
+				ck_assert_msg(load(p, &o, &cap, &d) == 0, "%s", d.msg);
+				ck_assert_uint_eq(cap->n, rows);
+				ck_assert_uint_eq(cap->n_channels, 1);
+				for (size_t i = 0; i < rows; i++) {
+					double ref = strtod(cells[i * 4 + k], NULL) + 0.0;
+
+					if (cap->time_s[i] != (double)i / 100 ||
+					    memcmp(&ref, &cap->channels[0].data[i], 8)) {
+						bad++;
+						first = first < i ? first : i;
+					}
+				}
+				ck_assert_msg(bad == 0, "-c %s: %zu rows differ, the first %zu",
+					      o.columns, bad, first);
+				sscope_capture_free(cap);
+			}
 		}
 		/* from memory, in chunks of 777 rows */
 		{
@@ -660,6 +682,34 @@ START_TEST(fast_path_errors_located)
 		p = put("bad.csv", bad, len + (c ? 9 : 11));
 		for (unsigned th = 1; th <= 2; th++) {
 			struct sscope_reader_opts o = { .threads = th };
+			struct sscope_capture *cap = NULL;
+			struct sscope_diag d;
+
+			ck_assert_int_eq(load(p, &o, &cap, &d), -EBADMSG);
+			ck_assert_msg(strstr(d.msg, expect), "'%s' lacks '%s'",
+				      d.msg, expect);
+		}
+		free(bad);
+	}
+	/* lines with cells too many or too few after the one column in use
+	 * (a line longer than the 64-byte blocks among them): located too */
+	for (int c = 0; c < 3; c++) {
+		static const char *const ins[3] = { "1.25,1.5,2,3,4,5\n", "1.25,1.5,2\n",
+			"1.25,1.5,22222222222222222222222222,33333333333333333333333333333333,"
+			"44444444444444444444444444,55555555555555555555555\n" };
+		static const size_t ncol[3] = { 6, 3, 6 };
+		size_t il = strlen(ins[c]), at = (size_t)(q - text);
+		char *bad = malloc(len + il), expect[128];
+		const char *p;
+
+		memcpy(bad, text, at);
+		memcpy(bad + at, ins[c], il);
+		memcpy(bad + at + il, text + at, len - at);
+		snprintf(expect, sizeof(expect), "line %zu: %zu columns where the header has 5",
+			 line, ncol[c]);
+		p = put("bad.csv", bad, len + il);
+		for (unsigned th = 1; th <= 2; th++) {
+			struct sscope_reader_opts o = { .threads = th, .columns = "a" };
 			struct sscope_capture *cap = NULL;
 			struct sscope_diag d;
 

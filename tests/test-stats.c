@@ -226,6 +226,88 @@ START_TEST(time_order)
 }
 END_TEST
 
+/* The median interval: from the table of distinct intervals (scratch
+ * untouched) and, past 512 distinct values, from the intervals written
+ * to scratch; an even count takes the mean of the two middle values. */
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+START_TEST(timing_median)
+{
+	enum { N = 2001 };
+	double *t = malloc(N * sizeof(double)), *scratch = malloc(N * sizeof(double));
+	double *d = malloc(N * sizeof(double));
+	struct sscope_timing tm;
+
+	ck_assert(t && scratch && d);
+	for (int many = 0; many < 2; many++) {
+		for (size_t n = 8; n <= N; n += n < 100 ? 1 : 331) {
+			double want;
+
+			t[0] = 2.385;
+			for (size_t i = 1; i < n; i++)
+				t[i] = t[i - 1] + (many ? 0.01 + 1e-7 * (double)((i * 7919) % 1000) :
+							  (i % 3 ? 0.01 : 0.013));
+			for (size_t i = 1; i < n; i++)
+				d[i - 1] = t[i] - t[i - 1];
+			qsort(d, n - 1, sizeof(double), cmp_d);
+			want = (n - 1) % 2 ? d[(n - 2) / 2] :
+					     (d[(n - 1) / 2 - 1] + d[(n - 1) / 2]) / 2;
+			for (size_t i = 0; i < n; i++)
+				scratch[i] = -1;
+			ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,
+							       scratch), 0);
+			ck_assert_msg(tm.dt_median_s == want, "n %zu: median %.17g, want %.17g",
+				      n, tm.dt_median_s, want);
+			ck_assert(tm.dt_min_s == d[0] && tm.dt_max_s == d[n - 2]);
+			if (!many || n < 600)
+				ck_assert(scratch[0] == -1 && scratch[n - 2] == -1);
+			else
+				ck_assert(scratch[0] != -1);
+		}
+	}
+	free(t);
+	free(scratch);
+	free(d);
+}
+END_TEST
+
+/* The order check is fed block by block beside the intervals: every
+ * stamp once, the last one too (a record one stamp past a block, its last
+ * stamp a step back), on the table path and on the scratch path. */
+START_TEST(timing_order_blocks)
+{
+	static const size_t sizes[] = { 4097, 8193, 8192, 5000 };
+	double *t = malloc(8200 * sizeof(double)), *scratch = malloc(8200 * sizeof(double));
+
+	ck_assert(t && scratch);
+	for (int many = 0; many < 2; many++)
+		for (size_t k = 0; k < sizeof(sizes) / sizeof(sizes[0]); k++) {
+			size_t n = sizes[k];
+			struct sscope_timing tm;
+			struct sscope_timing_order whole;
+
+			memset(&whole, 0, sizeof(whole));
+			for (size_t i = 0; i < n; i++)
+				t[i] = 2.385 + 0.01 * (double)i +
+				       (many ? 1e-7 * (double)((i * 7919) % 1000) : 0);
+			t[n - 1] = t[n - 2] - 0.005;
+			sscope_timing_order_feed(&whole, t, n);
+			ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &tm, NULL, 0, NULL,
+							       scratch), 0);
+			ck_assert_uint_eq(tm.order.n, n);
+			ck_assert_uint_eq(tm.order.n_decreasing, 1);
+			ck_assert(!memcmp(&tm.order, &whole, sizeof(whole)));
+		}
+	free(t);
+	free(scratch);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("stats");
@@ -237,6 +319,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, timing_gaps);
 	tcase_add_test(tc, mean_interval);
 	tcase_add_test(tc, time_order);
+	tcase_add_test(tc, timing_median);
+	tcase_add_test(tc, timing_order_blocks);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -3,11 +3,14 @@
  * sensorscope info: the first look at a capture: channels, units and what
  * they measure, sample rate and where it came from, time-stamp gaps and
  * jitter, per-channel statistics in the channel's own unit, temperature
- * range; --plot draws every channel against time.
+ * range; --plot draws every channel against time (the long series are
+ * reduced for the figure on a second thread while the statistics are
+ * computed).
  */
 #include "cli.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,9 +55,21 @@ struct file_info {
 	bool rx_disagree;
 };
 
+/* the figure of the first capture, built beside the statistics */
+struct fig_job {
+	const struct sscope_capture *cap;
+	const char *path;
+	struct ssc_fig *fig;
+	pthread_t tid;
+	bool started; /* on its thread, not yet joined */
+	bool done;
+	int rc;
+};
+
 struct info_res {
 	size_t n;
 	struct file_info *fi;
+	struct fig_job *fig;
 };
 
 /* receive times against header stamps: latency, and rate and gaps */
@@ -480,15 +495,13 @@ static void csv_file(FILE *f, const struct file_info *fi)
 
 /* every channel (at most 6) and the temperature against time, of the
  * first file */
-static int plot(const struct ssc_common *co, const void *opts,
-		const void *result, const char *png)
+/* Every channel (up to six) and the temperature against time: the series
+ * are added (and reduced) here, the figure is drawn by plot(). */
+static void build_fig(struct fig_job *job)
 {
-	const struct info_res *r = result;
-	const struct file_info *fi = r->fi;
-	const struct sscope_capture *cap = fi->cap;
-	const char *path = fi->path;
+	const struct sscope_capture *cap = job->cap;
 	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
-	int rows = (int)nch + (cap->temp_degc ? 1 : 0), rc;
+	int rows = (int)nch + (cap->temp_degc ? 1 : 0);
 	struct ssc_fig *fig;
 	/* the time stamps as they are, else times made from the rate; the
 	 * samples converted to their unit as they are drawn */
@@ -496,16 +509,16 @@ static int plot(const struct ssc_common *co, const void *opts,
 	const double *t = cap->time_s ? cap->time_s : tmade;
 	char buf[256];
 
-	(void)opts;
+	job->done = true;
 	if (!t || rows == 0) {
 		free(tmade);
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
+		job->rc = -ENOMEM;
+		return;
 	}
 	for (size_t i = 0; tmade && i < cap->n; i++)
 		tmade[i] = cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
 	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
-	snprintf(buf, sizeof(buf), "%s", path);
+	snprintf(buf, sizeof(buf), "%s", job->path);
 	ssc_fig_title(fig, buf);
 	for (size_t k = 0; k < nch; k++) {
 		const struct sscope_capture_column *col = &cap->channels[k].col;
@@ -529,9 +542,48 @@ static int plot(const struct ssc_common *co, const void *opts,
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	rc = ssc_fig_save(fig, png);
-	ssc_fig_free(fig);
 	free(tmade);
+	job->fig = fig;
+}
+
+static void *fig_thread(void *arg)
+{
+	build_fig(arg);
+	return NULL;
+}
+
+static void fig_join(struct fig_job *job)
+{
+	if (job && job->started) {
+		pthread_join(job->tid, NULL);
+		job->started = false;
+	}
+}
+
+static int plot(const struct ssc_common *co, const void *opts,
+		const void *result, const char *png)
+{
+	const struct info_res *r = result;
+	struct fig_job *job = r->fig, local = { 0 };
+	int rc;
+
+	(void)opts;
+	if (!job || job->path != r->fi->path) {
+		/* not started by run(): build it now */
+		local.cap = r->fi->cap;
+		local.path = r->fi->path;
+		job = &local;
+	}
+	fig_join(job);
+	if (!job->done)
+		build_fig(job);
+	if (job->rc) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	rc = ssc_fig_save(job->fig, png);
+	ssc_fig_free(job->fig);
+	job->fig = NULL;
 	if (rc)
 		return ssc_write_failed(co->cmd, png, rc);
 	return SSC_EXIT_OK;
@@ -552,6 +604,17 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		return SSC_EXIT_FAIL;
 	}
 	*result = r;
+	if (co->plot && env->n_caps) {
+		/* the figure's series are reduced meanwhile, on a thread of
+		 * their own (else by plot()) */
+		r->fig = calloc(1, sizeof(*r->fig));
+		if (r->fig) {
+			r->fig->cap = env->caps[0];
+			r->fig->path = env->paths[0];
+			r->fig->started = !pthread_create(&r->fig->tid, NULL, fig_thread,
+							  r->fig);
+		}
+	}
 	for (size_t i = 0; i < env->n_caps && !rc; i++, r->n++)
 		rc = analyse(co, env->paths[i], env->caps[i], &r->fi[i]);
 	return rc;
@@ -561,6 +624,10 @@ static void free_result(void *result)
 {
 	struct info_res *r = result;
 
+	fig_join(r->fig);
+	if (r->fig)
+		ssc_fig_free(r->fig->fig);
+	free(r->fig);
 	for (size_t i = 0; i < r->n; i++) {
 		free(r->fi[i].st);
 		free(r->fi[i].clip);

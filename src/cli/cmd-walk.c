@@ -347,6 +347,8 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	wo.bias_s = o->bias_s < 0 ? c->run_s : o->bias_s;
 	wo.k_sigma = o->k;
 	wo.max_contrast = o->contrast > 0 ? o->contrast : -1;
+	/* the figure draws the first o->paths runs */
+	wo.keep_paths = o->paths ? o->paths : 1;
 	memcpy(wo.coef, c->terms.coef, sizeof(wo.coef));
 	rc = sscope_walk_compute(ch->data, 1, cap->n, &wo, &c->w, &d);
 	if (rc)
@@ -488,7 +490,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 		const struct chan *c = &ch[p];
 		const struct sscope_walk_result *w = c->w;
 		struct ssc_ax *ax = ssc_fig_ax(fig, (int)p, 0);
-		size_t np = w->n_points, shown = w->n_runs < o->paths ? w->n_runs : o->paths;
+		size_t np = w->n_points, shown = w->n_paths < o->paths ? w->n_paths : o->paths;
 		double *t = malloc(np * sizeof(double)), *y = malloc(np * sizeof(double));
 		double *lo = malloc(np * sizeof(double)), s = angle_scale(c->col->quantity);
 		char lab[160], a[32];
