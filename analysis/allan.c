@@ -104,20 +104,28 @@ static bool have_wide(void)
 #define KBLOCK 8192
 
 /*
- * sum_{i<n} (x[i+2m] - 2 x[i+m] + x[i])^2, as ((c - b) - (b - a))^2.
+ * sum_{i<n} (x[i+2m] - 2 x[i+m] + x[i])^2, as ((c - b) - (b - a))^2:
+ * sixteen lanes (term i in lane i mod 16), reduced in a fixed order, the
+ * terms after the last whole sixteen in order.  Every kernel below that
+ * sums these terms (64-byte, grouped, paired) keeps these lanes and this
+ * reduction, so all give the same doubles.
  */
-SSC_CLONES static double k2(const double *x, size_t m, size_t n)
+/* lanes[r] += d_i^2 over i0 <= i < i1, i = r mod 16 (i0, i1 multiples of
+ * 16); without vectors, lanes[0] += d_i^2 in order */
+SSC_CLONES static void k2_lanes(const double *x, size_t m, size_t i0,
+				size_t i1, double *lanes)
 {
 	const double *a = x, *b = x + m, *c = x + 2 * m;
-	double s = 0;
-	size_t i = 0;
+	size_t i = i0;
 
 #ifdef SSC_VEC
-	/* eight lanes per accumulator, kept as two halves of four: GCC
-	 * lowers 64-byte vectors through the stack on AVX2 and SSE2 */
-	ssc_v4 s0 = { 0 }, s0h = { 0 }, s1 = { 0 }, s1h = { 0 };
+	ssc_v4 s0, s0h, s1, s1h;
 
-	for (; i + 16 <= n; i += 16) {
+	V4LOAD(s0, lanes);
+	V4LOAD(s0h, lanes + 4);
+	V4LOAD(s1, lanes + 8);
+	V4LOAD(s1h, lanes + 12);
+	for (; i < i1; i += 16) {
 		ssc_v4 a0, b0, c0, a1, b1, c1, a2, b2, c2, a3, b3, c3, d;
 
 		V4LOAD(a0, a + i);
@@ -141,10 +149,70 @@ SSC_CLONES static double k2(const double *x, size_t m, size_t n)
 		d = (c3 - b3) - (b3 - a3);
 		s1h += d * d;
 	}
-	s0 += s1;
-	s0h += s1h;
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 4, &s0h, sizeof(s0h));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+	memcpy(lanes + 12, &s1h, sizeof(s1h));
+#else
+	double s = lanes[0];
+
+	for (; i < i1; i++) {
+		double d = (c[i] - b[i]) - (b[i] - a[i]);
+
+		s += d * d;
+	}
+	lanes[0] = s;
+#endif
+}
+
+#ifdef SSC_K512
+/* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15) */
+SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
+				 size_t i1, double *lanes)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	ssc_v8 s0, s1;
+
+	V8LOAD(s0, lanes);
+	V8LOAD(s1, lanes + 8);
+	for (size_t i = i0; i < i1; i += 16) {
+		ssc_v8 a0, b0, c0, a1, b1, c1, d;
+
+		V8LOAD(a0, a + i);
+		V8LOAD(b0, b + i);
+		V8LOAD(c0, c + i);
+		V8LOAD(a1, a + i + 8);
+		V8LOAD(b1, b + i + 8);
+		V8LOAD(c1, c + i + 8);
+		d = (c0 - b0) - (b0 - a0);
+		s0 += d * d;
+		d = (c1 - b1) - (b1 - a1);
+		s1 += d * d;
+	}
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+}
+#endif
+
+/* k2's end of a block from its lanes: the lane reduction, then the
+ * terms [i, n) in order */
+static double k2_finish(const double *x, size_t m, size_t i, size_t n,
+			const double *L)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	double s;
+
+#ifdef SSC_VEC
+	double s0[4], s0h[4];
+
+	for (int r = 0; r < 4; r++) {
+		s0[r] = L[r] + L[r + 8];
+		s0h[r] = L[r + 4] + L[r + 12];
+	}
 	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
 	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
+#else
+	s = L[0];
 #endif
 	for (; i < n; i++) {
 		double d = (c[i] - b[i]) - (b[i] - a[i]);
@@ -152,6 +220,18 @@ SSC_CLONES static double k2(const double *x, size_t m, size_t n)
 		s += d * d;
 	}
 	return s;
+}
+
+static double k2(const double *x, size_t m, size_t n)
+{
+	double lanes[16] = { 0 };
+	size_t v = n;
+
+#ifdef SSC_VEC
+	v = n & ~(size_t)15;
+#endif
+	k2_lanes(x, m, 0, v, lanes);
+	return k2_finish(x, m, v, n, lanes);
 }
 
 /*
@@ -212,34 +292,11 @@ SSC_CLONES static double k3(const double *x, size_t m, size_t n)
  */
 SSC_K512 static double k2_512(const double *x, size_t m, size_t n)
 {
-	const double *a = x, *b = x + m, *c = x + 2 * m;
-	ssc_v8 s0 = { 0 }, s1 = { 0 };
-	double s;
-	size_t i = 0;
+	double lanes[16] = { 0 };
+	size_t v = n & ~(size_t)15;
 
-	for (; i + 16 <= n; i += 16) {
-		ssc_v8 a0, b0, c0, a1, b1, c1, d;
-
-		V8LOAD(a0, a + i);
-		V8LOAD(b0, b + i);
-		V8LOAD(c0, c + i);
-		V8LOAD(a1, a + i + 8);
-		V8LOAD(b1, b + i + 8);
-		V8LOAD(c1, c + i + 8);
-		d = (c0 - b0) - (b0 - a0);
-		s0 += d * d;
-		d = (c1 - b1) - (b1 - a1);
-		s1 += d * d;
-	}
-	s0 += s1;
-	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
-	for (; i < n; i++) {
-		double d = (c[i] - b[i]) - (b[i] - a[i]);
-
-		s += d * d;
-	}
-	return s;
+	k2_lanes512(x, m, 0, v, lanes);
+	return k2_finish(x, m, v, n, lanes);
 }
 
 SSC_K512 static double k3_512(const double *x, size_t m, size_t n)
@@ -377,115 +434,6 @@ static void kd_total(int d, const double *x, size_t m, size_t n,
  */
 #define GRP_TAUS 64   /* taus per group */
 #define GRP_TILE 512  /* terms per tile: a multiple of 16 dividing KBLOCK */
-
-/* lanes[r] += d_i^2 over i0 <= i < i1, i = r mod 16 (i0, i1 multiples of
- * 16); without vectors, lanes[0] += d_i^2 in order */
-SSC_CLONES static void k2_lanes(const double *x, size_t m, size_t i0,
-				size_t i1, double *lanes)
-{
-	const double *a = x, *b = x + m, *c = x + 2 * m;
-	size_t i = i0;
-
-#ifdef SSC_VEC
-	ssc_v4 s0, s0h, s1, s1h;
-
-	V4LOAD(s0, lanes);
-	V4LOAD(s0h, lanes + 4);
-	V4LOAD(s1, lanes + 8);
-	V4LOAD(s1h, lanes + 12);
-	for (; i < i1; i += 16) {
-		ssc_v4 a0, b0, c0, a1, b1, c1, a2, b2, c2, a3, b3, c3, d;
-
-		V4LOAD(a0, a + i);
-		V4LOAD(b0, b + i);
-		V4LOAD(c0, c + i);
-		V4LOAD(a1, a + i + 4);
-		V4LOAD(b1, b + i + 4);
-		V4LOAD(c1, c + i + 4);
-		V4LOAD(a2, a + i + 8);
-		V4LOAD(b2, b + i + 8);
-		V4LOAD(c2, c + i + 8);
-		V4LOAD(a3, a + i + 12);
-		V4LOAD(b3, b + i + 12);
-		V4LOAD(c3, c + i + 12);
-		d = (c0 - b0) - (b0 - a0);
-		s0 += d * d;
-		d = (c1 - b1) - (b1 - a1);
-		s0h += d * d;
-		d = (c2 - b2) - (b2 - a2);
-		s1 += d * d;
-		d = (c3 - b3) - (b3 - a3);
-		s1h += d * d;
-	}
-	memcpy(lanes, &s0, sizeof(s0));
-	memcpy(lanes + 4, &s0h, sizeof(s0h));
-	memcpy(lanes + 8, &s1, sizeof(s1));
-	memcpy(lanes + 12, &s1h, sizeof(s1h));
-#else
-	for (; i < i1; i++) {
-		double d = (c[i] - b[i]) - (b[i] - a[i]);
-
-		lanes[0] += d * d;
-	}
-#endif
-}
-
-#ifdef SSC_K512
-/* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15) */
-SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
-				 size_t i1, double *lanes)
-{
-	const double *a = x, *b = x + m, *c = x + 2 * m;
-	ssc_v8 s0, s1;
-
-	V8LOAD(s0, lanes);
-	V8LOAD(s1, lanes + 8);
-	for (size_t i = i0; i < i1; i += 16) {
-		ssc_v8 a0, b0, c0, a1, b1, c1, d;
-
-		V8LOAD(a0, a + i);
-		V8LOAD(b0, b + i);
-		V8LOAD(c0, c + i);
-		V8LOAD(a1, a + i + 8);
-		V8LOAD(b1, b + i + 8);
-		V8LOAD(c1, c + i + 8);
-		d = (c0 - b0) - (b0 - a0);
-		s0 += d * d;
-		d = (c1 - b1) - (b1 - a1);
-		s1 += d * d;
-	}
-	memcpy(lanes, &s0, sizeof(s0));
-	memcpy(lanes + 8, &s1, sizeof(s1));
-}
-#endif
-
-/* k2's end of a block from its lanes: the lane reduction, then the
- * terms [i, n) in order */
-static double k2_finish(const double *x, size_t m, size_t i, size_t n,
-			const double *L)
-{
-	const double *a = x, *b = x + m, *c = x + 2 * m;
-	double s;
-
-#ifdef SSC_VEC
-	double s0[4], s0h[4];
-
-	for (int r = 0; r < 4; r++) {
-		s0[r] = L[r] + L[r + 8];
-		s0h[r] = L[r + 4] + L[r + 12];
-	}
-	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
-#else
-	s = L[0];
-#endif
-	for (; i < n; i++) {
-		double d = (c[i] - b[i]) - (b[i] - a[i]);
-
-		s += d * d;
-	}
-	return s;
-}
 
 /* kd_total(2, x, m[j], np - 2 m[j], &acc[j]) for the g increasing m[j] */
 static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
