@@ -643,6 +643,19 @@ static void forward(const double *l, size_t n, size_t lda, double *r)
 	}
 }
 
+/* solves L L' x = r in place (L from chol()) */
+static void chol_solve(const double *l, size_t n, size_t lda, double *r)
+{
+	forward(l, n, lda, r);
+	for (size_t i = n; i-- > 0;) {
+		double t = r[i];
+
+		for (size_t k = i + 1; k < n; k++)
+			t -= l[k * lda + i] * r[k];
+		r[i] = t / l[i * lda + i];
+	}
+}
+
 /* inverse of a small symmetric positive definite p x p matrix */
 static int spd_inverse(const gsl_matrix *M, gsl_matrix *Minv)
 {
@@ -657,15 +670,7 @@ static int spd_inverse(const gsl_matrix *M, gsl_matrix *Minv)
 	for (size_t c = 0; c < p; c++) {
 		for (size_t i = 0; i < p; i++)
 			e[i] = i == c;
-		forward(l, p, NT, e);
-		/* back substitution with L' */
-		for (size_t i = p; i-- > 0;) {
-			double t = e[i];
-
-			for (size_t k = i + 1; k < p; k++)
-				t -= l[k * NT + i] * e[k];
-			e[i] = t / l[i * NT + i];
-		}
+		chol_solve(l, p, NT, e);
 		for (size_t i = 0; i < p; i++)
 			gsl_matrix_set(Minv, i, c, e[i]);
 	}
@@ -1232,14 +1237,7 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 		}
 		if (chol(M, (size_t)p, NT))
 			return -EDOM;
-		forward(M, (size_t)p, NT, r);
-		for (int a = p; a-- > 0;) {
-			double t = r[a];
-
-			for (int k = a + 1; k < p; k++)
-				t -= M[k * NT + a] * r[k];
-			r[a] = t / M[a * NT + a];
-		}
+		chol_solve(M, (size_t)p, NT, r);
 		for (int a = 0; a < p; a++)
 			th[cols[a]] = r[a] * d[a];
 		if (it + 1 == bt->iters)
