@@ -14,18 +14,10 @@
 
 #include <math.h>
 
-#define CLIP_BLOCK 512
-
-/* the top two distinct values and their counts */
-struct top2 {
-	double v, next;
-	size_t n, n_next;
-};
-
 /* samples whose extremes are looked at before the exact pass */
 #define CLIP_BLOCK 512
 
-static void top2_add(struct top2 *t, double x)
+static void top2_add(struct ssc_top2 *t, double x)
 {
 	if (x > t->v) {
 		t->next = t->v;
@@ -42,15 +34,17 @@ static void top2_add(struct top2 *t, double x)
 	}
 }
 
-int sscope_clip_detect(const double *x, size_t stride, size_t n,
-		       size_t min_count, double ratio, struct sscope_clip *c)
+void ssc_clip_init(struct ssc_clip_acc *a)
 {
-	struct top2 hi = { -INFINITY, -INFINITY, 0, 0 };
-	struct top2 lo = { -INFINITY, -INFINITY, 0, 0 };
+	a->hi = (struct ssc_top2){ -INFINITY, -INFINITY, 0, 0 };
+	a->lo = (struct ssc_top2){ -INFINITY, -INFINITY, 0, 0 };
+}
 
-	if (!x || !c || stride == 0 || min_count < 2 || !(ratio > 1) ||
-	    !isfinite(ratio))
-		return -EINVAL;
+void ssc_clip_feed(struct ssc_clip_acc *a, const double *x, size_t stride,
+		   size_t n)
+{
+	struct ssc_top2 hi = a->hi, lo = a->lo;
+
 	for (size_t i0 = 0; i0 < n; i0 += CLIP_BLOCK) {
 		size_t i1 = n - i0 < CLIP_BLOCK ? n : i0 + CLIP_BLOCK;
 
@@ -90,17 +84,43 @@ int sscope_clip_detect(const double *x, size_t stride, size_t n,
 			top2_add(&lo, -v); /* the bottom, mirrored */
 		}
 	}
-	if (hi.n == 0)
+	a->hi = hi;
+	a->lo = lo;
+}
+
+int ssc_clip_finish(const struct ssc_clip_acc *a, size_t min_count,
+		    double ratio, struct sscope_clip *c)
+{
+	const struct ssc_top2 *hi = &a->hi, *lo = &a->lo;
+
+	if (hi->n == 0)
 		return -EDOM;
-	c->hi = hi.v;
-	c->lo = -lo.v;
-	c->n_hi = hi.n;
-	c->n_lo = lo.n;
-	c->n_hi_next = hi.n_next;
-	c->n_lo_next = lo.n_next;
-	c->high = hi.n_next && hi.n >= min_count &&
-		  (double)hi.n > ratio * (double)hi.n_next;
-	c->low = lo.n_next && lo.n >= min_count &&
-		 (double)lo.n > ratio * (double)lo.n_next;
+	c->hi = hi->v;
+	c->lo = -lo->v;
+	c->n_hi = hi->n;
+	c->n_lo = lo->n;
+	c->n_hi_next = hi->n_next;
+	c->n_lo_next = lo->n_next;
+	c->high = hi->n_next && hi->n >= min_count &&
+		  (double)hi->n > ratio * (double)hi->n_next;
+	c->low = lo->n_next && lo->n >= min_count &&
+		 (double)lo->n > ratio * (double)lo->n_next;
 	return 0;
+}
+
+bool ssc_clip_args_ok(size_t min_count, double ratio)
+{
+	return min_count >= 2 && ratio > 1 && isfinite(ratio);
+}
+
+int sscope_clip_detect(const double *x, size_t stride, size_t n,
+		       size_t min_count, double ratio, struct sscope_clip *c)
+{
+	struct ssc_clip_acc a;
+
+	if (!x || !c || stride == 0 || !ssc_clip_args_ok(min_count, ratio))
+		return -EINVAL;
+	ssc_clip_init(&a);
+	ssc_clip_feed(&a, x, stride, n);
+	return ssc_clip_finish(&a, min_count, ratio, c);
 }

@@ -56,6 +56,22 @@ struct sscope_clip {
 int sscope_clip_detect(const double *x, size_t stride, size_t n,
 		       size_t min_count, double ratio, struct sscope_clip *c);
 
+struct sscope_stats;
+
+/**
+ * sscope_stats_compute() and sscope_clip_detect() of the same samples in
+ * one pass over memory (each block of the statistics looked at for the
+ * clip while it is in the cache): the same results as the two calls.
+ * @param st    receives the statistics, as sscope_stats_compute().
+ * @param c     receives the clip result as sscope_clip_detect() writes it;
+ *              left untouched when no sample is finite; NULL: none.
+ * @return sscope_stats_compute()'s value, or -EINVAL for NULL x or st,
+ *         stride 0, or (with c) min_count < 2, ratio <= 1 or not finite.
+ */
+int sscope_clip_detect_stats(const double *x, size_t stride, size_t n,
+			     size_t min_count, double ratio,
+			     struct sscope_stats *st, struct sscope_clip *c);
+
 #ifdef __cplusplus
 }
 #endif

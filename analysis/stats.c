@@ -185,7 +185,7 @@ static void block_scalar(const double *x, size_t stride, size_t len,
 /* one pass; sc != 1: samples scaled by sc, sample by sample, and not
  * shifted (one huge sample first would leave its rounding in every term) */
 static void pass(const double *x, size_t stride, size_t n, size_t first,
-		 double sc, struct sscope_stats *st)
+		 double sc, struct sscope_stats *st, struct ssc_clip_acc *ca)
 {
 	struct ssc_ksum s = { 0, 0 }, m2 = { 0, 0 };
 	size_t used = 0, nan = first;
@@ -199,6 +199,8 @@ static void pass(const double *x, size_t stride, size_t n, size_t first,
 
 		if (sc != 1 || stride != 1 || !block_vec(x + b, len, v0, &k))
 			block_scalar(x + b * stride, stride, len, v0, sc, &k);
+		if (ca) /* the block is in the cache */
+			ssc_clip_feed(ca, x + b * stride, stride, len);
 		nan += k.nan;
 		if (k.cnt == 0)
 			continue;
@@ -227,14 +229,13 @@ static void pass(const double *x, size_t stride, size_t n, size_t first,
 					  sqrt(m2v / (double)(used - 1)) / sc;
 }
 
-int sscope_stats_compute(const double *x, size_t stride, size_t n,
-			 struct sscope_stats *st)
+/* the statistics, and the clip detection fed when ca */
+static int stats_clip(const double *x, size_t stride, size_t n,
+		      struct sscope_stats *st, struct ssc_clip_acc *ca)
 {
 	size_t first = 0;
 	double lo, hi, sc;
 
-	if (!x || !st || stride == 0)
-		return -EINVAL;
 	st->n = 0;
 	st->n_nan = 0;
 	while (first < n && isnan(x[first * stride]))
@@ -243,13 +244,13 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 		st->n_nan = n;
 		return -EDOM;
 	}
-	pass(x, stride, n, first, 1, st);
+	pass(x, stride, n, first, 1, st, ca);
 	/* extremes: the sums again, scaled; min and max as found */
 	sc = ssc_safe_scale(fmax(fabs(st->min), fabs(st->max)));
 	if (sc != 1) {
 		lo = st->min;
 		hi = st->max;
-		pass(x, stride, n, first, sc, st);
+		pass(x, stride, n, first, sc, st, NULL);
 		st->min = lo;
 		st->max = hi;
 	}
@@ -258,6 +259,33 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 	if (!isfinite(st->sd))
 		return -ERANGE;
 	return 0;
+}
+
+int sscope_stats_compute(const double *x, size_t stride, size_t n,
+			 struct sscope_stats *st)
+{
+	if (!x || !st || stride == 0)
+		return -EINVAL;
+	return stats_clip(x, stride, n, st, NULL);
+}
+
+int sscope_clip_detect_stats(const double *x, size_t stride, size_t n,
+			     size_t min_count, double ratio,
+			     struct sscope_stats *st, struct sscope_clip *c)
+{
+	struct ssc_clip_acc ca;
+	int rc;
+
+	if (!x || !st || stride == 0 ||
+	    (c && !ssc_clip_args_ok(min_count, ratio)))
+		return -EINVAL;
+	if (!c)
+		return stats_clip(x, stride, n, st, NULL);
+	ssc_clip_init(&ca);
+	rc = stats_clip(x, stride, n, st, &ca);
+	/* the leading NaN the statistics skip hold nothing finite */
+	ssc_clip_finish(&ca, min_count, ratio, c);
+	return rc;
 }
 
 int sscope_stats_mean_interval(const double *x, size_t stride, size_t n,

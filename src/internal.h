@@ -88,6 +88,25 @@ static inline double ssc_ksum_value(const struct ssc_ksum *k)
 	return k->s + k->c;
 }
 
+/* Clip detection (analysis/clip.c) fed in pieces: the two largest
+ * distinct values at each side and their counts, as sscope_clip_detect()
+ * keeps them; the pieces may be cut anywhere, the result is the same. */
+struct ssc_top2 {
+	double v, next;
+	size_t n, n_next;
+};
+struct ssc_clip_acc {
+	struct ssc_top2 hi, lo; /* lo holds the negated samples */
+};
+void ssc_clip_init(struct ssc_clip_acc *a);
+void ssc_clip_feed(struct ssc_clip_acc *a, const double *x, size_t stride,
+		   size_t n);
+/* 0, or -EDOM when no sample fed was finite (c untouched) */
+int ssc_clip_finish(const struct ssc_clip_acc *a, size_t min_count,
+		    double ratio, struct sscope_clip *c);
+/* min_count >= 2, ratio > 1 and finite */
+bool ssc_clip_args_ok(size_t min_count, double ratio);
+
 /* Upper bound of the rows a reader will still produce (lines left in a
  * mapped text file, exact for binary files), 0 when unknown (a pipe).  A
  * mapped text file is split into up to `threads` parts, counted in

@@ -5,12 +5,14 @@
  * bound 1 / (sqrt 2 - 1) on a sine's outermost code is checked too); the
  * same signals limited to a range are, on the side that was limited;
  * constant, NaN and bad arguments; the skipping of blocks against the plain
- * one-pass definition.
+ * one-pass definition; the clip fed by the statistics' pass against the
+ * two calls.
  */
 #include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -280,6 +282,76 @@ START_TEST(long_records)
 }
 END_TEST
 
+/* sscope_clip_detect_stats() against the two calls it stands for: the same
+ * return, statistics and clip, bit for bit, over quantized and clipped
+ * noise with leading NaN, inf, huge samples (the statistics' scaled second
+ * pass), strides and lengths across the blocks; all NaN; bad arguments. */
+START_TEST(stats_clip_equals_two_calls)
+{
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	const size_t n = 9000;
+	double *x = malloc(2 * n * sizeof(double));
+	struct sscope_stats s1, s2;
+	struct sscope_clip c1, c2;
+
+	ck_assert(x && r);
+	gsl_rng_set(r, 4242);
+	for (int t = 0; t < 300; t++) {
+		size_t stride = 1 + (size_t)(t % 2), m = 1 + gsl_rng_uniform_int(r, n);
+		size_t lead = t % 3 == 0 ? gsl_rng_uniform_int(r, 50) : 0;
+		double q = t % 4 == 0 ? 0 : ldexp(1, -(int)gsl_rng_uniform_int(r, 8));
+		double big = t % 11 == 5 ? 1e300 : 1;
+		int rc1, rc2, rc3;
+
+		for (size_t i = 0; i < m * stride; i++) {
+			double v = gsl_ran_gaussian(r, 1.0) + (t % 6 == 2 ? 1e9 : 0);
+
+			if (q > 0)
+				v = q * nearbyint(v / q);
+			if (t % 5 == 1)
+				v = v > 1.5 ? 1.5 : v < -1.5 ? -1.5 : v;
+			if (t % 13 == 7 && gsl_rng_uniform(r) < 0.001)
+				v = (double[]){ NAN, INFINITY, -INFINITY }
+					[gsl_rng_uniform_int(r, 3)];
+			x[i] = i / stride < lead ? (double)NAN : v * big;
+		}
+		memset(&c1, 0x5a, sizeof(c1));
+		memset(&c2, 0x5a, sizeof(c2));
+		rc1 = sscope_stats_compute(x, stride, m, &s1);
+		rc3 = sscope_clip_detect(x, stride, m, SSCOPE_CLIP_MIN_COUNT,
+					 SSCOPE_CLIP_RATIO, &c1);
+		rc2 = sscope_clip_detect_stats(x, stride, m, SSCOPE_CLIP_MIN_COUNT,
+					       SSCOPE_CLIP_RATIO, &s2, &c2);
+		ck_assert_int_eq(rc1, rc2);
+		ck_assert_msg(memcmp(&s1, &s2, sizeof(s1)) == 0, "t %d: stats differ", t);
+		ck_assert_msg(rc3 == 0 || rc3 == -EDOM, "t %d: clip %d", t, rc3);
+		ck_assert_msg(c1.hi == c2.hi && c1.lo == c2.lo && c1.n_hi == c2.n_hi &&
+				      c1.n_lo == c2.n_lo && c1.n_hi_next == c2.n_hi_next &&
+				      c1.n_lo_next == c2.n_lo_next &&
+				      c1.high == c2.high && c1.low == c2.low,
+			      "t %d: clip differs", t);
+		/* without a clip: the statistics alone */
+		ck_assert_int_eq(sscope_clip_detect_stats(x, stride, m, 0, 0, &s2, NULL), rc1);
+		ck_assert(memcmp(&s1, &s2, sizeof(s1)) == 0);
+	}
+	/* nothing finite: the statistics' -EDOM, the clip untouched */
+	for (size_t i = 0; i < 100; i++)
+		x[i] = NAN;
+	memset(&c2, 0x5a, sizeof(c2));
+	memset(&c1, 0x5a, sizeof(c1));
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 1, 100, 8, 4, &s2, &c2), -EDOM);
+	ck_assert(memcmp(&c1, &c2, sizeof(c1)) == 0);
+	ck_assert_int_eq(sscope_clip_detect_stats(NULL, 1, 100, 8, 4, &s2, &c2), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 0, 100, 8, 4, &s2, &c2), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 1, 100, 8, 4, NULL, &c2), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 1, 100, 1, 4, &s2, &c2), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 1, 100, 8, 1, &s2, &c2), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats(x, 1, 100, 8, INFINITY, &s2, &c2), -EINVAL);
+	gsl_rng_free(r);
+	free(x);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("clip");
@@ -291,6 +363,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, edges);
 	tcase_add_test(tc, blocks_equal_plain_pass);
 	tcase_add_test(tc, long_records);
+	tcase_add_test(tc, stats_clip_equals_two_calls);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -6,7 +6,8 @@
  * PNG signature and atomic output; -ENOTSUP without OpenCV.  The same
  * figure as SVG (always built): the document's frame, escaping of hostile
  * text, labelled 1-2-5 ticks on short log axes, font metrics and UTF-8
- * decoding of the layout.  The figures are kept as tests/plot-demo.png and
+ * decoding of the layout; the reduction of long lines against its plain
+ * definition.  The figures are kept as tests/plot-demo.png and
  * tests/plot-demo.svg for people to look at.
  */
 #include "config.h"
@@ -263,6 +264,131 @@ START_TEST(svg_helpers)
 }
 END_TEST
 
+/* The reduction of a long line against the plain definition, written out
+ * here: 4096 buckets keep their first point, the first of their smallest
+ * and largest shown value, their first non-finite point and their last,
+ * in order; the reduced series drawn as a short line (kept whole) must
+ * give the same SVG.  Ties (quantized values), NaN and inf in x and y,
+ * a unit conversion, and the time column checked once. */
+#define RB 4096
+static size_t plain_reduce(const double *x, const double *y, size_t n,
+			   double off, double sc, double *rx, double *ry)
+{
+	size_t m = 0;
+
+	for (size_t b = 0; b < RB; b++) {
+		size_t i0 = n * b / RB, i1 = n * (b + 1) / RB, keep[5], nk = 0;
+		size_t imin = SIZE_MAX, imax = SIZE_MAX, ibad = SIZE_MAX;
+
+		if (i0 >= i1)
+			continue;
+		for (size_t i = i0; i < i1; i++) {
+			double v = (y[i] - off) / sc;
+
+			if (!isfinite(x[i]) || !isfinite(v)) {
+				if (ibad == SIZE_MAX)
+					ibad = i;
+			} else {
+				if (imin == SIZE_MAX || v < (y[imin] - off) / sc)
+					imin = i;
+				if (imax == SIZE_MAX || v > (y[imax] - off) / sc)
+					imax = i;
+			}
+		}
+		keep[nk++] = i0;
+		if (imin != SIZE_MAX)
+			keep[nk++] = imin;
+		if (imax != SIZE_MAX)
+			keep[nk++] = imax;
+		if (ibad != SIZE_MAX)
+			keep[nk++] = ibad;
+		keep[nk++] = i1 - 1;
+		for (size_t a = 1; a < nk; a++)
+			for (size_t c = a; c > 0 && keep[c - 1] > keep[c]; c--) {
+				size_t t = keep[c];
+
+				keep[c] = keep[c - 1];
+				keep[c - 1] = t;
+			}
+		for (size_t a = 0; a < nk; a++)
+			if (!a || keep[a] != keep[a - 1]) {
+				rx[m] = x[keep[a]];
+				ry[m] = (y[keep[a]] - off) / sc;
+				m++;
+			}
+	}
+	return m;
+}
+
+static char *line_svg(const double *x, const bool *xf, const double *y,
+		      size_t n, double off, double sc, int how)
+{
+	struct ssc_fig *fig = ssc_fig_new(600, 300, 1, 1);
+	struct ssc_style st = { .color = 0x1f77b4, .width = 1 };
+	char *buf = NULL;
+	size_t len;
+
+	ck_assert_ptr_nonnull(fig);
+	if (how == 0)
+		ck_assert_int_eq(ssc_ax_line_scaled(ssc_fig_ax(fig, 0, 0), x, y, n,
+						    off, sc, &st, NULL), 0);
+	else
+		ck_assert_int_eq(ssc_ax_line_scaled_x(ssc_fig_ax(fig, 0, 0), x, xf,
+						      y, n, off, sc, &st, NULL), 0);
+	ck_assert_int_eq(ssc_fig_svg(fig, "r", &buf, &len), 0);
+	ssc_fig_free(fig);
+	return buf;
+}
+
+START_TEST(long_line_reduction)
+{
+	const size_t n = 40 * RB + 123;
+	double *x = malloc(n * sizeof(double)), *y = malloc(n * sizeof(double));
+	double *rx = malloc(5 * RB * sizeof(double)), *ry = malloc(5 * RB * sizeof(double));
+	unsigned long long s = 88172645463325252ULL;
+
+	ck_assert(x && y && rx && ry);
+	for (int t = 0; t < 4; t++) {
+		double off = t % 2 ? 273.15 : 0, sc = t % 2 ? 0.017453292519943295 : 1;
+		bool *xf;
+		char *a, *b, *c;
+		size_t m;
+
+		for (size_t i = 0; i < n; i++) {
+			s ^= s << 13;
+			s ^= s >> 7;
+			s ^= s << 17;
+			x[i] = 0.01 * (double)i;
+			/* few distinct values: many ties at the extremes */
+			y[i] = (double)(s % (t < 2 ? 7 : 100003)) * 0.125 - 0.3;
+		}
+		if (t >= 2)
+			for (size_t i = 17; i < n; i += 7919) {
+				y[i] = i % 3 ? (double)NAN : (double)INFINITY;
+				x[i + 3] = i % 2 ? (double)NAN : -(double)INFINITY;
+			}
+		m = plain_reduce(x, y, n, off, sc, rx, ry);
+		ck_assert_uint_lt(m, 8 * RB); /* drawn whole */
+		xf = ssc_line_x_finite(x, n);
+		ck_assert_ptr_nonnull(xf);
+		a = line_svg(rx, NULL, ry, m, 0, 1, 0);
+		b = line_svg(x, NULL, y, n, off, sc, 0);
+		c = line_svg(x, xf, y, n, off, sc, 1);
+		ck_assert_msg(strcmp(a, b) == 0, "t %d: reduced line differs", t);
+		ck_assert_msg(strcmp(a, c) == 0, "t %d: with x checked once", t);
+		free(a);
+		free(b);
+		free(c);
+		free(xf);
+	}
+	ck_assert_ptr_null(ssc_line_x_finite(x, 8 * RB));
+	free(x);
+	free(y);
+	free(rx);
+	free(ry);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("plot");
@@ -274,6 +400,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, render_demo);
 	tcase_add_test(tc, svg_text);
 	tcase_add_test(tc, svg_helpers);
+	tcase_add_test(tc, long_line_reduction);
 	suite_add_tcase(s, tc);
 	return s;
 }

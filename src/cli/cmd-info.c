@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -115,37 +116,72 @@ static bool sensor_output(enum sscope_quantity q)
 	       q == SSCOPE_QUANTITY_UNKNOWN || q == SSCOPE_QUANTITY_DIMENSIONLESS;
 }
 
-/* samples piled at each channel's extremes */
-static int clip_channels(const struct ssc_common *co, struct file_info *fi)
-{
-	const struct sscope_capture *cap = fi->cap;
+/* The statistics of each channel, and the samples piled at the extremes
+ * of those a sensor outputs, in one pass over it: one channel at a time
+ * on each of two threads; messages are left to the caller, in order. */
+struct chan_job {
+	const struct sscope_capture *cap;
+	struct file_info *fi;
+	int *rc;
+	atomic_size_t next;
+};
 
-	fi->clip = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->clip));
-	if (!fi->clip) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
+static void *chan_work(void *arg)
+{
+	struct chan_job *j = arg;
+	const struct sscope_capture *cap = j->cap;
+	size_t k;
+
+	while ((k = atomic_fetch_add(&j->next, 1)) < cap->n_channels) {
+		const double *x = cap->channels[k].data;
+
+		/* both in one pass over the channel */
+		j->rc[k] = sscope_clip_detect_stats(
+			x, 1, cap->n, SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
+			&j->fi->st[k],
+			sensor_output(cap->channels[k].col.quantity) ?
+				&j->fi->clip[k] : NULL);
 	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (sensor_output(cap->channels[k].col.quantity))
-			sscope_clip_detect(cap->channels[k].data, 1, cap->n,
-					   SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
-					   &fi->clip[k]);
-	return SSC_EXIT_OK;
+	return NULL;
+}
+
+/* below this many samples in all, one thread */
+#define CHAN_THREAD_MIN ((size_t)1 << 20)
+
+static void chan_compute(const struct sscope_capture *cap, struct file_info *fi,
+			 int *rc)
+{
+	struct chan_job j = { .cap = cap, .fi = fi, .rc = rc };
+	pthread_t tid;
+	bool two = cap->n_channels >= 2 &&
+		   cap->n * cap->n_channels >= CHAN_THREAD_MIN;
+
+	atomic_init(&j.next, 0);
+	two = two && !pthread_create(&tid, NULL, chan_work, &j);
+	chan_work(&j);
+	if (two)
+		pthread_join(tid, NULL);
 }
 
 static int analyse(const struct ssc_common *co, const char *path,
 		   struct sscope_capture *cap, struct file_info *fi)
 {
+	size_t nc = cap->n_channels ? cap->n_channels : 1;
+	int *rcs;
+
 	fi->path = path;
 	fi->cap = cap;
-	fi->st = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*fi->st));
-	if (!fi->st) {
+	fi->st = calloc(nc, sizeof(*fi->st));
+	fi->clip = calloc(nc, sizeof(*fi->clip));
+	rcs = calloc(nc, sizeof(*rcs));
+	if (!fi->st || !fi->clip || !rcs) {
+		free(rcs);
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
 	}
+	chan_compute(cap, fi, rcs);
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		int rc = sscope_stats_compute(cap->channels[k].data, 1, cap->n,
-					      &fi->st[k]);
+		int rc = rcs[k];
 
 		if (rc == -EDOM)
 			ssc_warn(co, "%s: channel %s holds no finite sample",
@@ -154,9 +190,11 @@ static int analyse(const struct ssc_common *co, const char *path,
 			ssc_err(co->cmd, "%s: channel %s: the standard deviation exceeds the double range",
 				strcmp(path, "-") ? path : "(stdin)",
 				cap->channels[k].col.name);
+			free(rcs);
 			return SSC_EXIT_FAIL;
 		}
 	}
+	free(rcs);
 	if (cap->time_s && cap->n >= 2) {
 		double *scratch = malloc((cap->n - 1) * sizeof(double));
 
@@ -172,7 +210,7 @@ static int analyse(const struct ssc_common *co, const char *path,
 	if (cap->temp_degc)
 		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
 						     &fi->temp) == 0;
-	return clip_channels(co, fi);
+	return SSC_EXIT_OK;
 }
 
 static double duration(const struct sscope_capture *cap)
@@ -507,6 +545,7 @@ static void build_fig(struct fig_job *job)
 	 * samples converted to their unit as they are drawn */
 	double *tmade = cap->time_s ? NULL : malloc(cap->n * sizeof(double));
 	const double *t = cap->time_s ? cap->time_s : tmade;
+	bool *t_fin; /* the time column's finite stretches, looked up once */
 	char buf[256];
 
 	job->done = true;
@@ -517,6 +556,7 @@ static void build_fig(struct fig_job *job)
 	}
 	for (size_t i = 0; tmade && i < cap->n; i++)
 		tmade[i] = cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
+	t_fin = ssc_line_x_finite(t, cap->n);
 	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", job->path);
 	ssc_fig_title(fig, buf);
@@ -525,8 +565,8 @@ static void build_fig(struct fig_job *job)
 		struct ssc_ax *ax = ssc_fig_ax(fig, (int)k, 0);
 		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1 };
 
-		ssc_ax_line_scaled(ax, t, cap->channels[k].data, cap->n,
-				   col->unit.offset, col->unit.scale, &st, NULL);
+		ssc_ax_line_scaled_x(ax, t, t_fin, cap->channels[k].data, cap->n,
+				     col->unit.offset, col->unit.scale, &st, NULL);
 		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
 			 col->unit_label[0] ? col->unit_label : "no unit");
 		ssc_ax_ylabel(ax, buf);
@@ -537,11 +577,13 @@ static void build_fig(struct fig_job *job)
 		struct ssc_ax *ax = ssc_fig_ax(fig, rows - 1, 0);
 		struct ssc_style st = { .color = 0xd62728, .width = 1.5 };
 
-		ssc_ax_line(ax, t, cap->temp_degc, cap->n, &st, NULL);
+		ssc_ax_line_scaled_x(ax, t, t_fin, cap->temp_degc, cap->n, 0, 1,
+				     &st, NULL);
 		ssc_ax_ylabel(ax, "temperature (\xc2\xb0" "C)");
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
+	free(t_fin);
 	free(tmade);
 	job->fig = fig;
 }

@@ -244,9 +244,110 @@ static double *dup_arr(const double *a, size_t n)
  * pixel column.  A day at 100 Hz is then 16k points instead of 8.6M. */
 #define LINE_BUCKETS 4096
 
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
+	defined(__GLIBC__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
+#define SSC_PCLONES __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef SSC_PCLONES
+#define SSC_PCLONES
+#endif
+
+/* the first i in [i0, i1) whose shown value is v (there is one) */
+static inline size_t first_eq(const double *y, size_t i0, size_t i1,
+			      double off, double sc, bool same, double v)
+{
+	size_t i = i0;
+#if defined(__GNUC__)
+	typedef double pv4 __attribute__((vector_size(32)));
+	typedef long long pv4i __attribute__((vector_size(32)));
+
+	for (; i + 4 <= i1; i += 4) {
+		pv4 w;
+		pv4i m;
+
+		memcpy(&w, y + i, sizeof(w));
+		if (!same)
+			w = (w - off) / sc;
+		m = (pv4i)(w == v);
+		if (m[0] | m[1] | m[2] | m[3])
+			break;
+	}
+#endif
+	while ((same ? y[i] : (y[i] - off) / sc) != v)
+		i++;
+	return i;
+}
+
+/* A bucket [i0, i1) whose points are all finite (x_ok: its x are known
+ * to be): the first indices of
+ * its smallest and largest shown value, from the extremes found first
+ * without branches (on vectors) and then looked up; false (nothing
+ * found) when a point is not finite, for the exact pass.  Same indices as
+ * that pass: it keeps the first of equal values. */
+SSC_PCLONES static bool bucket_fast(const double *x, bool x_ok,
+				    const double *y, size_t i0, size_t i1,
+				    double off, double sc, bool same,
+				    size_t *imin, size_t *imax)
+{
+	double lo, hi, zs;
+	size_t i = i0;
+#if defined(__GNUC__)
+	typedef double pv4 __attribute__((vector_size(32)));
+	typedef long long pv4i __attribute__((vector_size(32)));
+	const pv4 inf = { INFINITY, INFINITY, INFINITY, INFINITY };
+	pv4 mn = inf, mx = -inf, z = { 0, 0, 0, 0 };
+
+	for (; i + 4 <= i1; i += 4) {
+		pv4 v, t;
+		pv4i m;
+
+		memcpy(&v, y + i, sizeof(v));
+		if (!same)
+			v = (v - off) / sc;
+		/* 0 * v and 0 * x are NaN for an infinity or a NaN */
+		z += 0 * v;
+		if (!x_ok) {
+			memcpy(&t, x + i, sizeof(t));
+			z += 0 * t;
+		}
+		m = (pv4i)(v < mn);
+		mn = (pv4)(((pv4i)v & m) | ((pv4i)mn & ~m));
+		m = (pv4i)(v > mx);
+		mx = (pv4)(((pv4i)v & m) | ((pv4i)mx & ~m));
+	}
+	zs = (z[0] + z[1]) + (z[2] + z[3]);
+	lo = mn[0] < mn[1] ? mn[0] : mn[1];
+	lo = mn[2] < lo ? mn[2] : lo;
+	lo = mn[3] < lo ? mn[3] : lo;
+	hi = mx[0] > mx[1] ? mx[0] : mx[1];
+	hi = mx[2] > hi ? mx[2] : hi;
+	hi = mx[3] > hi ? mx[3] : hi;
+#else
+	zs = 0;
+	lo = INFINITY;
+	hi = -INFINITY;
+#endif
+#define SHOWN(j) (same ? y[j] : (y[j] - off) / sc)
+	for (; i < i1; i++) {
+		double v = SHOWN(i);
+
+		zs += 0 * v + (x_ok ? 0 : 0 * x[i]);
+		lo = v < lo ? v : lo;
+		hi = v > hi ? v : hi;
+	}
+	if (zs != 0)
+		return false;
+	*imin = first_eq(y, i0, i1, off, sc, same, lo);
+	*imax = first_eq(y, i0, i1, off, sc, same, hi);
+#undef SHOWN
+	return true;
+}
+
 /* y shown as (y - off) / sc (a unit conversion) */
-static int line_reduced(struct item *it, const double *x, const double *y,
-			size_t n, double off, double sc)
+static int line_reduced(struct item *it, const double *x, const bool *x_fin,
+			const double *y, size_t n, double off, double sc)
 {
 	size_t cap = 5 * LINE_BUCKETS, m = 0;
 	bool same = off == 0 && sc == 1;
@@ -263,6 +364,10 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 
 		if (i0 >= i1)
 			continue;
+		if ((!x_fin || x_fin[b]) &&
+		    bucket_fast(x, x_fin != NULL, y, i0, i1, off, sc, same, &imin,
+				&imax))
+			goto kept;
 		for (size_t i = i0; i < i1; i++) {
 			double v = same ? y[i] : (y[i] - off) / sc;
 
@@ -280,6 +385,7 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 				ymax = v;
 			}
 		}
+kept:
 		keep[nk++] = i0;
 		if (imin != SIZE_MAX)
 			keep[nk++] = imin;
@@ -308,9 +414,43 @@ static int line_reduced(struct item *it, const double *x, const double *y,
 	return 0;
 }
 
+bool *ssc_line_x_finite(const double *x, size_t n)
+{
+	bool *fin;
+
+	if (!x || n <= 8 * LINE_BUCKETS)
+		return NULL;
+	fin = malloc(LINE_BUCKETS * sizeof(*fin));
+	if (!fin)
+		return NULL;
+	for (size_t b = 0; b < LINE_BUCKETS; b++) {
+		size_t i0 = n * b / LINE_BUCKETS, i1 = n * (b + 1) / LINE_BUCKETS;
+		double z[4] = { 0, 0, 0, 0 };
+		size_t i = i0;
+
+		/* 0 * x is NaN for an infinity or a NaN */
+		for (; i + 4 <= i1; i += 4)
+			for (int k = 0; k < 4; k++)
+				z[k] += 0 * x[i + (size_t)k];
+		for (; i < i1; i++)
+			z[0] += 0 * x[i];
+		fin[b] = (z[0] + z[1]) + (z[2] + z[3]) == 0;
+	}
+	return fin;
+}
+
 int ssc_ax_line_scaled(struct ssc_ax *ax, const double *x, const double *y,
 		       size_t n, double offset, double scale,
 		       const struct ssc_style *st, const char *label)
+{
+	return ssc_ax_line_scaled_x(ax, x, NULL, y, n, offset, scale, st,
+				    label);
+}
+
+int ssc_ax_line_scaled_x(struct ssc_ax *ax, const double *x,
+			 const bool *x_finite, const double *y, size_t n,
+			 double offset, double scale,
+			 const struct ssc_style *st, const char *label)
 {
 	struct item *it = new_item(ax, IT_LINE, st, label);
 	bool same = offset == 0 && scale == 1;
@@ -318,7 +458,7 @@ int ssc_ax_line_scaled(struct ssc_ax *ax, const double *x, const double *y,
 	if (!it)
 		return -ENOMEM;
 	if (n > 8 * LINE_BUCKETS && !ax->logx && !ax->logy && x && y)
-		return line_reduced(it, x, y, n, offset, scale);
+		return line_reduced(it, x, x_finite, y, n, offset, scale);
 	it->n = n;
 	it->x = dup_arr(x, n);
 	it->y = dup_arr(y, n);

@@ -79,6 +79,15 @@ int ssc_ax_line(struct ssc_ax *ax, const double *x, const double *y, size_t n,
 int ssc_ax_line_scaled(struct ssc_ax *ax, const double *x, const double *y,
 		       size_t n, double offset, double scale,
 		       const struct ssc_style *st, const char *label);
+/* Series that share one long x (the channels of a capture against its
+ * time column): which stretches of x are finite, looked up once (NULL
+ * when x is short enough to be kept whole, or out of memory; free()),
+ * then given with each series.  The same figure as ssc_ax_line_scaled(). */
+bool *ssc_line_x_finite(const double *x, size_t n);
+int ssc_ax_line_scaled_x(struct ssc_ax *ax, const double *x,
+			 const bool *x_finite, const double *y, size_t n,
+			 double offset, double scale,
+			 const struct ssc_style *st, const char *label);
 /* Vertical error bars from lo[i] to hi[i] at x[i], with the point y[i]. */
 int ssc_ax_errorbar(struct ssc_ax *ax, const double *x, const double *y,
 		    const double *lo, const double *hi, size_t n,
