@@ -1000,17 +1000,18 @@ static double chisq_quantile(double P, double nu)
 	return gsl_cdf_chisq_Pinv(P, nu);
 }
 
+/* the quantile table, entries on every thread (each computed alone, the
+ * same numbers on any thread count) */
 static void gt_fill(struct boot *bt)
 {
-	for (int k = 0; k < GT_NU; k++) {
+SSC_OMP(omp parallel for schedule(dynamic, 9))
+	for (int q = 0; q < GT_NU * GT_Z; q++) {
+		int k = q / GT_Z, i = q % GT_Z;
 		double nu = gt_nu(k);
+		double z = -GT_Z_MAX + 2 * GT_Z_MAX * i / (GT_Z - 1);
+		double x = chisq_quantile(gsl_cdf_ugaussian_P(z), nu);
 
-		for (int i = 0; i < GT_Z; i++) {
-			double z = -GT_Z_MAX + 2 * GT_Z_MAX * i / (GT_Z - 1);
-			double q = chisq_quantile(gsl_cdf_ugaussian_P(z), nu);
-
-			bt->tab[k][i] = (isfinite(q) ? q / nu : 0) - wh(nu, z);
-		}
+		bt->tab[k][i] = (isfinite(x) ? x / nu : 0) - wh(nu, z);
 	}
 }
 
