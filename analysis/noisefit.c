@@ -949,6 +949,7 @@ struct boot {
 	unsigned threads; /* threads of the replicate loop */
 	double *ys, *ms; /* threads x n: a replicate's AVAR points, its model */
 	double *nu, *mu0, *u, *v;
+	struct gq_col *gc; /* n: gq()'s columns of the points' nu */
 	double var_u, cov_uv, var_v; /* moments of the replicates */
 	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
 	double tab[GT_NU][GT_Z];
@@ -1015,29 +1016,61 @@ SSC_OMP(omp parallel for schedule(dynamic, 9))
 	}
 }
 
-/* chi2_nu / nu at normal score z (the Gamma margin of the copula) */
-static double gq(const struct boot *bt, double nu, double z)
-{
-	double x, y, fx, fy, c;
-	int k, i;
+/* the part of gq() that depends on nu alone, the same for every
+ * replicate of a point: worked out once a pass */
+struct gq_col {
+	double s, sq; /* Wilson-Hilferty's 2 / (9 nu) and its square root */
+	double fx;    /* table column: weight of k + 1 */
+	int k;        /* table column */
+	bool table;   /* nu inside the table */
+	bool fin;     /* nu finite */
+};
 
-	if (!(nu < GT_NU_HI))
-		return isfinite(nu) ? wh(nu, z) : 1;
-	z = fmin(fmax(z, -GT_Z_MAX), GT_Z_MAX);
+static void gq_prep(double nu, struct gq_col *g)
+{
+	double x;
+
+	g->s = 2 / (9 * nu);
+	g->sq = sqrt(g->s);
+	g->table = nu < GT_NU_HI;
+	g->fin = isfinite(nu);
+	g->k = 0;
+	g->fx = 0;
+	if (!g->table)
+		return;
 	x = log(fmax(nu, GT_NU_LO) / GT_NU_LO) / log(GT_NU_HI / GT_NU_LO) *
 	    (GT_NU - 1);
+	g->k = (int)x;
+	if (g->k >= GT_NU - 1)
+		g->k = GT_NU - 2;
+	g->fx = x - g->k;
+}
+
+/* wh() with the part of nu worked out */
+static double wh_col(const struct gq_col *g, double z)
+{
+	double c = 1 - g->s + z * g->sq;
+
+	return c > 0 ? c * c * c : 0;
+}
+
+/* chi2_nu / nu at normal score z (the Gamma margin of the copula) */
+static double gq(const struct boot *bt, const struct gq_col *g, double z)
+{
+	double y, fy, c, fx = g->fx;
+	int k = g->k, i;
+
+	if (!g->table)
+		return g->fin ? wh_col(g, z) : 1;
+	z = fmin(fmax(z, -GT_Z_MAX), GT_Z_MAX);
 	y = (z + GT_Z_MAX) / (2 * GT_Z_MAX) * (GT_Z - 1);
-	k = (int)x;
 	i = (int)y;
-	if (k >= GT_NU - 1)
-		k = GT_NU - 2;
 	if (i >= GT_Z - 1)
 		i = GT_Z - 2;
-	fx = x - k;
 	fy = y - i;
 	c = (1 - fx) * ((1 - fy) * bt->tab[k][i] + fy * bt->tab[k][i + 1]) +
 	    fx * ((1 - fy) * bt->tab[k + 1][i] + fy * bt->tab[k + 1][i + 1]);
-	return fmax(wh(nu, z) + c, 0);
+	return fmax(wh_col(g, z) + c, 0);
 }
 
 /* hat rows (A'WA)^-1 A'W of the terms of mask, weights from mu, columns
@@ -1112,6 +1145,7 @@ static void boot_free(struct boot *bt)
 	free(bt->mu0);
 	free(bt->u);
 	free(bt->v);
+	free(bt->gc);
 }
 
 /* the first @p count standard normals of the bootstrap's fixed sequence */
@@ -1158,8 +1192,9 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
 	bt->v = ssc_alloc_array(R, sizeof(double));
+	bt->gc = ssc_alloc_array(n, sizeof(*bt->gc));
 	if (!bt->e || !bt->L || !bt->H || !bt->B || !bt->w0 || !bt->ys ||
-	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v) {
+	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc) {
 		boot_free(bt);
 		return -ENOMEM;
 	}
@@ -1293,6 +1328,7 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (!(saa > 0))
 			return -EDOM;
 		bt->nu[a] = 2 * bt->mu0[a] * bt->mu0[a] / saa;
+		gq_prep(bt->nu[a], &bt->gc[a]);
 		for (size_t b = 0; b <= a; b++)
 			bt->L[a * n + b] = gsl_matrix_get(f->S, a, b) /
 					   sqrt(saa * gsl_matrix_get(f->S, b, b));
@@ -1327,7 +1363,7 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 
 			for (size_t k = 0; k <= a; k++)
 				z += l[k] * e[k];
-			g = gq(bt, bt->nu[a], z);
+			g = gq(bt, &bt->gc[a], z);
 			ys[a] = bt->mu0[a] * g;
 			u += h[a] * ys[a];
 			v += h[a] * bt->B[(size_t)j * n + a] * g;
