@@ -947,7 +947,8 @@ struct boot {
 	double *B;      /* NT x n basis values at the taus */
 	double *w0;     /* n: EDF / (2 scale^2), the weight times model^2 */
 	unsigned threads; /* threads of the replicate loop */
-	double *ys, *ms; /* threads x n: a replicate's AVAR points, its model */
+	double *ys, *ms; /* threads x n: a replicate's AVAR points; threads x 2n:
+			  its model and weights */
 	double *nu, *mu0, *u, *v;
 	struct gq_col *gc; /* n: gq()'s columns of the points' nu */
 	double var_u, cov_uv, var_v; /* moments of the replicates */
@@ -1187,7 +1188,7 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->B = ssc_alloc_array(NT * n, sizeof(double));
 	bt->w0 = ssc_alloc_array(n, sizeof(double));
 	bt->ys = ssc_alloc_array(bt->threads * n, sizeof(double));
-	bt->ms = ssc_alloc_array(bt->threads * n, sizeof(double));
+	bt->ms = ssc_alloc_array(bt->threads * 2 * n, sizeof(double));
 	bt->nu = ssc_alloc_array(n, sizeof(double));
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
@@ -1227,13 +1228,15 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
  * The estimator on a replicate's AVAR points y: the weighted least
  * squares of wls(), weights EDF / (2 model^2) iterated bt->iters times
  * from the points themselves (normal equations scaled to a unit
- * diagonal), into th[NT].  Returns 0, or -EDOM when a system is singular.
+ * diagonal), into th[NT]; ms: 2n of scratch.  Returns 0, or -EDOM when a
+ * system is singular.
  */
 static int boot_wls(const struct boot *bt, const double *y, double *ms,
 		    double th[NT])
 {
 	int cols[NT], p = 0;
 	size_t n = bt->n;
+	double *w = ms + n; /* the weights */
 
 	for (int k = 0; k < NT; k++) {
 		th[k] = 0;
@@ -1244,16 +1247,27 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 	for (int it = 0; it < bt->iters; it++) {
 		double M[NT * NT] = { 0 }, r[NT] = { 0 }, d[NT];
 
+		/* each sum over the points in their order, one sum at a
+		 * time (held in a register, not in M) */
 		for (size_t k = 0; k < n; k++) {
 			double m2 = ms[k] > 0 ? ms[k] : y[k];
-			double w = bt->w0[k] / (m2 * m2), yk = y[k];
 
-			for (int a = 0; a < p; a++) {
-				double wa = w * bt->B[(size_t)cols[a] * n + k];
+			w[k] = bt->w0[k] / (m2 * m2);
+		}
+		for (int a = 0; a < p; a++) {
+			const double *ba = bt->B + (size_t)cols[a] * n;
+			double ra = 0;
 
-				r[a] += wa * yk;
-				for (int b = 0; b <= a; b++)
-					M[a * NT + b] += wa * bt->B[(size_t)cols[b] * n + k];
+			for (size_t k = 0; k < n; k++)
+				ra += w[k] * ba[k] * y[k];
+			r[a] = ra;
+			for (int b = 0; b <= a; b++) {
+				const double *bb = bt->B + (size_t)cols[b] * n;
+				double s = 0;
+
+				for (size_t k = 0; k < n; k++)
+					s += w[k] * ba[k] * bb[k];
+				M[a * NT + b] = s;
 			}
 		}
 		for (int a = 0; a < p; a++) {
@@ -1368,7 +1382,7 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 			u += h[a] * ys[a];
 			v += h[a] * bt->B[(size_t)j * n + a] * g;
 		}
-		if (boot_wls(bt, ys, bt->ms + t * n, tr) == 0)
+		if (boot_wls(bt, ys, bt->ms + t * 2 * n, tr) == 0)
 			u = tr[j];
 		bt->u[r] = u;
 		bt->v[r] = v;
