@@ -1256,18 +1256,39 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 		}
 		for (int a = 0; a < p; a++) {
 			const double *ba = bt->B + (size_t)cols[a] * n;
-			double ra = 0;
+			const double *b0 = bt->B + (size_t)cols[0] * n;
+			double ra = 0, s0 = 0;
+			int b = 1;
 
-			for (size_t k = 0; k < n; k++)
-				ra += w[k] * ba[k] * y[k];
+			/* two sums side by side, each in the points' order */
+			for (size_t k = 0; k < n; k++) {
+				double wa = w[k] * ba[k];
+
+				ra += wa * y[k];
+				s0 += wa * b0[k];
+			}
 			r[a] = ra;
-			for (int b = 0; b <= a; b++) {
+			M[a * NT] = s0;
+			for (; b + 1 <= a; b += 2) {
 				const double *bb = bt->B + (size_t)cols[b] * n;
-				double s = 0;
+				const double *bc = bt->B + (size_t)cols[b + 1] * n;
+				double s1 = 0, s2 = 0;
+
+				for (size_t k = 0; k < n; k++) {
+					double wa = w[k] * ba[k];
+
+					s1 += wa * bb[k];
+					s2 += wa * bc[k];
+				}
+				M[a * NT + b] = s1;
+				M[a * NT + b + 1] = s2;
+			}
+			if (b == a) {
+				double s1 = 0;
 
 				for (size_t k = 0; k < n; k++)
-					s += w[k] * ba[k] * bb[k];
-				M[a * NT + b] = s;
+					s1 += w[k] * ba[k] * ba[k];
+				M[a * NT + a] = s1;
 			}
 		}
 		for (int a = 0; a < p; a++) {
@@ -1371,13 +1392,28 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 		t = (size_t)omp_get_thread_num();
 #endif
 		ys = bt->ys + t * n;
-		for (size_t a = 0; a < n; a++) {
-			const double *l = bt->L + a * n;
-			double z = 0, g;
+		/* the correlated normals L e into ys, two rows side by side
+		 * (each sum in its order) */
+		for (size_t a = 0; a < n; a += 2) {
+			const double *l = bt->L + a * n, *l1 = l + n;
+			double z = 0, z1 = 0;
 
-			for (size_t k = 0; k <= a; k++)
+			if (a + 1 == n) {
+				for (size_t k = 0; k <= a; k++)
+					z += l[k] * e[k];
+				ys[a] = z;
+				break;
+			}
+			for (size_t k = 0; k <= a; k++) {
 				z += l[k] * e[k];
-			g = gq(bt, &bt->gc[a], z);
+				z1 += l1[k] * e[k];
+			}
+			ys[a] = z;
+			ys[a + 1] = z1 + l1[a + 1] * e[a + 1];
+		}
+		for (size_t a = 0; a < n; a++) {
+			double g = gq(bt, &bt->gc[a], ys[a]);
+
 			ys[a] = bt->mu0[a] * g;
 			u += h[a] * ys[a];
 			v += h[a] * bt->B[(size_t)j * n + a] * g;
