@@ -286,16 +286,15 @@ double ssc_totdev_edf(int alpha, size_t m, size_t np)
  * safeguarded Newton steps on the tail probability.  GSL's own inverse,
  * and its incomplete gamma at very large nu, call the global error
  * handler (abort by default) when they do not converge, which a library
- * must not trigger.
+ * must not trigger.  Here with the normal score z of p and, for nu below
+ * 1000, lgh = lgamma(nu / 2) + nu / 2 log 2, which the two bounds of an
+ * interval share and a grid's intervals share z of.
  */
-double ssc_chi2_quantile(double p, double nu)
+static double chi2_quantile_z(double p, double z, double nu, double lgh)
 {
-	double z, h, x, lo = 0, hi = INFINITY, target, lgh;
+	double h, x, lo = 0, hi = INFINITY, target;
 	bool upper;
 
-	if (!(p > 0 && p < 1) || !(nu > 0))
-		return NAN;
-	z = gsl_cdf_ugaussian_Pinv(p);
 	if (nu >= 1000) {
 		double s = sqrt(2 * nu), z2 = z * z;
 
@@ -313,7 +312,6 @@ double ssc_chi2_quantile(double p, double nu)
 	 * from the start above, and a last step taken without the evaluation
 	 * that would confirm it: one or two tail evaluations, not four or
 	 * five as Newton's, which an all-tau grid pays 30,000 times */
-	lgh = lgamma(nu / 2) + nu / 2 * 0.69314718055994531;
 	for (int it = 0; it < 200; it++) {
 		double F = upper ? gsl_cdf_chisq_Q(x, nu) : gsl_cdf_chisq_P(x, nu);
 		double f = exp((nu / 2 - 1) * log(x) - x / 2 - lgh), nx, dx;
@@ -339,19 +337,54 @@ double ssc_chi2_quantile(double p, double nu)
 	return x;
 }
 
-void ssc_allan_ci(double dev, double edf, double level, double *lo,
-		  double *hi)
+static double chi2_lgh(double nu)
 {
-	double pl = (1 - level) / 2, ph = 1 - pl, cl, ch;
+	return nu < 1000 ? lgamma(nu / 2) + nu / 2 * 0.69314718055994531 : 0;
+}
+
+double ssc_chi2_quantile(double p, double nu)
+{
+	if (!(p > 0 && p < 1) || !(nu > 0))
+		return NAN;
+	return chi2_quantile_z(p, gsl_cdf_ugaussian_Pinv(p), nu, chi2_lgh(nu));
+}
+
+void ssc_allan_ci_level(struct ssc_ci_level *cl, double level)
+{
+	cl->pl = (1 - level) / 2;
+	cl->ph = 1 - cl->pl;
+	cl->ok = cl->pl > 0 && cl->pl < 1 && cl->ph > 0 && cl->ph < 1;
+	cl->zl = cl->ok ? gsl_cdf_ugaussian_Pinv(cl->pl) : (double)NAN;
+	cl->zh = cl->ok ? gsl_cdf_ugaussian_Pinv(cl->ph) : (double)NAN;
+}
+
+void ssc_allan_ci_at(const struct ssc_ci_level *lv, double dev, double edf,
+		     double *lo, double *hi)
+{
+	double cl, ch, lgh;
 
 	if (!(edf > 0) || !isfinite(dev)) {
 		*lo = *hi = NAN;
 		return;
 	}
-	cl = ssc_chi2_quantile(pl, edf);
-	ch = ssc_chi2_quantile(ph, edf);
+	if (!lv->ok) {
+		cl = ch = NAN;
+	} else {
+		lgh = chi2_lgh(edf);
+		cl = chi2_quantile_z(lv->pl, lv->zl, edf, lgh);
+		ch = chi2_quantile_z(lv->ph, lv->zh, edf, lgh);
+	}
 	*lo = dev * sqrt(edf / ch);
 	*hi = cl > 0 ? dev * sqrt(edf / cl) : (double)INFINITY;
+}
+
+void ssc_allan_ci(double dev, double edf, double level, double *lo,
+		  double *hi)
+{
+	struct ssc_ci_level lv;
+
+	ssc_allan_ci_level(&lv, level);
+	ssc_allan_ci_at(&lv, dev, edf, lo, hi);
 }
 
 /* ------------------------------------------------------------------ */

@@ -54,6 +54,18 @@ double ssc_chi2_quantile(double p, double nu);
 void ssc_allan_ci(double dev, double edf, double level, double *lo,
 		  double *hi);
 
+/* what the bounds of one confidence level share at every tau: the two
+ * tail probabilities and their normal scores (computed once a grid) */
+struct ssc_ci_level {
+	double pl, ph; /* lower and upper tail probability */
+	double zl, zh; /* their normal scores */
+	bool ok;       /* both inside (0, 1) */
+};
+void ssc_allan_ci_level(struct ssc_ci_level *cl, double level);
+/* ssc_allan_ci() with the level's shared part */
+void ssc_allan_ci_at(const struct ssc_ci_level *lv, double dev, double edf,
+		     double *lo, double *hi);
+
 /* EDF of TOTDEV (NIST SP 1065 table 7; OADEV's for phase noises) */
 double ssc_totdev_edf(int alpha, size_t m, size_t n_phase);
 

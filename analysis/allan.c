@@ -1608,6 +1608,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	int rc = 0, carry_alpha = 0;
 	bool have_carry = false;
 	double level;
+	struct ssc_ci_level lv;
 
 	if (!p || !y || !m || !pts || !n_pts || stride == 0 ||
 	    !(rate_hz > 0) || !isfinite(rate_hz))
@@ -1757,6 +1758,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 	 * too few averages, in order; EDF and intervals in parallel.
 	 */
 	level = p->opts.ci_level == 0 ? 0.682689492137086 : p->opts.ci_level;
+	ssc_allan_ci_level(&lv, level);
 	idok = calloc(nacc, 1);
 	alph = calloc(nacc, sizeof(int));
 	if (!idok || !alph) {
@@ -1861,8 +1863,8 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
 			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
 		} else {
-			ssc_allan_ci(pt->dev, pt->edf, level, &pt->dev_lo,
-				     &pt->dev_hi);
+			ssc_allan_ci_at(&lv, pt->dev, pt->edf, &pt->dev_lo,
+					&pt->dev_hi);
 		}
 	}
 	*n_pts = nacc;

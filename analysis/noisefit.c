@@ -952,8 +952,10 @@ struct boot {
 	double *B;      /* NT x n basis values at the taus */
 	double *w0;     /* n: EDF / (2 scale^2), the weight times model^2 */
 	unsigned threads; /* threads of the replicate loop */
-	double *ys, *ms; /* threads x n: a replicate's AVAR points, its model */
+	double *ys, *ms; /* threads x n: a replicate's AVAR points; threads x 2n:
+			  its model and weights */
 	double *nu, *mu0, *u, *v;
+	struct gq_col *gc; /* n: gq()'s columns of the points' nu */
 	double var_u, cov_uv, var_v; /* moments of the replicates */
 	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
 	double tab[GT_NU][GT_Z];
@@ -1005,43 +1007,76 @@ static double chisq_quantile(double P, double nu)
 	return gsl_cdf_chisq_Pinv(P, nu);
 }
 
+/* the quantile table, entries on every thread (each computed alone, the
+ * same numbers on any thread count) */
 static void gt_fill(struct boot *bt)
 {
-	for (int k = 0; k < GT_NU; k++) {
+SSC_OMP(omp parallel for schedule(dynamic, 9))
+	for (int q = 0; q < GT_NU * GT_Z; q++) {
+		int k = q / GT_Z, i = q % GT_Z;
 		double nu = gt_nu(k);
+		double z = -GT_Z_MAX + 2 * GT_Z_MAX * i / (GT_Z - 1);
+		double x = chisq_quantile(gsl_cdf_ugaussian_P(z), nu);
 
-		for (int i = 0; i < GT_Z; i++) {
-			double z = -GT_Z_MAX + 2 * GT_Z_MAX * i / (GT_Z - 1);
-			double q = chisq_quantile(gsl_cdf_ugaussian_P(z), nu);
-
-			bt->tab[k][i] = (isfinite(q) ? q / nu : 0) - wh(nu, z);
-		}
+		bt->tab[k][i] = (isfinite(x) ? x / nu : 0) - wh(nu, z);
 	}
 }
 
-/* chi2_nu / nu at normal score z (the Gamma margin of the copula) */
-static double gq(const struct boot *bt, double nu, double z)
-{
-	double x, y, fx, fy, c;
-	int k, i;
+/* the part of gq() that depends on nu alone, the same for every
+ * replicate of a point: worked out once a pass */
+struct gq_col {
+	double s, sq; /* Wilson-Hilferty's 2 / (9 nu) and its square root */
+	double fx;    /* table column: weight of k + 1 */
+	int k;        /* table column */
+	bool table;   /* nu inside the table */
+	bool fin;     /* nu finite */
+};
 
-	if (!(nu < GT_NU_HI))
-		return isfinite(nu) ? wh(nu, z) : 1;
-	z = fmin(fmax(z, -GT_Z_MAX), GT_Z_MAX);
+static void gq_prep(double nu, struct gq_col *g)
+{
+	double x;
+
+	g->s = 2 / (9 * nu);
+	g->sq = sqrt(g->s);
+	g->table = nu < GT_NU_HI;
+	g->fin = isfinite(nu);
+	g->k = 0;
+	g->fx = 0;
+	if (!g->table)
+		return;
 	x = log(fmax(nu, GT_NU_LO) / GT_NU_LO) / log(GT_NU_HI / GT_NU_LO) *
 	    (GT_NU - 1);
+	g->k = (int)x;
+	if (g->k >= GT_NU - 1)
+		g->k = GT_NU - 2;
+	g->fx = x - g->k;
+}
+
+/* wh() with the part of nu worked out */
+static double wh_col(const struct gq_col *g, double z)
+{
+	double c = 1 - g->s + z * g->sq;
+
+	return c > 0 ? c * c * c : 0;
+}
+
+/* chi2_nu / nu at normal score z (the Gamma margin of the copula) */
+static double gq(const struct boot *bt, const struct gq_col *g, double z)
+{
+	double y, fy, c, fx = g->fx;
+	int k = g->k, i;
+
+	if (!g->table)
+		return g->fin ? wh_col(g, z) : 1;
+	z = fmin(fmax(z, -GT_Z_MAX), GT_Z_MAX);
 	y = (z + GT_Z_MAX) / (2 * GT_Z_MAX) * (GT_Z - 1);
-	k = (int)x;
 	i = (int)y;
-	if (k >= GT_NU - 1)
-		k = GT_NU - 2;
 	if (i >= GT_Z - 1)
 		i = GT_Z - 2;
-	fx = x - k;
 	fy = y - i;
 	c = (1 - fx) * ((1 - fy) * bt->tab[k][i] + fy * bt->tab[k][i + 1]) +
 	    fx * ((1 - fy) * bt->tab[k + 1][i] + fy * bt->tab[k + 1][i + 1]);
-	return fmax(wh(nu, z) + c, 0);
+	return fmax(wh_col(g, z) + c, 0);
 }
 
 /* hat rows (A'WA)^-1 A'W of the terms of mask, weights from mu, columns
@@ -1116,6 +1151,7 @@ static void boot_free(struct boot *bt)
 	free(bt->mu0);
 	free(bt->u);
 	free(bt->v);
+	free(bt->gc);
 }
 
 /* the first @p count standard normals of the bootstrap's fixed sequence */
@@ -1157,13 +1193,14 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->B = ssc_alloc_array(NT * n, sizeof(double));
 	bt->w0 = ssc_alloc_array(n, sizeof(double));
 	bt->ys = ssc_alloc_array(bt->threads * n, sizeof(double));
-	bt->ms = ssc_alloc_array(bt->threads * n, sizeof(double));
+	bt->ms = ssc_alloc_array(bt->threads * 2 * n, sizeof(double));
 	bt->nu = ssc_alloc_array(n, sizeof(double));
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
 	bt->v = ssc_alloc_array(R, sizeof(double));
+	bt->gc = ssc_alloc_array(n, sizeof(*bt->gc));
 	if (!bt->e || !bt->L || !bt->H || !bt->B || !bt->w0 || !bt->ys ||
-	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v) {
+	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc) {
 		boot_free(bt);
 		return -ENOMEM;
 	}
@@ -1196,13 +1233,15 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
  * The estimator on a replicate's AVAR points y: the weighted least
  * squares of wls(), weights EDF / (2 model^2) iterated bt->iters times
  * from the points themselves (normal equations scaled to a unit
- * diagonal), into th[NT].  Returns 0, or -EDOM when a system is singular.
+ * diagonal), into th[NT]; ms: 2n of scratch.  Returns 0, or -EDOM when a
+ * system is singular.
  */
 static int boot_wls(const struct boot *bt, const double *y, double *ms,
 		    double th[NT])
 {
 	int cols[NT], p = 0;
 	size_t n = bt->n;
+	double *w = ms + n; /* the weights */
 
 	for (int k = 0; k < NT; k++) {
 		th[k] = 0;
@@ -1213,16 +1252,48 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 	for (int it = 0; it < bt->iters; it++) {
 		double M[NT * NT] = { 0 }, r[NT] = { 0 }, d[NT];
 
+		/* each sum over the points in their order, one sum at a
+		 * time (held in a register, not in M) */
 		for (size_t k = 0; k < n; k++) {
 			double m2 = ms[k] > 0 ? ms[k] : y[k];
-			double w = bt->w0[k] / (m2 * m2), yk = y[k];
 
-			for (int a = 0; a < p; a++) {
-				double wa = w * bt->B[(size_t)cols[a] * n + k];
+			w[k] = bt->w0[k] / (m2 * m2);
+		}
+		for (int a = 0; a < p; a++) {
+			const double *ba = bt->B + (size_t)cols[a] * n;
+			const double *b0 = bt->B + (size_t)cols[0] * n;
+			double ra = 0, s0 = 0;
+			int b = 1;
 
-				r[a] += wa * yk;
-				for (int b = 0; b <= a; b++)
-					M[a * NT + b] += wa * bt->B[(size_t)cols[b] * n + k];
+			/* two sums side by side, each in the points' order */
+			for (size_t k = 0; k < n; k++) {
+				double wa = w[k] * ba[k];
+
+				ra += wa * y[k];
+				s0 += wa * b0[k];
+			}
+			r[a] = ra;
+			M[a * NT] = s0;
+			for (; b + 1 <= a; b += 2) {
+				const double *bb = bt->B + (size_t)cols[b] * n;
+				const double *bc = bt->B + (size_t)cols[b + 1] * n;
+				double s1 = 0, s2 = 0;
+
+				for (size_t k = 0; k < n; k++) {
+					double wa = w[k] * ba[k];
+
+					s1 += wa * bb[k];
+					s2 += wa * bc[k];
+				}
+				M[a * NT + b] = s1;
+				M[a * NT + b + 1] = s2;
+			}
+			if (b == a) {
+				double s1 = 0;
+
+				for (size_t k = 0; k < n; k++)
+					s1 += w[k] * ba[k] * ba[k];
+				M[a * NT + a] = s1;
 			}
 		}
 		for (int a = 0; a < p; a++) {
@@ -1290,6 +1361,7 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (!(saa > 0))
 			return -EDOM;
 		bt->nu[a] = 2 * bt->mu0[a] * bt->mu0[a] / saa;
+		gq_prep(bt->nu[a], &bt->gc[a]);
 		for (size_t b = 0; b <= a; b++)
 			bt->L[a * n + b] = gsl_matrix_get(f->S, a, b) /
 					   sqrt(saa * gsl_matrix_get(f->S, b, b));
@@ -1318,18 +1390,33 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 		t = (size_t)omp_get_thread_num();
 #endif
 		ys = bt->ys + t * n;
-		for (size_t a = 0; a < n; a++) {
-			const double *l = bt->L + a * n;
-			double z = 0, g;
+		/* the correlated normals L e into ys, two rows side by side
+		 * (each sum in its order) */
+		for (size_t a = 0; a < n; a += 2) {
+			const double *l = bt->L + a * n, *l1 = l + n;
+			double z = 0, z1 = 0;
 
-			for (size_t k = 0; k <= a; k++)
+			if (a + 1 == n) {
+				for (size_t k = 0; k <= a; k++)
+					z += l[k] * e[k];
+				ys[a] = z;
+				break;
+			}
+			for (size_t k = 0; k <= a; k++) {
 				z += l[k] * e[k];
-			g = gq(bt, bt->nu[a], z);
+				z1 += l1[k] * e[k];
+			}
+			ys[a] = z;
+			ys[a + 1] = z1 + l1[a + 1] * e[a + 1];
+		}
+		for (size_t a = 0; a < n; a++) {
+			double g = gq(bt, &bt->gc[a], ys[a]);
+
 			ys[a] = bt->mu0[a] * g;
 			u += h[a] * ys[a];
 			v += h[a] * bt->B[(size_t)j * n + a] * g;
 		}
-		if (boot_wls(bt, ys, bt->ms + t * n, tr) == 0)
+		if (boot_wls(bt, ys, bt->ms + t * 2 * n, tr) == 0)
 			u = tr[j];
 		bt->u[r] = u;
 		bt->v[r] = v;

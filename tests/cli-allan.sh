@@ -139,6 +139,9 @@ for v in "plain gyro-static.csv" "gaps gaps.csv --allow-nan --stride 4" "wide wi
 done
 json_check "all taus: every point of both channels" "$T/all-plain.json" \
 	'[.channels[] | (.points | length) == 18000 and .points[17999].m == 18000 and (.points[0].dev > 0)] == [true, true]'
+# the points of a long grid are written in two halves: each once, in order
+json_check "all taus: points in order, each once" "$T/all-plain.json" \
+	'[.channels[] | [.points[].m] == [range(1; 18001)]] == [true, true]'
 json_check "all taus, gaps: skipped terms, strides and edf_full written" "$T/all-gaps.json" \
 	'.channels[0].points[0].skipped > 0 and .channels[0].points[99].stride == 25 and .channels[0].points[99].edf_full > 0'
 

@@ -9,6 +9,7 @@
 #include "results.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1426,13 +1427,87 @@ static char *put_int(char *p, long long v)
 	return p;
 }
 
+/* the JSON text of one point (a leading comma unless first) into line,
+ * at most POINT_LINE_MAX bytes; returns its length */
+#define POINT_LINE_MAX 512 /* 9 numbers of at most 24 characters, keys, a name */
+static size_t point_line(char *line, const struct sscope_allan_point *pt,
+			 const struct args *a, double sc, bool first)
+{
+	const char *nn = noise_name(pt->alpha);
+	char *p = line;
+
+	if (!first)
+		*p++ = ',';
+	PUT_KEY(p, "{\"tau_s\":");
+	p = put_real(p, pt->tau_s);
+	PUT_KEY(p, ",\"m\":");
+	p = put_int(p, (long long)pt->m);
+	PUT_KEY(p, ",\"terms\":");
+	p = put_int(p, (long long)pt->terms);
+	PUT_KEY(p, ",\"dev\":");
+	p = put_real(p, pt->dev / sc);
+	PUT_KEY(p, ",\"dev_lo\":");
+	p = put_real(p, pt->dev_lo / sc);
+	PUT_KEY(p, ",\"dev_hi\":");
+	p = put_real(p, pt->dev_hi / sc);
+	PUT_KEY(p, ",\"edf\":");
+	p = put_real(p, pt->edf);
+	PUT_KEY(p, ",\"alpha\":");
+	p = put_int(p, pt->alpha);
+	PUT_KEY(p, ",\"noise\":\"");
+	memcpy(p, nn, strlen(nn));
+	p += strlen(nn);
+	*p++ = '"';
+	if (pt->skipped) {
+		PUT_KEY(p, ",\"skipped\":");
+		p = put_int(p, (long long)pt->skipped);
+	}
+	if (pt->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
+	    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
+		PUT_KEY(p, ",\"stride\":");
+		p = put_int(p, (long long)pt->stride);
+		PUT_KEY(p, ",\"edf_full\":");
+		p = put_real(p, pt->edf_full);
+	}
+	*p++ = '}';
+	return (size_t)(p - line);
+}
+
+/* points [lo, hi) of a channel formatted into one buffer (the later half
+ * of a long grid, on a second thread while the first half is written) */
+struct points_part {
+	const struct sscope_allan_point *pts;
+	const struct args *a;
+	double sc;
+	size_t lo, hi;
+	char *buf; /* (hi - lo) * POINT_LINE_MAX bytes */
+	size_t len;
+	pthread_t tid;
+};
+
+static void *points_part_run(void *arg)
+{
+	struct points_part *pp = arg;
+	char *p = pp->buf;
+
+	for (size_t i = pp->lo; i < pp->hi; i++)
+		p += point_line(p, &pp->pts[i], pp->a, pp->sc, i == 0);
+	pp->len = (size_t)(p - pp->buf);
+	return NULL;
+}
+
+/* grids from this many points split their text in two halves */
+#define POINTS_SPLIT 2048
+
 static bool points_text(FILE *f, size_t slot, void *ctx)
 {
 	const struct pts_out *po = ctx;
 	const struct ssc_allan_file *fr = NULL;
 	const struct ssc_allan_chan *c = NULL;
 	const struct args *a = po->a;
-	bool ok;
+	struct points_part pp = { 0 };
+	bool ok, split = false;
+	size_t n, upto;
 
 	/* slots number the channels of the files in order */
 	for (size_t i = 0; i < po->R->n_files && !c; i++) {
@@ -1445,50 +1520,32 @@ static bool points_text(FILE *f, size_t slot, void *ctx)
 	}
 	if (!c)
 		return false;
-	ok = fputc('[', f) != EOF;
-	for (size_t i = 0; ok && i < c->res->n_points; i++) {
-		const struct sscope_allan_point *pt = &c->res->points[i];
-		const double sc = c->u.dev_scale;
-		const char *nn = noise_name(pt->alpha);
-		/* 9 numbers of at most 24 characters, keys, a name */
-		char line[512], *p = line;
-
-		if (i)
-			*p++ = ',';
-		PUT_KEY(p, "{\"tau_s\":");
-		p = put_real(p, pt->tau_s);
-		PUT_KEY(p, ",\"m\":");
-		p = put_int(p, (long long)pt->m);
-		PUT_KEY(p, ",\"terms\":");
-		p = put_int(p, (long long)pt->terms);
-		PUT_KEY(p, ",\"dev\":");
-		p = put_real(p, pt->dev / sc);
-		PUT_KEY(p, ",\"dev_lo\":");
-		p = put_real(p, pt->dev_lo / sc);
-		PUT_KEY(p, ",\"dev_hi\":");
-		p = put_real(p, pt->dev_hi / sc);
-		PUT_KEY(p, ",\"edf\":");
-		p = put_real(p, pt->edf);
-		PUT_KEY(p, ",\"alpha\":");
-		p = put_int(p, pt->alpha);
-		PUT_KEY(p, ",\"noise\":\"");
-		memcpy(p, nn, strlen(nn));
-		p += strlen(nn);
-		*p++ = '"';
-		if (pt->skipped) {
-			PUT_KEY(p, ",\"skipped\":");
-			p = put_int(p, (long long)pt->skipped);
+	n = upto = c->res->n_points;
+	if (n >= POINTS_SPLIT && a->ao.threads != 1) {
+		pp.pts = c->res->points;
+		pp.a = a;
+		pp.sc = c->u.dev_scale;
+		pp.lo = n / 2;
+		pp.hi = n;
+		pp.buf = malloc((pp.hi - pp.lo) * POINT_LINE_MAX);
+		if (pp.buf && pthread_create(&pp.tid, NULL, points_part_run, &pp) == 0) {
+			split = true;
+			upto = pp.lo;
 		}
-		if (pt->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
-		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
-			PUT_KEY(p, ",\"stride\":");
-			p = put_int(p, (long long)pt->stride);
-			PUT_KEY(p, ",\"edf_full\":");
-			p = put_real(p, pt->edf_full);
-		}
-		*p++ = '}';
-		ok = fwrite(line, 1, (size_t)(p - line), f) == (size_t)(p - line);
 	}
+	ok = fputc('[', f) != EOF;
+	for (size_t i = 0; ok && i < upto; i++) {
+		char line[POINT_LINE_MAX];
+		size_t len = point_line(line, &c->res->points[i], a,
+					c->u.dev_scale, i == 0);
+
+		ok = fwrite(line, 1, len, f) == len;
+	}
+	if (split) {
+		pthread_join(pp.tid, NULL);
+		ok = ok && fwrite(pp.buf, 1, pp.len, f) == pp.len;
+	}
+	free(pp.buf);
 	return ok && fputc(']', f) != EOF;
 }
 
