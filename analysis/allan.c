@@ -194,14 +194,10 @@ SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
 }
 #endif
 
-/* k2's end of a block from its lanes: the lane reduction, then the
- * terms [i, n) in order */
-static double k2_finish(const double *x, size_t m, size_t i, size_t n,
-			const double *L)
+/* the lane reduction of every kernel: lanes r and r + 8 first, then
+ * pairs (without vectors the one lane) */
+static double lanes_sum(const double *L)
 {
-	const double *a = x, *b = x + m, *c = x + 2 * m;
-	double s;
-
 #ifdef SSC_VEC
 	double s0[4], s0h[4];
 
@@ -209,11 +205,21 @@ static double k2_finish(const double *x, size_t m, size_t i, size_t n,
 		s0[r] = L[r] + L[r + 8];
 		s0h[r] = L[r + 4] + L[r + 12];
 	}
-	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
+	return ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
+	       ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
 #else
-	s = L[0];
+	return L[0];
 #endif
+}
+
+/* k2's end of a block from its lanes: the lane reduction, then the
+ * terms [i, n) in order */
+static double k2_finish(const double *x, size_t m, size_t i, size_t n,
+			const double *L)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m;
+	double s = lanes_sum(L);
+
 	for (; i < n; i++) {
 		double d = (c[i] - b[i]) - (b[i] - a[i]);
 
@@ -236,43 +242,86 @@ static double k2(const double *x, size_t m, size_t n)
 
 /*
  * sum_{i<n} (x[i+3m] - 3 x[i+2m] + 3 x[i+m] - x[i])^2, as second
- * differences of first differences.
+ * differences of first differences, in k2's lanes and reduction.
  */
-SSC_CLONES static double k3(const double *x, size_t m, size_t n)
-{
-	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
-	double s = 0;
-	size_t i = 0;
-
-#ifdef SSC_VEC
-	ssc_v4 s0 = { 0 }, s0h = { 0 }, s1 = { 0 }, s1h = { 0 };
-
-#define K3Q(acc, o)                                                            \
+#define K3TERM(T, LOAD, acc, o)                                                \
 	do {                                                                   \
-		ssc_v4 a0, b0, c0, e0, d, f, g;                                \
+		T a0, b0, c0, e0, d, f, g;                                     \
                                                                                \
-		V4LOAD(a0, a + i + (o));                                       \
-		V4LOAD(b0, b + i + (o));                                       \
-		V4LOAD(c0, c + i + (o));                                       \
-		V4LOAD(e0, e + i + (o));                                       \
+		LOAD(a0, a + i + (o));                                         \
+		LOAD(b0, b + i + (o));                                         \
+		LOAD(c0, c + i + (o));                                         \
+		LOAD(e0, e + i + (o));                                         \
 		f = b0 - a0;                                                   \
 		g = c0 - b0;                                                   \
 		d = ((e0 - c0) - g) - (g - f);                                 \
 		acc += d * d;                                                  \
 	} while (0)
-	for (; i + 16 <= n; i += 16) {
-		K3Q(s0, 0);
-		K3Q(s0h, 4);
-		K3Q(s1, 8);
-		K3Q(s1h, 12);
+
+/* lanes[r] += d_i^2 over i0 <= i < i1 as k2_lanes */
+SSC_CLONES static void k3_lanes(const double *x, size_t m, size_t i0,
+				size_t i1, double *lanes)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
+	size_t i = i0;
+
+#ifdef SSC_VEC
+	ssc_v4 s0, s0h, s1, s1h;
+
+	V4LOAD(s0, lanes);
+	V4LOAD(s0h, lanes + 4);
+	V4LOAD(s1, lanes + 8);
+	V4LOAD(s1h, lanes + 12);
+	for (; i < i1; i += 16) {
+		K3TERM(ssc_v4, V4LOAD, s0, 0);
+		K3TERM(ssc_v4, V4LOAD, s0h, 4);
+		K3TERM(ssc_v4, V4LOAD, s1, 8);
+		K3TERM(ssc_v4, V4LOAD, s1h, 12);
 	}
-#undef K3Q
-	/* the lanes of the two eight-lane accumulators of k2's layout */
-	s0 += s1;
-	s0h += s1h;
-	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0h[0] + s0h[1]) + (s0h[2] + s0h[3]));
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 4, &s0h, sizeof(s0h));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+	memcpy(lanes + 12, &s1h, sizeof(s1h));
+#else
+	double s = lanes[0];
+
+	for (; i < i1; i++) {
+		double f = b[i] - a[i], g = c[i] - b[i];
+		double d = ((e[i] - c[i]) - g) - (g - f);
+
+		s += d * d;
+	}
+	lanes[0] = s;
 #endif
+}
+
+#ifdef SSC_K512
+/* the same with 8-lane registers */
+SSC_K512 static void k3_lanes512(const double *x, size_t m, size_t i0,
+				 size_t i1, double *lanes)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
+	ssc_v8 s0, s1;
+
+	V8LOAD(s0, lanes);
+	V8LOAD(s1, lanes + 8);
+	for (size_t i = i0; i < i1; i += 16) {
+		K3TERM(ssc_v8, V8LOAD, s0, 0);
+		K3TERM(ssc_v8, V8LOAD, s1, 8);
+	}
+	memcpy(lanes, &s0, sizeof(s0));
+	memcpy(lanes + 8, &s1, sizeof(s1));
+}
+#endif
+#undef K3TERM
+
+/* k3's end of a block from its lanes, as k2_finish */
+static double k3_finish(const double *x, size_t m, size_t i, size_t n,
+			const double *L)
+{
+	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
+	double s = lanes_sum(L);
+
 	for (; i < n; i++) {
 		double f = b[i] - a[i], g = c[i] - b[i];
 		double d = ((e[i] - c[i]) - g) - (g - f);
@@ -280,6 +329,18 @@ SSC_CLONES static double k3(const double *x, size_t m, size_t n)
 		s += d * d;
 	}
 	return s;
+}
+
+static double k3(const double *x, size_t m, size_t n)
+{
+	double lanes[16] = { 0 };
+	size_t v = n;
+
+#ifdef SSC_VEC
+	v = n & ~(size_t)15;
+#endif
+	k3_lanes(x, m, 0, v, lanes);
+	return k3_finish(x, m, v, n, lanes);
 }
 
 #ifdef SSC_K512
@@ -301,39 +362,11 @@ SSC_K512 static double k2_512(const double *x, size_t m, size_t n)
 
 SSC_K512 static double k3_512(const double *x, size_t m, size_t n)
 {
-	const double *a = x, *b = x + m, *c = x + 2 * m, *e = x + 3 * m;
-	ssc_v8 s0 = { 0 }, s1 = { 0 };
-	double s;
-	size_t i = 0;
+	double lanes[16] = { 0 };
+	size_t v = n & ~(size_t)15;
 
-#define K3O(acc, o)                                                            \
-	do {                                                                   \
-		ssc_v8 a0, b0, c0, e0, d, f, g;                                \
-                                                                               \
-		V8LOAD(a0, a + i + (o));                                       \
-		V8LOAD(b0, b + i + (o));                                       \
-		V8LOAD(c0, c + i + (o));                                       \
-		V8LOAD(e0, e + i + (o));                                       \
-		f = b0 - a0;                                                   \
-		g = c0 - b0;                                                   \
-		d = ((e0 - c0) - g) - (g - f);                                 \
-		acc += d * d;                                                  \
-	} while (0)
-	for (; i + 16 <= n; i += 16) {
-		K3O(s0, 0);
-		K3O(s1, 8);
-	}
-#undef K3O
-	s0 += s1;
-	s = ((s0[0] + s0[1]) + (s0[2] + s0[3])) +
-	    ((s0[4] + s0[5]) + (s0[6] + s0[7]));
-	for (; i < n; i++) {
-		double f = b[i] - a[i], g = c[i] - b[i];
-		double d = ((e[i] - c[i]) - g) - (g - f);
-
-		s += d * d;
-	}
-	return s;
+	k3_lanes512(x, m, 0, v, lanes);
+	return k3_finish(x, m, v, n, lanes);
 }
 
 /*
