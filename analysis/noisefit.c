@@ -34,6 +34,7 @@
 
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_integration.h>
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_randist.h>
@@ -911,8 +912,11 @@ static double invert_bound(struct fitdata *f, unsigned mask,
  * bounds come from the distribution of th_j itself, simulated from the
  * fitted model with that term set to the bound being tested: the AVAR
  * points as Gamma variables (mean the model, shape from the model's
- * variance of each point) tied by a Gaussian copula with the correlation
- * of the model covariance, the estimator refitted on each (boot_pass()).
+ * variance of each point) tied by a Gaussian copula whose normals are
+ * correlated so that the Gamma points have the correlation of the model
+ * covariance (NORTA: M. C. Cario, B. L. Nelson, 1997; the normals' own
+ * correlation would leave skewed points less correlated than the model
+ * says), the estimator refitted on each (boot_pass()).
  * Every replicate is taken as linear in the tested value b around b0
  * (th*_r(b) = u_r + (b - b0) v_r, the shapes and correlation held at
  * b0), so each bound is found by bisection on b without new draws; it is
@@ -940,6 +944,8 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 #define GT_NU_LO 0.1
 #define GT_NU_HI 16.0
 #define GT_Z_MAX 5.0
+#define GH_N 48    /* Gauss-Hermite nodes of a margin's Hermite coefficients */
+#define HK 12      /* Hermite terms of the copula's correlation map */
 
 struct boot {
 	size_t n, reps;
@@ -956,6 +962,10 @@ struct boot {
 			  its model and weights */
 	double *nu, *mu0, *u, *v;
 	struct gq_col *gc; /* n: gq()'s columns of the points' nu */
+	double *hc;     /* n x HK: k! c_k of each margin (c_k its Hermite
+			   coefficients), scaled to unit sum of squares */
+	double gh_x[GH_N], gh_w[GH_N]; /* nodes and weights, weight
+					  exp(-z^2/2) / sqrt(2 pi) */
 	double var_u, cov_uv, var_v; /* moments of the replicates */
 	/* chi2_nu quantile / nu minus its Wilson-Hilferty value */
 	double tab[GT_NU][GT_Z];
@@ -1152,6 +1162,7 @@ static void boot_free(struct boot *bt)
 	free(bt->u);
 	free(bt->v);
 	free(bt->gc);
+	free(bt->hc);
 }
 
 /* the first @p count standard normals of the bootstrap's fixed sequence */
@@ -1166,6 +1177,95 @@ static int boot_normals(double *e, size_t count)
 		e[i] = gsl_ran_gaussian_ziggurat(rng, 1);
 	gsl_rng_free(rng);
 	return 0;
+}
+
+/* Gauss-Hermite nodes and weights for the standard normal density */
+static int gh_nodes(struct boot *bt)
+{
+	gsl_integration_fixed_workspace *w = gsl_integration_fixed_alloc(
+		gsl_integration_fixed_hermite, GH_N, 0, 0.5, 0, 0);
+
+	if (!w)
+		return -ENOMEM;
+	for (size_t i = 0; i < GH_N; i++) {
+		bt->gh_x[i] = gsl_integration_fixed_nodes(w)[i];
+		bt->gh_w[i] = gsl_integration_fixed_weights(w)[i] /
+			      sqrt(2 * PI);
+	}
+	gsl_integration_fixed_free(w);
+	return 0;
+}
+
+/*
+ * The Hermite coefficients of point a's margin g(z) = gq(z): g = sum_k c_k
+ * He_k(z), c_k = E[g He_k] / k!; hc gets k! c_k for k = 1 .. HK divided
+ * by sqrt(sum_k k! c_k^2), so that two margins tied by normals of
+ * correlation r have correlation sum_k hc_a,k hc_b,k r^k (Mehler's
+ * formula; the series cut after HK terms, where r^k is small but at the
+ * diagonal, and normalised on its own terms, so r = 1 gives 1 for equal
+ * margins).
+ */
+static void herm_coefs(const struct boot *bt, const struct gq_col *g,
+		       double *hc)
+{
+	double c[HK] = { 0 }, ss = 0, fact = 1;
+
+	for (size_t i = 0; i < GH_N; i++) {
+		double z = bt->gh_x[i], gz = bt->gh_w[i] * gq(bt, g, z);
+		double h0 = 1, h1 = z;
+
+		/* He_{k+1} = z He_k - k He_{k-1} */
+		for (int k = 1; k <= HK; k++) {
+			double h2 = z * h1 - k * h0;
+
+			c[k - 1] += gz * h1;
+			h0 = h1;
+			h1 = h2;
+		}
+	}
+	/* c[k-1] = E[g He_k] = k! c_k; k! c_k^2 = (k! c_k)^2 / k! */
+	for (int k = 1; k <= HK; k++) {
+		fact *= k;
+		hc[k - 1] = c[k - 1] / sqrt(fact);
+		ss += hc[k - 1] * hc[k - 1];
+	}
+	for (int k = 0; k < HK; k++)
+		hc[k] = ss > 0 ? hc[k] / sqrt(ss) : (k == 0);
+}
+
+/*
+ * The correlation r of the normals that gives two margins (hc of each
+ * from herm_coefs()) the correlation rho: the root of sum_k a_k b_k r^k
+ * = rho in [-1, 1] (Newton, kept in a bracket: the map is increasing
+ * where the margins are alike, as here).  NORTA (Cario & Nelson, 1997):
+ * a skewed margin of a normal loses correlation, most at small EDF.
+ */
+static double norta_r(const double *a, const double *b, double rho)
+{
+	double lo = -1, hi = 1, r = rho;
+
+	for (int it = 0; it < 60; it++) {
+		double f = 0, df = 0, p = 1;
+
+		for (int k = 0; k < HK; k++) {
+			df += (k + 1) * a[k] * b[k] * p;
+			p *= r;
+			f += a[k] * b[k] * p;
+		}
+		f -= rho;
+		if (f > 0)
+			hi = r;
+		else
+			lo = r;
+		if (fabs(f) < 1e-12)
+			break;
+		r = df > 0 ? r - f / df : (lo + hi) / 2;
+		if (!(r > lo && r < hi))
+			r = (lo + hi) / 2;
+		if (hi - lo < 1e-12)
+			break;
+	}
+	return r;
 }
 
 static int plan_boot(struct sscope_noise_plan *pl, size_t count);
@@ -1199,8 +1299,14 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->u = ssc_alloc_array(R, sizeof(double));
 	bt->v = ssc_alloc_array(R, sizeof(double));
 	bt->gc = ssc_alloc_array(n, sizeof(*bt->gc));
+	bt->hc = ssc_alloc_array(n * HK, sizeof(double));
 	if (!bt->e || !bt->L || !bt->H || !bt->B || !bt->w0 || !bt->ys ||
-	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc) {
+	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc ||
+	    !bt->hc) {
+		boot_free(bt);
+		return -ENOMEM;
+	}
+	if (gh_nodes(bt)) {
 		boot_free(bt);
 		return -ENOMEM;
 	}
@@ -1362,20 +1468,25 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 			return -EDOM;
 		bt->nu[a] = 2 * bt->mu0[a] * bt->mu0[a] / saa;
 		gq_prep(bt->nu[a], &bt->gc[a]);
-		for (size_t b = 0; b <= a; b++)
-			bt->L[a * n + b] = gsl_matrix_get(f->S, a, b) /
-					   sqrt(saa * gsl_matrix_get(f->S, b, b));
+		herm_coefs(bt, &bt->gc[a], bt->hc + a * HK);
+		for (size_t b = 0; b < a; b++)
+			bt->L[a * n + b] = norta_r(
+				bt->hc + a * HK, bt->hc + b * HK,
+				gsl_matrix_get(f->S, a, b) /
+					sqrt(saa * gsl_matrix_get(f->S, b, b)));
+		bt->L[a * n + a] = 1;
 	}
+	/* the factor overwrites the lower triangle: the correlations are
+	 * kept above the diagonal for a second try */
+	for (size_t a = 0; a < n; a++)
+		for (size_t b = 0; b < a; b++)
+			bt->L[b * n + a] = bt->L[a * n + b];
 	if (chol(bt->L, n, n)) {
 		/* nearly singular correlation: shrink it a little */
 		for (size_t a = 0; a < n; a++)
-			for (size_t b = 0; b <= a; b++) {
-				double s = gsl_matrix_get(f->S, a, b) /
-					   sqrt(gsl_matrix_get(f->S, a, a) *
-						gsl_matrix_get(f->S, b, b));
-
-				bt->L[a * n + b] = a == b ? 1 : 0.999 * s;
-			}
+			for (size_t b = 0; b <= a; b++)
+				bt->L[a * n + b] =
+					a == b ? 1 : 0.999 * bt->L[b * n + a];
 		if (chol(bt->L, n, n))
 			return -EDOM;
 	}
