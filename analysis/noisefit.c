@@ -955,6 +955,10 @@ struct boot {
 	double *e;      /* reps x n standard normals */
 	double *L;      /* n x n Cholesky factor of the correlation */
 	double *H;      /* NT x n hat rows */
+	double D[NT][NT]; /* D[j][k]: change of the estimate of square k per
+			     unit of square j when j is held fixed (the
+			     restricted fit of the others) */
+	double *dm;     /* n: the restricted model's change per unit of b */
 	double *B;      /* NT x n basis values at the taus */
 	double *w0;     /* n: EDF / (2 scale^2), the weight times model^2 */
 	unsigned threads; /* threads of the replicate loop */
@@ -1090,9 +1094,11 @@ static double gq(const struct boot *bt, const struct gq_col *g, double z)
 }
 
 /* hat rows (A'WA)^-1 A'W of the terms of mask, weights from mu, columns
- * scaled for the inverse; rows of other terms 0 */
+ * scaled for the inverse; rows of other terms 0.  D[j][k] = (A'WA)^-1_kj /
+ * (A'WA)^-1_jj: with square j held at th_j + d, the weighted least
+ * squares of the other terms of mask moves them by d D[j][k]. */
 static int hat_rows(const struct fitdata *f, unsigned mask, const double *mu,
-		    double *H)
+		    double *H, double D[NT][NT])
 {
 	int cols[NT], p = 0, rc = 0;
 	double cs[NT];
@@ -1129,6 +1135,16 @@ static int hat_rows(const struct fitdata *f, unsigned mask, const double *mu,
 		rc = -EDOM;
 		goto out;
 	}
+	for (int a = 0; a < NT; a++)
+		for (int b = 0; b < NT; b++)
+			D[a][b] = a == b;
+	for (int a = 0; a < p; a++)
+		for (int b = 0; b < p; b++)
+			if (b != a)
+				D[cols[a]][cols[b]] =
+					gsl_matrix_get(Minv, (size_t)b, (size_t)a) /
+					gsl_matrix_get(Minv, (size_t)a, (size_t)a) *
+					cs[a] / cs[b];
 	for (size_t k = 0; k < f->n; k++) {
 		double w = f->edf[k] /
 			   (2 * f->scale[k] * f->scale[k] * mu[k] * mu[k]);
@@ -1153,6 +1169,7 @@ static void boot_free(struct boot *bt)
 	free(bt->e);
 	free(bt->L);
 	free(bt->H);
+	free(bt->dm);
 	free(bt->B);
 	free(bt->w0);
 	free(bt->ys);
@@ -1290,6 +1307,7 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->e = ssc_alloc_array(R * n, sizeof(double));
 	bt->L = ssc_alloc_array(n * n, sizeof(double));
 	bt->H = ssc_alloc_array(NT * n, sizeof(double));
+	bt->dm = ssc_alloc_array(n, sizeof(double));
 	bt->B = ssc_alloc_array(NT * n, sizeof(double));
 	bt->w0 = ssc_alloc_array(n, sizeof(double));
 	bt->ys = ssc_alloc_array(bt->threads * n, sizeof(double));
@@ -1300,7 +1318,8 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->v = ssc_alloc_array(R, sizeof(double));
 	bt->gc = ssc_alloc_array(n, sizeof(*bt->gc));
 	bt->hc = ssc_alloc_array(n * HK, sizeof(double));
-	if (!bt->e || !bt->L || !bt->H || !bt->B || !bt->w0 || !bt->ys ||
+	if (!bt->e || !bt->L || !bt->H || !bt->dm || !bt->B || !bt->w0 ||
+	    !bt->ys ||
 	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc ||
 	    !bt->hc) {
 		boot_free(bt);
@@ -1328,7 +1347,7 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 		}
 		gt_fill(bt);
 	}
-	if (hat_rows(f, mask, mu, bt->H)) {
+	if (hat_rows(f, mask, mu, bt->H, bt->D)) {
 		boot_free(bt);
 		return -EDOM;
 	}
@@ -1432,7 +1451,17 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 
 /*
  * Replicates of the estimate of th[j] under the fitted model with th[j]
- * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  u_r is the
+ * set to b0 and the other terms at their restricted estimates (the
+ * weighted least squares of the others with th[j] held at b0, negative
+ * squares as 0): bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  The
+ * restricted estimates matter where two terms trade off (B and K on a
+ * record of a few hours): with the others held at their unrestricted
+ * estimates, a low estimate of K comes with a high B, wider replicates
+ * and so a higher bound (B. Sen, M. Walker, M. Woodroofe, "On the
+ * unified method with nuisance parameters", Statistica Sinica 19, 301,
+ * 2009); over 400 simulated records of each of 1, 3, 6, 12 and 24 h
+ * (tests/bench-noisefit.c) K's intervals covered 72.0 % on 1 h records
+ * that way, 67.3 % this way, 68.3 % nominal.  u_r is the
  * estimator refitted on the replicate, weights and all: its weights come
  * from the points it weighs, which pulls an estimate carried by a few
  * degrees of freedom low (a low point gets a low model and so a high
@@ -1445,18 +1474,26 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		     int j, double b0)
 {
-	double t2[NT], c[NT];
+	double t2[NT], c[NT], dk[NT];
 	const double *h = bt->H + (size_t)j * f->n;
 	size_t n = f->n;
 
-	for (int k = 0; k < NT; k++)
-		t2[k] = fmax(th[k], 0);
+	for (int k = 0; k < NT; k++) {
+		double t = th[k] + (b0 - th[j]) * bt->D[j][k];
+
+		t2[k] = fmax(t, 0);
+		dk[k] = t > 0 ? bt->D[j][k] : 0; /* d t2[k] / d b0 */
+	}
 	t2[j] = fmax(b0, 0);
+	dk[j] = 1;
 	th_to_coef(t2, c);
 	for (size_t a = 0; a < n; a++) {
 		bt->mu0[a] = 0;
-		for (int k = 0; k < NT; k++)
+		bt->dm[a] = 0;
+		for (int k = 0; k < NT; k++) {
 			bt->mu0[a] += t2[k] * basis(k, f->tau[a]);
+			bt->dm[a] += dk[k] * basis(k, f->tau[a]);
+		}
 		if (!(bt->mu0[a] > 0))
 			return -EDOM;
 	}
@@ -1525,7 +1562,7 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 
 			ys[a] = bt->mu0[a] * g;
 			u += h[a] * ys[a];
-			v += h[a] * bt->B[(size_t)j * n + a] * g;
+			v += h[a] * bt->dm[a] * g;
 		}
 		if (boot_wls(bt, ys, bt->ms + t * 2 * n, tr) == 0)
 			u = tr[j];
