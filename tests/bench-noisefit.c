@@ -8,6 +8,9 @@
  * "not resolved: below X") holds the truth, how often the term is fitted,
  * and the median relative error of the fitted values.  R is zero in the
  * truth: its line counts how often a spurious ramp is reported as fitted.
+ * Each coverage has a binomial standard error (se: sqrt(p (1 - p) / runs)
+ * at the nominal p, 3.3 points for 200 runs), and the last lines pool
+ * each term's coverage over all record lengths.
  *
  * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR [SEED]]]]
  * (default 200; 1,3,6,12,24; 0; 0: realisation r of the h-th length uses
@@ -105,6 +108,8 @@ int main(int argc, char **argv)
 	const double to_disp[5] = { 3600 / D2R, 60 / D2R, 3600 / D2R,
 				    3600 * 60 / D2R, 3600 * 3600 / D2R };
 	double t_all = now_s();
+	const double nominal = 0.682689492137086;
+	int pool_cover[5] = { 0 }, pool_runs = 0;
 
 	if (argc > 2) {
 		char *s = argv[2], *e;
@@ -150,9 +155,10 @@ int main(int argc, char **argv)
 	       "# low, high: truth below lo, above hi (the misses by side); est: median\n"
 	       "# (estimate/truth - 1) over all runs, the estimate of a term not fitted\n"
 	       "# included (a negative square as 0)\n");
-	printf("%6s %4s %8s %8s %9s %10s %7s %7s %7s %7s\n", "hours", "term",
-	       "cover%", "fitted%", "bias%", "bound_ok%", "low%", "high%", "est%",
-	       "time_s");
+	printf("# se: standard error of cover%% at the nominal level\n");
+	printf("%6s %4s %8s %5s %8s %9s %10s %7s %7s %7s %7s\n", "hours", "term",
+	       "cover%", "se%", "fitted%", "bias%", "bound_ok%", "low%", "high%",
+	       "est%", "time_s");
 	for (int h = 0; h < n_hours; h++) {
 		size_t n = (size_t)(hours[h] * 3600 * fs);
 		struct tally t;
@@ -224,8 +230,10 @@ int main(int argc, char **argv)
 				      sizeof(double), cmp_d);
 				est = t.allerr[j][t.n_allerr[j] / 2];
 			}
-			printf("%6g %4c %8.1f %8.1f %9.1f %10.1f %7.1f %7.1f %7.1f %7.1f\n",
+			pool_cover[j] += t.cover[j];
+			printf("%6g %4c %8.1f %5.1f %8.1f %9.1f %10.1f %7.1f %7.1f %7.1f %7.1f\n",
 			       hours[h], names[j], 100.0 * t.cover[j] / runs,
+			       100 * sqrt(nominal * (1 - nominal) / runs),
 			       100.0 * t.fitted[j] / runs, 100 * bias,
 			       t.bound_n[j] ? 100.0 * t.bound_ok[j] / t.bound_n[j] :
 					      (double)NAN,
@@ -234,10 +242,15 @@ int main(int argc, char **argv)
 			free(t.relerr[j]);
 			free(t.allerr[j]);
 		}
+		pool_runs += t.runs;
 		if (failed)
 			printf("# %g h: %d runs failed\n", hours[h], failed);
 		fflush(stdout);
 	}
+	for (int j = 0; j < 5 && pool_runs > 0; j++)
+		printf("# pooled %c: cover %.1f %% of %d runs (se %.1f)\n", names[j],
+		       100.0 * pool_cover[j] / pool_runs, pool_runs,
+		       100 * sqrt(nominal * (1 - nominal) / pool_runs));
 	printf("# total %.1f s\n", now_s() - t_all);
 	return 0;
 }
