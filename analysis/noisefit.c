@@ -1451,17 +1451,20 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
 
 /*
  * Replicates of the estimate of th[j] under the fitted model with th[j]
- * set to b0 and the other terms at their restricted estimates (the
- * weighted least squares of the others with th[j] held at b0, negative
- * squares as 0): bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  The
- * restricted estimates matter where two terms trade off (B and K on a
- * record of a few hours): with the others held at their unrestricted
- * estimates, a low estimate of K comes with a high B, wider replicates
- * and so a higher bound (B. Sen, M. Walker, M. Woodroofe, "On the
- * unified method with nuisance parameters", Statistica Sinica 19, 301,
- * 2009); over 400 simulated records of each of 1, 3, 6, 12 and 24 h
- * (tests/bench-noisefit.c) K's intervals covered 72.0 % on 1 h records
- * that way, 67.3 % this way, 68.3 % nominal.  u_r is the
+ * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  For an upper
+ * bound (restricted) the other terms are at their estimates restricted to
+ * th[j] = b0 (the weighted least squares of the others with th[j] held,
+ * negative squares as 0), else at their free estimates.  The restricted
+ * estimates matter where two terms trade off (B and K on a record of a
+ * few hours): with the others at their free estimates, a low estimate of
+ * K comes with a high B, wider replicates and so a higher bound (B. Sen,
+ * M. Walker, M. Woodroofe, "On the unified method with nuisance
+ * parameters", Statistica Sinica 19, 301, 2009).  A lower bound keeps the
+ * free estimates: it exists only for a term resolved by the 3-sd rule,
+ * whose sd is that of the free fit, and restricted to a small value the
+ * partner term of a trade-off grows, widens the replicates and puts the
+ * lower bound of a resolved term at 0 (B on the 1 h static gyro sample).
+ * u_r is the
  * estimator refitted on the replicate, weights and all: its weights come
  * from the points it weighs, which pulls an estimate carried by a few
  * degrees of freedom low (a low point gets a low model and so a high
@@ -1472,17 +1475,18 @@ static int boot_wls(const struct boot *bt, const double *y, double *ms,
  * (tests/bench-noisefit.c).
  */
 static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
-		     int j, double b0)
+		     int j, double b0, bool restricted)
 {
 	double t2[NT], c[NT], dk[NT];
 	const double *h = bt->H + (size_t)j * f->n;
 	size_t n = f->n;
 
 	for (int k = 0; k < NT; k++) {
-		double t = th[k] + (b0 - th[j]) * bt->D[j][k];
+		double d = restricted ? bt->D[j][k] : 0;
+		double t = th[k] + (b0 - th[j]) * d;
 
 		t2[k] = fmax(t, 0);
-		dk[k] = t > 0 ? bt->D[j][k] : 0; /* d t2[k] / d b0 */
+		dk[k] = t > 0 ? d : 0; /* d t2[k] / d b0 */
 	}
 	t2[j] = fmax(b0, 0);
 	dk[j] = 1;
@@ -1680,7 +1684,7 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
 	if (!isfinite(b_start))
 		return b_start;
 	for (int pass = 0; pass < BOOT_PASSES; pass++) {
-		if (boot_pass(bt, f, th, j, b0))
+		if (boot_pass(bt, f, th, j, b0, s > 0))
 			return b;
 		b = boot_solve(bt, th[j], b0, s, forced, sd > 0 ? sd : fabs(th[j]));
 		if (!isfinite(b) || fabs(b - b0) <= 1e-3 * fabs(b))
