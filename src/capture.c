@@ -7,6 +7,8 @@
 #include "internal.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,6 +134,115 @@ static int grow(struct sscope_capture *cap, size_t rows)
 		cap->temp_degc = p;
 	}
 	return 0;
+}
+
+/*
+ * After the rows are read: every channel is checked for NaN (counted) and
+ * for values infinite in SI units (an error, reported for the first such
+ * channel and row), and the time column is analysed.  On a long capture
+ * with a time column the analysis's two passes (sscope_timing_split_*) run
+ * on two threads, which then share the channels to check; the results are
+ * those of doing it all in order.
+ */
+struct finish {
+	struct sscope_capture *cap;
+	size_t n;
+	struct sscope_timing_split sp;
+	double *scratch;
+	atomic_size_t next;  /* the next channel to check */
+	size_t *inf_row;     /* per channel: the first infinite row, or SIZE_MAX */
+};
+
+static void check_channels(struct finish *f)
+{
+	for (;;) {
+		size_t k = atomic_fetch_add(&f->next, 1), nan = 0, i;
+		const double *d;
+
+		if (k >= f->cap->n_channels)
+			return;
+		d = f->cap->channels[k].data;
+		for (i = 0; i < f->n; i++) {
+			nan += isnan(d[i]);
+			if (isinf(d[i]))
+				break;
+		}
+		f->inf_row[k] = i < f->n ? i : SIZE_MAX;
+		f->cap->channels[k].n_nan = nan;
+	}
+}
+
+static void *median_run(void *arg)
+{
+	struct finish *f = arg;
+
+	sscope_timing_split_median(&f->sp, f->cap->time_s, f->n, f->scratch);
+	check_channels(f);
+	return NULL;
+}
+
+/* rows from which the time column's analysis takes a second thread */
+#define FINISH_THREAD_ROWS ((size_t)1 << 16)
+
+static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
+		       const char *path, struct sscope_diag *diag)
+{
+	struct finish f = { .cap = cap, .n = n };
+	bool timed = cap->time_s && n >= 2, started = false;
+	pthread_t tid;
+	int rc = 0;
+
+	f.inf_row = calloc(cap->n_channels ? cap->n_channels : 1,
+			   sizeof(*f.inf_row));
+	if (timed) {
+		f.scratch = ssc_alloc_array(n - 1, sizeof(double));
+		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
+	}
+	if (!f.inf_row || (timed && (!f.scratch || !cap->gaps))) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	atomic_init(&f.next, 0);
+	if (timed && threads > 1 && n >= FINISH_THREAD_ROWS)
+		started = pthread_create(&tid, NULL, median_run, &f) == 0;
+	if (timed && started)
+		sscope_timing_split_sums(&f.sp, cap->time_s, n);
+	check_channels(&f);
+	if (started)
+		pthread_join(tid, NULL);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		if (f.inf_row[k] != SIZE_MAX) {
+			/* finite in the file, infinite in SI (1e308 g) */
+			rc = ssc_diag(diag, -ERANGE,
+				      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
+				      strcmp(path, "-") ? path : "(stdin)",
+				      cap->channels[k].col.name, f.inf_row[k] + 1,
+				      cap->channels[k].col.unit_label);
+			goto out;
+		}
+		cap->n_nan += cap->channels[k].n_nan;
+	}
+	if (timed) {
+		if (started)
+			rc = sscope_timing_split_join(&f.sp, cap->time_s, n,
+						      1.5, &cap->timing,
+						      cap->gaps,
+						      SSCOPE_CAPTURE_GAPS,
+						      &cap->n_gaps);
+		else
+			rc = sscope_timing_analyze(cap->time_s, n, 1.5,
+						   &cap->timing, cap->gaps,
+						   SSCOPE_CAPTURE_GAPS,
+						   &cap->n_gaps, f.scratch);
+		if (rc == 0)
+			cap->has_timing = true;
+		else if (rc == -EDOM)
+			rc = 0;
+	}
+out:
+	free(f.scratch);
+	free(f.inf_row);
+	return rc;
 }
 
 int sscope_capture_load(struct sscope_capture **out, const char *path,
@@ -262,45 +373,10 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 	}
-	for (size_t k = 0; k < cap->n_channels; k++) {
-		const double *d = cap->channels[k].data;
-		size_t nan = 0;
-
-		for (size_t i = 0; i < n; i++) {
-			nan += isnan(d[i]);
-			/* finite in the file, infinite in SI (1e308 g) */
-			if (isinf(d[i])) {
-				rc = ssc_diag(diag, -ERANGE,
-					      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
-					      strcmp(path, "-") ? path : "(stdin)",
-					      cap->channels[k].col.name, i + 1,
-					      cap->channels[k].col.unit_label);
-				goto fail;
-			}
-		}
-		cap->channels[k].n_nan = nan;
-		cap->n_nan += nan;
-	}
+	rc = finish_load(cap, n, threads, path, diag);
+	if (rc)
+		goto fail;
 rate:
-	if (cap->time_s && n >= 2) {
-		double *scratch = ssc_alloc_array(n - 1, sizeof(double));
-
-		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
-		if (!scratch || !cap->gaps) {
-			free(scratch);
-			rc = -ENOMEM;
-			goto fail;
-		}
-		rc = sscope_timing_analyze(cap->time_s, n, 1.5, &cap->timing,
-					   cap->gaps, SSCOPE_CAPTURE_GAPS,
-					   &cap->n_gaps, scratch);
-		free(scratch);
-		if (rc == 0)
-			cap->has_timing = true;
-		else if (rc != -EDOM)
-			goto fail;
-		rc = 0;
-	}
 	if (opts && opts->rate_hz > 0) {
 		cap->rate_hz = opts->rate_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_GIVEN;
