@@ -1597,8 +1597,9 @@ static void set_t0(struct sscope_reader *r, const char *a, const char *b,
 /* Time since the first row from the exact decimal mant * 10^x when both
  * stamps have the same number of decimals (one rounding), else from the
  * doubles. */
-static double time_since(const struct sscope_reader *r, bool exact,
-			 int64_t m, int x, double v)
+static inline __attribute__((always_inline)) double
+time_since(const struct sscope_reader *r, bool exact, int64_t m, int x,
+	   double v)
 {
 	static const double p10[] = { 1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
 				      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
@@ -1909,8 +1910,10 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * rewrites the whole row. */
 /* bits set in x (without the popcnt instruction, which SSSE3 processors
  * may lack, and without a library call) */
-static inline size_t bits64(uint64_t x)
+static ALWAYS_INLINE size_t bits64(uint64_t x, bool hw)
 {
+	if (hw)
+		return (size_t)__builtin_popcountll(x);
 	x -= (x >> 1) & 0x5555555555555555ull;
 	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
 	x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
@@ -1920,8 +1923,9 @@ static inline size_t bits64(uint64_t x)
 /* Past the last column in use: the rest of the line is k separators, k - 1
  * delimiters then the newline, counted from the masks without visiting
  * them; the start of the next line, or NULL as next_sep. */
-static inline const char *skip_rest(struct sepscan *sc, const char *end,
-				    char d, size_t k)
+static ALWAYS_INLINE const char *skip_rest(struct sepscan *sc,
+					   const char *end, char d, size_t k,
+					   bool hw)
 {
 	for (;;) {
 		uint64_t nl = sc->nl & sc->m;
@@ -1929,15 +1933,15 @@ static inline const char *skip_rest(struct sepscan *sc, const char *end,
 		if (nl) {
 			uint64_t upto = (nl & -nl) - 1; /* bits below the newline */
 
-			if (bits64(sc->m & upto) != k - 1)
+			if (bits64(sc->m & upto, hw) != k - 1)
 				return NULL; /* ragged: the careful path says so */
 			sc->m &= ~(upto | (upto + 1));
 			return sc->blk + __builtin_ctzll(nl) + 1;
 		}
 		/* only delimiters left in this block */
-		if (bits64(sc->m) > k - 1)
+		if (bits64(sc->m, hw) > k - 1)
 			return NULL;
-		k -= bits64(sc->m);
+		k -= bits64(sc->m, hw);
 		sc->m = 0;
 		sc->blk += 64;
 		if (end - sc->blk < 64)
@@ -1949,7 +1953,7 @@ static inline const char *skip_rest(struct sepscan *sc, const char *end,
 static ALWAYS_INLINE const char *
 scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd,
-	  size_t n_used)
+	  bool hw, size_t n_used)
 {
 	const char d = r->delim;
 	const size_t last = r->ncols - 1;
@@ -1968,7 +1972,8 @@ scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 		}
 		p = b + 1;
 	}
-	return n_used > last ? p : skip_rest(sc, end, d, last + 1 - n_used);
+	return n_used > last ? p :
+	       skip_rest(sc, end, d, last + 1 - n_used, hw);
 }
 
 static bool skip_line(const char *p, const char *e)
@@ -1985,7 +1990,7 @@ static ALWAYS_INLINE int
 parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		bool eof, size_t *line, struct sscope_reader_chunk *ch, size_t row,
 		size_t max_rows, size_t *rows_out, const char **stop,
-		struct sscope_diag *diag, bool simd)
+		struct sscope_diag *diag, bool simd, bool hw)
 {
 	size_t n = 0, ln = *line, n_used = 0;
 	struct sepscan sc = { 0 };
@@ -2007,7 +2012,7 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 			}
 			if (synced &&
 			    (next = scan_line(r, &sc, p, end, ch, row + n,
-					       simd, n_used))) {
+					       simd, hw, n_used))) {
 				ln++;
 				n++;
 				p = next;
@@ -2046,7 +2051,7 @@ static int parse_rows_plain(const struct sscope_reader *r, const char *p,
 			    const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
-			       rows_out, stop, diag, false);
+			       rows_out, stop, diag, false, false);
 }
 
 #ifdef SSC_HAVE_PARSE_CELL_SSSE3
@@ -2057,7 +2062,18 @@ parse_rows_ssse3(const struct sscope_reader *r, const char *p,
 		 size_t *rows_out, const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
-			       rows_out, stop, diag, true);
+			       rows_out, stop, diag, true, false);
+}
+
+/* the same with the population count instruction */
+__attribute__((target("ssse3,popcnt"))) static int
+parse_rows_popcnt(const struct sscope_reader *r, const char *p,
+		  const char *end, bool eof, size_t *line,
+		  struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
+		  size_t *rows_out, const char **stop, struct sscope_diag *diag)
+{
+	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
+			       rows_out, stop, diag, true, true);
 }
 #endif
 
@@ -2069,6 +2085,9 @@ static int parse_rows(const struct sscope_reader *r, const char *p,
 		      struct sscope_diag *diag)
 {
 #ifdef SSC_HAVE_PARSE_CELL_SSSE3
+	if (__builtin_cpu_supports("ssse3") && __builtin_cpu_supports("popcnt"))
+		return parse_rows_popcnt(r, p, end, eof, line, ch, row,
+					 max_rows, rows_out, stop, diag);
 	if (__builtin_cpu_supports("ssse3"))
 		return parse_rows_ssse3(r, p, end, eof, line, ch, row,
 					max_rows, rows_out, stop, diag);
