@@ -1594,28 +1594,38 @@ static void set_t0(struct sscope_reader *r, const char *a, const char *b,
 		r->t0_exp = 1000; /* marks "not exact" */
 }
 
-/* Time since the first row from the exact decimal mant * 10^x when both
- * stamps have the same number of decimals (one rounding), else from the
- * doubles. */
-static inline __attribute__((always_inline)) double
-time_since(const struct sscope_reader *r, bool exact, int64_t m, int x,
-	   double v)
+/* Time since the first row from the exact decimal m * 10^x when both
+ * stamps have the same number of decimals (one rounding): true with *dt
+ * set, else false. */
+static inline __attribute__((always_inline)) bool
+time_exact(const struct sscope_reader *r, int64_t m, int x, double *dt)
 {
 	static const double p10[] = { 1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
 				      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
 				      1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
 				      1e21, 1e22 };
 	int64_t d;
+	double dd;
 
-	if (exact && r->t0_exp != 1000 && x == r->t0_exp &&
-	    !__builtin_sub_overflow(m, r->t0_mant, &d)) {
-		double dd = (double)d;
+	if (r->t0_exp == 1000 || x != r->t0_exp ||
+	    __builtin_sub_overflow(m, r->t0_mant, &d))
+		return false;
+	dd = (double)d;
+	if (x < 0 && x >= -22)
+		*dt = dd / p10[-x];
+	else
+		*dt = x == 0 ? dd : dd * pow(10, x);
+	return true;
+}
 
-		if (x < 0 && x >= -22)
-			return dd / p10[-x];
-		return x == 0 ? dd : dd * pow(10, x);
-	}
-	return v - r->t0_double;
+/* The same, else from the doubles. */
+static inline __attribute__((always_inline)) double
+time_since(const struct sscope_reader *r, bool exact, int64_t m, int x,
+	   double v)
+{
+	double dt;
+
+	return exact && time_exact(r, m, x, &dt) ? dt : v - r->t0_double;
 }
 
 /* The same from the text of the time cell. */
@@ -1885,6 +1895,24 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
 	int f;
 	size_t n;
 
+	if (e - r->base >= 16 && c->is_time && c->dest < 0 && !c->is_temp &&
+	    plain_cell(a, e, simd, NULL, &m, &f)) {
+		/* a time column read for its time alone: its value is needed
+		 * only when the stamps' decimals differ */
+		double dt;
+
+		if (!time_exact(r, m, -f, &dt)) {
+			if (!m) /* (the sign of a zero) */
+				goto value;
+			ssc_cell_value((uint64_t)(m < 0 ? -m : m), (unsigned)f,
+				       m < 0, &v, &m, &f);
+			dt = v - r->t0_double;
+		}
+		if (ch->time_s)
+			ch->time_s[row] = dt * c->c.unit.scale;
+		return true;
+	}
+value:
 	if (e - r->base >= 16 && plain_cell(a, e, simd, &v, &m, &f)) {
 		if (c->dest >= 0 && ch->data[c->dest])
 			ch->data[c->dest][row] =
