@@ -139,10 +139,11 @@ static int grow(struct sscope_capture *cap, size_t rows)
 /*
  * After the rows are read: every channel is checked for NaN (counted) and
  * for values infinite in SI units (an error, reported for the first such
- * channel and row), and the time column is analysed.  On a long capture
- * with a time column the analysis's two passes (sscope_timing_split_*) run
- * on two threads, which then share the channels to check; the results are
- * those of doing it all in order.
+ * channel and row), the time column is analysed and the reader closed.  On
+ * a long capture with a time column the analysis's two passes
+ * (sscope_timing_split_*) run on two threads, the second one closing the
+ * reader (unmapping the file) after its pass, and both then share the
+ * channels to check; the results are those of doing it all in order.
  */
 struct finish {
 	struct sscope_capture *cap;
@@ -151,6 +152,7 @@ struct finish {
 	double *scratch;
 	atomic_size_t next;  /* the next channel to check */
 	size_t *inf_row;     /* per channel: the first infinite row, or SIZE_MAX */
+	struct sscope_reader *r; /* closed by the second thread */
 };
 
 static void check_channels(struct finish *f)
@@ -177,6 +179,8 @@ static void *median_run(void *arg)
 	struct finish *f = arg;
 
 	sscope_timing_split_median(&f->sp, f->cap->time_s, f->n, f->scratch);
+	sscope_reader_close(f->r);
+	f->r = NULL;
 	check_channels(f);
 	return NULL;
 }
@@ -185,9 +189,10 @@ static void *median_run(void *arg)
 #define FINISH_THREAD_ROWS ((size_t)1 << 16)
 
 static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
-		       const char *path, struct sscope_diag *diag)
+		       struct sscope_reader *r, const char *path,
+		       struct sscope_diag *diag)
 {
-	struct finish f = { .cap = cap, .n = n };
+	struct finish f = { .cap = cap, .n = n, .r = r };
 	bool timed = cap->time_s && n >= 2, started = false;
 	pthread_t tid;
 	int rc = 0;
@@ -210,6 +215,8 @@ static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
 	check_channels(&f);
 	if (started)
 		pthread_join(tid, NULL);
+	sscope_reader_close(f.r);
+	f.r = NULL;
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		if (f.inf_row[k] != SIZE_MAX) {
 			/* finite in the file, infinite in SI (1e308 g) */
@@ -240,6 +247,7 @@ static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
 			rc = 0;
 	}
 out:
+	sscope_reader_close(f.r);
 	free(f.scratch);
 	free(f.inf_row);
 	return rc;
@@ -254,6 +262,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	struct sscope_reader_chunk ch = { 0 };
 	double **ptrs = NULL;
 	size_t cap_rows, n = 0;
+	double header_hz = 0;
 	unsigned threads;
 	int rc;
 
@@ -301,6 +310,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		}
 		cap->n = n;
 		cap->channels[0].n_nan = cap->n_nan;
+		header_hz = sscope_reader_header_rate(r);
 		goto rate;
 	}
 	/* A mapped file (or any source of known size) is read in one pass,
@@ -373,7 +383,9 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 	}
-	rc = finish_load(cap, n, threads, path, diag);
+	header_hz = sscope_reader_header_rate(r);
+	rc = finish_load(cap, n, threads, r, path, diag);
+	r = NULL; /* closed */
 	if (rc)
 		goto fail;
 rate:
@@ -384,9 +396,8 @@ rate:
 		cap->rate_hz = cap->timing.rate_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_TIME_COLUMN;
 	}
-	if (cap->rate_source == SSCOPE_CAPTURE_RATE_NONE &&
-	    sscope_reader_header_rate(r) > 0) {
-		cap->rate_hz = sscope_reader_header_rate(r);
+	if (cap->rate_source == SSCOPE_CAPTURE_RATE_NONE && header_hz > 0) {
+		cap->rate_hz = header_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_HEADER;
 	}
 	free(ptrs);
