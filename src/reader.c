@@ -30,6 +30,7 @@
 #include <unistd.h>
 #ifdef __SSE2__
 #include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 #include "io-formats.h"
@@ -1793,6 +1794,7 @@ static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
 }
 
 #define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
+#define ALWAYS_INLINE inline __attribute__((always_inline))
 
 /*
  * Fast path of the data lines: the positions of the delimiters and
@@ -1809,12 +1811,37 @@ struct sepscan {
 	uint64_t nl;     /* bit i: blk[i] is a newline */
 };
 
-/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines */
-static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
+#ifdef __SSE2__
+/* sep_mask() with AVX2: 32 bytes a comparison */
+__attribute__((target("avx2"))) static inline uint64_t
+sep_mask_avx2(const char *p, char d, uint64_t *nl)
+{
+	const __m256i vd = _mm256_set1_epi8(d), vn = _mm256_set1_epi8('\n');
+	__m256i x0 = _mm256_loadu_si256((const __m256i *)(const void *)p);
+	__m256i x1 = _mm256_loadu_si256((const __m256i *)(const void *)(p + 32));
+	__m256i n0 = _mm256_cmpeq_epi8(x0, vn), n1 = _mm256_cmpeq_epi8(x1, vn);
+	uint64_t m0 = (uint32_t)_mm256_movemask_epi8(
+		_mm256_or_si256(_mm256_cmpeq_epi8(x0, vd), n0));
+	uint64_t m1 = (uint32_t)_mm256_movemask_epi8(
+		_mm256_or_si256(_mm256_cmpeq_epi8(x1, vd), n1));
+
+	*nl = (uint32_t)_mm256_movemask_epi8(n0) |
+	      (uint64_t)(uint32_t)_mm256_movemask_epi8(n1) << 32;
+	return m0 | m1 << 32;
+}
+#endif
+
+/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines;
+ * avx2: the processor has it (the caller is compiled for it) */
+static ALWAYS_INLINE uint64_t sep_mask(const char *p, char d, uint64_t *nl,
+				       bool avx2)
 {
 	uint64_t m = 0, n = 0;
 #ifdef __SSE2__
 	const __m128i vd = _mm_set1_epi8(d), vn = _mm_set1_epi8('\n');
+
+	if (avx2)
+		return sep_mask_avx2(p, d, nl);
 
 	for (unsigned k = 0; k < 4; k++) {
 		__m128i x = _mm_loadu_si128((const __m128i *)(const void *)(p + 16 * k));
@@ -1827,6 +1854,8 @@ static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 	}
 #else
 	const uint64_t pd = BYTES(d), pn = BYTES('\n');
+
+	(void)avx2;
 
 	for (unsigned k = 0; k < 8; k++) {
 		uint64_t w, hd, hn;
@@ -1848,8 +1877,8 @@ static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 
 /* The next separator, or NULL when the next 64 bytes are not all before
  * end (the scan is then spent). */
-static inline const char *next_sep(struct sepscan *sc, const char *end,
-				   char d)
+static ALWAYS_INLINE const char *next_sep(struct sepscan *sc,
+					  const char *end, char d, bool hw)
 {
 	const char *b;
 
@@ -1857,7 +1886,7 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d, &sc->nl);
+		sc->m = sep_mask(sc->blk, d, &sc->nl, hw);
 	}
 	b = sc->blk + __builtin_ctzll(sc->m);
 	sc->m &= sc->m - 1;
@@ -1866,7 +1895,6 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 
 /* The value of the plain decimal cell [a, e), with the 16 bytes before e
  * readable, and its exact decimal (numparse.h); false for other cells. */
-#define ALWAYS_INLINE inline __attribute__((always_inline))
 static ALWAYS_INLINE bool plain_cell(const char *a, const char *e, bool simd,
 				     double *v, int64_t *m, int *f)
 {
@@ -1974,7 +2002,7 @@ static ALWAYS_INLINE const char *skip_rest(struct sepscan *sc,
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d, &sc->nl);
+		sc->m = sep_mask(sc->blk, d, &sc->nl, hw);
 	}
 }
 
@@ -1987,7 +2015,7 @@ scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 	const size_t last = r->ncols - 1;
 
 	for (size_t col = 0; col < n_used; col++) {
-		const char *b = next_sep(sc, end, d), *e;
+		const char *b = next_sep(sc, end, d, hw), *e;
 
 		if (!b || *b != (col < last ? d : '\n'))
 			return NULL;
@@ -2035,7 +2063,7 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		if (r->delim != ' ') {
 			if (!synced && end - p >= 64) {
 				sc.blk = p;
-				sc.m = sep_mask(p, r->delim, &sc.nl);
+				sc.m = sep_mask(p, r->delim, &sc.nl, hw);
 				synced = true;
 			}
 			if (synced &&
@@ -2093,12 +2121,12 @@ parse_rows_ssse3(const struct sscope_reader *r, const char *p,
 			       rows_out, stop, diag, true, false);
 }
 
-/* the same with the population count instruction */
-__attribute__((target("ssse3,popcnt"))) static int
-parse_rows_popcnt(const struct sscope_reader *r, const char *p,
-		  const char *end, bool eof, size_t *line,
-		  struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
-		  size_t *rows_out, const char **stop, struct sscope_diag *diag)
+/* the same with AVX2 and the population count instruction */
+__attribute__((target("avx2,popcnt"))) static int
+parse_rows_avx2(const struct sscope_reader *r, const char *p,
+		const char *end, bool eof, size_t *line,
+		struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
+		size_t *rows_out, const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
 			       rows_out, stop, diag, true, true);
@@ -2113,9 +2141,9 @@ static int parse_rows(const struct sscope_reader *r, const char *p,
 		      struct sscope_diag *diag)
 {
 #ifdef SSC_HAVE_PARSE_CELL_SSSE3
-	if (__builtin_cpu_supports("ssse3") && __builtin_cpu_supports("popcnt"))
-		return parse_rows_popcnt(r, p, end, eof, line, ch, row,
-					 max_rows, rows_out, stop, diag);
+	if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
+		return parse_rows_avx2(r, p, end, eof, line, ch, row,
+				       max_rows, rows_out, stop, diag);
 	if (__builtin_cpu_supports("ssse3"))
 		return parse_rows_ssse3(r, p, end, eof, line, ch, row,
 					max_rows, rows_out, stop, diag);
@@ -2275,10 +2303,42 @@ static size_t count_nl(const char *p, const char *end)
 	return n;
 }
 
+#ifdef __SSE2__
+/* count_nl() with AVX2 */
+__attribute__((target("avx2"))) static size_t count_nl_avx2(const char *p,
+							    const char *end)
+{
+	const __m256i nl = _mm256_set1_epi8('\n'), zero = _mm256_setzero_si256();
+	size_t n = 0;
+
+	while (end - p >= 32) {
+		__m256i acc = zero, sums;
+		size_t k = 0;
+
+		for (; k < 255 && end - p >= 32; k++, p += 32)
+			acc = _mm256_sub_epi8(acc, _mm256_cmpeq_epi8(
+					_mm256_loadu_si256((const __m256i *)(const void *)p),
+					nl));
+		sums = _mm256_sad_epu8(acc, zero);
+		n += (size_t)_mm256_extract_epi64(sums, 0) +
+		     (size_t)_mm256_extract_epi64(sums, 1) +
+		     (size_t)_mm256_extract_epi64(sums, 2) +
+		     (size_t)_mm256_extract_epi64(sums, 3);
+	}
+	return n + count_nl(p, end);
+}
+#endif
+
 static void *count_run(void *arg)
 {
 	struct part *pt = arg;
 
+#ifdef __SSE2__
+	if (__builtin_cpu_supports("avx2")) {
+		pt->nl = count_nl_avx2(pt->from, pt->to);
+		return NULL;
+	}
+#endif
 	pt->nl = count_nl(pt->from, pt->to);
 	return NULL;
 }
