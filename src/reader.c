@@ -2256,6 +2256,7 @@ struct part {
 	size_t rows;
 	size_t line_err;
 	bool counted;        /* nl known before parsing */
+	const char *pop_from, *pop_to; /* counting: pages to map as well */
 	int rc;
 	struct sscope_diag diag;
 };
@@ -2334,12 +2335,22 @@ static void *count_run(void *arg)
 	struct part *pt = arg;
 
 #ifdef __SSE2__
-	if (__builtin_cpu_supports("avx2")) {
+	if (__builtin_cpu_supports("avx2"))
 		pt->nl = count_nl_avx2(pt->from, pt->to);
-		return NULL;
+	else
+#endif
+		pt->nl = count_nl(pt->from, pt->to);
+#ifdef MADV_POPULATE_READ
+	if (pt->pop_to > pt->pop_from) {
+		/* from the page holding pop_from (the mapping starts on one) */
+		size_t a = (size_t)(pt->pop_from - pt->r->base) &
+			   ~(pt->r->pagesz - 1);
+
+		madvise((void *)(uintptr_t)(pt->r->base + a),
+			(size_t)(pt->pop_to - pt->r->base) - a,
+			MADV_POPULATE_READ);
 	}
 #endif
-	pt->nl = count_nl(pt->from, pt->to);
 	return NULL;
 }
 
@@ -2374,7 +2385,9 @@ static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
  * a bound on its rows, and its parse counts its lines.  The bound costs
  * address space only (pages never written are never backed), taken when
  * it is at most twice the input's size; otherwise every part is counted.
- * The counting is spread over all the threads, two pieces per part.
+ * The counting is spread over all the threads, two pieces per part; they
+ * also map the last part's pages (which counting would otherwise leave to
+ * its parse alone, the other parts' threads waiting for it).
  */
 static void count_parts(struct sscope_reader *r, size_t np)
 {
@@ -2388,8 +2401,14 @@ static void count_parts(struct sscope_reader *r, size_t np)
 		const char *a = r->parts[k].from, *b = r->parts[k].to;
 		const char *mid = nc < np ? a + (b - a) / 2 : b;
 
-		job[2 * k] = (struct part){ .from = a, .to = mid };
-		job[2 * k + 1] = (struct part){ .from = mid, .to = b };
+		job[2 * k] = (struct part){ .r = r, .from = a, .to = mid };
+		job[2 * k + 1] = (struct part){ .r = r, .from = mid, .to = b };
+	}
+	for (size_t k = 0; nc < np && k < 2 * nc; k++) {
+		size_t len = (size_t)(last->to - last->from);
+
+		job[k].pop_from = last->from + len * k / (2 * nc);
+		job[k].pop_to = last->from + len * (k + 1) / (2 * nc);
 	}
 	if (nc == np) {
 		/* one piece per part: the second halves are empty */
