@@ -139,53 +139,61 @@ static int grow(struct sscope_capture *cap, size_t rows)
 /*
  * After the rows are read: every channel is checked for NaN (counted) and
  * for values infinite in SI units (an error, reported for the first such
- * channel and row), the time column is analysed and the reader closed.  On
- * a long capture with a time column the analysis's two passes
- * (sscope_timing_split_*) run on two threads, the second one closing the
- * reader (unmapping the file) after its pass, and both then share the
- * channels to check; the results are those of doing it all in order.
+ * channel and row), the time column is analysed (the two passes of
+ * sscope_timing_split_*) and the reader closed (the file unmapped).  These
+ * are tasks taken in turn by the calling thread and, on a long capture, a
+ * second one, so that a thread the system holds back leaves its share to
+ * the other; the results are those of doing it all in order.
  */
+enum { TASK_SUMS, TASK_MEDIAN, TASK_CLOSE, TASK_CHANNEL };
+
 struct finish {
 	struct sscope_capture *cap;
 	size_t n;
+	bool timed;
 	struct sscope_timing_split sp;
 	double *scratch;
-	atomic_size_t next;  /* the next channel to check */
+	atomic_size_t next;  /* the next task */
 	size_t *inf_row;     /* per channel: the first infinite row, or SIZE_MAX */
-	struct sscope_reader *r; /* closed by the second thread */
+	struct sscope_reader *r;
 };
 
-static void check_channels(struct finish *f)
+static void check_channel(struct finish *f, size_t k)
 {
-	for (;;) {
-		size_t k = atomic_fetch_add(&f->next, 1), nan = 0, i;
-		const double *d;
+	const double *d = f->cap->channels[k].data;
+	size_t nan = 0, i;
 
-		if (k >= f->cap->n_channels)
-			return;
-		d = f->cap->channels[k].data;
-		for (i = 0; i < f->n; i++) {
-			nan += isnan(d[i]);
-			if (isinf(d[i]))
-				break;
-		}
-		f->inf_row[k] = i < f->n ? i : SIZE_MAX;
-		f->cap->channels[k].n_nan = nan;
+	for (i = 0; i < f->n; i++) {
+		nan += isnan(d[i]);
+		if (isinf(d[i]))
+			break;
 	}
+	f->inf_row[k] = i < f->n ? i : SIZE_MAX;
+	f->cap->channels[k].n_nan = nan;
 }
 
-static void *median_run(void *arg)
+static void *finish_run(void *arg)
 {
 	struct finish *f = arg;
 
-	sscope_timing_split_median(&f->sp, f->cap->time_s, f->n, f->scratch);
-	sscope_reader_close(f->r);
-	f->r = NULL;
-	check_channels(f);
-	return NULL;
+	for (;;) {
+		size_t k = atomic_fetch_add(&f->next, 1);
+
+		if (k == TASK_SUMS && f->timed)
+			sscope_timing_split_sums(&f->sp, f->cap->time_s, f->n);
+		else if (k == TASK_MEDIAN && f->timed)
+			sscope_timing_split_median(&f->sp, f->cap->time_s, f->n,
+						   f->scratch);
+		else if (k == TASK_CLOSE)
+			sscope_reader_close(f->r);
+		else if (k >= TASK_CHANNEL + f->cap->n_channels)
+			return NULL;
+		else if (k >= TASK_CHANNEL)
+			check_channel(f, k - TASK_CHANNEL);
+	}
 }
 
-/* rows from which the time column's analysis takes a second thread */
+/* rows from which the tasks take a second thread */
 #define FINISH_THREAD_ROWS ((size_t)1 << 16)
 
 static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
@@ -193,30 +201,28 @@ static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
 		       struct sscope_diag *diag)
 {
 	struct finish f = { .cap = cap, .n = n, .r = r };
-	bool timed = cap->time_s && n >= 2, started = false;
+	bool started = false;
 	pthread_t tid;
 	int rc = 0;
 
+	f.timed = cap->time_s && n >= 2;
 	f.inf_row = calloc(cap->n_channels ? cap->n_channels : 1,
 			   sizeof(*f.inf_row));
-	if (timed) {
+	if (f.timed) {
 		f.scratch = ssc_alloc_array(n - 1, sizeof(double));
 		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
 	}
-	if (!f.inf_row || (timed && (!f.scratch || !cap->gaps))) {
+	if (!f.inf_row || (f.timed && (!f.scratch || !cap->gaps))) {
+		sscope_reader_close(r);
 		rc = -ENOMEM;
 		goto out;
 	}
 	atomic_init(&f.next, 0);
-	if (timed && threads > 1 && n >= FINISH_THREAD_ROWS)
-		started = pthread_create(&tid, NULL, median_run, &f) == 0;
-	if (timed && started)
-		sscope_timing_split_sums(&f.sp, cap->time_s, n);
-	check_channels(&f);
+	if (threads > 1 && n >= FINISH_THREAD_ROWS)
+		started = pthread_create(&tid, NULL, finish_run, &f) == 0;
+	finish_run(&f);
 	if (started)
 		pthread_join(tid, NULL);
-	sscope_reader_close(f.r);
-	f.r = NULL;
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		if (f.inf_row[k] != SIZE_MAX) {
 			/* finite in the file, infinite in SI (1e308 g) */
@@ -229,25 +235,16 @@ static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
 		}
 		cap->n_nan += cap->channels[k].n_nan;
 	}
-	if (timed) {
-		if (started)
-			rc = sscope_timing_split_join(&f.sp, cap->time_s, n,
-						      1.5, &cap->timing,
-						      cap->gaps,
-						      SSCOPE_CAPTURE_GAPS,
-						      &cap->n_gaps);
-		else
-			rc = sscope_timing_analyze(cap->time_s, n, 1.5,
-						   &cap->timing, cap->gaps,
-						   SSCOPE_CAPTURE_GAPS,
-						   &cap->n_gaps, f.scratch);
+	if (f.timed) {
+		rc = sscope_timing_split_join(&f.sp, cap->time_s, n, 1.5,
+					      &cap->timing, cap->gaps,
+					      SSCOPE_CAPTURE_GAPS, &cap->n_gaps);
 		if (rc == 0)
 			cap->has_timing = true;
 		else if (rc == -EDOM)
 			rc = 0;
 	}
 out:
-	sscope_reader_close(f.r);
 	free(f.scratch);
 	free(f.inf_row);
 	return rc;
