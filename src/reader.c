@@ -20,6 +20,7 @@
 #include <fcntl.h>
 #include <float.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -2354,29 +2355,49 @@ static void *count_run(void *arg)
 	return NULL;
 }
 
-enum { MAXP = 8 };
+enum { MAXP = 8, PIECES = 4 };
 
-/* Run fn on every part, part 0 on the calling thread. */
-static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
+struct pool {
+	struct part *parts;
+	size_t n;
+	atomic_size_t next; /* the next part not yet taken */
+	void *(*fn)(void *);
+};
+
+static void *pool_run(void *arg)
+{
+	struct pool *p = arg;
+
+	for (;;) {
+		size_t k = atomic_fetch_add(&p->next, 1);
+
+		if (k >= p->n)
+			return NULL;
+		p->fn(&p->parts[k]);
+	}
+}
+
+/* Run fn on every part on up to `threads` threads, the calling one among
+ * them, each taking the next part not yet taken (the calling thread alone
+ * when no other starts). */
+static void run_parts(struct part *parts, size_t np, size_t threads,
+		      void *(*fn)(void *))
 {
 	pthread_t tid[MAXP];
-	size_t started = 1;
-	int rc = 0;
+	struct pool p = { .parts = parts, .n = np, .fn = fn };
+	size_t started = 0;
 
-	for (size_t k = 1; k < np; k++) {
-		if (pthread_create(&tid[k], NULL, fn, &parts[k])) {
-			rc = -ENOMEM;
+	atomic_init(&p.next, 0);
+	if (threads > np)
+		threads = np;
+	for (size_t k = 1; k < threads && k < MAXP; k++) {
+		if (pthread_create(&tid[started], NULL, pool_run, &p))
 			break;
-		}
 		started++;
 	}
-	fn(&parts[0]);
-	for (size_t k = 1; k < started; k++)
+	pool_run(&p);
+	for (size_t k = 0; k < started; k++)
 		pthread_join(tid[k], NULL);
-	if (rc) /* run the parts no thread took */
-		for (size_t k = started; k < np; k++)
-			fn(&parts[k]);
-	return 0;
 }
 
 /*
@@ -2385,43 +2406,41 @@ static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
  * a bound on its rows, and its parse counts its lines.  The bound costs
  * address space only (pages never written are never backed), taken when
  * it is at most twice the input's size; otherwise every part is counted.
- * The counting is spread over all the threads, two pieces per part; they
- * also map the last part's pages (which counting would otherwise leave to
- * its parse alone, the other parts' threads waiting for it).
+ * The counting is spread over all the threads, in pieces; they also map
+ * the last part's pages (which counting would otherwise leave to its parse
+ * alone, the other parts' threads waiting for it).
  */
 static void count_parts(struct sscope_reader *r, size_t np)
 {
-	struct part *last = &r->parts[np - 1], job[2 * MAXP];
+	struct part *last = &r->parts[np - 1], job[PIECES * MAXP];
 	size_t arrays = r->nsel + (r->time_col >= 0) + (r->temp_col >= 0), bound, nc;
 
 	bound = (size_t)(last->to - last->from) / r->ncols + 1;
 	nc = np > 1 && arrays && bound <= 2 * r->len / (arrays * sizeof(double)) ?
 		     np - 1 : np;
+	/* PIECES pieces a part, taken in turn by the threads (one held back
+	 * by the system leaves its share to the others) */
 	for (size_t k = 0; k < nc; k++) {
 		const char *a = r->parts[k].from, *b = r->parts[k].to;
-		const char *mid = nc < np ? a + (b - a) / 2 : b;
 
-		job[2 * k] = (struct part){ .r = r, .from = a, .to = mid };
-		job[2 * k + 1] = (struct part){ .r = r, .from = mid, .to = b };
+		for (size_t i = 0; i < PIECES; i++)
+			job[PIECES * k + i] = (struct part){
+				.r = r, .from = a + (b - a) * i / PIECES,
+				.to = a + (b - a) * (i + 1) / PIECES
+			};
 	}
-	for (size_t k = 0; nc < np && k < 2 * nc; k++) {
+	for (size_t k = 0; nc < np && k < PIECES * nc; k++) {
 		size_t len = (size_t)(last->to - last->from);
 
-		job[k].pop_from = last->from + len * k / (2 * nc);
-		job[k].pop_to = last->from + len * (k + 1) / (2 * nc);
+		job[k].pop_from = last->from + len * k / (PIECES * nc);
+		job[k].pop_to = last->from + len * (k + 1) / (PIECES * nc);
 	}
-	if (nc == np) {
-		/* one piece per part: the second halves are empty */
-		for (size_t k = 0; k < nc; k++)
-			job[k] = job[2 * k];
-		run_parts(job, nc, count_run);
-	} else {
-		run_parts(job, 2 * nc, count_run);
-	}
+	run_parts(job, PIECES * nc, np, count_run);
 	for (size_t k = 0; k < np; k++) {
 		r->parts[k].counted = k < nc;
-		r->parts[k].nl = k >= nc ? 0 :
-			nc == np ? job[k].nl : job[2 * k].nl + job[2 * k + 1].nl;
+		r->parts[k].nl = 0;
+		for (size_t i = 0; k < nc && i < PIECES; i++)
+			r->parts[k].nl += job[PIECES * k + i].nl;
 	}
 }
 
@@ -2500,7 +2519,7 @@ int ssc_reader_read_all(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		return rc;
 	for (size_t k = 0; k < np; k++)
 		parts[k].ch = ch;
-	run_parts(parts, np, part_run);
+	run_parts(parts, np, np, part_run);
 	for (size_t k = 0; k < np; k++) {
 		if (parts[k].rc) {
 			if (diag)
