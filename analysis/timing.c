@@ -31,36 +31,40 @@
 void sscope_timing_order_feed(struct sscope_timing_order *o, const double *t_s,
 			      size_t n)
 {
-	for (size_t k = 0; k < n; k++) {
-		double t = t_s[k], prev = o->last_s[0];
+	/* the state in locals: the stores to *o could otherwise alias t_s */
+	struct sscope_timing_order s = *o;
 
-		if (o->n == 0) {
-			o->t0_s = t;
+	for (size_t k = 0; k < n; k++) {
+		double t = t_s[k], prev = s.last_s[0];
+
+		if (s.n == 0) {
+			s.t0_s = t;
 		} else {
-			if (o->pending) {
-				if (o->last_s[1] < t)
-					o->n_swaps++;
-				o->pending = 0;
+			if (s.pending) {
+				if (s.last_s[1] < t)
+					s.n_swaps++;
+				s.pending = 0;
 			}
 			if (!(t > prev)) {
 				if (t == prev) {
-					o->n_repeats++;
+					s.n_repeats++;
 				} else {
-					o->n_decreasing++;
-					o->pending = o->n < 2 || o->last_s[1] < t;
+					s.n_decreasing++;
+					s.pending = s.n < 2 || s.last_s[1] < t;
 				}
-				if (o->n_repeats + o->n_decreasing == 1) {
-					o->first_row = o->n;
-					o->first_t_s = t;
-					o->first_prev_s = prev;
+				if (s.n_repeats + s.n_decreasing == 1) {
+					s.first_row = s.n;
+					s.first_t_s = t;
+					s.first_prev_s = prev;
 				}
 			}
 		}
-		o->last_s[2] = o->last_s[1];
-		o->last_s[1] = o->last_s[0];
-		o->last_s[0] = t;
-		o->n++;
+		s.last_s[2] = s.last_s[1];
+		s.last_s[1] = s.last_s[0];
+		s.last_s[0] = t;
+		s.n++;
 	}
+	*o = s;
 }
 
 int sscope_timing_order_check(const struct sscope_timing_order *o,
@@ -122,25 +126,24 @@ static inline bool forward(const double *t, size_t n, size_t i)
 }
 
 /*
- * What the first pass over the intervals gathers besides the median: their
- * extremes, the non-increasing ones, and the compensated sum, count and
- * largest of the forward ones.  When no forward interval turns out to be a
- * gap (the usual record), that sum is the sum over the regular intervals,
- * taken in the same order, and the pass that would form it is skipped.
+ * What the median pass gathers besides the median: the extremes of the
+ * intervals and the non-increasing ones.  The forward intervals' sum, count
+ * and largest are the other pass's (sscope_timing_split_sums), which needs
+ * no median: when no forward interval turns out to be a gap (the usual
+ * record) its sum is the sum over the regular intervals, taken in the same
+ * order, and the jitter about their mean, also formed there, is final.
  */
 struct pass1 {
-	double lo, hi, fmax;
-	size_t nb, fn;
-	struct ssc_ksum fsum;
+	double lo, hi;
+	size_t nb;
 };
 
 static void pass1_init(struct pass1 *a)
 {
-	*a = (struct pass1){ INFINITY, -INFINITY, -INFINITY, 0, 0, { 0, 0 } };
+	*a = (struct pass1){ INFINITY, -INFINITY, 0 };
 }
 
-static inline void pass1_add(struct pass1 *a, const double *t, size_t n,
-			     size_t i, double d)
+static inline void pass1_add(struct pass1 *a, double d)
 {
 	if (d < a->lo)
 		a->lo = d;
@@ -148,12 +151,6 @@ static inline void pass1_add(struct pass1 *a, const double *t, size_t n,
 		a->hi = d;
 	if (!(d > 0))
 		a->nb++;
-	if (forward(t, n, i)) {
-		ssc_ksum_add(&a->fsum, d);
-		a->fn++;
-		if (d > a->fmax)
-			a->fmax = d;
-	}
 }
 
 /*
@@ -213,7 +210,7 @@ static int median_few(const double *t_s, size_t n, double *med,
 
 		if (i - 1 == fed)
 			fed += feed_block(o, t_s, n, fed);
-		pass1_add(a, t_s, n, i, d);
+		pass1_add(a, d);
 		if (isnan(d)) {
 			rc = 1;
 			goto out;
@@ -253,54 +250,116 @@ out:
 	return rc;
 }
 
-int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
-			  struct sscope_timing *tm, struct sscope_timing_gap *gaps,
-			  size_t max_gaps, size_t *n_gaps_out, double *scratch)
+int sscope_timing_split_median(struct sscope_timing_split *sp,
+				const double *t_s, size_t n, double *scratch)
 {
-	struct ssc_ksum j = { 0, 0 }, sum = { 0, 0 };
 	struct pass1 a;
-	size_t nj = 0, ng = 0;
-	double med, mean;
+	double med;
 
-	if (!t_s || !tm || !scratch || !(gap_factor > 1))
+	if (!sp || !t_s || !scratch)
 		return -EINVAL;
-	memset(tm, 0, sizeof(*tm));
-	if (n_gaps_out)
-		*n_gaps_out = 0;
+	memset(&sp->order, 0, sizeof(sp->order));
+	sp->median_s = NAN;
+	sp->min_s = sp->max_s = 0;
+	sp->n_backwards = 0;
 	if (n < 2) {
-		sscope_timing_order_feed(&tm->order, t_s, n);
-		return -EDOM;
+		sscope_timing_order_feed(&sp->order, t_s, n);
+		return 0;
 	}
 	pass1_init(&a);
-	if (median_few(t_s, n, &med, &a, &tm->order)) {
+	if (median_few(t_s, n, &med, &a, &sp->order)) {
 		size_t fed = 0;
 
 		pass1_init(&a);
-		memset(&tm->order, 0, sizeof(tm->order));
+		memset(&sp->order, 0, sizeof(sp->order));
 		for (size_t i = 1; i < n; i++) {
 			double d = t_s[i] - t_s[i - 1];
 
 			if (i - 1 == fed)
-				fed += feed_block(&tm->order, t_s, n, fed);
+				fed += feed_block(&sp->order, t_s, n, fed);
 			scratch[i - 1] = d;
-			pass1_add(&a, t_s, n, i, d);
+			pass1_add(&a, d);
 		}
 		if (fed < n)
-			feed_block(&tm->order, t_s, n, fed);
+			feed_block(&sp->order, t_s, n, fed);
 		med = gsl_stats_median(scratch, 1, n - 1);
 	}
-	tm->n_backwards = a.nb;
-	tm->dt_min_s = a.lo;
-	tm->dt_max_s = a.hi;
+	sp->median_s = med;
+	sp->min_s = a.lo;
+	sp->max_s = a.hi;
+	sp->n_backwards = a.nb;
+	return 0;
+}
+
+int sscope_timing_split_sums(struct sscope_timing_split *sp, const double *t_s,
+			     size_t n)
+{
+	struct ssc_ksum f = { 0, 0 }, j = { 0, 0 };
+	double fmax = -INFINITY, mean;
+	size_t fn = 0;
+
+	if (!sp || !t_s)
+		return -EINVAL;
+	for (size_t i = 1; i < n; i++) {
+		double d = t_s[i] - t_s[i - 1];
+
+		if (forward(t_s, n, i)) {
+			ssc_ksum_add(&f, d);
+			fn++;
+			if (d > fmax)
+				fmax = d;
+		}
+	}
+	/* the jitter as it is when no forward interval is a gap */
+	mean = fn ? ssc_ksum_value(&f) / (double)fn : 0;
+	for (size_t i = 1; i < n && fn; i++) {
+		double d = t_s[i] - t_s[i - 1];
+
+		if (forward(t_s, n, i))
+			ssc_ksum_add(&j, (d - mean) * (d - mean));
+	}
+	sp->fsum_s = f.s;
+	sp->fsum_c = f.c;
+	sp->fmax_s = fmax;
+	sp->n_forward = fn;
+	sp->jsum_s = j.s;
+	sp->jsum_c = j.c;
+	return 0;
+}
+
+int sscope_timing_split_join(const struct sscope_timing_split *sp,
+			     const double *t_s, size_t n, double gap_factor,
+			     struct sscope_timing *tm,
+			     struct sscope_timing_gap *gaps, size_t max_gaps,
+			     size_t *n_gaps_out)
+{
+	struct ssc_ksum j = { 0, 0 }, sum = { 0, 0 };
+	size_t nj = 0, ng = 0;
+	double med, mean;
+	bool gapped;
+
+	if (!sp || !t_s || !tm || !(gap_factor > 1))
+		return -EINVAL;
+	memset(tm, 0, sizeof(*tm));
+	if (n_gaps_out)
+		*n_gaps_out = 0;
+	tm->order = sp->order;
+	if (n < 2)
+		return -EDOM;
+	med = sp->median_s;
+	tm->n_backwards = sp->n_backwards;
+	tm->dt_min_s = sp->min_s;
+	tm->dt_max_s = sp->max_s;
 	if (!(med > 0) || !isfinite(med))
 		return -EDOM;
 	tm->dt_median_s = med;
-	if (!(a.fmax > gap_factor * med)) {
+	gapped = sp->fmax_s > gap_factor * med;
+	if (!gapped) {
 		/* no gap: the forward intervals are the regular ones */
-		sum = a.fsum;
-		nj = a.fn;
+		sum = (struct ssc_ksum){ sp->fsum_s, sp->fsum_c };
+		nj = sp->n_forward;
 	}
-	for (size_t i = 1; i < n && a.fmax > gap_factor * med; i++) {
+	for (size_t i = 1; i < n && gapped; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
 		if (!forward(t_s, n, i))
@@ -326,7 +385,9 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	if (!(mean > 0))
 		return -EDOM;
 	tm->rate_hz = 1 / mean;
-	for (size_t i = 1; i < n; i++) {
+	if (!gapped)
+		j = (struct ssc_ksum){ sp->jsum_s, sp->jsum_c };
+	for (size_t i = 1; i < n && gapped; i++) {
 		double d = t_s[i] - t_s[i - 1];
 
 		if (!forward(t_s, n, i) || d > gap_factor * med)
@@ -337,4 +398,18 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 	if (n_gaps_out)
 		*n_gaps_out = ng;
 	return 0;
+}
+
+int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
+			  struct sscope_timing *tm, struct sscope_timing_gap *gaps,
+			  size_t max_gaps, size_t *n_gaps_out, double *scratch)
+{
+	struct sscope_timing_split sp;
+
+	if (!t_s || !tm || !scratch || !(gap_factor > 1))
+		return -EINVAL;
+	sscope_timing_split_median(&sp, t_s, n, scratch);
+	sscope_timing_split_sums(&sp, t_s, n);
+	return sscope_timing_split_join(&sp, t_s, n, gap_factor, tm, gaps,
+					  max_gaps, n_gaps_out);
 }

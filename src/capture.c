@@ -7,6 +7,8 @@
 #include "internal.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -134,6 +136,120 @@ static int grow(struct sscope_capture *cap, size_t rows)
 	return 0;
 }
 
+/*
+ * After the rows are read: every channel is checked for NaN (counted) and
+ * for values infinite in SI units (an error, reported for the first such
+ * channel and row), the time column is analysed (the two passes of
+ * sscope_timing_split_*) and the reader closed (the file unmapped).  These
+ * are tasks taken in turn by the calling thread and, on a long capture, a
+ * second one, so that a thread the system holds back leaves its share to
+ * the other; the results are those of doing it all in order.
+ */
+enum { TASK_SUMS, TASK_MEDIAN, TASK_CLOSE, TASK_CHANNEL };
+
+struct finish {
+	struct sscope_capture *cap;
+	size_t n;
+	bool timed;
+	struct sscope_timing_split sp;
+	double *scratch;
+	atomic_size_t next;  /* the next task */
+	size_t *inf_row;     /* per channel: the first infinite row, or SIZE_MAX */
+	struct sscope_reader *r;
+};
+
+static void check_channel(struct finish *f, size_t k)
+{
+	const double *d = f->cap->channels[k].data;
+	size_t nan = 0, i;
+
+	for (i = 0; i < f->n; i++) {
+		nan += isnan(d[i]);
+		if (isinf(d[i]))
+			break;
+	}
+	f->inf_row[k] = i < f->n ? i : SIZE_MAX;
+	f->cap->channels[k].n_nan = nan;
+}
+
+static void *finish_run(void *arg)
+{
+	struct finish *f = arg;
+
+	for (;;) {
+		size_t k = atomic_fetch_add(&f->next, 1);
+
+		if (k == TASK_SUMS && f->timed)
+			sscope_timing_split_sums(&f->sp, f->cap->time_s, f->n);
+		else if (k == TASK_MEDIAN && f->timed)
+			sscope_timing_split_median(&f->sp, f->cap->time_s, f->n,
+						   f->scratch);
+		else if (k == TASK_CLOSE)
+			sscope_reader_close(f->r);
+		else if (k >= TASK_CHANNEL + f->cap->n_channels)
+			return NULL;
+		else if (k >= TASK_CHANNEL)
+			check_channel(f, k - TASK_CHANNEL);
+	}
+}
+
+/* rows from which the tasks take a second thread */
+#define FINISH_THREAD_ROWS ((size_t)1 << 16)
+
+static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
+		       struct sscope_reader *r, const char *path,
+		       struct sscope_diag *diag)
+{
+	struct finish f = { .cap = cap, .n = n, .r = r };
+	bool started = false;
+	pthread_t tid;
+	int rc = 0;
+
+	f.timed = cap->time_s && n >= 2;
+	f.inf_row = calloc(cap->n_channels ? cap->n_channels : 1,
+			   sizeof(*f.inf_row));
+	if (f.timed) {
+		f.scratch = ssc_alloc_array(n - 1, sizeof(double));
+		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
+	}
+	if (!f.inf_row || (f.timed && (!f.scratch || !cap->gaps))) {
+		sscope_reader_close(r);
+		rc = -ENOMEM;
+		goto out;
+	}
+	atomic_init(&f.next, 0);
+	if (threads > 1 && n >= FINISH_THREAD_ROWS)
+		started = pthread_create(&tid, NULL, finish_run, &f) == 0;
+	finish_run(&f);
+	if (started)
+		pthread_join(tid, NULL);
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		if (f.inf_row[k] != SIZE_MAX) {
+			/* finite in the file, infinite in SI (1e308 g) */
+			rc = ssc_diag(diag, -ERANGE,
+				      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
+				      strcmp(path, "-") ? path : "(stdin)",
+				      cap->channels[k].col.name, f.inf_row[k] + 1,
+				      cap->channels[k].col.unit_label);
+			goto out;
+		}
+		cap->n_nan += cap->channels[k].n_nan;
+	}
+	if (f.timed) {
+		rc = sscope_timing_split_join(&f.sp, cap->time_s, n, 1.5,
+					      &cap->timing, cap->gaps,
+					      SSCOPE_CAPTURE_GAPS, &cap->n_gaps);
+		if (rc == 0)
+			cap->has_timing = true;
+		else if (rc == -EDOM)
+			rc = 0;
+	}
+out:
+	free(f.scratch);
+	free(f.inf_row);
+	return rc;
+}
+
 int sscope_capture_load(struct sscope_capture **out, const char *path,
 			const struct sscope_reader_opts *opts,
 			struct sscope_diag *diag)
@@ -143,6 +259,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	struct sscope_reader_chunk ch = { 0 };
 	double **ptrs = NULL;
 	size_t cap_rows, n = 0;
+	double header_hz = 0;
 	unsigned threads;
 	int rc;
 
@@ -190,6 +307,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		}
 		cap->n = n;
 		cap->channels[0].n_nan = cap->n_nan;
+		header_hz = sscope_reader_header_rate(r);
 		goto rate;
 	}
 	/* A mapped file (or any source of known size) is read in one pass,
@@ -262,45 +380,12 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 		}
 	}
-	for (size_t k = 0; k < cap->n_channels; k++) {
-		const double *d = cap->channels[k].data;
-		size_t nan = 0;
-
-		for (size_t i = 0; i < n; i++) {
-			nan += isnan(d[i]);
-			/* finite in the file, infinite in SI (1e308 g) */
-			if (isinf(d[i])) {
-				rc = ssc_diag(diag, -ERANGE,
-					      "%s: channel %s, row %zu: the value in %s exceeds the double range in SI units",
-					      strcmp(path, "-") ? path : "(stdin)",
-					      cap->channels[k].col.name, i + 1,
-					      cap->channels[k].col.unit_label);
-				goto fail;
-			}
-		}
-		cap->channels[k].n_nan = nan;
-		cap->n_nan += nan;
-	}
+	header_hz = sscope_reader_header_rate(r);
+	rc = finish_load(cap, n, threads, r, path, diag);
+	r = NULL; /* closed */
+	if (rc)
+		goto fail;
 rate:
-	if (cap->time_s && n >= 2) {
-		double *scratch = ssc_alloc_array(n - 1, sizeof(double));
-
-		cap->gaps = calloc(SSCOPE_CAPTURE_GAPS, sizeof(*cap->gaps));
-		if (!scratch || !cap->gaps) {
-			free(scratch);
-			rc = -ENOMEM;
-			goto fail;
-		}
-		rc = sscope_timing_analyze(cap->time_s, n, 1.5, &cap->timing,
-					   cap->gaps, SSCOPE_CAPTURE_GAPS,
-					   &cap->n_gaps, scratch);
-		free(scratch);
-		if (rc == 0)
-			cap->has_timing = true;
-		else if (rc != -EDOM)
-			goto fail;
-		rc = 0;
-	}
 	if (opts && opts->rate_hz > 0) {
 		cap->rate_hz = opts->rate_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_GIVEN;
@@ -308,9 +393,8 @@ rate:
 		cap->rate_hz = cap->timing.rate_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_TIME_COLUMN;
 	}
-	if (cap->rate_source == SSCOPE_CAPTURE_RATE_NONE &&
-	    sscope_reader_header_rate(r) > 0) {
-		cap->rate_hz = sscope_reader_header_rate(r);
+	if (cap->rate_source == SSCOPE_CAPTURE_RATE_NONE && header_hz > 0) {
+		cap->rate_hz = header_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_HEADER;
 	}
 	free(ptrs);

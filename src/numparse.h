@@ -63,19 +63,23 @@ static inline unsigned ssc_cell_start(const char *e, size_t len, bool *neg)
 }
 
 /* The cell's value from its exact decimal +-m * 10^-f (m below 2^53,
- * f <= 14): one correctly rounded division (Clinger). */
+ * f <= 14): one correctly rounded division (Clinger).  v may be NULL when
+ * only the exact decimal is wanted (no division then). */
 static inline bool ssc_cell_value(uint64_t m, unsigned f, bool neg, double *v,
 				  int64_t *mant, int *frac)
 {
 	static const double p10[] = { 1e0, 1e1, 1e2,  1e3,  1e4,
 				      1e5, 1e6, 1e7,  1e8,  1e9,
 				      1e10, 1e11, 1e12, 1e13, 1e14 };
-	double x = (double)(int64_t)m / p10[f];
-	uint64_t bits;
 
-	memcpy(&bits, &x, 8);
-	bits |= (uint64_t)neg << 63;
-	memcpy(v, &bits, 8);
+	if (v) {
+		double x = (double)(int64_t)m / p10[f];
+		uint64_t bits;
+
+		memcpy(&bits, &x, 8);
+		bits |= (uint64_t)neg << 63;
+		memcpy(v, &bits, 8);
+	}
 	*mant = neg ? -(int64_t)m : (int64_t)m;
 	*frac = (int)f;
 	return true;

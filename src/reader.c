@@ -20,6 +20,7 @@
 #include <fcntl.h>
 #include <float.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +31,7 @@
 #include <unistd.h>
 #ifdef __SSE2__
 #include <emmintrin.h>
+#include <immintrin.h>
 #endif
 
 #include "io-formats.h"
@@ -1594,27 +1596,38 @@ static void set_t0(struct sscope_reader *r, const char *a, const char *b,
 		r->t0_exp = 1000; /* marks "not exact" */
 }
 
-/* Time since the first row from the exact decimal mant * 10^x when both
- * stamps have the same number of decimals (one rounding), else from the
- * doubles. */
-static double time_since(const struct sscope_reader *r, bool exact,
-			 int64_t m, int x, double v)
+/* Time since the first row from the exact decimal m * 10^x when both
+ * stamps have the same number of decimals (one rounding): true with *dt
+ * set, else false. */
+static inline __attribute__((always_inline)) bool
+time_exact(const struct sscope_reader *r, int64_t m, int x, double *dt)
 {
 	static const double p10[] = { 1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7,
 				      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14,
 				      1e15, 1e16, 1e17, 1e18, 1e19, 1e20,
 				      1e21, 1e22 };
 	int64_t d;
+	double dd;
 
-	if (exact && r->t0_exp != 1000 && x == r->t0_exp &&
-	    !__builtin_sub_overflow(m, r->t0_mant, &d)) {
-		double dd = (double)d;
+	if (r->t0_exp == 1000 || x != r->t0_exp ||
+	    __builtin_sub_overflow(m, r->t0_mant, &d))
+		return false;
+	dd = (double)d;
+	if (x < 0 && x >= -22)
+		*dt = dd / p10[-x];
+	else
+		*dt = x == 0 ? dd : dd * pow(10, x);
+	return true;
+}
 
-		if (x < 0 && x >= -22)
-			return dd / p10[-x];
-		return x == 0 ? dd : dd * pow(10, x);
-	}
-	return v - r->t0_double;
+/* The same, else from the doubles. */
+static inline __attribute__((always_inline)) double
+time_since(const struct sscope_reader *r, bool exact, int64_t m, int x,
+	   double v)
+{
+	double dt;
+
+	return exact && time_exact(r, m, x, &dt) ? dt : v - r->t0_double;
 }
 
 /* The same from the text of the time cell. */
@@ -1782,6 +1795,7 @@ static inline uint64_t eq_bytes(uint64_t w, uint64_t pat)
 }
 
 #define BYTES(c) (0x0101010101010101ull * (unsigned char)(c))
+#define ALWAYS_INLINE inline __attribute__((always_inline))
 
 /*
  * Fast path of the data lines: the positions of the delimiters and
@@ -1798,12 +1812,37 @@ struct sepscan {
 	uint64_t nl;     /* bit i: blk[i] is a newline */
 };
 
-/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines */
-static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
+#ifdef __SSE2__
+/* sep_mask() with AVX2: 32 bytes a comparison */
+__attribute__((target("avx2"))) static inline uint64_t
+sep_mask_avx2(const char *p, char d, uint64_t *nl)
+{
+	const __m256i vd = _mm256_set1_epi8(d), vn = _mm256_set1_epi8('\n');
+	__m256i x0 = _mm256_loadu_si256((const __m256i *)(const void *)p);
+	__m256i x1 = _mm256_loadu_si256((const __m256i *)(const void *)(p + 32));
+	__m256i n0 = _mm256_cmpeq_epi8(x0, vn), n1 = _mm256_cmpeq_epi8(x1, vn);
+	uint64_t m0 = (uint32_t)_mm256_movemask_epi8(
+		_mm256_or_si256(_mm256_cmpeq_epi8(x0, vd), n0));
+	uint64_t m1 = (uint32_t)_mm256_movemask_epi8(
+		_mm256_or_si256(_mm256_cmpeq_epi8(x1, vd), n1));
+
+	*nl = (uint32_t)_mm256_movemask_epi8(n0) |
+	      (uint64_t)(uint32_t)_mm256_movemask_epi8(n1) << 32;
+	return m0 | m1 << 32;
+}
+#endif
+
+/* bit i set when p[i] is d or a newline, 0 <= i < 64; *nl the newlines;
+ * avx2: the processor has it (the caller is compiled for it) */
+static ALWAYS_INLINE uint64_t sep_mask(const char *p, char d, uint64_t *nl,
+				       bool avx2)
 {
 	uint64_t m = 0, n = 0;
 #ifdef __SSE2__
 	const __m128i vd = _mm_set1_epi8(d), vn = _mm_set1_epi8('\n');
+
+	if (avx2)
+		return sep_mask_avx2(p, d, nl);
 
 	for (unsigned k = 0; k < 4; k++) {
 		__m128i x = _mm_loadu_si128((const __m128i *)(const void *)(p + 16 * k));
@@ -1816,6 +1855,8 @@ static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 	}
 #else
 	const uint64_t pd = BYTES(d), pn = BYTES('\n');
+
+	(void)avx2;
 
 	for (unsigned k = 0; k < 8; k++) {
 		uint64_t w, hd, hn;
@@ -1837,8 +1878,8 @@ static inline uint64_t sep_mask(const char *p, char d, uint64_t *nl)
 
 /* The next separator, or NULL when the next 64 bytes are not all before
  * end (the scan is then spent). */
-static inline const char *next_sep(struct sepscan *sc, const char *end,
-				   char d)
+static ALWAYS_INLINE const char *next_sep(struct sepscan *sc,
+					  const char *end, char d, bool hw)
 {
 	const char *b;
 
@@ -1846,7 +1887,7 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d, &sc->nl);
+		sc->m = sep_mask(sc->blk, d, &sc->nl, hw);
 	}
 	b = sc->blk + __builtin_ctzll(sc->m);
 	sc->m &= sc->m - 1;
@@ -1855,7 +1896,6 @@ static inline const char *next_sep(struct sepscan *sc, const char *end,
 
 /* The value of the plain decimal cell [a, e), with the 16 bytes before e
  * readable, and its exact decimal (numparse.h); false for other cells. */
-#define ALWAYS_INLINE inline __attribute__((always_inline))
 static ALWAYS_INLINE bool plain_cell(const char *a, const char *e, bool simd,
 				     double *v, int64_t *m, int *f)
 {
@@ -1884,6 +1924,24 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
 	int f;
 	size_t n;
 
+	if (e - r->base >= 16 && c->is_time && c->dest < 0 && !c->is_temp &&
+	    plain_cell(a, e, simd, NULL, &m, &f)) {
+		/* a time column read for its time alone: its value is needed
+		 * only when the stamps' decimals differ */
+		double dt;
+
+		if (!time_exact(r, m, -f, &dt)) {
+			if (!m) /* (the sign of a zero) */
+				goto value;
+			ssc_cell_value((uint64_t)(m < 0 ? -m : m), (unsigned)f,
+				       m < 0, &v, &m, &f);
+			dt = v - r->t0_double;
+		}
+		if (ch->time_s)
+			ch->time_s[row] = dt * c->c.unit.scale;
+		return true;
+	}
+value:
 	if (e - r->base >= 16 && plain_cell(a, e, simd, &v, &m, &f)) {
 		if (c->dest >= 0 && ch->data[c->dest])
 			ch->data[c->dest][row] =
@@ -1909,8 +1967,10 @@ static ALWAYS_INLINE bool fast_cell(const struct sscope_reader *r,
  * rewrites the whole row. */
 /* bits set in x (without the popcnt instruction, which SSSE3 processors
  * may lack, and without a library call) */
-static inline size_t bits64(uint64_t x)
+static ALWAYS_INLINE size_t bits64(uint64_t x, bool hw)
 {
+	if (hw)
+		return (size_t)__builtin_popcountll(x);
 	x -= (x >> 1) & 0x5555555555555555ull;
 	x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
 	x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0full;
@@ -1920,8 +1980,9 @@ static inline size_t bits64(uint64_t x)
 /* Past the last column in use: the rest of the line is k separators, k - 1
  * delimiters then the newline, counted from the masks without visiting
  * them; the start of the next line, or NULL as next_sep. */
-static inline const char *skip_rest(struct sepscan *sc, const char *end,
-				    char d, size_t k)
+static ALWAYS_INLINE const char *skip_rest(struct sepscan *sc,
+					   const char *end, char d, size_t k,
+					   bool hw)
 {
 	for (;;) {
 		uint64_t nl = sc->nl & sc->m;
@@ -1929,33 +1990,33 @@ static inline const char *skip_rest(struct sepscan *sc, const char *end,
 		if (nl) {
 			uint64_t upto = (nl & -nl) - 1; /* bits below the newline */
 
-			if (bits64(sc->m & upto) != k - 1)
+			if (bits64(sc->m & upto, hw) != k - 1)
 				return NULL; /* ragged: the careful path says so */
 			sc->m &= ~(upto | (upto + 1));
 			return sc->blk + __builtin_ctzll(nl) + 1;
 		}
 		/* only delimiters left in this block */
-		if (bits64(sc->m) > k - 1)
+		if (bits64(sc->m, hw) > k - 1)
 			return NULL;
-		k -= bits64(sc->m);
+		k -= bits64(sc->m, hw);
 		sc->m = 0;
 		sc->blk += 64;
 		if (end - sc->blk < 64)
 			return NULL;
-		sc->m = sep_mask(sc->blk, d, &sc->nl);
+		sc->m = sep_mask(sc->blk, d, &sc->nl, hw);
 	}
 }
 
 static ALWAYS_INLINE const char *
 scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 	  const char *end, struct sscope_reader_chunk *ch, size_t row, bool simd,
-	  size_t n_used)
+	  bool hw, size_t n_used)
 {
 	const char d = r->delim;
 	const size_t last = r->ncols - 1;
 
 	for (size_t col = 0; col < n_used; col++) {
-		const char *b = next_sep(sc, end, d), *e;
+		const char *b = next_sep(sc, end, d, hw), *e;
 
 		if (!b || *b != (col < last ? d : '\n'))
 			return NULL;
@@ -1968,7 +2029,8 @@ scan_line(const struct sscope_reader *r, struct sepscan *sc, const char *p,
 		}
 		p = b + 1;
 	}
-	return n_used > last ? p : skip_rest(sc, end, d, last + 1 - n_used);
+	return n_used > last ? p :
+	       skip_rest(sc, end, d, last + 1 - n_used, hw);
 }
 
 static bool skip_line(const char *p, const char *e)
@@ -1985,7 +2047,7 @@ static ALWAYS_INLINE int
 parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		bool eof, size_t *line, struct sscope_reader_chunk *ch, size_t row,
 		size_t max_rows, size_t *rows_out, const char **stop,
-		struct sscope_diag *diag, bool simd)
+		struct sscope_diag *diag, bool simd, bool hw)
 {
 	size_t n = 0, ln = *line, n_used = 0;
 	struct sepscan sc = { 0 };
@@ -2002,12 +2064,12 @@ parse_rows_with(const struct sscope_reader *r, const char *p, const char *end,
 		if (r->delim != ' ') {
 			if (!synced && end - p >= 64) {
 				sc.blk = p;
-				sc.m = sep_mask(p, r->delim, &sc.nl);
+				sc.m = sep_mask(p, r->delim, &sc.nl, hw);
 				synced = true;
 			}
 			if (synced &&
 			    (next = scan_line(r, &sc, p, end, ch, row + n,
-					       simd, n_used))) {
+					       simd, hw, n_used))) {
 				ln++;
 				n++;
 				p = next;
@@ -2046,7 +2108,7 @@ static int parse_rows_plain(const struct sscope_reader *r, const char *p,
 			    const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
-			       rows_out, stop, diag, false);
+			       rows_out, stop, diag, false, false);
 }
 
 #ifdef SSC_HAVE_PARSE_CELL_SSSE3
@@ -2057,7 +2119,18 @@ parse_rows_ssse3(const struct sscope_reader *r, const char *p,
 		 size_t *rows_out, const char **stop, struct sscope_diag *diag)
 {
 	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
-			       rows_out, stop, diag, true);
+			       rows_out, stop, diag, true, false);
+}
+
+/* the same with AVX2 and the population count instruction */
+__attribute__((target("avx2,popcnt"))) static int
+parse_rows_avx2(const struct sscope_reader *r, const char *p,
+		const char *end, bool eof, size_t *line,
+		struct sscope_reader_chunk *ch, size_t row, size_t max_rows,
+		size_t *rows_out, const char **stop, struct sscope_diag *diag)
+{
+	return parse_rows_with(r, p, end, eof, line, ch, row, max_rows,
+			       rows_out, stop, diag, true, true);
 }
 #endif
 
@@ -2069,6 +2142,9 @@ static int parse_rows(const struct sscope_reader *r, const char *p,
 		      struct sscope_diag *diag)
 {
 #ifdef SSC_HAVE_PARSE_CELL_SSSE3
+	if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt"))
+		return parse_rows_avx2(r, p, end, eof, line, ch, row,
+				       max_rows, rows_out, stop, diag);
 	if (__builtin_cpu_supports("ssse3"))
 		return parse_rows_ssse3(r, p, end, eof, line, ch, row,
 					max_rows, rows_out, stop, diag);
@@ -2181,6 +2257,7 @@ struct part {
 	size_t rows;
 	size_t line_err;
 	bool counted;        /* nl known before parsing */
+	const char *pop_from, *pop_to; /* counting: pages to map as well */
 	int rc;
 	struct sscope_diag diag;
 };
@@ -2228,37 +2305,99 @@ static size_t count_nl(const char *p, const char *end)
 	return n;
 }
 
+#ifdef __SSE2__
+/* count_nl() with AVX2 */
+__attribute__((target("avx2"))) static size_t count_nl_avx2(const char *p,
+							    const char *end)
+{
+	const __m256i nl = _mm256_set1_epi8('\n'), zero = _mm256_setzero_si256();
+	size_t n = 0;
+
+	while (end - p >= 32) {
+		__m256i acc = zero, sums;
+		size_t k = 0;
+
+		for (; k < 255 && end - p >= 32; k++, p += 32)
+			acc = _mm256_sub_epi8(acc, _mm256_cmpeq_epi8(
+					_mm256_loadu_si256((const __m256i *)(const void *)p),
+					nl));
+		sums = _mm256_sad_epu8(acc, zero);
+		n += (size_t)_mm256_extract_epi64(sums, 0) +
+		     (size_t)_mm256_extract_epi64(sums, 1) +
+		     (size_t)_mm256_extract_epi64(sums, 2) +
+		     (size_t)_mm256_extract_epi64(sums, 3);
+	}
+	return n + count_nl(p, end);
+}
+#endif
+
 static void *count_run(void *arg)
 {
 	struct part *pt = arg;
 
-	pt->nl = count_nl(pt->from, pt->to);
+#ifdef __SSE2__
+	if (__builtin_cpu_supports("avx2"))
+		pt->nl = count_nl_avx2(pt->from, pt->to);
+	else
+#endif
+		pt->nl = count_nl(pt->from, pt->to);
+#ifdef MADV_POPULATE_READ
+	if (pt->pop_to > pt->pop_from) {
+		/* from the page holding pop_from (the mapping starts on one) */
+		size_t a = (size_t)(pt->pop_from - pt->r->base) &
+			   ~(pt->r->pagesz - 1);
+
+		madvise((void *)(uintptr_t)(pt->r->base + a),
+			(size_t)(pt->pop_to - pt->r->base) - a,
+			MADV_POPULATE_READ);
+	}
+#endif
 	return NULL;
 }
 
-enum { MAXP = 8 };
+enum { MAXP = 8, PIECES = 4 };
 
-/* Run fn on every part, part 0 on the calling thread. */
-static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
+struct pool {
+	struct part *parts;
+	size_t n;
+	atomic_size_t next; /* the next part not yet taken */
+	void *(*fn)(void *);
+};
+
+static void *pool_run(void *arg)
+{
+	struct pool *p = arg;
+
+	for (;;) {
+		size_t k = atomic_fetch_add(&p->next, 1);
+
+		if (k >= p->n)
+			return NULL;
+		p->fn(&p->parts[k]);
+	}
+}
+
+/* Run fn on every part on up to `threads` threads, the calling one among
+ * them, each taking the next part not yet taken (the calling thread alone
+ * when no other starts). */
+static void run_parts(struct part *parts, size_t np, size_t threads,
+		      void *(*fn)(void *))
 {
 	pthread_t tid[MAXP];
-	size_t started = 1;
-	int rc = 0;
+	struct pool p = { .parts = parts, .n = np, .fn = fn };
+	size_t started = 0;
 
-	for (size_t k = 1; k < np; k++) {
-		if (pthread_create(&tid[k], NULL, fn, &parts[k])) {
-			rc = -ENOMEM;
+	atomic_init(&p.next, 0);
+	if (threads > np)
+		threads = np;
+	for (size_t k = 1; k < threads && k < MAXP; k++) {
+		if (pthread_create(&tid[started], NULL, pool_run, &p))
 			break;
-		}
 		started++;
 	}
-	fn(&parts[0]);
-	for (size_t k = 1; k < started; k++)
+	pool_run(&p);
+	for (size_t k = 0; k < started; k++)
 		pthread_join(tid[k], NULL);
-	if (rc) /* run the parts no thread took */
-		for (size_t k = started; k < np; k++)
-			fn(&parts[k]);
-	return 0;
 }
 
 /*
@@ -2267,35 +2406,41 @@ static int run_parts(struct part *parts, size_t np, void *(*fn)(void *))
  * a bound on its rows, and its parse counts its lines.  The bound costs
  * address space only (pages never written are never backed), taken when
  * it is at most twice the input's size; otherwise every part is counted.
- * The counting is spread over all the threads, two pieces per part.
+ * The counting is spread over all the threads, in pieces; they also map
+ * the last part's pages (which counting would otherwise leave to its parse
+ * alone, the other parts' threads waiting for it).
  */
 static void count_parts(struct sscope_reader *r, size_t np)
 {
-	struct part *last = &r->parts[np - 1], job[2 * MAXP];
+	struct part *last = &r->parts[np - 1], job[PIECES * MAXP];
 	size_t arrays = r->nsel + (r->time_col >= 0) + (r->temp_col >= 0), bound, nc;
 
 	bound = (size_t)(last->to - last->from) / r->ncols + 1;
 	nc = np > 1 && arrays && bound <= 2 * r->len / (arrays * sizeof(double)) ?
 		     np - 1 : np;
+	/* PIECES pieces a part, taken in turn by the threads (one held back
+	 * by the system leaves its share to the others) */
 	for (size_t k = 0; k < nc; k++) {
 		const char *a = r->parts[k].from, *b = r->parts[k].to;
-		const char *mid = nc < np ? a + (b - a) / 2 : b;
 
-		job[2 * k] = (struct part){ .from = a, .to = mid };
-		job[2 * k + 1] = (struct part){ .from = mid, .to = b };
+		for (size_t i = 0; i < PIECES; i++)
+			job[PIECES * k + i] = (struct part){
+				.r = r, .from = a + (b - a) * i / PIECES,
+				.to = a + (b - a) * (i + 1) / PIECES
+			};
 	}
-	if (nc == np) {
-		/* one piece per part: the second halves are empty */
-		for (size_t k = 0; k < nc; k++)
-			job[k] = job[2 * k];
-		run_parts(job, nc, count_run);
-	} else {
-		run_parts(job, 2 * nc, count_run);
+	for (size_t k = 0; nc < np && k < PIECES * nc; k++) {
+		size_t len = (size_t)(last->to - last->from);
+
+		job[k].pop_from = last->from + len * k / (PIECES * nc);
+		job[k].pop_to = last->from + len * (k + 1) / (PIECES * nc);
 	}
+	run_parts(job, PIECES * nc, np, count_run);
 	for (size_t k = 0; k < np; k++) {
 		r->parts[k].counted = k < nc;
-		r->parts[k].nl = k >= nc ? 0 :
-			nc == np ? job[k].nl : job[2 * k].nl + job[2 * k + 1].nl;
+		r->parts[k].nl = 0;
+		for (size_t i = 0; k < nc && i < PIECES; i++)
+			r->parts[k].nl += job[PIECES * k + i].nl;
 	}
 }
 
@@ -2374,7 +2519,7 @@ int ssc_reader_read_all(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		return rc;
 	for (size_t k = 0; k < np; k++)
 		parts[k].ch = ch;
-	run_parts(parts, np, part_run);
+	run_parts(parts, np, np, part_run);
 	for (size_t k = 0; k < np; k++) {
 		if (parts[k].rc) {
 			if (diag)

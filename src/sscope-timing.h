@@ -113,6 +113,54 @@ int sscope_timing_analyze(const double *t_s, size_t n, double gap_factor,
 			  size_t max_gaps, size_t *n_gaps_out, double *scratch);
 
 /**
+ * sscope_timing_analyze() as two passes over the stamps that need nothing
+ * of each other, for a caller that runs them at the same time (one on
+ * another thread), and the step that joins them.  The median pass finds
+ * the median interval, the extremes, the backward steps and the order of
+ * the stamps; the sums pass the compensated sum, count and largest of the
+ * forward intervals and the jitter about their mean as it is when none of
+ * them is a gap.  sscope_timing_split_join() gives what
+ * sscope_timing_analyze() gives, bit for bit (it makes one more pass when
+ * an interval is a gap).  The fields are private.
+ */
+struct sscope_timing_split {
+	/* median pass */
+	double median_s, min_s, max_s;
+	size_t n_backwards;
+	struct sscope_timing_order order;
+	/* sums pass */
+	double fsum_s, fsum_c, fmax_s, jsum_s, jsum_c;
+	size_t n_forward;
+};
+
+/**
+ * The median pass of @p n stamps (seconds) into @p sp.
+ * @param scratch  n - 1 doubles of workspace, as sscope_timing_analyze()'s.
+ * @return 0; -EINVAL (NULL).
+ */
+int sscope_timing_split_median(struct sscope_timing_split *sp,
+			       const double *t_s, size_t n, double *scratch);
+
+/**
+ * The sums pass of the same stamps into @p sp (other fields than the
+ * median pass's: the two may run at the same time on one @p sp).
+ * @return 0; -EINVAL (NULL).
+ */
+int sscope_timing_split_sums(struct sscope_timing_split *sp, const double *t_s,
+			     size_t n);
+
+/**
+ * Join both passes over the same stamps: sscope_timing_analyze()'s results
+ * and return codes for the same arguments.
+ * @return 0; -EDOM for n < 2 or a non-positive median interval; -EINVAL.
+ */
+int sscope_timing_split_join(const struct sscope_timing_split *sp,
+			     const double *t_s, size_t n, double gap_factor,
+			     struct sscope_timing *tm,
+			     struct sscope_timing_gap *gaps, size_t max_gaps,
+			     size_t *n_gaps_out);
+
+/**
  * Latency of receive times against the stamps they carry (a ROS
  * container's receive times against the header stamps): rx[i] - t[i].
  * @param scratch  n doubles of workspace.

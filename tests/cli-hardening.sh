@@ -246,7 +246,9 @@ if command -v jq >/dev/null 2>&1; then
 	for cmd in info allan psd; do
 		ss $cmd --raw f64:3 -r 100 "$DATA/random-f64.bin" >"$T/out" 2>"$T/err"
 		rc=$?
-		if [ $rc -eq 0 ] && ! grep -qiE 'nan|inf' "$T/out"; then
+		# (the input's name left out: its directory may spell "inf")
+		if [ $rc -eq 0 ] &&
+		   ! sed "s|$DATA/random-f64.bin||g" "$T/out" | grep -qiE 'nan|inf'; then
 			ok "$cmd on random f64 bytes: exit 0, finite numbers"
 		elif [ $rc -eq 1 ] && [ "$(wc -l <"$T/err")" -eq 1 ]; then
 			ok "$cmd on random f64 bytes: exit 1, one line"

@@ -308,6 +308,147 @@ START_TEST(timing_order_blocks)
 }
 END_TEST
 
+/* The two passes of sscope_timing_split_*, in either order, joined: the
+ * numbers of the plain definitions (intervals sorted for the median;
+ * forward intervals, gaps, then the regular ones summed in order with the
+ * same compensated sum for the rate and the jitter), and every field of
+ * sscope_timing_analyze()'s results, on regular, gapped, swapped,
+ * repeating and jittered stamps. */
+static void plain_timing(const double *t, size_t n, double gf, double *med,
+			 double *rate, double *jitter, size_t *n_gaps,
+			 size_t *missing)
+{
+	double *d = malloc(n * sizeof(double));
+	struct ssc_ksum s = { 0, 0 }, j = { 0, 0 };
+	size_t nj = 0, m = n - 1;
+	double mean;
+	bool *fw = calloc(n, sizeof(bool));
+
+	ck_assert(d && fw);
+	for (size_t i = 1; i < n; i++) {
+		d[i - 1] = t[i] - t[i - 1];
+		fw[i] = t[i] > t[i - 1] && !(i >= 2 && t[i - 1] < t[i - 2]) &&
+			!(i + 1 < n && t[i + 1] < t[i]);
+	}
+	qsort(d, m, sizeof(double), cmp_d);
+	*med = m % 2 ? d[m / 2] : (d[m / 2 - 1] + d[m / 2]) / 2;
+	*n_gaps = *missing = 0;
+	for (size_t i = 1; i < n; i++) {
+		double x = t[i] - t[i - 1];
+
+		if (!fw[i])
+			continue;
+		if (x > gf * *med) {
+			++*n_gaps;
+			*missing += (size_t)llround(x / *med) - 1;
+		} else {
+			ssc_ksum_add(&s, x);
+			nj++;
+		}
+	}
+	mean = ssc_ksum_value(&s) / (double)nj;
+	*rate = 1 / mean;
+	for (size_t i = 1; i < n; i++) {
+		double x = t[i] - t[i - 1];
+
+		if (fw[i] && !(x > gf * *med))
+			ssc_ksum_add(&j, (x - mean) * (x - mean));
+	}
+	*jitter = sqrt(ssc_ksum_value(&j) / (double)nj);
+	free(d);
+	free(fw);
+}
+
+START_TEST(timing_split)
+{
+	enum { N = 30011 };
+	double *t = malloc(N * sizeof(double)), *scratch = malloc(N * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	ck_assert(t && scratch && r);
+	gsl_rng_set(r, 2385);
+	for (int kind = 0; kind < 6; kind++) {
+		for (size_t n = 3; n <= N; n = n * 3 + 7) {
+			struct sscope_timing a, b;
+			struct sscope_timing_split sp;
+			struct sscope_timing_gap ga[4], gb[4];
+			size_t nga = 0, ngb = 0, ng, miss;
+			double med, rate, jit;
+
+			for (size_t i = 0; i < n; i++)
+				t[i] = 1.7e9 + (double)i / 238.5 +
+				       (kind == 4 ? 1e-6 * gsl_rng_uniform(r) : 0);
+			if (kind == 1 || kind == 5) /* gaps */
+				for (size_t i = n / 3; i < n; i++)
+					t[i] += (double)(1 + (i > n / 2)) / 238.5 * 2.5;
+			if ((kind == 2 || kind == 5) && n > 4) { /* a swap */
+				double x = t[n / 4];
+
+				t[n / 4] = t[n / 4 + 1];
+				t[n / 4 + 1] = x;
+			}
+			if (kind == 3 && n > 4) /* a repeat */
+				t[n / 2] = t[n / 2 - 1];
+			ck_assert_int_eq(sscope_timing_analyze(t, n, 1.5, &a, ga, 4, &nga,
+							       scratch), 0);
+			memset(&sp, 0x5a, sizeof(sp));
+			if (n % 2) {
+				ck_assert_int_eq(sscope_timing_split_sums(&sp, t, n), 0);
+				ck_assert_int_eq(sscope_timing_split_median(&sp, t, n, scratch), 0);
+			} else {
+				ck_assert_int_eq(sscope_timing_split_median(&sp, t, n, scratch), 0);
+				ck_assert_int_eq(sscope_timing_split_sums(&sp, t, n), 0);
+			}
+			ck_assert_int_eq(sscope_timing_split_join(&sp, t, n, 1.5, &b, gb, 4,
+								    &ngb), 0);
+			plain_timing(t, n, 1.5, &med, &rate, &jit, &ng, &miss);
+			ck_assert_msg(b.dt_median_s == med && b.rate_hz == rate &&
+				      b.jitter_rms_s == jit,
+				      "kind %d n %zu: %.17g %.17g %.17g, want %.17g %.17g %.17g",
+				      kind, n, b.dt_median_s, b.rate_hz, b.jitter_rms_s,
+				      med, rate, jit);
+			ck_assert_uint_eq(b.n_gaps, ng);
+			ck_assert_uint_eq(b.n_missing, miss);
+			/* the cases are what they are meant to be (a repeated
+			 * stamp leaves a double interval after it) */
+			if (n > 100)
+				ck_assert_msg(b.n_gaps == (kind == 1 || kind == 5 ? 2u :
+							   kind == 3 ? 1u : 0u),
+					      "kind %d: %zu gaps", kind, b.n_gaps);
+			ck_assert(a.dt_median_s == b.dt_median_s && a.rate_hz == b.rate_hz &&
+				  a.jitter_rms_s == b.jitter_rms_s &&
+				  a.dt_min_s == b.dt_min_s && a.dt_max_s == b.dt_max_s);
+			ck_assert(a.n_gaps == b.n_gaps && a.n_missing == b.n_missing &&
+				  a.n_backwards == b.n_backwards);
+			ck_assert(!memcmp(&a.order, &b.order, sizeof(a.order)));
+			ck_assert_uint_eq(nga, ngb);
+			ck_assert(!memcmp(ga, gb, nga * sizeof(ga[0])));
+		}
+	}
+	{
+		struct sscope_timing_split sp;
+		struct sscope_timing tm;
+
+		/* one stamp: its order, and -EDOM as from the one call */
+		ck_assert_int_eq(sscope_timing_split_median(&sp, t, 1, scratch), 0);
+		ck_assert_int_eq(sscope_timing_split_sums(&sp, t, 1), 0);
+		ck_assert_int_eq(sscope_timing_split_join(&sp, t, 1, 1.5, &tm, NULL, 0,
+							    NULL), -EDOM);
+		ck_assert_uint_eq(tm.order.n, 1);
+		ck_assert_int_eq(sscope_timing_split_median(NULL, t, 5, scratch), -EINVAL);
+		ck_assert_int_eq(sscope_timing_split_median(&sp, t, 5, NULL), -EINVAL);
+		ck_assert_int_eq(sscope_timing_split_sums(&sp, NULL, 5), -EINVAL);
+		ck_assert_int_eq(sscope_timing_split_join(&sp, t, 5, 1, &tm, NULL, 0,
+							    NULL), -EINVAL);
+		ck_assert_int_eq(sscope_timing_split_join(NULL, t, 5, 1.5, &tm, NULL, 0,
+							    NULL), -EINVAL);
+	}
+	gsl_rng_free(r);
+	free(t);
+	free(scratch);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("stats");
@@ -321,6 +462,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, time_order);
 	tcase_add_test(tc, timing_median);
 	tcase_add_test(tc, timing_order_blocks);
+	tcase_add_test(tc, timing_split);
 	suite_add_tcase(s, tc);
 	return s;
 }
