@@ -378,7 +378,11 @@ static void pass(const double *x, size_t stride, size_t n, size_t first,
 
 		if (sc != 1 || stride != 1 || !block_vec(x + b, len, v0, &k))
 			block_scalar(x + b * stride, stride, len, v0, sc, &k);
-		if (ca) /* the block is in the cache */
+		/* the block is in the cache; one strictly inside both of the
+		 * clip's runners-up (its extremes as found above) changes
+		 * nothing there */
+		if (ca && !(isfinite(ca->hi.next) && isfinite(ca->lo.next) &&
+			    k.hi < ca->hi.next && -k.lo < ca->lo.next))
 			ssc_clip_feed(ca, x + b * stride, stride, len);
 		if (ea)
 			env_feed(ea, b, len, &k);
