@@ -242,7 +242,7 @@ static double *dup_arr(const double *a, size_t n)
  * the first invalid point, so the envelope and the breaks survive at any
  * figure width below LINE_BUCKETS pixels; the drawing decimates again per
  * pixel column.  A day at 100 Hz is then 16k points instead of 8.6M. */
-#define LINE_BUCKETS 4096
+#define LINE_BUCKETS SSC_PLOT_LINE_BINS
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
 	defined(__GLIBC__) && defined(__has_attribute)
@@ -345,9 +345,86 @@ SSC_PCLONES static bool bucket_fast(const double *x, bool x_ok,
 	return true;
 }
 
-/* y shown as (y - off) / sc (a unit conversion) */
+/* The largest double whose shown value is v (that of a, shown as
+ * (y - off) / sc, sc > 0), stepping up from a; a itself when it is alone
+ * with v; NaN when more than a few are (a wide offset). */
+static double shown_top(double a, double off, double sc, double v)
+{
+	for (int k = 0; k < 8; k++) {
+		double u = nextafter(a, INFINITY);
+
+		if ((u - off) / sc != v)
+			return a;
+		a = u;
+	}
+	return NAN;
+}
+
+/* as shown_top(), stepping down */
+static double shown_bottom(double a, double off, double sc, double v)
+{
+	for (int k = 0; k < 8; k++) {
+		double u = nextafter(a, -INFINITY);
+
+		if ((u - off) / sc != v)
+			return a;
+		a = u;
+	}
+	return NAN;
+}
+
+/* bucket_fast()'s indices from the bucket's envelope e, found beforehand:
+ * (y - off) / sc with sc > 0 rounds monotonically, so the smallest shown
+ * value is that of the smallest sample, and it first shows where the first
+ * sample at most the largest double shown as it lies (the first sample
+ * equal to the smallest, unless a neighbouring double is shown the same);
+ * the same for the largest.  False (nothing found) when a point is not
+ * finite or the scale is not positive, for the other passes. */
+static bool bucket_envelope(const struct sscope_clip_envelope *e,
+			    const double *y, size_t i0, size_t i1, double off,
+			    double sc, bool same, size_t *imin, size_t *imax)
+{
+	double vlo, vhi, top, bottom;
+	size_t i;
+
+	if (e->n_nan || !isfinite(e->lo) || !isfinite(e->hi) ||
+	    e->i_lo < i0 || e->i_lo >= i1 || e->i_hi < i0 || e->i_hi >= i1)
+		return false;
+	if (same) {
+		*imin = e->i_lo;
+		*imax = e->i_hi;
+		return true;
+	}
+	if (!(sc > 0))
+		return false;
+	vlo = (e->lo - off) / sc;
+	vhi = (e->hi - off) / sc;
+	if (!isfinite(vlo) || !isfinite(vhi))
+		return false;
+	top = shown_top(e->lo, off, sc, vlo);
+	bottom = shown_bottom(e->hi, off, sc, vhi);
+	if (isnan(top))
+		*imin = first_eq(y, i0, i1, off, sc, same, vlo);
+	else if (top == e->lo)
+		*imin = e->i_lo;
+	else
+		for (*imin = i = i0; y[i] > top; *imin = ++i)
+			;
+	if (isnan(bottom))
+		*imax = first_eq(y, i0, i1, off, sc, same, vhi);
+	else if (bottom == e->hi)
+		*imax = e->i_hi;
+	else
+		for (*imax = i = i0; y[i] < bottom; *imax = ++i)
+			;
+	return true;
+}
+
+/* y shown as (y - off) / sc (a unit conversion); env: y's envelope in
+ * LINE_BUCKETS bins, or NULL */
 static int line_reduced(struct item *it, const double *x, const bool *x_fin,
-			const double *y, size_t n, double off, double sc)
+			const double *y, size_t n, double off, double sc,
+			const struct sscope_clip_envelope *env)
 {
 	size_t cap = 5 * LINE_BUCKETS, m = 0;
 	bool same = off == 0 && sc == 1;
@@ -364,6 +441,10 @@ static int line_reduced(struct item *it, const double *x, const bool *x_fin,
 
 		if (i0 >= i1)
 			continue;
+		if (env && x_fin && x_fin[b] &&
+		    bucket_envelope(&env[b], y, i0, i1, off, sc, same, &imin,
+				    &imax))
+			goto kept;
 		if ((!x_fin || x_fin[b]) &&
 		    bucket_fast(x, x_fin != NULL, y, i0, i1, off, sc, same, &imin,
 				&imax))
@@ -452,13 +533,23 @@ int ssc_ax_line_scaled_x(struct ssc_ax *ax, const double *x,
 			 double offset, double scale,
 			 const struct ssc_style *st, const char *label)
 {
+	return ssc_ax_line_envelope_x(ax, x, x_finite, y, n, offset, scale,
+				      NULL, st, label);
+}
+
+int ssc_ax_line_envelope_x(struct ssc_ax *ax, const double *x,
+			   const bool *x_finite, const double *y, size_t n,
+			   double offset, double scale,
+			   const struct sscope_clip_envelope *env,
+			   const struct ssc_style *st, const char *label)
+{
 	struct item *it = new_item(ax, IT_LINE, st, label);
 	bool same = offset == 0 && scale == 1;
 
 	if (!it)
 		return -ENOMEM;
 	if (n > 8 * LINE_BUCKETS && !ax->logx && !ax->logy && x && y)
-		return line_reduced(it, x, x_finite, y, n, offset, scale);
+		return line_reduced(it, x, x_finite, y, n, offset, scale, env);
 	it->n = n;
 	it->x = dup_arr(x, n);
 	it->y = dup_arr(y, n);
