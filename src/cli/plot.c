@@ -15,6 +15,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1922,18 +1923,25 @@ int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
 	return ssc_svg_finish(svg, buf, len);
 }
 
-int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
+/* the SVG document of the figure saved as path */
+static int fig_svg_for(struct ssc_fig *f, const char *path, char **buf,
+		       size_t *len)
 {
-	char *buf = NULL, id[48];
-	size_t len = 0;
+	char id[48];
 	const char *b = strrchr(path, '/');
-	int rc;
 
 	/* ids from the file name: figures inlined in one page stay apart */
 	snprintf(id, sizeof(id), "f-%s", b ? b + 1 : path);
 	if (strrchr(id, '.'))
 		*strrchr(id, '.') = '\0';
-	rc = ssc_fig_svg(f, id, &buf, &len);
+	return ssc_fig_svg(f, id, buf, len);
+}
+
+int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
+{
+	char *buf = NULL;
+	size_t len = 0;
+	int rc = fig_svg_for(f, path, &buf, &len);
 
 	if (rc)
 		return rc;
@@ -2135,14 +2143,13 @@ static const struct ssc_surface_ops cv_ops = {
 	.group = cv_group,
 };
 
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+/* the PNG file of the figure, in memory (free()) */
+static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 {
 	const char *font = getenv("SSCOPE_FONT");
 	struct ssc_canvas *cv = NULL;
 	struct ssc_surface S;
 	struct fig_layout fl = { 0 };
-	unsigned char *png = NULL;
-	size_t len = 0;
 	double h = f->h;
 	int rc;
 
@@ -2167,24 +2174,81 @@ int ssc_fig_save_png(struct ssc_fig *f, const char *path)
 	}
 	fig_draw(f, &S, &fl);
 	fig_layout_free(&fl);
-	rc = ssc_canvas_png(cv, &png, &len) ? -EIO : 0;
+	rc = ssc_canvas_png(cv, png, len) ? -EIO : 0;
 	ssc_canvas_free(cv);
+	return rc;
+}
+
+#else /* !HAVE_OPENCV */
+
+static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
+{
+	(void)f;
+	(void)png;
+	(void)len;
+	return -ENOTSUP;
+}
+
+#endif
+
+int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+{
+	unsigned char *png = NULL;
+	size_t len = 0;
+	int rc = fig_png(f, &png, &len);
+
 	if (!rc)
 		rc = write_file(path, png, len);
 	free(png);
 	return rc;
 }
 
-#else /* !HAVE_OPENCV */
+/* The SVG document drawn on a thread of its own while the PNG is drawn:
+ * the figure is only read by both. */
+struct svg_job {
+	struct ssc_fig *f;
+	const char *path;
+	char *buf;
+	size_t len;
+	int rc;
+};
 
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+static void *svg_thread(void *arg)
 {
-	(void)f;
-	(void)path;
-	return -ENOTSUP;
+	struct svg_job *j = arg;
+
+	j->rc = fig_svg_for(j->f, j->path, &j->buf, &j->len);
+	return NULL;
 }
 
-#endif
+/* the figure as p.svg and p.png (p.svg first, p.png only when it was
+ * written), the two drawn at the same time */
+static int save_both(struct ssc_fig *f, char *p, size_t stem)
+{
+	struct svg_job j = { .f = f, .path = p };
+	unsigned char *png = NULL;
+	size_t len = 0;
+	pthread_t tid;
+	bool two;
+	int rc;
+
+	strcpy(p + stem, ".svg");
+	two = !pthread_create(&tid, NULL, svg_thread, &j);
+	rc = fig_png(f, &png, &len);
+	if (two)
+		pthread_join(tid, NULL);
+	else
+		svg_thread(&j);
+	if (!j.rc)
+		j.rc = write_file(p, j.buf, j.len);
+	free(j.buf);
+	if (!j.rc && !rc) {
+		strcpy(p + stem, ".png");
+		rc = write_file(p, png, len);
+	}
+	free(png);
+	return j.rc ? j.rc : rc;
+}
 
 enum ssc_plot_format ssc_plot_format_of(const char *path)
 {
@@ -2208,12 +2272,7 @@ int ssc_fig_save(struct ssc_fig *f, const char *path)
 		if (!p)
 			return -ENOMEM;
 		memcpy(p, path, l - k);
-		strcpy(p + l - k, ".svg");
-		rc = ssc_fig_save_svg(f, p);
-		if (!rc) {
-			strcpy(p + l - k, ".png");
-			rc = ssc_fig_save_png(f, p);
-		}
+		rc = save_both(f, p, l - k);
 		free(p);
 		return rc;
 	}
