@@ -70,14 +70,12 @@ struct fig_job {
 	const char *path;
 	const struct file_info *fi; /* its envelopes, or NULL */
 	struct ssc_fig *fig;
-	bool done;
 	int rc;
 };
 
 struct info_res {
 	size_t n;
 	struct file_info *fi;
-	bool want_env; /* the first capture's envelopes, for the figure */
 };
 
 /* receive times against header stamps: latency, and rate and gaps */
@@ -585,7 +583,6 @@ static void build_fig(struct fig_job *job)
 	bool *t_own = NULL;
 	char buf[256];
 
-	job->done = true;
 	if (!t || rows == 0) {
 		free(tmade);
 		job->rc = -ENOMEM;
@@ -593,7 +590,8 @@ static void build_fig(struct fig_job *job)
 	}
 	for (size_t i = 0; tmade && i < cap->n; i++)
 		tmade[i] = cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
-	t_fin = env && fi->t_fin ? fi->t_fin : (t_own = ssc_line_x_finite(t, cap->n));
+	t_fin = env && fi->t_fin ? fi->t_fin :
+				   (t_own = ssc_line_x_finite(t, cap->n));
 	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", job->path);
 	ssc_fig_title(fig, buf);
@@ -668,10 +666,9 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	*result = r;
 	/* the figure (of the first capture) is reduced from the envelopes
 	 * its statistics' pass finds */
-	r->want_env = co->plot;
 	for (size_t i = 0; i < env->n_caps && !rc; i++, r->n++)
 		rc = analyse(co, env->paths[i], env->caps[i], &r->fi[i],
-			     r->want_env && i == 0);
+			     co->plot && i == 0);
 	return rc;
 }
 
