@@ -72,6 +72,35 @@ int sscope_clip_detect_stats(const double *x, size_t stride, size_t n,
 			     size_t min_count, double ratio,
 			     struct sscope_stats *st, struct sscope_clip *c);
 
+/** The envelope of one bin of samples: what a plot keeps of it. */
+struct sscope_clip_envelope {
+	double lo, hi;      /**< smallest and largest sample that is not NaN
+			     *   (infinities count); NaN when there is none */
+	size_t i_lo, i_hi;  /**< index k of the first sample equal (==) to
+			     *   lo, to hi; SIZE_MAX when there is none */
+	size_t n_nan;       /**< NaN samples in the bin */
+};
+
+/**
+ * sscope_clip_detect_stats(), and in the same pass over memory the
+ * envelope of each of n_bins consecutive bins of the samples: bin b holds
+ * k = floor(n b / n_bins) .. floor(n (b + 1) / n_bins) - 1 (a bin is empty
+ * when n < n_bins: lo and hi NaN, no index, no NaN).  A long record drawn
+ * as a line keeps each bin's first, smallest, largest and last sample; this
+ * finds them while the statistics read the samples.
+ * @param n_bins number of bins (0: none; n_bins (n_bins - 1) must not
+ *               exceed SIZE_MAX: about 2^32 bins with a 64-bit size_t).
+ * @param bins   receives n_bins envelopes (caller's storage; may be NULL
+ *               when n_bins is 0); filled even when no sample is finite.
+ * @return as sscope_clip_detect_stats(); -EINVAL also for bins NULL with
+ *         n_bins > 0, or too many bins.
+ */
+int sscope_clip_detect_stats_envelope(const double *x, size_t stride,
+				      size_t n, size_t min_count, double ratio,
+				      struct sscope_stats *st,
+				      struct sscope_clip *c, size_t n_bins,
+				      struct sscope_clip_envelope *bins);
+
 #ifdef __cplusplus
 }
 #endif

@@ -15,6 +15,11 @@
  * again, sample by sample, scaled by a power of two (exact), so that
  * neither the differences (1e308 - -1e308) nor the squares (1e200^2,
  * 1e-300^2) leave the double range; the results are scaled back.
+ * The envelope of bins of the record (smallest and largest sample, where
+ * each first shows, NaN count) is gathered in the same pass: a block that
+ * lies in one bin gives its extremes as found for the statistics, one cut
+ * by a bin's edge is looked at again in pieces while it is in the cache,
+ * and each bin's extremes are looked up, once, in the piece they came from.
  */
 #include "internal.h"
 
@@ -182,10 +187,184 @@ static void block_scalar(const double *x, size_t stride, size_t len,
 
 #include <gsl/gsl_cdf.h>
 
+/* the bins' envelopes, gathered block by block */
+struct env_acc {
+	struct sscope_clip_envelope *bins;
+	const double *x;
+	size_t stride, n, nb;
+	size_t b, i0, i1; /* the current bin and its samples */
+	double lo, hi;
+	size_t lo_at, lo_len, hi_at, hi_len; /* pieces of its first lo, hi */
+	size_t seen, nan; /* samples not NaN, NaN, so far */
+};
+
+/* first sample of bin b: floor(n b / nb) without overflow (b (n % nb)
+ * < nb (nb - 1), checked by the caller) */
+static size_t bin_start(const struct env_acc *a, size_t b)
+{
+	return b * (a->n / a->nb) + b * (a->n % a->nb) / a->nb;
+}
+
+static void env_start(struct env_acc *a, size_t b)
+{
+	a->b = b;
+	a->i0 = bin_start(a, b);
+	a->i1 = bin_start(a, b + 1);
+	a->lo = INFINITY;
+	a->hi = -INFINITY;
+	a->seen = 0;
+	a->nan = 0;
+}
+
+/* the first k in [at, at + len) with x[k] == v (there is one) */
+SSC_SCLONES static size_t first_equal(const double *x, size_t stride,
+				      size_t at, size_t len, double v)
+{
+	size_t i = at, end = at + len;
+
+#if defined(__GNUC__)
+	if (stride == 1) {
+		const ssc_sv4 vv = { v, v, v, v };
+
+		for (; i + 4 <= end; i += 4) {
+			ssc_sv4 w;
+			ssc_sv4i m;
+
+			SV4LOAD(w, x + i);
+			m = (ssc_sv4i)(w == vv);
+			if (m[0] | m[1] | m[2] | m[3])
+				break;
+		}
+	}
+#endif
+	while (x[i * stride] != v)
+		i++;
+	return i;
+}
+
+static void env_close(struct env_acc *a)
+{
+	struct sscope_clip_envelope *e = &a->bins[a->b];
+
+	e->n_nan = a->nan;
+	if (!a->seen) {
+		e->lo = e->hi = NAN;
+		e->i_lo = e->i_hi = SIZE_MAX;
+		return;
+	}
+	e->lo = a->lo;
+	e->hi = a->hi;
+	e->i_lo = first_equal(a->x, a->stride, a->lo_at, a->lo_len, a->lo);
+	e->i_hi = first_equal(a->x, a->stride, a->hi_at, a->hi_len, a->hi);
+}
+
+/* samples [i, i + len) of the current bin: extremes lo, hi of those not
+ * NaN, nan of them NaN */
+static void env_piece(struct env_acc *a, size_t i, size_t len, double lo,
+		      double hi, size_t nan)
+{
+	a->nan += nan;
+	if (nan == len)
+		return;
+	if (!a->seen || lo < a->lo) {
+		a->lo = lo;
+		a->lo_at = i;
+		a->lo_len = len;
+	}
+	if (!a->seen || hi > a->hi) {
+		a->hi = hi;
+		a->hi_at = i;
+		a->hi_len = len;
+	}
+	a->seen += len - nan;
+}
+
+/* extremes and NaN count of a piece (the block's own when it is whole) */
+SSC_SCLONES static void piece_scan(const double *x, size_t stride, size_t len,
+				   double *plo, double *phi, size_t *pnan)
+{
+	double lo = INFINITY, hi = -INFINITY;
+	size_t i = 0, nan = 0;
+
+#if defined(__GNUC__)
+	if (stride == 1 && len >= 4) {
+		const ssc_sv4 inf = { INFINITY, INFINITY, INFINITY, INFINITY };
+		ssc_sv4 l = inf, h = -inf;
+		ssc_sv4i c = { 0, 0, 0, 0 };
+
+		for (; i + 4 <= len; i += 4) {
+			ssc_sv4 v;
+			ssc_sv4i m;
+
+			SV4LOAD(v, x + i);
+			c -= (ssc_sv4i)(v != v);
+			m = (ssc_sv4i)(v < l);
+			l = (ssc_sv4)(((ssc_sv4i)v & m) | ((ssc_sv4i)l & ~m));
+			m = (ssc_sv4i)(v > h);
+			h = (ssc_sv4)(((ssc_sv4i)v & m) | ((ssc_sv4i)h & ~m));
+		}
+		for (int k = 0; k < 4; k++) {
+			lo = l[k] < lo ? l[k] : lo;
+			hi = h[k] > hi ? h[k] : hi;
+			nan += (size_t)c[k];
+		}
+	}
+#endif
+	for (; i < len; i++) {
+		double v = x[i * stride];
+
+		if (isnan(v)) {
+			nan++;
+			continue;
+		}
+		lo = v < lo ? v : lo;
+		hi = v > hi ? v : hi;
+	}
+	*plo = lo;
+	*phi = hi;
+	*pnan = nan;
+}
+
+/* samples [i, i + len); k: the block's statistics (NULL: all NaN) */
+static void env_feed(struct env_acc *a, size_t i, size_t len,
+		     const struct blk *k)
+{
+	bool whole = true; /* [i, i + len) is still the whole block */
+
+	for (; len; whole = false) {
+		size_t m;
+		double lo, hi;
+		size_t nan;
+
+		while (i >= a->i1) {
+			env_close(a);
+			env_start(a, a->b + 1);
+		}
+		m = a->i1 - i < len ? a->i1 - i : len;
+		if (!k) {
+			lo = INFINITY;
+			hi = -INFINITY;
+			nan = m;
+		} else if (whole && m == len) {
+			/* the whole block: its extremes are known */
+			lo = k->lo;
+			hi = k->hi;
+			nan = k->nan;
+		} else {
+			piece_scan(a->x + i * a->stride, a->stride, m, &lo, &hi,
+				   &nan);
+		}
+		env_piece(a, i, m, lo, hi, nan);
+		i += m;
+		len -= m;
+	}
+}
+
 /* one pass; sc != 1: samples scaled by sc, sample by sample, and not
  * shifted (one huge sample first would leave its rounding in every term) */
 static void pass(const double *x, size_t stride, size_t n, size_t first,
-		 double sc, struct sscope_stats *st, struct ssc_clip_acc *ca)
+		 double sc, struct sscope_stats *st, struct ssc_clip_acc *ca,
+		 struct env_acc *ea)
 {
 	struct ssc_ksum s = { 0, 0 }, m2 = { 0, 0 };
 	size_t used = 0, nan = first;
@@ -199,8 +378,14 @@ static void pass(const double *x, size_t stride, size_t n, size_t first,
 
 		if (sc != 1 || stride != 1 || !block_vec(x + b, len, v0, &k))
 			block_scalar(x + b * stride, stride, len, v0, sc, &k);
-		if (ca) /* the block is in the cache */
+		/* the block is in the cache; one strictly inside both of the
+		 * clip's runners-up (its extremes as found above) changes
+		 * nothing there */
+		if (ca && !(isfinite(ca->hi.next) && isfinite(ca->lo.next) &&
+			    k.hi < ca->hi.next && -k.lo < ca->lo.next))
 			ssc_clip_feed(ca, x + b * stride, stride, len);
+		if (ea)
+			env_feed(ea, b, len, &k);
 		nan += k.nan;
 		if (k.cnt == 0)
 			continue;
@@ -231,7 +416,8 @@ static void pass(const double *x, size_t stride, size_t n, size_t first,
 
 /* the statistics, and the clip detection fed when ca */
 static int stats_clip(const double *x, size_t stride, size_t n,
-		      struct sscope_stats *st, struct ssc_clip_acc *ca)
+		      struct sscope_stats *st, struct ssc_clip_acc *ca,
+		      struct env_acc *ea)
 {
 	size_t first = 0;
 	double lo, hi, sc;
@@ -240,17 +426,19 @@ static int stats_clip(const double *x, size_t stride, size_t n,
 	st->n_nan = 0;
 	while (first < n && isnan(x[first * stride]))
 		first++;
+	if (ea && first)
+		env_feed(ea, 0, first, NULL);
 	if (first == n) {
 		st->n_nan = n;
 		return -EDOM;
 	}
-	pass(x, stride, n, first, 1, st, ca);
+	pass(x, stride, n, first, 1, st, ca, ea);
 	/* extremes: the sums again, scaled; min and max as found */
 	sc = ssc_safe_scale(fmax(fabs(st->min), fabs(st->max)));
 	if (sc != 1) {
 		lo = st->min;
 		hi = st->max;
-		pass(x, stride, n, first, sc, st, NULL);
+		pass(x, stride, n, first, sc, st, NULL, NULL);
 		st->min = lo;
 		st->max = hi;
 	}
@@ -266,25 +454,53 @@ int sscope_stats_compute(const double *x, size_t stride, size_t n,
 {
 	if (!x || !st || stride == 0)
 		return -EINVAL;
-	return stats_clip(x, stride, n, st, NULL);
+	return stats_clip(x, stride, n, st, NULL, NULL);
 }
 
 int sscope_clip_detect_stats(const double *x, size_t stride, size_t n,
 			     size_t min_count, double ratio,
 			     struct sscope_stats *st, struct sscope_clip *c)
 {
+	return sscope_clip_detect_stats_envelope(x, stride, n, min_count,
+						 ratio, st, c, 0, NULL);
+}
+
+int sscope_clip_detect_stats_envelope(const double *x, size_t stride,
+				      size_t n, size_t min_count, double ratio,
+				      struct sscope_stats *st,
+				      struct sscope_clip *c, size_t n_bins,
+				      struct sscope_clip_envelope *bins)
+{
 	struct ssc_clip_acc ca;
+	struct env_acc ea, *pe = NULL;
 	int rc;
 
 	if (!x || !st || stride == 0 ||
-	    (c && !ssc_clip_args_ok(min_count, ratio)))
+	    (c && !ssc_clip_args_ok(min_count, ratio)) ||
+	    (n_bins && !bins) ||
+	    (n_bins > 1 && n_bins > SIZE_MAX / (n_bins - 1)))
 		return -EINVAL;
-	if (!c)
-		return stats_clip(x, stride, n, st, NULL);
-	ssc_clip_init(&ca);
-	rc = stats_clip(x, stride, n, st, &ca);
+	if (n_bins) {
+		ea = (struct env_acc){ .bins = bins, .x = x, .stride = stride,
+				       .n = n, .nb = n_bins };
+		env_start(&ea, 0);
+		pe = &ea;
+	}
+	if (c)
+		ssc_clip_init(&ca);
+	rc = stats_clip(x, stride, n, st, c ? &ca : NULL, pe);
 	/* the leading NaN the statistics skip hold nothing finite */
-	ssc_clip_finish(&ca, min_count, ratio, c);
+	if (c)
+		ssc_clip_finish(&ca, min_count, ratio, c);
+	if (pe) {
+		/* the last bin with samples, then the empty ones after it */
+		for (;;) {
+			env_close(pe);
+			if (pe->b + 1 >= n_bins)
+				break;
+			env_start(pe, pe->b + 1);
+		}
+	}
 	return rc;
 }
 

@@ -6,7 +6,8 @@
  * same signals limited to a range are, on the side that was limited;
  * constant, NaN and bad arguments; the skipping of blocks against the plain
  * one-pass definition; the clip fed by the statistics' pass against the
- * two calls.
+ * two calls; the envelopes of bins found in the same pass against their
+ * plain definition.
  */
 #include "internal.h"
 
@@ -352,6 +353,133 @@ START_TEST(stats_clip_equals_two_calls)
 }
 END_TEST
 
+/* The plain definition of a bin's envelope: samples k of
+ * [n b / nb, n (b + 1) / nb) (products exact for these sizes), their
+ * smallest and largest non-NaN value, the first index of each, NaN count. */
+static void envelope_plain(const double *x, size_t stride, size_t n,
+			   size_t nb, size_t b, struct sscope_clip_envelope *e)
+{
+	size_t i0 = n * b / nb, i1 = n * (b + 1) / nb;
+
+	e->lo = e->hi = NAN;
+	e->i_lo = e->i_hi = SIZE_MAX;
+	e->n_nan = 0;
+	for (size_t i = i0; i < i1; i++) {
+		double v = x[i * stride];
+
+		if (isnan(v)) {
+			e->n_nan++;
+			continue;
+		}
+		if (e->i_lo == SIZE_MAX || v < e->lo) {
+			e->lo = v;
+			e->i_lo = i;
+		}
+		if (e->i_hi == SIZE_MAX || v > e->hi) {
+			e->hi = v;
+			e->i_hi = i;
+		}
+	}
+}
+
+/* sscope_clip_detect_stats_envelope(): the statistics and clip of
+ * sscope_clip_detect_stats() bit for bit, and each bin's envelope as the
+ * plain definition finds it (values ==, same indices), over quantized
+ * noise with ties, signed zeros, NaN runs, infinities, strides, leading
+ * NaN, bins smaller and larger than the statistics' blocks, more bins than
+ * samples; all NaN; no sample; bad arguments. */
+START_TEST(envelope_equals_plain)
+{
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	const size_t n = 12000, nbs[] = { 1, 3, 7, 64, 4096, 20000 };
+	double *x = malloc(2 * n * sizeof(double));
+	struct sscope_clip_envelope *e = malloc(20000 * sizeof(*e)), p;
+	struct sscope_stats s1, s2;
+	struct sscope_clip c1, c2;
+	size_t checked_ties = 0;
+
+	ck_assert(x && e && r);
+	gsl_rng_set(r, 2385);
+	for (int t = 0; t < 240; t++) {
+		size_t stride = 1 + (size_t)(t % 2), m = 1 + gsl_rng_uniform_int(r, n);
+		size_t nb = nbs[t % 6];
+		size_t lead = t % 3 == 0 ? gsl_rng_uniform_int(r, 3000) : 0;
+		double q = t % 4 == 0 ? 0 : ldexp(1, -(int)gsl_rng_uniform_int(r, 3));
+		int rc1, rc2;
+
+		for (size_t i = 0; i < m * stride; i++) {
+			double v = gsl_ran_gaussian(r, 1.0);
+
+			if (q > 0)
+				v = q * nearbyint(v / q); /* ties, and -0 */
+			if (t % 5 == 1 && gsl_rng_uniform(r) < 0.01)
+				v = (double[]){ NAN, INFINITY, -INFINITY, -0.0 }
+					[gsl_rng_uniform_int(r, 4)];
+			if (t % 7 == 3 && (i / stride) % 3000 < 700)
+				v = NAN; /* runs of NaN across bins */
+			x[i] = i / stride < lead ? (double)NAN : v;
+		}
+		memset(e, 0x5a, nb * sizeof(*e));
+		memset(&c1, 0x5a, sizeof(c1)); /* the padding too */
+		memset(&c2, 0x5a, sizeof(c2));
+		rc1 = sscope_clip_detect_stats(x, stride, m, SSCOPE_CLIP_MIN_COUNT,
+					       SSCOPE_CLIP_RATIO, &s1, &c1);
+		rc2 = sscope_clip_detect_stats_envelope(
+			x, stride, m, SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
+			&s2, &c2, nb, e);
+		ck_assert_int_eq(rc1, rc2);
+		ck_assert_msg(memcmp(&s1, &s2, sizeof(s1)) == 0, "t %d: stats differ", t);
+		ck_assert_msg(rc1 == -EDOM || memcmp(&c1, &c2, sizeof(c1)) == 0,
+			      "t %d: clip differs", t);
+		for (size_t b = 0; b < nb; b++) {
+			envelope_plain(x, stride, m, nb, b, &p);
+			ck_assert_msg(p.n_nan == e[b].n_nan && p.i_lo == e[b].i_lo &&
+					      p.i_hi == e[b].i_hi,
+				      "t %d bin %zu: nan %zu/%zu lo at %zu/%zu hi at %zu/%zu",
+				      t, b, e[b].n_nan, p.n_nan, e[b].i_lo, p.i_lo,
+				      e[b].i_hi, p.i_hi);
+			ck_assert_msg((isnan(p.lo) && isnan(e[b].lo)) || p.lo == e[b].lo,
+				      "t %d bin %zu: lo", t, b);
+			ck_assert_msg((isnan(p.hi) && isnan(e[b].hi)) || p.hi == e[b].hi,
+				      "t %d bin %zu: hi", t, b);
+			if (q > 0 && p.i_lo != SIZE_MAX)
+				checked_ties++;
+		}
+	}
+	ck_assert(checked_ties > 1000);
+	/* nothing finite: -EDOM, every bin all NaN */
+	for (size_t i = 0; i < 100; i++)
+		x[i] = NAN;
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 100, 8, 4, &s2, &c2,
+							   7, e), -EDOM);
+	for (size_t b = 0; b < 7; b++) {
+		envelope_plain(x, 1, 100, 7, b, &p);
+		ck_assert(isnan(e[b].lo) && isnan(e[b].hi) &&
+			  e[b].i_lo == SIZE_MAX && e[b].i_hi == SIZE_MAX &&
+			  e[b].n_nan == p.n_nan);
+	}
+	/* no sample: every bin empty */
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 0, 8, 4, &s2, NULL,
+							   3, e), -EDOM);
+	for (size_t b = 0; b < 3; b++)
+		ck_assert(isnan(e[b].lo) && e[b].i_hi == SIZE_MAX && e[b].n_nan == 0);
+	/* no bins: the statistics alone */
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 100, 8, 4, &s2, NULL,
+							   0, NULL), -EDOM);
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 100, 8, 4, &s2, NULL,
+							   3, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 100, 8, 4, &s2, NULL,
+							   SIZE_MAX, e), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 0, 100, 8, 4, &s2, NULL,
+							   3, e), -EINVAL);
+	ck_assert_int_eq(sscope_clip_detect_stats_envelope(x, 1, 100, 1, 4, &s2, &c2,
+							   3, e), -EINVAL);
+	gsl_rng_free(r);
+	free(e);
+	free(x);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("clip");
@@ -364,6 +492,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, blocks_equal_plain_pass);
 	tcase_add_test(tc, long_records);
 	tcase_add_test(tc, stats_clip_equals_two_calls);
+	tcase_add_test(tc, envelope_equals_plain);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sensorscope.h"
 #include "canvas.h"
 #include "plot.h"
 #include "check-main.h"
@@ -269,7 +270,9 @@ END_TEST
  * and largest shown value, their first non-finite point and their last,
  * in order; the reduced series drawn as a short line (kept whole) must
  * give the same SVG.  Ties (quantized values), NaN and inf in x and y,
- * a unit conversion, and the time column checked once. */
+ * a unit conversion, the time column checked once, and the buckets taken
+ * from the envelopes of the statistics' pass (neighbouring doubles shown
+ * as one value, an offset that swamps the samples). */
 #define RB 4096
 static size_t plain_reduce(const double *x, const double *y, size_t n,
 			   double off, double sc, double *rx, double *ry)
@@ -329,12 +332,27 @@ static char *line_svg(const double *x, const bool *xf, const double *y,
 	size_t len;
 
 	ck_assert_ptr_nonnull(fig);
-	if (how == 0)
+	if (how == 0) {
 		ck_assert_int_eq(ssc_ax_line_scaled(ssc_fig_ax(fig, 0, 0), x, y, n,
 						    off, sc, &st, NULL), 0);
-	else
+	} else if (how == 1) {
 		ck_assert_int_eq(ssc_ax_line_scaled_x(ssc_fig_ax(fig, 0, 0), x, xf,
 						      y, n, off, sc, &st, NULL), 0);
+	} else {
+		/* from the envelopes of the statistics' pass */
+		struct sscope_clip_envelope *e =
+			malloc(SSC_PLOT_LINE_BINS * sizeof(*e));
+		struct sscope_stats ss;
+
+		ck_assert_ptr_nonnull(e);
+		ck_assert_int_ge(sscope_clip_detect_stats_envelope(
+					 y, 1, n, 0, 0, &ss, NULL,
+					 SSC_PLOT_LINE_BINS, e), -ERANGE);
+		ck_assert_int_eq(ssc_ax_line_envelope_x(ssc_fig_ax(fig, 0, 0), x,
+							xf, y, n, off, sc, e,
+							&st, NULL), 0);
+		free(e);
+	}
 	ck_assert_int_eq(ssc_fig_svg(fig, "r", &buf, &len), 0);
 	ssc_fig_free(fig);
 	return buf;
@@ -348,12 +366,20 @@ START_TEST(long_line_reduction)
 	unsigned long long s = 88172645463325252ULL;
 
 	ck_assert(x && y && rx && ry);
-	for (int t = 0; t < 4; t++) {
+	ck_assert_int_eq(RB, SSC_PLOT_LINE_BINS);
+	for (int t = 0; t < 7; t++) {
 		double off = t % 2 ? 273.15 : 0, sc = t % 2 ? 0.017453292519943295 : 1;
 		bool *xf;
-		char *a, *b, *c;
+		char *a, *b, *c, *d;
 		size_t m;
 
+		if (t == 4) { /* neighbouring doubles shown the same */
+			off = 0;
+			sc = 0.017453292519943295;
+		} else if (t >= 5) { /* many of them: an offset swamps y */
+			off = t == 5 ? 1e6 : -2.5e3;
+			sc = t == 5 ? 3 : 0.5;
+		}
 		for (size_t i = 0; i < n; i++) {
 			s ^= s << 13;
 			s ^= s >> 7;
@@ -361,8 +387,13 @@ START_TEST(long_line_reduction)
 			x[i] = 0.01 * (double)i;
 			/* few distinct values: many ties at the extremes */
 			y[i] = (double)(s % (t < 2 ? 7 : 100003)) * 0.125 - 0.3;
+			if (t == 4) /* neighbouring doubles */
+				y[i] = 1.5 + (double)(s % 64) * 0x1p-52;
+			else if (t >= 5) /* every bit of the mantissa */
+				y[i] = (double)(s >> 11) * 0x1p-53 *
+				       (t == 5 ? 1e-9 : 1e-10);
 		}
-		if (t >= 2)
+		if (t == 2 || t == 3 || t == 6)
 			for (size_t i = 17; i < n; i += 7919) {
 				y[i] = i % 3 ? (double)NAN : (double)INFINITY;
 				x[i + 3] = i % 2 ? (double)NAN : -(double)INFINITY;
@@ -374,11 +405,14 @@ START_TEST(long_line_reduction)
 		a = line_svg(rx, NULL, ry, m, 0, 1, 0);
 		b = line_svg(x, NULL, y, n, off, sc, 0);
 		c = line_svg(x, xf, y, n, off, sc, 1);
+		d = line_svg(x, xf, y, n, off, sc, 2);
 		ck_assert_msg(strcmp(a, b) == 0, "t %d: reduced line differs", t);
 		ck_assert_msg(strcmp(a, c) == 0, "t %d: with x checked once", t);
+		ck_assert_msg(strcmp(a, d) == 0, "t %d: from the envelopes", t);
 		free(a);
 		free(b);
 		free(c);
+		free(d);
 		free(xf);
 	}
 	ck_assert_ptr_null(ssc_line_x_finite(x, 8 * RB));

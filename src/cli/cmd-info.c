@@ -4,8 +4,8 @@
  * they measure, sample rate and where it came from, time-stamp gaps and
  * jitter, per-channel statistics in the channel's own unit, temperature
  * range; --plot draws every channel against time (the long series are
- * reduced for the figure on a second thread while the statistics are
- * computed).
+ * reduced for the figure from the envelopes the statistics' pass finds:
+ * each channel is read once).
  */
 #include "cli.h"
 
@@ -47,6 +47,11 @@ struct file_info {
 	struct sscope_capture *cap;
 	struct sscope_stats *st;
 	struct sscope_clip *clip; /* samples piled at a channel's extremes */
+	/* for the figure: the envelopes of the channels drawn (FIG_CHANNELS
+	 * at most) and of the temperature, SSC_PLOT_LINE_BINS each, and
+	 * where the time column is finite; NULL: none */
+	struct sscope_clip_envelope *env, *temp_env;
+	bool *t_fin;
 	struct sscope_stats temp;
 	bool have_temp;
 	/* receive times of a ROS container */
@@ -56,21 +61,21 @@ struct file_info {
 	bool rx_disagree;
 };
 
-/* the figure of the first capture, built beside the statistics */
+/* the channels the figure draws */
+#define FIG_CHANNELS 6
+
+/* the figure of the first capture */
 struct fig_job {
 	const struct sscope_capture *cap;
 	const char *path;
+	const struct file_info *fi; /* its envelopes, or NULL */
 	struct ssc_fig *fig;
-	pthread_t tid;
-	bool started; /* on its thread, not yet joined */
-	bool done;
 	int rc;
 };
 
 struct info_res {
 	size_t n;
 	struct file_info *fi;
-	struct fig_job *fig;
 };
 
 /* receive times against header stamps: latency, and rate and gaps */
@@ -116,9 +121,11 @@ static bool sensor_output(enum sscope_quantity q)
 	       q == SSCOPE_QUANTITY_UNKNOWN || q == SSCOPE_QUANTITY_DIMENSIONLESS;
 }
 
-/* The statistics of each channel, and the samples piled at the extremes
- * of those a sensor outputs, in one pass over it: one channel at a time
- * on each of two threads; messages are left to the caller, in order. */
+/* The statistics of each channel, the samples piled at the extremes of
+ * those a sensor outputs and (fi->env) the envelopes the figure draws, in
+ * one pass over it: one channel at a time on each of two threads, and
+ * where the time column is finite as one more job; messages are left to
+ * the caller, in order. */
 struct chan_job {
 	const struct sscope_capture *cap;
 	struct file_info *fi;
@@ -130,17 +137,27 @@ static void *chan_work(void *arg)
 {
 	struct chan_job *j = arg;
 	const struct sscope_capture *cap = j->cap;
+	struct file_info *fi = j->fi;
 	size_t k;
 
-	while ((k = atomic_fetch_add(&j->next, 1)) < cap->n_channels) {
-		const double *x = cap->channels[k].data;
+	while ((k = atomic_fetch_add(&j->next, 1)) <= cap->n_channels) {
+		const double *x;
+		bool env = fi->env && k < FIG_CHANNELS;
 
-		/* both in one pass over the channel */
-		j->rc[k] = sscope_clip_detect_stats(
+		if (k == cap->n_channels) {
+			if (fi->env && cap->time_s)
+				fi->t_fin = ssc_line_x_finite(cap->time_s, cap->n);
+			continue;
+		}
+		x = cap->channels[k].data;
+		/* all in one pass over the channel */
+		j->rc[k] = sscope_clip_detect_stats_envelope(
 			x, 1, cap->n, SSCOPE_CLIP_MIN_COUNT, SSCOPE_CLIP_RATIO,
-			&j->fi->st[k],
+			&fi->st[k],
 			sensor_output(cap->channels[k].col.quantity) ?
-				&j->fi->clip[k] : NULL);
+				&fi->clip[k] : NULL,
+			env ? SSC_PLOT_LINE_BINS : 0,
+			env ? fi->env + k * SSC_PLOT_LINE_BINS : NULL);
 	}
 	return NULL;
 }
@@ -164,9 +181,12 @@ static void chan_compute(const struct sscope_capture *cap, struct file_info *fi,
 }
 
 static int analyse(const struct ssc_common *co, const char *path,
-		   struct sscope_capture *cap, struct file_info *fi)
+		   struct sscope_capture *cap, struct file_info *fi,
+		   bool want_env)
 {
 	size_t nc = cap->n_channels ? cap->n_channels : 1;
+	size_t nfig = cap->n_channels < FIG_CHANNELS ? cap->n_channels :
+						       FIG_CHANNELS;
 	int *rcs;
 
 	fi->path = path;
@@ -174,6 +194,10 @@ static int analyse(const struct ssc_common *co, const char *path,
 	fi->st = calloc(nc, sizeof(*fi->st));
 	fi->clip = calloc(nc, sizeof(*fi->clip));
 	rcs = calloc(nc, sizeof(*rcs));
+	/* the figure's envelopes (without them it reads the channels again) */
+	if (want_env && cap->n > 8 * SSC_PLOT_LINE_BINS)
+		fi->env = malloc((nfig + 1) * SSC_PLOT_LINE_BINS *
+				 sizeof(*fi->env));
 	if (!fi->st || !fi->clip || !rcs) {
 		free(rcs);
 		ssc_err(co->cmd, "out of memory");
@@ -207,9 +231,16 @@ static int analyse(const struct ssc_common *co, const char *path,
 	}
 	/* a time column that is not increasing: name what is wrong with it */
 	ssc_time_check(co, path, cap, false);
-	if (cap->temp_degc)
-		fi->have_temp = sscope_stats_compute(cap->temp_degc, 1, cap->n,
-						     &fi->temp) == 0;
+	if (cap->temp_degc) {
+		/* the same statistics as sscope_stats_compute() */
+		if (fi->env)
+			fi->temp_env = fi->env + nfig * SSC_PLOT_LINE_BINS;
+		fi->have_temp = sscope_clip_detect_stats_envelope(
+					cap->temp_degc, 1, cap->n, 0, 0,
+					&fi->temp, NULL,
+					fi->temp_env ? SSC_PLOT_LINE_BINS : 0,
+					fi->temp_env) == 0;
+	}
 	return SSC_EXIT_OK;
 }
 
@@ -538,17 +569,20 @@ static void csv_file(FILE *f, const struct file_info *fi)
 static void build_fig(struct fig_job *job)
 {
 	const struct sscope_capture *cap = job->cap;
-	size_t nch = cap->n_channels < 6 ? cap->n_channels : 6;
+	size_t nch = cap->n_channels < FIG_CHANNELS ? cap->n_channels :
+						      FIG_CHANNELS;
 	int rows = (int)nch + (cap->temp_degc ? 1 : 0);
 	struct ssc_fig *fig;
 	/* the time stamps as they are, else times made from the rate; the
 	 * samples converted to their unit as they are drawn */
 	double *tmade = cap->time_s ? NULL : malloc(cap->n * sizeof(double));
 	const double *t = cap->time_s ? cap->time_s : tmade;
+	const struct file_info *fi = job->fi;
+	const struct sscope_clip_envelope *env = fi ? fi->env : NULL;
 	bool *t_fin; /* the time column's finite stretches, looked up once */
+	bool *t_own = NULL;
 	char buf[256];
 
-	job->done = true;
 	if (!t || rows == 0) {
 		free(tmade);
 		job->rc = -ENOMEM;
@@ -556,7 +590,8 @@ static void build_fig(struct fig_job *job)
 	}
 	for (size_t i = 0; tmade && i < cap->n; i++)
 		tmade[i] = cap->rate_hz > 0 ? (double)i / cap->rate_hz : (double)i;
-	t_fin = ssc_line_x_finite(t, cap->n);
+	t_fin = env && fi->t_fin ? fi->t_fin :
+				   (t_own = ssc_line_x_finite(t, cap->n));
 	fig = ssc_fig_new(1100, 80 + 250 * rows, rows, 1);
 	snprintf(buf, sizeof(buf), "%s", job->path);
 	ssc_fig_title(fig, buf);
@@ -565,8 +600,10 @@ static void build_fig(struct fig_job *job)
 		struct ssc_ax *ax = ssc_fig_ax(fig, (int)k, 0);
 		struct ssc_style st = { .color = ssc_plot_color(k), .width = 1 };
 
-		ssc_ax_line_scaled_x(ax, t, t_fin, cap->channels[k].data, cap->n,
-				     col->unit.offset, col->unit.scale, &st, NULL);
+		ssc_ax_line_envelope_x(ax, t, t_fin, cap->channels[k].data,
+				       cap->n, col->unit.offset, col->unit.scale,
+				       env ? env + k * SSC_PLOT_LINE_BINS : NULL,
+				       &st, NULL);
 		snprintf(buf, sizeof(buf), "%s (%s)", col->name,
 			 col->unit_label[0] ? col->unit_label : "no unit");
 		ssc_ax_ylabel(ax, buf);
@@ -577,48 +614,29 @@ static void build_fig(struct fig_job *job)
 		struct ssc_ax *ax = ssc_fig_ax(fig, rows - 1, 0);
 		struct ssc_style st = { .color = 0xd62728, .width = 1.5 };
 
-		ssc_ax_line_scaled_x(ax, t, t_fin, cap->temp_degc, cap->n, 0, 1,
-				     &st, NULL);
+		ssc_ax_line_envelope_x(ax, t, t_fin, cap->temp_degc, cap->n, 0,
+				       1, env ? fi->temp_env : NULL, &st, NULL);
 		ssc_ax_ylabel(ax, "temperature (\xc2\xb0" "C)");
 		ssc_ax_xlabel(ax, cap->time_s || cap->rate_hz > 0 ? "time (s)" :
 								    "sample");
 	}
-	free(t_fin);
+	free(t_own);
 	free(tmade);
 	job->fig = fig;
-}
-
-static void *fig_thread(void *arg)
-{
-	build_fig(arg);
-	return NULL;
-}
-
-static void fig_join(struct fig_job *job)
-{
-	if (job && job->started) {
-		pthread_join(job->tid, NULL);
-		job->started = false;
-	}
 }
 
 static int plot(const struct ssc_common *co, const void *opts,
 		const void *result, const char *png)
 {
 	const struct info_res *r = result;
-	struct fig_job *job = r->fig, local = { 0 };
+	struct fig_job local = { 0 }, *job = &local;
 	int rc;
 
 	(void)opts;
-	if (!job || job->path != r->fi->path) {
-		/* not started by run(): build it now */
-		local.cap = r->fi->cap;
-		local.path = r->fi->path;
-		job = &local;
-	}
-	fig_join(job);
-	if (!job->done)
-		build_fig(job);
+	local.cap = r->fi->cap;
+	local.path = r->fi->path;
+	local.fi = r->fi;
+	build_fig(job);
 	if (job->rc) {
 		ssc_err(co->cmd, "out of memory");
 		return SSC_EXIT_FAIL;
@@ -646,19 +664,11 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		return SSC_EXIT_FAIL;
 	}
 	*result = r;
-	if (co->plot && env->n_caps) {
-		/* the figure's series are reduced meanwhile, on a thread of
-		 * their own (else by plot()) */
-		r->fig = calloc(1, sizeof(*r->fig));
-		if (r->fig) {
-			r->fig->cap = env->caps[0];
-			r->fig->path = env->paths[0];
-			r->fig->started = !pthread_create(&r->fig->tid, NULL, fig_thread,
-							  r->fig);
-		}
-	}
+	/* the figure (of the first capture) is reduced from the envelopes
+	 * its statistics' pass finds */
 	for (size_t i = 0; i < env->n_caps && !rc; i++, r->n++)
-		rc = analyse(co, env->paths[i], env->caps[i], &r->fi[i]);
+		rc = analyse(co, env->paths[i], env->caps[i], &r->fi[i],
+			     co->plot && i == 0);
 	return rc;
 }
 
@@ -666,13 +676,11 @@ static void free_result(void *result)
 {
 	struct info_res *r = result;
 
-	fig_join(r->fig);
-	if (r->fig)
-		ssc_fig_free(r->fig->fig);
-	free(r->fig);
 	for (size_t i = 0; i < r->n; i++) {
 		free(r->fi[i].st);
 		free(r->fi[i].clip);
+		free(r->fi[i].env);
+		free(r->fi[i].t_fin);
 	}
 	free(r->fi);
 	free(r);

@@ -15,6 +15,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -242,7 +243,7 @@ static double *dup_arr(const double *a, size_t n)
  * the first invalid point, so the envelope and the breaks survive at any
  * figure width below LINE_BUCKETS pixels; the drawing decimates again per
  * pixel column.  A day at 100 Hz is then 16k points instead of 8.6M. */
-#define LINE_BUCKETS 4096
+#define LINE_BUCKETS SSC_PLOT_LINE_BINS
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
 	defined(__GLIBC__) && defined(__has_attribute)
@@ -345,9 +346,86 @@ SSC_PCLONES static bool bucket_fast(const double *x, bool x_ok,
 	return true;
 }
 
-/* y shown as (y - off) / sc (a unit conversion) */
+/* The largest double whose shown value is v (that of a, shown as
+ * (y - off) / sc, sc > 0), stepping up from a; a itself when it is alone
+ * with v; NaN when more than a few are (a wide offset). */
+static double shown_top(double a, double off, double sc, double v)
+{
+	for (int k = 0; k < 8; k++) {
+		double u = nextafter(a, INFINITY);
+
+		if ((u - off) / sc != v)
+			return a;
+		a = u;
+	}
+	return NAN;
+}
+
+/* as shown_top(), stepping down */
+static double shown_bottom(double a, double off, double sc, double v)
+{
+	for (int k = 0; k < 8; k++) {
+		double u = nextafter(a, -INFINITY);
+
+		if ((u - off) / sc != v)
+			return a;
+		a = u;
+	}
+	return NAN;
+}
+
+/* bucket_fast()'s indices from the bucket's envelope e, found beforehand:
+ * (y - off) / sc with sc > 0 rounds monotonically, so the smallest shown
+ * value is that of the smallest sample, and it first shows where the first
+ * sample at most the largest double shown as it lies (the first sample
+ * equal to the smallest, unless a neighbouring double is shown the same);
+ * the same for the largest.  False (nothing found) when a point is not
+ * finite or the scale is not positive, for the other passes. */
+static bool bucket_envelope(const struct sscope_clip_envelope *e,
+			    const double *y, size_t i0, size_t i1, double off,
+			    double sc, bool same, size_t *imin, size_t *imax)
+{
+	double vlo, vhi, top, bottom;
+	size_t i;
+
+	if (e->n_nan || !isfinite(e->lo) || !isfinite(e->hi) ||
+	    e->i_lo < i0 || e->i_lo >= i1 || e->i_hi < i0 || e->i_hi >= i1)
+		return false;
+	if (same) {
+		*imin = e->i_lo;
+		*imax = e->i_hi;
+		return true;
+	}
+	if (!(sc > 0))
+		return false;
+	vlo = (e->lo - off) / sc;
+	vhi = (e->hi - off) / sc;
+	if (!isfinite(vlo) || !isfinite(vhi))
+		return false;
+	top = shown_top(e->lo, off, sc, vlo);
+	bottom = shown_bottom(e->hi, off, sc, vhi);
+	if (isnan(top))
+		*imin = first_eq(y, i0, i1, off, sc, same, vlo);
+	else if (top == e->lo)
+		*imin = e->i_lo;
+	else
+		for (*imin = i = i0; y[i] > top; *imin = ++i)
+			;
+	if (isnan(bottom))
+		*imax = first_eq(y, i0, i1, off, sc, same, vhi);
+	else if (bottom == e->hi)
+		*imax = e->i_hi;
+	else
+		for (*imax = i = i0; y[i] < bottom; *imax = ++i)
+			;
+	return true;
+}
+
+/* y shown as (y - off) / sc (a unit conversion); env: y's envelope in
+ * LINE_BUCKETS bins, or NULL */
 static int line_reduced(struct item *it, const double *x, const bool *x_fin,
-			const double *y, size_t n, double off, double sc)
+			const double *y, size_t n, double off, double sc,
+			const struct sscope_clip_envelope *env)
 {
 	size_t cap = 5 * LINE_BUCKETS, m = 0;
 	bool same = off == 0 && sc == 1;
@@ -364,6 +442,10 @@ static int line_reduced(struct item *it, const double *x, const bool *x_fin,
 
 		if (i0 >= i1)
 			continue;
+		if (env && x_fin && x_fin[b] &&
+		    bucket_envelope(&env[b], y, i0, i1, off, sc, same, &imin,
+				    &imax))
+			goto kept;
 		if ((!x_fin || x_fin[b]) &&
 		    bucket_fast(x, x_fin != NULL, y, i0, i1, off, sc, same, &imin,
 				&imax))
@@ -452,13 +534,23 @@ int ssc_ax_line_scaled_x(struct ssc_ax *ax, const double *x,
 			 double offset, double scale,
 			 const struct ssc_style *st, const char *label)
 {
+	return ssc_ax_line_envelope_x(ax, x, x_finite, y, n, offset, scale,
+				      NULL, st, label);
+}
+
+int ssc_ax_line_envelope_x(struct ssc_ax *ax, const double *x,
+			   const bool *x_finite, const double *y, size_t n,
+			   double offset, double scale,
+			   const struct sscope_clip_envelope *env,
+			   const struct ssc_style *st, const char *label)
+{
 	struct item *it = new_item(ax, IT_LINE, st, label);
 	bool same = offset == 0 && scale == 1;
 
 	if (!it)
 		return -ENOMEM;
 	if (n > 8 * LINE_BUCKETS && !ax->logx && !ax->logy && x && y)
-		return line_reduced(it, x, x_finite, y, n, offset, scale);
+		return line_reduced(it, x, x_finite, y, n, offset, scale, env);
 	it->n = n;
 	it->x = dup_arr(x, n);
 	it->y = dup_arr(y, n);
@@ -1831,18 +1923,25 @@ int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
 	return ssc_svg_finish(svg, buf, len);
 }
 
-int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
+/* the SVG document of the figure saved as path */
+static int fig_svg_for(struct ssc_fig *f, const char *path, char **buf,
+		       size_t *len)
 {
-	char *buf = NULL, id[48];
-	size_t len = 0;
+	char id[48];
 	const char *b = strrchr(path, '/');
-	int rc;
 
 	/* ids from the file name: figures inlined in one page stay apart */
 	snprintf(id, sizeof(id), "f-%s", b ? b + 1 : path);
 	if (strrchr(id, '.'))
 		*strrchr(id, '.') = '\0';
-	rc = ssc_fig_svg(f, id, &buf, &len);
+	return ssc_fig_svg(f, id, buf, len);
+}
+
+int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
+{
+	char *buf = NULL;
+	size_t len = 0;
+	int rc = fig_svg_for(f, path, &buf, &len);
 
 	if (rc)
 		return rc;
@@ -2044,14 +2143,13 @@ static const struct ssc_surface_ops cv_ops = {
 	.group = cv_group,
 };
 
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+/* the PNG file of the figure, in memory (free()) */
+static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 {
 	const char *font = getenv("SSCOPE_FONT");
 	struct ssc_canvas *cv = NULL;
 	struct ssc_surface S;
 	struct fig_layout fl = { 0 };
-	unsigned char *png = NULL;
-	size_t len = 0;
 	double h = f->h;
 	int rc;
 
@@ -2076,24 +2174,81 @@ int ssc_fig_save_png(struct ssc_fig *f, const char *path)
 	}
 	fig_draw(f, &S, &fl);
 	fig_layout_free(&fl);
-	rc = ssc_canvas_png(cv, &png, &len) ? -EIO : 0;
+	rc = ssc_canvas_png(cv, png, len) ? -EIO : 0;
 	ssc_canvas_free(cv);
+	return rc;
+}
+
+#else /* !HAVE_OPENCV */
+
+static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
+{
+	(void)f;
+	(void)png;
+	(void)len;
+	return -ENOTSUP;
+}
+
+#endif
+
+int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+{
+	unsigned char *png = NULL;
+	size_t len = 0;
+	int rc = fig_png(f, &png, &len);
+
 	if (!rc)
 		rc = write_file(path, png, len);
 	free(png);
 	return rc;
 }
 
-#else /* !HAVE_OPENCV */
+/* The SVG document drawn on a thread of its own while the PNG is drawn:
+ * the figure is only read by both. */
+struct svg_job {
+	struct ssc_fig *f;
+	const char *path;
+	char *buf;
+	size_t len;
+	int rc;
+};
 
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
+static void *svg_thread(void *arg)
 {
-	(void)f;
-	(void)path;
-	return -ENOTSUP;
+	struct svg_job *j = arg;
+
+	j->rc = fig_svg_for(j->f, j->path, &j->buf, &j->len);
+	return NULL;
 }
 
-#endif
+/* the figure as p.svg and p.png (p.svg first, p.png only when it was
+ * written), the two drawn at the same time */
+static int save_both(struct ssc_fig *f, char *p, size_t stem)
+{
+	struct svg_job j = { .f = f, .path = p };
+	unsigned char *png = NULL;
+	size_t len = 0;
+	pthread_t tid;
+	bool two;
+	int rc;
+
+	strcpy(p + stem, ".svg");
+	two = !pthread_create(&tid, NULL, svg_thread, &j);
+	rc = fig_png(f, &png, &len);
+	if (two)
+		pthread_join(tid, NULL);
+	else
+		svg_thread(&j);
+	if (!j.rc)
+		j.rc = write_file(p, j.buf, j.len);
+	free(j.buf);
+	if (!j.rc && !rc) {
+		strcpy(p + stem, ".png");
+		rc = write_file(p, png, len);
+	}
+	free(png);
+	return j.rc ? j.rc : rc;
+}
 
 enum ssc_plot_format ssc_plot_format_of(const char *path)
 {
@@ -2117,12 +2272,7 @@ int ssc_fig_save(struct ssc_fig *f, const char *path)
 		if (!p)
 			return -ENOMEM;
 		memcpy(p, path, l - k);
-		strcpy(p + l - k, ".svg");
-		rc = ssc_fig_save_svg(f, p);
-		if (!rc) {
-			strcpy(p + l - k, ".png");
-			rc = ssc_fig_save_png(f, p);
-		}
+		rc = save_both(f, p, l - k);
 		free(p);
 		return rc;
 	}

@@ -88,6 +88,19 @@ int ssc_ax_line_scaled_x(struct ssc_ax *ax, const double *x,
 			 const bool *x_finite, const double *y, size_t n,
 			 double offset, double scale,
 			 const struct ssc_style *st, const char *label);
+/* How many runs of points a long line keeps: the bins of the envelopes
+ * ssc_ax_line_envelope_x() takes. */
+#define SSC_PLOT_LINE_BINS 4096
+struct sscope_clip_envelope;
+/* ssc_ax_line_scaled_x() with the envelope of y in SSC_PLOT_LINE_BINS bins
+ * found beforehand (sscope_clip_detect_stats_envelope(), NULL: none): a
+ * long line's runs of points are then mostly taken from it instead of
+ * reading y again.  The same figure. */
+int ssc_ax_line_envelope_x(struct ssc_ax *ax, const double *x,
+			   const bool *x_finite, const double *y, size_t n,
+			   double offset, double scale,
+			   const struct sscope_clip_envelope *env,
+			   const struct ssc_style *st, const char *label);
 /* Vertical error bars from lo[i] to hi[i] at x[i], with the point y[i]. */
 int ssc_ax_errorbar(struct ssc_ax *ax, const double *x, const double *y,
 		    const double *lo, const double *hi, size_t n,
