@@ -14,6 +14,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -1777,8 +1778,17 @@ static double wall_s(void)
 	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static void *open_drawing(void *arg)
+{
+	(void)arg;
+	(void)ssc_plot_available();
+	return NULL;
+}
+
 int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 {
+	pthread_t cv_tid;
+	bool cv_started = false;
 	struct ssc_common co, base;
 	struct sscope_capture **caps = NULL;
 	struct stage_out outs[N_STAGES];
@@ -1814,6 +1824,11 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 	/* the report's provenance hashes, beside the reading */
 	if (sc->formats & SSC_OUT_HTML)
 		sc->hashes = ssc_hashjob_start(sc->files, sc->n_files);
+	/* the drawing module opened beside the reading, not in the first
+	 * stage that draws */
+	if ((sc->formats & SSC_OUT_PNG) &&
+	    !pthread_create(&cv_tid, NULL, open_drawing, NULL))
+		cv_started = true;
 	sc->t_read_s = wall_s();
 	for (size_t i = 0; i < sc->n_files && !rc; i++) {
 		if (tracing())
@@ -1822,6 +1837,8 @@ int ssc_scene_run(struct ssc_scene *sc, const struct ssc_common *co_cli)
 		rc = ssc_load(&co, sc->files[i], &caps[i]);
 	}
 	sc->t_read_s = wall_s() - sc->t_read_s;
+	if (cv_started)
+		pthread_join(cv_tid, NULL);
 	if (tracing())
 		fprintf(stderr, "trace: time read %.3f s\n", sc->t_read_s);
 	if (rc)
