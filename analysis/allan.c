@@ -693,6 +693,15 @@ int sscope_allan_grid(enum sscope_allan_tau_grid grid, size_t m_max, size_t *m,
 #define BIG_FACTOR 16
 /* term block of the fused short-tau kernels */
 #define SHORT_BLOCK 2048
+/* The tiled phase is stored in regions of 2^REGION_SHIFT doubles (2 MiB):
+ * region c holds columns [c W, (c + 1) W) of every row, row after row
+ * (W = 2^REGION_SHIFT / S columns, at least a tile group).  The phase
+ * pass, which advances through the columns of all rows at once, then
+ * writes the workspace region after region: each region's pages are
+ * mapped in one call as the pass enters it (instead of a page fault per
+ * page), and memory becomes resident as the pass goes.  A row is read
+ * as one contiguous piece per region. */
+#define REGION_SHIFT 18
 
 struct sscope_allan {
 	struct sscope_allan_opts opts;
@@ -705,8 +714,9 @@ struct sscope_allan {
 	uint64_t *nanbits;  /* gap map: bit k = sample/point k is NaN */
 	uint32_t *nanpre;   /* NaN count before word w */
 	size_t nb_words;
-	/* layout of the current record */
-	size_t np, S, shift, Lp;
+	/* layout of the current record: S rows of Lp columns in regions
+	 * of 2^cws columns (see REGION_SHIFT) */
+	size_t np, S, shift, Lp, cws;
 	/* noise-id scratch, nid_half doubles and bytes (twice) per thread */
 	double *nid;
 	unsigned char *nidv;
@@ -732,7 +742,7 @@ static size_t pick_shift(size_t np)
 }
 
 /* padded row length: a multiple of 8 doubles, odd in lines (no 4K
- * aliasing between rows) */
+ * aliasing between the rows a kernel reads) */
 static size_t row_len(size_t np, size_t shift)
 {
 	size_t S = (size_t)1 << shift, L = (np + S - 1) / S;
@@ -740,6 +750,24 @@ static size_t row_len(size_t np, size_t shift)
 	if (shift == 0)
 		return L;
 	return TILE_COLS * (2 * ((L + 2 * TILE_COLS - 1) / (2 * TILE_COLS)) + 1);
+}
+
+/* log2 of the columns of a region at row shift sh */
+static size_t region_cols_shift(size_t sh)
+{
+	return sh + 3 < REGION_SHIFT ? REGION_SHIFT - sh : 3;
+}
+
+/* doubles the layout at shift sh needs for np points */
+static size_t layout_size(size_t np, size_t sh)
+{
+	size_t cw, L;
+
+	if (sh == 0)
+		return np;
+	cw = (size_t)1 << region_cols_shift(sh);
+	L = (row_len(np, sh) + cw - 1) / cw * cw;
+	return L << sh;
 }
 
 static unsigned want_threads(unsigned req)
@@ -782,13 +810,15 @@ int sscope_allan_new(struct sscope_allan **plan,
 	np = n_max + 1;
 	sh = pick_shift(np);
 	S = (size_t)1 << sh;
-	/* any smaller shift needs no more: S * row_len(np, s) shrinks */
-	need = S * row_len(np, sh);
-	if (need < np)
-		need = np;
+	/* compute() may lower the shift: room for every layout up to sh */
+	need = np;
+	for (size_t s2 = 1; s2 <= sh; s2++)
+		if (layout_size(np, s2) > need)
+			need = layout_size(np, s2);
 	need += 64;
 	p->x_cap = need;
-	p->x = aligned_alloc(64, ((need * sizeof(double) + 63) / 64) * 64);
+	/* on pages: each region of the tiled layout is whole pages */
+	p->x = aligned_alloc(4096, (need * sizeof(double) + 4095) / 4096 * 4096);
 	/* window: G + W with W = 3 * BIG_FACTOR * S lookahead */
 	{
 		size_t W = 3 * BIG_FACTOR * S + SHORT_BLOCK;
@@ -828,10 +858,28 @@ void sscope_allan_free(struct sscope_allan *p)
 	free(p);
 }
 
+/* offset of row rr, column q in the current layout */
+static inline size_t xoff(const struct sscope_allan *p, size_t rr, size_t q)
+{
+	return ((q >> p->cws) << (p->shift + p->cws)) + (rr << p->cws) +
+	       (q & (((size_t)1 << p->cws) - 1));
+}
+
 /* phase point k in the current layout */
 static inline double xat(const struct sscope_allan *p, size_t k)
 {
-	return p->x[(k & (p->S - 1)) * p->Lp + (k >> p->shift)];
+	return p->x[xoff(p, k & (p->S - 1), k >> p->shift)];
+}
+
+/* row rr of the tiled layout, its columns [0, ncol), into buf */
+static void row_copy(const struct sscope_allan *p, size_t rr, size_t ncol,
+		     double *buf)
+{
+	const size_t cw = (size_t)1 << p->cws;
+
+	for (size_t q = 0; q < ncol; q += cw)
+		memcpy(buf + q, p->x + xoff(p, rr, q),
+		       (ncol - q < cw ? ncol - q : cw) * sizeof(double));
 }
 
 /* number of NaN flags in [a, b) of the gap map */
@@ -1205,6 +1253,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	struct run r = { base, lo };
 	/* second differences two taus at a time where the kernel exists */
 	const bool pair = ts->d == 2 && have_wide();
+	size_t region = SIZE_MAX; /* the region last mapped */
 
 	G = (G + grp - 1) / grp * grp;
 	WB = G + W;
@@ -1265,8 +1314,16 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 			const double *w = win + (g0 - wbase);
 
 			if (gl == grp) {
+				double *d0 = p->x + xoff(p, 0, q0);
+
+				if (q0 >> p->cws != region) {
+					region = q0 >> p->cws;
+					ssc_prefault(p->x + (region << (p->shift + p->cws)),
+						     sizeof(double) << (p->shift + p->cws));
+				}
+
 				for (size_t rr = 0; rr < S; rr++) {
-					double *dst = p->x + rr * p->Lp + q0;
+					double *dst = d0 + (rr << p->cws);
 #ifdef SSC_NT_STORES
 					/* whole lines, streamed past the cache:
 					 * the rows are read back much later */
@@ -1281,7 +1338,7 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 				}
 			} else {
 				for (size_t k = 0; k < gl; k++)
-					p->x[(k & (S - 1)) * p->Lp + q0 + (k >> p->shift)] = w[k];
+					p->x[xoff(p, k & (S - 1), q0 + (k >> p->shift))] = w[k];
 			}
 		}
 		if (wbase + G >= hi)
@@ -1299,9 +1356,20 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 {
 	const size_t q = TILE_COLS * p->S;
 	struct ssc_ksum *part = calloc((size_t)T * ts->n, sizeof(*part));
+	/* a row is read into the thread's window (into rows of its own
+	 * when a lowered shift made the rows longer than the window) */
+	const size_t rcap = p->Lp <= p->win_cap ? p->win_cap : p->Lp;
+	double *rows = NULL;
 
 	if (!part)
 		return -ENOMEM;
+	if (p->Lp > p->win_cap) {
+		rows = ssc_alloc_array((size_t)T, rcap * sizeof(double));
+		if (!rows) {
+			free(part);
+			return -ENOMEM;
+		}
+	}
 	const bool pair = ts->d == 2 && have_wide();
 
 SSC_OMP(omp parallel num_threads(T))
@@ -1327,9 +1395,26 @@ SSC_OMP(omp for schedule(static, 1))
 		/* (implicit barrier: every tile is written) */
 SSC_OMP(omp for schedule(dynamic, 4))
 		for (size_t rr = 0; rr < p->S; rr++) {
-			const double *row = p->x + rr * p->Lp;
+			double *row = (rows ? rows : p->win) + (size_t)me * rcap;
 			size_t pj = SIZE_MAX, pq = 0; /* a tau waiting for a pair */
+			size_t ncol = 0;
 
+			/* the columns of the row that the long taus read */
+			for (size_t j = 0; j < ts->n; j++) {
+				size_t m = ts->m[j], nt, nq;
+
+				if (!ts->big[j])
+					continue;
+				nt = p->np - (size_t)ts->d * m;
+				if (nt <= rr)
+					continue;
+				nq = (nt - rr + p->S - 1) >> p->shift;
+				if (nq + (size_t)ts->d * (m >> p->shift) > ncol)
+					ncol = nq + (size_t)ts->d * (m >> p->shift);
+			}
+			if (ncol == 0)
+				continue;
+			row_copy(p, rr, ncol, row);
 			for (size_t j = 0; j < ts->n; j++) {
 				size_t m = ts->m[j], nt, nq;
 
@@ -1360,6 +1445,7 @@ SSC_OMP(omp for schedule(dynamic, 4))
 			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].c);
 		}
 	free(part);
+	free(rows);
 	return 0;
 }
 
@@ -1702,6 +1788,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	/* the chunk scan needs the layout's chunk quantum */
 	p->S = (size_t)1 << p->shift;
 	p->Lp = row_len(p->np, p->shift);
+	p->cws = region_cols_shift(p->shift);
 	nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
 			   &nnan);
 	if (nfin == SIZE_MAX) {
@@ -1725,6 +1812,7 @@ static int compute(struct sscope_allan *p, const double *y,
 		p->shift = 0;
 		p->S = 1;
 		p->Lp = p->np;
+		p->cws = region_cols_shift(0);
 		/* the chunk sums were computed with the tiled quantum:
 		 * recompute for contiguous chunks */
 		nfin = scan_source(p, &s, T, 1, bases, &nnan);

@@ -52,6 +52,12 @@ static inline bool ssc_add(size_t a, size_t b, size_t *out)
 /* malloc of a * b bytes with overflow check; NULL on failure. */
 void *ssc_alloc_array(size_t count, size_t size);
 
+/* Map the whole pages of [p, p + bytes) writable now, in one call (a
+ * region about to be written: one kernel entry instead of a page fault
+ * per page); the data are not touched.  A hint: does nothing where the
+ * kernel cannot. */
+void ssc_prefault(void *p, size_t bytes);
+
 /* 10th and 90th percentiles (lower order statistics) of the finite values
  * of a sliding variance (sscope_calib_variance_magnitude()), through
  * @p work (n doubles); p90 may be NULL.  Returns 0, or -EDOM when fewer

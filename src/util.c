@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 const char *sscope_version(void)
 {
@@ -70,6 +72,22 @@ void *ssc_alloc_array(size_t count, size_t size)
 	if (!ssc_mul(count, size, &bytes))
 		return NULL;
 	return malloc(bytes ? bytes : 1);
+}
+
+void ssc_prefault(void *p, size_t bytes)
+{
+#ifdef MADV_POPULATE_WRITE
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
+	uintptr_t a = ((uintptr_t)p + ps - 1) / ps * ps;
+	uintptr_t b = ((uintptr_t)p + bytes) / ps * ps;
+
+	if (b > a) /* a hint: EINVAL on older kernels is harmless */
+		(void)madvise((void *)a, (size_t)(b - a), MADV_POPULATE_WRITE);
+#else
+	(void)p;
+	(void)bytes;
+#endif
 }
 
 char *ssc_strdup(const char *s)

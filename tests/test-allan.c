@@ -885,8 +885,11 @@ START_TEST(tiled_engine)
 	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
 	size_t m[128], nm, np1, np2;
 	struct sscope_allan_point a[128], b[128];
-	/* an unaligned list forces smaller tiles */
+	/* an unaligned list forces smaller tiles (untiled); one with long
+	 * taus multiples of 4 only, tiles of 4 rows (rows longer than the
+	 * plan's windows) */
 	const size_t odd[] = { 1, 7, 1023, 4097, 30001 };
+	const size_t by4[] = { 1, 12, 100, 4100, 40004 };
 
 	gsl_rng_set(r, 18);
 	for (size_t k = 0; k < n; k++) {
@@ -918,6 +921,10 @@ START_TEST(tiled_engine)
 		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, odd, 5, b, &np2, NULL), 0);
 		for (size_t i = 0; i < np2; i++)
 			ck_assert_rel(b[i].dev * b[i].dev, ref_var(y, n, odd[i], d), 1e-11);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, by4, 5, b, &np2, NULL), 0);
+		ck_assert_uint_eq(np2, 5);
+		for (size_t i = 0; i < np2; i++)
+			ck_assert_rel(b[i].dev * b[i].dev, ref_var(y, n, by4[i], d), 1e-11);
 		/* a shorter record on the same plan, strided input */
 		ck_assert_int_eq(sscope_allan_compute(p, y, 2, n / 2, 1, odd, 4, b, &np2, NULL), 0);
 		{
