@@ -1130,6 +1130,70 @@ START_TEST(noise_identification)
 }
 END_TEST
 
+/*
+ * Identification at long tau, where few decimated points remain: white
+ * phase (alpha 2), random-walk phase (white FM, alpha 0) and integrated
+ * random-walk phase (random-walk FM, alpha -2), 2^18 + 1 phase points, on
+ * a decade grid out to 26,000 averages (10 decimated points).  With 30 or
+ * more points (the lag-1 autocorrelation) the identification is the
+ * noise's own; below, from the B1 and R(n) ratios, an FM noise's may be a
+ * neighbour's (B1 with few points leans toward flicker, as in Stable32's
+ * PHASE.DAT tables) but never the far side (white FM read as white phase
+ * carried an EDF of ~1e5 and an interval of 0.15 % to the longest taus),
+ * and the EDF of the FM noises stays below twice the number of decimated
+ * points.
+ */
+START_TEST(long_tau_identification)
+{
+	const size_t n = (1u << 18) + 1;
+	const size_t m[] = { 1, 2, 4, 10, 20, 40, 100, 200, 400, 1000, 2000,
+			     4000, 10000, 20000, 26000 };
+	const size_t nm = sizeof(m) / sizeof(m[0]);
+	double *x = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_allan_point pt[sizeof(m) / sizeof(m[0])];
+	size_t np;
+
+	ck_assert_ptr_nonnull(x);
+	gsl_rng_set(r, 7);
+	for (int want = 2; want >= -2; want -= 2) {
+		double w = 0, v = 0;
+
+		for (size_t k = 0; k < n; k++) {
+			double e = gsl_ran_gaussian_ziggurat(r, 1);
+
+			v += e;
+			w += v;
+			x[k] = want == 2 ? e : want == 0 ? v : w;
+		}
+		dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, n, 1, m, nm,
+		       pt, &np, -99);
+		ck_assert_uint_eq(np, nm);
+		for (size_t k = 0; k < nm; k++) {
+			double pts = (double)(n - 1) / (double)m[k];
+
+
+			/* white phase's overlapping EDF grows with N, not
+			 * with the points; FM noises' stay near them */
+			ck_assert_msg(isfinite(pt[k].edf) && pt[k].edf > 0 &&
+					      (want == 2 || pt[k].edf < 2 * pts),
+				      "alpha %d m %zu: EDF %g with %g points", want,
+				      m[k], pt[k].edf, pts);
+			if (pts >= 30)
+				ck_assert_msg(pt[k].alpha == want,
+					      "alpha %d m %zu: identified %d", want,
+					      m[k], pt[k].alpha);
+			else if (want < 2)
+				ck_assert_msg(abs(pt[k].alpha - want) <= 1,
+					      "alpha %d m %zu (%g points): identified %d",
+					      want, m[k], pts, pt[k].alpha);
+		}
+	}
+	gsl_rng_free(r);
+	free(x);
+}
+END_TEST
+
 /* ------------------------------------------------------------ errors */
 
 START_TEST(errors)
@@ -1293,6 +1357,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, all_taus_grouped_exact);
 	tcase_add_test(t, wide_kernels_exact);
 	tcase_add_test(t, noise_identification);
+	tcase_add_test(t, long_tau_identification);
 	tcase_add_test(t, errors);
 	tcase_add_test(t, rate_quantity_and_fit_message);
 	suite_add_tcase(s, t);
