@@ -51,15 +51,9 @@
 /* SIMD helpers                                                        */
 /* ------------------------------------------------------------------ */
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
-	defined(__GLIBC__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define SSC_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#endif
-#endif
-#ifndef SSC_CLONES
-#define SSC_CLONES
-#endif
+/* not under ThreadSanitizer, whose runtime is not up when the loader runs
+ * the clones' resolvers */
+#define SSC_CLONES SSC_TARGET_CLONES("avx512f", "avx2", "default")
 
 /* GCC vector extensions (__builtin_shuffle is GCC's; clang builds, such
  * as the fuzz harnesses', take the scalar path) */

@@ -28,15 +28,7 @@
 
 #define SBLOCK 1024
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
-	defined(__GLIBC__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define SSC_SCLONES __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef SSC_SCLONES
-#define SSC_SCLONES
-#endif
+#define SSC_SCLONES SSC_TARGET_CLONES("avx2", "default")
 
 #if defined(__GNUC__)
 typedef double ssc_sv4 __attribute__((vector_size(32)));

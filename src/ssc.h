@@ -10,6 +10,21 @@
 
 #include "sensorscope.h"
 
+/* Function clones for the processor found at load time (GCC on x86-64
+ * glibc): SSC_TARGET_CLONES("avx2", "default").  None under
+ * ThreadSanitizer, whose runtime is not up yet when the loader runs the
+ * clones' resolvers. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
+	defined(__GLIBC__) && defined(__has_attribute) &&                  \
+	!defined(__SANITIZE_THREAD__)
+#if __has_attribute(target_clones)
+#define SSC_TARGET_CLONES(...) __attribute__((target_clones(__VA_ARGS__)))
+#endif
+#endif
+#ifndef SSC_TARGET_CLONES
+#define SSC_TARGET_CLONES(...)
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -245,15 +245,7 @@ static double *dup_arr(const double *a, size_t n)
  * pixel column.  A day at 100 Hz is then 16k points instead of 8.6M. */
 #define LINE_BUCKETS SSC_PLOT_LINE_BINS
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&      \
-	defined(__GLIBC__) && defined(__has_attribute)
-#if __has_attribute(target_clones)
-#define SSC_PCLONES __attribute__((target_clones("avx2", "default")))
-#endif
-#endif
-#ifndef SSC_PCLONES
-#define SSC_PCLONES
-#endif
+#define SSC_PCLONES SSC_TARGET_CLONES("avx2", "default")
 
 /* the first i in [i0, i1) whose shown value is v (there is one) */
 static inline size_t first_eq(const double *y, size_t i0, size_t i1,
