@@ -3,7 +3,7 @@
  * Coverage benchmark of the IEEE 952 noise fit (make bench): simulated
  * gyros at 10 Hz (the library's simulator: Q white angle, N white rate, B flicker
  * rate, K rate random walk, no rate ramp) over records of 1 to 24 h, at
- * least 200 realisations per length; for each coefficient it prints how
+ * least 200 realisations per length (default 1000); for each coefficient it prints how
  * often the reported interval (or, for a term not fitted, the upper bound
  * "not resolved: below X") holds the truth, how often the term is fitted,
  * and the median relative error of the fitted values.  R is zero in the
@@ -13,9 +13,10 @@
  * each term's coverage over all record lengths.
  *
  * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR [SEED]]]]
- * (default 200; 1,3,6,12,24; 0; 0: realisation r of the h-th length uses
- * the simulator's seed SEED + 1000 h + r + 1).  Realisations run in parallel over the cores (OpenMP);
- * run it niced on a shared machine.
+ * (default 1000; 1,3,6,12,24; 0; 0: realisation r of the h-th length uses
+ * the simulator's seed SEED + max(1000, REALISATIONS) h + r + 1).
+ * Realisations run in parallel over the cores (OpenMP); run it niced on
+ * a shared machine.
  */
 #include "config.h"
 
@@ -97,7 +98,9 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 int main(int argc, char **argv)
 {
 	const double fs = 10;
-	int reps = argc > 1 ? atoi(argv[1]) : 200;
+	int reps = argc > 1 ? atoi(argv[1]) : 1000;
+	/* the records of one length never reuse another length's */
+	const uint64_t stride = reps > 1000 ? (uint64_t)reps : 1000;
 	double hours[16] = { 1, 3, 6, 12, 24 };
 	int n_hours = 5;
 	struct sscope_sensor_spec spec;
@@ -183,7 +186,9 @@ int main(int argc, char **argv)
 				struct sscope_noise_fit fit;
 
 				if (!y || one_run(&spec, fs, n,
-						  g_seed + (uint64_t)(1000 * h + r + 1), y,
+						  g_seed + (uint64_t)h * stride +
+							  (uint64_t)r + 1,
+						  y,
 						  &fit)) {
 					failed++;
 					continue;
