@@ -160,12 +160,11 @@ SSC_CLONES static void k2_lanes(const double *x, size_t m, size_t i0,
 }
 
 #ifdef SSC_K512
-/* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15), the
- * points x[i], x[i+m], x[i+2m] given as a[i], b[i], c[i] */
-SSC_K512 static inline void k2_lanes512_abc(const double *a, const double *b,
-					    const double *c, size_t i0,
-					    size_t i1, double *lanes)
+/* the same with 8-lane registers (the lanes are k2's: 0..7, 8..15) */
+SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
+				 size_t i1, double *lanes)
 {
+	const double *a = x, *b = x + m, *c = x + 2 * m;
 	ssc_v8 s0, s1;
 
 	V8LOAD(s0, lanes);
@@ -186,12 +185,6 @@ SSC_K512 static inline void k2_lanes512_abc(const double *a, const double *b,
 	}
 	memcpy(lanes, &s0, sizeof(s0));
 	memcpy(lanes + 8, &s1, sizeof(s1));
-}
-
-SSC_K512 static void k2_lanes512(const double *x, size_t m, size_t i0,
-				 size_t i1, double *lanes)
-{
-	k2_lanes512_abc(x, x + m, x + 2 * m, i0, i1, lanes);
 }
 #endif
 
@@ -467,25 +460,11 @@ static void kd_total(int d, const double *x, size_t m, size_t n,
  * L1 instead of L2 for every tau.
  */
 #define GRP_TAUS 64   /* taus per group */
-/* terms per tile: a multiple of 16 dividing KBLOCK; with the shifted
- * copies below, a group's points (a tile plus its spread of lags, in up
- * to eight copies) stay within L1 */
-#define GRP_TILE 256
+#define GRP_TILE 512  /* terms per tile: a multiple of 16 dividing KBLOCK */
 
-/*
- * With the 64-byte kernels, x[i+m] for m not a multiple of 8 is a load
- * across two cache lines (two L1 accesses: the loads, not the arithmetic,
- * bounded the grouped sums).  Copies of the phase shifted by 1..7 points,
- * cp[s][k] = x[k+s], make every load of the group aligned:
- * x[i+m] = cp[m mod 8][i + m - m mod 8].  The same doubles, so the same
- * sums; worth their memory for grids of at least GRP_TAUS taus.
- */
-#define SHIFTED_COPIES 8
-
-/* kd_total(2, x, m[j], np - 2 m[j], &acc[j]) for the g increasing m[j];
- * cp: SHIFTED_COPIES shifted copies of x (cp[0] = x) or NULL */
+/* kd_total(2, x, m[j], np - 2 m[j], &acc[j]) for the g increasing m[j] */
 static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
-		     bool wide, const double *const *cp, struct ssc_ksum *acc)
+		     bool wide, struct ssc_ksum *acc)
 {
 	double lanes[GRP_TAUS * 16];
 	const size_t nt0 = np - 2 * m[0];
@@ -509,14 +488,7 @@ static void k2_group(const double *x, size_t np, const size_t *m, size_t g,
 				if (t0 >= hi)
 					continue;
 #ifdef SSC_K512
-				if (wide && cp) {
-					size_t mb = m[j] % SHIFTED_COPIES;
-					size_t mc = 2 * m[j] % SHIFTED_COPIES;
-
-					k2_lanes512_abc(x, cp[mb] + (m[j] - mb),
-							cp[mc] + (2 * m[j] - mc),
-							t0, hi, lanes + 16 * j);
-				} else if (wide)
+				if (wide)
 					k2_lanes512(x, m[j], t0, hi, lanes + 16 * j);
 				else
 #endif
@@ -1604,31 +1576,15 @@ static void sums_grouped(const struct sscope_allan *p, const size_t *m,
 {
 	const size_t ng = (n + GRP_TAUS - 1) / GRP_TAUS;
 	const bool wide = have_wide();
-	const size_t L = (p->np + 7) / 8 * 8; /* doubles per copy */
-	const double *cp[SHIFTED_COPIES] = { p->x };
-	double *copies = NULL;
 
 	(void)T;
-	if (wide && n >= GRP_TAUS &&
-	    L <= SIZE_MAX / sizeof(double) / (SHIFTED_COPIES - 1)) {
-		copies = aligned_alloc(64, (SHIFTED_COPIES - 1) * L * sizeof(double));
-		/* without them, the unaligned loads */
-		for (size_t c = 1; copies && c < SHIFTED_COPIES; c++) {
-			double *d = copies + (c - 1) * L;
-
-			memcpy(d, p->x + c, (p->np - c) * sizeof(double));
-			cp[c] = d;
-		}
-	}
 SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 	for (size_t k = 0; k < ng; k++) {
 		size_t j0 = k * GRP_TAUS;
 
 		k2_group(p->x, p->np, m + j0,
-			 n - j0 < GRP_TAUS ? n - j0 : GRP_TAUS, wide,
-			 copies ? cp : NULL, acc + j0);
+			 n - j0 < GRP_TAUS ? n - j0 : GRP_TAUS, wide, acc + j0);
 	}
-	free(copies);
 	for (size_t j = 0; j < n; j++) {
 		used[j] = p->np - 2 * m[j];
 		skipped[j] = 0;
