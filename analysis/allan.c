@@ -1343,6 +1343,21 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	}
 }
 
+/* the terms *nq that row rr holds of long tau j of ts (false: none) */
+static bool row_terms(const struct sscope_allan *p, const struct tau_set *ts,
+		      size_t j, size_t rr, size_t *nq)
+{
+	size_t nt;
+
+	if (!ts->big[j])
+		return false;
+	nt = p->np - (size_t)ts->d * ts->m[j];
+	if (nt <= rr)
+		return false;
+	*nq = (nt - rr + p->S - 1) >> p->shift;
+	return true;
+}
+
 /* sums of order-d overlapping terms for every m of ts, tiled layout */
 static int sums_tiled(struct sscope_allan *p, const struct src *s,
 		      unsigned T, const struct ssc_ksum *bases,
@@ -1395,29 +1410,20 @@ SSC_OMP(omp for schedule(dynamic, 4))
 
 			/* the columns of the row that the long taus read */
 			for (size_t j = 0; j < ts->n; j++) {
-				size_t m = ts->m[j], nt, nq;
+				size_t m = ts->m[j], nq;
 
-				if (!ts->big[j])
-					continue;
-				nt = p->np - (size_t)ts->d * m;
-				if (nt <= rr)
-					continue;
-				nq = (nt - rr + p->S - 1) >> p->shift;
-				if (nq + (size_t)ts->d * (m >> p->shift) > ncol)
+				if (row_terms(p, ts, j, rr, &nq) &&
+				    nq + (size_t)ts->d * (m >> p->shift) > ncol)
 					ncol = nq + (size_t)ts->d * (m >> p->shift);
 			}
 			if (ncol == 0)
 				continue;
 			row_copy(p, rr, ncol, row);
 			for (size_t j = 0; j < ts->n; j++) {
-				size_t m = ts->m[j], nt, nq;
+				size_t m = ts->m[j], nq;
 
-				if (!ts->big[j])
+				if (!row_terms(p, ts, j, rr, &nq))
 					continue;
-				nt = p->np - (size_t)ts->d * m;
-				if (nt <= rr)
-					continue;
-				nq = (nt - rr + p->S - 1) >> p->shift;
 				if (!pair) {
 					kd_total(ts->d, row, m >> p->shift, nq, &my[j]);
 				} else if (pj == SIZE_MAX) {
