@@ -91,22 +91,6 @@ void sscope_capture_free(struct sscope_capture *cap)
 	free(cap);
 }
 
-/* realloc that asks for transparent huge pages on large fresh arrays: a
- * 100 MB capture otherwise takes ~25,000 page faults to fill */
-static void *big_realloc(void *old, size_t bytes)
-{
-	void *p;
-
-	if (old || bytes < (2u << 20))
-		return realloc(old, bytes);
-	if (posix_memalign(&p, 2u << 20, bytes))
-		return NULL;
-#ifdef MADV_HUGEPAGE
-	madvise(p, bytes, MADV_HUGEPAGE);
-#endif
-	return p;
-}
-
 /* (Re)allocate every array of the capture to hold `rows` rows. */
 static int grow(struct sscope_capture *cap, size_t rows)
 {
@@ -116,19 +100,19 @@ static int grow(struct sscope_capture *cap, size_t rows)
 	if (!ssc_mul(rows ? rows : 1, sizeof(double), &bytes))
 		return -ENOMEM;
 	for (size_t k = 0; k < cap->n_channels; k++) {
-		p = big_realloc(cap->channels[k].data, bytes);
+		p = realloc(cap->channels[k].data, bytes);
 		if (!p)
 			return -ENOMEM;
 		cap->channels[k].data = p;
 	}
 	if (cap->time_col.name) {
-		p = big_realloc(cap->time_s, bytes);
+		p = realloc(cap->time_s, bytes);
 		if (!p)
 			return -ENOMEM;
 		cap->time_s = p;
 	}
 	if (cap->temp_col.name) {
-		p = big_realloc(cap->temp_degc, bytes);
+		p = realloc(cap->temp_degc, bytes);
 		if (!p)
 			return -ENOMEM;
 		cap->temp_degc = p;

@@ -10,6 +10,7 @@
 
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +30,16 @@ struct ssc_hashjob {
 static void *work(void *arg)
 {
 	struct ssc_hashjob *j = arg;
+
+#ifdef SCHED_IDLE
+	{
+		/* only on a core nothing else wants: the reading and the
+		 * stages come first (join() raises it again) */
+		struct sched_param sp = { 0 };
+
+		pthread_setschedparam(pthread_self(), SCHED_IDLE, &sp);
+	}
+#endif
 
 	for (size_t i = 0; i < j->n; i++)
 		j->rc[i] = ssc_sha256_file(j->paths[i], j->hex[i]);
@@ -57,6 +68,12 @@ struct ssc_hashjob *ssc_hashjob_start(char *const *paths, size_t n)
 static void join(struct ssc_hashjob *j)
 {
 	if (!j->joined) {
+#ifdef SCHED_IDLE
+		struct sched_param sp = { 0 };
+
+		/* needed now: an ordinary thread again, whatever else runs */
+		pthread_setschedparam(j->tid, SCHED_OTHER, &sp);
+#endif
 		pthread_join(j->tid, NULL);
 		j->joined = true;
 	}

@@ -85,11 +85,10 @@ static void usage(FILE *f)
  * a policy the user set is kept, and `info`, which starts no OpenMP
  * thread, is not run twice.
  */
-static void omp_wait_passive(char **argv, bool huge)
+static void omp_wait_passive(char **argv)
 {
 	char exe[PATH_MAX];
 	ssize_t n;
-	bool tun = false;
 
 	if (getenv("OMP_WAIT_POLICY"))
 		return;
@@ -97,20 +96,8 @@ static void omp_wait_passive(char **argv, bool huge)
 	if (n <= 0 || setenv("OMP_WAIT_POLICY", "passive", 1))
 		return;
 	exe[n] = '\0';
-	/* and, while at it, malloc's large blocks on transparent huge pages
-	 * (glibc 2.35+; older ones ignore it): an 80 MB workspace then takes
-	 * 40 page faults instead of 20,000.  Not for allan: its phase
-	 * workspace is written across all its rows from the start, so on
-	 * huge pages it would be resident whole at once, beside the record
-	 * that the engine gives back only behind its pass (peak 2x the
-	 * record instead of 1.1x). */
-	if (huge)
-		tun = !getenv("GLIBC_TUNABLES") &&
-		      !setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1);
 	execv(exe, argv);
 	unsetenv("OMP_WAIT_POLICY"); /* not run again: carry on spinning */
-	if (tun)
-		unsetenv("GLIBC_TUNABLES");
 }
 
 int main(int argc, char **argv)
@@ -150,8 +137,7 @@ int main(int argc, char **argv)
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		if (!strcmp(argv[1], commands[i].name)) {
 			if (commands[i].run != ssc_cmd_info)
-				omp_wait_passive(argv,
-						 commands[i].run != ssc_cmd_allan);
+				omp_wait_passive(argv);
 			rc = commands[i].run(argc - 1, argv + 1);
 			/* help, plans and summaries printed on stdout */
 			if (ssc_stdout_finish(commands[i].name) && !rc)
