@@ -11,7 +11,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -29,6 +31,7 @@ struct ssc_canvas {
 	bool clipped = false;
 #ifdef SSCOPE_HAVE_FREETYPE
 	cv::Ptr<cv::freetype::FreeType2> ft;
+	std::string font; /* its file, the key of the width cache */
 #endif
 };
 
@@ -109,16 +112,50 @@ double hscale(double px)
 	return cv::getFontScaleFromHeight(HFONT, (int)std::lround(px * 0.75), 1);
 }
 
+#ifdef SSCOPE_HAVE_FREETYPE
+/*
+ * Widths of the strings measured so far, per font file and pixel size:
+ * a figure measures each label several times (its layout is planned on a
+ * canvas of its own, then drawn; wrapping and the legend measure again),
+ * and FreeType loads and hints every glyph of the string each time (half
+ * the drawing time of an allan figure).  The same call gives the same
+ * width, so the cache changes no pixel.
+ */
+std::mutex width_mu;
+std::unordered_map<std::string, int> width_memo;
+
+int ft_width(ssc_canvas *c, const char *s, int px)
+{
+	std::string key = c->font;
+	int base = 0, w;
+
+	key += '\0';
+	key += std::to_string(px);
+	key += '\0';
+	key += s;
+	{
+		std::lock_guard<std::mutex> g(width_mu);
+		auto it = width_memo.find(key);
+		if (it != width_memo.end())
+			return it->second;
+	}
+	w = c->ft->getTextSize(s, px, -1, &base).width;
+	std::lock_guard<std::mutex> g(width_mu);
+	if (width_memo.size() >= 65536) /* bounded: labels are few */
+		width_memo.clear();
+	width_memo.emplace(std::move(key), w);
+	return w;
+}
+#endif
+
 void measure(ssc_canvas *c, const char *s, double px, double *w, double *asc,
 	     double *desc)
 {
 	int base = 0;
 #ifdef SSCOPE_HAVE_FREETYPE
 	if (c->ft) {
-		cv::Size sz = c->ft->getTextSize(s, (int)std::lround(px), -1,
-						 &base);
 		/* metrics of the font, not of this string, so labels align */
-		*w = sz.width;
+		*w = ft_width(c, s, (int)std::lround(px));
 		*asc = 0.78 * px;
 		*desc = 0.22 * px;
 		return;
@@ -164,6 +201,7 @@ struct ssc_canvas *ssc_canvas_new(int w, int h, const char *font_path)
 				std::fclose(f);
 				c->ft = cv::freetype::createFreeType2();
 				c->ft->loadFontData(font_path, 0);
+				c->font = font_path;
 			}
 		}
 #else
