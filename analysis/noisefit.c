@@ -91,7 +91,18 @@ struct pairgeo {
 	double dt;       /* sample period, s */
 	double far;      /* |centre offset| beyond which the flicker term
 			    uses its asymptote */
+	const double *lgi; /* lgi[i] = log(i) for 0 < i < n_lgi */
+	size_t n_lgi;
 };
+
+/* log(a) of gvec(): from the table when a is an integer in it (the
+ * points summed exactly are integers), the same double either way */
+static inline double log_at(const struct pairgeo *g, double a)
+{
+	if (a < (double)g->n_lgi && a == floor(a))
+		return g->lgi[(size_t)a];
+	return log(a);
+}
 
 static const double wgt[3] = { 1, -2, 1 };
 
@@ -128,7 +139,7 @@ static void gvec(const struct pairgeo *g, double k, double *v)
 		double lg[9];
 
 		for (int i = 0; i < 9; i++)
-			lg[i] = a[i] == 0 ? 0 : log(a[i]);
+			lg[i] = a[i] == 0 ? 0 : log_at(g, a[i]);
 		for (int i = 0; i < 9; i++)
 			b += w9[i] * (a[i] == 0 ? 0 : t[i] * t[i] * lg[i]);
 	} else {
@@ -285,9 +296,9 @@ static int cmp_d(const void *a, const void *b)
 }
 
 static void pair_sums(double ma, double mb, double na, double nb, double dt,
-		      struct pairsum *s)
+		      const double *lgi, size_t n_lgi, struct pairsum *s)
 {
-	struct pairgeo g = { ma, mb, na, nb, dt, 0 };
+	struct pairgeo g = { ma, mb, na, nb, dt, 0, lgi, n_lgi };
 	double bp[32], lo = -(na - 1), hi = nb - 1;
 	size_t nbp = 0;
 
@@ -362,19 +373,47 @@ static double cov_from(const struct pairsum *s, const double c[NT],
 	       (4 * ta * ta * tb * tb * na * nb);
 }
 
+/* Integers below this have their logarithm tabulated for the pair sums
+ * (at most; the largest lag of a grid bounds it). */
+#define LGI_MAX 65536
+
 /* pair sums of every pair of n points (upper triangle, row-major) */
 static struct pairsum *all_pairs(const size_t *m, const size_t *terms,
 				 size_t n, double dt)
 {
 	struct pairsum *ps = ssc_alloc_array(n * n, sizeof(*ps));
+	double *lgi;
+	size_t n_lgi, mmax = 0, tmax = 0;
 
 	if (!ps)
 		return NULL;
-SSC_OMP(omp parallel for schedule(dynamic, 1))
-	for (size_t a = 0; a < n; a++)
-		for (size_t b = a; b < n; b++)
-			pair_sums((double)m[a], (double)m[b], (double)terms[a],
-				  (double)terms[b], dt, &ps[a * n + b]);
+	/* |lag| between two terms plus the offsets of their phase points */
+	for (size_t a = 0; a < n; a++) {
+		mmax = m[a] > mmax ? m[a] : mmax;
+		tmax = terms[a] > tmax ? terms[a] : tmax;
+	}
+	n_lgi = tmax < LGI_MAX && mmax < LGI_MAX ? tmax + 4 * mmax + 1 : LGI_MAX;
+	if (n_lgi > LGI_MAX)
+		n_lgi = LGI_MAX;
+	lgi = ssc_alloc_array(n_lgi, sizeof(double));
+	if (!lgi) {
+		free(ps);
+		return NULL;
+	}
+	lgi[0] = 0;
+SSC_OMP(omp parallel)
+	{
+SSC_OMP(omp for schedule(static))
+		for (size_t i = 1; i < n_lgi; i++)
+			lgi[i] = log((double)i);
+SSC_OMP(omp for schedule(dynamic, 1))
+		for (size_t a = 0; a < n; a++)
+			for (size_t b = a; b < n; b++)
+				pair_sums((double)m[a], (double)m[b],
+					  (double)terms[a], (double)terms[b], dt,
+					  lgi, n_lgi, &ps[a * n + b]);
+	}
+	free(lgi);
 	return ps;
 }
 
