@@ -99,8 +99,12 @@ struct pairgeo {
  * points summed exactly are integers), the same double either way */
 static inline double log_at(const struct pairgeo *g, double a)
 {
-	if (a < (double)g->n_lgi && a == floor(a))
-		return g->lgi[(size_t)a];
+	if (a < (double)g->n_lgi) {
+		size_t i = (size_t)a;
+
+		if ((double)i == a)
+			return g->lgi[i];
+	}
 	return log(a);
 }
 
