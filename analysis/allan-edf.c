@@ -27,7 +27,8 @@
  * for B1 the caller carries the last identification.
  *
  * Bounds: sigma^2 edf / chi^2_{(1 +- p)/2}(edf) (NIST SP 1065 eq 45), GSL
- * chi-squared quantiles.
+ * chi-squared tails; a grid of many taus starts the quantiles' iteration
+ * from a spline table of them against edf.
  */
 #include "allan-internal.h"
 
@@ -408,6 +409,14 @@ int ssc_allan_ci_starts(struct ssc_ci_level *cl)
 	}
 	st->u_lo = u[0];
 	st->u_hi = u[k - 1];
+	/* a level so extreme that a quantile underflows: no table (GSL's
+	 * spline would call the error handler) */
+	for (size_t i = 0; i < 2 * k; i++)
+		if (!isfinite(q[i])) {
+			free(u);
+			free(st);
+			return 0;
+		}
 	for (int j = 0; j < 2; j++) {
 		st->s[j] = gsl_spline_alloc(gsl_interp_cspline, k);
 		if (!st->s[j] || gsl_spline_init(st->s[j], u, q + (size_t)j * k, k))
