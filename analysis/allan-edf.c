@@ -27,7 +27,8 @@
  * for B1 the caller carries the last identification.
  *
  * Bounds: sigma^2 edf / chi^2_{(1 +- p)/2}(edf) (NIST SP 1065 eq 45), GSL
- * chi-squared quantiles.
+ * chi-squared tails; a grid of many taus starts the quantiles' iteration
+ * from a spline table of them against edf.
  */
 #include "allan-internal.h"
 
@@ -37,6 +38,7 @@
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
+#include <gsl/gsl_spline.h>
 
 #define PI_ 3.14159265358979323846
 
@@ -288,9 +290,11 @@ double ssc_totdev_edf(int alpha, size_t m, size_t np)
  * handler (abort by default) when they do not converge, which a library
  * must not trigger.  Here with the normal score z of p and, for nu below
  * 1000, lgh = lgamma(nu / 2) + nu / 2 log 2, which the two bounds of an
- * interval share and a grid's intervals share z of.
+ * interval share and a grid's intervals share z of.  x0 > 0: the start
+ * instead of Wilson-Hilferty's.
  */
-static double chi2_quantile_z(double p, double z, double nu, double lgh)
+static double chi2_quantile_z(double p, double z, double nu, double lgh,
+			      double x0)
 {
 	double h, x, lo = 0, hi = INFINITY, target;
 	bool upper;
@@ -303,7 +307,7 @@ static double chi2_quantile_z(double p, double z, double nu, double lgh)
 		       (9 * z2 * z2 * z + 256 * z2 * z - 433 * z) / (4860 * nu * s);
 	}
 	h = 2 / (9 * nu);
-	x = nu * pow(1 - h + z * sqrt(h), 3);
+	x = x0 > 0 ? x0 : nu * pow(1 - h + z * sqrt(h), 3);
 	upper = p > 0.5;
 	target = upper ? 1 - p : p;
 	if (!(x > 0) || !isfinite(x))
@@ -346,7 +350,83 @@ double ssc_chi2_quantile(double p, double nu)
 {
 	if (!(p > 0 && p < 1) || !(nu > 0))
 		return NAN;
-	return chi2_quantile_z(p, gsl_cdf_ugaussian_Pinv(p), nu, chi2_lgh(nu));
+	return chi2_quantile_z(p, gsl_cdf_ugaussian_Pinv(p), nu, chi2_lgh(nu),
+			       0);
+}
+
+/*
+ * Starts of the quantiles from a table: natural cubic splines (GSL) of
+ * ln q against ln nu through the quantiles computed in full at nodes
+ * CI_START_H apart in ln nu over [CI_START_NU_LO, 1000) (Cornish-Fisher
+ * above).  A start within 1e-6 makes Halley's first step the last (one
+ * tail evaluation instead of two); elsewhere, or off the table, the
+ * iteration goes on as from any start.
+ */
+#define CI_START_H 0.05
+#define CI_START_NU_LO 0.5
+#define CI_START_NU_HI 1000.0
+
+struct ssc_ci_start {
+	gsl_spline *s[2]; /* lower, upper quantile */
+	double u_lo, u_hi; /* the nodes' range of ln nu */
+};
+
+void ssc_allan_ci_level_free(struct ssc_ci_level *cl)
+{
+	if (!cl->start)
+		return;
+	gsl_spline_free(cl->start->s[0]);
+	gsl_spline_free(cl->start->s[1]);
+	free(cl->start);
+	cl->start = NULL;
+}
+
+int ssc_allan_ci_starts(struct ssc_ci_level *cl)
+{
+	const double u_lo = log(CI_START_NU_LO), u_hi = log(CI_START_NU_HI);
+	const size_t k = (size_t)ceil((u_hi - u_lo) / CI_START_H) + 1;
+	struct ssc_ci_start *st;
+	double *u, *q;
+	int rc = 0;
+
+	if (!cl->ok || cl->start)
+		return 0;
+	st = calloc(1, sizeof(*st));
+	u = ssc_alloc_array(3 * k, sizeof(double));
+	if (!st || !u) {
+		free(st);
+		free(u);
+		return -ENOMEM;
+	}
+	q = u + k;
+	for (size_t i = 0; i < k; i++) {
+		double nu;
+
+		u[i] = i + 1 == k ? u_hi : u_lo + CI_START_H * (double)i;
+		nu = exp(u[i]);
+		q[i] = log(chi2_quantile_z(cl->pl, cl->zl, nu, chi2_lgh(nu), 0));
+		q[k + i] = log(chi2_quantile_z(cl->ph, cl->zh, nu, chi2_lgh(nu), 0));
+	}
+	st->u_lo = u[0];
+	st->u_hi = u[k - 1];
+	/* a level so extreme that a quantile underflows: no table (GSL's
+	 * spline would call the error handler) */
+	for (size_t i = 0; i < 2 * k; i++)
+		if (!isfinite(q[i])) {
+			free(u);
+			free(st);
+			return 0;
+		}
+	for (int j = 0; j < 2; j++) {
+		st->s[j] = gsl_spline_alloc(gsl_interp_cspline, k);
+		if (!st->s[j] || gsl_spline_init(st->s[j], u, q + (size_t)j * k, k))
+			rc = -ENOMEM;
+	}
+	free(u);
+	cl->start = st;
+	if (rc)
+		ssc_allan_ci_level_free(cl);
+	return rc;
 }
 
 void ssc_allan_ci_level(struct ssc_ci_level *cl, double level)
@@ -356,12 +436,13 @@ void ssc_allan_ci_level(struct ssc_ci_level *cl, double level)
 	cl->ok = cl->pl > 0 && cl->pl < 1 && cl->ph > 0 && cl->ph < 1;
 	cl->zl = cl->ok ? gsl_cdf_ugaussian_Pinv(cl->pl) : (double)NAN;
 	cl->zh = cl->ok ? gsl_cdf_ugaussian_Pinv(cl->ph) : (double)NAN;
+	cl->start = NULL;
 }
 
 void ssc_allan_ci_at(const struct ssc_ci_level *lv, double dev, double edf,
 		     double *lo, double *hi)
 {
-	double cl, ch, lgh;
+	double cl, ch, lgh, xl = 0, xh = 0;
 
 	if (!(edf > 0) || !isfinite(dev)) {
 		*lo = *hi = NAN;
@@ -371,8 +452,16 @@ void ssc_allan_ci_at(const struct ssc_ci_level *lv, double dev, double edf,
 		cl = ch = NAN;
 	} else {
 		lgh = chi2_lgh(edf);
-		cl = chi2_quantile_z(lv->pl, lv->zl, edf, lgh);
-		ch = chi2_quantile_z(lv->ph, lv->zh, edf, lgh);
+		if (lv->start && edf < CI_START_NU_HI) {
+			double u = log(edf);
+
+			if (u >= lv->start->u_lo && u <= lv->start->u_hi) {
+				xl = exp(gsl_spline_eval(lv->start->s[0], u, NULL));
+				xh = exp(gsl_spline_eval(lv->start->s[1], u, NULL));
+			}
+		}
+		cl = chi2_quantile_z(lv->pl, lv->zl, edf, lgh, xl);
+		ch = chi2_quantile_z(lv->ph, lv->zh, edf, lgh, xh);
 	}
 	*lo = dev * sqrt(edf / ch);
 	*hi = cl > 0 ? dev * sqrt(edf / cl) : (double)INFINITY;

@@ -56,12 +56,23 @@ void ssc_allan_ci(double dev, double edf, double level, double *lo,
 
 /* what the bounds of one confidence level share at every tau: the two
  * tail probabilities and their normal scores (computed once a grid) */
+struct ssc_ci_start;
 struct ssc_ci_level {
 	double pl, ph; /* lower and upper tail probability */
 	double zl, zh; /* their normal scores */
 	bool ok;       /* both inside (0, 1) */
+	struct ssc_ci_start *start; /* ssc_allan_ci_starts(), or NULL */
 };
 void ssc_allan_ci_level(struct ssc_ci_level *cl, double level);
+/* Grids of at least this many taus tabulate the quantiles' starts. */
+#define SSC_CI_STARTS_MIN 512
+/* For a grid of many taus: starts of the level's two quantiles
+ * tabulated against the degrees of freedom, from which one tail
+ * evaluation a quantile mostly suffices instead of two (the quantiles
+ * agree with those from the usual start to about 1e-13).  -ENOMEM:
+ * none (the usual start is used).  Freed by ssc_allan_ci_level_free(). */
+int ssc_allan_ci_starts(struct ssc_ci_level *cl);
+void ssc_allan_ci_level_free(struct ssc_ci_level *cl);
 /* ssc_allan_ci() with the level's shared part */
 void ssc_allan_ci_at(const struct ssc_ci_level *lv, double dev, double edf,
 		     double *lo, double *hi);

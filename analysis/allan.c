@@ -2037,6 +2037,10 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		}
 		alph[j] = clamp_alpha(dev, alpha);
 	}
+	/* many taus: the quantiles of the intervals from tabulated starts
+	 * (without the table on -ENOMEM: the same bounds to ~1e-13) */
+	if (nacc >= SSC_CI_STARTS_MIN && p->opts.ci_level >= 0)
+		(void)ssc_allan_ci_starts(&lv);
 SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 	for (size_t j = 0; j < nacc; j++) {
 		struct sscope_allan_point *pt = &pts[j];
@@ -2066,6 +2070,7 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 					&pt->dev_hi);
 		}
 	}
+	ssc_allan_ci_level_free(&lv);
 	*n_pts = nacc;
 out:
 	free(bases);

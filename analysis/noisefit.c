@@ -91,7 +91,22 @@ struct pairgeo {
 	double dt;       /* sample period, s */
 	double far;      /* |centre offset| beyond which the flicker term
 			    uses its asymptote */
+	const double *lgi; /* lgi[i] = log(i) for 0 < i < n_lgi */
+	size_t n_lgi;
 };
+
+/* log(a) of gvec(): from the table when a is an integer in it (the
+ * points summed exactly are integers), the same double either way */
+static inline double log_at(const struct pairgeo *g, double a)
+{
+	if (a < (double)g->n_lgi) {
+		size_t i = (size_t)a;
+
+		if ((double)i == a)
+			return g->lgi[i];
+	}
+	return log(a);
+}
 
 static const double wgt[3] = { 1, -2, 1 };
 
@@ -128,7 +143,7 @@ static void gvec(const struct pairgeo *g, double k, double *v)
 		double lg[9];
 
 		for (int i = 0; i < 9; i++)
-			lg[i] = a[i] == 0 ? 0 : log(a[i]);
+			lg[i] = a[i] == 0 ? 0 : log_at(g, a[i]);
 		for (int i = 0; i < 9; i++)
 			b += w9[i] * (a[i] == 0 ? 0 : t[i] * t[i] * lg[i]);
 	} else {
@@ -285,9 +300,9 @@ static int cmp_d(const void *a, const void *b)
 }
 
 static void pair_sums(double ma, double mb, double na, double nb, double dt,
-		      struct pairsum *s)
+		      const double *lgi, size_t n_lgi, struct pairsum *s)
 {
-	struct pairgeo g = { ma, mb, na, nb, dt, 0 };
+	struct pairgeo g = { ma, mb, na, nb, dt, 0, lgi, n_lgi };
 	double bp[32], lo = -(na - 1), hi = nb - 1;
 	size_t nbp = 0;
 
@@ -362,19 +377,47 @@ static double cov_from(const struct pairsum *s, const double c[NT],
 	       (4 * ta * ta * tb * tb * na * nb);
 }
 
+/* Integers below this have their logarithm tabulated for the pair sums
+ * (at most; the largest lag of a grid bounds it). */
+#define LGI_MAX 65536
+
 /* pair sums of every pair of n points (upper triangle, row-major) */
 static struct pairsum *all_pairs(const size_t *m, const size_t *terms,
 				 size_t n, double dt)
 {
 	struct pairsum *ps = ssc_alloc_array(n * n, sizeof(*ps));
+	double *lgi;
+	size_t n_lgi, mmax = 0, tmax = 0;
 
 	if (!ps)
 		return NULL;
-SSC_OMP(omp parallel for schedule(dynamic, 1))
-	for (size_t a = 0; a < n; a++)
-		for (size_t b = a; b < n; b++)
-			pair_sums((double)m[a], (double)m[b], (double)terms[a],
-				  (double)terms[b], dt, &ps[a * n + b]);
+	/* |lag| between two terms plus the offsets of their phase points */
+	for (size_t a = 0; a < n; a++) {
+		mmax = m[a] > mmax ? m[a] : mmax;
+		tmax = terms[a] > tmax ? terms[a] : tmax;
+	}
+	n_lgi = tmax < LGI_MAX && mmax < LGI_MAX ? tmax + 4 * mmax + 1 : LGI_MAX;
+	if (n_lgi > LGI_MAX)
+		n_lgi = LGI_MAX;
+	lgi = ssc_alloc_array(n_lgi, sizeof(double));
+	if (!lgi) {
+		free(ps);
+		return NULL;
+	}
+	lgi[0] = 0;
+SSC_OMP(omp parallel)
+	{
+SSC_OMP(omp for schedule(static))
+		for (size_t i = 1; i < n_lgi; i++)
+			lgi[i] = log((double)i);
+SSC_OMP(omp for schedule(dynamic, 1))
+		for (size_t a = 0; a < n; a++)
+			for (size_t b = a; b < n; b++)
+				pair_sums((double)m[a], (double)m[b],
+					  (double)terms[a], (double)terms[b], dt,
+					  lgi, n_lgi, &ps[a * n + b]);
+	}
+	free(lgi);
 	return ps;
 }
 
@@ -946,6 +989,7 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 #define GT_Z_MAX 5.0
 #define GH_N 48    /* Gauss-Hermite nodes of a margin's Hermite coefficients */
 #define HK 12      /* Hermite terms of the copula's correlation map */
+#define BOOT_LANES 8 /* replicates refitted side by side (boot_lanes()) */
 
 struct boot {
 	size_t n, reps;
@@ -962,8 +1006,8 @@ struct boot {
 	double *B;      /* NT x n basis values at the taus */
 	double *w0;     /* n: EDF / (2 scale^2), the weight times model^2 */
 	unsigned threads; /* threads of the replicate loop */
-	double *ys, *ms; /* threads x n: a replicate's AVAR points; threads x 2n:
-			  its model and weights */
+	double *ys;     /* threads x 4 x n x BOOT_LANES: the lanes' normals,
+			   AVAR points, models and weights */
 	double *nu, *mu0, *u, *v;
 	struct gq_col *gc; /* n: gq()'s columns of the points' nu */
 	double *hc;     /* n x HK: k! c_k of each margin (c_k its Hermite
@@ -1173,7 +1217,6 @@ static void boot_free(struct boot *bt)
 	free(bt->B);
 	free(bt->w0);
 	free(bt->ys);
-	free(bt->ms);
 	free(bt->nu);
 	free(bt->mu0);
 	free(bt->u);
@@ -1310,8 +1353,8 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->dm = ssc_alloc_array(n, sizeof(double));
 	bt->B = ssc_alloc_array(NT * n, sizeof(double));
 	bt->w0 = ssc_alloc_array(n, sizeof(double));
-	bt->ys = ssc_alloc_array(bt->threads * n, sizeof(double));
-	bt->ms = ssc_alloc_array(bt->threads * 2 * n, sizeof(double));
+	bt->ys = ssc_alloc_array(bt->threads * 4 * BOOT_LANES * n,
+				 sizeof(double));
 	bt->nu = ssc_alloc_array(n, sizeof(double));
 	bt->mu0 = ssc_alloc_array(n, sizeof(double));
 	bt->u = ssc_alloc_array(R, sizeof(double));
@@ -1319,8 +1362,7 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 	bt->gc = ssc_alloc_array(n, sizeof(*bt->gc));
 	bt->hc = ssc_alloc_array(n * HK, sizeof(double));
 	if (!bt->e || !bt->L || !bt->H || !bt->dm || !bt->B || !bt->w0 ||
-	    !bt->ys ||
-	    !bt->ms || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc ||
+	    !bt->ys || !bt->nu || !bt->mu0 || !bt->u || !bt->v || !bt->gc ||
 	    !bt->hc) {
 		boot_free(bt);
 		return -ENOMEM;
@@ -1355,98 +1397,207 @@ static int boot_init(struct boot *bt, const struct fitdata *f, unsigned mask,
 }
 
 /*
- * The estimator on a replicate's AVAR points y: the weighted least
- * squares of wls(), weights EDF / (2 model^2) iterated bt->iters times
- * from the points themselves (normal equations scaled to a unit
- * diagonal), into th[NT]; ms: 2n of scratch.  Returns 0, or -EDOM when a
- * system is singular.
+ * BOOT_LANES replicates side by side, one in each lane of a vector (GCC
+ * vector extensions; elsewhere arrays of lanes).  A lane does the
+ * operations of one replicate alone, in the same order (each sum over the
+ * points in their order, no fused multiply-adds: -ffp-contract=off), so
+ * the lanes give the numbers of one replicate at a time.
  */
-static int boot_wls(const struct boot *bt, const double *y, double *ms,
-		    double th[NT])
+#if defined(__GNUC__) && !defined(__clang__)
+typedef double lanes __attribute__((vector_size(BOOT_LANES * sizeof(double)),
+				    aligned(sizeof(double))));
+typedef long long lanes_i
+	__attribute__((vector_size(BOOT_LANES * sizeof(double)),
+		       aligned(sizeof(double))));
+#define LANES_VEC 1
+#else
+typedef struct {
+	double v[BOOT_LANES];
+} lanes;
+#endif
+
+#ifdef LANES_VEC
+#define LN(x, l) ((x)[l])
+#define L_ADD(a, b) ((a) + (b))
+#define L_SUB(a, b) ((a) - (b))
+#define L_MUL(a, b) ((a) * (b))
+#define L_DIV(a, b) ((a) / (b))
+_Static_assert(BOOT_LANES == 8, "l_set() names 8 lanes");
+#define l_set(x) ((lanes){ (x), (x), (x), (x), (x), (x), (x), (x) })
+/* a > 0 ? a : b in each lane */
+#define l_pos_or(a, b)                                                  \
+	((lanes)(((lanes_i)(a) & ((a) > 0)) | ((lanes_i)(b) & ~((a) > 0))))
+#else
+#define LN(x, l) ((x).v[l])
+#define L_OP(name, op)                                           \
+	static inline lanes name(lanes a, lanes b)               \
+	{                                                        \
+		for (int l = 0; l < BOOT_LANES; l++)             \
+			a.v[l] = a.v[l] op b.v[l];               \
+		return a;                                        \
+	}
+L_OP(L_ADD, +)
+L_OP(L_SUB, -)
+L_OP(L_MUL, *)
+L_OP(L_DIV, /)
+static inline lanes l_set(double x)
+{
+	lanes r;
+
+	for (int l = 0; l < BOOT_LANES; l++)
+		r.v[l] = x;
+	return r;
+}
+static inline lanes l_pos_or(lanes a, lanes b)
+{
+	for (int l = 0; l < BOOT_LANES; l++)
+		a.v[l] = a.v[l] > 0 ? a.v[l] : b.v[l];
+	return a;
+}
+#endif
+
+/*
+ * BOOT_LANES replicates from r0 on (lanes past the last replicate repeat
+ * it and are dropped): the correlated normals L e, the Gamma points of
+ * the copula, u and v of the fixed weights, and the estimator refitted
+ * on the points -- the weighted least squares of wls(), weights EDF /
+ * (2 model^2) iterated bt->iters times from the points themselves
+ * (normal equations scaled to a unit diagonal) -- whose th[j] replaces u
+ * where no system is singular.  sc: 4 n lanes of scratch.
+ */
+SSC_TARGET_CLONES("avx512f", "avx2", "default")
+static void boot_lanes(const struct boot *bt, const double *h, int j,
+		       size_t r0, lanes *sc, double *uo, double *vo)
 {
 	int cols[NT], p = 0;
 	size_t n = bt->n;
-	double *w = ms + n; /* the weights */
+	lanes *eb = sc, *y = sc + n, *ms = y + n, *w = ms + n;
+	lanes u = l_set(0), v = l_set(0), th[NT];
+	bool ok[BOOT_LANES];
 
+	for (int l = 0; l < BOOT_LANES; l++) {
+		size_t r = r0 + (size_t)l < bt->reps ? r0 + (size_t)l :
+						       bt->reps - 1;
+		const double *e = bt->e + r * n;
+
+		for (size_t k = 0; k < n; k++)
+			LN(eb[k], l) = e[k];
+		ok[l] = true;
+	}
+	/* the correlated normals, each sum in its order */
+	for (size_t a = 0; a < n; a++) {
+		const double *la = bt->L + a * n;
+		lanes z = l_set(0);
+
+		for (size_t k = 0; k <= a; k++)
+			z = L_ADD(z, L_MUL(l_set(la[k]), eb[k]));
+		y[a] = z;
+	}
+	for (size_t a = 0; a < n; a++) {
+		lanes g;
+
+		for (int l = 0; l < BOOT_LANES; l++)
+			LN(g, l) = gq(bt, &bt->gc[a], LN(y[a], l));
+		y[a] = L_MUL(l_set(bt->mu0[a]), g);
+		u = L_ADD(u, L_MUL(l_set(h[a]), y[a]));
+		v = L_ADD(v, L_MUL(l_set(h[a] * bt->dm[a]), g));
+	}
 	for (int k = 0; k < NT; k++) {
-		th[k] = 0;
+		th[k] = l_set(0);
 		if (bt->mask & (1u << k))
 			cols[p++] = k;
 	}
-	memcpy(ms, y, n * sizeof(double));
+	memcpy(ms, y, n * sizeof(*ms));
 	for (int it = 0; it < bt->iters; it++) {
-		double M[NT * NT] = { 0 }, r[NT] = { 0 }, d[NT];
+		lanes M[NT * NT], r[NT], d[NT];
 
-		/* each sum over the points in their order, one sum at a
-		 * time (held in a register, not in M) */
 		for (size_t k = 0; k < n; k++) {
-			double m2 = ms[k] > 0 ? ms[k] : y[k];
+			lanes m2 = l_pos_or(ms[k], y[k]);
 
-			w[k] = bt->w0[k] / (m2 * m2);
+			w[k] = L_DIV(l_set(bt->w0[k]), L_MUL(m2, m2));
 		}
+		/* the lower triangle of the normal equations and the right
+		 * side, each entry a sum over the points in their order (all
+		 * of them at once: independent sums) */
 		for (int a = 0; a < p; a++) {
-			const double *ba = bt->B + (size_t)cols[a] * n;
-			const double *b0 = bt->B + (size_t)cols[0] * n;
-			double ra = 0, s0 = 0;
-			int b = 1;
-
-			/* two sums side by side, each in the points' order */
-			for (size_t k = 0; k < n; k++) {
-				double wa = w[k] * ba[k];
-
-				ra += wa * y[k];
-				s0 += wa * b0[k];
-			}
-			r[a] = ra;
-			M[a * NT] = s0;
-			for (; b + 1 <= a; b += 2) {
-				const double *bb = bt->B + (size_t)cols[b] * n;
-				const double *bc = bt->B + (size_t)cols[b + 1] * n;
-				double s1 = 0, s2 = 0;
-
-				for (size_t k = 0; k < n; k++) {
-					double wa = w[k] * ba[k];
-
-					s1 += wa * bb[k];
-					s2 += wa * bc[k];
-				}
-				M[a * NT + b] = s1;
-				M[a * NT + b + 1] = s2;
-			}
-			if (b == a) {
-				double s1 = 0;
-
-				for (size_t k = 0; k < n; k++)
-					s1 += w[k] * ba[k] * ba[k];
-				M[a * NT + a] = s1;
-			}
-		}
-		for (int a = 0; a < p; a++) {
-			if (!(M[a * NT + a] > 0))
-				return -EDOM;
-			d[a] = 1 / sqrt(M[a * NT + a]);
-		}
-		for (int a = 0; a < p; a++) {
-			r[a] *= d[a];
+			r[a] = l_set(0);
 			for (int b = 0; b <= a; b++)
-				M[a * NT + b] *= d[a] * d[b];
+				M[a * NT + b] = l_set(0);
 		}
-		if (chol(M, (size_t)p, NT))
-			return -EDOM;
-		chol_solve(M, (size_t)p, NT, r);
+		for (size_t k = 0; k < n; k++) {
+			for (int a = 0; a < p; a++) {
+				lanes wa = L_MUL(w[k], l_set(bt->B[(size_t)cols[a] * n + k]));
+
+				r[a] = L_ADD(r[a], L_MUL(wa, y[k]));
+				for (int b = 0; b <= a; b++)
+					M[a * NT + b] = L_ADD(
+						M[a * NT + b],
+						L_MUL(wa, l_set(bt->B[(size_t)cols[b] * n + k])));
+			}
+		}
+		for (int a = 0; a < p; a++) {
+			for (int l = 0; l < BOOT_LANES; l++) {
+				if (!(LN(M[a * NT + a], l) > 0))
+					ok[l] = false;
+				LN(d[a], l) = 1 / sqrt(LN(M[a * NT + a], l));
+			}
+		}
+		for (int a = 0; a < p; a++) {
+			r[a] = L_MUL(r[a], d[a]);
+			for (int b = 0; b <= a; b++)
+				M[a * NT + b] = L_MUL(M[a * NT + b],
+						      L_MUL(d[a], d[b]));
+		}
+		/* chol() and chol_solve() in every lane */
+		for (int c = 0; c < p; c++) {
+			lanes s = M[c * NT + c];
+
+			for (int k = 0; k < c; k++)
+				s = L_SUB(s, L_MUL(M[c * NT + k], M[c * NT + k]));
+			for (int l = 0; l < BOOT_LANES; l++) {
+				if (!(LN(s, l) > 0) || !isfinite(LN(s, l)))
+					ok[l] = false;
+				LN(s, l) = sqrt(LN(s, l));
+			}
+			M[c * NT + c] = s;
+			for (int i = c + 1; i < p; i++) {
+				lanes t = M[i * NT + c];
+
+				for (int k = 0; k < c; k++)
+					t = L_SUB(t, L_MUL(M[i * NT + k], M[c * NT + k]));
+				M[i * NT + c] = L_DIV(t, s);
+			}
+		}
+		for (int i = 0; i < p; i++) {
+			lanes t = r[i];
+
+			for (int k = 0; k < i; k++)
+				t = L_SUB(t, L_MUL(M[i * NT + k], r[k]));
+			r[i] = L_DIV(t, M[i * NT + i]);
+		}
+		for (int i = p; i-- > 0;) {
+			lanes t = r[i];
+
+			for (int k = i + 1; k < p; k++)
+				t = L_SUB(t, L_MUL(M[k * NT + i], r[k]));
+			r[i] = L_DIV(t, M[i * NT + i]);
+		}
 		for (int a = 0; a < p; a++)
-			th[cols[a]] = r[a] * d[a];
+			th[cols[a]] = L_MUL(r[a], d[a]);
 		if (it + 1 == bt->iters)
 			break; /* the model is for the next weights */
 		for (size_t k = 0; k < n; k++) {
-			double m = 0;
+			lanes m = l_set(0);
 
 			for (int a = 0; a < NT; a++)
-				m += th[a] * bt->B[(size_t)a * n + k];
+				m = L_ADD(m, L_MUL(th[a], l_set(bt->B[(size_t)a * n + k])));
 			ms[k] = m;
 		}
 	}
-	return 0;
+	for (int l = 0; l < BOOT_LANES; l++) {
+		uo[l] = ok[l] ? LN(th[j], l) : LN(u, l);
+		vo[l] = LN(v, l);
+	}
 }
 
 /*
@@ -1531,47 +1682,22 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (chol(bt->L, n, n))
 			return -EDOM;
 	}
-	/* each replicate on its own (the same numbers on any thread count) */
+	/* each replicate on its own (the same numbers on any thread count),
+	 * BOOT_LANES side by side */
 SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
-	for (size_t r = 0; r < bt->reps; r++) {
-		const double *e = bt->e + r * n;
+	for (size_t r0 = 0; r0 < bt->reps; r0 += BOOT_LANES) {
 		size_t t = 0;
-		double u = 0, v = 0, *ys, tr[NT];
+		double u[BOOT_LANES], v[BOOT_LANES];
 
 #ifdef _OPENMP
 		t = (size_t)omp_get_thread_num();
 #endif
-		ys = bt->ys + t * n;
-		/* the correlated normals L e into ys, two rows side by side
-		 * (each sum in its order) */
-		for (size_t a = 0; a < n; a += 2) {
-			const double *l = bt->L + a * n, *l1 = l + n;
-			double z = 0, z1 = 0;
-
-			if (a + 1 == n) {
-				for (size_t k = 0; k <= a; k++)
-					z += l[k] * e[k];
-				ys[a] = z;
-				break;
-			}
-			for (size_t k = 0; k <= a; k++) {
-				z += l[k] * e[k];
-				z1 += l1[k] * e[k];
-			}
-			ys[a] = z;
-			ys[a + 1] = z1 + l1[a + 1] * e[a + 1];
+		boot_lanes(bt, h, j, r0, (lanes *)(bt->ys + t * 4 * BOOT_LANES * n),
+			   u, v);
+		for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
+			bt->u[r0 + l] = u[l];
+			bt->v[r0 + l] = v[l];
 		}
-		for (size_t a = 0; a < n; a++) {
-			double g = gq(bt, &bt->gc[a], ys[a]);
-
-			ys[a] = bt->mu0[a] * g;
-			u += h[a] * ys[a];
-			v += h[a] * bt->dm[a] * g;
-		}
-		if (boot_wls(bt, ys, bt->ms + t * 2 * n, tr) == 0)
-			u = tr[j];
-		bt->u[r] = u;
-		bt->v[r] = v;
 	}
 	{
 		double su = 0, sv = 0, suu = 0, suv = 0, svv = 0;

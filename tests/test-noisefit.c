@@ -6,7 +6,8 @@
  * recovery and term selection on exact model curves; the simulate ->
  * allan round trip: every true coefficient inside its 95 % interval in at
  * least 18 of 20 seeded runs for N+K, N+B, Q+N and N+R records (median
- * relative interval widths printed); read-offs; errors.
+ * relative interval widths printed); read-offs; errors; the intervals of
+ * a grid of many taus from tabulated quantile starts.
  */
 #include "allan-internal.h"
 
@@ -527,6 +528,47 @@ static bool same_fit(const struct sscope_noise_fit *a,
 	return eq;
 }
 
+/* The intervals of a grid of many taus, whose quantiles start from a
+ * table (ssc_allan_ci_starts()), are those of the usual start to 1e-13:
+ * degrees of freedom on and off the table's nodes, at its ends, beyond
+ * them and past the Cornish-Fisher switch, at two levels. */
+START_TEST(ci_starts_same_bounds)
+{
+	const double levels[] = { 0.682689492137086, 0.95 };
+
+	for (size_t c = 0; c < 2; c++) {
+		struct ssc_ci_level plain, tab;
+
+		ssc_allan_ci_level(&plain, levels[c]);
+		ssc_allan_ci_level(&tab, levels[c]);
+		ck_assert_ptr_null(tab.start);
+		ck_assert_int_eq(ssc_allan_ci_starts(&tab), 0);
+		ck_assert_ptr_nonnull(tab.start);
+		for (double nu = 0.2385; nu < 3000; nu *= 1.0137) {
+			const double edf[] = { nu, 0.5, 1000, 999.999, 1 };
+
+			for (size_t i = 0; i < sizeof(edf) / sizeof(edf[0]); i++) {
+				double lo0, hi0, lo1, hi1;
+
+				if (i > 0 && nu > 0.25)
+					break;
+				ssc_allan_ci_at(&plain, 2.385e-3, edf[i], &lo0, &hi0);
+				ssc_allan_ci_at(&tab, 2.385e-3, edf[i], &lo1, &hi1);
+				ck_assert_msg(lo0 > 0 && hi0 > lo0 && isfinite(hi0),
+					      "edf %g: %g %g", edf[i], lo0, hi0);
+				ck_assert_msg(fabs(lo1 - lo0) <= 1e-13 * lo0 &&
+						      fabs(hi1 - hi0) <= 1e-13 * hi0,
+					      "edf %.17g: [%.17g, %.17g] vs [%.17g, %.17g]",
+					      edf[i], lo1, hi1, lo0, hi0);
+			}
+		}
+		ssc_allan_ci_level_free(&tab);
+		ck_assert_ptr_null(tab.start);
+		ssc_allan_ci_level_free(&plain);
+	}
+}
+END_TEST
+
 START_TEST(plan_same_numbers)
 {
 	static const struct {
@@ -684,6 +726,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, bound_coverage_few_dof);
 	tcase_add_test(t, readoffs_and_errors);
 	tcase_add_test(t, plan_same_numbers);
+	tcase_add_test(t, ci_starts_same_bounds);
 	suite_add_tcase(s, t);
 	return s;
 }
