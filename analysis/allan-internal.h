@@ -64,13 +64,13 @@ struct ssc_ci_level {
 	struct ssc_ci_start *start; /* ssc_allan_ci_starts(), or NULL */
 };
 void ssc_allan_ci_level(struct ssc_ci_level *cl, double level);
-/* Grids of at least this many taus tabulate the quantiles' starts. */
-#define SSC_CI_STARTS_MIN 512
-/* For a grid of many taus: starts of the level's two quantiles
- * tabulated against the degrees of freedom, from which one tail
- * evaluation a quantile mostly suffices instead of two (the quantiles
- * agree with those from the usual start to about 1e-13).  -ENOMEM:
- * none (the usual start is used).  Freed by ssc_allan_ci_level_free(). */
+/* Grids of at least this many taus take the quantiles from a table. */
+#define SSC_CI_STARTS_MIN 2048
+/* For a grid of many taus: the level's two quantiles tabulated against
+ * the degrees of freedom (Chebyshev series of ln q in ln nu, 0.5 <= nu <
+ * 1000), instead of one or two incomplete-gamma evaluations each (the
+ * same quantiles to 3e-14, tested to 1e-13).  -ENOMEM: none (the
+ * full computation is used).  Freed by ssc_allan_ci_level_free(). */
 int ssc_allan_ci_starts(struct ssc_ci_level *cl);
 void ssc_allan_ci_level_free(struct ssc_ci_level *cl);
 /* ssc_allan_ci() with the level's shared part */

@@ -528,10 +528,11 @@ static bool same_fit(const struct sscope_noise_fit *a,
 	return eq;
 }
 
-/* The intervals of a grid of many taus, whose quantiles start from a
- * table (ssc_allan_ci_starts()), are those of the usual start to 1e-13:
- * degrees of freedom on and off the table's nodes, at its ends, beyond
- * them and past the Cornish-Fisher switch, at two levels. */
+/* The intervals of a grid of many taus, whose quantiles come from a
+ * table (ssc_allan_ci_starts()), are those of the full computation to
+ * 1e-13 (3e-14 seen): degrees of freedom on and off the table's nodes,
+ * at its ends, beyond them and past the Cornish-Fisher switch, at two
+ * levels. */
 START_TEST(ci_starts_same_bounds)
 {
 	const double levels[] = { 0.682689492137086, 0.95 };
