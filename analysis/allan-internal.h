@@ -69,8 +69,9 @@ void ssc_allan_ci_level(struct ssc_ci_level *cl, double level);
 /* For a grid of many taus: the level's two quantiles tabulated against
  * the degrees of freedom (Chebyshev series of ln q in ln nu, 0.5 <= nu <
  * 1000), instead of one or two incomplete-gamma evaluations each (the
- * same quantiles to 3e-14, tested to 1e-13).  -ENOMEM: none (the
- * full computation is used).  Freed by ssc_allan_ci_level_free(). */
+ * same quantiles to 3e-14 at usual levels, tested to 1e-13).  -ENOMEM:
+ * none (the full computation is used).  Freed by
+ * ssc_allan_ci_level_free(). */
 int ssc_allan_ci_starts(struct ssc_ci_level *cl);
 void ssc_allan_ci_level_free(struct ssc_ci_level *cl);
 /* ssc_allan_ci() with the level's shared part */
