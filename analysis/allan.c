@@ -1118,16 +1118,19 @@ SSC_CLONES static void fill_phase(const struct src *s, struct run *r,
 }
 
 /*
- * Sum of y - m0 over the finite samples of y[k * stride], k < n, and the
- * NaN count: plain sums over blocks of 512 in eight lanes, blocks added
- * compensated; a block holding NaN is redone sample by sample.
+ * Sum of y - m0 over the finite samples of y[k * stride], k < n, the NaN
+ * count and the first infinite sample (*inf_at, SIZE_MAX: none): plain
+ * sums over blocks of 512 in eight lanes, blocks added compensated; a
+ * block holding NaN is redone sample by sample, one whose sum is still not
+ * finite looked through for an infinite sample.
  */
 SSC_CLONES static void scan_block(const double *y, size_t stride, size_t n,
 				  double m0, struct ssc_ksum *sum,
-				  size_t *nan_count)
+				  size_t *nan_count, size_t *inf_at)
 {
 	size_t nn = 0;
 
+	*inf_at = SIZE_MAX;
 	for (size_t b = 0; b < n; b += 512) {
 		size_t len = n - b < 512 ? n - b : 512, i = 0;
 		double part = 0;
@@ -1162,6 +1165,12 @@ SSC_CLONES static void scan_block(const double *y, size_t stride, size_t n,
 					part += v - m0;
 			}
 		}
+		if (!isfinite(part) && *inf_at == SIZE_MAX)
+			for (i = 0; i < len; i++)
+				if (isinf(y[(b + i) * stride])) {
+					*inf_at = b + i;
+					break;
+				}
 		ssc_ksum_add(sum, part);
 	}
 	*nan_count = nn;
@@ -1182,10 +1191,12 @@ static size_t chunk_at(size_t np, unsigned T, unsigned t, size_t q)
 /*
  * Statistics of the source: mean of finite samples, NaN count, chunk sums
  * of the increments; fills s->m0/delta (rate) or y0/slope (angle) and the
- * chunk bases.  Returns the number of finite samples.
+ * chunk bases.  Returns the number of finite samples (*inf_at: the first
+ * infinite sample, SIZE_MAX: none; the rest is then meaningless).
  */
 static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
-			  size_t q, struct ssc_ksum *bases, size_t *n_nan)
+			  size_t q, struct ssc_ksum *bases, size_t *n_nan,
+			  size_t *inf_at)
 {
 	size_t first = SIZE_MAX, last = 0, nfin = 0, nnan = 0;
 	struct ssc_ksum *cs = bases; /* reused: chunk sums, then bases */
@@ -1196,6 +1207,7 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 			first = k;
 			break;
 		}
+	*inf_at = SIZE_MAX;
 	if (first == SIZE_MAX) {
 		*n_nan = s->n;
 		return 0;
@@ -1212,9 +1224,14 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 					  0;
 		/* y0 is taken at index 0 of the trend line */
 		s->y0 -= s->slope * (double)first;
-		for (size_t k = 0; k < s->n; k++)
-			if (isnan(s->y[k * s->stride]))
+		for (size_t k = 0; k < s->n; k++) {
+			double v = s->y[k * s->stride];
+
+			if (isnan(v))
 				nnan++;
+			else if (isinf(v) && *inf_at == SIZE_MAX)
+				*inf_at = k;
+		}
 		*n_nan = nnan;
 		return s->n - nnan;
 	}
@@ -1226,12 +1243,12 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 		return SIZE_MAX;
 	}
 	{
-		size_t tot_nan = 0;
+		size_t tot_nan = 0, inf_min = SIZE_MAX;
 
-SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan))
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan) reduction(min : inf_min))
 		for (unsigned t = 0; t < T; t++) {
 			struct ssc_ksum a = { 0, 0 };
-			size_t lo, hi, nn = 0;
+			size_t lo, hi, nn = 0, ia = SIZE_MAX;
 
 			/* phase chunk [lo, hi) uses increments k in [lo, hi) */
 			lo = chunk_at(p->np, T, t, q);
@@ -1240,12 +1257,15 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_na
 				hi = s->n;
 			if (hi > lo)
 				scan_block(s->y + lo * s->stride, s->stride, hi - lo,
-					   s->m0, &a, &nn);
+					   s->m0, &a, &nn, &ia);
 			cs[t] = a;
 			cnt[t] = hi > lo ? hi - lo - nn : 0;
 			tot_nan += nn;
+			if (ia != SIZE_MAX && lo + ia < inf_min)
+				inf_min = lo + ia;
 		}
 		nnan = tot_nan;
+		*inf_at = inf_min;
 	}
 	{
 		struct ssc_ksum all = { 0, 0 };
@@ -1862,6 +1882,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	struct src s = { 0 };
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
+	size_t inf_at;
 	bool *big = NULL, gaps, tiled, strided, idpar;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
@@ -1932,9 +1953,22 @@ static int compute(struct sscope_allan *p, const double *y,
 	p->Lp = row_len(p->np, p->shift);
 	p->cws = region_cols_shift(p->shift);
 	nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
-			   &nnan);
+			   &nnan, &inf_at);
 	if (nfin == SIZE_MAX) {
 		rc = -ENOMEM;
+		goto out;
+	}
+	/* the samples are checked here, in the pass that needs them anyway */
+	if (inf_at != SIZE_MAX) {
+		rc = ssc_diag(diag, -EDOM, "infinite sample at index %zu", inf_at);
+		goto out;
+	}
+	if (nnan && p->opts.reject_nan) {
+		size_t k = 0;
+
+		while (k < n && !isnan(y[k * stride]))
+			k++;
+		rc = ssc_diag(diag, -EDOM, "NaN sample at index %zu", k);
 		goto out;
 	}
 	if (nfin < 2) {
@@ -1957,7 +1991,7 @@ static int compute(struct sscope_allan *p, const double *y,
 		p->cws = region_cols_shift(0);
 		/* the chunk sums were computed with the tiled quantum:
 		 * recompute for contiguous chunks */
-		nfin = scan_source(p, &s, T, 1, bases, &nnan);
+		nfin = scan_source(p, &s, T, 1, bases, &nnan, &inf_at);
 		rc = build_gaps(p, &s);
 		if (rc)
 			goto out;

@@ -149,6 +149,11 @@ struct sscope_allan_opts {
 	void (*release)(void *ctx, const double *x, size_t stride,
 			size_t from, size_t n);
 	void *release_ctx;
+	/** NaN samples are an error (-EDOM), as infinite ones always are,
+	 *  instead of gaps: for callers whose data may hold no gaps, which
+	 *  then need not check the samples themselves (the engine's first
+	 *  pass over them does). */
+	bool reject_nan;
 };
 
 /** One tau of a deviation. */
@@ -208,7 +213,8 @@ void sscope_allan_free(struct sscope_allan *plan);
  * @param diag     optional detail of a failure.
  * @return 0; -EINVAL (NULL pointer, stride 0, rate not positive, n > n_max,
  *         m not increasing or 0); -EDOM (record too short for any given m,
- *         fewer than two finite samples, gaps with TOTDEV); -ERANGE (a
+ *         fewer than two finite samples, gaps with TOTDEV, an infinite
+ *         sample, a NaN with opts.reject_nan); -ERANGE (a
  *         rate that puts 1/rate_hz below 2^-200 s or n/rate_hz above
  *         2^200 s; a deviation beyond the double range); -ENOMEM.
  *         Samples of any finite magnitude are handled: when the squared

@@ -64,6 +64,24 @@ void sscope_capture_evict(void *capture, const double *x, size_t stride,
 		madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
 }
 
+int sscope_capture_check_values(const struct sscope_capture *cap,
+				bool allow_nan, struct sscope_diag *diag)
+{
+	if (!cap || !cap->values_unchecked)
+		return 0;
+	for (size_t k = 0; k < cap->n_channels; k++) {
+		const struct sscope_capture_channel *c = &cap->channels[k];
+
+		for (size_t i = 0; i < cap->n; i++)
+			if ((isnan(c->data[i]) && !allow_nan) || isinf(c->data[i]))
+				return ssc_raw_value_error(diag, cap->source, i + 1,
+							   c->col.index + 1,
+							   c->col.name,
+							   c->data[i], false);
+	}
+	return 0;
+}
+
 void sscope_capture_free(struct sscope_capture *cap)
 {
 	if (!cap)
@@ -282,14 +300,15 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 			goto fail;
 	}
 	if (opts && opts->in_place && cap->n_channels == 1 &&
-	    ssc_reader_take_inplace(r, opts->nan_as_gap, &cap->channels[0].data,
-				    &n, &cap->n_nan, &cap->mapping,
-				    &cap->mapping_len)) {
+	    ssc_reader_take_inplace(r, opts->nan_as_gap, opts->in_place_unchecked,
+				    &cap->channels[0].data, &n, &cap->n_nan,
+				    &cap->mapping, &cap->mapping_len)) {
 		if (n == 0) {
 			rc = ssc_diag(diag, -EDOM, "%s: no data rows", path);
 			goto fail;
 		}
 		cap->n = n;
+		cap->values_unchecked = opts->in_place_unchecked;
 		cap->channels[0].n_nan = cap->n_nan;
 		header_hz = sscope_reader_header_rate(r);
 		goto rate;

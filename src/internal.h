@@ -137,13 +137,21 @@ int ssc_reader_open_mem(struct sscope_reader **reader, const void *buf,
  * A raw file of one float64 channel in the host's byte order, without
  * scaling or unit conversion, is used in place: on success *x points at its
  * *n samples inside a private mapping (*map, *map_len bytes) that the caller
- * now owns and must munmap(); it is read-only.  *n_nan counts NaN samples (gaps, only when allow_nan).  Returns
- * false, changing nothing, for any other source or when a value is not
- * finite and not an allowed gap (the reader then reports it as usual).
+ * now owns and must munmap(); it is read-only.  *n_nan counts NaN samples
+ * (gaps, only when allow_nan).  Returns false, changing nothing, for any
+ * other source or when a value is not finite and not an allowed gap (the
+ * reader then reports it as usual).  With unchecked the samples are not
+ * looked at (*n_nan is 0): the caller checks them.
  */
 bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
-			     double **x, size_t *n, size_t *n_nan,
-			     void **map, size_t *map_len);
+			     bool unchecked, double **x, size_t *n,
+			     size_t *n_nan, void **map, size_t *map_len);
+
+/* The reader's error for a sample v (NaN or infinite) of a raw file: row
+ * and column 1-based; a time column's NaN is never a gap. */
+int ssc_raw_value_error(struct sscope_diag *diag, const char *disp,
+			size_t row, size_t col, const char *name, double v,
+			bool is_time);
 
 /* Scale for sums of squares over samples whose largest magnitude is
  * amax: 1 when amax lies in [2^-300, 2^300] (or is 0), else the power of

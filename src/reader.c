@@ -2784,8 +2784,8 @@ SSC_OMP(omp parallel for schedule(static) reduction(&& : ok) if (nb > 1))
 }
 
 bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
-			     double **x, size_t *n, size_t *n_nan,
-			     void **map, size_t *map_len)
+			     bool unchecked, double **x, size_t *n,
+			     size_t *n_nan, void **map, size_t *map_len)
 {
 	const struct colx *c = r->ncols == 1 ? &r->cols[0] : NULL;
 	const double *v = (const double *)r->base;
@@ -2801,7 +2801,7 @@ bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 	len = r->len / sizeof(double);
 	/* NaN (a gap, if allowed) and infinities, counted in one pass when
 	 * a quick one finds any (0 * x is 0 for every finite x) */
-	if (!all_finite_par(v, len))
+	if (!unchecked && !all_finite_par(v, len))
 		for (size_t i = 0; i < len; i++) {
 			nn += v[i] != v[i];
 			ninf += fabs(v[i]) > DBL_MAX;
@@ -2818,6 +2818,20 @@ bool ssc_reader_take_inplace(struct sscope_reader *r, bool allow_nan,
 	r->base = NULL;
 	r->pos = r->len = 0;
 	return true;
+}
+
+int ssc_raw_value_error(struct sscope_diag *diag, const char *disp,
+			size_t row, size_t col, const char *name, double v,
+			bool is_time)
+{
+	if (isnan(v))
+		return ssc_diag(diag, -EBADMSG, "%s: row %zu, column %zu (%s): NaN%s",
+				disp, row, col, name,
+				is_time ? " time stamp" :
+				" (use --allow-nan to read gaps)");
+	return ssc_diag(diag, -EBADMSG,
+			"%s: row %zu, column %zu (%s): infinite value", disp,
+			row, col, name);
 }
 
 static int read_binary(struct sscope_reader *r, struct sscope_reader_chunk *ch,
@@ -2872,18 +2886,12 @@ static int read_binary(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 			if (!cx->used)
 				continue;
 			v = (raw_value(r, b + c * r->rsize) + r->roffset) * r->rscale;
-			if (isnan(v) && (!r->opts->nan_as_gap || cx->is_time))
-				return ssc_diag(diag, -EBADMSG,
-						"%s: row %zu, column %zu (%s): NaN%s",
-						r->disp, r->line + 1, c + 1,
-						cx->name,
-						cx->is_time ? " time stamp" :
-						" (use --allow-nan to read gaps)");
-			if (isinf(v))
-				return ssc_diag(diag, -EBADMSG,
-						"%s: row %zu, column %zu (%s): infinite value",
-						r->disp, r->line + 1, c + 1,
-						cx->name);
+			if ((isnan(v) && (!r->opts->nan_as_gap || cx->is_time)) ||
+			    isinf(v))
+				return ssc_raw_value_error(diag, r->disp,
+							   r->line + 1, c + 1,
+							   cx->name, v,
+							   cx->is_time);
 			if (cx->dest >= 0 && ch->data[cx->dest])
 				ch->data[cx->dest][row] =
 					v * cx->c.unit.scale + cx->c.unit.offset;

@@ -112,6 +112,10 @@ struct sscope_capture {
 	/** A view made by sscope_capture_view(): samples, names, time and
 	 *  temperature belong to another capture. */
 	bool is_view;
+	/** Read with sscope_reader_opts.in_place_unchecked and used in
+	 *  place: the samples may hold NaN and infinities that the reader
+	 *  did not report (see sscope_capture_check_values()). */
+	bool values_unchecked;
 };
 
 /** Gaps of the time column a loaded capture lists (struct sscope_capture). */
@@ -159,6 +163,17 @@ void sscope_capture_free(struct sscope_capture *cap);
  */
 void sscope_capture_evict(void *capture, const double *x, size_t stride,
 			  size_t from, size_t n);
+
+/**
+ * The reader's check of a capture's samples, for a capture read with
+ * sscope_reader_opts.in_place_unchecked (values_unchecked): the first NaN
+ * (unless @p allow_nan) or infinite sample is reported as the reader
+ * reports it (file, row, column).
+ * @return 0 (also for a capture whose samples the reader checked),
+ *         -EBADMSG.
+ */
+int sscope_capture_check_values(const struct sscope_capture *cap,
+				bool allow_nan, struct sscope_diag *diag);
 
 /** @return the index of channel @p name, or -1. */
 long sscope_capture_find(const struct sscope_capture *cap, const char *name);

@@ -52,6 +52,13 @@ struct sscope_reader_opts {
 	 *  "DATA,TEMPERATURE" (a sensor_msgs/Temperature topic interpolated
 	 *  at the data topic's stamps); NULL: the only IMU topic. */
 	const char *topic;
+	/** With in_place: a file used in place is not checked for NaN
+	 *  (unless nan_as_gap) and infinite samples when it is read, saving
+	 *  a pass over it; the caller's analysis rejects them (such as
+	 *  sscope_allan_opts.reject_nan) and sscope_capture_check_values()
+	 *  then reports the reader's error.  Sets
+	 *  sscope_capture.values_unchecked. */
+	bool in_place_unchecked;
 };
 
 /** An open capture source read in chunks (streaming). */

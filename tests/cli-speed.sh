@@ -93,6 +93,17 @@ perl -e '$s = 1; for (1 .. 300000) { $s = ($s * 16807) % 2147483647;
 run "psd: infinity after the last segment of a mapped raw file" 1 psd \
 	--raw f64:1:le --rate 10 --nperseg 1024 "$T/inf.f64"
 has "psd: the infinity's row" "$T/err" 'row 299999, column 1 \(ch1\): infinite value'
+# allan checks the samples of a file used in place in its own first pass,
+# not the reader: the same errors, at the same rows
+run "allan: NaN deep in a mapped raw file" 1 allan --raw f64:1:le --rate 10 \
+	--taus octave "$T/nan.f64"
+has "allan: the NaN's row" "$T/err" 'row 200001, column 1 \(ch1\): NaN \(use --allow-nan'
+run "allan: infinity near the end of a mapped raw file" 1 allan \
+	--raw f64:1:le --rate 10 --taus octave --no-fit "$T/inf.f64"
+has "allan: the infinity's row" "$T/err" 'row 299999, column 1 \(ch1\): infinite value'
+run "allan --allow-nan: the NaN is a gap" 0 allan --raw f64:1:le --rate 10 \
+	--taus octave --no-fit --allow-nan --format json "$T/nan.f64"
+has "allan --allow-nan: one NaN counted" "$T/out" '"nan":1,'
 # psd reads the next chunk while it transforms the last: a bad cell three
 # chunks in is still reported at its line, and the spectrum of a pipe is
 # the file's

@@ -48,6 +48,7 @@ int main(void)
 	F(sscope_reader_opts, no_time);
 	F(sscope_reader_opts, threads);
 	F(sscope_reader_opts, in_place);
+	F(sscope_reader_opts, in_place_unchecked);
 	F(sscope_reader_opts, progress);
 	F(sscope_reader_opts, progress_ctx);
 	F(sscope_reader_opts, topic);
@@ -113,6 +114,7 @@ int main(void)
 	F(sscope_capture, gaps);
 	F(sscope_capture, n_gaps);
 	F(sscope_capture, is_view);
+	F(sscope_capture, values_unchecked);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);
@@ -123,6 +125,7 @@ int main(void)
 	F(sscope_allan_opts, threads);
 	F(sscope_allan_opts, release);
 	F(sscope_allan_opts, release_ctx);
+	F(sscope_allan_opts, reject_nan);
 	S(sscope_allan_point);
 	F(sscope_allan_point, tau_s);
 	F(sscope_allan_point, m);

@@ -1196,6 +1196,68 @@ END_TEST
 
 /* ------------------------------------------------------------ errors */
 
+/* An infinite sample is an error wherever it lies (it used to give
+ * silently wrong deviations), on the tiled and the contiguous engines, for
+ * rate and angle input; NaN is a gap unless reject_nan, then an error at
+ * its index. */
+START_TEST(non_finite_samples)
+{
+	const size_t ns[] = { 1000, 300000 }; /* contiguous, tiled */
+	const enum sscope_allan_input in[] = { SSCOPE_ALLAN_RATE,
+					       SSCOPE_ALLAN_ANGLE };
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+	struct sscope_diag d;
+
+	for (size_t c = 0; c < 2; c++) {
+		const size_t n = ns[c];
+		double *y = malloc(n * sizeof(double));
+		const size_t at[] = { 0, 1, n / 2 + 3, n - 1 };
+
+		for (size_t k = 0; k < n; k++)
+			y[k] = 0.3 + 0.01 * sin((double)k * 2.385) + 1e-3 * (double)(k % 7);
+		for (size_t e = 0; e < 2; e++)
+			for (size_t a = 0; a < 4; a++)
+				for (int sign = -1; sign <= 1; sign += 2) {
+					struct sscope_allan_opts o = { 0 };
+					struct sscope_allan *p;
+					char want[64];
+
+					o.input = in[e];
+					o.ci_level = -1;
+					ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+					ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 4, m, 64, &nm), 0);
+					y[at[a]] = sign * INFINITY;
+					d.msg[0] = '\0';
+					ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, &d), -EDOM);
+					snprintf(want, sizeof(want), "infinite sample at index %zu", at[a]);
+					ck_assert_msg(strstr(d.msg, want) != NULL, "'%s' for n %zu", d.msg, n);
+					/* with a NaN before it, still the infinity */
+					if (at[a] > 0) {
+						y[0] = NAN;
+						ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, &d), -EDOM);
+						ck_assert(strstr(d.msg, "infinite") != NULL);
+						y[0] = 0.3;
+					}
+					/* a NaN there instead: a gap, or an error */
+					y[at[a]] = NAN;
+					ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, &d), 0);
+					ck_assert(np > 0 && pt[0].dev > 0);
+					sscope_allan_free(p);
+					o.reject_nan = true;
+					ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+					ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, &d), -EDOM);
+					snprintf(want, sizeof(want), "NaN sample at index %zu", at[a]);
+					ck_assert_msg(strstr(d.msg, want) != NULL, "'%s'", d.msg);
+					y[at[a]] = 0.3;
+					ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, &d), 0);
+					sscope_allan_free(p);
+				}
+		free(y);
+	}
+}
+END_TEST
+
 START_TEST(errors)
 {
 	double y[64];
@@ -1359,6 +1421,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, noise_identification);
 	tcase_add_test(t, long_tau_identification);
 	tcase_add_test(t, errors);
+	tcase_add_test(t, non_finite_samples);
 	tcase_add_test(t, rate_quantity_and_fit_message);
 	suite_add_tcase(s, t);
 	return s;

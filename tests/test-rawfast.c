@@ -279,7 +279,51 @@ START_TEST(in_place)
 	ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), 0);
 	ck_assert_ptr_nonnull(cap->mapping);
 	ck_assert_uint_eq(cap->n_nan, 1);
+	ck_assert(!cap->values_unchecked);
 	sscope_capture_free(cap);
+
+	/* left unchecked: loaded in place as it is, and the check afterwards
+	 * gives the reader's message, word for word */
+	{
+		char want[sizeof(d.msg)];
+
+		o.nan_as_gap = false;
+		v[4321] = 1;
+		v[n - 5] = INFINITY;
+		p = put("inf.f64", v, n * sizeof(double));
+		ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), -EBADMSG);
+		ck_assert_ptr_nonnull(strstr(d.msg, "infinite value"));
+		snprintf(want, sizeof(want), "%s", d.msg);
+		o.in_place_unchecked = true;
+		ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), 0);
+		ck_assert_ptr_nonnull(cap->mapping);
+		ck_assert(cap->values_unchecked);
+		ck_assert(isinf(cap->channels[0].data[n - 5]));
+		d.msg[0] = '\0';
+		ck_assert_int_eq(sscope_capture_check_values(cap, false, &d), -EBADMSG);
+		ck_assert_str_eq(d.msg, want);
+		sscope_capture_free(cap);
+		/* a NaN: an error unless gaps are allowed */
+		v[n - 5] = 1;
+		v[17] = NAN;
+		p = put("nan.f64", v, n * sizeof(double));
+		o.in_place_unchecked = false;
+		ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), -EBADMSG);
+		snprintf(want, sizeof(want), "%s", d.msg);
+		o.in_place_unchecked = true;
+		ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), 0);
+		ck_assert_int_eq(sscope_capture_check_values(cap, false, &d), -EBADMSG);
+		ck_assert_str_eq(d.msg, want);
+		ck_assert_int_eq(sscope_capture_check_values(cap, true, &d), 0);
+		sscope_capture_free(cap);
+		/* a good file passes; a checked capture is never looked at */
+		v[17] = 1;
+		p = put("good.f64", v, n * sizeof(double));
+		ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), 0);
+		ck_assert_int_eq(sscope_capture_check_values(cap, false, &d), 0);
+		sscope_capture_free(cap);
+		ck_assert_int_eq(sscope_capture_check_values(NULL, false, &d), 0);
+	}
 	free(v);
 }
 END_TEST

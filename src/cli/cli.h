@@ -47,6 +47,10 @@ struct ssc_common {
 	const char *temp_column;
 	const char *calibration; /* --calibration FILE, applied by ssc_load */
 	const char *topic;     /* --topic NAME[,TEMPERATURE] of a ROS bag/MCAP */
+	/* set by the stage runner: the stage's analysis rejects NaN and
+	 * infinite samples itself, so ssc_load need not check a file used
+	 * in place (ssc_check_values reports as the reader would) */
+	bool values_in_run;
 };
 
 /* A command-specific option: getopt_long entry plus help text. */
@@ -148,6 +152,12 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
  * order), --calibration applied; prints errors.  Returns exit. */
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
+
+/* After a failed analysis of a capture whose samples ssc_load left to the
+ * analysis (values_in_run): the reader's error for a NaN or infinite
+ * sample, printed; SSC_EXIT_OK when there is none. */
+int ssc_check_values(const struct ssc_common *co,
+		     const struct sscope_capture *cap);
 
 /* Shape a capture to -c (sscope_capture_select(), in place) or make a view
  * of it (sscope_capture_view()); an unknown name is a data error (exit 1,

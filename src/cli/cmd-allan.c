@@ -478,9 +478,17 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		 * phase pass */
 		ao.release = sscope_capture_evict;
 		ao.release_ctx = cap;
+		/* samples the reader left unchecked are checked here */
+		ao.reject_nan = cap->values_unchecked && !co->allow_nan;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &fo,
 					  &c->res, &d);
+		if (rc && cap->values_unchecked) {
+			int e = ssc_check_values(co, cap);
+
+			if (e)
+				return e;
+		}
 		if (rc) {
 			ssc_err(co->cmd, "%s: %s: %s", path, c->col->name,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
@@ -1604,6 +1612,7 @@ const struct ssc_stage_ops ssc_allan_stage = {
 	.init = init,
 	.handle = handler,
 	.check = check,
+	.checks_values = true,
 	.run = run,
 	.json = json,
 	.emit_json = emit_json,

@@ -711,6 +711,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		o.columns = NULL;
 	else
 		o.in_place = true; /* (calibration drops channels: copies) */
+	/* (with --allow-nan the reader counts the gaps) */
+	o.in_place_unchecked = o.in_place && co->values_in_run && !co->allow_nan;
 	if (ssc_progress_on(co)) {
 		o.progress = read_progress;
 		o.progress_ctx = &pc;
@@ -740,6 +742,15 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
 			 path, co->rate_hz, (*cap)->timing.rate_hz);
 	return SSC_EXIT_OK;
+}
+
+int ssc_check_values(const struct ssc_common *co,
+		     const struct sscope_capture *cap)
+{
+	struct sscope_diag d = { "" };
+	int rc = sscope_capture_check_values(cap, co->allow_nan, &d);
+
+	return rc ? ssc_fail(co->cmd, rc, &d, cap->source) : SSC_EXIT_OK;
 }
 
 int ssc_select(const struct ssc_common *co, struct sscope_capture *cap)

@@ -253,6 +253,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		for (; loaded < n && !rc; loaded++)
 			rc = ssc_view(&co, call->caps[loaded], &caps[loaded]);
 	} else if (!(ops->streams && ops->streams(opts))) {
+		co.values_in_run = ops->checks_values;
 		for (; loaded < n && !rc; loaded++)
 			rc = ssc_load(&co, paths[loaded], &caps[loaded]);
 	}

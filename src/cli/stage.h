@@ -78,6 +78,11 @@ struct ssc_stage_ops {
 	 * (streaming, memory independent of the record); run() then gets
 	 * paths without captures */
 	bool (*streams)(const void *opts);
+	/* true when run() rejects NaN (without --allow-nan) and infinite
+	 * samples in its first pass over them and calls ssc_check_values()
+	 * when it fails: a command then reads a file used in place without
+	 * the reader's pass over the samples */
+	bool checks_values;
 	/* compute: *result receives the stage's result struct, which may
 	 * point into env's captures and paths (they live as long as it) */
 	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);

@@ -305,6 +305,14 @@ try:
 except ss.Error as e:
     ok(e.code < 0 and str(e), "errors: a too-short record raises ss.Error "
        "(%s)" % e)
+bad = np.sin(np.arange(5000) * 2.385)
+bad[1234] = np.inf
+try:
+    ss.allan(bad, 10.0, taus="octave", fit=False)
+    ok(False, "errors: an infinite sample raises")
+except ss.Error as e:
+    ok("index 1234" in str(e), "errors: an infinite sample raises ss.Error "
+       "at its index (%s)" % e)
 try:
     ss.allan(np.ones(100), 10.0, dev="xdev")
     ok(False, "errors: an unknown deviation raises")

@@ -65,7 +65,8 @@ class ReadOpts(C.Structure):
                 ("nan_as_gap", C.c_bool), ("no_time", C.c_bool),
                 ("threads", C.c_uint), ("in_place", C.c_bool),
                 ("progress", PROGRESS),
-                ("progress_ctx", C.c_void_p), ("topic", C.c_char_p)]
+                ("progress_ctx", C.c_void_p), ("topic", C.c_char_p),
+                ("in_place_unchecked", C.c_bool)]
 
 
 class Topic(C.Structure):
@@ -114,14 +115,15 @@ class Capture(C.Structure):
                 ("unterminated", C.c_bool),
                 ("timing", Timing), ("has_timing", C.c_bool),
                 ("gaps", C.POINTER(Gap)), ("n_gaps", c_size),
-                ("is_view", C.c_bool)]
+                ("is_view", C.c_bool), ("values_unchecked", C.c_bool)]
 
 
 class AllanOpts(C.Structure):
     _fields_ = [("dev", C.c_int), ("input", C.c_int), ("ci_level", c_dbl),
                 ("alpha_fixed", C.c_bool), ("alpha", C.c_int),
                 ("stride_div", c_size), ("threads", C.c_uint),
-                ("release", RELEASE), ("release_ctx", C.c_void_p)]
+                ("release", RELEASE), ("release_ctx", C.c_void_p),
+                ("reject_nan", C.c_bool)]
 
 
 class AllanPoint(C.Structure):
