@@ -1375,6 +1375,52 @@ struct tau_set {
 	int d;
 };
 
+#if defined(SSC_K512) && defined(SSC_NT_STORES)
+#include <immintrin.h>
+#define SSC_TILE512 1
+/*
+ * The S rows of a tile group, eight at a time: column c of row r is
+ * w[r + c S] (w and S 64-byte aligned, S a multiple of 8); the 8 x 8
+ * blocks are transposed in registers and each row's line is streamed to
+ * dst + r * rstride (64-byte aligned) past the cache.
+ */
+SSC_K512 static void tile_group512(const double *w, size_t S, double *dst,
+				   size_t rstride)
+{
+	for (size_t rr = 0; rr < S; rr += 8) {
+		const double *c0 = w + rr;
+		__m512d a0 = _mm512_load_pd(c0), a1 = _mm512_load_pd(c0 + S);
+		__m512d a2 = _mm512_load_pd(c0 + 2 * S), a3 = _mm512_load_pd(c0 + 3 * S);
+		__m512d a4 = _mm512_load_pd(c0 + 4 * S), a5 = _mm512_load_pd(c0 + 5 * S);
+		__m512d a6 = _mm512_load_pd(c0 + 6 * S), a7 = _mm512_load_pd(c0 + 7 * S);
+		/* pairs: t0 = a0[0] a1[0] a0[2] a1[2] ..., t1 the odd ones */
+		__m512d t0 = _mm512_unpacklo_pd(a0, a1), t1 = _mm512_unpackhi_pd(a0, a1);
+		__m512d t2 = _mm512_unpacklo_pd(a2, a3), t3 = _mm512_unpackhi_pd(a2, a3);
+		__m512d t4 = _mm512_unpacklo_pd(a4, a5), t5 = _mm512_unpackhi_pd(a4, a5);
+		__m512d t6 = _mm512_unpacklo_pd(a6, a7), t7 = _mm512_unpackhi_pd(a6, a7);
+		/* quads: u0 = a0..a3 at elements 0 and 4, u1 at 2 and 6, ... */
+		__m512d u0 = _mm512_shuffle_f64x2(t0, t2, 0x88);
+		__m512d u1 = _mm512_shuffle_f64x2(t0, t2, 0xDD);
+		__m512d u2 = _mm512_shuffle_f64x2(t1, t3, 0x88);
+		__m512d u3 = _mm512_shuffle_f64x2(t1, t3, 0xDD);
+		__m512d u4 = _mm512_shuffle_f64x2(t4, t6, 0x88);
+		__m512d u5 = _mm512_shuffle_f64x2(t4, t6, 0xDD);
+		__m512d u6 = _mm512_shuffle_f64x2(t5, t7, 0x88);
+		__m512d u7 = _mm512_shuffle_f64x2(t5, t7, 0xDD);
+		double *d = dst + rr * rstride;
+
+		_mm512_stream_pd(d, _mm512_shuffle_f64x2(u0, u4, 0x88));
+		_mm512_stream_pd(d + rstride, _mm512_shuffle_f64x2(u2, u6, 0x88));
+		_mm512_stream_pd(d + 2 * rstride, _mm512_shuffle_f64x2(u1, u5, 0x88));
+		_mm512_stream_pd(d + 3 * rstride, _mm512_shuffle_f64x2(u3, u7, 0x88));
+		_mm512_stream_pd(d + 4 * rstride, _mm512_shuffle_f64x2(u0, u4, 0xDD));
+		_mm512_stream_pd(d + 5 * rstride, _mm512_shuffle_f64x2(u2, u6, 0xDD));
+		_mm512_stream_pd(d + 6 * rstride, _mm512_shuffle_f64x2(u1, u5, 0xDD));
+		_mm512_stream_pd(d + 7 * rstride, _mm512_shuffle_f64x2(u3, u7, 0xDD));
+	}
+}
+#endif
+
 /*
  * One thread's share of the phase pass: compute the phase of chunk
  * [lo, hi) (plus lookahead for the short kernels), write it tiled, and
@@ -1393,6 +1439,11 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	/* second differences two taus at a time where the kernel exists */
 	const bool pair = ts->d == 2 && have_wide();
 	size_t region = SIZE_MAX; /* the region last mapped */
+#ifdef SSC_TILE512
+	/* (the window is on cache lines: win_cap and G are multiples of 8) */
+	const bool wide_tiles = have_wide() && S % 8 == 0 &&
+				((uintptr_t)win & 63) == 0;
+#endif
 
 	G = (G + grp - 1) / grp * grp;
 	WB = G + W;
@@ -1460,7 +1511,12 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 					ssc_prefault(p->x + (region << (p->shift + p->cws)),
 						     sizeof(double) << (p->shift + p->cws));
 				}
-
+#ifdef SSC_TILE512
+				if (wide_tiles) {
+					tile_group512(w, S, d0, (size_t)1 << p->cws);
+					continue;
+				}
+#endif
 				for (size_t rr = 0; rr < S; rr++) {
 					double *dst = d0 + (rr << p->cws);
 #ifdef SSC_NT_STORES
