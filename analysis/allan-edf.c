@@ -495,12 +495,59 @@ void ssc_allan_ci(double dev, double edf, double level, double *lo,
 /* Noise identification                                                */
 /* ------------------------------------------------------------------ */
 
+/* the sums of lag1() over n points all valid, in eight interleaved
+ * lanes (one chain of additions bounded it: 65536 points per tau) */
+static void lag1_sums(const double *u, size_t n, double *mu_out,
+		      double *a_out, double *b_out)
+{
+	double s[8] = { 0 }, sa[8] = { 0 }, sb[8] = { 0 }, mu, a, b;
+	size_t k = 0;
+
+	for (; k + 8 <= n; k += 8)
+		for (int r = 0; r < 8; r++)
+			s[r] += u[k + r];
+	mu = ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
+	for (; k < n; k++)
+		mu += u[k];
+	mu /= (double)n;
+	k = 0;
+	for (; k + 9 <= n; k += 8)
+		for (int r = 0; r < 8; r++) {
+			double e = u[k + r] - mu;
+
+			sb[r] += e * e;
+			sa[r] += e * (u[k + r + 1] - mu);
+		}
+	a = ((sa[0] + sa[1]) + (sa[2] + sa[3])) +
+	    ((sa[4] + sa[5]) + (sa[6] + sa[7]));
+	b = ((sb[0] + sb[1]) + (sb[2] + sb[3])) +
+	    ((sb[4] + sb[5]) + (sb[6] + sb[7]));
+	for (; k < n; k++) {
+		b += (u[k] - mu) * (u[k] - mu);
+		if (k + 1 < n)
+			a += (u[k] - mu) * (u[k + 1] - mu);
+	}
+	*mu_out = mu;
+	*a_out = a;
+	*b_out = b;
+}
+
 /* lag-1 autocorrelation over valid points (pairs both valid), scaled by
- * (c - 1) / c as Stable32 does (c valid points) */
+ * (c - 1) / c as Stable32 does (c valid points); v NULL: all valid */
 static int lag1(const double *u, const unsigned char *v, size_t n, double *r1)
 {
 	double mu = 0, a = 0, b = 0;
 	size_t c = 0;
+
+	if (!v) {
+		if (n < 2)
+			return -EDOM;
+		lag1_sums(u, n, &mu, &a, &b);
+		if (!(b > 0))
+			return -EDOM;
+		*r1 = a / b * (double)(n - 1) / (double)n;
+		return 0;
+	}
 
 	for (size_t k = 0; k < n; k++)
 		if (!v || v[k]) {
@@ -629,31 +676,35 @@ int ssc_noise_id_series(const double *z, const unsigned char *valid,
 			double *alpha_est, double *u, unsigned char *vw)
 {
 	size_t len, nvalid = 0;
+	bool all_valid;
 	int d = 0;
 
 	if (n < 2)
 		return -EDOM;
 	if (rate_like) {
 		len = n - 1;
-		for (size_t k = 0; k < len; k++) {
+		for (size_t k = 0; k < len; k++)
 			u[k] = z[k + 1] - z[k];
-			vw[k] = valid ? valid[k] : 1;
-		}
 	} else {
 		len = n;
-		for (size_t k = 0; k < len; k++) {
-			u[k] = z[k];
-			vw[k] = valid ? valid[k] : 1;
-		}
+		memcpy(u, z, len * sizeof(double));
 	}
-	for (size_t k = 0; k < len; k++)
-		nvalid += vw[k];
+	if (valid) {
+		memcpy(vw, valid, len);
+		for (size_t k = 0; k < len; k++)
+			nvalid += vw[k];
+	} else {
+		memset(vw, 1, len);
+		nvalid = len;
+	}
 	if (nvalid < SSC_NOISE_ID_MIN)
 		return few ? b1_id(z, valid, n, rate_like, few, alpha, alpha_est) :
 			     -EDOM;
+	/* (every point valid: so are all their differences) */
+	all_valid = nvalid == len;
 	for (;;) {
 		double r1, rho;
-		int rc = lag1(u, vw, len, &r1);
+		int rc = lag1(u, all_valid ? NULL : vw, len, &r1);
 
 		if (rc)
 			return rc;
@@ -667,10 +718,10 @@ int ssc_noise_id_series(const double *z, const unsigned char *valid,
 			*alpha = a < -4 ? -4 : a > 2 ? 2 : a;
 			return 0;
 		}
-		for (size_t k = 0; k + 1 < len; k++) {
+		for (size_t k = 0; k + 1 < len; k++)
 			u[k] = u[k + 1] - u[k];
+		for (size_t k = 0; !all_valid && k + 1 < len; k++)
 			vw[k] = vw[k] && vw[k + 1];
-		}
 		len--;
 		d++;
 		if (len < 2)

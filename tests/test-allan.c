@@ -1062,6 +1062,51 @@ END_TEST
 
 /* ------------------------------------------------------------ noise id */
 
+/* The identification of a series with every point valid (lag-1 sums in
+ * interleaved lanes) against the same points behind one invalid one (sums
+ * point by point): the same alpha, the same estimate to rounding, for
+ * white, random-walk and flicker rate, white angle, d up to 2. */
+START_TEST(noise_id_lanes_equal_masked)
+{
+	const size_t n = 40001;
+	double *z = malloc((n + 1) * sizeof(double)), *u = malloc((n + 2) * sizeof(double));
+	unsigned char *valid = malloc(n + 1), *vw = malloc(n + 2);
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	gsl_rng_set(r, 41);
+	for (int kind = 0; kind < 4; kind++)
+		for (int rate_like = 0; rate_like < 2; rate_like++) {
+			double w = 0, f = 0, e0 = 0, est1, est2;
+			int a1, a2;
+
+			z[0] = 1e3;
+			for (size_t k = 1; k <= n; k++) {
+				double g = gsl_ran_gaussian_ziggurat(r, 1), v;
+
+				w += g;
+				f = 0.9 * f + g;
+				v = kind == 0 ? g : kind == 1 ? w : kind == 2 ? g - e0 : f;
+				e0 = g;
+				z[k] = z[k - 1] + v;
+			}
+			memset(valid, 1, n + 1);
+			valid[0] = 0;
+			ck_assert_int_eq(ssc_noise_id_series(z, valid, n + 1, rate_like, 2,
+							    NULL, &a1, &est1, u, vw), 0);
+			ck_assert_int_eq(ssc_noise_id_series(z + 1, NULL, n, rate_like, 2,
+							    NULL, &a2, &est2, u, vw), 0);
+			ck_assert_msg(a1 == a2 && fabs(est1 - est2) < 1e-11,
+				      "kind %d rate %d: %d %.17g vs %d %.17g", kind,
+				      rate_like, a1, est1, a2, est2);
+		}
+	gsl_rng_free(r);
+	free(z);
+	free(u);
+	free(valid);
+	free(vw);
+}
+END_TEST
+
 START_TEST(noise_identification)
 {
 	const size_t n = 1u << 16;
@@ -1419,6 +1464,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, all_taus_grouped_exact);
 	tcase_add_test(t, wide_kernels_exact);
 	tcase_add_test(t, noise_identification);
+	tcase_add_test(t, noise_id_lanes_equal_masked);
 	tcase_add_test(t, long_tau_identification);
 	tcase_add_test(t, errors);
 	tcase_add_test(t, non_finite_samples);
