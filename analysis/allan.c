@@ -43,7 +43,7 @@
 #include <omp.h>
 #endif
 #if defined(__SSE2__) && defined(__x86_64__)
-#include <emmintrin.h>
+#include <immintrin.h> /* streaming stores; the AVX-512 tile transpose */
 #define SSC_NT_STORES 1
 #endif
 
@@ -1376,7 +1376,6 @@ struct tau_set {
 };
 
 #if defined(SSC_K512) && defined(SSC_NT_STORES)
-#include <immintrin.h>
 #define SSC_TILE512 1
 /*
  * The S rows of a tile group, eight at a time: column c of row r is
