@@ -836,6 +836,12 @@ struct sscope_allan {
 	/* layout of the current record: S rows of Lp columns in regions
 	 * of 2^cws columns (see REGION_SHIFT) */
 	size_t np, S, shift, Lp, cws;
+	/* a phase computed without the centring pass (see centre_sampled):
+	 * chunk t (t < n_off) starts at column off_col[t] and its points
+	 * are stored less off[t], which every reader of x adds back */
+	unsigned n_off;
+	double *off;
+	size_t *off_col;
 	/* noise-id scratch, nid_half doubles and bytes (twice) per thread */
 	double *nid;
 	unsigned char *nidv;
@@ -956,7 +962,10 @@ int sscope_allan_new(struct sscope_allan **plan,
 	p->nid = ssc_alloc_array((size_t)p->nthreads * 2 * p->nid_half,
 				 sizeof(double));
 	p->nidv = ssc_alloc_array(p->nthreads, 2 * p->nid_half);
-	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv) {
+	p->off = calloc(p->nthreads, sizeof(double));
+	p->off_col = calloc(p->nthreads, sizeof(size_t));
+	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv || !p->off ||
+	    !p->off_col) {
 		sscope_allan_free(p);
 		return -ENOMEM;
 	}
@@ -974,6 +983,8 @@ void sscope_allan_free(struct sscope_allan *p)
 	free(p->nanpre);
 	free(p->nid);
 	free(p->nidv);
+	free(p->off);
+	free(p->off_col);
 	free(p);
 }
 
@@ -984,21 +995,53 @@ static inline size_t xoff(const struct sscope_allan *p, size_t rr, size_t q)
 	       (q & (((size_t)1 << p->cws) - 1));
 }
 
+/* the chunk offset of column q (see n_off) */
+static inline double col_off(const struct sscope_allan *p, size_t q)
+{
+	for (unsigned t = p->n_off; t-- > 1;)
+		if (q >= p->off_col[t])
+			return p->off[t];
+	return 0;
+}
+
 /* phase point k in the current layout */
 static inline double xat(const struct sscope_allan *p, size_t k)
 {
-	return p->x[xoff(p, k & (p->S - 1), k >> p->shift)];
+	double v = p->x[xoff(p, k & (p->S - 1), k >> p->shift)];
+
+	return p->n_off ? v + col_off(p, k >> p->shift) : v;
 }
 
-/* row rr of the tiled layout, its columns [0, ncol), into buf */
+/* dst[i] = src[i] + o, i < n */
+static void add_copy(double *restrict dst, const double *restrict src,
+		     size_t n, double o)
+{
+	for (size_t i = 0; i < n; i++)
+		dst[i] = src[i] + o;
+}
+
+/* row rr of the tiled layout, its columns [0, ncol), into buf, each
+ * chunk's offset added (see n_off) */
 static void row_copy(const struct sscope_allan *p, size_t rr, size_t ncol,
 		     double *buf)
 {
 	const size_t cw = (size_t)1 << p->cws;
+	unsigned t = 0; /* the chunk of column q */
 
-	for (size_t q = 0; q < ncol; q += cw)
-		memcpy(buf + q, p->x + xoff(p, rr, q),
-		       (ncol - q < cw ? ncol - q : cw) * sizeof(double));
+	for (size_t q = 0; q < ncol;) {
+		const size_t rend = (q / cw + 1) * cw; /* the region's end */
+		size_t e = rend < ncol ? rend : ncol;
+
+		while (t + 1 < p->n_off && q >= p->off_col[t + 1])
+			t++;
+		if (t + 1 < p->n_off && p->off_col[t + 1] < e)
+			e = p->off_col[t + 1];
+		if (t == 0)
+			memcpy(buf + q, p->x + xoff(p, rr, q), (e - q) * sizeof(double));
+		else
+			add_copy(buf + q, p->x + xoff(p, rr, q), e - q, p->off[t]);
+		q = e;
+	}
 }
 
 /* number of NaN flags in [a, b) of the gap map */
@@ -1023,6 +1066,7 @@ struct src {
 	const struct sscope_allan_opts *o; /* the release callback */
 	bool angle;
 	double m0, delta; /* rate: increment = (y - m0) - delta */
+	double spread;    /* centre_sampled: the samples' deviation */
 	double y0, slope, fs; /* angle: x = ((y - y0) - slope k) fs */
 };
 
@@ -1044,6 +1088,7 @@ static inline double apoint(const struct src *s, size_t k)
 struct run {
 	struct ssc_ksum sum; /* rate: the phase at point k */
 	size_t k;            /* index of the next phase point */
+	bool nan;            /* rate: a NaN sample met (counted as 0) */
 };
 
 /* stretch of points computed from one compensated base */
@@ -1107,8 +1152,10 @@ SSC_CLONES static void fill_phase(const struct src *s, struct run *r,
 #endif
 		for (; i < len; i++) {
 			out[i] = bs + (bc + acc);
-			if (k + i < s->n)
+			if (k + i < s->n) {
+				r->nan |= isnan(s->y[(k + i) * s->stride]);
 				acc += incr(s, k + i);
+			}
 		}
 		ssc_ksum_add(&r->sum, acc);
 		k += len;
@@ -1297,6 +1344,74 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_na
 	return nfin;
 }
 
+/* one sample in each CENTRE_STEP centres the phase of centre_sampled */
+#define CENTRE_STEP 64
+
+/*
+ * Rate input: m0, the first sample, and delta, the mean of y - m0 over
+ * one sample in every CENTRE_STEP, without a pass over every sample; the
+ * sample's place in its block is pseudo-random, so that a signal periodic
+ * in the block length is not sampled at one phase.  The overlapping second
+ * and third differences do not depend on the centring (a constant
+ * increment cancels in them); it only keeps the phase small for its
+ * rounding.  A mean off by e makes the phase drift by up to n e; from n /
+ * 64 samples e is about sigma / sqrt(n / 64), a drift of about 8 sqrt(n)
+ * sigma, a few times the phase's own random walk (sigma in spread; the
+ * caller checks the drift it got).  False when a sample read is not
+ * finite (the caller then takes the full pass).
+ */
+static bool centre_sampled(struct src *s, unsigned T)
+{
+	const size_t ns = s->n / CENTRE_STEP;
+	const double y0 = s->y[0];
+	struct ssc_ksum *part, all = { 0, 0 }, all2 = { 0, 0 };
+	double delta, var;
+
+	if (!isfinite(y0) || ns < 2)
+		return false;
+	part = calloc(2 * (size_t)T, sizeof(*part));
+	if (!part)
+		return false;
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
+	for (unsigned t = 0; t < T; t++) {
+		size_t a = ns * t / T, b = ns * (t + 1) / T;
+		struct ssc_ksum k = { 0, 0 }, k2 = { 0, 0 };
+		double blk = 0, blk2 = 0;
+
+		for (size_t i = a; i < b; i++) {
+			size_t j = (size_t)(((uint64_t)i * 0x9E3779B97F4A7C15u) >> 58);
+			double v = s->y[(i * CENTRE_STEP + j) * s->stride] - y0;
+
+			blk += v;
+			blk2 += v * v;
+			if (((i - a) & 255) == 255) {
+				ssc_ksum_add(&k, blk);
+				ssc_ksum_add(&k2, blk2);
+				blk = blk2 = 0;
+			}
+		}
+		ssc_ksum_add(&k, blk);
+		ssc_ksum_add(&k2, blk2);
+		part[2 * t] = k;
+		part[2 * t + 1] = k2;
+	}
+	for (unsigned t = 0; t < T; t++) {
+		ssc_ksum_add(&all, part[2 * t].s);
+		ssc_ksum_add(&all, part[2 * t].c);
+		ssc_ksum_add(&all2, part[2 * t + 1].s);
+		ssc_ksum_add(&all2, part[2 * t + 1].c);
+	}
+	free(part);
+	delta = ssc_ksum_value(&all) / (double)ns;
+	var = ssc_ksum_value(&all2) / (double)ns - delta * delta;
+	if (!isfinite(delta) || !isfinite(var))
+		return false;
+	s->m0 = y0;
+	s->delta = delta;
+	s->spread = sqrt(var > 0 ? var : 0);
+	return true;
+}
+
 /* gap map over the n source samples (rate) or np points (angle) */
 static int build_gaps(struct sscope_allan *p, const struct src *s)
 {
@@ -1348,7 +1463,7 @@ static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 {
 SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 	for (unsigned t = 0; t < T; t++) {
-		struct run r;
+		struct run r = { { 0, 0 }, 0, false };
 		size_t lo = chunk_at(p->np, T, t, 1);
 		size_t hi = chunk_at(p->np, T, t + 1, 1), done = lo;
 
@@ -1428,13 +1543,13 @@ SSC_K512 static void tile_group512(const double *w, size_t S, double *dst,
 static void fused_chunk(struct sscope_allan *p, const struct src *s,
 			struct ssc_ksum base, size_t lo, size_t hi,
 			const struct tau_set *ts, double *win,
-			struct ssc_ksum *acc)
+			struct ssc_ksum *acc, double *end, bool *bad)
 {
 	const size_t S = p->S, np = p->np, grp = TILE_COLS * S;
 	const size_t W = (size_t)ts->d * ts->mshort_max + SHORT_BLOCK;
 	size_t G = W > 16384 ? W : 16384, WB, filled = 0, wbase = lo;
 	size_t kend = hi + W < np ? hi + W : np, done = lo;
-	struct run r = { base, lo };
+	struct run r = { base, lo, false };
 	/* second differences two taus at a time where the kernel exists */
 	const bool pair = ts->d == 2 && have_wide();
 	size_t region = SIZE_MAX; /* the region last mapped */
@@ -1455,6 +1570,19 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 		if (stop > wbase + filled)
 			fill_phase(s, &r, win + filled, stop - wbase - filled);
 		filled = stop - wbase;
+		/* centred without the pass that checks the samples (bad set):
+		 * on a NaN or a phase that is not finite the caller starts
+		 * again with that pass; another thread's: stop too */
+		if (bad && (r.nan || !isfinite(r.sum.s)))
+			__atomic_store_n(bad, true, __ATOMIC_RELAXED);
+		if (bad && __atomic_load_n(bad, __ATOMIC_RELAXED))
+			return;
+		/* the phase at the chunk's end relative to its start (the
+		 * last chunk's last point) */
+		if (hi < np && hi >= wbase && hi < wbase + filled)
+			*end = win[hi - wbase];
+		else if (hi == np && np - 1 >= wbase && np - 1 < wbase + filled)
+			*end = win[np - 1 - wbase];
 		/* the next chunk's thread reads the lookahead too */
 		release_to(s, &done, r.k < hi ? r.k : hi, r.k >= hi);
 		/* short taus on terms starting in [wbase, gend), block by
@@ -1543,6 +1671,19 @@ static void fused_chunk(struct sscope_allan *p, const struct src *s,
 	}
 }
 
+/* the taus of m on the current layout: long ones (row pass) are
+ * multiples of S from BIG_FACTOR S on */
+static void tau_set_init(struct tau_set *ts, const struct sscope_allan *p,
+			 const size_t *m, size_t nacc, bool *big, int d)
+{
+	*ts = (struct tau_set){ m, nacc, big, 0, d };
+	for (size_t j = 0; j < nacc; j++) {
+		big[j] = m[j] >= BIG_FACTOR * p->S && m[j] % p->S == 0;
+		if (!big[j] && m[j] > ts->mshort_max)
+			ts->mshort_max = m[j];
+	}
+}
+
 /* the terms *nq that row rr holds of long tau j of ts (false: none) */
 static bool row_terms(const struct sscope_allan *p, const struct tau_set *ts,
 		      size_t j, size_t rr, size_t *nq)
@@ -1558,24 +1699,35 @@ static bool row_terms(const struct sscope_allan *p, const struct tau_set *ts,
 	return true;
 }
 
-/* sums of order-d overlapping terms for every m of ts, tiled layout */
+/*
+ * Sums of order-d overlapping terms for every m of ts, tiled layout.
+ * bases NULL (rate input centred by centre_sampled): each chunk's phase
+ * starts from 0 and the chunks' offsets are set once all are done; a NaN
+ * or a phase that is not finite gives -EAGAIN (nothing added to acc).
+ */
 static int sums_tiled(struct sscope_allan *p, const struct src *s,
 		      unsigned T, const struct ssc_ksum *bases,
 		      const struct tau_set *ts, struct ssc_ksum *acc)
 {
 	const size_t q = TILE_COLS * p->S;
 	struct ssc_ksum *part = calloc((size_t)T * ts->n, sizeof(*part));
+	double *ends = calloc(T, sizeof(double));
+	bool bad = false;
 	/* a row is read into the thread's window (into rows of its own
 	 * when a lowered shift made the rows longer than the window) */
 	const size_t rcap = p->Lp <= p->win_cap ? p->win_cap : p->Lp;
 	double *rows = NULL;
 
-	if (!part)
+	if (!part || !ends) {
+		free(part);
+		free(ends);
 		return -ENOMEM;
+	}
 	if (p->Lp > p->win_cap) {
 		rows = ssc_alloc_array((size_t)T, rcap * sizeof(double));
 		if (!rows) {
 			free(part);
+			free(ends);
 			return -ENOMEM;
 		}
 	}
@@ -1595,18 +1747,41 @@ SSC_OMP(omp parallel num_threads(T))
 SSC_OMP(omp for schedule(static, 1))
 		for (unsigned t = 0; t < T; t++)
 			fused_chunk(p, s,
-				    s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t],
+				    s->angle || !bases ? (struct ssc_ksum){ 0, 0 } : bases[t],
 				    chunk_at(p->np, T, t, q),
-				    chunk_at(p->np, T, t + 1, q), ts, win, my);
+				    chunk_at(p->np, T, t + 1, q), ts, win, my,
+				    &ends[t], bases ? NULL : &bad);
 #ifdef SSC_NT_STORES
 		_mm_sfence(); /* streamed tiles visible before the barrier */
 #endif
 		/* (implicit barrier: every tile is written) */
+SSC_OMP(omp single)
+		if (!bases && !s->angle && !bad) {
+			double o = 0;
+
+			/* chunk t is stored less the phase at its start */
+			for (unsigned t = 0; t < T; t++) {
+				p->off_col[t] = chunk_at(p->np, T, t, q) >> p->shift;
+				p->off[t] = o;
+				o += ends[t];
+			}
+			p->n_off = T;
+			/* o: the phase's drift over the record, n times what
+			 * the sampled mean missed; when far beyond what the
+			 * sample promised (a signal the sample aliases), the
+			 * full pass centres it exactly */
+			bad = !isfinite(o) ||
+			      fabs(o) > 32 * s->spread * sqrt((double)s->n);
+		}
+		/* (implicit barrier: offsets set) */
 SSC_OMP(omp for schedule(dynamic, 4))
 		for (size_t rr = 0; rr < p->S; rr++) {
 			double *row = (rows ? rows : p->win) + (size_t)me * rcap;
 			size_t pj = SIZE_MAX, pq = 0; /* a tau waiting for a pair */
 			size_t ncol = 0;
+
+			if (bad)
+				continue;
 
 			/* the columns of the row that the long taus read */
 			for (size_t j = 0; j < ts->n; j++) {
@@ -1639,12 +1814,20 @@ SSC_OMP(omp for schedule(dynamic, 4))
 				kd_total(ts->d, row, ts->m[pj] >> p->shift, pq, &my[pj]);
 		}
 	}
+	if (bad) {
+		p->n_off = 0;
+		free(part);
+		free(ends);
+		free(rows);
+		return -EAGAIN;
+	}
 	for (unsigned t = 0; t < T; t++)
 		for (size_t j = 0; j < ts->n; j++) {
 			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].s);
 			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].c);
 		}
 	free(part);
+	free(ends);
 	free(rows);
 	return 0;
 }
@@ -1938,7 +2121,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
 	size_t inf_at;
-	bool *big = NULL, gaps, tiled, strided, idpar;
+	bool *big = NULL, gaps, tiled, strided, idpar, quick;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
 	unsigned T;
@@ -2007,62 +2190,79 @@ static int compute(struct sscope_allan *p, const double *y,
 	p->S = (size_t)1 << p->shift;
 	p->Lp = row_len(p->np, p->shift);
 	p->cws = region_cols_shift(p->shift);
-	nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
-			   &nnan, &inf_at);
-	if (nfin == SIZE_MAX) {
-		rc = -ENOMEM;
-		goto out;
-	}
-	/* the samples are checked here, in the pass that needs them anyway */
-	if (inf_at != SIZE_MAX) {
-		rc = ssc_diag(diag, -EDOM, "infinite sample at index %zu", inf_at);
-		goto out;
-	}
-	if (nnan && p->opts.reject_nan) {
-		size_t k = 0;
+	/* rate input on the tiled layout: centred from a sample of the
+	 * record and checked as the phase is computed, instead of a pass
+	 * over the record first (the full pass below when a sample is not
+	 * finite) */
+	p->n_off = 0;
+	quick = false;
+	if (p->shift > 0 && !angle && centre_sampled(&s, T)) {
+		struct tau_set ts;
 
-		while (k < n && !isnan(y[k * stride]))
-			k++;
-		rc = ssc_diag(diag, -EDOM, "NaN sample at index %zu", k);
-		goto out;
-	}
-	if (nfin < 2) {
-		rc = ssc_diag(diag, -EDOM,
-			      "fewer than two finite samples (%zu of %zu)",
-			      nfin, n);
-		goto out;
-	}
-	gaps = nnan > 0;
-	if (gaps && dev == SSCOPE_ALLAN_DEV_TOTDEV) {
-		rc = ssc_diag(diag, -EDOM,
-			      "totdev needs a record without gaps (%zu NaN samples)",
-			      nnan);
-		goto out;
-	}
-	if (gaps) {
-		p->shift = 0;
-		p->S = 1;
-		p->Lp = p->np;
-		p->cws = region_cols_shift(0);
-		/* the chunk sums were computed with the tiled quantum:
-		 * recompute for contiguous chunks */
-		nfin = scan_source(p, &s, T, 1, bases, &nnan, &inf_at);
-		rc = build_gaps(p, &s);
-		if (rc)
+		tau_set_init(&ts, p, m, nacc, big, d);
+		rc = sums_tiled(p, &s, T, NULL, &ts, acc);
+		if (rc && rc != -EAGAIN)
 			goto out;
+		quick = rc == 0;
+		rc = 0;
+	}
+	gaps = false;
+	if (!quick) {
+		nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
+				   &nnan, &inf_at);
+		if (nfin == SIZE_MAX) {
+			rc = -ENOMEM;
+			goto out;
+		}
+		/* the samples are checked here, in the pass that needs them anyway */
+		if (inf_at != SIZE_MAX) {
+			rc = ssc_diag(diag, -EDOM, "infinite sample at index %zu", inf_at);
+			goto out;
+		}
+		if (nnan && p->opts.reject_nan) {
+			size_t k = 0;
+
+			while (k < n && !isnan(y[k * stride]))
+				k++;
+			rc = ssc_diag(diag, -EDOM, "NaN sample at index %zu", k);
+			goto out;
+		}
+		if (nfin < 2) {
+			rc = ssc_diag(diag, -EDOM,
+				      "fewer than two finite samples (%zu of %zu)",
+				      nfin, n);
+			goto out;
+		}
+		gaps = nnan > 0;
+		if (gaps && dev == SSCOPE_ALLAN_DEV_TOTDEV) {
+			rc = ssc_diag(diag, -EDOM,
+				      "totdev needs a record without gaps (%zu NaN samples)",
+				      nnan);
+			goto out;
+		}
+		if (gaps) {
+			p->shift = 0;
+			p->S = 1;
+			p->Lp = p->np;
+			p->cws = region_cols_shift(0);
+			/* the chunk sums were computed with the tiled quantum:
+			 * recompute for contiguous chunks */
+			nfin = scan_source(p, &s, T, 1, bases, &nnan, &inf_at);
+			rc = build_gaps(p, &s);
+			if (rc)
+				goto out;
+		}
 	}
 	tiled = p->shift > 0;
 	if (tiled) {
-		struct tau_set ts = { m, nacc, big, 0, d };
+		struct tau_set ts;
 
-		for (size_t j = 0; j < nacc; j++) {
-			big[j] = m[j] >= BIG_FACTOR * p->S && m[j] % p->S == 0;
-			if (!big[j] && m[j] > ts.mshort_max)
-				ts.mshort_max = m[j];
+		tau_set_init(&ts, p, m, nacc, big, d);
+		if (!quick) {
+			rc = sums_tiled(p, &s, T, bases, &ts, acc);
+			if (rc)
+				goto out;
 		}
-		rc = sums_tiled(p, &s, T, bases, &ts, acc);
-		if (rc)
-			goto out;
 		for (size_t j = 0; j < nacc; j++)
 			used[j] = p->np - (size_t)d * m[j];
 	} else if (dev == SSCOPE_ALLAN_DEV_OADEV && !strided && !gaps) {

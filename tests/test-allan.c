@@ -944,6 +944,77 @@ START_TEST(tiled_engine)
 }
 END_TEST
 
+/* The rate input on the tiled layout is centred from a sample of one
+ * point in 64 instead of a pass over the record, and each thread's chunk
+ * of the phase is stored relative to its start: the deviations must still
+ * be those of the exactly centred phase, for signals a regular sample
+ * would alias (periods of 4 and 64 points), a large level with a ramp, a
+ * step and quantised noise, with 1, 2 and 3 threads (the chunk offsets
+ * added back), and the identification (which reads phase points) must
+ * not depend on the threads. */
+START_TEST(sampled_centring)
+{
+	const size_t n = under_valgrind() ? 140000 : 300000;
+	double *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t m[64], nm, np;
+	struct sscope_allan_point pt[64];
+	int alpha1[64];
+
+	gsl_rng_set(r, 31);
+	sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 4, m, 64, &nm);
+	for (int c = 0; c < 5; c++) {
+		for (size_t k = 0; k < n; k++) {
+			double e = gsl_ran_gaussian_ziggurat(r, 1e-3);
+
+			switch (c) {
+			case 0:
+				y[k] = cos(M_PI * (double)k / 2) + e;
+				break;
+			case 1:
+				y[k] = 5 * sin(2 * M_PI * (double)k / 64 + 0.3) + e;
+				break;
+			case 2:
+				y[k] = 1e4 + 1e-6 * (double)k + 10 * e;
+				break;
+			case 3:
+				y[k] = (k < n / 3 ? 0 : 1) + e;
+				break;
+			default:
+				y[k] = 0.01 * round(300 * e);
+				break;
+			}
+		}
+		for (int d = 2; d <= 3; d++)
+			for (unsigned T = 1; T <= 3; T++) {
+				struct sscope_allan_opts o = { 0 };
+				struct sscope_allan *p;
+
+				o.dev = d == 2 ? SSCOPE_ALLAN_DEV_OADEV : SSCOPE_ALLAN_DEV_OHDEV;
+				o.ci_level = -1;
+				o.threads = T;
+				ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+				ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, NULL), 0);
+				sscope_allan_free(p);
+				ck_assert_uint_eq(np, nm);
+				for (size_t i = 0; i < np; i += under_valgrind() ? 3 : 1) {
+					double v = ref_var(y, n, m[i], d);
+
+					ck_assert_msg(fabs(pt[i].dev * pt[i].dev - v) <= 1e-10 * v,
+						      "signal %d d %d T %u m %zu: %.17g vs %.17g",
+						      c, d, T, m[i], pt[i].dev * pt[i].dev, v);
+					if (T == 1)
+						alpha1[i] = pt[i].alpha;
+					else
+						ck_assert_int_eq(pt[i].alpha, alpha1[i]);
+				}
+			}
+	}
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
 /* An all-tau OADEV grid sums its taus in groups over L1 tiles; with a
  * stride divisor above every m the same taus take the per-tau kernel:
  * the deviations must be the same doubles (records shorter than a lane
@@ -1461,6 +1532,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, gaps_angle);
 	tcase_add_test(t, strided);
 	tcase_add_test(t, tiled_engine);
+	tcase_add_test(t, sampled_centring);
 	tcase_add_test(t, all_taus_grouped_exact);
 	tcase_add_test(t, wide_kernels_exact);
 	tcase_add_test(t, noise_identification);
