@@ -977,6 +977,8 @@ void sscope_allan_free(struct sscope_allan *p)
 {
 	if (!p)
 		return;
+	if (p->opts.release_workspace && p->x)
+		ssc_release_pages(p->x, p->x_cap * sizeof(double), p->nthreads);
 	free(p->x);
 	free(p->win);
 	free(p->nanbits);

@@ -141,19 +141,32 @@ struct sscope_allan_opts {
 	unsigned threads;
 	/** Optional: called, possibly from several threads at once, with
 	 *  ranges of samples (x[k * stride], from <= k < from + n) that the
-	 *  engine has finished reading in the current computation (a later
-	 *  call reads them again).  With sscope_capture_evict() and the
-	 *  capture as @p release_ctx, a capture mapped from its file gives its
-	 *  pages back behind the phase pass, so that the record and the phase
-	 *  workspace are never both whole in memory.  NULL: not called. */
+	 *  engine has read in the current computation (a later call reads
+	 *  them again).  Each range once, unless the record turns out to hold
+	 *  a NaN or an infinite sample part-way, or to need exact centring:
+	 *  the engine then reads it all again, and calls again.  The callback
+	 *  may therefore let go only of what can be read back, as
+	 *  sscope_capture_evict() does: with the capture as @p release_ctx, a
+	 *  capture mapped from its file gives its pages back behind the phase
+	 *  pass (they are read again from the file when needed), so that the
+	 *  record and the phase workspace are never both whole in memory.
+	 *  NULL: not called. */
 	void (*release)(void *ctx, const double *x, size_t stride,
 			size_t from, size_t n);
 	void *release_ctx;
 	/** NaN samples are an error (-EDOM), as infinite ones always are,
 	 *  instead of gaps: for callers whose data may hold no gaps, which
-	 *  then need not check the samples themselves (the engine's first
-	 *  pass over them does). */
+	 *  then need not check the samples themselves (the engine does, as
+	 *  it reads them). */
 	bool reject_nan;
+	/** When the plan is freed (sscope_allan_free(), and at the end of
+	 *  sscope_allan_analyze()), give its workspace's pages back to the
+	 *  system on all its threads at once: for the last analysis of a
+	 *  process, whose exit would otherwise free them on one core, or
+	 *  of a program that will not allocate as much again.  Without it
+	 *  the memory goes back to malloc(), and a next plan of the same
+	 *  size may reuse its pages without the system clearing them. */
+	bool release_workspace;
 };
 
 /** One tau of a deviation. */

@@ -57,6 +57,10 @@ void *ssc_alloc_array(size_t count, size_t size);
  * per page); the data are not touched.  A hint: does nothing where the
  * kernel cannot. */
 void ssc_prefault(void *p, size_t bytes);
+/* the whole pages inside [p, p + bytes) back to the system (their
+ * contents become zeros), split over `threads` threads: the system's
+ * work per page runs on every core */
+void ssc_release_pages(void *p, size_t bytes, unsigned threads);
 
 /* 10th and 90th percentiles (lower order statistics) of the finite values
  * of a sliding variance (sscope_calib_variance_magnitude()), through

@@ -90,6 +90,31 @@ void ssc_prefault(void *p, size_t bytes)
 #endif
 }
 
+void ssc_release_pages(void *p, size_t bytes, unsigned threads)
+{
+#ifdef MADV_DONTNEED
+	long pg = sysconf(_SC_PAGESIZE);
+	const uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
+	const uintptr_t lo = ((uintptr_t)p + ps - 1) / ps * ps;
+	const uintptr_t hi = ((uintptr_t)p + bytes) / ps * ps;
+	const size_t pages = hi > lo ? (size_t)((hi - lo) / ps) : 0;
+	const unsigned T = threads ? threads : 1;
+
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) if (pages >= 4096))
+	for (unsigned t = 0; t < T; t++) {
+		size_t p0 = pages * t / T, p1 = pages * (t + 1) / T;
+
+		if (p1 > p0)
+			(void)madvise((void *)(lo + p0 * ps), (p1 - p0) * ps,
+				      MADV_DONTNEED);
+	}
+#else
+	(void)p;
+	(void)bytes;
+	(void)threads;
+#endif
+}
+
 char *ssc_strdup(const char *s)
 {
 	size_t n;

@@ -126,6 +126,7 @@ int main(void)
 	F(sscope_allan_opts, release);
 	F(sscope_allan_opts, release_ctx);
 	F(sscope_allan_opts, reject_nan);
+	F(sscope_allan_opts, release_workspace);
 	S(sscope_allan_point);
 	F(sscope_allan_point, tau_s);
 	F(sscope_allan_point, m);

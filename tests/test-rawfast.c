@@ -402,6 +402,70 @@ START_TEST(allan_release)
 }
 END_TEST
 
+/* resident pages of this process (/proc/self/statm), or 0 */
+static size_t resident_pages(void)
+{
+	FILE *f = fopen("/proc/self/statm", "r");
+	size_t size = 0, res = 0;
+
+	if (!f)
+		return 0;
+	if (fscanf(f, "%zu %zu", &size, &res) != 2)
+		res = 0;
+	fclose(f);
+	return res;
+}
+
+/* ssc_release_pages() gives back exactly the whole pages inside the range
+ * (they read as zeros, the process's resident set shrinks by them; the
+ * partial pages at both ends keep their data), on two threads; and an
+ * analysis whose plan gives its workspace back so is the same. */
+START_TEST(workspace_release)
+{
+	const long pg = sysconf(_SC_PAGESIZE);
+	const size_t ps = pg > 0 ? (size_t)pg : 4096, pages = 8192;
+	unsigned char *buf = aligned_alloc(ps, (pages + 2) * ps);
+	unsigned char *a = buf + ps / 2; /* starts and ends mid-page */
+	const size_t len = pages * ps;
+	size_t before, after, n = 400000;
+	double *y = malloc(n * sizeof(double));
+	struct sscope_allan_result *r1 = NULL, *r2 = NULL;
+	struct sscope_allan_opts ao = { .ci_level = -1, .threads = 2 };
+	struct sscope_noise_fit_opts fo = { .skip = true };
+
+	ck_assert_ptr_nonnull(buf);
+	ck_assert_ptr_nonnull(y);
+	memset(buf, 0x5a, (pages + 2) * ps);
+	before = resident_pages();
+	ssc_release_pages(a, len, 2);
+	after = resident_pages();
+	/* pages - 1 whole pages inside: the half pages at the ends stay */
+	for (size_t i = 0; i < len; i++) {
+		bool inside = i >= ps / 2 && i < len - ps / 2;
+
+		if (a[i] != (inside ? 0 : 0x5a))
+			ck_abort_msg("byte %zu: %d", i, a[i]);
+	}
+	if (before && after)
+		ck_assert_msg(before - after >= pages - 1 - pages / 64,
+			      "resident %zu -> %zu pages", before, after);
+	free(buf);
+	for (size_t i = 0; i < n; i++)
+		y[i] = 0.3 + 0.01 * sin((double)i * 2.385) + 1e-3 * (double)(i % 7);
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
+					      &ao, &fo, &r1, NULL), 0);
+	ao.release_workspace = true;
+	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
+					      &ao, &fo, &r2, NULL), 0);
+	ck_assert_uint_eq(r1->n_points, r2->n_points);
+	for (size_t j = 0; j < r1->n_points; j++)
+		ck_assert(r1->points[j].dev == r2->points[j].dev);
+	sscope_allan_result_free(r1);
+	sscope_allan_result_free(r2);
+	free(y);
+}
+END_TEST
+
 /* sscope_allan_analyze() without the fit: OADEV alone, no fit error */
 START_TEST(analyze_skip_fit)
 {
@@ -609,6 +673,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, bad_values_located);
 	tcase_add_test(tc, in_place);
 	tcase_add_test(tc, allan_release);
+	tcase_add_test(tc, workspace_release);
 	tcase_add_test(tc, analyze_skip_fit);
 	tcase_add_test(tc, all_grid_fit_dense);
 	tcase_add_test(tc, stats_one_pass);

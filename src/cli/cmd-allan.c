@@ -437,7 +437,8 @@ static int check_shown(const struct ssc_common *co, const struct args *a,
 
 static int analyse_file(const struct ssc_common *co, const struct args *a,
 			const char *path, struct sscope_capture *cap,
-			struct sscope_noise_plan *plan, struct ssc_allan_file *fr)
+			struct sscope_noise_plan *plan, bool last_file,
+			struct ssc_allan_file *fr)
 {
 	struct sscope_noise_fit_opts fo = a->fo;
 	int rc;
@@ -480,6 +481,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		ao.release_ctx = cap;
 		/* samples the reader left unchecked are checked here */
 		ao.reject_nan = cap->values_unchecked && !co->allow_nan;
+		/* the last channel's workspace is not used again: its pages
+		 * go back on every core instead of at exit on one */
+		ao.release_workspace = last_file && k + 1 == cap->n_channels;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &fo,
 					  &c->res, &d);
@@ -1346,7 +1350,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		plan = NULL; /* each fit computes its own */
 	for (size_t i = 0; i < env->n_caps && !rc; i++, R->n_files++)
 		rc = analyse_file(env->co, opts, env->paths[i], env->caps[i],
-				  plan, &R->fr[i]);
+				  plan, i + 1 == env->n_caps, &R->fr[i]);
 	sscope_noise_plan_free(plan);
 	return rc;
 }

@@ -123,7 +123,7 @@ class AllanOpts(C.Structure):
                 ("alpha_fixed", C.c_bool), ("alpha", C.c_int),
                 ("stride_div", c_size), ("threads", C.c_uint),
                 ("release", RELEASE), ("release_ctx", C.c_void_p),
-                ("reject_nan", C.c_bool)]
+                ("reject_nan", C.c_bool), ("release_workspace", C.c_bool)]
 
 
 class AllanPoint(C.Structure):
