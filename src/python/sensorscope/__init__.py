@@ -293,6 +293,9 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     ao.input = {"rate": 0, "angle": 1}[input]
     ao.ci_level = -1.0 if ci is None else float(ci)
     ao.threads = int(threads)
+    # the workspace is not kept between calls: its pages go back to the
+    # system on every thread instead of on one when it is freed
+    ao.release_workspace = True
     if noise_type is not None:
         ao.alpha_fixed = True
         ao.alpha = {v: k for k, v in _NOISE.items()}[noise_type.upper()]
