@@ -556,7 +556,9 @@ START_TEST(stats_one_pass)
 	ck_assert_ptr_nonnull(x);
 	for (int pass = 0; pass < 3; pass++) {
 		struct sscope_stats a, b;
-		long double m = 0, v = 0;
+		/* compensated sums in long double: under valgrind, whose x87
+		 * long double has a double's precision, still a reference */
+		long double m = 0, mc = 0, v = 0, vc = 0, t;
 		size_t c = 0, nn = 0;
 		double lo = INFINITY, hi = -INFINITY;
 
@@ -577,16 +579,23 @@ START_TEST(stats_one_pass)
 				nn++;
 				continue;
 			}
-			m += y;
+			t = m + y;
+			mc += fabsl(m) >= fabsl((long double)y) ? (m - t) + y : (y - t) + m;
+			m = t;
 			c++;
 			lo = fmin(lo, y);
 			hi = fmax(hi, y);
 		}
-		m /= (long double)c;
+		m = (m + mc) / (long double)c;
 		for (size_t i = 0; i < n; i++)
-			if (!isnan(x[2 * i]))
-				v += (x[2 * i] - m) * (x[2 * i] - m);
-		v = sqrtl(v / (long double)(c - 1));
+			if (!isnan(x[2 * i])) {
+				long double d2 = (x[2 * i] - m) * (x[2 * i] - m);
+
+				t = v + d2;
+				vc += v >= d2 ? (v - t) + d2 : (d2 - t) + v;
+				v = t;
+			}
+		v = sqrtl((v + vc) / (long double)(c - 1));
 		/* strided: sample by sample */
 		ck_assert_int_eq(sscope_stats_compute(x, 2, n, &a), 0);
 		/* contiguous: vectors */
