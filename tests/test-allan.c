@@ -877,6 +877,24 @@ static double ref_var(const double *y, size_t n, size_t m, int d)
 				     (double)m * (double)nt);
 }
 
+/* order-d overlapping deviations (2: OADEV, 3: OHDEV) without intervals
+ * on T threads, the noise type identified unless alpha_fixed (white) */
+static void odev_threads(int d, unsigned T, bool alpha_fixed, const double *y,
+			 size_t n, const size_t *m, size_t nm,
+			 struct sscope_allan_point *pt, size_t *np)
+{
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+
+	o.dev = d == 2 ? SSCOPE_ALLAN_DEV_OADEV : SSCOPE_ALLAN_DEV_OHDEV;
+	o.ci_level = -1;
+	o.alpha_fixed = alpha_fixed;
+	o.threads = T;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, np, NULL), 0);
+	sscope_allan_free(p);
+}
+
 START_TEST(tiled_engine)
 {
 	/* > 2^17 phase points takes the tiled, fused path */
@@ -901,13 +919,10 @@ START_TEST(tiled_engine)
 		struct sscope_allan_opts o = { 0 };
 		struct sscope_allan *p;
 
+		odev_threads(d, 1, true, y, n, m, nm, a, &np1);
 		o.dev = d == 2 ? SSCOPE_ALLAN_DEV_OADEV : SSCOPE_ALLAN_DEV_OHDEV;
 		o.ci_level = -1;
 		o.alpha_fixed = true;
-		o.threads = 1;
-		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
-		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, a, &np1, NULL), 0);
-		sscope_allan_free(p);
 		o.threads = 2;
 		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
 		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, b, &np2, NULL), 0);
@@ -987,15 +1002,7 @@ START_TEST(sampled_centring)
 		}
 		for (int d = 2; d <= 3; d++)
 			for (unsigned T = 1; T <= 3; T++) {
-				struct sscope_allan_opts o = { 0 };
-				struct sscope_allan *p;
-
-				o.dev = d == 2 ? SSCOPE_ALLAN_DEV_OADEV : SSCOPE_ALLAN_DEV_OHDEV;
-				o.ci_level = -1;
-				o.threads = T;
-				ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
-				ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 1, m, nm, pt, &np, NULL), 0);
-				sscope_allan_free(p);
+				odev_threads(d, T, false, y, n, m, nm, pt, &np);
 				ck_assert_uint_eq(np, nm);
 				for (size_t i = 0; i < np; i += under_valgrind() ? 3 : 1) {
 					double v = ref_var(y, n, m[i], d);
