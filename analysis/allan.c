@@ -2124,6 +2124,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
 	size_t inf_at;
 	bool *big = NULL, gaps, tiled, strided, idpar, quick;
+	struct tau_set ts;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
 	unsigned T;
@@ -2198,10 +2199,9 @@ static int compute(struct sscope_allan *p, const double *y,
 	 * finite) */
 	p->n_off = 0;
 	quick = false;
-	if (p->shift > 0 && !angle && centre_sampled(&s, T)) {
-		struct tau_set ts;
-
+	if (p->shift > 0)
 		tau_set_init(&ts, p, m, nacc, big, d);
+	if (p->shift > 0 && !angle && centre_sampled(&s, T)) {
 		rc = sums_tiled(p, &s, T, NULL, &ts, acc);
 		if (rc && rc != -EAGAIN)
 			goto out;
@@ -2257,9 +2257,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	}
 	tiled = p->shift > 0;
 	if (tiled) {
-		struct tau_set ts;
-
-		tau_set_init(&ts, p, m, nacc, big, d);
+		/* (ts is the layout's: a record with gaps is not tiled) */
 		if (!quick) {
 			rc = sums_tiled(p, &s, T, bases, &ts, acc);
 			if (rc)
