@@ -45,8 +45,6 @@ void sscope_capture_evict(void *capture, const double *x, size_t stride,
 {
 	struct sscope_capture *cap = capture;
 	const char *m, *a, *b;
-	long pg = sysconf(_SC_PAGESIZE);
-	uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
 
 	if (!cap || !x || !n || !in_mapping(cap, x))
 		return;
@@ -58,10 +56,8 @@ void sscope_capture_evict(void *capture, const double *x, size_t stride,
 	if (b > m + cap->mapping_len)
 		b = m + cap->mapping_len;
 	/* whole pages inside the range only */
-	a = (const char *)(((uintptr_t)a + ps - 1) / ps * ps);
-	b = (const char *)((uintptr_t)b / ps * ps);
 	if (b > a)
-		madvise((void *)a, (size_t)(b - a), MADV_DONTNEED);
+		ssc_release_pages((void *)(uintptr_t)a, (size_t)(b - a), 1);
 }
 
 int sscope_capture_check_values(const struct sscope_capture *cap,

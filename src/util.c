@@ -74,16 +74,28 @@ void *ssc_alloc_array(size_t count, size_t size)
 	return malloc(bytes ? bytes : 1);
 }
 
+/* the whole pages inside [p, p + bytes): their start in *lo, their
+ * number returned; *ps the page size */
+static size_t inner_pages(const void *p, size_t bytes, uintptr_t *lo,
+			  uintptr_t *ps)
+{
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t hi;
+
+	*ps = pg > 0 ? (uintptr_t)pg : 4096;
+	*lo = ((uintptr_t)p + *ps - 1) / *ps * *ps;
+	hi = ((uintptr_t)p + bytes) / *ps * *ps;
+	return hi > *lo ? (size_t)((hi - *lo) / *ps) : 0;
+}
+
 void ssc_prefault(void *p, size_t bytes)
 {
 #ifdef MADV_POPULATE_WRITE
-	long pg = sysconf(_SC_PAGESIZE);
-	uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
-	uintptr_t a = ((uintptr_t)p + ps - 1) / ps * ps;
-	uintptr_t b = ((uintptr_t)p + bytes) / ps * ps;
+	uintptr_t a, ps;
+	size_t pages = inner_pages(p, bytes, &a, &ps);
 
-	if (b > a) /* a hint: EINVAL on older kernels is harmless */
-		(void)madvise((void *)a, (size_t)(b - a), MADV_POPULATE_WRITE);
+	if (pages) /* a hint: EINVAL on older kernels is harmless */
+		(void)madvise((void *)a, pages * ps, MADV_POPULATE_WRITE);
 #else
 	(void)p;
 	(void)bytes;
@@ -93,11 +105,8 @@ void ssc_prefault(void *p, size_t bytes)
 void ssc_release_pages(void *p, size_t bytes, unsigned threads)
 {
 #ifdef MADV_DONTNEED
-	long pg = sysconf(_SC_PAGESIZE);
-	const uintptr_t ps = pg > 0 ? (uintptr_t)pg : 4096;
-	const uintptr_t lo = ((uintptr_t)p + ps - 1) / ps * ps;
-	const uintptr_t hi = ((uintptr_t)p + bytes) / ps * ps;
-	const size_t pages = hi > lo ? (size_t)((hi - lo) / ps) : 0;
+	uintptr_t lo, ps;
+	const size_t pages = inner_pages(p, bytes, &lo, &ps);
 	const unsigned T = threads ? threads : 1;
 
 SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) if (pages >= 4096))
