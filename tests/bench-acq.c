@@ -45,6 +45,7 @@ static int record(const char *opts, uint64_t n, const char *path,
 	cfg.count = n;
 	cfg.timeout_s = 5;
 	cfg.ring_capacity = 16384;
+	cfg.overwrite = true; /* one scratch file for every run */
 	rc = ssc_acq_run(&cfg, r, &d);
 	if (rc)
 		fprintf(stderr, "bench-acq: %s\n", d.msg);

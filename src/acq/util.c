@@ -102,3 +102,15 @@ void ssc_source_close(struct ssc_source *src)
 	else
 		free(src);
 }
+
+const char *ssc_acq_full_words(int err)
+{
+	switch (err) {
+	case -EDQUOT:
+		return "disk quota full";
+	case -EFBIG:
+		return "file size limit";
+	default:
+		return "disk full";
+	}
+}
