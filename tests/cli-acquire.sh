@@ -6,7 +6,7 @@
 # and the not-built path of --drdy.  Recordings are never lost: FILE.partial
 # is read after kill -9, a full disk (a tmpfs where a mount is permitted)
 # and a file size limit keep the samples, an existing file is refused
-# without --overwrite.  The device paths are tested against
+# without --overwrite, and the unpaced simulator never drops a sample.  The device paths are tested against
 # emulated devices by tests/acq-fake.
 . "$(dirname "$0")/lib.sh"
 
@@ -156,12 +156,24 @@ fi
 run "--overwrite replaces it at the end" 0 acquire --source sim:speed=max --count 10 --overwrite -o "$T/old.csv"
 has "--overwrite: the new recording" "$T/old.csv" '^# end: 10 samples'
 
+# the unpaced simulator waits for the writer: the manual's example, and a
+# tiny ring, lose nothing
+run "unpaced, the manual's example" 0 acquire --source sim:speed=max --count 100000 \
+	--capture-format f64 --format json -o "$T/max.ssb"
+json_check "unpaced: 100000 samples, no drop" "$T/out" \
+	'.samples == 100000 and .drops.total == 0 and .missing == 0'
+lacks "unpaced: no overrun warning" "$T/err" 'fell behind'
+run "unpaced, 16-sample ring" 0 acquire --source sim:speed=max --count 20000 \
+	--ring 16 --format json -o "$T/max16.csv"
+json_check "16-sample ring: 20000 samples, no drop" "$T/out" \
+	'.samples == 20000 and .drops.total == 0'
+
 # a file size limit (RLIMIT_FSIZE with SIGXFSZ ignored: writes fail with
 # EFBIG, a full disk's path): the file ends at its last complete row, kept
 (
 	trap '' XFSZ
 	ulimit -f 64 # 32 or 64 KiB (blocks of 512 or 1024 bytes)
-	exec $SSCOPE_RUN "$SSCOPE" acquire -q --source sim:speed=max --count 100000 \
+	exec $SSCOPE_RUN "$SSCOPE" acquire --source sim:speed=max --count 100000 \
 		--format json -o "$T/limit.csv" >"$T/out" 2>"$T/err"
 )
 got=$?
@@ -201,7 +213,7 @@ fi
 cat >"$T/full.sh" <<'END'
 mount -t tmpfs -o size=64k none "$1" 2>/dev/null || exit 77
 cd "$1" || exit 77
-$SSCOPE_RUN "$SSCOPE" acquire -q --source sim:speed=max --count 100000 \
+$SSCOPE_RUN "$SSCOPE" acquire --source sim:speed=max --count 100000 \
 	-o rec.csv >"$2/out" 2>"$2/err"
 echo $? >"$2/rc"
 ls -a >"$2/ls"

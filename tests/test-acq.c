@@ -9,7 +9,8 @@
  * exactly, timeouts, held samples flushed, binary output, write errors.
  * The recording file: rows reach NAME.partial while the run goes on, a
  * full disk cuts it at its last complete row and keeps it, an existing
- * file is never replaced unless asked.
+ * file is never replaced unless asked, and a source that can wait is held
+ * back instead of losing samples.
  */
 #include "config.h"
 
@@ -983,6 +984,50 @@ START_TEST(engine_name_taken_meanwhile)
 }
 END_TEST
 
+START_TEST(engine_source_that_waits)
+{
+	struct script p = { 0 };
+	struct ssc_source src, *sim;
+	struct ssc_acq_config cfg;
+	struct ssc_acq_result r;
+	struct sscope_capture *cap;
+	const long N = 3000;
+
+	/* the overrun set-up of engine_ring_overrun (16-sample ring, slow
+	 * writer), with a source that can wait: nothing is lost */
+	script_source(&src, &p, 1, 10000, false);
+	src.info.can_wait = true;
+	base_cfg(&cfg, &src, tmp("wait.csv"));
+	cfg.ring_capacity = 16;
+	cfg.writer_delay_us = 2000;
+	cfg.count = (uint64_t)N;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), 0);
+	ck_assert_uint_eq(r.drops_ring, 0);
+	ck_assert_uint_eq(r.missing, 0);
+	ck_assert_uint_eq(r.samples, (uint64_t)N);
+	cap = load(cfg.path);
+	ck_assert_uint_eq(cap->n, (size_t)N);
+	for (size_t i = 0; i < cap->n; i++)
+		ck_assert(cap->channels[0].data[i] == (double)i);
+	sscope_capture_free(cap);
+
+	/* the unpaced simulator is such a source, the paced one is not */
+	ck_assert_int_eq(ssc_source_sim_open(&sim, "speed=max", NULL), 0);
+	ck_assert(sim->info.can_wait);
+	base_cfg(&cfg, sim, tmp("simwait.csv"));
+	cfg.ring_capacity = 16;
+	cfg.writer_delay_us = 500;
+	cfg.count = 5000;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), 0);
+	ck_assert_uint_eq(r.drops_ring, 0);
+	ck_assert_uint_eq(r.samples, 5000);
+	ssc_source_close(sim);
+	ck_assert_int_eq(ssc_source_sim_open(&sim, "speed=2", NULL), 0);
+	ck_assert(!sim->info.can_wait);
+	ssc_source_close(sim);
+}
+END_TEST
+
 struct live_seen {
 	int calls;
 	uint64_t samples;
@@ -1049,6 +1094,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, engine_rows_reach_the_file);
 	tcase_add_test(t, engine_existing_files);
 	tcase_add_test(t, engine_name_taken_meanwhile);
+	tcase_add_test(t, engine_source_that_waits);
 	suite_add_tcase(s, t);
 	return s;
 }

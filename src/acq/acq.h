@@ -53,6 +53,10 @@ struct ssc_source_info {
 	bool has_temp;
 	bool has_counter;    /* gaps come from a device sample counter */
 	bool nominal_time;   /* time stamps are nominal (simulator) */
+	bool can_wait;       /* nothing is lost by holding the source back
+				(the unpaced simulator): when the ring is
+				full the reader waits for the writer instead
+				of dropping the sample */
 	double rate_hz;      /* nominal output rate, 0 when unknown */
 	char desc[256];      /* "adis16470 on /dev/spidev0.0, ..." */
 };

@@ -15,7 +15,11 @@
  * to the next one's count.  The writer writes every gap as a comment line
  * (CSV) just before the first row after it, and the time column keeps the
  * real time stamps, so a gap is never filled or interpolated.
- * *
+ *
+ * A source that loses nothing by waiting (the unpaced simulator) is held
+ * back instead: when the ring is full the reader sleeps until the writer
+ * has made room, so no sample is dropped.
+ *
  * The file (recfile.c) gets the rows the writer formats at least every
  * SSC_REC_FLUSH_S, and the calling thread syncs it every SSC_REC_SYNC_S,
  * so a kill or a power cut leaves all but the last moments in the file.
@@ -102,6 +106,22 @@ struct reader_state {
 	int64_t t_prev;
 };
 
+/* A source that can wait: sleep until the writer makes room in the ring
+ * (true), or gives up (false). */
+static bool wait_for_room(struct engine *e, const struct ssc_acq_sample *s)
+{
+	if (!e->src->info.can_wait)
+		return false;
+	while (!atomic_load(&e->writer_dead)) {
+		struct timespec ts = { 0, 200000 };
+
+		nanosleep(&ts, NULL);
+		if (ssc_ring_push(&e->ring, s))
+			return true;
+	}
+	return false;
+}
+
 /* Gap logic, limits and the hand-over to the ring for one sample.
  * Returns true when the run must stop (count or duration reached). */
 static bool accept(struct engine *e, struct reader_state *st,
@@ -144,7 +164,7 @@ static bool accept(struct engine *e, struct reader_state *st,
 		s->missing = m > UINT32_MAX ? UINT32_MAX : (uint32_t)m;
 		s->cause |= st->pending_cause;
 	}
-	if (!ssc_ring_push(&e->ring, s)) {
+	if (!ssc_ring_push(&e->ring, s) && !wait_for_room(e, s)) {
 		if (atomic_load(&e->writer_dead))
 			return true; /* nothing more can be saved */
 		e->drops_ring++;

@@ -93,7 +93,8 @@ static const struct ssc_command_spec spec = {
 		"A full disk (or quota, or file size limit) stops the run: the file is cut\n"
 		"at its last complete row, given its end line if that fits, and kept as FILE.\n"
 		"An existing FILE is refused unless --overwrite (then replaced at the end);\n"
-		"an existing FILE.partial is always refused.\n"
+		"an existing FILE.partial is always refused.  The unpaced simulator waits for\n"
+		"the writer, so it never drops a sample; hardware overruns are counted.\n"
 		"The summary (text, or --format json) gives samples, effective rate,\n"
 		"jitter of the data-ready intervals, drops and checksum errors.",
 	.options = options,
