@@ -369,6 +369,8 @@ int ssc_sleep_until(int64_t t_ns, int stop_fd);
 /* Why a capture could not grow, in words: "disk full" (-ENOSPC), "disk
  * quota full" (-EDQUOT), "file size limit" (-EFBIG). */
 const char *ssc_acq_full_words(int err);
+/* Is err one of those three? */
+bool ssc_acq_storage_full(int err);
 /* printf into diag, returns err */
 int ssc_acq_diag(struct sscope_diag *d, int err, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));

@@ -474,11 +474,6 @@ static int open_writer(struct engine *e, struct sscope_diag *diag)
 	return rc;
 }
 
-static bool storage_full(int err)
-{
-	return err == -ENOSPC || err == -EDQUOT || err == -EFBIG;
-}
-
 /* The end of the file: its end line, the rename, and what the result says
  * about it.  Returns rc, or the write or rename error. */
 static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
@@ -489,22 +484,16 @@ static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
 	char line[400];
 	int err;
 
-	if (e->writer_err) /* short: it has to fit in what the disk has left */
-		snprintf(line, sizeof(line),
-			 "end: %llu samples; stopped: %s",
-			 (unsigned long long)ssc_recfile_rows(e->rf),
-			 storage_full(e->writer_err)
-				 ? ssc_acq_full_words(e->writer_err)
-				 : "write error");
-	else
-		snprintf(line, sizeof(line),
-			 "end: %llu samples, %llu missing in %llu gaps "
-			 "(ring overruns %llu), checksum errors %llu",
-			 (unsigned long long)e->written,
-			 (unsigned long long)e->missing,
-			 (unsigned long long)e->gaps,
-			 (unsigned long long)e->drops_ring,
-			 (unsigned long long)cfg->src->counts.checksum_errors);
+	/* the end line (after a failed write, recfile.c writes a short
+	 * one instead if it fits) */
+	snprintf(line, sizeof(line),
+		 "end: %llu samples, %llu missing in %llu gaps "
+		 "(ring overruns %llu), checksum errors %llu",
+		 (unsigned long long)e->written,
+		 (unsigned long long)e->missing,
+		 (unsigned long long)e->gaps,
+		 (unsigned long long)e->drops_ring,
+		 (unsigned long long)cfg->src->counts.checksum_errors);
 	err = ssc_recfile_close(e->rf, line, &end);
 	file_rows_done(e);
 	if (e->writer_err)
@@ -522,7 +511,7 @@ static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
 	snprintf(res->file, sizeof(res->file), "%s", end.where);
 	if (err) {
 		res->error = err;
-		res->stop = storage_full(err) ? SSC_STOP_FULL : SSC_STOP_ERROR;
+		res->stop = ssc_acq_storage_full(err) ? SSC_STOP_FULL : SSC_STOP_ERROR;
 		return ssc_acq_diag(diag, err, "%s: %s", cfg->path &&
 				    strcmp(cfg->path, "-") ? cfg->path
 							   : "standard output",
@@ -558,6 +547,7 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		struct sscope_diag *diag)
 {
 	struct engine *e;
+	struct sigaction xfsz_ign = { .sa_handler = SIG_IGN }, xfsz_old;
 	sigset_t set, old;
 	pthread_t rt, wt;
 	int64_t wall0, live_next, sync_next;
@@ -580,8 +570,13 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	sigaddset(&set, SIGINT);
 	sigaddset(&set, SIGTERM);
 	sigaddset(&set, SIGHUP);
-	if (cfg->handle_signals)
+	if (cfg->handle_signals) {
 		pthread_sigmask(SIG_BLOCK, &set, &old);
+		/* a file size limit (RLIMIT_FSIZE) fails the write with
+		 * EFBIG, handled like a full disk, instead of killing the
+		 * process with the recording unfinished */
+		sigaction(SIGXFSZ, &xfsz_ign, &xfsz_old);
+	}
 	atomic_init(&e->stop, false);
 	atomic_init(&e->reader_done, false);
 	atomic_init(&e->writer_dead, false);
@@ -708,6 +703,7 @@ out_free:
 		while (sigtimedwait(&set, NULL, &zero) > 0)
 			;
 		pthread_sigmask(SIG_SETMASK, &old, NULL);
+		sigaction(SIGXFSZ, &xfsz_old, NULL);
 	}
 	pthread_mutex_destroy(&e->live_mu);
 	free(e->t_rows);

@@ -50,6 +50,7 @@ struct ssc_recfile {
 	size_t len, cap;
 	bool oom;
 	bool dirty;       /* something formatted since the last flush */
+	bool keep_partial; /* the file may end in a cut row: not renamed */
 	uint64_t rows_buf;   /* rows in buf */
 	uint64_t rows_file;  /* rows in the file */
 	uint64_t off;        /* bytes in the file (whole lines or rows) */
@@ -324,11 +325,15 @@ int ssc_recfile_flush(struct ssc_recfile *rf)
 
 		if (rf->regular) {
 			cut = cut_point(rf, done, &rows);
+			/* a cut that fails leaves part of a row: the
+			 * file keeps the name every reader takes up to
+			 * its last complete row */
 			if (cut < rf->off + done &&
-			    ftruncate(rf->fd, (off_t)cut) != 0)
+			    ftruncate(rf->fd, (off_t)cut) != 0) {
 				cut = rf->off + done;
-			else
-				rf->rows_file = rows;
+				rf->keep_partial = true;
+			}
+			rf->rows_file = rows;
 		}
 		rf->off = cut;
 		rf->len = 0;
@@ -487,25 +492,29 @@ int ssc_recfile_close(struct ssc_recfile *rf, const char *trailer,
 	memset(end, 0, sizeof(*end));
 	if (!rc && trailer)
 		rc = ssc_recfile_comment(rf, trailer);
-	if (!rc) {
+	if (!rc)
 		rc = ssc_recfile_flush(rf);
-		end->trailer_lost = rc && trailer && rf->csv;
-	} else if (trailer && rf->csv && rf->regular) {
-		/* after a failed write: the end line if it fits, else
-		 * nothing (the file stays cut at its last row) */
-		char line[512];
+	if (rc && trailer && rf->csv && rf->regular && !rf->keep_partial) {
+		/* after a failed write: a short end line if it fits in
+		 * what is left, else none (the file ends at its last row) */
+		char line[128];
 		size_t n, done;
 		int wrc;
 
-		n = (size_t)snprintf(line, sizeof(line), "# %s\n", trailer);
-		if (n < sizeof(line)) {
-			wrc = write_all(rf, line, n, &done);
-			if (wrc && done && ftruncate(rf->fd, (off_t)rf->off) != 0)
-				done = n; /* could not take it back */
-			end->trailer_lost = wrc != 0 && done < n;
-			if (!wrc)
-				rf->off += n;
-		}
+		n = (size_t)snprintf(line, sizeof(line),
+				     "# end: %llu samples; stopped: %s\n",
+				     (unsigned long long)rf->rows_file,
+				     ssc_acq_storage_full(rc)
+					     ? ssc_acq_full_words(rc)
+					     : "write error");
+		wrc = write_all(rf, line, n, &done);
+		if (wrc && done && ftruncate(rf->fd, (off_t)rf->off) != 0)
+			rf->keep_partial = true; /* a cut line: .partial */
+		end->trailer_lost = wrc != 0;
+		if (!wrc)
+			rf->off += n;
+	} else if (rc && trailer && rf->csv) {
+		end->trailer_lost = true;
 	}
 	end->rows = rf->rows_file;
 	if (rf->regular) {
@@ -523,10 +532,11 @@ int ssc_recfile_close(struct ssc_recfile *rf, const char *trailer,
 		unlink(rf->partial); /* a header alone: nothing was recorded */
 		end->removed = true;
 	} else {
-		int rr = rf->overwrite ? (rename(rf->partial, rf->target)
-						  ? -errno : 0)
-				       : rename_noreplace(rf->partial,
-							  rf->target);
+		int rr = rf->keep_partial ? -EIO
+			 : rf->overwrite ? (rename(rf->partial, rf->target)
+						    ? -errno : 0)
+					 : rename_noreplace(rf->partial,
+							    rf->target);
 
 		if (rr) {
 			end->rename_err = rr;

@@ -103,6 +103,11 @@ void ssc_source_close(struct ssc_source *src)
 		free(src);
 }
 
+bool ssc_acq_storage_full(int err)
+{
+	return err == -ENOSPC || err == -EDQUOT || err == -EFBIG;
+}
+
 const char *ssc_acq_full_words(int err)
 {
 	switch (err) {
