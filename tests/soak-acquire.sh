@@ -8,7 +8,7 @@
 # drop, no gap, read back by info) and the memory stays flat: after the
 # first sample, VmRSS never rises more than SOAK_RSS_SLACK_KB above it.
 #
-# Like a real recording, it needs its share of the CPU: about 2 % of a core
+# Like a real recording, it needs its share of the CPU: about 7 % of a core
 # at 10 kHz, but a paced source outruns a writer that gets less (a nice'd
 # run on an overloaded machine), and the drops are counted and marked.
 # make check runs it for 3 s (a larger ring, so that a busy machine cannot
