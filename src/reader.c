@@ -63,6 +63,10 @@ struct sscope_reader {
 	/* source */
 	int fd;
 	bool mapped;
+	bool partial;     /* NAME.partial: a recording still being written or
+			     interrupted (acquire): an unfinished last row
+			     is left out */
+	size_t map_len;   /* bytes mapped */
 	const char *base; /* mapped file or buffer */
 	size_t len;       /* bytes valid in base */
 	size_t pos;       /* parse position */
@@ -114,6 +118,14 @@ struct sscope_reader {
 
 /* ------------------------------------------------------------ source */
 
+/* NAME.partial: the name acquire records under until a clean stop */
+static bool is_partial_name(const char *path)
+{
+	size_t n = strlen(path), k = strlen(".partial");
+
+	return n > k && !strcmp(path + n - k, ".partial");
+}
+
 static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 {
 	struct stat st;
@@ -141,6 +153,8 @@ static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 			madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
 			r->pagesz = pg > 0 ? (size_t)pg : 4096;
 			r->mapped = true;
+			r->partial = is_partial_name(r->path);
+			r->map_len = (size_t)st.st_size;
 			r->base = m;
 			r->len = (size_t)st.st_size;
 			r->size = (uint64_t)st.st_size;
@@ -1081,6 +1095,9 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	data_off = (size_t)(e2 + 1 - r->base);
 	r->pos = data_off;
 	r->line = 3;
+	if (r->partial)
+		r->len = r->size = data_off + (r->len - data_off) /
+				   (nh * r->rsize) * (nh * r->rsize);
 	if (r->size && (r->size - data_off) % (nh * r->rsize))
 		return ssc_diag(diag, -EBADMSG,
 				"%s: data are not a whole number of rows (truncated?)",
@@ -1390,6 +1407,7 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 		}
 		kind = ssc_container_detect(r->base, r->len);
 		if (kind == SSC_C_GZIP) {
+			r->partial = false;
 			rc = open_gzip(r, diag);
 			if (!rc && r->len == 0)
 				rc = ssc_diag(diag, -EDOM, "%s: empty file (gzip)",
@@ -1416,6 +1434,12 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 				goto fail;
 			}
 			r->kind = K_TEXT;
+			if (r->partial) {
+				const char *nl = memrchr(r->base, '\n', r->len);
+
+				r->len = nl ? (size_t)(nl + 1 - r->base) : 0;
+				r->size = r->len;
+			}
 			rc = open_text(r, diag);
 		}
 		if (!rc && r->gz)
@@ -1532,7 +1556,7 @@ void sscope_reader_close(struct sscope_reader *r)
 	if (!r)
 		return;
 	if (r->mapped)
-		munmap((void *)r->base, r->len);
+		munmap((void *)r->base, r->map_len);
 	if (r->fd >= 0 && r->fd != STDIN_FILENO)
 		close(r->fd);
 	free(r->buf);

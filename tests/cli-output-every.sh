@@ -122,5 +122,7 @@ check "heading -o" "$T/drive.csv" heading -q --reference heading_ref -o @OUT@ "$
 check "heading --plot" "$T/drive.csv" heading -q --reference heading_ref --plot @OUT@ "$T/drive.csv"
 check "walk -o" "$T/g.csv" walk -q -o @OUT@ "$T/g.csv"
 check "walk --plot" "$T/g.csv" walk -q --plot @OUT@ "$T/g.csv"
-check "acquire -o" - acquire -q --source sim:speed=max --count 200 -o @OUT@
+# acquire replaces an existing file only with --overwrite (a recording is
+# never lost by accident)
+check "acquire -o" - acquire -q --source sim:speed=max --count 200 --overwrite -o @OUT@
 done_testing
