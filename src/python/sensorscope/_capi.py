@@ -165,7 +165,8 @@ class AllanResult(C.Structure):
                 ("oadev", C.POINTER(AllanPoint)), ("n_oadev", c_size),
                 ("n_phase", c_size), ("have_fit", C.c_bool),
                 ("fit_error", C.c_int), ("fit", NoiseFit),
-                ("fit_diag", Diag)]
+                ("fit_diag", Diag), ("n_gap_omitted", c_size),
+                ("gap_note", Diag)]
 
 
 class PsdOpts(C.Structure):
