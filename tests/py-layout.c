@@ -185,6 +185,8 @@ int main(void)
 	F(sscope_allan_result, fit_error);
 	F(sscope_allan_result, fit);
 	F(sscope_allan_result, fit_diag);
+	F(sscope_allan_result, n_gap_omitted);
+	F(sscope_allan_result, gap_note);
 	S(sscope_psd_opts);
 	F(sscope_psd_opts, window);
 	F(sscope_psd_opts, nperseg);

@@ -90,7 +90,9 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
 		 "m <= (N-1)/2 phase points; MDEV, TDEV: m <= N/3; HDEV, OHDEV: m <= (N-1)/3).\n"
-		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped.",
+		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped, the\n"
+		 "variance averages the complete terms (Sesia & Tavella 2008) and the EDF counts\n"
+		 "only those; taus left without a complete term are omitted with a warning.",
 };
 
 struct args {
@@ -501,6 +503,9 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		rc = check_shown(co, a, path, c);
 		if (rc)
 			return rc;
+		if (c->res->n_gap_omitted)
+			ssc_warn(co, "%s: %s: %s", path, c->col->name,
+				 c->res->gap_note.msg);
 		if (a->no_fit)
 			continue;
 		if (!c->res->have_fit)
@@ -790,6 +795,12 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		json_array_append_new(pts, q);
 	}
 	json_object_set_new(o, "points", pts);
+	if (r->n_gap_omitted) {
+		json_object_set_new(o, "gap_omitted_taus",
+				    json_integer((json_int_t)r->n_gap_omitted));
+		ssc_json_warn(o, "gap_taus_omitted", "%s: %s", c->col->name,
+			      r->gap_note.msg);
+	}
 	if (a->no_fit)
 		return o;
 	{

@@ -165,7 +165,8 @@ class AllanResult(C.Structure):
                 ("oadev", C.POINTER(AllanPoint)), ("n_oadev", c_size),
                 ("n_phase", c_size), ("have_fit", C.c_bool),
                 ("fit_error", C.c_int), ("fit", NoiseFit),
-                ("fit_diag", Diag)]
+                ("fit_diag", Diag), ("n_gap_omitted", c_size),
+                ("gap_note", Diag)]
 
 
 class PsdOpts(C.Structure):
@@ -373,6 +374,8 @@ allan_analyze = _fn("sscope_allan_analyze", C.c_int, c_dptr, c_size, c_size,
                     c_dbl, C.c_int, C.POINTER(AllanOpts),
                     C.POINTER(NoiseFitOpts),
                     C.POINTER(C.POINTER(AllanResult)), C.POINTER(Diag))
+allan_max_m = _fn("sscope_allan_max_m", c_size, C.c_int, c_size)
+allan_n_phase = _fn("sscope_allan_n_phase", c_size, C.c_int, c_size)
 allan_result_free = _fn("sscope_allan_result_free", None,
                         C.POINTER(AllanResult))
 noise_fit = _fn("sscope_noise_fit", C.c_int, C.POINTER(AllanPoint), c_size,
