@@ -241,6 +241,8 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 	const char *outer = outer_cmd && cmd && strcmp(outer_cmd, cmd) ?
 				    outer_cmd : NULL;
 
+	if (ssc_interrupted())
+		return; /* the files it would name are being removed */
 	buf[0] = cbuf[0] = '\0';
 	if (vasprintf(&msg, fmt, ap) < 0)
 		msg = NULL;
