@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "check-main.h"
 #include "io-formats.h"
@@ -404,6 +405,51 @@ START_TEST(zstd_bombs)
 }
 END_TEST
 
+/* A MATLAB v7 file of one compressed element: the zlib stream of an
+ * 8-byte tag (type, declared length) followed by `zeros` zero bytes. */
+static void write_matz(const char *name, uint32_t type, uint32_t declared,
+		       size_t zeros)
+{
+	unsigned char hdr[128], tag[8];
+	size_t n = 8 + zeros;
+	unsigned char *raw = calloc(1, n);
+	uLongf zl = compressBound((uLong)n);
+	unsigned char *z = malloc(zl);
+	uint32_t et[2] = { 15, 0 };
+	FILE *f = fopen(path(name), "wb");
+
+	if (!raw || !z || !f) {
+		perror(name);
+		exit(1);
+	}
+	memset(hdr, ' ', sizeof(hdr));
+	memcpy(hdr, "MATLAB 5.0 MAT-file, test", 25);
+	memcpy(hdr + 124, "\0\1IM", 4);
+	memcpy(tag, &type, 4);
+	memcpy(tag + 4, &declared, 4);
+	memcpy(raw, tag, 8);
+	if (compress2(z, &zl, raw, (uLong)n, 1) != Z_OK)
+		exit(1);
+	et[1] = (uint32_t)zl;
+	fwrite(hdr, 1, 128, f);
+	fwrite(et, 4, 2, f);
+	fwrite(z, 1, zl, f);
+	fclose(f);
+	free(raw);
+	free(z);
+}
+
+/* MATLAB v7: a compressed array expands to the length its tag declares
+ * (no more, and no more than deflate's 1032:1 makes of its bytes); an
+ * element the reader ignores is not expanded */
+START_TEST(matz_bounded)
+{
+	refused("over.mat", -EBADMSG, "corrupt or truncated compressed element at byte 128");
+	refused("ratio.mat", -EBADMSG, "corrupt or truncated compressed element at byte 128");
+	refused("int8.mat", -EDOM, "holds no real numeric vector or matrix");
+}
+END_TEST
+
 /* small files of the other formats, written here */
 static void write_npy(const char *name, const char *descr, bool fortran,
 		      const char *shape, const void *data, size_t bytes)
@@ -488,6 +534,11 @@ static void make_files(void)
 			1700000000001500000LL + 5000000LL * i, i,
 			1700000000000000000LL + 5000000LL * i);
 	fclose(f);
+	/* 32 MiB after a tag declaring 64 bytes; 4 GiB declared from a
+	 * stream of a few bytes; 32 MiB in an int8 element */
+	write_matz("over.mat", 14, 64, 32u << 20);
+	write_matz("ratio.mat", 14, 0xfffffff0u, 0);
+	write_matz("int8.mat", 1, 32u << 20, 32u << 20);
 	if (system("gzip -c " DIR "/c.csv > " DIR "/c.csv.gz && gzip -c " DIR
 		   "/a.npy > " DIR "/a.npy.gz") != 0)
 		exit(1);
@@ -516,6 +567,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, db3_many_topics);
 #endif
 	tcase_add_test(tc, zstd_bombs);
+	tcase_add_test(tc, matz_bounded);
 	tcase_add_test(tc, gzip_and_rate_hint);
 	suite_add_tcase(s, tc);
 	return s;
