@@ -189,10 +189,20 @@ static int src_fill(struct sscope_reader *r, size_t want,
 
 		if (r->len == r->cap) {
 			size_t ncap = r->cap * 2;
-			char *nb = realloc(r->buf, ncap);
+			char *nb;
 
+			/* gzip held whole (a container inside): at most half
+			 * the memory (deflate's 1032:1 bounds the work) */
+			if (r->gz && ncap > ssc_expand_cap())
+				return ssc_diag(diag, -ENOMEM,
+						"%s: gzip data expand to more than the %.0f MiB a decompressed file may take here (half the memory this process may use): decompress it with gunzip and name the file",
+						r->disp, (double)ssc_expand_cap() / 1048576.0);
+			nb = realloc(r->buf, ncap);
 			if (!nb)
-				return -ENOMEM;
+				return r->gz ? ssc_diag(diag, -ENOMEM,
+							"%s: out of memory expanding the gzip data (%.0f MiB so far): decompress it with gunzip and name the file",
+							r->disp, (double)r->len / 1048576.0) :
+					       -ENOMEM;
 			r->buf = nb;
 			r->base = nb;
 			r->cap = ncap;
