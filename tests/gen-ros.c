@@ -613,7 +613,10 @@ static void write_metadata(const char *dir, const char *storage,
 	char p[4096];
 	FILE *f;
 
-	snprintf(p, sizeof(p), "%s/metadata.yaml", dir);
+	if (snprintf(p, sizeof(p), "%s/metadata.yaml", dir) >= (int)sizeof(p)) {
+		fprintf(stderr, "gen-ros: path too long: %s\n", dir);
+		exit(1);
+	}
 	f = fopen(p, "w");
 	fprintf(f, "rosbag2_bagfile_information:\n"
 		   "  version: 5\n"
@@ -710,7 +713,10 @@ static void write_metadata_zstd(const char *dir, const char *storage,
 	char p[4096];
 	FILE *f;
 
-	snprintf(p, sizeof(p), "%s/metadata.yaml", dir);
+	if (snprintf(p, sizeof(p), "%s/metadata.yaml", dir) >= (int)sizeof(p)) {
+		fprintf(stderr, "gen-ros: path too long: %s\n", dir);
+		exit(1);
+	}
 	f = fopen(p, "w");
 	if (!f) {
 		perror(p);
@@ -727,6 +733,7 @@ static void write_metadata_zstd(const char *dir, const char *storage,
 	}
 }
 
+#ifdef HAVE_SQLITE3
 static void slurp_file(const char *path, struct buf *b)
 {
 	FILE *f = fopen(path, "rb");
@@ -765,6 +772,7 @@ static void write_zstd_folder(const char *dir, const char *name,
 	free(in.p);
 	free(out.p);
 }
+#endif
 
 /* A Zstandard frame (RFC 8878) written block by block: the bytes `head`
  * as a raw block, then `rle` blocks of 128 KiB of the byte `fill`, each
