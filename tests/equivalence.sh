@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Sourced by cli-equivalence.sh and cli-equivalence-report.sh (after
+# Sourced by cli-equivalence.sh and cli-equivalence-report*.sh (after
 # lib.sh): compare a scene's stage JSON with its command's.
 : "${top_builddir:=$top_srcdir}"
 SAME="$top_builddir/tests/json-same"
@@ -81,3 +81,22 @@ compare() {
 	fi
 }
 
+# report_equivalence CAPTURE...: report on each capture (imu-raw.bin with
+# its documented layout, *.raw as float64), and each stage's JSON against
+# the command report --dry-run names for it
+report_equivalence() {
+	for cap in "$@"; do
+		b=$(basename "$cap")
+		set --
+		case $b in
+		*.bin) set -- --raw i16:6:le --scale 0.01 -u deg/s -r 100 ;;
+		*.raw) set -- --raw f64:1:le -u rad/s -r 100 ;;
+		esac
+		out="$T/report-$b"
+		run "report $b: plan" 0 report --dry-run -o "$out" "$@" "$cap"
+		cp "$T/out" "$T/plan-$b"
+		run "report $b: run" 0 report -q -o "$out" "$@" "$cap"
+		cp "$T/err" "$out.err"
+		compare "$out" "$T/plan-$b" "report $b"
+	done
+}
