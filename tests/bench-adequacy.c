@@ -17,7 +17,9 @@
  * The mix's random walk K dominates its Allan deviation beyond a few
  * minutes: over 2 h its bias wanders by K sqrt(T) = 4 deg/h, which an
  * anomaly must stand out of; the "effect" column says how much each
- * anomaly raises the expected deviation.
+ * anomaly raises the expected deviation.  The fit's own chi-squared test
+ * (which the check takes as it is) rejects some stationary records: the
+ * "fitrej" column counts them.
  * A record is flagged when a finding of severity "doubt" or "invalid"
  * comes out (a moving record, a rejected fit, a warm-up, a step, a
  * temperature dependence).  For each anomalous record the true effect is
@@ -26,7 +28,9 @@
  * 30): anomalies flagged in >= 95 % of records, stationary ones in <= 5 %.
  *
  * Usage: bench-adequacy [RECORDS [SEED [CASE]]] (default 100, 0, every
- * case; CASE: the cases whose name contains it).  Records run in
+ * case; CASE: the cases whose name contains it).  BENCH_ADEQUACY_SCALE
+ * multiplies the anomalies' levels; BENCH_ADEQUACY_VERBOSE prints every
+ * record's findings.  Records run in
  * parallel (OpenMP); run it niced on a shared machine.
  */
 #include "config.h"
@@ -92,6 +96,7 @@ static const struct bcase cases[] = {
 
 struct outcome {
 	bool flagged;
+	bool rejected;                    /* the fit's chi-squared test */
 	enum sscope_adequacy_cause cause; /* worst finding's */
 	double effect;                    /* max OADEV ratio (anomalies) */
 	bool failed;
@@ -185,6 +190,7 @@ static int one(const struct bcase *c, double fs, size_t n, uint64_t seed,
 			printf("##   [%s] %s\n", sscope_adequacy_severity_name(q->findings[i].severity), q->findings[i].message);
 	}
 	out->flagged = q->verdict >= SSCOPE_ADEQ_DOUBT;
+	out->rejected = q->fit_rejected;
 	out->cause = q->n_findings ? q->findings[0].cause : SSCOPE_ADEQ_CAUSE_COUNT_;
 	out->effect = NAN;
 	if (c->kind != STATIONARY) {
@@ -230,9 +236,10 @@ int main(int argc, char **argv)
 	       "# of severity doubt or invalid; effect = median over the records of the\n"
 	       "# largest ratio over tau of the expected OADEV with the anomaly to that\n"
 	       "# without (the anomaly's OADEV added to the truth's model); target: anomalies\n"
-	       "# >= 95 %% flagged, stationary records <= 5 %%\n", reps, hours, fs);
-	printf("%-20s %-9s %8s %5s %8s %-14s %7s\n", "case", "severity",
-	       "flagged%", "se%", "effect", "top cause", "time_s");
+	       "# >= 95 %% flagged, stationary records <= 5 %%; fitrej: the share whose\n"
+	       "# noise fit the chi-squared test rejects (p < 0.01), among the flagged\n", reps, hours, fs);
+	printf("%-20s %-9s %8s %5s %8s %7s %-14s %7s\n", "case", "severity",
+	       "flagged%", "se%", "effect", "fitrej%", "top cause", "time_s");
 	for (size_t ci = 0; ci < N_CASES; ci++) {
 		struct bcase cs = cases[ci], *c = &cs;
 
@@ -241,6 +248,7 @@ int main(int argc, char **argv)
 		struct outcome *o = calloc((size_t)reps, sizeof(*o));
 		double t0 = now_s(), *eff = calloc((size_t)reps, sizeof(double));
 		int flagged = 0, runs = 0, ne = 0, count[SSCOPE_ADEQ_CAUSE_COUNT_ + 1] = { 0 };
+		int rejected = 0;
 		int top = 0;
 		double p, se;
 
@@ -277,6 +285,7 @@ int main(int argc, char **argv)
 				continue;
 			runs++;
 			flagged += o[r].flagged;
+			rejected += o[r].rejected;
 			if (o[r].flagged)
 				count[o[r].cause]++;
 			if (isfinite(o[r].effect))
@@ -288,8 +297,9 @@ int main(int argc, char **argv)
 		qsort(eff, (size_t)ne, sizeof(double), cmp_d);
 		p = runs ? (double)flagged / runs : 0;
 		se = runs ? sqrt(p * (1 - p) / runs) : 0;
-		printf("%-20s %-9s %8.1f %5.1f %8.3g %-14s %7.1f\n", c->name,
+		printf("%-20s %-9s %8.1f %5.1f %8.3g %7.1f %-14s %7.1f\n", c->name,
 		       c->severity, 100 * p, 100 * se, ne ? eff[ne / 2] : (double)NAN,
+		       runs ? 100.0 * rejected / runs : (double)NAN,
 		       flagged ? sscope_adequacy_cause_name((enum sscope_adequacy_cause)top) : "-",
 		       now_s() - t0);
 		if (runs < reps)
