@@ -86,8 +86,11 @@ has "kalibr: noise density" "$T/imu.yaml" '^gyroscope_noise_density: 4\.[0-9]+e-
 has "kalibr: random walk" "$T/imu.yaml" '^gyroscope_random_walk: [0-9.]+e-0[67] '
 has "kalibr: update rate" "$T/imu.yaml" '^update_rate: 10 '
 lacks "kalibr: no accelerometer keys" "$T/imu.yaml" '^accelerometer_'
-run "kalibr accelerometer" 0 allan --kalibr "$T/acc.yaml" -q -c ax,az "$SAMPLES/accel-thermal.csv"
-has "kalibr: accelerometer keys" "$T/acc.yaml" '^accelerometer_noise_density: '
+# a temperature cycle: the fit is rejected, the export refused unless forced
+run "kalibr accelerometer, rejected fit" 1 allan --kalibr "$T/acc.yaml" -q -c ax,az "$SAMPLES/accel-thermal.csv"
+one_line_error "kalibr accelerometer, rejected fit"
+run "kalibr accelerometer, forced" 0 allan --kalibr "$T/acc.yaml" --force -q -c ax,az "$SAMPLES/accel-thermal.csv"
+has "kalibr: accelerometer keys, marked" "$T/acc.yaml" '^accelerometer_noise_density: .* DOUBTFUL'
 
 # gaps, constant data, short data, no rate
 awk 'NR <= 3 || NR > 8 { print; next } { print "nan,nan,nan" }' "$G" >"$T/gaps.csv"

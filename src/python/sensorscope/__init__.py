@@ -880,3 +880,123 @@ def adc_report(sensor, adcs, rate=0.0):
             "n_total": an.n_total, "bias_bound": an.bias_bound,
             "terms": terms})
     return out
+
+
+# ---------------------------------------------------------------- adequacy
+class Adequacy:
+    """What a record supports (the library's adequacy check, the one that
+    allan, report, run and the exporters use): verdict ("valid", "bounds",
+    "doubtful", "not_valid"), still (None when not tested) and contrast,
+    fit_rejected and fit_p_value, stationary (None when not tested), the
+    terms requested, established and doubtful (lists of "Q".."R"),
+    findings (dicts: cause, severity, terms, t_start_s, t_end_s, tau_min_s,
+    tau_max_s, statistic, p_value, action_s, message -- one line each that
+    names the cause, the range at fault and what to do), davar (the
+    dynamic Allan deviation: t_s, tau_s, dev[window, tau], edf, model, in
+    the data's SI unit; None when the record is too short), and noise (the
+    fit's coefficients, as allan() gives them, or None)."""
+
+    def __repr__(self):
+        return "<sensorscope.Adequacy %s: %d findings>" % (
+            self.verdict, len(self.findings))
+
+
+def _term_names(mask):
+    return [t for i, t in enumerate(_TERMS) if (mask >> i) & 1]
+
+
+def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
+             alpha=None, davar=True):
+    """The adequacy check of x (samples at `rate` Hz, SI units) and of its
+    IEEE 952 noise fit (OADEV, dense taus, 68.3 % intervals): is the record
+    still, long enough for each term in `terms` (default "NBK"), described
+    by the fit, and stationary (warm-up transient, bias step, rate ramp,
+    drift that follows temp_degc when given); with the DAVAR map.
+    Returns an Adequacy."""
+    p, stride, n, keep = _vector(x)
+    tkeep = None
+    ao = _c.AllanOpts()
+    ao.input = {"rate": 0, "angle": 1}[input]
+    ao.ci_level = 0.683
+    fo = _c.NoiseFitOpts()
+    fo.ci_level = 0.683
+    fo.plan = _noise_plan()
+    res = C.POINTER(_c.AllanResult)()
+    d = _c.Diag()
+    rc = _c.allan_analyze(p, stride, n, float(rate), _GRIDS["dense"],
+                          C.byref(ao), C.byref(fo), C.byref(res), C.byref(d))
+    _check(rc, d, "adequacy")
+    q = C.POINTER(_c.Adequacy)()
+    try:
+        r = res.contents
+        qo = _c.AdequacyOpts()
+        qo.rate_hz = float(rate)
+        qo.angle = input == "angle"
+        qo.unit = _b(unit)
+        if terms is not None:
+            qo.requested = sum(1 << _TERMS.index(t) for t in terms)
+        if alpha is not None:
+            qo.alpha = float(alpha)
+        qo.no_davar = not davar
+        if temp_degc is not None:
+            tp, tstride, tn, tkeep = _vector(temp_degc)
+            if tn != n:
+                raise ValueError("temp_degc: %d samples for %d" % (tn, n))
+            qo.temp_degc = tp
+            qo.temp_stride = tstride
+        rc = _c.adequacy_check(p, stride, n,
+                               C.byref(r.fit) if r.have_fit else None,
+                               C.byref(qo), C.byref(q), C.byref(d))
+        _check(rc, d, "adequacy")
+        a = q.contents
+        out = Adequacy()
+        out.verdict = {0: "valid", 1: "bounds", 2: "doubtful",
+                       3: "not_valid"}[a.verdict]
+        out.still = bool(a.still) if a.still_tested else None
+        out.contrast = a.contrast
+        out.fit_rejected = bool(a.fit_rejected) if a.have_fit else None
+        out.fit_p_value = a.fit_p_value
+        out.stationary = bool(a.stationary) if a.stationarity_tested \
+            else None
+        out.requested = _term_names(a.requested)
+        out.established = _term_names(a.established)
+        out.doubtful = _term_names(a.doubtful)
+        out.findings = []
+        for i in range(a.n_findings):
+            f = a.findings[i]
+            out.findings.append({
+                "cause": _c.adequacy_cause_name(f.cause).decode(),
+                "severity": _c.adequacy_severity_name(f.severity).decode(),
+                "terms": _term_names(f.terms),
+                "t_start_s": f.t_start_s, "t_end_s": f.t_end_s,
+                "tau_min_s": f.tau_min_s, "tau_max_s": f.tau_max_s,
+                "statistic": f.statistic, "p_value": f.p_value,
+                "action_s": f.action_s,
+                "message": f.message.decode(errors="replace")})
+        dv = a.davar
+        out.davar = None
+        if dv.n_win:
+            nw, nt = dv.n_win, dv.n_tau
+            out.davar = {
+                "window_s": dv.window_s, "step_s": dv.step_s,
+                "t_s": np.ctypeslib.as_array(dv.t_s, (nw,)).copy(),
+                "tau_s": np.ctypeslib.as_array(dv.tau_s, (nt,)).copy(),
+                "dev": np.ctypeslib.as_array(dv.dev, (nw * nt,)).copy()
+                .reshape(nw, nt),
+                "edf": np.ctypeslib.as_array(dv.edf, (nw * nt,)).copy()
+                .reshape(nw, nt),
+                "model": np.ctypeslib.as_array(dv.model, (nt,)).copy()}
+        out.noise = None
+        if r.have_fit:
+            units = _si_units(_quantity_of(unit))
+            out.noise = {t: Coef(r.fit.coef[i], units[i])
+                         for i, t in enumerate(_TERMS)}
+        return out
+    finally:
+        del keep, tkeep
+        if q:
+            _c.adequacy_free(q)
+        _c.allan_result_free(res)
+
+
+__all__ += ["adequacy", "Adequacy"]
