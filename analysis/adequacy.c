@@ -204,7 +204,7 @@ static void check_length(struct sscope_adequacy *r,
 			r->established |= 1u << t;
 			continue;
 		}
-		f = add_finding(r, SSCOPE_ADEQ_SHORT, SSCOPE_ADEQ_BOUND, 1u << t);
+		f = add_finding(r, SSCOPE_ADEQUACY_SHORT, SSCOPE_ADEQUACY_BOUND, 1u << t);
 		if (!f)
 			return;
 		if (!(c->hi > 0) || !isfinite(c->hi)) {
@@ -795,7 +795,7 @@ static void report_step(struct sscope_adequacy *r, struct ml *m,
 	for (size_t k = 0; k < M; k++)
 		lev[k] *= s->beta;
 	aff = affected_taus(lev, M, m->Tb, model, &lo, &hi);
-	f = add_finding(r, SSCOPE_ADEQ_STEP, aff ? SSCOPE_ADEQ_DOUBT : SSCOPE_ADEQ_NOTE,
+	f = add_finding(r, SSCOPE_ADEQUACY_STEP, aff ? SSCOPE_ADEQUACY_DOUBT : SSCOPE_ADEQUACY_NOTE,
 			aff ? dominant_terms(model, lo, T / 2) : 0);
 	if (!f)
 		return;
@@ -850,7 +850,7 @@ static void report_warmup(struct sscope_adequacy *r, struct ml *m,
 			cut = m->Tb;
 	}
 	aff = affected_taus(lev, M, m->Tb, model, &lo, &hi);
-	f = add_finding(r, SSCOPE_ADEQ_WARMUP, aff ? SSCOPE_ADEQ_DOUBT : SSCOPE_ADEQ_NOTE,
+	f = add_finding(r, SSCOPE_ADEQUACY_WARMUP, aff ? SSCOPE_ADEQUACY_DOUBT : SSCOPE_ADEQUACY_NOTE,
 			aff ? dominant_terms(model, lo, T / 2) : 0);
 	if (!f)
 		return;
@@ -895,7 +895,7 @@ static void stationarity(struct sscope_adequacy *r, const double *x,
 	null_s = calloc(NULL_DRAWS, sizeof(double));
 	null_w = calloc(NULL_DRAWS, sizeof(double));
 	if (rc || !lev || !lev2 || !null_s || !null_w) {
-		say(add_finding(r, SSCOPE_ADEQ_UNCHECKED, SSCOPE_ADEQ_NOTE, 0),
+		say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
 		    "stationarity not tested: %s", rc == -EDOM ?
 		    "the block means are all equal" : "out of memory");
 		goto out;
@@ -915,7 +915,7 @@ static void stationarity(struct sscope_adequacy *r, const double *x,
 
 		if (p < a3) {
 			struct sscope_adequacy_finding *f =
-				add_finding(r, SSCOPE_ADEQ_RAMP, SSCOPE_ADEQ_NOTE,
+				add_finding(r, SSCOPE_ADEQUACY_RAMP, SSCOPE_ADEQUACY_NOTE,
 					    1u << SSCOPE_TERM_R);
 
 			ml_beta(&m, beta);
@@ -970,8 +970,8 @@ static void stationarity(struct sscope_adequacy *r, const double *x,
 				ml_model(&m, est, 0, model);
 				aff = affected_taus(lev, M, m.Tb, model, &lo, &hi);
 				temp_found = true;
-				f = add_finding(r, SSCOPE_ADEQ_TEMPERATURE,
-						aff ? SSCOPE_ADEQ_DOUBT : SSCOPE_ADEQ_NOTE,
+				f = add_finding(r, SSCOPE_ADEQUACY_TEMPERATURE,
+						aff ? SSCOPE_ADEQUACY_DOUBT : SSCOPE_ADEQUACY_NOTE,
 						aff ? dominant_terms(model, lo, T / 2) : 0);
 				if (f) {
 					f->statistic = lr;
@@ -1061,9 +1061,9 @@ static void stationarity(struct sscope_adequacy *r, const double *x,
 	for (size_t i = 0; i < r->n_findings; i++) {
 		enum sscope_adequacy_cause c = r->findings[i].cause;
 
-		if ((c == SSCOPE_ADEQ_WARMUP || c == SSCOPE_ADEQ_STEP ||
-		     c == SSCOPE_ADEQ_TEMPERATURE) &&
-		    r->findings[i].severity >= SSCOPE_ADEQ_DOUBT)
+		if ((c == SSCOPE_ADEQUACY_WARMUP || c == SSCOPE_ADEQUACY_STEP ||
+		     c == SSCOPE_ADEQUACY_TEMPERATURE) &&
+		    r->findings[i].severity >= SSCOPE_ADEQUACY_DOUBT)
 			r->stationary = false;
 	}
 out:
@@ -1297,17 +1297,17 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			r->contrast = ratio;
 			r->still = ratio <= r->max_contrast;
 		} else {
-			say(add_finding(r, SSCOPE_ADEQ_UNCHECKED, SSCOPE_ADEQ_NOTE, 0),
+			say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
 			    "stillness not tested: the record is shorter than two 1 s windows");
 		}
 	} else if (o->max_contrast >= 0) {
-		say(add_finding(r, SSCOPE_ADEQ_UNCHECKED, SSCOPE_ADEQ_NOTE, 0),
+		say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
 		    "stillness and stationarity not tested: the record has %zu gaps (NaN samples)",
 		    n_nan);
 	}
 	if (r->still && o->moving_channel) {
 		struct sscope_adequacy_finding *f =
-			add_finding(r, SSCOPE_ADEQ_MOVES, SSCOPE_ADEQ_INVALID, ALL_TERMS);
+			add_finding(r, SSCOPE_ADEQUACY_MOVES, SSCOPE_ADEQUACY_INVALID, ALL_TERMS);
 
 		r->still = false;
 		if (f) {
@@ -1317,7 +1317,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 		}
 	} else if (!r->still) {
 		struct sscope_adequacy_finding *f =
-			add_finding(r, SSCOPE_ADEQ_MOVES, SSCOPE_ADEQ_INVALID, ALL_TERMS);
+			add_finding(r, SSCOPE_ADEQUACY_MOVES, SSCOPE_ADEQUACY_INVALID, ALL_TERMS);
 		double t0, t1;
 
 		motion_range(y, ys, ny, fs, r->max_contrast, &t0, &t1);
@@ -1340,7 +1340,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 	}
 	/* the fit */
 	if (!fit) {
-		say(add_finding(r, SSCOPE_ADEQ_NO_FIT, SSCOPE_ADEQ_INVALID, ALL_TERMS),
+		say(add_finding(r, SSCOPE_ADEQUACY_NO_FIT, SSCOPE_ADEQUACY_INVALID, ALL_TERMS),
 		    "no noise fit: the record gives no noise terms");
 	} else {
 		double pl = o->fit_p_level > 0 ? o->fit_p_level : 0.01;
@@ -1348,13 +1348,13 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 		r->fit_p_value = fit->p_value;
 		r->fit_rejected = sscope_noise_fit_rejected(fit, pl);
 		if (!isfinite(fit->p_value))
-			say(add_finding(r, SSCOPE_ADEQ_UNCHECKED, SSCOPE_ADEQ_NOTE, 0),
+			say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
 			    "the fit's goodness of fit was not computed (chi-squared %.3g for %.3g dof): whether the model describes the record is not tested",
 			    fit->chi2, fit->dof);
 		if (r->fit_rejected) {
 			struct sscope_adequacy_finding *f =
-				add_finding(r, SSCOPE_ADEQ_FIT_REJECTED,
-					    SSCOPE_ADEQ_INVALID, ALL_TERMS);
+				add_finding(r, SSCOPE_ADEQUACY_FIT_REJECTED,
+					    SSCOPE_ADEQUACY_INVALID, ALL_TERMS);
 
 			if (f) {
 				f->statistic = fit->chi2;
@@ -1378,7 +1378,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 		if (M >= 8)
 			stationarity(r, y, ys, ny, temp, ts, est, o, M);
 		else
-			say(add_finding(r, SSCOPE_ADEQ_UNCHECKED, SSCOPE_ADEQ_NOTE, 0),
+			say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
 			    "stationarity not tested: %zu samples are too few for 8 blocks of %d",
 			    ny, MIN_BLOCK_SAMPLES);
 	}
@@ -1388,13 +1388,13 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			goto fail;
 	}
 	qsort(r->findings, r->n_findings, sizeof(*r->findings), cmp_sev);
-	r->verdict = SSCOPE_ADEQ_NOTE;
+	r->verdict = SSCOPE_ADEQUACY_NOTE;
 	for (size_t i = 0; i < r->n_findings; i++) {
 		const struct sscope_adequacy_finding *f = &r->findings[i];
 
 		if (f->severity > r->verdict)
 			r->verdict = f->severity;
-		if (f->severity >= SSCOPE_ADEQ_DOUBT)
+		if (f->severity >= SSCOPE_ADEQUACY_DOUBT)
 			r->doubtful |= f->terms;
 	}
 	free(rate);

@@ -28,25 +28,25 @@ extern "C" {
 
 /** Cause of a finding. */
 enum sscope_adequacy_cause {
-	SSCOPE_ADEQ_MOVES = 0,    /**< the record is not still */
-	SSCOPE_ADEQ_NO_FIT,       /**< no noise fit to judge */
-	SSCOPE_ADEQ_FIT_REJECTED, /**< the five-term model does not describe
+	SSCOPE_ADEQUACY_MOVES = 0,    /**< the record is not still */
+	SSCOPE_ADEQUACY_NO_FIT,       /**< no noise fit to judge */
+	SSCOPE_ADEQUACY_FIT_REJECTED, /**< the five-term model does not describe
 				       the record (chi-squared test) */
-	SSCOPE_ADEQ_SHORT,        /**< a requested term is not established */
-	SSCOPE_ADEQ_WARMUP,       /**< a transient at the start */
-	SSCOPE_ADEQ_STEP,         /**< a bias step */
-	SSCOPE_ADEQ_TEMPERATURE,  /**< the rate follows the temperature */
-	SSCOPE_ADEQ_RAMP,         /**< a rate ramp over the record */
-	SSCOPE_ADEQ_UNCHECKED,    /**< a test could not run (too short, gaps) */
-	SSCOPE_ADEQ_CAUSE_COUNT_
+	SSCOPE_ADEQUACY_SHORT,        /**< a requested term is not established */
+	SSCOPE_ADEQUACY_WARMUP,       /**< a transient at the start */
+	SSCOPE_ADEQUACY_STEP,         /**< a bias step */
+	SSCOPE_ADEQUACY_TEMPERATURE,  /**< the rate follows the temperature */
+	SSCOPE_ADEQUACY_RAMP,         /**< a rate ramp over the record */
+	SSCOPE_ADEQUACY_UNCHECKED,    /**< a test could not run (too short, gaps) */
+	SSCOPE_ADEQUACY_CAUSE_COUNT_
 };
 
 /** How much a finding matters, in increasing order. */
 enum sscope_adequacy_severity {
-	SSCOPE_ADEQ_NOTE = 0, /**< information: the numbers stand */
-	SSCOPE_ADEQ_BOUND,    /**< a term is only bounded, not measured */
-	SSCOPE_ADEQ_DOUBT,    /**< the terms named are biased by it */
-	SSCOPE_ADEQ_INVALID   /**< the noise terms are not valid */
+	SSCOPE_ADEQUACY_NOTE = 0, /**< information: the numbers stand */
+	SSCOPE_ADEQUACY_BOUND,    /**< a term is only bounded, not measured */
+	SSCOPE_ADEQUACY_DOUBT,    /**< the terms named are biased by it */
+	SSCOPE_ADEQUACY_INVALID   /**< the noise terms are not valid */
 };
 
 /** One finding. */

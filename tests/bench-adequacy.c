@@ -189,9 +189,9 @@ static int one(const struct bcase *c, double fs, size_t n, uint64_t seed,
 		for (size_t i = 0; i < q->n_findings; i++)
 			printf("##   [%s] %s\n", sscope_adequacy_severity_name(q->findings[i].severity), q->findings[i].message);
 	}
-	out->flagged = q->verdict >= SSCOPE_ADEQ_DOUBT;
+	out->flagged = q->verdict >= SSCOPE_ADEQUACY_DOUBT;
 	out->rejected = q->fit_rejected;
-	out->cause = q->n_findings ? q->findings[0].cause : SSCOPE_ADEQ_CAUSE_COUNT_;
+	out->cause = q->n_findings ? q->findings[0].cause : SSCOPE_ADEQUACY_CAUSE_COUNT_;
 	out->effect = NAN;
 	if (c->kind != STATIONARY) {
 		/* the anomaly alone (deterministic) against the truth's
@@ -247,7 +247,7 @@ int main(int argc, char **argv)
 			continue;
 		struct outcome *o = calloc((size_t)reps, sizeof(*o));
 		double t0 = now_s(), *eff = calloc((size_t)reps, sizeof(double));
-		int flagged = 0, runs = 0, ne = 0, count[SSCOPE_ADEQ_CAUSE_COUNT_ + 1] = { 0 };
+		int flagged = 0, runs = 0, ne = 0, count[SSCOPE_ADEQUACY_CAUSE_COUNT_ + 1] = { 0 };
 		int rejected = 0;
 		int top = 0;
 		double p, se;
@@ -291,7 +291,7 @@ int main(int argc, char **argv)
 			if (isfinite(o[r].effect))
 				eff[ne++] = o[r].effect;
 		}
-		for (int k = 0; k <= SSCOPE_ADEQ_CAUSE_COUNT_; k++)
+		for (int k = 0; k <= SSCOPE_ADEQUACY_CAUSE_COUNT_; k++)
 			if (count[k] > count[top])
 				top = k;
 		qsort(eff, (size_t)ne, sizeof(double), cmp_d);

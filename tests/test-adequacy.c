@@ -86,7 +86,7 @@ find(const struct sscope_adequacy *q, enum sscope_adequacy_cause c)
 
 static bool flagged(const struct sscope_adequacy *q)
 {
-	return q->verdict >= SSCOPE_ADEQ_DOUBT;
+	return q->verdict >= SSCOPE_ADEQUACY_DOUBT;
 }
 
 START_TEST(stationary_white)
@@ -108,9 +108,9 @@ START_TEST(stationary_white)
 	ck_assert(q->established & (1u << SSCOPE_TERM_N));
 	/* white noise only: K is bounded, and the finding says so with a
 	 * tau range and an action */
-	f = find(q, SSCOPE_ADEQ_SHORT);
+	f = find(q, SSCOPE_ADEQUACY_SHORT);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_BOUND);
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_BOUND);
 	ck_assert(f->message[0]);
 	ck_assert(q->duration_s == N_1H / FS);
 	/* findings are sorted worst first */
@@ -133,9 +133,9 @@ START_TEST(step_found)
 		if ((double)i / FS >= at)
 			y[i] += D;
 	q = check(y, 2 * N_1H, NULL, false);
-	f = find(q, SSCOPE_ADEQ_STEP);
+	f = find(q, SSCOPE_ADEQUACY_STEP);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_DOUBT);
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_DOUBT);
 	ck_assert(!q->stationary);
 	/* where: within the reported range; the size within 20 % (the
 	 * block noise is about 1.5 deg/h, the step 40 deg/h) */
@@ -162,9 +162,9 @@ START_TEST(warmup_found)
 	for (size_t i = 0; i < 2 * N_1H; i++)
 		y[i] += A * exp(-(double)i / FS / tw);
 	q = check(y, 2 * N_1H, NULL, false);
-	f = find(q, SSCOPE_ADEQ_WARMUP);
+	f = find(q, SSCOPE_ADEQUACY_WARMUP);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_DOUBT);
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_DOUBT);
 	ck_assert(f->t_start_s == 0);
 	/* the cut: the transient (200 deg/h) falls to a tenth of the floor
 	 * (about 0.7 deg/h) after tw ln(2000 / 0.7) = 8 tw; the grid of time
@@ -194,15 +194,15 @@ START_TEST(temperature_found)
 		y[i] += 5 * DEG_H * (temp[i] - 20);
 	}
 	q = check(y, 2 * N_1H, temp, false);
-	f = find(q, SSCOPE_ADEQ_TEMPERATURE);
+	f = find(q, SSCOPE_ADEQUACY_TEMPERATURE);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_DOUBT);
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_DOUBT);
 	ck_assert_ptr_nonnull(strstr(f->message, "tempbias"));
 	sscope_adequacy_free(q);
 	/* the same temperature beside a record that does not follow it */
 	gyro(y, 2 * N_1H, 0.15, 1, 3, 14);
 	q = check(y, 2 * N_1H, temp, false);
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_TEMPERATURE));
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_TEMPERATURE));
 	sscope_adequacy_free(q);
 	free(y);
 	free(temp);
@@ -226,16 +226,16 @@ START_TEST(moving)
 			y[i] += 30 * D2R * sin(2 * 3.14159265358979 * 0.5 * t);
 	}
 	q = check(y, N_1H, NULL, false);
-	f = find(q, SSCOPE_ADEQ_MOVES);
+	f = find(q, SSCOPE_ADEQUACY_MOVES);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_INVALID);
-	ck_assert_int_eq(q->verdict, SSCOPE_ADEQ_INVALID);
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_INVALID);
+	ck_assert_int_eq(q->verdict, SSCOPE_ADEQUACY_INVALID);
 	ck_assert(!q->still && q->contrast > 9);
 	ck_assert_uint_eq(q->doubtful, 0x1fu);
 	/* where: from the first swing */
 	ck_assert(f->t_start_s >= 590 && f->t_start_s <= 620);
 	/* no bounds for the terms of a record that moves */
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_SHORT));
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_SHORT));
 	sscope_adequacy_free(q);
 	/* the test off: not found */
 	ck_assert_int_eq(sscope_allan_analyze(y, 1, N_1H, FS, SSCOPE_ALLAN_TAUS_DENSE,
@@ -245,7 +245,7 @@ START_TEST(moving)
 	qo.no_davar = true;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, N_1H, &res->fit, &qo, &q, NULL), 0);
 	ck_assert(!q->still_tested);
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_MOVES));
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_MOVES));
 	sscope_adequacy_free(q);
 	sscope_allan_result_free(res);
 	free(y);
@@ -269,22 +269,22 @@ START_TEST(fit_rejected_or_missing)
 	qo.no_davar = true;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, N_1H, &fit, &qo, &q, NULL), 0);
 	ck_assert(q->fit_rejected);
-	ck_assert_int_eq(q->verdict, SSCOPE_ADEQ_INVALID);
-	ck_assert_int_eq(find(q, SSCOPE_ADEQ_FIT_REJECTED)->severity,
-			 SSCOPE_ADEQ_INVALID);
+	ck_assert_int_eq(q->verdict, SSCOPE_ADEQUACY_INVALID);
+	ck_assert_int_eq(find(q, SSCOPE_ADEQUACY_FIT_REJECTED)->severity,
+			 SSCOPE_ADEQUACY_INVALID);
 	sscope_adequacy_free(q);
 	/* a stricter level accepts it */
 	qo.fit_p_level = 0.001;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, N_1H, &fit, &qo, &q, NULL), 0);
 	ck_assert(!q->fit_rejected);
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_FIT_REJECTED));
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_FIT_REJECTED));
 	sscope_adequacy_free(q);
 	/* no fit at all */
 	qo.fit_p_level = 0;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, N_1H, NULL, &qo, &q, NULL), 0);
 	ck_assert(!q->have_fit);
-	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQ_NO_FIT));
-	ck_assert_int_eq(q->verdict, SSCOPE_ADEQ_INVALID);
+	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQUACY_NO_FIT));
+	ck_assert_int_eq(q->verdict, SSCOPE_ADEQUACY_INVALID);
 	ck_assert(!q->stationarity_tested);
 	sscope_adequacy_free(q);
 	sscope_allan_result_free(res);
@@ -303,11 +303,11 @@ START_TEST(ramp_is_a_note)
 	for (size_t i = 0; i < 2 * N_1H; i++)
 		y[i] += 40 * DEG_H / 3600 * (double)i / FS;
 	q = check(y, 2 * N_1H, NULL, false);
-	f = find(q, SSCOPE_ADEQ_RAMP);
+	f = find(q, SSCOPE_ADEQUACY_RAMP);
 	ck_assert_ptr_nonnull(f);
-	ck_assert_int_eq(f->severity, SSCOPE_ADEQ_NOTE);
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_STEP));
-	ck_assert_ptr_null(find(q, SSCOPE_ADEQ_WARMUP));
+	ck_assert_int_eq(f->severity, SSCOPE_ADEQUACY_NOTE);
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_STEP));
+	ck_assert_ptr_null(find(q, SSCOPE_ADEQUACY_WARMUP));
 	sscope_adequacy_free(q);
 	free(y);
 }
@@ -425,13 +425,13 @@ START_TEST(gaps_and_short)
 	qo.rate_hz = FS;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, N_1H, &res->fit, &qo, &q, NULL), 0);
 	ck_assert(!q->still_tested && !q->stationarity_tested);
-	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQ_UNCHECKED));
+	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQUACY_UNCHECKED));
 	sscope_adequacy_free(q);
 	y[1000] = 0;
 	/* 12 samples: too short for the stillness windows and the blocks */
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, 12, &res->fit, &qo, &q, NULL), 0);
 	ck_assert(!q->still_tested && !q->stationarity_tested);
-	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQ_UNCHECKED));
+	ck_assert_ptr_nonnull(find(q, SSCOPE_ADEQUACY_UNCHECKED));
 	sscope_adequacy_free(q);
 	sscope_allan_result_free(res);
 	free(y);
@@ -465,8 +465,8 @@ START_TEST(errors)
 	y[5] = INFINITY;
 	ck_assert_int_eq(sscope_adequacy_check(y, 1, 64, NULL, &qo, &q, &d), -EINVAL);
 	ck_assert_ptr_nonnull(strstr(d.msg, "sample 6"));
-	ck_assert_str_eq(sscope_adequacy_cause_name(SSCOPE_ADEQ_WARMUP), "warm_up");
-	ck_assert_str_eq(sscope_adequacy_severity_name(SSCOPE_ADEQ_INVALID), "invalid");
+	ck_assert_str_eq(sscope_adequacy_cause_name(SSCOPE_ADEQUACY_WARMUP), "warm_up");
+	ck_assert_str_eq(sscope_adequacy_severity_name(SSCOPE_ADEQUACY_INVALID), "invalid");
 	ck_assert_str_eq(sscope_adequacy_cause_name((enum sscope_adequacy_cause)99), "?");
 	sscope_adequacy_free(NULL);
 }

@@ -419,7 +419,7 @@ static const char *term_mark(const struct ssc_allan_chan *c, int t)
 {
 	if (!c->adq)
 		return "";
-	if (c->adq->verdict == SSCOPE_ADEQ_INVALID)
+	if (c->adq->verdict == SSCOPE_ADEQUACY_INVALID)
 		return "  <- NOT VALID (see adequacy)";
 	if ((c->adq->doubtful >> t) & 1)
 		return "  <- doubtful (see adequacy)";
@@ -433,7 +433,7 @@ term_doubt(const struct ssc_allan_chan *c, int t)
 	for (size_t i = 0; c->adq && i < c->adq->n_findings; i++) {
 		const struct sscope_adequacy_finding *f = &c->adq->findings[i];
 
-		if (f->severity >= SSCOPE_ADEQ_DOUBT && ((f->terms >> t) & 1))
+		if (f->severity >= SSCOPE_ADEQUACY_DOUBT && ((f->terms >> t) & 1))
 			return f;
 	}
 	return NULL;
@@ -448,9 +448,9 @@ static void text_adequacy(FILE *f, const struct ssc_allan_chan *c)
 
 	if (!q)
 		return;
-	fprintf(f, "  adequacy: %s: ", q->verdict == SSCOPE_ADEQ_INVALID ?
-		"NOT VALID" : q->verdict == SSCOPE_ADEQ_DOUBT ? "DOUBTFUL" :
-		q->verdict == SSCOPE_ADEQ_BOUND ? "valid, some terms only bounded" :
+	fprintf(f, "  adequacy: %s: ", q->verdict == SSCOPE_ADEQUACY_INVALID ?
+		"NOT VALID" : q->verdict == SSCOPE_ADEQUACY_DOUBT ? "DOUBTFUL" :
+		q->verdict == SSCOPE_ADEQUACY_BOUND ? "valid, some terms only bounded" :
 		"valid");
 	if (q->still_tested)
 		fprintf(f, "%s (1 s variance spans %s times, at most %s), ",
@@ -847,7 +847,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		/* the classic read-offs, where the fitted model says each term
 		 * dominates (or that it dominates nowhere) */
 		fprintf(f, "  classic read-offs%s where the fit says the term dominates:",
-			c->adq && c->adq->verdict == SSCOPE_ADEQ_INVALID ?
+			c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID ?
 			" (NOT VALID: see adequacy)" : "");
 		if (isfinite(ft->readoff.n))
 			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
@@ -915,9 +915,9 @@ static json_t *json_adequacy(const struct ssc_allan_chan *c)
 	double sc = unit_scale(c->u.rate);
 
 	json_object_set_new(o, "verdict", json_string(
-		q->verdict == SSCOPE_ADEQ_INVALID ? "not_valid" :
-		q->verdict == SSCOPE_ADEQ_DOUBT ? "doubtful" :
-		q->verdict == SSCOPE_ADEQ_BOUND ? "bounds" : "valid"));
+		q->verdict == SSCOPE_ADEQUACY_INVALID ? "not_valid" :
+		q->verdict == SSCOPE_ADEQUACY_DOUBT ? "doubtful" :
+		q->verdict == SSCOPE_ADEQUACY_BOUND ? "bounds" : "valid"));
 	json_object_set_new(o, "still", q->still_tested ? json_boolean(q->still) :
 							  json_null());
 	json_object_set_new(o, "contrast", ssc_jreal(q->contrast));
@@ -1116,9 +1116,9 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			char code[48];
 
 			/* the fit's own warnings say rejected and failed */
-			if (f->severity < SSCOPE_ADEQ_DOUBT ||
-			    f->cause == SSCOPE_ADEQ_FIT_REJECTED ||
-			    f->cause == SSCOPE_ADEQ_NO_FIT)
+			if (f->severity < SSCOPE_ADEQUACY_DOUBT ||
+			    f->cause == SSCOPE_ADEQUACY_FIT_REJECTED ||
+			    f->cause == SSCOPE_ADEQUACY_NO_FIT)
 				continue;
 			snprintf(code, sizeof(code), "adequacy_%s",
 				 sscope_adequacy_cause_name(f->cause));
@@ -1563,7 +1563,7 @@ static void summarize(json_t *summary, const struct args *a,
 		const struct sscope_noise_fit *ft = &c->res->fit;
 		char note[64], what[64];
 
-		if (c->adq && c->adq->verdict == SSCOPE_ADEQ_INVALID) {
+		if (c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID) {
 			const struct sscope_adequacy_finding *f = &c->adq->findings[0];
 			char nt[560];
 

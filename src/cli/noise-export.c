@@ -83,7 +83,7 @@ chan_doubt(const struct ssc_noise_chan *c, int t)
 	for (size_t i = 0; i < c->adq->n_findings; i++) {
 		const struct sscope_adequacy_finding *f = &c->adq->findings[i];
 
-		if (f->severity >= SSCOPE_ADEQ_DOUBT && ((f->terms >> t) & 1))
+		if (f->severity >= SSCOPE_ADEQUACY_DOUBT && ((f->terms >> t) & 1))
 			return f;
 	}
 	return NULL;

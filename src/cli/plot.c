@@ -2348,7 +2348,7 @@ int ssc_plot_davar(struct ssc_ax *ax, const struct sscope_adequacy *q,
 					.dash = SSC_DASHED };
 		char lab[64];
 
-		if (f->severity < SSCOPE_ADEQ_DOUBT || !isfinite(f->t_start_s))
+		if (f->severity < SSCOPE_ADEQUACY_DOUBT || !isfinite(f->t_start_s))
 			continue;
 		snprintf(lab, sizeof(lab), "%s", sscope_adequacy_cause_name(f->cause));
 		for (char *p = lab; *p; p++)
