@@ -100,3 +100,17 @@ report_equivalence() {
 		compare "$out" "$T/plan-$b" "report $b"
 	done
 }
+
+# scene_equivalence SCENE...: run each scene, and each stage's JSON
+# against the command run --dry-run names for it
+scene_equivalence() {
+	for sc in "$@"; do
+		b=$(basename "$sc" .scene.ini)
+		out="$T/scene-$b"
+		run "scene $b: plan" 0 run --dry-run -o "$out" "$sc"
+		cp "$T/out" "$T/plan-$b"
+		run "scene $b: run" 0 run -q -o "$out" "$sc"
+		cp "$T/err" "$out.err"
+		compare "$out" "$T/plan-$b" "scene $b"
+	done
+}
