@@ -5,6 +5,7 @@
  * read, the outputs.
  * sensorscope report FILE...: the same with a scene inferred from the data.
  */
+#include "cli.h"
 #include "scene.h"
 
 #include <string.h>

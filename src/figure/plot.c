@@ -21,7 +21,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "cli.h"
+#include "workbench.h"
 #include "canvas.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV

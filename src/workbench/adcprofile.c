@@ -7,7 +7,7 @@
  * converters read it here, and set the spec's INL bound to max |INL| so
  * that the report shows the profile's size.
  */
-#include "cli.h"
+#include "workbench.h"
 
 #include <ctype.h>
 #include <math.h>

@@ -19,7 +19,7 @@
  * Correction: u' = T K (y - b - G a'), a' the corrected accelerometer.
  * Triads are applied in file order (accelerometers before gyros).
  */
-#include "cli.h"
+#include "workbench.h"
 #include "calibfile.h"
 
 #include <math.h>

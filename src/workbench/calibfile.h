@@ -6,7 +6,7 @@
 #ifndef SSCOPE_CALIBFILE_H
 #define SSCOPE_CALIBFILE_H
 
-#include "cli.h"
+#include "workbench.h"
 
 /* SI scale of a unit label; 1 for "" */
 double ssc_calfile_unit_scale(const char *unit);

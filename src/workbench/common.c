@@ -4,7 +4,7 @@
  * options plus a command's own, --help generation, input loading, output
  * sinks, progress and messages.
  */
-#include "cli.h"
+#include "workbench.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -20,7 +20,7 @@
 #include <nettle/base64.h>
 #include <nettle/sha2.h>
 
-#include "cli.h"
+#include "workbench.h"
 #include "html.h"
 
 struct ssc_html {

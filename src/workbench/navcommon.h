@@ -7,7 +7,7 @@
 #ifndef SSCOPE_NAVCOMMON_H
 #define SSCOPE_NAVCOMMON_H
 
-#include "cli.h"
+#include "workbench.h"
 
 /* The IEEE 952 terms of one channel (SI, enum sscope_term order). */
 struct ssc_nav_terms {

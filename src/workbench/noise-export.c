@@ -20,7 +20,7 @@
  * temperature, mounting); each file states the factor and the measured
  * values.  A term the fit did not resolve is exported as its upper limit.
  */
-#include "cli.h"
+#include "workbench.h"
 
 #include <math.h>
 #include <stdlib.h>

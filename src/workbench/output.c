@@ -18,7 +18,7 @@
  *   only async-signal-safe calls (unlink, open, getdents64, unlinkat,
  *   rmdir, raise).
  */
-#include "cli.h"
+#include "workbench.h"
 
 #include <dirent.h>
 #include <fcntl.h>

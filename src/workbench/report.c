@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "workbench.h"
 #include "report.h"
 
 /* ---------------------------------------------------------------- JSON */

@@ -19,7 +19,7 @@
 #ifndef SSCOPE_STAGE_H
 #define SSCOPE_STAGE_H
 
-#include "cli.h"
+#include "workbench.h"
 
 struct ssc_stage_ops;
 
