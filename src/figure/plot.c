@@ -7,21 +7,22 @@
  * its envelope), legends and notes in a panel beside the axes, outside the
  * data.  The figure is laid out with the text metrics of its surface
  * (canvas.h) and drawn through it: SVG (svg.c) always, PNG through the
- * OpenCV canvas (cvshim.cpp) when built with OpenCV, else
- * ssc_fig_save_png() returns -ENOTSUP.
+ * OpenCV canvas (cvshim.cpp) when built with OpenCV, else ssc_fig_png()
+ * returns -ENOTSUP.  A figure is bytes in memory: the workbench writes them
+ * (figfile.c).
  */
 #include "config.h"
 
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
-#include "workbench.h"
+#include "sensorscope.h"
+#include "ssc.h"
 #include "canvas.h"
 #include "plot.h"
 #ifdef HAVE_OPENCV
@@ -1873,11 +1874,6 @@ static void fig_draw(struct ssc_fig *f, const struct ssc_surface *S,
 	}
 }
 
-static int write_file(const char *path, const void *buf, size_t len)
-{
-	return ssc_file_put(path, buf, len);
-}
-
 static bool fig_empty(const struct ssc_fig *f)
 {
 	for (int i = 0; i < f->rows * f->cols; i++)
@@ -1913,33 +1909,6 @@ int ssc_fig_svg(struct ssc_fig *f, const char *id_prefix, char **buf,
 	fig_draw(f, &S, &fl);
 	fig_layout_free(&fl);
 	return ssc_svg_finish(svg, buf, len);
-}
-
-/* the SVG document of the figure saved as path */
-static int fig_svg_for(struct ssc_fig *f, const char *path, char **buf,
-		       size_t *len)
-{
-	char id[48];
-	const char *b = strrchr(path, '/');
-
-	/* ids from the file name: figures inlined in one page stay apart */
-	snprintf(id, sizeof(id), "f-%s", b ? b + 1 : path);
-	if (strrchr(id, '.'))
-		*strrchr(id, '.') = '\0';
-	return ssc_fig_svg(f, id, buf, len);
-}
-
-int ssc_fig_save_svg(struct ssc_fig *f, const char *path)
-{
-	char *buf = NULL;
-	size_t len = 0;
-	int rc = fig_svg_for(f, path, &buf, &len);
-
-	if (rc)
-		return rc;
-	rc = write_file(path, buf, len);
-	free(buf);
-	return rc;
 }
 
 #ifdef HAVE_OPENCV
@@ -2136,7 +2105,7 @@ static const struct ssc_surface_ops cv_ops = {
 };
 
 /* the PNG file of the figure, in memory (free()) */
-static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
+int ssc_fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 {
 	const char *font = getenv("SSCOPE_FONT");
 	struct ssc_canvas *cv = NULL;
@@ -2173,7 +2142,7 @@ static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 
 #else /* !HAVE_OPENCV */
 
-static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
+int ssc_fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 {
 	(void)f;
 	(void)png;
@@ -2182,65 +2151,6 @@ static int fig_png(struct ssc_fig *f, unsigned char **png, size_t *len)
 }
 
 #endif
-
-int ssc_fig_save_png(struct ssc_fig *f, const char *path)
-{
-	unsigned char *png = NULL;
-	size_t len = 0;
-	int rc = fig_png(f, &png, &len);
-
-	if (!rc)
-		rc = write_file(path, png, len);
-	free(png);
-	return rc;
-}
-
-/* The SVG document drawn on a thread of its own while the PNG is drawn:
- * the figure is only read by both. */
-struct svg_job {
-	struct ssc_fig *f;
-	const char *path;
-	char *buf;
-	size_t len;
-	int rc;
-};
-
-static void *svg_thread(void *arg)
-{
-	struct svg_job *j = arg;
-
-	j->rc = fig_svg_for(j->f, j->path, &j->buf, &j->len);
-	return NULL;
-}
-
-/* the figure as p.svg and p.png (p.svg first, p.png only when it was
- * written), the two drawn at the same time */
-static int save_both(struct ssc_fig *f, char *p, size_t stem)
-{
-	struct svg_job j = { .f = f, .path = p };
-	unsigned char *png = NULL;
-	size_t len = 0;
-	pthread_t tid;
-	bool two;
-	int rc;
-
-	strcpy(p + stem, ".svg");
-	two = !pthread_create(&tid, NULL, svg_thread, &j);
-	rc = fig_png(f, &png, &len);
-	if (two)
-		pthread_join(tid, NULL);
-	else
-		svg_thread(&j);
-	if (!j.rc)
-		j.rc = write_file(p, j.buf, j.len);
-	free(j.buf);
-	if (!j.rc && !rc) {
-		strcpy(p + stem, ".png");
-		rc = write_file(p, png, len);
-	}
-	free(png);
-	return j.rc ? j.rc : rc;
-}
 
 enum ssc_plot_format ssc_plot_format_of(const char *path)
 {
@@ -2251,29 +2161,4 @@ enum ssc_plot_format ssc_plot_format_of(const char *path)
 	if (l > 4 && !strcasecmp(path + l - 4, ".svg"))
 		return SSC_PLOT_SVG;
 	return SSC_PLOT_NONE;
-}
-
-int ssc_fig_save(struct ssc_fig *f, const char *path)
-{
-	size_t l = path ? strlen(path) : 0, k = strlen(SSC_PLOT_SVG_AND_PNG);
-
-	if (l > k && !strcmp(path + l - k, SSC_PLOT_SVG_AND_PNG)) {
-		char *p = malloc(l + 1);
-		int rc;
-
-		if (!p)
-			return -ENOMEM;
-		memcpy(p, path, l - k);
-		rc = save_both(f, p, l - k);
-		free(p);
-		return rc;
-	}
-	switch (ssc_plot_format_of(path)) {
-	case SSC_PLOT_PNG:
-		return ssc_fig_save_png(f, path);
-	case SSC_PLOT_SVG:
-		return ssc_fig_save_svg(f, path);
-	default:
-		return -EINVAL;
-	}
 }

@@ -125,12 +125,10 @@ int ssc_ax_image(struct ssc_ax *ax, const double *z, size_t nx, size_t ny,
 		 double x0, double x1, double y0, double y1, double zlo,
 		 double zhi, bool zlog, const char *zlabel);
 
-/* Render and write a PNG atomically.  Returns 0, -ENOTSUP without OpenCV,
- * -EINVAL for an empty figure, -errno from the file system.  A figure may
- * come out taller than asked when its legends need the room. */
-int ssc_fig_save_png(struct ssc_fig *fig, const char *path);
-/* The same as an SVG file (no OpenCV needed). */
-int ssc_fig_save_svg(struct ssc_fig *fig, const char *path);
+/* The figure as a PNG image in memory (*png malloc'ed).  Returns 0,
+ * -ENOTSUP without OpenCV, -EINVAL for an empty figure, -ENOMEM.  A figure
+ * may come out taller than asked when its legends need the room. */
+int ssc_fig_png(struct ssc_fig *fig, unsigned char **png, size_t *len);
 /* The figure as an SVG document in memory (*buf malloc'ed, NUL-terminated)
  * whose ids start with id_prefix (NULL: "fig"), for embedding in HTML.
  * Returns 0, -EINVAL for an empty figure, -ENOMEM. */
@@ -141,11 +139,9 @@ enum ssc_plot_format { SSC_PLOT_NONE = 0, SSC_PLOT_PNG, SSC_PLOT_SVG };
 /* The format a figure path asks for, by its extension (.png, .svg, any
  * case). */
 enum ssc_plot_format ssc_plot_format_of(const char *path);
-/* Write in the format of the path's extension (-EINVAL for another); a
- * path ending in SSC_PLOT_SVG_AND_PNG writes both files, BASE.svg and
- * BASE.png, from one drawing (scenes that keep both). */
+/* A path ending in SSC_PLOT_SVG_AND_PNG names both files, BASE.svg and
+ * BASE.png, drawn once (ssc_fig_save). */
 #define SSC_PLOT_SVG_AND_PNG ".{svg,png}"
-int ssc_fig_save(struct ssc_fig *fig, const char *path);
 
 /* Tick computation (exported for tests): up to max ticks. */
 size_t ssc_ticks_linear(double lo, double hi, size_t target, double *ticks,

@@ -24,7 +24,7 @@
 #include <zlib.h>
 
 #include "canvas.h"
-#include "html.h"
+#include "base64.h"
 
 struct ssc_svg {
 	char *buf;

@@ -17,10 +17,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <nettle/base64.h>
 #include <nettle/sha2.h>
 
 #include "workbench.h"
+#include "base64.h"
 #include "html.h"
 
 struct ssc_html {
@@ -344,22 +344,6 @@ static int read_file(const char *path, unsigned char **data, size_t *len)
 	fclose(f);
 	*len = (size_t)n;
 	return 0;
-}
-
-char *ssc_base64(const unsigned char *data, size_t len, size_t *out_len)
-{
-	struct base64_encode_ctx ctx;
-	char *b64 = malloc(BASE64_ENCODE_LENGTH(len) + BASE64_ENCODE_FINAL_LENGTH + 1);
-	size_t done;
-
-	if (!b64)
-		return NULL;
-	base64_encode_init(&ctx);
-	done = base64_encode_update(&ctx, b64, len, data);
-	done += base64_encode_final(&ctx, b64 + done);
-	b64[done] = '\0';
-	*out_len = done;
-	return b64;
 }
 
 int ssc_html_image(struct ssc_html *h, const char *png_path, const char *alt)

@@ -57,10 +57,6 @@ void ssc_html_section_end(struct ssc_html *h);
 /* Write atomically; 0 or -errno (-ENOMEM when building failed). */
 int ssc_html_write(struct ssc_html *h, const char *path);
 
-/* Base64 of data (RFC 4648, nettle), malloc'ed and NUL-terminated, its
- * length in *out_len; NULL when out of memory. */
-char *ssc_base64(const unsigned char *data, size_t len, size_t *out_len);
-
 /* Lower-case hex SHA-256 of a file (65 bytes); 0 or -errno. */
 int ssc_sha256_file(const char *path, char hex[65]);
 

@@ -337,6 +337,18 @@ bool ssc_plot_available(void);
 int ssc_plot_unavailable(const char *cmd);
 int ssc_plot_check(const char *cmd, const char *path);
 
+/* Figures written to files (figfile.c), atomically through the output
+ * layer.  ssc_fig_save_png(): 0, -ENOTSUP without OpenCV, -EINVAL for an
+ * empty figure, -errno from the file system. */
+struct ssc_fig;
+int ssc_fig_save_png(struct ssc_fig *fig, const char *path);
+/* The same as an SVG file (no OpenCV needed). */
+int ssc_fig_save_svg(struct ssc_fig *fig, const char *path);
+/* Write in the format of the path's extension (-EINVAL for another); a
+ * path ending in SSC_PLOT_SVG_AND_PNG writes both files, BASE.svg and
+ * BASE.png, from one drawing (scenes that keep both). */
+int ssc_fig_save(struct ssc_fig *fig, const char *path);
+
 /* Text formatting of a number with @p sig significant digits (no
  * exponent for ordinary magnitudes). */
 const char *ssc_fmt(char *buf, size_t len, double v, int sig);
