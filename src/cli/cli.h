@@ -16,6 +16,10 @@ struct sscope_inclino_lut;
 int ssc_inclino_lut_read(const char *cmd, const char *path,
 			 struct sscope_inclino_lut *lut);
 
+/* The stage graph of scenes (stages.c): S_COUNT_ entries of scene.h. */
+struct ssc_stage_def;
+const struct ssc_stage_def *ssc_scene_graph(void);
+
 /* Commands */
 int ssc_cmd_info(int argc, char **argv);
 int ssc_cmd_run(int argc, char **argv);

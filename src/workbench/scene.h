@@ -21,6 +21,13 @@ struct ssc_stage_def {
 	const char *definitions;          /* definitions used, for reports */
 };
 
+/* The stages of the scene graph, in the order of the table handed to
+ * ssc_scene_load() and ssc_scene_infer() (src/cli/stages.c). */
+enum {
+	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
+	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_COUNT_
+};
+
 /* Output formats of [report] formats = ... */
 enum {
 	SSC_OUT_TEXT = 1u << 0,
@@ -33,13 +40,16 @@ enum {
 struct ssc_scene;
 
 /* Parse a scene file; prints errors ("sensorscope: CMD: FILE: line N: ...").
- * Returns an exit code. */
-int ssc_scene_load(const char *cmd, const char *path, struct ssc_scene **sc);
+ * @p graph: the stage graph, S_COUNT_ entries indexed by S_*.  Returns an
+ * exit code. */
+int ssc_scene_load(const char *cmd, const char *path,
+		   const struct ssc_stage_def *graph, struct ssc_scene **sc);
 
 /* A scene inferred from captures (sensorscope report): prints what it
  * chose and why unless quiet.  Returns an exit code. */
 int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
-		    const char *out_dir, struct ssc_scene **sc);
+		    const char *out_dir, const struct ssc_stage_def *graph,
+		    struct ssc_scene **sc);
 
 /* Print the plan (stages to run and why, stages skipped and why, columns
  * read, outputs). */
