@@ -15,6 +15,14 @@
 
 #include <gsl/gsl_statistics_double.h>
 
+#include "sscope-adc.h"
+#include "sscope-allan.h"
+#include "sscope-noise.h"
+#include "sscope-sensor.h"
+#include "sscope-sim.h"
+#include "sscope-stats.h"
+#include "sscope-term.h"
+
 /* records are simulated and converted in blocks of this many output
  * samples (M conversions each) */
 #define MC_BLOCK 4096

@@ -21,6 +21,9 @@
 #include <gsl/gsl_randist.h>
 
 #include "sscope-adc.h"
+#include "sscope-quantity.h"
+#include "sscope-sensor.h"
+#include "sscope-unit.h"
 
 #define PI 3.14159265358979323846
 

@@ -33,6 +33,10 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "sscope-budget.h"
+#include "sscope-calib.h"
+#include "sscope-quantity.h"
+
 static const char *const source_names[SSCOPE_BUDGET_N_SOURCES] = {
 	"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor"
 };

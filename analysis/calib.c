@@ -36,6 +36,10 @@
 #include <gsl/gsl_statistics_double.h>
 #include <gsl/gsl_vector.h>
 
+#include "sscope-calib.h"
+#include "sscope-quantity.h"
+#include "sscope-stats.h"
+
 #define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------------ */

@@ -29,6 +29,7 @@
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
+#include "sscope-term.h"
 
 #define PI 3.14159265358979323846
 

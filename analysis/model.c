@@ -20,6 +20,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "sscope-model.h"
+
 #define PI 3.14159265358979323846
 
 static double step_unit(const struct sscope_model_accel *m, double t)

@@ -26,6 +26,8 @@
 #include "sscope-navsim.h"
 #include "sscope-sim.h"
 #include "sscope-strapdown.h"
+#include "sscope-budget.h"
+#include "sscope-sensor.h"
 
 #define PI 3.14159265358979323846
 /* samples simulated per block of a run */

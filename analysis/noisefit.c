@@ -44,6 +44,9 @@
 
 #ifdef _OPENMP
 #include <omp.h>
+
+#include "sscope-allan.h"
+#include "sscope-noise.h"
 #endif
 
 #define PI 3.14159265358979323846

@@ -33,6 +33,7 @@
 #endif
 
 #include "sscope-sim.h"
+#include "sscope-sensor.h"
 
 #define PI 3.14159265358979323846
 /* spacing of the Gauss-Markov correlation times: 10^(2/3) */

@@ -12,6 +12,7 @@
  * orders and byte orders, gzip streams, and the rate plausibility hint.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

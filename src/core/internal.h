@@ -2,7 +2,8 @@
 /*
  * Internal helpers shared by the library's modules (not installed).
  * Every .c file of the library includes this header first, so config.h
- * precedes everything else.
+ * precedes everything else.  It lives in src/core/, the bottom layer: it
+ * includes only sscope-core.h and ssc.h.
  */
 #ifndef SSCOPE_INTERNAL_H
 #define SSCOPE_INTERNAL_H
@@ -15,8 +16,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sensorscope.h"
+#include "sscope-core.h"
 #include "ssc.h"
+
+/* Each file includes the public headers of what it uses (sscope-AREA.h),
+ * never the umbrella sensorscope.h, so that its includes show its layer. */
+struct sscope_clip;
+struct sscope_reader;
+struct sscope_reader_chunk;
+struct sscope_reader_opts;
 
 #if defined(__GNUC__)
 #define SSC_PRINTF(f, a) __attribute__((format(printf, f, a)))

@@ -18,6 +18,10 @@
 #include <string.h>
 #include <strings.h>
 
+#include "sscope-quantity.h"
+#include "sscope-sensor.h"
+#include "sscope-unit.h"
+
 struct ini_kv {
 	char *key;
 	char *value;

@@ -8,7 +8,10 @@
 #ifndef SSC_SSC_H
 #define SSC_SSC_H
 
-#include "sensorscope.h"
+#include "sscope-core.h"
+#include "sscope-sensor.h"
+
+struct sscope_adc_spec;
 
 /* Function clones for the processor found at load time (GCC on x86-64
  * glibc): SSC_TARGET_CLONES("avx2", "default").  None under

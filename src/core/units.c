@@ -15,6 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sscope-quantity.h"
+#include "sscope-term.h"
+#include "sscope-unit.h"
+
 #define PI 3.14159265358979323846
 
 enum { L = SSCOPE_UNIT_DIM_LENGTH, T = SSCOPE_UNIT_DIM_TIME, A = SSCOPE_UNIT_DIM_ANGLE,

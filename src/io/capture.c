@@ -16,6 +16,11 @@
 #include <unistd.h>
 
 #include "io-formats.h"
+#include "sscope-capture.h"
+#include "sscope-quantity.h"
+#include "sscope-reader.h"
+#include "sscope-timing.h"
+#include "sscope-unit.h"
 
 static int copy_column(struct sscope_capture_column *dst, const struct sscope_capture_column *src)
 {

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "io-formats.h"
+#include "sscope-capture.h"
 
 /* find 'key' in the header dict; returns the text after its colon */
 static const char *dict_value(const char *h, const char *key)

@@ -32,6 +32,7 @@
 #include <string.h>
 
 #include "io-formats.h"
+#include "sscope-capture.h"
 
 enum kind { T_OTHER = 0, T_IMU, T_TEMP, T_VEC3 };
 

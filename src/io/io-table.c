@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "io-formats.h"
+#include "sscope-capture.h"
 
 struct ssc_table *ssc_table_new(const char *format)
 {

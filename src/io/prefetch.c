@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "prefetch.h"
+#include "sscope-reader.h"
 
 enum { EMPTY, FULL };
 

@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "sensorscope.h"
+#include "sscope-reader.h"
 
 struct ssc_prefetch;
 

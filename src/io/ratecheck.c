@@ -12,6 +12,8 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "sscope-capture.h"
+
 int sscope_capture_check_rate(const struct sscope_capture *cap,
 			      struct sscope_diag *hint)
 {

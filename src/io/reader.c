@@ -37,6 +37,10 @@
 #include "io-formats.h"
 #include "numparse.h"
 #include "io-mat.h"
+#include "sscope-capture.h"
+#include "sscope-quantity.h"
+#include "sscope-reader.h"
+#include "sscope-unit.h"
 
 #define BLOCK (4u << 20)
 #define BIN_MAGIC "#sensorscope-binary"

@@ -238,6 +238,29 @@ int sscope_capture_fwrite(const struct sscope_capture *cap, FILE *f,
 			  enum sscope_capture_format fmt, int digits,
 			  struct sscope_diag *diag);
 
+struct sscope_calib_file_triad; /* sscope-calib.h */
+
+/**
+ * Apply calibration triads to a loaded capture, in their order
+ * (accelerometers before the gyros whose G uses them): each triad whose
+ * channels the capture holds is converted to the units the capture holds
+ * them in (SI of the channel's unit, or raw values for channels without
+ * one), applied in place (sscope_calib_apply()), and the channels take
+ * the output unit (names and file columns kept).  A triad of which the
+ * capture holds none of the channels is skipped.
+ * @param gsens_skipped  receives bit i set when triad i has G but the
+ *                       capture lacks its accelerometer channels (G is
+ *                       then not corrected); may be NULL.
+ * @param applied        receives the triads applied; may be NULL.
+ * @return 0; -EINVAL (a triad of which only some channels are present, a
+ *         channel in a unit the triad does not expect: diag names them);
+ *         -EDOM when no triad applies; -ENOMEM.
+ */
+int sscope_capture_apply_calib(struct sscope_capture *cap,
+				const struct sscope_calib_file_triad *t,
+				size_t n, unsigned *gsens_skipped,
+				size_t *applied, struct sscope_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

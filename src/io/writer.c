@@ -17,6 +17,9 @@
 #include <string.h>
 
 #include "atomic.h"
+#include "sscope-capture.h"
+#include "sscope-unit.h"
+#include "sscope-writer.h"
 
 struct sscope_writer {
 	struct ssc_atomic out; /* when the writer owns the file */

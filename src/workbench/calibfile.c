@@ -266,7 +266,7 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 
 	if (rc)
 		return rc;
-	rc = sscope_calib_apply_capture(cap, t, n, &skipped, NULL, &d);
+	rc = sscope_capture_apply_calib(cap, t, n, &skipped, NULL, &d);
 	if (rc == -ENOMEM) {
 		ssc_err(co->cmd, "out of memory");
 	} else if (rc) {
