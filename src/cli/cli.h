@@ -10,12 +10,6 @@
 
 #include "workbench.h"
 
-/* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
- * it; prints errors, returns exit code (cmd-inclino.c). */
-struct sscope_inclino_lut;
-int ssc_inclino_lut_read(const char *cmd, const char *path,
-			 struct sscope_inclino_lut *lut);
-
 /* The stage graph of scenes (stages.c): S_COUNT_ entries of scene.h. */
 struct ssc_stage_def;
 const struct ssc_stage_def *ssc_scene_graph(void);

@@ -590,23 +590,6 @@ static void take_upstream(struct opts *o, const char **from,
 	}
 }
 
-/* The quantity (gyro or accelerometer) whose term t has the SI unit
- * si_unit, by dimension; SSCOPE_QUANTITY_UNKNOWN for others. */
-static enum sscope_quantity term_quantity(const char *si_unit, enum sscope_term t)
-{
-	static const enum sscope_quantity qs[2] = { SSCOPE_QUANTITY_ANGULAR_RATE,
-						    SSCOPE_QUANTITY_ACCELERATION };
-	struct sscope_unit u, w;
-
-	if (!si_unit || sscope_unit_parse(si_unit, &u, NULL))
-		return SSCOPE_QUANTITY_UNKNOWN;
-	for (int i = 0; i < 2; i++)
-		if (!sscope_unit_parse(sscope_term_si_unit(qs[i], t), &w, NULL) &&
-		    sscope_unit_compatible(&u, &w))
-			return qs[i];
-	return SSCOPE_QUANTITY_UNKNOWN;
-}
-
 /* A number of a JSON result (NaN when absent or null). */
 static double jnum(json_t *j)
 {
@@ -637,10 +620,7 @@ static int load_result(struct opts *o, const char *path, const char **from)
 
 		json_array_foreach(a, i, ch) {
 			json_t *nz = json_object_get(ch, "noise");
-			enum sscope_quantity q = term_quantity(
-				json_string_value(json_object_get(json_object_get(nz, "N"),
-								  "si_unit")),
-				SSCOPE_TERM_N);
+			enum sscope_quantity q = ssc_allan_json_rate_quantity(ch);
 
 			used += take_allan_axis(o, from, q,
 						jnum(json_object_get(json_object_get(nz, "N"), "si")),

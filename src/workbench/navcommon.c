@@ -35,19 +35,16 @@ int ssc_nav_load_json(const char *cmd, const char *opt, const char *path,
 static int terms_of_channel(const json_t *ch, struct ssc_nav_terms *t)
 {
 	const json_t *nz = json_object_get(ch, "noise");
-	const char *nu, *name;
+	const char *name;
 	static const char *const key[5] = { "Q", "N", "B", "K", "R" };
 
 	memset(t, 0, sizeof(*t));
 	t->n_lo = t->n_hi = (double)NAN;
 	if (!json_is_object(nz))
 		return -1;
-	nu = json_string_value(json_object_get(json_object_get(nz, "N"), "si_unit"));
-	if (nu && !strcmp(nu, "rad/s/sqrt(Hz)"))
-		t->quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
-	else if (nu && !strcmp(nu, "m/s^2/sqrt(Hz)"))
-		t->quantity = SSCOPE_QUANTITY_ACCELERATION;
-	else
+	t->quantity = ssc_allan_json_rate_quantity(ch);
+	if (t->quantity != SSCOPE_QUANTITY_ANGULAR_RATE &&
+	    t->quantity != SSCOPE_QUANTITY_ACCELERATION)
 		return -1;
 	name = json_string_value(json_object_get(ch, "name"));
 	snprintf(t->name, sizeof(t->name), "%s", name ? name : "");

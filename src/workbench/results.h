@@ -65,6 +65,30 @@ ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
 		   const struct sscope_allan_opts *ao,
 		   const struct sscope_noise_fit_opts *fo);
 
+/* The name of the noise type of slope alpha ("WFM", ...; "?" outside
+ * -4..2), as the allan JSON writes it (allan-json.c). */
+const char *ssc_allan_noise_name(int alpha);
+
+/* The "points" array of an allan channel's JSON as text, the very bytes
+ * jansson writes of it; @p dev_scale SI per JSON deviation unit; a long
+ * grid is split over two threads when @p two_threads.  Returns false on a
+ * write error. */
+bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
+			   size_t n, double dev_scale,
+			   enum sscope_allan_dev dev, bool two_threads);
+
+/*
+ * The quantity of the rate whose deviations a saved allan channel (one
+ * object of its "channels") holds: its "quantity", differentiated for an
+ * "input" of "angle" (sscope_allan_rate_quantity()); in a result of the
+ * contract's shape, without "quantity", the quantity whose N has the
+ * dimension of the channel's N "si_unit" (parsed, never compared as
+ * text).  The one rule by which a result read back (budget --result,
+ * heading/walk/navsim --from-allan) is a gyro or an accelerometer;
+ * SSCOPE_QUANTITY_UNKNOWN for anything else.
+ */
+enum sscope_quantity ssc_allan_json_rate_quantity(const json_t *ch);
+
 /* ------------------------------------------------------------ calib */
 
 /* One calibrated triad and what the report derives from it. */

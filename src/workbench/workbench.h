@@ -311,6 +311,29 @@ void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 		      const char *si_unit, bool fitted);
 
+/* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
+ * it; prints errors, returns exit code (inclinofile.c). */
+struct sscope_inclino_lut;
+int ssc_inclino_lut_read(const char *cmd, const char *path,
+			 struct sscope_inclino_lut *lut);
+
+/* A raw record of one float64 channel (@p nch_sel channels selected) in
+ * the host's byte order, without scaling, in a regular file, fed to the
+ * estimate @p p straight from a mapping of the file; the spectrum into *s
+ * and the rows into *rows.  Returns false, the estimate reset, for any
+ * other input or any failure: the caller then streams the record
+ * (psdmap.c). */
+struct sscope_psd;
+struct sscope_psd_spectrum;
+bool ssc_psd_fed_from_mapping(const struct ssc_common *co, const char *path,
+			      size_t nch_sel, struct sscope_reader *rd,
+			      struct sscope_psd *p, struct sscope_psd_spectrum *s,
+			      uint64_t *rows);
+
+/* Run the command again with OMP_WAIT_POLICY=passive unless the user set
+ * a policy (process.c); returns only when it could not. */
+void ssc_omp_wait_passive(char **argv);
+
 /* Load the [sensor] section of a spec file; prints errors, returns exit. */
 int ssc_load_sensor(const char *cmd, const char *path,
 		    struct sscope_sensor_spec *spec);
