@@ -44,13 +44,14 @@
 
 #include "sscope-core.h"
 #include "sscope-quantity.h"
+#include "sscope-unit.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Standard gravity, m/s^2 (the default local gravity). */
-#define SSCOPE_CALIB_GRAVITY_STD 9.80665
+#define SSCOPE_CALIB_GRAVITY_STD SSCOPE_UNIT_GRAVITY_STD
 
 /** A half-open range of samples [start, end). */
 struct sscope_calib_interval {

@@ -12,6 +12,10 @@
 
 #include "sscope-core.h"
 
+/** The gap factor of captures: an interval longer than this many times
+ *  the median interval is a gap (the capture's timing, info, psd). */
+#define SSCOPE_TIMING_GAP_FACTOR 1.5
+
 #ifdef __cplusplus
 extern "C" {
 #endif

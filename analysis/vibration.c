@@ -39,7 +39,6 @@
 #include "sscope-vib.h"
 #include "sscope-psd.h"
 
-#define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------ bearings */
 

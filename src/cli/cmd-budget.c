@@ -14,7 +14,6 @@
 #include "plot.h"
 #include "results.h"
 
-#define PI 3.14159265358979323846
 #define MAX_TIMES 256
 #define MAX_ERR 16
 
@@ -696,13 +695,6 @@ static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
 	return SSC_EXIT_OK;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 static void init(void *opts)
 {
 	struct opts *o = opts;
@@ -796,7 +788,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		memcpy(o->times, deft, sizeof(deft));
 		o->n_times = sizeof(deft) / sizeof(deft[0]);
 	}
-	qsort(o->times, o->n_times, sizeof(double), cmp_double);
+	qsort(o->times, o->n_times, sizeof(double), ssc_cmp_double);
 	R->t_max = o->times[o->n_times - 1];
 	for (size_t j = 0; j < o->n_times; j++) {
 		struct sscope_budget_point pt;
@@ -969,7 +961,7 @@ static void text(FILE *f, const void *opts, const void *result)
 
 	(void)opts;
 	fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
-		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : 9.80665,
+		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : SSCOPE_UNIT_GRAVITY_STD,
 		2 * PI / sscope_budget_schuler_rad_s(&o->p) / 60);
 	fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
 		ssc_fmt(a, sizeof(a), o->p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],

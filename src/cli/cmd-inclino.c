@@ -17,7 +17,6 @@
 #include "plot.h"
 #include "stage.h"
 
-#define PI 3.14159265358979323846
 #define R2D (180 / PI)
 #define MAX_VAL 16
 #define MAX_POSES 100000

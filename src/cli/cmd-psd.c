@@ -398,7 +398,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 	 * form): rate and gaps */
 	use_time = sscope_reader_time_column(rd) != NULL;
 	if (use_time) {
-		if (sscope_timing_stream_new(&ts, 1.5))
+		if (sscope_timing_stream_new(&ts, SSCOPE_TIMING_GAP_FACTOR))
 			goto nomem;
 	}
 	for (size_t k = 0; k < R->nch; k++) {

@@ -28,6 +28,13 @@ struct sscope_adc_spec;
 #define SSC_TARGET_CLONES(...)
 #endif
 
+/* pi, once for the whole tree (files of tests that define PI alike may
+ * keep doing so: the same definition) */
+#define PI 3.14159265358979323846
+
+/* qsort() comparison of doubles, ascending (NaN compares equal to all) */
+int ssc_cmp_double(const void *a, const void *b);
+
 #ifdef __cplusplus
 extern "C" {
 #endif

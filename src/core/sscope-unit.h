@@ -12,6 +12,10 @@
 
 #include "sscope-quantity.h"
 
+/** Standard gravity, m/s^2 (CGPM 1901): the "g" of units, data sheets and
+ *  the calibration's default; the one definition in the tree. */
+#define SSCOPE_UNIT_GRAVITY_STD 9.80665
+
 #ifdef __cplusplus
 extern "C" {
 #endif

@@ -19,7 +19,6 @@
 #include "sscope-term.h"
 #include "sscope-unit.h"
 
-#define PI 3.14159265358979323846
 
 enum { L = SSCOPE_UNIT_DIM_LENGTH, T = SSCOPE_UNIT_DIM_TIME, A = SSCOPE_UNIT_DIM_ANGLE,
        K = SSCOPE_UNIT_DIM_TEMP, V = SSCOPE_UNIT_DIM_VOLTAGE, C = SSCOPE_UNIT_DIM_COUNTS };
@@ -32,7 +31,7 @@ struct atom {
 };
 
 #define D(l, t, a, k, v, c) { 2 * (l), 2 * (t), 2 * (a), 2 * (k), 2 * (v), 2 * (c) }
-#define GN 9.80665
+#define GN SSCOPE_UNIT_GRAVITY_STD
 
 /* Sorted by nothing; the parser takes the longest atom that matches. */
 static const struct atom atoms[] = {

@@ -151,3 +151,10 @@ int ssc_strcasecmp(const char *a, const char *b)
 			return ca - cb;
 	}
 }
+
+int ssc_cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}

@@ -239,7 +239,8 @@ static int finish_load(struct sscope_capture *cap, size_t n, unsigned threads,
 		cap->n_nan += cap->channels[k].n_nan;
 	}
 	if (f.timed) {
-		rc = sscope_timing_split_join(&f.sp, cap->time_s, n, 1.5,
+		rc = sscope_timing_split_join(&f.sp, cap->time_s, n,
+					      SSCOPE_TIMING_GAP_FACTOR,
 					      &cap->timing, cap->gaps,
 					      SSCOPE_CAPTURE_GAPS, &cap->n_gaps);
 		if (rc == 0)

@@ -100,9 +100,9 @@ struct sscope_capture {
 	size_t mapping_len;     /**< bytes of the mapping */
 	/** the last data line had no newline (sscope_reader_unterminated) */
 	bool unterminated;
-	/** Sampling of the time column (sscope_timing_analyze() with gap
-	 *  factor 1.5), valid when has_timing: loaded captures with a time
-	 *  column of two or more increasing stamps. */
+	/** Sampling of the time column (sscope_timing_analyze() with
+	 *  SSCOPE_TIMING_GAP_FACTOR), valid when has_timing: loaded captures
+	 *  with a time column of two or more increasing stamps. */
 	struct sscope_timing timing;
 	bool has_timing;
 	/** The first SSCOPE_CAPTURE_GAPS gaps of the time column (n_gaps of
