@@ -299,6 +299,15 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 			if (!spec->analysis)
 				goto own;
 			co->units = optarg;
+			{
+				struct sscope_unit u;
+				struct sscope_diag d = { "" };
+
+				if (sscope_unit_parse(optarg, &u, &d)) {
+					rc = ssc_usage_error(co->cmd, "-u: %s", d.msg);
+					goto out;
+				}
+			}
 			break;
 		case 'o':
 			if (!spec->analysis && !spec->output_opts)

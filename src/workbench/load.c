@@ -75,6 +75,19 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		*cap = NULL;
 		return rc;
 	}
+	/* -u names the unit of data columns whose header names none: say so
+	 * when no channel took it */
+	if (co->units && *co->units) {
+		bool took = false;
+
+		for (size_t k = 0; k < (*cap)->n_channels; k++)
+			took |= !strcmp((*cap)->channels[k].col.unit_label, co->units);
+		if (!took && (*cap)->n_channels)
+			ssc_warn(co, "%s: -u %s changes nothing: the file names the unit of every channel (%s: %s%s); -u only fills in a missing unit",
+				 path, co->units, (*cap)->channels[0].col.name,
+				 (*cap)->channels[0].col.unit_label,
+				 (*cap)->n_channels > 1 ? ", ..." : "");
+	}
 	{
 		struct sscope_diag h = { "" };
 

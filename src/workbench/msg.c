@@ -9,6 +9,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -162,6 +163,21 @@ static void clean(struct line *l, const char *in)
 	}
 }
 
+/* Set while a cleanup signal is handled (output.c's handler): the other
+ * threads go on meanwhile, and one that meets a file just removed must
+ * neither say so nor end the process before the signal does. */
+static atomic_int dying;
+
+void ssc_set_interrupted(void)
+{
+	atomic_store(&dying, 1);
+}
+
+bool ssc_interrupted(void)
+{
+	return atomic_load(&dying) != 0;
+}
+
 /* "sensorscope: [OUTER: ][CMD: ][KIND][CTX: ]message[HINT]\n" on stderr,
  * the context and message cleaned; the message is also kept for
  * ssc_last_error(). */
@@ -174,6 +190,8 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 	const char *outer = outer_cmd && cmd && strcmp(outer_cmd, cmd) ?
 				    outer_cmd : NULL;
 
+	if (ssc_interrupted())
+		return; /* the files it would name are being removed */
 	buf[0] = cbuf[0] = '\0';
 	if (vasprintf(&msg, fmt, ap) < 0)
 		msg = NULL;
