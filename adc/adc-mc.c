@@ -15,6 +15,14 @@
 
 #include <gsl/gsl_statistics_double.h>
 
+#include "sscope-adc.h"
+#include "sscope-allan.h"
+#include "sscope-noise.h"
+#include "sscope-sensor.h"
+#include "sscope-sim.h"
+#include "sscope-stats.h"
+#include "sscope-term.h"
+
 /* records are simulated and converted in blocks of this many output
  * samples (M conversions each) */
 #define MC_BLOCK 4096
@@ -61,13 +69,6 @@ static int keep_curves(const struct sscope_allan_result *in,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 int sscope_adc_mc_band(const struct sscope_adc_mc *mc,
 		       enum sscope_adc_mc_curve which, size_t i, double q[3])
 {
@@ -90,7 +91,7 @@ int sscope_adc_mc_band(const struct sscope_adc_mc *mc,
 			s[k++] = v;
 	}
 	if (k) {
-		qsort(s, k, sizeof(double), cmp_double);
+		qsort(s, k, sizeof(double), ssc_cmp_double);
 		q[0] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.1);
 		q[1] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.5);
 		q[2] = gsl_stats_quantile_from_sorted_data(s, 1, k, 0.9);

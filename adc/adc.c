@@ -21,8 +21,10 @@
 #include <gsl/gsl_randist.h>
 
 #include "sscope-adc.h"
+#include "sscope-quantity.h"
+#include "sscope-sensor.h"
+#include "sscope-unit.h"
 
-#define PI 3.14159265358979323846
 
 static const char *const adc_keys[] = {
 	"name", "bits", "range", "rate", "noise", "snr", "enob", "inl", "dnl",

@@ -23,7 +23,6 @@
 
 #include "sscope-adc.h"
 
-#define PI 3.14159265358979323846
 
 static void finish_fit(struct sscope_adc_sine_fit *f)
 {

@@ -18,9 +18,10 @@
 #include <string.h>
 
 #include "sscope-adis.h"
+#include "sscope-unit.h"
 
 #define DEG (M_PI / 180.0)
-#define G0 9.80665 /* standard gravity: the data sheets' g */
+#define G0 SSCOPE_UNIT_GRAVITY_STD /* the data sheets' g */
 
 #define MODEL(n, id, g_lsb, a_lsb, g_range, a_range)                        \
 	{ n, id, DEG / (g_lsb), G0 / (a_lsb), 0.1, (g_range) * DEG,         \

@@ -14,6 +14,8 @@
 #include <string.h>
 
 #include "sscope-spiadc.h"
+#include "sscope-quantity.h"
+#include "sscope-unit.h"
 
 static int hexval(char c)
 {

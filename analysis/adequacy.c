@@ -569,13 +569,6 @@ static void ml_beta(struct ml *m, double *beta)
 
 typedef void (*cand_fn)(const struct ml *m, size_t k, double *lev, void *ctx);
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return x < y ? -1 : x > y;
-}
-
 static size_t best_candidate(struct ml *m, size_t n_cand, cand_fn make,
 			     void *ctx, double *lev, double *null_max)
 {
@@ -641,7 +634,7 @@ static size_t best_candidate(struct ml *m, size_t n_cand, cand_fn make,
 		}
 		null_max[d] = mx;
 	}
-	qsort(null_max, NULL_DRAWS, sizeof(double), cmp_double);
+	qsort(null_max, NULL_DRAWS, sizeof(double), ssc_cmp_double);
 	free(V);
 	free(z);
 	gsl_rng_free(rng);

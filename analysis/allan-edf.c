@@ -40,6 +40,8 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_chebyshev.h>
 
+#include "sscope-allan.h"
+
 #define PI_ 3.14159265358979323846
 
 /* ------------------------------------------------------------------ */

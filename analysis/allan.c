@@ -52,6 +52,7 @@
 #include "allan-internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -60,6 +61,10 @@
 #endif
 #if defined(__SSE2__) && defined(__x86_64__)
 #include <immintrin.h> /* streaming stores; the AVX-512 tile transpose */
+
+#include "sscope-allan.h"
+#include "sscope-noise.h"
+#include "sscope-quantity.h"
 #define SSC_NT_STORES 1
 #endif
 

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sscope-psd.h"
+
 int sscope_psd_band_edges(double lo_hz, double hi_hz, double nyquist_hz,
 			  struct sscope_psd_band *band)
 {

@@ -33,6 +33,11 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "sscope-budget.h"
+#include "sscope-calib.h"
+#include "sscope-quantity.h"
+#include "sscope-unit.h"
+
 static const char *const source_names[SSCOPE_BUDGET_N_SOURCES] = {
 	"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor"
 };
@@ -51,7 +56,7 @@ bool sscope_budget_source_random(enum sscope_budget_source s)
 
 static double grav(const struct sscope_budget_params *p)
 {
-	return p->gravity_m_s2 > 0 ? p->gravity_m_s2 : 9.80665;
+	return p->gravity_m_s2 > 0 ? p->gravity_m_s2 : SSCOPE_UNIT_GRAVITY_STD;
 }
 
 static double radius(const struct sscope_budget_params *p)
@@ -524,7 +529,7 @@ int sscope_budget_mc(const struct sscope_budget_mc_opts *o,
 	if (ssc_safe_scale(N) != 1)
 		frexp(N, &ne);
 	N = ldexp(N, -ne);
-	g = o->gravity_m_s2 > 0 ? o->gravity_m_s2 : 9.80665;
+	g = o->gravity_m_s2 > 0 ? o->gravity_m_s2 : SSCOPE_UNIT_GRAVITY_STD;
 	dim = o->gyro ? 3 : 2;
 	if (chol(dim, Q0, L))
 		return -EINVAL;

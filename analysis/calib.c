@@ -36,7 +36,10 @@
 #include <gsl/gsl_statistics_double.h>
 #include <gsl/gsl_vector.h>
 
-#define PI 3.14159265358979323846
+#include "sscope-calib.h"
+#include "sscope-quantity.h"
+#include "sscope-stats.h"
+
 
 /* ------------------------------------------------------------------ */
 /* Static intervals                                                    */
@@ -568,13 +571,6 @@ int sscope_calib_accel_fit(const double (*means)[3], size_t n_poses,
 	return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return x < y ? -1 : x > y;
-}
-
 /*
  * The order statistics k[0..nk) (0-based ranks among the finite values,
  * nf of them) of vs in one pass: a sorted sample of the finite values
@@ -605,7 +601,7 @@ static int band_select(const double *vs, size_t n, size_t nf, const size_t *k,
 	}
 	if (ns < BAND_SAMPLE / 2)
 		return -EAGAIN;
-	qsort(samp, ns, sizeof(double), cmp_double);
+	qsort(samp, ns, sizeof(double), ssc_cmp_double);
 	for (int j = 0; j < nk; j++) {
 		double r = (double)k[j] / (double)nf * (double)ns;
 		long a = (long)r - BAND_HALF, b = (long)r + BAND_HALF;

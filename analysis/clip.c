@@ -14,6 +14,8 @@
 
 #include <math.h>
 
+#include "sscope-clip.h"
+
 /* samples whose extremes are looked at before the exact pass */
 #define CLIP_BLOCK 512
 

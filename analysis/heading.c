@@ -29,8 +29,8 @@
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-nav.h"
+#include "sscope-term.h"
 
-#define PI 3.14159265358979323846
 
 double sscope_heading_drift_var_points(const double coef[5], const double *t,
 					const double *c, size_t n)

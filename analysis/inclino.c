@@ -23,7 +23,6 @@
 
 #include "sscope-inclino.h"
 
-#define PI 3.14159265358979323846
 #define NPAR 12 /* 3 offsets, 3 scales, 6 couplings */
 
 int sscope_inclino_tilt(enum sscope_inclino_axes axes, const double a[3],

@@ -8,6 +8,8 @@
 
 #include <math.h>
 
+#include "sscope-timing.h"
+
 int sscope_timing_intervals_sample(const double *t_s, double rate_hz, size_t n,
 				   const double *rows, size_t n_rows, size_t n_val,
 				   double *const *out)

@@ -20,7 +20,9 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define PI 3.14159265358979323846
+#include "sscope-model.h"
+#include "sscope-unit.h"
+
 
 static double step_unit(const struct sscope_model_accel *m, double t)
 {
@@ -54,7 +56,7 @@ static void finish(struct sscope_model_accel *o)
 	u = a + sqrt(a * a + 1);
 	o->bandwidth_hz = o->fn_hz * sqrt(u);
 	o->peak_gain = z < sqrt(0.5) ? 1 / (2 * z * sqrt(1 - z * z)) : 1;
-	o->displacement_per_g_m = 9.80665 / (w * w);
+	o->displacement_per_g_m = SSCOPE_UNIT_GRAVITY_STD / (w * w);
 	o->overshoot = z < 1 ? exp(-PI * z / sqrt(1 - z * z)) : 0;
 	/* scan the analytic response: the slowest mode decays with
 	 * exp(-w (z - sqrt(z^2 - 1)) t) (or exp(-z w t)) */

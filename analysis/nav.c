@@ -28,7 +28,6 @@
 
 #include "sscope-nav.h"
 
-#define PI 3.14159265358979323846
 
 static const struct sscope_nav_wgs84 wgs84 = {
 	.a = SSCOPE_NAV_WGS84_A,

@@ -26,8 +26,9 @@
 #include "sscope-navsim.h"
 #include "sscope-sim.h"
 #include "sscope-strapdown.h"
+#include "sscope-budget.h"
+#include "sscope-sensor.h"
 
-#define PI 3.14159265358979323846
 /* samples simulated per block of a run */
 #define BLOCK 1024
 
@@ -722,13 +723,6 @@ out:
 	return rc;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 /* percentile of sorted x (numpy's linear interpolation) */
 static double pct(const double *x, size_t n, double p)
 {
@@ -814,7 +808,7 @@ SSC_OMP(omp for schedule(static))
 				s->mean[c] = mean;
 				s->sd[c] = runs > 1 ? sqrt(ss / (double)(runs - 1)) : 0;
 				s->rms[c] = sqrt(sq / (double)runs);
-				qsort(x, runs, sizeof(double), cmp_double);
+				qsort(x, runs, sizeof(double), ssc_cmp_double);
 				s->p05[c] = pct(x, runs, 0.05);
 				s->p50[c] = pct(x, runs, 0.50);
 				s->p95[c] = pct(x, runs, 0.95);
@@ -829,7 +823,7 @@ SSC_OMP(omp for schedule(static))
 						     e[SSCOPE_NAVSIM_EAST]);
 					sq += x[r] * x[r];
 				}
-				qsort(x, runs, sizeof(double), cmp_double);
+				qsort(x, runs, sizeof(double), ssc_cmp_double);
 				s->horiz_p50 = pct(x, runs, 0.50);
 				s->horiz_p95 = pct(x, runs, 0.95);
 				s->horiz_rms = sqrt(sq / (double)runs);

@@ -44,9 +44,11 @@
 
 #ifdef _OPENMP
 #include <omp.h>
+
+#include "sscope-allan.h"
+#include "sscope-noise.h"
 #endif
 
-#define PI 3.14159265358979323846
 #define LN2 0.69314718055994530942
 #define NT 5   /* terms Q N B K R */
 #define NR 4   /* random terms Q N B K */

@@ -33,8 +33,8 @@
 #endif
 
 #include "sscope-sim.h"
+#include "sscope-sensor.h"
 
-#define PI 3.14159265358979323846
 /* spacing of the Gauss-Markov correlation times: 10^(2/3) */
 #define GM_RATIO 4.6415888336127788
 #define GM_MAX 48

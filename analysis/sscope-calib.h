@@ -44,14 +44,14 @@
 
 #include "sscope-core.h"
 #include "sscope-quantity.h"
-#include "sscope-capture.h"
+#include "sscope-unit.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** Standard gravity, m/s^2 (the default local gravity). */
-#define SSCOPE_CALIB_GRAVITY_STD 9.80665
+#define SSCOPE_CALIB_GRAVITY_STD SSCOPE_UNIT_GRAVITY_STD
 
 /** A half-open range of samples [start, end). */
 struct sscope_calib_interval {
@@ -498,27 +498,6 @@ struct sscope_calib_file_triad {
 	char output_unit[32];
 	struct sscope_calib_triad c;
 };
-
-/**
- * Apply calibration triads to a loaded capture, in their order
- * (accelerometers before the gyros whose G uses them): each triad whose
- * channels the capture holds is converted to the units the capture holds
- * them in (SI of the channel's unit, or raw values for channels without
- * one), applied in place (sscope_calib_apply()), and the channels take
- * the output unit (names and file columns kept).  A triad of which the
- * capture holds none of the channels is skipped.
- * @param gsens_skipped  receives bit i set when triad i has G but the
- *                       capture lacks its accelerometer channels (G is
- *                       then not corrected); may be NULL.
- * @param applied        receives the triads applied; may be NULL.
- * @return 0; -EINVAL (a triad of which only some channels are present, a
- *         channel in a unit the triad does not expect: diag names them);
- *         -EDOM when no triad applies; -ENOMEM.
- */
-int sscope_calib_apply_capture(struct sscope_capture *cap,
-			       const struct sscope_calib_file_triad *t,
-			       size_t n, unsigned *gsens_skipped,
-			       size_t *applied, struct sscope_diag *diag);
 
 /** A class of sensors with typical performance ranges. */
 struct sscope_calib_class {

@@ -26,6 +26,9 @@
 #include <math.h>
 #include <string.h>
 
+#include "sscope-clip.h"
+#include "sscope-stats.h"
+
 #define SBLOCK 1024
 
 #define SSC_SCLONES SSC_TARGET_CLONES("avx2", "default")

@@ -16,7 +16,6 @@
 #include "sscope-nav.h"
 #include "sscope-strapdown.h"
 
-#define PI 3.14159265358979323846
 
 static void cross(const double a[3], const double b[3], double r[3])
 {

@@ -202,13 +202,6 @@ static void add_note(struct sscope_tempbias_result *res, const char *text)
 		 text);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
-}
-
 /* Weighted fit of the binned rows; columns: J run offsets, u^1..u^K,
  * s (hyst), dT/dt scaled by gsc (grad). */
 static int do_fit(const struct acc *bins, size_t nbins, size_t J, int K,
@@ -736,11 +729,11 @@ static size_t detect_warmup(const struct ctx *c, const struct fit *f, size_t j)
 	}
 	if (m < 10)
 		goto out;
-	qsort(mw, m, sizeof(double), cmp_double);
+	qsort(mw, m, sizeof(double), ssc_cmp_double);
 	L = mw[m / 2];
 	for (size_t i = 0; i < m; i++)
 		mw[i] = fabs(mw[i] - L);
-	qsort(mw, m, sizeof(double), cmp_double);
+	qsort(mw, m, sizeof(double), ssc_cmp_double);
 	sd = 1.4826 * mw[m / 2];
 	if (!(sd > 0))
 		goto out;
@@ -1160,7 +1153,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 			for (size_t i = 0; i < c.b[j].nb; i++)
 				if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i]))
 					a[m++] = fabs(c.b[j].dtdt[i]);
-		qsort(a, m, sizeof(double), cmp_double);
+		qsort(a, m, sizeof(double), ssc_cmp_double);
 		db = 0.1 * a[(size_t)(0.95 * (double)(m - 1))];
 		free(a);
 		if (!(db > 0))

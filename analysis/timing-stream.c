@@ -20,6 +20,8 @@
 
 #include <gsl/gsl_statistics_double.h>
 
+#include "sscope-timing.h"
+
 struct sscope_timing_stream {
 	double factor;
 	double *block;        /* the first intervals, until the median */

@@ -22,6 +22,8 @@
 
 #include <stdio.h>
 
+#include "sscope-timing.h"
+
 /*
  * Order of the stamps: a backward step at row i is a swapped pair when
  * exchanging rows i - 1 and i restores the order around them, t[i-2] <

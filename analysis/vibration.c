@@ -37,8 +37,8 @@
 #include <gsl/gsl_statistics_double.h>
 
 #include "sscope-vib.h"
+#include "sscope-psd.h"
 
-#define PI 3.14159265358979323846
 
 /* ------------------------------------------------------------ bearings */
 

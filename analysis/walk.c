@@ -23,6 +23,8 @@
 #include "sscope-calib.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
+#include "sscope-stats.h"
+#include "sscope-term.h"
 
 /*
  * The record's moving variance as sscope_calib_variance_magnitude() gives

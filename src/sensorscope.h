@@ -42,7 +42,7 @@
  *   keeps the file, or _abort, which removes it).  The caller owns every
  *   array it passes.
  * - ABI: the shared library's libtool version (-version-info C:R:A in
- *   Makefile.am) follows libtool's rules; see README, "The library".
+ *   Makefile.am) follows libtool's rules, written there.
  * - Nothing in the library prints, exits or keeps mutable static state.
  */
 #ifndef SENSORSCOPE_H

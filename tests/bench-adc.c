@@ -15,6 +15,7 @@
  * Usage: bench-adc [runs]  (default 8).
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

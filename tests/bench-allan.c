@@ -21,6 +21,7 @@
  * Usage: bench-allan [max_n]  (default 1e8).
  */
 #include "allan-internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -12,6 +12,7 @@
  *   fraction from erf(sqrt 2) in binomial standard deviations.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

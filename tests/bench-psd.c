@@ -10,6 +10,7 @@
  * README's benchmark table for the command).
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

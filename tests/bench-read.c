@@ -8,6 +8,7 @@
  * [COLUMNS]`), e.g. the 24 h capture of tests/bench-report.sh.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

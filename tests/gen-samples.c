@@ -8,6 +8,7 @@
  * samples/README.md states each file's parameters.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

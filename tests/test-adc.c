@@ -8,6 +8,7 @@
  * Tolerances are from the estimators' statistics with fixed seeds.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -12,6 +12,7 @@
  * documented error code.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

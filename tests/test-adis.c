@@ -6,6 +6,7 @@
  * across the wrap, register command bytes, DEC_RATE arithmetic.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <string.h>

@@ -8,6 +8,7 @@
  * direct reference, noise identification, grids and every error code.
  */
 #include "allan-internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,6 +7,7 @@
  * the random walks against the binomial bound of the +-2 sigma fraction.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

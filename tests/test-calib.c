@@ -8,6 +8,7 @@
  * 0.954; the tests require 90 %, which is more than 3 binomial sd below.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,6 +6,7 @@
  * and the streaming timing psd reads while it streams.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -310,7 +311,7 @@ START_TEST(calibration_applied)
 	strcpy(t[1].channels[0], "gx");
 	strcpy(t[1].channels[1], "gy");
 	strcpy(t[1].channels[2], "gz");
-	ck_assert_int_eq(sscope_calib_apply_capture(c, t, 1, &skipped, &applied, &d), 0);
+	ck_assert_int_eq(sscope_capture_apply_calib(c, t, 1, &skipped, &applied, &d), 0);
 	ck_assert_uint_eq(applied, 1);
 	ck_assert_uint_eq(skipped, 0);
 	/* row 1: y = (1, 1.25, 1.5) g; K = (1, 2 G, 1) m/s^2 per g, so
@@ -322,18 +323,18 @@ START_TEST(calibration_applied)
 	ck_assert_int_eq(c->channels[0].col.quantity, SSCOPE_QUANTITY_ACCELERATION);
 	ck_assert_uint_eq(c->channels[2].col.index, 3);
 	/* the gyro triad: only gx is there */
-	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
+	ck_assert_int_eq(sscope_capture_apply_calib(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
 	ck_assert_ptr_nonnull(strstr(d.msg, "needs all three channels"));
 	/* a triad in g on a channel in rad/s */
 	strcpy(t[1].channels[1], "ay");
 	strcpy(t[1].channels[2], "az");
-	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
+	ck_assert_int_eq(sscope_capture_apply_calib(c, t + 1, 1, NULL, NULL, &d), -EINVAL);
 	ck_assert_ptr_nonnull(strstr(d.msg, "channel gx is in rad/s, the calibration expects g"));
 	/* no channel of it */
 	strcpy(t[1].channels[0], "wx");
 	strcpy(t[1].channels[1], "wy");
 	strcpy(t[1].channels[2], "wz");
-	ck_assert_int_eq(sscope_calib_apply_capture(c, t + 1, 1, NULL, &applied, &d), -EDOM);
+	ck_assert_int_eq(sscope_capture_apply_calib(c, t + 1, 1, NULL, &applied, &d), -EDOM);
 	ck_assert_uint_eq(applied, 0);
 	ck_assert_ptr_nonnull(strstr(d.msg, "imu.csv"));
 	sscope_capture_free(c);

@@ -10,6 +10,7 @@
  * plain definition.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -9,6 +9,7 @@
  * not change at all.  Data: a seeded Gaussian record (GSL), one spike.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -14,6 +14,7 @@
  * - refused input.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

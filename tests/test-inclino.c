@@ -9,6 +9,7 @@
  * degree calibrated, >= 0.3 degree uncompensated (both printed); refusals.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -8,6 +8,7 @@
  * and the errors (truncated, no numeric array).
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

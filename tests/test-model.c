@@ -6,6 +6,7 @@
  * definitions.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -10,6 +10,7 @@
  * wander-azimuth frame.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -26,6 +26,7 @@
  * - determinism across thread counts, trajectory tables, refused input.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

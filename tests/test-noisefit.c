@@ -10,6 +10,7 @@
  * a grid of many taus from tabulated quantile starts.
  */
 #include "allan-internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,6 +7,7 @@
  * digit strings of every length and exponent.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

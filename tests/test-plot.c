@@ -21,6 +21,7 @@
 #include "sensorscope.h"
 #include "canvas.h"
 #include "plot.h"
+#include "workbench.h"
 #include "check-main.h"
 
 START_TEST(linear_ticks)

@@ -8,6 +8,7 @@
  * IEC 61260-1 bands, spectrogram, degenerate inputs and every error code.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -10,6 +10,7 @@
  * skipped after the last column in use.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -5,6 +5,7 @@
  * through the writers, and every documented error with its location.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -16,6 +16,7 @@
  * each refused quickly with its reason (or, for the topics, read whole).
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -8,6 +8,7 @@
  * every refused parameter.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,6 +5,7 @@
  * its file, line and key.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <string.h>

@@ -6,6 +6,7 @@
  * (volts - zero) / sensitivity against hand arithmetic.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <string.h>

@@ -4,6 +4,7 @@
  * one-pass formulas destroy, NaN handling, strides, gaps and jitter.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <string.h>

@@ -11,6 +11,7 @@
  * degrees of freedom; refusals of ill-conditioned input.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,6 +6,7 @@
  * 1 g = 9.80665 m/s^2 (CGPM 1901).
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -9,6 +9,7 @@
  * with no finding.
  */
 #include "internal.h"
+#include "sensorscope.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -23,7 +23,7 @@
 
 
 #define BLOCK 256
-#define G0 9.80665
+#define G0 SSCOPE_UNIT_GRAVITY_STD
 
 struct sim {
 	struct sscope_sim *sim[6];

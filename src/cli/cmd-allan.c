@@ -663,14 +663,6 @@ static const char *const term_names[5] = {
 	"rate ramp"
 };
 
-static const char *noise_name(int alpha)
-{
-	static const char *const n[] = { "RWHM", "FWHM", "RWFM", "FFM", "WFM",
-					 "FPM", "WPM" };
-
-	return alpha >= -4 && alpha <= 2 ? n[alpha + 4] : "?";
-}
-
 static const char *term_label(enum sscope_quantity q, int t)
 {
 	if (t == 1)
@@ -788,7 +780,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			fprintf(f, "  %-27s", b5);
 		}
 		fprintf(f, " %10s  %s%s\n", ssc_fmt(b1, sizeof(b1), p->edf, 4),
-			noise_name(p->alpha), p->alpha_identified ? "" :
+			ssc_allan_noise_name(p->alpha), p->alpha_identified ? "" :
 			a->ao.alpha_fixed ? " (given)" : " (carried)");
 	}
 	if (a->ao.stride_div && r->n_points)
@@ -1013,7 +1005,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		json_object_set_new(q, "dev_hi", ssc_jreal(p->dev_hi / u->dev_scale));
 		json_object_set_new(q, "edf", ssc_jreal(p->edf));
 		json_object_set_new(q, "alpha", json_integer(p->alpha));
-		json_object_set_new(q, "noise", json_string(noise_name(p->alpha)));
+		json_object_set_new(q, "noise", json_string(ssc_allan_noise_name(p->alpha)));
 		if (p->skipped)
 			json_object_set_new(q, "skipped",
 					    json_integer((json_int_t)p->skipped));
@@ -1704,37 +1696,6 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	return rc;
 }
 
-const struct sscope_allan_result *
-ssc_allan_res_find(const struct ssc_allan_res *R, const double *data, size_t n,
-		   double rate_hz, enum sscope_allan_tau_grid grid,
-		   const struct sscope_allan_opts *ao,
-		   const struct sscope_noise_fit_opts *fo)
-{
-	const struct sscope_allan_opts *a = &R->ao;
-	const struct sscope_noise_fit_opts *f = &R->fo;
-
-	if (R->grid != grid || a->dev != ao->dev || a->input != ao->input ||
-	    a->ci_level != ao->ci_level || a->alpha_fixed != ao->alpha_fixed ||
-	    (a->alpha_fixed && a->alpha != ao->alpha) ||
-	    a->stride_div != ao->stride_div || a->threads != ao->threads ||
-	    f->ci_level != fo->ci_level || f->allowed != fo->allowed ||
-	    f->forced != fo->forced || f->model_error != fo->model_error ||
-	    f->detect_sigma != fo->detect_sigma ||
-	    f->tau_min_s != fo->tau_min_s || f->tau_max_s != fo->tau_max_s ||
-	    f->skip != fo->skip)
-		return NULL;
-	for (size_t i = 0; i < R->n_files; i++) {
-		const struct ssc_allan_file *fr = &R->fr[i];
-
-		if (!fr->cap || fr->cap->n != n || fr->cap->rate_hz != rate_hz)
-			continue;
-		for (size_t k = 0; k < fr->n_ch && k < fr->cap->n_channels; k++)
-			if (fr->cap->channels[k].data == data && fr->ch[k].res)
-				return fr->ch[k].res;
-	}
-	return NULL;
-}
-
 static json_t *json_tree(const void *opts, const void *result, size_t *slot)
 {
 	const struct ssc_allan_res *R = result;
@@ -1762,152 +1723,24 @@ struct pts_out {
 	const struct args *a;
 };
 
-/* append key (a literal) and a value's JSON text at *p */
-#define PUT_KEY(p, key) (memcpy(p, key, sizeof(key) - 1), p += sizeof(key) - 1)
-
-static char *put_real(char *p, double v)
-{
-	return p + ssc_json_real_text(p, v);
-}
-
-static char *put_int(char *p, long long v)
-{
-	char t[24];
-	int n = 0;
-	unsigned long long a = v < 0 ? 0 - (unsigned long long)v :
-				       (unsigned long long)v;
-
-	if (v < 0)
-		*p++ = '-';
-	do {
-		t[n++] = (char)('0' + a % 10);
-		a /= 10;
-	} while (a);
-	while (n)
-		*p++ = t[--n];
-	return p;
-}
-
-/* the JSON text of one point (a leading comma unless first) into line,
- * at most POINT_LINE_MAX bytes; returns its length */
-#define POINT_LINE_MAX 512 /* 9 numbers of at most 24 characters, keys, a name */
-static size_t point_line(char *line, const struct sscope_allan_point *pt,
-			 const struct args *a, double sc, bool first)
-{
-	const char *nn = noise_name(pt->alpha);
-	char *p = line;
-
-	if (!first)
-		*p++ = ',';
-	PUT_KEY(p, "{\"tau_s\":");
-	p = put_real(p, pt->tau_s);
-	PUT_KEY(p, ",\"m\":");
-	p = put_int(p, (long long)pt->m);
-	PUT_KEY(p, ",\"terms\":");
-	p = put_int(p, (long long)pt->terms);
-	PUT_KEY(p, ",\"dev\":");
-	p = put_real(p, pt->dev / sc);
-	PUT_KEY(p, ",\"dev_lo\":");
-	p = put_real(p, pt->dev_lo / sc);
-	PUT_KEY(p, ",\"dev_hi\":");
-	p = put_real(p, pt->dev_hi / sc);
-	PUT_KEY(p, ",\"edf\":");
-	p = put_real(p, pt->edf);
-	PUT_KEY(p, ",\"alpha\":");
-	p = put_int(p, pt->alpha);
-	PUT_KEY(p, ",\"noise\":\"");
-	memcpy(p, nn, strlen(nn));
-	p += strlen(nn);
-	*p++ = '"';
-	if (pt->skipped) {
-		PUT_KEY(p, ",\"skipped\":");
-		p = put_int(p, (long long)pt->skipped);
-	}
-	if (pt->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
-	    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
-		PUT_KEY(p, ",\"stride\":");
-		p = put_int(p, (long long)pt->stride);
-		PUT_KEY(p, ",\"edf_full\":");
-		p = put_real(p, pt->edf_full);
-	}
-	*p++ = '}';
-	return (size_t)(p - line);
-}
-
-/* points [lo, hi) of a channel formatted into one buffer (the later half
- * of a long grid, on a second thread while the first half is written) */
-struct points_part {
-	const struct sscope_allan_point *pts;
-	const struct args *a;
-	double sc;
-	size_t lo, hi;
-	char *buf; /* (hi - lo) * POINT_LINE_MAX bytes */
-	size_t len;
-	pthread_t tid;
-};
-
-static void *points_part_run(void *arg)
-{
-	struct points_part *pp = arg;
-	char *p = pp->buf;
-
-	for (size_t i = pp->lo; i < pp->hi; i++)
-		p += point_line(p, &pp->pts[i], pp->a, pp->sc, i == 0);
-	pp->len = (size_t)(p - pp->buf);
-	return NULL;
-}
-
-/* grids from this many points split their text in two halves */
-#define POINTS_SPLIT 2048
-
 static bool points_text(FILE *f, size_t slot, void *ctx)
 {
 	const struct pts_out *po = ctx;
-	const struct ssc_allan_file *fr = NULL;
 	const struct ssc_allan_chan *c = NULL;
 	const struct args *a = po->a;
-	struct points_part pp = { 0 };
-	bool ok, split = false;
-	size_t n, upto;
 
 	/* slots number the channels of the files in order */
 	for (size_t i = 0; i < po->R->n_files && !c; i++) {
-		if (slot < po->R->fr[i].n_ch) {
-			fr = &po->R->fr[i];
-			c = &fr->ch[slot];
-		} else {
+		if (slot < po->R->fr[i].n_ch)
+			c = &po->R->fr[i].ch[slot];
+		else
 			slot -= po->R->fr[i].n_ch;
-		}
 	}
 	if (!c)
 		return false;
-	n = upto = c->res->n_points;
-	if (n >= POINTS_SPLIT && a->ao.threads != 1) {
-		pp.pts = c->res->points;
-		pp.a = a;
-		pp.sc = c->u.dev_scale;
-		pp.lo = n / 2;
-		pp.hi = n;
-		pp.buf = malloc((pp.hi - pp.lo) * POINT_LINE_MAX);
-		if (pp.buf && pthread_create(&pp.tid, NULL, points_part_run, &pp) == 0) {
-			split = true;
-			upto = pp.lo;
-		}
-	}
-	ok = fputc('[', f) != EOF;
-	for (size_t i = 0; ok && i < upto; i++) {
-		char line[POINT_LINE_MAX];
-		size_t len = point_line(line, &c->res->points[i], a,
-					c->u.dev_scale, i == 0);
-
-		ok = fwrite(line, 1, len, f) == len;
-	}
-	if (split) {
-		pthread_join(pp.tid, NULL);
-		ok = ok && fwrite(pp.buf, 1, pp.len, f) == pp.len;
-	}
-	free(pp.buf);
-	return ok && fputc(']', f) != EOF;
+	return ssc_allan_points_text(f, c->res->points, c->res->n_points,
+				     c->u.dev_scale, a->ao.dev,
+				     a->ao.threads != 1);
 }
 
 /* the JSON as json() dumps, the points written as text (a tree of an

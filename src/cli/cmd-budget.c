@@ -14,7 +14,6 @@
 #include "plot.h"
 #include "results.h"
 
-#define PI 3.14159265358979323846
 #define MAX_TIMES 256
 #define MAX_ERR 16
 
@@ -590,23 +589,6 @@ static void take_upstream(struct opts *o, const char **from,
 	}
 }
 
-/* The quantity (gyro or accelerometer) whose term t has the SI unit
- * si_unit, by dimension; SSCOPE_QUANTITY_UNKNOWN for others. */
-static enum sscope_quantity term_quantity(const char *si_unit, enum sscope_term t)
-{
-	static const enum sscope_quantity qs[2] = { SSCOPE_QUANTITY_ANGULAR_RATE,
-						    SSCOPE_QUANTITY_ACCELERATION };
-	struct sscope_unit u, w;
-
-	if (!si_unit || sscope_unit_parse(si_unit, &u, NULL))
-		return SSCOPE_QUANTITY_UNKNOWN;
-	for (int i = 0; i < 2; i++)
-		if (!sscope_unit_parse(sscope_term_si_unit(qs[i], t), &w, NULL) &&
-		    sscope_unit_compatible(&u, &w))
-			return qs[i];
-	return SSCOPE_QUANTITY_UNKNOWN;
-}
-
 /* A number of a JSON result (NaN when absent or null). */
 static double jnum(json_t *j)
 {
@@ -637,10 +619,7 @@ static int load_result(struct opts *o, const char *path, const char **from)
 
 		json_array_foreach(a, i, ch) {
 			json_t *nz = json_object_get(ch, "noise");
-			enum sscope_quantity q = term_quantity(
-				json_string_value(json_object_get(json_object_get(nz, "N"),
-								  "si_unit")),
-				SSCOPE_TERM_N);
+			enum sscope_quantity q = ssc_allan_json_rate_quantity(ch);
 
 			used += take_allan_axis(o, from, q,
 						jnum(json_object_get(json_object_get(nz, "N"), "si")),
@@ -714,13 +693,6 @@ static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
 		return SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return (x > y) - (x < y);
 }
 
 static void init(void *opts)
@@ -816,7 +788,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		memcpy(o->times, deft, sizeof(deft));
 		o->n_times = sizeof(deft) / sizeof(deft[0]);
 	}
-	qsort(o->times, o->n_times, sizeof(double), cmp_double);
+	qsort(o->times, o->n_times, sizeof(double), ssc_cmp_double);
 	R->t_max = o->times[o->n_times - 1];
 	for (size_t j = 0; j < o->n_times; j++) {
 		struct sscope_budget_point pt;
@@ -989,7 +961,7 @@ static void text(FILE *f, const void *opts, const void *result)
 
 	(void)opts;
 	fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
-		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : 9.80665,
+		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : SSCOPE_UNIT_GRAVITY_STD,
 		2 * PI / sscope_budget_schuler_rad_s(&o->p) / 60);
 	fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
 		ssc_fmt(a, sizeof(a), o->p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],

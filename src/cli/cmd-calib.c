@@ -15,7 +15,6 @@
 
 #include "plot.h"
 
-#define PI 3.14159265358979323846
 #define MAX_IV 4096
 
 enum mode { M_MULTIPOS = 0, M_SIXPOS, M_RATE_TABLE, M_TILT };
@@ -399,7 +398,7 @@ static json_t *triad_json(const struct ssc_calib_triad_out *o)
 			for (int i = 0; i < 3; i++)
 				for (int j2 = 0; j2 < 3; j2++)
 					G[i][j2] = c->gsens[i][j2] * 180 / PI *
-						   3600 * 9.80665;
+						   3600 * SSCOPE_UNIT_GRAVITY_STD;
 			json_object_set_new(em, "g_dependent_bias_deg_h_per_g",
 					    jmat(G, 1));
 		}
@@ -487,7 +486,7 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 
 		for (int i = 0; i < 3; i++)
 			bmax = fmax(bmax, fabs(c->bias[i]));
-		if (o->q == SSCOPE_QUANTITY_ACCELERATION && bmax >= 1e-3 * 9.80665)
+		if (o->q == SSCOPE_QUANTITY_ACCELERATION && bmax >= 1e-3 * SSCOPE_UNIT_GRAVITY_STD)
 			bu = "mg";
 		fprintf(f, "    error model (textbook eqs 93-94): ");
 		for (int i = 0; i < 3; i++) {

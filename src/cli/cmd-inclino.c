@@ -17,7 +17,6 @@
 #include "plot.h"
 #include "stage.h"
 
-#define PI 3.14159265358979323846
 #define R2D (180 / PI)
 #define MAX_VAL 16
 #define MAX_POSES 100000
@@ -742,76 +741,6 @@ static int app_handler(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	return SSC_EXIT_USAGE;
-}
-
-static int get3(json_t *a, double v[3])
-{
-	if (!json_is_array(a) || json_array_size(a) != 3)
-		return -1;
-	for (int i = 0; i < 3; i++) {
-		json_t *x = json_array_get(a, (size_t)i);
-
-		if (!json_is_number(x))
-			return -1;
-		v[i] = json_number_value(x);
-	}
-	return 0;
-}
-
-int ssc_inclino_lut_read(const char *cmd, const char *path,
-			 struct sscope_inclino_lut *lut)
-{
-	json_error_t je;
-	json_t *root = json_load_file(path, 0, &je), *l, *nodes, *g;
-	struct sscope_diag d = { "" };
-	int rc = SSC_EXIT_FAIL;
-
-	if (!root) {
-		ssc_err(cmd, "%s: %s", path, je.text);
-		return SSC_EXIT_FAIL;
-	}
-	l = json_object_get(root, "lut");
-	if (!l)
-		l = root;
-	nodes = json_object_get(l, "nodes");
-	g = json_object_get(l, "gravity_m_s2");
-	memset(lut, 0, sizeof(*lut));
-	if (!json_is_array(nodes) || !json_is_number(g)) {
-		ssc_err(cmd, "%s: not a look-up table (no \"lut\" with \"nodes\" and \"gravity_m_s2\")",
-			path);
-		goto out;
-	}
-	lut->gravity_m_s2 = json_number_value(g);
-	if (json_array_size(nodes) > SSCOPE_INCLINO_MAX_NODES) {
-		ssc_err(cmd, "%s: more than %d nodes", path, SSCOPE_INCLINO_MAX_NODES);
-		goto out;
-	}
-	lut->n = json_array_size(nodes);
-	for (size_t i = 0; i < lut->n; i++) {
-		json_t *n = json_array_get(nodes, i), *t = json_object_get(n, "temp_degc"),
-		       *m = json_object_get(n, "misalignment");
-		struct sscope_inclino_params *p = &lut->p[i];
-
-		if (!json_is_number(t) || get3(json_object_get(n, "offset_m_s2"), p->offset) ||
-		    get3(json_object_get(n, "scale"), p->scale) || !json_is_array(m) ||
-		    json_array_size(m) != 3 || get3(json_array_get(m, 0), p->mis[0]) ||
-		    get3(json_array_get(m, 1), p->mis[1]) || get3(json_array_get(m, 2), p->mis[2])) {
-			ssc_err(cmd, "%s: node %zu: needs temp_degc, offset_m_s2[3], scale[3], misalignment[3][3]",
-				path, i + 1);
-			goto out;
-		}
-		lut->temp_degc[i] = json_number_value(t);
-		for (int a = 0; a < 3; a++)
-			p->mis[a][a] = 0;
-	}
-	if (sscope_inclino_check(lut, &d)) {
-		ssc_err(cmd, "%s: %s", path, d.msg);
-		goto out;
-	}
-	rc = 0;
-out:
-	json_decref(root);
-	return rc;
 }
 
 static int apply_main(int argc, char **argv)

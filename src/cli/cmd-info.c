@@ -86,7 +86,7 @@ static void receive_times(const struct sscope_capture *cap,
 
 	if (!rx || !cap->time_s || cap->n < 2)
 		return;
-	fi->have_rx = sscope_timing_analyze(rx, cap->n, 1.5, &fi->rx, NULL, 0,
+	fi->have_rx = sscope_timing_analyze(rx, cap->n, SSCOPE_TIMING_GAP_FACTOR, &fi->rx, NULL, 0,
 					    NULL, scratch) == 0;
 	if (!fi->have_rx)
 		return;

@@ -12,7 +12,6 @@
 
 #include "plot.h"
 
-#define PI 3.14159265358979323846
 #define NSTEP 21
 
 enum {
@@ -457,7 +456,7 @@ static int do_fog(struct ssc_common *co, struct opts *o)
 int ssc_cmd_model(int argc, char **argv)
 {
 	struct ssc_common co;
-	struct opts o = { .step = 9.80665 };
+	struct opts o = { .step = SSCOPE_UNIT_GRAVITY_STD };
 	int first, rc;
 	bool accel;
 

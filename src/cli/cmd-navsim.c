@@ -18,7 +18,6 @@
 #include "plot.h"
 #include "stage.h"
 
-#define PI 3.14159265358979323846
 #define D2R (PI / 180)
 
 enum {

@@ -364,101 +364,6 @@ static const char *result_error(int rc, double fs)
 }
 
 /* end of the last whole segment of n samples */
-/* samples per piece of a mapped record (32 MiB): the estimate copies
- * up to a batch of segments (4 MiB for nperseg 4096) across each end */
-#define MAP_PIECE ((size_t)1 << 22)
-
-/*
- * A raw record of one float64 channel in the host's byte order, without
- * scaling or unit conversion, in a regular file, is fed to the estimate
- * straight from a mapping of the file: whole batches of segments without
- * a copy, no reader thread taking a core from the transforms, the pages
- * given back behind.  The same segments in the same order: the same
- * numbers.  The result is computed here (the rate is given).  A
- * non-finite sample (a segment the estimate refuses, or one after the
- * last segment) or any failure resets the estimate and returns false: the
- * streamed path then reads the record and reports as before.
- */
-static bool fed_from_mapping(const struct ssc_common *co, struct run *R,
-			     struct sscope_reader *rd)
-{
-	const struct sscope_capture_column *col;
-	const char *l = co->raw;
-	struct sscope_psd *p = R->ch[0].p;
-	size_t nch = 0, vbytes = 0, n, pos = 0, dropped = 0, seg_end;
-	long pg = sysconf(_SC_PAGESIZE);
-	size_t ps = pg > 0 ? (size_t)pg : 4096;
-	const double *x;
-	struct stat st;
-	void *map;
-	bool ok = true;
-	int fd;
-
-	if (!l || strncmp(l, "f64:", 4) || strstr(l, ":be") || co->allow_nan ||
-	    (co->scale != 0 && co->scale != 1) || co->offset != 0 ||
-	    ssc_progress_on(co) || !(co->rate_hz > 0) || R->nch != 1 ||
-	    sscope_reader_n_columns(rd) != 1 || sscope_reader_time_column(rd) ||
-	    sscope_reader_temp_column(rd) ||
-	    sscope_reader_raw_layout_check(l, &nch, &vbytes, NULL) || nch != 1 ||
-	    vbytes != sizeof(double) || !strcmp(R->path, "-"))
-		return false;
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-	if (!strstr(l, ":be"))
-		return false;
-#endif
-	col = sscope_reader_channel(rd, 0);
-	if (!col || col->unit.scale != 1 || col->unit.offset != 0)
-		return false;
-	fd = open(R->path, O_RDONLY | O_CLOEXEC);
-	if (fd < 0)
-		return false;
-	if (fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size <= 0 ||
-	    st.st_size % sizeof(double)) {
-		close(fd);
-		return false;
-	}
-	map = mmap(NULL, (size_t)st.st_size, PROT_READ, MAP_PRIVATE, fd, 0);
-	close(fd);
-	if (map == MAP_FAILED)
-		return false;
-	x = map;
-	n = (size_t)st.st_size / sizeof(double);
-	while (ok && pos < n) {
-		size_t len = n - pos < MAP_PIECE ? n - pos : MAP_PIECE;
-		size_t a = pos * sizeof(double) / ps * ps;
-
-#ifdef MADV_POPULATE_READ
-		madvise((char *)map + a, (pos + len) * sizeof(double) - a,
-			MADV_POPULATE_READ);
-#endif
-		ok = sscope_psd_feed(p, x + pos, 1, len) == 0;
-		pos += len;
-		/* every sample fed is transformed or copied into the stage */
-		a = pos * sizeof(double) / ps * ps;
-		if (a > dropped) {
-			madvise((char *)map + dropped, a - dropped, MADV_DONTNEED);
-			dropped = a;
-		}
-	}
-	/* the samples after the last whole segment, which the estimate
-	 * never looks at but the reader refuses when not finite */
-	seg_end = sscope_psd_segments_end(p, n);
-	for (size_t k = seg_end; ok && k < n; k++)
-		ok = isfinite(x[k]);
-	munmap(map, (size_t)st.st_size);
-	/* the segments still staged are transformed by the result: a
-	 * refusal there is a non-finite sample (or an error the streamed
-	 * path reports in its words) */
-	if (ok)
-		ok = sscope_psd_result(p, co->rate_hz, &R->ch[0].s) == 0;
-	if (!ok) {
-		sscope_psd_reset(p);
-		return false;
-	}
-	R->rows = n;
-	return true;
-}
-
 /* Streamed Welch estimate of every selected channel. */
 static int stream(const struct ssc_common *co, struct run *R)
 {
@@ -493,7 +398,7 @@ static int stream(const struct ssc_common *co, struct run *R)
 	 * form): rate and gaps */
 	use_time = sscope_reader_time_column(rd) != NULL;
 	if (use_time) {
-		if (sscope_timing_stream_new(&ts, 1.5))
+		if (sscope_timing_stream_new(&ts, SSCOPE_TIMING_GAP_FACTOR))
 			goto nomem;
 	}
 	for (size_t k = 0; k < R->nch; k++) {
@@ -505,7 +410,9 @@ static int stream(const struct ssc_common *co, struct run *R)
 			goto out;
 		}
 	}
-	if (!use_time && fed_from_mapping(co, R, rd)) {
+	if (!use_time && ssc_psd_fed_from_mapping(co, R->path, R->nch, rd,
+						     R->ch[0].p, &R->ch[0].s,
+						     &R->rows)) {
 		have_result = true;
 		goto fed;
 	}

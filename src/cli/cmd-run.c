@@ -5,6 +5,7 @@
  * read, the outputs.
  * sensorscope report FILE...: the same with a scene inferred from the data.
  */
+#include "cli.h"
 #include "scene.h"
 
 #include <string.h>
@@ -74,7 +75,7 @@ int ssc_cmd_run(int argc, char **argv)
 				       "--format: a report is a folder; its formats are the scene's [report] formats");
 	/* errors of the stages say "sensorscope: run: STAGE: ..." */
 	ssc_set_outer(co.cmd);
-	rc = ssc_scene_load(co.cmd, argv[first], &sc);
+	rc = ssc_scene_load(co.cmd, argv[first], ssc_scene_graph(), &sc);
 	if (rc)
 		return rc;
 	if (co.output)
@@ -134,7 +135,8 @@ int ssc_cmd_report(int argc, char **argv)
 	if (rc)
 		return rc;
 	rc = ssc_scene_infer(&co, argv + first, (size_t)(argc - first),
-			     co.output ? co.output : "sensorscope-report", &sc);
+			     co.output ? co.output : "sensorscope-report",
+			     ssc_scene_graph(), &sc);
 	if (rc)
 		return rc;
 	if (o.dry_run)

@@ -16,7 +16,6 @@
 #include "plot.h"
 #include "stage.h"
 
-#define PI 3.14159265358979323846
 
 enum {
 	OPT_RPM = 256,
@@ -431,13 +430,6 @@ static void text_channel(FILE *f, const struct args *a, const struct chres *c)
 
 /* ------------------------------------------------------------ plot */
 
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-
-	return x < y ? -1 : x > y;
-}
-
 /* a dashed fault-frequency line; the label goes into the legend */
 static void marker(struct ssc_ax *ax, double x, uint32_t color,
 		   const char *label)
@@ -503,7 +495,7 @@ static int plot(const struct ssc_common *co, const void *opts,
 
 			if (c) {
 				memcpy(c, r->accel.value, r->accel.n_bins * sizeof(double));
-				qsort(c, r->accel.n_bins, sizeof(double), cmp_double);
+				qsort(c, r->accel.n_bins, sizeof(double), ssc_cmp_double);
 				amp_floor = c[r->accel.n_bins / 2];
 				free(c);
 			}

@@ -17,7 +17,6 @@
 #include "results.h"
 #include "stage.h"
 
-#define PI 3.14159265358979323846
 #define D2R (PI / 180)
 #define N_TABLE 10
 

@@ -74,32 +74,6 @@ static void usage(FILE *f)
 		"feature not built.\n");
 }
 
-/*
- * OpenMP's worker threads busy-wait between parallel regions by default
- * (libgomp spins some 300,000 rounds before sleeping), taking a core from
- * the thread that reads the next block and from everything else on the
- * machine: a streamed psd spent half its CPU spinning.  sensorscope's
- * parallel regions are few and long, so passive waiting costs nothing.
- * libgomp reads OMP_WAIT_POLICY once, when it is loaded (before main), so
- * the command runs itself again with the policy set (about a millisecond);
- * a policy the user set is kept, and `info`, which starts no OpenMP
- * thread, is not run twice.
- */
-static void omp_wait_passive(char **argv)
-{
-	char exe[PATH_MAX];
-	ssize_t n;
-
-	if (getenv("OMP_WAIT_POLICY"))
-		return;
-	n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
-	if (n <= 0 || setenv("OMP_WAIT_POLICY", "passive", 1))
-		return;
-	exe[n] = '\0';
-	execv(exe, argv);
-	unsetenv("OMP_WAIT_POLICY"); /* not run again: carry on spinning */
-}
-
 int main(int argc, char **argv)
 {
 	int rc;
@@ -137,7 +111,7 @@ int main(int argc, char **argv)
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		if (!strcmp(argv[1], commands[i].name)) {
 			if (commands[i].run != ssc_cmd_info)
-				omp_wait_passive(argv);
+				ssc_omp_wait_passive(argv);
 			rc = commands[i].run(argc - 1, argv + 1);
 			/* help, plans and summaries printed on stdout */
 			if (ssc_stdout_finish(commands[i].name) && !rc)

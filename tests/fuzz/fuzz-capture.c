@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "sensorscope.h"
 #include "sscope-allan.h"
 #include "sscope-psd.h"
 #include "sscope-vib.h"

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "internal.h"
+#include "sensorscope.h"
 
 #define SEP "\n#FILE\n"
 #define MAX_PARTS 8

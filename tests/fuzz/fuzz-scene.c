@@ -94,7 +94,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	struct ssc_scene *sc;
 
 	write_file(scene, data, size);
-	if (ssc_scene_load("run", scene, &sc) == SSC_EXIT_OK) {
+	if (ssc_scene_load("run", scene, ssc_scene_graph(), &sc) == SSC_EXIT_OK) {
 		if (devnull)
 			ssc_scene_plan(sc, devnull);
 		ssc_scene_free(sc);

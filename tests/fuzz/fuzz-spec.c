@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "internal.h"
+#include "sensorscope.h"
 #include "sscope-adc.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)

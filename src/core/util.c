@@ -1,0 +1,160 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Version, error strings and small helpers shared by the library.
+ */
+#include "internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+const char *sscope_version(void)
+{
+	return PACKAGE_VERSION;
+}
+
+const char *sscope_strerror(int err)
+{
+	if (err < 0)
+		err = -err;
+	switch (err) {
+	case 0:
+		return "success";
+	case EINVAL:
+		return "invalid parameter";
+	case EDOM:
+		return "data do not fit the request";
+	case ERANGE:
+		return "value out of range";
+	case ENOMEM:
+		return "out of memory";
+	case ENOTSUP:
+		return "feature not built in";
+	case EIO:
+		return "input/output error";
+	case ETIMEDOUT:
+		return "timed out";
+	case ENODEV:
+		return "no such device";
+	case EBADMSG:
+		return "malformed file or frame";
+	case ENOENT:
+		return "no such file or directory";
+	case EACCES:
+		return "permission denied";
+	case EISDIR:
+		return "is a directory";
+	case ENOSPC:
+		return "no space left on device";
+	default:
+		return strerror(err); /* the OS's text (read-only file system, ...) */
+	}
+}
+
+int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)
+{
+	va_list ap;
+
+	if (diag) {
+		va_start(ap, fmt);
+		vsnprintf(diag->msg, sizeof(diag->msg), fmt, ap);
+		va_end(ap);
+	}
+	return err;
+}
+
+void *ssc_alloc_array(size_t count, size_t size)
+{
+	size_t bytes;
+
+	if (!ssc_mul(count, size, &bytes))
+		return NULL;
+	return malloc(bytes ? bytes : 1);
+}
+
+/* the whole pages inside [p, p + bytes): their start in *lo, their
+ * number returned; *ps the page size */
+static size_t inner_pages(const void *p, size_t bytes, uintptr_t *lo,
+			  uintptr_t *ps)
+{
+	long pg = sysconf(_SC_PAGESIZE);
+	uintptr_t hi;
+
+	*ps = pg > 0 ? (uintptr_t)pg : 4096;
+	*lo = ((uintptr_t)p + *ps - 1) / *ps * *ps;
+	hi = ((uintptr_t)p + bytes) / *ps * *ps;
+	return hi > *lo ? (size_t)((hi - *lo) / *ps) : 0;
+}
+
+void ssc_prefault(void *p, size_t bytes)
+{
+#ifdef MADV_POPULATE_WRITE
+	uintptr_t a, ps;
+	size_t pages = inner_pages(p, bytes, &a, &ps);
+
+	if (pages) /* a hint: EINVAL on older kernels is harmless */
+		(void)madvise((void *)a, pages * ps, MADV_POPULATE_WRITE);
+#else
+	(void)p;
+	(void)bytes;
+#endif
+}
+
+void ssc_release_pages(void *p, size_t bytes, unsigned threads)
+{
+#ifdef MADV_DONTNEED
+	uintptr_t lo, ps;
+	const size_t pages = inner_pages(p, bytes, &lo, &ps);
+	const unsigned T = threads ? threads : 1;
+
+SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) if (pages >= 4096))
+	for (unsigned t = 0; t < T; t++) {
+		size_t p0 = pages * t / T, p1 = pages * (t + 1) / T;
+
+		if (p1 > p0)
+			(void)madvise((void *)(lo + p0 * ps), (p1 - p0) * ps,
+				      MADV_DONTNEED);
+	}
+#else
+	(void)p;
+	(void)bytes;
+	(void)threads;
+#endif
+}
+
+char *ssc_strdup(const char *s)
+{
+	size_t n;
+	char *d;
+
+	if (!s)
+		return NULL;
+	n = strlen(s) + 1;
+	d = malloc(n);
+	if (d)
+		memcpy(d, s, n);
+	return d;
+}
+
+int ssc_strcasecmp(const char *a, const char *b)
+{
+	for (;; a++, b++) {
+		int ca = (unsigned char)*a, cb = (unsigned char)*b;
+
+		if (ca >= 'A' && ca <= 'Z')
+			ca += 'a' - 'A';
+		if (cb >= 'A' && cb <= 'Z')
+			cb += 'a' - 'A';
+		if (ca != cb || !ca)
+			return ca - cb;
+	}
+}
+
+int ssc_cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
