@@ -104,7 +104,7 @@ for d, _ in LAYERS:
         if os.path.isdir(sub):
             objs += [os.path.join(sub, o) for o in sorted(os.listdir(sub))
                      if o.endswith('.o')]
-defs, undef, seen = {}, {}, set()
+defs, undef, seen, which = {}, {}, set(), {}
 for o in objs:
     d = os.path.relpath(os.path.dirname(o), build)
     if d.endswith('/.libs'):
@@ -117,13 +117,21 @@ for o in objs:
     if s is None or s in seen:
         continue
     seen.add(s)
-    r = subprocess.run(NM.split() + [o], capture_output=True, text=True)
-    for line in r.stdout.splitlines():
-        p = line.split()
-        if len(p) == 3 and p[1] in 'TDBRVGS':
-            defs.setdefault(p[2], s)
-        elif len(p) == 2 and p[0] == 'U':
-            undef.setdefault(s, set()).add(p[1])
+    which[o] = s
+# one nm for all of them: each object's symbols follow a line "OBJECT:"
+r = subprocess.run(NM.split() + list(which), capture_output=True, text=True)
+s = None
+for line in r.stdout.splitlines():
+    if line.endswith(':') and line[:-1] in which:
+        s = which[line[:-1]]
+        continue
+    p = line.split()
+    if s is None:
+        continue
+    if len(p) == 3 and p[1] in 'TDBRVGS':
+        defs.setdefault(p[2], s)
+    elif len(p) == 2 and p[0] == 'U':
+        undef.setdefault(s, set()).add(p[1])
 bad = []
 for s, us in sorted(undef.items()):
     for u in sorted(us):
