@@ -493,53 +493,63 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 }
 
 /*
- * Read-offs where the fitted model (squared coefficients th) says each
- * term dominates: N and K at the point where their share of the model
- * AVAR is largest, B at the minimum of the curve; each only when its
- * share there is at least one half.
+ * Read-offs where the fitted model of the present terms (squares th, 0
+ * for a term not present) says each term dominates: only a present term,
+ * only at points with EDF >= READOFF_EDF_MIN where the term's share q of
+ * the model AVAR is at least READOFF_SHARE_MIN; of those, the point where
+ * the read-off's expected relative error is least: the others' bias
+ * 1/sqrt(q) - 1 and the sampling sd 1/sqrt(2 EDF) of a deviation added in
+ * quadrature.  B is read as deviation / 0.6643 there (the bottom of the
+ * curve, where B's share is largest), N and K on their slope lines.  A
+ * read-off at the longest tau (EDF near 1) or beside a term that adds as
+ * much as B does is no read-off: NaN.
  */
+#define READOFF_EDF_MIN 10.0
+#define READOFF_SHARE_MIN 0.75
+
 static void readoff_model(const struct sscope_allan_point *pts, size_t n,
 			  const double th[5], struct sscope_noise_readoff *r)
 {
-	double sn = 0, sk = 0, dmin = INFINITY;
-	size_t imin = SIZE_MAX;
+	static const int term[3] = { 1, 2, 3 }; /* N, B, K */
+	double best[3] = { INFINITY, INFINITY, INFINITY };
 
 	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
 	for (size_t i = 0; i < n; i++) {
 		const struct sscope_allan_point *p = &pts[i];
-		double mu = 0, qn, qk;
+		double mu = 0;
 
-		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0))
+		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0) ||
+		    !(p->edf >= READOFF_EDF_MIN))
 			continue;
 		for (int j = 0; j < 5; j++)
-			mu += th[j] * basis(j, p->tau_s);
+			mu += fmax(th[j], 0) * basis(j, p->tau_s);
 		if (!(mu > 0))
 			continue;
-		qn = th[1] * basis(1, p->tau_s) / mu;
-		qk = th[3] * basis(3, p->tau_s) / mu;
-		if (qn >= 0.5 && qn > sn) {
-			sn = qn;
-			r->n = p->dev * sqrt(p->tau_s);
-			r->n_tau_s = p->tau_s;
-		}
-		if (qk >= 0.5 && qk > sk) {
-			sk = qk;
-			r->k = p->dev * sqrt(3 / p->tau_s);
-			r->k_tau_s = p->tau_s;
-		}
-		if (p->dev < dmin) {
-			dmin = p->dev;
-			imin = i;
-		}
-	}
-	if (imin != SIZE_MAX) {
-		double t = pts[imin].tau_s, mu = 0;
+		for (int t = 0; t < 3; t++) {
+			double q = fmax(th[term[t]], 0) * basis(term[t], p->tau_s) / mu;
+			double bias, err;
 
-		for (int j = 0; j < 5; j++)
-			mu += th[j] * basis(j, t);
-		if (mu > 0 && th[2] * basis(2, t) / mu >= 0.5) {
-			r->b = dmin / sqrt(2 * LN2 / PI);
-			r->b_tau_s = t;
+			if (!(q >= READOFF_SHARE_MIN))
+				continue;
+			bias = 1 / sqrt(q) - 1;
+			err = bias * bias + 1 / (2 * p->edf);
+			if (!(err < best[t]))
+				continue;
+			best[t] = err;
+			switch (t) {
+			case 0:
+				r->n = p->dev * sqrt(p->tau_s);
+				r->n_tau_s = p->tau_s;
+				break;
+			case 1:
+				r->b = p->dev / sqrt(2 * LN2 / PI);
+				r->b_tau_s = p->tau_s;
+				break;
+			default:
+				r->k = p->dev * sqrt(3 / p->tau_s);
+				r->k_tau_s = p->tau_s;
+				break;
+			}
 		}
 	}
 }
@@ -970,10 +980,12 @@ static double invert_bound(struct fitdata *f, unsigned mask,
  * The ordering of the acceptance regions (which outcomes count as
  * "extreme" for a truth b) goes from one-sided, for a b the record cannot
  * resolve, to central, for a b it resolves: the upper tail holds
- * (alpha / 2) P(resolved | b) of the probability, the lower tail
- * beta(b) = alpha - that, P(resolved | b) ~ Phi(b / sd(b) - zdet).  Reporting a
- * one-sided "below X" for a term not resolved and a two-sided interval for
- * a resolved one then covers at the level whatever the truth (reporting
+ * (alpha / 2) P(present | b) of the probability, the lower tail
+ * beta(b) = alpha - that, P(present | b) ~ Phi(b / sd_sel(b) - zdet) with
+ * sd_sel(b) the sd of the square in the nested fit that tests it (the
+ * present terms with this one; select_terms()).  Reporting a one-sided
+ * "below X" for a term not present and a two-sided interval for a present
+ * one then covers at the level whatever the truth (reporting
  * each at its own nominal level flip-flops and under-covers where a term
  * is resolved about half the time; G. J. Feldman, R. D. Cousins, Phys.
  * Rev. D 57, 3873, 1998, discuss the same problem).
@@ -994,6 +1006,9 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 struct boot {
 	size_t n, reps;
 	double alpha, zdet;
+	double pv[3];   /* variance of the tested square in the nested fit
+			   of the selection, pv[0] + pv[1] b + pv[2] b^2
+			   (boot_beta()); pv[0] < 0: the bootstrap's own */
 	unsigned mask;  /* the fitted terms */
 	int iters;      /* weight iterations of the estimator */
 	double *e;      /* reps x n standard normals */
@@ -1730,6 +1745,8 @@ static double boot_beta(const struct boot *bt, double b, double b0,
 	double d = b - b0;
 	double var = bt->var_u + 2 * d * bt->cov_uv + d * d * bt->var_v;
 
+	if (bt->pv[0] >= 0)
+		var = bt->pv[0] + b * (bt->pv[1] + b * bt->pv[2]);
 	if (forced || !(var > 0))
 		return bt->alpha / 2;
 	return bt->alpha * (1 - gsl_cdf_ugaussian_P(b / sqrt(var) - bt->zdet) / 2);
@@ -1818,6 +1835,116 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
 		b0 = b;
 	}
 	return b;
+}
+
+/* ------------------------------------------------------------------ */
+/* Presence: backward elimination on nested fits                       */
+/* ------------------------------------------------------------------ */
+
+/*
+ * The fit of the terms of mask: squares th (0 outside mask), their
+ * sandwich sd under that fit's model (negative squares as 0), and the
+ * model mu (bmu: the model, or the point where it is not positive).
+ */
+static int nested_fit(struct fitdata *f, unsigned mask, double th[NT],
+		      double sd[NT], double *mu, double *bmu)
+{
+	double c[NT];
+	int rc = wls(f, mask, th, mu, FIT_ITERS);
+
+	if (rc)
+		return rc;
+	for (size_t k = 0; k < f->n; k++)
+		bmu[k] = mu[k] > 0 ? mu[k] : f->y[k];
+	th_to_coef(th, c);
+	model_cov(f, c, bmu, f->S);
+	return sandwich(f, mask, bmu, f->S, sd, NULL);
+}
+
+/*
+ * Which terms are present: from every allowed term, drop the one whose
+ * square is the fewest sd above zero (z = th / sd in the current nested
+ * fit) while that z is below zsel, refit, repeat; forced terms stay.  A
+ * one-sided Wald test at level Phi(-zsel) per step.  zlast[j] gets the z
+ * of term j in the last fit that held it; ths the squares of the final
+ * fit (0 outside it).  Returns the mask of the present terms.
+ */
+static unsigned select_terms(struct fitdata *f, unsigned allowed,
+			     unsigned forced, double zsel, double *mu,
+			     double *bmu, double zlast[NT], double ths[NT])
+{
+	unsigned mask = allowed;
+	double th[NT], sd[NT];
+
+	for (int j = 0; j < NT; j++) {
+		zlast[j] = NAN;
+		ths[j] = 0;
+	}
+	while (mask) {
+		int worst = -1;
+		double zw = INFINITY;
+
+		if (nested_fit(f, mask, th, sd, mu, bmu))
+			break; /* keep the last mask that could be fitted */
+		for (int j = 0; j < NT; j++) {
+			double zj;
+
+			if (!(mask & (1u << j)))
+				continue;
+			zj = sd[j] > 0 ? th[j] / sd[j] : th[j] > 0 ? (double)INFINITY :
+							 -(double)INFINITY;
+			zlast[j] = zj;
+			if (!(forced & (1u << j)) && zj < zw) {
+				zw = zj;
+				worst = j;
+			}
+		}
+		memcpy(ths, th, sizeof(th));
+		if (worst < 0 || zw >= zsel)
+			break;
+		mask &= ~(1u << worst);
+		ths[worst] = 0;
+	}
+	if (!mask)
+		for (int j = 0; j < NT; j++)
+			ths[j] = 0;
+	return mask;
+}
+
+/*
+ * The variance of the estimate of square j in the nested fit of mask
+ * (which holds j) as a function of its true value b, the other squares
+ * at that fit's values (negative ones as 0) and the weights fixed:
+ * exactly pv[0] + pv[1] b + pv[2] b^2 (the covariance of the AVAR points
+ * is quadratic in the squares).  pv[0] = -1 when it cannot be computed.
+ */
+static void presence_var(struct fitdata *f, unsigned mask, int j, double *mu,
+			 double *bmu, double pv[3])
+{
+	double th[NT], sd[NT], v[3], s;
+
+	pv[0] = -1;
+	pv[1] = pv[2] = 0;
+	if (nested_fit(f, mask, th, sd, mu, bmu))
+		return;
+	s = fmax(fabs(th[j]), sd[j]);
+	if (!(s > 0))
+		return;
+	for (int i = 0; i < 3; i++) {
+		double t2[NT], c[NT];
+
+		for (int k = 0; k < NT; k++)
+			t2[k] = fmax(th[k], 0);
+		t2[j] = i * s;
+		th_to_coef(t2, c);
+		model_cov(f, c, bmu, f->S);
+		if (sandwich(f, mask, bmu, f->S, sd, NULL))
+			return;
+		v[i] = sd[j] * sd[j];
+	}
+	pv[2] = (v[2] - 2 * v[1] + v[0]) / (2 * s * s);
+	pv[1] = (v[1] - v[0]) / s - pv[2] * s;
+	pv[0] = v[0];
 }
 
 /* ------------------------------------------------------------------ */
@@ -1959,6 +2086,8 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	struct fitdata f = { 0 };
 	unsigned allowed, fitted = 0;
 	double th[NT] = { 0 }, sd[NT] = { 0 }, z, z1, zdet, chi2 = NAN;
+	double zsel[NT], thsel[NT], pvar[NT][3];
+	unsigned present = 0;
 	double *mu = NULL, *bmu = NULL;
 	struct boot bt;
 	bool have_boot;
@@ -2109,27 +2238,64 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
 	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
 	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
+	/* presence: nested fits (they reuse f's work space; the full fit's
+	 * numbers above are kept in th, sd, mu, bmu) */
+	{
+		double *mu2 = ssc_alloc_array(f.n, sizeof(double));
+		double *bmu2 = ssc_alloc_array(f.n, sizeof(double));
+
+		if (!mu2 || !bmu2) {
+			free(mu2);
+			free(bmu2);
+			rc = -ENOMEM;
+			goto out;
+		}
+		present = select_terms(&f, allowed, o.forced, zdet, mu2, bmu2,
+				       zsel, thsel);
+		for (int j = 0; j < NT; j++) {
+			pvar[j][0] = -1;
+			pvar[j][1] = pvar[j][2] = 0;
+			if (allowed & (1u << j))
+				presence_var(&f, present | (1u << j), j, mu2,
+					     bmu2, pvar[j]);
+		}
+		free(mu2);
+		free(bmu2);
+	}
 	have_boot = boot_init(&bt, &f, allowed, FIT_ITERS, bmu, 1 - o.ci_level,
 			      zdet, o.plan) == 0;
 	for (int j = 0; j < NT; j++) {
 		struct sscope_noise_coef *cf = &fit->coef[j];
 		bool forced = o.forced & (1u << j);
+		bool pres = (present & (1u << j)) && th[j] > 0;
 		double hi;
 
+		cf->z = NAN;
 		if (!(allowed & (1u << j))) {
-			cf->fitted = false;
+			cf->fitted = cf->present = false;
+			cf->why = SSCOPE_NOISE_NOT_ALLOWED;
 			continue;
 		}
 		cf->var_sd = sd[j];
 		cf->estimate = sqrt(fmax(th[j], 0));
-		cf->fitted = forced ? th[j] > 0 : th[j] > zdet * sd[j] && th[j] > 0;
+		cf->z = zsel[j];
+		bt.pv[0] = pvar[j][0];
+		bt.pv[1] = pvar[j][1];
+		bt.pv[2] = pvar[j][2];
 		/* the normal bounds start the bootstrap's search (and stand in
 		 * when the replicates cannot be drawn) */
-		hi = invert_bound(&f, allowed, th, j, cf->fitted ? z : z1, +1, bmu);
+		hi = invert_bound(&f, allowed, th, j, pres ? z : z1, +1, bmu);
 		if (have_boot)
 			hi = boot_bound(&bt, &f, th, j, +1, forced, hi, sd[j]);
+		if (!(hi > 0)) {
+			/* an estimate below what a zero square gives: bounded
+			 * as an estimate of zero (never "below 0") */
+			double s0 = sd_if(&f, allowed, th, j, 0, bmu);
+
+			hi = isfinite(s0) && s0 > 0 ? z1 * s0 : (double)INFINITY;
+		}
 		cf->hi = sqrt(hi);
-		if (cf->fitted) {
+		if (pres) {
 			double lo = invert_bound(&f, allowed, th, j, z, -1, bmu);
 
 			if (have_boot)
@@ -2137,8 +2303,13 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			fitted |= 1u << j;
 			cf->value = sqrt(th[j]);
 			cf->lo = sqrt(lo);
+			cf->fitted = cf->present = true;
+			cf->why = SSCOPE_NOISE_PRESENT;
 		} else {
 			cf->lo = 0;
+			cf->fitted = cf->present = false;
+			cf->why = present & (1u << j) ? SSCOPE_NOISE_NOT_SEPARABLE :
+							 SSCOPE_NOISE_NOT_NEEDED;
 		}
 	}
 	if (have_boot)
@@ -2148,8 +2319,12 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");
 		goto out;
 	}
-	readoff_model(pts, n_pts, th, &fit->readoff);
-	fit->terms = fitted;
+	for (int j = 0; j < NT; j++)
+		if (!(fitted & (1u << j)))
+			thsel[j] = 0;
+	readoff_model(pts, n_pts, thsel, &fit->readoff);
+	fit->terms = fit->present = fitted;
+	fit->select_z = zdet;
 	fit->chi2 = chi2;
 	fit->dof = (double)f.n - p;
 	fit->p_value = fit->dof > 0 && isfinite(chi2) ? gsl_cdf_chisq_Q(chi2, fit->dof) :
