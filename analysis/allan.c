@@ -2546,6 +2546,9 @@ static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 		fit->coef[t].lo = ldexp(fit->coef[t].lo, e);
 		fit->coef[t].hi = ldexp(fit->coef[t].hi, e);
 		fit->coef[t].var_sd = ldexp(fit->coef[t].var_sd, 2 * e);
+		fit->coef[t].square = ldexp(fit->coef[t].square, 2 * e);
+		for (int u = 0; u < 5; u++)
+			fit->sq_cov[t][u] = ldexp(fit->sq_cov[t][u], 4 * e);
 	}
 	fit->readoff.n = ldexp(fit->readoff.n, e);
 	fit->readoff.b = ldexp(fit->readoff.b, e);

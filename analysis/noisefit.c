@@ -493,8 +493,11 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 }
 
 /*
- * Read-offs where the fitted model of the present terms (squares th, 0
- * for a term not present) says each term dominates: only a present term,
+ * Read-offs where the fitted model says each term dominates (the squares
+ * th of the fit of every allowed term, negative ones as 0: a term the
+ * selection leaves out still counts against another's share, so a term
+ * that is there but not shown present cannot bias a read-off unseen):
+ * only a present term,
  * only at points with EDF >= READOFF_EDF_MIN where the term's share q of
  * the model AVAR is at least READOFF_SHARE_MIN; of those, the point where
  * the read-off's expected relative error is least: the others' bias
@@ -508,7 +511,8 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 #define READOFF_SHARE_MIN 0.75
 
 static void readoff_model(const struct sscope_allan_point *pts, size_t n,
-			  const double th[5], struct sscope_noise_readoff *r)
+			  const double th[5], unsigned present,
+			  struct sscope_noise_readoff *r)
 {
 	static const int term[3] = { 1, 2, 3 }; /* N, B, K */
 	double best[3] = { INFINITY, INFINITY, INFINITY };
@@ -529,7 +533,7 @@ static void readoff_model(const struct sscope_allan_point *pts, size_t n,
 			double q = fmax(th[term[t]], 0) * basis(term[t], p->tau_s) / mu;
 			double bias, err;
 
-			if (!(q >= READOFF_SHARE_MIN))
+			if (!(present & (1u << term[t])) || !(q >= READOFF_SHARE_MIN))
 				continue;
 			bias = 1 / sqrt(q) - 1;
 			err = bias * bias + 1 / (2 * p->edf);
@@ -770,8 +774,21 @@ static double gchi2(struct fitdata *f, const double *mu, const double *mu_ref)
  * weights: V = (A'WA)^-1 A'W S W A (A'WA)^-1.  sd[] gets the standard
  * deviations (0 for terms not in mask).
  */
+static int sandwich_cov(struct fitdata *f, unsigned mask, const double *mu,
+			const gsl_matrix *S, double sd[NT], double th_out[NT],
+			double cov_out[NT][NT]);
+
 static int sandwich(struct fitdata *f, unsigned mask, const double *mu,
 		    const gsl_matrix *S, double sd[NT], double th_out[NT])
+{
+	return sandwich_cov(f, mask, mu, S, sd, th_out, NULL);
+}
+
+/* sandwich() with the whole covariance of the squares (cov_out: 0 for
+ * terms not in mask) */
+static int sandwich_cov(struct fitdata *f, unsigned mask, const double *mu,
+			const gsl_matrix *S, double sd[NT], double th_out[NT],
+			double cov_out[NT][NT])
 {
 	int cols[NT], p = 0, rc = 0;
 	gsl_matrix *A, *WA, *M, *V;
@@ -825,6 +842,16 @@ static int sandwich(struct fitdata *f, unsigned mask, const double *mu,
 				double v = gsl_matrix_get(M, (size_t)j, (size_t)j);
 
 				sd[cols[j]] = v > 0 ? sqrt(v) : 0;
+			}
+			if (cov_out) {
+				for (int a = 0; a < NT; a++)
+					for (int bb = 0; bb < NT; bb++)
+						cov_out[a][bb] = 0;
+				for (int a = 0; a < p; a++)
+					for (int bb = 0; bb < p; bb++)
+						cov_out[cols[a]][cols[bb]] =
+							(gsl_matrix_get(M, (size_t)a, (size_t)bb) +
+							 gsl_matrix_get(M, (size_t)bb, (size_t)a)) / 2;
 			}
 			/* the WLS estimate with these weights */
 			if (th_out) {
@@ -980,12 +1007,12 @@ static double invert_bound(struct fitdata *f, unsigned mask,
  * The ordering of the acceptance regions (which outcomes count as
  * "extreme" for a truth b) goes from one-sided, for a b the record cannot
  * resolve, to central, for a b it resolves: the upper tail holds
- * (alpha / 2) P(present | b) of the probability, the lower tail
- * beta(b) = alpha - that, P(present | b) ~ Phi(b / sd_sel(b) - zdet) with
- * sd_sel(b) the sd of the square in the nested fit that tests it (the
- * present terms with this one; select_terms()).  Reporting a one-sided
- * "below X" for a term not present and a two-sided interval for a present
- * one then covers at the level whatever the truth (reporting
+ * (alpha / 2) P(resolved | b) of the probability, the lower tail
+ * beta(b) = alpha - that, P(resolved | b) ~ Phi(b / sd(b) - zdet), sd(b)
+ * that of the estimate the intervals are made of (the fit of every
+ * allowed term).  Reporting a one-sided "below X" for a value the record
+ * cannot resolve and a two-sided interval otherwise then covers at the
+ * level whatever the truth (reporting
  * each at its own nominal level flip-flops and under-covers where a term
  * is resolved about half the time; G. J. Feldman, R. D. Cousins, Phys.
  * Rev. D 57, 3873, 1998, discuss the same problem).
@@ -1006,9 +1033,6 @@ static double invert_bound(struct fitdata *f, unsigned mask,
 struct boot {
 	size_t n, reps;
 	double alpha, zdet;
-	double pv[3];   /* variance of the tested square in the nested fit
-			   of the selection, pv[0] + pv[1] b + pv[2] b^2
-			   (boot_beta()); pv[0] < 0: the bootstrap's own */
 	unsigned mask;  /* the fitted terms */
 	int iters;      /* weight iterations of the estimator */
 	double *e;      /* reps x n standard normals */
@@ -1616,54 +1640,20 @@ static void boot_lanes(const struct boot *bt, const double *h, int j,
 }
 
 /*
- * Replicates of the estimate of th[j] under the fitted model with th[j]
- * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  For an upper
- * bound (restricted) the other terms are at their estimates restricted to
- * th[j] = b0 (the weighted least squares of the others with th[j] held,
- * negative squares as 0), else at their free estimates.  The restricted
- * estimates matter where two terms trade off (B and K on a record of a
- * few hours): with the others at their free estimates, a low estimate of
- * K comes with a high B, wider replicates and so a higher bound (B. Sen,
- * M. Walker, M. Woodroofe, "On the unified method with nuisance
- * parameters", Statistica Sinica 19, 301, 2009).  A lower bound keeps the
- * free estimates: it exists only for a term resolved by the 3-sd rule,
- * whose sd is that of the free fit, and restricted to a small value the
- * partner term of a trade-off grows, widens the replicates and puts the
- * lower bound of a resolved term at 0 (B on the 1 h static gyro sample).
- * u_r is the
- * estimator refitted on the replicate, weights and all: its weights come
- * from the points it weighs, which pulls an estimate carried by a few
- * degrees of freedom low (a low point gets a low model and so a high
- * weight), and fixed weights miss that.  v_r, the slope in b, is that of
- * the fixed weights (the bound is recomputed around the bound found,
- * where the slope matters little).  With fixed weights K's bounds
- * covered 3 points under their level, averaged over 1-24 h records
- * (tests/bench-noisefit.c).
+ * The copula of the replicates under the model of squares t2 (>= 0):
+ * bt->mu0 (the model), the Gamma margins' shapes (nu, gc, hc) and the
+ * Cholesky factor L of the normals' correlation (NORTA).
  */
-static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
-		     int j, double b0, bool restricted)
+static int boot_copula(struct boot *bt, struct fitdata *f, const double t2[NT])
 {
-	double t2[NT], c[NT], dk[NT];
-	const double *h = bt->H + (size_t)j * f->n;
+	double c[NT];
 	size_t n = f->n;
 
-	for (int k = 0; k < NT; k++) {
-		double d = restricted ? bt->D[j][k] : 0;
-		double t = th[k] + (b0 - th[j]) * d;
-
-		t2[k] = fmax(t, 0);
-		dk[k] = t > 0 ? d : 0; /* d t2[k] / d b0 */
-	}
-	t2[j] = fmax(b0, 0);
-	dk[j] = 1;
 	th_to_coef(t2, c);
 	for (size_t a = 0; a < n; a++) {
 		bt->mu0[a] = 0;
-		bt->dm[a] = 0;
-		for (int k = 0; k < NT; k++) {
+		for (int k = 0; k < NT; k++)
 			bt->mu0[a] += t2[k] * basis(k, f->tau[a]);
-			bt->dm[a] += dk[k] * basis(k, f->tau[a]);
-		}
 		if (!(bt->mu0[a] > 0))
 			return -EDOM;
 	}
@@ -1697,6 +1687,57 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (chol(bt->L, n, n))
 			return -EDOM;
 	}
+	return 0;
+}
+
+/*
+ * Replicates of the estimate of th[j] under the fitted model with th[j]
+ * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  For an upper
+ * bound (restricted) the other terms are at their estimates restricted to
+ * th[j] = b0 (the weighted least squares of the others with th[j] held,
+ * negative squares as 0), else at their free estimates.  The restricted
+ * estimates matter where two terms trade off (B and K on a record of a
+ * few hours): with the others at their free estimates, a low estimate of
+ * K comes with a high B, wider replicates and so a higher bound (B. Sen,
+ * M. Walker, M. Woodroofe, "On the unified method with nuisance
+ * parameters", Statistica Sinica 19, 301, 2009).  A lower bound keeps the
+ * free estimates: it exists only for a term resolved by the 3-sd rule,
+ * whose sd is that of the free fit, and restricted to a small value the
+ * partner term of a trade-off grows, widens the replicates and puts the
+ * lower bound of a resolved term at 0 (B on the 1 h static gyro sample).
+ * u_r is the
+ * estimator refitted on the replicate, weights and all: its weights come
+ * from the points it weighs, which pulls an estimate carried by a few
+ * degrees of freedom low (a low point gets a low model and so a high
+ * weight), and fixed weights miss that.  v_r, the slope in b, is that of
+ * the fixed weights (the bound is recomputed around the bound found,
+ * where the slope matters little).  With fixed weights K's bounds
+ * covered 3 points under their level, averaged over 1-24 h records
+ * (tests/bench-noisefit.c).
+ */
+static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
+		     int j, double b0, bool restricted)
+{
+	double t2[NT], dk[NT];
+	const double *h = bt->H + (size_t)j * f->n;
+	size_t n = f->n;
+
+	for (int k = 0; k < NT; k++) {
+		double d = restricted ? bt->D[j][k] : 0;
+		double t = th[k] + (b0 - th[j]) * d;
+
+		t2[k] = fmax(t, 0);
+		dk[k] = t > 0 ? d : 0; /* d t2[k] / d b0 */
+	}
+	t2[j] = fmax(b0, 0);
+	dk[j] = 1;
+	for (size_t a = 0; a < n; a++) {
+		bt->dm[a] = 0;
+		for (int k = 0; k < NT; k++)
+			bt->dm[a] += dk[k] * basis(k, f->tau[a]);
+	}
+	if (boot_copula(bt, f, t2))
+		return -EDOM;
 	/* each replicate on its own (the same numbers on any thread count),
 	 * BOOT_LANES side by side */
 SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
@@ -1738,6 +1779,48 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 	return 0;
 }
 
+/*
+ * Skewness of h'y over the replicates of the AVAR points under the model
+ * of squares t2 (the copula of boot_copula()); NaN when the replicates
+ * cannot be drawn.  The upper tail of a term's estimate under its null is
+ * that of the few-degree-of-freedom points at long tau that carry it:
+ * far heavier than a normal's (a chi-squared of 3 degrees of freedom lies
+ * 5.1 sd above its mean with the probability a normal gives 3 sd).
+ */
+static double null_skew(struct boot *bt, struct fitdata *f, const double t2[NT],
+			const double *h)
+{
+	size_t n = f->n;
+	double s1 = 0, s2 = 0, s3 = 0, R = (double)bt->reps, m, v;
+	double *z = bt->ys; /* scratch: n doubles at least */
+
+	if (boot_copula(bt, f, t2))
+		return NAN;
+	for (size_t r = 0; r < bt->reps; r++) {
+		const double *e = bt->e + r * n;
+		double u = 0;
+
+		for (size_t a = 0; a < n; a++) {
+			const double *la = bt->L + a * n;
+			double t = 0;
+
+			for (size_t k = 0; k <= a; k++)
+				t += la[k] * e[k];
+			z[a] = t;
+		}
+		for (size_t a = 0; a < n; a++)
+			u += h[a] * bt->mu0[a] * gq(bt, &bt->gc[a], z[a]);
+		s1 += u;
+		s2 += u * u;
+		s3 += u * u * u;
+	}
+	m = s1 / R;
+	v = s2 / R - m * m;
+	if (!(v > 0))
+		return NAN;
+	return (s3 / R - 3 * m * v - m * m * m) / (v * sqrt(v));
+}
+
 /* lower-tail share beta(b) of the acceptance region at b */
 static double boot_beta(const struct boot *bt, double b, double b0,
 			bool forced)
@@ -1745,8 +1828,6 @@ static double boot_beta(const struct boot *bt, double b, double b0,
 	double d = b - b0;
 	double var = bt->var_u + 2 * d * bt->cov_uv + d * d * bt->var_v;
 
-	if (bt->pv[0] >= 0)
-		var = bt->pv[0] + b * (bt->pv[1] + b * bt->pv[2]);
 	if (forced || !(var > 0))
 		return bt->alpha / 2;
 	return bt->alpha * (1 - gsl_cdf_ugaussian_P(b / sqrt(var) - bt->zdet) / 2);
@@ -1912,39 +1993,299 @@ static unsigned select_terms(struct fitdata *f, unsigned allowed,
 }
 
 /*
- * The variance of the estimate of square j in the nested fit of mask
- * (which holds j) as a function of its true value b, the other squares
- * at that fit's values (negative ones as 0) and the weights fixed:
- * exactly pv[0] + pv[1] b + pv[2] b^2 (the covariance of the AVAR points
- * is quadratic in the squares).  pv[0] = -1 when it cannot be computed.
+ * The generalised least-squares fits of the selection: the AVAR points
+ * and the five columns whitened once by the factor of the covariance of
+ * the fit of every allowed term (f->Sc, relative to mu_ref), so that the
+ * fit of any subset is an ordinary least-squares problem whose residual
+ * sum of squares is its generalised chi-squared.  Between two nested fits
+ * the chi-squared difference is the likelihood-ratio statistic of the
+ * Gaussian model, and for these linear fits equals (square / its GLS sd)^2
+ * of the larger: the test is read as that signed z.
  */
-static void presence_var(struct fitdata *f, unsigned mask, int j, double *mu,
-			 double *bmu, double pv[3])
+struct gls {
+	size_t n;
+	double *wz;          /* n: whitened points */
+	double *wa;          /* NT x n: whitened columns */
+	double cs[NT];       /* their norms */
+	gsl_matrix *X;
+	gsl_vector *y, *w, *c;
+	gsl_matrix *cov;
+	gsl_multifit_linear_workspace *ws;
+};
+
+static void gls_free(struct gls *g)
 {
-	double th[NT], sd[NT], v[3], s;
+	free(g->wz);
+	free(g->wa);
+	if (g->X)
+		gsl_matrix_free(g->X);
+	if (g->y)
+		gsl_vector_free(g->y);
+	if (g->w)
+		gsl_vector_free(g->w);
+	if (g->c)
+		gsl_vector_free(g->c);
+	if (g->cov)
+		gsl_matrix_free(g->cov);
+	if (g->ws)
+		gsl_multifit_linear_free(g->ws);
+}
 
-	pv[0] = -1;
-	pv[1] = pv[2] = 0;
-	if (nested_fit(f, mask, th, sd, mu, bmu))
-		return;
-	s = fmax(fabs(th[j]), sd[j]);
-	if (!(s > 0))
-		return;
-	for (int i = 0; i < 3; i++) {
-		double t2[NT], c[NT];
+static int gls_init(struct gls *g, const struct fitdata *f, const double *mu_ref)
+{
+	size_t n = f->n;
 
-		for (int k = 0; k < NT; k++)
-			t2[k] = fmax(th[k], 0);
-		t2[j] = i * s;
-		th_to_coef(t2, c);
-		model_cov(f, c, bmu, f->S);
-		if (sandwich(f, mask, bmu, f->S, sd, NULL))
-			return;
-		v[i] = sd[j] * sd[j];
+	memset(g, 0, sizeof(*g));
+	g->n = n;
+	g->wz = ssc_alloc_array(n, sizeof(double));
+	g->wa = ssc_alloc_array(NT * n, sizeof(double));
+	g->X = gsl_matrix_alloc(n, NT);
+	g->y = gsl_vector_alloc(n);
+	g->w = gsl_vector_alloc(n);
+	g->c = gsl_vector_alloc(NT);
+	g->cov = gsl_matrix_alloc(NT, NT);
+	g->ws = gsl_multifit_linear_alloc(n, NT);
+	if (!g->wz || !g->wa || !g->X || !g->y || !g->w || !g->c || !g->cov ||
+	    !g->ws) {
+		gls_free(g);
+		return -ENOMEM;
 	}
-	pv[2] = (v[2] - 2 * v[1] + v[0]) / (2 * s * s);
-	pv[1] = (v[1] - v[0]) / s - pv[2] * s;
-	pv[0] = v[0];
+	for (size_t k = 0; k < n; k++)
+		g->wz[k] = f->y[k] / mu_ref[k];
+	forward(f->Sc->data, n, f->Sc->tda, g->wz);
+	for (int j = 0; j < NT; j++) {
+		double *a = g->wa + (size_t)j * n, ss = 0;
+
+		for (size_t k = 0; k < n; k++)
+			a[k] = basis(j, f->tau[k]) / mu_ref[k];
+		forward(f->Sc->data, n, f->Sc->tda, a);
+		for (size_t k = 0; k < n; k++)
+			ss += a[k] * a[k];
+		g->cs[j] = ss > 0 && isfinite(ss) ? sqrt(ss) : 1;
+	}
+	gsl_vector_set_all(g->w, 1);
+	return 0;
+}
+
+/* GLS fit of mask: squares th, their sd (0 outside mask); -EDOM when the
+ * columns are not separable */
+static int gls_fit(struct gls *g, unsigned mask, double th[NT], double sd[NT])
+{
+	int cols[NT], p = 0;
+	double chisq;
+	size_t rank;
+
+	for (int j = 0; j < NT; j++) {
+		th[j] = sd[j] = 0;
+		if (mask & (1u << j))
+			cols[p++] = j;
+	}
+	if (p == 0 || (size_t)p > g->n)
+		return -EDOM;
+	{
+		gsl_matrix_view X = gsl_matrix_submatrix(g->X, 0, 0, g->n, (size_t)p);
+		gsl_matrix_view C = gsl_matrix_submatrix(g->cov, 0, 0, (size_t)p,
+							 (size_t)p);
+		gsl_vector_view c = gsl_vector_subvector(g->c, 0, (size_t)p);
+
+		for (size_t k = 0; k < g->n; k++) {
+			gsl_vector_set(g->y, k, g->wz[k]);
+			for (int a = 0; a < p; a++)
+				gsl_matrix_set(&X.matrix, k, (size_t)a,
+					       g->wa[(size_t)cols[a] * g->n + k] /
+						       g->cs[cols[a]]);
+		}
+		if (gsl_multifit_wlinear_tsvd(&X.matrix, g->w, g->y, 1e-12,
+					      &c.vector, &C.matrix, &chisq,
+					      &rank, g->ws) ||
+		    rank < (size_t)p)
+			return -EDOM;
+		for (int a = 0; a < p; a++) {
+			double v = gsl_matrix_get(&C.matrix, (size_t)a, (size_t)a);
+
+			th[cols[a]] = gsl_vector_get(&c.vector, (size_t)a) /
+				      g->cs[cols[a]];
+			sd[cols[a]] = v > 0 ? sqrt(v) / g->cs[cols[a]] : 0;
+		}
+	}
+	return 0;
+}
+
+/*
+ * The test of term j in the GLS fit of mask (which holds j): z = th_j /
+ * sd0, sd0 the sd of that estimate were term j absent (the covariance of
+ * the AVAR points under the squares of the fit without j, negative ones
+ * as 0, through the GLS hat row of j): a score test, whose
+ * null distribution does not borrow the spread the term itself adds at
+ * long tau (when the fit holds no other noise, the z of the fit itself).
+ * zthr (optional) gets the threshold the z must reach: zsel, raised by
+ * the Cornish-Fisher term (zsel^2 - 1) g / 6 for the skewness g of the
+ * null distribution (null_skew(); bt NULL: not computed).  Returns -inf
+ * when the fit cannot separate the term.
+ */
+static double gls_test(struct gls *g, struct fitdata *f, struct boot *bt,
+		       const double *mu_ref, unsigned mask, int j, double zsel,
+		       double *zthr)
+{
+	double th[NT], sd[NT], v0 = 0;
+	double *h = g->wz == NULL ? NULL : ssc_alloc_array(g->n, sizeof(double));
+	int cols[NT], p = 0, aj = -1;
+	size_t n = g->n;
+
+	if (zthr)
+		*zthr = zsel;
+	if (!h)
+		return -INFINITY;
+	if (gls_fit(g, mask, th, sd) || !(sd[j] > 0)) {
+		free(h);
+		return -INFINITY;
+	}
+	for (int k = 0; k < NT; k++)
+		if (mask & (1u << k)) {
+			if (k == j)
+				aj = p;
+			cols[p++] = k;
+		}
+	/* hat row: th_j = h' y, h = D^-1 L^-T X C e_j / cs_j */
+	for (size_t k = 0; k < n; k++) {
+		double t = 0;
+
+		for (int a2 = 0; a2 < p; a2++)
+			t += gsl_matrix_get(g->X, k, (size_t)a2) *
+			     gsl_matrix_get(g->cov, (size_t)a2, (size_t)aj);
+		h[k] = t / g->cs[j];
+	}
+	for (size_t i = n; i-- > 0;) {
+		double t = h[i];
+
+		for (size_t k = i + 1; k < n; k++)
+			t -= f->Sc->data[k * f->Sc->tda + i] * h[k];
+		h[i] = t / f->Sc->data[i * f->Sc->tda + i];
+	}
+	for (size_t k = 0; k < n; k++)
+		h[k] /= mu_ref[k];
+	{
+		double t2[NT], c[NT], sd0[NT];
+
+		/* the null's other squares from the fit without the term (a
+		 * score test: with the term in, a partner that trades off with
+		 * it, K for R, comes out low and the null spread too small) */
+		if (!(mask & ~(1u << j)) ||
+		    gls_fit(g, mask & ~(1u << j), t2, sd0))
+			memcpy(t2, th, sizeof(t2));
+		for (int k = 0; k < NT; k++)
+			t2[k] = fmax(t2[k], 0);
+		t2[j] = 0;
+		th_to_coef(t2, c);
+		model_cov(f, c, mu_ref, f->S);
+		for (size_t a2 = 0; a2 < n; a2++) {
+			double r = 0;
+
+			for (size_t b2 = 0; b2 < n; b2++)
+				r += gsl_matrix_get(f->S, a2, b2) * h[b2];
+			v0 += h[a2] * r;
+		}
+		/* the null's skewness raises the threshold (Cornish-Fisher)
+		 * where the estimate passes the normal one */
+		if (zthr && bt && v0 > 0 && th[j] / sqrt(v0) >= zsel) {
+			double gam = null_skew(bt, f, t2, h);
+
+			if (gam > 0)
+				*zthr = zsel + (zsel * zsel - 1) * gam / 6;
+		}
+	}
+	free(h);
+	(void)cols;
+	if (!(v0 > 1e-12 * sd[j] * sd[j])) {
+		/* the term is the only noise in the fit: no null spread to
+		 * test against; its z in the fit (the first term of a
+		 * selection) */
+		return th[j] / sd[j];
+	}
+	return th[j] / sqrt(v0);
+}
+
+/*
+ * Stepwise selection on the GLS fits: from the forced terms (or none),
+ * add the allowed term with the largest z while that z reaches its
+ * threshold (zsel, raised for the null's skew: gls_test(); Q only once N
+ * is in, R only once K is in, when those are allowed);
+ * after each addition drop any earlier term (not forced) whose z in the
+ * new fit fell below its threshold.  Each step is the likelihood-ratio test
+ * of two nested fits at the one-sided level Phi(-zsel).  zlast[j]: the z
+ * of j in the final fit (present) or in the final fit with j added
+ * (absent).
+ */
+static unsigned gls_select(struct gls *g, struct fitdata *f, struct boot *bt,
+			   const double *mu_ref, unsigned allowed,
+			   unsigned forced, double zsel, double zlast[NT])
+{
+	unsigned mask = forced, tried;
+
+	for (int it = 0; it < 4 * NT; it++) {
+		bool changed = false;
+
+		/* the candidates by z, the first that passes its threshold */
+		tried = 0;
+		for (;;) {
+			int best = -1;
+			double zb = -INFINITY, thr;
+
+			for (int j = 0; j < NT; j++) {
+				double zj;
+
+				if (!(allowed & (1u << j)) || (mask & (1u << j)) ||
+				    (tried & (1u << j)))
+					continue;
+				/* the steeper slope of a side enters after the
+				 * gentler one (Q after N, R after K), when that
+				 * is allowed: on a short record the last points
+				 * rise, and K, the random process, is the
+				 * simpler reading of a rise than a ramp */
+				if ((j == 0 && (allowed & 2u) && !(mask & 2u)) ||
+				    (j == 4 && (allowed & 8u) && !(mask & 8u)))
+					continue;
+				zj = gls_test(g, f, NULL, mu_ref, mask | (1u << j), j,
+					      zsel, NULL);
+				if (zj > zb) {
+					zb = zj;
+					best = j;
+				}
+			}
+			if (best < 0 || zb < zsel)
+				break;
+			tried |= 1u << best;
+			zb = gls_test(g, f, bt, mu_ref, mask | (1u << best), best,
+				      zsel, &thr);
+			if (zb >= thr) {
+				mask |= 1u << best;
+				changed = true;
+				break;
+			}
+		}
+		if (changed) {
+			for (int k = 0; k < NT; k++) {
+				double thr;
+
+				if (!(mask & (1u << k)) || (forced & (1u << k)))
+					continue;
+				if (gls_test(g, f, bt, mu_ref, mask, k, zsel, &thr) <
+				    thr) {
+					mask &= ~(1u << k);
+					break; /* one at a time: refit */
+				}
+			}
+		}
+		if (!changed)
+			break;
+	}
+	for (int j = 0; j < NT; j++) {
+		zlast[j] = NAN;
+		if (allowed & (1u << j))
+			zlast[j] = gls_test(g, f, NULL, mu_ref, mask | (1u << j), j,
+					    zsel, NULL);
+	}
+	return mask;
 }
 
 /* ------------------------------------------------------------------ */
@@ -2086,8 +2427,9 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	struct fitdata f = { 0 };
 	unsigned allowed, fitted = 0;
 	double th[NT] = { 0 }, sd[NT] = { 0 }, z, z1, zdet, chi2 = NAN;
-	double zsel[NT], thsel[NT], pvar[NT][3];
+	double zsel[NT], thsel[NT];
 	unsigned present = 0;
+	bool have_ref = false;
 	double *mu = NULL, *bmu = NULL;
 	struct boot bt;
 	bool have_boot;
@@ -2226,44 +2568,50 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 
 		th_to_coef(th, c);
 		model_cov(&f, c, bmu, f.S);
-		rc = sandwich(&f, allowed, bmu, f.S, sd, NULL);
+		rc = sandwich_cov(&f, allowed, bmu, f.S, sd, NULL, fit->sq_cov);
 		if (rc) {
 			rc = ssc_diag(diag, rc,
 				      "noise fit: the covariance of the estimates is singular");
 			goto out;
 		}
-		if (ref_factor(&f, th, bmu) == 0)
+		if (ref_factor(&f, th, bmu) == 0) {
 			chi2 = gchi2(&f, mu, bmu);
+			have_ref = true;
+		}
 	}
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
 	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
 	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
+	have_boot = boot_init(&bt, &f, allowed, FIT_ITERS, bmu, 1 - o.ci_level,
+			      zdet, o.plan) == 0;
 	/* presence: nested fits (they reuse f's work space; the full fit's
 	 * numbers above are kept in th, sd, mu, bmu) */
 	{
 		double *mu2 = ssc_alloc_array(f.n, sizeof(double));
 		double *bmu2 = ssc_alloc_array(f.n, sizeof(double));
+		struct gls g;
 
 		if (!mu2 || !bmu2) {
 			free(mu2);
 			free(bmu2);
+			if (have_boot)
+				boot_free(&bt);
 			rc = -ENOMEM;
 			goto out;
 		}
-		present = select_terms(&f, allowed, o.forced, zdet, mu2, bmu2,
-				       zsel, thsel);
-		for (int j = 0; j < NT; j++) {
-			pvar[j][0] = -1;
-			pvar[j][1] = pvar[j][2] = 0;
-			if (allowed & (1u << j))
-				presence_var(&f, present | (1u << j), j, mu2,
-					     bmu2, pvar[j]);
+		if (have_ref && gls_init(&g, &f, bmu) == 0) {
+			present = gls_select(&g, &f, have_boot ? &bt : NULL, bmu,
+					     allowed, o.forced, zdet, zsel);
+			gls_free(&g);
+		} else {
+			/* no factor of the covariance: backward elimination on
+			 * the weighted fits' sandwich z */
+			present = select_terms(&f, allowed, o.forced, zdet, mu2,
+					       bmu2, zsel, thsel);
 		}
 		free(mu2);
 		free(bmu2);
 	}
-	have_boot = boot_init(&bt, &f, allowed, FIT_ITERS, bmu, 1 - o.ci_level,
-			      zdet, o.plan) == 0;
 	for (int j = 0; j < NT; j++) {
 		struct sscope_noise_coef *cf = &fit->coef[j];
 		bool forced = o.forced & (1u << j);
@@ -2277,11 +2625,17 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			continue;
 		}
 		cf->var_sd = sd[j];
+		cf->square = th[j];
 		cf->estimate = sqrt(fmax(th[j], 0));
 		cf->z = zsel[j];
-		bt.pv[0] = pvar[j][0];
-		bt.pv[1] = pvar[j][1];
-		bt.pv[2] = pvar[j][2];
+		/* the ordering of the acceptance regions follows the estimate
+		 * the intervals are made of (the fit of every allowed term),
+		 * not the nested test: were it the test's, a term the test
+		 * finds but the full fit hardly resolves would get a central
+		 * region where the record only bounds it, and "below X" would
+		 * over-cover (K over 2000 s: 85 % for 68 %).  A present term
+		 * whose full-fit estimate is that weak gets lo = 0 (and a
+		 * warning from the CLI). */
 		/* the normal bounds start the bootstrap's search (and stand in
 		 * when the replicates cannot be drawn) */
 		hi = invert_bound(&f, allowed, th, j, pres ? z : z1, +1, bmu);
@@ -2319,10 +2673,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");
 		goto out;
 	}
-	for (int j = 0; j < NT; j++)
-		if (!(fitted & (1u << j)))
-			thsel[j] = 0;
-	readoff_model(pts, n_pts, thsel, &fit->readoff);
+	readoff_model(pts, n_pts, th, fitted, &fit->readoff);
 	fit->terms = fit->present = fitted;
 	fit->select_z = zdet;
 	fit->chi2 = chi2;

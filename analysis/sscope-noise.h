@@ -74,6 +74,11 @@ struct sscope_noise_coef {
 			    its standard deviation in the nested fit of the
 			    present terms with this one (the last fit that
 			    held it); NaN for a term not allowed */
+	double square; /**< the estimate of the square with every allowed
+			    term free, signed (unbiased: a prediction that
+			    adds the terms' variances, as walk's envelope,
+			    takes it rather than estimate^2, whose floor at 0
+			    biases it up); 0 for a term not allowed, U^2 */
 };
 
 /** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
@@ -148,6 +153,9 @@ struct sscope_noise_fit {
 	unsigned present;   /**< bit mask of the terms shown present (the
 				 same as terms) */
 	double select_z;    /**< threshold of the presence test, sd */
+	double sq_cov[5][5]; /**< covariance of the coefficients' squares
+				  (the sandwich covariance of the fit of every
+				  allowed term), U^4; 0 for terms not allowed */
 };
 
 /**

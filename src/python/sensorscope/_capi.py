@@ -138,7 +138,7 @@ class NoiseCoef(C.Structure):
     _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
                 ("var_sd", c_dbl), ("estimate", c_dbl),
                 ("fitted", C.c_bool), ("present", C.c_bool),
-                ("why", C.c_int), ("z", c_dbl)]
+                ("why", C.c_int), ("z", c_dbl), ("square", c_dbl)]
 
 
 class NoiseReadoff(C.Structure):
@@ -159,7 +159,8 @@ class NoiseFit(C.Structure):
                 ("ci_level", c_dbl), ("n_points", c_size), ("chi2", c_dbl),
                 ("dof", c_dbl), ("p_value", c_dbl), ("aic", c_dbl),
                 ("n_plausible", c_size), ("readoff", NoiseReadoff),
-                ("present", C.c_uint), ("select_z", c_dbl)]
+                ("present", C.c_uint), ("select_z", c_dbl),
+                ("sq_cov", c_dbl * 25)]
 
 
 class AllanResult(C.Structure):
