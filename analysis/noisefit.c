@@ -493,10 +493,12 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 }
 
 /*
- * Read-offs where the fitted model says each term dominates (the squares
- * th of the fit of every allowed term, negative ones as 0: a term the
- * selection leaves out still counts against another's share, so a term
- * that is there but not shown present cannot bias a read-off unseen):
+ * Read-offs where the fitted model says each term dominates, with
+ * confidence: the term's share of the model Allan variance taken with its
+ * square at its lower bound and every other term at its upper bound (a
+ * term not shown present at its bound "below X": it still counts against
+ * another's share; a point estimate of the shares printed B read-offs
+ * 50 % high where N and K were underestimated):
  * only a present term,
  * only at points with EDF >= READOFF_EDF_MIN where the term's share q of
  * the model AVAR is at least READOFF_SHARE_MIN; of those, the point where
@@ -511,7 +513,7 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 #define READOFF_SHARE_MIN 0.75
 
 static void readoff_model(const struct sscope_allan_point *pts, size_t n,
-			  const double th[5], unsigned present,
+			  const struct sscope_noise_coef *cf, unsigned present,
 			  struct sscope_noise_readoff *r)
 {
 	static const int term[3] = { 1, 2, 3 }; /* N, B, K */
@@ -525,12 +527,16 @@ static void readoff_model(const struct sscope_allan_point *pts, size_t n,
 		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0) ||
 		    !(p->edf >= READOFF_EDF_MIN))
 			continue;
+		/* the others at their upper bounds (a term not allowed: 0) */
 		for (int j = 0; j < 5; j++)
-			mu += fmax(th[j], 0) * basis(j, p->tau_s);
-		if (!(mu > 0))
+			if (!isnan(cf[j].hi))
+				mu += cf[j].hi * cf[j].hi * basis(j, p->tau_s);
+		if (!(mu > 0) || !isfinite(mu))
 			continue;
 		for (int t = 0; t < 3; t++) {
-			double q = fmax(th[term[t]], 0) * basis(term[t], p->tau_s) / mu;
+			const struct sscope_noise_coef *c = &cf[term[t]];
+			double own = c->lo * c->lo * basis(term[t], p->tau_s);
+			double q = own / (own + mu - c->hi * c->hi * basis(term[t], p->tau_s));
 			double bias, err;
 
 			if (!(present & (1u << term[t])) || !(q >= READOFF_SHARE_MIN))
@@ -2637,8 +2643,14 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 		 * whose full-fit estimate is that weak gets lo = 0 (and a
 		 * warning from the CLI). */
 		/* the normal bounds start the bootstrap's search (and stand in
-		 * when the replicates cannot be drawn) */
-		hi = invert_bound(&f, allowed, th, j, pres ? z : z1, +1, bmu);
+		 * when the replicates cannot be drawn): two-sided where the fit
+		 * of every term resolves the square (3 sd), else one-sided, as
+		 * the ordering of the regions, whatever the nested test says
+		 * (the bootstrap's bound depends a little on where its search
+		 * starts: the same start keeps the bounds the coverage tables
+		 * were measured with) */
+		hi = invert_bound(&f, allowed, th, j,
+				  forced || th[j] > zdet * sd[j] ? z : z1, +1, bmu);
 		if (have_boot)
 			hi = boot_bound(&bt, &f, th, j, +1, forced, hi, sd[j]);
 		if (!(hi > 0)) {
@@ -2673,7 +2685,7 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");
 		goto out;
 	}
-	readoff_model(pts, n_pts, th, fitted, &fit->readoff);
+	readoff_model(pts, n_pts, fit->coef, fitted, &fit->readoff);
 	fit->terms = fit->present = fitted;
 	fit->select_z = zdet;
 	fit->chi2 = chi2;

@@ -84,13 +84,14 @@ struct sscope_noise_coef {
 /** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
  *  sscope_noise_readoff() picks the points by local slope alone; the
  *  read-offs in struct sscope_noise_fit use the fitted model of the
- *  present terms instead: a term is read only when it is present, at a
- *  point whose EDF is at least 10 and where the term's share of the model
- *  Allan variance is at least 3/4 (the other terms then add at most 15 %
- *  to the deviation read); of those points, the one where the read-off's
- *  expected relative error (bias of the other terms and sampling spread
- *  1/sqrt(2 EDF) together) is least.  NaN otherwise: the term dominates
- *  nowhere the curve is precise. */
+ *  terms instead: a term is read only when it is present, at a point
+ *  whose EDF is at least 10 and where the term's share of the model Allan
+ *  variance is at least 3/4 with its square at its lower bound and every
+ *  other term at its upper bound (the others then add at most 15 % to the
+ *  deviation read, with confidence); of those points, the one where the
+ *  read-off's expected relative error (bias of the other terms and
+ *  sampling spread 1/sqrt(2 EDF) together) is least.  NaN otherwise: the
+ *  term dominates nowhere the curve is precise. */
 struct sscope_noise_readoff {
 	double n;       /**< sigma(1 s) on the -1/2 line through the point
 			     used, U/sqrt(Hz) */

@@ -10,7 +10,7 @@ G="$SAMPLES/gyro-static.csv"
 run "allan text" 0 allan "$G"
 has "text: table header" "$T/out" 'tau \(s\) +m +terms +oadev'
 has "text: coefficients" "$T/out" 'N  angle random walk +0\.1[45][0-9]* deg/sqrt\(h\)'
-has "text: read-offs" "$T/out" 'classic read-offs where the fit says the term dominates \(a present term, at least 3/4 of the fitted model, EDF >= 10\): N = sigma\(1 s\)'
+has "text: read-offs" "$T/out" 'classic read-offs where the fit says the term dominates \(a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10\): N = sigma\(1 s\)'
 
 run "allan json" 0 allan --format json "$G"
 cp "$T/out" "$T/a.json"

@@ -397,7 +397,7 @@ static const char *readoff_absent(const struct sscope_noise_fit *ft, int t)
 {
 	if (!ft->coef[t].present)
 		return "none (the term is not present)";
-	return "none (it is not 3/4 of the model at any tau with EDF >= 10)";
+	return "none (it is not surely 3/4 of the model at any tau with EDF >= 10)";
 }
 
 /* the presence test, in words, with its level */
@@ -740,7 +740,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		}
 		/* the classic read-offs, where the fitted model says each term
 		 * dominates (or that it dominates nowhere) */
-		fprintf(f, "  classic read-offs where the fit says the term dominates (a present term, at least 3/4 of the fitted model, EDF >= 10):");
+		fprintf(f, "  classic read-offs where the fit says the term dominates (a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10):");
 		if (isfinite(ft->readoff.n))
 			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
@@ -913,7 +913,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
 			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
-			json_object_set_new(ro, "rule", json_string("a present term only, at a tau where it is at least 3/4 of the fitted model and the EDF is at least 10 (null otherwise)"));
+			json_object_set_new(ro, "rule", json_string("a present term only, at a tau where it is at least 3/4 of the fitted model (its square at its lower bound, the others at their upper bounds) and the EDF is at least 10 (null otherwise)"));
 			if (!isfinite(ft->readoff.n))
 				json_object_set_new(json_object_get(ro, "N"), "reason", json_string(readoff_absent(ft, 1)));
 			if (!isfinite(ft->readoff.b))
