@@ -32,6 +32,22 @@
  * Parallelism is OpenMP; without it the same code runs serially.
  * Non-overlapping, modified, total and strided estimators, and records
  * with gaps, use the contiguous layout and per-tau kernels.
+ *
+ * Gaps (NaN samples).  The estimator is the complete-terms one: a term
+ * (an Allan, Hadamard or modified difference) whose span holds a NaN is
+ * left out and the variance is normalised by the number of complete terms,
+ * so that every term used is an exact difference of the process and the
+ * estimate stays unbiased whatever the gap pattern (I. Sesia and P.
+ * Tavella, "Estimating the Allan variance in the presence of long periods
+ * of missing data and outliers", Metrologia 45 (2008) S134; the handling
+ * of gaps in phase data of Stable32).  No sample is filled in or
+ * interpolated.  The EDF is that of a gap-free record with the same number
+ * of complete terms: terms split by gaps are less correlated than as many
+ * neighbouring ones, so the intervals err on the wide side.  A tau with no
+ * complete term is left out of sscope_allan_analyze()'s result with a
+ * note saying so (never a NaN deviation), and a record in which no tau has
+ * one is refused.  TOTDEV, whose reflected extension has no meaning across
+ * a gap, refuses gaps.
  */
 #include "allan-internal.h"
 
@@ -2244,7 +2260,7 @@ static int compute(struct sscope_allan *p, const double *y,
 		gaps = nnan > 0;
 		if (gaps && dev == SSCOPE_ALLAN_DEV_TOTDEV) {
 			rc = ssc_diag(diag, -EDOM,
-				      "totdev needs a record without gaps (%zu NaN samples)",
+				      "totdev needs a record without gaps (%zu NaN samples): choose another deviation or analyse a stretch without gaps",
 				      nnan);
 			goto out;
 		}
@@ -2626,6 +2642,59 @@ static int dense_subset(struct sscope_allan_result *res)
 	return 0;
 }
 
+/* longest stretch of finite samples of x */
+static size_t longest_run(const double *x, size_t stride, size_t n)
+{
+	size_t best = 0, cur = 0;
+
+	for (size_t k = 0; k < n; k++) {
+		cur = isnan(x[k * stride]) ? 0 : cur + 1;
+		if (cur > best)
+			best = cur;
+	}
+	return best;
+}
+
+/*
+ * Gaps: the taus whose every term spans a NaN sample (terms 0) leave the
+ * result, counted and explained in res->gap_note; none left is -EDOM.
+ */
+static int drop_gap_taus(struct sscope_allan_result *res, const double *x,
+			 size_t stride, size_t n, double rate_hz,
+			 enum sscope_allan_dev dev, struct sscope_diag *diag)
+{
+	size_t k = 0, run;
+	double first = NAN;
+	char b[48];
+
+	for (size_t j = 0; j < res->n_points; j++) {
+		if (res->points[j].terms == 0) {
+			if (isnan(first))
+				first = res->points[j].tau_s;
+			continue;
+		}
+		res->points[k++] = res->points[j];
+	}
+	res->n_gap_omitted = res->n_points - k;
+	if (!res->n_gap_omitted)
+		return 0;
+	run = longest_run(x, stride, n);
+	snprintf(b, sizeof(b), "%zu sample%s, %.4g s", run, run == 1 ? "" : "s",
+		 (double)run / rate_hz);
+	if (k == 0) {
+		res->n_points = 0;
+		return ssc_diag(diag, -EDOM,
+				"NaN gaps leave no %s term without a gap at any tau (the longest stretch without one is %s): fill the gaps or analyse a record with longer gap-free stretches",
+				sscope_allan_dev_name(dev), b);
+	}
+	snprintf(res->gap_note.msg, sizeof(res->gap_note.msg),
+		 "NaN gaps leave no %s term without a gap at %zu of the %zu taus (from %.4g s; the longest stretch without a gap is %s): those taus are left out; longer gap-free stretches reach them",
+		 sscope_allan_dev_name(dev), res->n_gap_omitted, res->n_points,
+		 first, b);
+	res->n_points = k;
+	return 0;
+}
+
 int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 double rate_hz, enum sscope_allan_tau_grid grid,
 			 const struct sscope_allan_opts *aopts,
@@ -2655,6 +2724,9 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 			 &res->n_points, diag);
 	if (rc)
 		goto fail;
+	rc = drop_gap_taus(res, x, stride, n, rate_hz, o.dev, diag);
+	if (rc)
+		goto fail;
 	/* the fit of an all-tau grid uses its dense points: neighbouring taus
 	 * are almost fully correlated, add nothing to the fit and would make
 	 * its covariance (quadratic in the points) the whole cost */
@@ -2676,6 +2748,7 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 				 &res->oadev, &res->n_oadev, &d2);
 		if (rc)
 			goto fail;
+		/* (the fit passes over taus without terms) */
 	}
 	if (!fopts || !fopts->skip) {
 		res->fit_error = fit_scaled(res->oadev, res->n_oadev, rate_hz,

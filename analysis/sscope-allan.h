@@ -19,7 +19,13 @@
  *   OHDEV m <= (np - 1) / 3 (np phase points).  This is Stable32's limit;
  *   the last points carry few degrees of freedom and wide intervals.
  * - NaN samples are gaps: a term whose span touches a NaN is skipped and
- *   counted in sscope_allan_point::skipped.  TOTDEV refuses gaps (-EDOM).
+ *   counted in sscope_allan_point::skipped; the variance averages the
+ *   complete terms only (Sesia & Tavella, Metrologia 45 (2008) S134), and
+ *   the EDF is that of a gap-free record with as many terms.  A point with
+ *   no complete term has terms 0 and NaN deviation, bounds and EDF from
+ *   sscope_allan_compute(); sscope_allan_analyze() leaves such taus out
+ *   (sscope_allan_result::n_gap_omitted, gap_note).  TOTDEV refuses gaps
+ *   (-EDOM).
  * - Confidence intervals: equivalent degrees of freedom (EDF) after
  *   Greenhall & Riley (PTTI 2003, as Stable32), for TOTDEV NIST SP 1065
  *   table 7; the dominant power-law noise at each tau from the lag-1
@@ -309,6 +315,11 @@ struct sscope_allan_result {
 	int fit_error;      /**< the fit's return code */
 	struct sscope_noise_fit fit;
 	struct sscope_diag fit_diag; /**< why the fit failed (may be empty) */
+	/** Taus of the grid left out of points because every one of their
+	 *  terms spans a NaN gap (0: none). */
+	size_t n_gap_omitted;
+	/** Why, in a sentence for the user (empty when n_gap_omitted is 0). */
+	struct sscope_diag gap_note;
 };
 
 /**
@@ -320,7 +331,8 @@ struct sscope_allan_result {
  * @param fopts    fit options (NULL: defaults).
  * @param res      receives the result; free with sscope_allan_result_free().
  * @param diag     optional detail.
- * @return as sscope_allan_compute(); a failing fit is not an error (see
+ * @return as sscope_allan_compute(), and -EDOM when NaN gaps leave no
+ *         tau with a complete term; a failing fit is not an error (see
  *         have_fit / fit_error).
  */
 int sscope_allan_analyze(const double *x, size_t stride, size_t n,

@@ -20,12 +20,17 @@
  * hysteresis).  The
  * data are averaged into blocks (block_s), temperature is smoothed and
  * differentiated by a centred local linear fit over smooth_s, blocks are
- * averaged into bins of (run, temperature, state) holding the means of
- * every regressor (so the binned fit is the sample fit of the same linear
- * model), and the bins are fitted with weights = samples per bin
- * (gsl_multifit_wlinear, SVD of the centred and scaled design); the
- * coefficient covariance is scaled by the residual chi^2 per degree of
- * freedom.  The order (auto) is the largest K whose added term passes an
+ * averaged into bins of (run, temperature, state, dT/dt class of 1/8 of
+ * the rms dT/dt) holding the means of every regressor (so the binned fit
+ * is the sample fit of the same linear model, and passes through one
+ * temperature at different rates stay apart), and the bins are fitted
+ * with weights = samples per bin (gsl_multifit_wlinear, SVD of the
+ * centred and scaled design).  The coefficient covariance is the HAC
+ * sandwich A^-1 S A^-1 of the time-ordered block scores, S the
+ * Bartlett-kernel (Newey-West 1987) long-run covariance as overlapping
+ * batch means with a bandwidth of 1/25 of each run, so autocorrelated
+ * residuals (bias instability, random walk, slow misfit) widen the
+ * intervals; for white residuals it equals the classical one.  The order (auto) is the largest K whose added term passes an
  * F test at level alpha, capped at one order per 5 degC of span, below
  * the number of distinct temperature levels (cells of span / 20 holding
  * at least 1 % of the data) and at SSCOPE_TEMPBIAS_MAX_ORDER, and
@@ -35,10 +40,12 @@
  * one rate each way make dT/dt follow the heating/cooling state), and
  * the hysteresis is then the combined heating - cooling gap.  In-run
  * stability is the minimum ADEV among taus whose EDF for white noise is
- * at least 10.  Warm-up (unless given): after a fit, the end of the last
- * window (2 % of the run, >= 5 blocks) in the first half of a run whose
- * mean residual departs from the median of the second half by more than
- * 4 robust sd / sqrt(window); the fit and the detection are repeated
+ * at least 10.  Warm-up (unless given): after a fit, windows of 2 % of
+ * the run (>= 5 blocks) of the residuals are compared with the median of
+ * all window means in units of their robust spread (1.4826 MAD): a
+ * warm-up exists when the first window is beyond 5 spreads, and ends half
+ * a window after the first window (sliding from the start, within the
+ * first half) within 2 spreads; the fit and the detection are repeated
  * twice.
  */
 #ifndef SSCOPE_TEMPBIAS_H

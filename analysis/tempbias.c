@@ -37,6 +37,7 @@ struct blocks {
 	double *ts;      /* smoothed temperature */
 	double *dtdt;    /* dT/dt, degC/s */
 	int *state;      /* -1, 0, +1 */
+	size_t *bin;     /* bin of the block (SIZE_MAX: none) */
 	size_t first;    /* first block used (after warm-up) */
 };
 
@@ -53,6 +54,7 @@ struct fit {
 	double beta[SSCOPE_TEMPBIAS_MAX_RUNS + NREG];
 	double cov[SSCOPE_TEMPBIAS_MAX_RUNS + NREG][SSCOPE_TEMPBIAS_MAX_RUNS + NREG];
 	double chisq, dof, rcond;
+	double s2; /* chisq / dof: cov = s2 (X'WX)^-1 */
 };
 
 static void free_blocks(struct blocks *b)
@@ -64,6 +66,7 @@ static void free_blocks(struct blocks *b)
 	free(b->ts);
 	free(b->dtdt);
 	free(b->state);
+	free(b->bin);
 }
 
 static int make_blocks(const struct sscope_tempbias_run *r, double block_s,
@@ -82,8 +85,9 @@ static int make_blocks(const struct sscope_tempbias_run *r, double block_s,
 	b->ts = ssc_alloc_array(nb, sizeof(double));
 	b->dtdt = ssc_alloc_array(nb, sizeof(double));
 	b->state = ssc_alloc_array(nb, sizeof(int));
+	b->bin = ssc_alloc_array(nb, sizeof(size_t));
 	if (!b->t || !b->temp || !b->x || !b->c || !b->ts || !b->dtdt ||
-	    !b->state)
+	    !b->state || !b->bin)
 		return -ENOMEM;
 	for (size_t i = 0; i < nb; i++) {
 		size_t lo = i * m0, hi = lo + m0 < r->n ? lo + m0 : r->n;
@@ -260,6 +264,7 @@ static int do_fit(const struct acc *bins, size_t nbins, size_t J, int K,
 	}
 	f->rcond = gsl_multifit_linear_rcond(ws);
 	f->dof = (double)(rows - p);
+	f->s2 = f->chisq / f->dof;
 	for (size_t i = 0; i < p; i++) {
 		f->beta[i] = gsl_vector_get(c, i);
 		for (size_t j = 0; j < p; j++)
@@ -306,37 +311,95 @@ struct ctx {
 	size_t nbins;
 };
 
-static void fill_bins(struct ctx *c, bool with_state)
-{
-	memset(c->bins, 0, c->nbins * sizeof(*c->bins));
-	for (size_t j = 0; j < c->J; j++) {
-		const struct blocks *b = &c->b[j];
+/* a block's bin key: run, temperature cell, heating/cooling state and
+ * rate class (dT/dt in steps of RATE_CLASS rms dT/dt, clamped) */
+#define RATE_CLASS 0.125
+#define NCLASS 257
+struct keyed {
+	uint64_t key;
+	size_t j, i;
+};
 
-		for (size_t i = b->first; i < b->nb; i++) {
-			double T = b->ts[i], u, uk = 1;
+static int cmp_keyed(const void *a, const void *b)
+{
+	const struct keyed *x = a, *y = b;
+
+	if (x->key != y->key)
+		return (x->key > y->key) - (x->key < y->key);
+	if (x->j != y->j)
+		return (x->j > y->j) - (x->j < y->j);
+	return (x->i > y->i) - (x->i < y->i);
+}
+
+/*
+ * Bins of (run, temperature cell, state, rate class) holding the
+ * sample-weighted sums of every regressor.  The rate class keeps passes
+ * through the same temperature at different rates apart (a fast and a
+ * slow heating ramp): merged, their mean dT/dt would be the same in every
+ * heating bin and the gradient term inseparable from the state.
+ */
+static int fill_bins(struct ctx *c, bool with_state)
+{
+	struct keyed *k;
+	size_t m = 0, nb = 0;
+
+	for (size_t j = 0; j < c->J; j++)
+		nb += c->b[j].nb;
+	k = ssc_alloc_array(nb ? nb : 1, sizeof(*k));
+	if (!k)
+		return -ENOMEM;
+	for (size_t j = 0; j < c->J; j++) {
+		struct blocks *b = &c->b[j];
+
+		for (size_t i = 0; i < b->nb; i++) {
+			double T = b->ts[i], cl;
 			size_t bi;
 			int s = with_state ? b->state[i] : 0;
-			struct acc *a;
 
-			if (!(b->c[i] > 0) || !isfinite(T) || !isfinite(b->x[i]))
+			b->bin[i] = SIZE_MAX;
+			if (i < b->first || !(b->c[i] > 0) || !isfinite(T) ||
+			    !isfinite(b->x[i]))
 				continue;
 			bi = (size_t)fmax(0, floor((T - c->tmin) / c->bin_w));
 			if (bi >= c->nbt)
 				bi = c->nbt - 1;
-			a = &c->bins[(j * c->nbt + bi) * 3 + (size_t)(s + 1)];
-			u = (T - c->tref) / c->h;
-			a->n += b->c[i];
-			a->x += b->c[i] * b->x[i];
-			a->temp += b->c[i] * T;
-			a->dtdt += b->c[i] * b->dtdt[i];
-			for (int k = 1; k <= MAXK; k++) {
-				uk *= u;
-				a->u[k] += b->c[i] * uk;
-			}
-			a->state = s;
-			a->run = (int)j;
+			cl = floor(b->dtdt[i] / (RATE_CLASS * c->gsc)) + NCLASS / 2;
+			cl = isfinite(cl) ? fmin(fmax(cl, 0), NCLASS - 1) : NCLASS / 2;
+			k[m].key = (((uint64_t)j * c->nbt + bi) * 3 + (uint64_t)(s + 1)) *
+					   NCLASS + (uint64_t)cl;
+			k[m].j = j;
+			k[m].i = i;
+			m++;
 		}
 	}
+	qsort(k, m, sizeof(*k), cmp_keyed);
+	c->nbins = 0;
+	for (size_t e = 0; e < m; e++) {
+		struct blocks *b = &c->b[k[e].j];
+		size_t i = k[e].i;
+		double u, uk = 1, w = b->c[i];
+		struct acc *a;
+
+		if (e == 0 || k[e].key != k[e - 1].key) {
+			a = &c->bins[c->nbins++];
+			memset(a, 0, sizeof(*a));
+			a->state = with_state ? b->state[i] : 0;
+			a->run = (int)k[e].j;
+		}
+		a = &c->bins[c->nbins - 1];
+		b->bin[i] = c->nbins - 1;
+		u = (b->ts[i] - c->tref) / c->h;
+		a->n += w;
+		a->x += w * b->x[i];
+		a->temp += w * b->ts[i];
+		a->dtdt += w * b->dtdt[i];
+		for (int q = 1; q <= MAXK; q++) {
+			uk *= u;
+			a->u[q] += w * uk;
+		}
+	}
+	free(k);
+	return 0;
 }
 
 /* Fit with the terms wanted, dropping gradient, hysteresis, then order
@@ -509,58 +572,210 @@ static double block_resid(const struct ctx *c, const struct fit *f, size_t j,
 			   f->hyst ? b->state[i] : 0, b->dtdt[i], c->gsc);
 }
 
-/* Warm-up: the end of the last window in the first half of a run whose
- * mean residual departs from the settled level (median of the second
- * half) by more than 4 robust sd / sqrt(window). */
+/*
+ * Coefficient covariance robust to autocorrelated residuals (bias
+ * instability, random walk, slow model misfit make the residuals of
+ * neighbouring blocks alike, and the classical covariance then too
+ * small).  The binned estimate is beta = A^-1 sum_i c_i xbar_b(i) y_i
+ * over the blocks i in time order (A = X'WX of the bins, xbar the mean
+ * regressors of block i's bin), so its error is A^-1 sum_i g_i with the
+ * scores g_i = c_i xbar e_i.  Their long-run covariance S is the
+ * Bartlett-kernel (Newey & West 1987) estimate written as overlapping
+ * batch means (Meketon & Schmeiser 1984): the outer products of the
+ * sums of L consecutive scores, divided by L, within each run (runs are
+ * independent), with L a fixed fraction HAC_B of the run (fixed-b
+ * bandwidth, Kiefer & Vogelsang 2005: about 1.5 / HAC_B = 37 degrees of
+ * freedom), scaled by 1 / (1 - q L / T) for the q regressors the
+ * residuals are orthogonal to.  cov = A^-1 S A^-1 replaces the
+ * classical one; for white residuals both agree.  Returns 0 or -ENOMEM.
+ */
+#define HAC_B 0.04 /* bandwidth: 1/25 of the run */
+static int hac_cov(const struct ctx *c, struct fit *f)
+{
+	size_t p = f->p, q = 1 + (size_t)f->K + f->hyst + f->grad;
+	double (*S)[SSCOPE_TEMPBIAS_MAX_RUNS + NREG] = calloc(p, sizeof(*S));
+	double *g = NULL, *P = NULL;
+	size_t idx[NREG + 1];
+	int rc = -ENOMEM;
+
+	if (!S)
+		return -ENOMEM;
+	for (size_t j = 0; j < c->J; j++) {
+		const struct blocks *b = &c->b[j];
+		size_t T = b->nb - b->first;
+		size_t Lj = (size_t)fmax(1, round((double)T * HAC_B));
+
+		if (T == 0)
+			continue;
+		free(g);
+		free(P);
+		g = ssc_alloc_array(T, q * sizeof(double));
+		P = ssc_alloc_array(T + 1, q * sizeof(double));
+		if (!g || !P)
+			goto out;
+		for (size_t t = 0; t < T; t++) {
+			size_t i = b->first + t;
+			double e = block_resid(c, f, j, i), *gi = g + t * q;
+
+			memset(gi, 0, q * sizeof(double));
+			if (isfinite(e) && b->bin[i] != SIZE_MAX) {
+				const struct acc *a = &c->bins[b->bin[i]];
+				size_t col = 0;
+
+				gi[col++] = b->c[i] * e;
+				for (int k = 1; k <= f->K; k++)
+					gi[col++] = b->c[i] * e * a->u[k] / a->n;
+				if (f->hyst)
+					gi[col++] = b->c[i] * e * a->state;
+				if (f->grad)
+					gi[col++] = b->c[i] * e * a->dtdt / a->n / c->gsc;
+			}
+		}
+		/* prefix sums, then moving sums of Lj scores */
+		memset(P, 0, q * sizeof(double));
+		for (size_t t = 0; t < T; t++)
+			for (size_t k = 0; k < q; k++)
+				P[(t + 1) * q + k] = P[t * q + k] + g[t * q + k];
+		idx[0] = j;
+		for (size_t k = 1; k < q; k++)
+			idx[k] = c->J + k - 1;
+		{
+			/* edge terms, and the bias of batch sums of residual
+			 * scores that are orthogonal to the q regressors over
+			 * the run: E[S] ~ (1 - q L / T) S */
+			double sc = (double)T / ((double)(T - Lj + 1) * (double)Lj) /
+				    fmax(0.5, 1 - (double)(q * Lj) / (double)T);
+
+			for (size_t t = 0; t + Lj <= T; t++) {
+				double G[NREG + 1];
+
+				for (size_t k = 0; k < q; k++)
+					G[k] = P[(t + Lj) * q + k] - P[t * q + k];
+				for (size_t a = 0; a < q; a++)
+					for (size_t bb = 0; bb < q; bb++)
+						S[idx[a]][idx[bb]] += sc * G[a] * G[bb];
+			}
+		}
+	}
+	/* cov = A^-1 S A^-1, A^-1 = cov / s2 */
+	{
+		double (*M)[SSCOPE_TEMPBIAS_MAX_RUNS + NREG] = calloc(p, sizeof(*M));
+
+		if (!M)
+			goto out;
+		for (size_t a = 0; a < p; a++)
+			for (size_t bb = 0; bb < p; bb++) {
+				double v = 0;
+
+				for (size_t k = 0; k < p; k++)
+					v += f->cov[a][k] / f->s2 * S[k][bb];
+				M[a][bb] = v;
+			}
+		for (size_t a = 0; a < p; a++)
+			for (size_t bb = 0; bb < p; bb++) {
+				double v = 0;
+
+				for (size_t k = 0; k < p; k++)
+					v += M[a][k] * f->cov[k][bb] / f->s2;
+				S[a][bb] = v;
+			}
+		free(M);
+		for (size_t a = 0; a < p; a++)
+			for (size_t bb = 0; bb < p; bb++)
+				f->cov[a][bb] = S[a][bb];
+	}
+	rc = 0;
+out:
+	free(S);
+	free(g);
+	free(P);
+	return rc;
+}
+
+/*
+ * Warm-up: a transient at the start of a run that the temperature model
+ * does not explain.  The block residuals of the fit are averaged in
+ * windows of W blocks (2 % of the run, >= 5); the settled level and the
+ * spread of a window mean are the median and the scaled MAD (1.4826) of
+ * the means of the run's non-overlapping windows, so correlated noise
+ * and slow model misfit widen the threshold as they widen the spread.
+ * A warm-up exists when the first window's mean lies beyond WARMUP_Z
+ * spreads of the settled level; it ends half a window after the start of
+ * the first window (sliding by one block, within the first half) within
+ * WARMUP_Z_END spreads (the half window: that window still averages the
+ * tail of the transient).  A departure anywhere later in the
+ * run is not a warm-up.
+ */
+#define WARMUP_Z 5.0
+#define WARMUP_Z_END 2.0
 static size_t detect_warmup(const struct ctx *c, const struct fit *f, size_t j)
 {
 	const struct blocks *b = &c->b[j];
-	size_t nb = b->nb, half = nb / 2, W, end = 0, m = 0;
-	double *r = ssc_alloc_array(nb, sizeof(double)), *tmp;
-	double L, sd;
+	size_t nb = b->nb, half = nb / 2, W, nw, m = 0, k = 0;
+	double *r = ssc_alloc_array(nb, sizeof(double)), *mw = NULL;
+	double L, sd, s = 0, n = 0;
 
-	if (!r || nb < 20) {
-		free(r);
-		return 0;
-	}
-	tmp = r + half;
+	if (!r || nb < 20)
+		goto out;
+	W = nb / 50 > 5 ? nb / 50 : 5;
+	nw = nb / W;
+	mw = ssc_alloc_array(nw, sizeof(double));
+	if (!mw || nw < 10)
+		goto out;
 	for (size_t i = 0; i < nb; i++)
 		r[i] = block_resid(c, f, j, i);
-	/* median / MAD of the finite second half (sorted copy in place at
-	 * the end of r is fine: the first half is what we scan) */
-	for (size_t i = half; i < nb; i++)
-		if (isfinite(r[i]))
-			tmp[m++] = r[i];
-	if (m < 10) {
-		free(r);
-		return 0;
-	}
-	qsort(tmp, m, sizeof(double), cmp_double);
-	L = tmp[m / 2];
-	for (size_t i = 0; i < m; i++)
-		tmp[i] = fabs(tmp[i] - L);
-	qsort(tmp, m, sizeof(double), cmp_double);
-	sd = 1.4826 * tmp[m / 2];
-	if (!(sd > 0)) {
-		free(r);
-		return 0;
-	}
-	for (size_t i = 0; i < half; i++)
-		r[i] = block_resid(c, f, j, i);
-	W = nb / 50 > 5 ? nb / 50 : 5;
-	for (size_t k = 0; k + W <= half; k++) {
-		double s = 0, n = 0;
-
-		for (size_t i = k; i < k + W; i++)
+	for (size_t w = 0; w < nw; w++) {
+		s = n = 0;
+		for (size_t i = w * W; i < (w + 1) * W; i++)
 			if (isfinite(r[i])) {
 				s += r[i];
 				n++;
 			}
-		if (n > 0 && fabs(s / n - L) > 4 * sd / sqrt(n))
-			end = k + W;
+		if (n >= 0.5 * (double)W)
+			mw[m++] = s / n;
 	}
+	if (m < 10)
+		goto out;
+	qsort(mw, m, sizeof(double), cmp_double);
+	L = mw[m / 2];
+	for (size_t i = 0; i < m; i++)
+		mw[i] = fabs(mw[i] - L);
+	qsort(mw, m, sizeof(double), cmp_double);
+	sd = 1.4826 * mw[m / 2];
+	if (!(sd > 0))
+		goto out;
+	/* sliding window sums from the start */
+	s = n = 0;
+	for (size_t i = 0; i < W; i++)
+		if (isfinite(r[i])) {
+			s += r[i];
+			n++;
+		}
+	for (k = 0; k + W <= half; k++) {
+		/* a warm-up is established by a first window beyond
+		 * WARMUP_Z spreads; it then lasts while the windows stay
+		 * beyond WARMUP_Z_END */
+		double z = k == 0 ? WARMUP_Z : WARMUP_Z_END;
+
+		if (n > 0 && !(fabs(s / n - L) > z * sd))
+			break;
+		if (isfinite(r[k])) {
+			s -= r[k];
+			n--;
+		}
+		if (k + W < nb && isfinite(r[k + W])) {
+			s += r[k + W];
+			n++;
+		}
+	}
+	if (k + W > half)
+		k = 0; /* never settles in the first half: not a warm-up */
+	else if (k > 0)
+		k += W / 2; /* the first settled window still holds the tail */
+out:
 	free(r);
-	return end;
+	free(mw);
+	return k;
 }
 
 static void stability(const struct ctx *c, const struct fit *f,
@@ -976,8 +1191,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		c.h = 1;
 	c.bin_w = o->bin_degc > 0 ? o->bin_degc : fmax(span / 100, 1e-3);
 	c.nbt = (size_t)fmin(1e5, floor(span / c.bin_w) + 1);
-	c.nbins = n_runs * c.nbt * 3;
-	c.bins = ssc_alloc_array(c.nbins, sizeof(*c.bins));
+	c.bins = ssc_alloc_array(nfin, sizeof(*c.bins));
 	if (!c.bins) {
 		rc = -ENOMEM;
 		goto fail;
@@ -1077,7 +1291,9 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 
 		hyst = hyst_ok;
 		grad = grad_ok;
-		fill_bins(&c, hyst);
+		rc = fill_bins(&c, hyst);
+		if (rc)
+			goto fail;
 		res->hyst_grad_collinear = false;
 		res->hyst_grad_vif = NAN;
 		if (hyst && grad) {
@@ -1142,6 +1358,9 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 			 res->hyst_grad_vif);
 		add_note(res, b);
 	}
+	rc = hac_cov(&c, f);
+	if (rc)
+		goto fail;
 	rc = results(&c, f, res);
 	if (rc)
 		goto fail;

@@ -251,8 +251,9 @@ out:
 	return rc;
 }
 
-/* 90th over 10th percentile of the sliding variance (calib's detector) */
-static int still_contrast(const double *x, size_t stride, size_t n, double fs,
+/* 90th over 10th percentile of the sliding variance (calib's detector);
+ * the stillness test of walk and of the adequacy check (internal.h) */
+int ssc_still_contrast(const double *x, size_t stride, size_t n, double fs,
 			  double *ratio)
 {
 	size_t w = (size_t)fmax(11, round(fs));
@@ -354,7 +355,7 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 					i + 1);
 	if (o->max_contrast >= 0) {
 		double c = o->max_contrast > 0 ? o->max_contrast : 9, ratio;
-		int rc = still_contrast(x, stride, n, o->rate_hz, &ratio);
+		int rc = ssc_still_contrast(x, stride, n, o->rate_hz, &ratio);
 
 		if (rc)
 			return ssc_diag(diag, rc, "%s", rc == -ENOMEM ?

@@ -69,6 +69,15 @@ void ssc_release_pages(void *p, size_t bytes, unsigned threads);
 int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
 			 size_t min_finite, double *p10, double *p90);
 
+/* The stillness test (in analysis/walk.c): the 90th over the 10th
+ * percentile of a record's variance over sliding windows of max(11,
+ * rate_hz) samples (calib's detector).  A still record stays near 1 (walk
+ * and the adequacy check accept up to 9); motion spans far more.  Returns
+ * 0, -EDOM (record shorter than a window, fewer than 10 finite values),
+ * -ENOMEM. */
+int ssc_still_contrast(const double *x, size_t stride, size_t n, double fs,
+		       double *ratio);
+
 /* strdup that accepts NULL (returns NULL) */
 char *ssc_strdup(const char *s);
 

@@ -190,7 +190,9 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 		unsigned char *s = realloc(b->scratch, size);
 
 		if (!s)
-			return -ENOMEM;
+			return ssc_diag(diag, -ENOMEM,
+					"%s: out of memory for a chunk of %u bytes at byte %llu",
+					b->disp, (unsigned)size, (unsigned long long)at);
 		b->scratch = s;
 		b->scratch_cap = size;
 	}

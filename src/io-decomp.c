@@ -6,8 +6,20 @@
  * Zstandard frames (libzstd, MCAP "zstd" chunks).  The uncompressed size is
  * always known from the container; a frame that decodes to any other size
  * is malformed.
+ *
+ * Whole files compressed with Zstandard (rosbag2's compression_mode FILE)
+ * have no size outside the stream: they are expanded in steps, never past
+ * what the codec can make of the input (RFC 8878: at most a 128 KiB
+ * block from 4 bytes), past a cap of half the memory the process may use,
+ * or past the size the expanded bytes declare themselves; what they must
+ * be is checked on the first MiB, so a bomb stops there.
  */
 #include "internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <bzlib.h>
 #include <lz4frame.h>
@@ -115,4 +127,140 @@ uint32_t ssc_crc32(const unsigned char *p, size_t n)
 		n -= k;
 	}
 	return (uint32_t)c;
+}
+
+size_t ssc_expand_cap(void)
+{
+	long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
+	size_t cap = SIZE_MAX / 2;
+	struct rlimit rl;
+
+	if (pages > 0 && psz > 0 &&
+	    (unsigned long long)pages * (unsigned long long)psz / 2 < cap)
+		cap = (size_t)((unsigned long long)pages *
+			       (unsigned long long)psz / 2);
+	if (!getrlimit(RLIMIT_AS, &rl) && rl.rlim_cur != RLIM_INFINITY &&
+	    rl.rlim_cur / 2 < cap)
+		cap = (size_t)(rl.rlim_cur / 2);
+	if (!getrlimit(RLIMIT_DATA, &rl) && rl.rlim_cur != RLIM_INFINITY &&
+	    rl.rlim_cur / 2 < cap)
+		cap = (size_t)(rl.rlim_cur / 2);
+	return cap;
+}
+
+static double mib(size_t n)
+{
+	return (double)n / (1024.0 * 1024.0);
+}
+
+#define HEAD (1u << 20)
+
+int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
+	       ssc_expand_check_fn check, void *ctx, unsigned char **out,
+	       size_t *out_len, const char *disp, struct sscope_diag *diag)
+{
+	ZSTD_DCtx *z;
+	ZSTD_inBuffer in = { src, n, 0 };
+	unsigned char *b = NULL;
+	size_t bcap = 0, len = 0, limit, r = 1;
+	unsigned long long fcs = ZSTD_getFrameContentSize(src, n);
+	bool checked = false, ratio_bound, declared = false;
+	int rc = 0;
+
+	*out = NULL;
+	*out_len = 0;
+	limit = ssc_decompress_bound(SSC_CODEC_ZSTD, n);
+	ratio_bound = limit <= cap;
+	if (!ratio_bound)
+		limit = cap;
+	if (fcs != ZSTD_CONTENTSIZE_UNKNOWN && fcs != ZSTD_CONTENTSIZE_ERROR &&
+	    fcs > limit)
+		return ssc_diag(diag, ratio_bound ? -EBADMSG : -ENOMEM,
+				ratio_bound ?
+				"%s: corrupt zstd data (a frame of %.0f MiB from %.3g MiB of input)" :
+				"%s: zstd data of %.0f MiB: more than the %.0f MiB a decompressed file may take here (half the memory this process may use): convert the bag with `ros2 bag convert` to uncompressed storage",
+				disp, mib((size_t)(fcs > SIZE_MAX ? SIZE_MAX : fcs)),
+				ratio_bound ? mib(n) : mib(cap));
+	z = ZSTD_createDCtx();
+	if (!z)
+		return ssc_diag(diag, -ENOMEM, "%s: out of memory", disp);
+	for (;;) {
+		ZSTD_outBuffer o;
+
+		if (bcap - len < HEAD && bcap < limit + 1) {
+			/* the first frame's declared size, else doubling */
+			size_t want = fcs != ZSTD_CONTENTSIZE_UNKNOWN &&
+					      fcs != ZSTD_CONTENTSIZE_ERROR && !bcap ?
+					      (size_t)fcs + 1 :
+					      bcap ? 2 * bcap : 4 * n + HEAD;
+			unsigned char *nb;
+
+			if (want < len + HEAD)
+				want = len + HEAD;
+			if (want > limit + 1 || want < bcap)
+				want = limit + 1;
+			nb = realloc(b, want);
+			if (!nb) {
+				rc = ssc_diag(diag, -ENOMEM,
+					      "%s: out of memory expanding the zstd data (%.0f MiB so far): free memory, or convert the bag with `ros2 bag convert` to uncompressed storage",
+					      disp, mib(len));
+				break;
+			}
+			b = nb;
+			bcap = want;
+		}
+		o = (ZSTD_outBuffer){ b + len, bcap - len, 0 };
+		r = ZSTD_decompressStream(z, &o, &in);
+		if (ZSTD_isError(r)) {
+			rc = ZSTD_getErrorCode(r) == ZSTD_error_memory_allocation ?
+				ssc_diag(diag, -ENOMEM, "%s: out of memory expanding the zstd data",
+					 disp) :
+				ssc_diag(diag, -EBADMSG, "%s: corrupt zstd data (%s)",
+					 disp, ZSTD_getErrorName(r));
+			break;
+		}
+		len += o.pos;
+		if (!checked && (len >= HEAD || (r == 0 && in.pos == in.size))) {
+			size_t l = limit;
+
+			checked = true;
+			rc = check ? check(b, len, &l, ctx, disp, diag) : 0;
+			if (rc)
+				break;
+			if (l < limit) {
+				limit = l;
+				declared = true;
+			}
+		}
+		if (len > limit) {
+			rc = declared ?
+				ssc_diag(diag, -EBADMSG,
+					 "%s: corrupt zstd data (they go on past the %zu bytes the file declares)",
+					 disp, limit) :
+			     ratio_bound ?
+				ssc_diag(diag, -EBADMSG,
+					 "%s: corrupt zstd data (more than %.0f MiB from %.3g MiB of input)",
+					 disp, mib(limit), mib(n)) :
+				ssc_diag(diag, -ENOMEM,
+					 "%s: zstd data expand to more than the %.0f MiB a decompressed file may take here (half the memory this process may use): convert the bag with `ros2 bag convert` to uncompressed storage",
+					 disp, mib(cap));
+			break;
+		}
+		if (r == 0 && in.pos == in.size)
+			break;
+		if (in.pos == in.size && o.pos < o.size) {
+			rc = ssc_diag(diag, -EBADMSG,
+				      "%s: zstd data truncated (the file ends inside a frame)",
+				      disp);
+			break;
+		}
+	}
+	ZSTD_freeDCtx(z);
+	if (rc) {
+		free(b);
+		return rc;
+	}
+	*out = b;
+	*out_len = len;
+	return 0;
 }

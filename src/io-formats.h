@@ -149,6 +149,24 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
  * 255 per byte; Zstandard: a 128 KiB block from 4 bytes; bzip2: no
  * bound), so that a corrupt size field is refused before it is allocated. */
 size_t ssc_decompress_bound(enum ssc_codec codec, size_t src_len);
+/* The most bytes one compressed input may expand to in memory: half the
+ * physical memory, or half the address-space or data-size limit
+ * (ulimit -v, -d) when lower. */
+size_t ssc_expand_cap(void);
+/* Called once on the first MiB of an expansion (all of it when shorter):
+ * 0 when it is what the format needs, possibly lowering *limit to the
+ * size it declares; else a negative errno with diag set. */
+typedef int (*ssc_expand_check_fn)(const unsigned char *head, size_t n,
+				   size_t *limit, void *ctx, const char *disp,
+				   struct sscope_diag *diag);
+/* Expand Zstandard frames (a whole file) into *out (malloc'd, *out_len
+ * bytes), at most cap bytes and what the codec can make of n bytes;
+ * check (may be NULL) judges the first MiB.  -ENOMEM (out of memory, or
+ * more than cap), -EBADMSG corrupt, truncated or more than declared; diag
+ * names disp and the fix. */
+int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
+	       ssc_expand_check_fn check, void *ctx, unsigned char **out,
+	       size_t *out_len, const char *disp, struct sscope_diag *diag);
 /* CRC-32 (zlib's) of a buffer of any size. */
 uint32_t ssc_crc32(const unsigned char *p, size_t n);
 

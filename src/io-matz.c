@@ -4,7 +4,9 @@
  * Level 5 layout where each variable is stored as a miCOMPRESSED (15) data
  * element whose payload is a zlib stream holding the uncompressed element
  * (tag included).  The file is rewritten in memory with every compressed
- * element expanded, and the Level 5 decoder (io-mat.c) reads the result.
+ * array expanded (to the length its tag declares, within deflate's ratio
+ * and a cap of half the memory), and the Level 5 decoder (io-mat.c) reads
+ * the result.
  */
 #include "internal.h"
 
@@ -14,6 +16,7 @@
 
 #include "io-formats.h"
 
+#define MI_MATRIX 14
 #define MI_COMPRESSED 15
 
 struct obuf {
@@ -64,47 +67,100 @@ static uint32_t rd32(const unsigned char *p, bool swap)
 	return v;
 }
 
-/* inflate one zlib stream onto the end of o, then pad to 8 bytes */
+/* Inflate up to `want` bytes of the zlib stream z onto the end of o;
+ * returns zlib's last code, or a negative errno. */
+static int inflate_some(z_stream *z, struct obuf *o, size_t want)
+{
+	int zr = Z_OK;
+
+	while (want > 0 && zr != Z_STREAM_END) {
+		size_t k = want > (1u << 30) ? 1u << 30 : want;
+		uInt before;
+
+		z->next_out = o->p + o->len;
+		z->avail_out = (uInt)k;
+		before = z->avail_out;
+		zr = inflate(z, Z_NO_FLUSH);
+		o->len += before - z->avail_out;
+		want -= before - z->avail_out;
+		if (zr == Z_MEM_ERROR)
+			return -ENOMEM;
+		if (zr != Z_OK && zr != Z_STREAM_END)
+			return -EBADMSG;
+		if (zr == Z_OK && z->avail_in == 0 && z->avail_out != 0)
+			return -EBADMSG; /* input ended inside the stream */
+	}
+	return zr;
+}
+
+static int nomem(const char *disp, size_t at, struct sscope_diag *diag)
+{
+	return ssc_diag(diag, -ENOMEM,
+			"%s: MAT-file: out of memory expanding the compressed element at byte %zu",
+			disp, at);
+}
+
+/* Inflate one zlib stream (a compressed element) onto the end of o, then
+ * pad to 8 bytes.  Its first 8 bytes are the tag of the element it holds:
+ * an array (miMATRIX) is expanded to the length its tag declares -- no
+ * more than deflate's ratio (1032:1, zlib's zlib.h) makes of n bytes and
+ * no more than cap in all; other elements are skipped (the reader would
+ * ignore them) without expanding them. */
 static int inflate_element(struct obuf *o, const unsigned char *src,
-			   size_t n)
+			   size_t n, bool swap, size_t cap, const char *disp,
+			   size_t at, struct sscope_diag *diag)
 {
 	z_stream z;
-	int rc, zr = Z_OK;
+	size_t start = o->len, nd, total;
+	uint32_t t;
+	int rc, zr;
 
 	memset(&z, 0, sizeof(z));
 	if (inflateInit(&z) != Z_OK)
-		return -ENOMEM;
+		return nomem(disp, at, diag);
 	z.next_in = (unsigned char *)src;
-	z.avail_in = (uInt)n;
-	while (zr != Z_STREAM_END) {
-		rc = reserve(o, 1u << 16);
-		if (rc) {
-			inflateEnd(&z);
-			return rc;
-		}
-		z.next_out = o->p + o->len;
-		z.avail_out = (uInt)(o->cap - o->len > (1u << 30) ?
-					     1u << 30 : o->cap - o->len);
-		{
-			uInt before = z.avail_out;
-
-			zr = inflate(&z, Z_NO_FLUSH);
-			o->len += before - z.avail_out;
-		}
-		if (zr == Z_MEM_ERROR) {
-			inflateEnd(&z);
-			return -ENOMEM;
-		}
-		if (zr != Z_OK && zr != Z_STREAM_END) {
-			inflateEnd(&z);
-			return -EBADMSG;
-		}
-		if (zr == Z_OK && z.avail_in == 0 && z.avail_out != 0) {
-			inflateEnd(&z); /* input ended inside the stream */
-			return -EBADMSG;
-		}
+	z.avail_in = (uInt)(n > UINT32_MAX ? UINT32_MAX : n);
+	rc = reserve(o, 8);
+	zr = rc ? rc : inflate_some(&z, o, 8);
+	if (zr < 0 || o->len - start < 8) {
+		inflateEnd(&z);
+		o->len = start;
+		return zr == -ENOMEM ? nomem(disp, at, diag) : -EBADMSG;
 	}
+	t = rd32(o->p + start, swap);
+	if (t != MI_MATRIX) {
+		inflateEnd(&z);
+		o->len = start;
+		return 0;
+	}
+	nd = rd32(o->p + start + 4, swap);
+	total = 8 + nd;
+	if (nd / 1032 > n) {
+		inflateEnd(&z);
+		o->len = start;
+		return -EBADMSG;
+	}
+	if (total > cap || o->len - 8 > cap - total) {
+		inflateEnd(&z);
+		o->len = start;
+		return ssc_diag(diag, -ENOMEM,
+				"%s: MAT-file: the compressed element at byte %zu holds %zu bytes, more than the %.0f MiB a decompressed file may take here (half the memory this process may use): save it uncompressed (-v6) or in parts",
+				disp, at, total, (double)cap / 1048576.0);
+	}
+	/* one byte more than declared: a stream that goes on is corrupt */
+	rc = reserve(o, nd + 1);
+	if (rc) {
+		inflateEnd(&z);
+		return nomem(disp, at, diag);
+	}
+	zr = zr == Z_STREAM_END ? Z_STREAM_END : inflate_some(&z, o, nd + 1);
 	inflateEnd(&z);
+	if (zr == -ENOMEM)
+		return nomem(disp, at, diag);
+	if (zr < 0)
+		return zr;
+	if (zr != Z_STREAM_END || o->len - start > total)
+		return -EBADMSG;
 	while (o->len % 8) {
 		rc = append(o, "", 1);
 		if (rc)
@@ -118,7 +174,7 @@ int ssc_matz_expand(const unsigned char *buf, size_t len, unsigned char **out,
 		    struct sscope_diag *diag)
 {
 	struct obuf o = { 0 };
-	size_t pos = 128;
+	size_t pos = 128, cap = ssc_expand_cap();
 	bool swap, any = false;
 	int rc;
 
@@ -156,7 +212,8 @@ int ssc_matz_expand(const unsigned char *buf, size_t len, unsigned char **out,
 			break;
 		}
 		if (t == MI_COMPRESSED) {
-			rc = inflate_element(&o, buf + pos + 8, n);
+			rc = inflate_element(&o, buf + pos + 8, n, swap, cap,
+					     disp, pos, diag);
 			if (rc == -EBADMSG)
 				rc = ssc_diag(diag, -EBADMSG,
 					      "%s: MAT-file: corrupt or truncated compressed element at byte %zu",

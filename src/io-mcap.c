@@ -137,7 +137,10 @@ static int chunk(struct mcap *m, const unsigned char *p,
 			unsigned char *s = realloc(m->scratch, usize ? usize : 1);
 
 			if (!s)
-				return -ENOMEM;
+				return ssc_diag(diag, -ENOMEM,
+						"%s: out of memory for a chunk of %llu bytes at byte %llu",
+						m->disp, (unsigned long long)usize,
+						(unsigned long long)at);
 			m->scratch = s;
 			m->scratch_cap = usize;
 		}

@@ -5,8 +5,9 @@
  * and the files of a split recording under relative_file_paths; each file
  * is read in that order into one recording.  Only the few keys needed are
  * read, line by line (no general YAML parser).  Whole-file zstd
- * compression (compression_mode FILE) is undone in memory; per-message
- * compression is refused with the fix.
+ * compression (compression_mode FILE) is undone in memory, bounded
+ * (io-decomp.c) and checked to be SQLite or MCAP on its first MiB;
+ * per-message compression is refused with the fix.
  */
 #include "internal.h"
 
@@ -17,7 +18,6 @@
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include <zstd.h>
 
 #include "io-formats.h"
 
@@ -34,35 +34,76 @@ bool ssc_rosbag2_is_dir(const char *path)
 	return access(p, R_OK) == 0;
 }
 
-static char *slurp(const char *path, size_t *len)
+/* rosbag2 writes a few KiB of metadata (more with many topics) */
+#define MAX_METADATA (16u << 20)
+
+/* Open a regular file for reading (never blocking on a FIFO). */
+static int open_regular(const char *path, struct stat *st,
+			struct sscope_diag *diag)
 {
-	FILE *f = fopen(path, "rb");
-	char *b = NULL;
-	size_t cap = 0, n = 0;
+	int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK);
 
-	if (!f)
-		return NULL;
-	for (;;) {
-		if (n + 4096 + 1 > cap) {
-			char *nb = realloc(b, cap = cap ? 2 * cap : 65536);
+	if (fd < 0)
+		return ssc_diag(diag, -errno, "%s: %s", path,
+				sscope_strerror(-errno));
+	if (fstat(fd, st)) {
+		int e = -errno;
 
-			if (!nb) {
-				free(b);
-				fclose(f);
-				return NULL;
-			}
-			b = nb;
+		close(fd);
+		return ssc_diag(diag, e, "%s: %s", path, sscope_strerror(e));
+	}
+	if (!S_ISREG(st->st_mode)) {
+		close(fd);
+		return ssc_diag(diag, -EBADMSG,
+				"%s: not a regular file (a bag folder holds files)",
+				path);
+	}
+	return fd;
+}
+
+/* the whole of metadata.yaml, NUL-terminated */
+static int slurp(const char *path, char **out, struct sscope_diag *diag)
+{
+	struct stat st;
+	int fd = open_regular(path, &st, diag);
+	char *b;
+	size_t n = 0;
+
+	*out = NULL;
+	if (fd < 0)
+		return fd;
+	if (st.st_size > (off_t)MAX_METADATA) {
+		close(fd);
+		return ssc_diag(diag, -EBADMSG,
+				"%s: %lld bytes, more than rosbag2 metadata can be: name the .db3 or .mcap file instead",
+				path, (long long)st.st_size);
+	}
+	b = malloc((size_t)st.st_size + 1);
+	if (!b) {
+		close(fd);
+		return ssc_diag(diag, -ENOMEM, "%s: out of memory", path);
+	}
+	while (n < (size_t)st.st_size) {
+		ssize_t k = read(fd, b + n, (size_t)st.st_size - n);
+
+		if (k < 0 && errno == EINTR)
+			continue;
+		if (k < 0) {
+			int e = -errno;
+
+			free(b);
+			close(fd);
+			return ssc_diag(diag, e, "%s: %s", path,
+					sscope_strerror(e));
 		}
-		size_t k = fread(b + n, 1, cap - n - 1, f);
-
-		n += k;
 		if (k == 0)
 			break;
+		n += (size_t)k;
 	}
-	fclose(f);
+	close(fd);
 	b[n] = '\0';
-	*len = n;
-	return b;
+	*out = b;
+	return 0;
 }
 
 /* value of "key: value" on a line (quotes removed), or NULL */
@@ -137,60 +178,81 @@ static size_t yaml_files(const char *y, char **out, size_t max)
 	return n;
 }
 
-/* whole-file zstd: decompress into a new buffer */
-static int unzstd(const unsigned char *src, size_t n, unsigned char **out,
-		  size_t *out_len)
+/* What a rosbag2 storage file must be after whole-file decompression:
+ * SQLite, whose header declares its size (sqlite.org/fileformat.html,
+ * 1.3: page size x in-header page count, valid when the version-valid-for
+ * number equals the change counter -- always so since SQLite 3.7.0), or
+ * MCAP, whose magic is followed by a Header record (mcap.dev/spec): the
+ * records that start in the first MiB have known op codes. */
+static int storage_check(const unsigned char *h, size_t n, size_t *limit,
+			 void *ctx, const char *disp, struct sscope_diag *diag)
 {
-	ZSTD_DStream *z = ZSTD_createDStream();
-	ZSTD_inBuffer in = { src, n, 0 };
-	unsigned char *b = NULL;
-	size_t cap = 0, len = 0, r = 1;
+	size_t cap = *(const size_t *)ctx;
 
-	if (!z)
-		return -ENOMEM;
-	ZSTD_initDStream(z);
-	while (in.pos < in.size || r != 0) {
-		ZSTD_outBuffer o;
+	switch (ssc_container_detect(h, n)) {
+	case SSC_C_SQLITE: {
+		uint32_t ps, pc;
+		unsigned long long sz;
 
-		if (cap - len < (1u << 20)) {
-			unsigned char *nb = realloc(b, cap = cap ? 2 * cap : n * 4 + (1u << 20));
-
-			if (!nb) {
-				free(b);
-				ZSTD_freeDStream(z);
-				return -ENOMEM;
-			}
-			b = nb;
-		}
-		o = (ZSTD_outBuffer){ b + len, cap - len, 0 };
-		r = ZSTD_decompressStream(z, &o, &in);
-		len += o.pos;
-		if (ZSTD_isError(r) || (in.pos == in.size && r != 0 && o.pos == 0)) {
-			free(b);
-			ZSTD_freeDStream(z);
-			return -EBADMSG;
-		}
+		if (n < 100 || memcmp(h + 24, h + 92, 4))
+			return ssc_diag(diag, -EBADMSG,
+					"%s: a SQLite file without a valid size in its header once decompressed (not written by rosbag2): decompress it with `zstd -d` and name the .db3 file",
+					disp);
+		ps = (uint32_t)h[16] << 8 | h[17];
+		pc = (uint32_t)h[28] << 24 | (uint32_t)h[29] << 16 |
+		     (uint32_t)h[30] << 8 | h[31];
+		if (ps == 1)
+			ps = 65536;
+		sz = (unsigned long long)ps * pc;
+		if (sz > cap)
+			return ssc_diag(diag, -ENOMEM,
+					"%s: holds a SQLite database of %.0f MiB (says its header), more than the %.0f MiB a decompressed file may take here (half the memory this process may use): convert the bag with `ros2 bag convert` to uncompressed storage",
+					disp, (double)sz / 1048576.0,
+					(double)cap / 1048576.0);
+		if (sz > *limit)
+			return ssc_diag(diag, -EBADMSG,
+					"%s: corrupt zstd data (a SQLite database of %.0f MiB from a smaller file)",
+					disp, (double)sz / 1048576.0);
+		if (sz)
+			*limit = (size_t)sz;
+		return 0;
 	}
-	ZSTD_freeDStream(z);
-	*out = b;
-	*out_len = len;
-	return 0;
+	case SSC_C_MCAP:
+		for (size_t p = 8; p + 9 <= n;) {
+			uint64_t len = 0;
+
+			for (int i = 8; i >= 1; i--)
+				len = len << 8 | h[p + (size_t)i];
+			if ((p == 8 && h[p] != 0x01) || h[p] == 0 ||
+			    len > cap)
+				return ssc_diag(diag, -EBADMSG,
+						"%s: not an MCAP file once decompressed (record at byte %zu): check metadata.yaml, or decompress it with `zstd -d` and run `mcap doctor`",
+						disp, p);
+			if (len > n - p - 9)
+				break;
+			p += 9 + (size_t)len;
+		}
+		return 0;
+	default:
+		return ssc_diag(diag, -EBADMSG,
+				"%s: not a SQLite (.db3) or MCAP file once decompressed (compression_mode FILE): check metadata.yaml",
+				disp);
+	}
 }
 
 static int one_file(struct ssc_ros *c, const char *path, bool zstd_file,
 		    struct sscope_diag *diag)
 {
-	int fd = open(path, O_RDONLY | O_CLOEXEC), rc;
 	struct stat st;
+	int fd = open_regular(path, &st, diag), rc;
 	void *m;
 	unsigned char *z = NULL;
 	const unsigned char *b;
 	size_t len;
 
 	if (fd < 0)
-		return ssc_diag(diag, -errno, "%s: %s", path,
-				sscope_strerror(-errno));
-	if (fstat(fd, &st) || st.st_size <= 0) {
+		return fd;
+	if (st.st_size <= 0) {
 		close(fd);
 		return ssc_diag(diag, -EBADMSG, "%s: empty file", path);
 	}
@@ -201,10 +263,13 @@ static int one_file(struct ssc_ros *c, const char *path, bool zstd_file,
 	b = m;
 	len = (size_t)st.st_size;
 	if (zstd_file) {
-		rc = unzstd(m, len, &z, &len);
+		size_t cap = ssc_expand_cap();
+
+		rc = ssc_unzstd(m, len, cap, storage_check, &cap, &z, &len,
+				path, diag);
 		if (rc) {
 			munmap(m, (size_t)st.st_size);
-			return ssc_diag(diag, rc, "%s: corrupt zstd data", path);
+			return rc;
 		}
 		b = z;
 	}
@@ -229,7 +294,7 @@ int ssc_rosbag2_open(struct ssc_table **t, const char *dir, const char *topic,
 {
 	char path[4096], *files[MAX_FILES];
 	char *y, *storage = NULL, *cfmt = NULL, *cmode = NULL;
-	size_t yl, nf = 0;
+	size_t nf = 0;
 	struct ssc_ros *c = NULL;
 	bool zfile = false;
 	char fmt[96];
@@ -237,10 +302,9 @@ int ssc_rosbag2_open(struct ssc_table **t, const char *dir, const char *topic,
 
 	*t = NULL;
 	snprintf(path, sizeof(path), "%s/metadata.yaml", dir);
-	y = slurp(path, &yl);
-	if (!y)
-		return ssc_diag(diag, -errno ? -errno : -ENOMEM, "%s: %s", path,
-				sscope_strerror(-errno));
+	rc = slurp(path, &y, diag);
+	if (rc)
+		return rc;
 	if (!strstr(y, "rosbag2_bagfile_information")) {
 		rc = ssc_diag(diag, -EBADMSG,
 			      "%s: not rosbag2 metadata (no rosbag2_bagfile_information)",

@@ -54,6 +54,10 @@ struct colx {
 	bool is_temp;
 	bool used;        /* converted at all */
 	bool hidden;      /* not in the default selection (text, metadata) */
+	/* text in the first data line (text files): its line and cell */
+	size_t text_line;
+	char text_cell[24];
+	bool dec_comma;   /* that cell is a number with a decimal comma */
 };
 
 struct sscope_reader {
@@ -63,6 +67,10 @@ struct sscope_reader {
 	/* source */
 	int fd;
 	bool mapped;
+	bool partial;     /* NAME.partial: a recording still being written or
+			     interrupted (acquire): an unfinished last row
+			     is left out */
+	size_t map_len;   /* bytes mapped */
 	const char *base; /* mapped file or buffer */
 	size_t len;       /* bytes valid in base */
 	size_t pos;       /* parse position */
@@ -110,9 +118,21 @@ struct sscope_reader {
 	/* a mapped binary file: pages before `dropped` were given back */
 	size_t dropped, pagesz;
 	size_t last_used; /* last column converted (SIZE_MAX: none) */
+	/* a row of text right under the header that is not all units: its
+	 * line and the first cell that is not a unit (text files) */
+	size_t units_row_line;
+	char units_row_bad[24];
 };
 
 /* ------------------------------------------------------------ source */
+
+/* NAME.partial: the name acquire records under until a clean stop */
+static bool is_partial_name(const char *path)
+{
+	size_t n = strlen(path), k = strlen(".partial");
+
+	return n > k && !strcmp(path + n - k, ".partial");
+}
 
 static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 {
@@ -141,6 +161,8 @@ static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 			madvise(m, (size_t)st.st_size, MADV_SEQUENTIAL);
 			r->pagesz = pg > 0 ? (size_t)pg : 4096;
 			r->mapped = true;
+			r->partial = is_partial_name(r->path);
+			r->map_len = (size_t)st.st_size;
 			r->base = m;
 			r->len = (size_t)st.st_size;
 			r->size = (uint64_t)st.st_size;
@@ -175,10 +197,20 @@ static int src_fill(struct sscope_reader *r, size_t want,
 
 		if (r->len == r->cap) {
 			size_t ncap = r->cap * 2;
-			char *nb = realloc(r->buf, ncap);
+			char *nb;
 
+			/* gzip held whole (a container inside): at most half
+			 * the memory (deflate's 1032:1 bounds the work) */
+			if (r->gz && ncap > ssc_expand_cap())
+				return ssc_diag(diag, -ENOMEM,
+						"%s: gzip data expand to more than the %.0f MiB a decompressed file may take here (half the memory this process may use): decompress it with gunzip and name the file",
+						r->disp, (double)ssc_expand_cap() / 1048576.0);
+			nb = realloc(r->buf, ncap);
 			if (!nb)
-				return -ENOMEM;
+				return r->gz ? ssc_diag(diag, -ENOMEM,
+							"%s: out of memory expanding the gzip data (%.0f MiB so far): decompress it with gunzip and name the file",
+							r->disp, (double)r->len / 1048576.0) :
+					       -ENOMEM;
 			r->buf = nb;
 			r->base = nb;
 			r->cap = ncap;
@@ -865,15 +897,138 @@ static int open_text(struct sscope_reader *r, struct sscope_diag *diag)
 	}
 }
 
-/* Columns whose first data cell is text (a frame id) stay out of the
- * default selection; a `rostopic echo -p` header gets the bag reader's
- * names and units (io-rostopic.c). */
+/* A number written with a decimal comma: [+-]digits,digits[e[+-]digits] */
+static bool decimal_comma(const char *a, const char *b)
+{
+	const char *p;
+
+	while (a < b && blank(*a))
+		a++;
+	while (b > a && blank(b[-1]))
+		b--;
+	if (a < b && (*a == '+' || *a == '-'))
+		a++;
+	for (p = a; p < b && *p >= '0' && *p <= '9'; p++)
+		;
+	if (p == a || p >= b || *p != ',')
+		return false;
+	a = ++p;
+	for (; p < b && *p >= '0' && *p <= '9'; p++)
+		;
+	if (p == a)
+		return false;
+	if (p < b && (*p == 'e' || *p == 'E')) {
+		p++;
+		if (p < b && (*p == '+' || *p == '-'))
+			p++;
+		a = p;
+		for (; p < b && *p >= '0' && *p <= '9'; p++)
+			;
+		if (p == a)
+			return false;
+	}
+	return p == b;
+}
+
+static void cell_copy(char *dst, size_t len, const char *a, const char *b)
+{
+	size_t n;
+
+	while (a < b && blank(*a))
+		a++;
+	while (b > a && blank(b[-1]))
+		b--;
+	n = (size_t)(b - a) < len - 1 ? (size_t)(b - a) : len - 1;
+	memcpy(dst, a, n);
+	dst[n] = '\0';
+}
+
+/*
+ * The first data line after the header.  A line of text in every cell
+ * right under a header that names no units, each cell a unit (or empty),
+ * is a units row ("t,gx" then "s,deg/s"): its units are taken and the
+ * line skipped.  Columns whose first data cell is text (a frame id) stay
+ * out of the default selection; the line and cell are kept for the
+ * message when nothing numeric is left, and a decimal comma is noted.
+ */
 static int text_columns(struct sscope_reader *r)
 {
 	const char *fs[MAXF], *fe[MAXF];
 	const char *p = r->base + r->pos, *end = r->base + r->len;
-	bool stamp = false;
+	size_t line = r->line;
+	bool stamp = false, units_ok = true;
 
+	for (size_t i = 0; i < r->ncols; i++)
+		units_ok &= !*r->cols[i].unit_label;
+	while (p < end) {
+		const char *e = line_end(p, end);
+
+		line++;
+		if (!skip_line(p, e)) {
+			size_t nf = split_fields(p, e, r->delim, fs, fe, MAXF);
+			size_t ntext = 0, nunit = 0, nnum = 0;
+			char bad[24] = "";
+
+			for (size_t i = 0; i < nf && i < r->ncols && i < MAXF; i++) {
+				struct sscope_unit u;
+				char *cell;
+
+				if (field_is_number(fs[i], fe[i])) {
+					nnum += fs[i] != fe[i];
+					continue;
+				}
+				ntext++;
+				cell = dup_range(fs[i], fe[i]);
+				if (!cell)
+					return -ENOMEM;
+				if (!sscope_unit_parse(cell, &u, NULL))
+					nunit++;
+				else if (!*bad)
+					cell_copy(bad, sizeof(bad), fs[i], fe[i]);
+				free(cell);
+			}
+			if (units_ok && nf == r->ncols && nnum == 0 && ntext > 0 &&
+			    nunit == ntext) {
+				/* a units row: take it, read from the next line */
+				for (size_t i = 0; i < nf; i++) {
+					free(r->cols[i].unit_label);
+					r->cols[i].unit_label = dup_range(fs[i], fe[i]);
+					if (!r->cols[i].unit_label)
+						return -ENOMEM;
+				}
+				r->pos = (size_t)(e - r->base) + (e < end);
+				r->line = line;
+				units_ok = false;
+				p = e + (e < end);
+				continue;
+			}
+			/* text in every cell, some of it units: a units row
+			 * with a cell that is not one */
+			if (units_ok && nnum == 0 && nunit > 0) {
+				r->units_row_line = line;
+				memcpy(r->units_row_bad, bad, sizeof(bad));
+			}
+			for (size_t i = 0; i < nf && i < r->ncols && i < MAXF; i++)
+				if (!field_is_number(fs[i], fe[i])) {
+					struct colx *c = &r->cols[i];
+
+					c->hidden = true;
+					c->text_line = line;
+					cell_copy(c->text_cell, sizeof(c->text_cell),
+						  fs[i], fe[i]);
+					c->dec_comma = r->delim != ',' &&
+						       decimal_comma(fs[i], fe[i]);
+				}
+			break;
+		}
+		p = e + (e < end);
+	}
+	/* text in the first data line but a number in the next one is a
+	 * bad cell, not a text column: read it, so that the cell is named */
+	if (p < end) {
+		p = line_end(p, end);
+		p += p < end;
+	}
 	while (p < end) {
 		const char *e = line_end(p, end);
 
@@ -881,11 +1036,12 @@ static int text_columns(struct sscope_reader *r)
 			size_t nf = split_fields(p, e, r->delim, fs, fe, MAXF);
 
 			for (size_t i = 0; i < nf && i < r->ncols && i < MAXF; i++)
-				if (!field_is_number(fs[i], fe[i]))
-					r->cols[i].hidden = true;
+				if (r->cols[i].hidden && !r->cols[i].dec_comma &&
+				    fs[i] != fe[i] && field_is_number(fs[i], fe[i]))
+					r->cols[i].hidden = false;
 			break;
 		}
-		p = e + 1;
+		p = e + (e < end);
 	}
 	if (!r->ncols || !ssc_rostopic_detect(r->cols[0].name))
 		return 0;
@@ -1081,6 +1237,9 @@ static int open_bin(struct sscope_reader *r, struct sscope_diag *diag)
 	data_off = (size_t)(e2 + 1 - r->base);
 	r->pos = data_off;
 	r->line = 3;
+	if (r->partial)
+		r->len = r->size = data_off + (r->len - data_off) /
+				   (nh * r->rsize) * (nh * r->rsize);
 	if (r->size && (r->size - data_off) % (nh * r->rsize))
 		return ssc_diag(diag, -EBADMSG,
 				"%s: data are not a whole number of rows (truncated?)",
@@ -1318,6 +1477,73 @@ const struct sscope_capture_source *sscope_reader_source(const struct sscope_rea
 
 /* ------------------------------------------------------------ open */
 
+/*
+ * A text file that cannot be read as the user expects, in one line that
+ * names the line, the cell and the columns: a decimal comma in a cell of
+ * the first data line (in a column read, or in the default selection); no
+ * numeric data column left because the first data line holds text (a
+ * units row with a cell that is not a unit, a text column).
+ */
+static int text_refusal(struct sscope_reader *r, struct sscope_diag *diag)
+{
+	char cols[160];
+	size_t used = 0, ndrop = 0, first = SIZE_MAX;
+	bool defaults = !(r->opts->columns && *r->opts->columns);
+
+	cols[0] = '\0';
+	for (size_t i = 0; i < r->ncols; i++) {
+		struct colx *c = &r->cols[i];
+		bool read = c->used || (defaults && c->c.role == SSCOPE_CAPTURE_ROLE_DATA);
+
+		if (!c->text_line || !read)
+			continue;
+		if (first == SIZE_MAX)
+			first = i;
+		if (c->dec_comma && !r->cols[first].dec_comma)
+			first = i;
+		if (c->c.role == SSCOPE_CAPTURE_ROLE_DATA && used + 40 < sizeof(cols)) {
+			int w = snprintf(cols + used, sizeof(cols) - used,
+					 "%s%zu (%s)", ndrop ? ", " : "", i + 1,
+					 c->name);
+
+			if (w > 0)
+				used += (size_t)w;
+		}
+		ndrop += c->c.role == SSCOPE_CAPTURE_ROLE_DATA;
+	}
+	if (r->units_row_line) {
+		struct sscope_unit u;
+		struct sscope_diag d = { "" };
+
+		sscope_unit_parse(r->units_row_bad, &u, &d);
+		return ssc_diag(diag, -EBADMSG,
+				"%s: line %zu looks like a units row, but %s: fix that cell, or write the units in the header as 'name [unit]'",
+				r->disp, r->units_row_line, d.msg);
+	}
+	if (first == SIZE_MAX)
+		return 0;
+	if (r->cols[first].dec_comma) {
+		struct colx *c = &r->cols[first];
+
+		return ssc_diag(diag, -EBADMSG,
+				"%s: line %zu, column %zu (%s): '%s' has a decimal comma: write decimal points (the separator is '%s', so replacing every ',' by '.' converts the file, e.g. sed 's/,/./g')",
+				r->disp, c->text_line, first + 1, c->name,
+				c->text_cell, r->delim == '\t' ? "tab" :
+				r->delim == ' ' ? "blank" : ";");
+	}
+	if (r->nsel > 0)
+		return 0; /* text columns (frame ids) left out; others read */
+	if (ndrop <= 1)
+		return ssc_diag(diag, -EDOM,
+				"%s: no numeric data column: line %zu, column %zu (%s) holds text ('%s'): select numeric columns with -c, or fix the file",
+				r->disp, r->cols[first].text_line, first + 1,
+				r->cols[first].name, r->cols[first].text_cell);
+	return ssc_diag(diag, -EDOM,
+			"%s: no numeric data column: line %zu holds text in columns %s (first '%s'): select numeric columns with -c, or fix the file",
+			r->disp, r->cols[first].text_line, cols,
+			r->cols[first].text_cell);
+}
+
 /* A source of `mem_len` bytes at `mem` (the caller's; read in place, like
  * a mapped file) when mem is not NULL, else the file at path. */
 static int reader_open(struct sscope_reader **reader, const char *path,
@@ -1390,6 +1616,7 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 		}
 		kind = ssc_container_detect(r->base, r->len);
 		if (kind == SSC_C_GZIP) {
+			r->partial = false;
 			rc = open_gzip(r, diag);
 			if (!rc && r->len == 0)
 				rc = ssc_diag(diag, -EDOM, "%s: empty file (gzip)",
@@ -1416,6 +1643,12 @@ static int reader_open(struct sscope_reader **reader, const char *path,
 				goto fail;
 			}
 			r->kind = K_TEXT;
+			if (r->partial) {
+				const char *nl = memrchr(r->base, '\n', r->len);
+
+				r->len = nl ? (size_t)(nl + 1 - r->base) : 0;
+				r->size = r->len;
+			}
 			rc = open_text(r, diag);
 		}
 		if (!rc && r->gz)
@@ -1436,6 +1669,11 @@ opened:
 		rc = select_columns(r, diag);
 	if (rc)
 		goto fail;
+	if (r->kind == K_TEXT) {
+		rc = text_refusal(r, diag);
+		if (rc)
+			goto fail;
+	}
 	if (r->nsel == 0 && r->kind != K_RAW) {
 		rc = ssc_diag(diag, -EDOM,
 			      "%s: no data column (only time/temperature)",
@@ -1532,7 +1770,7 @@ void sscope_reader_close(struct sscope_reader *r)
 	if (!r)
 		return;
 	if (r->mapped)
-		munmap((void *)r->base, r->len);
+		munmap((void *)r->base, r->map_len);
 	if (r->fd >= 0 && r->fd != STDIN_FILENO)
 		close(r->fd);
 	free(r->buf);

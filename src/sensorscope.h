@@ -81,5 +81,6 @@
 #include "sscope-heading.h"
 #include "sscope-walk.h"
 #include "sscope-clip.h"
+#include "sscope-adequacy.h"
 
 #endif /* SENSORSCOPE_H */

@@ -246,6 +246,111 @@ static bool pow_ok(const struct val *v, int e2)
 	return true;
 }
 
+/* Optimal string alignment distance (Levenshtein with transpositions)
+ * of two short strings; long ones count as far. */
+static size_t edit_distance(const char *a, size_t na, const char *b, size_t nb,
+			    bool fold)
+{
+	size_t d[33][33];
+
+	if (na > 32 || nb > 32)
+		return SIZE_MAX;
+	for (size_t i = 0; i <= na; i++)
+		d[i][0] = i;
+	for (size_t j = 0; j <= nb; j++)
+		d[0][j] = j;
+	for (size_t i = 1; i <= na; i++)
+		for (size_t j = 1; j <= nb; j++) {
+			char x = a[i - 1], y = b[j - 1];
+			size_t c;
+
+			if (fold) {
+				x = (char)(x >= 'A' && x <= 'Z' ? x + 32 : x);
+				y = (char)(y >= 'A' && y <= 'Z' ? y + 32 : y);
+			}
+			c = d[i - 1][j - 1] + (x != y);
+
+			if (d[i - 1][j] + 1 < c)
+				c = d[i - 1][j] + 1;
+			if (d[i][j - 1] + 1 < c)
+				c = d[i][j - 1] + 1;
+			if (i > 1 && j > 1 && a[i - 1] == b[j - 2] &&
+			    a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < c)
+				c = d[i - 2][j - 2] + 1;
+			d[i][j] = c;
+		}
+	return d[na][nb];
+}
+
+/* the spellings users type most, as whole expressions */
+static const char *const common_units[] = {
+	"rad/s", "deg/s", "dps", "deg/h", "rpm", "rad", "deg", "m/s^2", "g",
+	"mg", "ug", "V", "mV", "uV", "degC", "K", "counts", "s", "ms", "us",
+	"ns", "Hz", "deg/sqrt(h)", "deg/h/sqrt(h)", "m/s/sqrt(h)",
+	"ug/sqrt(Hz)", "mg/sqrt(Hz)", "rad/s/sqrt(Hz)", "m/s", "ppm", NULL
+};
+
+/* " (nearest known: a, b, c)" for an unknown atom, or "" when nothing is
+ * close: the whole text against the common expressions, the atom against
+ * the listed atoms; at most 3, within max(1, length / 3) edits. */
+static void suggest(const char *text, const char *atom, size_t alen,
+		    char *buf, size_t len)
+{
+	const char *best[3] = { NULL, NULL, NULL };
+	size_t bd[3] = { SIZE_MAX, SIZE_MAX, SIZE_MAX };
+	size_t tl = strlen(text), used = 0;
+	const char *cand;
+
+	buf[0] = '\0';
+	for (size_t pass = 0; pass < 2; pass++) {
+		size_t n = pass == 0 ? sizeof(common_units) / sizeof(common_units[0]) - 1 :
+				       sizeof(atoms) / sizeof(atoms[0]);
+		const char *s = pass == 0 ? text : atom;
+		size_t sl = pass == 0 ? tl : alen;
+		size_t lim = sl / 3 > 1 ? sl / 3 : 1;
+
+		for (size_t i = 0; i < n; i++) {
+			size_t d, k;
+			bool dup = false;
+
+			cand = pass == 0 ? common_units[i] : atoms[i].name;
+			if ((unsigned char)cand[0] >= 0x80)
+				continue; /* ASCII spellings are suggested */
+			/* case-blind edits first, exact case breaks ties */
+			d = edit_distance(s, sl, cand, strlen(cand), true);
+			if (d > lim)
+				continue;
+			d = 2 * d + (edit_distance(s, sl, cand, strlen(cand), false) > d);
+			for (k = 0; k < 3; k++)
+				dup |= best[k] && !strcmp(best[k], cand);
+			if (dup)
+				continue;
+			for (k = 0; k < 3 && d >= bd[k]; k++)
+				;
+			if (k == 3)
+				continue;
+			for (size_t m = 2; m > k; m--) {
+				best[m] = best[m - 1];
+				bd[m] = bd[m - 1];
+			}
+			best[k] = cand;
+			bd[k] = d;
+		}
+	}
+	for (size_t k = 0; k < 3 && best[k]; k++) {
+		int w = snprintf(buf + used, len - used, "%s%s",
+				 k ? ", " : " (nearest known: ", best[k]);
+
+		if (w < 0 || (size_t)w >= len - used) {
+			buf[0] = '\0';
+			return;
+		}
+		used += (size_t)w;
+	}
+	if (used && used + 2 < len)
+		snprintf(buf + used, len - used, ")");
+}
+
 static int parse_atom(struct parser *ps, struct val *out)
 {
 	const char *start = ps->p, *q = ps->p;
@@ -270,11 +375,16 @@ static int parse_atom(struct parser *ps, struct val *out)
 	}
 	if (!best) {
 		int len = (int)(q - start);
+		char near[96];
 
 		if (len == 0)
 			return err_at(ps, "expected a unit");
-		return ssc_diag(ps->diag, -EINVAL, "unknown unit '%.*s' in '%s'",
-				len, start, ps->s);
+		suggest(ps->s, start, (size_t)len, near, sizeof(near));
+		if (start == ps->s && (size_t)len == strlen(ps->s))
+			return ssc_diag(ps->diag, -EINVAL, "unknown unit '%s'%s",
+					ps->s, near);
+		return ssc_diag(ps->diag, -EINVAL, "unknown unit '%.*s' in '%s'%s",
+				len, start, ps->s, near);
 	}
 	ps->p = start + best_len;
 	out->scale = best->scale;

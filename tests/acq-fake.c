@@ -944,7 +944,8 @@ static bool no_leftovers(void)
 {
 	char cmd[600];
 
-	snprintf(cmd, sizeof(cmd), "ls %s | grep -q '\\.tmp\\.'", tmpdir);
+	snprintf(cmd, sizeof(cmd), "ls %s | grep -q '\\.tmp\\.\\|\\.partial$'",
+		 tmpdir);
 	return system(cmd) != 0;
 }
 

@@ -86,8 +86,11 @@ has "kalibr: noise density" "$T/imu.yaml" '^gyroscope_noise_density: 4\.[0-9]+e-
 has "kalibr: random walk" "$T/imu.yaml" '^gyroscope_random_walk: [0-9.]+e-0[67] '
 has "kalibr: update rate" "$T/imu.yaml" '^update_rate: 10 '
 lacks "kalibr: no accelerometer keys" "$T/imu.yaml" '^accelerometer_'
-run "kalibr accelerometer" 0 allan --kalibr "$T/acc.yaml" -q -c ax,az "$SAMPLES/accel-thermal.csv"
-has "kalibr: accelerometer keys" "$T/acc.yaml" '^accelerometer_noise_density: '
+# a temperature cycle: the fit is rejected, the export refused unless forced
+run "kalibr accelerometer, rejected fit" 1 allan --kalibr "$T/acc.yaml" -q -c ax,az "$SAMPLES/accel-thermal.csv"
+one_line_error "kalibr accelerometer, rejected fit"
+run "kalibr accelerometer, forced" 0 allan --kalibr "$T/acc.yaml" --force -q -c ax,az "$SAMPLES/accel-thermal.csv"
+has "kalibr: accelerometer keys, marked" "$T/acc.yaml" '^accelerometer_noise_density: .* DOUBTFUL'
 
 # gaps, constant data, short data, no rate
 awk 'NR <= 3 || NR > 8 { print; next } { print "nan,nan,nan" }' "$G" >"$T/gaps.csv"
@@ -97,6 +100,33 @@ run "gaps with --allow-nan" 0 allan --allow-nan --format json -c gx --taus octav
 # NaN samples 0..4: at m = 1 the terms starting at 0..4 touch them
 json_check "gaps skipped and counted" "$T/out" \
   '.channels[0].nan == 5 and .channels[0].points[0].skipped == 5 and .channels[0].points[0].terms == 35994'
+# a NaN every 97 samples: no OADEV term of 2m > 96 samples is complete,
+# so the taus from 0.5 s are left out with a warning (never a NaN at
+# exit 0), in the command and in a scene; NaN everywhere but every other
+# sample: refused
+awk 'BEGIN { srand(97); print "time [s],gx [rad/s]"; for (i = 0; i < 9700; i++) printf "%.2f,%s\n", i / 100, i % 97 ? sprintf("%.6f", rand() - 0.5) : "nan" }' >"$T/gap97.csv"
+run "NaN every 97 samples" 0 allan --allow-nan "$T/gap97.csv"
+lacks "NaN every 97: no nan in the table" "$T/out" '(^|[^A-Za-z])nan([^A-Za-z]|$)'
+has "NaN every 97: the omitted taus said" "$T/err" 'warning: .*gx: NaN gaps leave no oadev term without a gap at [0-9]+ of the [0-9]+ taus \(from 0\.5 s; the longest stretch without a gap is 96 samples, 0\.96 s\): those taus are left out'
+run "NaN every 97: JSON" 0 allan --allow-nan --format json "$T/gap97.csv"
+json_check "NaN every 97: no null deviation, taus up to 0.48 s, omitted counted" "$T/out" \
+  '.channels[0] as $c | ([$c.points[] | .dev, .dev_lo, .dev_hi, .edf | numbers] | length) == 4 * ($c.points | length) and ($c.points | last | .m) <= 48 and $c.gap_omitted_taus > 10 and ($c.warnings | map(.code) | index("gap_taus_omitted")) != null'
+for dv in mdev hdev ohdev adev; do
+	run "NaN every 97: $dv" 0 allan --allow-nan --no-fit --dev $dv "$T/gap97.csv"
+	lacks "NaN every 97: $dv: no nan" "$T/out" '(^|[^A-Za-z])nan([^A-Za-z]|$)'
+done
+run "NaN every 97: totdev refused" 1 allan --allow-nan --dev totdev "$T/gap97.csv"
+one_line_error "NaN every 97: totdev"
+has "NaN every 97: totdev says what to do" "$T/err" 'choose another deviation or analyse a stretch without gaps'
+printf '[input]\nfiles = gap97.csv\nallow_nan = yes\n[allan]\ntaus = dense\n[report]\nformats = json, text\noutput = sc-gap97\n' >"$T/gap97.ini"
+(cd "$T" && ss run gap97.ini >/dev/null 2>"$T/err")
+json_check "NaN every 97: scene: no null deviation, the warning kept" "$T/sc-gap97/allan.json" \
+  '.channels[0] as $c | ([$c.points[] | .dev | numbers] | length) == ($c.points | length) and ($c.warnings | map(.code) | index("gap_taus_omitted")) != null'
+has "NaN every 97: scene: warned" "$T/err" 'those taus are left out'
+awk 'BEGIN { print "# rate: 100 Hz"; print "gx [rad/s]"; for (i = 0; i < 400; i++) print i % 2 ? "nan" : 0.1 * sin(i * 2.385) }' >"$T/alt.csv"
+run "NaN every other sample: refused" 1 allan --allow-nan "$T/alt.csv"
+one_line_error "NaN every other sample"
+has "NaN every other sample: why and what to do" "$T/err" 'no oadev term without a gap at any tau .*: fill the gaps'
 { echo "# rate: 100 Hz"; echo "x [V]"; i=0; while [ $i -lt 200 ]; do echo 1.25; i=$((i + 1)); done; } >"$T/const.csv"
 run "constant data" 0 allan --format json "$T/const.csv"
 json_check "constant: zero deviations, zero coefficients, own unit" "$T/out" \

@@ -1,94 +1,16 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
 # A scene's stage and its command are one code path: for every sample
-# scene, and for `report` on every sample capture, each stage's JSON equals
-# the JSON of the standalone command on the same inputs and options.  The
-# command lines are the ones `run --dry-run` prints for each stage (the
-# stage's options as its section gives them, the scene's [input] options,
-# --sensor/--adc for its specifications and --result for the results of
-# earlier stages); they are run here one by one and their JSON compared
-# with the stage's STAGE.json: numbers bit-equal, except where noted.
+# scene, each stage's JSON equals the JSON of the standalone command on
+# the same inputs and options (cli-equivalence-report.sh: the same for
+# `report` on every sample capture).  The command lines are the ones
+# `run --dry-run` prints for each stage (the stage's options as its
+# section gives them, the scene's [input] options, --sensor/--adc for its
+# specifications and --result for the results of earlier stages); they
+# are run here one by one and their JSON compared with the stage's
+# STAGE.json: numbers bit-equal, except where noted.
 . "$(dirname "$0")/lib.sh"
-
-: "${top_builddir:=$top_srcdir}"
-SAME="$top_builddir/tests/json-same"
-if [ ! -x "$SAME" ]; then
-	skip "equivalence of scenes and commands" "tests/json-same not built"
-	done_testing
-	exit 0
-fi
-
-# compare DIR PLAN LABEL: run each command of PLAN and compare its JSON
-# with DIR/STAGE.json (STAGE.json#/files/K for a stage run per capture)
-compare() {
-	dir=$1 plan=$2 label=$3
-	stage= k=0 n_cmds=0
-	# how many commands each stage has: one per capture means "files"
-	while IFS= read -r line; do
-		case $line in
-		"  "[0-9]*". "*)
-			stage=$(printf '%s\n' "$line" | sed 's/^ *[0-9]*\. *\([a-z]*\).*/\1/')
-			k=0
-			n=$(awk -v s="$stage" '
-				/^  [0-9]+\. / { cur = $2 }
-				/^     command: / && cur == s { c++ }
-				END { print c + 0 }' "$plan")
-			;;
-		"     command: sensorscope "*)
-			cmdline=${line#"     command: sensorscope "}
-			eval "set -- $cmdline"
-			n_cmds=$((n_cmds + 1))
-			ss "$@" --format json </dev/null >"$T/cmd.json" 2>"$T/cmd.err"
-			got=$?
-			want="$dir/$stage.json"
-			if [ ! -e "$want" ] && [ "$got" -ne 0 ]; then
-				# an inferred stage the data refused: the command
-				# refuses them with the same words
-				msg=$(sed -n "s/^sensorscope: $stage: //p" "$T/cmd.err")
-				if [ "$got" -eq 1 ] && [ -n "$msg" ] &&
-				   grep -qF "sensorscope: report: $stage: $msg" "$dir.err"; then
-					ok "$label: $stage: refused by the data, as the command refuses them"
-				else
-					not_ok "$label: $stage: the command refuses what the scene refused (exit $got)"
-					diag "$T/cmd.err"
-					diag "$dir.err"
-				fi
-				k=$((k + 1))
-				continue
-			fi
-			if [ "$got" -ne 0 ]; then
-				not_ok "$label: $stage: the command ran (exit $got)"
-				diag "$T/cmd.err"
-				k=$((k + 1))
-				continue
-			fi
-			[ "$n" -gt 1 ] && want="$want#/files/$k"
-			# budget, navsim, heading and walk read allan/calib from
-			# their JSON files (15 significant digits) where the
-			# scene hands them the numbers themselves
-			tol=0
-			case $cmdline in *--result=* | *--from-allan=* | *--from-calib=*) tol=1e-12 ;; esac
-			if "$SAME" "$want" "$T/cmd.json" $tol 2>"$T/same.err"; then
-				what=$stage
-				[ "$n" -gt 1 ] && what="$stage (capture $((k + 1)))"
-				[ "$tol" = 0 ] && how="bit-equal" || how="within $tol"
-				ok "$label: $what: JSON equals the command's ($how)"
-			else
-				not_ok "$label: $stage: JSON equals the command's"
-				diag "$T/same.err"
-				printf 'command: %s\n' "$cmdline" | diag
-			fi
-			k=$((k + 1))
-			;;
-		esac
-	done <"$plan"
-	if [ "$n_cmds" -gt 0 ]; then
-		ok "$label: $n_cmds command(s) compared"
-	else
-		not_ok "$label: the plan lists no command"
-		diag "$plan"
-	fi
-}
+. "$top_srcdir/tests/equivalence.sh"
 
 for sc in "$SAMPLES"/*.scene.ini; do
 	b=$(basename "$sc" .scene.ini)
@@ -98,26 +20,6 @@ for sc in "$SAMPLES"/*.scene.ini; do
 	run "scene $b: run" 0 run -q -o "$out" "$sc"
 	cp "$T/err" "$out.err"
 	compare "$out" "$T/plan-$b" "scene $b"
-done
-
-# report on every sample capture (imu-raw.bin with its documented layout),
-# and on a raw float64 record, which the allan command reads in place and
-# checks in its own pass (the scene's reader checks it)
-perl -e '$s = 1; for (1 .. 200000) { $s = ($s * 16807) % 2147483647;
-	print pack("d<", $s / 2147483647 * 0.01 + 0.3) }' >"$T/gyro-f64.raw"
-for cap in "$SAMPLES"/*.csv "$SAMPLES"/imu-raw.bin "$T/gyro-f64.raw"; do
-	b=$(basename "$cap")
-	set --
-	case $b in
-	*.bin) set -- --raw i16:6:le --scale 0.01 -u deg/s -r 100 ;;
-	*.raw) set -- --raw f64:1:le -u rad/s -r 100 ;;
-	esac
-	out="$T/report-$b"
-	run "report $b: plan" 0 report --dry-run -o "$out" "$@" "$cap"
-	cp "$T/out" "$T/plan-$b"
-	run "report $b: run" 0 report -q -o "$out" "$@" "$cap"
-	cp "$T/err" "$out.err"
-	compare "$out" "$T/plan-$b" "report $b"
 done
 
 done_testing

@@ -131,6 +131,28 @@ else
 	skip "streaming RSS" "under valgrind or without /usr/bin/time"
 fi
 
+# a time column out of order: refused without --rate; with --rate the
+# samples are taken as evenly spaced, with the same warning as allan's
+awk 'BEGIN { srand(11); print "time [s],ax [m/s^2]"; for (i = 0; i < 600; i++) printf "%.2f,%.6f\n", (599 - i) / 100, rand() - 0.5 }' >"$T/dec.csv"
+awk 'BEGIN { srand(12); print "time [s],ax [m/s^2]"; for (i = 0; i < 600; i++) printf "0,%.6f\n", rand() - 0.5 }' >"$T/tconst.csv"
+for f in dec tconst; do
+	run "time column $f: no --rate" 1 psd "$T/$f.csv"
+	one_line_error "time column $f: no --rate"
+	has "time column $f: asks for --rate" "$T/err" 'give --rate to take the samples as evenly spaced'
+	for meth in "--nperseg 64" "--method periodogram"; do
+		# shellcheck disable=SC2086
+		run "time column $f: -r 100 $meth" 0 psd -r 100 $meth "$T/$f.csv"
+		sed 's/^sensorscope: psd: /sensorscope: CMD: /' "$T/err" >"$T/psd-warn"
+		ss allan -r 100 --no-fit "$T/$f.csv" 2>&1 >/dev/null | sed 's/^sensorscope: allan: /sensorscope: CMD: /' >"$T/allan-warn"
+		if [ -s "$T/psd-warn" ] && grep -q 'evenly spaced at the given rate' "$T/psd-warn" && cmp -s "$T/psd-warn" "$T/allan-warn"; then
+			ok "time column $f: -r 100 $meth: allan's warning"
+		else
+			not_ok "time column $f: -r 100 $meth: warning differs from allan's"
+			diag "$T/psd-warn" "$T/allan-warn"
+		fi
+	done
+done
+
 # usage errors
 for bad in "--window kaiser" "--overlap 1" "--nperseg 0" "--nperseg 64 --nfft 32" "--detrend quadratic" "--scaling power" "--bands 5:1" "--bands octaves" "--method burg" "--peaks 1000" "--method periodogram --nperseg 64"; do
 	# shellcheck disable=SC2086

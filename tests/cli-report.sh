@@ -110,7 +110,11 @@ chrome() {
 		--disable-component-update --disable-sync \
 		--user-data-dir="$T/chr$k" "$@" 2>/dev/null
 }
-if [ -n "$BROWSER" ]; then
+if ! long_tier; then
+	for t in "at 1280 px" "at the A4 column" "screenshot" "printed"; do
+		skip "$t" "$LONG_ONLY"
+	done
+elif [ -n "$BROWSER" ]; then
 	chrome 1 --window-size=1280,1000 --dump-dom "file://$H" >"$T/dom1280"
 	f=$(grep -o 'data-figures="[^"]*"' "$T/dom1280")
 	# data-figures="N figures, min text X px, K overlaps, T tables, ..."

@@ -1,7 +1,8 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Every example of the documentation runs as written: the shell blocks of
-# the README's tour and of the man page's EXAMPLES are run, in order, in an
+# the README's tour (and in make check-long those of the man page's
+# EXAMPLES too) are run, in order, in an
 # empty scratch folder where "samples" links to the bundled samples, with the
 # built sensorscope first on PATH.  Each block must exit 0 and leave nothing
 # in the source tree: the listing of samples/ (names, sizes, times) is the
@@ -110,9 +111,15 @@ else
 	not_ok "README tour starts with the same set-up"
 fi
 
+# the README's tour in make check; the manual's examples too in make
+# check-long
 for b in "$T"/blocks/*; do
 	name=$(basename "$b")
 	[ "$name" = 01-man ] || [ "$name" = "$rsetup" ] && continue
+	if ! long_tier && [ "${name#*-}" = man ]; then
+		skip "$name: $(grep -m 1 sensorscope "$b" | cut -c1-70)" "$LONG_ONLY"
+		continue
+	fi
 	first=$(grep -m 1 sensorscope "$b" | cut -c1-70)
 	if grep -q '/dev/spidev' "$b"; then
 		skip "$name: $first" "needs an SPI device"

@@ -6,7 +6,7 @@
 . "$(dirname "$0")/lib.sh"
 
 : "${top_builddir:=$top_srcdir}"
-for name in text raw mat spec scene json tilt inl; do
+for name in text raw mat spec scene json tilt inl rosbag2; do
 	h="$top_builddir/tests/fuzz/fuzz-$name"
 	dir="$top_srcdir/tests/fuzz/corpus/$name"
 	if [ ! -x "$h" ]; then

@@ -18,9 +18,13 @@
  *                        schema: topics, messages, timestamp index)
  *   rosbag2-mcap/        metadata.yaml + rosbag2_0.mcap
  *   two-imu.mcap         two IMU topics (the reader must ask which)
+ *   rosbag2-zstd/        the rosbag2/ folder with whole-file Zstandard
+ *                        (compression_mode FILE: rosbag2_0.db3.zstd)
  * Usage: gen-ros OUTDIR [RATE [DURATION [ONLY]]]; ONLY = csv, mcap (zstd),
  * bag (lz4), bag-none or mcap-none writes that one file (for the big
- * benchmark files).
+ * benchmark files); ONLY = hostile writes the crafted files of issue 29
+ * instead (see write_hostile()); ONLY = small writes everything with the
+ * .db3 in pages of 512 bytes (fuzz seeds).
  */
 #include "config.h"
 
@@ -609,7 +613,10 @@ static void write_metadata(const char *dir, const char *storage,
 	char p[4096];
 	FILE *f;
 
-	snprintf(p, sizeof(p), "%s/metadata.yaml", dir);
+	if (snprintf(p, sizeof(p), "%s/metadata.yaml", dir) >= (int)sizeof(p)) {
+		fprintf(stderr, "gen-ros: path too long: %s\n", dir);
+		exit(1);
+	}
 	f = fopen(p, "w");
 	fprintf(f, "rosbag2_bagfile_information:\n"
 		   "  version: 5\n"
@@ -635,6 +642,9 @@ static void write_metadata(const char *dir, const char *storage,
 }
 
 #ifdef HAVE_SQLITE3
+/* page size of the .db3 files (0: SQLite's default; 512 for fuzz seeds) */
+static int db3_page_size;
+
 static void write_db3(const char *dir, const struct rec *r)
 {
 	char p[4200];
@@ -648,6 +658,12 @@ static void write_db3(const char *dir, const struct rec *r)
 	remove(p);
 	if (sqlite3_open(p, &db) != SQLITE_OK)
 		exit(1);
+	if (db3_page_size) {
+		char q[64];
+
+		snprintf(q, sizeof(q), "PRAGMA page_size=%d;", db3_page_size);
+		sqlite3_exec(db, q, NULL, NULL, NULL);
+	}
 	sqlite3_exec(db,
 		     "PRAGMA journal_mode=MEMORY; PRAGMA synchronous=OFF;"
 		     "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
@@ -689,6 +705,453 @@ static void write_db3(const char *dir, const struct rec *r)
 }
 #endif
 
+/* ------------------------------------------------------------ hostile */
+
+static void write_metadata_zstd(const char *dir, const char *storage,
+				const char *file)
+{
+	char p[4096];
+	FILE *f;
+
+	if (snprintf(p, sizeof(p), "%s/metadata.yaml", dir) >= (int)sizeof(p)) {
+		fprintf(stderr, "gen-ros: path too long: %s\n", dir);
+		exit(1);
+	}
+	f = fopen(p, "w");
+	if (!f) {
+		perror(p);
+		exit(1);
+	}
+	fprintf(f, "rosbag2_bagfile_information:\n"
+		   "  version: 5\n"
+		   "  storage_identifier: %s\n"
+		   "  compression_format: zstd\n  compression_mode: FILE\n"
+		   "  relative_file_paths:\n    - %s\n", storage, file);
+	if (fclose(f)) {
+		perror(p);
+		exit(1);
+	}
+}
+
+#ifdef HAVE_SQLITE3
+static void slurp_file(const char *path, struct buf *b)
+{
+	FILE *f = fopen(path, "rb");
+	unsigned char tmp[65536];
+	size_t k;
+
+	if (!f) {
+		perror(path);
+		exit(1);
+	}
+	while ((k = fread(tmp, 1, sizeof(tmp), f)) > 0)
+		put(b, tmp, k);
+	fclose(f);
+}
+
+/* a folder dir/NAME with metadata.yaml and the whole-file zstd of src */
+static void write_zstd_folder(const char *dir, const char *name,
+			      const char *src, const char *storage,
+			      const char *file)
+{
+	char p[4096];
+	struct buf in = { 0 }, out = { 0 };
+	size_t bound, cl;
+
+	snprintf(p, sizeof(p), "%s/%s", dir, name);
+	mkdir(p, 0777);
+	slurp_file(src, &in);
+	bound = ZSTD_compressBound(in.n);
+	out.p = malloc(bound);
+	cl = ZSTD_compress(out.p, bound, in.p, in.n, 3);
+	if (!out.p || ZSTD_isError(cl))
+		exit(1);
+	out.n = cl;
+	write_file(p, file, &out);
+	write_metadata_zstd(p, storage, file);
+	free(in.p);
+	free(out.p);
+}
+#endif
+
+/* A Zstandard frame (RFC 8878) written block by block: the bytes `head`
+ * as a raw block, then `rle` blocks of 128 KiB of the byte `fill`, each
+ * from 4 bytes (a 3-byte block header and the byte) -- the codec's
+ * largest ratio, so `rle` = 65536 makes 8 GiB from 256 KiB. */
+static void zstd_bomb(struct buf *b, const void *head, size_t hn,
+		      unsigned char fill, size_t rle)
+{
+	const uint32_t blk = 128 * 1024;
+
+	u32(b, 0xFD2FB528u);
+	u8(b, 0x00);            /* no content size, window descriptor follows */
+	u8(b, (17 - 10) << 3);  /* window 2^17 = 128 KiB */
+	u8(b, (unsigned)(hn << 3) & 0xff); /* raw block of hn bytes */
+	u8(b, (unsigned)(hn >> 5) & 0xff);
+	u8(b, (unsigned)(hn >> 13) & 0xff);
+	put(b, head, hn);
+	for (size_t i = 0; i < rle; i++) {
+		uint32_t h = (blk << 3) | 1u << 1 | (i + 1 == rle);
+
+		u8(b, h & 0xff);
+		u8(b, (h >> 8) & 0xff);
+		u8(b, (h >> 16) & 0xff);
+		u8(b, fill);
+	}
+}
+
+static void bomb_folder(const char *dir, const char *name, const void *head,
+			size_t hn, const char *storage, const char *file,
+			size_t rle)
+{
+	char p[4096];
+	struct buf b = { 0 };
+
+	snprintf(p, sizeof(p), "%s/%s", dir, name);
+	mkdir(p, 0777);
+	zstd_bomb(&b, head, hn, 0, rle);
+	write_file(p, file, &b);
+	write_metadata_zstd(p, storage, file);
+	free(b.p);
+}
+
+/* a SQLite header (sqlite.org/fileformat.html, 1.3) of `pages` pages of
+ * `psz` bytes, valid (version-valid-for = change counter) */
+static void sqlite_header(unsigned char h[100], uint32_t psz, uint32_t pages)
+{
+	memset(h, 0, 100);
+	memcpy(h, "SQLite format 3", 16);
+	h[16] = (unsigned char)(psz == 65536 ? 0 : psz >> 8);
+	h[17] = (unsigned char)(psz == 65536 ? 1 : psz & 0xff);
+	h[18] = h[19] = 1;
+	h[21] = 64;
+	h[22] = h[23] = 32;
+	h[27] = 1; /* change counter */
+	for (int i = 0; i < 4; i++)
+		h[28 + i] = (unsigned char)(pages >> (24 - 8 * i));
+	h[43] = 1;  /* schema cookie */
+	h[47] = 4;  /* schema format */
+	h[59] = 1;  /* UTF-8 */
+	h[95] = 1;  /* version-valid-for */
+	h[96] = 0x00; h[97] = 0x2e; h[98] = 0x5f; h[99] = 0x41; /* 3040001 */
+}
+
+static void varint(struct buf *b, uint64_t v)
+{
+	unsigned char t[10];
+	int n = 0;
+
+	/* SQLite varints: 7 bits a byte, big-endian, for values < 2^56 */
+	do {
+		t[n++] = (unsigned char)(v & 0x7f);
+		v >>= 7;
+	} while (v);
+	while (n > 1)
+		u8(b, t[--n] | 0x80);
+	u8(b, t[0]);
+}
+
+/* a record of ncol values: NULL (s NULL, i < 0), integer i, or text s */
+struct val {
+	const char *s;
+	int64_t i;
+	const unsigned char *blob;
+	size_t bn;
+};
+
+static void sql_record(struct buf *b, const struct val *v, size_t n)
+{
+	struct buf h = { 0 }, body = { 0 };
+
+	for (size_t k = 0; k < n; k++) {
+		if (v[k].blob) {
+			varint(&h, 12 + 2 * v[k].bn);
+			put(&body, v[k].blob, v[k].bn);
+		} else if (v[k].s) {
+			varint(&h, 13 + 2 * strlen(v[k].s));
+			put(&body, v[k].s, strlen(v[k].s));
+		} else if (v[k].i < 0) {
+			varint(&h, 0);
+		} else {
+			varint(&h, 6); /* 8-byte big-endian integer */
+			for (int j = 7; j >= 0; j--)
+				u8(&body, (unsigned)(v[k].i >> (8 * j)) & 0xff);
+		}
+	}
+	varint(b, h.n + 1); /* the header size counts itself (< 128) */
+	put(b, h.p, h.n);
+	put(b, body.p, body.n);
+	free(h.p);
+	free(body.p);
+}
+
+/* a b-tree page (leaf 0x0d or interior 0x05) of psz bytes at offset `at`
+ * of the file (page 1: after the 100-byte header) holding `cells` */
+static void btree_page(unsigned char *pg, size_t psz, size_t hdr_at, int type,
+		       struct buf *cells, size_t n, uint32_t right)
+{
+	size_t top = psz, h = hdr_at, ptrs = hdr_at + (type == 5 ? 12 : 8);
+
+	pg[h] = (unsigned char)type;
+	pg[h + 3] = (unsigned char)(n >> 8);
+	pg[h + 4] = (unsigned char)n;
+	for (size_t i = 0; i < n; i++) {
+		top -= cells[i].n;
+		memcpy(pg + top, cells[i].p, cells[i].n);
+		pg[ptrs + 2 * i] = (unsigned char)(top >> 8);
+		pg[ptrs + 2 * i + 1] = (unsigned char)top;
+	}
+	if (ptrs + 2 * n > top) {
+		fprintf(stderr, "gen-ros: b-tree page overflow\n");
+		exit(1);
+	}
+	pg[h + 5] = (unsigned char)(top >> 8);
+	pg[h + 6] = (unsigned char)top;
+	if (type == 5)
+		for (int i = 0; i < 4; i++)
+			pg[h + 8 + i] = (unsigned char)(right >> (24 - 8 * i));
+}
+
+static void table_cell(struct buf *c, int64_t rowid, const struct val *v,
+		       size_t n)
+{
+	struct buf r = { 0 };
+
+	sql_record(&r, v, n);
+	varint(c, r.n);
+	varint(c, (uint64_t)rowid);
+	put(c, r.p, r.n);
+	free(r.p);
+}
+
+/* A .db3 of 8 pages of 512 bytes whose messages b-tree is a tower: each
+ * of its 5 interior pages has 60 cells (and the right-most pointer) all
+ * pointing to the next page, the last to one leaf of 10 IMU messages:
+ * a scan meets 61^5 x 10 = 8.4e9 rows in a 4 KiB file (the tables are
+ * real, the schema is rosbag2's; only the work budget stops it). */
+#define DAG_PSZ 512
+#define DAG_LEVELS 5
+#define DAG_FAN 60
+static void write_dag_db3(const char *dir, const struct rec *r)
+{
+	const uint32_t npages = 3 + DAG_LEVELS;
+	unsigned char *f = calloc(npages, DAG_PSZ);
+	struct buf cells[DAG_FAN], m = { 0 }, out = { 0 };
+	static const char *const sql[] = {
+		"CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, serialization_format TEXT NOT NULL)",
+		"CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, timestamp INTEGER NOT NULL, data BLOB NOT NULL)",
+	};
+	static const char *const name[] = { "topics", "messages" };
+
+	if (!f)
+		exit(1);
+	sqlite_header(f, DAG_PSZ, npages);
+	/* page 1: the schema; topics at page 2, messages at page 3 */
+	for (int i = 0; i < 2; i++) {
+		struct val v[5] = { { "table", 0, NULL, 0 }, { name[i], 0, NULL, 0 },
+				    { name[i], 0, NULL, 0 }, { NULL, 2 + i, NULL, 0 },
+				    { sql[i], 0, NULL, 0 } };
+
+		memset(&cells[i], 0, sizeof(cells[i]));
+		table_cell(&cells[i], i + 1, v, 5);
+	}
+	btree_page(f, DAG_PSZ, 100, 0x0d, cells, 2, 0);
+	free(cells[0].p);
+	free(cells[1].p);
+	{
+		struct val v[4] = { { NULL, -1, NULL, 0 }, { topic[0], 0, NULL, 0 },
+				    { type2[0], 0, NULL, 0 }, { "cdr", 0, NULL, 0 } };
+
+		memset(&cells[0], 0, sizeof(cells[0]));
+		table_cell(&cells[0], 1, v, 4);
+		btree_page(f + DAG_PSZ, DAG_PSZ, 0, 0x0d, cells, 1, 0);
+		free(cells[0].p);
+	}
+	/* pages 3 .. 3 + LEVELS - 1: interior, every child the next page */
+	for (uint32_t l = 0; l < DAG_LEVELS; l++) {
+		uint32_t next = 3 + l + 1;
+
+		for (int i = 0; i < DAG_FAN; i++) {
+			memset(&cells[i], 0, sizeof(cells[i]));
+			u8(&cells[i], next >> 24);
+			u8(&cells[i], (next >> 16) & 0xff);
+			u8(&cells[i], (next >> 8) & 0xff);
+			u8(&cells[i], next & 0xff);
+			varint(&cells[i], (uint64_t)(10 * (i + 1)));
+		}
+		btree_page(f + (size_t)(2 + l) * DAG_PSZ, DAG_PSZ, 0, 0x05, cells,
+			   DAG_FAN, next);
+		for (int i = 0; i < DAG_FAN; i++)
+			free(cells[i].p);
+	}
+	/* the leaf: IMU messages small enough to stay on the page (the data
+	 * blob is a truncated message: the scan, not the decoder, is tested) */
+	for (int i = 0; i < 10; i++) {
+		struct val v[4] = { { NULL, -1, NULL, 0 }, { NULL, 1, NULL, 0 },
+				    { NULL, r->stamp[i], NULL, 0 }, { NULL, 0, NULL, 0 } };
+
+		m.n = 0;
+		message(&m, r, M_IMU, (size_t)i, true);
+		v[3].blob = m.p;
+		v[3].bn = 24;
+		memset(&cells[i], 0, sizeof(cells[i]));
+		table_cell(&cells[i], i + 1, v, 4);
+	}
+	btree_page(f + (size_t)(2 + DAG_LEVELS) * DAG_PSZ, DAG_PSZ, 0, 0x0d, cells,
+		   10, 0);
+	for (int i = 0; i < 10; i++)
+		free(cells[i].p);
+	out.p = f;
+	out.n = (size_t)npages * DAG_PSZ;
+	write_file(dir, "dag.db3", &out);
+	free(f);
+	free(m.p);
+}
+
+#ifdef HAVE_SQLITE3
+static void sql_file(const char *dir, const char *name, const char *sql)
+{
+	char p[4200];
+	sqlite3 *db;
+
+	snprintf(p, sizeof(p), "%s/%s", dir, name);
+	remove(p);
+	if (sqlite3_open(p, &db) != SQLITE_OK ||
+	    sqlite3_exec(db, sql, NULL, NULL, NULL) != SQLITE_OK) {
+		fprintf(stderr, "gen-ros: %s: %s\n", name, sqlite3_errmsg(db));
+		exit(1);
+	}
+	sqlite3_close(db);
+}
+
+#define TOPICS_SQL \
+	"CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL," \
+	" serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+#define MESSAGES_SQL \
+	"CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL," \
+	" timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
+#define ENDLESS "WITH RECURSIVE r(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM r) "
+
+/* NTOPICS IMU topics /imu0.. of 40 messages each at 200 Hz, interleaved
+ * in time; message k of topic t has gx = t + k / 1000.  The topic ids
+ * start at 100001 (rosbag2 numbers topics as SQLite assigns rows): a
+ * query of 1 KiB held about 130 of them. */
+static void write_many_topics(const char *dir, size_t ntopics)
+{
+	char p[4200];
+	sqlite3 *db;
+	sqlite3_stmt *st;
+	struct rec r;
+	struct buf m = { 0 };
+
+	make_record(&r, 200, 0.2);
+	snprintf(p, sizeof(p), "%s/many-topics.db3", dir);
+	remove(p);
+	if (sqlite3_open(p, &db) != SQLITE_OK)
+		exit(1);
+	sqlite3_exec(db, "PRAGMA journal_mode=MEMORY; PRAGMA synchronous=OFF;"
+			 TOPICS_SQL MESSAGES_SQL "BEGIN;", NULL, NULL, NULL);
+	sqlite3_prepare_v2(db, "INSERT INTO topics VALUES (?, ?, 'sensor_msgs/msg/Imu', 'cdr', '')",
+			   -1, &st, NULL);
+	for (size_t t = 0; t < ntopics; t++) {
+		char name[32];
+
+		snprintf(name, sizeof(name), "/imu%zu", t);
+		sqlite3_bind_int64(st, 1, (sqlite3_int64)t + 100001);
+		sqlite3_bind_text(st, 2, name, -1, SQLITE_TRANSIENT);
+		if (sqlite3_step(st) != SQLITE_DONE)
+			exit(1);
+		sqlite3_reset(st);
+	}
+	sqlite3_finalize(st);
+	sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)",
+			   -1, &st, NULL);
+	for (size_t k = 0; k < r.n; k++)
+		for (size_t t = 0; t < ntopics; t++) {
+			r.v[k][0] = (double)t + (double)k / 1000;
+			m.n = 0;
+			message(&m, &r, M_IMU, k, true);
+			sqlite3_bind_int64(st, 1, (sqlite3_int64)t + 100001);
+			sqlite3_bind_int64(st, 2, r.stamp[k] + LATENCY_NS);
+			sqlite3_bind_blob(st, 3, m.p, (int)m.n, SQLITE_STATIC);
+			if (sqlite3_step(st) != SQLITE_DONE)
+				exit(1);
+			sqlite3_reset(st);
+		}
+	sqlite3_finalize(st);
+	sqlite3_exec(db, "COMMIT;", NULL, NULL, NULL);
+	if (sqlite3_close(db) != SQLITE_OK)
+		exit(1);
+	free(m.p);
+	free(r.stamp);
+	free(r.v);
+	free(r.tstamp);
+	free(r.temp);
+}
+#endif
+
+/* The crafted inputs of issue 29, each small:
+ *   view-messages.db3, view-topics.db3  a table replaced by a recursive
+ *                        view (endless rows from an 8 KiB file)
+ *   computed.db3         messages.timestamp a generated column
+ *   dag.db3              real tables, a b-tree whose pages share children
+ *   many-topics.db3      150 IMU topics of 40 messages (no topic dropped)
+ *   bomb-text/, bomb-db3/, bomb-db3-huge/, bomb-mcap-zeros/, bomb-mcap/
+ *                        rosbag2 folders with whole-file zstd expanding to
+ *                        8 GiB of zeros: after "not a database" bytes,
+ *                        after a SQLite header declaring 8 KiB or 128 TiB,
+ *                        after the MCAP magic, after the magic, a Header
+ *                        record and a 6 MiB private record (only a cap on
+ *                        the expansion stops this one) */
+static void write_hostile(const char *dir)
+{
+	unsigned char h[100];
+	struct rec r;
+
+	make_record(&r, 200, 1);
+	write_dag_db3(dir, &r);
+	free(r.stamp);
+	free(r.v);
+	free(r.tstamp);
+	free(r.temp);
+#ifdef HAVE_SQLITE3
+	sql_file(dir, "view-messages.db3",
+		 TOPICS_SQL
+		 "INSERT INTO topics VALUES (1, '/imu/data', 'sensor_msgs/msg/Imu', 'cdr', '');"
+		 "CREATE VIEW messages AS " ENDLESS
+		 "SELECT i AS id, 1 AS topic_id, i AS timestamp, x'00010000' AS data FROM r;");
+	sql_file(dir, "view-topics.db3",
+		 "CREATE VIEW topics AS " ENDLESS
+		 "SELECT i AS id, '/t' || i AS name, 'std_msgs/msg/String' AS type,"
+		 " 'cdr' AS serialization_format FROM r;" MESSAGES_SQL);
+	sql_file(dir, "computed.db3",
+		 TOPICS_SQL
+		 "INSERT INTO topics VALUES (1, '/imu/data', 'sensor_msgs/msg/Imu', 'cdr', '');"
+		 "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,"
+		 " t INTEGER, timestamp INTEGER AS (t * 2) VIRTUAL, data BLOB NOT NULL);");
+	write_many_topics(dir, 150);
+#endif
+	bomb_folder(dir, "bomb-text", "this is not a database", 22, "sqlite3",
+		    "rosbag2_0.db3.zstd", 65536);
+	sqlite_header(h, 4096, 2);
+	bomb_folder(dir, "bomb-db3", h, 100, "sqlite3", "rosbag2_0.db3.zstd", 65536);
+	bomb_folder(dir, "bomb-db3-small", h, 100, "sqlite3", "rosbag2_0.db3.zstd", 16);
+	sqlite_header(h, 65536, 0x7fffffffu);
+	bomb_folder(dir, "bomb-db3-huge", h, 100, "sqlite3", "rosbag2_0.db3.zstd", 65536);
+	bomb_folder(dir, "bomb-mcap-zeros", "\x89MCAP0\r\n", 8, "mcap",
+		    "rosbag2_0.mcap.zstd", 65536);
+	/* the magic, a Header record (op 1: two empty strings) and a private
+	 * record (op 0x80) of 6 MiB: valid as far as the first MiB shows */
+	bomb_folder(dir, "bomb-mcap",
+		    "\x89MCAP0\r\n"
+		    "\x01\x08\0\0\0\0\0\0\0" "\0\0\0\0\0\0\0\0"
+		    "\x80\0\0\x60\0\0\0\0\0", 34, "mcap", "rosbag2_0.mcap.zstd", 65536);
+	bomb_folder(dir, "bomb-mcap-small",
+		    "\x89MCAP0\r\n"
+		    "\x01\x08\0\0\0\0\0\0\0" "\0\0\0\0\0\0\0\0"
+		    "\x80\0\0\x60\0\0\0\0\0", 34, "mcap", "rosbag2_0.mcap.zstd", 16);
+}
+
 int main(int argc, char **argv)
 {
 	struct rec r;
@@ -713,6 +1176,15 @@ int main(int argc, char **argv)
 		write_bag(dir, "imu-none.bag", &r, "none");
 	if (only && !strcmp(only, "mcap-none"))
 		write_mcap(dir, "imu-none.mcap", &r, "", false, 1);
+	if (only && !strcmp(only, "hostile"))
+		write_hostile(dir);
+#ifdef HAVE_SQLITE3
+	if (only && !strcmp(only, "small")) {
+		/* everything, the .db3 in pages of 512 bytes (fuzz seeds) */
+		db3_page_size = 512;
+		only = NULL;
+	}
+#endif
 	if (only)
 		goto out;
 	write_bag(dir, "imu-none.bag", &r, "none");
@@ -730,6 +1202,8 @@ int main(int argc, char **argv)
 	mkdir(p, 0777);
 	write_db3(p, &r);
 	write_metadata(p, "sqlite3", "rosbag2_0.db3", &r);
+	snprintf(p, sizeof(p), "%s/rosbag2/rosbag2_0.db3", dir);
+	write_zstd_folder(dir, "rosbag2-zstd", p, "sqlite3", "rosbag2_0.db3.zstd");
 #endif
 out:
 	free(r.stamp);

@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # The Python module from the build tree (PYTHONPATH=src/python, the
 # library found beside it): tests/python/test_module.py, with an
-# interpreter that has numpy (configure's PYTHON_NUMPY).
+# interpreter that has numpy (configure's PYTHON_NUMPY); another script of
+# tests/python when py_test names it (tests/py-parity.sh).
 . "$(dirname "$0")/lib.sh"
 
 py=${PYTHON_NUMPY:-}
@@ -23,4 +24,4 @@ if [ "${SSCOPE_SANITIZERS:-0}" = 1 ]; then
 fi
 PYTHONPATH="$top_srcdir/src/python${PYTHONPATH:+:$PYTHONPATH}" \
 SENSORSCOPE_LIB="$top_builddir/src/.libs/libsensorscope.so" \
-	exec "$py" "$top_srcdir/tests/python/test_module.py"
+	exec "$py" "$top_srcdir/tests/python/${py_test:-test_module.py}"

@@ -7,15 +7,22 @@
  * (seeded, sd = N sqrt(fs)), and the engine driven by a scripted source:
  * count, duration, gaps marked in the capture, ring overruns accounted
  * exactly, timeouts, held samples flushed, binary output, write errors.
+ * The recording file: rows reach NAME.partial while the run goes on, a
+ * full disk cuts it at its last complete row and keeps it, an existing
+ * file is never replaced unless asked, and a source that can wait is held
+ * back instead of losing samples.
  */
 #include "config.h"
 
 #include <errno.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <gsl/gsl_randist.h>
@@ -320,6 +327,10 @@ struct script {
 	int end_rc;      /* -ETIMEDOUT or 0 (0: samples forever) */
 	long hold;       /* samples held back at the end, for flush */
 	long flushed;
+	atomic_bool *wait; /* after n samples, wait until it is true, then
+			      end with end_rc */
+	long pause_at;     /* before this sample, wait until *resume */
+	atomic_bool *resume;
 };
 
 static int script_next(struct ssc_source *src, struct ssc_acq_sample *s,
@@ -331,6 +342,20 @@ static int script_next(struct ssc_source *src, struct ssc_acq_sample *s,
 	if (p->k == p->eagain_at && !p->eagain_done) {
 		p->eagain_done = true;
 		return -EAGAIN;
+	}
+	while (p->resume && p->k == p->pause_at && !atomic_load(p->resume)) {
+		struct timespec ts = { 0, 1000000 };
+
+		nanosleep(&ts, NULL);
+	}
+	if (p->wait && p->k >= p->n) {
+		while (!atomic_load(p->wait)) {
+			struct timespec ts = { 0, 1000000 };
+
+			nanosleep(&ts, NULL);
+		}
+		snprintf(diag->msg, sizeof(diag->msg), "script: the end");
+		return p->end_rc;
 	}
 	if (p->end_rc && p->k >= p->n - p->hold) {
 		snprintf(diag->msg, sizeof(diag->msg), "script: the end");
@@ -635,6 +660,374 @@ START_TEST(engine_refusals)
 }
 END_TEST
 
+/* data rows of a CSV file; *complete: it ends with a newline */
+static long csv_rows(const char *path, bool *complete)
+{
+	FILE *f = fopen(path, "r");
+	long rows = 0;
+	int c, prev = '\n', first = 0;
+
+	if (!f)
+		return -1;
+	while ((c = fgetc(f)) != EOF) {
+		if (prev == '\n')
+			first = c;
+		if (c == '\n' && first != '#' && first != 't')
+			rows++;
+		prev = c;
+	}
+	fclose(f);
+	if (complete)
+		*complete = prev == '\n';
+	return rows;
+}
+
+static bool exists(const char *path)
+{
+	return access(path, F_OK) == 0;
+}
+
+START_TEST(engine_disk_full)
+{
+	const char *path = tmp("full.csv");
+	char partial[300];
+	int with_end = 0, without_end = 0;
+
+	snprintf(partial, sizeof(partial), "%s.partial", path);
+	/* the disk fills at 40 places within a few rows of each other: the
+	 * file always ends at a complete row, holds exactly the samples
+	 * reported, and gets its end line when the cut left room for it */
+	for (uint64_t limit = 5000; limit < 5000 + 40 * 29; limit += 29) {
+		struct script p = { 0 };
+		struct ssc_source src;
+		struct ssc_acq_config cfg;
+		struct ssc_acq_result r;
+		struct sscope_diag d = { "" };
+		struct sscope_capture *cap;
+		struct stat st;
+		bool complete;
+		long rows;
+
+		unlink(path);
+		script_source(&src, &p, 3, 1000, false);
+		base_cfg(&cfg, &src, path);
+		cfg.count = 1000;
+		cfg.disk_bytes = limit;
+		ck_assert_int_eq(ssc_acq_run(&cfg, &r, &d), -ENOSPC);
+		ck_assert_int_eq(r.stop, SSC_STOP_FULL);
+		ck_assert_int_eq(r.error, -ENOSPC);
+		ck_assert(r.committed);
+		ck_assert_str_eq(r.file, path);
+		ck_assert(!exists(partial));
+		ck_assert_ptr_nonnull(strstr(d.msg, "No space left on device"));
+		ck_assert_int_eq(stat(path, &st), 0);
+		ck_assert((uint64_t)st.st_size <= limit);
+		rows = csv_rows(path, &complete);
+		ck_assert(complete);
+		ck_assert_int_eq(rows, (long)r.samples);
+		ck_assert(r.samples > 10 && r.samples < 1000);
+		ck_assert(r.unsaved > 0 && r.samples + r.unsaved <= 1000);
+		ck_assert_rel(r.duration_s, (double)(r.samples - 1) * 1e-3,
+			      1e-12);
+		if (has_line(path, "# end: ")) {
+			char want[80];
+
+			snprintf(want, sizeof(want),
+				 "# end: %llu samples; stopped: disk full",
+				 (unsigned long long)r.samples);
+			ck_assert(has_line(path, want));
+			ck_assert(!r.trailer_lost);
+			with_end++;
+		} else {
+			ck_assert(r.trailer_lost);
+			without_end++;
+		}
+		/* the rows are the first samples, whole */
+		cap = load(path);
+		ck_assert_uint_eq(cap->n, r.samples);
+		for (size_t i = 0; i < cap->n; i++)
+			ck_assert(cap->channels[2].data[i] == (double)i + 0.2);
+		sscope_capture_free(cap);
+	}
+	ck_assert(with_end > 0 && without_end > 0);
+
+	/* binary: whole rows of 5 float64 after the header */
+	{
+		struct script p = { 0 };
+		struct ssc_source src;
+		struct ssc_acq_config cfg;
+		struct ssc_acq_result r;
+		struct stat st;
+		struct sscope_capture *cap;
+		const char *bin = tmp("full.bin");
+
+		script_source(&src, &p, 3, 1000, false);
+		base_cfg(&cfg, &src, bin);
+		cfg.format = SSCOPE_CAPTURE_BIN64;
+		cfg.count = 1000;
+		cfg.disk_bytes = 20003;
+		ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), -ENOSPC);
+		ck_assert(r.committed);
+		ck_assert_int_eq(stat(bin, &st), 0);
+		cap = load(bin);
+		ck_assert_uint_eq(cap->n, r.samples);
+		ck_assert(20003 - st.st_size < 5 * 8);
+		ck_assert(cap->channels[0].data[cap->n - 1] == (double)cap->n - 1);
+		sscope_capture_free(cap);
+	}
+	/* full before the first row: nothing recorded, no file */
+	{
+		struct script p = { 0 };
+		struct ssc_source src;
+		struct ssc_acq_config cfg;
+		struct ssc_acq_result r;
+
+		unlink(path);
+		script_source(&src, &p, 3, 1000, false);
+		base_cfg(&cfg, &src, path);
+		cfg.count = 1000;
+		cfg.disk_bytes = 20; /* inside the header */
+		ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), -ENOSPC);
+		ck_assert(!r.committed);
+		ck_assert(!exists(path) && !exists(partial));
+	}
+}
+END_TEST
+
+struct run_ctx {
+	const struct ssc_acq_config *cfg;
+	struct ssc_acq_result r;
+	struct sscope_diag d;
+	int rc;
+};
+
+static void *run_thread(void *arg)
+{
+	struct run_ctx *c = arg;
+
+	c->rc = ssc_acq_run(c->cfg, &c->r, &c->d);
+	return NULL;
+}
+
+static double now_s(void)
+{
+	struct timespec ts;
+
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* wait until the CSV file has `want` data rows, ending in a newline
+ * (as long as it takes, up to 60 s: a timing bound alone would fail on
+ * a busy machine); the seconds it took */
+static double wait_rows(const char *path, long want)
+{
+	double t0 = now_s();
+	bool complete = false;
+
+	while (!(csv_rows(path, &complete) == want && complete) &&
+	       now_s() - t0 < 60) {
+		struct timespec ts = { 0, 5000000 };
+
+		nanosleep(&ts, NULL);
+	}
+	ck_assert_int_eq(csv_rows(path, &complete), want);
+	ck_assert(complete);
+	return now_s() - t0;
+}
+
+START_TEST(engine_rows_reach_the_file)
+{
+	atomic_bool go, resume;
+	struct script p = { .n = 300, .end_rc = -ETIMEDOUT, .wait = &go,
+			    .pause_at = 100, .resume = &resume };
+	struct ssc_source src;
+	struct ssc_acq_config cfg;
+	struct run_ctx c = { .cfg = &cfg };
+	const char *path = tmp("live.csv");
+	char partial[300];
+	pthread_t t;
+	double waited;
+
+	/* 100 samples, a pause, 200 more, then the source waits: the rows
+	 * of both bursts reach NAME.partial while the run goes on */
+	atomic_init(&go, false);
+	atomic_init(&resume, false);
+	snprintf(partial, sizeof(partial), "%s.partial", path);
+	script_source(&src, &p, 2, 1000, false);
+	base_cfg(&cfg, &src, path);
+	ck_assert_int_eq(pthread_create(&t, NULL, run_thread, &c), 0);
+	wait_rows(partial, 100);
+	atomic_store(&resume, true);
+	waited = wait_rows(partial, 300);
+	ck_assert(!exists(path));
+	/* the reader takes NAME.partial as it is */
+	{
+		struct sscope_capture *cap = load(partial);
+
+		ck_assert_uint_eq(cap->n, 300);
+		sscope_capture_free(cap);
+	}
+	printf("# the second burst in the file %.3f s after it (flush period %.1f s)\n",
+	       waited, SSC_REC_FLUSH_S);
+	atomic_store(&go, true);
+	pthread_join(t, NULL);
+	ck_assert_int_eq(c.rc, -ETIMEDOUT);
+	ck_assert(c.r.committed);
+	ck_assert(exists(path) && !exists(partial));
+	ck_assert(has_line(path, "# end: 300 samples"));
+}
+END_TEST
+
+static void write_text(const char *path, const char *text)
+{
+	FILE *f = fopen(path, "w");
+
+	ck_assert_ptr_nonnull(f);
+	fputs(text, f);
+	fclose(f);
+}
+
+static bool same_text(const char *path, const char *text)
+{
+	char buf[256] = "";
+	FILE *f = fopen(path, "r");
+	size_t n;
+
+	if (!f)
+		return false;
+	n = fread(buf, 1, sizeof(buf) - 1, f);
+	buf[n] = '\0';
+	fclose(f);
+	return !strcmp(buf, text);
+}
+
+START_TEST(engine_existing_files)
+{
+	struct script p = { 0 };
+	struct ssc_source src;
+	struct ssc_acq_config cfg;
+	struct ssc_acq_result r;
+	struct sscope_diag d = { "" };
+	const char *path = tmp("old.csv");
+	char partial[300];
+
+	snprintf(partial, sizeof(partial), "%s.partial", path);
+	/* an existing file is refused, untouched, nothing left */
+	write_text(path, "old data\n");
+	script_source(&src, &p, 1, 100, false);
+	base_cfg(&cfg, &src, path);
+	cfg.count = 10;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, &d), -EEXIST);
+	ck_assert_ptr_nonnull(strstr(d.msg, "--overwrite"));
+	ck_assert(same_text(path, "old data\n"));
+	ck_assert(!exists(partial));
+	/* an interrupted recording is refused even with overwrite */
+	write_text(partial, "t,x\n0,1\n");
+	memset(&p, 0, sizeof(p));
+	script_source(&src, &p, 1, 100, false);
+	base_cfg(&cfg, &src, path);
+	cfg.count = 10;
+	cfg.overwrite = true;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, &d), -EEXIST);
+	ck_assert_ptr_nonnull(strstr(d.msg, ".partial exists"));
+	ck_assert(same_text(partial, "t,x\n0,1\n"));
+	ck_assert(same_text(path, "old data\n"));
+	unlink(partial);
+	/* overwrite: replaced at the end */
+	memset(&p, 0, sizeof(p));
+	script_source(&src, &p, 1, 100, false);
+	base_cfg(&cfg, &src, path);
+	cfg.count = 10;
+	cfg.overwrite = true;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, &d), 0);
+	ck_assert(r.committed);
+	ck_assert(has_line(path, "# end: 10 samples"));
+	ck_assert(!exists(partial));
+}
+END_TEST
+
+START_TEST(engine_name_taken_meanwhile)
+{
+	atomic_bool go;
+	struct script p = { .n = 50, .end_rc = -ETIMEDOUT, .wait = &go };
+	struct ssc_source src;
+	struct ssc_acq_config cfg;
+	struct run_ctx c = { .cfg = &cfg };
+	const char *path = tmp("meanwhile.csv");
+	char partial[300];
+	pthread_t t;
+	double t0;
+
+	/* NAME appears during the run: it is not replaced, the recording
+	 * stays NAME.partial and the run says so */
+	atomic_init(&go, false);
+	snprintf(partial, sizeof(partial), "%s.partial", path);
+	script_source(&src, &p, 1, 100, false);
+	base_cfg(&cfg, &src, path);
+	ck_assert_int_eq(pthread_create(&t, NULL, run_thread, &c), 0);
+	t0 = now_s();
+	while (!exists(partial) && now_s() - t0 < 100) {
+		struct timespec ts = { 0, 2000000 };
+
+		nanosleep(&ts, NULL);
+	}
+	write_text(path, "someone else's\n");
+	atomic_store(&go, true);
+	pthread_join(t, NULL);
+	ck_assert_int_eq(c.rc, -ETIMEDOUT); /* the run's own end */
+	ck_assert_int_eq(c.r.rename_err, -EEXIST);
+	ck_assert(c.r.committed);
+	ck_assert_str_eq(c.r.file, partial);
+	ck_assert(same_text(path, "someone else's\n"));
+	ck_assert_int_eq(csv_rows(partial, NULL), 50);
+}
+END_TEST
+
+START_TEST(engine_source_that_waits)
+{
+	struct script p = { 0 };
+	struct ssc_source src, *sim;
+	struct ssc_acq_config cfg;
+	struct ssc_acq_result r;
+	struct sscope_capture *cap;
+	const long N = 3000;
+
+	/* the overrun set-up of engine_ring_overrun (16-sample ring, slow
+	 * writer), with a source that can wait: nothing is lost */
+	script_source(&src, &p, 1, 10000, false);
+	src.info.can_wait = true;
+	base_cfg(&cfg, &src, tmp("wait.csv"));
+	cfg.ring_capacity = 16;
+	cfg.writer_delay_us = 2000;
+	cfg.count = (uint64_t)N;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), 0);
+	ck_assert_uint_eq(r.drops_ring, 0);
+	ck_assert_uint_eq(r.missing, 0);
+	ck_assert_uint_eq(r.samples, (uint64_t)N);
+	cap = load(cfg.path);
+	ck_assert_uint_eq(cap->n, (size_t)N);
+	for (size_t i = 0; i < cap->n; i++)
+		ck_assert(cap->channels[0].data[i] == (double)i);
+	sscope_capture_free(cap);
+
+	/* the unpaced simulator is such a source, the paced one is not */
+	ck_assert_int_eq(ssc_source_sim_open(&sim, "speed=max", NULL), 0);
+	ck_assert(sim->info.can_wait);
+	base_cfg(&cfg, sim, tmp("simwait.csv"));
+	cfg.ring_capacity = 16;
+	cfg.writer_delay_us = 500;
+	cfg.count = 5000;
+	ck_assert_int_eq(ssc_acq_run(&cfg, &r, NULL), 0);
+	ck_assert_uint_eq(r.drops_ring, 0);
+	ck_assert_uint_eq(r.samples, 5000);
+	ssc_source_close(sim);
+	ck_assert_int_eq(ssc_source_sim_open(&sim, "speed=2", NULL), 0);
+	ck_assert(!sim->info.can_wait);
+	ssc_source_close(sim);
+}
+END_TEST
+
 struct live_seen {
 	int calls;
 	uint64_t samples;
@@ -697,6 +1090,11 @@ static Suite *make_suite(void)
 	tcase_add_test(t, engine_timeout_keeps_data);
 	tcase_add_test(t, engine_refusals);
 	tcase_add_test(t, engine_live_only);
+	tcase_add_test(t, engine_disk_full);
+	tcase_add_test(t, engine_rows_reach_the_file);
+	tcase_add_test(t, engine_existing_files);
+	tcase_add_test(t, engine_name_taken_meanwhile);
+	tcase_add_test(t, engine_source_that_waits);
 	suite_add_tcase(s, t);
 	return s;
 }

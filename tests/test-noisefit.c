@@ -835,12 +835,15 @@ static Suite *make_suite(void)
 	tcase_add_test(t, covariance_vs_greenhall);
 	tcase_add_test(t, covariance_monte_carlo);
 	tcase_add_test(t, fit_exact_curves);
-	tcase_add_test(t, round_trip_coverage);
-	tcase_add_test(t, bound_coverage_few_dof);
 	tcase_add_test(t, readoffs_and_errors);
 	tcase_add_test(t, presence_nested_test);
 	tcase_add_test(t, plan_same_numbers);
 	tcase_add_test(t, ci_starts_same_bounds);
+	suite_add_tcase(s, t);
+	/* coverage over many simulated records: make check-long */
+	t = long_tcase("coverage", 1800);
+	tcase_add_test(t, round_trip_coverage);
+	tcase_add_test(t, bound_coverage_few_dof);
 	suite_add_tcase(s, t);
 	return s;
 }

@@ -10,6 +10,10 @@
  * with an error (never a crash or a read past the end: run under
  * make check-valgrind or --enable-sanitizers).  Also npy in both memory
  * orders and byte orders, gzip streams, and the rate plausibility hint.
+ * The crafted files of issue 29 (gen-ros hostile): .db3 files whose tables
+ * are recursive views, computed columns or a b-tree of shared pages, a
+ * .db3 of 150 IMU topics, and whole-file zstd bombs in rosbag2 folders,
+ * each refused quickly with its reason (or, for the topics, read whole).
  */
 #include "internal.h"
 
@@ -18,8 +22,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "check-main.h"
+#include "io-formats.h"
 
 #define DIR "test-ros.tmp"
 
@@ -27,7 +33,7 @@ static const char *const containers[] = {
 	"imu-none.bag", "imu-bz2.bag", "imu-lz4.bag", "imu-zstd.mcap",
 	"imu-lz4.mcap", "imu-none.mcap", "imu-ros1.mcap", "rosbag2-mcap",
 #ifdef HAVE_SQLITE3
-	"rosbag2", "rosbag2/rosbag2_0.db3",
+	"rosbag2", "rosbag2/rosbag2_0.db3", "rosbag2-zstd",
 #endif
 };
 
@@ -288,6 +294,162 @@ START_TEST(gzip_and_rate_hint)
 }
 END_TEST
 
+/* ------------------------------------------------------------ issue 29 */
+
+static void refused(const char *name, int want, const char *msg)
+{
+	struct sscope_reader_opts o = { 0 };
+	struct sscope_capture *c = NULL;
+	struct sscope_diag d = { "" };
+	int rc;
+
+	rc = sscope_capture_load(&c, path(name), &o, &d);
+	ck_assert_msg(rc == want, "%s: %d, wanted %d (%s)", name, rc, want, d.msg);
+	ck_assert_msg(strstr(d.msg, msg) != NULL, "%s: '%s' not in '%s'", name,
+		      msg, d.msg);
+	ck_assert_msg(strstr(d.msg, name) != NULL, "%s: file not named: %s",
+		      name, d.msg);
+	ck_assert_ptr_null(c);
+}
+
+#ifdef HAVE_SQLITE3
+/* a table replaced by a recursive view ran forever; a computed column
+ * is code of the file's; a b-tree whose pages share children holds 8e9
+ * rows in 4 KiB: refused, the last by the work budget */
+START_TEST(db3_schema_refused)
+{
+	refused("hostile/view-messages.db3", -EBADMSG, "'messages' is a view, not a table");
+	refused("hostile/view-topics.db3", -EBADMSG, "'topics' is a view, not a table");
+	refused("hostile/computed.db3", -EBADMSG,
+		"column 'timestamp' of 'messages' is computed at each read");
+	refused("hostile/dag.db3", -EBADMSG,
+		"takes more work than a file of its size can need");
+}
+END_TEST
+
+/* 150 IMU topics: the query of the readable topics' messages drops none
+ * (a 1 KiB query buffer stopped adding topic ids at about 120) */
+START_TEST(db3_many_topics)
+{
+	static const char *const names[] = { "/imu0", "/imu77", "/imu149" };
+	static const double t[] = { 0, 77, 149 };
+
+	for (size_t i = 0; i < 3; i++) {
+		struct sscope_capture *c = load("hostile/many-topics.db3", names[i], 0);
+
+		ck_assert_uint_eq(c->n, 40);
+		for (size_t k = 0; k < c->n; k++)
+			ck_assert_msg(c->channels[0].data[k] == t[i] + (double)k / 1000,
+				      "%s: gx[%zu] = %.17g", names[i], k,
+				      c->channels[0].data[k]);
+		sscope_capture_free(c);
+	}
+	load("hostile/many-topics.db3", NULL, -EINVAL); /* 150: choose one */
+}
+END_TEST
+#endif
+
+/* whole-file zstd in a rosbag2 folder: 8 GiB from 256 KiB stop on the
+ * first MiB when it is not what the storage needs, at the declared size
+ * of a SQLite file, or at the cap */
+START_TEST(zstd_bombs)
+{
+	unsigned char *b, *out = NULL;
+	size_t n, on = 0;
+	struct sscope_diag d = { "" };
+	int rc;
+
+	refused("hostile/bomb-text", -EBADMSG,
+		"not a SQLite (.db3) or MCAP file once decompressed");
+	refused("hostile/bomb-mcap-zeros", -EBADMSG,
+		"not an MCAP file once decompressed (record at byte 8)");
+	refused("hostile/bomb-db3", -EBADMSG,
+		"corrupt zstd data (they go on past the 8192 bytes the file declares)");
+	refused("hostile/bomb-db3-huge", -ENOMEM,
+		"holds a SQLite database of 134217728 MiB (says its header), more than the");
+	/* the cap itself: 16 MiB here (half the memory in use) */
+	b = slurp(path("hostile/bomb-mcap/rosbag2_0.mcap.zstd"), &n);
+	rc = ssc_unzstd(b, n, 16u << 20, NULL, NULL, &out, &on, "x.zstd", &d);
+	ck_assert_int_eq(rc, -ENOMEM);
+	ck_assert_ptr_null(out);
+	ck_assert_msg(strstr(d.msg, "x.zstd: zstd data expand to more than the 16 MiB") &&
+			      strstr(d.msg, "ros2 bag convert"),
+		      "%s", d.msg);
+	/* the codec's ratio: 128 KiB from 4 bytes, so 256 KiB cannot make
+	 * more than 8 GiB + 128 KiB; cut to 400 bytes: at most 12.9 MiB */
+	rc = ssc_unzstd(b, 400, SIZE_MAX / 2, NULL, NULL, &out, &on, "x.zstd", &d);
+	ck_assert_int_eq(rc, -EBADMSG);
+	ck_assert_msg(strstr(d.msg, "truncated"), "%s", d.msg);
+	ck_assert_uint_le(ssc_decompress_bound(SSC_CODEC_ZSTD, 400),
+			  (size_t)400 * 32768 + 131072);
+	free(b);
+#ifdef HAVE_SQLITE3
+	/* a real one expands to the very bytes of the .db3 */
+	{
+		size_t rn;
+		unsigned char *ref = slurp(path("rosbag2/rosbag2_0.db3"), &rn);
+
+		b = slurp(path("rosbag2-zstd/rosbag2_0.db3.zstd"), &n);
+		ck_assert_int_eq(ssc_unzstd(b, n, 16u << 20, NULL, NULL, &out,
+					    &on, "x", &d), 0);
+		ck_assert_uint_eq(on, rn);
+		ck_assert(!memcmp(out, ref, rn));
+		free(out);
+		/* a cap below its size: refused, not corrupt */
+		ck_assert_int_eq(ssc_unzstd(b, n, rn - 1, NULL, NULL, &out, &on,
+					    "x", &d), -ENOMEM);
+		free(b);
+		free(ref);
+	}
+#endif
+}
+END_TEST
+
+/* A MATLAB v7 file of one compressed element: the zlib stream of an
+ * 8-byte tag (type, declared length) followed by `zeros` zero bytes. */
+static void write_matz(const char *name, uint32_t type, uint32_t declared,
+		       size_t zeros)
+{
+	unsigned char hdr[128], tag[8];
+	size_t n = 8 + zeros;
+	unsigned char *raw = calloc(1, n);
+	uLongf zl = compressBound((uLong)n);
+	unsigned char *z = malloc(zl);
+	uint32_t et[2] = { 15, 0 };
+	FILE *f = fopen(path(name), "wb");
+
+	if (!raw || !z || !f) {
+		perror(name);
+		exit(1);
+	}
+	memset(hdr, ' ', sizeof(hdr));
+	memcpy(hdr, "MATLAB 5.0 MAT-file, test", 25);
+	memcpy(hdr + 124, "\0\1IM", 4);
+	memcpy(tag, &type, 4);
+	memcpy(tag + 4, &declared, 4);
+	memcpy(raw, tag, 8);
+	if (compress2(z, &zl, raw, (uLong)n, 1) != Z_OK)
+		exit(1);
+	et[1] = (uint32_t)zl;
+	fwrite(hdr, 1, 128, f);
+	fwrite(et, 4, 2, f);
+	fwrite(z, 1, zl, f);
+	fclose(f);
+	free(raw);
+	free(z);
+}
+
+/* MATLAB v7: a compressed array expands to the length its tag declares
+ * (no more, and no more than deflate's 1032:1 makes of its bytes); an
+ * element the reader ignores is not expanded */
+START_TEST(matz_bounded)
+{
+	refused("over.mat", -EBADMSG, "corrupt or truncated compressed element at byte 128");
+	refused("ratio.mat", -EBADMSG, "corrupt or truncated compressed element at byte 128");
+	refused("int8.mat", -EDOM, "holds no real numeric vector or matrix");
+}
+END_TEST
+
 /* small files of the other formats, written here */
 static void write_npy(const char *name, const char *descr, bool fortran,
 		      const char *shape, const void *data, size_t bytes)
@@ -322,6 +484,12 @@ static void make_files(void)
 		 top ? top : ".");
 	if (system(cmd) != 0) {
 		fprintf(stderr, "gen-ros failed\n");
+		exit(1);
+	}
+	snprintf(cmd, sizeof(cmd), "mkdir " DIR "/hostile && %s/tests/gen-ros " DIR
+		 "/hostile 200 1 hostile", top ? top : ".");
+	if (system(cmd) != 0) {
+		fprintf(stderr, "gen-ros hostile failed\n");
 		exit(1);
 	}
 	for (int i = 0; i < 500; i++)
@@ -366,6 +534,11 @@ static void make_files(void)
 			1700000000001500000LL + 5000000LL * i, i,
 			1700000000000000000LL + 5000000LL * i);
 	fclose(f);
+	/* 32 MiB after a tag declaring 64 bytes; 4 GiB declared from a
+	 * stream of a few bytes; 32 MiB in an int8 element */
+	write_matz("over.mat", 14, 64, 32u << 20);
+	write_matz("ratio.mat", 14, 0xfffffff0u, 0);
+	write_matz("int8.mat", 1, 32u << 20, 32u << 20);
 	if (system("gzip -c " DIR "/c.csv > " DIR "/c.csv.gz && gzip -c " DIR
 		   "/a.npy > " DIR "/a.npy.gz") != 0)
 		exit(1);
@@ -389,6 +562,12 @@ static Suite *make_suite(void)
 #endif
 	);
 	tcase_add_test(tc, npy_layouts);
+#ifdef HAVE_SQLITE3
+	tcase_add_test(tc, db3_schema_refused);
+	tcase_add_test(tc, db3_many_topics);
+#endif
+	tcase_add_test(tc, zstd_bombs);
+	tcase_add_test(tc, matz_bounded);
 	tcase_add_test(tc, gzip_and_rate_hint);
 	suite_add_tcase(s, tc);
 	return s;

@@ -102,6 +102,17 @@ START_TEST(errors)
 	for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++)
 		ck_assert_msg(sscope_unit_parse(bad[i], &u, NULL) == -EINVAL,
 			      "'%s' accepted", bad[i]);
+	/* an unknown unit names the nearest known spellings (edit distance
+	 * <= max(1, length / 3), case-blind first), nothing when none is near */
+	ck_assert_int_eq(sscope_unit_parse("degs", &u, &d), -EINVAL);
+	ck_assert_str_eq(d.msg, "unknown unit 'degs' (nearest known: deg/s, deg, degC)");
+	ck_assert_int_eq(sscope_unit_parse("deg/hh", &u, &d), -EINVAL);
+	ck_assert_msg(strstr(d.msg, "unknown unit 'hh' in 'deg/hh' (nearest known: deg/h") != NULL,
+		      "%s", d.msg);
+	ck_assert_int_eq(sscope_unit_parse("ug/sqrt(hz)", &u, &d), -EINVAL);
+	ck_assert_msg(strstr(d.msg, "(nearest known: ug/sqrt(Hz), Hz") != NULL, "%s", d.msg);
+	ck_assert_int_eq(sscope_unit_parse("blorbs", &u, &d), -EINVAL);
+	ck_assert_str_eq(d.msg, "unknown unit 'blorbs'");
 	ck_assert_int_eq(sscope_unit_convert_text(1, "deg/s", "m/s^2", &v), -EDOM);
 	ck_assert_int_eq(sscope_unit_convert_text(1, "deg/s", "nonsense", &v), -EINVAL);
 }

@@ -53,6 +53,10 @@ struct ssc_source_info {
 	bool has_temp;
 	bool has_counter;    /* gaps come from a device sample counter */
 	bool nominal_time;   /* time stamps are nominal (simulator) */
+	bool can_wait;       /* nothing is lost by holding the source back
+				(the unpaced simulator): when the ring is
+				full the reader waits for the writer instead
+				of dropping the sample */
 	double rate_hz;      /* nominal output rate, 0 when unknown */
 	char desc[256];      /* "adis16470 on /dev/spidev0.0, ..." */
 };
@@ -157,6 +161,67 @@ size_t ssc_ring_pop(struct ssc_ring *r, struct ssc_acq_sample *out,
 size_t ssc_ring_capacity(const struct ssc_ring *r);
 
 /* ------------------------------------------------------------------ */
+/* The recording file (recfile.c): rows reach NAME.partial within       */
+/* SSC_REC_FLUSH_S, a clean stop renames it to NAME, a failed write     */
+/* cuts it at its last complete row and keeps it.                       */
+
+#define SSC_REC_FLUSH_S 0.2  /* rows formatted are written at least so often */
+#define SSC_REC_SYNC_S 1.0   /* and synced to the disk so often */
+
+struct ssc_recfile;
+
+struct ssc_rec_opts {
+	const char *path;        /* "-" and devices are written directly */
+	bool overwrite;          /* replace an existing NAME at the end */
+	enum sscope_capture_format format;
+	const struct sscope_writer_column *cols;
+	size_t n_cols;
+	const char *const *comments; /* CSV comment lines after the header */
+	uint64_t fail_after_bytes;   /* tests: the disk is full after so many
+					bytes of the file (0: never) */
+};
+
+struct ssc_rec_end {
+	uint64_t rows;     /* rows in the file */
+	bool kept;         /* a file holds them (NAME, or NAME.partial) */
+	bool removed;      /* no row: the file was removed */
+	bool trailer_lost; /* the end line did not fit */
+	int rename_err;    /* -EEXIST: NAME appeared meanwhile; the rows are
+			      in NAME.partial (where) */
+	char where[4200];  /* the file that holds the rows */
+};
+
+/*
+ * Create NAME.partial and write the header and comments.  Returns 0,
+ * -EEXIST (NAME exists without overwrite, or NAME.partial exists), -EISDIR,
+ * -errno of the OS (diag says which file and why).
+ */
+int ssc_recfile_open(struct ssc_recfile **rf, const struct ssc_rec_opts *o,
+		     struct sscope_diag *diag);
+/* Format rows (row-major, SI) or a comment into memory: 0, -ENOMEM, or
+ * the error of an earlier write. */
+int ssc_recfile_append(struct ssc_recfile *rf, const double *rows, size_t n);
+int ssc_recfile_comment(struct ssc_recfile *rf, const char *text);
+/* Write what was formatted.  On failure (-ENOSPC, -EDQUOT, -EFBIG, -EIO)
+ * the file ends at its last complete row and every later call fails. */
+int ssc_recfile_flush(struct ssc_recfile *rf);
+bool ssc_recfile_dirty(const struct ssc_recfile *rf);
+uint64_t ssc_recfile_buffered(const struct ssc_recfile *rf);
+uint64_t ssc_recfile_rows(const struct ssc_recfile *rf);
+const char *ssc_recfile_name(const struct ssc_recfile *rf);
+/* fdatasync (from any thread); an error shows at the next flush. */
+void ssc_recfile_sync(struct ssc_recfile *rf);
+/*
+ * The end: the trailer line (CSV; after a failed write only if it fits),
+ * sync, close, rename NAME.partial to NAME (a file without rows is
+ * removed instead).  *end says where the rows are.  Returns 0 or the
+ * write error (the rows written before it are kept).  Then free.
+ */
+int ssc_recfile_close(struct ssc_recfile *rf, const char *trailer,
+		      struct ssc_rec_end *end);
+void ssc_recfile_free(struct ssc_recfile *rf);
+
+/* ------------------------------------------------------------------ */
 /* Running statistics                                                  */
 
 /* Intervals between data-ready time stamps (Welford). */
@@ -232,10 +297,14 @@ struct ssc_acq_config {
 	bool lock_memory;           /* mlockall */
 	bool handle_signals;        /* stop cleanly on SIGINT, SIGTERM, SIGHUP */
 	const char *const *comments;/* CSV comment lines after the header */
+	bool overwrite;             /* replace an existing file at the end
+				       (else it is refused: -EEXIST) */
 	void (*live)(const struct ssc_acq_live *snap, void *ctx);
 	void *live_ctx;
 	double live_period_s;
 	unsigned writer_delay_us;   /* tests: slow the writer down per batch */
+	uint64_t disk_bytes;        /* tests: the disk fills after so many
+				       bytes of the capture (0: never) */
 };
 
 enum ssc_acq_stop {
@@ -244,6 +313,8 @@ enum ssc_acq_stop {
 	SSC_STOP_SIGNAL,
 	SSC_STOP_TIMEOUT,
 	SSC_STOP_ERROR,
+	SSC_STOP_FULL,      /* the capture could not grow: disk full,
+			       quota or file size limit (res->error) */
 };
 
 struct ssc_acq_result {
@@ -263,16 +334,27 @@ struct ssc_acq_result {
 	int signal;
 	int error;                /* negative errno for TIMEOUT/ERROR */
 	bool committed;           /* the capture file exists */
+	uint64_t unsaved;         /* samples read but not in the file (after
+				     a failed write) */
+	bool trailer_lost;        /* the end line did not fit */
+	int rename_err;           /* the file stayed NAME.partial: -EEXIST
+				     (NAME appeared meanwhile) or -errno */
+	char file[4200];          /* where the samples are */
 };
 
 /*
  * Run an acquisition until count, duration, a signal, a timeout or an
- * error.  Everything read before the stop is written and the file is
- * committed when at least one sample was written (even after a timeout
- * or a device error, which are reported in res->error).
- * Returns 0 when the run ended by count, duration or signal; the source's
- * error or -ETIMEDOUT otherwise (diag says why); -errno when the file
- * could not be created or written (nothing is left behind).
+ * error.  Samples are recorded into PATH.partial (recfile above): within
+ * SSC_REC_FLUSH_S of being read they are in the file, which any command
+ * reads.  At the end everything read is written and the file renamed to
+ * PATH when at least one sample was written, even after a timeout, a
+ * device error or a failed write (a full disk: the file ends at its last
+ * complete row; res->stop SSC_STOP_FULL).  A file without samples is
+ * removed.  Returns 0 when the run ended by count, duration or signal;
+ * the source's error or -ETIMEDOUT; the write error (res->committed says
+ * whether samples were kept); -EEXIST when PATH or PATH.partial exists
+ * (PATH: unless cfg->overwrite), -errno when the file could not be
+ * created (diag says why in each case).
  */
 int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		struct sscope_diag *diag);
@@ -284,6 +366,11 @@ int64_t ssc_now_ns(void);
 int ssc_wait_fd(int fd, int stop_fd, double timeout_s);
 /* Sleep until the absolute CLOCK_MONOTONIC time, 0 or -ECANCELED. */
 int ssc_sleep_until(int64_t t_ns, int stop_fd);
+/* Why a capture could not grow, in words: "disk full" (-ENOSPC), "disk
+ * quota full" (-EDQUOT), "file size limit" (-EFBIG). */
+const char *ssc_acq_full_words(int err);
+/* Is err one of those three? */
+bool ssc_acq_storage_full(int err);
 /* printf into diag, returns err */
 int ssc_acq_diag(struct sscope_diag *d, int err, const char *fmt, ...)
 	__attribute__((format(printf, 3, 4)));

@@ -15,6 +15,14 @@
  * to the next one's count.  The writer writes every gap as a comment line
  * (CSV) just before the first row after it, and the time column keeps the
  * real time stamps, so a gap is never filled or interpolated.
+ *
+ * A source that loses nothing by waiting (the unpaced simulator) is held
+ * back instead: when the ring is full the reader sleeps until the writer
+ * has made room, so no sample is dropped.
+ *
+ * The file (recfile.c) gets the rows the writer formats at least every
+ * SSC_REC_FLUSH_S, and the calling thread syncs it every SSC_REC_SYNC_S,
+ * so a kill or a power cut leaves all but the last moments in the file.
  */
 #include "acq.h"
 
@@ -33,15 +41,17 @@
 #include <unistd.h>
 
 #define BATCH 512
+#define FLUSH_ROWS (8 * BATCH) /* rows formatted before a write at most */
 #define THREAD_STACK (256 * 1024)
 
 struct engine {
 	const struct ssc_acq_config *cfg;
 	struct ssc_source *src;
 	struct ssc_ring ring;
-	struct sscope_writer *w;
+	struct ssc_recfile *rf;
 	atomic_bool stop;
 	atomic_bool reader_done;
+	atomic_bool writer_dead; /* the writer stopped taking samples */
 	int stop_fd;
 	/* reader results (read after join) */
 	enum ssc_acq_stop stop_reason;
@@ -55,6 +65,12 @@ struct engine {
 	/* writer results */
 	int writer_err;
 	uint64_t written, missing, gaps;
+	/* time stamps of the rows not yet in the file, to know the last
+	 * one the file holds after a failed write */
+	int64_t *t_rows;
+	size_t n_trows;
+	uint64_t rows_flushed;
+	int64_t t_file_last;
 	double writer_cpu;
 	/* live view */
 	pthread_mutex_t live_mu;
@@ -89,6 +105,22 @@ struct reader_state {
 	bool have_prev;
 	int64_t t_prev;
 };
+
+/* A source that can wait: sleep until the writer makes room in the ring
+ * (true), or gives up (false). */
+static bool wait_for_room(struct engine *e, const struct ssc_acq_sample *s)
+{
+	if (!e->src->info.can_wait)
+		return false;
+	while (!atomic_load(&e->writer_dead)) {
+		struct timespec ts = { 0, 200000 };
+
+		nanosleep(&ts, NULL);
+		if (ssc_ring_push(&e->ring, s))
+			return true;
+	}
+	return false;
+}
 
 /* Gap logic, limits and the hand-over to the ring for one sample.
  * Returns true when the run must stop (count or duration reached). */
@@ -132,7 +164,9 @@ static bool accept(struct engine *e, struct reader_state *st,
 		s->missing = m > UINT32_MAX ? UINT32_MAX : (uint32_t)m;
 		s->cause |= st->pending_cause;
 	}
-	if (!ssc_ring_push(&e->ring, s)) {
+	if (!ssc_ring_push(&e->ring, s) && !wait_for_room(e, s)) {
+		if (atomic_load(&e->writer_dead))
+			return true; /* nothing more can be saved */
 		e->drops_ring++;
 		st->pending = (uint64_t)s->missing + 1;
 		st->pending_cause = (uint16_t)(s->cause | SSC_GAP_RING);
@@ -195,7 +229,7 @@ static void *reader_main(void *arg)
 		limit = accept(e, &st, &s);
 	}
 	/* samples the source read but still holds belong to the capture */
-	while (!limit && src->ops->flush && !e->writer_err) {
+	while (!limit && src->ops->flush && !atomic_load(&e->writer_dead)) {
 		memset(&s, 0, sizeof(s));
 		s.temp_degc = (double)NAN;
 		if (src->ops->flush(src, &s))
@@ -255,6 +289,27 @@ static void publish_live(struct engine *e, const double *last,
 	pthread_mutex_unlock(&e->live_mu);
 }
 
+/* After rows went to the file (or some of them, rc < 0): the time stamp
+ * of the last one there. */
+static void file_rows_done(struct engine *e)
+{
+	uint64_t in_file = ssc_recfile_rows(e->rf), k;
+
+	k = in_file - e->rows_flushed;
+	if (k > 0 && k <= e->n_trows)
+		e->t_file_last = e->t_rows[k - 1];
+	e->rows_flushed = in_file;
+	e->n_trows = 0;
+}
+
+static int file_flush(struct engine *e)
+{
+	int rc = ssc_recfile_flush(e->rf);
+
+	file_rows_done(e);
+	return rc;
+}
+
 static void *writer_main(void *arg)
 {
 	struct engine *e = arg;
@@ -265,7 +320,8 @@ static void *writer_main(void *arg)
 	double last[SSC_ACQ_MAX_CH] = { 0 }, temp = (double)NAN;
 	struct ssc_intervals mean[SSC_ACQ_MAX_CH];
 	struct ssc_run_adev adev[SSC_ACQ_MAX_CH];
-	int64_t t0 = 0, next_pub = 0;
+	int64_t t0 = 0, next_pub = 0, flush_due = 0;
+	const int64_t flush_ns = (int64_t)(SSC_REC_FLUSH_S * 1e9);
 	bool have_t0 = false;
 	double elapsed = 0;
 
@@ -274,6 +330,7 @@ static void *writer_main(void *arg)
 		ssc_run_adev_init(&adev[c]);
 	if (!batch || !rows) {
 		e->writer_err = -ENOMEM;
+		atomic_store(&e->writer_dead, true);
 		request_stop(e);
 		goto out;
 	}
@@ -288,6 +345,19 @@ static void *writer_main(void *arg)
 
 			if (done)
 				break;
+			/* rows formatted reach the file even when no
+			 * sample comes */
+			if (e->rf && ssc_recfile_dirty(e->rf) &&
+			    ssc_now_ns() >= flush_due) {
+				rc = file_flush(e);
+				flush_due = ssc_now_ns() + flush_ns;
+				if (rc) {
+					e->writer_err = rc;
+					atomic_store(&e->writer_dead, true);
+					request_stop(e);
+					break;
+				}
+			}
 			nanosleep(&ts, NULL);
 			continue;
 		}
@@ -304,11 +374,12 @@ static void *writer_main(void *arg)
 				e->gaps++;
 				for (size_t c = 0; c < nc; c++)
 					ssc_run_adev_break(&adev[c]);
-				if (e->w && nr) {
-					rc = sscope_writer_append(e->w, rows, nr);
+				if (e->rf && nr) {
+					rc = ssc_recfile_append(e->rf, rows,
+								nr);
 					nr = 0;
 				}
-				if (e->w && !rc) {
+				if (e->rf && !rc) {
 					char line[160], why[80];
 
 					snprintf(line, sizeof(line),
@@ -317,11 +388,13 @@ static void *writer_main(void *arg)
 						 s->missing == 1 ? "" : "s",
 						 cause_text(s->cause, why,
 							    sizeof(why)));
-					rc = sscope_writer_comment(e->w, line);
+					rc = ssc_recfile_comment(e->rf, line);
 				}
 			}
 			row = rows + nr * ncol;
 			elapsed = 1e-9 * (double)(s->t_ns - t0);
+			if (e->t_rows)
+				e->t_rows[e->n_trows++] = s->t_ns;
 			row[0] = elapsed;
 			for (size_t c = 0; c < nc; c++) {
 				row[1 + c] = s->v[c];
@@ -333,10 +406,17 @@ static void *writer_main(void *arg)
 				row[1 + nc] = temp = s->temp_degc;
 			nr++;
 		}
-		if (e->w && nr && !rc)
-			rc = sscope_writer_append(e->w, rows, nr);
+		if (e->rf && nr && !rc)
+			rc = ssc_recfile_append(e->rf, rows, nr);
+		if (e->rf && !rc &&
+		    (ssc_now_ns() >= flush_due ||
+		     ssc_recfile_buffered(e->rf) >= FLUSH_ROWS)) {
+			rc = file_flush(e);
+			flush_due = ssc_now_ns() + flush_ns;
+		}
 		if (rc) {
 			e->writer_err = rc;
+			atomic_store(&e->writer_dead, true);
 			request_stop(e);
 			break;
 		}
@@ -367,12 +447,6 @@ out:
 	return NULL;
 }
 
-/* the capture's name in messages */
-static const char *shown(const char *path)
-{
-	return strcmp(path, "-") ? path : "standard output";
-}
-
 static int open_writer(struct engine *e, struct sscope_diag *diag)
 {
 	const struct ssc_acq_config *cfg = e->cfg;
@@ -387,19 +461,72 @@ static int open_writer(struct engine *e, struct sscope_diag *diag)
 							   info->unit[c] };
 	if (info->has_temp)
 		cols[n++] = (struct sscope_writer_column){ "temp", "degC" };
-	rc = sscope_writer_open(&e->w, cfg->path, cfg->format, cols, n, 0,
-				diag);
-	if (rc)
-		return rc;
-	for (size_t i = 0; cfg->comments && cfg->comments[i] && !rc; i++)
-		rc = sscope_writer_comment(e->w, cfg->comments[i]);
-	if (rc) {
-		sscope_writer_abort(e->w);
-		e->w = NULL;
-		return ssc_acq_diag(diag, rc, "%s: %s", shown(cfg->path),
-				    strerror(-rc));
+	{
+		struct ssc_rec_opts ro = {
+			.path = cfg->path, .overwrite = cfg->overwrite,
+			.format = cfg->format, .cols = cols, .n_cols = n,
+			.comments = cfg->comments,
+			.fail_after_bytes = cfg->disk_bytes,
+		};
+
+		rc = ssc_recfile_open(&e->rf, &ro, diag);
 	}
-	return 0;
+	return rc;
+}
+
+/* The end of the file: its end line, the rename, and what the result says
+ * about it.  Returns rc, or the write or rename error. */
+static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
+		       struct sscope_diag *diag)
+{
+	const struct ssc_acq_config *cfg = e->cfg;
+	struct ssc_rec_end end;
+	char line[400];
+	int err;
+
+	/* the end line (after a failed write, recfile.c writes a short
+	 * one instead if it fits) */
+	snprintf(line, sizeof(line),
+		 "end: %llu samples, %llu missing in %llu gaps "
+		 "(ring overruns %llu), checksum errors %llu",
+		 (unsigned long long)e->written,
+		 (unsigned long long)e->missing,
+		 (unsigned long long)e->gaps,
+		 (unsigned long long)e->drops_ring,
+		 (unsigned long long)cfg->src->counts.checksum_errors);
+	err = ssc_recfile_close(e->rf, line, &end);
+	file_rows_done(e);
+	if (e->writer_err)
+		err = e->writer_err;
+	ssc_recfile_free(e->rf);
+	e->rf = NULL;
+	res->samples = end.rows;
+	res->duration_s = end.rows ? 1e-9 * (double)(e->t_file_last -
+						      e->t_first)
+				   : 0;
+	res->unsaved = e->pushed > end.rows ? e->pushed - end.rows : 0;
+	res->committed = end.kept;
+	res->trailer_lost = end.trailer_lost;
+	res->rename_err = end.rename_err;
+	snprintf(res->file, sizeof(res->file), "%s", end.where);
+	if (err) {
+		res->error = err;
+		res->stop = ssc_acq_storage_full(err) ? SSC_STOP_FULL : SSC_STOP_ERROR;
+		return ssc_acq_diag(diag, err, "%s: %s", cfg->path &&
+				    strcmp(cfg->path, "-") ? cfg->path
+							   : "standard output",
+				    strerror(-err));
+	}
+	if (end.rename_err && !rc) {
+		if (end.rename_err == -EEXIST)
+			return ssc_acq_diag(diag, end.rename_err,
+					    "%s appeared during the recording and was not replaced: the samples are in %s",
+					    cfg->path, end.where);
+		return ssc_acq_diag(diag, end.rename_err,
+				    "%s: %s: the samples are in %s", cfg->path,
+				    strerror(-end.rename_err), end.where);
+	}
+	return rc;
 }
 
 static int start_thread(pthread_t *t, void *(*fn)(void *), void *arg)
@@ -420,9 +547,10 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		struct sscope_diag *diag)
 {
 	struct engine *e;
+	struct sigaction xfsz_ign = { .sa_handler = SIG_IGN }, xfsz_old;
 	sigset_t set, old;
 	pthread_t rt, wt;
-	int64_t wall0, live_next;
+	int64_t wall0, live_next, sync_next;
 	int rc;
 
 	memset(res, 0, sizeof(*res));
@@ -442,10 +570,16 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	sigaddset(&set, SIGINT);
 	sigaddset(&set, SIGTERM);
 	sigaddset(&set, SIGHUP);
-	if (cfg->handle_signals)
+	if (cfg->handle_signals) {
 		pthread_sigmask(SIG_BLOCK, &set, &old);
+		/* a file size limit (RLIMIT_FSIZE) fails the write with
+		 * EFBIG, handled like a full disk, instead of killing the
+		 * process with the recording unfinished */
+		sigaction(SIGXFSZ, &xfsz_ign, &xfsz_old);
+	}
 	atomic_init(&e->stop, false);
 	atomic_init(&e->reader_done, false);
+	atomic_init(&e->writer_dead, false);
 	pthread_mutex_init(&e->live_mu, NULL);
 	rc = ssc_ring_init(&e->ring, cfg->ring_capacity);
 	if (rc) {
@@ -462,6 +596,12 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		goto out_ring;
 	}
 	if (cfg->path) {
+		/* a flush comes at most FLUSH_ROWS + BATCH rows late */
+		e->t_rows = malloc((FLUSH_ROWS + BATCH) * sizeof(*e->t_rows));
+		if (!e->t_rows) {
+			rc = -ENOMEM;
+			goto out_fd;
+		}
 		rc = open_writer(e, diag);
 		if (rc)
 			goto out_fd;
@@ -481,6 +621,7 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 		goto out_signals;
 	}
 	live_next = wall0 + (int64_t)(cfg->live_period_s * 1e9);
+	sync_next = wall0 + (int64_t)(SSC_REC_SYNC_S * 1e9);
 	while (!atomic_load(&e->reader_done)) {
 		struct timespec ts = { 0, 50000000 };
 
@@ -505,6 +646,11 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 				cfg->live(&snap, cfg->live_ctx);
 			live_next += (int64_t)(cfg->live_period_s * 1e9);
 		}
+		/* what the writer wrote survives a power cut */
+		if (e->rf && ssc_now_ns() >= sync_next) {
+			ssc_recfile_sync(e->rf);
+			sync_next = ssc_now_ns() + (int64_t)(SSC_REC_SYNC_S * 1e9);
+		}
 	}
 	pthread_join(rt, NULL);
 	pthread_join(wt, NULL);
@@ -520,63 +666,30 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	res->iv = e->iv;
 	res->duration_s = e->pushed ? 1e-9 * (double)(e->t_last - e->t_first)
 				    : 0;
-	res->effective_rate_hz = res->duration_s > 0 && e->written >= 2
-					 ? (double)(e->written - 1) /
-						   res->duration_s
-					 : (double)NAN;
 	res->reader_cpu_s = e->reader_cpu;
 	res->writer_cpu_s = e->writer_cpu;
-	res->wall_s = 1e-9 * (double)(ssc_now_ns() - wall0);
 	res->rt_errno = e->rt_errno;
 	res->stop = e->stop_reason;
 	res->error = e->reader_err;
-	if (e->writer_err) {
-		res->stop = SSC_STOP_ERROR;
-		res->error = e->writer_err;
-		rc = ssc_acq_diag(diag, e->writer_err, "%s: %s", shown(cfg->path),
-				  strerror(-e->writer_err));
-		sscope_writer_abort(e->w);
-		e->w = NULL;
-	} else {
-		rc = e->reader_err;
-		if (rc && diag)
-			*diag = e->rdiag;
-	}
-	if (e->w && e->written > 0) {
-		char line[200];
-		int wrc;
-
-		snprintf(line, sizeof(line),
-			 "end: %llu samples, %llu missing in %llu gaps "
-			 "(ring overruns %llu), checksum errors %llu",
-			 (unsigned long long)e->written,
-			 (unsigned long long)e->missing,
-			 (unsigned long long)e->gaps,
-			 (unsigned long long)e->drops_ring,
-			 (unsigned long long)cfg->src->counts.checksum_errors);
-		wrc = sscope_writer_comment(e->w, line);
-		if (!wrc)
-			wrc = sscope_writer_commit(e->w);
-		else
-			sscope_writer_abort(e->w);
-		e->w = NULL;
-		if (wrc) {
-			rc = ssc_acq_diag(diag, wrc, "%s: %s", shown(cfg->path),
-					  strerror(-wrc));
-			res->error = wrc;
-			res->stop = SSC_STOP_ERROR;
-		} else {
-			res->committed = true;
-		}
-	}
-	if (e->w) { /* nothing recorded: no file */
-		sscope_writer_abort(e->w);
-		e->w = NULL;
-	}
+	rc = e->reader_err;
+	if (rc && diag)
+		*diag = e->rdiag;
+	res->wall_s = 1e-9 * (double)(ssc_now_ns() - wall0);
+	if (e->rf)
+		rc = finish_file(e, res, rc, diag);
+	res->effective_rate_hz = res->duration_s > 0 && res->samples >= 2
+					 ? (double)(res->samples - 1) /
+						   res->duration_s
+					 : (double)NAN;
 out_signals:
 	cfg->src->stop_fd = -1;
-	if (e->w)
-		sscope_writer_abort(e->w);
+	if (e->rf) { /* threads not started: nothing recorded */
+		struct ssc_rec_end end;
+
+		ssc_recfile_close(e->rf, NULL, &end);
+		ssc_recfile_free(e->rf);
+		e->rf = NULL;
+	}
 out_fd:
 	close(e->stop_fd);
 out_ring:
@@ -590,8 +703,10 @@ out_free:
 		while (sigtimedwait(&set, NULL, &zero) > 0)
 			;
 		pthread_sigmask(SIG_SETMASK, &old, NULL);
+		sigaction(SIGXFSZ, &xfsz_old, NULL);
 	}
 	pthread_mutex_destroy(&e->live_mu);
+	free(e->t_rows);
 	free(e);
 	return rc;
 }

@@ -5,7 +5,8 @@
  * ring, writer, live view, summary -- runs anywhere without hardware.
  * Time stamps are the nominal k / rate; the pacing lateness is counted
  * separately.  Rates above 1 kHz (times the speed) are paced in batches of
- * 1 ms, like a device with a FIFO.  Values come from the library's sensor
+ * 1 ms, like a device with a FIFO.  Unpaced (speed=max), it waits for the
+ * writer when the ring is full (can_wait): a file gets every sample.  Values come from the library's sensor
  * simulator (analysis/sscope-sim.h, the model behind `sensorscope
  * simulate`): one stream per channel of the seed, white noise of density N
  * (so the Allan deviation of the capture is N / sqrt(tau), IEEE Std 952
@@ -251,6 +252,8 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 	src->info.has_temp = true;
 	src->info.has_counter = false;
 	src->info.nominal_time = true;
+	/* unpaced, nothing is lost by waiting for the writer */
+	src->info.can_wait = s->speed == 0;
 	src->info.rate_hz = s->rate_hz;
 	snprintf(src->info.desc, sizeof(src->info.desc),
 		 "simulator: %zu channel%s at %.10g Hz, seed %lu, white noise "

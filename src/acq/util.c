@@ -102,3 +102,20 @@ void ssc_source_close(struct ssc_source *src)
 	else
 		free(src);
 }
+
+bool ssc_acq_storage_full(int err)
+{
+	return err == -ENOSPC || err == -EDQUOT || err == -EFBIG;
+}
+
+const char *ssc_acq_full_words(int err)
+{
+	switch (err) {
+	case -EDQUOT:
+		return "disk quota full";
+	case -EFBIG:
+		return "file size limit";
+	default:
+		return "disk full";
+	}
+}

@@ -230,6 +230,9 @@ int ssc_stdout_finish(const char *cmd);
 /* Install the SIGINT/SIGTERM/SIGHUP/SIGPIPE cleanup (signals the caller
  * ignores stay ignored). */
 void ssc_signals_init(void);
+/* True while a cleanup signal is being handled (the process is ending
+ * with it): say nothing more. */
+bool ssc_interrupted(void);
 
 /* Outputs compared with inputs before anything is written. */
 enum { SSC_GUARD_IN, SSC_GUARD_OUT, SSC_GUARD_DIR };
@@ -257,11 +260,14 @@ struct ssc_outdir {
 	char *shown;  /* its name in messages */
 	const char *const *stages; /* names of STAGE.ext files it may hold */
 	int slot;
+	int lock_fd; /* the staging folder, locked while this run owns it */
 	bool existed;
 };
 /* Check @p dir (an existing one must hold only report files: report.*,
  * STAGE.ext, STAGE-N.ext for @p stages) and create the staging folder.
- * Prints errors; returns an exit code. */
+ * Staging folders of the same report left by a run that was killed
+ * (SIGKILL, out of memory, power cut) are removed first: a live run holds
+ * a lock on its own.  Prints errors; returns an exit code. */
 int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		     const char *const *stages, struct ssc_outdir *od);
 /* Put the staging folder into place and remove the previous report. */

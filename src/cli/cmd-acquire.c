@@ -33,6 +33,7 @@ enum {
 	OPT_REALTIME,
 	OPT_RTPRIO,
 	OPT_RING,
+	OPT_OVERWRITE,
 };
 
 static const struct ssc_option options[] = {
@@ -66,6 +67,8 @@ static const struct ssc_option options[] = {
 	  "SCHED_FIFO priority with --realtime (default 50)" },
 	{ "ring", required_argument, OPT_RING, "N",
 	  "samples buffered between reader and writer (default 16384)" },
+	{ "overwrite", no_argument, OPT_OVERWRITE, NULL,
+	  "replace an existing FILE when the recording ends (without it an existing FILE is refused)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -83,6 +86,16 @@ static const struct ssc_command_spec spec = {
 		"marked in the capture (a '# gap: ...' comment before the next row of a CSV,\n"
 		"and always the time stamps); nothing is interpolated.  Ctrl-C (SIGINT),\n"
 		"SIGTERM or SIGHUP stops cleanly: everything read is written and the file is valid.\n"
+		"While recording, the capture is FILE.partial, which every command reads\n"
+		"(up to its last complete row); a clean stop renames it to FILE.  Rows\n"
+		"reach it within 0.2 s and the disk within about 1 s, so SIGKILL, the\n"
+		"out-of-memory killer or a power cut leaves all but the last second or\n"
+		"two in FILE.partial.\n"
+		"A full disk (or quota, or file size limit) stops the run: the file is cut\n"
+		"at its last complete row, given its end line if that fits, and kept as FILE.\n"
+		"An existing FILE is refused unless --overwrite (then replaced at the end);\n"
+		"an existing FILE.partial is always refused.  The unpaced simulator waits for\n"
+		"the writer, so it never drops a sample; hardware overruns are counted.\n"
 		"The summary (text, or --format json) gives samples, effective rate,\n"
 		"jitter of the data-ready intervals, drops and checksum errors.",
 	.options = options,
@@ -91,7 +104,13 @@ static const struct ssc_command_spec spec = {
 		"Capture: columns time [s] (from the first data-ready time stamp), the\n"
 		"channels in their units, temp [degC].  ADIS: gx gy gz [deg/s],\n"
 		"ax ay az [m/s^2]; PROD_ID must match --device or the run is refused.\n"
-		"-o - writes the capture to stdout (the summary then goes to stderr).\n"
+		"-o - writes the capture to stdout (the summary then goes to stderr);\n"
+		"FIFOs and devices are written directly.\n"
+		"\n"
+		"Exit status: 0 when stopped by --count, --duration or a signal; 1 for a\n"
+		"device error, a timeout, a full disk or another write error (the samples\n"
+		"before it are kept and the message says where), or an existing FILE;\n"
+		"2 for usage errors.\n"
 		"\n"
 		"Simulator: --source sim[:rate=HZ,channels=1..6,seed=N,arw=Q,vrw=Q,temp=C,\n"
 		"speed=X|max]; defaults 1 kHz, 6 channels like an ADIS16470, seed 1,\n"
@@ -120,7 +139,7 @@ struct acq_opts {
 	uint64_t count;
 	double duration_s, rate_hz, speed_hz, timeout_s;
 	enum sscope_capture_format fmt;
-	bool live, realtime;
+	bool live, realtime, overwrite;
 	int rt_priority;
 	size_t ring;
 };
@@ -217,6 +236,9 @@ static int handle(int key, const char *arg, void *ctx)
 	case OPT_REALTIME:
 		o->realtime = true;
 		return 0;
+	case OPT_OVERWRITE:
+		o->overwrite = true;
+		return 0;
 	case OPT_RTPRIO:
 		if (ssc_arg_size("acquire", "rt-priority", arg, &n))
 			return SSC_EXIT_USAGE;
@@ -306,9 +328,9 @@ static void live_view(const struct ssc_acq_live *l, void *ctx)
 
 /* ------------------------------------------------------------ summary */
 
-static const char *stop_name(enum ssc_acq_stop s)
+static const char *stop_name(const struct ssc_acq_result *r)
 {
-	switch (s) {
+	switch (r->stop) {
 	case SSC_STOP_COUNT:
 		return "count";
 	case SSC_STOP_DURATION:
@@ -317,6 +339,8 @@ static const char *stop_name(enum ssc_acq_stop s)
 		return "signal";
 	case SSC_STOP_TIMEOUT:
 		return "timeout";
+	case SSC_STOP_FULL:
+		return ssc_acq_full_words(r->error);
 	default:
 		return "error";
 	}
@@ -352,17 +376,24 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 	struct drops d = count_drops(info, r);
 	char a[32], b[32], c[32], e[32];
 
-	if (path)
-		fprintf(f, "capture:         %s (%s)\n", path, format_name(o->fmt));
+	if (path && r->committed)
+		fprintf(f, "capture:         %s (%s)\n", r->file, format_name(o->fmt));
+	else if (path)
+		fprintf(f, "capture:         none (no sample recorded)\n");
 	else
 		fprintf(f, "capture:         none (live view only)\n");
 	fprintf(f, "source:          %s\n", info->desc);
-	fprintf(f, "stopped by:      %s%s\n", stop_name(r->stop),
+	fprintf(f, "stopped by:      %s%s\n", stop_name(r),
 		r->stop == SSC_STOP_SIGNAL && r->signal
 			? (r->signal == SIGINT ? " (SIGINT)" :
 			   r->signal == SIGHUP ? " (SIGHUP)" : " (SIGTERM)")
+			: r->stop == SSC_STOP_FULL
+			? ": the capture ends at its last complete row"
 			: "");
 	fprintf(f, "samples:         %llu\n", (unsigned long long)r->samples);
+	if (r->unsaved)
+		fprintf(f, "not saved:       %llu samples read after the write failed\n",
+			(unsigned long long)r->unsaved);
 	fprintf(f, "duration:        %s s\n", ssc_fmt(a, sizeof(a), r->duration_s, 8));
 	fprintf(f, "effective rate:  %s Hz", ssc_fmt(a, sizeof(a), r->effective_rate_hz, 8));
 	if (info->rate_hz > 0)
@@ -419,7 +450,8 @@ static json_t *json_summary(const struct acq_opts *o, const char *path,
 	       *ch = json_array();
 
 	json_object_set_new(j, "command", json_string("acquire"));
-	json_object_set_new(j, "file", path ? json_string(path) : json_null());
+	json_object_set_new(j, "file", path ? json_string(r->committed ? r->file : path)
+					    : json_null());
 	json_object_set_new(j, "format", json_string(format_name(o->fmt)));
 	json_object_set_new(j, "committed", json_boolean(r->committed));
 	json_object_set_new(j, "source", json_string(info->desc));
@@ -431,8 +463,12 @@ static json_t *json_summary(const struct acq_opts *o, const char *path,
 		json_array_append_new(ch, c);
 	}
 	json_object_set_new(j, "channels", ch);
-	json_object_set_new(j, "stop", json_string(stop_name(r->stop)));
+	json_object_set_new(j, "stop", json_string(stop_name(r)));
 	json_object_set_new(j, "samples", json_integer((json_int_t)r->samples));
+	json_object_set_new(j, "unsaved", json_integer((json_int_t)r->unsaved));
+	json_object_set_new(j, "end_line", json_boolean(r->committed &&
+							 o->fmt == SSCOPE_CAPTURE_CSV &&
+							 !r->trailer_lost));
 	json_object_set_new(j, "duration_s", ssc_jreal(r->duration_s));
 	json_object_set_new(j, "effective_rate_hz", ssc_jreal(r->effective_rate_hz));
 	json_object_set_new(j, "nominal_rate_hz",
@@ -581,6 +617,7 @@ int ssc_cmd_acquire(int argc, char **argv)
 	cfg.rt_priority = o.realtime ? o.rt_priority : 0;
 	cfg.lock_memory = o.realtime;
 	cfg.handle_signals = true;
+	cfg.overwrite = o.overwrite;
 	cfg.comments = comments;
 	if (o.live) {
 		lc.tty = isatty(STDERR_FILENO);
@@ -621,10 +658,17 @@ int ssc_cmd_acquire(int argc, char **argv)
 	ssc_source_close(src);
 
 	if (rc) {
-		if (res.committed)
+		if (res.stop == SSC_STOP_FULL && res.committed)
+			ssc_err(co.cmd, "stopped: %s: %s; the %llu samples recorded before it are in %s%s",
+				ssc_acq_full_words(res.error), d.msg,
+				(unsigned long long)res.samples, res.file,
+				res.trailer_lost ? " (no room for its end line)" : "");
+		else if (res.rename_err && res.committed && !res.error)
+			ssc_err(co.cmd, "%s", d.msg);
+		else if (res.committed)
 			ssc_err(co.cmd, "%s (the %llu samples before it are in %s)",
 				d.msg[0] ? d.msg : sscope_strerror(rc),
-				(unsigned long long)res.samples, co.output);
+				(unsigned long long)res.samples, res.file);
 		else
 			ssc_err(co.cmd, "%s", d.msg[0] ? d.msg : sscope_strerror(rc));
 		return SSC_EXIT_FAIL;

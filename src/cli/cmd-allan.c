@@ -33,6 +33,8 @@ enum {
 	OPT_OPENVINS,
 	OPT_IMU_UTILS,
 	OPT_INFLATE,
+	OPT_FORCE,
+	OPT_DAVAR,
 };
 
 static const struct ssc_option allan_opts[] = {
@@ -52,6 +54,10 @@ static const struct ssc_option allan_opts[] = {
 	  "write the imu_utils parameter YAML (per axis and avg-axis; *_w is the random walk K)" },
 	{ "inflate", required_argument, OPT_INFLATE, "F",
 	  "multiply the exported noise values by F >= 1 (default 1; Kalibr and OpenVINS advise inflating Allan values, e.g. 2-10)" },
+	{ "force", no_argument, OPT_FORCE, NULL,
+	  "write an export the adequacy check refuses (the record moves, the fit is rejected, a transient, step or temperature drift biases a value), marking each doubtful value in a comment" },
+	{ "davar", required_argument, OPT_DAVAR, "PATH.svg|png",
+	  "draw the dynamic Allan deviation (OADEV in sliding windows over the record, against the fitted model) of each channel" },
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
@@ -92,7 +98,9 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
 		 "m <= (N-1)/2 phase points; MDEV, TDEV: m <= N/3; HDEV, OHDEV: m <= (N-1)/3).\n"
-		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped.",
+		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped, the\n"
+		 "variance averages the complete terms (Sesia & Tavella 2008) and the EDF counts\n"
+		 "only those; taus left without a complete term are omitted with a warning.",
 };
 
 struct args {
@@ -102,6 +110,8 @@ struct args {
 	const char *kalibr;
 	const char *openvins;
 	const char *imu_utils;
+	const char *davar;
+	bool force;
 	double inflate;
 	const char *dev_unit;
 	bool no_fit;
@@ -186,6 +196,16 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_IMU_UTILS:
 		a->imu_utils = arg;
+		return 0;
+	case OPT_FORCE:
+		a->force = true;
+		return 0;
+	case OPT_DAVAR:
+		if (ssc_plot_format_of(arg) == SSC_PLOT_NONE)
+			return ssc_usage_error("allan",
+					       "--davar: '%s' does not end in .svg or .png",
+					       arg);
+		a->davar = arg;
 		return 0;
 	case OPT_INFLATE:
 		if (ssc_arg_double("allan", "inflate", arg, &a->inflate))
@@ -429,6 +449,60 @@ static const char *fit_msg(const struct ssc_allan_chan *c)
 					 sscope_strerror(c->res->fit_error);
 }
 
+/* what the adequacy check says beside a term: "" when nothing */
+static const char *term_mark(const struct ssc_allan_chan *c, int t)
+{
+	if (!c->adq)
+		return "";
+	if (c->adq->verdict == SSCOPE_ADEQUACY_INVALID)
+		return "  <- NOT VALID (see adequacy)";
+	if ((c->adq->doubtful >> t) & 1)
+		return "  <- doubtful (see adequacy)";
+	return "";
+}
+
+/* the first finding of severity doubt or invalid concerning term t */
+static const struct sscope_adequacy_finding *
+term_doubt(const struct ssc_allan_chan *c, int t)
+{
+	for (size_t i = 0; c->adq && i < c->adq->n_findings; i++) {
+		const struct sscope_adequacy_finding *f = &c->adq->findings[i];
+
+		if (f->severity >= SSCOPE_ADEQUACY_DOUBT && ((f->terms >> t) & 1))
+			return f;
+	}
+	return NULL;
+}
+
+/* The adequacy of a channel in text: a summary line, then one line per
+ * finding. */
+static void text_adequacy(FILE *f, const struct ssc_allan_chan *c)
+{
+	const struct sscope_adequacy *q = c->adq;
+	char b1[32], b2[32];
+
+	if (!q)
+		return;
+	fprintf(f, "  adequacy: %s: ", q->verdict == SSCOPE_ADEQUACY_INVALID ?
+		"NOT VALID" : q->verdict == SSCOPE_ADEQUACY_DOUBT ? "DOUBTFUL" :
+		q->verdict == SSCOPE_ADEQUACY_BOUND ? "valid, some terms only bounded" :
+		"valid");
+	if (q->still_tested)
+		fprintf(f, "%s (1 s variance spans %s times, at most %s), ",
+			q->still ? "still" : "moves",
+			ssc_fmt(b1, sizeof(b1), q->contrast, 3),
+			ssc_fmt(b2, sizeof(b2), q->max_contrast, 3));
+	if (q->have_fit)
+		fprintf(f, "fit %s (p = %s), ", q->fit_rejected ? "rejected" : "accepted",
+			ssc_fmt(b1, sizeof(b1), q->fit_p_value, 2));
+	fprintf(f, "%s\n", !q->stationarity_tested ? "stationarity not tested" :
+		q->stationary ? "stationary" : "not stationary");
+	for (size_t i = 0; i < q->n_findings; i++)
+		fprintf(f, "  adequacy (%s): %s\n",
+			sscope_adequacy_severity_name(q->findings[i].severity),
+			q->findings[i].message);
+}
+
 /* Results of extreme samples (1e308 deg/s) can be finite in SI and
  * beyond the double range in the units shown (deg/h): an error, never
  * "inf" in a table.  Returns an exit code. */
@@ -466,6 +540,50 @@ static int check_shown(const struct ssc_common *co, const struct args *a,
 				u->term[t]);
 			return SSC_EXIT_FAIL;
 		}
+	}
+	return SSC_EXIT_OK;
+}
+
+static bool inertial(enum sscope_quantity q)
+{
+	return q == SSCOPE_QUANTITY_ANGULAR_RATE || q == SSCOPE_QUANTITY_ACCELERATION;
+}
+
+/* The adequacy check of a channel's fit (what the record supports):
+ * stillness, fit, length of each term, stationarity, the DAVAR map. */
+static int check_adequacy(const struct ssc_common *co, const struct args *a,
+			  const char *path, const struct sscope_capture *cap,
+			  size_t k, struct ssc_allan_chan *c,
+			  const struct ssc_allan_chan *moving)
+{
+	struct sscope_adequacy_opts qo = { 0 };
+	struct sscope_diag d = { "" };
+	unsigned allowed = a->fo.allowed ? a->fo.allowed : 0x1fu;
+	int rc;
+
+	qo.rate_hz = cap->rate_hz;
+	qo.angle = a->ao.input == SSCOPE_ALLAN_ANGLE;
+	qo.unit = c->u.rate_si;
+	qo.temp_degc = cap->temp_degc;
+	qo.temp_stride = 1;
+	/* the terms a summary and the exporters read */
+	qo.requested = allowed & ((1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_B) |
+				  (1u << SSCOPE_TERM_K));
+	if (!qo.requested)
+		qo.requested = allowed;
+	if (moving) {
+		qo.moving_channel = moving->col->name;
+		qo.moving_contrast = moving->adq->contrast;
+	}
+	sscope_adequacy_free(c->adq);
+	c->adq = NULL;
+	rc = sscope_adequacy_check(cap->channels[k].data, 1, cap->n, cap->rate_hz > 0 &&
+				   c->res->have_fit ? &c->res->fit : NULL,
+				   &qo, &c->adq, &d);
+	if (rc) {
+		ssc_err(co->cmd, "%s: %s: adequacy check: %s", path, c->col->name,
+			d.msg[0] ? d.msg : sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
 	}
 	return SSC_EXIT_OK;
 }
@@ -536,10 +654,37 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		rc = check_shown(co, a, path, c);
 		if (rc)
 			return rc;
+		if (c->res->n_gap_omitted)
+			ssc_warn(co, "%s: %s: %s", path, c->col->name,
+				 c->res->gap_note.msg);
 		if (a->no_fit)
 			continue;
 		if (!c->res->have_fit)
 			ssc_warn(co, "%s: %s: %s", path, c->col->name, fit_msg(c));
+		rc = check_adequacy(co, a, path, cap, k, c, NULL);
+		if (rc)
+			return rc;
+	}
+	/* one sensor: when an inertial channel moves, the others' records
+	 * are not still either (a gyro axis across a rate table's axis sees
+	 * little of the motion), so they are checked again saying so */
+	if (!a->no_fit) {
+		const struct ssc_allan_chan *mv = NULL;
+
+		for (size_t k = 0; k < fr->n_ch && !mv; k++)
+			if (fr->ch[k].adq && fr->ch[k].adq->still_tested &&
+			    !fr->ch[k].adq->still && inertial(fr->ch[k].u.rq))
+				mv = &fr->ch[k];
+		for (size_t k = 0; mv && k < fr->n_ch; k++) {
+			struct ssc_allan_chan *c = &fr->ch[k];
+
+			if (c == mv || !c->adq || !c->adq->still ||
+			    !inertial(c->u.rq))
+				continue;
+			rc = check_adequacy(co, a, path, cap, k, c, mv);
+			if (rc)
+				return rc;
+		}
 	}
 	return SSC_EXIT_OK;
 }
@@ -690,6 +835,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		return;
 	if (!r->have_fit) {
 		fprintf(f, "  noise terms: not fitted: %s\n", fit_msg(c));
+		text_adequacy(f, c);
 		return;
 	}
 	{
@@ -717,22 +863,23 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			int dg = idigits(cf->value, cf->lo, cf->hi);
 
 			if (cf->fitted)
-				fprintf(f, "    %c  %-22s %11s %-16s [%s, %s]   (%s %s)\n",
+				fprintf(f, "    %c  %-22s %11s %-16s [%s, %s]   (%s %s)%s\n",
 					"QNBKR"[t], term_label(u->rq, t),
 					ssc_fmt(b1, sizeof(b1), in_unit(cf->value, su, cu), dg + 1),
 					cu,
 					ssc_fmt(b2, sizeof(b2), in_unit(cf->lo, su, cu), dg),
 					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), dg),
-					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su);
+					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su,
+					term_mark(c, t));
 			else if (cf->why == SSCOPE_NOISE_NOT_ALLOWED)
 				fprintf(f, "    %c  %-22s %11s %-16s (not fitted: %s)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
 					absent_reason(cf));
 			else if (isfinite(cf->hi) && cf->hi > 0)
-				fprintf(f, "    %c  %-22s %11s %-16s (not shown present: below %s; %s)\n",
+				fprintf(f, "    %c  %-22s %11s %-16s (not shown present: below %s; %s)%s\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
 					ssc_fmt(b1, sizeof(b1), in_unit(cf->hi, su, cu), 3),
-					absent_reason(cf));
+					absent_reason(cf), term_mark(c, t));
 			else
 				fprintf(f, "    %c  %-22s %11s %-16s (not shown present, and this record gives it no finite bound; %s)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
@@ -740,7 +887,9 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		}
 		/* the classic read-offs, where the fitted model says each term
 		 * dominates (or that it dominates nowhere) */
-		fprintf(f, "  classic read-offs where the fit says the term dominates (a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10):");
+		fprintf(f, "  classic read-offs%s where the fit says the term dominates (a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10):",
+			c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID ?
+			" (NOT VALID: see adequacy)" : "");
 		if (isfinite(ft->readoff.n))
 			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
@@ -770,6 +919,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		for (size_t i = 0; i < nw; i++)
 			fprintf(f, "  warning: %s\n", w[i].msg);
 	}
+	text_adequacy(f, c);
 }
 
 /* ------------------------------------------------------------------ */
@@ -784,6 +934,91 @@ static json_t *jval(double si, const char *si_unit, const char *unit)
 	json_object_set_new(o, "unit", json_string(unit));
 	json_object_set_new(o, "si", ssc_jreal(si));
 	json_object_set_new(o, "si_unit", json_string(si_unit));
+	return o;
+}
+
+static json_t *jterms(unsigned mask)
+{
+	json_t *a = json_array();
+
+	for (int t = 0; t < 5; t++)
+		if ((mask >> t) & 1)
+			json_array_append_new(a, json_stringn(&"QNBKR"[t], 1));
+	return a;
+}
+
+/* The adequacy object of a channel: the verdict, each test's outcome,
+ * the findings and the DAVAR map (deviations in the rate unit). */
+static json_t *json_adequacy(const struct ssc_allan_chan *c)
+{
+	const struct sscope_adequacy *q = c->adq;
+	const struct sscope_adequacy_davar *d = &q->davar;
+	json_t *o = json_object(), *fs = json_array();
+	double sc = unit_scale(c->u.rate);
+
+	json_object_set_new(o, "verdict", json_string(
+		q->verdict == SSCOPE_ADEQUACY_INVALID ? "not_valid" :
+		q->verdict == SSCOPE_ADEQUACY_DOUBT ? "doubtful" :
+		q->verdict == SSCOPE_ADEQUACY_BOUND ? "bounds" : "valid"));
+	json_object_set_new(o, "still", q->still_tested ? json_boolean(q->still) :
+							  json_null());
+	json_object_set_new(o, "contrast", ssc_jreal(q->contrast));
+	json_object_set_new(o, "max_contrast", json_real(q->max_contrast));
+	json_object_set_new(o, "fit_rejected", q->have_fit ?
+				json_boolean(q->fit_rejected) : json_null());
+	json_object_set_new(o, "fit_p_value", ssc_jreal(q->fit_p_value));
+	json_object_set_new(o, "stationary", q->stationarity_tested ?
+				json_boolean(q->stationary) : json_null());
+	json_object_set_new(o, "requested", jterms(q->requested));
+	json_object_set_new(o, "established", jterms(q->established));
+	json_object_set_new(o, "doubtful", jterms(q->doubtful));
+	for (size_t i = 0; i < q->n_findings; i++) {
+		const struct sscope_adequacy_finding *f = &q->findings[i];
+		json_t *j = json_object();
+
+		json_object_set_new(j, "cause",
+				    json_string(sscope_adequacy_cause_name(f->cause)));
+		json_object_set_new(j, "severity",
+				    json_string(sscope_adequacy_severity_name(f->severity)));
+		json_object_set_new(j, "terms", jterms(f->terms));
+		json_object_set_new(j, "t_start_s", ssc_jreal(f->t_start_s));
+		json_object_set_new(j, "t_end_s", ssc_jreal(f->t_end_s));
+		json_object_set_new(j, "tau_min_s", ssc_jreal(f->tau_min_s));
+		json_object_set_new(j, "tau_max_s", ssc_jreal(f->tau_max_s));
+		json_object_set_new(j, "statistic", ssc_jreal(f->statistic));
+		json_object_set_new(j, "p_value", ssc_jreal(f->p_value));
+		json_object_set_new(j, "action_s", ssc_jreal(f->action_s));
+		json_object_set_new(j, "message", json_string(f->message));
+		json_array_append_new(fs, j);
+	}
+	json_object_set_new(o, "findings", fs);
+	if (d->n_win) {
+		json_t *dv = json_object(), *ts = json_array(), *tau = json_array();
+		json_t *dev = json_array(), *model = json_array();
+
+		json_object_set_new(dv, "deviation", json_string("oadev"));
+		json_object_set_new(dv, "unit", json_string(c->u.rate));
+		json_object_set_new(dv, "window_s", json_real(d->window_s));
+		json_object_set_new(dv, "step_s", json_real(d->step_s));
+		for (size_t i = 0; i < d->n_win; i++)
+			json_array_append_new(ts, json_real(d->t_s[i]));
+		for (size_t j = 0; j < d->n_tau; j++) {
+			json_array_append_new(tau, json_real(d->tau_s[j]));
+			json_array_append_new(model, ssc_jreal(d->model[j] / sc));
+		}
+		for (size_t i = 0; i < d->n_win; i++) {
+			json_t *row = json_array();
+
+			for (size_t j = 0; j < d->n_tau; j++)
+				json_array_append_new(row, ssc_jreal(d->dev[i * d->n_tau + j] / sc));
+			json_array_append_new(dev, row);
+		}
+		json_object_set_new(dv, "t_s", ts);
+		json_object_set_new(dv, "tau_s", tau);
+		json_object_set_new(dv, "dev", dev);
+		json_object_set_new(dv, "model", model);
+		json_object_set_new(o, "davar", dv);
+	}
 	return o;
 }
 
@@ -833,6 +1068,12 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		json_array_append_new(pts, q);
 	}
 	json_object_set_new(o, "points", pts);
+	if (r->n_gap_omitted) {
+		json_object_set_new(o, "gap_omitted_taus",
+				    json_integer((json_int_t)r->n_gap_omitted));
+		ssc_json_warn(o, "gap_taus_omitted", "%s: %s", c->col->name,
+			      r->gap_note.msg);
+	}
 	if (a->no_fit)
 		return o;
 	{
@@ -869,6 +1110,14 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 							     u->term[t], &ev))
 					ev = cf->estimate;
 				json_object_set_new(jc, "estimate", ssc_jreal(ev));
+			}
+			{
+				const struct sscope_adequacy_finding *fd = term_doubt(c, t);
+
+				json_object_set_new(jc, "doubtful", json_boolean(fd != NULL));
+				if (fd)
+					json_object_set_new(jc, "doubt",
+							    json_string(fd->message));
 			}
 			json_object_set_new(nz, key[t], jc);
 			if (cf->fitted)
@@ -929,6 +1178,21 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			for (size_t i = 0; i < nw; i++)
 				ssc_json_warn(o, w[i].code, "%s", w[i].msg);
 		}
+		for (size_t i = 0; c->adq && i < c->adq->n_findings; i++) {
+			const struct sscope_adequacy_finding *f = &c->adq->findings[i];
+			char code[48];
+
+			/* the fit's own warnings say rejected and failed */
+			if (f->severity < SSCOPE_ADEQUACY_DOUBT ||
+			    f->cause == SSCOPE_ADEQUACY_FIT_REJECTED ||
+			    f->cause == SSCOPE_ADEQUACY_NO_FIT)
+				continue;
+			snprintf(code, sizeof(code), "adequacy_%s",
+				 sscope_adequacy_cause_name(f->cause));
+			ssc_json_warn(o, code, "%s: %s", c->col->name, f->message);
+		}
+		if (c->adq)
+			json_object_set_new(o, "adequacy", json_adequacy(c));
 	}
 	return o;
 }
@@ -973,6 +1237,57 @@ static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file 
 /* Noise files for estimators                                          */
 /* ------------------------------------------------------------------ */
 
+/* the DAVAR map of every channel, one panel each (at most 12) */
+static int davar_plot(const struct ssc_common *co, const struct args *a,
+		      const struct ssc_allan_res *R, const char *path)
+{
+	const struct ssc_allan_chan *ch[12];
+	size_t n = 0;
+	struct ssc_fig *fig;
+	int rc = 0;
+
+	(void)a;
+	for (size_t i = 0; i < R->n_files; i++)
+		for (size_t k = 0; k < R->fr[i].n_ch; k++) {
+			const struct ssc_allan_chan *c = &R->fr[i].ch[k];
+
+			if (!c->adq || !c->adq->davar.n_win) {
+				ssc_warn(co, "--davar: %s: %s: no map: the record is too short for windows of 64 samples",
+					 R->fr[i].path, c->col->name);
+				continue;
+			}
+			if (n == 12) {
+				ssc_warn(co, "--davar: more than 12 channels; the figure shows the first 12");
+				break;
+			}
+			ch[n++] = c;
+		}
+	if (!n) {
+		ssc_err(co->cmd, "--davar: no channel has a map");
+		return SSC_EXIT_FAIL;
+	}
+	fig = ssc_fig_new(1050, (int)(n * 380 + 60), (int)n, 1);
+	if (!fig) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	ssc_fig_title(fig, "dynamic Allan deviation (OADEV in sliding windows)");
+	for (size_t p = 0; p < n && !rc; p++) {
+		char t[256];
+
+		snprintf(t, sizeof(t), "%s: windows of %.4g s every %.4g s",
+			 ch[p]->col->name, ch[p]->adq->davar.window_s,
+			 ch[p]->adq->davar.step_s);
+		rc = ssc_plot_davar(ssc_fig_ax(fig, (int)p, 0), ch[p]->adq, t);
+	}
+	if (!rc)
+		rc = ssc_fig_save(fig, path);
+	ssc_fig_free(fig);
+	if (rc)
+		return ssc_write_failed(co->cmd, path, rc);
+	return SSC_EXIT_OK;
+}
+
 static int write_exports(const struct ssc_common *co, const void *opts,
 			 const void *result)
 {
@@ -986,6 +1301,11 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 	size_t n = 0;
 	int rc = SSC_EXIT_OK;
 
+	if (a->davar) {
+		rc = davar_plot(co, a, R, a->davar);
+		if (rc)
+			return rc;
+	}
 	if (!(a->kalibr || a->openvins || a->imu_utils))
 		return SSC_EXIT_OK;
 	for (size_t i = 0; i < nf; i++)
@@ -1001,7 +1321,7 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 
 			ch[e.n++] = (struct ssc_noise_chan){
 				c->col->name, c->u.rq,
-				c->res->have_fit ? &c->res->fit : NULL
+				c->res->have_fit ? &c->res->fit : NULL, c->adq
 			};
 		}
 	e.ch = ch;
@@ -1012,12 +1332,19 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 		if (si->topics[i].selected && !e.topic &&
 		    !strstr(si->topics[i].type, "Temperature"))
 			e.topic = si->topics[i].name;
-	if (a->kalibr)
-		rc = ssc_export_kalibr(co->cmd, a->kalibr, &e);
-	if (!rc && a->openvins)
-		rc = ssc_export_openvins(co->cmd, a->openvins, &e);
-	if (!rc && a->imu_utils)
-		rc = ssc_export_imu_utils(co->cmd, a->imu_utils, &e);
+	e.force = a->force;
+	{
+		/* the alias options, in the order of the table */
+		const struct {
+			const char *target, *path;
+		} want[] = { { "kalibr", a->kalibr }, { "openvins", a->openvins },
+			     { "imu-utils", a->imu_utils } };
+
+		for (size_t i = 0; i < sizeof(want) / sizeof(want[0]) && !rc; i++)
+			if (want[i].path)
+				rc = ssc_export_write(co, ssc_export_target_find(want[i].target),
+						      want[i].path, &e);
+	}
 	free(ch);
 	return rc;
 }
@@ -1282,12 +1609,17 @@ static int plot(const struct ssc_common *co, const void *opts,
 
 static void free_file(struct ssc_allan_file *fr)
 {
-	for (size_t k = 0; k < fr->n_ch; k++)
+	for (size_t k = 0; k < fr->n_ch; k++) {
 		sscope_allan_result_free(fr->ch[k].res);
+		sscope_adequacy_free(fr->ch[k].adq);
+	}
 	free(fr->ch);
 }
 
-/* the fitted N, B, K of each channel for a report's summary table */
+/* The fitted N, B, K of each channel for a report's summary table; a
+ * channel whose terms are not valid (the record moves, the fit is
+ * rejected) gets one row that says why instead, and a doubtful term says
+ * so in its note. */
 static void summarize(json_t *summary, const struct args *a,
 		      const struct ssc_allan_file *fr)
 {
@@ -1298,27 +1630,39 @@ static void summarize(json_t *summary, const struct args *a,
 		const struct sscope_noise_fit *ft = &c->res->fit;
 		char note[64], what[64];
 
+		if (c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID) {
+			const struct sscope_adequacy_finding *f = &c->adq->findings[0];
+			char nt[560];
+
+			snprintf(nt, sizeof(nt), "not valid: %s", f->message);
+			ssc_summary_add(summary, c->col->name, "noise terms N, B, K",
+					NAN, NAN, NAN, "", nt);
+			ssc_summary_warn_last(summary);
+			continue;
+		}
 		if (!c->res->have_fit)
 			continue;
 		snprintf(note, sizeof(note), "fit, %.3g %% interval",
 			 100 * ft->ci_level);
 		for (int t = 1; t <= 3; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
-			char nt[160];
+			const struct sscope_adequacy_finding *fd = term_doubt(c, t);
+			char nt[640];
 
 			if (!cf->fitted)
 				continue;
 			snprintf(what, sizeof(what), "%s %c",
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
-			snprintf(nt, sizeof(nt), "%s%s%s", note,
+			snprintf(nt, sizeof(nt), "%s%s%s%s%s", note,
 				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
-				 term_resolved(cf) ? "" : "; present, but the interval reaches 0");
+				 term_resolved(cf) ? "" : "; present, but the interval reaches 0",
+				 fd ? "; DOUBTFUL: " : "", fd ? fd->message : "");
 			ssc_summary_add(summary, c->col->name, what,
 					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
 					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
 					c->u.term[t], nt);
-			if (fit_rejected(ft) || !term_resolved(cf))
+			if (fit_rejected(ft) || !term_resolved(cf) || fd)
 				ssc_summary_warn_last(summary);
 		}
 	}
@@ -1345,6 +1689,10 @@ static int check(struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--%s needs the fit (drop --no-fit)",
 				       a->kalibr ? "kalibr" :
 				       a->openvins ? "openvins" : "imu-utils");
+	if (a->force && !(a->kalibr || a->openvins || a->imu_utils))
+		return ssc_usage_error(co->cmd, "--force applies to an export (--kalibr, --openvins, --imu-utils)");
+	if (a->davar && a->no_fit)
+		return ssc_usage_error(co->cmd, "--davar needs the fit (drop --no-fit)");
 	a->fo.ci_level = a->ci > 0 ? a->ci : 0.683;
 	return 0;
 }

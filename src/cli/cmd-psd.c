@@ -545,12 +545,13 @@ fed:
 		int trc = sscope_timing_stream_result(ts, &tm);
 
 		if (sscope_timing_order_check(&tm.order, NULL)) {
-			/* an error naming the problem, or a warning when a
-			 * header gives the rate */
+			/* an error naming the problem, or a warning when
+			 * --rate or a header gives the rate (as allan) */
 			disorder = true;
 			if (ssc_time_verdict(co, R->path,
 					     sscope_reader_time_column(rd)->name,
 					     &tm.order,
+					     co->rate_hz > 0 ? SSCOPE_CAPTURE_RATE_GIVEN :
 					     sscope_reader_header_rate(rd) > 0 ?
 					     SSCOPE_CAPTURE_RATE_HEADER : SSCOPE_CAPTURE_RATE_NONE,
 					     true))

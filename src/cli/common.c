@@ -241,6 +241,8 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 	const char *outer = outer_cmd && cmd && strcmp(outer_cmd, cmd) ?
 				    outer_cmd : NULL;
 
+	if (ssc_interrupted())
+		return; /* the files it would name are being removed */
 	buf[0] = cbuf[0] = '\0';
 	if (vasprintf(&msg, fmt, ap) < 0)
 		msg = NULL;
@@ -525,6 +527,15 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 			if (!spec->analysis)
 				goto own;
 			co->units = optarg;
+			{
+				struct sscope_unit u;
+				struct sscope_diag d = { "" };
+
+				if (sscope_unit_parse(optarg, &u, &d)) {
+					rc = ssc_usage_error(co->cmd, "-u: %s", d.msg);
+					goto out;
+				}
+			}
 			break;
 		case 'o':
 			if (!spec->analysis && !spec->output_opts)
@@ -730,6 +741,19 @@ int ssc_load(const struct ssc_common *co, const char *path,
 		sscope_capture_free(*cap);
 		*cap = NULL;
 		return rc;
+	}
+	/* -u names the unit of data columns whose header names none: say so
+	 * when no channel took it */
+	if (co->units && *co->units) {
+		bool took = false;
+
+		for (size_t k = 0; k < (*cap)->n_channels; k++)
+			took |= !strcmp((*cap)->channels[k].col.unit_label, co->units);
+		if (!took && (*cap)->n_channels)
+			ssc_warn(co, "%s: -u %s changes nothing: the file names the unit of every channel (%s: %s%s); -u only fills in a missing unit",
+				 path, co->units, (*cap)->channels[0].col.name,
+				 (*cap)->channels[0].col.unit_label,
+				 (*cap)->n_channels > 1 ? ", ..." : "");
 	}
 	{
 		struct sscope_diag h = { "" };

@@ -1,7 +1,13 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Noise-parameter files for estimators (noise-export.c): Kalibr imu.yaml,
- * OpenVINS kalibr_imu_chain.yaml and the imu_utils parameter YAML.
+ * OpenVINS kalibr_imu_chain.yaml and the imu_utils parameter YAML, one
+ * entry each in a table of targets.  Every target goes through the same
+ * gate: a value the adequacy check doubts (the record moves, the fit is
+ * rejected, a transient, step or temperature drift biases it) is refused
+ * unless forced, and then marked in a comment beside it; a term the
+ * record does not establish is written as its upper bound, marked, with a
+ * warning; no value is ever written as 0.
  */
 #ifndef SSCOPE_NOISE_EXPORT_H
 #define SSCOPE_NOISE_EXPORT_H
@@ -9,11 +15,15 @@
 #include "sensorscope.h"
 #include "sscope-allan.h"
 
+struct ssc_common;
+struct ssc_export_values; /* the gated values of a file (noise-export.c) */
+
 /* one analysed channel */
 struct ssc_noise_chan {
 	const char *name;
 	enum sscope_quantity q;            /* of the rate: gyro or accel */
 	const struct sscope_noise_fit *fit; /* NULL when not fitted */
+	const struct sscope_adequacy *adq;  /* its adequacy check, or NULL */
 };
 
 struct ssc_noise_export {
@@ -24,14 +34,40 @@ struct ssc_noise_export {
 	const char *source;  /* for the header comment */
 	const char *topic;   /* ROS topic of the data, or NULL */
 	const char *name;    /* sensor name (imu_utils), or NULL */
+	bool force;          /* write values the adequacy check doubts */
 };
 
-/* Each writes its file atomically; prints errors; returns an exit code. */
-int ssc_export_kalibr(const char *cmd, const char *path,
-		      const struct ssc_noise_export *e);
-int ssc_export_openvins(const char *cmd, const char *path,
-			const struct ssc_noise_export *e);
-int ssc_export_imu_utils(const char *cmd, const char *path,
-			 const struct ssc_noise_export *e);
+/* An export target: a new file format is one entry of the table. */
+struct ssc_export_target {
+	const char *name;   /* "kalibr" (the future --export TARGET:FILE) */
+	const char *option; /* its alias option, "--kalibr" */
+	const char *what;   /* "Kalibr IMU noise model" (header comment) */
+	const char *preamble; /* lines before the header, or NULL */
+	unsigned need;      /* SSC_EXPORT_GYRO / _ACCEL: sensors it needs
+			       (both bits: both; SSC_EXPORT_ANY: either) */
+	unsigned terms;     /* terms it writes (bits of enum sscope_term) */
+	/* the body after the common header; v holds the gated values */
+	void (*body)(FILE *f, const struct ssc_noise_export *e,
+		     const struct ssc_export_values *v);
+};
+
+enum {
+	SSC_EXPORT_GYRO = 1u << 0,
+	SSC_EXPORT_ACCEL = 1u << 1,
+	SSC_EXPORT_ANY = 1u << 2,
+};
+
+/* The targets, NULL-terminated by name. */
+extern const struct ssc_export_target ssc_export_targets[];
+
+/* The target of that name, or NULL. */
+const struct ssc_export_target *ssc_export_target_find(const char *name);
+
+/* Write one target's file atomically: the adequacy gate, the header, the
+ * body.  Prints errors and warnings; returns an exit code (1 when the
+ * gate refuses: the reason in one line). */
+int ssc_export_write(const struct ssc_common *co,
+		     const struct ssc_export_target *t, const char *path,
+		     const struct ssc_noise_export *e);
 
 #endif

@@ -27,6 +27,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -109,25 +110,49 @@ static void cleanup_all(void)
 	for (int i = 0; i < N_TMP_DIRS; i++) {
 		char *p = atomic_load(&tmp_dirs[i]);
 
-		if (p)
-			remove_flat_dir(p, NULL, NULL);
+		/* a thread still writing a figure may add a file between
+		 * the last pass and the rmdir: pass again */
+		for (int k = 0; p && k < 100; k++)
+			if (remove_flat_dir(p, NULL, NULL) == 0 ||
+			    errno != ENOTEMPTY)
+				break;
 	}
 }
 
 static const int cleanup_signals[] = { SIGINT, SIGTERM, SIGHUP, SIGPIPE };
 
+/* Set while a cleanup signal is handled: the other threads go on
+ * meanwhile, and one that meets a file just removed must neither say so
+ * nor end the process before the signal does. */
+static atomic_int dying;
+
+bool ssc_interrupted(void)
+{
+	return atomic_load(&dying) != 0;
+}
+
 static void on_signal(int sig)
 {
 	int e = errno;
+	sigset_t set;
 
+	atomic_store(&dying, 1);
 	cleanup_all();
 	signal(sig, SIG_DFL);
-	raise(sig); /* delivered when the handler returns: default action */
+	/* blocked in the handler (sa_mask): unblocked, it ends the process
+	 * at once with the signal's default action */
+	sigemptyset(&set);
+	sigaddset(&set, sig);
+	sigprocmask(SIG_UNBLOCK, &set, NULL);
+	raise(sig);
 	errno = e;
 }
 
 static void at_exit(void)
 {
+	if (atomic_load(&dying))
+		for (;;)
+			pause(); /* the handler's signal ends the process */
 	cleanup_all();
 }
 
@@ -610,6 +635,109 @@ static bool holds_cwd(const char *dir)
 	return in;
 }
 
+/*
+ * A staging folder (TARGET.tmp.XXXXXX) is locked (flock) by the run that
+ * made it for as long as it lives; the lock goes with the process, however
+ * it ends.  One that can be locked was left by a run that was killed where
+ * no handler runs (SIGKILL, the out-of-memory killer, a power cut): its
+ * report files (and their temporary files) are removed, and the folder
+ * with them when nothing else is in it.  A run that finds its own new folder gone under it (removed
+ * between its creation and its lock) makes another.  (A previous report
+ * moved aside, TARGET.old.XXXXXX, where the file system cannot exchange
+ * two names, is the user's: it is never removed here.)
+ */
+static bool stale_name(const char *name, const char *base, size_t nb)
+{
+	size_t n = strlen(name);
+
+	return n == nb + 11 && !strncmp(name, base, nb) &&
+	       !strncmp(name + nb, ".tmp.", 5);
+}
+
+/* In a stale staging folder: a report file, or the temporary file one
+ * was being written to (NAME.tmp.XXXXXX), is removed; anything else is
+ * kept. */
+static bool stale_keep(const char *name, void *stages)
+{
+	size_t n = strlen(name);
+	char base[NAME_MAX + 1];
+
+	if (report_file(name, stages))
+		return false;
+	if (n <= 11 || n > NAME_MAX || strncmp(name + n - 11, ".tmp.", 5))
+		return true;
+	memcpy(base, name, n - 11);
+	base[n - 11] = '\0';
+	return !report_file(base, stages);
+}
+
+static void sweep_stale(const char *target, const char *const *stages)
+{
+	char *copy = strdup(target), *slash, *parent, *base;
+	DIR *d;
+	struct dirent *ent;
+	size_t nb;
+
+	if (!copy)
+		return;
+	slash = strrchr(copy, '/');
+	if (slash) {
+		*slash = '\0';
+		parent = slash == copy ? "/" : copy;
+		base = slash + 1;
+	} else {
+		parent = ".";
+		base = copy;
+	}
+	nb = strlen(base);
+	d = opendir(parent);
+	while (d && (ent = readdir(d))) {
+		int fd;
+
+		if (!stale_name(ent->d_name, base, nb))
+			continue;
+		fd = openat(dirfd(d), ent->d_name,
+			    O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+		if (fd < 0)
+			continue;
+		if (flock(fd, LOCK_EX | LOCK_NB) == 0) {
+			size_t np = strlen(parent), ne = strlen(ent->d_name);
+			char *path = malloc(np + ne + 2);
+
+			if (path) {
+				memcpy(path, parent, np);
+				path[np] = '/';
+				memcpy(path + np + 1, ent->d_name, ne + 1);
+				remove_flat_dir(path, stale_keep,
+						(void *)stages);
+				free(path);
+			}
+		}
+		close(fd); /* and its lock */
+	}
+	if (d)
+		closedir(d);
+	free(copy);
+}
+
+/* Lock the new staging folder od->dir; false when it was removed as
+ * stale before the lock was taken (then make another). */
+static bool lock_staging(struct ssc_outdir *od)
+{
+	struct stat st;
+
+	od->lock_fd = open(od->dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW |
+				    O_CLOEXEC);
+	if (od->lock_fd < 0)
+		return errno != ENOENT;
+	if (flock(od->lock_fd, LOCK_EX) != 0 || fstat(od->lock_fd, &st) != 0 ||
+	    st.st_nlink > 0)
+		return true;
+	close(od->lock_fd);
+	od->lock_fd = -1;
+	return false;
+}
+
 int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		     const char *const *stages, struct ssc_outdir *od)
 {
@@ -620,6 +748,7 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 
 	memset(od, 0, sizeof(*od));
 	od->slot = -1;
+	od->lock_fd = -1;
 	od->stages = stages;
 	if (!*dir)
 		return ssc_usage_error(cmd, "%s: an empty folder name", what);
@@ -699,12 +828,13 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		ssc_outdir_abort(od);
 		return SSC_EXIT_FAIL;
 	}
-	memcpy(od->dir, od->target, n);
-	memcpy(od->dir + n, ".tmp.XXXXXX", 12);
-	{
+	sweep_stale(od->target, stages);
+	for (bool locked = false; !locked;) {
 		sigset_t old;
 		char *made;
 
+		memcpy(od->dir, od->target, n);
+		memcpy(od->dir + n, ".tmp.XXXXXX", 12);
 		hold_signals(&old);
 		made = mkdtemp(od->dir);
 		e = errno;
@@ -718,6 +848,11 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
+		locked = lock_staging(od);
+		if (!locked) {
+			untrack(tmp_dirs, od->slot);
+			od->slot = -1;
+		}
 	}
 	chmod(od->dir, mode);
 	staging = od;
@@ -730,11 +865,14 @@ static void outdir_forget(struct ssc_outdir *od)
 	untrack(tmp_dirs, od->slot);
 	if (staging == od)
 		staging = NULL;
+	if (od->lock_fd >= 0)
+		close(od->lock_fd);
 	free(od->dir);
 	free(od->target);
 	free(od->shown);
 	memset(od, 0, sizeof(*od));
 	od->slot = -1;
+	od->lock_fd = -1;
 }
 
 int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od)

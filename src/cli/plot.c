@@ -2277,3 +2277,91 @@ int ssc_fig_save(struct ssc_fig *f, const char *path)
 		return -EINVAL;
 	}
 }
+
+/* ------------------------------------------------------------ DAVAR */
+
+int ssc_plot_davar(struct ssc_ax *ax, const struct sscope_adequacy *q,
+		   const char *title)
+{
+	const struct sscope_adequacy_davar *d = &q->davar;
+	size_t nx = d->n_win, ny = d->n_tau;
+	double *z, *ref, *col, x0, x1;
+	bool model = true;
+	int rc;
+
+	if (!nx || !ny)
+		return -EDOM;
+	z = calloc(nx * ny, sizeof(double));
+	ref = calloc(ny, sizeof(double));
+	col = calloc(nx, sizeof(double));
+	if (!z || !ref || !col) {
+		free(z);
+		free(ref);
+		free(col);
+		return -ENOMEM;
+	}
+	/* the reference of each tau: the fitted model, else the median of
+	 * the windows */
+	for (size_t j = 0; j < ny; j++) {
+		ref[j] = d->model[j];
+		if (!(ref[j] > 0)) {
+			size_t k = 0;
+
+			model = false;
+			for (size_t i = 0; i < nx; i++)
+				if (d->dev[i * ny + j] > 0)
+					col[k++] = d->dev[i * ny + j];
+			for (size_t a = 1; a < k; a++)
+				for (size_t b = a; b > 0 && col[b - 1] > col[b]; b--) {
+					double t = col[b];
+
+					col[b] = col[b - 1];
+					col[b - 1] = t;
+				}
+			ref[j] = k ? col[k / 2] : (double)NAN;
+		}
+	}
+	for (size_t j = 0; j < ny; j++)
+		for (size_t i = 0; i < nx; i++) {
+			double v = d->dev[i * ny + j] / ref[j];
+
+			/* the colour scale spans 1/4 to 4 */
+			z[j * nx + i] = isfinite(v) && v > 0 ?
+				fmin(4, fmax(0.25, v)) : (double)NAN;
+		}
+	ssc_ax_log(ax, false, true);
+	ssc_ax_title(ax, title);
+	ssc_ax_xlabel(ax, "window centre (s)");
+	ssc_ax_ylabel(ax, "averaging time \xcf\x84 (s)");
+	x0 = d->t_s[0] - (nx > 1 ? (d->t_s[1] - d->t_s[0]) / 2 : d->window_s / 2);
+	x1 = d->t_s[nx - 1] + (nx > 1 ? (d->t_s[1] - d->t_s[0]) / 2 : d->window_s / 2);
+	ssc_ax_ylim(ax, d->tau_s[0] / sqrt(2), d->tau_s[ny - 1] * sqrt(2));
+	ssc_ax_xlim(ax, x0, x1);
+	rc = ssc_ax_image(ax, z, nx, ny, x0, x1, d->tau_s[0] / sqrt(2),
+			  d->tau_s[ny - 1] * sqrt(2), 0.25, 4, true,
+			  model ? "window deviation / fitted model" :
+				  "window deviation / median of the windows");
+	/* where the findings put the fault */
+	for (size_t i = 0; !rc && i < q->n_findings; i++) {
+		const struct sscope_adequacy_finding *f = &q->findings[i];
+		struct ssc_style st = { .color = 0xd62728, .width = 1.5,
+					.dash = SSC_DASHED };
+		char lab[64];
+
+		if (f->severity < SSCOPE_ADEQUACY_DOUBT || !isfinite(f->t_start_s))
+			continue;
+		snprintf(lab, sizeof(lab), "%s", sscope_adequacy_cause_name(f->cause));
+		for (char *p = lab; *p; p++)
+			if (*p == '_')
+				*p = '-';
+		if (f->t_start_s > x0)
+			rc = ssc_ax_vline(ax, f->t_start_s, &st, lab);
+		if (!rc && isfinite(f->t_end_s) && f->t_end_s < x1)
+			rc = ssc_ax_vline(ax, f->t_end_s, &st,
+					  f->t_start_s > x0 ? NULL : lab);
+	}
+	free(z);
+	free(ref);
+	free(col);
+	return rc;
+}

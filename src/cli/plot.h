@@ -154,4 +154,14 @@ size_t ssc_ticks_linear(double lo, double hi, size_t target, double *ticks,
 size_t ssc_ticks_log(double lo, double hi, double *major, size_t max_major,
 		     double *minor, size_t max_minor, size_t *n_minor);
 
+/* The dynamic Allan deviation of one channel (sscope-adequacy.h) on ax:
+ * each window's deviation over the fitted model's (else the median of the
+ * windows at that tau) as an image over the window centre and tau (log),
+ * coloured on a log scale from 1/4 to 4, with the time ranges of the
+ * findings that doubt the terms as dashed lines.  Returns 0, -EDOM (no
+ * map), -ENOMEM. */
+struct sscope_adequacy;
+int ssc_plot_davar(struct ssc_ax *ax, const struct sscope_adequacy *q,
+		   const char *title);
+
 #endif

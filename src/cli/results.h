@@ -32,6 +32,8 @@ struct ssc_allan_chan {
 	const struct sscope_capture_column *col;
 	struct ssc_allan_units u;
 	struct sscope_allan_result *res; /* deviations and the noise fit */
+	struct sscope_adequacy *adq;     /* what the record supports (NULL
+					    with --no-fit) */
 	size_t n, nan;
 };
 

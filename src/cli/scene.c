@@ -917,6 +917,18 @@ fail:
 
 /* ------------------------------------------------------------ inference */
 
+/* A column of commanded rate (a rate table's set point): its name says
+ * so ("rate_cmd", "cmd_rate", "commanded", "setpoint", "table_rate",
+ * "w_ref"). */
+static bool commanded_column(const char *nm)
+{
+	size_t l = strlen(nm);
+
+	return strcasestr(nm, "cmd") || strcasestr(nm, "command") ||
+	       strcasestr(nm, "setpoint") || strcasestr(nm, "table") ||
+	       (l >= 3 && !strcasecmp(nm + l - 3, "ref"));
+}
+
 /* Set a stage option by its long name, as a scene key would. */
 static void set_option(struct ssc_scene *sc, size_t s, const char *name,
 		       const char *value)
@@ -957,7 +969,7 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 		bool temp;
 		uint64_t bit;
 		int e;
-		char heading_ref[64] = "";
+		char heading_ref[64] = "", cmd_ref[64] = "", data_cols[512] = "";
 
 		ssc_read_opts(co, &ro);
 		e = sscope_reader_open(&r, files[i], &ro, &d);
@@ -988,6 +1000,17 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			    strlen(nm) < sizeof(heading_ref))
 				strcpy(heading_ref, nm);
 
+			/* a commanded rate is the reference of a rate-table
+			 * run, not a gyro */
+			if (q == SSCOPE_QUANTITY_ANGULAR_RATE && !cmd_ref[0] &&
+			    commanded_column(nm) && strlen(nm) < sizeof(cmd_ref)) {
+				strcpy(cmd_ref, nm);
+				continue;
+			}
+			if (strlen(data_cols) + strlen(nm) + 2 < sizeof(data_cols))
+				snprintf(data_cols + strlen(data_cols),
+					 sizeof(data_cols) - strlen(data_cols), "%s%s",
+					 data_cols[0] ? "," : "", nm);
 			if (q == SSCOPE_QUANTITY_ACCELERATION)
 				acc = true;
 			else if (q == SSCOPE_QUANTITY_ANGULAR_RATE)
@@ -1007,7 +1030,26 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			sc->file_mask[S_INCLINO] |= bit;
 			continue;
 		}
-		if (gyro && heading_ref[0]) {
+		if (gyro && cmd_ref[0]) {
+			/* a rate-table run: the gyro's scale factors against
+			 * the commanded rate; allan still runs on the gyro
+			 * channels, and its adequacy check says why the record
+			 * gives no noise terms (it moves) */
+			if (!(sc->want & (1u << S_CALIB))) {
+				set_why(sc, S_CALIB,
+					"inferred: a gyro with a commanded-rate column (%s): a rate-table calibration run",
+					cmd_ref);
+				set_option(sc, S_CALIB, "triad", "gyro");
+				set_option(sc, S_CALIB, "mode", "rate-table");
+				set_option(sc, S_CALIB, "reference", cmd_ref);
+			}
+			sc->want |= 1u << S_CALIB;
+			sc->file_mask[S_CALIB] |= i < 64 ? (uint64_t)1 << i : 0;
+			if (!co->columns && !sc->stage_columns[S_ALLAN] && data_cols[0]) {
+				sc->stage_columns[S_ALLAN] = xstrdup(data_cols);
+				add_arg(sc, S_ALLAN, "column", data_cols, NULL);
+			}
+		} else if (gyro && heading_ref[0]) {
 			if (!(sc->want & (1u << S_HEADING))) {
 				set_why(sc, S_HEADING,
 					"inferred: a gyro with a true heading column (%s): heading with the bias re-estimated at stops",

@@ -12,7 +12,7 @@ set -u
 build=$1 src=$2 secs=$3
 par=${4:-1}
 [ $# -ge 4 ] && shift 4 || shift 3
-names=${*:-text raw mat spec scene json tilt inl}
+names=${*:-text raw mat spec scene json tilt inl rosbag2}
 total=0 status=0 start=$(date +%s)
 
 # The longest input each surface needs, in bytes (libFuzzer's cost per
@@ -22,10 +22,12 @@ total=0 status=0 start=$(date +%s)
 # header cases of the corpus); capture harnesses analyse at most 4096
 # samples; INI, tilt tables and INL profiles 4 KiB (more than 32 levels of
 # parentheses, every line kind); scenes and JSON 8 KiB (past the 4 KB value
-# an error message cuts).
+# an error message cuts); rosbag2 folders 24 KiB (metadata and a .db3 of
+# 512-byte pages).
 max_len() {
 	case $1 in
 	text) echo 16384 ;;
+	rosbag2) echo 24576 ;;
 	scene | json) echo 8192 ;;
 	*) echo 4096 ;;
 	esac

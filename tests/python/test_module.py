@@ -291,6 +291,36 @@ with tempfile.TemporaryDirectory() as d:
            for x in w), "load: ns read as s gives a RuntimeWarning",
        [str(x.message) for x in w])
 
+# ---------------------------------------------------------------- adequacy
+g = ss.load(os.path.join(SAMPLES, "gyro-static.csv"))
+j = cli("allan", "--format", "json", "-c", "gx",
+        os.path.join(SAMPLES, "gyro-static.csv"))["channels"][0]["adequacy"]
+a = ss.adequacy(g["gx"], g.rate_hz, unit="rad/s")
+ok(a.verdict == j["verdict"] and a.still == j["still"]
+   and a.contrast == j["contrast"] and a.established == j["established"]
+   and [f["message"] for f in a.findings] ==
+   [f["message"] for f in j["findings"]],
+   "adequacy: the CLI's verdict, contrast and findings (gyro-static gx)",
+   "%s %s" % (a.findings, j["findings"]))
+dv = a.davar
+ok(dv is not None and dv["dev"].shape == (len(j["davar"]["t_s"]),
+                                          len(j["davar"]["tau_s"]))
+   and rel(dv["dev"][3] * 180 / math.pi, j["davar"]["dev"][3]) < 1e-12,
+   "adequacy: the DAVAR map equals the CLI's (window 4, deg/s)")
+rt = ss.load(os.path.join(SAMPLES, "gyro-ratetable.csv"), columns="gx")
+a = ss.adequacy(rt["gx"], rt.rate_hz)
+ok(a.verdict == "not_valid" and a.still is False
+   and a.findings[0]["cause"] == "moves"
+   and a.doubtful == ["Q", "N", "B", "K", "R"],
+   "adequacy: the rate-table record moves: no term valid",
+   a.findings[:1])
+try:
+    ss.adequacy(g["gx"], g.rate_hz, temp_degc=np.zeros(5))
+    ok(False, "adequacy: a temperature of another length raises")
+except ValueError:
+    ok(True, "adequacy: a temperature of another length raises ValueError")
+
+
 # ---------------------------------------------------------------- errors
 try:
     ss.load("/nonexistent/capture.csv")

@@ -2,10 +2,15 @@
 """sensorscope: characterisation of inertial sensors, from Python.
 
 A thin layer over libsensorscope (ctypes): numpy arrays go in and come out
-without copies where the layout allows (any float64 array whose stride is a
-whole number of elements is read in place; loaded captures are returned as
-views of the library's own arrays), and every failure raises
-sensorscope.Error carrying the library's message.
+without copies where the layout allows (an aligned float64 array whose
+stride is a whole number of elements is read in place; anything else is
+copied first; loaded captures are returned as views of the library's own
+arrays).  Every failure raises sensorscope.Error carrying the library's
+message; a bad argument raises sensorscope.ArgumentError (also a
+ValueError) naming the function and the argument, e.g. "allan: ci: 95 is
+not a level between 0 and 1 (e.g. 0.683, 0.95) or none".  Arguments are
+refused, and doubtful results warned about (RuntimeWarning), exactly where
+the `sensorscope` command refuses or warns, with the same reasons.
 
     import sensorscope as ss
     cap = ss.load("imu.bag")                  # CSV, bags, MCAP, npy, ...
@@ -15,13 +20,16 @@ sensorscope.Error carrying the library's message.
 
 import ctypes as C
 import math
+import numbers
 import threading
+import warnings
 
 import numpy as np
 
 from . import _capi as _c
 
-__all__ = ["Error", "Capture", "load", "allan", "psd", "simulate",
+__all__ = ["Error", "ArgumentError", "Capture", "load", "allan", "psd",
+           "simulate",
            "tempbias", "calib", "adc_report",
            "AllanResult", "Spectrum", "version"]
 
@@ -37,6 +45,67 @@ class Error(Exception):
         self.code = code
 
 
+class ArgumentError(Error, ValueError):
+    """A bad argument: str() is "function: argument: why" (the reason the
+    command gives for the same option); .code is -EINVAL."""
+
+    def __init__(self, message):
+        super().__init__(-22, message)
+
+
+def _bad(func, arg, why):
+    raise ArgumentError("%s: %s: %s" % (func, arg, why))
+
+
+def _warn(func, msg, stacklevel=3):
+    """A RuntimeWarning where the command prints "warning:"."""
+    warnings.warn("%s: %s" % (func, msg), RuntimeWarning,
+                  stacklevel=stacklevel)
+
+
+def _text(v):
+    """A value as the command would have read it."""
+    return "%g" % v if isinstance(v, float) else str(v)
+
+
+def _number(func, arg, v):
+    """A finite real number (the command's rule for numeric options)."""
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        try:
+            v = float(v)
+        except (TypeError, ValueError):
+            _bad(func, arg, "'%s' is not a number" % (v,))
+    f = float(v)
+    if not math.isfinite(f):
+        _bad(func, arg, "'%s' is not a number" % _text(f))
+    return f
+
+
+def _positive(func, arg, v):
+    f = _number(func, arg, v)
+    if not f > 0:
+        _bad(func, arg, "must be positive, got %s" % _text(f))
+    return f
+
+
+def _count(func, arg, v):
+    """A non-negative integer (the command's rule for counts)."""
+    if isinstance(v, bool):
+        _bad(func, arg, "'%s' is not a non-negative integer" % v)
+    if isinstance(v, numbers.Integral) and v >= 0:
+        return int(v)
+    if isinstance(v, numbers.Real) and math.isfinite(v) and v >= 0 and \
+            float(v).is_integer():
+        return int(v)
+    _bad(func, arg, "'%s' is not a non-negative integer" % _text(v))
+
+
+def _choice(func, arg, v, names, listing):
+    if not isinstance(v, str) or v not in names:
+        _bad(func, arg, "'%s' is not %s" % (v, listing))
+    return v
+
+
 def version():
     """The library's version string."""
     return _c.version().decode()
@@ -46,7 +115,9 @@ def _check(rc, diag, what=""):
     if rc < 0:
         msg = diag.msg.decode(errors="replace") if diag is not None else ""
         if not msg:
-            msg = (what + ": " if what else "") + _c.strerror(rc).decode()
+            msg = _c.strerror(rc).decode()
+        if what and not msg.startswith(what + ":"):
+            msg = what + ": " + msg
         raise Error(rc, msg)
 
 
@@ -54,17 +125,49 @@ def _b(s):
     return None if s is None else str(s).encode()
 
 
-def _vector(x):
-    """(pointer, stride in elements, n, keep-alive) of a 1-D float64 view
-    of x, without a copy when x already is float64 with an element-aligned
-    stride."""
-    a = np.asarray(x)
+def _array(x, func, arg, contiguous=False):
+    """x as a 1-D float64 numpy array the library can read: x itself when
+    it is native float64, aligned on 8 bytes, with a positive stride of
+    whole elements (and contiguous when asked), else a copy."""
+    try:
+        a = np.asarray(x)
+    except (TypeError, ValueError) as e:
+        _bad(func, arg, "not an array of numbers (%s)" % e)
     if a.ndim != 1:
-        raise ValueError("expected a 1-D array, got shape %r" % (a.shape,))
-    if a.dtype != np.float64 or a.strides[0] <= 0 or a.strides[0] % 8:
-        a = np.ascontiguousarray(a, dtype=np.float64)
+        _bad(func, arg, "expected a 1-D array, got shape %r" % (a.shape,))
+    if a.dtype.kind not in "biuf":
+        _bad(func, arg, "expected real numbers, got %s values" % a.dtype)
+    if a.dtype != np.float64 or not a.flags.aligned or \
+            a.ctypes.data % 8 or a.strides[0] <= 0 or a.strides[0] % 8 or \
+            (contiguous and not a.flags.c_contiguous):
+        a = np.array(a, dtype=np.float64, order="C", copy=True)
+    return a
+
+
+def _vector(x, func="", arg="x"):
+    """(pointer, stride in elements, n, keep-alive) of a 1-D float64 view
+    of x, without a copy when x already is aligned float64 with an
+    element-multiple stride (a misaligned or byte-swapped array is
+    copied)."""
+    a = _array(x, func, arg)
     stride = a.strides[0] // 8
     return a.ctypes.data_as(_c.c_dptr), stride, a.shape[0], a
+
+
+def _finite(func, arg, a, allow_nan, what):
+    """The command's rule for samples: an infinite one is refused, a NaN
+    one too unless allow_nan (then a gap)."""
+    bad = ~np.isfinite(a)
+    if not bad.any():
+        return
+    inf = np.isinf(a)
+    if inf.any():
+        raise Error(-33, "%s: %s: infinite sample at index %d" %
+                    (func, arg, int(np.argmax(inf))))
+    if not allow_nan:
+        raise Error(-33, "%s: %s: NaN sample at index %d (give "
+                    "allow_nan=True to read NaN samples as gaps: %s)" %
+                    (func, arg, int(np.argmax(bad)), what))
 
 
 class _Owner:
@@ -162,28 +265,41 @@ def load(path, columns=None, rate=None, units=None, topic=None,
     rosbag2 (.db3 or folder) and MCAP (topic="NAME[,TEMPERATURE]").
     Channels are converted to SI.  Returns a Capture.  An implausible rate
     from a time column gives a RuntimeWarning naming the likely unit."""
+    if rate is not None:
+        rate = _positive("load", "rate", rate)
+    if scale is not None:
+        scale = _number("load", "scale", scale)
+        if scale == 0:
+            _bad("load", "scale", "must not be 0")
+    if offset is not None:
+        offset = _number("load", "offset", offset)
     o = _c.ReadOpts()
     o.columns = _b(",".join(columns) if isinstance(columns, (list, tuple))
                    else columns)
-    o.rate_hz = float(rate) if rate else 0.0
+    o.rate_hz = rate if rate is not None else 0.0
     o.default_unit = _b(units)
     o.topic = _b(topic)
     o.time_column = _b(time_column)
     o.temp_column = _b(temp_column)
     o.nan_as_gap = bool(allow_nan)
     o.raw = _b(raw)
-    o.raw_scale = float(scale) if scale else 0.0
-    o.raw_offset = float(offset) if offset else 0.0
+    # (0 is the library's "not given": a given scale is never 0, and an
+    # offset of 0 is no offset)
+    o.raw_scale = scale if scale is not None else 0.0
+    o.raw_offset = offset if offset is not None else 0.0
     ptr = C.POINTER(_c.Capture)()
     d = _c.Diag()
     rc = _c.capture_load(C.byref(ptr), _b(path), C.byref(o), C.byref(d))
-    _check(rc, d, str(path))
+    if rc < 0:
+        msg = d.msg.decode(errors="replace") or "%s: %s" % (
+            path, _c.strerror(rc).decode())
+        if raw is not None and msg.startswith("bad raw layout"):
+            _bad("load", "raw", msg)
+        raise Error(rc, "load: " + msg)
     cap = Capture(ptr, str(path))
     h = _c.Diag()
     if warn and _c.capture_check_rate(ptr, C.byref(h)) < 0:
-        import warnings
-        warnings.warn("%s: %s" % (path, h.msg.decode()), RuntimeWarning,
-                      stacklevel=2)
+        _warn("load", "%s: %s" % (path, h.msg.decode()))
     return cap
 
 
@@ -287,51 +403,79 @@ def _noise_plan():
 
 
 def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
-          fit=True, unit=None, threads=0, noise_type=None):
+          fit=True, unit=None, threads=0, noise_type=None, allow_nan=False):
     """Allan-family deviation of x (samples at `rate` Hz, SI units) with
     confidence intervals (Greenhall-Riley EDF) and the IEEE 952 noise fit.
     dev: oadev adev mdev tdev hdev ohdev totdev; taus: dense, octave,
-    decade, all, or an array of averaging factors m or taus in s (values
-    below 1 are taus); ci: level or None; input: "rate" or "angle";
-    unit: the data's unit for the coefficient units ("rad/s", "m/s^2").
-    x is read in place when it is float64 with an element-aligned stride."""
-    p, stride, n, keep = _vector(x)
+    decade, all, or an array of averaging factors m (whole numbers >= 1)
+    or taus in s (values below 1, each a whole number of samples); ci: a
+    level in (0, 1), or None / "none" for no intervals; input: "rate" or
+    "angle"; noise_type: None / "auto" (identified at each tau) or wpm,
+    fpm, wfm, ffm, rwfm; unit: the data's unit for the coefficient units
+    ("rad/s", "m/s^2").  NaN samples are refused unless allow_nan (then
+    they are gaps: terms spanning one are left out, taus left without a
+    complete term are omitted with a RuntimeWarning, as `sensorscope
+    allan --allow-nan`).  x is read in place when it is aligned float64
+    with an element-multiple stride."""
+    fn = "allan"
+    dev = _choice(fn, "dev", dev, _DEVS,
+                  "oadev, adev, mdev, tdev, hdev, ohdev or totdev")
+    rate = _positive(fn, "rate", rate)
+    if ci is None or (isinstance(ci, str) and ci == "none"):
+        ci = None
+    else:
+        ci = _number(fn, "ci", ci)
+        if not 0 < ci < 1:
+            _bad(fn, "ci", "%s is not a level between 0 and 1 (e.g. 0.683, "
+                 "0.95) or none" % _text(ci))
+    input = _choice(fn, "input", input, ("rate", "angle"), "rate or angle")
+    alpha = None
+    if noise_type is not None and not (isinstance(noise_type, str) and
+                                       noise_type.lower() == "auto"):
+        names = {v.lower(): k for k, v in _NOISE.items()}
+        if not isinstance(noise_type, str) or \
+                noise_type.lower() not in names:
+            _bad(fn, "noise_type", "'%s' is not auto, wpm, fpm, wfm, ffm or "
+                 "rwfm" % (noise_type,))
+        alpha = names[noise_type.lower()]
+    threads = _count(fn, "threads", threads)
+    p, stride, n, keep = _vector(x, fn, "x")
     ao = _c.AllanOpts()
-    if dev not in _DEVS:
-        raise ValueError("dev: %r is not one of %s" % (dev, ", ".join(_DEVS)))
     ao.dev = _DEVS.index(dev)
     ao.input = {"rate": 0, "angle": 1}[input]
-    ao.ci_level = -1.0 if ci is None else float(ci)
-    ao.threads = int(threads)
+    ao.ci_level = -1.0 if ci is None else ci
+    ao.threads = threads
+    ao.reject_nan = not allow_nan
     # the workspace is not kept between calls: its pages go back to the
     # system on every thread instead of on one when it is freed
     ao.release_workspace = True
-    if noise_type is not None:
+    if alpha is not None:
         ao.alpha_fixed = True
-        ao.alpha = {v: k for k, v in _NOISE.items()}[noise_type.upper()]
+        ao.alpha = alpha
     fo = _c.NoiseFitOpts()
-    fo.ci_level = float(ci) if ci else 0.683
+    fo.ci_level = ci if ci is not None else 0.683
     fo.skip = not fit  # no fit computed that nobody asked for
     if fit:
         fo.plan = _noise_plan()
+    want = None
     if isinstance(taus, str):
-        if taus not in _GRIDS:
-            raise ValueError("taus: %r is not dense, octave, decade or all"
-                             % taus)
-        grid = _GRIDS[taus]
-        want = None
+        grid = _GRIDS[_choice(fn, "taus", taus, _GRIDS,
+                              "dense, octave, decade or all")]
     else:
-        grid = _GRIDS["all"] if n <= 20000 else _GRIDS["dense"]
-        want = np.asarray(taus, dtype=float)
-        want = np.where(want < 1, np.round(want * rate), want).astype(int)
+        want = _factors(fn, taus, rate, ao.dev, ao.input, n)
+        grid = _GRIDS["all"]
     res = C.POINTER(_c.AllanResult)()
     d = _c.Diag()
-    if want is not None:
-        grid = _GRIDS["all"]
-    rc = _c.allan_analyze(p, stride, n, float(rate), grid, C.byref(ao),
+    rc = _c.allan_analyze(p, stride, n, rate, grid, C.byref(ao),
                           C.byref(fo), C.byref(res), C.byref(d))
     del keep
-    _check(rc, d, "allan")
+    if rc < 0:
+        msg = d.msg.decode(errors="replace") or _c.strerror(rc).decode()
+        if msg.startswith("NaN sample at index"):
+            msg += " (give allow_nan=True to read NaN samples as gaps)"
+        if rc == -22:
+            raise Error(rc, "allan: " + msg)
+        raise Error(rc, "allan: x: " + msg)
     try:
         r = res.contents
         pts = np.ctypeslib.as_array(
@@ -349,6 +493,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         sel = slice(None)
         if want is not None and r.n_points:
             sel = np.isin(pts["m"], want)
+        if r.n_gap_omitted:
+            _warn(fn, "x: " + r.gap_note.msg.decode(errors="replace"))
         for f in ("tau_s", "m", "terms", "dev", "dev_lo", "dev_hi", "edf",
                   "alpha"):
             out.__dict__[f] = np.array(pts[f][sel]) if r.n_points \
@@ -369,10 +515,60 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
                            "B_tau_s": ro.b_tau_s, "K": ro.k,
                            "K_tau_s": ro.k_tau_s}
         elif fit:
-            out.fit_error = _c.strerror(r.fit_error).decode()
+            # the command's warning: why there are no noise terms
+            out.fit_error = r.fit_diag.msg.decode(errors="replace") or \
+                _c.strerror(r.fit_error).decode()
+            _warn(fn, "x: " + out.fit_error)
         return out
     finally:
         _c.allan_result_free(res)
+
+
+def _factors(f, taus, rate, dev, input, n):
+    """The averaging factors of an array of taus: whole numbers >= 1 are
+    factors m, values below 1 taus in s that must be a whole number of
+    samples; nothing is rounded.  Factors beyond the record are refused
+    when none is left, else left out with a warning."""
+    try:
+        t = np.asarray(taus, dtype=float)
+    except (TypeError, ValueError):
+        _bad(f, "taus", "'%s' is not dense, octave, decade or all, nor an "
+             "array of averaging factors or taus in s" % (taus,))
+    if t.ndim != 1:
+        t = t.reshape(-1)
+    if t.size == 0:
+        _bad(f, "taus", "empty: give a grid name or averaging factors")
+    m = []
+    for v in t:
+        if not math.isfinite(v) or v <= 0:
+            _bad(f, "taus", "%s is not positive" % _text(float(v)))
+        if v >= 1:
+            if not float(v).is_integer():
+                _bad(f, "taus", "%s is not an averaging factor (a whole "
+                     "number of samples; values below 1 are taus in s)" %
+                     _text(float(v)))
+            m.append(int(v))
+        else:
+            k = v * rate
+            if abs(k - round(k)) > 1e-9 * k or round(k) < 1:
+                _bad(f, "taus", "%s s is not a whole number of samples at "
+                     "%s Hz (%s)" % (_text(float(v)), _text(rate),
+                                     _text(float(k))))
+            m.append(int(round(k)))
+    m = sorted(set(m))
+    mmax = _c.allan_max_m(dev, _c.allan_n_phase(input, n))
+    beyond = [k for k in m if k > mmax]
+    if len(beyond) == len(m):
+        _bad(f, "taus", "every averaging factor exceeds the record's limit "
+             "(m <= %d for %s of %d samples)" % (mmax, _DEVS[dev], n))
+    if beyond:
+        _warn(f, "taus: averaging factor%s %s exceed%s the record's limit "
+              "(m <= %d for %s of %d samples): left out" % (
+                  "s" if len(beyond) > 1 else "",
+                  ", ".join(str(k) for k in beyond),
+                  "" if len(beyond) > 1 else "s", mmax, _DEVS[dev], n),
+              stacklevel=4)
+    return np.array([k for k in m if k <= mmax], dtype=np.uint64)
 
 
 def _quantity_of(unit):
@@ -395,28 +591,83 @@ class Spectrum:
             len(self.frequency_hz), self.scaling, self.rms)
 
 
+_WINDOWS = ("hann", "hamming", "blackman", "blackmanharris", "flattop",
+            "boxcar")
+
+
 def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
-        detrend="constant", scaling="density"):
+        detrend="constant", scaling="density", allow_nan=False):
     """Welch's PSD of x as scipy.signal.welch(x, fs=rate, window,
-    nperseg, noverlap=int(nperseg*overlap), nfft, detrend, scaling)."""
-    p, stride, n, keep = _vector(x)
+    nperseg, noverlap=int(nperseg*overlap), nfft, detrend, scaling), as
+    `sensorscope psd`: window hann, hamming, blackman, blackmanharris,
+    flattop or boxcar; overlap in [0, 1); nfft >= nperseg; detrend
+    constant, linear or none; scaling density or spectrum.  NaN samples
+    are refused unless allow_nan (then the segments holding one are left
+    out, with a RuntimeWarning); an nperseg longer than the record is
+    shortened to it, with a RuntimeWarning."""
+    f = "psd"
+    rate = _positive(f, "rate", rate)
+    window = _choice(f, "window", window, _WINDOWS,
+                     "hann, hamming, blackman, blackmanharris, flattop or "
+                     "boxcar")
+    nperseg = _count(f, "nperseg", nperseg)
+    if not 1 <= nperseg <= 1 << 30:
+        _bad(f, "nperseg", "must be 1 to 2^30, got %d" % nperseg)
+    if overlap is not None:
+        overlap = _number(f, "overlap", overlap)
+        if not 0 <= overlap < 1:
+            _bad(f, "overlap", "must be in [0, 1), got %s" % _text(overlap))
+    if nfft is not None:
+        nfft = _count(f, "nfft", nfft)
+        if not 1 <= nfft <= 1 << 30:
+            _bad(f, "nfft", "must be 1 to 2^30, got %d" % nfft)
+        if nfft < nperseg:
+            raise ArgumentError("psd: nfft %d is shorter than nperseg %d" %
+                                (nfft, nperseg))
+    if detrend is None or detrend is False:
+        detrend = "none"
+    detrend = _choice(f, "detrend", detrend, ("constant", "linear", "none"),
+                      "constant, linear or none")
+    scaling = _choice(f, "scaling", scaling, ("density", "spectrum"),
+                      "density or spectrum")
+    p, stride, n, keep = _vector(x, f, "x")
+    if n == 0:
+        _bad(f, "x", "no samples")
+    _finite(f, "x", keep, allow_nan, "the segments holding them are left out")
     o = _c.PsdOpts()
     _c.psd_opts_init(C.byref(o))
     w = C.c_int()
     if _c.window_from_name(_b(window), C.byref(w)) < 0:
-        raise ValueError("window: %r is not known" % window)
+        _bad(f, "window", "'%s' is not known" % window)
     o.window = w.value
-    o.nperseg = int(nperseg)
-    o.noverlap = int(int(nperseg) * overlap) if overlap is not None \
-        else o.noverlap
-    o.nfft = int(nfft) if nfft else 0
-    o.detrend = {"constant": 0, "linear": 1, "none": 2, None: 2,
-                 False: 2}[detrend]
+    o.nperseg = nperseg
+    if overlap is not None:
+        # as the command: floor(overlap * nperseg), below nperseg
+        o.noverlap = min(int(math.floor(overlap * nperseg)), nperseg - 1)
+    o.nfft = nfft if nfft else 0
+    o.detrend = {"constant": 0, "linear": 1, "none": 2}[detrend]
     o.scaling = {"density": 0, "spectrum": 1}[scaling]
+    o.skip_nonfinite = bool(allow_nan)
+    o.shorten = True
     s = _c.Spectrum()
-    rc = _c.psd_welch(p, stride, n, float(rate), C.byref(o), C.byref(s))
+    rc = _c.psd_welch(p, stride, n, rate, C.byref(o), C.byref(s))
     del keep
+    if rc == -33:  # EDOM: only NaN gaps remain (checked above)
+        raise Error(rc, "psd: x: every segment holds a NaN gap")
+    if rc == -34:  # ERANGE
+        raise Error(rc, "psd: x: at %g Hz the spectrum leaves the double "
+                    "range (values above 1.8e308 or all below 1e-292 in "
+                    "SI units): check rate and the data's unit" % rate)
     _check(rc, None, "psd")
+    if s.nperseg < nperseg:
+        _warn(f, "x: nperseg %d is longer than the record (%d samples): "
+              "one segment of %d" % (nperseg, n, s.nperseg))
+    if s.n_skipped:
+        _warn(f, "x: %d of %d segments skipped (NaN gaps)" %
+              (s.n_skipped, s.n_skipped + s.n_segments))
+    if s.rms == 0:
+        _warn(f, "x: the detrended signal is zero (constant input): the "
+              "spectrum is zero")
     try:
         out = Spectrum()
         out.frequency_hz = np.ctypeslib.as_array(s.freq_hz, (s.n_bins,)).copy()
@@ -441,12 +692,22 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
     [sensor] section, as for `sensorscope simulate`): returns a dict of
     numpy arrays in SI, axis names gx gy gz (ax ay az for accelerometers),
     and "t" in s.  The same seed gives the same samples as the command."""
+    f = "simulate"
+    rate = _positive(f, "rate", rate)
+    duration = _positive(f, "duration", duration)
+    seed = _count(f, "seed", seed)
+    axes = _count(f, "axes", axes)
+    if not 1 <= axes <= 64:
+        _bad(f, "axes", "1..64, got %d" % axes)
+    if temp_degc is not None:
+        temp_degc = _number(f, "temp_degc", temp_degc)
+    n = int(round(rate * duration))
+    if n <= 0:
+        raise ArgumentError("simulate: duration x rate is less than one "
+                            "sample")
     spec = _c.SensorSpec()
     d = _c.Diag()
     _check(_c.sensor_spec_load(_b(sensor), C.byref(spec), C.byref(d)), d)
-    n = int(round(rate * duration))
-    if n <= 0:
-        raise ValueError("rate * duration must give at least one sample")
     so = _c.SimOpts()
     temps = spec.has & (1 << 9)
     so.ref_temp_degc = (spec.temp_min_degc + spec.temp_max_degc) / 2 \
@@ -484,32 +745,45 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
     degC^k), coefficient_sd, residual_rms, sensitivity, hysteresis
     {max, at_degc, eta}, gradient, turn_on_repeatability {sd, range,
     runs}, table [(temp_degc, bias)]."""
+    f = "tempbias"
+    rate = _positive(f, "rate", rate)
+    if not (isinstance(order, str) and order == "auto"):
+        if isinstance(order, bool) or not isinstance(order, numbers.Real):
+            try:
+                float(order)
+            except (TypeError, ValueError):
+                _bad(f, "order", "'%s' is not a number" % (order,))
+        if isinstance(order, bool) or not float(order).is_integer() or \
+                not 0 <= float(order) <= 4:
+            _bad(f, "order", "'%s' is not auto or 0..4" % _text(order))
+        order = int(float(order))
+    if ref_temp is not None:
+        ref_temp = _number(f, "ref_temp", ref_temp)
     xs = x if isinstance(x, (list, tuple)) else [x]
     ts = temp_degc if isinstance(temp_degc, (list, tuple)) else [temp_degc]
     if len(xs) != len(ts):
-        raise ValueError("as many temperature arrays as runs")
+        _bad(f, "temp_degc", "%d temperature arrays for %d runs" %
+             (len(ts), len(xs)))
     runs = (_c.TempbiasRun * len(xs))()
     keep = []
     for j, (a, t) in enumerate(zip(xs, ts)):
-        p, stride, n, k1 = _vector(a)
-        pt, st, nt, k2 = _vector(t)
-        if nt != n:
-            raise ValueError("run %d: %d samples, %d temperatures" %
-                             (j, n, nt))
-        if st != 1:
-            k2 = np.ascontiguousarray(k2)
-            pt = k2.ctypes.data_as(_c.c_dptr)
+        p, stride, n, k1 = _vector(a, f, "x")
+        k2 = _array(t, f, "temp_degc", contiguous=True)
+        if k2.shape[0] != n:
+            _bad(f, "temp_degc", "run %d: %d samples, %d temperatures" %
+                 (j, n, k2.shape[0]))
+        pt = k2.ctypes.data_as(_c.c_dptr)
         keep += [k1, k2]
-        runs[j] = _c.TempbiasRun(p, stride, pt, n, float(rate))
+        runs[j] = _c.TempbiasRun(p, stride, pt, n, rate)
     o = _c.TempbiasOpts()
     if order == "auto":
         o.order_auto = True
         o.order = -1
     else:
-        o.order = int(order)
+        o.order = order
     if ref_temp is not None:
         o.ref_temp_set = True
-        o.ref_temp_degc = float(ref_temp)
+        o.ref_temp_degc = ref_temp
     res = C.POINTER(_c.TempbiasResult)()
     d = _c.Diag()
     rc = _c.tempbias_fit(runs, len(xs), C.byref(o), C.byref(res), C.byref(d))
@@ -549,10 +823,14 @@ def calib(ax, ay, az, rate, gravity=9.80665):
     (x, y, z in m/s^2) and the 9-parameter model u' = T K (y - b) is
     fitted.  Returns a dict: bias (m/s^2), scale, misalignment (3x3, unit
     diagonal), their *_sd, residual_rms (m/s^2), poses."""
-    arrs = [np.ascontiguousarray(a, dtype=np.float64) for a in (ax, ay, az)]
+    rate = _positive("calib", "rate", rate)
+    gravity = _positive("calib", "gravity", gravity)
+    arrs = [_array(a, "calib", name, contiguous=True)
+            for a, name in ((ax, "ax"), (ay, "ay"), (az, "az"))]
     n = arrs[0].shape[0]
-    if any(a.ndim != 1 or a.shape[0] != n for a in arrs):
-        raise ValueError("three 1-D arrays of one length")
+    for a, name in zip(arrs[1:], ("ay", "az")):
+        if a.shape[0] != n:
+            _bad("calib", name, "%d samples, ax has %d" % (a.shape[0], n))
     det = _c.CalibDetect()
     iv = (_c.CalibInterval * 4096)()
     t = _c.CalibTriad()
@@ -560,8 +838,8 @@ def calib(ax, ay, az, rate, gravity=9.80665):
     w2 = np.empty(n)
     d = _c.Diag()
     rc = _c.calib_accel_multipos(
-        *(a.ctypes.data_as(_c.c_dptr) for a in arrs), 1, n, float(rate),
-        float(gravity), C.byref(det), iv, 4096, C.byref(t),
+        *(a.ctypes.data_as(_c.c_dptr) for a in arrs), 1, n, rate,
+        gravity, C.byref(det), iv, 4096, C.byref(t),
         w1.ctypes.data_as(_c.c_dptr), w2.ctypes.data_as(_c.c_dptr),
         C.byref(d))
     _check(rc, d, "calib")
@@ -612,3 +890,123 @@ def adc_report(sensor, adcs, rate=0.0):
             "n_total": an.n_total, "bias_bound": an.bias_bound,
             "terms": terms})
     return out
+
+
+# ---------------------------------------------------------------- adequacy
+class Adequacy:
+    """What a record supports (the library's adequacy check, the one that
+    allan, report, run and the exporters use): verdict ("valid", "bounds",
+    "doubtful", "not_valid"), still (None when not tested) and contrast,
+    fit_rejected and fit_p_value, stationary (None when not tested), the
+    terms requested, established and doubtful (lists of "Q".."R"),
+    findings (dicts: cause, severity, terms, t_start_s, t_end_s, tau_min_s,
+    tau_max_s, statistic, p_value, action_s, message -- one line each that
+    names the cause, the range at fault and what to do), davar (the
+    dynamic Allan deviation: t_s, tau_s, dev[window, tau], edf, model, in
+    the data's SI unit; None when the record is too short), and noise (the
+    fit's coefficients, as allan() gives them, or None)."""
+
+    def __repr__(self):
+        return "<sensorscope.Adequacy %s: %d findings>" % (
+            self.verdict, len(self.findings))
+
+
+def _term_names(mask):
+    return [t for i, t in enumerate(_TERMS) if (mask >> i) & 1]
+
+
+def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
+             alpha=None, davar=True):
+    """The adequacy check of x (samples at `rate` Hz, SI units) and of its
+    IEEE 952 noise fit (OADEV, dense taus, 68.3 % intervals): is the record
+    still, long enough for each term in `terms` (default "NBK"), described
+    by the fit, and stationary (warm-up transient, bias step, rate ramp,
+    drift that follows temp_degc when given); with the DAVAR map.
+    Returns an Adequacy."""
+    p, stride, n, keep = _vector(x)
+    tkeep = None
+    ao = _c.AllanOpts()
+    ao.input = {"rate": 0, "angle": 1}[input]
+    ao.ci_level = 0.683
+    fo = _c.NoiseFitOpts()
+    fo.ci_level = 0.683
+    fo.plan = _noise_plan()
+    res = C.POINTER(_c.AllanResult)()
+    d = _c.Diag()
+    rc = _c.allan_analyze(p, stride, n, float(rate), _GRIDS["dense"],
+                          C.byref(ao), C.byref(fo), C.byref(res), C.byref(d))
+    _check(rc, d, "adequacy")
+    q = C.POINTER(_c.Adequacy)()
+    try:
+        r = res.contents
+        qo = _c.AdequacyOpts()
+        qo.rate_hz = float(rate)
+        qo.angle = input == "angle"
+        qo.unit = _b(unit)
+        if terms is not None:
+            qo.requested = sum(1 << _TERMS.index(t) for t in terms)
+        if alpha is not None:
+            qo.alpha = float(alpha)
+        qo.no_davar = not davar
+        if temp_degc is not None:
+            tp, tstride, tn, tkeep = _vector(temp_degc)
+            if tn != n:
+                raise ValueError("temp_degc: %d samples for %d" % (tn, n))
+            qo.temp_degc = tp
+            qo.temp_stride = tstride
+        rc = _c.adequacy_check(p, stride, n,
+                               C.byref(r.fit) if r.have_fit else None,
+                               C.byref(qo), C.byref(q), C.byref(d))
+        _check(rc, d, "adequacy")
+        a = q.contents
+        out = Adequacy()
+        out.verdict = {0: "valid", 1: "bounds", 2: "doubtful",
+                       3: "not_valid"}[a.verdict]
+        out.still = bool(a.still) if a.still_tested else None
+        out.contrast = a.contrast
+        out.fit_rejected = bool(a.fit_rejected) if a.have_fit else None
+        out.fit_p_value = a.fit_p_value
+        out.stationary = bool(a.stationary) if a.stationarity_tested \
+            else None
+        out.requested = _term_names(a.requested)
+        out.established = _term_names(a.established)
+        out.doubtful = _term_names(a.doubtful)
+        out.findings = []
+        for i in range(a.n_findings):
+            f = a.findings[i]
+            out.findings.append({
+                "cause": _c.adequacy_cause_name(f.cause).decode(),
+                "severity": _c.adequacy_severity_name(f.severity).decode(),
+                "terms": _term_names(f.terms),
+                "t_start_s": f.t_start_s, "t_end_s": f.t_end_s,
+                "tau_min_s": f.tau_min_s, "tau_max_s": f.tau_max_s,
+                "statistic": f.statistic, "p_value": f.p_value,
+                "action_s": f.action_s,
+                "message": f.message.decode(errors="replace")})
+        dv = a.davar
+        out.davar = None
+        if dv.n_win:
+            nw, nt = dv.n_win, dv.n_tau
+            out.davar = {
+                "window_s": dv.window_s, "step_s": dv.step_s,
+                "t_s": np.ctypeslib.as_array(dv.t_s, (nw,)).copy(),
+                "tau_s": np.ctypeslib.as_array(dv.tau_s, (nt,)).copy(),
+                "dev": np.ctypeslib.as_array(dv.dev, (nw * nt,)).copy()
+                .reshape(nw, nt),
+                "edf": np.ctypeslib.as_array(dv.edf, (nw * nt,)).copy()
+                .reshape(nw, nt),
+                "model": np.ctypeslib.as_array(dv.model, (nt,)).copy()}
+        out.noise = None
+        if r.have_fit:
+            units = _si_units(_quantity_of(unit))
+            out.noise = {t: Coef(r.fit.coef[i], units[i])
+                         for i, t in enumerate(_TERMS)}
+        return out
+    finally:
+        del keep, tkeep
+        if q:
+            _c.adequacy_free(q)
+        _c.allan_result_free(res)
+
+
+__all__ += ["adequacy", "Adequacy"]

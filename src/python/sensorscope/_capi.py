@@ -168,7 +168,8 @@ class AllanResult(C.Structure):
                 ("oadev", C.POINTER(AllanPoint)), ("n_oadev", c_size),
                 ("n_phase", c_size), ("have_fit", C.c_bool),
                 ("fit_error", C.c_int), ("fit", NoiseFit),
-                ("fit_diag", Diag)]
+                ("fit_diag", Diag), ("n_gap_omitted", c_size),
+                ("gap_note", Diag)]
 
 
 class PsdOpts(C.Structure):
@@ -376,6 +377,8 @@ allan_analyze = _fn("sscope_allan_analyze", C.c_int, c_dptr, c_size, c_size,
                     c_dbl, C.c_int, C.POINTER(AllanOpts),
                     C.POINTER(NoiseFitOpts),
                     C.POINTER(C.POINTER(AllanResult)), C.POINTER(Diag))
+allan_max_m = _fn("sscope_allan_max_m", c_size, C.c_int, c_size)
+allan_n_phase = _fn("sscope_allan_n_phase", c_size, C.c_int, c_size)
 allan_result_free = _fn("sscope_allan_result_free", None,
                         C.POINTER(AllanResult))
 noise_fit = _fn("sscope_noise_fit", C.c_int, C.POINTER(AllanPoint), c_size,
@@ -414,3 +417,56 @@ adc_analyze = _fn("sscope_adc_analyze", C.c_int, C.POINTER(SensorSpec),
                   C.POINTER(Diag))
 adc_verdict_name = _fn("sscope_adc_verdict_name", C.c_char_p, C.c_int)
 adc_term_name = _fn("sscope_adc_term_name", C.c_char_p, C.c_int)
+
+
+# ------------------------------------------------ the adequacy check
+class AdequacyOpts(C.Structure):
+    _fields_ = [("rate_hz", c_dbl), ("angle", C.c_bool), ("unit", C.c_char_p),
+                ("temp_degc", c_dptr), ("temp_stride", c_size),
+                ("requested", C.c_uint), ("max_contrast", c_dbl),
+                ("fit_p_level", c_dbl), ("alpha", c_dbl), ("blocks", c_size),
+                ("davar_window_s", c_dbl), ("davar_step_s", c_dbl),
+                ("no_davar", C.c_bool), ("moving_channel", C.c_char_p),
+                ("moving_contrast", c_dbl)]
+
+
+class AdequacyFinding(C.Structure):
+    _fields_ = [("cause", C.c_int), ("severity", C.c_int), ("terms", C.c_uint),
+                ("t_start_s", c_dbl), ("t_end_s", c_dbl),
+                ("tau_min_s", c_dbl), ("tau_max_s", c_dbl),
+                ("statistic", c_dbl), ("p_value", c_dbl),
+                ("action_s", c_dbl), ("message", C.c_char * 400)]
+
+
+class AdequacyDavar(C.Structure):
+    _fields_ = [("n_win", c_size), ("n_tau", c_size), ("window_s", c_dbl),
+                ("step_s", c_dbl), ("t_s", c_dptr), ("tau_s", c_dptr),
+                ("dev", c_dptr), ("edf", c_dptr), ("model", c_dptr)]
+
+
+class Adequacy(C.Structure):
+    _fields_ = [("duration_s", c_dbl), ("still_tested", C.c_bool),
+                ("still", C.c_bool), ("contrast", c_dbl),
+                ("max_contrast", c_dbl), ("have_fit", C.c_bool),
+                ("fit_rejected", C.c_bool), ("fit_p_value", c_dbl),
+                ("stationarity_tested", C.c_bool), ("stationary", C.c_bool),
+                ("requested", C.c_uint), ("established", C.c_uint),
+                ("doubtful", C.c_uint), ("verdict", C.c_int),
+                ("n_findings", c_size),
+                ("findings", C.POINTER(AdequacyFinding)),
+                ("davar", AdequacyDavar)]
+
+
+STRUCTS.update({
+    "sscope_adequacy_opts": AdequacyOpts,
+    "sscope_adequacy_finding": AdequacyFinding,
+    "sscope_adequacy_davar": AdequacyDavar, "sscope_adequacy": Adequacy,
+})
+
+adequacy_check = _fn("sscope_adequacy_check", C.c_int, c_dptr, c_size, c_size,
+                     C.POINTER(NoiseFit), C.POINTER(AdequacyOpts),
+                     C.POINTER(C.POINTER(Adequacy)), C.POINTER(Diag))
+adequacy_free = _fn("sscope_adequacy_free", None, C.POINTER(Adequacy))
+adequacy_cause_name = _fn("sscope_adequacy_cause_name", C.c_char_p, C.c_int)
+adequacy_severity_name = _fn("sscope_adequacy_severity_name", C.c_char_p,
+                             C.c_int)
