@@ -1519,8 +1519,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 				my[nm++] = gy[NG - 1];
 				ssc_ax_line(ax, mx, my, nm, &bst, buf);
 			}
-			NOTE("%s%c < %s %s (not resolved)", nl ? "\n" : "",
-			     "QNBKR"[t], v1, cu);
+			NOTE("%s%c < %s %s (%s)", nl ? "\n" : "",
+			     "QNBKR"[t], v1, cu, cf->present ?
+			     "present, interval reaches 0" : "not shown present");
 		}
 		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p = %s", nl ? "\n" : "",
 		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
