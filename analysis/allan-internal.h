@@ -18,9 +18,8 @@
 
 /* Averages the B1 fallback needs before it carries the last
  * identification instead (Stable32's behaviour on its reference sets;
- * TOTDEV, whose reflected extension triples the record, needs fewer). */
+ * TOTDEV uses the Allan variance's identification, this minimum too). */
 #define SSC_B1_MIN_AVERAGES 8
-#define SSC_B1_MIN_AVERAGES_TOTDEV 4
 
 /* What the B1 / R(n) fallback for fewer than SSC_NOISE_ID_MIN points
  * needs (NIST SP 1065 section 5.6). */

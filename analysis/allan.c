@@ -2050,7 +2050,12 @@ static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
  * points, else the B1 ratio (R(n) for the modified deviations), as NIST
  * SP 1065 section 5.6 and Stable32; -EDOM when too few averages remain
  * (the caller carries the last identification).  mvar: the point's
- * modified variance (MDEV/TDEV), else NaN.
+ * modified variance (MDEV/TDEV), else NaN.  TOTDEV takes the
+ * identification of the Allan variance at the same m (its term count for
+ * B1, its minimum of averages), as Stable32 1.60 does: on PHASE.DAT its
+ * TOTDEV is WFM at m = 128 and 256 like its OADEV, where a B1 ratio of
+ * the 7 averages at m = 128 reads FPM and would give the interval of 48.6
+ * degrees of freedom instead of 11.7.
  */
 static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 		       bool angle, bool gaps, size_t m, size_t terms,
@@ -2075,10 +2080,11 @@ static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 		else if (k + 1 < K)
 			v[k] = nan_count(p, k * m, (k + 1) * m) == 0;
 	}
-	few.n_points = (double)terms;
+	few.n_points = dev == SSCOPE_ALLAN_DEV_TOTDEV ?
+			       (double)(p->np > 2 * m ? p->np - 2 * m : 1) :
+			       (double)terms;
 	few.m = m;
-	few.min_averages = dev == SSCOPE_ALLAN_DEV_TOTDEV ? SSC_B1_MIN_AVERAGES_TOTDEV :
-						      SSC_B1_MIN_AVERAGES;
+	few.min_averages = SSC_B1_MIN_AVERAGES;
 	few.rn = NAN;
 	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
 		few.rn = mvar / avar_at(p, gaps, m);
@@ -2561,6 +2567,9 @@ static int fit_scaled(const struct sscope_allan_point *pts, size_t n,
 		fit->coef[t].lo = ldexp(fit->coef[t].lo, e);
 		fit->coef[t].hi = ldexp(fit->coef[t].hi, e);
 		fit->coef[t].var_sd = ldexp(fit->coef[t].var_sd, 2 * e);
+		fit->coef[t].square = ldexp(fit->coef[t].square, 2 * e);
+		for (int u = 0; u < 5; u++)
+			fit->sq_cov[t][u] = ldexp(fit->sq_cov[t][u], 4 * e);
 	}
 	fit->readoff.n = ldexp(fit->readoff.n, e);
 	fit->readoff.b = ldexp(fit->readoff.b, e);

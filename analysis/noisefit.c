@@ -495,53 +495,73 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
 }
 
 /*
- * Read-offs where the fitted model (squared coefficients th) says each
- * term dominates: N and K at the point where their share of the model
- * AVAR is largest, B at the minimum of the curve; each only when its
- * share there is at least one half.
+ * Read-offs where the fitted model says each term dominates, with
+ * confidence: the term's share of the model Allan variance taken with its
+ * square at its lower bound and every other term at its upper bound (a
+ * term not shown present at its bound "below X": it still counts against
+ * another's share; a point estimate of the shares printed B read-offs
+ * 50 % high where N and K were underestimated):
+ * only a present term,
+ * only at points with EDF >= READOFF_EDF_MIN where the term's share q of
+ * the model AVAR is at least READOFF_SHARE_MIN; of those, the point where
+ * the read-off's expected relative error is least: the others' bias
+ * 1/sqrt(q) - 1 and the sampling sd 1/sqrt(2 EDF) of a deviation added in
+ * quadrature.  B is read as deviation / 0.6643 there (the bottom of the
+ * curve, where B's share is largest), N and K on their slope lines.  A
+ * read-off at the longest tau (EDF near 1) or beside a term that adds as
+ * much as B does is no read-off: NaN.
  */
+#define READOFF_EDF_MIN 10.0
+#define READOFF_SHARE_MIN 0.75
+
 static void readoff_model(const struct sscope_allan_point *pts, size_t n,
-			  const double th[5], struct sscope_noise_readoff *r)
+			  const struct sscope_noise_coef *cf, unsigned present,
+			  struct sscope_noise_readoff *r)
 {
-	double sn = 0, sk = 0, dmin = INFINITY;
-	size_t imin = SIZE_MAX;
+	static const int term[3] = { 1, 2, 3 }; /* N, B, K */
+	double best[3] = { INFINITY, INFINITY, INFINITY };
 
 	r->n = r->b = r->b_tau_s = r->k = r->n_tau_s = r->k_tau_s = NAN;
 	for (size_t i = 0; i < n; i++) {
 		const struct sscope_allan_point *p = &pts[i];
-		double mu = 0, qn, qk;
+		double mu = 0;
 
-		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0))
+		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0) ||
+		    !(p->edf >= READOFF_EDF_MIN))
 			continue;
+		/* the others at their upper bounds (a term not allowed: 0) */
 		for (int j = 0; j < 5; j++)
-			mu += th[j] * basis(j, p->tau_s);
-		if (!(mu > 0))
+			if (!isnan(cf[j].hi))
+				mu += cf[j].hi * cf[j].hi * basis(j, p->tau_s);
+		if (!(mu > 0) || !isfinite(mu))
 			continue;
-		qn = th[1] * basis(1, p->tau_s) / mu;
-		qk = th[3] * basis(3, p->tau_s) / mu;
-		if (qn >= 0.5 && qn > sn) {
-			sn = qn;
-			r->n = p->dev * sqrt(p->tau_s);
-			r->n_tau_s = p->tau_s;
-		}
-		if (qk >= 0.5 && qk > sk) {
-			sk = qk;
-			r->k = p->dev * sqrt(3 / p->tau_s);
-			r->k_tau_s = p->tau_s;
-		}
-		if (p->dev < dmin) {
-			dmin = p->dev;
-			imin = i;
-		}
-	}
-	if (imin != SIZE_MAX) {
-		double t = pts[imin].tau_s, mu = 0;
+		for (int t = 0; t < 3; t++) {
+			const struct sscope_noise_coef *c = &cf[term[t]];
+			double own = c->lo * c->lo * basis(term[t], p->tau_s);
+			double q = own / (own + mu - c->hi * c->hi * basis(term[t], p->tau_s));
+			double bias, err;
 
-		for (int j = 0; j < 5; j++)
-			mu += th[j] * basis(j, t);
-		if (mu > 0 && th[2] * basis(2, t) / mu >= 0.5) {
-			r->b = dmin / sqrt(2 * LN2 / PI);
-			r->b_tau_s = t;
+			if (!(present & (1u << term[t])) || !(q >= READOFF_SHARE_MIN))
+				continue;
+			bias = 1 / sqrt(q) - 1;
+			err = bias * bias + 1 / (2 * p->edf);
+			if (!(err < best[t]))
+				continue;
+			best[t] = err;
+			switch (t) {
+			case 0:
+				r->n = p->dev * sqrt(p->tau_s);
+				r->n_tau_s = p->tau_s;
+				break;
+			case 1:
+				r->b = p->dev / sqrt(2 * LN2 / PI);
+				r->b_tau_s = p->tau_s;
+				break;
+			default:
+				r->k = p->dev * sqrt(3 / p->tau_s);
+				r->k_tau_s = p->tau_s;
+				break;
+			}
 		}
 	}
 }
@@ -762,8 +782,21 @@ static double gchi2(struct fitdata *f, const double *mu, const double *mu_ref)
  * weights: V = (A'WA)^-1 A'W S W A (A'WA)^-1.  sd[] gets the standard
  * deviations (0 for terms not in mask).
  */
+static int sandwich_cov(struct fitdata *f, unsigned mask, const double *mu,
+			const gsl_matrix *S, double sd[NT], double th_out[NT],
+			double cov_out[NT][NT]);
+
 static int sandwich(struct fitdata *f, unsigned mask, const double *mu,
 		    const gsl_matrix *S, double sd[NT], double th_out[NT])
+{
+	return sandwich_cov(f, mask, mu, S, sd, th_out, NULL);
+}
+
+/* sandwich() with the whole covariance of the squares (cov_out: 0 for
+ * terms not in mask) */
+static int sandwich_cov(struct fitdata *f, unsigned mask, const double *mu,
+			const gsl_matrix *S, double sd[NT], double th_out[NT],
+			double cov_out[NT][NT])
 {
 	int cols[NT], p = 0, rc = 0;
 	gsl_matrix *A, *WA, *M, *V;
@@ -817,6 +850,16 @@ static int sandwich(struct fitdata *f, unsigned mask, const double *mu,
 				double v = gsl_matrix_get(M, (size_t)j, (size_t)j);
 
 				sd[cols[j]] = v > 0 ? sqrt(v) : 0;
+			}
+			if (cov_out) {
+				for (int a = 0; a < NT; a++)
+					for (int bb = 0; bb < NT; bb++)
+						cov_out[a][bb] = 0;
+				for (int a = 0; a < p; a++)
+					for (int bb = 0; bb < p; bb++)
+						cov_out[cols[a]][cols[bb]] =
+							(gsl_matrix_get(M, (size_t)a, (size_t)bb) +
+							 gsl_matrix_get(M, (size_t)bb, (size_t)a)) / 2;
 			}
 			/* the WLS estimate with these weights */
 			if (th_out) {
@@ -973,9 +1016,11 @@ static double invert_bound(struct fitdata *f, unsigned mask,
  * "extreme" for a truth b) goes from one-sided, for a b the record cannot
  * resolve, to central, for a b it resolves: the upper tail holds
  * (alpha / 2) P(resolved | b) of the probability, the lower tail
- * beta(b) = alpha - that, P(resolved | b) ~ Phi(b / sd(b) - zdet).  Reporting a
- * one-sided "below X" for a term not resolved and a two-sided interval for
- * a resolved one then covers at the level whatever the truth (reporting
+ * beta(b) = alpha - that, P(resolved | b) ~ Phi(b / sd(b) - zdet), sd(b)
+ * that of the estimate the intervals are made of (the fit of every
+ * allowed term).  Reporting a one-sided "below X" for a value the record
+ * cannot resolve and a two-sided interval otherwise then covers at the
+ * level whatever the truth (reporting
  * each at its own nominal level flip-flops and under-covers where a term
  * is resolved about half the time; G. J. Feldman, R. D. Cousins, Phys.
  * Rev. D 57, 3873, 1998, discuss the same problem).
@@ -1603,54 +1648,20 @@ static void boot_lanes(const struct boot *bt, const double *h, int j,
 }
 
 /*
- * Replicates of the estimate of th[j] under the fitted model with th[j]
- * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  For an upper
- * bound (restricted) the other terms are at their estimates restricted to
- * th[j] = b0 (the weighted least squares of the others with th[j] held,
- * negative squares as 0), else at their free estimates.  The restricted
- * estimates matter where two terms trade off (B and K on a record of a
- * few hours): with the others at their free estimates, a low estimate of
- * K comes with a high B, wider replicates and so a higher bound (B. Sen,
- * M. Walker, M. Woodroofe, "On the unified method with nuisance
- * parameters", Statistica Sinica 19, 301, 2009).  A lower bound keeps the
- * free estimates: it exists only for a term resolved by the 3-sd rule,
- * whose sd is that of the free fit, and restricted to a small value the
- * partner term of a trade-off grows, widens the replicates and puts the
- * lower bound of a resolved term at 0 (B on the 1 h static gyro sample).
- * u_r is the
- * estimator refitted on the replicate, weights and all: its weights come
- * from the points it weighs, which pulls an estimate carried by a few
- * degrees of freedom low (a low point gets a low model and so a high
- * weight), and fixed weights miss that.  v_r, the slope in b, is that of
- * the fixed weights (the bound is recomputed around the bound found,
- * where the slope matters little).  With fixed weights K's bounds
- * covered 3 points under their level, averaged over 1-24 h records
- * (tests/bench-noisefit.c).
+ * The copula of the replicates under the model of squares t2 (>= 0):
+ * bt->mu0 (the model), the Gamma margins' shapes (nu, gc, hc) and the
+ * Cholesky factor L of the normals' correlation (NORTA).
  */
-static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
-		     int j, double b0, bool restricted)
+static int boot_copula(struct boot *bt, struct fitdata *f, const double t2[NT])
 {
-	double t2[NT], c[NT], dk[NT];
-	const double *h = bt->H + (size_t)j * f->n;
+	double c[NT];
 	size_t n = f->n;
 
-	for (int k = 0; k < NT; k++) {
-		double d = restricted ? bt->D[j][k] : 0;
-		double t = th[k] + (b0 - th[j]) * d;
-
-		t2[k] = fmax(t, 0);
-		dk[k] = t > 0 ? d : 0; /* d t2[k] / d b0 */
-	}
-	t2[j] = fmax(b0, 0);
-	dk[j] = 1;
 	th_to_coef(t2, c);
 	for (size_t a = 0; a < n; a++) {
 		bt->mu0[a] = 0;
-		bt->dm[a] = 0;
-		for (int k = 0; k < NT; k++) {
+		for (int k = 0; k < NT; k++)
 			bt->mu0[a] += t2[k] * basis(k, f->tau[a]);
-			bt->dm[a] += dk[k] * basis(k, f->tau[a]);
-		}
 		if (!(bt->mu0[a] > 0))
 			return -EDOM;
 	}
@@ -1684,6 +1695,57 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		if (chol(bt->L, n, n))
 			return -EDOM;
 	}
+	return 0;
+}
+
+/*
+ * Replicates of the estimate of th[j] under the fitted model with th[j]
+ * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r).  For an upper
+ * bound (restricted) the other terms are at their estimates restricted to
+ * th[j] = b0 (the weighted least squares of the others with th[j] held,
+ * negative squares as 0), else at their free estimates.  The restricted
+ * estimates matter where two terms trade off (B and K on a record of a
+ * few hours): with the others at their free estimates, a low estimate of
+ * K comes with a high B, wider replicates and so a higher bound (B. Sen,
+ * M. Walker, M. Woodroofe, "On the unified method with nuisance
+ * parameters", Statistica Sinica 19, 301, 2009).  A lower bound keeps the
+ * free estimates: it exists only for a term resolved by the 3-sd rule,
+ * whose sd is that of the free fit, and restricted to a small value the
+ * partner term of a trade-off grows, widens the replicates and puts the
+ * lower bound of a resolved term at 0 (B on the 1 h static gyro sample).
+ * u_r is the
+ * estimator refitted on the replicate, weights and all: its weights come
+ * from the points it weighs, which pulls an estimate carried by a few
+ * degrees of freedom low (a low point gets a low model and so a high
+ * weight), and fixed weights miss that.  v_r, the slope in b, is that of
+ * the fixed weights (the bound is recomputed around the bound found,
+ * where the slope matters little).  With fixed weights K's bounds
+ * covered 3 points under their level, averaged over 1-24 h records
+ * (tests/bench-noisefit.c).
+ */
+static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
+		     int j, double b0, bool restricted)
+{
+	double t2[NT], dk[NT];
+	const double *h = bt->H + (size_t)j * f->n;
+	size_t n = f->n;
+
+	for (int k = 0; k < NT; k++) {
+		double d = restricted ? bt->D[j][k] : 0;
+		double t = th[k] + (b0 - th[j]) * d;
+
+		t2[k] = fmax(t, 0);
+		dk[k] = t > 0 ? d : 0; /* d t2[k] / d b0 */
+	}
+	t2[j] = fmax(b0, 0);
+	dk[j] = 1;
+	for (size_t a = 0; a < n; a++) {
+		bt->dm[a] = 0;
+		for (int k = 0; k < NT; k++)
+			bt->dm[a] += dk[k] * basis(k, f->tau[a]);
+	}
+	if (boot_copula(bt, f, t2))
+		return -EDOM;
 	/* each replicate on its own (the same numbers on any thread count),
 	 * BOOT_LANES side by side */
 SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
@@ -1723,6 +1785,48 @@ SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
 		bt->var_v = svv / (R - 1);
 	}
 	return 0;
+}
+
+/*
+ * Skewness of h'y over the replicates of the AVAR points under the model
+ * of squares t2 (the copula of boot_copula()); NaN when the replicates
+ * cannot be drawn.  The upper tail of a term's estimate under its null is
+ * that of the few-degree-of-freedom points at long tau that carry it:
+ * far heavier than a normal's (a chi-squared of 3 degrees of freedom lies
+ * 5.1 sd above its mean with the probability a normal gives 3 sd).
+ */
+static double null_skew(struct boot *bt, struct fitdata *f, const double t2[NT],
+			const double *h)
+{
+	size_t n = f->n;
+	double s1 = 0, s2 = 0, s3 = 0, R = (double)bt->reps, m, v;
+	double *z = bt->ys; /* scratch: n doubles at least */
+
+	if (boot_copula(bt, f, t2))
+		return NAN;
+	for (size_t r = 0; r < bt->reps; r++) {
+		const double *e = bt->e + r * n;
+		double u = 0;
+
+		for (size_t a = 0; a < n; a++) {
+			const double *la = bt->L + a * n;
+			double t = 0;
+
+			for (size_t k = 0; k <= a; k++)
+				t += la[k] * e[k];
+			z[a] = t;
+		}
+		for (size_t a = 0; a < n; a++)
+			u += h[a] * bt->mu0[a] * gq(bt, &bt->gc[a], z[a]);
+		s1 += u;
+		s2 += u * u;
+		s3 += u * u * u;
+	}
+	m = s1 / R;
+	v = s2 / R - m * m;
+	if (!(v > 0))
+		return NAN;
+	return (s3 / R - 3 * m * v - m * m * m) / (v * sqrt(v));
 }
 
 /* lower-tail share beta(b) of the acceptance region at b */
@@ -1820,6 +1924,376 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
 		b0 = b;
 	}
 	return b;
+}
+
+/* ------------------------------------------------------------------ */
+/* Presence: backward elimination on nested fits                       */
+/* ------------------------------------------------------------------ */
+
+/*
+ * The fit of the terms of mask: squares th (0 outside mask), their
+ * sandwich sd under that fit's model (negative squares as 0), and the
+ * model mu (bmu: the model, or the point where it is not positive).
+ */
+static int nested_fit(struct fitdata *f, unsigned mask, double th[NT],
+		      double sd[NT], double *mu, double *bmu)
+{
+	double c[NT];
+	int rc = wls(f, mask, th, mu, FIT_ITERS);
+
+	if (rc)
+		return rc;
+	for (size_t k = 0; k < f->n; k++)
+		bmu[k] = mu[k] > 0 ? mu[k] : f->y[k];
+	th_to_coef(th, c);
+	model_cov(f, c, bmu, f->S);
+	return sandwich(f, mask, bmu, f->S, sd, NULL);
+}
+
+/*
+ * Which terms are present: from every allowed term, drop the one whose
+ * square is the fewest sd above zero (z = th / sd in the current nested
+ * fit) while that z is below zsel, refit, repeat; forced terms stay.  A
+ * one-sided Wald test at level Phi(-zsel) per step.  zlast[j] gets the z
+ * of term j in the last fit that held it; ths the squares of the final
+ * fit (0 outside it).  Returns the mask of the present terms.
+ */
+static unsigned select_terms(struct fitdata *f, unsigned allowed,
+			     unsigned forced, double zsel, double *mu,
+			     double *bmu, double zlast[NT], double ths[NT])
+{
+	unsigned mask = allowed;
+	double th[NT], sd[NT];
+
+	for (int j = 0; j < NT; j++) {
+		zlast[j] = NAN;
+		ths[j] = 0;
+	}
+	while (mask) {
+		int worst = -1;
+		double zw = INFINITY;
+
+		if (nested_fit(f, mask, th, sd, mu, bmu))
+			break; /* keep the last mask that could be fitted */
+		for (int j = 0; j < NT; j++) {
+			double zj;
+
+			if (!(mask & (1u << j)))
+				continue;
+			zj = sd[j] > 0 ? th[j] / sd[j] : th[j] > 0 ? (double)INFINITY :
+							 -(double)INFINITY;
+			zlast[j] = zj;
+			if (!(forced & (1u << j)) && zj < zw) {
+				zw = zj;
+				worst = j;
+			}
+		}
+		memcpy(ths, th, sizeof(th));
+		if (worst < 0 || zw >= zsel)
+			break;
+		mask &= ~(1u << worst);
+		ths[worst] = 0;
+	}
+	if (!mask)
+		for (int j = 0; j < NT; j++)
+			ths[j] = 0;
+	return mask;
+}
+
+/*
+ * The generalised least-squares fits of the selection: the AVAR points
+ * and the five columns whitened once by the factor of the covariance of
+ * the fit of every allowed term (f->Sc, relative to mu_ref), so that the
+ * fit of any subset is an ordinary least-squares problem whose residual
+ * sum of squares is its generalised chi-squared.  Between two nested fits
+ * the chi-squared difference is the likelihood-ratio statistic of the
+ * Gaussian model, and for these linear fits equals (square / its GLS sd)^2
+ * of the larger: the test is read as that signed z.
+ */
+struct gls {
+	size_t n;
+	double *wz;          /* n: whitened points */
+	double *wa;          /* NT x n: whitened columns */
+	double cs[NT];       /* their norms */
+	gsl_matrix *X;
+	gsl_vector *y, *w, *c;
+	gsl_matrix *cov;
+	gsl_multifit_linear_workspace *ws;
+};
+
+static void gls_free(struct gls *g)
+{
+	free(g->wz);
+	free(g->wa);
+	if (g->X)
+		gsl_matrix_free(g->X);
+	if (g->y)
+		gsl_vector_free(g->y);
+	if (g->w)
+		gsl_vector_free(g->w);
+	if (g->c)
+		gsl_vector_free(g->c);
+	if (g->cov)
+		gsl_matrix_free(g->cov);
+	if (g->ws)
+		gsl_multifit_linear_free(g->ws);
+}
+
+static int gls_init(struct gls *g, const struct fitdata *f, const double *mu_ref)
+{
+	size_t n = f->n;
+
+	memset(g, 0, sizeof(*g));
+	g->n = n;
+	g->wz = ssc_alloc_array(n, sizeof(double));
+	g->wa = ssc_alloc_array(NT * n, sizeof(double));
+	g->X = gsl_matrix_alloc(n, NT);
+	g->y = gsl_vector_alloc(n);
+	g->w = gsl_vector_alloc(n);
+	g->c = gsl_vector_alloc(NT);
+	g->cov = gsl_matrix_alloc(NT, NT);
+	g->ws = gsl_multifit_linear_alloc(n, NT);
+	if (!g->wz || !g->wa || !g->X || !g->y || !g->w || !g->c || !g->cov ||
+	    !g->ws) {
+		gls_free(g);
+		return -ENOMEM;
+	}
+	for (size_t k = 0; k < n; k++)
+		g->wz[k] = f->y[k] / mu_ref[k];
+	forward(f->Sc->data, n, f->Sc->tda, g->wz);
+	for (int j = 0; j < NT; j++) {
+		double *a = g->wa + (size_t)j * n, ss = 0;
+
+		for (size_t k = 0; k < n; k++)
+			a[k] = basis(j, f->tau[k]) / mu_ref[k];
+		forward(f->Sc->data, n, f->Sc->tda, a);
+		for (size_t k = 0; k < n; k++)
+			ss += a[k] * a[k];
+		g->cs[j] = ss > 0 && isfinite(ss) ? sqrt(ss) : 1;
+	}
+	gsl_vector_set_all(g->w, 1);
+	return 0;
+}
+
+/* GLS fit of mask: squares th, their sd (0 outside mask); -EDOM when the
+ * columns are not separable */
+static int gls_fit(struct gls *g, unsigned mask, double th[NT], double sd[NT])
+{
+	int cols[NT], p = 0;
+	double chisq;
+	size_t rank;
+
+	for (int j = 0; j < NT; j++) {
+		th[j] = sd[j] = 0;
+		if (mask & (1u << j))
+			cols[p++] = j;
+	}
+	if (p == 0 || (size_t)p > g->n)
+		return -EDOM;
+	{
+		gsl_matrix_view X = gsl_matrix_submatrix(g->X, 0, 0, g->n, (size_t)p);
+		gsl_matrix_view C = gsl_matrix_submatrix(g->cov, 0, 0, (size_t)p,
+							 (size_t)p);
+		gsl_vector_view c = gsl_vector_subvector(g->c, 0, (size_t)p);
+
+		for (size_t k = 0; k < g->n; k++) {
+			gsl_vector_set(g->y, k, g->wz[k]);
+			for (int a = 0; a < p; a++)
+				gsl_matrix_set(&X.matrix, k, (size_t)a,
+					       g->wa[(size_t)cols[a] * g->n + k] /
+						       g->cs[cols[a]]);
+		}
+		if (gsl_multifit_wlinear_tsvd(&X.matrix, g->w, g->y, 1e-12,
+					      &c.vector, &C.matrix, &chisq,
+					      &rank, g->ws) ||
+		    rank < (size_t)p)
+			return -EDOM;
+		for (int a = 0; a < p; a++) {
+			double v = gsl_matrix_get(&C.matrix, (size_t)a, (size_t)a);
+
+			th[cols[a]] = gsl_vector_get(&c.vector, (size_t)a) /
+				      g->cs[cols[a]];
+			sd[cols[a]] = v > 0 ? sqrt(v) / g->cs[cols[a]] : 0;
+		}
+	}
+	return 0;
+}
+
+/*
+ * The test of term j in the GLS fit of mask (which holds j): z = th_j /
+ * sd0, sd0 the sd of that estimate were term j absent (the covariance of
+ * the AVAR points under the squares of the fit without j, negative ones
+ * as 0, through the GLS hat row of j): a score test, whose
+ * null distribution does not borrow the spread the term itself adds at
+ * long tau (when the fit holds no other noise, the z of the fit itself).
+ * zthr (optional) gets the threshold the z must reach: zsel, raised by
+ * the Cornish-Fisher term (zsel^2 - 1) g / 6 for the skewness g of the
+ * null distribution (null_skew(); bt NULL: not computed).  Returns -inf
+ * when the fit cannot separate the term.
+ */
+static double gls_test(struct gls *g, struct fitdata *f, struct boot *bt,
+		       const double *mu_ref, unsigned mask, int j, double zsel,
+		       double *zthr)
+{
+	double th[NT], sd[NT], v0 = 0;
+	double *h = g->wz == NULL ? NULL : ssc_alloc_array(g->n, sizeof(double));
+	int cols[NT], p = 0, aj = -1;
+	size_t n = g->n;
+
+	if (zthr)
+		*zthr = zsel;
+	if (!h)
+		return -INFINITY;
+	if (gls_fit(g, mask, th, sd) || !(sd[j] > 0)) {
+		free(h);
+		return -INFINITY;
+	}
+	for (int k = 0; k < NT; k++)
+		if (mask & (1u << k)) {
+			if (k == j)
+				aj = p;
+			cols[p++] = k;
+		}
+	/* hat row: th_j = h' y, h = D^-1 L^-T X C e_j / cs_j */
+	for (size_t k = 0; k < n; k++) {
+		double t = 0;
+
+		for (int a2 = 0; a2 < p; a2++)
+			t += gsl_matrix_get(g->X, k, (size_t)a2) *
+			     gsl_matrix_get(g->cov, (size_t)a2, (size_t)aj);
+		h[k] = t / g->cs[j];
+	}
+	for (size_t i = n; i-- > 0;) {
+		double t = h[i];
+
+		for (size_t k = i + 1; k < n; k++)
+			t -= f->Sc->data[k * f->Sc->tda + i] * h[k];
+		h[i] = t / f->Sc->data[i * f->Sc->tda + i];
+	}
+	for (size_t k = 0; k < n; k++)
+		h[k] /= mu_ref[k];
+	{
+		double t2[NT], c[NT], sd0[NT];
+
+		/* the null's other squares from the fit without the term (a
+		 * score test: with the term in, a partner that trades off with
+		 * it, K for R, comes out low and the null spread too small) */
+		if (!(mask & ~(1u << j)) ||
+		    gls_fit(g, mask & ~(1u << j), t2, sd0))
+			memcpy(t2, th, sizeof(t2));
+		for (int k = 0; k < NT; k++)
+			t2[k] = fmax(t2[k], 0);
+		t2[j] = 0;
+		th_to_coef(t2, c);
+		model_cov(f, c, mu_ref, f->S);
+		for (size_t a2 = 0; a2 < n; a2++) {
+			double r = 0;
+
+			for (size_t b2 = 0; b2 < n; b2++)
+				r += gsl_matrix_get(f->S, a2, b2) * h[b2];
+			v0 += h[a2] * r;
+		}
+		/* the null's skewness raises the threshold (Cornish-Fisher)
+		 * where the estimate passes the normal one */
+		if (zthr && bt && v0 > 0 && th[j] / sqrt(v0) >= zsel) {
+			double gam = null_skew(bt, f, t2, h);
+
+			if (gam > 0)
+				*zthr = zsel + (zsel * zsel - 1) * gam / 6;
+		}
+	}
+	free(h);
+	(void)cols;
+	if (!(v0 > 1e-12 * sd[j] * sd[j])) {
+		/* the term is the only noise in the fit: no null spread to
+		 * test against; its z in the fit (the first term of a
+		 * selection) */
+		return th[j] / sd[j];
+	}
+	return th[j] / sqrt(v0);
+}
+
+/*
+ * Stepwise selection on the GLS fits: from the forced terms (or none),
+ * add the allowed term with the largest z while that z reaches its
+ * threshold (zsel, raised for the null's skew: gls_test(); Q only once N
+ * is in, R only once K is in, when those are allowed);
+ * after each addition drop any earlier term (not forced) whose z in the
+ * new fit fell below its threshold.  Each step is the likelihood-ratio test
+ * of two nested fits at the one-sided level Phi(-zsel).  zlast[j]: the z
+ * of j in the final fit (present) or in the final fit with j added
+ * (absent).
+ */
+static unsigned gls_select(struct gls *g, struct fitdata *f, struct boot *bt,
+			   const double *mu_ref, unsigned allowed,
+			   unsigned forced, double zsel, double zlast[NT])
+{
+	unsigned mask = forced, tried;
+
+	for (int it = 0; it < 4 * NT; it++) {
+		bool changed = false;
+
+		/* the candidates by z, the first that passes its threshold */
+		tried = 0;
+		for (;;) {
+			int best = -1;
+			double zb = -INFINITY, thr;
+
+			for (int j = 0; j < NT; j++) {
+				double zj;
+
+				if (!(allowed & (1u << j)) || (mask & (1u << j)) ||
+				    (tried & (1u << j)))
+					continue;
+				/* the steeper slope of a side enters after the
+				 * gentler one (Q after N, R after K), when that
+				 * is allowed: on a short record the last points
+				 * rise, and K, the random process, is the
+				 * simpler reading of a rise than a ramp */
+				if ((j == 0 && (allowed & 2u) && !(mask & 2u)) ||
+				    (j == 4 && (allowed & 8u) && !(mask & 8u)))
+					continue;
+				zj = gls_test(g, f, NULL, mu_ref, mask | (1u << j), j,
+					      zsel, NULL);
+				if (zj > zb) {
+					zb = zj;
+					best = j;
+				}
+			}
+			if (best < 0 || zb < zsel)
+				break;
+			tried |= 1u << best;
+			zb = gls_test(g, f, bt, mu_ref, mask | (1u << best), best,
+				      zsel, &thr);
+			if (zb >= thr) {
+				mask |= 1u << best;
+				changed = true;
+				break;
+			}
+		}
+		if (changed) {
+			for (int k = 0; k < NT; k++) {
+				double thr;
+
+				if (!(mask & (1u << k)) || (forced & (1u << k)))
+					continue;
+				if (gls_test(g, f, bt, mu_ref, mask, k, zsel, &thr) <
+				    thr) {
+					mask &= ~(1u << k);
+					break; /* one at a time: refit */
+				}
+			}
+		}
+		if (!changed)
+			break;
+	}
+	for (int j = 0; j < NT; j++) {
+		zlast[j] = NAN;
+		if (allowed & (1u << j))
+			zlast[j] = gls_test(g, f, NULL, mu_ref, mask | (1u << j), j,
+					    zsel, NULL);
+	}
+	return mask;
 }
 
 /* ------------------------------------------------------------------ */
@@ -1961,6 +2435,9 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 	struct fitdata f = { 0 };
 	unsigned allowed, fitted = 0;
 	double th[NT] = { 0 }, sd[NT] = { 0 }, z, z1, zdet, chi2 = NAN;
+	double zsel[NT], thsel[NT];
+	unsigned present = 0;
+	bool have_ref = false;
 	double *mu = NULL, *bmu = NULL;
 	struct boot bt;
 	bool have_boot;
@@ -2099,39 +2576,94 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 
 		th_to_coef(th, c);
 		model_cov(&f, c, bmu, f.S);
-		rc = sandwich(&f, allowed, bmu, f.S, sd, NULL);
+		rc = sandwich_cov(&f, allowed, bmu, f.S, sd, NULL, fit->sq_cov);
 		if (rc) {
 			rc = ssc_diag(diag, rc,
 				      "noise fit: the covariance of the estimates is singular");
 			goto out;
 		}
-		if (ref_factor(&f, th, bmu) == 0)
+		if (ref_factor(&f, th, bmu) == 0) {
 			chi2 = gchi2(&f, mu, bmu);
+			have_ref = true;
+		}
 	}
 	z = gsl_cdf_ugaussian_Pinv(0.5 + o.ci_level / 2);
 	z1 = gsl_cdf_ugaussian_Pinv(o.ci_level);
 	zdet = o.detect_sigma > 0 ? o.detect_sigma : 3;
 	have_boot = boot_init(&bt, &f, allowed, FIT_ITERS, bmu, 1 - o.ci_level,
 			      zdet, o.plan) == 0;
+	/* presence: nested fits (they reuse f's work space; the full fit's
+	 * numbers above are kept in th, sd, mu, bmu) */
+	{
+		double *mu2 = ssc_alloc_array(f.n, sizeof(double));
+		double *bmu2 = ssc_alloc_array(f.n, sizeof(double));
+		struct gls g;
+
+		if (!mu2 || !bmu2) {
+			free(mu2);
+			free(bmu2);
+			if (have_boot)
+				boot_free(&bt);
+			rc = -ENOMEM;
+			goto out;
+		}
+		if (have_ref && gls_init(&g, &f, bmu) == 0) {
+			present = gls_select(&g, &f, have_boot ? &bt : NULL, bmu,
+					     allowed, o.forced, zdet, zsel);
+			gls_free(&g);
+		} else {
+			/* no factor of the covariance: backward elimination on
+			 * the weighted fits' sandwich z */
+			present = select_terms(&f, allowed, o.forced, zdet, mu2,
+					       bmu2, zsel, thsel);
+		}
+		free(mu2);
+		free(bmu2);
+	}
 	for (int j = 0; j < NT; j++) {
 		struct sscope_noise_coef *cf = &fit->coef[j];
 		bool forced = o.forced & (1u << j);
+		bool pres = (present & (1u << j)) && th[j] > 0;
 		double hi;
 
+		cf->z = NAN;
 		if (!(allowed & (1u << j))) {
-			cf->fitted = false;
+			cf->fitted = cf->present = false;
+			cf->why = SSCOPE_NOISE_NOT_ALLOWED;
 			continue;
 		}
 		cf->var_sd = sd[j];
+		cf->square = th[j];
 		cf->estimate = sqrt(fmax(th[j], 0));
-		cf->fitted = forced ? th[j] > 0 : th[j] > zdet * sd[j] && th[j] > 0;
+		cf->z = zsel[j];
+		/* the ordering of the acceptance regions follows the estimate
+		 * the intervals are made of (the fit of every allowed term),
+		 * not the nested test: were it the test's, a term the test
+		 * finds but the full fit hardly resolves would get a central
+		 * region where the record only bounds it, and "below X" would
+		 * over-cover (K over 2000 s: 85 % for 68 %).  A present term
+		 * whose full-fit estimate is that weak gets lo = 0 (and a
+		 * warning from the CLI). */
 		/* the normal bounds start the bootstrap's search (and stand in
-		 * when the replicates cannot be drawn) */
-		hi = invert_bound(&f, allowed, th, j, cf->fitted ? z : z1, +1, bmu);
+		 * when the replicates cannot be drawn): two-sided where the fit
+		 * of every term resolves the square (3 sd), else one-sided, as
+		 * the ordering of the regions, whatever the nested test says
+		 * (the bootstrap's bound depends a little on where its search
+		 * starts: the same start keeps the bounds the coverage tables
+		 * were measured with) */
+		hi = invert_bound(&f, allowed, th, j,
+				  forced || th[j] > zdet * sd[j] ? z : z1, +1, bmu);
 		if (have_boot)
 			hi = boot_bound(&bt, &f, th, j, +1, forced, hi, sd[j]);
+		if (!(hi > 0)) {
+			/* an estimate below what a zero square gives: bounded
+			 * as an estimate of zero (never "below 0") */
+			double s0 = sd_if(&f, allowed, th, j, 0, bmu);
+
+			hi = isfinite(s0) && s0 > 0 ? z1 * s0 : (double)INFINITY;
+		}
 		cf->hi = sqrt(hi);
-		if (cf->fitted) {
+		if (pres) {
 			double lo = invert_bound(&f, allowed, th, j, z, -1, bmu);
 
 			if (have_boot)
@@ -2139,8 +2671,13 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			fitted |= 1u << j;
 			cf->value = sqrt(th[j]);
 			cf->lo = sqrt(lo);
+			cf->fitted = cf->present = true;
+			cf->why = SSCOPE_NOISE_PRESENT;
 		} else {
 			cf->lo = 0;
+			cf->fitted = cf->present = false;
+			cf->why = present & (1u << j) ? SSCOPE_NOISE_NOT_SEPARABLE :
+							 SSCOPE_NOISE_NOT_NEEDED;
 		}
 	}
 	if (have_boot)
@@ -2150,8 +2687,9 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			      "noise fit: a forced term comes out with a non-positive square: no combination of the allowed terms fits with positive coefficients");
 		goto out;
 	}
-	readoff_model(pts, n_pts, th, &fit->readoff);
-	fit->terms = fitted;
+	readoff_model(pts, n_pts, fit->coef, fitted, &fit->readoff);
+	fit->terms = fit->present = fitted;
+	fit->select_z = zdet;
 	fit->chi2 = chi2;
 	fit->dof = (double)f.n - p;
 	fit->p_value = fit->dof > 0 && isfinite(chi2) ? gsl_cdf_chisq_Q(chi2, fit->dof) :

@@ -30,26 +30,68 @@ struct sscope_allan_point;
  */
 double sscope_noise_avar(const double coef[5], double tau_s);
 
+/**
+ * Why a term is or is not reported as present (struct sscope_noise_coef's
+ * why).  Presence is decided by a model-selection test on nested fits
+ * (sscope_noise_fit()), not by the precision of the term.
+ */
+enum sscope_noise_why {
+	/** present: the selection test keeps it; value and a central
+	 *  interval [lo, hi] (however wide) are reported */
+	SSCOPE_NOISE_PRESENT = 0,
+	/** not among the terms the options allow: nothing is reported
+	 *  (value, lo, hi NaN) */
+	SSCOPE_NOISE_NOT_ALLOWED,
+	/** not shown present: the nested fit without the term describes the
+	 *  curve (its square is below the test's threshold there); hi is an
+	 *  upper bound (> 0), lo = 0, value NaN */
+	SSCOPE_NOISE_NOT_NEEDED,
+	/** not shown present: the test keeps it with the other present
+	 *  terms, but with every allowed term free its square is not
+	 *  positive (it trades off with a term the selection dropped); hi is
+	 *  an upper bound (> 0), lo = 0, value NaN */
+	SSCOPE_NOISE_NOT_SEPARABLE,
+};
+
 /** A fitted noise coefficient, SI (units as sscope_noise_avar()). */
 struct sscope_noise_coef {
-	double value;  /**< estimate; NaN when the term was not fitted */
+	double value;  /**< estimate; NaN when the term is not present */
 	double lo, hi; /**< interval at the fit's confidence level; for a term
-			    not fitted lo = 0 and hi is an upper limit */
+			    not present lo = 0 and hi an upper limit (> 0;
+			    INFINITY when the record gives no finite bound);
+			    NaN for a term not allowed */
 	double var_sd; /**< standard deviation of the estimate of the
-			    coefficient squared (the fitted variable) */
-	double estimate; /**< sqrt(max(0, estimated square)) whether or not
-			      the term is resolved (for comparisons of two
-			      fits of the same noise), U */
-	bool fitted;   /**< the term is resolved (its square above
-			    detect_sigma standard deviations, or forced) */
+			    coefficient squared (the fitted variable), with
+			    every allowed term free */
+	double estimate; /**< sqrt(max(0, estimated square)) with every
+			      allowed term free, present or not (for
+			      comparisons of two fits of the same noise), U */
+	bool fitted;   /**< the same as present (the older name) */
+	bool present;  /**< shown present by the selection test (forced
+			    terms always): value and [lo, hi] are reported */
+	enum sscope_noise_why why; /**< why present or not */
+	double z;      /**< the selection test's statistic: the square over
+			    its standard deviation in the nested fit of the
+			    present terms with this one (the last fit that
+			    held it); NaN for a term not allowed */
+	double square; /**< the estimate of the square with every allowed
+			    term free, signed (unbiased: a prediction that
+			    adds the terms' variances, as walk's envelope,
+			    takes it rather than estimate^2, whose floor at 0
+			    biases it up); 0 for a term not allowed, U^2 */
 };
 
 /** The classic slope read-offs (IEEE 952 Annex C; NaN when not found).
  *  sscope_noise_readoff() picks the points by local slope alone; the
- *  read-offs in struct sscope_noise_fit use the fitted model instead: N
- *  (K) is read at the tau where that term's share of the model AVAR is
- *  largest, B at the minimum, and each only where its term is at least
- *  half of the model there (NaN otherwise: the term dominates nowhere). */
+ *  read-offs in struct sscope_noise_fit use the fitted model of the
+ *  terms instead: a term is read only when it is present, at a point
+ *  whose EDF is at least 10 and where the term's share of the model Allan
+ *  variance is at least 3/4 with its square at its lower bound and every
+ *  other term at its upper bound (the others then add at most 15 % to the
+ *  deviation read, with confidence); of those points, the one where the
+ *  read-off's expected relative error (bias of the other terms and
+ *  sampling spread 1/sqrt(2 EDF) together) is least.  NaN otherwise: the
+ *  term dominates nowhere the curve is precise. */
 struct sscope_noise_readoff {
 	double n;       /**< sigma(1 s) on the -1/2 line through the point
 			     used, U/sqrt(Hz) */
@@ -80,8 +122,10 @@ struct sscope_noise_fit_opts {
 	 *  (the sampling covariance is exact for the five processes; the
 	 *  intervals' coverage is checked by simulation in make bench). */
 	double model_error;
-	/** A term is reported as fitted (resolved) when its squared
-	 *  coefficient exceeds this many standard deviations; 0 selects 3. */
+	/** Threshold of the presence test, in standard deviations: a term
+	 *  is present when its square exceeds this many standard deviations
+	 *  in the nested fit (one-sided level Phi(-detect_sigma)); 0 selects
+	 *  3 (0.135 %). */
 	double detect_sigma;
 	/** Fit only points with tau_min_s <= tau <= tau_max_s (0: no limit). */
 	double tau_min_s, tau_max_s;
@@ -105,9 +149,14 @@ struct sscope_noise_fit {
 	double dof;         /**< n_points - number of allowed terms */
 	double p_value;     /**< P(chi2 >= observed) under the model */
 	double aic;         /**< chi2 + 2 p, p the allowed terms */
-	size_t n_plausible; /**< always 0 (kept for the layout: no model
-				 selection any more) */
+	size_t n_plausible; /**< always 0 (kept for the layout) */
 	struct sscope_noise_readoff readoff; /**< classic read-offs */
+	unsigned present;   /**< bit mask of the terms shown present (the
+				 same as terms) */
+	double select_z;    /**< threshold of the presence test, sd */
+	double sq_cov[5][5]; /**< covariance of the coefficients' squares
+				  (the sandwich covariance of the fit of every
+				  allowed term), U^4; 0 for terms not allowed */
 };
 
 /**
@@ -116,15 +165,23 @@ struct sscope_noise_fit {
  * Method: one weighted least-squares fit of every allowed term on AVAR,
  * rows a(tau) = [3/tau^2, 1/tau, 2 ln2/pi, tau/3, tau^2/2], unknowns the
  * squares (Q^2, N^2, B^2, K^2, R^2) free of sign, weights EDF / (2 model^2)
- * iterated with the model; no subset selection (quoting a chosen model's
- * intervals as if the choice were free under-covers).  The covariance C of
+ * iterated with the model.
+ *
+ * Presence, then precision.  Which terms are present is decided by
+ * backward elimination on nested fits: starting from every allowed term,
+ * the term whose square is the fewest standard deviations (its sandwich
+ * sd under that fit's model) above zero is dropped when below
+ * detect_sigma (a one-sided Wald test at level Phi(-detect_sigma), 0.135 %
+ * by default), the rest refitted, until every remaining term passes;
+ * forced terms are never dropped.  A present term is reported with its
+ * value and interval from the fit of every allowed term (the interval
+ * does not pretend the selection was free), however wide; a term not
+ * shown present with an upper bound above zero and the reason (why).  The covariance C of
  * the overlapping AVAR estimates under the fitted model (Q white angle, N
  * white rate, B flicker rate, K random-walk rate, exact for the sampled
  * processes of Q, N, K; R deterministic; Gaussian fourth moments; plus the
  * model_error term) gives the sandwich covariance (A'WA)^-1 A'W C W A
- * (A'WA)^-1 of the squares and chi2 = r' C^-1 r.  A term is resolved
- * (fitted) when its square exceeds detect_sigma standard deviations.
- * Intervals are Neyman intervals from a parametric bootstrap of the
+ * (A'WA)^-1 of the squares and chi2 = r' C^-1 r.  Intervals are Neyman intervals from a parametric bootstrap of the
  * estimator: for a tested value b of a square, 1000 replicates of the
  * AVAR points are drawn from the fitted model with that square set to b
  * (Gamma margins of the model's mean and variance, Gaussian copula with
@@ -174,11 +231,6 @@ int sscope_noise_plan_new(struct sscope_noise_plan **plan);
 void sscope_noise_plan_free(struct sscope_noise_plan *plan);
 
 /**
- * The classic read-offs alone (no fit).
- * @param pts    deviation points (OADEV or ADEV), increasing tau.
- * @return 0, or -EDOM when fewer than 3 positive points.
- */
-/**
  * Whether a fit's chi-squared test rejects the five-term model at level
  * @p p_level (its p-value below it; 0.01 is usual): a deterministic trend
  * or a process outside the model, the terms indicative only.
@@ -186,9 +238,14 @@ void sscope_noise_plan_free(struct sscope_noise_plan *plan);
 bool sscope_noise_fit_rejected(const struct sscope_noise_fit *fit,
 			       double p_level);
 
-/** Whether a term is resolved: fitted, and its interval excludes zero. */
+/** Whether a term is resolved: present, and its interval excludes zero. */
 bool sscope_noise_coef_resolved(const struct sscope_noise_coef *c);
 
+/**
+ * The classic read-offs alone (no fit).
+ * @param pts    deviation points (OADEV or ADEV), increasing tau.
+ * @return 0, or -EDOM when fewer than 3 positive points.
+ */
 int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n_pts,
 			 struct sscope_noise_readoff *r);
 

@@ -41,6 +41,17 @@ struct sscope_walk_opts {
 	/** runs whose paths are kept in the result, the first ones (0: all;
 	 *  the statistics always use every run) */
 	size_t keep_paths;
+	/** The terms as estimated from the record by the noise fit: when
+	 *  have_sq, the envelope and the implied N take the signed squares
+	 *  sq[] (U^2; struct sscope_noise_coef's square) instead of coef[]^2
+	 *  (an estimate^2 floored at 0 is biased up, most for a term that is
+	 *  absent or barely there: the envelope too wide, the implied N too
+	 *  low); sq_cov (the covariance of the squares, U^4, row-major 5 x 5;
+	 *  struct sscope_noise_fit's sq_cov) gives var_other_sd.  coef[] is
+	 *  still checked and must hold a term. */
+	bool have_sq;
+	double sq[5];
+	double sq_cov[25];
 };
 
 /** The fan. */
@@ -69,7 +80,11 @@ struct sscope_walk_result {
 	double *var_n1;     /**< n_points: mean predicted variance for N = 1
 				 and no other term (t + t^2 / T for a window) */
 	double *var_other;  /**< n_points: mean predicted variance of the
-				 terms other than N */
+				 terms other than N (may be below 0 with
+				 have_sq: an estimate) */
+	double *var_other_sd; /**< n_points: standard deviation of var_other
+				   from the terms' uncertainty (0 without
+				   have_sq) */
 };
 
 /**
@@ -95,7 +110,10 @@ struct sscope_walk_implied {
 	double n;       /**< implied N, U/sqrt(Hz); NaN when the other terms
 			     explain the whole spread */
 	double lo, hi;  /**< interval at the level (chi-squared with n_runs
-			     degrees of freedom on the mean square) */
+			     degrees of freedom on the mean square; the other
+			     terms' part, estimated from the same record, is
+			     subtracted as it is: its error is correlated with
+			     the spread's, coverage checked in make bench) */
 };
 
 /**

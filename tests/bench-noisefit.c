@@ -12,9 +12,22 @@
  * at the nominal p, 3.3 points for 200 runs), and the last lines pool
  * each term's coverage over all record lengths.
  *
- * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR [SEED]]]]
- * (default 1000; 1,3,6,12,24; 0; 0: realisation r of the h-th length uses
- * the simulator's seed SEED + max(1000, REALISATIONS) h + r + 1).
+ * Usage: bench-noisefit [REALISATIONS [HOURS,... [MODEL_ERROR [SEED [CASE]]]]]
+ * (default 1000; 1,3,6,12,24; 0; 0; mix: realisation r of the h-th length
+ * uses the simulator's seed SEED + max(1000, REALISATIONS) h + r + 1).
+ * CASE picks the simulated gyro:
+ *   mix    the 10 Hz gyro above (Q, N, B, K; R 0);
+ *   nk     white rate and rate random walk only, 100 Hz (N 0.15 deg/sqrt(h),
+ *          K 3 deg/h/sqrt(h)): K should be present in >= 90 % of records,
+ *          its interval covering at the level;
+ *   white  white rate noise only, 100 Hz (N 0.15 deg/sqrt(h)): B, K and R
+ *          should be reported present in <= 2 % of records each;
+ *   bmix   a five-term mix whose bottom B dominates, 100 Hz (Q 5 arcsec,
+ *          N 0.15 deg/sqrt(h), B 3 deg/h, K 3 deg/h/sqrt(h), R 2 deg/h/h):
+ *          the classic B read-off, where printed, within +-30 % of the
+ *          truth (bread% below).
+ * For every case the lines "present%" count how often each term is
+ * reported present (for a term whose truth is 0: a false detection).
  * Realisations run in parallel over the cores (OpenMP); run it niced on
  * a shared machine.
  */
@@ -57,6 +70,9 @@ struct tally {
 static double g_model_error;
 static uint64_t g_seed;
 
+/* B read-offs printed, and those within +-30 % of the truth */
+static int g_bread_n, g_bread_ok;
+
 static int one_run(const struct sscope_sensor_spec *spec, double fs,
 		   size_t n, uint64_t seed, double *y, struct sscope_noise_fit *fit)
 {
@@ -97,7 +113,8 @@ static int one_run(const struct sscope_sensor_spec *spec, double fs,
 
 int main(int argc, char **argv)
 {
-	const double fs = 10;
+	double fs = 10;
+	const char *kase = argc > 5 ? argv[5] : "mix";
 	int reps = argc > 1 ? atoi(argv[1]) : 1000;
 	/* the records of one length never reuse another length's */
 	const uint64_t stride = reps > 1000 ? (uint64_t)reps : 1000;
@@ -142,25 +159,42 @@ int main(int argc, char **argv)
 	spec.b = 1.0 / 3600 * D2R;
 	spec.k = 3.0 / 3600 / 60 * D2R;
 	spec.r = 0;
+	if (!strcmp(kase, "nk")) {
+		fs = 100;
+		spec.q = spec.b = 0;
+	} else if (!strcmp(kase, "white")) {
+		fs = 100;
+		spec.q = spec.b = spec.k = 0;
+	} else if (!strcmp(kase, "bmix")) {
+		fs = 100;
+		spec.b = 3.0 / 3600 * D2R;
+		spec.r = 2.0 / 3600 / 3600 * D2R;
+	} else if (strcmp(kase, "mix")) {
+		fprintf(stderr, "bench-noisefit: unknown case '%s' (mix, nk, white, bmix)\n",
+			kase);
+		return 2;
+	}
 	truth[0] = spec.q;
 	truth[1] = spec.n;
 	truth[2] = spec.b;
 	truth[3] = spec.k;
-	truth[4] = 0;
-	printf("# noise-fit coverage: %d realisations per record length, %g Hz, "
-	       "nominal level 68.3 %%\n", reps, fs);
-	printf("# truth: Q %.3g %s, N %.3g %s, B %.3g %s, K %.3g %s, R 0\n",
+	truth[4] = spec.r;
+	printf("# noise-fit coverage (case %s): %d realisations per record length, %g Hz, "
+	       "nominal level 68.3 %%\n", kase, reps, fs);
+	printf("# truth: Q %.3g %s, N %.3g %s, B %.3g %s, K %.3g %s, R %.3g %s\n",
 	       truth[0] * to_disp[0], units[0], truth[1] * to_disp[1], units[1],
-	       truth[2] * to_disp[2], units[2], truth[3] * to_disp[3], units[3]);
-	printf("# cover: truth inside [lo, hi] (a term not fitted: [0, upper bound]);\n"
-	       "# fitted: share of runs that fit the term; bias: median (value/truth - 1)\n"
-	       "# of the fitted values; bound: upper bound >= truth when not fitted;\n"
+	       truth[2] * to_disp[2], units[2], truth[3] * to_disp[3], units[3],
+	       truth[4] * to_disp[4], units[4]);
+	printf("# cover: truth inside [lo, hi] (a term not present: [0, upper bound]);\n"
+	       "# present: share of runs that report the term present; bias: median\n"
+	       "# (value/truth - 1) of the present values; bound: upper bound >= truth\n"
+	       "# when not present;\n"
 	       "# low, high: truth below lo, above hi (the misses by side); est: median\n"
 	       "# (estimate/truth - 1) over all runs, the estimate of a term not fitted\n"
 	       "# included (a negative square as 0)\n");
 	printf("# se: standard error of cover%% at the nominal level\n");
 	printf("%6s %4s %8s %5s %8s %9s %10s %7s %7s %7s %7s\n", "hours", "term",
-	       "cover%", "se%", "fitted%", "bias%", "bound_ok%", "low%", "high%",
+	       "cover%", "se%", "present%", "bias%", "bound_ok%", "low%", "high%",
 	       "est%", "time_s");
 	for (int h = 0; h < n_hours; h++) {
 		size_t n = (size_t)(hours[h] * 3600 * fs);
@@ -198,11 +232,25 @@ int main(int argc, char **argv)
 #endif
 				{
 					t.runs++;
+					if (getenv("BENCH_NOISEFIT_DEBUG"))
+						for (int j = 0; j < 5; j++)
+							fprintf(stderr, "%c z %.3g est %.4g lo %.4g hi %.4g %s%s",
+								"QNBKR"[j], fit.coef[j].z,
+								fit.coef[j].estimate * to_disp[j],
+								fit.coef[j].lo * to_disp[j],
+								fit.coef[j].hi * to_disp[j],
+								fit.coef[j].present ? "P" : "-",
+								j == 4 ? "\n" : " | ");
 					for (int j = 0; j < 5; j++) {
 						const struct sscope_noise_coef *c = &fit.coef[j];
 						bool in = truth[j] >= c->lo && truth[j] <= c->hi;
 
 						t.cover[j] += in;
+						if (j == 2 && isfinite(fit.readoff.b) &&
+						    truth[2] > 0) {
+							g_bread_n++;
+							g_bread_ok += fabs(fit.readoff.b / truth[2] - 1) <= 0.3;
+						}
 						t.above[j] += truth[j] > c->hi;
 						t.below[j] += truth[j] < c->lo;
 						if (truth[j] > 0)
@@ -256,6 +304,10 @@ int main(int argc, char **argv)
 		printf("# pooled %c: cover %.1f %% of %d runs (se %.1f)\n", names[j],
 		       100.0 * pool_cover[j] / pool_runs, pool_runs,
 		       100 * sqrt(nominal * (1 - nominal) / pool_runs));
+	if (truth[2] > 0)
+		printf("# B read-off printed in %d runs, within +-30 %% of the truth in %d (bread %.1f %%)\n",
+		       g_bread_n, g_bread_ok,
+		       g_bread_n ? 100.0 * g_bread_ok / g_bread_n : (double)NAN);
 	printf("# total %.1f s\n", now_s() - t_all);
 	return 0;
 }

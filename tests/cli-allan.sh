@@ -10,7 +10,7 @@ G="$SAMPLES/gyro-static.csv"
 run "allan text" 0 allan "$G"
 has "text: table header" "$T/out" 'tau \(s\) +m +terms +oadev'
 has "text: coefficients" "$T/out" 'N  angle random walk +0\.1[45][0-9]* deg/sqrt\(h\)'
-has "text: read-offs" "$T/out" 'classic read-offs where the fit says the term dominates: N = sigma\(1 s\)'
+has "text: read-offs" "$T/out" 'classic read-offs where the fit says the term dominates \(a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10\): N = sigma\(1 s\)'
 
 run "allan json" 0 allan --format json "$G"
 cp "$T/out" "$T/a.json"
@@ -209,14 +209,19 @@ run "rejected fit, JSON" 0 allan --ci 0.95 --terms N,B,K -c ax,ay,az --format js
 json_check "rejected fit, JSON warning" "$T/out" '[.channels[] | .fit.rejected and (.warnings | map(.code) | index("fit_rejected") != null)] | all'
 run "static gyro, JSON" 0 allan --format json "$G"
 json_check "static gyro: fits accepted" "$T/out" '[.channels[].fit.rejected] == [false, false, false]'
-# a term is resolved exactly when it is fitted, which needs its square
-# above 3 sd, so its interval excludes 0 and no "term_unresolved" warning
-# is due; over this 1 h record K (10 deg/h/sqrt(h)) is not resolved and
-# comes with a finite upper bound instead
-json_check "static gyro: resolved = fitted = interval excludes 0, no unresolved-term warning" "$T/out" \
-	'([.channels[] | .noise | to_entries[] | .value | select(type == "object") | (.resolved == .fitted) and ((.fitted | not) or .lo > 0)] | all) and ([.channels[] | (.warnings // []) | map(.code) | index("term_unresolved")] | all(. == null))'
+# presence is a test on nested fits, the interval that of the fit of every
+# term: a term is resolved when present with an interval clear of 0; a
+# present term whose interval reaches 0 (K on gz over this 1 h record, 10
+# deg/h/sqrt(h)) carries a "term_unresolved" warning; an absent one has no
+# value, lo 0, a bound above 0 and its reason
+json_check "static gyro: presence, resolution and the warnings agree" "$T/out" \
+	'[.channels[] | ((.warnings // []) | map(.code)) as $w | .noise | to_entries[] | .value | select(type == "object") | (.present == .fitted) and (.resolved == (.present and .lo > 0)) and (if .present then (.lo <= .value and .value <= .hi and .reason == null and ((.lo > 0) or ($w | index("term_unresolved") != null))) else (.value == null and .lo == 0 and .bound > 0 and .bound == .hi and (.reason | type) == "string") end)] | all'
 json_check "static gyro: every term has its point estimate, equal to the value when fitted" "$T/out" \
 	'[.channels[].noise[] | select(type == "object") | (.estimate >= 0) and (.si_estimate >= 0) and ((.fitted | not) or (.estimate == .value))] | all'
+json_check "static gyro: the presence test and its level are stated" "$T/out" \
+	'[.channels[].fit.selection | (.z == 3) and (.level > 0.00134 and .level < 0.00136) and (.test | test("likelihood-ratio"))] | all'
+json_check "static gyro: no read-off of an absent term, a reason instead" "$T/out" \
+	'[.channels[] | . as $c | ["N","B","K"][] as $t | $c.readoff[$t] | if .value == null then (.reason | type) == "string" else $c.noise[$t].present end] | all'
 json_check "static gyro: K bounded, not resolved, on 1 h" "$T/out" \
 	'[.channels[] | .noise.K | (.resolved | not) and .lo == 0 and .hi > 0] | all'
 done_testing

@@ -88,10 +88,19 @@ json_check "not clipped: counts 0, no warning" "$T/out" \
 # refused are listed among the checks
 head -n 200 "$SAMPLES/gyro-static.csv" >"$T/short.csv"
 run "short record: report" 0 report -o "$T/sr" "$T/short.csv"
-has "short record: terminal warning" "$T/out" '^  warning: gx: no noise term resolved: 197 samples are too few'
-json_check "short record: JSON warning" "$T/sr/report.json" \
-	'[.results.allan.channels[].warnings[].code] | index("too_few_samples") != null'
-has "short record: HTML banner" "$T/sr/report.html" '<strong>Too few samples.</strong> gx: no noise term resolved'
+# 197 samples of white rate noise measure N (the presence test keeps it,
+# its interval clear of 0) and only bound the other terms
+has "short record: N with its interval" "$T/out" '^allan/gx   angle random walk N .*fit, 68\.3 % interval'
+json_check "short record: N measured, the other terms bounded" "$T/sr/report.json" \
+	'[.results.allan.channels[].noise | .N.resolved and ([.Q, .B, .K, .R][] | (.present | not) and (.bound == null or .bound > 0))] | all'
+# a term not shown present says why, in the table and on the figure, and
+# no bound is ever 0 or negative
+has "short record: the table says why a term is only bounded" "$T/sr/report.html" \
+	'<td>not shown present: the fit without it describes the curve \(presence test not passed\)</td>'
+has "short record: the figure says 'not shown present'" "$T/sr/allan.svg" '&lt; [^<]* \(not shown present\)'
+for f in "$T/out" "$T/sr/report.txt" "$T/sr/report.html"; do
+	lacks "short record: no bound at or below 0 ($(basename "$f"))" "$f" 'below (-|0([^.0-9]|$)|0\.0*([^0-9]|$))'
+done
 has "short record: refused analysis listed" "$T/sr/report.html" '<strong>Not in the report.</strong> Random-walk fan: inferred, but refused by the data'
 lacks "short record: nothing claims all is well" "$T/sr/report.html" 'Nothing flagged'
 json_check "short record: the spectrum of the record (one segment), said" "$T/sr/report.json" \

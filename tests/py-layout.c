@@ -147,6 +147,10 @@ int main(void)
 	F(sscope_noise_coef, var_sd);
 	F(sscope_noise_coef, estimate);
 	F(sscope_noise_coef, fitted);
+	F(sscope_noise_coef, present);
+	F(sscope_noise_coef, why);
+	F(sscope_noise_coef, z);
+	F(sscope_noise_coef, square);
 	S(sscope_noise_readoff);
 	F(sscope_noise_readoff, n);
 	F(sscope_noise_readoff, n_tau_s);
@@ -175,6 +179,9 @@ int main(void)
 	F(sscope_noise_fit, aic);
 	F(sscope_noise_fit, n_plausible);
 	F(sscope_noise_fit, readoff);
+	F(sscope_noise_fit, present);
+	F(sscope_noise_fit, select_z);
+	F(sscope_noise_fit, sq_cov);
 	S(sscope_allan_result);
 	F(sscope_allan_result, n_points);
 	F(sscope_allan_result, points);

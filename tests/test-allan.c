@@ -280,23 +280,18 @@ static const struct s32alpha s32_phase_dat_oadev[] = {
 	{ 231, 1 }, { 235, 1 }, { 239, 1 }, { 243, 1 }, { 247, 1 },
 };
 
-/* TOTDEV: as OADEV to m = 146, then its own, to m = 499 */
-static const struct s32alpha s32_phase_dat_totdev[] = {
-	{ 149, 0 }, { 152, 1 }, { 155, 0 }, { 158, 0 }, { 161, 0 }, { 164, 0 },
-	{ 167, 0 }, { 170, 1 }, { 173, 1 }, { 176, 0 }, { 179, 1 }, { 182, 1 },
-	{ 185, 1 }, { 188, 0 }, { 191, 0 }, { 194, 0 }, { 197, 1 }, { 200, 0 },
-	{ 203, 1 }, { 206, 1 }, { 209, 1 }, { 212, 0 }, { 215, 0 }, { 219, 0 },
-	{ 223, 0 }, { 227, 0 }, { 231, 0 }, { 235, 0 }, { 239, 0 }, { 243, 1 },
-	{ 247, 1 }, { 251, 1 }, { 255, 1 }, { 259, 1 }, { 263, 1 }, { 267, 1 },
-	{ 271, 1 }, { 275, 1 }, { 279, 1 }, { 283, 1 }, { 287, 1 }, { 292, 1 },
-	{ 297, 1 }, { 302, 1 }, { 307, 1 }, { 312, 1 }, { 317, 1 }, { 322, 1 },
-	{ 327, 1 }, { 332, 1 }, { 337, 1 }, { 342, 1 }, { 347, 1 }, { 352, 1 },
-	{ 357, 1 }, { 363, 1 }, { 369, 1 }, { 375, 1 }, { 381, 1 }, { 387, 1 },
-	{ 393, 1 }, { 399, 1 }, { 405, 1 }, { 411, 1 }, { 417, 1 }, { 423, 1 },
-	{ 429, 1 }, { 436, 1 }, { 443, 1 }, { 450, 1 }, { 457, 1 }, { 464, 1 },
-	{ 471, 1 }, { 478, 1 }, { 485, 1 }, { 492, 1 }, { 499, 1 },
-};
-
+/*
+ * TOTDEV: allantools' all-tau table prints OADEV's alphas to m = 146 and,
+ * from m = 149 to 499, the B1 ratio of its own 6 to 2 averages (a random
+ * run of WFM and FPM on this pure WFM record).  That table has no
+ * intervals (its min and max sigma are 0); the octave table of Stable32
+ * 1.60, with intervals, has TOTDEV WFM at m = 128 and 256 where that B1
+ * ratio of 7 averages reads FPM: there TOTDEV takes the Allan variance's
+ * identification (too few averages: the last identified type carried),
+ * and so does sensorscope (stable32_octave_intervals below checks the
+ * intervals).  Here: TOTDEV's alphas are OADEV's at every m to 146 (the
+ * printed ones) and beyond.
+ */
 static void phase_dat_check(enum sscope_allan_dev dev, const double *x,
 			    const struct s32alpha *tail, size_t ntail,
 			    const struct s32alpha *head, size_t nhead)
@@ -353,9 +348,114 @@ START_TEST(stable32_noise_id)
 	phase_dat_check(SSCOPE_ALLAN_DEV_MDEV, x, s32_phase_dat_oadev, no, NULL, 0);
 	while (s32_phase_dat_oadev[head].m <= 146)
 		head++;
-	phase_dat_check(SSCOPE_ALLAN_DEV_TOTDEV, x, s32_phase_dat_totdev,
-			sizeof(s32_phase_dat_totdev) / sizeof(s32_phase_dat_totdev[0]),
-			s32_phase_dat_oadev, head);
+	phase_dat_check(SSCOPE_ALLAN_DEV_TOTDEV, x, NULL, 0, s32_phase_dat_oadev,
+			head);
+	/* beyond m = 146: TOTDEV's alpha is OADEV's at the same m */
+	{
+		size_t m[64], n = 0, np1, np2;
+		struct sscope_allan_point p1[64], p2[64];
+
+		for (size_t k = 149; k <= 499 && n < 64; k += 6)
+			m[n++] = k;
+		dev_at(SSCOPE_ALLAN_DEV_OADEV, SSCOPE_ALLAN_ANGLE, x, 1001, 1, m,
+		       n, p1, &np1, -99);
+		dev_at(SSCOPE_ALLAN_DEV_TOTDEV, SSCOPE_ALLAN_ANGLE, x, 1001, 1, m,
+		       n, p2, &np2, -99);
+		ck_assert_uint_eq(np1, np2);
+		for (size_t k = 0; k < np1; k++)
+			ck_assert_msg(p1[k].alpha == p2[k].alpha,
+				      "m=%zu: TOTDEV alpha %d, OADEV %d", m[k],
+				      p2[k].alpha, p1[k].alpha);
+	}
+}
+END_TEST
+
+/*
+ * The intervals of every deviation at the octave m of PHASE.DAT, against
+ * Stable32 1.60 (allantools' tests/phasedat/phase_dat_*_octave.txt; 68.3 %,
+ * noise identified automatically: WFM at every m).  Stable32 prints 5
+ * digits; the EDF approximations agree to 1e-3.  A wrong noise type moves
+ * a bound by 8 to 17 % (TOTDEV at m = 128 read as FPM: EDF 48.6 instead
+ * of 11.7).
+ */
+struct s32oct {
+	enum sscope_allan_dev dev;
+	unsigned short m;
+	double lo, hi;
+};
+
+static const struct s32oct s32_octave[] = {
+	{ SSCOPE_ALLAN_DEV_ADEV, 1, 2.8515e-01, 2.9987e-01 },
+	{ SSCOPE_ALLAN_DEV_ADEV, 8, 1.0254e-01, 1.1971e-01 },
+	{ SSCOPE_ALLAN_DEV_ADEV, 64, 2.7109e-02, 4.3537e-02 },
+	{ SSCOPE_ALLAN_DEV_ADEV, 128, 2.6481e-02, 5.5744e-02 },
+	{ SSCOPE_ALLAN_DEV_OADEV, 2, 1.9520e-01, 2.0738e-01 },
+	{ SSCOPE_ALLAN_DEV_OADEV, 16, 5.7696e-02, 6.7217e-02 },
+	{ SSCOPE_ALLAN_DEV_OADEV, 64, 3.1755e-02, 4.3377e-02 },
+	{ SSCOPE_ALLAN_DEV_OADEV, 128, 2.3045e-02, 3.7027e-02 },
+	{ SSCOPE_ALLAN_DEV_MDEV, 4, 1.0322e-01, 1.1304e-01 },
+	{ SSCOPE_ALLAN_DEV_MDEV, 32, 3.0466e-02, 3.9933e-02 },
+	{ SSCOPE_ALLAN_DEV_MDEV, 128, 1.4874e-02, 2.8584e-02 },
+	{ SSCOPE_ALLAN_DEV_TDEV, 8, 3.2258e-01, 3.6710e-01 },
+	{ SSCOPE_ALLAN_DEV_TDEV, 128, 1.0992e+00, 2.1124e+00 },
+	{ SSCOPE_ALLAN_DEV_HDEV, 2, 1.9887e-01, 2.1659e-01 },
+	{ SSCOPE_ALLAN_DEV_HDEV, 64, 2.4870e-02, 4.3652e-02 },
+	{ SSCOPE_ALLAN_DEV_HDEV, 128, 2.8841e-02, 7.3807e-02 },
+	{ SSCOPE_ALLAN_DEV_OHDEV, 16, 5.6173e-02, 6.6369e-02 },
+	{ SSCOPE_ALLAN_DEV_OHDEV, 128, 2.3761e-02, 4.1367e-02 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 1, 2.8707e-01, 2.9768e-01 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 2, 1.9592e-01, 2.0625e-01 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 4, 1.3947e-01, 1.4998e-01 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 8, 1.0039e-01, 1.1126e-01 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 16, 5.7732e-02, 6.6839e-02 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 32, 4.4255e-02, 5.4484e-02 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 64, 3.1639e-02, 4.2546e-02 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 128, 2.6406e-02, 4.0383e-02 },
+	{ SSCOPE_ALLAN_DEV_TOTDEV, 256, 1.0734e-02, 1.9924e-02 },
+};
+
+START_TEST(stable32_octave_intervals)
+{
+	static const size_t oct[9] = { 1, 2, 4, 8, 16, 32, 64, 128, 256 };
+	double y[1000], x[1001], mean = 0;
+	const size_t nr = sizeof(s32_octave) / sizeof(s32_octave[0]);
+	size_t found = 0;
+
+	nbs1000(y);
+	for (int i = 0; i < 1000; i++)
+		mean += y[i] / 1000;
+	x[0] = 0;
+	for (int i = 0; i < 1000; i++)
+		x[i + 1] = x[i] + (y[i] - mean);
+	for (int d = 0; d < SSCOPE_ALLAN_DEV_COUNT_; d++) {
+		struct sscope_allan_point pt[9];
+		size_t np, n = d == SSCOPE_ALLAN_DEV_TOTDEV ? 9 : 8;
+
+		/* the whole octave grid, so that carried types are carried
+		 * from the same taus as in Stable32's run */
+		dev_at((enum sscope_allan_dev)d, SSCOPE_ALLAN_ANGLE, x, 1001, 1,
+		       oct, n, pt, &np, -99);
+		for (size_t r = 0; r < nr; r++) {
+			if ((int)s32_octave[r].dev != d)
+				continue;
+			for (size_t k = 0; k < np; k++) {
+				if (pt[k].m != s32_octave[r].m)
+					continue;
+				found++;
+				ck_assert_msg(pt[k].alpha == 0,
+					      "%s m=%zu: alpha %d, Stable32 0 (WFM)",
+					      sscope_allan_dev_name((enum sscope_allan_dev)d),
+					      pt[k].m, pt[k].alpha);
+				ck_assert_msg(fabs(pt[k].dev_lo / s32_octave[r].lo - 1) < 1e-3 &&
+						      fabs(pt[k].dev_hi / s32_octave[r].hi - 1) < 1e-3,
+					      "%s m=%zu: [%.5g, %.5g], Stable32 [%.5g, %.5g]",
+					      sscope_allan_dev_name((enum sscope_allan_dev)d),
+					      pt[k].m, pt[k].dev_lo, pt[k].dev_hi,
+					      s32_octave[r].lo, s32_octave[r].hi);
+			}
+		}
+	}
+	ck_assert_uint_eq(found, nr);
 }
 END_TEST
 
@@ -1632,6 +1732,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, nbs14_1000point);
 	tcase_add_test(t, stable32_bounds);
 	tcase_add_test(t, stable32_noise_id);
+	tcase_add_test(t, stable32_octave_intervals);
 	tcase_add_test(t, edf_properties);
 	tcase_add_test(t, grids);
 	tcase_add_test(t, ramp_exact);

@@ -420,6 +420,64 @@ START_TEST(test_walk_fan)
 }
 END_TEST
 
+/*
+ * The envelope from the fit's signed squares (have_sq): the predicted
+ * variance is linear in the squares, so squares equal to coef^2 give the
+ * same numbers as coef (to rounding), a negative square lowers the
+ * others' part by exactly its share, and var_other_sd is the sd of that
+ * part from the squares' covariance (here K's variance alone:
+ * unit_K(t) sd(K^2), unit_K(t) = K^2 (t^3 + t^2 T) / 3 per unit K^2).
+ */
+START_TEST(test_walk_signed_squares)
+{
+	const double fs = 10, N = 0.15 * D2R / 60, B = 2 * D2R / 3600,
+		     K = 10 * D2R / 3600 / 60;
+	const size_t n = 36000;
+	double *x = white(n, fs, N, B, K, 19105);
+	struct sscope_walk_opts o = { 0 };
+	struct sscope_walk_result *r = NULL, *rs = NULL;
+	struct sscope_diag d = { "" };
+
+	o.rate_hz = fs;
+	o.run_s = 60;
+	o.bias_s = 60;
+	o.coef[SSCOPE_TERM_N] = N;
+	o.coef[SSCOPE_TERM_B] = B;
+	o.coef[SSCOPE_TERM_K] = K;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &r, NULL), 0);
+	o.have_sq = true;
+	for (int j = 0; j < 5; j++)
+		o.sq[j] = o.coef[j] * o.coef[j];
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &rs, NULL), 0);
+	for (size_t k = 1; k < r->n_points; k++) {
+		ck_assert_rel(rs->sigma[k], r->sigma[k], 1e-12);
+		ck_assert_rel(rs->var_other[k], r->var_other[k], 1e-12);
+		ck_assert(rs->var_other_sd[k] == 0 && r->var_other_sd[k] == 0);
+	}
+	sscope_walk_result_free(rs);
+	/* B^2 estimated below zero; K^2 with an sd of half its value */
+	o.sq[SSCOPE_TERM_B] = -0.25 * B * B;
+	o.sq_cov[SSCOPE_TERM_K * 5 + SSCOPE_TERM_K] = 0.25 * K * K * K * K;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &rs, NULL), 0);
+	for (size_t k = 1; k < r->n_points; k += 50) {
+		double t = (double)k / fs, T = 60;
+		double eb[5] = { 0, 0, 1, 0, 0 };
+		double uk = (t * t * t + t * t * T) / 3;
+		double ub = sscope_heading_drift_var(eb, t, T);
+
+		ck_assert_rel(rs->var_other[k], r->var_other[k] - 1.25 * B * B * ub,
+			      1e-9);
+		ck_assert_rel(rs->var_other_sd[k], uk * 0.5 * K * K, 1e-9);
+	}
+	sscope_walk_result_free(rs);
+	o.sq[SSCOPE_TERM_K] = NAN;
+	ck_assert_int_eq(sscope_walk_compute(x, 1, n, &o, &rs, &d), -EINVAL);
+	ck_assert_ptr_null(rs);
+	sscope_walk_result_free(r);
+	free(x);
+}
+END_TEST
+
 START_TEST(test_walk_all_terms)
 {
 	/* N, B and K together over 20 h at 5 Hz: the envelope with the B
@@ -564,6 +622,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_static_reference);
 	tcase_add_test(tc, test_walk_fan);
 	tcase_add_test(tc, test_walk_all_terms);
+	tcase_add_test(tc, test_walk_signed_squares);
 	tcase_add_test(tc, test_walk_refused);
 	tcase_add_test(tc, test_walk_still_ratio);
 	suite_add_tcase(s, tc);

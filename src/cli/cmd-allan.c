@@ -61,7 +61,7 @@ static const struct ssc_option allan_opts[] = {
 	{ "noise-type", required_argument, OPT_NOISE_TYPE, "TYPE",
 	  "noise for the EDF: auto (default: lag-1 autocorrelation per tau), wpm, fpm, wfm, ffm, rwfm" },
 	{ "terms", required_argument, OPT_TERMS, "auto|LIST",
-	  "terms the fit may use, e.g. N,B,K (default Q,N,B,K,R; those above 3 sd are reported as resolved)" },
+	  "terms the fit may use, e.g. N,B,K (default Q,N,B,K,R; those the presence test finds are reported with an interval)" },
 	{ "fit-tau", required_argument, OPT_FIT_TAU, "MIN:MAX",
 	  "fit only taus in [MIN, MAX] seconds (either may be empty)" },
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
@@ -84,8 +84,10 @@ static const struct ssc_command_spec spec = {
 		"intervals (Greenhall-Riley EDF, as Stable32), and the five IEEE 952 noise\n"
 		"terms -- quantization Q, angle/velocity random walk N, bias instability B,\n"
 		"rate random walk K, rate ramp R -- fitted to the overlapping Allan\n"
-		"variance by weighted least squares with automatic term selection, each\n"
-		"with an interval; the classic slope read-offs are shown beside the fit.",
+		"variance by weighted least squares; which terms are present is decided\n"
+		"by likelihood-ratio tests of nested fits (one-sided, 0.135 %), each present\n"
+		"term with its interval, each other with an upper bound and the reason; the\n"
+		"classic slope read-offs are shown where the term dominates and EDF >= 10.",
 	.options = allan_opts,
 	.analysis = true,
 	.notes = "Examples:\n"
@@ -393,6 +395,39 @@ static bool fit_rejected(const struct sscope_noise_fit *ft)
 static bool term_resolved(const struct sscope_noise_coef *cf)
 {
 	return sscope_noise_coef_resolved(cf);
+}
+
+/* why a term is not reported present, in words (NULL when present) */
+static const char *absent_reason(const struct sscope_noise_coef *cf)
+{
+	switch (cf->why) {
+	case SSCOPE_NOISE_PRESENT:
+		return NULL;
+	case SSCOPE_NOISE_NOT_ALLOWED:
+		return "not among the terms allowed (--terms)";
+	case SSCOPE_NOISE_NOT_SEPARABLE:
+		return "the test keeps it, but with every term free it trades off with the others: not separable on this record";
+	default:
+		return "the fit without it describes the curve (presence test not passed)";
+	}
+}
+
+/* why a read-off is not given */
+static const char *readoff_absent(const struct sscope_noise_fit *ft, int t)
+{
+	if (!ft->coef[t].present)
+		return "none (the term is not present)";
+	return "none (it is not surely 3/4 of the model at any tau with EDF >= 10)";
+}
+
+/* the presence test, in words, with its level */
+static const char *select_words(const struct sscope_noise_fit *ft, char *buf,
+				size_t len)
+{
+	snprintf(buf, len,
+		 "present by stepwise likelihood-ratio tests of nested generalised-least-squares fits, one-sided at %.3g %% (%.3g sd of the estimate without the term, raised for the skew of the long-tau points)",
+		 100 * 0.5 * erfc(ft->select_z / sqrt(2.0)), ft->select_z);
+	return buf;
 }
 
 /* value (SI) in unit; NaN stays NaN */
@@ -721,7 +756,7 @@ static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c
 			continue;
 		w[n].code = "term_unresolved";
 		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: %c not resolved: its %s %% interval [0, %s] %s reaches zero; the record bounds it, it does not measure it",
+			 "%s: %c present, but its %s %% interval [0, %s] %s reaches zero: the record shows it, it does not measure it",
 			 c->col->name, "QNBKR"[t],
 			 ssc_fmt(b1, sizeof(b1), 100 * ft->ci_level, 3),
 			 ssc_fmt(b2, sizeof(b2), in_unit(cf->hi, u->term_si[t], u->term[t]), 3),
@@ -734,7 +769,7 @@ static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c
 	    !term_resolved(&ft->coef[3]) && !term_resolved(&ft->coef[4])) {
 		w[n].code = "too_few_samples";
 		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: no noise term resolved: %zu samples are too few to measure any; the record only bounds them",
+			 "%s: no noise term present with an interval clear of zero: %zu samples are too few to measure any; the record only bounds them",
 			 c->col->name, c->n);
 		n++;
 	}
@@ -797,7 +832,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 	}
 	{
 		const struct sscope_noise_fit *ft = &r->fit;
-		char sel[16] = "";
+		char sel[16] = "", selw[320];
 		size_t k = 0;
 
 		for (int t = 0; t < 5; t++)
@@ -807,8 +842,9 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV, resolved above 3 sd: %s; %s%% intervals; chi2 %s for %s dof, p = %s):\n",
-			sel, ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, p = %s):\n",
+			select_words(ft, selw, sizeof(selw)), k ? sel : "none",
+			ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
 			ssc_fmt(b4, sizeof(b4), ft->p_value, 2));
@@ -827,18 +863,23 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), dg),
 					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su,
 					term_mark(c, t));
-			else if (isfinite(cf->hi))
-				fprintf(f, "    %c  %-22s %11s %-16s (not resolved: below %s)%s\n",
+			else if (cf->why == SSCOPE_NOISE_NOT_ALLOWED)
+				fprintf(f, "    %c  %-22s %11s %-16s (not fitted: %s)\n",
+					"QNBKR"[t], term_label(u->rq, t), "-", cu,
+					absent_reason(cf));
+			else if (isfinite(cf->hi) && cf->hi > 0)
+				fprintf(f, "    %c  %-22s %11s %-16s (not shown present: below %s; %s)%s\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
 					ssc_fmt(b1, sizeof(b1), in_unit(cf->hi, su, cu), 3),
-					term_mark(c, t));
+					absent_reason(cf), term_mark(c, t));
 			else
-				fprintf(f, "    %c  %-22s %11s %-16s (not fitted)\n",
-					"QNBKR"[t], term_label(u->rq, t), "-", cu);
+				fprintf(f, "    %c  %-22s %11s %-16s (not shown present, and this record gives it no finite bound; %s)\n",
+					"QNBKR"[t], term_label(u->rq, t), "-", cu,
+					absent_reason(cf));
 		}
 		/* the classic read-offs, where the fitted model says each term
 		 * dominates (or that it dominates nowhere) */
-		fprintf(f, "  classic read-offs%s where the fit says the term dominates:",
+		fprintf(f, "  classic read-offs%s where the fit says the term dominates (a present term, at least 3/4 of the fitted model with the others at their upper bounds, EDF >= 10):",
 			c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID ?
 			" (NOT VALID: see adequacy)" : "");
 		if (isfinite(ft->readoff.n))
@@ -847,20 +888,21 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 				ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
 				u->term[1]);
 		else
-			fprintf(f, " N: no tau where N dominates;");
+			fprintf(f, " N: %s;", readoff_absent(ft, 1));
 		if (isfinite(ft->readoff.b))
-			fprintf(f, " B = min/0.6643: %s %s at tau = %s s;",
+			fprintf(f, " B = sigma/0.6643 at the bottom, tau = %s s: %s %s;",
+				ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
 				ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
-				u->term[2], ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4));
+				u->term[2]);
 		else
-			fprintf(f, " B: the minimum is not dominated by B;");
+			fprintf(f, " B: %s;", readoff_absent(ft, 2));
 		if (isfinite(ft->readoff.k))
 			fprintf(f, " K = sigma(3 s) on the +1/2 line through tau = %s s: %s %s\n",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.k_tau_s, 4),
 				ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
 				u->term[3]);
 		else
-			fprintf(f, " K: no tau where K dominates\n");
+			fprintf(f, " K: %s\n", readoff_absent(ft, 3));
 	}
 	{
 		struct warn w[7];
@@ -1040,6 +1082,15 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 
 			json_object_set_new(jc, "resolved",
 					    json_boolean(term_resolved(cf)));
+			json_object_set_new(jc, "present", json_boolean(cf->present));
+			json_object_set_new(jc, "reason", cf->present ? json_null() :
+					    json_string(absent_reason(cf)));
+			json_object_set_new(jc, "test_z", ssc_jreal(cf->z));
+			if (!cf->present && cf->why != SSCOPE_NOISE_NOT_ALLOWED)
+				json_object_set_new(jc, "bound",
+						    isfinite(cf->hi) && cf->hi > 0 ?
+						    ssc_jreal(in_unit(cf->hi, u->term_si[t], u->term[t])) :
+						    json_null());
 			/* the unconstrained point estimate, resolved or not:
 			 * what a prediction (walk, navsim, heading) uses */
 			{
@@ -1068,7 +1119,16 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		if (r->have_fit) {
 			json_object_set_new(fit, "terms", terms);
 			json_object_set_new(fit, "method",
-					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); a term is resolved when its square exceeds 3 sd; intervals and 'below' bounds are Neyman intervals from a parametric bootstrap of the fit under the fitted model (1000 replicates), one-sided for a value the record cannot resolve, central for one it resolves"));
+					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); which terms are present is decided by stepwise likelihood-ratio tests of nested generalised-least-squares fits (see selection); intervals and 'below' bounds are Neyman intervals from a parametric bootstrap of the fit of every allowed term under the fitted model (1000 replicates), one-sided for a value the test would seldom detect, central for one it detects"));
+			{
+				json_t *sj = json_object();
+				char sw[320];
+
+				json_object_set_new(sj, "test", json_string(select_words(ft, sw, sizeof(sw))));
+				json_object_set_new(sj, "level", json_real(0.5 * erfc(ft->select_z / sqrt(2.0))));
+				json_object_set_new(sj, "z", json_real(ft->select_z));
+				json_object_set_new(fit, "selection", sj);
+			}
 			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
 			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
@@ -1094,6 +1154,13 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
 			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
 			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
+			json_object_set_new(ro, "rule", json_string("a present term only, at a tau where it is at least 3/4 of the fitted model (its square at its lower bound, the others at their upper bounds) and the EDF is at least 10 (null otherwise)"));
+			if (!isfinite(ft->readoff.n))
+				json_object_set_new(json_object_get(ro, "N"), "reason", json_string(readoff_absent(ft, 1)));
+			if (!isfinite(ft->readoff.b))
+				json_object_set_new(json_object_get(ro, "B"), "reason", json_string(readoff_absent(ft, 2)));
+			if (!isfinite(ft->readoff.k))
+				json_object_set_new(json_object_get(ro, "K"), "reason", json_string(readoff_absent(ft, 3)));
 			json_object_set_new(o, "readoff", ro);
 		}
 		{
@@ -1444,8 +1511,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 				my[nm++] = gy[NG - 1];
 				ssc_ax_line(ax, mx, my, nm, &bst, buf);
 			}
-			NOTE("%s%c < %s %s (not resolved)", nl ? "\n" : "",
-			     "QNBKR"[t], v1, cu);
+			NOTE("%s%c < %s %s (%s)", nl ? "\n" : "",
+			     "QNBKR"[t], v1, cu, cf->present ?
+			     "present, interval reaches 0" : "not shown present");
 		}
 		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p = %s", nl ? "\n" : "",
 		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
@@ -1580,7 +1648,7 @@ static void summarize(json_t *summary, const struct args *a,
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
 			snprintf(nt, sizeof(nt), "%s%s%s%s%s", note,
 				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
-				 term_resolved(cf) ? "" : "; not resolved: the interval reaches 0",
+				 term_resolved(cf) ? "" : "; present, but the interval reaches 0",
 				 fd ? "; DOUBTFUL: " : "", fd ? fd->message : "");
 			ssc_summary_add(summary, c->col->name, what,
 					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),

@@ -165,6 +165,10 @@ struct chan {
 	struct sscope_walk_implied im[N_TABLE];
 	size_t idx[N_TABLE], n_idx;
 	double run_s;
+	/* allan on the record: the signed squares of the terms and their
+	 * covariance (the envelope and the implied N take them) */
+	bool have_sq;
+	double sq[5], sq_cov[25];
 };
 
 static const char *angle_unit(enum sscope_quantity q)
@@ -210,7 +214,7 @@ static int option_terms(const char *cmd, const struct opts *o, enum sscope_quant
 static int allan_terms(const struct ssc_stage_env *env, const double *x,
 		       size_t n, double fs, enum sscope_quantity q, double ci,
 		       struct sscope_noise_plan *plan, struct ssc_nav_terms *t,
-		       struct ssc_nav_terms *est)
+		       struct ssc_nav_terms *est, struct chan *ch)
 {
 	const char *cmd = env->co->cmd;
 	const struct sscope_allan_result *done = NULL;
@@ -247,7 +251,7 @@ static int allan_terms(const struct ssc_stage_env *env, const double *x,
 				t->have = true;
 			}
 			/* N, B, K as estimated; Q and the deterministic
-			 * ramp R only when resolved */
+			 * ramp R only when present */
 			if ((i == SSCOPE_TERM_N || i == SSCOPE_TERM_B ||
 			     i == SSCOPE_TERM_K) ? c->estimate > 0 :
 						   c->fitted && c->value > 0) {
@@ -257,6 +261,18 @@ static int allan_terms(const struct ssc_stage_env *env, const double *x,
 						       c->value;
 				est->have = true;
 			}
+		}
+		/* the signed squares (an estimate^2 floored at 0 is biased
+		 * up: the envelope too wide, the implied N too low) and their
+		 * covariance, for the same terms */
+		ch->have_sq = est->have;
+		for (int i = 0; i < 5; i++) {
+			bool use = est->coef[i] > 0 || i == SSCOPE_TERM_N ||
+				   i == SSCOPE_TERM_B || i == SSCOPE_TERM_K;
+
+			ch->sq[i] = use ? done->fit.coef[i].square : 0;
+			for (int j = 0; j < 5; j++)
+				ch->sq_cov[i * 5 + j] = use ? done->fit.sq_cov[i][j] : 0;
 		}
 		t->n_lo = est->n_lo = done->fit.coef[SSCOPE_TERM_N].lo;
 		t->n_hi = est->n_hi = done->fit.coef[SSCOPE_TERM_N].hi;
@@ -298,16 +314,17 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		c->terms = c->allan;
 	} else {
 		rc = allan_terms(env, ch->data, cap->n, c->fs, q, o->ci, plan,
-				 &c->allan, &c->terms);
+				 &c->allan, &c->terms, c);
 		if (rc)
 			return rc;
-		c->terms_from = "allan on this record: N, B, K estimated, resolved or not";
+		c->terms_from = "allan on this record: N, B, K estimated (signed squares, with their covariance), present or not";
 	}
 	if (o->set_terms) {
 		rc = option_terms(cmd, o, q, &c->terms);
 		if (rc)
 			return rc;
 		c->terms_from = "options";
+		c->have_sq = false;
 	} else if (!n_given && (o->sensor || env->sensor)) {
 		struct sscope_sensor_spec sp;
 
@@ -321,6 +338,7 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		if (sp.quantity == q) {
 			ssc_nav_terms_from_spec(&sp, &c->terms);
 			c->terms_from = "sensor spec";
+			c->have_sq = false;
 		}
 	}
 	if (!(c->terms.coef[0] > 0 || c->terms.coef[1] > 0 || c->terms.coef[2] > 0 ||
@@ -349,6 +367,11 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	/* the figure draws the first o->paths runs */
 	wo.keep_paths = o->paths ? o->paths : 1;
 	memcpy(wo.coef, c->terms.coef, sizeof(wo.coef));
+	if (c->have_sq) {
+		wo.have_sq = true;
+		memcpy(wo.sq, c->sq, sizeof(wo.sq));
+		memcpy(wo.sq_cov, c->sq_cov, sizeof(wo.sq_cov));
+	}
 	rc = sscope_walk_compute(ch->data, 1, cap->n, &wo, &c->w, &d);
 	if (rc)
 		return ssc_nav_fail(cmd, rc, &d, path);

@@ -253,17 +253,24 @@ static void allan_tables(struct ssc_html *h, const json_t *res)
 			double hi = jnum(cf, "hi");
 			char v[32], iv[80], si[32], un[96];
 			const char *status, *cells[7], *cls[7] = { NULL };
+			char why[320];
 
 			if (!cf)
 				continue;
 			if (fitted && resolved)
 				status = rejected ? "fitted, model rejected" : "resolved";
 			else if (fitted)
-				status = "not resolved: interval reaches 0";
-			else if (isfinite(hi))
-				status = "upper bound";
-			else
-				status = "not fitted";
+				status = "present, but the interval reaches 0";
+			else {
+				/* why the term is only bounded (or not fitted), in
+				 * the JSON's words */
+				const char *r = jstr(cf, "reason");
+
+				snprintf(why, sizeof(why), "%s%s%s",
+					 isfinite(hi) ? "not shown present" : "not fitted",
+					 *r ? ": " : "", r);
+				status = why;
+			}
 			if (fitted) {
 				num(v, sizeof(v), jnum(cf, "value"), 4);
 				interval(iv, sizeof(iv), jnum(cf, "lo"), hi);

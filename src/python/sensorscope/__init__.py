@@ -312,16 +312,23 @@ _NOISE = {2: "WPM", 1: "FPM", 0: "WFM", -1: "FFM", -2: "RWFM", -3: "FWHM",
           -4: "RWHM"}
 
 
+_WHY = {0: None, 1: "not among the terms allowed",
+        2: "the fit without it describes the curve (presence test not passed)",
+        3: "not separable from the other terms on this record"}
+
+
 class Coef:
-    """One IEEE 952 coefficient in SI: value (NaN when not fitted), lo, hi
-    (hi is an upper limit when not fitted), fitted, si_unit; .to(unit)
-    converts."""
+    """One IEEE 952 coefficient in SI: value (NaN when not present), lo, hi
+    (hi is an upper limit when not present), present (the same as fitted),
+    reason (None when present), si_unit; .to(unit) converts."""
 
     def __init__(self, c, si_unit):
         self.value = c.value
         self.lo = c.lo
         self.hi = c.hi
         self.fitted = bool(c.fitted)
+        self.present = bool(c.present)
+        self.reason = _WHY.get(c.why, "not present")
         self.si_unit = si_unit
 
     def to(self, unit):
@@ -343,7 +350,10 @@ class Coef:
         if self.fitted:
             return "%.6g [%.4g, %.4g] %s" % (self.value, self.lo, self.hi,
                                              self.si_unit)
-        return "not fitted (below %.4g %s)" % (self.hi, self.si_unit)
+        if math.isfinite(self.hi) and self.hi > 0:
+            return "not shown present (below %.4g %s: %s)" % (
+                self.hi, self.si_unit, self.reason)
+        return "not shown present (%s)" % self.reason
 
 
 class AllanResult:

@@ -137,7 +137,8 @@ class AllanPoint(C.Structure):
 class NoiseCoef(C.Structure):
     _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
                 ("var_sd", c_dbl), ("estimate", c_dbl),
-                ("fitted", C.c_bool)]
+                ("fitted", C.c_bool), ("present", C.c_bool),
+                ("why", C.c_int), ("z", c_dbl), ("square", c_dbl)]
 
 
 class NoiseReadoff(C.Structure):
@@ -157,7 +158,9 @@ class NoiseFit(C.Structure):
     _fields_ = [("coef", NoiseCoef * 5), ("terms", C.c_uint),
                 ("ci_level", c_dbl), ("n_points", c_size), ("chi2", c_dbl),
                 ("dof", c_dbl), ("p_value", c_dbl), ("aic", c_dbl),
-                ("n_plausible", c_size), ("readoff", NoiseReadoff)]
+                ("n_plausible", c_size), ("readoff", NoiseReadoff),
+                ("present", C.c_uint), ("select_z", c_dbl),
+                ("sq_cov", c_dbl * 25)]
 
 
 class AllanResult(C.Structure):
