@@ -6,8 +6,9 @@
  * Two tiers.  `make check` runs every test case except those tagged
  * "long" (statistical coverage over many records, exhaustive sweeps: more
  * than a few seconds of CPU each); `make check-long` (SSCOPE_TEST_TIER=long
- * in the environment) runs only those.  CI runs both.  Tag a test case
- * with long_tcase() below.
+ * in the environment) runs only those; SSCOPE_TEST_TIER=all runs both (CI
+ * runs the release tarball's tests so).  Tag a test case with long_tcase()
+ * below.
  */
 #ifndef SSCOPE_CHECK_MAIN_H
 #define SSCOPE_CHECK_MAIN_H
@@ -52,10 +53,11 @@ int main(void)
 	SRunner *sr = srunner_create(make_suite());
 	const char *tier = getenv("SSCOPE_TEST_TIER");
 	int is_long = tier && !strcmp(tier, "long");
+	int is_all = tier && !strcmp(tier, "all");
 
 	srunner_set_tap(sr, "-");
 	srunner_run_tagged(sr, NULL, NULL, is_long ? "long" : NULL,
-			   is_long ? NULL : "long", CK_SILENT);
+			   is_long || is_all ? NULL : "long", CK_SILENT);
 	srunner_free(sr);
 	return 0; /* failures are reported in TAP */
 }
