@@ -25,6 +25,7 @@
  *     written directly and never renamed, truncated or synced.
  */
 #include "acq.h"
+#include "atomic.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -84,68 +85,6 @@ static ssize_t mem_write(void *cookie, const char *p, size_t n)
 	return (ssize_t)n;
 }
 
-/* "-", /dev/stdout, /dev/stderr, /dev/fd/N: the descriptor, or -1 */
-static int named_fd(const char *path)
-{
-	const char *n = NULL;
-	char *end;
-	long v;
-
-	if (!strcmp(path, "-") || !strcmp(path, "/dev/stdout"))
-		return STDOUT_FILENO;
-	if (!strcmp(path, "/dev/stderr"))
-		return STDERR_FILENO;
-	if (!strncmp(path, "/dev/fd/", 8))
-		n = path + 8;
-	else if (!strncmp(path, "/proc/self/fd/", 14))
-		n = path + 14;
-	if (!n || *n < '0' || *n > '9')
-		return -1;
-	errno = 0;
-	v = strtol(n, &end, 10);
-	if (*end || errno || v > INT_MAX)
-		return -1;
-	return (int)v;
-}
-
-/* The file a chain of symbolic links ends at (it may not exist yet):
- * malloc'ed, NULL with errno set. */
-static char *resolve_links(const char *path)
-{
-	char *cur = strdup(path);
-
-	for (int hops = 0; cur; hops++) {
-		char buf[PATH_MAX], *next;
-		struct stat st;
-		ssize_t n;
-		size_t dl;
-
-		if (lstat(cur, &st) != 0)
-			return errno == ENOENT ? cur : (free(cur), NULL);
-		if (!S_ISLNK(st.st_mode))
-			return cur;
-		if (hops >= 40) {
-			errno = ELOOP;
-			break;
-		}
-		n = readlink(cur, buf, sizeof(buf) - 1);
-		if (n < 0)
-			break;
-		buf[n] = '\0';
-		dl = buf[0] != '/' && strrchr(cur, '/')
-			     ? (size_t)(strrchr(cur, '/') - cur) + 1 : 0;
-		next = malloc(dl + (size_t)n + 1);
-		if (!next)
-			break;
-		memcpy(next, cur, dl);
-		memcpy(next + dl, buf, (size_t)n + 1);
-		free(cur);
-		cur = next;
-	}
-	free(cur);
-	return NULL;
-}
-
 /* fsync the folder holding path (its entries survive a power cut) */
 static void sync_dir(const char *path)
 {
@@ -186,7 +125,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 		     struct sscope_diag *diag)
 {
 	struct stat st;
-	int fd = named_fd(path);
+	int fd = ssc_named_fd(path);
 
 	if (fd >= 0) {
 		rf->fd = fd;
@@ -197,7 +136,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 	rf->shown = strdup(path);
 	if (!rf->shown)
 		return -ENOMEM;
-	rf->target = resolve_links(path);
+	rf->target = ssc_resolve_links(path);
 	if (!rf->target) {
 		int e = errno ? errno : ENOMEM;
 

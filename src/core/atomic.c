@@ -76,7 +76,7 @@ static int make_stream(struct ssc_atomic *a)
 }
 
 /* "-", /dev/stdout, /dev/stderr, /dev/fd/N: the descriptor, or -1. */
-static int named_fd(const char *path)
+int ssc_named_fd(const char *path)
 {
 	const char *n = NULL;
 	char *end;
@@ -101,7 +101,7 @@ static int named_fd(const char *path)
 
 /* The file a chain of symbolic links ends at (it may not exist).  Returns
  * a malloc'ed path, NULL with errno set. */
-static char *resolve_links(const char *path)
+char *ssc_resolve_links(const char *path)
 {
 	char *cur = strdup(path);
 
@@ -220,7 +220,7 @@ int ssc_atomic_open(struct ssc_atomic *a, const char *path)
 	a->fd = -1;
 	if (!path || !*path)
 		return -EINVAL;
-	fd = named_fd(path);
+	fd = ssc_named_fd(path);
 	if (fd >= 0) { /* an open descriptor: written as it is */
 		if (fcntl(fd, F_GETFD) < 0)
 			return -EBADF;
@@ -252,7 +252,7 @@ int ssc_atomic_open(struct ssc_atomic *a, const char *path)
 		}
 		return rc;
 	}
-	a->path = resolve_links(path);
+	a->path = ssc_resolve_links(path);
 	if (!a->path)
 		return errno ? -errno : -ENOMEM;
 	fd = create_temp(a->path, &a->tmp);

@@ -30,6 +30,13 @@ struct ssc_atomic {
 	bool discard; /* aborting: drop what is still buffered */
 };
 
+/* "-", /dev/stdout, /dev/stderr, /dev/fd/N: the descriptor, or -1. */
+int ssc_named_fd(const char *path);
+
+/* The file a chain of symbolic links ends at (it may not exist).  Returns
+ * a malloc'ed path, NULL with errno set. */
+char *ssc_resolve_links(const char *path);
+
 /* Open; returns 0 or -errno.  @p a must stay at its address until
  * commit or abort (the stream refers to it). */
 int ssc_atomic_open(struct ssc_atomic *a, const char *path);
