@@ -191,18 +191,9 @@ static int handle(int key, const char *arg, void *ctx)
 		o->count = n;
 		return 0;
 	case OPT_DURATION:
-		if (ssc_arg_quantity("acquire", "duration", arg, "s",
-				     &o->duration_s))
-			return SSC_EXIT_USAGE;
-		if (!(o->duration_s > 0))
-			return ssc_usage_error("acquire", "--duration: must be positive");
-		return 0;
+		return ssc_arg_positive("acquire", "duration", arg, "s", &o->duration_s);
 	case OPT_RATE:
-		if (ssc_arg_quantity("acquire", "rate", arg, "Hz", &o->rate_hz))
-			return SSC_EXIT_USAGE;
-		if (!(o->rate_hz > 0))
-			return ssc_usage_error("acquire", "--rate: must be positive");
-		return 0;
+		return ssc_arg_positive("acquire", "rate", arg, "Hz", &o->rate_hz);
 	case OPT_SPEED:
 		if (ssc_arg_quantity("acquire", "speed", arg, "Hz", &o->speed_hz))
 			return SSC_EXIT_USAGE;

@@ -138,11 +138,7 @@ static int r_handle(int key, const char *arg, void *ctx)
 		o->adc[o->n_adc++] = arg;
 		return 0;
 	case 'r':
-		if (ssc_arg_quantity(cmd, "rate", arg, "Hz", &o->rate))
-			return SSC_EXIT_USAGE;
-		if (!(o->rate > 0))
-			return ssc_usage_error(cmd, "--rate: must be positive");
-		return 0;
+		return ssc_arg_positive(cmd, "rate", arg, "Hz", &o->rate);
 	case O_MC:
 		if (ssc_arg_size(cmd, "monte-carlo", arg, &o->mc))
 			return SSC_EXIT_USAGE;

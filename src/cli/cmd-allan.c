@@ -929,91 +929,6 @@ static json_t *jval(double si, const char *si_unit, const char *unit)
 	return o;
 }
 
-static json_t *jterms(unsigned mask)
-{
-	json_t *a = json_array();
-
-	for (int t = 0; t < 5; t++)
-		if ((mask >> t) & 1)
-			json_array_append_new(a, json_stringn(&"QNBKR"[t], 1));
-	return a;
-}
-
-/* The adequacy object of a channel: the verdict, each test's outcome,
- * the findings and the DAVAR map (deviations in the rate unit). */
-static json_t *json_adequacy(const struct ssc_allan_chan *c)
-{
-	const struct sscope_adequacy *q = c->adq;
-	const struct sscope_adequacy_davar *d = &q->davar;
-	json_t *o = json_object(), *fs = json_array();
-	double sc = unit_scale(c->u.rate);
-
-	json_object_set_new(o, "verdict", json_string(
-		q->verdict == SSCOPE_ADEQUACY_INVALID ? "not_valid" :
-		q->verdict == SSCOPE_ADEQUACY_DOUBT ? "doubtful" :
-		q->verdict == SSCOPE_ADEQUACY_BOUND ? "bounds" : "valid"));
-	json_object_set_new(o, "still", q->still_tested ? json_boolean(q->still) :
-							  json_null());
-	json_object_set_new(o, "contrast", ssc_jreal(q->contrast));
-	json_object_set_new(o, "max_contrast", json_real(q->max_contrast));
-	json_object_set_new(o, "fit_rejected", q->have_fit ?
-				json_boolean(q->fit_rejected) : json_null());
-	json_object_set_new(o, "fit_p_value", ssc_jreal(q->fit_p_value));
-	json_object_set_new(o, "stationary", q->stationarity_tested ?
-				json_boolean(q->stationary) : json_null());
-	json_object_set_new(o, "requested", jterms(q->requested));
-	json_object_set_new(o, "established", jterms(q->established));
-	json_object_set_new(o, "doubtful", jterms(q->doubtful));
-	for (size_t i = 0; i < q->n_findings; i++) {
-		const struct sscope_adequacy_finding *f = &q->findings[i];
-		json_t *j = json_object();
-
-		json_object_set_new(j, "cause",
-				    json_string(sscope_adequacy_cause_name(f->cause)));
-		json_object_set_new(j, "severity",
-				    json_string(sscope_adequacy_severity_name(f->severity)));
-		json_object_set_new(j, "terms", jterms(f->terms));
-		json_object_set_new(j, "t_start_s", ssc_jreal(f->t_start_s));
-		json_object_set_new(j, "t_end_s", ssc_jreal(f->t_end_s));
-		json_object_set_new(j, "tau_min_s", ssc_jreal(f->tau_min_s));
-		json_object_set_new(j, "tau_max_s", ssc_jreal(f->tau_max_s));
-		json_object_set_new(j, "statistic", ssc_jreal(f->statistic));
-		json_object_set_new(j, "p_value", ssc_jreal(f->p_value));
-		json_object_set_new(j, "action_s", ssc_jreal(f->action_s));
-		json_object_set_new(j, "message", json_string(f->message));
-		json_array_append_new(fs, j);
-	}
-	json_object_set_new(o, "findings", fs);
-	if (d->n_win) {
-		json_t *dv = json_object(), *ts = json_array(), *tau = json_array();
-		json_t *dev = json_array(), *model = json_array();
-
-		json_object_set_new(dv, "deviation", json_string("oadev"));
-		json_object_set_new(dv, "unit", json_string(c->u.rate));
-		json_object_set_new(dv, "window_s", json_real(d->window_s));
-		json_object_set_new(dv, "step_s", json_real(d->step_s));
-		for (size_t i = 0; i < d->n_win; i++)
-			json_array_append_new(ts, json_real(d->t_s[i]));
-		for (size_t j = 0; j < d->n_tau; j++) {
-			json_array_append_new(tau, json_real(d->tau_s[j]));
-			json_array_append_new(model, ssc_jreal(d->model[j] / sc));
-		}
-		for (size_t i = 0; i < d->n_win; i++) {
-			json_t *row = json_array();
-
-			for (size_t j = 0; j < d->n_tau; j++)
-				json_array_append_new(row, ssc_jreal(d->dev[i * d->n_tau + j] / sc));
-			json_array_append_new(dev, row);
-		}
-		json_object_set_new(dv, "t_s", ts);
-		json_object_set_new(dv, "tau_s", tau);
-		json_object_set_new(dv, "dev", dev);
-		json_object_set_new(dv, "model", model);
-		json_object_set_new(o, "davar", dv);
-	}
-	return o;
-}
-
 /* A channel's JSON; its "points" are @p slot when given (emit_json). */
 static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			 const struct ssc_allan_chan *c, json_t *slot)
@@ -1184,7 +1099,7 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			ssc_json_warn(o, code, "%s: %s", c->col->name, f->message);
 		}
 		if (c->adq)
-			json_object_set_new(o, "adequacy", json_adequacy(c));
+			json_object_set_new(o, "adequacy", ssc_adequacy_json(c->adq, c->u.rate));
 	}
 	return o;
 }

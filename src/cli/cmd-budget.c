@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "plot.h"
+#include "navcommon.h"
 #include "results.h"
 
 #define MAX_TIMES 256
@@ -213,12 +214,7 @@ static int handler(int key, const char *arg, void *ctx)
 		p->model = SSCOPE_BUDGET_SCHULER;
 		return 0;
 	case O_SWITCH:
-		if (ssc_arg_quantity("budget", "switch-time", arg, "s",
-				     &p->switch_time_s))
-			return SSC_EXIT_USAGE;
-		if (!(p->switch_time_s > 0))
-			return ssc_usage_error("budget", "--switch-time: must be positive");
-		return 0;
+		return ssc_arg_positive("budget", "switch-time", arg, "s", &p->switch_time_s);
 	case O_ERROR: {
 		char *s = strdup(arg), *save = NULL, *tok;
 		int rc = 0;
@@ -278,12 +274,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case O_GRAVITY:
-		if (ssc_arg_quantity("budget", "gravity", arg, "m/s^2",
-				     &p->gravity_m_s2))
-			return SSC_EXIT_USAGE;
-		if (!(p->gravity_m_s2 > 0))
-			return ssc_usage_error("budget", "--gravity: must be positive");
-		return 0;
+		return ssc_arg_positive("budget", "gravity", arg, "m/s^2", &p->gravity_m_s2);
 	case O_PLOT:
 		o->plot = arg;
 		return 0;
@@ -589,12 +580,6 @@ static void take_upstream(struct opts *o, const char **from,
 	}
 }
 
-/* A number of a JSON result (NaN when absent or null). */
-static double jnum(json_t *j)
-{
-	return json_is_number(j) ? json_number_value(j) : (double)NAN;
-}
-
 /*
  * --result FILE: a saved JSON result of 'allan' (N and B of each axis) or
  * 'calib' (what remains after the calibration), read into the same
@@ -603,7 +588,7 @@ static double jnum(json_t *j)
 static int load_result(struct opts *o, const char *path, const char **from)
 {
 	json_error_t err;
-	json_t *root = json_load_file(path, 0, &err), *a;
+	json_t *root = json_load_file(path, 0, &err);
 	const char *cmd;
 	int used = 0;
 
@@ -612,45 +597,28 @@ static int load_result(struct opts *o, const char *path, const char **from)
 		return SSC_EXIT_FAIL;
 	}
 	cmd = json_string_value(json_object_get(root, "command"));
-	if (cmd && !strcmp(cmd, "allan") &&
-	    json_is_array(a = json_object_get(root, "channels"))) {
-		size_t i;
-		json_t *ch;
+	if (cmd && !strcmp(cmd, "allan")) {
+		struct ssc_nav_terms *t;
+		size_t n;
 
-		json_array_foreach(a, i, ch) {
-			json_t *nz = json_object_get(ch, "noise");
-			enum sscope_quantity q = ssc_allan_json_rate_quantity(ch);
-
-			used += take_allan_axis(o, from, q,
-						jnum(json_object_get(json_object_get(nz, "N"), "si")),
-						jnum(json_object_get(json_object_get(nz, "B"), "si")));
+		if (ssc_nav_terms_from_allan("budget", root, path, &t, &n)) {
+			json_decref(root);
+			return SSC_EXIT_FAIL;
 		}
-	} else if (cmd && !strncmp(cmd, "calib", 5) &&
-		   json_is_array(a = json_object_get(root, "triads"))) {
-		size_t i;
-		json_t *t;
+		for (size_t i = 0; i < n; i++)
+			used += take_allan_axis(o, from, t[i].quantity,
+						t[i].coef[SSCOPE_TERM_N] > 0 ?
+							t[i].coef[SSCOPE_TERM_N] : (double)NAN,
+						t[i].coef[SSCOPE_TERM_B] > 0 ?
+							t[i].coef[SSCOPE_TERM_B] : (double)NAN);
+		free(t);
+	} else if (cmd && !strncmp(cmd, "calib", 5)) {
+		struct ssc_calib_saved t[8];
+		size_t n = ssc_calib_result_triads(root, t, 8);
 
-		json_array_foreach(a, i, t) {
-			const char *kind = json_string_value(json_object_get(t, "kind"));
-			struct sscope_calib_triad c;
-
-			if (!kind)
-				continue;
-			sscope_calib_triad_identity(&c);
-			for (size_t k = 0; k < 3; k++) {
-				/* the file's units: bias in input units, scale
-				 * in output SI per input unit */
-				c.bias_sd[k] = jnum(json_array_get(json_object_get(t, "bias_sd"), k));
-				c.scale[k] = jnum(json_array_get(json_object_get(t, "scale"), k));
-				c.scale_sd[k] = jnum(json_array_get(json_object_get(t, "scale_sd"), k));
-			}
-			used += take_calib_triad(o, from,
-						 !strcmp(kind, "gyro") ? SSCOPE_QUANTITY_ANGULAR_RATE :
-									 SSCOPE_QUANTITY_ACCELERATION,
-						 &c,
-						 jnum(json_object_get(json_object_get(t, "noise_density"),
-								      "si")));
-		}
+		for (size_t i = 0; i < n; i++)
+			used += take_calib_triad(o, from, t[i].q, &t[i].c,
+						 t[i].noise_density_si);
 	} else {
 		json_decref(root);
 		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",
@@ -965,7 +933,7 @@ static void text(FILE *f, const void *opts, const void *result)
 		2 * PI / sscope_budget_schuler_rad_s(&o->p) / 60);
 	fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
 		ssc_fmt(a, sizeof(a), o->p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],
-		ssc_fmt((char[32]){ 0 }, 32, o->p.accel_bias_m_s2 / 9.80665e-6, 4), bias_from[1],
+		ssc_fmt((char[32]){ 0 }, 32, o->p.accel_bias_m_s2 / (SSCOPE_UNIT_GRAVITY_STD * 1e-6), 4), bias_from[1],
 		ssc_fmt((char[32]){ 0 }, 32, o->p.arw_rad_sqrt_s * 180 / PI * 60, 4),
 		ssc_fmt((char[32]){ 0 }, 32, o->p.vrw_m_s_sqrt_s * 60, 4));
 	if (o->p.gyro_sf * o->p.turn_rate_rad_s != 0 ||

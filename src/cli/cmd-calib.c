@@ -137,11 +137,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return ssc_usage_error("calib", "--mode: '%s' is not multipos, sixpos, rate-table or tilt",
 				       arg);
 	case O_GRAVITY:
-		if (ssc_arg_quantity("calib", "gravity", arg, "m/s^2", &o->gravity))
-			return SSC_EXIT_USAGE;
-		if (!(o->gravity > 0))
-			return ssc_usage_error("calib", "--gravity: must be positive");
-		return 0;
+		return ssc_arg_positive("calib", "gravity", arg, "m/s^2", &o->gravity);
 	case O_WINDOW:
 	case O_MIN_STATIC:
 	case O_INIT_STATIC:
@@ -309,124 +305,6 @@ static void finish_triad(struct ssc_calib_triad_out *o)
 					    o->error_model ? (const double(*)[3])o->A :
 							     NULL,
 					    o->noise_density, &o->grade_dist);
-}
-
-static json_t *jvec(const double v[3], double mul)
-{
-	json_t *a = json_array();
-
-	for (int i = 0; i < 3; i++)
-		json_array_append_new(a, ssc_jreal(v[i] * mul));
-	return a;
-}
-
-static json_t *jmat(const double m[3][3], double mul)
-{
-	json_t *a = json_array();
-
-	for (int i = 0; i < 3; i++)
-		json_array_append_new(a, jvec(m[i], mul));
-	return a;
-}
-
-static json_t *triad_json(const struct ssc_calib_triad_out *o)
-{
-	json_t *j = ssc_calfile_triad_json(&o->t);
-	const struct sscope_calib_triad *c = &o->t.c;
-	double s = ssc_calfile_unit_scale(o->t.input_unit);
-	char buf[96];
-	size_t ng;
-	const struct sscope_calib_class *gr = sscope_calib_grades(&ng);
-
-	json_object_set_new(j, "bias_unit", json_string(o->t.input_unit));
-	json_object_set_new(j, "bias_sd", jvec(c->bias_sd, 1 / s));
-	snprintf(buf, sizeof(buf), "%s per %s", o->t.output_unit,
-		 o->t.input_unit[0] ? o->t.input_unit : "count");
-	json_object_set_new(j, "scale_unit", json_string(buf));
-	json_object_set_new(j, "scale_sd", jvec(c->scale_sd, s));
-	json_object_set_new(j, "misalignment_sd", jmat(c->mis_sd, 1));
-	if (c->has_gsens) {
-		snprintf(buf, sizeof(buf), "%s per m/s^2",
-			 o->t.input_unit[0] ? o->t.input_unit : "count");
-		json_object_set_new(j, "g_sensitivity_sd", jmat(c->gsens_sd, 1 / s));
-		json_object_set_new(j, "g_sensitivity_unit", json_string(buf));
-	}
-	json_object_set_new(j, "residual_rms", ssc_jreal(c->residual_rms));
-	json_object_set_new(j, "residual_unit", json_string(o->residual_unit));
-	json_object_set_new(j, "poses", json_integer((json_int_t)c->poses));
-	json_object_set_new(j, "parameters", json_integer(c->n_params));
-	json_object_set_new(j, "iterations", json_integer(c->iterations));
-	json_object_set_new(j, "condition", ssc_jreal(c->cond));
-	if (o->n_motion) {
-		json_t *m = json_object();
-
-		json_object_set_new(m, "motions", json_integer((json_int_t)o->n_motion));
-		json_object_set_new(m, "rms", ssc_jreal(o->motion_rms * 180 / PI));
-		json_object_set_new(m, "max", ssc_jreal(o->motion_max * 180 / PI));
-		json_object_set_new(m, "rms_bias_only",
-				    ssc_jreal(o->motion_rms_bias_only * 180 / PI));
-		json_object_set_new(j, "motion_error_deg", m);
-	}
-	if (o->error_model) {
-		json_t *em = json_object(), *sf = json_array();
-		const char *si = sscope_quantity_si_unit(o->q);
-		const char *bu = sscope_term_unit(o->q, SSCOPE_TERM_B);
-		double mis[3][3];
-
-		for (int i = 0; i < 3; i++) {
-			json_array_append_new(sf, isfinite(c->scale_sd[i]) ?
-						      ssc_jreal((o->A[i][i] - 1) * 1e6) :
-						      json_null());
-			for (int j2 = 0; j2 < 3; j2++)
-				mis[i][j2] = i == j2 ? 0 : o->A[i][j2] + 0.0;
-		}
-		{
-			json_t *b = json_array();
-
-			for (int i = 0; i < 3; i++)
-				json_array_append_new(b, ssc_json_coef(c->bias[i],
-						      c->bias[i] - c->bias_sd[i],
-						      c->bias[i] + c->bias_sd[i],
-						      bu, si, true));
-			json_object_set_new(em, "bias", b);
-		}
-		json_object_set_new(em, "scale_factor_ppm", sf);
-		json_object_set_new(em, "misalignment_rad", jmat(mis, 1));
-		if (c->has_gsens) {
-			double G[3][3];
-
-			for (int i = 0; i < 3; i++)
-				for (int j2 = 0; j2 < 3; j2++)
-					G[i][j2] = c->gsens[i][j2] * 180 / PI *
-						   3600 * SSCOPE_UNIT_GRAVITY_STD;
-			json_object_set_new(em, "g_dependent_bias_deg_h_per_g",
-					    jmat(G, 1));
-		}
-		json_object_set_new(j, "error_model", em);
-	} else {
-		json_object_set_new(j, "error_model", json_null());
-	}
-	if (isfinite(o->noise_density))
-		json_object_set_new(j, "noise_density",
-				    ssc_json_coef(o->noise_density, NAN, NAN,
-						  sscope_term_unit(o->q, SSCOPE_TERM_N),
-						  sscope_term_si_unit(o->q, SSCOPE_TERM_N),
-						  false));
-	else
-		json_object_set_new(j, "noise_density", json_null());
-	if (o->grade >= 0) {
-		json_t *g = json_object();
-
-		json_object_set_new(g, "class", json_string(gr[o->grade].name));
-		json_object_set_new(g, "distance_decades", ssc_jreal(o->grade_dist));
-		json_object_set_new(g, "basis", json_string(
-			"typical technology ranges (Titterton & Weston 2004; Groves 2013), "
-			"from |bias|, scale-factor error, noise density and g-sensitivity"));
-		json_object_set_new(j, "grade", g);
-	} else {
-		json_object_set_new(j, "grade", json_null());
-	}
-	return j;
 }
 
 static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
@@ -1472,7 +1350,7 @@ static json_t *json(const void *opts, const void *result)
 	if (o->mode != M_RATE_TABLE)
 		json_object_set_new(root, "detection", detection_json(o));
 	for (int i = 0; i < r->pub.n_out; i++)
-		json_array_append_new(tr, triad_json(&r->pub.out[i]));
+		json_array_append_new(tr, ssc_calib_triad_out_json(&r->pub.out[i]));
 	json_object_set_new(root, "triads", tr);
 	if (r->have_lf)
 		json_object_set_new(root, "rate_table", rate_table_json(r));

@@ -101,13 +101,6 @@ struct opts {
 	bool set_terms, set_initial;
 };
 
-static int pos_quantity(const char *opt, const char *arg, const char *si, double *v)
-{
-	if (ssc_arg_quantity("heading", opt, arg, si, v))
-		return SSC_EXIT_USAGE;
-	return *v > 0 ? 0 : ssc_usage_error("heading", "--%s: must be positive", opt);
-}
-
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
@@ -124,15 +117,15 @@ static int handler(int key, const char *arg, void *ctx)
 		o->detect = arg;
 		return 0;
 	case O_WINDOW:
-		return pos_quantity("window", arg, "s", &o->ho.window_s);
+		return ssc_arg_positive("heading", "window", arg, "s", &o->ho.window_s);
 	case O_MIN_STOP:
-		return pos_quantity("min-stop", arg, "s", &o->ho.min_static_s);
+		return ssc_arg_positive("heading", "min-stop", arg, "s", &o->ho.min_static_s);
 	case O_THRESHOLD:
 		if (ssc_arg_double("heading", "threshold", arg, &o->ho.k))
 			return SSC_EXIT_USAGE;
 		return o->ho.k > 1 ? 0 : ssc_usage_error("heading", "--threshold: must exceed 1");
 	case O_INIT:
-		return pos_quantity("init-still", arg, "s", &o->ho.init_static_s);
+		return ssc_arg_positive("heading", "init-still", arg, "s", &o->ho.init_static_s);
 	case O_CONTRAST:
 		if (ssc_arg_double("heading", "contrast", arg, &o->ho.min_contrast))
 			return SSC_EXIT_USAGE;
@@ -171,13 +164,13 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_ARW:
 		o->set_terms = true;
-		return pos_quantity("arw", arg, "rad/sqrt(s)", &o->arw);
+		return ssc_arg_positive("heading", "arw", arg, "rad/sqrt(s)", &o->arw);
 	case O_BI:
 		o->set_terms = true;
-		return pos_quantity("bias-instability", arg, "rad/s", &o->bi);
+		return ssc_arg_positive("heading", "bias-instability", arg, "rad/s", &o->bi);
 	case O_RRW:
 		o->set_terms = true;
-		return pos_quantity("rrw", arg, "rad/s^2/sqrt(Hz)", &o->rrw);
+		return ssc_arg_positive("heading", "rrw", arg, "rad/s^2/sqrt(Hz)", &o->rrw);
 	default:
 		return ssc_usage_error("heading", "unexpected option");
 	}

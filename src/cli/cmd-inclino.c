@@ -149,11 +149,7 @@ static int cal_handler(int key, const char *arg, void *ctx)
 		o->pitch = arg;
 		return 0;
 	case O_GRAVITY:
-		if (ssc_arg_quantity("inclino", "gravity", arg, "m/s^2", &o->gravity))
-			return SSC_EXIT_USAGE;
-		if (!(o->gravity > 0))
-			return ssc_usage_error("inclino", "--gravity: must be positive");
-		return 0;
+		return ssc_arg_positive("inclino", "gravity", arg, "m/s^2", &o->gravity);
 	case O_POSETOL:
 		if (ssc_arg_double("inclino", "pose-tol", arg, &o->pose_tol) || !(o->pose_tol > 0))
 			return ssc_usage_error("inclino", "--pose-tol: a positive number of degC");
@@ -275,46 +271,6 @@ static int cap_poses(const struct ssc_common *co, const struct cal_opts_s *o,
 	}
 	*np += got;
 	return 0;
-}
-
-static json_t *jv3(const double v[3], double mul)
-{
-	json_t *a = json_array();
-
-	for (int i = 0; i < 3; i++)
-		json_array_append_new(a, ssc_jreal(v[i] * mul));
-	return a;
-}
-
-static json_t *lut_json(const struct sscope_inclino_lut *lut, bool cubic)
-{
-	json_t *l = json_object(), *nodes = json_array();
-
-	json_object_set_new(l, "gravity_m_s2", json_real(lut->gravity_m_s2));
-	json_object_set_new(l, "interpolation", json_string(cubic ? "cubic" : "linear"));
-	json_object_set_new(l, "model", json_string(
-		"raw_i = offset_i + scale_i * t_i + sum_j misalignment_ij * t_j (t: true specific force, m/s^2)"));
-	for (size_t i = 0; i < lut->n; i++) {
-		const struct sscope_inclino_params *p = &lut->p[i];
-		json_t *n = json_object(), *m = json_array(), *msd = json_array();
-
-		json_object_set_new(n, "temp_degc", json_real(lut->temp_degc[i]));
-		json_object_set_new(n, "offset_m_s2", jv3(p->offset, 1));
-		json_object_set_new(n, "offset_sd_m_s2", jv3(p->offset_sd, 1));
-		json_object_set_new(n, "scale", jv3(p->scale, 1));
-		json_object_set_new(n, "scale_sd", jv3(p->scale_sd, 1));
-		for (int a = 0; a < 3; a++) {
-			json_array_append_new(m, jv3(p->mis[a], 1));
-			json_array_append_new(msd, jv3(p->mis_sd[a], 1));
-		}
-		json_object_set_new(n, "misalignment", m);
-		json_object_set_new(n, "misalignment_sd", msd);
-		json_object_set_new(n, "residual_rms_m_s2", ssc_jreal(p->residual_rms));
-		json_object_set_new(n, "poses", json_integer((json_int_t)p->poses));
-		json_array_append_new(nodes, n);
-	}
-	json_object_set_new(l, "nodes", nodes);
-	return l;
 }
 
 struct incl_res {
@@ -548,7 +504,7 @@ static json_t *cal_json(const void *opts, const void *result)
 	for (size_t j = 0; j < R->n_files; j++)
 		json_array_append_new(f, json_string(R->paths[j]));
 	json_object_set_new(root, "files", f);
-	json_object_set_new(root, "lut", lut_json(R->lut, o->cubic));
+	json_object_set_new(root, "lut", ssc_inclino_lut_json(R->lut, o->cubic));
 	if (R->have_v) {
 		json_t *jv = json_object();
 
@@ -727,11 +683,7 @@ static int app_handler(int key, const char *arg, void *ctx)
 		o->axes = arg[0] - '0';
 		return 0;
 	case O_STILLTOL:
-		if (ssc_arg_quantity("inclino", "still-tol", arg, "m/s^2", &o->still_tol))
-			return SSC_EXIT_USAGE;
-		if (!(o->still_tol > 0))
-			return ssc_usage_error("inclino", "--still-tol: must be positive");
-		return 0;
+		return ssc_arg_positive("inclino", "still-tol", arg, "m/s^2", &o->still_tol);
 	case O_RATETOL:
 		if (ssc_arg_quantity("inclino", "rate-tol", arg, "rad/s", &o->rate_tol))
 			return SSC_EXIT_USAGE;

@@ -19,6 +19,7 @@
 #include "stage.h"
 
 #define D2R (PI / 180)
+#define UG (SSCOPE_UNIT_GRAVITY_STD * 1e-6) /* a micro-g in m/s^2 */
 
 enum {
 	O_SENSOR = 300,
@@ -557,80 +558,6 @@ static int gather(const struct ssc_stage_env *env, const struct opts *o,
 	return SSC_EXIT_OK;
 }
 
-/* A trajectory file: time plus tangent-plane position and attitude. */
-struct table {
-	struct sscope_capture *cap;
-	double *ned, *eu; /* n x 3 */
-};
-
-static int column(const char *cmd, const char *path, const struct sscope_capture *cap,
-		  const char *name, enum sscope_quantity q, bool need, const double **out)
-{
-	long k = sscope_capture_find(cap, name);
-	enum sscope_quantity have;
-
-	*out = NULL;
-	if (k < 0) {
-		if (!need)
-			return 0;
-		ssc_err(cmd, "%s: no '%s' column (a trajectory needs time, north, east and yaw)",
-			path, name);
-		return SSC_EXIT_FAIL;
-	}
-	have = cap->channels[k].col.quantity;
-	if (have != q && have != SSCOPE_QUANTITY_DIMENSIONLESS && have != SSCOPE_QUANTITY_UNKNOWN) {
-		ssc_err(cmd, "%s: column '%s' is in %s, not %s", path, name,
-			cap->channels[k].col.unit_label, sscope_quantity_si_unit(q));
-		return SSC_EXIT_FAIL;
-	}
-	*out = cap->channels[k].data;
-	return 0;
-}
-
-static int load_table(const char *cmd, const char *path, struct table *t)
-{
-	struct sscope_diag d = { "" };
-	const double *c[6];
-	static const char *const names[6] = { "north", "east", "down",
-					      "roll", "pitch", "yaw" };
-	int rc;
-
-	memset(t, 0, sizeof(*t));
-	rc = sscope_capture_load(&t->cap, path, NULL, &d);
-	if (rc)
-		return ssc_fail(cmd, rc, &d, path);
-	if (!t->cap->time_s) {
-		ssc_err(cmd, "%s: no time column (a trajectory needs 'time [s]')", path);
-		return SSC_EXIT_FAIL;
-	}
-	for (int i = 0; i < 6; i++) {
-		rc = column(cmd, path, t->cap, names[i],
-			    i < 3 ? SSCOPE_QUANTITY_LENGTH : SSCOPE_QUANTITY_ANGLE,
-			    i == 0 || i == 1 || i == 5, &c[i]);
-		if (rc)
-			return rc;
-	}
-	t->ned = calloc(t->cap->n, 3 * sizeof(double));
-	t->eu = calloc(t->cap->n, 3 * sizeof(double));
-	if (!t->ned || !t->eu) {
-		ssc_err(cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t i = 0; i < t->cap->n; i++)
-		for (int k = 0; k < 3; k++) {
-			t->ned[3 * i + k] = c[k] ? c[k][i] : 0;
-			t->eu[3 * i + k] = c[3 + k] ? c[3 + k][i] : 0;
-		}
-	return 0;
-}
-
-static void free_table(struct table *t)
-{
-	sscope_capture_free(t->cap);
-	free(t->ned);
-	free(t->eu);
-}
-
 /* ------------------------------------------------------------ output */
 
 struct result {
@@ -856,7 +783,7 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 	fprintf(f, "  accel noise: %s", buf);
 	if (in->imu.accel.bias > 0)
 		fprintf(f, "; random bias %s ug (1 sigma per run and axis)",
-			ssc_fmt(a, sizeof(a), in->imu.accel.bias / 9.80665e-6, 4));
+			ssc_fmt(a, sizeof(a), in->imu.accel.bias / UG, 4));
 	if (in->imu.accel.scale_factor_error > 0)
 		fprintf(f, "; random scale factor %s ppm",
 			ssc_fmt(a, sizeof(a), in->imu.accel.scale_factor_error * 1e6, 4));
@@ -869,7 +796,7 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 				g[0] / D2R * 3600, g[1] / D2R * 3600, g[2] / D2R * 3600);
 		if (c[0] || c[1] || c[2])
 			fprintf(f, "  fixed accel bias (x, y, z): %g, %g, %g ug\n",
-				c[0] / 9.80665e-6, c[1] / 9.80665e-6, c[2] / 9.80665e-6);
+				c[0] / UG, c[1] / UG, c[2] / UG);
 	}
 	for (int k = 0; k < 2; k++) {
 		const struct sscope_adc_spec *ad = k ? in->imu.accel_adc : in->imu.gyro_adc;
@@ -879,7 +806,7 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 				k ? "accel" : "gyro", ad->name[0] ? ad->name : "(unnamed)",
 				ad->bits,
 				ssc_fmt(a, sizeof(a), adc_lsb(ad, k ? &in->imu.accel : &in->imu.gyro) /
-						      (k ? 9.80665e-6 : D2R / 3600), 4),
+						      (k ? UG : D2R / 3600), 4),
 				k ? "ug" : "deg/h",
 				ad->mode == SSCOPE_ADC_INTEGRATE ? "integrating" : "rounding");
 	}
@@ -1048,7 +975,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	const char *cmd = env->co->cmd;
 	struct result *r = calloc(1, sizeof(*r));
 	struct opts *o;
-	struct table tb = { 0 };
+	struct ssc_nav_table tb = { 0 };
 	struct sscope_navsim_opts no = { 0 };
 	struct sscope_diag d = { "" };
 	int rc;
@@ -1078,7 +1005,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	if (ssc_progress_on(env->co))
 		no.progress = progress;
 	if (o->motion == SSCOPE_NAVSIM_TABLE) {
-		rc = load_table(cmd, o->traj_file, &tb);
+		rc = ssc_nav_table_load(cmd, o->traj_file, &tb);
 		if (rc)
 			goto done;
 		no.table_t_s = tb.cap->time_s;
@@ -1133,7 +1060,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	sscope_navsim_budget(r->ns, &r->in.imu, &r->bp);
 	rc = SSC_EXIT_OK;
 done:
-	free_table(&tb);
+	ssc_nav_table_free(&tb);
 	return rc;
 }
 

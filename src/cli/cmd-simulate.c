@@ -181,11 +181,7 @@ static int handler(int key, const char *arg, void *ctx)
 			return ssc_usage_error("simulate", "--rate: must be positive");
 		return 0;
 	case OPT_DURATION:
-		if (ssc_arg_quantity("simulate", "duration", arg, "s", &a->duration))
-			return SSC_EXIT_USAGE;
-		if (!(a->duration > 0))
-			return ssc_usage_error("simulate", "--duration: must be positive");
-		return 0;
+		return ssc_arg_positive("simulate", "duration", arg, "s", &a->duration);
 	case OPT_SEED: {
 		char *end;
 		unsigned long long v;

@@ -106,28 +106,16 @@ static int handler(int key, const char *arg, void *ctx)
 		return ssc_arg_quantity("tempbias", "ref-temp", arg, "degC",
 					&o->t.ref_temp_degc);
 	case O_BIN:
-		if (ssc_arg_double("tempbias", "bin", arg, &o->t.bin_degc))
-			return SSC_EXIT_USAGE;
-		if (!(o->t.bin_degc > 0))
-			return ssc_usage_error("tempbias", "--bin: must be positive");
-		return 0;
+		return ssc_arg_positive("tempbias", "bin", arg, NULL, &o->t.bin_degc);
 	case O_SMOOTH:
-		if (ssc_arg_quantity("tempbias", "smooth", arg, "s", &o->t.smooth_s))
-			return SSC_EXIT_USAGE;
-		if (!(o->t.smooth_s > 0))
-			return ssc_usage_error("tempbias", "--smooth: must be positive");
-		return 0;
+		return ssc_arg_positive("tempbias", "smooth", arg, "s", &o->t.smooth_s);
 	case O_DEADBAND:
 		o->t.rate_deadband = true;
 		if (!strcmp(arg, "auto")) {
 			o->t.deadband_degc_s = 0;
 			return 0;
 		}
-		if (ssc_arg_double("tempbias", "deadband", arg, &o->t.deadband_degc_s))
-			return SSC_EXIT_USAGE;
-		if (!(o->t.deadband_degc_s > 0))
-			return ssc_usage_error("tempbias", "--deadband: must be positive");
-		return 0;
+		return ssc_arg_positive("tempbias", "deadband", arg, NULL, &o->t.deadband_degc_s);
 	case O_WARMUP:
 		o->t.warmup_set = true;
 		if (ssc_arg_quantity("tempbias", "warmup", arg, "s", &o->t.warmup_s))
@@ -142,17 +130,9 @@ static int handler(int key, const char *arg, void *ctx)
 		o->t.no_gradient = true;
 		return 0;
 	case O_STEP:
-		if (ssc_arg_double("tempbias", "table-step", arg, &o->t.table_step_degc))
-			return SSC_EXIT_USAGE;
-		if (!(o->t.table_step_degc > 0))
-			return ssc_usage_error("tempbias", "--table-step: must be positive");
-		return 0;
+		return ssc_arg_positive("tempbias", "table-step", arg, NULL, &o->t.table_step_degc);
 	case O_MINSPAN:
-		if (ssc_arg_double("tempbias", "min-span", arg, &o->t.min_span_degc))
-			return SSC_EXIT_USAGE;
-		if (!(o->t.min_span_degc > 0))
-			return ssc_usage_error("tempbias", "--min-span: must be positive");
-		return 0;
+		return ssc_arg_positive("tempbias", "min-span", arg, NULL, &o->t.min_span_degc);
 	}
 	return SSC_EXIT_USAGE;
 }

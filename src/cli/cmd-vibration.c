@@ -109,11 +109,7 @@ static int handle(int key, const char *arg, void *ctx)
 
 	switch (key) {
 	case OPT_RPM:
-		if (ssc_arg_double("vibration", "rpm", arg, &a->rpm))
-			return SSC_EXIT_USAGE;
-		if (!(a->rpm > 0))
-			return ssc_usage_error("vibration", "--rpm: must be positive");
-		return 0;
+		return ssc_arg_positive("vibration", "rpm", arg, NULL, &a->rpm);
 	case OPT_BEARING: {
 		double f[4] = { 0, 0, 0, 0 };
 		int n = 0;

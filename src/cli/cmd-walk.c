@@ -82,20 +82,13 @@ struct opts {
 	size_t paths;
 };
 
-static int pos(const char *opt, const char *arg, const char *si, double *v)
-{
-	if (ssc_arg_quantity("walk", opt, arg, si, v))
-		return SSC_EXIT_USAGE;
-	return *v > 0 ? 0 : ssc_usage_error("walk", "--%s: must be positive", opt);
-}
-
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
 
 	switch (key) {
 	case O_RUN:
-		return pos("run-length", arg, "s", &o->run_s);
+		return ssc_arg_positive("walk", "run-length", arg, "s", &o->run_s);
 	case O_BIASW:
 		if (ssc_arg_quantity("walk", "bias-window", arg, "s", &o->bias_s))
 			return SSC_EXIT_USAGE;

@@ -4,11 +4,12 @@
  * byte what jansson dumps of the tree (ssc_json_real_text), without the
  * tree: on an all-tau grid the tree costs more than the analysis.  A long
  * grid has its later half formatted on a second thread while the first
- * half is written.
+ * half is written.  Also the adequacy object of a channel.
  */
 #include "workbench.h"
 #include "results.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -152,4 +153,89 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 	}
 	free(pp.buf);
 	return ok && fputc(']', f) != EOF;
+}
+
+/* ------------------------------------------------------------------ */
+
+static json_t *term_list(unsigned mask)
+{
+	json_t *a = json_array();
+
+	for (int t = 0; t < 5; t++)
+		if ((mask >> t) & 1)
+			json_array_append_new(a, json_stringn(&"QNBKR"[t], 1));
+	return a;
+}
+
+json_t *ssc_adequacy_json(const struct sscope_adequacy *q, const char *rate_unit)
+{
+	const struct sscope_adequacy_davar *d = &q->davar;
+	json_t *o = json_object(), *fs = json_array();
+	struct sscope_unit u;
+	double sc = sscope_unit_parse(rate_unit, &u, NULL) ? (double)NAN : u.scale;
+
+	json_object_set_new(o, "verdict", json_string(
+		q->verdict == SSCOPE_ADEQUACY_INVALID ? "not_valid" :
+		q->verdict == SSCOPE_ADEQUACY_DOUBT ? "doubtful" :
+		q->verdict == SSCOPE_ADEQUACY_BOUND ? "bounds" : "valid"));
+	json_object_set_new(o, "still", q->still_tested ? json_boolean(q->still) :
+							  json_null());
+	json_object_set_new(o, "contrast", ssc_jreal(q->contrast));
+	json_object_set_new(o, "max_contrast", json_real(q->max_contrast));
+	json_object_set_new(o, "fit_rejected", q->have_fit ?
+				json_boolean(q->fit_rejected) : json_null());
+	json_object_set_new(o, "fit_p_value", ssc_jreal(q->fit_p_value));
+	json_object_set_new(o, "stationary", q->stationarity_tested ?
+				json_boolean(q->stationary) : json_null());
+	json_object_set_new(o, "requested", term_list(q->requested));
+	json_object_set_new(o, "established", term_list(q->established));
+	json_object_set_new(o, "doubtful", term_list(q->doubtful));
+	for (size_t i = 0; i < q->n_findings; i++) {
+		const struct sscope_adequacy_finding *f = &q->findings[i];
+		json_t *j = json_object();
+
+		json_object_set_new(j, "cause",
+				    json_string(sscope_adequacy_cause_name(f->cause)));
+		json_object_set_new(j, "severity",
+				    json_string(sscope_adequacy_severity_name(f->severity)));
+		json_object_set_new(j, "terms", term_list(f->terms));
+		json_object_set_new(j, "t_start_s", ssc_jreal(f->t_start_s));
+		json_object_set_new(j, "t_end_s", ssc_jreal(f->t_end_s));
+		json_object_set_new(j, "tau_min_s", ssc_jreal(f->tau_min_s));
+		json_object_set_new(j, "tau_max_s", ssc_jreal(f->tau_max_s));
+		json_object_set_new(j, "statistic", ssc_jreal(f->statistic));
+		json_object_set_new(j, "p_value", ssc_jreal(f->p_value));
+		json_object_set_new(j, "action_s", ssc_jreal(f->action_s));
+		json_object_set_new(j, "message", json_string(f->message));
+		json_array_append_new(fs, j);
+	}
+	json_object_set_new(o, "findings", fs);
+	if (d->n_win) {
+		json_t *dv = json_object(), *ts = json_array(), *tau = json_array();
+		json_t *dev = json_array(), *model = json_array();
+
+		json_object_set_new(dv, "deviation", json_string("oadev"));
+		json_object_set_new(dv, "unit", json_string(rate_unit));
+		json_object_set_new(dv, "window_s", json_real(d->window_s));
+		json_object_set_new(dv, "step_s", json_real(d->step_s));
+		for (size_t i = 0; i < d->n_win; i++)
+			json_array_append_new(ts, json_real(d->t_s[i]));
+		for (size_t j = 0; j < d->n_tau; j++) {
+			json_array_append_new(tau, json_real(d->tau_s[j]));
+			json_array_append_new(model, ssc_jreal(d->model[j] / sc));
+		}
+		for (size_t i = 0; i < d->n_win; i++) {
+			json_t *row = json_array();
+
+			for (size_t j = 0; j < d->n_tau; j++)
+				json_array_append_new(row, ssc_jreal(d->dev[i * d->n_tau + j] / sc));
+			json_array_append_new(dev, row);
+		}
+		json_object_set_new(dv, "t_s", ts);
+		json_object_set_new(dv, "tau_s", tau);
+		json_object_set_new(dv, "dev", dev);
+		json_object_set_new(dv, "model", model);
+		json_object_set_new(o, "davar", dv);
+	}
+	return o;
 }

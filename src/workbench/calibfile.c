@@ -26,21 +26,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-static json_t *vec3(const double v[3])
+/* a vector and a matrix, each value times @p mul */
+static json_t *vec3(const double v[3], double mul)
 {
 	json_t *a = json_array();
 
 	for (int i = 0; i < 3; i++)
-		json_array_append_new(a, ssc_jreal(v[i]));
+		json_array_append_new(a, ssc_jreal(v[i] * mul));
 	return a;
 }
 
-static json_t *mat3(const double m[3][3])
+static json_t *mat3(const double m[3][3], double mul)
 {
 	json_t *a = json_array();
 
 	for (int i = 0; i < 3; i++)
-		json_array_append_new(a, vec3(m[i]));
+		json_array_append_new(a, vec3(m[i], mul));
 	return a;
 }
 
@@ -71,13 +72,13 @@ json_t *ssc_calfile_triad_json(const struct sscope_calib_file_triad *t)
 	json_object_set_new(o, "channels", ch);
 	json_object_set_new(o, "input_unit", json_string(t->input_unit));
 	json_object_set_new(o, "output_unit", json_string(t->output_unit));
-	json_object_set_new(o, "bias", vec3(b));
-	json_object_set_new(o, "scale", vec3(k));
-	json_object_set_new(o, "misalignment", mat3(t->c.mis));
+	json_object_set_new(o, "bias", vec3(b, 1));
+	json_object_set_new(o, "scale", vec3(k, 1));
+	json_object_set_new(o, "misalignment", mat3(t->c.mis, 1));
 	if (t->c.has_gsens) {
 		json_t *ac = json_array();
 
-		json_object_set_new(o, "g_sensitivity", mat3(G));
+		json_object_set_new(o, "g_sensitivity", mat3(G, 1));
 		for (int i = 0; i < 3; i++)
 			json_array_append_new(ac, json_string(t->accel_channels[i]));
 		json_object_set_new(o, "accel_channels", ac);
@@ -282,4 +283,139 @@ int ssc_calibration_apply(const struct ssc_common *co, const char *path,
 	}
 	free(t);
 	return rc ? SSC_EXIT_FAIL : SSC_EXIT_OK;
+}
+
+json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o)
+{
+	json_t *j = ssc_calfile_triad_json(&o->t);
+	const struct sscope_calib_triad *c = &o->t.c;
+	double s = ssc_calfile_unit_scale(o->t.input_unit);
+	char buf[96];
+	size_t ng;
+	const struct sscope_calib_class *gr = sscope_calib_grades(&ng);
+
+	json_object_set_new(j, "bias_unit", json_string(o->t.input_unit));
+	json_object_set_new(j, "bias_sd", vec3(c->bias_sd, 1 / s));
+	snprintf(buf, sizeof(buf), "%s per %s", o->t.output_unit,
+		 o->t.input_unit[0] ? o->t.input_unit : "count");
+	json_object_set_new(j, "scale_unit", json_string(buf));
+	json_object_set_new(j, "scale_sd", vec3(c->scale_sd, s));
+	json_object_set_new(j, "misalignment_sd", mat3(c->mis_sd, 1));
+	if (c->has_gsens) {
+		snprintf(buf, sizeof(buf), "%s per m/s^2",
+			 o->t.input_unit[0] ? o->t.input_unit : "count");
+		json_object_set_new(j, "g_sensitivity_sd", mat3(c->gsens_sd, 1 / s));
+		json_object_set_new(j, "g_sensitivity_unit", json_string(buf));
+	}
+	json_object_set_new(j, "residual_rms", ssc_jreal(c->residual_rms));
+	json_object_set_new(j, "residual_unit", json_string(o->residual_unit));
+	json_object_set_new(j, "poses", json_integer((json_int_t)c->poses));
+	json_object_set_new(j, "parameters", json_integer(c->n_params));
+	json_object_set_new(j, "iterations", json_integer(c->iterations));
+	json_object_set_new(j, "condition", ssc_jreal(c->cond));
+	if (o->n_motion) {
+		json_t *m = json_object();
+
+		json_object_set_new(m, "motions", json_integer((json_int_t)o->n_motion));
+		json_object_set_new(m, "rms", ssc_jreal(o->motion_rms * 180 / PI));
+		json_object_set_new(m, "max", ssc_jreal(o->motion_max * 180 / PI));
+		json_object_set_new(m, "rms_bias_only",
+				    ssc_jreal(o->motion_rms_bias_only * 180 / PI));
+		json_object_set_new(j, "motion_error_deg", m);
+	}
+	if (o->error_model) {
+		json_t *em = json_object(), *sf = json_array();
+		const char *si = sscope_quantity_si_unit(o->q);
+		const char *bu = sscope_term_unit(o->q, SSCOPE_TERM_B);
+		double mis[3][3];
+
+		for (int i = 0; i < 3; i++) {
+			json_array_append_new(sf, isfinite(c->scale_sd[i]) ?
+						      ssc_jreal((o->A[i][i] - 1) * 1e6) :
+						      json_null());
+			for (int j2 = 0; j2 < 3; j2++)
+				mis[i][j2] = i == j2 ? 0 : o->A[i][j2] + 0.0;
+		}
+		{
+			json_t *b = json_array();
+
+			for (int i = 0; i < 3; i++)
+				json_array_append_new(b, ssc_json_coef(c->bias[i],
+						      c->bias[i] - c->bias_sd[i],
+						      c->bias[i] + c->bias_sd[i],
+						      bu, si, true));
+			json_object_set_new(em, "bias", b);
+		}
+		json_object_set_new(em, "scale_factor_ppm", sf);
+		json_object_set_new(em, "misalignment_rad", mat3(mis, 1));
+		if (c->has_gsens) {
+			double G[3][3];
+
+			for (int i = 0; i < 3; i++)
+				for (int j2 = 0; j2 < 3; j2++)
+					G[i][j2] = c->gsens[i][j2] * 180 / PI *
+						   3600 * SSCOPE_UNIT_GRAVITY_STD;
+			json_object_set_new(em, "g_dependent_bias_deg_h_per_g",
+					    mat3(G, 1));
+		}
+		json_object_set_new(j, "error_model", em);
+	} else {
+		json_object_set_new(j, "error_model", json_null());
+	}
+	if (isfinite(o->noise_density))
+		json_object_set_new(j, "noise_density",
+				    ssc_json_coef(o->noise_density, NAN, NAN,
+						  sscope_term_unit(o->q, SSCOPE_TERM_N),
+						  sscope_term_si_unit(o->q, SSCOPE_TERM_N),
+						  false));
+	else
+		json_object_set_new(j, "noise_density", json_null());
+	if (o->grade >= 0) {
+		json_t *g = json_object();
+
+		json_object_set_new(g, "class", json_string(gr[o->grade].name));
+		json_object_set_new(g, "distance_decades", ssc_jreal(o->grade_dist));
+		json_object_set_new(g, "basis", json_string(
+			"typical technology ranges (Titterton & Weston 2004; Groves 2013), "
+			"from |bias|, scale-factor error, noise density and g-sensitivity"));
+		json_object_set_new(j, "grade", g);
+	} else {
+		json_object_set_new(j, "grade", json_null());
+	}
+	return j;
+}
+
+/* A number of a JSON result (NaN when absent or null). */
+static double jnum(const json_t *j)
+{
+	return json_is_number(j) ? json_number_value(j) : (double)NAN;
+}
+
+size_t ssc_calib_result_triads(const json_t *root, struct ssc_calib_saved *out,
+			       size_t max)
+{
+	const json_t *a = json_object_get(root, "triads"), *t;
+	size_t i, n = 0;
+
+	json_array_foreach(a, i, t) {
+		const char *kind = json_string_value(json_object_get(t, "kind"));
+		struct ssc_calib_saved *s = &out[n];
+
+		if (!kind || n == max)
+			continue;
+		s->q = !strcmp(kind, "gyro") ? SSCOPE_QUANTITY_ANGULAR_RATE :
+					       SSCOPE_QUANTITY_ACCELERATION;
+		sscope_calib_triad_identity(&s->c);
+		for (size_t k = 0; k < 3; k++) {
+			/* the file's units: bias in input units, scale in
+			 * output SI per input unit */
+			s->c.bias_sd[k] = jnum(json_array_get(json_object_get(t, "bias_sd"), k));
+			s->c.scale[k] = jnum(json_array_get(json_object_get(t, "scale"), k));
+			s->c.scale_sd[k] = jnum(json_array_get(json_object_get(t, "scale_sd"), k));
+		}
+		s->noise_density_si = jnum(json_object_get(json_object_get(t, "noise_density"),
+							  "si"));
+		n++;
+	}
+	return n;
 }

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Calibration files (JSON) of `sensorscope calib`, applied by the shared
- * option --calibration FILE (see calibfile.c for the format).
+ * option --calibration FILE (see calibfile.c for the format), and the
+ * calib result's triads: their JSON written and read back.
  */
 #ifndef SSCOPE_CALIBFILE_H
 #define SSCOPE_CALIBFILE_H
@@ -18,5 +19,41 @@ int ssc_calfile_write(const struct ssc_common *co, const char *path,
 /* Read one; *out is freed by the caller. */
 int ssc_calfile_read(const char *cmd, const char *path,
 		     struct sscope_calib_file_triad **out, size_t *n_out);
+
+/* ------------------------------------------------ calib results */
+
+/* One calibrated triad and what the report derives from it. */
+struct ssc_calib_triad_out {
+	struct sscope_calib_file_triad t;   /* names, units, the correction (library) */
+	enum sscope_quantity q;  /* output quantity */
+	const char *residual_unit;
+	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
+	bool error_model;        /* input and output of one dimension */
+	double A[3][3];          /* error model: reading = A u + b (SI) */
+	int grade;               /* row of sscope_calib_grades(), < 0 none */
+	double grade_dist;
+	/* gyro multi-position: gravity carried over each motion, rad */
+	size_t n_motion;
+	double motion_rms, motion_max, motion_rms_bias_only;
+};
+
+/* The JSON of a calibrated triad as 'calib' writes it: the calibration
+ * file's triad (ssc_calfile_triad_json) with the uncertainties, the error
+ * model, the noise density and the grade .  A new reference. */
+json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o);
+
+/* A triad of a saved 'calib' JSON result as 'budget' takes it: bias and
+ * scale uncertainties (the file's units), the noise density in SI (NaN
+ * when absent). */
+struct ssc_calib_saved {
+	enum sscope_quantity q;
+	struct sscope_calib_triad c;
+	double noise_density_si;
+};
+
+/* The triads of a saved 'calib' result (at most @p max); returns how
+ * many . */
+size_t ssc_calib_result_triads(const json_t *root, struct ssc_calib_saved *out,
+			       size_t max);
 
 #endif

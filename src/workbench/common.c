@@ -112,6 +112,15 @@ bad:
 			       opt, arg);
 }
 
+int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
+		     const char *si, double *out)
+{
+	if (si ? ssc_arg_quantity(cmd, opt, arg, si, out) :
+		 ssc_arg_double(cmd, opt, arg, out))
+		return SSC_EXIT_USAGE;
+	return *out > 0 ? 0 : ssc_usage_error(cmd, "--%s: must be positive", opt);
+}
+
 int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double *out)
 {

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * The look-up table that 'inclino calibrate' saves (its JSON, or the
- * "lut" object of it) read back into the library's struct and checked
- * (sscope_inclino_check()).
+ * The look-up table that 'inclino calibrate' saves: its JSON written
+ * (the "lut" object) and read back (that object, or the whole result)
+ * into the library's struct and checked (sscope_inclino_check()).
  */
 #include "workbench.h"
 
@@ -76,4 +76,44 @@ int ssc_inclino_lut_read(const char *cmd, const char *path,
 out:
 	json_decref(root);
 	return rc;
+}
+
+static json_t *jv3(const double v[3])
+{
+	json_t *a = json_array();
+
+	for (int i = 0; i < 3; i++)
+		json_array_append_new(a, ssc_jreal(v[i]));
+	return a;
+}
+
+json_t *ssc_inclino_lut_json(const struct sscope_inclino_lut *lut, bool cubic)
+{
+	json_t *l = json_object(), *nodes = json_array();
+
+	json_object_set_new(l, "gravity_m_s2", json_real(lut->gravity_m_s2));
+	json_object_set_new(l, "interpolation", json_string(cubic ? "cubic" : "linear"));
+	json_object_set_new(l, "model", json_string(
+		"raw_i = offset_i + scale_i * t_i + sum_j misalignment_ij * t_j (t: true specific force, m/s^2)"));
+	for (size_t i = 0; i < lut->n; i++) {
+		const struct sscope_inclino_params *p = &lut->p[i];
+		json_t *n = json_object(), *m = json_array(), *msd = json_array();
+
+		json_object_set_new(n, "temp_degc", json_real(lut->temp_degc[i]));
+		json_object_set_new(n, "offset_m_s2", jv3(p->offset));
+		json_object_set_new(n, "offset_sd_m_s2", jv3(p->offset_sd));
+		json_object_set_new(n, "scale", jv3(p->scale));
+		json_object_set_new(n, "scale_sd", jv3(p->scale_sd));
+		for (int a = 0; a < 3; a++) {
+			json_array_append_new(m, jv3(p->mis[a]));
+			json_array_append_new(msd, jv3(p->mis_sd[a]));
+		}
+		json_object_set_new(n, "misalignment", m);
+		json_object_set_new(n, "misalignment_sd", msd);
+		json_object_set_new(n, "residual_rms_m_s2", ssc_jreal(p->residual_rms));
+		json_object_set_new(n, "poses", json_integer((json_int_t)p->poses));
+		json_array_append_new(nodes, n);
+	}
+	json_object_set_new(l, "nodes", nodes);
+	return l;
 }

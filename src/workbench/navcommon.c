@@ -340,3 +340,73 @@ json_t *ssc_nav_terms_json(const struct ssc_nav_terms *t)
 	}
 	return o;
 }
+
+/* ---------------------------------------------------- trajectories */
+
+static int column(const char *cmd, const char *path, const struct sscope_capture *cap,
+		  const char *name, enum sscope_quantity q, bool need, const double **out)
+{
+	long k = sscope_capture_find(cap, name);
+	enum sscope_quantity have;
+
+	*out = NULL;
+	if (k < 0) {
+		if (!need)
+			return 0;
+		ssc_err(cmd, "%s: no '%s' column (a trajectory needs time, north, east and yaw)",
+			path, name);
+		return SSC_EXIT_FAIL;
+	}
+	have = cap->channels[k].col.quantity;
+	if (have != q && have != SSCOPE_QUANTITY_DIMENSIONLESS && have != SSCOPE_QUANTITY_UNKNOWN) {
+		ssc_err(cmd, "%s: column '%s' is in %s, not %s", path, name,
+			cap->channels[k].col.unit_label, sscope_quantity_si_unit(q));
+		return SSC_EXIT_FAIL;
+	}
+	*out = cap->channels[k].data;
+	return 0;
+}
+
+int ssc_nav_table_load(const char *cmd, const char *path, struct ssc_nav_table *t)
+{
+	struct sscope_diag d = { "" };
+	const double *c[6];
+	static const char *const names[6] = { "north", "east", "down",
+					      "roll", "pitch", "yaw" };
+	int rc;
+
+	memset(t, 0, sizeof(*t));
+	rc = sscope_capture_load(&t->cap, path, NULL, &d);
+	if (rc)
+		return ssc_fail(cmd, rc, &d, path);
+	if (!t->cap->time_s) {
+		ssc_err(cmd, "%s: no time column (a trajectory needs 'time [s]')", path);
+		return SSC_EXIT_FAIL;
+	}
+	for (int i = 0; i < 6; i++) {
+		rc = column(cmd, path, t->cap, names[i],
+			    i < 3 ? SSCOPE_QUANTITY_LENGTH : SSCOPE_QUANTITY_ANGLE,
+			    i == 0 || i == 1 || i == 5, &c[i]);
+		if (rc)
+			return rc;
+	}
+	t->ned = calloc(t->cap->n, 3 * sizeof(double));
+	t->eu = calloc(t->cap->n, 3 * sizeof(double));
+	if (!t->ned || !t->eu) {
+		ssc_err(cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	for (size_t i = 0; i < t->cap->n; i++)
+		for (int k = 0; k < 3; k++) {
+			t->ned[3 * i + k] = c[k] ? c[k][i] : 0;
+			t->eu[3 * i + k] = c[3 + k] ? c[3 + k][i] : 0;
+		}
+	return 0;
+}
+
+void ssc_nav_table_free(struct ssc_nav_table *t)
+{
+	sscope_capture_free(t->cap);
+	free(t->ned);
+	free(t->eu);
+}

@@ -79,4 +79,17 @@ void ssc_nav_terms_text(const struct ssc_nav_terms *t, char *buf, size_t len);
 /* JSON {"Q": C, "N": C, ...} (C as allan's) of a set of terms. */
 json_t *ssc_nav_terms_json(const struct ssc_nav_terms *t);
 
+/* A trajectory file: time plus tangent-plane position (north, east,
+ * down) and attitude (roll, pitch, yaw); down, roll and pitch may be
+ * absent (zero). */
+struct ssc_nav_table {
+	struct sscope_capture *cap;
+	double *ned, *eu; /* n x 3 */
+};
+
+/* Read a trajectory; errors are printed, an exit code returned.  On
+ * failure *t holds what was allocated: free it with ssc_nav_table_free. */
+int ssc_nav_table_load(const char *cmd, const char *path, struct ssc_nav_table *t);
+void ssc_nav_table_free(struct ssc_nav_table *t);
+
 #endif

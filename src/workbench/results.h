@@ -79,6 +79,11 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 			   size_t n, double dev_scale,
 			   enum sscope_allan_dev dev, bool two_threads);
 
+/* The adequacy object of an allan channel's JSON: the verdict, each
+ * test's outcome, the findings and the DAVAR map with its deviations in
+ * @p rate_unit (allan-json.c).  A new reference. */
+json_t *ssc_adequacy_json(const struct sscope_adequacy *q, const char *rate_unit);
+
 /*
  * The quantity of the rate whose deviations a saved allan channel (one
  * object of its "channels") holds: its "quantity", differentiated for an
@@ -92,21 +97,6 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 enum sscope_quantity ssc_allan_json_rate_quantity(const json_t *ch);
 
 /* ------------------------------------------------------------ calib */
-
-/* One calibrated triad and what the report derives from it. */
-struct ssc_calib_triad_out {
-	struct sscope_calib_file_triad t;   /* names, units, the correction (library) */
-	enum sscope_quantity q;  /* output quantity */
-	const char *residual_unit;
-	double noise_density;    /* SI / sqrt(Hz) of the output, NaN unknown */
-	bool error_model;        /* input and output of one dimension */
-	double A[3][3];          /* error model: reading = A u + b (SI) */
-	int grade;               /* row of sscope_calib_grades(), < 0 none */
-	double grade_dist;
-	/* gyro multi-position: gravity carried over each motion, rad */
-	size_t n_motion;
-	double motion_rms, motion_max, motion_rms_bias_only;
-};
 
 /* The calib stage's result starts with this (cmd-calib.c extends it). */
 struct ssc_calib_res {

@@ -141,6 +141,9 @@ int ssc_arg_size(const char *cmd, const char *opt, const char *arg,
 /* A quantity with an optional unit, converted to the SI unit of @p si. */
 int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double *out);
+/* A number (@p si NULL) or a quantity that must be positive. */
+int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
+		     const char *si, double *out);
 
 /* Fill read options from the shared options (progress hooked up). */
 void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o);
@@ -319,9 +322,12 @@ void ssc_json_warn(json_t *obj, const char *code, const char *fmt, ...)
 json_t *ssc_json_coef(double si, double si_lo, double si_hi, const char *unit,
 		      const char *si_unit, bool fitted);
 
+struct sscope_inclino_lut;
+/* The "lut" object of a saved inclinometer calibration (inclinofile.c);
+ * a new reference. */
+json_t *ssc_inclino_lut_json(const struct sscope_inclino_lut *lut, bool cubic);
 /* Read a look-up table of 'inclino calibrate' (JSON) into *lut and check
  * it; prints errors, returns exit code (inclinofile.c). */
-struct sscope_inclino_lut;
 int ssc_inclino_lut_read(const char *cmd, const char *path,
 			 struct sscope_inclino_lut *lut);
 
