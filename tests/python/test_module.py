@@ -349,4 +349,117 @@ try:
 except ValueError as e:
     ok("xdev" in str(e), "errors: an unknown deviation raises ValueError")
 
+# ---------------------------------------------------------------- units
+# the unit comes from a loaded capture's channel; without one, rad/s is
+# assumed and said; .to() works on every term
+cap = ss.load(gyro)
+gx = cap["gx"]
+ok(isinstance(gx, ss.Channel) and gx.unit == "rad/s" and
+   gx.quantity == "angular rate" and gx[10:].unit == "rad/s" and
+   not isinstance(gx * 2, ss.Channel),
+   "Channel: unit and quantity, kept by a slice, not by arithmetic",
+   (type(gx), gx.unit, gx.quantity))
+r = ss.allan(gx, cap.rate_hz, taus="octave")
+ok(r.unit == "rad/s" and not r.unit_assumed and
+   all(isinstance(r.noise[t].to("deg/h" if t == "B" else
+                                "deg/h/sqrt(h)" if t == "K" else
+                                "deg/sqrt(h)" if t == "N" else
+                                "deg/h^2" if t == "R" else "deg"), tuple)
+       for t in "QNBKR"),
+   "allan on a capture's channel: its unit; .to() on every term",
+   (r.unit, r.unit_assumed))
+r2 = ss.allan(np.array(gx), cap.rate_hz, taus="octave")
+ok(r2.unit == "rad/s" and r2.unit_assumed and
+   abs(r2.noise["N"].to("deg/sqrt(h)")[0] -
+       r.noise["N"].to("deg/sqrt(h)")[0]) < 1e-12,
+   "allan on a plain array: rad/s assumed and said (unit_assumed)")
+try:
+    ss.allan(gx, cap.rate_hz, unit="degs")
+    ok(False, "unit='degs' refused")
+except ss.ArgumentError as e:
+    ok(str(e).startswith("allan: unit: "), "unit='degs': ArgumentError "
+       "naming the argument (%s)" % e)
+
+# ---------------------------------------------------------------- module
+ok(ss.__version__ == ss.version() and "Channel" in ss.__all__ and
+   "np" not in ss.__all__ and all(hasattr(ss, k) for k in ss.__all__),
+   "__version__, __all__ names what exists and no imported module")
+doc = ss.allan.__doc__
+ok(all(k in doc for k in ("Parameters", "Returns", "Raises", "NaN",
+                          "m : ", "taus : ", "unit : ")),
+   "allan's docstring: parameters (NaN gaps, taus, m, unit), returns, "
+   "raises")
+
+# ---------------------------------------------------------------- compat
+# allantools' signature and return tuple; the NBS 1000-point set of NIST
+# SP 1065 (the values allantools' own tests check) through it
+from sensorscope import compat as at  # noqa: E402
+
+nbs = np.empty(1000)
+v = 1234567890
+for i in range(1000):
+    nbs[i] = v / 2147483647.0
+    v = (16807 * v) % 2147483647
+ref = {"adev": (2.922319e-01, 9.965736e-02, 3.897804e-02),
+       "oadev": (2.922319e-01, 9.159953e-02, 3.241343e-02),
+       "mdev": (2.922319e-01, 6.172376e-02, 2.170921e-02),
+       "tdev": (1.687202e-01, 3.563623e-01, 1.253382e+00),
+       "hdev": (2.943883e-01, 1.052754e-01, 3.910860e-02),
+       "ohdev": (2.943883e-01, 9.581083e-02, 3.237638e-02),
+       "totdev": (2.922319e-01, 9.134743e-02, 3.406530e-02)}
+for name, want in ref.items():
+    t, d, e, nn = getattr(at, name)(nbs, rate=1.0, data_type="freq",
+                                    taus=[1, 10, 100])
+    ok(list(t) == [1, 10, 100] and rel(d, want) < 5e-7 and
+       np.allclose(e, d / np.sqrt(nn)),
+       "compat.%s: NBS 1000-point set at tau 1, 10, 100 to the 7 printed "
+       "digits (SP 1065)" % name, (list(t), list(d), want))
+t, d, e, nn = at.oadev(nbs, rate=1.0, data_type="freq", taus=[1, 10, 100])
+ok(list(nn) == [999, 981, 801], "compat.oadev: term counts of SP 1065",
+   list(nn))
+# the same numbers as the native call; phase = the integral of freq
+for name in ref:
+    t, d, e, nn = getattr(at, name)(nbs, 4.0, "freq", "octave")
+    r = ss.allan(nbs, 4.0, dev=name, m=np.round(t * 4.0), fit=False,
+                 ci=None)
+    ph = np.concatenate(([0.0], np.cumsum(nbs) / 4.0))
+    tp, dp, ep, np_ = getattr(at, name)(ph, 4.0, "phase", "octave")
+    ok(np.array_equal(d, r.dev) and np.array_equal(t, r.tau_s) and
+       list(tp) == list(t) and rel(dp, d) < 1e-12,
+       "compat.%s: the native call's numbers; phase data give the same"
+       % name, (rel(dp, d),))
+# allantools' tau generator (its test_tau_generator, N = 128)
+d128 = np.random.default_rng(5).random(128)
+ok(list(at.adev(d128)[0]) == [1, 2, 4, 8, 16, 32] and
+   list(at.adev(d128, taus=[])[0]) == [1, 2, 4, 8, 16, 32] and
+   list(at.adev(d128, taus="decade")[0]) == [1, 2, 4, 10, 20, 40] and
+   list(at.adev(d128, taus="all")[0]) == list(range(1, 43)),
+   "compat: taus None, [], decade and all as allantools (N = 128)",
+   [list(at.adev(d128, taus=k)[0]) for k in (None, "decade", "all")])
+try:
+    at.oadev(d128, data_type="fractional")
+    ok(False, "compat: a bad data_type refused")
+except ss.ArgumentError as e:
+    ok("data_type" in str(e) and "freq or phase" in str(e),
+       "compat: a bad data_type names the argument and the allowed values")
+
+# ---------------------------------------------------------------- install
+# `make install` puts the module where the interpreter looks for the
+# prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)
+pyd = os.environ.get("SSCOPE_PYTHONDIR", "")
+pre = os.environ.get("SSCOPE_PREFIX", "")
+found = subprocess.run(
+    [sys.executable, "-c", "import sys; print('\\n'.join(sys.path))"],
+    capture_output=True, text=True).stdout.split()
+if pyd.startswith(pre + "/") and \
+        any(p.startswith("/usr/local/lib/python3") for p in found):
+    rel_dir = pyd[len(pre):]
+    ok("/usr/local" + rel_dir in found,
+       "install: %s under the prefix /usr/local is on the interpreter's "
+       "path" % rel_dir, found)
+else:
+    print("ok %d - # SKIP install path: not Debian's interpreter layout "
+          "(%s)" % (n_test + 1, pyd))
+    n_test += 1
+
 print("1..%d" % n_test)

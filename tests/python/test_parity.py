@@ -181,8 +181,12 @@ for cli, kw in ((["--ci", "95"], {"ci": 95}), (["--ci", "0"], {"ci": 0}),
                 (["-r", "inf"], {"rate": float("inf")})):
     kw = dict(kw)
     rate = kw.pop("rate", fs)
+    # (Python names what only it takes: taus in s, allantools' data_type)
+    like = {"taus": r"^taus: 'weekly' is not dense, octave, decade or all",
+            "input": r"^input: 'phase' is not rate or angle"}.get(
+                next(iter(kw), None))
     case("allan %s" % " ".join(cli), ["allan"] + cli + [W], W, "allan",
-         lambda kw=kw, rate=rate: ss.allan(x, rate, **kw))
+         lambda kw=kw, rate=rate: ss.allan(x, rate, **kw), like=like)
 c, fs = data("const")
 case("allan: constant data", ["allan", files["const"]], files["const"],
      "allan", lambda: ss.allan(c, fs))
@@ -322,27 +326,44 @@ ok(ss.tempbias(cap[ch], t2, cap.rate_hz)["coefficients"] ==
 # Python only (the command takes grid names): nothing rounded, nothing
 # dropped without a word
 x, fs = data("white")
-for taus, pat in (([2.5], r"^allan: taus: 2\.5 is not an averaging factor"),
-                  ([0.015], r"^allan: taus: 0\.015 s is not a whole number "
-                   r"of samples at 100 Hz"),
-                  ([], r"^allan: taus: empty"),
-                  ([0], r"^allan: taus: 0 is not positive"),
-                  ([10 ** 6], r"^allan: taus: every averaging factor "
-                   r"exceeds the record's limit \(m <= 2000")):
+for kw, pat in (({"m": [2.5]}, r"^allan: m: 2\.5 is not an averaging factor"),
+                ({"taus": [0.015]}, r"^allan: taus: 0\.015 s is not a whole "
+                 r"number of samples at 100 Hz \(1\.5\); averaging factors "
+                 r"go in m="),
+                ({"taus": []}, r"^allan: taus: empty"),
+                ({"m": []}, r"^allan: m: empty"),
+                ({"taus": [0]}, r"^allan: taus: 0 is not positive"),
+                ({"taus": [1.0], "m": [1]}, r"^allan: m: give taus .* or m "
+                 r".*, not both"),
+                ({"m": [10 ** 6]}, r"^allan: m: every averaging factor "
+                 r"exceeds the record's limit \(m <= 2000"),
+                ({"taus": [10 ** 4]}, r"^allan: taus: every averaging factor "
+                 r"exceeds the record's limit \(m <= 2000")):
     try:
-        ss.allan(x, fs, taus=taus)
-        ok(False, "taus=%r refused" % (taus,))
+        ss.allan(x, fs, **kw)
+        ok(False, "%r refused" % (kw,))
     except ss.ArgumentError as e:
         ok(re.search(pat, str(e)) is not None,
-           "taus=%r refused: %s" % (taus, e), e)
+           "%r refused: %s" % (kw, e), e)
 with warnings.catch_warnings(record=True) as w:
     warnings.simplefilter("always")
-    r = ss.allan(x, fs, taus=[0.02, 3, 10 ** 6], fit=False)
+    r = ss.allan(x, fs, taus=[0.02, 0.03, 10.0 ** 4], fit=False)
 ok(list(r.m) == [2, 3] and len(w) == 1 and
    "averaging factor 1000000 exceeds the record's limit" in
    str(w[0].message) and "left out" in str(w[0].message),
-   "taus: 0.02 s is m = 2, 3 is m = 3, a factor beyond the record is left "
-   "out with a warning", [str(k.message) for k in w])
+   "taus in s: 0.02 s is m = 2, 0.03 s m = 3, a tau beyond the record is "
+   "left out with a warning", [str(k.message) for k in w])
+with warnings.catch_warnings(record=True) as w:
+    warnings.simplefilter("always")
+    r = ss.allan(x, fs, m=[2, 3, 10 ** 6], fit=False)
+ok(list(r.m) == [2, 3] and len(w) == 1 and
+   "m: averaging factor 1000000 exceeds" in str(w[0].message),
+   "m: factors 2, 3 kept, one beyond the record left out with a warning",
+   [str(k.message) for k in w])
+# whole seconds are seconds, not factors (the old trap: taus=[1, 10])
+r = ss.allan(x, fs, taus=[1, 10], fit=False)
+ok(list(r.m) == [100, 1000] and np.allclose(r.tau_s, [1, 10]),
+   "taus=[1, 10] at 100 Hz are 1 s and 10 s (m = 100, 1000)", list(r.m))
 
 print("1..%d" % n_test)
 tmp.cleanup()

@@ -16,6 +16,10 @@ the `sensorscope` command refuses or warns, with the same reasons.
     cap = ss.load("imu.bag")                  # CSV, bags, MCAP, npy, ...
     res = ss.allan(cap["gx"], cap.rate_hz)    # OADEV, intervals, IEEE 952 fit
     res.noise["N"].value                      # rad/s/sqrt(Hz), SI
+    res.noise["N"].to("deg/sqrt(h)")          # (value, lo, hi)
+
+Users of allantools: `from sensorscope import compat as allantools` gives
+its functions with its signatures and return values (sensorscope.compat).
 """
 
 import ctypes as C
@@ -28,10 +32,10 @@ import numpy as np
 
 from . import _capi as _c
 
-__all__ = ["Error", "ArgumentError", "Capture", "load", "allan", "psd",
-           "simulate",
+__all__ = ["Error", "ArgumentError", "Capture", "Channel", "load", "allan",
+           "psd", "simulate",
            "tempbias", "calib", "adc_report",
-           "AllanResult", "Spectrum", "version"]
+           "AllanResult", "Coef", "Spectrum", "version", "__version__"]
 
 SI_TERM_UNITS = {}
 
@@ -109,6 +113,9 @@ def _choice(func, arg, v, names, listing):
 def version():
     """The library's version string."""
     return _c.version().decode()
+
+
+__version__ = version()
 
 
 def _check(rc, diag, what=""):
@@ -202,10 +209,28 @@ def _quantity_name(q):
     return _c.quantity_name(q).decode()
 
 
+class Channel(np.ndarray):
+    """A channel of a loaded capture: a read-only numpy array in SI units
+    that also says what it holds: .name, .unit (the SI unit, e.g.
+    "rad/s"), .quantity ("angular rate", ...) and .file_unit (the file's
+    own label).  A slice is still a Channel; the result of arithmetic is a
+    plain array (its unit may no longer be .unit).  allan() and
+    adequacy() take the unit from it."""
+
+    def __array_finalize__(self, obj):
+        for k in ("name", "unit", "quantity", "file_unit"):
+            setattr(self, k, getattr(obj, k, None))
+
+    def __array_wrap__(self, arr, context=None, return_scalar=False):
+        arr = np.asarray(arr)
+        return arr[()] if return_scalar else arr
+
+
 class Capture:
-    """A loaded capture: channels as numpy arrays in SI units (views of the
-    library's memory, read-only), time stamps (s from the first sample),
-    temperature (degC), and the container's details."""
+    """A loaded capture: channels as numpy arrays in SI units (Channel:
+    views of the library's memory, read-only, that know their unit), time
+    stamps (s from the first sample), temperature (degC), and the
+    container's details."""
 
     def __init__(self, ptr, path):
         self._owner = _Owner(ptr, _c.capture_free)
@@ -221,9 +246,14 @@ class Capture:
         for k in range(cap.n_channels):
             ch = cap.channels[k]
             name = ch.col.name.decode()
-            self.channels[name] = _view(ch.data, cap.n, self._owner)
-            self.units[name] = ch.col.unit_label.decode()
-            self.quantities[name] = _quantity_name(ch.col.quantity)
+            v = _view(ch.data, cap.n, self._owner).view(Channel)
+            v.name = name
+            v.quantity = _quantity_name(ch.col.quantity)
+            v.unit = _c.quantity_si_unit(ch.col.quantity).decode()
+            v.file_unit = ch.col.unit_label.decode()
+            self.channels[name] = v
+            self.units[name] = v.file_unit
+            self.quantities[name] = v.quantity
         self.time_s = _view(cap.time_s, cap.n, self._owner) \
             if cap.time_s else None
         self.temp_degc = _view(cap.temp_degc, cap.n, self._owner) \
@@ -403,20 +433,69 @@ def _noise_plan():
 
 
 def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
-          fit=True, unit=None, threads=0, noise_type=None, allow_nan=False):
-    """Allan-family deviation of x (samples at `rate` Hz, SI units) with
-    confidence intervals (Greenhall-Riley EDF) and the IEEE 952 noise fit.
-    dev: oadev adev mdev tdev hdev ohdev totdev; taus: dense, octave,
-    decade, all, or an array of averaging factors m (whole numbers >= 1)
-    or taus in s (values below 1, each a whole number of samples); ci: a
-    level in (0, 1), or None / "none" for no intervals; input: "rate" or
-    "angle"; noise_type: None / "auto" (identified at each tau) or wpm,
-    fpm, wfm, ffm, rwfm; unit: the data's unit for the coefficient units
-    ("rad/s", "m/s^2").  NaN samples are refused unless allow_nan (then
-    they are gaps: terms spanning one are left out, taus left without a
-    complete term are omitted with a RuntimeWarning, as `sensorscope
-    allan --allow-nan`).  x is read in place when it is aligned float64
-    with an element-multiple stride."""
+          fit=True, unit=None, threads=0, noise_type=None, allow_nan=False,
+          m=None, data_type=None):
+    """Allan-family deviation with confidence intervals and the IEEE 952
+    noise fit (as `sensorscope allan`).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Samples at `rate` Hz in SI units: a rate (rad/s, m/s^2, ...) or,
+        with input="angle", its integral (rad, m/s, ...).  NaN samples are
+        refused unless `allow_nan`; then they are gaps: terms spanning one
+        are left out and taus left without a complete term are omitted
+        with a RuntimeWarning (as ``sensorscope allan --allow-nan``).
+        Read in place when aligned float64 with an element-multiple
+        stride, else copied.
+    rate : float
+        Sample rate in Hz (> 0).
+    dev : str, default "oadev"
+        oadev, adev, mdev, tdev, hdev, ohdev or totdev.
+    taus : str or array_like of float, default "dense"
+        A grid (dense, octave, decade, all) or taus in seconds, each a
+        whole number of samples (tau * rate within 1e-9 of an integer).
+    m : array_like of int, optional
+        Averaging factors instead of `taus` (whole numbers >= 1; tau =
+        m / rate).  Giving both `taus` (other than the default) and `m`
+        is an error.  Factors beyond the record's limit are left out with
+        a RuntimeWarning, or refused when none is left.
+    ci : float or None, default 0.683
+        Level of the intervals, in (0, 1); None or "none" for none.
+    input : {"rate", "angle"}, default "rate"
+        What `x` holds.  `data_type` is allantools' name for it:
+        "freq" is "rate", "phase" is "angle".
+    fit : bool, default True
+        Fit the IEEE 952 terms Q, N, B, K, R (on the dense grid, whatever
+        `taus` is).
+    unit : str, optional
+        The SI unit of `x` ("rad/s", "m/s^2"), which sets the units of the
+        noise terms.  Taken from `x` when it is a channel of a loaded
+        capture (Channel.unit); otherwise angular rate (rad/s, or rad
+        with input="angle") is assumed, and the result says so
+        (.unit, .unit_assumed).
+    threads : int, default 0
+        Threads of the computation (0: as many as cores).
+    noise_type : str, optional
+        None or "auto" to identify the noise at each tau, or one of wpm,
+        fpm, wfm, ffm, rwfm for the intervals.
+
+    Returns
+    -------
+    AllanResult
+        Arrays tau_s, m, terms, dev, dev_lo, dev_hi, edf, alpha (dev in the
+        unit of a rate: .unit); noise = {"Q", "N", "B", "K", "R": Coef} in
+        SI (.to("deg/sqrt(h)") converts; a term not shown present has
+        value NaN and hi its upper bound), chi2, dof, p_value, ci_level,
+        readoff; noise is None and fit_error says why when the fit fails.
+
+    Raises
+    ------
+    ArgumentError
+        A bad argument, named with the allowed values.
+    Error
+        Data the analysis cannot take (too short, infinite samples, ...).
+    """
     fn = "allan"
     dev = _choice(fn, "dev", dev, _DEVS,
                   "oadev, adev, mdev, tdev, hdev, ohdev or totdev")
@@ -428,7 +507,7 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         if not 0 < ci < 1:
             _bad(fn, "ci", "%s is not a level between 0 and 1 (e.g. 0.683, "
                  "0.95) or none" % _text(ci))
-    input = _choice(fn, "input", input, ("rate", "angle"), "rate or angle")
+    input = _input_kind(fn, input, data_type)
     alpha = None
     if noise_type is not None and not (isinstance(noise_type, str) and
                                        noise_type.lower() == "auto"):
@@ -439,6 +518,10 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
                  "rwfm" % (noise_type,))
         alpha = names[noise_type.lower()]
     threads = _count(fn, "threads", threads)
+    if m is not None and not (isinstance(taus, str) and taus == "dense"):
+        _bad(fn, "m", "give taus (seconds or a grid) or m (averaging "
+             "factors), not both")
+    quantity, unit, assumed = _data_unit(fn, x, unit, input)
     p, stride, n, keep = _vector(x, fn, "x")
     ao = _c.AllanOpts()
     ao.dev = _DEVS.index(dev)
@@ -458,52 +541,50 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     if fit:
         fo.plan = _noise_plan()
     want = None
-    if isinstance(taus, str):
+    if m is not None:
+        want = _factors(fn, "m", m, rate, ao.dev, ao.input, n)
+    elif isinstance(taus, str):
         grid = _GRIDS[_choice(fn, "taus", taus, _GRIDS,
-                              "dense, octave, decade or all")]
+                              "dense, octave, decade or all, or taus in s")]
     else:
-        want = _factors(fn, taus, rate, ao.dev, ao.input, n)
-        grid = _GRIDS["all"]
+        want = _factors(fn, "taus", taus, rate, ao.dev, ao.input, n)
+    out = AllanResult()
+    out.deviation = dev
+    out.unit = unit
+    out.unit_assumed = assumed
+    out.noise = None
+    out.fit_error = None
+    if want is not None:
+        # the points at the factors asked for; the fit on the dense grid
+        pts = _points(fn, p, stride, n, rate, ao, want)
+        for f in ("tau_s", "m", "terms", "dev", "dev_lo", "dev_hi", "edf",
+                  "alpha"):
+            out.__dict__[f] = np.array(pts[f]) if len(pts) else np.zeros(0)
+        out.n_phase = _c.allan_n_phase(ao.input, n)
+        if not fit:
+            del keep
+            return out
+        grid = _GRIDS["dense"]
     res = C.POINTER(_c.AllanResult)()
     d = _c.Diag()
     rc = _c.allan_analyze(p, stride, n, rate, grid, C.byref(ao),
                           C.byref(fo), C.byref(res), C.byref(d))
     del keep
     if rc < 0:
-        msg = d.msg.decode(errors="replace") or _c.strerror(rc).decode()
-        if msg.startswith("NaN sample at index"):
-            msg += " (give allow_nan=True to read NaN samples as gaps)"
-        if rc == -22:
-            raise Error(rc, "allan: " + msg)
-        raise Error(rc, "allan: x: " + msg)
+        _allan_error(fn, rc, d)
     try:
         r = res.contents
-        pts = np.ctypeslib.as_array(
-            C.cast(r.points, C.POINTER(C.c_byte)),
-            (r.n_points * C.sizeof(_c.AllanPoint),)).view(np.dtype({
-                "names": [f[0] for f in _c.AllanPoint._fields_],
-                "formats": ["<f8", "<u8", "<u8", "<u8", "<u8", "<f8", "<f8",
-                            "<f8", "<f8", "<f8", "<i4", "?"],
-                "offsets": [getattr(_c.AllanPoint, f[0]).offset
-                            for f in _c.AllanPoint._fields_],
-                "itemsize": C.sizeof(_c.AllanPoint)})) \
-            if r.n_points else np.zeros(0, dtype=[("tau_s", "<f8")])
-        out = AllanResult()
-        out.deviation = dev
-        sel = slice(None)
-        if want is not None and r.n_points:
-            sel = np.isin(pts["m"], want)
-        if r.n_gap_omitted:
-            _warn(fn, "x: " + r.gap_note.msg.decode(errors="replace"))
-        for f in ("tau_s", "m", "terms", "dev", "dev_lo", "dev_hi", "edf",
-                  "alpha"):
-            out.__dict__[f] = np.array(pts[f][sel]) if r.n_points \
-                else np.zeros(0)
-        out.n_phase = r.n_phase
-        out.noise = None
-        out.fit_error = None
+        if want is None:
+            pts = _point_array(r.points, r.n_points)
+            if r.n_gap_omitted:
+                _warn(fn, "x: " + r.gap_note.msg.decode(errors="replace"))
+            for f in ("tau_s", "m", "terms", "dev", "dev_lo", "dev_hi", "edf",
+                      "alpha"):
+                out.__dict__[f] = np.array(pts[f]) if r.n_points \
+                    else np.zeros(0)
+            out.n_phase = r.n_phase
         if fit and r.have_fit:
-            units = _si_units(_quantity_of(unit))
+            units = _si_units(quantity)
             out.noise = {t: Coef(r.fit.coef[i], units[i])
                          for i, t in enumerate(_TERMS)}
             out.chi2 = r.fit.chi2
@@ -524,59 +605,148 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         _c.allan_result_free(res)
 
 
-def _factors(f, taus, rate, dev, input, n):
-    """The averaging factors of an array of taus: whole numbers >= 1 are
-    factors m, values below 1 taus in s that must be a whole number of
-    samples; nothing is rounded.  Factors beyond the record are refused
-    when none is left, else left out with a warning."""
+def _allan_error(fn, rc, d):
+    msg = d.msg.decode(errors="replace") or _c.strerror(rc).decode()
+    if msg.startswith("NaN sample at index"):
+        msg += " (give allow_nan=True to read NaN samples as gaps)"
+    if rc == -22:
+        raise Error(rc, "%s: %s" % (fn, msg))
+    raise Error(rc, "%s: x: %s" % (fn, msg))
+
+
+def _point_array(ptr, n):
+    """A structured numpy view of n sscope_allan_point at ptr."""
+    if not n:
+        return np.zeros(0, dtype=[("tau_s", "<f8")])
+    return np.ctypeslib.as_array(
+        C.cast(ptr, C.POINTER(C.c_byte)),
+        (n * C.sizeof(_c.AllanPoint),)).view(np.dtype({
+            "names": [f[0] for f in _c.AllanPoint._fields_],
+            "formats": ["<f8", "<u8", "<u8", "<u8", "<u8", "<f8", "<f8",
+                        "<f8", "<f8", "<f8", "<i4", "?"],
+            "offsets": [getattr(_c.AllanPoint, f[0]).offset
+                        for f in _c.AllanPoint._fields_],
+            "itemsize": C.sizeof(_c.AllanPoint)}))
+
+
+def _points(fn, p, stride, n, rate, ao, m):
+    """The deviation at the averaging factors m (increasing): a copy of
+    the library's points (a plan made and freed here)."""
+    plan = C.c_void_p()
+    if _c.allan_new(C.byref(plan), n, C.byref(ao)) != 0:
+        raise MemoryError("%s: workspace for %d samples" % (fn, n))
     try:
-        t = np.asarray(taus, dtype=float)
+        mm = (_c.c_size * len(m))(*[int(k) for k in m])
+        pts = (_c.AllanPoint * max(len(m), 1))()
+        npts = _c.c_size()
+        d = _c.Diag()
+        rc = _c.allan_compute(plan, p, stride, n, rate, mm, len(m), pts,
+                              C.byref(npts), C.byref(d))
+        if rc < 0:
+            _allan_error(fn, rc, d)
+        return np.array(_point_array(C.cast(pts, C.c_void_p), npts.value))
+    finally:
+        _c.allan_free(plan)
+
+
+def _input_kind(fn, input, data_type):
+    """input ("rate"/"angle") from input or allantools' data_type."""
+    if data_type is not None:
+        kind = {"freq": "rate", "phase": "angle"}.get(data_type) \
+            if isinstance(data_type, str) else None
+        if kind is None:
+            _bad(fn, "data_type", "'%s' is not freq or phase (allantools' "
+                 "names: freq is input='rate', phase is input='angle')" %
+                 (data_type,))
+        if input not in ("rate", kind):
+            _bad(fn, "data_type", "'%s' contradicts input='%s'" %
+                 (data_type, input))
+        return kind
+    if input in ("phase", "freq"):
+        _bad(fn, "input", "'%s' is not rate or angle (allantools' "
+             "data_type='%s' is input='%s')" % (
+                 input, input, "angle" if input == "phase" else "rate"))
+    return _choice(fn, "input", input, ("rate", "angle"), "rate or angle")
+
+
+_RATE_OF = {"angle": "angular rate", "velocity": "acceleration"}
+
+
+def _data_unit(fn, x, unit, input):
+    """(rate quantity, unit of x, assumed?) from unit=, a Channel, or the
+    angular-rate default."""
+    assumed = False
+    if unit is None:
+        unit = getattr(x, "unit", None)
+    if unit is None:
+        unit, assumed = ("rad" if input == "angle" else "rad/s"), True
+    if not isinstance(unit, str):
+        _bad(fn, "unit", "'%s' is not a unit such as rad/s or m/s^2" %
+             (unit,))
+    q = _quantity_of(unit, fn)
+    if input == "angle":
+        q = _RATE_OF.get(q, q)
+    return q, unit, assumed
+
+
+def _factors(f, arg, v, rate, dev, input, n):
+    """Averaging factors from taus in s (arg "taus": each a whole number
+    of samples) or factors (arg "m": whole numbers >= 1); nothing is
+    rounded.  Factors beyond the record are refused when none is left,
+    else left out with a warning."""
+    try:
+        t = np.asarray(v, dtype=float)
     except (TypeError, ValueError):
+        if arg == "m":
+            _bad(f, "m", "'%s' is not an array of averaging factors" % (v,))
         _bad(f, "taus", "'%s' is not dense, octave, decade or all, nor an "
-             "array of averaging factors or taus in s" % (taus,))
+             "array of taus in s" % (v,))
     if t.ndim != 1:
         t = t.reshape(-1)
     if t.size == 0:
-        _bad(f, "taus", "empty: give a grid name or averaging factors")
+        _bad(f, arg, "empty: give %s" % (
+            "averaging factors" if arg == "m" else "a grid name or taus in s"))
     m = []
-    for v in t:
-        if not math.isfinite(v) or v <= 0:
-            _bad(f, "taus", "%s is not positive" % _text(float(v)))
-        if v >= 1:
-            if not float(v).is_integer():
-                _bad(f, "taus", "%s is not an averaging factor (a whole "
-                     "number of samples; values below 1 are taus in s)" %
-                     _text(float(v)))
-            m.append(int(v))
+    for x in t:
+        if not math.isfinite(x) or x <= 0:
+            _bad(f, arg, "%s is not positive" % _text(float(x)))
+        if arg == "m":
+            if not float(x).is_integer():
+                _bad(f, "m", "%s is not an averaging factor (a whole number "
+                     "of samples >= 1; taus in s go in taus=)" %
+                     _text(float(x)))
+            m.append(int(x))
         else:
-            k = v * rate
+            k = x * rate
             if abs(k - round(k)) > 1e-9 * k or round(k) < 1:
                 _bad(f, "taus", "%s s is not a whole number of samples at "
-                     "%s Hz (%s)" % (_text(float(v)), _text(rate),
-                                     _text(float(k))))
+                     "%s Hz (%s); averaging factors go in m=" % (
+                         _text(float(x)), _text(rate), _text(float(k))))
             m.append(int(round(k)))
     m = sorted(set(m))
     mmax = _c.allan_max_m(dev, _c.allan_n_phase(input, n))
     beyond = [k for k in m if k > mmax]
     if len(beyond) == len(m):
-        _bad(f, "taus", "every averaging factor exceeds the record's limit "
+        _bad(f, arg, "every averaging factor exceeds the record's limit "
              "(m <= %d for %s of %d samples)" % (mmax, _DEVS[dev], n))
     if beyond:
-        _warn(f, "taus: averaging factor%s %s exceed%s the record's limit "
+        _warn(f, "%s: averaging factor%s %s exceed%s the record's limit "
               "(m <= %d for %s of %d samples): left out" % (
-                  "s" if len(beyond) > 1 else "",
+                  arg, "s" if len(beyond) > 1 else "",
                   ", ".join(str(k) for k in beyond),
                   "" if len(beyond) > 1 else "s", mmax, _DEVS[dev], n),
               stacklevel=4)
     return np.array([k for k in m if k <= mmax], dtype=np.uint64)
 
 
-def _quantity_of(unit):
+def _quantity_of(unit, fn="allan"):
     if unit is None:
         return None
     u = _c.Unit()
     d = _c.Diag()
-    _check(_c.unit_parse(_b(unit), C.byref(u), C.byref(d)), d)
+    if _c.unit_parse(_b(unit), C.byref(u), C.byref(d)) < 0:
+        _bad(fn, "unit", d.msg.decode(errors="replace") or
+             "'%s' is not a known unit" % unit)
     return _quantity_name(_c.unit_quantity(C.byref(u)))
 
 
@@ -922,8 +1092,13 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
     still, long enough for each term in `terms` (default "NBK"), described
     by the fit, and stationary (warm-up transient, bias step, rate ramp,
     drift that follows temp_degc when given); with the DAVAR map.
+    unit: as for allan() (from a Channel, else rad/s assumed).
     Returns an Adequacy."""
-    p, stride, n, keep = _vector(x)
+    fn = "adequacy"
+    rate = _positive(fn, "rate", rate)
+    input = _choice(fn, "input", input, ("rate", "angle"), "rate or angle")
+    quantity, unit, _ = _data_unit(fn, x, unit, input)
+    p, stride, n, keep = _vector(x, fn, "x")
     tkeep = None
     ao = _c.AllanOpts()
     ao.input = {"rate": 0, "angle": 1}[input]
@@ -949,9 +1124,9 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
             qo.alpha = float(alpha)
         qo.no_davar = not davar
         if temp_degc is not None:
-            tp, tstride, tn, tkeep = _vector(temp_degc)
+            tp, tstride, tn, tkeep = _vector(temp_degc, fn, "temp_degc")
             if tn != n:
-                raise ValueError("temp_degc: %d samples for %d" % (tn, n))
+                _bad(fn, "temp_degc", "%d samples for the %d of x" % (tn, n))
             qo.temp_degc = tp
             qo.temp_stride = tstride
         rc = _c.adequacy_check(p, stride, n,
@@ -998,7 +1173,7 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
                 "model": np.ctypeslib.as_array(dv.model, (nt,)).copy()}
         out.noise = None
         if r.have_fit:
-            units = _si_units(_quantity_of(unit))
+            units = _si_units(quantity)
             out.noise = {t: Coef(r.fit.coef[i], units[i])
                          for i, t in enumerate(_TERMS)}
         return out

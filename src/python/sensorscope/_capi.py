@@ -377,6 +377,14 @@ allan_analyze = _fn("sscope_allan_analyze", C.c_int, c_dptr, c_size, c_size,
                     c_dbl, C.c_int, C.POINTER(AllanOpts),
                     C.POINTER(NoiseFitOpts),
                     C.POINTER(C.POINTER(AllanResult)), C.POINTER(Diag))
+allan_new = _fn("sscope_allan_new", C.c_int, C.POINTER(C.c_void_p), c_size,
+                C.POINTER(AllanOpts))
+allan_compute = _fn("sscope_allan_compute", C.c_int, C.c_void_p, c_dptr,
+                    c_size, c_size, c_dbl, C.POINTER(c_size), c_size,
+                    C.POINTER(AllanPoint), C.POINTER(c_size),
+                    C.POINTER(Diag))
+allan_free = _fn("sscope_allan_free", None, C.c_void_p)
+quantity_si_unit = _fn("sscope_quantity_si_unit", C.c_char_p, C.c_int)
 allan_max_m = _fn("sscope_allan_max_m", c_size, C.c_int, c_size)
 allan_n_phase = _fn("sscope_allan_n_phase", c_size, C.c_int, c_size)
 allan_result_free = _fn("sscope_allan_result_free", None,
