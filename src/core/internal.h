@@ -190,4 +190,19 @@ int ssc_magnitude_check(const double *x, size_t stride, size_t n, int lim,
 /* Case-insensitive ASCII comparison of two strings. */
 int ssc_strcasecmp(const char *a, const char *b);
 
+/* Column lists (-c, "columns =", the reader's selection), one rule for
+ * all: items separated by commas, the blanks around an item not part of
+ * it, empty items skipped.  The next item of *p (advanced) into buf (len
+ * bytes, cut with *too_long set when longer); false at the end. */
+bool ssc_list_next(const char **p, char *buf, size_t len, bool *too_long);
+
+/* The item of a column list among n columns: a whole number is a file
+ * column number (1-based), anything else a name, matched exactly first
+ * and then case aside.  name(ctx, i) and number(ctx, i) describe column
+ * i.  Returns i, or -1 when none matches. */
+long ssc_column_find(const char *item, size_t n,
+		     const char *(*name)(const void *ctx, size_t i),
+		     size_t (*number)(const void *ctx, size_t i),
+		     const void *ctx);
+
 #endif /* SSCOPE_INTERNAL_H */

@@ -152,6 +152,56 @@ int ssc_strcasecmp(const char *a, const char *b)
 	}
 }
 
+bool ssc_list_next(const char **p, char *buf, size_t len, bool *too_long)
+{
+	while (**p) {
+		const char *s = *p, *e = strchr(s, ',');
+		size_t n;
+
+		if (!e)
+			e = s + strlen(s);
+		*p = *e ? e + 1 : e;
+		while (s < e && (*s == ' ' || *s == '\t'))
+			s++;
+		while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' ||
+				 e[-1] == '\n'))
+			e--;
+		n = (size_t)(e - s);
+		if (!n)
+			continue;
+		*too_long = n >= len;
+		if (*too_long)
+			n = len - 1;
+		memcpy(buf, s, n);
+		buf[n] = '\0';
+		return true;
+	}
+	return false;
+}
+
+long ssc_column_find(const char *item, size_t n,
+		     const char *(*name)(const void *ctx, size_t i),
+		     size_t (*number)(const void *ctx, size_t i),
+		     const void *ctx)
+{
+	char *end;
+	long num = strtol(item, &end, 10);
+
+	if (*item && !*end) {
+		for (size_t i = 0; i < n; i++)
+			if ((long)number(ctx, i) == num)
+				return (long)i;
+		return -1;
+	}
+	for (size_t i = 0; i < n; i++)
+		if (!strcmp(name(ctx, i), item))
+			return (long)i;
+	for (size_t i = 0; i < n; i++)
+		if (!ssc_strcasecmp(name(ctx, i), item))
+			return (long)i;
+	return -1;
+}
+
 int ssc_cmp_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;

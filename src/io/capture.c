@@ -492,53 +492,14 @@ long sscope_capture_find(const struct sscope_capture *cap, const char *name)
 	return -1;
 }
 
-/* Trimmed items of a column list, one at a time: the next item of *p
- * (advanced) into buf, false at the end.  Empty items are skipped. */
-static bool next_item(const char **p, char *buf, size_t len, bool *too_long)
+static const char *chan_name(const void *ctx, size_t k)
 {
-	while (**p) {
-		const char *s = *p, *e = strchr(s, ',');
-		size_t n;
-
-		if (!e)
-			e = s + strlen(s);
-		*p = *e ? e + 1 : e;
-		while (s < e && (*s == ' ' || *s == '\t'))
-			s++;
-		while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' ||
-				 e[-1] == '\n'))
-			e--;
-		n = (size_t)(e - s);
-		if (!n)
-			continue;
-		*too_long = n >= len;
-		if (*too_long)
-			n = len - 1;
-		memcpy(buf, s, n);
-		buf[n] = '\0';
-		return true;
-	}
-	return false;
+	return ((const struct sscope_capture *)ctx)->channels[k].col.name;
 }
 
-static long find_item(const struct sscope_capture *cap, const char *item)
+static size_t chan_number(const void *ctx, size_t k)
 {
-	char *end;
-	long idx = strtol(item, &end, 10);
-
-	if (!*end) {
-		for (size_t k = 0; k < cap->n_channels; k++)
-			if ((long)cap->channels[k].col.index + 1 == idx)
-				return (long)k;
-		return -1;
-	}
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (!strcmp(cap->channels[k].col.name, item))
-			return (long)k;
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (!ssc_strcasecmp(cap->channels[k].col.name, item))
-			return (long)k;
-	return -1;
+	return ((const struct sscope_capture *)ctx)->channels[k].col.index + 1;
 }
 
 /* The channels a column list names, in its order: idx[0..*n). */
@@ -555,8 +516,10 @@ static int resolve(const struct sscope_capture *cap, const char *columns,
 			idx[(*n)++] = k;
 		return 0;
 	}
-	while (next_item(&p, item, sizeof(item), &too_long)) {
-		long k = too_long ? -1 : find_item(cap, item);
+	while (ssc_list_next(&p, item, sizeof(item), &too_long)) {
+		long k = too_long ? -1 :
+			 ssc_column_find(item, cap->n_channels, chan_name,
+					 chan_number, cap);
 		bool dup = false;
 
 		if (k < 0) {

@@ -456,23 +456,15 @@ static void col_units(struct sscope_reader *r)
 	}
 }
 
-static long find_column(struct sscope_reader *r, const char *key)
+static const char *col_name(const void *ctx, size_t i)
 {
-	char *end;
-	long idx = strtol(key, &end, 10);
+	return ((const struct sscope_reader *)ctx)->cols[i].name;
+}
 
-	if (*key && !*end) {
-		if (idx >= 1 && (size_t)idx <= r->ncols)
-			return idx - 1;
-		return -1;
-	}
-	for (size_t i = 0; i < r->ncols; i++)
-		if (!strcmp(r->cols[i].name, key))
-			return (long)i;
-	for (size_t i = 0; i < r->ncols; i++)
-		if (!ssc_strcasecmp(r->cols[i].name, key))
-			return (long)i;
-	return -1;
+static size_t col_number(const void *ctx, size_t i)
+{
+	(void)ctx;
+	return i + 1;
 }
 
 /* The 1-based numbers of the columns whose name equals column i's (case
@@ -533,7 +525,7 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 	r->time_col = -1;
 	r->temp_col = -1;
 	if (o->time_column && *o->time_column) {
-		r->time_col = find_column(r, o->time_column);
+		r->time_col = ssc_column_find(o->time_column, r->ncols, col_name, col_number, r);
 		if (r->time_col < 0) {
 			column_list(r, names, sizeof(names));
 			return ssc_diag(diag, -EINVAL,
@@ -554,7 +546,7 @@ static int assign_roles(struct sscope_reader *r, struct sscope_diag *diag)
 	if (o->no_time)
 		r->time_col = -1;
 	if (o->temp_column && *o->temp_column) {
-		r->temp_col = find_column(r, o->temp_column);
+		r->temp_col = ssc_column_find(o->temp_column, r->ncols, col_name, col_number, r);
 		if (r->temp_col < 0) {
 			column_list(r, names, sizeof(names));
 			return ssc_diag(diag, -EINVAL,
@@ -607,45 +599,29 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 		return -ENOMEM;
 	r->nsel = 0;
 	if (spec && *spec) {
-		char *copy = ssc_strdup(spec), *save = NULL, *tok;
+		const char *p = spec;
+		char tok[256];
+		bool too_long;
 
-		if (!copy)
-			return -ENOMEM;
-		for (tok = strtok_r(copy, ",", &save); tok;
-		     tok = strtok_r(NULL, ",", &save)) {
-			long idx;
-			char *e;
+		while (ssc_list_next(&p, tok, sizeof(tok), &too_long)) {
+			long idx = too_long ? -1 :
+				   ssc_column_find(tok, r->ncols, col_name,
+						   col_number, r);
 
-			/* blanks around an item are not part of it (as
-			 * sscope_capture_select() reads the list) */
-			while (*tok == ' ' || *tok == '\t')
-				tok++;
-			e = tok + strlen(tok);
-			while (e > tok && (e[-1] == ' ' || e[-1] == '\t' ||
-					   e[-1] == '\r' || e[-1] == '\n'))
-				*--e = '\0';
-			if (!*tok)
-				continue;
-			idx = find_column(r, tok);
 			if (idx < 0) {
 				column_list(r, names, sizeof(names));
-				rc = ssc_diag(diag, -EINVAL,
-					      "%s: no column '%s' (columns: %s)",
-					      r->disp, tok, names);
-				free(copy);
-				return rc;
+				return ssc_diag(diag, -EINVAL,
+						"%s: no column '%s' (columns: %s)",
+						r->disp, tok, names);
 			}
 			if (strcmp(tok, r->cols[idx].name) == 0 ||
 			    ssc_strcasecmp(tok, r->cols[idx].name) == 0) {
 				/* a name, not an index: it must be unique */
 				if (same_name(r, (size_t)idx, names,
-					      sizeof(names)) > 1) {
-					rc = ssc_diag(diag, -EINVAL,
-						      "%s: '%s' names columns %s: select one by its number",
-						      r->disp, tok, names);
-					free(copy);
-					return rc;
-				}
+					      sizeof(names)) > 1)
+					return ssc_diag(diag, -EINVAL,
+							"%s: '%s' names columns %s: select one by its number",
+							r->disp, tok, names);
 			}
 			if (r->cols[idx].dest >= 0)
 				continue; /* named twice */
@@ -654,7 +630,6 @@ static int select_columns(struct sscope_reader *r, struct sscope_diag *diag)
 			r->cols[idx].dest = (int)r->nsel;
 			r->sel[r->nsel++] = (size_t)idx;
 		}
-		free(copy);
 	} else {
 		for (size_t i = 0; i < r->ncols; i++) {
 			if (r->cols[i].c.role != SSCOPE_CAPTURE_ROLE_DATA ||
