@@ -41,6 +41,16 @@
  *   sscope_X_open / sscope_X_close (a writer is closed by _commit, which
  *   keeps the file, or _abort, which removes it).  The caller owns every
  *   array it passes.
+ * - After a failure an out-pointer holds nothing to free: every function
+ *   that hands back an object (sscope_X_new, sscope_X_open,
+ *   sscope_capture_load, sscope_allan_analyze, ...) sets it to NULL first,
+ *   and a caller-owned result struct a failing function was filling may
+ *   be given to its sscope_X_clear.
+ * - Options: a NULL options pointer means every default, and so does a
+ *   zero-initialised struct (struct sscope_X_opts o = { 0 }), with one
+ *   exception, whose zero is a valid request (segments without overlap):
+ *   struct sscope_psd_opts (and struct sscope_vib_opts, which holds one)
+ *   starts from sscope_psd_opts_init() (sscope_vib_opts_init()).
  * - ABI: the shared library's libtool version (-version-info C:R:A in
  *   Makefile.am) follows libtool's rules, written there.
  * - Nothing in the library prints, exits or keeps mutable static state.

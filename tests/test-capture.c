@@ -341,6 +341,107 @@ START_TEST(calibration_applied)
 }
 END_TEST
 
+/* One way in: sscope_capture_open() is load, calibration, selection and
+ * the rate checks, in that order; its notes and its failing stage. */
+START_TEST(open_in_one_call)
+{
+	char dir[] = "/tmp/sscope-open-XXXXXX", path[64];
+	struct sscope_capture_open_opts o;
+	struct sscope_reader_opts ro2;
+	struct sscope_capture_notes nt;
+	struct sscope_calib_file_triad t;
+	struct sscope_capture *c, *ref;
+	struct sscope_diag d;
+	FILE *f;
+
+	ck_assert_ptr_nonnull(mkdtemp(dir));
+	snprintf(path, sizeof(path), "%s/imu.csv", dir);
+	f = fopen(path, "w");
+	ck_assert_ptr_nonnull(f);
+	fprintf(f, "time [s],ax [g],ay [g],az [g],gx [rad/s]\n");
+	for (int i = 0; i < 50; i++)
+		fprintf(f, "%g,%g,%g,%g,%g\n", 0.01 * i, 0.001 * i, 0.5, 1.0,
+			0.002 * (i % 7));
+	ck_assert_int_eq(fclose(f), 0);
+
+	/* an accelerometer triad (g in, m/s^2 out), then select "gx, ay" */
+	memset(&t, 0, sizeof(t));
+	strcpy(t.kind, "accel");
+	strcpy(t.input_unit, "g");
+	strcpy(t.output_unit, "m/s^2");
+	strcpy(t.channels[0], "ax");
+	strcpy(t.channels[1], "ay");
+	strcpy(t.channels[2], "az");
+	sscope_calib_triad_identity(&t.c);
+	t.c.bias[1] = 0.25;
+	memset(&o, 0, sizeof(o));
+	memset(&ro2, 0, sizeof(ro2));
+	o.read = &ro2;
+	ro2.columns = "gx, ay";
+	ro2.rate_hz = 50; /* the time column says 100 Hz */
+	o.calib = &t;
+	o.n_calib = 1;
+	ck_assert_int_eq(sscope_capture_open(&c, path, &o, &nt, &d), 0);
+	ck_assert_int_eq(nt.stage, SSCOPE_CAPTURE_STAGE_DONE);
+	names_are(c, "gx,ay");
+	ck_assert_str_eq(c->channels[1].col.unit_label, "m/s^2");
+	/* (scale 1 m/s^2 per g: the identity of the triad's units) */
+	ck_assert_rel(c->channels[1].data[3], 0.5 - 0.25, 1e-12);
+	ck_assert(nt.rate_disagrees);
+	ck_assert_rel(nt.time_column_rate_hz, 100, 1e-9);
+	ck_assert(!nt.unit_unused && !nt.unterminated);
+
+	/* the same as the four calls it replaces */
+	{
+		struct sscope_reader_opts ro = { 0 };
+
+		ro.rate_hz = 50;
+		ck_assert_int_eq(sscope_capture_load(&ref, path, &ro, &d), 0);
+		ck_assert_int_eq(sscope_capture_apply_calib(ref, &t, 1, NULL, NULL, &d), 0);
+		ck_assert_int_eq(sscope_capture_select(ref, "gx, ay", &d), 0);
+		for (size_t k = 0; k < 2; k++)
+			ck_assert_mem_eq(ref->channels[k].data, c->channels[k].data,
+					 50 * sizeof(double));
+		sscope_capture_free(ref);
+	}
+	sscope_capture_free(c);
+
+	/* a default unit no channel takes; an unknown column fails in the
+	 * reader (which reads only the columns named), or at the selection
+	 * after a calibration (which reads them all), with no capture */
+	memset(&o, 0, sizeof(o));
+	memset(&ro2, 0, sizeof(ro2));
+	o.read = &ro2;
+	ro2.default_unit = "deg/s";
+	ck_assert_int_eq(sscope_capture_open(&c, path, &o, &nt, &d), 0);
+	ck_assert(nt.unit_unused && !nt.rate_disagrees);
+	sscope_capture_free(c);
+	ro2.default_unit = NULL;
+	ro2.columns = "ax, bogus";
+	ck_assert_int_eq(sscope_capture_open(&c, path, &o, &nt, &d), -EINVAL);
+	ck_assert_ptr_null(c);
+	ck_assert_int_eq(nt.stage, SSCOPE_CAPTURE_STAGE_READ);
+	ck_assert_ptr_nonnull(strstr(d.msg, "no column 'bogus'"));
+	strcpy(t.channels[0], "ax");
+	o.calib = &t;
+	o.n_calib = 1;
+	ck_assert_int_eq(sscope_capture_open(&c, path, &o, &nt, &d), -EINVAL);
+	ck_assert_ptr_null(c);
+	ck_assert_int_eq(nt.stage, SSCOPE_CAPTURE_STAGE_SELECT);
+	ck_assert_ptr_nonnull(strstr(d.msg, "no column 'bogus'"));
+	/* a calibration whose channels are missing fails at its stage */
+	memset(&o, 0, sizeof(o));
+	strcpy(t.channels[0], "wx");
+	o.calib = &t;
+	o.n_calib = 1;
+	ck_assert_int_eq(sscope_capture_open(&c, path, &o, &nt, &d), -EINVAL);
+	ck_assert_int_eq(nt.stage, SSCOPE_CAPTURE_STAGE_CALIBRATE);
+	ck_assert_ptr_null(c);
+	unlink(path);
+	rmdir(dir);
+}
+END_TEST
+
 /* Receive times against stamps: latency statistics, agreement. */
 START_TEST(latency_and_agreement)
 {
@@ -380,6 +481,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, timing_stream_long);
 	tcase_add_test(tc, calibration_applied);
 	tcase_add_test(tc, latency_and_agreement);
+	tcase_add_test(tc, open_in_one_call);
 	suite_add_tcase(s, tc);
 	return s;
 }

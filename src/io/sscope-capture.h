@@ -261,6 +261,65 @@ int sscope_capture_apply_calib(struct sscope_capture *cap,
 				size_t n, unsigned *gsens_skipped,
 				size_t *applied, struct sscope_diag *diag);
 
+/** Options of sscope_capture_open(); zero-initialised means the
+ *  defaults (every data column, no calibration). */
+struct sscope_capture_open_opts {
+	/** How to read the file (NULL: the defaults); its columns are the
+	 *  selection, applied after the calibration. */
+	const struct sscope_reader_opts *read;
+	/** Calibration triads applied before the selection (a calibration
+	 *  file's, sscope-calib.h), or NULL; owned by the caller. */
+	const struct sscope_calib_file_triad *calib;
+	size_t n_calib;
+};
+
+/** The stage sscope_capture_open() was at (where it failed). */
+enum sscope_capture_stage {
+	SSCOPE_CAPTURE_STAGE_READ = 0,  /**< reading the file */
+	SSCOPE_CAPTURE_STAGE_CALIBRATE, /**< applying the calibration */
+	SSCOPE_CAPTURE_STAGE_SELECT,    /**< choosing the columns */
+	SSCOPE_CAPTURE_STAGE_DONE       /**< all done */
+};
+
+/** What sscope_capture_open() found worth saying; none is an error. */
+struct sscope_capture_notes {
+	enum sscope_capture_stage stage; /**< reached (failed there, or DONE) */
+	bool unterminated;      /**< the last line had no newline ... */
+	size_t rows_read;       /**< ... of these rows */
+	/** bit i: triad i has a g-sensitivity but the capture lacks its
+	 *  accelerometer channels (not corrected) */
+	unsigned calib_gsens_skipped;
+	/** read->default_unit was given but every channel's header names
+	 *  its own unit: it changed nothing */
+	bool unit_unused;
+	/** the rate from the time column is implausible; rate_hint says
+	 *  why and the fix (sscope_capture_check_rate()) */
+	bool rate_implausible;
+	struct sscope_diag rate_hint;
+	/** read->rate_hz was given and the time column implies a rate more
+	 *  than 1 % away: time_column_rate_hz */
+	bool rate_disagrees;
+	double time_column_rate_hz;
+};
+
+/**
+ * Open a capture in one call, the one way every command, scene and the
+ * Python module reads one: read the file (sscope_capture_load(), every
+ * channel when calibrating), apply the calibration
+ * (sscope_capture_apply_calib()), keep the channels the columns of read names
+ * (sscope_capture_select()) and judge the rate (plausible, and as given in read->rate_hz).
+ * @param cap    receives the capture (free it with sscope_capture_free());
+ *               NULL on failure.
+ * @param opts   options, or NULL for the defaults.
+ * @param notes  receives what is worth a warning and the stage reached
+ *               (on failure: the stage that failed); may be NULL.
+ * @return 0, or the failing stage's error (as its function; diag says).
+ */
+int sscope_capture_open(struct sscope_capture **cap, const char *path,
+			const struct sscope_capture_open_opts *opts,
+			struct sscope_capture_notes *notes,
+			struct sscope_diag *diag);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * Calibration files: written by `sensorscope calib`, applied to captures
- * by the shared option --calibration FILE when ssc_load() reads them.
+ * by the shared option --calibration FILE (read here, applied by
+ * sscope_capture_open() when ssc_load() reads a capture).
  *
  * Format (JSON, one object):
  *   {"format": "sensorscope-calibration", "version": 1,
@@ -254,35 +255,6 @@ int ssc_calfile_read(const char *cmd, const char *path,
 	*out = t;
 	*n_out = n;
 	return SSC_EXIT_OK;
-}
-
-int ssc_calibration_apply(const struct ssc_common *co, const char *path,
-			  struct sscope_capture *cap)
-{
-	struct sscope_calib_file_triad *t;
-	struct sscope_diag d = { "" };
-	unsigned skipped;
-	size_t n;
-	int rc = ssc_calfile_read(co->cmd, co->calibration, &t, &n);
-
-	if (rc)
-		return rc;
-	rc = sscope_capture_apply_calib(cap, t, n, &skipped, NULL, &d);
-	if (rc == -ENOMEM) {
-		ssc_err(co->cmd, "out of memory");
-	} else if (rc) {
-		ssc_err(co->cmd, "--calibration: %s: %s: %s", co->calibration,
-			path, d.msg[0] ? d.msg : sscope_strerror(rc));
-	} else {
-		for (size_t i = 0; i < n && i < 8 * sizeof(unsigned); i++)
-			if (skipped & (1u << i))
-				ssc_warn(co, "%s: no accelerometer channels %s,%s,%s: g-sensitivity not corrected",
-					 path, t[i].accel_channels[0],
-					 t[i].accel_channels[1],
-					 t[i].accel_channels[2]);
-	}
-	free(t);
-	return rc ? SSC_EXIT_FAIL : SSC_EXIT_OK;
 }
 
 json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o)

@@ -5,6 +5,7 @@
  * inputs named twice refused.  Errors are printed; exit codes returned.
  */
 #include "workbench.h"
+#include "calibfile.h"
 
 #include <errno.h>
 #include <math.h>
@@ -43,61 +44,65 @@ void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o)
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap)
 {
-	struct sscope_reader_opts o;
+	struct sscope_capture_open_opts o = { 0 };
+	struct sscope_reader_opts ro;
+	struct sscope_capture_notes nt;
+	struct sscope_calib_file_triad *t = NULL;
 	struct sscope_diag d = { "" };
 	struct progress_ctx pc = { co, path };
 	int rc;
 
-	ssc_read_opts(co, &o);
-	/* the reader reads only the columns -c names; with a calibration
-	 * every channel, since triads need all three */
-	if (co->calibration)
-		o.columns = NULL;
-	else
-		o.in_place = true; /* (calibration drops channels: copies) */
+	ssc_read_opts(co, &ro);
+	/* the reader reads only the columns -c names, in place (with a
+	 * calibration, sscope_capture_open() reads every channel) */
+	ro.in_place = true;
 	/* (with --allow-nan the reader counts the gaps) */
-	o.in_place_unchecked = o.in_place && co->values_in_run && !co->allow_nan;
+	ro.in_place_unchecked = co->values_in_run && !co->allow_nan;
 	if (ssc_progress_on(co)) {
-		o.progress = read_progress;
-		o.progress_ctx = &pc;
+		ro.progress = read_progress;
+		ro.progress_ctx = &pc;
 	}
-	rc = sscope_capture_load(cap, path, &o, &d);
+	o.read = &ro;
+	if (co->calibration) {
+		rc = ssc_calfile_read(co->cmd, co->calibration, &t, &o.n_calib);
+		if (rc)
+			return rc;
+		o.calib = t;
+	}
+	rc = sscope_capture_open(cap, path, &o, &nt, &d);
 	ssc_progress_end(co);
-	if (rc)
-		return ssc_fail(co->cmd, rc, &d, path);
-	if ((*cap)->unterminated)
-		ssc_warn_unterminated(co, path, (*cap)->n);
-	rc = co->calibration ? ssc_calibration_apply(co, path, *cap) : 0;
-	if (!rc)
-		rc = ssc_select(co, *cap);
-	if (rc) {
-		sscope_capture_free(*cap);
-		*cap = NULL;
-		return rc;
+	if (nt.unterminated)
+		ssc_warn_unterminated(co, path, nt.rows_read);
+	for (size_t i = 0; t && i < o.n_calib && i < 8 * sizeof(unsigned); i++)
+		if (nt.calib_gsens_skipped & (1u << i))
+			ssc_warn(co, "%s: no accelerometer channels %s,%s,%s: g-sensitivity not corrected",
+				 path, t[i].accel_channels[0], t[i].accel_channels[1],
+				 t[i].accel_channels[2]);
+	if (rc && nt.stage == SSCOPE_CAPTURE_STAGE_CALIBRATE) {
+		if (rc == -ENOMEM)
+			ssc_err(co->cmd, "out of memory");
+		else
+			ssc_err(co->cmd, "--calibration: %s: %s: %s", co->calibration,
+				path, d.msg[0] ? d.msg : sscope_strerror(rc));
+		rc = SSC_EXIT_FAIL;
+	} else if (rc) {
+		rc = ssc_fail(co->cmd, rc, &d, path);
 	}
+	free(t);
+	if (rc)
+		return rc;
 	/* -u names the unit of data columns whose header names none: say so
 	 * when no channel took it */
-	if (co->units && *co->units) {
-		bool took = false;
-
-		for (size_t k = 0; k < (*cap)->n_channels; k++)
-			took |= !strcmp((*cap)->channels[k].col.unit_label, co->units);
-		if (!took && (*cap)->n_channels)
-			ssc_warn(co, "%s: -u %s changes nothing: the file names the unit of every channel (%s: %s%s); -u only fills in a missing unit",
-				 path, co->units, (*cap)->channels[0].col.name,
-				 (*cap)->channels[0].col.unit_label,
-				 (*cap)->n_channels > 1 ? ", ..." : "");
-	}
-	{
-		struct sscope_diag h = { "" };
-
-		if (sscope_capture_check_rate(*cap, &h))
-			ssc_warn(co, "%s: %s", path, h.msg);
-	}
-	if ((*cap)->rate_source == SSCOPE_CAPTURE_RATE_GIVEN && (*cap)->has_timing &&
-	    fabs((*cap)->timing.rate_hz / co->rate_hz - 1) > 0.01)
+	if (nt.unit_unused)
+		ssc_warn(co, "%s: -u %s changes nothing: the file names the unit of every channel (%s: %s%s); -u only fills in a missing unit",
+			 path, co->units, (*cap)->channels[0].col.name,
+			 (*cap)->channels[0].col.unit_label,
+			 (*cap)->n_channels > 1 ? ", ..." : "");
+	if (nt.rate_implausible)
+		ssc_warn(co, "%s: %s", path, nt.rate_hint.msg);
+	if (nt.rate_disagrees)
 		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
-			 path, co->rate_hz, (*cap)->timing.rate_hz);
+			 path, co->rate_hz, nt.time_column_rate_hz);
 	return SSC_EXIT_OK;
 }
 

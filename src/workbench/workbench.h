@@ -148,12 +148,9 @@ int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
 /* Fill read options from the shared options (progress hooked up). */
 void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o);
 
-/* Apply the --calibration file to a loaded capture (calibfile.c). */
-int ssc_calibration_apply(const struct ssc_common *co, const char *path,
-			  struct sscope_capture *cap);
-
-/* Load a capture with the shared options: the columns -c names (in its
- * order), --calibration applied; prints errors.  Returns exit. */
+/* Load a capture with the shared options (sscope_capture_open(): the
+ * columns -c names, in its order, --calibration applied, the rate judged);
+ * prints errors and warnings.  Returns exit. */
 int ssc_load(const struct ssc_common *co, const char *path,
 	     struct sscope_capture **cap);
 

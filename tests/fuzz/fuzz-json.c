@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "calibfile.h"
 #include "sscope-inclino.h"
 
 static struct sscope_capture *capture(void)
@@ -46,15 +47,21 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-	struct ssc_common co = { .cmd = "info" };
 	struct sscope_inclino_lut *lut = malloc(sizeof(*lut));
 	struct sscope_capture *cap = capture();
 	char path[64];
 	int fd = fuzz_file(data, size, path, sizeof(path));
 
 	if (fd >= 0 && cap) {
-		co.calibration = path;
-		ssc_calibration_apply(&co, "capture.csv", cap);
+		/* what sscope_capture_open() does with --calibration */
+		struct sscope_calib_file_triad *t;
+		struct sscope_diag d = { "" };
+		size_t n;
+
+		if (ssc_calfile_read("info", path, &t, &n) == 0) {
+			sscope_capture_apply_calib(cap, t, n, NULL, NULL, &d);
+			free(t);
+		}
 	}
 	if (fd >= 0 && lut && ssc_inclino_lut_read("inclino", path, lut) == 0) {
 		struct sscope_inclino_plan *plan;

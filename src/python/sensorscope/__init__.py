@@ -317,9 +317,15 @@ def load(path, columns=None, rate=None, units=None, topic=None,
     # offset of 0 is no offset)
     o.raw_scale = scale if scale is not None else 0.0
     o.raw_offset = offset if offset is not None else 0.0
+    oo = _c.OpenOpts()
+    oo.read = C.pointer(o)
     ptr = C.POINTER(_c.Capture)()
     d = _c.Diag()
-    rc = _c.capture_load(C.byref(ptr), _b(path), C.byref(o), C.byref(d))
+    nt = _c.Notes()
+    # read, select the columns and judge the rate in one call, as the
+    # command does (sscope_capture_open)
+    rc = _c.capture_open(C.byref(ptr), _b(path), C.byref(oo), C.byref(nt),
+                         C.byref(d))
     if rc < 0:
         msg = d.msg.decode(errors="replace") or "%s: %s" % (
             path, _c.strerror(rc).decode())
@@ -327,9 +333,17 @@ def load(path, columns=None, rate=None, units=None, topic=None,
             _bad("load", "raw", msg)
         raise Error(rc, "load: " + msg)
     cap = Capture(ptr, str(path))
-    h = _c.Diag()
-    if warn and _c.capture_check_rate(ptr, C.byref(h)) < 0:
-        _warn("load", "%s: %s" % (path, h.msg.decode()))
+    if warn and nt.unterminated:
+        _warn("load", "%s: the last line (row %d) has no newline: was the "
+              "capture cut short?" % (path, nt.rows_read))
+    if warn and nt.unit_unused:
+        _warn("load", "%s: units=%s changes nothing: the file names the "
+              "unit of every channel" % (path, units))
+    if warn and nt.rate_implausible:
+        _warn("load", "%s: %s" % (path, nt.rate_hint.msg.decode()))
+    if warn and nt.rate_disagrees:
+        _warn("load", "%s: rate %g Hz but the time column implies %.6g Hz" %
+              (path, rate, nt.time_column_rate_hz))
     return cap
 
 

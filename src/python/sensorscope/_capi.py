@@ -69,6 +69,19 @@ class ReadOpts(C.Structure):
                 ("in_place_unchecked", C.c_bool)]
 
 
+class OpenOpts(C.Structure):
+    _fields_ = [("read", C.POINTER(ReadOpts)), ("calib", C.c_void_p),
+                ("n_calib", c_size)]
+
+
+class Notes(C.Structure):
+    _fields_ = [("stage", C.c_int), ("unterminated", C.c_bool),
+                ("rows_read", c_size), ("calib_gsens_skipped", C.c_uint),
+                ("unit_unused", C.c_bool), ("rate_implausible", C.c_bool),
+                ("rate_hint", Diag), ("rate_disagrees", C.c_bool),
+                ("time_column_rate_hz", c_dbl)]
+
+
 class Topic(C.Structure):
     _fields_ = [("name", C.c_char_p), ("type", C.c_char_p),
                 ("messages", C.c_uint64), ("readable", C.c_bool),
@@ -328,6 +341,8 @@ class AdcAnalysis(C.Structure):
 STRUCTS = {
     "sscope_diag": Diag, "sscope_unit": Unit, "sscope_capture_column": Column,
     "sscope_reader_opts": ReadOpts, "sscope_capture_topic": Topic,
+    "sscope_capture_open_opts": OpenOpts,
+    "sscope_capture_notes": Notes,
     "sscope_capture_source": Source, "sscope_capture_channel": Channel,
     "sscope_timing": Timing, "sscope_timing_order": TimeOrder,
     "sscope_timing_gap": Gap,
@@ -361,6 +376,9 @@ version = _fn("sscope_version", C.c_char_p)
 capture_load = _fn("sscope_capture_load", C.c_int,
                    C.POINTER(C.POINTER(Capture)), C.c_char_p,
                    C.POINTER(ReadOpts), C.POINTER(Diag))
+capture_open = _fn("sscope_capture_open", C.c_int,
+                   C.POINTER(C.POINTER(Capture)), C.c_char_p,
+                   C.POINTER(OpenOpts), C.POINTER(Notes), C.POINTER(Diag))
 capture_free = _fn("sscope_capture_free", None, C.POINTER(Capture))
 capture_check_rate = _fn("sscope_capture_check_rate", C.c_int,
                          C.POINTER(Capture), C.POINTER(Diag))

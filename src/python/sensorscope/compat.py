@@ -92,36 +92,20 @@ def _deviation(fn, dev, data, rate, data_type, taus):
     return (pts["tau_s"][keep], devs, devs / np.sqrt(ns), ns)
 
 
-def adev(data, rate=1.0, data_type="phase", taus=None):
-    """Allan deviation (non-overlapping), as allantools.adev."""
-    return _deviation("adev", "adev", data, rate, data_type, taus)
+def _define(name, what):
+    def f(data, rate=1.0, data_type="phase", taus=None):
+        return _deviation(name, name, data, rate, data_type, taus)
+    f.__name__ = f.__qualname__ = name
+    f.__doc__ = "%s, as allantools.%s (see the module's help)." % (what,
+                                                                   name)
+    return f
 
 
-def oadev(data, rate=1.0, data_type="phase", taus=None):
-    """Overlapping Allan deviation, as allantools.oadev."""
-    return _deviation("oadev", "oadev", data, rate, data_type, taus)
-
-
-def mdev(data, rate=1.0, data_type="phase", taus=None):
-    """Modified Allan deviation, as allantools.mdev."""
-    return _deviation("mdev", "mdev", data, rate, data_type, taus)
-
-
-def tdev(data, rate=1.0, data_type="phase", taus=None):
-    """Time deviation (s for phase data), as allantools.tdev."""
-    return _deviation("tdev", "tdev", data, rate, data_type, taus)
-
-
-def hdev(data, rate=1.0, data_type="phase", taus=None):
-    """Hadamard deviation (non-overlapping), as allantools.hdev."""
-    return _deviation("hdev", "hdev", data, rate, data_type, taus)
-
-
-def ohdev(data, rate=1.0, data_type="phase", taus=None):
-    """Overlapping Hadamard deviation, as allantools.ohdev."""
-    return _deviation("ohdev", "ohdev", data, rate, data_type, taus)
-
-
-def totdev(data, rate=1.0, data_type="phase", taus=None):
-    """Total deviation, as allantools.totdev."""
-    return _deviation("totdev", "totdev", data, rate, data_type, taus)
+for _name, _what in (("adev", "Allan deviation (non-overlapping)"),
+                     ("oadev", "Overlapping Allan deviation"),
+                     ("mdev", "Modified Allan deviation"),
+                     ("tdev", "Time deviation (s for phase data)"),
+                     ("hdev", "Hadamard deviation (non-overlapping)"),
+                     ("ohdev", "Overlapping Hadamard deviation"),
+                     ("totdev", "Total deviation")):
+    globals()[_name] = _define(_name, _what)
