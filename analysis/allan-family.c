@@ -203,7 +203,7 @@ static double tot_subseq(const double *v, size_t m, double *C, double *W)
 	const size_t L = 3 * m, hl = L / 2;
 	double m1 = 0, m2 = 0, s, C3;
 	struct ssc_ksum acc = { 0, 0 };
-	double part = 0;
+	double part;
 	const double v0 = v[0];
 
 	/* half averages of the values relative to v[0] */
@@ -227,16 +227,33 @@ static double tot_subseq(const double *v, size_t m, double *C, double *W)
 		W[t] = (C3 - C[t - 3 * m]) + (C3 - C[8 * m - t]);
 	for (size_t t = 6 * m; t <= 8 * m; t++)
 		W[t] = C[9 * m - t] - C[8 * m - t];
-	for (size_t j = 0; j < 6 * m; j++) {
-		double z = (W[j + 2 * m] - W[j + m]) - (W[j + m] - W[j]);
+	/* four lanes: the sum is not one chain of dependent additions */
+	for (size_t j0 = 0; j0 < 6 * m; j0 += 1024) {
+		size_t j1 = 6 * m - j0 < 1024 ? 6 * m : j0 + 1024, j = j0;
+		double p0 = 0, p1 = 0, p2 = 0, p3 = 0;
 
-		part += z * z;
-		if ((j & 1023) == 1023) {
-			ssc_ksum_add(&acc, part);
-			part = 0;
+		for (; j + 4 <= j1; j += 4) {
+			double z0 = (W[j + 2 * m] - W[j + m]) - (W[j + m] - W[j]);
+			double z1 = (W[j + 1 + 2 * m] - W[j + 1 + m]) -
+				    (W[j + 1 + m] - W[j + 1]);
+			double z2 = (W[j + 2 + 2 * m] - W[j + 2 + m]) -
+				    (W[j + 2 + m] - W[j + 2]);
+			double z3 = (W[j + 3 + 2 * m] - W[j + 3 + m]) -
+				    (W[j + 3 + m] - W[j + 3]);
+
+			p0 += z0 * z0;
+			p1 += z1 * z1;
+			p2 += z2 * z2;
+			p3 += z3 * z3;
 		}
+		for (; j < j1; j++) {
+			double z = (W[j + 2 * m] - W[j + m]) - (W[j + m] - W[j]);
+
+			p0 += z * z;
+		}
+		part = (p0 + p1) + (p2 + p3);
+		ssc_ksum_add(&acc, part);
 	}
-	ssc_ksum_add(&acc, part);
 	return ssc_ksum_value(&acc) / (double)(6 * m);
 }
 
@@ -312,31 +329,44 @@ double ssc_htot_var(const double *x, size_t np, size_t m, double tau0,
 /* MTIE, TIE rms                                                       */
 /* ------------------------------------------------------------------ */
 
+/* ring capacity of the deques: a power of two >= m + 1 (indices masked,
+ * not divided) */
+size_t ssc_mtie_work(size_t m)
+{
+	size_t c = 1;
+
+	while (c < m + 1)
+		c <<= 1;
+	return 2 * c;
+}
+
 /* largest max - min over the windows x[i .. i + m], i < np - m; work:
- * 2 (m + 1) indices */
+ * ssc_mtie_work(m) indices */
 double ssc_mtie(const double *x, size_t np, size_t m, size_t *work)
 {
-	size_t *qmax = work, *qmin = work + m + 1;
+	const size_t cap = ssc_mtie_work(m) / 2, mask = cap - 1;
+	size_t *qmax = work, *qmin = work + cap;
 	size_t hmax = 0, tmax = 0, hmin = 0, tmin = 0; /* ring buffers */
-	const size_t cap = m + 1;
 	double best = 0;
 
 	if (m == 0 || m >= np)
 		return NAN;
 	for (size_t k = 0; k < np; k++) {
+		const double v = x[k];
+
 		/* drop what left the window [k - m, k] */
-		if (tmax != hmax && qmax[hmax % cap] + m < k)
+		if (tmax != hmax && qmax[hmax & mask] + m < k)
 			hmax++;
-		if (tmin != hmin && qmin[hmin % cap] + m < k)
+		if (tmin != hmin && qmin[hmin & mask] + m < k)
 			hmin++;
-		while (tmax != hmax && x[qmax[(tmax - 1) % cap]] <= x[k])
+		while (tmax != hmax && x[qmax[(tmax - 1) & mask]] <= v)
 			tmax--;
-		qmax[tmax++ % cap] = k;
-		while (tmin != hmin && x[qmin[(tmin - 1) % cap]] >= x[k])
+		qmax[tmax++ & mask] = k;
+		while (tmin != hmin && x[qmin[(tmin - 1) & mask]] >= v)
 			tmin--;
-		qmin[tmin++ % cap] = k;
+		qmin[tmin++ & mask] = k;
 		if (k >= m) {
-			double pp = x[qmax[hmax % cap]] - x[qmin[hmin % cap]];
+			double pp = x[qmax[hmax & mask]] - x[qmin[hmin & mask]];
 
 			if (pp > best)
 				best = pp;

@@ -106,6 +106,7 @@ double ssc_mtot_var(const double *x, size_t np, size_t m, double tau0,
 		    unsigned threads);
 double ssc_htot_var(const double *x, size_t np, size_t m, double tau0,
 		    unsigned threads);
+size_t ssc_mtie_work(size_t m);
 double ssc_mtie(const double *x, size_t np, size_t m, size_t *work);
 double ssc_tierms(const double *x, size_t np, size_t m);
 double ssc_mtot_edf(int alpha, size_t m, size_t np);

@@ -2282,7 +2282,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 				dev_out[j] = ssc_tierms(x, np, m[j]) * ts;
 				continue;
 			}
-			w = ssc_alloc_array(2 * (m[j] + 1), sizeof(size_t));
+			w = ssc_alloc_array(ssc_mtie_work(m[j]), sizeof(size_t));
 			dev_out[j] = w ? ssc_mtie(x, np, m[j], w) * ts : (double)NAN;
 			free(w);
 		}
