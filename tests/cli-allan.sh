@@ -102,6 +102,8 @@ has "theo1: ends at 0.75 of the record" "$T/out" '^ +2700 +36000 '
 run "mtie json" 0 allan --format json --dev mtie --taus octave -c gz --no-fit "$G"
 json_check "mtie: time unit, no interval, no noise type" "$T/out" \
   '.channels[0].dev_unit == "deg/s*s" and ([.channels[0].points[] | (.dev > 0 and .dev_lo == null and .dev_hi == null and .edf == null and .alpha == null and .noise == null)] | all)'
+run "mtie csv" 0 allan --format csv --dev mtie --taus octave -c gz --no-fit "$G"
+has "mtie csv: empty interval, edf and alpha" "$T/out" 'gyro-static.csv,gz,mtie,deg/s\*s,0\.1,1,36000,[0-9.e-]+,,,,$'
 run "tierms text" 0 allan --dev tierms --taus decade -c gx --no-fit "$G"
 has "tierms: no interval said" "$T/out" 'none \(no EDF model\)'
 run "theoh with the fit" 0 allan --format json --dev theoh --taus octave -c gx "$G"

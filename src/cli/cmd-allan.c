@@ -1233,6 +1233,14 @@ static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file 
 		for (size_t i = 0; i < c->res->n_points; i++) {
 			const struct sscope_allan_point *p = &c->res->points[i];
 
+			if (!sscope_allan_dev_has_ci(a->ao.dev)) {
+				/* MTIE, TIE rms: no interval, EDF or noise type */
+				fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,,,,\n",
+					fr->path, c->col->name,
+					sscope_allan_dev_name(a->ao.dev), un, p->tau_s,
+					p->m, p->terms, p->dev / c->u.dev_scale * s);
+				continue;
+			}
 			fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,%.10g,%.10g,%.6g,%d\n",
 				fr->path, c->col->name, sscope_allan_dev_name(a->ao.dev),
 				un, p->tau_s, p->m, p->terms,
