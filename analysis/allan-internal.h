@@ -91,4 +91,27 @@ void ssc_allan_force_narrow(bool on);
 /* Difference order and whether a deviation is a "modified" one */
 int ssc_dev_order(enum sscope_allan_dev dev);
 
+/* allan-family.c: the total, Theo and time-error deviations on phase
+ * points x[0..np) (see that file for definitions and costs); NAN outside
+ * a deviation's limits (or -ENOMEM for the total ones) */
+/* TheoBR averages at most this many bias ratios (SP 1065 eq. 35) */
+#define SSC_THEOBR_RATIOS 32
+/* phase points TheoBR's bias ratio needs: floor(0.1 np / 3) - 3 >= 0 */
+#define SSC_THEOBR_MIN_NP 90
+double ssc_theo1_var(const double *x, size_t np, size_t m, double tau0,
+		     unsigned threads);
+double ssc_theobr_ratio(const double *x, size_t np, double tau0,
+			unsigned threads);
+double ssc_mtot_var(const double *x, size_t np, size_t m, double tau0,
+		    unsigned threads);
+double ssc_htot_var(const double *x, size_t np, size_t m, double tau0,
+		    unsigned threads);
+size_t ssc_mtie_work(size_t m);
+double ssc_mtie(const double *x, size_t np, size_t m, size_t *work);
+double ssc_tierms(const double *x, size_t np, size_t m);
+double ssc_mtot_edf(int alpha, size_t m, size_t np);
+double ssc_htot_edf(int alpha, size_t m, size_t np);
+double ssc_theo1_edf(int alpha, size_t m, size_t np);
+double ssc_htot_bias(int alpha);
+
 #endif

@@ -700,12 +700,74 @@ static inline double term(int d, const double *x, size_t i, size_t m)
 /* ------------------------------------------------------------------ */
 
 static const char *const dev_names[SSCOPE_ALLAN_DEV_COUNT_] = {
-	"oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev"
+	"oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev",
+	"mtotdev", "htotdev", "ttotdev", "theo1", "theobr", "theoh", "mtie",
+	"tierms"
+};
+
+static const char *const dev_labels[SSCOPE_ALLAN_DEV_COUNT_] = {
+	"OADEV", "ADEV", "MDEV", "TDEV", "HDEV", "OHDEV", "TOTDEV",
+	"MTOTDEV", "HTOTDEV", "TTOTDEV", "Theo1", "TheoBR", "TheoH", "MTIE",
+	"TIE rms"
 };
 
 const char *sscope_allan_dev_name(enum sscope_allan_dev dev)
 {
 	return (unsigned)dev < SSCOPE_ALLAN_DEV_COUNT_ ? dev_names[dev] : "";
+}
+
+const char *sscope_allan_dev_label(enum sscope_allan_dev dev)
+{
+	return (unsigned)dev < SSCOPE_ALLAN_DEV_COUNT_ ? dev_labels[dev] : "";
+}
+
+bool sscope_allan_dev_is_time(enum sscope_allan_dev dev)
+{
+	return dev == SSCOPE_ALLAN_DEV_TDEV || dev == SSCOPE_ALLAN_DEV_TTOTDEV ||
+	       dev == SSCOPE_ALLAN_DEV_MTIE || dev == SSCOPE_ALLAN_DEV_TIERMS;
+}
+
+bool sscope_allan_dev_has_ci(enum sscope_allan_dev dev)
+{
+	return dev != SSCOPE_ALLAN_DEV_MTIE && dev != SSCOPE_ALLAN_DEV_TIERMS &&
+	       (unsigned)dev < SSCOPE_ALLAN_DEV_COUNT_;
+}
+
+/* the deviations of allan-family.c */
+static bool fam_dev(enum sscope_allan_dev dev)
+{
+	return dev >= SSCOPE_ALLAN_DEV_MTOTDEV;
+}
+
+static bool theo_dev(enum sscope_allan_dev dev)
+{
+	return dev == SSCOPE_ALLAN_DEV_THEO1 || dev == SSCOPE_ALLAN_DEV_THEOBR ||
+	       dev == SSCOPE_ALLAN_DEV_THEOH;
+}
+
+/* TheoH: the largest OADEV m (tau within 10 % of the record) */
+static size_t theoh_k(size_t np)
+{
+	return (size_t)floor(0.1 * (double)(np - 1));
+}
+
+/* whether dev takes averaging factor m (m <= max_m already) */
+static bool m_valid(enum sscope_allan_dev dev, size_t m, size_t np)
+{
+	switch (dev) {
+	case SSCOPE_ALLAN_DEV_THEO1:
+	case SSCOPE_ALLAN_DEV_THEOBR:
+		return m >= 10 && !(m & 1);
+	case SSCOPE_ALLAN_DEV_THEOH: {
+		size_t k = theoh_k(np);
+
+		if (m <= k)
+			return m <= (np - 1) / 2;
+		return m >= 10 && !(m & 1) && 0.75 * (double)m >= (double)k;
+	}
+	default:
+		return true;
+	}
 }
 
 int sscope_allan_dev_parse(const char *name, enum sscope_allan_dev *dev)
@@ -722,7 +784,10 @@ int sscope_allan_dev_parse(const char *name, enum sscope_allan_dev *dev)
 
 int ssc_dev_order(enum sscope_allan_dev dev)
 {
-	return dev == SSCOPE_ALLAN_DEV_HDEV || dev == SSCOPE_ALLAN_DEV_OHDEV ? 3 : 2;
+	return dev == SSCOPE_ALLAN_DEV_HDEV || dev == SSCOPE_ALLAN_DEV_OHDEV ||
+			       dev == SSCOPE_ALLAN_DEV_HTOTDEV ?
+		       3 :
+		       2;
 }
 
 enum sscope_quantity sscope_allan_rate_quantity(enum sscope_quantity q,
@@ -750,7 +815,19 @@ size_t sscope_allan_max_m(enum sscope_allan_dev dev, size_t np)
 		return np / 3;
 	case SSCOPE_ALLAN_DEV_HDEV:
 	case SSCOPE_ALLAN_DEV_OHDEV:
+	case SSCOPE_ALLAN_DEV_HTOTDEV:
 		return (np - 1) / 3;
+	case SSCOPE_ALLAN_DEV_MTOTDEV:
+	case SSCOPE_ALLAN_DEV_TTOTDEV:
+		return np / 3;
+	case SSCOPE_ALLAN_DEV_THEO1:
+	case SSCOPE_ALLAN_DEV_THEOBR:
+		return np > 10 ? np - 1 : 0;
+	case SSCOPE_ALLAN_DEV_THEOH:
+		return np - 1;
+	case SSCOPE_ALLAN_DEV_MTIE:
+	case SSCOPE_ALLAN_DEV_TIERMS:
+		return np - 1;
 	default:
 		return (np - 1) / 2;
 	}
@@ -2105,7 +2182,23 @@ static size_t min_samples(enum sscope_allan_dev dev, size_t m, bool angle)
 		break;
 	case SSCOPE_ALLAN_DEV_HDEV:
 	case SSCOPE_ALLAN_DEV_OHDEV:
+	case SSCOPE_ALLAN_DEV_HTOTDEV:
 		np = 3 * m + 1;
+		break;
+	case SSCOPE_ALLAN_DEV_MTOTDEV:
+	case SSCOPE_ALLAN_DEV_TTOTDEV:
+		np = 3 * m;
+		break;
+	case SSCOPE_ALLAN_DEV_THEO1:
+	case SSCOPE_ALLAN_DEV_THEOBR:
+	case SSCOPE_ALLAN_DEV_THEOH:
+		np = (m < 10 ? 10 : m + (m & 1)) + 1;
+		if (dev != SSCOPE_ALLAN_DEV_THEO1 && np < SSC_THEOBR_MIN_NP)
+			np = SSC_THEOBR_MIN_NP;
+		break;
+	case SSCOPE_ALLAN_DEV_MTIE:
+	case SSCOPE_ALLAN_DEV_TIERMS:
+		np = m + 1;
 		break;
 	default:
 		np = 2 * m + 1;
@@ -2125,6 +2218,21 @@ static double point_edf(enum sscope_allan_dev dev, int alpha, size_t m, size_t n
 		return sscope_allan_edf(alpha, 2, m, npe, true, 1);
 	case SSCOPE_ALLAN_DEV_TOTDEV:
 		return ssc_totdev_edf(alpha, m, npe);
+	case SSCOPE_ALLAN_DEV_MTOTDEV:
+	case SSCOPE_ALLAN_DEV_TTOTDEV:
+		return ssc_mtot_edf(alpha, m, npe);
+	case SSCOPE_ALLAN_DEV_HTOTDEV:
+		return ssc_htot_edf(alpha, m, npe);
+	case SSCOPE_ALLAN_DEV_THEO1:
+	case SSCOPE_ALLAN_DEV_THEOBR:
+		return ssc_theo1_edf(alpha, m, npe);
+	case SSCOPE_ALLAN_DEV_THEOH:
+		if (m <= theoh_k(npe))
+			return sscope_allan_edf(alpha, 2, m, npe, false, 1);
+		return ssc_theo1_edf(alpha, m, npe);
+	case SSCOPE_ALLAN_DEV_MTIE:
+	case SSCOPE_ALLAN_DEV_TIERMS:
+		return NAN;
 	default:
 		return sscope_allan_edf(alpha, d, m, npe, false, stride);
 	}
@@ -2135,6 +2243,100 @@ static int clamp_alpha(enum sscope_allan_dev dev, int a)
 	int lo = ssc_dev_order(dev) == 3 ? -4 : -2;
 
 	return a < lo ? lo : a > 2 ? 2 : a;
+}
+
+/*
+ * The deviations of allan-family.c at the accepted factors m[0..n) of a
+ * gap-free contiguous phase: dev[j] (HTOTDEV before its bias removal) and
+ * terms[j] (Theo1, TheoBR: the (np - m) m / 2 terms of eq. 33, as
+ * Stable32 counts them).
+ */
+static int fam_points(struct sscope_allan *p, enum sscope_allan_dev dev,
+		      const size_t *m, size_t n, double rate_hz, unsigned T,
+		      double *dev_out, size_t *terms, struct sscope_diag *diag)
+{
+	/* the phase is stored in units of the rate times tau0 (see
+	 * apoint()): the variances take tau0 = 1 and the time errors are
+	 * scaled by tau0 */
+	const double *x = p->x, tau0 = 1, ts = 1 / rate_hz;
+	const size_t np = p->np, k = theoh_k(np);
+	double ratio = NAN;
+	int rc = 0;
+
+	if (dev == SSCOPE_ALLAN_DEV_THEOBR ||
+	    (dev == SSCOPE_ALLAN_DEV_THEOH && n && m[n - 1] > k)) {
+		ratio = ssc_theobr_ratio(x, np, tau0, T);
+		if (!isfinite(ratio))
+			return ssc_diag(diag, -EDOM,
+					"too short for %s: %zu phase points (its bias ratio needs at least %d)",
+					sscope_allan_dev_name(dev), np,
+					SSC_THEOBR_MIN_NP);
+	}
+	if (dev == SSCOPE_ALLAN_DEV_MTIE || dev == SSCOPE_ALLAN_DEV_TIERMS) {
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+		for (size_t j = 0; j < n; j++) {
+			size_t *w = NULL;
+
+			terms[j] = np - m[j];
+			if (dev == SSCOPE_ALLAN_DEV_TIERMS) {
+				dev_out[j] = ssc_tierms(x, np, m[j]) * ts;
+				continue;
+			}
+			w = ssc_alloc_array(ssc_mtie_work(m[j]), sizeof(size_t));
+			dev_out[j] = w ? ssc_mtie(x, np, m[j], w) * ts : (double)NAN;
+			free(w);
+		}
+	} else {
+		for (size_t j = 0; j < n; j++) {
+			const size_t mj = m[j];
+			const double tau = (double)mj * ts;
+			double v;
+
+			switch (dev) {
+			case SSCOPE_ALLAN_DEV_MTOTDEV:
+			case SSCOPE_ALLAN_DEV_TTOTDEV:
+				v = ssc_mtot_var(x, np, mj, tau0, T);
+				terms[j] = np - 3 * mj + 1;
+				dev_out[j] = sqrt(v);
+				if (dev == SSCOPE_ALLAN_DEV_TTOTDEV)
+					dev_out[j] *= tau / sqrt(3.0);
+				break;
+			case SSCOPE_ALLAN_DEV_HTOTDEV:
+				v = ssc_htot_var(x, np, mj, tau0, T);
+				terms[j] = mj == 1 ? np - 3 : np - 3 * mj;
+				dev_out[j] = sqrt(v);
+				break;
+			case SSCOPE_ALLAN_DEV_THEOH:
+				if (mj <= k) {
+					v = avar_at(p, false, mj);
+					terms[j] = np - 2 * mj;
+					dev_out[j] = sqrt(v);
+					break;
+				}
+				/* fall through */
+			default: /* Theo1, TheoBR */
+				v = ssc_theo1_var(x, np, mj, tau0, T);
+				terms[j] = (np - mj) * (mj / 2);
+				dev_out[j] = sqrt(dev == SSCOPE_ALLAN_DEV_THEO1 ? v : v * ratio);
+				break;
+			}
+		}
+	}
+	for (size_t j = 0; j < n; j++)
+		if (isnan(dev_out[j]))
+			rc = -ENOMEM;
+	return rc;
+}
+
+/* tau of a point: Theo1 and TheoBR (and TheoH beyond its OADEV part) are
+ * at 0.75 m tau0 */
+static double point_tau(enum sscope_allan_dev dev, size_t m, size_t np,
+			double rate_hz)
+{
+	if (dev == SSCOPE_ALLAN_DEV_THEO1 || dev == SSCOPE_ALLAN_DEV_THEOBR ||
+	    (dev == SSCOPE_ALLAN_DEV_THEOH && m > theoh_k(np)))
+		return 0.75 * (double)m / rate_hz;
+	return (double)m / rate_hz;
 }
 
 static int compute(struct sscope_allan *p, const double *y,
@@ -2149,7 +2351,8 @@ static int compute(struct sscope_allan *p, const double *y,
 	struct src s = { 0 };
 	struct ssc_ksum *bases = NULL, *acc = NULL;
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
-	size_t inf_at;
+	size_t inf_at, *mf = NULL;
+	double *fdev = NULL;
 	bool *big = NULL, gaps, tiled, strided, idpar, quick;
 	struct tau_set ts;
 	unsigned char *idok = NULL;
@@ -2176,12 +2379,28 @@ static int compute(struct sscope_allan *p, const double *y,
 	mmax = sscope_allan_max_m(dev, p->np);
 	while (nacc < n_m && m[nacc] <= mmax)
 		nacc++;
-	if (nacc == 0)
+	if (fam_dev(dev) && nacc) {
+		/* the factors the deviation takes (Theo1: even, >= 10) */
+		size_t k = 0;
+
+		mf = ssc_alloc_array(nacc, sizeof(size_t));
+		if (!mf)
+			return -ENOMEM;
+		for (size_t j = 0; j < nacc; j++)
+			if (m_valid(dev, m[j], p->np))
+				mf[k++] = m[j];
+		nacc = k;
+	}
+	if (nacc == 0) {
+		free(mf);
 		return ssc_diag(diag, -EDOM,
 				"too short for %s: %zu sample%s (averaging factor %zu needs %zu)",
 				sscope_allan_dev_name(dev), n, n == 1 ? "" : "s",
 				n_m ? m[0] : (size_t)1,
 				min_samples(dev, n_m ? m[0] : 1, angle));
+	}
+	if (mf)
+		m = mf;
 	s.y = y;
 	s.stride = stride;
 	s.n = n;
@@ -2194,7 +2413,8 @@ static int compute(struct sscope_allan *p, const double *y,
 	used = calloc(nacc, sizeof(size_t));
 	skipped = calloc(nacc, sizeof(size_t));
 	big = calloc(nacc, sizeof(bool));
-	if (!bases || !acc || !used || !skipped || !big) {
+	fdev = calloc(nacc, sizeof(double));
+	if (!bases || !acc || !used || !skipped || !big || !fdev) {
 		rc = -ENOMEM;
 		goto out;
 	}
@@ -2263,10 +2483,10 @@ static int compute(struct sscope_allan *p, const double *y,
 			goto out;
 		}
 		gaps = nnan > 0;
-		if (gaps && dev == SSCOPE_ALLAN_DEV_TOTDEV) {
+		if (gaps && (dev == SSCOPE_ALLAN_DEV_TOTDEV || fam_dev(dev))) {
 			rc = ssc_diag(diag, -EDOM,
-				      "totdev needs a record without gaps (%zu NaN samples): choose another deviation or analyse a stretch without gaps",
-				      nnan);
+				      "%s needs a record without gaps (%zu NaN samples): choose another deviation or analyse a stretch without gaps",
+				      sscope_allan_dev_name(dev), nnan);
 			goto out;
 		}
 		if (gaps) {
@@ -2295,6 +2515,11 @@ static int compute(struct sscope_allan *p, const double *y,
 	} else if (dev == SSCOPE_ALLAN_DEV_OADEV && !strided && !gaps) {
 		phase_contiguous(p, &s, T, bases);
 		sums_grouped(p, m, nacc, T, acc, used, skipped);
+	} else if (fam_dev(dev)) {
+		phase_contiguous(p, &s, T, bases);
+		rc = fam_points(p, dev, m, nacc, rate_hz, T, fdev, used, diag);
+		if (rc)
+			goto out;
 	} else {
 		phase_contiguous(p, &s, T, bases);
 SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
@@ -2359,7 +2584,7 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 #endif
 		memset(pt, 0, sizeof(*pt));
 		pt->m = m[j];
-		pt->tau_s = md / rate_hz;
+		pt->tau_s = point_tau(dev, m[j], p->np, rate_hz);
 		pt->terms = used[j];
 		pt->skipped = skipped[j];
 		if (dev == SSCOPE_ALLAN_DEV_ADEV || dev == SSCOPE_ALLAN_DEV_HDEV)
@@ -2370,6 +2595,41 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		if (used[j] == 0) {
 			pt->dev = pt->dev_lo = pt->dev_hi = NAN;
 			pt->edf = pt->edf_full = NAN;
+			continue;
+		}
+		if (fam_dev(dev)) {
+			enum sscope_allan_dev idd = SSCOPE_ALLAN_DEV_OADEV;
+			size_t mi = m[j], ti;
+			double mv = NAN;
+
+			pt->dev = fdev[j];
+			var = fdev[j] * fdev[j];
+			if (!sscope_allan_dev_has_ci(dev) || p->opts.alpha_fixed ||
+			    !isfinite(var))
+				continue;
+			/* the identification of the deviation it extends */
+			if (dev == SSCOPE_ALLAN_DEV_MTOTDEV ||
+			    dev == SSCOPE_ALLAN_DEV_TTOTDEV)
+				idd = SSCOPE_ALLAN_DEV_MDEV;
+			else if (dev == SSCOPE_ALLAN_DEV_HTOTDEV)
+				idd = SSCOPE_ALLAN_DEV_OHDEV;
+			else if (pt->tau_s * rate_hz < (double)mi)
+				mi = (size_t)llround(0.75 * (double)mi);
+			ti = p->np - (size_t)ssc_dev_order(idd) * mi +
+			     (idd == SSCOPE_ALLAN_DEV_MDEV ? 1 : 0);
+			if (idd == SSCOPE_ALLAN_DEV_MDEV &&
+			    (angle ? (p->np - 1) / mi + 1 : (p->np - 1) / mi) <
+				    SSC_NOISE_ID_MIN) {
+				struct ssc_ksum a = { 0, 0 };
+				size_t u, sk;
+				double mm = (double)mi;
+
+				sum_mdev(p, angle, false, mi, &a, &u, &sk);
+				mv = ssc_ksum_value(&a) / (2 * mm * mm * mm * mm * (double)u);
+			}
+			if (point_alpha(p, idd, angle, false, mi, ti, mv, me,
+					&alph[j]) == 0)
+				idok[j] = 1;
 			continue;
 		}
 		switch (dev) {
@@ -2430,10 +2690,21 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		if (used[j] == 0)
 			continue;
 		pt->alpha = alpha;
+		if (!sscope_allan_dev_has_ci(dev)) {
+			/* MTIE, TIE rms: no EDF model */
+			pt->alpha = 0;
+			pt->alpha_identified = false;
+			pt->edf = pt->edf_full = NAN;
+			pt->dev_lo = pt->dev_hi = NAN;
+			continue;
+		}
+		/* Htot var = (1 - a) Hvar for the frequency noises: removed */
+		if (dev == SSCOPE_ALLAN_DEV_HTOTDEV && m[j] > 1)
+			pt->dev /= sqrt(ssc_htot_bias(alpha));
 		/* phase points equivalent to the terms actually used */
 		if (dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV)
 			npe = used[j] + 3 * m[j] - 1;
-		else if (dev == SSCOPE_ALLAN_DEV_TOTDEV)
+		else if (dev == SSCOPE_ALLAN_DEV_TOTDEV || fam_dev(dev))
 			npe = p->np;
 		else
 			npe = (used[j] - 1) * st + (size_t)d * m[j] + 1;
@@ -2443,7 +2714,10 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 				       pt->edf :
 				       point_edf(dev, alpha, m[j],
 						 p->np - 0, 1);
-		if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
+		if (!(pt->edf > 0)) {
+			pt->edf = pt->edf_full = NAN;
+			pt->dev_lo = pt->dev_hi = NAN;
+		} else if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
 			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
 		} else {
 			ssc_allan_ci_at(&lv, pt->dev, pt->edf, &pt->dev_lo,
@@ -2460,6 +2734,8 @@ out:
 	free(big);
 	free(idok);
 	free(alph);
+	free(fdev);
+	free(mf);
 	return rc;
 }
 
@@ -2602,8 +2878,8 @@ static int grid_points(struct sscope_allan *p, const double *x,
 				n == 1 ? "" : "s",
 				min_samples(p->opts.dev, 1,
 					    p->opts.input == SSCOPE_ALLAN_ANGLE));
-	m = ssc_alloc_array(cnt, sizeof(size_t));
-	*pts = ssc_alloc_array(cnt, sizeof(**pts));
+	m = ssc_alloc_array(cnt + 1, sizeof(size_t));
+	*pts = ssc_alloc_array(cnt + 1, sizeof(**pts));
 	if (!m || !*pts) {
 		free(m);
 		free(*pts);
@@ -2611,6 +2887,10 @@ static int grid_points(struct sscope_allan *p, const double *x,
 		return -ENOMEM;
 	}
 	sscope_allan_grid(grid, mmax, m, cnt, &cnt);
+	/* Theo1 reaches 0.75 of the record: the largest even m ends the grid */
+	if (theo_dev(p->opts.dev) && grid != SSCOPE_ALLAN_TAUS_ALL &&
+	    (mmax & ~(size_t)1) > m[cnt - 1])
+		m[cnt++] = mmax & ~(size_t)1;
 	rc = sscope_allan_compute(p, x, stride, n, rate_hz, m, cnt, *pts,
 				  n_pts, diag);
 	free(m);

@@ -18,17 +18,26 @@
  *   ADEV, OADEV, TOTDEV m <= (np - 1) / 2; MDEV, TDEV m <= np / 3; HDEV,
  *   OHDEV m <= (np - 1) / 3 (np phase points).  This is Stable32's limit;
  *   the last points carry few degrees of freedom and wide intervals.
+ *   MTOTDEV, TTOTDEV m <= np / 3; HTOTDEV m <= (np - 1) / 3; Theo1,
+ *   TheoBR m even, 10 <= m <= np - 1, at tau = 0.75 m / rate_hz (SP 1065
+ *   eq. 33: Theo1 reaches 0.75 of the record); TheoH the OADEV points with
+ *   m <= 0.1 (np - 1) and the TheoBR points with 0.75 m >= 0.1 (np - 1)
+ *   (other m of a request are skipped); MTIE, TIE rms m <= np - 1.
  * - NaN samples are gaps: a term whose span touches a NaN is skipped and
  *   counted in sscope_allan_point::skipped; the variance averages the
  *   complete terms only (Sesia & Tavella, Metrologia 45 (2008) S134), and
  *   the EDF is that of a gap-free record with as many terms.  A point with
  *   no complete term has terms 0 and NaN deviation, bounds and EDF from
  *   sscope_allan_compute(); sscope_allan_analyze() leaves such taus out
- *   (sscope_allan_result::n_gap_omitted, gap_note).  TOTDEV refuses gaps
- *   (-EDOM).
+ *   (sscope_allan_result::n_gap_omitted, gap_note).  TOTDEV and the
+ *   deviations after it in enum sscope_allan_dev refuse gaps (-EDOM).
  * - Confidence intervals: equivalent degrees of freedom (EDF) after
  *   Greenhall & Riley (PTTI 2003, as Stable32), for TOTDEV NIST SP 1065
- *   table 7; the dominant power-law noise at each tau from the lag-1
+ *   table 7, MTOTDEV/TTOTDEV table 8, HTOTDEV table 9 (the Hadamard EDF
+ *   at m = 1 and for phase noises), Theo1/TheoBR the Howe-Tasset
+ *   formulas of section 5.2.15 (TheoH: OADEV's and TheoBR's by part);
+ *   MTIE and TIE rms have none (NaN bounds and EDF); the dominant
+ *   power-law noise at each tau from the lag-1
  *   autocorrelation (Riley & Greenhall 2004) unless given; chi-squared
  *   bounds from GSL.
  */
@@ -52,15 +61,36 @@ enum sscope_allan_dev {
 	SSCOPE_ALLAN_DEV_HDEV,      /**< non-overlapping Hadamard deviation */
 	SSCOPE_ALLAN_DEV_OHDEV,     /**< overlapping Hadamard deviation */
 	SSCOPE_ALLAN_DEV_TOTDEV,    /**< total deviation (reflected extension) */
+	SSCOPE_ALLAN_DEV_MTOTDEV,   /**< modified total deviation */
+	SSCOPE_ALLAN_DEV_HTOTDEV,   /**< Hadamard total deviation (bias removed) */
+	SSCOPE_ALLAN_DEV_TTOTDEV,   /**< time total deviation tau * MTOTDEV / sqrt(3) */
+	SSCOPE_ALLAN_DEV_THEO1,     /**< Theo1 at tau = 0.75 m / rate_hz */
+	SSCOPE_ALLAN_DEV_THEOBR,    /**< bias-removed Theo1 */
+	SSCOPE_ALLAN_DEV_THEOH,     /**< hybrid: OADEV to 10 % of the record, TheoBR beyond */
+	SSCOPE_ALLAN_DEV_MTIE,      /**< maximum time interval error (no interval) */
+	SSCOPE_ALLAN_DEV_TIERMS,    /**< rms time interval error (no interval) */
 	SSCOPE_ALLAN_DEV_COUNT_
 };
 
 /** @return "oadev", "adev", ... for @p dev; "" when out of range. */
 const char *sscope_allan_dev_name(enum sscope_allan_dev dev);
 
+/** @return the name as Stable32 and SP 1065 print it ("OADEV", "MTOTDEV",
+ *  "Theo1", "TheoBR", "TheoH", "MTIE", "TIE rms"); "" when out of range. */
+const char *sscope_allan_dev_label(enum sscope_allan_dev dev);
+
+/** @return whether @p dev is a time (angle) quantity in rate unit * s
+ *  (TDEV, TTOTDEV, MTIE, TIE rms) rather than a rate. */
+bool sscope_allan_dev_is_time(enum sscope_allan_dev dev);
+
+/** @return whether @p dev has confidence intervals (all but MTIE and TIE
+ *  rms, whose distribution has no EDF model). */
+bool sscope_allan_dev_has_ci(enum sscope_allan_dev dev);
+
 /**
  * Parse a deviation name ("oadev", "adev", "mdev", "tdev", "hdev",
- * "ohdev", "totdev").
+ * "ohdev", "totdev", "mtotdev", "htotdev", "ttotdev", "theo1", "theobr",
+ * "theoh", "mtie", "tierms"; any case).
  * @return 0, or -EINVAL for an unknown name.
  */
 int sscope_allan_dev_parse(const char *name, enum sscope_allan_dev *dev);

@@ -91,4 +91,31 @@ run "kalibr accelerometer, rejected fit" 1 allan --kalibr "$T/acc.yaml" -q -c ax
 one_line_error "kalibr accelerometer, rejected fit"
 run "kalibr accelerometer, forced" 0 allan --kalibr "$T/acc.yaml" --force -q -c ax,az "$SAMPLES/accel-thermal.csv"
 has "kalibr: accelerometer keys, marked" "$T/acc.yaml" '^accelerometer_noise_density: .* DOUBTFUL'
+# the total, Theo and time-error deviations: names, labels, units, no
+# interval for MTIE and TIE rms, Theo1 to 0.75 of the record, gaps refused
+run "mtotdev octave" 0 allan --format json --dev mtotdev --taus octave -c gz --no-fit "$G"
+json_check "mtotdev: label, m <= N/3, intervals" "$T/out" \
+  '.channels[0].deviation == "mtotdev" and .channels[0].deviation_label == "MTOTDEV" and ([.channels[0].points[].m] | last) == 8192 and (.channels[0].points[0] | .dev_lo < .dev and .dev_hi > .dev and .edf > 0 and .noise == "WFM")'
+run "theo1 text" 0 allan --dev theo1 --taus octave -c gz --no-fit "$G"
+has "theo1: name in the table" "$T/out" 'tau \(s\) +m +terms +theo1'
+has "theo1: ends at 0.75 of the record" "$T/out" '^ +2700 +36000 '
+run "mtie json" 0 allan --format json --dev mtie --taus octave -c gz --no-fit "$G"
+json_check "mtie: time unit, no interval, no noise type" "$T/out" \
+  '.channels[0].dev_unit == "deg/s*s" and ([.channels[0].points[] | (.dev > 0 and .dev_lo == null and .dev_hi == null and .edf == null and .alpha == null and .noise == null)] | all)'
+run "mtie csv" 0 allan --format csv --dev mtie --taus octave -c gz --no-fit "$G"
+has "mtie csv: empty interval, edf and alpha" "$T/out" 'gyro-static.csv,gz,mtie,deg/s\*s,0\.1,1,36000,[0-9.e-]+,,,,$'
+run "tierms text" 0 allan --dev tierms --taus decade -c gx --no-fit "$G"
+has "tierms: no interval said" "$T/out" 'none \(no EDF model\)'
+run "theoh with the fit" 0 allan --format json --dev theoh --taus octave -c gx "$G"
+json_check "theoh: OADEV then TheoBR taus, the fit on OADEV" "$T/out" \
+  '([.channels[0].points[].tau_s] | . == sort and last == 2700) and .channels[0].noise.N.fitted'
+printf 'gx [rad/s]\n1\n2\n3\n1\n2\n3\n1\n2\n' >"$T/short8.csv"
+run "theo1: 8 samples" 1 allan --dev theo1 -r 10 "$T/short8.csv"
+one_line_error "theo1: 8 samples"
+has "theo1: too short said" "$T/err" 'too short for theo1: 8 samples'
+head -81 "$G" >"$T/short80.csv"
+run "theobr: 80 samples" 1 allan --dev theobr -c gx --no-fit "$T/short80.csv"
+has "theobr: its bias ratio said" "$T/err" 'too short for theobr: [0-9]+ phase points \(its bias ratio needs at least 90\)'
+run "bad --dev lists the names" 2 allan --dev theo2 "$G"
+has "bad --dev: the list" "$T/err" 'mtotdev, htotdev, ttotdev, theo1, theobr, theoh, mtie or tierms'
 done_testing

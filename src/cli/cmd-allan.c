@@ -39,7 +39,7 @@ enum {
 
 static const struct ssc_option allan_opts[] = {
 	{ "dev", required_argument, OPT_DEV, "NAME",
-	  "oadev (default), adev, mdev, tdev, hdev, ohdev or totdev" },
+	  "oadev (default), adev, mdev, tdev, hdev, ohdev, totdev, mtotdev, htotdev, ttotdev, theo1, theobr, theoh, mtie or tierms" },
 	{ "taus", required_argument, OPT_TAUS, "GRID",
 	  "dense (default, about 10 per decade), octave, decade (1-2-4) or all" },
 	{ "input", required_argument, OPT_INPUT, "rate|angle",
@@ -97,7 +97,11 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope allan --dev mdev --taus octave --format json log.csv\n"
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
-		 "m <= (N-1)/2 phase points; MDEV, TDEV: m <= N/3; HDEV, OHDEV: m <= (N-1)/3).\n"
+		 "m <= (N-1)/2 phase points; MDEV, TDEV, MTOTDEV, TTOTDEV: m <= N/3; HDEV,\n"
+		 "OHDEV, HTOTDEV: m <= (N-1)/3; Theo1, TheoBR: even m from 10 to N-1, at\n"
+		 "tau = 0.75 m/rate; TheoH: OADEV to 10 % of the record, TheoBR beyond; MTIE,\n"
+		 "TIE rms: m <= N-1, no interval).  The total, Theo and time-error deviations\n"
+		 "refuse NaN gaps (exit 1).\n"
 		 "NaN cells (with --allow-nan) are gaps: terms touching them are skipped, the\n"
 		 "variance averages the complete terms (Sesia & Tavella 2008) and the EDF counts\n"
 		 "only those; taus left without a complete term are omitted with a warning.",
@@ -149,7 +153,7 @@ static int handler(int key, const char *arg, void *ctx)
 	case OPT_DEV:
 		if (sscope_allan_dev_parse(arg, &a->ao.dev))
 			return ssc_usage_error("allan",
-					       "--dev: '%s' is not oadev, adev, mdev, tdev, hdev, ohdev or totdev",
+					       "--dev: '%s' is not oadev, adev, mdev, tdev, hdev, ohdev, totdev, mtotdev, htotdev, ttotdev, theo1, theobr, theoh, mtie or tierms",
 					       arg);
 		return 0;
 	case OPT_TAUS:
@@ -334,9 +338,9 @@ static void set_units(const struct args *a, const struct sscope_capture_column *
 		snprintf(u->rate_si, sizeof(u->rate_si), "%s", u->rate);
 	/* TDEV is an angle: the channel's unit for angle input, rate * s
 	 * otherwise */
-	if (a->ao.dev == SSCOPE_ALLAN_DEV_TDEV && angle)
+	if (sscope_allan_dev_is_time(a->ao.dev) && angle)
 		snprintf(u->dev, sizeof(u->dev), "%s", lab[0] ? lab : "1");
-	else if (a->ao.dev == SSCOPE_ALLAN_DEV_TDEV)
+	else if (sscope_allan_dev_is_time(a->ao.dev))
 		snprintf(u->dev, sizeof(u->dev), "%s*s", u->rate);
 	else
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
@@ -354,7 +358,7 @@ static void set_units(const struct args *a, const struct sscope_capture_column *
 		const char *b = sscope_term_unit(u->rq, SSCOPE_TERM_B);
 
 		snprintf(u->show, sizeof(u->show), "%s",
-			 b && a->ao.dev != SSCOPE_ALLAN_DEV_TDEV ? b : u->dev);
+			 b && !sscope_allan_dev_is_time(a->ao.dev) ? b : u->dev);
 	}
 	u->show_scale = unit_scale(u->show);
 	for (int t = 0; t < 5; t++) {
@@ -808,11 +812,17 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		fprintf(f, "  %12s %9zu %11zu  %14s",
 			ssc_fmt(b1, sizeof(b1), p->tau_s, 6), p->m, p->terms,
 			ssc_fmt(b2, sizeof(b2), p->dev / u->dev_scale * s, 5));
-		if (a->ci >= 0) {
+		if (a->ci >= 0 && !sscope_allan_dev_has_ci(a->ao.dev)) {
+			fprintf(f, "  %-27s", "none (no EDF model)");
+		} else if (a->ci >= 0) {
 			snprintf(b5, sizeof(b5), "[%s, %s]",
 				 ssc_fmt(b3, sizeof(b3), p->dev_lo / u->dev_scale * s, 4),
 				 ssc_fmt(b4, sizeof(b4), p->dev_hi / u->dev_scale * s, 4));
 			fprintf(f, "  %-27s", b5);
+		}
+		if (!sscope_allan_dev_has_ci(a->ao.dev)) {
+			fprintf(f, " %10s  %s\n", "-", "-");
+			continue;
 		}
 		fprintf(f, " %10s  %s%s\n", ssc_fmt(b1, sizeof(b1), p->edf, 4),
 			ssc_allan_noise_name(p->alpha), p->alpha_identified ? "" :
@@ -947,6 +957,8 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 	json_object_set_new(o, "input", json_string(a->ao.input == SSCOPE_ALLAN_ANGLE ?
 							   "angle" : "rate"));
 	json_object_set_new(o, "deviation", json_string(sscope_allan_dev_name(a->ao.dev)));
+	json_object_set_new(o, "deviation_label",
+			    json_string(sscope_allan_dev_label(a->ao.dev)));
 	json_object_set_new(o, "dev_unit", json_string(u->dev));
 	json_object_set_new(o, "ci_level", a->ci < 0 ? json_null() :
 					   json_real(a->ci));
@@ -961,8 +973,14 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 		json_object_set_new(q, "dev_lo", ssc_jreal(p->dev_lo / u->dev_scale));
 		json_object_set_new(q, "dev_hi", ssc_jreal(p->dev_hi / u->dev_scale));
 		json_object_set_new(q, "edf", ssc_jreal(p->edf));
-		json_object_set_new(q, "alpha", json_integer(p->alpha));
-		json_object_set_new(q, "noise", json_string(ssc_allan_noise_name(p->alpha)));
+		if (sscope_allan_dev_has_ci(a->ao.dev)) {
+			json_object_set_new(q, "alpha", json_integer(p->alpha));
+			json_object_set_new(q, "noise",
+					    json_string(ssc_allan_noise_name(p->alpha)));
+		} else {
+			json_object_set_new(q, "alpha", json_null());
+			json_object_set_new(q, "noise", json_null());
+		}
 		if (p->skipped)
 			json_object_set_new(q, "skipped",
 					    json_integer((json_int_t)p->skipped));
@@ -1130,6 +1148,14 @@ static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file 
 		for (size_t i = 0; i < c->res->n_points; i++) {
 			const struct sscope_allan_point *p = &c->res->points[i];
 
+			if (!sscope_allan_dev_has_ci(a->ao.dev)) {
+				/* MTIE, TIE rms: no interval, EDF or noise type */
+				fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,,,,\n",
+					fr->path, c->col->name,
+					sscope_allan_dev_name(a->ao.dev), un, p->tau_s,
+					p->m, p->terms, p->dev / c->u.dev_scale * s);
+				continue;
+			}
 			fprintf(f, "%s,%s,%s,%s,%.10g,%zu,%zu,%.10g,%.10g,%.10g,%.6g,%d\n",
 				fr->path, c->col->name, sscope_allan_dev_name(a->ao.dev),
 				un, p->tau_s, p->m, p->terms,
@@ -1326,9 +1352,11 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 	ssc_ax_log(ax, true, true);
 	ssc_ax_grid(ax, true);
 	ssc_ax_xlabel(ax, "averaging time \xcf\x84 (s)");
-	for (size_t i = 0; i < sizeof(upper) - 1 && sscope_allan_dev_name(a->ao.dev)[i]; i++)
-		upper[i] = (char)(sscope_allan_dev_name(a->ao.dev)[i] - 'a' + 'A');
-	snprintf(buf, sizeof(buf), "%s \xcf\x83(\xcf\x84) (%s)", upper, un);
+	snprintf(upper, sizeof(upper), "%s", sscope_allan_dev_label(a->ao.dev));
+	if (sscope_allan_dev_has_ci(a->ao.dev))
+		snprintf(buf, sizeof(buf), "%s \xcf\x83(\xcf\x84) (%s)", upper, un);
+	else
+		snprintf(buf, sizeof(buf), "%s(\xcf\x84) (%s)", upper, un);
 	ssc_ax_ylabel(ax, buf);
 	ssc_ax_title(ax, c->col->name);
 	if (a->ci >= 0)
@@ -1339,7 +1367,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		if (isfinite(ylo) && yhi > ylo)
 			ssc_ax_ylim(ax, ylo / 2, yhi * 2);
 		ssc_ax_xlim(ax, tlo / 1.5, thi * 1.5);
-		if (a->ci >= 0)
+		if (a->ci >= 0 && sscope_allan_dev_has_ci(a->ao.dev))
 			snprintf(buf, sizeof(buf), "%s, %s %% intervals", upper, lv);
 		else
 			snprintf(buf, sizeof(buf), "%s", upper);

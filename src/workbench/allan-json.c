@@ -73,12 +73,17 @@ static size_t point_line(char *line, const struct sscope_allan_point *pt,
 	p = put_real(p, pt->dev_hi / sc);
 	PUT_KEY(p, ",\"edf\":");
 	p = put_real(p, pt->edf);
-	PUT_KEY(p, ",\"alpha\":");
-	p = put_int(p, pt->alpha);
-	PUT_KEY(p, ",\"noise\":\"");
-	memcpy(p, nn, strlen(nn));
-	p += strlen(nn);
-	*p++ = '"';
+	if (!sscope_allan_dev_has_ci(dev)) {
+		/* MTIE, TIE rms: no noise type, no interval */
+		PUT_KEY(p, ",\"alpha\":null,\"noise\":null");
+	} else {
+		PUT_KEY(p, ",\"alpha\":");
+		p = put_int(p, pt->alpha);
+		PUT_KEY(p, ",\"noise\":\"");
+		memcpy(p, nn, strlen(nn));
+		p += strlen(nn);
+		*p++ = '"';
+	}
 	if (pt->skipped) {
 		PUT_KEY(p, ",\"skipped\":");
 		p = put_int(p, (long long)pt->skipped);

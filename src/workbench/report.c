@@ -218,8 +218,11 @@ static void allan_tables(struct ssc_html *h, const json_t *res)
 		char cap[512], b1[32], b2[32], b3[32], dev[16] = "";
 		bool rejected = json_is_true(json_object_get(fit, "rejected"));
 
-		for (size_t q = 0; q + 1 < sizeof(dev) && jstr(c, "deviation")[q]; q++)
-			dev[q] = (char)(jstr(c, "deviation")[q] & ~0x20);
+		if (json_is_string(json_object_get(c, "deviation_label")))
+			snprintf(dev, sizeof(dev), "%s", jstr(c, "deviation_label"));
+		else
+			for (size_t q = 0; q + 1 < sizeof(dev) && jstr(c, "deviation")[q]; q++)
+				dev[q] = (char)(jstr(c, "deviation")[q] & ~0x20);
 
 		if (!json_is_object(nz))
 			continue;
