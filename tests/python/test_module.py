@@ -428,6 +428,53 @@ for name in ref:
        list(tp) == list(t) and rel(dp, d) < 1e-12,
        "compat.%s: the native call's numbers; phase data give the same"
        % name, (rel(dp, d),))
+# allantools' Stable32 checks on PHASE.DAT (the phase form of the NBS
+# set) for the total, Theo1 and time-error deviations: every value to the
+# digits Stable32 printed (tables in tests/data/stable32, copied from
+# allantools' test suite)
+ph = np.concatenate(([0.0], np.cumsum(nbs)))
+
+
+def s32(name):
+    with open(os.path.join(SRC, "tests", "data", "stable32",
+                           "phase_dat_%s.txt" % name)) as f:
+        return np.array([ln.split() for ln in f if not ln.startswith("#")],
+                        dtype=float)
+
+
+def printed(got, want):
+    """got equals want to the 5 significant digits Stable32 printed"""
+    half = 0.5 * 10.0 ** (np.floor(np.log10(np.abs(want))) - 4)
+    return bool(np.all(np.abs(np.asarray(got) - want) <= half * 1.0001))
+
+
+for name, table, col in (("mtotdev", "mtotdev_octave", 5),
+                         ("ttotdev", "ttotdev_octave", 5),
+                         ("htotdev", "htotdev_octave", 5),
+                         ("theo1", "theo1_alpha0", 3),
+                         ("mtie", "mtie", 3)):
+    tb = s32(table)
+    if name == "htotdev":  # Stable32 identifies flicker PM at m 128, 256
+        tb = tb[tb[:, 3] == 0]
+    t, d, e, nn = getattr(at, name)(ph, 1.0, "phase", tb[:, 0])
+    ok(len(t) == len(tb) and np.allclose(t, tb[:, 1]) and
+       printed(d, tb[:, col]),
+       "compat.%s: Stable32's PHASE.DAT table, %d taus to its printed "
+       "digits" % (name, len(tb)),
+       (len(t), len(tb), list(np.abs(d - tb[:len(d), col]))[:5]))
+tb = s32("htotdev_octave")
+r = ss.allan(ph, 1.0, dev="htotdev", input="angle", m=[128, 256],
+             noise_type="fpm", fit=False)
+ok(printed(r.dev, tb[7:, 5]),
+   "htotdev at m = 128, 256 with Stable32's flicker PM: its printed digits",
+   list(r.dev))
+try:
+    ss.allan(ph, 1.0, dev="theo1", m=[12, 13])
+    ok(False, "theo1: an odd factor refused")
+except ss.ArgumentError as e:
+    ok("even averaging factors of at least 10, not 13" in str(e),
+       "theo1: an odd factor is refused, named (%s)" % e)
+
 # allantools' tau generator (its test_tau_generator, N = 128)
 d128 = np.random.default_rng(5).random(128)
 ok(list(at.adev(d128)[0]) == [1, 2, 4, 8, 16, 32] and

@@ -349,7 +349,11 @@ def load(path, columns=None, rate=None, units=None, topic=None,
 
 # ------------------------------------------------------------------ allan
 
-_DEVS = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev")
+# in the order of enum sscope_allan_dev
+_DEVS = ("oadev", "adev", "mdev", "tdev", "hdev", "ohdev", "totdev",
+         "mtotdev", "htotdev", "ttotdev", "theo1", "theobr", "theoh", "mtie",
+         "tierms")
+_DEV_LIST = ", ".join(_DEVS[:-1]) + " or " + _DEVS[-1]
 _GRIDS = {"dense": 0, "octave": 1, "decade": 2, "all": 3}
 _TERMS = "QNBKR"
 _NOISE = {2: "WPM", 1: "FPM", 0: "WFM", -1: "FFM", -2: "RWFM", -3: "FWHM",
@@ -465,7 +469,10 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     rate : float
         Sample rate in Hz (> 0).
     dev : str, default "oadev"
-        oadev, adev, mdev, tdev, hdev, ohdev or totdev.
+        oadev, adev, mdev, tdev, hdev, ohdev, totdev, mtotdev, htotdev,
+        ttotdev (s), theo1, theobr, theoh (tau = 0.75 m / rate for the
+        Theo1 family), mtie or tierms (s; no intervals: dev_lo, dev_hi and
+        edf are NaN), as ``sensorscope allan --dev``.
     taus : str or array_like of float, default "dense"
         A grid (dense, octave, decade, all) or taus in seconds, each a
         whole number of samples (tau * rate within 1e-9 of an integer).
@@ -511,8 +518,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         Data the analysis cannot take (too short, infinite samples, ...).
     """
     fn = "allan"
-    dev = _choice(fn, "dev", dev, _DEVS,
-                  "oadev, adev, mdev, tdev, hdev, ohdev or totdev")
+    dev = _choice(fn, "dev", dev.lower() if isinstance(dev, str) else dev,
+                  _DEVS, _DEV_LIST)
     rate = _positive(fn, "rate", rate)
     if ci is None or (isinstance(ci, str) and ci == "none"):
         ci = None
@@ -738,6 +745,11 @@ def _factors(f, arg, v, rate, dev, input, n):
                          _text(float(x)), _text(rate), _text(float(k))))
             m.append(int(round(k)))
     m = sorted(set(m))
+    if _DEVS[dev] in ("theo1", "theobr"):
+        odd = [k for k in m if k % 2 or k < 10]
+        if odd:
+            _bad(f, arg, "%s takes even averaging factors of at least 10, "
+                 "not %s" % (_DEVS[dev], ", ".join(str(k) for k in odd)))
     mmax = _c.allan_max_m(dev, _c.allan_n_phase(input, n))
     beyond = [k for k in m if k > mmax]
     if len(beyond) == len(m):

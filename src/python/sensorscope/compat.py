@@ -22,6 +22,10 @@ taus : None, "octave", "decade", "all" or array_like of float
     samples (allantools' rule; sensorscope.allan() refuses instead).
     Taus beyond what the record supports are left out.
 
+theo1 takes m = tau * rate (made even, 10 <= m) and returns the
+effective tau = 0.75 m / rate, as Stable32 prints it; mtie and tierms
+take the window of m + 1 samples, tau = m / rate.
+
 Returns (taus, devs, errs, ns) as numpy arrays: the taus used (s), the
 deviations, allantools' simple error estimate devs / sqrt(ns) (use
 sensorscope.allan() for intervals from the equivalent degrees of
@@ -36,7 +40,8 @@ from . import _capi as _c
 from . import ArgumentError, _DEVS, _array, _input_kind, _points, \
     _positive
 
-__all__ = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev"]
+__all__ = ["adev", "oadev", "mdev", "tdev", "hdev", "ohdev", "totdev",
+           "mtotdev", "htotdev", "ttotdev", "theo1", "mtie", "tierms"]
 
 
 def _m_list(fn, taus, rate, n_phase, mmax):
@@ -82,6 +87,9 @@ def _deviation(fn, dev, data, rate, data_type, taus):
     n_phase = _c.allan_n_phase(ao.input, n)
     mmax = _c.allan_max_m(ao.dev, n_phase) if n_phase >= 3 else 0
     m = _m_list(fn, taus, rate, n_phase, mmax)
+    if dev == "theo1":  # even factors from 10
+        m = np.unique(m + (m % 2))
+        m = m[(m >= 10) & (m <= mmax)]
     if m.size == 0:
         return (np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
     p = x.ctypes.data_as(_c.c_dptr)
@@ -107,5 +115,11 @@ for _name, _what in (("adev", "Allan deviation (non-overlapping)"),
                      ("tdev", "Time deviation (s for phase data)"),
                      ("hdev", "Hadamard deviation (non-overlapping)"),
                      ("ohdev", "Overlapping Hadamard deviation"),
-                     ("totdev", "Total deviation")):
+                     ("totdev", "Total deviation"),
+                     ("mtotdev", "Modified total deviation"),
+                     ("htotdev", "Hadamard total deviation"),
+                     ("ttotdev", "Time total deviation (s for phase data)"),
+                     ("theo1", "Theo1 deviation (tau = 0.75 m / rate)"),
+                     ("mtie", "Maximum time interval error"),
+                     ("tierms", "Rms time interval error")):
     globals()[_name] = _define(_name, _what)
