@@ -15,7 +15,8 @@
  *   structure function of the integrated rate (sscope-heading.h:
  *   Cov(sum a X, sum b X) = -sum a_i b_j D(|t_i - t_j|) for combinations
  *   with sum a = sum b = 0).  With Q and N from the fit and B and K by
- *   maximum likelihood (Gaussian, Cholesky factor from GSL), a
+ *   maximum likelihood (Gaussian; the covariance is Toeplitz, factored by
+ *   the Levinson-Durbin recursion), a
  *   deterministic component (step, exponential transient, temperature
  *   dependence) is tested by the likelihood ratio; the largest statistic
  *   over the candidates (steps at every half block, transient time
@@ -32,11 +33,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_blas.h>
 #include <gsl/gsl_cdf.h>
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
-#include <gsl/gsl_matrix.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
@@ -268,7 +265,9 @@ struct ml {
 	double *col[4];       /* unit covariances (first columns): Q N B K */
 	double th[4];         /* current squares */
 	double sc[2];         /* scales of the B and K squares */
-	gsl_matrix *L;        /* Cholesky factor at th */
+	double *r;            /* covariance of the differences at th: the
+				 Toeplitz matrix's first column (P) */
+	double *phi, *v;      /* its Levinson-Durbin factor */
 	double *w;            /* work, P */
 	double *X[6];         /* design columns (P), whitened copies in Xw */
 	double *Xw[6], *dw, *q[6];
@@ -306,35 +305,74 @@ static double dcov(const double coef[5], double Tb, size_t h)
 	return (v - 2 * v0) / 2;
 }
 
-/* Cholesky factor of the covariance at th; false when not positive */
+/*
+ * The Levinson-Durbin recursion (J. Durbin, "The fitting of time-series
+ * models", Rev. Int. Stat. Inst. 28, 1960; G. H. Golub, C. F. Van Loan,
+ * Matrix Computations, 4th ed., algorithm 4.7.1): the forward predictors
+ * of orders 1 .. P-1 and their error variances.  Written here because
+ * neither GSL nor the CBLAS it ships has a Toeplitz factorisation; the
+ * Gaussian likelihood of the block differences needs one per trial value
+ * of the B and K squares (a few thousand per channel), and a dense
+ * Cholesky factor costs P^3 / 3 where this costs 2 P^2.  For a positive
+ * definite matrix it is as accurate as Cholesky's (G. Cybenko, SIAM J.
+ * Sci. Stat. Comput. 1(3), 1980); tests/test-adequacy.c checks it
+ * against GSL's Cholesky factor on these covariances.
+ */
+bool ssc_levinson(const double *r, size_t P, double *phi, double *v)
+{
+	if (P == 0 || !(r[0] > 0) || !isfinite(r[0]))
+		return false;
+	v[0] = r[0];
+	for (size_t k = 1; k < P; k++) {
+		const double *prev = phi + (k - 1) * (k - 2) / 2; /* k - 1 */
+		double *cur = phi + (k - 1) * k / 2;              /* k */
+		double acc = r[k], kappa;
+
+		if (k == 1)
+			prev = NULL;
+		for (size_t j = 1; j < k; j++)
+			acc -= prev[j - 1] * r[k - j];
+		kappa = acc / v[k - 1];
+		for (size_t j = 1; j < k; j++)
+			cur[j - 1] = prev[j - 1] - kappa * prev[k - j - 1];
+		cur[k - 1] = kappa;
+		v[k] = v[k - 1] * (1 - kappa) * (1 + kappa);
+		if (!(v[k] > 0) || !isfinite(v[k]))
+			return false;
+	}
+	return true;
+}
+
+void ssc_levinson_whiten(const double *phi, const double *v, size_t P,
+			 const double *x, double *out)
+{
+	/* from the last: out[k] needs x[0 .. k], untouched below k */
+	for (size_t k = P; k-- > 0;) {
+		const double *a = phi + (k > 0 ? (k - 1) * k / 2 : 0);
+		double e = x[k];
+
+		for (size_t j = 1; j <= k; j++)
+			e -= a[j - 1] * x[k - j];
+		out[k] = e / sqrt(v[k]);
+	}
+}
+
+/* factor of the covariance at th; false when not positive definite */
 static bool ml_factor(struct ml *m)
 {
-	gsl_error_handler_t *old;
-	int rc;
+	for (size_t h = 0; h < m->P; h++) {
+		double c = 0;
 
-	for (size_t i = 0; i < m->P; i++)
-		for (size_t j = 0; j <= i; j++) {
-			size_t h = i - j;
-			double v = 0;
-
-			for (int t = 0; t < 4; t++)
-				v += m->th[t] * m->col[t][h];
-			gsl_matrix_set(m->L, i, j, v);
-			gsl_matrix_set(m->L, j, i, v);
-		}
-	old = gsl_set_error_handler_off();
-	rc = gsl_linalg_cholesky_decomp1(m->L);
-	gsl_set_error_handler(old);
-	return rc == 0;
+		for (int t = 0; t < 4; t++)
+			c += m->th[t] * m->col[t][h];
+		m->r[h] = c;
+	}
+	return ssc_levinson(m->r, m->P, m->phi, m->v);
 }
 
 static void ml_whiten(const struct ml *m, const double *in, double *out)
 {
-	gsl_vector_view v = gsl_vector_view_array(out, m->P);
-
-	if (out != in)
-		memcpy(out, in, m->P * sizeof(double));
-	gsl_blas_dtrsv(CblasLower, CblasNoTrans, CblasNonUnit, m->L, &v.vector);
+	ssc_levinson_whiten(m->phi, m->v, m->P, in, out);
 }
 
 /* orthonormalise the whitened design (modified Gram-Schmidt, twice) into
@@ -376,7 +414,7 @@ static double ml_loglik(struct ml *m)
 	if (!ml_factor(m))
 		return -INFINITY;
 	for (size_t i = 0; i < m->P; i++)
-		logdet += 2 * log(gsl_matrix_get(m->L, i, i));
+		logdet += log(m->v[i]);
 	ml_whiten(m, m->d, m->dw);
 	for (size_t j = 0; j < m->p; j++)
 		ml_whiten(m, m->X[j], m->Xw[j]);
@@ -459,10 +497,13 @@ static int ml_init(struct ml *m, const double *x, size_t stride, size_t n,
 	m->d = calloc(P, sizeof(double));
 	m->w = calloc(P, sizeof(double));
 	m->dw = calloc(P, sizeof(double));
-	m->L = gsl_matrix_alloc(P, P);
+	m->r = calloc(P, sizeof(double));
+	m->v = calloc(P, sizeof(double));
+	m->phi = ssc_alloc_array(P * (P - 1) / 2 + 1, sizeof(double));
 	if (temp)
 		m->tbar = calloc(M, sizeof(double));
-	if (!m->ybar || !m->d || !m->w || !m->dw || !m->L || (temp && !m->tbar))
+	if (!m->ybar || !m->d || !m->w || !m->dw || !m->r || !m->v || !m->phi ||
+	    (temp && !m->tbar))
 		return -ENOMEM;
 	for (int t = 0; t < 4; t++)
 		if (!(m->col[t] = calloc(P, sizeof(double))))
@@ -522,8 +563,9 @@ static void ml_free(struct ml *m)
 		free(m->Xw[j]);
 		free(m->q[j]);
 	}
-	if (m->L)
-		gsl_matrix_free(m->L);
+	free(m->r);
+	free(m->v);
+	free(m->phi);
 }
 
 /* level-space vector (M) into design column j as differences */
@@ -572,7 +614,7 @@ typedef void (*cand_fn)(const struct ml *m, size_t k, double *lev, void *ctx);
 static size_t best_candidate(struct ml *m, size_t n_cand, cand_fn make,
 			     void *ctx, double *lev, double *null_max)
 {
-	double r[6], best = -1, *V, *z;
+	double r[6], best = -1, *V, *z, *Vt = NULL, *acc = NULL;
 	size_t rank, kb = 0, p = m->p, nv = 0;
 	gsl_rng *rng;
 
@@ -622,20 +664,37 @@ static size_t best_candidate(struct ml *m, size_t n_cand, cand_fn make,
 		}
 	}
 	gsl_rng_set(rng, 30u + (unsigned long)n_cand);
+	/* the candidates' statistics of a draw, V z, a column of V at a
+	 * time: the same sums in the same order as a dot product per
+	 * candidate, but independent lanes (vector units) */
+	Vt = ssc_alloc_array(m->P * nv + 1, sizeof(double));
+	acc = ssc_alloc_array(nv + 1, sizeof(double));
+	if (!Vt || !acc)
+		nv = 0; /* no null distribution: p = 1 */
+	for (size_t k = 0; k < nv; k++)
+		for (size_t i = 0; i < m->P; i++)
+			Vt[i * nv + k] = V[k * m->P + i];
 	for (size_t d = 0; d < NULL_DRAWS && nv; d++) {
 		double mx = 0;
 
 		for (size_t i = 0; i < m->P; i++)
 			z[i] = gsl_ran_gaussian_ziggurat(rng, 1);
-		for (size_t k = 0; k < nv; k++) {
-			double a = dot(V + k * m->P, z, m->P);
+		for (size_t k = 0; k < nv; k++)
+			acc[k] = 0;
+		for (size_t i = 0; i < m->P; i++) {
+			const double *vi = Vt + i * nv, zi = z[i];
 
-			mx = fmax(mx, a * a);
+			for (size_t k = 0; k < nv; k++)
+				acc[k] += vi[k] * zi;
 		}
+		for (size_t k = 0; k < nv; k++)
+			mx = fmax(mx, acc[k] * acc[k]);
 		null_max[d] = mx;
 	}
 	qsort(null_max, NULL_DRAWS, sizeof(double), ssc_cmp_double);
 	free(V);
+	free(Vt);
+	free(acc);
 	free(z);
 	gsl_rng_free(rng);
 	return kb;

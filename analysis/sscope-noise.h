@@ -147,7 +147,11 @@ struct sscope_noise_fit {
 	double chi2;        /**< generalised chi-squared r' C^-1 r of the
 				 fit's residuals (C: see above) */
 	double dof;         /**< n_points - number of allowed terms */
-	double p_value;     /**< P(chi2 >= observed) under the model */
+	double p_value;     /**< P(chi2 >= observed) under the fitted
+				 model, from the parametric bootstrap of the
+				 intervals (1000 replicates refitted; at least
+				 1/1001); the chi-squared distribution with
+				 dof only when no replicate can be drawn */
 	double aic;         /**< chi2 + 2 p, p the allowed terms */
 	size_t n_plausible; /**< always 0 (kept for the layout) */
 	struct sscope_noise_readoff readoff; /**< classic read-offs */

@@ -25,12 +25,14 @@
  * is the sample fit of the same linear model, and passes through one
  * temperature at different rates stay apart), and the bins are fitted
  * with weights = samples per bin (gsl_multifit_wlinear, SVD of the
- * centred and scaled design).  The coefficient covariance is the HAC
- * sandwich A^-1 S A^-1 of the time-ordered block scores, S the
- * Bartlett-kernel (Newey-West 1987) long-run covariance as overlapping
- * batch means with a bandwidth of 1/25 of each run, so autocorrelated
- * residuals (bias instability, random walk, slow misfit) widen the
- * intervals; for white residuals it equals the classical one.  The order (auto) is the largest K whose added term passes an
+ * centred and scaled design).  The coefficient covariance is the
+ * sandwich A^-1 S A^-1 of the time-ordered block scores under a noise
+ * model of the block errors, white noise plus a random walk of the bias
+ * (independent between runs), whose two levels are the restricted
+ * maximum likelihood (REML) of the residuals given the design (a Kalman
+ * filter per run); a random walk or bias instability widens the
+ * intervals, and for white residuals the covariance is the classical
+ * one.  The order (auto) is the largest K whose added term passes an
  * F test at level alpha, capped at one order per 5 degC of span, below
  * the number of distinct temperature levels (cells of span / 20 holding
  * at least 1 % of the data) and at SSCOPE_TEMPBIAS_MAX_ORDER, and

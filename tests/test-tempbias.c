@@ -406,9 +406,10 @@ START_TEST(correlated_residuals)
 {
 	/* bias instability and rate random walk: the classical covariance
 	 * (residual chi^2 per degree of freedom) gave sds 2.5-4 times too
-	 * small (rms z 2.9-4.4 over 100 records); the Newey-West covariance
-	 * of the time-ordered scores brings the rms of z = (estimate -
-	 * truth) / sd near or below 1.  Over 2 R values an rms of 1 exceeds
+	 * small (rms z 2.9-4.4 over 100 records); the covariance of the
+	 * time-ordered scores under white noise and a random walk (REML)
+	 * brings the rms of z = (estimate - truth) / sd near 1 (0.84 here;
+	 * 0.50 with the Newey-West covariance before, too wide).  Over 2 R values an rms of 1 exceeds
 	 * 1.6 with probability < 1e-3 (chi^2 with 2R = 24 dof) */
 	int R = small_run() ? 6 : 12;
 	size_t n = 4 * 3600;
@@ -438,6 +439,47 @@ START_TEST(correlated_residuals)
 }
 END_TEST
 
+START_TEST(random_walk_ramps)
+{
+	/* ramps of unequal rates with bias instability and a rate random
+	 * walk (K 3 deg/h/sqrt(h): the bias wanders 6 deg/h over the 4 h,
+	 * twice the hysteresis): the Newey-West covariance with a bandwidth
+	 * of 1/25 of the run gave sds about 1.45 times too small (rms z 1.38
+	 * and 1.51 over 100 records of 8 h, tests/bench-tempbias.c); the
+	 * walk's own covariance, its level by REML, gives rms z 0.86-0.88.
+	 * Over 2 R = 40 values of z an rms of 1 exceeds 1.3 with probability
+	 * 0.004 (chi^2 with 40 dof), and an rms below 0.55 says the sds are
+	 * nearly twice too large (probability 3e-6 for an rms of 1) */
+	int R = 20;
+	size_t n = 4 * 3600;
+	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
+	double *tn = malloc(n * sizeof(double)), z2 = 0;
+
+	for (int r = 0; r < R; r++) {
+		struct sscope_tempbias_run run = { x, 1, tn, n, 1 };
+		struct sscope_tempbias_result *res = NULL;
+		struct sscope_diag d = { "" };
+		double zh, zg;
+
+		gyro_run(900 + (uint64_t)r, false, true, x, t, tn, n);
+		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
+		ck_assert_msg(res->have_hysteresis && res->have_gradient, "record %d: %s",
+			      r, res->note);
+		zh = (res->hysteresis - 3) / res->hysteresis_sd;
+		zg = (res->gradient - 60) / res->gradient_sd;
+		z2 += zh * zh + zg * zg;
+		sscope_tempbias_result_free(res);
+	}
+	printf("# random walk, unequal ramps: rms z of hysteresis and gradient over %d records: %.2f\n",
+	       R, sqrt(z2 / (2 * R)));
+	ck_assert_msg(sqrt(z2 / (2 * R)) < 1.3 && sqrt(z2 / (2 * R)) > 0.55,
+		      "rms z %g", sqrt(z2 / (2 * R)));
+	free(x);
+	free(t);
+	free(tn);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("tempbias");
@@ -450,6 +492,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, ill_conditioned);
 	tcase_add_test(tc, no_warmup_unequal_ramps);
 	tcase_add_test(tc, correlated_residuals);
+	tcase_add_test(tc, random_walk_ramps);
 	suite_add_tcase(s, tc);
 	return s;
 }

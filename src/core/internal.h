@@ -86,6 +86,19 @@ int ssc_calib_vs_deciles(const double *vs, size_t n, double *work,
 int ssc_still_contrast(const double *x, size_t stride, size_t n, double fs,
 		       double *ratio);
 
+/* Symmetric positive definite Toeplitz matrix T (first column r[0..P-1])
+ * by the Levinson-Durbin recursion (in analysis/adequacy.c): phi receives
+ * the forward predictors of orders 1 .. P-1 (row k, of k entries, from
+ * phi[(k - 1) k / 2]: P (P - 1) / 2 doubles) and v[k] the prediction
+ * error variance of order k, which is the square of the k-th diagonal
+ * entry of T's Cholesky factor L.  O(P^2).  Returns false when T is not
+ * positive definite (a variance not positive, or not finite). */
+bool ssc_levinson(const double *r, size_t P, double *phi, double *v);
+/* out = L^-1 x (the innovations of x, each over its sd) with L the
+ * Cholesky factor of ssc_levinson()'s matrix; out may be x.  O(P^2). */
+void ssc_levinson_whiten(const double *phi, const double *v, size_t P,
+			 const double *x, double *out);
+
 /* strdup that accepts NULL (returns NULL) */
 char *ssc_strdup(const char *s);
 
