@@ -1411,8 +1411,11 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			if (f) {
 				f->statistic = fit->chi2;
 				f->p_value = fit->p_value;
-				say(f, "the five-term noise model does not describe the record (chi-squared %.3g for %.3g dof, p = %.2g < %g): its terms are not valid; a trend, a transient or motion the model lacks (see the other findings and the DAVAR map)",
-				    fit->chi2, fit->dof, fit->p_value, pl);
+				say(f, "the five-term noise model does not describe the record (chi-squared %.3g for %.3g dof, p %s %.2g, below %g): its terms are not valid; a trend, a transient or motion the model lacks (see the other findings and the DAVAR map)",
+				    fit->chi2, fit->dof,
+				    sscope_noise_p_is_bound(fit->p_value) ? "<" : "=",
+				    sscope_noise_p_is_bound(fit->p_value) ? 0.001 : fit->p_value,
+				    pl);
 			}
 		}
 		/* a moving record's terms are not valid at all: no bounds */

@@ -2793,3 +2793,8 @@ bool sscope_noise_coef_resolved(const struct sscope_noise_coef *c)
 {
 	return c && c->fitted && c->lo > 0;
 }
+
+bool sscope_noise_p_is_bound(double p_value)
+{
+	return p_value > 0 && p_value <= (1.0 / 1001) * (1 + 1e-9);
+}

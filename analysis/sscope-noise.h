@@ -269,6 +269,13 @@ int sscope_noise_avar_cov(const double coef[5], double rate_hz,
 			  const size_t *m, const size_t *terms, size_t n,
 			  double *cov);
 
+/**
+ * Is a fit's p_value a bound rather than an estimate?  At the bootstrap's
+ * floor (1/1001: no replicate reached the observed chi-squared) the true
+ * p is only known to be below it; say "p < 0.001", not "p = 0.001".
+ */
+bool sscope_noise_p_is_bound(double p_value);
+
 #ifdef __cplusplus
 }
 #endif

@@ -31,6 +31,16 @@ run "allan text on the static sample" 0 allan -c gx "$G"
 has "text: adequacy line" "$T/out" '^  adequacy: valid.*still \(1 s variance spans [0-9.]+ times, at most 9\), fit accepted'
 lacks "text: nothing marked doubtful" "$T/out" 'NOT VALID|doubtful \(see'
 
+# a rejected fit whose bootstrap p is at its floor: a bound, said so
+run "allan on the six-position sample" 0 allan -c ax "$SAMPLES/accel-6pos.csv"
+has "rejected fit: p below the bootstrap floor, not equal to it" "$T/out" 'chi2 469 for 28 dof, p < 0\.001\)'
+has "the warning says p < 0.001" "$T/out" 'warning: ax: fit rejected: chi2 469 for 28 dof, p < 0\.001, below 0\.01'
+has "the adequacy finding says p < 0.001" "$T/out" 'chi-squared 469 for 28 dof, p < 0\.001, below 0\.01'
+lacks "no 'p = 0.001'" "$T/out" 'p = 0\.001'
+run "allan json on the six-position sample" 0 allan --format json -c ax,ay "$SAMPLES/accel-6pos.csv"
+json_check "p_value_bound beside p_value, true only at the floor" "$T/out" \
+  '([.channels[] | (.fit.p_value_bound == (.fit.p_value <= 0.000999001)) and (.adequacy.fit_p_value_bound == .fit.p_value_bound)] | all) and ([.channels[].fit.p_value_bound] | any)'
+
 # ---------------------------------------------------------------- exports
 run "kalibr on the static sample" 0 allan --kalibr "$T/k.yaml" "$G"
 has "kalibr: continuous time stated" "$T/k.yaml" '^# continuous-time noise densities'

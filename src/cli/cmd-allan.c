@@ -497,8 +497,8 @@ static void text_adequacy(FILE *f, const struct ssc_allan_chan *c)
 			ssc_fmt(b1, sizeof(b1), q->contrast, 3),
 			ssc_fmt(b2, sizeof(b2), q->max_contrast, 3));
 	if (q->have_fit)
-		fprintf(f, "fit %s (p = %s), ", q->fit_rejected ? "rejected" : "accepted",
-			ssc_fmt(b1, sizeof(b1), q->fit_p_value, 2));
+		fprintf(f, "fit %s (p %s), ", q->fit_rejected ? "rejected" : "accepted",
+			ssc_fmt_p(b1, sizeof(b1), q->fit_p_value));
 	fprintf(f, "%s\n", !q->stationarity_tested ? "stationarity not tested" :
 		q->stationary ? "stationary" : "not stationary");
 	for (size_t i = 0; i < q->n_findings; i++)
@@ -747,10 +747,10 @@ static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c
 	if (fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: fit rejected: chi2 %s for %s dof, p = %s < %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
+			 "%s: fit rejected: chi2 %s for %s dof, p %s, below %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
 			 c->col->name, ssc_fmt(b1, sizeof(b1), ft->chi2, 3),
 			 ssc_fmt(b2, sizeof(b2), ft->dof, 3),
-			 ssc_fmt(b3, sizeof(b3), ft->p_value, 2), FIT_REJECT_P);
+			 ssc_fmt_p(b3, sizeof(b3), ft->p_value), FIT_REJECT_P);
 		n++;
 	}
 	for (int t = 0; t < 5 && n < max; t++) {
@@ -852,12 +852,12 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, p = %s):\n",
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, p %s):\n",
 			select_words(ft, selw, sizeof(selw)), k ? sel : "none",
 			ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
-			ssc_fmt(b4, sizeof(b4), ft->p_value, 2));
+			ssc_fmt_p(b4, sizeof(b4), ft->p_value));
 		for (int t = 0; t < 5; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
 			const char *cu = u->term[t], *su = u->term_si[t];
@@ -1067,6 +1067,9 @@ static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
 			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
 			json_object_set_new(fit, "dof", ssc_jreal(ft->dof));
 			json_object_set_new(fit, "p_value", ssc_jreal(ft->p_value));
+			/* at the bootstrap's floor p is only known to be below */
+			json_object_set_new(fit, "p_value_bound",
+					    json_boolean(sscope_noise_p_is_bound(ft->p_value)));
 			json_object_set_new(fit, "rejected",
 					    json_boolean(fit_rejected(ft)));
 			json_object_set_new(fit, "reject_below_p",
@@ -1458,10 +1461,10 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			     "QNBKR"[t], v1, cu, cf->present ?
 			     "present, interval reaches 0" : "not shown present");
 		}
-		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p = %s", nl ? "\n" : "",
+		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p %s", nl ? "\n" : "",
 		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
 		     ssc_fmt(v2, sizeof(v2), ft->dof, 3),
-		     ssc_fmt(v3, sizeof(v3), ft->p_value, 2));
+		     ssc_fmt_p(v3, sizeof(v3), ft->p_value));
 		if (fit_rejected(ft))
 			NOTE("\nFIT REJECTED (p < %g): terms indicative only",
 			     FIT_REJECT_P);

@@ -190,6 +190,8 @@ json_t *ssc_adequacy_json(const struct sscope_adequacy *q, const char *rate_unit
 	json_object_set_new(o, "fit_rejected", q->have_fit ?
 				json_boolean(q->fit_rejected) : json_null());
 	json_object_set_new(o, "fit_p_value", ssc_jreal(q->fit_p_value));
+	json_object_set_new(o, "fit_p_value_bound",
+			    json_boolean(sscope_noise_p_is_bound(q->fit_p_value)));
 	json_object_set_new(o, "stationary", q->stationarity_tested ?
 				json_boolean(q->stationary) : json_null());
 	json_object_set_new(o, "requested", term_list(q->requested));

@@ -720,6 +720,19 @@ int ssc_emit_json_slots(const struct ssc_common *co, json_t *root,
 	return ssc_out_close(co, &out, ok);
 }
 
+const char *ssc_fmt_p(char *buf, size_t len, double p)
+{
+	char v[32];
+
+	if (!(p >= 0))
+		snprintf(buf, len, "not computed");
+	else if (sscope_noise_p_is_bound(p))
+		snprintf(buf, len, "< 0.001");
+	else
+		snprintf(buf, len, "= %s", ssc_fmt(v, sizeof(v), p, 2));
+	return buf;
+}
+
 const char *ssc_fmt(char *buf, size_t len, double v, int sig)
 {
 	double a = fabs(v);

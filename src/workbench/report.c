@@ -228,12 +228,12 @@ static void allan_tables(struct ssc_html *h, const json_t *res)
 			continue;
 		if (json_object_get(fit, "p_value"))
 			snprintf(cap, sizeof(cap),
-				 "%s: %s, fit on %s points, chi-squared %s for %s dof, p = %s: %s",
+				 "%s: %s, fit on %s points, chi-squared %s for %s dof, p %s: %s",
 				 jstr(c, "name"), dev,
 				 num(b1, sizeof(b1), jnum(fit, "points"), 4),
 				 num(b2, sizeof(b2), jnum(fit, "chi2"), 3),
 				 num(b3, sizeof(b3), jnum(fit, "dof"), 3),
-				 num((char[32]){ 0 }, 32, jnum(fit, "p_value"), 2),
+				 ssc_fmt_p((char[32]){ 0 }, 32, jnum(fit, "p_value")),
 				 rejected ? "the model is rejected, the terms are indicative only" :
 					    "the model is accepted");
 		else

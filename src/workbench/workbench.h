@@ -386,5 +386,8 @@ int ssc_fig_save(struct ssc_fig *fig, const char *path);
 /* Text formatting of a number with @p sig significant digits (no
  * exponent for ordinary magnitudes). */
 const char *ssc_fmt(char *buf, size_t len, double v, int sig);
+/* A fit's p-value after "p ": "= 0.023", or "< 0.001" at the bootstrap's
+ * floor (sscope_noise_p_is_bound()). */
+const char *ssc_fmt_p(char *buf, size_t len, double p);
 
 #endif

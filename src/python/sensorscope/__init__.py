@@ -507,7 +507,9 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
         Arrays tau_s, m, terms, dev, dev_lo, dev_hi, edf, alpha (dev in the
         unit of a rate: .unit); noise = {"Q", "N", "B", "K", "R": Coef} in
         SI (.to("deg/sqrt(h)") converts; a term not shown present has
-        value NaN and hi its upper bound), chi2, dof, p_value, ci_level,
+        value NaN and hi its upper bound), chi2, dof, p_value (with
+        p_value_bound: True when it is the bootstrap's floor, 1/1001, so
+        the true p is below it), ci_level,
         readoff; noise is None and fit_error says why when the fit fails.
 
     Raises
@@ -611,6 +613,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
             out.chi2 = r.fit.chi2
             out.dof = r.fit.dof
             out.p_value = r.fit.p_value
+            # at the bootstrap's floor p is only known to be below it
+            out.p_value_bound = bool(_c.noise_p_is_bound(r.fit.p_value))
             out.ci_level = r.fit.ci_level
             ro = r.fit.readoff
             out.readoff = {"N": ro.n, "N_tau_s": ro.n_tau_s, "B": ro.b,
@@ -1167,6 +1171,7 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
         out.contrast = a.contrast
         out.fit_rejected = bool(a.fit_rejected) if a.have_fit else None
         out.fit_p_value = a.fit_p_value
+        out.fit_p_value_bound = bool(_c.noise_p_is_bound(a.fit_p_value))
         out.stationary = bool(a.stationary) if a.stationarity_tested \
             else None
         out.requested = _term_names(a.requested)
