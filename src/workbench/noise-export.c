@@ -626,7 +626,7 @@ static void gnss_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *
 {
 	(void)v;
 	note(h, "gnss-ins-sim imu_err dict (pass it as imu_model.IMU(accuracy=imu_err, ...)), per axis x, y, z");
-	note(h, "gyro_arw = N in deg/sqrt(hr), accel_vrw = N in m/s/sqrt(hr) (continuous; gnss-ins-sim draws arw/sqrt(dt) per sample)");
+	note(h, "gyro_arw = N in deg/sqrt(hr), accel_vrw = N in m/s/sqrt(hr) (CONTINUOUS time; gnss-ins-sim draws arw/sqrt(dt) per sample)");
 	note(h, "gnss-ins-sim has no rate-random-walk key: its bias drift is a first-order Gauss-Markov process of stationary sd *_b_stability and correlation time *_b_corr (pathgen.py bias_drift);");
 	note(h, "to make it the measured rate random walk K over the record, *_b_corr = %.6g s (ten record lengths) and *_b_stability = K sqrt(b_corr/2) (deg/hr, m/s^2);",
 	     gm_tau(e));
