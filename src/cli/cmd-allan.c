@@ -35,6 +35,7 @@ enum {
 	OPT_INFLATE,
 	OPT_FORCE,
 	OPT_DAVAR,
+	OPT_EXPORT,
 };
 
 static const struct ssc_option allan_opts[] = {
@@ -46,8 +47,10 @@ static const struct ssc_option allan_opts[] = {
 	  "the samples are a rate (default) or an angle (integrated rate)" },
 	{ "ci", required_argument, OPT_CI, "LEVEL|none",
 	  "confidence level of the intervals (default 0.683)" },
+	{ "export", required_argument, OPT_EXPORT, "TARGET[:FILE]",
+	  "write the noise parameters a consumer reads, in its own convention (repeatable): kalibr, imu_utils, openvins, vins, orbslam3, basalt, gtsam, matlab, gnss_ins_sim, gazebo; FILE defaults per target (see the manual)" },
 	{ "kalibr", required_argument, OPT_KALIBR, "PATH.yaml",
-	  "write Kalibr's IMU noise parameters (largest axis per sensor)" },
+	  "write Kalibr's IMU noise parameters (largest axis per sensor; = --export kalibr:PATH)" },
 	{ "openvins", required_argument, OPT_OPENVINS, "PATH.yaml",
 	  "write OpenVINS' kalibr_imu_chain.yaml (needs gyro and accelerometer channels)" },
 	{ "imu-utils", required_argument, OPT_IMU_UTILS, "PATH.yaml",
@@ -93,7 +96,7 @@ static const struct ssc_command_spec spec = {
 	.notes = "Examples:\n"
 		 "  sensorscope allan samples/gyro-static.csv\n"
 		 "  sensorscope allan --plot allan.png --kalibr imu.yaml samples/gyro-static.csv\n"
-		 "  sensorscope allan --openvins kalibr_imu_chain.yaml --inflate 2 imu.bag\n"
+		 "  sensorscope allan --export vins --export gazebo:imu.sdf --inflate 2 imu.bag\n"
 		 "  sensorscope allan --dev mdev --taus octave --format json log.csv\n"
 		 "  sensorscope allan --input angle -u deg -r 100 angle.csv\n"
 		 "Taus with too few terms are dropped as Stable32 does (ADEV, OADEV, TOTDEV:\n"
@@ -111,9 +114,8 @@ struct args {
 	struct sscope_allan_opts ao;
 	struct sscope_noise_fit_opts fo;
 	enum sscope_allan_tau_grid grid;
-	const char *kalibr;
-	const char *openvins;
-	const char *imu_utils;
+	struct ssc_export_req exp[SSC_EXPORT_MAX];
+	size_t n_exp;
 	const char *davar;
 	bool force;
 	double inflate;
@@ -192,15 +194,14 @@ static int handler(int key, const char *arg, void *ctx)
 					       "--ci: %s is not a level between 0 and 1 (e.g. 0.683, 0.95) or none",
 					       arg);
 		return 0;
+	case OPT_EXPORT:
 	case OPT_KALIBR:
-		a->kalibr = arg;
-		return 0;
 	case OPT_OPENVINS:
-		a->openvins = arg;
-		return 0;
 	case OPT_IMU_UTILS:
-		a->imu_utils = arg;
-		return 0;
+		return ssc_export_parse(key == OPT_EXPORT ? "export" :
+					key == OPT_KALIBR ? "kalibr" :
+					key == OPT_OPENVINS ? "openvins" : "imu-utils",
+					arg, a->exp, &a->n_exp);
 	case OPT_FORCE:
 		a->force = true;
 		return 0;
@@ -1229,60 +1230,14 @@ static int write_exports(const struct ssc_common *co, const void *opts,
 {
 	const struct args *a = opts;
 	const struct ssc_allan_res *R = result;
-	const struct ssc_allan_file *fr = R->fr;
-	size_t nf = R->n_files;
-	struct ssc_noise_export e = { 0 };
-	struct ssc_noise_chan *ch;
-	const struct sscope_capture_source *si = fr[0].cap->source_info;
-	size_t n = 0;
-	int rc = SSC_EXIT_OK;
+	int rc;
 
 	if (a->davar) {
 		rc = davar_plot(co, a, R, a->davar);
 		if (rc)
 			return rc;
 	}
-	if (!(a->kalibr || a->openvins || a->imu_utils))
-		return SSC_EXIT_OK;
-	for (size_t i = 0; i < nf; i++)
-		n += fr[i].n_ch;
-	ch = calloc(n ? n : 1, sizeof(*ch));
-	if (!ch) {
-		ssc_err(co->cmd, "out of memory");
-		return SSC_EXIT_FAIL;
-	}
-	for (size_t i = 0; i < nf; i++)
-		for (size_t k = 0; k < fr[i].n_ch; k++) {
-			const struct ssc_allan_chan *c = &fr[i].ch[k];
-
-			ch[e.n++] = (struct ssc_noise_chan){
-				c->col->name, c->u.rq,
-				c->res->have_fit ? &c->res->fit : NULL, c->adq
-			};
-		}
-	e.ch = ch;
-	e.rate_hz = fr[0].cap->rate_hz;
-	e.inflate = a->inflate;
-	e.source = nf > 1 ? "several files" : fr[0].path;
-	for (size_t i = 0; si && i < si->n_topics; i++)
-		if (si->topics[i].selected && !e.topic &&
-		    !strstr(si->topics[i].type, "Temperature"))
-			e.topic = si->topics[i].name;
-	e.force = a->force;
-	{
-		/* the alias options, in the order of the table */
-		const struct {
-			const char *target, *path;
-		} want[] = { { "kalibr", a->kalibr }, { "openvins", a->openvins },
-			     { "imu-utils", a->imu_utils } };
-
-		for (size_t i = 0; i < sizeof(want) / sizeof(want[0]) && !rc; i++)
-			if (want[i].path)
-				rc = ssc_export_write(co, ssc_export_target_find(want[i].target),
-						      want[i].path, &e);
-	}
-	free(ch);
-	return rc;
+	return ssc_export_allan(co, R, a->exp, a->n_exp, a->inflate, a->force);
 }
 
 /* ------------------------------------------------------------------ */
@@ -1624,12 +1579,11 @@ static int check(struct ssc_common *co, void *opts)
 	if (a->ao.stride_div && a->ao.dev != SSCOPE_ALLAN_DEV_OADEV &&
 	    a->ao.dev != SSCOPE_ALLAN_DEV_OHDEV)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
-	if ((a->kalibr || a->openvins || a->imu_utils) && a->no_fit)
-		return ssc_usage_error(co->cmd, "--%s needs the fit (drop --no-fit)",
-				       a->kalibr ? "kalibr" :
-				       a->openvins ? "openvins" : "imu-utils");
-	if (a->force && !(a->kalibr || a->openvins || a->imu_utils))
-		return ssc_usage_error(co->cmd, "--force applies to an export (--kalibr, --openvins, --imu-utils)");
+	if (a->n_exp && a->no_fit)
+		return ssc_usage_error(co->cmd, "%s needs the fit (drop --no-fit)",
+				       a->exp[0].t->option);
+	if (a->force && !a->n_exp)
+		return ssc_usage_error(co->cmd, "--force applies to an export (--export, --kalibr, --openvins, --imu-utils)");
 	if (a->davar && a->no_fit)
 		return ssc_usage_error(co->cmd, "--davar needs the fit (drop --no-fit)");
 	a->fo.ci_level = a->ci > 0 ? a->ci : 0.683;

@@ -38,6 +38,7 @@
 #include <string.h>
 
 #include "noise-export.h"
+#include "results.h"
 
 /* one value of a file: a sensor's term over its axes */
 struct ssc_export_value {
@@ -151,19 +152,109 @@ static void put_value(FILE *f, const char *indent, const char *key,
 	fputc('\n', f);
 }
 
-static void header(FILE *f, const struct ssc_noise_export *e,
-		   const char *what)
+/* the leading comment block: one line at a time, in the file's style */
+struct ssc_export_hdr {
+	FILE *f;
+	int style;
+	bool first;
+};
+
+static void note(struct ssc_export_hdr *h, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+
+static void note(struct ssc_export_hdr *h, const char *fmt, ...)
 {
-	fprintf(f, "# %s from sensorscope %s allan (IEEE 952 fit on OADEV)\n",
-		what, PACKAGE_VERSION);
-	fprintf(f, "# data: %s; the largest axis of each sensor is used\n",
-		e->source);
-	fprintf(f, "# continuous-time noise densities (per sqrt(Hz)), not discrete (per sample): multiply by sqrt(rate) for a per-sample sd\n");
+	char line[1024];
+	va_list ap;
+
+	va_start(ap, fmt);
+	vsnprintf(line, sizeof(line), fmt, ap);
+	va_end(ap);
+	switch (h->style) {
+	case SSC_EXPORT_PERCENT:
+		fprintf(h->f, "%% %s\n", line);
+		break;
+	case SSC_EXPORT_XML:
+		/* "--" may not appear inside an XML comment */
+		fputs("  ", h->f);
+		for (const char *c = line; *c; c++) {
+			if (c[0] == '-' && c[1] == '-') {
+				fputs("option ", h->f);
+				c++;
+				continue;
+			}
+			fputc(*c, h->f);
+		}
+		fputc('\n', h->f);
+		break;
+	case SSC_EXPORT_JSON:
+		fprintf(h->f, "%s    \"", h->first ? "" : ",\n");
+		for (const char *c = line; *c; c++) {
+			if (*c == '"' || *c == '\\')
+				fputc('\\', h->f);
+			if ((unsigned char)*c >= 0x20)
+				fputc(*c, h->f);
+		}
+		fputc('"', h->f);
+		break;
+	default:
+		fprintf(h->f, "# %s\n", line);
+	}
+	h->first = false;
+}
+
+static const char *const term_name[5] = {
+	"quantization Q", "white noise N", "bias instability B",
+	"rate random walk K", "rate ramp R"
+};
+
+static void header(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+		   const struct ssc_export_target *t,
+		   const struct ssc_export_values *v)
+{
+	char chans[512] = "";
+
+	for (size_t k = 0; k < e->n; k++)
+		append(chans, sizeof(chans), "%s%s (%s)", k ? ", " : "",
+		       e->ch[k].name,
+		       e->ch[k].q == SSCOPE_QUANTITY_ANGULAR_RATE ? "gyro" :
+		       e->ch[k].q == SSCOPE_QUANTITY_ACCELERATION ? "accelerometer" :
+		       "not exported");
+	note(h, "%s from sensorscope %s allan (IEEE 952 fit on OADEV)",
+	     t->what, PACKAGE_VERSION);
+	note(h, "data: %s at %.10g Hz; channels: %s; the largest axis of each sensor is used",
+	     e->source, e->rate_hz, chans[0] ? chans : "none");
 	if (e->inflate != 1)
-		fprintf(f, "# every noise value below is the measured one times %.6g (--inflate)\n",
-			e->inflate);
+		note(h, "every noise value below is the measured one times %.6g (--inflate), for effects the white-noise-plus-random-walk model leaves out (vibration, temperature, mounting), as Kalibr and OpenVINS advise",
+		     e->inflate);
+	else
+		note(h, "inflation: none (--inflate 1): the values are the measured ones; Kalibr and OpenVINS advise inflating Allan values (e.g. 2-10) in a filter for vibration, temperature and mounting effects the model leaves out");
 	if (e->force)
-		fprintf(f, "# written with --force: values the adequacy check doubts are marked DOUBTFUL beside them\n");
+		note(h, "written with --force: values the adequacy check doubts are marked DOUBTFUL");
+	for (int s = 0; s < 2; s++)
+		for (int term = 0; term < 5; term++) {
+			const struct ssc_export_value *x = s ? &v->a[term] : &v->g[term];
+
+			if (!x->have || !((t->terms >> term) & 1))
+				continue;
+			if (x->bound)
+				note(h, "UPPER BOUND: %s %s: the record does not establish it; the values derived from it below are the bound its fit puts on it (%s)",
+				     s ? "accelerometer" : "gyro", term_name[term], x->axes);
+			if (x->doubt)
+				note(h, "DOUBTFUL (written by --force): %s %s: %s",
+				     s ? "accelerometer" : "gyro", term_name[term], x->why);
+		}
+	if (t->notes)
+		t->notes(h, e, v);
+}
+
+static void continuous_notes(struct ssc_export_hdr *h,
+			     const struct ssc_noise_export *e,
+			     const struct ssc_export_values *v)
+{
+	(void)e;
+	(void)v;
+	note(h, "continuous-time noise densities (per sqrt(Hz)), not discrete (per sample): multiply by sqrt(rate) for a per-sample sd");
 }
 
 /* ------------------------------------------------------------ targets */
@@ -346,25 +437,426 @@ static void imu_utils_body(FILE *f, const struct ssc_noise_export *e,
 		imu_utils_block(f, e, SSCOPE_QUANTITY_ACCELERATION, "Acc", "m/s^2", "acc");
 }
 
+/* ------------------------------------------------- the other consumers */
+
+static double X(const struct ssc_export_value *v, const struct ssc_noise_export *e)
+{
+	return v->v * e->inflate;
+}
+
+/* what a comment beside the value says about it */
+static const char *mark(const struct ssc_export_value *v)
+{
+	if (v->bound && v->doubt)
+		return " UPPER BOUND, DOUBTFUL";
+	return v->bound ? " UPPER BOUND" : v->doubt ? " DOUBTFUL" : "";
+}
+
+/* the correlation time that makes a first-order Gauss-Markov bias a rate
+ * random walk over the record: ten record lengths (the spectra differ by
+ * (T/(2 pi tau))^2 < 3e-4 at the longest tau the fit sees) */
+static double gm_tau(const struct ssc_noise_export *e)
+{
+	return fmax(10 * e->duration_s, 1000);
+}
+
+static void vins_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+		       const struct ssc_export_values *v)
+{
+	(void)v;
+	note(h, "VINS-Mono / VINS-Fusion config keys (paste into the estimator's config file)");
+	note(h, "DISCRETE time at %.10g Hz, as VINS reads them: its config calls acc_n/gyr_n the measurement noise standard deviation and acc_w/gyr_w the bias random walk noise standard deviation;", e->rate_hz);
+	note(h, "integration_base.h propagates acc_n^2 as the variance of one sample and acc_w^2 * dt^2 as the bias variance added per step, so");
+	note(h, "acc_n = N sqrt(rate), acc_w = K sqrt(rate) (N, K continuous: N in m/s^2/sqrt(Hz), K in m/s^3/sqrt(Hz); gyro alike in rad/s)");
+}
+
+static void vins_body(FILE *f, const struct ssc_noise_export *e,
+		      const struct ssc_export_values *v)
+{
+	double sr = sqrt(e->rate_hz);
+
+	if (v->accel) {
+		fprintf(f, "acc_n: %.6e # m/s^2 per sample (N %.4e m/s^2/sqrt(Hz) x sqrt(%.10g))%s\n",
+			X(&v->a[SSCOPE_TERM_N], e) * sr, X(&v->a[SSCOPE_TERM_N], e),
+			e->rate_hz, mark(&v->a[SSCOPE_TERM_N]));
+		fprintf(f, "acc_w: %.6e # m/s^3 per sample (K %.4e m/s^3/sqrt(Hz) x sqrt(%.10g))%s\n",
+			X(&v->a[SSCOPE_TERM_K], e) * sr, X(&v->a[SSCOPE_TERM_K], e),
+			e->rate_hz, mark(&v->a[SSCOPE_TERM_K]));
+	}
+	if (v->gyro) {
+		fprintf(f, "gyr_n: %.6e # rad/s per sample (N %.4e rad/s/sqrt(Hz) x sqrt(%.10g))%s\n",
+			X(&v->g[SSCOPE_TERM_N], e) * sr, X(&v->g[SSCOPE_TERM_N], e),
+			e->rate_hz, mark(&v->g[SSCOPE_TERM_N]));
+		fprintf(f, "gyr_w: %.6e # rad/s^2 per sample (K %.4e rad/s^2/sqrt(Hz) x sqrt(%.10g))%s\n",
+			X(&v->g[SSCOPE_TERM_K], e) * sr, X(&v->g[SSCOPE_TERM_K], e),
+			e->rate_hz, mark(&v->g[SSCOPE_TERM_K]));
+	}
+	if (!v->gyro || !v->accel)
+		fprintf(f, "# no %s channel was analysed: its keys are missing\n",
+			v->gyro ? "accelerometer" : "gyro");
+}
+
+static void orbslam3_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+			   const struct ssc_export_values *v)
+{
+	(void)e;
+	(void)v;
+	note(h, "ORB-SLAM3 settings keys (paste into the camera/IMU settings file)");
+	note(h, "CONTINUOUS time: IMU.NoiseGyro/NoiseAcc = N (rad/s/sqrt(Hz), m/s^2/sqrt(Hz)), IMU.GyroWalk/AccWalk = K (rad/s^2/sqrt(Hz), m/s^3/sqrt(Hz));");
+	note(h, "ORB-SLAM3 discretises them itself with IMU.Frequency (Tracking.cc: noise x sqrt(f), walk / sqrt(f))");
+}
+
+static void orbslam3_body(FILE *f, const struct ssc_noise_export *e,
+			  const struct ssc_export_values *v)
+{
+	fprintf(f, "IMU.NoiseGyro: %.6e # rad/s/sqrt(Hz)%s\n", X(&v->g[SSCOPE_TERM_N], e),
+		mark(&v->g[SSCOPE_TERM_N]));
+	fprintf(f, "IMU.NoiseAcc: %.6e # m/s^2/sqrt(Hz)%s\n", X(&v->a[SSCOPE_TERM_N], e),
+		mark(&v->a[SSCOPE_TERM_N]));
+	fprintf(f, "IMU.GyroWalk: %.6e # rad/s^2/sqrt(Hz)%s\n", X(&v->g[SSCOPE_TERM_K], e),
+		mark(&v->g[SSCOPE_TERM_K]));
+	fprintf(f, "IMU.AccWalk: %.6e # m/s^3/sqrt(Hz)%s\n", X(&v->a[SSCOPE_TERM_K], e),
+		mark(&v->a[SSCOPE_TERM_K]));
+	fprintf(f, "IMU.Frequency: %.10g # Hz\n", e->rate_hz);
+}
+
+static void basalt_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+			 const struct ssc_export_values *v)
+{
+	(void)e;
+	(void)v;
+	note(h, "Basalt calib.json IMU keys: merge them into value0 of the calibration file (the camera keys are not written)");
+	note(h, "CONTINUOUS time, per axis x, y, z: accel/gyro_noise_std = N (m/s^2/sqrt(Hz), rad/s/sqrt(Hz)), accel/gyro_bias_std = K (m/s^3/sqrt(Hz), rad/s^2/sqrt(Hz));");
+	note(h, "Basalt discretises the noise with imu_update_rate (calibration.hpp: dicrete_time_*_noise_std = std x sqrt(rate)) and weights the bias change over dt by 1/(bias_std^2 dt)");
+}
+
+static void basalt_vec(FILE *f, const char *key, const struct ssc_export_value *v,
+		       const struct ssc_noise_export *e, bool last)
+{
+	double x = X(v, e);
+
+	fprintf(f, "    \"%s\": [%.6e, %.6e, %.6e]%s\n", key, x, x, x, last ? "" : ",");
+}
+
+static void basalt_body(FILE *f, const struct ssc_noise_export *e,
+			const struct ssc_export_values *v)
+{
+	fprintf(f, "    \"imu_update_rate\": %.10g,\n", e->rate_hz);
+	basalt_vec(f, "accel_noise_std", &v->a[SSCOPE_TERM_N], e, false);
+	basalt_vec(f, "gyro_noise_std", &v->g[SSCOPE_TERM_N], e, false);
+	basalt_vec(f, "accel_bias_std", &v->a[SSCOPE_TERM_K], e, false);
+	basalt_vec(f, "gyro_bias_std", &v->g[SSCOPE_TERM_K], e, true);
+	fprintf(f, "  }\n}\n");
+}
+
+static void gtsam_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+			const struct ssc_export_values *v)
+{
+	(void)e;
+	(void)v;
+	note(h, "GTSAM PreintegrationParams / PreintegrationCombinedParams, 3x3 matrices row-major");
+	note(h, "CONTINUOUS time, as GTSAM reads them: gyroscopeCovariance = N^2 I ((rad/s)^2/Hz), accelerometerCovariance = N^2 I ((m/s^2)^2/Hz),");
+	note(h, "biasOmegaCovariance = K^2 I ((rad/s^2)^2/Hz), biasAccCovariance = K^2 I ((m/s^3)^2/Hz); GTSAM divides the measurement covariances by dt and multiplies the bias ones by dt");
+	note(h, "integrationCovariance is not a sensor property and is not measured: 1e-8 I is the value of GTSAM's own ImuFactorsExample");
+}
+
+static void gtsam_mat(FILE *f, const char *key, double var, const char *unit,
+		      const char *m)
+{
+	fprintf(f, "%s: [%.6e, 0, 0, 0, %.6e, 0, 0, 0, %.6e] # %s%s\n", key, var,
+		var, var, unit, m);
+}
+
+static void gtsam_body(FILE *f, const struct ssc_noise_export *e,
+		       const struct ssc_export_values *v)
+{
+	double gn = X(&v->g[SSCOPE_TERM_N], e), an = X(&v->a[SSCOPE_TERM_N], e);
+	double gk = X(&v->g[SSCOPE_TERM_K], e), ak = X(&v->a[SSCOPE_TERM_K], e);
+
+	fprintf(f, "# sigmas: gyro N %.6e rad/s/sqrt(Hz), accel N %.6e m/s^2/sqrt(Hz), gyro K %.6e rad/s^2/sqrt(Hz), accel K %.6e m/s^3/sqrt(Hz)\n",
+		gn, an, gk, ak);
+	gtsam_mat(f, "gyroscopeCovariance", gn * gn, "(rad/s)^2/Hz", mark(&v->g[SSCOPE_TERM_N]));
+	gtsam_mat(f, "accelerometerCovariance", an * an, "(m/s^2)^2/Hz", mark(&v->a[SSCOPE_TERM_N]));
+	gtsam_mat(f, "integrationCovariance", 1e-8, "m^2/s (not measured: GTSAM's example value)", "");
+	gtsam_mat(f, "biasAccCovariance", ak * ak, "(m/s^3)^2/Hz", mark(&v->a[SSCOPE_TERM_K]));
+	gtsam_mat(f, "biasOmegaCovariance", gk * gk, "(rad/s^2)^2/Hz", mark(&v->g[SSCOPE_TERM_K]));
+	fprintf(f, "rate_hz: %.10g # the rate of the record (GTSAM takes dt from the measurements)\n",
+		e->rate_hz);
+}
+
+static void matlab_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+			 const struct ssc_export_values *v)
+{
+	(void)e;
+	(void)v;
+	note(h, "MATLAB script: imuSensor with gyroparams/accelparams (Navigation or Sensor Fusion and Tracking Toolbox)");
+	note(h, "CONTINUOUS time, as the gyroparams/accelparams reference states: NoiseDensity = N in (rad/s)/sqrt(Hz), (m/s^2)/sqrt(Hz);");
+	note(h, "RandomWalk = K in (rad/s)*sqrt(Hz), (m/s^2)*sqrt(Hz) -- the same number as K in rad/s^2/sqrt(Hz), m/s^3/sqrt(Hz) (a rate random walk, not the angle random walk);");
+	note(h, "BiasInstability = B of IEEE 952 in rad/s, m/s^2 (the Allan minimum / 0.664, as MathWorks' Allan-variance example sets it); imuSensor discretises at SampleRate");
+}
+
+static void matlab_params(FILE *f, const char *var, const char *fn,
+			  const struct ssc_export_value *t,
+			  const struct ssc_noise_export *e, const char *u)
+{
+	fprintf(f, "%s = %s( ...\n", var, fn);
+	fprintf(f, "    'NoiseDensity', %.6e, ... %% %s/sqrt(Hz)%s\n", X(&t[SSCOPE_TERM_N], e),
+		u, mark(&t[SSCOPE_TERM_N]));
+	fprintf(f, "    'BiasInstability', %.6e, ... %% %s%s\n", X(&t[SSCOPE_TERM_B], e), u,
+		mark(&t[SSCOPE_TERM_B]));
+	fprintf(f, "    'RandomWalk', %.6e); %% %s*sqrt(Hz)%s\n", X(&t[SSCOPE_TERM_K], e), u,
+		mark(&t[SSCOPE_TERM_K]));
+}
+
+static void matlab_body(FILE *f, const struct ssc_noise_export *e,
+			const struct ssc_export_values *v)
+{
+	fprintf(f, "SampleRate = %.10g; %% Hz\n", e->rate_hz);
+	if (v->gyro)
+		matlab_params(f, "gyro", "gyroparams", v->g, e, "(rad/s)");
+	if (v->accel)
+		matlab_params(f, "accel", "accelparams", v->a, e, "(m/s^2)");
+	fprintf(f, "imu = imuSensor('accel-gyro', 'SampleRate', SampleRate%s%s);\n",
+		v->gyro ? ", 'Gyroscope', gyro" : "",
+		v->accel ? ", 'Accelerometer', accel" : "");
+}
+
+static void gnss_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+		       const struct ssc_export_values *v)
+{
+	(void)v;
+	note(h, "gnss-ins-sim imu_err dict (pass it as imu_model.IMU(accuracy=imu_err, ...)), per axis x, y, z");
+	note(h, "gyro_arw = N in deg/sqrt(hr), accel_vrw = N in m/s/sqrt(hr) (CONTINUOUS time; gnss-ins-sim draws arw/sqrt(dt) per sample)");
+	note(h, "gnss-ins-sim has no rate-random-walk key: its bias drift is a first-order Gauss-Markov process of stationary sd *_b_stability and correlation time *_b_corr (pathgen.py bias_drift);");
+	note(h, "to make it the measured rate random walk K over the record, *_b_corr = %.6g s (ten record lengths) and *_b_stability = K sqrt(b_corr/2) (deg/hr, m/s^2);",
+	     gm_tau(e));
+	note(h, "this is NOT the bias instability B, and the process saturates beyond b_corr; the constant biases gyro_b/accel_b are not measured by one record: set them (deg/hr, m/s^2) for your part");
+}
+
+static void gnss_arr(FILE *f, const char *key, double x, const char *unit,
+		     const char *m)
+{
+	fprintf(f, "    '%s': np.array([%.6e, %.6e, %.6e]),  # %s%s\n", key, x, x, x,
+		unit, m);
+}
+
+static void gnss_body(FILE *f, const struct ssc_noise_export *e,
+		      const struct ssc_export_values *v)
+{
+	double tau = gm_tau(e), gs = sqrt(tau / 2);
+	double d = 180 / M_PI;
+
+	fprintf(f, "import numpy as np\n\n");
+	if (v->gyro)
+		fprintf(f, "# gyro: N %.6e rad/s/sqrt(Hz), K %.6e rad/s^2/sqrt(Hz)\n",
+			X(&v->g[SSCOPE_TERM_N], e), X(&v->g[SSCOPE_TERM_K], e));
+	if (v->accel)
+		fprintf(f, "# accelerometer: N %.6e m/s^2/sqrt(Hz), K %.6e m/s^3/sqrt(Hz)\n",
+			X(&v->a[SSCOPE_TERM_N], e), X(&v->a[SSCOPE_TERM_K], e));
+	fprintf(f, "imu_err = {\n");
+	if (v->gyro) {
+		gnss_arr(f, "gyro_arw", X(&v->g[SSCOPE_TERM_N], e) * d * 60, "deg/sqrt(hr)",
+			 mark(&v->g[SSCOPE_TERM_N]));
+		gnss_arr(f, "gyro_b_stability", X(&v->g[SSCOPE_TERM_K], e) * gs * d * 3600,
+			 "deg/hr (K sqrt(b_corr/2))", mark(&v->g[SSCOPE_TERM_K]));
+		gnss_arr(f, "gyro_b_corr", tau, "s", "");
+	}
+	if (v->accel) {
+		gnss_arr(f, "accel_vrw", X(&v->a[SSCOPE_TERM_N], e) * 60, "m/s/sqrt(hr)",
+			 mark(&v->a[SSCOPE_TERM_N]));
+		gnss_arr(f, "accel_b_stability", X(&v->a[SSCOPE_TERM_K], e) * gs,
+			 "m/s^2 (K sqrt(b_corr/2))", mark(&v->a[SSCOPE_TERM_K]));
+		gnss_arr(f, "accel_b_corr", tau, "s", "");
+	}
+	fprintf(f, "}\nimu_rate_hz = %.10g\n", e->rate_hz);
+}
+
+static void gazebo_notes(struct ssc_export_hdr *h, const struct ssc_noise_export *e,
+			 const struct ssc_export_values *v)
+{
+	(void)v;
+	note(h, "Gazebo (gz-sensors) IMU sensor SDF: <noise type=\"gaussian\"> per axis of <angular_velocity> and <linear_acceleration>");
+	note(h, "stddev is DISCRETE, per update at %.10g Hz: N sqrt(update_rate) (gz-sensors adds a fresh Gaussian of that sd to every reading);",
+	     e->rate_hz);
+	note(h, "dynamic_bias_stddev is the driving density of a Gauss-Markov bias (GaussianNoiseModel.cc: sd over dt = sqrt(sigma_b^2 tau/2 (1 - exp(-2 dt/tau)))), i.e. K in rad/s^2/sqrt(Hz), m/s^3/sqrt(Hz),");
+	note(h, "with dynamic_bias_correlation_time = %.6g s (ten record lengths) so that it is a rate random walk over the record;",
+	     gm_tau(e));
+	note(h, "bias_mean and bias_stddev (the turn-on bias) are not measured by one record and are left out (Gazebo's default applies)");
+}
+
+static void gazebo_axes(FILE *f, const char *block, const struct ssc_export_value *t,
+			const struct ssc_noise_export *e)
+{
+	static const char ax[3] = { 'x', 'y', 'z' };
+
+	fprintf(f, "    <%s>\n", block);
+	for (int i = 0; i < 3; i++) {
+		fprintf(f, "      <%c>\n        <noise type=\"gaussian\">\n", ax[i]);
+		fprintf(f, "          <stddev>%.6e</stddev>%s%s%s\n",
+			X(&t[SSCOPE_TERM_N], e) * sqrt(e->rate_hz),
+			mark(&t[SSCOPE_TERM_N])[0] ? " <!-- " : "",
+			mark(&t[SSCOPE_TERM_N]), mark(&t[SSCOPE_TERM_N])[0] ? " -->" : "");
+		fprintf(f, "          <dynamic_bias_stddev>%.6e</dynamic_bias_stddev>%s%s%s\n",
+			X(&t[SSCOPE_TERM_K], e),
+			mark(&t[SSCOPE_TERM_K])[0] ? " <!-- " : "",
+			mark(&t[SSCOPE_TERM_K]), mark(&t[SSCOPE_TERM_K])[0] ? " -->" : "");
+		fprintf(f, "          <dynamic_bias_correlation_time>%.6g</dynamic_bias_correlation_time>\n",
+			gm_tau(e));
+		fprintf(f, "        </noise>\n      </%c>\n", ax[i]);
+	}
+	fprintf(f, "    </%s>\n", block);
+}
+
+static void gazebo_body(FILE *f, const struct ssc_noise_export *e,
+			const struct ssc_export_values *v)
+{
+	fprintf(f, "<sensor name=\"imu_sensor\" type=\"imu\">\n");
+	fprintf(f, "  <always_on>true</always_on>\n  <update_rate>%.10g</update_rate>\n  <imu>\n",
+		e->rate_hz);
+	if (v->gyro)
+		gazebo_axes(f, "angular_velocity", v->g, e);
+	if (v->accel)
+		gazebo_axes(f, "linear_acceleration", v->a, e);
+	fprintf(f, "  </imu>\n</sensor>\n");
+}
+
 #define NK ((1u << SSCOPE_TERM_N) | (1u << SSCOPE_TERM_K))
 
+#define NBK (NK | (1u << SSCOPE_TERM_B))
+#define BOTH (SSC_EXPORT_GYRO | SSC_EXPORT_ACCEL)
+
 const struct ssc_export_target ssc_export_targets[] = {
-	{ "kalibr", "--kalibr", "Kalibr IMU noise model", NULL, SSC_EXPORT_ANY,
-	  NK, kalibr_body },
-	{ "openvins", "--openvins", "OpenVINS kalibr_imu_chain.yaml",
-	  "%YAML:1.0 # need to specify the file type at the top!\n",
-	  SSC_EXPORT_GYRO | SSC_EXPORT_ACCEL, NK, openvins_body },
-	{ "imu-utils", "--imu-utils", "imu_utils IMU parameters",
-	  "%YAML:1.0\n---\n", SSC_EXPORT_ANY, NK, imu_utils_body },
-	{ NULL, NULL, NULL, NULL, 0, 0, NULL },
+	{ "kalibr", "--kalibr", "imu.yaml", SSC_EXPORT_HASH,
+	  "Kalibr IMU noise model", NULL, SSC_EXPORT_ANY, NK, kalibr_body,
+	  continuous_notes },
+	{ "imu_utils", "--imu-utils", "imu_param.yaml", SSC_EXPORT_HASH,
+	  "imu_utils IMU parameters", "%YAML:1.0\n---\n", SSC_EXPORT_ANY, NK,
+	  imu_utils_body, continuous_notes },
+	{ "openvins", "--openvins", "kalibr_imu_chain.yaml", SSC_EXPORT_HASH,
+	  "OpenVINS kalibr_imu_chain.yaml",
+	  "%YAML:1.0 # need to specify the file type at the top!\n", BOTH, NK,
+	  openvins_body, continuous_notes },
+	{ "vins", "--export vins", "vins_imu.yaml", SSC_EXPORT_HASH,
+	  "VINS-Mono/VINS-Fusion IMU noise", "%YAML:1.0\n", SSC_EXPORT_ANY, NK,
+	  vins_body, vins_notes },
+	{ "orbslam3", "--export orbslam3", "orbslam3_imu.yaml", SSC_EXPORT_HASH,
+	  "ORB-SLAM3 IMU noise", "%YAML:1.0\n", BOTH, NK, orbslam3_body,
+	  orbslam3_notes },
+	{ "basalt", "--export basalt", "basalt_imu_calib.json", SSC_EXPORT_JSON,
+	  "Basalt calib.json IMU noise", "{\n  \"value0\": {\n    \"sensorscope_note\": [\n",
+	  BOTH, NK, basalt_body, basalt_notes },
+	{ "gtsam", "--export gtsam", "gtsam_imu.yaml", SSC_EXPORT_HASH,
+	  "GTSAM preintegration parameters", NULL, BOTH, NK, gtsam_body,
+	  gtsam_notes },
+	{ "matlab", "--export matlab", "imu_params.m", SSC_EXPORT_PERCENT,
+	  "MATLAB imuSensor parameters", NULL, SSC_EXPORT_ANY, NBK, matlab_body,
+	  matlab_notes },
+	{ "gnss_ins_sim", "--export gnss_ins_sim", "gnss_ins_sim_imu.py",
+	  SSC_EXPORT_HASH, "gnss-ins-sim IMU error model", NULL, SSC_EXPORT_ANY,
+	  NK, gnss_body, gnss_notes },
+	{ "gazebo", "--export gazebo", "imu_noise.sdf", SSC_EXPORT_XML,
+	  "Gazebo IMU sensor noise", "<?xml version=\"1.0\"?>\n<!--\n",
+	  SSC_EXPORT_ANY, NK, gazebo_body, gazebo_notes },
+	{ NULL, NULL, NULL, 0, NULL, NULL, 0, 0, NULL, NULL },
 };
 
 const struct ssc_export_target *ssc_export_target_find(const char *name)
 {
+	if (!strcmp(name, "imu-utils"))
+		name = "imu_utils";
 	for (const struct ssc_export_target *t = ssc_export_targets; t->name; t++)
 		if (!strcmp(t->name, name))
 			return t;
 	return NULL;
+}
+
+const char *ssc_export_target_names(void)
+{
+	static char names[256];
+
+	if (!names[0])
+		for (const struct ssc_export_target *t = ssc_export_targets; t->name; t++)
+			append(names, sizeof(names), "%s%s", t == ssc_export_targets ? "" : ", ",
+			       t->name);
+	return names;
+}
+
+int ssc_export_parse(const char *opt, const char *arg,
+		     struct ssc_export_req *req, size_t *n)
+{
+	const struct ssc_export_target *t;
+	const char *colon = strchr(arg, ':');
+	char name[64];
+	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
+
+	if (!strcmp(opt, "export")) {
+		snprintf(name, sizeof(name), "%.*s", (int)(len < 63 ? len : 63), arg);
+		t = len < 63 ? ssc_export_target_find(name) : NULL;
+		if (!t)
+			return ssc_usage_error("allan", "--export: '%.*s' is not %s",
+					       (int)len, arg, ssc_export_target_names());
+		arg = colon ? colon + 1 : t->defname;
+		if (!*arg)
+			return ssc_usage_error("allan", "--export: %s: the file name after ':' is empty",
+					       t->name);
+	} else {
+		t = ssc_export_target_find(opt);
+	}
+	if (*n >= SSC_EXPORT_MAX)
+		return ssc_usage_error("allan", "--%s: at most %d export files", opt,
+				       SSC_EXPORT_MAX);
+	for (size_t i = 0; i < *n; i++)
+		if (!strcmp(req[i].path, arg))
+			return ssc_usage_error("allan", "--%s: %s is written twice (give each export its own FILE)",
+					       opt, arg);
+	req[*n].t = t;
+	req[(*n)++].path = arg;
+	return 0;
+}
+
+int ssc_export_allan(const struct ssc_common *co, const struct ssc_allan_res *R,
+		     const struct ssc_export_req *req, size_t n, double inflate,
+		     bool force)
+{
+	const struct ssc_allan_file *fr = R->fr;
+	const struct sscope_capture_source *si = fr[0].cap->source_info;
+	struct ssc_noise_export e = { 0 };
+	struct ssc_noise_chan *ch;
+	size_t nch = 0;
+	int rc = SSC_EXIT_OK;
+
+	if (!n)
+		return SSC_EXIT_OK;
+	for (size_t i = 0; i < R->n_files; i++)
+		nch += fr[i].n_ch;
+	ch = calloc(nch ? nch : 1, sizeof(*ch));
+	if (!ch) {
+		ssc_err(co->cmd, "out of memory");
+		return SSC_EXIT_FAIL;
+	}
+	e.rate_hz = fr[0].cap->rate_hz;
+	for (size_t i = 0; i < R->n_files; i++)
+		for (size_t k = 0; k < fr[i].n_ch; k++) {
+			const struct ssc_allan_chan *c = &fr[i].ch[k];
+
+			ch[e.n++] = (struct ssc_noise_chan){
+				c->col->name, c->u.rq,
+				c->res->have_fit ? &c->res->fit : NULL, c->adq
+			};
+			e.duration_s = fmax(e.duration_s, (double)c->n / e.rate_hz);
+		}
+	e.ch = ch;
+	e.inflate = inflate;
+	e.source = R->n_files > 1 ? "several files" : fr[0].path;
+	for (size_t i = 0; si && i < si->n_topics; i++)
+		if (si->topics[i].selected && !e.topic &&
+		    !strstr(si->topics[i].type, "Temperature"))
+			e.topic = si->topics[i].name;
+	e.force = force;
+	for (size_t i = 0; i < n && !rc; i++)
+		rc = ssc_export_write(co, req[i].t, req[i].path, &e);
+	free(ch);
+	return rc;
 }
 
 /* ------------------------------------------------------------ the gate */
@@ -437,7 +929,15 @@ int ssc_export_write(const struct ssc_common *co,
 		return rc;
 	if (t->preamble)
 		fputs(t->preamble, at.f);
-	header(at.f, e, t->what);
+	{
+		struct ssc_export_hdr h = { at.f, t->style, true };
+
+		header(&h, e, t, &v);
+	}
+	if (t->style == SSC_EXPORT_XML)
+		fputs("-->\n", at.f);
+	else if (t->style == SSC_EXPORT_JSON)
+		fputs("\n    ],\n", at.f);
 	t->body(at.f, e, &v);
 	return ssc_file_close(&at, true);
 }
