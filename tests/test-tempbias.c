@@ -402,6 +402,40 @@ START_TEST(no_warmup_unequal_ramps)
 }
 END_TEST
 
+/* The rms over R records of 4 h of z = (estimate - truth) / sd of the
+ * hysteresis (truth 3) and the gradient (truth 60) of gyro_run(seed0 + r,
+ * sine, correlated, ...). */
+static double rms_z(uint64_t seed0, bool sine, bool correlated, int R,
+		    const char *what)
+{
+	size_t n = 4 * 3600;
+	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
+	double *tn = malloc(n * sizeof(double)), z2 = 0;
+
+	ck_assert(x && t && tn);
+	for (int r = 0; r < R; r++) {
+		struct sscope_tempbias_run run = { x, 1, tn, n, 1 };
+		struct sscope_tempbias_result *res = NULL;
+		struct sscope_diag d = { "" };
+		double zh, zg;
+
+		gyro_run(seed0 + (uint64_t)r, sine, correlated, x, t, tn, n);
+		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
+		ck_assert_msg(res->have_hysteresis && res->have_gradient, "record %d: %s",
+			      r, res->note);
+		zh = (res->hysteresis - 3) / res->hysteresis_sd;
+		zg = (res->gradient - 60) / res->gradient_sd;
+		z2 += zh * zh + zg * zg;
+		sscope_tempbias_result_free(res);
+	}
+	free(x);
+	free(t);
+	free(tn);
+	printf("# %s: rms z of hysteresis and gradient over %d records: %.2f\n",
+	       what, R, sqrt(z2 / (2 * R)));
+	return sqrt(z2 / (2 * R));
+}
+
 START_TEST(correlated_residuals)
 {
 	/* bias instability and rate random walk: the classical covariance
@@ -411,31 +445,9 @@ START_TEST(correlated_residuals)
 	 * brings the rms of z = (estimate - truth) / sd near 1 (0.84 here;
 	 * 0.50 with the Newey-West covariance before, too wide).  Over 2 R values an rms of 1 exceeds
 	 * 1.6 with probability < 1e-3 (chi^2 with 2R = 24 dof) */
-	int R = small_run() ? 6 : 12;
-	size_t n = 4 * 3600;
-	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
-	double *tn = malloc(n * sizeof(double)), z2 = 0;
+	double z = rms_z(700, true, true, small_run() ? 6 : 12, "correlated residuals");
 
-	for (int r = 0; r < R; r++) {
-		struct sscope_tempbias_run run = { x, 1, tn, n, 1 };
-		struct sscope_tempbias_result *res = NULL;
-		struct sscope_diag d = { "" };
-		double zh, zg;
-
-		gyro_run(700 + (uint64_t)r, true, true, x, t, tn, n);
-		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
-		ck_assert(res->have_hysteresis && res->have_gradient);
-		zh = (res->hysteresis - 3) / res->hysteresis_sd;
-		zg = (res->gradient - 60) / res->gradient_sd;
-		z2 += zh * zh + zg * zg;
-		sscope_tempbias_result_free(res);
-	}
-	printf("# correlated residuals: rms z of hysteresis and gradient over %d records: %.2f\n",
-	       R, sqrt(z2 / (2 * R)));
-	ck_assert_msg(sqrt(z2 / (2 * R)) < 1.6, "rms z %g", sqrt(z2 / (2 * R)));
-	free(x);
-	free(t);
-	free(tn);
+	ck_assert_msg(z < 1.6, "rms z %g", z);
 }
 END_TEST
 
@@ -450,33 +462,9 @@ START_TEST(random_walk_ramps)
 	 * Over 2 R = 40 values of z an rms of 1 exceeds 1.3 with probability
 	 * 0.004 (chi^2 with 40 dof), and an rms below 0.55 says the sds are
 	 * nearly twice too large (probability 3e-6 for an rms of 1) */
-	int R = 20;
-	size_t n = 4 * 3600;
-	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
-	double *tn = malloc(n * sizeof(double)), z2 = 0;
+	double z = rms_z(900, false, true, 20, "random walk, unequal ramps");
 
-	for (int r = 0; r < R; r++) {
-		struct sscope_tempbias_run run = { x, 1, tn, n, 1 };
-		struct sscope_tempbias_result *res = NULL;
-		struct sscope_diag d = { "" };
-		double zh, zg;
-
-		gyro_run(900 + (uint64_t)r, false, true, x, t, tn, n);
-		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
-		ck_assert_msg(res->have_hysteresis && res->have_gradient, "record %d: %s",
-			      r, res->note);
-		zh = (res->hysteresis - 3) / res->hysteresis_sd;
-		zg = (res->gradient - 60) / res->gradient_sd;
-		z2 += zh * zh + zg * zg;
-		sscope_tempbias_result_free(res);
-	}
-	printf("# random walk, unequal ramps: rms z of hysteresis and gradient over %d records: %.2f\n",
-	       R, sqrt(z2 / (2 * R)));
-	ck_assert_msg(sqrt(z2 / (2 * R)) < 1.3 && sqrt(z2 / (2 * R)) > 0.55,
-		      "rms z %g", sqrt(z2 / (2 * R)));
-	free(x);
-	free(t);
-	free(tn);
+	ck_assert_msg(z < 1.3 && z > 0.55, "rms z %g", z);
 }
 END_TEST
 
