@@ -84,6 +84,33 @@ run "truncated gzip" 1 info "$T/cut.csv.gz"
 has "truncated gzip: says so" "$T/err" 'gzip data truncated'
 one_line_error "truncated gzip"
 
+# the codecs' and SQLite's libraries are opened when a file needs them:
+# one that cannot be loaded (here a broken file found first through
+# LD_LIBRARY_PATH) is a one-line error naming it, and the files that do
+# not need it still read
+mkdir -p "$T/badlib"
+for l in libzstd.so.1 liblz4.so.1 libbz2.so.1.0 libsqlite3.so.0; do
+	echo 'not a library' >"$T/badlib/$l"
+done
+badlib_run() {
+	old_llp=${LD_LIBRARY_PATH-}
+	LD_LIBRARY_PATH="$T/badlib${old_llp:+:$old_llp}"
+	export LD_LIBRARY_PATH
+	run "$@"
+	if [ -n "$old_llp" ]; then LD_LIBRARY_PATH=$old_llp; else unset LD_LIBRARY_PATH; fi
+}
+for f in imu-zstd.mcap:libzstd.so.1 imu-lz4.bag:liblz4.so.1 \
+	 imu-bz2.bag:libbz2.so.1.0; do
+	badlib_run "${f%%:*} without ${f#*:}" 1 info "$T/r/${f%%:*}"
+	has "${f%%:*} without ${f#*:}: names the library" "$T/err" "cannot load ${f#*:} \\("
+	one_line_error "${f%%:*} without ${f#*:}"
+done
+if [ $have_db3 = 1 ]; then
+	badlib_run "a .db3 without libsqlite3" 1 info "$T/r/rosbag2"
+	has "a .db3 without libsqlite3: names the library" "$T/err" 'cannot load libsqlite3.so.0 \('
+fi
+badlib_run "an uncompressed bag needs none of them" 0 info "$T/r/imu-none.bag"
+
 # npy: its header is not read as samples; shapes are checked
 if [ -x /usr/bin/python3 ] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then
 	/usr/bin/python3 - "$T" <<'EOF'

@@ -91,7 +91,7 @@ int main(int argc, char **argv)
 	if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "-V")) {
 		printf("sensorscope %s (library %s; plots: %s; acquisition: %s)\n",
 		       PACKAGE_VERSION, sscope_version(),
-		       ssc_plot_available() ? "yes" : "no",
+		       ssc_plot_installed() ? "yes" : "no",
 #ifdef HAVE_LIBGPIOD
 		       "libgpiod"
 #else

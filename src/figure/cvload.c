@@ -91,14 +91,17 @@ static void *try_open(const char *path)
 	return h;
 }
 
-static void *open_module(void)
+/* the module's path, in the order above: 0, or -ENOENT */
+static int module_path(char *path, size_t len)
 {
 	const char *env = getenv("SSCOPE_PLOT_MODULE");
-	char exe[PATH_MAX], path[PATH_MAX + 64];
+	char exe[PATH_MAX];
 	ssize_t n;
 
-	if (env && *env)
-		return try_open(env);
+	if (env && *env) {
+		snprintf(path, len, "%s", env);
+		return 0;
+	}
 	n = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
 	if (n > 0) {
 		char *slash;
@@ -107,12 +110,28 @@ static void *open_module(void)
 		slash = strrchr(exe, '/');
 		if (slash) {
 			*slash = '\0';
-			snprintf(path, sizeof(path), "%s/cli/.libs/" MODULE, exe);
+			snprintf(path, len, "%s/cli/.libs/" MODULE, exe);
 			if (!access(path, F_OK))
-				return try_open(path);
+				return 0;
 		}
 	}
-	return try_open(SSCOPE_PKGLIBDIR "/" MODULE);
+	snprintf(path, len, "%s", SSCOPE_PKGLIBDIR "/" MODULE);
+	return access(path, F_OK) ? -ENOENT : 0;
+}
+
+static void *open_module(void)
+{
+	char path[PATH_MAX + 64];
+
+	module_path(path, sizeof(path));
+	return try_open(path);
+}
+
+bool ssc_cv_installed(void)
+{
+	char path[PATH_MAX + 64];
+
+	return module_path(path, sizeof(path)) == 0 && !access(path, R_OK);
 }
 
 static void load(void)

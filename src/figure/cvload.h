@@ -6,6 +6,7 @@
 #ifndef SSCOPE_CVLOAD_H
 #define SSCOPE_CVLOAD_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /*
@@ -14,5 +15,9 @@
  * NULL).
  */
 int ssc_cv_load(char *why, size_t len);
+/* Whether the module's file is where ssc_cv_load() would open it, without
+ * opening it (OpenCV's start-up costs tens of milliseconds): for
+ * `--version`. */
+bool ssc_cv_installed(void);
 
 #endif

@@ -30,6 +30,18 @@
 #ifdef HAVE_SQLITE3
 #include <sqlite3.h>
 
+/* SQLite, opened on the first .db3 file (io-lazy.c) */
+#define SQLITE_FUNCS(X)                                                        \
+	X(sqlite3_bind_int64) X(sqlite3_bind_text) X(sqlite3_close)            \
+	X(sqlite3_column_blob) X(sqlite3_column_bytes) X(sqlite3_column_int64) \
+	X(sqlite3_column_text) X(sqlite3_db_config) X(sqlite3_deserialize)     \
+	X(sqlite3_errcode) X(sqlite3_errmsg) X(sqlite3_exec)                   \
+	X(sqlite3_finalize) X(sqlite3_limit) X(sqlite3_open_v2)                \
+	X(sqlite3_prepare_v2) X(sqlite3_progress_handler) X(sqlite3_reset)     \
+	X(sqlite3_step)
+SSC_LAZY_TABLE(sq, SQLITE_FUNCS);
+SSC_LAZY_LIB(sqlite_lib, "libsqlite3.so.0", "libsqlite3-0", sq, SQLITE_FUNCS);
+
 /* The work budget in virtual-machine steps: the reads below cost 0.06
  * steps per byte of a 200 Hz IMU recording and 0.34 on 100,000 messages of
  * 5 and 36 bytes (std_msgs/Empty, sensor_msgs/Temperature); a row takes at
@@ -54,7 +66,7 @@ static int over_budget(void *ctx)
 static int db_err(sqlite3 *db, const struct budget *b, const char *disp,
 		  struct sscope_diag *diag)
 {
-	int e = sqlite3_errcode(db);
+	int e = sq.sqlite3_errcode(db);
 
 	if (e == SQLITE_NOMEM)
 		return ssc_diag(diag, -ENOMEM,
@@ -65,7 +77,7 @@ static int db_err(sqlite3 *db, const struct budget *b, const char *disp,
 				disp);
 	return ssc_diag(diag, -EBADMSG,
 			"%s: rosbag2 SQLite file: %s (not a rosbag2 .db3, or corrupt)",
-			disp, sqlite3_errmsg(db));
+			disp, sq.sqlite3_errmsg(db));
 }
 
 /* SQLite's settings for a database from an untrusted source */
@@ -82,26 +94,26 @@ static int harden(sqlite3 *db, size_t len)
 	};
 	int v = 0;
 
-	if (sqlite3_db_config(db, SQLITE_DBCONFIG_DEFENSIVE, 1, &v) != SQLITE_OK ||
+	if (sq.sqlite3_db_config(db, SQLITE_DBCONFIG_DEFENSIVE, 1, &v) != SQLITE_OK ||
 	    !v)
 		return -1;
 	for (size_t i = 0; i < sizeof(off) / sizeof(off[0]); i++)
-		if (sqlite3_db_config(db, off[i], 0, &v) != SQLITE_OK || v)
+		if (sq.sqlite3_db_config(db, off[i], 0, &v) != SQLITE_OK || v)
 			return -1;
 	/* no value longer than the file itself (a blob stored in it cannot
 	 * be); short statements, shallow expressions, nothing attached */
-	sqlite3_limit(db, SQLITE_LIMIT_LENGTH,
+	sq.sqlite3_limit(db, SQLITE_LIMIT_LENGTH,
 		      len < (1u << 20) ? 1 << 20 : len > INT_MAX ? INT_MAX : (int)len);
-	sqlite3_limit(db, SQLITE_LIMIT_SQL_LENGTH, 65536);
-	sqlite3_limit(db, SQLITE_LIMIT_EXPR_DEPTH, 100);
-	sqlite3_limit(db, SQLITE_LIMIT_COMPOUND_SELECT, 3);
-	sqlite3_limit(db, SQLITE_LIMIT_VDBE_OP, 25000);
-	sqlite3_limit(db, SQLITE_LIMIT_FUNCTION_ARG, 8);
-	sqlite3_limit(db, SQLITE_LIMIT_ATTACHED, 0);
-	sqlite3_limit(db, SQLITE_LIMIT_LIKE_PATTERN_LENGTH, 50);
-	sqlite3_limit(db, SQLITE_LIMIT_VARIABLE_NUMBER, 10);
-	sqlite3_limit(db, SQLITE_LIMIT_TRIGGER_DEPTH, 1);
-	sqlite3_limit(db, SQLITE_LIMIT_WORKER_THREADS, 0);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_SQL_LENGTH, 65536);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_EXPR_DEPTH, 100);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_COMPOUND_SELECT, 3);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_VDBE_OP, 25000);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_FUNCTION_ARG, 8);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_ATTACHED, 0);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_LIKE_PATTERN_LENGTH, 50);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_VARIABLE_NUMBER, 10);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_TRIGGER_DEPTH, 1);
+	sq.sqlite3_limit(db, SQLITE_LIMIT_WORKER_THREADS, 0);
 	return 0;
 #endif
 }
@@ -114,12 +126,12 @@ static int real_table(sqlite3 *db, const struct budget *b, const char *name,
 	sqlite3_stmt *st = NULL;
 	int rc = 0, s;
 
-	if (sqlite3_prepare_v2(db,
+	if (sq.sqlite3_prepare_v2(db,
 			       "SELECT type, rootpage FROM main.sqlite_master WHERE name = ?1 COLLATE NOCASE AND type <> 'trigger'",
 			       -1, &st, NULL) != SQLITE_OK)
 		return db_err(db, b, disp, diag);
-	sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
-	s = sqlite3_step(st);
+	sq.sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
+	s = sq.sqlite3_step(st);
 	if (s == SQLITE_DONE) {
 		rc = ssc_diag(diag, -EBADMSG,
 			      "%s: SQLite file without a '%s' table: not a rosbag2 .db3 (name the bag folder or its .db3 file)",
@@ -127,35 +139,35 @@ static int real_table(sqlite3 *db, const struct budget *b, const char *name,
 	} else if (s != SQLITE_ROW) {
 		rc = db_err(db, b, disp, diag);
 	} else {
-		const char *type = (const char *)sqlite3_column_text(st, 0);
+		const char *type = (const char *)sq.sqlite3_column_text(st, 0);
 		bool table = type && !strcmp(type, "table");
 
 		/* views and virtual tables have no b-tree of their own */
-		if (!table || sqlite3_column_int64(st, 1) <= 0)
+		if (!table || sq.sqlite3_column_int64(st, 1) <= 0)
 			rc = ssc_diag(diag, -EBADMSG,
 				      "%s: rosbag2 SQLite file: '%s' is a %.20s, not a table (refused: rosbag2 never writes one; convert the bag with `ros2 bag convert`)",
 				      disp, name,
 				      table ? "virtual table" : type ? type : "?");
 	}
-	sqlite3_finalize(st);
+	sq.sqlite3_finalize(st);
 	if (rc)
 		return rc;
 	/* hidden 2: a generated column computed at each read */
-	if (sqlite3_prepare_v2(db,
+	if (sq.sqlite3_prepare_v2(db,
 			       "SELECT name FROM pragma_table_xinfo(?1, 'main') WHERE hidden NOT IN (0, 3)",
 			       -1, &st, NULL) != SQLITE_OK)
 		return db_err(db, b, disp, diag);
-	sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
-	s = sqlite3_step(st);
+	sq.sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
+	s = sq.sqlite3_step(st);
 	if (s == SQLITE_ROW)
 		rc = ssc_diag(diag, -EBADMSG,
 			      "%s: rosbag2 SQLite file: column '%.40s' of '%s' is computed at each read (refused: rosbag2 never writes one; convert the bag with `ros2 bag convert`)",
-			      disp, sqlite3_column_text(st, 0) ?
-				      (const char *)sqlite3_column_text(st, 0) : "?",
+			      disp, sq.sqlite3_column_text(st, 0) ?
+				      (const char *)sq.sqlite3_column_text(st, 0) : "?",
 			      name);
 	else if (s != SQLITE_DONE)
 		rc = db_err(db, b, disp, diag);
-	sqlite3_finalize(st);
+	sq.sqlite3_finalize(st);
 	return rc;
 }
 
@@ -170,9 +182,12 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 
 	bud.max_calls = (STEPS_BASE + (unsigned long long)len * STEPS_PER_BYTE) /
 			STEPS_PER_CALL;
-	if (sqlite3_open_v2(":memory:", &db, SQLITE_OPEN_READWRITE, NULL) !=
+	rc = ssc_lazylib_load(&sqlite_lib, diag, disp);
+	if (rc)
+		return rc;
+	if (sq.sqlite3_open_v2(":memory:", &db, SQLITE_OPEN_READWRITE, NULL) !=
 	    SQLITE_OK) {
-		sqlite3_close(db);
+		sq.sqlite3_close(db);
 		return ssc_diag(diag, -ENOMEM,
 				"%s: rosbag2 SQLite file: out of memory", disp);
 	}
@@ -182,9 +197,9 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 			      disp);
 		goto out;
 	}
-	sqlite3_progress_handler(db, STEPS_PER_CALL, over_budget, &bud);
+	sq.sqlite3_progress_handler(db, STEPS_PER_CALL, over_budget, &bud);
 	/* read only, no copy: SQLite never writes the mapped bytes */
-	if (sqlite3_deserialize(db, "main", (unsigned char *)buf,
+	if (sq.sqlite3_deserialize(db, "main", (unsigned char *)buf,
 				(sqlite3_int64)len, (sqlite3_int64)len,
 				SQLITE_DESERIALIZE_READONLY) != SQLITE_OK) {
 		rc = db_err(db, &bud, disp, diag);
@@ -195,17 +210,17 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 		rc = real_table(db, &bud, "messages", disp, diag);
 	if (rc)
 		goto out;
-	if (sqlite3_prepare_v2(db,
+	if (sq.sqlite3_prepare_v2(db,
 			       "SELECT id, name, type, serialization_format FROM main.topics",
 			       -1, &st, NULL) != SQLITE_OK) {
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
 	}
-	while ((s = sqlite3_step(st)) == SQLITE_ROW) {
-		sqlite3_int64 id = sqlite3_column_int64(st, 0);
-		const char *name = (const char *)sqlite3_column_text(st, 1);
-		const char *type = (const char *)sqlite3_column_text(st, 2);
-		const char *ser = (const char *)sqlite3_column_text(st, 3);
+	while ((s = sq.sqlite3_step(st)) == SQLITE_ROW) {
+		sqlite3_int64 id = sq.sqlite3_column_int64(st, 0);
+		const char *name = (const char *)sq.sqlite3_column_text(st, 1);
+		const char *type = (const char *)sq.sqlite3_column_text(st, 2);
+		const char *ser = (const char *)sq.sqlite3_column_text(st, 3);
 		size_t idx;
 
 		if (id < 0 || id > (1 << 20) || !name || !type) {
@@ -237,36 +252,36 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
 	}
-	sqlite3_finalize(st);
+	sq.sqlite3_finalize(st);
 	st = NULL;
 	/* counts of every topic, then the messages of the readable ones */
-	if (sqlite3_prepare_v2(db,
+	if (sq.sqlite3_prepare_v2(db,
 			       "SELECT topic_id, COUNT(*) FROM main.messages GROUP BY topic_id",
 			       -1, &st, NULL) != SQLITE_OK) {
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
 	}
-	while ((s = sqlite3_step(st)) == SQLITE_ROW) {
-		sqlite3_int64 id = sqlite3_column_int64(st, 0);
+	while ((s = sq.sqlite3_step(st)) == SQLITE_ROW) {
+		sqlite3_int64 id = sq.sqlite3_column_int64(st, 0);
 
 		if (id >= 0 && (size_t)id < nmap && map[id] &&
 		    !ssc_ros_readable(c, map[id] - 1))
 			ssc_ros_count(c, map[id] - 1,
-				      (uint64_t)sqlite3_column_int64(st, 1));
+				      (uint64_t)sq.sqlite3_column_int64(st, 1));
 	}
 	if (s != SQLITE_DONE) {
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
 	}
-	sqlite3_finalize(st);
+	sq.sqlite3_finalize(st);
 	st = NULL;
 	/* only the readable topics' blobs are loaded: their ids go into a
 	 * table of the (in-memory) temporary schema, however many they are */
-	if (sqlite3_exec(db,
+	if (sq.sqlite3_exec(db,
 			 "PRAGMA temp_store = MEMORY;"
 			 "CREATE TEMP TABLE wanted(id INTEGER PRIMARY KEY)",
 			 NULL, NULL, NULL) != SQLITE_OK ||
-	    sqlite3_prepare_v2(db, "INSERT INTO temp.wanted VALUES (?1)", -1,
+	    sq.sqlite3_prepare_v2(db, "INSERT INTO temp.wanted VALUES (?1)", -1,
 			       &st, NULL) != SQLITE_OK) {
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
@@ -274,40 +289,40 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 	for (size_t i = 0; i < nmap; i++) {
 		if (!map[i] || !ssc_ros_readable(c, map[i] - 1))
 			continue;
-		sqlite3_bind_int64(st, 1, (sqlite3_int64)i);
-		if (sqlite3_step(st) != SQLITE_DONE) {
+		sq.sqlite3_bind_int64(st, 1, (sqlite3_int64)i);
+		if (sq.sqlite3_step(st) != SQLITE_DONE) {
 			rc = db_err(db, &bud, disp, diag);
 			goto out;
 		}
-		sqlite3_reset(st);
+		sq.sqlite3_reset(st);
 	}
-	sqlite3_finalize(st);
+	sq.sqlite3_finalize(st);
 	st = NULL;
-	if (sqlite3_prepare_v2(db,
+	if (sq.sqlite3_prepare_v2(db,
 			       "SELECT topic_id, timestamp, data, id FROM main.messages"
 			       " WHERE topic_id IN temp.wanted ORDER BY timestamp, id",
 			       -1, &st, NULL) != SQLITE_OK) {
 		rc = db_err(db, &bud, disp, diag);
 		goto out;
 	}
-	while ((s = sqlite3_step(st)) == SQLITE_ROW) {
-		sqlite3_int64 id = sqlite3_column_int64(st, 0);
+	while ((s = sq.sqlite3_step(st)) == SQLITE_ROW) {
+		sqlite3_int64 id = sq.sqlite3_column_int64(st, 0);
 		const unsigned char *d;
 		int n;
 
 		if (id < 0 || (size_t)id >= nmap || !map[id]) {
 			rc = ssc_diag(diag, -EBADMSG,
 				      "%s: rosbag2: message %lld of an unknown topic",
-				      disp, (long long)sqlite3_column_int64(st, 3));
+				      disp, (long long)sq.sqlite3_column_int64(st, 3));
 			goto out;
 		}
 		if (!ssc_ros_readable(c, map[id] - 1))
 			continue;
-		d = sqlite3_column_blob(st, 2);
-		n = sqlite3_column_bytes(st, 2);
+		d = sq.sqlite3_column_blob(st, 2);
+		n = sq.sqlite3_column_bytes(st, 2);
 		rc = ssc_ros_message(c, map[id] - 1, d ? d : (const unsigned char *)"",
-				     (size_t)n, sqlite3_column_int64(st, 1),
-				     (uint64_t)sqlite3_column_int64(st, 3) | 1ULL << 63,
+				     (size_t)n, sq.sqlite3_column_int64(st, 1),
+				     (uint64_t)sq.sqlite3_column_int64(st, 3) | 1ULL << 63,
 				     diag);
 		if (rc)
 			goto out;
@@ -315,8 +330,8 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 	if (s != SQLITE_DONE)
 		rc = db_err(db, &bud, disp, diag);
 out:
-	sqlite3_finalize(st);
-	sqlite3_close(db);
+	sq.sqlite3_finalize(st);
+	sq.sqlite3_close(db);
 	free(map);
 	return rc;
 }

@@ -31,28 +31,44 @@
 
 static const char *const codec_name[] = { "bz2", "lz4", "zstd" };
 
+/* the codecs' libraries, opened on the first chunk that needs them */
+#define BZ2_FUNCS(X) X(BZ2_bzBuffToBuffDecompress)
+#define LZ4_FUNCS(X)                                                           \
+	X(LZ4F_isError) X(LZ4F_createDecompressionContext) X(LZ4F_decompress)  \
+	X(LZ4F_freeDecompressionContext)
+#define ZSTD_FUNCS(X)                                                          \
+	X(ZSTD_isError) X(ZSTD_getErrorCode) X(ZSTD_getErrorName)              \
+	X(ZSTD_decompress) X(ZSTD_getFrameContentSize) X(ZSTD_createDCtx)      \
+	X(ZSTD_freeDCtx) X(ZSTD_decompressStream)
+SSC_LAZY_TABLE(bz, BZ2_FUNCS);
+SSC_LAZY_TABLE(lz, LZ4_FUNCS);
+SSC_LAZY_TABLE(zs, ZSTD_FUNCS);
+SSC_LAZY_LIB(bz2_lib, "libbz2.so.1.0", "libbz2-1.0", bz, BZ2_FUNCS);
+SSC_LAZY_LIB(lz4_lib, "liblz4.so.1", "liblz4-1", lz, LZ4_FUNCS);
+SSC_LAZY_LIB(zstd_lib, "libzstd.so.1", "libzstd1", zs, ZSTD_FUNCS);
+
 static int lz4_frame(const unsigned char *src, size_t src_len,
 		     unsigned char *dst, size_t dst_len, size_t *out)
 {
 	LZ4F_dctx *ctx;
 	size_t in = 0, done = 0, r = 1;
 
-	if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION)))
+	if (lz.LZ4F_isError(lz.LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION)))
 		return -ENOMEM;
 	while (r != 0 && in < src_len) {
 		size_t si = src_len - in, so = dst_len - done;
 
-		r = LZ4F_decompress(ctx, dst + done, &so, src + in, &si, NULL);
-		if (LZ4F_isError(r))
+		r = lz.LZ4F_decompress(ctx, dst + done, &so, src + in, &si, NULL);
+		if (lz.LZ4F_isError(r))
 			break;
 		in += si;
 		done += so;
 		if (si == 0 && so == 0)
 			break; /* no progress: output full or input exhausted */
 	}
-	LZ4F_freeDecompressionContext(ctx);
+	lz.LZ4F_freeDecompressionContext(ctx);
 	*out = done;
-	return LZ4F_isError(r) || r != 0 ? -EBADMSG : 0;
+	return lz.LZ4F_isError(r) || r != 0 ? -EBADMSG : 0;
 }
 
 size_t ssc_decompress_bound(enum ssc_codec codec, size_t src_len)
@@ -73,9 +89,12 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 		   const char *disp, const char *what,
 		   struct sscope_diag *diag)
 {
+	static struct ssc_lazylib *const lib[] = { &bz2_lib, &lz4_lib, &zstd_lib };
 	size_t got = 0;
-	int rc = 0;
+	int rc = ssc_lazylib_load(lib[codec], diag, disp);
 
+	if (rc)
+		return rc;
 	switch (codec) {
 	case SSC_CODEC_BZ2: {
 		unsigned int n = (unsigned int)dst_len;
@@ -84,7 +103,7 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 			rc = -EBADMSG;
 			break;
 		}
-		rc = BZ2_bzBuffToBuffDecompress((char *)dst, &n, (char *)src,
+		rc = bz.BZ2_bzBuffToBuffDecompress((char *)dst, &n, (char *)src,
 						(unsigned int)src_len, 0, 0);
 		if (rc == BZ_MEM_ERROR)
 			return -ENOMEM;
@@ -96,10 +115,10 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 		rc = lz4_frame(src, src_len, dst, dst_len, &got);
 		break;
 	case SSC_CODEC_ZSTD: {
-		size_t r = ZSTD_decompress(dst, dst_len, src, src_len);
+		size_t r = zs.ZSTD_decompress(dst, dst_len, src, src_len);
 
-		if (ZSTD_isError(r))
-			rc = ZSTD_getErrorCode(r) == ZSTD_error_memory_allocation ?
+		if (zs.ZSTD_isError(r))
+			rc = zs.ZSTD_getErrorCode(r) == ZSTD_error_memory_allocation ?
 				     -ENOMEM : -EBADMSG;
 		else
 			got = r;
@@ -163,12 +182,16 @@ int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
 	ZSTD_inBuffer in = { src, n, 0 };
 	unsigned char *b = NULL;
 	size_t bcap = 0, len = 0, limit, r = 1;
-	unsigned long long fcs = ZSTD_getFrameContentSize(src, n);
+	unsigned long long fcs;
 	bool checked = false, ratio_bound, declared = false;
-	int rc = 0;
+	int rc;
 
 	*out = NULL;
 	*out_len = 0;
+	rc = ssc_lazylib_load(&zstd_lib, diag, disp);
+	if (rc)
+		return rc;
+	fcs = zs.ZSTD_getFrameContentSize(src, n);
 	limit = ssc_decompress_bound(SSC_CODEC_ZSTD, n);
 	ratio_bound = limit <= cap;
 	if (!ratio_bound)
@@ -181,7 +204,7 @@ int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
 				"%s: zstd data of %.0f MiB: more than the %.0f MiB a decompressed file may take here (half the memory this process may use): convert the bag with `ros2 bag convert` to uncompressed storage",
 				disp, mib((size_t)(fcs > SIZE_MAX ? SIZE_MAX : fcs)),
 				ratio_bound ? mib(n) : mib(cap));
-	z = ZSTD_createDCtx();
+	z = zs.ZSTD_createDCtx();
 	if (!z)
 		return ssc_diag(diag, -ENOMEM, "%s: out of memory", disp);
 	for (;;) {
@@ -210,13 +233,13 @@ int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
 			bcap = want;
 		}
 		o = (ZSTD_outBuffer){ b + len, bcap - len, 0 };
-		r = ZSTD_decompressStream(z, &o, &in);
-		if (ZSTD_isError(r)) {
-			rc = ZSTD_getErrorCode(r) == ZSTD_error_memory_allocation ?
+		r = zs.ZSTD_decompressStream(z, &o, &in);
+		if (zs.ZSTD_isError(r)) {
+			rc = zs.ZSTD_getErrorCode(r) == ZSTD_error_memory_allocation ?
 				ssc_diag(diag, -ENOMEM, "%s: out of memory expanding the zstd data",
 					 disp) :
 				ssc_diag(diag, -EBADMSG, "%s: corrupt zstd data (%s)",
-					 disp, ZSTD_getErrorName(r));
+					 disp, zs.ZSTD_getErrorName(r));
 			break;
 		}
 		len += o.pos;
@@ -255,7 +278,7 @@ int ssc_unzstd(const unsigned char *src, size_t n, size_t cap,
 			break;
 		}
 	}
-	ZSTD_freeDCtx(z);
+	zs.ZSTD_freeDCtx(z);
 	if (rc) {
 		free(b);
 		return rc;

@@ -136,6 +136,39 @@ int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 int ssc_npy_open(struct ssc_table **t, const unsigned char *buf, size_t len,
 		 const char *disp, struct sscope_diag *diag);
 
+/* ------------------------------------------------------------ lazy libraries */
+
+/* A library opened on first use (io-lazy.c): its run-time name, the
+ * functions wanted (NULL-terminated) and the slots that receive them. */
+struct ssc_lazylib {
+	const char *soname;
+	const char *package; /* Debian's package that installs it */
+	const char *const *names;
+	void (**fn)(void);
+	int state; /* 0 not tried, 1 loaded, < 0 failed */
+	char why[200];
+};
+/* 0 once every function is found; else -ENOSYS with diag "WHAT: cannot
+ * load SONAME (why): install PACKAGE".  Thread-safe; tries once per process. */
+int ssc_lazylib_load(struct ssc_lazylib *l, struct sscope_diag *diag,
+		     const char *what);
+/* A table of the functions FUNCS(X) lists, typed as their declarations:
+ * SSC_LAZY_TABLE(z, ZSTD_FUNCS); then z.ZSTD_decompress(...) */
+#define SSC_LAZY_SLOT(f) __typeof__(f) *f;
+#define SSC_LAZY_NAME(f) #f,
+#define SSC_LAZY_ONE(f) +1
+#define SSC_LAZY_TABLE(var, FUNCS)                                             \
+	static union {                                                         \
+		struct {                                                       \
+			FUNCS(SSC_LAZY_SLOT)                                   \
+		};                                                             \
+		void (*slot[0 FUNCS(SSC_LAZY_ONE)])(void);                     \
+	} var
+#define SSC_LAZY_LIB(var, soname, package, table, FUNCS)                       \
+	static const char *const var##_names[] = { FUNCS(SSC_LAZY_NAME) NULL }; \
+	static struct ssc_lazylib var = { soname, package, var##_names,          \
+					  table.slot, 0, "" }
+
 /* ------------------------------------------------------------ codecs */
 
 enum ssc_codec { SSC_CODEC_BZ2, SSC_CODEC_LZ4, SSC_CODEC_ZSTD };

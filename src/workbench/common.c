@@ -771,6 +771,15 @@ bool ssc_plot_available(void)
 #endif
 }
 
+bool ssc_plot_installed(void)
+{
+#ifdef HAVE_OPENCV
+	return ssc_cv_installed();
+#else
+	return false;
+#endif
+}
+
 int ssc_plot_unavailable(const char *cmd)
 {
 #ifdef HAVE_OPENCV

@@ -368,6 +368,8 @@ void ssc_adc_profile_free(struct ssc_inl_profile *prof);
  * always built.  ssc_plot_check() returns 0 for a usable --plot path, else
  * the exit code after printing why. */
 bool ssc_plot_available(void);
+/* PNG plots installed (the module's file present, not opened): --version */
+bool ssc_plot_installed(void);
 int ssc_plot_unavailable(const char *cmd);
 int ssc_plot_check(const char *cmd, const char *path);
 
