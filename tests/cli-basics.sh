@@ -26,6 +26,31 @@ run "missing file operand" 2 info
 one_line_error "missing file operand"
 run "--plot not png" 2 info --plot x.jpg "$SAMPLES/gyro-static.csv"
 
+# OpenMP's threads wait passively (GOMP_SPINCOUNT 0) without the command
+# running itself twice: the policy reaches libgomp before it starts
+# (libgomp prints its settings once per start with OMP_DISPLAY_ENV)
+omp_env() { # DESC WANT_STARTS WANT_SPIN ENV...
+	desc=$1 starts=$2 spin=$3
+	shift 3
+	env "$@" OMP_DISPLAY_ENV=verbose "$SSCOPE" allan --help >/dev/null 2>"$T/omp"
+	n=$(grep -c 'OPENMP DISPLAY ENVIRONMENT BEGIN' "$T/omp")
+	last=$(sed -n "s/^ *GOMP_SPINCOUNT = '\([0-9]*\)'.*/\1/p" "$T/omp" | tail -n 1)
+	if [ "$n" = "$starts" ] && { [ "$last" = "$spin" ] || { [ "$spin" = "+" ] && [ "${last:-0}" -gt 0 ]; }; }; then
+		ok "$desc"
+	else
+		not_ok "$desc (started $n times, spin count '$last')"
+		diag "$T/omp"
+	fi
+}
+if "$SSCOPE" --version >/dev/null && OMP_DISPLAY_ENV=true "$SSCOPE" --version 2>&1 | grep -q 'OPENMP DISPLAY'; then
+	omp_env "OpenMP waits passively, one start" 1 0 _=/bin/sh
+	omp_env "OpenMP waits passively without a shell's _" 1 0 -u _ HOME=/nowhere
+	omp_env "an empty environment: started again with the policy" 2 0 -i
+	omp_env "the user's OMP_WAIT_POLICY is kept" 1 + OMP_WAIT_POLICY=active
+else
+	skip "OpenMP wait policy" "built without OpenMP"
+fi
+
 # every command of --help is in the man page and the README
 ss --help | sed -n 's/^  \([a-z][a-z-]*\)  .*/\1/p' >"$T/cmds"
 if [ -s "$T/cmds" ]; then ok "commands listed"; else not_ok "commands listed"; fi

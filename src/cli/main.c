@@ -110,8 +110,8 @@ int main(int argc, char **argv)
 	mallopt(M_TRIM_THRESHOLD, 1 << 30);
 	for (size_t i = 0; i < N_COMMANDS; i++)
 		if (!strcmp(argv[1], commands[i].name)) {
-			if (commands[i].run != ssc_cmd_info)
-				ssc_omp_wait_passive(argv);
+			/* info starts no OpenMP thread: not run twice */
+			ssc_omp_wait_passive(argv, commands[i].run != ssc_cmd_info);
 			rc = commands[i].run(argc - 1, argv + 1);
 			/* help, plans and summaries printed on stdout */
 			if (ssc_stdout_finish(commands[i].name) && !rc)

@@ -341,9 +341,12 @@ bool ssc_psd_fed_from_mapping(const struct ssc_common *co, const char *path,
 			      struct sscope_psd *p, struct sscope_psd_spectrum *s,
 			      uint64_t *rows);
 
-/* Run the command again with OMP_WAIT_POLICY=passive unless the user set
- * a policy (process.c); returns only when it could not. */
-void ssc_omp_wait_passive(char **argv);
+/* OpenMP's passive wait policy (process.c): gives back the environment
+ * entry the policy borrowed before the libraries started; where none
+ * could be borrowed and may_exec, runs the command again with
+ * OMP_WAIT_POLICY=passive unless the user set a policy (returns only when
+ * it could not).  Call once per command, before it runs. */
+void ssc_omp_wait_passive(char **argv, bool may_exec);
 
 /* Load the [sensor] section of a spec file; prints errors, returns exit. */
 int ssc_load_sensor(const char *cmd, const char *path,
