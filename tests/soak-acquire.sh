@@ -6,7 +6,8 @@
 # capture's size are sampled every SOAK_EVERY seconds and printed as TAP
 # comments.  Passes when every sample is in the capture (count exact, no
 # drop, no gap, read back by info) and the memory stays flat: after the
-# first sample, VmRSS never rises more than SOAK_RSS_SLACK_KB above it.
+# first sample taken once the capture has bytes (its buffers exist), VmRSS
+# never rises more than SOAK_RSS_SLACK_KB above it.
 #
 # Like a real recording, it needs its share of the CPU: about 7 % of a core
 # at 10 kHz, but a paced source outruns a writer that gets less (a nice'd
@@ -50,8 +51,10 @@ while kill -0 "$pid" 2>/dev/null; do
 	[ -n "$r" ] || break
 	size=$(stat -c %s "$T/soak.$fmt.partial" 2>/dev/null || echo 0)
 	echo "# $t  $r  $size"
+	# the reference is the first sample once the recording writes: on a
+	# busy machine the first second can end before its buffers exist
 	if [ -z "$first" ]; then
-		first=$r
+		[ "$size" -gt 0 ] && first=$r
 	elif [ "$r" -gt "$max" ]; then
 		max=$r
 	fi
