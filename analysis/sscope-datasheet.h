@@ -92,7 +92,7 @@ int sscope_datasheet_line_by_key(const char *key);
 
 /** sqrt(2 ln2 / pi) = 0.664282...: the Allan deviation plateau of flicker
  *  rate noise per unit B (IEEE 952 Annex C). */
-#define SSCOPE_DATASHEET_FLICKER_PLATEAU 0.66428204636893374
+#define SSCOPE_DATASHEET_FLICKER_PLATEAU 0.66428247026796010
 
 /**
  * The factor f with line value = f * term (the IEEE 952 term of the line:
