@@ -249,6 +249,7 @@ static void from_term(const struct sscope_allan_result *r,
 	if (sscope_datasheet_factor(s->line, s->bandwidth_hz, &f))
 		return;
 	k = &r->fit.coef[infos[s->line].term];
+	c->fit_rejected = sscope_noise_fit_rejected(&r->fit, 0.01);
 	if (k->present && isfinite(k->value)) {
 		c->value = f * k->value;
 		c->lo = f * k->lo;
@@ -314,7 +315,11 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 			if (sscope_datasheet_gjb(x, stride, n, rate_hz,
 						 infos[s->line].tau_s, level,
 						 &g, NULL)) {
-				c->why = "the record holds fewer than two such means";
+				double m = floor(infos[s->line].tau_s * rate_hz + 0.5);
+
+				c->why = m >= 1 && (double)n >= 2 * m ?
+						 "the record has a gap (a sample not finite) in its means" :
+						 "the record holds fewer than two such means";
 				break;
 			}
 			c->value = g.value;

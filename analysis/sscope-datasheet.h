@@ -186,6 +186,10 @@ struct sscope_datasheet_check {
 	enum sscope_datasheet_verdict verdict;
 	const char *why; /**< why nothing or only a bound was measured
 			      (static; NULL when measured) */
+	bool fit_rejected; /**< a term line whose noise fit the chi-squared
+			        test rejects at p < 0.01
+			        (sscope_noise_fit_rejected()): the value and
+			        its interval are indicative only */
 };
 
 /** Options of sscope_datasheet_check(); zero means the default. */

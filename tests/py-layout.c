@@ -526,6 +526,7 @@ int main(void)
 	F(sscope_datasheet_check, bound);
 	F(sscope_datasheet_check, verdict);
 	F(sscope_datasheet_check, why);
+	F(sscope_datasheet_check, fit_rejected);
 	S(sscope_datasheet_opts);
 	F(sscope_datasheet_opts, level);
 	return 0;

@@ -279,8 +279,32 @@ START_TEST(test_check)
 	/* white noise has no K: a bound above 0, the limit far below it */
 	ck_assert(c[4].bound && isnan(c[4].value) && c[4].hi > 0 && c[4].why);
 	ck_assert_int_eq(c[4].verdict, SSCOPE_DATASHEET_INCONCLUSIVE);
+	/* white noise: the five-term model describes it */
+	ck_assert(!c[0].fit_rejected && !c[1].fit_rejected);
 	o.level = 1.5;
 	ck_assert_int_eq(sscope_datasheet_check(x, 1, n, fs, spec, 6, &o, c, NULL), -EINVAL);
+	free(x);
+}
+END_TEST
+
+/* a tone of 40 s period well above the noise is outside the five-term
+ * model: the N line is flagged, the GJB line (no fit) is not */
+START_TEST(test_check_rejected)
+{
+	const double fs = 100, sigma = 0.01;
+	const size_t n = 60000;
+	double *x = record(n, fs, sigma, 0, 0, 9);
+	struct sscope_datasheet_spec spec[2] = {
+		{ SSCOPE_DATASHEET_NOISE_DENSITY, sigma / sqrt(fs), 0 },
+		{ SSCOPE_DATASHEET_GJB_10S, 1, 0 },
+	};
+	struct sscope_datasheet_check c[2];
+
+	for (size_t i = 0; i < n; i++)
+		x[i] += 0.01 * sin(2 * 3.14159265358979323846 * (double)i / fs / 40);
+	ck_assert_int_eq(sscope_datasheet_check(x, 1, n, fs, spec, 2, NULL, c, NULL), 0);
+	ck_assert(c[0].fit_rejected);
+	ck_assert(!c[1].fit_rejected);
 	free(x);
 }
 END_TEST
@@ -299,6 +323,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_verdict);
 	tcase_add_test(tc, test_info);
 	tcase_add_test(tc, test_check);
+	tcase_add_test(tc, test_check_rejected);
 	tcase_set_timeout(tc, 60);
 	suite_add_tcase(s, tc);
 	return s;

@@ -502,6 +502,7 @@ static json_t *verdict_json(const struct ssc_datasheet *ds, const char *capture,
 			json_object_set_new(l, "verdict",
 					    json_string(sscope_datasheet_verdict_name(c->verdict)));
 			json_object_set_new(l, "why", c->why ? json_string(c->why) : json_null());
+			json_object_set_new(l, "fit_rejected", json_boolean(c->fit_rejected));
 			json_array_append_new(arr, l);
 		}
 		json_object_set_new(o, "checks", arr);
@@ -547,6 +548,8 @@ static void verdict_text(FILE *f, const struct ssc_datasheet *ds,
 				sec->written[j], meas, sscope_datasheet_verdict_name(c->verdict));
 			if (c->why)
 				fprintf(f, "      (%s)\n", c->why);
+			if (c->fit_rejected)
+				fprintf(f, "      (the noise fit is rejected by its chi-squared test, p < 0.01: indicative only)\n");
 		}
 	}
 }

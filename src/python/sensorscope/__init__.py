@@ -1313,7 +1313,8 @@ def datasheet_check(x, rate, lines, quantity="angular rate",
     "bound", "verdict", "why"} in SI, the verdict "within spec", "out of
     spec" or "inconclusive", guard-banded by the interval at `ci` (as
     `sensorscope datasheet --check`).  A value the record cannot establish
-    is None, with the reason in "why"."""
+    is None, with the reason in "why"; "fit_rejected" flags a term line
+    whose noise fit the chi-squared test rejects (indicative only)."""
     fn = "datasheet_check"
     rate = _positive(fn, "rate", rate)
     bw = float("nan") if noise_bandwidth is None else \
@@ -1339,7 +1340,8 @@ def datasheet_check(x, rate, lines, quantity="angular rate",
              "value": num(r.value), "lo": num(r.lo), "hi": num(r.hi),
              "bound": bool(r.bound),
              "verdict": _c.datasheet_verdict_name(r.verdict).decode(),
-             "why": r.why.decode() if r.why else None}
+             "why": r.why.decode() if r.why else None,
+             "fit_rejected": bool(r.fit_rejected)}
             for r, (_li, _v, info) in zip(res, got)]
 
 

@@ -518,7 +518,8 @@ class DatasheetSpec(C.Structure):
 class DatasheetCheck(C.Structure):
     _fields_ = [("line", C.c_int), ("limit", c_dbl), ("value", c_dbl),
                 ("lo", c_dbl), ("hi", c_dbl), ("bound", C.c_bool),
-                ("verdict", C.c_int), ("why", C.c_char_p)]
+                ("verdict", C.c_int), ("why", C.c_char_p),
+                ("fit_rejected", C.c_bool)]
 
 
 class DatasheetOpts(C.Structure):
