@@ -72,6 +72,10 @@ static int parse_value(const char *cmd, const char *path, size_t line,
 		ssc_err(cmd, "%s: line %zu: %s = %s: not a number", path, line, key, v);
 		return SSC_EXIT_FAIL;
 	}
+	if (!isfinite(x)) {
+		ssc_err(cmd, "%s: line %zu: %s = %s: not a finite number", path, line, key, v);
+		return SSC_EXIT_FAIL;
+	}
 	p += k;
 	while (*p == ' ' || *p == '\t')
 		p++;
