@@ -92,5 +92,6 @@
 #include "sscope-walk.h"
 #include "sscope-clip.h"
 #include "sscope-adequacy.h"
+#include "sscope-datasheet.h"
 
 #endif /* SENSORSCOPE_H */

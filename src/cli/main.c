@@ -51,6 +51,8 @@ static const struct command commands[] = {
 	  ssc_cmd_walk },
 	{ "navsim", "strapdown navigation error simulation over Monte-Carlo runs",
 	  ssc_cmd_navsim },
+	{ "datasheet", "datasheet lines as IEEE 952 terms and back; a capture's verdicts",
+	  ssc_cmd_datasheet },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

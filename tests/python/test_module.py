@@ -490,6 +490,63 @@ except ss.ArgumentError as e:
     ok("data_type" in str(e) and "freq or phase" in str(e),
        "compat: a bad data_type names the argument and the allowed values")
 
+# ---------------------------------------------------------------- datasheet
+# by hand: 0.15 deg/sqrt(h) = 0.15 * pi/180 / 60 rad/sqrt(s); an Allan
+# minimum of 0.5 deg/h is B = 0.5 / sqrt(2 ln2 / pi) = 0.5 / 0.6642825 deg/h
+t = ss.datasheet_terms({"random_walk": "0.15 deg/sqrt(h)",
+                        "in_run_bias_stability": "0.5 deg/h"})
+ok(rel(t["N"], 0.15 * math.pi / 180 / 60) < 1e-14 and
+   rel(t["B"], 0.5 / 0.6642824702679601 * math.pi / 180 / 3600) < 1e-14 and
+   t["K"] is None, "datasheet_terms: ARW and Allan minimum by hand", t)
+# 0.05 deg/s rms over 100 Hz = 0.05 / sqrt(100) = 0.005 deg/s/sqrt(Hz)
+t = ss.datasheet_terms({"rms_noise": "0.05 deg/s"}, noise_bandwidth=100)
+ok(rel(t["N"], 0.005 * math.pi / 180) < 1e-14,
+   "datasheet_terms: rms over a noise bandwidth", t)
+# 0.23 mg/sqrt(Hz) = 0.23e-3 * 9.80665 m/s^2/sqrt(Hz)
+t = ss.datasheet_terms({"noise_density": "0.23 mg/sqrt(Hz)"},
+                       quantity="acceleration")
+ok(rel(t["N"], 2.2555295e-3) < 1e-12, "datasheet_terms: mg/sqrt(Hz)", t)
+for bad_lines, why in (({"noise": "1 deg/h"}, "unknown key"),
+                       ({"noise_density": "1 deg/h"}, "wrong dimension"),
+                       ({"noise_density": "0.01"}, "no unit"),
+                       ({"rms_noise": "0.05 deg/s"}, "no bandwidth")):
+    try:
+        ss.datasheet_terms(bad_lines)
+        ok(False, "datasheet_terms refuses: " + why)
+    except ss.ArgumentError:
+        ok(True, "datasheet_terms refuses: " + why)
+# the GJB figure against plain numpy averaging, to 1e-12
+rng = np.random.default_rng(41)
+xg = 2e-3 + rng.normal(scale=1e-2, size=123457) + \
+    np.cumsum(rng.normal(scale=1e-5, size=123457))
+g = ss.datasheet_gjb(xg, 100.0, 10.0)
+means = xg[:123000].reshape(123, 1000).mean(axis=1)
+ok(g["n_means"] == 123 and rel(g["value"], np.std(means, ddof=1)) < 1e-12 and
+   g["lo"] < g["value"] < g["hi"], "datasheet_gjb: plain numpy sd of means",
+   g)
+# the check against the CLI on the same capture
+with tempfile.TemporaryDirectory() as td:
+    sini = os.path.join(td, "s.ini")
+    with open(sini, "w") as f:
+        f.write("[sensor]\nnoise_density = 0.0175 deg/s/sqrt(Hz)\n")
+    csv = os.path.join(td, "c.csv")
+    subprocess.run([SSCOPE, "simulate", "--sensor", sini, "--rate", "100",
+                    "--duration", "300", "--seed", "5", "-o", csv],
+                   check=True)
+    ds = os.path.join(SAMPLES, "datasheets", "bmi088.ini")
+    j = cli("datasheet", "--check", csv, "--format", "json", ds)
+    c = ss.datasheet_check(ss.load(csv)["gx"], 100.0,
+                           {"noise_density": "0.014 deg/s/sqrt(Hz)"})
+    jc = j["channels"][0]["checks"][0]
+    ok(c[0]["verdict"] == jc["verdict"] == "out of spec" and
+       rel(c[0]["value"], jc["si"]) < 1e-12 and
+       rel(c[0]["hi"], jc["si_hi"]) < 1e-12,
+       "datasheet_check: the CLI's verdict and interval", (c, jc))
+    c = ss.datasheet_check(ss.load(csv)["gx"], 100.0,
+                           {"run_to_run_bias": "10 deg/h"})
+    ok(c[0]["value"] is None and c[0]["verdict"] == "inconclusive" and
+       c[0]["why"], "datasheet_check: not measurable is None, not 0", c)
+
 # ---------------------------------------------------------------- install
 # `make install` puts the module where the interpreter looks for the
 # prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)

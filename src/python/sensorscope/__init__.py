@@ -1216,3 +1216,133 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
 
 
 __all__ += ["adequacy", "Adequacy"]
+
+
+# ------------------------------------------------------------ datasheet
+
+_DS_TERMS = {1: "N", 2: "B", 3: "K"}   # enum sscope_term
+
+
+def _ds_lines(fn, lines, noise_bandwidth, quantity):
+    """{key: value} -> [(line index, SI value, info)]: a value is a number
+    in SI or a string with its unit, checked against the line's dimension
+    for a gyro ("angular rate") or an accelerometer ("acceleration")."""
+    if not isinstance(lines, dict) or not lines:
+        _bad(fn, "lines", "a dict of datasheet lines, e.g. "
+             "{'noise_density': '0.014 deg/s/sqrt(Hz)'}")
+    rate_unit = {"angular rate": "rad/s", "acceleration": "m/s^2"}.get(
+        quantity)
+    if rate_unit is None:
+        _bad(fn, "quantity", "'angular rate' or 'acceleration'")
+    out = []
+    for key, v in lines.items():
+        li = _c.datasheet_line_by_key(_b(key))
+        if li < 0:
+            _bad(fn, "lines", "'%s' is not a datasheet line" % key)
+        info = _c.datasheet_info(li).contents
+        suffix = info.si_suffix.decode()
+        si_unit = "1" if suffix == "1" else rate_unit + suffix
+        if isinstance(v, str):
+            parts = v.strip().split(None, 1)
+            if len(parts) != 2:
+                _bad(fn, "lines", "%s = %s: a unit is needed" % (key, v))
+            r = C.c_double()
+            try:
+                num = float(parts[0])
+            except ValueError:
+                _bad(fn, "lines", "%s = %s: not a number" % (key, v))
+            if _c.convert(num, _b(parts[1]), _b(si_unit), C.byref(r)):
+                _bad(fn, "lines", "%s = %s: '%s' is not a unit of %s" %
+                     (key, v, parts[1], key))
+            val = r.value
+        else:
+            val = _number(fn, key, v)
+        if not (val > 0 and math.isfinite(val)):
+            _bad(fn, "lines", "%s must be positive" % key)
+        if key == "rms_noise" and noise_bandwidth is None:
+            _bad(fn, "noise_bandwidth", "rms_noise needs the noise bandwidth")
+        out.append((li, val, info))
+    return out
+
+
+def datasheet_terms(lines, quantity="angular rate", noise_bandwidth=None):
+    """The IEEE 952 terms of datasheet lines (the keys of `sensorscope
+    datasheet`: noise_density, random_walk, rms_noise, bias_instability,
+    in_run_bias_stability, rate_random_walk, ...), each value a number in
+    SI or a string with its unit ("0.15 deg/sqrt(h)"); noise_bandwidth in
+    Hz for rms_noise.  Returns {"N", "B", "K"} in SI (None when no line
+    gives the term), from the first line of each in the library's order."""
+    fn = "datasheet_terms"
+    bw = float("nan") if noise_bandwidth is None else \
+        _positive(fn, "noise_bandwidth", noise_bandwidth)
+    got = sorted(_ds_lines(fn, lines, noise_bandwidth, quantity),
+                 key=lambda t: t[0])
+    out = {"N": None, "B": None, "K": None}
+    for li, val, info in got:
+        t = _DS_TERMS.get(info.term)
+        f = C.c_double()
+        if t is None or out[t] is not None or \
+                _c.datasheet_factor(li, bw, C.byref(f)):
+            continue
+        out[t] = val / f.value
+    return out
+
+
+def datasheet_gjb(x, rate, tau=10.0, ci=0.99):
+    """GJB 2426A bias stability of x (samples at `rate` Hz): the 1 sigma of
+    consecutive non-overlapping `tau`-second means, with its chi-squared
+    interval at `ci`.  Returns {"value", "lo", "hi", "n_means", "m"}."""
+    fn = "datasheet_gjb"
+    rate = _positive(fn, "rate", rate)
+    tau = _positive(fn, "tau", tau)
+    p, stride, n, keep = _vector(x, fn, "x")
+    g = _c.DatasheetGjb()
+    d = _c.Diag()
+    rc = _c.datasheet_gjb(p, stride, n, rate, tau, float(ci), C.byref(g),
+                          C.byref(d))
+    del keep
+    _check(rc, d, fn)
+    return {"value": g.value, "lo": g.lo, "hi": g.hi, "n_means": g.n_means,
+            "m": g.m}
+
+
+def datasheet_check(x, rate, lines, quantity="angular rate",
+                    noise_bandwidth=None, ci=0.99):
+    """x (a stationary record at `rate` Hz, SI) against datasheet lines (as
+    datasheet_terms()): per line {"key", "limit", "value", "lo", "hi",
+    "bound", "verdict", "why"} in SI, the verdict "within spec", "out of
+    spec" or "inconclusive", guard-banded by the interval at `ci` (as
+    `sensorscope datasheet --check`).  A value the record cannot establish
+    is None, with the reason in "why"; "fit_rejected" flags a term line
+    whose noise fit the chi-squared test rejects (indicative only)."""
+    fn = "datasheet_check"
+    rate = _positive(fn, "rate", rate)
+    bw = float("nan") if noise_bandwidth is None else \
+        _positive(fn, "noise_bandwidth", noise_bandwidth)
+    got = _ds_lines(fn, lines, noise_bandwidth, quantity)
+    spec = (_c.DatasheetSpec * len(got))()
+    for i, (li, val, _info) in enumerate(got):
+        spec[i].line, spec[i].value, spec[i].bandwidth_hz = li, val, bw
+    res = (_c.DatasheetCheck * len(got))()
+    o = _c.DatasheetOpts()
+    o.level = float(ci)
+    p, stride, n, keep = _vector(x, fn, "x")
+    d = _c.Diag()
+    rc = _c.datasheet_check(p, stride, n, rate, spec, len(got), C.byref(o),
+                            res, C.byref(d))
+    del keep
+    _check(rc, d, fn)
+
+    def num(v):
+        return None if math.isnan(v) else v
+
+    return [{"key": info.key.decode(), "limit": r.limit,
+             "value": num(r.value), "lo": num(r.lo), "hi": num(r.hi),
+             "bound": bool(r.bound),
+             "verdict": _c.datasheet_verdict_name(r.verdict).decode(),
+             "why": r.why.decode() if r.why else None,
+             "fit_rejected": bool(r.fit_rejected)}
+            for r, (_li, _v, info) in zip(res, got)]
+
+
+__all__ += ["datasheet_terms", "datasheet_gjb", "datasheet_check"]

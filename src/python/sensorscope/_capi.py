@@ -497,3 +497,57 @@ adequacy_free = _fn("sscope_adequacy_free", None, C.POINTER(Adequacy))
 adequacy_cause_name = _fn("sscope_adequacy_cause_name", C.c_char_p, C.c_int)
 adequacy_severity_name = _fn("sscope_adequacy_severity_name", C.c_char_p,
                              C.c_int)
+
+
+# ------------------------------------------------ datasheet lines
+class DatasheetInfo(C.Structure):
+    _fields_ = [("key", C.c_char_p), ("name", C.c_char_p),
+                ("definition", C.c_char_p), ("si_suffix", C.c_char_p),
+                ("term", C.c_int), ("tau_s", c_dbl)]
+
+
+class DatasheetGjb(C.Structure):
+    _fields_ = [("value", c_dbl), ("lo", c_dbl), ("hi", c_dbl),
+                ("n_means", c_size), ("m", c_size)]
+
+
+class DatasheetSpec(C.Structure):
+    _fields_ = [("line", C.c_int), ("value", c_dbl), ("bandwidth_hz", c_dbl)]
+
+
+class DatasheetCheck(C.Structure):
+    _fields_ = [("line", C.c_int), ("limit", c_dbl), ("value", c_dbl),
+                ("lo", c_dbl), ("hi", c_dbl), ("bound", C.c_bool),
+                ("verdict", C.c_int), ("why", C.c_char_p),
+                ("fit_rejected", C.c_bool)]
+
+
+class DatasheetOpts(C.Structure):
+    _fields_ = [("level", c_dbl)]
+
+
+STRUCTS.update({
+    "sscope_datasheet_info": DatasheetInfo,
+    "sscope_datasheet_gjb": DatasheetGjb,
+    "sscope_datasheet_spec": DatasheetSpec,
+    "sscope_datasheet_check": DatasheetCheck,
+    "sscope_datasheet_opts": DatasheetOpts,
+})
+
+datasheet_info = _fn("sscope_datasheet_info", C.POINTER(DatasheetInfo),
+                     C.c_int)
+datasheet_line_by_key = _fn("sscope_datasheet_line_by_key", C.c_int,
+                            C.c_char_p)
+datasheet_factor = _fn("sscope_datasheet_factor", C.c_int, C.c_int, c_dbl,
+                       c_dptr)
+datasheet_gjb_from_terms = _fn("sscope_datasheet_gjb_from_terms", c_dbl,
+                               c_dbl, c_dbl, c_dbl, c_dbl)
+datasheet_gjb = _fn("sscope_datasheet_gjb", C.c_int, c_dptr, c_size, c_size,
+                    c_dbl, c_dbl, c_dbl, C.POINTER(DatasheetGjb),
+                    C.POINTER(Diag))
+datasheet_check = _fn("sscope_datasheet_check", C.c_int, c_dptr, c_size,
+                      c_size, c_dbl, C.POINTER(DatasheetSpec), c_size,
+                      C.POINTER(DatasheetOpts), C.POINTER(DatasheetCheck),
+                      C.POINTER(Diag))
+datasheet_verdict_name = _fn("sscope_datasheet_verdict_name", C.c_char_p,
+                             C.c_int)

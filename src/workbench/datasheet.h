@@ -1,0 +1,50 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * The `datasheet` command's file and presentation: a datasheet INI
+ * ([datasheet] name, source; [gyro] and [accel] lines with units) read
+ * into SI lines, shown as IEEE 952 terms and back, and a capture's
+ * verdicts against it (analysis/sscope-datasheet.h computes).
+ */
+#ifndef SSCOPE_WB_DATASHEET_H
+#define SSCOPE_WB_DATASHEET_H
+
+#include "workbench.h"
+
+#define SSC_DS_LINES SSCOPE_DATASHEET_LINE_COUNT_
+
+struct ssc_ds_section {
+	const char *name;               /* "gyro" or "accel" */
+	enum sscope_quantity quantity;
+	size_t n;                       /* lines given */
+	struct sscope_datasheet_spec spec[SSC_DS_LINES];
+	char written[SSC_DS_LINES][64]; /* value as written */
+	char unit[SSC_DS_LINES][40];    /* its unit as written */
+	double bandwidth_hz;            /* noise_bandwidth, NaN when absent */
+};
+
+struct ssc_datasheet {
+	const char *path;
+	char name[96];
+	char source[256];
+	struct ssc_ds_section sec[2];
+	size_t n_sec;
+};
+
+/* Read a datasheet INI; every error is one line naming the file, line and
+ * key.  Returns an exit code (1 for a file that cannot be read or used). */
+int ssc_datasheet_load(const char *cmd, const char *path,
+		       struct ssc_datasheet *ds);
+
+/* The lines as IEEE 952 terms and the terms as every line (text or JSON
+ * to the command's output).  Returns an exit code. */
+int ssc_datasheet_convert(const struct ssc_common *co,
+			  const struct ssc_datasheet *ds);
+
+/* Each channel of @p capture (gyro channels against [gyro], accelerometer
+ * channels against [accel]) checked at confidence @p level.  Returns an
+ * exit code. */
+int ssc_datasheet_verdicts(const struct ssc_common *co,
+			   const struct ssc_datasheet *ds, const char *capture,
+			   double level);
+
+#endif
