@@ -51,6 +51,16 @@ done
 json_check "interval in the written unit" "$T/out" '.channels[0].checks[0].unit == "deg/s/sqrt(Hz)" and .channels[0].checks[0].lo < .channels[0].checks[0].value and .channels[0].checks[0].value < .channels[0].checks[0].hi'
 run "check text" 0 datasheet --check "$T/c.csv" "$DS/bmi088.ini"
 has "text verdict" "$T/out" 'noise density.*out of spec'
+# --spec SPEC CAPTURE (the scene stage's form) is the same command
+cp "$T/out" "$T/check.txt"
+run "--spec form" 0 datasheet --spec "$DS/bmi088.ini" "$T/c.csv"
+if cmp -s "$T/out" "$T/check.txt"; then ok "--spec form: the same text as --check"; else not_ok "--spec form: the same text as --check"; fi
+run "--spec without a capture" 2 datasheet --spec "$DS/bmi088.ini"
+one_line_error "--spec without a capture"
+run "--spec and --check" 2 datasheet --spec "$DS/bmi088.ini" --check "$T/c.csv" "$T/c.csv"
+one_line_error "--spec and --check"
+run "--spec: a missing datasheet" 1 datasheet --spec "$T/nope.ini" "$T/c.csv"
+one_line_error "--spec: a missing datasheet"
 # a line the capture cannot establish: inconclusive with its reason, no 0
 run "check stim300" 0 datasheet --check "$T/c.csv" --format json "$DS/stim300.ini"
 json_check "scale factor not measured" "$T/out" '(.channels[0].checks[] | select(.key == "scale_factor_error") | .verdict == "inconclusive" and .value == null and (.why | length) > 0)'

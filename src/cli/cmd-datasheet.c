@@ -6,15 +6,19 @@
  */
 #include "cli.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "datasheet.h"
+#include "stage.h"
 
-enum { O_CHECK = 300, O_CI };
+enum { O_CHECK = 300, O_CI, O_SPEC };
 
 static const struct ssc_option ds_opts[] = {
+	{ "spec", required_argument, O_SPEC, "FILE",
+	  "the datasheet INI to check the capture operand against (a scene's [datasheet] spec = FILE)" },
 	{ "check", required_argument, O_CHECK, "CAPTURE",
-	  "check a stationary capture against the datasheet: per line the measured value, its interval and the verdict" },
+	  "check a stationary capture against the datasheet operand: per line the measured value, its interval and the verdict" },
 	{ "ci", required_argument, O_CI, "LEVEL",
 	  "confidence level of the intervals that guard-band the verdicts (default 0.99)" },
 	{ NULL, 0, 0, NULL, NULL },
@@ -22,7 +26,7 @@ static const struct ssc_option ds_opts[] = {
 
 static const struct ssc_command_spec spec = {
 	.name = "datasheet",
-	.usage = "datasheet [OPTIONS] [--check CAPTURE] SPEC.ini",
+	.usage = "datasheet [OPTIONS] SPEC.ini | --spec SPEC.ini CAPTURE | --check CAPTURE SPEC.ini",
 	.summary =
 		"A datasheet's lines (an INI file: [datasheet] name, source; [gyro] and\n"
 		"[accel] lines with units) as IEEE 952 terms N, B, K and the terms as\n"
@@ -46,15 +50,28 @@ static const struct ssc_command_spec spec = {
 };
 
 struct opts {
+	const char *spec;
 	const char *check;
 	double ci;
+	struct ssc_datasheet ds;
 };
+
+static void init(void *opts)
+{
+	struct opts *o = opts;
+
+	memset(o, 0, sizeof(*o));
+	o->ci = 0.99;
+}
 
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
 
 	switch (key) {
+	case O_SPEC:
+		o->spec = arg;
+		return 0;
 	case O_CHECK:
 		o->check = arg;
 		return 0;
@@ -68,13 +85,89 @@ static int handler(int key, const char *arg, void *ctx)
 	}
 }
 
+static int formats(const struct ssc_common *co)
+{
+	if (co->plot)
+		return ssc_usage_error(co->cmd, "--plot: this command draws no figure");
+	if (co->format == SSC_FMT_CSV)
+		return ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
+	return 0;
+}
+
+/* the verdicts: a stage (the capture its operand, or a scene's input) */
+static int check(struct ssc_common *co, void *opts)
+{
+	struct opts *o = opts;
+	int rc = formats(co);
+
+	if (rc)
+		return rc;
+	if (o->check)
+		return ssc_usage_error(co->cmd, "--check: with --spec the capture is the operand");
+	if (!o->spec)
+		return ssc_usage_error(co->cmd, "give the datasheet: --spec SPEC.ini");
+	return ssc_datasheet_load(co->cmd, o->spec, &o->ds);
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	struct opts *o = opts;
+
+	return ssc_datasheet_check_capture(env->co->cmd, &o->ds, env->caps[0],
+					   env->paths[0], o->ci,
+					   (struct ssc_ds_result **)result);
+}
+
+static json_t *json(const void *opts, const void *result)
+{
+	(void)opts;
+	return ssc_datasheet_result_json(result);
+}
+
+static void text(FILE *f, const void *opts, const void *result)
+{
+	(void)opts;
+	ssc_datasheet_result_text(f, result);
+}
+
+static void summary(json_t *rows, const void *opts, const void *result)
+{
+	(void)opts;
+	ssc_datasheet_result_summary(rows, result);
+}
+
+static void free_result(void *result)
+{
+	ssc_datasheet_result_free(result);
+}
+
+const struct ssc_stage_ops ssc_datasheet_stage = {
+	.spec = &spec,
+	.title = "Datasheet verdicts",
+	.needs = SSC_NEED_DATA,
+	.min_files = 1,
+	.max_files = 1,
+	.opts_size = sizeof(struct opts),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+	.json = json,
+	.text = text,
+	.summary = summary,
+	.free_result = free_result,
+};
+
 int ssc_cmd_datasheet(int argc, char **argv)
 {
 	struct ssc_common co;
-	struct opts o = { NULL, 0.99 };
-	struct ssc_datasheet ds;
+	struct opts o;
 	int first, rc;
 
+	for (int i = 1; i < argc; i++)
+		if (!strcmp(argv[i], "--spec") || !strncmp(argv[i], "--spec=", 7))
+			return ssc_stage_main(&ssc_datasheet_stage, argc, argv);
+	init(&o);
 	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
 	if (rc)
 		return rc < 0 ? SSC_EXIT_OK : rc;
@@ -83,14 +176,35 @@ int ssc_cmd_datasheet(int argc, char **argv)
 	if (first + 1 < argc)
 		return ssc_usage_error(co.cmd, "unexpected operand '%s' (the capture goes after --check)",
 				       argv[first + 1]);
-	if (co.plot)
-		return ssc_usage_error(co.cmd, "--plot: this command draws no figure");
-	if (co.format == SSC_FMT_CSV)
-		return ssc_usage_error(co.cmd, "--format csv: not available (text or json)");
-	rc = ssc_datasheet_load(co.cmd, argv[first], &ds);
+	rc = formats(&co);
 	if (rc)
 		return rc;
-	if (o.check)
-		return ssc_datasheet_verdicts(&co, &ds, o.check, o.ci);
-	return ssc_datasheet_convert(&co, &ds);
+	if (o.check) {
+		/* --check CAPTURE SPEC.ini: the stage, as --spec SPEC.ini
+		 * CAPTURE with the options parsed above */
+		char **av = calloc((size_t)argc + 3, sizeof(char *));
+		int n = 0;
+
+		if (!av)
+			return ssc_fail(co.cmd, -ENOMEM, NULL, NULL);
+		av[n++] = argv[0];
+		for (int i = 1; i < first; i++) {
+			if (!strcmp(argv[i], "--check")) {
+				i++;
+				continue;
+			}
+			if (strncmp(argv[i], "--check=", 8))
+				av[n++] = argv[i];
+		}
+		av[n++] = (char *)"--spec";
+		av[n++] = argv[first];
+		av[n++] = (char *)o.check;
+		rc = ssc_stage_main(&ssc_datasheet_stage, n, av);
+		free(av);
+		return rc;
+	}
+	rc = ssc_datasheet_load(co.cmd, argv[first], &o.ds);
+	if (rc)
+		return rc;
+	return ssc_datasheet_convert(&co, &o.ds);
 }

@@ -97,6 +97,13 @@ static const struct ssc_stage_def stages[S_COUNT_] = {
 		       "sculling corrections, Earth rate, transport rate and "
 		       "Coriolis; sensor noise from the simulator; Monte-Carlo "
 		       "percentiles beside the budget's Schuler-bounded curves." },
+	[S_DATASHEET] = { "datasheet", &ssc_datasheet_stage, 0, NULL,
+			  "Each datasheet line against the capture's measured value "
+			  "and its interval at the stated level (IEEE 952 terms from "
+			  "the noise fit, the Allan minimum, GJB 10 s / 100 s as the "
+			  "sd of non-overlapping means with a chi-squared interval): "
+			  "within spec only when the whole interval is below the "
+			  "line, out of spec when it is above, else inconclusive." },
 };
 
 const struct ssc_stage_def *ssc_scene_graph(void)

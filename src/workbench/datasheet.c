@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "datasheet.h"
+#include "stage.h"
 
 static const char *const section_names[2] = { "gyro", "accel" };
 
@@ -444,11 +445,6 @@ int ssc_datasheet_convert(const struct ssc_common *co,
 
 /* ------------------------------------------------------------ verdicts */
 
-struct chk_chan {
-	const char *name;
-	const struct ssc_ds_section *sec;
-	struct sscope_datasheet_check c[SSC_DS_LINES];
-};
 
 /* a measured SI value in the unit the line was written in */
 static double in_written(const struct ssc_ds_section *sec, size_t j, double si)
@@ -462,7 +458,7 @@ static double in_written(const struct ssc_ds_section *sec, size_t j, double si)
 }
 
 static json_t *verdict_json(const struct ssc_datasheet *ds, const char *capture,
-			    double level, const struct chk_chan *ch, size_t n_ch,
+			    double level, const struct ssc_ds_chan *ch, size_t n_ch,
 			    const size_t count[3])
 {
 	json_t *r = json_object(), *chans = json_array(), *sum = json_object();
@@ -523,7 +519,7 @@ static json_t *verdict_json(const struct ssc_datasheet *ds, const char *capture,
 
 static void verdict_text(FILE *f, const struct ssc_datasheet *ds,
 			 const char *capture, double level,
-			 const struct chk_chan *ch, size_t n_ch)
+			 const struct ssc_ds_chan *ch, size_t n_ch)
 {
 	char a[32], b[32], c3[32];
 
@@ -558,74 +554,103 @@ static void verdict_text(FILE *f, const struct ssc_datasheet *ds,
 	}
 }
 
-int ssc_datasheet_verdicts(const struct ssc_common *co,
-			   const struct ssc_datasheet *ds, const char *capture,
-			   double level)
+int ssc_datasheet_check_capture(const char *cmd, const struct ssc_datasheet *ds,
+				const struct sscope_capture *cap,
+				const char *capture, double level,
+				struct ssc_ds_result **out)
 {
-	struct sscope_capture *cap = NULL;
-	struct chk_chan *ch;
+	struct ssc_ds_result *r;
 	struct sscope_datasheet_opts o = { level };
-	size_t n_ch = 0, count[3] = { 0, 0, 0 };
-	int rc;
 
-	rc = ssc_load(co, capture, &cap);
-	if (rc)
-		return rc;
+	*out = NULL;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(co->cmd, "%s: no sample rate: give --rate", capture);
-		sscope_capture_free(cap);
+		ssc_err(cmd, "%s: no sample rate: give --rate", capture);
 		return SSC_EXIT_FAIL;
 	}
-	ch = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*ch));
-	if (!ch) {
-		sscope_capture_free(cap);
-		return ssc_fail(co->cmd, -ENOMEM, NULL, capture);
+	r = calloc(1, sizeof(*r));
+	if (r)
+		r->ch = calloc(cap->n_channels ? cap->n_channels : 1, sizeof(*r->ch));
+	if (!r || !r->ch) {
+		free(r);
+		return ssc_fail(cmd, -ENOMEM, NULL, capture);
 	}
+	r->ds = ds;
+	r->capture = capture;
+	r->level = level;
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		const struct sscope_capture_channel *c = &cap->channels[k];
 		const struct ssc_ds_section *sec = NULL;
 		struct sscope_diag d = { "" };
+		int rc;
 
 		for (size_t s = 0; s < ds->n_sec; s++)
 			if (ds->sec[s].quantity == c->col.quantity)
 				sec = &ds->sec[s];
 		if (!sec)
 			continue;
-		ch[n_ch].name = c->col.name;
-		ch[n_ch].sec = sec;
+		r->ch[r->n_ch].name = c->col.name;
+		r->ch[r->n_ch].sec = sec;
 		rc = sscope_datasheet_check(c->data, 1, cap->n, cap->rate_hz, sec->spec,
-					    sec->n, &o, ch[n_ch].c, &d);
+					    sec->n, &o, r->ch[r->n_ch].c, &d);
 		if (rc) {
-			ssc_err(co->cmd, "%s: channel %s: %s", capture, c->col.name,
+			ssc_err(cmd, "%s: channel %s: %s", capture, c->col.name,
 				d.msg[0] ? d.msg : sscope_strerror(rc));
-			free(ch);
-			sscope_capture_free(cap);
+			ssc_datasheet_result_free(r);
 			return SSC_EXIT_FAIL;
 		}
 		for (size_t j = 0; j < sec->n; j++)
-			count[ch[n_ch].c[j].verdict]++;
-		n_ch++;
+			r->count[r->ch[r->n_ch].c[j].verdict]++;
+		r->n_ch++;
 	}
-	if (!n_ch) {
-		ssc_err(co->cmd, "%s: no channel is a %s: give their units with -u (e.g. -u deg/s)",
+	if (!r->n_ch) {
+		ssc_err(cmd, "%s: no channel is a %s: give their units with -u (e.g. -u deg/s)",
 			capture, ds->n_sec == 2 ? "gyro or an accelerometer" :
 			ds->sec[0].quantity == SSCOPE_QUANTITY_ANGULAR_RATE ? "gyro" :
 									    "accelerometer");
-		rc = SSC_EXIT_FAIL;
-	} else if (co->format == SSC_FMT_JSON) {
-		rc = ssc_emit_json(co, verdict_json(ds, capture, level, ch, n_ch, count));
-	} else if (co->format == SSC_FMT_CSV) {
-		rc = ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
-	} else {
-		struct ssc_out out;
+		ssc_datasheet_result_free(r);
+		return SSC_EXIT_FAIL;
+	}
+	*out = r;
+	return SSC_EXIT_OK;
+}
 
-		rc = ssc_out_open(co, &out);
-		if (!rc) {
-			verdict_text(out.f, ds, capture, level, ch, n_ch);
-			rc = ssc_out_close(co, &out, !ferror(out.f));
+json_t *ssc_datasheet_result_json(const struct ssc_ds_result *r)
+{
+	return verdict_json(r->ds, r->capture, r->level, r->ch, r->n_ch, r->count);
+}
+
+void ssc_datasheet_result_text(FILE *f, const struct ssc_ds_result *r)
+{
+	verdict_text(f, r->ds, r->capture, r->level, r->ch, r->n_ch);
+}
+
+void ssc_datasheet_result_summary(json_t *rows, const struct ssc_ds_result *r)
+{
+	for (size_t k = 0; k < r->n_ch; k++) {
+		const struct ssc_ds_section *sec = r->ch[k].sec;
+
+		for (size_t j = 0; j < sec->n; j++) {
+			const struct sscope_datasheet_check *c = &r->ch[k].c[j];
+			const struct sscope_datasheet_info *in = sscope_datasheet_info(c->line);
+			char note[160];
+
+			snprintf(note, sizeof(note), "%s (limit %s)%s",
+				 sscope_datasheet_verdict_name(c->verdict), sec->written[j],
+				 c->bound ? ", upper bound" : "");
+			ssc_summary_add(rows, r->ch[k].name, in->name,
+					c->bound ? (double)NAN : in_written(sec, j, c->value),
+					in_written(sec, j, c->lo), in_written(sec, j, c->hi),
+					sec->unit[j], note);
+			if (c->verdict != SSCOPE_DATASHEET_WITHIN || c->fit_rejected)
+				ssc_summary_warn_last(rows);
 		}
 	}
-	free(ch);
-	sscope_capture_free(cap);
-	return rc;
+}
+
+void ssc_datasheet_result_free(struct ssc_ds_result *r)
+{
+	if (r) {
+		free(r->ch);
+		free(r);
+	}
 }

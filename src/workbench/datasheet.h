@@ -40,11 +40,36 @@ int ssc_datasheet_load(const char *cmd, const char *path,
 int ssc_datasheet_convert(const struct ssc_common *co,
 			  const struct ssc_datasheet *ds);
 
-/* Each channel of @p capture (gyro channels against [gyro], accelerometer
- * channels against [accel]) checked at confidence @p level.  Returns an
- * exit code. */
-int ssc_datasheet_verdicts(const struct ssc_common *co,
-			   const struct ssc_datasheet *ds, const char *capture,
-			   double level);
+/* One channel's checks. */
+struct ssc_ds_chan {
+	const char *name;
+	const struct ssc_ds_section *sec;
+	struct sscope_datasheet_check c[SSC_DS_LINES];
+};
+
+/* A capture's verdicts (the datasheet stage's result). */
+struct ssc_ds_result {
+	const struct ssc_datasheet *ds;
+	const char *capture;
+	double level;
+	struct ssc_ds_chan *ch;
+	size_t n_ch;
+	size_t count[3]; /* per enum sscope_datasheet_verdict */
+};
+
+/* Each channel of @p cap (gyro channels against [gyro], accelerometer
+ * channels against [accel]) checked at confidence @p level.  Prints
+ * errors; returns an exit code and *out on success (it points into ds,
+ * cap and capture). */
+int ssc_datasheet_check_capture(const char *cmd, const struct ssc_datasheet *ds,
+				const struct sscope_capture *cap,
+				const char *capture, double level,
+				struct ssc_ds_result **out);
+json_t *ssc_datasheet_result_json(const struct ssc_ds_result *r);
+void ssc_datasheet_result_text(FILE *f, const struct ssc_ds_result *r);
+/* report rows: one per line checked, the verdict in the note (a line not
+ * within spec marked as a warning) */
+void ssc_datasheet_result_summary(json_t *rows, const struct ssc_ds_result *r);
+void ssc_datasheet_result_free(struct ssc_ds_result *r);
 
 #endif

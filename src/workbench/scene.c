@@ -1655,7 +1655,9 @@ static int run_stage(struct ssc_scene *sc, size_t s,
 		  (sc->formats & (SSC_OUT_JSON | SSC_OUT_HTML) || !sc->quiet ?
 		   SSC_WANT_JSON : 0) |
 		  (sc->formats & (SSC_OUT_TEXT | SSC_OUT_HTML) ? SSC_WANT_TEXT : 0);
-	c->plot_path = (svg || png) && !sc->no_plot[s] ? fig : NULL;
+	/* a stage that draws nothing is given no figure to draw */
+	c->plot_path = (svg || png) && !sc->no_plot[s] && stages[s].ops->plot ?
+		       fig : NULL;
 	rc = ssc_stage_exec(stages[s].ops, c);
 	snprintf(fig, sizeof(fig), "%s%s", base_name, svg ? ".svg" : ".png");
 	if (!rc && c->plot_path && access(fig, R_OK) == 0)

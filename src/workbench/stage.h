@@ -211,5 +211,6 @@ extern const struct ssc_stage_ops ssc_adc_stage;
 extern const struct ssc_stage_ops ssc_heading_stage;
 extern const struct ssc_stage_ops ssc_walk_stage;
 extern const struct ssc_stage_ops ssc_navsim_stage;
+extern const struct ssc_stage_ops ssc_datasheet_stage;
 
 #endif
