@@ -224,25 +224,36 @@ void sscope_wander_to_ned(const struct sscope_wander_state *s,
 	sscope_nav_quat_normalize(n->q_bn);
 }
 
-/* Earth rate, transport rate and gravity at a wander position */
-static void wander_rates(const double C[3][3], double h, const double v[3],
-			 double wie[3], double rho[3], double *g)
+/* the Earth at a wander position: Earth rate, gravity and the terms of
+ * the transport rate */
+struct wgeo {
+	double wie[3], g, k_e, kappa, zx, zy;
+};
+
+static void wander_geo(const double C[3][3], double h, struct wgeo *w)
 {
-	const struct sscope_nav_wgs84 *w = sscope_nav_wgs84();
+	const struct sscope_nav_wgs84 *m = sscope_nav_wgs84();
 	double sl = -C[2][2], lat = atan2(sl, hypot(C[0][2], C[1][2]));
-	double q = 1 - w->e2 * sl * sl, sq = sqrt(q);
-	double rn = w->a * (1 - w->e2) / (q * sq), re = w->a / sq;
-	double kappa = w->a * w->e2 / (q * sq * (rn + h) * (re + h));
-	double zx = C[2][0], zy = C[2][1], zv = zx * v[0] + zy * v[1];
-	double wx = v[0] / (re + h) + kappa * zx * zv;
-	double wy = v[1] / (re + h) + kappa * zy * zv;
+	double q = 1 - m->e2 * sl * sl, sq = sqrt(q);
+	double rn = m->a * (1 - m->e2) / (q * sq), re = m->a / sq;
 
 	for (int i = 0; i < 3; i++)
-		wie[i] = SSCOPE_NAV_WGS84_OMEGA * C[2][i];
-	rho[0] = wy;
-	rho[1] = -wx;
+		w->wie[i] = SSCOPE_NAV_WGS84_OMEGA * C[2][i];
+	w->k_e = 1 / (re + h);
+	w->kappa = m->a * m->e2 / (q * sq * (rn + h) * (re + h));
+	w->zx = C[2][0];
+	w->zy = C[2][1];
+	w->g = sscope_nav_gravity(lat, h);
+}
+
+/* transport rate (w_y, -w_x, 0), w = v_h / (R_E + h) + kappa z_h (z_h . v) */
+static void wander_rho(const struct wgeo *w, const double v[3], double rho[3])
+{
+	double zv = w->zx * v[0] + w->zy * v[1];
+
+	rho[0] = w->k_e * v[1] + w->kappa * w->zy * zv;
+	rho[1] = -(w->k_e * v[0] + w->kappa * w->zx * zv);
 	rho[2] = 0;
-	*g = sscope_nav_gravity(lat, h);
 }
 
 void sscope_wander_step2(struct sscope_wander_state *s, const double a1[3],
@@ -304,7 +315,8 @@ void sscope_wander_step2(struct sscope_wander_state *s, const double a1[3],
 	memcpy(q_m, s->q_we, sizeof(q_m));
 	/* predictor (start values), then corrector (mid-point values) */
 	for (int pass = 0; pass < 2; pass++) {
-		double wie[3], rho[3], w2[3], cor[3], zf[3], g, Cm[3][3];
+		struct wgeo geo;
+		double rho[3], w2[3], cor[3], zf[3], Cm[3][3], *wie = geo.wie;
 
 		if (pass) {
 			/* the mid-point position from the predictor's rate */
@@ -316,7 +328,8 @@ void sscope_wander_step2(struct sscope_wander_state *s, const double a1[3],
 			sscope_nav_quat_mul(s->q_we, qr, q_m);
 		}
 		sscope_nav_dcm_from_quat(q_m, Cm);
-		wander_rates(Cm, h_m, vm, wie, rho, &g);
+		wander_geo(Cm, h_m, &geo);
+		wander_rho(&geo, vm, rho);
 		for (int i = 0; i < 3; i++) {
 			zeta[i] = (wie[i] + rho[i]) * T;
 			w2[i] = 2 * wie[i] + rho[i];
@@ -334,13 +347,14 @@ void sscope_wander_step2(struct sscope_wander_state *s, const double a1[3],
 		cross(zeta, fn, zf);
 		for (int i = 0; i < 3; i++)
 			vn[i] = v[i] + fn[i] - 0.5 * zf[i] - cor[i] * T;
-		vn[2] += g * T;
+		vn[2] += geo.g * T;
 		hn = h - 0.5 * T * (v[2] + vn[2]);
 		h_m = 0.5 * (h + hn);
 		for (int i = 0; i < 3; i++)
 			vm[i] = 0.5 * (v[i] + vn[i]);
-		/* transport rate at the mid point for the position */
-		wander_rates(Cm, h_m, vm, wie, rho_m, &g);
+		/* transport rate at the mid point for the position (the
+		 * height's change over half an update is left out) */
+		wander_rho(&geo, vm, rho_m);
 	}
 	{
 		double r[3], qr[4];
