@@ -362,6 +362,15 @@ void sscope_navsim_free(struct sscope_navsim *ns)
 	free(ns);
 }
 
+int sscope_navsim_set_mechanisation(struct sscope_navsim *ns,
+				    enum sscope_navsim_mech m)
+{
+	if (!ns || !sscope_navsim_mech_name(m))
+		return -EINVAL;
+	ns->mech = m;
+	return 0;
+}
+
 size_t sscope_navsim_n_out(const struct sscope_navsim *ns)
 {
 	return ns->n_out;

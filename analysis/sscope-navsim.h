@@ -166,6 +166,11 @@ int sscope_navsim_new(struct sscope_navsim **ns,
 /** Free (NULL is ignored). */
 void sscope_navsim_free(struct sscope_navsim *ns);
 
+/** Change the mechanisation of later runs (the reference is kept).
+ *  @return 0 or -EINVAL. */
+int sscope_navsim_set_mechanisation(struct sscope_navsim *ns,
+				    enum sscope_navsim_mech m);
+
 /** @return the number of error records (output times, t = 0 included). */
 size_t sscope_navsim_n_out(const struct sscope_navsim *ns);
 
