@@ -590,14 +590,14 @@ static bool has_noise(const struct sscope_sensor_spec *s)
 
 /* errors of a state against record k */
 static void record(const struct sscope_navsim *ns, size_t k,
-		   const struct sscope_wander_state *w, double *e)
+		   const struct sscope_strapdown_wander *w, double *e)
 {
 	const struct sscope_navsim_pose *t = &ns->truth[k];
 	const double polar = 89.9 * PI / 180;
 	struct sscope_strapdown_state s;
 	double rn, re, eu[3];
 
-	sscope_wander_to_ned(w, &s);
+	sscope_strapdown_wander_to_ned(w, &s);
 	if (fabs(t->pos.lat_rad) >= polar || fabs(s.lat_rad) >= polar) {
 		/* north is undefined at one of them: differences in the
 		 * true local level */
@@ -612,7 +612,7 @@ static void record(const struct sscope_navsim *ns, size_t k,
 			d[i] = re_[i] - rt[i];
 		mv(Cen, d, e);
 		e[SSCOPE_NAVSIM_DOWN] = -(s.height_m - t->pos.height_m);
-		sscope_wander_position(w, NULL, NULL, NULL, Cwe);
+		sscope_strapdown_wander_position(w, NULL, NULL, NULL, Cwe);
 		mv(Cwe, w->v_w_m_s, ve);
 		mv(Cen, ve, d);
 		for (int i = 0; i < 3; i++)
@@ -679,8 +679,8 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		      struct sscope_diag *diag)
 {
 	struct run_ctx c = { 0 };
-	struct sscope_wander_state st;
-	struct sscope_platform_errors pe;
+	struct sscope_strapdown_wander st;
+	struct sscope_strapdown_platform pe;
 	bool gimb = ns && ns->mech == SSCOPE_NAVSIM_GIMBALLED;
 	double Mx[2][3][3], bx[2][3], z[12] = { 0 };
 	const double dt = ns ? ns->dt : 0;
@@ -773,7 +773,7 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 	{
 		const struct sscope_navsim_pose *t0 = &ns->truth[0];
 
-		rc = sscope_wander_init(&st, t0->pos.lat_rad, t0->pos.lon_rad,
+		rc = sscope_strapdown_wander_init(&st, t0->pos.lat_rad, t0->pos.lon_rad,
 					   t0->pos.height_m, t0->v_ned_m_s,
 					   t0->euler_rad[0], t0->euler_rad[1],
 					   t0->euler_rad[2]);
@@ -832,9 +832,9 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 					pe.dtheta_rad[a] = meas[i][a] + meas[i + 1][a];
 					pe.dv_m_s[a] = meas[i][3 + a] + meas[i + 1][3 + a];
 				}
-				sscope_wander_step2(&st, u, u2, u + 3, u2 + 3, dt, &pe);
+				sscope_strapdown_wander_step2(&st, u, u2, u + 3, u2 + 3, dt, &pe);
 			} else {
-				sscope_wander_step2(&st, meas[i], meas[i + 1], meas[i] + 3,
+				sscope_strapdown_wander_step2(&st, meas[i], meas[i + 1], meas[i] + 3,
 						    meas[i + 1] + 3, dt, NULL);
 			}
 			j++;

@@ -88,7 +88,7 @@ enum sscope_navsim_mech {
 	/** sensors on a platform torqued to the local level (wander frame):
 	 *  gyro errors act on the commanded rate omega_ie + rho and drift the
 	 *  platform; body rates never reach its gyros
-	 *  (sscope_wander_step2()) */
+	 *  (sscope_strapdown_wander_step2()) */
 	SSCOPE_NAVSIM_GIMBALLED
 };
 

@@ -93,7 +93,7 @@ void sscope_strapdown_euler(const struct sscope_strapdown_state *s,
  */
 
 /** Wander-azimuth navigation state. */
-struct sscope_wander_state {
+struct sscope_strapdown_wander {
 	double q_we[4];     /**< position and wander angle: C_w^e (unit) */
 	double height_m;    /**< height above the WGS 84 ellipsoid */
 	double v_w_m_s[3];  /**< velocity relative to the Earth, wander axes */
@@ -102,9 +102,10 @@ struct sscope_wander_state {
 
 /**
  * Errors of a gimballed platform (the sensors on a platform torqued to
- * the navigation frame, see sscope_wander_step2()); all in platform axes.
+ * the navigation frame, see sscope_strapdown_wander_step2()); all in
+ * platform axes.
  */
-struct sscope_platform_errors {
+struct sscope_strapdown_platform {
 	double gyro_m[3][3];   /**< gyro error matrix (scale factors on the
 				    diagonal, misalignments off it), ratio */
 	double accel_m[3][3];  /**< accelerometer error matrix, ratio */
@@ -119,9 +120,10 @@ struct sscope_platform_errors {
  * pole, north is that of the longitude given).
  * @return 0, or -EINVAL (NULL, non-finite, |lat| > pi/2).
  */
-int sscope_wander_init(struct sscope_wander_state *s, double lat_rad,
-		       double lon_rad, double height_m, const double v_ned[3],
-		       double roll_rad, double pitch_rad, double yaw_rad);
+int sscope_strapdown_wander_init(struct sscope_strapdown_wander *s,
+				 double lat_rad, double lon_rad, double height_m,
+				 const double v_ned[3], double roll_rad,
+				 double pitch_rad, double yaw_rad);
 
 /**
  * One update over two samples (see sscope_strapdown_step2()).
@@ -136,27 +138,28 @@ int sscope_wander_init(struct sscope_wander_state *s, double lat_rad,
  *            gyro_m (omega_ie + rho) T + dtheta_rad: body rates never
  *            reach its gyros.
  */
-void sscope_wander_step2(struct sscope_wander_state *s, const double dth1[3],
-			 const double dth2[3], const double dv1[3],
-			 const double dv2[3], double dt_s,
-			 const struct sscope_platform_errors *pe);
+void sscope_strapdown_wander_step2(struct sscope_strapdown_wander *s,
+				   const double dth1[3], const double dth2[3],
+				   const double dv1[3], const double dv2[3],
+				   double dt_s,
+				   const struct sscope_strapdown_platform *pe);
 
 /**
  * Geodetic position (latitude by atan2, accurate at the poles; longitude
  * 0 on the axis), the wander angle and C_w^e of a state; any output may
  * be NULL.
  */
-void sscope_wander_position(const struct sscope_wander_state *s,
-			    double *lat_rad, double *lon_rad, double *alpha_rad,
-			    double C_we[3][3]);
+void sscope_strapdown_wander_position(const struct sscope_strapdown_wander *s,
+				      double *lat_rad, double *lon_rad,
+				      double *alpha_rad, double C_we[3][3]);
 
 /**
  * The same state in the NED form (latitude, longitude, NED velocity,
  * q_b^n) through the wander angle: meaningful away from the poles, where
  * north is defined.
  */
-void sscope_wander_to_ned(const struct sscope_wander_state *s,
-			  struct sscope_strapdown_state *n);
+void sscope_strapdown_wander_to_ned(const struct sscope_strapdown_wander *s,
+				    struct sscope_strapdown_state *n);
 
 #ifdef __cplusplus
 }

@@ -162,8 +162,9 @@ void sscope_strapdown_step2(struct sscope_strapdown_state *s,
 
 /* ------------------------------------------------------------ wander */
 
-void sscope_wander_position(const struct sscope_wander_state *s, double *lat,
-			    double *lon, double *alpha, double C_we[3][3])
+void sscope_strapdown_wander_position(const struct sscope_strapdown_wander *s,
+				      double *lat, double *lon, double *alpha,
+				      double C_we[3][3])
 {
 	double C[3][3];
 
@@ -181,9 +182,9 @@ void sscope_wander_position(const struct sscope_wander_state *s, double *lat,
 		memcpy(C_we, C, sizeof(C));
 }
 
-int sscope_wander_init(struct sscope_wander_state *s, double lat, double lon,
-		       double h, const double v[3], double roll, double pitch,
-		       double yaw)
+int sscope_strapdown_wander_init(struct sscope_strapdown_wander *s, double lat,
+				 double lon, double h, const double v[3],
+				 double roll, double pitch, double yaw)
 {
 	double C[3][3], Cwe[3][3];
 
@@ -204,12 +205,12 @@ int sscope_wander_init(struct sscope_wander_state *s, double lat, double lon,
 	return 0;
 }
 
-void sscope_wander_to_ned(const struct sscope_wander_state *s,
-			  struct sscope_strapdown_state *n)
+void sscope_strapdown_wander_to_ned(const struct sscope_strapdown_wander *s,
+				    struct sscope_strapdown_state *n)
 {
 	double alpha, ca, sa, rv[3], qa[4];
 
-	sscope_wander_position(s, &n->lat_rad, &n->lon_rad, &alpha, NULL);
+	sscope_strapdown_wander_position(s, &n->lat_rad, &n->lon_rad, &alpha, NULL);
 	n->height_m = s->height_m;
 	ca = cos(alpha);
 	sa = sin(alpha);
@@ -256,10 +257,10 @@ static void wander_rho(const struct wgeo *w, const double v[3], double rho[3])
 	rho[2] = 0;
 }
 
-void sscope_wander_step2(struct sscope_wander_state *s, const double a1[3],
-			 const double a2[3], const double v1[3],
-			 const double v2[3], double dt,
-			 const struct sscope_platform_errors *pe)
+void sscope_strapdown_wander_step2(struct sscope_strapdown_wander *s,
+				   const double a1[3], const double a2[3],
+				   const double v1[3], const double v2[3], double dt,
+				   const struct sscope_strapdown_platform *pe)
 {
 	const double T = 2 * dt;
 	double a[3], dv[3], c[3], phi[3], dvb[3], C[3][3], fn[3];
