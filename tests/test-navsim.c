@@ -1073,6 +1073,17 @@ START_TEST(test_refused)
 	o.start.lat_rad = 91 * D2R;
 	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL);
 	ck_assert(strstr(d.msg, "latitude") != NULL);
+	/* a turn is given relative to north: not within 0.1 deg of a pole */
+	o.start.lat_rad = 89.95 * D2R;
+	o.motion = SSCOPE_NAVSIM_TURN;
+	o.turn_rate_rad_s = 0.1;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL);
+	ck_assert(strstr(d.msg, "89.9") != NULL);
+	o.turn_rate_rad_s = 0;
+	o.motion = SSCOPE_NAVSIM_STATIC;
+	o.mechanisation = (enum sscope_navsim_mech)2;
+	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL);
+	o.mechanisation = SSCOPE_NAVSIM_STRAPDOWN;
 	o.start.lat_rad = 0;
 	o.motion = SSCOPE_NAVSIM_STRAIGHT;
 	ck_assert_int_eq(sscope_navsim_new(&ns, &o, &d), -EINVAL); /* speed */
@@ -1097,6 +1108,20 @@ START_TEST(test_refused)
 
 		ck_assert_int_eq(sscope_navsim_truth(ns, 11, &p), -EINVAL);
 	}
+	/* a gimballed platform has no converters */
+	{
+		struct sscope_adc_spec a = { 0 };
+
+		imu.gyro_adc = &a;
+		ck_assert_int_eq(sscope_navsim_set_mechanisation(ns, SSCOPE_NAVSIM_GIMBALLED), 0);
+		ck_assert_int_eq(sscope_navsim_run(ns, &imu, 1, 0, e, NULL, &d), -EINVAL);
+		ck_assert(strstr(d.msg, "gimballed") != NULL);
+		ck_assert_int_eq(sscope_navsim_set_mechanisation(ns, (enum sscope_navsim_mech)2),
+				 -EINVAL);
+		imu.gyro_adc = NULL;
+	}
+	ck_assert_str_eq(sscope_navsim_mech_name(SSCOPE_NAVSIM_GIMBALLED), "gimballed");
+	ck_assert_ptr_null(sscope_navsim_mech_name((enum sscope_navsim_mech)2));
 	ck_assert_str_eq(sscope_navsim_comp_name(SSCOPE_NAVSIM_YAW), "yaw");
 	ck_assert_ptr_null(sscope_navsim_comp_name(SSCOPE_NAVSIM_N_COMP));
 	sscope_navsim_free(ns);

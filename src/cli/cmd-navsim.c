@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * sensorscope navsim: strapdown navigation error simulation (see
+ * sensorscope navsim: strapdown or gimballed navigation error simulation (see
  * analysis/sscope-navsim.h).  Sensor errors from a spec, an `allan`
  * result, a `calib` result and options; a reference trajectory (at rest,
  * a straight line, a turn or a CSV of true motion); Monte-Carlo runs;
