@@ -158,6 +158,13 @@ static void mtv(const double M[3][3], const double x[3], double y[3])
 		y[i] = M[0][i] * x[0] + M[1][i] * x[1] + M[2][i] * x[2];
 }
 
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+	c[0] = a[1] * b[2] - a[2] * b[1];
+	c[1] = a[2] * b[0] - a[0] * b[2];
+	c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 static double det3(const double a[3], const double b[3], const double c[3])
 {
 	return a[0] * (b[1] * c[2] - b[2] * c[1]) -
@@ -595,23 +602,44 @@ static void record(const struct sscope_navsim *ns, size_t k,
 	const struct sscope_navsim_pose *t = &ns->truth[k];
 	const double polar = 89.9 * PI / 180;
 	struct sscope_strapdown_state s;
-	double rn, re, eu[3];
+	struct sscope_nav_geodetic g;
+	double Cen[3][3], r_est[3], r_true[3], d[3], eu[3];
 
 	sscope_strapdown_wander_to_ned(w, &s);
-	if (fabs(t->pos.lat_rad) >= polar || fabs(s.lat_rad) >= polar) {
-		/* north is undefined at one of them: differences in the
-		 * true local level */
-		struct sscope_nav_geodetic g = { s.lat_rad, s.lon_rad, s.height_m };
-		double Cen[3][3], Cwe[3][3], Cbw[3][3], Cbn[3][3], re_[3], rt[3];
-		double d[3], ve[3];
+	/* position: the ECEF difference in the true local level (north and
+	 * east), the height difference (down) */
+	g.lat_rad = s.lat_rad;
+	g.lon_rad = s.lon_rad;
+	g.height_m = s.height_m;
+	sscope_nav_dcm_ecef_to_ned(t->pos.lat_rad, t->pos.lon_rad, Cen);
+	sscope_nav_geodetic_to_ecef(&g, r_est);
+	sscope_nav_geodetic_to_ecef(&t->pos, r_true);
+	for (int i = 0; i < 3; i++)
+		d[i] = r_est[i] - r_true[i];
+	mv(Cen, d, e);
+	{
+		/* the horizontal part as long as the arc between the two
+		 * points (the chord's projection falls short of it by
+		 * d^3 / (6 R^2) and more for errors of hundreds of km) */
+		double c[3], hz = hypot(e[0], e[1]), rt = 0, ang;
 
-		sscope_nav_dcm_ecef_to_ned(t->pos.lat_rad, t->pos.lon_rad, Cen);
-		sscope_nav_geodetic_to_ecef(&g, re_);
-		sscope_nav_geodetic_to_ecef(&t->pos, rt);
+		cross3(r_est, r_true, c);
+		ang = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+			    r_est[0] * r_true[0] + r_est[1] * r_true[1] +
+			    r_est[2] * r_true[2]);
 		for (int i = 0; i < 3; i++)
-			d[i] = re_[i] - rt[i];
-		mv(Cen, d, e);
-		e[SSCOPE_NAVSIM_DOWN] = -(s.height_m - t->pos.height_m);
+			rt += r_true[i] * r_true[i];
+		if (hz > 0) {
+			e[0] *= ang * sqrt(rt) / hz;
+			e[1] *= ang * sqrt(rt) / hz;
+		}
+	}
+	e[SSCOPE_NAVSIM_DOWN] = -(s.height_m - t->pos.height_m);
+	if (fabs(t->pos.lat_rad) >= polar || fabs(s.lat_rad) >= polar) {
+		/* north is undefined at one of them: velocity and attitude
+		 * in the true local level */
+		double Cwe[3][3], Cbw[3][3], Cbn[3][3], ve[3];
+
 		sscope_strapdown_wander_position(w, NULL, NULL, NULL, Cwe);
 		mv(Cwe, w->v_w_m_s, ve);
 		mv(Cen, ve, d);
@@ -629,12 +657,6 @@ static void record(const struct sscope_navsim *ns, size_t k,
 			}
 		sscope_nav_euler_from_dcm(Cbn, &eu[0], &eu[1], &eu[2]);
 	} else {
-		sscope_nav_radii(t->pos.lat_rad, &rn, &re);
-		e[SSCOPE_NAVSIM_NORTH] = (s.lat_rad - t->pos.lat_rad) *
-					 (rn + t->pos.height_m);
-		e[SSCOPE_NAVSIM_EAST] = remainder(s.lon_rad - t->pos.lon_rad, 2 * PI) *
-					(re + t->pos.height_m) * cos(t->pos.lat_rad);
-		e[SSCOPE_NAVSIM_DOWN] = -(s.height_m - t->pos.height_m);
 		for (int i = 0; i < 3; i++)
 			e[SSCOPE_NAVSIM_VN + i] = s.v_ned_m_s[i] - t->v_ned_m_s[i];
 		sscope_strapdown_euler(&s, &eu[0], &eu[1], &eu[2]);

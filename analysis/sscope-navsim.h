@@ -45,11 +45,12 @@
  * Mechanisation: the wander-azimuth frame (sscope-strapdown.h), at every
  * latitude, strapdown or gimballed (enum sscope_navsim_mech; a gimballed
  * platform's sensors read no converter, and their range is not applied).
- * Errors are those of latitude, longitude and height (north, east, down,
- * m), of the NED velocity and of the Euler angles, each solution in its
- * own local level; when the truth or the estimate is within 0.1 deg of a
- * pole, where north is undefined, they are the ECEF position and
- * velocity differences and the attitude of the estimate, all in the true
+ * Position errors: the ECEF difference in the true local level, its
+ * horizontal part scaled to the arc between the points (geocentric angle
+ * times radius), and minus the height difference (down).  Velocity and
+ * Euler angle errors: each solution's in its own local level; when the
+ * truth or the estimate is within 0.1 deg of a pole, where north is
+ * undefined, the velocity and attitude of the estimate in the true
  * local-level frame.
  *
  * Vertical channel: free-inertial height diverges with a time constant of
