@@ -42,6 +42,12 @@ const char *sscope_navsim_comp_name(enum sscope_navsim_comp c)
 	return (unsigned)c < SSCOPE_NAVSIM_N_COMP ? comp_names[c] : NULL;
 }
 
+const char *sscope_navsim_mech_name(enum sscope_navsim_mech m)
+{
+	return m == SSCOPE_NAVSIM_STRAPDOWN ? "strapdown" :
+	       m == SSCOPE_NAVSIM_GIMBALLED ? "gimballed" : NULL;
+}
+
 struct sscope_navsim {
 	double fs, dt;
 	size_t n_samp, n_nav, out_every, n_out;
@@ -50,6 +56,7 @@ struct sscope_navsim {
 	double *aid;         /* (n_nav + 1) x 2 (height, v_down), or one row */
 	size_t aid_stride;
 	bool free_vertical;
+	enum sscope_navsim_mech mech;
 	unsigned threads;
 	void (*progress)(void *ctx, size_t done, size_t total);
 	void *progress_ctx;
@@ -61,6 +68,7 @@ struct sscope_navsim {
 struct traj {
 	const struct sscope_navsim_opts *o;
 	struct sscope_nav_ltp ltp;
+	double Cbt0[3][3];   /* STATIC, STRAIGHT: C_b^t at the start */
 	double rho;          /* STRAIGHT: radius of the great circle */
 	double t0;           /* TABLE: time of the first row */
 	gsl_spline *sp[6];   /* TABLE: n, e, d, roll, pitch, unwrapped yaw */
@@ -150,11 +158,68 @@ static void mtv(const double M[3][3], const double x[3], double y[3])
 		y[i] = M[0][i] * x[0] + M[1][i] * x[1] + M[2][i] * x[2];
 }
 
+static void cross3(const double a[3], const double b[3], double c[3])
+{
+	c[0] = a[1] * b[2] - a[2] * b[1];
+	c[1] = a[2] * b[0] - a[0] * b[2];
+	c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 static double det3(const double a[3], const double b[3], const double c[3])
 {
 	return a[0] * (b[1] * c[2] - b[2] * c[1]) -
 	       b[0] * (a[1] * c[2] - a[2] * c[1]) +
 	       c[0] * (a[1] * b[2] - a[2] * b[1]);
+}
+
+/*
+ * At rest and on the great circle the attitude is fixed to the route: the
+ * body turns with the circle about its axis k = d0 x h0 (the right-hand
+ * horizontal of the start heading) at v / rho, so C_b^e and
+ * omega_ib^b = C_t^b k v / rho + C_e^b omega_ie come from the Earth-fixed
+ * tangent frame without latitude or longitude rates: valid over a pole.
+ */
+static void truth_ecef(const struct traj *tr, double t, const double rd[3],
+		       const double rdd[3], const double Cen[3][3], struct tp *p)
+{
+	const struct sscope_navsim_opts *o = tr->o;
+	double th = 0, thd = 0, k[3] = { -sin(o->yaw_rad), cos(o->yaw_rad), 0 };
+	double R[3][3], Cbt[3][3], Cbn[3][3], Cbe[3][3], q[4], rv[3];
+	double fe[3], fn[3], we[3] = { 0, 0, SSCOPE_NAV_WGS84_OMEGA }, wn[3];
+
+	if (o->motion == SSCOPE_NAVSIM_STRAIGHT) {
+		thd = o->speed_m_s / tr->rho;
+		th = thd * t;
+	}
+	for (int i = 0; i < 3; i++)
+		rv[i] = k[i] * th;
+	sscope_nav_quat_from_rotvec(rv, q);
+	sscope_nav_dcm_from_quat(q, R);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			Cbt[i][j] = R[i][0] * tr->Cbt0[0][j] + R[i][1] * tr->Cbt0[1][j] +
+				    R[i][2] * tr->Cbt0[2][j];
+	/* C_b^e = C_t^e C_b^t (ltp.C is C_e^t), C_b^n = C_e^n C_b^e */
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			Cbe[i][j] = tr->ltp.C[0][i] * Cbt[0][j] + tr->ltp.C[1][i] * Cbt[1][j] +
+				    tr->ltp.C[2][i] * Cbt[2][j];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++)
+			Cbn[i][j] = Cen[i][0] * Cbe[0][j] + Cen[i][1] * Cbe[1][j] +
+				    Cen[i][2] * Cbe[2][j];
+	sscope_nav_euler_from_dcm(Cbn, &p->e[0], &p->e[1], &p->e[2]);
+	fe[0] = rdd[0] - 2 * SSCOPE_NAV_WGS84_OMEGA * rd[1];
+	fe[1] = rdd[1] + 2 * SSCOPE_NAV_WGS84_OMEGA * rd[0];
+	fe[2] = rdd[2];
+	mv(Cen, fe, fn);
+	fn[2] -= sscope_nav_gravity(p->lat, p->h);
+	mtv(Cbn, fn, p->f_b);
+	mv(Cen, we, wn);
+	mtv(Cbn, wn, p->w_b);
+	mtv(Cbt, k, rv);
+	for (int i = 0; i < 3; i++)
+		p->w_b[i] += rv[i] * thd;
 }
 
 static void truth_at(const struct traj *tr, double t, struct tp *p)
@@ -174,6 +239,11 @@ static void truth_at(const struct traj *tr, double t, struct tp *p)
 	p->h = g.height_m;
 	sscope_nav_dcm_ecef_to_ned(g.lat_rad, g.lon_rad, Cen);
 	mv(Cen, rd, p->v);
+	if (tr->o->motion == SSCOPE_NAVSIM_STATIC ||
+	    tr->o->motion == SSCOPE_NAVSIM_STRAIGHT) {
+		truth_ecef(tr, t, rd, rdd, Cen, p);
+		return;
+	}
 	/* f = C_e^n (r'' + 2 Omega x r') - g^n */
 	fe[0] = rdd[0] - 2 * SSCOPE_NAV_WGS84_OMEGA * rd[1];
 	fe[1] = rdd[1] + 2 * SSCOPE_NAV_WGS84_OMEGA * rd[0];
@@ -299,6 +369,15 @@ void sscope_navsim_free(struct sscope_navsim *ns)
 	free(ns);
 }
 
+int sscope_navsim_set_mechanisation(struct sscope_navsim *ns,
+				    enum sscope_navsim_mech m)
+{
+	if (!ns || !sscope_navsim_mech_name(m))
+		return -EINVAL;
+	ns->mech = m;
+	return 0;
+}
+
 size_t sscope_navsim_n_out(const struct sscope_navsim *ns)
 {
 	return ns->n_out;
@@ -356,10 +435,14 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 	    (!(o->duration_s > 0) || !isfinite(o->duration_s)))
 		return ssc_diag(diag, -EINVAL, "the duration must be positive");
 	if (!isfinite(o->start.lat_rad) || !isfinite(o->start.lon_rad) ||
-	    !isfinite(o->start.height_m) ||
+	    !isfinite(o->start.height_m) || !(fabs(o->start.lat_rad) <= PI / 2))
+		return ssc_diag(diag, -EINVAL, "the start latitude must be within +-90 degrees");
+	if ((o->motion == SSCOPE_NAVSIM_TURN || o->motion == SSCOPE_NAVSIM_TABLE) &&
 	    fabs(o->start.lat_rad) >= 89.9 * PI / 180)
 		return ssc_diag(diag, -EINVAL,
-				"the start latitude must be within +-89.9 degrees");
+				"a turn or a table gives the attitude relative to north: the start latitude must be within +-89.9 degrees");
+	if ((unsigned)o->mechanisation > SSCOPE_NAVSIM_GIMBALLED)
+		return ssc_diag(diag, -EINVAL, "unknown mechanisation");
 	if (!isfinite(o->roll_rad) || !isfinite(o->pitch_rad) ||
 	    !isfinite(o->yaw_rad) || fabs(o->pitch_rad) >= 89 * PI / 180)
 		return ssc_diag(diag, -EINVAL,
@@ -377,6 +460,7 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 		return ssc_diag(diag, -EINVAL,
 				"a turn needs a non-zero turn rate and a speed >= 0");
 	tr.o = o;
+	sscope_nav_dcm_from_euler(o->roll_rad, o->pitch_rad, o->yaw_rad, tr.Cbt0);
 	rc = sscope_nav_ltp_init(&tr.ltp, &o->start);
 	if (rc)
 		return ssc_diag(diag, rc, "bad start point");
@@ -420,6 +504,7 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 	ns->n_nav = n2;
 	ns->n_samp = 2 * n2;
 	ns->free_vertical = o->free_vertical;
+	ns->mech = o->mechanisation;
 	ns->threads = o->threads;
 	ns->progress = o->progress;
 	ns->progress_ctx = o->progress_ctx;
@@ -512,20 +597,70 @@ static bool has_noise(const struct sscope_sensor_spec *s)
 
 /* errors of a state against record k */
 static void record(const struct sscope_navsim *ns, size_t k,
-		   const struct sscope_strapdown_state *s, double *e)
+		   const struct sscope_strapdown_wander *w, double *e)
 {
 	const struct sscope_navsim_pose *t = &ns->truth[k];
-	double rn, re, eu[3];
+	const double polar = 89.9 * PI / 180;
+	struct sscope_strapdown_state s;
+	struct sscope_nav_geodetic g;
+	double Cen[3][3], r_est[3], r_true[3], d[3], eu[3];
 
-	sscope_nav_radii(t->pos.lat_rad, &rn, &re);
-	e[SSCOPE_NAVSIM_NORTH] = (s->lat_rad - t->pos.lat_rad) *
-				 (rn + t->pos.height_m);
-	e[SSCOPE_NAVSIM_EAST] = remainder(s->lon_rad - t->pos.lon_rad, 2 * PI) *
-				(re + t->pos.height_m) * cos(t->pos.lat_rad);
-	e[SSCOPE_NAVSIM_DOWN] = -(s->height_m - t->pos.height_m);
+	sscope_strapdown_wander_to_ned(w, &s);
+	/* position: the ECEF difference in the true local level (north and
+	 * east), the height difference (down) */
+	g.lat_rad = s.lat_rad;
+	g.lon_rad = s.lon_rad;
+	g.height_m = s.height_m;
+	sscope_nav_dcm_ecef_to_ned(t->pos.lat_rad, t->pos.lon_rad, Cen);
+	sscope_nav_geodetic_to_ecef(&g, r_est);
+	sscope_nav_geodetic_to_ecef(&t->pos, r_true);
 	for (int i = 0; i < 3; i++)
-		e[SSCOPE_NAVSIM_VN + i] = s->v_ned_m_s[i] - t->v_ned_m_s[i];
-	sscope_strapdown_euler(s, &eu[0], &eu[1], &eu[2]);
+		d[i] = r_est[i] - r_true[i];
+	mv(Cen, d, e);
+	{
+		/* the horizontal part as long as the arc between the two
+		 * points (the chord's projection falls short of it by
+		 * d^3 / (6 R^2) and more for errors of hundreds of km) */
+		double c[3], hz = hypot(e[0], e[1]), rt = 0, ang;
+
+		cross3(r_est, r_true, c);
+		ang = atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+			    r_est[0] * r_true[0] + r_est[1] * r_true[1] +
+			    r_est[2] * r_true[2]);
+		for (int i = 0; i < 3; i++)
+			rt += r_true[i] * r_true[i];
+		if (hz > 0) {
+			e[0] *= ang * sqrt(rt) / hz;
+			e[1] *= ang * sqrt(rt) / hz;
+		}
+	}
+	e[SSCOPE_NAVSIM_DOWN] = -(s.height_m - t->pos.height_m);
+	if (fabs(t->pos.lat_rad) >= polar || fabs(s.lat_rad) >= polar) {
+		/* north is undefined at one of them: velocity and attitude
+		 * in the true local level */
+		double Cwe[3][3], Cbw[3][3], Cbn[3][3], ve[3];
+
+		sscope_strapdown_wander_position(w, NULL, NULL, NULL, Cwe);
+		mv(Cwe, w->v_w_m_s, ve);
+		mv(Cen, ve, d);
+		for (int i = 0; i < 3; i++)
+			e[SSCOPE_NAVSIM_VN + i] = d[i] - t->v_ned_m_s[i];
+		sscope_nav_dcm_from_quat(w->q_bw, Cbw);
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++) {
+				double x = 0;
+
+				for (int l = 0; l < 3; l++)
+					x += (Cen[i][0] * Cwe[0][l] + Cen[i][1] * Cwe[1][l] +
+					      Cen[i][2] * Cwe[2][l]) * Cbw[l][j];
+				Cbn[i][j] = x;
+			}
+		sscope_nav_euler_from_dcm(Cbn, &eu[0], &eu[1], &eu[2]);
+	} else {
+		for (int i = 0; i < 3; i++)
+			e[SSCOPE_NAVSIM_VN + i] = s.v_ned_m_s[i] - t->v_ned_m_s[i];
+		sscope_strapdown_euler(&s, &eu[0], &eu[1], &eu[2]);
+	}
 	for (int i = 0; i < 3; i++)
 		e[SSCOPE_NAVSIM_ROLL + i] = remainder(eu[i] - t->euler_rad[i],
 						      2 * PI);
@@ -566,7 +701,9 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		      struct sscope_diag *diag)
 {
 	struct run_ctx c = { 0 };
-	struct sscope_strapdown_state st;
+	struct sscope_strapdown_wander st;
+	struct sscope_strapdown_platform pe;
+	bool gimb = ns && ns->mech == SSCOPE_NAVSIM_GIMBALLED;
 	double Mx[2][3][3], bx[2][3], z[12] = { 0 };
 	const double dt = ns ? ns->dt : 0;
 	size_t j = 0;
@@ -586,6 +723,9 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 				return ssc_diag(diag, -EINVAL,
 						"error matrices must be finite");
 	}
+	if (gimb && (imu->gyro_adc || imu->accel_adc))
+		return ssc_diag(diag, -EINVAL,
+				"converters are not modelled on a gimballed platform");
 	c.noisy[0] = has_noise(&imu->gyro);
 	c.noisy[1] = has_noise(&imu->accel);
 	for (int tri = 0; tri < 2; tri++) {
@@ -603,6 +743,8 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			s.bias = 0;
 			s.scale_factor_error = 0;
 			s.bias_tempco = 0;
+			if (gimb) /* the platform's sensors: errors only */
+				s.has &= ~(unsigned)SSCOPE_SENSOR_HAS_RANGE;
 			so.rate_hz = ns->fs;
 			so.seed = seed;
 			so.stream = run * 8 + (uint64_t)ax;
@@ -646,10 +788,14 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			bx[tri][i] = b[i] + sp->bias * z[6 * tri + 3 + i];
 		}
 	}
+	for (int tri = 0; tri < 2; tri++)
+		for (int i = 0; i < 3; i++)
+			for (int k = 0; k < 3; k++)
+				(tri ? pe.accel_m : pe.gyro_m)[i][k] = Mx[tri][i][k] - (i == k);
 	{
 		const struct sscope_navsim_pose *t0 = &ns->truth[0];
 
-		rc = sscope_strapdown_init(&st, t0->pos.lat_rad, t0->pos.lon_rad,
+		rc = sscope_strapdown_wander_init(&st, t0->pos.lat_rad, t0->pos.lon_rad,
 					   t0->pos.height_m, t0->v_ned_m_s,
 					   t0->euler_rad[0], t0->euler_rad[1],
 					   t0->euler_rad[2]);
@@ -669,7 +815,10 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			for (int tri = 0; tri < 2; tri++) {
 				double y[3];
 
-				mv(Mx[tri], u + 3 * tri, y);
+				if (gimb) /* the platform: errors only */
+					memset(y, 0, sizeof(y));
+				else
+					mv(Mx[tri], u + 3 * tri, y);
 				for (int a = 0; a < 3; a++) {
 					if (c.buffered[tri])
 						c.in[3 * tri + a][i] = y[a] / dt;
@@ -697,14 +846,25 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 				meas[i][ax] = (c.out[ax][i] + (c.adc[ax] ? 0 : b)) * dt;
 		}
 		for (size_t i = 0; i + 1 < nb; i += 2) {
-			sscope_strapdown_step2(&st, meas[i], meas[i + 1],
-					       meas[i] + 3, meas[i + 1] + 3, dt);
+			if (gimb) {
+				const double *u = ns->incr + (s0 + i) * ns->incr_stride;
+				const double *u2 = ns->incr + (s0 + i + 1) * ns->incr_stride;
+
+				for (int a = 0; a < 3; a++) {
+					pe.dtheta_rad[a] = meas[i][a] + meas[i + 1][a];
+					pe.dv_m_s[a] = meas[i][3 + a] + meas[i + 1][3 + a];
+				}
+				sscope_strapdown_wander_step2(&st, u, u2, u + 3, u2 + 3, dt, &pe);
+			} else {
+				sscope_strapdown_wander_step2(&st, meas[i], meas[i + 1], meas[i] + 3,
+						    meas[i + 1] + 3, dt, NULL);
+			}
 			j++;
 			if (!ns->free_vertical) {
 				const double *a = ns->aid + j * ns->aid_stride;
 
 				st.height_m = a[0];
-				st.v_ned_m_s[2] = a[1];
+				st.v_w_m_s[2] = a[1];
 			}
 			if (j % ns->out_every == 0 && j / ns->out_every < ns->n_out)
 				record(ns, j / ns->out_every, &st,

@@ -15,7 +15,9 @@
  * - STATIC: at rest;
  * - STRAIGHT: constant speed along the initial yaw on the great circle of
  *   radius sqrt(R_N R_E) + h through the start (height stays within
- *   metres of the start over hundreds of kilometres), attitude constant;
+ *   metres of the start over hundreds of kilometres), attitude constant
+ *   relative to the route (the body turns with the circle, so the yaw
+ *   follows the route's heading; a route may cross a pole);
  * - TURN: yaw turning at a constant rate, moving at a constant speed along
  *   the yaw (a circle of radius speed / rate) or turning in place;
  * - TABLE: samples of time, position and attitude (for instance a CSV of
@@ -39,6 +41,17 @@
  * library's simulator (sscope-sim.h; one stream per axis and run, so a
  * run does not depend on the thread that computes it), clipped to the
  * spec's range when it has one.
+ *
+ * Mechanisation: the wander-azimuth frame (sscope-strapdown.h), at every
+ * latitude, strapdown or gimballed (enum sscope_navsim_mech; a gimballed
+ * platform's sensors read no converter, and their range is not applied).
+ * Position errors: the ECEF difference in the true local level, its
+ * horizontal part scaled to the arc between the points (geocentric angle
+ * times radius), and minus the height difference (down).  Velocity and
+ * Euler angle errors: each solution's in its own local level; when the
+ * truth or the estimate is within 0.1 deg of a pole, where north is
+ * undefined, the velocity and attitude of the estimate in the true
+ * local-level frame.
  *
  * Vertical channel: free-inertial height diverges with a time constant of
  * sqrt(R / 2g), about 9.5 min, so by default it is aided as by a perfect
@@ -69,6 +82,20 @@ enum sscope_navsim_motion {
 	SSCOPE_NAVSIM_TABLE
 };
 
+/** Mechanisations. */
+enum sscope_navsim_mech {
+	/** sensors fixed to the body: body rates reach the gyros */
+	SSCOPE_NAVSIM_STRAPDOWN = 0,
+	/** sensors on a platform torqued to the local level (wander frame):
+	 *  gyro errors act on the commanded rate omega_ie + rho and drift the
+	 *  platform; body rates never reach its gyros
+	 *  (sscope_strapdown_wander_step2()) */
+	SSCOPE_NAVSIM_GIMBALLED
+};
+
+/** @return "strapdown", "gimballed"; NULL out of range. */
+const char *sscope_navsim_mech_name(enum sscope_navsim_mech m);
+
 /** Components of an error record, in this order. */
 enum sscope_navsim_comp {
 	SSCOPE_NAVSIM_NORTH = 0, /**< position error, m */
@@ -96,7 +123,11 @@ struct sscope_navsim_opts {
 	double output_step_s; /**< error records every this many seconds
 				   (rounded to whole updates); 0: about 600
 				   records, at least one per update */
-	struct sscope_nav_geodetic start; /**< start point (|lat| < 89.9 deg) */
+	struct sscope_nav_geodetic start; /**< start point: any latitude at
+					       rest and on a great circle;
+					       |lat| < 89.9 deg for TURN and
+					       TABLE (attitude relative to
+					       north) */
 	double roll_rad, pitch_rad, yaw_rad; /**< start attitude (not TABLE) */
 	enum sscope_navsim_motion motion;
 	double speed_m_s;       /**< STRAIGHT (> 0), TURN (>= 0) */
@@ -109,6 +140,7 @@ struct sscope_navsim_opts {
 	const double (*table_euler_rad)[3];
 	size_t n_table;
 	bool free_vertical; /**< leave the vertical channel unaided */
+	enum sscope_navsim_mech mechanisation; /**< default: strapdown */
 	unsigned threads;   /**< OpenMP threads (0: the default) */
 	/** called after each Monte-Carlo run with the runs done and asked
 	 *  (from one thread at a time; may be NULL) */
@@ -134,6 +166,11 @@ int sscope_navsim_new(struct sscope_navsim **ns,
 
 /** Free (NULL is ignored). */
 void sscope_navsim_free(struct sscope_navsim *ns);
+
+/** Change the mechanisation of later runs (the reference is kept).
+ *  @return 0 or -EINVAL. */
+int sscope_navsim_set_mechanisation(struct sscope_navsim *ns,
+				    enum sscope_navsim_mech m);
 
 /** @return the number of error records (output times, t = 0 included). */
 size_t sscope_navsim_n_out(const struct sscope_navsim *ns);

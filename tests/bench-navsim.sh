@@ -67,3 +67,44 @@ fi
 if command -v jq >/dev/null 2>&1; then
 	jq -r '"  after 10 min: horizontal error median \(.horizontal_m.p50[-1] | round) m, 95 % \(.horizontal_m.p95[-1] | round) m; heading rms \(.rms.yaw_rad[-1] * 180 / 3.141592653589793 * 1000 | round / 1000) deg"' "$T/mems2.json"
 fi
+
+# the wander-azimuth frame over the pole: 250 m/s for 2 h along a meridian,
+# crossing the pole (and, the same route, the equator) after 1 h, at 100 Hz;
+# a perfect IMU, then 0.01 deg/h on the gyro along, across and about the
+# vertical: the horizontal gyros' errors must agree within 5 % (the
+# vertical one's differ: its heading error meets the Earth rate at the
+# equator only)
+for lat in 81.9424 -8.1122; do
+	t0=$(now) c0=$(cpu)
+	"$S" navsim --runs 1 --duration 2h --rate 100 --latitude $lat \
+		--trajectory straight:250m/s --format json -o "$T/pole-$lat.json"
+	t1=$(now) c1=$(cpu)
+	echo "navsim, perfect IMU, 2 h at 250 m/s from $lat deg at 100 Hz: $(echo "$t1 - $t0" | bc) s wall, $(echo "$c1 - $c0" | bc) s CPU"
+	for ax in x y z; do
+		case $ax in x) b=0.01deg/h,0,0 ;; y) b=0,0.01deg/h,0 ;; *) b=0,0,0.01deg/h ;; esac
+		"$S" navsim --runs 1 --duration 2h --rate 100 --latitude $lat \
+			--trajectory straight:250m/s --gyro-bias $b --format json \
+			-o "$T/pole-$lat-$ax.json"
+	done
+done
+if command -v jq >/dev/null 2>&1; then
+	for lat in 81.9424 -8.1122; do
+		jq -r --arg l "$lat" '"  perfect IMU from \($l) deg: largest position error \([.percentiles.p50 | .north_m, .east_m | .[] | fabs] | max * 1e6 | round / 1000) mm"' "$T/pole-$lat.json"
+	done
+	for ax in x y z; do
+		jq -s -r --arg b "$ax" '"  0.01 deg/h on the \($b) gyro: after 1 h \(.[0].horizontal_m.p50[300] | round) m at the pole, \(.[1].horizontal_m.p50[300] | round) m at the equator; after 2 h \(.[0].horizontal_m.p50[-1] | round) m, \(.[1].horizontal_m.p50[-1] | round) m (ratio \(.[0].horizontal_m.p50[-1] / .[1].horizontal_m.p50[-1] * 1000 | round / 1000))"' \
+			"$T/pole-81.9424-$ax.json" "$T/pole--8.1122-$ax.json"
+	done
+fi
+
+# a gimballed platform against strapdown, the MEMS IMU turning at 10 deg/s
+for m in strapdown gimballed; do
+	t0=$(now) c0=$(cpu)
+	"$S" navsim --sensor "$T/gyro.ini" --sensor "$T/acc.ini" --runs 100 \
+		--duration 10min --rate 100 --seed 3 --trajectory turn:10deg/s:10m/s \
+		--mechanisation $m --format json -o "$T/mech-$m.json"
+	t1=$(now) c1=$(cpu)
+	echo "navsim, MEMS IMU, 100 runs x 10 min turning, $m: $(echo "$t1 - $t0" | bc) s wall, $(echo "$c1 - $c0" | bc) s CPU"
+	command -v jq >/dev/null 2>&1 &&
+		jq -r '"  after 10 min: horizontal error median \(.horizontal_m.p50[-1] | round) m, 95 % \(.horizontal_m.p95[-1] | round) m; heading rms \(.rms.yaw_rad[-1] * 180 / 3.141592653589793 * 1000 | round / 1000) deg"' "$T/mech-$m.json"
+done

@@ -100,10 +100,37 @@ one_line_error "too much memory"
 run "turn" 0 navsim --trajectory turn:10deg/s:10m/s --runs 1 --duration 60 --format json
 json_check "a perfect IMU turning" "$T/out" '([.percentiles.p50.yaw_rad[] | fabs] | max) < 1e-8'
 
-# bad input
+# the wander-azimuth frame: a perfect IMU at rest at the pole for 1 h, and
+# over the pole at 250 m/s (1 h, the pole at 30 min)
+run "perfect IMU at the pole" 0 navsim --runs 1 --duration 1h --latitude 90 --vertical free --format json
+json_check "at the pole: below 1 mm, strapdown" "$T/out" \
+	'.mechanisation == "strapdown" and ([.percentiles.p50 | .north_m, .east_m, .down_m | .[] | fabs] | max) < 1e-3'
+run "over the pole" 0 navsim --runs 1 --duration 1h --rate 20 --latitude 85.95 --trajectory straight:250m/s --format json
+json_check "over the pole: below 1 m" "$T/out" '(.horizontal_m.p50 | max) < 1'
+# a gimballed platform: a z-gyro scale factor of 1000 ppm turning in place at
+# 10 deg/s for 60 s: strapdown heading error s r t = 0.6 deg, gimballed
+# s W sin(lat) t, 2.5e-6 deg
+# a gimballed platform: gyro scale-factor errors of 1000 ppm (1 sigma per
+# run and axis) turning in place at 10 deg/s for 60 s: the strapdown heading
+# error is s_z r t, an rms of 0.6 deg over the runs (sampling sd 7 % with
+# 100 runs); the platform's gyros see only its torquing rate, and its
+# heading error s_z W sin(lat) t is 1.8e-4 deg
+printf '[sensor]\nrange = 500 deg/s\nscale_factor_error = 1000\n' >"$T/sf.ini"
+run "scale factor, strapdown" 0 navsim --sensor "$T/sf.ini" --trajectory turn:10deg/s --runs 100 --duration 60 --format json -o "$T/sf-s.json" --plot-mechanisations "$T/mech.svg"
+json_check "strapdown: s r t" "$T/sf-s.json" \
+	'.mechanisation == "strapdown" and ((.rms.yaw_rad[-1] * 180 / 3.141592653589793 / 0.6) - 1 | fabs) < 0.25'
+has "both mechanisations drawn" "$T/mech.svg" 'gimballed, median'
+run "scale factor, gimballed" 0 navsim --sensor "$T/sf.ini" --trajectory turn:10deg/s --runs 100 --duration 60 --format json -o "$T/sf-g.json" --mechanisation gimballed
+json_check "gimballed: s W sin(lat) t" "$T/sf-g.json" \
+	'.mechanisation == "gimballed" and ((.rms.yaw_rad[-1] * 180 / 3.141592653589793 / 1.8e-4) - 1 | fabs) < 0.25'
 run "latitude out of range" 2 navsim --latitude 91
 one_line_error "latitude out of range"
-run "latitude at the pole" 2 navsim --latitude 90
+run "a turn at the pole" 2 navsim --latitude 90 --trajectory turn:1deg/s
+one_line_error "a turn at the pole"
+run "unknown mechanisation" 2 navsim --mechanisation platform
+one_line_error "unknown mechanisation"
+run "gimballed with a converter" 1 navsim --mechanisation gimballed --sensor "$T/fog.ini" --gyro-adc "$T/c16.ini" --runs 1 --duration 10
+one_line_error "gimballed with a converter"
 run "bad trajectory" 2 navsim --trajectory straight:-3m/s
 run "bad unit" 2 navsim --gyro-bias 3m
 run "two values" 2 navsim --gyro-bias 1deg/h,2deg/h

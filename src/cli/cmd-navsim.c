@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
- * sensorscope navsim: strapdown navigation error simulation (see
+ * sensorscope navsim: strapdown or gimballed navigation error simulation (see
  * analysis/sscope-navsim.h).  Sensor errors from a spec, an `allan`
  * result, a `calib` result and options; a reference trajectory (at rest,
  * a straight line, a turn or a CSV of true motion); Monte-Carlo runs;
@@ -45,6 +45,8 @@ enum {
 	O_PLOT,
 	O_GADC,
 	O_AADC,
+	O_MECH,
+	O_MECH_PLOT,
 };
 
 static const struct ssc_option navsim_opts[] = {
@@ -64,7 +66,7 @@ static const struct ssc_option navsim_opts[] = {
 	  "fixed accelerometer bias (e.g. 1 mg)" },
 	{ "arw", required_argument, O_ARW, "V", "angle random walk of every gyro axis (e.g. 0.15 deg/sqrt(h))" },
 	{ "vrw", required_argument, O_VRW, "V", "velocity random walk of every accelerometer axis (e.g. 0.05 m/s/sqrt(h))" },
-	{ "latitude", required_argument, O_LAT, "DEG", "start latitude (default 45; within +-89.9)" },
+	{ "latitude", required_argument, O_LAT, "DEG", "start latitude (default 45; any, within +-89.9 for a turn or a file)" },
 	{ "longitude", required_argument, O_LON, "DEG", "start longitude (default 0)" },
 	{ "height", required_argument, O_HEIGHT, "H", "start height above the WGS 84 ellipsoid (default 0 m)" },
 	{ "heading", required_argument, O_HEADING, "DEG", "initial heading (default 0, north)" },
@@ -79,6 +81,10 @@ static const struct ssc_option navsim_opts[] = {
 	{ "output-step", required_argument, O_STEP, "T", "time between error records (default: about 600 records)" },
 	{ "vertical", required_argument, O_VERTICAL, "aided|free",
 	  "vertical channel aided by a perfect altimeter (default) or free-inertial (diverges in about 10 min)" },
+	{ "mechanisation", required_argument, O_MECH, "strapdown|gimballed",
+	  "sensors on the body (default) or on a platform torqued to the local level (body rates never reach its gyros)" },
+	{ "plot-mechanisations", required_argument, O_MECH_PLOT, "PATH.svg|PATH.png",
+	  "also simulate the other mechanisation with the same sensor and runs, and draw both" },
 	{ "threads", required_argument, O_THREADS, "N", "threads (default: all)" },
 	{ "plot", required_argument, O_PLOT, "PATH.svg|PATH.png",
 	  "draw the error percentiles and the budget's curves (PNG needs OpenCV)" },
@@ -89,11 +95,11 @@ static const struct ssc_command_spec spec = {
 	.name = "navsim",
 	.usage = "navsim [--sensor S.ini | --from-allan RESULT.json] [OPTIONS]",
 	.summary =
-		"Strapdown navigation error simulator: a reference trajectory on the WGS 84\n"
-		"Earth, the increments a perfect IMU gives along it, the same IMU with\n"
-		"sensor errors (noise terms, biases, scale factors, misalignments, range),\n"
-		"and the error of a local-level strapdown mechanisation (coning and\n"
-		"sculling corrections, Earth rate, transport rate, Coriolis, normal\n"
+		"Navigation error simulator: a reference trajectory on the WGS 84 Earth\n"
+		"(at any latitude), the increments a perfect IMU gives along it, the same IMU\n"
+		"with sensor errors (noise terms, biases, scale factors, misalignments, range),\n"
+		"and the error of a wander-azimuth strapdown or gimballed mechanisation (coning\n"
+		"and sculling corrections, Earth rate, transport rate, Coriolis, normal\n"
 		"gravity) over Monte-Carlo runs: percentiles of position, velocity and\n"
 		"attitude error against time, beside the drift budget's Schuler-bounded\n"
 		"single-channel curves.",
@@ -132,7 +138,8 @@ struct opts {
 	double step;
 	bool free_vertical;
 	unsigned threads;
-	const char *plot;
+	const char *plot, *mech_plot;
+	enum sscope_navsim_mech mech;
 };
 
 static int parse_traj(struct opts *o, const char *arg)
@@ -216,9 +223,8 @@ static int handler(int key, const char *arg, void *ctx)
 	case O_LAT:
 		if (ssc_arg_quantity(cmd, "latitude", arg, "deg", &v))
 			return SSC_EXIT_USAGE;
-		if (!(fabs(v) <= 89.9 * D2R))
-			return ssc_usage_error(cmd, "--latitude: '%s' is out of range (within +-89.9 degrees: the local-level frame is undefined at the poles)",
-					       arg);
+		if (!(fabs(v) <= 90 * D2R))
+			return ssc_usage_error(cmd, "--latitude: '%s' is out of range (within +-90 degrees)", arg);
 		o->lat = v;
 		return 0;
 	case O_LON:
@@ -293,8 +299,14 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case O_PLOT:
-		o->plot = arg;
+	case O_MECH_PLOT:
+		*(key == O_PLOT ? &o->plot : &o->mech_plot) = arg;
 		return 0;
+	case O_MECH:
+		for (o->mech = 0; sscope_navsim_mech_name(o->mech); o->mech++)
+			if (!strcmp(arg, sscope_navsim_mech_name(o->mech)))
+				return 0;
+		return ssc_usage_error(cmd, "--mechanisation: '%s' is not strapdown or gimballed", arg);
 	default:
 		return ssc_usage_error(cmd, "unexpected option");
 	}
@@ -317,6 +329,11 @@ static int check(struct ssc_common *co, void *opts)
 {
 	struct opts *o = opts;
 
+	if ((o->motion == SSCOPE_NAVSIM_TURN || o->motion == SSCOPE_NAVSIM_TABLE) &&
+	    fabs(o->lat) >= 89.9 * D2R)
+		return ssc_usage_error(co->cmd, "--latitude: beyond +-89.9 degrees a turn or a file, given relative to north, is undefined");
+	if (o->mech_plot && ssc_plot_check(co->cmd, o->mech_plot))
+		return SSC_EXIT_USAGE;
 	if (o->plot) {
 		int rc = ssc_plot_check(co->cmd, o->plot);
 
@@ -671,6 +688,7 @@ static json_t *make_json(const struct opts *o, const struct imu_in *in,
 	json_object_set_new(root, "runs", json_integer((json_int_t)o->runs));
 	json_object_set_new(root, "seed", json_integer((json_int_t)o->seed));
 	json_object_set_new(root, "vertical", json_string(o->free_vertical ? "free" : "aided"));
+	json_object_set_new(root, "mechanisation", json_string(sscope_navsim_mech_name(o->mech)));
 	json_object_set_new(imu, "gyro", triad_json(&in->imu.gyro, &in->gyro,
 						     in->imu.gyro_bias_rad_s, in->imu.gyro_m,
 						     in->imu.gyro_adc));
@@ -764,8 +782,8 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 	char a[32], b[32], buf[256];
 	size_t idx[16], m = checkpoints(r, idx, 16);
 
-	fprintf(f, "strapdown navigation error: %zu Monte-Carlo run%s (seed %llu), %s s at %s Hz, vertical channel %s\n",
-		o->runs, o->runs == 1 ? "" : "s", (unsigned long long)o->seed,
+	fprintf(f, "%s navigation error: %zu Monte-Carlo run%s (seed %llu), %s s at %s Hz, vertical channel %s\n",
+		sscope_navsim_mech_name(o->mech), o->runs, o->runs == 1 ? "" : "s", (unsigned long long)o->seed,
 		ssc_fmt(a, sizeof(a), dur, 6), ssc_fmt(b, sizeof(b), o->rate, 6),
 		o->free_vertical ? "free" : "aided (perfect altimeter)");
 	fprintf(f, "  start %.5f deg, %.5f deg, %g m, heading %g deg; trajectory %s\n",
@@ -879,8 +897,8 @@ static int plot(const struct ssc_common *co, const void *opts,
 		rc = -ENOMEM;
 		goto out;
 	}
-	snprintf(title, sizeof(title), "navigation error: %zu run%s, trajectory %s, %s vertical channel",
-		 o->runs, o->runs == 1 ? "" : "s", o->traj_text,
+	snprintf(title, sizeof(title), "%s navigation error: %zu run%s, trajectory %s, %s vertical channel",
+		 sscope_navsim_mech_name(o->mech), o->runs, o->runs == 1 ? "" : "s", o->traj_text,
 		 o->free_vertical ? "free" : "aided");
 	ssc_fig_title(fig, title);
 	for (size_t k = 0; k < r->n; k++)
@@ -1001,6 +1019,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	no.speed_m_s = o->speed;
 	no.turn_rate_rad_s = o->turn_rate;
 	no.free_vertical = o->free_vertical;
+	no.mechanisation = o->mech;
 	no.threads = o->threads;
 	if (ssc_progress_on(env->co))
 		no.progress = progress;
@@ -1058,7 +1077,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		goto done;
 	}
 	sscope_navsim_budget(r->ns, &r->in.imu, &r->bp);
-	rc = SSC_EXIT_OK;
+	rc = o->mech_plot ? ssc_navsim_mech_plot(cmd, r->ns, &r->in.imu, o->runs, o->seed,
+						 r->st, o->mech, o->traj_text, o->mech_plot) : SSC_EXIT_OK;
 done:
 	ssc_nav_table_free(&tb);
 	return rc;

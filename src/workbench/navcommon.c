@@ -4,6 +4,7 @@
  */
 #include "navcommon.h"
 #include "results.h"
+#include "plot.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -409,4 +410,73 @@ void ssc_nav_table_free(struct ssc_nav_table *t)
 	sscope_capture_free(t->cap);
 	free(t->ned);
 	free(t->eu);
+}
+
+int ssc_navsim_mech_plot(const char *cmd, struct sscope_navsim *ns,
+			 const struct sscope_navsim_imu *imu, size_t runs,
+			 uint64_t seed, const struct sscope_navsim_stat *st,
+			 enum sscope_navsim_mech mech, const char *traj,
+			 const char *path)
+{
+	const double d2r = PI / 180;
+	size_t n = sscope_navsim_n_out(ns);
+	enum sscope_navsim_mech other = mech == SSCOPE_NAVSIM_STRAPDOWN ?
+						SSCOPE_NAVSIM_GIMBALLED :
+						SSCOPE_NAVSIM_STRAPDOWN;
+	struct sscope_navsim_stat *s2 = calloc(n, sizeof(*s2));
+	double *t = calloc(n, sizeof(double)), *y = calloc(n, sizeof(double));
+	struct ssc_fig *fig = ssc_fig_new(1100, 1100, 2, 1);
+	struct sscope_diag d = { "" };
+	bool minutes = sscope_navsim_time(ns, n - 1) > 1200;
+	char title[256];
+	int rc = -ENOMEM;
+
+	if (!s2 || !t || !y || !fig)
+		goto out;
+	sscope_navsim_set_mechanisation(ns, other);
+	rc = sscope_navsim_monte_carlo(ns, imu, runs, seed, s2, NULL, NULL, &d);
+	sscope_navsim_set_mechanisation(ns, mech);
+	if (rc) {
+		rc = ssc_fail(cmd, rc, &d, sscope_navsim_mech_name(other));
+		goto done;
+	}
+	snprintf(title, sizeof(title), "strapdown and gimballed platform, the same sensor: %zu run%s, trajectory %s",
+		 runs, runs == 1 ? "" : "s", traj);
+	ssc_fig_title(fig, title);
+	for (size_t k = 0; k < n; k++)
+		t[k] = sscope_navsim_time(ns, k) / (minutes ? 60 : 1);
+	for (int p = 0; p < 2; p++) {
+		struct ssc_ax *ax = ssc_fig_ax(fig, p, 0);
+
+		for (int m = 0; m < 2; m++) {
+			const struct sscope_navsim_stat *x = (m == (int)mech) ? st : s2;
+			struct ssc_style ls = { .color = ssc_plot_color((size_t)m), .width = 2 };
+			char lab[96];
+
+			for (int q = 0; q < (p ? 1 : 2); q++) {
+				for (size_t k = 0; k < n; k++)
+					y[k] = p ? x[k].rms[SSCOPE_NAVSIM_YAW] / d2r :
+					       q ? x[k].horiz_p95 : x[k].horiz_p50;
+				ls.dash = q ? SSC_DASHED : 0;
+				snprintf(lab, sizeof(lab), "%s, %s", sscope_navsim_mech_name(m),
+					 p ? "rms" : q ? "95 %" : "median");
+				ssc_ax_line(ax, t, y, n, &ls, lab);
+			}
+		}
+		ssc_ax_xlabel(ax, minutes ? "time (min)" : "time (s)");
+		ssc_ax_ylabel(ax, p ? "heading error (deg)" : "horizontal position error (m)");
+		ssc_ax_legend(ax, SSC_LEGEND_UL);
+	}
+	rc = ssc_fig_save(fig, path);
+	rc = rc ? ssc_write_failed(cmd, path, rc) : SSC_EXIT_OK;
+	goto done;
+out:
+	ssc_err(cmd, "out of memory");
+	rc = SSC_EXIT_FAIL;
+done:
+	ssc_fig_free(fig);
+	free(s2);
+	free(t);
+	free(y);
+	return rc;
 }

@@ -92,4 +92,15 @@ struct ssc_nav_table {
 int ssc_nav_table_load(const char *cmd, const char *path, struct ssc_nav_table *t);
 void ssc_nav_table_free(struct ssc_nav_table *t);
 
+/* navsim --plot-mechanisations: the same sensor and runs (@p seed) under
+ * the other mechanisation than that of @p ns, whose statistics are
+ * @p st; a figure of both (horizontal position error, median and 95 %;
+ * heading error rms) at @p path.  @p ns keeps its mechanisation.
+ * Errors are printed; returns an exit code. */
+int ssc_navsim_mech_plot(const char *cmd, struct sscope_navsim *ns,
+			 const struct sscope_navsim_imu *imu, size_t runs,
+			 uint64_t seed, const struct sscope_navsim_stat *st,
+			 enum sscope_navsim_mech mech, const char *traj,
+			 const char *path);
+
 #endif
