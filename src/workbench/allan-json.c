@@ -285,7 +285,7 @@ const char *ssc_allan_readoff_absent(const struct sscope_noise_fit *ft, int t)
 
 /* the presence test, in words, with its level */
 const char *ssc_allan_select_words(const struct sscope_noise_fit *ft, char *buf,
-				size_t len)
+				   size_t len)
 {
 	snprintf(buf, len,
 		 "present by stepwise likelihood-ratio tests of nested generalised-least-squares fits, one-sided at %.3g %% (%.3g sd of the estimate without the term, raised for the skew of the long-tau points)",
@@ -332,6 +332,7 @@ size_t ssc_allan_chan_warnings(const struct ssc_allan_json_opts *a,
 	const struct sscope_noise_fit *ft = &c->res->fit;
 	const struct ssc_allan_units *u = &c->u;
 	char b1[32], b2[32], b3[32];
+	bool resolved = false;
 	size_t n = 0;
 
 	if (a->no_fit)
@@ -372,9 +373,9 @@ size_t ssc_allan_chan_warnings(const struct ssc_allan_json_opts *a,
 		n++;
 	}
 	/* nothing resolved: the record is too short to measure a term */
-	if (n < max && !sscope_noise_coef_resolved(&ft->coef[0]) &&
-	    !sscope_noise_coef_resolved(&ft->coef[1]) && !sscope_noise_coef_resolved(&ft->coef[2]) &&
-	    !sscope_noise_coef_resolved(&ft->coef[3]) && !sscope_noise_coef_resolved(&ft->coef[4])) {
+	for (int t = 0; t < 5; t++)
+		resolved |= sscope_noise_coef_resolved(&ft->coef[t]);
+	if (n < max && !resolved) {
 		w[n].code = "too_few_samples";
 		snprintf(w[n].msg, sizeof(w[n].msg),
 			 "%s: no noise term present with an interval clear of zero: %zu samples are too few to measure any; the record only bounds them",
