@@ -2,14 +2,14 @@
 /*
  * sensorscope allan: Allan-family deviations of each channel with
  * confidence intervals, the five IEEE 952 noise coefficients with
- * intervals and the classic read-offs; text, JSON, CSV, a log-log plot
- * and the noise files of Kalibr, OpenVINS and imu_utils (noise-export.c).
+ * intervals and the classic read-offs; text, JSON (its encoder is
+ * ssc_allan_json(), allan-json.c), CSV, a log-log plot and the noise
+ * files of Kalibr, OpenVINS and imu_utils (noise-export.c).
  */
 #include "cli.h"
 #include "results.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -123,6 +123,19 @@ struct args {
 	bool no_fit;
 	double ci;
 };
+
+/* what the result's JSON says of the options */
+static struct ssc_allan_json_opts json_opts(const struct args *a)
+{
+	return (struct ssc_allan_json_opts){
+		.input = a->ao.input,
+		.dev = a->ao.dev,
+		.ci = a->ci,
+		.no_fit = a->no_fit,
+		.model_error = a->fo.model_error,
+		.two_threads = a->ao.threads != 1,
+	};
+}
 
 static int parse_terms(const char *arg, unsigned *mask)
 {
@@ -388,72 +401,6 @@ static int idigits(double v, double lo, double hi)
 	return d < 3 ? 3 : d > 8 ? 8 : d;
 }
 
-/* A fit whose chi-squared p-value is below this is rejected: the
- * five-term model does not describe the data (1 % level). */
-#define FIT_REJECT_P 0.01
-
-static bool fit_rejected(const struct sscope_noise_fit *ft)
-{
-	return sscope_noise_fit_rejected(ft, FIT_REJECT_P);
-}
-
-static bool term_resolved(const struct sscope_noise_coef *cf)
-{
-	return sscope_noise_coef_resolved(cf);
-}
-
-/* why a term is not reported present, in words (NULL when present) */
-static const char *absent_reason(const struct sscope_noise_coef *cf)
-{
-	switch (cf->why) {
-	case SSCOPE_NOISE_PRESENT:
-		return NULL;
-	case SSCOPE_NOISE_NOT_ALLOWED:
-		return "not among the terms allowed (--terms)";
-	case SSCOPE_NOISE_NOT_SEPARABLE:
-		return "the test keeps it, but with every term free it trades off with the others: not separable on this record";
-	default:
-		return "the fit without it describes the curve (presence test not passed)";
-	}
-}
-
-/* why a read-off is not given */
-static const char *readoff_absent(const struct sscope_noise_fit *ft, int t)
-{
-	if (!ft->coef[t].present)
-		return "none (the term is not present)";
-	return "none (it is not surely 3/4 of the model at any tau with EDF >= 10)";
-}
-
-/* the presence test, in words, with its level */
-static const char *select_words(const struct sscope_noise_fit *ft, char *buf,
-				size_t len)
-{
-	snprintf(buf, len,
-		 "present by stepwise likelihood-ratio tests of nested generalised-least-squares fits, one-sided at %.3g %% (%.3g sd of the estimate without the term, raised for the skew of the long-tau points)",
-		 100 * 0.5 * erfc(ft->select_z / sqrt(2.0)), ft->select_z);
-	return buf;
-}
-
-/* value (SI) in unit; NaN stays NaN */
-static double in_unit(double si, const char *si_unit, const char *unit)
-{
-	double v;
-
-	if (!isfinite(si))
-		return si;
-	if (sscope_unit_convert_text(si, si_unit, unit, &v))
-		return NAN;
-	return v;
-}
-
-/* why the noise fit failed */
-static const char *fit_msg(const struct ssc_allan_chan *c)
-{
-	return c->res->fit_diag.msg[0] ? c->res->fit_diag.msg :
-					 sscope_strerror(c->res->fit_error);
-}
-
 /* what the adequacy check says beside a term: "" when nothing */
 static const char *term_mark(const struct ssc_allan_chan *c, int t)
 {
@@ -464,19 +411,6 @@ static const char *term_mark(const struct ssc_allan_chan *c, int t)
 	if ((c->adq->doubtful >> t) & 1)
 		return "  <- doubtful (see adequacy)";
 	return "";
-}
-
-/* the first finding of severity doubt or invalid concerning term t */
-static const struct sscope_adequacy_finding *
-term_doubt(const struct ssc_allan_chan *c, int t)
-{
-	for (size_t i = 0; c->adq && i < c->adq->n_findings; i++) {
-		const struct sscope_adequacy_finding *f = &c->adq->findings[i];
-
-		if (f->severity >= SSCOPE_ADEQUACY_DOUBT && ((f->terms >> t) & 1))
-			return f;
-	}
-	return NULL;
 }
 
 /* The adequacy of a channel in text: a summary line, then one line per
@@ -539,7 +473,7 @@ static int check_shown(const struct ssc_common *co, const struct args *a,
 		double v = fmax(isfinite(cf->value) ? cf->value : 0,
 				isfinite(cf->hi) ? cf->hi : 0);
 
-		if (v > 0 && !isfinite(in_unit(v, u->term_si[t], u->term[t]))) {
+		if (v > 0 && !isfinite(ssc_allan_in_unit(v, u->term_si[t], u->term[t]))) {
 			ssc_err(co->cmd, "%s: %s: the %c term (up to %g %s) exceeds the double range in %s; give --no-fit",
 				path, c->col->name, "QNBKR"[t], v, u->term_si[t],
 				u->term[t]);
@@ -665,7 +599,7 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		if (a->no_fit)
 			continue;
 		if (!c->res->have_fit)
-			ssc_warn(co, "%s: %s: %s", path, c->col->name, fit_msg(c));
+			ssc_warn(co, "%s: %s: %s", path, c->col->name, ssc_allan_fit_msg(c));
 		rc = check_adequacy(co, a, path, cap, k, c, NULL);
 		if (rc)
 			return rc;
@@ -714,71 +648,6 @@ static const char *term_label(enum sscope_quantity q, int t)
 		       q == SSCOPE_QUANTITY_ACCELERATION ? "velocity quantization" :
 						      "quantization";
 	return term_names[t];
-}
-
-/* What the analysis doubts in a channel's fit: the text, JSON and report
- * show the same messages. */
-struct warn {
-	const char *code;
-	char msg[480];
-};
-
-static size_t chan_warnings(const struct args *a, const struct ssc_allan_chan *c,
-			    struct warn *w, size_t max)
-{
-	const struct sscope_noise_fit *ft = &c->res->fit;
-	const struct ssc_allan_units *u = &c->u;
-	char b1[32], b2[32], b3[32];
-	size_t n = 0;
-
-	if (a->no_fit)
-		return 0;
-	if (!c->res->have_fit) {
-		/* too short a record, too few points: said, not hidden */
-		if (max) {
-			w[0].code = "fit_failed";
-			snprintf(w[0].msg, sizeof(w[0].msg),
-				 "%s: no noise terms: %s", c->col->name,
-				 c->res->fit_diag.msg[0] || c->res->fit_error ?
-				 fit_msg(c) : "the fit failed");
-			return 1;
-		}
-		return 0;
-	}
-	if (fit_rejected(ft) && n < max) {
-		w[n].code = "fit_rejected";
-		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: fit rejected: chi2 %s for %s dof, p %s, below %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
-			 c->col->name, ssc_fmt(b1, sizeof(b1), ft->chi2, 3),
-			 ssc_fmt(b2, sizeof(b2), ft->dof, 3),
-			 ssc_fmt_p(b3, sizeof(b3), ft->p_value), FIT_REJECT_P);
-		n++;
-	}
-	for (int t = 0; t < 5 && n < max; t++) {
-		const struct sscope_noise_coef *cf = &ft->coef[t];
-
-		if (!cf->fitted || term_resolved(cf))
-			continue;
-		w[n].code = "term_unresolved";
-		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: %c present, but its %s %% interval [0, %s] %s reaches zero: the record shows it, it does not measure it",
-			 c->col->name, "QNBKR"[t],
-			 ssc_fmt(b1, sizeof(b1), 100 * ft->ci_level, 3),
-			 ssc_fmt(b2, sizeof(b2), in_unit(cf->hi, u->term_si[t], u->term[t]), 3),
-			 u->term[t]);
-		n++;
-	}
-	/* nothing resolved: the record is too short to measure a term */
-	if (n < max && !term_resolved(&ft->coef[0]) &&
-	    !term_resolved(&ft->coef[1]) && !term_resolved(&ft->coef[2]) &&
-	    !term_resolved(&ft->coef[3]) && !term_resolved(&ft->coef[4])) {
-		w[n].code = "too_few_samples";
-		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: no noise term present with an interval clear of zero: %zu samples are too few to measure any; the record only bounds them",
-			 c->col->name, c->n);
-		n++;
-	}
-	return n;
 }
 
 static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file *fr,
@@ -837,7 +706,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 	if (a->no_fit)
 		return;
 	if (!r->have_fit) {
-		fprintf(f, "  noise terms: not fitted: %s\n", fit_msg(c));
+		fprintf(f, "  noise terms: not fitted: %s\n", ssc_allan_fit_msg(c));
 		text_adequacy(f, c);
 		return;
 	}
@@ -854,7 +723,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		if (k)
 			sel[k - 1] = '\0';
 		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, p %s):\n",
-			select_words(ft, selw, sizeof(selw)), k ? sel : "none",
+			ssc_allan_select_words(ft, selw, sizeof(selw)), k ? sel : "none",
 			ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
 			ssc_fmt(b3, sizeof(b3), ft->dof, 3),
@@ -868,25 +737,25 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			if (cf->fitted)
 				fprintf(f, "    %c  %-22s %11s %-16s [%s, %s]   (%s %s)%s\n",
 					"QNBKR"[t], term_label(u->rq, t),
-					ssc_fmt(b1, sizeof(b1), in_unit(cf->value, su, cu), dg + 1),
+					ssc_fmt(b1, sizeof(b1), ssc_allan_in_unit(cf->value, su, cu), dg + 1),
 					cu,
-					ssc_fmt(b2, sizeof(b2), in_unit(cf->lo, su, cu), dg),
-					ssc_fmt(b3, sizeof(b3), in_unit(cf->hi, su, cu), dg),
+					ssc_fmt(b2, sizeof(b2), ssc_allan_in_unit(cf->lo, su, cu), dg),
+					ssc_fmt(b3, sizeof(b3), ssc_allan_in_unit(cf->hi, su, cu), dg),
 					ssc_fmt(b4, sizeof(b4), cf->value, dg + 1), su,
 					term_mark(c, t));
 			else if (cf->why == SSCOPE_NOISE_NOT_ALLOWED)
 				fprintf(f, "    %c  %-22s %11s %-16s (not fitted: %s)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
-					absent_reason(cf));
+					ssc_allan_absent_reason(cf));
 			else if (isfinite(cf->hi) && cf->hi > 0)
 				fprintf(f, "    %c  %-22s %11s %-16s (not shown present: below %s; %s)%s\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
-					ssc_fmt(b1, sizeof(b1), in_unit(cf->hi, su, cu), 3),
-					absent_reason(cf), term_mark(c, t));
+					ssc_fmt(b1, sizeof(b1), ssc_allan_in_unit(cf->hi, su, cu), 3),
+					ssc_allan_absent_reason(cf), term_mark(c, t));
 			else
 				fprintf(f, "    %c  %-22s %11s %-16s (not shown present, and this record gives it no finite bound; %s)\n",
 					"QNBKR"[t], term_label(u->rq, t), "-", cu,
-					absent_reason(cf));
+					ssc_allan_absent_reason(cf));
 		}
 		/* the classic read-offs, where the fitted model says each term
 		 * dominates (or that it dominates nowhere) */
@@ -896,28 +765,29 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 		if (isfinite(ft->readoff.n))
 			fprintf(f, " N = sigma(1 s) on the -1/2 line through tau = %s s: %s %s;",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.n_tau_s, 4),
-				ssc_fmt(b1, sizeof(b1), in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
+				ssc_fmt(b1, sizeof(b1), ssc_allan_in_unit(ft->readoff.n, u->term_si[1], u->term[1]), 4),
 				u->term[1]);
 		else
-			fprintf(f, " N: %s;", readoff_absent(ft, 1));
+			fprintf(f, " N: %s;", ssc_allan_readoff_absent(ft, 1));
 		if (isfinite(ft->readoff.b))
 			fprintf(f, " B = sigma/0.6643 at the bottom, tau = %s s: %s %s;",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.b_tau_s, 4),
-				ssc_fmt(b2, sizeof(b2), in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
+				ssc_fmt(b2, sizeof(b2), ssc_allan_in_unit(ft->readoff.b, u->term_si[2], u->term[2]), 4),
 				u->term[2]);
 		else
-			fprintf(f, " B: %s;", readoff_absent(ft, 2));
+			fprintf(f, " B: %s;", ssc_allan_readoff_absent(ft, 2));
 		if (isfinite(ft->readoff.k))
 			fprintf(f, " K = sigma(3 s) on the +1/2 line through tau = %s s: %s %s\n",
 				ssc_fmt(b3, sizeof(b3), ft->readoff.k_tau_s, 4),
-				ssc_fmt(b4, sizeof(b4), in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
+				ssc_fmt(b4, sizeof(b4), ssc_allan_in_unit(ft->readoff.k, u->term_si[3], u->term[3]), 4),
 				u->term[3]);
 		else
-			fprintf(f, " K: %s\n", readoff_absent(ft, 3));
+			fprintf(f, " K: %s\n", ssc_allan_readoff_absent(ft, 3));
 	}
 	{
-		struct warn w[7];
-		size_t nw = chan_warnings(a, c, w, 7);
+		struct ssc_allan_warn w[7];
+		struct ssc_allan_json_opts jo = json_opts(a);
+		size_t nw = ssc_allan_chan_warnings(&jo, c, w, 7);
 
 		for (size_t i = 0; i < nw; i++)
 			fprintf(f, "  warning: %s\n", w[i].msg);
@@ -926,221 +796,8 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 }
 
 /* ------------------------------------------------------------------ */
-/* JSON and CSV                                                        */
+/* CSV                                                                */
 /* ------------------------------------------------------------------ */
-
-static json_t *jval(double si, const char *si_unit, const char *unit)
-{
-	json_t *o = json_object();
-
-	json_object_set_new(o, "value", ssc_jreal(in_unit(si, si_unit, unit)));
-	json_object_set_new(o, "unit", json_string(unit));
-	json_object_set_new(o, "si", ssc_jreal(si));
-	json_object_set_new(o, "si_unit", json_string(si_unit));
-	return o;
-}
-
-/* A channel's JSON; its "points" are @p slot when given (emit_json). */
-static json_t *json_chan(const struct args *a, const struct ssc_allan_file *fr,
-			 const struct ssc_allan_chan *c, json_t *slot)
-{
-	const struct sscope_allan_result *r = c->res;
-	const struct ssc_allan_units *u = &c->u;
-	json_t *o = json_object(), *pts = slot ? slot : json_array();
-
-	json_object_set_new(o, "name", json_string(c->col->name));
-	json_object_set_new(o, "unit", json_string(c->col->unit_label));
-	json_object_set_new(o, "quantity",
-			    json_string(sscope_quantity_name(c->col->quantity)));
-	json_object_set_new(o, "rate_hz", json_real(fr->cap->rate_hz));
-	json_object_set_new(o, "samples", json_integer((json_int_t)c->n));
-	json_object_set_new(o, "nan", json_integer((json_int_t)c->nan));
-	json_object_set_new(o, "input", json_string(a->ao.input == SSCOPE_ALLAN_ANGLE ?
-							   "angle" : "rate"));
-	json_object_set_new(o, "deviation", json_string(sscope_allan_dev_name(a->ao.dev)));
-	json_object_set_new(o, "deviation_label",
-			    json_string(sscope_allan_dev_label(a->ao.dev)));
-	json_object_set_new(o, "dev_unit", json_string(u->dev));
-	json_object_set_new(o, "ci_level", a->ci < 0 ? json_null() :
-					   json_real(a->ci));
-	for (size_t i = 0; !slot && i < r->n_points; i++) {
-		const struct sscope_allan_point *p = &r->points[i];
-		json_t *q = json_object();
-
-		json_object_set_new(q, "tau_s", json_real(p->tau_s));
-		json_object_set_new(q, "m", json_integer((json_int_t)p->m));
-		json_object_set_new(q, "terms", json_integer((json_int_t)p->terms));
-		json_object_set_new(q, "dev", ssc_jreal(p->dev / u->dev_scale));
-		json_object_set_new(q, "dev_lo", ssc_jreal(p->dev_lo / u->dev_scale));
-		json_object_set_new(q, "dev_hi", ssc_jreal(p->dev_hi / u->dev_scale));
-		json_object_set_new(q, "edf", ssc_jreal(p->edf));
-		if (sscope_allan_dev_has_ci(a->ao.dev)) {
-			json_object_set_new(q, "alpha", json_integer(p->alpha));
-			json_object_set_new(q, "noise",
-					    json_string(ssc_allan_noise_name(p->alpha)));
-		} else {
-			json_object_set_new(q, "alpha", json_null());
-			json_object_set_new(q, "noise", json_null());
-		}
-		if (p->skipped)
-			json_object_set_new(q, "skipped",
-					    json_integer((json_int_t)p->skipped));
-		if (p->stride != 1 && a->ao.dev != SSCOPE_ALLAN_DEV_ADEV &&
-		    a->ao.dev != SSCOPE_ALLAN_DEV_HDEV) {
-			json_object_set_new(q, "stride",
-					    json_integer((json_int_t)p->stride));
-			json_object_set_new(q, "edf_full", ssc_jreal(p->edf_full));
-		}
-		json_array_append_new(pts, q);
-	}
-	json_object_set_new(o, "points", pts);
-	if (r->n_gap_omitted) {
-		json_object_set_new(o, "gap_omitted_taus",
-				    json_integer((json_int_t)r->n_gap_omitted));
-		ssc_json_warn(o, "gap_taus_omitted", "%s: %s", c->col->name,
-			      r->gap_note.msg);
-	}
-	if (a->no_fit)
-		return o;
-	{
-		json_t *nz = json_object(), *fit = json_object(), *terms = json_array();
-		const struct sscope_noise_fit *ft = &r->fit;
-		static const char *const key[5] = { "Q", "N", "B", "K", "R" };
-
-		for (int t = 0; t < 5; t++) {
-			const struct sscope_noise_coef *cf = &ft->coef[t];
-
-			json_t *jc = ssc_json_coef(cf->value, cf->lo, cf->hi,
-						   u->term[t], u->term_si[t],
-						   cf->fitted);
-
-			json_object_set_new(jc, "resolved",
-					    json_boolean(term_resolved(cf)));
-			json_object_set_new(jc, "present", json_boolean(cf->present));
-			json_object_set_new(jc, "reason", cf->present ? json_null() :
-					    json_string(absent_reason(cf)));
-			json_object_set_new(jc, "test_z", ssc_jreal(cf->z));
-			if (!cf->present && cf->why != SSCOPE_NOISE_NOT_ALLOWED)
-				json_object_set_new(jc, "bound",
-						    isfinite(cf->hi) && cf->hi > 0 ?
-						    ssc_jreal(in_unit(cf->hi, u->term_si[t], u->term[t])) :
-						    json_null());
-			/* the unconstrained point estimate, resolved or not:
-			 * what a prediction (walk, navsim, heading) uses */
-			{
-				double ev;
-
-				json_object_set_new(jc, "si_estimate",
-						    ssc_jreal(cf->estimate));
-				if (sscope_unit_convert_text(cf->estimate, u->term_si[t],
-							     u->term[t], &ev))
-					ev = cf->estimate;
-				json_object_set_new(jc, "estimate", ssc_jreal(ev));
-			}
-			{
-				const struct sscope_adequacy_finding *fd = term_doubt(c, t);
-
-				json_object_set_new(jc, "doubtful", json_boolean(fd != NULL));
-				if (fd)
-					json_object_set_new(jc, "doubt",
-							    json_string(fd->message));
-			}
-			json_object_set_new(nz, key[t], jc);
-			if (cf->fitted)
-				json_array_append_new(terms, json_string(key[t]));
-		}
-		json_object_set_new(o, "noise", nz);
-		if (r->have_fit) {
-			json_object_set_new(fit, "terms", terms);
-			json_object_set_new(fit, "method",
-					    json_string("weighted least squares of every allowed term on OADEV (EDF weights); which terms are present is decided by stepwise likelihood-ratio tests of nested generalised-least-squares fits (see selection); intervals and 'below' bounds are Neyman intervals from a parametric bootstrap of the fit of every allowed term under the fitted model (1000 replicates), one-sided for a value the test would seldom detect, central for one it detects"));
-			{
-				json_t *sj = json_object();
-				char sw[320];
-
-				json_object_set_new(sj, "test", json_string(select_words(ft, sw, sizeof(sw))));
-				json_object_set_new(sj, "level", json_real(0.5 * erfc(ft->select_z / sqrt(2.0))));
-				json_object_set_new(sj, "z", json_real(ft->select_z));
-				json_object_set_new(fit, "selection", sj);
-			}
-			json_object_set_new(fit, "ci_level", json_real(ft->ci_level));
-			json_object_set_new(fit, "points", json_integer((json_int_t)ft->n_points));
-			json_object_set_new(fit, "chi2", ssc_jreal(ft->chi2));
-			json_object_set_new(fit, "dof", ssc_jreal(ft->dof));
-			json_object_set_new(fit, "p_value", ssc_jreal(ft->p_value));
-			/* at the bootstrap's floor p is only known to be below */
-			json_object_set_new(fit, "p_value_bound",
-					    json_boolean(sscope_noise_p_is_bound(ft->p_value)));
-			json_object_set_new(fit, "rejected",
-					    json_boolean(fit_rejected(ft)));
-			json_object_set_new(fit, "reject_below_p",
-					    json_real(FIT_REJECT_P));
-			json_object_set_new(fit, "model_error",
-					    json_real(a->fo.model_error > 0 ? a->fo.model_error : 0));
-		} else {
-			json_decref(terms);
-			json_object_set_new(fit, "error", json_string(fit_msg(c)));
-		}
-		json_object_set_new(o, "fit", fit);
-		{
-			json_t *ro = json_object();
-
-			json_object_set_new(ro, "N", jval(ft->readoff.n, u->term_si[1], u->term[1]));
-			json_object_set_new(ro, "B", jval(ft->readoff.b, u->term_si[2], u->term[2]));
-			json_object_set_new(ro, "B_tau_s", ssc_jreal(ft->readoff.b_tau_s));
-			json_object_set_new(ro, "N_tau_s", ssc_jreal(ft->readoff.n_tau_s));
-			json_object_set_new(ro, "K", jval(ft->readoff.k, u->term_si[3], u->term[3]));
-			json_object_set_new(ro, "K_tau_s", ssc_jreal(ft->readoff.k_tau_s));
-			json_object_set_new(ro, "rule", json_string("a present term only, at a tau where it is at least 3/4 of the fitted model (its square at its lower bound, the others at their upper bounds) and the EDF is at least 10 (null otherwise)"));
-			if (!isfinite(ft->readoff.n))
-				json_object_set_new(json_object_get(ro, "N"), "reason", json_string(readoff_absent(ft, 1)));
-			if (!isfinite(ft->readoff.b))
-				json_object_set_new(json_object_get(ro, "B"), "reason", json_string(readoff_absent(ft, 2)));
-			if (!isfinite(ft->readoff.k))
-				json_object_set_new(json_object_get(ro, "K"), "reason", json_string(readoff_absent(ft, 3)));
-			json_object_set_new(o, "readoff", ro);
-		}
-		{
-			struct warn w[7];
-			size_t nw = chan_warnings(a, c, w, 7);
-
-			for (size_t i = 0; i < nw; i++)
-				ssc_json_warn(o, w[i].code, "%s", w[i].msg);
-		}
-		for (size_t i = 0; c->adq && i < c->adq->n_findings; i++) {
-			const struct sscope_adequacy_finding *f = &c->adq->findings[i];
-			char code[48];
-
-			/* the fit's own warnings say rejected and failed */
-			if (f->severity < SSCOPE_ADEQUACY_DOUBT ||
-			    f->cause == SSCOPE_ADEQUACY_FIT_REJECTED ||
-			    f->cause == SSCOPE_ADEQUACY_NO_FIT)
-				continue;
-			snprintf(code, sizeof(code), "adequacy_%s",
-				 sscope_adequacy_cause_name(f->cause));
-			ssc_json_warn(o, code, "%s: %s", c->col->name, f->message);
-		}
-		if (c->adq)
-			json_object_set_new(o, "adequacy", ssc_adequacy_json(c->adq, c->u.rate));
-	}
-	return o;
-}
-
-/* slot: the next slot number when the points are slots, else NULL */
-static json_t *json_file(const struct args *a, const struct ssc_allan_file *fr,
-			 size_t *slot)
-{
-	json_t *o = json_object(), *chs = json_array();
-
-	json_object_set_new(o, "command", json_string("allan"));
-	json_object_set_new(o, "file", json_string(fr->path));
-	for (size_t k = 0; k < fr->n_ch; k++)
-		json_array_append_new(chs, json_chan(a, fr, &fr->ch[k],
-						     slot ? ssc_json_slot((*slot)++) :
-							    NULL));
-	json_object_set_new(o, "channels", chs);
-	return o;
-}
 
 static void csv_file(FILE *f, const struct args *a, const struct ssc_allan_file *fr)
 {
@@ -1360,12 +1017,12 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			int dg;
 
 			ssc_unit_pretty(u->term[t], cu, sizeof(cu));
-			if (term_resolved(cf)) {
+			if (sscope_noise_coef_resolved(cf)) {
 				one[t] = cf->value;
 				for (int i = 0; i < NG; i++)
 					gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
 				ssc_fmt(v1, sizeof(v1),
-					in_unit(cf->value, u->term_si[t], u->term[t]), 3);
+					ssc_allan_in_unit(cf->value, u->term_si[t], u->term[t]), 3);
 				if (t == SSCOPE_TERM_B)
 					snprintf(buf, sizeof(buf),
 						 "B = %s %s (line at 0.664\xc2\xb7" "B)",
@@ -1376,9 +1033,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 				ssc_ax_line(ax, gx, gy, NG, &dst, buf);
 				dg = idigits(cf->value, cf->lo, cf->hi);
 				NOTE("%s%c %s [%s, %s] %s", nl ? "\n" : "", "QNBKR"[t],
-				     ssc_fmt(v1, sizeof(v1), in_unit(cf->value, u->term_si[t], u->term[t]), dg),
-				     ssc_fmt(v2, sizeof(v2), in_unit(cf->lo, u->term_si[t], u->term[t]), dg),
-				     ssc_fmt(v3, sizeof(v3), in_unit(cf->hi, u->term_si[t], u->term[t]), dg),
+				     ssc_fmt(v1, sizeof(v1), ssc_allan_in_unit(cf->value, u->term_si[t], u->term[t]), dg),
+				     ssc_fmt(v2, sizeof(v2), ssc_allan_in_unit(cf->lo, u->term_si[t], u->term[t]), dg),
+				     ssc_fmt(v3, sizeof(v3), ssc_allan_in_unit(cf->hi, u->term_si[t], u->term[t]), dg),
 				     cu);
 				continue;
 			}
@@ -1389,7 +1046,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			one[t] = bound;
 			for (int i = 0; i < NG; i++)
 				gy[i] = sqrt(sscope_noise_avar(one, gx[i])) * s;
-			ssc_fmt(v1, sizeof(v1), in_unit(bound, u->term_si[t], u->term[t]), 3);
+			ssc_fmt(v1, sizeof(v1), ssc_allan_in_unit(bound, u->term_si[t], u->term[t]), 3);
 			snprintf(buf, sizeof(buf), "%c < %s %s (upper bound%s)",
 				 "QNBKR"[t], v1, cu,
 				 t == SSCOPE_TERM_B ? "; line at 0.664\xc2\xb7" "B" : "");
@@ -1420,9 +1077,9 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
 		     ssc_fmt(v2, sizeof(v2), ft->dof, 3),
 		     ssc_fmt_p(v3, sizeof(v3), ft->p_value));
-		if (fit_rejected(ft))
+		if (ssc_allan_fit_rejected(ft))
 			NOTE("\nFIT REJECTED (p < %g): terms indicative only",
-			     FIT_REJECT_P);
+			     SSC_ALLAN_FIT_REJECT_P);
 #undef NOTE
 		ssc_ax_note(ax, note, SSC_LEGEND_AUTO);
 	}
@@ -1540,7 +1197,7 @@ static void summarize(json_t *summary, const struct args *a,
 			 100 * ft->ci_level);
 		for (int t = 1; t <= 3; t++) {
 			const struct sscope_noise_coef *cf = &ft->coef[t];
-			const struct sscope_adequacy_finding *fd = term_doubt(c, t);
+			const struct sscope_adequacy_finding *fd = ssc_allan_term_doubt(c, t);
 			char nt[640];
 
 			if (!cf->fitted)
@@ -1548,15 +1205,15 @@ static void summarize(json_t *summary, const struct args *a,
 			snprintf(what, sizeof(what), "%s %c",
 				 term_label(c->col->quantity, t), "QNBKR"[t]);
 			snprintf(nt, sizeof(nt), "%s%s%s%s%s", note,
-				 fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
-				 term_resolved(cf) ? "" : "; present, but the interval reaches 0",
+				 ssc_allan_fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
+				 sscope_noise_coef_resolved(cf) ? "" : "; present, but the interval reaches 0",
 				 fd ? "; DOUBTFUL: " : "", fd ? fd->message : "");
 			ssc_summary_add(summary, c->col->name, what,
-					in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
-					in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
-					in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
+					ssc_allan_in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
+					ssc_allan_in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
+					ssc_allan_in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
 					c->u.term[t], nt);
-			if (fit_rejected(ft) || !term_resolved(cf) || fd)
+			if (ssc_allan_fit_rejected(ft) || !sscope_noise_coef_resolved(cf) || fd)
 				ssc_summary_warn_last(summary);
 		}
 	}
@@ -1664,51 +1321,24 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	return rc;
 }
 
-static json_t *json_tree(const void *opts, const void *result, size_t *slot)
-{
-	const struct ssc_allan_res *R = result;
-	json_t *o, *files;
-
-	if (R->n_files == 1)
-		return json_file(opts, &R->fr[0], slot);
-	o = json_object();
-	files = json_array();
-	json_object_set_new(o, "command", json_string("allan"));
-	for (size_t i = 0; i < R->n_files; i++)
-		json_array_append_new(files, json_file(opts, &R->fr[i], slot));
-	json_object_set_new(o, "files", files);
-	return o;
-}
-
 static json_t *json(const void *opts, const void *result)
 {
-	return json_tree(opts, result, NULL);
+	struct ssc_allan_json_opts jo = json_opts(opts);
+
+	return ssc_allan_json(&jo, result, NULL);
 }
 
-/* the text of json_chan's "points" array */
+/* the points of ssc_allan_json()'s slots */
 struct pts_out {
 	const struct ssc_allan_res *R;
-	const struct args *a;
+	struct ssc_allan_json_opts jo;
 };
 
 static bool points_text(FILE *f, size_t slot, void *ctx)
 {
 	const struct pts_out *po = ctx;
-	const struct ssc_allan_chan *c = NULL;
-	const struct args *a = po->a;
 
-	/* slots number the channels of the files in order */
-	for (size_t i = 0; i < po->R->n_files && !c; i++) {
-		if (slot < po->R->fr[i].n_ch)
-			c = &po->R->fr[i].ch[slot];
-		else
-			slot -= po->R->fr[i].n_ch;
-	}
-	if (!c)
-		return false;
-	return ssc_allan_points_text(f, c->res->points, c->res->n_points,
-				     c->u.dev_scale, a->ao.dev,
-				     a->ao.threads != 1);
+	return ssc_allan_json_points(f, &po->jo, po->R, slot);
 }
 
 /* the JSON as json() dumps, the points written as text (a tree of an
@@ -1716,9 +1346,9 @@ static bool points_text(FILE *f, size_t slot, void *ctx)
 static int emit_json(const struct ssc_common *co, const void *opts,
 		     const void *result)
 {
-	struct pts_out po = { result, opts };
+	struct pts_out po = { result, json_opts(opts) };
 	size_t n_slots = 0;
-	json_t *root = json_tree(opts, result, &n_slots);
+	json_t *root = ssc_allan_json(&po.jo, result, &n_slots);
 	int rc;
 
 	rc = ssc_emit_json_slots(co, root, n_slots, points_text, &po);

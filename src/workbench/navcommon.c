@@ -33,14 +33,36 @@ int ssc_nav_load_json(const char *cmd, const char *opt, const char *path,
 	return SSC_EXIT_OK;
 }
 
+/* member @p key of a coefficient object ({"value", "unit", "lo", "hi",
+ * "si", "si_unit"}) in its SI unit; NaN when null or not convertible */
+static double coef_si(const json_t *c, const char *key)
+{
+	const json_t *v = json_object_get(c, key);
+	const char *unit = json_string_value(json_object_get(c, "unit"));
+	const char *si_unit = json_string_value(json_object_get(c, "si_unit"));
+	double si;
+
+	if (!json_is_number(v) || !unit || !si_unit ||
+	    sscope_unit_convert_text(json_number_value(v), unit, si_unit, &si))
+		return (double)NAN;
+	return si;
+}
+
+static void terms_clear(struct ssc_nav_terms *t)
+{
+	memset(t, 0, sizeof(*t));
+	t->n_lo = t->n_hi = (double)NAN;
+	for (int i = 0; i < 5; i++)
+		t->lo[i] = t->hi[i] = (double)NAN;
+}
+
 static int terms_of_channel(const json_t *ch, struct ssc_nav_terms *t)
 {
 	const json_t *nz = json_object_get(ch, "noise");
 	const char *name;
 	static const char *const key[5] = { "Q", "N", "B", "K", "R" };
 
-	memset(t, 0, sizeof(*t));
-	t->n_lo = t->n_hi = (double)NAN;
+	terms_clear(t);
 	if (!json_is_object(nz))
 		return -1;
 	t->quantity = ssc_allan_json_rate_quantity(ch);
@@ -59,6 +81,9 @@ static int terms_of_channel(const json_t *ch, struct ssc_nav_terms *t)
 			t->coef[i] = json_number_value(si);
 			t->have = true;
 		}
+		t->present[i] = json_is_true(json_object_get(c, "present"));
+		t->lo[i] = coef_si(c, "lo");
+		t->hi[i] = coef_si(c, "hi");
 	}
 	{
 		/* N's interval in SI: the coefficient's lo/hi scaled like
@@ -129,8 +154,7 @@ static int terms_of_chan(const struct ssc_allan_chan *c, double ci_level,
 	const struct sscope_noise_fit *ft = &c->res->fit;
 	const struct sscope_noise_coef *cn = &ft->coef[SSCOPE_TERM_N];
 
-	memset(t, 0, sizeof(*t));
-	t->n_lo = t->n_hi = (double)NAN;
+	terms_clear(t);
 	if (c->u.rq != SSCOPE_QUANTITY_ANGULAR_RATE &&
 	    c->u.rq != SSCOPE_QUANTITY_ACCELERATION)
 		return -1;
@@ -144,6 +168,10 @@ static int terms_of_chan(const struct ssc_allan_chan *c, double ci_level,
 			t->coef[i] = cf->value;
 			t->have = true;
 		}
+		/* as the JSON has them: an infinite bound is none (null) */
+		t->present[i] = cf->present;
+		t->lo[i] = isfinite(cf->lo) ? cf->lo : (double)NAN;
+		t->hi[i] = isfinite(cf->hi) ? cf->hi : (double)NAN;
 	}
 	if (t->coef[SSCOPE_TERM_N] > 0 && isfinite(cn->lo) && isfinite(cn->hi)) {
 		t->n_lo = cn->lo;
@@ -202,7 +230,7 @@ const struct ssc_nav_terms *ssc_nav_terms_pick(const struct ssc_nav_terms *t,
 void ssc_nav_terms_from_spec(const struct sscope_sensor_spec *s,
 			     struct ssc_nav_terms *t)
 {
-	memset(t, 0, sizeof(*t));
+	terms_clear(t);
 	snprintf(t->name, sizeof(t->name), "%s", s->name);
 	t->quantity = s->quantity;
 	t->coef[SSCOPE_TERM_Q] = s->q;
@@ -210,7 +238,6 @@ void ssc_nav_terms_from_spec(const struct sscope_sensor_spec *s,
 	t->coef[SSCOPE_TERM_B] = s->b;
 	t->coef[SSCOPE_TERM_K] = s->k;
 	t->coef[SSCOPE_TERM_R] = s->r;
-	t->n_lo = t->n_hi = (double)NAN;
 	for (int i = 0; i < 5; i++)
 		t->have |= t->coef[i] > 0;
 }

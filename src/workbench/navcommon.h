@@ -15,6 +15,9 @@ struct ssc_nav_terms {
 	enum sscope_quantity quantity; /* ANGULAR_RATE or ACCELERATION */
 	double coef[5];                /* Q N B K R; 0 when not fitted */
 	double n_lo, n_hi;             /* N's interval (NaN: none) */
+	double lo[5], hi[5];           /* each term's interval, SI (NaN: none;
+					  an absent term's hi is its bound) */
+	bool present[5];               /* the presence test kept the term */
 	double ci_level;               /* of that interval */
 	bool have;                     /* any term is set */
 };

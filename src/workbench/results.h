@@ -84,6 +84,65 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
  * @p rate_unit (allan-json.c).  A new reference. */
 json_t *ssc_adequacy_json(const struct sscope_adequacy *q, const char *rate_unit);
 
+/* How an allan result was computed, as its JSON says it (the command
+ * fills it from its options). */
+struct ssc_allan_json_opts {
+	enum sscope_allan_input input;
+	enum sscope_allan_dev dev;
+	double ci;          /* level of the deviations' intervals; < 0: none */
+	bool no_fit;        /* deviations only: no terms, fit, read-offs */
+	double model_error; /* the fit's relative model error (<= 0: none) */
+	bool two_threads;   /* a long grid's points text on two threads */
+};
+
+/*
+ * The JSON of an allan result: one file's object ({"command", "file",
+ * "channels"}), or {"command", "files"} for several.  With @p slot, each
+ * channel's "points" is a placeholder numbered from *slot on (see
+ * ssc_emit_json_slots) that ssc_allan_json_points() writes; without, the
+ * points are in the tree.  A new reference.
+ */
+json_t *ssc_allan_json(const struct ssc_allan_json_opts *o,
+		       const struct ssc_allan_res *R, size_t *slot);
+
+/* The "points" text of slot @p slot of ssc_allan_json() (the channels of
+ * the files in order).  Returns false on a write error or no such slot. */
+bool ssc_allan_json_points(FILE *f, const struct ssc_allan_json_opts *o,
+			   const struct ssc_allan_res *R, size_t slot);
+
+/* Words and values the text output shares with the JSON. */
+
+/* A fit whose chi-squared p-value is below this is rejected: the
+ * five-term model does not describe the data (1 % level). */
+#define SSC_ALLAN_FIT_REJECT_P 0.01
+bool ssc_allan_fit_rejected(const struct sscope_noise_fit *ft);
+/* why a term is not reported present, in words (NULL when present) */
+const char *ssc_allan_absent_reason(const struct sscope_noise_coef *cf);
+/* why the read-off of term t is not given */
+const char *ssc_allan_readoff_absent(const struct sscope_noise_fit *ft, int t);
+/* the presence test, in words, with its level, into buf */
+const char *ssc_allan_select_words(const struct sscope_noise_fit *ft, char *buf,
+				   size_t len);
+/* value (SI) in unit; NaN stays NaN, an unconvertible value is NaN */
+double ssc_allan_in_unit(double si, const char *si_unit, const char *unit);
+/* why the noise fit of a channel failed */
+const char *ssc_allan_fit_msg(const struct ssc_allan_chan *c);
+/* the first adequacy finding of severity doubt or invalid on term t */
+const struct sscope_adequacy_finding *
+ssc_allan_term_doubt(const struct ssc_allan_chan *c, int t);
+
+/* What the analysis doubts in a channel's fit: the text, JSON and report
+ * show the same messages. */
+struct ssc_allan_warn {
+	const char *code; /* JSON warning code ("fit_rejected") */
+	char msg[480];
+};
+
+/* At most @p max warnings of channel @p c into w; returns their number. */
+size_t ssc_allan_chan_warnings(const struct ssc_allan_json_opts *o,
+			       const struct ssc_allan_chan *c,
+			       struct ssc_allan_warn *w, size_t max);
+
 /*
  * The quantity of the rate whose deviations a saved allan channel (one
  * object of its "channels") holds: its "quantity", differentiated for an
