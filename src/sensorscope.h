@@ -93,5 +93,6 @@
 #include "sscope-clip.h"
 #include "sscope-adequacy.h"
 #include "sscope-datasheet.h"
+#include "sscope-lot.h"
 
 #endif /* SENSORSCOPE_H */

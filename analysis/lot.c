@@ -1,0 +1,333 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * The spread of a quantity over a lot of units (see sscope-lot.h for the
+ * model, the estimators and their references).  The estimates are centred
+ * on their median first, so that a quantity with a large common offset
+ * (a bias of 1e3 with units that differ by 1e-3) loses no digits in the
+ * weighted sums; the chi-squared and t quantiles and the root of the
+ * Q profile come from GSL.
+ */
+#include "internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_roots.h>
+
+#include "sscope-lot.h"
+
+#define REML_ITERS 200
+
+/* weighted mean of d with weights 1 / (v + t2), and the sums used */
+struct wsum {
+	double sw, sw2, sw3, mu, q; /* q: sum w (d - mu)^2 */
+};
+
+static void weigh(const double *d, const double *v, size_t k, double t2,
+		  struct wsum *s)
+{
+	struct ssc_ksum a = { 0, 0 }, b = { 0, 0 }, c = { 0, 0 }, e = { 0, 0 },
+			q = { 0, 0 };
+
+	for (size_t i = 0; i < k; i++) {
+		double w = 1 / (v[i] + t2);
+
+		ssc_ksum_add(&a, w);
+		ssc_ksum_add(&b, w * w);
+		ssc_ksum_add(&c, w * w * w);
+		ssc_ksum_add(&e, w * d[i]);
+	}
+	s->sw = ssc_ksum_value(&a);
+	s->sw2 = ssc_ksum_value(&b);
+	s->sw3 = ssc_ksum_value(&c);
+	s->mu = ssc_ksum_value(&e) / s->sw;
+	for (size_t i = 0; i < k; i++) {
+		double r = d[i] - s->mu;
+
+		ssc_ksum_add(&q, r * r / (v[i] + t2));
+	}
+	s->q = ssc_ksum_value(&q);
+}
+
+/* REML tau^2 by Fisher scoring from the DerSimonian-Laird value */
+static double reml_tau2(const double *d, const double *v, size_t k)
+{
+	struct wsum s;
+	double t2, c;
+
+	weigh(d, v, k, 0, &s);
+	c = s.sw - s.sw2 / s.sw;
+	t2 = c > 0 ? fmax(0, (s.q - (double)(k - 1)) / c) : 0;
+	for (int it = 0; it < REML_ITERS; it++) {
+		struct ssc_ksum r2 = { 0, 0 };
+		double score, info, step, next;
+
+		weigh(d, v, k, t2, &s);
+		for (size_t i = 0; i < k; i++) {
+			double w = 1 / (v[i] + t2), r = d[i] - s.mu;
+
+			ssc_ksum_add(&r2, w * w * r * r);
+		}
+		score = 0.5 * (ssc_ksum_value(&r2) - (s.sw - s.sw2 / s.sw));
+		info = 0.5 * (s.sw2 - 2 * s.sw3 / s.sw + (s.sw2 / s.sw) * (s.sw2 / s.sw));
+		if (!(info > 0))
+			break;
+		step = score / info;
+		next = fmax(0, t2 + step);
+		/* converged: a step below 1e-12 of tau^2 plus a typical
+		 * within-unit variance; or held at zero */
+		if (fabs(next - t2) <= 1e-12 * (t2 + (double)k / s.sw) ||
+		    (next == 0 && t2 == 0)) {
+			t2 = next;
+			break;
+		}
+		t2 = next;
+	}
+	return t2;
+}
+
+struct qprof {
+	const double *d, *v;
+	size_t k;
+	double target;
+};
+
+static double q_minus(double t2, void *ctx)
+{
+	const struct qprof *p = ctx;
+	struct wsum s;
+
+	weigh(p->d, p->v, p->k, t2, &s);
+	return s.q - p->target;
+}
+
+/* the tau^2 where the generalised Q equals target (Q(0) > target):
+ * bracketed, then Brent's method */
+static int q_root(const double *d, const double *v, size_t k, double target,
+		  double scale, double *out)
+{
+	struct qprof p = { d, v, k, target };
+	gsl_function F = { q_minus, &p };
+	gsl_root_fsolver *s;
+	double lo = 0, hi = scale > 0 ? scale : 1;
+	int status, it = 0;
+
+	for (int g = 0; q_minus(hi, &p) > 0; g++) {
+		if (g > 200)
+			return -EDOM;
+		lo = hi;
+		hi *= 4;
+	}
+	s = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+	if (!s)
+		return -ENOMEM;
+	if (gsl_root_fsolver_set(s, &F, lo, hi)) {
+		gsl_root_fsolver_free(s);
+		return -EDOM;
+	}
+	do {
+		status = gsl_root_fsolver_iterate(s);
+		lo = gsl_root_fsolver_x_lower(s);
+		hi = gsl_root_fsolver_x_upper(s);
+		if (!status)
+			status = gsl_root_test_interval(lo, hi, 0, 1e-13);
+	} while (status == GSL_CONTINUE && ++it < 300);
+	*out = gsl_root_fsolver_root(s);
+	gsl_root_fsolver_free(s);
+	return 0;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return x < y ? -1 : x > y;
+}
+
+static double median_of(double *w, size_t k)
+{
+	qsort(w, k, sizeof(double), cmp_d);
+	return k % 2 ? w[k / 2] : 0.5 * (w[k / 2 - 1] + w[k / 2]);
+}
+
+/* mean, tau and their intervals, Q and I^2 of n centred estimates d with
+ * variances v (c: the centre added back to the mean) */
+static int estimate(const double *d, const double *v, size_t n, double c,
+		    double level, struct sscope_lot_spread *out)
+{
+	struct wsum s;
+	struct ssc_ksum m = { 0, 0 }, ss = { 0, 0 };
+	double t2, lo2 = 0, hi2 = 0, a = 1 - level, qlo, qhi, scale, mean;
+	int rc = 0;
+
+	for (size_t i = 0; i < n; i++)
+		ssc_ksum_add(&m, d[i]);
+	mean = ssc_ksum_value(&m) / (double)n;
+	for (size_t i = 0; i < n; i++)
+		ssc_ksum_add(&ss, (d[i] - mean) * (d[i] - mean));
+	out->total_sd = sqrt(ssc_ksum_value(&ss) / (double)(n - 1));
+	/* Cochran's Q, I^2 */
+	weigh(d, v, n, 0, &s);
+	out->q = s.q;
+	out->q_p = gsl_cdf_chisq_Q(s.q, (double)(n - 1));
+	t2 = reml_tau2(d, v, n);
+	{
+		double typ = (double)(n - 1) * s.sw / (s.sw * s.sw - s.sw2);
+
+		out->i2 = t2 > 0 && isfinite(typ) ? t2 / (t2 + typ) : 0;
+	}
+	out->between_sd = sqrt(t2);
+	/* the Q profile of tau^2 between the chi-squared quantiles */
+	qhi = gsl_cdf_chisq_Qinv(a / 2, (double)(n - 1));
+	qlo = gsl_cdf_chisq_Pinv(a / 2, (double)(n - 1));
+	scale = fmax(t2, out->total_sd * out->total_sd);
+	if (!(scale > 0))
+		scale = (double)n / s.sw;
+	if (s.q > qhi)
+		rc = q_root(d, v, n, qhi, scale, &lo2);
+	if (!rc && s.q > qlo)
+		rc = q_root(d, v, n, qlo, scale, &hi2);
+	if (rc)
+		return rc;
+	out->between_lo = sqrt(lo2);
+	out->between_hi = sqrt(hi2);
+	/* the mean and its Hartung-Knapp interval */
+	weigh(d, v, n, t2, &s);
+	{
+		double var = s.q / (double)(n - 1) / s.sw;
+		double tq = gsl_cdf_tdist_Pinv(1 - a / 2, (double)(n - 1));
+
+		out->mean = c + s.mu;
+		out->mean_lo = out->mean - tq * sqrt(var);
+		out->mean_hi = out->mean + tq * sqrt(var);
+	}
+	return 0;
+}
+
+int sscope_lot_spread(const double *y, const double *se, size_t k,
+		      const struct sscope_lot_opts *opts,
+		      struct sscope_lot_spread *out, double *z, bool *outlier)
+{
+	double level = opts && opts->level > 0 ? opts->level : 0.90;
+	double alpha_o = opts && opts->outlier_alpha > 0 ? opts->outlier_alpha : 0.01;
+	double *d, *v, *w, *dc, *vc, c, mad, med_v, thr, thr_fw, mu = 0, t2;
+	bool *fl, *ex, keep;
+	size_t n = 0;
+	gsl_error_handler_t *old;
+	int rc = 0;
+
+	if (!y || !se || !out)
+		return -EINVAL;
+	if (!(level < 1) || !(alpha_o < 1))
+		return -EINVAL;
+	memset(out, 0, sizeof(*out));
+	if (k < 3)
+		return -EDOM;
+	for (size_t i = 0; i < k; i++)
+		if (!isfinite(y[i]) || !isfinite(se[i]) || !(se[i] > 0))
+			return -EDOM;
+	d = ssc_alloc_array(k, sizeof(double));
+	v = ssc_alloc_array(k, sizeof(double));
+	w = ssc_alloc_array(k, sizeof(double));
+	dc = ssc_alloc_array(k, sizeof(double));
+	vc = ssc_alloc_array(k, sizeof(double));
+	fl = calloc(k, sizeof(bool));
+	ex = calloc(k, sizeof(bool));
+	if (!d || !v || !w || !dc || !vc || !fl || !ex) {
+		rc = -ENOMEM;
+		goto done;
+	}
+	old = gsl_set_error_handler_off();
+	memcpy(w, y, k * sizeof(double));
+	c = median_of(w, k);
+	for (size_t i = 0; i < k; i++) {
+		d[i] = y[i] - c;
+		v[i] = se[i] * se[i];
+	}
+	out->k = k;
+	out->level = level;
+	thr = gsl_cdf_ugaussian_Qinv(alpha_o / 2);
+	out->outlier_z = thr;
+
+	/* The yardstick: the mean and tau (REML) of the units that do not
+	 * stand out beyond a family-wise level (the per-unit rate divided by
+	 * the number of units, Bonferroni): first judged against the median
+	 * and the spread the median absolute deviation implies, then
+	 * against the yardstick itself until that set settles.  Excluding
+	 * only these keeps the yardstick from being trimmed by the units a
+	 * per-unit test flags by chance (which would narrow it and flag
+	 * more). */
+	thr_fw = gsl_cdf_ugaussian_Qinv(alpha_o / 2 / (double)k);
+	for (size_t i = 0; i < k; i++)
+		w[i] = fabs(d[i]);
+	mad = 1.482602218505602 * median_of(w, k);
+	memcpy(w, v, k * sizeof(double));
+	med_v = median_of(w, k);
+	t2 = fmax(0, mad * mad - med_v);
+	for (int it = 0; it < 20; it++) {
+		bool changed = false;
+
+		for (size_t i = 0; i < k; i++) {
+			bool f = fabs(d[i] - mu) / sqrt(v[i] + t2) > thr_fw;
+
+			changed |= f != ex[i];
+			ex[i] = f;
+		}
+		if (!changed && it > 0)
+			break;
+		n = 0;
+		for (size_t i = 0; i < k; i++)
+			if (!ex[i]) {
+				dc[n] = d[i];
+				vc[n++] = v[i];
+			}
+		if (n < 3)
+			break; /* most units stand out: no yardstick */
+		t2 = reml_tau2(dc, vc, n);
+		{
+			struct wsum s;
+
+			weigh(dc, vc, n, t2, &s);
+			mu = s.mu;
+		}
+	}
+	/* each unit against the yardstick at the per-unit rate */
+	out->n_outliers = 0;
+	for (size_t i = 0; i < k; i++) {
+		double zi = (d[i] - mu) / sqrt(v[i] + t2);
+
+		fl[i] = fabs(zi) > thr;
+		out->n_outliers += fl[i];
+		if (z)
+			z[i] = zi;
+		if (outlier)
+			outlier[i] = fl[i];
+	}
+	/* the lot's spread: without the units beyond the family-wise
+	 * level unless asked, or when fewer than three would remain */
+	n = 0;
+	for (size_t i = 0; i < k; i++)
+		n += !ex[i];
+	keep = (opts && opts->keep_outliers) || n < 3;
+	n = 0;
+	for (size_t i = 0; i < k; i++)
+		if (!ex[i] || keep) {
+			dc[n] = d[i];
+			vc[n++] = v[i];
+		}
+	out->k_used = n;
+	rc = estimate(dc, vc, n, c, level, out);
+	gsl_set_error_handler(old);
+done:
+	free(d);
+	free(v);
+	free(w);
+	free(dc);
+	free(vc);
+	free(fl);
+	free(ex);
+	return rc;
+}

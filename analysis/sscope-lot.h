@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/**
+ * @file sscope-lot.h
+ * @brief Many units of one model: the population mean of a quantity, the
+ *        true spread between units, and the units that stand out.
+ *
+ * Each unit i gives an estimate y_i of the quantity (a noise term, a bias)
+ * and its own standard error s_i (from its interval).  The random-effects
+ * model y_i = mu + u_i + e_i, u_i ~ N(0, tau^2), e_i ~ N(0, s_i^2)
+ * separates the spread between units (tau) from each unit's measurement
+ * uncertainty (s_i), which the plain standard deviation of the y_i mixes.
+ *
+ * - tau^2 by restricted maximum likelihood (REML, Fisher scoring from the
+ *   DerSimonian-Laird value; W. Viechtbauer, "Bias and efficiency of
+ *   meta-analytic variance estimators in the random-effects model",
+ *   J. Educ. Behav. Stat. 30, 261-293, 2005);
+ * - its interval by the Q-profile method: the generalised Q statistic
+ *   sum w_i (y_i - mu_w)^2, w_i = 1 / (s_i^2 + tau^2), is chi-squared with
+ *   k - 1 degrees of freedom at the true tau^2 and decreases with tau^2,
+ *   so the interval is where it lies between the chi-squared quantiles:
+ *   exact under the model (W. Viechtbauer, "Confidence intervals for the
+ *   amount of heterogeneity in meta-analysis", Stat. Med. 26, 37-52, 2007);
+ * - mu, weighted by 1 / (s_i^2 + tau^2), its interval by Hartung and
+ *   Knapp's t interval with k - 1 degrees of freedom (J. Hartung,
+ *   G. Knapp, Stat. Med. 20, 3875-3889, 2001);
+ * - outliers by a robust z, z_i = (y_i - mu) / sqrt(s_i^2 + tau^2), with
+ *   mu and tau (REML) of the units that do not stand out beyond the
+ *   family-wise level (the per-unit rate / k, Bonferroni), found from the
+ *   median and the median absolute deviation and refined until that set
+ *   settles: the outliers do not widen the yardstick that tests them, and
+ *   the yardstick is not trimmed by units a per-unit test flags by
+ *   chance.  A unit is flagged when |z| exceeds the normal quantile of
+ *   the per-unit false-alarm rate.  The mean, tau and their intervals are
+ *   those of the units within the family-wise level (unless asked to keep
+ *   every unit).
+ */
+#ifndef SSCOPE_LOT_H
+#define SSCOPE_LOT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "sscope-core.h"
+
+/** Options of sscope_lot_spread(); zero means the default. */
+struct sscope_lot_opts {
+	double level;         /**< interval level (0: 0.90) */
+	double outlier_alpha; /**< per-unit false-alarm rate of the outlier
+				   test, two-sided (0: 0.01) */
+	bool keep_outliers;   /**< estimate the spread with every unit in
+				   (default: without those beyond the
+				   family-wise level) */
+};
+
+/** A lot's spread of one quantity (units of the y_i). */
+struct sscope_lot_spread {
+	size_t k;             /**< units given */
+	size_t k_used;        /**< units in the estimates (k less those
+				   beyond the family-wise level, unless
+				   kept) */
+	double level;         /**< level of the intervals */
+	double mean;          /**< population mean mu */
+	double mean_lo, mean_hi; /**< its Hartung-Knapp interval */
+	double between_sd;    /**< tau (REML), 0 when the data show none */
+	double between_lo, between_hi; /**< its Q-profile interval (lo 0 when
+					    the data are consistent with no
+					    spread at the lower quantile) */
+	double total_sd;      /**< plain standard deviation of the y_i */
+	double q;             /**< Cochran's Q about the fixed-effect mean */
+	double q_p;           /**< its chi-squared p-value (k - 1 dof):
+				   small when units differ beyond their
+				   own uncertainty */
+	double i2;            /**< Higgins' I^2: tau^2 / (tau^2 + typical
+				   s^2), 0..1 */
+	size_t n_outliers;    /**< units flagged */
+	double outlier_z;     /**< the |z| a unit must exceed */
+};
+
+/**
+ * The spread of @p y (k estimates, stride 1) over a lot, each with its
+ * standard error @p se (> 0).  @p z (k values, may be NULL) receives each
+ * unit's robust z and @p outlier (k flags, may be NULL) whether it is
+ * flagged.
+ * @return 0; -EINVAL (NULL y, se or out; an option out of range);
+ *         -EDOM (fewer than 3 units, a non-finite value, a standard
+ *         error not > 0); -ENOMEM.
+ */
+int sscope_lot_spread(const double *y, const double *se, size_t k,
+		      const struct sscope_lot_opts *opts,
+		      struct sscope_lot_spread *out, double *z, bool *outlier);
+
+#endif

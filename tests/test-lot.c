@@ -1,0 +1,195 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * The spread of a quantity over a lot (analysis/sscope-lot.h): the
+ * balanced case against its closed forms worked by hand here (REML is the
+ * ANOVA estimator truncated at 0, the Q profile inverts in closed form,
+ * Hartung-Knapp is Student's t interval), a large common offset, the
+ * errors, the coverage of the intervals over simulated lots and the
+ * outlier test on planted outliers.
+ */
+#include "config.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "check-main.h"
+#include "sensorscope.h"
+
+static double rel(double a, double b)
+{
+	return fabs(a - b) / fabs(b);
+}
+
+/*
+ * Five units, each with se 0.5, y = 1, 2, 4, 3, 5:
+ * mean 3, sum (y - 3)^2 = 4 + 1 + 1 + 0 + 4 = 10, sample variance 2.5;
+ * tau^2 = 2.5 - 0.25 = 2.25, tau = 1.5;
+ * weights 1 / (0.25 + 2.25) = 0.4, Hartung-Knapp variance
+ * (0.4 * 10) / 4 / (5 * 0.4) = 0.5, t(4) at 0.95 = 2.131847 (table):
+ * 3 -+ 2.131847 * 0.7071068 = 3 -+ 1.507443;
+ * Q profile at 90 %: Q(t2) = 10 / (0.25 + t2), chi-squared(4) quantiles
+ * 9.487729 (0.95) and 0.710723 (0.05) (table): lo t2 = 10 / 9.487729 -
+ * 0.25 = 0.803993, tau 0.896655; hi t2 = 10 / 0.710723 - 0.25 = 13.820227,
+ * tau 3.717557;
+ * Cochran's Q with weights 4: 40; I^2 = 2.25 / (2.25 + 0.25) = 0.9.
+ */
+START_TEST(test_balanced)
+{
+	const double y[5] = { 1, 2, 4, 3, 5 }, se[5] = { 0.5, 0.5, 0.5, 0.5, 0.5 };
+	struct sscope_lot_spread r;
+
+	ck_assert_int_eq(sscope_lot_spread(y, se, 5, NULL, &r, NULL, NULL), 0);
+	ck_assert_uint_eq(r.k, 5);
+	ck_assert(rel(r.between_sd, 1.5) < 1e-9);
+	ck_assert(rel(r.mean, 3) < 1e-12);
+	ck_assert(rel(r.mean_lo, 3 - 1.507443) < 1e-6);
+	ck_assert(rel(r.mean_hi, 3 + 1.507443) < 1e-6);
+	ck_assert(rel(r.between_lo, 0.896655) < 1e-5);
+	ck_assert(rel(r.between_hi, 3.717557) < 1e-5);
+	ck_assert(rel(r.q, 40) < 1e-12);
+	ck_assert(rel(r.i2, 0.9) < 1e-9);
+	ck_assert(rel(r.total_sd, sqrt(2.5)) < 1e-12);
+	ck_assert(rel(r.level, 0.90) < 1e-15);
+}
+END_TEST
+
+/* units that agree within their own uncertainty: no spread, lower end 0
+ * (sum (y - mean)^2 = 0.08 over 4 dof: variance 0.02 < se^2 = 1) */
+START_TEST(test_no_spread)
+{
+	const double y[5] = { 0.1, -0.1, 0.0, 0.2, -0.2 }, se[5] = { 1, 1, 1, 1, 1 };
+	struct sscope_lot_spread r;
+
+	ck_assert_int_eq(sscope_lot_spread(y, se, 5, NULL, &r, NULL, NULL), 0);
+	ck_assert(r.between_sd == 0);
+	ck_assert(r.between_lo == 0);
+	ck_assert(r.between_hi == 0); /* Q(0) = 0.1 < 0.710723 */
+	ck_assert(r.i2 == 0);
+	ck_assert_uint_eq(r.n_outliers, 0);
+}
+END_TEST
+
+/* a large common offset loses nothing: the same spread as without it */
+START_TEST(test_offset)
+{
+	double y[5] = { 1, 2, 4, 3, 5 }, se[5] = { 0.5, 0.6, 0.7, 0.4, 0.5 };
+	struct sscope_lot_spread a, b;
+
+	ck_assert_int_eq(sscope_lot_spread(y, se, 5, NULL, &a, NULL, NULL), 0);
+	for (int i = 0; i < 5; i++)
+		y[i] += 1e9;
+	ck_assert_int_eq(sscope_lot_spread(y, se, 5, NULL, &b, NULL, NULL), 0);
+	ck_assert(rel(b.between_sd, a.between_sd) < 1e-9);
+	ck_assert(rel(b.between_hi, a.between_hi) < 1e-9);
+	ck_assert(rel(b.mean - 1e9, a.mean) < 1e-7);
+}
+END_TEST
+
+START_TEST(test_errors)
+{
+	const double y[3] = { 1, 2, 3 }, se[3] = { 1, 1, 1 };
+	double bad[3] = { 1, NAN, 3 }, zero[3] = { 1, 0, 1 };
+	struct sscope_lot_spread r;
+	struct sscope_lot_opts o = { .level = 1.0 };
+
+	ck_assert_int_eq(sscope_lot_spread(y, se, 2, NULL, &r, NULL, NULL), -EDOM);
+	ck_assert_int_eq(sscope_lot_spread(bad, se, 3, NULL, &r, NULL, NULL), -EDOM);
+	ck_assert_int_eq(sscope_lot_spread(y, zero, 3, NULL, &r, NULL, NULL), -EDOM);
+	ck_assert_int_eq(sscope_lot_spread(NULL, se, 3, NULL, &r, NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_lot_spread(y, se, 3, &o, &r, NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_lot_spread(y, se, 3, NULL, &r, NULL, NULL), 0);
+}
+END_TEST
+
+/*
+ * 400 lots of 30 units, tau 1, each unit's se uniform in 0.3..2: the 90 %
+ * intervals of tau and of the mean hold the truth in 0.90 of the lots
+ * (binomial sd 1.5 points: checked within 4.5).
+ */
+START_TEST(test_coverage)
+{
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	double y[30], se[30];
+	int cov_t = 0, cov_m = 0;
+	const int lots = 400;
+
+	gsl_rng_set(g, 34);
+	for (int l = 0; l < lots; l++) {
+		struct sscope_lot_spread r;
+
+		for (int i = 0; i < 30; i++) {
+			se[i] = 0.3 + 1.7 * gsl_rng_uniform(g);
+			y[i] = 5 + gsl_ran_gaussian(g, 1) + gsl_ran_gaussian(g, se[i]);
+		}
+		ck_assert_int_eq(sscope_lot_spread(y, se, 30, NULL, &r, NULL, NULL), 0);
+		cov_t += r.between_lo <= 1 && 1 <= r.between_hi;
+		cov_m += r.mean_lo <= 5 && 5 <= r.mean_hi;
+	}
+	ck_assert_msg(fabs((double)cov_t / lots - 0.90) < 0.045, "tau covered %d of %d", cov_t, lots);
+	ck_assert_msg(fabs((double)cov_m / lots - 0.90) < 0.045, "mean covered %d of %d", cov_m, lots);
+	gsl_rng_free(g);
+}
+END_TEST
+
+/* 100 units, three planted 10 sd out: all three flagged, few others */
+START_TEST(test_outliers)
+{
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	double y[100], se[100], z[100];
+	bool fl[100];
+	struct sscope_lot_spread r;
+	size_t others = 0;
+
+	gsl_rng_set(g, 35);
+	for (int i = 0; i < 100; i++) {
+		se[i] = 0.5;
+		y[i] = gsl_ran_gaussian(g, 1) + gsl_ran_gaussian(g, se[i]);
+	}
+	y[10] += 10 * sqrt(1.25);
+	y[50] -= 10 * sqrt(1.25);
+	y[90] += 10 * sqrt(1.25);
+	ck_assert_int_eq(sscope_lot_spread(y, se, 100, NULL, &r, z, fl), 0);
+	ck_assert(fl[10] && fl[50] && fl[90]);
+	for (int i = 0; i < 100; i++)
+		others += fl[i] && i != 10 && i != 50 && i != 90;
+	ck_assert_msg(others <= 4, "%zu units flagged besides the three", others);
+	ck_assert_uint_eq(r.n_outliers, others + 3);
+	ck_assert(rel(r.outlier_z, 2.5758293) < 1e-6); /* Phi^-1(0.995), table */
+	ck_assert(z[50] < -r.outlier_z);
+	/* the spread is that of the 97 others: 10 sd units are beyond the
+	 * family-wise level (Phi^-1(1 - 0.01 / 200) = 3.89); kept, they
+	 * widen it */
+	ck_assert_uint_eq(r.k_used, 97);
+	/* tau 1 from 97 units with se 0.5: sd of the estimate about 0.08 */
+	ck_assert_msg(fabs(r.between_sd - 1) < 0.3, "tau %g", r.between_sd);
+	{
+		struct sscope_lot_opts o = { .keep_outliers = true };
+		struct sscope_lot_spread all;
+
+		ck_assert_int_eq(sscope_lot_spread(y, se, 100, &o, &all, NULL, NULL), 0);
+		ck_assert_uint_eq(all.k_used, 100);
+		ck_assert(all.between_sd > 1.5 * r.between_sd);
+	}
+	gsl_rng_free(g);
+}
+END_TEST
+
+static Suite *make_suite(void)
+{
+	Suite *s = suite_create("lot");
+	TCase *tc = tcase_create("core");
+
+	tcase_add_test(tc, test_balanced);
+	tcase_add_test(tc, test_no_spread);
+	tcase_add_test(tc, test_offset);
+	tcase_add_test(tc, test_errors);
+	tcase_add_test(tc, test_coverage);
+	tcase_add_test(tc, test_outliers);
+	tcase_set_timeout(tc, 60);
+	suite_add_tcase(s, tc);
+	return s;
+}
