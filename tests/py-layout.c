@@ -529,5 +529,25 @@ int main(void)
 	F(sscope_datasheet_check, fit_rejected);
 	S(sscope_datasheet_opts);
 	F(sscope_datasheet_opts, level);
+	S(sscope_lot_opts);
+	F(sscope_lot_opts, level);
+	F(sscope_lot_opts, outlier_alpha);
+	F(sscope_lot_opts, keep_outliers);
+	S(sscope_lot_spread);
+	F(sscope_lot_spread, k);
+	F(sscope_lot_spread, k_used);
+	F(sscope_lot_spread, level);
+	F(sscope_lot_spread, mean);
+	F(sscope_lot_spread, mean_lo);
+	F(sscope_lot_spread, mean_hi);
+	F(sscope_lot_spread, between_sd);
+	F(sscope_lot_spread, between_lo);
+	F(sscope_lot_spread, between_hi);
+	F(sscope_lot_spread, total_sd);
+	F(sscope_lot_spread, q);
+	F(sscope_lot_spread, q_p);
+	F(sscope_lot_spread, i2);
+	F(sscope_lot_spread, n_outliers);
+	F(sscope_lot_spread, outlier_z);
 	return 0;
 }

@@ -547,6 +547,30 @@ with tempfile.TemporaryDirectory() as td:
     ok(c[0]["value"] is None and c[0]["verdict"] == "inconclusive" and
        c[0]["why"], "datasheet_check: not measurable is None, not 0", c)
 
+# ---------------------------------------------------------------- lot
+# five units with se 0.5, values 1 2 4 3 5: tau^2 = 10/4 - 0.25 = 2.25 by
+# hand (REML of a balanced lot), mean 3, Q-profile 90 % upper end
+# sqrt(10 / 0.710723 - 0.25) = 3.717557 (chi-squared(4) table)
+r = ss.lot_spread([1, 2, 4, 3, 5], [0.5] * 5)
+ok(rel(r["between_sd"], 1.5) < 1e-9 and rel(r["mean"], 3) < 1e-12 and
+   rel(r["between_hi"], 3.717557) < 1e-5 and r["outliers"] == [] and
+   r["k_used"] == 5, "lot_spread: a balanced lot by hand", r)
+# a unit 10 sd out is flagged and left out of the spread
+rng = np.random.default_rng(34)
+vals = rng.normal(size=60) + rng.normal(scale=0.5, size=60)
+vals[7] += 10 * math.sqrt(1.25)
+r = ss.lot_spread(vals, np.full(60, 0.5))
+ok(7 in r["outliers"] and r["k_used"] == 59 and abs(r["z"][7]) > 5,
+   "lot_spread: a planted outlier flagged and left out", r["outliers"])
+for args, why in ((([1, 2], [1, 1]), "two units"),
+                  (([1, 2, 3], [1, 0, 1]), "a zero standard error"),
+                  (([1, 2, 3], [1, 1]), "mismatched lengths")):
+    try:
+        ss.lot_spread(*args)
+        ok(False, "lot_spread refuses " + why)
+    except ss.ArgumentError:
+        ok(True, "lot_spread refuses " + why)
+
 # ---------------------------------------------------------------- install
 # `make install` puts the module where the interpreter looks for the
 # prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)

@@ -23,6 +23,7 @@ its functions with its signatures and return values (sensorscope.compat).
 """
 
 import ctypes as C
+import errno
 import math
 import numbers
 import threading
@@ -1346,3 +1347,47 @@ def datasheet_check(x, rate, lines, quantity="angular rate",
 
 
 __all__ += ["datasheet_terms", "datasheet_gjb", "datasheet_check"]
+
+
+# ------------------------------------------------------------ lot
+def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
+               keep_outliers=False):
+    """The spread of a quantity over a lot of units: `values` (one estimate
+    per unit) with their standard errors `se` (> 0), in the random-effects
+    model value = mean + unit effect (sd `between_sd`) + measurement error
+    (sd se).  Returns a dict: "mean" with its Hartung-Knapp interval
+    ("mean_lo", "mean_hi"), "between_sd" (REML) with its Q-profile interval
+    ("between_lo", "between_hi"), "total_sd" (the plain sd of the values),
+    Cochran's "q" and "q_p", "i2", the robust "z" of each unit and the
+    indices of the "outliers" flagged at `outlier_alpha` per unit; the
+    estimates leave out the units beyond the family-wise level ("k_used"
+    of "k") unless `keep_outliers` (as sscope_lot_spread())."""
+    fn = "lot_spread"
+    y = np.ascontiguousarray(values, dtype=float).ravel()
+    s = np.ascontiguousarray(se, dtype=float).ravel()
+    if y.size != s.size:
+        _bad(fn, "se", "one standard error per value (%d values, %d errors)"
+             % (y.size, s.size))
+    o = _c.LotOpts()
+    o.level = float(level)
+    o.outlier_alpha = float(outlier_alpha)
+    o.keep_outliers = bool(keep_outliers)
+    r = _c.LotSpread()
+    z = np.empty(y.size)
+    fl = (C.c_bool * max(1, y.size))()
+    dp = C.POINTER(C.c_double)
+    rc = _c.lot_spread(y.ctypes.data_as(dp), s.ctypes.data_as(dp), y.size,
+                       C.byref(o), C.byref(r), z.ctypes.data_as(dp), fl)
+    if not (0 < o.level < 1 and 0 < o.outlier_alpha < 1):
+        _bad(fn, "level", "level and outlier_alpha must be in (0, 1)")
+    if rc == -errno.EDOM:
+        _bad(fn, "values", "at least 3 units, every value finite and every "
+             "se > 0")
+    _check(rc, None, fn)
+    out = {k: getattr(r, k) for k, _t in _c.LotSpread._fields_}
+    out["z"] = z
+    out["outliers"] = [i for i in range(y.size) if fl[i]]
+    return out
+
+
+__all__ += ["lot_spread"]

@@ -551,3 +551,28 @@ datasheet_check = _fn("sscope_datasheet_check", C.c_int, c_dptr, c_size,
                       C.POINTER(Diag))
 datasheet_verdict_name = _fn("sscope_datasheet_verdict_name", C.c_char_p,
                              C.c_int)
+
+
+# ------------------------------------------------ lot statistics
+class LotOpts(C.Structure):
+    _fields_ = [("level", c_dbl), ("outlier_alpha", c_dbl),
+                ("keep_outliers", C.c_bool)]
+
+
+class LotSpread(C.Structure):
+    _fields_ = [("k", c_size), ("k_used", c_size), ("level", c_dbl),
+                ("mean", c_dbl), ("mean_lo", c_dbl), ("mean_hi", c_dbl),
+                ("between_sd", c_dbl), ("between_lo", c_dbl),
+                ("between_hi", c_dbl), ("total_sd", c_dbl), ("q", c_dbl),
+                ("q_p", c_dbl), ("i2", c_dbl), ("n_outliers", c_size),
+                ("outlier_z", c_dbl)]
+
+
+STRUCTS.update({
+    "sscope_lot_opts": LotOpts,
+    "sscope_lot_spread": LotSpread,
+})
+
+lot_spread = _fn("sscope_lot_spread", C.c_int, c_dptr, c_dptr, c_size,
+                 C.POINTER(LotOpts), C.POINTER(LotSpread), c_dptr,
+                 C.POINTER(C.c_bool))
