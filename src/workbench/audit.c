@@ -496,6 +496,11 @@ static void check_pair(struct audit *a, const struct slot *n, const struct slot 
 			 s ? "m/s^2" : "rad/s");
 		return;
 	}
+	/* the file states what the field holds (sensorscope's exports say
+	 * "K" and "continuous time" beside it) or that the value is only a
+	 * bound, which may be large: the ratio proves nothing */
+	if (declared || strstr(w->l->note, "UPPER BOUND"))
+		return;
 	if (tc < TAU_C_LO) {
 		f = add(a, k, w->l->no, true, "bias_instability_in_random_walk", (double)NAN,
 			unit_si[s][1]);
@@ -610,10 +615,12 @@ static int audit(struct audit *a, double opt_rate)
 	for (int s = 0; s < 2; s++) {
 		const char *p = a->fmt == F_IMU_UTILS ? (s ? "Acc.avg-axis" : "Gyr.avg-axis") : path;
 
-		/* a comment stating that *_w is the random walk K (sensorscope's
-		 * imu_utils export, or an edited file) */
+		/* a comment stating that the random-walk field is K
+		 * (sensorscope's exports, or an edited file) */
 		for (size_t i = 0; i < a->n; i++)
-			if (strstr(a->ln[i].note, s ? "acc_w = K" : "gyr_w = K"))
+			if (strstr(a->ln[i].note, s ? "acc_w = K" : "gyr_w = K") ||
+			    strstr(a->ln[i].note, s ? "accelerometer K per axis" :
+				   "gyro K per axis"))
 				declared[s] = true;
 		for (int t = 0; t < 2; t++) {
 			const struct line *l = find(a, a->fmt == F_IMU_UTILS ?
