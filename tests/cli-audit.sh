@@ -101,6 +101,12 @@ json_check "missing update_rate: corrected by --rate" "$T/out" '.findings[] | se
 run "zero --strict" 1 audit --strict zero.yaml
 has "--strict still reports" "$T/out" '^zero.yaml:1: accelerometer_noise_density: 0 is never a valid noise value'
 
+# update_rate 400 for an IMU at 100 Hz (--rate): corrected 100
+run "rate mismatch" 0 audit --format json --rate 100 avr.yaml
+json_check "update_rate 400 vs 100: rate_mismatch" "$T/out" '(.findings | length) == 1 and .findings[0].problem == "rate_mismatch" and .findings[0].line == 10 and .findings[0].corrected == 100 and .update_rate_hz == 100 and .rate_from == "--rate"'
+run "rate agrees" 0 audit --format json --rate 400.0 avr.yaml
+json_check "update_rate 400 = --rate 400: clean" "$T/out" '.clean and .rate_from == "file"'
+
 # sigma sqrt(f) with the continuous value beside it (error): at 200 Hz,
 # 1.767767e-4 x 14.142136 = 2.5e-3; the random walk 2.0e-6 is the
 # continuous 2.828427e-5 over sqrt(200) (Kalibr's discrete bias step)

@@ -9,7 +9,7 @@
 
 static const struct ssc_option audit_opts[] = {
 	{ "rate", required_argument, 'r', "HZ",
-	  "the IMU's rate when the file gives none (imu_utils files never do)" },
+	  "the IMU's rate: used when the file gives none (imu_utils never does), a finding when update_rate differs" },
 	{ "strict", no_argument, 300, NULL,
 	  "exit 1 when there are findings (for CI); the report is written all the same" },
 	{ NULL, 0, 0, NULL, NULL },

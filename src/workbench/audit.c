@@ -549,6 +549,22 @@ static void check_rate(struct audit *a, const char *path, double opt_rate)
 			a->rate = v;
 			a->rate_from = "file";
 		}
+		if (opt_rate > 0 && isfinite(a->rate) &&
+		    fabs(a->rate - opt_rate) > 0.01 * opt_rate) {
+			char r1[32], r2[32];
+
+			keyname(a, l, k, sizeof(k));
+			f = add(a, k, l->no, false, "rate_mismatch", opt_rate, "Hz");
+			if (f)
+				snprintf(f->msg, sizeof(f->msg),
+					 "%s Hz is not the IMU's rate %s Hz (--rate): Kalibr discretises the densities with update_rate, so every per-sample noise it derives is off by sqrt(%s / %s)",
+					 ssc_fmt(r1, sizeof(r1), a->rate, 6),
+					 ssc_fmt(r2, sizeof(r2), opt_rate, 6), r2, r1);
+		}
+		if (opt_rate > 0 && !(a->rate == opt_rate)) {
+			a->rate = opt_rate;
+			a->rate_from = "--rate";
+		}
 		return;
 	}
 	snprintf(k, sizeof(k), "%s%supdate_rate", path, path[0] ? "." : "");
