@@ -53,6 +53,8 @@ static const struct command commands[] = {
 	  ssc_cmd_navsim },
 	{ "datasheet", "datasheet lines as IEEE 952 terms and back; a capture's verdicts",
 	  ssc_cmd_datasheet },
+	{ "audit", "other tools' IMU noise files: convention errors, corrected values",
+	  ssc_cmd_audit },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))
