@@ -118,29 +118,6 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 					   (struct ssc_ds_result **)result);
 }
 
-static json_t *json(const void *opts, const void *result)
-{
-	(void)opts;
-	return ssc_datasheet_result_json(result);
-}
-
-static void text(FILE *f, const void *opts, const void *result)
-{
-	(void)opts;
-	ssc_datasheet_result_text(f, result);
-}
-
-static void summary(json_t *rows, const void *opts, const void *result)
-{
-	(void)opts;
-	ssc_datasheet_result_summary(rows, result);
-}
-
-static void free_result(void *result)
-{
-	ssc_datasheet_result_free(result);
-}
-
 const struct ssc_stage_ops ssc_datasheet_stage = {
 	.spec = &spec,
 	.title = "Datasheet verdicts",
@@ -152,10 +129,10 @@ const struct ssc_stage_ops ssc_datasheet_stage = {
 	.handle = handler,
 	.check = check,
 	.run = run,
-	.json = json,
-	.text = text,
-	.summary = summary,
-	.free_result = free_result,
+	.json = ssc_datasheet_result_json,
+	.text = ssc_datasheet_result_text,
+	.summary = ssc_datasheet_result_summary,
+	.free_result = ssc_datasheet_result_free,
 };
 
 int ssc_cmd_datasheet(int argc, char **argv)

@@ -55,6 +55,8 @@ static const struct command commands[] = {
 	  ssc_cmd_datasheet },
 	{ "audit", "other tools' IMU noise files: convention errors, corrected values",
 	  ssc_cmd_audit },
+	{ "lot", "many units of one model: the spread of their noise terms, outliers",
+	  ssc_cmd_lot },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

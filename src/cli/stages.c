@@ -104,6 +104,13 @@ static const struct ssc_stage_def stages[S_COUNT_] = {
 			  "sd of non-overlapping means with a chi-squared interval): "
 			  "within spec only when the whole interval is below the "
 			  "line, out of spec when it is above, else inconclusive." },
+	[S_LOT] = { "lot", &ssc_lot_stage, 0, NULL,
+		    "Random effects over the units: each unit's term = mean + unit "
+		    "effect + its own error (sd from its 68.3 % interval); the "
+		    "between-unit sd by REML with its Q-profile interval "
+		    "(Viechtbauer 2007), the mean by Hartung-Knapp; outliers by a "
+		    "robust z against the units within the family-wise level, "
+		    "flagged at 1 % per unit and left out of the estimates." },
 };
 
 const struct ssc_stage_def *ssc_scene_graph(void)

@@ -614,18 +614,28 @@ int ssc_datasheet_check_capture(const char *cmd, const struct ssc_datasheet *ds,
 	return SSC_EXIT_OK;
 }
 
-json_t *ssc_datasheet_result_json(const struct ssc_ds_result *r)
+json_t *ssc_datasheet_result_json(const void *opts, const void *result)
 {
+	const struct ssc_ds_result *r = result;
+
+	(void)opts;
 	return verdict_json(r->ds, r->capture, r->level, r->ch, r->n_ch, r->count);
 }
 
-void ssc_datasheet_result_text(FILE *f, const struct ssc_ds_result *r)
+void ssc_datasheet_result_text(FILE *f, const void *opts, const void *result)
 {
+	const struct ssc_ds_result *r = result;
+
+	(void)opts;
 	verdict_text(f, r->ds, r->capture, r->level, r->ch, r->n_ch);
 }
 
-void ssc_datasheet_result_summary(json_t *rows, const struct ssc_ds_result *r)
+void ssc_datasheet_result_summary(json_t *rows, const void *opts,
+				  const void *result)
 {
+	const struct ssc_ds_result *r = result;
+
+	(void)opts;
 	for (size_t k = 0; k < r->n_ch; k++) {
 		const struct ssc_ds_section *sec = r->ch[k].sec;
 
@@ -647,8 +657,10 @@ void ssc_datasheet_result_summary(json_t *rows, const struct ssc_ds_result *r)
 	}
 }
 
-void ssc_datasheet_result_free(struct ssc_ds_result *r)
+void ssc_datasheet_result_free(void *result)
 {
+	struct ssc_ds_result *r = result;
+
 	if (r) {
 		free(r->ch);
 		free(r);

@@ -65,11 +65,13 @@ int ssc_datasheet_check_capture(const char *cmd, const struct ssc_datasheet *ds,
 				const struct sscope_capture *cap,
 				const char *capture, double level,
 				struct ssc_ds_result **out);
-json_t *ssc_datasheet_result_json(const struct ssc_ds_result *r);
-void ssc_datasheet_result_text(FILE *f, const struct ssc_ds_result *r);
-/* report rows: one per line checked, the verdict in the note (a line not
- * within spec marked as a warning) */
-void ssc_datasheet_result_summary(json_t *rows, const struct ssc_ds_result *r);
-void ssc_datasheet_result_free(struct ssc_ds_result *r);
+/* the stage's presenters (opts unused; result a struct ssc_ds_result);
+ * the report rows are one per line checked, the verdict in the note (a
+ * line not within spec marked as a warning) */
+json_t *ssc_datasheet_result_json(const void *opts, const void *result);
+void ssc_datasheet_result_text(FILE *f, const void *opts, const void *result);
+void ssc_datasheet_result_summary(json_t *rows, const void *opts,
+				  const void *result);
+void ssc_datasheet_result_free(void *result);
 
 #endif

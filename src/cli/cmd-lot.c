@@ -1,0 +1,96 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * sensorscope lot: many captures of one model, one unit each; the spread
+ * of their noise terms between units (src/workbench/lot.c presents,
+ * analysis/lot.c computes).
+ */
+#include "cli.h"
+
+#include <string.h>
+
+#include "lot.h"
+#include "stage.h"
+
+enum { O_LEVEL = 300 };
+
+static const struct ssc_option lot_opts[] = {
+	{ "ci", required_argument, O_LEVEL, "LEVEL",
+	  "level of the lot's intervals (default 0.90)" },
+	{ NULL, 0, 0, NULL, NULL },
+};
+
+static const struct ssc_command_spec spec = {
+	.name = "lot",
+	.usage = "lot [OPTIONS] FILE FILE FILE...",
+	.summary =
+		"Many units of one model, one capture each (at rest): every gyro and\n"
+		"accelerometer channel's N, B, K with their 68.3 % intervals, and per\n"
+		"channel and term the population mean, the spread between units\n"
+		"separated from each unit's own uncertainty (random effects: REML,\n"
+		"Q-profile interval) and the outlier units (robust z, 1 % per unit).",
+	.options = lot_opts,
+	.analysis = true,
+	.notes = "Example:\n"
+		 "  sensorscope lot --format json unit*.csv\n"
+		 "Exit status: 0 done, 1 a capture that cannot be read or analysed,\n"
+		 "2 usage (fewer than 3 captures).",
+};
+
+struct opts {
+	double level;
+};
+
+static void init(void *opts)
+{
+	((struct opts *)opts)->level = 0.90;
+}
+
+static int handler(int key, const char *arg, void *ctx)
+{
+	struct opts *o = ctx;
+
+	if (key != O_LEVEL)
+		return ssc_usage_error("lot", "unexpected option");
+	if (ssc_arg_double("lot", "ci", arg, &o->level))
+		return SSC_EXIT_USAGE;
+	return o->level > 0 && o->level < 1 ? 0 :
+		ssc_usage_error("lot", "--ci: a level between 0 and 1");
+}
+
+static int check(struct ssc_common *co, void *opts)
+{
+	(void)opts;
+	if (co->format == SSC_FMT_CSV)
+		return ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
+	return 0;
+}
+
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	const struct opts *o = opts;
+
+	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->n_caps, o->level,
+			   (struct ssc_lot_result **)result);
+}
+
+const struct ssc_stage_ops ssc_lot_stage = {
+	.spec = &spec,
+	.title = "Lot statistics",
+	.needs = SSC_NEED_DATA,
+	.min_files = 3,
+	.max_files = -1,
+	.opts_size = sizeof(struct opts),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+	.json = ssc_lot_json,
+	.text = ssc_lot_text,
+	.summary = ssc_lot_summary,
+	.free_result = ssc_lot_free,
+};
+
+int ssc_cmd_lot(int argc, char **argv)
+{
+	return ssc_stage_main(&ssc_lot_stage, argc, argv);
+}
