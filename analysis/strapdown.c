@@ -57,20 +57,16 @@ void sscope_strapdown_euler(const struct sscope_strapdown_state *s,
 	sscope_nav_euler_from_dcm(C, roll, pitch, yaw);
 }
 
-void sscope_strapdown_step2(struct sscope_strapdown_state *s,
-			    const double a1[3], const double a2[3],
-			    const double v1[3], const double v2[3], double dt)
+/* The body side of a two-sample update (Savage's two-sample forms): the
+ * rotation vector phi with its coning term, and the velocity increment dvb
+ * in the body axes at the start, rotation compensated and with its
+ * sculling term. */
+static void body_two_sample(const double a1[3], const double a2[3],
+			    const double v1[3], const double v2[3],
+			    double phi[3], double dvb[3])
 {
-	const double T = 2 * dt;
-	double a[3], dv[3], c[3], phi[3], dvb[3], C[3][3], fn[3];
-	double lat = s->lat_rad, h = s->height_m, *v = s->v_ned_m_s;
-	double lat_m = lat, h_m = h, vm[3] = { v[0], v[1], v[2] };
-	double vn[3], latn = lat, lonn = s->lon_rad, hn = h, zeta[3];
-	/* the Earth model at the old latitude, the mid point and the new
-	 * latitude (each computed once) */
-	struct sscope_nav_earth e0, em, en;
+	double a[3], dv[3], c[3];
 
-	/* body side: coning and sculling (Savage's two-sample forms) */
 	for (int i = 0; i < 3; i++) {
 		a[i] = a1[i] + a2[i];
 		dv[i] = v1[i] + v2[i];
@@ -107,6 +103,23 @@ void sscope_strapdown_step2(struct sscope_strapdown_state *s,
 		for (int i = 0; i < 3; i++)
 			dvb[i] += 2.0 / 3.0 * (s1[i] + s2[i]);
 	}
+}
+
+void sscope_strapdown_step2(struct sscope_strapdown_state *s,
+			    const double a1[3], const double a2[3],
+			    const double v1[3], const double v2[3], double dt)
+{
+	const double T = 2 * dt;
+	double phi[3], dvb[3], C[3][3], fn[3];
+	double lat = s->lat_rad, h = s->height_m, *v = s->v_ned_m_s;
+	double lat_m = lat, h_m = h, vm[3] = { v[0], v[1], v[2] };
+	double vn[3], latn = lat, lonn = s->lon_rad, hn = h, zeta[3];
+	/* the Earth model at the old latitude, the mid point and the new
+	 * latitude (each computed once) */
+	struct sscope_nav_earth e0, em, en;
+
+	/* body side: coning and sculling */
+	body_two_sample(a1, a2, v1, v2, phi, dvb);
 	sscope_nav_dcm_from_quat(s->q_bn, C);
 	for (int i = 0; i < 3; i++)
 		fn[i] = C[i][0] * dvb[0] + C[i][1] * dvb[1] + C[i][2] * dvb[2];
@@ -263,43 +276,13 @@ void sscope_strapdown_wander_step2(struct sscope_strapdown_wander *s,
 				   const struct sscope_strapdown_platform *pe)
 {
 	const double T = 2 * dt;
-	double a[3], dv[3], c[3], phi[3], dvb[3], C[3][3], fn[3];
+	double phi[3], dvb[3], C[3][3], fn[3];
 	double *v = s->v_w_m_s, h = s->height_m, h_m = h;
 	double vm[3] = { v[0], v[1], v[2] }, vn[3], hn = h, zeta[3];
 	double rho_m[3] = { 0, 0, 0 }, q_m[4], q_new[4];
 
-	for (int i = 0; i < 3; i++) {
-		a[i] = a1[i] + a2[i];
-		dv[i] = v1[i] + v2[i];
-	}
-	cross(a1, a2, c);
-	for (int i = 0; i < 3; i++)
-		phi[i] = a[i] + 2.0 / 3.0 * c[i];
-	{
-		double t2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2], k1, k2, cc[3];
-
-		if (t2 < 1e-6) {
-			k1 = 0.5 - t2 / 24 + t2 * t2 / 720;
-			k2 = 1.0 / 6 - t2 / 120 + t2 * t2 / 5040;
-		} else {
-			double t = sqrt(t2);
-
-			k1 = (1 - cos(t)) / t2;
-			k2 = (1 - sin(t) / t) / t2;
-		}
-		cross(a, dv, c);
-		cross(a, c, cc);
-		for (int i = 0; i < 3; i++)
-			dvb[i] = dv[i] + k1 * c[i] + k2 * cc[i];
-	}
-	{
-		double s1[3], s2[3];
-
-		cross(a1, v2, s1);
-		cross(v1, a2, s2);
-		for (int i = 0; i < 3; i++)
-			dvb[i] += 2.0 / 3.0 * (s1[i] + s2[i]);
-	}
+	/* body side: coning and sculling */
+	body_two_sample(a1, a2, v1, v2, phi, dvb);
 	sscope_nav_dcm_from_quat(s->q_bw, C);
 	for (int i = 0; i < 3; i++)
 		fn[i] = C[i][0] * dvb[0] + C[i][1] * dvb[1] + C[i][2] * dvb[2];
