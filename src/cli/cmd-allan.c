@@ -70,7 +70,7 @@ static const struct ssc_option allan_opts[] = {
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
 	  "relative error of the five-term model per point (default 0: none)" },
 	{ "stride", required_argument, OPT_STRIDE, "K",
-	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on huge records, lower EDF (reported)" },
+	  "strided-overlap estimator (oadev, ohdev): terms every m/K samples; faster on grids of many taus (--taus all), slower on octave and dense ones; lower EDF (reported)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
 	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
