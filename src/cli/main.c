@@ -118,12 +118,6 @@ int main(int argc, char **argv)
 		if (!strcmp(argv[1], commands[i].name)) {
 			/* info starts no OpenMP thread: not run twice */
 			ssc_omp_wait_passive(argv, commands[i].run != ssc_cmd_info);
-			/* a thread that shares its core with another busy
-			 * process holds up the rest of its team at every
-			 * barrier: by default, only the cores free now
-			 * (--threads and OMP_NUM_THREADS decide otherwise) */
-			if (!getenv("OMP_NUM_THREADS"))
-				ssc_threads_default(ssc_cores_free());
 			rc = commands[i].run(argc - 1, argv + 1);
 			/* help, plans and summaries printed on stdout */
 			if (ssc_stdout_finish(commands[i].name) && !rc)

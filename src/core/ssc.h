@@ -145,10 +145,4 @@ int ssc_adc_spec_from_ini(const struct ssc_ini *ini, const char *section,
 }
 #endif
 
-/* The processors free now (those this process may use, less the other
- * runnable tasks), at least 1; and the default team size of every later
- * parallel region that is given none (OpenMP's; 0 leaves it). */
-unsigned ssc_cores_free(void);
-void ssc_threads_default(unsigned n);
-
 #endif /* SSC_SSC_H */

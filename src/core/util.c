@@ -4,15 +4,11 @@
  */
 #include "internal.h"
 
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <unistd.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 const char *sscope_version(void)
 {
@@ -211,44 +207,4 @@ int ssc_cmp_double(const void *a, const void *b)
 	double x = *(const double *)a, y = *(const double *)b;
 
 	return (x > y) - (x < y);
-}
-
-/*
- * The cores free at this moment: the processors this process may run on,
- * less the tasks the kernel counts as runnable besides the caller (the
- * fourth field of /proc/loadavg, "running/total", counts the reader
- * itself).  A moment's count, not an average: a compiler or another
- * analysis that runs now takes its core for the next seconds too.
- */
-unsigned ssc_cores_free(void)
-{
-	long n = sysconf(_SC_NPROCESSORS_ONLN);
-	unsigned long running = 0;
-	FILE *f;
-	cpu_set_t set;
-
-	if (sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0 &&
-	    CPU_COUNT(&set) < n)
-		n = CPU_COUNT(&set);
-	if (n < 1)
-		n = 1;
-	f = fopen("/proc/loadavg", "r");
-	if (f) {
-		if (fscanf(f, "%*s %*s %*s %lu/", &running) != 1)
-			running = 0;
-		fclose(f);
-	}
-	if (running > 1 && running - 1 < (unsigned long)n)
-		return (unsigned)(n - (long)(running - 1));
-	return running > 1 ? 1 : (unsigned)n;
-}
-
-void ssc_threads_default(unsigned n)
-{
-#ifdef _OPENMP
-	if (n > 0)
-		omp_set_num_threads((int)n);
-#else
-	(void)n;
-#endif
 }
