@@ -52,6 +52,10 @@ has "text: unit 8 inconclusive" "$T/out" '^unit8\.csv: gx N inconclusive;'
 # a datasheet file as limits (the N line, B from the in-run bias stability)
 run "a datasheet as limits" 0 lot --format json --spec "$SAMPLES/datasheets/kvh-dsp-1760.ini" "$T"/unit[1-3].csv
 json_check "datasheet: N out of spec for every unit" "$T/out" '.between[] | select(.term == "N") | .out_of_spec == 3'
+# a datasheet with two N lines: the first by kind (noise density) is the
+# limit, the other and the accelerometer's lines are listed as not checked
+run "datasheet: lines not checked" 0 lot --format json --spec "$SAMPLES/datasheets/adis16448.ini" "$T"/unit[1-3].csv
+json_check "datasheet: not checked listed" "$T/out" '.spec.not_checked == ["[gyro] random_walk", "[accel] random_walk", "[accel] noise_density"] and (.between[] | select(.term == "N") | .limit - 0.81 | fabs) < 1e-9'
 printf '[gyro]\nrandom_walk = 3 deg/sqrt(h)\nbias_wobble = 3 deg/h\n' >"$T/bad1.ini"
 run "limits: an unknown key" 1 lot --spec "$T/bad1.ini" "$T"/unit[1-3].csv
 one_line_error "limits: an unknown key"

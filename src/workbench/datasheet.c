@@ -262,10 +262,9 @@ static void section_terms(const struct ssc_ds_section *sec, double t[3],
 		}
 }
 
-void ssc_datasheet_terms(const struct ssc_ds_section *sec, double t[3])
+void ssc_datasheet_terms(const struct ssc_ds_section *sec, double t[3],
+			 int from[3])
 {
-	int from[3];
-
 	section_terms(sec, t, from);
 }
 

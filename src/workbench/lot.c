@@ -146,8 +146,9 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 	for (size_t s = 0; r->spec && s < r->spec->n_sec; s++)
 		if (r->spec->sec[s].quantity == r->q[c]) {
 			double lim[3];
+			int from[3];
 
-			ssc_datasheet_terms(&r->spec->sec[s], lim);
+			ssc_datasheet_terms(&r->spec->sec[s], lim, from);
 			for (size_t t = 0; t < 3; t++) {
 				r->term[c * 3 + t].limit = lim[t];
 				any |= isfinite(lim[t]);
@@ -363,12 +364,16 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 
 		for (size_t c = 0; c < r->n_chan; c++)
 			chan |= r->q[c] == ds->sec[s].quantity;
+		double lim[3];
+		int from[3];
+
+		ssc_datasheet_terms(&ds->sec[s], lim, from);
 		for (size_t j = 0; j < ds->sec[s].n; j++) {
 			const struct sscope_datasheet_spec *sp = &ds->sec[s].spec[j];
-			double f;
 			char line[96];
 
-			if (chan && !sscope_datasheet_factor(sp->line, sp->bandwidth_hz, &f))
+			/* checked: the line a term's limit comes from */
+			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j))
 				continue;
 			snprintf(line, sizeof(line), "[%s] %s", ds->sec[s].name,
 				 sscope_datasheet_info(sp->line)->key);
@@ -532,6 +537,17 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 
 	fprintf(f, "\nagainst the limits of %s (%s): each unit's %s %% interval (an upper bound where its fit does not show the term) below the limit: within spec, above: out of spec, else inconclusive\n",
 		r->spec->name, r->spec->path, ssc_fmt(a, sizeof(a), 100 * SSC_LOT_SPEC_LEVEL, 3));
+	{
+		json_t *sj = spec_json(r), *nc = json_object_get(sj, "not_checked");
+
+		if (json_array_size(nc))
+			fprintf(f, "not checked (no channel of its kind, no N, B or K, or another line gives the term):");
+		for (size_t i = 0; i < json_array_size(nc); i++)
+			fprintf(f, "%s %s", i ? "," : "", json_string_value(json_array_get(nc, i)));
+		if (json_array_size(nc))
+			fprintf(f, "\n");
+		json_decref(sj);
+	}
 	fprintf(f, "%-8s %-4s %-16s %-10s %-7s %-7s %-13s %s\n", "channel", "term", "unit", "limit",
 		"within", "out", "inconclusive", "Cpk (one-sided) [interval]");
 	for (size_t c = 0; c < r->n_chan; c++)
