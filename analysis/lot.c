@@ -331,3 +331,51 @@ done:
 	free(ex);
 	return rc;
 }
+
+int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
+		   double level, struct sscope_lot_cpk *out)
+{
+	struct sscope_lot_opts o = { .keep_outliers = true };
+	struct sscope_lot_spread sp;
+	struct ssc_ksum sw = { 0, 0 }, sw2 = { 0, 0 };
+	double typ, z, var;
+	int rc;
+
+	if (!y || !se || !out || !isfinite(usl))
+		return -EINVAL;
+	if (level == 0)
+		level = 0.90;
+	if (!(level > 0 && level < 1))
+		return -EINVAL;
+	o.level = level;
+	rc = sscope_lot_spread(y, se, k, &o, &sp, NULL, NULL);
+	if (rc)
+		return rc;
+	for (size_t i = 0; i < k; i++) {
+		double w = 1 / (se[i] * se[i]);
+
+		ssc_ksum_add(&sw, w);
+		ssc_ksum_add(&sw2, w * w);
+	}
+	/* typical within-unit variance (Higgins and Thompson): the common
+	 * se^2 when all are equal */
+	typ = (double)(k - 1) * ssc_ksum_value(&sw) /
+	      (ssc_ksum_value(&sw) * ssc_ksum_value(&sw) - ssc_ksum_value(&sw2));
+	memset(out, 0, sizeof(*out));
+	out->n = k;
+	out->level = level;
+	out->usl = usl;
+	out->mean = sp.mean;
+	out->between_sd = sp.between_sd;
+	out->within_sd = sqrt(typ);
+	out->sigma = sqrt(sp.between_sd * sp.between_sd + typ);
+	if (!(out->sigma > 0) || !isfinite(out->sigma))
+		return -EDOM;
+	out->cpk = (usl - sp.mean) / (3 * out->sigma);
+	/* Bissell (1990): var(Cpk) ~ 1 / (9 n) + Cpk^2 / (2 (n - 1)) */
+	var = 1 / (9.0 * (double)k) + out->cpk * out->cpk / (2.0 * (double)(k - 1));
+	z = gsl_cdf_ugaussian_Pinv(0.5 + level / 2);
+	out->lo = out->cpk - z * sqrt(var);
+	out->hi = out->cpk + z * sqrt(var);
+	return 0;
+}

@@ -33,6 +33,18 @@
  *   the per-unit false-alarm rate.  The mean, tau and their intervals are
  *   those of the units within the family-wise level (unless asked to keep
  *   every unit).
+ *
+ * Against an upper specification limit USL, the lot's process capability
+ * Cpu = (USL - mean) / (3 sigma) (the one-sided Cpk), with the population
+ * sd sigma = sqrt(tau^2 + s^2) of the values a test of one unit measures:
+ * the between-unit sd tau combined with the typical within-unit standard
+ * error s (Higgins and Thompson's typical within-study variance,
+ * s^2 = (k - 1) sum w / ((sum w)^2 - sum w^2), w = 1 / se^2; the common
+ * se when all are equal).  Mean and tau are those of every unit (outliers
+ * kept: a capability index that leaves out the worst units would flatter
+ * the lot).  Its interval is Bissell's normal approximation,
+ * Cpu -+ z sqrt(1 / (9 n) + Cpu^2 / (2 (n - 1))) (A. F. Bissell, "How
+ * reliable is your capability index?", Appl. Stat. 39, 331-340, 1990).
  */
 #ifndef SSCOPE_LOT_H
 #define SSCOPE_LOT_H
@@ -88,5 +100,29 @@ struct sscope_lot_spread {
 int sscope_lot_spread(const double *y, const double *se, size_t k,
 		      const struct sscope_lot_opts *opts,
 		      struct sscope_lot_spread *out, double *z, bool *outlier);
+
+/** A lot's capability against an upper limit (units of the y_i). */
+struct sscope_lot_cpk {
+	size_t n;          /**< units */
+	double level;      /**< level of the interval */
+	double usl;        /**< the upper limit */
+	double mean;       /**< population mean (REML weights, every unit) */
+	double between_sd; /**< tau (REML, every unit) */
+	double within_sd;  /**< typical within-unit standard error */
+	double sigma;      /**< sqrt(between_sd^2 + within_sd^2) */
+	double cpk;        /**< (usl - mean) / (3 sigma) */
+	double lo, hi;     /**< Bissell's interval at the level */
+};
+
+/**
+ * The lot's one-sided Cpk against the upper limit @p usl (see the file
+ * comment), from k estimates @p y with standard errors @p se (> 0).
+ * @param level  interval level (0: 0.90).
+ * @return 0; -EINVAL (NULL y, se or out; level out of (0, 1); usl not
+ *         finite); -EDOM (fewer than 3 units, a non-finite value, a
+ *         standard error not > 0, no spread at all: sigma 0); -ENOMEM.
+ */
+int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
+		   double level, struct sscope_lot_cpk *out);
 
 #endif

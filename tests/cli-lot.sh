@@ -29,6 +29,45 @@ run "lot text" 0 lot "$T"/unit[1-7].csv
 has "text: N row with the outlier" "$T/out" '^gx +N +deg/sqrt\(h\) .*unit7\.csv \(z '
 has "text: K says why" "$T/out" '^gx +K .*fewer than 3, no spread'
 
+# against limits: N's limit 3 deg/sqrt(h) = 0.05 deg/s/sqrt(Hz); units 1-6
+# (N 1.86 .. 2.16) well below, unit 7 (5.4) well above, unit 8 simulated
+# exactly at the limit: inconclusive, never within spec; B and K, which no
+# unit's fit shows, an upper bound only: within spec under a loose limit,
+# inconclusive (never out, never 0) under a tight one
+printf '[sensor]\nnoise_density = 0.05 deg/s/sqrt(Hz)\n' >"$T/s8.ini"
+run "simulate unit 8 at the limit" 0 simulate --sensor "$T/s8.ini" --rate 100 --duration 1200 --seed 8 -o "$T/unit8.csv"
+printf '[gyro]\nrandom_walk = 3 deg/sqrt(h)\nbias_instability = 100 deg/h\nrate_random_walk = 0.001 deg/h/sqrt(h)\n' >"$T/limits.ini"
+run "lot --spec" 0 lot --format json --spec "$T/limits.ini" "$T"/unit[1-8].csv
+json_check "units 1-6 within spec on N" "$T/out" '[.units[0:6][].channels[0].terms.N.spec.verdict] == ["within spec","within spec","within spec","within spec","within spec","within spec"]'
+json_check "unit 7 out of spec on N" "$T/out" '.units[6].channels[0].terms.N.spec | .verdict == "out of spec" and .lo > 3 and .level == 0.99'
+json_check "unit 8 at the limit: inconclusive" "$T/out" '.units[7].channels[0].terms.N.spec | .verdict == "inconclusive" and .lo <= 3 and 3 <= .hi'
+json_check "K: a bound only, inconclusive, no 0" "$T/out" '[.units[].channels[0].terms.K.spec | .upper_bound_only and .lo == null and .verdict == "inconclusive"] | all'
+json_check "B: a bound below 100 deg/h is within spec" "$T/out" '[.units[].channels[0].terms.B.spec | select(.verdict == "within spec") | .upper_bound_only and .hi < 100] | length > 0'
+json_check "counts per term" "$T/out" '(.between[] | select(.term == "N") | .within_spec == 6 and .out_of_spec == 1 and .inconclusive == 1 and .limit == 3) and (.between[] | select(.term == "K") | .inconclusive == 8 and .cpk == null and .cpk_why != null)'
+json_check "N: Cpk over every unit, its formula, inside its interval" "$T/out" '.between[] | select(.term == "N") | .cpk_units == 8 and ((.cpk - (3 - .cpk_mean) / (3 * .cpk_sigma)) | fabs) < 1e-9 and .cpk_lo < .cpk and .cpk < .cpk_hi and ((.cpk_sigma - ((.cpk_between_sd * .cpk_between_sd + .cpk_within_sd * .cpk_within_sd) | sqrt)) | fabs) < 1e-9'
+json_check "the limits file named, nothing left unchecked" "$T/out" '.spec.file == "'"$T/limits.ini"'" and .spec.not_checked == [] and .spec.level == 0.99'
+run "lot --spec text" 0 lot --spec "$T/limits.ini" "$T"/unit[1-8].csv
+has "text: N counts and Cpk" "$T/out" '^gx +N +deg/sqrt\(h\) +3 +6 +1 +1 +-?[0-9.]+ \['
+has "text: unit 8 inconclusive" "$T/out" '^unit8\.csv: gx N inconclusive;'
+# a datasheet file as limits (the N line, B from the in-run bias stability)
+run "a datasheet as limits" 0 lot --format json --spec "$SAMPLES/datasheets/kvh-dsp-1760.ini" "$T"/unit[1-3].csv
+json_check "datasheet: N out of spec for every unit" "$T/out" '.between[] | select(.term == "N") | .out_of_spec == 3'
+# a datasheet with two N lines: the first by kind (noise density) is the
+# limit, the other and the accelerometer's lines are listed as not checked
+run "datasheet: lines not checked" 0 lot --format json --spec "$SAMPLES/datasheets/adis16448.ini" "$T"/unit[1-3].csv
+json_check "datasheet: not checked listed" "$T/out" '.spec.not_checked == ["[gyro] random_walk", "[accel] random_walk", "[accel] noise_density"] and (.between[] | select(.term == "N") | .limit - 0.81 | fabs) < 1e-9'
+printf '[gyro]\nrandom_walk = 3 deg/sqrt(h)\nbias_wobble = 3 deg/h\n' >"$T/bad1.ini"
+run "limits: an unknown key" 1 lot --spec "$T/bad1.ini" "$T"/unit[1-3].csv
+one_line_error "limits: an unknown key"
+has "names the line" "$T/err" 'line 3: \[gyro\] bias_wobble: unknown'
+printf '[gyro]\nrandom_walk = 3\n' >"$T/bad2.ini"
+run "limits: no unit" 1 lot --spec "$T/bad2.ini" "$T"/unit[1-3].csv
+one_line_error "limits: no unit"
+has "says a unit is needed" "$T/err" 'a unit is needed'
+printf '[accel]\nrandom_walk = 3 m/s/sqrt(h)\n' >"$T/acc.ini"
+run "limits for no channel of the lot" 1 lot --spec "$T/acc.ini" "$T"/unit[1-3].csv
+one_line_error "limits for no channel of the lot"
+
 # the scene's stage is the command
 cat >"$T/lot.scene.ini" <<EOS
 [input]
@@ -44,6 +83,16 @@ if [ -f "$T/scene-out/lot.json" ] && command -v jq >/dev/null 2>&1; then
 else
 	skip "scene stage: the command's JSON" "no lot.json or no jq"
 fi
+cp "$T/limits.ini" "$T/scene-limits.ini"
+cat >"$T/lot-spec.scene.ini" <<EOS
+[input]
+files = unit1.csv, unit2.csv, unit7.csv
+
+[lot]
+spec = scene-limits.ini
+EOS
+run "scene: spec relative to the scene" 0 run -q -o "$T/scene-spec" "$T/lot-spec.scene.ini"
+json_check "scene: verdicts" "$T/scene-spec/lot.json" '.between[0].within_spec == 2 and .between[0].out_of_spec == 1'
 
 # bad input
 run "two units" 2 lot "$T/unit1.csv" "$T/unit2.csv"

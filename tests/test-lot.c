@@ -178,6 +178,47 @@ START_TEST(test_outliers)
 }
 END_TEST
 
+/*
+ * Cpk against an upper limit 9 for the balanced lot above (y = 1, 2, 4,
+ * 3, 5, se 0.5): mean 3, tau 1.5, typical within se 0.5, sigma =
+ * sqrt(2.25 + 0.25) = 1.5811388 (the plain sample sd here, sqrt(2.5));
+ * Cpu = (9 - 3) / (3 * 1.5811388) = 1.2649111; Bissell's variance
+ * 1 / (9 * 5) + 1.2649111^2 / (2 * 4) = 1/45 + 1.6/8 = 2/9, sd 0.4714045;
+ * z(0.95) = 1.6448536 (table): [0.4895196, 2.0403025] at 90 %.
+ * Unequal se 0.5, 1, 0.5, 1, 0.5: weights 4, 1, 4, 1, 4, sum 14, sum of
+ * squares 50, typical within variance 4 * 14 / (196 - 50) = 0.3835616,
+ * within sd 0.6193235.
+ */
+START_TEST(test_cpk)
+{
+	const double y[5] = { 1, 2, 4, 3, 5 }, se[5] = { 0.5, 0.5, 0.5, 0.5, 0.5 };
+	const double se2[5] = { 0.5, 1, 0.5, 1, 0.5 };
+	struct sscope_lot_cpk c;
+
+	ck_assert_int_eq(sscope_lot_cpk(y, se, 5, 9, 0.90, &c), 0);
+	ck_assert_uint_eq(c.n, 5);
+	ck_assert(rel(c.mean, 3) < 1e-12);
+	ck_assert(rel(c.between_sd, 1.5) < 1e-9);
+	ck_assert(rel(c.within_sd, 0.5) < 1e-12);
+	ck_assert(rel(c.sigma, 1.5811388) < 1e-7);
+	ck_assert(rel(c.cpk, 1.2649111) < 1e-7);
+	ck_assert(rel(c.lo, 0.4895196) < 1e-6);
+	ck_assert(rel(c.hi, 2.0403025) < 1e-6);
+	/* a limit below the mean: negative, the same interval width */
+	ck_assert_int_eq(sscope_lot_cpk(y, se, 5, 0, 0, &c), 0);
+	ck_assert(rel(c.cpk, -3 / (3 * 1.5811388)) < 1e-7);
+	ck_assert(rel(c.level, 0.90) < 1e-15);
+	ck_assert_int_eq(sscope_lot_cpk(y, se2, 5, 9, 0.90, &c), 0);
+	ck_assert(rel(c.within_sd, 0.6193235) < 1e-6);
+	ck_assert(rel(c.sigma, hypot(c.between_sd, c.within_sd)) < 1e-12);
+	/* errors */
+	ck_assert_int_eq(sscope_lot_cpk(y, se, 2, 9, 0.90, &c), -EDOM);
+	ck_assert_int_eq(sscope_lot_cpk(y, se, 5, NAN, 0.90, &c), -EINVAL);
+	ck_assert_int_eq(sscope_lot_cpk(y, se, 5, 9, 1, &c), -EINVAL);
+	ck_assert_int_eq(sscope_lot_cpk(NULL, se, 5, 9, 0.90, &c), -EINVAL);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("lot");
@@ -189,6 +230,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_errors);
 	tcase_add_test(tc, test_coverage);
 	tcase_add_test(tc, test_outliers);
+	tcase_add_test(tc, test_cpk);
 	tcase_set_timeout(tc, 60);
 	suite_add_tcase(s, tc);
 	return s;

@@ -11,11 +11,13 @@
 #include "lot.h"
 #include "stage.h"
 
-enum { O_LEVEL = 300 };
+enum { O_LEVEL = 300, O_SPEC };
 
 static const struct ssc_option lot_opts[] = {
 	{ "ci", required_argument, O_LEVEL, "LEVEL",
 	  "level of the lot's intervals (default 0.90)" },
+	{ "spec", required_argument, O_SPEC, "FILE",
+	  "upper limits of N, B, K (INI with [gyro], [accel], or a datasheet file): each unit within spec, out of spec or inconclusive (its 99 % interval), the lot's Cpk" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -32,23 +34,31 @@ static const struct ssc_command_spec spec = {
 	.analysis = true,
 	.notes = "Example:\n"
 		 "  sensorscope lot --format json unit*.csv\n"
-		 "Exit status: 0 done, 1 a capture that cannot be read or analysed,\n"
+		 "  sensorscope lot --spec limits.ini unit*.csv\n"
+		 "Exit status: 0 done, 1 a capture that cannot be read or analysed\n"
+		 "or a limits file that cannot be used,\n"
 		 "2 usage (fewer than 3 captures).",
 };
 
 struct opts {
 	double level;
+	const char *spec;
 };
 
 static void init(void *opts)
 {
 	((struct opts *)opts)->level = 0.90;
+	((struct opts *)opts)->spec = NULL;
 }
 
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
 
+	if (key == O_SPEC) {
+		o->spec = arg;
+		return 0;
+	}
 	if (key != O_LEVEL)
 		return ssc_usage_error("lot", "unexpected option");
 	if (ssc_arg_double("lot", "ci", arg, &o->level))
@@ -70,7 +80,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	const struct opts *o = opts;
 
 	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->n_caps, o->level,
-			   (struct ssc_lot_result **)result);
+			   o->spec, (struct ssc_lot_result **)result);
 }
 
 const struct ssc_stage_ops ssc_lot_stage = {

@@ -262,6 +262,12 @@ static void section_terms(const struct ssc_ds_section *sec, double t[3],
 		}
 }
 
+void ssc_datasheet_terms(const struct ssc_ds_section *sec, double t[3],
+			 int from[3])
+{
+	section_terms(sec, t, from);
+}
+
 /* the terms as line @p l (SI), NaN when they do not give it; *lower: a
  * lower bound (GJB from terms) */
 static double as_line(const struct ssc_ds_section *sec, const double t[3],

@@ -35,6 +35,12 @@ struct ssc_datasheet {
 int ssc_datasheet_load(const char *cmd, const char *path,
 		       struct ssc_datasheet *ds);
 
+/* A section's IEEE 952 terms N, B, K, SI (NaN where no line gives one;
+ * the first line of each in the order of enum sscope_datasheet_line) and
+ * the index in sec->spec of the line each comes from (-1 for none). */
+void ssc_datasheet_terms(const struct ssc_ds_section *sec, double t[3],
+			 int from[3]);
+
 /* The lines as IEEE 952 terms and the terms as every line (text or JSON
  * to the command's output).  Returns an exit code. */
 int ssc_datasheet_convert(const struct ssc_common *co,

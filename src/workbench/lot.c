@@ -26,9 +26,12 @@ static const char *base_of(const char *path)
 	return s ? s + 1 : path;
 }
 
+/* the fit's 68.3 % intervals (guard false) or, for the terms with a
+ * limit, its intervals at SSC_LOT_SPEC_LEVEL (guard true) */
 static int unit_fit(const char *cmd, const char *path,
 		    const struct sscope_capture_channel *ch, size_t n, double fs,
-		    struct sscope_noise_plan *plan, struct ssc_lot_cell *cell)
+		    struct sscope_noise_plan *plan, bool guard,
+		    struct ssc_lot_cell *cell)
 {
 	struct sscope_allan_opts ao = { 0 };
 	struct sscope_noise_fit_opts fo = { 0 };
@@ -37,6 +40,7 @@ static int unit_fit(const char *cmd, const char *path,
 	int rc;
 
 	fo.plan = plan;
+	fo.ci_level = guard ? SSC_LOT_SPEC_LEVEL : 0;
 	rc = sscope_allan_analyze(ch->data, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE, &ao,
 				  &fo, &res, &d);
 	if (rc) {
@@ -44,7 +48,18 @@ static int unit_fit(const char *cmd, const char *path,
 			d.msg[0] ? d.msg : sscope_strerror(rc));
 		return SSC_EXIT_FAIL;
 	}
-	for (int t = 0; t < 3; t++) {
+	for (int t = 0; t < 3 && guard; t++) {
+		const struct sscope_noise_coef *c = &res->fit.coef[SSCOPE_TERM_N + t];
+		bool pres = res->have_fit && c->present && isfinite(c->value) &&
+			    isfinite(c->lo) && c->hi > c->lo;
+
+		/* not shown: an upper bound only (INFINITY or NaN when the
+		 * record gives none: inconclusive) */
+		cell->gbound[t] = !pres;
+		cell->glo[t] = pres ? c->lo : (double)NAN;
+		cell->ghi[t] = res->have_fit && c->hi > 0 ? c->hi : (double)NAN;
+	}
+	for (int t = 0; t < 3 && !guard; t++) {
 		const struct sscope_noise_coef *c = &res->fit.coef[SSCOPE_TERM_N + t];
 
 		cell->present[t] = res->have_fit && c->present && isfinite(c->value) &&
@@ -101,6 +116,8 @@ static int spread(const char *cmd, struct ssc_lot_result *r)
 			T->n_resolved = k;
 			if (k < 3)
 				continue;
+			T->cpk_done = isfinite(T->limit) &&
+				      !sscope_lot_cpk(y, se, k, T->limit, r->level, &T->cpk);
 			if (sscope_lot_spread(y, se, k, &o, &T->sp, z, fl))
 				continue;
 			T->done = true;
@@ -118,9 +135,57 @@ out:
 	return rc;
 }
 
+/* the limits of channel c's terms from the spec's section of its
+ * quantity; false when the section gives none */
+static bool channel_limits(struct ssc_lot_result *r, size_t c)
+{
+	bool any = false;
+
+	for (size_t t = 0; t < 3; t++)
+		r->term[c * 3 + t].limit = NAN;
+	for (size_t s = 0; r->spec && s < r->spec->n_sec; s++)
+		if (r->spec->sec[s].quantity == r->q[c]) {
+			double lim[3];
+			int from[3];
+
+			ssc_datasheet_terms(&r->spec->sec[s], lim, from);
+			for (size_t t = 0; t < 3; t++) {
+				r->term[c * 3 + t].limit = lim[t];
+				any |= isfinite(lim[t]);
+			}
+		}
+	return any;
+}
+
+static bool channel_has_spec(const struct ssc_lot_result *r, size_t c)
+{
+	for (size_t t = 0; t < 3; t++)
+		if (isfinite(r->term[c * 3 + t].limit))
+			return true;
+	return false;
+}
+
+/* each unit's verdicts and the counts per channel and term */
+static void verdicts(struct ssc_lot_result *r)
+{
+	for (size_t u = 0; u < r->n_units; u++)
+		for (size_t c = 0; c < r->n_chan; c++)
+			for (size_t t = 0; t < 3; t++) {
+				struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+				struct ssc_lot_term *T = &r->term[c * 3 + t];
+
+				if (!isfinite(T->limit))
+					continue;
+				cl->has_spec[t] = true;
+				cl->verdict[t] = sscope_datasheet_verdict(
+					cl->gbound[t] ? 0 : cl->glo[t], cl->ghi[t], T->limit);
+				T->count[cl->verdict[t]]++;
+			}
+}
+
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 		const char *const *paths, size_t n, double level,
-		struct ssc_lot_result **out)
+		const char *spec_path, struct ssc_lot_result **out)
 {
 	struct ssc_lot_result *r;
 	struct sscope_noise_plan *plan = NULL;
@@ -138,6 +203,18 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 	r->n_units = n;
 	r->paths = paths;
 	r->level = level;
+	if (spec_path) {
+		r->spec = malloc(sizeof(*r->spec));
+		if (!r->spec) {
+			ssc_lot_free(r);
+			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+		}
+		rc = ssc_datasheet_load(cmd, spec_path, r->spec);
+		if (rc) {
+			ssc_lot_free(r);
+			return rc;
+		}
+	}
 	r->chan = calloc(c0->n_channels + 1, sizeof(*r->chan));
 	r->q = calloc(c0->n_channels + 1, sizeof(*r->q));
 	if (!r->chan || !r->q) {
@@ -160,6 +237,18 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 	if (!r->cell || !r->term) {
 		ssc_lot_free(r);
 		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	}
+	{
+		bool any = false;
+
+		for (size_t c = 0; c < r->n_chan; c++)
+			any |= channel_limits(r, c);
+		if (r->spec && !any) {
+			ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
+				spec_path);
+			ssc_lot_free(r);
+			return SSC_EXIT_FAIL;
+		}
 	}
 	if (sscope_noise_plan_new(&plan))
 		plan = NULL; /* each fit computes its own */
@@ -185,12 +274,17 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 				break;
 			}
 			rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz, plan,
-				      &r->cell[u * r->n_chan + c]);
+				      false, &r->cell[u * r->n_chan + c]);
+			if (!rc && channel_has_spec(r, c))
+				rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz,
+					      plan, true, &r->cell[u * r->n_chan + c]);
 		}
 	}
 	sscope_noise_plan_free(plan);
 	if (!rc)
 		rc = spread(cmd, r);
+	if (!rc)
+		verdicts(r);
 	if (rc) {
 		ssc_lot_free(r);
 		return rc;
@@ -204,6 +298,90 @@ static double conv(const struct ssc_lot_result *r, size_t c, int t, double si,
 		   const char **unit)
 {
 	return ssc_nav_term_value(si, r->q[c], (enum sscope_term)(SSCOPE_TERM_N + t), unit);
+}
+
+static const char *const verdict_key[3] = { "inconclusive", "within_spec", "out_of_spec" };
+
+/* a unit's term against its limit */
+static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
+			      const struct ssc_lot_cell *cl)
+{
+	json_t *o = json_object();
+	const char *unit;
+
+	json_object_set_new(o, "limit", ssc_jreal(conv(r, c, t, r->term[c * 3 + (size_t)t].limit, &unit)));
+	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
+	json_object_set_new(o, "upper_bound_only", json_boolean(cl->gbound[t]));
+	json_object_set_new(o, "lo", cl->gbound[t] ? json_null() :
+				     ssc_jreal(conv(r, c, t, cl->glo[t], &unit)));
+	json_object_set_new(o, "hi", ssc_jreal(conv(r, c, t, cl->ghi[t], &unit)));
+	json_object_set_new(o, "verdict", json_string(sscope_datasheet_verdict_name(cl->verdict[t])));
+	return o;
+}
+
+/* a channel's term against its limit over the lot */
+static void between_spec_json(json_t *b, const struct ssc_lot_result *r, size_t c, int t)
+{
+	const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+	const struct sscope_lot_cpk *k = &T->cpk;
+	const char *unit;
+
+	if (!isfinite(T->limit))
+		return;
+	json_object_set_new(b, "limit", ssc_jreal(conv(r, c, t, T->limit, &unit)));
+	for (int v = 0; v < 3; v++)
+		json_object_set_new(b, verdict_key[v], json_integer((json_int_t)T->count[v]));
+	if (!T->cpk_done) {
+		json_object_set_new(b, "cpk", json_null());
+		json_object_set_new(b, "cpk_why", json_string("fewer than 3 units show the term: no Cpk"));
+		return;
+	}
+	json_object_set_new(b, "cpk", ssc_jreal(k->cpk));
+	json_object_set_new(b, "cpk_lo", ssc_jreal(k->lo));
+	json_object_set_new(b, "cpk_hi", ssc_jreal(k->hi));
+	json_object_set_new(b, "cpk_units", json_integer((json_int_t)k->n));
+	json_object_set_new(b, "cpk_mean", ssc_jreal(conv(r, c, t, k->mean, &unit)));
+	json_object_set_new(b, "cpk_sigma", ssc_jreal(conv(r, c, t, k->sigma, &unit)));
+	json_object_set_new(b, "cpk_between_sd", ssc_jreal(conv(r, c, t, k->between_sd, &unit)));
+	json_object_set_new(b, "cpk_within_sd", ssc_jreal(conv(r, c, t, k->within_sd, &unit)));
+	if (k->n < r->n_units)
+		json_object_set_new(b, "cpk_note", json_string("over the units that show the term only"));
+}
+
+/* the limits file, and its lines no term of the lot is checked against */
+static json_t *spec_json(const struct ssc_lot_result *r)
+{
+	json_t *o = json_object(), *nc = json_array();
+	const struct ssc_datasheet *ds = r->spec;
+
+	json_object_set_new(o, "file", json_string(ds->path));
+	json_object_set_new(o, "name", json_string(ds->name));
+	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
+	json_object_set_new(o, "rule",
+			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. Cpk = (limit - mean) / (3 sigma), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
+	for (size_t s = 0; s < ds->n_sec; s++) {
+		bool chan = false;
+
+		for (size_t c = 0; c < r->n_chan; c++)
+			chan |= r->q[c] == ds->sec[s].quantity;
+		double lim[3];
+		int from[3];
+
+		ssc_datasheet_terms(&ds->sec[s], lim, from);
+		for (size_t j = 0; j < ds->sec[s].n; j++) {
+			const struct sscope_datasheet_spec *sp = &ds->sec[s].spec[j];
+			char line[96];
+
+			/* checked: the line a term's limit comes from */
+			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j))
+				continue;
+			snprintf(line, sizeof(line), "[%s] %s", ds->sec[s].name,
+				 sscope_datasheet_info(sp->line)->key);
+			json_array_append_new(nc, json_string(line));
+		}
+	}
+	json_object_set_new(o, "not_checked", nc);
+	return o;
 }
 
 json_t *ssc_lot_json(const void *opts, const void *result)
@@ -239,6 +417,8 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				json_object_set_new(jt, "z", ssc_jreal(r->term[c * 3 + (size_t)t].z[u]));
 				json_object_set_new(jt, "outlier",
 						    json_boolean(r->term[c * 3 + (size_t)t].outlier[u]));
+				if (cl->has_spec[t])
+					json_object_set_new(jt, "spec", unit_spec_json(r, c, t, cl));
 				json_object_set_new(terms, (char[2]){ term_key[t], 0 }, jt);
 			}
 			json_object_set_new(jc, "terms", terms);
@@ -260,6 +440,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 			json_object_set_new(b, "unit", json_string(unit));
 			json_object_set_new(b, "units", json_integer((json_int_t)r->n_units));
 			json_object_set_new(b, "units_resolved", json_integer((json_int_t)T->n_resolved));
+			between_spec_json(b, r, c, t);
 			if (!T->done) {
 				json_object_set_new(b, "why", json_string("fewer than 3 units show the term: no spread"));
 				json_array_append_new(btw, b);
@@ -294,8 +475,12 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "units", units);
 	json_object_set_new(o, "between", btw);
 	json_object_set_new(o, "outliers", outl);
+	if (r->spec)
+		json_object_set_new(o, "spec", spec_json(r));
 	return o;
 }
+
+static void spec_text(FILE *f, const struct ssc_lot_result *r);
 
 void ssc_lot_text(FILE *f, const void *opts, const void *result)
 {
@@ -341,6 +526,75 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 				}
 			fprintf(f, "%s\n", any ? "" : "-");
 		}
+	if (r->spec)
+		spec_text(f, r);
+}
+
+/* the verdicts and Cpk against the limits */
+static void spec_text(FILE *f, const struct ssc_lot_result *r)
+{
+	char a[32], b[32], c3[32], d[32];
+
+	fprintf(f, "\nagainst the limits of %s (%s): each unit's %s %% interval (an upper bound where its fit does not show the term) below the limit: within spec, above: out of spec, else inconclusive\n",
+		r->spec->name, r->spec->path, ssc_fmt(a, sizeof(a), 100 * SSC_LOT_SPEC_LEVEL, 3));
+	{
+		json_t *sj = spec_json(r), *nc = json_object_get(sj, "not_checked");
+
+		if (json_array_size(nc))
+			fprintf(f, "not checked (no channel of its kind, no N, B or K, or another line gives the term):");
+		for (size_t i = 0; i < json_array_size(nc); i++)
+			fprintf(f, "%s %s", i ? "," : "", json_string_value(json_array_get(nc, i)));
+		if (json_array_size(nc))
+			fprintf(f, "\n");
+		json_decref(sj);
+	}
+	fprintf(f, "%-8s %-4s %-16s %-10s %-7s %-7s %-13s %s\n", "channel", "term", "unit", "limit",
+		"within", "out", "inconclusive", "Cpk (one-sided) [interval]");
+	for (size_t c = 0; c < r->n_chan; c++)
+		for (int t = 0; t < 3; t++) {
+			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+			const char *unit;
+			char cp[80];
+
+			if (!isfinite(T->limit))
+				continue;
+			if (T->cpk_done)
+				snprintf(cp, sizeof(cp), "%s [%s, %s]%s",
+					 ssc_fmt(b, sizeof(b), T->cpk.cpk, 3),
+					 ssc_fmt(c3, sizeof(c3), T->cpk.lo, 3),
+					 ssc_fmt(d, sizeof(d), T->cpk.hi, 3),
+					 T->cpk.n < r->n_units ? " (units showing the term only)" : "");
+			else
+				snprintf(cp, sizeof(cp), "- (fewer than 3 units show the term)");
+			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
+			fprintf(f, "%-8s %-4c %-16s %-10s %-7zu %-7zu %-13zu %s\n", r->chan[c],
+				term_key[t], unit, a, T->count[SSCOPE_DATASHEET_WITHIN],
+				T->count[SSCOPE_DATASHEET_OUT],
+				T->count[SSCOPE_DATASHEET_INCONCLUSIVE], cp);
+		}
+	fprintf(f, "Cpk = (limit - mean) / (3 sigma), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit showing the term; %s %% interval (Bissell 1990)\n",
+		ssc_fmt(a, sizeof(a), 100 * r->level, 3));
+	for (size_t u = 0; u < r->n_units; u++) {
+		bool first = true;
+
+		fprintf(f, "%s:", base_of(r->paths[u]));
+		for (size_t c = 0; c < r->n_chan; c++)
+			for (int t = 0; t < 3; t++) {
+				const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+
+				if (!cl->has_spec[t])
+					continue;
+				fprintf(f, "%s %s %c %s", first ? "" : ";", r->chan[c], term_key[t],
+					sscope_datasheet_verdict_name(cl->verdict[t]));
+				if (cl->gbound[t])
+					fprintf(f, " (not shown, bound %s)",
+						isfinite(cl->ghi[t]) ?
+						ssc_fmt(a, sizeof(a), conv(r, c, t, cl->ghi[t], &(const char *){ 0 }), 3) :
+						"none");
+				first = false;
+			}
+		fprintf(f, "\n");
+	}
 }
 
 void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
@@ -369,6 +623,26 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 			if (n_out)
 				ssc_summary_warn_last(rows);
 		}
+	for (size_t c = 0; c < r->n_chan; c++)
+		for (int t = 0; t < 3; t++) {
+			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+			const char *unit;
+			char q[96], note[128], a[32];
+
+			if (!isfinite(T->limit))
+				continue;
+			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
+			snprintf(q, sizeof(q), "%c Cpk (limit %s %s)", term_key[t], a, unit);
+			snprintf(note, sizeof(note), "%zu within spec, %zu out of spec, %zu inconclusive of %zu units%s",
+				 T->count[SSCOPE_DATASHEET_WITHIN], T->count[SSCOPE_DATASHEET_OUT],
+				 T->count[SSCOPE_DATASHEET_INCONCLUSIVE], r->n_units,
+				 T->cpk_done ? "" : "; fewer than 3 units show the term: no Cpk");
+			ssc_summary_add(rows, r->chan[c], q, T->cpk_done ? T->cpk.cpk : (double)NAN,
+					T->cpk_done ? T->cpk.lo : (double)NAN,
+					T->cpk_done ? T->cpk.hi : (double)NAN, "", note);
+			if (T->count[SSCOPE_DATASHEET_OUT] || !T->cpk_done)
+				ssc_summary_warn_last(rows);
+		}
 }
 
 void ssc_lot_free(void *result)
@@ -385,5 +659,6 @@ void ssc_lot_free(void *result)
 	free(r->cell);
 	free(r->chan);
 	free(r->q);
+	free(r->spec);
 	free(r);
 }

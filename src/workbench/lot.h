@@ -12,10 +12,23 @@
 
 #include "workbench.h"
 
+#include "datasheet.h"
+
+/* level of the interval a unit's verdict against a limit is guard-banded
+ * by (the datasheet command's default): a unit exactly at its limit is
+ * called within spec in about (1 - 0.99) / 2 = 0.5 % of the cases */
+#define SSC_LOT_SPEC_LEVEL 0.99
+
 /* one unit's channel: N, B, K in SI (NaN when not present) */
 struct ssc_lot_cell {
 	double v[3], lo[3], hi[3];
 	bool present[3];
+	/* against a limit (has_spec): the fit's interval at
+	 * SSC_LOT_SPEC_LEVEL [glo, ghi], or ghi alone as an upper bound
+	 * (gbound: the term not shown), and the verdict */
+	bool has_spec[3], gbound[3];
+	double glo[3], ghi[3];
+	enum sscope_datasheet_verdict verdict[3];
 };
 
 /* one channel's term over the lot */
@@ -25,6 +38,10 @@ struct ssc_lot_term {
 	struct sscope_lot_spread sp; /* SI */
 	bool *outlier;       /* per unit (false where not resolved) */
 	double *z;           /* per unit (NaN where not resolved) */
+	double limit;        /* upper limit, SI; NaN without */
+	size_t count[3];     /* units per enum sscope_datasheet_verdict */
+	bool cpk_done;       /* cpk computed (>= 3 units show the term) */
+	struct sscope_lot_cpk cpk; /* SI, over the units that show it */
 };
 
 struct ssc_lot_result {
@@ -35,13 +52,15 @@ struct ssc_lot_result {
 	struct ssc_lot_cell *cell;        /* n_units x n_chan */
 	struct ssc_lot_term *term;        /* n_chan x 3 */
 	double level;
+	struct ssc_datasheet *spec;       /* the limits (NULL without) */
 };
 
-/* Analyse each capture and the lot: prints errors, returns an exit code
- * and *out (which points into paths). */
+/* Analyse each capture and the lot, against the limits in the datasheet
+ * INI @p spec_path when not NULL: prints errors, returns an exit code and
+ * *out (which points into paths and spec_path). */
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 		const char *const *paths, size_t n, double level,
-		struct ssc_lot_result **out);
+		const char *spec_path, struct ssc_lot_result **out);
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);
 void ssc_lot_text(FILE *f, const void *opts, const void *result);
