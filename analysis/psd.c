@@ -275,11 +275,21 @@ struct sscope_psd {
 void sscope_psd_opts_init(struct sscope_psd_opts *o)
 {
 	memset(o, 0, sizeof(*o));
-	o->window = SSCOPE_PSD_WINDOW_HANN;
-	o->nperseg = 256;
-	o->noverlap = SSCOPE_PSD_HALF_OVERLAP;
-	o->detrend = SSCOPE_PSD_DETREND_CONSTANT;
-	o->scaling = SSCOPE_PSD_SCALING_DENSITY;
+}
+
+size_t sscope_psd_noverlap(double fraction, size_t nperseg)
+{
+	size_t l = fraction > 0 ? (size_t)floor(fraction * (double)nperseg) : 0;
+
+	if (nperseg && l >= nperseg)
+		l = nperseg - 1;
+	return l ? l : SSCOPE_PSD_NO_OVERLAP;
+}
+
+/* nperseg of options whose zero asks for the default */
+static size_t opts_nperseg(const struct sscope_psd_opts *o)
+{
+	return o->nperseg ? o->nperseg : 256;
 }
 
 void sscope_psd_free(struct sscope_psd *p)
@@ -340,29 +350,28 @@ static size_t batch_size(size_t nfft, int nth)
 
 int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 {
-	struct sscope_psd_opts def;
+	struct sscope_psd_opts def = { 0 };
 	struct sscope_psd *p;
 	size_t sz;
 
 	if (!out)
 		return -EINVAL;
 	*out = NULL;
-	if (!opts) {
-		sscope_psd_opts_init(&def);
+	if (!opts)
 		opts = &def;
-	}
 	if ((unsigned)opts->window >= SSCOPE_PSD_WINDOW_COUNT_ ||
 	    (unsigned)opts->detrend > SSCOPE_PSD_DETREND_NONE ||
 	    (unsigned)opts->scaling > SSCOPE_PSD_SCALING_SPECTRUM ||
-	    opts->nperseg == 0 || opts->nperseg > INT32_MAX)
+	    opts_nperseg(opts) > INT32_MAX)
 		return -EINVAL;
 	p = calloc(1, sizeof(*p));
 	if (!p)
 		return -ENOMEM;
 	p->o = *opts;
-	p->m = opts->nperseg;
+	p->o.nperseg = p->m = opts_nperseg(opts);
 	p->l = opts->noverlap == SSCOPE_PSD_HALF_OVERLAP ? p->m / 2 :
-							    opts->noverlap;
+	       opts->noverlap == SSCOPE_PSD_NO_OVERLAP	 ? 0 :
+							   opts->noverlap;
 	p->nfft = opts->nfft ? opts->nfft : p->m;
 	if (p->l >= p->m || p->nfft < p->m || p->nfft > INT32_MAX) {
 		free(p);
@@ -1107,9 +1116,11 @@ int sscope_psd_welch(const double *x, size_t stride, size_t n, double fs,
 		sscope_psd_opts_init(&o);
 	if (n == 0)
 		return -EDOM;
+	o.nperseg = opts_nperseg(&o);
 	if (o.nperseg > n) {
 		o.nperseg = n;
-		if (o.noverlap != SSCOPE_PSD_HALF_OVERLAP && o.noverlap >= n)
+		if (o.noverlap != SSCOPE_PSD_HALF_OVERLAP &&
+		    o.noverlap != SSCOPE_PSD_NO_OVERLAP && o.noverlap >= n)
 			return -EINVAL;
 	}
 	rc = sscope_psd_new(&p, &o);
@@ -1133,7 +1144,7 @@ int sscope_psd_periodogram(const double *x, size_t stride, size_t n,
 	sscope_psd_opts_init(&o);
 	o.window = window;
 	o.nperseg = n;
-	o.noverlap = 0;
+	o.noverlap = SSCOPE_PSD_NO_OVERLAP;
 	o.nfft = nfft;
 	o.detrend = detrend;
 	o.scaling = scaling;

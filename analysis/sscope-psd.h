@@ -105,17 +105,22 @@ int sscope_psd_window_figures(enum sscope_psd_window w, size_t n,
 double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nfft,
 				  double bins);
 
-/** Default overlap: nperseg / 2, as scipy. */
-#define SSCOPE_PSD_HALF_OVERLAP ((size_t)-1)
+/** noverlap: the default, nperseg / 2, as scipy (zero, as in a
+ *  zero-initialised struct). */
+#define SSCOPE_PSD_HALF_OVERLAP ((size_t)0)
+/** noverlap: segments that share no sample. */
+#define SSCOPE_PSD_NO_OVERLAP ((size_t)-1)
 
-/** Options of a Welch estimate.  sscope_psd_opts_init() sets scipy's
- *  defaults. */
+/** Options of a Welch estimate.  A zero-initialised struct asks for
+ *  scipy's defaults (hann, 256, half overlap, constant detrend,
+ *  density), as every options struct of the library. */
 struct sscope_psd_opts {
 	enum sscope_psd_window window;   /**< default hann */
-	size_t nperseg;              /**< samples per segment; default 256 */
+	size_t nperseg;              /**< samples per segment; 0: 256 */
 	size_t noverlap;             /**< samples shared by neighbouring
-					  segments, < nperseg; default
-					  SSCOPE_PSD_HALF_OVERLAP */
+					  segments, < nperseg; 0
+					  (SSCOPE_PSD_HALF_OVERLAP): nperseg
+					  / 2; none: SSCOPE_PSD_NO_OVERLAP */
 	size_t nfft;                 /**< FFT length >= nperseg (zero
 					  padding); 0: nperseg */
 	enum sscope_psd_detrend detrend; /**< default constant */
@@ -138,8 +143,14 @@ struct sscope_psd_opts {
 	unsigned threads; /**< OpenMP threads; 0: the OpenMP default */
 };
 
-/** Set @p o to scipy.signal.welch's defaults (hann, 256, half overlap,
- *  constant detrend, density). */
+/** The noverlap of an overlap @p fraction in [0, 1) of @p nperseg
+ *  samples: floor(fraction nperseg), at most nperseg - 1, and
+ *  SSCOPE_PSD_NO_OVERLAP when that is no sample. */
+size_t sscope_psd_noverlap(double fraction, size_t nperseg);
+
+/** Zero @p o: scipy.signal.welch's defaults (hann, 256, half overlap,
+ *  constant detrend, density), as `struct sscope_psd_opts o = { 0 }`;
+ *  kept for callers written when zero meant no overlap. */
 void sscope_psd_opts_init(struct sscope_psd_opts *o);
 
 /** A one-sided spectrum (the result of an estimate). */
@@ -190,7 +201,7 @@ struct sscope_psd;
  * Create a workspace.
  * @param psd  receives the workspace; free with sscope_psd_free().
  * @param opts options (NULL: the defaults).
- * @return 0; -EINVAL (nperseg 0, noverlap >= nperseg, nfft < nperseg,
+ * @return 0; -EINVAL (noverlap >= nperseg, nfft < nperseg,
  *         unknown window/detrend/scaling); -ENOMEM.
  */
 int sscope_psd_new(struct sscope_psd **psd, const struct sscope_psd_opts *opts);

@@ -129,13 +129,16 @@ int sscope_vib_envelope_band(struct sscope_vib_envelope *env, double fs_hz,
 #define SSCOPE_VIB_ENV_PEAKS 10  /**< envelope peaks reported */
 #define SSCOPE_VIB_FINDINGS 8    /**< findings at most */
 
-/** Options of a vibration analysis.  sscope_vib_opts_init() sets the
- *  defaults. */
+/** n_peaks: report no spectrum peak. */
+#define SSCOPE_VIB_NO_PEAKS ((size_t)-1)
+
+/** Options of a vibration analysis.  A zero-initialised struct asks for
+ *  the defaults, as every options struct of the library. */
 struct sscope_vib_opts {
 	/** Spectrum of the acceleration (default: hann, nperseg chosen by
 	 *  the caller; see sscope_vib_default_nperseg()). */
 	struct sscope_psd_opts psd;
-	double iso_lo_hz, iso_hi_hz; /**< velocity band (10, 1000 Hz) */
+	double iso_lo_hz, iso_hi_hz; /**< velocity band; 0, 0: 10-1000 Hz */
 	enum sscope_vib_iso_class iso_class; /**< SSCOPE_VIB_ISO_NONE: report no
 					      zone; the unbalance and
 					      misalignment gate then uses
@@ -143,13 +146,17 @@ struct sscope_vib_opts {
 	double shaft_hz;  /**< shaft frequency (rpm / 60); 0: unknown */
 	bool have_bearing;
 	struct sscope_vib_bearing bearing;
-	double tolerance; /**< relative tolerance of matches (slip): 0.02 */
+	double tolerance; /**< relative tolerance of matches (slip); 0: 0.02;
+			       negative: exact matches */
 	double env_lo_hz, env_hi_hz; /**< envelope band; 0, 0: chosen by
 					  the largest spectral kurtosis */
-	size_t n_peaks;   /**< spectrum peaks reported (default 5) */
+	size_t n_peaks;   /**< spectrum peaks reported; 0: 5; none:
+			       SSCOPE_VIB_NO_PEAKS */
 };
 
-/** Defaults: ISO band 10-1000 Hz, tolerance 2 %, 5 peaks. */
+/** Zero @p o (the defaults: ISO band 10-1000 Hz, tolerance 2 %, 5
+ *  peaks), as `struct sscope_vib_opts o = { 0 }`; kept for earlier
+ *  callers. */
 void sscope_vib_opts_init(struct sscope_vib_opts *o);
 
 /** A default segment length for a record: a power of two giving at

@@ -300,12 +300,6 @@ int sscope_vib_envelope_band(struct sscope_vib_envelope *e, double fs, double lo
 void sscope_vib_opts_init(struct sscope_vib_opts *o)
 {
 	memset(o, 0, sizeof(*o));
-	sscope_psd_opts_init(&o->psd);
-	o->psd.nperseg = 0; /* sscope_vib_default_nperseg() */
-	o->iso_lo_hz = 10;
-	o->iso_hi_hz = 1000;
-	o->tolerance = 0.02;
-	o->n_peaks = 5;
 }
 
 size_t sscope_vib_default_nperseg(size_t n)
@@ -674,10 +668,27 @@ int sscope_vib_analyze(const double *x, size_t stride, size_t n,
 		       struct sscope_vib_result *r,
 		       struct sscope_diag *diag)
 {
+	struct sscope_vib_opts def;
 	struct sscope_psd_opts po;
 	double lim[3], ms, hi;
 	int rc;
 
+	if (o) { /* zeros ask for the defaults */
+		def = *o;
+		if (def.iso_lo_hz == 0 && def.iso_hi_hz == 0) {
+			def.iso_lo_hz = 10;
+			def.iso_hi_hz = 1000;
+		}
+		if (def.tolerance == 0)
+			def.tolerance = 0.02;
+		else if (def.tolerance < 0)
+			def.tolerance = 0;
+		if (def.n_peaks == 0)
+			def.n_peaks = 5;
+		else if (def.n_peaks == SSCOPE_VIB_NO_PEAKS)
+			def.n_peaks = 0;
+		o = &def;
+	}
 	if (!x || !o || !r || stride == 0 || !(fs > 0) || !isfinite(fs) ||
 	    !(o->tolerance >= 0) || !(o->iso_lo_hz > 0) ||
 	    !(o->iso_hi_hz > o->iso_lo_hz) || o->shaft_hz < 0 ||

@@ -47,10 +47,11 @@
  *   and a caller-owned result struct a failing function was filling may
  *   be given to its sscope_X_clear.
  * - Options: a NULL options pointer means every default, and so does a
- *   zero-initialised struct (struct sscope_X_opts o = { 0 }), with one
- *   exception, whose zero is a valid request (segments without overlap):
- *   struct sscope_psd_opts (and struct sscope_vib_opts, which holds one)
- *   starts from sscope_psd_opts_init() (sscope_vib_opts_init()).
+ *   zero-initialised struct (struct sscope_X_opts o = { 0 }), every
+ *   one; a field whose zero would be a valid request has a named value
+ *   for it (SSCOPE_PSD_NO_OVERLAP, SSCOPE_VIB_NO_PEAKS, a negative
+ *   level or tolerance).  sscope_psd_opts_init() and
+ *   sscope_vib_opts_init() only zero the struct.
  * - ABI: the shared library's libtool version (-version-info C:R:A in
  *   Makefile.am) follows libtool's rules, written there.
  * - Nothing in the library prints, exits or keeps mutable static state.

@@ -155,7 +155,8 @@ START_TEST(scipy_reference)
 				if (strcmp(nps, "-"))
 					o.nperseg = (size_t)atol(nps);
 				if (strcmp(nov, "-"))
-					o.noverlap = (size_t)atol(nov);
+					o.noverlap = atol(nov) ? (size_t)atol(nov) :
+								 SSCOPE_PSD_NO_OVERLAP;
 				if (strcmp(nff, "-"))
 					o.nfft = (size_t)atol(nff);
 				o.detrend = detrend_of(det);
@@ -784,6 +785,44 @@ START_TEST(degenerate_inputs)
 }
 END_TEST
 
+/* a zero-initialised struct is scipy's defaults, spelled out; no overlap
+ * has its own name */
+START_TEST(zero_options_are_defaults)
+{
+	struct sscope_psd_opts z = { 0 }, d = { 0 };
+	struct sscope_psd_spectrum a, b;
+	double x[1024];
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	for (size_t i = 0; i < 1024; i++)
+		x[i] = gsl_ran_gaussian_ziggurat(r, 1);
+	gsl_rng_free(r);
+	d.window = SSCOPE_PSD_WINDOW_HANN;
+	d.nperseg = 256;
+	d.noverlap = 128;
+	d.detrend = SSCOPE_PSD_DETREND_CONSTANT;
+	d.scaling = SSCOPE_PSD_SCALING_DENSITY;
+	ck_assert_int_eq(sscope_psd_welch(x, 1, 1024, 100, &z, &a), 0);
+	ck_assert_int_eq(sscope_psd_welch(x, 1, 1024, 100, &d, &b), 0);
+	ck_assert_uint_eq(a.nperseg, 256);
+	ck_assert_uint_eq(a.noverlap, 128);
+	ck_assert_uint_eq(a.n_segments, 7);
+	ck_assert_uint_eq(a.n_bins, b.n_bins);
+	for (size_t k = 0; k < a.n_bins; k++)
+		ck_assert(a.value[k] == b.value[k]);
+	sscope_psd_spectrum_clear(&a);
+	z.noverlap = SSCOPE_PSD_NO_OVERLAP;
+	ck_assert_int_eq(sscope_psd_welch(x, 1, 1024, 100, &z, &a), 0);
+	ck_assert_uint_eq(a.noverlap, 0);
+	ck_assert_uint_eq(a.n_segments, 4);
+	ck_assert_uint_eq(sscope_psd_noverlap(0, 256), SSCOPE_PSD_NO_OVERLAP);
+	ck_assert_uint_eq(sscope_psd_noverlap(0.5, 256), 128);
+	ck_assert_uint_eq(sscope_psd_noverlap(0.9999, 256), 255);
+	sscope_psd_spectrum_clear(&a);
+	sscope_psd_spectrum_clear(&b);
+}
+END_TEST
+
 START_TEST(error_codes)
 {
 	struct sscope_psd_opts o;
@@ -794,10 +833,7 @@ START_TEST(error_codes)
 	struct sscope_psd_window_figures f;
 
 	sscope_psd_opts_init(&o);
-	o.nperseg = 0;
-	ck_assert_int_eq(sscope_psd_new(&p, &o), -EINVAL);
-	sscope_psd_opts_init(&o);
-	o.noverlap = 256;
+	o.noverlap = 256; /* the default nperseg */
 	ck_assert_int_eq(sscope_psd_new(&p, &o), -EINVAL);
 	sscope_psd_opts_init(&o);
 	o.nfft = 100;
@@ -893,6 +929,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, octave_bands);
 	tcase_add_test(tc, band_rms_partition);
 	tcase_add_test(tc, degenerate_inputs);
+	tcase_add_test(tc, zero_options_are_defaults);
 	tcase_add_test(tc, error_codes);
 	tcase_add_test(tc, bands_and_floor);
 	suite_add_tcase(s, tc);

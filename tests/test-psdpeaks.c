@@ -37,7 +37,7 @@ static void welch(const double *x, size_t n, enum sscope_psd_window w,
 	sscope_psd_opts_init(&o);
 	o.window = w;
 	o.nperseg = nperseg;
-	o.noverlap = noverlap;
+	o.noverlap = noverlap ? noverlap : SSCOPE_PSD_NO_OVERLAP;
 	ck_assert_int_eq(sscope_psd_welch(x, 1, n, 1000, &o, s), 0);
 }
 

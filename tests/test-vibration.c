@@ -289,6 +289,31 @@ START_TEST(unbalance)
 	ck_assert_rel(r.orders[1].peak.amplitude, 0.4, 2e-2);
 	ck_assert(r.kurtosis > 1.4 && r.kurtosis < 1.7);
 	sscope_vib_result_clear(&r);
+	/* zero fields are the defaults spelled out: ISO band 10-1000 Hz,
+	 * 5 peaks, 2 % tolerance; no peaks and exact matches have names */
+	{
+		struct sscope_vib_opts d = o;
+		struct sscope_vib_result q;
+
+		d.iso_lo_hz = 10;
+		d.iso_hi_hz = 1000;
+		d.tolerance = 0.02;
+		d.n_peaks = 5;
+		ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &o, &r, NULL), 0);
+		ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &d, &q, NULL), 0);
+		ck_assert_uint_eq(r.n_peaks, 5);
+		ck_assert(r.iso_lo_hz == 10 && r.iso_hi_hz == 1000);
+		ck_assert(r.velocity_rms_m_s == q.velocity_rms_m_s);
+		ck_assert(r.orders[0].found && q.orders[0].found);
+		sscope_vib_result_clear(&q);
+		d.n_peaks = SSCOPE_VIB_NO_PEAKS;
+		d.tolerance = -1; /* exact: the resolution's 1.5 bins only */
+		ck_assert_int_eq(sscope_vib_analyze(x, 1, n, m.fs, &d, &q, NULL), 0);
+		ck_assert_uint_eq(q.n_peaks, 0);
+		ck_assert(q.orders[0].found);
+		sscope_vib_result_clear(&q);
+		sscope_vib_result_clear(&r);
+	}
 	free(x);
 }
 END_TEST

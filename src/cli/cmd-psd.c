@@ -989,6 +989,7 @@ static void init(void *opts)
 
 	memset(a, 0, sizeof(*a));
 	sscope_psd_opts_init(&a->po);
+	a->po.nperseg = 256;
 	a->overlap = 0.5;
 	a->peaks = 5;
 	a->peak_alpha = 0.01;
@@ -1011,9 +1012,7 @@ static int check(struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--spectrogram: the spectrogram is part of the JSON output (--format json) and of the figure (--plot)");
 	if (a->sg_cols_set && !a->spectrogram && !co->plot)
 		return ssc_usage_error(co->cmd, "--spectrogram-columns: no --spectrogram or --plot");
-	a->po.noverlap = (size_t)floor(a->overlap * (double)a->po.nperseg);
-	if (a->po.noverlap >= a->po.nperseg)
-		a->po.noverlap = a->po.nperseg - 1;
+	a->po.noverlap = sscope_psd_noverlap(a->overlap, a->po.nperseg);
 	a->po.skip_nonfinite = co->allow_nan;
 	a->po.shorten = true;
 	a->po.spectrogram_cols = a->spectrogram || co->plot ? a->sg_cols : 0;

@@ -158,6 +158,8 @@ bad_bearing:
 			return SSC_EXIT_USAGE;
 		if (!(a->vo.tolerance >= 0 && a->vo.tolerance < 0.2))
 			return ssc_usage_error("vibration", "--tolerance: must be in [0, 0.2)");
+		if (a->vo.tolerance == 0)
+			a->vo.tolerance = -1; /* exact */
 		a->tol_set = true;
 		return 0;
 	case OPT_ENV_BAND:
@@ -192,6 +194,8 @@ bad_bearing:
 			return SSC_EXIT_USAGE;
 		if (a->vo.n_peaks > 16)
 			return ssc_usage_error("vibration", "--peaks: at most 16");
+		if (a->vo.n_peaks == 0)
+			a->vo.n_peaks = SSCOPE_VIB_NO_PEAKS;
 		return 0;
 	default:
 		return ssc_usage_error("vibration", "unexpected option");
@@ -669,13 +673,10 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	R->cap = cap;
 	R->a = *(struct args *)opts;
 	a = &R->a;
-	if (a->vo.psd.nperseg)
-		a->vo.psd.noverlap = (size_t)floor(a->overlap * (double)a->vo.psd.nperseg);
-	else if (a->overlap != 0.5)
-		a->vo.psd.noverlap = (size_t)floor(a->overlap *
-			(double)sscope_vib_default_nperseg(cap->n));
 	if (a->vo.psd.nperseg == 0 && a->overlap != 0.5)
 		a->vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
+	if (a->vo.psd.nperseg)
+		a->vo.psd.noverlap = sscope_psd_noverlap(a->overlap, a->vo.psd.nperseg);
 	for (size_t k = 0; k < cap->n_channels; k++, R->n++) {
 		const struct sscope_capture_column *col = &cap->channels[k].col;
 		struct sscope_diag d = { "" };

@@ -844,7 +844,7 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
     o.nperseg = nperseg
     if overlap is not None:
         # as the command: floor(overlap * nperseg), below nperseg
-        o.noverlap = min(int(math.floor(overlap * nperseg)), nperseg - 1)
+        o.noverlap = _c.psd_noverlap(float(overlap), nperseg)
     o.nfft = nfft if nfft else 0
     o.detrend = {"constant": 0, "linear": 1, "none": 2}[detrend]
     o.scaling = {"density": 0, "spectrum": 1}[scaling]

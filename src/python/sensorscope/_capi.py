@@ -415,6 +415,7 @@ noise_plan_new = _fn("sscope_noise_plan_new", C.c_int,
                      C.POINTER(C.c_void_p))
 noise_plan_free = _fn("sscope_noise_plan_free", None, C.c_void_p)
 psd_opts_init = _fn("sscope_psd_opts_init", None, C.POINTER(PsdOpts))
+psd_noverlap = _fn("sscope_psd_noverlap", c_size, C.c_double, c_size)
 window_from_name = _fn("sscope_psd_window_from_name", C.c_int, C.c_char_p,
                        C.POINTER(C.c_int))
 psd_welch = _fn("sscope_psd_welch", C.c_int, c_dptr, c_size, c_size, c_dbl,
