@@ -1075,7 +1075,7 @@ void sscope_allan_free(struct sscope_allan *p)
 {
 	if (!p)
 		return;
-	if (p->opts.release_workspace && p->x)
+	if ((p->opts.plan_flags & SSCOPE_ALLAN_RELEASE_WORKSPACE) && p->x)
 		ssc_release_pages(p->x, p->x_cap * sizeof(double), p->nthreads);
 	free(p->x);
 	free(p->win);
@@ -1543,17 +1543,22 @@ static int build_gaps(struct sscope_allan *p, const struct src *s)
 /* samples read between release calls */
 #define RELEASE_STEP ((size_t)1 << 18)
 
-/* the samples [*done, upto) have been read for the last time: tell the
- * caller, in steps of RELEASE_STEP or at the end (last) */
+/* the samples [*done, upto) have been read for the last time: give their
+ * whole pages back (SSCOPE_ALLAN_EVICT_INPUT), in steps of RELEASE_STEP
+ * or at the end (last) */
 static void release_to(const struct src *s, size_t *done, size_t upto,
 		       bool last)
 {
 	if (upto > s->n)
 		upto = s->n;
-	if (!s->o->release || upto <= *done ||
+	const char *a, *b;
+
+	if (!(s->o->plan_flags & SSCOPE_ALLAN_EVICT_INPUT) || upto <= *done ||
 	    (!last && upto - *done < RELEASE_STEP))
 		return;
-	s->o->release(s->o->release_ctx, s->y, s->stride, *done, upto - *done);
+	a = (const char *)(s->y + *done * s->stride);
+	b = (const char *)(s->y + (upto - 1) * s->stride + 1);
+	ssc_release_pages((void *)(uintptr_t)a, (size_t)(b - a), 1);
 	*done = upto;
 }
 
@@ -2764,7 +2769,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 			 struct sscope_diag *diag)
 {
 	double amax = 0, sc, *copy;
-	void (*release)(void *, const double *, size_t, size_t, size_t);
+	unsigned flags;
 	int rc;
 
 	if (rate_hz > 0 && isfinite(rate_hz) &&
@@ -2789,10 +2794,10 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 		return -ENOMEM;
 	for (size_t k = 0; k < n; k++)
 		copy[k] = y[k * stride] * sc;
-	release = p->opts.release; /* the copy is not the caller's */
-	p->opts.release = NULL;
+	flags = p->opts.plan_flags; /* the copy lives in memory only */
+	p->opts.plan_flags &= ~(unsigned)SSCOPE_ALLAN_EVICT_INPUT;
 	rc = compute(p, copy, 1, n, rate_hz, m, n_m, pts, n_pts, diag);
-	p->opts.release = release;
+	p->opts.plan_flags = flags;
 	free(copy);
 	if (rc)
 		return rc;

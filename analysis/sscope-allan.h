@@ -148,6 +148,28 @@ size_t sscope_allan_max_m(enum sscope_allan_dev dev, size_t n_phase);
 int sscope_allan_grid(enum sscope_allan_tau_grid grid, size_t m_max, size_t *m,
 		      size_t cap, size_t *count);
 
+/** Plan flags: memory policy, as FFTW's planner flags (bits of
+ *  sscope_allan_opts.plan_flags).  Results do not depend on them. */
+enum sscope_allan_plan_flag {
+	/** The record can be fetched again: a read-only mapping of a file
+	 *  (sscope_capture_mapped()).  Once the engine has read a range of
+	 *  samples for the last time in a computation, the whole pages
+	 *  inside it are given back (a later read fetches them from the
+	 *  file or the page cache), so that the record and the phase
+	 *  workspace are never both whole in memory.  Never for memory
+	 *  the record lives in only (allocated or written): its pages
+	 *  would read back as zeros. */
+	SSCOPE_ALLAN_EVICT_INPUT = 1u << 0,
+	/** When the plan is freed (sscope_allan_free(), and at the end of
+	 *  sscope_allan_analyze()), give its workspace's pages back to the
+	 *  system on all its threads at once: for the last analysis of a
+	 *  process, whose exit would otherwise free them on one core, or of
+	 *  a program that will not allocate as much again.  Without it the
+	 *  memory goes back to malloc(), and a next plan of the same size
+	 *  may reuse its pages without the system clearing them. */
+	SSCOPE_ALLAN_RELEASE_WORKSPACE = 1u << 1,
+};
+
 /** Options of the deviation engine.  Zero-initialised = OADEV on a rate,
  *  68.27 % intervals, noise type identified, all threads. */
 struct sscope_allan_opts {
@@ -175,34 +197,15 @@ struct sscope_allan_opts {
 	 *  when built without OpenMP.  Results do not depend on it beyond
 	 *  the last bits of a sum. */
 	unsigned threads;
-	/** Optional: called, possibly from several threads at once, with
-	 *  ranges of samples (x[k * stride], from <= k < from + n) that the
-	 *  engine has read in the current computation (a later call reads
-	 *  them again).  Each range once, unless the record turns out to hold
-	 *  a NaN or an infinite sample part-way, or to need exact centring:
-	 *  the engine then reads it all again, and calls again.  The callback
-	 *  may therefore let go only of what can be read back, as
-	 *  sscope_capture_evict() does: with the capture as @p release_ctx, a
-	 *  capture mapped from its file gives its pages back behind the phase
-	 *  pass (they are read again from the file when needed), so that the
-	 *  record and the phase workspace are never both whole in memory.
-	 *  NULL: not called. */
-	void (*release)(void *ctx, const double *x, size_t stride,
-			size_t from, size_t n);
-	void *release_ctx;
 	/** NaN samples are an error (-EDOM), as infinite ones always are,
 	 *  instead of gaps: for callers whose data may hold no gaps, which
 	 *  then need not check the samples themselves (the engine does, as
 	 *  it reads them). */
 	bool reject_nan;
-	/** When the plan is freed (sscope_allan_free(), and at the end of
-	 *  sscope_allan_analyze()), give its workspace's pages back to the
-	 *  system on all its threads at once: for the last analysis of a
-	 *  process, whose exit would otherwise free them on one core, or
-	 *  of a program that will not allocate as much again.  Without it
-	 *  the memory goes back to malloc(), and a next plan of the same
-	 *  size may reuse its pages without the system clearing them. */
-	bool release_workspace;
+	/** Plan flags (SSCOPE_ALLAN_EVICT_INPUT,
+	 *  SSCOPE_ALLAN_RELEASE_WORKSPACE): how the plan uses memory,
+	 *  never what it computes; 0: keep everything. */
+	unsigned plan_flags;
 };
 
 /** One tau of a deviation. */

@@ -137,10 +137,8 @@ int main(void)
 	F(sscope_allan_opts, alpha);
 	F(sscope_allan_opts, stride_div);
 	F(sscope_allan_opts, threads);
-	F(sscope_allan_opts, release);
-	F(sscope_allan_opts, release_ctx);
 	F(sscope_allan_opts, reject_nan);
-	F(sscope_allan_opts, release_workspace);
+	F(sscope_allan_opts, plan_flags);
 	S(sscope_allan_point);
 	F(sscope_allan_point, tau_s);
 	F(sscope_allan_point, m);

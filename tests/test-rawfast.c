@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "sscope-allan.h"
@@ -245,10 +246,12 @@ START_TEST(in_place)
 	ck_assert_uint_eq(cap->mapping_len, n * sizeof(double));
 	ck_assert_uint_eq(cap->n, n);
 	ck_assert(memcmp(cap->channels[0].data, v, n * sizeof(double)) == 0);
-	/* give everything back, in pieces: still readable, still equal */
-	sscope_capture_evict(cap, cap->channels[0].data, 1, 0, n / 2);
-	sscope_capture_evict(cap, cap->channels[0].data, 1, n / 2, n - n / 2);
-	sscope_capture_evict(cap, v, 1, 0, n); /* not the capture's: ignored */
+	/* mapped: its pages may be given back and fetched again */
+	ck_assert(sscope_capture_mapped(cap, cap->channels[0].data));
+	ck_assert(sscope_capture_mapped(cap, cap->channels[0].data + n - 1));
+	ck_assert(!sscope_capture_mapped(cap, v)); /* not the capture's */
+	ck_assert(!sscope_capture_mapped(NULL, v));
+	madvise((void *)(uintptr_t)cap->mapping, cap->mapping_len, MADV_DONTNEED);
 	ck_assert(memcmp(cap->channels[0].data, v, n * sizeof(double)) == 0);
 	sscope_capture_free(cap);
 
@@ -256,6 +259,7 @@ START_TEST(in_place)
 	o.default_unit = "deg/s";
 	ck_assert_int_eq(sscope_capture_load(&cap, p, &o, &d), 0);
 	ck_assert_ptr_null(cap->mapping);
+	ck_assert(!sscope_capture_mapped(cap, cap->channels[0].data));
 	ck_assert(cap->channels[0].data[777] == v[777] * 0.017453292519943295);
 	sscope_capture_free(cap);
 	o.default_unit = NULL;
@@ -329,79 +333,6 @@ START_TEST(in_place)
 }
 END_TEST
 
-struct tally {
-	const double *x;
-	size_t n;
-	unsigned char *seen;
-	int overlap, foreign;
-};
-
-static void count_release(void *ctx, const double *x, size_t stride,
-			  size_t from, size_t n)
-{
-	struct tally *t = ctx;
-
-	if (x != t->x || stride != 1 || from + n > t->n) {
-		__atomic_fetch_add(&t->foreign, 1, __ATOMIC_RELAXED);
-		return;
-	}
-	for (size_t i = from; i < from + n; i++)
-		if (__atomic_exchange_n(&t->seen[i], 1, __ATOMIC_RELAXED))
-			__atomic_fetch_add(&t->overlap, 1, __ATOMIC_RELAXED);
-}
-
-/* the tiled and the contiguous engines release every sample exactly once
- * per computation, and the points do not change */
-START_TEST(allan_release)
-{
-	size_t n = 3000000, m[64], nm = 0, np;
-	double *y = malloc(n * sizeof(double));
-	struct sscope_allan_point *a = calloc(64, sizeof(*a)), *b = calloc(64, sizeof(*b));
-	struct tally t = { 0 };
-	uint64_t s = 88172645463325252ull;
-
-	ck_assert_ptr_nonnull(y);
-	for (size_t i = 0; i < n; i++) {
-		s ^= s << 13;
-		s ^= s >> 7;
-		s ^= s << 17;
-		y[i] = 0.3 + (double)(s >> 11) * 0x1p-53;
-	}
-	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 2, m, 64, &nm), 0);
-	t.x = y;
-	t.n = n;
-	t.seen = calloc(n, 1);
-	for (int dev = 0; dev < 2; dev++) {
-		struct sscope_allan_opts o = { .dev = dev ? SSCOPE_ALLAN_DEV_MDEV : SSCOPE_ALLAN_DEV_OADEV,
-					       .ci_level = -1 };
-		struct sscope_allan *p = NULL;
-		size_t na = 0, nb = 0;
-
-		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
-		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 100, m, nm, a, &na, NULL), 0);
-		sscope_allan_free(p);
-		o.release = count_release;
-		o.release_ctx = &t;
-		memset(t.seen, 0, n);
-		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
-		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 100, m, nm, b, &nb, NULL), 0);
-		sscope_allan_free(p);
-		ck_assert_uint_eq(na, nb);
-		for (size_t j = 0; j < na; j++)
-			ck_assert(a[j].dev == b[j].dev);
-		ck_assert_int_eq(t.foreign, 0);
-		ck_assert_int_eq(t.overlap, 0);
-		np = 0;
-		for (size_t i = 0; i < n; i++)
-			np += t.seen[i];
-		ck_assert_uint_eq(np, n);
-	}
-	free(t.seen);
-	free(y);
-	free(a);
-	free(b);
-}
-END_TEST
 
 /* resident pages of this process (/proc/self/statm), or 0 */
 static size_t resident_pages(void)
@@ -466,7 +397,7 @@ START_TEST(workspace_release)
 		y[i] = 0.3 + 0.01 * sin((double)i * 2.385) + 1e-3 * (double)(i % 7);
 	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
 					      &ao, &fo, &r1, NULL), 0);
-	ao.release_workspace = true;
+	ao.plan_flags = SSCOPE_ALLAN_RELEASE_WORKSPACE;
 	ck_assert_int_eq(sscope_allan_analyze(y, 1, n, 100, SSCOPE_ALLAN_TAUS_OCTAVE,
 					      &ao, &fo, &r2, NULL), 0);
 	ck_assert_uint_eq(r1->n_points, r2->n_points);
@@ -475,6 +406,81 @@ START_TEST(workspace_release)
 	sscope_allan_result_free(r1);
 	sscope_allan_result_free(r2);
 	free(y);
+}
+END_TEST
+
+/* SSCOPE_ALLAN_EVICT_INPUT on a record mapped from its file: the tiled
+ * and the contiguous engines give its pages back behind their pass (the
+ * process's resident set does not keep the record, as it does without the
+ * flag), and the points do not change */
+START_TEST(allan_evict_input)
+{
+	size_t n = 3000000, m[64], nm = 0;
+	const long pg = sysconf(_SC_PAGESIZE);
+	const size_t pages = n * sizeof(double) / (pg > 0 ? (size_t)pg : 4096);
+	double *y = malloc(n * sizeof(double));
+	struct sscope_allan_point *a = calloc(64, sizeof(*a)), *b = calloc(64, sizeof(*b));
+	uint64_t s = 88172645463325252ull;
+	char path[] = "/tmp/ssc-evict-XXXXXX";
+	int fd = mkstemp(path);
+	const double *map;
+
+	ck_assert_ptr_nonnull(y);
+	ck_assert_int_ge(fd, 0);
+	for (size_t i = 0; i < n; i++) {
+		s ^= s << 13;
+		s ^= s >> 7;
+		s ^= s << 17;
+		y[i] = 0.3 + (double)(s >> 11) * 0x1p-53;
+	}
+	ck_assert(write(fd, y, n * sizeof(double)) == (ssize_t)(n * sizeof(double)));
+	map = mmap(NULL, n * sizeof(double), PROT_READ, MAP_PRIVATE, fd, 0);
+	ck_assert(map != MAP_FAILED);
+	close(fd);
+	unlink(path);
+	ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 2, m, 64, &nm), 0);
+	for (int dev = 0; dev < 2; dev++) {
+		struct sscope_allan_opts o = { .dev = dev ? SSCOPE_ALLAN_DEV_MDEV : SSCOPE_ALLAN_DEV_OADEV,
+					       .ci_level = -1 };
+		struct sscope_allan *p = NULL;
+		size_t na = 0, nb = 0, r0, kept, evicted;
+
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, y, 1, n, 100, m, nm, a, &na, NULL), 0);
+		sscope_allan_free(p);
+		/* without the flag the mapped record stays resident */
+		madvise((void *)(uintptr_t)map, n * sizeof(double), MADV_DONTNEED);
+		r0 = resident_pages();
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, map, 1, n, 100, m, nm, b, &nb, NULL), 0);
+		sscope_allan_free(p);
+		kept = resident_pages();
+		ck_assert_uint_eq(na, nb);
+		for (size_t j = 0; j < na; j++)
+			ck_assert(a[j].dev == b[j].dev);
+		/* with it, the pages go back */
+		madvise((void *)(uintptr_t)map, n * sizeof(double), MADV_DONTNEED);
+		o.plan_flags = SSCOPE_ALLAN_EVICT_INPUT;
+		ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+		ck_assert_int_eq(sscope_allan_compute(p, map, 1, n, 100, m, nm, b, &nb, NULL), 0);
+		sscope_allan_free(p);
+		evicted = resident_pages();
+		ck_assert_uint_eq(na, nb);
+		for (size_t j = 0; j < na; j++)
+			ck_assert(a[j].dev == b[j].dev);
+		if (r0 && kept && evicted) {
+			ck_assert_msg(kept + pages / 8 >= r0 + pages,
+				      "without the flag: resident %zu -> %zu pages (record %zu)",
+				      r0, kept, pages);
+			ck_assert_msg(evicted <= r0 + pages / 8,
+				      "with the flag: resident %zu -> %zu pages (record %zu)",
+				      r0, evicted, pages);
+		}
+	}
+	munmap((void *)(uintptr_t)map, n * sizeof(double));
+	free(y);
+	free(a);
+	free(b);
 }
 END_TEST
 
@@ -693,7 +699,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, blocks_equal_rows);
 	tcase_add_test(tc, bad_values_located);
 	tcase_add_test(tc, in_place);
-	tcase_add_test(tc, allan_release);
+	tcase_add_test(tc, allan_evict_input);
 	tcase_add_test(tc, workspace_release);
 	tcase_add_test(tc, analyze_skip_fit);
 	tcase_add_test(tc, all_grid_fit_dense);

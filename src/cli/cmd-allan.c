@@ -569,13 +569,14 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		ao.ci_level = a->ci;
 		/* a capture used in place gives its pages back behind the
 		 * phase pass */
-		ao.release = sscope_capture_evict;
-		ao.release_ctx = cap;
+		if (sscope_capture_mapped(cap, cap->channels[k].data))
+			ao.plan_flags |= SSCOPE_ALLAN_EVICT_INPUT;
 		/* samples the reader left unchecked are checked here */
 		ao.reject_nan = cap->values_unchecked && !co->allow_nan;
 		/* the last channel's workspace is not used again: its pages
 		 * go back on every core instead of at exit on one */
-		ao.release_workspace = last_file && k + 1 == cap->n_channels;
+		if (last_file && k + 1 == cap->n_channels)
+			ao.plan_flags |= SSCOPE_ALLAN_RELEASE_WORKSPACE;
 		rc = sscope_allan_analyze(cap->channels[k].data, 1, cap->n,
 					  cap->rate_hz, a->grid, &ao, &fo,
 					  &c->res, &d);

@@ -45,24 +45,9 @@ static bool in_mapping(const struct sscope_capture *cap, const void *p)
 	return m && (const char *)p >= m && (const char *)p < m + cap->mapping_len;
 }
 
-void sscope_capture_evict(void *capture, const double *x, size_t stride,
-			  size_t from, size_t n)
+bool sscope_capture_mapped(const struct sscope_capture *cap, const double *x)
 {
-	struct sscope_capture *cap = capture;
-	const char *m, *a, *b;
-
-	if (!cap || !x || !n || !in_mapping(cap, x))
-		return;
-	m = cap->mapping;
-	a = (const char *)(x + from * stride);
-	b = (const char *)(x + (from + n - 1) * stride + 1);
-	if (a < m)
-		a = m;
-	if (b > m + cap->mapping_len)
-		b = m + cap->mapping_len;
-	/* whole pages inside the range only */
-	if (b > a)
-		ssc_release_pages((void *)(uintptr_t)a, (size_t)(b - a), 1);
+	return cap && x && in_mapping(cap, x);
 }
 
 int sscope_capture_check_values(const struct sscope_capture *cap,

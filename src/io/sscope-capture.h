@@ -153,16 +153,12 @@ int sscope_capture_set_channel(struct sscope_capture *cap, size_t k,
 void sscope_capture_free(struct sscope_capture *cap);
 
 /**
- * Say that samples x[k * stride], from <= k < from + n, of a channel of
- * @p capture (a struct sscope_capture *) will not be read for a while: when
- * the capture is mapped from its file (sscope_reader_opts.in_place) their
- * memory pages are given back (a later read fetches them from the file
- * again, or from the page cache); otherwise nothing happens.  Meant as
- * sscope_allan_opts.release, so that a record and the Allan workspace are
- * never both whole in memory.  Thread-safe.
+ * Whether @p x (a channel's samples) lies in the read-only file mapping
+ * of @p cap (sscope_reader_opts.in_place): its pages can be given back
+ * and fetched again from the file, so the Allan engine may evict them
+ * behind its pass (SSCOPE_ALLAN_EVICT_INPUT).  False for NULL.
  */
-void sscope_capture_evict(void *capture, const double *x, size_t stride,
-			  size_t from, size_t n);
+bool sscope_capture_mapped(const struct sscope_capture *cap, const double *x);
 
 /**
  * The reader's check of a capture's samples, for a capture read with

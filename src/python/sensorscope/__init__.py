@@ -555,7 +555,7 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     ao.reject_nan = not allow_nan
     # the workspace is not kept between calls: its pages go back to the
     # system on every thread instead of on one when it is freed
-    ao.release_workspace = True
+    ao.plan_flags = _c.ALLAN_RELEASE_WORKSPACE
     if alpha is not None:
         ao.alpha_fixed = True
         ao.alpha = alpha

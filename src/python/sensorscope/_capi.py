@@ -54,7 +54,9 @@ class Column(C.Structure):
 
 
 PROGRESS = C.CFUNCTYPE(None, C.c_void_p, C.c_uint64, C.c_uint64)
-RELEASE = C.CFUNCTYPE(None, C.c_void_p, c_dptr, c_size, c_size, c_size)
+# sscope_allan_opts.plan_flags
+ALLAN_EVICT_INPUT = 1 << 0
+ALLAN_RELEASE_WORKSPACE = 1 << 1
 
 
 class ReadOpts(C.Structure):
@@ -135,8 +137,7 @@ class AllanOpts(C.Structure):
     _fields_ = [("dev", C.c_int), ("input", C.c_int), ("ci_level", c_dbl),
                 ("alpha_fixed", C.c_bool), ("alpha", C.c_int),
                 ("stride_div", c_size), ("threads", C.c_uint),
-                ("release", RELEASE), ("release_ctx", C.c_void_p),
-                ("reject_nan", C.c_bool), ("release_workspace", C.c_bool)]
+                ("reject_nan", C.c_bool), ("plan_flags", C.c_uint)]
 
 
 class AllanPoint(C.Structure):
