@@ -550,6 +550,18 @@ static int take_calib_triad(struct opts *o, const char **from,
 	return q == SSCOPE_QUANTITY_ANGULAR_RATE || q == SSCOPE_QUANTITY_ACCELERATION;
 }
 
+/* Sources from every triad of a calib result; returns how many counted. */
+static int take_calib_res(struct opts *o, const char **from,
+			  const struct ssc_calib_res *c)
+{
+	int used = 0;
+
+	for (int t = 0; t < c->n_out; t++)
+		used += take_calib_triad(o, from, c->out[t].q, &c->out[t].t.c,
+					 c->out[t].noise_density);
+	return used;
+}
+
 /* Sources from the typed results of a scene's allan and calib stages. */
 static void take_upstream(struct opts *o, const char **from,
 			  const struct ssc_stage_env *env)
@@ -570,12 +582,7 @@ static void take_upstream(struct opts *o, const char **from,
 							ft->coef[SSCOPE_TERM_B].value);
 				}
 		} else if (r->ops == &ssc_calib_stage) {
-			const struct ssc_calib_res *c = r->data;
-
-			for (int t = 0; t < c->n_out; t++)
-				take_calib_triad(o, from, c->out[t].q,
-						 &c->out[t].t.c,
-						 c->out[t].noise_density);
+			take_calib_res(o, from, r->data);
 		}
 	}
 }
@@ -613,12 +620,15 @@ static int load_result(struct opts *o, const char *path, const char **from)
 							t[i].coef[SSCOPE_TERM_B] : (double)NAN);
 		free(t);
 	} else if (cmd && !strncmp(cmd, "calib", 5)) {
-		struct ssc_calib_saved t[8];
-		size_t n = ssc_calib_result_triads(root, t, 8);
+		struct ssc_calib_res c;
 
-		for (size_t i = 0; i < n; i++)
-			used += take_calib_triad(o, from, t[i].q, &t[i].c,
-						 t[i].noise_density_si);
+		if (ssc_calib_res_from_json(root, &c)) {
+			json_decref(root);
+			ssc_err("budget", "--result: %s: a 'calib' result whose triads cannot be read",
+				path);
+			return SSC_EXIT_FAIL;
+		}
+		used = take_calib_res(o, from, &c);
 	} else {
 		json_decref(root);
 		ssc_err("budget", "--result: %s: neither an 'allan' nor a 'calib' JSON result",

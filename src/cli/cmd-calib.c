@@ -290,23 +290,6 @@ static void held_unit(const struct sscope_capture_column *col, char *out, size_t
 /* Results                                                             */
 /* ------------------------------------------------------------------ */
 
-/* the error model (when input and output have one dimension) and the
- * class of the sensor */
-static void finish_triad(struct ssc_calib_triad_out *o)
-{
-	struct sscope_unit iu, ou;
-
-	o->error_model = o->t.input_unit[0] &&
-			 !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
-			 !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
-			 sscope_unit_compatible(&iu, &ou) &&
-			 sscope_calib_error_model(&o->t.c, o->A) == 0;
-	o->grade = sscope_calib_triad_grade(o->q, &o->t.c,
-					    o->error_model ? (const double(*)[3])o->A :
-							     NULL,
-					    o->noise_density, &o->grade_dist);
-}
-
 static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 {
 	const struct sscope_calib_triad *c = &o->t.c;
@@ -503,7 +486,7 @@ static int accel_multipos(struct run *r)
 					     SSCOPE_QUANTITY_ACCELERATION,
 				     r->pose_before, r->pose_after) == 0)
 		r->n_pose = r->n_iv;
-	finish_triad(&r->pub.out[r->pub.n_out]);
+	ssc_calib_triad_finish(&r->pub.out[r->pub.n_out]);
 	r->pub.n_out++;
 	return SSC_EXIT_OK;
 }
@@ -582,7 +565,7 @@ static int gyro_multipos(struct run *r)
 			snprintf(r->pub.out[1].t.accel_channels[i], 64, "%s",
 				 r->pub.out[0].t.channels[i]);
 	noise_density(r, r->gi, &r->pub.out[1]);
-	finish_triad(&r->pub.out[1]);
+	ssc_calib_triad_finish(&r->pub.out[1]);
 	r->pub.n_out = 2;
 	rc = SSC_EXIT_OK;
 out:
@@ -625,7 +608,7 @@ static int accel_sixpos(struct run *r)
 	/* residual_rms of a linear fit is in held units: show input units */
 	r->pub.out[0].t.c.residual_rms /= ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
 	noise_density(r, r->ai, &r->pub.out[0]);
-	finish_triad(&r->pub.out[0]);
+	ssc_calib_triad_finish(&r->pub.out[0]);
 	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
@@ -673,7 +656,7 @@ static int gyro_tilt(struct run *r)
 	for (int i = 0; i < 3; i++)
 		snprintf(r->pub.out[0].t.accel_channels[i], 64, "%s",
 			 cap->channels[r->ai[i]].col.name);
-	finish_triad(&r->pub.out[0]);
+	ssc_calib_triad_finish(&r->pub.out[0]);
 	r->pub.n_out = 1;
 	return SSC_EXIT_OK;
 }
@@ -809,7 +792,7 @@ static int rate_table_fit(struct run *r)
 			ssc_calfile_unit_scale(r->pub.out[0].t.input_unit);
 		r->pub.out[0].residual_unit = r->pub.out[0].t.input_unit[0] ?
 						  r->pub.out[0].t.input_unit : "counts";
-		finish_triad(&r->pub.out[0]);
+		ssc_calib_triad_finish(&r->pub.out[0]);
 		r->pub.n_out = 1;
 	}
 	return SSC_EXIT_OK;

@@ -16,6 +16,7 @@
 
 #include "navcommon.h"
 #include "plot.h"
+#include "results.h"
 #include "stage.h"
 
 #define D2R (PI / 180)
@@ -413,31 +414,6 @@ static int apply_allan(const char *cmd, struct imu_in *in, const json_t *root,
 	return SSC_EXIT_OK;
 }
 
-static int apply_calib(const char *cmd, struct imu_in *in, const json_t *root,
-		       const char *what)
-{
-	const char *c = json_string_value(json_object_get(root, "command"));
-	int found = 0;
-
-	if (!c || strncmp(c, "calib", 5)) {
-		ssc_err(cmd, "--from-calib: %s: not a JSON result of 'calib'", what);
-		return SSC_EXIT_FAIL;
-	}
-	if (ssc_nav_calib_errors(root, "gyro", in->imu.gyro_bias_rad_s, in->imu.gyro_m) == 0)
-		found++;
-	if (ssc_nav_calib_errors(root, "accel", in->imu.accel_bias_m_s2, in->imu.accel_m) == 0)
-		found++;
-	if (!found) {
-		ssc_err(cmd, "--from-calib: %s: no triad with an error model in physical units",
-			what);
-		return SSC_EXIT_FAIL;
-	}
-	/* the same words for a file and the scene's stage */
-	add_from(in, "biases, scale factors and misalignments of %s",
-		 "a calib result");
-	return SSC_EXIT_OK;
-}
-
 static int apply_calib_res(const char *cmd, struct imu_in *in,
 			   const struct ssc_calib_res *c, const char *what)
 {
@@ -451,10 +427,29 @@ static int apply_calib_res(const char *cmd, struct imu_in *in,
 		ssc_err(cmd, "%s: no triad with an error model in physical units", what);
 		return SSC_EXIT_FAIL;
 	}
-	(void)what;
 	add_from(in, "biases, scale factors and misalignments of %s",
 		 "a calib result");
 	return SSC_EXIT_OK;
+}
+
+static int apply_calib(const char *cmd, struct imu_in *in, const json_t *root,
+		       const char *what)
+{
+	const char *c = json_string_value(json_object_get(root, "command"));
+	struct ssc_calib_res r;
+	char w[4096 + 32];
+
+	if (!c || strncmp(c, "calib", 5)) {
+		ssc_err(cmd, "--from-calib: %s: not a JSON result of 'calib'", what);
+		return SSC_EXIT_FAIL;
+	}
+	if (ssc_calib_res_from_json(root, &r)) {
+		ssc_err(cmd, "--from-calib: %s: a 'calib' result whose triads cannot be read",
+			what);
+		return SSC_EXIT_FAIL;
+	}
+	snprintf(w, sizeof(w), "--from-calib: %s", what);
+	return apply_calib_res(cmd, in, &r, w);
 }
 
 /* --gyro-adc (k 0) or --accel-adc (k 1): a converter for that triad */

@@ -22,7 +22,9 @@
  */
 #include "workbench.h"
 #include "calibfile.h"
+#include "results.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -357,37 +359,133 @@ json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o)
 	return j;
 }
 
+void ssc_calib_triad_finish(struct ssc_calib_triad_out *o)
+{
+	struct sscope_unit iu, ou;
+
+	o->error_model = o->t.input_unit[0] &&
+			 !sscope_unit_parse(o->t.input_unit, &iu, NULL) &&
+			 !sscope_unit_parse(o->t.output_unit, &ou, NULL) &&
+			 sscope_unit_compatible(&iu, &ou) &&
+			 sscope_calib_error_model(&o->t.c, o->A) == 0;
+	o->grade = sscope_calib_triad_grade(o->q, &o->t.c,
+					    o->error_model ? (const double(*)[3])o->A :
+							     NULL,
+					    o->noise_density, &o->grade_dist);
+}
+
 /* A number of a JSON result (NaN when absent or null). */
 static double jnum(const json_t *j)
 {
 	return json_is_number(j) ? json_number_value(j) : (double)NAN;
 }
 
-size_t ssc_calib_result_triads(const json_t *root, struct ssc_calib_saved *out,
-			       size_t max)
+/* v[i] = key[i] * mul; NaN where null */
+static void get_vec_nan(const json_t *o, const char *key, double v[3], double mul)
 {
-	const json_t *a = json_object_get(root, "triads"), *t;
-	size_t i, n = 0;
+	for (size_t i = 0; i < 3; i++)
+		v[i] = jnum(json_array_get(json_object_get(o, key), i)) * mul;
+}
 
-	json_array_foreach(a, i, t) {
-		const char *kind = json_string_value(json_object_get(t, "kind"));
-		struct ssc_calib_saved *s = &out[n];
+static void get_mat_nan(const json_t *o, const char *key, double m[3][3],
+			double mul)
+{
+	for (size_t i = 0; i < 3; i++)
+		for (size_t j = 0; j < 3; j++)
+			m[i][j] = jnum(json_array_get(json_array_get(json_object_get(o, key), i),
+						      j)) * mul;
+}
 
-		if (!kind || n == max)
-			continue;
-		s->q = !strcmp(kind, "gyro") ? SSCOPE_QUANTITY_ANGULAR_RATE :
-					       SSCOPE_QUANTITY_ACCELERATION;
-		sscope_calib_triad_identity(&s->c);
-		for (size_t k = 0; k < 3; k++) {
-			/* the file's units: bias in input units, scale in
-			 * output SI per input unit */
-			s->c.bias_sd[k] = jnum(json_array_get(json_object_get(t, "bias_sd"), k));
-			s->c.scale[k] = jnum(json_array_get(json_object_get(t, "scale"), k));
-			s->c.scale_sd[k] = jnum(json_array_get(json_object_get(t, "scale_sd"), k));
-		}
-		s->noise_density_si = jnum(json_object_get(json_object_get(t, "noise_density"),
-							  "si"));
-		n++;
+/* the residual's unit as the calib stage names it */
+static const char *residual_unit(const char *u, const struct sscope_calib_file_triad *t)
+{
+	static const char *const known[] = { "m/s^2", "1", "counts" };
+
+	if (u && !strcmp(u, t->input_unit))
+		return t->input_unit;
+	for (size_t i = 0; u && i < sizeof(known) / sizeof(known[0]); i++)
+		if (!strcmp(u, known[i]))
+			return known[i];
+	return NULL;
+}
+
+static int triad_from_json(json_t *o, struct ssc_calib_triad_out *out)
+{
+	const char *kind = json_string_value(json_object_get(o, "kind"));
+	const char *iu = json_string_value(json_object_get(o, "input_unit"));
+	const char *ou = json_string_value(json_object_get(o, "output_unit"));
+	const json_t *g = json_object_get(o, "g_sensitivity"), *mo;
+	struct sscope_calib_file_triad *t = &out->t;
+	struct sscope_calib_triad *c = &t->c;
+	double s;
+
+	memset(out, 0, sizeof(*out));
+	sscope_calib_triad_identity(c);
+	if (!kind || !iu || !ou || (strcmp(kind, "accel") && strcmp(kind, "gyro")) ||
+	    strlen(iu) >= sizeof(t->input_unit) || strlen(ou) >= sizeof(t->output_unit) ||
+	    get_names(o, "channels", t->channels) || get_vec(o, "bias", c->bias) ||
+	    get_vec(o, "scale", c->scale) || get_mat(o, "misalignment", c->mis))
+		return -EINVAL;
+	strcpy(t->kind, kind);
+	strcpy(t->input_unit, iu);
+	strcpy(t->output_unit, ou);
+	out->q = !strcmp(kind, "gyro") ? SSCOPE_QUANTITY_ANGULAR_RATE :
+					 SSCOPE_QUANTITY_ACCELERATION;
+	if (g && !json_is_null(g)) {
+		if (get_mat(o, "g_sensitivity", c->gsens) ||
+		    get_names(o, "accel_channels", t->accel_channels))
+			return -EINVAL;
+		c->has_gsens = true;
 	}
-	return n;
+	/* the file's units back to the SI the stage holds (as
+	 * ssc_calfile_triad_json() and ssc_calib_triad_out_json() divide) */
+	s = ssc_calfile_unit_scale(iu);
+	for (int i = 0; i < 3; i++) {
+		c->bias[i] *= s;
+		c->scale[i] /= s;
+		for (int j = 0; j < 3; j++)
+			c->gsens[i][j] *= s;
+	}
+	get_vec_nan(o, "bias_sd", c->bias_sd, s);
+	get_vec_nan(o, "scale_sd", c->scale_sd, 1 / s);
+	get_mat_nan(o, "misalignment_sd", c->mis_sd, 1);
+	if (c->has_gsens)
+		get_mat_nan(o, "g_sensitivity_sd", c->gsens_sd, s);
+	c->residual_rms = jnum(json_object_get(o, "residual_rms"));
+	c->poses = (size_t)json_integer_value(json_object_get(o, "poses"));
+	c->n_params = (unsigned)json_integer_value(json_object_get(o, "parameters"));
+	c->iterations = (unsigned)json_integer_value(json_object_get(o, "iterations"));
+	c->cond = jnum(json_object_get(o, "condition"));
+	out->residual_unit = residual_unit(json_string_value(json_object_get(o, "residual_unit")),
+					   t);
+	out->noise_density = jnum(json_object_get(json_object_get(o, "noise_density"), "si"));
+	mo = json_object_get(o, "motion_error_deg");
+	if (json_is_object(mo)) {
+		out->n_motion = (size_t)json_integer_value(json_object_get(mo, "motions"));
+		out->motion_rms = jnum(json_object_get(mo, "rms")) * PI / 180;
+		out->motion_max = jnum(json_object_get(mo, "max")) * PI / 180;
+		out->motion_rms_bias_only = jnum(json_object_get(mo, "rms_bias_only")) * PI / 180;
+	}
+	ssc_calib_triad_finish(out);
+	return 0;
+}
+
+int ssc_calib_res_from_json(const json_t *root, struct ssc_calib_res *out)
+{
+	const char *cmd = json_string_value(json_object_get(root, "command"));
+	const json_t *arr = json_object_get(root, "triads");
+	size_t n;
+
+	memset(out, 0, sizeof(*out));
+	if (!cmd || strncmp(cmd, "calib", 5) || !json_is_array(arr))
+		return -EINVAL;
+	n = json_array_size(arr);
+	for (size_t i = 0; i < n; i++) {
+		if (out->n_out == (int)(sizeof(out->out) / sizeof(out->out[0])))
+			return -E2BIG;
+		if (triad_from_json(json_array_get(arr, i), &out->out[out->n_out]))
+			return -EINVAL;
+		out->n_out++;
+	}
+	return 0;
 }

@@ -9,6 +9,8 @@
 
 #include "workbench.h"
 
+struct ssc_calib_res;
+
 /* SI scale of a unit label; 1 for "" */
 double ssc_calfile_unit_scale(const char *unit);
 /* The file's triad object (parameters converted to input units). */
@@ -42,18 +44,20 @@ struct ssc_calib_triad_out {
  * model, the noise density and the grade .  A new reference. */
 json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o);
 
-/* A triad of a saved 'calib' JSON result as 'budget' takes it: bias and
- * scale uncertainties (the file's units), the noise density in SI (NaN
- * when absent). */
-struct ssc_calib_saved {
-	enum sscope_quantity q;
-	struct sscope_calib_triad c;
-	double noise_density_si;
-};
+/* The error model (when input and output have one dimension) and the
+ * class of the sensor of @p o, from its correction, units and noise
+ * density. */
+void ssc_calib_triad_finish(struct ssc_calib_triad_out *o);
 
-/* The triads of a saved 'calib' result (at most @p max); returns how
- * many . */
-size_t ssc_calib_result_triads(const json_t *root, struct ssc_calib_saved *out,
-			       size_t max);
+/*
+ * The triads of a saved 'calib' JSON result (ssc_calib_triad_out_json()
+ * of each, under "triads") as the calib stage holds them: SI values, the
+ * error model and class derived again by ssc_calib_triad_finish().  The
+ * one reader of that JSON (budget --result, navsim --from-calib).
+ * Returns 0; -EINVAL when @p root is not a calib result, or a triad is
+ * malformed; -E2BIG past the triads a result can hold (out is then
+ * filled as far as it goes).
+ */
+int ssc_calib_res_from_json(const json_t *root, struct ssc_calib_res *out);
 
 #endif

@@ -242,34 +242,6 @@ void ssc_nav_terms_from_spec(const struct sscope_sensor_spec *s,
 		t->have |= t->coef[i] > 0;
 }
 
-int ssc_nav_calib_errors(const json_t *root, const char *kind, double bias[3],
-			 double M[3][3])
-{
-	const json_t *tr = json_object_get(root, "triads"), *t;
-	size_t i;
-
-	json_array_foreach(tr, i, t) {
-		const char *k = json_string_value(json_object_get(t, "kind"));
-		const json_t *em = json_object_get(t, "error_model");
-		const json_t *b, *sf, *mis;
-
-		if (!k || strcmp(k, kind) || !json_is_object(em))
-			continue;
-		b = json_object_get(em, "bias");
-		sf = json_object_get(em, "scale_factor_ppm");
-		mis = json_object_get(em, "misalignment_rad");
-		for (size_t a = 0; a < 3; a++) {
-			bias[a] = json_number_value(json_object_get(json_array_get(b, a), "si"));
-			for (size_t c = 0; c < 3; c++)
-				M[a][c] = a == c ?
-						  1e-6 * json_number_value(json_array_get(sf, a)) :
-						  json_number_value(json_array_get(json_array_get(mis, a), c));
-		}
-		return 0;
-	}
-	return 1;
-}
-
 int ssc_nav_calib_errors_res(const struct ssc_calib_res *c, const char *kind,
 			     double bias[3], double M[3][3])
 {

@@ -55,13 +55,10 @@ const struct ssc_nav_terms *ssc_nav_terms_pick(const struct ssc_nav_terms *t,
 void ssc_nav_terms_from_spec(const struct sscope_sensor_spec *s,
 			     struct ssc_nav_terms *t);
 
-/* The error model of a `calib` triad (kind "gyro" or "accel"): fixed bias
- * (SI) and error matrix M = A - I.  Returns 0 when found, 1 when the
+/* The error model of a `calib` triad (kind "gyro" or "accel") of the calib
+ * stage's typed result (or a saved one, ssc_calib_res_from_json()): fixed
+ * bias (SI) and error matrix M = A - I.  Returns 0 when found, 1 when the
  * result has no such triad or no error model (bias in counts). */
-int ssc_nav_calib_errors(const json_t *root, const char *kind, double bias[3],
-			 double M[3][3]);
-
-/* The same from the calib stage's typed result. */
 struct ssc_calib_res;
 int ssc_nav_calib_errors_res(const struct ssc_calib_res *c, const char *kind,
 			     double bias[3], double M[3][3]);
