@@ -7,7 +7,11 @@
  * ssc_calib_res_from_json() as the typed value the calib stage passes:
  * every correction value and uncertainty in SI, the error model and the
  * class; budget --result and navsim --from-calib read it so.  A result of
- * another command, or a malformed triad, is refused.
+ * another command, or a malformed triad, is refused.  The calibration
+ * file (ssc_calfile_triad_json(), read by ssc_calfile_read() in the file's
+ * units, the input units that sscope_capture_open() applies) and the
+ * inclinometer look-up table (ssc_inclino_lut_json(), read by
+ * ssc_inclino_lut_read()) come back as they were written.
  */
 #include "config.h"
 
@@ -17,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "workbench.h"
 #include "calibfile.h"
@@ -206,6 +211,113 @@ START_TEST(refuses_what_it_cannot_read)
 }
 END_TEST
 
+/* text of @p j in a new temporary file (its path in @p path) */
+static void put_json(json_t *j, char *path)
+{
+	int fd = mkstemp(path);
+	FILE *f;
+
+	ck_assert_int_ge(fd, 0);
+	f = fdopen(fd, "w");
+	ck_assert_ptr_nonnull(f);
+	ck_assert_int_eq(json_dumpf(j, f, JSON_REAL_PRECISION(17) | JSON_INDENT(1)), 0);
+	ck_assert_int_eq(fclose(f), 0);
+}
+
+START_TEST(calibration_file_round_trip)
+{
+	struct ssc_calib_triad_out o[2];
+	json_t *root = json_object(), *arr = json_array();
+	struct sscope_calib_file_triad *t = NULL;
+	size_t n = 0;
+	char path[] = "/tmp/ssc-calfile-XXXXXX";
+
+	make_triad(&o[0], false);
+	make_triad(&o[1], true);
+	json_object_set_new(root, "format", json_string("sensorscope-calibration"));
+	json_object_set_new(root, "version", json_integer(1));
+	for (int k = 0; k < 2; k++)
+		json_array_append_new(arr, ssc_calfile_triad_json(&o[k].t));
+	json_object_set_new(root, "triads", arr);
+	put_json(root, path);
+	json_decref(root);
+	ck_assert_int_eq(ssc_calfile_read("test", path, &t, &n), 0);
+	unlink(path);
+	ck_assert_uint_eq(n, 2);
+	for (int k = 0; k < 2; k++) {
+		const struct sscope_calib_triad *w = &o[k].t.c, *g = &t[k].c;
+		/* the file holds input units: bias / s, scale * s, G / s */
+		double s = ssc_calfile_unit_scale(o[k].t.input_unit);
+
+		ck_assert(s != 1);
+		ck_assert_str_eq(t[k].kind, o[k].t.kind);
+		ck_assert_str_eq(t[k].input_unit, o[k].t.input_unit);
+		ck_assert_str_eq(t[k].output_unit, o[k].t.output_unit);
+		for (int i = 0; i < 3; i++) {
+			ck_assert_str_eq(t[k].channels[i], o[k].t.channels[i]);
+			close_to(g->bias[i] * s, w->bias[i], "bias");
+			close_to(g->scale[i] / s, w->scale[i], "scale");
+			for (int j = 0; j < 3; j++) {
+				close_to(g->mis[i][j], w->mis[i][j], "misalignment");
+				close_to(g->gsens[i][j] * s, w->gsens[i][j], "g_sensitivity");
+			}
+		}
+		ck_assert_int_eq(g->has_gsens, w->has_gsens);
+	}
+	free(t);
+}
+END_TEST
+
+START_TEST(inclinometer_table_round_trip)
+{
+	struct sscope_inclino_lut lut, back;
+	json_t *root = json_object();
+	char path[] = "/tmp/ssc-lut-XXXXXX";
+
+	memset(&lut, 0, sizeof(lut));
+	lut.n = 3;
+	lut.gravity_m_s2 = 9.80943;
+	for (size_t k = 0; k < lut.n; k++) {
+		struct sscope_inclino_params *p = &lut.p[k];
+
+		lut.temp_degc[k] = -20.5 + 31.25 * (double)k;
+		for (int i = 0; i < 3; i++) {
+			p->offset[i] = 0.0123 * (i + 1) - 0.002 * (double)k;
+			p->scale[i] = 1 + 1.1e-3 * (i - 1) + 2e-5 * (double)k;
+			p->offset_sd[i] = 1.7e-4 * (i + 1);
+			p->scale_sd[i] = 2.3e-5 * (i + 2);
+			for (int j = 0; j < 3; j++) {
+				p->mis[i][j] = i == j ? 0 : 1.9e-3 * (i - j) + 1e-4 * (double)k;
+				p->mis_sd[i][j] = 3e-5 * (i + j + 1);
+			}
+		}
+		p->residual_rms = 4.1e-4 + 1e-5 * (double)k;
+		p->poses = 12 + k;
+	}
+	json_object_set_new(root, "command", json_string("inclino"));
+	json_object_set_new(root, "lut", ssc_inclino_lut_json(&lut, true));
+	put_json(root, path);
+	json_decref(root);
+	ck_assert_int_eq(ssc_inclino_lut_read("test", path, &back), 0);
+	unlink(path);
+	ck_assert_uint_eq(back.n, lut.n);
+	close_to(back.gravity_m_s2, lut.gravity_m_s2, "gravity");
+	for (size_t k = 0; k < lut.n; k++) {
+		const struct sscope_inclino_params *p = &lut.p[k], *q = &back.p[k];
+
+		close_to(back.temp_degc[k], lut.temp_degc[k], "temperature");
+		same_vec(q->offset, p->offset, 3, "offset");
+		same_vec(q->scale, p->scale, 3, "scale");
+		same_vec(&q->mis[0][0], &p->mis[0][0], 9, "misalignment");
+		same_vec(q->offset_sd, p->offset_sd, 3, "offset_sd");
+		same_vec(q->scale_sd, p->scale_sd, 3, "scale_sd");
+		same_vec(&q->mis_sd[0][0], &p->mis_sd[0][0], 9, "misalignment_sd");
+		close_to(q->residual_rms, p->residual_rms, "residual_rms");
+		ck_assert_uint_eq(q->poses, p->poses);
+	}
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("calib-json");
@@ -214,6 +326,8 @@ static Suite *make_suite(void)
 	tcase_set_timeout(tc, 60);
 	tcase_add_test(tc, triads_round_trip);
 	tcase_add_test(tc, refuses_what_it_cannot_read);
+	tcase_add_test(tc, calibration_file_round_trip);
+	tcase_add_test(tc, inclinometer_table_round_trip);
 	suite_add_tcase(s, tc);
 	return s;
 }

@@ -22,7 +22,6 @@
  */
 #include "workbench.h"
 #include "calibfile.h"
-#include "results.h"
 
 #include <errno.h>
 #include <math.h>

@@ -9,8 +9,6 @@
 
 #include "workbench.h"
 
-struct ssc_calib_res;
-
 /* SI scale of a unit label; 1 for "" */
 double ssc_calfile_unit_scale(const char *unit);
 /* The file's triad object (parameters converted to input units). */
@@ -43,6 +41,12 @@ struct ssc_calib_triad_out {
  * file's triad (ssc_calfile_triad_json) with the uncertainties, the error
  * model, the noise density and the grade .  A new reference. */
 json_t *ssc_calib_triad_out_json(const struct ssc_calib_triad_out *o);
+
+/* The calib stage's result starts with this (cmd-calib.c extends it). */
+struct ssc_calib_res {
+	struct ssc_calib_triad_out out[2];
+	int n_out;
+};
 
 /* The error model (when input and output have one dimension) and the
  * class of the sensor of @p o, from its correction, units and noise

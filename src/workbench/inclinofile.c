@@ -2,11 +2,25 @@
 /*
  * The look-up table that 'inclino calibrate' saves: its JSON written
  * (the "lut" object) and read back (that object, or the whole result)
- * into the library's struct and checked (sscope_inclino_check()).
+ * into the library's struct, every field the writer wrote (an uncertainty
+ * a hand-written table leaves out is NaN), and checked
+ * (sscope_inclino_check()).
  */
 #include "workbench.h"
 
+#include <math.h>
 #include <string.h>
+
+/* v from a JSON array of 3 numbers, NaN where absent or null (the
+ * uncertainties a hand-written table may leave out) */
+static void get3_nan(json_t *a, double v[3])
+{
+	for (int i = 0; i < 3; i++) {
+		json_t *x = json_array_get(a, (size_t)i);
+
+		v[i] = json_is_number(x) ? json_number_value(x) : (double)NAN;
+	}
+}
 
 static int get3(json_t *a, double v[3])
 {
@@ -65,8 +79,16 @@ int ssc_inclino_lut_read(const char *cmd, const char *path,
 			goto out;
 		}
 		lut->temp_degc[i] = json_number_value(t);
-		for (int a = 0; a < 3; a++)
+		get3_nan(json_object_get(n, "offset_sd_m_s2"), p->offset_sd);
+		get3_nan(json_object_get(n, "scale_sd"), p->scale_sd);
+		for (int a = 0; a < 3; a++) {
 			p->mis[a][a] = 0;
+			get3_nan(json_array_get(json_object_get(n, "misalignment_sd"), (size_t)a),
+				 p->mis_sd[a]);
+		}
+		t = json_object_get(n, "residual_rms_m_s2");
+		p->residual_rms = json_is_number(t) ? json_number_value(t) : (double)NAN;
+		p->poses = (size_t)json_integer_value(json_object_get(n, "poses"));
 	}
 	if (sscope_inclino_check(lut, &d)) {
 		ssc_err(cmd, "%s: %s", path, d.msg);

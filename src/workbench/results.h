@@ -157,10 +157,6 @@ enum sscope_quantity ssc_allan_json_rate_quantity(const json_t *ch);
 
 /* ------------------------------------------------------------ calib */
 
-/* The calib stage's result starts with this (cmd-calib.c extends it). */
-struct ssc_calib_res {
-	struct ssc_calib_triad_out out[2];
-	int n_out;
-};
+/* struct ssc_calib_res, the calib stage's result: calibfile.h */
 
 #endif
