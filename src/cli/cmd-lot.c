@@ -11,13 +11,15 @@
 #include "lot.h"
 #include "stage.h"
 
-enum { O_LEVEL = 300, O_SPEC };
+enum { O_LEVEL = 300, O_SPEC, O_SMOOTH };
 
 static const struct ssc_option lot_opts[] = {
 	{ "ci", required_argument, O_LEVEL, "LEVEL",
 	  "level of the lot's intervals (default 0.90)" },
 	{ "spec", required_argument, O_SPEC, "FILE",
 	  "upper limits of N, B, K (INI with [gyro], [accel], or a datasheet file): each unit within spec, out of spec or inconclusive (its 99 % interval), the lot's Cpk" },
+	{ "smooth", required_argument, O_SMOOTH, "SECONDS",
+	  "moving mean of the biases in --plot's figure (default 1/100 of the shortest record)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -29,7 +31,10 @@ static const struct ssc_command_spec spec = {
 		"accelerometer channel's N, B, K with their 68.3 % intervals, and per\n"
 		"channel and term the population mean, the spread between units\n"
 		"separated from each unit's own uncertainty (random effects: REML,\n"
-		"Q-profile interval) and the outlier units (robust z, 1 % per unit).",
+		"Q-profile interval) and the outlier units (robust z, 1 % per unit);\n"
+		"the same for each unit's bias, its drift over the record and its\n"
+		"temperature sensitivity (batch means of 20 blocks). --plot F.svg:\n"
+		"the biases against time in F.svg, the Allan deviations in F-adev.svg.",
 	.options = lot_opts,
 	.analysis = true,
 	.notes = "Example:\n"
@@ -43,12 +48,14 @@ static const struct ssc_command_spec spec = {
 struct opts {
 	double level;
 	const char *spec;
+	double smooth_s;
 };
 
 static void init(void *opts)
 {
 	((struct opts *)opts)->level = 0.90;
 	((struct opts *)opts)->spec = NULL;
+	((struct opts *)opts)->smooth_s = 0;
 }
 
 static int handler(int key, const char *arg, void *ctx)
@@ -59,6 +66,9 @@ static int handler(int key, const char *arg, void *ctx)
 		o->spec = arg;
 		return 0;
 	}
+	if (key == O_SMOOTH)
+		return ssc_arg_double("lot", "smooth", arg, &o->smooth_s) ? SSC_EXIT_USAGE :
+		       o->smooth_s > 0 ? 0 : ssc_usage_error("lot", "--smooth: a time > 0 s");
 	if (key != O_LEVEL)
 		return ssc_usage_error("lot", "unexpected option");
 	if (ssc_arg_double("lot", "ci", arg, &o->level))
@@ -80,7 +90,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	const struct opts *o = opts;
 
 	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->n_caps, o->level,
-			   o->spec, (struct ssc_lot_result **)result);
+			   o->spec, o->smooth_s, (struct ssc_lot_result **)result);
 }
 
 const struct ssc_stage_ops ssc_lot_stage = {
@@ -97,6 +107,7 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.json = ssc_lot_json,
 	.text = ssc_lot_text,
 	.summary = ssc_lot_summary,
+	.plot = ssc_lot_plot,
 	.free_result = ssc_lot_free,
 };
 
