@@ -9,6 +9,7 @@
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -444,7 +445,9 @@ static bool plane_fit(const double *x, const double *w, const double *y, size_t 
 	}
 	sx = sqrt(sx / (double)m);
 	sw = sqrt(sw / (double)m);
-	if (!(sx > 0) || !(sw > 0) || !isfinite(sx) || !isfinite(sw))
+	/* constant up to the rounding of the block means: no slope */
+	if (!(sx > 64 * DBL_EPSILON * fabs(xm)) || !(sw > 64 * DBL_EPSILON * fabs(wm)) ||
+	    !isfinite(sx) || !isfinite(sw))
 		goto out;
 	for (size_t j = 0; j < m; j++) {
 		gsl_matrix_set(X, j, 0, 1);

@@ -975,7 +975,7 @@ static int bias_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t 
 		rc = ssc_ax_line(ax, tp, y + u * m, m, &st, lab);
 	}
 	if (!rc) {
-		struct ssc_style st = { .color = 0x000000, .width = 2.5, .dash = SSC_DASHED };
+		struct ssc_style st = { .color = 0x010101, .width = 2.5, .dash = SSC_DASHED };
 
 		rc = ssc_ax_line(ax, tp, med, m, &st, "median of the units");
 	}
@@ -1048,7 +1048,7 @@ static int adev_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t 
 		med[i] = 2 * k > U ? quantile_of(w, k, 0.5) : (double)NAN;
 	}
 	if (!rc) {
-		struct ssc_style st = { .color = 0x000000, .width = 2.5, .dash = SSC_DASHED };
+		struct ssc_style st = { .color = 0x010101, .width = 2.5, .dash = SSC_DASHED };
 
 		rc = ssc_ax_line(ax, c0->tau_s, med, m, &st, "median of the units");
 	}
