@@ -94,6 +94,45 @@ EOS
 run "scene: spec relative to the scene" 0 run -q -o "$T/scene-spec" "$T/lot-spec.scene.ini"
 json_check "scene: verdicts" "$T/scene-spec/lot.json" '.between[0].within_spec == 2 and .between[0].out_of_spec == 1'
 
+# the bundled lot (tests/gen-sample-lot.sh: the truth is in the script):
+# twelve accelerometers, unit 07 1.80 mg against 0.88..1.21 mg; the lot's
+# means of the temperature sensitivity (truth: the mean of the script's
+# list, 50.25 ug/degC) and of the drift (7.58 ug/h) inside their
+# intervals, unit 07 the only bias outlier
+L="$SAMPLES/lot"
+run "the bundled lot" 0 lot --format json --plot "$T/lot.svg" "$L"/unit*.csv
+cp "$T/out" "$T/sample.json"
+json_check "unit07 the only outlier, in bias" "$T/out" '[.outliers[] | [.unit, .term]] == [["unit07.csv", "bias"]]'
+json_check "temperature sensitivity: mean covers 50.25 ug/degC" "$T/out" '.between[] | select(.term == "temp_sensitivity") | .unit == "ug/degC" and .mean_lo < 50.25 and 50.25 < .mean_hi and .units_used == 12'
+json_check "drift: mean covers 7.58 ug/h" "$T/out" '.between[] | select(.term == "bias_drift") | .unit == "ug/h" and .mean_lo < 7.58 and 7.58 < .mean_hi'
+json_check "bias: 11 units used, unit07 far out" "$T/out" '(.between[] | select(.term == "bias") | .units_used == 11 and .mean_lo < 1061 and 1061 < .mean_hi) and (.units[6].channels[0].terms.bias | .outlier and .value > 1700 and .se > 0)'
+json_check "per unit: bias within its interval, temperature said" "$T/out" '[.units[].channels[0] | .terms.bias.lo < .terms.bias.value and .terms.bias.value < .terms.bias.hi and .temperature.span_degc > 4 and (.temperature.time_corr | fabs) < 0.3 and .bias_blocks == 20] | all'
+if [ -s "$T/lot.svg" ] && [ -s "$T/lot-adev.svg" ]; then ok "--plot: two figures"; else not_ok "--plot: two figures"; fi
+has "bias figure: the outlier named" "$T/lot.svg" 'unit07\.csv \(outlier\)'
+has "bias figure: the population band" "$T/lot.svg" '5-95 % of the units'
+has "adev figure: the median" "$T/lot-adev.svg" 'median of the units'
+if command -v "$PYTHON3" >/dev/null 2>&1 && "$PYTHON3" "$top_srcdir/tests/svgcheck.py" "$T/lot.svg" "$T/lot-adev.svg" >"$T/check" 2>&1; then
+	ok "figures: SVG structure"
+elif ! command -v "$PYTHON3" >/dev/null 2>&1; then
+	skip "figures: SVG structure" "no python3"
+else
+	not_ok "figures: SVG structure"; diag "$T/check"
+fi
+run "text: each unit's bias" 0 lot "$L"/unit0[1-7].csv
+has "text: unit07's bias marked" "$T/out" '^unit07\.csv +[0-9.]+ \[[0-9.]+, [0-9.]+\] \*'
+cut -d, -f1,2 "$L/unit02.csv" >"$T/notemp.csv"
+run "a unit without the temperature column" 1 lot "$L/unit01.csv" "$T/notemp.csv" "$L/unit03.csv"
+one_line_error "a unit without the temperature column"
+has "says which" "$T/err" 'notemp\.csv: no temperature column, but .*unit01\.csv has one'
+cut -d, -f1,2 "$L/unit01.csv" >"$T/notemp1.csv"
+cut -d, -f1,2 "$L/unit03.csv" >"$T/notemp3.csv"
+run "no temperature anywhere: no sensitivity" 0 lot --format json "$T/notemp1.csv" "$T/notemp.csv" "$T/notemp3.csv"
+json_check "no temperature: said, no number" "$T/out" '(.between[] | select(.term == "temp_sensitivity") | .why == "no temperature column: no temperature sensitivity") and ([.units[].channels[0].temperature] | all(. == null))'
+run "--smooth 0" 2 lot --smooth 0 "$L"/unit0[1-3].csv
+one_line_error "--smooth 0"
+run "--smooth longer than the record" 1 lot --smooth 20000 --plot "$T/x.svg" "$L"/unit0[1-3].csv
+one_line_error "--smooth longer than the record"
+
 # bad input
 run "two units" 2 lot "$T/unit1.csv" "$T/unit2.csv"
 one_line_error "two units"
