@@ -478,7 +478,7 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 		    struct sscope_lot_bias *out)
 {
 	size_t m = opts && opts->blocks ? opts->blocks : 20, L, mt = 0;
-	double level = opts && opts->level > 0 ? opts->level : 0.6827;
+	double level = opts && opts->level > 0 ? opts->level : 0.682689492137086;
 	double *t, *b, *tb, tq, mean = 0, tmin = INFINITY, tmax = -INFINITY;
 	double est[3] = { NAN, NAN, NAN }, se[3] = { NAN, NAN, NAN };
 	struct ssc_ksum ks = { 0, 0 };

@@ -155,7 +155,7 @@ int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
 /** Options of sscope_lot_bias(); zero means the default. */
 struct sscope_lot_bias_opts {
 	size_t blocks; /**< batches m (0: 20; at least 5) */
-	double level;  /**< interval level (0: 0.6827, one sd) */
+	double level;  /**< interval level (0: 0.682689, one sd) */
 };
 
 /** One unit's bias terms (U the unit of the samples). */
