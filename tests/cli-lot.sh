@@ -118,6 +118,12 @@ elif ! command -v "$PYTHON3" >/dev/null 2>&1; then
 else
 	not_ok "figures: SVG structure"; diag "$T/check"
 fi
+run "a folder: its files, sorted" 0 lot --format json "$L"
+if cmp -s "$T/out" "$T/sample.json"; then ok "a folder: the same JSON as its files"; else not_ok "a folder: the same JSON as its files"; fi
+mkdir "$T/empty"
+touch "$T/empty/notes.md" "$T/empty/.hidden"
+run "a folder without captures" 1 lot "$T/empty"
+one_line_error "a folder without captures"
 run "text: each unit's bias" 0 lot "$L"/unit0[1-7].csv
 has "text: unit07's bias marked" "$T/out" '^unit07\.csv +[0-9.]+ \[[0-9.]+, [0-9.]+\] \*'
 cut -d, -f1,2 "$L/unit02.csv" >"$T/notemp.csv"

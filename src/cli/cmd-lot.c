@@ -25,7 +25,7 @@ static const struct ssc_option lot_opts[] = {
 
 static const struct ssc_command_spec spec = {
 	.name = "lot",
-	.usage = "lot [OPTIONS] FILE FILE FILE...",
+	.usage = "lot [OPTIONS] FILE FILE FILE...|FOLDER",
 	.summary =
 		"Many units of one model, one capture each (at rest): every gyro and\n"
 		"accelerometer channel's N, B, K with their 68.3 % intervals, and per\n"
@@ -40,6 +40,7 @@ static const struct ssc_command_spec spec = {
 	.notes = "Example:\n"
 		 "  sensorscope lot --format json unit*.csv\n"
 		 "  sensorscope lot --spec limits.ini unit*.csv\n"
+		 "  sensorscope lot --plot lot.svg samples/lot   (a folder: its files)\n"
 		 "Exit status: 0 done, 1 a capture that cannot be read or analysed\n"
 		 "or a limits file that cannot be used,\n"
 		 "2 usage (fewer than 3 captures).",
@@ -99,6 +100,7 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.needs = SSC_NEED_DATA,
 	.min_files = 3,
 	.max_files = -1,
+	.folders = true,
 	.opts_size = sizeof(struct opts),
 	.init = init,
 	.handle = handler,

@@ -5,9 +5,14 @@
  */
 #include "stage.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 int ssc_membuf_open(struct ssc_membuf *m)
 {
@@ -172,6 +177,110 @@ static int present(const struct ssc_stage_ops *ops, const struct ssc_common *co,
 	return ssc_out_close(co, &o, !ferror(o.f));
 }
 
+static int cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static bool capture_name(const char *name)
+{
+	static const char *const skip[] = { ".ini", ".md", ".json", ".yaml", ".yml",
+					    ".svg", ".png", ".html" };
+	const char *dot = strrchr(name, '.');
+
+	if (name[0] == '.')
+		return false;
+	for (size_t i = 0; dot && i < sizeof(skip) / sizeof(skip[0]); i++)
+		if (!strcasecmp(dot, skip[i]))
+			return false;
+	return true;
+}
+
+/* append @p s (a copy) to the list */
+static int push(char ***v, size_t *n, size_t *cap, const char *a, const char *b)
+{
+	char *s;
+
+	if (*n == *cap) {
+		char **w = realloc(*v, (*cap ? 2 * *cap : 16) * sizeof(char *));
+
+		if (!w)
+			return -ENOMEM;
+		*v = w;
+		*cap = *cap ? 2 * *cap : 16;
+	}
+	s = malloc(strlen(a) + (b ? strlen(b) + 1 : 0) + 1);
+	if (!s)
+		return -ENOMEM;
+	if (b)
+		sprintf(s, "%s%s%s", a, a[0] && a[strlen(a) - 1] == '/' ? "" : "/", b);
+	else
+		strcpy(s, a);
+	(*v)[(*n)++] = s;
+	return 0;
+}
+
+static void free_list(char **v, size_t n)
+{
+	for (size_t i = 0; i < n; i++)
+		free(v[i]);
+	free(v);
+}
+
+/* the operands with each folder replaced by its capture files (see
+ * ssc_stage_ops.folders); prints errors, returns an exit code */
+static int expand_folders(const char *cmd, const char *const *in, int n,
+			  char ***out, size_t *n_out)
+{
+	char **v = NULL;
+	size_t k = 0, cap = 0;
+	int rc = 0;
+
+	for (int i = 0; i < n && !rc; i++) {
+		struct stat st;
+		DIR *d;
+		struct dirent *e;
+		size_t k0 = k;
+		char meta[4096];
+
+		snprintf(meta, sizeof(meta), "%s/metadata.yaml", in[i]);
+		if (strcmp(in[i], "-") && stat(in[i], &st) == 0 && S_ISDIR(st.st_mode) &&
+		    access(meta, F_OK) != 0) {
+			d = opendir(in[i]);
+			if (!d) {
+				ssc_err(cmd, "%s: %s", in[i], strerror(errno));
+				rc = SSC_EXIT_FAIL;
+				break;
+			}
+			while (!rc && (e = readdir(d))) {
+				struct stat fs;
+				char p[4096];
+
+				snprintf(p, sizeof(p), "%s/%s", in[i], e->d_name);
+				if (capture_name(e->d_name) && stat(p, &fs) == 0 &&
+				    S_ISREG(fs.st_mode))
+					rc = push(&v, &k, &cap, in[i], e->d_name) ? SSC_EXIT_FAIL : 0;
+			}
+			closedir(d);
+			if (!rc && k == k0) {
+				ssc_err(cmd, "%s: a folder without capture files", in[i]);
+				rc = SSC_EXIT_FAIL;
+			}
+			if (!rc)
+				qsort(v + k0, k - k0, sizeof(char *), cmp_str);
+		} else {
+			rc = push(&v, &k, &cap, in[i], NULL) ? SSC_EXIT_FAIL : 0;
+		}
+	}
+	if (rc) {
+		free_list(v, k);
+		return rc;
+	}
+	*out = v;
+	*n_out = k;
+	return 0;
+}
+
 int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 {
 	struct ssc_common co;
@@ -183,6 +292,8 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	bool scene = call->base != NULL;
 	int first, rc, n = 0, loaded = 0;
 	struct trace_t t0 = { -1, 0 };
+	char **expanded = NULL;
+	size_t n_expanded = 0;
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -211,6 +322,13 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	} else {
 		n = call->argc - first;
 		paths = (const char *const *)call->argv + first;
+		if (ops->folders && !call->check_only) {
+			rc = expand_folders(co.cmd, paths, n, &expanded, &n_expanded);
+			if (rc)
+				goto done;
+			paths = (const char *const *)expanded;
+			n = (int)n_expanded;
+		}
 	}
 	if (call->check_only && scene) {
 		/* the scene hands the captures over when it runs */
@@ -336,6 +454,7 @@ done:
 	if (ops->fini)
 		ops->fini(opts);
 	free(opts);
+	free_list(expanded, n_expanded);
 	return rc;
 }
 

@@ -83,6 +83,11 @@ struct ssc_stage_ops {
 	 * when it fails: a command then reads a file used in place without
 	 * the reader's pass over the samples */
 	bool checks_values;
+	/* a folder operand (not a rosbag2 folder, which holds
+	 * metadata.yaml) stands for its files, sorted by name: every regular
+	 * file not hidden and not a scene, document or figure (.ini, .md,
+	 * .json, .yaml, .yml, .svg, .png, .html) */
+	bool folders;
 	/* compute: *result receives the stage's result struct, which may
 	 * point into env's captures and paths (they live as long as it) */
 	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);
