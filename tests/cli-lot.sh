@@ -124,6 +124,26 @@ mkdir "$T/empty"
 touch "$T/empty/notes.md" "$T/empty/.hidden"
 run "a folder without captures" 1 lot "$T/empty"
 one_line_error "a folder without captures"
+# a manifest: the units' names, their files relative to it, channels and
+# temperature column per unit; the same numbers as the files
+mkdir "$T/m"
+cp "$L"/unit*.csv "$T/m/"
+{
+	echo "unit,file,channels,temperature"
+	for i in 01 02 03 04 05 06 07 08 09 10 11 12; do echo "SN-$i,unit$i.csv,ax,temp"; done
+} >"$T/m/lot.csv"
+run "a manifest" 0 lot --format json "$T/m/lot.csv"
+json_check "manifest: names, the outlier by name" "$T/out" '[.units[].unit][6] == "SN-07" and .outliers[0].unit == "SN-07" and (.units | length) == 12'
+jq -S '[.between[] | del(.outliers)]' "$T/out" >"$T/m1.json" 2>/dev/null
+jq -S '[.between[] | del(.outliers)]' "$T/sample.json" >"$T/m2.json" 2>/dev/null
+if cmp -s "$T/m1.json" "$T/m2.json"; then ok "manifest: the files' numbers"; else not_ok "manifest: the files' numbers"; fi
+printf 'unit,file\nA,unit01.csv\nB,\n' >"$T/m/bad.csv"
+run "manifest: a unit without a file" 1 lot "$T/m/bad.csv"
+one_line_error "manifest: a unit without a file"
+has "manifest: names the line" "$T/err" 'bad\.csv: line 3: a unit and a file are needed'
+printf 'unit,file,temperature\nA,unit01.csv,temp\nB,unit02.csv,tc\nC,unit03.csv,temp\n' >"$T/m/badt.csv"
+run "manifest: a temperature column that is not there" 1 lot "$T/m/badt.csv"
+one_line_error "manifest: a temperature column that is not there"
 run "text: each unit's bias" 0 lot "$L"/unit0[1-7].csv
 has "text: unit07's bias marked" "$T/out" '^unit07\.csv +[0-9.]+ \[[0-9.]+, [0-9.]+\] \*'
 cut -d, -f1,2 "$L/unit02.csv" >"$T/notemp.csv"

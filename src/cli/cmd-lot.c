@@ -25,7 +25,7 @@ static const struct ssc_option lot_opts[] = {
 
 static const struct ssc_command_spec spec = {
 	.name = "lot",
-	.usage = "lot [OPTIONS] FILE FILE FILE...|FOLDER",
+	.usage = "lot [OPTIONS] FILE FILE FILE...|FOLDER|MANIFEST.csv",
 	.summary =
 		"Many units of one model, one capture each (at rest): every gyro and\n"
 		"accelerometer channel's N, B, K with their 68.3 % intervals, and per\n"
@@ -41,6 +41,7 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope lot --format json unit*.csv\n"
 		 "  sensorscope lot --spec limits.ini unit*.csv\n"
 		 "  sensorscope lot --plot lot.svg samples/lot   (a folder: its files)\n"
+		 "  sensorscope lot lot.csv   (a manifest: columns unit,file[,channels][,temperature])\n"
 		 "Exit status: 0 done, 1 a capture that cannot be read or analysed\n"
 		 "or a limits file that cannot be used,\n"
 		 "2 usage (fewer than 3 captures).",
@@ -90,8 +91,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct opts *o = opts;
 
-	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->n_caps, o->level,
-			   o->spec, o->smooth_s, (struct ssc_lot_result **)result);
+	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->labels, env->n_caps,
+			   o->level, o->spec, o->smooth_s, (struct ssc_lot_result **)result);
 }
 
 const struct ssc_stage_ops ssc_lot_stage = {

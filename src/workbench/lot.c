@@ -29,6 +29,12 @@ static const char *base_of(const char *path)
 	return s ? s + 1 : path;
 }
 
+/* a unit's name: the manifest's, else its file's base name */
+static const char *unit_name(const struct ssc_lot_result *r, size_t u)
+{
+	return r->labels && r->labels[u] ? r->labels[u] : base_of(r->paths[u]);
+}
+
 /* the fit's 68.3 % intervals (guard false) or, for the terms with a
  * limit, its intervals at SSC_LOT_SPEC_LEVEL (guard true) */
 static int unit_fit(const char *cmd, const char *path,
@@ -235,8 +241,8 @@ static void verdicts(struct ssc_lot_result *r)
 }
 
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, size_t n, double level,
-		const char *spec_path, double smooth_s,
+		const char *const *paths, const char *const *labels, size_t n,
+		double level, const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out)
 {
 	struct ssc_lot_result *r;
@@ -254,6 +260,7 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	r->n_units = n;
 	r->paths = paths;
+	r->labels = labels;
 	r->caps = caps;
 	r->level = level;
 	r->smooth_s = smooth_s;
@@ -478,7 +485,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 
-		json_object_set_new(ju, "unit", json_string(base_of(r->paths[u])));
+		json_object_set_new(ju, "unit", json_string(unit_name(r, u)));
 		json_object_set_new(ju, "path", json_string(r->paths[u]));
 		for (size_t c = 0; c < r->n_chan; c++) {
 			const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
@@ -559,8 +566,8 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				if (T->outlier[u]) {
 					json_t *e = json_object();
 
-					json_array_append_new(fl, json_string(base_of(r->paths[u])));
-					json_object_set_new(e, "unit", json_string(base_of(r->paths[u])));
+					json_array_append_new(fl, json_string(unit_name(r, u)));
+					json_object_set_new(e, "unit", json_string(unit_name(r, u)));
 					json_object_set_new(e, "channel", json_string(r->chan[c]));
 					json_object_set_new(e, "term", json_string(term_key[t]));
 					json_object_set_new(e, "z", ssc_jreal(T->z[u]));
@@ -613,7 +620,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		for (size_t u = 0; u < r->n_units; u++) {
 			char x[80], y[80], z[80];
 
-			fprintf(f, "%-20s %-34s %-34s %s\n", base_of(r->paths[u]),
+			fprintf(f, "%-20s %-34s %-34s %s\n", unit_name(r, u),
 				cell_text(x, sizeof(x), r, u, c, SSC_LOT_BIAS),
 				cell_text(y, sizeof(y), r, u, c, SSC_LOT_DRIFT),
 				r->temp ? cell_text(z, sizeof(z), r, u, c, SSC_LOT_TEMPCO) : "");
@@ -661,7 +668,7 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 			for (size_t u = 0; u < r->n_units; u++)
 				if (T->outlier[u]) {
 					fprintf(f, "%s%s (z %s)", any ? ", " : "",
-						base_of(r->paths[u]),
+						unit_name(r, u),
 						ssc_fmt(a, sizeof(a), T->z[u], 3));
 					any = true;
 				}
@@ -719,7 +726,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 	for (size_t u = 0; u < r->n_units; u++) {
 		bool first = true;
 
-		fprintf(f, "%s:", base_of(r->paths[u]));
+		fprintf(f, "%s:", unit_name(r, u));
 		for (size_t c = 0; c < r->n_chan; c++)
 			for (int t = 0; t < SSC_LOT_NT; t++) {
 				const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
@@ -923,7 +930,7 @@ static void unit_style(const struct ssc_lot_result *r, size_t c, size_t u, int l
 	st->color = out ? 0xd62728 : ssc_plot_color(u % 9 + (u % 9 >= 3));
 	st->width = out ? 3 : 1.2;
 	st->dash = out ? SSC_SOLID : u >= 9 ? SSC_DASHED : SSC_SOLID;
-	snprintf(label, len, "%s%s", base_of(r->paths[u]), out ? " (outlier)" : "");
+	snprintf(label, len, "%s%s", unit_name(r, u), out ? " (outlier)" : "");
 }
 
 static int bias_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t c,

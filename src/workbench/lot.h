@@ -63,6 +63,8 @@ struct ssc_lot_term {
 struct ssc_lot_result {
 	size_t n_units, n_chan;
 	const char *const *paths;
+	const char *const *labels;        /* the units' names (a manifest's),
+					     or NULL: the files' base names */
 	struct sscope_capture *const *caps; /* the units' records */
 	bool temp;                        /* the units have temperatures */
 	const char **chan;                /* channel names (the first unit's) */
@@ -77,10 +79,10 @@ struct ssc_lot_result {
 
 /* Analyse each capture and the lot, against the limits in the datasheet
  * INI @p spec_path when not NULL: prints errors, returns an exit code and
- * *out (which points into paths and spec_path). */
+ * *out (which points into paths, labels (may be NULL) and spec_path). */
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, size_t n, double level,
-		const char *spec_path, double smooth_s,
+		const char *const *paths, const char *const *labels, size_t n,
+		double level, const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out);
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);

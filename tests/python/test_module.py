@@ -606,6 +606,15 @@ four = [os.path.join(lotdir, "unit%02d.csv" % i) for i in (2, 5, 7, 11)]
 bad = same_json(ss.lot(four, level=0.8),
                 cli("lot", "--format", "json", "--ci", "0.8", *four))
 ok(not bad, "lot(files, level): the command's JSON", "\n".join(bad))
+mdir = tempfile.mkdtemp()
+with open(os.path.join(mdir, "lot.csv"), "w") as f:
+    f.write("unit,file,channels,temperature\n")
+    for i in (1, 4, 7, 9):
+        f.write("SN-%d,%s,ax,temp\n" % (i, os.path.abspath(
+            os.path.join(lotdir, "unit%02d.csv" % i))))
+bad = same_json(ss.lot(os.path.join(mdir, "lot.csv")),
+                cli("lot", "--format", "json", os.path.join(mdir, "lot.csv")))
+ok(not bad, "lot(manifest): the command's JSON", "\n".join(bad))
 ok([(o["unit"], o["term"]) for o in py["outliers"]] ==
    [("unit07.csv", "bias")], "lot: unit07 the bias outlier", py["outliers"])
 try:

@@ -1411,19 +1411,66 @@ _LOT_BIAS_METHOD = (
     "and both intervals are wide")
 
 
+def _lot_manifest(path):
+    """The units of a manifest (a CSV file whose header names the columns
+    unit and file, optionally channels and temperature) as (path, name,
+    channels, temperature column) tuples, or None for another file."""
+    import csv
+    import os
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f, skipinitialspace=True))
+    except (OSError, UnicodeDecodeError):
+        return None
+    if not rows:
+        return None
+    head = [h.strip().lower() for h in rows[0]]
+    if "unit" not in head or "file" not in head:
+        return None
+    col = {k: head.index(k) if k in head else None
+           for k in ("unit", "file", "channels", "temperature")}
+    here = os.path.dirname(path) or "."
+    out = []
+    for r in rows[1:]:
+        if not r or not "".join(r).strip() or r[0].startswith("#"):
+            continue
+
+        def get(k):
+            i = col[k]
+            return r[i].strip() if i is not None and i < len(r) and \
+                r[i].strip() else None
+        if not get("unit") or not get("file"):
+            raise ArgumentError("lot: %s: a unit and a file are needed"
+                                % path)
+        ch = get("channels")
+        out.append((os.path.join(here, get("file")), get("unit"),
+                    ",".join(ch.replace(";", " ").split()) if ch else None,
+                    get("temperature")))
+    return out
+
+
 def _lot_files(files):
+    """(path, name or None, channels or None, temperature column or
+    None) of each unit: folders stand for their capture files, sorted,
+    manifests for their units."""
     import os
     if isinstance(files, (str, bytes, os.PathLike)):
         files = [files]
+    skip = (".ini", ".md", ".json", ".yaml", ".yml", ".svg", ".png",
+            ".html")
     out = []
     for f in files:
         f = os.fspath(f)
-        if os.path.isdir(f):
-            out += sorted(os.path.join(f, e) for e in os.listdir(f)
-                          if not e.startswith(".") and
-                          os.path.isfile(os.path.join(f, e)))
+        if os.path.isdir(f) and \
+                not os.path.exists(os.path.join(f, "metadata.yaml")):
+            out += [(os.path.join(f, e), None, None, None)
+                    for e in sorted(os.listdir(f))
+                    if not e.startswith(".") and
+                    not e.lower().endswith(skip) and
+                    os.path.isfile(os.path.join(f, e))]
         else:
-            out.append(f)
+            m = _lot_manifest(f) if os.path.isfile(f) else None
+            out += m if m is not None else [(f, None, None, None)]
     return out
 
 
@@ -1455,14 +1502,17 @@ def _num(v):
 
 def lot(files, level=0.90):
     """Many units of one model, one capture each (as `sensorscope lot`
-    FILE... or DIR): every gyro and accelerometer channel's N, B, K (the
+    FILE..., a FOLDER or a MANIFEST.csv with columns unit, file[, channels]
+    [, temperature]): every gyro and accelerometer channel's N, B, K (the
     allan fit, 68.3 % intervals), bias, drift and temperature sensitivity
     (sscope_lot_bias(): batch means) and per channel and term the lot's
     spread (lot_spread() at `level`).  Returns the command's JSON object
     as a dict (without --spec; "path" as given).  A folder stands for its
-    capture files, sorted."""
+    capture files, sorted; a manifest for its units (files relative to
+    it)."""
     fn = "lot"
-    paths = _lot_files(files)
+    ops = _lot_files(files)
+    paths = [p for p, _n, _c, _t in ops]
     if len(paths) < 3:
         _bad(fn, "files", "a lot needs at least 3 units (captures), got %d"
              % len(paths))
@@ -1470,7 +1520,7 @@ def lot(files, level=0.90):
     if not 0 < level < 1:
         _bad(fn, "level", "a level between 0 and 1")
     import os
-    caps = [load(p) for p in paths]
+    caps = [load(p, columns=c, temp_column=t) for p, _n, c, t in ops]
     qcode = {"angular rate": 3, "acceleration": 4}
     chans = [(n, caps[0].quantities[n]) for n in caps[0]
              if caps[0].quantities[n] in qcode]
@@ -1565,8 +1615,8 @@ def lot(files, level=0.90):
                                   "time_corr": _num(b.temp_time_corr)}
                   if b.have_temp else None}
             chs.append(jc)
-        units.append({"unit": os.path.basename(paths[u]), "path": paths[u],
-                      "channels": chs})
+        units.append({"unit": ops[u][1] or os.path.basename(paths[u]),
+                      "path": paths[u], "channels": chs})
     between, outliers = [], []
     for c, (name, q) in enumerate(chans):
         qc = qcode[q]
@@ -1595,7 +1645,7 @@ def lot(files, level=0.90):
                       "outlier_z": _num(sp["outlier_z"]), "outliers": []})
             for u in range(U):
                 if fl[u]:
-                    base = os.path.basename(paths[u])
+                    base = ops[u][1] or os.path.basename(paths[u])
                     e["outliers"].append(base)
                     outliers.append({"unit": base, "channel": name,
                                      "term": key, "z": _num(z[u])})
