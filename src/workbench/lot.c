@@ -109,7 +109,7 @@ static int unit_bias(const char *cmd, const char *path,
 
 	if (rc) {
 		ssc_err(cmd, "%s: channel %s: bias: %s", path, ch->col.name,
-			rc == -EDOM ? "a record of at least 40 finite samples is needed" :
+			rc == -EDOM ? "the bias terms need at least 40 samples, none of them NaN" :
 				      sscope_strerror(rc));
 		return SSC_EXIT_FAIL;
 	}
