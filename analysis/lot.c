@@ -5,7 +5,10 @@
  * on their median first, so that a quantity with a large common offset
  * (a bias of 1e3 with units that differ by 1e-3) loses no digits in the
  * weighted sums; the chi-squared and t quantiles and the root of the
- * Q profile come from GSL.
+ * Q profile come from GSL.  A unit's bias, drift and temperature
+ * sensitivity: batch means fitted by least squares (GSL's SVD) on centred
+ * and scaled regressors, the block means summed compensated about the
+ * record's mean (see sscope_lot_bias()).
  */
 #include "internal.h"
 

@@ -5,7 +5,12 @@
  * term present in a unit enters the lot with the half-width of its
  * interval as its standard error, a term a unit does not show is left out
  * of that term's lot (said in the output: "resolved in k of n units").
- * The spread is sscope_lot_spread() at the stated level.
+ * Each unit's bias, drift and temperature sensitivity come from
+ * sscope_lot_bias() (batch means), with its standard errors.  The spread
+ * of every term is sscope_lot_spread() at the stated level.  --plot draws
+ * the units' biases against time (a moving mean, the median and 5-95 %
+ * band of the units that are not bias outliers) and their Allan
+ * deviations with the median curve.
  */
 #include "workbench.h"
 
