@@ -137,6 +137,8 @@ json_check "manifest: names, the outlier by name" "$T/out" '[.units[].unit][6] =
 jq -S '[.between[] | del(.outliers)]' "$T/out" >"$T/m1.json" 2>/dev/null
 jq -S '[.between[] | del(.outliers)]' "$T/sample.json" >"$T/m2.json" 2>/dev/null
 if cmp -s "$T/m1.json" "$T/m2.json"; then ok "manifest: the files' numbers"; else not_ok "manifest: the files' numbers"; fi
+run "--manifest" 0 lot --format json --manifest "$T/m/lot.csv"
+json_check "--manifest: the same units" "$T/out" '[.units[].unit][6] == "SN-07" and (.units | length) == 12'
 printf 'unit,file\nA,unit01.csv\nB,\n' >"$T/m/bad.csv"
 run "manifest: a unit without a file" 1 lot "$T/m/bad.csv"
 one_line_error "manifest: a unit without a file"

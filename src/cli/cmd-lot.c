@@ -11,7 +11,7 @@
 #include "lot.h"
 #include "stage.h"
 
-enum { O_LEVEL = 300, O_SPEC, O_SMOOTH };
+enum { O_LEVEL = 300, O_SPEC, O_SMOOTH, O_MANIFEST };
 
 static const struct ssc_option lot_opts[] = {
 	{ "ci", required_argument, O_LEVEL, "LEVEL",
@@ -20,6 +20,8 @@ static const struct ssc_option lot_opts[] = {
 	  "upper limits of N, B, K (INI with [gyro], [accel], or a datasheet file): each unit within spec, out of spec or inconclusive (its 99 % interval), the lot's Cpk" },
 	{ "smooth", required_argument, O_SMOOTH, "SECONDS",
 	  "moving mean of the biases in --plot's figure (default 1/100 of the shortest record)" },
+	{ "manifest", required_argument, O_MANIFEST, "FILE.csv",
+	  "the units: a CSV with columns unit,file[,channels][,temperature] (files relative to it), read after the operands (command line only)" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -49,7 +51,7 @@ static const struct ssc_command_spec spec = {
 
 struct opts {
 	double level;
-	const char *spec;
+	const char *spec, *manifest;
 	double smooth_s;
 };
 
@@ -66,6 +68,10 @@ static int handler(int key, const char *arg, void *ctx)
 
 	if (key == O_SPEC) {
 		o->spec = arg;
+		return 0;
+	}
+	if (key == O_MANIFEST) {
+		o->manifest = arg;
 		return 0;
 	}
 	if (key == O_SMOOTH)
@@ -87,6 +93,11 @@ static int check(struct ssc_common *co, void *opts)
 	return 0;
 }
 
+static const char *manifest(const void *opts)
+{
+	return ((const struct opts *)opts)->manifest;
+}
+
 static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct opts *o = opts;
@@ -102,6 +113,7 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.min_files = 3,
 	.max_files = -1,
 	.folders = true,
+	.manifest = manifest,
 	.opts_size = sizeof(struct opts),
 	.init = init,
 	.handle = handler,

@@ -460,7 +460,12 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		n = call->argc - first;
 		paths = (const char *const *)call->argv + first;
 		if (ops->folders && !call->check_only) {
+			/* and the manifest an option names, after the files */
+			const char *extra = ops->manifest ? ops->manifest(opts) : NULL;
+
 			rc = expand_folders(co.cmd, paths, n, &ops_in);
+			if (!rc && extra)
+				rc = expand_folders(co.cmd, &extra, 1, &ops_in);
 			if (rc)
 				goto done;
 			paths = (const char *const *)ops_in.path;

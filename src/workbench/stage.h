@@ -94,6 +94,9 @@ struct ssc_stage_ops {
 	 * and temperature) for its units, each file relative to the
 	 * manifest, read with its channels (-c) and temperature column */
 	bool folders;
+	/* optional (with folders): an operand the options name (a
+	 * manifest), read after the command line's, or NULL */
+	const char *(*manifest)(const void *opts);
 	/* compute: *result receives the stage's result struct, which may
 	 * point into env's captures and paths (they live as long as it) */
 	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);
