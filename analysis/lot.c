@@ -5,16 +5,21 @@
  * on their median first, so that a quantity with a large common offset
  * (a bias of 1e3 with units that differ by 1e-3) loses no digits in the
  * weighted sums; the chi-squared and t quantiles and the root of the
- * Q profile come from GSL.
+ * Q profile come from GSL.  A unit's bias, drift and temperature
+ * sensitivity: batch means fitted by least squares (GSL's SVD) on centred
+ * and scaled regressors, the block means summed compensated about the
+ * record's mean (see sscope_lot_bias()).
  */
 #include "internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_multifit.h>
 #include <gsl/gsl_roots.h>
 
 #include "sscope-lot.h"
@@ -377,5 +382,190 @@ int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
 	z = gsl_cdf_ugaussian_Pinv(0.5 + level / 2);
 	out->lo = out->cpk - z * sqrt(var);
 	out->hi = out->cpk + z * sqrt(var);
+	return 0;
+}
+
+/* the least-squares line of y_j on (x_j - mean) / sd, j < m: slope per
+ * unit of x, intercept (the mean of y), their standard errors from the
+ * residuals (m - 2 degrees of freedom); false when x is constant */
+static bool line_fit(const double *x, const double *y, size_t m, double *a,
+		     double *a_se, double *b, double *b_se)
+{
+	double xm = 0, sxx = 0, sxy = 0, ym = 0, rss = 0, s2, sd;
+
+	for (size_t j = 0; j < m; j++) {
+		xm += x[j];
+		ym += y[j];
+	}
+	xm /= (double)m;
+	ym /= (double)m;
+	for (size_t j = 0; j < m; j++)
+		sxx += (x[j] - xm) * (x[j] - xm);
+	sd = sqrt(sxx / (double)m);
+	if (!(sd > 0) || !isfinite(sd))
+		return false;
+	/* centred and scaled regressor u = (x - xm) / sd: sum u^2 = m */
+	for (size_t j = 0; j < m; j++)
+		sxy += (x[j] - xm) / sd * (y[j] - ym);
+	for (size_t j = 0; j < m; j++) {
+		double r = y[j] - ym - sxy / (double)m * (x[j] - xm) / sd;
+
+		rss += r * r;
+	}
+	s2 = rss / (double)(m - 2);
+	*a = ym;
+	*a_se = sqrt(s2 / (double)m);
+	*b = sxy / (double)m / sd;
+	*b_se = sqrt(s2 / (double)m) / sd;
+	return true;
+}
+
+/* the joint least-squares fit y_j = a + d u_j + c v_j, u and v the
+ * centred and scaled x and w (SVD, GSL): a, d per unit of x, c per unit
+ * of w and their standard errors from the residuals (m - 3 degrees of
+ * freedom); false when a regressor is constant or the fit fails */
+static bool plane_fit(const double *x, const double *w, const double *y, size_t m,
+		      double est[3], double se[3])
+{
+	double xm = 0, wm = 0, sx = 0, sw = 0, chisq;
+	gsl_matrix *X = gsl_matrix_alloc(m, 3), *cov = gsl_matrix_alloc(3, 3);
+	gsl_vector *c = gsl_vector_alloc(3);
+	gsl_multifit_linear_workspace *ws = gsl_multifit_linear_alloc(m, 3);
+	gsl_vector_const_view yv = gsl_vector_const_view_array(y, m);
+	bool ok = false;
+
+	if (!X || !cov || !c || !ws)
+		goto out;
+	for (size_t j = 0; j < m; j++) {
+		xm += x[j];
+		wm += w[j];
+	}
+	xm /= (double)m;
+	wm /= (double)m;
+	for (size_t j = 0; j < m; j++) {
+		sx += (x[j] - xm) * (x[j] - xm);
+		sw += (w[j] - wm) * (w[j] - wm);
+	}
+	sx = sqrt(sx / (double)m);
+	sw = sqrt(sw / (double)m);
+	/* constant up to the rounding of the block means: no slope */
+	if (!(sx > 64 * DBL_EPSILON * fabs(xm)) || !(sw > 64 * DBL_EPSILON * fabs(wm)) ||
+	    !isfinite(sx) || !isfinite(sw))
+		goto out;
+	for (size_t j = 0; j < m; j++) {
+		gsl_matrix_set(X, j, 0, 1);
+		gsl_matrix_set(X, j, 1, (x[j] - xm) / sx);
+		gsl_matrix_set(X, j, 2, (w[j] - wm) / sw);
+	}
+	if (gsl_multifit_linear(X, &yv.vector, c, cov, &chisq, ws))
+		goto out;
+	est[0] = gsl_vector_get(c, 0);
+	est[1] = gsl_vector_get(c, 1) / sx;
+	est[2] = gsl_vector_get(c, 2) / sw;
+	se[0] = sqrt(gsl_matrix_get(cov, 0, 0));
+	se[1] = sqrt(gsl_matrix_get(cov, 1, 1)) / sx;
+	se[2] = sqrt(gsl_matrix_get(cov, 2, 2)) / sw;
+	ok = isfinite(est[2]) && isfinite(se[2]);
+out:
+	gsl_matrix_free(X);
+	gsl_matrix_free(cov);
+	gsl_vector_free(c);
+	if (ws)
+		gsl_multifit_linear_free(ws);
+	return ok;
+}
+
+int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
+		    const double *temp_degc, size_t temp_stride,
+		    const struct sscope_lot_bias_opts *opts,
+		    struct sscope_lot_bias *out)
+{
+	size_t m = opts && opts->blocks ? opts->blocks : 20, L, mt = 0;
+	double level = opts && opts->level > 0 ? opts->level : 0.682689492137086;
+	double *t, *b, *tb, tq, mean = 0, tmin = INFINITY, tmax = -INFINITY;
+	double est[3] = { NAN, NAN, NAN }, se[3] = { NAN, NAN, NAN };
+	struct ssc_ksum ks = { 0, 0 };
+
+	if (!x || !out || !stride || !(fs > 0) || !isfinite(fs) || m < 5 ||
+	    !(level < 1) || (temp_degc && !temp_stride))
+		return -EINVAL;
+	memset(out, 0, sizeof(*out));
+	L = n / m;
+	if (L < 2)
+		return -EDOM;
+	for (size_t i = 0; i < m * L; i++) {
+		if (!isfinite(x[i * stride]))
+			return -EDOM;
+		ssc_ksum_add(&ks, x[i * stride]);
+	}
+	/* block means about the record mean: no digits lost to an offset */
+	mean = ssc_ksum_value(&ks) / (double)(m * L);
+	t = malloc(3 * m * sizeof(double));
+	if (!t)
+		return -ENOMEM;
+	b = t + m;
+	tb = b + m;
+	for (size_t j = 0; j < m; j++) {
+		struct ssc_ksum s = { 0, 0 }, st = { 0, 0 };
+		bool tok = temp_degc != NULL;
+
+		for (size_t i = j * L; i < (j + 1) * L; i++) {
+			ssc_ksum_add(&s, x[i * stride] - mean);
+			if (tok) {
+				double T = temp_degc[i * temp_stride];
+
+				if (isfinite(T))
+					ssc_ksum_add(&st, T);
+				else
+					tok = false;
+			}
+		}
+		t[j] = ((double)j + 0.5) * (double)L / fs;
+		b[j] = ssc_ksum_value(&s) / (double)L;
+		tb[j] = tok ? ssc_ksum_value(&st) / (double)L : (double)NAN;
+		if (tok) {
+			mt++;
+			tmin = fmin(tmin, tb[j]);
+			tmax = fmax(tmax, tb[j]);
+		}
+	}
+	out->blocks = m;
+	out->block_n = L;
+	out->level = level;
+	out->tempco_u_degc = out->tempco_se = out->tempco_lo = out->tempco_hi = NAN;
+	out->temp_mean_degc = out->temp_span_degc = out->temp_time_corr = NAN;
+	out->have_temp = mt == m && plane_fit(t, tb, b, m, est, se);
+	if (out->have_temp) {
+		double tm = 0, sxx = 0, syy = 0, sxy = 0, tt = (double)m * 0.5 * (double)L / fs;
+
+		tq = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(m - 3));
+		out->tempco_u_degc = est[2];
+		out->tempco_se = se[2];
+		out->tempco_lo = est[2] - tq * se[2];
+		out->tempco_hi = est[2] + tq * se[2];
+		for (size_t j = 0; j < m; j++)
+			tm += tb[j];
+		tm /= (double)m;
+		for (size_t j = 0; j < m; j++) {
+			sxx += (t[j] - tt) * (t[j] - tt);
+			syy += (tb[j] - tm) * (tb[j] - tm);
+			sxy += (t[j] - tt) * (tb[j] - tm);
+		}
+		out->temp_mean_degc = tm;
+		out->temp_span_degc = tmax - tmin;
+		out->temp_time_corr = sxy / sqrt(sxx * syy);
+	} else {
+		line_fit(t, b, m, &est[0], &se[0], &est[1], &se[1]);
+		tq = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(m - 2));
+	}
+	out->bias = mean + est[0];
+	out->bias_se = se[0];
+	out->bias_lo = out->bias - tq * se[0];
+	out->bias_hi = out->bias + tq * se[0];
+	out->drift_u_s = est[1];
+	out->drift_se = se[1];
+	out->drift_lo = est[1] - tq * se[1];
+	out->drift_hi = est[1] + tq * se[1];
+	free(t);
 	return 0;
 }

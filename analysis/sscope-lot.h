@@ -125,4 +125,69 @@ struct sscope_lot_cpk {
 int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
 		   double level, struct sscope_lot_cpk *out);
 
+/*
+ * One unit's bias over its record, the drift of that bias and its
+ * temperature sensitivity, by batch means (B. Schmeiser, "Batch size
+ * effects in the analysis of simulation output", Oper. Res. 30, 556-568,
+ * 1982): the record is cut into m contiguous blocks of equal length (the
+ * last n mod m samples left out), the block means b_j are taken as
+ * independent with a common variance, and fitted by least squares (GSL,
+ * SVD of the centred and scaled design):
+ *
+ *   b_j = a + d (t_j - t_mean) + c (T_j - T_mean)
+ *
+ * with t_j the block centres and T_j the blocks' mean temperatures (the
+ * c term only with a temperature in every block, not constant).  The
+ * bias is the mean of the record (a), the drift d (the slope over the
+ * record), the temperature sensitivity c; their standard errors come
+ * from the residuals, the intervals are Student-t with m - 3 degrees of
+ * freedom (m - 2 without temperature).  Time and temperature are fitted
+ * together, so a drift is not taken for a temperature effect nor the
+ * other way round; where the temperature follows time (temp_time_corr
+ * near -1 or 1) the two cannot be told apart and both intervals widen.
+ *
+ * Blocks far longer than the noise's correlation time make the block
+ * means independent; flicker noise (bias instability) and a random walk
+ * of the bias correlate them and the intervals then cover somewhat less
+ * than their level.
+ */
+
+/** Options of sscope_lot_bias(); zero means the default. */
+struct sscope_lot_bias_opts {
+	size_t blocks; /**< batches m (0: 20; at least 5) */
+	double level;  /**< interval level (0: 0.682689, one sd) */
+};
+
+/** One unit's bias terms (U the unit of the samples). */
+struct sscope_lot_bias {
+	size_t blocks;      /**< m */
+	size_t block_n;     /**< samples per block */
+	double level;       /**< level of the intervals */
+	double bias;        /**< mean of the m blocks (a), U */
+	double bias_se, bias_lo, bias_hi;   /**< U */
+	double drift_u_s;   /**< slope over the record, U/s */
+	double drift_se, drift_lo, drift_hi; /**< U/s */
+	bool have_temp;     /**< temperature in every block, not constant:
+				 the c term fitted */
+	double tempco_u_degc; /**< c, U/degC (NaN without have_temp) */
+	double tempco_se, tempco_lo, tempco_hi; /**< U/degC */
+	double temp_mean_degc, temp_span_degc; /**< of the block means */
+	double temp_time_corr; /**< correlation of the block temperatures
+				    with time, -1..1 */
+};
+
+/**
+ * The bias, its drift and its temperature sensitivity of one record x[k *
+ * stride], k < n, sampled at @p fs, by batch means (see above).
+ * @param temp_degc  temperature per sample (stride @p temp_stride), or
+ *                   NULL; a NaN temperature leaves the c term out.
+ * @return 0; -EINVAL (NULL x or out, stride 0, fs not > 0, an option out
+ *         of range); -EDOM (fewer than 2 samples per block, a non-finite
+ *         sample); -ENOMEM.
+ */
+int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
+		    const double *temp_degc, size_t temp_stride,
+		    const struct sscope_lot_bias_opts *opts,
+		    struct sscope_lot_bias *out);
+
 #endif

@@ -17,7 +17,11 @@
  * called inconclusive (target >= 95 %), within spec (target 0) and out of
  * spec.
  *
- * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT]]]]]
+ * Then BLOTS lots (default 200) of 12 simulated accelerometers: the
+ * coverage of each unit's bias, drift and temperature sensitivity
+ * intervals and the planted bias outlier (see bias_lots()).
+ *
+ * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT [BLOTS]]]]]]
  */
 #include "config.h"
 
@@ -83,6 +87,122 @@ static int at_limit(gsl_rng *g, int units)
 	return failed != 0;
 }
 
+/*
+ * Lots of 12 accelerometers at rest as in samples/lot/ (1 h at 1 Hz,
+ * white noise 60 ug/sqrt(Hz), the ambient temperature one sine period
+ * 21..27 degC): unit i's bias 1 mg + N(0, 0.1 mg), drift (rate ramp)
+ * uniform 0..60 ug/h, temperature sensitivity 50 + N(0, 8) ug/degC; unit
+ * 0 planted 2 mg above.  Each unit analysed by sscope_lot_bias() as the
+ * lot stage does: the coverage of the 68.27 % intervals of the three
+ * terms (target 68.3 -+ 4 binomial sd), the planted unit flagged, the
+ * false flags; with bias instability B = 0 and 5 ug (flicker: the block
+ * means are correlated and the intervals cover less).
+ */
+static int bias_lots(gsl_rng *g, int lots, double b_ug)
+{
+	const double ug = 9.80665e-6, fs = 1, dur = 3600;
+	const size_t n = 3600, U = 12;
+	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
+	double *x0 = malloc(n * sizeof(double));
+	double y[3][12], se[3][12];
+	bool fl[12];
+	long cov[3] = { 0, 0, 0 }, cov_rec = 0, units = 0, found = 0, wrong = 0;
+	int failed = 0;
+	clock_t t0 = clock();
+
+	if (!x || !T || !x0) {
+		free(x);
+		free(x0);
+		free(T);
+		return 1;
+	}
+	for (int l = 0; l < lots; l++) {
+		for (size_t u = 0; u < U; u++) {
+			struct sscope_sensor_spec sp = { 0 };
+			struct sscope_sim_opts so = { 0 };
+			struct sscope_sim *sim = NULL;
+			struct sscope_lot_bias b;
+			double truth[3], tm = 0, Tm = 0, fm = 0;
+
+			sp.n = 60 * ug;
+			sp.b = b_ug * ug;
+			sp.bias = (1000 + gsl_ran_gaussian(g, 100) + (u == 0 ? 2000 : 0)) * ug;
+			sp.r = 60 * gsl_rng_uniform(g) * ug / 3600;
+			sp.bias_tempco = (50 + gsl_ran_gaussian(g, 8)) * ug;
+			so.rate_hz = fs;
+			so.seed = gsl_rng_get(g);
+			so.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
+			so.temp_degc = 21;
+			so.temp2_degc = 27;
+			so.temp_period_s = dur;
+			so.ref_temp_degc = 24;
+			so.no_clip = true;
+			if (sscope_sim_new(&sim, &sp, &so, NULL) ||
+			    sscope_sim_generate(sim, NULL, x, T, n) ||
+			    sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b) || !b.have_temp) {
+				sscope_sim_free(sim);
+				failed++;
+				continue;
+			}
+			sscope_sim_free(sim);
+			sim = NULL;
+			/* the flicker alone: the same streams without it (each
+			 * term has its own generator) */
+			sp.b = 0;
+			if (sscope_sim_new(&sim, &sp, &so, NULL) ||
+			    sscope_sim_generate(sim, NULL, x0, NULL, n)) {
+				sscope_sim_free(sim);
+				failed++;
+				continue;
+			}
+			sscope_sim_free(sim);
+			/* the truth over the samples the blocks use */
+			for (size_t i = 0; i < b.blocks * b.block_n; i++) {
+				tm += (double)i / fs;
+				Tm += T[i];
+				fm += x[i] - x0[i];
+			}
+			fm /= (double)(b.blocks * b.block_n);
+			tm /= (double)(b.blocks * b.block_n);
+			Tm /= (double)(b.blocks * b.block_n);
+			truth[0] = sp.bias + sp.r * tm + sp.bias_tempco * (Tm - 24);
+			truth[1] = sp.r;
+			truth[2] = sp.bias_tempco;
+			cov[0] += b.bias_lo <= truth[0] && truth[0] <= b.bias_hi;
+			cov_rec += b.bias_lo <= truth[0] + fm && truth[0] + fm <= b.bias_hi;
+			cov[1] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
+			cov[2] += b.tempco_lo <= truth[2] && truth[2] <= b.tempco_hi;
+			units++;
+			y[0][u] = b.bias;
+			se[0][u] = b.bias_se;
+		}
+		if (!sscope_lot_spread(y[0], se[0], U, NULL, &(struct sscope_lot_spread){ 0 },
+				       NULL, fl)) {
+			found += fl[0];
+			for (size_t u = 1; u < U; u++)
+				wrong += fl[u];
+		} else {
+			failed++;
+		}
+	}
+	printf("# %d lots of 12 accelerometers (1 h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
+	       lots, b_ug);
+	printf("bias 68.3 %% interval covers              %6.1f %%   target 68.3 -+ %.1f\n",
+	       100.0 * cov[0] / units, 400 * sqrt(0.6827 * 0.3173 / units));
+	printf("  the record's bias (flicker's mean in)   %6.1f %%\n",
+	       100.0 * cov_rec / units);
+	printf("drift 68.3 %% interval covers             %6.1f %%\n", 100.0 * cov[1] / units);
+	printf("temp. sensitivity 68.3 %% interval covers %6.1f %%\n", 100.0 * cov[2] / units);
+	printf("planted bias outlier flagged            %6.1f %% of lots\n", 100.0 * found / lots);
+	printf("false bias flags per lot (mean)         %6.2f   (0.01 x 11 = 0.11 expected)\n",
+	       (double)wrong / lots);
+	printf("# %d failed; %.2f s of CPU\n", failed, (double)(clock() - t0) / CLOCKS_PER_SEC);
+	free(x);
+	free(x0);
+	free(T);
+	return failed != 0;
+}
+
 int main(int argc, char **argv)
 {
 	int lots = argc > 1 ? atoi(argv[1]) : 500;
@@ -145,6 +265,8 @@ int main(int argc, char **argv)
 	printf("# %d lots failed; %.2f s of CPU\n", failed,
 	       (double)(clock() - t0) / CLOCKS_PER_SEC);
 	failed += at_limit(g, argc > 5 ? atoi(argv[5]) : 200);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5);
 	gsl_rng_free(g);
 	free(y);
 	free(se);

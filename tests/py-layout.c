@@ -547,5 +547,28 @@ int main(void)
 	F(sscope_lot_spread, i2);
 	F(sscope_lot_spread, n_outliers);
 	F(sscope_lot_spread, outlier_z);
+	S(sscope_lot_bias_opts);
+	F(sscope_lot_bias_opts, blocks);
+	F(sscope_lot_bias_opts, level);
+	S(sscope_lot_bias);
+	F(sscope_lot_bias, blocks);
+	F(sscope_lot_bias, block_n);
+	F(sscope_lot_bias, level);
+	F(sscope_lot_bias, bias);
+	F(sscope_lot_bias, bias_se);
+	F(sscope_lot_bias, bias_lo);
+	F(sscope_lot_bias, bias_hi);
+	F(sscope_lot_bias, drift_u_s);
+	F(sscope_lot_bias, drift_se);
+	F(sscope_lot_bias, drift_lo);
+	F(sscope_lot_bias, drift_hi);
+	F(sscope_lot_bias, have_temp);
+	F(sscope_lot_bias, tempco_u_degc);
+	F(sscope_lot_bias, tempco_se);
+	F(sscope_lot_bias, tempco_lo);
+	F(sscope_lot_bias, tempco_hi);
+	F(sscope_lot_bias, temp_mean_degc);
+	F(sscope_lot_bias, temp_span_degc);
+	F(sscope_lot_bias, temp_time_corr);
 	return 0;
 }

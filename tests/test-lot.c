@@ -5,7 +5,9 @@
  * ANOVA estimator truncated at 0, the Q profile inverts in closed form,
  * Hartung-Knapp is Student's t interval), a large common offset, the
  * errors, the coverage of the intervals over simulated lots and the
- * outlier test on planted outliers.
+ * outlier test on planted outliers; a unit's bias, drift and temperature
+ * sensitivity on a noise-free record (exact) and the coverage of their
+ * intervals over simulated records.
  */
 #include "config.h"
 
@@ -219,6 +221,117 @@ START_TEST(test_cpk)
 }
 END_TEST
 
+/* a noise-free record b(t, T) = 2385.1 + 0.0137 t + 0.731 (T - 23.4),
+ * T = 23.4 + 3.2 sin(2 pi t / 1700): the block means lie on the plane
+ * exactly, so the fit returns the drift and the sensitivity to rounding
+ * and the bias is the record's mean */
+START_TEST(test_bias_exact)
+{
+	const size_t n = 4003; /* 200 per block, 3 left out */
+	const double fs = 2.5;
+	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
+	double mean = 0;
+	struct sscope_lot_bias b;
+
+	ck_assert_ptr_nonnull(x);
+	ck_assert_ptr_nonnull(T);
+	for (size_t i = 0; i < n; i++) {
+		double t = (double)i / fs;
+
+		T[i] = 23.4 + 3.2 * sin(2 * M_PI * t / 1700);
+		x[i] = 2385.1 + 0.0137 * t + 0.731 * (T[i] - 23.4);
+		if (i < 4000)
+			mean += x[i] / 4000;
+	}
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b), 0);
+	ck_assert_uint_eq(b.blocks, 20);
+	ck_assert_uint_eq(b.block_n, 200);
+	ck_assert(b.have_temp);
+	ck_assert_double_le(rel(b.bias, mean), 1e-12);
+	ck_assert_double_le(rel(b.drift_u_s, 0.0137), 1e-8);
+	ck_assert_double_le(rel(b.tempco_u_degc, 0.731), 1e-8);
+	ck_assert_double_le(b.bias_lo, b.bias);
+	ck_assert_double_ge(b.bias_hi, b.bias);
+	/* without the temperature: the line of the same samples; the
+	 * temperature effect is then in the residuals */
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0, NULL, &b), 0);
+	ck_assert(!b.have_temp);
+	ck_assert(isnan(b.tempco_u_degc));
+	ck_assert_double_le(rel(b.bias, mean), 1e-12);
+	ck_assert_double_gt(b.drift_se, 0);
+	/* a constant temperature: no sensitivity, no failure */
+	for (size_t i = 0; i < n; i++)
+		T[i] = 21.7;
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b), 0);
+	ck_assert(!b.have_temp);
+	/* a NaN temperature: the same */
+	T[17] = NAN;
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b), 0);
+	ck_assert(!b.have_temp);
+	/* the errors */
+	ck_assert_int_eq(sscope_lot_bias(NULL, 1, n, fs, NULL, 0, NULL, &b), -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0, NULL, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 0, n, fs, NULL, 0, NULL, &b), -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, 0, NULL, 0, NULL, &b), -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 0, NULL, &b), -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0,
+					 &(struct sscope_lot_bias_opts){ .blocks = 4 }, &b),
+			 -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0,
+					 &(struct sscope_lot_bias_opts){ .level = 1 }, &b),
+			 -EINVAL);
+	ck_assert_int_eq(sscope_lot_bias(x, 1, 39, fs, NULL, 0, NULL, &b), -EDOM);
+	x[3] = NAN;
+	ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0, NULL, &b), -EDOM);
+	free(x);
+	free(T);
+}
+END_TEST
+
+/* white noise (sd 1.37) on a known bias, drift and temperature
+ * sensitivity, the temperature a sine of one period over the record plus
+ * a ramp (correlated with time, not collinear): the 68.27 % intervals
+ * of the bias, the drift and the sensitivity cover the truth in
+ * 0.6827 -+ 4 sd of a binomial share over 400 records */
+START_TEST(test_bias_coverage)
+{
+	const size_t n = 2000, R = 400;
+	const double fs = 10, d = 0.00213, c = -0.487;
+	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t cov[3] = { 0, 0, 0 };
+	double half = 4 * sqrt(0.6827 * 0.3173 / (double)R);
+
+	ck_assert_ptr_nonnull(x);
+	ck_assert_ptr_nonnull(T);
+	gsl_rng_set(g, 3481);
+	for (size_t r = 0; r < R; r++) {
+		struct sscope_lot_bias b;
+		double truth = 0;
+
+		for (size_t i = 0; i < n; i++) {
+			double t = (double)i / fs, s;
+
+			T[i] = 24.1 + 2.5 * sin(2 * M_PI * t / 200) + 0.01 * t;
+			s = 3.913 + d * t + c * (T[i] - 25);
+			truth += s / (double)n;
+			x[i] = s + gsl_ran_gaussian(g, 1.37);
+		}
+		ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b), 0);
+		ck_assert(b.have_temp);
+		cov[0] += b.bias_lo <= truth && truth <= b.bias_hi;
+		cov[1] += b.drift_lo <= d && d <= b.drift_hi;
+		cov[2] += b.tempco_lo <= c && c <= b.tempco_hi;
+	}
+	for (int k = 0; k < 3; k++)
+		ck_assert_msg(fabs((double)cov[k] / (double)R - 0.6827) < half,
+			      "term %d: coverage %zu of %zu", k, cov[k], R);
+	gsl_rng_free(g);
+	free(x);
+	free(T);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("lot");
@@ -231,6 +344,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_coverage);
 	tcase_add_test(tc, test_outliers);
 	tcase_add_test(tc, test_cpk);
+	tcase_add_test(tc, test_bias_exact);
+	tcase_add_test(tc, test_bias_coverage);
 	tcase_set_timeout(tc, 60);
 	suite_add_tcase(s, tc);
 	return s;

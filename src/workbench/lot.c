@@ -5,7 +5,12 @@
  * term present in a unit enters the lot with the half-width of its
  * interval as its standard error, a term a unit does not show is left out
  * of that term's lot (said in the output: "resolved in k of n units").
- * The spread is sscope_lot_spread() at the stated level.
+ * Each unit's bias, drift and temperature sensitivity come from
+ * sscope_lot_bias() (batch means), with its standard errors.  The spread
+ * of every term is sscope_lot_spread() at the stated level.  --plot draws
+ * the units' biases against time (a moving mean, the median and 5-95 %
+ * band of the units that are not bias outliers) and their Allan
+ * deviations with the median curve.
  */
 #include "workbench.h"
 
@@ -15,15 +20,24 @@
 
 #include "lot.h"
 #include "navcommon.h"
+#include "plot.h"
 #include "stage.h"
 
-static const char term_key[3] = { 'N', 'B', 'K' };
+static const char *const term_key[SSC_LOT_NT] = {
+	"N", "B", "K", "bias", "bias_drift", "temp_sensitivity"
+};
 
 static const char *base_of(const char *path)
 {
 	const char *s = strrchr(path, '/');
 
 	return s ? s + 1 : path;
+}
+
+/* a unit's name: the manifest's, else its file's base name */
+static const char *unit_name(const struct ssc_lot_result *r, size_t u)
+{
+	return r->labels && r->labels[u] ? r->labels[u] : base_of(r->paths[u]);
 }
 
 /* the fit's 68.3 % intervals (guard false) or, for the terms with a
@@ -67,8 +81,57 @@ static int unit_fit(const char *cmd, const char *path,
 		cell->v[t] = cell->present[t] ? c->value : (double)NAN;
 		cell->lo[t] = cell->present[t] ? c->lo : (double)NAN;
 		cell->hi[t] = cell->present[t] ? c->hi : (double)NAN;
+		/* a 68.3 % interval: one standard error each side */
+		cell->se[t] = 0.5 * (cell->hi[t] - cell->lo[t]);
+	}
+	if (!guard) {
+		cell->tau_s = malloc((res->n_points + 1) * sizeof(double));
+		cell->adev = malloc((res->n_points + 1) * sizeof(double));
+		if (!cell->tau_s || !cell->adev) {
+			sscope_allan_result_free(res);
+			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+		}
+		for (size_t i = 0; i < res->n_points; i++) {
+			cell->tau_s[i] = res->points[i].tau_s;
+			cell->adev[i] = res->points[i].dev;
+		}
+		cell->n_adev = res->n_points;
 	}
 	sscope_allan_result_free(res);
+	return 0;
+}
+
+/* the bias, its drift and its temperature sensitivity (batch means) */
+static int unit_bias(const char *cmd, const char *path,
+		     const struct sscope_capture *cap,
+		     const struct sscope_capture_channel *ch,
+		     struct ssc_lot_cell *cell)
+{
+	struct sscope_lot_bias_opts o = { .blocks = SSC_LOT_BIAS_BLOCKS };
+	struct sscope_lot_bias *b = &cell->bias;
+	int rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1,
+				 &o, b);
+
+	if (rc) {
+		ssc_err(cmd, "%s: channel %s: bias: %s", path, ch->col.name,
+			rc == -EDOM ? "the bias terms need at least 40 samples, none of them NaN" :
+				      sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	cell->v[SSC_LOT_BIAS] = b->bias;
+	cell->lo[SSC_LOT_BIAS] = b->bias_lo;
+	cell->hi[SSC_LOT_BIAS] = b->bias_hi;
+	cell->se[SSC_LOT_BIAS] = b->bias_se;
+	cell->v[SSC_LOT_DRIFT] = b->drift_u_s;
+	cell->lo[SSC_LOT_DRIFT] = b->drift_lo;
+	cell->hi[SSC_LOT_DRIFT] = b->drift_hi;
+	cell->se[SSC_LOT_DRIFT] = b->drift_se;
+	cell->v[SSC_LOT_TEMPCO] = b->tempco_u_degc;
+	cell->lo[SSC_LOT_TEMPCO] = b->tempco_lo;
+	cell->hi[SSC_LOT_TEMPCO] = b->tempco_hi;
+	cell->se[SSC_LOT_TEMPCO] = b->tempco_se;
+	for (int t = SSC_LOT_BIAS; t < SSC_LOT_NT; t++)
+		cell->present[t] = isfinite(cell->v[t]) && cell->se[t] > 0;
 	return 0;
 }
 
@@ -91,8 +154,8 @@ static int spread(const char *cmd, struct ssc_lot_result *r)
 		goto out;
 	}
 	for (size_t c = 0; c < r->n_chan && !rc; c++)
-		for (int t = 0; t < 3; t++) {
-			struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			struct sscope_lot_opts o = { .level = r->level };
 			size_t k = 0;
 
@@ -110,8 +173,7 @@ static int spread(const char *cmd, struct ssc_lot_result *r)
 					continue;
 				idx[k] = u;
 				y[k] = cl->v[t];
-				/* a 68.3 % interval: one standard error each side */
-				se[k++] = 0.5 * (cl->hi[t] - cl->lo[t]);
+				se[k++] = cl->se[t];
 			}
 			T->n_resolved = k;
 			if (k < 3)
@@ -141,8 +203,8 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 {
 	bool any = false;
 
-	for (size_t t = 0; t < 3; t++)
-		r->term[c * 3 + t].limit = NAN;
+	for (size_t t = 0; t < SSC_LOT_NT; t++)
+		r->term[c * SSC_LOT_NT + t].limit = NAN;
 	for (size_t s = 0; r->spec && s < r->spec->n_sec; s++)
 		if (r->spec->sec[s].quantity == r->q[c]) {
 			double lim[3];
@@ -150,7 +212,7 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 
 			ssc_datasheet_terms(&r->spec->sec[s], lim, from);
 			for (size_t t = 0; t < 3; t++) {
-				r->term[c * 3 + t].limit = lim[t];
+				r->term[c * SSC_LOT_NT + t].limit = lim[t];
 				any |= isfinite(lim[t]);
 			}
 		}
@@ -160,7 +222,7 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 static bool channel_has_spec(const struct ssc_lot_result *r, size_t c)
 {
 	for (size_t t = 0; t < 3; t++)
-		if (isfinite(r->term[c * 3 + t].limit))
+		if (isfinite(r->term[c * SSC_LOT_NT + t].limit))
 			return true;
 	return false;
 }
@@ -170,9 +232,9 @@ static void verdicts(struct ssc_lot_result *r)
 {
 	for (size_t u = 0; u < r->n_units; u++)
 		for (size_t c = 0; c < r->n_chan; c++)
-			for (size_t t = 0; t < 3; t++) {
+			for (size_t t = 0; t < SSC_LOT_NT; t++) {
 				struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
-				struct ssc_lot_term *T = &r->term[c * 3 + t];
+				struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + t];
 
 				if (!isfinite(T->limit))
 					continue;
@@ -184,8 +246,9 @@ static void verdicts(struct ssc_lot_result *r)
 }
 
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, size_t n, double level,
-		const char *spec_path, struct ssc_lot_result **out)
+		const char *const *paths, const char *const *labels, size_t n,
+		double level, const char *spec_path, double smooth_s,
+		struct ssc_lot_result **out)
 {
 	struct ssc_lot_result *r;
 	struct sscope_noise_plan *plan = NULL;
@@ -202,7 +265,11 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	r->n_units = n;
 	r->paths = paths;
+	r->labels = labels;
+	r->caps = caps;
 	r->level = level;
+	r->smooth_s = smooth_s;
+	r->temp = c0->temp_degc != NULL;
 	if (spec_path) {
 		r->spec = malloc(sizeof(*r->spec));
 		if (!r->spec) {
@@ -233,7 +300,7 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 		return SSC_EXIT_FAIL;
 	}
 	r->cell = calloc(n * r->n_chan, sizeof(*r->cell));
-	r->term = calloc(r->n_chan * 3, sizeof(*r->term));
+	r->term = calloc(r->n_chan * SSC_LOT_NT, sizeof(*r->term));
 	if (!r->cell || !r->term) {
 		ssc_lot_free(r);
 		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
@@ -260,6 +327,13 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 			rc = SSC_EXIT_FAIL;
 			break;
 		}
+		if ((cap->temp_degc != NULL) != r->temp) {
+			ssc_err(cmd, "%s: %s temperature column, but %s %s: the units of a lot must have the same columns",
+				paths[u], r->temp ? "no" : "a", paths[0],
+				r->temp ? "has one" : "has none");
+			rc = SSC_EXIT_FAIL;
+			break;
+		}
 		for (size_t c = 0; c < r->n_chan && !rc; c++) {
 			const struct sscope_capture_channel *ch = NULL;
 
@@ -275,6 +349,9 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 			}
 			rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz, plan,
 				      false, &r->cell[u * r->n_chan + c]);
+			if (!rc)
+				rc = unit_bias(cmd, paths[u], cap, ch,
+					       &r->cell[u * r->n_chan + c]);
 			if (!rc && channel_has_spec(r, c))
 				rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz,
 					      plan, true, &r->cell[u * r->n_chan + c]);
@@ -293,11 +370,24 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 	return 0;
 }
 
-/* an SI value in the term's conventional unit */
+/* an SI value in the term's conventional unit: the noise terms and the
+ * bias as the fit shows them (deg/h, ug), the drift per hour, the
+ * temperature sensitivity per degC */
 static double conv(const struct ssc_lot_result *r, size_t c, int t, double si,
 		   const char **unit)
 {
-	return ssc_nav_term_value(si, r->q[c], (enum sscope_term)(SSCOPE_TERM_N + t), unit);
+	static const char *const per_degc[2][2] = {
+		{ "deg/h/degC", "rad/s/degC" }, { "ug/degC", "m/s^2/degC" }
+	};
+	enum sscope_term st = t == SSC_LOT_DRIFT ? SSCOPE_TERM_R :
+			      t >= SSC_LOT_BIAS ? SSCOPE_TERM_B :
+			      (enum sscope_term)(SSCOPE_TERM_N + t);
+	double v = ssc_nav_term_value(si, r->q[c], st, unit);
+
+	if (t == SSC_LOT_TEMPCO)
+		*unit = per_degc[r->q[c] == SSCOPE_QUANTITY_ACCELERATION]
+				[strcmp(*unit, sscope_term_si_unit(r->q[c], st)) == 0];
+	return v;
 }
 
 static const char *const verdict_key[3] = { "inconclusive", "within_spec", "out_of_spec" };
@@ -309,7 +399,7 @@ static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
 	json_t *o = json_object();
 	const char *unit;
 
-	json_object_set_new(o, "limit", ssc_jreal(conv(r, c, t, r->term[c * 3 + (size_t)t].limit, &unit)));
+	json_object_set_new(o, "limit", ssc_jreal(conv(r, c, t, r->term[c * SSC_LOT_NT + (size_t)t].limit, &unit)));
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "upper_bound_only", json_boolean(cl->gbound[t]));
 	json_object_set_new(o, "lo", cl->gbound[t] ? json_null() :
@@ -322,7 +412,7 @@ static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
 /* a channel's term against its limit over the lot */
 static void between_spec_json(json_t *b, const struct ssc_lot_result *r, size_t c, int t)
 {
-	const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+	const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 	const struct sscope_lot_cpk *k = &T->cpk;
 	const char *unit;
 
@@ -395,17 +485,19 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "level", json_real(r->level));
 	json_object_set_new(o, "model",
 			    json_string("random effects: each unit's value = mean + unit effect (sd between_sd) + its own measurement error (sd from its 68.3 % interval); between_sd by REML with its Q-profile interval (Viechtbauer 2007), the mean by Hartung-Knapp; units beyond the family-wise outlier level left out"));
+	json_object_set_new(o, "bias_method",
+			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 
-		json_object_set_new(ju, "unit", json_string(base_of(r->paths[u])));
+		json_object_set_new(ju, "unit", json_string(unit_name(r, u)));
 		json_object_set_new(ju, "path", json_string(r->paths[u]));
 		for (size_t c = 0; c < r->n_chan; c++) {
 			const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
 			json_t *jc = json_object(), *terms = json_object();
 
 			json_object_set_new(jc, "name", json_string(r->chan[c]));
-			for (int t = 0; t < 3; t++) {
+			for (int t = 0; t < SSC_LOT_NT; t++) {
 				const char *unit;
 				json_t *jt = json_object();
 
@@ -414,35 +506,52 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				json_object_set_new(jt, "lo", ssc_jreal(conv(r, c, t, cl->lo[t], &unit)));
 				json_object_set_new(jt, "hi", ssc_jreal(conv(r, c, t, cl->hi[t], &unit)));
 				json_object_set_new(jt, "unit", json_string(unit));
-				json_object_set_new(jt, "z", ssc_jreal(r->term[c * 3 + (size_t)t].z[u]));
+				if (t >= SSC_LOT_BIAS)
+					json_object_set_new(jt, "se", ssc_jreal(conv(r, c, t, cl->se[t], &unit)));
+				json_object_set_new(jt, "z", ssc_jreal(r->term[c * SSC_LOT_NT + (size_t)t].z[u]));
 				json_object_set_new(jt, "outlier",
-						    json_boolean(r->term[c * 3 + (size_t)t].outlier[u]));
+						    json_boolean(r->term[c * SSC_LOT_NT + (size_t)t].outlier[u]));
 				if (cl->has_spec[t])
 					json_object_set_new(jt, "spec", unit_spec_json(r, c, t, cl));
-				json_object_set_new(terms, (char[2]){ term_key[t], 0 }, jt);
+				json_object_set_new(terms, term_key[t], jt);
 			}
 			json_object_set_new(jc, "terms", terms);
+			json_object_set_new(jc, "bias_blocks", json_integer((json_int_t)cl->bias.blocks));
+			json_object_set_new(jc, "block_s", ssc_jreal((double)cl->bias.block_n /
+								     r->caps[u]->rate_hz));
+			if (cl->bias.have_temp) {
+				json_t *jt = json_object();
+
+				json_object_set_new(jt, "mean_degc", ssc_jreal(cl->bias.temp_mean_degc));
+				json_object_set_new(jt, "span_degc", ssc_jreal(cl->bias.temp_span_degc));
+				json_object_set_new(jt, "time_corr", ssc_jreal(cl->bias.temp_time_corr));
+				json_object_set_new(jc, "temperature", jt);
+			} else {
+				json_object_set_new(jc, "temperature", json_null());
+			}
 			json_array_append_new(chs, jc);
 		}
 		json_object_set_new(ju, "channels", chs);
 		json_array_append_new(units, ju);
 	}
 	for (size_t c = 0; c < r->n_chan; c++)
-		for (int t = 0; t < 3; t++) {
-			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			const struct sscope_lot_spread *s = &T->sp;
 			json_t *b = json_object(), *fl = json_array();
 			const char *unit;
 
 			conv(r, c, t, 1, &unit);
 			json_object_set_new(b, "channel", json_string(r->chan[c]));
-			json_object_set_new(b, "term", json_string((char[2]){ term_key[t], 0 }));
+			json_object_set_new(b, "term", json_string(term_key[t]));
 			json_object_set_new(b, "unit", json_string(unit));
 			json_object_set_new(b, "units", json_integer((json_int_t)r->n_units));
 			json_object_set_new(b, "units_resolved", json_integer((json_int_t)T->n_resolved));
 			between_spec_json(b, r, c, t);
 			if (!T->done) {
-				json_object_set_new(b, "why", json_string("fewer than 3 units show the term: no spread"));
+				json_object_set_new(b, "why", json_string(
+					t == SSC_LOT_TEMPCO && !r->temp ? "no temperature column: no temperature sensitivity" :
+					"fewer than 3 units show the term: no spread"));
 				json_array_append_new(btw, b);
 				json_decref(fl);
 				continue;
@@ -462,10 +571,10 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				if (T->outlier[u]) {
 					json_t *e = json_object();
 
-					json_array_append_new(fl, json_string(base_of(r->paths[u])));
-					json_object_set_new(e, "unit", json_string(base_of(r->paths[u])));
+					json_array_append_new(fl, json_string(unit_name(r, u)));
+					json_object_set_new(e, "unit", json_string(unit_name(r, u)));
 					json_object_set_new(e, "channel", json_string(r->chan[c]));
-					json_object_set_new(e, "term", json_string((char[2]){ term_key[t], 0 }));
+					json_object_set_new(e, "term", json_string(term_key[t]));
 					json_object_set_new(e, "z", ssc_jreal(T->z[u]));
 					json_array_append_new(outl, e);
 				}
@@ -482,6 +591,48 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 
 static void spec_text(FILE *f, const struct ssc_lot_result *r);
 
+/* "v [lo, hi]" of a unit's term in its unit, or "-" */
+static const char *cell_text(char *buf, size_t len, const struct ssc_lot_result *r,
+			     size_t u, size_t c, int t)
+{
+	const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+	const char *unit;
+	char a[32], b[32], d[32];
+
+	if (!cl->present[t]) {
+		snprintf(buf, len, "-");
+		return buf;
+	}
+	snprintf(buf, len, "%s [%s, %s]%s", ssc_fmt(a, sizeof(a), conv(r, c, t, cl->v[t], &unit), 4),
+		 ssc_fmt(b, sizeof(b), conv(r, c, t, cl->lo[t], &unit), 3),
+		 ssc_fmt(d, sizeof(d), conv(r, c, t, cl->hi[t], &unit), 3),
+		 r->term[c * SSC_LOT_NT + (size_t)t].outlier[u] ? " *" : "");
+	return buf;
+}
+
+/* each unit's bias, drift and temperature sensitivity */
+static void unit_text(FILE *f, const struct ssc_lot_result *r)
+{
+	const char *ub, *ud, *ut;
+
+	for (size_t c = 0; c < r->n_chan; c++) {
+		conv(r, c, SSC_LOT_BIAS, 1, &ub);
+		conv(r, c, SSC_LOT_DRIFT, 1, &ud);
+		conv(r, c, SSC_LOT_TEMPCO, 1, &ut);
+		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier)\n",
+			r->chan[c], SSC_LOT_BIAS_BLOCKS);
+		fprintf(f, "%-20s %-34s %-34s %s\n", "unit", ub, ud, r->temp ? ut : "(no temperature column)");
+		for (size_t u = 0; u < r->n_units; u++) {
+			char x[80], y[80], z[80];
+
+			fprintf(f, "%-20s %-34s %-34s %s\n", unit_name(r, u),
+				cell_text(x, sizeof(x), r, u, c, SSC_LOT_BIAS),
+				cell_text(y, sizeof(y), r, u, c, SSC_LOT_DRIFT),
+				r->temp ? cell_text(z, sizeof(z), r, u, c, SSC_LOT_TEMPCO) : "");
+		}
+	}
+}
+
 void ssc_lot_text(FILE *f, const void *opts, const void *result)
 {
 	const struct ssc_lot_result *r = result;
@@ -490,19 +641,21 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 	(void)opts;
 	fprintf(f, "lot of %zu units; %s %% intervals; spread between units separated from each unit's own uncertainty\n",
 		r->n_units, ssc_fmt(a, sizeof(a), 100 * r->level, 3));
-	fprintf(f, "%-8s %-4s %-16s %-30s %-30s %-8s %s\n", "channel", "term", "unit",
+	fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s %s\n", "channel", "term", "unit",
 		"mean [interval]", "between-unit sd [interval]", "units", "outliers");
 	for (size_t c = 0; c < r->n_chan; c++)
-		for (int t = 0; t < 3; t++) {
-			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			const struct sscope_lot_spread *s = &T->sp;
 			const char *unit;
 			char m[64], bs[64], un[32];
 			bool any = false;
 
 			conv(r, c, t, 1, &unit);
+			if (t == SSC_LOT_TEMPCO && !r->temp)
+				continue;
 			if (!T->done) {
-				fprintf(f, "%-8s %-4c %-16s shown in %zu of %zu units: fewer than 3, no spread\n",
+				fprintf(f, "%-8s %-16s %-16s shown in %zu of %zu units: fewer than 3, no spread\n",
 					r->chan[c], term_key[t], unit, T->n_resolved, r->n_units);
 				continue;
 			}
@@ -515,17 +668,18 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 				 ssc_fmt(e, sizeof(e), conv(r, c, t, s->between_lo, &unit), 3),
 				 ssc_fmt(g, sizeof(g), conv(r, c, t, s->between_hi, &unit), 3));
 			snprintf(un, sizeof(un), "%zu/%zu", s->k_used, r->n_units);
-			fprintf(f, "%-8s %-4c %-16s %-30s %-30s %-8s", r->chan[c], term_key[t],
+			fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s", r->chan[c], term_key[t],
 				unit, m, bs, un);
 			for (size_t u = 0; u < r->n_units; u++)
 				if (T->outlier[u]) {
 					fprintf(f, "%s%s (z %s)", any ? ", " : "",
-						base_of(r->paths[u]),
+						unit_name(r, u),
 						ssc_fmt(a, sizeof(a), T->z[u], 3));
 					any = true;
 				}
 			fprintf(f, "%s\n", any ? "" : "-");
 		}
+	unit_text(f, r);
 	if (r->spec)
 		spec_text(f, r);
 }
@@ -548,11 +702,11 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 			fprintf(f, "\n");
 		json_decref(sj);
 	}
-	fprintf(f, "%-8s %-4s %-16s %-10s %-7s %-7s %-13s %s\n", "channel", "term", "unit", "limit",
+	fprintf(f, "%-8s %-16s %-16s %-10s %-7s %-7s %-13s %s\n", "channel", "term", "unit", "limit",
 		"within", "out", "inconclusive", "Cpk (one-sided) [interval]");
 	for (size_t c = 0; c < r->n_chan; c++)
-		for (int t = 0; t < 3; t++) {
-			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			const char *unit;
 			char cp[80];
 
@@ -567,7 +721,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 			else
 				snprintf(cp, sizeof(cp), "- (fewer than 3 units show the term)");
 			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
-			fprintf(f, "%-8s %-4c %-16s %-10s %-7zu %-7zu %-13zu %s\n", r->chan[c],
+			fprintf(f, "%-8s %-16s %-16s %-10s %-7zu %-7zu %-13zu %s\n", r->chan[c],
 				term_key[t], unit, a, T->count[SSCOPE_DATASHEET_WITHIN],
 				T->count[SSCOPE_DATASHEET_OUT],
 				T->count[SSCOPE_DATASHEET_INCONCLUSIVE], cp);
@@ -577,14 +731,14 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 	for (size_t u = 0; u < r->n_units; u++) {
 		bool first = true;
 
-		fprintf(f, "%s:", base_of(r->paths[u]));
+		fprintf(f, "%s:", unit_name(r, u));
 		for (size_t c = 0; c < r->n_chan; c++)
-			for (int t = 0; t < 3; t++) {
+			for (int t = 0; t < SSC_LOT_NT; t++) {
 				const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
 
 				if (!cl->has_spec[t])
 					continue;
-				fprintf(f, "%s %s %c %s", first ? "" : ";", r->chan[c], term_key[t],
+				fprintf(f, "%s %s %s %s", first ? "" : ";", r->chan[c], term_key[t],
 					sscope_datasheet_verdict_name(cl->verdict[t]));
 				if (cl->gbound[t])
 					fprintf(f, " (not shown, bound %s)",
@@ -603,8 +757,8 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 
 	(void)opts;
 	for (size_t c = 0; c < r->n_chan; c++)
-		for (int t = 0; t < 3; t++) {
-			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			const char *unit;
 			char q[48], note[96];
 			size_t n_out = 0;
@@ -613,7 +767,8 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 				continue;
 			for (size_t u = 0; u < r->n_units; u++)
 				n_out += T->outlier[u];
-			snprintf(q, sizeof(q), "%c between-unit sd", term_key[t]);
+			conv(r, c, t, 1, &unit); /* before the call that reads it */
+			snprintf(q, sizeof(q), "%s between-unit sd", term_key[t]);
 			snprintf(note, sizeof(note), "%zu of %zu units; %zu outlier%s",
 				 T->sp.k_used, r->n_units, n_out, n_out == 1 ? "" : "s");
 			ssc_summary_add(rows, r->chan[c], q,
@@ -624,15 +779,15 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 				ssc_summary_warn_last(rows);
 		}
 	for (size_t c = 0; c < r->n_chan; c++)
-		for (int t = 0; t < 3; t++) {
-			const struct ssc_lot_term *T = &r->term[c * 3 + (size_t)t];
+		for (int t = 0; t < SSC_LOT_NT; t++) {
+			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
 			const char *unit;
 			char q[96], note[128], a[32];
 
 			if (!isfinite(T->limit))
 				continue;
 			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
-			snprintf(q, sizeof(q), "%c Cpk (limit %s %s)", term_key[t], a, unit);
+			snprintf(q, sizeof(q), "%s Cpk (limit %s %s)", term_key[t], a, unit);
 			snprintf(note, sizeof(note), "%zu within spec, %zu out of spec, %zu inconclusive of %zu units%s",
 				 T->count[SSCOPE_DATASHEET_WITHIN], T->count[SSCOPE_DATASHEET_OUT],
 				 T->count[SSCOPE_DATASHEET_INCONCLUSIVE], r->n_units,
@@ -651,7 +806,11 @@ void ssc_lot_free(void *result)
 
 	if (!r)
 		return;
-	for (size_t i = 0; r->term && i < r->n_chan * 3; i++) {
+	for (size_t i = 0; r->cell && i < r->n_units * r->n_chan; i++) {
+		free(r->cell[i].tau_s);
+		free(r->cell[i].adev);
+	}
+	for (size_t i = 0; r->term && i < r->n_chan * SSC_LOT_NT; i++) {
 		free(r->term[i].outlier);
 		free(r->term[i].z);
 	}
@@ -661,4 +820,311 @@ void ssc_lot_free(void *result)
 	free(r->q);
 	free(r->spec);
 	free(r);
+}
+
+/* ------------------------------------------------------------ figures */
+
+#define LOT_MAX_PANELS 6
+
+static int cmp_dbl(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+
+	return (x > y) - (x < y);
+}
+
+/* the p-quantile (0..1) of the finite w[0..k), sorted in place; NaN
+ * when none */
+static double quantile_of(double *w, size_t k, double p)
+{
+	size_t m = 0;
+	double h;
+
+	for (size_t i = 0; i < k; i++)
+		if (isfinite(w[i]))
+			w[m++] = w[i];
+	if (!m)
+		return NAN;
+	qsort(w, m, sizeof(double), cmp_dbl);
+	h = p * (double)(m - 1);
+	return w[(size_t)h] + (h - floor(h)) * (w[(size_t)ceil(h)] - w[(size_t)h]);
+}
+
+/* PATH with @p tag before its extension (".{svg,png}" kept whole) */
+static char *tagged_path(const char *path, const char *tag)
+{
+	size_t l = strlen(path), k = strlen(SSC_PLOT_SVG_AND_PNG);
+	const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+	size_t at = l;
+	char *p;
+
+	if (l > k && !strcmp(path + l - k, SSC_PLOT_SVG_AND_PNG))
+		at = l - k;
+	else if (dot && (!slash || dot > slash))
+		at = (size_t)(dot - path);
+	p = malloc(l + strlen(tag) + 1);
+	if (p)
+		sprintf(p, "%.*s%s%s", (int)at, path, tag, path + at);
+	return p;
+}
+
+/* the shortest record, s */
+static double shortest_s(const struct ssc_lot_result *r)
+{
+	double d = INFINITY;
+
+	for (size_t u = 0; u < r->n_units; u++)
+		d = fmin(d, (double)r->caps[u]->n / r->caps[u]->rate_hz);
+	return d;
+}
+
+/* unit u's moving mean of channel ch over w_s at the times t[0..m), in
+ * SI; NaN where the window holds no sample */
+static int moving_mean(const struct sscope_capture *cap,
+		       const struct sscope_capture_channel *ch, double w_s,
+		       const double *t, size_t m, double *out)
+{
+	size_t n = cap->n;
+	double *cs = malloc((n + 1) * sizeof(double)), mean = 0, acc = 0, comp = 0;
+
+	if (!cs)
+		return -ENOMEM;
+	for (size_t i = 0; i < n; i++)
+		mean += ch->data[i];
+	mean /= (double)n;
+	/* prefix sums about the mean, compensated (Kahan): no digits lost
+	 * to the bias or to a long record */
+	cs[0] = 0;
+	for (size_t i = 0; i < n; i++) {
+		double yk = ch->data[i] - mean - comp, tk = acc + yk;
+
+		comp = (tk - acc) - yk;
+		acc = tk;
+		cs[i + 1] = acc;
+	}
+	for (size_t j = 0; j < m; j++) {
+		double a = (t[j] - w_s / 2) * cap->rate_hz, b = (t[j] + w_s / 2) * cap->rate_hz;
+		size_t i0 = a <= 0 ? 0 : (size_t)fmin(a, (double)n);
+		size_t i1 = b <= 0 ? 0 : (size_t)fmin(b, (double)n);
+
+		out[j] = i1 > i0 ? mean + (cs[i1] - cs[i0]) / (double)(i1 - i0) : (double)NAN;
+	}
+	free(cs);
+	return 0;
+}
+
+static const struct sscope_capture_channel *chan_of(const struct sscope_capture *cap,
+						    const char *name)
+{
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (!strcmp(cap->channels[k].col.name, name))
+			return &cap->channels[k];
+	return NULL;
+}
+
+/* a unit's line: outliers (in the terms @p lo..hi) thick and named so */
+static void unit_style(const struct ssc_lot_result *r, size_t c, size_t u, int lo, int hi,
+		       struct ssc_style *st, char *label, size_t len)
+{
+	bool out = false;
+
+	for (int t = lo; t <= hi; t++)
+		out |= r->term[c * SSC_LOT_NT + (size_t)t].outlier[u];
+	memset(st, 0, sizeof(*st));
+	/* the palette without its red, which marks the outliers */
+	st->color = out ? 0xd62728 : ssc_plot_color(u % 9 + (u % 9 >= 3));
+	st->width = out ? 3 : 1.2;
+	st->dash = out ? SSC_SOLID : u >= 9 ? SSC_DASHED : SSC_SOLID;
+	snprintf(label, len, "%s%s", unit_name(r, u), out ? " (outlier)" : "");
+}
+
+static int bias_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t c,
+		      double w_s, double dur_s)
+{
+	size_t U = r->n_units, m = 400;
+	double *t = malloc(m * sizeof(double)), *tp = malloc(m * sizeof(double));
+	double *y = malloc(U * m * sizeof(double)), *w = malloc(U * sizeof(double));
+	double *lo = malloc(m * sizeof(double)), *hi = malloc(m * sizeof(double));
+	double *med = malloc(m * sizeof(double)), ts = dur_s >= 3 * 3600 ? 3600 :
+						     dur_s >= 180 ? 60 : 1;
+	const char *unit;
+	double sc = conv(r, c, SSC_LOT_BIAS, 1, &unit);
+	char lab[160];
+	int rc = 0;
+
+	if (!t || !tp || !y || !w || !lo || !hi || !med) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	for (size_t j = 0; j < m; j++) {
+		t[j] = w_s / 2 + (dur_s - w_s) * (double)j / (double)(m - 1);
+		tp[j] = t[j] / ts;
+	}
+	for (size_t u = 0; u < U && !rc; u++) {
+		const struct sscope_capture_channel *ch = chan_of(r->caps[u], r->chan[c]);
+
+		rc = ch ? moving_mean(r->caps[u], ch, w_s, t, m, y + u * m) : -EINVAL;
+		for (size_t j = 0; j < m; j++)
+			y[u * m + j] *= sc;
+	}
+	for (size_t j = 0; j < m && !rc; j++) {
+		size_t k = 0;
+
+		for (size_t u = 0; u < U; u++)
+			if (!r->term[c * SSC_LOT_NT + SSC_LOT_BIAS].outlier[u])
+				w[k++] = y[u * m + j];
+		lo[j] = quantile_of(w, k, 0.05);
+		hi[j] = quantile_of(w, k, 0.95);
+		med[j] = quantile_of(w, k, 0.5);
+	}
+	if (!rc)
+		rc = ssc_ax_band(ax, tp, lo, hi, m, 0x7f7f7f, 0.25,
+				 "5-95 % of the units (outliers out)");
+	for (size_t u = 0; u < U && !rc; u++) {
+		struct ssc_style st;
+
+		unit_style(r, c, u, SSC_LOT_BIAS, SSC_LOT_TEMPCO, &st, lab, sizeof(lab));
+		rc = ssc_ax_line(ax, tp, y + u * m, m, &st, lab);
+	}
+	if (!rc) {
+		struct ssc_style st = { .color = 0x010101, .width = 2.5, .dash = SSC_DASHED };
+
+		rc = ssc_ax_line(ax, tp, med, m, &st, "median of the units");
+	}
+	if (!rc) {
+		char a[32];
+
+		snprintf(lab, sizeof(lab), "%s: bias, moving mean over %s s", r->chan[c],
+			 ssc_fmt(a, sizeof(a), w_s, 3));
+		ssc_ax_title(ax, lab);
+		ssc_ax_xlabel(ax, ts == 3600 ? "time [h]" : ts == 60 ? "time [min]" : "time [s]");
+		snprintf(lab, sizeof(lab), "bias [%s]", unit);
+		ssc_ax_ylabel(ax, lab);
+		ssc_ax_grid(ax, true);
+	}
+out:
+	free(t);
+	free(tp);
+	free(y);
+	free(w);
+	free(lo);
+	free(hi);
+	free(med);
+	return rc;
+}
+
+static int adev_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t c)
+{
+	const struct ssc_lot_cell *c0 = &r->cell[c];
+	size_t U = r->n_units, m = c0->n_adev;
+	double *med = malloc((m + 1) * sizeof(double)), *w = malloc(U * sizeof(double));
+	double *y = NULL;
+	const char *unit;
+	double sc = conv(r, c, SSC_LOT_BIAS, 1, &unit);
+	char lab[160];
+	int rc = 0;
+
+	if (!med || !w) {
+		rc = -ENOMEM;
+		goto out;
+	}
+	for (size_t u = 0; u < U && !rc; u++) {
+		const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+		struct ssc_style st;
+
+		free(y);
+		y = malloc((cl->n_adev + 1) * sizeof(double));
+		if (!y) {
+			rc = -ENOMEM;
+			break;
+		}
+		for (size_t i = 0; i < cl->n_adev; i++)
+			y[i] = cl->adev[i] * sc;
+		unit_style(r, c, u, SSC_LOT_N, SSC_LOT_K, &st, lab, sizeof(lab));
+		rc = ssc_ax_line(ax, cl->tau_s, y, cl->n_adev, &st, lab);
+	}
+	/* the median at the first unit's taus, over the units with that tau
+	 * (all of them when the records are alike) */
+	for (size_t i = 0; i < m && !rc; i++) {
+		size_t k = 0;
+
+		for (size_t u = 0; u < U; u++) {
+			const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+
+			for (size_t j = 0; j < cl->n_adev; j++)
+				if (fabs(cl->tau_s[j] - c0->tau_s[i]) <= 1e-9 * c0->tau_s[i]) {
+					w[k++] = cl->adev[j] * sc;
+					break;
+				}
+		}
+		med[i] = 2 * k > U ? quantile_of(w, k, 0.5) : (double)NAN;
+	}
+	if (!rc) {
+		struct ssc_style st = { .color = 0x010101, .width = 2.5, .dash = SSC_DASHED };
+
+		rc = ssc_ax_line(ax, c0->tau_s, med, m, &st, "median of the units");
+	}
+	if (!rc) {
+		snprintf(lab, sizeof(lab), "%s: Allan deviation (OADEV) of each unit", r->chan[c]);
+		ssc_ax_title(ax, lab);
+		ssc_ax_log(ax, true, true);
+		ssc_ax_xlabel(ax, "tau [s]");
+		snprintf(lab, sizeof(lab), "Allan deviation [%s]", unit);
+		ssc_ax_ylabel(ax, lab);
+		ssc_ax_grid(ax, true);
+	}
+out:
+	free(y);
+	free(med);
+	free(w);
+	return rc;
+}
+
+int ssc_lot_plot(const struct ssc_common *co, const void *opts,
+		 const void *result, const char *path)
+{
+	const struct ssc_lot_result *r = result;
+	size_t n = r->n_chan < LOT_MAX_PANELS ? r->n_chan : LOT_MAX_PANELS;
+	double dur = shortest_s(r), w = r->smooth_s > 0 ? r->smooth_s : dur / 100;
+	char *apath = tagged_path(path, "-adev"), title[160];
+	int rc = 0;
+
+	(void)opts;
+	if (!apath)
+		return ssc_fail(co->cmd, -ENOMEM, NULL, NULL);
+	if (r->n_chan > n)
+		ssc_warn(co, "--plot: %zu channels; the figures show the first %d", r->n_chan,
+			 LOT_MAX_PANELS);
+	if (w >= dur / 2) {
+		ssc_err(co->cmd, "--smooth: %g s is not shorter than half the shortest record (%g s)",
+			w, dur);
+		free(apath);
+		return SSC_EXIT_FAIL;
+	}
+	snprintf(title, sizeof(title), "Lot of %zu units: biases against time", r->n_units);
+	for (int f = 0; f < 2 && !rc; f++) {
+		struct ssc_fig *fig = ssc_fig_new(1050, (int)(n * 420 + 60), (int)n, 1);
+		const char *p = f ? apath : path;
+
+		if (!fig) {
+			rc = -ENOMEM;
+			break;
+		}
+		ssc_fig_title(fig, f ? "Lot: Allan deviations of the units" : title);
+		for (size_t c = 0; c < n && !rc; c++)
+			rc = f ? adev_panel(ssc_fig_ax(fig, (int)c, 0), r, c) :
+				 bias_panel(ssc_fig_ax(fig, (int)c, 0), r, c, w, dur);
+		if (!rc) {
+			rc = ssc_fig_save(fig, p);
+			if (rc) {
+				ssc_fig_free(fig);
+				rc = ssc_write_failed(co->cmd, p, rc);
+				free(apath);
+				return rc;
+			}
+		}
+		ssc_fig_free(fig);
+	}
+	free(apath);
+	return rc ? ssc_fail(co->cmd, rc, NULL, NULL) : SSC_EXIT_OK;
 }

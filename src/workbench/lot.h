@@ -5,7 +5,8 @@
  * terms N, B, K with their intervals (the allan stage's fit), and per
  * channel and term the spread between units (sscope_lot_spread(): the
  * population mean, the between-unit sd separated from each unit's own
- * uncertainty, the outlier units).
+ * uncertainty, the outlier units); the same for each unit's bias, its
+ * drift over the record and its temperature sensitivity.
  */
 #ifndef SSCOPE_WB_LOT_H
 #define SSCOPE_WB_LOT_H
@@ -19,16 +20,31 @@
  * called within spec in about (1 - 0.99) / 2 = 0.5 % of the cases */
 #define SSC_LOT_SPEC_LEVEL 0.99
 
-/* one unit's channel: N, B, K in SI (NaN when not present) */
+/* the terms of a unit's channel: the noise terms of the allan stage's
+ * fit, then the bias over the record, its drift and its temperature
+ * sensitivity (sscope_lot_bias(): batch means) */
+enum {
+	SSC_LOT_N, SSC_LOT_B, SSC_LOT_K, SSC_LOT_BIAS, SSC_LOT_DRIFT,
+	SSC_LOT_TEMPCO, SSC_LOT_NT
+};
+/* batches of sscope_lot_bias() */
+#define SSC_LOT_BIAS_BLOCKS 20
+
+/* one unit's channel: each term in SI (NaN when not present), its 68.3 %
+ * interval and standard error */
 struct ssc_lot_cell {
-	double v[3], lo[3], hi[3];
-	bool present[3];
+	double v[SSC_LOT_NT], lo[SSC_LOT_NT], hi[SSC_LOT_NT], se[SSC_LOT_NT];
+	bool present[SSC_LOT_NT];
 	/* against a limit (has_spec): the fit's interval at
 	 * SSC_LOT_SPEC_LEVEL [glo, ghi], or ghi alone as an upper bound
 	 * (gbound: the term not shown), and the verdict */
-	bool has_spec[3], gbound[3];
-	double glo[3], ghi[3];
-	enum sscope_datasheet_verdict verdict[3];
+	bool has_spec[SSC_LOT_NT], gbound[SSC_LOT_NT];
+	double glo[SSC_LOT_NT], ghi[SSC_LOT_NT];
+	enum sscope_datasheet_verdict verdict[SSC_LOT_NT];
+	struct sscope_lot_bias bias; /* SI */
+	/* the Allan deviation (OADEV, dense taus) for the figure */
+	double *tau_s, *adev;
+	size_t n_adev;
 };
 
 /* one channel's term over the lot */
@@ -47,24 +63,35 @@ struct ssc_lot_term {
 struct ssc_lot_result {
 	size_t n_units, n_chan;
 	const char *const *paths;
+	const char *const *labels;        /* the units' names (a manifest's),
+					     or NULL: the files' base names */
+	struct sscope_capture *const *caps; /* the units' records */
+	bool temp;                        /* the units have temperatures */
 	const char **chan;                /* channel names (the first unit's) */
 	enum sscope_quantity *q;
 	struct ssc_lot_cell *cell;        /* n_units x n_chan */
-	struct ssc_lot_term *term;        /* n_chan x 3 */
+	struct ssc_lot_term *term;        /* n_chan x SSC_LOT_NT */
 	double level;
+	double smooth_s;                  /* the figure's moving mean, s
+					     (0: 1/100 of the record) */
 	struct ssc_datasheet *spec;       /* the limits (NULL without) */
 };
 
 /* Analyse each capture and the lot, against the limits in the datasheet
  * INI @p spec_path when not NULL: prints errors, returns an exit code and
- * *out (which points into paths and spec_path). */
+ * *out (which points into paths, labels (may be NULL) and spec_path). */
 int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, size_t n, double level,
-		const char *spec_path, struct ssc_lot_result **out);
+		const char *const *paths, const char *const *labels, size_t n,
+		double level, const char *spec_path, double smooth_s,
+		struct ssc_lot_result **out);
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);
 void ssc_lot_text(FILE *f, const void *opts, const void *result);
 void ssc_lot_summary(json_t *rows, const void *opts, const void *result);
 void ssc_lot_free(void *result);
+/* --plot PATH: the units' biases against time at PATH, their Allan
+ * deviations at PATH with "-adev" before the extension */
+int ssc_lot_plot(const struct ssc_common *co, const void *opts,
+		 const void *result, const char *path);
 
 #endif

@@ -5,9 +5,14 @@
  */
 #include "stage.h"
 
+#include <dirent.h>
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 int ssc_membuf_open(struct ssc_membuf *m)
 {
@@ -172,6 +177,248 @@ static int present(const struct ssc_stage_ops *ops, const struct ssc_common *co,
 	return ssc_out_close(co, &o, !ferror(o.f));
 }
 
+static int cmp_str(const void *a, const void *b)
+{
+	return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static bool capture_name(const char *name)
+{
+	static const char *const skip[] = { ".ini", ".md", ".json", ".yaml", ".yml",
+					    ".svg", ".png", ".html" };
+	const char *dot = strrchr(name, '.');
+
+	if (name[0] == '.')
+		return false;
+	for (size_t i = 0; dot && i < sizeof(skip) / sizeof(skip[0]); i++)
+		if (!strcasecmp(dot, skip[i]))
+			return false;
+	return true;
+}
+
+/* the operands a stage with ops->folders reads: path, and from a
+ * manifest the unit's name, channels (-c) and temperature column */
+struct operands {
+	char **path, **label, **columns, **temp;
+	size_t n, cap;
+};
+
+static void operands_free(struct operands *o)
+{
+	for (size_t i = 0; i < o->n; i++) {
+		free(o->path[i]);
+		free(o->label[i]);
+		free(o->columns[i]);
+		free(o->temp[i]);
+	}
+	free(o->path);
+	free(o->label);
+	free(o->columns);
+	free(o->temp);
+	memset(o, 0, sizeof(*o));
+}
+
+static char *dup_or_null(const char *s)
+{
+	return s && *s ? strdup(s) : NULL;
+}
+
+/* append @p dir / @p name (name NULL: dir alone) with the manifest's
+ * fields (may be NULL) */
+static int push(struct operands *o, const char *dir, const char *name,
+		const char *label, const char *columns, const char *temp)
+{
+	char *s;
+
+	if (o->n == o->cap) {
+		size_t c = o->cap ? 2 * o->cap : 16;
+		char **v[4] = { realloc(o->path, c * sizeof(char *)), NULL, NULL, NULL };
+
+		if (v[0])
+			o->path = v[0];
+		v[1] = v[0] ? realloc(o->label, c * sizeof(char *)) : NULL;
+		if (v[1])
+			o->label = v[1];
+		v[2] = v[1] ? realloc(o->columns, c * sizeof(char *)) : NULL;
+		if (v[2])
+			o->columns = v[2];
+		v[3] = v[2] ? realloc(o->temp, c * sizeof(char *)) : NULL;
+		if (!v[3])
+			return -ENOMEM;
+		o->temp = v[3];
+		o->cap = c;
+	}
+	s = malloc(strlen(dir) + (name ? strlen(name) + 1 : 0) + 1);
+	if (!s)
+		return -ENOMEM;
+	if (name && name[0] != '/')
+		sprintf(s, "%s%s%s", dir, dir[0] && dir[strlen(dir) - 1] == '/' ? "" : "/", name);
+	else
+		strcpy(s, name ? name : dir);
+	o->path[o->n] = s;
+	o->label[o->n] = dup_or_null(label);
+	o->columns[o->n] = dup_or_null(columns);
+	o->temp[o->n] = dup_or_null(temp);
+	if ((label && *label && !o->label[o->n]) || (columns && *columns && !o->columns[o->n]) ||
+	    (temp && *temp && !o->temp[o->n])) {
+		o->n++;
+		return -ENOMEM;
+	}
+	o->n++;
+	return 0;
+}
+
+/* the comma-separated fields of a line (double quotes group), trimmed,
+ * in place; returns the count (at most max) */
+static size_t csv_fields(char *line, char **f, size_t max)
+{
+	size_t k = 0;
+	char *p = line;
+
+	line[strcspn(line, "\r\n")] = '\0';
+	while (k < max) {
+		char *w, *e;
+		bool q;
+
+		while (*p == ' ' || *p == '\t')
+			p++;
+		q = *p == '"';
+		p += q;
+		w = p;
+		while (*p && (q ? *p != '"' : *p != ','))
+			p++;
+		e = p;
+		if (q && *p == '"')
+			p++;
+		while (*p && *p != ',')
+			p++;
+		while (e > w && (e[-1] == ' ' || e[-1] == '\t'))
+			e--;
+		f[k++] = w;
+		if (!*p) {
+			*e = '\0';
+			break;
+		}
+		*e = '\0';
+		p++;
+	}
+	return k;
+}
+
+/* a manifest: a CSV file whose header names the columns unit and file
+ * (and optionally channels, temperature); -1 not a manifest, else an
+ * exit code */
+static int read_manifest(const char *cmd, const char *path, struct operands *o)
+{
+	FILE *f = fopen(path, "r");
+	char line[4096], *fl[16], dir[4096];
+	int col[4] = { -1, -1, -1, -1 }; /* unit, file, channels, temperature */
+	static const char *const key[4] = { "unit", "file", "channels", "temperature" };
+	size_t nf, lineno = 1, n0 = o->n;
+	const char *slash = strrchr(path, '/');
+
+	if (!f)
+		return -1;
+	if (!fgets(line, sizeof(line), f)) {
+		fclose(f);
+		return -1;
+	}
+	nf = csv_fields(line, fl, 16);
+	for (size_t i = 0; i < nf; i++)
+		for (int k = 0; k < 4; k++)
+			if (!strcasecmp(fl[i], key[k]))
+				col[k] = (int)i;
+	if (col[0] < 0 || col[1] < 0) {
+		fclose(f);
+		return -1;
+	}
+	snprintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
+	while (fgets(line, sizeof(line), f)) {
+		char *v[4] = { NULL, NULL, NULL, NULL };
+
+		lineno++;
+		if (line[strspn(line, " \t\r\n")] == '\0' || line[0] == '#')
+			continue;
+		nf = csv_fields(line, fl, 16);
+		for (int k = 0; k < 4; k++)
+			v[k] = col[k] >= 0 && (size_t)col[k] < nf ? fl[col[k]] : NULL;
+		if (!v[0] || !*v[0] || !v[1] || !*v[1]) {
+			ssc_err(cmd, "%s: line %zu: a unit and a file are needed", path, lineno);
+			fclose(f);
+			return SSC_EXIT_FAIL;
+		}
+		/* channels separated by ';' or spaces inside the field: -c's
+		 * commas */
+		for (char *c = v[2]; c && *c; c++)
+			if (*c == ';' || *c == ' ')
+				*c = ',';
+		if (push(o, dir, v[1], v[0], v[2], v[3])) {
+			fclose(f);
+			ssc_err(cmd, "out of memory");
+			return SSC_EXIT_FAIL;
+		}
+	}
+	fclose(f);
+	if (o->n == n0) {
+		ssc_err(cmd, "%s: a manifest without units", path);
+		return SSC_EXIT_FAIL;
+	}
+	return 0;
+}
+
+/* the operands with each folder replaced by its capture files (see
+ * ssc_stage_ops.folders) and each manifest by its units; prints errors,
+ * returns an exit code */
+static int expand_folders(const char *cmd, const char *const *in, int n,
+			  struct operands *o)
+{
+	int rc = 0;
+
+	for (int i = 0; i < n && !rc; i++) {
+		struct stat st;
+		DIR *d;
+		struct dirent *e;
+		size_t k0 = o->n;
+		char meta[4096];
+
+		snprintf(meta, sizeof(meta), "%s/metadata.yaml", in[i]);
+		if (strcmp(in[i], "-") && stat(in[i], &st) == 0 && S_ISDIR(st.st_mode) &&
+		    access(meta, F_OK) != 0) {
+			d = opendir(in[i]);
+			if (!d) {
+				ssc_err(cmd, "%s: %s", in[i], strerror(errno));
+				rc = SSC_EXIT_FAIL;
+				break;
+			}
+			while (!rc && (e = readdir(d))) {
+				struct stat fs;
+				char p[4096];
+
+				snprintf(p, sizeof(p), "%s/%s", in[i], e->d_name);
+				if (capture_name(e->d_name) && stat(p, &fs) == 0 &&
+				    S_ISREG(fs.st_mode))
+					rc = push(o, in[i], e->d_name, NULL, NULL, NULL) ?
+						     SSC_EXIT_FAIL : 0;
+			}
+			closedir(d);
+			if (!rc && o->n == k0) {
+				ssc_err(cmd, "%s: a folder without capture files", in[i]);
+				rc = SSC_EXIT_FAIL;
+			}
+			if (!rc)
+				qsort(o->path + k0, o->n - k0, sizeof(char *), cmp_str);
+		} else if (strcmp(in[i], "-") && stat(in[i], &st) == 0 && S_ISREG(st.st_mode) &&
+			   (rc = read_manifest(cmd, in[i], o)) >= 0) {
+			/* a manifest's units */
+		} else {
+			rc = push(o, in[i], NULL, NULL, NULL, NULL) ? SSC_EXIT_FAIL : 0;
+		}
+	}
+	if (rc == -ENOMEM)
+		ssc_err(cmd, "out of memory");
+	return rc ? SSC_EXIT_FAIL : 0;
+}
+
 int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 {
 	struct ssc_common co;
@@ -183,6 +430,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	bool scene = call->base != NULL;
 	int first, rc, n = 0, loaded = 0;
 	struct trace_t t0 = { -1, 0 };
+	struct operands ops_in = { 0 };
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -211,6 +459,18 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	} else {
 		n = call->argc - first;
 		paths = (const char *const *)call->argv + first;
+		if (ops->folders && !call->check_only) {
+			/* and the manifest an option names, after the files */
+			const char *extra = ops->manifest ? ops->manifest(opts) : NULL;
+
+			rc = expand_folders(co.cmd, paths, n, &ops_in);
+			if (!rc && extra)
+				rc = expand_folders(co.cmd, &extra, 1, &ops_in);
+			if (rc)
+				goto done;
+			paths = (const char *const *)ops_in.path;
+			n = (int)ops_in.n;
+		}
 	}
 	if (call->check_only && scene) {
 		/* the scene hands the captures over when it runs */
@@ -254,14 +514,23 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 			rc = ssc_view(&co, call->caps[loaded], &caps[loaded]);
 	} else if (!(ops->streams && ops->streams(opts))) {
 		co.values_in_run = ops->checks_values;
-		for (; loaded < n && !rc; loaded++)
-			rc = ssc_load(&co, paths[loaded], &caps[loaded]);
+		for (; loaded < n && !rc; loaded++) {
+			/* a manifest's channels and temperature column */
+			struct ssc_common cu = co;
+
+			if (ops_in.n && ops_in.columns[loaded])
+				cu.columns = ops_in.columns[loaded];
+			if (ops_in.n && ops_in.temp[loaded])
+				cu.temp_column = ops_in.temp[loaded];
+			rc = ssc_load(&cu, paths[loaded], &caps[loaded]);
+		}
 	}
 	if (rc)
 		goto done;
 	env.co = &co;
 	env.caps = loaded ? caps : NULL;
 	env.paths = paths;
+	env.labels = ops_in.n ? (const char *const *)ops_in.label : NULL;
 	env.n_caps = (size_t)n;
 	env.sensor = call->sensor;
 	env.sensor_path = call->sensor_path;
@@ -336,6 +605,7 @@ done:
 	if (ops->fini)
 		ops->fini(opts);
 	free(opts);
+	operands_free(&ops_in);
 	return rc;
 }
 

@@ -36,6 +36,9 @@ struct ssc_stage_env {
 					       0 of them; NULL when the
 					       stage streams them) */
 	const char *const *paths;         /* their names */
+	/* the units' names a manifest gives (stages with folders), else
+	 * NULL; an entry NULL: none given */
+	const char *const *labels;
 	size_t n_caps;
 	const struct sscope_sensor_spec *sensor; /* scene's [sensor] or NULL */
 	const char *sensor_path;          /* its file, or NULL */
@@ -83,6 +86,17 @@ struct ssc_stage_ops {
 	 * when it fails: a command then reads a file used in place without
 	 * the reader's pass over the samples */
 	bool checks_values;
+	/* a folder operand (not a rosbag2 folder, which holds
+	 * metadata.yaml) stands for its files, sorted by name: every regular
+	 * file not hidden and not a scene, document or figure (.ini, .md,
+	 * .json, .yaml, .yml, .svg, .png, .html); a manifest (a CSV file
+	 * whose header names the columns unit and file, optionally channels
+	 * and temperature) for its units, each file relative to the
+	 * manifest, read with its channels (-c) and temperature column */
+	bool folders;
+	/* optional (with folders): an operand the options name (a
+	 * manifest), read after the command line's, or NULL */
+	const char *(*manifest)(const void *opts);
 	/* compute: *result receives the stage's result struct, which may
 	 * point into env's captures and paths (they live as long as it) */
 	int (*run)(const struct ssc_stage_env *env, void *opts, void **result);

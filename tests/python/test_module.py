@@ -571,6 +571,58 @@ for args, why in ((([1, 2], [1, 1]), "two units"),
     except ss.ArgumentError:
         ok(True, "lot_spread refuses " + why)
 
+# sensorscope.lot() is the command's JSON: the bundled lot (a folder) and
+# four of its units, every number to 1e-9 relative, every key and string
+def same_json(a, b, where="", bad=None):
+    bad = [] if bad is None else bad
+    if isinstance(a, dict) and isinstance(b, dict):
+        if set(a) != set(b):
+            bad.append("%s: keys %s vs %s" % (where, sorted(set(a) ^ set(b)),
+                                               ""))
+        for k in set(a) & set(b):
+            same_json(a[k], b[k], where + "." + k, bad)
+    elif isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            bad.append("%s: %d vs %d items" % (where, len(a), len(b)))
+        for i, (x, y) in enumerate(zip(a, b)):
+            same_json(x, y, "%s[%d]" % (where, i), bad)
+    elif isinstance(a, bool) or isinstance(b, bool) or a is None or \
+            b is None or isinstance(a, str):
+        if a != b:
+            bad.append("%s: %r vs %r" % (where, a, b))
+    elif not (a == b or abs(a - b) <= 1e-9 * max(abs(a), abs(b))):
+        bad.append("%s: %r vs %r" % (where, a, b))
+    return bad
+
+
+lotdir = os.path.join(SAMPLES, "lot")
+py = ss.lot(lotdir)
+cmd = cli("lot", "--format", "json", *sorted(
+    os.path.join(lotdir, f) for f in os.listdir(lotdir)))
+bad = same_json(py, cmd)
+ok(not bad, "lot(folder): the command's JSON (%d units)" % len(py["units"]),
+   "\n".join(bad))
+four = [os.path.join(lotdir, "unit%02d.csv" % i) for i in (2, 5, 7, 11)]
+bad = same_json(ss.lot(four, level=0.8),
+                cli("lot", "--format", "json", "--ci", "0.8", *four))
+ok(not bad, "lot(files, level): the command's JSON", "\n".join(bad))
+mdir = tempfile.mkdtemp()
+with open(os.path.join(mdir, "lot.csv"), "w") as f:
+    f.write("unit,file,channels,temperature\n")
+    for i in (1, 4, 7, 9):
+        f.write("SN-%d,%s,ax,temp\n" % (i, os.path.abspath(
+            os.path.join(lotdir, "unit%02d.csv" % i))))
+bad = same_json(ss.lot(os.path.join(mdir, "lot.csv")),
+                cli("lot", "--format", "json", os.path.join(mdir, "lot.csv")))
+ok(not bad, "lot(manifest): the command's JSON", "\n".join(bad))
+ok([(o["unit"], o["term"]) for o in py["outliers"]] ==
+   [("unit07.csv", "bias")], "lot: unit07 the bias outlier", py["outliers"])
+try:
+    ss.lot(four[:2])
+    ok(False, "lot refuses two units")
+except ss.ArgumentError:
+    ok(True, "lot refuses two units")
+
 # ---------------------------------------------------------------- install
 # `make install` puts the module where the interpreter looks for the
 # prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)

@@ -1391,3 +1391,268 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
 
 
 __all__ += ["lot_spread"]
+
+
+_LOT_TERMS = ("N", "B", "K", "bias", "bias_drift", "temp_sensitivity")
+_LOT_MODEL = ("random effects: each unit's value = mean + unit effect (sd "
+              "between_sd) + its own measurement error (sd from its 68.3 % "
+              "interval); between_sd by REML with its Q-profile interval "
+              "(Viechtbauer 2007), the mean by Hartung-Knapp; units beyond "
+              "the family-wise outlier level left out")
+_LOT_BIAS_METHOD = (
+    "batch means: the record cut into bias_blocks equal blocks, their means "
+    "fitted by least squares as bias + bias_drift (t - t_mean) + "
+    "temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean "
+    "temperatures (without a temperature column, no T term); bias is the "
+    "mean of the record; standard errors from the residuals, Student-t "
+    "68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without "
+    "temperature); where temperature follows time (temperature.time_corr "
+    "near -1 or 1) drift and temperature sensitivity cannot be told apart "
+    "and both intervals are wide")
+
+
+def _lot_manifest(path):
+    """The units of a manifest (a CSV file whose header names the columns
+    unit and file, optionally channels and temperature) as (path, name,
+    channels, temperature column) tuples, or None for another file."""
+    import csv
+    import os
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f, skipinitialspace=True))
+    except (OSError, UnicodeDecodeError):
+        return None
+    if not rows:
+        return None
+    head = [h.strip().lower() for h in rows[0]]
+    if "unit" not in head or "file" not in head:
+        return None
+    col = {k: head.index(k) if k in head else None
+           for k in ("unit", "file", "channels", "temperature")}
+    here = os.path.dirname(path) or "."
+    out = []
+    for r in rows[1:]:
+        if not r or not "".join(r).strip() or r[0].startswith("#"):
+            continue
+
+        def get(k):
+            i = col[k]
+            return r[i].strip() if i is not None and i < len(r) and \
+                r[i].strip() else None
+        if not get("unit") or not get("file"):
+            raise ArgumentError("lot: %s: a unit and a file are needed"
+                                % path)
+        ch = get("channels")
+        out.append((os.path.join(here, get("file")), get("unit"),
+                    ",".join(ch.replace(";", " ").split()) if ch else None,
+                    get("temperature")))
+    return out
+
+
+def _lot_files(files):
+    """(path, name or None, channels or None, temperature column or
+    None) of each unit: folders stand for their capture files, sorted,
+    manifests for their units."""
+    import os
+    if isinstance(files, (str, bytes, os.PathLike)):
+        files = [files]
+    skip = (".ini", ".md", ".json", ".yaml", ".yml", ".svg", ".png",
+            ".html")
+    out = []
+    for f in files:
+        f = os.fspath(f)
+        if os.path.isdir(f) and \
+                not os.path.exists(os.path.join(f, "metadata.yaml")):
+            out += [(os.path.join(f, e), None, None, None)
+                    for e in sorted(os.listdir(f))
+                    if not e.startswith(".") and
+                    not e.lower().endswith(skip) and
+                    os.path.isfile(os.path.join(f, e))]
+        else:
+            m = _lot_manifest(f) if os.path.isfile(f) else None
+            out += m if m is not None else [(f, None, None, None)]
+    return out
+
+
+def _lot_conv(si, q, t):
+    """(value, unit) of term index t (see _LOT_TERMS) of quantity code q in
+    its conventional unit, as the lot command shows it."""
+    st = 4 if t == 4 else 2 if t >= 3 else 1 + t   # R, B, or N..K
+    si_u = _c.term_si_unit(q, st).decode()
+    u = _c.term_unit(q, st).decode()
+    r = C.c_double(si)
+    ok = math.isfinite(si) and \
+        _c.convert(si, _b(si_u), _b(u), C.byref(r)) == 0
+    unit = u if ok or not math.isfinite(si) else si_u
+    if not math.isfinite(si):
+        # the unit of a missing value: as the command, the conventional
+        # one when 1 converts
+        one = C.c_double()
+        unit = u if _c.convert(1.0, _b(si_u), _b(u), C.byref(one)) == 0 \
+            else si_u
+    if t == 5:
+        unit = {3: ("deg/h/degC", "rad/s/degC"),
+                4: ("ug/degC", "m/s^2/degC")}[q][unit == si_u]
+    return (r.value if ok else si), unit
+
+
+def _num(v):
+    return float(v) if math.isfinite(v) else None
+
+
+def lot(files, level=0.90):
+    """Many units of one model, one capture each (as `sensorscope lot`
+    FILE..., a FOLDER or a MANIFEST.csv with columns unit, file[, channels]
+    [, temperature]): every gyro and accelerometer channel's N, B, K (the
+    allan fit, 68.3 % intervals), bias, drift and temperature sensitivity
+    (sscope_lot_bias(): batch means) and per channel and term the lot's
+    spread (lot_spread() at `level`).  Returns the command's JSON object
+    as a dict (without --spec; "path" as given).  A folder stands for its
+    capture files, sorted; a manifest for its units (files relative to
+    it)."""
+    fn = "lot"
+    ops = _lot_files(files)
+    paths = [p for p, _n, _c, _t in ops]
+    if len(paths) < 3:
+        _bad(fn, "files", "a lot needs at least 3 units (captures), got %d"
+             % len(paths))
+    level = _number(fn, "level", level)
+    if not 0 < level < 1:
+        _bad(fn, "level", "a level between 0 and 1")
+    import os
+    caps = [load(p, columns=c, temp_column=t) for p, _n, c, t in ops]
+    qcode = {"angular rate": 3, "acceleration": 4}
+    chans = [(n, caps[0].quantities[n]) for n in caps[0]
+             if caps[0].quantities[n] in qcode]
+    if not chans:
+        raise Error(-errno.EDOM, "%s: no angular-rate or acceleration channel"
+                    % paths[0])
+    temp = caps[0].temp_degc is not None
+    U, NT = len(caps), len(_LOT_TERMS)
+    cells = {}
+    for u, cap in enumerate(caps):
+        if not cap.rate_hz:
+            raise Error(-errno.EDOM, "%s: no sample rate" % paths[u])
+        if (cap.temp_degc is not None) != temp:
+            raise Error(-errno.EDOM, "%s: %s temperature column, but %s %s"
+                        % (paths[u], "no" if temp else "a", paths[0],
+                           "has one" if temp else "has none"))
+        for c, (name, q) in enumerate(chans):
+            if cap.quantities.get(name) != q:
+                raise Error(-errno.EDOM, "%s: no channel '%s' of the same "
+                            "quantity as in %s" % (paths[u], name, paths[0]))
+            x = np.ascontiguousarray(cap[name], dtype=float)
+            a = allan(x, cap.rate_hz, taus="dense", ci=0.682689492137086)
+            v, se, pres = [math.nan] * NT, [math.nan] * NT, [False] * NT
+            lo, hi = [math.nan] * NT, [math.nan] * NT
+            for t, key in enumerate(("N", "B", "K")):
+                k = a.noise[key] if a.noise else None
+                if k is not None and k.present and math.isfinite(k.value) \
+                        and math.isfinite(k.lo) and math.isfinite(k.hi) \
+                        and k.hi > k.lo:
+                    pres[t] = True
+                    v[t], lo[t], hi[t] = k.value, k.lo, k.hi
+                    se[t] = 0.5 * (k.hi - k.lo)
+            b = _c.LotBias()
+            o = _c.LotBiasOpts(20, 0.0)
+            dp = C.POINTER(C.c_double)
+            tp = None
+            if temp:
+                tt = np.ascontiguousarray(cap.temp_degc, dtype=float)
+                tp = tt.ctypes.data_as(dp)
+            rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size, cap.rate_hz,
+                             tp, 1, C.byref(o), C.byref(b))
+            _check(rc, None, fn)
+            for t, (val, s, l, h) in enumerate((
+                    (b.bias, b.bias_se, b.bias_lo, b.bias_hi),
+                    (b.drift_u_s, b.drift_se, b.drift_lo, b.drift_hi),
+                    (b.tempco_u_degc, b.tempco_se, b.tempco_lo,
+                     b.tempco_hi)), start=3):
+                v[t], se[t], lo[t], hi[t] = val, s, l, h
+                pres[t] = math.isfinite(val) and s > 0
+            cells[u, c] = (v, lo, hi, se, pres, b, cap.rate_hz)
+    terms = {}
+    for c, (name, q) in enumerate(chans):
+        for t in range(NT):
+            idx = [u for u in range(U) if cells[u, c][4][t]]
+            z = [math.nan] * U
+            fl = [False] * U
+            sp = None
+            if len(idx) >= 3:
+                try:
+                    sp = lot_spread([cells[u, c][0][t] for u in idx],
+                                    [cells[u, c][3][t] for u in idx],
+                                    level=level)
+                except (Error, ArgumentError):
+                    sp = None
+            if sp is not None:
+                for i, u in enumerate(idx):
+                    z[u] = float(sp["z"][i])
+                for i in sp["outliers"]:
+                    fl[idx[i]] = True
+            terms[c, t] = (len(idx), sp, z, fl)
+    units = []
+    for u in range(U):
+        chs = []
+        for c, (name, q) in enumerate(chans):
+            v, lo, hi, se, pres, b, fs = cells[u, c]
+            qc = qcode[q]
+            jt = {}
+            for t, key in enumerate(_LOT_TERMS):
+                val, unit = _lot_conv(v[t], qc, t)
+                e = {"present": pres[t], "value": _num(val),
+                     "lo": _num(_lot_conv(lo[t], qc, t)[0]),
+                     "hi": _num(_lot_conv(hi[t], qc, t)[0]), "unit": unit}
+                if t >= 3:
+                    e["se"] = _num(_lot_conv(se[t], qc, t)[0])
+                e["z"] = _num(terms[c, t][2][u])
+                e["outlier"] = terms[c, t][3][u]
+                jt[key] = e
+            jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
+                  "block_s": b.block_n / fs,
+                  "temperature": {"mean_degc": _num(b.temp_mean_degc),
+                                  "span_degc": _num(b.temp_span_degc),
+                                  "time_corr": _num(b.temp_time_corr)}
+                  if b.have_temp else None}
+            chs.append(jc)
+        units.append({"unit": ops[u][1] or os.path.basename(paths[u]),
+                      "path": paths[u], "channels": chs})
+    between, outliers = [], []
+    for c, (name, q) in enumerate(chans):
+        qc = qcode[q]
+        for t, key in enumerate(_LOT_TERMS):
+            k, sp, z, fl = terms[c, t]
+            e = {"channel": name, "term": key,
+                 "unit": _lot_conv(1.0, qc, t)[1], "units": U,
+                 "units_resolved": k}
+            if sp is None:
+                e["why"] = ("no temperature column: no temperature "
+                            "sensitivity" if t == 5 and not temp else
+                            "fewer than 3 units show the term: no spread")
+                between.append(e)
+                continue
+
+            def cv(x):
+                return _num(_lot_conv(x, qc, t)[0])
+            e.update({"units_used": sp["k_used"], "mean": cv(sp["mean"]),
+                      "mean_lo": cv(sp["mean_lo"]),
+                      "mean_hi": cv(sp["mean_hi"]),
+                      "between_sd": cv(sp["between_sd"]),
+                      "between_sd_lo": cv(sp["between_lo"]),
+                      "between_sd_hi": cv(sp["between_hi"]),
+                      "total_sd": cv(sp["total_sd"]),
+                      "q_p_value": _num(sp["q_p"]), "i2": _num(sp["i2"]),
+                      "outlier_z": _num(sp["outlier_z"]), "outliers": []})
+            for u in range(U):
+                if fl[u]:
+                    base = ops[u][1] or os.path.basename(paths[u])
+                    e["outliers"].append(base)
+                    outliers.append({"unit": base, "channel": name,
+                                     "term": key, "z": _num(z[u])})
+            between.append(e)
+    return {"command": "lot", "level": level, "model": _LOT_MODEL,
+            "bias_method": _LOT_BIAS_METHOD, "units": units,
+            "between": between, "outliers": outliers}
+
+
+__all__ += ["lot"]

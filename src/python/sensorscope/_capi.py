@@ -578,3 +578,27 @@ STRUCTS.update({
 lot_spread = _fn("sscope_lot_spread", C.c_int, c_dptr, c_dptr, c_size,
                  C.POINTER(LotOpts), C.POINTER(LotSpread), c_dptr,
                  C.POINTER(C.c_bool))
+
+
+class LotBiasOpts(C.Structure):
+    _fields_ = [("blocks", c_size), ("level", c_dbl)]
+
+
+class LotBias(C.Structure):
+    _fields_ = [("blocks", c_size), ("block_n", c_size), ("level", c_dbl),
+                ("bias", c_dbl), ("bias_se", c_dbl), ("bias_lo", c_dbl),
+                ("bias_hi", c_dbl), ("drift_u_s", c_dbl), ("drift_se", c_dbl),
+                ("drift_lo", c_dbl), ("drift_hi", c_dbl),
+                ("have_temp", C.c_bool), ("tempco_u_degc", c_dbl),
+                ("tempco_se", c_dbl), ("tempco_lo", c_dbl),
+                ("tempco_hi", c_dbl), ("temp_mean_degc", c_dbl),
+                ("temp_span_degc", c_dbl), ("temp_time_corr", c_dbl)]
+
+
+STRUCTS.update({
+    "sscope_lot_bias_opts": LotBiasOpts,
+    "sscope_lot_bias": LotBias,
+})
+
+lot_bias = _fn("sscope_lot_bias", C.c_int, c_dptr, c_size, c_size, c_dbl,
+               c_dptr, c_size, C.POINTER(LotBiasOpts), C.POINTER(LotBias))
