@@ -16,8 +16,9 @@
  * and accelerometer bias (m/s^2), both in body axes.  The error dynamics
  * are d(dr)/dt = dv, d(dv)/dt = -[f^n x] psi - C db_a - 2 [w_ie x] dv
  * + (2 g / R) dr_D e_D, d(psi)/dt = -[w_ie x] psi - C db_g, biases random
- * walks; the transition is I + F T over each two-sample update T (the
- * products use the 36 non-zero entries of F).  Process noise: angle random walk
+ * walks; the transition is I + F T over each two-sample update T at rest,
+ * and I + sum(F T) over the updates of a propagation interval (default
+ * 0.05 s) while moving (the products use the 36 non-zero entries of F).  Process noise: angle random walk
  * N_g^2 T on attitude, velocity random walk N_a^2 T on velocity, and on
  * each bias K^2 T + (B^2 / tau) T (rate random walk plus the bias
  * instability as a random walk reaching B after tau).
@@ -92,6 +93,9 @@ struct sscope_zupt_opts {
 	double zupt_sd_m_s;   /**< velocity measurement sd (default 0.01 m/s) */
 	double gyrocompass_max_rad; /**< gyrocompass when its sd is below
 					 (default 5 deg) */
+	double propagate_s;   /**< covariance propagation interval while
+				   moving, rounded to whole updates (default
+				   0.05 s; at rest: every update) */
 	double output_step_s; /**< records every this many seconds, rounded to
 				   whole updates (0: about 1000 records) */
 	bool no_zupt;         /**< detect stops but apply no update */

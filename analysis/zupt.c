@@ -41,6 +41,7 @@ void sscope_zupt_opts_init(struct sscope_zupt_opts *o)
 	o->min_level_s = 1;
 	o->zupt_sd_m_s = 0.01;
 	o->gyrocompass_max_rad = 5 * D2R;
+	o->propagate_s = 0.05;
 }
 
 const char *sscope_zupt_heading_name(enum sscope_zupt_heading h)
@@ -69,6 +70,11 @@ struct kf {
 	unsigned char ei[64], ej[64];
 	double ev[64];
 	double q[NS];  /* process noise density of each state (diagonal) */
+	/* F T summed over the updates of one propagation interval (the
+	 * same entries as ev while moving) */
+	double acc[64];
+	size_t n_acc;
+	double t_acc;
 };
 
 static void add_e(struct kf *k, int i, int j, double v)
@@ -79,14 +85,14 @@ static void add_e(struct kf *k, int i, int j, double v)
 	k->n_e++;
 }
 
-/* P = (I + E) P (I + E)^T + Q T, E sparse */
-static void kf_propagate(struct kf *k, double T)
+/* P = (I + E) P (I + E)^T + Q T, E sparse (entries ev) */
+static void kf_propagate(struct kf *k, const double *ev, double T)
 {
 	double M[NS][NS];
 
 	memcpy(M, k->P, sizeof(M));
 	for (int e = 0; e < k->n_e; e++) {
-		const double v = k->ev[e];
+		const double v = ev[e];
 		const double *src = k->P[k->ej[e]];
 		double *dst = M[k->ei[e]];
 
@@ -95,7 +101,7 @@ static void kf_propagate(struct kf *k, double T)
 	}
 	memcpy(k->P, M, sizeof(M));
 	for (int e = 0; e < k->n_e; e++) {
-		const double v = k->ev[e];
+		const double v = ev[e];
 		const int i = k->ei[e], j = k->ej[e];
 
 		for (int r = 0; r < NS; r++)
@@ -111,6 +117,18 @@ static void kf_propagate(struct kf *k, double T)
 			k->P[i][j] = m;
 			k->P[j][i] = m;
 		}
+}
+
+/* propagate over the updates accumulated while moving */
+static void kf_flush(struct kf *k, double q_att)
+{
+	if (!k->n_acc)
+		return;
+	for (int i = 0; i < 3; i++)
+		k->q[IA + i] = q_att;
+	kf_propagate(k, k->acc, k->t_acc);
+	k->n_acc = 0;
+	k->t_acc = 0;
 }
 
 /* scalar measurement z = s x_j + noise (variance r) */
@@ -200,7 +218,8 @@ static bool opts_ok(const struct sscope_zupt_opts *o)
 	const double nonneg[] = { o->gyro_b, o->gyro_k, o->accel_b, o->accel_k,
 				  o->gyro_bias_sd_rad_s, o->accel_bias_sd_m_s2,
 				  o->min_level_s, o->output_step_s,
-				  o->heading_sd_rad, o->gyrocompass_max_rad };
+				  o->heading_sd_rad, o->gyrocompass_max_rad,
+				  o->propagate_s };
 
 	for (size_t i = 0; i < sizeof(pos) / sizeof(pos[0]); i++)
 		if (!(pos[i] > 0) || !isfinite(pos[i]))
@@ -274,7 +293,7 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 	struct kf *k = NULL;
 	double fs, dt, T, vg, va, thr_var, thr_mean, g0, w_ie[3], bg[3] = { 0 },
 	       ba[3] = { 0 }, mean[6], roll, pitch, yaw, C[3][3];
-	size_t W, n_lev, n_upd, out_every, max_stops, level_windows;
+	size_t W, n_lev, n_upd, out_every, max_stops, level_windows, m_prop;
 	bool in_stop = false;
 	int rc;
 
@@ -358,6 +377,7 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 		return -ENOMEM;
 	}
 	res->window = W;
+	m_prop = (size_t)fmax(1, round(o->propagate_s / T));
 	res->level_s = (double)(level_windows * W) / fs;
 	/* ---- levelling: a still sensor reads f = g (sin p, -sin r cos p,
 	 * -cos r cos p) */
@@ -571,9 +591,24 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 				if (!hold)
 					add_e(k, IA + i, IG + c, -C[i][c] * T);
 			}
-		for (int i = 0; i < 3; i++)
-			k->q[IA + i] = hold ? 0 : o->gyro_n * o->gyro_n;
-		kf_propagate(k, T);
+		/* while moving, I + sum(F T) over up to m_prop updates (first
+		 * order over the interval); at rest, every update */
+		if (hold) {
+			kf_flush(k, o->gyro_n * o->gyro_n);
+			for (int i = 0; i < 3; i++)
+				k->q[IA + i] = 0;
+			kf_propagate(k, k->ev, T);
+		} else {
+			if (k->n_acc == 0)
+				memcpy(k->acc, k->ev, (size_t)k->n_e * sizeof(double));
+			else
+				for (int e = 0; e < k->n_e; e++)
+					k->acc[e] += k->ev[e];
+			k->n_acc++;
+			k->t_acc += T;
+			if (k->n_acc >= m_prop || (j + 1) % out_every == 0)
+				kf_flush(k, o->gyro_n * o->gyro_n);
+		}
 		if (still) {
 			res->n_still++;
 			if (!in_stop) {

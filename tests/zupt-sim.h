@@ -40,7 +40,7 @@ struct zsim_route {
 	double lat_rad, heading_rad;
 };
 
-static void zsim_free(struct zsim *z)
+static inline void zsim_free(struct zsim *z)
 {
 	sscope_navsim_free(z->ns);
 	free(z->table_t);
@@ -51,7 +51,7 @@ static void zsim_free(struct zsim *z)
 }
 
 /* speed, yaw, bob and sway of the route at time t */
-static void zsim_motion(const struct zsim_route *r, double t, double *v,
+static inline void zsim_motion(const struct zsim_route *r, double t, double *v,
 			double *yaw, double *bob, double *sway)
 {
 	const double pi = 3.14159265358979323846;
@@ -92,7 +92,7 @@ static void zsim_motion(const struct zsim_route *r, double t, double *v,
 
 /* the table (positions by fine midpoint integration of the speed along
  * the yaw), navsim's reference along it, and the readings of one run */
-static int zsim_build(struct zsim *z, const struct zsim_route *r, double fs,
+static inline int zsim_build(struct zsim *z, const struct zsim_route *r, double fs,
 		      double out_step_s, const struct sscope_navsim_imu *imu,
 		      uint64_t seed, uint64_t run)
 {
@@ -152,7 +152,7 @@ static int zsim_build(struct zsim *z, const struct zsim_route *r, double fs,
 }
 
 /* horizontal distance between record k of the filter and the truth */
-static double zsim_horiz_err(const struct zsim *z, const struct sscope_zupt_rec *rec,
+static inline double zsim_horiz_err(const struct zsim *z, const struct sscope_zupt_rec *rec,
 			     size_t k)
 {
 	struct sscope_navsim_pose p;
@@ -169,7 +169,7 @@ static double zsim_horiz_err(const struct zsim *z, const struct sscope_zupt_rec 
 }
 
 /* filter options matching the simulated sensor */
-static void zsim_opts(struct sscope_zupt_opts *o, const struct zsim *z,
+static inline void zsim_opts(struct sscope_zupt_opts *o, const struct zsim *z,
 		      const struct zsim_route *r,
 		      const struct sscope_navsim_imu *imu, double out_step_s)
 {
