@@ -73,6 +73,8 @@ struct kf {
 	/* F T summed over the updates of one propagation interval (the
 	 * same entries as ev while moving) */
 	double acc[64];
+	unsigned char ai[64], aj[64];
+	int n_ae;
 	size_t n_acc;
 	double t_acc;
 };
@@ -85,24 +87,26 @@ static void add_e(struct kf *k, int i, int j, double v)
 	k->n_e++;
 }
 
-/* P = (I + E) P (I + E)^T + Q T, E sparse (entries ev) */
-static void kf_propagate(struct kf *k, const double *ev, double T)
+/* P = (I + E) P (I + E)^T + Q T, E sparse (n_e entries ev at ei, ej) */
+static void kf_propagate(struct kf *k, const unsigned char *ei,
+			 const unsigned char *ej, const double *ev, int n_e,
+			 double T)
 {
 	double M[NS][NS];
 
 	memcpy(M, k->P, sizeof(M));
-	for (int e = 0; e < k->n_e; e++) {
+	for (int e = 0; e < n_e; e++) {
 		const double v = ev[e];
-		const double *src = k->P[k->ej[e]];
-		double *dst = M[k->ei[e]];
+		const double *src = k->P[ej[e]];
+		double *dst = M[ei[e]];
 
 		for (int c = 0; c < NS; c++)
 			dst[c] += v * src[c];
 	}
 	memcpy(k->P, M, sizeof(M));
-	for (int e = 0; e < k->n_e; e++) {
+	for (int e = 0; e < n_e; e++) {
 		const double v = ev[e];
-		const int i = k->ei[e], j = k->ej[e];
+		const int i = ei[e], j = ej[e];
 
 		for (int r = 0; r < NS; r++)
 			k->P[r][i] += v * M[r][j];
@@ -126,7 +130,7 @@ static void kf_flush(struct kf *k, double q_att)
 		return;
 	for (int i = 0; i < 3; i++)
 		k->q[IA + i] = q_att;
-	kf_propagate(k, k->acc, k->t_acc);
+	kf_propagate(k, k->ai, k->aj, k->acc, k->n_ae, k->t_acc);
 	k->n_acc = 0;
 	k->t_acc = 0;
 }
@@ -597,11 +601,14 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 			kf_flush(k, o->gyro_n * o->gyro_n);
 			for (int i = 0; i < 3; i++)
 				k->q[IA + i] = 0;
-			kf_propagate(k, k->ev, T);
+			kf_propagate(k, k->ei, k->ej, k->ev, k->n_e, T);
 		} else {
-			if (k->n_acc == 0)
+			if (k->n_acc == 0) {
 				memcpy(k->acc, k->ev, (size_t)k->n_e * sizeof(double));
-			else
+				memcpy(k->ai, k->ei, sizeof(k->ai));
+				memcpy(k->aj, k->ej, sizeof(k->aj));
+				k->n_ae = k->n_e;
+			} else
 				for (int e = 0; e < k->n_e; e++)
 					k->acc[e] += k->ev[e];
 			k->n_acc++;

@@ -81,7 +81,7 @@ START_TEST(test_static)
 END_TEST
 
 static const struct zsim_route vehicle = {
-	.stop_s = 15, .leg_s = 40, .speed_m_s = 10, .turn_rad = 90 * D2R,
+	.stop_s = 15, .leg_s = 40, .ramp_s = 4, .speed_m_s = 10, .turn_rad = 90 * D2R,
 	.legs = 11, .lat_rad = 0.8, .heading_rad = 0.3
 };
 
@@ -137,7 +137,7 @@ END_TEST
 
 START_TEST(test_refused)
 {
-	struct zsim_route r = { .stop_s = 5, .leg_s = 10, .speed_m_s = 2,
+	struct zsim_route r = { .stop_s = 5, .leg_s = 10, .ramp_s = 1, .speed_m_s = 2,
 				.turn_rad = 1, .legs = 1, .lat_rad = 0.8 };
 	struct sscope_navsim_imu imu;
 	struct sscope_zupt_opts o;
