@@ -143,9 +143,12 @@ static int noise_terms(const struct ssc_stage_env *env, struct ssc_nav_result *s
 		rc = ssc_datasheet_load(cmd, s->o.spec, &ds);
 		if (rc)
 			return rc;
-		for (size_t k = 0; k < ds.n_sec; k++)
+		for (size_t k = 0; k < ds.n_sec; k++) {
+			int from[3];
+
 			ssc_datasheet_terms(&ds.sec[k],
-					    t[ds.sec[k].quantity == SSCOPE_QUANTITY_ACCELERATION], NULL);
+					    t[ds.sec[k].quantity == SSCOPE_QUANTITY_ACCELERATION], from);
+		}
 		s->noise_from = "datasheet";
 	} else if (env->sensor) {
 		int q = env->sensor->quantity == SSCOPE_QUANTITY_ACCELERATION;
