@@ -188,7 +188,7 @@ json_check "allan's gyro terms" "$T/out" '.noise.source == "allan"'
 has "says the accelerometer N is the default" "$T/err" 'accelerometer N: the default'
 printf '[gyro]\nrandom_walk = 0.2 deg/sqrt(h)\n[accel]\nrandom_walk = 0.05 m/s/sqrt(h)\n' >"$T/walk-ds.ini"
 run "nav --spec" 0 nav --heading 30 --spec "$T/walk-ds.ini" --format json "$W"
-json_check "datasheet's N" "$T/out" '.noise.source == "datasheet" and (.noise.gyro_n_rad_sqrt_s * 60 * 180 / 3.141592653589793 - 0.2 | fabs) < 1e-9'
+json_check "datasheet's N" "$T/out" '.noise.source == "datasheet" and (.noise.gyro_n_rad_s_sqrt_hz * 60 * 180 / 3.141592653589793 - 0.2 | fabs) < 1e-9'
 run "nav --plot svg" 0 nav --heading 30 --plot "$T/nav.svg" "$W"
 if grep -q '<svg' "$T/nav.svg" 2>/dev/null; then ok "nav.svg written"; else not_ok "nav.svg"; fi
 printf '[input]\nfiles = %s\n[nav]\nheading = 30\nlatitude = 48\n[report]\nformats = json\n' "$W" >"$T/nv.ini"

@@ -52,6 +52,13 @@ static const struct ssc_command_spec spec = {
 		 "2 usage.",
 };
 
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
+
+	return ssc_nav_run(env, up ? up->data : NULL, opts, result);
+}
+
 const struct ssc_stage_ops ssc_nav_stage = {
 	.spec = &spec,
 	.title = "Navigation with stop updates",
@@ -62,7 +69,7 @@ const struct ssc_stage_ops ssc_nav_stage = {
 	.init = ssc_nav_init,
 	.handle = ssc_nav_handle,
 	.check = ssc_nav_check,
-	.run = ssc_nav_run,
+	.run = run,
 	.json = ssc_nav_json,
 	.text = ssc_nav_text,
 	.csv = ssc_nav_csv,

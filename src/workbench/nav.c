@@ -101,12 +101,12 @@ static int pick(const char *cmd, const char *path, const struct sscope_capture *
 
 /* N, B, K of both triads: an allan result (file or the scene's stage), a
  * datasheet, a scene's [sensor]; what is missing keeps the default */
-static int noise_terms(const struct ssc_stage_env *env, struct ssc_nav_result *s)
+static int noise_terms(const struct ssc_stage_env *env, const void *up,
+		       struct ssc_nav_result *s)
 {
 	const char *cmd = env->co->cmd;
 	struct sscope_zupt_opts *zo = &s->o.zo;
 	double t[2][3] = { { NAN, NAN, NAN }, { NAN, NAN, NAN } };
-	const struct ssc_result *up = ssc_stage_upstream(env, &ssc_allan_stage, NULL);
 	int rc = 0;
 
 	s->noise_from = "defaults";
@@ -121,7 +121,7 @@ static int noise_terms(const struct ssc_stage_env *env, struct ssc_nav_result *s
 				rc = ssc_nav_terms_from_allan(cmd, root, s->o.allan, &tt, &n);
 			json_decref(root);
 		} else {
-			rc = ssc_nav_terms_from_allan_res(cmd, up->data, "the allan stage", &tt, &n);
+			rc = ssc_nav_terms_from_allan_res(cmd, up, "the allan stage", &tt, &n);
 		}
 		if (rc)
 			return rc;
@@ -179,7 +179,8 @@ static int noise_terms(const struct ssc_stage_env *env, struct ssc_nav_result *s
 	return 0;
 }
 
-int ssc_nav_run(const struct ssc_stage_env *env, void *opts, void **result)
+int ssc_nav_run(const struct ssc_stage_env *env, const void *allan_up, void *opts,
+		void **result)
 {
 	const char *cmd = env->co->cmd, *path = env->paths[0];
 	const struct sscope_capture *cap = env->caps[0];
@@ -207,7 +208,7 @@ int ssc_nav_run(const struct ssc_stage_env *env, void *opts, void **result)
 	if (!rc)
 		rc = pick(cmd, path, cap, SSCOPE_QUANTITY_ACCELERATION, s->accel);
 	if (!rc)
-		rc = noise_terms(env, s);
+		rc = noise_terms(env, allan_up, s);
 	if (rc)
 		return rc;
 	if (s->noise_note[0])
@@ -345,12 +346,12 @@ json_t *ssc_nav_json(const void *opts, const void *result)
 	json_object_set_new(root, "channels", o);
 	o = json_object();
 	json_object_set_new(o, "source", json_string(s->noise_from));
-	json_object_set_new(o, "gyro_n_rad_sqrt_s", ssc_jreal(zo->gyro_n));
+	json_object_set_new(o, "gyro_n_rad_s_sqrt_hz", ssc_jreal(zo->gyro_n));
 	json_object_set_new(o, "gyro_b_rad_s", ssc_jreal(zo->gyro_b));
-	json_object_set_new(o, "gyro_k_rad_s_sqrt_s", ssc_jreal(zo->gyro_k));
-	json_object_set_new(o, "accel_n_m_s_sqrt_s", ssc_jreal(zo->accel_n));
+	json_object_set_new(o, "gyro_k_rad_s2_sqrt_hz", ssc_jreal(zo->gyro_k));
+	json_object_set_new(o, "accel_n_m_s2_sqrt_hz", ssc_jreal(zo->accel_n));
 	json_object_set_new(o, "accel_b_m_s2", ssc_jreal(zo->accel_b));
-	json_object_set_new(o, "accel_k_m_s2_sqrt_s", ssc_jreal(zo->accel_k));
+	json_object_set_new(o, "accel_k_m_s3_sqrt_hz", ssc_jreal(zo->accel_k));
 	json_object_set_new(o, "gyro_bias_prior_rad_s", ssc_jreal(zo->gyro_bias_sd_rad_s));
 	json_object_set_new(o, "accel_bias_prior_m_s2", ssc_jreal(zo->accel_bias_sd_m_s2));
 	json_object_set_new(root, "noise", o);

@@ -43,7 +43,10 @@ struct ssc_stage_env;
 void ssc_nav_init(void *opts);
 int ssc_nav_handle(int key, const char *arg, void *opts);
 int ssc_nav_check(struct ssc_common *co, void *opts);
-int ssc_nav_run(const struct ssc_stage_env *env, void *opts, void **result);
+/* the stage's run(); @p allan_up: the result of a scene's allan stage
+ * (struct ssc_allan_res), or NULL */
+int ssc_nav_run(const struct ssc_stage_env *env, const void *allan_up, void *opts,
+		void **result);
 json_t *ssc_nav_json(const void *opts, const void *result);
 void ssc_nav_text(FILE *f, const void *opts, const void *result);
 void ssc_nav_csv(FILE *f, const void *opts, const void *result);
