@@ -64,8 +64,10 @@ static inline void zsim_motion(const struct zsim_route *r, double t, double *v,
 	if (u <= 0)
 		return;
 	done = leg < r->legs ? leg : r->legs;
-	*yaw += r->turn_rad * (double)done;
 	tl = u - (double)leg * cyc;
+	if (leg < r->legs && tl >= r->leg_s)
+		done = leg + 1; /* the stop after a leg: its turn is done */
+	*yaw += r->turn_rad * (double)done;
 	if (leg >= r->legs || tl >= r->leg_s)
 		return;
 	if (tl < tr)
