@@ -15,6 +15,10 @@
  *   separate them), the end position within 4 sigma, and the horizontal
  *   error at 10 min with the stop updates at least 10 times smaller than
  *   without them;
+ * - gyrocompassing: a tactical gyro (N 0.005 deg/sqrt(h), turn-on bias
+ *   0.005 deg/h) still for 2 min finds the heading within 4 of its
+ *   predicted sd (sqrt(sigma_b^2 + N^2 / T) / (Omega cos(lat)), 0.15 deg)
+ *   in each of 10 runs; the MEMS gyro cannot, and the heading is assumed;
  * - refused input: NaN, too short, moving at the start, bad options.
  */
 #include "internal.h"
@@ -82,6 +86,60 @@ START_TEST(test_static)
 	ck_assert(hypot(e->ned_m[0], e->ned_m[1]) < 0.05);
 	sscope_zupt_result_free(res);
 	zsim_free(&z);
+}
+END_TEST
+
+START_TEST(test_gyrocompass)
+{
+	struct zsim_route r = { .stop_s = 120, .lat_rad = 0.8, .heading_rad = 0.3 };
+	struct sscope_navsim_imu imu = { 0 };
+	double ss = 0;
+
+	imu.gyro.n = 0.005 * D2R / 60;
+	imu.gyro.bias = 0.005 * D2R / 3600;
+	imu.accel.n = 0.02 / 60;
+	imu.accel.bias = 1e-4 * 9.80665;
+	for (uint64_t run = 0; run < 10; run++) {
+		struct zsim z;
+		struct sscope_zupt_opts o;
+		struct sscope_zupt_result *res = NULL;
+		double sd, expect;
+
+		ck_assert_int_eq(zsim_build(&z, &r, 100, 1, &imu, 3, run), 0);
+		zsim_opts(&o, &z, &r, &imu, 1);
+		o.heading_given = false;
+		o.heading_rad = 0;
+		ck_assert_int_eq(run_filter(&z, &o, &res), 0);
+		ck_assert_int_eq(res->heading_from, SSCOPE_ZUPT_HEADING_GYROCOMPASS);
+		sd = res->heading0_sd_rad;
+		expect = sqrt(imu.gyro.bias * imu.gyro.bias + imu.gyro.n * imu.gyro.n / res->level_s) /
+			 (SSCOPE_NAV_WGS84_OMEGA * cos(r.lat_rad));
+		ck_assert_msg(fabs(sd / expect - 1) < 1e-9, "sd %g expected %g", sd, expect);
+		ck_assert_msg(fabs(res->heading0_rad - 0.3) < 4 * sd, "run %u: heading %g",
+			      (unsigned)run, res->heading0_rad);
+		ss += pow((res->heading0_rad - 0.3) / sd, 2);
+		sscope_zupt_result_free(res);
+		zsim_free(&z);
+	}
+	/* chi-squared, 10 dof: 99.9 % below 29.6 */
+	ck_assert_msg(ss < 29.6, "sum of squares %g", ss);
+	{
+		struct zsim z;
+		struct sscope_zupt_opts o;
+		struct sscope_zupt_result *res = NULL;
+
+		imu_mems(&imu);
+		r.stop_s = 20;
+		ck_assert_int_eq(zsim_build(&z, &r, 100, 1, &imu, 3, 0), 0);
+		zsim_opts(&o, &z, &r, &imu, 1);
+		o.heading_given = false;
+		o.heading_rad = 0.1;
+		ck_assert_int_eq(run_filter(&z, &o, &res), 0);
+		ck_assert_int_eq(res->heading_from, SSCOPE_ZUPT_HEADING_ASSUMED);
+		ck_assert(res->heading0_rad == 0.1 && res->gyrocompass_sd_rad > 1);
+		sscope_zupt_result_free(res);
+		zsim_free(&z);
+	}
 }
 END_TEST
 
@@ -207,6 +265,7 @@ static Suite *make_suite(void)
 
 	tcase_set_timeout(tc, 60);
 	tcase_add_test(tc, test_static);
+	tcase_add_test(tc, test_gyrocompass);
 	tcase_add_test(tc, test_walk_coverage);
 	tcase_add_test(tc, test_vehicle_coverage);
 	tcase_add_test(tc, test_refused);
