@@ -52,6 +52,12 @@
  * zupt_sd_m_s) and three angular-rate measurements (the mean of the two
  * samples less the bias estimate and the Earth rate, variance N^2 fs / 2),
  * processed one at a time; the estimated errors are then fed back.
+ * Beyond the linear model: after levelling, a horizontal accelerometer
+ * bias b_h lengthens the measured gravity by |b_h|^2 / 2g, which the
+ * vertical bias estimate takes in until turns make b_h observable; as the
+ * horizontal bias variance s falls from s0 to s1, 2 ((s0 - s1) / 2g)^2 (the
+ * second moment of that chi-squared term) is added to the variance of the
+ * bias along the vertical.
  *
  * Memory: every buffer is allocated once before the pass over the samples.
  */

@@ -70,6 +70,7 @@ struct kf {
 	unsigned char ei[64], ej[64];
 	double ev[64];
 	double q[NS];  /* process noise density of each state (diagonal) */
+	double s_h;    /* horizontal accelerometer-bias variance, NED sum */
 	/* F T summed over the updates of one propagation interval (the
 	 * same entries as ev while moving) */
 	double acc[64];
@@ -133,6 +134,37 @@ static void kf_flush(struct kf *k, double q_att)
 	kf_propagate(k, k->ai, k->aj, k->acc, k->n_ae, k->t_acc);
 	k->n_acc = 0;
 	k->t_acc = 0;
+}
+
+/*
+ * After levelling, a horizontal accelerometer bias b_h lengthens the
+ * measured gravity by |b_h|^2 / 2g, which the linear model takes for a
+ * vertical bias until turns separate them.  When the horizontal bias
+ * variance s (north plus east) falls from s0 to s1, the part of that
+ * term that the vertical bias estimate holds is released: its second
+ * moment 2 ((s0 - s1) / 2g)^2 (chi-squared with two degrees of freedom)
+ * is added to the variance of the bias along the vertical.
+ */
+static void release_gravity_term(struct kf *k, const double C[3][3], double g)
+{
+	double cd[3], s = 0, v = 0;
+
+	for (int i = 0; i < 3; i++)
+		cd[i] = C[2][i];
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < 3; j++) {
+			s += (i == j) * k->P[IB + i][IB + j];
+			v += cd[i] * k->P[IB + i][IB + j] * cd[j];
+		}
+	s -= v;
+	if (s < k->s_h) {
+		double d = (k->s_h - s) / (2 * g), add = 2 * d * d;
+
+		for (int i = 0; i < 3; i++)
+			for (int j = 0; j < 3; j++)
+				k->P[IB + i][IB + j] += add * cd[i] * cd[j];
+	}
+	k->s_h = s;
 }
 
 /* scalar measurement z = s x_j + noise (variance r) */
@@ -485,6 +517,7 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 	}
 	/* the two parts tested apart (the mean part alone has the power to
 	 * see a slow motion), each at half the level */
+	k->s_h = 2 * o->accel_bias_sd_m_s2 * o->accel_bias_sd_m_s2;
 	res->threshold = gsl_cdf_chisq_Pinv(1 - o->false_alarm / 2, 6.0 * (double)(W - 1));
 	thr_mean = gsl_cdf_chisq_Pinv(1 - o->false_alarm / 2, 6);
 	res->threshold_mean = thr_mean;
@@ -616,6 +649,7 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 			if (k->n_acc >= m_prop || (j + 1) % out_every == 0)
 				kf_flush(k, o->gyro_n * o->gyro_n);
 		}
+		release_gravity_term(k, C, g0);
 		if (still) {
 			res->n_still++;
 			if (!in_stop) {
