@@ -695,22 +695,18 @@ static uint64_t adc_seed(uint64_t seed, uint64_t run, int ax)
 	return z ^ (z >> 31);
 }
 
-int sscope_navsim_run(const struct sscope_navsim *ns,
-		      const struct sscope_navsim_imu *imu, uint64_t seed,
-		      uint64_t run, double *err, uint64_t *clipped,
-		      struct sscope_diag *diag)
+/* The sensors of a run: noise simulators and converters per axis, the
+ * error matrices I + M + diag(s) (Mx) and biases b + b_r (bx) of both
+ * triads with this run's random constants. */
+static int run_setup(const struct sscope_navsim *ns,
+		     const struct sscope_navsim_imu *imu, uint64_t seed,
+		     uint64_t run, bool gimb, struct run_ctx *c,
+		     double Mx[2][3][3], double bx[2][3],
+		     struct sscope_diag *diag)
 {
-	struct run_ctx c = { 0 };
-	struct sscope_strapdown_wander st;
-	struct sscope_strapdown_platform pe;
-	bool gimb = ns && ns->mech == SSCOPE_NAVSIM_GIMBALLED;
-	double Mx[2][3][3], bx[2][3], z[12] = { 0 };
-	const double dt = ns ? ns->dt : 0;
-	size_t j = 0;
+	double z[12] = { 0 };
 	int rc = 0;
 
-	if (!ns || !imu || !err)
-		return ssc_diag(diag, -EINVAL, "bad parameter");
 	if (!spec_ok(&imu->gyro) || !spec_ok(&imu->accel))
 		return ssc_diag(diag, -EINVAL,
 				"noise terms, biases and scale-factor errors must be finite and non-negative");
@@ -726,14 +722,14 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 	if (gimb && (imu->gyro_adc || imu->accel_adc))
 		return ssc_diag(diag, -EINVAL,
 				"converters are not modelled on a gimballed platform");
-	c.noisy[0] = has_noise(&imu->gyro);
-	c.noisy[1] = has_noise(&imu->accel);
+	c->noisy[0] = has_noise(&imu->gyro);
+	c->noisy[1] = has_noise(&imu->accel);
 	for (int tri = 0; tri < 2; tri++) {
 		const struct sscope_sensor_spec *sp = tri ? &imu->accel : &imu->gyro;
 		const struct sscope_adc_spec *as = tri ? imu->accel_adc : imu->gyro_adc;
 
-		c.buffered[tri] = c.noisy[tri] || as;
-		if (!c.buffered[tri])
+		c->buffered[tri] = c->noisy[tri] || as;
+		if (!c->buffered[tri])
 			continue;
 		for (int a = 0; a < 3; a++) {
 			struct sscope_sensor_spec s = *sp;
@@ -748,19 +744,19 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			so.rate_hz = ns->fs;
 			so.seed = seed;
 			so.stream = run * 8 + (uint64_t)ax;
-			if (c.noisy[tri])
-				rc = sscope_sim_new(&c.sim[ax], &s, &so, diag);
+			if (c->noisy[tri])
+				rc = sscope_sim_new(&c->sim[ax], &s, &so, diag);
 			if (!rc && as)
-				rc = sscope_adc_new(&c.adc[ax], as,
+				rc = sscope_adc_new(&c->adc[ax], as,
 						    as->analog ? sp->sensitivity : 1,
 						    as->analog ? sp->zero_output_v : 0,
 						    adc_seed(seed, run, ax), diag);
-			c.in[ax] = malloc(BLOCK * sizeof(double));
-			c.out[ax] = malloc(BLOCK * sizeof(double));
-			if (!rc && (!c.in[ax] || !c.out[ax]))
+			c->in[ax] = malloc(BLOCK * sizeof(double));
+			c->out[ax] = malloc(BLOCK * sizeof(double));
+			if (!rc && (!c->in[ax] || !c->out[ax]))
 				rc = -ENOMEM;
 			if (rc)
-				goto out;
+				return rc;
 		}
 	}
 	/* random constants of this run: unit normal deviates from the
@@ -771,10 +767,10 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		struct sscope_sim_opts so = { .rate_hz = 1, .seed = seed,
 					      .stream = run * 8 + 6 };
 
-		rc = sscope_sim_new(&c.sim[6], &u, &so, diag);
+		rc = sscope_sim_new(&c->sim[6], &u, &so, diag);
 		if (rc)
-			goto out;
-		sscope_sim_generate(c.sim[6], NULL, z, NULL, 12);
+			return rc;
+		sscope_sim_generate(c->sim[6], NULL, z, NULL, 12);
 	}
 	for (int tri = 0; tri < 2; tri++) {
 		const struct sscope_sensor_spec *sp = tri ? &imu->accel : &imu->gyro;
@@ -788,6 +784,75 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 			bx[tri][i] = b[i] + sp->bias * z[6 * tri + 3 + i];
 		}
 	}
+	return 0;
+}
+
+/* The readings of samples s0 .. s0 + nb - 1 as increments (rad, m/s):
+ * meas[i][0..2] gyro, [3..5] accelerometer. */
+static void run_block(const struct sscope_navsim *ns, struct run_ctx *c,
+		      bool gimb, const double Mx[2][3][3],
+		      const double bx[2][3], size_t s0, size_t nb,
+		      double meas[][6])
+{
+	const double dt = ns->dt;
+
+	for (size_t i = 0; i < nb; i++) {
+		const double *u = ns->incr + (s0 + i) * ns->incr_stride;
+
+		for (int tri = 0; tri < 2; tri++) {
+			double y[3];
+
+			if (gimb) /* the platform: errors only */
+				memset(y, 0, sizeof(y));
+			else
+				mv(Mx[tri], u + 3 * tri, y);
+			for (int a = 0; a < 3; a++) {
+				if (c->buffered[tri])
+					c->in[3 * tri + a][i] = y[a] / dt;
+				else
+					meas[i][3 * tri + a] = y[a] + bx[tri][a] * dt;
+			}
+		}
+	}
+	for (int ax = 0; ax < 6; ax++) {
+		const double b = bx[ax / 3][ax % 3];
+
+		if (!c->buffered[ax / 3])
+			continue;
+		if (c->sim[ax])
+			sscope_sim_generate(c->sim[ax], c->in[ax], c->out[ax], NULL, nb);
+		else
+			memcpy(c->out[ax], c->in[ax], nb * sizeof(double));
+		if (c->adc[ax]) {
+			for (size_t i = 0; i < nb; i++)
+				c->out[ax][i] += b;
+			sscope_adc_digitize(c->adc[ax], c->out[ax], 1, nb, ns->fs,
+					    NULL, c->out[ax], NULL, &c->adc_clipped);
+		}
+		for (size_t i = 0; i < nb; i++)
+			meas[i][ax] = (c->out[ax][i] + (c->adc[ax] ? 0 : b)) * dt;
+	}
+}
+
+int sscope_navsim_run(const struct sscope_navsim *ns,
+		      const struct sscope_navsim_imu *imu, uint64_t seed,
+		      uint64_t run, double *err, uint64_t *clipped,
+		      struct sscope_diag *diag)
+{
+	struct run_ctx c = { 0 };
+	struct sscope_strapdown_wander st;
+	struct sscope_strapdown_platform pe;
+	bool gimb = ns && ns->mech == SSCOPE_NAVSIM_GIMBALLED;
+	double Mx[2][3][3], bx[2][3];
+	const double dt = ns ? ns->dt : 0;
+	size_t j = 0;
+	int rc = 0;
+
+	if (!ns || !imu || !err)
+		return ssc_diag(diag, -EINVAL, "bad parameter");
+	rc = run_setup(ns, imu, seed, run, gimb, &c, Mx, bx, diag);
+	if (rc)
+		goto out;
 	for (int tri = 0; tri < 2; tri++)
 		for (int i = 0; i < 3; i++)
 			for (int k = 0; k < 3; k++)
@@ -809,42 +874,8 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		size_t nb = ns->n_samp - s0 < BLOCK ? ns->n_samp - s0 : BLOCK;
 		double meas[BLOCK][6];
 
-		for (size_t i = 0; i < nb; i++) {
-			const double *u = ns->incr + (s0 + i) * ns->incr_stride;
-
-			for (int tri = 0; tri < 2; tri++) {
-				double y[3];
-
-				if (gimb) /* the platform: errors only */
-					memset(y, 0, sizeof(y));
-				else
-					mv(Mx[tri], u + 3 * tri, y);
-				for (int a = 0; a < 3; a++) {
-					if (c.buffered[tri])
-						c.in[3 * tri + a][i] = y[a] / dt;
-					else
-						meas[i][3 * tri + a] = y[a] + bx[tri][a] * dt;
-				}
-			}
-		}
-		for (int ax = 0; ax < 6; ax++) {
-			const double b = bx[ax / 3][ax % 3];
-
-			if (!c.buffered[ax / 3])
-				continue;
-			if (c.sim[ax])
-				sscope_sim_generate(c.sim[ax], c.in[ax], c.out[ax], NULL, nb);
-			else
-				memcpy(c.out[ax], c.in[ax], nb * sizeof(double));
-			if (c.adc[ax]) {
-				for (size_t i = 0; i < nb; i++)
-					c.out[ax][i] += b;
-				sscope_adc_digitize(c.adc[ax], c.out[ax], 1, nb, ns->fs,
-						    NULL, c.out[ax], NULL, &c.adc_clipped);
-			}
-			for (size_t i = 0; i < nb; i++)
-				meas[i][ax] = (c.out[ax][i] + (c.adc[ax] ? 0 : b)) * dt;
-		}
+		run_block(ns, &c, gimb, (const double (*)[3][3])Mx,
+			  (const double (*)[3])bx, s0, nb, meas);
 		for (size_t i = 0; i + 1 < nb; i += 2) {
 			if (gimb) {
 				const double *u = ns->incr + (s0 + i) * ns->incr_stride;
@@ -878,6 +909,38 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 				*clipped += sscope_sim_clipped(c.sim[ax]);
 		*clipped += c.adc_clipped;
 	}
+out:
+	run_ctx_free(&c);
+	return rc;
+}
+
+int sscope_navsim_readings(const struct sscope_navsim *ns,
+			   const struct sscope_navsim_imu *imu, uint64_t seed,
+			   uint64_t run, double *out, double bias[6],
+			   struct sscope_diag *diag)
+{
+	struct run_ctx c = { 0 };
+	double Mx[2][3][3], bx[2][3];
+	int rc;
+
+	if (!ns || !imu || !out)
+		return ssc_diag(diag, -EINVAL, "bad parameter");
+	rc = run_setup(ns, imu, seed, run, false, &c, Mx, bx, diag);
+	if (rc)
+		goto out;
+	for (size_t s0 = 0; s0 < ns->n_samp; s0 += BLOCK) {
+		size_t nb = ns->n_samp - s0 < BLOCK ? ns->n_samp - s0 : BLOCK;
+		double meas[BLOCK][6];
+
+		run_block(ns, &c, false, (const double (*)[3][3])Mx,
+			  (const double (*)[3])bx, s0, nb, meas);
+		for (size_t i = 0; i < nb; i++)
+			for (int a = 0; a < 6; a++)
+				out[6 * (s0 + i) + (size_t)a] = meas[i][a] * ns->fs;
+	}
+	if (bias)
+		for (int a = 0; a < 6; a++)
+			bias[a] = bx[a / 3][a % 3];
 out:
 	run_ctx_free(&c);
 	return rc;

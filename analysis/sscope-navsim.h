@@ -225,6 +225,22 @@ int sscope_navsim_run(const struct sscope_navsim *ns,
 		      uint64_t run, double *err, uint64_t *clipped,
 		      struct sscope_diag *diag);
 
+/**
+ * The strapdown readings of one run (the sensor model of
+ * sscope_navsim_run(): the same seed and run give the same samples),
+ * without navigating: a simulated capture.
+ * @param out   receives n_samples x 6 values: angular rate (rad/s) and
+ *              specific force (m/s^2), body axes x, y, z, each the
+ *              sample's increment over the sample interval.
+ * @param bias  optional: receives the run's biases (fixed plus random
+ *              constant), gyro x, y, z (rad/s) then accelerometer (m/s^2).
+ * @return as sscope_navsim_run().
+ */
+int sscope_navsim_readings(const struct sscope_navsim *ns,
+			   const struct sscope_navsim_imu *imu, uint64_t seed,
+			   uint64_t run, double *out, double bias[6],
+			   struct sscope_diag *diag);
+
 /** Statistics over runs at one record. */
 struct sscope_navsim_stat {
 	double t_s;

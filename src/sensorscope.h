@@ -89,6 +89,7 @@
 #include "sscope-nav.h"
 #include "sscope-strapdown.h"
 #include "sscope-navsim.h"
+#include "sscope-zupt.h"
 #include "sscope-heading.h"
 #include "sscope-walk.h"
 #include "sscope-clip.h"

@@ -1,8 +1,9 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-3.0-or-later
-# sensorscope heading and walk: the known answers on the bundled samples
-# (stops, the random-walk fan), their formats, the navigation scene stages
-# and figures, and bad input.  navsim alone is in cli-navsim.sh.
+# sensorscope heading, walk and nav: the known answers on the bundled
+# samples (stops, the random-walk fan, the biases of a simulated walk),
+# their formats, the navigation scene stages and figures, and bad input.
+# navsim alone is in cli-navsim.sh.
 . "$(dirname "$0")/lib.sh"
 
 # inputs shared with the navsim tests: an allan result, a quiet gyro and
@@ -156,5 +157,60 @@ run "walk --plot svg" 0 walk -c gz --plot "$T/w.svg" "$SAMPLES/gyro-static.csv"
 for f in n h w; do
 	if grep -q '<svg' "$T/$f.svg" 2>/dev/null; then ok "$f.svg written"; else not_ok "$f.svg"; fi
 done
+
+# ------------------------------------------------------------ nav
+# walk-stops.csv's true biases (tests/gen-samples.c, stated in its header)
+W="$SAMPLES/walk-stops.csv"
+run "nav --help" 0 nav --help
+run "nav on the walk" 0 nav --heading 30 --latitude 48 --format json "$W"
+json_check "nine stops, heading given" "$T/out" \
+	'(.stops | length) == 9 and .start.heading_from == "given" and .zupt and .noise.source == "defaults"'
+json_check "biases at the last stop within 3 sigma of the truth" "$T/out" \
+	'.stops[-1] as $s | [-0.10044, -0.14836, 0.17863] as $g | [-0.02144, -0.00013, -0.00494] as $a
+	 | all(range(3); (($s.gyro_bias_rad_s[.] - $g[.] * 3.141592653589793 / 180) | fabs) < 3 * $s.gyro_bias_sd_rad_s[.])
+	 and all(range(3); (($s.accel_bias_m_s2[.] - $a[.]) | fabs) < 3 * $s.accel_bias_sd_m_s2[.])'
+json_check "levelled, trajectory columns" "$T/out" \
+	'(.start.roll_deg | fabs) < 1 and .start.level_s >= 4.9 and (.trajectory.time_s | length) == (.trajectory.north_m | length) and .end.horizontal_sd_m > 0'
+cp "$T/out" "$T/nav.json"
+run "nav --no-zupt" 0 nav --heading 30 --latitude 48 --no-zupt --format json "$W"
+jq -s '.[0].end.horizontal_sd_m as $a | .[1].end.horizontal_sd_m as $b | $b > 100 * $a' "$T/nav.json" "$T/out" 2>/dev/null | grep -q true &&
+	ok "without the stop updates the 1 sigma grows 100 times" || not_ok "--no-zupt 1 sigma"
+run "nav heading unobservable" 0 nav --format json "$W"
+has "warns of the heading" "$T/err" 'heading is unobservable'
+json_check "heading assumed" "$T/out" '.start.heading_from == "assumed" and .start.heading_deg == 0'
+run "nav csv" 0 nav --heading 30 --latitude 48 --format csv -o "$T/track.csv" "$W"
+has "navsim's trajectory columns first" "$T/track.csv" '^time \[s\],north \[m\],east \[m\],down \[m\],roll \[rad\],pitch \[rad\],yaw \[rad\],v_north'
+run "nav csv is a navsim trajectory" 0 navsim --trajectory "$T/track.csv" --latitude 48 --runs 1 --format json
+run "nav text" 0 nav --heading 30 "$W"
+has "stops table" "$T/out" '^stops: 9 '
+run "nav --from-allan" 0 nav --heading 30 --from-allan "$T/allan.json" --format json "$W"
+json_check "allan's gyro terms" "$T/out" '.noise.source == "allan"'
+has "says the accelerometer N is the default" "$T/err" 'accelerometer N: the default'
+printf '[gyro]\nrandom_walk = 0.2 deg/sqrt(h)\n[accel]\nrandom_walk = 0.05 m/s/sqrt(h)\n' >"$T/walk-ds.ini"
+run "nav --spec" 0 nav --heading 30 --spec "$T/walk-ds.ini" --format json "$W"
+json_check "datasheet's N" "$T/out" '.noise.source == "datasheet" and (.noise.gyro_n_rad_s_sqrt_hz * 60 * 180 / 3.141592653589793 - 0.2 | fabs) < 1e-9'
+run "nav --plot svg" 0 nav --heading 30 --plot "$T/nav.svg" "$W"
+if grep -q '<svg' "$T/nav.svg" 2>/dev/null; then ok "nav.svg written"; else not_ok "nav.svg"; fi
+printf '[input]\nfiles = %s\n[nav]\nheading = 30\nlatitude = 48\n[report]\nformats = json\n' "$W" >"$T/nv.ini"
+run "nav in a scene" 0 run "$T/nv.ini" -o "$T/nv" -q
+json_check "the scene's nav stage" "$T/nv/nav.json" '.command == "nav" and (.stops | length) == 9'
+# bad input
+run "nav: no accelerometer channels" 1 nav -c gx,gy,gz "$W"
+one_line_error "nav: no accelerometer channels"
+has "says three are needed" "$T/err" 'acceleration channels: three are needed'
+{ sed -n 1,3p "$W"; sed -n '1004,3000p' "$W"; } >"$T/moving.csv"
+run "nav: moving at the start" 1 nav "$T/moving.csv"
+one_line_error "nav: moving at the start"
+has "says not still" "$T/err" 'not still at the start'
+sed -n 1,40p "$W" >"$T/short.csv"
+run "nav: too short" 1 nav "$T/short.csv"
+one_line_error "nav: too short"
+{ sed -n 1,300p "$W"; echo '6.00,NaN,0,0,0,0,-9.8'; sed -n 302,900p "$W"; } >"$T/nan.csv"
+run "nav: NaN" 1 nav "$T/nan.csv"
+one_line_error "nav: NaN"
+run "nav: latitude out of range" 2 nav --latitude 95 "$W"
+one_line_error "nav: latitude out of range"
+run "nav: two files" 2 nav "$W" "$W"
+run "nav: two noise sources" 2 nav --spec "$T/walk-ds.ini" --from-allan "$T/allan.json" "$W"
 
 done_testing

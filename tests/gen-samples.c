@@ -19,6 +19,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "drive-sim.h"
+#include "zupt-sim.h"
 
 #define PI 3.14159265358979323846
 #define D2R (PI / 180)
@@ -714,6 +715,47 @@ static void drive_trajectory(const char *dir)
 	fclose(f);
 }
 
+/*
+ * walk-stops.csv: a person walking with stops, 6-axis IMU at 50 Hz for
+ * 285 s (tests/zupt-sim.h: navsim's trajectory and sensor models, seed
+ * 1013, run 0): still 5 s, then eight 30-s legs at up to 1.4 m/s, each
+ * turning by 90 deg with a +-5 deg weave, a 3 cm bob and a 3 deg sway, and
+ * a 5-s stop after each; latitude 48 deg, initial heading 30 deg; gyro N
+ * 0.2 deg/sqrt(h), accelerometer N 0.05 m/s/sqrt(h), turn-on biases drawn
+ * with 1-sigma 0.2 deg/s and 5 mg (their values are in samples/README.md).
+ */
+static void walk_stops(const char *dir)
+{
+	struct zsim_route r = { .stop_s = 5, .leg_s = 30, .ramp_s = 1,
+				.speed_m_s = 1.4, .turn_rad = 90 * D2R, .legs = 8,
+				.walk = true, .lat_rad = 48 * D2R,
+				.heading_rad = 30 * D2R };
+	struct sscope_navsim_imu imu = { 0 };
+	struct zsim z;
+	FILE *f = open_out(dir, "walk-stops.csv");
+
+	imu.gyro.n = 0.2 * D2R / 60;
+	imu.gyro.bias = 0.2 * D2R;
+	imu.accel.n = 0.05 / 60;
+	imu.accel.bias = 0.005 * 9.80665;
+	if (zsim_build(&z, &r, 50, 1, &imu, 1013, 0)) {
+		fprintf(stderr, "gen-samples: walk simulation failed\n");
+		exit(1);
+	}
+	fprintf(f, "# sensorscope sample: 6-axis IMU of a walk with stops (simulated by sensorscope, seed 1013; samples/README.md)\n"
+		   "# biases: gyro %.5f %.5f %.5f deg/s, accelerometer %.5f %.5f %.5f m/s^2\n"
+		   "time [s],gx [deg/s],gy [deg/s],gz [deg/s],ax [m/s^2],ay [m/s^2],az [m/s^2]\n",
+		z.bias[0] / D2R, z.bias[1] / D2R, z.bias[2] / D2R, z.bias[3], z.bias[4], z.bias[5]);
+	for (size_t i = 0; i < z.n; i++) {
+		const double *u = z.imu + 6 * i;
+
+		fprintf(f, "%.2f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f\n", (double)i / 50, u[0] / D2R,
+			u[1] / D2R, u[2] / D2R, u[3], u[4], u[5]);
+	}
+	fclose(f);
+	zsim_free(&z);
+}
+
 int main(int argc, char **argv)
 {
 	const char *dir = argc > 1 ? argv[1] : "samples";
@@ -730,5 +772,6 @@ int main(int argc, char **argv)
 	inclino(dir);
 	drive_stops(dir);
 	drive_trajectory(dir);
+	walk_stops(dir);
 	return 0;
 }

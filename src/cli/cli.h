@@ -35,5 +35,6 @@ int ssc_cmd_navsim(int argc, char **argv);
 int ssc_cmd_datasheet(int argc, char **argv);
 int ssc_cmd_audit(int argc, char **argv);
 int ssc_cmd_lot(int argc, char **argv);
+int ssc_cmd_nav(int argc, char **argv);
 
 #endif

@@ -57,6 +57,7 @@ static const struct command commands[] = {
 	  ssc_cmd_audit },
 	{ "lot", "many units of one model: the spread of their noise terms, outliers",
 	  ssc_cmd_lot },
+	{ "nav", "strapdown navigation of a capture with zero-velocity updates at stops", ssc_cmd_nav },
 };
 
 #define N_COMMANDS (sizeof(commands) / sizeof(commands[0]))

@@ -111,6 +111,12 @@ static const struct ssc_stage_def stages[S_COUNT_] = {
 		    "(Viechtbauer 2007), the mean by Hartung-Knapp; outliers by a "
 		    "robust z against the units within the family-wise level, "
 		    "flagged at 1 % per unit and left out of the estimates." },
+	[S_NAV] = { "nav", &ssc_nav_stage, 1u << S_ALLAN, NULL,
+		    "15-state error-state Kalman filter around the strapdown mechanisation "
+		    "(Groves 2013, ch. 14-15; Foxlin 2005): levelling and gyrocompassing on the "
+		    "first still interval, stops by a sliding-window test (Skog et al. 2010) with "
+		    "chi-squared thresholds, zero-velocity and zero-angular-rate updates at "
+		    "every stop; process noise from the N, B, K terms." },
 };
 
 const struct ssc_stage_def *ssc_scene_graph(void)

@@ -227,5 +227,6 @@ extern const struct ssc_stage_ops ssc_walk_stage;
 extern const struct ssc_stage_ops ssc_navsim_stage;
 extern const struct ssc_stage_ops ssc_datasheet_stage;
 extern const struct ssc_stage_ops ssc_lot_stage;
+extern const struct ssc_stage_ops ssc_nav_stage;
 
 #endif
