@@ -5,7 +5,12 @@
  * (tests/zupt-sim.h), 100 runs each of a vehicle (10 min, 11 legs of 40 s
  * at up to 10 m/s, 15-s stops) and a walk (10.5 min, 18 legs of 30 s at up
  * to 1.4 m/s, 5-s stops), turn-on biases drawn per run from the prior the
- * filter is given:
+ * filter is given; and both again with biases that drift with the
+ * temperature of a warm-up (T rises 15 degC as 1 - exp(-t / 300 s), each
+ * axis's coefficient drawn per run: gyro sd 18 deg/h/degC, accelerometer
+ * sd 0.2 mg/degC), the filter's rate random walk K set so that over one
+ * leg and stop it matches the sd of the drift at the fastest warming (the
+ * truth at a stop: the bias at its last update):
  * - coverage: the share of (stop, axis) bias estimates within 2 sigma of
  *   the truth, per axis and over all (target 95 %);
  * - the horizontal error at the end with the stop updates and without them
@@ -17,6 +22,9 @@
 #include "internal.h"
 #include "sensorscope.h"
 
+#include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -41,8 +49,32 @@ static double now(void)
 	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static int bench(const char *name, const struct zsim_route *r)
+/* warm-up profile: degC above the start at t */
+#define WARM_DEGC 15.0
+#define WARM_TAU_S 300.0
+static double warm(double t)
 {
+	return WARM_DEGC * (1 - exp(-t / WARM_TAU_S));
+}
+
+/* a standard normal from a 64-bit state (xorshift, Box-Muller) */
+static double gauss(uint64_t *s)
+{
+	double u[2];
+
+	for (int i = 0; i < 2; i++) {
+		*s ^= *s << 13;
+		*s ^= *s >> 7;
+		*s ^= *s << 17;
+		u[i] = ((double)(*s >> 11) + 0.5) * 0x1p-53;
+	}
+	return sqrt(-2 * log(u[0])) * cos(2 * 3.14159265358979323846 * u[1]);
+}
+
+static int bench(const char *name, const struct zsim_route *r, bool thermal)
+{
+	/* temperature coefficients' sd: gyro rad/s per degC, accel m/s^2 per degC */
+	const double csd[2] = { 18.0 / 3600 * D2R, 0.2e-3 * 9.80665 };
 	struct sscope_navsim_imu imu = { 0 };
 	size_t in[6] = { 0 }, total = 0, samples = 0;
 	double e1[RUNS], e0[RUNS], ratio = 1e300, secs = 0;
@@ -57,13 +89,27 @@ static int bench(const char *name, const struct zsim_route *r)
 		struct sscope_zupt_opts o;
 		struct sscope_zupt_result *res = NULL, *raw = NULL;
 		const double *g[3], *a[3];
-		double t0;
+		double t0, c[6] = { 0 };
 
 		if (zsim_build(&z, r, 100, 1, &imu, 2024, run)) {
 			fprintf(stderr, "bench-zupt: simulation failed\n");
 			return 1;
 		}
 		zsim_opts(&o, &z, r, &imu, 1);
+		if (thermal) {
+			uint64_t st = 0x9e3779b97f4a7c15ull ^ (run + 1) * 0xbf58476d1ce4e5b9ull;
+			double gap = r->leg_s + r->stop_s;
+
+			for (int i = 0; i < 6; i++)
+				c[i] = csd[i / 3] * gauss(&st);
+			for (size_t k = 0; k < z.n; k++)
+				for (int i = 0; i < 6; i++)
+					z.imu[k * 6 + i] += c[i] * warm((double)k / z.fs);
+			/* K: the drift's sd over a leg and stop at the fastest
+			 * warming (t = 0) */
+			o.gyro_k = csd[0] * WARM_DEGC / WARM_TAU_S * sqrt(gap);
+			o.accel_k = csd[1] * WARM_DEGC / WARM_TAU_S * sqrt(gap);
+		}
 		for (int i = 0; i < 3; i++) {
 			g[i] = z.imu + i;
 			a[i] = z.imu + 3 + i;
@@ -83,10 +129,13 @@ static int bench(const char *name, const struct zsim_route *r)
 		for (size_t s = 0; s < res->n_stops; s++) {
 			const struct sscope_zupt_stop *sp = &res->stops[s];
 
+			double dT = warm(sp->t_end_s);
+
 			for (int i = 0; i < 3; i++) {
-				in[i] += fabs(sp->gyro_bias_rad_s[i] - z.bias[i]) <=
+				in[i] += fabs(sp->gyro_bias_rad_s[i] - z.bias[i] - c[i] * dT) <=
 					 2 * sp->sd_gyro_bias_rad_s[i];
-				in[3 + i] += fabs(sp->accel_bias_m_s2[i] - z.bias[3 + i]) <=
+				in[3 + i] += fabs(sp->accel_bias_m_s2[i] - z.bias[3 + i] -
+						  c[3 + i] * dT) <=
 					     2 * sp->sd_accel_bias_m_s2[i];
 			}
 			total++;
@@ -130,7 +179,9 @@ int main(void)
 		.turn_rad = 90 * D2R, .legs = 18, .walk = true, .lat_rad = 0.8,
 		.heading_rad = 0.3
 	};
-	int rc = bench("vehicle", &vehicle);
+	int rc = bench("vehicle", &vehicle, false);
 
-	return bench("walk", &walk) | rc;
+	rc |= bench("walk", &walk, false);
+	rc |= bench("vehicle, bias drifting with temperature", &vehicle, true);
+	return bench("walk, bias drifting with temperature", &walk, true) | rc;
 }
