@@ -27,6 +27,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "zupt-sim.h"
@@ -168,7 +169,39 @@ static int bench(const char *name, const struct zsim_route *r, bool thermal)
 	return ratio >= 10 ? 0 : 1;
 }
 
-int main(void)
+/* an hour of a walk with stops at 200 Hz, as the CSV the nav command
+ * reads (tests/bench-nav.sh times the whole command on it) */
+static int write_hour(const char *path)
+{
+	const struct zsim_route r = {
+		.stop_s = 5, .leg_s = 30, .ramp_s = 1, .speed_m_s = 1.4,
+		.turn_rad = 90 * D2R, .legs = 103, .walk = true, .lat_rad = 0.8,
+		.heading_rad = 0.3
+	};
+	struct sscope_navsim_imu imu = { 0 };
+	struct zsim z;
+	FILE *f = fopen(path, "w");
+
+	imu.gyro.n = 0.2 * D2R / 60;
+	imu.gyro.bias = 0.2 * D2R;
+	imu.accel.n = 0.05 / 60;
+	imu.accel.bias = 0.005 * 9.80665;
+	if (!f || zsim_build(&z, &r, 200, 1, &imu, 7, 0)) {
+		fprintf(stderr, "bench-zupt: %s: cannot write the hour\n", path);
+		return 1;
+	}
+	fprintf(f, "time [s],gx [rad/s],gy [rad/s],gz [rad/s],ax [m/s^2],ay [m/s^2],az [m/s^2]\n");
+	for (size_t i = 0; i < z.n; i++) {
+		const double *u = z.imu + 6 * i;
+
+		fprintf(f, "%.3f,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e\n", (double)i / 200, u[0], u[1],
+			u[2], u[3], u[4], u[5]);
+	}
+	zsim_free(&z);
+	return fclose(f) ? 1 : 0;
+}
+
+int main(int argc, char **argv)
 {
 	const struct zsim_route vehicle = {
 		.stop_s = 15, .leg_s = 40, .ramp_s = 4, .speed_m_s = 10,
@@ -179,7 +212,11 @@ int main(void)
 		.turn_rad = 90 * D2R, .legs = 18, .walk = true, .lat_rad = 0.8,
 		.heading_rad = 0.3
 	};
-	int rc = bench("vehicle", &vehicle, false);
+	int rc;
+
+	if (argc == 3 && !strcmp(argv[1], "--hour"))
+		return write_hour(argv[2]);
+	rc = bench("vehicle", &vehicle, false);
 
 	rc |= bench("walk", &walk, false);
 	rc |= bench("vehicle, bias drifting with temperature", &vehicle, true);
