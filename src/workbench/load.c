@@ -14,16 +14,22 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-struct progress_ctx {
-	const struct ssc_common *co;
-	const char *label;
-};
-
 static void read_progress(void *ctx, uint64_t done, uint64_t total)
 {
-	struct progress_ctx *p = ctx;
+	struct ssc_read_progress *p = ctx;
 
 	ssc_progress(p->co, p->label, (double)done, (double)total);
+}
+
+void ssc_read_progress_on(const struct ssc_common *co, const char *label,
+			  struct ssc_read_progress *p, struct sscope_reader_opts *o)
+{
+	p->co = co;
+	p->label = label;
+	if (ssc_progress_on(co)) {
+		o->progress = read_progress;
+		o->progress_ctx = p;
+	}
 }
 
 void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o)
@@ -49,7 +55,7 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	struct sscope_capture_notes nt;
 	struct sscope_calib_file_triad *t = NULL;
 	struct sscope_diag d = { "" };
-	struct progress_ctx pc = { co, path };
+	struct ssc_read_progress pc;
 	int rc;
 
 	ssc_read_opts(co, &ro);
@@ -58,10 +64,7 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	ro.in_place = true;
 	/* (with --allow-nan the reader counts the gaps) */
 	ro.in_place_unchecked = co->values_in_run && !co->allow_nan;
-	if (ssc_progress_on(co)) {
-		ro.progress = read_progress;
-		ro.progress_ctx = &pc;
-	}
+	ssc_read_progress_on(co, path, &pc, &ro);
 	o.read = &ro;
 	if (co->calibration) {
 		rc = ssc_calfile_read(co->cmd, co->calibration, &t, &o.n_calib);

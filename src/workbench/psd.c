@@ -105,18 +105,6 @@ void ssc_psd_unit(const struct ssc_psd_chan *c, enum sscope_psd_scaling sc, char
 			 sc == SSCOPE_PSD_SCALING_DENSITY ? "/Hz" : "");
 }
 
-struct progress_ctx {
-	const struct ssc_common *co;
-	const char *label;
-};
-
-static void read_progress(void *ctx, uint64_t done, uint64_t total)
-{
-	struct progress_ctx *p = ctx;
-
-	ssc_progress(p->co, p->label, (double)done, (double)total);
-}
-
 static int copy_col(struct sscope_capture_column *dst, const struct sscope_capture_column *src)
 {
 	*dst = *src;
@@ -163,7 +151,7 @@ static int stream(const struct ssc_common *co, struct ssc_psd_run *R)
 	struct sscope_diag d = { "" };
 	struct ssc_prefetch *pf = NULL;
 	const struct sscope_reader_chunk *cur;
-	struct progress_ctx pc = { co, R->path };
+	struct ssc_read_progress pc;
 	const size_t cap = 65536;
 	struct sscope_timing_stream *ts = NULL;
 	struct sscope_timing tm;
@@ -171,10 +159,7 @@ static int stream(const struct ssc_common *co, struct ssc_psd_run *R)
 	int rc, ex = SSC_EXIT_FAIL;
 
 	ssc_read_opts(co, &ro);
-	if (ssc_progress_on(co)) {
-		ro.progress = read_progress;
-		ro.progress_ctx = &pc;
-	}
+	ssc_read_progress_on(co, R->path, &pc, &ro);
 	rc = sscope_reader_open(&rd, R->path, &ro, &d);
 	if (rc) {
 		if (rc == -EINVAL && co->raw && !d.msg[0])

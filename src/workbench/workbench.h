@@ -147,6 +147,15 @@ int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
 
 /* Fill read options from the shared options (progress hooked up). */
 void ssc_read_opts(const struct ssc_common *co, struct sscope_reader_opts *o);
+/* The reader's progress shown as @p label (ssc_progress()), when the
+ * command shows progress: o's callback reports into *p, which must live
+ * as long as the reader. */
+struct ssc_read_progress {
+	const struct ssc_common *co;
+	const char *label;
+};
+void ssc_read_progress_on(const struct ssc_common *co, const char *label,
+			  struct ssc_read_progress *p, struct sscope_reader_opts *o);
 
 /* Load a capture with the shared options (sscope_capture_open(): the
  * columns -c names, in its order, --calibration applied, the rate judged);
