@@ -947,6 +947,20 @@ out:
 }
 
 /* percentile of sorted x (numpy's linear interpolation) */
+/* Monte-Carlo standard error of rms = sqrt(mean x^2) over n runs: the sd
+ * of x^2 over sqrt(n), through d rms = d ms / (2 rms); NaN for one run or
+ * a zero rms */
+static double rms_se(const double *x, size_t n, double rms)
+{
+	double ms = rms * rms, v = 0;
+
+	if (n < 2 || !(rms > 0))
+		return (double)NAN;
+	for (size_t r = 0; r < n; r++)
+		v += (x[r] * x[r] - ms) * (x[r] * x[r] - ms);
+	return sqrt(v / (double)(n - 1) / (double)n) / (2 * rms);
+}
+
 static double pct(const double *x, size_t n, double p)
 {
 	double pos = p * (double)(n - 1);
@@ -1031,6 +1045,7 @@ SSC_OMP(omp for schedule(static))
 				s->mean[c] = mean;
 				s->sd[c] = runs > 1 ? sqrt(ss / (double)(runs - 1)) : 0;
 				s->rms[c] = sqrt(sq / (double)runs);
+				s->rms_se[c] = rms_se(x, runs, s->rms[c]);
 				qsort(x, runs, sizeof(double), ssc_cmp_double);
 				s->p05[c] = pct(x, runs, 0.05);
 				s->p50[c] = pct(x, runs, 0.50);
@@ -1046,10 +1061,11 @@ SSC_OMP(omp for schedule(static))
 						     e[SSCOPE_NAVSIM_EAST]);
 					sq += x[r] * x[r];
 				}
+				s->horiz_rms = sqrt(sq / (double)runs);
+				s->horiz_rms_se = rms_se(x, runs, s->horiz_rms);
 				qsort(x, runs, sizeof(double), ssc_cmp_double);
 				s->horiz_p50 = pct(x, runs, 0.50);
 				s->horiz_p95 = pct(x, runs, 0.95);
-				s->horiz_rms = sqrt(sq / (double)runs);
 			}
 		}
 		if (!x) {

@@ -252,6 +252,10 @@ struct sscope_navsim_stat {
 	double rms[SSCOPE_NAVSIM_N_COMP]; /**< root mean square about 0 */
 	double horiz_p50, horiz_p95, horiz_rms; /**< horizontal position error
 						     magnitude, m */
+	/** Monte-Carlo standard error of rms and horiz_rms: the sd of the
+	 *  squared errors over the runs / (2 rms sqrt(runs)) (delta method);
+	 *  NaN for one run or a zero rms. */
+	double rms_se[SSCOPE_NAVSIM_N_COMP], horiz_rms_se;
 };
 
 /**

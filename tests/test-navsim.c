@@ -549,7 +549,21 @@ START_TEST(test_arw_monte_carlo)
 		ck_assert(fabs(st[k].p95[SSCOPE_NAVSIM_YAW] - st[k].p05[SSCOPE_NAVSIM_YAW]) /
 				  (2 * 1.645 * N * sqrt(t)) < 1.25);
 		ck_assert(st[k].horiz_p50 <= st[k].horiz_p95);
+		/* the rms's Monte-Carlo standard error: for normal errors
+		 * sigma / sqrt(2 M); the estimate's own relative sd is about
+		 * sqrt(14 / M) / 2 = 11 % at M = 300 (x^2 has kurtosis 15):
+		 * within +-40 % (3.7 of those) */
+		for (int c = SSCOPE_NAVSIM_ROLL; c <= SSCOPE_NAVSIM_YAW; c++) {
+			double q = st[k].rms_se[c] / st[k].rms[c] * sqrt(2.0 * (double)M);
+
+			ck_assert_msg(q > 0.6 && q < 1.4,
+				      "t %g comp %d: rms_se sqrt(2M) / rms = %g", t, c, q);
+		}
+		ck_assert(st[k].horiz_rms_se > 0 && st[k].horiz_rms_se < st[k].horiz_rms);
 	}
+	/* one run: no standard error */
+	ck_assert_int_eq(sscope_navsim_monte_carlo(ns, &imu, 1, 3, st, NULL, NULL, NULL), 0);
+	ck_assert(isnan(st[n - 1].rms_se[SSCOPE_NAVSIM_YAW]) && isnan(st[n - 1].horiz_rms_se));
 	free(st);
 	sscope_navsim_free(ns);
 }

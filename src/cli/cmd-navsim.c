@@ -595,7 +595,8 @@ static json_t *series(const struct result *r, int which, int c)
 	for (size_t k = 0; k < r->n; k++) {
 		const struct sscope_navsim_stat *s = &r->st[k];
 		double v = which == 0 ? s->p05[c] : which == 1 ? s->p50[c] :
-			   which == 2 ? s->p95[c] : s->rms[c];
+			   which == 2 ? s->p95[c] : which == 3 ? s->rms[c] :
+			   s->rms_se[c];
 
 		json_array_append_new(a, ssc_jreal(v));
 	}
@@ -714,16 +715,26 @@ static json_t *make_json(const struct opts *o, const struct imu_in *in,
 		json_object_set_new(rms, comp_key[c], series(r, 3, c));
 	json_object_set_new(root, "rms", rms);
 	{
+		json_t *se = json_object();
+
+		for (int c = 0; c < SSCOPE_NAVSIM_N_COMP; c++)
+			json_object_set_new(se, comp_key[c], series(r, 4, c));
+		json_object_set_new(root, "rms_se", se);
+	}
+	{
 		json_t *a = json_array(), *p = json_array(), *q = json_array();
+		json_t *e = json_array();
 
 		for (size_t k = 0; k < r->n; k++) {
 			json_array_append_new(a, ssc_jreal(r->st[k].horiz_p50));
 			json_array_append_new(p, ssc_jreal(r->st[k].horiz_p95));
 			json_array_append_new(q, ssc_jreal(r->st[k].horiz_rms));
+			json_array_append_new(e, ssc_jreal(r->st[k].horiz_rms_se));
 		}
 		json_object_set_new(h, "p50", a);
 		json_object_set_new(h, "p95", p);
 		json_object_set_new(h, "rms", q);
+		json_object_set_new(h, "rms_se", e);
 	}
 	json_object_set_new(root, "horizontal_m", h);
 	for (size_t k = 0; k < r->n; k++) {
@@ -856,6 +867,17 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 	}
 	fprintf(f, "\n  rms: root mean square over runs; horiz: |(north, east)| error; budget: the drift budget's\n"
 		   "  Schuler-bounded single-channel total (biases and random walks, 1 sigma)\n");
+	{
+		const struct sscope_navsim_stat *e = &r->st[r->n - 1];
+		char t1[32], t2[32], t3[32], t4[32];
+
+		if (isfinite(e->horiz_rms_se) && isfinite(e->rms_se[SSCOPE_NAVSIM_YAW]))
+			fprintf(f, "  Monte-Carlo standard error at %s s (%zu runs): horizontal rms +-%s m (%s %%), yaw rms +-%s deg\n",
+				ssc_fmt(t1, 32, e->t_s, 6), (size_t)r->o.runs,
+				ssc_fmt(t2, 32, e->horiz_rms_se, 2),
+				ssc_fmt(t3, 32, 100 * e->horiz_rms_se / e->horiz_rms, 2),
+				ssc_fmt(t4, 32, e->rms_se[SSCOPE_NAVSIM_YAW] / D2R, 2));
+	}
 }
 
 static void write_csv(FILE *f, const struct result *r, bool single)
