@@ -194,6 +194,8 @@ if grep -q '<svg' "$T/nav.svg" 2>/dev/null; then ok "nav.svg written"; else not_
 printf '[input]\nfiles = %s\n[nav]\nheading = 30\nlatitude = 48\n[report]\nformats = json\n' "$W" >"$T/nv.ini"
 run "nav in a scene" 0 run "$T/nv.ini" -o "$T/nv" -q
 json_check "the scene's nav stage" "$T/nv/nav.json" '.command == "nav" and (.stops | length) == 9'
+run "nav command as the scene runs it" 0 nav --heading 30 --latitude 48 --format json -o "$T/nv-cmd.json" "$W"
+json_close "nav: the scene's JSON equals the command's" "$T/nv/nav.json" "$T/nv-cmd.json"
 # bad input
 run "nav: no accelerometer channels" 1 nav -c gx,gy,gz "$W"
 one_line_error "nav: no accelerometer channels"
