@@ -363,7 +363,11 @@ json_t *ssc_nav_json(const void *opts, const void *result)
 	json_object_set_new(o, "roll_deg", ssc_jreal(r->roll0_rad / D2R));
 	json_object_set_new(o, "pitch_deg", ssc_jreal(r->pitch0_rad / D2R));
 	json_object_set_new(o, "heading_deg", ssc_jreal(r->heading0_rad / D2R));
-	json_object_set_new(o, "heading_sd_deg", ssc_jreal(r->heading0_sd_rad / D2R));
+	/* an assumed heading is not known: no 0 for its uncertainty */
+	json_object_set_new(o, "heading_sd_deg",
+			    r->heading_from == SSCOPE_ZUPT_HEADING_ASSUMED ?
+				    json_null() :
+				    ssc_jreal(r->heading0_sd_rad / D2R));
 	json_object_set_new(o, "heading_from", json_string(sscope_zupt_heading_name(r->heading_from)));
 	json_object_set_new(o, "gyrocompass_sd_deg", ssc_jreal(r->gyrocompass_sd_rad / D2R));
 	json_object_set_new(root, "start", o);
@@ -440,9 +444,15 @@ void ssc_nav_text(FILE *f, const void *opts, const void *result)
 	fprintf(f, "noise (%s): gyro N %.3g deg/sqrt(h), B %.3g deg/h; accelerometer N %.3g m/s/sqrt(h), B %.3g mg\n",
 		s->noise_from, zo->gyro_n / D2R * 60, zo->gyro_b / DEG_H, zo->accel_n * 60,
 		zo->accel_b / MG);
-	fprintf(f, "start: levelled on %.2f s: roll %.3f deg, pitch %.3f deg; heading %.2f deg (%s, 1 sigma %.3g deg)\n",
-		r->level_s, r->roll0_rad / D2R, r->pitch0_rad / D2R, r->heading0_rad / D2R,
-		sscope_zupt_heading_name(r->heading_from), r->heading0_sd_rad / D2R);
+	fprintf(f, "start: levelled on %.2f s: roll %.3f deg, pitch %.3f deg; heading %.2f deg (",
+		r->level_s, r->roll0_rad / D2R, r->pitch0_rad / D2R, r->heading0_rad / D2R);
+	if (r->heading_from == SSCOPE_ZUPT_HEADING_ASSUMED)
+		fprintf(f, "assumed: unobservable, its error not in the 1 sigma below)\n");
+	else if (r->heading0_sd_rad > 0)
+		fprintf(f, "%s, 1 sigma %.3g deg)\n", sscope_zupt_heading_name(r->heading_from),
+			r->heading0_sd_rad / D2R);
+	else
+		fprintf(f, "%s, taken as exact)\n", sscope_zupt_heading_name(r->heading_from));
 	fprintf(f, "stops: %zu (still %.1f %% of the time; window %.2f s)%s\n", r->n_stops,
 		r->n_updates ? 100.0 * (double)r->n_still / (double)r->n_updates : 0,
 		(double)r->window / s->cap->rate_hz,
