@@ -81,10 +81,7 @@ static int bench(const char *name, const struct zsim_route *r, bool thermal)
 	double e1[RUNS], e0[RUNS], ratio = 1e300, secs = 0;
 	static const char *const comp[6] = { "gx", "gy", "gz", "ax", "ay", "az" };
 
-	imu.gyro.n = 0.2 * D2R / 60;
-	imu.gyro.bias = 0.2 * D2R;
-	imu.accel.n = 0.05 / 60;
-	imu.accel.bias = 0.005 * 9.80665;
+	zsim_imu(&imu);
 	for (uint64_t run = 0; run < RUNS; run++) {
 		struct zsim z;
 		struct sscope_zupt_opts o;
@@ -182,10 +179,7 @@ static int write_hour(const char *path)
 	struct zsim z;
 	FILE *f = fopen(path, "w");
 
-	imu.gyro.n = 0.2 * D2R / 60;
-	imu.gyro.bias = 0.2 * D2R;
-	imu.accel.n = 0.05 / 60;
-	imu.accel.bias = 0.005 * 9.80665;
+	zsim_imu(&imu);
 	if (!f || zsim_build(&z, &r, 200, 1, &imu, 7, 0)) {
 		fprintf(stderr, "bench-zupt: %s: cannot write the hour\n", path);
 		return 1;

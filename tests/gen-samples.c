@@ -734,10 +734,7 @@ static void walk_stops(const char *dir)
 	struct zsim z;
 	FILE *f = open_out(dir, "walk-stops.csv");
 
-	imu.gyro.n = 0.2 * D2R / 60;
-	imu.gyro.bias = 0.2 * D2R;
-	imu.accel.n = 0.05 / 60;
-	imu.accel.bias = 0.005 * 9.80665;
+	zsim_imu(&imu);
 	if (zsim_build(&z, &r, 50, 1, &imu, 1013, 0)) {
 		fprintf(stderr, "gen-samples: walk simulation failed\n");
 		exit(1);

@@ -30,15 +30,6 @@
 
 #define D2R (3.14159265358979323846 / 180)
 
-static void imu_mems(struct sscope_navsim_imu *imu)
-{
-	memset(imu, 0, sizeof(*imu));
-	imu->gyro.n = 0.2 * D2R / 60;      /* 0.2 deg/sqrt(h) */
-	imu->gyro.bias = 0.2 * D2R;        /* 0.2 deg/s turn-on, 1 sigma */
-	imu->accel.n = 0.05 / 60;          /* 0.05 m/s/sqrt(h) */
-	imu->accel.bias = 0.005 * 9.80665; /* 5 mg */
-}
-
 static int run_filter(const struct zsim *z, const struct sscope_zupt_opts *o,
 		      struct sscope_zupt_result **r)
 {
@@ -61,7 +52,7 @@ START_TEST(test_static)
 	const struct sscope_zupt_rec *e;
 	double sd_expect;
 
-	imu_mems(&imu);
+	zsim_imu(&imu);
 	ck_assert_int_eq(zsim_build(&z, &r, 100, 1, &imu, 7, 0), 0);
 	zsim_opts(&o, &z, &r, &imu, 1);
 	ck_assert_int_eq(run_filter(&z, &o, &res), 0);
@@ -125,7 +116,7 @@ START_TEST(test_gyrocompass)
 		struct sscope_zupt_opts o;
 		struct sscope_zupt_result *res = NULL;
 
-		imu_mems(&imu);
+		zsim_imu(&imu);
 		r.stop_s = 20;
 		ck_assert_int_eq(zsim_build(&z, &r, 100, 1, &imu, 3, 0), 0);
 		zsim_opts(&o, &z, &r, &imu, 1);
@@ -156,7 +147,7 @@ static void coverage(const struct zsim_route *route, uint64_t runs, double min_i
 	size_t in = 0, total = 0;
 	double worst_ratio = 1e300;
 
-	imu_mems(&imu);
+	zsim_imu(&imu);
 	for (uint64_t run = 0; run < runs; run++) {
 		struct zsim z;
 		struct sscope_zupt_opts o;
@@ -222,7 +213,7 @@ START_TEST(test_refused)
 	struct zsim z;
 	size_t skip;
 
-	imu_mems(&imu);
+	zsim_imu(&imu);
 	ck_assert_int_eq(zsim_build(&z, &r, 100, 1, &imu, 3, 0), 0);
 	zsim_opts(&o, &z, &r, &imu, 1);
 	ck_assert_int_eq(run_filter(&z, &o, &res), 0);

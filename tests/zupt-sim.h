@@ -40,6 +40,20 @@ struct zsim_route {
 	double lat_rad, heading_rad;
 };
 
+/* the sensor of the bench, the tests' walks and the walk sample: gyro N
+ * 0.2 deg/sqrt(h), accelerometer N 0.05 m/s/sqrt(h), turn-on biases
+ * with 1 sigma 0.2 deg/s and 5 mg */
+static inline void zsim_imu(struct sscope_navsim_imu *imu)
+{
+	const double d2r = 3.14159265358979323846 / 180;
+
+	memset(imu, 0, sizeof(*imu));
+	imu->gyro.n = 0.2 * d2r / 60;
+	imu->gyro.bias = 0.2 * d2r;
+	imu->accel.n = 0.05 / 60;
+	imu->accel.bias = 0.005 * 9.80665;
+}
+
 static inline void zsim_free(struct zsim *z)
 {
 	sscope_navsim_free(z->ns);
