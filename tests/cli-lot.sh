@@ -161,6 +161,20 @@ one_line_error "--smooth 0"
 run "--smooth longer than the record" 1 lot --smooth 20000 --plot "$T/x.svg" "$L"/unit0[1-3].csv
 one_line_error "--smooth longer than the record"
 
+# a lot whose units show bias instability: their drift and sensitivity
+# intervals are marked too narrow, in the JSON and the text (the sample
+# lot's units do not show it: no mark there)
+printf '[sensor]\nnoise_density = 20 ug/sqrt(Hz)\nbias_instability = 50 ug\nbias = 1 mg\nbias_tempco = 50 ug/degC\n' >"$T/flk.ini"
+for i in 1 2 3; do
+	run "simulate flicker unit $i" 0 simulate -q --sensor "$T/flk.ini" --rate 10 --duration 2h --names ax -u g --temp-cycle 21:26:7200 --seed $i -o "$T/flk$i.csv"
+done
+run "lot with flicker" 0 lot --format json "$T"/flk[1-3].csv
+json_check "drift and sensitivity flagged where B is shown, bias not" "$T/out" '[.units[].channels[0] | select(.terms.B.present) | (.terms.bias_drift.doubt != null and .terms.temp_sensitivity.doubt != null and .terms.bias.doubt == null)] | length == 3 and all'
+run "lot with flicker, text" 0 lot "$T"/flk[1-3].csv
+has "the mark and its legend" "$T/out" '~ too narrow: the unit shows bias instability'
+run "sample lot: no flag" 0 lot --format json "$L"
+json_check "no unit flagged" "$T/out" '[.units[].channels[].terms[] | .doubt // empty] | length == 0'
+
 # bad input
 run "two units" 2 lot "$T/unit1.csv" "$T/unit2.csv"
 one_line_error "two units"

@@ -42,6 +42,18 @@ static const char *unit_name(const struct ssc_lot_result *r, size_t u)
 
 /* the fit's 68.3 % intervals (guard false) or, for the terms with a
  * limit, its intervals at SSC_LOT_SPEC_LEVEL (guard true) */
+/* why a unit's interval of term t is doubtful, or NULL: flicker (B shown
+ * by the unit's fit) correlates the block means that the drift's and the
+ * temperature sensitivity's intervals take as independent, which makes
+ * them too narrow (tests/bench-lot: 40 % and 48 % for 68.3 %) */
+static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
+{
+	if ((t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO) && cl->present[t] &&
+	    cl->present[SSC_LOT_B])
+		return "bias instability (flicker) shown by this unit: the interval takes the block means as independent and is too narrow";
+	return NULL;
+}
+
 static int unit_fit(const char *cmd, const char *path,
 		    const struct sscope_capture_channel *ch, size_t n, double fs,
 		    struct sscope_noise_plan *plan, bool guard,
@@ -511,6 +523,8 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				json_object_set_new(jt, "z", ssc_jreal(r->term[c * SSC_LOT_NT + (size_t)t].z[u]));
 				json_object_set_new(jt, "outlier",
 						    json_boolean(r->term[c * SSC_LOT_NT + (size_t)t].outlier[u]));
+				if (cell_doubt(cl, t))
+					json_object_set_new(jt, "doubt", json_string(cell_doubt(cl, t)));
 				if (cl->has_spec[t])
 					json_object_set_new(jt, "spec", unit_spec_json(r, c, t, cl));
 				json_object_set_new(terms, term_key[t], jt);
@@ -603,10 +617,11 @@ static const char *cell_text(char *buf, size_t len, const struct ssc_lot_result 
 		snprintf(buf, len, "-");
 		return buf;
 	}
-	snprintf(buf, len, "%s [%s, %s]%s", ssc_fmt(a, sizeof(a), conv(r, c, t, cl->v[t], &unit), 4),
+	snprintf(buf, len, "%s [%s, %s]%s%s", ssc_fmt(a, sizeof(a), conv(r, c, t, cl->v[t], &unit), 4),
 		 ssc_fmt(b, sizeof(b), conv(r, c, t, cl->lo[t], &unit), 3),
 		 ssc_fmt(d, sizeof(d), conv(r, c, t, cl->hi[t], &unit), 3),
-		 r->term[c * SSC_LOT_NT + (size_t)t].outlier[u] ? " *" : "");
+		 r->term[c * SSC_LOT_NT + (size_t)t].outlier[u] ? " *" : "",
+		 cell_doubt(cl, t) ? " ~" : "");
 	return buf;
 }
 
@@ -619,7 +634,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		conv(r, c, SSC_LOT_BIAS, 1, &ub);
 		conv(r, c, SSC_LOT_DRIFT, 1, &ud);
 		conv(r, c, SSC_LOT_TEMPCO, 1, &ut);
-		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier)\n",
+		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: the unit shows bias instability)\n",
 			r->chan[c], SSC_LOT_BIAS_BLOCKS);
 		fprintf(f, "%-20s %-34s %-34s %s\n", "unit", ub, ud, r->temp ? ut : "(no temperature column)");
 		for (size_t u = 0; u < r->n_units; u++) {
