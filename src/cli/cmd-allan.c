@@ -1239,7 +1239,7 @@ static int check(struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
 	if (a->n_exp && a->no_fit)
 		return ssc_usage_error(co->cmd, "%s needs the fit (drop --no-fit)",
-				       a->exp[0].t->option);
+				       a->exp[0].option);
 	if (a->force && !a->n_exp)
 		return ssc_usage_error(co->cmd, "--force applies to an export (--export, --kalibr, --openvins, --imu-utils)");
 	if (a->davar && a->no_fit)
