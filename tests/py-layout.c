@@ -570,5 +570,23 @@ int main(void)
 	F(sscope_lot_bias, temp_mean_degc);
 	F(sscope_lot_bias, temp_span_degc);
 	F(sscope_lot_bias, temp_time_corr);
+	S(sscope_export_chan);
+	F(sscope_export_chan, name);
+	F(sscope_export_chan, quantity);
+	F(sscope_export_chan, fit);
+	F(sscope_export_chan, adequacy);
+	S(sscope_export_opts);
+	F(sscope_export_opts, rate_hz);
+	F(sscope_export_opts, inflate);
+	F(sscope_export_opts, source);
+	F(sscope_export_opts, topic);
+	F(sscope_export_opts, sensor_name);
+	F(sscope_export_opts, duration_s);
+	F(sscope_export_opts, force);
+	S(sscope_export_file);
+	F(sscope_export_file, text);
+	F(sscope_export_file, len);
+	F(sscope_export_file, warnings);
+	F(sscope_export_file, forcible);
 	return 0;
 }

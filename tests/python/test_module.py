@@ -623,6 +623,90 @@ try:
 except ss.ArgumentError:
     ok(True, "lot refuses two units")
 
+# ---------------------------------------------------------------- export
+# export() is `allan --export`: the same bytes for every target on a
+# gyro-and-accelerometer record, and on a moving record with force (the
+# command's files written beside it by one run)
+euroc = os.path.join(SAMPLES, "euroc-imu.csv")
+walk = os.path.join(SAMPLES, "walk-stops.csv")
+targets = ss.export_targets()
+ok(len(targets) == 10 and "vins" in targets and "gazebo" in targets,
+   "export_targets: the ten targets", targets)
+with tempfile.TemporaryDirectory() as td:
+    for src, extra, force in ((euroc, [], False),
+                              (walk, ["--force", "--inflate", "3"], True)):
+        args = [SSCOPE, "allan", "--format", "json"] + extra
+        for t in targets:
+            args += ["--export", "%s:%s" % (t, os.path.join(td, t))]
+        r = subprocess.run(args + [src], capture_output=True, text=True)
+        cap = ss.load(src)
+        bad = []
+        nwarn = 0
+        for t in targets:
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                txt = ss.export(cap, t, force=force,
+                                inflate=3.0 if force else 1.0)
+            nwarn += len(w)
+            with open(os.path.join(td, t)) as fh:
+                if fh.read() != txt:
+                    bad.append(t)
+        ok(r.returncode == 0 and not bad,
+           "export(%s%s): every target's file is the command's, byte for "
+           "byte" % (os.path.basename(src), ", force" if force else ""),
+           r.stderr + " ".join(bad))
+        ok(nwarn > 0, "export(%s): bounds and forced values are warned "
+           "about (%d warnings)" % (os.path.basename(src), nwarn))
+    # refused without force: the command's reason, no file left behind
+    cap = ss.load(walk)
+    out = os.path.join(td, "refused.yaml")
+    try:
+        ss.export(cap, "kalibr", path=out)
+        ok(False, "export refuses a moving record")
+    except ss.Error as e:
+        ok("the record moves" in str(e) and "force=True" in str(e) and
+           not os.path.exists(out),
+           "export refuses a moving record: the reason, force named, no "
+           "file", str(e))
+    # a file needing both sensors from a gyro alone
+    try:
+        ss.export(ss.load(gyro), "gtsam")
+        ok(False, "export: gtsam needs both sensors")
+    except ss.Error as e:
+        ok("needs both a gyro" in str(e), "export: gtsam needs both sensors",
+           str(e))
+    # a dict of channels with rate= is the capture's export
+    cap = ss.load(euroc)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        a = ss.export(cap, "vins", path=os.path.join(td, "v.yaml"))
+        b = ss.export({k: cap[k] for k in cap}, "vins", rate=cap.rate_hz)
+    with open(os.path.join(td, "v.yaml")) as fh:
+        ok(fh.read() == a, "export(path=): the file holds the text returned")
+    ok(a.replace(euroc, "data") == b,
+       "export(dict, rate=): the capture's file (data named 'data')")
+for bad_call, arg in ((lambda: ss.export(ss.load(gyro), "nav2"), "target"),
+                      (lambda: ss.export(ss.load(gyro), "vins", inflate=0),
+                       "inflate"),
+                      (lambda: ss.export({"gx": np.zeros(10)}, "vins"),
+                       "rate"),
+                      (lambda: ss.export(ss.load(gyro), "vins", rate=5),
+                       "rate")):
+    try:
+        bad_call()
+        ok(False, "export: a bad %s is refused" % arg)
+    except ss.ArgumentError as e:
+        ok(arg in str(e), "export: a bad %s is refused, naming it" % arg,
+           str(e))
+try:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ss.export({"gx": np.array([0.0, np.nan] * 500)}, "vins", rate=10)
+    ok(False, "export: NaN samples refused")
+except ss.Error as e:
+    ok("NaN sample at index 1" in str(e), "export: NaN samples refused, "
+       "with the index", str(e))
+
 # ---------------------------------------------------------------- install
 # `make install` puts the module where the interpreter looks for the
 # prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)

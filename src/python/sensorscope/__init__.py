@@ -1662,3 +1662,230 @@ def lot(files, level=0.90):
 
 
 __all__ += ["lot"]
+
+
+# ------------------------------------------------------------ exports
+
+def export_targets():
+    """The names export() takes: kalibr, imu_utils, openvins, vins,
+    orbslam3, basalt, gtsam, matlab, gnss_ins_sim, gazebo."""
+    out, i = [], 0
+    while _c.export_target(i):
+        out.append(_c.export_target(i).decode())
+        i += 1
+    return out
+
+
+_QCODE = {"angular rate": 3, "acceleration": 4}
+
+
+def _export_channels(fn, source, rate):
+    """[(name, Channel-or-array, quantity, unit)], rate, temperature, name,
+    topic from a Capture or a dict of channels."""
+    if isinstance(source, Capture):
+        if rate is not None:
+            _bad(fn, "rate", "a Capture has its own rate (%s Hz)"
+                 % _text(source.rate_hz))
+        if not source.rate_hz:
+            _bad(fn, "source", "%s has no sample rate" % source.path)
+        chans = [(k, source[k], source.quantities[k], source[k].unit)
+                 for k in source]
+        topic = next((t["name"] for t in source.topics if t["selected"] and
+                      "Temperature" not in t["type"]), None)
+        return chans, source.rate_hz, source.temp_degc, source.path, topic
+    if not isinstance(source, dict) or not source:
+        _bad(fn, "source", "a Capture (from load()) or a dict of channels "
+             "{'gx': array, ...}, not %s" % type(source).__name__)
+    rate = _positive(fn, "rate", rate) if rate is not None else None
+    if rate is None:
+        _bad(fn, "rate", "a dict of channels needs rate= (Hz)")
+    chans = []
+    for k, x in source.items():
+        q, unit, assumed = _data_unit(fn, x, None, "rate")
+        if assumed:
+            _warn(fn, "%s: no unit (not a Channel of a loaded capture): "
+                  "rad/s assumed" % k)
+        chans.append((str(k), x, q, unit))
+    return chans, rate, None, "data", None
+
+
+def export(source, target, path=None, inflate=1.0, force=False, rate=None,
+           name=None):
+    """Noise parameters for an estimator or simulator, as
+    `sensorscope allan --export TARGET` writes them: the same text.
+
+    Parameters
+    ----------
+    source : Capture or dict
+        A loaded capture (every angular-rate and acceleration channel is
+        analysed: OADEV on the dense grid, the IEEE 952 fit with 68.3 %
+        intervals, the adequacy check with the capture's temperature), or
+        a dict {name: samples} of one sensor's channels in SI units
+        (Channels of a capture carry their unit; a plain array is taken
+        as rad/s, with a warning) with rate=.
+    target : str
+        One of export_targets(): kalibr, imu_utils, openvins, vins,
+        orbslam3, basalt, gtsam, matlab, gnss_ins_sim, gazebo.  Each
+        file's leading comment states its convention (continuous or
+        discrete, units, what its "random walk" is).
+    path : str, optional
+        Write the file there, atomically (nothing is written when the
+        export is refused).  None: only return the text.
+    inflate : float
+        Multiplies every value (the file names the command's --inflate);
+        default 1, the measured values.
+    force : bool
+        Write values the adequacy check doubts (the record moves, the fit
+        is rejected, a warm-up, step or temperature drift biases them),
+        each marked in a comment (the file says --force).
+    rate : float
+        Sample rate in Hz, for a dict source only.
+    name : str, optional
+        The sensor's name (imu_utils' `name`), default "imu".
+
+    Returns
+    -------
+    str
+        The file's text.  A term the record does not establish is written
+        as its upper bound, marked in the file, with a RuntimeWarning; a
+        value is never written as 0.  NaN samples (gaps) are refused.
+
+    Raises
+    ------
+    ArgumentError for a bad argument; Error when the export is refused
+    (the reason in one line: a doubtful value without force, a sensor
+    the file needs missing, no value or bound for a term)."""
+    fn = "export"
+    names = export_targets()
+    if not isinstance(target, str) or \
+            (target not in names and target != "imu-utils"):
+        _bad(fn, "target", "'%s' is not %s" % (target, ", ".join(names)))
+    inflate = _positive(fn, "inflate", inflate)
+    if name is not None and not isinstance(name, str):
+        _bad(fn, "name", "'%s' is not a sensor name (a string)" % (name,))
+    chans, rate, temp, src, topic = _export_channels(fn, source, rate)
+    chans = [c for c in chans if c[2] in _QCODE]
+    keep, res, adq = [], [], []
+    try:
+        tkeep = None
+        if temp is not None:
+            tp, tstride, tn, tkeep = _vector(temp, fn, "temperature")
+        n_max = 0
+        for cname, x, q, unit in chans:
+            p, stride, n, k = _vector(x, fn, cname)
+            keep.append(k)
+            bad = ~np.isfinite(np.asarray(x))
+            if bad.any():
+                raise Error(-errno.EDOM, "%s: %s: %s sample at index %d (an "
+                            "export needs a record without gaps)" % (
+                                fn, cname, "NaN" if np.isnan(
+                                    np.asarray(x)[np.argmax(bad)]) else
+                                "infinite", int(np.argmax(bad))))
+            n_max = max(n_max, n)
+            ao = _c.AllanOpts()
+            ao.ci_level = 0.683
+            fo = _c.NoiseFitOpts()
+            fo.ci_level = 0.683
+            fo.plan = _noise_plan()
+            r = C.POINTER(_c.AllanResult)()
+            d = _c.Diag()
+            rc = _c.allan_analyze(p, stride, n, float(rate), _GRIDS["dense"],
+                                  C.byref(ao), C.byref(fo), C.byref(r),
+                                  C.byref(d))
+            _check(rc, d, "%s: %s" % (fn, cname))
+            res.append(r)
+            adq.append(C.POINTER(_c.Adequacy)())
+        # the adequacy check of each channel; when one inertial channel
+        # moves, the others again saying so (as the command does)
+        moving = None
+        for again in (False, True):
+            for i, (cname, x, q, unit) in enumerate(chans):
+                a = adq[i].contents if adq[i] else None
+                if again and (moving is None or i == moving[0] or a is None
+                              or not a.still):
+                    continue
+                p, stride, n, _k = _vector(x, fn, cname)
+                qo = _c.AdequacyOpts()
+                qo.rate_hz = float(rate)
+                qo.unit = _b(_c.quantity_si_unit(_QCODE[q]).decode())
+                if temp is not None:
+                    qo.temp_degc = tp
+                    qo.temp_stride = tstride
+                if again:
+                    qo.moving_channel = _b(chans[moving[0]][0])
+                    qo.moving_contrast = moving[1]
+                r = res[i].contents
+                if adq[i]:
+                    _c.adequacy_free(adq[i])
+                    adq[i] = C.POINTER(_c.Adequacy)()
+                d = _c.Diag()
+                rc = _c.adequacy_check(p, stride, n,
+                                       C.byref(r.fit) if r.have_fit else None,
+                                       C.byref(qo), C.byref(adq[i]),
+                                       C.byref(d))
+                _check(rc, d, "%s: %s: adequacy check" % (fn, cname))
+            if not again:
+                for i in range(len(chans)):
+                    a = adq[i].contents
+                    if a.still_tested and not a.still:
+                        moving = (i, a.contrast)
+                        break
+        arr = (_c.ExportChan * max(len(chans), 1))()
+        for i, (cname, x, q, unit) in enumerate(chans):
+            r = res[i].contents
+            arr[i].name = _b(cname)
+            arr[i].quantity = _QCODE[q]
+            arr[i].fit = C.pointer(r.fit) if r.have_fit else None
+            arr[i].adequacy = adq[i]
+        o = _c.ExportOpts()
+        o.rate_hz = float(rate)
+        o.inflate = inflate
+        o.source = _b(src)
+        o.topic = _b(topic) if topic else None
+        o.sensor_name = _b(name) if name else None
+        o.duration_s = n_max / float(rate)
+        o.force = bool(force)
+        f = _c.ExportFile()
+        d = _c.Diag()
+        rc = _c.export(_b(target), arr, len(chans), C.byref(o), C.byref(f),
+                       C.byref(d))
+        if rc < 0:
+            msg = d.msg.decode(errors="replace") or \
+                _c.strerror(rc).decode()
+            if f.forcible:
+                msg += " (force=True writes it with each doubtful value " \
+                    "marked)"
+            raise Error(rc, "%s: %s: %s" % (fn, target, msg))
+        try:
+            text = C.string_at(f.text, f.len).decode()
+            warn = C.string_at(f.warnings).decode() if f.warnings else ""
+        finally:
+            _c.export_file_free(C.byref(f))
+    finally:
+        for q in adq:
+            if q:
+                _c.adequacy_free(q)
+        for r in res:
+            _c.allan_result_free(r)
+        del keep
+    for line in warn.splitlines():
+        _warn(fn, "%s: %s" % (target, line))
+    if path is not None:
+        import os
+        path = os.fspath(path)
+        tmp = "%s.%d.tmp" % (path, os.getpid())
+        try:
+            with open(tmp, "w") as fh:
+                fh.write(text)
+            os.replace(tmp, path)
+        except OSError as e:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+            raise Error(-(e.errno or errno.EIO), "%s: %s: %s" % (
+                fn, path, e.strerror or e))
+    return text
+
+
+__all__ += ["export", "export_targets"]

@@ -602,3 +602,35 @@ STRUCTS.update({
 
 lot_bias = _fn("sscope_lot_bias", C.c_int, c_dptr, c_size, c_size, c_dbl,
                c_dptr, c_size, C.POINTER(LotBiasOpts), C.POINTER(LotBias))
+
+
+# ------------------------------------------------ noise-parameter files
+class ExportChan(C.Structure):
+    _fields_ = [("name", C.c_char_p), ("quantity", C.c_int),
+                ("fit", C.POINTER(NoiseFit)),
+                ("adequacy", C.POINTER(Adequacy))]
+
+
+class ExportOpts(C.Structure):
+    _fields_ = [("rate_hz", c_dbl), ("inflate", c_dbl), ("source", C.c_char_p),
+                ("topic", C.c_char_p), ("sensor_name", C.c_char_p),
+                ("duration_s", c_dbl), ("force", C.c_bool)]
+
+
+class ExportFile(C.Structure):
+    _fields_ = [("text", C.c_void_p), ("len", c_size),
+                ("warnings", C.c_void_p), ("forcible", C.c_bool)]
+
+
+STRUCTS.update({
+    "sscope_export_chan": ExportChan, "sscope_export_opts": ExportOpts,
+    "sscope_export_file": ExportFile,
+})
+
+export_target = _fn("sscope_export_target", C.c_char_p, c_size)
+export_default_file = _fn("sscope_export_default_file", C.c_char_p,
+                          C.c_char_p)
+export = _fn("sscope_export", C.c_int, C.c_char_p, C.POINTER(ExportChan),
+             c_size, C.POINTER(ExportOpts), C.POINTER(ExportFile),
+             C.POINTER(Diag))
+export_file_free = _fn("sscope_export_file_free", None, C.POINTER(ExportFile))
