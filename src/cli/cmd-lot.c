@@ -102,8 +102,15 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct opts *o = opts;
 
-	return ssc_lot_run(env->co->cmd, env->caps, env->paths, env->labels, env->n_caps,
-			   o->level, o->spec, o->smooth_s, (struct ssc_lot_result **)result);
+	return ssc_lot_run(env, o->level, o->spec, o->smooth_s,
+			   (struct ssc_lot_result **)result);
+}
+
+/* one unit's record at a time (memory of one record, whatever the lot) */
+static bool streams(const void *opts)
+{
+	(void)opts;
+	return true;
 }
 
 const struct ssc_stage_ops ssc_lot_stage = {
@@ -118,6 +125,7 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.init = init,
 	.handle = handler,
 	.check = check,
+	.streams = streams,
 	.run = run,
 	.json = ssc_lot_json,
 	.text = ssc_lot_text,

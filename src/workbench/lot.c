@@ -257,14 +257,133 @@ static void verdicts(struct ssc_lot_result *r)
 			}
 }
 
-int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, const char *const *labels, size_t n,
-		double level, const char *spec_path, double smooth_s,
+/* the bias figure's record of a unit's channel (struct ssc_lot_cell) */
+#define LOT_FIG_BLOCKS 1024
+
+static int unit_figure(const char *cmd, const struct sscope_capture *cap,
+		       const struct sscope_capture_channel *ch,
+		       struct ssc_lot_cell *cell)
+{
+	size_t n = cap->n, B = (n + LOT_FIG_BLOCKS - 1) / LOT_FIG_BLOCKS, k;
+	double mean = 0, acc = 0, comp = 0;
+
+	if (!B)
+		B = 1;
+	k = (n + B - 1) / B;
+	cell->fig_cs = malloc((k + 1) * sizeof(double));
+	if (!cell->fig_cs)
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	for (size_t i = 0; i < n; i++)
+		mean += ch->data[i];
+	mean /= (double)n;
+	/* prefix sums about the mean, compensated (Kahan): no digits lost
+	 * to the bias or to a long record */
+	cell->fig_cs[0] = 0;
+	for (size_t i = 0; i < n; i++) {
+		double yk = ch->data[i] - mean - comp, tk = acc + yk;
+
+		comp = (tk - acc) - yk;
+		acc = tk;
+		if ((i + 1) % B == 0 || i + 1 == n)
+			cell->fig_cs[(i + B) / B] = acc;
+	}
+	cell->fig_mean = mean;
+	cell->fig_block = B;
+	cell->fig_k = k;
+	return 0;
+}
+
+/* unit u's record: the stage's capture, or read now (*own: free it) */
+static int unit_capture(const struct ssc_stage_env *env, size_t u,
+			struct sscope_capture **cap, bool *own)
+{
+	*own = !env->caps;
+	if (env->caps) {
+		*cap = env->caps[u];
+		return 0;
+	}
+	return env->load(env, u, cap);
+}
+
+/* the first unit's channels of angular rate and acceleration */
+static int lot_channels(const char *cmd, const char *path,
+			const struct sscope_capture *c0, struct ssc_lot_result *r)
+{
+	r->chan = calloc(c0->n_channels + 1, sizeof(*r->chan));
+	r->q = calloc(c0->n_channels + 1, sizeof(*r->q));
+	if (!r->chan || !r->q)
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	for (size_t k = 0; k < c0->n_channels; k++)
+		if (noise_channel(c0->channels[k].col.quantity)) {
+			r->chan[r->n_chan] = strdup(c0->channels[k].col.name);
+			if (!r->chan[r->n_chan])
+				return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+			r->q[r->n_chan++] = c0->channels[k].col.quantity;
+		}
+	if (!r->n_chan) {
+		ssc_err(cmd, "%s: no angular-rate or acceleration channel (give units, e.g. 'gx [deg/s]' or -u deg/s)",
+			path);
+		return SSC_EXIT_FAIL;
+	}
+	r->cell = calloc(r->n_units * r->n_chan, sizeof(*r->cell));
+	r->term = calloc(r->n_chan * SSC_LOT_NT, sizeof(*r->term));
+	if (!r->cell || !r->term)
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	return 0;
+}
+
+/* every analysis of unit u's record */
+static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
+		    const struct sscope_capture *cap,
+		    struct sscope_noise_plan *plan)
+{
+	const char *path = r->paths[u];
+	int rc = 0;
+
+	if (!(cap->rate_hz > 0)) {
+		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
+		return SSC_EXIT_FAIL;
+	}
+	if ((cap->temp_degc != NULL) != r->temp) {
+		ssc_err(cmd, "%s: %s temperature column, but %s %s: the units of a lot must have the same columns",
+			path, r->temp ? "no" : "a", r->paths[0],
+			r->temp ? "has one" : "has none");
+		return SSC_EXIT_FAIL;
+	}
+	r->rate_hz[u] = cap->rate_hz;
+	r->n_samples[u] = cap->n;
+	for (size_t c = 0; c < r->n_chan && !rc; c++) {
+		const struct sscope_capture_channel *ch = NULL;
+		struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+
+		for (size_t k = 0; k < cap->n_channels; k++)
+			if (!strcmp(cap->channels[k].col.name, r->chan[c]) &&
+			    cap->channels[k].col.quantity == r->q[c])
+				ch = &cap->channels[k];
+		if (!ch) {
+			ssc_err(cmd, "%s: no channel '%s' of the same quantity as in %s: the units of a lot must have the same channels",
+				path, r->chan[c], r->paths[0]);
+			return SSC_EXIT_FAIL;
+		}
+		rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, false, cl);
+		if (!rc)
+			rc = unit_bias(cmd, path, cap, ch, cl);
+		if (!rc && channel_has_spec(r, c))
+			rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, true, cl);
+		if (!rc)
+			rc = unit_figure(cmd, cap, ch, cl);
+	}
+	return rc;
+}
+
+int ssc_lot_run(const struct ssc_stage_env *env, double level,
+		const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out)
 {
+	const char *cmd = env->co->cmd;
+	size_t n = env->n_caps;
 	struct ssc_lot_result *r;
 	struct sscope_noise_plan *plan = NULL;
-	const struct sscope_capture *c0 = caps[0];
 	int rc = 0;
 
 	*out = NULL;
@@ -276,12 +395,16 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 	if (!r)
 		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	r->n_units = n;
-	r->paths = paths;
-	r->labels = labels;
-	r->caps = caps;
+	r->paths = env->paths;
+	r->labels = env->labels;
 	r->level = level;
 	r->smooth_s = smooth_s;
-	r->temp = c0->temp_degc != NULL;
+	r->rate_hz = calloc(n, sizeof(*r->rate_hz));
+	r->n_samples = calloc(n, sizeof(*r->n_samples));
+	if (!r->rate_hz || !r->n_samples) {
+		ssc_lot_free(r);
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	}
 	if (spec_path) {
 		r->spec = malloc(sizeof(*r->spec));
 		if (!r->spec) {
@@ -294,80 +417,36 @@ int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
 			return rc;
 		}
 	}
-	r->chan = calloc(c0->n_channels + 1, sizeof(*r->chan));
-	r->q = calloc(c0->n_channels + 1, sizeof(*r->q));
-	if (!r->chan || !r->q) {
-		ssc_lot_free(r);
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	}
-	for (size_t k = 0; k < c0->n_channels; k++)
-		if (noise_channel(c0->channels[k].col.quantity)) {
-			r->chan[r->n_chan] = c0->channels[k].col.name;
-			r->q[r->n_chan++] = c0->channels[k].col.quantity;
-		}
-	if (!r->n_chan) {
-		ssc_err(cmd, "%s: no angular-rate or acceleration channel (give units, e.g. 'gx [deg/s]' or -u deg/s)",
-			paths[0]);
-		ssc_lot_free(r);
-		return SSC_EXIT_FAIL;
-	}
-	r->cell = calloc(n * r->n_chan, sizeof(*r->cell));
-	r->term = calloc(r->n_chan * SSC_LOT_NT, sizeof(*r->term));
-	if (!r->cell || !r->term) {
-		ssc_lot_free(r);
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	}
-	{
-		bool any = false;
-
-		for (size_t c = 0; c < r->n_chan; c++)
-			any |= channel_limits(r, c);
-		if (r->spec && !any) {
-			ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
-				spec_path);
-			ssc_lot_free(r);
-			return SSC_EXIT_FAIL;
-		}
-	}
 	if (sscope_noise_plan_new(&plan))
 		plan = NULL; /* each fit computes its own */
+	/* one unit at a time: what the lot keeps of a unit is its fits,
+	 * bias terms, Allan deviation and the figure's sums, not its record */
 	for (size_t u = 0; u < n && !rc; u++) {
-		const struct sscope_capture *cap = caps[u];
+		struct sscope_capture *cap = NULL;
+		bool own;
 
-		if (!(cap->rate_hz > 0)) {
-			ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", paths[u]);
-			rc = SSC_EXIT_FAIL;
-			break;
-		}
-		if ((cap->temp_degc != NULL) != r->temp) {
-			ssc_err(cmd, "%s: %s temperature column, but %s %s: the units of a lot must have the same columns",
-				paths[u], r->temp ? "no" : "a", paths[0],
-				r->temp ? "has one" : "has none");
-			rc = SSC_EXIT_FAIL;
-			break;
-		}
-		for (size_t c = 0; c < r->n_chan && !rc; c++) {
-			const struct sscope_capture_channel *ch = NULL;
+		rc = unit_capture(env, u, &cap, &own);
+		if (!rc && u == 0) {
+			r->temp = cap->temp_degc != NULL;
+			rc = lot_channels(cmd, env->paths[0], cap, r);
+			for (size_t c = 0; !rc && c < r->n_chan; c++)
+				channel_limits(r, c);
+			if (!rc && r->spec) {
+				bool any = false;
 
-			for (size_t k = 0; k < cap->n_channels; k++)
-				if (!strcmp(cap->channels[k].col.name, r->chan[c]) &&
-				    cap->channels[k].col.quantity == r->q[c])
-					ch = &cap->channels[k];
-			if (!ch) {
-				ssc_err(cmd, "%s: no channel '%s' of the same quantity as in %s: the units of a lot must have the same channels",
-					paths[u], r->chan[c], paths[0]);
-				rc = SSC_EXIT_FAIL;
-				break;
+				for (size_t c = 0; c < r->n_chan; c++)
+					any |= channel_has_spec(r, c);
+				if (!any) {
+					ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
+						spec_path);
+					rc = SSC_EXIT_FAIL;
+				}
 			}
-			rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz, plan,
-				      false, &r->cell[u * r->n_chan + c]);
-			if (!rc)
-				rc = unit_bias(cmd, paths[u], cap, ch,
-					       &r->cell[u * r->n_chan + c]);
-			if (!rc && channel_has_spec(r, c))
-				rc = unit_fit(cmd, paths[u], ch, cap->n, cap->rate_hz,
-					      plan, true, &r->cell[u * r->n_chan + c]);
 		}
+		if (!rc)
+			rc = unit_all(cmd, r, u, cap, plan);
+		if (own)
+			sscope_capture_free(cap);
 	}
 	sscope_noise_plan_free(plan);
 	if (!rc)
@@ -532,7 +611,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 			json_object_set_new(jc, "terms", terms);
 			json_object_set_new(jc, "bias_blocks", json_integer((json_int_t)cl->bias.blocks));
 			json_object_set_new(jc, "block_s", ssc_jreal((double)cl->bias.block_n /
-								     r->caps[u]->rate_hz));
+								     r->rate_hz[u]));
 			if (cl->bias.have_temp) {
 				json_t *jt = json_object();
 
@@ -824,7 +903,10 @@ void ssc_lot_free(void *result)
 	for (size_t i = 0; r->cell && i < r->n_units * r->n_chan; i++) {
 		free(r->cell[i].tau_s);
 		free(r->cell[i].adev);
+		free(r->cell[i].fig_cs);
 	}
+	for (size_t c = 0; r->chan && r->chan[c]; c++)
+		free(r->chan[c]);
 	for (size_t i = 0; r->term && i < r->n_chan * SSC_LOT_NT; i++) {
 		free(r->term[i].outlier);
 		free(r->term[i].z);
@@ -834,6 +916,8 @@ void ssc_lot_free(void *result)
 	free(r->chan);
 	free(r->q);
 	free(r->spec);
+	free(r->rate_hz);
+	free(r->n_samples);
 	free(r);
 }
 
@@ -889,52 +973,43 @@ static double shortest_s(const struct ssc_lot_result *r)
 	double d = INFINITY;
 
 	for (size_t u = 0; u < r->n_units; u++)
-		d = fmin(d, (double)r->caps[u]->n / r->caps[u]->rate_hz);
+		d = fmin(d, (double)r->n_samples[u] / r->rate_hz[u]);
 	return d;
 }
 
-/* unit u's moving mean of channel ch over w_s at the times t[0..m), in
- * SI; NaN where the window holds no sample */
-static int moving_mean(const struct sscope_capture *cap,
-		       const struct sscope_capture_channel *ch, double w_s,
-		       const double *t, size_t m, double *out)
+/* the compensated sum of a unit's samples before sample i (real: linear
+ * within a block of the figure's record; exact at the block ends) */
+static double sum_before(const struct ssc_lot_cell *cl, size_t n, double i)
 {
-	size_t n = cap->n;
-	double *cs = malloc((n + 1) * sizeof(double)), mean = 0, acc = 0, comp = 0;
+	size_t j = (size_t)(i / (double)cl->fig_block), a, b;
 
-	if (!cs)
-		return -ENOMEM;
-	for (size_t i = 0; i < n; i++)
-		mean += ch->data[i];
-	mean /= (double)n;
-	/* prefix sums about the mean, compensated (Kahan): no digits lost
-	 * to the bias or to a long record */
-	cs[0] = 0;
-	for (size_t i = 0; i < n; i++) {
-		double yk = ch->data[i] - mean - comp, tk = acc + yk;
+	if (j >= cl->fig_k)
+		return cl->fig_cs[cl->fig_k];
+	a = j * cl->fig_block;
+	b = a + cl->fig_block < n ? a + cl->fig_block : n;
+	return cl->fig_cs[j] + (i - (double)a) / (double)(b - a) *
+				       (cl->fig_cs[j + 1] - cl->fig_cs[j]);
+}
 
-		comp = (tk - acc) - yk;
-		acc = tk;
-		cs[i + 1] = acc;
-	}
+/* unit u's moving mean of channel c over w_s at the times t[0..m), in
+ * SI; NaN where the window holds no sample */
+static void moving_mean(const struct ssc_lot_result *r, size_t u, size_t c,
+			double w_s, const double *t, size_t m, double *out)
+{
+	const struct ssc_lot_cell *cl = &r->cell[u * r->n_chan + c];
+	size_t n = r->n_samples[u];
+	double fs = r->rate_hz[u];
+
 	for (size_t j = 0; j < m; j++) {
-		double a = (t[j] - w_s / 2) * cap->rate_hz, b = (t[j] + w_s / 2) * cap->rate_hz;
+		double a = (t[j] - w_s / 2) * fs, b = (t[j] + w_s / 2) * fs;
 		size_t i0 = a <= 0 ? 0 : (size_t)fmin(a, (double)n);
 		size_t i1 = b <= 0 ? 0 : (size_t)fmin(b, (double)n);
 
-		out[j] = i1 > i0 ? mean + (cs[i1] - cs[i0]) / (double)(i1 - i0) : (double)NAN;
+		out[j] = i1 > i0 ? cl->fig_mean + (sum_before(cl, n, (double)i1) -
+						   sum_before(cl, n, (double)i0)) /
+						  (double)(i1 - i0) :
+				   (double)NAN;
 	}
-	free(cs);
-	return 0;
-}
-
-static const struct sscope_capture_channel *chan_of(const struct sscope_capture *cap,
-						    const char *name)
-{
-	for (size_t k = 0; k < cap->n_channels; k++)
-		if (!strcmp(cap->channels[k].col.name, name))
-			return &cap->channels[k];
-	return NULL;
 }
 
 /* a unit's line: outliers (in the terms @p lo..hi) thick and named so */
@@ -975,10 +1050,8 @@ static int bias_panel(struct ssc_ax *ax, const struct ssc_lot_result *r, size_t 
 		t[j] = w_s / 2 + (dur_s - w_s) * (double)j / (double)(m - 1);
 		tp[j] = t[j] / ts;
 	}
-	for (size_t u = 0; u < U && !rc; u++) {
-		const struct sscope_capture_channel *ch = chan_of(r->caps[u], r->chan[c]);
-
-		rc = ch ? moving_mean(r->caps[u], ch, w_s, t, m, y + u * m) : -EINVAL;
+	for (size_t u = 0; u < U; u++) {
+		moving_mean(r, u, c, w_s, t, m, y + u * m);
 		for (size_t j = 0; j < m; j++)
 			y[u * m + j] *= sc;
 	}

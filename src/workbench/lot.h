@@ -13,6 +13,8 @@
 
 #include "workbench.h"
 
+#include "stage.h"
+
 #include "datasheet.h"
 
 /* level of the interval a unit's verdict against a limit is guard-banded
@@ -45,6 +47,11 @@ struct ssc_lot_cell {
 	/* the Allan deviation (OADEV, dense taus) for the figure */
 	double *tau_s, *adev;
 	size_t n_adev;
+	/* the bias figure's record: compensated sums of the samples about
+	 * their mean at every fig_block-th sample (fig_k + 1 of them, the
+	 * last at the record's end); the record itself is not kept */
+	double fig_mean, *fig_cs;
+	size_t fig_block, fig_k;
 };
 
 /* one channel's term over the lot */
@@ -65,9 +72,10 @@ struct ssc_lot_result {
 	const char *const *paths;
 	const char *const *labels;        /* the units' names (a manifest's),
 					     or NULL: the files' base names */
-	struct sscope_capture *const *caps; /* the units' records */
+	double *rate_hz;                  /* per unit, Hz */
+	size_t *n_samples;                /* per unit */
 	bool temp;                        /* the units have temperatures */
-	const char **chan;                /* channel names (the first unit's) */
+	char **chan;                      /* channel names (the first unit's) */
 	enum sscope_quantity *q;
 	struct ssc_lot_cell *cell;        /* n_units x n_chan */
 	struct ssc_lot_term *term;        /* n_chan x SSC_LOT_NT */
@@ -77,12 +85,13 @@ struct ssc_lot_result {
 	struct ssc_datasheet *spec;       /* the limits (NULL without) */
 };
 
-/* Analyse each capture and the lot, against the limits in the datasheet
- * INI @p spec_path when not NULL: prints errors, returns an exit code and
- * *out (which points into paths, labels (may be NULL) and spec_path). */
-int ssc_lot_run(const char *cmd, struct sscope_capture *const *caps,
-		const char *const *paths, const char *const *labels, size_t n,
-		double level, const char *spec_path, double smooth_s,
+/* Analyse each unit of env (its captures, or each read in turn by
+ * env->load and freed when analysed: memory of one record at a time) and
+ * the lot, against the limits in the datasheet INI @p spec_path when not
+ * NULL: prints errors, returns an exit code and *out (which points into
+ * env's paths and labels and into spec_path). */
+int ssc_lot_run(const struct ssc_stage_env *env, double level,
+		const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out);
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);

@@ -203,6 +203,25 @@ struct operands {
 	size_t n, cap;
 };
 
+/* env->load of a streaming stage: what step 3 below does for one file */
+struct load_ctx {
+	const struct ssc_common *co;
+	const struct operands *in;
+};
+
+static int load_one(const struct ssc_stage_env *env, size_t i,
+		    struct sscope_capture **cap)
+{
+	const struct load_ctx *l = env->load_ctx;
+	struct ssc_common cu = *l->co;
+
+	if (l->in->n && l->in->columns[i])
+		cu.columns = l->in->columns[i];
+	if (l->in->n && l->in->temp[i])
+		cu.temp_column = l->in->temp[i];
+	return ssc_load(&cu, env->paths[i], cap);
+}
+
 static void operands_free(struct operands *o)
 {
 	for (size_t i = 0; i < o->n; i++) {
@@ -431,6 +450,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	int first, rc, n = 0, loaded = 0;
 	struct trace_t t0 = { -1, 0 };
 	struct operands ops_in = { 0 };
+	struct load_ctx lc;
 
 	if (!opts) {
 		ssc_err(ops->spec->name, "out of memory");
@@ -541,6 +561,12 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	env.n_upstream = call->n_upstream;
 	env.earlier = call->earlier;
 	env.n_earlier = call->n_earlier;
+	if (!scene) {
+		lc.co = &co;
+		lc.in = &ops_in;
+		env.load = load_one;
+		env.load_ctx = &lc;
+	}
 	/* 4. the computation */
 	t0 = trace_clock();
 	ssc_set_context(call->context);

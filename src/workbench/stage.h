@@ -55,6 +55,13 @@ struct ssc_stage_env {
 	 * same with or without them */
 	const struct ssc_result *earlier;
 	size_t n_earlier;
+	/* a stage that streams its inputs (streams(), caps NULL): input i
+	 * read as the command reads it (a manifest's channels and
+	 * temperature column); errors printed, an exit code returned; the
+	 * caller frees *cap with sscope_capture_free() */
+	int (*load)(const struct ssc_stage_env *env, size_t i,
+		    struct sscope_capture **cap);
+	const void *load_ctx;
 };
 
 /* Inputs a stage needs (for scene planning). */

@@ -1520,17 +1520,20 @@ def lot(files, level=0.90):
     if not 0 < level < 1:
         _bad(fn, "level", "a level between 0 and 1")
     import os
-    caps = [load(p, columns=c, temp_column=t) for p, _n, c, t in ops]
+    # one unit's record in memory at a time (as the command)
+    first = load(ops[0][0], columns=ops[0][2], temp_column=ops[0][3])
     qcode = {"angular rate": 3, "acceleration": 4}
-    chans = [(n, caps[0].quantities[n]) for n in caps[0]
-             if caps[0].quantities[n] in qcode]
+    chans = [(n, first.quantities[n]) for n in first
+             if first.quantities[n] in qcode]
     if not chans:
         raise Error(-errno.EDOM, "%s: no angular-rate or acceleration channel"
                     % paths[0])
-    temp = caps[0].temp_degc is not None
-    U, NT = len(caps), len(_LOT_TERMS)
+    temp = first.temp_degc is not None
+    U, NT = len(ops), len(_LOT_TERMS)
     cells = {}
-    for u, cap in enumerate(caps):
+    for u, (path, _n, cols, tcol) in enumerate(ops):
+        cap = first if u == 0 else load(path, columns=cols, temp_column=tcol)
+        first = None
         if not cap.rate_hz:
             raise Error(-errno.EDOM, "%s: no sample rate" % paths[u])
         if (cap.temp_degc is not None) != temp:
