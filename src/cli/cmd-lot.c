@@ -11,7 +11,7 @@
 #include "lot.h"
 #include "stage.h"
 
-enum { O_LEVEL = 300, O_SPEC, O_SMOOTH, O_MANIFEST };
+enum { O_LEVEL = 300, O_SPEC, O_SMOOTH, O_MANIFEST, O_PLAN, O_JOB, O_MERGE };
 
 static const struct ssc_option lot_opts[] = {
 	{ "ci", required_argument, O_LEVEL, "LEVEL",
@@ -22,6 +22,12 @@ static const struct ssc_option lot_opts[] = {
 	  "moving mean of the biases in --plot's figure (default 1/100 of the shortest record)" },
 	{ "manifest", required_argument, O_MANIFEST, "FILE.csv",
 	  "the units: a CSV with columns unit,file[,channels][,temperature] (files relative to it), read after the operands (command line only)" },
+	{ "plan-jobs", required_argument, O_PLAN, "slurm|parallel:DIR",
+	  "analyse nothing: write DIR (new) with plan.json and a Slurm job-array script (lot.sbatch) or a GNU parallel command file (jobs.txt), one task per unit" },
+	{ "job", required_argument, O_JOB, "DIR:I",
+	  "one task of a plan: unit I analysed into DIR/unit-I.json (no operands)" },
+	{ "merge", required_argument, O_MERGE, "DIR",
+	  "the lot of a plan's task results (no operands): the same output as lot on one machine" },
 	{ NULL, 0, 0, NULL, NULL },
 };
 
@@ -53,6 +59,7 @@ struct opts {
 	double level;
 	const char *spec, *manifest;
 	double smooth_s;
+	const char *plan, *job, *merge; /* split over machines */
 };
 
 static void init(void *opts)
@@ -60,6 +67,9 @@ static void init(void *opts)
 	((struct opts *)opts)->level = 0.90;
 	((struct opts *)opts)->spec = NULL;
 	((struct opts *)opts)->smooth_s = 0;
+	((struct opts *)opts)->plan = NULL;
+	((struct opts *)opts)->job = NULL;
+	((struct opts *)opts)->merge = NULL;
 }
 
 static int handler(int key, const char *arg, void *ctx)
@@ -72,6 +82,22 @@ static int handler(int key, const char *arg, void *ctx)
 	}
 	if (key == O_MANIFEST) {
 		o->manifest = arg;
+		return 0;
+	}
+	if (key == O_PLAN) {
+		if (strncmp(arg, "slurm:", 6) && strncmp(arg, "parallel:", 9))
+			return ssc_usage_error("lot", "--plan-jobs: '%s' is not slurm:DIR or parallel:DIR", arg);
+		if (!strchr(arg, ':')[1])
+			return ssc_usage_error("lot", "--plan-jobs: %s: no folder after ':'", arg);
+		o->plan = arg;
+		return 0;
+	}
+	if (key == O_JOB) {
+		o->job = arg;
+		return 0;
+	}
+	if (key == O_MERGE) {
+		o->merge = arg;
 		return 0;
 	}
 	if (key == O_SMOOTH)
@@ -87,9 +113,17 @@ static int handler(int key, const char *arg, void *ctx)
 
 static int check(struct ssc_common *co, void *opts)
 {
-	(void)opts;
+	const struct opts *o = opts;
+
 	if (co->format == SSC_FMT_CSV)
 		return ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
+	if (!!o->plan + !!o->job + !!o->merge > 1)
+		return ssc_usage_error(co->cmd, "--plan-jobs, --job and --merge exclude each other");
+	if ((o->job || o->merge) && (o->spec || o->manifest || o->smooth_s > 0))
+		return ssc_usage_error(co->cmd, "%s: the plan holds the options (give --spec, --smooth, --ci, --manifest to --plan-jobs)",
+				       o->job ? "--job" : "--merge");
+	if ((o->plan || o->job) && co->plot)
+		return ssc_usage_error(co->cmd, "--plot: draw the merged lot (with --merge)");
 	return 0;
 }
 
@@ -102,8 +136,40 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	const struct opts *o = opts;
 
-	return ssc_lot_run(env, o->level, o->spec, o->smooth_s,
-			   (struct ssc_lot_result **)result);
+	struct ssc_lot_result *r = NULL;
+	int rc;
+
+	if (o->merge || o->job) {
+		if (env->n_caps)
+			return ssc_usage_error(env->co->cmd, "%s takes no input files (the plan names them)",
+					       o->merge ? "--merge" : "--job");
+		if (o->merge)
+			return ssc_lot_merge(env->co, o->merge,
+					     (struct ssc_lot_result **)result);
+		r = calloc(1, sizeof(*r));
+		rc = r ? ssc_lot_job(env->co, o->job, r->note, sizeof(r->note)) :
+			 SSC_EXIT_FAIL;
+	} else if (!env->n_caps) {
+		return ssc_usage_error(env->co->cmd, "no input file");
+	} else if (o->plan) {
+		if (env->n_caps < 3)
+			return ssc_usage_error(env->co->cmd, "a lot needs at least 3 units (captures), got %zu",
+					       env->n_caps);
+		r = calloc(1, sizeof(*r));
+		rc = r ? ssc_lot_plan_jobs(env, o->plan[0] == 's' ? "slurm" : "parallel",
+					   strchr(o->plan, ':') + 1, o->level, o->spec,
+					   o->smooth_s, r->note, sizeof(r->note)) :
+			 SSC_EXIT_FAIL;
+	} else {
+		return ssc_lot_run(env, o->level, o->spec, o->smooth_s,
+				   (struct ssc_lot_result **)result);
+	}
+	if (rc) {
+		free(r);
+		return rc;
+	}
+	*result = r;
+	return 0;
 }
 
 /* one unit's record at a time (memory of one record, whatever the lot) */
@@ -117,7 +183,7 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.spec = &spec,
 	.title = "Lot statistics",
 	.needs = SSC_NEED_DATA,
-	.min_files = 3,
+	.min_files = 0, /* 3, but none with --job and --merge (run()) */
 	.max_files = -1,
 	.folders = true,
 	.manifest = manifest,

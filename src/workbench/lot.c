@@ -305,33 +305,6 @@ static int unit_capture(const struct ssc_stage_env *env, size_t u,
 	return env->load(env, u, cap);
 }
 
-/* the first unit's channels of angular rate and acceleration */
-static int lot_channels(const char *cmd, const char *path,
-			const struct sscope_capture *c0, struct ssc_lot_result *r)
-{
-	r->chan = calloc(c0->n_channels + 1, sizeof(*r->chan));
-	r->q = calloc(c0->n_channels + 1, sizeof(*r->q));
-	if (!r->chan || !r->q)
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	for (size_t k = 0; k < c0->n_channels; k++)
-		if (noise_channel(c0->channels[k].col.quantity)) {
-			r->chan[r->n_chan] = strdup(c0->channels[k].col.name);
-			if (!r->chan[r->n_chan])
-				return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-			r->q[r->n_chan++] = c0->channels[k].col.quantity;
-		}
-	if (!r->n_chan) {
-		ssc_err(cmd, "%s: no angular-rate or acceleration channel (give units, e.g. 'gx [deg/s]' or -u deg/s)",
-			path);
-		return SSC_EXIT_FAIL;
-	}
-	r->cell = calloc(r->n_units * r->n_chan, sizeof(*r->cell));
-	r->term = calloc(r->n_chan * SSC_LOT_NT, sizeof(*r->term));
-	if (!r->cell || !r->term)
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	return 0;
-}
-
 /* every analysis of unit u's record */
 static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 		    const struct sscope_capture *cap,
@@ -376,6 +349,127 @@ static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 	return rc;
 }
 
+struct ssc_lot_result *ssc_lot_new(const char *cmd, size_t n,
+				   const char *const *paths,
+				   const char *const *labels, double level,
+				   const char *spec_path, double smooth_s,
+				   int *rc)
+{
+	struct ssc_lot_result *r;
+
+	*rc = 0;
+	r = calloc(1, sizeof(*r));
+	if (!r) {
+		*rc = ssc_fail(cmd, -ENOMEM, NULL, NULL);
+		return NULL;
+	}
+	r->n_units = n;
+	r->paths = paths;
+	r->labels = labels;
+	r->level = level;
+	r->smooth_s = smooth_s;
+	r->rate_hz = calloc(n, sizeof(*r->rate_hz));
+	r->n_samples = calloc(n, sizeof(*r->n_samples));
+	if (!r->rate_hz || !r->n_samples) {
+		*rc = ssc_fail(cmd, -ENOMEM, NULL, NULL);
+		ssc_lot_free(r);
+		return NULL;
+	}
+	r->spec_path = spec_path;
+	if (spec_path) {
+		r->spec = malloc(sizeof(*r->spec));
+		if (!r->spec) {
+			*rc = ssc_fail(cmd, -ENOMEM, NULL, NULL);
+			ssc_lot_free(r);
+			return NULL;
+		}
+		*rc = ssc_datasheet_load(cmd, spec_path, r->spec);
+		if (*rc) {
+			free(r->spec);
+			r->spec = NULL;
+			ssc_lot_free(r);
+			return NULL;
+		}
+	}
+	return r;
+}
+
+int ssc_lot_set_channels(const char *cmd, struct ssc_lot_result *r, bool temp,
+			 const char *const *names,
+			 const enum sscope_quantity *q, size_t n)
+{
+	r->temp = temp;
+	r->chan = calloc(n + 1, sizeof(*r->chan));
+	r->q = calloc(n + 1, sizeof(*r->q));
+	if (!r->chan || !r->q)
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	for (size_t k = 0; k < n; k++)
+		if (noise_channel(q[k])) {
+			r->chan[r->n_chan] = strdup(names[k]);
+			if (!r->chan[r->n_chan])
+				return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+			r->q[r->n_chan++] = q[k];
+		}
+	if (!r->n_chan) {
+		ssc_err(cmd, "%s: no angular-rate or acceleration channel (give units, e.g. 'gx [deg/s]' or -u deg/s)",
+			r->paths[0]);
+		return SSC_EXIT_FAIL;
+	}
+	r->cell = calloc(r->n_units * r->n_chan, sizeof(*r->cell));
+	r->term = calloc(r->n_chan * SSC_LOT_NT, sizeof(*r->term));
+	if (!r->cell || !r->term)
+		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+	for (size_t c = 0; c < r->n_chan; c++)
+		channel_limits(r, c);
+	if (r->spec) {
+		bool any = false;
+
+		for (size_t c = 0; c < r->n_chan; c++)
+			any |= channel_has_spec(r, c);
+		if (!any) {
+			ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
+				r->spec_path);
+			return SSC_EXIT_FAIL;
+		}
+	}
+	return 0;
+}
+
+int ssc_lot_unit(const char *cmd, struct ssc_lot_result *r, size_t u,
+		 const struct sscope_capture *cap, struct sscope_noise_plan *plan)
+{
+	int rc = 0;
+
+	if (!r->chan) {
+		const char **names = calloc(cap->n_channels + 1, sizeof(*names));
+		enum sscope_quantity *q = calloc(cap->n_channels + 1, sizeof(*q));
+
+		if (!names || !q) {
+			free(names);
+			free(q);
+			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
+		}
+		for (size_t k = 0; k < cap->n_channels; k++) {
+			names[k] = cap->channels[k].col.name;
+			q[k] = cap->channels[k].col.quantity;
+		}
+		rc = ssc_lot_set_channels(cmd, r, cap->temp_degc != NULL, names, q,
+					  cap->n_channels);
+		free(names);
+		free(q);
+	}
+	return rc ? rc : unit_all(cmd, r, u, cap, plan);
+}
+
+int ssc_lot_finish(const char *cmd, struct ssc_lot_result *r)
+{
+	int rc = spread(cmd, r);
+
+	if (!rc)
+		verdicts(r);
+	return rc;
+}
+
 int ssc_lot_run(const struct ssc_stage_env *env, double level,
 		const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out)
@@ -391,32 +485,10 @@ int ssc_lot_run(const struct ssc_stage_env *env, double level,
 		ssc_err(cmd, "a lot needs at least 3 units (captures), got %zu", n);
 		return SSC_EXIT_USAGE;
 	}
-	r = calloc(1, sizeof(*r));
+	r = ssc_lot_new(cmd, n, env->paths, env->labels, level, spec_path,
+			smooth_s, &rc);
 	if (!r)
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	r->n_units = n;
-	r->paths = env->paths;
-	r->labels = env->labels;
-	r->level = level;
-	r->smooth_s = smooth_s;
-	r->rate_hz = calloc(n, sizeof(*r->rate_hz));
-	r->n_samples = calloc(n, sizeof(*r->n_samples));
-	if (!r->rate_hz || !r->n_samples) {
-		ssc_lot_free(r);
-		return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-	}
-	if (spec_path) {
-		r->spec = malloc(sizeof(*r->spec));
-		if (!r->spec) {
-			ssc_lot_free(r);
-			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
-		}
-		rc = ssc_datasheet_load(cmd, spec_path, r->spec);
-		if (rc) {
-			ssc_lot_free(r);
-			return rc;
-		}
-	}
+		return rc;
 	if (sscope_noise_plan_new(&plan))
 		plan = NULL; /* each fit computes its own */
 	/* one unit at a time: what the lot keeps of a unit is its fits,
@@ -426,33 +498,14 @@ int ssc_lot_run(const struct ssc_stage_env *env, double level,
 		bool own;
 
 		rc = unit_capture(env, u, &cap, &own);
-		if (!rc && u == 0) {
-			r->temp = cap->temp_degc != NULL;
-			rc = lot_channels(cmd, env->paths[0], cap, r);
-			for (size_t c = 0; !rc && c < r->n_chan; c++)
-				channel_limits(r, c);
-			if (!rc && r->spec) {
-				bool any = false;
-
-				for (size_t c = 0; c < r->n_chan; c++)
-					any |= channel_has_spec(r, c);
-				if (!any) {
-					ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
-						spec_path);
-					rc = SSC_EXIT_FAIL;
-				}
-			}
-		}
 		if (!rc)
-			rc = unit_all(cmd, r, u, cap, plan);
+			rc = ssc_lot_unit(cmd, r, u, cap, plan);
 		if (own)
 			sscope_capture_free(cap);
 	}
 	sscope_noise_plan_free(plan);
 	if (!rc)
-		rc = spread(cmd, r);
-	if (!rc)
-		verdicts(r);
+		rc = ssc_lot_finish(cmd, r);
 	if (rc) {
 		ssc_lot_free(r);
 		return rc;
@@ -572,6 +625,14 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_t *outl = json_array();
 
 	(void)opts;
+	if (r->note[0]) {
+		json_decref(units);
+		json_decref(btw);
+		json_decref(outl);
+		json_object_set_new(o, "command", json_string("lot"));
+		json_object_set_new(o, "done", json_string(r->note));
+		return o;
+	}
 	json_object_set_new(o, "command", json_string("lot"));
 	json_object_set_new(o, "level", json_real(r->level));
 	json_object_set_new(o, "model",
@@ -733,6 +794,10 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 	char a[32], b[32], c3[32], d[32], e[32], g[32];
 
 	(void)opts;
+	if (r->note[0]) {
+		fprintf(f, "%s\n", r->note);
+		return;
+	}
 	fprintf(f, "lot of %zu units; %s %% intervals; spread between units separated from each unit's own uncertainty\n",
 		r->n_units, ssc_fmt(a, sizeof(a), 100 * r->level, 3));
 	fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s %s\n", "channel", "term", "unit",
@@ -894,6 +959,17 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 		}
 }
 
+void ssc_lot_merged_free(struct ssc_lot_merged *m)
+{
+	for (size_t i = 0; m->units && i < m->n; i++)
+		json_decref(m->units[i]);
+	free(m->units);
+	free(m->paths);
+	free(m->labels);
+	json_decref(m->plan);
+	memset(m, 0, sizeof(*m));
+}
+
 void ssc_lot_free(void *result)
 {
 	struct ssc_lot_result *r = result;
@@ -918,6 +994,10 @@ void ssc_lot_free(void *result)
 	free(r->spec);
 	free(r->rate_hz);
 	free(r->n_samples);
+	if (r->merged) {
+		ssc_lot_merged_free(r->merged);
+		free(r->merged);
+	}
 	free(r);
 }
 

@@ -83,6 +83,18 @@ struct ssc_lot_result {
 	double smooth_s;                  /* the figure's moving mean, s
 					     (0: 1/100 of the record) */
 	struct ssc_datasheet *spec;       /* the limits (NULL without) */
+	const char *spec_path;            /* their file */
+	struct ssc_lot_merged *merged;    /* what a merged lot points into, or
+					     NULL (freed with the result) */
+	char note[512];                   /* --plan-jobs, --job: what was
+					     written (no units), or "" */
+};
+
+/* the results a merged lot points into (lot-jobs.c) */
+struct ssc_lot_merged {
+	json_t *plan, **units;
+	const char **paths, **labels;
+	size_t n;
 };
 
 /* Analyse each unit of env (its captures, or each read in turn by
@@ -93,6 +105,38 @@ struct ssc_lot_result {
 int ssc_lot_run(const struct ssc_stage_env *env, double level,
 		const char *spec_path, double smooth_s,
 		struct ssc_lot_result **out);
+/* The lot in parts (ssc_lot_run, and runs split over machines:
+ * lot-jobs.c): a result for n units; its channels (those of angular rate
+ * and acceleration among names, the limits of spec_path checked against
+ * them), set from the first unit's capture by ssc_lot_unit() when not set
+ * before; each unit's analysis into its row; the spread and verdicts.
+ * Each prints its errors and returns an exit code. */
+struct ssc_lot_result *ssc_lot_new(const char *cmd, size_t n,
+				   const char *const *paths,
+				   const char *const *labels, double level,
+				   const char *spec_path, double smooth_s,
+				   int *rc);
+int ssc_lot_set_channels(const char *cmd, struct ssc_lot_result *r, bool temp,
+			 const char *const *names,
+			 const enum sscope_quantity *q, size_t n);
+int ssc_lot_unit(const char *cmd, struct ssc_lot_result *r, size_t u,
+		 const struct sscope_capture *cap, struct sscope_noise_plan *plan);
+int ssc_lot_finish(const char *cmd, struct ssc_lot_result *r);
+
+/* Runs split over machines (lot-jobs.c): --plan-jobs ENGINE:DIR writes
+ * DIR/plan.json and the engine's file (slurm: DIR/lot.sbatch, parallel:
+ * DIR/jobs.txt) for env's units; --job DIR:I analyses unit I into
+ * DIR/unit-I.json; --merge DIR makes the lot of those results (*out as
+ * ssc_lot_run's).  Each prints its errors and returns an exit code. */
+int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
+		      const char *dir, double level, const char *spec,
+		      double smooth_s, char *note, size_t len);
+int ssc_lot_job(const struct ssc_common *co, const char *arg, char *note,
+		size_t len);
+int ssc_lot_merge(const struct ssc_common *co, const char *dir,
+		  struct ssc_lot_result **out);
+void ssc_lot_merged_free(struct ssc_lot_merged *m);
+
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);
 void ssc_lot_text(FILE *f, const void *opts, const void *result);

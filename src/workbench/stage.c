@@ -551,6 +551,8 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	env.caps = loaded ? caps : NULL;
 	env.paths = paths;
 	env.labels = ops_in.n ? (const char *const *)ops_in.label : NULL;
+	env.unit_columns = ops_in.n ? (const char *const *)ops_in.columns : NULL;
+	env.unit_temps = ops_in.n ? (const char *const *)ops_in.temp : NULL;
 	env.n_caps = (size_t)n;
 	env.sensor = call->sensor;
 	env.sensor_path = call->sensor_path;

@@ -62,6 +62,9 @@ struct ssc_stage_env {
 	int (*load)(const struct ssc_stage_env *env, size_t i,
 		    struct sscope_capture **cap);
 	const void *load_ctx;
+	/* a manifest's channels and temperature column of each input
+	 * (entries NULL: none given), or NULL without a manifest */
+	const char *const *unit_columns, *const *unit_temps;
 };
 
 /* Inputs a stage needs (for scene planning). */
