@@ -180,8 +180,28 @@ run "two units" 2 lot "$T/unit1.csv" "$T/unit2.csv"
 one_line_error "two units"
 run "bad --ci" 2 lot --ci 2 "$T"/unit[1-3].csv
 one_line_error "bad --ci"
-run "csv refused" 2 lot --format csv "$T"/unit[1-3].csv
-one_line_error "csv refused"
+# CSV: one row per unit, channel and term, the JSON's numbers; the
+# report folder: the lot's page, a page per unit, the JSON equal to
+# --format json's, never into a folder that holds something
+run "csv" 0 lot --format csv "$L"/unit*.csv
+[ "$(wc -l <"$T/out")" -eq 73 ] && ok "csv: 12 units x 6 terms and a header" || not_ok "csv: 12 units x 6 terms and a header"
+has "csv: header" "$T/out" '^unit,path,channel,term,value,lo,hi,value_unit,se,present,z,outlier,limit,verdict,doubt$'
+has "csv: the outlier's bias" "$T/out" '^unit07.csv,.*,ax,bias,1822\.[0-9]*,.*,ug,.*,yes,[0-9.]*,yes,,,$'
+n1=$(jq -r '.units[0].channels[0].terms.N.value' "$T/sample.json" 2>/dev/null)
+n2=$(awk -F, '$1 == "unit01.csv" && $4 == "N" { print $5 }' "$T/out")
+awk -v a="$n1" -v b="$n2" 'BEGIN { exit !(b != "" && (a - b) ^ 2 <= (1e-9 * a) ^ 2) }' &&
+	ok "csv: unit01's N is the JSON's ($n2)" || not_ok "csv: unit01's N is the JSON's ($n1 / $n2)"
+run "report" 0 lot --report "$T/rep" --format json "$L"/unit*.csv
+for f in index.html lot.json lot.csv lot.svg lot-adev.svg units/unit-0.html units/unit-11.html; do
+	[ -s "$T/rep/$f" ] && ok "report: $f" || not_ok "report: $f"
+done
+cmp -s "$T/rep/lot.json" "$T/sample.json" && ok "report: its lot.json is --format json's" ||
+	not_ok "report: its lot.json is --format json's"
+has "report: the lot's page links each unit" "$T/rep/index.html" 'href="units/unit-6.html">unit07.csv</a>'
+has "report: the outlier marked on its page" "$T/rep/units/unit-6.html" 'OUTLIER \(z 7'
+has "report: figures inline" "$T/rep/index.html" '<svg'
+run "report into a folder that holds something" 1 lot --report "$T/rep" "$L"/unit*.csv
+one_line_error "report into a folder that holds something"
 sed '1s/gx/gy/' "$T/unit1.csv" >"$T/other.csv"
 run "a unit without the first's channel" 1 lot "$T/unit1.csv" "$T/unit2.csv" "$T/other.csv"
 one_line_error "a unit without the first's channel"

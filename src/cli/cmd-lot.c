@@ -11,7 +11,7 @@
 #include "lot.h"
 #include "stage.h"
 
-enum { O_LEVEL = 300, O_SPEC, O_SMOOTH, O_MANIFEST, O_PLAN, O_JOB, O_MERGE };
+enum { O_LEVEL = 300, O_SPEC, O_SMOOTH, O_MANIFEST, O_PLAN, O_JOB, O_MERGE, O_REPORT };
 
 static const struct ssc_option lot_opts[] = {
 	{ "ci", required_argument, O_LEVEL, "LEVEL",
@@ -22,6 +22,8 @@ static const struct ssc_option lot_opts[] = {
 	  "moving mean of the biases in --plot's figure (default 1/100 of the shortest record)" },
 	{ "manifest", required_argument, O_MANIFEST, "FILE.csv",
 	  "the units: a CSV with columns unit,file[,channels][,temperature] (files relative to it), read after the operands (command line only)" },
+	{ "report", required_argument, O_REPORT, "DIR",
+	  "write DIR (new or empty): index.html (the spread, the verdicts, both figures, one row per unit linking to its page units/unit-N.html), lot.json, lot.csv, the figures" },
 	{ "plan-jobs", required_argument, O_PLAN, "slurm|parallel:DIR",
 	  "analyse nothing: write DIR (new) with plan.json and a Slurm job-array script (lot.sbatch) or a GNU parallel command file (jobs.txt), one task per unit" },
 	{ "job", required_argument, O_JOB, "DIR:I",
@@ -60,6 +62,7 @@ struct opts {
 	const char *spec, *manifest;
 	double smooth_s;
 	const char *plan, *job, *merge; /* split over machines */
+	const char *report;             /* --report DIR */
 };
 
 static void init(void *opts)
@@ -70,6 +73,7 @@ static void init(void *opts)
 	((struct opts *)opts)->plan = NULL;
 	((struct opts *)opts)->job = NULL;
 	((struct opts *)opts)->merge = NULL;
+	((struct opts *)opts)->report = NULL;
 }
 
 static int handler(int key, const char *arg, void *ctx)
@@ -100,6 +104,10 @@ static int handler(int key, const char *arg, void *ctx)
 		o->merge = arg;
 		return 0;
 	}
+	if (key == O_REPORT) {
+		o->report = arg;
+		return 0;
+	}
 	if (key == O_SMOOTH)
 		return ssc_arg_double("lot", "smooth", arg, &o->smooth_s) ? SSC_EXIT_USAGE :
 		       o->smooth_s > 0 ? 0 : ssc_usage_error("lot", "--smooth: a time > 0 s");
@@ -115,15 +123,14 @@ static int check(struct ssc_common *co, void *opts)
 {
 	const struct opts *o = opts;
 
-	if (co->format == SSC_FMT_CSV)
-		return ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
 	if (!!o->plan + !!o->job + !!o->merge > 1)
 		return ssc_usage_error(co->cmd, "--plan-jobs, --job and --merge exclude each other");
 	if ((o->job || o->merge) && (o->spec || o->manifest || o->smooth_s > 0))
 		return ssc_usage_error(co->cmd, "%s: the plan holds the options (give --spec, --smooth, --ci, --manifest to --plan-jobs)",
 				       o->job ? "--job" : "--merge");
-	if ((o->plan || o->job) && co->plot)
-		return ssc_usage_error(co->cmd, "--plot: draw the merged lot (with --merge)");
+	if ((o->plan || o->job) && (co->plot || o->report))
+		return ssc_usage_error(co->cmd, "%s: of the merged lot (with --merge)",
+				       co->plot ? "--plot" : "--report");
 	return 0;
 }
 
@@ -172,6 +179,14 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	return 0;
 }
 
+static int write_files(const struct ssc_common *co, const void *opts,
+		       const void *result)
+{
+	const struct opts *o = opts;
+
+	return o->report ? ssc_lot_report(co, result, o->report) : 0;
+}
+
 /* one unit's record at a time (memory of one record, whatever the lot) */
 static bool streams(const void *opts)
 {
@@ -194,6 +209,8 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.streams = streams,
 	.run = run,
 	.json = ssc_lot_json,
+	.csv = ssc_lot_csv,
+	.write = write_files,
 	.text = ssc_lot_text,
 	.summary = ssc_lot_summary,
 	.plot = ssc_lot_plot,

@@ -536,6 +536,27 @@ static double conv(const struct ssc_lot_result *r, size_t c, int t, double si,
 
 static const char *const verdict_key[3] = { "inconclusive", "within_spec", "out_of_spec" };
 
+double ssc_lot_value(const struct ssc_lot_result *r, size_t c, int t, double si,
+		     const char **unit)
+{
+	return conv(r, c, t, si, unit);
+}
+
+const char *ssc_lot_term_key(int t)
+{
+	return term_key[t];
+}
+
+const char *ssc_lot_unit_name(const struct ssc_lot_result *r, size_t u)
+{
+	return unit_name(r, u);
+}
+
+const char *ssc_lot_doubt(const struct ssc_lot_cell *cl, int t)
+{
+	return cell_doubt(cl, t);
+}
+
 /* a unit's term against its limit */
 static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
 			      const struct ssc_lot_cell *cl)

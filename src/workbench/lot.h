@@ -137,6 +137,22 @@ int ssc_lot_merge(const struct ssc_common *co, const char *dir,
 		  struct ssc_lot_result **out);
 void ssc_lot_merged_free(struct ssc_lot_merged *m);
 
+/* For the presenters of lot-report.c: an SI value in the term's unit as
+ * the text shows it (*unit set), the term's JSON key, a unit's name, why a
+ * unit's interval is doubtful (NULL: it is not). */
+double ssc_lot_value(const struct ssc_lot_result *r, size_t c, int t, double si,
+		     const char **unit);
+const char *ssc_lot_term_key(int t);
+const char *ssc_lot_unit_name(const struct ssc_lot_result *r, size_t u);
+const char *ssc_lot_doubt(const struct ssc_lot_cell *cl, int t);
+/* --format csv: one row per unit, channel and term (lot-report.c) */
+void ssc_lot_csv(FILE *f, const void *opts, const void *result);
+/* --report DIR (a new folder): index.html (the lot's table, both figures,
+ * one row per unit linking to its page units/unit-N.html), lot.json,
+ * lot.csv, the figures' SVG files; prints errors, returns an exit code */
+int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
+		   const char *dir);
+
 /* the stage's presenters (opts unused; result a struct ssc_lot_result) */
 json_t *ssc_lot_json(const void *opts, const void *result);
 void ssc_lot_text(FILE *f, const void *opts, const void *result);
