@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # make bench: start-up against /bin/true, and the default thread team
 # against one and two threads, idle and beside a CPU-bound competitor
-# (tests/bench-load.py, whole process; issue 35).  Needs a Python 3 with
+# (tests/bench-load.py, whole process).  Needs a Python 3 with
 # numpy: $PYTHON, else Debian's /usr/bin/python3, else python3 on PATH;
 # skipped without numpy.
 set -eu

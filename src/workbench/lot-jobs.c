@@ -115,16 +115,6 @@ static json_t *read_json(const char *cmd, const char *path, const char *kind,
 	return j;
 }
 
-static char *join(const char *dir, const char *name)
-{
-	size_t n = strlen(dir) + strlen(name) + 2;
-	char *p = malloc(n);
-
-	if (p)
-		snprintf(p, n, "%s/%s", dir, name);
-	return p;
-}
-
 /* --------------------------------------------------------- the plan */
 
 static json_t *opt_str(const char *s)
@@ -202,7 +192,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 	snprintf(seed, sizeof(seed), "%ld.%ld %d %s", (long)time(NULL),
 		 (long)clock(), (int)getpid(), env->n_caps ? env->paths[0] : "");
 	{
-		char *sp = join(dir, ".id");
+		char *sp = ssc_path_join(dir, ".id");
 
 		if (!sp || ssc_file_put(sp, seed, strlen(seed)) || ssc_sha256_file(sp, id))
 			snprintf(id, sizeof(id), "%s", seed);
@@ -234,7 +224,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		json_decref(plan);
 		return rc;
 	}
-	path = join(dir, "plan.json");
+	path = ssc_path_join(dir, "plan.json");
 	rc = path ? write_json(cmd, path, plan) : ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	free(path);
 	if (rc)
@@ -244,7 +234,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		char *adir = realpath(dir, NULL);
 		bool slurm = !strcmp(engine, "slurm");
 
-		path = join(dir, slurm ? "lot.sbatch" : "jobs.txt");
+		path = ssc_path_join(dir, slurm ? "lot.sbatch" : "jobs.txt");
 		if (!adir || !path) {
 			free(adir);
 			free(path);
@@ -395,7 +385,7 @@ int ssc_lot_job(const struct ssc_common *co0, const char *arg, char *note,
 
 	if (rc)
 		return rc;
-	path = join(dir, "plan.json");
+	path = ssc_path_join(dir, "plan.json");
 	plan = path ? read_json(cmd, path, PLAN_KIND, &rc) : NULL;
 	if (!plan) {
 		rc = rc ? rc : ssc_fail(cmd, -ENOMEM, NULL, NULL);
@@ -454,7 +444,7 @@ int ssc_lot_job(const struct ssc_common *co0, const char *arg, char *note,
 	json_object_set_new(out, "channels", chans);
 	free(path);
 	snprintf(name, sizeof(name), "unit-%zu.json", i);
-	path = join(dir, name);
+	path = ssc_path_join(dir, name);
 	rc = path ? write_json(cmd, path, out) : ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	if (!rc)
 		snprintf(note, len, "unit %zu (%s) analysed: %s", i, file, path);
@@ -525,7 +515,7 @@ int ssc_lot_merge(const struct ssc_common *co, const char *dir,
 {
 	struct ssc_lot_merged *m = calloc(1, sizeof(*m));
 	const char *cmd = co->cmd;
-	char *path = join(dir, "plan.json"), name[32], hex[65];
+	char *path = ssc_path_join(dir, "plan.json"), name[32], hex[65];
 	json_t *plan, *units, **res = NULL;
 	struct ssc_lot_result *r = NULL;
 	size_t n;
@@ -566,7 +556,7 @@ int ssc_lot_merge(const struct ssc_common *co, const char *dir,
 		m->paths[i] = get_str(u, "path");
 		m->labels[i] = get_str(u, "label");
 		snprintf(name, sizeof(name), "unit-%zu.json", i);
-		path = join(dir, name);
+		path = ssc_path_join(dir, name);
 		if (!path) {
 			rc = ssc_fail(cmd, -ENOMEM, NULL, NULL);
 			goto fail;

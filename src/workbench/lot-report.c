@@ -195,16 +195,6 @@ static bool empty_dir(const char *dir)
 	return empty;
 }
 
-static char *join(const char *dir, const char *name)
-{
-	size_t n = strlen(dir) + strlen(name) + 2;
-	char *p = malloc(n);
-
-	if (p)
-		snprintf(p, n, "%s/%s", dir, name);
-	return p;
-}
-
 static void lot_table(struct ssc_html *h, const struct ssc_lot_result *r)
 {
 	static const char *const head[] = {
@@ -220,8 +210,7 @@ static void lot_table(struct ssc_html *h, const struct ssc_lot_result *r)
 	for (size_t c = 0; c < r->n_chan; c++)
 		for (int t = 0; t < SSC_LOT_NT; t++) {
 			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
-			const struct sscope_lot_spread *s = &T->sp;
-			char shown[32], m[96], b[96], a1[32], a2[32], a3[32], out[1024] = "";
+			char shown[32], m[96], b[96], out[1024] = "";
 			const char *unit, *cells[7];
 
 			if (t == SSC_LOT_TEMPCO && !r->temp)
@@ -229,14 +218,7 @@ static void lot_table(struct ssc_html *h, const struct ssc_lot_result *r)
 			ssc_lot_value(r, c, t, 1, &unit);
 			snprintf(shown, sizeof(shown), "%zu of %zu", T->n_resolved, r->n_units);
 			if (T->done) {
-				snprintf(m, sizeof(m), "%s [%s, %s]",
-					 ssc_fmt(a1, sizeof(a1), ssc_lot_value(r, c, t, s->mean, &unit), 4),
-					 ssc_fmt(a2, sizeof(a2), ssc_lot_value(r, c, t, s->mean_lo, &unit), 4),
-					 ssc_fmt(a3, sizeof(a3), ssc_lot_value(r, c, t, s->mean_hi, &unit), 4));
-				snprintf(b, sizeof(b), "%s [%s, %s]",
-					 ssc_fmt(a1, sizeof(a1), ssc_lot_value(r, c, t, s->between_sd, &unit), 3),
-					 ssc_fmt(a2, sizeof(a2), ssc_lot_value(r, c, t, s->between_lo, &unit), 3),
-					 ssc_fmt(a3, sizeof(a3), ssc_lot_value(r, c, t, s->between_hi, &unit), 3));
+				ssc_lot_spread_text(r, c, t, m, sizeof(m), b, sizeof(b));
 			} else {
 				snprintf(m, sizeof(m), "fewer than 3 units: no spread");
 				b[0] = 0;
@@ -317,22 +299,22 @@ int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
 			strerror(errno));
 		return SSC_EXIT_FAIL;
 	}
-	ud = join(dir, "units");
+	ud = ssc_path_join(dir, "units");
 	if (!ud || (mkdir(ud, 0777) && errno != EEXIST)) {
 		ssc_err(cmd, "--report: %s: %s", ud ? ud : dir, strerror(ud ? errno : ENOMEM));
 		free(ud);
 		return SSC_EXIT_FAIL;
 	}
 	/* the figures, the JSON and the CSV */
-	p = join(dir, "lot.svg");
+	p = ssc_path_join(dir, "lot.svg");
 	rc = p ? ssc_lot_plot(co, NULL, r, p) : ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	free(p);
-	p = join(dir, "lot.json");
+	p = ssc_path_join(dir, "lot.json");
 	cj.output = p;
 	if (!rc)
 		rc = p ? ssc_emit_json(&cj, ssc_lot_json(NULL, r)) : ssc_fail(cmd, -ENOMEM, NULL, NULL);
 	free(p);
-	p = join(dir, "lot.csv");
+	p = ssc_path_join(dir, "lot.csv");
 	if (!rc && !(rc = p ? ssc_file_open(cmd, p, &at) : ssc_fail(cmd, -ENOMEM, NULL, NULL))) {
 		ssc_lot_csv(at.f, NULL, r);
 		rc = ssc_file_close(&at, !ferror(at.f));
@@ -340,7 +322,7 @@ int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
 	free(p);
 	for (size_t u = 0; u < r->n_units && !rc; u++) {
 		snprintf(name, sizeof(name), "unit-%zu.html", u);
-		p = join(ud, name);
+		p = ssc_path_join(ud, name);
 		rc = p ? unit_page(r, u, p) : -ENOMEM;
 		if (rc)
 			rc = ssc_write_failed(cmd, p ? p : ud, rc);
@@ -356,11 +338,11 @@ int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
 			   PACKAGE_VERSION);
 		lot_table(h, r);
 		ssc_html_h2(h, "figures", "Figures");
-		p = join(dir, "lot.svg");
+		p = ssc_path_join(dir, "lot.svg");
 		if (p)
 			ssc_html_svg(h, p, "Each unit's bias against time (a moving mean), outliers thick red and named, the median and 5-95 % band of the others.", "lot.svg");
 		free(p);
-		p = join(dir, "lot-adev.svg");
+		p = ssc_path_join(dir, "lot-adev.svg");
 		if (p)
 			ssc_html_svg(h, p, "Each unit's Allan deviation with the median of the units (outliers in N, B or K thick red).", "lot-adev.svg");
 		free(p);
@@ -379,7 +361,7 @@ int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
 			}
 			free(text);
 		}
-		p = join(dir, "index.html");
+		p = ssc_path_join(dir, "index.html");
 		rc = p ? ssc_html_write(h, p) : -ENOMEM;
 		if (rc)
 			rc = ssc_write_failed(cmd, p ? p : dir, rc);

@@ -542,6 +542,23 @@ double ssc_lot_value(const struct ssc_lot_result *r, size_t c, int t, double si,
 	return conv(r, c, t, si, unit);
 }
 
+void ssc_lot_spread_text(const struct ssc_lot_result *r, size_t c, int t,
+			 char *mean, size_t ml, char *sd, size_t sl)
+{
+	const struct sscope_lot_spread *s = &r->term[c * SSC_LOT_NT + (size_t)t].sp;
+	char a[32], b[32], d[32];
+	const char *unit;
+
+	snprintf(mean, ml, "%s [%s, %s]",
+		 ssc_fmt(a, sizeof(a), conv(r, c, t, s->mean, &unit), 4),
+		 ssc_fmt(b, sizeof(b), conv(r, c, t, s->mean_lo, &unit), 4),
+		 ssc_fmt(d, sizeof(d), conv(r, c, t, s->mean_hi, &unit), 4));
+	snprintf(sd, sl, "%s [%s, %s]",
+		 ssc_fmt(a, sizeof(a), conv(r, c, t, s->between_sd, &unit), 3),
+		 ssc_fmt(b, sizeof(b), conv(r, c, t, s->between_lo, &unit), 3),
+		 ssc_fmt(d, sizeof(d), conv(r, c, t, s->between_hi, &unit), 3));
+}
+
 const char *ssc_lot_term_key(int t)
 {
 	return term_key[t];
@@ -812,7 +829,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 void ssc_lot_text(FILE *f, const void *opts, const void *result)
 {
 	const struct ssc_lot_result *r = result;
-	char a[32], b[32], c3[32], d[32], e[32], g[32];
+	char a[32];
 
 	(void)opts;
 	if (r->note[0]) {
@@ -839,14 +856,7 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 					r->chan[c], term_key[t], unit, T->n_resolved, r->n_units);
 				continue;
 			}
-			snprintf(m, sizeof(m), "%s [%s, %s]",
-				 ssc_fmt(a, sizeof(a), conv(r, c, t, s->mean, &unit), 4),
-				 ssc_fmt(b, sizeof(b), conv(r, c, t, s->mean_lo, &unit), 4),
-				 ssc_fmt(c3, sizeof(c3), conv(r, c, t, s->mean_hi, &unit), 4));
-			snprintf(bs, sizeof(bs), "%s [%s, %s]",
-				 ssc_fmt(d, sizeof(d), conv(r, c, t, s->between_sd, &unit), 3),
-				 ssc_fmt(e, sizeof(e), conv(r, c, t, s->between_lo, &unit), 3),
-				 ssc_fmt(g, sizeof(g), conv(r, c, t, s->between_hi, &unit), 3));
+			ssc_lot_spread_text(r, c, t, m, sizeof(m), bs, sizeof(bs));
 			snprintf(un, sizeof(un), "%zu/%zu", s->k_used, r->n_units);
 			fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s", r->chan[c], term_key[t],
 				unit, m, bs, un);

@@ -313,6 +313,16 @@ int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok)
 	return ssc_file_close(out, ok);
 }
 
+char *ssc_path_join(const char *dir, const char *name)
+{
+	size_t n = strlen(dir) + strlen(name) + 2;
+	char *p = malloc(n);
+
+	if (p)
+		snprintf(p, n, "%s/%s", dir, name);
+	return p;
+}
+
 int ssc_file_put(const char *path, const void *buf, size_t len)
 {
 	struct ssc_atomic a;

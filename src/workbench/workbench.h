@@ -231,6 +231,8 @@ int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok);
 /* Write a whole file (a figure, a page); returns 0 or -errno, prints
  * nothing. */
 int ssc_file_put(const char *path, const void *buf, size_t len);
+/* "dir/name" (a new string; NULL when out of memory). */
+char *ssc_path_join(const char *dir, const char *name);
 /* The one message for an output that could not be written: "CMD: PATH:
  * <strerror>".  Returns the exit code (2 for -ENOTSUP, else 1). */
 int ssc_write_failed(const char *cmd, const char *path, int rc);
