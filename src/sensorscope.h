@@ -96,5 +96,6 @@
 #include "sscope-adequacy.h"
 #include "sscope-datasheet.h"
 #include "sscope-lot.h"
+#include "sscope-plan.h"
 
 #endif /* SENSORSCOPE_H */
