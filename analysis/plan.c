@@ -164,23 +164,91 @@ static double wls_sd(const struct pdesign *d, unsigned mask, int j, double s,
 	return var > 0 ? sqrt(var) / s : (double)NAN;
 }
 
-/* relative half-width of the coefficient's interval for an estimate xr
- * (relative to the true square); INFINITY when the fit of every term does
- * not resolve the square at zdet sd (the fit's interval is then one-sided,
- * lo = 0) */
-static double rel_width(const struct pdesign *d, int j, double s, double xr,
-			double z, double zdet)
-{
-	double sd = wls_sd(d, (1u << NT) - 1, j, s, xr);
-	double hi, lo;
+/*
+ * The fit's interval of the square for an estimate xr (relative to the true
+ * square), by the Neyman construction of its bootstrap (noisefit.c,
+ * boot_solve()) with normal margins: the estimate at a tested value b has
+ * sd s(b) (wls_sd()), and the acceptance region leaves below it
+ * beta(b) = alpha (1 - Phi(b / s(b) - zdet) / 2) and above it
+ * alpha - beta(b): one-sided for a b the record cannot resolve, central for
+ * one it resolves.  The bounds are the smallest and largest b that accept
+ * xr; returns the relative half-width (hi - lo) / (2 sqrt(xr)) of the
+ * coefficient's interval, INFINITY when lo = 0 (the fit's interval is then
+ * a bound, not two-sided) or hi has no finite value.
+ */
+struct ney {
+	const struct pdesign *d;
+	int j;
+	double s, alpha, zdet;
+};
 
-	if (!isfinite(sd))
+static double ney_beta(const struct ney *c, double b, double *sd)
+{
+	*sd = wls_sd(c->d, (1u << NT) - 1, c->j, c->s, b);
+	if (!(*sd > 0))
 		return NAN;
-	if (!(xr > zdet * sd))
-		return INFINITY;
-	hi = sqrt(xr + z * sd);
-	lo = sqrt(fmax(0, xr - z * sd));
-	return (hi - lo) / (2 * sqrt(xr));
+	return c->alpha * (1 - gsl_cdf_ugaussian_P(b / *sd - c->zdet) / 2);
+}
+
+/* does the acceptance region of b hold x? side -1: its upper limit (for
+ * the lower bound), +1 its lower limit */
+static int ney_in(const struct ney *c, double b, double x, int side)
+{
+	double sd, beta = ney_beta(c, b, &sd);
+
+	if (isnan(beta))
+		return -1;
+	if (side < 0)
+		return gsl_cdf_ugaussian_Q((x - b) / sd) >= c->alpha - beta;
+	return gsl_cdf_ugaussian_P((x - b) / sd) >= beta;
+}
+
+static double rel_width(const struct pdesign *d, int j, double s, double xr,
+			double level, double zdet)
+{
+	struct ney c = { d, j, s, 1 - level, zdet };
+	double lo = 0, hi = xr, l2, h2;
+	int in = ney_in(&c, 0, xr, -1);
+
+	if (in < 0)
+		return NAN;
+	if (in)
+		return INFINITY; /* lo = 0 */
+	while (hi / (lo > 0 ? lo : hi * 1e-12) > 1 + 1e-7 && hi - lo > 1e-9 * hi) {
+		double m = (lo + hi) / 2;
+
+		in = ney_in(&c, m, xr, -1);
+		if (in < 0)
+			return NAN;
+		if (in)
+			hi = m;
+		else
+			lo = m;
+	}
+	l2 = hi;
+	lo = xr;
+	hi = 2 * xr;
+	while ((in = ney_in(&c, hi, xr, +1)) == 1) {
+		lo = hi;
+		hi *= 2;
+		if (hi > 1e9 * xr)
+			return INFINITY;
+	}
+	if (in < 0)
+		return NAN;
+	while (hi - lo > 1e-7 * hi) {
+		double m = (lo + hi) / 2;
+
+		in = ney_in(&c, m, xr, +1);
+		if (in < 0)
+			return NAN;
+		if (in)
+			lo = m;
+		else
+			hi = m;
+	}
+	h2 = lo;
+	return (sqrt(h2) - sqrt(l2)) / (2 * sqrt(xr));
 }
 
 /*
@@ -356,7 +424,7 @@ static int predict(const double coef[NT], double rate_hz, double length_s,
 {
 	struct pdesign d = { 0 };
 	size_t m[MAX_POINTS], terms[MAX_POINTS], count, np, nsamp;
-	double s = coef[j] * coef[j], sd1, sd0, z, xs;
+	double s = coef[j] * coef[j], sd1, sd0, xs;
 	unsigned mask = 0;
 	int rc;
 
@@ -451,25 +519,24 @@ static int predict(const double coef[NT], double rate_hz, double length_s,
 		goto out;
 	out->p_present = gsl_cdf_ugaussian_P((s - o->detect_sigma * sd0) / sd1);
 	/* precision: x* where the relative half-width reaches the target */
-	z = gsl_cdf_ugaussian_Pinv(0.5 + o->ci_level / 2);
-	out->rel_half_width = rel_width(&d, j, s, 1, z, o->detect_sigma);
+	out->rel_half_width = rel_width(&d, j, s, 1, o->ci_level, o->detect_sigma);
 	xs = wls_sd(&d, (1u << NT) - 1, j, s, 1);
 	if (isnan(out->rel_half_width) || !isfinite(xs)) {
 		rc = -EDOM;
 		goto out;
 	}
 	{
-		double lo = 1e-6, hi = 1e6, wl = rel_width(&d, j, s, lo, z, o->detect_sigma),
-		       wh = rel_width(&d, j, s, hi, z, o->detect_sigma);
+		double lo = 1e-6, hi = 1e6, wl = rel_width(&d, j, s, lo, o->ci_level, o->detect_sigma),
+		       wh = rel_width(&d, j, s, hi, o->ci_level, o->detect_sigma);
 
 		if (!(wh <= target)) {
 			out->p_width = 0;
 		} else if (wl <= target) {
 			out->p_width = 1;
 		} else {
-			while (hi / lo > 1 + 1e-9) {
+			while (hi / lo > 1 + 1e-6) {
 				double mid = sqrt(lo * hi);
-				double w = rel_width(&d, j, s, mid, z, o->detect_sigma);
+				double w = rel_width(&d, j, s, mid, o->ci_level, o->detect_sigma);
 
 				if (w <= target)
 					hi = mid;

@@ -8,7 +8,8 @@
  * points.  Records at RATE Hz (default 10 Hz, to keep the run affordable:
  * B and K are read at long tau, where the rate hardly matters).  Then
  * PILOTS 10-minute pilots (default 10) of the first sensor, each fitted
- * and planned from its own terms: the needed length of B against the one
+ * and planned from its own terms (a term the pilot does not show present
+ * with its estimate, as `plan --pilot`): the needed length of B against the one
  * planned from the spec (target within +-25 %).
  *
  * Sensors: samples/gyro-mems-250.ini (N 0.2 deg/sqrt(h), B 4 deg/h,
@@ -127,8 +128,11 @@ static int pilots(const struct bsensor *s, double rate, int count,
 			sscope_allan_result_free(res);
 			continue;
 		}
+		/* as `plan --pilot`: a term not shown present by the pilot
+		 * enters with its estimate (every term free) */
 		for (int j = 0; j < 5; j++)
-			c[j] = res->fit.coef[j].present ? res->fit.coef[j].value : 0;
+			c[j] = res->fit.coef[j].present ? res->fit.coef[j].value :
+				res->fit.coef[j].estimate;
 		sscope_allan_result_free(res);
 		if (sscope_plan_needed(c, rate, (enum sscope_term)s->term,
 				       s->target, NULL, &need) == 0 &&

@@ -108,11 +108,16 @@ static int from_pilot(const struct ssc_common *co, const char *path,
 	for (int j = 0; j < 5; j++) {
 		const struct sscope_noise_coef *c = &res->fit.coef[j];
 
-		m->coef[j] = c->present && c->value > 0 ? c->value : 0;
+		/* a term the pilot does not show present enters with its
+		 * estimate (every term free), and says so */
+		m->coef[j] = c->present && c->value > 0 ? c->value :
+			     isfinite(c->estimate) ? c->estimate : 0;
 		if (!(m->coef[j] > 0))
 			snprintf(m->why[j], sizeof(m->why[0]),
-				 "the pilot does not show %c (a longer pilot may)",
+				 "the pilot gives no %c (its estimate is 0: a longer pilot may)",
 				 term_name[j]);
+		else if (!c->present)
+			m->unshown |= 1u << j;
 	}
 	sscope_allan_result_free(res);
 	sscope_capture_free(cap);
@@ -208,6 +213,11 @@ static int emit(const struct ssc_common *co, const struct ssc_plan_model *m,
 		json_object_set_new(root, "probability_wanted", ssc_jreal(po->probability));
 		json_object_set_new(root, "detect_sigma", ssc_jreal(po->detect_sigma));
 		json_object_set_new(root, "noise", model_json(m));
+		for (int j = 0; j < 5; j++)
+			if (m->unshown & (1u << j))
+				ssc_json_warn(root, "term_not_shown",
+					      "%c is not shown present by the pilot: its estimate is planned with, the plan is indicative",
+					      term_name[j]);
 		for (size_t i = 0; i < n_w; i++) {
 			json_t *t = json_object(), *ls = json_array();
 
@@ -243,6 +253,10 @@ static int emit(const struct ssc_common *co, const struct ssc_plan_model *m,
 		"and resolved to the relative half-width of its %.1f %% interval, with %.0f %% probability\n",
 		m->name[0] ? m->name : "sensor", m->kind, m->path, rate_hz,
 		100 * po->ci_level, 100 * po->probability);
+	for (int j = 0; j < 5; j++)
+		if (m->unshown & (1u << j))
+			fprintf(out.f, "note: %c is not shown present by the pilot: its estimate is planned with, the plan is indicative\n",
+				term_name[j]);
 	fprintf(out.f, "%-4s %7s %11s", "term", "target", "needed");
 	for (size_t k = 0; k < n_len; k++) {
 		char b[32];

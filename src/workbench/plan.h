@@ -21,6 +21,8 @@ struct ssc_plan_model {
 	const char *path;
 	double rate_hz;           /* the pilot's rate (0 for specs) */
 	double pilot_s;           /* the pilot's length, s */
+	unsigned unshown;         /* terms a pilot does not show present
+				     (planned with their estimate) */
 };
 
 /* One wish: term (enum sscope_term) to relative half-width target. */
