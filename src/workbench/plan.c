@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "acq/acq.h"
 #include "datasheet.h"
 
 static const char term_name[5] = { 'Q', 'N', 'B', 'K', 'R' };
@@ -313,4 +314,136 @@ int ssc_plan_report(const struct ssc_common *co, const struct ssc_plan_model *m,
 	rc = emit(co, m, w, n_w, r, n_len, rate_hz, &o);
 	free(r);
 	return rc;
+}
+
+/* ------------------------------------------------------------------ */
+/* acquire --until                                                      */
+
+struct ssc_until {
+	const char *cmd;
+	size_t channel;
+	char name[32];
+	int term;
+	double target, rate_hz;
+	bool quiet, reached;
+	double *x;
+	size_t n, cap, next_fit;
+	double width, fitted_s;
+	unsigned fits;
+	struct sscope_noise_plan *plan;
+};
+
+int ssc_until_new(const char *cmd, size_t channel, const char *chan_name,
+		  int term, double target, double rate_hz, bool quiet,
+		  struct ssc_until **out)
+{
+	struct ssc_until *u = calloc(1, sizeof(*u));
+
+	*out = NULL;
+	if (!u)
+		return -ENOMEM;
+	if (!(rate_hz > 0) || term < 0 || term > 4 || !(target > 0)) {
+		free(u);
+		return -EINVAL;
+	}
+	u->cmd = cmd;
+	u->channel = channel;
+	snprintf(u->name, sizeof(u->name), "%s", chan_name);
+	u->term = term;
+	u->target = target;
+	u->rate_hz = rate_hz;
+	u->quiet = quiet;
+	u->width = INFINITY;
+	u->next_fit = (size_t)fmax(64, 60 * rate_hz);
+	if (sscope_noise_plan_new(&u->plan))
+		u->plan = NULL;
+	*out = u;
+	return 0;
+}
+
+static void until_fit(struct ssc_until *u)
+{
+	struct sscope_allan_result *res = NULL;
+	struct sscope_noise_fit_opts fo = { 0 };
+	const struct sscope_noise_coef *c;
+	char len[32];
+
+	fo.plan = u->plan;
+	u->fits++;
+	u->fitted_s = (double)u->n / u->rate_hz;
+	fmt_len(len, sizeof(len), u->fitted_s);
+	if (sscope_allan_analyze(u->x, 1, u->n, u->rate_hz,
+				 SSCOPE_ALLAN_TAUS_DENSE, NULL, &fo, &res, NULL) ||
+	    !res->have_fit) {
+		sscope_allan_result_free(res);
+		return;
+	}
+	c = &res->fit.coef[u->term];
+	u->width = c->present && c->value > 0 && c->lo > 0 ?
+			   (c->hi - c->lo) / (2 * c->value) : (double)INFINITY;
+	u->reached = u->width <= u->target;
+	if (!u->quiet) {
+		if (isfinite(u->width))
+			fprintf(stderr, "sensorscope: %s: %s after %s: %c to %.1f %% (wanted %.1f %%)%s\n",
+				u->cmd, u->name, len, term_name[u->term],
+				100 * u->width, 100 * u->target,
+				u->reached ? ": resolved, stopping" : "");
+		else
+			fprintf(stderr, "sensorscope: %s: %s after %s: %c not yet resolved (%s)\n",
+				u->cmd, u->name, len, term_name[u->term],
+				c->present ? "its interval reaches 0" : "not shown present");
+	}
+	sscope_allan_result_free(res);
+}
+
+bool ssc_until_check(const struct ssc_acq_sample *s, size_t n,
+		     double elapsed_s, void *ctx)
+{
+	struct ssc_until *u = ctx;
+
+	(void)elapsed_s;
+	if (u->reached)
+		return true;
+	if (u->n + n > u->cap) {
+		size_t cap = u->cap ? 2 * u->cap : 65536;
+		double *x;
+
+		while (cap < u->n + n)
+			cap *= 2;
+		x = realloc(u->x, cap * sizeof(double));
+		if (!x)
+			return false; /* no more refits; the cap still stops */
+		u->x = x;
+		u->cap = cap;
+	}
+	for (size_t i = 0; i < n; i++) {
+		/* a gap: NaN rows as the capture's reader gives them */
+		for (uint32_t k = 0; k < s[i].missing && u->n < u->cap; k++)
+			u->x[u->n++] = (double)NAN;
+		if (u->n < u->cap)
+			u->x[u->n++] = s[i].v[u->channel];
+	}
+	if (u->n >= u->next_fit) {
+		until_fit(u);
+		u->next_fit = u->n + (size_t)fmax(1, 0.05 * (double)u->n);
+	}
+	return u->reached;
+}
+
+void ssc_until_state(const struct ssc_until *u, double *width,
+		     double *fitted_s, unsigned *fits, bool *reached)
+{
+	*width = u->width;
+	*fitted_s = u->fitted_s;
+	*fits = u->fits;
+	*reached = u->reached;
+}
+
+void ssc_until_free(struct ssc_until *u)
+{
+	if (!u)
+		return;
+	sscope_noise_plan_free(u->plan);
+	free(u->x);
+	free(u);
 }

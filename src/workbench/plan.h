@@ -46,4 +46,21 @@ int ssc_plan_report(const struct ssc_common *co, const struct ssc_plan_model *m,
 		    const double *lengths_s, size_t n_len, double rate_hz,
 		    const struct sscope_plan_opts *po);
 
+/* acquire --until: the recording's channel refitted as it grows (at 60 s
+ * of data, then every 5 % more), until the term is present with a relative
+ * half-width at most the target; progress on stderr unless quiet. */
+struct ssc_until;
+struct ssc_acq_sample;
+int ssc_until_new(const char *cmd, size_t channel, const char *chan_name,
+		  int term, double target, double rate_hz, bool quiet,
+		  struct ssc_until **u);
+/* the engine's until callback (ctx: the struct ssc_until) */
+bool ssc_until_check(const struct ssc_acq_sample *s, size_t n,
+		     double elapsed_s, void *ctx);
+/* the last fit: relative half-width (INFINITY when not present), data
+ * length fitted (s), number of fits, whether it was reached */
+void ssc_until_state(const struct ssc_until *u, double *width,
+		     double *fitted_s, unsigned *fits, bool *reached);
+void ssc_until_free(struct ssc_until *u);
+
 #endif /* SSCOPE_WB_PLAN_H */
