@@ -585,16 +585,23 @@ int sscope_plan_needed(const double coef[5], double rate_hz,
 	*length_s = INFINITY;
 	if (!(coef[term] > 0))
 		return 0;
-	hi = o.max_length_s;
-	if ((rc = predict(coef, rate_hz, hi, (int)term, target, &o, &pt)))
-		return rc;
-	if (pt.probability < o.probability)
-		return 0;
-	lo = fmin(hi, 32 / rate_hz);
-	if ((rc = predict(coef, rate_hz, lo, (int)term, target, &o, &pt)))
-		return rc;
-	if (pt.probability >= o.probability) {
-		*length_s = lo;
+	/* up in octaves to the first length that reaches the probability
+	 * (not from the longest: a model with a ramp or a strong random walk
+	 * can lose the term again in very long records), then bisect */
+	hi = fmin(o.max_length_s, 32 / rate_hz);
+	lo = 0;
+	for (;;) {
+		if ((rc = predict(coef, rate_hz, hi, (int)term, target, &o, &pt)))
+			return rc;
+		if (pt.probability >= o.probability)
+			break;
+		if (hi >= o.max_length_s)
+			return 0;
+		lo = hi;
+		hi = fmin(2 * hi, o.max_length_s);
+	}
+	if (lo == 0) {
+		*length_s = hi;
 		return 0;
 	}
 	while (hi / lo > 1.01) {

@@ -86,8 +86,9 @@ int sscope_plan_predict(const double coef[5], double rate_hz, double length_s,
 
 /**
  * The shortest record length whose predicted probability
- * (sscope_plan_predict()) reaches opts->probability, to 1 % (bisection
- * on the logarithm of the length, the probability growing with it).
+ * (sscope_plan_predict()) reaches opts->probability, to 1 %: lengths from
+ * 32 samples up in octaves to the first that reaches it, then bisection on
+ * the logarithm of the length.
  * @param length_s  receives the length, s; INFINITY when the term is 0 in
  *                  the model or the probability is not reached within
  *                  opts->max_length_s.

@@ -17,7 +17,8 @@
  * (N 0.15 deg/sqrt(h), B from the in-run bias stability 0.5 deg/h as the
  * Allan minimum: 0.5 / 0.6643 deg/h; no K given).
  *
- * Usage: bench-plan [RECORDS [RATE [PILOTS [SEED]]]]
+ * Usage: bench-plan [RECORDS [RATE [PILOTS [SEED [PILOT_S]]]]] (RECORDS 0: the
+ * pilots only; PILOT_S the pilots' length, default 600 s)
  */
 #include "config.h"
 
@@ -85,12 +86,12 @@ static int run_sensor(const struct bsensor *s, double rate, int records,
 	return 0;
 }
 
-/* pilots: 10 min each, fitted; the plan of B from the pilot's terms */
+/* pilots of pilot_s each, fitted; the plan of B from the pilot's terms */
 static int pilots(const struct bsensor *s, double rate, int count,
-		  uint64_t seed)
+		  uint64_t seed, double pilot_s)
 {
 	struct sscope_sensor_spec spec = { 0 };
-	size_t n = (size_t)llround(600 * rate);
+	size_t n = (size_t)llround(pilot_s * rate);
 	double *x = malloc(n * sizeof(double)), ref;
 	int within = 0, planned = 0;
 
@@ -108,8 +109,8 @@ static int pilots(const struct bsensor *s, double rate, int count,
 	spec.b = s->coef[2];
 	spec.k = s->coef[3];
 	spec.r = s->coef[4];
-	printf("# %d pilots of 10 min at %.0f Hz of %s: needed length of B from each pilot's fit, against %.2f h from the spec\n",
-	       count, rate, s->name, ref / 3600);
+	printf("# %d pilots of %.0f min at %.0f Hz of %s: needed length of B from each pilot's fit, against %.2f h from the spec\n",
+	       count, pilot_s / 60, rate, s->name, ref / 3600);
 	for (int p = 0; p < count; p++) {
 		struct sscope_sim_opts so = { 0 };
 		struct sscope_sim *sim = NULL;
@@ -158,6 +159,7 @@ int main(int argc, char **argv)
 	double rate = argc > 2 ? atof(argv[2]) : 10;
 	int npil = argc > 3 ? atoi(argv[3]) : 10;
 	uint64_t seed = argc > 4 ? strtoull(argv[4], NULL, 10) : 20261202u;
+	double pilot_s = argc > 5 ? atof(argv[5]) : 600;
 	const struct bsensor s[2] = {
 		{ "gyro-mems-250.ini",
 		  { 0, 0.2 * DEG / 60, 4 * DEG / 3600, 20 * DEG / 3600 / 60, 0 },
@@ -168,9 +170,9 @@ int main(int argc, char **argv)
 	};
 	int worst = 0, rc;
 
-	if (records < 1 || !(rate > 0))
+	if (records < 0 || !(rate > 0) || !(pilot_s > 0))
 		return 2;
-	for (int i = 0; i < 2; i++) {
+	for (int i = 0; i < 2 && records > 0; i++) {
 		rc = run_sensor(&s[i], rate, records, seed + 1000000u * (uint64_t)i,
 				&worst);
 		if (rc) {
@@ -179,7 +181,7 @@ int main(int argc, char **argv)
 			return 1;
 		}
 	}
-	{
+	if (records > 0) {
 		struct bsensor k = s[0];
 
 		k.term = SSCOPE_TERM_K;
@@ -194,7 +196,7 @@ int main(int argc, char **argv)
 			return 1;
 	}
 	printf("# %d rows outside +-10 points\n", worst);
-	if (npil > 0 && pilots(&s[0], rate, npil, seed))
+	if (npil > 0 && pilots(&s[0], rate, npil, seed, pilot_s))
 		return 1;
 	return 0;
 }

@@ -1669,10 +1669,10 @@ _PLAN_TERMS = "QNBKR"
 
 def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
                                                   43200.0, 86400.0),
-         ci=0.683, probability=0.9, max_length=30 * 86400.0):
+         ci=None, probability=0.9, max_length=30 * 86400.0):
     """The record length for each term of `resolve` ({"B": 0.25, ...}: the
     relative half-width (hi - lo) / (2 value) wanted of its interval at
-    level `ci`) to be shown present by the noise fit and resolved to it
+    level `ci`, default 0.6827 as the command) to be shown present by the noise fit and resolved to it
     with `probability`, and the probability at each of `lengths` (s), for
     a record at `rate` Hz, as `sensorscope plan`.  `sensor_or_terms`: a
     sensor spec INI path ([sensor] section) or a dict of IEEE 952 terms in
@@ -1704,6 +1704,8 @@ def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
     if not isinstance(resolve, dict) or not resolve:
         _bad(fn, "resolve", "a dict {term: relative half-width}, e.g. "
              "{'B': 0.25}")
+    if ci is None:
+        ci = 0.682689492137086
     o = _c.PlanOpts(_number(fn, "ci", ci), _number(fn, "probability",
                                                  probability), 3.0,
                     _positive(fn, "max_length", max_length))
