@@ -114,4 +114,11 @@ double ssc_htot_edf(int alpha, size_t m, size_t np);
 double ssc_theo1_edf(int alpha, size_t m, size_t np);
 double ssc_htot_bias(int alpha);
 
+/* sscope_noise_avar_cov() for n_coef coefficient sets at once (the sums
+ * over pairs of points computed once): cov receives n_coef blocks of
+ * n * n values. */
+int ssc_noise_avar_cov_many(const double (*coef)[5], size_t n_coef,
+			    double rate_hz, const size_t *m,
+			    const size_t *terms, size_t n, double *cov);
+
 #endif

@@ -423,14 +423,15 @@ SSC_OMP(omp for schedule(dynamic, 1))
 	return ps;
 }
 
-int sscope_noise_avar_cov(const double coef[5], double rate_hz,
-			  const size_t *m, const size_t *terms, size_t n,
-			  double *cov)
+int ssc_noise_avar_cov_many(const double (*coef)[5], size_t n_coef,
+			    double rate_hz, const size_t *m,
+			    const size_t *terms, size_t n, double *cov)
 {
 	struct pairsum *ps;
 	double dt;
 
-	if (!coef || !m || !terms || !cov || !(rate_hz > 0) || n == 0)
+	if (!coef || !m || !terms || !cov || !(rate_hz > 0) || n == 0 ||
+	    n_coef == 0)
 		return -EINVAL;
 	for (size_t i = 0; i < n; i++)
 		if (m[i] == 0 || terms[i] == 0)
@@ -439,16 +440,32 @@ int sscope_noise_avar_cov(const double coef[5], double rate_hz,
 	ps = all_pairs(m, terms, n, dt);
 	if (!ps)
 		return -ENOMEM;
-	for (size_t a = 0; a < n; a++)
-		for (size_t b = a; b < n; b++) {
-			double v = cov_from(&ps[a * n + b], coef,
-					    (double)m[a] * dt, (double)m[b] * dt,
-					    (double)terms[a], (double)terms[b]);
+	for (size_t k = 0; k < n_coef; k++) {
+		double *cv = cov + k * n * n;
 
-			cov[a * n + b] = cov[b * n + a] = v;
-		}
+		for (size_t a = 0; a < n; a++)
+			for (size_t b = a; b < n; b++) {
+				double v = cov_from(&ps[a * n + b], coef[k],
+						    (double)m[a] * dt,
+						    (double)m[b] * dt,
+						    (double)terms[a],
+						    (double)terms[b]);
+
+				cv[a * n + b] = cv[b * n + a] = v;
+			}
+	}
 	free(ps);
 	return 0;
+}
+
+int sscope_noise_avar_cov(const double coef[5], double rate_hz,
+			  const size_t *m, const size_t *terms, size_t n,
+			  double *cov)
+{
+	if (!coef)
+		return -EINVAL;
+	return ssc_noise_avar_cov_many((const double(*)[5])coef, 1, rate_hz,
+				       m, terms, n, cov);
 }
 
 /* ------------------------------------------------------------------ */

@@ -97,5 +97,6 @@
 #include "sscope-datasheet.h"
 #include "sscope-lot.h"
 #include "sscope-export.h"
+#include "sscope-plan.h"
 
 #endif /* SENSORSCOPE_H */

@@ -588,5 +588,16 @@ int main(void)
 	F(sscope_export_file, len);
 	F(sscope_export_file, warnings);
 	F(sscope_export_file, forcible);
+	S(sscope_plan_opts);
+	F(sscope_plan_opts, ci_level);
+	F(sscope_plan_opts, probability);
+	F(sscope_plan_opts, detect_sigma);
+	F(sscope_plan_opts, max_length_s);
+	S(sscope_plan_point);
+	F(sscope_plan_point, length_s);
+	F(sscope_plan_point, p_present);
+	F(sscope_plan_point, p_width);
+	F(sscope_plan_point, probability);
+	F(sscope_plan_point, rel_half_width);
 	return 0;
 }

@@ -302,6 +302,14 @@ struct ssc_acq_config {
 	void (*live)(const struct ssc_acq_live *snap, void *ctx);
 	void *live_ctx;
 	double live_period_s;
+	/* Optional: called by the writer thread with each batch of samples
+	 * it has handed to the file (elapsed_s: data time of the last);
+	 * returning true ends the run as a signal would (SSC_STOP_UNTIL):
+	 * every sample read is still written.  Its time is the writer's: a
+	 * paced source must have a ring that holds that long. */
+	bool (*until)(const struct ssc_acq_sample *s, size_t n,
+		      double elapsed_s, void *ctx);
+	void *until_ctx;
 	unsigned writer_delay_us;   /* tests: slow the writer down per batch */
 	uint64_t disk_bytes;        /* tests: the disk fills after so many
 				       bytes of the capture (0: never) */
@@ -315,6 +323,7 @@ enum ssc_acq_stop {
 	SSC_STOP_ERROR,
 	SSC_STOP_FULL,      /* the capture could not grow: disk full,
 			       quota or file size limit (res->error) */
+	SSC_STOP_UNTIL,     /* cfg->until said so */
 };
 
 struct ssc_acq_result {

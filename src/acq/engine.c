@@ -52,6 +52,7 @@ struct engine {
 	atomic_bool stop;
 	atomic_bool reader_done;
 	atomic_bool writer_dead; /* the writer stopped taking samples */
+	atomic_bool until_hit;   /* cfg->until asked for the stop */
 	int stop_fd;
 	/* reader results (read after join) */
 	enum ssc_acq_stop stop_reason;
@@ -421,6 +422,11 @@ static void *writer_main(void *arg)
 			break;
 		}
 		e->written += n;
+		if (e->cfg->until && !atomic_load(&e->until_hit) &&
+		    e->cfg->until(batch, n, elapsed, e->cfg->until_ctx)) {
+			atomic_store(&e->until_hit, true);
+			request_stop(e);
+		}
 		if (e->cfg->live) {
 			int64_t now = ssc_now_ns();
 
@@ -670,6 +676,8 @@ int ssc_acq_run(const struct ssc_acq_config *cfg, struct ssc_acq_result *res,
 	res->writer_cpu_s = e->writer_cpu;
 	res->rt_errno = e->rt_errno;
 	res->stop = e->stop_reason;
+	if (res->stop == SSC_STOP_SIGNAL && atomic_load(&e->until_hit))
+		res->stop = SSC_STOP_UNTIL;
 	res->error = e->reader_err;
 	rc = e->reader_err;
 	if (rc && diag)

@@ -10,7 +10,8 @@
  * simulator (analysis/sscope-sim.h, the model behind `sensorscope
  * simulate`): one stream per channel of the seed, white noise of density N
  * (so the Allan deviation of the capture is N / sqrt(tau), IEEE Std 952
- * Annex C) around a constant true input.
+ * Annex C) around a constant true input, and for the gyros optionally
+ * bias instability B (bi) and rate random walk K (rrw).
  */
 #include "acq.h"
 #include "ssc.h"
@@ -133,6 +134,7 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 	struct sim *s;
 	double arw = 0.34 * (M_PI / 180) / 60; /* 0.34 deg/sqrt(h) */
 	double vrw = 0.037 / 60;               /* 0.037 m/s/sqrt(h) */
+	double bi = 0, rrw = 0;                /* gyro B, K: none */
 	unsigned long seed = 1;
 	char *copy = NULL, *save = NULL;
 	int rc = 0;
@@ -190,6 +192,11 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		} else if (!strcmp(item, "arw")) {
 			rc = opt_quantity("arw", v, "rad/s/sqrt(Hz)", &arw,
 					  diag);
+		} else if (!strcmp(item, "bi")) {
+			rc = opt_quantity("bi", v, "rad/s", &bi, diag);
+		} else if (!strcmp(item, "rrw")) {
+			rc = opt_quantity("rrw", v, "rad/s^2/sqrt(Hz)", &rrw,
+					  diag);
 		} else if (!strcmp(item, "vrw")) {
 			rc = opt_quantity("vrw", v, "m/s^2/sqrt(Hz)", &vrw,
 					  diag);
@@ -216,7 +223,7 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 			}
 		} else {
 			rc = ssc_acq_diag(diag, -EINVAL,
-					  "sim: unknown option '%s' (rate, channels, seed, arw, vrw, temp, speed)",
+					  "sim: unknown option '%s' (rate, channels, seed, arw, bi, rrw, vrw, temp, speed)",
 					  item);
 		}
 		if (rc)
@@ -237,6 +244,8 @@ int ssc_source_sim_open(struct ssc_source **out, const char *opts,
 		spec.quantity = gyro ? SSCOPE_QUANTITY_ANGULAR_RATE :
 				       SSCOPE_QUANTITY_ACCELERATION;
 		spec.n = gyro ? arw : vrw;
+		spec.b = gyro ? bi : 0;
+		spec.k = gyro ? rrw : 0;
 		rc = sscope_sim_new(&s->sim[c], &spec, &so, diag);
 		if (rc)
 			goto fail;

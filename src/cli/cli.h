@@ -33,6 +33,7 @@ int ssc_cmd_heading(int argc, char **argv);
 int ssc_cmd_walk(int argc, char **argv);
 int ssc_cmd_navsim(int argc, char **argv);
 int ssc_cmd_datasheet(int argc, char **argv);
+int ssc_cmd_plan(int argc, char **argv);
 int ssc_cmd_audit(int argc, char **argv);
 int ssc_cmd_lot(int argc, char **argv);
 int ssc_cmd_nav(int argc, char **argv);

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "acq/acq.h"
+#include "plan.h"
 
 enum {
 	OPT_SPI = 300,
@@ -34,6 +35,7 @@ enum {
 	OPT_RTPRIO,
 	OPT_RING,
 	OPT_OVERWRITE,
+	OPT_UNTIL,
 };
 
 static const struct ssc_option options[] = {
@@ -51,6 +53,8 @@ static const struct ssc_option options[] = {
 	  "stop after N samples" },
 	{ "duration", required_argument, OPT_DURATION, "S",
 	  "stop after S seconds of data (units allowed: 10min)" },
+	{ "until", required_argument, OPT_UNTIL, "[CH:]T:W",
+	  "stop once the noise fit of channel CH (default the first) shows term T present with a relative half-width W (B:25%); needs --duration as the cap" },
 	{ "rate", required_argument, OPT_RATE, "HZ",
 	  "ADIS: set DEC_RATE for this output rate; spiadc: poll rate (or nominal rate with --drdy); sim: its rate" },
 	{ "speed", required_argument, OPT_SPEED, "HZ",
@@ -107,14 +111,18 @@ static const struct ssc_command_spec spec = {
 		"-o - writes the capture to stdout (the summary then goes to stderr);\n"
 		"FIFOs and devices are written directly.\n"
 		"\n"
-		"Exit status: 0 when stopped by --count, --duration or a signal; 1 for a\n"
+		"--until refits the channel at 60 s of data, then every 5 % more (allan's\n"
+		"fit, progress on stderr); the file holds every sample read.\n"
+		"\n"
+		"Exit status: 0 when stopped by --count, --duration, --until or a signal; 1 for a\n"
 		"device error, a timeout, a full disk or another write error (the samples\n"
 		"before it are kept and the message says where), or an existing FILE;\n"
 		"2 for usage errors.\n"
 		"\n"
-		"Simulator: --source sim[:rate=HZ,channels=1..6,seed=N,arw=Q,vrw=Q,temp=C,\n"
-		"speed=X|max]; defaults 1 kHz, 6 channels like an ADIS16470, seed 1,\n"
-		"white noise of ARW 0.34 deg/sqrt(h) and VRW 0.037 m/s/sqrt(h), real-time\n"
+		"Simulator: --source sim[:rate=HZ,channels=1..6,seed=N,arw=Q,bi=Q,rrw=Q,\n"
+		"vrw=Q,temp=C,speed=X|max]; defaults 1 kHz, 6 channels like an ADIS16470,\n"
+		"seed 1, white noise of ARW 0.34 deg/sqrt(h) and VRW 0.037 m/s/sqrt(h)\n"
+		"(gyros: bias instability bi and rate random walk rrw, default 0), real-time\n"
 		"pacing (speed=10 paces ten times faster, max unpaced).\n"
 		"\n"
 		"Converter frame: --device spiadc:tx=HEX[/HEX..],bits=N,range=LO:HI,\n"
@@ -142,6 +150,11 @@ struct acq_opts {
 	bool live, realtime, overwrite;
 	int rt_priority;
 	size_t ring;
+	const char *until_ch;
+	char until_name[32];
+	int until_term;
+	double until_w;
+	struct ssc_until *until;
 };
 
 static int handle(int key, const char *arg, void *ctx)
@@ -192,6 +205,28 @@ static int handle(int key, const char *arg, void *ctx)
 		return 0;
 	case OPT_DURATION:
 		return ssc_arg_positive("acquire", "duration", arg, "s", &o->duration_s);
+	case OPT_UNTIL: {
+		const char *c = strchr(arg, ':'), *t = arg, *q;
+		char *end;
+
+		if (c && strchr(c + 1, ':')) { /* CH:T:W */
+			snprintf(o->until_name, sizeof(o->until_name), "%.*s",
+				 (int)(c - arg), arg);
+			o->until_ch = o->until_name;
+			t = c + 1;
+		}
+		q = t[0] ? strchr("QNBKR", t[0]) : NULL;
+		o->until_w = q && t[1] == ':' ? strtod(t + 2, &end) : (double)NAN;
+		if (q && t[1] == ':' && end != t + 2 && *end == '%' && !end[1])
+			o->until_w /= 100;
+		else if (!q || t[1] != ':' || end == t + 2 || *end)
+			o->until_w = NAN;
+		if (!(o->until_w > 0) || !isfinite(o->until_w))
+			return ssc_usage_error("acquire", "--until: '%s' is not [CHANNEL:]TERM:WIDTH (TERM one of Q N B K R, WIDTH 25%% or 0.25)",
+					       arg);
+		o->until_term = (int)(q - "QNBKR");
+		return 0;
+	}
 	case OPT_RATE:
 		return ssc_arg_positive("acquire", "rate", arg, "Hz", &o->rate_hz);
 	case OPT_SPEED:
@@ -332,6 +367,8 @@ static const char *stop_name(const struct ssc_acq_result *r)
 		return "timeout";
 	case SSC_STOP_FULL:
 		return ssc_acq_full_words(r->error);
+	case SSC_STOP_UNTIL:
+		return "until";
 	default:
 		return "error";
 	}
@@ -381,6 +418,16 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 			: r->stop == SSC_STOP_FULL
 			? ": the capture ends at its last complete row"
 			: "");
+	if (o->until) {
+		double w, fs;
+		unsigned nf;
+		bool ok;
+
+		ssc_until_state(o->until, &w, &fs, &nf, &ok);
+		fprintf(f, "until:           %c to %.1f %% %s (%.1f %% after %.6g s, fits: %u)\n",
+			"QNBKR"[o->until_term], 100 * o->until_w,
+			ok ? "reached" : "not reached", 100 * w, fs, nf);
+	}
 	fprintf(f, "samples:         %llu\n", (unsigned long long)r->samples);
 	if (r->unsaved)
 		fprintf(f, "not saved:       %llu samples read after the write failed\n",
@@ -455,6 +502,21 @@ static json_t *json_summary(const struct acq_opts *o, const char *path,
 	}
 	json_object_set_new(j, "channels", ch);
 	json_object_set_new(j, "stop", json_string(stop_name(r)));
+	if (o->until) {
+		json_t *u = json_object();
+		double w, fs;
+		unsigned nf;
+		bool ok;
+
+		ssc_until_state(o->until, &w, &fs, &nf, &ok);
+		json_object_set_new(u, "term", json_stringn(&"QNBKR"[o->until_term], 1));
+		json_object_set_new(u, "target", ssc_jreal(o->until_w));
+		json_object_set_new(u, "reached", json_boolean(ok));
+		json_object_set_new(u, "rel_half_width", ssc_jreal(w));
+		json_object_set_new(u, "fitted_s", ssc_jreal(fs));
+		json_object_set_new(u, "fits", json_integer(nf));
+		json_object_set_new(j, "until", u);
+	}
 	json_object_set_new(j, "samples", json_integer((json_int_t)r->samples));
 	json_object_set_new(j, "unsaved", json_integer((json_int_t)r->unsaved));
 	json_object_set_new(j, "end_line", json_boolean(r->committed &&
@@ -573,9 +635,27 @@ int ssc_cmd_acquire(int argc, char **argv)
 	if (!co.output && !o.live)
 		return ssc_usage_error(co.cmd, "give -o FILE for the capture (or --live to watch without recording)");
 
+	if (o.until_w > 0 && !(o.duration_s > 0))
+		return ssc_usage_error(co.cmd, "--until needs --duration, the longest the recording may run");
 	rc = open_source(&co, &o, &src);
 	if (rc)
 		return rc;
+	if (o.until_w > 0) {
+		size_t ch = 0;
+
+		while (o.until_ch && ch < src->info.n_channels &&
+		       strcmp(src->info.name[ch], o.until_ch))
+			ch++;
+		if (ch == src->info.n_channels || !(src->info.rate_hz > 0) ||
+		    ssc_until_new(co.cmd, ch, src->info.name[ch], o.until_term,
+				  o.until_w, src->info.rate_hz, co.quiet, &o.until)) {
+			rc = ch == src->info.n_channels ? SSC_EXIT_USAGE : SSC_EXIT_FAIL;
+			ssc_err(co.cmd, "--until: %s", rc == SSC_EXIT_USAGE ?
+				"no such channel" : "the source has no nominal rate (or out of memory)");
+			ssc_source_close(src);
+			return rc;
+		}
+	}
 
 	snprintf(c0, sizeof(c0), "sensorscope acquire: %s", src->info.desc);
 	comments[nc++] = c0;
@@ -610,6 +690,8 @@ int ssc_cmd_acquire(int argc, char **argv)
 	cfg.handle_signals = true;
 	cfg.overwrite = o.overwrite;
 	cfg.comments = comments;
+	cfg.until = o.until ? ssc_until_check : NULL;
+	cfg.until_ctx = o.until;
 	if (o.live) {
 		lc.tty = isatty(STDERR_FILENO);
 		cfg.live = live_view;
@@ -647,6 +729,7 @@ int ssc_cmd_acquire(int argc, char **argv)
 	else
 		fflush(sf);
 	ssc_source_close(src);
+	ssc_until_free(o.until);
 
 	if (rc) {
 		if (res.stop == SSC_STOP_FULL && res.committed)

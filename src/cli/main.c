@@ -53,6 +53,8 @@ static const struct command commands[] = {
 	  ssc_cmd_navsim },
 	{ "datasheet", "datasheet lines as IEEE 952 terms and back; a capture's verdicts",
 	  ssc_cmd_datasheet },
+	{ "plan", "record length for a noise term to be resolved to a wanted width",
+	  ssc_cmd_plan },
 	{ "audit", "other tools' IMU noise files: convention errors, corrected values",
 	  ssc_cmd_audit },
 	{ "lot", "many units of one model: the spread of their noise terms, outliers",

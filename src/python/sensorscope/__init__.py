@@ -1892,3 +1892,81 @@ def export(source, target, path=None, inflate=1.0, force=False, rate=None,
 
 
 __all__ += ["export", "export_targets"]
+
+
+_PLAN_TERMS = "QNBKR"
+
+
+def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
+                                                  43200.0, 86400.0),
+         ci=None, probability=0.9, max_length=30 * 86400.0):
+    """The record length for each term of `resolve` ({"B": 0.25, ...}: the
+    relative half-width (hi - lo) / (2 value) wanted of its interval at
+    level `ci`, default 0.6827 as the command) to be shown present by the noise fit and resolved to it
+    with `probability`, and the probability at each of `lengths` (s), for
+    a record at `rate` Hz, as `sensorscope plan`.  `sensor_or_terms`: a
+    sensor spec INI path ([sensor] section) or a dict of IEEE 952 terms in
+    SI ({"N": ..., "B": ..., "K": ...}; missing terms are 0).  Returns
+    {"rate_hz", "ci_level", "probability_wanted", "terms": [{"term",
+    "target", "needed_s" (inf when never), "never" (None or the reason),
+    "lengths": [{"length_s", "probability", "p_present", "p_width",
+    "rel_half_width"}]}]} -- the numbers of the command's JSON."""
+    fn = "plan"
+    rate = _positive(fn, "rate", rate)
+    coef = (C.c_double * 5)()
+    why = "the sensor spec has no %s (0)"
+    if isinstance(sensor_or_terms, dict):
+        for k, v in sensor_or_terms.items():
+            if k not in _PLAN_TERMS:
+                _bad(fn, "sensor_or_terms", "unknown term %r (Q N B K R)" % k)
+            v = 0.0 if v is None else _number(fn, "sensor_or_terms", v)
+            if not v >= 0:
+                _bad(fn, "sensor_or_terms", "%s must be >= 0" % k)
+            coef[_PLAN_TERMS.index(k)] = v
+        why = "the terms give no %s"
+    else:
+        spec = _c.SensorSpec()
+        d = _c.Diag()
+        _check(_c.sensor_spec_load(_b(sensor_or_terms), C.byref(spec),
+                                   C.byref(d)), d)
+        for i, k in enumerate("qnbkr"):
+            coef[i] = getattr(spec, k)
+    if not isinstance(resolve, dict) or not resolve:
+        _bad(fn, "resolve", "a dict {term: relative half-width}, e.g. "
+             "{'B': 0.25}")
+    if ci is None:
+        ci = 0.682689492137086
+    o = _c.PlanOpts(_number(fn, "ci", ci), _number(fn, "probability",
+                                                 probability), 3.0,
+                    _positive(fn, "max_length", max_length))
+    lens = [_positive(fn, "lengths", v) for v in lengths]
+    terms = []
+    for t, w in resolve.items():
+        if t not in _PLAN_TERMS:
+            _bad(fn, "resolve", "unknown term %r (Q N B K R)" % t)
+        w = _positive(fn, "resolve", w)
+        j = _PLAN_TERMS.index(t)
+        need = C.c_double()
+        _check(_c.plan_needed(coef, rate, j, w, C.byref(o), C.byref(need)),
+               None, fn)
+        pts = []
+        for L in lens:
+            p = _c.PlanPoint()
+            _check(_c.plan_predict(coef, rate, L, j, w, C.byref(o),
+                                   C.byref(p)), None, fn)
+            pts.append({"length_s": p.length_s,
+                        "probability": p.probability,
+                        "p_present": p.p_present, "p_width": p.p_width,
+                        "rel_half_width": p.rel_half_width})
+        never = None
+        if not need.value < float("inf"):
+            never = (why % t) if coef[j] <= 0 else \
+                "not reached within the longest record considered " \
+                "(--max-length)"
+        terms.append({"term": t, "target": w, "needed_s": need.value,
+                      "never": never, "lengths": pts})
+    return {"rate_hz": rate, "ci_level": o.ci_level,
+            "probability_wanted": o.probability, "terms": terms}
+
+
+__all__ += ["plan"]

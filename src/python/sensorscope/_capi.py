@@ -634,3 +634,22 @@ export = _fn("sscope_export", C.c_int, C.c_char_p, C.POINTER(ExportChan),
              c_size, C.POINTER(ExportOpts), C.POINTER(ExportFile),
              C.POINTER(Diag))
 export_file_free = _fn("sscope_export_file_free", None, C.POINTER(ExportFile))
+
+
+class PlanOpts(C.Structure):
+    _fields_ = [("ci_level", c_dbl), ("probability", c_dbl),
+                ("detect_sigma", c_dbl), ("max_length_s", c_dbl)]
+
+
+class PlanPoint(C.Structure):
+    _fields_ = [("length_s", c_dbl), ("p_present", c_dbl),
+                ("p_width", c_dbl), ("probability", c_dbl),
+                ("rel_half_width", c_dbl)]
+
+
+STRUCTS["sscope_plan_opts"] = PlanOpts
+STRUCTS["sscope_plan_point"] = PlanPoint
+plan_predict = _fn("sscope_plan_predict", C.c_int, c_dptr, c_dbl, c_dbl,
+                   C.c_int, c_dbl, C.POINTER(PlanOpts), C.POINTER(PlanPoint))
+plan_needed = _fn("sscope_plan_needed", C.c_int, c_dptr, c_dbl, C.c_int,
+                  c_dbl, C.POINTER(PlanOpts), C.POINTER(c_dbl))

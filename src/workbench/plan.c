@@ -1,0 +1,449 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * The `plan` command's model (a sensor spec, a datasheet or a pilot
+ * capture's fit) and its text and JSON (analysis/plan.c computes).
+ */
+#include "plan.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "acq/acq.h"
+#include "datasheet.h"
+
+static const char term_name[5] = { 'Q', 'N', 'B', 'K', 'R' };
+
+/* a datasheet INI has a [datasheet], [gyro] or [accel] section */
+static bool is_datasheet(const char *path)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	bool ds = false;
+
+	if (!f)
+		return false;
+	while (!ds && fgets(line, sizeof(line), f)) {
+		const char *p = line + strspn(line, " \t");
+
+		ds = !strncmp(p, "[datasheet]", 11) || !strncmp(p, "[gyro]", 6) ||
+		     !strncmp(p, "[accel]", 7);
+	}
+	fclose(f);
+	return ds;
+}
+
+static int from_datasheet(const struct ssc_common *co, const char *path,
+			  const char *section, struct ssc_plan_model *m)
+{
+	struct ssc_datasheet ds;
+	const struct ssc_ds_section *sec = NULL;
+	double t[3];
+	int from[3], rc = ssc_datasheet_load(co->cmd, path, &ds);
+
+	if (rc)
+		return rc;
+	for (size_t k = 0; k < ds.n_sec && !sec; k++)
+		if (section ? !strcmp(ds.sec[k].name, section) :
+			      ds.sec[k].quantity == SSCOPE_QUANTITY_ANGULAR_RATE)
+			sec = &ds.sec[k];
+	if (!sec && !section && ds.n_sec)
+		sec = &ds.sec[0];
+	if (!sec) {
+		ssc_err(co->cmd, "%s: no [%s] section", path, section ? section : "gyro");
+		return SSC_EXIT_FAIL;
+	}
+	m->kind = "datasheet";
+	m->quantity = sec->quantity;
+	snprintf(m->name, sizeof(m->name), "%s %s", ds.name, sec->name);
+	ssc_datasheet_terms(sec, t, from);
+	for (int i = 0; i < 3; i++) {
+		m->coef[i + 1] = isfinite(t[i]) && t[i] > 0 ? t[i] : 0;
+		if (!(m->coef[i + 1] > 0))
+			snprintf(m->why[i + 1], sizeof(m->why[0]),
+				 "the datasheet gives no %c", term_name[i + 1]);
+	}
+	snprintf(m->why[0], sizeof(m->why[0]), "the datasheet gives no Q");
+	snprintf(m->why[4], sizeof(m->why[0]), "the datasheet gives no R");
+	return SSC_EXIT_OK;
+}
+
+static int from_pilot(const struct ssc_common *co, const char *path,
+		      struct ssc_plan_model *m)
+{
+	struct sscope_capture *cap = NULL;
+	struct sscope_allan_result *res = NULL;
+	struct sscope_diag d = { "" };
+	const struct sscope_capture_channel *ch;
+	double fs;
+	int rc = ssc_load(co, path, &cap);
+
+	if (rc)
+		return rc;
+	fs = co->rate_hz > 0 ? co->rate_hz : cap->rate_hz;
+	if (!cap->n_channels || !(fs > 0)) {
+		ssc_err(co->cmd, "%s: %s", path,
+			cap->n_channels ? "no sample rate (give --rate)" :
+					  "no data column");
+		sscope_capture_free(cap);
+		return SSC_EXIT_FAIL;
+	}
+	ch = &cap->channels[0];
+	rc = sscope_allan_analyze(ch->data, 1, cap->n, fs, SSCOPE_ALLAN_TAUS_DENSE,
+				  NULL, NULL, &res, &d);
+	if (rc == 0 && !res->have_fit) {
+		rc = res->fit_error;
+		d = res->fit_diag;
+	}
+	if (rc) {
+		ssc_fail(co->cmd, rc, &d, path);
+		sscope_allan_result_free(res);
+		sscope_capture_free(cap);
+		return SSC_EXIT_FAIL;
+	}
+	m->kind = "pilot";
+	m->rate_hz = fs;
+	m->pilot_s = (double)cap->n / fs;
+	m->quantity = ch->col.quantity;
+	snprintf(m->name, sizeof(m->name), "%s", ch->col.name);
+	for (int j = 0; j < 5; j++) {
+		const struct sscope_noise_coef *c = &res->fit.coef[j];
+
+		/* a term the pilot does not show present enters with its
+		 * estimate (every term free), and says so */
+		m->coef[j] = c->present && c->value > 0 ? c->value :
+			     isfinite(c->estimate) ? c->estimate : 0;
+		if (!(m->coef[j] > 0))
+			snprintf(m->why[j], sizeof(m->why[0]),
+				 "the pilot gives no %c (its estimate is 0: a longer pilot may)",
+				 term_name[j]);
+		else if (!c->present)
+			m->unshown |= 1u << j;
+	}
+	sscope_allan_result_free(res);
+	sscope_capture_free(cap);
+	return SSC_EXIT_OK;
+}
+
+int ssc_plan_model_load(const struct ssc_common *co, const char *sensor,
+			const char *pilot, const char *section,
+			struct ssc_plan_model *m)
+{
+	struct sscope_sensor_spec spec;
+	int rc;
+
+	memset(m, 0, sizeof(*m));
+	m->path = sensor ? sensor : pilot;
+	if (pilot)
+		return from_pilot(co, pilot, m);
+	if (is_datasheet(sensor))
+		return from_datasheet(co, sensor, section, m);
+	rc = ssc_load_sensor(co->cmd, sensor, &spec);
+	if (rc)
+		return rc;
+	m->kind = "sensor spec";
+	m->quantity = spec.quantity;
+	snprintf(m->name, sizeof(m->name), "%s", spec.name);
+	m->coef[0] = spec.q;
+	m->coef[1] = spec.n;
+	m->coef[2] = spec.b;
+	m->coef[3] = spec.k;
+	m->coef[4] = spec.r;
+	for (int j = 0; j < 5; j++)
+		if (!(m->coef[j] > 0))
+			snprintf(m->why[j], sizeof(m->why[0]),
+				 "the sensor spec has no %c (0)", term_name[j]);
+	return SSC_EXIT_OK;
+}
+
+/* one wish's numbers */
+struct wish_out {
+	double needed_s;
+	struct sscope_plan_point pt[SSC_PLAN_MAX_LENGTHS];
+};
+
+static void fmt_len(char *buf, size_t len, double s)
+{
+	if (!isfinite(s))
+		snprintf(buf, len, "never");
+	else if (s < 120)
+		snprintf(buf, len, "%.0f s", s);
+	else if (s < 3600)
+		snprintf(buf, len, "%.1f min", s / 60);
+	else if (s < 4 * 86400.0)
+		snprintf(buf, len, "%.3g h", s / 3600);
+	else
+		snprintf(buf, len, "%.1f d", s / 86400);
+}
+
+static json_t *model_json(const struct ssc_plan_model *m)
+{
+	json_t *o = json_object();
+
+	for (int j = 0; j < 5; j++) {
+		const char *u = sscope_term_unit(m->quantity, (enum sscope_term)j);
+		const char *si = sscope_term_si_unit(m->quantity, (enum sscope_term)j);
+
+		json_object_set_new(o, (char[]){ term_name[j], 0 },
+				    ssc_json_coef(m->coef[j], NAN, NAN, u, si,
+						  m->coef[j] > 0));
+	}
+	return o;
+}
+
+static int emit(const struct ssc_common *co, const struct ssc_plan_model *m,
+		const struct ssc_plan_wish *w, size_t n_w,
+		const struct wish_out *r, size_t n_len, double rate_hz,
+		const struct sscope_plan_opts *po)
+{
+	struct ssc_out out;
+	bool ok;
+	int rc;
+
+	if (co->format == SSC_FMT_JSON) {
+		json_t *root = json_object(), *arr = json_array();
+
+		json_object_set_new(root, "command", json_string("plan"));
+		json_object_set_new(root, "source", json_string(m->kind));
+		json_object_set_new(root, "file", json_string(m->path));
+		json_object_set_new(root, "name", json_string(m->name));
+		if (m->pilot_s > 0)
+			json_object_set_new(root, "pilot_s", ssc_jreal(m->pilot_s));
+		json_object_set_new(root, "rate_hz", ssc_jreal(rate_hz));
+		json_object_set_new(root, "ci_level", ssc_jreal(po->ci_level));
+		json_object_set_new(root, "probability_wanted", ssc_jreal(po->probability));
+		json_object_set_new(root, "detect_sigma", ssc_jreal(po->detect_sigma));
+		json_object_set_new(root, "noise", model_json(m));
+		for (int j = 0; j < 5; j++)
+			if (m->unshown & (1u << j))
+				ssc_json_warn(root, "term_not_shown",
+					      "%c is not shown present by the pilot: its estimate is planned with, the plan is indicative",
+					      term_name[j]);
+		for (size_t i = 0; i < n_w; i++) {
+			json_t *t = json_object(), *ls = json_array();
+
+			json_object_set_new(t, "term", json_string((char[]){ term_name[w[i].term], 0 }));
+			json_object_set_new(t, "target", ssc_jreal(w[i].target));
+			json_object_set_new(t, "needed_s", ssc_jreal(r[i].needed_s));
+			json_object_set_new(t, "never",
+					    isfinite(r[i].needed_s) ? json_null() :
+					    json_string(m->coef[w[i].term] > 0 ?
+							"not reached within the longest record considered (--max-length)" :
+							m->why[w[i].term]));
+			for (size_t k = 0; k < n_len; k++) {
+				const struct sscope_plan_point *p = &r[i].pt[k];
+				json_t *l = json_object();
+
+				json_object_set_new(l, "length_s", ssc_jreal(p->length_s));
+				json_object_set_new(l, "probability", ssc_jreal(p->probability));
+				json_object_set_new(l, "p_present", ssc_jreal(p->p_present));
+				json_object_set_new(l, "p_width", ssc_jreal(p->p_width));
+				json_object_set_new(l, "rel_half_width", ssc_jreal(p->rel_half_width));
+				json_array_append_new(ls, l);
+			}
+			json_object_set_new(t, "lengths", ls);
+			json_array_append_new(arr, t);
+		}
+		json_object_set_new(root, "terms", arr);
+		return ssc_emit_json(co, root);
+	}
+	rc = ssc_out_open(co, &out);
+	if (rc)
+		return rc;
+	fprintf(out.f, "%s (%s %s), %g Hz: record length for each term to be shown present\n"
+		"and resolved to the relative half-width of its %.1f %% interval, with %.0f %% probability\n",
+		m->name[0] ? m->name : "sensor", m->kind, m->path, rate_hz,
+		100 * po->ci_level, 100 * po->probability);
+	for (int j = 0; j < 5; j++)
+		if (m->unshown & (1u << j))
+			fprintf(out.f, "note: %c is not shown present by the pilot: its estimate is planned with, the plan is indicative\n",
+				term_name[j]);
+	fprintf(out.f, "%-4s %7s %11s", "term", "target", "needed");
+	for (size_t k = 0; k < n_len; k++) {
+		char b[32];
+
+		fmt_len(b, sizeof(b), r[0].pt[k].length_s);
+		fprintf(out.f, " %8s", b);
+	}
+	fputc('\n', out.f);
+	for (size_t i = 0; i < n_w; i++) {
+		char b[32];
+
+		fmt_len(b, sizeof(b), r[i].needed_s);
+		fprintf(out.f, "%-4c %6.0f%% %11s", term_name[w[i].term],
+			100 * w[i].target, b);
+		if (!isfinite(r[i].needed_s) && !(m->coef[w[i].term] > 0)) {
+			fprintf(out.f, "  %s\n", m->why[w[i].term]);
+			continue;
+		}
+		for (size_t k = 0; k < n_len; k++)
+			fprintf(out.f, " %7.0f%%", 100 * r[i].pt[k].probability);
+		if (!isfinite(r[i].needed_s))
+			fprintf(out.f, "  (not within %.0f days)", po->max_length_s / 86400);
+		fputc('\n', out.f);
+	}
+	ok = !ferror(out.f);
+	return ssc_out_close(co, &out, ok);
+}
+
+int ssc_plan_report(const struct ssc_common *co, const struct ssc_plan_model *m,
+		    const struct ssc_plan_wish *w, size_t n_w,
+		    const double *lengths_s, size_t n_len, double rate_hz,
+		    const struct sscope_plan_opts *po)
+{
+	struct wish_out *r = calloc(n_w ? n_w : 1, sizeof(*r));
+	struct sscope_plan_opts o = *po;
+	int rc = 0;
+
+	if (!r)
+		return ssc_fail(co->cmd, -ENOMEM, NULL, NULL);
+	if (o.max_length_s == 0)
+		o.max_length_s = 30 * 86400.0;
+	for (size_t i = 0; i < n_w && !rc; i++) {
+		rc = sscope_plan_needed(m->coef, rate_hz, (enum sscope_term)w[i].term,
+					w[i].target, &o, &r[i].needed_s);
+		for (size_t k = 0; k < n_len && !rc; k++)
+			rc = sscope_plan_predict(m->coef, rate_hz, lengths_s[k],
+						 (enum sscope_term)w[i].term,
+						 w[i].target, &o, &r[i].pt[k]);
+	}
+	if (rc) {
+		free(r);
+		return ssc_fail(co->cmd, rc, NULL, "plan");
+	}
+	rc = emit(co, m, w, n_w, r, n_len, rate_hz, &o);
+	free(r);
+	return rc;
+}
+
+/* ------------------------------------------------------------------ */
+/* acquire --until                                                      */
+
+struct ssc_until {
+	const char *cmd;
+	size_t channel;
+	char name[32];
+	int term;
+	double target, rate_hz;
+	bool quiet, reached;
+	double *x;
+	size_t n, cap, next_fit;
+	double width, fitted_s;
+	unsigned fits;
+	struct sscope_noise_plan *plan;
+};
+
+int ssc_until_new(const char *cmd, size_t channel, const char *chan_name,
+		  int term, double target, double rate_hz, bool quiet,
+		  struct ssc_until **out)
+{
+	struct ssc_until *u = calloc(1, sizeof(*u));
+
+	*out = NULL;
+	if (!u)
+		return -ENOMEM;
+	if (!(rate_hz > 0) || term < 0 || term > 4 || !(target > 0)) {
+		free(u);
+		return -EINVAL;
+	}
+	u->cmd = cmd;
+	u->channel = channel;
+	snprintf(u->name, sizeof(u->name), "%s", chan_name);
+	u->term = term;
+	u->target = target;
+	u->rate_hz = rate_hz;
+	u->quiet = quiet;
+	u->width = INFINITY;
+	u->next_fit = (size_t)fmax(64, 60 * rate_hz);
+	if (sscope_noise_plan_new(&u->plan))
+		u->plan = NULL;
+	*out = u;
+	return 0;
+}
+
+static void until_fit(struct ssc_until *u)
+{
+	struct sscope_allan_result *res = NULL;
+	struct sscope_noise_fit_opts fo = { 0 };
+	const struct sscope_noise_coef *c;
+	char len[32];
+
+	fo.plan = u->plan;
+	u->fits++;
+	u->fitted_s = (double)u->n / u->rate_hz;
+	fmt_len(len, sizeof(len), u->fitted_s);
+	if (sscope_allan_analyze(u->x, 1, u->n, u->rate_hz,
+				 SSCOPE_ALLAN_TAUS_DENSE, NULL, &fo, &res, NULL) ||
+	    !res->have_fit) {
+		sscope_allan_result_free(res);
+		return;
+	}
+	c = &res->fit.coef[u->term];
+	u->width = c->present && c->value > 0 && c->lo > 0 ?
+			   (c->hi - c->lo) / (2 * c->value) : (double)INFINITY;
+	u->reached = u->width <= u->target;
+	if (!u->quiet) {
+		if (isfinite(u->width))
+			fprintf(stderr, "sensorscope: %s: %s after %s: %c to %.1f %% (wanted %.1f %%)%s\n",
+				u->cmd, u->name, len, term_name[u->term],
+				100 * u->width, 100 * u->target,
+				u->reached ? ": resolved, stopping" : "");
+		else
+			fprintf(stderr, "sensorscope: %s: %s after %s: %c not yet resolved (%s)\n",
+				u->cmd, u->name, len, term_name[u->term],
+				c->present ? "its interval reaches 0" : "not shown present");
+	}
+	sscope_allan_result_free(res);
+}
+
+bool ssc_until_check(const struct ssc_acq_sample *s, size_t n,
+		     double elapsed_s, void *ctx)
+{
+	struct ssc_until *u = ctx;
+
+	(void)elapsed_s;
+	if (u->reached)
+		return true;
+	if (u->n + n > u->cap) {
+		size_t cap = u->cap ? 2 * u->cap : 65536;
+		double *x;
+
+		while (cap < u->n + n)
+			cap *= 2;
+		x = realloc(u->x, cap * sizeof(double));
+		if (!x)
+			return false; /* no more refits; the cap still stops */
+		u->x = x;
+		u->cap = cap;
+	}
+	for (size_t i = 0; i < n; i++) {
+		/* a gap: NaN rows as the capture's reader gives them */
+		for (uint32_t k = 0; k < s[i].missing && u->n < u->cap; k++)
+			u->x[u->n++] = (double)NAN;
+		if (u->n < u->cap)
+			u->x[u->n++] = s[i].v[u->channel];
+	}
+	if (u->n >= u->next_fit) {
+		until_fit(u);
+		u->next_fit = u->n + (size_t)fmax(1, 0.05 * (double)u->n);
+	}
+	return u->reached;
+}
+
+void ssc_until_state(const struct ssc_until *u, double *width,
+		     double *fitted_s, unsigned *fits, bool *reached)
+{
+	*width = u->width;
+	*fitted_s = u->fitted_s;
+	*fits = u->fits;
+	*reached = u->reached;
+}
+
+void ssc_until_free(struct ssc_until *u)
+{
+	if (!u)
+		return;
+	sscope_noise_plan_free(u->plan);
+	free(u->x);
+	free(u);
+}

@@ -1,0 +1,65 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# sensorscope plan: a sensor spec, a datasheet and a pilot capture; the
+# JSON's keys and their relations (the needed length between the lengths
+# where the probability is below and above the wanted one); a term the
+# model lacks is "never" with the reason; usage and file errors.  The
+# predictions themselves are checked against simulation in tests/test-plan.c
+# and make bench (tests/bench-plan.c).
+. "$(dirname "$0")/lib.sh"
+
+S=$top_srcdir/samples
+run "plan --help" 0 plan --help
+has "help names --resolve" "$T/out" "--resolve"
+run "no sensor" 2 plan --resolve B:25%
+one_line_error "no sensor"
+run "no wish" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10
+one_line_error "no wish"
+run "spec without --rate" 2 plan --sensor "$S/gyro-mems-250.ini" --resolve B:25%
+one_line_error "spec without --rate"
+run "bad term" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve X:25%
+one_line_error "bad term"
+run "bad width" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:-5%
+run "bad probability" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% --probability 1.5
+run "both sources" 2 plan --sensor "$S/gyro-mems-250.ini" --pilot "$S/gyro-static.csv" --resolve B:25%
+run "operand refused" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% extra
+run "csv refused" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% --format csv
+run "missing spec" 1 plan --sensor "$T/none.ini" --rate 10 --resolve B:25%
+one_line_error "missing spec"
+
+run "spec, json" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:10%,K:30%,R:50% --lengths 0.5h,1h,2h,6h,12h --format json
+json_check "shape" "$T/out" '.command == "plan" and .source == "sensor spec" and .rate_hz == 10 and (.terms | map(.term)) == ["B","K","R"] and all(.terms[]; (.lengths | map(.length_s)) == [1800,3600,7200,21600,43200])'
+json_check "probabilities in [0, 1], rising with the length" "$T/out" \
+	'all(.terms[]; [.lengths[].probability] as $p | all($p[]; . >= 0 and . <= 1) and ($p == ($p | sort)))'
+json_check "the probability is the smaller of presence and width" "$T/out" \
+	'all(.terms[].lengths[]; .probability <= .p_present and .probability <= .p_width)'
+json_check "needed between the lengths below and above 90 %" "$T/out" \
+	'all(.terms[] | select(.needed_s != null); . as $t | all(.lengths[]; (.probability < 0.9 and .length_s < $t.needed_s) or (.probability >= 0.9 and .length_s >= $t.needed_s / 1.01)))'
+json_check "R never, with the reason" "$T/out" \
+	'(.terms[2] | .needed_s == null and (.never | test("no R")) and all(.lengths[]; .probability == 0))'
+json_check "the model in the contract's coefficient shape" "$T/out" \
+	'.noise.B.unit == "deg/h" and ((.noise.B.value - 4) | fabs) < 1e-9 and .noise.R.fitted == false'
+run "spec, text" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:10%,R:50%
+has "text: never with the reason" "$T/out" "^R .*never +the sensor spec has no R"
+has "text: header" "$T/out" "^term +target +needed"
+
+run "looser probability" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:10% --probability 0.5 --format json
+cp "$T/out" "$T/p50.json"
+run "default probability" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:10% --format json
+if command -v jq >/dev/null 2>&1; then
+	a=$(jq '.terms[0].needed_s' "$T/p50.json")
+	b=$(jq '.terms[0].needed_s' "$T/out")
+	if awk "BEGIN { exit !($a < $b) }"; then ok "50 % needs less than 90 % ($a s < $b s)"
+	else not_ok "50 % needs less than 90 % ($a s, $b s)"; fi
+fi
+
+run "datasheet" 0 plan --sensor "$S/datasheets/stim300.ini" --rate 10 --resolve B:25%,K:30% --format json
+json_check "datasheet: gyro section, K never" "$T/out" \
+	'.source == "datasheet" and .name == "STIM300 gyro" and .terms[0].needed_s > 0 and (.terms[1].never | test("datasheet gives no K"))'
+run "datasheet accel" 0 plan --sensor "$S/datasheets/stim300.ini" --section accel --rate 10 --resolve N:5% --format json
+json_check "datasheet: accel section" "$T/out" '.name == "STIM300 accel" and .noise.N.si_unit == "m/s^2/sqrt(Hz)"'
+
+# a pilot: the samples' static gyro record, first channel
+run "pilot" 0 plan --pilot "$S/gyro-static.csv" --resolve N:5% --lengths 600 --format json
+json_check "pilot: its rate and length" "$T/out" '.source == "pilot" and .rate_hz > 0 and .pilot_s > 0 and .terms[0].needed_s > 0'
+done_testing
