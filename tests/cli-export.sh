@@ -24,6 +24,8 @@ has "export: gazebo marks the bound" imu_noise.sdf "UPPER BOUND"
 has "export: vins marks the bound beside gyr_w" vins_imu.yaml '^gyr_w: .*UPPER BOUND'
 has "export: vins is discrete at 10 Hz" vins_imu.yaml 'DISCRETE time at 10 Hz'
 has "export: matlab RandomWalk" imu_params.m "'RandomWalk', [0-9.]+e-[0-9]+\\); % \\(rad/s\\)\\*sqrt\\(Hz\\) UPPER BOUND"
+run "export: names with - as with _" 0 allan --export gnss-ins-sim:g.py --export imu-utils:i.yaml "$G"
+[ -s g.py ] && [ -s i.yaml ] && ok "export: gnss-ins-sim and imu-utils written" || not_ok "export: gnss-ins-sim and imu-utils written"
 run "export: needs both sensors" 1 allan --export orbslam3:o.yaml "$G"
 has "export: orbslam3 says what it needs" "$T/err" 'export orbslam3: the file needs both a gyro'
 if [ -e o.yaml ]; then not_ok "export: no file on failure"; else ok "export: no file on failure"; fi

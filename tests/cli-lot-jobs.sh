@@ -19,7 +19,7 @@ run "lot on one machine, text" 0 lot --spec lim.ini --ci 0.8 unit0[1-6].csv
 cp "$T/out" "$T/single.txt"
 
 # GNU parallel (or the same lines run one after the other without it)
-run "plan for GNU parallel" 0 lot --plan-jobs parallel:par --spec lim.ini --ci 0.8 unit0[1-6].csv
+run "plan for GNU parallel" 0 lot --plan-jobs parallel par --spec lim.ini --ci 0.8 unit0[1-6].csv
 has "the plan says how to run it" "$T/out" "6 units planned in par: run parallel < par/jobs.txt, then sensorscope lot --merge par"
 [ "$(wc -l <par/jobs.txt)" -eq 6 ] && ok "one line per unit" || not_ok "one line per unit"
 if command -v parallel >/dev/null 2>&1; then
@@ -88,6 +88,7 @@ run "a unit changed since the plan: the merge" 1 lot --merge slu
 has "changed input: the merge says stale" "$T/err" "stale"
 run "--job with input files" 2 lot --job par:0 unit01.csv
 run "--plan-jobs: an unknown engine" 2 lot --plan-jobs pbs:x unit0[1-3].csv
+run "--plan-jobs: an unknown engine, folder apart" 2 lot --plan-jobs pbs x unit0[1-3].csv
 run "--job: no index" 2 lot --job par
 run "--job: a task the plan has not" 1 lot --job par:6
 has "the plan's size is said" "$T/err" "plans 6 units: no task 6"

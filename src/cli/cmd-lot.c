@@ -24,8 +24,8 @@ static const struct ssc_option lot_opts[] = {
 	  "the units: a CSV with columns unit,file[,channels][,temperature] (files relative to it), read after the operands (command line only)" },
 	{ "report", required_argument, O_REPORT, "DIR",
 	  "write DIR (new or empty): index.html (the spread, the verdicts, both figures, one row per unit linking to its page units/unit-N.html), lot.json, lot.csv, the figures" },
-	{ "plan-jobs", required_argument, O_PLAN, "slurm|parallel:DIR",
-	  "analyse nothing: write DIR (new) with plan.json and a Slurm job-array script (lot.sbatch) or a GNU parallel command file (jobs.txt), one task per unit" },
+	{ "plan-jobs", required_argument, O_PLAN, "slurm|parallel DIR",
+	  "analyse nothing: write DIR (new; also written ENGINE:DIR) with plan.json and a Slurm job-array script (lot.sbatch) or a GNU parallel command file (jobs.txt), one task per unit" },
 	{ "job", required_argument, O_JOB, "DIR:I",
 	  "one task of a plan: unit I analysed into DIR/unit-I.json (no operands)" },
 	{ "merge", required_argument, O_MERGE, "DIR",
@@ -90,7 +90,7 @@ static int handler(int key, const char *arg, void *ctx)
 	}
 	if (key == O_PLAN) {
 		if (strncmp(arg, "slurm:", 6) && strncmp(arg, "parallel:", 9))
-			return ssc_usage_error("lot", "--plan-jobs: '%s' is not slurm:DIR or parallel:DIR", arg);
+			return ssc_usage_error("lot", "--plan-jobs: '%s' is not slurm DIR or parallel DIR (or slurm:DIR, parallel:DIR)", arg);
 		if (!strchr(arg, ':')[1])
 			return ssc_usage_error("lot", "--plan-jobs: %s: no folder after ':'", arg);
 		o->plan = arg;
@@ -217,7 +217,27 @@ const struct ssc_stage_ops ssc_lot_stage = {
 	.free_result = ssc_lot_free,
 };
 
+/* "--plan-jobs ENGINE DIR": the folder as the operand right after the
+ * engine, which becomes "ENGINE:DIR" (both spellings are documented) */
 int ssc_cmd_lot(int argc, char **argv)
 {
+	static char joined[4096];
+
+	for (int i = 1; i + 2 < argc; i++) {
+		const char *e = argv[i + 1];
+
+		if (!strcmp(argv[i], "--"))
+			break;
+		if (strcmp(argv[i], "--plan-jobs") || strchr(e, ':') ||
+		    (strcmp(e, "slurm") && strcmp(e, "parallel")) ||
+		    argv[i + 2][0] == '-')
+			continue;
+		snprintf(joined, sizeof(joined), "%s:%s", e, argv[i + 2]);
+		argv[i + 1] = joined;
+		for (int k = i + 2; k + 1 < argc; k++)
+			argv[k] = argv[k + 1];
+		argc--;
+		break;
+	}
 	return ssc_stage_main(&ssc_lot_stage, argc, argv);
 }

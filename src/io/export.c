@@ -813,19 +813,32 @@ static const struct xtarget targets[] = {
 };
 
 
+/* the target of that name; '-' and '_' are the same ("imu-utils",
+ * "gnss-ins-sim") */
 static const struct xtarget *find(const char *name)
 {
-	if (name && !strcmp(name, "imu-utils"))
-		name = "imu_utils";
-	for (const struct xtarget *t = targets; name && t->name; t++)
-		if (!strcmp(t->name, name))
+	for (const struct xtarget *t = targets; name && t->name; t++) {
+		size_t i = 0;
+
+		while (t->name[i] && (name[i] == t->name[i] ||
+				      (name[i] == '-' && t->name[i] == '_')))
+			i++;
+		if (!t->name[i] && !name[i])
 			return t;
+	}
 	return NULL;
 }
 
 const char *sscope_export_target(size_t i)
 {
 	return i < sizeof(targets) / sizeof(targets[0]) ? targets[i].name : NULL;
+}
+
+const char *sscope_export_name(const char *target)
+{
+	const struct xtarget *t = find(target);
+
+	return t ? t->name : NULL;
 }
 
 const char *sscope_export_default_file(const char *target)

@@ -55,8 +55,12 @@ struct sscope_export_file {
 /** The i-th target's name ("kalibr", ...); NULL past the last. */
 const char *sscope_export_target(size_t i);
 
+/** The target's name as sscope_export_target() gives it ("imu-utils" is
+ *  "imu_utils": '-' and '_' are the same in names); NULL when unknown. */
+const char *sscope_export_name(const char *target);
+
 /** The file a target is written to by default ("imu.yaml"); NULL for an
- *  unknown target ("imu-utils" is imu_utils). */
+ *  unknown target. */
 const char *sscope_export_default_file(const char *target);
 
 /** The file of one target from the channels of one sensor record.

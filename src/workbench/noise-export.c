@@ -53,11 +53,7 @@ int ssc_export_parse(const char *opt, const char *arg,
 			return ssc_usage_error("allan", "--%s: %s is written twice (give each export its own FILE)",
 					       opt, arg);
 	/* the library's name of the target, and the option that asked */
-	for (size_t i = 0; sscope_export_target(i); i++)
-		if (!strcmp(sscope_export_target(i), target) ||
-		    (!strcmp(target, "imu-utils") &&
-		     !strcmp(sscope_export_target(i), "imu_utils")))
-			req[*n].target = sscope_export_target(i);
+	req[*n].target = sscope_export_name(target);
 	/* the three with options of their own are named by them */
 	if (!strcmp(req[*n].target, "kalibr") ||
 	    !strcmp(req[*n].target, "openvins"))

@@ -685,6 +685,11 @@ with tempfile.TemporaryDirectory() as td:
         ok(fh.read() == a, "export(path=): the file holds the text returned")
     ok(a.replace(euroc, "data") == b,
        "export(dict, rate=): the capture's file (data named 'data')")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        g1 = ss.export(cap, "gnss-ins-sim")
+        g2 = ss.export(cap, "gnss_ins_sim")
+    ok(g1 == g2, "export: 'gnss-ins-sim' is gnss_ins_sim")
 for bad_call, arg in ((lambda: ss.export(ss.load(gyro), "nav2"), "target"),
                       (lambda: ss.export(ss.load(gyro), "vins", inflate=0),
                        "inflate"),

@@ -1760,9 +1760,9 @@ def export(source, target, path=None, inflate=1.0, force=False, rate=None,
     the file needs missing, no value or bound for a term)."""
     fn = "export"
     names = export_targets()
-    if not isinstance(target, str) or \
-            (target not in names and target != "imu-utils"):
+    if not isinstance(target, str) or not _c.export_name(_b(target)):
         _bad(fn, "target", "'%s' is not %s" % (target, ", ".join(names)))
+    target = _c.export_name(_b(target)).decode()
     inflate = _positive(fn, "inflate", inflate)
     if name is not None and not isinstance(name, str):
         _bad(fn, "name", "'%s' is not a sensor name (a string)" % (name,))

@@ -628,6 +628,7 @@ STRUCTS.update({
 })
 
 export_target = _fn("sscope_export_target", C.c_char_p, c_size)
+export_name = _fn("sscope_export_name", C.c_char_p, C.c_char_p)
 export_default_file = _fn("sscope_export_default_file", C.c_char_p,
                           C.c_char_p)
 export = _fn("sscope_export", C.c_int, C.c_char_p, C.POINTER(ExportChan),
