@@ -590,13 +590,8 @@ static double block_resid(const struct ctx *c, const struct fit *f, size_t j,
  * bandwidth of 1/25 of the run, used before, was 1.4-1.5 times too
  * narrow on ramps of unequal rates and 1.35-2 times too wide on a sine
  * cycle with a rate random walk of 3 deg/h/sqrt(h) (tests/bench-tempbias.c
- * coverage).  Flicker (bias instability) is a sum of Gauss-Markov
- * processes of equal variance g, their time constants a decade apart
- * (struct rwpar), taken when it raises the REML by more than its two
- * parameters: without it, flicker went into lambda, and on ramps of
- * unequal rates the intervals were too wide (93 / 96 % for 68.3 %, rms z
- * 0.53).  Its part of the covariance is g sum_ij exp(-|t_i - t_j| / tc)
- * h_i h_j' per process.  For white residuals lambda and g are 0 and the
+ * coverage).  Flicker (bias instability) is not in the model; its slow
+ * part goes into lambda.  For white residuals lambda is 0 and the
  * covariance is the classical one with the REML variance.
  * Returns 0, or -ENOMEM.
  */
@@ -610,90 +605,41 @@ struct rwrun {
 
 #define RW_V (NREG + 2) /* vectors of the filter: 1, regressors, e */
 
-/* the noise model's levels relative to sigma^2: the walk's variance per
- * second lambda and, for flicker (bias instability), a sum of GM_N
- * first-order Gauss-Markov processes of variance g each and time
- * constants tc, GM_R tc, GM_R^2 tc, ... (equal variances per decade of
- * time constant: a 1/f spectrum between them; g 0: none) */
-struct rwpar {
-	double lambda, g, tc;
-};
-
-#define GM_N 3
-#define GM_R 10.0
-#define GM_S (GM_N + 1) /* the filter's state: the walk, the processes */
-
-/* REML log-likelihood at p (sigma^2 profiled out); s2 receives sigma^2.
- * -inf when not computable.  The filter's state is the walk and the
- * Gauss-Markov processes (their sum plus the white noise is observed). */
+/* REML log-likelihood at lambda (sigma^2 profiled out); s2 receives
+ * sigma^2.  -inf when not computable. */
 static double rw_reml(const struct rwrun *rr, size_t J, size_t q,
-		      const struct rwpar *p, double *s2)
+		      double lambda, double *s2)
 {
 	size_t nv = q + 1, nx = q - 1, n_tot = 0;
 	double W[RW_V][RW_V] = { { 0 } }, logdet = 0, logda = 0, Q;
 	double Cx[RW_V][RW_V];
-	const double lambda = p->lambda, g = p->g;
-	const int ns = g > 0 ? GM_S : 1;
 
 	for (size_t j = 0; j < J; j++) {
 		const struct rwrun *r = &rr[j];
-		double Wj[RW_V][RW_V] = { { 0 } }, x[RW_V][GM_S] = { { 0 } };
-		double P[GM_S][GM_S] = { { 0 } };
+		double Wj[RW_V][RW_V] = { { 0 } }, zhat[RW_V] = { 0 }, P = 0;
 
 		if (r->m == 0)
 			continue;
-		for (int a = 1; a < ns; a++)
-			P[a][a] = g;
 		for (size_t k = 0; k < r->m; k++) {
 			const double *z = r->z + k * nv;
-			double F, K[GM_S], sF, w[RW_V];
+			double F, G, sF, w[RW_V];
 
-			if (k > 0) {
-				double dt = r->t[k] - r->t[k - 1], phi[GM_S];
-
-				phi[0] = 1;
-				for (int a = 1; a < ns; a++)
-					phi[a] = exp(-dt / (p->tc * pow(GM_R, a - 1)));
-				for (int a = 0; a < ns; a++)
-					for (int b = 0; b < ns; b++)
-						P[a][b] *= phi[a] * phi[b];
-				P[0][0] += lambda * dt;
-				for (int a = 1; a < ns; a++)
-					P[a][a] += g * (1 - phi[a] * phi[a]);
-				for (size_t v = 0; v < nv; v++)
-					for (int a = 1; a < ns; a++)
-						x[v][a] *= phi[a];
-			}
-			F = r->d[k];
-			for (int a = 0; a < ns; a++) {
-				K[a] = 0;
-				for (int b = 0; b < ns; b++)
-					K[a] += P[a][b];
-				F += K[a];
-			}
-			for (int a = 0; a < ns; a++)
-				K[a] /= F;
+			if (k > 0)
+				P += lambda * (r->t[k] - r->t[k - 1]);
+			F = P + r->d[k];
+			G = P / F;
 			sF = sqrt(F);
 			logdet += log(F);
 			for (size_t a = 0; a < nv; a++) {
-				double v = z[a];
+				double v = z[a] - zhat[a];
 
-				for (int b = 0; b < ns; b++)
-					v -= x[a][b];
 				w[a] = v / sF;
-				for (int b = 0; b < ns; b++)
-					x[a][b] += K[b] * v;
+				zhat[a] += G * v;
 			}
 			for (size_t a = 0; a < nv; a++)
 				for (size_t b = 0; b <= a; b++)
 					Wj[a][b] += w[a] * w[b];
-			if (ns > 1) {
-				for (int a = 0; a < ns; a++)
-					for (int b = 0; b < ns; b++)
-						P[a][b] -= K[a] * K[b] * F;
-			} else {
-				P[0][0] *= r->d[k] / F;
-			}
+			P *= r->d[k] / F;
 		}
 		/* the run offset (vector 0) profiled out: Schur complement */
 		if (!(Wj[0][0] > 0))
@@ -725,58 +671,13 @@ static double rw_reml(const struct rwrun *rr, size_t J, size_t q,
 	return -0.5 * (logdet + logda + (double)(n_tot - J - nx) * log(Q));
 }
 
-/* golden-section maximum of the REML over one level of p, *lvl =
- * exp(x) / div, x in [a, b]; *lvl, *x and *best updated when it
- * improves on *best */
-static void rw_golden(const struct rwrun *rr, size_t J, size_t q,
-		      struct rwpar *p, double *lvl, double div, double a,
-		      double b, double *x, double *best)
-{
-	const double gr = 0.6180339887498949;
-	double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1, f2, t2;
-	double keep = *lvl;
-
-	*lvl = exp(x1) / div;
-	f1 = rw_reml(rr, J, q, p, &t2);
-	*lvl = exp(x2) / div;
-	f2 = rw_reml(rr, J, q, p, &t2);
-	for (int it = 0; it < 16; it++) {
-		if (f1 >= f2) {
-			b = x2;
-			x2 = x1;
-			f2 = f1;
-			x1 = b - gr * (b - a);
-			*lvl = exp(x1) / div;
-			f1 = rw_reml(rr, J, q, p, &t2);
-		} else {
-			a = x1;
-			x1 = x2;
-			f1 = f2;
-			x2 = a + gr * (b - a);
-			*lvl = exp(x2) / div;
-			f2 = rw_reml(rr, J, q, p, &t2);
-		}
-	}
-	*lvl = keep;
-	if (f1 >= f2 && f1 > *best) {
-		*best = f1;
-		*x = x1;
-		*lvl = exp(x1) / div;
-	} else if (f2 > *best) {
-		*best = f2;
-		*x = x2;
-		*lvl = exp(x2) / div;
-	}
-}
-
 static int rw_cov(const struct ctx *c, struct fit *f)
 {
 	size_t p = f->p, q = 1 + (size_t)f->K + f->hyst + f->grad;
 	size_t nv = q + 1, idx[NREG + 1];
 	double (*S)[SSCOPE_TEMPBIAS_MAX_RUNS + NREG] = calloc(p, sizeof(*S));
 	struct rwrun *rr = calloc(c->J, sizeof(*rr));
-	double cbar = 0, Tmax = 0, s2 = NAN, best, dtmin = INFINITY;
-	struct rwpar pr = { 0, 0, 1 };
+	double cbar = 0, Tmax = 0, lambda = 0, s2 = NAN, best, dtmin = INFINITY;
 	int rc = -ENOMEM;
 
 	if (!S || !rr)
@@ -829,79 +730,51 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 	/* lambda: 0, a grid in v = log(lambda T^2) from -7 to log(1e3 T^2
 	 * / dt) (the walk over one block a thousand times the white noise),
 	 * then golden sections around the best grid point */
-	best = rw_reml(rr, c->J, q, &pr, &s2);
+	best = rw_reml(rr, c->J, q, 0, &s2);
 	if (Tmax > 0) {
 		double vlo = -7, vhi = log(1e3 * Tmax * Tmax / dtmin), step = 1.5;
 		double vb = NAN, lb = -INFINITY, t2;
 
 		for (double v = vlo; v <= vhi + 1e-9; v += step) {
-			double l;
+			double l = rw_reml(rr, c->J, q, exp(v) / (Tmax * Tmax), &t2);
 
-			pr.lambda = exp(v) / (Tmax * Tmax);
-			l = rw_reml(rr, c->J, q, &pr, &t2);
 			if (l > lb) {
 				lb = l;
 				vb = v;
 			}
 		}
-		pr.lambda = 0;
 		if (isfinite(lb)) {
-			double x = vb;
+			const double gr = 0.6180339887498949;
+			double a = vb - step, bb = vb + step;
+			double x1 = bb - gr * (bb - a), x2 = a + gr * (bb - a);
+			double f1 = rw_reml(rr, c->J, q, exp(x1) / (Tmax * Tmax), &t2);
+			double f2 = rw_reml(rr, c->J, q, exp(x2) / (Tmax * Tmax), &t2);
 
-			pr.lambda = exp(vb) / (Tmax * Tmax);
-			rw_golden(rr, c->J, q, &pr, &pr.lambda, Tmax * Tmax,
-				  vb - step, vb + step, &x, &lb);
-			if (lb > best)
-				best = rw_reml(rr, c->J, q, &pr, &s2);
-			else
-				pr.lambda = 0;
-		}
-		/* flicker beside the walk: the first time constant
-		 * T/GM_R^(GM_N-1) / 100 .. T/GM_R^(GM_N-1), variances
-		 * e^-5 .. e^8 of a full block's white
-		 * noise, the walk at 0 or at its level above; then golden
-		 * sections in each log level in turn.  Taken when it raises
-		 * the REML by more than its two parameters (Akaike) */
-		{
-			struct rwpar pg = pr, tp;
-			double lg = -INFINITY, xg = 0, xt = 0, xl;
-
-			for (int it = 0; it < 5; it++)
-				for (double v = -5; v <= 8 + 1e-9; v += step)
-					for (int w = 0; w < 2; w++) {
-						double l;
-
-						tp.tc = Tmax / (GM_N > 1 ? pow(GM_R, GM_N - 1) : 1) *
-							exp(-log(100.0) * (4 - it) / 4);
-						tp.g = exp(v);
-						tp.lambda = w ? pr.lambda : 0;
-						if (w && !(pr.lambda > 0))
-							continue;
-						l = rw_reml(rr, c->J, q, &tp, &t2);
-						if (l > lg) {
-							lg = l;
-							pg = tp;
-							xg = v;
-							xt = log(tp.tc / Tmax);
-						}
-					}
-			if (isfinite(lg)) {
-				for (int round = 0; round < 2; round++) {
-					rw_golden(rr, c->J, q, &pg, &pg.g, 1, xg - step,
-						  xg + step, &xg, &lg);
-					rw_golden(rr, c->J, q, &pg, &pg.tc, 1 / Tmax, xt - 1.2,
-						  fmin(xt + 1.2, log(10.0)), &xt, &lg);
-					if (pg.lambda > 0) {
-						xl = log(pg.lambda * Tmax * Tmax);
-						rw_golden(rr, c->J, q, &pg, &pg.lambda,
-							  Tmax * Tmax, xl - step,
-							  xl + step, &xl, &lg);
-					}
+			for (int it = 0; it < 16; it++) {
+				if (f1 >= f2) {
+					bb = x2;
+					x2 = x1;
+					f2 = f1;
+					x1 = bb - gr * (bb - a);
+					f1 = rw_reml(rr, c->J, q, exp(x1) / (Tmax * Tmax), &t2);
+				} else {
+					a = x1;
+					x1 = x2;
+					f1 = f2;
+					x2 = a + gr * (bb - a);
+					f2 = rw_reml(rr, c->J, q, exp(x2) / (Tmax * Tmax), &t2);
 				}
-				if (lg > best + 2) {
-					pr = pg;
-					best = rw_reml(rr, c->J, q, &pr, &s2);
-				}
+			}
+			if (f1 >= f2 && f1 > lb) {
+				lb = f1;
+				vb = x1;
+			} else if (f2 > lb) {
+				lb = f2;
+				vb = x2;
+			}
+			if (lb > best) {
+				lambda = exp(vb) / (Tmax * Tmax);
+				best = rw_reml(rr, c->J, q, lambda, &s2);
 			}
 		}
 	}
@@ -930,29 +803,7 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 				for (size_t bb = 0; bb < q; bb++)
 					S[idx[a]][idx[bb]] +=
 						s2 * (r->d[k] * h[a] * h[bb] +
-						      pr.lambda * dtk * R[a] * R[bb]);
-		}
-		/* the Gauss-Markov process: g sum_ij exp(-|t_i - t_j| / tc)
-		 * h_i h_j', with G the decayed sum of the earlier h */
-		for (int gi = 0; gi < GM_N && pr.g > 0; gi++) {
-			double G[NREG + 1] = { 0 }, tc = pr.tc * pow(GM_R, gi);
-
-			for (size_t k = 0; k < r->m; k++) {
-				const double *h = r->h + k * q;
-
-				if (k > 0) {
-					double phi = exp(-(r->t[k] - r->t[k - 1]) / tc);
-
-					for (size_t a = 0; a < q; a++)
-						G[a] = phi * (G[a] + r->h[(k - 1) * q + a]);
-				}
-				for (size_t a = 0; a < q; a++)
-					for (size_t bb = 0; bb < q; bb++)
-						S[idx[a]][idx[bb]] +=
-							s2 * pr.g *
-							(h[a] * h[bb] + h[a] * G[bb] +
-							 G[a] * h[bb]);
-			}
+						      lambda * dtk * R[a] * R[bb]);
 		}
 	}
 	/* cov = A^-1 S A^-1, A^-1 = cov / s2 */
