@@ -9,12 +9,12 @@
 # Each round interrupts two runs (one into a new folder, one over a
 # report) per signal.  make check runs 3 at once and 1 round (6
 # interrupted runs) on the capture's first 4,000 lines (under 10 s of
-# CPU); make check-long (SSCOPE_TEST_TIER=long) 8 at once and 17 rounds
-# (102 interrupted runs, 17 killed) on the whole capture.
+# CPU); make check-long (SSCOPE_TEST_TIER=long) 8 at once and 10 rounds
+# (60 interrupted runs, 10 killed) on the whole capture.
 . "$(dirname "$0")/lib.sh"
 
 CAP="$SAMPLES/gyro-static.csv"
-if long_tier; then rounds=17 many=8; else
+if long_tier; then rounds=10 many=8; else
 	rounds=1 many=3
 	head -n 4000 "$CAP" >"$T/short.csv"
 	CAP="$T/short.csv"
