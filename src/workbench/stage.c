@@ -214,12 +214,21 @@ static int load_one(const struct ssc_stage_env *env, size_t i,
 {
 	const struct load_ctx *l = env->load_ctx;
 	struct ssc_common cu = *l->co;
+	int rc;
 
 	if (l->in->n && l->in->columns[i])
 		cu.columns = l->in->columns[i];
 	if (l->in->n && l->in->temp[i])
 		cu.temp_column = l->in->temp[i];
-	return ssc_load(&cu, env->paths[i], cap);
+	rc = ssc_load(&cu, env->paths[i], cap);
+	/* the stage reads samples at the capture's rate: the time column,
+	 * analysed at load (gaps, jitter), is given back before the
+	 * analysis (one unit's memory is its samples) */
+	if (!rc && (*cap)->time_s && !(*cap)->is_view) {
+		free((*cap)->time_s);
+		(*cap)->time_s = NULL;
+	}
+	return rc;
 }
 
 static void operands_free(struct operands *o)
