@@ -22,7 +22,10 @@ one_line_error "bad term"
 run "bad width" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:-5%
 run "bad probability" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% --probability 1.5
 run "both sources" 2 plan --sensor "$S/gyro-mems-250.ini" --pilot "$S/gyro-static.csv" --resolve B:25%
-run "operand refused" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% extra
+run "a spec and a pilot operand" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% "$S/gyro-static.csv"
+one_line_error "a spec and a pilot operand"
+run "two pilots" 2 plan --pilot "$S/gyro-static.csv" --resolve B:25% "$S/gyro-static.csv"
+run "two operands" 2 plan --resolve B:25% "$S/gyro-static.csv" "$S/gyro-static.csv"
 run "csv refused" 2 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25% --format csv
 run "missing spec" 1 plan --sensor "$T/none.ini" --rate 10 --resolve B:25%
 one_line_error "missing spec"
@@ -62,4 +65,33 @@ json_check "datasheet: accel section" "$T/out" '.name == "STIM300 accel" and .no
 # a pilot: the samples' static gyro record, first channel
 run "pilot" 0 plan --pilot "$S/gyro-static.csv" --resolve N:5% --lengths 600 --format json
 json_check "pilot: its rate and length" "$T/out" '.source == "pilot" and .rate_hz > 0 and .pilot_s > 0 and .terms[0].needed_s > 0'
+cp "$T/out" "$T/pilot.json"
+run "pilot as the operand" 0 plan --resolve N:5% --lengths 600 --format json "$S/gyro-static.csv"
+if cmp -s "$T/out" "$T/pilot.json"; then ok "operand: the same JSON as --pilot"; else not_ok "operand: the same JSON as --pilot"; fi
+
+# the figure: each wish's probability against the length
+run "plot" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25%,K:30% --plot "$T/plan.svg"
+if grep -q '<svg' "$T/plan.svg" 2>/dev/null && grep -q "K to ±30" "$T/plan.svg"; then ok "plan.svg with a curve per wish"; else not_ok "plan.svg"; fi
+run "plot, json" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25%,K:30% --format json
+cp "$T/out" "$T/spec.json"
+
+# a scene: [plan] with the scene's [sensor] and no capture, then with a
+# capture as the pilot: the stage's JSON is the command's
+printf '[sensor]\nspec = %s\n[input]\nrate = 10\n[plan]\nresolve = B:25%%,K:30%%\n[report]\nformats = json\n' \
+	"$S/gyro-mems-250.ini" >"$T/sp.ini"
+run "scene: plan from the sensor" 0 run "$T/sp.ini" -o "$T/sp" -q
+json_check "scene: the sensor's plan" "$T/sp/plan.json" '.command == "plan" and .source == "sensor spec" and (.terms | length) == 2'
+json_check "scene: the same numbers as the command" "$T/sp/plan.json" "[.terms[].needed_s] == $(jq -c '[.terms[].needed_s]' "$T/spec.json" 2>/dev/null || echo null)"
+json_check "scene: summary rows in hours" "$T/sp/report.json" '[.summary[] | select(.stage == "plan")] | length == 2 and all(.unit == "h")'
+printf '[input]\nfiles = %s\n[plan]\nresolve = N:5%%\nlengths = 600\n[report]\nformats = json\n' \
+	"$S/gyro-static.csv" >"$T/pp.ini"
+run "scene: plan from a pilot" 0 run "$T/pp.ini" -o "$T/pp" -q
+run "the command as the scene runs it" 0 plan --resolve N:5% --lengths 600 --format json -o "$T/pp-cmd.json" "$S/gyro-static.csv"
+if command -v jq >/dev/null 2>&1; then
+	if [ "$(jq -S . "$T/pp/plan.json")" = "$(jq -S . "$T/pp-cmd.json")" ]; then ok "scene: the pilot's plan equals the command's"
+	else not_ok "scene: the pilot's plan equals the command's"; fi
+fi
+printf '[plan]\nresolve = N:5%%\n[report]\nformats = json\n' >"$T/none.ini"
+run "scene: neither sensor nor capture" 2 run "$T/none.ini" -o "$T/none" -q
+one_line_error "scene: neither sensor nor capture"
 done_testing

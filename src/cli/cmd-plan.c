@@ -11,15 +11,16 @@
 #include <string.h>
 
 #include "plan.h"
+#include "stage.h"
 
 enum { O_SENSOR = 300, O_PILOT, O_RESOLVE, O_CI, O_PROB, O_LENGTHS, O_SECTION,
        O_MAXLEN };
 
 static const struct ssc_option plan_opts[] = {
-	{ "sensor", required_argument, O_SENSOR, "SPEC.ini",
+	{ "sensor", required_argument, O_SENSOR, "FILE.ini",
 	  "the sensor: a [sensor] spec (as simulate takes) or a datasheet INI" },
-	{ "pilot", required_argument, O_PILOT, "CAPTURE",
-	  "a short pilot record instead: its fit (first channel, or -c) is the model" },
+	{ "pilot", required_argument, O_PILOT, "FILE",
+	  "a short pilot record instead (or the operand CAPTURE): its fit (first channel, or -c) is the model" },
 	{ "resolve", required_argument, O_RESOLVE, "T:W[,T:W...]",
 	  "terms (Q N B K R) and the relative half-width wanted, e.g. B:25%,K:30%" },
 	{ "ci", required_argument, O_CI, "LEVEL",
@@ -37,7 +38,7 @@ static const struct ssc_option plan_opts[] = {
 
 static const struct ssc_command_spec spec = {
 	.name = "plan",
-	.usage = "plan (--sensor SPEC.ini | --pilot CAPTURE) --resolve T:W[,T:W...] [OPTIONS]",
+	.usage = "plan (--sensor FILE.ini | --pilot CAPTURE | CAPTURE) --resolve T:W[,T:W...] [OPTIONS]",
 	.summary =
 		"Record length needed for each wanted IEEE 952 term (Q, N, B, K, R) to be\n"
 		"shown present by the fit's selection test and its interval to reach a\n"
@@ -48,7 +49,9 @@ static const struct ssc_command_spec spec = {
 	.options = plan_opts,
 	.analysis = true,
 	.notes = "The rate is --rate, else the pilot's; a spec needs --rate.  A term the\n"
-		 "model does not have is 'never', with the reason.\n"
+		 "model does not have is 'never', with the reason.  --plot draws the\n"
+		 "probability against the record length.  In a scene, [plan] plans from\n"
+		 "sensor = FILE.ini, else the scene's capture (the pilot), else its [sensor].\n"
 		 "Examples:\n"
 		 "  sensorscope plan --sensor samples/gyro-mems-250.ini --rate 100 --resolve B:10%,K:30%\n"
 		 "  sensorscope plan --pilot pilot.csv --resolve B:25% --format json\n"
@@ -56,15 +59,24 @@ static const struct ssc_command_spec spec = {
 };
 
 struct opts {
-	const char *sensor, *pilot, *section;
-	struct ssc_plan_wish wish[5];
-	size_t n_wish;
-	double lengths[SSC_PLAN_MAX_LENGTHS];
-	size_t n_len;
-	struct sscope_plan_opts po;
+	const char *pilot;
+	struct ssc_plan_req q;
 };
 
-static int parse_resolve(struct opts *o, const char *arg)
+static void init(void *opts)
+{
+	static const double def_h[5] = { 1, 3, 6, 12, 24 };
+	struct opts *o = opts;
+
+	memset(o, 0, sizeof(*o));
+	o->q.po.ci_level = 0.682689492137086;
+	o->q.po.probability = 0.9;
+	o->q.po.detect_sigma = 3;
+	for (o->q.n_len = 0; o->q.n_len < 5; o->q.n_len++)
+		o->q.lengths_s[o->q.n_len] = def_h[o->q.n_len] * 3600;
+}
+
+static int parse_resolve(struct ssc_plan_req *o, const char *arg)
 {
 	char *s = strdup(arg), *save = NULL, *tok;
 	int rc = 0;
@@ -97,7 +109,7 @@ static int parse_resolve(struct opts *o, const char *arg)
 	return rc;
 }
 
-static int parse_lengths(struct opts *o, const char *arg)
+static int parse_lengths(struct ssc_plan_req *o, const char *arg)
 {
 	char *s = strdup(arg), *save = NULL, *tok;
 	int rc = 0;
@@ -110,7 +122,7 @@ static int parse_lengths(struct opts *o, const char *arg)
 			rc = ssc_usage_error("plan", "--lengths: at most %d lengths", SSC_PLAN_MAX_LENGTHS);
 			break;
 		}
-		rc = ssc_arg_positive("plan", "lengths", tok, "s", &o->lengths[o->n_len++]);
+		rc = ssc_arg_positive("plan", "lengths", tok, "s", &o->lengths_s[o->n_len++]);
 	}
 	free(s);
 	return rc;
@@ -119,10 +131,11 @@ static int parse_lengths(struct opts *o, const char *arg)
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
+	struct ssc_plan_req *q = &o->q;
 
 	switch (key) {
 	case O_SENSOR:
-		o->sensor = arg;
+		q->sensor = arg;
 		return 0;
 	case O_PILOT:
 		o->pilot = arg;
@@ -130,65 +143,92 @@ static int handler(int key, const char *arg, void *ctx)
 	case O_SECTION:
 		if (strcmp(arg, "gyro") && strcmp(arg, "accel"))
 			return ssc_usage_error("plan", "--section: gyro or accel");
-		o->section = arg;
+		q->section = arg;
 		return 0;
 	case O_RESOLVE:
-		return parse_resolve(o, arg);
+		return parse_resolve(q, arg);
 	case O_LENGTHS:
-		return parse_lengths(o, arg);
+		return parse_lengths(q, arg);
 	case O_MAXLEN:
-		return ssc_arg_positive("plan", "max-length", arg, "s", &o->po.max_length_s);
+		return ssc_arg_positive("plan", "max-length", arg, "s", &q->po.max_length_s);
 	case O_CI:
-		if (ssc_arg_double("plan", "ci", arg, &o->po.ci_level))
+		if (ssc_arg_double("plan", "ci", arg, &q->po.ci_level))
 			return SSC_EXIT_USAGE;
-		return o->po.ci_level > 0 && o->po.ci_level < 1 ? 0 :
+		return q->po.ci_level > 0 && q->po.ci_level < 1 ? 0 :
 			ssc_usage_error("plan", "--ci: a level between 0 and 1");
 	case O_PROB:
-		if (ssc_arg_double("plan", "probability", arg, &o->po.probability))
+		if (ssc_arg_double("plan", "probability", arg, &q->po.probability))
 			return SSC_EXIT_USAGE;
-		return o->po.probability > 0 && o->po.probability < 1 ? 0 :
+		return q->po.probability > 0 && q->po.probability < 1 ? 0 :
 			ssc_usage_error("plan", "--probability: between 0 and 1 (0.9 for 90 %%)");
 	default:
 		return ssc_usage_error("plan", "unexpected option");
 	}
 }
 
+static int check(struct ssc_common *co, void *opts)
+{
+	struct opts *o = opts;
+
+	if (o->q.sensor && o->pilot)
+		return ssc_usage_error(co->cmd, "give one of --sensor FILE.ini and a pilot capture");
+	if (!o->q.n_wish)
+		return ssc_usage_error(co->cmd, "give the terms wanted: --resolve B:25%%,K:30%%");
+	if (co->format == SSC_FMT_CSV)
+		return ssc_usage_error(co->cmd, "--format csv: not available (text or json)");
+	return 0;
+}
+
+/* the model: --sensor, else the pilot (--pilot, or the capture operand,
+ * a scene's input), else a scene's [sensor] */
+static int run(const struct ssc_stage_env *env, void *opts, void **result)
+{
+	struct opts *o = opts;
+	const struct ssc_common *co = env->co;
+	struct sscope_capture *own = NULL;
+	const struct sscope_capture *pilot = env->n_caps ? env->caps[0] : NULL;
+	const char *pilot_path = env->n_caps ? env->paths[0] : NULL;
+	int rc;
+
+	if (o->q.sensor && pilot)
+		return ssc_usage_error(co->cmd, "give one of --sensor FILE.ini and a pilot capture (the operand '%s')",
+				       pilot_path);
+	if (o->pilot && pilot)
+		return ssc_usage_error(co->cmd, "give the pilot once: --pilot or the operand");
+	if (!o->q.sensor && !pilot && !o->pilot && !env->sensor)
+		return ssc_usage_error(co->cmd, "give one of --sensor FILE.ini and --pilot CAPTURE");
+	if (o->pilot) {
+		rc = ssc_load(co, o->pilot, &own);
+		if (rc)
+			return rc;
+		pilot = own;
+		pilot_path = o->pilot;
+	}
+	rc = ssc_plan_run(co, &o->q, pilot, pilot_path, env->sensor,
+			  env->sensor_path, (struct ssc_plan_res **)result);
+	sscope_capture_free(own);
+	return rc;
+}
+
+const struct ssc_stage_ops ssc_plan_stage = {
+	.spec = &spec,
+	.title = "Recording plan",
+	.needs = SSC_NEED_DATA | SSC_NEED_DATA_OR_SENSOR,
+	.min_files = 0,
+	.max_files = 1,
+	.opts_size = sizeof(struct opts),
+	.init = init,
+	.handle = handler,
+	.check = check,
+	.run = run,
+	.json = ssc_plan_json,
+	.text = ssc_plan_text,
+	.summary = ssc_plan_summary,
+	.plot = ssc_plan_plot,
+	.free_result = ssc_plan_free,
+};
+
 int ssc_cmd_plan(int argc, char **argv)
 {
-	static const double def_h[5] = { 1, 3, 6, 12, 24 };
-	struct ssc_common co;
-	struct ssc_plan_model m;
-	struct opts o;
-	double rate;
-	int first, rc;
-
-	memset(&o, 0, sizeof(o));
-	o.po.ci_level = 0.682689492137086;
-	o.po.probability = 0.9;
-	o.po.detect_sigma = 3;
-	rc = ssc_parse(&spec, argc, argv, &co, handler, &o, &first);
-	if (rc)
-		return rc < 0 ? SSC_EXIT_OK : rc;
-	if (first < argc)
-		return ssc_usage_error(co.cmd, "unexpected operand '%s' (the sensor goes after --sensor, a pilot after --pilot)",
-				       argv[first]);
-	if (!o.sensor == !o.pilot)
-		return ssc_usage_error(co.cmd, "give one of --sensor SPEC.ini and --pilot CAPTURE");
-	if (!o.n_wish)
-		return ssc_usage_error(co.cmd, "give the terms wanted: --resolve B:25%%,K:30%%");
-	if (co.plot)
-		return ssc_usage_error(co.cmd, "--plot: this command draws no figure");
-	if (co.format == SSC_FMT_CSV)
-		return ssc_usage_error(co.cmd, "--format csv: not available (text or json)");
-	if (o.sensor && !(co.rate_hz > 0))
-		return ssc_usage_error(co.cmd, "give the sample rate of the planned record: --rate HZ");
-	if (!o.n_len)
-		for (o.n_len = 0; o.n_len < 5; o.n_len++)
-			o.lengths[o.n_len] = def_h[o.n_len] * 3600;
-	rc = ssc_plan_model_load(&co, o.sensor, o.pilot, o.section, &m);
-	if (rc)
-		return rc;
-	rate = co.rate_hz > 0 ? co.rate_hz : m.rate_hz;
-	return ssc_plan_report(&co, &m, o.wish, o.n_wish, o.lengths, o.n_len, rate,
-			       &o.po);
+	return ssc_stage_main(&ssc_plan_stage, argc, argv);
 }

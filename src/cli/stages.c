@@ -117,6 +117,12 @@ static const struct ssc_stage_def stages[S_COUNT_] = {
 		    "first still interval, stops by a sliding-window test (Skog et al. 2010) with "
 		    "chi-squared thresholds, zero-velocity and zero-angular-rate updates at "
 		    "every stop; process noise from the N, B, K terms." },
+	[S_PLAN] = { "plan", &ssc_plan_stage, 0, NULL,
+		     "Record length for a term to be shown present (the fit's "
+		     "nested test at detect_sigma) and its interval to reach the "
+		     "wanted relative half-width: the covariance of the record's "
+		     "Allan variances under the model and the fit's information, "
+		     "no simulation; the pilot's terms from its dense-tau fit." },
 };
 
 const struct ssc_stage_def *ssc_scene_graph(void)

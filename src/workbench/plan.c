@@ -11,6 +11,8 @@
 
 #include "acq/acq.h"
 #include "datasheet.h"
+#include "plot.h"
+#include "stage.h"
 
 static const char term_name[5] = { 'Q', 'N', 'B', 'K', 'R' };
 
@@ -68,24 +70,22 @@ static int from_datasheet(const struct ssc_common *co, const char *path,
 	return SSC_EXIT_OK;
 }
 
-static int from_pilot(const struct ssc_common *co, const char *path,
+/* the model of the pilot capture's first channel, fitted as `allan`
+ * does (dense taus) */
+static int from_pilot(const struct ssc_common *co,
+		      const struct sscope_capture *cap, const char *path,
 		      struct ssc_plan_model *m)
 {
-	struct sscope_capture *cap = NULL;
 	struct sscope_allan_result *res = NULL;
 	struct sscope_diag d = { "" };
 	const struct sscope_capture_channel *ch;
-	double fs;
-	int rc = ssc_load(co, path, &cap);
+	double fs = co->rate_hz > 0 ? co->rate_hz : cap->rate_hz;
+	int rc;
 
-	if (rc)
-		return rc;
-	fs = co->rate_hz > 0 ? co->rate_hz : cap->rate_hz;
 	if (!cap->n_channels || !(fs > 0)) {
 		ssc_err(co->cmd, "%s: %s", path,
 			cap->n_channels ? "no sample rate (give --rate)" :
 					  "no data column");
-		sscope_capture_free(cap);
 		return SSC_EXIT_FAIL;
 	}
 	ch = &cap->channels[0];
@@ -98,10 +98,10 @@ static int from_pilot(const struct ssc_common *co, const char *path,
 	if (rc) {
 		ssc_fail(co->cmd, rc, &d, path);
 		sscope_allan_result_free(res);
-		sscope_capture_free(cap);
 		return SSC_EXIT_FAIL;
 	}
 	m->kind = "pilot";
+	m->path = path;
 	m->rate_hz = fs;
 	m->pilot_s = (double)cap->n / fs;
 	m->quantity = ch->col.quantity;
@@ -121,46 +121,54 @@ static int from_pilot(const struct ssc_common *co, const char *path,
 			m->unshown |= 1u << j;
 	}
 	sscope_allan_result_free(res);
-	sscope_capture_free(cap);
 	return SSC_EXIT_OK;
 }
 
-int ssc_plan_model_load(const struct ssc_common *co, const char *sensor,
-			const char *pilot, const char *section,
-			struct ssc_plan_model *m)
+static void from_spec(const struct sscope_sensor_spec *spec, const char *path,
+		      struct ssc_plan_model *m)
+{
+	m->kind = "sensor spec";
+	m->path = path;
+	m->quantity = spec->quantity;
+	snprintf(m->name, sizeof(m->name), "%s", spec->name);
+	m->coef[0] = spec->q;
+	m->coef[1] = spec->n;
+	m->coef[2] = spec->b;
+	m->coef[3] = spec->k;
+	m->coef[4] = spec->r;
+	for (int j = 0; j < 5; j++)
+		if (!(m->coef[j] > 0))
+			snprintf(m->why[j], sizeof(m->why[0]),
+				 "the sensor spec has no %c (0)", term_name[j]);
+}
+
+static int model_load(const struct ssc_common *co, const struct ssc_plan_req *q,
+		      const struct sscope_capture *pilot, const char *pilot_path,
+		      const struct sscope_sensor_spec *sensor,
+		      const char *sensor_path, struct ssc_plan_model *m)
 {
 	struct sscope_sensor_spec spec;
 	int rc;
 
 	memset(m, 0, sizeof(*m));
-	m->path = sensor ? sensor : pilot;
-	if (pilot)
-		return from_pilot(co, pilot, m);
-	if (is_datasheet(sensor))
-		return from_datasheet(co, sensor, section, m);
-	rc = ssc_load_sensor(co->cmd, sensor, &spec);
-	if (rc)
-		return rc;
-	m->kind = "sensor spec";
-	m->quantity = spec.quantity;
-	snprintf(m->name, sizeof(m->name), "%s", spec.name);
-	m->coef[0] = spec.q;
-	m->coef[1] = spec.n;
-	m->coef[2] = spec.b;
-	m->coef[3] = spec.k;
-	m->coef[4] = spec.r;
-	for (int j = 0; j < 5; j++)
-		if (!(m->coef[j] > 0))
-			snprintf(m->why[j], sizeof(m->why[0]),
-				 "the sensor spec has no %c (0)", term_name[j]);
-	return SSC_EXIT_OK;
+	if (!q->sensor && pilot)
+		return from_pilot(co, pilot, pilot_path, m);
+	if (!q->sensor) {
+		if (!sensor) {
+			ssc_err(co->cmd, "no sensor: give --sensor FILE.ini or a pilot capture");
+			return SSC_EXIT_USAGE;
+		}
+		from_spec(sensor, sensor_path ? sensor_path : "[sensor]", m);
+		return SSC_EXIT_OK;
+	}
+	m->path = q->sensor;
+	if (is_datasheet(q->sensor))
+		return from_datasheet(co, q->sensor, q->section, m);
+	rc = ssc_load_sensor(co->cmd, q->sensor, &spec);
+	if (!rc)
+		from_spec(&spec, q->sensor, m);
+	return rc;
 }
-
-/* one wish's numbers */
-struct wish_out {
-	double needed_s;
-	struct sscope_plan_point pt[SSC_PLAN_MAX_LENGTHS];
-};
 
 static void fmt_len(char *buf, size_t len, double s)
 {
@@ -174,6 +182,83 @@ static void fmt_len(char *buf, size_t len, double s)
 		snprintf(buf, len, "%.3g h", s / 3600);
 	else
 		snprintf(buf, len, "%.1f d", s / 86400);
+}
+
+/* the figure's lengths: from a tenth of the shortest needed (or asked)
+ * length to twice the longest, log-spaced */
+static void curve_lengths(const struct ssc_plan_res *r, double *len_s)
+{
+	double lo = INFINITY, hi = 0;
+
+	for (size_t i = 0; i < r->req.n_wish; i++)
+		if (isfinite(r->needed_s[i])) {
+			lo = fmin(lo, r->needed_s[i]);
+			hi = fmax(hi, r->needed_s[i]);
+		}
+	for (size_t k = 0; k < r->req.n_len; k++) {
+		lo = fmin(lo, r->req.lengths_s[k]);
+		hi = fmax(hi, r->req.lengths_s[k]);
+	}
+	lo = fmax(lo / 10, 60);
+	hi = fmin(fmax(2 * hi, 2 * lo), r->req.po.max_length_s);
+	for (size_t k = 0; k < SSC_PLAN_CURVE; k++)
+		len_s[k] = lo * pow(hi / lo, (double)k / (SSC_PLAN_CURVE - 1));
+}
+
+int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
+		 const struct sscope_capture *pilot, const char *pilot_path,
+		 const struct sscope_sensor_spec *sensor, const char *sensor_path,
+		 struct ssc_plan_res **out)
+{
+	struct ssc_plan_res *r = calloc(1, sizeof(*r));
+	int rc;
+
+	*out = NULL;
+	if (!r)
+		return ssc_fail(co->cmd, -ENOMEM, NULL, NULL);
+	r->req = *req;
+	if (r->req.po.max_length_s == 0)
+		r->req.po.max_length_s = 30 * 86400.0;
+	rc = model_load(co, req, pilot, pilot_path, sensor, sensor_path, &r->m);
+	if (rc) {
+		free(r);
+		return rc;
+	}
+	r->rate_hz = co->rate_hz > 0 ? co->rate_hz : r->m.rate_hz;
+	if (!(r->rate_hz > 0)) {
+		free(r);
+		return ssc_usage_error(co->cmd, "give the sample rate of the planned record: --rate HZ");
+	}
+	for (size_t i = 0; i < req->n_wish && !rc; i++) {
+		enum sscope_term t = (enum sscope_term)req->wish[i].term;
+		double w = req->wish[i].target;
+
+		rc = sscope_plan_needed(r->m.coef, r->rate_hz, t, w, &r->req.po,
+					&r->needed_s[i]);
+		for (size_t k = 0; k < req->n_len && !rc; k++)
+			rc = sscope_plan_predict(r->m.coef, r->rate_hz,
+						 req->lengths_s[k], t, w,
+						 &r->req.po, &r->pt[i][k]);
+	}
+	if (!rc && co->plot) {
+		double len_s[SSC_PLAN_CURVE];
+
+		curve_lengths(r, len_s);
+		r->n_curve = SSC_PLAN_CURVE;
+		for (size_t i = 0; i < req->n_wish && !rc; i++)
+			for (size_t k = 0; k < SSC_PLAN_CURVE && !rc; k++)
+				rc = sscope_plan_predict(
+					r->m.coef, r->rate_hz, len_s[k],
+					(enum sscope_term)req->wish[i].term,
+					req->wish[i].target, &r->req.po,
+					&r->curve[i][k]);
+	}
+	if (rc) {
+		free(r);
+		return ssc_fail(co->cmd, rc, NULL, "plan");
+	}
+	*out = r;
+	return SSC_EXIT_OK;
 }
 
 static json_t *model_json(const struct ssc_plan_model *m)
@@ -191,129 +276,192 @@ static json_t *model_json(const struct ssc_plan_model *m)
 	return o;
 }
 
-static int emit(const struct ssc_common *co, const struct ssc_plan_model *m,
-		const struct ssc_plan_wish *w, size_t n_w,
-		const struct wish_out *r, size_t n_len, double rate_hz,
-		const struct sscope_plan_opts *po)
+static const char *never_why(const struct ssc_plan_res *r, size_t i)
 {
-	struct ssc_out out;
-	bool ok;
-	int rc;
+	return r->m.coef[r->req.wish[i].term] > 0 ?
+		       "not reached within the longest record considered (--max-length)" :
+		       r->m.why[r->req.wish[i].term];
+}
 
-	if (co->format == SSC_FMT_JSON) {
-		json_t *root = json_object(), *arr = json_array();
+json_t *ssc_plan_json(const void *opts, const void *result)
+{
+	const struct ssc_plan_res *r = result;
+	const struct ssc_plan_model *m = &r->m;
+	const struct sscope_plan_opts *po = &r->req.po;
+	json_t *root = json_object(), *arr = json_array();
 
-		json_object_set_new(root, "command", json_string("plan"));
-		json_object_set_new(root, "source", json_string(m->kind));
-		json_object_set_new(root, "file", json_string(m->path));
-		json_object_set_new(root, "name", json_string(m->name));
-		if (m->pilot_s > 0)
-			json_object_set_new(root, "pilot_s", ssc_jreal(m->pilot_s));
-		json_object_set_new(root, "rate_hz", ssc_jreal(rate_hz));
-		json_object_set_new(root, "ci_level", ssc_jreal(po->ci_level));
-		json_object_set_new(root, "probability_wanted", ssc_jreal(po->probability));
-		json_object_set_new(root, "detect_sigma", ssc_jreal(po->detect_sigma));
-		json_object_set_new(root, "noise", model_json(m));
-		for (int j = 0; j < 5; j++)
-			if (m->unshown & (1u << j))
-				ssc_json_warn(root, "term_not_shown",
-					      "%c is not shown present by the pilot: its estimate is planned with, the plan is indicative",
-					      term_name[j]);
-		for (size_t i = 0; i < n_w; i++) {
-			json_t *t = json_object(), *ls = json_array();
+	(void)opts;
+	json_object_set_new(root, "command", json_string("plan"));
+	json_object_set_new(root, "source", json_string(m->kind));
+	json_object_set_new(root, "file", json_string(m->path));
+	json_object_set_new(root, "name", json_string(m->name));
+	if (m->pilot_s > 0)
+		json_object_set_new(root, "pilot_s", ssc_jreal(m->pilot_s));
+	json_object_set_new(root, "rate_hz", ssc_jreal(r->rate_hz));
+	json_object_set_new(root, "ci_level", ssc_jreal(po->ci_level));
+	json_object_set_new(root, "probability_wanted", ssc_jreal(po->probability));
+	json_object_set_new(root, "detect_sigma", ssc_jreal(po->detect_sigma));
+	json_object_set_new(root, "noise", model_json(m));
+	for (int j = 0; j < 5; j++)
+		if (m->unshown & (1u << j))
+			ssc_json_warn(root, "term_not_shown",
+				      "%c is not shown present by the pilot: its estimate is planned with, the plan is indicative",
+				      term_name[j]);
+	for (size_t i = 0; i < r->req.n_wish; i++) {
+		json_t *t = json_object(), *ls = json_array();
 
-			json_object_set_new(t, "term", json_string((char[]){ term_name[w[i].term], 0 }));
-			json_object_set_new(t, "target", ssc_jreal(w[i].target));
-			json_object_set_new(t, "needed_s", ssc_jreal(r[i].needed_s));
-			json_object_set_new(t, "never",
-					    isfinite(r[i].needed_s) ? json_null() :
-					    json_string(m->coef[w[i].term] > 0 ?
-							"not reached within the longest record considered (--max-length)" :
-							m->why[w[i].term]));
-			for (size_t k = 0; k < n_len; k++) {
-				const struct sscope_plan_point *p = &r[i].pt[k];
-				json_t *l = json_object();
+		json_object_set_new(t, "term", json_string((char[]){ term_name[r->req.wish[i].term], 0 }));
+		json_object_set_new(t, "target", ssc_jreal(r->req.wish[i].target));
+		json_object_set_new(t, "needed_s", ssc_jreal(r->needed_s[i]));
+		json_object_set_new(t, "never",
+				    isfinite(r->needed_s[i]) ? json_null() :
+				    json_string(never_why(r, i)));
+		for (size_t k = 0; k < r->req.n_len; k++) {
+			const struct sscope_plan_point *p = &r->pt[i][k];
+			json_t *l = json_object();
 
-				json_object_set_new(l, "length_s", ssc_jreal(p->length_s));
-				json_object_set_new(l, "probability", ssc_jreal(p->probability));
-				json_object_set_new(l, "p_present", ssc_jreal(p->p_present));
-				json_object_set_new(l, "p_width", ssc_jreal(p->p_width));
-				json_object_set_new(l, "rel_half_width", ssc_jreal(p->rel_half_width));
-				json_array_append_new(ls, l);
-			}
-			json_object_set_new(t, "lengths", ls);
-			json_array_append_new(arr, t);
+			json_object_set_new(l, "length_s", ssc_jreal(p->length_s));
+			json_object_set_new(l, "probability", ssc_jreal(p->probability));
+			json_object_set_new(l, "p_present", ssc_jreal(p->p_present));
+			json_object_set_new(l, "p_width", ssc_jreal(p->p_width));
+			json_object_set_new(l, "rel_half_width", ssc_jreal(p->rel_half_width));
+			json_array_append_new(ls, l);
 		}
-		json_object_set_new(root, "terms", arr);
-		return ssc_emit_json(co, root);
+		json_object_set_new(t, "lengths", ls);
+		json_array_append_new(arr, t);
 	}
-	rc = ssc_out_open(co, &out);
-	if (rc)
-		return rc;
-	fprintf(out.f, "%s (%s %s), %g Hz: record length for each term to be shown present\n"
+	json_object_set_new(root, "terms", arr);
+	return root;
+}
+
+void ssc_plan_text(FILE *f, const void *opts, const void *result)
+{
+	const struct ssc_plan_res *r = result;
+	const struct ssc_plan_model *m = &r->m;
+	const struct sscope_plan_opts *po = &r->req.po;
+
+	(void)opts;
+	fprintf(f, "%s (%s %s), %g Hz: record length for each term to be shown present\n"
 		"and resolved to the relative half-width of its %.1f %% interval, with %.0f %% probability\n",
-		m->name[0] ? m->name : "sensor", m->kind, m->path, rate_hz,
+		m->name[0] ? m->name : "sensor", m->kind, m->path, r->rate_hz,
 		100 * po->ci_level, 100 * po->probability);
 	for (int j = 0; j < 5; j++)
 		if (m->unshown & (1u << j))
-			fprintf(out.f, "note: %c is not shown present by the pilot: its estimate is planned with, the plan is indicative\n",
+			fprintf(f, "note: %c is not shown present by the pilot: its estimate is planned with, the plan is indicative\n",
 				term_name[j]);
-	fprintf(out.f, "%-4s %7s %11s", "term", "target", "needed");
-	for (size_t k = 0; k < n_len; k++) {
+	fprintf(f, "%-4s %7s %11s", "term", "target", "needed");
+	for (size_t k = 0; k < r->req.n_len; k++) {
 		char b[32];
 
-		fmt_len(b, sizeof(b), r[0].pt[k].length_s);
-		fprintf(out.f, " %8s", b);
+		fmt_len(b, sizeof(b), r->req.lengths_s[k]);
+		fprintf(f, " %8s", b);
 	}
-	fputc('\n', out.f);
-	for (size_t i = 0; i < n_w; i++) {
+	fputc('\n', f);
+	for (size_t i = 0; i < r->req.n_wish; i++) {
+		int t = r->req.wish[i].term;
 		char b[32];
 
-		fmt_len(b, sizeof(b), r[i].needed_s);
-		fprintf(out.f, "%-4c %6.0f%% %11s", term_name[w[i].term],
-			100 * w[i].target, b);
-		if (!isfinite(r[i].needed_s) && !(m->coef[w[i].term] > 0)) {
-			fprintf(out.f, "  %s\n", m->why[w[i].term]);
+		fmt_len(b, sizeof(b), r->needed_s[i]);
+		fprintf(f, "%-4c %6.0f%% %11s", term_name[t],
+			100 * r->req.wish[i].target, b);
+		if (!isfinite(r->needed_s[i]) && !(m->coef[t] > 0)) {
+			fprintf(f, "  %s\n", m->why[t]);
 			continue;
 		}
-		for (size_t k = 0; k < n_len; k++)
-			fprintf(out.f, " %7.0f%%", 100 * r[i].pt[k].probability);
-		if (!isfinite(r[i].needed_s))
-			fprintf(out.f, "  (not within %.0f days)", po->max_length_s / 86400);
-		fputc('\n', out.f);
+		for (size_t k = 0; k < r->req.n_len; k++)
+			fprintf(f, " %7.0f%%", 100 * r->pt[i][k].probability);
+		if (!isfinite(r->needed_s[i]))
+			fprintf(f, "  (not within %.0f days)", po->max_length_s / 86400);
+		fputc('\n', f);
 	}
-	ok = !ferror(out.f);
-	return ssc_out_close(co, &out, ok);
 }
 
-int ssc_plan_report(const struct ssc_common *co, const struct ssc_plan_model *m,
-		    const struct ssc_plan_wish *w, size_t n_w,
-		    const double *lengths_s, size_t n_len, double rate_hz,
-		    const struct sscope_plan_opts *po)
+void ssc_plan_summary(json_t *rows, const void *opts, const void *result)
 {
-	struct wish_out *r = calloc(n_w ? n_w : 1, sizeof(*r));
-	struct sscope_plan_opts o = *po;
-	int rc = 0;
+	const struct ssc_plan_res *r = result;
 
-	if (!r)
+	(void)opts;
+	for (size_t i = 0; i < r->req.n_wish; i++) {
+		char q[96], note[160];
+
+		snprintf(q, sizeof(q), "record length for %c to %.0f %%",
+			 term_name[r->req.wish[i].term], 100 * r->req.wish[i].target);
+		if (isfinite(r->needed_s[i]))
+			snprintf(note, sizeof(note),
+				 "shown present and resolved with %.0f %% probability (%s)",
+				 100 * r->req.po.probability, r->m.kind);
+		else
+			snprintf(note, sizeof(note), "never: %s", never_why(r, i));
+		ssc_summary_add(rows, NULL, q,
+				isfinite(r->needed_s[i]) ? r->needed_s[i] / 3600 : (double)NAN,
+				NAN, NAN, "h", note);
+		if (!isfinite(r->needed_s[i]) || r->m.unshown)
+			ssc_summary_warn_last(rows);
+	}
+}
+
+int ssc_plan_plot(const struct ssc_common *co, const void *opts,
+		  const void *result, const char *path)
+{
+	const struct ssc_plan_res *r = result;
+	struct ssc_fig *fig;
+	struct ssc_ax *ax;
+	double x[SSC_PLAN_CURVE], y[SSC_PLAN_CURVE];
+	char buf[320];
+	int rc;
+
+	(void)opts;
+	if (!r->n_curve)
+		return SSC_EXIT_OK;
+	fig = ssc_fig_new(1000, 620, 1, 1);
+	if (!fig)
 		return ssc_fail(co->cmd, -ENOMEM, NULL, NULL);
-	if (o.max_length_s == 0)
-		o.max_length_s = 30 * 86400.0;
-	for (size_t i = 0; i < n_w && !rc; i++) {
-		rc = sscope_plan_needed(m->coef, rate_hz, (enum sscope_term)w[i].term,
-					w[i].target, &o, &r[i].needed_s);
-		for (size_t k = 0; k < n_len && !rc; k++)
-			rc = sscope_plan_predict(m->coef, rate_hz, lengths_s[k],
-						 (enum sscope_term)w[i].term,
-						 w[i].target, &o, &r[i].pt[k]);
+	ax = ssc_fig_ax(fig, 0, 0);
+	snprintf(buf, sizeof(buf), "%s (%s), %g Hz: chance of each wish against record length",
+		 r->m.name[0] ? r->m.name : "sensor", r->m.kind, r->rate_hz);
+	ssc_fig_title(fig, buf);
+	ssc_ax_log(ax, true, false);
+	for (size_t i = 0; i < r->req.n_wish; i++) {
+		struct ssc_style st = { .color = ssc_plot_color(i), .width = 2 };
+
+		for (size_t k = 0; k < r->n_curve; k++) {
+			x[k] = r->curve[i][k].length_s / 3600;
+			y[k] = 100 * r->curve[i][k].probability;
+		}
+		snprintf(buf, sizeof(buf), "%c to ±%.0f %%", term_name[r->req.wish[i].term],
+			 100 * r->req.wish[i].target);
+		ssc_ax_line(ax, x, y, r->n_curve, &st, buf);
+		if (isfinite(r->needed_s[i])) {
+			struct ssc_style vs = st;
+
+			vs.width = 1;
+			vs.dash = SSC_DOTTED;
+			ssc_ax_vline(ax, r->needed_s[i] / 3600, &vs, NULL);
+		}
 	}
-	if (rc) {
-		free(r);
-		return ssc_fail(co->cmd, rc, NULL, "plan");
+	{
+		struct ssc_style hs = { .color = 0x7f7f7f, .width = 1, .dash = SSC_DASHED };
+
+		snprintf(buf, sizeof(buf), "wanted: %.0f %%", 100 * r->req.po.probability);
+		ssc_ax_hline(ax, 100 * r->req.po.probability, &hs, buf);
 	}
-	rc = emit(co, m, w, n_w, r, n_len, rate_hz, &o);
-	free(r);
-	return rc;
+	if (r->m.unshown)
+		ssc_ax_note(ax, "a term the pilot does not show present is planned with its estimate: indicative",
+			    SSC_LEGEND_LR);
+	ssc_ax_ylim(ax, 0, 100);
+	ssc_ax_xlabel(ax, "record length (h)");
+	snprintf(buf, sizeof(buf), "probability present and resolved (%%; %.1f %% intervals)",
+		 100 * r->req.po.ci_level);
+	ssc_ax_ylabel(ax, buf);
+	ssc_ax_legend(ax, SSC_LEGEND_UL);
+	rc = ssc_fig_save(fig, path);
+	ssc_fig_free(fig);
+	return rc ? ssc_write_failed(co->cmd, path, rc) : SSC_EXIT_OK;
+}
+
+void ssc_plan_free(void *result)
+{
+	free(result);
 }
 
 /* ------------------------------------------------------------------ */

@@ -31,20 +31,51 @@ struct ssc_plan_wish {
 	double target;
 };
 
-/* The model from --sensor (a [sensor] spec or a datasheet INI; section
- * "gyro" or "accel" of a datasheet, NULL: gyro when given) or --pilot (the
- * first channel -c selects, fitted as `allan` does).  Prints errors;
- * returns an exit code. */
-int ssc_plan_model_load(const struct ssc_common *co, const char *sensor,
-			const char *pilot, const char *section,
-			struct ssc_plan_model *m);
+/* What the plan command (or a scene's [plan]) asks: the sensor file
+ * (NULL: the pilot capture, else the scene's [sensor]), a datasheet's
+ * section, the wishes, the lengths to show, the planner's options. */
+struct ssc_plan_req {
+	const char *sensor, *section;
+	struct ssc_plan_wish wish[5];
+	size_t n_wish;
+	double lengths_s[SSC_PLAN_MAX_LENGTHS];
+	size_t n_len;
+	struct sscope_plan_opts po;
+};
 
-/* Plan each wish at rate_hz and print the table (text) or the JSON to the
- * command's output.  Returns an exit code. */
-int ssc_plan_report(const struct ssc_common *co, const struct ssc_plan_model *m,
-		    const struct ssc_plan_wish *w, size_t n_w,
-		    const double *lengths_s, size_t n_len, double rate_hz,
-		    const struct sscope_plan_opts *po);
+/* points of the figure's curves: probability against record length */
+#define SSC_PLAN_CURVE 25
+
+/* The plan: the model, and per wish the length needed and the
+ * prediction at each length (and along the figure's lengths when drawn). */
+struct ssc_plan_res {
+	struct ssc_plan_req req;
+	struct ssc_plan_model m;
+	double rate_hz;
+	double needed_s[5];
+	struct sscope_plan_point pt[5][SSC_PLAN_MAX_LENGTHS];
+	size_t n_curve;            /* 0: no figure asked for */
+	struct sscope_plan_point curve[5][SSC_PLAN_CURVE];
+};
+
+/* The model from req->sensor (a [sensor] spec or a datasheet INI; its
+ * section "gyro" or "accel", NULL: gyro when given), else the pilot
+ * capture's channel (the first of those -c selects, fitted as `allan`
+ * does with dense taus), else the scene's sensor; then the plan at
+ * co->rate_hz (else the pilot's rate), with the figure's curves when
+ * co->plot.  Prints errors; returns an exit code. */
+int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
+		 const struct sscope_capture *pilot, const char *pilot_path,
+		 const struct sscope_sensor_spec *sensor, const char *sensor_path,
+		 struct ssc_plan_res **out);
+
+/* the stage's presenters (opts unused; result a struct ssc_plan_res) */
+json_t *ssc_plan_json(const void *opts, const void *result);
+void ssc_plan_text(FILE *f, const void *opts, const void *result);
+void ssc_plan_summary(json_t *rows, const void *opts, const void *result);
+int ssc_plan_plot(const struct ssc_common *co, const void *opts,
+		  const void *result, const char *path);
+void ssc_plan_free(void *result);
 
 /* acquire --until: the recording's channel refitted as it grows (at 60 s
  * of data, then every 5 % more), until the term is present with a relative

@@ -324,9 +324,10 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 		return SSC_EXIT_USAGE;
 	}
 	v = ssc_ini_get(sc->ini, "input", "files", &line);
-	if (!v || !*v)
-		return scene_error(cmd, sc, 0, "[input] needs 'files = ...'");
-	{
+	if ((!v || !*v) &&
+	    !ssc_ini_get(sc->ini, "input", "rate", NULL))
+		return scene_error(cmd, sc, 0, "[input] needs 'files = ...' (or only 'rate = HZ', the rate a [plan] from the [sensor] plans at)");
+	if (v && *v) {
 		char *copy = xstrdup(v), *items[64];
 		bool more;
 		size_t n = split_list_n(copy, items, 64, &more);
@@ -682,7 +683,9 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 	for (size_t s = 0; s < N_STAGES; s++) {
 		if (!(sc->want & (1u << s)))
 			continue;
-		if ((stages[s].ops->needs & SSC_NEED_DATA) && !sc->n_files)
+		if ((stages[s].ops->needs & SSC_NEED_DATA) && !sc->n_files &&
+		    !((stages[s].ops->needs & SSC_NEED_DATA_OR_SENSOR) &&
+		      sc->have_sensor))
 			return scene_error(cmd, sc, 0,
 					   "impossible request: [%s] needs captures: give [input] files = ...",
 					   stages[s].name);

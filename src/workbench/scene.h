@@ -25,7 +25,7 @@ struct ssc_stage_def {
  * ssc_scene_load() and ssc_scene_infer() (src/cli/stages.c). */
 enum {
 	S_INFO = 0, S_ALLAN, S_PSD, S_VIBRATION, S_TEMPBIAS, S_INCLINO, S_ADC,
-	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_DATASHEET, S_LOT, S_NAV, S_COUNT_
+	S_CALIB, S_BUDGET, S_HEADING, S_WALK, S_NAVSIM, S_DATASHEET, S_LOT, S_NAV, S_PLAN, S_COUNT_
 };
 
 /* Output formats of [report] formats = ... */

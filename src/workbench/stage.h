@@ -73,6 +73,9 @@ enum {
 	SSC_NEED_TEMP = 1u << 1,   /* a temperature column */
 	SSC_NEED_SENSOR = 1u << 2, /* a sensor specification */
 	SSC_NEED_ADC = 1u << 3,    /* ADC specifications */
+	/* with SSC_NEED_DATA: a scene without captures may give a sensor
+	 * specification instead */
+	SSC_NEED_DATA_OR_SENSOR = 1u << 4,
 };
 
 struct ssc_stage_ops {
@@ -238,5 +241,6 @@ extern const struct ssc_stage_ops ssc_navsim_stage;
 extern const struct ssc_stage_ops ssc_datasheet_stage;
 extern const struct ssc_stage_ops ssc_lot_stage;
 extern const struct ssc_stage_ops ssc_nav_stage;
+extern const struct ssc_stage_ops ssc_plan_stage;
 
 #endif
