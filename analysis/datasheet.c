@@ -19,6 +19,7 @@
 
 #include "sscope-allan.h"
 #include "sscope-datasheet.h"
+#include "sscope-lot.h"
 #include "sscope-noise.h"
 
 static const struct sscope_datasheet_info infos[SSCOPE_DATASHEET_LINE_COUNT_] = {
@@ -62,6 +63,18 @@ static const struct sscope_datasheet_info infos[SSCOPE_DATASHEET_LINE_COUNT_] = 
 		"scale_factor_error", "scale-factor error",
 		"scale-factor error, a ratio (ppm or %; a rate table or turns)",
 		"1", SSCOPE_TERM_COUNT_, 0 },
+	[SSCOPE_DATASHEET_BIAS_OFFSET] = {
+		"bias_offset", "bias offset",
+		"zero-rate (zero-g) offset, a magnitude: the record's mean by batch means; it includes the Earth's rate and gravity along the axis",
+		"", SSCOPE_TERM_COUNT_, 0, true },
+	[SSCOPE_DATASHEET_BIAS_TEMPCO] = {
+		"bias_tempco", "bias temperature sensitivity",
+		"change of the bias per kelvin (per degC), a magnitude: the slope of the block means on their temperatures",
+		"/K", SSCOPE_TERM_COUNT_, 0, true },
+	[SSCOPE_DATASHEET_RATE_RAMP] = {
+		"rate_ramp", "rate ramp (bias drift)",
+		"IEEE 952 rate ramp R, the bias's linear change per unit time, a magnitude: the slope of the block means on time",
+		"/s", SSCOPE_TERM_COUNT_, 0, true },
 };
 
 const struct sscope_datasheet_info *
@@ -214,6 +227,18 @@ sscope_datasheet_verdict(double lo, double hi, double limit)
 	return SSCOPE_DATASHEET_INCONCLUSIVE;
 }
 
+enum sscope_datasheet_verdict
+sscope_datasheet_verdict_magnitude(double lo, double hi, double limit)
+{
+	if (isnan(lo) || isnan(hi) || isnan(limit) || lo > hi)
+		return SSCOPE_DATASHEET_INCONCLUSIVE;
+	if (-limit < lo && hi < limit)
+		return SSCOPE_DATASHEET_WITHIN;
+	if (lo > limit || hi < -limit)
+		return SSCOPE_DATASHEET_OUT;
+	return SSCOPE_DATASHEET_INCONCLUSIVE;
+}
+
 /* the least Allan deviation of the record, in c (a bound when the curve
  * still falls at its longest tau) */
 static void allan_minimum(const struct sscope_allan_result *r,
@@ -281,7 +306,8 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 	for (size_t i = 0; i < n_spec; i++) {
 		if ((unsigned)spec[i].line >= SSCOPE_DATASHEET_LINE_COUNT_)
 			return ssc_diag(diag, -EINVAL, "line %zu: unknown kind", i);
-		if (infos[spec[i].line].term != SSCOPE_TERM_COUNT_)
+		if (infos[spec[i].line].term != SSCOPE_TERM_COUNT_ ||
+		    spec[i].line == SSCOPE_DATASHEET_RATE_RAMP)
 			need_allan = true;
 	}
 	if (need_allan) {
@@ -299,6 +325,7 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 	for (size_t i = 0; i < n_spec; i++) {
 		const struct sscope_datasheet_spec *s = &spec[i];
 		struct sscope_datasheet_check *c = &out[i];
+		bool doubt = false;
 
 		memset(c, 0, sizeof(*c));
 		c->line = s->line;
@@ -330,6 +357,33 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 		case SSCOPE_DATASHEET_RUN_TO_RUN_BIAS:
 			c->why = "one record cannot show it: it needs several turn-ons";
 			break;
+		case SSCOPE_DATASHEET_BIAS_TEMPCO:
+			c->why = "the record's temperatures are not given here (sensorscope lot and tempbias check it with a temperature column)";
+			break;
+		case SSCOPE_DATASHEET_BIAS_OFFSET:
+		case SSCOPE_DATASHEET_RATE_RAMP: {
+			struct sscope_lot_bias_opts bo = { 0 };
+			struct sscope_lot_bias b;
+			bool drift = s->line == SSCOPE_DATASHEET_RATE_RAMP;
+
+			bo.level = level;
+			if (sscope_lot_bias(x, stride, n, rate_hz, NULL, 0, &bo, &b)) {
+				c->why = "the bias needs at least 40 samples, none of them NaN";
+				break;
+			}
+			c->value = drift ? b.drift_u_s : b.bias;
+			c->lo = drift ? b.drift_lo : b.bias_lo;
+			c->hi = drift ? b.drift_hi : b.bias_hi;
+			/* a wandering bias correlates the block means, which the
+			 * ramp's interval takes as independent (too narrow) */
+			if (drift && (b.resid_correlated ||
+				      (res && res->have_fit &&
+				       res->fit.coef[SSCOPE_TERM_B].present))) {
+				c->why = "the bias wanders (bias instability shown, or the block means' residuals correlated), which a ramp's interval does not allow for: inconclusive";
+				doubt = true;
+			}
+			break;
+		}
 		case SSCOPE_DATASHEET_SCALE_FACTOR:
 			c->why = "a static record cannot show it: it needs known rates (a rate table)";
 			break;
@@ -337,8 +391,11 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 			from_term(res, s, c);
 			break;
 		}
-		c->verdict = sscope_datasheet_verdict(c->bound ? 0 : c->lo, c->hi,
-						      c->limit);
+		c->verdict = doubt ? SSCOPE_DATASHEET_INCONCLUSIVE :
+			infos[s->line].magnitude ?
+			sscope_datasheet_verdict_magnitude(c->lo, c->hi, c->limit) :
+			sscope_datasheet_verdict(c->bound ? 0 : c->lo, c->hi,
+						 c->limit);
 	}
 	sscope_allan_result_free(res);
 	return 0;

@@ -475,6 +475,32 @@ out:
 	return ok;
 }
 
+/* the lag-1 autocorrelation of the residuals of y_j = a + d (x_j - xm)
+ * [+ c (w_j - wm)] (the fits above, centred) and its one-sided 5 % test */
+static void resid_test(const double *x, const double *w, const double *y,
+		       size_t m, const double est[3], struct sscope_lot_bias *out)
+{
+	double xm = 0, wm = 0, r0 = 0, r1 = 0, prev = 0;
+
+	for (size_t j = 0; j < m; j++) {
+		xm += x[j];
+		wm += w ? w[j] : 0;
+	}
+	xm /= (double)m;
+	wm /= (double)m;
+	for (size_t j = 0; j < m; j++) {
+		double r = y[j] - est[0] - est[1] * (x[j] - xm) -
+			   (w ? est[2] * (w[j] - wm) : 0);
+
+		r0 += r * r;
+		if (j)
+			r1 += r * prev;
+		prev = r;
+	}
+	out->resid_lag1 = r0 > 0 ? r1 / r0 : (double)NAN;
+	out->resid_correlated = out->resid_lag1 > 1.6448536269514722 / sqrt((double)m);
+}
+
 int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 		    const double *temp_degc, size_t temp_stride,
 		    const struct sscope_lot_bias_opts *opts,
@@ -566,6 +592,7 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 	out->drift_se = se[1];
 	out->drift_lo = est[1] - tq * se[1];
 	out->drift_hi = est[1] + tq * se[1];
+	resid_test(t, out->have_temp ? tb : NULL, b, m, est, out);
 	free(t);
 	return 0;
 }

@@ -67,6 +67,13 @@ enum sscope_datasheet_line {
 	SSCOPE_DATASHEET_GJB_100S,          /**< 1 sigma of 100 s means, U */
 	SSCOPE_DATASHEET_RUN_TO_RUN_BIAS,   /**< bias repeatability, U */
 	SSCOPE_DATASHEET_SCALE_FACTOR,      /**< scale-factor error, ratio */
+	SSCOPE_DATASHEET_BIAS_OFFSET,       /**< bias (zero-rate / zero-g
+						 offset), a magnitude, U */
+	SSCOPE_DATASHEET_BIAS_TEMPCO,       /**< bias temperature sensitivity,
+						 a magnitude, U/K */
+	SSCOPE_DATASHEET_RATE_RAMP,         /**< IEEE 952 rate ramp R: the
+						 bias's drift, a magnitude,
+						 U/s */
 	SSCOPE_DATASHEET_LINE_COUNT_        /**< number of lines (not one) */
 };
 
@@ -81,6 +88,9 @@ struct sscope_datasheet_info {
 				     SSCOPE_TERM_COUNT_ for none */
 	double tau_s;           /**< averaging time of the GJB lines, s
 				     (0 for the others) */
+	bool magnitude;         /**< a limit on the magnitude of a signed
+				     value (+-): bias, its drift and its
+				     temperature sensitivity */
 };
 
 /** @return the description of @p line, or NULL when out of range. */
@@ -165,6 +175,15 @@ const char *sscope_datasheet_verdict_name(enum sscope_datasheet_verdict v);
  */
 enum sscope_datasheet_verdict
 sscope_datasheet_verdict(double lo, double hi, double limit);
+
+/**
+ * The verdict of a signed value's interval [lo, hi] against a limit on
+ * its magnitude, +-@p limit: WITHIN when -limit < lo and hi < limit, OUT
+ * when the interval lies wholly above limit or below -limit, else
+ * INCONCLUSIVE (also when any is NaN).
+ */
+enum sscope_datasheet_verdict
+sscope_datasheet_verdict_magnitude(double lo, double hi, double limit);
 
 /** One line of a datasheet, SI. */
 struct sscope_datasheet_spec {

@@ -174,6 +174,14 @@ struct sscope_lot_bias {
 	double temp_mean_degc, temp_span_degc; /**< of the block means */
 	double temp_time_corr; /**< correlation of the block temperatures
 				    with time, -1..1 */
+	double resid_lag1;  /**< lag-1 autocorrelation of the block means'
+				 residuals from the fit */
+	bool resid_correlated; /**< resid_lag1 above 1.645 / sqrt(m) (a
+				    one-sided 5 % test of independence):
+				    the bias wanders (flicker, a random
+				    walk) and the drift's and temperature
+				    sensitivity's intervals, which take the
+				    blocks as independent, are too narrow */
 };
 
 /**

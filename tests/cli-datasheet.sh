@@ -75,6 +75,19 @@ printf '[gyro]\nbias_stability_10s = 1 deg/h\n' >"$T/gjb.ini"
 run "gjb line" 0 datasheet --check "$T/c.csv" --format json "$T/gjb.ini"
 json_check "GJB measured: 60 means, N/sqrt(10) = 0.0175 / 3.162 deg/s = 19.9 deg/h" "$T/out" '(.channels[0].checks[0].value - 19.92 | fabs) < 3 and .channels[0].checks[0].verdict == "out of spec"'
 
+# the bias lines, limits on a magnitude: the offset is the record's mean
+# (as info's), the ramp the block means' slope; the temperature
+# sensitivity needs the temperatures (not measured here, with the reason)
+printf '[gyro]\nbias_offset = 0.01 deg/s\nrate_ramp = 1 deg/h/h\nbias_tempco = 0.01 deg/s/degC\n' >"$T/bias.ini"
+run "bias lines" 0 datasheet --check "$T/c.csv" --format json "$T/bias.ini"
+cp "$T/out" "$T/bias.json"
+run "info of the capture" 0 info --format json "$T/c.csv"
+json_check "offset = the record's mean" "$T/bias.json" \
+	"(.channels[0].checks[0] | .key == \"bias_offset\" and .value < .hi and .lo < .value) and ((.channels[0].checks[0].value - $(jq '.channels[0].mean' "$T/out" 2>/dev/null || echo 0)) | fabs) < 1e-6"
+json_check "tempco: not measured, with the reason, no 0" "$T/bias.json" \
+	'.channels[0].checks[2] | .value == null and .verdict == "inconclusive" and (.why | test("temperature"))'
+json_check "ramp: measured, a verdict" "$T/bias.json" '.channels[0].checks[1] | .value != null and .lo < .hi'
+
 # bad input: one line each, exit 1 for a file that cannot be used
 run "missing file" 1 datasheet "$T/none.ini"
 one_line_error "missing file"

@@ -505,6 +505,7 @@ int main(void)
 	F(sscope_datasheet_info, si_suffix);
 	F(sscope_datasheet_info, term);
 	F(sscope_datasheet_info, tau_s);
+	F(sscope_datasheet_info, magnitude);
 	S(sscope_datasheet_gjb);
 	F(sscope_datasheet_gjb, value);
 	F(sscope_datasheet_gjb, lo);
@@ -570,6 +571,8 @@ int main(void)
 	F(sscope_lot_bias, temp_mean_degc);
 	F(sscope_lot_bias, temp_span_degc);
 	F(sscope_lot_bias, temp_time_corr);
+	F(sscope_lot_bias, resid_lag1);
+	F(sscope_lot_bias, resid_correlated);
 	S(sscope_export_chan);
 	F(sscope_export_chan, name);
 	F(sscope_export_chan, quantity);

@@ -299,7 +299,7 @@ START_TEST(test_bias_coverage)
 	const double fs = 10, d = 0.00213, c = -0.487;
 	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
 	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
-	size_t cov[3] = { 0, 0, 0 };
+	size_t cov[3] = { 0, 0, 0 }, flagged = 0;
 	double half = 4 * sqrt(0.6827 * 0.3173 / (double)R);
 
 	ck_assert_ptr_nonnull(x);
@@ -322,13 +322,53 @@ START_TEST(test_bias_coverage)
 		cov[0] += b.bias_lo <= truth && truth <= b.bias_hi;
 		cov[1] += b.drift_lo <= d && d <= b.drift_hi;
 		cov[2] += b.tempco_lo <= c && c <= b.tempco_hi;
+		flagged += b.resid_correlated;
 	}
 	for (int k = 0; k < 3; k++)
 		ck_assert_msg(fabs((double)cov[k] / (double)R - 0.6827) < half,
 			      "term %d: coverage %zu of %zu", k, cov[k], R);
+	/* white noise about the model: the residual test at its 5 % level
+	 * (at most 4 binomial sd above) */
+	ck_assert_msg((double)flagged / (double)R < 0.05 + 4 * sqrt(0.05 * 0.95 / (double)R),
+		      "residuals called correlated in %zu of %zu white records", flagged, R);
 	gsl_rng_free(g);
 	free(x);
 	free(T);
+}
+END_TEST
+
+/* a bias that wanders (a random walk beside white noise, the walk's
+ * spread over the record 3x the block means' white sd): the block means'
+ * residuals are called correlated in most records, and then the drift's
+ * interval is seen to be too narrow */
+START_TEST(test_bias_wanders)
+{
+	const size_t n = 4000, R = 200;
+	const double fs = 10;
+	double *x = malloc(n * sizeof(double));
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	size_t flagged = 0, cov = 0;
+
+	ck_assert_ptr_nonnull(x);
+	gsl_rng_set(g, 5519);
+	for (size_t r = 0; r < R; r++) {
+		struct sscope_lot_bias b;
+		double w = 0;
+
+		for (size_t i = 0; i < n; i++) {
+			w += gsl_ran_gaussian(g, 0.03);
+			x[i] = w + gsl_ran_gaussian(g, 1.0);
+		}
+		ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, NULL, 0, NULL, &b), 0);
+		flagged += b.resid_correlated;
+		cov += b.drift_lo <= 0 && 0 <= b.drift_hi;
+	}
+	fprintf(stderr, "# wandering bias: residuals correlated in %zu of %zu records; no-drift truth covered in %zu\n",
+		flagged, R, cov);
+	ck_assert_msg(flagged >= R * 8 / 10, "correlated in %zu of %zu", flagged, R);
+	ck_assert_msg(cov < R / 2, "the drift interval covered 0 in %zu of %zu", cov, R);
+	gsl_rng_free(g);
+	free(x);
 }
 END_TEST
 
@@ -346,6 +386,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_cpk);
 	tcase_add_test(tc, test_bias_exact);
 	tcase_add_test(tc, test_bias_coverage);
+	tcase_add_test(tc, test_bias_wanders);
 	tcase_set_timeout(tc, 60);
 	suite_add_tcase(s, tc);
 	return s;

@@ -41,7 +41,8 @@ static const struct ssc_command_spec spec = {
 	.analysis = true,
 	.notes = "Keys of [gyro] and [accel]: noise_density, random_walk, rms_noise with\n"
 		 "noise_bandwidth, bias_instability, in_run_bias_stability, rate_random_walk,\n"
-		 "bias_stability_10s, bias_stability_100s, run_to_run_bias, scale_factor_error.\n"
+		 "bias_stability_10s, bias_stability_100s, run_to_run_bias, scale_factor_error;\n"
+		 "limits on a magnitude (+-): bias_offset, rate_ramp, bias_tempco.\n"
 		 "Examples:\n"
 		 "  sensorscope datasheet samples/datasheets/bmi088.ini\n"
 		 "  sensorscope datasheet --check gyro.csv --format json samples/datasheets/stim300.ini\n"

@@ -28,6 +28,9 @@ static const char *const conv_unit[SSC_DS_LINES][2] = {
 	[SSCOPE_DATASHEET_GJB_100S] = { "deg/h", "ug" },
 	[SSCOPE_DATASHEET_RUN_TO_RUN_BIAS] = { "deg/h", "mg" },
 	[SSCOPE_DATASHEET_SCALE_FACTOR] = { "ppm", "ppm" },
+	[SSCOPE_DATASHEET_BIAS_OFFSET] = { "deg/s", "mg" },
+	[SSCOPE_DATASHEET_BIAS_TEMPCO] = { "deg/s/K", "ug/K" },
+	[SSCOPE_DATASHEET_RATE_RAMP] = { "deg/h/h", "ug/h" },
 };
 
 static const char *rate_unit(enum sscope_quantity q)
@@ -46,7 +49,7 @@ static void si_unit_of(enum sscope_quantity q, enum sscope_datasheet_line l,
 	else if (in->term != SSCOPE_TERM_COUNT_ && l != SSCOPE_DATASHEET_RMS_NOISE)
 		snprintf(buf, len, "%s", sscope_term_si_unit(q, in->term));
 	else
-		snprintf(buf, len, "%s", rate_unit(q));
+		snprintf(buf, len, "%s%s", rate_unit(q), in->si_suffix);
 }
 
 static const char *term_key(enum sscope_term t)
@@ -133,7 +136,7 @@ static int load_section(const char *cmd, const struct ssc_ini *ini,
 		}
 		l = sscope_datasheet_line_by_key(key);
 		if (l < 0) {
-			ssc_err(cmd, "%s: line %zu: [%s] %s: unknown line (known: noise_density, random_walk, rms_noise, noise_bandwidth, bias_instability, in_run_bias_stability, rate_random_walk, bias_stability_10s, bias_stability_100s, run_to_run_bias, scale_factor_error)",
+			ssc_err(cmd, "%s: line %zu: [%s] %s: unknown line (known: noise_density, random_walk, rms_noise, noise_bandwidth, bias_instability, in_run_bias_stability, rate_random_walk, bias_stability_10s, bias_stability_100s, run_to_run_bias, scale_factor_error, bias_offset, bias_tempco, rate_ramp)",
 				path, line, sec->name, key);
 			return SSC_EXIT_FAIL;
 		}

@@ -282,7 +282,8 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 static const char *const bias_keys[] = {
 	"level", "bias", "bias_se", "bias_lo", "bias_hi", "drift_u_s", "drift_se",
 	"drift_lo", "drift_hi", "tempco_u_degc", "tempco_se", "tempco_lo",
-	"tempco_hi", "temp_mean_degc", "temp_span_degc", "temp_time_corr"
+	"tempco_hi", "temp_mean_degc", "temp_span_degc", "temp_time_corr",
+	"resid_lag1"
 };
 
 static double *bias_field(struct sscope_lot_bias *b, size_t k)
@@ -291,7 +292,8 @@ static double *bias_field(struct sscope_lot_bias *b, size_t k)
 		&b->level, &b->bias, &b->bias_se, &b->bias_lo, &b->bias_hi,
 		&b->drift_u_s, &b->drift_se, &b->drift_lo, &b->drift_hi,
 		&b->tempco_u_degc, &b->tempco_se, &b->tempco_lo, &b->tempco_hi,
-		&b->temp_mean_degc, &b->temp_span_degc, &b->temp_time_corr
+		&b->temp_mean_degc, &b->temp_span_degc, &b->temp_time_corr,
+		&b->resid_lag1
 	};
 
 	return f[k];
@@ -313,14 +315,15 @@ static json_t *cell_json(const struct ssc_lot_result *r, size_t c,
 	for (size_t t = 0; t < SSC_LOT_NT; t++)
 		json_array_append_new(pr, json_boolean(cl->present[t]));
 	json_object_set_new(o, "present", pr);
-	for (size_t t = 0; t < 3; t++)
+	for (size_t t = 0; t < SSC_LOT_NT; t++)
 		json_array_append_new(gb, json_boolean(cl->gbound[t]));
 	json_object_set_new(o, "guard_bound", gb);
-	json_object_set_new(o, "guard_lo", nums(cl->glo, 3));
-	json_object_set_new(o, "guard_hi", nums(cl->ghi, 3));
+	json_object_set_new(o, "guard_lo", nums(cl->glo, SSC_LOT_NT));
+	json_object_set_new(o, "guard_hi", nums(cl->ghi, SSC_LOT_NT));
 	json_object_set_new(b, "blocks", json_integer((json_int_t)bias.blocks));
 	json_object_set_new(b, "block_n", json_integer((json_int_t)bias.block_n));
 	json_object_set_new(b, "have_temp", json_boolean(bias.have_temp));
+	json_object_set_new(b, "resid_correlated", json_boolean(bias.resid_correlated));
 	for (size_t k = 0; k < sizeof(bias_keys) / sizeof(*bias_keys); k++)
 		json_object_set_new(b, bias_keys[k], num(*bias_field(&bias, k)));
 	json_object_set_new(o, "bias", b);
@@ -468,13 +471,13 @@ static int cell_from(const char *cmd, const char *path, const json_t *o,
 	size_t na = json_array_size(json_object_get(o, "tau_s"));
 	size_t nk = json_array_size(cs);
 	bool ok = json_is_object(b) && json_array_size(pr) == SSC_LOT_NT &&
-		  json_array_size(gb) == 3 && nk >= 2 &&
+		  json_array_size(gb) == SSC_LOT_NT && nk >= 2 &&
 		  get_nums(o, "v", cl->v, SSC_LOT_NT) &&
 		  get_nums(o, "lo", cl->lo, SSC_LOT_NT) &&
 		  get_nums(o, "hi", cl->hi, SSC_LOT_NT) &&
 		  get_nums(o, "se", cl->se, SSC_LOT_NT) &&
-		  get_nums(o, "guard_lo", cl->glo, 3) &&
-		  get_nums(o, "guard_hi", cl->ghi, 3);
+		  get_nums(o, "guard_lo", cl->glo, SSC_LOT_NT) &&
+		  get_nums(o, "guard_hi", cl->ghi, SSC_LOT_NT);
 
 	if (ok) {
 		cl->tau_s = malloc((na + 1) * sizeof(double));
@@ -490,12 +493,13 @@ static int cell_from(const char *cmd, const char *path, const json_t *o,
 	}
 	for (size_t t = 0; ok && t < SSC_LOT_NT; t++)
 		cl->present[t] = json_is_true(json_array_get(pr, t));
-	for (size_t t = 0; ok && t < 3; t++)
+	for (size_t t = 0; ok && t < SSC_LOT_NT; t++)
 		cl->gbound[t] = json_is_true(json_array_get(gb, t));
 	if (ok) {
 		cl->bias.blocks = (size_t)json_integer_value(json_object_get(b, "blocks"));
 		cl->bias.block_n = (size_t)json_integer_value(json_object_get(b, "block_n"));
 		cl->bias.have_temp = json_is_true(json_object_get(b, "have_temp"));
+		cl->bias.resid_correlated = json_is_true(json_object_get(b, "resid_correlated"));
 		for (size_t k = 0; k < sizeof(bias_keys) / sizeof(*bias_keys); k++)
 			*bias_field(&cl->bias, k) = get_num(json_object_get(b, bias_keys[k]));
 		cl->fig_mean = get_num(json_object_get(o, "fig_mean"));

@@ -14,6 +14,7 @@
  */
 #include "workbench.h"
 
+#include <malloc.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,16 +43,27 @@ static const char *unit_name(const struct ssc_lot_result *r, size_t u)
 
 /* the fit's 68.3 % intervals (guard false) or, for the terms with a
  * limit, its intervals at SSC_LOT_SPEC_LEVEL (guard true) */
-/* why a unit's interval of term t is doubtful, or NULL: flicker (B shown
- * by the unit's fit) correlates the block means that the drift's and the
- * temperature sensitivity's intervals take as independent, which makes
- * them too narrow (tests/bench-lot: 40 % and 48 % for 68.3 %) */
+/* why a unit's interval of term t is doubtful, or NULL: a wandering
+ * bias (flicker: B shown by the unit's fit; or the block means' residuals
+ * correlated, sscope_lot_bias()) correlates the block means that the
+ * drift's and the temperature sensitivity's intervals take as
+ * independent, which makes them too narrow (tests/bench-lot: 40 % and
+ * 48 % for 68.3 % with flicker) */
 static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
 {
 	if ((t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO) && cl->present[t] &&
-	    cl->present[SSC_LOT_B])
-		return "bias instability (flicker) shown by this unit: the interval takes the block means as independent and is too narrow";
+	    (cl->present[SSC_LOT_B] || cl->bias.resid_correlated))
+		return cl->present[SSC_LOT_B] ?
+			"bias instability (flicker) shown by this unit: the interval takes the block means as independent and is too narrow" :
+			"the block means' residuals are correlated (the bias wanders): the interval takes them as independent and is too narrow";
 	return NULL;
+}
+
+/* a limit on the magnitude (+-) of a signed term: bias, drift and
+ * temperature sensitivity */
+static bool magnitude_term(int t)
+{
+	return t >= SSC_LOT_BIAS;
 }
 
 static int unit_fit(const char *cmd, const char *path,
@@ -147,6 +159,34 @@ static int unit_bias(const char *cmd, const char *path,
 	return 0;
 }
 
+/* the bias terms' intervals at SSC_LOT_SPEC_LEVEL, for the verdicts */
+static int unit_bias_guard(const char *cmd, const char *path,
+			   const struct sscope_capture *cap,
+			   const struct sscope_capture_channel *ch,
+			   struct ssc_lot_cell *cell)
+{
+	struct sscope_lot_bias_opts o = { .blocks = SSC_LOT_BIAS_BLOCKS,
+					  .level = SSC_LOT_SPEC_LEVEL };
+	struct sscope_lot_bias b;
+	int rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1,
+				 &o, &b);
+
+	if (rc) {
+		ssc_err(cmd, "%s: channel %s: bias: %s", path, ch->col.name,
+			sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
+	}
+	cell->glo[SSC_LOT_BIAS] = b.bias_lo;
+	cell->ghi[SSC_LOT_BIAS] = b.bias_hi;
+	cell->glo[SSC_LOT_DRIFT] = b.drift_lo;
+	cell->ghi[SSC_LOT_DRIFT] = b.drift_hi;
+	cell->glo[SSC_LOT_TEMPCO] = b.tempco_lo;
+	cell->ghi[SSC_LOT_TEMPCO] = b.tempco_hi;
+	for (int t = SSC_LOT_BIAS; t < SSC_LOT_NT; t++)
+		cell->gbound[t] = false;
+	return 0;
+}
+
 static bool noise_channel(enum sscope_quantity q)
 {
 	return q == SSCOPE_QUANTITY_ANGULAR_RATE || q == SSCOPE_QUANTITY_ACCELERATION;
@@ -190,8 +230,26 @@ static int spread(const char *cmd, struct ssc_lot_result *r)
 			T->n_resolved = k;
 			if (k < 3)
 				continue;
-			T->cpk_done = isfinite(T->limit) &&
-				      !sscope_lot_cpk(y, se, k, T->limit, r->level, &T->cpk);
+			if (isfinite(T->limit) && magnitude_term(t)) {
+				/* +-limit: the Cpk of the nearer side, the
+				 * units' values mirrored when their mean is
+				 * below 0 (y is not used after) */
+				double m = 0;
+
+				for (size_t i = 0; i < k; i++)
+					m += y[i];
+				if (m < 0)
+					for (size_t i = 0; i < k; i++)
+						y[i] = -y[i];
+				T->cpk_done = !sscope_lot_cpk(y, se, k, T->limit, r->level, &T->cpk);
+				if (m < 0 && T->cpk_done)
+					T->cpk.mean = -T->cpk.mean;
+				for (size_t i = 0; m < 0 && i < k; i++)
+					y[i] = -y[i];
+			} else {
+				T->cpk_done = isfinite(T->limit) &&
+					      !sscope_lot_cpk(y, se, k, T->limit, r->level, &T->cpk);
+			}
 			if (sscope_lot_spread(y, se, k, &o, &T->sp, z, fl))
 				continue;
 			T->done = true;
@@ -227,13 +285,26 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 				r->term[c * SSC_LOT_NT + t].limit = lim[t];
 				any |= isfinite(lim[t]);
 			}
+			/* the bias terms: limits on their magnitude */
+			for (size_t j = 0; j < r->spec->sec[s].n; j++) {
+				const struct sscope_datasheet_spec *sp = &r->spec->sec[s].spec[j];
+				int t = sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ? SSC_LOT_BIAS :
+					sp->line == SSCOPE_DATASHEET_RATE_RAMP ? SSC_LOT_DRIFT :
+					sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO ? SSC_LOT_TEMPCO : -1;
+
+				if (t >= 0) {
+					r->term[c * SSC_LOT_NT + (size_t)t].limit = sp->value;
+					any = true;
+				}
+			}
 		}
 	return any;
 }
 
+
 static bool channel_has_spec(const struct ssc_lot_result *r, size_t c)
 {
-	for (size_t t = 0; t < 3; t++)
+	for (size_t t = 0; t < SSC_LOT_NT; t++)
 		if (isfinite(r->term[c * SSC_LOT_NT + t].limit))
 			return true;
 	return false;
@@ -251,8 +322,13 @@ static void verdicts(struct ssc_lot_result *r)
 				if (!isfinite(T->limit))
 					continue;
 				cl->has_spec[t] = true;
-				cl->verdict[t] = sscope_datasheet_verdict(
-					cl->gbound[t] ? 0 : cl->glo[t], cl->ghi[t], T->limit);
+				/* a doubtful interval (cell_doubt) gives no verdict */
+				cl->verdict[t] = cell_doubt(cl, (int)t) ?
+					SSCOPE_DATASHEET_INCONCLUSIVE :
+					magnitude_term((int)t) ?
+					sscope_datasheet_verdict_magnitude(cl->glo[t], cl->ghi[t], T->limit) :
+					sscope_datasheet_verdict(
+						cl->gbound[t] ? 0 : cl->glo[t], cl->ghi[t], T->limit);
 				T->count[cl->verdict[t]]++;
 			}
 }
@@ -343,6 +419,8 @@ static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 			rc = unit_bias(cmd, path, cap, ch, cl);
 		if (!rc && channel_has_spec(r, c))
 			rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, true, cl);
+		if (!rc && channel_has_spec(r, c))
+			rc = unit_bias_guard(cmd, path, cap, ch, cl);
 		if (!rc)
 			rc = unit_figure(cmd, cap, ch, cl);
 	}
@@ -427,7 +505,7 @@ int ssc_lot_set_channels(const char *cmd, struct ssc_lot_result *r, bool temp,
 		for (size_t c = 0; c < r->n_chan; c++)
 			any |= channel_has_spec(r, c);
 		if (!any) {
-			ssc_err(cmd, "%s: no limit on N, B or K for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
+			ssc_err(cmd, "%s: no limit on N, B, K, bias_offset, rate_ramp or bias_tempco for any channel of the lot ([gyro] for angular rates, [accel] for accelerations)",
 				r->spec_path);
 			return SSC_EXIT_FAIL;
 		}
@@ -491,6 +569,14 @@ int ssc_lot_run(const struct ssc_stage_env *env, double level,
 		return rc;
 	if (sscope_noise_plan_new(&plan))
 		plan = NULL; /* each fit computes its own */
+#ifdef M_MMAP_THRESHOLD
+	/* each unit's record and work space (megabytes) mapped and given
+	 * back: with glibc's default the threshold rises to the size of the
+	 * first record freed, later records come from the heap, and the
+	 * small results kept between them fragment it (the peak grew by
+	 * about 0.7 MB a unit: 12 units of 17 MB, 43.6 MB against 35.6) */
+	mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
 	/* one unit at a time: what the lot keeps of a unit is its fits,
 	 * bias terms, Allan deviation and the figure's sums, not its record */
 	for (size_t u = 0; u < n && !rc; u++) {
@@ -582,6 +668,8 @@ static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
 	const char *unit;
 
 	json_object_set_new(o, "limit", ssc_jreal(conv(r, c, t, r->term[c * SSC_LOT_NT + (size_t)t].limit, &unit)));
+	if (magnitude_term(t))
+		json_object_set_new(o, "limit_on_magnitude", json_true());
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "upper_bound_only", json_boolean(cl->gbound[t]));
 	json_object_set_new(o, "lo", cl->gbound[t] ? json_null() :
@@ -601,6 +689,8 @@ static void between_spec_json(json_t *b, const struct ssc_lot_result *r, size_t 
 	if (!isfinite(T->limit))
 		return;
 	json_object_set_new(b, "limit", ssc_jreal(conv(r, c, t, T->limit, &unit)));
+	if (magnitude_term(t))
+		json_object_set_new(b, "limit_on_magnitude", json_true());
 	for (int v = 0; v < 3; v++)
 		json_object_set_new(b, verdict_key[v], json_integer((json_int_t)T->count[v]));
 	if (!T->cpk_done) {
@@ -630,7 +720,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 	json_object_set_new(o, "name", json_string(ds->name));
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "rule",
-			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. Cpk = (limit - mean) / (3 sigma), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
+			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; a unit whose drift or sensitivity interval is doubtful (the bias wanders: bias instability shown, or the block means' residuals correlated) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
 	for (size_t s = 0; s < ds->n_sec; s++) {
 		bool chan = false;
 
@@ -645,7 +735,10 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 			char line[96];
 
 			/* checked: the line a term's limit comes from */
-			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j))
+			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j ||
+				     sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ||
+				     sp->line == SSCOPE_DATASHEET_RATE_RAMP ||
+				     sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO))
 				continue;
 			snprintf(line, sizeof(line), "[%s] %s", ds->sec[s].name,
 				 sscope_datasheet_info(sp->line)->key);
@@ -711,6 +804,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 			json_object_set_new(jc, "bias_blocks", json_integer((json_int_t)cl->bias.blocks));
 			json_object_set_new(jc, "block_s", ssc_jreal((double)cl->bias.block_n /
 								     r->rate_hz[u]));
+			json_object_set_new(jc, "residual_lag1", ssc_jreal(cl->bias.resid_lag1));
 			if (cl->bias.have_temp) {
 				json_t *jt = json_object();
 
@@ -812,7 +906,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		conv(r, c, SSC_LOT_BIAS, 1, &ub);
 		conv(r, c, SSC_LOT_DRIFT, 1, &ud);
 		conv(r, c, SSC_LOT_TEMPCO, 1, &ut);
-		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: the unit shows bias instability)\n",
+		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: the bias wanders, shown by B or by correlated block means)\n",
 			r->chan[c], SSC_LOT_BIAS_BLOCKS);
 		fprintf(f, "%-20s %-34s %-34s %s\n", "unit", ub, ud, r->temp ? ut : "(no temperature column)");
 		for (size_t u = 0; u < r->n_units; u++) {
@@ -885,7 +979,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 		json_t *sj = spec_json(r), *nc = json_object_get(sj, "not_checked");
 
 		if (json_array_size(nc))
-			fprintf(f, "not checked (no channel of its kind, no N, B or K, or another line gives the term):");
+			fprintf(f, "not checked (no channel of its kind, a line the lot does not measure, or another line gives the term):");
 		for (size_t i = 0; i < json_array_size(nc); i++)
 			fprintf(f, "%s %s", i ? "," : "", json_string_value(json_array_get(nc, i)));
 		if (json_array_size(nc))
@@ -893,7 +987,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 		json_decref(sj);
 	}
 	fprintf(f, "%-8s %-16s %-16s %-10s %-7s %-7s %-13s %s\n", "channel", "term", "unit", "limit",
-		"within", "out", "inconclusive", "Cpk (one-sided) [interval]");
+		"within", "out", "inconclusive", "Cpk [interval]");
 	for (size_t c = 0; c < r->n_chan; c++)
 		for (int t = 0; t < SSC_LOT_NT; t++) {
 			const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
@@ -910,13 +1004,15 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 					 T->cpk.n < r->n_units ? " (units showing the term only)" : "");
 			else
 				snprintf(cp, sizeof(cp), "- (fewer than 3 units show the term)");
-			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
+			a[0] = '+';
+			a[1] = '-';
+			ssc_fmt(a + 2, sizeof(a) - 2, conv(r, c, t, T->limit, &unit), 4);
 			fprintf(f, "%-8s %-16s %-16s %-10s %-7zu %-7zu %-13zu %s\n", r->chan[c],
-				term_key[t], unit, a, T->count[SSCOPE_DATASHEET_WITHIN],
+				term_key[t], unit, magnitude_term(t) ? a : a + 2, T->count[SSCOPE_DATASHEET_WITHIN],
 				T->count[SSCOPE_DATASHEET_OUT],
 				T->count[SSCOPE_DATASHEET_INCONCLUSIVE], cp);
 		}
-	fprintf(f, "Cpk = (limit - mean) / (3 sigma), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit showing the term; %s %% interval (Bissell 1990)\n",
+	fprintf(f, "Cpk = (limit - mean) / (3 sigma) (+-limit: (limit - |mean|) / (3 sigma), the nearer side), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit showing the term; %s %% interval (Bissell 1990); a bias term's verdict is inconclusive where its interval is doubtful (~)\n",
 		ssc_fmt(a, sizeof(a), 100 * r->level, 3));
 	for (size_t u = 0; u < r->n_units; u++) {
 		bool first = true;

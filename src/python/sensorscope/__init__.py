@@ -1610,15 +1610,22 @@ def lot(files, level=0.90):
                     e["se"] = _num(_lot_conv(se[t], qc, t)[0])
                 e["z"] = _num(terms[c, t][2][u])
                 e["outlier"] = terms[c, t][3][u]
-                # the command's doubt: flicker makes the batch-means
-                # intervals of the drift and sensitivity too narrow
-                if t in (4, 5) and pres[t] and pres[1]:
-                    e["doubt"] = ("bias instability (flicker) shown by this "
-                                  "unit: the interval takes the block means "
-                                  "as independent and is too narrow")
+                # the command's doubt: a wandering bias makes the
+                # batch-means intervals of the drift and sensitivity too
+                # narrow
+                if t in (4, 5) and pres[t] and (pres[1] or
+                                                b.resid_correlated):
+                    e["doubt"] = (
+                        "bias instability (flicker) shown by this unit: the "
+                        "interval takes the block means as independent and "
+                        "is too narrow" if pres[1] else
+                        "the block means' residuals are correlated (the "
+                        "bias wanders): the interval takes them as "
+                        "independent and is too narrow")
                 jt[key] = e
             jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
                   "block_s": b.block_n / fs,
+                  "residual_lag1": _num(b.resid_lag1),
                   "temperature": {"mean_degc": _num(b.temp_mean_degc),
                                   "span_degc": _num(b.temp_span_degc),
                                   "time_corr": _num(b.temp_time_corr)}

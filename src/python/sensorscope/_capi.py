@@ -505,7 +505,8 @@ adequacy_severity_name = _fn("sscope_adequacy_severity_name", C.c_char_p,
 class DatasheetInfo(C.Structure):
     _fields_ = [("key", C.c_char_p), ("name", C.c_char_p),
                 ("definition", C.c_char_p), ("si_suffix", C.c_char_p),
-                ("term", C.c_int), ("tau_s", c_dbl)]
+                ("term", C.c_int), ("tau_s", c_dbl),
+                ("magnitude", C.c_bool)]
 
 
 class DatasheetGjb(C.Structure):
@@ -592,7 +593,8 @@ class LotBias(C.Structure):
                 ("have_temp", C.c_bool), ("tempco_u_degc", c_dbl),
                 ("tempco_se", c_dbl), ("tempco_lo", c_dbl),
                 ("tempco_hi", c_dbl), ("temp_mean_degc", c_dbl),
-                ("temp_span_degc", c_dbl), ("temp_time_corr", c_dbl)]
+                ("temp_span_degc", c_dbl), ("temp_time_corr", c_dbl),
+                ("resid_lag1", c_dbl), ("resid_correlated", C.c_bool)]
 
 
 STRUCTS.update({
