@@ -107,6 +107,7 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 	double y[3][12], se[3][12];
 	bool fl[12];
 	long cov[3] = { 0, 0, 0 }, cov_rec = 0, units = 0, found = 0, wrong = 0;
+	long flagged = 0, cov_ok[2] = { 0, 0 };
 	int failed = 0;
 	clock_t t0 = clock();
 
@@ -172,6 +173,11 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 			cov_rec += b.bias_lo <= truth[0] + fm && truth[0] + fm <= b.bias_hi;
 			cov[1] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
 			cov[2] += b.tempco_lo <= truth[2] && truth[2] <= b.tempco_hi;
+			flagged += b.resid_correlated;
+			if (!b.resid_correlated) {
+				cov_ok[0] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
+				cov_ok[1] += b.tempco_lo <= truth[2] && truth[2] <= b.tempco_hi;
+			}
 			units++;
 			y[0][u] = b.bias;
 			se[0][u] = b.bias_se;
@@ -193,6 +199,10 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 	       100.0 * cov_rec / units);
 	printf("drift 68.3 %% interval covers             %6.1f %%\n", 100.0 * cov[1] / units);
 	printf("temp. sensitivity 68.3 %% interval covers %6.1f %%\n", 100.0 * cov[2] / units);
+	printf("residuals called correlated (doubt)     %6.1f %% of units\n", 100.0 * flagged / units);
+	printf("  drift / sensitivity covers, the others %6.1f %% / %.1f %%\n",
+	       units > flagged ? 100.0 * cov_ok[0] / (units - flagged) : (double)NAN,
+	       units > flagged ? 100.0 * cov_ok[1] / (units - flagged) : (double)NAN);
 	printf("planted bias outlier flagged            %6.1f %% of lots\n", 100.0 * found / lots);
 	printf("false bias flags per lot (mean)         %6.2f   (0.01 x 11 = 0.11 expected)\n",
 	       (double)wrong / lots);
