@@ -30,8 +30,10 @@ struct bag {
 	const char *disp;
 	size_t *conn;    /* connection id -> topic index + 1 (0: unknown) */
 	size_t n_conn;
-	unsigned char *scratch;
-	size_t scratch_cap;
+	struct ssc_chunk_batch batch; /* compressed chunks not yet walked */
+	const unsigned char *map; /* the file mapping (pages given back
+				     behind the walk), or NULL */
+	size_t dropped;
 };
 
 static uint32_t le32(const unsigned char *p)
@@ -143,6 +145,30 @@ static int connection(struct bag *b, const unsigned char *h, size_t hl,
 static int records(struct bag *b, const unsigned char *p, size_t n,
 		   uint64_t base_at, bool in_chunk, struct sscope_diag *diag);
 
+/* the compressed chunks read so far, decompressed together and walked in
+ * file order; then the pages behind them given back */
+static int flush(struct bag *b, struct sscope_diag *diag)
+{
+	struct ssc_chunk_batch *bt = &b->batch;
+	struct sscope_diag bd = { "" };
+	int brc = bt->n ? ssc_chunk_batch_run(bt, "ROS bag", b->disp, &bd) : 0;
+	int rc = 0;
+
+	for (size_t i = 0; i < bt->n && !rc; i++)
+		rc = records(b, bt->buf[i], bt->job[i].size, bt->job[i].at, true,
+			     diag);
+	if (!rc && brc) {
+		rc = brc;
+		if (diag)
+			*diag = bd;
+	}
+	if (!rc && bt->n && b->map)
+		ssc_map_drop_behind(b->map, (size_t)bt->job[bt->n - 1].at,
+				    &b->dropped);
+	bt->n = 0;
+	return rc;
+}
+
 static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 		 const unsigned char *d, size_t dl, uint64_t at,
 		 struct sscope_diag *diag)
@@ -150,7 +176,6 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 	char *comp = field_str(h, hl, "compression");
 	uint32_t size;
 	enum ssc_codec codec;
-	char what[64];
 	int rc;
 
 	if (!comp || !field_u32(h, hl, "size", &size)) {
@@ -164,7 +189,12 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 		if (size != dl)
 			return bad(b, at, "uncompressed chunk of the wrong size",
 				   diag);
-		return records(b, d, dl, at, true, diag);
+		rc = flush(b, diag);
+		if (!rc)
+			rc = records(b, d, dl, at, true, diag);
+		if (!rc && b->map)
+			ssc_map_drop_behind(b->map, (size_t)at, &b->dropped);
+		return rc;
 	}
 	if (!strcmp(comp, "bz2")) {
 		codec = SSC_CODEC_BZ2;
@@ -186,22 +216,9 @@ static int chunk(struct bag *b, const unsigned char *h, size_t hl,
 	if (size > ssc_decompress_bound(codec, dl))
 		return bad(b, at, "chunk larger than its compressed data can hold",
 			   diag);
-	if (size > b->scratch_cap) {
-		unsigned char *s = realloc(b->scratch, size);
-
-		if (!s)
-			return ssc_diag(diag, -ENOMEM,
-					"%s: out of memory for a chunk of %u bytes at byte %llu",
-					b->disp, (unsigned)size, (unsigned long long)at);
-		b->scratch = s;
-		b->scratch_cap = size;
-	}
-	snprintf(what, sizeof(what), "chunk at byte %llu",
-		 (unsigned long long)at);
-	rc = ssc_decompress(codec, d, dl, b->scratch, size, b->disp, what, diag);
-	if (rc)
-		return rc;
-	return records(b, b->scratch, size, at, true, diag);
+	/* decompressed with the next ones, walked in order */
+	b->batch.job[b->batch.n++] = (struct ssc_chunk_job){ codec, d, dl, size, at };
+	return b->batch.n == SSC_CHUNK_BATCH ? flush(b, diag) : 0;
 }
 
 static int records(struct bag *b, const unsigned char *p, size_t n,
@@ -229,6 +246,13 @@ static int records(struct bag *b, const unsigned char *p, size_t n,
 		pos += 8 + hl + dl;
 		if (!field(h, hl, "op", &opv, &ol) || ol != 1)
 			return bad(b, at, "record without an op code", diag);
+		/* a connection or message follows the chunks before it (the
+		 * bag header, index data and chunk info do not matter here) */
+		if (!in_chunk && b->batch.n && (*opv == 0x07 || *opv == 0x02)) {
+			rc = flush(b, diag);
+			if (rc)
+				break;
+		}
 		switch (*opv) {
 		case 0x05:
 			if (in_chunk)
@@ -262,10 +286,10 @@ static int records(struct bag *b, const unsigned char *p, size_t n,
 	return rc;
 }
 
-int ssc_bag_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
-		 const char *disp, struct sscope_diag *diag)
+int ssc_bag_read(const unsigned char *buf, size_t len, bool mapped,
+		 struct ssc_ros *c, const char *disp, struct sscope_diag *diag)
 {
-	struct bag b = { .c = c, .disp = disp };
+	struct bag b = { .c = c, .disp = disp, .map = mapped ? buf : NULL };
 	size_t ml = strlen(BAG_MAGIC);
 	int rc;
 
@@ -279,7 +303,9 @@ int ssc_bag_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 				disp, (int)l, (const char *)buf);
 	}
 	rc = records(&b, buf + ml, len - ml, ml, false, diag);
+	if (!rc)
+		rc = flush(&b, diag);
 	free(b.conn);
-	free(b.scratch);
+	ssc_chunk_batch_free(&b.batch);
 	return rc;
 }

@@ -35,8 +35,9 @@ enum ssc_container ssc_container_detect(const void *buf, size_t len)
 }
 
 int ssc_container_open(struct ssc_table **t, enum ssc_container kind,
-		       const unsigned char *buf, size_t len, const char *disp,
-		       const char *topic, struct sscope_diag *diag)
+		       const unsigned char *buf, size_t len, bool mapped,
+		       const char *disp, const char *topic,
+		       struct sscope_diag *diag)
 {
 	struct ssc_ros *c;
 	const char *fmt = "";
@@ -51,11 +52,11 @@ int ssc_container_open(struct ssc_table **t, enum ssc_container kind,
 	switch (kind) {
 	case SSC_C_BAG:
 		fmt = "ROS 1 bag v2.0";
-		rc = ssc_bag_read(buf, len, c, disp, diag);
+		rc = ssc_bag_read(buf, len, mapped, c, disp, diag);
 		break;
 	case SSC_C_MCAP:
 		fmt = "MCAP";
-		rc = ssc_mcap_read(buf, len, c, disp, diag);
+		rc = ssc_mcap_read(buf, len, mapped, c, disp, diag);
 		break;
 	case SSC_C_SQLITE:
 		fmt = "rosbag2 SQLite (.db3)";

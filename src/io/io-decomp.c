@@ -18,6 +18,8 @@
 
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -132,6 +134,71 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
 				"%s: %s: corrupt %s data (%zu bytes decoded, %zu expected)",
 				disp, what, codec_name[codec], got, dst_len);
 	return 0;
+}
+
+int ssc_chunk_batch_run(struct ssc_chunk_batch *b, const char *kind,
+			const char *disp, struct sscope_diag *diag)
+{
+	int rc[SSC_CHUNK_BATCH];
+	struct sscope_diag d[SSC_CHUNK_BATCH];
+	long n = (long)b->n;
+
+	for (size_t i = 0; i < b->n; i++) {
+		size_t need = b->job[i].size ? b->job[i].size : 1;
+
+		if (need > b->cap[i]) {
+			unsigned char *s = realloc(b->buf[i], need);
+
+			if (!s)
+				return ssc_diag(diag, -ENOMEM,
+						"%s: out of memory for a chunk of %zu bytes at byte %llu",
+						disp, b->job[i].size,
+						(unsigned long long)b->job[i].at);
+			b->buf[i] = s;
+			b->cap[i] = need;
+		}
+	}
+	/* one chunk to a thread at a time: a thread that loses its core
+	 * holds back one chunk */
+SSC_OMP(omp parallel for schedule(dynamic, 1) if (n > 1))
+	for (long i = 0; i < n; i++) {
+		const struct ssc_chunk_job *j = &b->job[i];
+		char what[80];
+
+		d[i].msg[0] = '\0';
+		snprintf(what, sizeof(what), "%s chunk at byte %llu", kind,
+			 (unsigned long long)j->at);
+		rc[i] = ssc_decompress(j->codec, j->src, j->src_len, b->buf[i],
+				       j->size, disp, what, &d[i]);
+	}
+	for (size_t i = 0; i < b->n; i++)
+		if (rc[i]) {
+			if (diag)
+				*diag = d[i];
+			b->n = i; /* the good chunks before it */
+			return rc[i];
+		}
+	return 0;
+}
+
+void ssc_chunk_batch_free(struct ssc_chunk_batch *b)
+{
+	for (size_t i = 0; i < SSC_CHUNK_BATCH; i++)
+		free(b->buf[i]);
+	memset(b, 0, sizeof(*b));
+}
+
+void ssc_map_drop_behind(const unsigned char *base, size_t upto,
+			 size_t *dropped)
+{
+	long pg = sysconf(_SC_PAGESIZE);
+	size_t p = pg > 0 ? (size_t)pg : 4096, to = upto / p * p;
+
+	if (to < *dropped + ((size_t)4 << 20))
+		return;
+	madvise((void *)(uintptr_t)(base + *dropped), to - *dropped,
+		MADV_DONTNEED);
+	*dropped = to;
 }
 
 uint32_t ssc_crc32(const unsigned char *p, size_t n)

@@ -85,8 +85,9 @@ enum ssc_container ssc_container_detect(const void *buf, size_t len);
 /* Decode a whole container held in buf (bag, MCAP, SQLite, npy) into a
  * table; topic as sscope_reader_opts.topic. */
 int ssc_container_open(struct ssc_table **t, enum ssc_container kind,
-		       const unsigned char *buf, size_t len, const char *disp,
-		       const char *topic, struct sscope_diag *diag);
+		       const unsigned char *buf, size_t len, bool mapped,
+		       const char *disp, const char *topic,
+		       struct sscope_diag *diag);
 
 /* A rosbag2 folder (metadata.yaml and its .db3 or .mcap files). */
 bool ssc_rosbag2_is_dir(const char *path);
@@ -122,11 +123,14 @@ int ssc_ros_finish(struct ssc_ros *c, const char *format, const char *topic,
 		   struct ssc_table **t, struct sscope_diag *diag);
 void ssc_ros_free(struct ssc_ros *c);
 
-/* Container walkers: feed every topic and message to the collector. */
-int ssc_bag_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
-		 const char *disp, struct sscope_diag *diag);
-int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
-		  const char *disp, struct sscope_diag *diag);
+/* Container walkers: feed every topic and message to the collector.
+ * mapped: buf is a read-only file mapping whose pages the walker gives
+ * back behind it (memory bounded by the chunks in flight, whatever the
+ * file's size); false for memory the caller owns. */
+int ssc_bag_read(const unsigned char *buf, size_t len, bool mapped,
+		 struct ssc_ros *c, const char *disp, struct sscope_diag *diag);
+int ssc_mcap_read(const unsigned char *buf, size_t len, bool mapped,
+		  struct ssc_ros *c, const char *disp, struct sscope_diag *diag);
 /* -ENOTSUP when built without SQLite */
 int ssc_db3_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 		 const char *disp, struct sscope_diag *diag);
@@ -182,6 +186,37 @@ int ssc_decompress(enum ssc_codec codec, const unsigned char *src,
  * 255 per byte; Zstandard: a 128 KiB block from 4 bytes; bzip2: no
  * bound), so that a corrupt size field is refused before it is allocated. */
 size_t ssc_decompress_bound(enum ssc_codec codec, size_t src_len);
+
+/* Chunks decompressed together on the OpenMP threads, each into its own
+ * buffer (kept for the next batch), then walked in file order by the
+ * caller: a container's chunks decode on every core while its records
+ * keep their order.  Add chunks until full (n == SSC_CHUNK_BATCH) or a
+ * record that must follow them, then run. */
+#define SSC_CHUNK_BATCH 8
+struct ssc_chunk_batch {
+	size_t n;
+	struct ssc_chunk_job {
+		enum ssc_codec codec;
+		const unsigned char *src;
+		size_t src_len, size;
+		uint64_t at;          /* the chunk's byte offset */
+	} job[SSC_CHUNK_BATCH];
+	unsigned char *buf[SSC_CHUNK_BATCH];
+	size_t cap[SSC_CHUNK_BATCH];
+};
+/* Decompress the batch's chunks into buf[i] (size bytes each); on error
+ * the first failing chunk's in file order, its message naming disp and
+ * the chunk's offset, and n lowered to the chunks before it (which the
+ * caller walks first: an error in them comes first, as in a walk one
+ * chunk at a time). */
+int ssc_chunk_batch_run(struct ssc_chunk_batch *b, const char *kind,
+			const char *disp, struct sscope_diag *diag);
+void ssc_chunk_batch_free(struct ssc_chunk_batch *b);
+/* Give back the pages of a read-only file mapping base[0, upto) that a
+ * walker has passed (*dropped: how far it has, page-aligned); a no-op
+ * for less than 4 MiB more. */
+void ssc_map_drop_behind(const unsigned char *base, size_t upto,
+			 size_t *dropped);
 /* The most bytes one compressed input may expand to in memory: half the
  * physical memory, or half the address-space or data-size limit
  * (ulimit -v, -d) when lower. */

@@ -31,8 +31,10 @@ struct mcap {
 	char *schema[65536];   /* schema id -> name */
 	size_t n_schema;       /* highest schema id named + 1 */
 	uint32_t chan[65536];  /* channel id -> topic index + 1 */
-	unsigned char *scratch;
-	size_t scratch_cap;
+	struct ssc_chunk_batch batch; /* compressed chunks not yet walked */
+	const unsigned char *map; /* the file mapping (pages given back
+				     behind the walk), or NULL */
+	size_t dropped;
 };
 
 static uint64_t le(const unsigned char *p, int n)
@@ -83,6 +85,7 @@ static char *dup_n(const unsigned char *s, size_t n)
 static int records(struct mcap *m, const unsigned char *p, size_t n,
 		   uint64_t base_at, bool in_chunk, bool *end,
 		   struct sscope_diag *diag);
+static int flush(struct mcap *m, struct sscope_diag *diag);
 
 static int chunk(struct mcap *m, const unsigned char *p,
 		 const unsigned char *e, uint64_t at, struct sscope_diag *diag)
@@ -92,8 +95,7 @@ static int chunk(struct mcap *m, const unsigned char *p,
 	uint64_t usize, rlen;
 	uint32_t crc;
 	enum ssc_codec codec;
-	const unsigned char *data;
-	char what[64];
+	const unsigned char *data = NULL;
 	bool end = false;
 	int rc;
 
@@ -133,30 +135,48 @@ static int chunk(struct mcap *m, const unsigned char *p,
 		if (usize > ssc_decompress_bound(codec, rlen))
 			return bad(m, at, "chunk larger than its compressed data can hold",
 				   diag);
-		if (usize > m->scratch_cap) {
-			unsigned char *s = realloc(m->scratch, usize ? usize : 1);
-
-			if (!s)
-				return ssc_diag(diag, -ENOMEM,
-						"%s: out of memory for a chunk of %llu bytes at byte %llu",
-						m->disp, (unsigned long long)usize,
-						(unsigned long long)at);
-			m->scratch = s;
-			m->scratch_cap = usize;
-		}
-		snprintf(what, sizeof(what), "chunk at byte %llu",
-			 (unsigned long long)at);
-		rc = ssc_decompress(codec, p, rlen, m->scratch, usize, m->disp,
-				    what, diag);
-		if (rc)
-			return rc;
-		data = m->scratch;
+		/* decompressed with the next ones, walked in order */
+		m->batch.job[m->batch.n++] = (struct ssc_chunk_job){
+			codec, p, (size_t)rlen, (size_t)usize, at };
+		return m->batch.n == SSC_CHUNK_BATCH ? flush(m, diag) : 0;
 	}
+	rc = flush(m, diag);
+	if (rc)
+		return rc;
 	/* a compressed chunk is checked by its decoder and its exact size;
 	 * the CRC (12 % of the time of a read) guards uncompressed ones */
-	if (crc && cl == 0 && ssc_crc32(data, usize) != crc)
+	if (crc && ssc_crc32(data, usize) != crc)
 		return bad(m, at, "chunk CRC mismatch", diag);
-	return records(m, data, usize, at, true, &end, diag);
+	rc = records(m, data, usize, at, true, &end, diag);
+	if (!rc && m->map)
+		ssc_map_drop_behind(m->map, (size_t)at, &m->dropped);
+	return rc;
+}
+
+/* the compressed chunks read so far, decompressed together and walked in
+ * file order; then the pages behind them given back */
+static int flush(struct mcap *m, struct sscope_diag *diag)
+{
+	struct ssc_chunk_batch *b = &m->batch;
+	struct sscope_diag bd = { "" };
+	int brc = b->n ? ssc_chunk_batch_run(b, "MCAP", m->disp, &bd) : 0;
+	int rc = 0;
+
+	for (size_t i = 0; i < b->n && !rc; i++) {
+		bool end = false;
+
+		rc = records(m, b->buf[i], b->job[i].size, b->job[i].at, true,
+			     &end, diag);
+	}
+	if (!rc && brc) {
+		rc = brc;
+		if (diag)
+			*diag = bd;
+	}
+	if (!rc && b->n && m->map)
+		ssc_map_drop_behind(m->map, (size_t)b->job[b->n - 1].at, &m->dropped);
+	b->n = 0;
+	return rc;
 }
 
 static int records(struct mcap *m, const unsigned char *p, size_t n,
@@ -181,6 +201,15 @@ static int records(struct mcap *m, const unsigned char *p, size_t n,
 		r = p + pos + 9;
 		e = r + len;
 		pos += 9 + len;
+		/* a schema, channel, message or end follows the chunks before
+		 * it (indexes, statistics, attachments and metadata do not
+		 * matter here) */
+		if (!in_chunk && m->batch.n &&
+		    (op == 0x02 || op == 0x03 || op == 0x04 || op == 0x05 || op == 0x0f)) {
+			rc = flush(m, diag);
+			if (rc)
+				break;
+		}
 		switch (op) {
 		case 0x03: { /* schema */
 			const unsigned char *s;
@@ -264,8 +293,8 @@ static int records(struct mcap *m, const unsigned char *p, size_t n,
 	return rc;
 }
 
-int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
-		  const char *disp, struct sscope_diag *diag)
+int ssc_mcap_read(const unsigned char *buf, size_t len, bool mapped,
+		  struct ssc_ros *c, const char *disp, struct sscope_diag *diag)
 {
 	struct mcap *m;
 	bool end = false;
@@ -279,7 +308,10 @@ int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 		return -ENOMEM;
 	m->c = c;
 	m->disp = disp;
+	m->map = mapped ? buf : NULL;
 	rc = records(m, buf + 8, len - 8, 8, false, &end, diag);
+	if (!rc)
+		rc = flush(m, diag);
 	if (!rc && !end)
 		rc = bad(m, len, "no data end or footer record (file cut short)",
 			 diag);
@@ -287,7 +319,7 @@ int ssc_mcap_read(const unsigned char *buf, size_t len, struct ssc_ros *c,
 	 * file's whole read */
 	for (size_t i = 0; i < m->n_schema; i++)
 		free(m->schema[i]);
-	free(m->scratch);
+	ssc_chunk_batch_free(&m->batch);
 	free(m);
 	return rc;
 }

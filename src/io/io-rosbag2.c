@@ -278,7 +278,7 @@ static int one_file(struct ssc_ros *c, const char *path, bool zstd_file,
 		rc = ssc_db3_read(b, len, c, path, diag);
 		break;
 	case SSC_C_MCAP:
-		rc = ssc_mcap_read(b, len, c, path, diag);
+		rc = ssc_mcap_read(b, len, b == m, c, path, diag);
 		break;
 	default:
 		rc = ssc_diag(diag, -EBADMSG,

@@ -1326,7 +1326,7 @@ static int open_table(struct sscope_reader *r, enum ssc_container kind,
 	if (rc)
 		return rc;
 	rc = ssc_container_open(&r->tab, kind, (const unsigned char *)r->base,
-				r->len, r->disp, r->opts->topic, diag);
+				r->len, r->mapped, r->disp, r->opts->topic, diag);
 	return rc ? rc : table_columns(r);
 }
 
