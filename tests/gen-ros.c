@@ -22,7 +22,8 @@
  *                        (compression_mode FILE: rosbag2_0.db3.zstd)
  * Usage: gen-ros OUTDIR [RATE [DURATION [ONLY]]]; ONLY = csv, mcap (zstd),
  * bag (lz4), bag-none or mcap-none writes that one file (for the big
- * benchmark files); ONLY = hostile writes the crafted files of issue 29
+ * benchmark files), mcap-camera camera-imu-zstd.mcap (the IMU among a
+ * camera's frames, streamed: any size); ONLY = hostile writes the crafted files of issue 29
  * instead (see write_hostile()); ONLY = small writes everything with the
  * .db3 in pages of 512 bytes (fuzz seeds).
  */
@@ -605,6 +606,145 @@ static void write_mcap(const char *dir, const char *name, const struct rec *r,
 	free(e);
 }
 
+/* An MCAP as a robot writes it, streamed to the file chunk by chunk
+ * (any size in bounded memory): the IMU topic among the frames of a
+ * camera (sensor_msgs/msg/Image, 640 x 480 mono8 at 30 Hz, 9.2 MB/s; half
+ * of each frame smooth, half noise, so zstd at level 1 halves it about),
+ * zstd chunks of 4 MiB.  The camera's messages are counted, not decoded,
+ * by the reader. */
+static void write_mcap_camera(const char *dir, const struct rec *r)
+{
+	enum { W = 640, H = 480, FPS = 30 };
+	char path[4096];
+	FILE *f;
+	struct buf c = { 0 }, ch = { 0 }, m = { 0 }, hdr = { 0 };
+	unsigned char *cd = NULL, *img = malloc((size_t)W * H);
+	size_t cap = 0, k = 0, frames = 0;
+	int64_t t_end = r->stamp[r->n - 1], dt_cam = 1000000000 / FPS;
+	int64_t t = T0_NS, tmin = INT64_MAX, tmax = INT64_MIN;
+	uint64_t x = 0x9E3779B97F4A7C15ULL;
+
+	snprintf(path, sizeof(path), "%s/camera-imu-zstd.mcap", dir);
+	f = fopen(path, "wb");
+	if (!f || !img) {
+		perror(path);
+		exit(1);
+	}
+	put(&hdr, "\x89MCAP0\r\n", 8);
+	mstr(&c, "ros2");
+	mstr(&c, "sensorscope gen-ros");
+	mrec(&hdr, 0x01, &c);
+	for (unsigned id = 0; id < 2; id++) {
+		c.n = 0;
+		u16(&c, id + 1);
+		mstr(&c, id ? "sensor_msgs/msg/Image" : "sensor_msgs/msg/Imu");
+		mstr(&c, "ros2msg");
+		u32(&c, 0);
+		mrec(&hdr, 0x03, &c);
+		c.n = 0;
+		u16(&c, id);
+		u16(&c, id + 1);
+		mstr(&c, id ? "/camera/image_raw" : topic[0]);
+		mstr(&c, "cdr");
+		u32(&c, 0);
+		mrec(&hdr, 0x04, &c);
+	}
+	fwrite(hdr.p, 1, hdr.n, f);
+	for (size_t i = 0; i < (size_t)W * H; i++)
+		img[i] = (unsigned char)((i % W) / 3 + (i / W) / 5);
+	while (t <= t_end) {
+		/* the IMU messages up to this frame, then the frame */
+		for (; k < r->n && r->stamp[k] <= t; k++) {
+			m.n = 0;
+			u16(&m, 0);
+			u32(&m, (uint32_t)k);
+			u64(&m, (uint64_t)(r->stamp[k] + LATENCY_NS));
+			u64(&m, (uint64_t)(r->stamp[k] + LATENCY_NS));
+			message(&m, r, M_IMU, k, true);
+			mrec(&ch, 0x05, &m);
+		}
+		for (size_t i = (size_t)W * H / 2; i < (size_t)W * H; i += 8) {
+			x ^= x << 13;
+			x ^= x >> 7;
+			x ^= x << 17;
+			memcpy(img + i, &x, 8);
+		}
+		m.n = 0;
+		u16(&m, 1);
+		u32(&m, (uint32_t)frames);
+		u64(&m, (uint64_t)(t + LATENCY_NS));
+		u64(&m, (uint64_t)(t + LATENCY_NS));
+		u8(&m, 0);
+		u8(&m, 1);
+		u16(&m, 0);
+		u32(&m, (uint32_t)(t / 1000000000));
+		u32(&m, (uint32_t)(t % 1000000000));
+		u32(&m, 4);
+		put(&m, "cam", 4);
+		u32(&m, H);
+		u32(&m, W);
+		u32(&m, 6);
+		put(&m, "mono8", 6);
+		u8(&m, 0);
+		while (m.n % 4)
+			u8(&m, 0);
+		u32(&m, W);
+		u32(&m, (uint32_t)W * H);
+		put(&m, img, (size_t)W * H);
+		mrec(&ch, 0x05, &m);
+		tmin = t < tmin ? t : tmin;
+		tmax = t;
+		frames++;
+		t += dt_cam;
+		if (ch.n >= ((size_t)4 << 20) || t > t_end) {
+			size_t bound = ZSTD_compressBound(ch.n), cl;
+
+			if (bound > cap) {
+				cd = realloc(cd, bound);
+				cap = bound;
+			}
+			cl = ZSTD_compress(cd, bound, ch.p, ch.n, 1);
+			if (!cd || ZSTD_isError(cl))
+				exit(1);
+			c.n = 0;
+			u8(&c, 0x06);
+			u64(&c, 8 + 8 + 8 + 4 + 4 + 4 + 8 + cl);
+			u64(&c, (uint64_t)tmin);
+			u64(&c, (uint64_t)tmax);
+			u64(&c, ch.n);
+			u32(&c, 0); /* no CRC */
+			mstr(&c, "zstd");
+			u64(&c, cl);
+			if (fwrite(c.p, 1, c.n, f) != c.n || fwrite(cd, 1, cl, f) != cl) {
+				perror(path);
+				exit(1);
+			}
+			ch.n = 0;
+			tmin = INT64_MAX;
+		}
+	}
+	c.n = 0;
+	hdr.n = 0;
+	u32(&c, 0);
+	mrec(&hdr, 0x0f, &c);
+	c.n = 0;
+	u64(&c, 0);
+	u64(&c, 0);
+	u32(&c, 0);
+	mrec(&hdr, 0x02, &c);
+	put(&hdr, "\x89MCAP0\r\n", 8);
+	if (fwrite(hdr.p, 1, hdr.n, f) != hdr.n || fclose(f)) {
+		perror(path);
+		exit(1);
+	}
+	free(c.p);
+	free(ch.p);
+	free(m.p);
+	free(hdr.p);
+	free(cd);
+	free(img);
+}
+
 /* ------------------------------------------------------------ rosbag2 */
 
 static void write_metadata(const char *dir, const char *storage,
@@ -1174,6 +1314,8 @@ int main(int argc, char **argv)
 		write_bag(dir, "imu-lz4.bag", &r, "lz4");
 	if (only && !strcmp(only, "bag-none"))
 		write_bag(dir, "imu-none.bag", &r, "none");
+	if (only && !strcmp(only, "mcap-camera"))
+		write_mcap_camera(dir, &r);
 	if (only && !strcmp(only, "mcap-none"))
 		write_mcap(dir, "imu-none.mcap", &r, "", false, 1);
 	if (only && !strcmp(only, "hostile"))
