@@ -238,8 +238,14 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 	for (int t = 0; t < 4; t++) {
 		struct sscope_adc_mc_ratio *q = t < 3 ? &out->ratio[t] : &out->bias_shift;
 
+		struct sscope_stats st;
+
 		sscope_stats_mean_interval(vals + (size_t)t * R, 1, R, level,
 					   &q->mean, &q->lo, &q->hi, &q->runs);
+		q->se = NAN;
+		if (!sscope_stats_compute(vals + (size_t)t * R, 1, R, &st) &&
+		    st.n >= 2)
+			q->se = st.sd / sqrt((double)st.n);
 	}
 	out->runs = R;
 	out->duration_s = (double)n / fs;

@@ -267,6 +267,9 @@ struct sscope_adc_mc_ratio {
 			     degrees of freedom at the level asked (NaN with
 			     fewer than two values) */
 	size_t runs;    /**< runs that gave a value */
+	double se;      /**< Monte-Carlo standard error of mean: s / sqrt(k),
+			     s the sample sd over the k runs (NaN with fewer
+			     than two values) */
 };
 
 /** Options of sscope_adc_monte_carlo(). */

@@ -209,6 +209,31 @@ run "profile and bound" 1 adc report --sensor "$T/s1.ini" --adc "$T/specs/both.i
 one_line_error "profile and bound"
 has "profile or bound" "$T/err" 'give inl_profile or the inl/dnl bounds, not both'
 
+# The printed Monte-Carlo se of a ratio against the spread of the ratio over
+# 20 seeds (16 runs each, seeds 100 apart: no run shared): var(ratio over
+# seeds) / mean(se^2) follows F(19, 20 x 15) when se = s / sqrt(runs);
+# accepted within its 0.05 and 99.95 % quantiles [0.253, 2.54] (numpy,
+# 4e6 draws).  An se without the sqrt(runs) would give 1/16.
+if [ -z "$SSCOPE_RUN" ] && command -v jq >/dev/null 2>&1; then
+	: >"$T/se.txt"
+	for i in 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19; do
+		ss adc report --sensor "$MEMS" --adc "$A16" --monte-carlo 16 --mc-duration 100 \
+			--seed $((1 + 100 * i)) --format json 2>/dev/null |
+			jq -r '.adcs[0].monte_carlo.N | "\(.value) \(.se)"' >>"$T/se.txt"
+	done
+	f=$(awk 'NF == 2 && $2 != "null" { n++; s += $1; ss += $1 * $1; q += $2 * $2 }
+		END { if (n != 20) { print "bad"; exit } m = s / n
+		      printf "%.4f", (ss - n * m * m) / (n - 1) / (q / n) }' "$T/se.txt")
+	if awk -v f="$f" 'BEGIN { exit !(f + 0 > 0.253 && f + 0 < 2.54) }' && [ "$f" != bad ]; then
+		ok "Monte-Carlo se of the N ratio matches its spread over seeds (F $f)"
+	else
+		not_ok "Monte-Carlo se of the N ratio matches its spread over seeds (F $f)"
+		diag "$T/se.txt"
+	fi
+	run "text gives the se" 0 adc report --sensor "$MEMS" --adc "$A16" --monte-carlo 4 --mc-duration 100
+	has "text se" "$T/out" 'N ratio  [0-9.]*  \[[0-9., ]*\]  se '
+fi
+
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	run "adc test plot" 0 adc test --bits 10 --range -1:1 "$T/sq.csv" --plot "$T/dnl.png"
 	[ -s "$T/dnl.png" ] && ok "DNL/INL plot written" || not_ok "DNL/INL plot written"

@@ -192,6 +192,7 @@ static json_t *jratio(const struct sscope_adc_mc_ratio *r)
 	json_object_set_new(o, "lo", ssc_jreal(r->lo));
 	json_object_set_new(o, "hi", ssc_jreal(r->hi));
 	json_object_set_new(o, "runs", json_integer((json_int_t)r->runs));
+	json_object_set_new(o, "se", ssc_jreal(r->se));
 	return o;
 }
 
@@ -446,6 +447,8 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 			if (isfinite(r->lo))
 				fprintf(f, "  [%s, %s]", ssc_fmt(b2, sizeof(b2), r->lo, 4),
 					ssc_fmt(b3, sizeof(b3), r->hi, 4));
+			if (isfinite(r->se))
+				fprintf(f, "  se %s", ssc_fmt(b2, sizeof(b2), r->se, 2));
 			fputc('\n', f);
 		}
 		fprintf(f, "    bias shift %s", fmtu(b1, sizeof(b1), ar->mc.bias_shift.mean, bsi, bu, 3));
