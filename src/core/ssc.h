@@ -28,17 +28,6 @@ struct sscope_adc_spec;
 #define SSC_TARGET_CLONES(...)
 #endif
 
-/* The default OpenMP team of a command: the CPUs this process may use,
- * less the tasks running elsewhere on the machine as it starts (the
- * running tasks of /proc/loadavg but this one, no more than the
- * one-minute load average rounded: a task passing by, or the command's
- * own earlier runs, do not count), at least one; left alone when
- * OMP_NUM_THREADS is set.  An explicit team (a --threads option) still
- * overrides it per call.  Every threaded kernel splits its work by the
- * data, never by the team, so results do not depend on it.  Returns the
- * team (1 without OpenMP). */
-unsigned ssc_team_follow_free(void);
-
 /* pi, once for the whole tree (files of tests that define PI alike may
  * keep doing so: the same definition) */
 #define PI 3.14159265358979323846

@@ -4,18 +4,11 @@
  */
 #include "internal.h"
 
-#include <fcntl.h>
-#include <math.h>
-#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <unistd.h>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 const char *sscope_version(void)
 {
@@ -128,50 +121,6 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) if (pages >= 4096))
 	(void)p;
 	(void)bytes;
 	(void)threads;
-#endif
-}
-
-unsigned ssc_team_follow_free(void)
-{
-#ifdef _OPENMP
-	long online = sysconf(_SC_NPROCESSORS_ONLN);
-	unsigned team = online > 0 ? (unsigned)online : 1, busy = 0, run = 0;
-	char buf[128];
-	double load1 = 0;
-	ssize_t len;
-	cpu_set_t set;
-	int fd;
-
-	if (getenv("OMP_NUM_THREADS"))
-		return (unsigned)omp_get_max_threads();
-	if (sched_getaffinity(0, sizeof(set), &set) == 0 && CPU_COUNT(&set) > 0 &&
-	    (unsigned)CPU_COUNT(&set) < team)
-		team = (unsigned)CPU_COUNT(&set);
-	fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
-	len = fd >= 0 ? read(fd, buf, sizeof(buf) - 1) : -1;
-	if (fd >= 0)
-		close(fd);
-	/* "1.00 0.50 0.25 2/345 6789": the running tasks now, this one
-	 * included */
-	if (len > 0) {
-		buf[len] = '\0';
-		if (sscanf(buf, "%lf %*f %*f %u/", &load1, &run) == 2 &&
-		    run > 1 && load1 >= 0 && load1 < 1e6) {
-			unsigned avg = (unsigned)lround(load1);
-
-			busy = run - 1 < avg ? run - 1 : avg;
-		}
-	}
-	if (online > 0 && busy >= (unsigned)online)
-		team = 1;
-	else if (online > 0 && (unsigned)online - busy < team)
-		team = (unsigned)online - busy;
-	if ((int)team > omp_get_max_threads())
-		team = (unsigned)omp_get_max_threads();
-	omp_set_num_threads((int)team);
-	return team;
-#else
-	return 1;
 #endif
 }
 

@@ -309,7 +309,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	 * row count, then trimmed; a pipe grows its arrays. */
 	{
 #ifdef _OPENMP
-		/* the default team (a command's follows the free processors) */
+		/* OpenMP's default team (OMP_NUM_THREADS) */
 		long ncpu = omp_get_max_threads();
 #else
 		long ncpu = sysconf(_SC_NPROCESSORS_ONLN);

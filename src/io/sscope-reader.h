@@ -37,8 +37,7 @@ struct sscope_reader_opts {
 	bool no_time;    /**< ignore the time column even if one is present */
 	/** Threads for parsing a whole text file (sscope_capture_load); 0:
 	 *  OpenMP's default team (one per CPU unless OMP_NUM_THREADS says
-	 *  otherwise; the command's follows the free processors), at most
-	 *  8. */
+	 *  otherwise), at most 8. */
 	unsigned threads;
 	/** sscope_capture_load(): a raw file of one float64 channel in the
 	 *  host's byte order with no scaling (the common dump of a logger)

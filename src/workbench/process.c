@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
  * The process around a command: OpenMP's wait policy set before its
- * runtime starts, and its default team (ssc_team_follow_free()).
+ * runtime starts.
  */
 #include "workbench.h"
 
@@ -93,7 +93,6 @@ void ssc_omp_wait_passive(char **argv, bool may_exec)
 	char exe[PATH_MAX];
 	ssize_t n;
 
-	(void)ssc_team_follow_free();
 	if (early_env) {
 		/* the policy reached libgomp: give the entry back */
 		early_env[early_slot] = early_saved;

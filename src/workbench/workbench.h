@@ -352,8 +352,7 @@ bool ssc_psd_fed_from_mapping(const struct ssc_common *co, const char *path,
 			      struct sscope_psd *p, struct sscope_psd_spectrum *s,
 			      uint64_t *rows);
 
-/* The default team set to the processors free (ssc_team_follow_free()),
- * then OpenMP's passive wait policy (process.c): gives back the environment
+/* OpenMP's passive wait policy (process.c): gives back the environment
  * entry the policy borrowed before the libraries started; where none
  * could be borrowed and may_exec, runs the command again with
  * OMP_WAIT_POLICY=passive unless the user set a policy (returns only when
