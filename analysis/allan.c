@@ -29,7 +29,9 @@
  *  neighbouring taus together over L1-sized stretches of the contiguous
  *  phase, each tau's vector lanes kept between stretches, so that each
  *  tau's sum is the per-tau kernel's to the last bit.
- * Parallelism is OpenMP; without it the same code runs serially.
+ * Parallelism is OpenMP; without it the same code runs serially.  The
+ * work is cut by the data, never by the team (see set_chunks), so every
+ * result is the same to the bit on any number of threads.
  * Non-overlapping, modified, total and strided estimators, and records
  * with gaps, use the contiguous layout and per-tau kernels.
  *
@@ -1670,7 +1672,7 @@ SSC_K512 static void tile_group512(const double *w, size_t S, double *dst,
 #endif
 
 /*
- * One thread's share of the phase pass: compute the phase of chunk
+ * One chunk of the phase pass: compute the phase of chunk
  * [lo, hi) (plus lookahead for the short kernels), write it tiled, and
  * accumulate the short-tau sums of the terms starting in the chunk.
  */

@@ -1169,8 +1169,8 @@ START_TEST(tiled_engine)
 END_TEST
 
 /* The rate input on the tiled layout is centred from a sample of one
- * point in 64 instead of a pass over the record, and each thread's chunk
- * of the phase is stored relative to its start: the deviations must still
+ * point in 64 instead of a pass over the record, and each chunk of the
+ * phase is stored relative to its start: the deviations must still
  * be those of the exactly centred phase, for signals a regular sample
  * would alias (periods of 4 and 64 points), a large level with a ramp, a
  * step and quantised noise, with 1, 2 and 3 threads (the chunk offsets
