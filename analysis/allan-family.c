@@ -115,26 +115,37 @@ static double theo_row(const double *a, const double *b, const double *c,
 	return s;
 }
 
+/* Parallel sums in SUM_GROUPS groups of consecutive terms fixed by the
+ * sizes alone, added in order: the same to the bit on any team. */
+#define SUM_GROUPS 64
+
 /* the double sum of eq. 33 (without its normalisation) */
 static double theo1_sum(const double *x, size_t np, size_t m, unsigned T)
 {
 	const size_t h = m / 2, ni = np - m;
-	double total = 0;
+	double gs[SUM_GROUPS], total = 0;
 
 	(void)T;
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 16) reduction(+ : total) if (ni * h >= THEO_PAR_MIN))
-	for (size_t d = 0; d < h; d++) {
-		double s = 0;
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1) if (ni * h >= THEO_PAR_MIN))
+	for (size_t g = 0; g < SUM_GROUPS; g++) {
+		double t = 0;
 
-		/* blocks keep each partial sum short (all terms >= 0) */
-		for (size_t i0 = 0; i0 < ni; i0 += 8192) {
-			size_t len = ni - i0 < 8192 ? ni - i0 : 8192;
+		for (size_t d = h * g / SUM_GROUPS; d < h * (g + 1) / SUM_GROUPS; d++) {
+			double s = 0;
 
-			s += theo_row(x + i0, x + i0 + h - d, x + i0 + m,
-				      x + i0 + h + d, len);
+			/* blocks keep each partial sum short (all terms >= 0) */
+			for (size_t i0 = 0; i0 < ni; i0 += 8192) {
+				size_t len = ni - i0 < 8192 ? ni - i0 : 8192;
+
+				s += theo_row(x + i0, x + i0 + h - d, x + i0 + m,
+					      x + i0 + h + d, len);
+			}
+			t += s / (double)(h - d);
 		}
-		total += s / (double)(h - d);
+		gs[g] = t;
 	}
+	for (size_t g = 0; g < SUM_GROUPS; g++)
+		total += gs[g];
 	return total;
 }
 
@@ -261,11 +272,11 @@ static double tot_subseq(const double *v, size_t m, double *C, double *W)
 static double tot_mean(const double *v, size_t nv, size_t m, unsigned T)
 {
 	const size_t nsub = nv - 3 * m + 1;
-	double total = 0;
+	double gs[SUM_GROUPS], total = 0;
 	bool oom = false;
 
 	(void)T;
-SSC_OMP(omp parallel num_threads(T) if (nsub * m >= THEO_PAR_MIN) reduction(+ : total))
+SSC_OMP(omp parallel num_threads(T) if (nsub * m >= THEO_PAR_MIN))
 	{
 		double *C = ssc_alloc_array(3 * m + 1, sizeof(double));
 		double *W = ssc_alloc_array(8 * m + 1, sizeof(double));
@@ -274,13 +285,21 @@ SSC_OMP(omp parallel num_threads(T) if (nsub * m >= THEO_PAR_MIN) reduction(+ : 
 SSC_OMP(omp atomic write)
 			oom = true;
 		}
-SSC_OMP(omp for schedule(dynamic, 64))
-		for (size_t n = 0; n < nsub; n++)
-			if (C && W)
-				total += tot_subseq(v + n, m, C, W);
+SSC_OMP(omp for schedule(dynamic, 1))
+		for (size_t g = 0; g < SUM_GROUPS; g++) {
+			double t = 0;
+
+			for (size_t n = nsub * g / SUM_GROUPS;
+			     n < nsub * (g + 1) / SUM_GROUPS; n++)
+				if (C && W)
+					t += tot_subseq(v + n, m, C, W);
+			gs[g] = t;
+		}
 		free(C);
 		free(W);
 	}
+	for (size_t g = 0; g < SUM_GROUPS; g++)
+		total += gs[g];
 	return oom ? (double)NAN : total / (double)nsub;
 }
 

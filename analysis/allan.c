@@ -29,7 +29,9 @@
  *  neighbouring taus together over L1-sized stretches of the contiguous
  *  phase, each tau's vector lanes kept between stretches, so that each
  *  tau's sum is the per-tau kernel's to the last bit.
- * Parallelism is OpenMP; without it the same code runs serially.
+ * Parallelism is OpenMP; without it the same code runs serially.  The
+ * work is cut by the data, never by the team (see set_chunks), so every
+ * result is the same to the bit on any number of threads.
  * Non-overlapping, modified, total and strided estimators, and records
  * with gaps, use the contiguous layout and per-tau kernels.
  *
@@ -934,10 +936,13 @@ struct sscope_allan {
 	/* layout of the current record: S rows of Lp columns in regions
 	 * of 2^cws columns (see REGION_SHIFT) */
 	size_t np, S, shift, Lp, cws;
+	/* work chunks of the phase pass (see chunk_len): chunk c is points
+	 * [c chunk, (c + 1) chunk) of the np */
+	size_t chunk, n_chunk;
 	/* a phase computed without the centring pass (see centre_sampled):
 	 * chunk t (t < n_off) starts at column off_col[t] and its points
 	 * are stored less off[t], which every reader of x adds back */
-	unsigned n_off;
+	size_t n_off, off_cap;
 	double *off;
 	size_t *off_col;
 	/* noise-id scratch, nid_half doubles and bytes (twice) per thread */
@@ -1060,10 +1065,7 @@ int sscope_allan_new(struct sscope_allan **plan,
 	p->nid = ssc_alloc_array((size_t)p->nthreads * 2 * p->nid_half,
 				 sizeof(double));
 	p->nidv = ssc_alloc_array(p->nthreads, 2 * p->nid_half);
-	p->off = calloc(p->nthreads, sizeof(double));
-	p->off_col = calloc(p->nthreads, sizeof(size_t));
-	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv || !p->off ||
-	    !p->off_col) {
+	if (!p->x || (sh && !p->win) || !p->nid || !p->nidv) {
 		sscope_allan_free(p);
 		return -ENOMEM;
 	}
@@ -1095,13 +1097,13 @@ static inline size_t xoff(const struct sscope_allan *p, size_t rr, size_t q)
 	       (q & (((size_t)1 << p->cws) - 1));
 }
 
-/* the chunk offset of column q (see n_off) */
+/* the chunk offset of column q (see n_off): the chunks are of equal
+ * length, chunk / S columns */
 static inline double col_off(const struct sscope_allan *p, size_t q)
 {
-	for (unsigned t = p->n_off; t-- > 1;)
-		if (q >= p->off_col[t])
-			return p->off[t];
-	return 0;
+	size_t t = q / (p->chunk >> p->shift);
+
+	return p->off[t < p->n_off ? t : p->n_off - 1];
 }
 
 /* phase point k in the current layout */
@@ -1126,7 +1128,7 @@ static void row_copy(const struct sscope_allan *p, size_t rr, size_t ncol,
 		     double *buf)
 {
 	const size_t cw = (size_t)1 << p->cws;
-	unsigned t = 0; /* the chunk of column q */
+	size_t t = 0; /* the chunk of column q */
 
 	for (size_t q = 0; q < ncol;) {
 		const size_t rend = (q / cw + 1) * cw; /* the region's end */
@@ -1323,16 +1325,36 @@ SSC_CLONES static void scan_block(const double *y, size_t stride, size_t n,
 	*nan_count = nn;
 }
 
-/* chunk boundaries of np phase points over T threads, multiples of q */
-static size_t chunk_at(size_t np, unsigned T, unsigned t, size_t q)
-{
-	size_t c;
+/*
+ * Work chunks.  The passes over the record (scan, phase, fused short
+ * taus) are cut into chunks whose boundaries depend only on the record's
+ * length and the tau grid, never on the number of threads, scheduled
+ * dynamically and combined in chunk order: every sum is the same to the
+ * bit on any number of threads, and a thread that loses its core to
+ * another process holds the others back by at most one chunk.  About
+ * CHUNKS_PER_RECORD chunks, at least CHUNK_MIN points and 8 times the
+ * lookahead w that each chunk of the fused pass computes again, a
+ * multiple of the layout's quantum q.
+ */
+#define CHUNKS_PER_RECORD 16
+#define CHUNK_MIN ((size_t)1 << 16)
 
-	if (t >= T)
-		return np;
-	c = (size_t)((double)np * t / T);
-	c = c / q * q;
-	return c > np ? np : c;
+static void set_chunks(struct sscope_allan *p, size_t q, size_t w)
+{
+	size_t c = p->np / CHUNKS_PER_RECORD;
+
+	if (c < CHUNK_MIN)
+		c = CHUNK_MIN;
+	if (c < 8 * w)
+		c = 8 * w;
+	p->chunk = (c + q - 1) / q * q;
+	p->n_chunk = (p->np + p->chunk - 1) / p->chunk;
+}
+
+/* first point of chunk c (c = n_chunk: np) */
+static size_t chunk_at(const struct sscope_allan *p, size_t c)
+{
+	return c >= p->n_chunk ? p->np : c * p->chunk;
 }
 
 /*
@@ -1342,10 +1364,11 @@ static size_t chunk_at(size_t np, unsigned T, unsigned t, size_t q)
  * infinite sample, SIZE_MAX: none; the rest is then meaningless).
  */
 static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
-			  size_t q, struct ssc_ksum *bases, size_t *n_nan,
+			  struct ssc_ksum *bases, size_t *n_nan,
 			  size_t *inf_at)
 {
 	size_t first = SIZE_MAX, last = 0, nfin = 0, nnan = 0;
+	const size_t C = p->n_chunk;
 	struct ssc_ksum *cs = bases; /* reused: chunk sums, then bases */
 	size_t *cnt = NULL;
 
@@ -1384,29 +1407,30 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 	}
 	s->m0 = s->y[first * s->stride];
 	s->delta = 0;
-	cnt = calloc(T, sizeof(size_t));
+	cnt = calloc(C, sizeof(size_t));
 	if (!cnt) {
 		*n_nan = 0;
 		return SIZE_MAX;
 	}
+	(void)T;
 	{
 		size_t tot_nan = 0, inf_min = SIZE_MAX;
 
-SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_nan) reduction(min : inf_min))
-		for (unsigned t = 0; t < T; t++) {
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1) reduction(+ : tot_nan) reduction(min : inf_min))
+		for (size_t c = 0; c < C; c++) {
 			struct ssc_ksum a = { 0, 0 };
 			size_t lo, hi, nn = 0, ia = SIZE_MAX;
 
 			/* phase chunk [lo, hi) uses increments k in [lo, hi) */
-			lo = chunk_at(p->np, T, t, q);
-			hi = chunk_at(p->np, T, t + 1, q);
+			lo = chunk_at(p, c);
+			hi = chunk_at(p, c + 1);
 			if (hi > s->n)
 				hi = s->n;
 			if (hi > lo)
 				scan_block(s->y + lo * s->stride, s->stride, hi - lo,
 					   s->m0, &a, &nn, &ia);
-			cs[t] = a;
-			cnt[t] = hi > lo ? hi - lo - nn : 0;
+			cs[c] = a;
+			cnt[c] = hi > lo ? hi - lo - nn : 0;
 			tot_nan += nn;
 			if (ia != SIZE_MAX && lo + ia < inf_min)
 				inf_min = lo + ia;
@@ -1418,23 +1442,23 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_na
 		struct ssc_ksum all = { 0, 0 };
 		double delta;
 
-		for (unsigned t = 0; t < T; t++) {
-			ssc_ksum_add(&all, cs[t].s);
-			ssc_ksum_add(&all, cs[t].c);
-			nfin += cnt[t];
+		for (size_t c = 0; c < C; c++) {
+			ssc_ksum_add(&all, cs[c].s);
+			ssc_ksum_add(&all, cs[c].c);
+			nfin += cnt[c];
 		}
 		delta = ssc_ksum_value(&all) / (double)nfin;
 		s->delta = delta;
 		/* bases: exclusive scan of (chunk sum - count * delta) */
 		all.s = all.c = 0;
-		for (unsigned t = 0; t < T; t++) {
-			struct ssc_ksum c = cs[t];
-			double pr = (double)cnt[t] * delta;
-			double err = fma((double)cnt[t], delta, -pr);
+		for (size_t c = 0; c < C; c++) {
+			struct ssc_ksum k = cs[c];
+			double pr = (double)cnt[c] * delta;
+			double err = fma((double)cnt[c], delta, -pr);
 
-			bases[t] = all;
-			ssc_ksum_add(&all, c.s);
-			ssc_ksum_add(&all, c.c);
+			bases[c] = all;
+			ssc_ksum_add(&all, k.s);
+			ssc_ksum_add(&all, k.c);
 			ssc_ksum_add(&all, -pr);
 			ssc_ksum_add(&all, -err);
 		}
@@ -1446,6 +1470,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_na
 
 /* one sample in each CENTRE_STEP centres the phase of centre_sampled */
 #define CENTRE_STEP 64
+#define CENTRE_PART 4096
 
 /*
  * Rate input: m0, the first sample, and delta, the mean of y - m0 over
@@ -1463,18 +1488,23 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1) reduction(+ : tot_na
 static bool centre_sampled(struct src *s, unsigned T)
 {
 	const size_t ns = s->n / CENTRE_STEP;
+	/* parts of CENTRE_PART samples (see set_chunks: fixed, whatever
+	 * the team), added in order */
+	const size_t nparts = (ns + CENTRE_PART - 1) / CENTRE_PART;
 	const double y0 = s->y[0];
 	struct ssc_ksum *part, all = { 0, 0 }, all2 = { 0, 0 };
 	double delta, var;
 
 	if (!isfinite(y0) || ns < 2)
 		return false;
-	part = calloc(2 * (size_t)T, sizeof(*part));
+	part = calloc(2 * nparts, sizeof(*part));
 	if (!part)
 		return false;
-SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
-	for (unsigned t = 0; t < T; t++) {
-		size_t a = ns * t / T, b = ns * (t + 1) / T;
+	(void)T;
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+	for (size_t t = 0; t < nparts; t++) {
+		size_t a = t * CENTRE_PART;
+		size_t b = a + CENTRE_PART < ns ? a + CENTRE_PART : ns;
 		struct ssc_ksum k = { 0, 0 }, k2 = { 0, 0 };
 		double blk = 0, blk2 = 0;
 
@@ -1495,7 +1525,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
 		part[2 * t] = k;
 		part[2 * t + 1] = k2;
 	}
-	for (unsigned t = 0; t < T; t++) {
+	for (size_t t = 0; t < nparts; t++) {
 		ssc_ksum_add(&all, part[2 * t].s);
 		ssc_ksum_add(&all, part[2 * t].c);
 		ssc_ksum_add(&all2, part[2 * t + 1].s);
@@ -1566,13 +1596,14 @@ static void release_to(const struct src *s, size_t *done, size_t upto,
 static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
 {
-SSC_OMP(omp parallel for num_threads(T) schedule(static, 1))
-	for (unsigned t = 0; t < T; t++) {
+	(void)T;
+SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+	for (size_t c = 0; c < p->n_chunk; c++) {
 		struct run r = { { 0, 0 }, 0, false };
-		size_t lo = chunk_at(p->np, T, t, 1);
-		size_t hi = chunk_at(p->np, T, t + 1, 1), done = lo;
+		size_t lo = chunk_at(p, c);
+		size_t hi = chunk_at(p, c + 1), done = lo;
 
-		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[t];
+		r.sum = s->angle ? (struct ssc_ksum){ 0, 0 } : bases[c];
 		r.k = lo;
 		while (r.k < hi) {
 			size_t len = hi - r.k < RELEASE_STEP ? hi - r.k : RELEASE_STEP;
@@ -1641,7 +1672,7 @@ SSC_K512 static void tile_group512(const double *w, size_t S, double *dst,
 #endif
 
 /*
- * One thread's share of the phase pass: compute the phase of chunk
+ * One chunk of the phase pass: compute the phase of chunk
  * [lo, hi) (plus lookahead for the short kernels), write it tiled, and
  * accumulate the short-tau sums of the terms starting in the chunk.
  */
@@ -1814,9 +1845,11 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 		      unsigned T, const struct ssc_ksum *bases,
 		      const struct tau_set *ts, struct ssc_ksum *acc)
 {
-	const size_t q = TILE_COLS * p->S;
-	struct ssc_ksum *part = calloc((size_t)T * ts->n, sizeof(*part));
-	double *ends = calloc(T, sizeof(double));
+	const size_t C = p->n_chunk, S = p->S;
+	/* the sums of chunk c at part[c n], of row rr at part[(C + rr) n],
+	 * added in that order at the end: the same on any team */
+	struct ssc_ksum *part = ssc_alloc_array((C + S) * ts->n, sizeof(*part));
+	double *ends = calloc(C, sizeof(double));
 	bool bad = false;
 	/* a row is read into the thread's window (into rows of its own
 	 * when a lowered shift made the rows longer than the window) */
@@ -1827,6 +1860,19 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 		free(part);
 		free(ends);
 		return -ENOMEM;
+	}
+	memset(part, 0, (C + S) * ts->n * sizeof(*part));
+	if (!bases && !s->angle && C > p->off_cap) {
+		free(p->off);
+		free(p->off_col);
+		p->off = calloc(C, sizeof(double));
+		p->off_col = calloc(C, sizeof(size_t));
+		p->off_cap = p->off && p->off_col ? C : 0;
+		if (!p->off_cap) {
+			free(part);
+			free(ends);
+			return -ENOMEM;
+		}
 	}
 	if (p->Lp > p->win_cap) {
 		rows = ssc_alloc_array((size_t)T, rcap * sizeof(double));
@@ -1841,21 +1887,19 @@ static int sums_tiled(struct sscope_allan *p, const struct src *s,
 SSC_OMP(omp parallel num_threads(T))
 	{
 		unsigned me = 0;
-		struct ssc_ksum *my;
 		double *win;
 
 #ifdef _OPENMP
 		me = (unsigned)omp_get_thread_num();
 #endif
-		my = part + (size_t)me * ts->n;
 		win = p->win + (size_t)me * p->win_cap;
-SSC_OMP(omp for schedule(static, 1))
-		for (unsigned t = 0; t < T; t++)
+SSC_OMP(omp for schedule(dynamic, 1))
+		for (size_t c = 0; c < C; c++)
 			fused_chunk(p, s,
-				    s->angle || !bases ? (struct ssc_ksum){ 0, 0 } : bases[t],
-				    chunk_at(p->np, T, t, q),
-				    chunk_at(p->np, T, t + 1, q), ts, win, my,
-				    &ends[t], bases ? NULL : &bad);
+				    s->angle || !bases ? (struct ssc_ksum){ 0, 0 } : bases[c],
+				    chunk_at(p, c), chunk_at(p, c + 1), ts, win,
+				    part + c * ts->n, &ends[c],
+				    bases ? NULL : &bad);
 #ifdef SSC_NT_STORES
 		_mm_sfence(); /* streamed tiles visible before the barrier */
 #endif
@@ -1864,13 +1908,13 @@ SSC_OMP(omp single)
 		if (!bases && !s->angle && !bad) {
 			double o = 0;
 
-			/* chunk t is stored less the phase at its start */
-			for (unsigned t = 0; t < T; t++) {
-				p->off_col[t] = chunk_at(p->np, T, t, q) >> p->shift;
-				p->off[t] = o;
-				o += ends[t];
+			/* chunk c is stored less the phase at its start */
+			for (size_t c = 0; c < C; c++) {
+				p->off_col[c] = chunk_at(p, c) >> p->shift;
+				p->off[c] = o;
+				o += ends[c];
 			}
-			p->n_off = T;
+			p->n_off = C;
 			/* o: the phase's drift over the record, n times what
 			 * the sampled mean missed; when far beyond what the
 			 * sample promised (a signal the sample aliases), the
@@ -1880,8 +1924,9 @@ SSC_OMP(omp single)
 		}
 		/* (implicit barrier: offsets set) */
 SSC_OMP(omp for schedule(dynamic, 4))
-		for (size_t rr = 0; rr < p->S; rr++) {
+		for (size_t rr = 0; rr < S; rr++) {
 			double *row = (rows ? rows : p->win) + (size_t)me * rcap;
+			struct ssc_ksum *my = part + (C + rr) * ts->n;
 			size_t pj = SIZE_MAX, pq = 0; /* a tau waiting for a pair */
 			size_t ncol = 0;
 
@@ -1926,10 +1971,10 @@ SSC_OMP(omp for schedule(dynamic, 4))
 		free(rows);
 		return -EAGAIN;
 	}
-	for (unsigned t = 0; t < T; t++)
+	for (size_t c = 0; c < C + S; c++)
 		for (size_t j = 0; j < ts->n; j++) {
-			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].s);
-			ssc_ksum_add(&acc[j], part[(size_t)t * ts->n + j].c);
+			ssc_ksum_add(&acc[j], part[c * ts->n + j].s);
+			ssc_ksum_add(&acc[j], part[c * ts->n + j].c);
 		}
 	free(part);
 	free(ends);
@@ -2413,7 +2458,9 @@ static int compute(struct sscope_allan *p, const double *y,
 	s.angle = angle;
 	s.fs = rate_hz;
 	T = p->nthreads;
-	bases = calloc(T, sizeof(*bases));
+	/* (the contiguous layout's chunks are the most numerous) */
+	set_chunks(p, 1, 0);
+	bases = calloc(p->n_chunk, sizeof(*bases));
 	acc = calloc(nacc, sizeof(*acc));
 	used = calloc(nacc, sizeof(size_t));
 	skipped = calloc(nacc, sizeof(size_t));
@@ -2451,8 +2498,11 @@ static int compute(struct sscope_allan *p, const double *y,
 	 * finite) */
 	p->n_off = 0;
 	quick = false;
-	if (p->shift > 0)
+	if (p->shift > 0) {
 		tau_set_init(&ts, p, m, nacc, big, d);
+		set_chunks(p, TILE_COLS * p->S,
+			   (size_t)d * ts.mshort_max + SHORT_BLOCK);
+	}
 	if (p->shift > 0 && !angle && centre_sampled(&s, T)) {
 		rc = sums_tiled(p, &s, T, NULL, &ts, acc);
 		if (rc && rc != -EAGAIN)
@@ -2462,8 +2512,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	}
 	gaps = false;
 	if (!quick) {
-		nfin = scan_source(p, &s, T, p->shift ? TILE_COLS * p->S : 1, bases,
-				   &nnan, &inf_at);
+		nfin = scan_source(p, &s, T, bases, &nnan, &inf_at);
 		if (nfin == SIZE_MAX) {
 			rc = -ENOMEM;
 			goto out;
@@ -2501,7 +2550,8 @@ static int compute(struct sscope_allan *p, const double *y,
 			p->cws = region_cols_shift(0);
 			/* the chunk sums were computed with the tiled quantum:
 			 * recompute for contiguous chunks */
-			nfin = scan_source(p, &s, T, 1, bases, &nnan, &inf_at);
+			set_chunks(p, 1, 0);
+			nfin = scan_source(p, &s, T, bases, &nnan, &inf_at);
 			rc = build_gaps(p, &s);
 			if (rc)
 				goto out;

@@ -1767,7 +1767,7 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		return -EDOM;
 	/* each replicate on its own (the same numbers on any thread count),
 	 * BOOT_LANES side by side */
-SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads))
+SSC_OMP(omp parallel for schedule(dynamic, 1) num_threads(bt->threads))
 	for (size_t r0 = 0; r0 < bt->reps; r0 += BOOT_LANES) {
 		size_t t = 0;
 		double u[BOOT_LANES], v[BOOT_LANES];
@@ -1976,7 +1976,7 @@ static double boot_gof(struct boot *bt, struct fitdata *f, const double th[NT],
 		t2[k] = (bt->mask & (1u << k)) ? fmax(th[k], 0) : 0;
 	if (boot_copula(bt, f, t2))
 		return NAN;
-SSC_OMP(omp parallel for schedule(static) num_threads(bt->threads) reduction(+ : above, used))
+SSC_OMP(omp parallel for schedule(dynamic, 1) num_threads(bt->threads) reduction(+ : above, used))
 	for (size_t r0 = 0; r0 < bt->reps; r0 += BOOT_LANES) {
 		size_t t = 0;
 		double u[BOOT_LANES], v[BOOT_LANES], tho[BOOT_LANES * NT];

@@ -751,7 +751,7 @@ static int process(struct sscope_psd *p, const double *base, size_t count)
 		nblk = (long)((p->nbins + bs - 1) / bs);
 
 #ifdef _OPENMP
-#pragma omp parallel for num_threads(p->nth) schedule(static) \
+#pragma omp parallel for num_threads(p->nth) schedule(dynamic, 1) \
 	if (cnt > 1 && (size_t)cnt * p->nbins >= ((size_t)1 << 18))
 #endif
 		for (long b = 0; b < nblk; b++) {

@@ -8,10 +8,10 @@ Start-up: `--help`, `--version` and `info` on the bundled gyro beside
 
 Threads: each command with its default team, with one thread and with two
 (OMP_NUM_THREADS=1 / 2, which also turns off the default's choice), on an
-idle machine and beside a competitor (one CPU-bound process at normal
-priority, a Python busy loop: it takes one core); interleaved, median of
-RUNS (default 5) wall times.  The default should be within 10 % of the
-faster of one and two threads in both conditions.
+idle machine, beside a competitor (one CPU-bound process at normal
+priority, a Python busy loop: it takes one core) and beside two;
+interleaved, median of RUNS (default 5) wall times.  The default should be
+within 10 % of the faster of one and two threads in every condition.
 
 Usage: bench-load.py SENSORSCOPE [WORKDIR]
 """
@@ -100,13 +100,14 @@ def threads(tmp):
     rows = thread_rows(tmp)
     bad = 0
     print("# threads: median wall of %d interleaved runs; default within 10 %% of the faster of 1 and 2" % RUNS)
-    print("%-22s %-10s %9s %9s %9s %7s" % ("command", "machine", "default", "1 thread",
+    print("%-22s %-13s %9s %9s %9s %7s" % ("command", "machine", "default", "1 thread",
                                           "2 threads", "ok"))
-    for cond in ("idle", "competitor"):
-        comp = None
-        if cond == "competitor":
-            comp = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    for cond, nc in (("idle", 0), ("competitor", 1), ("2 competitors", 2)):
+        comp = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
+                for _ in range(nc)]
+        if comp:
             time.sleep(0.5)
+        print("# %s: load average %s" % (cond, open("/proc/loadavg").read().split()[0]))
         try:
             for name, argv in rows.items():
                 m = medians({"d": (argv, env_with()),
@@ -114,13 +115,13 @@ def threads(tmp):
                              "2": (argv, env_with(OMP_NUM_THREADS="2"))}, RUNS)
                 ok = m["d"] <= 1.10 * min(m["1"], m["2"])
                 bad += not ok
-                print("%-22s %-10s %9.3f %9.3f %9.3f %7s" % (name, cond, m["d"], m["1"],
+                print("%-22s %-13s %9.3f %9.3f %9.3f %7s" % (name, cond, m["d"], m["1"],
                                                            m["2"], "yes" if ok else "NO"))
                 sys.stdout.flush()
         finally:
-            if comp:
-                comp.kill()
-                comp.wait()
+            for c in comp:
+                c.kill()
+                c.wait()
     print("# %d row%s off target" % (bad, "" if bad == 1 else "s"))
 
 

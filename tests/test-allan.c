@@ -1169,8 +1169,8 @@ START_TEST(tiled_engine)
 END_TEST
 
 /* The rate input on the tiled layout is centred from a sample of one
- * point in 64 instead of a pass over the record, and each thread's chunk
- * of the phase is stored relative to its start: the deviations must still
+ * point in 64 instead of a pass over the record, and each chunk of the
+ * phase is stored relative to its start: the deviations must still
  * be those of the exactly centred phase, for signals a regular sample
  * would alias (periods of 4 and 64 points), a large level with a ramp, a
  * step and quantised noise, with 1, 2 and 3 threads (the chunk offsets
@@ -1227,6 +1227,91 @@ START_TEST(sampled_centring)
 			}
 	}
 	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
+/* The points of dev on T threads (rc: the compute's return), fresh
+ * plan; pt is zeroed first so that whole points compare with memcmp. */
+static int dev_team(enum sscope_allan_dev dev, enum sscope_allan_input in,
+		    unsigned T, const double *y, size_t n, const size_t *m,
+		    size_t nm, struct sscope_allan_point *pt, size_t *np)
+{
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+	int rc;
+
+	o.dev = dev;
+	o.input = in;
+	o.threads = T;
+	memset(pt, 0, nm * sizeof(*pt));
+	*np = 0;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	rc = sscope_allan_compute(p, y, 1, n, 100, m, nm, pt, np, NULL);
+	sscope_allan_free(p);
+	return rc;
+}
+
+/* Every sum is cut into chunks fixed by the record's length and the
+ * taus, never by the team: each deviation (with its noise type, EDF and
+ * interval) is the same to the bit on 1, 2 and 3 threads, rate and
+ * angle input, on a long record (tiled, several chunks; and with gaps),
+ * an odd-length one of several contiguous chunks (every tau up to 48)
+ * and a short one (every tau, and the total and Theo deviations). */
+START_TEST(team_independent)
+{
+	const size_t ns[] = { under_valgrind() ? 140001 : 300007, 70001, 1001 };
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	gsl_rng_set(r, 47);
+	for (size_t c = 0; c < 4; c++) {
+		const size_t n = ns[c < 2 ? 0 : c - 1];
+		const bool holes = c == 1;
+		double *y = malloc(n * sizeof(double)), w = 0;
+		size_t m[600], nm, np[3];
+		struct sscope_allan_point *pt[3];
+		const int last = c == 3 ? SSCOPE_ALLAN_DEV_TIERMS : SSCOPE_ALLAN_DEV_TOTDEV;
+
+		for (int t = 0; t < 3; t++)
+			pt[t] = malloc(600 * sizeof(**pt));
+		for (size_t k = 0; k < n; k++) {
+			w += gsl_ran_gaussian_ziggurat(r, 2.385e-3);
+			y[k] = 1.7e3 + w + gsl_ran_gaussian_ziggurat(r, 0.31);
+			if (holes && k % 9973 < 3)
+				y[k] = NAN;
+		}
+		if (c < 2)
+			sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 4, m, 600, &nm);
+		else
+			sscope_allan_grid(SSCOPE_ALLAN_TAUS_ALL,
+					  c == 2 ? 48 : under_valgrind() ? n / 8 : n / 2,
+					  m, 600, &nm);
+		for (int dev = 0; dev <= last; dev++)
+			for (int in = 0; in < 2; in++) {
+				int rc[3];
+
+				for (unsigned T = 1; T <= 3; T++)
+					rc[T - 1] = dev_team((enum sscope_allan_dev)dev,
+							     (enum sscope_allan_input)in,
+							     T, y, n, m, nm, pt[T - 1],
+							     &np[T - 1]);
+				ck_assert_msg(holes || rc[0] == 0, "n %zu %s: %d", n,
+					      sscope_allan_dev_name((enum sscope_allan_dev)dev),
+					      rc[0]);
+				for (int t = 1; t < 3; t++) {
+					ck_assert_int_eq(rc[t], rc[0]);
+					ck_assert_uint_eq(np[t], np[0]);
+					ck_assert_msg(!memcmp(pt[t], pt[0], np[0] * sizeof(**pt)),
+						      "n %zu %s input %d: %u threads differ from one",
+						      n, sscope_allan_dev_name((enum sscope_allan_dev)dev),
+						      in, t + 1);
+				}
+				ck_assert(rc[0] || (np[0] > 0 && pt[0][0].dev > 0));
+			}
+		for (int t = 0; t < 3; t++)
+			free(pt[t]);
+		free(y);
+	}
 	gsl_rng_free(r);
 }
 END_TEST
@@ -1751,6 +1836,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, strided);
 	tcase_add_test(t, tiled_engine);
 	tcase_add_test(t, sampled_centring);
+	tcase_add_test(t, team_independent);
 	tcase_add_test(t, all_taus_grouped_exact);
 	tcase_add_test(t, wide_kernels_exact);
 	tcase_add_test(t, noise_identification);

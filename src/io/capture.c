@@ -15,6 +15,10 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "io-formats.h"
 #include "sscope-capture.h"
 #include "sscope-quantity.h"
@@ -304,7 +308,12 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 	 * on several threads for text, into arrays sized from a bound on the
 	 * row count, then trimmed; a pipe grows its arrays. */
 	{
+#ifdef _OPENMP
+		/* OpenMP's default team (OMP_NUM_THREADS) */
+		long ncpu = omp_get_max_threads();
+#else
 		long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+#endif
 
 		threads = opts && opts->threads ? opts->threads :
 			  ncpu > 0 ? (unsigned)ncpu : 1;

@@ -105,7 +105,7 @@ struct sscope_reader {
 	double header_rate_hz;
 	/* a mapped text file split for parallel reading */
 	struct part *parts;
-	size_t np;
+	size_t np, nthr; /* parts, threads */
 	size_t split_pos;
 	const struct sscope_reader_opts *opts;
 	struct sscope_reader_opts opts_copy;
@@ -2627,7 +2627,7 @@ static void run_parts(struct part *parts, size_t np, size_t threads,
  * the last part's pages (which counting would otherwise leave to its parse
  * alone, the other parts' threads waiting for it).
  */
-static void count_parts(struct sscope_reader *r, size_t np)
+static void count_parts(struct sscope_reader *r, size_t np, size_t nthr)
 {
 	struct part *last = &r->parts[np - 1], job[PIECES * MAXP];
 	size_t arrays = r->nsel + (r->time_col >= 0) + (r->temp_col >= 0), bound, nc;
@@ -2652,7 +2652,7 @@ static void count_parts(struct sscope_reader *r, size_t np)
 		job[k].pop_from = last->from + len * k / (PIECES * nc);
 		job[k].pop_to = last->from + len * (k + 1) / (PIECES * nc);
 	}
-	run_parts(job, PIECES * nc, np, count_run);
+	run_parts(job, PIECES * nc, nthr, count_run);
 	for (size_t k = 0; k < np; k++) {
 		r->parts[k].counted = k < nc;
 		r->parts[k].nl = 0;
@@ -2677,9 +2677,17 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 	}
 	if (!r->mapped)
 		return 0;
-	np = threads < 1 ? 1 : threads > MAXP ? MAXP : threads;
+	r->nthr = threads < 1 ? 1 : threads > MAXP ? MAXP : threads;
 	if (r->len - r->pos < (8u << 20))
-		np = 1;
+		r->nthr = 1;
+	/* on several threads, parts of at least 4 MiB, up to four per
+	 * thread: one held back by another process leaves its parts to
+	 * the others */
+	np = r->nthr;
+	if (np > 1 && ((r->len - r->pos) >> 22) > np)
+		np = ((r->len - r->pos) >> 22) < 4 * np ? (r->len - r->pos) >> 22 : 4 * np;
+	if (np > MAXP)
+		np = MAXP;
 	free(r->parts);
 	r->parts = calloc(np, sizeof(*r->parts));
 	if (!r->parts)
@@ -2705,7 +2713,7 @@ size_t ssc_reader_max_rows(struct sscope_reader *r, unsigned threads)
 		r->parts[k] = (struct part){ .r = r, .from = from, .to = to,
 					     .diag = { "" } };
 	}
-	count_parts(r, np);
+	count_parts(r, np, r->nthr);
 	for (size_t k = 0; k < np; k++) {
 		struct part *pt = &r->parts[k];
 
@@ -2736,7 +2744,7 @@ int ssc_reader_read_all(struct sscope_reader *r, struct sscope_reader_chunk *ch,
 		return rc;
 	for (size_t k = 0; k < np; k++)
 		parts[k].ch = ch;
-	run_parts(parts, np, np, part_run);
+	run_parts(parts, np, r->nthr, part_run);
 	for (size_t k = 0; k < np; k++) {
 		if (parts[k].rc) {
 			if (diag)
@@ -2986,7 +2994,7 @@ static bool all_finite_par(const double *x, size_t n)
 	bool ok = true;
 
 	(void)nb;
-SSC_OMP(omp parallel for schedule(static) reduction(&& : ok) if (nb > 1))
+SSC_OMP(omp parallel for schedule(dynamic, 1) reduction(&& : ok) if (nb > 1))
 	for (long b = 0; b < nb; b++) {
 		size_t a = (size_t)b * blk, len = n - a < blk ? n - a : blk;
 

@@ -36,7 +36,8 @@ struct sscope_reader_opts {
 	bool nan_as_gap; /**< accept NaN/empty cells as gaps (else -EBADMSG) */
 	bool no_time;    /**< ignore the time column even if one is present */
 	/** Threads for parsing a whole text file (sscope_capture_load); 0:
-	 *  one per online CPU, at most 8. */
+	 *  OpenMP's default team (one per CPU unless OMP_NUM_THREADS says
+	 *  otherwise), at most 8. */
 	unsigned threads;
 	/** sscope_capture_load(): a raw file of one float64 channel in the
 	 *  host's byte order with no scaling (the common dump of a logger)
