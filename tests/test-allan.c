@@ -1284,7 +1284,7 @@ START_TEST(team_independent)
 			sscope_allan_grid(SSCOPE_ALLAN_TAUS_OCTAVE, n / 4, m, 600, &nm);
 		else
 			sscope_allan_grid(SSCOPE_ALLAN_TAUS_ALL,
-					  c == 2 ? 48 : under_valgrind() ? n / 8 : n / 2,
+					  c == 2 ? 48 : n / 8,
 					  m, 600, &nm);
 		for (int dev = 0; dev <= last; dev++)
 			for (int in = 0; in < 2; in++) {
