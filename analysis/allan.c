@@ -2186,8 +2186,9 @@ static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
  */
 static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 		       bool angle, bool gaps, size_t m, size_t terms,
-		       double mvar, unsigned me, int *alpha)
+		       double mvar, unsigned me, int *alpha, bool *few_used)
 {
+	size_t nvalid;
 	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
 	const size_t half = p->nid_half;
 	double *z = p->nid + (size_t)me * 2 * half;
@@ -2215,6 +2216,14 @@ static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 	few.rn = NAN;
 	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
 		few.rn = mvar / avar_at(p, gaps, m);
+	/* the analysis points the series counts: B1 below the minimum */
+	nvalid = angle ? K : K - 1;
+	if (gaps) {
+		nvalid = 0;
+		for (size_t k = 0; k < (angle ? K : K - 1); k++)
+			nvalid += v[k] != 0;
+	}
+	*few_used = nvalid < SSC_NOISE_ID_MIN;
 	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle,
 				   ssc_dev_order(dev), &few, alpha, NULL,
 				   z + half, v + half);
@@ -2286,6 +2295,17 @@ static double point_edf(enum sscope_allan_dev dev, int alpha, size_t m, size_t n
 	default:
 		return sscope_allan_edf(alpha, d, m, npe, false, stride);
 	}
+}
+
+/* phase points equivalent to the terms actually used */
+static size_t point_npe(enum sscope_allan_dev dev, int d, size_t m,
+			size_t used, size_t st, size_t np)
+{
+	if (dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV)
+		return used + 3 * m - 1;
+	if (dev == SSCOPE_ALLAN_DEV_TOTDEV || fam_dev(dev))
+		return np;
+	return (used - 1) * st + (size_t)d * m + 1;
 }
 
 static int clamp_alpha(enum sscope_allan_dev dev, int a)
@@ -2408,7 +2428,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	unsigned char *idok = NULL;
 	int *alph = NULL;
 	unsigned T;
-	int rc = 0, carry_alpha = 0;
+	int rc = 0, carry_alpha = 0, carry_ealpha = 0;
 	bool have_carry = false;
 	double level;
 	struct ssc_ci_level lv;
@@ -2619,7 +2639,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 	level = p->opts.ci_level == 0 ? 0.682689492137086 : p->opts.ci_level;
 	ssc_allan_ci_level(&lv, level);
 	idok = calloc(nacc, 1);
-	alph = calloc(nacc, sizeof(int));
+	alph = calloc(2 * nacc, sizeof(int));
 	if (!idok || !alph) {
 		rc = -ENOMEM;
 		goto out;
@@ -2633,6 +2653,7 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;
 		size_t st = 1;
 		unsigned me = 0;
+		bool few = false;
 
 #ifdef _OPENMP
 		me = (unsigned)omp_get_thread_num();
@@ -2683,8 +2704,8 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 				mv = ssc_ksum_value(&a) / (2 * mm * mm * mm * mm * (double)u);
 			}
 			if (point_alpha(p, idd, angle, false, mi, ti, mv, me,
-					&alph[j]) == 0)
-				idok[j] = 1;
+					&alph[j], &few) == 0)
+				idok[j] = few ? 2 : 1;
 			continue;
 		}
 		switch (dev) {
@@ -2713,24 +2734,46 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 				dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV ?
 					var :
 					(double)NAN,
-				me, &alph[j]) == 0)
-			idok[j] = 1;
+				me, &alph[j], &few) == 0)
+			idok[j] = few ? 2 : 1;
 	}
+	/*
+	 * The carry, in order.  The type reported is Stable32's (the B1 ratio
+	 * below 30 averages, the last type carried below 8).  The intervals
+	 * take, where a B1 ratio differs from the type at the shorter tau,
+	 * the one of fewer degrees of freedom (the wider interval): on white
+	 * FM records of 1e5 samples the B1 ratio of 6 to 24 averages called
+	 * one in four flicker PM, and the intervals of those taus covered
+	 * 59-63 % at a 68.3 % level (400 records; 66-74 % this way).
+	 * ealph = alph + nacc: the type of each point's interval.
+	 */
 	for (size_t j = 0; j < nacc; j++) {
-		int alpha;
+		int alpha, ealpha;
 
 		if (used[j] == 0)
 			continue;
 		if (p->opts.alpha_fixed) {
-			alpha = p->opts.alpha;
+			alpha = ealpha = p->opts.alpha;
 		} else if (idok[j]) {
+			size_t npe = point_npe(dev, d, m[j], used[j], pts[j].stride, p->np);
+
 			pts[j].alpha_identified = true;
-			alpha = carry_alpha = alph[j];
+			alpha = ealpha = alph[j];
+			if (idok[j] == 2 && have_carry && alpha != carry_ealpha &&
+			    point_edf(dev, clamp_alpha(dev, carry_ealpha), m[j], npe,
+				      pts[j].stride) <
+				    point_edf(dev, clamp_alpha(dev, alpha), m[j], npe,
+					      pts[j].stride))
+				ealpha = carry_ealpha;
+			carry_alpha = alpha;
+			carry_ealpha = ealpha;
 			have_carry = true;
 		} else {
 			alpha = have_carry ? carry_alpha : 0;
+			ealpha = have_carry ? carry_ealpha : 0;
 		}
 		alph[j] = clamp_alpha(dev, alpha);
+		alph[nacc + j] = clamp_alpha(dev, ealpha);
 	}
 	/* many taus: the quantiles of the intervals from tabulated starts
 	 * (without the table on -ENOMEM: the same bounds to ~1e-13) */
@@ -2740,7 +2783,8 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 	for (size_t j = 0; j < nacc; j++) {
 		struct sscope_allan_point *pt = &pts[j];
 		size_t st = pt->stride, npe;
-		int alpha = alph[j];
+		int alpha = alph[j], ealpha = alph[nacc + j];
+		double eedf;
 
 		if (used[j] == 0)
 			continue;
@@ -2757,25 +2801,23 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		if (dev == SSCOPE_ALLAN_DEV_HTOTDEV && m[j] > 1)
 			pt->dev /= sqrt(ssc_htot_bias(alpha));
 		/* phase points equivalent to the terms actually used */
-		if (dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV)
-			npe = used[j] + 3 * m[j] - 1;
-		else if (dev == SSCOPE_ALLAN_DEV_TOTDEV || fam_dev(dev))
-			npe = p->np;
-		else
-			npe = (used[j] - 1) * st + (size_t)d * m[j] + 1;
+		npe = point_npe(dev, d, m[j], used[j], st, p->np);
 		pt->edf = point_edf(dev, alpha, m[j], npe, st);
 		pt->edf_full = st == 1 || dev == SSCOPE_ALLAN_DEV_ADEV ||
 					       dev == SSCOPE_ALLAN_DEV_HDEV ?
 				       pt->edf :
 				       point_edf(dev, alpha, m[j],
 						 p->np - 0, 1);
-		if (!(pt->edf > 0)) {
+		/* the interval's: the wider where the types disagree (the
+		 * noise fit keeps weighting by the reported type's) */
+		eedf = ealpha == alpha ? pt->edf : point_edf(dev, ealpha, m[j], npe, st);
+		if (!(pt->edf > 0) || !(eedf > 0)) {
 			pt->edf = pt->edf_full = NAN;
 			pt->dev_lo = pt->dev_hi = NAN;
 		} else if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
 			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
 		} else {
-			ssc_allan_ci_at(&lv, pt->dev, pt->edf, &pt->dev_lo,
+			ssc_allan_ci_at(&lv, pt->dev, eedf, &pt->dev_lo,
 					&pt->dev_hi);
 		}
 	}
