@@ -267,6 +267,22 @@ out:
 	return rc;
 }
 
+/* the bias term a datasheet line limits (the lines on a magnitude:
+ * bias_offset, rate_ramp, bias_tempco), or -1 */
+static int bias_term_of(enum sscope_datasheet_line l)
+{
+	switch (l) {
+	case SSCOPE_DATASHEET_BIAS_OFFSET:
+		return SSC_LOT_BIAS;
+	case SSCOPE_DATASHEET_RATE_RAMP:
+		return SSC_LOT_DRIFT;
+	case SSCOPE_DATASHEET_BIAS_TEMPCO:
+		return SSC_LOT_TEMPCO;
+	default:
+		return -1;
+	}
+}
+
 /* the limits of channel c's terms from the spec's section of its
  * quantity; false when the section gives none */
 static bool channel_limits(struct ssc_lot_result *r, size_t c)
@@ -288,9 +304,7 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 			/* the bias terms: limits on their magnitude */
 			for (size_t j = 0; j < r->spec->sec[s].n; j++) {
 				const struct sscope_datasheet_spec *sp = &r->spec->sec[s].spec[j];
-				int t = sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ? SSC_LOT_BIAS :
-					sp->line == SSCOPE_DATASHEET_RATE_RAMP ? SSC_LOT_DRIFT :
-					sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO ? SSC_LOT_TEMPCO : -1;
+				int t = bias_term_of(sp->line);
 
 				if (t >= 0) {
 					r->term[c * SSC_LOT_NT + (size_t)t].limit = sp->value;
@@ -739,9 +753,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 
 			/* checked: the line a term's limit comes from */
 			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j ||
-				     sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ||
-				     sp->line == SSCOPE_DATASHEET_RATE_RAMP ||
-				     sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO))
+				     bias_term_of(sp->line) >= 0))
 				continue;
 			snprintf(line, sizeof(line), "[%s] %s", ds->sec[s].name,
 				 sscope_datasheet_info(sp->line)->key);
