@@ -1557,7 +1557,9 @@ def lot(files, level=0.90):
                     v[t], lo[t], hi[t] = k.value, k.lo, k.hi
                     se[t] = 0.5 * (k.hi - k.lo)
             b = _c.LotBias()
-            o = _c.LotBiasOpts(20, 0.0)
+            # the unit's noise model: the terms its fit shows
+            o = _c.LotBiasOpts(20, 0.0, *[v[t] if pres[t] else 0.0
+                                          for t in range(3)])
             dp = C.POINTER(C.c_double)
             tp = None
             if temp:
@@ -1610,18 +1612,19 @@ def lot(files, level=0.90):
                     e["se"] = _num(_lot_conv(se[t], qc, t)[0])
                 e["z"] = _num(terms[c, t][2][u])
                 e["outlier"] = terms[c, t][3][u]
-                # the command's doubt: a wandering bias makes the
-                # batch-means intervals of the drift and sensitivity too
-                # narrow
-                if t in (4, 5) and pres[t] and (pres[1] or
-                                                b.resid_correlated):
+                if t in (4, 5) and pres[t]:
+                    e["se_from"] = "noise model" if (
+                        b.drift_se_from_model if t == 4 else
+                        b.tempco_se_from_model) else "residuals"
+                # the command's doubt: correlated block means that the
+                # unit's noise model (B, K) does not account for
+                if t in (4, 5) and pres[t] and b.resid_correlated \
+                        and not pres[1] and not pres[2]:
                     e["doubt"] = (
-                        "bias instability (flicker) shown by this unit: the "
-                        "interval takes the block means as independent and "
-                        "is too narrow" if pres[1] else
                         "the block means' residuals are correlated (the "
-                        "bias wanders): the interval takes them as "
-                        "independent and is too narrow")
+                        "bias wanders) but the unit's fit shows neither B "
+                        "nor K: the interval takes them as independent "
+                        "and is too narrow")
                 jt[key] = e
             jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
                   "block_s": b.block_n / fs,
