@@ -1557,9 +1557,7 @@ def lot(files, level=0.90):
                     v[t], lo[t], hi[t] = k.value, k.lo, k.hi
                     se[t] = 0.5 * (k.hi - k.lo)
             b = _c.LotBias()
-            # the unit's noise model: the terms its fit shows
-            o = _c.LotBiasOpts(20, 0.0, *[v[t] if pres[t] else 0.0
-                                          for t in range(3)])
+            o = _c.LotBiasOpts(20, 0.0, 0.0, 0.0, 0.0)
             dp = C.POINTER(C.c_double)
             tp = None
             if temp:
@@ -1568,6 +1566,27 @@ def lot(files, level=0.90):
             rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size, cap.rate_hz,
                              tp, 1, C.byref(o), C.byref(b))
             _check(rc, None, fn)
+            # the noise model of the drift's and sensitivity's intervals:
+            # the terms the fit of the record less its temperature effect
+            # shows (as the command)
+            model = [v[t] if pres[t] else 0.0 for t in range(3)]
+            if b.have_temp:
+                r = np.empty(x.size)
+                _check(_c.lot_temp_removed(x.ctypes.data_as(dp), 1, x.size, tp,
+                                           1, C.byref(b),
+                                           r.ctypes.data_as(dp)), None, fn)
+                ar = allan(r, cap.rate_hz, taus="dense")
+                for t, key in enumerate(("N", "B", "K")):
+                    k = ar.noise[key] if ar.noise else None
+                    model[t] = k.value if (
+                        k is not None and k.present and
+                        math.isfinite(k.value) and math.isfinite(k.lo) and
+                        math.isfinite(k.hi) and k.hi > k.lo) else 0.0
+            if model[1] > 0 or model[2] > 0:
+                o = _c.LotBiasOpts(20, 0.0, *model)
+                rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size,
+                                 cap.rate_hz, tp, 1, C.byref(o), C.byref(b))
+                _check(rc, None, fn)
             for t, (val, s, l, h) in enumerate((
                     (b.bias, b.bias_se, b.bias_lo, b.bias_hi),
                     (b.drift_u_s, b.drift_se, b.drift_lo, b.drift_hi),
@@ -1575,7 +1594,7 @@ def lot(files, level=0.90):
                      b.tempco_hi)), start=3):
                 v[t], se[t], lo[t], hi[t] = val, s, l, h
                 pres[t] = math.isfinite(val) and s > 0
-            cells[u, c] = (v, lo, hi, se, pres, b, cap.rate_hz)
+            cells[u, c] = (v, lo, hi, se, pres, b, cap.rate_hz, model)
     terms = {}
     for c, (name, q) in enumerate(chans):
         for t in range(NT):
@@ -1600,7 +1619,7 @@ def lot(files, level=0.90):
     for u in range(U):
         chs = []
         for c, (name, q) in enumerate(chans):
-            v, lo, hi, se, pres, b, fs = cells[u, c]
+            v, lo, hi, se, pres, b, fs, model = cells[u, c]
             qc = qcode[q]
             jt = {}
             for t, key in enumerate(_LOT_TERMS):
@@ -1619,7 +1638,7 @@ def lot(files, level=0.90):
                 # the command's doubt: correlated block means that the
                 # unit's noise model (B, K) does not account for
                 if t in (4, 5) and pres[t] and b.resid_correlated \
-                        and not pres[1] and not pres[2]:
+                        and not model[1] > 0 and not model[2] > 0:
                     e["doubt"] = (
                         "the block means' residuals are correlated (the "
                         "bias wanders) but the unit's fit shows neither B "

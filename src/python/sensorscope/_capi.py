@@ -609,6 +609,10 @@ STRUCTS.update({
 
 lot_bias = _fn("sscope_lot_bias", C.c_int, c_dptr, c_size, c_size, c_dbl,
                c_dptr, c_size, C.POINTER(LotBiasOpts), C.POINTER(LotBias))
+lot_temp_removed = _fn("sscope_lot_temp_removed", C.c_int, c_dptr, c_size,
+                       c_size, c_dptr, c_size, C.POINTER(LotBias), c_dptr)
+lot_model_var = _fn("sscope_lot_model_var", C.c_int, c_dptr, c_size, c_dbl,
+                    c_dbl, c_dbl, c_dbl, c_dptr)
 
 
 # ------------------------------------------------ noise-parameter files
