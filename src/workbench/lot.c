@@ -62,6 +62,9 @@ static bool magnitude_term(int t)
 	return t >= SSC_LOT_BIAS;
 }
 
+/* the Allan deviation points a unit's channel keeps for the figure */
+#define LOT_FIG_ADEV 64
+
 static int unit_fit(const char *cmd, const char *path,
 		    const struct sscope_capture_channel *ch, size_t n, double fs,
 		    struct sscope_noise_plan *plan, bool guard,
@@ -105,17 +108,23 @@ static int unit_fit(const char *cmd, const char *path,
 		cell->se[t] = 0.5 * (cell->hi[t] - cell->lo[t]);
 	}
 	if (!guard) {
-		cell->tau_s = malloc((res->n_points + 1) * sizeof(double));
-		cell->adev = malloc((res->n_points + 1) * sizeof(double));
+		/* the figure's curve: at most LOT_FIG_ADEV of the (log-spaced)
+		 * taus, evenly by index, the first and last kept */
+		size_t np = res->n_points, k = np > LOT_FIG_ADEV ? LOT_FIG_ADEV : np;
+
+		cell->tau_s = malloc((k + 1) * sizeof(double));
+		cell->adev = malloc((k + 1) * sizeof(double));
 		if (!cell->tau_s || !cell->adev) {
 			sscope_allan_result_free(res);
 			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
 		}
-		for (size_t i = 0; i < res->n_points; i++) {
-			cell->tau_s[i] = res->points[i].tau_s;
-			cell->adev[i] = res->points[i].dev;
+		for (size_t i = 0; i < k; i++) {
+			size_t j = k < 2 ? i : (i * (np - 1) + (k - 1) / 2) / (k - 1);
+
+			cell->tau_s[i] = res->points[j].tau_s;
+			cell->adev[i] = res->points[j].dev;
 		}
-		cell->n_adev = res->n_points;
+		cell->n_adev = k;
 	}
 	sscope_allan_result_free(res);
 	return 0;
@@ -388,7 +397,7 @@ static void verdicts(struct ssc_lot_result *r)
 }
 
 /* the bias figure's record of a unit's channel (struct ssc_lot_cell) */
-#define LOT_FIG_BLOCKS 1024
+#define LOT_FIG_BLOCKS 128
 
 static int unit_figure(const char *cmd, const struct sscope_capture *cap,
 		       const struct sscope_capture_channel *ch,
@@ -824,7 +833,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "model",
 			    json_string("random effects: each unit's value = mean + unit effect (sd between_sd) + its own measurement error (sd from its 68.3 % interval); between_sd by REML with its Q-profile interval (Viechtbauer 2007), the mean by Hartung-Knapp; units beyond the family-wise outlier level left out"));
 	json_object_set_new(o, "bias_method",
-			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
+			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 
