@@ -1406,7 +1406,14 @@ _LOT_BIAS_METHOD = (
     "temperatures (without a temperature column, no T term); bias is the "
     "mean of the record; standard errors from the residuals, Student-t "
     "68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without "
-    "temperature); where temperature follows time (temperature.time_corr "
+    "temperature); where the unit's noise model (N, B, K the allan fit "
+    "shows in the record less its fitted temperature effect) has B or K, "
+    "the drift's and temperature sensitivity's standard errors are the "
+    "larger of the residuals' and the noise model's (the variance of their "
+    "weights "
+    "on the block means under white, flicker and random-walk rate noise; "
+    "normal quantile; se_from says which); where temperature follows time "
+    "(temperature.time_corr "
     "near -1 or 1) drift and temperature sensitivity cannot be told apart "
     "and both intervals are wide")
 
