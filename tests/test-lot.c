@@ -479,6 +479,12 @@ START_TEST(test_bias_model_coverage)
 				ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, NULL, 1, &b, r), -EINVAL);
 				b0.have_temp = false;
 				ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, T, 1, &b0, r), -EINVAL);
+				/* a noise term negative or not finite */
+				o.b = -o.b - 1e-9;
+				ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, &o, &b0), -EINVAL);
+				o.b = 0;
+				o.n = NAN;
+				ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, &o, &b0), -EINVAL);
 			}
 		}
 		fprintf(stderr, "# %s: drift / sensitivity covered in %zu / %zu of %zu with the noise model, %zu / %zu from the residuals alone\n",
