@@ -367,6 +367,15 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 			bool drift = s->line == SSCOPE_DATASHEET_RATE_RAMP;
 
 			bo.level = level;
+			/* the noise model of the ramp's interval: the terms the
+			 * fit shows (flicker and a random walk correlate the
+			 * block means) */
+			for (int t = 0; t < 3 && res && res->have_fit; t++) {
+				const struct sscope_noise_coef *k = &res->fit.coef[SSCOPE_TERM_N + t];
+
+				*(t == 0 ? &bo.n : t == 1 ? &bo.b : &bo.k) =
+					k->present && isfinite(k->value) ? k->value : 0;
+			}
 			if (sscope_lot_bias(x, stride, n, rate_hz, NULL, 0, &bo, &b)) {
 				c->why = "the bias needs at least 40 samples, none of them NaN";
 				break;
@@ -374,12 +383,11 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 			c->value = drift ? b.drift_u_s : b.bias;
 			c->lo = drift ? b.drift_lo : b.bias_lo;
 			c->hi = drift ? b.drift_hi : b.bias_hi;
-			/* a wandering bias correlates the block means, which the
-			 * ramp's interval takes as independent (too narrow) */
-			if (drift && (b.resid_correlated ||
-				      (res && res->have_fit &&
-				       res->fit.coef[SSCOPE_TERM_B].present))) {
-				c->why = "the bias wanders (bias instability shown, or the block means' residuals correlated), which a ramp's interval does not allow for: inconclusive";
+			/* block means correlated beyond what the noise model
+			 * (B, K) explains: the ramp's interval, which then
+			 * takes them as independent, is too narrow */
+			if (drift && b.resid_correlated && !(bo.b > 0) && !(bo.k > 0)) {
+				c->why = "the bias wanders (the block means' residuals correlated while the fit shows neither B nor K), which a ramp's interval does not allow for: inconclusive";
 				doubt = true;
 			}
 			break;

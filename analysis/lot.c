@@ -8,7 +8,14 @@
  * Q profile come from GSL.  A unit's bias, drift and temperature
  * sensitivity: batch means fitted by least squares (GSL's SVD) on centred
  * and scaled regressors, the block means summed compensated about the
- * record's mean (see sscope_lot_bias()).
+ * record's mean (see sscope_lot_bias()).  The drift's and sensitivity's
+ * variance under a unit's noise model: the weights of the estimates (a
+ * row of the design's pseudo-inverse, GSL's SVD) against the structure
+ * function of the block means of white, flicker and random-walk rate
+ * noise, in closed form (sscope_lot_model_var(); IEEE Std 952-1997,
+ * Annex C, for the terms' spectra; the flicker term from the integral of
+ * its 1/f spectrum against the block filter, checked numerically to 1e-6
+ * for d = 1..19).
  */
 #include "internal.h"
 
@@ -19,6 +26,7 @@
 
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_roots.h>
 
@@ -475,6 +483,131 @@ out:
 	return ok;
 }
 
+/* g(d) of the flicker's block-mean structure function (sscope-lot.h):
+ * -d^2 ln d + (d+1)^2 ln(d+1) / 2 + (d-1)^2 ln(d-1) / 2 with the logs
+ * about ln d (the d^2 ln d terms cancel: log1p keeps the digits) */
+static double flicker_g(double d)
+{
+	if (d == 1)
+		return 2 * M_LN2;
+	return log(d) + 0.5 * (d + 1) * (d + 1) * log1p(1 / d) +
+	       0.5 * (d - 1) * (d - 1) * log1p(-1 / d);
+}
+
+int sscope_lot_model_var(const double *a, size_t m, double block_s, double n,
+			 double b, double k, double *var)
+{
+	struct ssc_ksum sa = { 0, 0 }, v = { 0, 0 };
+	double mag = 0, mean, s2 = 0;
+
+	if (!a || !var || !(block_s > 0) || !isfinite(block_s) || !(n >= 0) ||
+	    !(b >= 0) || !(k >= 0) || !isfinite(n) || !isfinite(b) || !isfinite(k))
+		return -EINVAL;
+	if (m < 2)
+		return -EDOM;
+	for (size_t j = 0; j < m; j++) {
+		if (!isfinite(a[j]))
+			return -EDOM;
+		ssc_ksum_add(&sa, a[j]);
+		mag += fabs(a[j]);
+	}
+	mean = ssc_ksum_value(&sa) / (double)m;
+	if (!(fabs(mean) * (double)m <= 1e-9 * mag))
+		return -EDOM;
+	/* white: sum a^2 N^2 / T exactly (rounding of the weights' sum
+	 * removed with their mean) */
+	for (size_t j = 0; j < m; j++)
+		s2 += (a[j] - mean) * (a[j] - mean);
+	ssc_ksum_add(&v, n * n / block_s * s2);
+	/* flicker and random walk: -sum_d D(d) sum_j a_j a_(j+d) */
+	for (size_t d = 1; d < m && (b > 0 || k > 0); d++) {
+		double dd = (double)d, c = 0;
+		double D = 2 * b * b / M_PI * flicker_g(dd) +
+			   k * k * block_s * (dd - 1.0 / 3);
+
+		for (size_t j = 0; j + d < m; j++)
+			c += (a[j] - mean) * (a[j + d] - mean);
+		ssc_ksum_add(&v, -D * c);
+	}
+	*var = fmax(0, ssc_ksum_value(&v));
+	return 0;
+}
+
+/* the weights of the least-squares coefficients of y on the p centred
+ * and scaled columns of X (m x p, the first all ones) by its SVD: w
+ * (p x m) with coefficient i = sum_j w[i m + j] y_j; false when the SVD
+ * fails or a singular value is 0 */
+static bool fit_weights(gsl_matrix *X, double *w)
+{
+	size_t m = X->size1, p = X->size2;
+	gsl_matrix *V = gsl_matrix_alloc(p, p);
+	gsl_vector *S = gsl_vector_alloc(p), *wk = gsl_vector_alloc(p);
+	bool ok = false;
+
+	if (!V || !S || !wk || gsl_linalg_SV_decomp(X, V, S, wk))
+		goto out;
+	if (!(gsl_vector_get(S, p - 1) > 64 * DBL_EPSILON * gsl_vector_get(S, 0)))
+		goto out;
+	for (size_t i = 0; i < p; i++)
+		for (size_t j = 0; j < m; j++) {
+			double c = 0;
+
+			for (size_t l = 0; l < p; l++)
+				c += gsl_matrix_get(V, i, l) / gsl_vector_get(S, l) *
+				     gsl_matrix_get(X, j, l);
+			w[i * m + j] = c;
+		}
+	ok = true;
+out:
+	gsl_matrix_free(V);
+	gsl_vector_free(S);
+	gsl_vector_free(wk);
+	return ok;
+}
+
+/* the se of the drift (and of the sensitivity, w not NULL) under the
+ * noise model n, b, k of blocks block_s long: the weights of the fit on
+ * the centred and scaled block times x (and temperatures w) */
+static void model_se(const double *x, const double *w, size_t m, double block_s,
+		     double n, double b, double k, double se[2])
+{
+	size_t p = w ? 3 : 2;
+	gsl_matrix *X = gsl_matrix_alloc(m, p);
+	double *wt = malloc(p * m * sizeof(double)), xm = 0, wm = 0, sx = 0, sw = 0;
+	double v;
+
+	se[0] = se[1] = NAN;
+	if (!X || !wt)
+		goto out;
+	for (size_t j = 0; j < m; j++) {
+		xm += x[j];
+		wm += w ? w[j] : 0;
+	}
+	xm /= (double)m;
+	wm /= (double)m;
+	for (size_t j = 0; j < m; j++) {
+		sx += (x[j] - xm) * (x[j] - xm);
+		sw += w ? (w[j] - wm) * (w[j] - wm) : 0;
+	}
+	sx = sqrt(sx / (double)m);
+	sw = sqrt(sw / (double)m);
+	for (size_t j = 0; j < m; j++) {
+		gsl_matrix_set(X, j, 0, 1);
+		gsl_matrix_set(X, j, 1, (x[j] - xm) / sx);
+		if (w)
+			gsl_matrix_set(X, j, 2, (w[j] - wm) / sw);
+	}
+	if (!fit_weights(X, wt))
+		goto out;
+	if (!sscope_lot_model_var(wt + m, m, block_s, n, b, k, &v))
+		se[0] = sqrt(v) / sx;
+	if (w && !sscope_lot_model_var(wt + 2 * m, m, block_s, n, b, k, &v))
+		se[1] = sqrt(v) / sw;
+out:
+	gsl_matrix_free(X);
+	free(wt);
+}
+
 /* the lag-1 autocorrelation of the residuals of y_j = a + d (x_j - xm)
  * [+ c (w_j - wm)] (the fits above, centred) and its one-sided 5 % test */
 static void resid_test(const double *x, const double *w, const double *y,
@@ -508,12 +641,16 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 {
 	size_t m = opts && opts->blocks ? opts->blocks : 20, L, mt = 0;
 	double level = opts && opts->level > 0 ? opts->level : 0.682689492137086;
+	double nn = opts ? opts->n : 0, nb = opts ? opts->b : 0, nk = opts ? opts->k : 0;
+	double mse[2] = { NAN, NAN }, zq;
 	double *t, *b, *tb, tq, mean = 0, tmin = INFINITY, tmax = -INFINITY;
 	double est[3] = { NAN, NAN, NAN }, se[3] = { NAN, NAN, NAN };
 	struct ssc_ksum ks = { 0, 0 };
 
 	if (!x || !out || !stride || !(fs > 0) || !isfinite(fs) || m < 5 ||
-	    !(level < 1) || (temp_degc && !temp_stride))
+	    !(level < 1) || (temp_degc && !temp_stride) || !(nn >= 0) ||
+	    !(nb >= 0) || !(nk >= 0) || !isfinite(nn) || !isfinite(nb) ||
+	    !isfinite(nk))
 		return -EINVAL;
 	memset(out, 0, sizeof(*out));
 	L = n / m;
@@ -584,15 +721,48 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 		line_fit(t, b, m, &est[0], &se[0], &est[1], &se[1]);
 		tq = gsl_cdf_tdist_Pinv(0.5 + level / 2, (double)(m - 2));
 	}
-	out->bias = mean + est[0];
-	out->bias_se = se[0];
-	out->bias_lo = out->bias - tq * se[0];
-	out->bias_hi = out->bias + tq * se[0];
 	out->drift_u_s = est[1];
 	out->drift_se = se[1];
 	out->drift_lo = est[1] - tq * se[1];
 	out->drift_hi = est[1] + tq * se[1];
+	/* under the unit's noise model when it shows flicker or a random
+	 * walk: the larger se, the normal quantile when the model's */
+	if (nb > 0 || nk > 0)
+		model_se(t, out->have_temp ? tb : NULL, m, (double)L / fs, nn, nb, nk, mse);
+	zq = gsl_cdf_ugaussian_Pinv(0.5 + level / 2);
+	out->drift_se_resid = se[1];
+	out->drift_se_model = mse[0];
+	out->tempco_se_resid = out->have_temp ? se[2] : (double)NAN;
+	out->tempco_se_model = out->have_temp ? mse[1] : (double)NAN;
+	out->drift_se_from_model = mse[0] > se[1];
+	if (out->drift_se_from_model) {
+		out->drift_se = mse[0];
+		out->drift_lo = est[1] - zq * mse[0];
+		out->drift_hi = est[1] + zq * mse[0];
+	}
+	out->tempco_se_from_model = out->have_temp && mse[1] > se[2];
+	if (out->tempco_se_from_model) {
+		out->tempco_se = mse[1];
+		out->tempco_lo = est[2] - zq * mse[1];
+		out->tempco_hi = est[2] + zq * mse[1];
+	}
+	out->bias = mean + est[0];
+	out->bias_se = se[0];
+	out->bias_lo = out->bias - tq * se[0];
+	out->bias_hi = out->bias + tq * se[0];
 	resid_test(t, out->have_temp ? tb : NULL, b, m, est, out);
 	free(t);
+	return 0;
+}
+
+int sscope_lot_temp_removed(const double *x, size_t stride, size_t n,
+			    const double *temp_degc, size_t temp_stride,
+			    const struct sscope_lot_bias *b, double *r)
+{
+	if (!x || !temp_degc || !b || !r || !stride || !temp_stride || !b->have_temp)
+		return -EINVAL;
+	for (size_t i = 0; i < n; i++)
+		r[i] = x[i * stride] -
+		       b->tempco_u_degc * (temp_degc[i * temp_stride] - b->temp_mean_degc);
 	return 0;
 }

@@ -147,15 +147,32 @@ int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
  * near -1 or 1) the two cannot be told apart and both intervals widen.
  *
  * Blocks far longer than the noise's correlation time make the block
- * means independent; flicker noise (bias instability) and a random walk
- * of the bias correlate them and the intervals then cover somewhat less
- * than their level.
+ * means independent; flicker noise (bias instability B) and a random walk
+ * of the bias (K) correlate them, and intervals from the residuals then
+ * cover far less than their level (40-48 % for 68.3 % with B = 5 ug over
+ * 1 h of 60 ug/sqrt(Hz)).  Given the unit's noise model (its fitted N, B,
+ * K in the options), the drift's and the temperature sensitivity's
+ * standard errors are also computed under that model: each is a linear
+ * estimate sum_j a_j b_j whose weights a_j sum to zero (a row of the
+ * pseudo-inverse of the design, SVD), of variance
+ * -1/2 sum_jk a_j a_k D(|j - k|) with the structure function of the block
+ * means D(d) = E[(b_(j+d) - b_j)^2] of the power-law model
+ * (sscope_lot_model_var()).  When the model has B or K, the larger of the
+ * two standard errors is used and, when it is the model's, the interval
+ * takes the normal quantile (the model comes from the whole record's
+ * Allan deviation, not from the m - 3 residual degrees of freedom).
  */
 
 /** Options of sscope_lot_bias(); zero means the default. */
 struct sscope_lot_bias_opts {
 	size_t blocks; /**< batches m (0: 20; at least 5) */
 	double level;  /**< interval level (0: 0.682689, one sd) */
+	double n;      /**< the unit's white rate noise N (ARW / VRW),
+			    U/sqrt(Hz); 0: not shown */
+	double b;      /**< its bias instability B (flicker), U; 0: not
+			    shown */
+	double k;      /**< its rate random walk K, U/s/sqrt(Hz); 0: not
+			    shown */
 };
 
 /** One unit's bias terms (U the unit of the samples). */
@@ -180,8 +197,18 @@ struct sscope_lot_bias {
 				    one-sided 5 % test of independence):
 				    the bias wanders (flicker, a random
 				    walk) and the drift's and temperature
-				    sensitivity's intervals, which take the
-				    blocks as independent, are too narrow */
+				    sensitivity's intervals from the
+				    residuals, which take the blocks as
+				    independent, are too narrow */
+	double drift_se_resid;  /**< the drift's se from the residuals, U/s */
+	double drift_se_model;  /**< under the noise model of the options,
+				     U/s (NaN without B and K) */
+	bool drift_se_from_model; /**< drift_se is drift_se_model (the
+				       larger): normal quantile */
+	double tempco_se_resid; /**< U/degC (NaN without have_temp) */
+	double tempco_se_model; /**< U/degC (NaN without have_temp or
+				     without B and K) */
+	bool tempco_se_from_model; /**< tempco_se is tempco_se_model */
 };
 
 /**
@@ -197,5 +224,46 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 		    const double *temp_degc, size_t temp_stride,
 		    const struct sscope_lot_bias_opts *opts,
 		    struct sscope_lot_bias *out);
+
+/**
+ * The record less the temperature effect that sscope_lot_bias() @p b
+ * fitted, sample by sample: r_i = x_i - c (T_i - T_mean), i < n (c =
+ * b->tempco_u_degc, T_mean = b->temp_mean_degc): the record a noise model
+ * of the unit is fitted to (the bias's response to the temperature would
+ * pass for flicker or a random walk in the Allan deviation of the
+ * record; the drift is left in, for the fit's rate ramp R).  Used as the
+ * options' n, b, k of sscope_lot_bias() in the lot stage.
+ * @param x, temp_degc  as given to sscope_lot_bias().
+ * @param r          receives n values (caller's; may be x when the
+ *                   stride is 1).
+ * @return 0; -EINVAL (NULL x, temp_degc, b or r, a stride 0, no
+ *         temperature term in @p b: have_temp false).
+ */
+int sscope_lot_temp_removed(const double *x, size_t stride, size_t n,
+			    const double *temp_degc, size_t temp_stride,
+			    const struct sscope_lot_bias *b, double *r);
+
+/**
+ * The variance of sum_j a[j] b_j, b_j the means of m consecutive blocks of
+ * @p block_s seconds of a rate with white noise N, flicker (bias
+ * instability) B and a random walk K (IEEE 952 terms; two-sided PSD
+ * N^2 + B^2 / (2 pi |f|) + K^2 / (2 pi f)^2), the weights summing to
+ * zero (a slope, a contrast: finite although flicker and a random walk
+ * have no finite variance).  Closed form through the structure function
+ * D(d) = E[(b_(j+d) - b_j)^2] = 2 N^2 / T + (2 B^2 / pi) g(d) +
+ * K^2 T (d - 1/3), d >= 1, T = block_s, g(d) = -d^2 ln d +
+ * (d+1)^2 ln(d+1) / 2 + (d-1)^2 ln(d-1) / 2 (g(1) = 2 ln 2: D(1) is twice
+ * the Allan variance at T for each term), var = -1/2 sum_jk a_j a_k
+ * D(|j - k|) (continuous-time averages; exact for white noise).
+ * @param a      m weights, U per U (any unit: the result is in its square
+ *               times U^2).
+ * @param n,b,k  the terms, U/sqrt(Hz), U, U/s/sqrt(Hz) (>= 0).
+ * @param var    receives the variance.
+ * @return 0; -EINVAL (NULL a or var, block_s not > 0, a term negative or
+ *         not finite); -EDOM (m < 2, a weight not finite, weights whose
+ *         sum is not zero to 1e-9 of the sum of their magnitudes).
+ */
+int sscope_lot_model_var(const double *a, size_t m, double block_s, double n,
+			 double b, double k, double *var);
 
 #endif

@@ -30,6 +30,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
@@ -95,10 +96,15 @@ static int at_limit(gsl_rng *g, int units)
  * 0 planted 2 mg above.  Each unit analysed by sscope_lot_bias() as the
  * lot stage does: the coverage of the 68.27 % intervals of the three
  * terms (target 68.3 -+ 4 binomial sd), the planted unit flagged, the
- * false flags; with bias instability B = 0 and 5 ug (flicker: the block
- * means are correlated and the intervals cover less).
+ * false flags; white noise only, with bias instability B = 5 ug
+ * (flicker) and with a rate random walk K = 0.5 ug/s/sqrt(Hz): the block
+ * means are correlated.  Each unit's noise terms are fitted to its record
+ * less the temperature effect (the allan stage's fit, dense taus) and
+ * given to sscope_lot_bias() as the lot stage does; the drift's and sensitivity's coverage is printed with the
+ * intervals used (the noise model's where it shows B or K) and with the
+ * residuals' alone (Student t, as before the noise model).
  */
-static int bias_lots(gsl_rng *g, int lots, double b_ug)
+static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 {
 	const double ug = 9.80665e-6, fs = 1, dur = 3600;
 	const size_t n = 3600, U = 12;
@@ -107,7 +113,9 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 	double y[3][12], se[3][12];
 	bool fl[12];
 	long cov[3] = { 0, 0, 0 }, cov_rec = 0, units = 0, found = 0, wrong = 0;
-	long flagged = 0, cov_ok[2] = { 0, 0 };
+	long flagged = 0, cov_ok[2] = { 0, 0 }, cov_res[2] = { 0, 0 }, model[2] = { 0, 0 };
+	long shows = 0, cov_mod[2] = { 0, 0 }, cov_true[2] = { 0, 0 };
+	struct sscope_noise_plan *plan = NULL;
 	int failed = 0;
 	clock_t t0 = clock();
 
@@ -117,8 +125,16 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 		free(T);
 		return 1;
 	}
+	if (sscope_noise_plan_new(&plan))
+		plan = NULL;
 	for (int l = 0; l < lots; l++) {
 		for (size_t u = 0; u < U; u++) {
+			struct sscope_lot_bias_opts bo = { 0 }, bt = { 0 };
+			struct sscope_lot_bias b0;
+			struct sscope_allan_opts ao = { 0 };
+			struct sscope_noise_fit_opts fo = { .plan = plan };
+			struct sscope_allan_result *res = NULL;
+			double tq;
 			struct sscope_sensor_spec sp = { 0 };
 			struct sscope_sim_opts so = { 0 };
 			struct sscope_sim *sim = NULL;
@@ -127,6 +143,7 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 
 			sp.n = 60 * ug;
 			sp.b = b_ug * ug;
+			sp.k = k_ug * ug;
 			sp.bias = (1000 + gsl_ran_gaussian(g, 100) + (u == 0 ? 2000 : 0)) * ug;
 			sp.r = 60 * gsl_rng_uniform(g) * ug / 3600;
 			sp.bias_tempco = (50 + gsl_ran_gaussian(g, 8)) * ug;
@@ -140,16 +157,36 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 			so.no_clip = true;
 			if (sscope_sim_new(&sim, &sp, &so, NULL) ||
 			    sscope_sim_generate(sim, NULL, x, T, n) ||
-			    sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b) || !b.have_temp) {
+			    sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b) || !b.have_temp ||
+			    sscope_lot_temp_removed(x, 1, n, T, 1, &b, x0) ||
+			    sscope_allan_analyze(x0, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE, &ao, &fo,
+						 &res, NULL)) {
+				sscope_sim_free(sim);
+				failed++;
+				continue;
+			}
+			/* the terms the fit of the record less its fitted
+			 * temperature effect shows, as src/workbench/lot.c */
+			for (int t = 0; t < 3 && res->have_fit; t++) {
+				const struct sscope_noise_coef *c = &res->fit.coef[SSCOPE_TERM_N + t];
+				double v = c->present && isfinite(c->value) && isfinite(c->lo) &&
+					   isfinite(c->hi) && c->hi > c->lo ? c->value : 0;
+
+				*(t == 0 ? &bo.n : t == 1 ? &bo.b : &bo.k) = v;
+			}
+			sscope_allan_result_free(res);
+			shows += bo.b > 0 || bo.k > 0;
+			if (sscope_lot_bias(x, 1, n, fs, T, 1, &bo, &b) || !b.have_temp) {
 				sscope_sim_free(sim);
 				failed++;
 				continue;
 			}
 			sscope_sim_free(sim);
 			sim = NULL;
-			/* the flicker alone: the same streams without it (each
-			 * term has its own generator) */
+			/* the flicker and random walk alone: the same streams
+			 * without them (each term has its own generator) */
 			sp.b = 0;
+			sp.k = 0;
 			if (sscope_sim_new(&sim, &sp, &so, NULL) ||
 			    sscope_sim_generate(sim, NULL, x0, NULL, n)) {
 				sscope_sim_free(sim);
@@ -169,10 +206,28 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 			truth[0] = sp.bias + sp.r * tm + sp.bias_tempco * (Tm - 24);
 			truth[1] = sp.r;
 			truth[2] = sp.bias_tempco;
+			/* the noise model's intervals with the true terms */
+			bt.n = sp.n;
+			bt.b = b_ug * ug;
+			bt.k = k_ug * ug;
+			if (!sscope_lot_bias(x, 1, n, fs, T, 1, &bt, &b0)) {
+				cov_true[0] += b0.drift_lo <= truth[1] && truth[1] <= b0.drift_hi;
+				cov_true[1] += b0.tempco_lo <= truth[2] && truth[2] <= b0.tempco_hi;
+			}
 			cov[0] += b.bias_lo <= truth[0] && truth[0] <= b.bias_hi;
 			cov_rec += b.bias_lo <= truth[0] + fm && truth[0] + fm <= b.bias_hi;
 			cov[1] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
 			cov[2] += b.tempco_lo <= truth[2] && truth[2] <= b.tempco_hi;
+			/* the residuals' intervals alone (t, m - 3 dof) */
+			tq = gsl_cdf_tdist_Pinv(0.5 + b.level / 2, (double)(b.blocks - 3));
+			cov_res[0] += fabs(b.drift_u_s - truth[1]) <= tq * b.drift_se_resid;
+			cov_res[1] += fabs(b.tempco_u_degc - truth[2]) <= tq * b.tempco_se_resid;
+			model[0] += b.drift_se_from_model;
+			model[1] += b.tempco_se_from_model;
+			cov_mod[0] += b.drift_se_from_model && b.drift_lo <= truth[1] &&
+				      truth[1] <= b.drift_hi;
+			cov_mod[1] += b.tempco_se_from_model && b.tempco_lo <= truth[2] &&
+				      truth[2] <= b.tempco_hi;
 			flagged += b.resid_correlated;
 			if (!b.resid_correlated) {
 				cov_ok[0] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
@@ -191,14 +246,25 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 			failed++;
 		}
 	}
-	printf("# %d lots of 12 accelerometers (1 h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
-	       lots, b_ug);
+	printf("# %d lots of 12 accelerometers (1 h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, K %g ug/s/sqrt(Hz), temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
+	       lots, b_ug, k_ug);
+	printf("fit shows B or K                        %6.1f %% of units\n", 100.0 * shows / units);
 	printf("bias 68.3 %% interval covers              %6.1f %%   target 68.3 -+ %.1f\n",
 	       100.0 * cov[0] / units, 400 * sqrt(0.6827 * 0.3173 / units));
 	printf("  the record's bias (flicker's mean in)   %6.1f %%\n",
 	       100.0 * cov_rec / units);
-	printf("drift 68.3 %% interval covers             %6.1f %%\n", 100.0 * cov[1] / units);
-	printf("temp. sensitivity 68.3 %% interval covers %6.1f %%\n", 100.0 * cov[2] / units);
+	printf("drift 68.3 %% interval covers             %6.1f %%   target 68.3 -+ 5 (noise model's se on %.1f %%)\n",
+	       100.0 * cov[1] / units, 100.0 * model[0] / units);
+	printf("  from the residuals alone (t)          %6.1f %%\n", 100.0 * cov_res[0] / units);
+	printf("  with the true N, B, K                 %6.1f %%\n", 100.0 * cov_true[0] / units);
+	printf("  where the noise model's se            %6.1f %%\n",
+	       model[0] ? 100.0 * cov_mod[0] / model[0] : (double)NAN);
+	printf("temp. sensitivity 68.3 %% interval covers %6.1f %%   target 68.3 -+ 5 (noise model's se on %.1f %%)\n",
+	       100.0 * cov[2] / units, 100.0 * model[1] / units);
+	printf("  where the noise model's se            %6.1f %%\n",
+	       model[1] ? 100.0 * cov_mod[1] / model[1] : (double)NAN);
+	printf("  from the residuals alone (t)          %6.1f %%\n", 100.0 * cov_res[1] / units);
+	printf("  with the true N, B, K                 %6.1f %%\n", 100.0 * cov_true[1] / units);
 	printf("residuals called correlated (doubt)     %6.1f %% of units\n", 100.0 * flagged / units);
 	printf("  drift / sensitivity covers, the others %6.1f %% / %.1f %%\n",
 	       units > flagged ? 100.0 * cov_ok[0] / (units - flagged) : (double)NAN,
@@ -207,6 +273,7 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug)
 	printf("false bias flags per lot (mean)         %6.2f   (0.01 x 11 = 0.11 expected)\n",
 	       (double)wrong / lots);
 	printf("# %d failed; %.2f s of CPU\n", failed, (double)(clock() - t0) / CLOCKS_PER_SEC);
+	sscope_noise_plan_free(plan);
 	free(x);
 	free(x0);
 	free(T);
@@ -275,8 +342,9 @@ int main(int argc, char **argv)
 	printf("# %d lots failed; %.2f s of CPU\n", failed,
 	       (double)(clock() - t0) / CLOCKS_PER_SEC);
 	failed += at_limit(g, argc > 5 ? atoi(argv[5]) : 200);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5, 0);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0.5);
 	gsl_rng_free(g);
 	free(y);
 	free(se);

@@ -181,19 +181,19 @@ run "--smooth longer than the record" 1 lot --smooth 20000 --plot "$T/x.svg" "$L
 one_line_error "--smooth longer than the record"
 
 # a lot whose units show bias instability: their drift and sensitivity
-# intervals are marked too narrow, in the JSON and the text (the sample
-# lot's units do not show it: no mark there)
+# intervals come from the noise model (the block means correlated), not
+# marked too narrow; the text's legend of the mark
 printf '[sensor]\nnoise_density = 20 ug/sqrt(Hz)\nbias_instability = 50 ug\nbias = 1 mg\nbias_tempco = 50 ug/degC\n' >"$T/flk.ini"
 for i in 1 2 3; do
 	run "simulate flicker unit $i" 0 simulate -q --sensor "$T/flk.ini" --rate 10 --duration 2h --names ax -u g --temp-cycle 21:26:7200 --seed $i -o "$T/flk$i.csv"
 done
 run "lot with flicker" 0 lot --format json "$T"/flk[1-3].csv
-json_check "drift and sensitivity flagged where B is shown, bias not" "$T/out" '[.units[].channels[0] | select(.terms.B.present) | (.terms.bias_drift.doubt != null and .terms.temp_sensitivity.doubt != null and .terms.bias.doubt == null)] | length == 3 and all'
+json_check "drift and sensitivity from the noise model where B is shown, not doubted" "$T/out" '[.units[].channels[0] | select(.terms.B.present) | (.terms.bias_drift.se_from == "noise model" and .terms.temp_sensitivity.se_from == "noise model" and .terms.bias_drift.doubt == null and .terms.temp_sensitivity.doubt == null)] | length == 3 and all'
 run "lot with flicker, text" 0 lot "$T"/flk[1-3].csv
-has "the mark and its legend" "$T/out" '~ too narrow: the bias wanders, shown by B or by correlated block means'
-# the sample lot's units have bias instability (8 ug) that six hours do
-# not resolve: a unit is flagged only where its block means' residuals
-# are correlated (lag 1 above 1.645 / sqrt(20)), with that reason
+has "the mark's legend" "$T/out" '~ too narrow: correlated block means, neither B nor K shown'
+# the sample lot's units (bias instability 8 ug): a unit is flagged only
+# where its block means' residuals are correlated (lag 1 above 1.645 /
+# sqrt(20)) and its noise model shows neither B nor K, with that reason
 run "sample lot: flags from the residuals" 0 lot --format json "$L"
 json_check "flagged units: correlated residuals, drift and sensitivity only" "$T/out" \
 	'[.units[].channels[] | . as $c | .terms | to_entries[] | select(.value.doubt) | (.key == "bias_drift" or .key == "temp_sensitivity") and $c.residual_lag1 > 0.3678 and (.value.doubt | test("residuals are correlated"))] | all'

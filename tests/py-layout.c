@@ -551,6 +551,9 @@ int main(void)
 	S(sscope_lot_bias_opts);
 	F(sscope_lot_bias_opts, blocks);
 	F(sscope_lot_bias_opts, level);
+	F(sscope_lot_bias_opts, n);
+	F(sscope_lot_bias_opts, b);
+	F(sscope_lot_bias_opts, k);
 	S(sscope_lot_bias);
 	F(sscope_lot_bias, blocks);
 	F(sscope_lot_bias, block_n);
@@ -573,6 +576,12 @@ int main(void)
 	F(sscope_lot_bias, temp_time_corr);
 	F(sscope_lot_bias, resid_lag1);
 	F(sscope_lot_bias, resid_correlated);
+	F(sscope_lot_bias, drift_se_resid);
+	F(sscope_lot_bias, drift_se_model);
+	F(sscope_lot_bias, drift_se_from_model);
+	F(sscope_lot_bias, tempco_se_resid);
+	F(sscope_lot_bias, tempco_se_model);
+	F(sscope_lot_bias, tempco_se_from_model);
 	S(sscope_export_chan);
 	F(sscope_export_chan, name);
 	F(sscope_export_chan, quantity);

@@ -372,6 +372,139 @@ START_TEST(test_bias_wanders)
 }
 END_TEST
 
+/* the variance of a contrast of block means under each term: for
+ * a = (-1, 1) it is D(1) = twice the Allan variance at the block length,
+ * N^2 / T + 2 ln2 B^2 / pi + K^2 T / 3 (IEEE 952 Annex C); white noise
+ * gives N^2 / T sum a^2 for any weights; the errors */
+START_TEST(test_model_var)
+{
+	const double a2[2] = { -1, 1 }, T = 37.5, n = 0.213, b = 0.0471, k = 0.00389;
+	double a[7] = { -3.1, -2.07, -1.3, 0.2, 1.11, 2.05, 3.11 }, v, s2 = 0, sum = 0;
+
+	ck_assert_int_eq(sscope_lot_model_var(a2, 2, T, n, b, k, &v), 0);
+	ck_assert(rel(v, 2 * (n * n / T + 2 * M_LN2 / M_PI * b * b + k * k * T / 3)) < 1e-13);
+	for (int j = 0; j < 7; j++)
+		sum += a[j];
+	for (int j = 0; j < 7; j++) {
+		a[j] -= sum / 7;
+		s2 += a[j] * a[j];
+	}
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, n, 0, 0, &v), 0);
+	ck_assert(rel(v, n * n / T * s2) < 1e-13);
+	/* a random walk: the contrast of the first and last of 7 blocks,
+	 * K^2 T (6 - 1/3) * 2 / 2 (D(6)) */
+	{
+		const double e[7] = { -1, 0, 0, 0, 0, 0, 1 };
+
+		ck_assert_int_eq(sscope_lot_model_var(e, 7, T, 0, 0, k, &v), 0);
+		ck_assert(rel(v, k * k * T * (6 - 1.0 / 3)) < 1e-13);
+	}
+	ck_assert_int_eq(sscope_lot_model_var(NULL, 7, T, n, b, k, &v), -EINVAL);
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, n, b, k, NULL), -EINVAL);
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, 0, n, b, k, &v), -EINVAL);
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, -n, b, k, &v), -EINVAL);
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, n, NAN, k, &v), -EINVAL);
+	ck_assert_int_eq(sscope_lot_model_var(a, 1, T, n, b, k, &v), -EDOM);
+	a[0] += 0.1; /* the weights no longer sum to 0 */
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, n, b, k, &v), -EDOM);
+	a[0] = NAN;
+	ck_assert_int_eq(sscope_lot_model_var(a, 7, T, n, b, k, &v), -EDOM);
+}
+END_TEST
+
+/* units whose bias wanders (flicker B, or a random walk K, beside white
+ * noise N: 1 h at 1 Hz, the temperature one sine period), their noise
+ * model given: the drift's and sensitivity's 68.27 % intervals cover the
+ * truth in 0.6827 -+ 4 binomial sd over 300 records each; the residuals'
+ * intervals alone (no model) cover far less (under 0.55); and the
+ * temperature-removed record is the record less c (T - T_mean) */
+START_TEST(test_bias_model_coverage)
+{
+	const size_t n = 3600, R = 300;
+	const double fs = 1, ug = 9.80665e-6;
+	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
+	double *r = malloc(n * sizeof(double));
+	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+	double half = 4 * sqrt(0.6827 * 0.3173 / (double)R);
+
+	ck_assert_ptr_nonnull(x);
+	ck_assert_ptr_nonnull(T);
+	ck_assert_ptr_nonnull(r);
+	gsl_rng_set(g, 7723);
+	for (int kind = 0; kind < 2; kind++) {
+		size_t cov[2] = { 0, 0 }, cov0[2] = { 0, 0 };
+
+		for (size_t u = 0; u < R; u++) {
+			struct sscope_sensor_spec sp = { 0 };
+			struct sscope_sim_opts so = { 0 };
+			struct sscope_sim *sim = NULL;
+			struct sscope_lot_bias_opts o = { 0 };
+			struct sscope_lot_bias b, b0;
+
+			sp.n = 60 * ug;
+			sp.b = kind == 0 ? 5 * ug : 0;
+			sp.k = kind == 1 ? 0.5 * ug : 0;
+			sp.bias = 1.13e-2;
+			sp.r = 1.7e-8;
+			sp.bias_tempco = 4.9e-4;
+			so.rate_hz = fs;
+			so.seed = gsl_rng_get(g);
+			so.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
+			so.temp_degc = 21;
+			so.temp2_degc = 27;
+			so.temp_period_s = (double)n / fs;
+			so.ref_temp_degc = 24;
+			so.no_clip = true;
+			ck_assert_int_eq(sscope_sim_new(&sim, &sp, &so, NULL), 0);
+			ck_assert_int_eq(sscope_sim_generate(sim, NULL, x, T, n), 0);
+			sscope_sim_free(sim);
+			o.n = sp.n;
+			o.b = sp.b;
+			o.k = sp.k;
+			ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, &o, &b), 0);
+			ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b0), 0);
+			ck_assert(b.have_temp);
+			cov[0] += b.drift_lo <= sp.r && sp.r <= b.drift_hi;
+			cov[1] += b.tempco_lo <= sp.bias_tempco && sp.bias_tempco <= b.tempco_hi;
+			cov0[0] += b0.drift_lo <= sp.r && sp.r <= b0.drift_hi;
+			cov0[1] += b0.tempco_lo <= sp.bias_tempco && sp.bias_tempco <= b0.tempco_hi;
+			/* the model's se where it is the larger, else the
+			 * residuals' (the same as without a model) */
+			ck_assert(b.drift_se == fmax(b.drift_se_model, b0.drift_se));
+			ck_assert(b.drift_se_resid == b0.drift_se);
+			ck_assert(isnan(b0.drift_se_model) && !b0.drift_se_from_model);
+			if (u == 0) {
+				ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, T, 1, &b, r), 0);
+				ck_assert(r[17] == x[17] - b.tempco_u_degc * (T[17] - b.temp_mean_degc));
+				ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, NULL, 1, &b, r), -EINVAL);
+				b0.have_temp = false;
+				ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, T, 1, &b0, r), -EINVAL);
+				/* a noise term negative or not finite */
+				o.b = -o.b - 1e-9;
+				ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, &o, &b0), -EINVAL);
+				o.b = 0;
+				o.n = NAN;
+				ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, &o, &b0), -EINVAL);
+			}
+		}
+		fprintf(stderr, "# %s: drift / sensitivity covered in %zu / %zu of %zu with the noise model, %zu / %zu from the residuals alone\n",
+			kind ? "random walk" : "flicker", cov[0], cov[1], R, cov0[0], cov0[1]);
+		for (int t = 0; t < 2; t++) {
+			ck_assert_msg(fabs((double)cov[t] / (double)R - 0.6827) < half,
+				      "%s, term %d: coverage %zu of %zu", kind ? "random walk" : "flicker",
+				      t, cov[t], R);
+			ck_assert_msg((double)cov0[t] / (double)R < 0.55,
+				      "%s, term %d: the residuals' coverage %zu of %zu",
+				      kind ? "random walk" : "flicker", t, cov0[t], R);
+		}
+	}
+	gsl_rng_free(g);
+	free(x);
+	free(T);
+	free(r);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("lot");
@@ -387,6 +520,8 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, test_bias_exact);
 	tcase_add_test(tc, test_bias_coverage);
 	tcase_add_test(tc, test_bias_wanders);
+	tcase_add_test(tc, test_model_var);
+	tcase_add_test(tc, test_bias_model_coverage);
 	tcase_set_timeout(tc, 60);
 	suite_add_tcase(s, tc);
 	return s;

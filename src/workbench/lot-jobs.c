@@ -283,7 +283,8 @@ static const char *const bias_keys[] = {
 	"level", "bias", "bias_se", "bias_lo", "bias_hi", "drift_u_s", "drift_se",
 	"drift_lo", "drift_hi", "tempco_u_degc", "tempco_se", "tempco_lo",
 	"tempco_hi", "temp_mean_degc", "temp_span_degc", "temp_time_corr",
-	"resid_lag1"
+	"resid_lag1", "drift_se_resid", "drift_se_model", "tempco_se_resid",
+	"tempco_se_model"
 };
 
 static double *bias_field(struct sscope_lot_bias *b, size_t k)
@@ -293,7 +294,8 @@ static double *bias_field(struct sscope_lot_bias *b, size_t k)
 		&b->drift_u_s, &b->drift_se, &b->drift_lo, &b->drift_hi,
 		&b->tempco_u_degc, &b->tempco_se, &b->tempco_lo, &b->tempco_hi,
 		&b->temp_mean_degc, &b->temp_span_degc, &b->temp_time_corr,
-		&b->resid_lag1
+		&b->resid_lag1, &b->drift_se_resid, &b->drift_se_model,
+		&b->tempco_se_resid, &b->tempco_se_model
 	};
 
 	return f[k];
@@ -320,10 +322,13 @@ static json_t *cell_json(const struct ssc_lot_result *r, size_t c,
 	json_object_set_new(o, "guard_bound", gb);
 	json_object_set_new(o, "guard_lo", nums(cl->glo, SSC_LOT_NT));
 	json_object_set_new(o, "guard_hi", nums(cl->ghi, SSC_LOT_NT));
+	json_object_set_new(o, "noise_model", nums(cl->model, 3));
 	json_object_set_new(b, "blocks", json_integer((json_int_t)bias.blocks));
 	json_object_set_new(b, "block_n", json_integer((json_int_t)bias.block_n));
 	json_object_set_new(b, "have_temp", json_boolean(bias.have_temp));
 	json_object_set_new(b, "resid_correlated", json_boolean(bias.resid_correlated));
+	json_object_set_new(b, "drift_se_from_model", json_boolean(bias.drift_se_from_model));
+	json_object_set_new(b, "tempco_se_from_model", json_boolean(bias.tempco_se_from_model));
 	for (size_t k = 0; k < sizeof(bias_keys) / sizeof(*bias_keys); k++)
 		json_object_set_new(b, bias_keys[k], num(*bias_field(&bias, k)));
 	json_object_set_new(o, "bias", b);
@@ -477,7 +482,8 @@ static int cell_from(const char *cmd, const char *path, const json_t *o,
 		  get_nums(o, "hi", cl->hi, SSC_LOT_NT) &&
 		  get_nums(o, "se", cl->se, SSC_LOT_NT) &&
 		  get_nums(o, "guard_lo", cl->glo, SSC_LOT_NT) &&
-		  get_nums(o, "guard_hi", cl->ghi, SSC_LOT_NT);
+		  get_nums(o, "guard_hi", cl->ghi, SSC_LOT_NT) &&
+		  get_nums(o, "noise_model", cl->model, 3);
 
 	if (ok) {
 		cl->tau_s = malloc((na + 1) * sizeof(double));
@@ -500,6 +506,8 @@ static int cell_from(const char *cmd, const char *path, const json_t *o,
 		cl->bias.block_n = (size_t)json_integer_value(json_object_get(b, "block_n"));
 		cl->bias.have_temp = json_is_true(json_object_get(b, "have_temp"));
 		cl->bias.resid_correlated = json_is_true(json_object_get(b, "resid_correlated"));
+		cl->bias.drift_se_from_model = json_is_true(json_object_get(b, "drift_se_from_model"));
+		cl->bias.tempco_se_from_model = json_is_true(json_object_get(b, "tempco_se_from_model"));
 		for (size_t k = 0; k < sizeof(bias_keys) / sizeof(*bias_keys); k++)
 			*bias_field(&cl->bias, k) = get_num(json_object_get(b, bias_keys[k]));
 		cl->fig_mean = get_num(json_object_get(o, "fig_mean"));

@@ -41,21 +41,17 @@ static const char *unit_name(const struct ssc_lot_result *r, size_t u)
 	return r->labels && r->labels[u] ? r->labels[u] : base_of(r->paths[u]);
 }
 
-/* the fit's 68.3 % intervals (guard false) or, for the terms with a
- * limit, its intervals at SSC_LOT_SPEC_LEVEL (guard true) */
 /* why a unit's interval of term t is doubtful, or NULL: a wandering
- * bias (flicker: B shown by the unit's fit; or the block means' residuals
- * correlated, sscope_lot_bias()) correlates the block means that the
- * drift's and the temperature sensitivity's intervals take as
- * independent, which makes them too narrow (tests/bench-lot: 40 % and
- * 48 % for 68.3 % with flicker) */
+ * bias correlates the block means; the drift's and the temperature
+ * sensitivity's intervals take it into account through the unit's noise
+ * model when it shows bias instability (B) or a rate random walk (K)
+ * (sscope_lot_bias(), unit_bias()), and are too narrow when the block
+ * means' residuals are correlated but the model shows neither */
 static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
 {
 	if ((t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO) && cl->present[t] &&
-	    (cl->present[SSC_LOT_B] || cl->bias.resid_correlated))
-		return cl->present[SSC_LOT_B] ?
-			"bias instability (flicker) shown by this unit: the interval takes the block means as independent and is too narrow" :
-			"the block means' residuals are correlated (the bias wanders): the interval takes them as independent and is too narrow";
+	    cl->bias.resid_correlated && !(cl->model[1] > 0) && !(cl->model[2] > 0))
+		return "the block means' residuals are correlated (the bias wanders) but the unit's fit shows neither B nor K: the interval takes them as independent and is too narrow";
 	return NULL;
 }
 
@@ -65,6 +61,9 @@ static bool magnitude_term(int t)
 {
 	return t >= SSC_LOT_BIAS;
 }
+
+/* the Allan deviation points a unit's channel keeps for the figure */
+#define LOT_FIG_ADEV 64
 
 static int unit_fit(const char *cmd, const char *path,
 		    const struct sscope_capture_channel *ch, size_t n, double fs,
@@ -109,33 +108,79 @@ static int unit_fit(const char *cmd, const char *path,
 		cell->se[t] = 0.5 * (cell->hi[t] - cell->lo[t]);
 	}
 	if (!guard) {
-		cell->tau_s = malloc((res->n_points + 1) * sizeof(double));
-		cell->adev = malloc((res->n_points + 1) * sizeof(double));
+		/* the figure's curve: at most LOT_FIG_ADEV of the (log-spaced)
+		 * taus, evenly by index, the first and last kept */
+		size_t np = res->n_points, k = np > LOT_FIG_ADEV ? LOT_FIG_ADEV : np;
+
+		cell->tau_s = malloc((k + 1) * sizeof(double));
+		cell->adev = malloc((k + 1) * sizeof(double));
 		if (!cell->tau_s || !cell->adev) {
 			sscope_allan_result_free(res);
 			return ssc_fail(cmd, -ENOMEM, NULL, NULL);
 		}
-		for (size_t i = 0; i < res->n_points; i++) {
-			cell->tau_s[i] = res->points[i].tau_s;
-			cell->adev[i] = res->points[i].dev;
+		for (size_t i = 0; i < k; i++) {
+			size_t j = k < 2 ? i : (i * (np - 1) + (k - 1) / 2) / (k - 1);
+
+			cell->tau_s[i] = res->points[j].tau_s;
+			cell->adev[i] = res->points[j].dev;
 		}
-		cell->n_adev = res->n_points;
+		cell->n_adev = k;
 	}
 	sscope_allan_result_free(res);
 	return 0;
 }
 
-/* the bias, its drift and its temperature sensitivity (batch means) */
+/* the terms N, B, K the fit of x shows (0 for the others) */
+static int shown_terms(const double *x, size_t n, double fs,
+		       struct sscope_noise_plan *plan, double nbk[3])
+{
+	struct sscope_allan_opts ao = { 0 };
+	struct sscope_noise_fit_opts fo = { .plan = plan };
+	struct sscope_allan_result *res = NULL;
+	int rc = sscope_allan_analyze(x, 1, n, fs, SSCOPE_ALLAN_TAUS_DENSE, &ao, &fo,
+				      &res, NULL);
+
+	for (int t = 0; t < 3 && !rc; t++) {
+		const struct sscope_noise_coef *c = &res->fit.coef[SSCOPE_TERM_N + t];
+
+		nbk[t] = res->have_fit && c->present && isfinite(c->value) &&
+			 isfinite(c->lo) && isfinite(c->hi) && c->hi > c->lo ? c->value : 0;
+	}
+	sscope_allan_result_free(res);
+	return rc;
+}
+
+/* the bias, its drift and its temperature sensitivity (batch means),
+ * the drift's and sensitivity's standard errors also under the unit's
+ * noise model (cell->model): the terms the allan fit shows of the record
+ * less the fitted temperature effect (with a temperature; else of the
+ * record, cell's N, B, K) */
 static int unit_bias(const char *cmd, const char *path,
 		     const struct sscope_capture *cap,
 		     const struct sscope_capture_channel *ch,
-		     struct ssc_lot_cell *cell)
+		     struct sscope_noise_plan *plan, struct ssc_lot_cell *cell)
 {
 	struct sscope_lot_bias_opts o = { .blocks = SSC_LOT_BIAS_BLOCKS };
 	struct sscope_lot_bias *b = &cell->bias;
-	int rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1,
-				 &o, b);
+	int rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1, &o, b);
 
+	for (int t = 0; t < 3; t++)
+		cell->model[t] = cell->present[t] ? cell->v[t] : 0;
+	if (!rc && b->have_temp) {
+		double *r = malloc(cap->n * sizeof(double));
+
+		rc = r ? sscope_lot_temp_removed(ch->data, 1, cap->n, cap->temp_degc, 1, b, r) :
+			 -ENOMEM;
+		if (!rc)
+			rc = shown_terms(r, cap->n, cap->rate_hz, plan, cell->model);
+		free(r);
+	}
+	if (!rc && (cell->model[1] > 0 || cell->model[2] > 0)) {
+		o.n = cell->model[0];
+		o.b = cell->model[1];
+		o.k = cell->model[2];
+		rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1, &o, b);
+	}
 	if (rc) {
 		ssc_err(cmd, "%s: channel %s: bias: %s", path, ch->col.name,
 			rc == -EDOM ? "the bias terms need at least 40 samples, none of them NaN" :
@@ -168,8 +213,12 @@ static int unit_bias_guard(const char *cmd, const char *path,
 	struct sscope_lot_bias_opts o = { .blocks = SSC_LOT_BIAS_BLOCKS,
 					  .level = SSC_LOT_SPEC_LEVEL };
 	struct sscope_lot_bias b;
-	int rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1,
-				 &o, &b);
+	int rc;
+
+	o.n = cell->model[0];
+	o.b = cell->model[1];
+	o.k = cell->model[2];
+	rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1, &o, &b);
 
 	if (rc) {
 		ssc_err(cmd, "%s: channel %s: bias: %s", path, ch->col.name,
@@ -267,6 +316,22 @@ out:
 	return rc;
 }
 
+/* the bias term a datasheet line limits (the lines on a magnitude:
+ * bias_offset, rate_ramp, bias_tempco), or -1 */
+static int bias_term_of(enum sscope_datasheet_line l)
+{
+	switch (l) {
+	case SSCOPE_DATASHEET_BIAS_OFFSET:
+		return SSC_LOT_BIAS;
+	case SSCOPE_DATASHEET_RATE_RAMP:
+		return SSC_LOT_DRIFT;
+	case SSCOPE_DATASHEET_BIAS_TEMPCO:
+		return SSC_LOT_TEMPCO;
+	default:
+		return -1;
+	}
+}
+
 /* the limits of channel c's terms from the spec's section of its
  * quantity; false when the section gives none */
 static bool channel_limits(struct ssc_lot_result *r, size_t c)
@@ -288,9 +353,7 @@ static bool channel_limits(struct ssc_lot_result *r, size_t c)
 			/* the bias terms: limits on their magnitude */
 			for (size_t j = 0; j < r->spec->sec[s].n; j++) {
 				const struct sscope_datasheet_spec *sp = &r->spec->sec[s].spec[j];
-				int t = sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ? SSC_LOT_BIAS :
-					sp->line == SSCOPE_DATASHEET_RATE_RAMP ? SSC_LOT_DRIFT :
-					sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO ? SSC_LOT_TEMPCO : -1;
+				int t = bias_term_of(sp->line);
 
 				if (t >= 0) {
 					r->term[c * SSC_LOT_NT + (size_t)t].limit = sp->value;
@@ -334,7 +397,7 @@ static void verdicts(struct ssc_lot_result *r)
 }
 
 /* the bias figure's record of a unit's channel (struct ssc_lot_cell) */
-#define LOT_FIG_BLOCKS 1024
+#define LOT_FIG_BLOCKS 128
 
 static int unit_figure(const char *cmd, const struct sscope_capture *cap,
 		       const struct sscope_capture_channel *ch,
@@ -416,7 +479,7 @@ static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 		}
 		rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, false, cl);
 		if (!rc)
-			rc = unit_bias(cmd, path, cap, ch, cl);
+			rc = unit_bias(cmd, path, cap, ch, plan, cl);
 		if (!rc && channel_has_spec(r, c))
 			rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, true, cl);
 		if (!rc && channel_has_spec(r, c))
@@ -723,7 +786,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 	json_object_set_new(o, "name", json_string(ds->name));
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "rule",
-			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; a unit whose drift or sensitivity interval is doubtful (the bias wanders: bias instability shown, or the block means' residuals correlated) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
+			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; a unit whose drift or sensitivity interval is doubtful (the block means' residuals correlated while its fit shows neither B nor K) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
 	for (size_t s = 0; s < ds->n_sec; s++) {
 		bool chan = false;
 
@@ -739,9 +802,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 
 			/* checked: the line a term's limit comes from */
 			if (chan && (from[0] == (int)j || from[1] == (int)j || from[2] == (int)j ||
-				     sp->line == SSCOPE_DATASHEET_BIAS_OFFSET ||
-				     sp->line == SSCOPE_DATASHEET_RATE_RAMP ||
-				     sp->line == SSCOPE_DATASHEET_BIAS_TEMPCO))
+				     bias_term_of(sp->line) >= 0))
 				continue;
 			snprintf(line, sizeof(line), "[%s] %s", ds->sec[s].name,
 				 sscope_datasheet_info(sp->line)->key);
@@ -772,7 +833,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "model",
 			    json_string("random effects: each unit's value = mean + unit effect (sd between_sd) + its own measurement error (sd from its 68.3 % interval); between_sd by REML with its Q-profile interval (Viechtbauer 2007), the mean by Hartung-Knapp; units beyond the family-wise outlier level left out"));
 	json_object_set_new(o, "bias_method",
-			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
+			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 
@@ -797,6 +858,11 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				json_object_set_new(jt, "z", ssc_jreal(r->term[c * SSC_LOT_NT + (size_t)t].z[u]));
 				json_object_set_new(jt, "outlier",
 						    json_boolean(r->term[c * SSC_LOT_NT + (size_t)t].outlier[u]));
+				if ((t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO) && cl->present[t])
+					json_object_set_new(jt, "se_from", json_string(
+						(t == SSC_LOT_DRIFT ? cl->bias.drift_se_from_model :
+								      cl->bias.tempco_se_from_model) ?
+						"noise model" : "residuals"));
 				if (cell_doubt(cl, t))
 					json_object_set_new(jt, "doubt", json_string(cell_doubt(cl, t)));
 				if (cl->has_spec[t])
@@ -909,7 +975,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		conv(r, c, SSC_LOT_BIAS, 1, &ub);
 		conv(r, c, SSC_LOT_DRIFT, 1, &ud);
 		conv(r, c, SSC_LOT_TEMPCO, 1, &ut);
-		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: the bias wanders, shown by B or by correlated block means)\n",
+		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: correlated block means, neither B nor K shown)\n",
 			r->chan[c], SSC_LOT_BIAS_BLOCKS);
 		fprintf(f, "%-20s %-34s %-34s %s\n", "unit", ub, ud, r->temp ? ut : "(no temperature column)");
 		for (size_t u = 0; u < r->n_units; u++) {

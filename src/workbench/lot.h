@@ -44,6 +44,10 @@ struct ssc_lot_cell {
 	double glo[SSC_LOT_NT], ghi[SSC_LOT_NT];
 	enum sscope_datasheet_verdict verdict[SSC_LOT_NT];
 	struct sscope_lot_bias bias; /* SI */
+	/* the noise model of the drift's and sensitivity's intervals: N,
+	 * B, K shown by the fit of the record less its temperature effect
+	 * (0: not shown) */
+	double model[3];
 	/* the Allan deviation (OADEV, dense taus) for the figure */
 	double *tau_s, *adev;
 	size_t n_adev;

@@ -1406,7 +1406,14 @@ _LOT_BIAS_METHOD = (
     "temperatures (without a temperature column, no T term); bias is the "
     "mean of the record; standard errors from the residuals, Student-t "
     "68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without "
-    "temperature); where temperature follows time (temperature.time_corr "
+    "temperature); where the unit's noise model (N, B, K the allan fit "
+    "shows in the record less its fitted temperature effect) has B or K, "
+    "the drift's and temperature sensitivity's standard errors are the "
+    "larger of the residuals' and the noise model's (the variance of their "
+    "weights "
+    "on the block means under white, flicker and random-walk rate noise; "
+    "normal quantile; se_from says which); where temperature follows time "
+    "(temperature.time_corr "
     "near -1 or 1) drift and temperature sensitivity cannot be told apart "
     "and both intervals are wide")
 
@@ -1557,7 +1564,7 @@ def lot(files, level=0.90):
                     v[t], lo[t], hi[t] = k.value, k.lo, k.hi
                     se[t] = 0.5 * (k.hi - k.lo)
             b = _c.LotBias()
-            o = _c.LotBiasOpts(20, 0.0)
+            o = _c.LotBiasOpts(20, 0.0, 0.0, 0.0, 0.0)
             dp = C.POINTER(C.c_double)
             tp = None
             if temp:
@@ -1566,6 +1573,27 @@ def lot(files, level=0.90):
             rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size, cap.rate_hz,
                              tp, 1, C.byref(o), C.byref(b))
             _check(rc, None, fn)
+            # the noise model of the drift's and sensitivity's intervals:
+            # the terms the fit of the record less its temperature effect
+            # shows (as the command)
+            model = [v[t] if pres[t] else 0.0 for t in range(3)]
+            if b.have_temp:
+                r = np.empty(x.size)
+                _check(_c.lot_temp_removed(x.ctypes.data_as(dp), 1, x.size, tp,
+                                           1, C.byref(b),
+                                           r.ctypes.data_as(dp)), None, fn)
+                ar = allan(r, cap.rate_hz, taus="dense")
+                for t, key in enumerate(("N", "B", "K")):
+                    k = ar.noise[key] if ar.noise else None
+                    model[t] = k.value if (
+                        k is not None and k.present and
+                        math.isfinite(k.value) and math.isfinite(k.lo) and
+                        math.isfinite(k.hi) and k.hi > k.lo) else 0.0
+            if model[1] > 0 or model[2] > 0:
+                o = _c.LotBiasOpts(20, 0.0, *model)
+                rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size,
+                                 cap.rate_hz, tp, 1, C.byref(o), C.byref(b))
+                _check(rc, None, fn)
             for t, (val, s, l, h) in enumerate((
                     (b.bias, b.bias_se, b.bias_lo, b.bias_hi),
                     (b.drift_u_s, b.drift_se, b.drift_lo, b.drift_hi),
@@ -1573,7 +1601,7 @@ def lot(files, level=0.90):
                      b.tempco_hi)), start=3):
                 v[t], se[t], lo[t], hi[t] = val, s, l, h
                 pres[t] = math.isfinite(val) and s > 0
-            cells[u, c] = (v, lo, hi, se, pres, b, cap.rate_hz)
+            cells[u, c] = (v, lo, hi, se, pres, b, cap.rate_hz, model)
     terms = {}
     for c, (name, q) in enumerate(chans):
         for t in range(NT):
@@ -1598,7 +1626,7 @@ def lot(files, level=0.90):
     for u in range(U):
         chs = []
         for c, (name, q) in enumerate(chans):
-            v, lo, hi, se, pres, b, fs = cells[u, c]
+            v, lo, hi, se, pres, b, fs, model = cells[u, c]
             qc = qcode[q]
             jt = {}
             for t, key in enumerate(_LOT_TERMS):
@@ -1610,18 +1638,19 @@ def lot(files, level=0.90):
                     e["se"] = _num(_lot_conv(se[t], qc, t)[0])
                 e["z"] = _num(terms[c, t][2][u])
                 e["outlier"] = terms[c, t][3][u]
-                # the command's doubt: a wandering bias makes the
-                # batch-means intervals of the drift and sensitivity too
-                # narrow
-                if t in (4, 5) and pres[t] and (pres[1] or
-                                                b.resid_correlated):
+                if t in (4, 5) and pres[t]:
+                    e["se_from"] = "noise model" if (
+                        b.drift_se_from_model if t == 4 else
+                        b.tempco_se_from_model) else "residuals"
+                # the command's doubt: correlated block means that the
+                # unit's noise model (B, K) does not account for
+                if t in (4, 5) and pres[t] and b.resid_correlated \
+                        and not model[1] > 0 and not model[2] > 0:
                     e["doubt"] = (
-                        "bias instability (flicker) shown by this unit: the "
-                        "interval takes the block means as independent and "
-                        "is too narrow" if pres[1] else
                         "the block means' residuals are correlated (the "
-                        "bias wanders): the interval takes them as "
-                        "independent and is too narrow")
+                        "bias wanders) but the unit's fit shows neither B "
+                        "nor K: the interval takes them as independent "
+                        "and is too narrow")
                 jt[key] = e
             jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
                   "block_s": b.block_n / fs,

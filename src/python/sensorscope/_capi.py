@@ -582,7 +582,8 @@ lot_spread = _fn("sscope_lot_spread", C.c_int, c_dptr, c_dptr, c_size,
 
 
 class LotBiasOpts(C.Structure):
-    _fields_ = [("blocks", c_size), ("level", c_dbl)]
+    _fields_ = [("blocks", c_size), ("level", c_dbl), ("n", c_dbl),
+                ("b", c_dbl), ("k", c_dbl)]
 
 
 class LotBias(C.Structure):
@@ -594,7 +595,11 @@ class LotBias(C.Structure):
                 ("tempco_se", c_dbl), ("tempco_lo", c_dbl),
                 ("tempco_hi", c_dbl), ("temp_mean_degc", c_dbl),
                 ("temp_span_degc", c_dbl), ("temp_time_corr", c_dbl),
-                ("resid_lag1", c_dbl), ("resid_correlated", C.c_bool)]
+                ("resid_lag1", c_dbl), ("resid_correlated", C.c_bool),
+                ("drift_se_resid", c_dbl), ("drift_se_model", c_dbl),
+                ("drift_se_from_model", C.c_bool),
+                ("tempco_se_resid", c_dbl), ("tempco_se_model", c_dbl),
+                ("tempco_se_from_model", C.c_bool)]
 
 
 STRUCTS.update({
@@ -604,6 +609,10 @@ STRUCTS.update({
 
 lot_bias = _fn("sscope_lot_bias", C.c_int, c_dptr, c_size, c_size, c_dbl,
                c_dptr, c_size, C.POINTER(LotBiasOpts), C.POINTER(LotBias))
+lot_temp_removed = _fn("sscope_lot_temp_removed", C.c_int, c_dptr, c_size,
+                       c_size, c_dptr, c_size, C.POINTER(LotBias), c_dptr)
+lot_model_var = _fn("sscope_lot_model_var", C.c_int, c_dptr, c_size, c_dbl,
+                    c_dbl, c_dbl, c_dbl, c_dptr)
 
 
 # ------------------------------------------------ noise-parameter files
