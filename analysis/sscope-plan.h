@@ -13,15 +13,18 @@
  *   threshold detect_sigma) passes with probability
  *   Phi((s - zsel sd0) / sd1), s the true square, sd1 its GLS sd, sd0 its
  *   sd were the term absent;
- * - precision: the fit of every term (weighted least squares, weights the
- *   inverse variances of the points) gives the square's sd s(x) as a
- *   function of its value x (the other terms as the model); the interval
- *   [sqrt(x - z s(x)), sqrt(x + z s(x))] (z the two-sided normal quantile
- *   of the level) has relative half-width (hi - lo) / (2 sqrt(x)), and
- *   the fit makes it two-sided only when x > detect_sigma s(x) (else
- *   lo = 0: unbounded relative width); both fall with x: the width is
- *   below the target when the estimate exceeds the x*
- *   where it equals the target, with probability Phi((s - x*) / s(s));
+ * - precision: the fit's interval is a Neyman construction on its
+ *   bootstrap (noisefit.c), modelled here with the sd s(b) of the square's
+ *   weighted least-squares estimate (every term free) at a tested value b,
+ *   the other terms restricted to b as the bootstrap does (the weighted
+ *   fit of the others with the square held at b, clamped at 0), and a
+ *   Pearson type III margin of the estimate's skewness (the AVAR points'
+ *   Gamma-like margins); its lower end is 0 (unbounded relative width)
+ *   while b = 0 still accepts the estimate.  The width falls with the
+ *   estimate x: it is below the target when x exceeds the x* where it
+ *   equals the target, with probability Phi((s - x*) / s(s)), averaged
+ *   over two scenarios of the terms absent from the model (estimated
+ *   1 sd above 0 and restricted, or held at 0);
  * - both: the two events follow the same estimate, so the probability of
  *   both is taken as the smaller of the two.
  * The fit's own intervals come from a parametric bootstrap and its weights

@@ -38,6 +38,7 @@ json_check "the probability is the smaller of presence and width" "$T/out" \
 	'all(.terms[].lengths[]; .probability <= .p_present and .probability <= .p_width)'
 json_check "needed between the lengths below and above 90 %" "$T/out" \
 	'all(.terms[] | select(.needed_s != null); . as $t | all(.lengths[]; (.probability < 0.9 and .length_s < $t.needed_s) or (.probability >= 0.9 and .length_s >= $t.needed_s / 1.01)))'
+json_check "a spec: no pilot range" "$T/out" 'all(.terms[]; has("needed_range_s") | not)'
 json_check "R never, with the reason" "$T/out" \
 	'(.terms[2] | .needed_s == null and (.never | test("no R")) and all(.lengths[]; .probability == 0))'
 json_check "the model in the contract's coefficient shape" "$T/out" \
@@ -65,9 +66,15 @@ json_check "datasheet: accel section" "$T/out" '.name == "STIM300 accel" and .no
 # a pilot: the samples' static gyro record, first channel
 run "pilot" 0 plan --pilot "$S/gyro-static.csv" --resolve N:5% --lengths 600 --format json
 json_check "pilot: its rate and length" "$T/out" '.source == "pilot" and .rate_hz > 0 and .pilot_s > 0 and .terms[0].needed_s > 0'
+json_check "pilot: the needed length's range from the pilot's interval" "$T/out" \
+	'.terms[0].needed_range_level > 0.68 and .terms[0].needed_range_level < 0.69 and (.terms[0].needed_range_s | length == 2 and .[0] > 0 and .[0] <= .[1])'
 cp "$T/out" "$T/pilot.json"
 run "pilot as the operand" 0 plan --resolve N:5% --lengths 600 --format json "$S/gyro-static.csv"
 if cmp -s "$T/out" "$T/pilot.json"; then ok "operand: the same JSON as --pilot"; else not_ok "operand: the same JSON as --pilot"; fi
+run "pilot, text" 0 plan --pilot "$S/gyro-static.csv" --resolve B:25% --lengths 3600
+if grep -q "the needed length as the term moves within the pilot's 68.3 % interval" "$T/out" &&
+   grep -Eq '^B +25% +[0-9.]+ (h|min) \.\. [0-9.]+ (h|min)' "$T/out"; then ok "pilot, text: the range"
+else not_ok "pilot, text: the range"; fi
 
 # the figure: each wish's probability against the length
 run "plot" 0 plan --sensor "$S/gyro-mems-250.ini" --rate 10 --resolve B:25%,K:30% --plot "$T/plan.svg"

@@ -105,10 +105,13 @@ static int from_pilot(const struct ssc_common *co,
 	m->rate_hz = fs;
 	m->pilot_s = (double)cap->n / fs;
 	m->quantity = ch->col.quantity;
+	m->ci_level = res->fit.ci_level;
 	snprintf(m->name, sizeof(m->name), "%s", ch->col.name);
 	for (int j = 0; j < 5; j++) {
 		const struct sscope_noise_coef *c = &res->fit.coef[j];
 
+		m->lo[j] = isfinite(c->lo) && c->lo > 0 ? c->lo : 0;
+		m->hi[j] = isfinite(c->hi) ? c->hi : (double)INFINITY;
 		/* a term the pilot does not show present enters with its
 		 * estimate (every term free), and says so */
 		m->coef[j] = c->present && c->value > 0 ? c->value :
@@ -205,6 +208,39 @@ static void curve_lengths(const struct ssc_plan_res *r, double *len_s)
 		len_s[k] = lo * pow(hi / lo, (double)k / (SSC_PLAN_CURVE - 1));
 }
 
+/* the needed length as the planned term moves within the pilot's
+ * interval (the other terms as fitted), shortest first: a short pilot's B
+ * scatters by tens of percent and the length goes as about B^-2
+ * (tests/bench/README.md) */
+static int pilot_range(const struct ssc_plan_res *r, enum sscope_term t,
+		       double w, double range_s[2])
+{
+	double c[5];
+	int rc;
+
+	range_s[0] = range_s[1] = INFINITY;
+	memcpy(c, r->m.coef, sizeof(c));
+	if (isfinite(r->m.hi[t]) && r->m.hi[t] > 0) {
+		c[t] = r->m.hi[t];
+		rc = sscope_plan_needed(c, r->rate_hz, t, w, &r->req.po, &range_s[0]);
+		if (rc)
+			return rc;
+	}
+	if (r->m.lo[t] > 0) {
+		c[t] = r->m.lo[t];
+		rc = sscope_plan_needed(c, r->rate_hz, t, w, &r->req.po, &range_s[1]);
+		if (rc)
+			return rc;
+	}
+	if (range_s[0] > range_s[1]) {
+		double x = range_s[0];
+
+		range_s[0] = range_s[1];
+		range_s[1] = x;
+	}
+	return 0;
+}
+
 int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
 		 const struct sscope_capture *pilot, const char *pilot_path,
 		 const struct sscope_sensor_spec *sensor, const char *sensor_path,
@@ -239,6 +275,8 @@ int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
 			rc = sscope_plan_predict(r->m.coef, r->rate_hz,
 						 req->lengths_s[k], t, w,
 						 &r->req.po, &r->pt[i][k]);
+		if (!rc && r->m.ci_level > 0 && r->m.coef[t] > 0)
+			rc = pilot_range(r, t, w, r->range_s[i]);
 	}
 	if (!rc && co->plot) {
 		double len_s[SSC_PLAN_CURVE];
@@ -316,6 +354,13 @@ json_t *ssc_plan_json(const void *opts, const void *result)
 		json_object_set_new(t, "never",
 				    isfinite(r->needed_s[i]) ? json_null() :
 				    json_string(never_why(r, i)));
+		if (m->ci_level > 0 && m->coef[r->req.wish[i].term] > 0) {
+			/* from a pilot: its own uncertainty (null: never) */
+			json_object_set_new(t, "needed_range_s",
+					    json_pack("[o,o]", ssc_jreal(r->range_s[i][0]),
+						      ssc_jreal(r->range_s[i][1])));
+			json_object_set_new(t, "needed_range_level", ssc_jreal(m->ci_level));
+		}
 		for (size_t k = 0; k < r->req.n_len; k++) {
 			const struct sscope_plan_point *p = &r->pt[i][k];
 			json_t *l = json_object();
@@ -372,6 +417,26 @@ void ssc_plan_text(FILE *f, const void *opts, const void *result)
 			fprintf(f, " %7.0f%%", 100 * r->pt[i][k].probability);
 		if (!isfinite(r->needed_s[i]))
 			fprintf(f, "  (not within %.0f days)", po->max_length_s / 86400);
+		fputc('\n', f);
+	}
+	if (!(m->ci_level > 0))
+		return;
+	fprintf(f, "from a pilot of %.3g min: the needed length as the term moves within the pilot's %.1f %% interval\n",
+		m->pilot_s / 60, 100 * m->ci_level);
+	for (size_t i = 0; i < r->req.n_wish; i++) {
+		int t = r->req.wish[i].term;
+		char a[32], b[32];
+
+		if (!(m->coef[t] > 0))
+			continue;
+		fmt_len(a, sizeof(a), r->range_s[i][0]);
+		fmt_len(b, sizeof(b), r->range_s[i][1]);
+		fprintf(f, "%-4c %6.0f%% %11s .. %s", term_name[t],
+			100 * r->req.wish[i].target, a, b);
+		if (isfinite(r->range_s[i][1]) && r->range_s[i][0] > 0 &&
+		    r->range_s[i][1] > 1.5 * r->range_s[i][0])
+			fprintf(f, " (a factor of %.1f: a longer pilot narrows it)",
+				r->range_s[i][1] / r->range_s[i][0]);
 		fputc('\n', f);
 	}
 }

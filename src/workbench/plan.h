@@ -23,6 +23,9 @@ struct ssc_plan_model {
 	double pilot_s;           /* the pilot's length, s */
 	unsigned unshown;         /* terms a pilot does not show present
 				     (planned with their estimate) */
+	double lo[5], hi[5];      /* a pilot's intervals of the terms, SI
+				     (lo 0: not bounded below) */
+	double ci_level;          /* their level (0: not a pilot) */
 };
 
 /* One wish: term (enum sscope_term) to relative half-width target. */
@@ -53,6 +56,9 @@ struct ssc_plan_res {
 	struct ssc_plan_model m;
 	double rate_hz;
 	double needed_s[5];
+	/* from a pilot: the needed length with the planned term at the upper
+	 * and the lower end of the pilot's interval (INFINITY: never) */
+	double range_s[5][2];
 	struct sscope_plan_point pt[5][SSC_PLAN_MAX_LENGTHS];
 	size_t n_curve;            /* 0: no figure asked for */
 	struct sscope_plan_point curve[5][SSC_PLAN_CURVE];
