@@ -836,8 +836,6 @@ static void write_bag_camera(const char *dir, const struct rec *r, const char *c
 	for (size_t i = 0; i < (size_t)W * H; i++)
 		img[i] = (unsigned char)((i % W) / 3 + (i / W) / 5);
 	while (t <= t_end) {
-		int64_t s = t;
-
 		for (; j < r->n && r->stamp[j] <= t; j++) {
 			msg.n = 0;
 			message(&msg, r, M_IMU, j, false);
@@ -846,8 +844,8 @@ static void write_bag_camera(const char *dir, const struct rec *r, const char *c
 		camera_noise(img, (size_t)W * H, &x);
 		msg.n = 0;
 		u32(&msg, (uint32_t)frames);
-		u32(&msg, (uint32_t)(s / 1000000000));
-		u32(&msg, (uint32_t)(s % 1000000000));
+		u32(&msg, (uint32_t)(t / 1000000000));
+		u32(&msg, (uint32_t)(t % 1000000000));
 		u32(&msg, 3);
 		put(&msg, "cam", 3);
 		u32(&msg, H);
@@ -881,8 +879,10 @@ static void write_bag_camera(const char *dir, const struct rec *r, const char *c
 					cd = realloc(cd, bound);
 					cap = bound;
 				}
-				cl = cd ? LZ4F_compressFrame(cd, bound, k.d.p, k.d.n, NULL) : 0;
-				if (!cd || LZ4F_isError(cl))
+				if (!cd)
+					exit(1);
+				cl = LZ4F_compressFrame(cd, bound, k.d.p, k.d.n, NULL);
+				if (LZ4F_isError(cl))
 					exit(1);
 				data = cd;
 			}
