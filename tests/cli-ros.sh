@@ -48,6 +48,16 @@ run "info json of a bag" 0 info --format json "$T/r/imu-bz2.bag"
 json_check "bag json: format, topics, receive times" "$T/out" \
   '.format == "ROS 1 bag v2.0 (bz2 chunks)" and (.topics | length) == 3 and ([.topics[] | select(.selected)] | length) == 2 and .receive_times.agree == true and (.receive_times.latency_median_s - 0.0015 | fabs) < 1e-9 and (.channels | map(.name)) == ["gx","gy","gz","ax","ay","az"]'
 
+# the big benchmark's bag at 1 s (gen-ros bag-camera, streamed): the IMU
+# among 30 camera frames in chunks of 768 KiB, every message counted
+for m in none lz4; do
+	"$GEN" "$T/c" 200 1 "bag-camera$([ $m = lz4 ] && echo -lz4)" || not_ok "gen-ros bag-camera $m"
+	run "info json of a camera bag ($m)" 0 info --format json "$T/c/camera-imu-$m.bag"
+	json_check "camera bag ($m): 200 IMU rows among 30 frames" "$T/out" \
+	  '.rows == 200 and ([.topics[] | [.name, .messages]]) == [["/imu/data", 200], ["/camera/image_raw", 30]] and .receive_times.agree == true'
+	rm -f "$T/c/camera-imu-$m.bag"
+done
+
 run "two IMU topics" 1 info "$T/r/two-imu.mcap"
 has "two IMU topics: lists them and names --topic" "$T/err" 'MCAP|two-imu.mcap: 2 IMU topics: choose one with --topic NAME .*/imu1/data'
 one_line_error "two IMU topics"

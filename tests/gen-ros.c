@@ -23,7 +23,9 @@
  * Usage: gen-ros OUTDIR [RATE [DURATION [ONLY]]]; ONLY = csv, mcap (zstd),
  * bag (lz4), bag-none or mcap-none writes that one file (for the big
  * benchmark files), mcap-camera camera-imu-zstd.mcap (the IMU among a
- * camera's frames, streamed: any size); ONLY = hostile writes the crafted files of issue 29
+ * camera's frames, streamed: any size; mcap-camera-zst also its chunks'
+ * zstd frames as camera-imu-zstd.zst), bag-camera and bag-camera-lz4 the
+ * same as camera-imu-{none,lz4}.bag (ROS 1, streamed); ONLY = hostile writes the crafted files of issue 29
  * instead (see write_hostile()); ONLY = small writes everything with the
  * .db3 in pages of 512 bytes (fuzz seeds).
  */
@@ -328,21 +330,26 @@ static void record(struct buf *b, const struct buf *h, const void *d, size_t n)
 	put(b, d, n);
 }
 
-static void connection(struct buf *b, int c)
+static void bag_conn(struct buf *b, uint32_t c, const char *tp, const char *ty)
 {
 	struct buf h = { 0 }, d = { 0 };
 	unsigned char op = 7;
 
 	field(&h, "op", &op, 1);
-	field_u32(&h, "conn", (uint32_t)c);
-	field(&h, "topic", topic[c], strlen(topic[c]));
-	field(&d, "topic", topic[c], strlen(topic[c]));
-	field(&d, "type", type1[c], strlen(type1[c]));
+	field_u32(&h, "conn", c);
+	field(&h, "topic", tp, strlen(tp));
+	field(&d, "topic", tp, strlen(tp));
+	field(&d, "type", ty, strlen(ty));
 	field(&d, "md5sum", "*", 1);
 	field(&d, "message_definition", "", 0);
 	record(b, &h, d.p, d.n);
 	free(h.p);
 	free(d.p);
+}
+
+static void connection(struct buf *b, int c)
+{
+	bag_conn(b, (uint32_t)c, topic[c], type1[c]);
 }
 
 static void write_bag(const char *dir, const char *name, const struct rec *r,
@@ -606,17 +613,28 @@ static void write_mcap(const char *dir, const char *name, const struct rec *r,
 	free(e);
 }
 
+/* the noisy lower half of a camera frame of n bytes */
+static void camera_noise(unsigned char *img, size_t n, uint64_t *x)
+{
+	for (size_t i = n / 2; i + 8 <= n; i += 8) {
+		*x ^= *x << 13;
+		*x ^= *x >> 7;
+		*x ^= *x << 17;
+		memcpy(img + i, x, 8);
+	}
+}
+
 /* An MCAP as a robot writes it, streamed to the file chunk by chunk
  * (any size in bounded memory): the IMU topic among the frames of a
  * camera (sensor_msgs/msg/Image, 640 x 480 mono8 at 30 Hz, 9.2 MB/s; half
  * of each frame smooth, half noise, so zstd at level 1 halves it about),
  * zstd chunks of 4 MiB.  The camera's messages are counted, not decoded,
  * by the reader. */
-static void write_mcap_camera(const char *dir, const struct rec *r)
+static void write_mcap_camera(const char *dir, const struct rec *r, bool zst)
 {
 	enum { W = 640, H = 480, FPS = 30 };
 	char path[4096];
-	FILE *f;
+	FILE *f, *fz = NULL;
 	struct buf c = { 0 }, ch = { 0 }, m = { 0 }, hdr = { 0 };
 	unsigned char *cd = NULL, *img = malloc((size_t)W * H);
 	size_t cap = 0, k = 0, frames = 0;
@@ -630,6 +648,14 @@ static void write_mcap_camera(const char *dir, const struct rec *r)
 		perror(path);
 		exit(1);
 	}
+	/* the chunks' zstd frames alone, one after the other: a zstd stream
+	 * for `zstd -d` to decompress beside the reader */
+	snprintf(path, sizeof(path), "%s/camera-imu-zstd.zst", dir);
+	if (zst && !(fz = fopen(path, "wb"))) {
+		perror(path);
+		exit(1);
+	}
+	snprintf(path, sizeof(path), "%s/camera-imu-zstd.mcap", dir);
 	put(&hdr, "\x89MCAP0\r\n", 8);
 	mstr(&c, "ros2");
 	mstr(&c, "sensorscope gen-ros");
@@ -663,12 +689,7 @@ static void write_mcap_camera(const char *dir, const struct rec *r)
 			message(&m, r, M_IMU, k, true);
 			mrec(&ch, 0x05, &m);
 		}
-		for (size_t i = (size_t)W * H / 2; i < (size_t)W * H; i += 8) {
-			x ^= x << 13;
-			x ^= x >> 7;
-			x ^= x << 17;
-			memcpy(img + i, &x, 8);
-		}
+		camera_noise(img, (size_t)W * H, &x);
 		m.n = 0;
 		u16(&m, 1);
 		u32(&m, (uint32_t)frames);
@@ -715,7 +736,8 @@ static void write_mcap_camera(const char *dir, const struct rec *r)
 			u32(&c, 0); /* no CRC */
 			mstr(&c, "zstd");
 			u64(&c, cl);
-			if (fwrite(c.p, 1, c.n, f) != c.n || fwrite(cd, 1, cl, f) != cl) {
+			if (fwrite(c.p, 1, c.n, f) != c.n || fwrite(cd, 1, cl, f) != cl ||
+			    (fz && fwrite(cd, 1, cl, fz) != cl)) {
 				perror(path);
 				exit(1);
 			}
@@ -733,7 +755,7 @@ static void write_mcap_camera(const char *dir, const struct rec *r)
 	u32(&c, 0);
 	mrec(&hdr, 0x02, &c);
 	put(&hdr, "\x89MCAP0\r\n", 8);
-	if (fwrite(hdr.p, 1, hdr.n, f) != hdr.n || fclose(f)) {
+	if (fwrite(hdr.p, 1, hdr.n, f) != hdr.n || fclose(f) || (fz && fclose(fz))) {
 		perror(path);
 		exit(1);
 	}
@@ -741,6 +763,224 @@ static void write_mcap_camera(const char *dir, const struct rec *r)
 	free(ch.p);
 	free(m.p);
 	free(hdr.p);
+	free(cd);
+	free(img);
+}
+
+/* a chunk of a streamed bag being filled: its records, the index data of
+ * each connection, the message counts and the time span */
+struct bag_chunk {
+	struct buf d, idx[2], h;
+	uint32_t cnt[2];
+	bool seen[2];
+	int64_t tmin, tmax;
+};
+
+static void bag_chunk_msg(struct bag_chunk *k, uint32_t c, int64_t rx,
+			  const struct buf *msg)
+{
+	static const char *const tp[] = { "/imu/data", "/camera/image_raw" };
+	static const char *const ty[] = { "sensor_msgs/Imu", "sensor_msgs/Image" };
+	unsigned char op = 2;
+
+	if (!k->seen[c]) {
+		bag_conn(&k->d, c, tp[c], ty[c]);
+		k->seen[c] = true;
+	}
+	k->h.n = 0;
+	field(&k->h, "op", &op, 1);
+	field_u32(&k->h, "conn", c);
+	field_time(&k->h, "time", rx);
+	u64(&k->idx[c], (uint64_t)(rx / 1000000000) | (uint64_t)(rx % 1000000000) << 32);
+	u32(&k->idx[c], (uint32_t)k->d.n);
+	record(&k->d, &k->h, msg->p, msg->n);
+	k->cnt[c]++;
+	k->tmin = rx < k->tmin ? rx : k->tmin;
+	k->tmax = rx > k->tmax ? rx : k->tmax;
+}
+
+/* The recording of write_mcap_camera() as a ROS 1 bag v2.0, streamed to
+ * the file (any size in bounded memory): chunks of 768 KiB (rosbag's
+ * chunk_threshold), uncompressed or lz4, each followed by the index data
+ * of its connections; the index section holds the connection and chunk
+ * info records, and the bag header, written last at byte 13, its
+ * position.  Every IMU message of the record is written (the ones after
+ * the last frame too), the camera's messages are sensor_msgs/Image. */
+static void write_bag_camera(const char *dir, const struct rec *r, const char *comp)
+{
+	enum { W = 640, H = 480, FPS = 30 };
+	char path[4096];
+	FILE *f;
+	struct bag_chunk k = { .tmin = INT64_MAX, .tmax = INT64_MIN };
+	struct buf out = { 0 }, msg = { 0 }, info = { 0 };
+	unsigned char *cd = NULL, *img = malloc((size_t)W * H), op;
+	size_t cap = 0, j = 0, frames = 0, nchunks = 0;
+	int64_t t_end = r->stamp[r->n - 1], dt_cam = 1000000000 / FPS, t = T0_NS;
+	uint64_t pos, x = 0x9E3779B97F4A7C15ULL;
+	bool lz4 = !strcmp(comp, "lz4");
+
+	snprintf(path, sizeof(path), "%s/camera-imu-%s.bag", dir, comp);
+	f = fopen(path, "wb");
+	if (!f || !img) {
+		perror(path);
+		exit(1);
+	}
+	put(&out, "#ROSBAG V2.0\n", 13);
+	for (int i = 0; i < 4096; i++)
+		u8(&out, 0); /* the bag header record, written last */
+	pos = out.n;
+	if (fwrite(out.p, 1, out.n, f) != out.n) {
+		perror(path);
+		exit(1);
+	}
+	for (size_t i = 0; i < (size_t)W * H; i++)
+		img[i] = (unsigned char)((i % W) / 3 + (i / W) / 5);
+	while (t <= t_end) {
+		for (; j < r->n && r->stamp[j] <= t; j++) {
+			msg.n = 0;
+			message(&msg, r, M_IMU, j, false);
+			bag_chunk_msg(&k, 0, r->stamp[j] + LATENCY_NS, &msg);
+		}
+		camera_noise(img, (size_t)W * H, &x);
+		msg.n = 0;
+		u32(&msg, (uint32_t)frames);
+		u32(&msg, (uint32_t)(t / 1000000000));
+		u32(&msg, (uint32_t)(t % 1000000000));
+		u32(&msg, 3);
+		put(&msg, "cam", 3);
+		u32(&msg, H);
+		u32(&msg, W);
+		u32(&msg, 5);
+		put(&msg, "mono8", 5);
+		u8(&msg, 0);
+		u32(&msg, W);
+		u32(&msg, (uint32_t)W * H);
+		put(&msg, img, (size_t)W * H);
+		bag_chunk_msg(&k, 1, t + LATENCY_NS, &msg);
+		frames++;
+		t += dt_cam;
+		for (; t > t_end && j < r->n; j++) {
+			msg.n = 0;
+			message(&msg, r, M_IMU, j, false);
+			bag_chunk_msg(&k, 0, r->stamp[j] + LATENCY_NS, &msg);
+		}
+		if (k.d.n >= 768 * 1024 || t > t_end) {
+			const unsigned char *data = k.d.p;
+			size_t cl = k.d.n;
+			uint32_t nc = 0;
+			struct buf d = { 0 };
+			unsigned char cp[8];
+			uint64_t chunk_pos;
+
+			if (lz4) {
+				size_t bound = LZ4F_compressFrameBound(k.d.n, NULL);
+
+				if (bound > cap) {
+					cd = realloc(cd, bound);
+					cap = bound;
+				}
+				if (!cd)
+					exit(1);
+				cl = LZ4F_compressFrame(cd, bound, k.d.p, k.d.n, NULL);
+				if (LZ4F_isError(cl))
+					exit(1);
+				data = cd;
+			}
+			out.n = 0;
+			k.h.n = 0;
+			op = 5;
+			field(&k.h, "op", &op, 1);
+			field(&k.h, "compression", comp, strlen(comp));
+			field_u32(&k.h, "size", (uint32_t)k.d.n);
+			u32(&out, (uint32_t)k.h.n);
+			put(&out, k.h.p, k.h.n);
+			u32(&out, (uint32_t)cl);
+			if (fwrite(out.p, 1, out.n, f) != out.n || fwrite(data, 1, cl, f) != cl) {
+				perror(path);
+				exit(1);
+			}
+			chunk_pos = pos;
+			pos += out.n + cl;
+			out.n = 0;
+			for (uint32_t c = 0; c < 2; c++) {
+				if (!k.cnt[c])
+					continue;
+				k.h.n = 0;
+				op = 4;
+				field(&k.h, "op", &op, 1);
+				field_u32(&k.h, "ver", 1);
+				field_u32(&k.h, "conn", c);
+				field_u32(&k.h, "count", k.cnt[c]);
+				record(&out, &k.h, k.idx[c].p, k.idx[c].n);
+				k.idx[c].n = 0;
+				u32(&d, c);
+				u32(&d, k.cnt[c]);
+				nc++;
+			}
+			if (fwrite(out.p, 1, out.n, f) != out.n) {
+				perror(path);
+				exit(1);
+			}
+			pos += out.n;
+			/* the chunk info for the index section */
+			k.h.n = 0;
+			op = 6;
+			field(&k.h, "op", &op, 1);
+			field_u32(&k.h, "ver", 1);
+			for (int b = 0; b < 8; b++)
+				cp[b] = (unsigned char)(chunk_pos >> (8 * b));
+			field(&k.h, "chunk_pos", cp, 8);
+			field_time(&k.h, "start_time", k.tmin);
+			field_time(&k.h, "end_time", k.tmax);
+			field_u32(&k.h, "count", nc);
+			record(&info, &k.h, d.p, d.n);
+			free(d.p);
+			nchunks++;
+			k.d.n = 0;
+			k.cnt[0] = k.cnt[1] = 0;
+			k.tmin = INT64_MAX;
+			k.tmax = INT64_MIN;
+		}
+	}
+	/* the index section, then the bag header pointing at it */
+	out.n = 0;
+	bag_conn(&out, 0, "/imu/data", "sensor_msgs/Imu");
+	bag_conn(&out, 1, "/camera/image_raw", "sensor_msgs/Image");
+	put(&out, info.p, info.n);
+	if (fwrite(out.p, 1, out.n, f) != out.n) {
+		perror(path);
+		exit(1);
+	}
+	{
+		struct buf bh = { 0 };
+		unsigned char ip[8];
+
+		op = 3;
+		field(&bh, "op", &op, 1);
+		for (int b = 0; b < 8; b++)
+			ip[b] = (unsigned char)(pos >> (8 * b));
+		field(&bh, "index_pos", ip, 8);
+		field_u32(&bh, "conn_count", 2);
+		field_u32(&bh, "chunk_count", (uint32_t)nchunks);
+		out.n = 0;
+		u32(&out, (uint32_t)bh.n);
+		put(&out, bh.p, bh.n);
+		u32(&out, (uint32_t)(4096 - 8 - bh.n));
+		while (out.n < 4096)
+			u8(&out, ' ');
+		free(bh.p);
+	}
+	if (fseek(f, 13, SEEK_SET) || fwrite(out.p, 1, out.n, f) != out.n || fclose(f)) {
+		perror(path);
+		exit(1);
+	}
+	free(out.p);
+	free(msg.p);
+	free(info.p);
+	free(k.d.p);
+	free(k.h.p);
+	free(k.idx[0].p);
+	free(k.idx[1].p);
 	free(cd);
 	free(img);
 }
@@ -1314,8 +1554,12 @@ int main(int argc, char **argv)
 		write_bag(dir, "imu-lz4.bag", &r, "lz4");
 	if (only && !strcmp(only, "bag-none"))
 		write_bag(dir, "imu-none.bag", &r, "none");
-	if (only && !strcmp(only, "mcap-camera"))
-		write_mcap_camera(dir, &r);
+	if (only && (!strcmp(only, "mcap-camera") || !strcmp(only, "mcap-camera-zst")))
+		write_mcap_camera(dir, &r, !strcmp(only, "mcap-camera-zst"));
+	if (only && !strcmp(only, "bag-camera"))
+		write_bag_camera(dir, &r, "none");
+	if (only && !strcmp(only, "bag-camera-lz4"))
+		write_bag_camera(dir, &r, "lz4");
 	if (only && !strcmp(only, "mcap-none"))
 		write_mcap(dir, "imu-none.mcap", &r, "", false, 1);
 	if (only && !strcmp(only, "hostile"))
