@@ -18,10 +18,14 @@ Peers are timed in memory (the Python process already started, the data
 already loaded), which is how the issue's targets are stated; their whole
 process (interpreter, imports, reading the file) is printed beside.
 
+Beside a competitor (BENCH_COMPETITORS=1: that many CPU-bound processes at
+normal priority, a Python busy loop each, run throughout, the peers' time
+included) every speed target is relaxed by a factor 1.5.
+
 Usage: bench-cli.py SENSORSCOPE_BINARY SAMPLES_DIR
 Environment: BENCH_REPEAT (3), BENCH_N (10000000 samples for OADEV and
 Welch), BENCH_ROWS (1000000 CSV rows), BENCH_ALL_N (30000 samples for the
-all-taus grid), TMPDIR.
+all-taus grid), BENCH_COMPETITORS (0), TMPDIR.
 """
 import inspect
 import json
@@ -51,6 +55,9 @@ REPEAT = int(os.environ.get("BENCH_REPEAT", "3"))
 N = int(os.environ.get("BENCH_N", "10000000"))
 ROWS = int(os.environ.get("BENCH_ROWS", "1000000"))
 ALL_N = int(os.environ.get("BENCH_ALL_N", "30000"))
+COMPETITORS = int(os.environ.get("BENCH_COMPETITORS", "0"))
+# beside a competitor the speed targets are met within this factor
+SLACK = 1.5 if COMPETITORS > 0 else 1.0
 PY = sys.executable
 failures = []
 LAST_RUN_CPU = LAST_CPU = None  # CPU s of the last run_best / best_of
@@ -186,9 +193,16 @@ def max_rel(a, b):
 
 def main():
     tmp = tempfile.mkdtemp(prefix="sscope-bench-cli.")
+    comp = [subprocess.Popen([PY, "-c", "while True: pass"])
+            for _ in range(COMPETITORS)]
     try:
+        if comp:
+            time.sleep(0.5)
         bench(tmp)
     finally:
+        for c in comp:
+            c.kill()
+            c.wait()
         shutil.rmtree(tmp, ignore_errors=True)
     print()
     if failures:
@@ -201,7 +215,11 @@ def bench(tmp):
     rng = np.random.default_rng(15)
     S = EXE
     print("sensorscope whole process (best of %d, wall) against peers in the "
-          "same run; load %.1f" % (REPEAT, os.getloadavg()[0]), flush=True)
+          "same run; %s; load %.1f" %
+          (REPEAT, "beside %d CPU-bound competitor%s (targets / %.1f)" %
+           (COMPETITORS, "" if COMPETITORS == 1 else "s", SLACK)
+           if COMPETITORS else "no competitor",
+           os.getloadavg()[0]), flush=True)
 
     # ---------------------------------------------------------- startup
     t_help, _ = run_best([S, "--help"], repeat=max(REPEAT, 10))
@@ -210,13 +228,13 @@ def bench(tmp):
     c_true = LAST_RUN_CPU
     row("sensorscope --help", t_help, run_rss([S, "--help"]), "true",
         t_true, None, "-", cpu=c_help, peer_cpu=c_true)
-    check(t_help < 0.010, "--help under 10 ms")
+    check(t_help < 0.010 * SLACK, "--help under 10 ms")
     g = os.path.join(SAMPLES, "gyro-static.csv")
     t_info, _ = run_best([S, "info", g], repeat=max(REPEAT, 10))
     row("sensorscope info samples/gyro-static.csv", t_info,
         run_rss([S, "info", g]), "true", t_true, None, "-",
         cpu=LAST_RUN_CPU, peer_cpu=c_true)
-    check(t_info < 0.010, "info samples/gyro-static.csv under 10 ms")
+    check(t_info < 0.010 * SLACK, "info samples/gyro-static.csv under 10 ms")
 
     # ---------------------------------------------------------- OADEV octave
     raw = os.path.join(tmp, "white.f64")
@@ -240,7 +258,7 @@ def bench(tmp):
     row("allan octave, 1e7 f64 raw, --ci none", t_ours, rss,
         "numpy OADEV (allantools way)", t_peer, proc, "%.1e" % err,
         "RSS %.2fx file" % (rss / size), cpu=c_ours, peer_cpu=LAST_CPU)
-    check(t_peer / t_ours >= 30, "OADEV octave >= 30x the numpy peer")
+    check(t_peer / t_ours >= 30 / SLACK, "OADEV octave >= 30x the numpy peer")
     check(rss <= 1.2 * size, "OADEV peak RSS <= 1.2x the file")
     check(err < 1e-9, "OADEV equal to the peer's")
 
@@ -259,7 +277,7 @@ def bench(tmp):
         row("psd, 1e7 f64 raw, nperseg 4096", t_ours, rss,
             "scipy.signal.welch", t_peer, proc, "%.1e" % err,
             cpu=c_ours, peer_cpu=LAST_CPU)
-        check(t_peer / t_ours >= 5, "Welch >= 5x scipy")
+        check(t_peer / t_ours >= 5 / SLACK, "Welch >= 5x scipy")
         check(err < 1e-10, "Welch equal to scipy's")
     os.unlink(raw)
     del y
@@ -297,7 +315,7 @@ def bench(tmp):
         row("info, %d x 7 CSV (%s)" % (ROWS, mb(size)), t_all, rss,
             "pandas.read_csv", t_peer, proc, "%.1e" % err,
             "%.0f MB/s" % (size / t_all / 1e6), cpu=c_all, peer_cpu=c_pd)
-        check(t_peer / t_all >= 4, "info >= 4x pandas.read_csv")
+        check(t_peer / t_all >= 4 / SLACK, "info >= 4x pandas.read_csv")
         check(err < 1e-12, "info statistics equal to pandas'")
     t_peer, arr = best_of(lambda: np.loadtxt(csv, delimiter=",", skiprows=1),
                           repeat=1)
@@ -354,7 +372,7 @@ def bench(tmp):
             "%d taus%s" % (len(pts), "" if ci else " (no intervals!)"),
             cpu=c_ours, peer_cpu=c_peer)
         if not fit:
-            check(ci and t_peer / t_ours >= 10,
+            check(ci and t_peer / t_ours >= 10 / SLACK,
                   "all taus with intervals >= 10x the numpy peer")
         check(err < 1e-9, "all-taus OADEV equal to the peer's")
 
