@@ -257,7 +257,7 @@ static int run_child(int method, size_t n, int dense, struct result *r,
 static int coverage(size_t n, size_t R, unsigned long seed)
 {
 	const double level = 0.682689492137086;
-	size_t m[256], nm, np, a0[256] = { 0 }, high[256] = { 0 };
+	size_t m[256], nm, np, a0[256] = { 0 }, high[256] = { 0 }, hown[256] = { 0 };
 	size_t own[256] = { 0 }, rep[256] = { 0 }, pc = 0, pown = 0, prep = 0;
 	struct sscope_allan_point pt[256];
 	struct sscope_allan_opts o = { 0 };
@@ -282,7 +282,7 @@ static int coverage(size_t n, size_t R, unsigned long seed)
 			return 1;
 		}
 		for (size_t j = 0; j < np; j++) {
-			double want = 1 / sqrt((double)pt[j].m), lo, hi;
+			double want = 1 / sqrt((double)pt[j].m), lo, hi, eo;
 			double wfm = sscope_allan_edf(0, 2, pt[j].m, n + 1, false, 1);
 			int a = pt[j].alpha < -2 ? -2 : pt[j].alpha;
 
@@ -291,24 +291,27 @@ static int coverage(size_t n, size_t R, unsigned long seed)
 			a0[j] += pt[j].alpha == 0;
 			high[j] += !(pt[j].edf <= 2 * wfm);
 			rep[j] += pt[j].dev_lo <= want && want <= pt[j].dev_hi;
-			ssc_allan_ci(pt[j].dev,
-				     sscope_allan_edf(a, 2, pt[j].m, n + 1, false, 1),
-				     level, &lo, &hi);
+			eo = sscope_allan_edf(a, 2, pt[j].m, n + 1, false, 1);
+			hown[j] += !(eo <= 2 * wfm);
+			ssc_allan_ci(pt[j].dev, eo, level, &lo, &hi);
 			own[j] += lo <= want && want <= hi;
 		}
 	}
 	printf("OADEV of white FM, %zu samples, %zu records (seed %lu); 68.3 %% "
 	       "intervals, binomial se %.1f points\n", n, R, seed,
 	       100 * sqrt(level * (1 - level) / (double)R));
-	printf("%10s %8s %8s %12s %10s %10s\n", "m", "averages", "WFM %",
-	       "EDF>2xWFM %", "own type %", "reported %");
+	printf("%10s %8s %8s %21s %22s\n", "", "", "",
+	       "EDF > 2x WFM's, %", "interval covers, %");
+	printf("%10s %8s %8s %10s %10s %10s %10s\n", "m", "averages", "WFM %",
+	       "own type", "reported", "own type", "reported");
 	for (size_t j = 0; j < np; j++) {
 		double av = (double)n / (double)m[j];
 
 		if (av > 400)
 			continue;
-		printf("%10zu %8.1f %8.1f %12.1f %10.1f %10.1f\n", m[j], av,
+		printf("%10zu %8.1f %8.1f %10.1f %10.1f %10.1f %10.1f\n", m[j], av,
 		       100.0 * (double)a0[j] / (double)R,
+		       100.0 * (double)hown[j] / (double)R,
 		       100.0 * (double)high[j] / (double)R,
 		       100.0 * (double)own[j] / (double)R,
 		       100.0 * (double)rep[j] / (double)R);
