@@ -2746,10 +2746,10 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 	 * interval's type at the shorter tau, the one of fewer degrees of
 	 * freedom (the wider interval).  A misread type is not rare there
 	 * and is read on the records whose deviation is high: on white FM
-	 * the lag-1 method calls 5-20 % of the records flicker PM at 30 to
+	 * the lag-1 method calls 3-20 % of the records flicker PM at 30 to
 	 * 80 averages (r1 <= -0.2), whose EDF is 10-20 times white FM's at
-	 * large m, and the 68.3 % intervals of those taus covered 59-66 %
-	 * (1000 records of 2e5 samples; 65-69 % this way); the B1 ratio of
+	 * large m, and the 68.3 % intervals of those taus covered 59-67 %
+	 * (1000 records of 2e5 samples; 67-69 % this way); the B1 ratio of
 	 * 6 to 24 averages calls one in four flicker PM (59-63 % of 400
 	 * records of 1e5, 66-74 % this way).  In a sum of power-law noises
 	 * the type only falls with tau, and the EDF with it, so a true change
