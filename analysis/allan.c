@@ -2671,7 +2671,7 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		pt->stride = st;
 		if (used[j] == 0) {
 			pt->dev = pt->dev_lo = pt->dev_hi = NAN;
-			pt->edf = pt->edf_full = NAN;
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			continue;
 		}
 		if (fam_dev(dev)) {
@@ -2801,7 +2801,7 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			/* MTIE, TIE rms: no EDF model */
 			pt->alpha = 0;
 			pt->alpha_identified = false;
-			pt->edf = pt->edf_full = NAN;
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			pt->dev_lo = pt->dev_hi = NAN;
 			continue;
 		}
@@ -2811,15 +2811,17 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		/* phase points equivalent to the terms actually used */
 		npe = point_npe(dev, d, m[j], used[j], st, p->np);
 		/* the interval's type (the wider where the types disagree);
-		 * the noise fit weights by it too */
+		 * the noise fit keeps weighting by the reported type's */
 		pt->edf = point_edf(dev, ealpha, m[j], npe, st);
+		pt->edf_alpha = ealpha == alpha ? pt->edf :
+						  point_edf(dev, alpha, m[j], npe, st);
 		pt->edf_full = st == 1 || dev == SSCOPE_ALLAN_DEV_ADEV ||
 					       dev == SSCOPE_ALLAN_DEV_HDEV ?
 				       pt->edf :
 				       point_edf(dev, ealpha, m[j],
 						 p->np - 0, 1);
-		if (!(pt->edf > 0)) {
-			pt->edf = pt->edf_full = NAN;
+		if (!(pt->edf > 0) || !(pt->edf_alpha > 0)) {
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			pt->dev_lo = pt->dev_hi = NAN;
 		} else if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
 			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
@@ -3006,31 +3008,6 @@ static int grid_points(struct sscope_allan *p, const double *x,
 	return rc;
 }
 
-/* res->oadev: the points of res->points whose m is on the dense grid */
-static int dense_subset(struct sscope_allan_result *res)
-{
-	size_t cnt, *m, k = 0;
-	const size_t mmax = res->n_points ? res->points[res->n_points - 1].m : 0;
-
-	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, NULL, 0, &cnt);
-	m = ssc_alloc_array(cnt ? cnt : 1, sizeof(size_t));
-	res->oadev = ssc_alloc_array(cnt ? cnt : 1, sizeof(*res->oadev));
-	if (!m || !res->oadev) {
-		free(m);
-		return -ENOMEM;
-	}
-	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, m, cnt, &cnt);
-	res->n_oadev = 0;
-	for (size_t j = 0; j < res->n_points && k < cnt; j++) {
-		while (k < cnt && m[k] < res->points[j].m)
-			k++;
-		if (k < cnt && m[k] == res->points[j].m)
-			res->oadev[res->n_oadev++] = res->points[j];
-	}
-	free(m);
-	return 0;
-}
-
 /* longest stretch of finite samples of x */
 static size_t longest_run(const double *x, size_t stride, size_t n)
 {
@@ -3116,18 +3093,17 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	rc = drop_gap_taus(res, x, stride, n, rate_hz, o.dev, diag);
 	if (rc)
 		goto fail;
-	/* the fit of an all-tau grid uses its dense points: neighbouring taus
-	 * are almost fully correlated, add nothing to the fit and would make
-	 * its covariance (quadratic in the points) the whole cost */
+	/* the fit of an all-tau grid uses the dense grid's points:
+	 * neighbouring taus are almost fully correlated, add nothing to the
+	 * fit and would make its covariance (quadratic in the points) the
+	 * whole cost.  Computed on their own (a few dozen taus): an interval's
+	 * type depends on the shorter tau of the grid (compute()), so the
+	 * dense points of the all-tau grid are not the dense grid's. */
 	fit_grid = grid == SSCOPE_ALLAN_TAUS_ALL ? SSCOPE_ALLAN_TAUS_DENSE : grid;
 	if ((o.dev == SSCOPE_ALLAN_DEV_OADEV && fit_grid == grid) ||
 	    (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
-	} else if (o.dev == SSCOPE_ALLAN_DEV_OADEV) {
-		rc = dense_subset(res);
-		if (rc)
-			goto fail;
 	} else {
 		struct sscope_diag d2;
 

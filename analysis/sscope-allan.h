@@ -226,6 +226,9 @@ struct sscope_allan_point {
 			     two types' */
 	double edf_full; /**< EDF of the fully overlapping estimator (equals
 			      edf unless stride_div was used) */
+	double edf_alpha; /**< EDF of alpha's type (the noise fit's weights
+			       and read-offs; equals edf unless edf says
+			       otherwise) */
 	int alpha;      /**< power-law noise exponent identified (as
 			     Stable32), given or carried; the EDF's unless
 			     edf says otherwise */
