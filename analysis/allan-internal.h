@@ -15,6 +15,12 @@
 #define SSC_NOISE_ID_MAX 65536
 /* Averages the lag-1 method needs (Riley & Greenhall 2004). */
 #define SSC_NOISE_ID_MIN 30
+/* Analysis points from which a lag-1 type stands on its own for the
+ * interval: the r1 of a white series (sd 1 / sqrt(n)) reaches the rounding
+ * boundary to flicker phase, r1 = -0.2 (rho = -0.25), at 3 sd only from
+ * n = (3 / 0.2)^2 on; with fewer, a type of more degrees of freedom than
+ * the shorter tau's is not trusted for the interval (allan.c compute()). */
+#define SSC_NOISE_ID_SURE 225
 
 /* Averages the B1 fallback needs before it carries the last
  * identification instead (Stable32's behaviour on its reference sets;

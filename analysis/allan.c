@@ -2186,7 +2186,7 @@ static double avar_at(const struct sscope_allan *p, bool gaps, size_t m)
  */
 static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 		       bool angle, bool gaps, size_t m, size_t terms,
-		       double mvar, unsigned me, int *alpha, bool *few_used)
+		       double mvar, unsigned me, int *alpha, bool *unsure)
 {
 	size_t nvalid;
 	size_t K = (p->np - 1) / m + 1; /* points x(k m), k < K */
@@ -2216,14 +2216,15 @@ static int point_alpha(const struct sscope_allan *p, enum sscope_allan_dev dev,
 	few.rn = NAN;
 	if (isfinite(mvar) && (angle ? K : K - 1) < SSC_NOISE_ID_MIN)
 		few.rn = mvar / avar_at(p, gaps, m);
-	/* the analysis points the series counts: B1 below the minimum */
+	/* the analysis points the series counts: B1 below the minimum, an
+	 * unsure type below SSC_NOISE_ID_SURE */
 	nvalid = angle ? K : K - 1;
 	if (gaps) {
 		nvalid = 0;
 		for (size_t k = 0; k < (angle ? K : K - 1); k++)
 			nvalid += v[k] != 0;
 	}
-	*few_used = nvalid < SSC_NOISE_ID_MIN;
+	*unsure = nvalid < SSC_NOISE_ID_SURE;
 	return ssc_noise_id_series(z, gaps ? v : NULL, K, !angle,
 				   ssc_dev_order(dev), &few, alpha, NULL,
 				   z + half, v + half);
@@ -2653,7 +2654,7 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		double md = (double)m[j], sum = ssc_ksum_value(&acc[j]), var;
 		size_t st = 1;
 		unsigned me = 0;
-		bool few = false;
+		bool unsure = false;
 
 #ifdef _OPENMP
 		me = (unsigned)omp_get_thread_num();
@@ -2670,7 +2671,7 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 		pt->stride = st;
 		if (used[j] == 0) {
 			pt->dev = pt->dev_lo = pt->dev_hi = NAN;
-			pt->edf = pt->edf_full = NAN;
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			continue;
 		}
 		if (fam_dev(dev)) {
@@ -2704,8 +2705,8 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 				mv = ssc_ksum_value(&a) / (2 * mm * mm * mm * mm * (double)u);
 			}
 			if (point_alpha(p, idd, angle, false, mi, ti, mv, me,
-					&alph[j], &few) == 0)
-				idok[j] = few ? 2 : 1;
+					&alph[j], &unsure) == 0)
+				idok[j] = unsure ? 2 : 1;
 			continue;
 		}
 		switch (dev) {
@@ -2734,18 +2735,26 @@ SSC_OMP(omp parallel for num_threads(idpar ? T : 1) schedule(dynamic, nacc > 64 
 				dev == SSCOPE_ALLAN_DEV_MDEV || dev == SSCOPE_ALLAN_DEV_TDEV ?
 					var :
 					(double)NAN,
-				me, &alph[j], &few) == 0)
-			idok[j] = few ? 2 : 1;
+				me, &alph[j], &unsure) == 0)
+			idok[j] = unsure ? 2 : 1;
 	}
 	/*
-	 * The carry, in order.  The type reported is Stable32's (the B1 ratio
-	 * below 30 averages, the last type carried below 8).  The intervals
-	 * take, where a B1 ratio differs from the type at the shorter tau,
-	 * the one of fewer degrees of freedom (the wider interval): on white
-	 * FM records of 1e5 samples the B1 ratio of 6 to 24 averages called
-	 * one in four flicker PM, and the intervals of those taus covered
-	 * 59-63 % at a 68.3 % level (400 records; 66-74 % this way).
-	 * ealph = alph + nacc: the type of each point's interval.
+	 * The carry, in order.  The type reported is Stable32's (the lag-1
+	 * autocorrelation from 30 averages, the B1 ratio below, the last type
+	 * carried below 8).  The EDF and interval take, where a type read
+	 * from fewer than SSC_NOISE_ID_SURE analysis points differs from the
+	 * interval's type at the shorter tau, the one of fewer degrees of
+	 * freedom (the wider interval).  A misread type is not rare there
+	 * and is read on the records whose deviation is high: on white FM
+	 * the lag-1 method calls 3-20 % of the records flicker PM at 30 to
+	 * 80 averages (r1 <= -0.2), whose EDF is 10-20 times white FM's at
+	 * large m, and the 68.3 % intervals of those taus covered 59-67 %
+	 * (1000 records of 2e5 samples; 67-69 % this way); the B1 ratio of
+	 * 6 to 24 averages calls one in four flicker PM (59-63 % of 400
+	 * records of 1e5, 66-74 % this way).  In a sum of power-law noises
+	 * the type only falls with tau, and the EDF with it, so a true change
+	 * of type keeps its own EDF.
+	 * ealph = alph + nacc: the type of each point's EDF and interval.
 	 */
 	for (size_t j = 0; j < nacc; j++) {
 		int alpha, ealpha;
@@ -2784,7 +2793,6 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 		struct sscope_allan_point *pt = &pts[j];
 		size_t st = pt->stride, npe;
 		int alpha = alph[j], ealpha = alph[nacc + j];
-		double eedf;
 
 		if (used[j] == 0)
 			continue;
@@ -2793,7 +2801,7 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			/* MTIE, TIE rms: no EDF model */
 			pt->alpha = 0;
 			pt->alpha_identified = false;
-			pt->edf = pt->edf_full = NAN;
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			pt->dev_lo = pt->dev_hi = NAN;
 			continue;
 		}
@@ -2802,22 +2810,23 @@ SSC_OMP(omp parallel for num_threads(nacc > 64 ? T : 1) schedule(dynamic, 8))
 			pt->dev /= sqrt(ssc_htot_bias(alpha));
 		/* phase points equivalent to the terms actually used */
 		npe = point_npe(dev, d, m[j], used[j], st, p->np);
-		pt->edf = point_edf(dev, alpha, m[j], npe, st);
+		/* the interval's type (the wider where the types disagree);
+		 * the noise fit keeps weighting by the reported type's */
+		pt->edf = point_edf(dev, ealpha, m[j], npe, st);
+		pt->edf_alpha = ealpha == alpha ? pt->edf :
+						  point_edf(dev, alpha, m[j], npe, st);
 		pt->edf_full = st == 1 || dev == SSCOPE_ALLAN_DEV_ADEV ||
 					       dev == SSCOPE_ALLAN_DEV_HDEV ?
 				       pt->edf :
-				       point_edf(dev, alpha, m[j],
+				       point_edf(dev, ealpha, m[j],
 						 p->np - 0, 1);
-		/* the interval's: the wider where the types disagree (the
-		 * noise fit keeps weighting by the reported type's) */
-		eedf = ealpha == alpha ? pt->edf : point_edf(dev, ealpha, m[j], npe, st);
-		if (!(pt->edf > 0) || !(eedf > 0)) {
-			pt->edf = pt->edf_full = NAN;
+		if (!(pt->edf > 0) || !(pt->edf_alpha > 0)) {
+			pt->edf = pt->edf_full = pt->edf_alpha = NAN;
 			pt->dev_lo = pt->dev_hi = NAN;
 		} else if (p->opts.ci_level < 0 || !(pt->dev > 0)) {
 			pt->dev_lo = pt->dev_hi = p->opts.ci_level < 0 ? NAN : 0;
 		} else {
-			ssc_allan_ci_at(&lv, pt->dev, eedf, &pt->dev_lo,
+			ssc_allan_ci_at(&lv, pt->dev, pt->edf, &pt->dev_lo,
 					&pt->dev_hi);
 		}
 	}
@@ -2999,31 +3008,6 @@ static int grid_points(struct sscope_allan *p, const double *x,
 	return rc;
 }
 
-/* res->oadev: the points of res->points whose m is on the dense grid */
-static int dense_subset(struct sscope_allan_result *res)
-{
-	size_t cnt, *m, k = 0;
-	const size_t mmax = res->n_points ? res->points[res->n_points - 1].m : 0;
-
-	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, NULL, 0, &cnt);
-	m = ssc_alloc_array(cnt ? cnt : 1, sizeof(size_t));
-	res->oadev = ssc_alloc_array(cnt ? cnt : 1, sizeof(*res->oadev));
-	if (!m || !res->oadev) {
-		free(m);
-		return -ENOMEM;
-	}
-	sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE, mmax, m, cnt, &cnt);
-	res->n_oadev = 0;
-	for (size_t j = 0; j < res->n_points && k < cnt; j++) {
-		while (k < cnt && m[k] < res->points[j].m)
-			k++;
-		if (k < cnt && m[k] == res->points[j].m)
-			res->oadev[res->n_oadev++] = res->points[j];
-	}
-	free(m);
-	return 0;
-}
-
 /* longest stretch of finite samples of x */
 static size_t longest_run(const double *x, size_t stride, size_t n)
 {
@@ -3109,18 +3093,17 @@ int sscope_allan_analyze(const double *x, size_t stride, size_t n,
 	rc = drop_gap_taus(res, x, stride, n, rate_hz, o.dev, diag);
 	if (rc)
 		goto fail;
-	/* the fit of an all-tau grid uses its dense points: neighbouring taus
-	 * are almost fully correlated, add nothing to the fit and would make
-	 * its covariance (quadratic in the points) the whole cost */
+	/* the fit of an all-tau grid uses the dense grid's points:
+	 * neighbouring taus are almost fully correlated, add nothing to the
+	 * fit and would make its covariance (quadratic in the points) the
+	 * whole cost.  Computed on their own (a few dozen taus): an interval's
+	 * type depends on the shorter tau of the grid (compute()), so the
+	 * dense points of the all-tau grid are not the dense grid's. */
 	fit_grid = grid == SSCOPE_ALLAN_TAUS_ALL ? SSCOPE_ALLAN_TAUS_DENSE : grid;
 	if ((o.dev == SSCOPE_ALLAN_DEV_OADEV && fit_grid == grid) ||
 	    (fopts && fopts->skip)) {
 		res->oadev = res->points;
 		res->n_oadev = res->n_points;
-	} else if (o.dev == SSCOPE_ALLAN_DEV_OADEV) {
-		rc = dense_subset(res);
-		if (rc)
-			goto fail;
 	} else {
 		struct sscope_diag d2;
 

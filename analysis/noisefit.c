@@ -529,6 +529,13 @@ int sscope_noise_readoff(const struct sscope_allan_point *pts, size_t n,
  * much as B does is no read-off: NaN.
  */
 #define READOFF_EDF_MIN 10.0
+
+/* the EDF of a point's reported noise type (its interval may take fewer:
+ * sscope_allan_point.edf); points made elsewhere without it: edf */
+static double point_fit_edf(const struct sscope_allan_point *p)
+{
+	return p->edf_alpha > 0 ? p->edf_alpha : p->edf;
+}
 #define READOFF_SHARE_MIN 0.75
 
 static void readoff_model(const struct sscope_allan_point *pts, size_t n,
@@ -544,7 +551,7 @@ static void readoff_model(const struct sscope_allan_point *pts, size_t n,
 		double mu = 0;
 
 		if (!(p->dev > 0) || !isfinite(p->dev) || !(p->tau_s > 0) ||
-		    !(p->edf >= READOFF_EDF_MIN))
+		    !(point_fit_edf(p) >= READOFF_EDF_MIN))
 			continue;
 		/* the others at their upper bounds (a term not allowed: 0) */
 		for (int j = 0; j < 5; j++)
@@ -561,7 +568,7 @@ static void readoff_model(const struct sscope_allan_point *pts, size_t n,
 			if (!(present & (1u << term[t])) || !(q >= READOFF_SHARE_MIN))
 				continue;
 			bias = 1 / sqrt(q) - 1;
-			err = bias * bias + 1 / (2 * p->edf);
+			err = bias * bias + 1 / (2 * point_fit_edf(p));
 			if (!(err < best[t]))
 				continue;
 			best[t] = err;
@@ -2575,14 +2582,14 @@ int sscope_noise_fit(const struct sscope_allan_point *pts, size_t n_pts,
 			if (pp->dev > 0)
 				any_positive = true;
 			if (!(pp->dev > 0) || !isfinite(pp->dev) || pp->terms == 0 ||
-			    !(pp->edf > 0) || pp->m == 0)
+			    !(point_fit_edf(pp) > 0) || pp->m == 0)
 				continue;
 			if ((o.tau_min_s > 0 && pp->tau_s < o.tau_min_s) ||
 			    (o.tau_max_s > 0 && pp->tau_s > o.tau_max_s))
 				continue;
 			f.tau[f.n] = pp->tau_s;
 			f.y[f.n] = pp->dev * pp->dev;
-			f.edf[f.n] = pp->edf;
+			f.edf[f.n] = point_fit_edf(pp);
 			f.scale[f.n] = pp->edf_full > pp->edf ?
 					       sqrt(pp->edf_full / pp->edf) :
 					       1;

@@ -219,10 +219,19 @@ struct sscope_allan_point {
 	double dev;     /**< the deviation, rate SI unit (TDEV: rate unit * s) */
 	double dev_lo;  /**< lower bound at the confidence level (NaN: none) */
 	double dev_hi;  /**< upper bound (NaN: none) */
-	double edf;     /**< equivalent degrees of freedom of dev^2 */
+	double edf;     /**< equivalent degrees of freedom of dev^2, those of
+			     the interval: alpha's, or where alpha was read
+			     from fewer than 225 analysis points and differs
+			     from the shorter tau's type, the fewer of the
+			     two types' */
 	double edf_full; /**< EDF of the fully overlapping estimator (equals
 			      edf unless stride_div was used) */
-	int alpha;      /**< power-law noise exponent used for the EDF */
+	double edf_alpha; /**< EDF of alpha's type (the noise fit's weights
+			       and read-offs; equals edf unless edf says
+			       otherwise) */
+	int alpha;      /**< power-law noise exponent identified (as
+			     Stable32), given or carried; the EDF's unless
+			     edf says otherwise */
 	bool alpha_identified; /**< alpha came from this tau's own data (false:
 				    given, or carried over from a shorter tau
 				    because fewer than 30 averages remain) */

@@ -19,6 +19,14 @@
  * the strided estimator's own reference).  Exits non-zero when an error
  * exceeds 1e-9, so a faster but wrong kernel cannot pass.
  * Usage: bench-allan [max_n]  (default 1e8).
+ *
+ * bench-allan coverage [N [records [seed]]] (default 1e7, 100, 1): the
+ * 68.3 % intervals of OADEV on white FM records (N Gaussian rate samples,
+ * GSL's ziggurat): per dense tau with at most 400 averages, the share of
+ * records read white FM, the share whose EDF is above twice Greenhall's
+ * for white FM, and how often the interval holds the truth 1 / sqrt(m),
+ * with the EDF of each tau's own type (Stable32's intervals) and as
+ * sensorscope reports it; pooled over 30 to 80 averages at the end.
  */
 #include "allan-internal.h"
 #include "sensorscope.h"
@@ -31,6 +39,9 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -242,6 +253,84 @@ static int run_child(int method, size_t n, int dense, struct result *r,
 	return 0;
 }
 
+/* see the file's comment: bench-allan coverage [N [records [seed]]] */
+static int coverage(size_t n, size_t R, unsigned long seed)
+{
+	const double level = 0.682689492137086;
+	size_t m[256], nm, np, a0[256] = { 0 }, high[256] = { 0 }, hown[256] = { 0 };
+	size_t own[256] = { 0 }, rep[256] = { 0 }, pc = 0, pown = 0, prep = 0;
+	struct sscope_allan_point pt[256];
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+	struct sscope_diag d = { "" };
+	double *y = malloc(n * sizeof(double));
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+
+	if (!y || !r || n < 1000)
+		return 1;
+	nm = grid(1, n, m, 256);
+	o.dev = SSCOPE_ALLAN_DEV_OADEV;
+	o.input = SSCOPE_ALLAN_RATE;
+	if (sscope_allan_new(&p, n, &o))
+		return 1;
+	gsl_rng_set(r, seed);
+	for (size_t rec = 0; rec < R; rec++) {
+		for (size_t k = 0; k < n; k++)
+			y[k] = gsl_ran_gaussian_ziggurat(r, 1.0);
+		if (sscope_allan_compute(p, y, 1, n, 1.0, m, nm, pt, &np, &d)) {
+			fprintf(stderr, "bench-allan: %s\n", d.msg);
+			return 1;
+		}
+		for (size_t j = 0; j < np; j++) {
+			double want = 1 / sqrt((double)pt[j].m), lo, hi, eo;
+			double wfm = sscope_allan_edf(0, 2, pt[j].m, n + 1, false, 1);
+			int a = pt[j].alpha < -2 ? -2 : pt[j].alpha;
+
+			if ((double)n / (double)pt[j].m > 400)
+				continue;
+			a0[j] += pt[j].alpha == 0;
+			high[j] += !(pt[j].edf <= 2 * wfm);
+			rep[j] += pt[j].dev_lo <= want && want <= pt[j].dev_hi;
+			eo = sscope_allan_edf(a, 2, pt[j].m, n + 1, false, 1);
+			hown[j] += !(eo <= 2 * wfm);
+			ssc_allan_ci(pt[j].dev, eo, level, &lo, &hi);
+			own[j] += lo <= want && want <= hi;
+		}
+	}
+	printf("OADEV of white FM, %zu samples, %zu records (seed %lu); 68.3 %% "
+	       "intervals, binomial se %.1f points\n", n, R, seed,
+	       100 * sqrt(level * (1 - level) / (double)R));
+	printf("%10s %8s %8s %21s %22s\n", "", "", "",
+	       "EDF > 2x WFM's, %", "interval covers, %");
+	printf("%10s %8s %8s %10s %10s %10s %10s\n", "m", "averages", "WFM %",
+	       "own type", "reported", "own type", "reported");
+	for (size_t j = 0; j < np; j++) {
+		double av = (double)n / (double)m[j];
+
+		if (av > 400)
+			continue;
+		printf("%10zu %8.1f %8.1f %10.1f %10.1f %10.1f %10.1f\n", m[j], av,
+		       100.0 * (double)a0[j] / (double)R,
+		       100.0 * (double)hown[j] / (double)R,
+		       100.0 * (double)high[j] / (double)R,
+		       100.0 * (double)own[j] / (double)R,
+		       100.0 * (double)rep[j] / (double)R);
+		if (av >= 30 && av <= 80) {
+			pc += R;
+			pown += own[j];
+			prep += rep[j];
+		}
+	}
+	if (pc)
+		printf("pooled 30-80 averages: own type %.1f %%, reported %.1f %%\n",
+		       100.0 * (double)pown / (double)pc,
+		       100.0 * (double)prep / (double)pc);
+	sscope_allan_free(p);
+	gsl_rng_free(r);
+	free(y);
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	double max_n = argc > 1 ? atof(argv[1]) : 1e8;
@@ -249,6 +338,10 @@ int main(int argc, char **argv)
 	int bad = 0;
 	unsigned threads = 1;
 
+	if (argc > 1 && !strcmp(argv[1], "coverage"))
+		return coverage(argc > 2 ? (size_t)atof(argv[2]) : 10000000,
+				argc > 3 ? (size_t)atof(argv[3]) : 100,
+				argc > 4 ? strtoul(argv[4], NULL, 10) : 1);
 #ifdef _OPENMP
 	threads = (unsigned)omp_get_max_threads();
 #endif

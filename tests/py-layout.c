@@ -150,6 +150,7 @@ int main(void)
 	F(sscope_allan_point, dev_hi);
 	F(sscope_allan_point, edf);
 	F(sscope_allan_point, edf_full);
+	F(sscope_allan_point, edf_alpha);
 	F(sscope_allan_point, alpha);
 	F(sscope_allan_point, alpha_identified);
 	S(sscope_noise_coef);

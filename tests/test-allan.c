@@ -746,6 +746,82 @@ START_TEST(few_averages_coverage)
 }
 END_TEST
 
+/*
+ * A lag-1 type misread at 30 to 80 averages: white FM of 20,000 samples
+ * (the counts of averages of m = 126976 and 1015808 in 1e7 samples:
+ * 78.7 at m = 254, 9.8 at m = 2032, and 31 to 63 between).  The lag-1
+ * method calls 5-20 % of the records flicker PM there (r1 <= -0.2, as
+ * Stable32 does), the records whose deviation is high, and flicker PM's
+ * EDF is several times white FM's: with it, the 68.3 % intervals of those
+ * taus covered about 0.65 of 4000 records.  The oracle: the truth s^2 / m
+ * inside the interval at the level within 3 sd (the sd of the mean
+ * per-record coverage, over the records), and the EDF never above twice
+ * Greenhall's for white FM (the type read from 312 averages, m = 64,
+ * misreads at 3.5 sd only); most types read stay white FM.
+ */
+START_TEST(lag1_misread_coverage)
+{
+	const size_t n = 20000, R = under_valgrind() ? 40 : 4000;
+	const double s = 1.7, fs = 1;
+	/* 312 averages, then 156, 79 ... 31 (lag-1), 9.8 (B1) */
+	const size_t m[] = { 64, 128, 254, 320, 400, 496, 640, 2032 };
+	const size_t nm = sizeof(m) / sizeof(m[0]), c0 = 2, c1 = nm - 1;
+	double *y = malloc(n * sizeof(double)), wfm[8], sh = 0, sh2 = 0;
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_allan_point pt[8];
+	size_t np, cnt = 0, a0 = 0, high = 0;
+	struct sscope_allan_opts o = { 0 };
+	struct sscope_allan *p;
+	struct sscope_diag d = { "" };
+
+	/* one plan, one thread: 4000 records in about 1.5 s */
+	o.dev = SSCOPE_ALLAN_DEV_OADEV;
+	o.input = SSCOPE_ALLAN_RATE;
+	o.threads = 1;
+	ck_assert_int_eq(sscope_allan_new(&p, n, &o), 0);
+	for (size_t i = 0; i < nm; i++)
+		wfm[i] = sscope_allan_edf(0, 2, m[i], n + 1, false, 1);
+	gsl_rng_set(r, 31);
+	for (size_t rec = 0; rec < R; rec++) {
+		double h = 0;
+
+		for (size_t k = 0; k < n; k++)
+			y[k] = gsl_ran_gaussian_ziggurat(r, s);
+		ck_assert_msg(sscope_allan_compute(p, y, 1, n, fs, m, nm, pt, &np,
+						   &d) == 0, "%s", d.msg);
+		ck_assert_uint_eq(np, nm);
+		for (size_t i = 0; i < nm; i++)
+			high += !(pt[i].edf <= 2 * wfm[i]);
+		for (size_t i = c0; i < c1; i++) {
+			double want = s / sqrt((double)pt[i].m);
+
+			h += pt[i].dev_lo <= want && want <= pt[i].dev_hi;
+			a0 += pt[i].alpha == 0;
+			cnt++;
+		}
+		h /= (double)(c1 - c0);
+		sh += h;
+		sh2 += h * h;
+	}
+	if (!under_valgrind()) {
+		double cov = sh / (double)R;
+		double sd = sqrt((sh2 / (double)R - cov * cov) / (double)(R - 1));
+
+		fprintf(stderr, "lag1_misread_coverage: coverage %.4f (sd %.4f), "
+			"white FM read %zu of %zu, EDF above 2x white FM's %zu of %zu\n",
+			cov, sd, a0, cnt, high, R * nm);
+		ck_assert_msg(a0 > cnt * 3 / 4, "white FM read at %zu of %zu", a0, cnt);
+		ck_assert_msg(fabs(cov - 0.682689492137086) <= 3 * sd,
+			      "coverage %.4f, sd %.4f", cov, sd);
+		ck_assert_msg(high == 0, "EDF above twice white FM's at %zu of %zu points",
+			      high, R * nm);
+	}
+	sscope_allan_free(p);
+	free(y);
+	gsl_rng_free(r);
+}
+END_TEST
+
 START_TEST(rate_random_walk)
 {
 	/* increments of sd K sqrt(dt): AVAR = K^2 tau / 3 + K^2 dt^2 / (6 tau) */
@@ -1875,6 +1951,7 @@ static Suite *make_suite(void)
 	tcase_add_test(t, constant_zero);
 	tcase_add_test(t, white_rate);
 	tcase_add_test(t, few_averages_coverage);
+	tcase_add_test(t, lag1_misread_coverage);
 	tcase_add_test(t, rate_random_walk);
 	tcase_add_test(t, white_angle);
 	tcase_add_test(t, large_offset);

@@ -649,7 +649,7 @@ def _point_array(ptr, n):
         (n * C.sizeof(_c.AllanPoint),)).view(np.dtype({
             "names": [f[0] for f in _c.AllanPoint._fields_],
             "formats": ["<f8", "<u8", "<u8", "<u8", "<u8", "<f8", "<f8",
-                        "<f8", "<f8", "<f8", "<i4", "?"],
+                        "<f8", "<f8", "<f8", "<f8", "<i4", "?"],
             "offsets": [getattr(_c.AllanPoint, f[0]).offset
                         for f in _c.AllanPoint._fields_],
             "itemsize": C.sizeof(_c.AllanPoint)}))

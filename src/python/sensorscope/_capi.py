@@ -144,7 +144,7 @@ class AllanPoint(C.Structure):
     _fields_ = [("tau_s", c_dbl), ("m", c_size), ("terms", c_size),
                 ("skipped", c_size), ("stride", c_size), ("dev", c_dbl),
                 ("dev_lo", c_dbl), ("dev_hi", c_dbl), ("edf", c_dbl),
-                ("edf_full", c_dbl), ("alpha", C.c_int),
+                ("edf_full", c_dbl), ("edf_alpha", c_dbl), ("alpha", C.c_int),
                 ("alpha_identified", C.c_bool)]
 
 
