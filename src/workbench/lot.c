@@ -74,6 +74,8 @@ static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
 		return NULL;
 	if (nb && nk)
 		return "the record cannot rule out flicker (B) or a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: each at the fit's upper bound; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
+	if (!nb && !nk)
+		return "B and K at the upper ends of their intervals would make this interval more than 1.5 times wider (se_upper; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
 	if (nk)
 		return "the record cannot rule out a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: K at the fit's upper bound; verdicts use it): record longer, or take K from a longer record of the model or its datasheet";
 	return "the record cannot rule out flicker (B) that would make this interval more than 1.5 times wider (se_upper: B at the fit's upper bound; verdicts use it): record longer, or take B from a longer record of the model or its datasheet";
@@ -130,9 +132,9 @@ static int unit_fit(const char *cmd, const char *path,
 		cell->hi[t] = cell->present[t] ? c->hi : (double)NAN;
 		/* a 68.3 % interval: one standard error each side */
 		cell->se[t] = 0.5 * (cell->hi[t] - cell->lo[t]);
-		/* not shown: the fit's upper bound (none: INFINITY) */
-		cell->model_hi[t] = cell->present[t] ? 0 :
-				    res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
+		/* the upper end of the interval, the fit's upper bound where
+		 * not shown (none: INFINITY) */
+		cell->model_hi[t] = res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
 	}
 	if (!guard) {
 		/* the figure's curve: at most LOT_FIG_ADEV of the (log-spaced)
@@ -157,9 +159,9 @@ static int unit_fit(const char *cmd, const char *path,
 	return 0;
 }
 
-/* the terms N, B, K the fit of x shows (0 for the others) and the upper
- * bounds of those it does not show (INFINITY: none finite; 0 where
- * shown) */
+/* the terms N, B, K the fit of x shows (0 for the others) and their
+ * upper bounds (the upper end of the interval of a term shown;
+ * INFINITY: none finite) */
 static int shown_terms(const double *x, size_t n, double fs,
 		       struct sscope_noise_plan *plan, double nbk[3], double up[3])
 {
@@ -174,7 +176,7 @@ static int shown_terms(const double *x, size_t n, double fs,
 
 		nbk[t] = res->have_fit && c->present && isfinite(c->value) &&
 			 isfinite(c->lo) && isfinite(c->hi) && c->hi > c->lo ? c->value : 0;
-		up[t] = nbk[t] > 0 ? 0 : res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
+		up[t] = res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
 	}
 	sscope_allan_result_free(res);
 	return rc;
@@ -888,7 +890,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "model",
 			    json_string("random effects: each unit's value = mean + unit effect (sd between_sd) + its own measurement error (sd from its 68.3 % interval); between_sd by REML with its Q-profile interval (Viechtbauer 2007), the mean by Hartung-Knapp; units beyond the family-wise outlier level left out"));
 	json_object_set_new(o, "bias_method",
-			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); se_upper is a conservative standard error of the drift and the temperature sensitivity, with B and K that the fit does not show at its upper bounds (\"inf\" where the record gives no finite bound): where it exceeds se more than 1.5 times, doubt says so and which term, and a verdict against a drift or temperature-sensitivity limit always uses the interval of se_upper (normal quantile); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
+			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); se_upper is a conservative standard error of the drift and the temperature sensitivity, the largest of se and the noise model's with B, then K, at its upper bound (the fit's bound of a term it does not show, the upper end of the interval of one it shows; \"inf\" where the record gives no finite bound): where it exceeds se more than 1.5 times, doubt says so and which term, and a verdict against a drift or temperature-sensitivity limit always uses the interval of se_upper (normal quantile); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 

@@ -55,9 +55,10 @@ struct ssc_lot_cell {
 	 * B, K shown by the fit of the record less its temperature effect
 	 * (0: not shown) */
 	double model[3];
-	/* the fit's upper bounds of B and K where it does not show them
-	 * (INFINITY: none finite; 0 where shown), [0] unused: the
-	 * conservative standard errors (sscope_lot_bias()'s se_upper) */
+	/* the upper bounds of B and K: the upper end of the interval where
+	 * the fit shows the term, its bound where not (INFINITY: none
+	 * finite), [0] unused: the conservative standard errors
+	 * (sscope_lot_bias()'s se_upper) */
 	double model_hi[3];
 	/* the Allan deviation (OADEV, dense taus) for the figure */
 	double *tau_s, *adev;
