@@ -21,7 +21,9 @@
  * coverage of each unit's bias, drift and temperature sensitivity
  * intervals and the planted bias outlier (see bias_lots()).
  *
- * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT [BLOTS]]]]]]
+ * The accelerometers' records are HOURS long (default 1).
+ *
+ * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT [BLOTS [HOURS]]]]]]]
  */
 #include "config.h"
 
@@ -108,12 +110,17 @@ static int at_limit(gsl_rng *g, int units)
  * less the temperature effect (the allan stage's fit, dense taus) and
  * given to sscope_lot_bias() as the lot stage does; the drift's and sensitivity's coverage is printed with the
  * intervals used (the noise model's where it shows B or K) and with the
- * residuals' alone (Student t, as before the noise model).
+ * residuals' alone (Student t, as before the noise model).  Then the
+ * conservative intervals (each unit's fit's upper bounds of B and K as
+ * b_upper and k_upper, as the lot stage): their coverage, the ratio of
+ * the conservative to the reported se, the share above
+ * SE_UPPER_RATIO (flagged) and the reported intervals' coverage over the
+ * units not flagged.
  */
-static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
+static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug, double hours)
 {
-	const double ug = 9.80665e-6, fs = 1, dur = 3600;
-	const size_t n = 3600, U = 12;
+	const double ug = 9.80665e-6, fs = 1, dur = 3600 * hours;
+	const size_t n = (size_t)dur, U = 12;
 	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
 	double *x0 = malloc(n * sizeof(double));
 	double y[3][12], se[3][12];
@@ -247,8 +254,8 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 				      truth[1] <= b.drift_hi;
 			cov_mod[1] += b.tempco_se_from_model && b.tempco_lo <= truth[2] &&
 				      truth[2] <= b.tempco_hi;
-			/* the conservative intervals (B, K at the fit's
-			 * bounds where not shown), the flag (se_upper more
+			/* the conservative intervals (B, then K, at the
+			 * upper end of its interval or its bound), the flag (se_upper more
 			 * than SE_UPPER_RATIO times the reported se) and
 			 * the coverage of the units not flagged */
 			for (int e = 0; e < 2; e++) {
@@ -283,8 +290,8 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 			failed++;
 		}
 	}
-	printf("# %d lots of 12 accelerometers (1 h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, K %g ug/s/sqrt(Hz), temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
-	       lots, b_ug, k_ug);
+	printf("# %d lots of 12 accelerometers (%g h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, K %g ug/s/sqrt(Hz), temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
+	       lots, hours, b_ug, k_ug);
 	printf("fit shows B or K                        %6.1f %% of units\n", 100.0 * shows / units);
 	printf("bias 68.3 %% interval covers              %6.1f %%   target 68.3 -+ %.1f\n",
 	       100.0 * cov[0] / units, 400 * sqrt(0.6827 * 0.3173 / units));
@@ -308,7 +315,7 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 	       units > flagged ? 100.0 * cov_ok[1] / (units - flagged) : (double)NAN);
 	for (int e = 0; e < 2; e++) {
 		gsl_sort(ratio[e], 1, (size_t)units);
-		printf("%s conservative interval (B, K at the fit's bounds where not shown) covers %6.1f %%\n",
+		printf("%s conservative interval (B, then K, at its upper bound) covers %6.1f %%\n",
 		       e ? "sensitivity" : "drift", 100.0 * cov_up[e] / units);
 		printf("  se_upper / se: median %.2f, 90th percentile %.2f; above %.1f (flagged) %6.1f %% of units\n",
 		       gsl_stats_median_from_sorted_data(ratio[e], 1, (size_t)units),
@@ -337,6 +344,7 @@ int main(int argc, char **argv)
 	int units = argc > 2 ? atoi(argv[2]) : 100;
 	double shift = argc > 3 ? atof(argv[3]) : 6;
 	unsigned long seed = argc > 4 ? strtoul(argv[4], NULL, 10) : 34;
+	double hours = argc > 7 ? atof(argv[7]) : 1;
 	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
 	double *y = calloc((size_t)units, sizeof(double));
 	double *se = calloc((size_t)units, sizeof(double));
@@ -345,7 +353,7 @@ int main(int argc, char **argv)
 	long false_flags = 0;
 	clock_t t0 = clock();
 
-	if (!g || !y || !se || !fl || lots < 1 || units < 10)
+	if (!g || !y || !se || !fl || lots < 1 || units < 10 || !(hours >= 0.1))
 		return 1;
 	gsl_rng_set(g, seed);
 	for (int l = 0; l < lots; l++) {
@@ -393,9 +401,9 @@ int main(int argc, char **argv)
 	printf("# %d lots failed; %.2f s of CPU\n", failed,
 	       (double)(clock() - t0) / CLOCKS_PER_SEC);
 	failed += at_limit(g, argc > 5 ? atoi(argv[5]) : 200);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5, 0);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0.5);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0, hours);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5, 0, hours);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0.5, hours);
 	gsl_rng_free(g);
 	free(y);
 	free(se);
