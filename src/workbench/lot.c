@@ -57,9 +57,9 @@ static const char *cell_doubt_corr(const struct ssc_lot_cell *cl, int t)
 
 /* the reason above, else whether the record cannot rule out flicker (B)
  * or a random walk (K) that would widen the drift's or sensitivity's
- * interval more than SSC_LOT_SE_UPPER_RATIO times (its se_upper: the
- * terms the fit does not show at its upper bounds; the verdicts use that
- * interval) */
+ * interval more than SSC_LOT_SE_UPPER_RATIO times (its se_upper: B,
+ * then K, at the fit's upper bound, or the upper end of its interval
+ * where shown; the verdicts use that interval) */
 static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
 {
 	double su;
