@@ -642,7 +642,8 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 	size_t m = opts && opts->blocks ? opts->blocks : 20, L, mt = 0;
 	double level = opts && opts->level > 0 ? opts->level : 0.682689492137086;
 	double nn = opts ? opts->n : 0, nb = opts ? opts->b : 0, nk = opts ? opts->k : 0;
-	double mse[2] = { NAN, NAN }, zq;
+	double bu = opts ? opts->b_upper : 0, ku = opts ? opts->k_upper : 0;
+	double mse[2] = { NAN, NAN }, use[2] = { NAN, NAN }, zq;
 	double *t, *b, *tb, tq, mean = 0, tmin = INFINITY, tmax = -INFINITY;
 	double est[3] = { NAN, NAN, NAN }, se[3] = { NAN, NAN, NAN };
 	struct ssc_ksum ks = { 0, 0 };
@@ -650,7 +651,7 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 	if (!x || !out || !stride || !(fs > 0) || !isfinite(fs) || m < 5 ||
 	    !(level < 1) || (temp_degc && !temp_stride) || !(nn >= 0) ||
 	    !(nb >= 0) || !(nk >= 0) || !isfinite(nn) || !isfinite(nb) ||
-	    !isfinite(nk))
+	    !isfinite(nk) || !(bu >= 0) || !(ku >= 0))
 		return -EINVAL;
 	memset(out, 0, sizeof(*out));
 	L = n / m;
@@ -745,6 +746,41 @@ int sscope_lot_bias(const double *x, size_t stride, size_t n, double fs,
 		out->tempco_se = mse[1];
 		out->tempco_lo = est[2] - zq * mse[1];
 		out->tempco_hi = est[2] + zq * mse[1];
+	}
+	/* conservative: B at its bound, then K at its bound, the other as
+	 * the model has it (each bound holds with the other term free; both
+	 * at once the record would mostly reject); the larger (an infinite
+	 * bound: no finite se) */
+	use[0] = use[1] = -1; /* no bound above the model: as reported */
+	for (int e = 0; e < 2; e++) {
+		double eb = e ? nb : fmax(nb, bu), ek = e ? fmax(nk, ku) : nk, v[2];
+
+		if (eb == nb && ek == nk)
+			continue;
+		if (isinf(eb) || isinf(ek)) {
+			use[0] = use[1] = INFINITY;
+			break;
+		}
+		model_se(t, out->have_temp ? tb : NULL, m, (double)L / fs, nn, eb, ek, v);
+		use[0] = isnan(v[0]) ? (double)NAN : fmax(use[0], v[0]);
+		use[1] = isnan(v[1]) ? (double)NAN : fmax(use[1], v[1]);
+	}
+	out->drift_se_upper = out->drift_se;
+	out->drift_upper_lo = out->drift_lo;
+	out->drift_upper_hi = out->drift_hi;
+	if (use[0] > out->drift_se || isnan(use[0])) {
+		/* NaN: the model's variance failed; no finite bound */
+		out->drift_se_upper = isnan(use[0]) ? (double)INFINITY : use[0];
+		out->drift_upper_lo = est[1] - zq * out->drift_se_upper;
+		out->drift_upper_hi = est[1] + zq * out->drift_se_upper;
+	}
+	out->tempco_se_upper = out->tempco_se;
+	out->tempco_upper_lo = out->tempco_lo;
+	out->tempco_upper_hi = out->tempco_hi;
+	if (out->have_temp && (use[1] > out->tempco_se || isnan(use[1]))) {
+		out->tempco_se_upper = isnan(use[1]) ? (double)INFINITY : use[1];
+		out->tempco_upper_lo = est[2] - zq * out->tempco_se_upper;
+		out->tempco_upper_hi = est[2] + zq * out->tempco_se_upper;
 	}
 	out->bias = mean + est[0];
 	out->bias_se = se[0];

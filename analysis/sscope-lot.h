@@ -161,6 +161,16 @@ int sscope_lot_cpk(const double *y, const double *se, size_t k, double usl,
  * two standard errors is used and, when it is the model's, the interval
  * takes the normal quantile (the model comes from the whole record's
  * Allan deviation, not from the m - 3 residual degrees of freedom).
+ *
+ * A record often cannot show B or K that would still widen these
+ * intervals (one hour at 1 Hz of 60 ug/sqrt(Hz) shows B = 5 ug in a
+ * quarter of the units): given upper bounds of B and K (b_upper, k_upper:
+ * the fit's upper bounds of the terms it does not show, the upper ends
+ * of the intervals of those it shows), a conservative standard error is
+ * computed with each term in turn at its bound (drift_se_upper,
+ * tempco_se_upper, never below the reported one) and its interval.
+ * Each bound holds with the other term free, so the two are not put at
+ * their bounds together.
  */
 
 /** Options of sscope_lot_bias(); zero means the default. */
@@ -173,6 +183,11 @@ struct sscope_lot_bias_opts {
 			    shown */
 	double k;      /**< its rate random walk K, U/s/sqrt(Hz); 0: not
 			    shown */
+	double b_upper; /**< an upper bound of B: the upper end of its
+			     interval, or the fit's upper bound where it
+			     does not show it, U; 0: none; INFINITY: the
+			     record gives no finite bound */
+	double k_upper; /**< the same of K, U/s/sqrt(Hz) */
 };
 
 /** One unit's bias terms (U the unit of the samples). */
@@ -209,6 +224,19 @@ struct sscope_lot_bias {
 	double tempco_se_model; /**< U/degC (NaN without have_temp or
 				     without B and K) */
 	bool tempco_se_from_model; /**< tempco_se is tempco_se_model */
+	double drift_se_upper; /**< conservative: the largest of drift_se,
+				    the se under the model with B at
+				    max(b, b_upper) and that with K at
+				    max(k, k_upper), the other term as
+				    the model has it (INFINITY when such a
+				    bound is; drift_se without bounds), U/s */
+	double drift_upper_lo, drift_upper_hi; /**< drift -+ the normal
+						    quantile x drift_se_upper
+						    (drift_lo, drift_hi when
+						    that is drift_se), U/s */
+	double tempco_se_upper; /**< the same of the sensitivity, U/degC
+				     (NaN without have_temp) */
+	double tempco_upper_lo, tempco_upper_hi; /**< U/degC */
 };
 
 /**

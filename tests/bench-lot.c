@@ -21,7 +21,9 @@
  * coverage of each unit's bias, drift and temperature sensitivity
  * intervals and the planted bias outlier (see bias_lots()).
  *
- * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT [BLOTS]]]]]]
+ * The accelerometers' records are HOURS long (default 1).
+ *
+ * Usage: bench-lot [LOTS [UNITS [SHIFT [SEED [AT [BLOTS [HOURS]]]]]]]
  */
 #include "config.h"
 
@@ -33,8 +35,14 @@
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
 
 #include "sensorscope.h"
+
+/* the conservative se more than this times the reported one: the lot
+ * stage's flag (SSC_LOT_SE_UPPER_RATIO) */
+#define SE_UPPER_RATIO 1.5
 
 /* units simulated exactly at the limit: their verdicts */
 static int at_limit(gsl_rng *g, int units)
@@ -102,12 +110,17 @@ static int at_limit(gsl_rng *g, int units)
  * less the temperature effect (the allan stage's fit, dense taus) and
  * given to sscope_lot_bias() as the lot stage does; the drift's and sensitivity's coverage is printed with the
  * intervals used (the noise model's where it shows B or K) and with the
- * residuals' alone (Student t, as before the noise model).
+ * residuals' alone (Student t, as before the noise model).  Then the
+ * conservative intervals (each unit's fit's upper bounds of B and K as
+ * b_upper and k_upper, as the lot stage): their coverage, the ratio of
+ * the conservative to the reported se, the share above
+ * SE_UPPER_RATIO (flagged) and the reported intervals' coverage over the
+ * units not flagged.
  */
-static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
+static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug, double hours)
 {
-	const double ug = 9.80665e-6, fs = 1, dur = 3600;
-	const size_t n = 3600, U = 12;
+	const double ug = 9.80665e-6, fs = 1, dur = 3600 * hours;
+	const size_t n = (size_t)dur, U = 12;
 	double *x = malloc(n * sizeof(double)), *T = malloc(n * sizeof(double));
 	double *x0 = malloc(n * sizeof(double));
 	double y[3][12], se[3][12];
@@ -115,11 +128,16 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 	long cov[3] = { 0, 0, 0 }, cov_rec = 0, units = 0, found = 0, wrong = 0;
 	long flagged = 0, cov_ok[2] = { 0, 0 }, cov_res[2] = { 0, 0 }, model[2] = { 0, 0 };
 	long shows = 0, cov_mod[2] = { 0, 0 }, cov_true[2] = { 0, 0 };
+	long cov_up[2] = { 0, 0 }, upflag[2] = { 0, 0 }, cov_unfl[2] = { 0, 0 };
+	double *ratio[2] = { malloc((size_t)lots * U * sizeof(double)),
+			     malloc((size_t)lots * U * sizeof(double)) };
 	struct sscope_noise_plan *plan = NULL;
 	int failed = 0;
 	clock_t t0 = clock();
 
-	if (!x || !T || !x0) {
+	if (!x || !T || !x0 || !ratio[0] || !ratio[1]) {
+		free(ratio[0]);
+		free(ratio[1]);
 		free(x);
 		free(x0);
 		free(T);
@@ -173,7 +191,15 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 					   isfinite(c->hi) && c->hi > c->lo ? c->value : 0;
 
 				*(t == 0 ? &bo.n : t == 1 ? &bo.b : &bo.k) = v;
+				/* the upper end of the term's interval, the
+				 * fit's upper bound where not shown (none
+				 * finite: INFINITY), as src/workbench/lot.c */
+				if (t)
+					*(t == 1 ? &bo.b_upper : &bo.k_upper) =
+						c->hi > 0 ? c->hi : (double)INFINITY;
 			}
+			if (!res->have_fit)
+				bo.b_upper = bo.k_upper = INFINITY;
 			sscope_allan_result_free(res);
 			shows += bo.b > 0 || bo.k > 0;
 			if (sscope_lot_bias(x, 1, n, fs, T, 1, &bo, &b) || !b.have_temp) {
@@ -228,6 +254,24 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 				      truth[1] <= b.drift_hi;
 			cov_mod[1] += b.tempco_se_from_model && b.tempco_lo <= truth[2] &&
 				      truth[2] <= b.tempco_hi;
+			/* the conservative intervals (B, then K, at the
+			 * upper end of its interval or its bound), the flag (se_upper more
+			 * than SE_UPPER_RATIO times the reported se) and
+			 * the coverage of the units not flagged */
+			for (int e = 0; e < 2; e++) {
+				double tr = truth[e + 1];
+				double lo = e ? b.tempco_lo : b.drift_lo, hi = e ? b.tempco_hi : b.drift_hi;
+				double ulo = e ? b.tempco_upper_lo : b.drift_upper_lo;
+				double uhi = e ? b.tempco_upper_hi : b.drift_upper_hi;
+				double se0 = e ? b.tempco_se : b.drift_se;
+				double su = e ? b.tempco_se_upper : b.drift_se_upper;
+				bool fl_e = !(su <= SE_UPPER_RATIO * se0);
+
+				cov_up[e] += ulo <= tr && tr <= uhi;
+				upflag[e] += fl_e;
+				cov_unfl[e] += !fl_e && lo <= tr && tr <= hi;
+				ratio[e][units] = su / se0;
+			}
 			flagged += b.resid_correlated;
 			if (!b.resid_correlated) {
 				cov_ok[0] += b.drift_lo <= truth[1] && truth[1] <= b.drift_hi;
@@ -246,8 +290,8 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 			failed++;
 		}
 	}
-	printf("# %d lots of 12 accelerometers (1 h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, K %g ug/s/sqrt(Hz), temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
-	       lots, b_ug, k_ug);
+	printf("# %d lots of 12 accelerometers (%g h, 1 Hz, N 60 ug/sqrt(Hz), B %g ug, K %g ug/s/sqrt(Hz), temperature 21..27 degC), unit 0 planted 2 mg (20 between-unit sd) above\n",
+	       lots, hours, b_ug, k_ug);
 	printf("fit shows B or K                        %6.1f %% of units\n", 100.0 * shows / units);
 	printf("bias 68.3 %% interval covers              %6.1f %%   target 68.3 -+ %.1f\n",
 	       100.0 * cov[0] / units, 400 * sqrt(0.6827 * 0.3173 / units));
@@ -269,11 +313,25 @@ static int bias_lots(gsl_rng *g, int lots, double b_ug, double k_ug)
 	printf("  drift / sensitivity covers, the others %6.1f %% / %.1f %%\n",
 	       units > flagged ? 100.0 * cov_ok[0] / (units - flagged) : (double)NAN,
 	       units > flagged ? 100.0 * cov_ok[1] / (units - flagged) : (double)NAN);
+	for (int e = 0; e < 2; e++) {
+		gsl_sort(ratio[e], 1, (size_t)units);
+		printf("%s conservative interval (B, then K, at its upper bound) covers %6.1f %%\n",
+		       e ? "sensitivity" : "drift", 100.0 * cov_up[e] / units);
+		printf("  se_upper / se: median %.2f, 90th percentile %.2f; above %.1f (flagged) %6.1f %% of units\n",
+		       gsl_stats_median_from_sorted_data(ratio[e], 1, (size_t)units),
+		       gsl_stats_quantile_from_sorted_data(ratio[e], 1, (size_t)units, 0.9),
+		       SE_UPPER_RATIO, 100.0 * upflag[e] / units);
+		printf("  the reported interval covers, units not flagged %6.1f %% (%ld units)\n",
+		       units > upflag[e] ? 100.0 * cov_unfl[e] / (units - upflag[e]) : (double)NAN,
+		       units - upflag[e]);
+	}
 	printf("planted bias outlier flagged            %6.1f %% of lots\n", 100.0 * found / lots);
 	printf("false bias flags per lot (mean)         %6.2f   (0.01 x 11 = 0.11 expected)\n",
 	       (double)wrong / lots);
 	printf("# %d failed; %.2f s of CPU\n", failed, (double)(clock() - t0) / CLOCKS_PER_SEC);
 	sscope_noise_plan_free(plan);
+	free(ratio[0]);
+	free(ratio[1]);
 	free(x);
 	free(x0);
 	free(T);
@@ -286,6 +344,7 @@ int main(int argc, char **argv)
 	int units = argc > 2 ? atoi(argv[2]) : 100;
 	double shift = argc > 3 ? atof(argv[3]) : 6;
 	unsigned long seed = argc > 4 ? strtoul(argv[4], NULL, 10) : 34;
+	double hours = argc > 7 ? atof(argv[7]) : 1;
 	gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
 	double *y = calloc((size_t)units, sizeof(double));
 	double *se = calloc((size_t)units, sizeof(double));
@@ -294,7 +353,7 @@ int main(int argc, char **argv)
 	long false_flags = 0;
 	clock_t t0 = clock();
 
-	if (!g || !y || !se || !fl || lots < 1 || units < 10)
+	if (!g || !y || !se || !fl || lots < 1 || units < 10 || !(hours >= 0.1))
 		return 1;
 	gsl_rng_set(g, seed);
 	for (int l = 0; l < lots; l++) {
@@ -342,9 +401,9 @@ int main(int argc, char **argv)
 	printf("# %d lots failed; %.2f s of CPU\n", failed,
 	       (double)(clock() - t0) / CLOCKS_PER_SEC);
 	failed += at_limit(g, argc > 5 ? atoi(argv[5]) : 200);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5, 0);
-	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0.5);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0, hours);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 5, 0, hours);
+	failed += bias_lots(g, argc > 6 ? atoi(argv[6]) : 200, 0, 0.5, hours);
 	gsl_rng_free(g);
 	free(y);
 	free(se);

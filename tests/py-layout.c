@@ -555,6 +555,8 @@ int main(void)
 	F(sscope_lot_bias_opts, n);
 	F(sscope_lot_bias_opts, b);
 	F(sscope_lot_bias_opts, k);
+	F(sscope_lot_bias_opts, b_upper);
+	F(sscope_lot_bias_opts, k_upper);
 	S(sscope_lot_bias);
 	F(sscope_lot_bias, blocks);
 	F(sscope_lot_bias, block_n);
@@ -583,6 +585,12 @@ int main(void)
 	F(sscope_lot_bias, tempco_se_resid);
 	F(sscope_lot_bias, tempco_se_model);
 	F(sscope_lot_bias, tempco_se_from_model);
+	F(sscope_lot_bias, drift_se_upper);
+	F(sscope_lot_bias, drift_upper_lo);
+	F(sscope_lot_bias, drift_upper_hi);
+	F(sscope_lot_bias, tempco_se_upper);
+	F(sscope_lot_bias, tempco_upper_lo);
+	F(sscope_lot_bias, tempco_upper_hi);
 	S(sscope_export_chan);
 	F(sscope_export_chan, name);
 	F(sscope_export_chan, quantity);

@@ -284,7 +284,8 @@ static const char *const bias_keys[] = {
 	"drift_lo", "drift_hi", "tempco_u_degc", "tempco_se", "tempco_lo",
 	"tempco_hi", "temp_mean_degc", "temp_span_degc", "temp_time_corr",
 	"resid_lag1", "drift_se_resid", "drift_se_model", "tempco_se_resid",
-	"tempco_se_model"
+	"tempco_se_model", "drift_se_upper", "drift_upper_lo", "drift_upper_hi",
+	"tempco_se_upper", "tempco_upper_lo", "tempco_upper_hi"
 };
 
 static double *bias_field(struct sscope_lot_bias *b, size_t k)
@@ -295,7 +296,9 @@ static double *bias_field(struct sscope_lot_bias *b, size_t k)
 		&b->tempco_u_degc, &b->tempco_se, &b->tempco_lo, &b->tempco_hi,
 		&b->temp_mean_degc, &b->temp_span_degc, &b->temp_time_corr,
 		&b->resid_lag1, &b->drift_se_resid, &b->drift_se_model,
-		&b->tempco_se_resid, &b->tempco_se_model
+		&b->tempco_se_resid, &b->tempco_se_model, &b->drift_se_upper,
+		&b->drift_upper_lo, &b->drift_upper_hi, &b->tempco_se_upper,
+		&b->tempco_upper_lo, &b->tempco_upper_hi
 	};
 
 	return f[k];

@@ -62,7 +62,7 @@ void ssc_lot_csv(FILE *f, const void *opts, const void *result)
 		fputc('\n', f);
 		return;
 	}
-	fputs("unit,path,channel,term,value,lo,hi,value_unit,se,present,z,outlier,limit,verdict,doubt\n", f);
+	fputs("unit,path,channel,term,value,lo,hi,value_unit,se,present,z,outlier,limit,verdict,doubt,se_upper\n", f);
 	for (size_t u = 0; u < r->n_units; u++)
 		for (size_t c = 0; c < r->n_chan; c++)
 			for (int t = 0; t < SSC_LOT_NT; t++) {
@@ -92,6 +92,10 @@ void ssc_lot_csv(FILE *f, const void *opts, const void *result)
 					fputs(",,", f);
 				}
 				csv_str(f, ssc_lot_doubt(cl, t), false);
+				if (isinf(ssc_lot_se_upper(cl, t)))
+					fputs(",inf", f);
+				else
+					csv_num(f, ssc_lot_value(r, c, t, ssc_lot_se_upper(cl, t), &unit));
 				fputc('\n', f);
 			}
 }
@@ -174,7 +178,7 @@ static int unit_page(const struct ssc_lot_result *r, size_t u, const char *path)
 			ssc_html_table_row(h, cells, 7);
 		}
 	ssc_html_table_end(h);
-	ssc_html_note(h, "A term the unit's fit does not show is left out of that term's lot; ~ marks an interval that is too narrow (see doubt).");
+	ssc_html_note(h, "A term the unit's fit does not show is left out of that term's lot; ~ marks an interval that is too narrow, or that flicker or a random walk the record cannot rule out would widen more than 1.5 times (see doubt; a verdict on the drift or temperature sensitivity uses that wider interval).");
 	rc = ssc_html_write(h, path);
 	ssc_html_free(h);
 	return rc;

@@ -47,12 +47,38 @@ static const char *unit_name(const struct ssc_lot_result *r, size_t u)
  * model when it shows bias instability (B) or a rate random walk (K)
  * (sscope_lot_bias(), unit_bias()), and are too narrow when the block
  * means' residuals are correlated but the model shows neither */
-static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
+static const char *cell_doubt_corr(const struct ssc_lot_cell *cl, int t)
 {
 	if ((t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO) && cl->present[t] &&
 	    cl->bias.resid_correlated && !(cl->model[1] > 0) && !(cl->model[2] > 0))
 		return "the block means' residuals are correlated (the bias wanders) but the unit's fit shows neither B nor K: the interval takes them as independent and is too narrow";
 	return NULL;
+}
+
+/* the reason above, else whether the record cannot rule out flicker (B)
+ * or a random walk (K) that would widen the drift's or sensitivity's
+ * interval more than SSC_LOT_SE_UPPER_RATIO times (its se_upper: B,
+ * then K, at the fit's upper bound, or the upper end of its interval
+ * where shown; the verdicts use that interval) */
+static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
+{
+	double su;
+	bool nb = !(cl->model[1] > 0), nk = !(cl->model[2] > 0);
+
+	if (cell_doubt_corr(cl, t))
+		return cell_doubt_corr(cl, t);
+	if ((t != SSC_LOT_DRIFT && t != SSC_LOT_TEMPCO) || !cl->present[t])
+		return NULL;
+	su = t == SSC_LOT_DRIFT ? cl->bias.drift_se_upper : cl->bias.tempco_se_upper;
+	if (!(su > SSC_LOT_SE_UPPER_RATIO * cl->se[t]))
+		return NULL;
+	if (nb && nk)
+		return "the record cannot rule out flicker (B) or a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: each at the fit's upper bound; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
+	if (!nb && !nk)
+		return "B and K at the upper ends of their intervals would make this interval more than 1.5 times wider (se_upper; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
+	if (nk)
+		return "the record cannot rule out a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: K at the fit's upper bound; verdicts use it): record longer, or take K from a longer record of the model or its datasheet";
+	return "the record cannot rule out flicker (B) that would make this interval more than 1.5 times wider (se_upper: B at the fit's upper bound; verdicts use it): record longer, or take B from a longer record of the model or its datasheet";
 }
 
 /* a limit on the magnitude (+-) of a signed term: bias, drift and
@@ -106,6 +132,9 @@ static int unit_fit(const char *cmd, const char *path,
 		cell->hi[t] = cell->present[t] ? c->hi : (double)NAN;
 		/* a 68.3 % interval: one standard error each side */
 		cell->se[t] = 0.5 * (cell->hi[t] - cell->lo[t]);
+		/* the upper end of the interval, the fit's upper bound where
+		 * not shown (none: INFINITY) */
+		cell->model_hi[t] = res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
 	}
 	if (!guard) {
 		/* the figure's curve: at most LOT_FIG_ADEV of the (log-spaced)
@@ -130,9 +159,11 @@ static int unit_fit(const char *cmd, const char *path,
 	return 0;
 }
 
-/* the terms N, B, K the fit of x shows (0 for the others) */
+/* the terms N, B, K the fit of x shows (0 for the others) and their
+ * upper bounds (the upper end of the interval of a term shown;
+ * INFINITY: none finite) */
 static int shown_terms(const double *x, size_t n, double fs,
-		       struct sscope_noise_plan *plan, double nbk[3])
+		       struct sscope_noise_plan *plan, double nbk[3], double up[3])
 {
 	struct sscope_allan_opts ao = { 0 };
 	struct sscope_noise_fit_opts fo = { .plan = plan };
@@ -145,6 +176,7 @@ static int shown_terms(const double *x, size_t n, double fs,
 
 		nbk[t] = res->have_fit && c->present && isfinite(c->value) &&
 			 isfinite(c->lo) && isfinite(c->hi) && c->hi > c->lo ? c->value : 0;
+		up[t] = res->have_fit && c->hi > 0 ? c->hi : (double)INFINITY;
 	}
 	sscope_allan_result_free(res);
 	return rc;
@@ -172,13 +204,17 @@ static int unit_bias(const char *cmd, const char *path,
 		rc = r ? sscope_lot_temp_removed(ch->data, 1, cap->n, cap->temp_degc, 1, b, r) :
 			 -ENOMEM;
 		if (!rc)
-			rc = shown_terms(r, cap->n, cap->rate_hz, plan, cell->model);
+			rc = shown_terms(r, cap->n, cap->rate_hz, plan, cell->model,
+					 cell->model_hi);
 		free(r);
 	}
-	if (!rc && (cell->model[1] > 0 || cell->model[2] > 0)) {
+	if (!rc && (cell->model[1] > 0 || cell->model[2] > 0 || cell->model_hi[1] > 0 ||
+		    cell->model_hi[2] > 0)) {
 		o.n = cell->model[0];
 		o.b = cell->model[1];
 		o.k = cell->model[2];
+		o.b_upper = cell->model_hi[1];
+		o.k_upper = cell->model_hi[2];
 		rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1, &o, b);
 	}
 	if (rc) {
@@ -218,6 +254,8 @@ static int unit_bias_guard(const char *cmd, const char *path,
 	o.n = cell->model[0];
 	o.b = cell->model[1];
 	o.k = cell->model[2];
+	o.b_upper = cell->model_hi[1];
+	o.k_upper = cell->model_hi[2];
 	rc = sscope_lot_bias(ch->data, 1, cap->n, cap->rate_hz, cap->temp_degc, 1, &o, &b);
 
 	if (rc) {
@@ -227,10 +265,12 @@ static int unit_bias_guard(const char *cmd, const char *path,
 	}
 	cell->glo[SSC_LOT_BIAS] = b.bias_lo;
 	cell->ghi[SSC_LOT_BIAS] = b.bias_hi;
-	cell->glo[SSC_LOT_DRIFT] = b.drift_lo;
-	cell->ghi[SSC_LOT_DRIFT] = b.drift_hi;
-	cell->glo[SSC_LOT_TEMPCO] = b.tempco_lo;
-	cell->ghi[SSC_LOT_TEMPCO] = b.tempco_hi;
+	/* the conservative intervals: a unit passes a drift or sensitivity
+	 * limit only if B and K at the fit's bounds would not move it out */
+	cell->glo[SSC_LOT_DRIFT] = b.drift_upper_lo;
+	cell->ghi[SSC_LOT_DRIFT] = b.drift_upper_hi;
+	cell->glo[SSC_LOT_TEMPCO] = b.tempco_upper_lo;
+	cell->ghi[SSC_LOT_TEMPCO] = b.tempco_upper_hi;
 	for (int t = SSC_LOT_BIAS; t < SSC_LOT_NT; t++)
 		cell->gbound[t] = false;
 	return 0;
@@ -385,8 +425,10 @@ static void verdicts(struct ssc_lot_result *r)
 				if (!isfinite(T->limit))
 					continue;
 				cl->has_spec[t] = true;
-				/* a doubtful interval (cell_doubt) gives no verdict */
-				cl->verdict[t] = cell_doubt(cl, (int)t) ?
+				/* an interval too narrow (cell_doubt_corr) gives
+				 * no verdict; the drift's and sensitivity's
+				 * are the conservative ones (unit_bias_guard()) */
+				cl->verdict[t] = cell_doubt_corr(cl, (int)t) ?
 					SSCOPE_DATASHEET_INCONCLUSIVE :
 					magnitude_term((int)t) ?
 					sscope_datasheet_verdict_magnitude(cl->glo[t], cl->ghi[t], T->limit) :
@@ -726,6 +768,21 @@ const char *ssc_lot_doubt(const struct ssc_lot_cell *cl, int t)
 	return cell_doubt(cl, t);
 }
 
+double ssc_lot_se_upper(const struct ssc_lot_cell *cl, int t)
+{
+	if (!cl->present[t])
+		return NAN;
+	return t == SSC_LOT_DRIFT ? cl->bias.drift_se_upper :
+	       t == SSC_LOT_TEMPCO ? cl->bias.tempco_se_upper : (double)NAN;
+}
+
+/* a conservative se: a number, "inf" where the record bounds B or K by
+ * none, null where not computed */
+static json_t *se_upper_json(double v)
+{
+	return isinf(v) ? json_string("inf") : ssc_jreal(v);
+}
+
 /* a unit's term against its limit */
 static json_t *unit_spec_json(const struct ssc_lot_result *r, size_t c, int t,
 			      const struct ssc_lot_cell *cl)
@@ -786,7 +843,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 	json_object_set_new(o, "name", json_string(ds->name));
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "rule",
-			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; a unit whose drift or sensitivity interval is doubtful (the block means' residuals correlated while its fit shows neither B nor K) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
+			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; for the drift and the temperature sensitivity that interval is the conservative one (se_upper: B and K that the unit's fit does not show at its upper bounds), so a unit passes only if even that wider interval lies inside; a unit whose drift or sensitivity interval is doubtful (the block means' residuals correlated while its fit shows neither B nor K) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
 	for (size_t s = 0; s < ds->n_sec; s++) {
 		bool chan = false;
 
@@ -833,7 +890,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 	json_object_set_new(o, "model",
 			    json_string("random effects: each unit's value = mean + unit effect (sd between_sd) + its own measurement error (sd from its 68.3 % interval); between_sd by REML with its Q-profile interval (Viechtbauer 2007), the mean by Hartung-Knapp; units beyond the family-wise outlier level left out"));
 	json_object_set_new(o, "bias_method",
-			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
+			    json_string("batch means: the record cut into bias_blocks equal blocks, their means fitted by least squares as bias + bias_drift (t - t_mean) + temp_sensitivity (T - T_mean), t the block centres, T the blocks' mean temperatures (without a temperature column, no T term); bias is the mean of the record; standard errors from the residuals, Student-t 68.3 % intervals with bias_blocks - 3 degrees of freedom (- 2 without temperature); where the unit's noise model (N, B, K the allan fit shows in the record less its fitted temperature effect) has B or K, the drift's and temperature sensitivity's standard errors are the larger of the residuals' and the noise model's (the variance of their weights on the block means under white, flicker and random-walk rate noise; normal quantile; se_from says which); se_upper is a conservative standard error of the drift and the temperature sensitivity, the largest of se and the noise model's with B, then K, at its upper bound (the fit's bound of a term it does not show, the upper end of the interval of one it shows; \"inf\" where the record gives no finite bound): where it exceeds se more than 1.5 times, doubt says so and which term, and a verdict against a drift or temperature-sensitivity limit always uses the interval of se_upper (normal quantile); where temperature follows time (temperature.time_corr near -1 or 1) drift and temperature sensitivity cannot be told apart and both intervals are wide"));
 	for (size_t u = 0; u < r->n_units; u++) {
 		json_t *ju = json_object(), *chs = json_array();
 
@@ -855,6 +912,9 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 				json_object_set_new(jt, "unit", json_string(unit));
 				if (t >= SSC_LOT_BIAS)
 					json_object_set_new(jt, "se", ssc_jreal(conv(r, c, t, cl->se[t], &unit)));
+				if (t == SSC_LOT_DRIFT || t == SSC_LOT_TEMPCO)
+					json_object_set_new(jt, "se_upper",
+							    se_upper_json(conv(r, c, t, ssc_lot_se_upper(cl, t), &unit)));
 				json_object_set_new(jt, "z", ssc_jreal(r->term[c * SSC_LOT_NT + (size_t)t].z[u]));
 				json_object_set_new(jt, "outlier",
 						    json_boolean(r->term[c * SSC_LOT_NT + (size_t)t].outlier[u]));
@@ -966,6 +1026,38 @@ static const char *cell_text(char *buf, size_t len, const struct ssc_lot_result 
 	return buf;
 }
 
+/* the reasons of channel c's ~ marks, each once with its units (the
+ * first 8 named) */
+static void doubt_text(FILE *f, const struct ssc_lot_result *r, size_t c)
+{
+	const char *seen[2 * 8];
+	size_t ns = 0;
+
+	for (size_t u = 0; u < r->n_units; u++)
+		for (int t = SSC_LOT_DRIFT; t <= SSC_LOT_TEMPCO; t++) {
+			const char *why = cell_doubt(&r->cell[u * r->n_chan + c], t);
+			size_t k = 0, named = 0;
+			bool dup = false;
+
+			for (size_t i = 0; why && i < ns; i++)
+				dup |= seen[i] == why;
+			if (!why || dup || ns == sizeof(seen) / sizeof(*seen))
+				continue;
+			seen[ns++] = why;
+			fprintf(f, "~ %s:", why);
+			for (size_t v = 0; v < r->n_units; v++)
+				for (int e = SSC_LOT_DRIFT; e <= SSC_LOT_TEMPCO; e++) {
+					if (cell_doubt(&r->cell[v * r->n_chan + c], e) != why)
+						continue;
+					if (named++ < 8)
+						fprintf(f, "%s %s %s", k ? "," : "", unit_name(r, v),
+							e == SSC_LOT_DRIFT ? "drift" : "sensitivity");
+					k++;
+				}
+			fprintf(f, "%s (%zu)\n", named > 8 ? ", ..." : "", k);
+		}
+}
+
 /* each unit's bias, drift and temperature sensitivity */
 static void unit_text(FILE *f, const struct ssc_lot_result *r)
 {
@@ -975,7 +1067,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		conv(r, c, SSC_LOT_BIAS, 1, &ub);
 		conv(r, c, SSC_LOT_DRIFT, 1, &ud);
 		conv(r, c, SSC_LOT_TEMPCO, 1, &ut);
-		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ too narrow: correlated block means, neither B nor K shown)\n",
+		fprintf(f, "\n%s: each unit's bias, drift and temperature sensitivity (68.3 %% intervals, batch means of %d blocks; * an outlier; ~ doubtful, why below)\n",
 			r->chan[c], SSC_LOT_BIAS_BLOCKS);
 		fprintf(f, "%-20s %-34s %-34s %s\n", "unit", ub, ud, r->temp ? ut : "(no temperature column)");
 		for (size_t u = 0; u < r->n_units; u++) {
@@ -986,6 +1078,7 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 				cell_text(y, sizeof(y), r, u, c, SSC_LOT_DRIFT),
 				r->temp ? cell_text(z, sizeof(z), r, u, c, SSC_LOT_TEMPCO) : "");
 		}
+		doubt_text(f, r, c);
 	}
 }
 
@@ -1081,7 +1174,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 				T->count[SSCOPE_DATASHEET_OUT],
 				T->count[SSCOPE_DATASHEET_INCONCLUSIVE], cp);
 		}
-	fprintf(f, "Cpk = (limit - mean) / (3 sigma) (+-limit: (limit - |mean|) / (3 sigma), the nearer side), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit showing the term; %s %% interval (Bissell 1990); a bias term's verdict is inconclusive where its interval is doubtful (~)\n",
+	fprintf(f, "Cpk = (limit - mean) / (3 sigma) (+-limit: (limit - |mean|) / (3 sigma), the nearer side), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit showing the term; %s %% interval (Bissell 1990); a bias term's verdict is inconclusive where its block means are correlated while the fit shows neither B nor K; drift and temperature sensitivity are judged by their conservative intervals (B, K at the fit's upper bounds where not shown)\n",
 		ssc_fmt(a, sizeof(a), 100 * r->level, 3));
 	for (size_t u = 0; u < r->n_units; u++) {
 		bool first = true;

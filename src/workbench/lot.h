@@ -31,6 +31,13 @@ enum {
 };
 /* batches of sscope_lot_bias() */
 #define SSC_LOT_BIAS_BLOCKS 20
+/* a drift's or temperature sensitivity's interval is flagged when its
+ * conservative standard error (B, K at the fit's upper bounds where it
+ * does not show them) exceeds the reported one by more than this: a
+ * 68.3 % interval whose true se is 1.5 times its own covers 49.5 %, less
+ * than half the time (1.2 times: 59.5 %, within the sampling spread of
+ * an se from 17 degrees of freedom) */
+#define SSC_LOT_SE_UPPER_RATIO 1.5
 
 /* one unit's channel: each term in SI (NaN when not present), its 68.3 %
  * interval and standard error */
@@ -48,6 +55,11 @@ struct ssc_lot_cell {
 	 * B, K shown by the fit of the record less its temperature effect
 	 * (0: not shown) */
 	double model[3];
+	/* the upper bounds of B and K: the upper end of the interval where
+	 * the fit shows the term, its bound where not (INFINITY: none
+	 * finite), [0] unused: the conservative standard errors
+	 * (sscope_lot_bias()'s se_upper) */
+	double model_hi[3];
 	/* the Allan deviation (OADEV, dense taus) for the figure */
 	double *tau_s, *adev;
 	size_t n_adev;
@@ -152,6 +164,9 @@ void ssc_lot_spread_text(const struct ssc_lot_result *r, size_t c, int t,
 			 char *mean, size_t ml, char *sd, size_t sl);
 const char *ssc_lot_unit_name(const struct ssc_lot_result *r, size_t u);
 const char *ssc_lot_doubt(const struct ssc_lot_cell *cl, int t);
+/* the conservative standard error of a unit's drift or sensitivity (B,
+ * K at the fit's bounds where not shown), SI; NaN for the other terms */
+double ssc_lot_se_upper(const struct ssc_lot_cell *cl, int t);
 /* --format csv: one row per unit, channel and term (lot-report.c) */
 void ssc_lot_csv(FILE *f, const void *opts, const void *result);
 /* --report DIR (a new folder): index.html (the lot's table, both figures,

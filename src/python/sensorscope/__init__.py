@@ -1399,6 +1399,38 @@ _LOT_MODEL = ("random effects: each unit's value = mean + unit effect (sd "
               "interval); between_sd by REML with its Q-profile interval "
               "(Viechtbauer 2007), the mean by Hartung-Knapp; units beyond "
               "the family-wise outlier level left out")
+# the conservative se's flag (src/workbench/lot.h SSC_LOT_SE_UPPER_RATIO)
+_LOT_SE_UPPER_RATIO = 1.5
+
+
+def _lot_upper(a, key):
+    """A term's upper bound as the lot command takes it: the upper end of
+    its interval, the fit's bound where not shown, inf where none."""
+    k = a.noise[key] if a.noise else None
+    return k.hi if k is not None and k.hi > 0 else math.inf
+
+
+def _lot_upper_doubt(model):
+    """The command's reason for a conservative se above 1.5 times the
+    reported one (src/workbench/lot.c cell_doubt())."""
+    nb, nk = not model[1] > 0, not model[2] > 0
+    tail = ("would make this interval more than 1.5 times wider (se_upper%s; "
+            "verdicts use it): record longer, or take %s from a longer "
+            "record of the model or its datasheet")
+    if nb and nk:
+        return ("the record cannot rule out flicker (B) or a rate random "
+                "walk (K) that " + tail % (": each at the fit's upper bound",
+                                           "B and K"))
+    if not nb and not nk:
+        return ("B and K at the upper ends of their intervals "
+                + tail % ("", "B and K"))
+    if nk:
+        return ("the record cannot rule out a rate random walk (K) that "
+                + tail % (": K at the fit's upper bound", "K"))
+    return ("the record cannot rule out flicker (B) that "
+            + tail % (": B at the fit's upper bound", "B"))
+
+
 _LOT_BIAS_METHOD = (
     "batch means: the record cut into bias_blocks equal blocks, their means "
     "fitted by least squares as bias + bias_drift (t - t_mean) + "
@@ -1412,7 +1444,15 @@ _LOT_BIAS_METHOD = (
     "larger of the residuals' and the noise model's (the variance of their "
     "weights "
     "on the block means under white, flicker and random-walk rate noise; "
-    "normal quantile; se_from says which); where temperature follows time "
+    "normal quantile; se_from says which); se_upper is a conservative "
+    "standard error of the drift and the temperature sensitivity, the "
+    "largest of se and the noise model's with B, then K, at its upper "
+    "bound (the fit's bound of a term it does not show, the upper end of "
+    "the interval of one it shows; \"inf\" where the record gives no "
+    "finite bound): where it exceeds se more than 1.5 "
+    "times, doubt says so and which term, and a verdict against a drift or "
+    "temperature-sensitivity limit always uses the interval of se_upper "
+    "(normal quantile); where temperature follows time "
     "(temperature.time_corr "
     "near -1 or 1) drift and temperature sensitivity cannot be told apart "
     "and both intervals are wide")
@@ -1555,6 +1595,9 @@ def lot(files, level=0.90):
             a = allan(x, cap.rate_hz, taus="dense", ci=0.682689492137086)
             v, se, pres = [math.nan] * NT, [math.nan] * NT, [False] * NT
             lo, hi = [math.nan] * NT, [math.nan] * NT
+            # the terms' upper bounds: the upper end of the interval,
+            # the fit's bound where not shown (none: inf), as the command
+            model_hi = [_lot_upper(a, key) for key in ("N", "B", "K")]
             for t, key in enumerate(("N", "B", "K")):
                 k = a.noise[key] if a.noise else None
                 if k is not None and k.present and math.isfinite(k.value) \
@@ -1582,15 +1625,18 @@ def lot(files, level=0.90):
                 _check(_c.lot_temp_removed(x.ctypes.data_as(dp), 1, x.size, tp,
                                            1, C.byref(b),
                                            r.ctypes.data_as(dp)), None, fn)
-                ar = allan(r, cap.rate_hz, taus="dense")
+                ar = allan(r, cap.rate_hz, taus="dense",
+                           ci=0.682689492137086)
+                model_hi = [_lot_upper(ar, key) for key in ("N", "B", "K")]
                 for t, key in enumerate(("N", "B", "K")):
                     k = ar.noise[key] if ar.noise else None
                     model[t] = k.value if (
                         k is not None and k.present and
                         math.isfinite(k.value) and math.isfinite(k.lo) and
                         math.isfinite(k.hi) and k.hi > k.lo) else 0.0
-            if model[1] > 0 or model[2] > 0:
-                o = _c.LotBiasOpts(20, 0.0, *model)
+            if model[1] > 0 or model[2] > 0 or model_hi[1] > 0 or \
+                    model_hi[2] > 0:
+                o = _c.LotBiasOpts(20, 0.0, *model, model_hi[1], model_hi[2])
                 rc = _c.lot_bias(x.ctypes.data_as(dp), 1, x.size,
                                  cap.rate_hz, tp, 1, C.byref(o), C.byref(b))
                 _check(rc, None, fn)
@@ -1651,6 +1697,14 @@ def lot(files, level=0.90):
                         "bias wanders) but the unit's fit shows neither B "
                         "nor K: the interval takes them as independent "
                         "and is too narrow")
+                if t in (4, 5):
+                    su = (b.drift_se_upper if t == 4 else b.tempco_se_upper) \
+                        if pres[t] else math.nan
+                    e["se_upper"] = "inf" if math.isinf(su) else \
+                        _num(_lot_conv(su, qc, t)[0])
+                    if "doubt" not in e and pres[t] and \
+                            su > _LOT_SE_UPPER_RATIO * se[t]:
+                        e["doubt"] = _lot_upper_doubt(model)
                 jt[key] = e
             jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
                   "block_s": b.block_n / fs,

@@ -583,7 +583,8 @@ lot_spread = _fn("sscope_lot_spread", C.c_int, c_dptr, c_dptr, c_size,
 
 class LotBiasOpts(C.Structure):
     _fields_ = [("blocks", c_size), ("level", c_dbl), ("n", c_dbl),
-                ("b", c_dbl), ("k", c_dbl)]
+                ("b", c_dbl), ("k", c_dbl), ("b_upper", c_dbl),
+                ("k_upper", c_dbl)]
 
 
 class LotBias(C.Structure):
@@ -599,7 +600,10 @@ class LotBias(C.Structure):
                 ("drift_se_resid", c_dbl), ("drift_se_model", c_dbl),
                 ("drift_se_from_model", C.c_bool),
                 ("tempco_se_resid", c_dbl), ("tempco_se_model", c_dbl),
-                ("tempco_se_from_model", C.c_bool)]
+                ("tempco_se_from_model", C.c_bool),
+                ("drift_se_upper", c_dbl), ("drift_upper_lo", c_dbl),
+                ("drift_upper_hi", c_dbl), ("tempco_se_upper", c_dbl),
+                ("tempco_upper_lo", c_dbl), ("tempco_upper_hi", c_dbl)]
 
 
 STRUCTS.update({
