@@ -1045,8 +1045,9 @@ int sscope_allan_new(struct sscope_allan **plan,
 			need = layout_size(np, s2);
 	need += 64;
 	p->x_cap = need;
-	/* on pages: each region of the tiled layout is whole pages */
-	p->x = aligned_alloc(4096, (need * sizeof(double) + 4095) / 4096 * 4096);
+	/* on pages (2 MiB where large): each region of the tiled layout is
+	 * whole pages */
+	p->x = ssc_alloc_huge((need * sizeof(double) + 4095) / 4096, 4096);
 	/* window: G + W with W = 3 * BIG_FACTOR * S lookahead */
 	{
 		size_t W = 3 * BIG_FACTOR * S + SHORT_BLOCK;

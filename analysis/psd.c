@@ -393,14 +393,14 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 	p->win = ssc_alloc_array(p->m, sizeof(double));
 	p->tin = calloc((size_t)p->nth, sizeof(*p->tin));
 	p->tout = calloc((size_t)p->nth, sizeof(*p->tout));
-	p->stage = ssc_alloc_array(p->stage_cap, sizeof(double));
+	p->stage = ssc_alloc_huge(p->stage_cap, sizeof(double));
 	p->bad = calloc(p->batch, 1);
 	p->seg_exp = calloc(p->batch, sizeof(int));
 	p->acc = calloc(p->nbins, sizeof(double));
 	p->comp = calloc(p->nbins, sizeof(double));
 	if (!ssc_mul(p->batch, p->nbins, &sz))
 		goto nomem;
-	p->pg = ssc_alloc_array(sz, sizeof(double));
+	p->pg = ssc_alloc_huge(sz, sizeof(double));
 	if (!p->win || !p->tin || !p->tout || !p->stage || !p->bad ||
 	    !p->seg_exp ||
 	    !p->acc || !p->comp || !p->pg)

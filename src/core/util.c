@@ -102,6 +102,39 @@ void ssc_prefault(void *p, size_t bytes)
 #endif
 }
 
+void ssc_hint_huge(void *p, size_t bytes)
+{
+#ifdef MADV_HUGEPAGE
+	const uintptr_t H = (uintptr_t)1 << 21;
+	uintptr_t a = ((uintptr_t)p + H - 1) & ~(H - 1);
+	uintptr_t e = ((uintptr_t)p + bytes) & ~(H - 1);
+
+	if (e > a) /* EINVAL without THP is harmless */
+		(void)madvise((void *)a, e - a, MADV_HUGEPAGE);
+#else
+	(void)p;
+	(void)bytes;
+#endif
+}
+
+void *ssc_alloc_huge(size_t count, size_t size)
+{
+	const size_t H = (size_t)1 << 21;
+	size_t bytes;
+	void *p;
+
+	if (!ssc_mul(count, size, &bytes))
+		return NULL;
+	if (bytes > SIZE_MAX - H)
+		return NULL;
+	if (bytes < H) /* on 4 KiB pages */
+		return aligned_alloc(4096, (bytes + 4095) / 4096 * 4096 + 4096 * !bytes);
+	p = aligned_alloc(H, (bytes + H - 1) / H * H);
+	if (p)
+		ssc_hint_huge(p, (bytes + H - 1) / H * H);
+	return p;
+}
+
 void ssc_release_pages(void *p, size_t bytes, unsigned threads)
 {
 #ifdef MADV_DONTNEED

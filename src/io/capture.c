@@ -115,18 +115,21 @@ static int grow(struct sscope_capture *cap, size_t rows)
 		if (!p)
 			return -ENOMEM;
 		cap->channels[k].data = p;
+		ssc_hint_huge(p, bytes);
 	}
 	if (cap->time_col.name) {
 		p = realloc(cap->time_s, bytes);
 		if (!p)
 			return -ENOMEM;
 		cap->time_s = p;
+		ssc_hint_huge(p, bytes);
 	}
 	if (cap->temp_col.name) {
 		p = realloc(cap->temp_degc, bytes);
 		if (!p)
 			return -ENOMEM;
 		cap->temp_degc = p;
+		ssc_hint_huge(p, bytes);
 	}
 	return 0;
 }
