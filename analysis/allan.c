@@ -1509,6 +1509,10 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		struct ssc_ksum k = { 0, 0 }, k2 = { 0, 0 };
 		double blk = 0, blk2 = 0;
 
+		/* the pages this part reads (one in 64 samples touches every
+		 * page of a mapped file) */
+		ssc_prefault_read(s->y + a * CENTRE_STEP * s->stride,
+				  (b - a) * CENTRE_STEP * s->stride * sizeof(double));
 		for (size_t i = a; i < b; i++) {
 			size_t j = (size_t)(((uint64_t)i * 0x9E3779B97F4A7C15u) >> 58);
 			double v = s->y[(i * CENTRE_STEP + j) * s->stride] - y0;

@@ -65,6 +65,9 @@ void *ssc_alloc_array(size_t count, size_t size);
  * per page); the data are not touched.  A hint: does nothing where the
  * kernel cannot. */
 void ssc_prefault(void *p, size_t bytes);
+/* The same for a region about to be read (a mapped file's pages: one
+ * kernel entry instead of a fault per 64 KiB). */
+void ssc_prefault_read(const void *p, size_t bytes);
 /* Ask for 2 MiB pages on the whole 2 MiB blocks of [p, p + bytes): on
  * virtual machines where each 4 KiB page's first touch is costly (11 us
  * a page on the 2-core development machine: 0.36 GB/s), a large array

@@ -102,6 +102,20 @@ void ssc_prefault(void *p, size_t bytes)
 #endif
 }
 
+void ssc_prefault_read(const void *p, size_t bytes)
+{
+#ifdef MADV_POPULATE_READ
+	uintptr_t a, ps;
+	size_t pages = inner_pages(p, bytes, &a, &ps);
+
+	if (pages) /* a hint: EINVAL on older kernels is harmless */
+		(void)madvise((void *)a, pages * ps, MADV_POPULATE_READ);
+#else
+	(void)p;
+	(void)bytes;
+#endif
+}
+
 void ssc_hint_huge(void *p, size_t bytes)
 {
 #ifdef MADV_HUGEPAGE
