@@ -2555,6 +2555,9 @@ static void *count_run(void *arg)
 {
 	struct part *pt = arg;
 
+	/* the pages counted, mapped in one call (a fault per 64 KiB costs
+	 * about as much as the counting on a virtual machine) */
+	ssc_prefault_read(pt->from, (size_t)(pt->to - pt->from));
 #ifdef __SSE2__
 	if (__builtin_cpu_supports("avx2"))
 		pt->nl = count_nl_avx2(pt->from, pt->to);
