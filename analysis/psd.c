@@ -1446,10 +1446,47 @@ static double tail_inverse(double (*F)(double, double, double), double a,
 	return exp((lo + hi) / 2);
 }
 
-static double chisq_q(double x, double nu, double unused)
+/* Q of F(nu1, nu2): GSL's incomplete beta function, which returns NaN
+ * near x = 1 for degrees of freedom of millions (the Welch estimate of
+ * 1e9 samples: nu1 1.5e7, nu2 5.5e8); from 1e5 degrees of freedom up
+ * (and wherever GSL has no value) Paulson's normal approximation of
+ * the cube root of F (Johnson, Kotz and Balakrishnan, Continuous
+ * Univariate Distributions 2, 27.5), within 1.4e-4 of the exact tail
+ * probability down to 1e-8 at nu1 1e5, nu2 1e6 */
+static double fdist_q(double x, double nu1, double nu2)
 {
-	(void)unused;
-	return gsl_cdf_chisq_Q(x, nu);
+	double q, a, b, c, z;
+
+	if (!(x > 0))
+		return x == 0 ? 1.0 : (double)NAN;
+	q = nu1 < 1e5 || nu2 < 1e5 ? gsl_cdf_fdist_Q(x, nu1, nu2) : (double)NAN;
+	if (!isnan(q))
+		return q;
+	a = 2 / (9 * nu1);
+	b = 2 / (9 * nu2);
+	c = cbrt(x);
+	z = ((1 - b) * c - (1 - a)) / sqrt(b * c * c + a);
+	return gsl_cdf_ugaussian_Q(z);
+}
+
+/* the median of chi2(nu): it lies in (nu - 2/3, nu) for every nu >= 1
+ * (Chen and Rubin 1986), bisected there, where the incomplete gamma
+ * function is evaluated near its mean (a bracket in logarithms reached
+ * x of e^30, where GSL's large-x expansion fails and aborts for nu of a
+ * million: the Welch estimate of 1e9 samples) */
+static double chisq_median(double nu)
+{
+	double lo = nu > 1 ? nu - 1 : 0, hi = nu > 1 ? nu : 1;
+
+	for (int i = 0; i < 200 && hi - lo > 1e-13 * hi; i++) {
+		double mid = (lo + hi) / 2;
+
+		if (gsl_cdf_chisq_Q(mid, nu) > 0.5)
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return (lo + hi) / 2;
 }
 
 static int cmp_dbl(const void *a, const void *b)
@@ -1524,7 +1561,7 @@ int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
 	 * chi2(nuf)/nuf with nuf = 8 n f(m)^2 m^2 (the large-sample variance
 	 * of a median, n neighbours, f the density at the median m), n
 	 * counted in independent bins (nperseg / nfft of them) */
-	med1 = tail_inverse(chisq_q, nu, 0, 0.5) / nu;
+	med1 = chisq_median(nu) / nu;
 	fm = nu * gsl_ran_chisq_pdf(med1 * nu, nu);
 	nfit = (double)(2 * (L - h)) * (double)s->nperseg / (double)s->nfft;
 	nuf = 8 * nfit * fm * fm * med1 * med1;
@@ -1535,7 +1572,7 @@ int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
 		test->floor_edf = nuf;
 		test->bins_tested = M;
 		test->p_threshold = thr_p;
-		test->ratio_threshold = tail_inverse(gsl_cdf_fdist_Q, nu, nuf,
+		test->ratio_threshold = tail_inverse(fdist_q, nu, nuf,
 						     thr_p);
 		test->floor_half_width = L;
 		test->lobe_half_width = h;
@@ -1577,7 +1614,7 @@ int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
 		floor_[k] = (n % 2 ? nb[n / 2] : (nb[n / 2 - 1] + nb[n / 2]) / 2) /
 			    med1;
 		if (!(floor_[k] > 0) ||
-		    gsl_cdf_fdist_Q(s->value[k] / floor_[k], nu, nuf) >= thr_p)
+		    !(fdist_q(s->value[k] / floor_[k], nu, nuf) < thr_p))
 			continue;
 		cand[nc++] = k;
 	}
@@ -1599,8 +1636,8 @@ int sscope_psd_spectrum_significant_peaks(const struct sscope_psd_spectrum *s,
 			ref += leak(s, peaks[j].peak.value,
 				    (double)peaks[j].peak.bin + peaks[j].peak.offset_bins,
 				    (double)peaks[j].peak.bin, k);
-		p = gsl_cdf_fdist_Q(s->value[k] / ref, nu, nuf);
-		if (p >= thr_p)
+		p = fdist_q(s->value[k] / ref, nu, nuf);
+		if (!(p < thr_p))
 			continue;
 		if (sscope_psd_spectrum_peak_at(s, k, &pk->peak))
 			continue;

@@ -167,6 +167,55 @@ START_TEST(tones)
 }
 END_TEST
 
+/* The estimate of 1e9 samples (hann, nperseg 256, half overlap: 7812499
+ * segments, nu 1.48e7): GSL's F tail is NaN near a ratio of 1 there,
+ * which made the threshold 0.9998 and every local maximum of white
+ * noise a peak.  The reference threshold is scipy 1.10's
+ * stats.f.isf(0.01 / 127, nu, nuf) for the nu and nuf printed. */
+START_TEST(huge_edf)
+{
+	gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+	struct sscope_psd_spectrum s = { 0 };
+	struct sscope_psd_sig_peak pk[8];
+	struct sscope_psd_peak_test t;
+	size_t found;
+	double sd;
+
+	gsl_rng_set(r, 11);
+	s.n_bins = 129;
+	s.fs_hz = 100;
+	s.window = SSCOPE_PSD_WINDOW_HANN;
+	s.nperseg = s.nfft = 256;
+	s.noverlap = 128;
+	s.n_segments = 7812499;
+	s.bin_hz = s.fs_hz / 256;
+	s.freq_hz = malloc(s.n_bins * sizeof(double));
+	s.value = malloc(s.n_bins * sizeof(double));
+	ck_assert(s.freq_hz && s.value);
+	sd = sqrt(2 / sscope_psd_spectrum_edf(&s));
+	for (size_t k = 0; k < s.n_bins; k++) {
+		s.freq_hz[k] = (double)k * s.bin_hz;
+		s.value[k] = 2e-6 * (1 + sd * gsl_ran_ugaussian(r));
+	}
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 0, 50, 0, pk,
+							       &found, &t), 0);
+	ck_assert(fabs(t.edf / 14802629.7839335 - 1) < 1e-9);
+	ck_assert(fabs(t.floor_edf / 546571479.571976 - 1) < 1e-6);
+	ck_assert_msg(fabs(t.ratio_threshold - 1.0014083706786465) < 1e-7,
+		      "threshold %.10f", t.ratio_threshold);
+	ck_assert_msg(found == 0, "%zu peaks in white noise", found);
+	/* a line 10 sd above the floor is found */
+	s.value[40] = 2e-6 * (1 + 10 * sd);
+	ck_assert_int_eq(sscope_psd_spectrum_significant_peaks(&s, 8, 0, 50, 0, pk,
+							       &found, &t), 0);
+	ck_assert_uint_eq(found, 1);
+	ck_assert_uint_eq(pk[0].peak.bin, 40);
+	ck_assert(pk[0].p_value > 0 && pk[0].p_value < t.p_threshold);
+	sscope_psd_spectrum_clear(&s);
+	gsl_rng_free(r);
+}
+END_TEST
+
 static Suite *make_suite(void)
 {
 	Suite *s = suite_create("psdpeaks");
@@ -176,6 +225,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, edf_closed_forms);
 	tcase_add_test(tc, false_alarm_rate);
 	tcase_add_test(tc, tones);
+	tcase_add_test(tc, huge_edf);
 	suite_add_tcase(s, tc);
 	return s;
 }
