@@ -10,6 +10,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <gsl/gsl_errno.h>
+
 struct command {
 	const char *name;
 	const char *summary;
@@ -83,11 +85,26 @@ static void usage(FILE *f)
 		"feature not built.\n");
 }
 
+/* GSL's default for an error it cannot return is abort(): a core dump.
+ * Such an error means a computation went outside what its routine
+ * handles; the command stops with one line and status 1, its temporary
+ * files removed (the exit handlers run). */
+static void on_gsl_error(const char *reason, const char *file, int line,
+			 int gsl_errno)
+{
+	(void)gsl_errno;
+	fprintf(stderr, "sensorscope: a numerical routine failed (GSL, %s:%d: %s): "
+		"no result; please report this with the command line\n",
+		file, line, reason);
+	exit(SSC_EXIT_FAIL);
+}
+
 int main(int argc, char **argv)
 {
 	int rc;
 
 	ssc_signals_init();
+	gsl_set_error_handler(on_gsl_error);
 	if (argc < 2) {
 		usage(stderr);
 		return SSC_EXIT_USAGE;
