@@ -128,6 +128,9 @@ struct sscope_reader {
 	char units_row_bad[24];
 };
 
+/* files up to this size are mapped with all their pages at once */
+#define MAP_POPULATE_MAX ((off_t)8 << 20)
+
 /* ------------------------------------------------------------ source */
 
 /* NAME.partial: the name acquire records under until a clean stop */
@@ -159,7 +162,7 @@ static int src_open(struct sscope_reader *r, struct sscope_diag *diag)
 		/* a small file's pages mapped at once (one call, not a fault
 		 * per 64 KiB); a large one's by read-ahead as the parse goes */
 		void *m = mmap(NULL, (size_t)st.st_size, PROT_READ,
-			       MAP_PRIVATE | (st.st_size <= (8 << 20) ? MAP_POPULATE : 0),
+			       MAP_PRIVATE | (st.st_size <= MAP_POPULATE_MAX ? MAP_POPULATE : 0),
 			       r->fd, 0);
 
 		if (m != MAP_FAILED) {
@@ -2556,8 +2559,10 @@ static void *count_run(void *arg)
 	struct part *pt = arg;
 
 	/* the pages counted, mapped in one call (a fault per 64 KiB costs
-	 * about as much as the counting on a virtual machine) */
-	ssc_prefault_read(pt->from, (size_t)(pt->to - pt->from));
+	 * about as much as the counting on a virtual machine), unless the
+	 * whole file was mapped so */
+	if (pt->r->map_len > (size_t)MAP_POPULATE_MAX)
+		ssc_prefault_read(pt->from, (size_t)(pt->to - pt->from));
 #ifdef __SSE2__
 	if (__builtin_cpu_supports("avx2"))
 		pt->nl = count_nl_avx2(pt->from, pt->to);
