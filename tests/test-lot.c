@@ -412,6 +412,27 @@ START_TEST(test_model_var)
 }
 END_TEST
 
+/* one unit's record of n samples at fs over a temperature cycle of 21 to
+ * 27 degC (reference 24), seeded from g: x and T */
+static void sim_cycle(const struct sscope_sensor_spec *sp, double fs, size_t n,
+		      gsl_rng *g, double *x, double *T)
+{
+	struct sscope_sim_opts so = { 0 };
+	struct sscope_sim *sim = NULL;
+
+	so.rate_hz = fs;
+	so.seed = gsl_rng_get(g);
+	so.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
+	so.temp_degc = 21;
+	so.temp2_degc = 27;
+	so.temp_period_s = (double)n / fs;
+	so.ref_temp_degc = 24;
+	so.no_clip = true;
+	ck_assert_int_eq(sscope_sim_new(&sim, sp, &so, NULL), 0);
+	ck_assert_int_eq(sscope_sim_generate(sim, NULL, x, T, n), 0);
+	sscope_sim_free(sim);
+}
+
 /* units whose bias wanders (flicker B, or a random walk K, beside white
  * noise N: 1 h at 1 Hz, the temperature one sine period), their noise
  * model given: the drift's and sensitivity's 68.27 % intervals cover the
@@ -436,8 +457,6 @@ START_TEST(test_bias_model_coverage)
 
 		for (size_t u = 0; u < R; u++) {
 			struct sscope_sensor_spec sp = { 0 };
-			struct sscope_sim_opts so = { 0 };
-			struct sscope_sim *sim = NULL;
 			struct sscope_lot_bias_opts o = { 0 };
 			struct sscope_lot_bias b, b0;
 
@@ -447,17 +466,7 @@ START_TEST(test_bias_model_coverage)
 			sp.bias = 1.13e-2;
 			sp.r = 1.7e-8;
 			sp.bias_tempco = 4.9e-4;
-			so.rate_hz = fs;
-			so.seed = gsl_rng_get(g);
-			so.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
-			so.temp_degc = 21;
-			so.temp2_degc = 27;
-			so.temp_period_s = (double)n / fs;
-			so.ref_temp_degc = 24;
-			so.no_clip = true;
-			ck_assert_int_eq(sscope_sim_new(&sim, &sp, &so, NULL), 0);
-			ck_assert_int_eq(sscope_sim_generate(sim, NULL, x, T, n), 0);
-			sscope_sim_free(sim);
+			sim_cycle(&sp, fs, n, g, x, T);
 			o.n = sp.n;
 			o.b = sp.b;
 			o.k = sp.k;
@@ -541,8 +550,6 @@ START_TEST(test_bias_conservative)
 	gsl_rng_set(g, 90417);
 	for (size_t u = 0; u < R; u++) {
 		struct sscope_sensor_spec sp = { 0 };
-		struct sscope_sim_opts so = { 0 };
-		struct sscope_sim *sim = NULL;
 		struct sscope_lot_bias_opts o = { 0 };
 		struct sscope_lot_bias b, b99;
 		struct sscope_allan_opts ao = { 0 };
@@ -557,17 +564,7 @@ START_TEST(test_bias_conservative)
 		sp.bias_tempco = (50 + gsl_ran_gaussian(g, 8)) * ug;
 		tr[0] = sp.r;
 		tr[1] = sp.bias_tempco;
-		so.rate_hz = fs;
-		so.seed = gsl_rng_get(g);
-		so.temp_profile = SSCOPE_SIM_TEMP_CYCLE;
-		so.temp_degc = 21;
-		so.temp2_degc = 27;
-		so.temp_period_s = (double)n / fs;
-		so.ref_temp_degc = 24;
-		so.no_clip = true;
-		ck_assert_int_eq(sscope_sim_new(&sim, &sp, &so, NULL), 0);
-		ck_assert_int_eq(sscope_sim_generate(sim, NULL, x, T, n), 0);
-		sscope_sim_free(sim);
+		sim_cycle(&sp, fs, n, g, x, T);
 		ck_assert_int_eq(sscope_lot_bias(x, 1, n, fs, T, 1, NULL, &b), 0);
 		ck_assert(b.have_temp);
 		ck_assert_int_eq(sscope_lot_temp_removed(x, 1, n, T, 1, &b, r), 0);
