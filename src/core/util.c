@@ -88,14 +88,23 @@ static size_t inner_pages(const void *p, size_t bytes, uintptr_t *lo,
 	return hi > *lo ? (size_t)((hi - *lo) / *ps) : 0;
 }
 
-void ssc_prefault(void *p, size_t bytes)
+#if defined(MADV_POPULATE_WRITE) || defined(MADV_POPULATE_READ)
+/* madvise(advice) on the whole pages of [p, p + bytes): a hint, so an
+ * EINVAL on older kernels is harmless */
+static void advise_pages(const void *p, size_t bytes, int advice)
 {
-#ifdef MADV_POPULATE_WRITE
 	uintptr_t a, ps;
 	size_t pages = inner_pages(p, bytes, &a, &ps);
 
-	if (pages) /* a hint: EINVAL on older kernels is harmless */
-		(void)madvise((void *)a, pages * ps, MADV_POPULATE_WRITE);
+	if (pages)
+		(void)madvise((void *)a, pages * ps, advice);
+}
+#endif
+
+void ssc_prefault(void *p, size_t bytes)
+{
+#ifdef MADV_POPULATE_WRITE
+	advise_pages(p, bytes, MADV_POPULATE_WRITE);
 #else
 	(void)p;
 	(void)bytes;
@@ -105,11 +114,7 @@ void ssc_prefault(void *p, size_t bytes)
 void ssc_prefault_read(const void *p, size_t bytes)
 {
 #ifdef MADV_POPULATE_READ
-	uintptr_t a, ps;
-	size_t pages = inner_pages(p, bytes, &a, &ps);
-
-	if (pages) /* a hint: EINVAL on older kernels is harmless */
-		(void)madvise((void *)a, pages * ps, MADV_POPULATE_READ);
+	advise_pages(p, bytes, MADV_POPULATE_READ);
 #else
 	(void)p;
 	(void)bytes;
