@@ -102,35 +102,32 @@ void sscope_capture_free(struct sscope_capture *cap)
 /* rows up to which a capture's arrays are mapped before the parse */
 #define PREFAULT_ROWS ((size_t)1 << 20)
 
+/* one array to `bytes`, its large blocks on 2 MiB pages */
+static int grow_array(double **a, size_t bytes)
+{
+	void *p = realloc(*a, bytes);
+
+	if (!p)
+		return -ENOMEM;
+	*a = p;
+	ssc_hint_huge(p, bytes);
+	return 0;
+}
+
 /* (Re)allocate every array of the capture to hold `rows` rows. */
 static int grow(struct sscope_capture *cap, size_t rows)
 {
 	size_t bytes;
-	void *p;
 
 	if (!ssc_mul(rows ? rows : 1, sizeof(double), &bytes))
 		return -ENOMEM;
-	for (size_t k = 0; k < cap->n_channels; k++) {
-		p = realloc(cap->channels[k].data, bytes);
-		if (!p)
+	for (size_t k = 0; k < cap->n_channels; k++)
+		if (grow_array(&cap->channels[k].data, bytes))
 			return -ENOMEM;
-		cap->channels[k].data = p;
-		ssc_hint_huge(p, bytes);
-	}
-	if (cap->time_col.name) {
-		p = realloc(cap->time_s, bytes);
-		if (!p)
-			return -ENOMEM;
-		cap->time_s = p;
-		ssc_hint_huge(p, bytes);
-	}
-	if (cap->temp_col.name) {
-		p = realloc(cap->temp_degc, bytes);
-		if (!p)
-			return -ENOMEM;
-		cap->temp_degc = p;
-		ssc_hint_huge(p, bytes);
-	}
+	if (cap->time_col.name && grow_array(&cap->time_s, bytes))
+		return -ENOMEM;
+	if (cap->temp_col.name && grow_array(&cap->temp_degc, bytes))
+		return -ENOMEM;
 	return 0;
 }
 
