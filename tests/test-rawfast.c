@@ -488,7 +488,10 @@ START_TEST(allan_evict_input)
 				ck_assert(a[j].dev == b[j].dev);
 		}
 		/* the mapping's own resident pages: all of the record
-		 * without the flag, at most an eighth with it */
+		 * without the flag, at most a 64th with it (on two threads
+		 * the W samples after a chunk are read by both chunks: a
+		 * read after the other chunk gave them back fetched a whole
+		 * 2 MiB of the file again for good) */
 		if (access("/proc/self/smaps", R_OK) == 0)
 			ck_assert_msg(kept >= 0 && evicted >= 0,
 				      "the mapping is not in /proc/self/smaps");
@@ -496,7 +499,7 @@ START_TEST(allan_evict_input)
 			ck_assert_msg(kept >= file_kb * 7 / 8,
 				      "without the flag: %ld kB of the %ld kB record resident",
 				      kept, file_kb);
-			ck_assert_msg(evicted <= file_kb / 8,
+			ck_assert_msg(evicted <= file_kb / 64,
 				      "with the flag: %ld kB of the %ld kB record resident",
 				      evicted, file_kb);
 		}
