@@ -365,8 +365,10 @@ STRUCTS = {
 }
 
 
-# every library function the module calls (the package checks GSL's
-# error record after each one: sensorscope/__init__.py, _gsl_check)
+# every library function the module calls that computes (the package
+# checks GSL's error record after each one: sensorscope/__init__.py,
+# _gsl_check); not the _free and _clear ones, which compute nothing and
+# run in __del__ and finally blocks, where a raise is lost or masks another
 functions = []
 
 
@@ -374,7 +376,8 @@ def _fn(name, res, *args):
     f = getattr(lib, name)
     f.restype = res
     f.argtypes = list(args)
-    functions.append(f)
+    if not name.endswith(("_free", "_clear")):
+        functions.append(f)
     return f
 
 
