@@ -14,6 +14,7 @@
  */
 #include "internal.h"
 
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
@@ -31,6 +32,10 @@ struct gsl_rec {
 };
 
 enum { SLOT_EMPTY, SLOT_WRITING, SLOT_FULL, SLOT_READING };
+
+/* how long one side waits for the other's few stores (yields): bounded,
+ * so that a child forked in the middle of one never hangs */
+#define SLOT_WAITS 100000
 
 static atomic_bool recording;
 static atomic_int slot_state;
@@ -52,7 +57,7 @@ static void fill(struct gsl_rec *r, const char *reason, const char *file,
 
 static void publish(const char *reason, const char *file, int line, int code)
 {
-	for (;;) {
+	for (int i = 0; i < SLOT_WAITS; i++) {
 		int s = SLOT_EMPTY;
 
 		if (atomic_compare_exchange_strong(&slot_state, &s,
@@ -65,6 +70,7 @@ static void publish(const char *reason, const char *file, int line, int code)
 		 * one being taken leaves the slot empty in a few stores */
 		if (s != SLOT_READING)
 			return;
+		sched_yield();
 	}
 }
 
@@ -99,7 +105,7 @@ bool sscope_gsl_error_pending(void)
 
 static bool take_slot(struct gsl_rec *r)
 {
-	for (;;) {
+	for (int i = 0; i < SLOT_WAITS; i++) {
 		int s = SLOT_FULL;
 
 		if (atomic_compare_exchange_strong(&slot_state, &s,
@@ -112,7 +118,9 @@ static bool take_slot(struct gsl_rec *r)
 		 * so that pending() and take() agree */
 		if (s != SLOT_WRITING)
 			return false;
+		sched_yield();
 	}
+	return false;
 }
 
 int sscope_gsl_error_take(int *gsl_errno, char *buf, size_t len)

@@ -16,7 +16,9 @@ never aborts the interpreter: importing the module installs the library's
 recording GSL error handler (sscope_gsl_errors_record(), process-wide), and
 after every library call a recorded GSL error raises sensorscope.Error
 ("allan: a numerical routine failed (GSL, FILE:LINE: REASON): no result",
-.gsl_errno set) even where the call itself reported success.
+.gsl_errno set) even where the call itself reported success.  Each thread
+has its own record; an error on one of the library's worker threads is
+raised by the next call that checks, on whichever thread.
 
     import sensorscope as ss
     cap = ss.load("imu.bag")                  # CSV, bags, MCAP, npy, ...
