@@ -134,6 +134,8 @@ int sscope_inclino_fit(const struct sscope_inclino_pose *poses, size_t n,
 	gsl_matrix *X, *cov;
 	gsl_vector *y, *c;
 	gsl_multifit_linear_workspace *w;
+	struct ssc_gsl_quiet quiet;
+	bool bad;
 	int rc = 0;
 	double ss = 0;
 
@@ -151,7 +153,6 @@ int sscope_inclino_fit(const struct sscope_inclino_pose *poses, size_t n,
 		rc = ssc_diag(diag, -ENOMEM, "out of memory");
 		goto out;
 	}
-	gsl_set_error_handler_off();
 	for (int ax = 0; ax < 3 && !rc; ax++) {
 		double chisq;
 		int o1 = (ax + 1) % 3, o2 = (ax + 2) % 3;
@@ -167,8 +168,13 @@ int sscope_inclino_fit(const struct sscope_inclino_pose *poses, size_t n,
 			gsl_matrix_set(X, i, 3, t[o2] / g);
 			gsl_vector_set(y, i, poses[i].a[ax] / g);
 		}
-		if (gsl_multifit_linear(X, y, c, cov, &chisq, w) ||
-		    !(gsl_multifit_linear_rcond(w) > 1e-8)) {
+		/* poses that leave an axis unexcited are a result (-EDOM),
+		 * not a fault */
+		ssc_gsl_quiet_begin(&quiet);
+		bad = gsl_multifit_linear(X, y, c, cov, &chisq, w) ||
+		      !(gsl_multifit_linear_rcond(w) > 1e-8);
+		ssc_gsl_quiet_end(&quiet);
+		if (bad) {
 			rc = ssc_diag(diag, -EDOM,
 				      "the poses do not excite every axis (axis %c cannot be separated)",
 				      "xyz"[ax]);

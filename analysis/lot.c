@@ -229,7 +229,7 @@ int sscope_lot_spread(const double *y, const double *se, size_t k,
 	double *d, *v, *w, *dc, *vc, c, mad, med_v, thr, thr_fw, mu = 0, t2;
 	bool *fl, *ex, keep;
 	size_t n = 0;
-	gsl_error_handler_t *old;
+	struct ssc_gsl_quiet quiet;
 	int rc = 0;
 
 	if (!y || !se || !out)
@@ -253,7 +253,7 @@ int sscope_lot_spread(const double *y, const double *se, size_t k,
 		rc = -ENOMEM;
 		goto done;
 	}
-	old = gsl_set_error_handler_off();
+	ssc_gsl_quiet_begin(&quiet);
 	memcpy(w, y, k * sizeof(double));
 	c = median_of(w, k);
 	for (size_t i = 0; i < k; i++) {
@@ -333,7 +333,7 @@ int sscope_lot_spread(const double *y, const double *se, size_t k,
 		}
 	out->k_used = n;
 	rc = estimate(dc, vc, n, c, level, out);
-	gsl_set_error_handler(old);
+	ssc_gsl_quiet_end(&quiet);
 done:
 	free(d);
 	free(v);

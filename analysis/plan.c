@@ -98,7 +98,7 @@ static int spd_inv(double *a, size_t p)
 {
 	double s[NT];
 	gsl_matrix_view v = gsl_matrix_view_array(a, p, p);
-	gsl_error_handler_t *old;
+	struct ssc_gsl_quiet quiet;
 	int rc;
 
 	for (size_t i = 0; i < p; i++) {
@@ -109,11 +109,11 @@ static int spd_inv(double *a, size_t p)
 	for (size_t i = 0; i < p; i++)
 		for (size_t k = 0; k < p; k++)
 			a[i * p + k] *= s[i] * s[k];
-	old = gsl_set_error_handler_off();
+	ssc_gsl_quiet_begin(&quiet);
 	rc = gsl_linalg_cholesky_decomp1(&v.matrix);
 	if (!rc)
 		rc = gsl_linalg_cholesky_invert(&v.matrix);
-	gsl_set_error_handler(old);
+	ssc_gsl_quiet_end(&quiet);
 	if (rc)
 		return -EDOM;
 	for (size_t i = 0; i < p; i++)
@@ -321,7 +321,7 @@ static int gls_sds(const struct pdesign *d, unsigned mask, int j,
 	size_t n = d->n, p = 0;
 	int cols[NT], aj = -1;
 	double *L = NULL, *X = NULL, *h = NULL, M[NT * NT] = { 0 };
-	gsl_error_handler_t *old;
+	struct ssc_gsl_quiet quiet;
 	int rc = 0;
 
 	for (int k = 0; k < NT; k++)
@@ -343,7 +343,7 @@ static int gls_sds(const struct pdesign *d, unsigned mask, int j,
 		/* neighbouring points of a long record are correlated
 		 * almost fully: a ridge of 1e-12 .. 1e-6 of the diagonal
 		 * where the factor fails in double precision */
-		old = gsl_set_error_handler_off();
+		ssc_gsl_quiet_begin(&quiet);
 		for (double ridge = 0; ridge <= 1e-6; ridge = ridge > 0 ? ridge * 100 : 1e-12) {
 			cov_at(d, 1, L);
 			for (size_t i = 0; i < n; i++)
@@ -352,7 +352,7 @@ static int gls_sds(const struct pdesign *d, unsigned mask, int j,
 			if (!rc)
 				break;
 		}
-		gsl_set_error_handler(old);
+		ssc_gsl_quiet_end(&quiet);
 		if (rc) {
 			rc = -EDOM; /* the fit's own fallback: see predict() */
 			goto out;

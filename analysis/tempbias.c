@@ -211,6 +211,8 @@ static int do_fit(const struct acc *bins, size_t nbins, size_t J, int K,
 	gsl_matrix *X, *cov;
 	gsl_vector *y, *w, *c;
 	gsl_multifit_linear_workspace *ws;
+	struct ssc_gsl_quiet quiet;
+	bool bad;
 	int rc = 0;
 
 	for (size_t i = 0; i < nbins; i++)
@@ -250,12 +252,16 @@ static int do_fit(const struct acc *bins, size_t nbins, size_t J, int K,
 		gsl_vector_set(w, rows, a->n);
 		rows++;
 	}
-	gsl_set_error_handler_off();
-	if (gsl_multifit_wlinear(X, w, y, c, cov, &f->chisq, ws)) {
+	/* a rank-deficient design is a result here (-EDOM), not a fault */
+	ssc_gsl_quiet_begin(&quiet);
+	bad = gsl_multifit_wlinear(X, w, y, c, cov, &f->chisq, ws) != 0;
+	if (!bad)
+		f->rcond = gsl_multifit_linear_rcond(ws);
+	ssc_gsl_quiet_end(&quiet);
+	if (bad) {
 		rc = -EDOM;
 		goto out;
 	}
-	f->rcond = gsl_multifit_linear_rcond(ws);
 	f->dof = (double)(rows - p);
 	f->s2 = f->chisq / f->dof;
 	for (size_t i = 0; i < p; i++) {

@@ -54,7 +54,11 @@
  *   sscope_vib_opts_init() only zero the struct.
  * - ABI: the shared library's libtool version (-version-info C:R:A in
  *   Makefile.am) follows libtool's rules, written there.
- * - Nothing in the library prints, exits or keeps mutable static state.
+ * - Nothing in the library prints, exits or keeps mutable static state,
+ *   save the record of sscope-gsl.h.  It installs no GSL error handler
+ *   (GSL's default aborts): the host installs its own, or the recorder of
+ *   sscope_gsl_errors_record() and checks sscope_gsl_error_pending() after
+ *   each call.
  */
 #ifndef SENSORSCOPE_H
 #define SENSORSCOPE_H
@@ -64,6 +68,7 @@
  * in $(includedir)/sensorscope.  Include this one to get them all.
  */
 #include "sscope-core.h"
+#include "sscope-gsl.h"
 #include "sscope-quantity.h"
 #include "sscope-unit.h"
 #include "sscope-term.h"

@@ -46,6 +46,18 @@ struct sscope_reader_opts;
 int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)
 	SSC_PRINTF(3, 4);
 
+/* A stretch whose GSL failures are expected and handled from their
+ * return codes (src/core/gslerr.c): no GSL error handler runs inside it.
+ * With the recorder of sscope-gsl.h installed it only marks the calling
+ * thread (no process-wide change, so threads do not race); otherwise it
+ * switches GSL's handler off and back, as the library always did. */
+struct ssc_gsl_quiet {
+	void (*old)(const char *reason, const char *file, int line, int code);
+	bool swapped;
+};
+void ssc_gsl_quiet_begin(struct ssc_gsl_quiet *q);
+void ssc_gsl_quiet_end(struct ssc_gsl_quiet *q);
+
 /* Overflow-checked size_t arithmetic: return false on overflow. */
 static inline bool ssc_mul(size_t a, size_t b, size_t *out)
 {

@@ -10,7 +10,15 @@ message; a bad argument raises sensorscope.ArgumentError (also a
 ValueError) naming the function and the argument, e.g. "allan: ci: 95 is
 not a level between 0 and 1 (e.g. 0.683, 0.95) or none".  Arguments are
 refused, and doubtful results warned about (RuntimeWarning), exactly where
-the `sensorscope` command refuses or warns, with the same reasons.
+the `sensorscope` command refuses or warns, with the same reasons.  A
+failure inside GSL (a special function out of range, a root not bracketed)
+never aborts the interpreter: importing the module installs the library's
+recording GSL error handler (sscope_gsl_errors_record(), process-wide), and
+after every library call a recorded GSL error raises sensorscope.Error
+("allan: a numerical routine failed (GSL, FILE:LINE: REASON): no result",
+.gsl_errno set) even where the call itself reported success.  Each thread
+has its own record; an error on one of the library's worker threads is
+raised by the next call that checks, on whichever thread.
 
     import sensorscope as ss
     cap = ss.load("imu.bag")                  # CSV, bags, MCAP, npy, ...
@@ -26,6 +34,7 @@ import ctypes as C
 import errno
 import math
 import numbers
+import sys
 import threading
 import warnings
 
@@ -43,11 +52,13 @@ SI_TERM_UNITS = {}
 
 class Error(Exception):
     """A failure of the library: .code is the negative errno, str() the
-    library's message (file, line, column, key...)."""
+    library's message (file, line, column, key...).  .gsl_errno is GSL's
+    code (gsl_errno.h) when a GSL routine failed, else None."""
 
-    def __init__(self, code, message):
+    def __init__(self, code, message, gsl_errno=None):
         super().__init__(message)
         self.code = code
+        self.gsl_errno = gsl_errno
 
 
 class ArgumentError(Error, ValueError):
@@ -127,6 +138,45 @@ def _check(rc, diag, what=""):
         if what and not msg.startswith(what + ":"):
             msg = what + ": " + msg
         raise Error(rc, msg)
+
+
+# GSL's codes (gsl_errno.h) as the library's: EDOM, ERANGE, EINVAL,
+# ENOMEM, EUNDRFLW, EOVRFLW; any other is a computation that failed (EDOM)
+_GSL_ERRNO = {1: -errno.EDOM, 2: -errno.ERANGE, 4: -errno.EINVAL,
+              8: -errno.ENOMEM, 15: -errno.ERANGE, 16: -errno.ERANGE}
+
+
+def _called(frame, c_name):
+    """The module's function the user called: the outermost frame of this
+    package (compat included) on the stack, else the C function's name."""
+    name = None
+    while frame is not None and \
+            frame.f_globals.get("__name__", "").partition(".")[0] == __name__:
+        name = getattr(frame.f_code, "co_qualname", frame.f_code.co_name)
+        frame = frame.f_back
+    return name or c_name
+
+
+def _gsl_check(result, func, args):
+    """The errcheck of every library function (_capi.functions): a GSL
+    error recorded during the call, on this thread or on a worker thread
+    of the library, discards its result, whatever it returned."""
+    if _c.gsl_error_pending():
+        code = C.c_int()
+        buf = C.create_string_buffer(320)
+        if _c.gsl_error_take(C.byref(code), buf, len(buf)):
+            raise Error(_GSL_ERRNO.get(code.value, -errno.EDOM),
+                        "%s: a numerical routine failed (GSL, %s): no result"
+                        % (_called(sys._getframe(1), func.__name__),
+                           buf.value.decode(errors="replace")), code.value)
+    return result
+
+
+for _f in _c.functions:
+    _f.errcheck = _gsl_check
+del _f
+# GSL's default handler aborts the process: record instead (sscope-gsl.h)
+_c.gsl_errors_record()
 
 
 def _b(s):

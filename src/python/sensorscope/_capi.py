@@ -365,11 +365,35 @@ STRUCTS = {
 }
 
 
+# every library function the module calls that computes (the package
+# checks GSL's error record after each one: sensorscope/__init__.py,
+# _gsl_check); not the _free and _clear ones, which compute nothing and
+# run in __del__ and finally blocks, where a raise is lost or masks another
+functions = []
+
+
 def _fn(name, res, *args):
     f = getattr(lib, name)
     f.restype = res
     f.argtypes = list(args)
+    if not name.endswith(("_free", "_clear")):
+        functions.append(f)
     return f
+
+
+# GSL's errors recorded instead of abort() (sscope-gsl.h); not in
+# `functions`: they are the check itself
+def _gsl_fn(name, res, *args):
+    f = getattr(lib, name)
+    f.restype = res
+    f.argtypes = list(args)
+    return f
+
+
+gsl_errors_record = _gsl_fn("sscope_gsl_errors_record", None)
+gsl_error_pending = _gsl_fn("sscope_gsl_error_pending", C.c_bool)
+gsl_error_take = _gsl_fn("sscope_gsl_error_take", C.c_int,
+                         C.POINTER(C.c_int), C.c_char_p, c_size)
 
 
 strerror = _fn("sscope_strerror", C.c_char_p, C.c_int)

@@ -104,6 +104,11 @@ def _define(name, what):
     def f(data, rate=1.0, data_type="phase", taus=None):
         return _deviation(name, name, data, rate, data_type, taus)
     f.__name__ = f.__qualname__ = name
+    # its frames too (tracebacks; the function named by a GSL error)
+    code = f.__code__.replace(co_name=name)
+    if hasattr(code, "co_qualname"):
+        code = code.replace(co_qualname=name)
+    f.__code__ = code
     f.__doc__ = "%s, as allantools.%s (see the module's help)." % (what,
                                                                    name)
     return f
