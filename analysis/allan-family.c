@@ -209,6 +209,7 @@ double ssc_theobr_ratio(const double *x, size_t np, double tau0, unsigned T)
  * (1/6m) sum_j z_j^2 of the half-average-detrended, reflected extension
  * (see the file comment).  Work space: C, 3m + 1 doubles; W, 8m + 1.
  */
+SSC_TARGET_CLONES("avx512f", "avx2", "default")
 static double tot_subseq(const double *v, size_t m, double *C, double *W)
 {
 	const size_t L = 3 * m, hl = L / 2;
@@ -223,9 +224,35 @@ static double tot_subseq(const double *v, size_t m, double *C, double *W)
 		m2 += v[L - hl + k] - v0;
 	}
 	s = (m2 - m1) / (double)hl / (double)(L - hl);
-	C[0] = 0;
-	for (size_t k = 0; k < L; k++)
-		C[k + 1] = C[k] + ((v[k] - v0) - s * (double)k);
+	/* the running sum in four quarters at once (four independent chains
+	 * of additions instead of one), each then moved up by the sum of
+	 * the quarters before it */
+	{
+		const size_t q = L / 4;
+		double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+
+		C[0] = 0;
+		for (size_t k = 0; k < q; k++) {
+			a0 += (v[k] - v0) - s * (double)k;
+			a1 += (v[k + q] - v0) - s * (double)(k + q);
+			a2 += (v[k + 2 * q] - v0) - s * (double)(k + 2 * q);
+			a3 += (v[k + 3 * q] - v0) - s * (double)(k + 3 * q);
+			C[k + 1] = a0;
+			C[k + q + 1] = a1;
+			C[k + 2 * q + 1] = a2;
+			C[k + 3 * q + 1] = a3;
+		}
+		for (size_t k = 4 * q; k < L; k++) {
+			a3 += (v[k] - v0) - s * (double)k;
+			C[k + 1] = a3;
+		}
+		for (size_t k = q + 1; k <= 2 * q; k++)
+			C[k] += C[q];
+		for (size_t k = 2 * q + 1; k <= 3 * q; k++)
+			C[k] += C[2 * q];
+		for (size_t k = 3 * q + 1; k <= L; k++)
+			C[k] += C[3 * q];
+	}
 	C3 = C[L];
 	/* window sums of the 9m-point extension x*, windows [t, t + m) */
 	for (size_t t = 0; t <= 2 * m; t++)
