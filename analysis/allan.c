@@ -2364,16 +2364,32 @@ static int fam_points(struct sscope_allan *p, enum sscope_allan_dev dev,
 	const double *x = p->x, tau0 = 1, ts = 1 / rate_hz;
 	const size_t np = p->np, k = theoh_k(np);
 	double ratio = NAN;
+	struct ssc_theo_ws *ws = NULL;
 	int rc = 0;
 
+	/* Theo1's long factors by transforms (see allan-theo.c): one
+	 * workspace for every factor and the bias ratio's */
+	if (dev == SSCOPE_ALLAN_DEV_THEO1 || dev == SSCOPE_ALLAN_DEV_THEOBR ||
+	    dev == SSCOPE_ALLAN_DEV_THEOH) {
+		bool pays = dev != SSCOPE_ALLAN_DEV_THEO1 &&
+			    ssc_theo_fast_pays(np, ssc_theobr_mmax(np));
+
+		for (size_t j = 0; j < n && !pays; j++)
+			pays = !(m[j] & 1) && m[j] < np &&
+			       ssc_theo_fast_pays(np, m[j]);
+		if (pays)
+			ws = ssc_theo_ws_new(x, np);
+	}
 	if (dev == SSCOPE_ALLAN_DEV_THEOBR ||
 	    (dev == SSCOPE_ALLAN_DEV_THEOH && n && m[n - 1] > k)) {
-		ratio = ssc_theobr_ratio(x, np, tau0, T);
-		if (!isfinite(ratio))
+		ratio = ssc_theobr_ratio(x, np, tau0, T, ws);
+		if (!isfinite(ratio)) {
+			ssc_theo_ws_free(ws);
 			return ssc_diag(diag, -EDOM,
 					"too short for %s: %zu phase points (its bias ratio needs at least %d)",
 					sscope_allan_dev_name(dev), np,
 					SSC_THEOBR_MIN_NP);
+		}
 	}
 	if (dev == SSCOPE_ALLAN_DEV_MTIE || dev == SSCOPE_ALLAN_DEV_TIERMS) {
 SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
@@ -2418,13 +2434,14 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 				}
 				/* fall through */
 			default: /* Theo1, TheoBR */
-				v = ssc_theo1_var(x, np, mj, tau0, T);
+				v = ssc_theo1_var(x, np, mj, tau0, T, ws);
 				terms[j] = (np - mj) * (mj / 2);
 				dev_out[j] = sqrt(dev == SSCOPE_ALLAN_DEV_THEO1 ? v : v * ratio);
 				break;
 			}
 		}
 	}
+	ssc_theo_ws_free(ws);
 	for (size_t j = 0; j < n; j++)
 		if (isnan(dev_out[j]))
 			rc = -ENOMEM;

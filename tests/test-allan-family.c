@@ -410,6 +410,105 @@ START_TEST(theo_brute)
 }
 END_TEST
 
+/* Theo1's sum by transforms (allan-theo.c) against the definition, on
+ * records of every integration order (white PM to random-run FM phase)
+ * with a large offset and slope, at factors from 128 to np - 2 (odd and
+ * even h, the last centre alone): the result within its own rounding
+ * bound, and the bound small where the noise allows (white PM, WFM) */
+START_TEST(theo_fast_vs_definition)
+{
+	static const size_t nps[] = { 1000, 3001, 8192 };
+	static double x[8192], y[8192];
+
+	for (size_t a = 0; a < sizeof(nps) / sizeof(nps[0]); a++) {
+		const size_t N = nps[a];
+
+		for (int order = 0; order <= 3; order++) {
+			struct ssc_theo_ws *ws;
+			gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+
+			gsl_rng_set(g, 100 + (unsigned long)(a * 4 + (size_t)order));
+			for (size_t k = 0; k < N; k++)
+				x[k] = gsl_ran_gaussian_ziggurat(g, 1.0);
+			gsl_rng_free(g);
+			for (int o = 0; o < order; o++) {
+				y[0] = x[0];
+				for (size_t k = 1; k < N; k++)
+					y[k] = y[k - 1] + x[k];
+				memcpy(x, y, N * sizeof(double));
+			}
+			for (size_t k = 0; k < N; k++)
+				x[k] += 1e4 + 3.1 * (double)k;
+			ws = ssc_theo_ws_new(x, N);
+			ck_assert_ptr_nonnull(ws);
+			for (size_t m = 128; m < N; m += (m < 400 ? 2 : 2 * (m / 20) + 2)) {
+				double err, want, got;
+
+				got = ssc_theo1_sum_fast(ws, m, 2, &err);
+				want = theo1_def(x, N, m) * 0.75 * (double)(N - m) *
+				       (double)m * (double)m;
+				ck_assert_msg(fabs(got - want) <= err + 1e-13 * want,
+					      "N=%zu order %d m=%zu: %.17g vs %.17g (bound %.3g)",
+					      N, order, m, got, want, err);
+				if (order <= 1)
+					ck_assert_msg(err <= SSC_THEO_FAST_TOL * want,
+						      "N=%zu order %d m=%zu: bound %.3g of %.3g",
+						      N, order, m, err, want);
+			}
+			/* the last factor: one centre */
+			{
+				size_t m = N - 1 - ((N - 1) & 1);
+				double err, got = ssc_theo1_sum_fast(ws, m, 1, &err);
+				double want = theo1_def(x, N, m) * 0.75 * (double)(N - m) *
+					      (double)m * (double)m;
+
+				ck_assert_msg(fabs(got - want) <= err + 1e-13 * want,
+					      "N=%zu last m=%zu", N, m);
+			}
+			/* outside its domain */
+			{
+				double err;
+
+				ck_assert(isnan(ssc_theo1_sum_fast(ws, 126, 1, &err)));
+				ck_assert(isnan(ssc_theo1_sum_fast(ws, 129, 1, &err)));
+				ck_assert(isnan(ssc_theo1_sum_fast(ws, N + (N & 1), 1, &err)));
+			}
+			ssc_theo_ws_free(ws);
+		}
+	}
+	ck_assert_ptr_null(ssc_theo_ws_new(x, 8));
+}
+END_TEST
+
+/* TheoBR on a record long enough that its bias ratio and long factors
+ * go through the transforms: the definitions within the documented
+ * 5.10^-9 of the deviation */
+START_TEST(theobr_long_record)
+{
+	enum { N = 12000 };
+	static double x[N];
+	size_t m[] = { 1000, 6000, N - 2 }, np;
+	struct sscope_allan_point pt[3];
+	long n = (long)floor(0.1 * N / 3) - 3;
+	size_t cnt = SSC_THEOBR_RATIOS;
+	double ratio = 0;
+
+	ck_assert(ssc_theo_fast_pays(N, ssc_theobr_mmax(N)));
+	noise(x, N, 21, true);
+	for (size_t k = 0; k < cnt; k++) {
+		size_t i = (size_t)llround((double)k * (double)n / (double)(cnt - 1));
+
+		ratio += avar_def(x, N, 9 + 3 * i) / theo1_def(x, N, 12 + 4 * i);
+	}
+	ratio /= (double)cnt;
+	at(SSCOPE_ALLAN_DEV_THEOBR, x, N, m, 3, pt, &np, -99);
+	ck_assert_uint_eq(np, 3);
+	for (size_t j = 0; j < np; j++)
+		ck_assert_msg(fabs(pt[j].dev / sqrt(ratio * theo1_def(x, N, m[j])) - 1) < 1e-8,
+			      "theobr m=%zu: %.17g", m[j], pt[j].dev);
+}
+END_TEST
+
 /* the reflected extension built explicitly (SP 1065 sections 5.2.12,
  * 5.2.14): 9m values, then the 6m windowed second differences */
 static double tot_def(const double *v, size_t nv, size_t m)
@@ -554,6 +653,8 @@ static Suite *make_suite(void)
 	tcase_add_test(t, stable32_mtie);
 	tcase_add_test(t, mtie_tierms_brute);
 	tcase_add_test(t, theo_brute);
+	tcase_add_test(t, theo_fast_vs_definition);
+	tcase_add_test(t, theobr_long_record);
 	tcase_add_test(t, totals_brute);
 	tcase_add_test(t, errors);
 	suite_add_tcase(s, t);

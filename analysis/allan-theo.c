@@ -1,0 +1,399 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
+/*
+ * Theo1's double sum (NIST SP 1065 eq. 33) at long averaging factors in
+ * O(np log^2 np) instead of O((np - m) m / 2).
+ *
+ * With h = m / 2, w_d = 1 / (h - d), S_i = x_i + x_{i+m} and the centre
+ * c = i + h, the sum over i < np - m and d < h of
+ *     w_d (S_i - x_{c-d} - x_{c+d})^2
+ * expands into four parts, each a sum of products of two phase values:
+ *   A = W sum_i S_i^2                         (W = sum_d w_d)
+ *   B = sum_i S_i sum_j k_j x_{c+j}           (k_j = w_|j|, k_0 = 2 w_0)
+ *   C = sum_c sum_j k_j x_{c+j}^2             (prefix sums of x^2)
+ *   E = sum_c sum_d w_d x_{c-d} x_{c+d}
+ * and the sum is A - 2B + C + 2E.  B is a cross-correlation of S with x
+ * at the lags 1 .. m - 1 (one transform of the record); E is the weighted
+ * autocorrelation of the whole record (computed once for every m) less
+ * the pairs whose centre lies within h of either end.  Those pairs, a
+ * triangle of the product matrix below an anti-diagonal, are a square
+ * block (a cross-correlation) and two triangles half the size, down to
+ * 64 points where they are summed directly: O(h log^2 h).
+ *
+ * Why by hand: no library computes Theo1 other than by its definition
+ * (allantools and Stable32 both sum the (np - m) m / 2 terms); FFTW does
+ * every transform.
+ *
+ * Rounding: the expansion adds terms of the size of the phase's squares,
+ * where the definition adds squares of its differences.  The phase is
+ * first freed of its least-squares line (Theo1 is blind to one), and the
+ * result comes with a bound of its rounding error; the caller uses the
+ * definition where the bound exceeds a part in 10^8 of the sum (the bound
+ * runs 10 to 100 times the error met in the tests).
+ */
+#include "allan-internal.h"
+#include "internal.h"
+
+#include <fftw3.h>
+#include <float.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+/* triangles up to this side are summed directly */
+#define TRI_DIRECT 64
+/* records up to 2^22 phase points (the workspace is then 336 MiB) */
+#define LOG2_MAX 22
+
+/* FFTW's planner is not thread-safe */
+static pthread_mutex_t plan_lock = PTHREAD_MUTEX_INITIALIZER;
+
+struct ssc_theo_ws {
+	size_t np, M;        /* M: the power of two >= np */
+	double *z;           /* the phase less its line, np */
+	double *p2;          /* prefix sums of z^2, np + 1 */
+	double *R;           /* R[d] = sum_t z_t z_{t+d}, d < np */
+	double *rev;         /* the reversed record's head, np */
+	double *buf;         /* 2 sets of 3 (M + 8) doubles */
+	double zerr;         /* bound of the rounding of each z */
+	int lmax;            /* log2 M */
+	fftw_plan fwd[LOG2_MAX + 2], inv[LOG2_MAX + 2];
+};
+
+/* one thread's transform arrays: r real, a and b half spectra */
+struct tbuf {
+	double *r;
+	fftw_complex *a, *b;
+};
+
+static struct tbuf tbuf_of(struct ssc_theo_ws *w, int k)
+{
+	/* each part a multiple of 8 doubles: every array 64-byte aligned */
+	const size_t part = w->M + 8;
+	double *base = w->buf + (size_t)k * 3 * part;
+	struct tbuf t = { base, (fftw_complex *)(void *)(base + part),
+			  (fftw_complex *)(void *)(base + 2 * part) };
+
+	return t;
+}
+
+static int log2_at_least(size_t n)
+{
+	int k = 0;
+
+	while (((size_t)1 << k) < n)
+		k++;
+	return k;
+}
+
+/* the plans of every size are kept for the process (planning a size
+ * costs about as much as one transform of it): made once, under a lock */
+static fftw_plan plan_fwd[LOG2_MAX + 2], plan_inv[LOG2_MAX + 2];
+
+static int plan_all(struct ssc_theo_ws *w, int kmax)
+{
+	struct tbuf t = tbuf_of(w, 0);
+	int rc = 0;
+
+	pthread_mutex_lock(&plan_lock);
+	for (int k = 1; k <= kmax && !rc; k++) {
+		int n = 1 << k;
+
+		if (!plan_fwd[k])
+			plan_fwd[k] = fftw_plan_dft_r2c_1d(n, t.r, t.a, FFTW_ESTIMATE);
+		if (!plan_inv[k])
+			plan_inv[k] = fftw_plan_dft_c2r_1d(n, t.a, t.r, FFTW_ESTIMATE);
+		if (!plan_fwd[k] || !plan_inv[k])
+			rc = -ENOMEM;
+		w->fwd[k] = plan_fwd[k];
+		w->inv[k] = plan_inv[k];
+	}
+	pthread_mutex_unlock(&plan_lock);
+	return rc;
+}
+
+void ssc_theo_ws_free(struct ssc_theo_ws *w)
+{
+	if (!w)
+		return;
+	free(w->z);
+	free(w->buf);
+	free(w);
+}
+
+/* out[k] = sum_a u_a v_{a+k}, stored at t.r[k mod n], n = 2^k >= lu + lv - 1
+ * (or >= the reach of the lags read, see the callers) */
+static void xcorr(struct ssc_theo_ws *w, struct tbuf t, int k, const double *u,
+		  size_t lu, const double *v, size_t lv)
+{
+	const size_t n = (size_t)1 << k, nb = n / 2 + 1;
+	const double s = 1.0 / (double)n;
+
+	memcpy(t.r, u, lu * sizeof(double));
+	memset(t.r + lu, 0, (n - lu) * sizeof(double));
+	fftw_execute_dft_r2c(w->fwd[k], t.r, t.a);
+	if (v == u && lv == lu) {
+		for (size_t f = 0; f < nb; f++) {
+			double re = t.a[f][0], im = t.a[f][1];
+
+			t.a[f][0] = (re * re + im * im) * s;
+			t.a[f][1] = 0;
+		}
+	} else {
+		memcpy(t.r, v, lv * sizeof(double));
+		memset(t.r + lv, 0, (n - lv) * sizeof(double));
+		fftw_execute_dft_r2c(w->fwd[k], t.r, t.b);
+		for (size_t f = 0; f < nb; f++) {
+			double ar = t.a[f][0], ai = t.a[f][1];
+			double br = t.b[f][0], bi = t.b[f][1];
+
+			/* conj(a) b */
+			t.a[f][0] = (ar * br + ai * bi) * s;
+			t.a[f][1] = (ar * bi - ai * br) * s;
+		}
+	}
+	fftw_execute_dft_c2r(w->inv[k], t.a, t.r);
+}
+
+/* the weight of a pair at lag d: w_{d/2} for even d < 2h, else 0 */
+static inline double pair_w(long d, size_t h)
+{
+	if (d < 0 || (d & 1) || (size_t)d / 2 >= h)
+		return 0;
+	return 1.0 / (double)(h - (size_t)d / 2);
+}
+
+/*
+ * sum over a, b in [0, n) with a + b < n of f(D + b - a) u[A + a] u[B + b]
+ * (D = B - A > 0: the b block lies after the a block)
+ */
+static double tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+		  size_t A, size_t B, size_t n, size_t h)
+{
+	const long D = (long)B - (long)A;
+
+	if (n <= TRI_DIRECT) {
+		double s = 0;
+
+		for (size_t a = 0; a < n; a++) {
+			double ps = 0;
+			/* b of the parity that makes the lag even */
+			size_t b0 = ((size_t)D + a) & 1;
+
+			for (size_t b = b0; b < n - a; b += 2)
+				ps += pair_w(D + (long)b - (long)a, h) * u[B + b];
+			s += ps * u[A + a];
+		}
+		return s;
+	}
+	{
+		const size_t p = n / 2, q = n - p;
+		const int k = log2_at_least(p + q - 1);
+		const size_t nn = (size_t)1 << k;
+		double s = 0;
+
+		/* block a < p, b < q: lags b - a in (-p, q) */
+		xcorr(w, t, k, u + A, p, u + B, q);
+		for (long j = -(long)p + 1; j < (long)q; j++) {
+			double f = pair_w(D + j, h);
+
+			if (f != 0)
+				s += f * t.r[j < 0 ? nn - (size_t)(-j) : (size_t)j];
+		}
+		s += tri(w, t, u, A, B + q, p, h);
+		s += tri(w, t, u, A + p, B, q, h);
+		return s;
+	}
+}
+
+/* the pairs a <= b of u with centre (a + b) / 2 < h, weighted by lag */
+static double head(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+		   size_t h)
+{
+	const int k = log2_at_least(2 * h - 1);
+	double s = 0;
+
+	/* both in [0, h): every lag d < h */
+	xcorr(w, t, k, u, h, u, h);
+	for (size_t d = 0; d < h; d += 2)
+		s += pair_w((long)d, h) * t.r[d];
+	/* a in [0, h), b in [h, 2h), a + (b - h) < h */
+	return s + tri(w, t, u, 0, h, h, h);
+}
+
+struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np)
+{
+	struct ssc_theo_ws *w;
+	double tm = 0.5 * (double)(np - 1), sxx = 0, sxt = 0, sx = 0, slope,
+	       mean;
+	struct ssc_ksum k2 = { 0, 0 };
+	size_t part;
+
+	if (np < 16 || log2_at_least(np) > LOG2_MAX)
+		return NULL;
+	w = calloc(1, sizeof(*w));
+	if (!w)
+		return NULL;
+	w->np = np;
+	w->lmax = log2_at_least(np);
+	w->M = (size_t)1 << w->lmax;
+	part = w->M + 8;
+	w->z = ssc_alloc_huge(4 * np + 1, sizeof(double));
+	/* two sets of three arrays; the first two sets' six also serve as
+	 * one set of three twice as long for the record's autocorrelation */
+	w->buf = ssc_alloc_huge(6 * part, sizeof(double));
+	if (!w->z || !w->buf || plan_all(w, w->lmax + 1) < 0) {
+		ssc_theo_ws_free(w);
+		return NULL;
+	}
+	w->p2 = w->z + np;
+	w->R = w->p2 + np + 1;
+	w->rev = w->R + np;
+	/* least-squares line, centred */
+	for (size_t i = 0; i < np; i++)
+		sx += x[i];
+	mean = sx / (double)np;
+	for (size_t i = 0; i < np; i++) {
+		double dt = (double)i - tm;
+
+		sxt += dt * (x[i] - mean);
+		sxx += dt * dt;
+	}
+	slope = sxt / sxx;
+	w->p2[0] = 0;
+	{
+		double dmax = 0, zm = 0;
+
+		for (size_t i = 0; i < np; i++) {
+			double z = (x[i] - mean) - slope * ((double)i - tm);
+
+			w->z[i] = z;
+			dmax = fmax(dmax, fabs(x[i] - mean));
+			zm = fmax(zm, fabs(z));
+		}
+		/* x - mean, the line's product and the last subtraction
+		 * each round once */
+		w->zerr = DBL_EPSILON * (dmax + 2 * fabs(slope) * tm + zm);
+	}
+	for (size_t i = 0; i < np; i++) {
+		double z = w->z[i];
+
+		ssc_ksum_add(&k2, z * z);
+		w->p2[i + 1] = ssc_ksum_value(&k2);
+	}
+	/* the autocorrelation at every lag: a transform of 2M >= 2 np - 1 */
+	{
+		struct tbuf t = { w->buf, (fftw_complex *)(void *)(w->buf + 2 * part),
+				  NULL };
+
+		xcorr(w, t, w->lmax + 1, w->z, np, w->z, np);
+		memcpy(w->R, t.r, np * sizeof(double));
+	}
+	return w;
+}
+
+bool ssc_theo_fast_pays(size_t np, size_t m)
+{
+	/* measured on two threads: the definition's (np - m) m / 2 terms at
+	 * 6.10^9 a second; the transforms 1.2 ns np log2(np) (10^5: 1.2 ms
+	 * against 30 ms at m = 4096; 10^6: 18 ms against 214 ms) */
+	double direct, fast;
+
+	if (m < 2 * TRI_DIRECT || m >= np)
+		return false;
+	direct = (double)(np - m) * (double)(m / 2) / 6e9;
+	fast = 1.2e-9 * (double)np * log2((double)np);
+	return direct > fast;
+}
+
+/* k_j of B and C at j = h + dj, dj in (-h, h): w_|dj|, twice w_0 */
+static inline double kern(size_t j, size_t h)
+{
+	size_t a = j > h ? j - h : h - j;
+
+	return (a == 0 ? 2.0 : 1.0) / (double)(h - a);
+}
+
+double ssc_theo1_sum_fast(struct ssc_theo_ws *w, size_t m, unsigned T,
+			  double *err)
+{
+	const size_t np = w->np, h = m / 2, ni = np - m;
+	const double *z = w->z;
+	double A = 0, B = 0, C = 0, E = 0, W = 0, hd = 0, tl = 0, s2 = 0;
+
+	if (m < 2 * TRI_DIRECT || (m & 1) || m >= np)
+		return NAN;
+	(void)T;
+SSC_OMP(omp parallel sections num_threads(T > 1 ? 2 : 1))
+	{
+SSC_OMP(omp section)
+		{
+			const size_t n = w->M, nb = n / 2 + 1;
+			const double sc = 1.0 / (double)n;
+			struct tbuf t = tbuf_of(w, 0);
+
+			hd = head(w, t, z, h);
+			/* B: G(l) = sum_{i < ni} S_i z_{i+l} at l in [1, m): no
+			 * lag read wraps on a transform of >= np points */
+			for (size_t i = 0; i < ni; i++) {
+				double si = z[i] + z[i + m];
+
+				t.r[i] = si;
+				s2 += si * si;
+			}
+			memset(t.r + ni, 0, (n - ni) * sizeof(double));
+			fftw_execute_dft_r2c(w->fwd[w->lmax], t.r, t.a);
+			memcpy(t.r, z, np * sizeof(double));
+			memset(t.r + np, 0, (n - np) * sizeof(double));
+			fftw_execute_dft_r2c(w->fwd[w->lmax], t.r, t.b);
+			for (size_t f = 0; f < nb; f++) {
+				double ar = t.a[f][0], ai = t.a[f][1];
+				double br = t.b[f][0], bi = t.b[f][1];
+
+				t.a[f][0] = (ar * br + ai * bi) * sc;
+				t.a[f][1] = (ar * bi - ai * br) * sc;
+			}
+			fftw_execute_dft_c2r(w->inv[w->lmax], t.a, t.r);
+			for (size_t j = 1; j < m; j++)
+				B += kern(j, h) * t.r[j];
+		}
+SSC_OMP(omp section)
+		{
+			struct tbuf t = tbuf_of(w, 1);
+
+			for (size_t i = 0; i < 2 * h; i++)
+				w->rev[i] = z[np - 1 - i];
+			tl = head(w, t, w->rev, h);
+		}
+	}
+	for (size_t d = 0; d < h; d++)
+		W += 1.0 / (double)(h - d);
+	A = W * s2;
+	/* C: sum_j k_j sum_{c in [h, np - h)} z_{c+j}^2 */
+	for (size_t j = 1; j < m; j++)
+		C += kern(j, h) * (w->p2[np - m + j] - w->p2[j]);
+	for (size_t d = 0; d < h; d++)
+		E += w->R[2 * d] / (double)(h - d);
+	E -= hd + tl;
+	{
+		double sum = A - 2 * B + C + 2 * E;
+		double z2 = w->p2[np], lg = (double)(w->lmax + 1);
+		/* transforms: eps log2 n per product sum, every part bounded
+		 * by W (sum S^2 + 4 sum z^2 + 2 |S| |z|); the line: each of
+		 * the four values of a term D off by zerr at most, so the
+		 * sum by 8 zerr sum w |D| + 16 zerr^2 ni W, and
+		 * sum w |D| <= sqrt(ni W sum) */
+		double mag = W * (s2 + 4 * z2 + 2 * sqrt(s2 * z2));
+		double e = 32 * DBL_EPSILON * lg * mag +
+			   16 * w->zerr * w->zerr * (double)ni * W;
+
+		if (sum > 0)
+			e += 8 * w->zerr * sqrt((double)ni * W * sum);
+		*err = e;
+		return sum;
+	}
+}
