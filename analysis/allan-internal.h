@@ -94,6 +94,11 @@ void ssc_allan_force_contiguous(struct sscope_allan *plan, bool on);
  * them, to show that both give the same sums (process-wide). */
 void ssc_allan_force_narrow(bool on);
 
+/* Tests: the OADEV sums by their definition only (no transforms for a
+ * grid of many factors), to compare the kernels bit for bit
+ * (process-wide). */
+void ssc_allan_force_definition(bool on);
+
 /* Difference order and whether a deviation is a "modified" one */
 int ssc_dev_order(enum sscope_allan_dev dev);
 
@@ -123,7 +128,7 @@ double ssc_htot_edf(int alpha, size_t m, size_t np);
 double ssc_theo1_edf(int alpha, size_t m, size_t np);
 double ssc_htot_bias(int alpha);
 
-/* allan-theo.c: Theo1's sum at long factors by transforms.  A workspace
+/* allan-xform.c: Theo1's sum at long factors by transforms.  A workspace
  * holds the phase less its line and its autocorrelation (NULL: no memory,
  * or np beyond 2^22); ssc_theo_fast_pays() says where the transforms beat
  * the definition; ssc_theo1_sum_fast() returns the sum of eq. 33 (NAN: m
@@ -134,6 +139,14 @@ void ssc_theo_ws_free(struct ssc_theo_ws *w);
 bool ssc_theo_fast_pays(size_t np, size_t m);
 double ssc_theo1_sum_fast(struct ssc_theo_ws *w, size_t m, unsigned threads,
 			  double *err);
+/* the overlapping Allan variance's sums at every m in [1, D] (2D < np)
+ * by transforms, into V[m] with rounding bounds err[m] (V and err have
+ * D + 1 entries); ssc_oadev_fast_pays(): whether that beats summing the
+ * n factors m[] by the definition */
+#define SSC_OADEV_FAST_TOL 1e-10 /* largest accepted bound, of the sum */
+bool ssc_oadev_fast_pays(size_t np, const size_t *m, size_t n);
+int ssc_oadev_sums_fast(struct ssc_theo_ws *w, size_t D, unsigned threads,
+			double *V, double *err);
 
 /* sscope_noise_avar_cov() for n_coef coefficient sets at once (the sums
  * over pairs of points computed once): cov receives n_coef blocks of

@@ -100,6 +100,12 @@ typedef double ssc_v4 __attribute__((vector_size(32)));
 #endif
 
 static bool narrow_only; /* ssc_allan_force_narrow() */
+static bool definition_only; /* ssc_allan_force_definition() */
+
+void ssc_allan_force_definition(bool on)
+{
+	definition_only = on;
+}
 
 void ssc_allan_force_narrow(bool on)
 {
@@ -2142,7 +2148,7 @@ static void sum_totdev(const struct sscope_allan *p, size_t m,
  * tiles (every all-tau grid, and any grid of such a record): the taus
  * in groups (k2_group), the groups over the threads */
 static void sums_grouped(const struct sscope_allan *p, const size_t *m,
-			 size_t n, unsigned T, struct ssc_ksum *acc,
+			 size_t n, unsigned T, bool copies, struct ssc_ksum *acc,
 			 size_t *used, size_t *skipped)
 {
 	const size_t ng = (n + GRP_TAUS - 1) / GRP_TAUS;
@@ -2152,7 +2158,8 @@ static void sums_grouped(const struct sscope_allan *p, const size_t *m,
 	(void)T;
 	/* the shifted copies where the phase is on a cache line and they
 	 * stay small (8 x 8 MB at most; a long record has few taus here) */
-	if (p->np >= 64 && p->np <= SHIFTED_MAX_NP && !((uintptr_t)p->x & 63)) {
+	if (copies && p->np >= 64 && p->np <= SHIFTED_MAX_NP &&
+	    !((uintptr_t)p->x & 63)) {
 		xs.stride = (p->np + 7) / 8 * 8 + 16;
 		xs.sh = aligned_alloc(64, 8 * xs.stride * sizeof(double));
 		if (xs.sh)
@@ -2177,6 +2184,66 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 		used[j] = p->np - 2 * m[j];
 		skipped[j] = 0;
 	}
+}
+
+/*
+ * OADEV sums of a gap-free contiguous phase.  With xf (a grid of many
+ * factors): every factor by transforms (allan-xform.c), keeping those
+ * whose rounding bound is within SSC_OADEV_FAST_TOL of the sum, the rest
+ * (the short factors of a wandering phase) by the definition.
+ */
+static void sums_oadev(const struct sscope_allan *p, const size_t *m,
+		       size_t n, unsigned T, bool xf, struct ssc_ksum *acc,
+		       size_t *used, size_t *skipped)
+{
+	const size_t D = n ? m[n - 1] : 0;
+	struct ssc_theo_ws *ws = NULL;
+	double *V = NULL;
+	size_t *mr = NULL, nr = 0;
+	struct ssc_ksum *ar = NULL;
+
+	if (xf && 2 * D < p->np) {
+		ws = ssc_theo_ws_new(p->x, p->np);
+		V = ssc_alloc_array(2 * (D + 1), sizeof(double));
+		mr = ssc_alloc_array(4 * n, sizeof(size_t));
+		ar = calloc(n ? n : 1, sizeof(*ar));
+	}
+	if (!ws || !V || !mr || !ar ||
+	    ssc_oadev_sums_fast(ws, D, T, V, V + D + 1) < 0) {
+		sums_grouped(p, m, n, T, true, acc, used, skipped);
+		goto out;
+	}
+	for (size_t j = 0; j < n; j++) {
+		double v = V[m[j]], e = V[D + 1 + m[j]];
+
+		if (v > 0 && e <= SSC_OADEV_FAST_TOL * v) {
+			acc[j].s = v;
+			acc[j].c = 0;
+			used[j] = p->np - 2 * m[j];
+			skipped[j] = 0;
+		} else {
+			mr[nr] = m[j];
+			mr[n + nr++] = j;
+		}
+	}
+	if (nr) {
+		/* (the short factors, and the longest with a few terms:
+		 * not worth the shifted copies' page faults) */
+		sums_grouped(p, mr, nr, T, false, ar, mr + 2 * n,
+			     mr + 2 * n + nr);
+		for (size_t r = 0; r < nr; r++) {
+			size_t j = mr[n + r];
+
+			acc[j] = ar[r];
+			used[j] = mr[2 * n + r];
+			skipped[j] = 0;
+		}
+	}
+out:
+	free(ar);
+	free(mr);
+	free(V);
+	ssc_theo_ws_free(ws);
 }
 
 /* ------------------------------------------------------------------ */
@@ -2367,7 +2434,7 @@ static int fam_points(struct sscope_allan *p, enum sscope_allan_dev dev,
 	struct ssc_theo_ws *ws = NULL;
 	int rc = 0;
 
-	/* Theo1's long factors by transforms (see allan-theo.c): one
+	/* Theo1's long factors by transforms (see allan-xform.c): one
 	 * workspace for every factor and the bias ratio's */
 	if (dev == SSCOPE_ALLAN_DEV_THEO1 || dev == SSCOPE_ALLAN_DEV_THEOBR ||
 	    dev == SSCOPE_ALLAN_DEV_THEOH) {
@@ -2473,7 +2540,7 @@ static int compute(struct sscope_allan *p, const double *y,
 	size_t nfin, nnan, mmax, nacc = 0, *used = NULL, *skipped = NULL;
 	size_t inf_at, *mf = NULL;
 	double *fdev = NULL;
-	bool *big = NULL, gaps, tiled, strided, idpar, quick;
+	bool *big = NULL, gaps, tiled, strided, idpar, quick, xf;
 	struct tau_set ts;
 	unsigned char *idok = NULL;
 	int *alph = NULL;
@@ -2543,10 +2610,13 @@ static int compute(struct sscope_allan *p, const double *y,
 	}
 	strided = p->opts.stride_div > 0 &&
 		  (dev == SSCOPE_ALLAN_DEV_OADEV || dev == SSCOPE_ALLAN_DEV_OHDEV);
+	/* OADEV at many factors: by transforms, on the contiguous layout */
+	xf = dev == SSCOPE_ALLAN_DEV_OADEV && !strided && !definition_only &&
+	     ssc_oadev_fast_pays(p->np, m, nacc);
 	/* layout: tiled only for fully overlapping OADEV / OHDEV */
 	p->shift = 0;
 	if ((dev == SSCOPE_ALLAN_DEV_OADEV || dev == SSCOPE_ALLAN_DEV_OHDEV) && !strided &&
-	    !p->contiguous)
+	    !p->contiguous && !xf)
 		p->shift = pick_shift(p->np);
 	/* every long m must be a multiple of S */
 	for (; p->shift > 0; p->shift--) {
@@ -2640,7 +2710,7 @@ static int compute(struct sscope_allan *p, const double *y,
 			used[j] = p->np - (size_t)d * m[j];
 	} else if (dev == SSCOPE_ALLAN_DEV_OADEV && !strided && !gaps) {
 		phase_contiguous(p, &s, T, bases);
-		sums_grouped(p, m, nacc, T, acc, used, skipped);
+		sums_oadev(p, m, nacc, T, xf, acc, used, skipped);
 	} else if (fam_dev(dev)) {
 		phase_contiguous(p, &s, T, bases);
 		rc = fam_points(p, dev, m, nacc, rate_hz, T, fdev, used, diag);
@@ -3046,7 +3116,8 @@ static int grid_points(struct sscope_allan *p, const double *x,
 				min_samples(p->opts.dev, 1,
 					    p->opts.input == SSCOPE_ALLAN_ANGLE));
 	m = ssc_alloc_array(cnt + 1, sizeof(size_t));
-	*pts = ssc_alloc_array(cnt + 1, sizeof(**pts));
+	/* (2 MiB pages for an all-tau grid's megabytes: see ssc_hint_huge) */
+	*pts = ssc_alloc_huge(cnt + 1, sizeof(**pts));
 	if (!m || !*pts) {
 		free(m);
 		free(*pts);

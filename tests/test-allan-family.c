@@ -410,7 +410,7 @@ START_TEST(theo_brute)
 }
 END_TEST
 
-/* Theo1's sum by transforms (allan-theo.c) against the definition, on
+/* Theo1's sum by transforms (allan-xform.c) against the definition, on
  * records of every integration order (white PM to random-run FM phase)
  * with a large offset and slope, at factors from 128 to np - 2 (odd and
  * even h, the last centre alone): the result within its own rounding

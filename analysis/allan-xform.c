@@ -1,5 +1,9 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /*
+ * Sums of the Allan family by Fourier transforms, where the definitions
+ * cost too much: Theo1 at long factors, and the overlapping Allan
+ * variance at every factor at once (--taus all).
+ *
  * Theo1's double sum (NIST SP 1065 eq. 33) at long averaging factors in
  * O(np log^2 np) instead of O((np - m) m / 2).
  *
@@ -29,6 +33,18 @@
  * result comes with a bound of its rounding error; the caller uses the
  * definition where the bound exceeds a part in 10^8 of the sum (the bound
  * runs 10 to 100 times the error met in the tests).
+ *
+ * The overlapping Allan variance's sums V(m) = sum_{i < np - 2m}
+ * (x_{i+2m} - 2 x_{i+m} + x_i)^2 for every m <= D at once: squares from
+ * prefix sums, and the products from the record's autocorrelation R less
+ * the pairs (t, t + m) with t < m (the head H) or t >= np - 2m (the head
+ * of the reversed record):
+ *     V(m) = squares - 8 R(m) + 4 H(m) + 4 Hrev(m) + 2 R(2m).
+ * H(d) = sum_{a < d} x_a x_{a+d} for every d is a triangle of the (a, d)
+ * plane: a rectangle (one cross-correlation) and two half triangles, down
+ * to 64: O(np log^2 np) for the D = np / 2 factors the definition sums in
+ * O(np^2 / 4).  The same rounding bound, and the definition where it
+ * exceeds the caller's tolerance.
  */
 #include "allan-internal.h"
 #include "internal.h"
@@ -46,7 +62,7 @@
 
 /* triangles up to this side are summed directly */
 #define TRI_DIRECT 64
-/* records up to 2^22 phase points (the workspace is then 336 MiB) */
+/* records up to 2^22 phase points (the workspace is then 436 MiB) */
 #define LOG2_MAX 22
 
 /* FFTW's planner is not thread-safe */
@@ -57,26 +73,29 @@ struct ssc_theo_ws {
 	double *z;           /* the phase less its line, np */
 	double *p2;          /* prefix sums of z^2, np + 1 */
 	double *R;           /* R[d] = sum_t z_t z_{t+d}, d < np */
-	double *rev;         /* the reversed record's head, np */
+	double *rev;         /* the reversed record, np */
+	double *H, *Hr;      /* the heads of the record and reversed, np/2+1 */
 	double *buf;         /* 2 sets of 3 (M + 8) doubles */
 	double zerr;         /* bound of the rounding of each z */
 	int lmax;            /* log2 M */
 	fftw_plan fwd[LOG2_MAX + 2], inv[LOG2_MAX + 2];
 };
 
-/* one thread's transform arrays: r real, a and b half spectra */
+/* one thread's transform arrays, M complex values each: the product
+ * sums read from the real parts of a after xcorr() */
 struct tbuf {
-	double *r;
 	fftw_complex *a, *b;
 };
+
+#define XC(t, j) ((t).a[j][0])
 
 static struct tbuf tbuf_of(struct ssc_theo_ws *w, int k)
 {
 	/* each part a multiple of 8 doubles: every array 64-byte aligned */
-	const size_t part = w->M + 8;
-	double *base = w->buf + (size_t)k * 3 * part;
-	struct tbuf t = { base, (fftw_complex *)(void *)(base + part),
-			  (fftw_complex *)(void *)(base + 2 * part) };
+	const size_t part = 2 * w->M + 8;
+	double *base = w->buf + (size_t)k * 2 * part;
+	struct tbuf t = { (fftw_complex *)(void *)base,
+			  (fftw_complex *)(void *)(base + part) };
 
 	return t;
 }
@@ -90,8 +109,9 @@ static int log2_at_least(size_t n)
 	return k;
 }
 
-/* the plans of every size are kept for the process (planning a size
- * costs about as much as one transform of it): made once, under a lock */
+/* the plans of every size are kept for the process, made once under a
+ * lock: complex transforms (FFTW plans them in a fifth of the time of
+ * the real ones, which cost more to plan than to run here) */
 static fftw_plan plan_fwd[LOG2_MAX + 2], plan_inv[LOG2_MAX + 2];
 
 static int plan_all(struct ssc_theo_ws *w, int kmax)
@@ -104,9 +124,11 @@ static int plan_all(struct ssc_theo_ws *w, int kmax)
 		int n = 1 << k;
 
 		if (!plan_fwd[k])
-			plan_fwd[k] = fftw_plan_dft_r2c_1d(n, t.r, t.a, FFTW_ESTIMATE);
+			plan_fwd[k] = fftw_plan_dft_1d(n, t.a, t.b, FFTW_FORWARD,
+						       FFTW_ESTIMATE);
 		if (!plan_inv[k])
-			plan_inv[k] = fftw_plan_dft_c2r_1d(n, t.a, t.r, FFTW_ESTIMATE);
+			plan_inv[k] = fftw_plan_dft_1d(n, t.b, t.a, FFTW_BACKWARD,
+						       FFTW_ESTIMATE);
 		if (!plan_fwd[k] || !plan_inv[k])
 			rc = -ENOMEM;
 		w->fwd[k] = plan_fwd[k];
@@ -120,43 +142,51 @@ void ssc_theo_ws_free(struct ssc_theo_ws *w)
 {
 	if (!w)
 		return;
-	free(w->z);
 	free(w->buf);
 	free(w);
 }
 
-/* out[k] = sum_a u_a v_{a+k}, stored at t.r[k mod n], n = 2^k >= lu + lv - 1
- * (or >= the reach of the lags read, see the callers) */
+/* XC(t, j mod n) = sum_a u_a v_{a+j}, n = 2^k >= lu + lv - 1 (or >= the
+ * reach of the lags read, see the callers): u and v packed into one
+ * complex transform, split by its symmetry */
 static void xcorr(struct ssc_theo_ws *w, struct tbuf t, int k, const double *u,
 		  size_t lu, const double *v, size_t lv)
 {
-	const size_t n = (size_t)1 << k, nb = n / 2 + 1;
-	const double s = 1.0 / (double)n;
+	const size_t n = (size_t)1 << k;
+	const double s = 1.0 / (double)n, q = 0.25 * s;
+	const bool self = v == u && lv == lu;
 
-	memcpy(t.r, u, lu * sizeof(double));
-	memset(t.r + lu, 0, (n - lu) * sizeof(double));
-	fftw_execute_dft_r2c(w->fwd[k], t.r, t.a);
-	if (v == u && lv == lu) {
-		for (size_t f = 0; f < nb; f++) {
-			double re = t.a[f][0], im = t.a[f][1];
+	for (size_t i = 0; i < n; i++) {
+		t.a[i][0] = i < lu ? u[i] : 0;
+		t.a[i][1] = !self && i < lv ? v[i] : 0;
+	}
+	fftw_execute_dft(w->fwd[k], t.a, t.b);
+	if (self) {
+		for (size_t f = 0; f < n; f++) {
+			double re = t.b[f][0], im = t.b[f][1];
 
-			t.a[f][0] = (re * re + im * im) * s;
-			t.a[f][1] = 0;
+			t.b[f][0] = (re * re + im * im) * s;
+			t.b[f][1] = 0;
 		}
 	} else {
-		memcpy(t.r, v, lv * sizeof(double));
-		memset(t.r + lv, 0, (n - lv) * sizeof(double));
-		fftw_execute_dft_r2c(w->fwd[k], t.r, t.b);
-		for (size_t f = 0; f < nb; f++) {
-			double ar = t.a[f][0], ai = t.a[f][1];
-			double br = t.b[f][0], bi = t.b[f][1];
+		/* U = (C_f + conj C_g) / 2, V = -i (C_f - conj C_g) / 2 with
+		 * g = -f: the product conj(U) V at f, its conjugate at g */
+		for (size_t f = 0; f <= n / 2; f++) {
+			size_t g = (n - f) & (n - 1);
+			double cr = t.b[f][0], ci = t.b[f][1];
+			double dr = t.b[g][0], di = -t.b[g][1]; /* conj C_g */
+			double ur = cr + dr, ui = ci + di;      /* 2U */
+			double vr = ci - di, vi = dr - cr;      /* 2V = -i(C - D) */
+			double pr = (ur * vr + ui * vi) * q;
+			double pi = (ur * vi - ui * vr) * q;
 
-			/* conj(a) b */
-			t.a[f][0] = (ar * br + ai * bi) * s;
-			t.a[f][1] = (ar * bi - ai * br) * s;
+			t.b[f][0] = pr;
+			t.b[f][1] = pi;
+			t.b[g][0] = pr;
+			t.b[g][1] = -pi;
 		}
 	}
-	fftw_execute_dft_c2r(w->inv[k], t.a, t.r);
+	fftw_execute_dft(w->inv[k], t.b, t.a);
 }
 
 /* the weight of a pair at lag d: w_{d/2} for even d < 2h, else 0 */
@@ -202,7 +232,7 @@ static double tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
 			double f = pair_w(D + j, h);
 
 			if (f != 0)
-				s += f * t.r[j < 0 ? nn - (size_t)(-j) : (size_t)j];
+				s += f * XC(t, j < 0 ? nn - (size_t)(-j) : (size_t)j);
 		}
 		s += tri(w, t, u, A, B + q, p, h);
 		s += tri(w, t, u, A + p, B, q, h);
@@ -220,7 +250,7 @@ static double head(struct ssc_theo_ws *w, struct tbuf t, const double *u,
 	/* both in [0, h): every lag d < h */
 	xcorr(w, t, k, u, h, u, h);
 	for (size_t d = 0; d < h; d += 2)
-		s += pair_w((long)d, h) * t.r[d];
+		s += pair_w((long)d, h) * XC(t, d);
 	/* a in [0, h), b in [h, 2h), a + (b - h) < h */
 	return s + tri(w, t, u, 0, h, h, h);
 }
@@ -241,18 +271,21 @@ struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np)
 	w->np = np;
 	w->lmax = log2_at_least(np);
 	w->M = (size_t)1 << w->lmax;
-	part = w->M + 8;
-	w->z = ssc_alloc_huge(4 * np + 1, sizeof(double));
-	/* two sets of three arrays; the first two sets' six also serve as
-	 * one set of three twice as long for the record's autocorrelation */
-	w->buf = ssc_alloc_huge(6 * part, sizeof(double));
-	if (!w->z || !w->buf || plan_all(w, w->lmax + 1) < 0) {
+	part = 2 * w->M + 8;
+	/* one block (its pages faulted 2 MiB at a time): two sets of two
+	 * complex arrays of M (for the record's autocorrelation, one set of
+	 * two of 2M), then the arrays of the phase */
+	w->buf = ssc_alloc_huge(4 * part + 5 * np + 3, sizeof(double));
+	if (!w->buf || plan_all(w, w->lmax + 1) < 0) {
 		ssc_theo_ws_free(w);
 		return NULL;
 	}
+	w->z = w->buf + 4 * part;
 	w->p2 = w->z + np;
 	w->R = w->p2 + np + 1;
 	w->rev = w->R + np;
+	w->H = w->rev + np;
+	w->Hr = w->H + np / 2 + 1;
 	/* least-squares line, centred */
 	for (size_t i = 0; i < np; i++)
 		sx += x[i];
@@ -287,11 +320,12 @@ struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np)
 	}
 	/* the autocorrelation at every lag: a transform of 2M >= 2 np - 1 */
 	{
-		struct tbuf t = { w->buf, (fftw_complex *)(void *)(w->buf + 2 * part),
-				  NULL };
+		struct tbuf t = { (fftw_complex *)(void *)w->buf,
+				  (fftw_complex *)(void *)(w->buf + 2 * part) };
 
 		xcorr(w, t, w->lmax + 1, w->z, np, w->z, np);
-		memcpy(w->R, t.r, np * sizeof(double));
+		for (size_t d = 0; d < np; d++)
+			w->R[d] = XC(t, d);
 	}
 	return w;
 }
@@ -332,34 +366,20 @@ SSC_OMP(omp parallel sections num_threads(T > 1 ? 2 : 1))
 	{
 SSC_OMP(omp section)
 		{
-			const size_t n = w->M, nb = n / 2 + 1;
-			const double sc = 1.0 / (double)n;
 			struct tbuf t = tbuf_of(w, 0);
+			double *S = (double *)(void *)t.b;
 
 			hd = head(w, t, z, h);
 			/* B: G(l) = sum_{i < ni} S_i z_{i+l} at l in [1, m): no
-			 * lag read wraps on a transform of >= np points */
+			 * lag read wraps on a transform of >= np points (S in
+			 * b's storage: packed into a before b is written) */
 			for (size_t i = 0; i < ni; i++) {
-				double si = z[i] + z[i + m];
-
-				t.r[i] = si;
-				s2 += si * si;
+				S[i] = z[i] + z[i + m];
+				s2 += S[i] * S[i];
 			}
-			memset(t.r + ni, 0, (n - ni) * sizeof(double));
-			fftw_execute_dft_r2c(w->fwd[w->lmax], t.r, t.a);
-			memcpy(t.r, z, np * sizeof(double));
-			memset(t.r + np, 0, (n - np) * sizeof(double));
-			fftw_execute_dft_r2c(w->fwd[w->lmax], t.r, t.b);
-			for (size_t f = 0; f < nb; f++) {
-				double ar = t.a[f][0], ai = t.a[f][1];
-				double br = t.b[f][0], bi = t.b[f][1];
-
-				t.a[f][0] = (ar * br + ai * bi) * sc;
-				t.a[f][1] = (ar * bi - ai * br) * sc;
-			}
-			fftw_execute_dft_c2r(w->inv[w->lmax], t.a, t.r);
+			xcorr(w, t, w->lmax, S, ni, z, np);
 			for (size_t j = 1; j < m; j++)
-				B += kern(j, h) * t.r[j];
+				B += kern(j, h) * XC(t, j);
 		}
 SSC_OMP(omp section)
 		{
@@ -396,4 +416,106 @@ SSC_OMP(omp section)
 		*err = e;
 		return sum;
 	}
+}
+
+/* ------------------------------------------------------------------ */
+/* The overlapping Allan variance at every factor                      */
+/* ------------------------------------------------------------------ */
+
+/* H[d] += sum over a in [a0, a1), d in [d0, d1) of u_a u_{a+d}, a < d
+ * everywhere (a1 <= d0) */
+static void heads_rect(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+		       size_t a0, size_t a1, size_t d0, size_t d1, double *H)
+{
+	const size_t la = a1 - a0, ld = d1 - d0, lv = la + ld - 1;
+	const int k = log2_at_least(lv);
+
+	/* r[j] = sum_a u_{a0+a} u_{a0+d0+a+j}, j < ld: no lag read wraps */
+	xcorr(w, t, k, u + a0, la, u + a0 + d0, lv);
+	for (size_t j = 0; j < ld; j++)
+		H[d0 + j] += XC(t, j);
+}
+
+/* the triangle a in [L0, L0 + L), d in [L0, L0 + L), a < d */
+static void heads_tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+		      size_t L0, size_t L, double *H)
+{
+	if (L <= TRI_DIRECT) {
+		for (size_t d = L0 + 1; d < L0 + L; d++) {
+			double s = 0;
+
+			for (size_t a = L0; a < d; a++)
+				s += u[a] * u[a + d];
+			H[d] += s;
+		}
+		return;
+	}
+	{
+		const size_t h = L / 2, M = L0 + h;
+
+		heads_rect(w, t, u, L0, M, M, L0 + L, H);
+		heads_tri(w, t, u, L0, h, H);
+		heads_tri(w, t, u, M, L - h, H);
+	}
+}
+
+bool ssc_oadev_fast_pays(size_t np, const size_t *m, size_t n)
+{
+	double direct = 0, fast;
+
+	if (np < 1024 || log2_at_least(np) > LOG2_MAX)
+		return false;
+	for (size_t j = 0; j < n; j++)
+		if (2 * m[j] < np)
+			direct += (double)(np - 2 * m[j]);
+	/* 10^10 terms a second against the transforms' ~ 0.3 ns np log2^2 */
+	fast = 3e-10 * (double)np * log2((double)np) * log2((double)np);
+	return direct / 1e10 > fast;
+}
+
+int ssc_oadev_sums_fast(struct ssc_theo_ws *w, size_t D, unsigned T,
+			double *V, double *err)
+{
+	size_t np;
+	const double *z, *p2;
+	double lg, z2;
+
+	if (!w || D == 0 || 2 * D >= w->np)
+		return -EINVAL;
+	np = w->np;
+	z = w->z;
+	p2 = w->p2;
+	lg = (double)(w->lmax + 1);
+	z2 = p2[np];
+	memset(w->H, 0, (D + 1) * sizeof(double));
+	memset(w->Hr, 0, (D + 1) * sizeof(double));
+	(void)T;
+SSC_OMP(omp parallel sections num_threads(T > 1 ? 2 : 1))
+	{
+SSC_OMP(omp section)
+		heads_tri(w, tbuf_of(w, 0), z, 0, D + 1, w->H);
+SSC_OMP(omp section)
+		{
+			for (size_t i = 0; i < np; i++)
+				w->rev[i] = z[np - 1 - i];
+			heads_tri(w, tbuf_of(w, 1), w->rev, 0, D + 1, w->Hr);
+		}
+	}
+	for (size_t m = 1; m <= D; m++) {
+		const size_t n = np - 2 * m;
+		double sq = (p2[np] - p2[2 * m]) + 4 * (p2[np - m] - p2[m]) + p2[n];
+		double v = sq - 8 * w->R[m] + 4 * (w->H[m] + w->Hr[m]) +
+			   2 * w->R[2 * m];
+		/* every part at most 6 sum z^2 (squares) or sum z^2 (each
+		 * product sum): 24 sum z^2 in all, eps log2 n each; the
+		 * line's rounding through sum |D| <= sqrt(n V) */
+		double e = 32 * DBL_EPSILON * lg * 24 * z2 +
+			   16 * w->zerr * w->zerr * (double)n;
+
+		if (v > 0)
+			e += 8 * w->zerr * sqrt((double)n * v);
+		V[m] = v;
+		err[m] = e;
+	}
+	return 0;
 }
