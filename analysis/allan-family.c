@@ -124,7 +124,7 @@ static double theo_row(const double *a, const double *b, const double *c,
 
 /* the double sum of eq. 33 (without its normalisation) */
 static double theo1_sum(const double *x, size_t np, size_t m, unsigned T,
-			struct ssc_theo_ws *ws)
+			struct ssc_xf_ws *ws)
 {
 	const size_t h = m / 2, ni = np - m;
 	double gs[SUM_GROUPS], total = 0;
@@ -164,7 +164,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1) if (ni * h >= THEO_
 }
 
 double ssc_theo1_var(const double *x, size_t np, size_t m, double tau0,
-		     unsigned T, struct ssc_theo_ws *ws)
+		     unsigned T, struct ssc_xf_ws *ws)
 {
 	double md = (double)m * tau0;
 
@@ -202,7 +202,7 @@ size_t ssc_theobr_mmax(size_t np)
 
 /* TheoBR's bias ratio (eq. 35): NAN when np is too short (n < 0) */
 double ssc_theobr_ratio(const double *x, size_t np, double tau0, unsigned T,
-			struct ssc_theo_ws *ws)
+			struct ssc_xf_ws *ws)
 {
 	long n = (long)floor(0.1 * (double)np / 3) - 3;
 	size_t cnt, k;

@@ -109,11 +109,11 @@ int ssc_dev_order(enum sscope_allan_dev dev);
 #define SSC_THEOBR_RATIOS 32
 /* phase points TheoBR's bias ratio needs: floor(0.1 np / 3) - 3 >= 0 */
 #define SSC_THEOBR_MIN_NP 90
-struct ssc_theo_ws;
+struct ssc_xf_ws;
 double ssc_theo1_var(const double *x, size_t np, size_t m, double tau0,
-		     unsigned threads, struct ssc_theo_ws *ws);
+		     unsigned threads, struct ssc_xf_ws *ws);
 double ssc_theobr_ratio(const double *x, size_t np, double tau0,
-			unsigned threads, struct ssc_theo_ws *ws);
+			unsigned threads, struct ssc_xf_ws *ws);
 /* the largest Theo1 factor of that ratio (0: too short) */
 size_t ssc_theobr_mmax(size_t np);
 double ssc_mtot_var(const double *x, size_t np, size_t m, double tau0,
@@ -128,16 +128,17 @@ double ssc_htot_edf(int alpha, size_t m, size_t np);
 double ssc_theo1_edf(int alpha, size_t m, size_t np);
 double ssc_htot_bias(int alpha);
 
-/* allan-xform.c: Theo1's sum at long factors by transforms.  A workspace
- * holds the phase less its line and its autocorrelation (NULL: no memory,
- * or np beyond 2^22); ssc_theo_fast_pays() says where the transforms beat
+/* allan-xform.c: sums by Fourier transforms.  A workspace holds the phase
+ * less its line and its autocorrelation (NULL: no memory, or np beyond
+ * 2^22), for Theo1 and OADEV; used by one call at a time.
+ * ssc_theo_fast_pays() says where the transforms beat
  * the definition; ssc_theo1_sum_fast() returns the sum of eq. 33 (NAN: m
  * outside [128, np), odd) and a bound of its rounding error in *err. */
 #define SSC_THEO_FAST_TOL 1e-8 /* largest accepted bound, of the sum */
-struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np);
-void ssc_theo_ws_free(struct ssc_theo_ws *w);
+struct ssc_xf_ws *ssc_xf_ws_new(const double *x, size_t np);
+void ssc_xf_ws_free(struct ssc_xf_ws *w);
 bool ssc_theo_fast_pays(size_t np, size_t m);
-double ssc_theo1_sum_fast(struct ssc_theo_ws *w, size_t m, unsigned threads,
+double ssc_theo1_sum_fast(struct ssc_xf_ws *w, size_t m, unsigned threads,
 			  double *err);
 /* the overlapping Allan variance's sums at every m in [1, D] (2D < np)
  * by transforms, into V[m] with rounding bounds err[m] (V and err have
@@ -145,7 +146,7 @@ double ssc_theo1_sum_fast(struct ssc_theo_ws *w, size_t m, unsigned threads,
  * n factors m[] by the definition */
 #define SSC_OADEV_FAST_TOL 1e-10 /* largest accepted bound, of the sum */
 bool ssc_oadev_fast_pays(size_t np, const size_t *m, size_t n);
-int ssc_oadev_sums_fast(struct ssc_theo_ws *w, size_t D, unsigned threads,
+int ssc_oadev_sums_fast(struct ssc_xf_ws *w, size_t D, unsigned threads,
 			double *V, double *err);
 
 /* sscope_noise_avar_cov() for n_coef coefficient sets at once (the sums

@@ -62,20 +62,20 @@
 
 /* triangles up to this side are summed directly */
 #define TRI_DIRECT 64
-/* records up to 2^22 phase points (the workspace is then 436 MiB) */
+/* records up to 2^22 phase points (the workspace is then 416 MiB) */
 #define LOG2_MAX 22
 
 /* FFTW's planner is not thread-safe */
 static pthread_mutex_t plan_lock = PTHREAD_MUTEX_INITIALIZER;
 
-struct ssc_theo_ws {
+struct ssc_xf_ws {
 	size_t np, M;        /* M: the power of two >= np */
 	double *z;           /* the phase less its line, np */
 	double *p2;          /* prefix sums of z^2, np + 1 */
 	double *R;           /* R[d] = sum_t z_t z_{t+d}, d < np */
 	double *rev;         /* the reversed record, np */
 	double *H, *Hr;      /* the heads of the record and reversed, np/2+1 */
-	double *buf;         /* 2 sets of 3 (M + 8) doubles */
+	double *buf;         /* 2 sets of 2 complex arrays of M, then z.. */
 	double zerr;         /* bound of the rounding of each z */
 	int lmax;            /* log2 M */
 	fftw_plan fwd[LOG2_MAX + 2], inv[LOG2_MAX + 2];
@@ -89,7 +89,7 @@ struct tbuf {
 
 #define XC(t, j) ((t).a[j][0])
 
-static struct tbuf tbuf_of(struct ssc_theo_ws *w, int k)
+static struct tbuf tbuf_of(struct ssc_xf_ws *w, int k)
 {
 	/* each part a multiple of 8 doubles: every array 64-byte aligned */
 	const size_t part = 2 * w->M + 8;
@@ -114,7 +114,7 @@ static int log2_at_least(size_t n)
  * the real ones, which cost more to plan than to run here) */
 static fftw_plan plan_fwd[LOG2_MAX + 2], plan_inv[LOG2_MAX + 2];
 
-static int plan_all(struct ssc_theo_ws *w, int kmax)
+static int plan_all(struct ssc_xf_ws *w, int kmax)
 {
 	struct tbuf t = tbuf_of(w, 0);
 	int rc = 0;
@@ -138,7 +138,7 @@ static int plan_all(struct ssc_theo_ws *w, int kmax)
 	return rc;
 }
 
-void ssc_theo_ws_free(struct ssc_theo_ws *w)
+void ssc_xf_ws_free(struct ssc_xf_ws *w)
 {
 	if (!w)
 		return;
@@ -149,7 +149,7 @@ void ssc_theo_ws_free(struct ssc_theo_ws *w)
 /* XC(t, j mod n) = sum_a u_a v_{a+j}, n = 2^k >= lu + lv - 1 (or >= the
  * reach of the lags read, see the callers): u and v packed into one
  * complex transform, split by its symmetry */
-static void xcorr(struct ssc_theo_ws *w, struct tbuf t, int k, const double *u,
+static void xcorr(struct ssc_xf_ws *w, struct tbuf t, int k, const double *u,
 		  size_t lu, const double *v, size_t lv)
 {
 	const size_t n = (size_t)1 << k;
@@ -201,7 +201,7 @@ static inline double pair_w(long d, size_t h)
  * sum over a, b in [0, n) with a + b < n of f(D + b - a) u[A + a] u[B + b]
  * (D = B - A > 0: the b block lies after the a block)
  */
-static double tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+static double tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 		  size_t A, size_t B, size_t n, size_t h)
 {
 	const long D = (long)B - (long)A;
@@ -241,7 +241,7 @@ static double tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
 }
 
 /* the pairs a <= b of u with centre (a + b) / 2 < h, weighted by lag */
-static double head(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+static double head(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 		   size_t h)
 {
 	const int k = log2_at_least(2 * h - 1);
@@ -255,9 +255,9 @@ static double head(struct ssc_theo_ws *w, struct tbuf t, const double *u,
 	return s + tri(w, t, u, 0, h, h, h);
 }
 
-struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np)
+struct ssc_xf_ws *ssc_xf_ws_new(const double *x, size_t np)
 {
-	struct ssc_theo_ws *w;
+	struct ssc_xf_ws *w;
 	double tm = 0.5 * (double)(np - 1), sxx = 0, sxt = 0, sx = 0, slope,
 	       mean;
 	struct ssc_ksum k2 = { 0, 0 };
@@ -277,7 +277,7 @@ struct ssc_theo_ws *ssc_theo_ws_new(const double *x, size_t np)
 	 * two of 2M), then the arrays of the phase */
 	w->buf = ssc_alloc_huge(4 * part + 5 * np + 3, sizeof(double));
 	if (!w->buf || plan_all(w, w->lmax + 1) < 0) {
-		ssc_theo_ws_free(w);
+		ssc_xf_ws_free(w);
 		return NULL;
 	}
 	w->z = w->buf + 4 * part;
@@ -352,7 +352,7 @@ static inline double kern(size_t j, size_t h)
 	return (a == 0 ? 2.0 : 1.0) / (double)(h - a);
 }
 
-double ssc_theo1_sum_fast(struct ssc_theo_ws *w, size_t m, unsigned T,
+double ssc_theo1_sum_fast(struct ssc_xf_ws *w, size_t m, unsigned T,
 			  double *err)
 {
 	const size_t np = w->np, h = m / 2, ni = np - m;
@@ -424,7 +424,7 @@ SSC_OMP(omp section)
 
 /* H[d] += sum over a in [a0, a1), d in [d0, d1) of u_a u_{a+d}, a < d
  * everywhere (a1 <= d0) */
-static void heads_rect(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+static void heads_rect(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 		       size_t a0, size_t a1, size_t d0, size_t d1, double *H)
 {
 	const size_t la = a1 - a0, ld = d1 - d0, lv = la + ld - 1;
@@ -437,7 +437,7 @@ static void heads_rect(struct ssc_theo_ws *w, struct tbuf t, const double *u,
 }
 
 /* the triangle a in [L0, L0 + L), d in [L0, L0 + L), a < d */
-static void heads_tri(struct ssc_theo_ws *w, struct tbuf t, const double *u,
+static void heads_tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 		      size_t L0, size_t L, double *H)
 {
 	if (L <= TRI_DIRECT) {
@@ -473,7 +473,7 @@ bool ssc_oadev_fast_pays(size_t np, const size_t *m, size_t n)
 	return direct / 1e10 > fast;
 }
 
-int ssc_oadev_sums_fast(struct ssc_theo_ws *w, size_t D, unsigned T,
+int ssc_oadev_sums_fast(struct ssc_xf_ws *w, size_t D, unsigned T,
 			double *V, double *err)
 {
 	size_t np;

@@ -2197,13 +2197,13 @@ static void sums_oadev(const struct sscope_allan *p, const size_t *m,
 		       size_t *used, size_t *skipped)
 {
 	const size_t D = n ? m[n - 1] : 0;
-	struct ssc_theo_ws *ws = NULL;
+	struct ssc_xf_ws *ws = NULL;
 	double *V = NULL;
 	size_t *mr = NULL, nr = 0;
 	struct ssc_ksum *ar = NULL;
 
 	if (xf && 2 * D < p->np) {
-		ws = ssc_theo_ws_new(p->x, p->np);
+		ws = ssc_xf_ws_new(p->x, p->np);
 		V = ssc_alloc_array(2 * (D + 1), sizeof(double));
 		mr = ssc_alloc_array(4 * n, sizeof(size_t));
 		ar = calloc(n ? n : 1, sizeof(*ar));
@@ -2243,7 +2243,7 @@ out:
 	free(ar);
 	free(mr);
 	free(V);
-	ssc_theo_ws_free(ws);
+	ssc_xf_ws_free(ws);
 }
 
 /* ------------------------------------------------------------------ */
@@ -2431,7 +2431,7 @@ static int fam_points(struct sscope_allan *p, enum sscope_allan_dev dev,
 	const double *x = p->x, tau0 = 1, ts = 1 / rate_hz;
 	const size_t np = p->np, k = theoh_k(np);
 	double ratio = NAN;
-	struct ssc_theo_ws *ws = NULL;
+	struct ssc_xf_ws *ws = NULL;
 	int rc = 0;
 
 	/* Theo1's long factors by transforms (see allan-xform.c): one
@@ -2445,13 +2445,13 @@ static int fam_points(struct sscope_allan *p, enum sscope_allan_dev dev,
 			pays = !(m[j] & 1) && m[j] < np &&
 			       ssc_theo_fast_pays(np, m[j]);
 		if (pays)
-			ws = ssc_theo_ws_new(x, np);
+			ws = ssc_xf_ws_new(x, np);
 	}
 	if (dev == SSCOPE_ALLAN_DEV_THEOBR ||
 	    (dev == SSCOPE_ALLAN_DEV_THEOH && n && m[n - 1] > k)) {
 		ratio = ssc_theobr_ratio(x, np, tau0, T, ws);
 		if (!isfinite(ratio)) {
-			ssc_theo_ws_free(ws);
+			ssc_xf_ws_free(ws);
 			return ssc_diag(diag, -EDOM,
 					"too short for %s: %zu phase points (its bias ratio needs at least %d)",
 					sscope_allan_dev_name(dev), np,
@@ -2508,7 +2508,7 @@ SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
 			}
 		}
 	}
-	ssc_theo_ws_free(ws);
+	ssc_xf_ws_free(ws);
 	for (size_t j = 0; j < n; j++)
 		if (isnan(dev_out[j]))
 			rc = -ENOMEM;

@@ -424,7 +424,7 @@ START_TEST(theo_fast_vs_definition)
 		const size_t N = nps[a];
 
 		for (int order = 0; order <= 3; order++) {
-			struct ssc_theo_ws *ws;
+			struct ssc_xf_ws *ws;
 			gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
 
 			gsl_rng_set(g, 100 + (unsigned long)(a * 4 + (size_t)order));
@@ -439,7 +439,7 @@ START_TEST(theo_fast_vs_definition)
 			}
 			for (size_t k = 0; k < N; k++)
 				x[k] += 1e4 + 3.1 * (double)k;
-			ws = ssc_theo_ws_new(x, N);
+			ws = ssc_xf_ws_new(x, N);
 			ck_assert_ptr_nonnull(ws);
 			for (size_t m = 128; m < N; m += (m < 400 ? 2 : 2 * (m / 20) + 2)) {
 				double err, want, got;
@@ -473,10 +473,10 @@ START_TEST(theo_fast_vs_definition)
 				ck_assert(isnan(ssc_theo1_sum_fast(ws, 129, 1, &err)));
 				ck_assert(isnan(ssc_theo1_sum_fast(ws, N + (N & 1), 1, &err)));
 			}
-			ssc_theo_ws_free(ws);
+			ssc_xf_ws_free(ws);
 		}
 	}
-	ck_assert_ptr_null(ssc_theo_ws_new(x, 8));
+	ck_assert_ptr_null(ssc_xf_ws_new(x, 8));
 }
 END_TEST
 

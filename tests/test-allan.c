@@ -1569,7 +1569,7 @@ START_TEST(all_taus_transforms)
 			struct sscope_allan_point *b = malloc(n * sizeof(*b));
 			struct sscope_allan_opts o = { 0 };
 			struct sscope_allan *p;
-			struct ssc_theo_ws *ws;
+			struct ssc_xf_ws *ws;
 
 			for (size_t k = 0; k < n; k++) {
 				w += kind ? gsl_ran_gaussian_ziggurat(r, 2.385e-3) : 0;
@@ -1587,7 +1587,7 @@ START_TEST(all_taus_transforms)
 				for (size_t k = 0; k < n; k++)
 					x[k + 1] = x[k] + (y[k] - ybar);
 			}
-			ws = ssc_theo_ws_new(x, np);
+			ws = ssc_xf_ws_new(x, np);
 			ck_assert_ptr_nonnull(ws);
 			ck_assert_int_eq(ssc_oadev_sums_fast(ws, D, 2, V, V + D + 1), 0);
 			for (size_t mm = 1; mm <= D; mm++) {
@@ -1606,7 +1606,7 @@ START_TEST(all_taus_transforms)
 			/* the transforms carry most factors */
 			ck_assert_msg(ok >= D * 3 / 4, "n %zu kind %d: %zu of %zu",
 				      n, kind, ok, D);
-			ssc_theo_ws_free(ws);
+			ssc_xf_ws_free(ws);
 			ck_assert_int_eq(ssc_oadev_sums_fast(NULL, 0, 1, V, V), -EINVAL);
 
 			ck_assert_int_eq(sscope_allan_grid(SSCOPE_ALLAN_TAUS_ALL, D, m, n, &nm), 0);
