@@ -16,6 +16,7 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 const char *ssc_allan_noise_name(int alpha)
 {
@@ -134,7 +135,7 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 {
 	struct points_part pp = { 0 };
 	bool ok, split = false;
-	size_t upto = n;
+	size_t upto = n, cap = 0;
 
 	if (n >= POINTS_SPLIT && two_threads) {
 		pp.pts = pts;
@@ -142,7 +143,22 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 		pp.sc = dev_scale;
 		pp.lo = n / 2;
 		pp.hi = n;
-		pp.buf = malloc((pp.hi - pp.lo) * POINT_LINE_MAX);
+		/* the pages a line of about 256 bytes needs mapped in one
+		 * call before the writing starts (the rest, up to the
+		 * longest line's, on demand): faulted one by one while the
+		 * first half goes into a pipe they cost a virtual machine's
+		 * page tables several times the formatting (an all-tau grid
+		 * of 90,000 taus into `| cat`: 2.0 s against 0.2 s) */
+		cap = (pp.hi - pp.lo) * POINT_LINE_MAX;
+		pp.buf = mmap(NULL, cap, PROT_READ | PROT_WRITE,
+			      MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+		if (pp.buf == MAP_FAILED)
+			pp.buf = NULL;
+#ifdef MADV_POPULATE_WRITE
+		if (pp.buf)
+			(void)madvise(pp.buf, (pp.hi - pp.lo) * 256,
+				      MADV_POPULATE_WRITE);
+#endif
 		if (pp.buf && pthread_create(&pp.tid, NULL, points_part_run, &pp) == 0) {
 			split = true;
 			upto = pp.lo;
@@ -159,7 +175,8 @@ bool ssc_allan_points_text(FILE *f, const struct sscope_allan_point *pts,
 		pthread_join(pp.tid, NULL);
 		ok = ok && fwrite(pp.buf, 1, pp.len, f) == pp.len;
 	}
-	free(pp.buf);
+	if (pp.buf)
+		munmap(pp.buf, cap);
 	return ok && fputc(']', f) != EOF;
 }
 
