@@ -146,7 +146,7 @@ void *ssc_alloc_huge(size_t count, size_t size)
 		return NULL;
 	if (bytes > SIZE_MAX - H)
 		return NULL;
-	if (bytes < H / 4 * 3) /* on 4 KiB pages */
+	if (bytes < H / 2) /* on 4 KiB pages */
 		return aligned_alloc(4096, (bytes + 4095) / 4096 * 4096 + 4096 * !bytes);
 	p = aligned_alloc(H, (bytes + H - 1) / H * H);
 	if (p)
