@@ -66,8 +66,6 @@
 
 #if defined(__GNUC__) && !defined(__clang__)
 #define FAM_VEC 1
-typedef double fam_v4 __attribute__((vector_size(32)));
-#define FV4LOAD(v, p) memcpy(&(v), (p), sizeof(fam_v4))
 typedef double fam_v8 __attribute__((vector_size(64)));
 #define FV8LOAD(v, p) memcpy(&(v), (p), sizeof(fam_v8))
 #endif
@@ -193,9 +191,15 @@ static double avar_plain(const double *x, size_t np, size_t m, double tau0)
 	return ssc_ksum_value(&acc) / (2 * md * md * (double)nt);
 }
 
+/* the last index n of TheoBR's ratios (eq. 35); < 0: too short */
+static long theobr_n(size_t np)
+{
+	return (long)floor(0.1 * (double)np / 3) - 3;
+}
+
 size_t ssc_theobr_mmax(size_t np)
 {
-	long n = (long)floor(0.1 * (double)np / 3) - 3;
+	long n = theobr_n(np);
 
 	return n < 0 ? 0 : 12 + 4 * (size_t)n;
 }
@@ -204,7 +208,7 @@ size_t ssc_theobr_mmax(size_t np)
 double ssc_theobr_ratio(const double *x, size_t np, double tau0, unsigned T,
 			struct ssc_xf_ws *ws)
 {
-	long n = (long)floor(0.1 * (double)np / 3) - 3;
+	long n = theobr_n(np);
 	size_t cnt, k;
 	struct ssc_ksum acc = { 0, 0 };
 

@@ -84,7 +84,6 @@ struct ssc_xf_ws {
 	double zabs;         /* sum |z| */
 	double qc;           /* the quadratic removed: qc (i - (np-1)/2)^2 */
 	int lmax;            /* log2 M */
-	fftw_plan fwd[LOG2_MAX + 2], inv[LOG2_MAX + 2];
 };
 
 /* one thread's transform arrays, M complex values each: the product
@@ -116,7 +115,8 @@ static int log2_at_least(size_t n)
 }
 
 /* the plans of every size are kept for the process, made once under a
- * lock: complex transforms (FFTW plans them in a fifth of the time of
+ * lock (a slot, once set, is only read: a workspace reads the sizes its
+ * own plan_all() made or found under the lock): complex transforms (FFTW plans them in a fifth of the time of
  * the real ones, which cost more to plan than to run here) */
 static fftw_plan plan_fwd[LOG2_MAX + 2], plan_inv[LOG2_MAX + 2];
 
@@ -137,8 +137,6 @@ static int plan_all(struct ssc_xf_ws *w, int kmax)
 						       FFTW_ESTIMATE);
 		if (!plan_fwd[k] || !plan_inv[k])
 			rc = -ENOMEM;
-		w->fwd[k] = plan_fwd[k];
-		w->inv[k] = plan_inv[k];
 	}
 	pthread_mutex_unlock(&plan_lock);
 	return rc;
@@ -155,8 +153,8 @@ void ssc_xf_ws_free(struct ssc_xf_ws *w)
 /* XC(t, j mod n) = sum_a u_a v_{a+j}, n = 2^k >= lu + lv - 1 (or >= the
  * reach of the lags read, see the callers): u and v packed into one
  * complex transform, split by its symmetry */
-static void xcorr(struct ssc_xf_ws *w, struct tbuf t, int k, const double *u,
-		  size_t lu, const double *v, size_t lv)
+static void xcorr(struct tbuf t, int k, const double *u, size_t lu,
+		  const double *v, size_t lv)
 {
 	const size_t n = (size_t)1 << k;
 	const double s = 1.0 / (double)n, q = 0.25 * s;
@@ -166,7 +164,7 @@ static void xcorr(struct ssc_xf_ws *w, struct tbuf t, int k, const double *u,
 		t.a[i][0] = i < lu ? u[i] : 0;
 		t.a[i][1] = !self && i < lv ? v[i] : 0;
 	}
-	fftw_execute_dft(w->fwd[k], t.a, t.b);
+	fftw_execute_dft(plan_fwd[k], t.a, t.b);
 	if (self) {
 		for (size_t f = 0; f < n; f++) {
 			double re = t.b[f][0], im = t.b[f][1];
@@ -192,7 +190,7 @@ static void xcorr(struct ssc_xf_ws *w, struct tbuf t, int k, const double *u,
 			t.b[g][1] = -pi;
 		}
 	}
-	fftw_execute_dft(w->inv[k], t.b, t.a);
+	fftw_execute_dft(plan_inv[k], t.b, t.a);
 }
 
 /* the weight of a pair at lag d: w_{d/2} for even d < 2h, else 0 */
@@ -207,8 +205,8 @@ static inline double pair_w(long d, size_t h)
  * sum over a, b in [0, n) with a + b < n of f(D + b - a) u[A + a] u[B + b]
  * (D = B - A > 0: the b block lies after the a block)
  */
-static double tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
-		  size_t A, size_t B, size_t n, size_t h)
+static double tri(struct tbuf t, const double *u, size_t A, size_t B,
+		  size_t n, size_t h)
 {
 	const long D = (long)B - (long)A;
 
@@ -233,32 +231,31 @@ static double tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 		double s = 0;
 
 		/* block a < p, b < q: lags b - a in (-p, q) */
-		xcorr(w, t, k, u + A, p, u + B, q);
+		xcorr(t, k, u + A, p, u + B, q);
 		for (long j = -(long)p + 1; j < (long)q; j++) {
 			double f = pair_w(D + j, h);
 
 			if (f != 0)
 				s += f * XC(t, j < 0 ? nn - (size_t)(-j) : (size_t)j);
 		}
-		s += tri(w, t, u, A, B + q, p, h);
-		s += tri(w, t, u, A + p, B, q, h);
+		s += tri(t, u, A, B + q, p, h);
+		s += tri(t, u, A + p, B, q, h);
 		return s;
 	}
 }
 
 /* the pairs a <= b of u with centre (a + b) / 2 < h, weighted by lag */
-static double head(struct ssc_xf_ws *w, struct tbuf t, const double *u,
-		   size_t h)
+static double head(struct tbuf t, const double *u, size_t h)
 {
 	const int k = log2_at_least(2 * h - 1);
 	double s = 0;
 
 	/* both in [0, h): every lag d < h */
-	xcorr(w, t, k, u, h, u, h);
+	xcorr(t, k, u, h, u, h);
 	for (size_t d = 0; d < h; d += 2)
 		s += pair_w((long)d, h) * XC(t, d);
 	/* a in [0, h), b in [h, 2h), a + (b - h) < h */
-	return s + tri(w, t, u, 0, h, h, h);
+	return s + tri(t, u, 0, h, h, h);
 }
 
 struct ssc_xf_ws *ssc_xf_ws_new(const double *x, size_t np)
@@ -357,7 +354,7 @@ struct ssc_xf_ws *ssc_xf_ws_new(const double *x, size_t np)
 		struct tbuf t = { (fftw_complex *)(void *)w->buf,
 				  (fftw_complex *)(void *)(w->buf + 2 * part) };
 
-		xcorr(w, t, w->lmax + 1, w->z, np, w->z, np);
+		xcorr(t, w->lmax + 1, w->z, np, w->z, np);
 		for (size_t d = 0; d < np; d++)
 			w->R[d] = XC(t, d);
 	}
@@ -403,7 +400,7 @@ SSC_OMP(omp section)
 			struct tbuf t = tbuf_of(w, 0);
 			double *S = (double *)(void *)t.b;
 
-			hd = head(w, t, z, h);
+			hd = head(t, z, h);
 			/* B: G(l) = sum_{i < ni} S_i z_{i+l} at l in [1, m): no
 			 * lag read wraps on a transform of >= np points (S in
 			 * b's storage: packed into a before b is written) */
@@ -411,7 +408,7 @@ SSC_OMP(omp section)
 				S[i] = z[i] + z[i + m];
 				s2 += S[i] * S[i];
 			}
-			xcorr(w, t, w->lmax, S, ni, z, np);
+			xcorr(t, w->lmax, S, ni, z, np);
 			for (size_t j = 1; j < m; j++)
 				B += kern(j, h) * XC(t, j);
 		}
@@ -421,27 +418,20 @@ SSC_OMP(omp section)
 
 			for (size_t i = 0; i < 2 * h; i++)
 				w->rev[i] = z[np - 1 - i];
-			tl = head(w, t, w->rev, h);
+			tl = head(t, w->rev, h);
 		}
 	}
-	for (size_t d = 0; d < h; d++)
-		W += 1.0 / (double)(h - d);
-	A = W * s2;
 	/* C: sum_j k_j sum_{c in [h, np - h)} z_{c+j}^2 */
 	for (size_t j = 1; j < m; j++)
 		C += kern(j, h) * (w->p2[np - m + j] - w->p2[j]);
-	for (size_t d = 0; d < h; d++)
-		E += w->R[2 * d] / (double)(h - d);
-	E -= hd + tl;
 	{
-		double sum = A - 2 * B + C + 2 * E;
-		double z2 = w->p2[np], lg = (double)(w->lmax + 1);
 		/* the quadratic removed: each term's D grows by qc g_d,
 		 * g_d = 2h^2 - 2d^2, whatever i: the cross sum needs
 		 * sum_i D_z(i, d) from the prefix sums */
 		const double *Z = w->Z;
-		double cross = 0, sqr = 0, gw = 0;
+		double cross = 0, sqr = 0, gw = 0, sum, z2, lg;
 
+		/* one pass over d: W, E and the corrections' sums */
 		for (size_t d = 0; d < h; d++) {
 			double g = 2.0 * ((double)h * (double)h - (double)d * (double)d);
 			double wd = 1.0 / (double)(h - d);
@@ -449,10 +439,17 @@ SSC_OMP(omp section)
 				    (Z[ni + h - d] - Z[h - d]) -
 				    (Z[ni + h + d] - Z[h + d]);
 
+			W += wd;
+			E += w->R[2 * d] / (double)(h - d);
 			cross += wd * g * t1;
 			sqr += wd * g * g;
 			gw += wd * g;
 		}
+		A = W * s2;
+		E -= hd + tl;
+		sum = A - 2 * B + C + 2 * E;
+		z2 = w->p2[np];
+		lg = (double)(w->lmax + 1);
 		cross *= 2 * w->qc;
 		sqr *= w->qc * w->qc * (double)ni;
 		/* transforms: eps log2 n per product sum, every part bounded
@@ -482,21 +479,21 @@ SSC_OMP(omp section)
 
 /* H[d] += sum over a in [a0, a1), d in [d0, d1) of u_a u_{a+d}, a < d
  * everywhere (a1 <= d0) */
-static void heads_rect(struct ssc_xf_ws *w, struct tbuf t, const double *u,
-		       size_t a0, size_t a1, size_t d0, size_t d1, double *H)
+static void heads_rect(struct tbuf t, const double *u, size_t a0, size_t a1,
+		       size_t d0, size_t d1, double *H)
 {
 	const size_t la = a1 - a0, ld = d1 - d0, lv = la + ld - 1;
 	const int k = log2_at_least(lv);
 
 	/* r[j] = sum_a u_{a0+a} u_{a0+d0+a+j}, j < ld: no lag read wraps */
-	xcorr(w, t, k, u + a0, la, u + a0 + d0, lv);
+	xcorr(t, k, u + a0, la, u + a0 + d0, lv);
 	for (size_t j = 0; j < ld; j++)
 		H[d0 + j] += XC(t, j);
 }
 
 /* the triangle a in [L0, L0 + L), d in [L0, L0 + L), a < d */
-static void heads_tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
-		      size_t L0, size_t L, double *H)
+static void heads_tri(struct tbuf t, const double *u, size_t L0, size_t L,
+		      double *H)
 {
 	if (L <= TRI_DIRECT) {
 		for (size_t d = L0 + 1; d < L0 + L; d++) {
@@ -511,9 +508,9 @@ static void heads_tri(struct ssc_xf_ws *w, struct tbuf t, const double *u,
 	{
 		const size_t h = L / 2, M = L0 + h;
 
-		heads_rect(w, t, u, L0, M, M, L0 + L, H);
-		heads_tri(w, t, u, L0, h, H);
-		heads_tri(w, t, u, M, L - h, H);
+		heads_rect(t, u, L0, M, M, L0 + L, H);
+		heads_tri(t, u, L0, h, H);
+		heads_tri(t, u, M, L - h, H);
 	}
 }
 
@@ -551,12 +548,12 @@ int ssc_oadev_sums_fast(struct ssc_xf_ws *w, size_t D, unsigned T,
 SSC_OMP(omp parallel sections num_threads(T > 1 ? 2 : 1))
 	{
 SSC_OMP(omp section)
-		heads_tri(w, tbuf_of(w, 0), z, 0, D + 1, w->H);
+		heads_tri(tbuf_of(w, 0), z, 0, D + 1, w->H);
 SSC_OMP(omp section)
 		{
 			for (size_t i = 0; i < np; i++)
 				w->rev[i] = z[np - 1 - i];
-			heads_tri(w, tbuf_of(w, 1), w->rev, 0, D + 1, w->Hr);
+			heads_tri(tbuf_of(w, 1), w->rev, 0, D + 1, w->Hr);
 		}
 	}
 	for (size_t m = 1; m <= D; m++) {
