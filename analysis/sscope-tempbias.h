@@ -27,12 +27,14 @@
  * with weights = samples per bin (gsl_multifit_wlinear, SVD of the
  * centred and scaled design).  The coefficient covariance is the
  * sandwich A^-1 S A^-1 of the time-ordered block scores under a noise
- * model of the block errors, white noise plus a random walk of the bias
- * (independent between runs), whose two levels are the restricted
- * maximum likelihood (REML) of the residuals given the design (a Kalman
- * filter per run); a random walk or bias instability widens the
- * intervals, and for white residuals the covariance is the classical
- * one.  The order (auto) is the largest K whose added term passes an
+ * model of the block errors, white noise, a random walk of the bias and
+ * flicker (bias instability, a bank of Gauss-Markov processes),
+ * independent between runs, whose levels are the restricted maximum
+ * likelihood (REML) of the residuals given the design (a Kalman filter
+ * per run on at most 1024 groups of consecutive blocks; the model with
+ * the best REML less one per level); a random walk or bias instability
+ * widens the intervals, and for white residuals the covariance is the
+ * classical one.  The order (auto) is the largest K whose added term passes an
  * F test at level alpha, capped at one order per 5 degC of span, below
  * the number of distinct temperature levels (cells of span / 20 holding
  * at least 1 % of the data) and at SSCOPE_TEMPBIAS_MAX_ORDER, and

@@ -192,7 +192,7 @@ static int coverage_table(void)
 		{ "unequal-ramps", "white+B+K", false, true, true, false },
 		{ "sine", "white, warm-up 600 s", true, false, false, true },
 	};
-	const int R = 100;
+	const int R = 300;
 	size_t n = CR_DUR;
 	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
 	double *tn = malloc(n * sizeof(double));

@@ -310,8 +310,10 @@ END_TEST
  * 9 deg/h/sqrt(Hz) (+ bias instability 0.5 deg/h and rate random walk
  * 0.05 deg/h/sqrt(s) when correlated), 2 deg/h/degC, hysteresis 3 deg/h,
  * gradient 60 deg/h per degC/s; temperature read with 0.01 degC noise */
-static void gyro_run(uint64_t seed, bool sine, bool correlated, double *x,
-		     double *t, double *tn, size_t n)
+/* noise: 0 white, 1 white + bias instability + rate random walk, 2 white
+ * + bias instability; slow: the ramps' durations times this */
+static void gyro_run(uint64_t seed, bool sine, int noise, double slow,
+		     double *x, double *t, double *tn, size_t n)
 {
 	struct sscope_sensor_spec sp = { 0 }, ts = { 0 };
 	struct sscope_sim_opts o = { 0 }, to = { 0 };
@@ -320,9 +322,9 @@ static void gyro_run(uint64_t seed, bool sine, bool correlated, double *x,
 
 	sp.quantity = SSCOPE_QUANTITY_ANGULAR_RATE;
 	sp.n = 9;
-	if (correlated) {
+	if (noise) {
 		sp.b = 0.5;
-		sp.k = 0.05;
+		sp.k = noise == 1 ? 0.05 : 0;
 	}
 	o.rate_hz = 1;
 	o.seed = seed;
@@ -342,7 +344,7 @@ static void gyro_run(uint64_t seed, bool sine, bool correlated, double *x,
 		 * (30), fast cooling (10) */
 		o.temp_profile = SSCOPE_SIM_TEMP_GIVEN;
 		for (size_t i = 0; i < n; i++) {
-			double ph = fmod((double)i, 4800);
+			double ph = fmod((double)i / slow, 4800);
 
 			t[i] = ph < 600 ? -10 + 60 * ph / 600 :
 			       ph < 2400 ? 50 - 60 * (ph - 600) / 1800 :
@@ -382,7 +384,7 @@ START_TEST(no_warmup_unequal_ramps)
 		struct sscope_diag d = { "" };
 		bool sine = r % 2;
 
-		gyro_run(300 + (uint64_t)r, sine, false, x, t, tn, n);
+		gyro_run(300 + (uint64_t)r, sine, 0, 1, x, t, tn, n);
 		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
 		ck_assert_msg(res->runs[0].warmup_s <= 0.01 * (double)n,
 			      "record %d: warm-up %g s of %zu", r, res->runs[0].warmup_s, n);
@@ -405,10 +407,11 @@ END_TEST
 /* The rms over R records of 4 h of z = (estimate - truth) / sd of the
  * hysteresis (truth 3) and the gradient (truth 60) of gyro_run(seed0 + r,
  * sine, correlated, ...). */
-static double rms_z(uint64_t seed0, bool sine, bool correlated, int R,
-		    const char *what)
+static double rms_z(uint64_t seed0, bool sine, int noise, double slow,
+		    int R, const char *what, double *cover)
 {
-	size_t n = 4 * 3600;
+	int in1 = 0, in2 = 0;
+	size_t n = (size_t)(4 * 3600 * slow);
 	double *x = malloc(n * sizeof(double)), *t = malloc(n * sizeof(double));
 	double *tn = malloc(n * sizeof(double)), z2 = 0;
 
@@ -419,20 +422,26 @@ static double rms_z(uint64_t seed0, bool sine, bool correlated, int R,
 		struct sscope_diag d = { "" };
 		double zh, zg;
 
-		gyro_run(seed0 + (uint64_t)r, sine, correlated, x, t, tn, n);
+		gyro_run(seed0 + (uint64_t)r, sine, noise, slow, x, t, tn, n);
 		ck_assert_msg(sscope_tempbias_fit(&run, 1, NULL, &res, &d) == 0, "%s", d.msg);
 		ck_assert_msg(res->have_hysteresis && res->have_gradient, "record %d: %s",
 			      r, res->note);
 		zh = (res->hysteresis - 3) / res->hysteresis_sd;
 		zg = (res->gradient - 60) / res->gradient_sd;
 		z2 += zh * zh + zg * zg;
+		in1 += (fabs(zh) <= 1) + (fabs(zg) <= 1);
+		in2 += (fabs(zh) <= 2) + (fabs(zg) <= 2);
 		sscope_tempbias_result_free(res);
 	}
 	free(x);
 	free(t);
 	free(tn);
-	printf("# %s: rms z of hysteresis and gradient over %d records: %.2f\n",
-	       what, R, sqrt(z2 / (2 * R)));
+	printf("# %s: rms z of hysteresis and gradient over %d records: %.2f; within 1 sd %.3f, 2 sd %.3f\n",
+	       what, R, sqrt(z2 / (2 * R)), in1 / (2.0 * R), in2 / (2.0 * R));
+	if (cover) {
+		cover[0] = in1 / (2.0 * R);
+		cover[1] = in2 / (2.0 * R);
+	}
 	return sqrt(z2 / (2 * R));
 }
 
@@ -445,7 +454,8 @@ START_TEST(correlated_residuals)
 	 * brings the rms of z = (estimate - truth) / sd near 1 (0.84 here;
 	 * 0.50 with the Newey-West covariance before, too wide).  Over 2 R values an rms of 1 exceeds
 	 * 1.6 with probability < 1e-3 (chi^2 with 2R = 24 dof) */
-	double z = rms_z(700, true, true, small_run() ? 6 : 12, "correlated residuals");
+	double z = rms_z(700, true, 1, 1, small_run() ? 6 : 12, "correlated residuals",
+			 NULL);
 
 	ck_assert_msg(z < 1.6, "rms z %g", z);
 }
@@ -462,9 +472,30 @@ START_TEST(random_walk_ramps)
 	 * Over 2 R = 40 values of z an rms of 1 exceeds 1.3 with probability
 	 * 0.004 (chi^2 with 40 dof), and an rms below 0.55 says the sds are
 	 * nearly twice too large (probability 3e-6 for an rms of 1) */
-	double z = rms_z(900, false, true, 20, "random walk, unequal ramps");
+	double z = rms_z(900, false, 1, 1, 20, "random walk, unequal ramps", NULL);
 
 	ck_assert_msg(z < 1.3 && z > 0.55, "rms z %g", z);
+}
+END_TEST
+
+START_TEST(flicker_ramps)
+{
+	/* ramps of unequal rates (20 and 60 min) with bias instability alone
+	 * (B 0.5 deg/h beside white noise of 9 deg/h/sqrt(Hz), 8 h): with
+	 * white noise and a random walk only in the noise model, the flicker
+	 * went into the walk and the intervals were too wide: 90 % of these
+	 * hysteresis values within 1 sd (92 % with other seeds; rms z 0.61 and
+	 * 0.52); with the flicker's processes in the model 61 % and 76 %
+	 * (0.70 / 0.72 over the 300 records of tests/bench-tempbias.c).  Over
+	 * 100 records (200 correlated values) a coverage of 68.3 % falls
+	 * outside 52-84 % with probability below 1e-3; 2 sd must hold at
+	 * least 88 % (95.4 % stated) */
+	double c[2];
+
+	rms_z(1100, false, 2, 2, small_run() ? 60 : 100,
+	      "bias instability, unequal ramps of 8 h", c);
+	ck_assert_msg(c[0] > 0.52 && c[0] < 0.84 && c[1] >= 0.88,
+		      "within 1 sd %g, 2 sd %g", c[0], c[1]);
 }
 END_TEST
 
@@ -481,6 +512,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, no_warmup_unequal_ramps);
 	tcase_add_test(tc, correlated_residuals);
 	tcase_add_test(tc, random_walk_ramps);
+	tcase_add_test(tc, flicker_ramps);
 	suite_add_tcase(s, tc);
 	return s;
 }

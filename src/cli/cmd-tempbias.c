@@ -203,7 +203,7 @@ static json_t *chan_json(const struct chan *ch, size_t n_runs)
 	json_object_set_new(fit, "coefficients", c);
 	json_object_set_new(fit, "coefficient_sd", csd);
 	json_object_set_new(fit, "coefficient_sd_method", json_string(
-		"sandwich of the time-ordered 1 s block scores under white noise plus a random walk of the bias, their levels by REML (Kalman filter per file)"));
+		"sandwich of the time-ordered block scores under white noise, a random walk and flicker (bias instability) of the bias, their levels by REML (Kalman filter per file)"));
 	snprintf(k, sizeof(k), "%s/degC^k", ch->d.label);
 	json_object_set_new(fit, "coefficient_unit", json_string(k));
 	json_object_set_new(fit, "residual_rms", ssc_jreal(du(&ch->d, r->residual_rms)));
