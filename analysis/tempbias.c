@@ -910,7 +910,7 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 				pr.lambda = 0;
 		}
 		/* flicker, alone and beside the walk: processes from the
-		 * groups' spacing to ten times the run, SSC_GM_RATIO apart;
+		 * groups' spacing to ten times the run (at most GM_MAXN), SSC_GM_RATIO apart;
 		 * its level g on a grid of e^-8 .. e^5 of a full block's
 		 * white noise, then golden sections in each log level in
 		 * turn.  The model kept is the best by the REML less one per
@@ -921,7 +921,11 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 			double score = best - (pr.lambda > 0), xl;
 			int n = 0;
 
-			for (double tc = dtmin; n < GM_MAXN && tc < 10 * Tmax * SSC_GM_RATIO;
+			/* from the groups' mean spacing (not the shortest: a
+			 * short last group or a gap would spend the bank's
+			 * processes below it) */
+			for (double tc = fmax(dtmin, Tmax / RW_GROUPS);
+			     n < GM_MAXN && tc < 10 * Tmax * SSC_GM_RATIO;
 			     tc *= SSC_GM_RATIO)
 				tp.tc[n++] = tc;
 			tp.ngm = n;
