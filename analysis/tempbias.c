@@ -910,11 +910,12 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 				pr.lambda = 0;
 		}
 		/* flicker, alone and beside the walk: processes from the
-		 * groups' spacing to ten times the run (at most GM_MAXN), SSC_GM_RATIO apart;
-		 * its level g on a grid of e^-8 .. e^5 of a full block's
-		 * white noise, then golden sections in each log level in
-		 * turn.  The model kept is the best by the REML less one per
-		 * level (Akaike): white, walk, flicker, or both */
+		 * groups' spacing to ten times the run (at most GM_MAXN),
+		 * SSC_GM_RATIO apart; its level g on a grid of e^-8 .. e^5
+		 * of a full block's white noise, then golden sections in
+		 * each log level in turn.  The model kept is the best by the
+		 * REML less one per level (Akaike): white, walk, flicker, or
+		 * both */
 		{
 			struct rwpar tp = pr, pg[2];
 			double lg[2] = { -INFINITY, -INFINITY }, xg[2] = { 0, 0 };
