@@ -1240,7 +1240,7 @@ static int check(struct ssc_common *co, void *opts)
 	/* checked once every option is read (--taus may come after
 	 * --stride), here for the command and a scene's [allan] alike */
 	if (a->ao.stride_div && a->grid != SSCOPE_ALLAN_TAUS_ALL)
-		return ssc_usage_error(co->cmd, "--stride pays only with --taus all: octave, decade and dense grids are computed in two passes over memory, faster than any stride");
+		return ssc_usage_error(co->cmd, "--stride pays only with --taus all: octave, decade and dense grids take about a second of CPU without it even at 10^8 samples; a stride saves little there and lowers the EDF");
 	if (a->n_exp && a->no_fit)
 		return ssc_usage_error(co->cmd, "%s needs the fit (drop --no-fit)",
 				       a->exp[0].option);
