@@ -70,7 +70,7 @@ static const struct ssc_option allan_opts[] = {
 	{ "model-error", required_argument, OPT_MODEL_ERROR, "F",
 	  "relative error of the five-term model per point (default 0: none)" },
 	{ "stride", required_argument, OPT_STRIDE, "K",
-	  "with --taus all only (oadev, ohdev): the strided-overlap estimator, terms every m/K samples instead of every sample; faster on long records, at a lower EDF (reported beside the full one)" },
+	  "with --taus all or decade only (oadev, ohdev): the strided-overlap estimator, terms every m/K samples instead of every sample; faster on long records, at a lower EDF (reported beside the full one)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
 	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
@@ -1239,8 +1239,9 @@ static int check(struct ssc_common *co, void *opts)
 		return ssc_usage_error(co->cmd, "--stride applies to oadev and ohdev only");
 	/* checked once every option is read (--taus may come after
 	 * --stride), here for the command and a scene's [allan] alike */
-	if (a->ao.stride_div && a->grid != SSCOPE_ALLAN_TAUS_ALL)
-		return ssc_usage_error(co->cmd, "--stride pays only with --taus all: octave, decade and dense grids take about a second of CPU without it even at 10^8 samples; a stride saves little there and lowers the EDF");
+	if (a->ao.stride_div && a->grid != SSCOPE_ALLAN_TAUS_ALL &&
+	    a->grid != SSCOPE_ALLAN_TAUS_DECADE)
+		return ssc_usage_error(co->cmd, "--stride pays only with --taus all or decade: on the octave and dense grids it saved no time up to 10^8 samples and lowers the EDF");
 	if (a->n_exp && a->no_fit)
 		return ssc_usage_error(co->cmd, "%s needs the fit (drop --no-fit)",
 				       a->exp[0].option);
