@@ -63,7 +63,8 @@ json_check "terms restrict the fit" "$T/out" \
   '(.channels[0].fit.terms - ["N","B"] | length) == 0 and .channels[0].noise.K.fitted == false and .channels[0].noise.K.hi == null'
 run "fit-tau" 0 allan --format json --fit-tau 1: -c gx "$G"
 json_check "fit-tau drops short taus" "$T/out" '.channels[0].fit.points < ([.channels[0].points[]] | length)'
-# --stride only with --taus all (refused on other grids: cli-allan-data.sh);
+# --stride with --taus all (or decade; refused on the octave and dense grids:
+# cli-allan-data.sh);
 # the grid may come after it
 run "stride" 0 allan --format json --stride 4 --taus all -c gx "$G"
 # terms every floor(m/4) samples, written from m = 8 (below, the stride is
