@@ -10,7 +10,9 @@ Threads: each command with its default team, with one thread and with two
 (OMP_NUM_THREADS=1 / 2, which also turns off the default's choice), on an
 idle machine, beside a competitor (one CPU-bound process at normal
 priority, a Python busy loop: it takes one core) and beside two;
-interleaved, median of RUNS (default 5) wall times.  The default should be
+interleaved (each round starting with the next team), median of RUNS
+(default 15) wall times, or of as many runs as take SPAN (default 3)
+seconds a team when that is more (up to 300).  The default should be
 within 10 % of the faster of one and two threads in every condition.
 
 Usage: bench-load.py SENSORSCOPE [WORKDIR]
@@ -28,7 +30,8 @@ S = sys.argv[1]
 SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 SAMPLE = os.path.join(SRC, "samples", "gyro-static.csv")
 START_RUNS = int(os.environ.get("START_RUNS", "40"))
-RUNS = int(os.environ.get("RUNS", "5"))
+RUNS = int(os.environ.get("RUNS", "15"))
+SPAN = float(os.environ.get("SPAN", "3"))
 
 
 def wall(argv, env=None):
@@ -39,10 +42,13 @@ def wall(argv, env=None):
 
 
 def medians(cases, runs):
-    """cases: {label: (argv, env)}; interleaved runs, median seconds"""
+    """cases: {label: (argv, env)}; interleaved runs, each round starting
+    with the next case (no case always first), median seconds"""
     t = {k: [] for k in cases}
-    for _ in range(runs):
-        for k, (argv, env) in cases.items():
+    order = list(cases)
+    for r in range(runs):
+        for k in order[r % len(order):] + order[:r % len(order)]:
+            argv, env = cases[k]
             t[k].append(wall(argv, env))
     return {k: statistics.median(v) for k, v in t.items()}
 
@@ -99,9 +105,9 @@ def thread_rows(tmp):
 def threads(tmp):
     rows = thread_rows(tmp)
     bad = 0
-    print("# threads: median wall of %d interleaved runs; default within 10 %% of the faster of 1 and 2" % RUNS)
-    print("%-22s %-13s %9s %9s %9s %7s" % ("command", "machine", "default", "1 thread",
-                                          "2 threads", "ok"))
+    print("# threads: median wall of at least %d interleaved runs (runs: how many); default within 10 %% of the faster of 1 and 2" % RUNS)
+    print("%-22s %-13s %9s %9s %9s %7s %5s" % ("command", "machine", "default", "1 thread",
+                                               "2 threads", "ok", "runs"))
     for cond, nc in (("idle", 0), ("competitor", 1), ("2 competitors", 2)):
         comp = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
                 for _ in range(nc)]
@@ -110,13 +116,17 @@ def threads(tmp):
         print("# %s: load average %s" % (cond, open("/proc/loadavg").read().split()[0]))
         try:
             for name, argv in rows.items():
+                # short commands: as many runs as take SPAN seconds a team
+                # (their times are bimodal on a shared machine: 24 or
+                # 31-38 ms for the all-tau row, whatever the team)
+                runs = max(RUNS, min(300, int(SPAN / wall(argv, env_with()))))
                 m = medians({"d": (argv, env_with()),
                              "1": (argv, env_with(OMP_NUM_THREADS="1")),
-                             "2": (argv, env_with(OMP_NUM_THREADS="2"))}, RUNS)
+                             "2": (argv, env_with(OMP_NUM_THREADS="2"))}, runs)
                 ok = m["d"] <= 1.10 * min(m["1"], m["2"])
                 bad += not ok
-                print("%-22s %-13s %9.3f %9.3f %9.3f %7s" % (name, cond, m["d"], m["1"],
-                                                           m["2"], "yes" if ok else "NO"))
+                print("%-22s %-13s %9.3f %9.3f %9.3f %7s %5d" % (
+                    name, cond, m["d"], m["1"], m["2"], "yes" if ok else "NO", runs))
                 sys.stdout.flush()
         finally:
             for c in comp:
