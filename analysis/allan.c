@@ -1358,6 +1358,22 @@ static void set_chunks(struct sscope_allan *p, size_t q, size_t w)
 	p->n_chunk = (p->np + p->chunk - 1) / p->chunk;
 }
 
+/*
+ * The team for a parallel loop of `items` iterations and about `terms`
+ * terms of work in all: one thread when there is one iteration, or when
+ * the work is too small to pay for waking a second thread.  On a busy
+ * machine a woken thread may wait a scheduler slice for a core while the
+ * loop's end waits for it: `report` on a 36,000-sample gyro ran some 450
+ * loops of a few thousand terms each, and two threads beside two
+ * CPU-bound competitors took 0.60 s against 0.51 s on one.
+ */
+#define PAR_MIN_TERMS ((size_t)1 << 21)
+
+static unsigned team_for(unsigned T, size_t items, size_t terms)
+{
+	return items > 1 && terms >= PAR_MIN_TERMS ? T : 1;
+}
+
 /* first point of chunk c (c = n_chunk: np) */
 static size_t chunk_at(const struct sscope_allan *p, size_t c)
 {
@@ -1423,7 +1439,7 @@ static size_t scan_source(struct sscope_allan *p, struct src *s, unsigned T,
 	{
 		size_t tot_nan = 0, inf_min = SIZE_MAX;
 
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1) reduction(+ : tot_nan) reduction(min : inf_min))
+SSC_OMP(omp parallel for num_threads(C > 1 ? T : 1) schedule(dynamic, 1) reduction(+ : tot_nan) reduction(min : inf_min))
 		for (size_t c = 0; c < C; c++) {
 			struct ssc_ksum a = { 0, 0 };
 			size_t lo, hi, nn = 0, ia = SIZE_MAX;
@@ -1508,7 +1524,7 @@ static bool centre_sampled(struct src *s, unsigned T)
 	if (!part)
 		return false;
 	(void)T;
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+SSC_OMP(omp parallel for num_threads(nparts > 1 ? T : 1) schedule(dynamic, 1))
 	for (size_t t = 0; t < nparts; t++) {
 		size_t a = t * CENTRE_PART;
 		size_t b = a + CENTRE_PART < ns ? a + CENTRE_PART : ns;
@@ -1608,7 +1624,7 @@ static void phase_contiguous(struct sscope_allan *p, const struct src *s,
 			     unsigned T, const struct ssc_ksum *bases)
 {
 	(void)T;
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+SSC_OMP(omp parallel for num_threads(p->n_chunk > 1 ? T : 1) schedule(dynamic, 1))
 	for (size_t c = 0; c < p->n_chunk; c++) {
 		struct run r = { { 0, 0 }, 0, false };
 		size_t lo = chunk_at(p, c);
@@ -2171,7 +2187,7 @@ static void sums_grouped(const struct sscope_allan *p, const size_t *m,
 				       (xs.stride - (p->np - r)) * sizeof(double));
 			}
 	}
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+SSC_OMP(omp parallel for num_threads(team_for(T, ng, p->np * n)) schedule(dynamic, 1))
 	for (size_t k = 0; k < ng; k++) {
 		size_t j0 = k * GRP_TAUS;
 
@@ -2718,7 +2734,7 @@ static int compute(struct sscope_allan *p, const double *y,
 			goto out;
 	} else {
 		phase_contiguous(p, &s, T, bases);
-SSC_OMP(omp parallel for num_threads(T) schedule(dynamic, 1))
+SSC_OMP(omp parallel for num_threads(team_for(T, nacc, p->np * nacc)) schedule(dynamic, 1))
 		for (size_t j = 0; j < nacc; j++) {
 			size_t mj = m[j];
 
