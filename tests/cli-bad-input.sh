@@ -60,6 +60,22 @@ run "-u fills a missing unit" 0 info -u deg/h --format json "$T/unnamed.csv"
 json_check "-u: gx in deg/h" "$T/out" '.channels[0].unit == "deg/h"'
 lacks "-u that applies does not warn" "$T/err" 'changes nothing'
 
+# a rate comment that gives no rate: every command that needs the rate
+# says which line and why, info shows it, --rate settles it
+awk 'BEGIN { print "# sensor: test"; print "# rate: 10 furlongs"; print "gx [deg/s]"; for (i = 0; i < 400; i++) print (i % 7) * 0.001 }' >"$T/rate-bad.csv"
+why="rate-bad.csv: no sample rate: line 2: '# rate: 10 furlongs' is not a sample rate \\(a positive frequency, as in '# rate: 100 Hz'\\); give --rate"
+bad "allan: the rate comment it could not read" 1 "$why" allan "$T/rate-bad.csv"
+bad "psd: the rate comment it could not read" 1 "$why" psd "$T/rate-bad.csv"
+bad "walk: the rate comment it could not read" 1 "$why" walk "$T/rate-bad.csv"
+run "info: rate comment it could not read" 0 info "$T/rate-bad.csv"
+has "info: says why the rate is unknown" "$T/out" "rate: +unknown \\(line 2: '# rate: 10 furlongs' is not a sample rate"
+run "info json: rate note" 0 info --format json "$T/rate-bad.csv"
+json_check "info json: rate_note, rate null" "$T/out" '.rate_hz == null and (.rate_note | startswith("line 2: '"'"'# rate: 10 furlongs'"'"' is not"))'
+run "info json: --rate settles it" 0 info --format json --rate 100 "$T/rate-bad.csv"
+json_check "info json: no rate_note with a rate" "$T/out" '.rate_hz == 100 and (has("rate_note") | not)'
+printf 'gx\n1\n2\n3\n' >"$T/rate-none.csv"
+bad "allan: no rate at all" 1 "rate-none.csv: no sample rate: no time column and no '# rate:' comment; give --rate" allan "$T/rate-none.csv"
+
 # huge: a 2-million-row file streamed through a pipe (no hang, bounded time)
 awk 'BEGIN { print "gx [deg/s]"; for (i = 0; i < 2000000; i++) print (i % 7) * 0.001 }' >"$T/huge.csv"
 run "huge via stdin" 0 info --format json -r 1000 - <"$T/huge.csv"

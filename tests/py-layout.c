@@ -129,6 +129,7 @@ int main(void)
 	F(sscope_capture, n_gaps);
 	F(sscope_capture, is_view);
 	F(sscope_capture, values_unchecked);
+	F(sscope_capture, rate_note);
 	S(sscope_allan_opts);
 	F(sscope_allan_opts, dev);
 	F(sscope_allan_opts, input);

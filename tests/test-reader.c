@@ -187,6 +187,41 @@ START_TEST(header_rate_comment)
 	ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
 	ck_assert_rel(cap->rate_hz, 100, 1e-15);
 	ck_assert(cap->channels[0].col.quantity == SSCOPE_QUANTITY_UNKNOWN);
+	ck_assert_str_eq(cap->rate_note, "");
+	sscope_capture_free(cap);
+	/* a rate comment that gives none is kept to say why the rate is
+	 * unknown: zero, negative, not a frequency, not a number */
+	{
+		static const char *const bad[] = { "0 Hz", "-5 Hz", "10 m",
+						   "abc", "1e400 Hz" };
+
+		for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+			char text[96], want[64];
+
+			snprintf(text, sizeof(text), "# sensor: x\n# rate: %s\ngx\n1\n2\n",
+				 bad[i]);
+			snprintf(want, sizeof(want), "line 2: '# rate: %s' is not a sample rate",
+				 bad[i]);
+			p = puts_("r3.csv", text);
+			ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
+			ck_assert(cap->rate_source == SSCOPE_CAPTURE_RATE_NONE);
+			ck_assert_double_eq(cap->rate_hz, 0);
+			ck_assert_msg(strstr(cap->rate_note, want) == cap->rate_note,
+				      "%s: %s", bad[i], cap->rate_note);
+			sscope_capture_free(cap);
+		}
+	}
+	/* a later comment with a rate, or a rate from the time column:
+	 * no note */
+	p = puts_("r4.csv", "# rate: 0 Hz\n# fs: 50\ngx\n1\n2\n");
+	ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
+	ck_assert_rel(cap->rate_hz, 50, 1e-15);
+	ck_assert_str_eq(cap->rate_note, "");
+	sscope_capture_free(cap);
+	p = puts_("r5.csv", "# rate: fast\nt [s],gx\n0,1\n0.5,2\n1,3\n");
+	ck_assert_int_eq(load(p, NULL, &cap, &d), 0);
+	ck_assert_rel(cap->rate_hz, 2, 1e-12);
+	ck_assert_str_eq(cap->rate_note, "");
 	sscope_capture_free(cap);
 }
 END_TEST

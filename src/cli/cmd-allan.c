@@ -541,9 +541,7 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 	if (rc)
 		return rc;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(co->cmd, "%s: no sample rate: the file has no time column or '# rate:' comment; give --rate",
-			path);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(co->cmd, path, cap->rate_note);
 	}
 	if (cap->has_timing && cap->timing.n_gaps)
 		ssc_warn(co, "%s: %zu time-stamp gaps (about %zu samples missing): deviations assume uniform sampling; mark missing samples as NaN rows and use --allow-nan",

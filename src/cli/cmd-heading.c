@@ -690,10 +690,8 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	rc = ssc_time_check(env->co, path, cap, true);
 	if (rc)
 		return rc;
-	if (!(s->fs > 0)) {
-		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
-		return SSC_EXIT_FAIL;
-	}
+	if (!(s->fs > 0))
+		return ssc_err_no_rate(cmd, path, cap->rate_note);
 	rc = pick_axis(cmd, cap, o->axis, path, &s->axis);
 	if (!rc)
 		rc = pick_detect(cmd, cap, o->detect, s->axis, path, s->det);

@@ -323,6 +323,9 @@ static void text_file(FILE *f, const struct file_info *fi)
 	else if (cap->time_s)
 		fprintf(f, "  rate:        unknown (time column '%s' not increasing; give --rate)\n",
 			cap->time_col.name);
+	else if (cap->rate_note[0])
+		fprintf(f, "  rate:        unknown (%s; give --rate)\n",
+			cap->rate_note);
 	else
 		fprintf(f, "  rate:        unknown (no time column; give --rate)\n");
 	if (cap->rate_hz > 0)
@@ -423,6 +426,8 @@ static json_t *json_file(const struct file_info *fi)
 	json_object_set_new(o, "rate_hz", cap->rate_hz > 0 ? json_real(cap->rate_hz) :
 				     json_null());
 	json_object_set_new(o, "rate_source", json_string(rate_source(cap)));
+	if (cap->rate_note[0])
+		json_object_set_new(o, "rate_note", json_string(cap->rate_note));
 	for (size_t k = 0; k < cap->n_channels; k++) {
 		const struct sscope_capture_column *col = &cap->channels[k].col;
 		const struct sscope_stats *s = &fi->st[k];

@@ -656,9 +656,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	if (rc)
 		return rc;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
-			path);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(co->cmd, path, cap->rate_note);
 	}
 	R = calloc(1, sizeof(*R));
 	if (R)

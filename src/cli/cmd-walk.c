@@ -603,8 +603,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	if (rc)
 		goto done;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
-		rc = SSC_EXIT_FAIL;
+		rc = ssc_err_no_rate(cmd, path, cap->rate_note);
 		goto done;
 	}
 	if (o->allan) {

@@ -246,6 +246,15 @@ out:
 	return rc;
 }
 
+/* a rate comment the reader could not read, kept for the messages */
+static void note_rate(struct sscope_capture *cap,
+		      const struct sscope_reader *r)
+{
+	const char *note = sscope_reader_header_rate_note(r);
+
+	snprintf(cap->rate_note, sizeof(cap->rate_note), "%s", note ? note : "");
+}
+
 int sscope_capture_load(struct sscope_capture **out, const char *path,
 			const struct sscope_reader_opts *opts,
 			struct sscope_diag *diag)
@@ -305,6 +314,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		cap->values_unchecked = opts->in_place_unchecked;
 		cap->channels[0].n_nan = cap->n_nan;
 		header_hz = sscope_reader_header_rate(r);
+		note_rate(cap, r);
 		goto rate;
 	}
 	/* A mapped file (or any source of known size) is read in one pass,
@@ -395,6 +405,7 @@ int sscope_capture_load(struct sscope_capture **out, const char *path,
 		}
 	}
 	header_hz = sscope_reader_header_rate(r);
+	note_rate(cap, r);
 	rc = finish_load(cap, n, threads, r, path, diag);
 	r = NULL; /* closed */
 	if (rc)
@@ -411,6 +422,8 @@ rate:
 		cap->rate_hz = header_hz;
 		cap->rate_source = SSCOPE_CAPTURE_RATE_HEADER;
 	}
+	if (cap->rate_hz > 0)
+		cap->rate_note[0] = '\0';
 	free(ptrs);
 	sscope_reader_close(r);
 	*out = cap;

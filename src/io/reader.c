@@ -103,6 +103,7 @@ struct sscope_reader {
 	int t0_exp;
 	double t0_double;
 	double header_rate_hz;
+	char header_rate_note[SSCOPE_RATE_NOTE_MAX]; /* a rate comment rejected */
 	/* a mapped text file split for parallel reading */
 	struct part *parts;
 	size_t np, nthr; /* parts, threads */
@@ -791,14 +792,26 @@ static void header_rate(struct sscope_reader *r, const char *p, const char *e)
 			return;
 		memcpy(buf, q, n);
 		buf[n] = '\0';
-		if (sscope_quantity_parse(buf, &v, &u, NULL))
-			return;
 		sscope_unit_parse("Hz", &hz, NULL);
-		if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
-		    u.scale == 1)
-			u = hz;
-		if (sscope_unit_compatible(&u, &hz) && v > 0 && isfinite(v))
-			r->header_rate_hz = v;
+		if (!sscope_quantity_parse(buf, &v, &u, NULL)) {
+			if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
+			    u.scale == 1)
+				u = hz;
+			if (sscope_unit_compatible(&u, &hz) && v > 0 && isfinite(v)) {
+				r->header_rate_hz = v;
+				return;
+			}
+		}
+		/* told where a rate is needed and none was found (the
+		 * comment quoted in printable ASCII: it reaches terminals) */
+		n = (size_t)(e - p) < 40 ? (size_t)(e - p) : 40;
+		memcpy(buf, p, n);
+		for (size_t i = 0; i < n; i++)
+			if ((unsigned char)buf[i] < 0x20 || (unsigned char)buf[i] >= 0x7f)
+				buf[i] = '?';
+		snprintf(r->header_rate_note, sizeof(r->header_rate_note),
+			 "line %zu: '# %.*s%s' is not a sample rate (a positive frequency, as in '# rate: 100 Hz')",
+			 r->line, (int)n, buf, e - p > 40 ? "..." : "");
 		return;
 	}
 }
@@ -1743,6 +1756,12 @@ const struct sscope_capture_column *sscope_reader_column(const struct sscope_rea
 double sscope_reader_header_rate(const struct sscope_reader *r)
 {
 	return r->header_rate_hz;
+}
+
+const char *sscope_reader_header_rate_note(const struct sscope_reader *r)
+{
+	return r->header_rate_hz > 0 || !r->header_rate_note[0] ?
+		       NULL : r->header_rate_note;
 }
 
 uint64_t sscope_reader_size(const struct sscope_reader *r)

@@ -45,6 +45,10 @@ enum sscope_capture_rate_source {
 	SSCOPE_CAPTURE_RATE_HEADER      /**< from a "# rate: 100 Hz" header comment */
 };
 
+/** Longest text of a rate note (struct sscope_capture, rate_note), with
+ *  its '\0'. */
+#define SSCOPE_RATE_NOTE_MAX 160
+
 /** A topic (message stream) of a ROS bag, rosbag2 or MCAP file. */
 struct sscope_capture_topic {
 	const char *name;  /**< e.g. "/imu/data" */
@@ -116,6 +120,10 @@ struct sscope_capture {
 	 *  place: the samples may hold NaN and infinities that the reader
 	 *  did not report (see sscope_capture_check_values()). */
 	bool values_unchecked;
+	/** Why a header comment that names a rate gave none, when the rate
+	 *  is unknown ("line 2: '# rate: 0 Hz' is not a sample rate (...)");
+	 *  "" otherwise (sscope_reader_header_rate_note()). */
+	char rate_note[SSCOPE_RATE_NOTE_MAX];
 };
 
 /** Gaps of the time column a loaded capture lists (struct sscope_capture). */

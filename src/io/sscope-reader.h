@@ -131,6 +131,14 @@ sscope_reader_column(const struct sscope_reader *reader, size_t k);
  */
 double sscope_reader_header_rate(const struct sscope_reader *reader);
 
+/**
+ * @return why a header comment that names a rate ("# rate: 0 Hz",
+ *         "# rate: 10 furlongs") gave none: "line 2: '# rate: 0 Hz' is
+ *         not a sample rate (...)"; NULL when the source declares a rate
+ *         or has no such comment.  Valid until the reader is closed.
+ */
+const char *sscope_reader_header_rate_note(const struct sscope_reader *reader);
+
 /** @return the source size in bytes, 0 when unknown (a pipe). */
 uint64_t sscope_reader_size(const struct sscope_reader *reader);
 

@@ -573,8 +573,7 @@ int ssc_datasheet_check_capture(const char *cmd, const struct ssc_datasheet *ds,
 
 	*out = NULL;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(cmd, "%s: no sample rate: give --rate", capture);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(cmd, capture, cap->rate_note);
 	}
 	r = calloc(1, sizeof(*r));
 	if (r)

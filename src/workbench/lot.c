@@ -495,8 +495,7 @@ static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 	int rc = 0;
 
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(cmd, path, cap->rate_note);
 	}
 	if ((cap->temp_degc != NULL) != r->temp) {
 		ssc_err(cmd, "%s: %s temperature column, but %s %s: the units of a lot must have the same columns",

@@ -216,6 +216,14 @@ void ssc_err(const char *cmd, const char *fmt, ...)
 	va_end(ap);
 }
 
+int ssc_err_no_rate(const char *cmd, const char *path, const char *note)
+{
+	ssc_err(cmd, "%s: no sample rate: %s; give --rate", path,
+		note && *note ? note :
+				"no time column and no '# rate:' comment");
+	return SSC_EXIT_FAIL;
+}
+
 void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 {
 	char keep[MSG_MAX];

@@ -201,8 +201,7 @@ int ssc_nav_run(const struct ssc_stage_env *env, const void *allan_up, void *opt
 	if (rc)
 		return rc;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(cmd, "%s: no sample rate (give --rate or a time column)", path);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(cmd, path, cap->rate_note);
 	}
 	rc = pick(cmd, path, cap, SSCOPE_QUANTITY_ANGULAR_RATE, s->gyro);
 	if (!rc)

@@ -82,12 +82,12 @@ static int from_pilot(const struct ssc_common *co,
 	double fs = co->rate_hz > 0 ? co->rate_hz : cap->rate_hz;
 	int rc;
 
-	if (!cap->n_channels || !(fs > 0)) {
-		ssc_err(co->cmd, "%s: %s", path,
-			cap->n_channels ? "no sample rate (give --rate)" :
-					  "no data column");
+	if (!cap->n_channels) {
+		ssc_err(co->cmd, "%s: no data column", path);
 		return SSC_EXIT_FAIL;
 	}
+	if (!(fs > 0))
+		return ssc_err_no_rate(co->cmd, path, cap->rate_note);
 	ch = &cap->channels[0];
 	rc = sscope_allan_analyze(ch->data, 1, cap->n, fs, SSCOPE_ALLAN_TAUS_DENSE,
 				  NULL, NULL, &res, &d);

@@ -254,8 +254,8 @@ fed:
 		R->fs = sscope_reader_header_rate(rd);
 		R->rate_source = "header";
 	} else {
-		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
-			R->path);
+		ssc_err_no_rate(co->cmd, R->path,
+				sscope_reader_header_rate_note(rd));
 		goto out;
 	}
 	for (size_t k = 0; k < R->nch; k++) {
@@ -309,9 +309,7 @@ static int from_capture(const struct ssc_common *co, struct ssc_psd_run *R,
 	if (rc)
 		return rc;
 	if (!(cap->rate_hz > 0)) {
-		ssc_err(co->cmd, "%s: no sample rate (no time column or '# rate:' comment): give --rate",
-			R->path);
-		return SSC_EXIT_FAIL;
+		return ssc_err_no_rate(co->cmd, R->path, cap->rate_note);
 	}
 	R->fs = cap->rate_hz;
 	R->rate_source = rate_source_name(cap);

@@ -117,6 +117,10 @@ const char *ssc_last_error(void);
  * its length. */
 void ssc_err(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
+/* "PATH: no sample rate: WHY; give --rate", WHY the rate note of the
+ * capture or reader (a "# rate:" comment it could not read) when note is
+ * not empty; returns SSC_EXIT_FAIL. */
+int ssc_err_no_rate(const char *cmd, const char *path, const char *note);
 /* Messages of commands run inside another (the stages of `run`) start
  * "sensorscope: OUTER: CMD: "; NULL ends it. */
 void ssc_set_outer(const char *outer);

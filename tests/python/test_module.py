@@ -78,6 +78,17 @@ info = cli("info", "--format", "json", gyro)
 ok(cap.n == info["rows"] and cap.rate_hz == info["rate_hz"] and
    list(cap) == [c["name"] for c in info["channels"]],
    "load: rows, rate and channels as info's JSON")
+ok(cap.rate_source == "header" and cap.rate_note is None,
+   "load: the rate from the header comment, no note")
+with tempfile.TemporaryDirectory() as d:
+    bad_rate = os.path.join(d, "rate.csv")
+    with open(bad_rate, "w") as f:
+        f.write("# rate: 0 Hz\ngx\n1\n2\n3\n")
+    c0 = ss.load(bad_rate)
+    j0 = cli("info", "--format", "json", bad_rate)
+    ok(c0.rate_hz is None and c0.rate_note == j0["rate_note"] and
+       c0.rate_note.startswith("line 1: '# rate: 0 Hz' is not a sample rate"),
+       "load: a rate comment that gives no rate, its note as info's JSON")
 means = [conv(float(np.mean(cap[c["name"]])), "rad/s", c["unit"])
          for c in info["channels"]]
 ok(rel(means, [c["mean"] for c in info["channels"]]) < 1e-9,

@@ -291,6 +291,9 @@ class Capture:
         self.rate_hz = cap.rate_hz if cap.rate_hz > 0 else None
         self.rate_source = ("none", "given", "time column",
                             "header")[cap.rate_source]
+        # why a '# rate:' comment gave no rate (None: no such comment, or
+        # a rate is known)
+        self.rate_note = cap.rate_note.decode() or None
         self.channels = {}
         self.units = {}
         self.quantities = {}
@@ -1632,7 +1635,9 @@ def lot(files, level=0.90):
         cap = first if u == 0 else load(path, columns=cols, temp_column=tcol)
         first = None
         if not cap.rate_hz:
-            raise Error(-errno.EDOM, "%s: no sample rate" % paths[u])
+            raise Error(-errno.EDOM, "%s: no sample rate: %s"
+                        % (paths[u], cap.rate_note or
+                           "no time column and no '# rate:' comment"))
         if (cap.temp_degc is not None) != temp:
             raise Error(-errno.EDOM, "%s: %s temperature column, but %s %s"
                         % (paths[u], "no" if temp else "a", paths[0],
@@ -1830,7 +1835,9 @@ def _export_channels(fn, source, rate):
             _bad(fn, "rate", "a Capture has its own rate (%s Hz)"
                  % _text(source.rate_hz))
         if not source.rate_hz:
-            _bad(fn, "source", "%s has no sample rate" % source.path)
+            _bad(fn, "source", "%s has no sample rate (%s)"
+                 % (source.path, source.rate_note or
+                    "no time column and no '# rate:' comment"))
         chans = [(k, source[k], source.quantities[k], source[k].unit)
                  for k in source]
         topic = next((t["name"] for t in source.topics if t["selected"] and

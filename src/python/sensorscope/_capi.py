@@ -130,7 +130,8 @@ class Capture(C.Structure):
                 ("unterminated", C.c_bool),
                 ("timing", Timing), ("has_timing", C.c_bool),
                 ("gaps", C.POINTER(Gap)), ("n_gaps", c_size),
-                ("is_view", C.c_bool), ("values_unchecked", C.c_bool)]
+                ("is_view", C.c_bool), ("values_unchecked", C.c_bool),
+                ("rate_note", C.c_char * 160)]
 
 
 class AllanOpts(C.Structure):
