@@ -1508,9 +1508,15 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 	}
 	span = c.tmax - c.tmin;
 	if (span < min_span && n_runs == 1) {
-		rc = ssc_diag(diag, -EDOM,
-			      "temperature span %.3g degC is below %.3g degC: no temperature curve can be fitted",
-			      span, min_span);
+		/* a constant column's smoothed blocks differ by rounding */
+		if (span <= 1e-9 * (fabs(c.tmax) + 1))
+			rc = ssc_diag(diag, -EDOM,
+				      "the temperature does not change (%.4g degC throughout): no temperature curve can be fitted",
+				      c.tmax);
+		else
+			rc = ssc_diag(diag, -EDOM,
+				      "temperature span %.3g degC is below %.3g degC: no temperature curve can be fitted",
+				      span, min_span);
 		goto fail;
 	}
 	/* dead band */

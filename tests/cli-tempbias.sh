@@ -86,6 +86,9 @@ ss simulate --sensor "$T/acc.ini" --rate 10 --duration 600 --temp 25 --temp-nois
 run "one temperature" 1 tempbias "$T/const.csv"
 one_line_error "one temperature"
 has "refusal names the span" "$T/err" 'span'
+awk 'BEGIN { print "# rate: 10 Hz"; print "ax [m/s^2],temp [degC]"; for (i = 0; i < 6000; i++) printf "%.4f,25\n", (i % 7) * 1e-4 }' >"$T/flat.csv"
+run "a temperature column that never changes" 1 tempbias "$T/flat.csv"
+has "refusal says it does not change (no rounding residue as a span)" "$T/err" 'the temperature does not change \(25 degC throughout\)'
 run "order too high" 2 tempbias --order 7 "$TH"
 one_line_error "order too high"
 run "order not a number" 2 tempbias --order cubic "$TH"
