@@ -67,6 +67,9 @@ run "walk with a bias window" 0 walk -c gx --run-length 30s --bias-window 30s --
 json_check "window mode" "$T/out" '.channels[0].bias == "window before each run" and .channels[0].runs == 60 and .channels[0].bias_window_s == 30'
 run "walk csv" 0 walk -c gx --format csv "$SAMPLES/gyro-static.csv"
 has "walk csv header" "$T/out" '^channel,t_s,sigma,spread,inside,unit$'
+awk 'BEGIN { print "# rate: 100 Hz"; print "gx [deg/s]"; for (i = 0; i < 5000; i++) print "0.1" }' >"$T/flat.csv"
+run "walk on constant data" 1 walk "$T/flat.csv"
+has "walk: why allan's fit gave no terms" "$T/err" "channel 'gx': no noise terms for the envelope \\(allan's fit: every deviation is zero \\(constant data\\): no noise to fit; give --arw\\)"
 # 95 +- 3 % on a simulated angle-random-walk capture (6 h at 10 Hz)
 cat >"$T/arw.ini" <<'INI'
 [sensor]

@@ -162,6 +162,7 @@ struct chan {
 	 * covariance (the envelope and the implied N take them) */
 	bool have_sq;
 	double sq[5], sq_cov[25];
+	char fit_why[160]; /* why allan's fit on the record failed ("" none) */
 };
 
 static const char *angle_unit(enum sscope_quantity q)
@@ -235,6 +236,10 @@ static int allan_terms(const struct ssc_stage_env *env, const double *x,
 			return ssc_fail(cmd, rc, &d, "allan");
 		done = res;
 	}
+	if (!done->have_fit)
+		snprintf(ch->fit_why, sizeof(ch->fit_why), "%.*s",
+			 (int)sizeof(ch->fit_why) - 1,
+			 done->fit_diag.msg[0] ? done->fit_diag.msg : "failed");
 	if (done->have_fit) {
 		for (int i = 0; i < 5; i++) {
 			const struct sscope_noise_coef *c = &done->fit.coef[i];
@@ -336,8 +341,9 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 	}
 	if (!(c->terms.coef[0] > 0 || c->terms.coef[1] > 0 || c->terms.coef[2] > 0 ||
 	      c->terms.coef[3] > 0 || c->terms.coef[4] > 0)) {
-		ssc_err(cmd, "%s: channel '%s': no noise terms for the envelope (allan's fit failed; give --arw)",
-			path, ch->col.name);
+		ssc_err(cmd, "%s: channel '%s': no noise terms for the envelope (allan's fit: %s; give --arw)",
+			path, ch->col.name, c->fit_why[0] ? c->fit_why :
+				"no term above zero");
 		return SSC_EXIT_FAIL;
 	}
 	c->run_s = o->run_s;
