@@ -458,6 +458,13 @@ static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 
 	if (!isfinite(sum))
 		return false;
+	if (m <= (p->o.detrend == SSCOPE_PSD_DETREND_LINEAR ? 2u :
+		  p->o.detrend == SSCOPE_PSD_DETREND_CONSTANT ? 1u : 0u)) {
+		/* the fit passes through every sample: exact zeros, not the
+		 * rounding of a fit (scipy: 1e-35 for a line through two) */
+		memset(in, 0, m * sizeof(double));
+		return true;
+	}
 	if (p->o.detrend != SSCOPE_PSD_DETREND_NONE) {
 		size_t k = 1;
 		bool same;
@@ -469,7 +476,7 @@ static bool prepare(const struct sscope_psd *p, const double *seg, double *in)
 		same = k >= m;
 		/* a constant segment detrends to exact zeros */
 		mean = same ? seg[0] : sum / (double)m;
-		if (p->o.detrend == SSCOPE_PSD_DETREND_LINEAR && m > 2 && !same) {
+		if (p->o.detrend == SSCOPE_PSD_DETREND_LINEAR && !same) {
 			double s = 0, d = (double)m;
 
 			for (size_t i = 0; i < m; i++)

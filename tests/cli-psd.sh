@@ -159,6 +159,16 @@ for bad in "--window kaiser" "--overlap 1" "--nperseg 0" "--nperseg 64 --nfft 32
 	run "usage: $bad" 2 psd $bad "$SAMPLES/vibration.csv"
 	one_line_error "usage: $bad"
 done
+# segments the detrending fits exactly: zeros, said so (not the rounding
+# of a line through two samples, nor "constant input")
+run "nperseg 2, linear detrend" 0 psd --nperseg 2 --detrend linear --format json "$SAMPLES/gyro-static.csv"
+json_check "nperseg 2, linear: an exact zero spectrum" "$T/out" 'all(.channels[].psd[]; . == 0)'
+has "nperseg 2, linear: says why" "$T/err" 'segments of 2 samples are zero once their line is removed: the spectrum is zero \(give a longer --nperseg\)'
+run "nperseg 1" 0 psd --nperseg 1 "$SAMPLES/gyro-static.csv"
+has "nperseg 1: says why" "$T/err" 'segments of 1 sample are zero once their mean is removed'
+run "nperseg 2, constant detrend" 0 psd --nperseg 2 --format json "$SAMPLES/gyro-static.csv"
+json_check "nperseg 2, constant: not zero" "$T/out" 'all(.channels[].psd[]; . > 0)'
+lacks "nperseg 2, constant: no zero warning" "$T/err" 'zero'
 run "two files" 2 psd "$SAMPLES/vibration.csv" "$SAMPLES/vibration.csv"
 run "--bands above Nyquist" 2 psd --bands 3000:4000 "$SAMPLES/vibration.csv"
 run "missing file" 1 psd "$T/nope.csv"

@@ -555,9 +555,18 @@ static int finish_run(const struct ssc_common *co, struct ssc_psd_run *R)
 			ssc_warn(co, "%s: channel %s: %zu of %zu segments skipped (NaN gaps)",
 				 R->path, R->ch[k].col.name, R->ch[k].s.n_skipped,
 				 R->ch[k].s.n_skipped + R->ch[k].s.n_segments);
-	if (R->nch && R->ch[0].s.rms == 0)
-		ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
-			 R->path);
+	if (R->nch && R->ch[0].s.rms == 0) {
+		const struct sscope_psd_spectrum *s0 = &R->ch[0].s;
+
+		if (s0->nperseg <= (s0->detrend == SSCOPE_PSD_DETREND_LINEAR ? 2u :
+				    s0->detrend == SSCOPE_PSD_DETREND_CONSTANT ? 1u : 0u))
+			ssc_warn(co, "%s: segments of %zu sample%s are zero once their %s is removed: the spectrum is zero (give a longer --nperseg)",
+				 R->path, s0->nperseg, s0->nperseg == 1 ? "" : "s",
+				 s0->detrend == SSCOPE_PSD_DETREND_LINEAR ? "line" : "mean");
+		else
+			ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
+				 R->path);
+	}
 	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? &R->ch[0].s : NULL,
 			&R->bands);
 	if (rc)

@@ -920,8 +920,14 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
         _warn(f, "x: %d of %d segments skipped (NaN gaps)" %
               (s.n_skipped, s.n_skipped + s.n_segments))
     if s.rms == 0:
-        _warn(f, "x: the detrended signal is zero (constant input): the "
-              "spectrum is zero")
+        if s.nperseg <= {1: 2, 0: 1}.get(s.detrend, 0):
+            _warn(f, "x: segments of %d sample%s are zero once their %s is "
+                  "removed: the spectrum is zero (give a longer nperseg)"
+                  % (s.nperseg, "" if s.nperseg == 1 else "s",
+                     "line" if s.detrend == 1 else "mean"))
+        else:
+            _warn(f, "x: the detrended signal is zero (constant input): "
+                  "the spectrum is zero")
     try:
         out = Spectrum()
         out.frequency_hz = np.ctypeslib.as_array(s.freq_hz, (s.n_bins,)).copy()
