@@ -73,6 +73,13 @@ got=$?
 one_err "simulate over the size limit" "^sensorscope: simulate: $T/keep.csv: File too large$"
 [ "$(cat "$T/keep.csv")" = old ] && ok "the old file is kept" || not_ok "the old file is kept"
 no_temp "size limit" "$T"
+# an output that cannot fit in the free space (about 40 TB): refused after
+# its first rows, with both sizes, the old file kept, nothing left behind
+"$SSCOPE" simulate -q --sensor "$T/s.ini" --rate 1e9 --duration 999 -o "$T/keep.csv" 2>"$T/err"
+[ $? -eq 1 ] && ok "simulate larger than the free space (exit 1)" || not_ok "simulate larger than the free space"
+one_err "simulate larger than the free space" "^sensorscope: simulate: $T/keep.csv: about [0-9.]+ TB to write, [0-9.]+ [kMGT]?B free on its file system: shorten --duration, lower --rate or write --binary f32$"
+[ "$(cat "$T/keep.csv")" = old ] && ok "free space: the old file is kept" || not_ok "free space: the old file is kept"
+no_temp "free space" "$T"
 (trap '' XFSZ; ulimit -f 64; exec "$SSCOPE" psd -q --format csv --nperseg 65536 -o "$T/keep.csv" "$V") 2>"$T/err"
 [ $? -eq 1 ] && ok "psd csv over the size limit (exit 1)" || not_ok "psd csv over the size limit"
 one_err "psd csv over the size limit" "^sensorscope: psd: $T/keep.csv: File too large$"

@@ -382,6 +382,7 @@ int ssc_cmd_simulate(int argc, char **argv)
 	const char *unit;
 	int first, rc;
 	size_t ncol, n, chunk = 65536;
+	double projected = 0; /* bytes of the output, from its first chunk */
 	struct sscope_diag d = { "" };
 
 	memset(&a, 0, sizeof(a));
@@ -630,7 +631,21 @@ int ssc_cmd_simulate(int argc, char **argv)
 			goto done;
 		}
 		done_n += c;
+		/* after the first chunk: the whole output fits, or nothing
+		 * is left behind */
+		if (done_n == c && done_n < n) {
+			rc = ssc_out_room(co.cmd, &sink, (double)done_n, (double)n,
+					  "shorten --duration, lower --rate or write --binary f32",
+					  &projected);
+			if (rc)
+				goto done;
+		}
+		if (projected > 0 && done_n < n)
+			ssc_progress(&co, "simulate", projected * (double)done_n / (double)n,
+				     projected);
 	}
+	if (projected > 0)
+		ssc_progress_end(&co);
 	rc = sscope_writer_commit(w);
 	w = NULL;
 	rc = ssc_file_close(&sink, rc == 0);

@@ -29,6 +29,7 @@
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include "atomic.h"
@@ -239,6 +240,48 @@ struct sink {
 static bool is_stdout(const char *path)
 {
 	return !path || !strcmp(path, "-");
+}
+
+/* "2.5 TB", "840 MB" */
+static void fmt_bytes(char *buf, size_t len, double b)
+{
+	static const char *const unit[] = { "bytes", "kB", "MB", "GB", "TB", "PB" };
+	size_t u = 0;
+
+	while (b >= 1000 && u + 1 < sizeof(unit) / sizeof(unit[0])) {
+		b /= 1000;
+		u++;
+	}
+	snprintf(buf, len, "%.*f %s", u && b < 10 ? 1 : 0, b, unit[u]);
+}
+
+int ssc_out_room(const char *cmd, const struct ssc_out *out, double written,
+		 double total, const char *hint, double *projected)
+{
+	const struct sink *s = out->priv;
+	struct statvfs vf;
+	struct stat st;
+	double pos, need, avail;
+	char a[32], b[32];
+
+	*projected = 0;
+	/* (the sink's FILE writes through to its descriptor) */
+	if (!out->f || !s || s->a.fd < 0 || !(written > 0) || fflush(out->f) ||
+	    fstat(s->a.fd, &st) || !S_ISREG(st.st_mode))
+		return SSC_EXIT_OK;
+	pos = (double)st.st_size;
+	*projected = pos * total / written;
+	need = *projected - pos;
+	if (fstatvfs(s->a.fd, &vf))
+		return SSC_EXIT_OK;
+	avail = (double)vf.f_bavail * (double)vf.f_frsize;
+	if (need <= avail)
+		return SSC_EXIT_OK;
+	fmt_bytes(a, sizeof(a), *projected);
+	fmt_bytes(b, sizeof(b), avail);
+	ssc_err(cmd, "%s: about %s to write, %s free on its file system: %s",
+		s->shown, a, b, hint);
+	return SSC_EXIT_FAIL;
 }
 
 int ssc_file_open(const char *cmd, const char *path, struct ssc_out *out)

@@ -229,6 +229,14 @@ int ssc_file_open(const char *cmd, const char *path, struct ssc_out *out);
 /* Commit (ok) or discard.  A write error is reported here, also when the
  * caller saw it (ok false because ferror()); returns the exit code. */
 int ssc_file_close(struct ssc_out *out, bool ok);
+/* Room for the rest of a long output: after @p written of @p total units
+ * (rows), the bytes the sink holds project its size (*projected; 0 when
+ * the sink is not a regular file).  When the rest would not fit in the
+ * free space of the sink's file system, print "PATH: about 2.5 TB to
+ * write, 20 GB free on its file system: HINT" and return SSC_EXIT_FAIL
+ * (the caller discards the sink); SSC_EXIT_OK otherwise. */
+int ssc_out_room(const char *cmd, const struct ssc_out *out, double written,
+		 double total, const char *hint, double *projected);
 /* The same for the command's -o (or standard output). */
 int ssc_out_open(const struct ssc_common *co, struct ssc_out *out);
 int ssc_out_close(const struct ssc_common *co, struct ssc_out *out, bool ok);
