@@ -771,6 +771,7 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 			*c = trial;
 		}
 		last_rc = rc;
+		det->n_intervals = cnt; /* (the last trial's, on failure) */
 		if (det->k > 0)
 			break;
 	}

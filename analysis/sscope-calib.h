@@ -79,7 +79,8 @@ struct sscope_calib_detect {
 				   as Tedaldi et al.); out: the k used */
 	double reference;     /**< out: varsigma reference, (input unit)^2 */
 	double threshold;     /**< out: k * reference */
-	size_t n_intervals;   /**< out: static intervals found */
+	size_t n_intervals;   /**< out: static intervals found (on a failed
+				   fit: those of the last threshold tried) */
 };
 
 /**

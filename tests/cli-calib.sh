@@ -19,6 +19,8 @@ run "bad --mode" 2 calib accel --mode spin "$MP"
 one_line_error "bad --mode"
 run "tilt mode is gyro only" 2 calib accel --mode tilt "$MP"
 run "rate-table needs --reference" 2 calib gyro --mode rate-table "$RT"
+run "six poses need the six-position mode" 1 calib accel "$SIX"
+has "six poses: the mode named" "$T/err" '6 static poses: the 9-parameter accelerometer model needs at least 10; six poses of \+-g on each axis are the six-position test: --mode sixpos$'
 
 # accelerometer, multi-position (truth: b = 21/-15/34 mg, K = 1/1.011,
 # 1/0.993, 1/1.006 g per g, alpha_yz 0.004, alpha_zy -0.003, alpha_zx 0.005)

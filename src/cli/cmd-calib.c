@@ -467,8 +467,12 @@ static int accel_multipos(struct run *r)
 					 &c, r->vs, w2, &d);
 	free(w2);
 	if (rc) {
-		ssc_err(co->cmd, "%s: accelerometer calibration: %s", cap->source,
-			d.msg[0] ? d.msg : sscope_strerror(rc));
+		/* six poses are most often the six-position test */
+		ssc_err(co->cmd, "%s: accelerometer calibration: %s%s", cap->source,
+			d.msg[0] ? d.msg : sscope_strerror(rc),
+			rc == -EDOM && r->o.det.n_intervals == 6 ?
+				"; six poses of +-g on each axis are the six-position test: --mode sixpos" :
+				"");
 		return SSC_EXIT_FAIL;
 	}
 	r->n_iv = r->o.det.n_intervals;

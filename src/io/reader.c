@@ -103,7 +103,7 @@ struct sscope_reader {
 	int t0_exp;
 	double t0_double;
 	double header_rate_hz;
-	char header_rate_note[SSCOPE_RATE_NOTE_MAX]; /* a rate comment rejected */
+	char header_rate_note[SSCOPE_CAPTURE_RATE_NOTE_MAX]; /* a rate comment rejected */
 	/* a mapped text file split for parallel reading */
 	struct part *parts;
 	size_t np, nthr; /* parts, threads */

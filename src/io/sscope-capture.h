@@ -47,7 +47,7 @@ enum sscope_capture_rate_source {
 
 /** Longest text of a rate note (struct sscope_capture, rate_note), with
  *  its '\0'. */
-#define SSCOPE_RATE_NOTE_MAX 160
+#define SSCOPE_CAPTURE_RATE_NOTE_MAX 160
 
 /** A topic (message stream) of a ROS bag, rosbag2 or MCAP file. */
 struct sscope_capture_topic {
@@ -123,7 +123,7 @@ struct sscope_capture {
 	/** Why a header comment that names a rate gave none, when the rate
 	 *  is unknown ("line 2: '# rate: 0 Hz' is not a sample rate (...)");
 	 *  "" otherwise (sscope_reader_header_rate_note()). */
-	char rate_note[SSCOPE_RATE_NOTE_MAX];
+	char rate_note[SSCOPE_CAPTURE_RATE_NOTE_MAX];
 };
 
 /** Gaps of the time column a loaded capture lists (struct sscope_capture). */
