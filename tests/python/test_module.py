@@ -390,6 +390,12 @@ try:
 except ss.ArgumentError as e:
     ok(str(e).startswith("allan: unit: "), "unit='degs': ArgumentError "
        "naming the argument (%s)" % e)
+try:
+    ss.allan(np.array([]), 10.0)
+    ok(False, "allan on no samples refused")
+except ss.ArgumentError as e:
+    ok(str(e) == "allan: x: no samples", "allan on no samples: ArgumentError "
+       "that says so (%s)" % e)
 
 # ---------------------------------------------------------------- module
 ok(ss.__version__ == ss.version() and "Channel" in ss.__all__ and

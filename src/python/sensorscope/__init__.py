@@ -600,6 +600,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
              "factors), not both")
     quantity, unit, assumed = _data_unit(fn, x, unit, input)
     p, stride, n, keep = _vector(x, fn, "x")
+    if n == 0:
+        _bad(fn, "x", "no samples")
     ao = _c.AllanOpts()
     ao.dev = _DEVS.index(dev)
     ao.input = {"rate": 0, "angle": 1}[input]
