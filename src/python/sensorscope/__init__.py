@@ -208,6 +208,8 @@ def _vector(x, func="", arg="x"):
     element-multiple stride (a misaligned or byte-swapped array is
     copied)."""
     a = _array(x, func, arg)
+    if a.shape[0] == 0:
+        _bad(func, arg, "no samples")
     stride = a.strides[0] // 8
     return a.ctypes.data_as(_c.c_dptr), stride, a.shape[0], a
 
@@ -600,8 +602,6 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
              "factors), not both")
     quantity, unit, assumed = _data_unit(fn, x, unit, input)
     p, stride, n, keep = _vector(x, fn, "x")
-    if n == 0:
-        _bad(fn, "x", "no samples")
     ao = _c.AllanOpts()
     ao.dev = _DEVS.index(dev)
     ao.input = {"rate": 0, "angle": 1}[input]
@@ -887,8 +887,6 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
     scaling = _choice(f, "scaling", scaling, ("density", "spectrum"),
                       "density or spectrum")
     p, stride, n, keep = _vector(x, f, "x")
-    if n == 0:
-        _bad(f, "x", "no samples")
     _finite(f, "x", keep, allow_nan, "the segments holding them are left out")
     o = _c.PsdOpts()
     _c.psd_opts_init(C.byref(o))
