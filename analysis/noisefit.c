@@ -29,6 +29,7 @@
 #include "allan-internal.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1749,6 +1750,29 @@ static int boot_copula(struct boot *bt, struct fitdata *f, const double t2[NT])
  * covered 3 points under their level, averaged over 1-24 h records
  * (tests/bench-noisefit.c).
  */
+/* one group of BOOT_LANES replicates of boot_pass() */
+struct pass_job {
+	struct boot *bt;
+	const double *h;
+	int j;
+	size_t n;
+};
+
+static void pass_item(void *ctx, size_t k, unsigned slot)
+{
+	const struct pass_job *pj = ctx;
+	struct boot *bt = pj->bt;
+	size_t r0 = k * BOOT_LANES;
+	double u[BOOT_LANES], v[BOOT_LANES];
+
+	boot_lanes(bt, pj->h, pj->j, r0,
+		   (lanes *)(bt->ys + slot * 4 * BOOT_LANES * pj->n), u, v, NULL);
+	for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
+		bt->u[r0 + l] = u[l];
+		bt->v[r0 + l] = v[l];
+	}
+}
+
 static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		     int j, double b0, bool restricted)
 {
@@ -1773,21 +1797,13 @@ static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 	if (boot_copula(bt, f, t2))
 		return -EDOM;
 	/* each replicate on its own (the same numbers on any thread count),
-	 * BOOT_LANES side by side */
-SSC_OMP(omp parallel for schedule(dynamic, 1) num_threads(bt->threads))
-	for (size_t r0 = 0; r0 < bt->reps; r0 += BOOT_LANES) {
-		size_t t = 0;
-		double u[BOOT_LANES], v[BOOT_LANES];
+	 * BOOT_LANES side by side; a thread that does not get a core is not
+	 * waited for (ssc_par_for) */
+	{
+		struct pass_job pj = { bt, h, j, n };
 
-#ifdef _OPENMP
-		t = (size_t)omp_get_thread_num();
-#endif
-		boot_lanes(bt, h, j, r0, (lanes *)(bt->ys + t * 4 * BOOT_LANES * n),
-			   u, v, NULL);
-		for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
-			bt->u[r0 + l] = u[l];
-			bt->v[r0 + l] = v[l];
-		}
+		ssc_par_for((bt->reps + BOOT_LANES - 1) / BOOT_LANES, bt->threads,
+			    pass_item, &pj);
 	}
 	{
 		double su = 0, sv = 0, suu = 0, suv = 0, svv = 0;
@@ -1971,11 +1987,59 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
  * (1 + replicates at or above chi2_obs) / (1 + replicates), or NaN when
  * the replicates cannot be drawn.
  */
+/* one group of BOOT_LANES replicates of boot_gof() */
+struct gof_job {
+	struct boot *bt;
+	struct fitdata *f;
+	double chi2_obs;
+	atomic_size_t above, used;
+};
+
+static void gof_item(void *ctx, size_t k, unsigned slot)
+{
+	struct gof_job *gj = ctx;
+	struct boot *bt = gj->bt;
+	struct fitdata *f = gj->f;
+	const size_t n = f->n, r0 = k * BOOT_LANES;
+	double u[BOOT_LANES], v[BOOT_LANES], tho[BOOT_LANES * NT];
+	lanes *sc = (lanes *)(bt->ys + slot * 4 * BOOT_LANES * n);
+	double *rr;
+	size_t above = 0, used = 0;
+
+	boot_lanes(bt, bt->H, 0, r0, sc, u, v, tho);
+	/* the lanes' normals are spent: their room holds a residual */
+	rr = (double *)sc;
+	for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
+		const double *tl = tho + l * NT;
+		double c2 = 0;
+
+		if (!isfinite(tl[0]))
+			continue;
+		for (size_t a = 0; a < n; a++) {
+			double ya = LN(sc[n + a], l), m = 0, ref;
+
+			for (int q = 0; q < NT; q++)
+				m += tl[q] * bt->B[(size_t)q * n + a];
+			ref = m > 0 ? m : ya;
+			rr[a] = (ya - m) / ref;
+		}
+		forward(f->Sc->data, n, f->Sc->tda, rr);
+		for (size_t a = 0; a < n; a++)
+			c2 += rr[a] * rr[a];
+		if (!isfinite(c2))
+			continue;
+		used++;
+		above += c2 >= gj->chi2_obs;
+	}
+	atomic_fetch_add(&gj->above, above);
+	atomic_fetch_add(&gj->used, used);
+}
+
 static double boot_gof(struct boot *bt, struct fitdata *f, const double th[NT],
 		       double chi2_obs)
 {
 	double t2[NT];
-	size_t n = f->n, above = 0, used = 0;
+	size_t above, used;
 
 	if (!isfinite(chi2_obs))
 		return NAN;
@@ -1983,42 +2047,14 @@ static double boot_gof(struct boot *bt, struct fitdata *f, const double th[NT],
 		t2[k] = (bt->mask & (1u << k)) ? fmax(th[k], 0) : 0;
 	if (boot_copula(bt, f, t2))
 		return NAN;
-SSC_OMP(omp parallel for schedule(dynamic, 1) num_threads(bt->threads) reduction(+ : above, used))
-	for (size_t r0 = 0; r0 < bt->reps; r0 += BOOT_LANES) {
-		size_t t = 0;
-		double u[BOOT_LANES], v[BOOT_LANES], tho[BOOT_LANES * NT];
-		lanes *sc;
-		double *rr;
+	{
+		struct gof_job gj = { bt, f, chi2_obs, 0, 0 };
 
-#ifdef _OPENMP
-		t = (size_t)omp_get_thread_num();
-#endif
-		sc = (lanes *)(bt->ys + t * 4 * BOOT_LANES * n);
-		boot_lanes(bt, bt->H, 0, r0, sc, u, v, tho);
-		/* the lanes' normals are spent: their room holds a residual */
-		rr = (double *)sc;
-		for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
-			const double *tl = tho + l * NT;
-			double c2 = 0;
-
-			if (!isfinite(tl[0]))
-				continue;
-			for (size_t a = 0; a < n; a++) {
-				double ya = LN(sc[n + a], l), m = 0, ref;
-
-				for (int k = 0; k < NT; k++)
-					m += tl[k] * bt->B[(size_t)k * n + a];
-				ref = m > 0 ? m : ya;
-				rr[a] = (ya - m) / ref;
-			}
-			forward(f->Sc->data, n, f->Sc->tda, rr);
-			for (size_t a = 0; a < n; a++)
-				c2 += rr[a] * rr[a];
-			if (!isfinite(c2))
-				continue;
-			used++;
-			above += c2 >= chi2_obs;
-		}
+		/* (counts: the same sums in any order, on any thread) */
+		ssc_par_for((bt->reps + BOOT_LANES - 1) / BOOT_LANES, bt->threads,
+			    gof_item, &gj);
+		above = atomic_load(&gj.above);
+		used = atomic_load(&gj.used);
 	}
 	if (used < bt->reps / 2)
 		return NAN;

@@ -13,6 +13,8 @@
 #include "sensorscope.h"
 
 #include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -347,6 +349,103 @@ static size_t resident_pages(void)
 	fclose(f);
 	return res;
 }
+
+/* ssc_par_for(): every item once, each slot below the thread count; a
+ * loop asked for from inside an item, or from another thread while one
+ * runs, runs on its caller alone and still does every item */
+struct par_ctx {
+	_Atomic unsigned *hits;
+	unsigned threads;
+	_Atomic unsigned bad_slot;
+	bool nest;
+};
+
+static void par_inner(void *ctx, size_t i, unsigned slot)
+{
+	struct par_ctx *c = ctx;
+
+	if (slot != 0) /* a nested loop runs on its caller, slot 0 */
+		atomic_fetch_add(&c->bad_slot, 1);
+	atomic_fetch_add(&c->hits[i], 1);
+}
+
+static void par_item(void *ctx, size_t i, unsigned slot)
+{
+	struct par_ctx *c = ctx;
+
+	if (slot >= c->threads)
+		atomic_fetch_add(&c->bad_slot, 1);
+	atomic_fetch_add(&c->hits[i], 1);
+	if (c->nest && i % 97 == 0) {
+		_Atomic unsigned inner[5] = { 0 };
+		struct par_ctx ic = { inner, 1, 0, false };
+
+		ssc_par_for(5, 4, par_inner, &ic);
+		for (int k = 0; k < 5; k++)
+			if (inner[k] != 1)
+				atomic_fetch_add(&c->bad_slot, 1);
+		if (ic.bad_slot)
+			atomic_fetch_add(&c->bad_slot, 1);
+	}
+}
+
+struct par_thread {
+	_Atomic unsigned *hits;
+	size_t n;
+	unsigned bad;
+};
+
+static void *par_other(void *arg)
+{
+	struct par_thread *t = arg;
+	struct par_ctx c = { t->hits, 3, 0, false };
+
+	for (int rep = 0; rep < 50; rep++)
+		ssc_par_for(t->n, 3, par_item, &c);
+	t->bad = c.bad_slot;
+	return NULL;
+}
+
+START_TEST(par_for_items)
+{
+	enum { N = 1000 };
+	static _Atomic unsigned hits[N], hits2[N];
+	struct par_ctx c = { hits, 3, 0, true };
+	struct par_thread t = { hits2, N, 0 };
+	pthread_t tid;
+
+	for (int rep = 0; rep < 200; rep++) {
+		for (size_t i = 0; i < N; i++)
+			hits[i] = 0;
+		ssc_par_for(N, 3, par_item, &c);
+		for (size_t i = 0; i < N; i++)
+			ck_assert_msg(hits[i] == 1, "rep %d: item %zu run %u times",
+				      rep, i, hits[i]);
+	}
+	ck_assert_uint_eq(c.bad_slot, 0);
+	/* two callers at once: each loop complete */
+	for (size_t i = 0; i < N; i++)
+		hits[i] = hits2[i] = 0;
+	c.nest = false;
+	ck_assert_int_eq(pthread_create(&tid, NULL, par_other, &t), 0);
+	for (int rep = 0; rep < 50; rep++)
+		ssc_par_for(N, 3, par_item, &c);
+	ck_assert_int_eq(pthread_join(tid, NULL), 0);
+	for (size_t i = 0; i < N; i++) {
+		ck_assert_uint_eq(hits[i], 50);
+		ck_assert_uint_eq(hits2[i], 50);
+	}
+	ck_assert_uint_eq(c.bad_slot + t.bad, 0);
+	/* one thread, one item, none */
+	for (size_t i = 0; i < N; i++)
+		hits[i] = 0;
+	ssc_par_for(N, 1, par_item, &c);
+	ssc_par_for(1, 4, par_item, &c);
+	ssc_par_for(0, 4, par_item, &c);
+	ck_assert_uint_eq(hits[0], 2);
+	ck_assert_uint_eq(hits[N - 1], 1);
+}
+END_TEST
 
 /* ssc_release_pages() gives back exactly the whole pages inside the range
  * (they read as zeros, the process's resident set shrinks by them; the
@@ -732,6 +831,7 @@ static Suite *make_suite(void)
 	tcase_add_test(tc, all_grid_fit_dense);
 	tcase_add_test(tc, stats_one_pass);
 	tcase_add_test(tc, csv_skipped_columns);
+	tcase_add_test(tc, par_for_items);
 	suite_add_tcase(s, tc);
 	return s;
 }

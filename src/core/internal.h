@@ -97,6 +97,14 @@ void *ssc_alloc_huge(size_t count, size_t size);
  * work per page runs on every core */
 void ssc_release_pages(void *p, size_t bytes, unsigned threads);
 
+/* fn(ctx, i, slot) for every i in [0, n) on up to `threads` threads, the
+ * caller among them (slot 0; helpers 1..threads-1, for per-thread
+ * scratch), items claimed one at a time; returns when all are done,
+ * without waiting for a helper that never got to run (pool.c).  An
+ * item's result must not depend on the thread that runs it. */
+void ssc_par_for(size_t n, unsigned threads,
+		 void (*fn)(void *ctx, size_t i, unsigned slot), void *ctx);
+
 /* 10th and 90th percentiles (lower order statistics) of the finite values
  * of a sliding variance (sscope_calib_variance_magnitude()), through
  * @p work (n doubles); p90 may be NULL.  Returns 0, or -EDOM when fewer
