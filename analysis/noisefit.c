@@ -1726,6 +1726,29 @@ static int boot_copula(struct boot *bt, struct fitdata *f, const double t2[NT])
 	return 0;
 }
 
+/* one group of BOOT_LANES replicates of boot_pass() */
+struct pass_job {
+	struct boot *bt;
+	const double *h;
+	int j;
+	size_t n;
+};
+
+static void pass_item(void *ctx, size_t k, unsigned slot)
+{
+	const struct pass_job *pj = ctx;
+	struct boot *bt = pj->bt;
+	size_t r0 = k * BOOT_LANES;
+	double u[BOOT_LANES], v[BOOT_LANES];
+
+	boot_lanes(bt, pj->h, pj->j, r0,
+		   (lanes *)(bt->ys + slot * 4 * BOOT_LANES * pj->n), u, v, NULL);
+	for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
+		bt->u[r0 + l] = u[l];
+		bt->v[r0 + l] = v[l];
+	}
+}
+
 /*
  * Replicates of the estimate of th[j] under the fitted model with th[j]
  * set to b0: bt->u, bt->v (th*_r(b) = u_r + (b - b0) v_r), the other
@@ -1750,29 +1773,6 @@ static int boot_copula(struct boot *bt, struct fitdata *f, const double t2[NT])
  * covered 3 points under their level, averaged over 1-24 h records
  * (tests/bench-noisefit.c).
  */
-/* one group of BOOT_LANES replicates of boot_pass() */
-struct pass_job {
-	struct boot *bt;
-	const double *h;
-	int j;
-	size_t n;
-};
-
-static void pass_item(void *ctx, size_t k, unsigned slot)
-{
-	const struct pass_job *pj = ctx;
-	struct boot *bt = pj->bt;
-	size_t r0 = k * BOOT_LANES;
-	double u[BOOT_LANES], v[BOOT_LANES];
-
-	boot_lanes(bt, pj->h, pj->j, r0,
-		   (lanes *)(bt->ys + slot * 4 * BOOT_LANES * pj->n), u, v, NULL);
-	for (size_t l = 0; l < BOOT_LANES && r0 + l < bt->reps; l++) {
-		bt->u[r0 + l] = u[l];
-		bt->v[r0 + l] = v[l];
-	}
-}
-
 static int boot_pass(struct boot *bt, struct fitdata *f, const double th[NT],
 		     int j, double b0, bool restricted)
 {
@@ -1968,25 +1968,6 @@ static double boot_bound(struct boot *bt, struct fitdata *f,
 	return b;
 }
 
-/*
- * p-value of the fit's generalised chi-squared (chi2_obs of the fit of the
- * terms bt->mask, relative to its model: f->Sc the factor of the
- * covariance over the outer product of that model) by the parametric
- * bootstrap: replicates of the AVAR points drawn from the fitted model
- * (squares th, negative ones as 0; the copula of boot_copula()), each
- * refitted by the estimator (weights and all) and its chi-squared taken
- * the same way, relative to its own model.  The chi-squared distribution
- * with n - p degrees of freedom holds for Gaussian points fitted by
- * generalised least squares; these points are Gamma-like with a few
- * degrees of freedom at long tau, and the estimator weighs them by their
- * EDF, not by the full covariance: for a rate random walk over 2 h the
- * asymptotic p-value was below 0.01 in 11.5 % of stationary records, and
- * for white rate noise in 0.5 % (tests/bench-adequacy.c).  The relative
- * covariance of a single power law does not depend on its level, so the
- * observed factor serves every replicate.  Returns
- * (1 + replicates at or above chi2_obs) / (1 + replicates), or NaN when
- * the replicates cannot be drawn.
- */
 /* one group of BOOT_LANES replicates of boot_gof() */
 struct gof_job {
 	struct boot *bt;
@@ -2035,6 +2016,25 @@ static void gof_item(void *ctx, size_t k, unsigned slot)
 	atomic_fetch_add(&gj->used, used);
 }
 
+/*
+ * p-value of the fit's generalised chi-squared (chi2_obs of the fit of the
+ * terms bt->mask, relative to its model: f->Sc the factor of the
+ * covariance over the outer product of that model) by the parametric
+ * bootstrap: replicates of the AVAR points drawn from the fitted model
+ * (squares th, negative ones as 0; the copula of boot_copula()), each
+ * refitted by the estimator (weights and all) and its chi-squared taken
+ * the same way, relative to its own model.  The chi-squared distribution
+ * with n - p degrees of freedom holds for Gaussian points fitted by
+ * generalised least squares; these points are Gamma-like with a few
+ * degrees of freedom at long tau, and the estimator weighs them by their
+ * EDF, not by the full covariance: for a rate random walk over 2 h the
+ * asymptotic p-value was below 0.01 in 11.5 % of stationary records, and
+ * for white rate noise in 0.5 % (tests/bench-adequacy.c).  The relative
+ * covariance of a single power law does not depend on its level, so the
+ * observed factor serves every replicate.  Returns
+ * (1 + replicates at or above chi2_obs) / (1 + replicates), or NaN when
+ * the replicates cannot be drawn.
+ */
 static double boot_gof(struct boot *bt, struct fitdata *f, const double th[NT],
 		       double chi2_obs)
 {

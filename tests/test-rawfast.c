@@ -19,6 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "sscope-allan.h"
@@ -444,6 +445,26 @@ START_TEST(par_for_items)
 	ssc_par_for(0, 4, par_item, &c);
 	ck_assert_uint_eq(hits[0], 2);
 	ck_assert_uint_eq(hits[N - 1], 1);
+	/* a child of fork() (the helpers started above are not in it) */
+	{
+		pid_t pid = fork();
+		int st = -1;
+
+		ck_assert_int_ge(pid, 0);
+		if (pid == 0) {
+			for (size_t i = 0; i < N; i++)
+				hits[i] = 0;
+			c.bad_slot = 0;
+			ssc_par_for(N, 3, par_item, &c);
+			for (size_t i = 0; i < N; i++)
+				if (hits[i] != 1)
+					_exit(1);
+			_exit(c.bad_slot ? 2 : 0);
+		}
+		ck_assert_int_eq(waitpid(pid, &st, 0), pid);
+		ck_assert_msg(WIFEXITED(st) && WEXITSTATUS(st) == 0,
+			      "the loop in a child of fork: status %d", st);
+	}
 }
 END_TEST
 

@@ -100,6 +100,37 @@ static void *helper(void *arg)
 	return NULL;
 }
 
+/* A child of fork() has none of the helpers, and a lock a helper held
+ * at the fork would stay held: the child starts with an empty pool (the
+ * parent holds both locks across the fork, so their state is known). */
+static void fork_prepare(void)
+{
+	pthread_mutex_lock(&P.job);
+	pthread_mutex_lock(&P.mu);
+}
+
+static void fork_parent(void)
+{
+	pthread_mutex_unlock(&P.mu);
+	pthread_mutex_unlock(&P.job);
+}
+
+static void fork_child(void)
+{
+	P.started = 0;
+	pthread_mutex_init(&P.mu, NULL);
+	pthread_mutex_init(&P.job, NULL);
+	pthread_cond_init(&P.work, NULL);
+	pthread_cond_init(&P.done_cv, NULL);
+}
+
+static pthread_once_t fork_once = PTHREAD_ONCE_INIT;
+
+static void fork_register(void)
+{
+	pthread_atfork(fork_prepare, fork_parent, fork_child);
+}
+
 void ssc_par_for(size_t n, unsigned threads, item_fn fn, void *ctx)
 {
 	uint32_t g;
@@ -112,6 +143,7 @@ void ssc_par_for(size_t n, unsigned threads, item_fn fn, void *ctx)
 			fn(ctx, i, 0);
 		return;
 	}
+	pthread_once(&fork_once, fork_register);
 	pthread_mutex_lock(&P.mu);
 	while (P.started + 1 < threads) {
 		pthread_attr_t at;
