@@ -308,9 +308,8 @@ static int from_capture(const struct ssc_common *co, struct ssc_psd_run *R,
 	rc = ssc_time_check(co, R->path, cap, true);
 	if (rc)
 		return rc;
-	if (!(cap->rate_hz > 0)) {
+	if (!(cap->rate_hz > 0))
 		return ssc_err_no_rate(co->cmd, R->path, cap->rate_note);
-	}
 	R->fs = cap->rate_hz;
 	R->rate_source = rate_source_name(cap);
 	R->rows = cap->n;
