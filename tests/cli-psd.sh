@@ -163,11 +163,13 @@ done
 # of a line through two samples, nor "constant input")
 run "nperseg 2, linear detrend" 0 psd --nperseg 2 --detrend linear --format json "$SAMPLES/gyro-static.csv"
 json_check "nperseg 2, linear: an exact zero spectrum" "$T/out" 'all(.channels[].psd[]; . == 0)'
+json_check "nperseg 2, linear: the JSON warns why" "$T/out" '[.warnings[] | select(.code == "zero_spectrum") | .message | test("segments of 2 samples are zero once their line is removed")] == [true]'
 has "nperseg 2, linear: says why" "$T/err" 'segments of 2 samples are zero once their line is removed: the spectrum is zero \(give a longer --nperseg\)'
 run "nperseg 1" 0 psd --nperseg 1 "$SAMPLES/gyro-static.csv"
 has "nperseg 1: says why" "$T/err" 'segments of 1 sample are zero once their mean is removed'
 run "nperseg 2, constant detrend" 0 psd --nperseg 2 --format json "$SAMPLES/gyro-static.csv"
 json_check "nperseg 2, constant: not zero" "$T/out" 'all(.channels[].psd[]; . > 0)'
+json_check "nperseg 2, constant: no zero warning in the JSON" "$T/out" '[.warnings[]? | select(.code == "zero_spectrum")] == []'
 lacks "nperseg 2, constant: no zero warning" "$T/err" 'zero'
 run "two files" 2 psd "$SAMPLES/vibration.csv" "$SAMPLES/vibration.csv"
 run "--bands above Nyquist" 2 psd --bands 3000:4000 "$SAMPLES/vibration.csv"

@@ -412,6 +412,21 @@ const char *ssc_psd_scaling_name(enum sscope_psd_scaling s)
 	return s == SSCOPE_PSD_SCALING_DENSITY ? "density" : "spectrum";
 }
 
+/* why a spectrum is zero: its segments fitted exactly by the detrending,
+ * or a signal that is zero once detrended */
+static const char *zero_why(const struct sscope_psd_spectrum *s, char *buf,
+			    size_t len)
+{
+	if (s->nperseg <= (s->detrend == SSCOPE_PSD_DETREND_LINEAR ? 2u :
+			   s->detrend == SSCOPE_PSD_DETREND_CONSTANT ? 1u : 0u))
+		snprintf(buf, len, "segments of %zu sample%s are zero once their %s is removed: the spectrum is zero (give a longer --nperseg)",
+			 s->nperseg, s->nperseg == 1 ? "" : "s",
+			 s->detrend == SSCOPE_PSD_DETREND_LINEAR ? "line" : "mean");
+	else
+		snprintf(buf, len, "the detrended signal is zero (constant input): the spectrum is zero");
+	return buf;
+}
+
 json_t *ssc_psd_json(const struct ssc_psd_run *R)
 {
 	json_t *root = json_object(), *chs = json_array();
@@ -529,6 +544,12 @@ json_t *ssc_psd_json(const struct ssc_psd_run *R)
 		json_array_append_new(chs, o);
 	}
 	json_object_set_new(root, "channels", chs);
+	if (R->nch && R->ch[0].s.rms == 0) {
+		char why[128];
+
+		ssc_json_warn(root, "zero_spectrum", "%s: %s", R->path,
+			      zero_why(&R->ch[0].s, why, sizeof(why)));
+	}
 	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
 		ssc_json_warn(root, "too_few_samples",
 			      "%s: %llu samples, fewer than one segment of %zu: the spectrum is a single periodogram, each bin with 2 degrees of freedom (its sd equals its value)",
@@ -555,16 +576,9 @@ static int finish_run(const struct ssc_common *co, struct ssc_psd_run *R)
 				 R->path, R->ch[k].col.name, R->ch[k].s.n_skipped,
 				 R->ch[k].s.n_skipped + R->ch[k].s.n_segments);
 	if (R->nch && R->ch[0].s.rms == 0) {
-		const struct sscope_psd_spectrum *s0 = &R->ch[0].s;
+		char why[128];
 
-		if (s0->nperseg <= (s0->detrend == SSCOPE_PSD_DETREND_LINEAR ? 2u :
-				    s0->detrend == SSCOPE_PSD_DETREND_CONSTANT ? 1u : 0u))
-			ssc_warn(co, "%s: segments of %zu sample%s are zero once their %s is removed: the spectrum is zero (give a longer --nperseg)",
-				 R->path, s0->nperseg, s0->nperseg == 1 ? "" : "s",
-				 s0->detrend == SSCOPE_PSD_DETREND_LINEAR ? "line" : "mean");
-		else
-			ssc_warn(co, "%s: the detrended signal is zero (constant input): the spectrum is zero",
-				 R->path);
+		ssc_warn(co, "%s: %s", R->path, zero_why(&R->ch[0].s, why, sizeof(why)));
 	}
 	rc = make_bands(co->cmd, R->a.bands, R->fs, R->nch ? &R->ch[0].s : NULL,
 			&R->bands);

@@ -117,6 +117,7 @@ static void banner_one(const json_t *w, void *ctx)
 			    !strcmp(code, "term_unresolved") ? "Term not resolved." :
 			    !strcmp(code, "fit_failed") ? "No noise terms." :
 			    !strcmp(code, "too_few_samples") ? "Too few samples." :
+			    !strcmp(code, "zero_spectrum") ? "Zero spectrum." :
 			    !strcmp(code, "clipped") ? "Clipped data." :
 							  "Check.";
 
