@@ -1196,10 +1196,25 @@ static double fit_resid(const struct sscope_psd_spectrum *s, size_t k,
 	return r;
 }
 
+/* fit_resid() at offset d, for the golden-section search */
+struct resid_ctx {
+	const struct sscope_psd_spectrum *s;
+	size_t k;
+	double w0;
+};
+
+static double resid_at(double d, void *ctx)
+{
+	const struct resid_ctx *r = ctx;
+	double c;
+
+	return fit_resid(r->s, r->k, d, r->w0, &c);
+}
+
 int sscope_psd_spectrum_peak_at(const struct sscope_psd_spectrum *s, size_t k,
 				struct sscope_psd_peak *pk)
 {
-	const double span = 1.5, g = (sqrt(5.0) - 1) / 2;
+	const double span = 1.5;
 	double w0, best = 0, rbest = (double)INFINITY, c, a, b, pspec;
 
 	if (!s || !pk || !s->value || k == 0 || k + 1 >= s->n_bins)
@@ -1219,27 +1234,12 @@ int sscope_psd_spectrum_peak_at(const struct sscope_psd_spectrum *s, size_t k,
 	a = best - 2 * span / 120.0;
 	b = best + 2 * span / 120.0;
 	{
-		double x1 = b - g * (b - a), x2 = a + g * (b - a);
-		double f1 = fit_resid(s, k, x1, w0, &c);
-		double f2 = fit_resid(s, k, x2, w0, &c);
+		struct resid_ctx rc = { s, k, w0 };
+		struct ssc_golden gs;
 
-		for (int it = 0; it < 80 && b - a > 1e-13; it++) {
-			if (f1 < f2) {
-				b = x2;
-				x2 = x1;
-				f2 = f1;
-				x1 = b - g * (b - a);
-				f1 = fit_resid(s, k, x1, w0, &c);
-			} else {
-				a = x1;
-				x1 = x2;
-				f1 = f2;
-				x2 = a + g * (b - a);
-				f2 = fit_resid(s, k, x2, w0, &c);
-			}
-		}
+		ssc_golden_min(resid_at, &rc, a, b, 80, 1e-13, false, &gs);
+		best = (gs.a + gs.b) / 2;
 	}
-	best = (a + b) / 2;
 	fit_resid(s, k, best, w0, &c);
 	/* c is the value the spectrum would show with the tone centred on a
 	 * bin: A^2 / 2 in "spectrum" scaling */

@@ -739,6 +739,23 @@ static double rw_reml(const struct rwrun *rr, size_t J, size_t q,
 	return -0.5 * (logdet + logda + (double)(n_tot - J - nx) * log(Q));
 }
 
+/* the REML (negated, for a minimum) with one level of p at exp(x) / div */
+struct reml_ctx {
+	const struct rwrun *rr;
+	size_t J, q;
+	struct rwpar *p;
+	double *lvl, div;
+};
+
+static double neg_reml_at(double x, void *ctx)
+{
+	const struct reml_ctx *c = ctx;
+	double t2;
+
+	*c->lvl = exp(x) / c->div;
+	return -rw_reml(c->rr, c->J, c->q, c->p, &t2);
+}
+
 /* golden-section maximum of the REML over one level of p, *lvl =
  * exp(x) / div, x in [a, b]; *lvl, *x and *best updated when it
  * improves on *best (else *lvl is restored) */
@@ -746,40 +763,22 @@ static void rw_golden(const struct rwrun *rr, size_t J, size_t q,
 		      struct rwpar *p, double *lvl, double div, double a,
 		      double b, double *x, double *best)
 {
-	const double gr = 0.6180339887498949;
-	double x1 = b - gr * (b - a), x2 = a + gr * (b - a), f1, f2, t2;
-	double keep = *lvl;
+	struct reml_ctx c = { rr, J, q, p, lvl, div };
+	struct ssc_golden g;
+	double keep = *lvl, f1, f2;
 
-	*lvl = exp(x1) / div;
-	f1 = rw_reml(rr, J, q, p, &t2);
-	*lvl = exp(x2) / div;
-	f2 = rw_reml(rr, J, q, p, &t2);
-	for (int it = 0; it < 16; it++) {
-		if (f1 >= f2) {
-			b = x2;
-			x2 = x1;
-			f2 = f1;
-			x1 = b - gr * (b - a);
-			*lvl = exp(x1) / div;
-			f1 = rw_reml(rr, J, q, p, &t2);
-		} else {
-			a = x1;
-			x1 = x2;
-			f1 = f2;
-			x2 = a + gr * (b - a);
-			*lvl = exp(x2) / div;
-			f2 = rw_reml(rr, J, q, p, &t2);
-		}
-	}
+	ssc_golden_min(neg_reml_at, &c, a, b, 16, 0, true, &g);
+	f1 = -g.f1;
+	f2 = -g.f2;
 	*lvl = keep;
 	if (f1 >= f2 && f1 > *best) {
 		*best = f1;
-		*x = x1;
-		*lvl = exp(x1) / div;
+		*x = g.x1;
+		*lvl = exp(g.x1) / div;
 	} else if (f2 > *best) {
 		*best = f2;
-		*x = x2;
-		*lvl = exp(x2) / div;
+		*x = g.x2;
+		*lvl = exp(g.x2) / div;
 	}
 }
 

@@ -97,6 +97,19 @@ void *ssc_alloc_huge(size_t count, size_t size);
  * work per page runs on every core */
 void ssc_release_pages(void *p, size_t bytes, unsigned threads);
 
+/* Golden-section search for a minimum of f on [a, b]: at most `iters`
+ * steps while the bracket is wider than tol (f at x1 first, then x2; each
+ * step one value).  On equal values the left part is kept when
+ * left_on_tie, else the right.  *g: the final bracket, its inner points
+ * and their values (a maximum: pass -f, left_on_tie keeps the left part
+ * on equal maxima). */
+struct ssc_golden {
+	double a, b, x1, x2, f1, f2;
+};
+void ssc_golden_min(double (*f)(double x, void *ctx), void *ctx, double a,
+		    double b, int iters, double tol, bool left_on_tie,
+		    struct ssc_golden *g);
+
 /* fn(ctx, i, slot) for every i in [0, n) on up to `threads` threads, the
  * caller among them (slot 0; helpers 1..threads-1, for per-thread
  * scratch), items claimed one at a time; returns when all are done,

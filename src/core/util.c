@@ -260,3 +260,29 @@ int ssc_cmp_double(const void *a, const void *b)
 
 	return (x > y) - (x < y);
 }
+
+void ssc_golden_min(double (*f)(double x, void *ctx), void *ctx, double a,
+		    double b, int iters, double tol, bool left_on_tie,
+		    struct ssc_golden *g)
+{
+	const double gr = 0.6180339887498949; /* (sqrt(5) - 1) / 2 */
+	double x1 = b - gr * (b - a), x2 = a + gr * (b - a);
+	double f1 = f(x1, ctx), f2 = f(x2, ctx);
+
+	for (int it = 0; it < iters && b - a > tol; it++) {
+		if (left_on_tie ? f1 <= f2 : f1 < f2) {
+			b = x2;
+			x2 = x1;
+			f2 = f1;
+			x1 = b - gr * (b - a);
+			f1 = f(x1, ctx);
+		} else {
+			a = x1;
+			x1 = x2;
+			f1 = f2;
+			x2 = a + gr * (b - a);
+			f2 = f(x2, ctx);
+		}
+	}
+	*g = (struct ssc_golden){ a, b, x1, x2, f1, f2 };
+}
