@@ -75,6 +75,8 @@ run "bad ramp" 2 simulate --sensor "$T/gyro.ini" --rate 100 --duration 1 --temp-
 run "bad cycle" 2 simulate --sensor "$T/gyro.ini" --rate 100 --duration 1 --temp-cycle 0:1
 run "missing spec file" 1 simulate --sensor "$T/none.ini" --rate 100 --duration 1
 one_line_error "missing spec file"
+run "a directory as the spec" 1 simulate --sensor "$T" --rate 100 --duration 1
+has "a directory as the spec: says so" "$T/err" "$T: is a directory$"
 printf '[sensor]\nnoise_density = -1 deg/sqrt(h)\n' >"$T/neg.ini"
 run "negative noise" 1 simulate --sensor "$T/neg.ini" --rate 100 --duration 1
 one_line_error "negative noise"

@@ -272,15 +272,19 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 			buf = nb;
 			cap = nc;
 		}
+		errno = 0;
 		got = fread(buf + len, 1, cap - len, f);
 		len += got;
 		if (got == 0)
 			break;
 	}
 	if (ferror(f)) {
+		/* the system's reason (a directory opens, then fails to read) */
+		int err = errno ? -errno : -EIO;
+
 		free(buf);
 		fclose(f);
-		return ssc_diag(diag, -EIO, "%s: read error", path);
+		return ssc_diag(diag, err, "%s: %s", path, sscope_strerror(err));
 	}
 	fclose(f);
 	if (memchr(buf, '\0', len)) {

@@ -179,6 +179,15 @@ ok(rel(s.frequency_hz[1:], j["frequency_hz"][1:]) < 1e-12 and
    rel(s.psd[1:] / scale ** 2, j["psd"][1:]) < 1e-9,
    "psd: equals the CLI's JSON (%s, %d bins)" % (name, len(s.psd)),
    rel(s.psd[1:] / scale ** 2, j["psd"][1:]))
+# a record shorter than nperseg: one segment of the record, the overlap
+# recomputed for it, as the command (which says nperseg 100, noverlap 50)
+with warnings.catch_warnings(record=True) as w:
+    warnings.simplefilter("always")
+    s100 = ss.psd(np.asarray(cap[name])[:100], cap.rate_hz)
+ok(s100.nperseg == 100 and s100.noverlap == 50 and s100.n_segments == 1 and
+   any("longer than the record" in str(x.message) for x in w),
+   "psd: nperseg 256 on 100 samples is one segment of 100, with a warning",
+   (s100.nperseg, s100.noverlap, [str(x.message) for x in w]))
 try:
     from scipy.signal import welch
     f, pxx = welch(np.asarray(cap[name]), fs=cap.rate_hz, nperseg=1024)
@@ -210,6 +219,15 @@ if spec:
            [(k, rel(sim[k], ref[k])) for k in names if k in ref])
 else:
     ok(True, "simulate: no sensor spec among the samples # SKIP")
+for arg, why in ((SAMPLES, "is a directory"),
+                 (os.path.join(SAMPLES, "no-such.ini"),
+                  "no such file or directory")):
+    try:
+        ss.simulate(arg, 100, 1)
+        ok(False, "simulate refuses a sensor that " + why)
+    except ss.Error as e:
+        ok(str(e) == "simulate: sensor: %s: %s" % (arg, why),
+           "simulate names the argument: %s" % why, str(e))
 
 # ---------------------------------------------------------------- tempbias
 th = os.path.join(SAMPLES, "accel-thermal.csv")
@@ -579,14 +597,20 @@ vals[7] += 10 * math.sqrt(1.25)
 r = ss.lot_spread(vals, np.full(60, 0.5))
 ok(7 in r["outliers"] and r["k_used"] == 59 and abs(r["z"][7]) > 5,
    "lot_spread: a planted outlier flagged and left out", r["outliers"])
-for args, why in ((([1, 2], [1, 1]), "two units"),
-                  (([1, 2, 3], [1, 0, 1]), "a zero standard error"),
-                  (([1, 2, 3], [1, 1]), "mismatched lengths")):
+for args, why, says in (
+        (([1, 2], [1, 1]), "two units", "values: 2 units"),
+        (([1, 2, 3], [1, 0, 1]), "a zero standard error",
+         "se: 0 at index 1"),
+        (([1, 2, float("nan")], [1, 1, 1]), "a NaN value",
+         "values: nan at index 2 is not a finite number"),
+        (([1, 2, 3], [1, 1]), "mismatched lengths", "se: one standard"),
+        (([1, 2, 3], [1, 1, 1], 1.5), "a level of 1.5", "level: 1.5")):
     try:
         ss.lot_spread(*args)
         ok(False, "lot_spread refuses " + why)
-    except ss.ArgumentError:
-        ok(True, "lot_spread refuses " + why)
+    except ss.ArgumentError as e:
+        ok(str(e).startswith("lot_spread: " + says),
+           "lot_spread refuses %s and says which argument" % why, str(e))
 
 # sensorscope.lot() is the command's JSON: the bundled lot (a folder) and
 # four of its units, every number to 1e-9 relative, every key and string

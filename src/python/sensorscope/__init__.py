@@ -896,8 +896,9 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
     o.window = w.value
     o.nperseg = nperseg
     if overlap is not None:
-        # as the command: floor(overlap * nperseg), below nperseg
-        o.noverlap = _c.psd_noverlap(float(overlap), nperseg)
+        # as the command: floor(overlap * nperseg), below nperseg (the
+        # record's length when nperseg is shortened to it)
+        o.noverlap = _c.psd_noverlap(float(overlap), min(nperseg, n))
     o.nfft = nfft if nfft else 0
     o.detrend = {"constant": 0, "linear": 1, "none": 2}[detrend]
     o.scaling = {"density": 0, "spectrum": 1}[scaling]
@@ -967,7 +968,8 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
                             "sample")
     spec = _c.SensorSpec()
     d = _c.Diag()
-    _check(_c.sensor_spec_load(_b(sensor), C.byref(spec), C.byref(d)), d)
+    _check(_c.sensor_spec_load(_b(sensor), C.byref(spec), C.byref(d)), d,
+           "simulate: sensor")
     so = _c.SimOpts()
     temps = spec.has & (1 << 9)
     so.ref_temp_degc = (spec.temp_min_degc + spec.temp_max_degc) / 2 \
@@ -983,7 +985,7 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
         o.stream = k
         sim = C.c_void_p()
         _check(_c.sim_new(C.byref(sim), C.byref(spec), C.byref(o),
-                          C.byref(d)), d)
+                          C.byref(d)), d, f)
         try:
             y = np.empty(n)
             _check(_c.sim_generate(sim, None, y.ctypes.data_as(_c.c_dptr),
@@ -1125,14 +1127,16 @@ def adc_report(sensor, adcs, rate=0.0):
         adcs = [adcs]
     sp = _c.SensorSpec()
     d = _c.Diag()
-    _check(_c.sensor_spec_load(_b(sensor), C.byref(sp), C.byref(d)), d)
+    _check(_c.sensor_spec_load(_b(sensor), C.byref(sp), C.byref(d)), d,
+           "adc_report: sensor")
     out = []
     for path in adcs:
         a = _c.AdcSpec()
-        _check(_c.adc_spec_load(_b(path), C.byref(a), C.byref(d)), d)
+        _check(_c.adc_spec_load(_b(path), C.byref(a), C.byref(d)), d,
+               "adc_report: adcs")
         an = _c.AdcAnalysis()
         _check(_c.adc_analyze(C.byref(sp), C.byref(a), float(rate),
-                              C.byref(an), C.byref(d)), d)
+                              C.byref(an), C.byref(d)), d, "adc_report")
         terms = {}
         for i in range(5):
             tr = an.term[i]
@@ -1427,9 +1431,29 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
     if y.size != s.size:
         _bad(fn, "se", "one standard error per value (%d values, %d errors)"
              % (y.size, s.size))
+    if y.size < 3:
+        _bad(fn, "values", "%d unit%s: the spread needs at least 3"
+             % (y.size, "" if y.size == 1 else "s"))
+    for arg, a in (("values", y), ("se", s)):
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            _bad(fn, arg, "%s at index %d is not a finite number"
+                 % (_text(a[bad[0]]), bad[0]))
+    bad = np.flatnonzero(s <= 0)
+    if bad.size:
+        _bad(fn, "se", "%s at index %d: a standard error is positive"
+             % (_text(s[bad[0]]), bad[0]))
+    level = _number(fn, "level", level)
+    if not 0 < level < 1:
+        _bad(fn, "level", "%s is not a level between 0 and 1 (e.g. 0.90)"
+             % _text(level))
+    outlier_alpha = _number(fn, "outlier_alpha", outlier_alpha)
+    if not 0 < outlier_alpha < 1:
+        _bad(fn, "outlier_alpha", "%s is not between 0 and 1 (e.g. 0.01)"
+             % _text(outlier_alpha))
     o = _c.LotOpts()
-    o.level = float(level)
-    o.outlier_alpha = float(outlier_alpha)
+    o.level = level
+    o.outlier_alpha = outlier_alpha
     o.keep_outliers = bool(keep_outliers)
     r = _c.LotSpread()
     z = np.empty(y.size)
@@ -1437,11 +1461,6 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
     dp = C.POINTER(C.c_double)
     rc = _c.lot_spread(y.ctypes.data_as(dp), s.ctypes.data_as(dp), y.size,
                        C.byref(o), C.byref(r), z.ctypes.data_as(dp), fl)
-    if not (0 < o.level < 1 and 0 < o.outlier_alpha < 1):
-        _bad(fn, "level", "level and outlier_alpha must be in (0, 1)")
-    if rc == -errno.EDOM:
-        _bad(fn, "values", "at least 3 units, every value finite and every "
-             "se > 0")
     _check(rc, None, fn)
     out = {k: getattr(r, k) for k, _t in _c.LotSpread._fields_}
     out["z"] = z
@@ -2081,7 +2100,7 @@ def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
         spec = _c.SensorSpec()
         d = _c.Diag()
         _check(_c.sensor_spec_load(_b(sensor_or_terms), C.byref(spec),
-                                   C.byref(d)), d)
+                                   C.byref(d)), d, fn + ": sensor_or_terms")
         for i, k in enumerate("qnbkr"):
             coef[i] = getattr(spec, k)
     if not isinstance(resolve, dict) or not resolve:
