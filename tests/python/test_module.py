@@ -377,6 +377,22 @@ try:
     ok(False, "errors: an unknown deviation raises")
 except ValueError as e:
     ok("xdev" in str(e), "errors: an unknown deviation raises ValueError")
+# a bad argument is refused before any work, naming the argument
+gyro = os.path.join(SAMPLES, "gyro-static.csv")
+for call, says in (
+        (lambda: ss.adequacy(np.ones(100), 10.0, terms=["Z"]),
+         "adequacy: terms: 'Z' is not Q, N, B, K or R"),
+        (lambda: ss.adequacy(np.ones(100), 10.0, alpha=2),
+         "adequacy: alpha: 2 is not between 0 and 1"),
+        (lambda: ss.datasheet_gjb(np.ones(100), 10.0, ci=2),
+         "datasheet_gjb: ci: 2 is not a level between 0 and 1"),
+        (lambda: ss.load(gyro, units="furlong"),
+         "load: units: unknown unit 'furlong'")):
+    try:
+        call()
+        ok(False, "errors: refused: " + says)
+    except ss.ArgumentError as e:
+        ok(str(e).startswith(says), "errors: refused: " + says, str(e))
 
 # ---------------------------------------------------------------- units
 # the unit comes from a loaded capture's channel; without one, rad/s is

@@ -359,6 +359,11 @@ def load(path, columns=None, rate=None, units=None, topic=None,
             _bad("load", "scale", "must not be 0")
     if offset is not None:
         offset = _number("load", "offset", offset)
+    if units is not None:
+        if not isinstance(units, str):
+            _bad("load", "units", "'%s' is not a unit such as deg/s or g"
+                 % (units,))
+        _quantity_of(units, "load", "units")
     o = _c.ReadOpts()
     o.columns = _b(",".join(columns) if isinstance(columns, (list, tuple))
                    else columns)
@@ -825,13 +830,13 @@ def _factors(f, arg, v, rate, dev, input, n):
     return np.array([k for k in m if k <= mmax], dtype=np.uint64)
 
 
-def _quantity_of(unit, fn="allan"):
+def _quantity_of(unit, fn="allan", arg="unit"):
     if unit is None:
         return None
     u = _c.Unit()
     d = _c.Diag()
     if _c.unit_parse(_b(unit), C.byref(u), C.byref(d)) < 0:
-        _bad(fn, "unit", d.msg.decode(errors="replace") or
+        _bad(fn, arg, d.msg.decode(errors="replace") or
              "'%s' is not a known unit" % unit)
     return _quantity_name(_c.unit_quantity(C.byref(u)))
 
@@ -1191,6 +1196,17 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
     fn = "adequacy"
     rate = _positive(fn, "rate", rate)
     input = _choice(fn, "input", input, ("rate", "angle"), "rate or angle")
+    if terms is not None:
+        if isinstance(terms, str):
+            terms = list(terms)
+        for t in terms:
+            if not isinstance(t, str) or len(t) != 1 or t not in _TERMS:
+                _bad(fn, "terms", "%r is not Q, N, B, K or R" % (t,))
+    if alpha is not None:
+        alpha = _number(fn, "alpha", alpha)
+        if not 0 < alpha < 1:
+            _bad(fn, "alpha", "%s is not between 0 and 1 (e.g. 0.05)"
+                 % _text(alpha))
     quantity, unit, _ = _data_unit(fn, x, unit, input)
     p, stride, n, keep = _vector(x, fn, "x")
     tkeep = None
@@ -1359,6 +1375,10 @@ def datasheet_gjb(x, rate, tau=10.0, ci=0.99):
     fn = "datasheet_gjb"
     rate = _positive(fn, "rate", rate)
     tau = _positive(fn, "tau", tau)
+    ci = _number(fn, "ci", ci)
+    if not 0 < ci < 1:
+        _bad(fn, "ci", "%s is not a level between 0 and 1 (e.g. 0.99)"
+             % _text(ci))
     p, stride, n, keep = _vector(x, fn, "x")
     g = _c.DatasheetGjb()
     d = _c.Diag()
