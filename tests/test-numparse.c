@@ -158,6 +158,25 @@ START_TEST(halfway_near)
 		snprintf(buf, sizeof(buf), "%.18Lg", mid);
 		same(buf);
 	}
+	/* just below a power of two, where the neighbour below is half as
+	 * far as the one above: 19 and 18 digits around the lower midpoint */
+	for (int e = -80; e <= 80; e++) {
+		double d = ldexp(1, e);
+		long double below = (long double)d -
+				    (long double)(d - nextafter(d, 0)) / 2;
+
+		for (int prec = 16; prec <= 19; prec++) {
+			snprintf(buf, sizeof(buf), "%.*Lg", prec, below);
+			same(buf);
+			snprintf(buf, sizeof(buf), "%.*Lg", prec,
+				 (long double)d - (long double)(d - nextafter(d, 0)) / 3);
+			same(buf);
+			/* nearer the neighbour below than d */
+			snprintf(buf, sizeof(buf), "%.*Lg", prec,
+				 (long double)d - (long double)(d - nextafter(d, 0)) * 3 / 4);
+			same(buf);
+		}
+	}
 	gsl_rng_free(r);
 }
 END_TEST

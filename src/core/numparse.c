@@ -109,12 +109,15 @@ static inline struct dd dd_u64(uint64_t m)
 	return (struct dd){ hi, (double)(int64_t)(m - h) };
 }
 
-/* 10^k, 0 <= k <= 27, exactly: 5^k < 2^63, times 2^k. */
+/* 10^k, 0 <= k <= 27, exactly: one double up to 10^22 (5^22 < 2^53),
+ * else 5^k < 2^63 as a double-double times 2^k. */
 static inline struct dd dd_pow10(int k)
 {
 	uint64_t f = 1;
 	struct dd d;
 
+	if (k <= 22)
+		return (struct dd){ pow10_exact[k], 0 };
 	for (int i = 0; i < k; i++)
 		f *= 5;
 	d = dd_u64(f);
@@ -123,17 +126,23 @@ static inline struct dd dd_pow10(int k)
 	return d;
 }
 
-/* Round a double-double within rel_err of the exact value to double;
- * false when it lies too near a half-way point to decide. */
+/* Round a positive normal double-double within rel_err of the exact
+ * value to double; false when it lies too near a half-way point to
+ * decide. */
 static inline bool dd_round(struct dd x, double rel_err, double *out)
 {
 	double up, gap, half;
+	uint64_t bits;
 
 	if (x.lo == 0) {
 		*out = x.hi;
 		return true;
 	}
-	up = x.lo > 0 ? nextafter(x.hi, INFINITY) : nextafter(x.hi, 0);
+	/* the neighbour of hi on lo's side (nextafter without the call: hi
+	 * is positive and normal, its neighbours one unit of its bits away) */
+	memcpy(&bits, &x.hi, 8);
+	bits = x.lo > 0 ? bits + 1 : bits - 1;
+	memcpy(&up, &bits, 8);
 	gap = fabs(up - x.hi);
 	half = gap / 2;
 	if (fabs(half - fabs(x.lo)) <= rel_err * fabs(x.hi))
