@@ -166,7 +166,7 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 	if (!(fs > 0) || !(o->duration_s > 0))
 		return ssc_diag(diag, -EINVAL, "adc Monte Carlo: no sample rate or duration");
 	level = o->ci_level > 0 ? o->ci_level : 0.6827;
-	n = (size_t)llround(o->duration_s * fs);
+	n = ssc_count(round(o->duration_s * fs));
 	R = o->runs;
 	M = spec->oversample > 1 ? spec->oversample : 1;
 	if (n < 1000)

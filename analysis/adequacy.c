@@ -1136,7 +1136,7 @@ static int davar(struct sscope_adequacy *r, const double *x, size_t stride,
 	double fs = o->rate_hz, T = (double)n / fs;
 	double W = o->davar_window_s > 0 ? o->davar_window_s : T / 8;
 	double S = o->davar_step_s > 0 ? o->davar_step_s : W / 4;
-	size_t nw = (size_t)llround(W * fs), ns = (size_t)llround(S * fs);
+	size_t nw = ssc_count(round(W * fs)), ns = ssc_count(round(S * fs));
 	size_t m[64], nm = 0, nwin;
 	struct sscope_allan *plan = NULL;
 	struct sscope_allan_opts ao = { 0 };
@@ -1203,7 +1203,7 @@ static int davar(struct sscope_adequacy *r, const double *x, size_t stride,
 static void motion_range(const double *x, size_t stride, size_t n, double fs,
 			 double bound, double *t0, double *t1)
 {
-	size_t M = n / (size_t)fmax(11, round(fs)), L;
+	size_t M = n / ssc_count(fmax(11, round(fs))), L;
 	double *v, *s, p10;
 
 	*t0 = *t1 = NAN;

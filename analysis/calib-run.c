@@ -34,7 +34,7 @@ static int detect_reference(const double *x, const double *y, const double *z,
 	    stride == 0)
 		return ssc_diag(diag, -EINVAL, "calibration: bad parameter");
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
-	window = (size_t)lround(win_s * rate_hz);
+	window = ssc_count(round(win_s * rate_hz));
 	if (window < 3)
 		window = 3;
 	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
@@ -66,7 +66,7 @@ int sscope_calib_detect_static(const double *x, const double *y,
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
 	det->threshold = det->k * det->reference;
 	sscope_calib_static_intervals(work, n, det->threshold,
-				      (size_t)lround(min_s * rate_hz), iv, max_iv,
+				      ssc_count(round(min_s * rate_hz)), iv, max_iv,
 				      &det->n_intervals);
 	if (det->n_intervals > max_iv)
 		det->n_intervals = max_iv;
@@ -113,9 +113,9 @@ int sscope_calib_accel_sixpos_run(const double *x, const double *y,
 		size_t cnt;
 
 		sscope_calib_static_intervals(work, n, k * det->reference,
-					      (size_t)lround((det->min_static_s > 0 ?
-							      det->min_static_s : 2) *
-							     rate_hz),
+					      ssc_count(round((det->min_static_s > 0 ?
+							       det->min_static_s : 2) *
+							      rate_hz)),
 					      iv, max_iv, &cnt);
 		if (cnt > max_iv)
 			cnt = max_iv;
@@ -404,8 +404,8 @@ int sscope_calib_rate_table_steps(const double *const y[3],
 		if (isfinite(key[i]))
 			fs = fmax(fs, fabs(key[i]));
 	}
-	settle = (size_t)lround(settle_s * rate_hz);
-	minl = (size_t)lround(0.5 * rate_hz);
+	settle = ssc_count(round(settle_s * rate_hz));
+	minl = ssc_count(round(0.5 * rate_hz));
 	sscope_calib_constant_segments(key, 1, n, 1e-9 * fs, settle,
 				       minl < 2 ? 2 : minl, seg, max, &ns);
 	free(key);

@@ -680,7 +680,7 @@ int sscope_calib_static_reference(const double *x, const double *y,
 	    !(rate_hz > 0))
 		return ssc_diag(diag, -EINVAL, "static detector: bad parameter");
 	if (init_static_s > 0) {
-		size_t m = (size_t)lround(init_static_s * rate_hz);
+		size_t m = ssc_count(round(init_static_s * rate_hz));
 		double v2 = 0;
 
 		if (m < 3 || m > n)
@@ -729,10 +729,10 @@ int sscope_calib_accel_multipos(const double *x, const double *y,
 		return rc;
 	win_s = det->window_s > 0 ? det->window_s : 1.0;
 	min_s = det->min_static_s > 0 ? det->min_static_s : 2.0;
-	window = (size_t)lround(win_s * rate_hz);
+	window = ssc_count(round(win_s * rate_hz));
 	if (window < 3)
 		window = 3;
-	min_len = (size_t)lround(min_s * rate_hz);
+	min_len = ssc_count(round(min_s * rate_hz));
 	rc = sscope_calib_variance_magnitude(x, y, z, stride, n, window, work);
 	if (rc)
 		return ssc_diag(diag, rc == -EDOM ? -EDOM : rc,

@@ -164,10 +164,10 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	min_s = o->min_static_s > 0 ? o->min_static_s : 2.0;
 	k = o->k > 0 ? o->k : 3.0;
 	sgn = o->axis_up ? -1 : 1;
-	window = (size_t)lround(win_s * o->rate_hz);
+	window = ssc_count(round(win_s * o->rate_hz));
 	if (window < 3)
 		window = 3;
-	min_len = (size_t)lround(min_s * o->rate_hz);
+	min_len = ssc_count(round(min_s * o->rate_hz));
 	if (min_len < 2)
 		min_len = 2;
 	if (n < window)

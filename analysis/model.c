@@ -190,7 +190,7 @@ int sscope_model_accel_rk4_check(const struct sscope_model_accel *m,
 		nr = max_steps;
 		dt = t_end_s / (double)(nr - 2);
 	} else {
-		nr = (size_t)ceil(t_end_s / dt) + 2;
+		nr = ssc_count(ceil(t_end_s / dt)) + 2;
 	}
 	xr = malloc(nr * sizeof(double));
 	if (!xr)

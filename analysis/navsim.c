@@ -487,7 +487,7 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 		free_traj(&tr);
 		return ssc_diag(diag, -ERANGE, "too many samples");
 	}
-	n2 = (size_t)floor(dur * o->rate_hz / 2 + 1e-9);
+	n2 = ssc_count(floor(dur * o->rate_hz / 2 + 1e-9));
 	if (n2 < 1) {
 		free_traj(&tr);
 		return ssc_diag(diag, -EDOM,
@@ -509,9 +509,9 @@ int sscope_navsim_new(struct sscope_navsim **nsp,
 	ns->progress = o->progress;
 	ns->progress_ctx = o->progress_ctx;
 	if (o->output_step_s > 0)
-		ns->out_every = (size_t)fmax(1, round(o->output_step_s / (2 * ns->dt)));
+		ns->out_every = ssc_count(fmax(1, round(o->output_step_s / (2 * ns->dt))));
 	else
-		ns->out_every = (size_t)fmax(1, round((double)n2 / 600));
+		ns->out_every = ssc_count(fmax(1, round((double)n2 / 600)));
 	if (ns->out_every > n2)
 		ns->out_every = n2;
 	ns->n_out = n2 / ns->out_every + 1;

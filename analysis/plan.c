@@ -637,7 +637,7 @@ static int predict(const double coef[NT], double rate_hz, double length_s,
 	for (int k = 0; k < NT; k++)
 		if (coef[k] > 0)
 			mask |= 1u << k;
-	nsamp = (size_t)llround(length_s * rate_hz);
+	nsamp = ssc_count(round(length_s * rate_hz));
 	np = sscope_allan_n_phase(SSCOPE_ALLAN_RATE, nsamp);
 	rc = sscope_allan_grid(SSCOPE_ALLAN_TAUS_DENSE,
 			       sscope_allan_max_m(SSCOPE_ALLAN_DEV_OADEV, np), m,

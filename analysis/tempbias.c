@@ -72,7 +72,7 @@ static void free_blocks(struct blocks *b)
 static int make_blocks(const struct sscope_tempbias_run *r, double block_s,
 		       struct blocks *b)
 {
-	size_t m0 = (size_t)fmax(1, round(r->rate_hz * block_s));
+	size_t m0 = ssc_count(fmax(1, round(r->rate_hz * block_s)));
 	size_t nb = (r->n + m0 - 1) / m0;
 
 	memset(b, 0, sizeof(*b));
@@ -359,7 +359,7 @@ static int fill_bins(struct ctx *c, bool with_state)
 			if (i < b->first || !(b->c[i] > 0) || !isfinite(T) ||
 			    !isfinite(b->x[i]))
 				continue;
-			bi = (size_t)fmax(0, floor((T - c->tmin) / c->bin_w));
+			bi = ssc_count(floor((T - c->tmin) / c->bin_w));
 			if (bi >= c->nbt)
 				bi = c->nbt - 1;
 			cl = floor(b->dtdt[i] / (RATE_CLASS * c->gsc)) + NCLASS / 2;
@@ -886,7 +886,11 @@ static int rw_cov(const struct ctx *c, struct fit *f)
 		double vlo = -7, vhi = log(1e3 * Tmax * Tmax / dtmin), step = 1.5;
 		double vb = NAN, lb = -INFINITY, t2;
 
-		for (double v = vlo; v <= vhi + 1e-9; v += step) {
+		/* (in logs when T^2 overflows: a rate of 1e-150 Hz looped for
+		 * ever) */
+		if (!isfinite(vhi))
+			vhi = log(1e3) + 2 * log(Tmax) - log(dtmin);
+		for (double v = vlo; v <= vhi + 1e-9 && isfinite(vhi); v += step) {
 			double l;
 
 			pr.lambda = exp(v) / (Tmax * Tmax);
@@ -1490,7 +1494,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		rc = make_blocks(&runs[j], block_s, &c.b[j]);
 		if (rc)
 			goto fail;
-		h = (size_t)fmax(2, round(smooth_s / (2 * c.b[j].dt)));
+		h = ssc_count(fmax(2, round(smooth_s / (2 * c.b[j].dt))));
 		smooth(&c.b[j], h);
 		for (size_t i = 0; i < c.b[j].nb; i++) {
 			if (c.b[j].c[i] > 0 && isfinite(c.b[j].ts[i])) {

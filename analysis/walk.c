@@ -258,7 +258,7 @@ out:
 int ssc_still_contrast(const double *x, size_t stride, size_t n, double fs,
 			  double *ratio)
 {
-	size_t w = (size_t)fmax(11, round(fs));
+	size_t w = ssc_count(fmax(11, round(fs)));
 	double *v, *work, lo, hi;
 	int rc;
 
@@ -335,8 +335,8 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 						"the covariance of the noise terms must be finite");
 	}
 	dt = 1 / o->rate_hz;
-	L = (size_t)lround(o->run_s * o->rate_hz);
-	Lb = (size_t)lround(o->bias_s * o->rate_hz);
+	L = ssc_count(round(o->run_s * o->rate_hz));
+	Lb = ssc_count(round(o->bias_s * o->rate_hz));
 	if (L < 2)
 		return ssc_diag(diag, -EDOM, "a run of %g s is shorter than 2 samples",
 				o->run_s);

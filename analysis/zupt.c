@@ -351,14 +351,16 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 	fs = o->rate_hz;
 	dt = 1 / fs;
 	T = 2 * dt;
-	W = (size_t)fmax(3, round(o->window_s * fs));
-	n_lev = (size_t)ceil(o->min_level_s * fs);
+	W = ssc_count(fmax(3, round(o->window_s * fs)));
+	n_lev = ssc_count(ceil(o->min_level_s * fs));
 	if (n_lev < W)
 		n_lev = W;
 	if (n < n_lev || n < 4)
 		return ssc_diag(diag, -EDOM,
-				"%zu samples: the initial still interval needs %zu (%g s)",
-				n, n_lev, (double)n_lev / fs);
+				"%zu samples (%g s): the initial still interval needs %g s (the longer of the %g s window and the %g s levelling)",
+				n, (double)n / fs,
+				fmax(fmax(3 / fs, o->window_s), o->min_level_s),
+				o->window_s, o->min_level_s);
 	for (size_t i = 0; i < n; i++)
 		for (int ax = 0; ax < 6; ax++)
 			if (!isfinite(sample(gyro, accel, stride, i, ax)))
@@ -399,9 +401,9 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 	k = calloc(1, sizeof(*k));
 	n_upd = n / 2;
 	if (o->output_step_s > 0)
-		out_every = (size_t)fmax(1, round(o->output_step_s / T));
+		out_every = ssc_count(fmax(1, round(o->output_step_s / T)));
 	else
-		out_every = (size_t)fmax(1, round((double)n_upd / 1000));
+		out_every = ssc_count(fmax(1, round((double)n_upd / 1000)));
 	max_stops = n_upd / 2 + 1; /* still and moving updates alternate at most */
 	if (res) {
 		res->rec = ssc_alloc_array(n_upd / out_every + 1, sizeof(*res->rec));
@@ -413,7 +415,7 @@ int sscope_zupt_run(const double *const gyro[3], const double *const accel[3],
 		return -ENOMEM;
 	}
 	res->window = W;
-	m_prop = (size_t)fmax(1, round(o->propagate_s / T));
+	m_prop = ssc_count(fmax(1, round(o->propagate_s / T)));
 	res->level_s = (double)(level_windows * W) / fs;
 	/* ---- levelling: a still sensor reads f = g (sin p, -sin r cos p,
 	 * -cos r cos p) */

@@ -260,7 +260,7 @@ if command -v jq >/dev/null 2>&1; then
 	bad "vibration on random f64 bytes" 1 "lies outside 2\^-120 .. 2\^120" \
 		vibration --raw f64:3 -u m/s^2 -r 1000 "$DATA/random-f64.bin"
 	bad "budget beyond the double range" 1 "exceeds the double range: check the sources" \
-		budget --gyro-bias 1e305 --accel-bias 1 --arw 1 --vrw 1 --time 1000
+		budget --gyro-bias 1e305rad/s --accel-bias 1 --arw "1 rad/sqrt(s)" --vrw "1 m/s/sqrt(s)" --time 1000
 else
 	skip "extreme values" "jq not installed"
 fi

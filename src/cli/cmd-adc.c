@@ -1094,6 +1094,7 @@ static const struct ssc_command_spec test_spec = {
 		 "      --tone 37.1234:0.999 --no-clip -o sine.csv\n"
 		 "  sensorscope adc quantize --bits 10 --range -1:1 sine.csv -o sine10.csv\n"
 		 "  sensorscope adc test --bits 10 --range -1:1 sine10.csv",
+	.no_csv = true,
 };
 
 struct topts {

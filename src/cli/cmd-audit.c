@@ -35,6 +35,7 @@ static const struct ssc_command_spec spec = {
 		 "Exit status: 0 the file was read (findings or not; with --strict 1 when\n"
 		 "there are findings), 1 a file that cannot be read or is none of these\n"
 		 "formats, 2 usage.",
+	.no_csv = true,
 };
 
 struct opts {

@@ -159,12 +159,18 @@ static int handler(int key, const char *arg, void *ctx)
 					&p->accel_bias_m_s2);
 	case O_ARW:
 		o->set[2] = true;
-		return ssc_arg_quantity("budget", "arw", arg, "rad/sqrt(s)",
-					&p->arw_rad_sqrt_s);
+		if (ssc_arg_quantity("budget", "arw", arg, "rad/sqrt(s)",
+				     &p->arw_rad_sqrt_s))
+			return SSC_EXIT_USAGE;
+		return p->arw_rad_sqrt_s >= 0 ? 0 :
+		       ssc_usage_error("budget", "--arw: a random walk is not negative");
 	case O_VRW:
 		o->set[3] = true;
-		return ssc_arg_quantity("budget", "vrw", arg, "m/s/sqrt(s)",
-					&p->vrw_m_s_sqrt_s);
+		if (ssc_arg_quantity("budget", "vrw", arg, "m/s/sqrt(s)",
+				     &p->vrw_m_s_sqrt_s))
+			return SSC_EXIT_USAGE;
+		return p->vrw_m_s_sqrt_s >= 0 ? 0 :
+		       ssc_usage_error("budget", "--vrw: a random walk is not negative");
 	case O_GSF:
 		o->gsf_set = true;
 		return parse_ratio("gyro-sf", arg, &p->gyro_sf);
@@ -274,7 +280,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	}
 	case O_GRAVITY:
-		return ssc_arg_positive("budget", "gravity", arg, "m/s^2", &p->gravity_m_s2);
+		return ssc_arg_gravity("budget", arg, &p->gravity_m_s2);
 	case O_PLOT:
 		o->plot = arg;
 		return 0;

@@ -137,7 +137,7 @@ static int handler(int key, const char *arg, void *ctx)
 		return ssc_usage_error("calib", "--mode: '%s' is not multipos, sixpos, rate-table or tilt",
 				       arg);
 	case O_GRAVITY:
-		return ssc_arg_positive("calib", "gravity", arg, "m/s^2", &o->gravity);
+		return ssc_arg_gravity("calib", arg, &o->gravity);
 	case O_WINDOW:
 	case O_MIN_STATIC:
 	case O_INIT_STATIC:

@@ -48,6 +48,8 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope datasheet --check gyro.csv --format json samples/datasheets/stim300.ini\n"
 		 "Exit status: 0 done (whatever the verdicts), 1 a file that cannot be read\n"
 		 "or used (the line and key named), 2 usage.",
+	.no_csv = true,
+	.no_plot = true,
 };
 
 struct opts {

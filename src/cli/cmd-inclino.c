@@ -149,7 +149,7 @@ static int cal_handler(int key, const char *arg, void *ctx)
 		o->pitch = arg;
 		return 0;
 	case O_GRAVITY:
-		return ssc_arg_positive("inclino", "gravity", arg, "m/s^2", &o->gravity);
+		return ssc_arg_gravity("inclino", arg, &o->gravity);
 	case O_POSETOL:
 		if (ssc_arg_double("inclino", "pose-tol", arg, &o->pose_tol) || !(o->pose_tol > 0))
 			return ssc_usage_error("inclino", "--pose-tol: a positive number of degC");

@@ -56,6 +56,7 @@ static const struct ssc_command_spec spec = {
 		 "  sensorscope plan --sensor samples/gyro-mems-250.ini --rate 100 --resolve B:10%,K:30%\n"
 		 "  sensorscope plan --pilot pilot.csv --resolve B:25% --format json\n"
 		 "Exit status: 0 done, 1 a file that cannot be read or fitted, 2 usage.",
+	.no_csv = true,
 };
 
 struct opts {

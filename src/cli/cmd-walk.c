@@ -321,6 +321,8 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		rc = option_terms(cmd, o, q, &c->terms);
 		if (rc)
 			return rc;
+		if (k == 0)
+			ssc_say_bare_numbers(env->co);
 		c->terms_from = "options";
 		c->have_sq = false;
 	} else if (!n_given && (o->sensor || env->sensor)) {

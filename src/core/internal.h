@@ -69,6 +69,19 @@ static inline bool ssc_add(size_t a, size_t b, size_t *out)
 	return !__builtin_add_overflow(a, b, out);
 }
 
+/* A duration times a rate (or any real) as a count of samples, v already
+ * rounded the caller's way (round, ceil, floor): 0 for NaN and negative
+ * v, SSC_COUNT_MAX for v at or beyond it (2^62: more samples than any
+ * record holds), where converting the double to size_t would be
+ * undefined (a --run-length of 1e20 s crashed). */
+#define SSC_COUNT_MAX ((size_t)1 << 62)
+static inline size_t ssc_count(double v)
+{
+	if (!(v > 0))
+		return 0;
+	return v >= (double)SSC_COUNT_MAX ? SSC_COUNT_MAX : (size_t)v;
+}
+
 /* malloc of a * b bytes with overflow check; NULL on failure. */
 void *ssc_alloc_array(size_t count, size_t size);
 

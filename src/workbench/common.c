@@ -121,6 +121,83 @@ int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
 	return *out > 0 ? 0 : ssc_usage_error(cmd, "--%s: must be positive", opt);
 }
 
+/* Bare numbers read in an SI unit nobody in the field writes (a random
+ * walk in rad/sqrt(s), a bias in rad/s): said once the options are read
+ * (-q may come later), with the value in the field's unit. */
+#define BARE_MAX 8
+static struct {
+	char opt[32], arg[48], si[24];
+	double v;
+} bare_given[BARE_MAX];
+static size_t n_bare;
+
+static const struct {
+	const char *si, *shown;
+} field_units[] = {
+	{ "rad/sqrt(s)", "deg/sqrt(h)" },
+	{ "rad/s/sqrt(Hz)", "deg/sqrt(h)" },
+	{ "rad/s", "deg/h" },
+	{ "rad/s^2/sqrt(Hz)", "deg/h/sqrt(h)" },
+	{ "rad/s^2", "deg/h/h" },
+	{ "m/s/sqrt(s)", "m/s/sqrt(h)" },
+	{ "m/s^2/sqrt(Hz)", "m/s/sqrt(h)" },
+	{ "m/s^3/sqrt(Hz)", "ug/sqrt(h)" },
+	{ "rad", "deg" },
+};
+
+static void note_bare(const char *opt, const char *arg, const char *si,
+		      double v)
+{
+	bool odd = false;
+
+	for (size_t i = 0; i < sizeof(field_units) / sizeof(field_units[0]); i++)
+		odd |= !strcmp(si, field_units[i].si);
+	if (!odd || n_bare >= BARE_MAX)
+		return;
+	snprintf(bare_given[n_bare].opt, sizeof(bare_given[n_bare].opt), "%s", opt);
+	snprintf(bare_given[n_bare].arg, sizeof(bare_given[n_bare].arg), "%s", arg);
+	snprintf(bare_given[n_bare].si, sizeof(bare_given[n_bare].si), "%s", si);
+	bare_given[n_bare++].v = v;
+}
+
+void ssc_say_bare_numbers(const struct ssc_common *co)
+{
+	for (size_t k = 0; k < n_bare; k++) {
+		const char *shown = NULL;
+		struct sscope_unit u;
+
+		for (size_t i = 0; i < sizeof(field_units) / sizeof(field_units[0]); i++)
+			if (!strcmp(bare_given[k].si, field_units[i].si))
+				shown = field_units[i].shown;
+		double v;
+
+		if (!shown || sscope_unit_parse(shown, &u, NULL))
+			continue;
+		v = sscope_unit_from_si(&u, bare_given[k].v);
+		if (isfinite(v))
+			ssc_warn(co, "--%s %s has no unit: read as %s %s, that is %.4g %s (write the unit, as in '%s %s')",
+				 bare_given[k].opt, bare_given[k].arg,
+				 bare_given[k].arg, bare_given[k].si, v, shown,
+				 bare_given[k].arg, shown);
+		else
+			ssc_warn(co, "--%s %s has no unit: read as %s %s (write the unit, as in '%s %s')",
+				 bare_given[k].opt, bare_given[k].arg,
+				 bare_given[k].arg, bare_given[k].si,
+				 bare_given[k].arg, shown);
+	}
+	n_bare = 0;
+}
+
+int ssc_arg_gravity(const char *cmd, const char *arg, double *out)
+{
+	if (ssc_arg_positive(cmd, "gravity", arg, "m/s^2", out))
+		return SSC_EXIT_USAGE;
+	if (*out < 1 || *out > 30)
+		return ssc_usage_error(cmd, "--gravity: %g m/s^2 is not a local gravity (1 to 30 m/s^2; 9.78 to 9.83 on Earth)",
+				       *out);
+	return 0;
+}
+
 int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double *out)
 {
@@ -136,8 +213,11 @@ int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		return ssc_usage_error(cmd, "--%s: '%s' is not in units of %s",
 				       opt, arg, si);
 	if (sscope_unit_quantity(&u) == SSCOPE_QUANTITY_DIMENSIONLESS &&
-	    u.scale == 1)
+	    u.scale == 1) {
 		v = sscope_unit_to_si(&target, v); /* bare number: SI */
+		if (v != 0)
+			note_bare(opt, arg, si, v);
+	}
 	*out = v;
 	return 0;
 }
@@ -176,13 +256,34 @@ static void print_help(const struct ssc_command_spec *spec)
 	}
 	if (spec->analysis) {
 		printf("\nInput options:\n");
-		print_opts(analysis_opts);
+		for (const struct ssc_option *o = analysis_opts; o->name; o++) {
+			struct ssc_option one[2] = { *o, { NULL, 0, 0, NULL, NULL } };
+
+			/* a report draws every figure itself */
+			if (o->key != OPT_PLOT ||
+			    !(spec->output_dir || spec->no_plot))
+				print_opts(one);
+		}
 	}
 	printf("\nOutput options:\n");
-	if (spec->analysis || spec->output_opts)
-		print_opts(output_opts);
-	else
+	if (spec->analysis || spec->output_opts) {
+		/* --format and -o as this command takes them */
+		for (const struct ssc_option *o = output_opts; o->name; o++) {
+			struct ssc_option one[2] = { *o, { NULL, 0, 0, NULL, NULL } };
+
+			if (o->key == OPT_FORMAT && spec->output_dir)
+				continue;
+			if (o->key == OPT_FORMAT && spec->no_csv)
+				one[0].arg = "text|json";
+			if (o->key == 'o' && spec->output_dir) {
+				one[0].arg = "DIR";
+				one[0].help = "the report folder (replaces the scene's output): built beside it and put in place when every stage succeeded; missing parent folders are created";
+			}
+			print_opts(one);
+		}
+	} else {
 		print_opts(output_opts + OUT_HELP_ONLY); /* --help only */
+	}
 	if (spec->notes)
 		printf("\n%s\n", spec->notes);
 	printf("\nExit status: 0 success, 1 runtime or data error, 2 usage error or feature not built.\n");
@@ -423,8 +524,10 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 	rc = ssc_guard_check(co->cmd, paths, np, to_stdout);
 	if (rc)
 		goto out;
+	ssc_say_bare_numbers(co);
 	*first = optind;
 out:
+	n_bare = 0;
 	free(lo);
 	free(so);
 	free(paths);

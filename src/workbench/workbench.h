@@ -73,6 +73,8 @@ struct ssc_command_spec {
 	bool analysis;        /* accepts the shared analysis options */
 	bool output_opts;     /* accepts --format/-o (non-analysis commands) */
 	bool output_dir;      /* -o names a folder replaced as a whole */
+	bool no_csv;          /* --format is text or json only */
+	bool no_plot;         /* draws no figure (--plot refused) */
 	const char *notes;    /* extra help text after the options, or NULL */
 };
 
@@ -142,6 +144,13 @@ int ssc_arg_double(const char *cmd, const char *opt, const char *arg,
 		   double *out);
 int ssc_arg_size(const char *cmd, const char *opt, const char *arg,
 		 size_t *out);
+/* Warn (unless quiet) of the bare numbers ssc_arg_quantity() read in an SI
+ * unit the field does not write (rad/sqrt(s), rad/s, ...), with their
+ * value in the field's unit; ssc_parse() does it once the options are
+ * read, a command that reads such a value later calls it then. */
+void ssc_say_bare_numbers(const struct ssc_common *co);
+/* --gravity G: a local gravity in m/s^2 (1 to 30) */
+int ssc_arg_gravity(const char *cmd, const char *arg, double *out);
 /* A quantity with an optional unit, converted to the SI unit of @p si. */
 int ssc_arg_quantity(const char *cmd, const char *opt, const char *arg,
 		     const char *si, double *out);

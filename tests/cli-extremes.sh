@@ -1,0 +1,87 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Option values at the ends of the double range and numbers given without
+# their unit: a duration times a rate beyond any count of samples once
+# crashed walk, nav, navsim and tempbias (a floating-point exception) and a
+# rate of 1e-300 Hz hung tempbias; a bare --arw 0.3 was read as 0.3
+# rad/sqrt(s) (1031 deg/sqrt(h)) without a word.  Each case states its exit
+# status and what the user reads.
+. "$(dirname "$0")/lib.sh"
+
+SIM="$T/sim.csv"
+run "a gyro record" 0 simulate --sensor "$SAMPLES/gyro-mems-250.ini" -r 100 \
+	--duration 10min --axes 3 -o "$SIM"
+# a temperature ramp 20 -> 50 degC at 1 Hz, the bias following it
+awk 'BEGIN { print "time [s],ax [g],temp [degC]";
+	for (i = 0; i < 3000; i++) { T = 20 + 30 * i / 3000;
+		printf "%d,%.6f,%.3f\n", i, 0.001 * T + 1e-4 * sin(i * 1.7), T } }' \
+	>"$T/tb.csv"
+
+# counts of samples beyond any record: clear errors, no crash
+run "walk --run-length 1e20" 1 walk --run-length 1e20 -c gx "$SIM"
+one_line_error "walk --run-length 1e20"
+has "walk --run-length 1e20: says the record holds no run" "$T/err" \
+	"hold 0 runs of 1e\+20 s"
+run "tempbias -r 1e20" 1 tempbias -q -r 1e20 "$T/tb.csv"
+one_line_error "tempbias -r 1e20"
+run "nav --output-step 1e20" 0 nav -q --output-step 1e20 "$SAMPLES/walk-stops.csv"
+run "nav --window 1e308" 1 nav --window 1e308 "$SAMPLES/walk-stops.csv"
+one_line_error "nav --window 1e308"
+has "nav --window 1e308: the window against the record, in seconds" "$T/err" \
+	"14250 samples \(285 s\): the initial still interval needs 1e\+308 s"
+run "navsim --output-step 1e20" 0 navsim --runs 1 --threads 1 --duration 30s \
+	--gyro-bias 1deg/h --output-step 1e20
+
+# a rate of 1e-300 Hz: the record spans 3e303 s; an answer, not a hang
+timeout 120 $SSCOPE_RUN "$SSCOPE" tempbias -q -r 1e-300 "$T/tb.csv" \
+	>"$T/out" 2>"$T/err"
+rc=$?
+if [ "$rc" -eq 0 ]; then
+	ok "tempbias -r 1e-300 ends (exit 0)"
+else
+	not_ok "tempbias -r 1e-300 (exit $rc, 124: still running after 120 s)"
+	diag "$T/err"
+fi
+
+# a bare number for a noise term or a rate is SI, and said so with its
+# value in the field's unit
+run "budget --arw 0.002" 0 budget --arw 0.002
+has "budget --arw 0.002: the value in deg/sqrt(h)" "$T/err" \
+	"warning: --arw 0.002 has no unit: read as 0.002 rad/sqrt\(s\), that is 6.875 deg/sqrt\(h\)"
+run "budget --arw 0.1deg/sqrt(h)" 0 budget --arw "0.1 deg/sqrt(h)"
+lacks "budget with the unit: no warning" "$T/err" "warning"
+run "budget --arw 0.002 -q" 0 budget --arw 0.002 -q
+lacks "budget -q after the value: no warning" "$T/err" "warning"
+run "walk --arw 0.2" 0 walk --arw 0.2 -c gx "$SIM"
+has "walk --arw 0.2: read as rad/s/sqrt(Hz), said in deg/sqrt(h)" "$T/err" \
+	"that is 687.5 deg/sqrt\(h\)"
+run "budget --gyro-bias 1e305" 0 budget --gyro-bias 1e305 --time 1
+lacks "a value beyond the field's unit: no inf in the warning" "$T/err" "inf"
+
+# values no sensor has
+run "budget --arw -0.1 deg/sqrt(h)" 2 budget --arw "-0.1 deg/sqrt(h)"
+has "a negative random walk: refused" "$T/err" "--arw: a random walk is not negative"
+run "budget --gravity 1e308" 2 budget --gravity 1e308 --arw "0.1 deg/sqrt(h)"
+has "a gravity of 1e308: refused" "$T/err" "is not a local gravity"
+run "calib --gravity 0.01" 2 calib accel --gravity 0.01 "$SAMPLES/accel-6pos.csv"
+
+# units: days and milli-degrees per second
+run "plan --max-length 30d" 0 plan --sensor "$SAMPLES/gyro-mems-250.ini" -r 100 \
+	--resolve B:25% --max-length 30d
+run "simulate -u mdps" 0 simulate --sensor "$SAMPLES/gyro-mems-250.ini" -r 10 \
+	--duration 0.001d -u mdps --input "5 deg/s" -o "$T/mdps.csv"
+run "info on mdps" 0 info --format json "$T/mdps.csv"
+json_check "mdps: 5 deg/s (plus the spec's bias) is about 5000 mdps, 864 samples" "$T/out" \
+	'.channels[0].unit == "mdps" and (.channels[0].mean - 5000 | fabs) < 500 and .channels[0].samples == 864'
+
+# the help lists what each command takes
+run "run --help" 0 run --help
+lacks "run --help: no --format" "$T/out" "--format"
+has "run --help: -o names a folder" "$T/out" "-o, --output DIR"
+run "datasheet --help" 0 datasheet --help
+has "datasheet --help: text or json" "$T/out" "--format text\|json "
+lacks "datasheet --help: no --plot" "$T/out" "--plot PATH"
+run "allan --help" 0 allan --help
+has "allan --help: csv too" "$T/out" "--format text\|json\|csv"
+
+done_testing
