@@ -790,7 +790,12 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 		r->temp_span_degc = 60;
 		r->temp_span_default = true;
 	}
-	r->offset_drift_bias = as->offset_drift * r->temp_span_degc / sens;
+	/* a drift the spec does not give (no flag, no value) is unknown
+	 * (its verdict "info"), not 0 */
+	r->offset_drift_bias = (as->has & SSCOPE_ADC_HAS_OFFSET_DRIFT) ||
+			       as->offset_drift != 0 ?
+			       as->offset_drift * r->temp_span_degc / sens :
+			       (double)NAN;
 	{
 		double ref = (double)NAN;
 
@@ -802,7 +807,8 @@ int sscope_adc_analyze(const struct sscope_sensor_spec *ss,
 		      r->offset_drift_bias / ref, 0.3, 1, false);
 	}
 	r->scale_drift = as->reference == SSCOPE_ADC_RATIOMETRIC ? 0 :
-			 as->gain_drift * r->temp_span_degc;
+			 (as->has & SSCOPE_ADC_HAS_GAIN_DRIFT) || as->gain_drift != 0 ?
+			 as->gain_drift * r->temp_span_degc : (double)NAN;
 	{
 		double ref = (ss->has & SSCOPE_SENSOR_HAS_SF) && ss->scale_factor_error > 0 ?
 			     ss->scale_factor_error : (double)NAN;

@@ -217,8 +217,8 @@ struct sscope_adc_analysis {
 	double bias_bound;      /**< (q/pi) exp(-2 pi^2 sigma^2 / q^2), U */
 	double temp_span_degc;  /**< temperature span used, degC */
 	bool temp_span_default; /**< the sensor gave none: 60 degC assumed */
-	double offset_drift_bias; /**< offset drift * span, U */
-	double scale_drift;     /**< gain/reference drift * span, ratio */
+	double offset_drift_bias; /**< offset drift * span, U (NaN: the spec gives none) */
+	double scale_drift;     /**< gain/reference drift * span, ratio (NaN: none given) */
 	double range_lo, range_hi; /**< converter range in U */
 	double headroom;        /**< converter range / sensor range (>= 1 ok) */
 	int min_bits;           /**< smallest word length whose word-length

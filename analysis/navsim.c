@@ -1043,7 +1043,7 @@ SSC_OMP(omp for schedule(static))
 					sq += x[r] * x[r];
 				}
 				s->mean[c] = mean;
-				s->sd[c] = runs > 1 ? sqrt(ss / (double)(runs - 1)) : 0;
+				s->sd[c] = runs > 1 ? sqrt(ss / (double)(runs - 1)) : (double)NAN;
 				s->rms[c] = sqrt(sq / (double)runs);
 				s->rms_se[c] = rms_se(x, runs, s->rms[c]);
 				qsort(x, runs, sizeof(double), ssc_cmp_double);

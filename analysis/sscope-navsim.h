@@ -248,7 +248,7 @@ struct sscope_navsim_stat {
 	double p50[SSCOPE_NAVSIM_N_COMP]; /**< median */
 	double p95[SSCOPE_NAVSIM_N_COMP]; /**< 95th percentile */
 	double mean[SSCOPE_NAVSIM_N_COMP];
-	double sd[SSCOPE_NAVSIM_N_COMP];  /**< sample sd (0 for one run) */
+	double sd[SSCOPE_NAVSIM_N_COMP];  /**< sample sd (NaN for one run) */
 	double rms[SSCOPE_NAVSIM_N_COMP]; /**< root mean square about 0 */
 	double horiz_p50, horiz_p95, horiz_rms; /**< horizontal position error
 						     magnitude, m */

@@ -242,4 +242,14 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "report plot without OpenCV" 2 adc report --sensor "$QUIET" --adc "$A16" --plot "$T/adc.png"
 fi
+# a drift the converter's spec does not give is unknown, not "0 pass"
+printf '[adc]\nbits = 16\nrange = -300:300 deg/s\nrate = 1kHz\n' >"$T/nodrift.ini"
+run "adc report, no drift given" 0 adc report --sensor "$SAMPLES/gyro-mems-250.ini" \
+	--adc "$T/nodrift.ini" --monte-carlo 0
+has "no offset drift: unknown" "$T/out" "offset drift -> bias +unknown: the converter's spec gives no offset_drift"
+has "no gain drift: unknown" "$T/out" "reference drift -> SF +unknown: the converter's spec gives no gain_drift"
+run "adc report --format json, no drift given" 0 adc report --format json \
+	--sensor "$SAMPLES/gyro-mems-250.ini" --adc "$T/nodrift.ini" --monte-carlo 0
+json_check "no drift: null in the JSON, verdict still pass" "$T/out" \
+	'.adcs[0].terms.offset_drift_bias.value == null and .adcs[0].terms.scale_drift == null and .adcs[0].verdict == "pass"'
 done_testing

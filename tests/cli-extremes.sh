@@ -74,6 +74,21 @@ run "info on mdps" 0 info --format json "$T/mdps.csv"
 json_check "mdps: 5 deg/s (plus the spec's bias) is about 5000 mdps, 864 samples" "$T/out" \
 	'.channels[0].unit == "mdps" and (.channels[0].mean - 5000 | fabs) < 500 and .channels[0].samples == 864'
 
+# what the data cannot give is unknown, never 0
+printf '# rate: 10 Hz\ngx [deg/s]\n0.5\n' >"$T/one.csv"
+run "info on one sample" 0 info "$T/one.csv"
+has "one sample: sd '-'" "$T/out" "gx +deg/s +angular rate +0.5 +- +0.5 +0.5"
+run "info --format json on one sample" 0 info --format json "$T/one.csv"
+json_check "one sample: sd null" "$T/out" '.channels[0].sd == null and .channels[0].mean == 0.5'
+printf 'gx [deg/s]\n0.5\n0.6\n' >"$T/norate.csv"
+run "info --format csv, no rate" 0 info --format csv "$T/norate.csv"
+has "no rate: nan, not 0" "$T/out" "^.*norate.csv,gx,deg/s,angular rate,nan,2,"
+printf '# rate: 10 Hz\ngx [deg/s]\n' >"$T/const.csv"
+for i in 1 2 3 4 5 6 7 8 9 10; do echo 0.5 >>"$T/const.csv"; done
+run "allan --format json on constant data" 0 allan -q --format json "$T/const.csv"
+json_check "no fit: the terms' numbers null" "$T/out" \
+	'[.channels[0].noise[] | .value, .lo, .hi, .si, .estimate, .test_z] | all(. == null)'
+
 # the help lists what each command takes
 run "run --help" 0 run --help
 lacks "run --help: no --format" "$T/out" "--format"

@@ -394,15 +394,21 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 		(ss->has & SSCOPE_SENSOR_HAS_B) ? " vs B " : "",
 		(ss->has & SSCOPE_SENSOR_HAS_B) ? fmtu(b2, sizeof(b2), ss->b, bsi, bu, 3) : "",
 		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_BIAS].verdict));
-	fprintf(f, "  offset drift -> bias    %s over %s degC%s  %s\n",
-		fmtu(b1, sizeof(b1), a->offset_drift_bias, bsi, bu, 3),
-		ssc_fmt(b2, sizeof(b2), a->temp_span_degc, 3),
-		a->temp_span_default ? " (assumed)" : "",
-		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_OFFSET_DRIFT].verdict));
-	fprintf(f, "  reference drift -> SF   %s ppm%s  %s\n",
-		ssc_fmt(b1, sizeof(b1), a->scale_drift * 1e6, 3),
-		ar->spec.reference == SSCOPE_ADC_RATIOMETRIC ? " (ratiometric: cancels)" : "",
-		sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_SCALE_DRIFT].verdict));
+	if (isfinite(a->offset_drift_bias))
+		fprintf(f, "  offset drift -> bias    %s over %s degC%s  %s\n",
+			fmtu(b1, sizeof(b1), a->offset_drift_bias, bsi, bu, 3),
+			ssc_fmt(b2, sizeof(b2), a->temp_span_degc, 3),
+			a->temp_span_default ? " (assumed)" : "",
+			sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_OFFSET_DRIFT].verdict));
+	else
+		fprintf(f, "  offset drift -> bias    unknown: the converter's spec gives no offset_drift\n");
+	if (isfinite(a->scale_drift))
+		fprintf(f, "  reference drift -> SF   %s ppm%s  %s\n",
+			ssc_fmt(b1, sizeof(b1), a->scale_drift * 1e6, 3),
+			ar->spec.reference == SSCOPE_ADC_RATIOMETRIC ? " (ratiometric: cancels)" : "",
+			sscope_adc_verdict_name(a->term[SSCOPE_ADC_T_SCALE_DRIFT].verdict));
+	else
+		fprintf(f, "  reference drift -> SF   unknown: the converter's spec gives no gain_drift\n");
 	if (isfinite(a->headroom))
 		fprintf(f, "  range headroom          x%s  %s\n",
 			ssc_fmt(b1, sizeof(b1), a->headroom, 4),

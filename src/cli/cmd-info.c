@@ -401,7 +401,8 @@ static void text_file(FILE *f, const struct file_info *fi)
 			col->name, (int)wu, col->unit_label[0] ? col->unit_label : "-",
 			(int)wq, sscope_quantity_name(col->quantity),
 			ssc_fmt(a, sizeof(a), s->n ? to_unit(col, s->mean) : (double)NAN, 7),
-			ssc_fmt(b, sizeof(b), s->n ? to_unit_diff(col, s->sd) : (double)NAN, 5),
+			/* one sample has no spread: unknown, not 0 */
+			s->n > 1 ? ssc_fmt(b, sizeof(b), to_unit_diff(col, s->sd), 5) : "-",
 			ssc_fmt(c, sizeof(c), s->n ? to_unit(col, s->min) : (double)NAN, 7),
 			ssc_fmt(d, sizeof(d), s->n ? to_unit(col, s->max) : (double)NAN, 7));
 	}
@@ -444,7 +445,7 @@ static json_t *json_file(const struct file_info *fi)
 		json_object_set_new(c, "nan", json_integer((json_int_t)s->n_nan));
 		json_object_set_new(c, "duration_s", ssc_jreal(duration(cap)));
 		json_object_set_new(c, "mean", s->n ? ssc_jreal(to_unit(col, s->mean)) : json_null());
-		json_object_set_new(c, "sd", s->n ? ssc_jreal(to_unit_diff(col, s->sd)) : json_null());
+		json_object_set_new(c, "sd", s->n > 1 ? ssc_jreal(to_unit_diff(col, s->sd)) : json_null());
 		json_object_set_new(c, "min", s->n ? ssc_jreal(to_unit(col, s->min)) : json_null());
 		json_object_set_new(c, "max", s->n ? ssc_jreal(to_unit(col, s->max)) : json_null());
 		{
@@ -560,9 +561,11 @@ static void csv_file(FILE *f, const struct file_info *fi)
 
 		fprintf(f, "%s,%s,%s,%s,%.15g,%zu,%zu,%.15g,%.15g,%.15g,%.15g,%.15g\n",
 			path, col->name, col->unit_label,
-			sscope_quantity_name(col->quantity), cap->rate_hz, s->n,
+			sscope_quantity_name(col->quantity),
+			cap->rate_hz > 0 ? cap->rate_hz : (double)NAN, s->n,
 			s->n_nan, duration(cap), to_unit(col, s->mean),
-			to_unit_diff(col, s->sd), to_unit(col, s->min),
+			s->n > 1 ? to_unit_diff(col, s->sd) : (double)NAN,
+			to_unit(col, s->min),
 			to_unit(col, s->max));
 	}
 }

@@ -487,11 +487,16 @@ static json_t *json_chan(const struct ssc_allan_json_opts *a,
 		static const char *const key[5] = { "Q", "N", "B", "K", "R" };
 
 		for (int t = 0; t < 5; t++) {
-			const struct sscope_noise_coef *cf = &ft->coef[t];
+			struct sscope_noise_coef cf_k = ft->coef[t];
+			const struct sscope_noise_coef *cf = &cf_k;
+			json_t *jc;
 
-			json_t *jc = ssc_json_coef(cf->value, cf->lo, cf->hi,
-						   u->term[t], u->term_si[t],
-						   cf->fitted);
+			/* no fit: every number unknown (null), not 0 */
+			if (!r->have_fit)
+				cf_k.value = cf_k.lo = cf_k.hi = cf_k.z =
+					cf_k.estimate = (double)NAN;
+			jc = ssc_json_coef(cf->value, cf->lo, cf->hi, u->term[t],
+					   u->term_si[t], cf->fitted);
 
 			json_object_set_new(jc, "resolved",
 					    json_boolean(sscope_noise_coef_resolved(cf)));

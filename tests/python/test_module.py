@@ -276,6 +276,17 @@ ok(all(r["verdict"] == c["verdict"] for r, c in zip(rep, j)),
    "adc_report: verdicts equal the CLI's (%s)" %
    ", ".join(r["verdict"] for r in rep))
 
+with tempfile.TemporaryDirectory() as d:
+    nd = os.path.join(d, "nodrift.ini")
+    with open(nd, "w") as f:
+        f.write("[adc]\nbits = 16\nrange = -300:300 deg/s\nrate = 1kHz\n")
+    t = ss.adc_report(sensor, nd)[0]["terms"]
+    ok(t["offset_drift"]["value"] is None and
+       t["offset_drift"]["verdict"] == "info" and
+       t["scale_drift"]["value"] is None,
+       "adc_report: a drift the spec does not give is None ('info'), not 0",
+       t)
+
 # ---------------------------------------------------------------- containers
 with tempfile.TemporaryDirectory() as d:
     subprocess.run([os.path.join(BUILD, "tests", "gen-ros"), d, "200", "10"],

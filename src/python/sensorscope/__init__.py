@@ -1127,7 +1127,8 @@ def adc_report(sensor, adcs, rate=0.0):
     of spec files with an [adc] section.  Returns one dict per converter:
     name, bits, lsb (SI), dithered, min_bits (None when none passes),
     verdict, margin, limiting, terms {name: {value, reference, ratio,
-    verdict}}.  An inl_profile file named in a spec is not read here."""
+    verdict}} (None where unknown: a drift the spec does not give).  An
+    inl_profile file named in a spec is not read here."""
     if isinstance(adcs, (str, bytes)):
         adcs = [adcs]
     sp = _c.SensorSpec()
@@ -1146,8 +1147,8 @@ def adc_report(sensor, adcs, rate=0.0):
         for i in range(5):
             tr = an.term[i]
             terms[_c.adc_term_name(i).decode()] = {
-                "value": tr.value, "reference": tr.reference,
-                "ratio": tr.ratio,
+                "value": _num(tr.value), "reference": _num(tr.reference),
+                "ratio": _num(tr.ratio),
                 "verdict": _c.adc_verdict_name(tr.verdict).decode()}
         out.append({
             "name": a.name.decode(), "bits": a.bits, "lsb": an.lsb,
