@@ -89,6 +89,23 @@ run "allan --format json on constant data" 0 allan -q --format json "$T/const.cs
 json_check "no fit: the terms' numbers null" "$T/out" \
 	'[.channels[0].noise[] | .value, .lo, .hi, .si, .estimate, .test_z] | all(. == null)'
 
+# a file another command wrote: missing, a folder, or something else
+run "walk --from-allan missing" 1 walk --from-allan "$T/none.json" -c gx "$SIM"
+has "missing: the option, the file, why" "$T/err" "^sensorscope: walk: --from-allan: .*none.json: no such file or directory$"
+run "walk --from-allan a folder" 1 walk --from-allan "$T" -c gx "$SIM"
+has "a folder: says so" "$T/err" "--from-allan: .*: is a directory$"
+run "info --calibration a CSV" 1 info --calibration "$SIM" "$SIM"
+has "a CSV as a calibration: not a calibration file" "$T/err" \
+	"--calibration: .*sim.csv: not a calibration file of 'sensorscope calib' \(JSON error at line 1"
+
+# walk --from-allan matches channels by name, and says when it cannot
+run "allan on gx" 0 allan --format json -c gx -o "$T/al.json" "$SIM"
+run "walk gy --from-allan (gx only)" 0 walk --from-allan "$T/al.json" -c gy "$SIM"
+has "walk: the other channel's terms, said" "$T/err" \
+	"channel 'gy': .*al.json has no channel of that name: the terms of its 'gx' are used"
+run "walk gx --from-allan" 0 walk --from-allan "$T/al.json" -c gx "$SIM"
+lacks "walk: the same channel, no warning" "$T/err" "warning"
+
 # the help lists what each command takes
 run "run --help" 0 run --help
 lacks "run --help: no --format" "$T/out" "--format"

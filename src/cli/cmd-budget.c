@@ -600,15 +600,13 @@ static void take_upstream(struct opts *o, const char **from,
  */
 static int load_result(struct opts *o, const char *path, const char **from)
 {
-	json_error_t err;
-	json_t *root = json_load_file(path, 0, &err);
+	json_t *root = ssc_json_read("budget", "result", path,
+				     "the JSON of 'sensorscope allan' or 'tempbias'");
 	const char *cmd;
 	int used = 0;
 
-	if (!root) {
-		ssc_err("budget", "--result: %s: %s (line %d)", path, err.text, err.line);
+	if (!root)
 		return SSC_EXIT_FAIL;
-	}
 	cmd = json_string_value(json_object_get(root, "command"));
 	if (cmd && !strcmp(cmd, "allan")) {
 		struct ssc_nav_terms *t;

@@ -306,6 +306,10 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 				o->allan ? o->allan : "the allan stage");
 			return SSC_EXIT_FAIL;
 		}
+		if (strcmp(p->name, ch->col.name))
+			ssc_warn(env->co, "%s: channel '%s': %s has no channel of that name: the terms of its '%s' are used (the largest N of its channels of this quantity)",
+				 path, ch->col.name,
+				 o->allan ? o->allan : "the allan stage", p->name);
 		c->allan = *p;
 		/* the same words for a file and the scene's stage */
 		c->terms_from = "allan result";

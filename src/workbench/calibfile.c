@@ -184,18 +184,15 @@ static int get_names(json_t *o, const char *key, char names[3][64])
 int ssc_calfile_read(const char *cmd, const char *path,
 		     struct sscope_calib_file_triad **out, size_t *n_out)
 {
-	json_error_t err;
-	json_t *root = json_load_file(path, 0, &err), *arr;
+	json_t *root = ssc_json_read(cmd, "calibration", path,
+				     "a calibration file of 'sensorscope calib'"), *arr;
 	struct sscope_calib_file_triad *t = NULL;
 	size_t n;
 
 	*out = NULL;
 	*n_out = 0;
-	if (!root) {
-		ssc_err(cmd, "--calibration: %s: %s (line %d)", path, err.text,
-			err.line);
+	if (!root)
 		return SSC_EXIT_FAIL;
-	}
 	if (!json_is_string(json_object_get(root, "format")) ||
 	    strcmp(json_string_value(json_object_get(root, "format")),
 		   "sensorscope-calibration") ||

@@ -188,6 +188,31 @@ void ssc_say_bare_numbers(const struct ssc_common *co)
 	n_bare = 0;
 }
 
+json_t *ssc_json_read(const char *cmd, const char *opt, const char *path,
+		      const char *what)
+{
+	char where[96] = "";
+	json_error_t je;
+	json_t *root;
+	FILE *f;
+
+	if (opt)
+		snprintf(where, sizeof(where), "--%s: ", opt);
+	f = fopen(path, "rb");
+	if (!f) {
+		ssc_err(cmd, "%s%s: %s", where, path, sscope_strerror(-errno));
+		return NULL;
+	}
+	root = json_loadf(f, 0, &je);
+	if (!root && ferror(f)) /* a directory opens, then fails to read */
+		ssc_err(cmd, "%s%s: %s", where, path, sscope_strerror(-EISDIR));
+	else if (!root)
+		ssc_err(cmd, "%s%s: not %s (JSON error at line %d: %s)", where,
+			path, what, je.line, je.text);
+	fclose(f);
+	return root;
+}
+
 int ssc_arg_gravity(const char *cmd, const char *arg, double *out)
 {
 	if (ssc_arg_positive(cmd, "gravity", arg, "m/s^2", out))

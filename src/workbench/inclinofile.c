@@ -39,15 +39,14 @@ static int get3(json_t *a, double v[3])
 int ssc_inclino_lut_read(const char *cmd, const char *path,
 			 struct sscope_inclino_lut *lut)
 {
-	json_error_t je;
-	json_t *root = json_load_file(path, 0, &je), *l, *nodes, *g;
+	json_t *root = ssc_json_read(cmd, "lut", path,
+				     "a look-up table of 'sensorscope inclino calibrate'"),
+	       *l, *nodes, *g;
 	struct sscope_diag d = { "" };
 	int rc = SSC_EXIT_FAIL;
 
-	if (!root) {
-		ssc_err(cmd, "%s: %s", path, je.text);
+	if (!root)
 		return SSC_EXIT_FAIL;
-	}
 	l = json_object_get(root, "lut");
 	if (!l)
 		l = root;

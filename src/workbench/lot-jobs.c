@@ -97,12 +97,10 @@ static int write_json(const char *cmd, const char *path, json_t *j)
 static json_t *read_json(const char *cmd, const char *path, const char *kind,
 			 int *rc)
 {
-	json_error_t e;
-	json_t *j = json_load_file(path, 0, &e);
+	json_t *j = ssc_json_read(cmd, NULL, path, "a file of 'sensorscope lot'");
 
 	*rc = 0;
 	if (!j) {
-		ssc_err(cmd, "%s: %s", path, e.text);
 		*rc = SSC_EXIT_FAIL;
 		return NULL;
 	}

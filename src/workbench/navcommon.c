@@ -23,14 +23,10 @@ int ssc_nav_fail(const char *cmd, int rc, const struct sscope_diag *d,
 int ssc_nav_load_json(const char *cmd, const char *opt, const char *path,
 		      json_t **root)
 {
-	json_error_t err;
-
-	*root = json_load_file(path, 0, &err);
-	if (!*root) {
-		ssc_err(cmd, "--%s: %s: %s (line %d)", opt, path, err.text, err.line);
-		return SSC_EXIT_FAIL;
-	}
-	return SSC_EXIT_OK;
+	*root = ssc_json_read(cmd, opt, path,
+			      !strcmp(opt, "from-calib") ? "a calibration file of 'sensorscope calib'" :
+							   "the JSON of 'sensorscope allan'");
+	return *root ? SSC_EXIT_OK : SSC_EXIT_FAIL;
 }
 
 /* member @p key of a coefficient object ({"value", "unit", "lo", "hi",

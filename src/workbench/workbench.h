@@ -149,6 +149,11 @@ int ssc_arg_size(const char *cmd, const char *opt, const char *arg,
  * value in the field's unit; ssc_parse() does it once the options are
  * read, a command that reads such a value later calls it then. */
 void ssc_say_bare_numbers(const struct ssc_common *co);
+/* A JSON file another command wrote, for option --OPT (NULL: an operand):
+ * its root, or NULL after a one-line error naming the option, the file
+ * and why (missing, a folder, or not WHAT: "a calibration file"). */
+json_t *ssc_json_read(const char *cmd, const char *opt, const char *path,
+		      const char *what);
 /* --gravity G: a local gravity in m/s^2 (1 to 30) */
 int ssc_arg_gravity(const char *cmd, const char *arg, double *out);
 /* A quantity with an optional unit, converted to the SI unit of @p si. */
