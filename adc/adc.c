@@ -118,6 +118,9 @@ int sscope_adc_range_parse(const char *text, double *lo_si, double *hi_si,
 	}
 	if (!isfinite(lo) || !isfinite(hi) || !(lo < hi))
 		return ssc_diag(diag, -EINVAL, "'%s': LO must be below HI", text);
+	if (!isfinite(hi - lo))
+		return ssc_diag(diag, -EINVAL, "'%s': the span HI - LO exceeds the double range",
+				text);
 	*lo_si = lo;
 	*hi_si = hi;
 	if (unit)
@@ -456,7 +459,8 @@ int sscope_adc_new(struct sscope_adc **out, const struct sscope_adc_spec *spec,
 	if (!out || !spec)
 		return -EINVAL;
 	*out = NULL;
-	if (spec->bits < 1 || spec->bits > SSCOPE_ADC_MAX_BITS || !(spec->lo < spec->hi))
+	if (spec->bits < 1 || spec->bits > SSCOPE_ADC_MAX_BITS || !(spec->lo < spec->hi) ||
+	    !isfinite(spec->hi - spec->lo))
 		return ssc_diag(diag, -EINVAL, "bad converter word length or range");
 	if (spec->analog && !(sensitivity > 0))
 		return ssc_diag(diag, -EINVAL,

@@ -252,4 +252,21 @@ run "adc report --format json, no drift given" 0 adc report --format json \
 	--sensor "$SAMPLES/gyro-mems-250.ini" --adc "$T/nodrift.ini" --monte-carlo 0
 json_check "no drift: null in the JSON, verdict still pass" "$T/out" \
 	'.adcs[0].terms.offset_drift_bias.value == null and .adcs[0].terms.scale_drift == null and .adcs[0].verdict == "pass"'
+# adc test on a constant: no sine, said; a sine on 1 % of --range: warned
+awk 'BEGIN { print "t [s],ax [m/s^2]"; for (i = 0; i < 1000; i++) print i "," 1.0 }' >"$T/flat.csv"
+run "adc test on a constant" 1 adc test --bits 10 --range -1:1 "$T/flat.csv"
+has "a constant: no sine in the record" "$T/err" "channel ax: no sine in the record"
+awk 'BEGIN { print "# rate: 1000 Hz"; print "ax [m/s^2]";
+	for (i = 0; i < 8192; i++) printf "%.6f\n", 0.999 * sin(2 * 3.14159265358979 * 37.1234 * i / 1000) }' >"$T/sine.csv"
+run "adc test, --range 100 times the sine" 0 adc test --bits 10 --range -100:100 "$T/sine.csv"
+has "a small sine: the range checked" "$T/err" "the sine spans 1 % of --range"
+run "adc test, --range the sine's" 0 adc test --bits 10 --range -1:1 "$T/sine.csv"
+lacks "a full-scale sine: no warning" "$T/err" "warning"
+# quantize with an LSB wider than the data; a span beyond the doubles
+run "adc quantize, LSB beyond the data" 0 adc quantize --bits 12 --range -1e300:1e300 \
+	-o "$T/q.csv" "$T/sine.csv"
+has "an LSB of 5e296: said" "$T/err" "the LSB \(4.88e\+296 m/s\^2\) is wider than the data's span"
+run "adc quantize, a span of 2e308" 2 adc quantize --bits 12 --range -1e308:1e308 \
+	-o "$T/q2.csv" "$T/sine.csv"
+has "a span of 2e308: refused" "$T/err" "the span HI - LO exceeds the double range"
 done_testing

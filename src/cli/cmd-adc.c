@@ -990,6 +990,7 @@ static int cmd_quantize(int argc, char **argv)
 		struct sscope_capture_channel *ch = &cap->channels[c];
 		struct sscope_adc_spec s = spec;
 		struct sscope_adc *adc = NULL;
+		char b1[48], b2[48];
 
 		if (!o.adc) {
 			struct sscope_unit u;
@@ -1014,6 +1015,26 @@ static int cmd_quantize(int argc, char **argv)
 					     o.adc, sscope_quantity_name(s.quantity), ch->col.name,
 					     sscope_quantity_name(ch->col.quantity));
 			goto done;
+		}
+		{
+			/* an LSB wider than the data: every sample in a code
+			 * or two (a range of +-1e308) */
+			double lo = INFINITY, hi = -INFINITY;
+			double lsb = (s.hi - s.lo) / ldexp(1, s.bits);
+
+			for (size_t i = 0; i < cap->n; i++)
+				if (isfinite(ch->data[i])) {
+					lo = fmin(lo, ch->data[i]);
+					hi = fmax(hi, ch->data[i]);
+				}
+			if (hi > lo && lsb > hi - lo)
+				ssc_warn(&co, "%s: the LSB (%s %s) is wider than the data's span (%s %s): every sample lands in one or two codes; check --range and --bits",
+					 ch->col.name,
+					 ssc_fmt(b1, sizeof(b1), sscope_unit_from_si(&ch->col.unit, lsb), 3),
+					 ch->col.unit_label,
+					 ssc_fmt(b2, sizeof(b2), sscope_unit_from_si(&ch->col.unit, hi) -
+								 sscope_unit_from_si(&ch->col.unit, lo), 3),
+					 ch->col.unit_label);
 		}
 		rc = ssc_adc_new(&adc, &s, &prof, 1, 0, o.seed + c, &d);
 		if (!rc)
@@ -1248,12 +1269,28 @@ static int cmd_test(int argc, char **argv)
 
 		rc = sscope_adc_dynamic_test(ch->data, cap->n, cap->rate_hz,
 					     have_range ? hi - lo : 0, &dy);
+		if (!rc && (!(dy.fit.amplitude > 2 * dy.fit.rms_residual) ||
+			    !(dy.fit.amplitude > 1e-9 * fabs(dy.fit.offset)))) {
+			/* a constant or a record of noise: no sine to judge */
+			ssc_err(co.cmd, "%s: channel %s: no sine in the record (fitted amplitude %s, residual %s rms): the test needs a sine input",
+				argv[first], ch->col.name,
+				ssc_fmt(b1, sizeof(b1), dy.fit.amplitude * sc, 3),
+				ssc_fmt(b2, sizeof(b2), dy.fit.rms_residual * sc, 3));
+			json_decref(j);
+			json_decref(fit);
+			rc = SSC_EXIT_FAIL;
+			goto done_json;
+		}
 		if (rc) {
 			json_decref(j);
 			json_decref(fit);
 			rc = ssc_fail(co.cmd, rc, NULL, ch->col.name);
 			goto done_json;
 		}
+		if (have_range && 2 * dy.fit.amplitude < 0.5 * (hi - lo))
+			ssc_warn(&co, "%s: channel %s: the sine spans %s %% of --range: the ENOB from the full-scale range is meaningful for a sine near full scale (IEEE 1241); check --range",
+				 argv[first], ch->col.name,
+				 ssc_fmt(b1, sizeof(b1), 100 * 2 * dy.fit.amplitude / (hi - lo), 2));
 		json_object_set_new(j, "name", json_string(ch->col.name));
 		json_object_set_new(j, "unit", json_string(un));
 		json_object_set_new(j, "rate_hz", json_real(cap->rate_hz));
