@@ -244,4 +244,16 @@ has "names the channel" "$T/err" "no channel 'gx'"
 run "a missing unit" 1 lot "$T/unit1.csv" "$T/unit2.csv" "$T/none.csv"
 one_line_error "a missing unit"
 
+# four units and a stuck one (every sample 1 mg): the stuck unit said,
+# K's interval (three units) cut at 0
+mkdir -p "$T/stuck"
+cp "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv" "$SAMPLES/lot/unit03.csv" \
+	"$SAMPLES/lot/unit04.csv" "$T/stuck/"
+awk -F, 'NR == 1 { print; next } { print $1 ",0.001,20" }' "$SAMPLES/lot/unit01.csv" \
+	>"$T/stuck/unit05.csv"
+run "lot with a stuck unit" 0 lot "$T/stuck"
+has "the stuck unit: said" "$T/out" "unit05.csv +constant record: every sample 1000 ug \(a stuck sensor\?\): left out of every spread"
+has "K: the interval cut at 0" "$T/out" "K +ug/sqrt\(h\) +[0-9.]+ \[0 \(cut\), "
+has "the cut explained" "$T/out" "^\(cut\): the interval's lower end cut at 0"
+lacks "no negative interval" "$T/out" "\[-"
 done_testing

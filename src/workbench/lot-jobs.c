@@ -318,6 +318,7 @@ static json_t *cell_json(const struct ssc_lot_result *r, size_t c,
 	for (size_t t = 0; t < SSC_LOT_NT; t++)
 		json_array_append_new(pr, json_boolean(cl->present[t]));
 	json_object_set_new(o, "present", pr);
+	json_object_set_new(o, "constant", json_boolean(cl->constant));
 	for (size_t t = 0; t < SSC_LOT_NT; t++)
 		json_array_append_new(gb, json_boolean(cl->gbound[t]));
 	json_object_set_new(o, "guard_bound", gb);
@@ -500,6 +501,7 @@ static int cell_from(const char *cmd, const char *path, const json_t *o,
 	}
 	for (size_t t = 0; ok && t < SSC_LOT_NT; t++)
 		cl->present[t] = json_is_true(json_array_get(pr, t));
+	cl->constant = json_is_true(json_object_get(o, "constant"));
 	for (size_t t = 0; ok && t < SSC_LOT_NT; t++)
 		cl->gbound[t] = json_is_true(json_array_get(gb, t));
 	if (ok) {

@@ -342,6 +342,12 @@ static int spread(const char *cmd, struct ssc_lot_result *r)
 			if (sscope_lot_spread(y, se, k, &o, &T->sp, z, fl))
 				continue;
 			T->done = true;
+			/* N, B, K are amplitudes: the symmetric interval of
+			 * their mean cut at 0 (it covers at least as often) */
+			if (t <= SSC_LOT_K && T->sp.mean_lo < 0) {
+				T->sp.mean_lo = 0;
+				T->mean_lo_cut = true;
+			}
 			for (size_t i = 0; i < k; i++) {
 				T->outlier[idx[i]] = fl[i];
 				T->z[idx[i]] = z[i];
@@ -517,6 +523,16 @@ static int unit_all(const char *cmd, struct ssc_lot_result *r, size_t u,
 			ssc_err(cmd, "%s: no channel '%s' of the same quantity as in %s: the units of a lot must have the same channels",
 				path, r->chan[c], r->paths[0]);
 			return SSC_EXIT_FAIL;
+		}
+		{
+			size_t i = 0;
+
+			while (i < cap->n && !isfinite(ch->data[i]))
+				i++;
+			cl->constant = i < cap->n;
+			for (size_t j = i + 1; cl->constant && j < cap->n; j++)
+				cl->constant = !isfinite(ch->data[j]) ||
+					       ch->data[j] == ch->data[i];
 		}
 		rc = unit_fit(cmd, path, ch, cap->n, cap->rate_hz, plan, false, cl);
 		if (!rc)
@@ -738,13 +754,15 @@ double ssc_lot_value(const struct ssc_lot_result *r, size_t c, int t, double si,
 void ssc_lot_spread_text(const struct ssc_lot_result *r, size_t c, int t,
 			 char *mean, size_t ml, char *sd, size_t sl)
 {
-	const struct sscope_lot_spread *s = &r->term[c * SSC_LOT_NT + (size_t)t].sp;
+	const struct ssc_lot_term *T = &r->term[c * SSC_LOT_NT + (size_t)t];
+	const struct sscope_lot_spread *s = &T->sp;
 	char a[32], b[32], d[32];
 	const char *unit;
 
-	snprintf(mean, ml, "%s [%s, %s]",
+	snprintf(mean, ml, "%s [%s%s, %s]",
 		 ssc_fmt(a, sizeof(a), conv(r, c, t, s->mean, &unit), 4),
 		 ssc_fmt(b, sizeof(b), conv(r, c, t, s->mean_lo, &unit), 4),
+		 T->mean_lo_cut ? " (cut)" : "",
 		 ssc_fmt(d, sizeof(d), conv(r, c, t, s->mean_hi, &unit), 4));
 	snprintf(sd, sl, "%s [%s, %s]",
 		 ssc_fmt(a, sizeof(a), conv(r, c, t, s->between_sd, &unit), 3),
@@ -933,6 +951,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 			json_object_set_new(jc, "block_s", ssc_jreal((double)cl->bias.block_n /
 								     r->rate_hz[u]));
 			json_object_set_new(jc, "residual_lag1", ssc_jreal(cl->bias.resid_lag1));
+			json_object_set_new(jc, "constant", json_boolean(cl->constant));
 			if (cl->bias.have_temp) {
 				json_t *jt = json_object();
 
@@ -973,6 +992,7 @@ json_t *ssc_lot_json(const void *opts, const void *result)
 			json_object_set_new(b, "units_used", json_integer((json_int_t)s->k_used));
 			json_object_set_new(b, "mean", ssc_jreal(conv(r, c, t, s->mean, &unit)));
 			json_object_set_new(b, "mean_lo", ssc_jreal(conv(r, c, t, s->mean_lo, &unit)));
+			json_object_set_new(b, "mean_lo_cut", json_boolean(T->mean_lo_cut));
 			json_object_set_new(b, "mean_hi", ssc_jreal(conv(r, c, t, s->mean_hi, &unit)));
 			json_object_set_new(b, "between_sd", ssc_jreal(conv(r, c, t, s->between_sd, &unit)));
 			json_object_set_new(b, "between_sd_lo", ssc_jreal(conv(r, c, t, s->between_lo, &unit)));
@@ -1072,6 +1092,15 @@ static void unit_text(FILE *f, const struct ssc_lot_result *r)
 		for (size_t u = 0; u < r->n_units; u++) {
 			char x[80], y[80], z[80];
 
+			if (r->cell[u * r->n_chan + c].constant) {
+				fprintf(f, "%-20s constant record: every sample %s %s (a stuck sensor?): left out of every spread\n",
+					unit_name(r, u),
+					ssc_fmt(x, sizeof(x),
+						conv(r, c, SSC_LOT_BIAS,
+						     r->cell[u * r->n_chan + c].bias.bias, &ub), 6),
+					ub);
+				continue;
+			}
 			fprintf(f, "%-20s %-34s %-34s %s\n", unit_name(r, u),
 				cell_text(x, sizeof(x), r, u, c, SSC_LOT_BIAS),
 				cell_text(y, sizeof(y), r, u, c, SSC_LOT_DRIFT),
@@ -1123,6 +1152,11 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 					any = true;
 				}
 			fprintf(f, "%s\n", any ? "" : "-");
+		}
+	for (size_t i = 0; i < r->n_chan * SSC_LOT_NT; i++)
+		if (r->term[i].mean_lo_cut) {
+			fprintf(f, "(cut): the interval's lower end cut at 0 (N, B and K are not negative)\n");
+			break;
 		}
 	unit_text(f, r);
 	if (r->spec)

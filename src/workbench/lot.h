@@ -44,6 +44,7 @@ enum {
 struct ssc_lot_cell {
 	double v[SSC_LOT_NT], lo[SSC_LOT_NT], hi[SSC_LOT_NT], se[SSC_LOT_NT];
 	bool present[SSC_LOT_NT];
+	bool constant;       /* every sample equal: a stuck sensor? */
 	/* against a limit (has_spec): the fit's interval at
 	 * SSC_LOT_SPEC_LEVEL [glo, ghi], or ghi alone as an upper bound
 	 * (gbound: the term not shown), and the verdict */
@@ -80,6 +81,7 @@ struct ssc_lot_term {
 	double limit;        /* upper limit, SI; NaN without */
 	size_t count[3];     /* units per enum sscope_datasheet_verdict */
 	bool cpk_done;       /* cpk computed (>= 3 units show the term) */
+	bool mean_lo_cut;    /* a noise amplitude's interval cut at 0 */
 	struct sscope_lot_cpk cpk; /* SI, over the units that show it */
 };
 

@@ -5,6 +5,7 @@ CLI's JSON on the bundled samples, OADEV against an allantools-style numpy
 reference, zero-copy inputs, containers, and errors as exceptions."""
 
 import json
+import shutil
 import math
 import os
 import subprocess
@@ -683,6 +684,24 @@ with open(os.path.join(mdir, "lot.csv"), "w") as f:
 bad = same_json(ss.lot(os.path.join(mdir, "lot.csv")),
                 cli("lot", "--format", "json", os.path.join(mdir, "lot.csv")))
 ok(not bad, "lot(manifest): the command's JSON", "\n".join(bad))
+# four units and a stuck one: the stuck unit flagged, K's interval cut at 0
+sdir = tempfile.mkdtemp()
+for i in (1, 2, 3, 4):
+    shutil.copy(os.path.join(lotdir, "unit%02d.csv" % i), sdir)
+with open(os.path.join(lotdir, "unit01.csv")) as f, \
+        open(os.path.join(sdir, "unit05.csv"), "w") as g:
+    g.write(f.readline())
+    for line in f:
+        g.write(line.split(",")[0] + ",0.001,20\n")
+pys = ss.lot(sdir)
+bad = same_json(pys, cli("lot", "--format", "json", *sorted(
+    os.path.join(sdir, f) for f in os.listdir(sdir))))
+ok(not bad and [u["channels"][0]["constant"] for u in pys["units"]] ==
+   [False] * 4 + [True] and any(
+       b["mean_lo_cut"] and b["mean_lo"] == 0 for b in pys["between"]
+       if b["term"] == "K"),
+   "lot: a stuck unit flagged constant, K's interval cut at 0, as the command",
+   "\n".join(bad))
 ok([(o["unit"], o["term"]) for o in py["outliers"]] ==
    [("unit07.csv", "bias")], "lot: unit07 the bias outlier", py["outliers"])
 try:

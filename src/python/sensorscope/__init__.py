@@ -1676,7 +1676,7 @@ def lot(files, level=0.90):
                     % paths[0])
     temp = first.temp_degc is not None
     U, NT = len(ops), len(_LOT_TERMS)
-    cells = {}
+    cells, constant = {}, {}
     for u, (path, _n, cols, tcol) in enumerate(ops):
         cap = first if u == 0 else load(path, columns=cols, temp_column=tcol)
         first = None
@@ -1693,6 +1693,8 @@ def lot(files, level=0.90):
                 raise Error(-errno.EDOM, "%s: no channel '%s' of the same "
                             "quantity as in %s" % (paths[u], name, paths[0]))
             x = np.ascontiguousarray(cap[name], dtype=float)
+            fin = x[np.isfinite(x)]
+            constant[u, c] = bool(fin.size and np.all(fin == fin[0]))
             a = allan(x, cap.rate_hz, taus="dense", ci=0.682689492137086)
             v, se, pres = [math.nan] * NT, [math.nan] * NT, [False] * NT
             lo, hi = [math.nan] * NT, [math.nan] * NT
@@ -1810,6 +1812,7 @@ def lot(files, level=0.90):
             jc = {"name": name, "terms": jt, "bias_blocks": b.blocks,
                   "block_s": b.block_n / fs,
                   "residual_lag1": _num(b.resid_lag1),
+                  "constant": constant[u, c],
                   "temperature": {"mean_degc": _num(b.temp_mean_degc),
                                   "span_degc": _num(b.temp_span_degc),
                                   "time_corr": _num(b.temp_time_corr)}
@@ -1834,8 +1837,11 @@ def lot(files, level=0.90):
 
             def cv(x):
                 return _num(_lot_conv(x, qc, t)[0])
+            # N, B, K are amplitudes: the interval of their mean cut at 0
+            cut = t <= 2 and sp["mean_lo"] < 0
             e.update({"units_used": sp["k_used"], "mean": cv(sp["mean"]),
-                      "mean_lo": cv(sp["mean_lo"]),
+                      "mean_lo": cv(0.0 if cut else sp["mean_lo"]),
+                      "mean_lo_cut": bool(cut),
                       "mean_hi": cv(sp["mean_hi"]),
                       "between_sd": cv(sp["between_sd"]),
                       "between_sd_lo": cv(sp["between_lo"]),
