@@ -74,4 +74,17 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "--plot without OpenCV" 2 vibration --plot "$T/v.png" --rpm 1797 "$SAMPLES/vibration.csv"
 fi
+# what the record or the options make plain is said: a gap in the stamps,
+# a shaft above the Nyquist frequency, a segment longer than the record
+awk 'BEGIN { print "t [s],ax [m/s^2]"; for (i = 0; i < 4096; i++)
+	printf "%.6f,%.6f\n", i / 2000 + (i > 2000 ? 5 : 0), 0.5 * sin(2 * 3.14159265 * 29.5 * i / 2000) }' \
+	>"$T/vgap.csv"
+run "vibration, a 5 s gap" 0 vibration "$T/vgap.csv"
+has "the gap: said" "$T/err" "1 gap in the time stamps: the spectrum assumes uniform sampling"
+awk 'BEGIN { print "# rate: 2000 Hz"; print "ax [m/s^2]"; for (i = 0; i < 4096; i++)
+	printf "%.6f\n", 0.5 * sin(2 * 3.14159265 * 29.5 * i / 2000) }' >"$T/vsine.csv"
+run "vibration --rpm 1e6" 0 vibration --rpm 1e6 "$T/vsine.csv"
+has "a shaft above Nyquist: said" "$T/err" "--rpm 1e\+06 puts the shaft at 16667 Hz, above the Nyquist frequency 1000 Hz"
+run "vibration --nperseg 100000" 0 vibration --nperseg 100000 "$T/vsine.csv"
+has "a segment longer than the record: one of the record" "$T/err" "--nperseg 100000 is longer than the record \(4096 samples\): one segment of 4096"
 done_testing

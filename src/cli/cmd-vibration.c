@@ -639,6 +639,7 @@ static void free_result(void *result)
 
 static int run(const struct ssc_stage_env *env, void *opts, void **result)
 {
+	char b1[48], b2[48];
 	const struct ssc_common *co = env->co;
 	struct vib_res *R;
 	struct args *a;
@@ -673,6 +674,20 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	a = &R->a;
 	if (a->vo.psd.nperseg == 0 && a->overlap != 0.5)
 		a->vo.psd.nperseg = sscope_vib_default_nperseg(cap->n);
+	if (a->vo.psd.nperseg > cap->n && cap->n) {
+		ssc_warn(co, "%s: --nperseg %zu is longer than the record (%zu samples): one segment of %zu",
+			 path, a->vo.psd.nperseg, cap->n, cap->n);
+		a->vo.psd.nperseg = cap->n;
+	}
+	/* the stamps' gaps, unless out of order (said above) */
+	if (cap->has_timing && cap->timing.n_gaps &&
+	    !sscope_timing_order_check(&cap->timing.order, NULL))
+		ssc_warn(co, "%s: %zu gap%s in the time stamps: the spectrum assumes uniform sampling",
+			 path, cap->timing.n_gaps, cap->timing.n_gaps == 1 ? "" : "s");
+	if (a->rpm / 60 > cap->rate_hz / 2)
+		ssc_warn(co, "%s: --rpm %g puts the shaft at %s Hz, above the Nyquist frequency %s Hz: no shaft order can be seen (check --rpm and the rate)",
+			 path, a->rpm, ssc_fmt(b1, sizeof(b1), a->rpm / 60, 5),
+			 ssc_fmt(b2, sizeof(b2), cap->rate_hz / 2, 5));
 	if (a->vo.psd.nperseg)
 		a->vo.psd.noverlap = sscope_psd_noverlap(a->overlap, a->vo.psd.nperseg);
 	for (size_t k = 0; k < cap->n_channels; k++, R->n++) {

@@ -564,8 +564,8 @@ static int finish_run(const struct ssc_common *co, struct ssc_psd_run *R)
 	int rc;
 
 	if (R->time_gaps)
-		ssc_warn(co, "%s: %zu gaps in the time stamps: the spectrum assumes uniform sampling",
-			 R->path, R->time_gaps);
+		ssc_warn(co, "%s: %zu gap%s in the time stamps: the spectrum assumes uniform sampling",
+			 R->path, R->time_gaps, R->time_gaps == 1 ? "" : "s");
 	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
 		ssc_warn(co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
 			 R->path, R->a.po.nperseg, (unsigned long long)R->rows,
