@@ -125,20 +125,20 @@ int sscope_sim_new(struct sscope_sim **simp,
 		return -EINVAL;
 	*simp = NULL;
 	if (!spec || !o)
-		return ssc_diag(diag, -EINVAL, "sim: no spec or options");
+		return ssc_diag(diag, -EINVAL, "no spec or options");
 	if (!(o->rate_hz > 0) || !isfinite(o->rate_hz))
-		return ssc_diag(diag, -EINVAL, "sim: rate must be positive");
+		return ssc_diag(diag, -EINVAL, "rate must be positive");
 	if (!(spec->q >= 0) || !(spec->n >= 0) || !(spec->b >= 0) ||
 	    !(spec->k >= 0) || !(spec->r >= 0) || !isfinite(spec->q + spec->n +
 							     spec->b + spec->k +
 							     spec->r))
 		return ssc_diag(diag, -EINVAL,
-				"sim: noise terms must be finite and non-negative");
+				"noise terms must be finite and non-negative");
 	if (!isfinite(spec->bias) || !isfinite(spec->scale_factor_error) ||
 	    !isfinite(spec->bias_tempco))
-		return ssc_diag(diag, -EINVAL, "sim: bias, scale factor and tempco must be finite");
+		return ssc_diag(diag, -EINVAL, "bias, scale factor and tempco must be finite");
 	if (o->n_tones > SSCOPE_SIM_MAX_TONES)
-		return ssc_diag(diag, -EINVAL, "sim: at most %d tones",
+		return ssc_diag(diag, -EINVAL, "at most %d tones",
 				SSCOPE_SIM_MAX_TONES);
 	for (size_t i = 0; i < o->n_tones; i++)
 		if (!(o->tones[i].freq_hz >= 0) ||
@@ -146,38 +146,38 @@ int sscope_sim_new(struct sscope_sim **simp,
 		    !isfinite(o->tones[i].amplitude) ||
 		    !isfinite(o->tones[i].phase_rad))
 			return ssc_diag(diag, -EINVAL,
-					"sim: tone %zu: frequency must be in [0, rate/2) and amplitude, phase finite",
+					"tone %zu: frequency must be in [0, rate/2) and amplitude, phase finite",
 					i + 1);
 	if ((unsigned)o->temp_profile > SSCOPE_SIM_TEMP_GIVEN ||
 	    (unsigned)o->temp_wave > SSCOPE_SIM_TRIANGLE ||
 	    !isfinite(o->temp_degc) || !isfinite(o->temp2_degc) ||
 	    !isfinite(o->temp_rate_degc_s) || !isfinite(o->ref_temp_degc) ||
 	    !(o->temp_noise_degc >= 0) || !isfinite(o->temp_noise_degc))
-		return ssc_diag(diag, -EINVAL, "sim: bad temperature profile");
+		return ssc_diag(diag, -EINVAL, "bad temperature profile");
 	if (o->temp_profile == SSCOPE_SIM_TEMP_CYCLE &&
 	    (!(o->temp_period_s > 0) || !isfinite(o->temp_period_s)))
 		return ssc_diag(diag, -EINVAL,
-				"sim: a temperature cycle needs a positive period");
+				"a temperature cycle needs a positive period");
 	if (o->temp_profile == SSCOPE_SIM_TEMP_RAMP && o->temp_rate_degc_s != 0 &&
 	    (o->temp2_degc - o->temp_degc) * o->temp_rate_degc_s < 0)
 		return ssc_diag(diag, -EINVAL,
-				"sim: the ramp runs away from its end temperature");
+				"the ramp runs away from its end temperature");
 	for (int i = 0; i < SSCOPE_SIM_MAX_POLY; i++)
 		if (!isfinite(o->bias_poly[i]))
-			return ssc_diag(diag, -EINVAL, "sim: bias polynomial must be finite");
+			return ssc_diag(diag, -EINVAL, "bias polynomial must be finite");
 	if (!isfinite(o->hysteresis) || !(o->hysteresis_deadband_degc_s >= 0) ||
 	    !isfinite(o->hysteresis_deadband_degc_s) || !isfinite(o->gradient))
-		return ssc_diag(diag, -EINVAL, "sim: bad hysteresis or gradient");
+		return ssc_diag(diag, -EINVAL, "bad hysteresis or gradient");
 	if (!(o->quant_step >= 0) || !isfinite(o->quant_step))
 		return ssc_diag(diag, -EINVAL,
-				"sim: quantization step must be non-negative");
+				"quantization step must be non-negative");
 	tmin = o->flicker_tau_min_s > 0 ? o->flicker_tau_min_s : 1 / o->rate_hz;
 	tmax = o->flicker_tau_max_s > 0 ? o->flicker_tau_max_s : 1e6;
 	if (o->flicker_tau_min_s < 0 || o->flicker_tau_max_s < 0 ||
 	    !isfinite(tmin) || !isfinite(tmax) || !(tmax >= tmin) ||
 	    log(tmax / tmin) / log(GM_RATIO) > GM_MAX - 2)
 		return ssc_diag(diag, -EINVAL,
-				"sim: flicker band must satisfy 0 < min <= max <= min * 10^%d",
+				"flicker band must satisfy 0 < min <= max <= min * 10^%d",
 				2 * (GM_MAX - 2) / 3);
 	s = calloc(1, sizeof(*s));
 	if (!s)

@@ -75,6 +75,13 @@ run "bad ramp" 2 simulate --sensor "$T/gyro.ini" --rate 100 --duration 1 --temp-
 run "bad cycle" 2 simulate --sensor "$T/gyro.ini" --rate 100 --duration 1 --temp-cycle 0:1
 run "missing spec file" 1 simulate --sensor "$T/none.ini" --rate 100 --duration 1
 one_line_error "missing spec file"
+run "--names t" 2 simulate --sensor "$T/gyro.ini" --rate 10 --duration 1 --names t
+has "--names t: the time column's name" "$T/err" "--names: 't' twice"
+run "--names a,a" 2 simulate --sensor "$T/gyro.ini" --rate 10 --duration 1 --axes 2 --names a,a
+run "--names a,b,c for two axes" 2 simulate --sensor "$T/gyro.ini" --rate 10 --duration 1 --axes 2 --names a,b,c
+has "surplus names: said" "$T/err" "more names than the 2 axes \('c' left\)"
+run "--temp and --temp-ramp" 2 simulate --sensor "$T/gyro.ini" --rate 10 --duration 1 --temp 20 --temp-ramp 20:60:1
+has "two temperature profiles: refused" "$T/err" "give one temperature profile"
 run "a directory as the spec" 1 simulate --sensor "$T" --rate 100 --duration 1
 has "a directory as the spec: says so" "$T/err" "$T: is a directory$"
 printf '[sensor]\nnoise_density = -1 deg/sqrt(h)\n' >"$T/neg.ini"

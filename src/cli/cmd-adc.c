@@ -70,7 +70,7 @@ static const struct ssc_option report_opts[] = {
 	{ "monte-carlo", required_argument, O_MC, "RUNS",
 	  "simulated records per converter (default 4; 0: no Monte-Carlo check)" },
 	{ "mc-duration", required_argument, O_MC_DURATION, "S",
-	  "length of each simulated record (default 3600 s; units allowed: 2h)" },
+	  "length of each simulated record (default 3600 s, at most 30 d; units allowed: 2h)" },
 	{ "seed", required_argument, O_SEED, "N", "Monte-Carlo seed (default 1)" },
 	{ "plot", required_argument, 'p', "PATH.svg|PATH.png",
 	  "ADEV of the sensor alone and through each converter (PNG needs OpenCV)" },
@@ -150,6 +150,8 @@ static int r_handle(int key, const char *arg, void *ctx)
 			return SSC_EXIT_USAGE;
 		if (!(o->mc_duration > 0))
 			return ssc_usage_error(cmd, "--mc-duration: must be positive");
+		if (o->mc_duration > 30 * 86400.0)
+			return ssc_usage_error(cmd, "--mc-duration: at most 30 d (each run simulates the whole record)");
 		o->mc_opt = "mc-duration";
 		return 0;
 	case O_SEED: {

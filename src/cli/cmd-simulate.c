@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 enum {
 	OPT_SENSOR = 3000,
@@ -242,12 +243,16 @@ bad_seed:
 		a->input_text = arg;
 		return 0;
 	case OPT_TEMP:
+		if (a->have_temp)
+			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		if (ssc_arg_quantity("simulate", "temp", arg, "degC", &a->so.temp_degc))
 			return SSC_EXIT_USAGE;
 		a->so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
 		a->have_temp = true;
 		return 0;
 	case OPT_TEMP_RAMP:
+		if (a->have_temp)
+			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		n = split(arg, f);
 		if (n != 3 || need_double("temp-ramp", f[0], &a->so.temp_degc) ||
 		    need_double("temp-ramp", f[1], &a->so.temp2_degc) ||
@@ -260,6 +265,8 @@ bad_seed:
 		a->have_temp = true;
 		return 0;
 	case OPT_TEMP_CYCLE:
+		if (a->have_temp)
+			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		n = split(arg, f);
 		if ((n != 3 && n != 4) || need_double("temp-cycle", f[0], &a->so.temp_degc) ||
 		    need_double("temp-cycle", f[1], &a->so.temp2_degc) ||
@@ -552,6 +559,20 @@ int ssc_cmd_simulate(int argc, char **argv)
 			} else {
 				snprintf(names[k], sizeof(names[k]), "%c%zu", base, k + 1);
 			}
+			/* a name the reader could not tell apart: refused
+			 * here, not in the file (info refused it) */
+			for (size_t j = 0; j <= k; j++)
+				if (!strcasecmp(names[k], j < k ? names[j] : "t") ||
+				    (a.have_temp && !strcasecmp(names[k], "temp"))) {
+					rc = ssc_usage_error(co.cmd, "--names: '%s' twice (the time column is 't'%s)",
+							     names[k], a.have_temp ? ", the temperature 'temp'" : "");
+					goto done;
+				}
+		}
+		if (p && *p) {
+			rc = ssc_usage_error(co.cmd, "--names: more names than the %zu axes ('%s' left)",
+					     a.axes, p);
+			goto done;
 		}
 	}
 	cols[0].name = "t";
