@@ -65,6 +65,16 @@ run "budget --gravity 1e308" 2 budget --gravity 1e308 --arw "0.1 deg/sqrt(h)"
 has "a gravity of 1e308: refused" "$T/err" "is not a local gravity"
 run "calib --gravity 0.01" 2 calib accel --gravity 0.01 "$SAMPLES/accel-6pos.csv"
 
+# models and motions no device has
+run "model accel --fn 1e-300" 2 model accel --fn 1e-300 --zeta 0.7
+has "fn outside the devices' range" "$T/err" "--fn: '1e-300' is outside 1 mHz .. 10 MHz"
+run "model accel --duration 1e308" 2 model accel --fn 2.4kHz --zeta 0.7 --duration 1e308
+run "model fog --wavelength 1550" 2 model fog --radius 5cm --turns 1000 --wavelength 1550
+has "a bare wavelength: metres, said" "$T/err" "bare numbers are metres: write 1550 nm"
+run "model fog --wavelength 1550nm" 0 model fog --radius 5cm --turns 1000 --wavelength 1550nm
+run "navsim turn:1e308deg/s" 2 navsim --runs 1 --threads 1 --duration 30s --trajectory turn:1e308deg/s
+has "a turn beyond any gyro: refused" "$T/err" "is beyond any gyro's range"
+
 # units: days and milli-degrees per second
 run "plan --max-length 30d" 0 plan --sensor "$SAMPLES/gyro-mems-250.ini" -r 100 \
 	--resolve B:25% --max-length 30d

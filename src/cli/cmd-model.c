@@ -104,6 +104,18 @@ static int pos_quantity(const char *opt, const char *arg, const char *si,
 	return 0;
 }
 
+/* a positive quantity within what the model's devices have: bare
+ * numbers are SI, so a wavelength of '1550' is 1550 m */
+static int quantity_in(const char *opt, const char *arg, const char *si,
+		       double lo, double hi, const char *range, double *out)
+{
+	if (pos_quantity(opt, arg, si, out))
+		return SSC_EXIT_USAGE;
+	if (*out < lo || *out > hi)
+		return ssc_usage_error("model", "--%s: '%s' is outside %s", opt, arg, range);
+	return 0;
+}
+
 static int handler(int key, const char *arg, void *ctx)
 {
 	struct opts *o = ctx;
@@ -121,19 +133,27 @@ static int handler(int key, const char *arg, void *ctx)
 	case O_DAMP:
 		return pos_number("damping", arg, &o->damp);
 	case O_FN:
-		return pos_quantity("fn", arg, "Hz", &o->fn);
+		return quantity_in("fn", arg, "Hz", 1e-3, 1e7, "1 mHz .. 10 MHz", &o->fn);
 	case O_ZETA:
-		return pos_number("zeta", arg, &o->zeta);
+		if (pos_number("zeta", arg, &o->zeta))
+			return SSC_EXIT_USAGE;
+		return o->zeta >= 1e-6 && o->zeta <= 1e3 ? 0 :
+		       ssc_usage_error("model", "--zeta: '%s' is outside 1e-6 .. 1000", arg);
 	case O_STEP:
 		return ssc_arg_quantity("model", "step", arg, "m/s^2", &o->step);
 	case O_DURATION:
-		return pos_quantity("duration", arg, "s", &o->duration);
+		return quantity_in("duration", arg, "s", 0, 1e6, "0 .. 1e6 s", &o->duration);
 	case O_RADIUS:
-		return pos_quantity("radius", arg, "m", &o->radius);
+		return quantity_in("radius", arg, "m", 1e-4, 10, "0.1 mm .. 10 m", &o->radius);
 	case O_TURNS:
-		return pos_number("turns", arg, &o->turns);
+		if (pos_number("turns", arg, &o->turns))
+			return SSC_EXIT_USAGE;
+		return o->turns <= 1e8 ? 0 :
+		       ssc_usage_error("model", "--turns: '%s' is more than 1e8", arg);
 	case O_WAVELENGTH:
-		return pos_quantity("wavelength", arg, "m", &o->wavelength);
+		return quantity_in("wavelength", arg, "m", 1e-7, 2e-5,
+				   "100 nm .. 20 um (bare numbers are metres: write 1550 nm)",
+				   &o->wavelength);
 	case O_RATE: {
 		char *s = strdup(arg), *save = NULL, *tok;
 		int rc = 0;
@@ -190,6 +210,9 @@ static int do_accel(struct ssc_common *co, struct opts *o)
 	}
 	if (rc)
 		return ssc_fail(co->cmd, rc, NULL, "model accel");
+	if (!(m.fn_hz >= 1e-3 && m.fn_hz <= 1e7))
+		return ssc_usage_error(co->cmd, "--mass, --stiffness: a natural frequency of %g Hz, outside 1 mHz .. 10 MHz",
+				       m.fn_hz);
 	T = o->duration > 0 ? o->duration : 1.5 * m.settling_time_s;
 	for (int i = 0; i < NSTEP; i++)
 		t[i] = T * i / (NSTEP - 1);

@@ -157,6 +157,9 @@ static int parse_traj(struct opts *o, const char *arg)
 			return SSC_EXIT_USAGE;
 		if (!(o->speed > 0))
 			return ssc_usage_error("navsim", "--trajectory: the speed of a straight line must be positive");
+		if (o->speed > 1e4)
+			return ssc_usage_error("navsim", "--trajectory: a speed of %g m/s (at most 10 km/s)",
+					       o->speed);
 		return 0;
 	}
 	if (!strncmp(arg, "turn:", 5)) {
@@ -175,6 +178,13 @@ static int parse_traj(struct opts *o, const char *arg)
 			rc = ssc_arg_quantity("navsim", "trajectory", colon + 1, "m/s", &o->speed);
 		if (!rc && (o->turn_rate == 0 || !(o->speed >= 0)))
 			rc = ssc_usage_error("navsim", "--trajectory: a turn needs a non-zero rate and a speed >= 0");
+		/* a gyro's range ends near 5000 deg/s; 100 rev/s is beyond any */
+		if (!rc && fabs(o->turn_rate) > 200 * M_PI)
+			rc = ssc_usage_error("navsim", "--trajectory: a turn rate of '%s' is beyond any gyro's range (at most 36000 deg/s)",
+					     s);
+		if (!rc && o->speed > 1e4)
+			rc = ssc_usage_error("navsim", "--trajectory: a speed of %g m/s (at most 10 km/s)",
+					     o->speed);
 		free(s);
 		return rc;
 	}
