@@ -238,4 +238,15 @@ json_check "summary: a printed 0 is a finding" "$T/out" '.findings[] | select(.l
 json_check "summary: seven findings" "$T/out" '(.findings | length) == 7'
 run "summary text" 0 audit avr.txt
 has "summary text line" "$T/out" '^avr.txt:15: X Bias Instability: 0.00049 deg/s \(GYROSCOPE\) is the minimum of the Allan deviation.*; corrected: 0.000737638 deg/s$'
+# a byte-order mark (Windows editors), a rate of 0, a sensor's term missing
+printf '\357\273\277update_rate: 200\ngyroscope_noise_density: 1.7e-4\ngyroscope_random_walk: 2.0e-6\n' >"$T/bom.yaml"
+run "audit a file with a byte-order mark" 0 audit "$T/bom.yaml"
+lacks "a BOM: update_rate still read" "$T/out" "update_rate: missing"
+printf 'update_rate: 0\ngyroscope_noise_density: 1.7e-4\ngyroscope_random_walk: 2.0e-6\n' >"$T/r0.yaml"
+run "audit update_rate 0" 0 audit "$T/r0.yaml"
+has "a rate of 0: a rate's words, not a noise value's" "$T/out" "update_rate: 0 Hz: a sample rate is a positive frequency"
+printf 'update_rate: 200\ngyroscope_noise_density: 1.7e-4\n' >"$T/half.yaml"
+run "audit a gyro without its random walk" 0 audit "$T/half.yaml"
+has "the missing random walk: a finding" "$T/out" "gyroscope_random_walk: missing: a filter reading the file needs the gyro's random walk"
+lacks "no accelerometer: nothing asked of it" "$T/out" "accelerometer"
 done_testing

@@ -54,6 +54,11 @@ START_TEST(ini_basics)
 	ck_assert_msg(strstr(d.msg, "line 5: unknown key 'range' in [Sensor]") != NULL,
 		      "%s", d.msg);
 	ssc_ini_free(ini);
+	/* a UTF-8 byte-order mark (Windows editors) before the first line */
+	ck_assert_int_eq(parse("\xef\xbb\xbf[sensor]\nname = g\n", &ini, &d), 0);
+	ck_assert_str_eq(ssc_ini_get(ini, "sensor", "name", &line), "g");
+	ck_assert_uint_eq(line, 2);
+	ssc_ini_free(ini);
 }
 END_TEST
 

@@ -124,6 +124,9 @@ int ssc_ini_parse(struct ssc_ini **out, const char *text, size_t len,
 		free(ini);
 		return -ENOMEM;
 	}
+	/* the byte-order mark Windows editors write at the start */
+	if (end - p >= 3 && !memcmp(p, "\xef\xbb\xbf", 3))
+		p += 3;
 	while (p < end) {
 		const char *e = memchr(p, '\n', (size_t)(end - p)), *q, *eq;
 		char *key, *value;

@@ -164,6 +164,9 @@ static int parse(struct audit *a, char *text)
 	int depth = 0, no = 0;
 	char section[16] = "";
 
+	/* the byte-order mark Windows editors write at the start */
+	if (!strncmp(text, "\xef\xbb\xbf", 3))
+		text += 3;
 	for (char *s = text, *next; s; s = next) {
 		struct line *l;
 		char *colon, *hash;
@@ -329,8 +332,14 @@ static bool number(struct audit *a, const struct line *l, const char *unit,
 		return false;
 	}
 	if (!isfinite(*v) || *v <= 0) {
+		bool rate = !strcmp(unit, "Hz");
+
 		f = add(a, k, l->no, false, *v == 0 ? "zero" : "invalid_value", (double)NAN, unit);
-		if (f)
+		if (f && rate)
+			snprintf(f->msg, sizeof(f->msg), "%s: a sample rate is a positive frequency; give the IMU's rate in Hz",
+				 isnan(*v) ? "not a number" : *v < 0 ? "a negative rate" :
+				 *v == 0 ? "0 Hz" : "infinite");
+		else if (f)
 			snprintf(f->msg, sizeof(f->msg), "%s: %s",
 				 *v == 0 ? "0 is never a valid noise value (a filter reading it trusts the sensor completely: a singular covariance)" :
 				 isnan(*v) ? "not a number" : *v < 0 ? "a negative value (a standard deviation or density is positive)" : "infinite",
@@ -643,8 +652,29 @@ static int audit(struct audit *a, double opt_rate)
 						    utils_key[s][t] : kalibr_key[s][t], p);
 			struct slot *sl = &a->s[a->ns];
 
-			if (!l)
+			if (!l) {
+				/* a sensor the file describes needs both its
+				 * terms: the other without this one is a
+				 * finding (a file of one sensor, as a gyro's
+				 * own export, is complete) */
+				const char *key = a->fmt == F_IMU_UTILS ? utils_key[s][t] :
+									 kalibr_key[s][t];
+				const char *other = a->fmt == F_IMU_UTILS ? utils_key[s][!t] :
+									   kalibr_key[s][!t];
+				char k[KEYLEN];
+				struct finding *f;
+
+				if (!find(a, other, p))
+					continue;
+				snprintf(k, sizeof(k), "%s%s%s", p, p[0] ? "." : "", key);
+				f = add(a, k, 0, false, "missing_key", (double)NAN, unit_si[s][t]);
+				if (f)
+					snprintf(f->msg, sizeof(f->msg),
+						 "missing: a filter reading the file needs the %s %s; measure it (sensorscope allan --export TARGET)",
+						 s ? "accelerometer's" : "gyro's",
+						 t ? "random walk" : "noise density");
 				continue;
+			}
 			sl->l = l;
 			sl->sensor = s;
 			sl->term = t;
