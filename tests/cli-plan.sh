@@ -101,4 +101,14 @@ fi
 printf '[plan]\nresolve = N:5%%\n[report]\nformats = json\n' >"$T/none.ini"
 run "scene: neither sensor nor capture" 2 run "$T/none.ini" -o "$T/none" -q
 one_line_error "scene: neither sensor nor capture"
+# lengths beyond the planner, a search cut short, an angle as the pilot
+G="$SAMPLES/gyro-mems-250.ini"
+run "plan --lengths 1e308" 2 plan --sensor "$G" -r 100 --resolve B:25% --lengths 1e308
+has "1e308 s: more than 1e15 samples" "$T/err" "a record of 1e\+308 s at 100 Hz holds more than 1e15 samples"
+lacks "no doubled prefix" "$T/err" "plan: plan:"
+run "plan --max-length 1min" 0 plan --sensor "$G" -r 100 --resolve B:10% --max-length 1min
+has "beyond the search: '> 60 s', not never" "$T/out" "^B +10% +> 60 s .*\(the search ends at --max-length\)"
+awk 'BEGIN { print "# rate: 100 Hz"; print "th [deg]"; for (i = 0; i < 2000; i++) print i * 0.001 }' >"$T/angle.csv"
+run "plan --pilot of an angle" 1 plan --pilot "$T/angle.csv" --resolve N:25%
+has "an angle pilot: said" "$T/err" "channel th is in deg \(an angle: .*a pilot is a record of angular rate or acceleration"
 done_testing

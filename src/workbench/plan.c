@@ -89,6 +89,15 @@ static int from_pilot(const struct ssc_common *co,
 	if (!(fs > 0))
 		return ssc_err_no_rate(co->cmd, path, cap->rate_note);
 	ch = &cap->channels[0];
+	if (ch->col.quantity != SSCOPE_QUANTITY_ANGULAR_RATE &&
+	    ch->col.quantity != SSCOPE_QUANTITY_ACCELERATION) {
+		ssc_err(co->cmd, "%s: channel %s is %s%s%s: a pilot is a record of angular rate or acceleration (its unit, e.g. 'gx [deg/s]', or -u deg/s)",
+			path, ch->col.name,
+			ch->col.unit_label[0] ? "in " : "without a unit",
+			ch->col.unit_label,
+			ch->col.quantity == SSCOPE_QUANTITY_ANGLE ? " (an angle: its rate is what the noise terms describe)" : "");
+		return SSC_EXIT_FAIL;
+	}
 	rc = sscope_allan_analyze(ch->data, 1, cap->n, fs, SSCOPE_ALLAN_TAUS_DENSE,
 				  NULL, NULL, &res, &d);
 	if (rc == 0 && !res->have_fit) {
@@ -265,6 +274,18 @@ int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
 		free(r);
 		return ssc_usage_error(co->cmd, "give the sample rate of the planned record: --rate HZ");
 	}
+	/* the planner's records hold at most 1e15 samples */
+	{
+		double L = r->req.po.max_length_s, fs = r->rate_hz;
+
+		for (size_t k = 0; k < req->n_len; k++)
+			L = fmax(L, req->lengths_s[k]);
+		if (!(L * fs <= 1e15)) {
+			free(r);
+			return ssc_usage_error(co->cmd, "a record of %g s at %g Hz holds more than 1e15 samples: check --lengths, --max-length and --rate",
+					       L, fs);
+		}
+	}
 	for (size_t i = 0; i < req->n_wish && !rc; i++) {
 		enum sscope_term t = (enum sscope_term)req->wish[i].term;
 		double w = req->wish[i].target;
@@ -293,7 +314,9 @@ int ssc_plan_run(const struct ssc_common *co, const struct ssc_plan_req *req,
 	}
 	if (rc) {
 		free(r);
-		return ssc_fail(co->cmd, rc, NULL, "plan");
+		ssc_err(co->cmd, "the noise model gives no prediction for this request (%s)",
+			sscope_strerror(rc));
+		return SSC_EXIT_FAIL;
 	}
 	*out = r;
 	return SSC_EXIT_OK;
@@ -407,6 +430,13 @@ void ssc_plan_text(FILE *f, const void *opts, const void *result)
 		char b[32];
 
 		fmt_len(b, sizeof(b), r->needed_s[i]);
+		if (!isfinite(r->needed_s[i]) && m->coef[t] > 0) {
+			/* not within the search: longer, not never */
+			char c[24];
+
+			fmt_len(c, sizeof(c), po->max_length_s);
+			snprintf(b, sizeof(b), "> %s", c);
+		}
 		fprintf(f, "%-4c %6.0f%% %11s", term_name[t],
 			100 * r->req.wish[i].target, b);
 		if (!isfinite(r->needed_s[i]) && !(m->coef[t] > 0)) {
@@ -416,7 +446,7 @@ void ssc_plan_text(FILE *f, const void *opts, const void *result)
 		for (size_t k = 0; k < r->req.n_len; k++)
 			fprintf(f, " %7.0f%%", 100 * r->pt[i][k].probability);
 		if (!isfinite(r->needed_s[i]))
-			fprintf(f, "  (not within %.0f days)", po->max_length_s / 86400);
+			fprintf(f, "  (the search ends at --max-length)");
 		fputc('\n', f);
 	}
 	if (!(m->ci_level > 0))
