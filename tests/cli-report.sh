@@ -16,7 +16,7 @@
 
 R="$T/rep"
 run "quick-start report" 0 report -o "$R" "$SAMPLES/gyro-static.csv"
-has "terminal: the summary table" "$T/out" '^stage/chan +quantity +value +interval +unit +note$'
+has "terminal: the summary table" "$T/out" '^section/channel +quantity +value +interval +unit +note$'
 has "terminal: gx's random walk with its interval" "$T/out" \
 	'^allan/gx +angle random walk N +0\.1[45][0-9]* +\[0\.1[45][0-9]*, 0\.1[45][0-9]*\] +deg/sqrt\(h\)'
 H="$R/report.html"

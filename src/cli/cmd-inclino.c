@@ -107,7 +107,7 @@ static const struct ssc_option cal_opts[] = {
 };
 
 static const struct ssc_command_spec cal_spec = {
-	.name = "inclino",
+	.name = "inclino calibrate",
 	.usage = "inclino calibrate [OPTIONS] FILE... -o LUT.json",
 	.summary =
 		"Inclinometer look-up table from static captures at known tilts (columns\n"
@@ -149,18 +149,18 @@ static int cal_handler(int key, const char *arg, void *ctx)
 		o->pitch = arg;
 		return 0;
 	case O_GRAVITY:
-		return ssc_arg_gravity("inclino", arg, &o->gravity);
+		return ssc_arg_gravity("inclino calibrate", arg, &o->gravity);
 	case O_POSETOL:
-		if (ssc_arg_double("inclino", "pose-tol", arg, &o->pose_tol) || !(o->pose_tol > 0))
-			return ssc_usage_error("inclino", "--pose-tol: a positive number of degC");
+		if (ssc_arg_double("inclino calibrate", "pose-tol", arg, &o->pose_tol) || !(o->pose_tol > 0))
+			return ssc_usage_error("inclino calibrate", "--pose-tol: a positive number of degC");
 		return 0;
 	case O_NODEGAP:
-		if (ssc_arg_double("inclino", "node-gap", arg, &o->node_gap) || !(o->node_gap > 0))
-			return ssc_usage_error("inclino", "--node-gap: a positive number of degC");
+		if (ssc_arg_double("inclino calibrate", "node-gap", arg, &o->node_gap) || !(o->node_gap > 0))
+			return ssc_usage_error("inclino calibrate", "--node-gap: a positive number of degC");
 		return 0;
 	case O_VALIDATE:
 		if (o->n_val == MAX_VAL)
-			return ssc_usage_error("inclino", "--validate: at most %d files", MAX_VAL);
+			return ssc_usage_error("inclino calibrate", "--validate: at most %d files", MAX_VAL);
 		o->validate[o->n_val++] = arg;
 		return 0;
 	case O_TILTS:
@@ -636,7 +636,7 @@ static const struct ssc_option app_opts[] = {
 };
 
 static const struct ssc_command_spec app_spec = {
-	.name = "inclino",
+	.name = "inclino apply",
 	.usage = "inclino apply --lut LUT.json [OPTIONS] FILE",
 	.summary =
 		"Roll and pitch (degrees) of every sample from raw accelerations corrected\n"
@@ -679,16 +679,16 @@ static int app_handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_AXES:
 		if (strcmp(arg, "1") && strcmp(arg, "2") && strcmp(arg, "3"))
-			return ssc_usage_error("inclino", "--axes: '%s' is not 1, 2 or 3", arg);
+			return ssc_usage_error("inclino apply", "--axes: '%s' is not 1, 2 or 3", arg);
 		o->axes = arg[0] - '0';
 		return 0;
 	case O_STILLTOL:
-		return ssc_arg_positive("inclino", "still-tol", arg, "m/s^2", &o->still_tol);
+		return ssc_arg_positive("inclino apply", "still-tol", arg, "m/s^2", &o->still_tol);
 	case O_RATETOL:
-		if (ssc_arg_quantity("inclino", "rate-tol", arg, "rad/s", &o->rate_tol))
+		if (ssc_arg_quantity("inclino apply", "rate-tol", arg, "rad/s", &o->rate_tol))
 			return SSC_EXIT_USAGE;
 		if (!(o->rate_tol > 0))
-			return ssc_usage_error("inclino", "--rate-tol: must be positive");
+			return ssc_usage_error("inclino apply", "--rate-tol: must be positive");
 		o->rate_tol_set = true;
 		return 0;
 	}
@@ -889,7 +889,8 @@ int ssc_cmd_inclino(int argc, char **argv)
 		       "       sensorscope inclino apply --lut LUT.json [OPTIONS] FILE\n"
 		       "Inclinometer look-up-table calibration against temperature, and tilt\n"
 		       "with a still flag.  'sensorscope inclino calibrate --help' and\n"
-		       "'sensorscope inclino apply --help' list the options.\n");
+		       "'sensorscope inclino apply --help' list the options.\n\n"
+		       "Exit status: 0 success, 1 runtime or data error, 2 usage error or feature not built.\n");
 		return SSC_EXIT_OK;
 	}
 	return ssc_usage_error("inclino", "give 'calibrate' or 'apply' first");

@@ -311,7 +311,9 @@ static void print_help(const struct ssc_command_spec *spec)
 	}
 	if (spec->notes)
 		printf("\n%s\n", spec->notes);
-	printf("\nExit status: 0 success, 1 runtime or data error, 2 usage error or feature not built.\n");
+	/* once: a command that explains its own codes says it in its notes */
+	if (!spec->notes || !strstr(spec->notes, "Exit status:"))
+		printf("\nExit status: 0 success, 1 runtime or data error, 2 usage error or feature not built.\n");
 }
 
 static size_t count_opts(const struct ssc_option *o)

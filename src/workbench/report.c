@@ -628,7 +628,7 @@ static void term_warning(const json_t *w, void *ctx)
 void ssc_report_terminal(FILE *f, const json_t *summary,
 			 const struct ssc_report_stage *st, size_t n)
 {
-	size_t i, wc = 9, wq = 8, wv = 5, wi = 8, wu = 4;
+	size_t i, wc = 15, wq = 8, wv = 5, wi = 8, wu = 4;
 	json_t *r;
 
 	/* column widths from the contents */
@@ -645,7 +645,7 @@ void ssc_report_terminal(FILE *f, const json_t *summary,
 		wi = strlen(iv) > wi ? strlen(iv) : wi;
 		wu = strlen(jstr(r, "unit")) > wu ? strlen(jstr(r, "unit")) : wu;
 	}
-	fprintf(f, "%-*s  %-*s  %*s  %-*s  %-*s  %s\n", (int)wc, "stage/chan",
+	fprintf(f, "%-*s  %-*s  %*s  %-*s  %-*s  %s\n", (int)wc, "section/channel",
 		(int)wq, "quantity", (int)wv, "value", (int)wi, "interval",
 		(int)wu, "unit", "note");
 	json_array_foreach(summary, i, r) {
