@@ -90,7 +90,7 @@ head -n 200 "$SAMPLES/gyro-static.csv" >"$T/short.csv"
 run "short record: report" 0 report -o "$T/sr" "$T/short.csv"
 # 197 samples of white rate noise measure N (the presence test keeps it,
 # its interval clear of 0) and only bound the other terms
-has "short record: N with its interval" "$T/out" '^allan/gx   angle random walk N .*fit, 68\.3 % interval'
+has "short record: N with its interval" "$T/out" '^allan/gx +angle random walk N .*fit, 68\.3 % interval'
 json_check "short record: N measured, the other terms bounded" "$T/sr/report.json" \
 	'[.results.allan.channels[].noise | .N.resolved and ([.Q, .B, .K, .R][] | (.present | not) and (.bound == null or .bound > 0))] | all'
 # a term not shown present says why, in the table and on the figure, and
