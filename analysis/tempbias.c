@@ -1509,6 +1509,16 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks with finite data and temperature");
 		goto fail;
 	}
+	/* below absolute zero, or hotter than any sensor survives: a
+	 * column in another unit (K read as degC stays above) or not a
+	 * temperature */
+	if (c.tmin < -273.15 || c.tmax > 1000) {
+		rc = ssc_diag(diag, -EDOM,
+			      "the temperature runs from %.4g to %.4g degC: %s; check the temperature column and its unit",
+			      c.tmin, c.tmax,
+			      c.tmin < -273.15 ? "below absolute zero" : "beyond any sensor's range");
+		goto fail;
+	}
 	span = c.tmax - c.tmin;
 	if (span < min_span && n_runs == 1) {
 		/* a constant column's smoothed blocks differ by rounding */

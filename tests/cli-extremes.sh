@@ -43,6 +43,18 @@ else
 	diag "$T/err"
 fi
 
+# temperatures no sensor sees
+awk -F, 'NR == 1 { print; next } { print $1 "," $2 "," $3 - 320 }' "$T/tb.csv" >"$T/cold.csv"
+run "tempbias below absolute zero" 1 tempbias "$T/cold.csv"
+has "below absolute zero: said, with the file and channel" "$T/err" \
+	"cold.csv: channel ax: the temperature runs from -300 to -270 degC: below absolute zero"
+run "tempbias --ref-temp -300" 2 tempbias --ref-temp -300 "$T/tb.csv"
+run "tempbias --ref-temp 1000" 0 tempbias --ref-temp 1000 "$T/tb.csv"
+has "a reference far outside the data: warned" "$T/err" \
+	"--ref-temp 1000 degC lies far outside the data's 20 .. 50 degC"
+run "tempbias --ref-temp 40" 0 tempbias --ref-temp 40 "$T/tb.csv"
+lacks "a reference inside the data: no warning" "$T/err" "warning"
+
 # a bare number for a noise term or a rate is SI, and said so with its
 # value in the field's unit
 run "budget --arw 0.002" 0 budget --arw 0.002

@@ -103,8 +103,11 @@ static int handler(int key, const char *arg, void *ctx)
 		return 0;
 	case O_REF:
 		o->t.ref_temp_set = true;
-		return ssc_arg_quantity("tempbias", "ref-temp", arg, "degC",
-					&o->t.ref_temp_degc);
+		if (ssc_arg_quantity("tempbias", "ref-temp", arg, "degC",
+				     &o->t.ref_temp_degc))
+			return SSC_EXIT_USAGE;
+		return o->t.ref_temp_degc >= -273.15 ? 0 :
+		       ssc_usage_error("tempbias", "--ref-temp: '%s' is below absolute zero", arg);
 	case O_BIN:
 		return ssc_arg_positive("tempbias", "bin", arg, NULL, &o->t.bin_degc);
 	case O_SMOOTH:
@@ -353,7 +356,7 @@ static void chan_text(FILE *f, const struct chan *ch, size_t n_runs)
 			fprintf(f, "  file %zu: warm-up %.0f s dropped\n", j + 1,
 				r->runs[j].warmup_s);
 	if (isfinite(r->stability))
-		fprintf(f, "  in-run stability after compensation: %s %s at tau %s s (minimum ADEV of the residuals, Allan module)\n",
+		fprintf(f, "  in-run stability after compensation: %s %s at tau %s s (minimum ADEV of the residuals)\n",
 			ssc_fmt(a, sizeof(a), du(&ch->d, r->stability), 3), u,
 			ssc_fmt(b, sizeof(b), r->stability_tau_s, 3));
 	fprintf(f, "  compensation table (subtract from the reading):\n");
@@ -566,7 +569,22 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 
 			snprintf(what, sizeof(what), "%s%s: channel %s", env->paths[0],
 				 nf > 1 ? " ..." : "", ch->name);
-			rc = ssc_fail(co->cmd, e, &d, what);
+			/* the library's words know no file: said with it */
+			if (d.msg[0] && e != -ENOTSUP) {
+				ssc_err(co->cmd, "%s: %s", what, d.msg);
+				rc = SSC_EXIT_FAIL;
+			} else {
+				rc = ssc_fail(co->cmd, e, &d, what);
+			}
+		} else if (o->t.ref_temp_set && k == 0) {
+			/* a reference far outside the data: the curve's
+			 * coefficients are an extrapolation */
+			double lo = ch->res->temp_min_degc, hi = ch->res->temp_max_degc;
+
+			if (o->t.ref_temp_degc < lo - (hi - lo) ||
+			    o->t.ref_temp_degc > hi + (hi - lo))
+				ssc_warn(co, "%s: --ref-temp %g degC lies far outside the data's %.3g .. %.3g degC: the coefficients at it are an extrapolation of the curve",
+					 env->paths[0], o->t.ref_temp_degc, lo, hi);
 		}
 	}
 	return rc;
