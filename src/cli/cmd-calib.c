@@ -600,7 +600,9 @@ static int accel_sixpos(struct run *r)
 					   r->iv, MAX_IV, &r->lf, &c, r->vs, w2, &d);
 	free(w2);
 	if (rc) {
-		ssc_err(co->cmd, "%s: six-position calibration: %s", cap->source,
+		/* the library's words name the six-position test */
+		ssc_err(co->cmd, "%s: %s%s", cap->source,
+			d.msg[0] ? "" : "six-position test: ",
 			d.msg[0] ? d.msg : sscope_strerror(rc));
 		return SSC_EXIT_FAIL;
 	}

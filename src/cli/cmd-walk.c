@@ -359,8 +359,12 @@ static int analyse(const struct ssc_stage_env *env, const struct opts *o,
 		c->run_s = o->bias_s < 0 ? fmin(60, floor(dur / 40)) :
 					   fmin(60, floor(dur / 20 - o->bias_s));
 		if (c->run_s < 1) {
-			ssc_err(cmd, "%s: %g s is too short for 20 runs of 1 s (give --run-length)",
-				path, dur);
+			if (o->bias_s >= 0)
+				ssc_err(cmd, "%s: %g s is too short for 20 runs of 1 s after a %g s bias window each (give a shorter --bias-window, or --run-length)",
+					path, dur, o->bias_s);
+			else
+				ssc_err(cmd, "%s: %g s is too short for 20 runs of 1 s (give --run-length)",
+					path, dur);
 			return SSC_EXIT_FAIL;
 		}
 	}
