@@ -45,7 +45,8 @@ double ssc_safe_scale(double amax)
 
 	if (!(amax > 0x1p-300 && amax < 0x1p300) && amax > 0 && isfinite(amax)) {
 		frexp(amax, &e);
-		return ldexp(1.0, -e);
+		/* a subnormal amax has e below -1022: 2^-e would overflow */
+		return ldexp(1.0, -e > 1000 ? 1000 : -e);
 	}
 	return 1;
 }

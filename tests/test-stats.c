@@ -70,6 +70,16 @@ START_TEST(nan_and_edges)
 	ck_assert_int_eq(sscope_stats_compute(x, 0, 2, &s), -EINVAL);
 	ck_assert_int_eq(sscope_stats_compute(x + 1, 1, 1, &s), 0);
 	ck_assert(s.sd == 0);
+	{
+		/* subnormal samples: the rescaling once overflowed to inf
+		 * (mean NaN); 4 and 6 units of 2^-1074 apart by 2 */
+		const double t[] = { 0x1p-1072, 0x1.8p-1072 };
+
+		ck_assert_int_eq(sscope_stats_compute(t, 1, 2, &s), 0);
+		ck_assert_msg(s.mean == 0x1.4p-1072, "mean %a", s.mean);
+		ck_assert_msg(fabs(s.sd - 0x1p-1074 * sqrt(2.0)) < 0x1p-1075,
+			      "sd %a", s.sd);
+	}
 }
 END_TEST
 
