@@ -131,4 +131,12 @@ one_line_error "missing capture"
 printf 't,x\n0,1\n0.01,2\n0.02,3\n' >"$T/nounit.csv"
 run "capture without units" 1 datasheet --check "$T/nounit.csv" "$DS/bmi088.ini"
 one_line_error "capture without units"
+# two lines of one term that disagree: which one the terms use is said;
+# a line the terms cannot give in doubles is left out, not inf
+printf '[gyro]\nbias_instability = 5 deg/h\nin_run_bias_stability = 2 deg/h\n' >"$T/two.ini"
+run "datasheet, B given twice" 0 datasheet "$T/two.ini"
+has "the disagreement said" "$T/out" "note: bias_instability and in_run_bias_stability give B = .*: the terms below use bias_instability"
+printf '[gyro]\nnoise_density = 1e300 deg/s/sqrt(Hz)\n' >"$T/huge.ini"
+run "datasheet near the double's end" 0 datasheet "$T/huge.ini"
+lacks "no inf" "$T/out" "inf"
 done_testing

@@ -281,9 +281,13 @@ static double as_line(const struct ssc_ds_section *sec, const double t[3],
 
 	*lower = false;
 	if (in->tau_s > 0) {
+		double v;
+
 		*lower = true;
-		return isnan(t[0]) && isnan(t[1]) ? (double)NAN :
+		v = isnan(t[0]) && isnan(t[1]) ? (double)NAN :
 			sscope_datasheet_gjb_from_terms(t[0], t[1], t[2], in->tau_s);
+		/* terms near the double's end square beyond it: no line */
+		return isfinite(v) ? v : (double)NAN;
 	}
 	if (in->term == SSCOPE_TERM_COUNT_ ||
 	    sscope_datasheet_factor(l, sec->bandwidth_hz, &f))
@@ -425,6 +429,26 @@ int ssc_datasheet_convert(const struct ssc_common *co,
 					ssc_fmt(b, sizeof(b), sp->value / f, 6),
 					sscope_term_si_unit(sec->quantity, in->term));
 			fprintf(out.f, "\n      %s\n", in->definition);
+		}
+		/* two lines of one term that disagree: the first is used,
+		 * and the user reads which */
+		for (size_t j = 0; j < sec->n; j++) {
+			const struct sscope_datasheet_spec *sp = &sec->spec[j];
+			const struct sscope_datasheet_info *in = sscope_datasheet_info(sp->line);
+			int i = in->term == SSCOPE_TERM_N ? 0 : in->term == SSCOPE_TERM_B ? 1 :
+				in->term == SSCOPE_TERM_K ? 2 : -1;
+			double f;
+
+			if (i < 0 || from[i] < 0 || (size_t)from[i] == j ||
+			    sscope_datasheet_factor(sp->line, sp->bandwidth_hz, &f) ||
+			    fabs(sp->value / f - t[i]) <= 0.05 * fabs(t[i]))
+				continue;
+			fprintf(out.f, "  note: %s and %s give %s = %s and %s %s: the terms below use %s\n",
+				sscope_datasheet_info(sec->spec[from[i]].line)->key, in->key,
+				term_key(in->term), ssc_fmt(a, sizeof(a), t[i], 4),
+				ssc_fmt(b, sizeof(b), sp->value / f, 4),
+				sscope_term_si_unit(sec->quantity, in->term),
+				sscope_datasheet_info(sec->spec[from[i]].line)->key);
 		}
 		fprintf(out.f, "  the terms as datasheet lines:\n");
 		for (int l = 0; l < SSC_DS_LINES; l++) {
