@@ -128,6 +128,12 @@ has "walk: the other channel's terms, said" "$T/err" \
 run "walk gx --from-allan" 0 walk --from-allan "$T/al.json" -c gx "$SIM"
 lacks "walk: the same channel, no warning" "$T/err" "warning"
 
+# '-' is standard input for specifications and results too
+run_in "datasheet -" 0 "$SAMPLES/datasheets/bmi088.ini" datasheet -
+has "datasheet -: read" "$T/out" "^\[gyro\] angular rate"
+run_in "walk --from-allan -" 0 "$T/al.json" walk --from-allan - -c gx "$SIM"
+has "walk --from-allan -: the result's terms" "$T/out" "\(allan result\)"
+
 # the help lists what each command takes
 run "run --help" 0 run --help
 lacks "run --help: no --format" "$T/out" "--format"

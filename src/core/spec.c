@@ -239,6 +239,13 @@ fail:
 	return rc;
 }
 
+/* a file ssc_ini_load() opened ('-' is standard input: left open) */
+static void close_in(FILE *f)
+{
+	if (f != stdin)
+		fclose(f);
+}
+
 int ssc_ini_load(struct ssc_ini **out, const char *path,
 		 struct sscope_diag *diag)
 {
@@ -248,7 +255,8 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 	int rc;
 
 	*out = NULL;
-	f = fopen(path, "rb");
+	/* '-': standard input, as for captures */
+	f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
 	if (!f)
 		return ssc_diag(diag, -errno, "%s: %s", path,
 				sscope_strerror(-errno));
@@ -261,7 +269,7 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 
 			if (nc > (16u << 20)) {
 				free(buf);
-				fclose(f);
+				close_in(f);
 				return ssc_diag(diag, -EBADMSG,
 						"%s: too large for a specification",
 						path);
@@ -269,7 +277,7 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 			nb = realloc(buf, nc);
 			if (!nb) {
 				free(buf);
-				fclose(f);
+				close_in(f);
 				return -ENOMEM;
 			}
 			buf = nb;
@@ -286,10 +294,10 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 		int err = errno ? -errno : -EIO;
 
 		free(buf);
-		fclose(f);
+		close_in(f);
 		return ssc_diag(diag, err, "%s: %s", path, sscope_strerror(err));
 	}
-	fclose(f);
+	close_in(f);
 	if (memchr(buf, '\0', len)) {
 		free(buf);
 		return ssc_diag(diag, -EBADMSG, "%s: binary data, not an INI file",

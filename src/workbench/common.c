@@ -198,7 +198,8 @@ json_t *ssc_json_read(const char *cmd, const char *opt, const char *path,
 
 	if (opt)
 		snprintf(where, sizeof(where), "--%s: ", opt);
-	f = fopen(path, "rb");
+	/* '-': standard input, as for captures */
+	f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
 	if (!f) {
 		ssc_err(cmd, "%s%s: %s", where, path, sscope_strerror(-errno));
 		return NULL;
@@ -209,7 +210,8 @@ json_t *ssc_json_read(const char *cmd, const char *opt, const char *path,
 	else if (!root)
 		ssc_err(cmd, "%s%s: not %s (JSON error at line %d: %s)", where,
 			path, what, je.line, je.text);
-	fclose(f);
+	if (f != stdin)
+		fclose(f);
 	return root;
 }
 
