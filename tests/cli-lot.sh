@@ -256,4 +256,13 @@ has "the stuck unit: said" "$T/out" "unit05.csv +constant record: every sample 1
 has "K: the interval cut at 0" "$T/out" "K +ug/sqrt\(h\) +[0-9.]+ \[0 \(cut\), "
 has "the cut explained" "$T/out" "^\(cut\): the interval's lower end cut at 0"
 lacks "no negative interval" "$T/out" "\[-"
+# a manifest with a misnamed column, and one naming a unit twice
+printf 'unit,path\nA,%s\nB,%s\nC,%s\n' "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv" \
+	"$SAMPLES/lot/unit03.csv" >"$T/badcol.csv"
+run "lot manifest without a file column" 1 lot "$T/badcol.csv"
+has "the file column named" "$T/err" "a manifest names its columns unit and file .*no column 'file'"
+printf 'unit,file\nA,%s\nA,%s\nC,%s\n' "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv" \
+	"$SAMPLES/lot/unit03.csv" >"$T/twice.csv"
+run "lot manifest naming a unit twice" 1 lot "$T/twice.csv"
+has "the unit named twice: said" "$T/err" "line 3: unit 'A' is named twice"
 done_testing

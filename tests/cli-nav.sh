@@ -129,7 +129,7 @@ json_close "heading: the report's JSON equals the command's" "$T/drive/heading.j
 run "report on two gyros" 0 report -o "$T/gyros" "$SAMPLES/gyro-static.csv"
 if [ -s "$T/gyros/walk.json" ]; then ok "walk inferred"; else not_ok "walk inferred"; fi
 run "report on a moving IMU" 0 report -o "$T/moving" "$SAMPLES/imu-multipose.csv"
-has "walk refused with its reason" "$T/moving/report.html" "Stage 'walk': inferred, but refused by the data.*moves"
+has "walk refused with its reason" "$T/moving/report.html" "Analysis 'walk': inferred, but refused by the data.*moves"
 mkdir -p "$T/sc"
 cp "$SAMPLES/drive-trajectory.csv" "$T/sc/drive.csv"
 printf '[navsim]\ngyro-bias = 0,10deg/h,0\nruns = 1\nduration = 2 min\ntrajectory-file = drive.csv\n\n[report]\nformats = text\n' >"$T/sc/ns.ini"

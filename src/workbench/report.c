@@ -560,7 +560,7 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 		ssc_html_section(h, st[i].name);
 		ssc_html_h2(h, NULL, st[i].title);
 		if (st[i].why)
-			ssc_html_note(h, "Stage '%s': %s.", st[i].name, st[i].why);
+			ssc_html_note(h, "Analysis '%s': %s.", st[i].name, st[i].why);
 		snprintf(href, sizeof(href), "#def-%s", st[i].name);
 		ssc_html_raw(h, "<p class=\"note\">Definitions and formulas: <a href=\"");
 		ssc_html_text(h, href);

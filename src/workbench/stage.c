@@ -356,6 +356,14 @@ static int read_manifest(const char *cmd, const char *path, struct operands *o)
 		for (int k = 0; k < 4; k++)
 			if (!strcasecmp(fl[i], key[k]))
 				col[k] = (int)i;
+	if (col[0] >= 0 && col[1] < 0) {
+		/* a unit column without a file column: a manifest whose
+		 * columns are misnamed ("path"), not a capture */
+		ssc_err(cmd, "%s: a manifest names its columns unit and file (and optionally channels, temperature): no column 'file'",
+			path);
+		fclose(f);
+		return SSC_EXIT_FAIL;
+	}
 	if (col[0] < 0 || col[1] < 0) {
 		fclose(f);
 		return -1;
@@ -375,6 +383,15 @@ static int read_manifest(const char *cmd, const char *path, struct operands *o)
 			fclose(f);
 			return SSC_EXIT_FAIL;
 		}
+		/* a unit named twice would be reported by a name that is
+		 * not its own */
+		for (size_t k = n0; k < o->n; k++)
+			if (o->label[k] && !strcmp(o->label[k], v[0])) {
+				ssc_err(cmd, "%s: line %zu: unit '%s' is named twice: each unit needs its own name",
+					path, lineno, v[0]);
+				fclose(f);
+				return SSC_EXIT_FAIL;
+			}
 		/* channels separated by ';' or spaces inside the field: -c's
 		 * commas */
 		for (char *c = v[2]; c && *c; c++)
