@@ -73,7 +73,7 @@ static const struct ssc_option allan_opts[] = {
 	  "with --taus all or decade only (oadev, ohdev): the strided-overlap estimator, terms every m/K samples instead of every sample; faster on long records, at a lower EDF (reported beside the full one)" },
 	{ "no-fit", no_argument, OPT_NO_FIT, NULL, "deviations only" },
 	{ "dev-unit", required_argument, OPT_DEV_UNIT, "UNIT",
-	  "unit of deviations in text, CSV and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's); a unit that fits no channel is an error" },
+	  "unit of deviations in text and the plot (default: deg/h for gyros, ug for accelerometers, else the channel's) and in CSV (default there: the channel's unit); a unit that fits no channel is an error" },
 	{ "threads", required_argument, OPT_THREADS, "N",
 	  "threads of the computation (default: all)" },
 	{ NULL, 0, 0, NULL, NULL },
