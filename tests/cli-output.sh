@@ -95,7 +95,14 @@ run "--plot through a link to /dev/full" 1 info -q --plot "$T/full.svg" "$SM"
 one_err "--plot through a link to /dev/full" "^sensorscope: info: $T/full.svg: No space left on device$"
 [ -L "$T/full.svg" ] && [ -c /dev/full ] && ok "the link and /dev/full are kept" || not_ok "the link or /dev/full replaced"
 run "--plot into a missing folder" 1 info -q --plot "$T/no/such.svg" "$SM"
-one_err "--plot into a missing folder" "^sensorscope: info: $T/no/such.svg: No such file or directory$"
+one_err "--plot into a missing folder" "^sensorscope: info: --plot $T/no/such.svg: no folder $T/no to write it in$"
+# one output into a missing folder: said before any work, no other output
+# left written
+rm -f "$T/side.svg"
+run "--plot and --kalibr into a missing folder" 1 allan -q -c gx --plot "$T/side.svg" \
+	--kalibr "$T/no/k.yaml" "$SM"
+[ ! -e "$T/side.svg" ] && ok "no figure left when another output cannot be written" ||
+	not_ok "the figure was written before the refusal"
 
 # ------------------------------------------------------------ 4. write through
 # -o and the writing options through a device, a FIFO, standard output and

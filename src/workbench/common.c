@@ -553,6 +553,26 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 	rc = ssc_guard_check(co->cmd, paths, np, to_stdout);
 	if (rc)
 		goto out;
+	/* a file to write in a folder that does not exist: said before any
+	 * work, so that no other output is left written (a scene's report
+	 * folder, made later, is checked by the scene) */
+	for (size_t i = 0; i < np && !where && !rc; i++) {
+		const char *sl = paths[i].role == SSC_GUARD_OUT &&
+				 strcmp(paths[i].path, "-") ? strrchr(paths[i].path, '/') : NULL;
+		char dir[4096];
+		struct stat st;
+
+		if (!sl || sl == paths[i].path)
+			continue;
+		snprintf(dir, sizeof(dir), "%.*s", (int)(sl - paths[i].path), paths[i].path);
+		if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+			ssc_err(co->cmd, "%s %s: no folder %s to write it in", paths[i].what,
+				paths[i].path, dir);
+			rc = SSC_EXIT_FAIL;
+		}
+	}
+	if (rc)
+		goto out;
 	ssc_say_bare_numbers(co);
 	*first = optind;
 out:
