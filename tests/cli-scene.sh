@@ -97,6 +97,11 @@ run "report of a thermal run and a tilt table, planned" 0 report --dry-run "$SAM
 has "tempbias inferred for the thermal run" "$T/out" 'tempbias +inferred: inertial channels with a temperature column.*files: [^ ]*accel-thermal.csv$'
 has "inclino inferred for the tilt table" "$T/out" 'inclino +inferred: .*reference tilts.*files: [^ ]*inclino-cal.csv$'
 has "no allan on the tilt table" "$T/out" 'allan +inferred.*files: [^ ]*accel-thermal.csv$'
+# without a scene file, an analysis not run was not inferred (no section
+# was missing)
+run "report --dry-run of a vibration record" 0 report --dry-run "$SAMPLES/vibration.csv"
+has "allan: not inferred" "$T/out" "^  allan +not inferred from these data$"
+lacks "no section named" "$T/out" "no \[allan\] section"
 # an inferred analysis the data refuse is left out, with its reason
 printf '# rate: 10 Hz\ngx [deg/s],temp [degC]\n' >"$T/flat.csv"
 awk 'BEGIN { srand(7); for (i = 0; i < 3000; i++) printf "%.6f,25.0\n", rand() - 0.5 }' >>"$T/flat.csv"

@@ -755,9 +755,13 @@ static int resolve(const char *cmd, struct ssc_scene *sc)
 				if (sc->uses[t] & (1u << s))
 					set_why(sc, s, "its results are used by [%s]",
 						stages[t].name);
-		} else {
+		} else if (sc->path) {
 			set_why(sc, s, "not requested (no [%s] section)",
 				stages[s].name);
+		} else {
+			/* no scene file: nothing asked, the data did not call
+			 * for it */
+			set_why(sc, s, "not inferred from these data");
 		}
 	}
 	return SSC_EXIT_OK;
