@@ -197,6 +197,8 @@ int sscope_adc_monte_carlo(const struct sscope_sensor_spec *sensor,
 		rc = one_run(sensor, spec, inl_lsb, n_inl, sensitivity, zero_v,
 			     &so, o->seed + r, fs, M, n, x, y, fx, fy,
 			     &out->clipped, diag);
+		if (o->progress)
+			o->progress(o->progress_ctx, r + 1, R);
 		/* the terms compared (the simulated sensor has no ramp and its
 		 * quantization is what is being judged): a free R or Q would
 		 * only add estimation noise to B and K */

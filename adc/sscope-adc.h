@@ -279,6 +279,10 @@ struct sscope_adc_mc_opts {
 	unsigned long seed;   /**< run r simulates and converts with seed + r */
 	double ci_level;      /**< level of the ratio intervals (0: 0.6827) */
 	double rate_hz;       /**< output rate (0: the converter's) */
+	/** called after each run with the runs done and their number (NULL:
+	 *  none); from the calling thread */
+	void (*progress)(void *ctx, size_t done, size_t total);
+	void *progress_ctx;
 };
 
 /** What the Monte-Carlo check found. */

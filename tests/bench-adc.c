@@ -82,7 +82,8 @@ int main(int argc, char **argv)
 		if (sscope_adc_analyze(&ss, &as, fs, &an, NULL))
 			return 2;
 		for (size_t d = 0; d < sizeof(durs) / sizeof(durs[0]); d++) {
-			struct sscope_adc_mc_opts mo = { R, durs[d], 1, 0.6827, fs };
+			struct sscope_adc_mc_opts mo = { .runs = R, .duration_s = durs[d], .seed = 1,
+							  .ci_level = 0.6827, .rate_hz = fs };
 			struct sscope_adc_mc mc;
 			struct sscope_diag dg = { "" };
 			double t0 = now(), dt, ref = an.n_total / ss.n;

@@ -242,6 +242,10 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "report plot without OpenCV" 2 adc report --sensor "$QUIET" --adc "$A16" --plot "$T/adc.png"
 fi
+# --progress counts the Monte-Carlo runs (it stayed at 0 % before)
+run "adc report --progress" 0 adc report --sensor "$SAMPLES/gyro-mems-250.ini" \
+	--adc "$SAMPLES/adc-16bit.ini" --monte-carlo 2 --mc-duration 600 --progress
+has "progress: run 2 of 2" "$T/err" "Monte Carlo: converter 1 of 1, run 2 of 2"
 # a drift the converter's spec does not give is unknown, not "0 pass"
 printf '[adc]\nbits = 16\nrange = -300:300 deg/s\nrate = 1kHz\n' >"$T/nodrift.ini"
 run "adc report, no drift given" 0 adc report --sensor "$SAMPLES/gyro-mems-250.ini" \

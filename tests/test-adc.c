@@ -654,7 +654,8 @@ START_TEST(test_monte_carlo)
 {
 	struct sscope_adc_spec s = ideal(10, -100 * DEG, 100 * DEG);
 	struct sscope_sensor_spec ss;
-	struct sscope_adc_mc_opts mo = { 3, 600, 7, 0.6827, 100 };
+	struct sscope_adc_mc_opts mo = { .runs = 3, .duration_s = 600, .seed = 7,
+					  .ci_level = 0.6827, .rate_hz = 100 };
 	struct sscope_adc_mc mc;
 	struct sscope_diag d = { "" };
 	double q = 200 * DEG / 1024, N = 1.03 * q / 10; /* sigma = N sqrt(fs) */

@@ -599,6 +599,23 @@ static int r_check(struct ssc_common *co, void *opts)
 	return SSC_EXIT_OK;
 }
 
+/* the Monte-Carlo check's progress: converter and run */
+struct mc_progress {
+	const struct ssc_common *co;
+	int i, n;
+};
+
+static void mc_progress(void *ctx, size_t done, size_t total)
+{
+	const struct mc_progress *p = ctx;
+
+	if (!ssc_progress_on(p->co))
+		return;
+	fprintf(stderr, "\r%s: Monte Carlo: converter %d of %d, run %zu of %zu   ",
+		p->co->cmd, p->i + 1, p->n, done, total);
+	fflush(stderr);
+}
+
 static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 {
 	struct ropts *o = opts;
@@ -663,13 +680,15 @@ static int r_run(const struct ssc_stage_env *env, void *opts, void **result)
 	}
 	for (int i = 0; i < n; i++) {
 		struct sscope_diag d = { "" };
+		struct mc_progress mp = { env->co, i, n };
 		struct sscope_adc_mc_opts mo = { o->mc, o->mc_duration, o->seed,
-						 0.6827, ar[i].an.rate_hz };
+						 0.6827, ar[i].an.rate_hz,
+						 mc_progress, &mp };
 		int e;
 
 		if (!o->mc)
 			break;
-		ssc_progress(env->co, "Monte Carlo", (double)i, (double)n);
+		mc_progress(&mp, 0, o->mc);
 		e = sscope_adc_monte_carlo(sp, &ar[i].spec, ar[i].prof.inl,
 					   ar[i].prof.n, sp->sensitivity,
 					   (sp->has & SSCOPE_SENSOR_HAS_ZERO) ?
