@@ -696,7 +696,7 @@ int sscope_calib_static_reference(const double *x, const double *y,
 		}
 		*reference = sqrt(v2);
 	} else if (ssc_calib_vs_deciles(vs, n, work, 1, reference, NULL)) {
-		return ssc_diag(diag, -EDOM, "capture too short");
+		return ssc_diag(diag, -EDOM, "no detector window with a finite variance: the record is too short, or its samples too large to square (beyond about 1e154)");
 	}
 	if (!(*reference > 0))
 		return ssc_diag(diag, -EDOM,

@@ -185,7 +185,10 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	rc = sscope_calib_variance_magnitude(det[0], det[1], det[2], ds, n,
 					     window, vs);
 	if (rc) {
-		rc = ssc_diag(diag, rc, "static detector failed");
+		rc = rc == -EDOM ?
+			ssc_diag(diag, rc, "%zu samples: shorter than the still detector's window of %zu samples (%g s)",
+				 n, window | 1, win_s) :
+			ssc_diag(diag, rc, "the still detector refused the record");
 		goto fail;
 	}
 	rc = sscope_calib_static_reference(det[0], det[1], det[2], ds, n, o->rate_hz,
@@ -193,7 +196,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 					   diag);
 	if (!rc)
 		rc = ssc_calib_vs_deciles(vs, n, work, 10, &p10, &p90) ?
-			     ssc_diag(diag, -EDOM, "capture too short") : 0;
+			     ssc_diag(diag, -EDOM, "fewer than 10 detector windows with a finite variance: the record is too short, or its samples too large to square (beyond about 1e154)") : 0;
 	if (rc)
 		goto fail;
 	r->threshold = k * r->reference;

@@ -134,6 +134,12 @@ has "datasheet -: read" "$T/out" "^\[gyro\] angular rate"
 run_in "walk --from-allan -" 0 "$T/al.json" walk --from-allan - -c gx "$SIM"
 has "walk --from-allan -: the result's terms" "$T/out" "\(allan result\)"
 
+# heading on samples too large to square: said, not "capture too short"
+awk -F, 'NR <= 3 { print; next } { printf "%s", $1 * 1e300; for (i = 2; i <= NF; i++) printf ",%s", $i * 1e300; print "" }' \
+	"$SAMPLES/drive-stops.csv" >"$T/hbig.csv"
+run "heading on 1e300-scale samples" 1 heading "$T/hbig.csv"
+has "too large to square: said" "$T/err" "too large to square"
+
 # the help lists what each command takes
 run "run --help" 0 run --help
 lacks "run --help: no --format" "$T/out" "--format"
