@@ -125,12 +125,6 @@ int ssc_arg_positive(const char *cmd, const char *opt, const char *arg,
  * walk in rad/sqrt(s), a bias in rad/s): said once the options are read
  * (-q may come later), with the value in the field's unit. */
 #define BARE_MAX 8
-static struct {
-	char opt[32], arg[48], si[24];
-	double v;
-} bare_given[BARE_MAX];
-static size_t n_bare;
-
 static const struct {
 	const char *si, *shown;
 } field_units[] = {
@@ -145,45 +139,46 @@ static const struct {
 	{ "rad", "deg" },
 };
 
+static struct {
+	char opt[32], arg[48];
+	size_t unit; /* in field_units */
+	double v;
+} bare_given[BARE_MAX];
+static size_t n_bare;
+
 static void note_bare(const char *opt, const char *arg, const char *si,
 		      double v)
 {
-	bool odd = false;
+	size_t i = 0, nu = sizeof(field_units) / sizeof(field_units[0]);
 
-	for (size_t i = 0; i < sizeof(field_units) / sizeof(field_units[0]); i++)
-		odd |= !strcmp(si, field_units[i].si);
-	if (!odd || n_bare >= BARE_MAX)
+	while (i < nu && strcmp(si, field_units[i].si))
+		i++;
+	if (i == nu || n_bare >= BARE_MAX)
 		return;
 	snprintf(bare_given[n_bare].opt, sizeof(bare_given[n_bare].opt), "%s", opt);
 	snprintf(bare_given[n_bare].arg, sizeof(bare_given[n_bare].arg), "%s", arg);
-	snprintf(bare_given[n_bare].si, sizeof(bare_given[n_bare].si), "%s", si);
+	bare_given[n_bare].unit = i;
 	bare_given[n_bare++].v = v;
 }
 
 void ssc_say_bare_numbers(const struct ssc_common *co)
 {
 	for (size_t k = 0; k < n_bare; k++) {
-		const char *shown = NULL;
+		const char *opt = bare_given[k].opt, *arg = bare_given[k].arg;
+		const char *si = field_units[bare_given[k].unit].si;
+		const char *shown = field_units[bare_given[k].unit].shown;
 		struct sscope_unit u;
-
-		for (size_t i = 0; i < sizeof(field_units) / sizeof(field_units[0]); i++)
-			if (!strcmp(bare_given[k].si, field_units[i].si))
-				shown = field_units[i].shown;
 		double v;
 
-		if (!shown || sscope_unit_parse(shown, &u, NULL))
+		if (sscope_unit_parse(shown, &u, NULL))
 			continue;
 		v = sscope_unit_from_si(&u, bare_given[k].v);
 		if (isfinite(v))
 			ssc_warn(co, "--%s %s has no unit: read as %s %s, that is %.4g %s (write the unit, as in '%s %s')",
-				 bare_given[k].opt, bare_given[k].arg,
-				 bare_given[k].arg, bare_given[k].si, v, shown,
-				 bare_given[k].arg, shown);
+				 opt, arg, arg, si, v, shown, arg, shown);
 		else
 			ssc_warn(co, "--%s %s has no unit: read as %s %s (write the unit, as in '%s %s')",
-				 bare_given[k].opt, bare_given[k].arg,
-				 bare_given[k].arg, bare_given[k].si,
-				 bare_given[k].arg, shown);
+				 opt, arg, arg, si, arg, shown);
 	}
 	n_bare = 0;
 }
