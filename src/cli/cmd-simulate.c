@@ -171,6 +171,10 @@ static int handler(int key, const char *arg, void *ctx)
 	char f[4][64];
 	size_t n;
 
+	/* one temperature profile */
+	if ((key == OPT_TEMP || key == OPT_TEMP_RAMP || key == OPT_TEMP_CYCLE) &&
+	    a->have_temp)
+		return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 	switch (key) {
 	case OPT_SENSOR:
 		a->sensor = arg;
@@ -243,16 +247,12 @@ bad_seed:
 		a->input_text = arg;
 		return 0;
 	case OPT_TEMP:
-		if (a->have_temp)
-			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		if (ssc_arg_quantity("simulate", "temp", arg, "degC", &a->so.temp_degc))
 			return SSC_EXIT_USAGE;
 		a->so.temp_profile = SSCOPE_SIM_TEMP_CONSTANT;
 		a->have_temp = true;
 		return 0;
 	case OPT_TEMP_RAMP:
-		if (a->have_temp)
-			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		n = split(arg, f);
 		if (n != 3 || need_double("temp-ramp", f[0], &a->so.temp_degc) ||
 		    need_double("temp-ramp", f[1], &a->so.temp2_degc) ||
@@ -265,8 +265,6 @@ bad_seed:
 		a->have_temp = true;
 		return 0;
 	case OPT_TEMP_CYCLE:
-		if (a->have_temp)
-			return ssc_usage_error("simulate", "--temp, --temp-ramp and --temp-cycle: give one temperature profile");
 		n = split(arg, f);
 		if ((n != 3 && n != 4) || need_double("temp-cycle", f[0], &a->so.temp_degc) ||
 		    need_double("temp-cycle", f[1], &a->so.temp2_degc) ||
