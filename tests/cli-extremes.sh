@@ -140,6 +140,13 @@ awk -F, 'NR <= 3 { print; next } { printf "%s", $1 * 1e300; for (i = 2; i <= NF;
 run "heading on 1e300-scale samples" 1 heading "$T/hbig.csv"
 has "too large to square: said" "$T/err" "too large to square"
 
+# a rate read as an angle, a pilot too short to fit: said, with the file
+run "allan --input angle on a rate" 0 allan --input angle -c gx "$SIM"
+has "a rate read as an angle: warned" "$T/err" "channel gx is in deg/s, a rate, but --input angle"
+printf '# rate: 100 Hz\ngx [deg/s]\n0.1\n0.2\n' >"$T/two.csv"
+run "plan --pilot of two samples" 1 plan --pilot "$T/two.csv" --resolve N:25%
+has "the pilot's file and channel named" "$T/err" "two.csv: channel gx: noise fit: "
+
 # the help lists what each command takes
 run "run --help" 0 run --help
 lacks "run --help: no --format" "$T/out" "--format"

@@ -564,6 +564,12 @@ static int analyse_file(const struct ssc_common *co, const struct args *a,
 		c->n = cap->n;
 		c->nan = cap->channels[k].n_nan;
 		set_units(a, c->col, &c->u);
+		/* a rate read as an angle gives deviations of its derivative */
+		if (a->ao.input == SSCOPE_ALLAN_ANGLE &&
+		    (c->col->quantity == SSCOPE_QUANTITY_ANGULAR_RATE ||
+		     c->col->quantity == SSCOPE_QUANTITY_ACCELERATION))
+			ssc_warn(co, "%s: channel %s is in %s, a rate, but --input angle: its deviations come out in %s; drop --input angle for a rate record",
+				 path, c->col->name, c->col->unit_label, c->u.dev);
 		ao.ci_level = a->ci;
 		/* a capture used in place gives its pages back behind the
 		 * phase pass */

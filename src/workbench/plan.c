@@ -105,7 +105,11 @@ static int from_pilot(const struct ssc_common *co,
 		d = res->fit_diag;
 	}
 	if (rc) {
-		ssc_fail(co->cmd, rc, &d, path);
+		/* the fit's words know no file: said with it */
+		if (d.msg[0])
+			ssc_err(co->cmd, "%s: channel %s: %s", path, ch->col.name, d.msg);
+		else
+			ssc_fail(co->cmd, rc, &d, path);
 		sscope_allan_result_free(res);
 		return SSC_EXIT_FAIL;
 	}
