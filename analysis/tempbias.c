@@ -1410,7 +1410,9 @@ static int results(struct ctx *c, const struct fit *f,
 		double t0 = ceil(res->temp_min_degc / step - 1e-9) * step;
 
 		n_tab = floor((res->temp_max_degc - t0) / step + 1e-9) + 1;
-		if (!(n_tab >= 1) || n_tab > 1e5)
+		if (n_tab > 1e5)
+			return -E2BIG; /* said by the caller */
+		if (!(n_tab >= 1))
 			n_tab = 1;
 		res->n_table = (size_t)n_tab;
 		res->table_temp_degc = ssc_alloc_array(res->n_table, sizeof(double));
@@ -1750,6 +1752,10 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 	if (rc)
 		goto fail;
 	rc = results(&c, f, res);
+	if (rc == -E2BIG)
+		rc = ssc_diag(diag, -EINVAL,
+			      "a compensation table step of %g degC over %.3g .. %.3g degC makes more than 100000 rows",
+			      c.o->table_step_degc, res->temp_min_degc, res->temp_max_degc);
 	if (rc)
 		goto fail;
 	res->dropped -= res->used;

@@ -52,6 +52,8 @@ run "tempbias --ref-temp -300" 2 tempbias --ref-temp -300 "$T/tb.csv"
 run "tempbias --ref-temp 1000" 0 tempbias --ref-temp 1000 "$T/tb.csv"
 has "a reference far outside the data: warned" "$T/err" \
 	"--ref-temp 1000 degC lies far outside the data's 20 .. 50 degC"
+run "tempbias --table-step 1e-6" 1 tempbias --table-step 1e-6 "$T/tb.csv"
+has "a table of 3e7 rows: refused, not one row" "$T/err" "makes more than 100000 rows"
 run "tempbias --ref-temp 40" 0 tempbias --ref-temp 40 "$T/tb.csv"
 lacks "a reference inside the data: no warning" "$T/err" "warning"
 
