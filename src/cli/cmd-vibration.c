@@ -679,11 +679,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 			 path, a->vo.psd.nperseg, cap->n, cap->n);
 		a->vo.psd.nperseg = cap->n;
 	}
-	/* the stamps' gaps, unless out of order (said above) */
-	if (cap->has_timing && cap->timing.n_gaps &&
-	    !sscope_timing_order_check(&cap->timing.order, NULL))
-		ssc_warn(co, "%s: %zu gap%s in the time stamps: the spectrum assumes uniform sampling",
-			 path, cap->timing.n_gaps, cap->timing.n_gaps == 1 ? "" : "s");
+	ssc_warn_time_gaps(co, path, ssc_time_gaps(cap));
 	if (a->rpm / 60 > cap->rate_hz / 2)
 		ssc_warn(co, "%s: --rpm %g puts the shaft at %s Hz, above the Nyquist frequency %s Hz: no shaft order can be seen (check --rpm and the rate)",
 			 path, a->rpm, ssc_fmt(b1, sizeof(b1), a->rpm / 60, 5),

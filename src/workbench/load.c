@@ -216,3 +216,18 @@ int ssc_time_check(const struct ssc_common *co, const char *path,
 	return ssc_time_verdict(co, path, cap->time_col.name, &o,
 				cap->rate_source, uniform);
 }
+
+size_t ssc_time_gaps(const struct sscope_capture *cap)
+{
+	return cap->has_timing &&
+	       !sscope_timing_order_check(&cap->timing.order, NULL) ?
+	       cap->timing.n_gaps : 0;
+}
+
+void ssc_warn_time_gaps(const struct ssc_common *co, const char *path,
+			size_t gaps)
+{
+	if (gaps)
+		ssc_warn(co, "%s: %zu gap%s in the time stamps: the spectrum assumes uniform sampling",
+			 path, gaps, gaps == 1 ? "" : "s");
+}

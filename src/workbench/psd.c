@@ -314,9 +314,7 @@ static int from_capture(const struct ssc_common *co, struct ssc_psd_run *R,
 	R->rate_source = rate_source_name(cap);
 	R->rows = cap->n;
 	/* gaps, unless the stamps are out of order (said above) */
-	R->time_gaps = cap->has_timing &&
-		       !sscope_timing_order_check(&cap->timing.order, NULL) ?
-		       cap->timing.n_gaps : 0;
+	R->time_gaps = ssc_time_gaps(cap);
 	R->nch = cap->n_channels;
 	R->ch = calloc(R->nch ? R->nch : 1, sizeof(*R->ch));
 	if (!R->ch)
@@ -563,9 +561,7 @@ static int finish_run(const struct ssc_common *co, struct ssc_psd_run *R)
 {
 	int rc;
 
-	if (R->time_gaps)
-		ssc_warn(co, "%s: %zu gap%s in the time stamps: the spectrum assumes uniform sampling",
-			 R->path, R->time_gaps, R->time_gaps == 1 ? "" : "s");
+	ssc_warn_time_gaps(co, R->path, R->time_gaps);
 	if (R->nch && R->ch[0].s.nperseg < R->a.po.nperseg && !R->a.periodogram)
 		ssc_warn(co, "%s: --nperseg %zu is longer than the record (%llu samples): one segment of %zu",
 			 R->path, R->a.po.nperseg, (unsigned long long)R->rows,

@@ -218,6 +218,11 @@ void ssc_time_order(const struct sscope_capture *cap,
 /* The same for a loaded capture (nothing to judge without a time column). */
 int ssc_time_check(const struct ssc_common *co, const char *path,
 		   const struct sscope_capture *cap, bool uniform);
+/* Gaps in a loaded capture's time stamps (0 when they are out of order:
+ * said by ssc_time_check), and the warning a spectrum gives for them. */
+size_t ssc_time_gaps(const struct sscope_capture *cap);
+void ssc_warn_time_gaps(const struct ssc_common *co, const char *path,
+			size_t gaps);
 
 /* Is progress shown? (auto: stderr is a terminal and not quiet) */
 bool ssc_progress_on(const struct ssc_common *co);
