@@ -73,12 +73,12 @@ static const char *cell_doubt(const struct ssc_lot_cell *cl, int t)
 	if (!(su > SSC_LOT_SE_UPPER_RATIO * cl->se[t]))
 		return NULL;
 	if (nb && nk)
-		return "the record cannot rule out flicker (B) or a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: each at the fit's upper bound; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
+		return "the record cannot rule out flicker (B) or a rate random walk (K) that would make this interval more than 1.5 times wider (each at the fit's upper bound; the verdicts use that wider interval): record longer, or take B and K from a longer record of the model or its datasheet";
 	if (!nb && !nk)
-		return "B and K at the upper ends of their intervals would make this interval more than 1.5 times wider (se_upper; verdicts use it): record longer, or take B and K from a longer record of the model or its datasheet";
+		return "B and K at the upper ends of their intervals would make this interval more than 1.5 times wider (the verdicts use that wider interval): record longer, or take B and K from a longer record of the model or its datasheet";
 	if (nk)
-		return "the record cannot rule out a rate random walk (K) that would make this interval more than 1.5 times wider (se_upper: K at the fit's upper bound; verdicts use it): record longer, or take K from a longer record of the model or its datasheet";
-	return "the record cannot rule out flicker (B) that would make this interval more than 1.5 times wider (se_upper: B at the fit's upper bound; verdicts use it): record longer, or take B from a longer record of the model or its datasheet";
+		return "the record cannot rule out a rate random walk (K) that would make this interval more than 1.5 times wider (K at the fit's upper bound; the verdicts use that wider interval): record longer, or take K from a longer record of the model or its datasheet";
+	return "the record cannot rule out flicker (B) that would make this interval more than 1.5 times wider (B at the fit's upper bound; the verdicts use that wider interval): record longer, or take B from a longer record of the model or its datasheet";
 }
 
 /* a limit on the magnitude (+-) of a signed term: bias, drift and
@@ -860,7 +860,7 @@ static json_t *spec_json(const struct ssc_lot_result *r)
 	json_object_set_new(o, "name", json_string(ds->name));
 	json_object_set_new(o, "level", json_real(SSC_LOT_SPEC_LEVEL));
 	json_object_set_new(o, "rule",
-			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; for the drift and the temperature sensitivity that interval is the conservative one (se_upper: B and K that the unit's fit does not show at its upper bounds), so a unit passes only if even that wider interval lies inside; a unit whose drift or sensitivity interval is doubtful (the block means' residuals correlated while its fit shows neither B nor K) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
+			    json_string("a unit is within spec when its whole interval at the level lies below the limit, out of spec when it lies above, else inconclusive; a term its fit does not show has an upper bound only: within spec when the bound is below the limit, else inconclusive. A limit on the bias, its drift (rate_ramp) or its temperature sensitivity (bias_tempco) is on the magnitude: within spec when the whole interval lies inside +-limit, out of spec when it lies beyond one side; for the drift and the temperature sensitivity that interval is the conservative one (B and K that the unit's fit does not show at their upper bounds; its standard error is se_upper), so a unit passes only if even that wider interval lies inside; a unit whose drift or sensitivity interval is doubtful (the block means' residuals correlated while its fit shows neither B nor K) is inconclusive. Cpk = (limit - mean) / (3 sigma) ((limit - |mean|) / (3 sigma) for a limit on the magnitude), sigma = sqrt(between-unit sd^2 + typical within-unit sd^2), every unit that shows the term (outliers kept), Bissell's interval at the lot's level"));
 	for (size_t s = 0; s < ds->n_sec; s++) {
 		bool chan = false;
 

@@ -1513,21 +1513,21 @@ def _lot_upper_doubt(model):
     """The command's reason for a conservative se above 1.5 times the
     reported one (src/workbench/lot.c cell_doubt())."""
     nb, nk = not model[1] > 0, not model[2] > 0
-    tail = ("would make this interval more than 1.5 times wider (se_upper%s; "
-            "verdicts use it): record longer, or take %s from a longer "
-            "record of the model or its datasheet")
+    tail = ("would make this interval more than 1.5 times wider (%sthe "
+            "verdicts use that wider interval): record longer, or take %s "
+            "from a longer record of the model or its datasheet")
     if nb and nk:
         return ("the record cannot rule out flicker (B) or a rate random "
-                "walk (K) that " + tail % (": each at the fit's upper bound",
+                "walk (K) that " + tail % ("each at the fit's upper bound; ",
                                            "B and K"))
     if not nb and not nk:
         return ("B and K at the upper ends of their intervals "
                 + tail % ("", "B and K"))
     if nk:
         return ("the record cannot rule out a rate random walk (K) that "
-                + tail % (": K at the fit's upper bound", "K"))
+                + tail % ("K at the fit's upper bound; ", "K"))
     return ("the record cannot rule out flicker (B) that "
-            + tail % (": B at the fit's upper bound", "B"))
+            + tail % ("B at the fit's upper bound; ", "B"))
 
 
 _LOT_BIAS_METHOD = (
