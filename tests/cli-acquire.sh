@@ -180,7 +180,7 @@ got=$?
 if [ $got -eq 1 ]; then ok "file size limit: exit 1"; else not_ok "file size limit: exit $got"; fi
 one_line_error "file size limit"
 has "file size limit: says it and where the samples are" "$T/err" \
-	'^sensorscope: acquire: stopped: file size limit: .*limit.csv: File too large; the [0-9]+ samples recorded before it are in .*limit.csv'
+	'^sensorscope: acquire: stopped: file size limit: .*limit.csv: file too large; the [0-9]+ samples recorded before it are in .*limit.csv'
 json_check "file size limit: summary" "$T/out" \
 	'.stop == "file size limit" and .committed and .samples > 100 and .unsaved > 0'
 if [ -e "$T/limit.csv" ] && [ ! -e "$T/limit.csv.partial" ]; then
@@ -236,7 +236,7 @@ if [ -n "$how" ] && [ -s "$T/fullres/rc" ]; then
 	cp "$T/fullres/err" "$T/err"
 	one_line_error "disk full"
 	has "disk full: says so" "$T/err" \
-		'^sensorscope: acquire: stopped: disk full: rec.csv: No space left on device; the [0-9]+ samples recorded before it are in rec.csv'
+		'^sensorscope: acquire: stopped: disk full: rec.csv: no space left on device; the [0-9]+ samples recorded before it are in rec.csv'
 	has "disk full: the summary says it" "$T/fullres/out" '^stopped by: +disk full'
 	n=$(sed -n 's/^samples: *//p' "$T/fullres/out")
 	if [ "$n" = "$(cat "$T/fullres/rows")" ] && [ "$n" -gt 100 ]; then
@@ -283,7 +283,7 @@ one_line_error "converter frame without a rate"
 # runtime errors: exit 1, one line, no file
 run "no such SPI device" 1 acquire --spi /dev/spidev-none.9 --device adis16470 --count 5 -o "$T/x.csv"
 one_line_error "no such SPI device"
-has "no such SPI device: named" "$T/err" '/dev/spidev-none.9: No such file'
+has "no such SPI device: named" "$T/err" '/dev/spidev-none.9: no such file'
 run "output directory missing" 1 acquire --source sim:speed=max --count 5 -o "$T/nodir/x.csv"
 one_line_error "output directory missing"
 if [ -e "$T/x.csv" ]; then not_ok "no file after errors"; else ok "no file after errors"; fi

@@ -187,7 +187,7 @@ bad_profile() { # DESC CONTENT-FILE REGEX
 	one_line_error "$1"
 	has "$1: message" "$T/err" "$3"
 }
-bad_profile "missing profile" nothere.txt "bad.ini: inl_profile: .*specs/nothere.txt: No such file"
+bad_profile "missing profile" nothere.txt "bad.ini: inl_profile: .*specs/nothere.txt: no such file"
 head -n 101 "$T/specs/s8.txt" >"$T/specs/short.txt"
 bad_profile "short profile" short.txt 'short.txt: 100 values, need 256'
 { cat "$T/specs/s8.txt"; echo 0; } >"$T/specs/long.txt"

@@ -158,16 +158,16 @@ if [ "$asuser" = none ]; then
 else
 	$asuser "$SSCOPE" info -q -o "$T/ro/x.txt" "$T/ro/in.csv" >/dev/null 2>"$T/err"
 	[ $? -eq 1 ] && ok "-o in a read-only folder (exit 1)" || not_ok "-o in a read-only folder"
-	one_err "-o in a read-only folder" "^sensorscope: info: $T/ro/x.txt: Permission denied$"
+	one_err "-o in a read-only folder" "^sensorscope: info: $T/ro/x.txt: permission denied$"
 	$asuser "$SSCOPE" info -q --plot "$T/ro/x.svg" "$T/ro/in.csv" >/dev/null 2>"$T/err"
 	[ $? -eq 1 ] && ok "--plot in a read-only folder (exit 1)" || not_ok "--plot in a read-only folder"
-	one_err "--plot in a read-only folder" "^sensorscope: info: $T/ro/x.svg: Permission denied$"
+	one_err "--plot in a read-only folder" "^sensorscope: info: $T/ro/x.svg: permission denied$"
 fi
 chmod 755 "$T/ro"
 # errors inside run name the command, then the stage
 run "an error inside run" 1 run -q -o "$T/rep2" "$T/fail.ini"
 [ ! -e "$T/rep2" ] && ok "a failed run makes no report folder" || not_ok "a failed run made a folder"
-one_err "an error inside run" "^sensorscope: run: allan: $T/no/such/imu.yaml: No such file or directory$"
+one_err "an error inside run" "^sensorscope: run: allan: $T/no/such/imu.yaml: no such file or directory$"
 printf '[input]\nfiles = %s\n[allan]\ntaus = weekly\n' "$SM" >"$T/badkey.ini"
 run "a stage option error inside run" 2 run --dry-run "$T/badkey.ini"
 one_err "a stage option error inside run" "^sensorscope: run: allan: $T/badkey.ini: line 4: --taus: "

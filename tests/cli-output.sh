@@ -23,11 +23,11 @@ while read -r name args; do
 	ss "$@" >/dev/full 2>"$T/err"
 	got=$?
 	if [ $got -eq 1 ]; then ok "$name > /dev/full (exit 1)"; else not_ok "$name > /dev/full (exit $got, wanted 1)"; fi
-	one_err "$name > /dev/full" "^sensorscope: [a-z ]+: standard output: No space left on device$"
+	one_err "$name > /dev/full" "^sensorscope: [a-z ]+: standard output: no space left on device$"
 	ss "$@" -o /dev/full >"$T/out" 2>"$T/err"
 	got=$?
 	if [ $got -eq 1 ]; then ok "$name -o /dev/full (exit 1)"; else not_ok "$name -o /dev/full (exit $got, wanted 1)"; fi
-	one_err "$name -o /dev/full" "^sensorscope: [a-z ]+: /dev/full: No space left on device$"
+	one_err "$name -o /dev/full" "^sensorscope: [a-z ]+: /dev/full: no space left on device$"
 done <<EOF
 info info -q "$SM"
 info-json info -q --format json "$SM"
@@ -49,20 +49,20 @@ EOF
 # acquire: the capture and its summary
 ss acquire -q --source sim:speed=max --count 20000 -o /dev/full >"$T/out" 2>"$T/err"
 [ $? -eq 1 ] && ok "acquire -o /dev/full (exit 1)" || not_ok "acquire -o /dev/full"
-one_err "acquire -o /dev/full" '^sensorscope: acquire: /dev/full: No space left on device$'
+one_err "acquire -o /dev/full" '^sensorscope: acquire: /dev/full: no space left on device$'
 ss acquire -q --source sim:speed=max --count 20000 -o - >/dev/full 2>"$T/err"
 [ $? -eq 1 ] && ok "acquire -o - > /dev/full (exit 1)" || not_ok "acquire -o - > /dev/full"
-has "acquire -o - > /dev/full: said" "$T/err" '^sensorscope: acquire: standard output: No space left on device$'
+has "acquire -o - > /dev/full: said" "$T/err" '^sensorscope: acquire: standard output: no space left on device$'
 ss acquire -q --source sim:speed=max --count 100 -o "$T/acq.csv" >/dev/full 2>"$T/err"
 [ $? -eq 1 ] && ok "acquire summary > /dev/full (exit 1)" || not_ok "acquire summary > /dev/full"
-one_err "acquire summary > /dev/full" '^sensorscope: acquire: standard output: No space left on device$'
+one_err "acquire summary > /dev/full" '^sensorscope: acquire: standard output: no space left on device$'
 
 ss info --help >/dev/full 2>"$T/err"
 [ $? -eq 1 ] && ok "--help > /dev/full (exit 1)" || not_ok "--help > /dev/full"
-one_err "--help > /dev/full" '^sensorscope: info: standard output: No space left on device$'
+one_err "--help > /dev/full" '^sensorscope: info: standard output: no space left on device$'
 ss run --dry-run "$T/scene.ini" >/dev/full 2>"$T/err"
 [ $? -eq 1 ] && ok "run --dry-run > /dev/full (exit 1)" || not_ok "run --dry-run > /dev/full"
-one_err "run --dry-run > /dev/full" '^sensorscope: run: standard output: No space left on device$'
+one_err "run --dry-run > /dev/full" '^sensorscope: run: standard output: no space left on device$'
 
 # a full file system for a regular file (the size limit stands in for
 # it): the old file is kept, no temporary file is left
@@ -70,7 +70,7 @@ echo "old" >"$T/keep.csv"
 (trap '' XFSZ; ulimit -f 64; exec "$SSCOPE" simulate -q --sensor "$T/s.ini" --rate 1000 --duration 100 -o "$T/keep.csv") 2>"$T/err"
 got=$?
 [ $got -eq 1 ] && ok "simulate over the size limit (exit 1)" || not_ok "simulate over the size limit (exit $got)"
-one_err "simulate over the size limit" "^sensorscope: simulate: $T/keep.csv: File too large$"
+one_err "simulate over the size limit" "^sensorscope: simulate: $T/keep.csv: file too large$"
 [ "$(cat "$T/keep.csv")" = old ] && ok "the old file is kept" || not_ok "the old file is kept"
 no_temp "size limit" "$T"
 # an output that cannot fit in the free space (about 40 TB): refused after
@@ -82,17 +82,17 @@ one_err "simulate larger than the free space" "^sensorscope: simulate: $T/keep.c
 no_temp "free space" "$T"
 (trap '' XFSZ; ulimit -f 64; exec "$SSCOPE" psd -q --format csv --nperseg 65536 -o "$T/keep.csv" "$V") 2>"$T/err"
 [ $? -eq 1 ] && ok "psd csv over the size limit (exit 1)" || not_ok "psd csv over the size limit"
-one_err "psd csv over the size limit" "^sensorscope: psd: $T/keep.csv: File too large$"
+one_err "psd csv over the size limit" "^sensorscope: psd: $T/keep.csv: file too large$"
 no_temp "psd size limit" "$T"
 
 # the other writing options
 run "--kalibr /dev/full" 1 allan -q -c gx --kalibr /dev/full "$SM"
-one_err "--kalibr /dev/full" '^sensorscope: allan: /dev/full: No space left on device$'
+one_err "--kalibr /dev/full" '^sensorscope: allan: /dev/full: no space left on device$'
 run "--save-calibration /dev/full" 1 calib accel -q --save-calibration /dev/full "$MP"
-one_err "--save-calibration /dev/full" '^sensorscope: calib accel: /dev/full: No space left on device$'
+one_err "--save-calibration /dev/full" '^sensorscope: calib accel: /dev/full: no space left on device$'
 ln -sf /dev/full "$T/full.svg"
 run "--plot through a link to /dev/full" 1 info -q --plot "$T/full.svg" "$SM"
-one_err "--plot through a link to /dev/full" "^sensorscope: info: $T/full.svg: No space left on device$"
+one_err "--plot through a link to /dev/full" "^sensorscope: info: $T/full.svg: no space left on device$"
 [ -L "$T/full.svg" ] && [ -c /dev/full ] && ok "the link and /dev/full are kept" || not_ok "the link or /dev/full replaced"
 run "--plot into a missing folder" 1 info -q --plot "$T/no/such.svg" "$SM"
 one_err "--plot into a missing folder" "^sensorscope: info: --plot $T/no/such.svg: no folder $T/no to write it in$"
@@ -151,7 +151,7 @@ ss info -q --format json "$SM" >"$T/hl-want.json" 2>/dev/null
 cmp -s "$T/hl-b.txt" "$T/hl-want.json" && ok "hard link: cut to the new size" || not_ok "hard link: old bytes left after the new content"
 no_temp "hard link" "$T"
 run "-o a folder" 1 info -q -o "$T" "$SM"
-one_err "-o a folder" ": Is a directory$"
+one_err "-o a folder" ": is a directory$"
 rm -f "$T/fifo.svg" "$T/got"
 mkfifo "$T/fifo.svg"
 timeout 20 cat "$T/fifo.svg" >"$T/got" &

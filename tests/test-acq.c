@@ -719,7 +719,7 @@ START_TEST(engine_disk_full)
 		ck_assert(r.committed);
 		ck_assert_str_eq(r.file, path);
 		ck_assert(!exists(partial));
-		ck_assert_ptr_nonnull(strstr(d.msg, "No space left on device"));
+		ck_assert_ptr_nonnull(strstr(d.msg, "no space left on device"));
 		ck_assert_int_eq(stat(path, &st), 0);
 		ck_assert((uint64_t)st.st_size <= limit);
 		rows = csv_rows(path, &complete);

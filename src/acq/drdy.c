@@ -176,7 +176,7 @@ int ssc_drdy_open(struct ssc_drdy **dp, const char *spec, bool falling,
 	d->chip = gpiod_chip_open(path);
 	if (!d->chip) {
 		rc = -errno;
-		ssc_acq_diag(diag, rc, "%s: %s%s", path, strerror(errno),
+		ssc_acq_diag(diag, rc, "%s: %s%s", path, sscope_strerror(errno),
 			     errno == EACCES ? " (add yourself to the gpio group, see the README)"
 					     : "");
 		goto fail;
@@ -223,7 +223,7 @@ int ssc_drdy_open(struct ssc_drdy **dp, const char *spec, bool falling,
 	return 0;
 fail_msg:
 	ssc_acq_diag(diag, rc, "%s line %u: cannot request edge events: %s%s",
-		     path, off, strerror(-rc),
+		     path, off, sscope_strerror(-rc),
 		     rc == -EBUSY ? " (the line is used by another program or driver)"
 				  : "");
 fail:
@@ -307,7 +307,7 @@ int ssc_drdy_open(struct ssc_drdy **dp, const char *spec, bool falling,
 	if (!d->chip) {
 		rc = -errno;
 		ssc_acq_diag(diag, rc, "--drdy: GPIO chip '%s': %s%s", chip,
-			     strerror(errno),
+			     sscope_strerror(errno),
 			     errno == EACCES ? " (add yourself to the gpio group, see the README)"
 					     : "");
 		goto fail;
@@ -334,7 +334,7 @@ int ssc_drdy_open(struct ssc_drdy **dp, const char *spec, bool falling,
 	if (!d->line) {
 		rc = -errno;
 		ssc_acq_diag(diag, rc, "--drdy: %s line %u: %s",
-			     gpiod_chip_name(d->chip), off, strerror(errno));
+			     gpiod_chip_name(d->chip), off, sscope_strerror(errno));
 		goto fail;
 	}
 	rc = falling ? gpiod_line_request_falling_edge_events(d->line, consumer)
@@ -343,7 +343,7 @@ int ssc_drdy_open(struct ssc_drdy **dp, const char *spec, bool falling,
 		rc = -errno;
 		ssc_acq_diag(diag, rc,
 			     "--drdy: %s line %u: cannot request edge events: %s%s",
-			     gpiod_chip_name(d->chip), off, strerror(errno),
+			     gpiod_chip_name(d->chip), off, sscope_strerror(errno),
 			     errno == EBUSY ? " (the line is used by another program or driver)"
 					    : "");
 		d->line = NULL;

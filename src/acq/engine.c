@@ -521,7 +521,7 @@ static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
 		return ssc_acq_diag(diag, err, "%s: %s", cfg->path &&
 				    strcmp(cfg->path, "-") ? cfg->path
 							   : "standard output",
-				    strerror(-err));
+				    sscope_strerror(-err));
 	}
 	if (end.rename_err && !rc) {
 		if (end.rename_err == -EEXIST)
@@ -530,7 +530,7 @@ static int finish_file(struct engine *e, struct ssc_acq_result *res, int rc,
 					    cfg->path, end.where);
 		return ssc_acq_diag(diag, end.rename_err,
 				    "%s: %s: the samples are in %s", cfg->path,
-				    strerror(-end.rename_err), end.where);
+				    sscope_strerror(-end.rename_err), end.where);
 	}
 	return rc;
 }

@@ -140,7 +140,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 	if (!rf->target) {
 		int e = errno ? errno : ENOMEM;
 
-		return ssc_acq_diag(diag, -e, "%s: %s", path, strerror(e));
+		return ssc_acq_diag(diag, -e, "%s: %s", path, sscope_strerror(e));
 	}
 	if (stat(rf->target, &st) == 0) {
 		if (S_ISDIR(st.st_mode))
@@ -150,7 +150,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 			rf->fd = open(rf->target, O_WRONLY | O_CLOEXEC);
 			if (rf->fd < 0)
 				return ssc_acq_diag(diag, -errno, "%s: %s",
-						    path, strerror(errno));
+						    path, sscope_strerror(errno));
 			rf->own_fd = true;
 			return 0;
 		}
@@ -160,7 +160,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 					    path);
 	} else if (errno != ENOENT) {
 		return ssc_acq_diag(diag, -errno, "%s: %s", path,
-				    strerror(errno));
+				    sscope_strerror(errno));
 	}
 	rf->partial = malloc(strlen(rf->target) + sizeof(".partial"));
 	if (!rf->partial)
@@ -178,7 +178,7 @@ static int rf_create(struct ssc_recfile *rf, const char *path,
 			return ssc_acq_diag(diag, -EEXIST,
 					    "%s.partial exists: an interrupted or running recording (other commands read it as it is); rename it, or record under another name",
 					    rf->target);
-		return ssc_acq_diag(diag, -e, "%s: %s", path, strerror(e));
+		return ssc_acq_diag(diag, -e, "%s: %s", path, sscope_strerror(e));
 	}
 	rf->own_fd = true;
 	rf->regular = true;
@@ -332,7 +332,7 @@ int ssc_recfile_open(struct ssc_recfile **out, const struct ssc_rec_opts *o,
 	if (!rc)
 		rc = ssc_recfile_flush(rf);
 	if (rc) {
-		ssc_acq_diag(diag, rc, "%s: %s", rf->shown, strerror(-rc));
+		ssc_acq_diag(diag, rc, "%s: %s", rf->shown, sscope_strerror(-rc));
 		goto fail;
 	}
 	*out = rf;

@@ -31,7 +31,7 @@ int ssc_spi_open(struct ssc_spi *spi, const char *path, unsigned mode,
 	if (spi->fd < 0) {
 		int e = errno;
 
-		return ssc_acq_diag(diag, -e, "%s: %s%s", path, strerror(e),
+		return ssc_acq_diag(diag, -e, "%s: %s%s", path, sscope_strerror(e),
 				    e == EACCES ? " (give your user access to spidev: see the README's wiring section)"
 				    : e == ENOENT ? " (is SPI enabled, e.g. dtparam=spi=on on a Raspberry Pi?)"
 						  : "");
@@ -61,7 +61,7 @@ int ssc_spi_open(struct ssc_spi *spi, const char *path, unsigned mode,
 	return 0;
 fail: {
 	int e = errno, rc = ssc_acq_diag(diag, -e, "%s: cannot %s: %s", path,
-					  what, strerror(e));
+					  what, sscope_strerror(e));
 
 	ssc_spi_close(spi);
 	return rc;

@@ -95,12 +95,12 @@ static int wait_ready(struct ssc_source *src, struct spisrc *p, int64_t *t,
 				       ? r
 				       : ssc_acq_diag(diag, r, "%s: %s",
 						      ssc_drdy_name(p->drdy),
-						      strerror(-r));
+						      sscope_strerror(-r));
 		r = ssc_drdy_read(p->drdy, &ev);
 		if (r < 0)
 			return ssc_acq_diag(diag, r, "%s: reading events: %s",
 					    ssc_drdy_name(p->drdy),
-					    strerror(-r));
+					    sscope_strerror(-r));
 		if (ev.n == 0)
 			return -EAGAIN;
 		if (!p->started) {
@@ -196,7 +196,7 @@ static int adis_read(struct ssc_source *src, struct ssc_acq_sample *s,
 	rc = ssc_spi_message(&p->spi, seg, 2);
 	if (rc)
 		return ssc_acq_diag(diag, rc, "%s: burst read: %s", p->spi.path,
-				    strerror(-rc));
+				    sscope_strerror(-rc));
 	src->counts.frames++;
 	if (sscope_adis_decode(p->model, rx, &a)) {
 		src->counts.checksum_errors++;
@@ -391,7 +391,7 @@ static int adis_setup(struct ssc_source *src, struct spisrc *p,
 	rc = adis_read_reg(p, SSCOPE_ADIS_REG_PROD_ID, &id);
 	if (rc)
 		return ssc_acq_diag(diag, rc, "%s: reading PROD_ID: %s", o->spi,
-				    strerror(-rc));
+				    sscope_strerror(-rc));
 	if (id != p->model->prod_id) {
 		const char *other = adis_known(id);
 
@@ -431,14 +431,14 @@ static int adis_setup(struct ssc_source *src, struct spisrc *p,
 		rc = adis_write_reg(p, SSCOPE_ADIS_REG_DEC_RATE, dec);
 		if (rc)
 			return ssc_acq_diag(diag, rc, "%s: writing DEC_RATE: %s",
-					    o->spi, strerror(-rc));
+					    o->spi, sscope_strerror(-rc));
 	}
 	rc = adis_read_reg(p, SSCOPE_ADIS_REG_DEC_RATE, &dec);
 	if (!rc)
 		rc = adis_read_reg(p, SSCOPE_ADIS_REG_MSC_CTRL, &msc);
 	if (rc)
 		return ssc_acq_diag(diag, rc, "%s: reading registers: %s",
-				    o->spi, strerror(-rc));
+				    o->spi, sscope_strerror(-rc));
 	if (dec > 1999)
 		return ssc_acq_diag(diag, -EIO, "%s: DEC_RATE reads %u (> 1999)",
 				    o->spi, dec);
@@ -511,7 +511,7 @@ static int frame_next(struct ssc_source *src, struct ssc_acq_sample *s,
 	rc = ssc_spi_message(&p->spi, seg, f->n_xfers);
 	if (rc)
 		return ssc_acq_diag(diag, rc, "%s: frame: %s", p->spi.path,
-				    strerror(-rc));
+				    sscope_strerror(-rc));
 	src->counts.frames++;
 	sscope_spiadc_decode(f, rx, s->v, NULL);
 	s->t_ns = t;

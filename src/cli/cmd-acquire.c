@@ -702,10 +702,10 @@ int ssc_cmd_acquire(int argc, char **argv)
 
 	if (o.realtime && res.rt_errno)
 		ssc_warn(&co, "SCHED_FIFO priority %d not permitted (%s): the reader ran at normal priority (man sensorscope, acquire: rtprio limit or CAP_SYS_NICE)",
-			 cfg.rt_priority, strerror(res.rt_errno));
+			 cfg.rt_priority, sscope_strerror(res.rt_errno));
 	if (o.realtime && res.mlock_errno)
 		ssc_warn(&co, "mlockall failed (%s): memory not locked (man sensorscope, acquire: memlock limit)",
-			 strerror(res.mlock_errno));
+			 sscope_strerror(res.mlock_errno));
 	if (res.drops_ring)
 		ssc_warn(&co, "the writer fell behind: %llu samples lost in ring overruns (larger --ring, faster disk, --capture-format f32)",
 			 (unsigned long long)res.drops_ring);

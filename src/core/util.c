@@ -49,7 +49,18 @@ const char *sscope_strerror(int err)
 	case ENOSPC:
 		return "no space left on device";
 	default:
-		return strerror(err); /* the OS's text (read-only file system, ...) */
+		break;
+	}
+	/* the OS's text (Read-only file system, ...), its first letter in
+	 * lower case as in every other message (not an acronym's: "EOF") */
+	{
+		static _Thread_local char buf[128];
+		const char *t = strerror(err);
+
+		snprintf(buf, sizeof(buf), "%s", t ? t : "unknown error");
+		if (buf[0] >= 'A' && buf[0] <= 'Z' && buf[1] >= 'a' && buf[1] <= 'z')
+			buf[0] = (char)(buf[0] - 'A' + 'a');
+		return buf;
 	}
 }
 

@@ -79,7 +79,7 @@ static int writer_new(struct sscope_writer **wp, const char *path, FILE *f,
 			free(w->units);
 			free(w);
 			return ssc_diag(diag, rc, "%s: %s", path,
-					strerror(-rc));
+					sscope_strerror(-rc));
 		}
 		f = w->out.f;
 		w->own = true;

@@ -54,7 +54,7 @@ int ssc_adc_profile_load(const char *cmd, const char *spec_path,
 	}
 	f = fopen(path, "r");
 	if (!f) {
-		ssc_err(cmd, "%s: inl_profile: %s: %s", spec_path, path, strerror(errno));
+		ssc_err(cmd, "%s: inl_profile: %s: %s", spec_path, path, sscope_strerror(errno));
 		goto out;
 	}
 	while (fgets(line, sizeof(line), f)) {

@@ -783,7 +783,7 @@ static char *slurp(const char *cmd, const char *path)
 	size_t n;
 
 	if (!f) {
-		ssc_err(cmd, "%s: %s", path, strerror(errno));
+		ssc_err(cmd, "%s: %s", path, sscope_strerror(errno));
 		return NULL;
 	}
 	buf = malloc(MAX_BYTES + 1);
@@ -795,7 +795,7 @@ static char *slurp(const char *cmd, const char *path)
 	}
 	n = fread(buf, 1, MAX_BYTES + 1, f);
 	if (ferror(f) || n > MAX_BYTES || memchr(buf, 0, n)) {
-		ssc_err(cmd, "%s: %s", path, ferror(f) ? strerror(errno) :
+		ssc_err(cmd, "%s: %s", path, ferror(f) ? sscope_strerror(errno) :
 			n > MAX_BYTES ? "larger than 1 MiB: not a noise parameter file" :
 			"binary data: not a noise parameter file");
 		free(buf);

@@ -1055,7 +1055,7 @@ int ssc_read_intervals(const struct ssc_common *co, const char *opt,
 	*out = NULL;
 	*n_rows = 0;
 	if (!f) {
-		ssc_err(co->cmd, "--%s: %s: %s", opt, path, strerror(errno));
+		ssc_err(co->cmd, "--%s: %s: %s", opt, path, sscope_strerror(errno));
 		return SSC_EXIT_FAIL;
 	}
 	if (w > 8) {

@@ -142,7 +142,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		return SSC_EXIT_FAIL;
 	}
 	if (mkdir(dir, 0777)) {
-		ssc_err(cmd, "--plan-jobs: %s: %s", dir, strerror(errno));
+		ssc_err(cmd, "--plan-jobs: %s: %s", dir, sscope_strerror(errno));
 		json_decref(plan);
 		json_decref(units);
 		json_decref(rd);
@@ -157,7 +157,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		char *abs = realpath(env->paths[i], NULL);
 
 		if (!abs || ssc_sha256_file(abs, hex)) {
-			ssc_err(cmd, "%s: %s", env->paths[i], strerror(errno ? errno : EIO));
+			ssc_err(cmd, "%s: %s", env->paths[i], sscope_strerror(errno ? errno : EIO));
 			free(abs);
 			json_decref(u);
 			rc = SSC_EXIT_FAIL;
@@ -208,7 +208,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		char *abs = realpath(spec, NULL);
 
 		if (!abs || ssc_sha256_file(abs, hex)) {
-			ssc_err(cmd, "--spec: %s: %s", spec, strerror(errno ? errno : EIO));
+			ssc_err(cmd, "--spec: %s: %s", spec, sscope_strerror(errno ? errno : EIO));
 			rc = SSC_EXIT_FAIL;
 		} else {
 			json_object_set_new(plan, "spec_file", json_string(abs));
@@ -240,7 +240,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 		}
 		f = fopen(path, "w");
 		if (!f) {
-			ssc_err(cmd, "--plan-jobs: %s: %s", path, strerror(errno));
+			ssc_err(cmd, "--plan-jobs: %s: %s", path, sscope_strerror(errno));
 			free(adir);
 			free(path);
 			return SSC_EXIT_FAIL;
@@ -260,7 +260,7 @@ int ssc_lot_plan_jobs(const struct ssc_stage_env *env, const char *engine,
 			for (size_t i = 0; i < env->n_caps; i++)
 				fprintf(f, "'%s' lot --job '%s:%zu'\n", self, adir, i);
 		if (fclose(f)) {
-			ssc_err(cmd, "--plan-jobs: %s: %s", path, strerror(errno));
+			ssc_err(cmd, "--plan-jobs: %s: %s", path, sscope_strerror(errno));
 			rc = SSC_EXIT_FAIL;
 		}
 		if (!rc && slurm)
@@ -412,7 +412,7 @@ int ssc_lot_job(const struct ssc_common *co0, const char *arg, char *note,
 	label = get_str(u, "label");
 	if (!file || ssc_sha256_file(file, hex)) {
 		ssc_err(cmd, "--job: unit %zu: %s: %s", i, file ? file : "(no file)",
-			strerror(errno ? errno : EIO));
+			sscope_strerror(errno ? errno : EIO));
 		rc = SSC_EXIT_FAIL;
 		goto out;
 	}

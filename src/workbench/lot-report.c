@@ -300,12 +300,12 @@ int ssc_lot_report(const struct ssc_common *co, const struct ssc_lot_result *r,
 	if (!empty_dir(dir) && mkdir(dir, 0777)) {
 		ssc_err(cmd, "--report: %s: %s", dir, errno == EEXIST ?
 			"exists and is not an empty folder: give a new one (nothing in it is overwritten)" :
-			strerror(errno));
+			sscope_strerror(errno));
 		return SSC_EXIT_FAIL;
 	}
 	ud = ssc_path_join(dir, "units");
 	if (!ud || (mkdir(ud, 0777) && errno != EEXIST)) {
-		ssc_err(cmd, "--report: %s: %s", ud ? ud : dir, strerror(ud ? errno : ENOMEM));
+		ssc_err(cmd, "--report: %s: %s", ud ? ud : dir, sscope_strerror(ud ? errno : ENOMEM));
 		free(ud);
 		return SSC_EXIT_FAIL;
 	}

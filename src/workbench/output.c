@@ -217,7 +217,7 @@ static int say_failed(const char *cmd, const char *shown, int rc)
 		ssc_err(cmd, "%s: %s", shown, sscope_strerror(rc));
 		return SSC_EXIT_USAGE;
 	}
-	ssc_err(cmd, "%s: %s", shown, strerror(rc < 0 ? -rc : EIO));
+	ssc_err(cmd, "%s: %s", shown, sscope_strerror(rc < 0 ? -rc : EIO));
 	return SSC_EXIT_FAIL;
 }
 
@@ -811,7 +811,7 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		int bad = 0;
 
 		if (!S_ISDIR(st.st_mode)) {
-			ssc_err(cmd, "%s: %s", od->shown, strerror(ENOTDIR));
+			ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(ENOTDIR));
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
@@ -823,7 +823,7 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		}
 		d = opendir(od->shown);
 		if (!d) {
-			ssc_err(cmd, "%s: %s", od->shown, strerror(errno));
+			ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(errno));
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
@@ -855,19 +855,19 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		od->target = strdup(od->shown);
 		e = od->target ? mkdir_parents(od->target) : -ENOMEM;
 		if (e) {
-			ssc_err(cmd, "%s: %s", od->shown, strerror(-e));
+			ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(-e));
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
 	} else {
-		ssc_err(cmd, "%s: %s", od->shown, strerror(errno));
+		ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(errno));
 		ssc_outdir_abort(od);
 		return SSC_EXIT_FAIL;
 	}
 	n = od->target ? strlen(od->target) : 0;
 	od->dir = od->target ? malloc(n + 12) : NULL;
 	if (!od->dir) {
-		ssc_err(cmd, "%s: %s", od->shown, strerror(errno ? errno : ENOMEM));
+		ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(errno ? errno : ENOMEM));
 		ssc_outdir_abort(od);
 		return SSC_EXIT_FAIL;
 	}
@@ -887,7 +887,7 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		if (!made) {
 			free(od->dir);
 			od->dir = NULL;
-			ssc_err(cmd, "%s: %s", od->shown, strerror(e));
+			ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(e));
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
@@ -961,7 +961,7 @@ int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od)
 	}
 	release_signals(&old);
 	if (e) {
-		ssc_err(cmd, "%s: %s", od->shown, strerror(e));
+		ssc_err(cmd, "%s: %s", od->shown, sscope_strerror(e));
 		ssc_outdir_abort(od);
 		return SSC_EXIT_FAIL;
 	}
@@ -971,7 +971,7 @@ int ssc_outdir_commit(const char *cmd, struct ssc_outdir *od)
 	    remove_flat_dir(od->dir, not_report_file, (void *)od->stages) != 0 &&
 	    errno != ENOENT)
 		ssc_err(cmd, "warning: %s: the previous report is left in %s (%s)",
-			od->shown, od->dir, strerror(errno));
+			od->shown, od->dir, sscope_strerror(errno));
 	outdir_forget(od);
 	return SSC_EXIT_OK;
 }

@@ -578,7 +578,7 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 					 st[i].links ? st[i].links[f] : NULL);
 			if (e) {
 				ssc_html_note(h, "The figure %s could not be read: %s.",
-					      st[i].figs[f], strerror(-e));
+					      st[i].figs[f], sscope_strerror(-e));
 				rc = e;
 			}
 		}

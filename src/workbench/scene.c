@@ -344,7 +344,7 @@ static int parse_input(const char *cmd, struct ssc_scene *sc)
 			sc->n_files++;
 			if (stat(sc->files[i], &st) != 0) {
 				rc = scene_error(cmd, sc, line, "files: %s: %s",
-						 sc->files[i], strerror(errno));
+						 sc->files[i], sscope_strerror(errno));
 				free(copy);
 				return rc == SSC_EXIT_USAGE ? SSC_EXIT_FAIL : rc;
 			}
@@ -519,7 +519,7 @@ static int parse_adc(const char *cmd, struct ssc_scene *sc)
 			sc->adc_paths[i] = join_path(sc->dir, items[i]);
 			if (access(sc->adc_paths[i], R_OK) != 0) {
 				int rc = scene_error(cmd, sc, line, "spec: %s: %s",
-						     sc->adc_paths[i], strerror(errno));
+						     sc->adc_paths[i], sscope_strerror(errno));
 
 				sc->n_adc = i + 1;
 				free(copy);

@@ -431,7 +431,7 @@ static int expand_folders(const char *cmd, const char *const *in, int n,
 		    access(meta, F_OK) != 0) {
 			d = opendir(in[i]);
 			if (!d) {
-				ssc_err(cmd, "%s: %s", in[i], strerror(errno));
+				ssc_err(cmd, "%s: %s", in[i], sscope_strerror(errno));
 				rc = SSC_EXIT_FAIL;
 				break;
 			}

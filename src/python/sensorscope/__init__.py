@@ -2086,7 +2086,7 @@ def export(source, target, path=None, inflate=1.0, force=False, rate=None,
             except OSError:
                 pass
             raise Error(-(e.errno or errno.EIO), "%s: %s: %s" % (
-                fn, path, e.strerror or e))
+                fn, path, _c.strerror(e.errno).decode() if e.errno else e))
     return text
 
 
