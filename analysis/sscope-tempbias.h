@@ -169,9 +169,11 @@ struct sscope_tempbias_result {
 	double turn_band_degc;   /**< turning-point band, degC */
 	double smooth_s, block_s, bin_degc; /**< choices used */
 	double residual_rms;     /**< RMS of block residuals, U */
-	double sensitivity;      /**< db/dT at T_ref = coef[1], U/degC */
+	double sensitivity;      /**< db/dT at T_ref = coef[1], U/degC;
+				      NaN at order 0 (none resolved) */
 	double sensitivity_sd;
-	double peak_to_peak;     /**< of the polynomial over the range, U */
+	double peak_to_peak;     /**< of the polynomial over the range, U;
+				      NaN at order 0 */
 	size_t n_runs;
 	struct sscope_tempbias_runinfo *runs;
 	double repeat_sd;        /**< sd (n-1) of the settled biases, U */

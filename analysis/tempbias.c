@@ -1242,8 +1242,9 @@ static int results(struct ctx *c, const struct fit *f,
 	}
 	for (int k = f->K + 1; k <= MAXK; k++)
 		res->coef[k] = res->coef_sd[k] = NAN;
-	res->sensitivity = f->K >= 1 ? res->coef[1] : 0;
-	res->sensitivity_sd = f->K >= 1 ? res->coef_sd[1] : 0;
+	/* order 0: no temperature term, so none is known (not zero) */
+	res->sensitivity = f->K >= 1 ? res->coef[1] : (double)NAN;
+	res->sensitivity_sd = f->K >= 1 ? res->coef_sd[1] : (double)NAN;
 	res->have_hysteresis = f->hyst;
 	res->hysteresis = res->hysteresis_sd = NAN;
 	if (f->hyst) {
@@ -1391,7 +1392,7 @@ static int results(struct ctx *c, const struct fit *f,
 			mn = fmin(mn, v);
 			mx = fmax(mx, v);
 		}
-		res->peak_to_peak = mx - mn;
+		res->peak_to_peak = res->order >= 1 ? mx - mn : (double)NAN;
 	}
 	/* table */
 	step = c->o->table_step_degc;

@@ -30,6 +30,16 @@ run "csv" 0 tempbias -c ax --format csv "$TH"
 has "csv header" "$T/out" '^channel,unit,temp_degc,bias$'
 run "fixed order 1" 0 tempbias -c ax --order 1 --format json "$TH"
 json_check "order 1: two coefficients" "$T/out" '.channels[0].fit.order == 1 and (.channels[0].fit.coefficients | length) == 2'
+# order 0 (no temperature term): the sensitivity is unknown, never 0
+run "fixed order 0" 0 tempbias -c ax --order 0 --format json "$TH"
+json_check "order 0: sensitivity and peak-to-peak null" "$T/out" '.channels[0].fit.order == 0 and .channels[0].sensitivity == null and .channels[0].sensitivity_sd == null'
+run "fixed order 0, text" 0 tempbias -c ax --order 0 "$TH"
+has "order 0: not estimated, said" "$T/out" 'sensitivity and peak-to-peak: not estimated \(order 0 requested'
+lacks "order 0: no sensitivity 0" "$T/out" 'sensitivity at T_ref 0 '
+# a moving record's gyro: the F test keeps no temperature term
+run "order 0 chosen, text" 0 tempbias -c gz "$SAMPLES/drive-stops.csv"
+has "order 0 chosen by the F test" "$T/out" 'fit: order 0 \(auto'
+has "order 0 chosen: not resolved, said" "$T/out" 'sensitivity and peak-to-peak: not resolved \(no temperature term passes the F test'
 
 # several power cycles: 3 files from the simulator with different seeds
 cat >"$T/acc.ini" <<'INI'

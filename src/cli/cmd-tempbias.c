@@ -297,6 +297,14 @@ static json_t *chan_json(const struct chan *ch, size_t n_runs)
 	return o;
 }
 
+/* why an order-0 fit gives no sensitivity */
+static const char *order0_why(const struct sscope_tempbias_result *r)
+{
+	return r->order_requested < 0 ?
+		       "not resolved (no temperature term passes the F test at 1 %: the scatter hides any dependence; a wider temperature range or a stiller record may show one)" :
+		       "not estimated (order 0 requested: no temperature term)";
+}
+
 static void chan_text(FILE *f, const struct chan *ch, size_t n_runs)
 {
 	const struct sscope_tempbias_result *r = ch->res;
@@ -315,11 +323,16 @@ static void chan_text(FILE *f, const struct chan *ch, size_t n_runs)
 			ssc_fmt(a, sizeof(a), du(&ch->d, r->coef[k]), 6),
 			ssc_fmt(b, sizeof(b), du(&ch->d, r->coef_sd[k]), 2), u,
 			k == 0 ? "" : k == 1 ? "/degC" : "/degC^", k > 1 ? k : 0);
-	fprintf(f, "  residual RMS %s %s; sensitivity at T_ref %s +- %s %s/degC; peak-to-peak over the range %s %s\n",
-		ssc_fmt(a, sizeof(a), du(&ch->d, r->residual_rms), 3), u,
-		ssc_fmt(b, sizeof(b), du(&ch->d, r->sensitivity), 4),
-		ssc_fmt((char[32]){ 0 }, 32, du(&ch->d, r->sensitivity_sd), 2), u,
-		ssc_fmt((char[32]){ 0 }, 32, du(&ch->d, r->peak_to_peak), 4), u);
+	if (r->order >= 1)
+		fprintf(f, "  residual RMS %s %s; sensitivity at T_ref %s +- %s %s/degC; peak-to-peak over the range %s %s\n",
+			ssc_fmt(a, sizeof(a), du(&ch->d, r->residual_rms), 3), u,
+			ssc_fmt(b, sizeof(b), du(&ch->d, r->sensitivity), 4),
+			ssc_fmt((char[32]){ 0 }, 32, du(&ch->d, r->sensitivity_sd), 2), u,
+			ssc_fmt((char[32]){ 0 }, 32, du(&ch->d, r->peak_to_peak), 4), u);
+	else
+		fprintf(f, "  residual RMS %s %s; sensitivity and peak-to-peak: %s\n",
+			ssc_fmt(a, sizeof(a), du(&ch->d, r->residual_rms), 3), u,
+			order0_why(r));
 	if (r->have_hysteresis)
 		fprintf(f, "  hysteresis (heating - cooling; %s %.3g %s): term %s +- %s %s",
 			isnan(r->deadband_degc_s) ? "turning points, band" : "dead band",
@@ -649,9 +662,10 @@ static void summary(json_t *rows, const void *opts, const void *result)
 		ssc_summary_add(rows, ch->name, q, du(&ch->d, r->sensitivity),
 				du(&ch->d, r->sensitivity - 2 * r->sensitivity_sd),
 				du(&ch->d, r->sensitivity + 2 * r->sensitivity_sd),
-				un, "interval: +-2 sd");
+				un, r->order >= 1 ? "interval: +-2 sd" : order0_why(r));
 		ssc_summary_add(rows, ch->name, "bias peak-to-peak over the range",
-				du(&ch->d, r->peak_to_peak), NAN, NAN, ch->d.label, NULL);
+				du(&ch->d, r->peak_to_peak), NAN, NAN, ch->d.label,
+				r->order >= 1 ? NULL : order0_why(r));
 		if (r->have_split)
 			ssc_summary_add(rows, ch->name, "hysteresis (max gap)",
 					du(&ch->d, fabs(r->hysteresis_max)), NAN, NAN,

@@ -1005,13 +1005,13 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
 # ------------------------------------------------------------------ tempbias
 
 def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
-    """Bias against temperature (analysis/tempbias.c, as `sensorscope
-    tempbias`): x and temp_degc are arrays of one run, or lists of arrays
-    (one per power cycle); x in SI.  Returns a dict: order,
-    ref_temp_degc, coefficients (b(T) = sum c_k (T - T_ref)^k, SI per
-    degC^k), coefficient_sd, residual_rms, sensitivity, hysteresis
-    {max, at_degc, eta}, gradient, turn_on_repeatability {sd, range,
-    runs}, table [(temp_degc, bias)]."""
+    """Bias against temperature (as `sensorscope tempbias`): x and
+    temp_degc are arrays of one run, or lists of arrays (one per power
+    cycle); x in SI.  Returns a dict: order, ref_temp_degc, coefficients
+    (b(T) = sum c_k (T - T_ref)^k, SI per degC^k), coefficient_sd,
+    residual_rms, sensitivity (None at order 0: none resolved),
+    hysteresis {max, at_degc, eta}, gradient, turn_on_repeatability {sd,
+    range, runs}, table [(temp_degc, bias)]."""
     f = "tempbias"
     rate = _positive(f, "rate", rate)
     if not (isinstance(order, str) and order == "auto"):
@@ -1063,7 +1063,8 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
             "coefficients": [r.coef[i] for i in range(r.order + 1)],
             "coefficient_sd": [r.coef_sd[i] for i in range(r.order + 1)],
             "residual_rms": r.residual_rms,
-            "sensitivity": r.sensitivity,
+            # None at order 0: no temperature term, none known
+            "sensitivity": r.sensitivity if r.order >= 1 else None,
             "hysteresis": {"max": r.hysteresis_max,
                            "at_degc": r.hysteresis_at_degc,
                            "eta": r.hysteresis if r.have_hysteresis
