@@ -1364,8 +1364,12 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 		r->still = false;
 		if (f) {
 			f->statistic = o->moving_contrast;
-			say(f, "the sensor moves: its channel %s does (its variance over 1 s windows spans %.3g times, a still record at most %g), although this one shows little of it; noise terms need the sensor at rest",
-			    o->moving_channel, o->moving_contrast, r->max_contrast);
+			if (isfinite(o->moving_contrast))
+				say(f, "the sensor moves: its channel %s does (its variance over 1 s windows spans %.3g times, a still record at most %g), although this one shows little of it; noise terms need the sensor at rest",
+				    o->moving_channel, o->moving_contrast, r->max_contrast);
+			else
+				say(f, "the sensor moves: its channel %s does (its variance over 1 s windows is zero in places and not in others: a held value, then motion), although this one shows little of it; noise terms need the sensor at rest",
+				    o->moving_channel);
 		}
 	} else if (!r->still) {
 		struct sscope_adequacy_finding *f =
@@ -1411,7 +1415,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			if (f) {
 				f->statistic = fit->chi2;
 				f->p_value = fit->p_value;
-				say(f, "the five-term noise model does not describe the record (chi-squared %.3g for %.3g dof, p %s %.2g, below %g): its terms are not valid; a trend, a transient or motion the model lacks (see the other findings and the DAVAR map)",
+				say(f, "the five-term noise model does not describe the record (chi-squared %.3g for %.3g dof, p %s %.2g, below %g): its terms are not valid; a trend, a transient or motion the model lacks (see the other findings; the dynamic Allan deviation (DAVAR) of the record shows where in time)",
 				    fit->chi2, fit->dof,
 				    sscope_noise_p_is_bound(fit->p_value) ? "<" : "=",
 				    sscope_noise_p_is_bound(fit->p_value) ? 0.001 : fit->p_value,

@@ -134,4 +134,10 @@ json_check "report: the commanded rate is not a gyro channel" "$T/rep/report.jso
 run "report plan on the rate-table sample" 0 report --dry-run "$RT"
 has "plan: calib inferred from the commanded rate" "$T/out" 'calib +inferred: a gyro with a commanded-rate column \(rate_cmd\)'
 
+# a held value then motion: the 1 s variance is zero in places, so the
+# spread of variances is infinite; said in words, never "inf times"
+run "allan on the rate table's commanded rate" 0 allan -c rate_cmd "$RT"
+has "held value then motion: said in words" "$T/out" 'moves \(1 s variance zero in places, not in others\)'
+lacks "no infinite spread printed" "$T/out" 'inf times'
+
 done_testing

@@ -426,7 +426,10 @@ static void text_adequacy(FILE *f, const struct ssc_allan_chan *c)
 		"NOT VALID" : q->verdict == SSCOPE_ADEQUACY_DOUBT ? "DOUBTFUL" :
 		q->verdict == SSCOPE_ADEQUACY_BOUND ? "valid, some terms only bounded" :
 		"valid");
-	if (q->still_tested)
+	if (q->still_tested && !isfinite(q->contrast))
+		fprintf(f, "%s (1 s variance zero in places, not in others), ",
+			q->still ? "still" : "moves");
+	else if (q->still_tested)
 		fprintf(f, "%s (1 s variance spans %s times, at most %s), ",
 			q->still ? "still" : "moves",
 			ssc_fmt(b1, sizeof(b1), q->contrast, 3),
