@@ -65,6 +65,11 @@ json_check "fan inside the envelope" "$T/out" \
 json_check "implied and allan's N" "$T/out" '.channels[0].implied_N[0].unit == "deg/sqrt(h)" and (.channels[0].allan_N.value - 0.15 | fabs) < 0.01'
 run "walk with a bias window" 0 walk -c gx --run-length 30s --bias-window 30s --format json "$SAMPLES/gyro-static.csv"
 json_check "window mode" "$T/out" '.channels[0].bias == "window before each run" and .channels[0].runs == 60 and .channels[0].bias_window_s == 30'
+# late in a run B and K explain the spread: no implied N, said so (never nan)
+run "walk: the other terms explain the spread" 0 walk -c gz --run-length 2min --bias-window 30s "$SAMPLES/gyro-static.csv"
+has "walk: no N left, said" "$T/out" ' 120 .* - \(the other terms explain the spread: none left for N\)$'
+has "walk: a bound where there is one" "$T/out" ' 84 .* - \(below [0-9.]+ deg/sqrt\(h\): the other terms explain the spread\)$'
+lacks "walk: no nan" "$T/out" 'nan'
 run "walk csv" 0 walk -c gx --format csv "$SAMPLES/gyro-static.csv"
 has "walk csv header" "$T/out" '^channel,t_s,sigma,spread,inside,unit$'
 awk 'BEGIN { print "# rate: 100 Hz"; print "gx [deg/s]"; for (i = 0; i < 5000; i++) print "0.1" }' >"$T/flat.csv"

@@ -477,10 +477,17 @@ static void chan_text(FILE *f, const struct chan *c)
 		double nl = ssc_nav_term_value(c->im[i].lo, q, SSCOPE_TERM_N, &u);
 		double nh = ssc_nav_term_value(c->im[i].hi, q, SSCOPE_TERM_N, &u);
 
-		fprintf(f, "  %9s %12s %12s %9s   %s [%s, %s] %s\n",
+		fprintf(f, "  %9s %12s %12s %9s   ",
 			ssc_fmt(a, 32, c->im[i].t_s, 5), ssc_fmt(b, 32, w->sigma[k] * s, 4),
-			ssc_fmt(e, 32, w->spread[k] * s, 4), ssc_fmt(d, 32, w->inside[k], 3),
-			ssc_fmt(g, 32, nv, 4), ssc_fmt(h, 32, nl, 4), ssc_fmt(buf, 32, nh, 4), u);
+			ssc_fmt(e, 32, w->spread[k] * s, 4), ssc_fmt(d, 32, w->inside[k], 3));
+		if (isfinite(nv))
+			fprintf(f, "%s [%s, %s] %s\n", ssc_fmt(g, 32, nv, 4),
+				ssc_fmt(h, 32, nl, 4), ssc_fmt(buf, 32, nh, 4), u);
+		else if (nh > 0)
+			fprintf(f, "- (below %s %s: the other terms explain the spread)\n",
+				ssc_fmt(h, 32, nh, 4), u);
+		else
+			fprintf(f, "- (the other terms explain the spread: none left for N)\n");
 	}
 	fprintf(f, "  sigma, spread in %s; inside: fraction of runs within +-%g sigma, mean %s (expected %s +- %s)\n",
 		angle_unit(q), w->k_sigma, ssc_fmt(a, 32, w->inside_mean, 4),
