@@ -88,4 +88,10 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "budget --plot without OpenCV" 2 budget --gyro-bias 1deg/h --plot "$T/b.png"
 fi
+# sources not given are said so, in words, never a measured-looking 0
+run "budget with one source" 0 budget --gyro-bias 10deg/h --time 120
+has "budget: sources not given, said" "$T/out" 'sources: gyro bias 10 deg/h \(option\), accel bias not given, ARW not given, VRW not given'
+has "budget: columns in words, '-' for a source not given" "$T/out" '^ +120 +136\.9 +- +- +- +- +136\.9 +gyro bias +open loop$'
+has "budget: header in words" "$T/out" 't \(s\) +gyro bias +accel bias +ARW +VRW +scale factor'
+
 done_testing

@@ -801,6 +801,20 @@ static const char *source_name(int s)
 	return sscope_budget_source_name((enum sscope_budget_source)s);
 }
 
+/* a source in words, for text (JSON and CSV keep their names) */
+static const char *source_label(int s)
+{
+	static const char *const label[SSCOPE_BUDGET_N_SOURCES] = {
+		[SSCOPE_BUDGET_GYRO_BIAS] = "gyro bias",
+		[SSCOPE_BUDGET_ACCEL_BIAS] = "accel bias",
+		[SSCOPE_BUDGET_ARW] = "ARW",
+		[SSCOPE_BUDGET_VRW] = "VRW",
+		[SSCOPE_BUDGET_SCALE_FACTOR] = "scale factor",
+	};
+
+	return s >= 0 && s < SSCOPE_BUDGET_N_SOURCES ? label[s] : "-";
+}
+
 static json_t *json(const void *opts, const void *result)
 {
 	const struct budget_res *R = result;
@@ -940,16 +954,44 @@ static void text(FILE *f, const void *opts, const void *result)
 	const struct opts *o = &R->o;
 	const char *const *bias_from = R->from;
 	char a[32];
+	/* a source not given (0, from no option, file or sensor): '-' in
+	 * its column, not a 0 that reads as measured */
+	const bool given[SSCOPE_BUDGET_N_SOURCES] = {
+		[SSCOPE_BUDGET_GYRO_BIAS] = o->p.gyro_bias_rad_s != 0 || strcmp(bias_from[0], "option"),
+		[SSCOPE_BUDGET_ACCEL_BIAS] = o->p.accel_bias_m_s2 != 0 || strcmp(bias_from[1], "option"),
+		[SSCOPE_BUDGET_ARW] = o->p.arw_rad_sqrt_s != 0,
+		[SSCOPE_BUDGET_VRW] = o->p.vrw_m_s_sqrt_s != 0,
+		[SSCOPE_BUDGET_SCALE_FACTOR] = o->p.gyro_sf * o->p.turn_rate_rad_s != 0 ||
+					       o->p.accel_sf * o->p.accel_profile_m_s2 != 0,
+	};
 
 	(void)opts;
 	fprintf(f, "drift budget, one horizontal channel (g = %g m/s^2, Schuler period %.2f min)\n",
 		o->p.gravity_m_s2 > 0 ? o->p.gravity_m_s2 : SSCOPE_UNIT_GRAVITY_STD,
 		2 * PI / sscope_budget_schuler_rad_s(&o->p) / 60);
-	fprintf(f, "  sources: gyro bias %s deg/h (%s), accel bias %s ug (%s), ARW %s deg/sqrt(h), VRW %s m/s/sqrt(h)",
-		ssc_fmt(a, sizeof(a), o->p.gyro_bias_rad_s * 180 / PI * 3600, 4), bias_from[0],
-		ssc_fmt((char[32]){ 0 }, 32, o->p.accel_bias_m_s2 / (SSCOPE_UNIT_GRAVITY_STD * 1e-6), 4), bias_from[1],
-		ssc_fmt((char[32]){ 0 }, 32, o->p.arw_rad_sqrt_s * 180 / PI * 60, 4),
-		ssc_fmt((char[32]){ 0 }, 32, o->p.vrw_m_s_sqrt_s * 60, 4));
+	{
+		/* each source's value and where it came from; one not given
+		 * (0 from no option, file or sensor) is said so, not as 0 */
+		const double v[4] = {
+			o->p.gyro_bias_rad_s * 180 / PI * 3600,
+			o->p.accel_bias_m_s2 / (SSCOPE_UNIT_GRAVITY_STD * 1e-6),
+			o->p.arw_rad_sqrt_s * 180 / PI * 60, o->p.vrw_m_s_sqrt_s * 60
+		};
+		static const char *const unit[4] = { "deg/h", "ug", "deg/sqrt(h)", "m/s/sqrt(h)" };
+		static const char *const name[4] = { "gyro bias", "accel bias", "ARW", "VRW" };
+
+		fprintf(f, "  sources:");
+		for (int i = 0; i < 4; i++) {
+			const char *from = i < 2 ? bias_from[i] : NULL;
+
+			if (!given[i])
+				fprintf(f, "%s %s not given", i ? "," : "", name[i]);
+			else
+				fprintf(f, "%s %s %s %s%s%s%s", i ? "," : "", name[i],
+					ssc_fmt(a, sizeof(a), v[i], 4), unit[i],
+					from ? " (" : "", from ? from : "", from ? ")" : "");
+		}
+	}
 	if (o->p.gyro_sf * o->p.turn_rate_rad_s != 0 ||
 	    o->p.accel_sf * o->p.accel_profile_m_s2 != 0)
 		fprintf(f, ", scale factor %s ppm at %s deg/s, %s ppm at %s m/s^2",
@@ -966,7 +1008,7 @@ static void text(FILE *f, const void *opts, const void *result)
 			o->p.model == SSCOPE_BUDGET_SCHULER ? "Schuler-bounded" : "open loop");
 	fprintf(f, "\n  position error (m; random walks 1 sigma, +-2 sigma holds 95 %%)\n");
 	fprintf(f, "  %10s %11s %11s %11s %11s %12s %11s  %-12s %s\n", "t (s)",
-		"gyro_bias", "accel_bias", "arw", "vrw", "scale_factor",
+		"gyro bias", "accel bias", "ARW", "VRW", "scale factor",
 		"total", "dominant", "model");
 	for (size_t j = 0; j < o->n_times; j++) {
 		struct sscope_budget_point pt;
@@ -976,12 +1018,13 @@ static void text(FILE *f, const void *opts, const void *result)
 		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++) {
 			sscope_budget_source_eval(&o->p, (enum sscope_budget_source)s,
 						  o->times[j], &pt);
-			fprintf(f, s == 4 ? " %12s" : " %11s",
+			fprintf(f, s == 4 ? " %12s" : " %11s", !given[s] ? "-" :
 				ssc_fmt(a, sizeof(a), pt.position_m, 4));
 		}
 		sscope_budget_total(&o->p, o->times[j], &pt);
 		fprintf(f, " %11s  %-12s %s\n", ssc_fmt(a, sizeof(a), pt.position_m, 4),
-			d >= 0 ? source_name(d) : "-", model_name(&o->p, o->times[j]));
+			source_label(d), sscope_budget_is_schuler(&o->p, o->times[j]) ?
+			"Schuler" : "open loop");
 	}
 	fprintf(f, "\n  total velocity (m/s) and attitude (deg) error\n");
 	for (size_t j = 0; j < o->n_times; j++) {
@@ -997,7 +1040,7 @@ static void text(FILE *f, const void *opts, const void *result)
 		for (size_t i = 0; i < R->n_cr; i++)
 			fprintf(f, "    at %s s: %s -> %s\n",
 				ssc_fmt(a, sizeof(a), R->cr[i].t_s, 4),
-				source_name((int)R->cr[i].from), source_name((int)R->cr[i].to));
+				source_label((int)R->cr[i].from), source_label((int)R->cr[i].to));
 	}
 	for (size_t e = 0; e < o->n_err; e++) {
 		double t;
@@ -1010,7 +1053,7 @@ static void text(FILE *f, const void *opts, const void *result)
 			fprintf(f, " total not reached within 1e7 s");
 		for (int s = 0; s < SSCOPE_BUDGET_N_SOURCES; s++)
 			if (sscope_budget_time_to(&o->p, s, o->err_q[e], o->err[e], 1e7, &t) == 0)
-				fprintf(f, "; %s %s s", source_name(s),
+				fprintf(f, "; %s %s s", source_label(s),
 					ssc_fmt(a, sizeof(a), t, 5));
 		fputc('\n', f);
 	}
