@@ -112,10 +112,15 @@ one_line_error "gyro without accelerometer"
 # cross-axis 0.0042 / -0.0031, bias 0.21 deg/s)
 run "calib gyro rate-table" 0 calib gyro --mode rate-table --reference rate_cmd --cubic --format json "$RT"
 json_check "rate table: axis x found" "$T/out" '.rate_table.axes[0].excited and (.rate_table.axes[1].excited | not)'
+json_check "rate table: full scale null on an axis not excited" "$T/out" '.rate_table.axes[0].full_scale_si > 5 and .rate_table.axes[1].full_scale_si == null'
 json_check "scale factor within 4 sd" "$T/out" '.rate_table.axes[0] | ((.scale_factor - 1.0085) | fabs) <= 4 * .scale_factor_sd'
 json_check "cubic within 4 sd" "$T/out" '.rate_table.axes[0] | ((.c3 + 4e-7 * (180/3.141592653589793) * (180/3.141592653589793)) | fabs) <= 4 * .c3_sd'
 json_check "cross-axis within 4 sd" "$T/out" '.rate_table.axes[1] | ((.sensitivity_row[0] - 0.0042) | fabs) <= 4 * .sensitivity_row_sd[0]'
 json_check "non-linearity in % FS" "$T/out" '.rate_table.axes[0].nonlinearity_percent_fs > 1 and .rate_table.axes[0].nonlinearity_percent_fs < 1.3'
+run "calib gyro rate-table, text" 0 calib gyro --mode rate-table --reference rate_cmd --cubic "$RT"
+has "rate table text: full scale in the input's unit" "$T/out" 'NL \(% FS\) +FS \(deg/s\)$'
+has "rate table text: gx's full scale 300 deg/s" "$T/out" '^ +gx +yes .* 300$'
+has "rate table text: an axis not excited has no full scale" "$T/out" '^ +gy +no +- +[-0-9.]+ +- +-$'
 run "rate table, no full triad to save" 1 calib gyro --mode rate-table --reference rate_cmd --save-calibration "$T/rt.json" "$RT"
 one_line_error "rate table, no full triad to save"
 run "rate table, unknown reference" 1 calib gyro --mode rate-table --reference nope "$RT"

@@ -849,7 +849,7 @@ static json_t *rate_table_json(const struct run *r)
 						ssc_jreal(lf->A_sd[i][i] / sa) : json_null());
 		json_object_set_new(a, "scale_factor_bfsl", lf->axis_excited[i] ?
 						ssc_jreal(lf->sf_bfsl[i] / sa) : json_null());
-		json_object_set_new(a, "full_scale_si", ssc_jreal(lf->full_scale[i]));
+		json_object_set_new(a, "full_scale_si", lf->axis_excited[i] ? ssc_jreal(lf->full_scale[i]) : json_null());
 		json_object_set_new(a, "nonlinearity_percent_fs",
 				    ssc_jreal(lf->nonlinearity[i] * 100));
 		json_object_set_new(a, "residual_rms", ssc_jreal(lf->residual_rms[i] / s));
@@ -890,8 +890,17 @@ static void rate_table_text(FILE *f, const struct run *r)
 	else
 		fprintf(f, "  rate table: %zu steps; scale factor in %s per %s, non-linearity: best-fit straight line, %% of full scale\n",
 			lf->points, iu[0] ? iu : "counts", si);
-	fprintf(f, "    %-8s %-8s %22s %14s %12s %12s\n", "channel", "excited",
-		"scale factor", "bias", "NL (% FS)", "FS (SI)");
+	struct sscope_unit un;
+	/* the full scale in the input's unit (in SI without a known one) */
+	bool iu_ok = iu[0] && !sscope_unit_parse(iu, &un, NULL);
+
+	{
+		char fs[40];
+
+		snprintf(fs, sizeof(fs), "FS (%s)", iu_ok ? iu : si);
+		fprintf(f, "    %-8s %-8s %22s %14s %12s %12s\n", "channel", "excited",
+			"scale factor", "bias", "NL (% FS)", fs);
+	}
 	for (int i = 0; i < 3; i++) {
 		fprintf(f, "    %-8s %-8s ", r->cap->channels[ci[i]].col.name,
 			lf->axis_excited[i] ? "yes" : "no");
@@ -902,7 +911,8 @@ static void rate_table_text(FILE *f, const struct run *r)
 			fprintf(f, "%22s ", "-");
 		fprintf(f, "%14s %12s %12s\n", ssc_fmt(a, sizeof(a), lf->bias[i] / s, 5),
 			lf->axis_excited[i] ? ssc_fmt(b, sizeof(b), lf->nonlinearity[i] * 100, 3) : "-",
-			ssc_fmt((char[32]){ 0 }, 32, lf->full_scale[i], 4));
+			lf->axis_excited[i] ? ssc_fmt((char[32]){ 0 }, 32,
+						      lf->full_scale[i] / (iu_ok ? s : 1), 4) : "-");
 		for (int j = 0; j < 3; j++)
 			if (j != i && lf->axis_excited[j])
 				fprintf(f, "      cross-axis from input %c: %s±%s\n", "xyz"[j],
