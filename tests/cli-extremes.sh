@@ -159,4 +159,11 @@ lacks "datasheet --help: no --plot" "$T/out" "--plot PATH"
 run "allan --help" 0 allan --help
 has "allan --help: csv too" "$T/out" "--format text\|json\|csv"
 
+# no sample rate: the same words and exit 1 (the file lacks it) everywhere
+printf 'ax,ay,az,temp\n0.1,0.2,9.8,20\n0.1,0.2,9.8,21\n0.1,0.2,9.8,22\n' >"$T/norate.csv"
+for c in "adc test" "calib accel" tempbias allan; do
+	run "$c without a rate" 1 $c "$T/norate.csv"
+	has "$c without a rate: said, with what to do" "$T/err" "norate.csv: no sample rate: no time column and no '# rate:' comment; give --rate\$"
+done
+
 done_testing

@@ -1255,7 +1255,7 @@ static int cmd_test(int argc, char **argv)
 	if (rc)
 		goto done;
 	if (!(cap->rate_hz > 0)) {
-		rc = ssc_usage_error(co.cmd, "no sample rate: give --rate or a time column");
+		rc = ssc_err_no_rate(co.cmd, argv[first], cap->rate_note);
 		goto done;
 	}
 	if (o.range) {

@@ -1268,9 +1268,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 		if (rc)
 			break;
 		if (!(r->cap->rate_hz > 0)) {
-			ssc_err(co->cmd, "%s: unknown sample rate (give --rate)",
-				env->paths[fi]);
-			rc = SSC_EXIT_FAIL;
+			rc = ssc_err_no_rate(co->cmd, env->paths[fi], r->cap->rate_note);
 			break;
 		}
 		if (o->gyro || o->mode == M_TILT) {

@@ -532,8 +532,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 			return SSC_EXIT_FAIL;
 		}
 		if (!(c->rate_hz > 0)) {
-			ssc_err(co->cmd, "%s: unknown sample rate (give --rate)", env->paths[j]);
-			return SSC_EXIT_FAIL;
+			return ssc_err_no_rate(co->cmd, env->paths[j], c->rate_note);
 		}
 		if (c->n_channels != c0->n_channels) {
 			ssc_err(co->cmd, "%s: %zu data channels, %s has %zu", env->paths[j],
