@@ -205,7 +205,7 @@ int sscope_heading_compute(const double *rate, size_t stride, size_t n,
 	contrast = o->min_contrast > 0 ? o->min_contrast : k * k;
 	if (!(p90 >= contrast * r->reference)) {
 		rc = ssc_diag(diag, -EDOM,
-			      "no stationary interval: the detector channels vary alike everywhere (90th percentile %.3g times the reference, stops and motion need %g)",
+			      "cannot tell stops from motion: the detector channels vary alike everywhere, as in a record all still or all moving (90th percentile of the window variance %.3g times the reference, stops and motion need %g); heading needs a record with both, or a lower contrast",
 			      p90 / r->reference, contrast);
 		goto fail;
 	}

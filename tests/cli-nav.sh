@@ -26,6 +26,9 @@ json_check "Earth rate removed from the stop biases" "$T/out" \
 json_check "bias rises with the temperature" "$T/out" '.stops[0].sensor_bias_deg_h < .stops[-1].sensor_bias_deg_h'
 run "heading interpolate" 0 heading --reference heading_ref --bias-model interpolate --format json "$SAMPLES/drive-stops.csv"
 json_check "interpolating between stops does better" "$T/out" '.reference.reestimated.rms_deg < 2'
+# a record all still: no stops to tell from motion, said so
+run "heading on a still record" 1 heading "$SAMPLES/gyro-static.csv"
+has "heading on a still record: why and what to do" "$T/err" 'cannot tell stops from motion: .* all still or all moving .*heading needs a record with both'
 run "heading csv" 0 heading --reference heading_ref --format csv "$SAMPLES/drive-stops.csv"
 has "heading csv header" "$T/out" '^time \[s\],heading \[deg\],heading_first_bias \[deg\],sigma \[deg\],sigma_first_bias \[deg\],still,reference \[deg\],error \[deg\],error_first_bias \[deg\]$'
 cp "$T/out" "$T/heading.csv"
