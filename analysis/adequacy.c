@@ -1269,7 +1269,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 	struct sscope_adequacy *r;
 	double *rate = NULL, fs, T, est[5] = { 0 };
 	const double *y = x, *temp;
-	size_t ys = stride, ny = n, ts, n_nan = 0;
+	size_t ys = stride, ny = n, ts, n_nan = 0, temp_bad = 0;
 	int rc = 0;
 
 	if (!resp)
@@ -1295,8 +1295,12 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 	}
 	if (temp)
 		for (size_t i = 0; i < n; i++)
-			if (!isfinite(temp[i * ts]))
-				temp = NULL; /* a gap in the temperature: not used */
+			if (!isfinite(temp[i * ts])) {
+				/* a gap in the temperature: not used, said */
+				temp = NULL;
+				temp_bad = i + 1;
+				break;
+			}
 	if (o->angle) {
 		rate = ssc_alloc_array(n - 1, sizeof(double));
 		if (!rate)
@@ -1434,6 +1438,10 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			M = MAX_BLOCKS;
 		while (M >= 8 && ny / M < MIN_BLOCK_SAMPLES)
 			M /= 2;
+		if (temp_bad)
+			say(add_finding(r, SSCOPE_ADEQUACY_UNCHECKED, SSCOPE_ADEQUACY_NOTE, 0),
+			    "drift with temperature not tested: temperature sample %zu is not a number (a gap or an infinite value)",
+			    temp_bad);
 		if (M >= 8)
 			stationarity(r, y, ys, ny, temp, ts, est, o, M);
 		else

@@ -373,7 +373,10 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 	       opts->noverlap == SSCOPE_PSD_NO_OVERLAP	 ? 0 :
 							   opts->noverlap;
 	p->nfft = opts->nfft ? opts->nfft : p->m;
-	if (p->l >= p->m || p->nfft < p->m || p->nfft > INT32_MAX) {
+	/* more than 64 times zero padding only interpolates, at the cost of
+	 * memory and time without bound */
+	if (p->l >= p->m || p->nfft < p->m || p->nfft > INT32_MAX ||
+	    p->nfft / SSCOPE_PSD_MAX_PAD > p->m) {
 		free(p);
 		return -EINVAL;
 	}

@@ -111,6 +111,10 @@ double sscope_psd_window_response(enum sscope_psd_window w, size_t n, size_t nff
 /** noverlap: segments that share no sample. */
 #define SSCOPE_PSD_NO_OVERLAP ((size_t)-1)
 
+/** nfft at most this many times nperseg (zero padding beyond only
+ * interpolates the spectrum). */
+#define SSCOPE_PSD_MAX_PAD 64
+
 /** Options of a Welch estimate.  A zero-initialised struct asks for
  *  scipy's defaults (hann, 256, half overlap, constant detrend,
  *  density), as every options struct of the library. */
@@ -122,7 +126,9 @@ struct sscope_psd_opts {
 					  (SSCOPE_PSD_HALF_OVERLAP): nperseg
 					  / 2; none: SSCOPE_PSD_NO_OVERLAP */
 	size_t nfft;                 /**< FFT length >= nperseg (zero
-					  padding); 0: nperseg */
+					  padding), at most
+					  SSCOPE_PSD_MAX_PAD nperseg; 0:
+					  nperseg */
 	enum sscope_psd_detrend detrend; /**< default constant */
 	enum sscope_psd_scaling scaling; /**< default density */
 	/** Segments holding a NaN or an infinity are left out of the mean

@@ -254,6 +254,8 @@ int ssc_ini_load(struct ssc_ini **out, const char *path,
 	size_t len = 0, cap = 0;
 	int rc;
 
+	if (!out || !path)
+		return ssc_diag(diag, -EINVAL, "no file named");
 	*out = NULL;
 	/* '-': standard input, as for captures */
 	f = strcmp(path, "-") ? fopen(path, "rb") : stdin;

@@ -799,6 +799,39 @@ except ss.Error as e:
     ok("NaN sample at index 1" in str(e), "export: NaN samples refused, "
        "with the index", str(e))
 
+# ------------------------------------------- bad arguments, named (no crash)
+def refused(call, starts, desc):
+    try:
+        call()
+        ok(False, desc)
+    except ss.ArgumentError as e:
+        ok(str(e).startswith(starts), desc, str(e))
+
+
+ADC16 = os.path.join(SAMPLES, "adc-16bit.ini")
+MEMS = os.path.join(SAMPLES, "gyro-mems-250.ini")
+refused(lambda: ss.simulate(None, 100, 1), "simulate: sensor: expected a "
+        "file's path", "simulate(None): the argument named")
+refused(lambda: ss.plan(None, {"B": 0.25}, 100), "plan: sensor_or_terms: ",
+        "plan(None): the argument named")
+refused(lambda: ss.adc_report(None, [ADC16]), "adc_report: sensor: ",
+        "adc_report(None): the argument named")
+refused(lambda: ss.adc_report(MEMS, [None]), "adc_report: adcs: ",
+        "adc_report(adcs=[None]): the argument named")
+refused(lambda: ss.psd(np.zeros(5000), 100.0, nfft=2 ** 30),
+        "psd: nfft: ", "psd: nfft beyond 64 times nperseg refused at once")
+refused(lambda: ss.load(os.path.join(SAMPLES, "gyro-static.csv"), scale=2.0),
+        "load: scale: applies to raw input only", "load: scale without raw")
+xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
+Ta = np.linspace(20, 40, 5000)
+Ta[10] = np.nan
+qa = ss.adequacy(xa, 100.0, temp_degc=Ta)
+ok(any("temperature sample 11 is not a number" in f["message"]
+       for f in qa.findings),
+   "adequacy: a gap in the temperature said, not a crash")
+ok(ss.adequacy(xa, 100.0, terms="NN").requested == ["N"],
+   "adequacy: a term named twice is that term")
+
 # ---------------------------------------------------------------- install
 # `make install` puts the module where the interpreter looks for the
 # prefix /usr/local (Debian 12: /usr/local/lib/python3.11/dist-packages)

@@ -183,6 +183,15 @@ def _b(s):
     return None if s is None else str(s).encode()
 
 
+def _path(func, arg, p):
+    """A file's path (str, bytes or os.PathLike) as bytes for the library;
+    anything else an ArgumentError naming the argument."""
+    import os
+    if not isinstance(p, (str, bytes, os.PathLike)):
+        _bad(func, arg, "expected a file's path, got %s" % type(p).__name__)
+    return os.fsencode(p)
+
+
 def _array(x, func, arg, contiguous=False):
     """x as a 1-D float64 numpy array the library can read: x itself when
     it is native float64, aligned on 8 bytes, with a positive stride of
@@ -359,6 +368,10 @@ def load(path, columns=None, rate=None, units=None, topic=None,
             _bad("load", "scale", "must not be 0")
     if offset is not None:
         offset = _number("load", "offset", offset)
+    if (scale is not None or offset is not None) and raw is None:
+        _bad("load", "scale" if scale is not None else "offset",
+             "applies to raw input only (give raw=...)")
+    path_b = _path("load", "path", path)
     if units is not None:
         if not isinstance(units, str):
             _bad("load", "units", "'%s' is not a unit such as deg/s or g"
@@ -385,7 +398,7 @@ def load(path, columns=None, rate=None, units=None, topic=None,
     nt = _c.Notes()
     # read, select the columns and judge the rate in one call, as the
     # command does (sscope_capture_open)
-    rc = _c.capture_open(C.byref(ptr), _b(path), C.byref(oo), C.byref(nt),
+    rc = _c.capture_open(C.byref(ptr), path_b, C.byref(oo), C.byref(nt),
                          C.byref(d))
     if rc < 0:
         msg = d.msg.decode(errors="replace") or "%s: %s" % (
@@ -885,6 +898,10 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
         if nfft < nperseg:
             raise ArgumentError("psd: nfft %d is shorter than nperseg %d" %
                                 (nfft, nperseg))
+        if nfft // 64 > nperseg:
+            _bad(f, "nfft", "%d is more than 64 times nperseg %d: zero "
+                 "padding beyond that only interpolates the spectrum"
+                 % (nfft, nperseg))
     if detrend is None or detrend is False:
         detrend = "none"
     detrend = _choice(f, "detrend", detrend, ("constant", "linear", "none"),
@@ -973,8 +990,8 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
                             "sample")
     spec = _c.SensorSpec()
     d = _c.Diag()
-    _check(_c.sensor_spec_load(_b(sensor), C.byref(spec), C.byref(d)), d,
-           "simulate: sensor")
+    _check(_c.sensor_spec_load(_path(f, "sensor", sensor), C.byref(spec),
+                               C.byref(d)), d, "simulate: sensor")
     so = _c.SimOpts()
     temps = spec.has & (1 << 9)
     so.ref_temp_degc = (spec.temp_min_degc + spec.temp_max_degc) / 2 \
@@ -1134,12 +1151,14 @@ def adc_report(sensor, adcs, rate=0.0):
         adcs = [adcs]
     sp = _c.SensorSpec()
     d = _c.Diag()
-    _check(_c.sensor_spec_load(_b(sensor), C.byref(sp), C.byref(d)), d,
+    _check(_c.sensor_spec_load(_path("adc_report", "sensor", sensor),
+                               C.byref(sp), C.byref(d)), d,
            "adc_report: sensor")
     out = []
     for path in adcs:
         a = _c.AdcSpec()
-        _check(_c.adc_spec_load(_b(path), C.byref(a), C.byref(d)), d,
+        _check(_c.adc_spec_load(_path("adc_report", "adcs", path),
+                                C.byref(a), C.byref(d)), d,
                "adc_report: adcs")
         an = _c.AdcAnalysis()
         _check(_c.adc_analyze(C.byref(sp), C.byref(a), float(rate),
@@ -1231,7 +1250,7 @@ def adequacy(x, rate, temp_degc=None, input="rate", terms=None, unit=None,
         qo.angle = input == "angle"
         qo.unit = _b(unit)
         if terms is not None:
-            qo.requested = sum(1 << _TERMS.index(t) for t in terms)
+            qo.requested = sum(1 << _TERMS.index(t) for t in set(terms))
         if alpha is not None:
             qo.alpha = float(alpha)
         qo.no_davar = not davar
@@ -2127,7 +2146,8 @@ def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
     else:
         spec = _c.SensorSpec()
         d = _c.Diag()
-        _check(_c.sensor_spec_load(_b(sensor_or_terms), C.byref(spec),
+        _check(_c.sensor_spec_load(_path(fn, "sensor_or_terms",
+                                         sensor_or_terms), C.byref(spec),
                                    C.byref(d)), d, fn + ": sensor_or_terms")
         for i, k in enumerate("qnbkr"):
             coef[i] = getattr(spec, k)
