@@ -201,4 +201,8 @@ for bad in 0 1 -0.1 x; do
 	run "--peak-alpha $bad" 2 psd --peak-alpha "$bad" "$SAMPLES/vibration.csv"
 done
 one_line_error "--peak-alpha x"
+# a huge zero padding only interpolates: refused at once (it hung)
+run "psd: nfft beyond 64 times nperseg" 2 psd --nfft 1073741824 "$SAMPLES/vibration.csv"
+has "psd: nfft beyond 64 times nperseg, said" "$T/err" 'more than 64 times --nperseg 256: zero padding beyond that only interpolates'
+
 done_testing

@@ -39,7 +39,7 @@ static const struct ssc_option psd_opts[] = {
 	{ "overlap", required_argument, OPT_OVERLAP, "F",
 	  "overlap of segments, fraction in [0, 1) (default 0.5)" },
 	{ "nfft", required_argument, OPT_NFFT, "N",
-	  "FFT length >= nperseg, zero padding (default nperseg)" },
+	  "FFT length, nperseg to 64 nperseg: zero padding (default nperseg)" },
 	{ "detrend", required_argument, OPT_DETREND, "constant|linear|none",
 	  "remove each segment's mean (default), line, or nothing" },
 	{ "scaling", required_argument, OPT_SCALING, "density|spectrum",

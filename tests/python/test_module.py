@@ -822,6 +822,10 @@ refused(lambda: ss.psd(np.zeros(5000), 100.0, nfft=2 ** 30),
         "psd: nfft: ", "psd: nfft beyond 64 times nperseg refused at once")
 refused(lambda: ss.load(os.path.join(SAMPLES, "gyro-static.csv"), scale=2.0),
         "load: scale: applies to raw input only", "load: scale without raw")
+refused(lambda: ss.allan(np.zeros(100) + 1.0, 10.0, unit="deg/s"),
+        "allan: unit: 'deg/s' is not an SI unit: give x in SI (x * 0.01745",
+        "allan: a unit other than SI refused, with the factor (the samples "
+        "are read as SI)")
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

@@ -783,6 +783,13 @@ def _data_unit(fn, x, unit, input):
         _bad(fn, "unit", "'%s' is not a unit such as rad/s or m/s^2" %
              (unit,))
     q = _quantity_of(unit, fn)
+    u = _c.Unit()
+    if _c.unit_parse(_b(unit), C.byref(u), None) == 0 and \
+            (u.scale != 1 or u.offset != 0):
+        # the samples are taken as SI: a unit of another scale would label
+        # them wrongly (and the noise terms with them)
+        _bad(fn, "unit", "'%s' is not an SI unit: give x in SI (x * %.10g)"
+             " with its SI unit" % (unit, u.scale))
     if input == "angle":
         q = _RATE_OF.get(q, q)
     return q, unit, assumed
