@@ -826,6 +826,27 @@ refused(lambda: ss.allan(np.zeros(100) + 1.0, 10.0, unit="deg/s"),
         "allan: unit: 'deg/s' is not an SI unit: give x in SI (x * 0.01745",
         "allan: a unit other than SI refused, with the factor (the samples "
         "are read as SI)")
+# the command's flags, in Python too: a term shown but not measured, a
+# rejected fit (the same samples as the command's warnings in cli-allan.sh)
+capg = ss.load(os.path.join(SAMPLES, "gyro-static.csv"))
+with warnings.catch_warnings(record=True) as wl:
+    warnings.simplefilter("always")
+    rg = ss.allan(capg["gz"], capg.rate_hz)
+ok(rg.noise["K"].fitted and not rg.noise["K"].resolved and
+   rg.noise["N"].resolved and "not measured" in repr(rg.noise["K"]) and
+   any("K present, but its 68.3 % interval [0, " in str(w.message)
+       for w in wl),
+   "allan: a present term whose interval reaches zero flagged (resolved, "
+   "repr, warning)", [str(w.message) for w in wl])
+capu = ss.load(os.path.join(SAMPLES, "lot", "unit01.csv"))
+with warnings.catch_warnings(record=True) as wl:
+    warnings.simplefilter("always")
+    ru = ss.allan(capu["ax"], capu.rate_hz)
+cj = cli("allan", "-c", "ax", "--format", "json",
+          os.path.join(SAMPLES, "lot", "unit01.csv"))
+ok(ru.rejected == cj["channels"][0]["fit"]["rejected"] is True and
+   any("fit rejected" in str(w.message) for w in wl),
+   "allan: a rejected fit flagged as the command's", ru.p_value)
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

@@ -442,7 +442,9 @@ _WHY = {0: None, 1: "not among the terms allowed",
 class Coef:
     """One IEEE 952 coefficient in SI: value (NaN when not present), lo, hi
     (hi is an upper limit when not present), present (the same as fitted),
-    reason (None when present), si_unit; .to(unit) converts."""
+    resolved (present and its interval excludes zero: False where the
+    record shows the term but does not measure it), reason (None when
+    present), si_unit; .to(unit) converts."""
 
     def __init__(self, c, si_unit):
         self.value = c.value
@@ -450,6 +452,7 @@ class Coef:
         self.hi = c.hi
         self.fitted = bool(c.fitted)
         self.present = bool(c.present)
+        self.resolved = bool(_c.noise_coef_resolved(C.byref(c)))
         self.reason = _WHY.get(c.why, "not present")
         self.si_unit = si_unit
 
@@ -470,8 +473,10 @@ class Coef:
 
     def __repr__(self):
         if self.fitted:
-            return "%.6g [%.4g, %.4g] %s" % (self.value, self.lo, self.hi,
-                                             self.si_unit)
+            return "%.6g [%.4g, %.4g] %s%s" % (
+                self.value, self.lo, self.hi, self.si_unit,
+                "" if self.resolved else
+                " (present, not measured: its interval reaches zero)")
         if math.isfinite(self.hi) and self.hi > 0:
             return "not shown present (below %.4g %s: %s)" % (
                 self.hi, self.si_unit, self.reason)
@@ -481,7 +486,9 @@ class Coef:
 class AllanResult:
     """Deviation points (numpy arrays tau_s, m, terms, dev, dev_lo, dev_hi,
     edf, alpha) in the data's SI unit, and the noise fit: noise = {"Q":
-    Coef, "N": ..., "R": ...}, chi2, dof, p_value, readoff."""
+    Coef, "N": ..., "R": ...}, chi2, dof, p_value, rejected (p below 0.01:
+    the terms indicative only, with a RuntimeWarning as the command's),
+    readoff."""
 
     def __repr__(self):
         return "<sensorscope.AllanResult %s: %d taus, fit %s>" % (
@@ -690,6 +697,23 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
             # at the bootstrap's floor p is only known to be below it
             out.p_value_bound = bool(_c.noise_p_is_bound(r.fit.p_value))
             out.ci_level = r.fit.ci_level
+            # the command's warnings: a rejected fit, a term shown but
+            # not measured
+            out.rejected = bool(_c.noise_fit_rejected(C.byref(r.fit), 0.01))
+            if out.rejected:
+                _warn(fn, "x: fit rejected: chi2 %.3g for %.3g dof, p %s "
+                      "%.2g, below 0.01: the five-term noise model does not "
+                      "describe this record (a deterministic trend such as "
+                      "a temperature effect, or a process outside the "
+                      "model); read the terms as indicative only" % (
+                          out.chi2, out.dof,
+                          "<" if out.p_value_bound else "=", out.p_value))
+            for t, c in out.noise.items():
+                if c.fitted and not c.resolved:
+                    _warn(fn, "x: %s present, but its %.3g %% interval "
+                          "[0, %.3g] %s reaches zero: the record shows it, "
+                          "it does not measure it" % (
+                              t, 100 * out.ci_level, c.hi, c.si_unit))
             ro = r.fit.readoff
             out.readoff = {"N": ro.n, "N_tau_s": ro.n_tau_s, "B": ro.b,
                            "B_tau_s": ro.b_tau_s, "K": ro.k,
