@@ -847,6 +847,25 @@ cj = cli("allan", "-c", "ax", "--format", "json",
 ok(ru.rejected == cj["channels"][0]["fit"]["rejected"] is True and
    any("fit rejected" in str(w.message) for w in wl),
    "allan: a rejected fit flagged as the command's", ru.p_value)
+refused(lambda: ss.plan(MEMS, {"B": 0.25}, 100, ci=0), "plan: ci: 0 is not",
+        "plan: ci=0 refused (it was taken as the default)")
+refused(lambda: ss.simulate(MEMS, 10, 1, seed=2 ** 64), "simulate: seed: ",
+        "simulate: a seed beyond 2^64 - 1 refused (it wrapped to 0)")
+refused(lambda: ss.adc_report(MEMS, [ADC16], rate=-5), "adc_report: rate: ",
+        "adc_report: a negative rate refused")
+refused(lambda: ss.allan(np.ones(100), 10.0, threads=2 ** 40),
+        "allan: threads: ", "allan: threads beyond 1024 refused")
+ok(len(ss.simulate(MEMS, 10, 0.25)["t"]) == 3,
+   "simulate: 2.5 samples round up to 3, as the command")
+tb_t = np.linspace(20, 40, 2000)
+tb_x = 1e-3 * (tb_t - 30) + np.random.default_rng(7).normal(0, 1e-4, 2000)
+tb_x[8] = np.inf
+try:
+    ss.tempbias(tb_x, tb_t, 1.0)
+    ok(False, "tempbias: an infinite sample refused")
+except ss.Error as e:
+    ok(str(e) == "tempbias: x: infinite sample at index 8",
+       "tempbias: an infinite sample refused, with its index", str(e))
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

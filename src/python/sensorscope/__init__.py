@@ -116,6 +116,16 @@ def _count(func, arg, v):
     _bad(func, arg, "'%s' is not a non-negative integer" % _text(v))
 
 
+def _level(func, arg, v, example="0.99"):
+    """A level or probability strictly between 0 and 1 (0 is not "the
+    default": it is refused, as by the command)."""
+    v = _number(func, arg, v)
+    if not 0 < v < 1:
+        _bad(func, arg, "%s is not a level between 0 and 1 (e.g. %s)"
+             % (_text(v), example))
+    return v
+
+
 def _choice(func, arg, v, names, listing):
     if not isinstance(v, str) or v not in names:
         _bad(func, arg, "'%s' is not %s" % (v, listing))
@@ -233,6 +243,10 @@ def _finite(func, arg, a, allow_nan, what):
     if inf.any():
         raise Error(-33, "%s: %s: infinite sample at index %d" %
                     (func, arg, int(np.argmax(inf))))
+    if not allow_nan and what is None:
+        # a function that takes no gaps
+        raise Error(-33, "%s: %s: NaN sample at index %d" %
+                    (func, arg, int(np.argmax(bad))))
     if not allow_nan:
         raise Error(-33, "%s: %s: NaN sample at index %d (give "
                     "allow_nan=True to read NaN samples as gaps: %s)" %
@@ -622,6 +636,8 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
                  "rwfm" % (noise_type,))
         alpha = names[noise_type.lower()]
     threads = _count(fn, "threads", threads)
+    if threads > 1024:
+        _bad(fn, "threads", "%d is not 0 (all cores) to 1024" % threads)
     if m is not None and not (isinstance(taus, str) and taus == "dense"):
         _bad(fn, "m", "give taus (seconds or a grid) or m (averaging "
              "factors), not both")
@@ -1010,12 +1026,19 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
     rate = _positive(f, "rate", rate)
     duration = _positive(f, "duration", duration)
     seed = _count(f, "seed", seed)
+    if seed >= 1 << 64:
+        _bad(f, "seed", "%d is beyond 2^64 - 1" % seed)
     axes = _count(f, "axes", axes)
     if not 1 <= axes <= 64:
         _bad(f, "axes", "1..64, got %d" % axes)
     if temp_degc is not None:
         temp_degc = _number(f, "temp_degc", temp_degc)
-    n = int(round(rate * duration))
+    # rounded half away from zero, as the command (llround)
+    v = rate * duration
+    if v >= 2.0 ** 40:
+        _bad(f, "duration", "%s s at %s Hz is %.3g samples: more than "
+             "memory holds" % (_text(duration), _text(rate), v))
+    n = int(v) + (1 if v - int(v) >= 0.5 else 0)
     if n <= 0:
         raise ArgumentError("simulate: duration x rate is less than one "
                             "sample")
@@ -1074,8 +1097,11 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
         order = int(float(order))
     if ref_temp is not None:
         ref_temp = _number(f, "ref_temp", ref_temp)
-    xs = x if isinstance(x, (list, tuple)) else [x]
-    ts = temp_degc if isinstance(temp_degc, (list, tuple)) else [temp_degc]
+    # a list of arrays is one run each; a list of numbers is one run
+    def runs_of(v):
+        return v if isinstance(v, (list, tuple)) and v and \
+            not isinstance(v[0], numbers.Real) else [v]
+    xs, ts = runs_of(x), runs_of(temp_degc)
     if len(xs) != len(ts):
         _bad(f, "temp_degc", "%d temperature arrays for %d runs" %
              (len(ts), len(xs)))
@@ -1084,6 +1110,8 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
     for j, (a, t) in enumerate(zip(xs, ts)):
         p, stride, n, k1 = _vector(a, f, "x")
         k2 = _array(t, f, "temp_degc", contiguous=True)
+        _finite(f, "x", k1, False, None)
+        _finite(f, "temp_degc", k2, False, None)
         if k2.shape[0] != n:
             _bad(f, "temp_degc", "run %d: %d samples, %d temperatures" %
                  (j, n, k2.shape[0]))
@@ -1143,6 +1171,8 @@ def calib(ax, ay, az, rate, gravity=9.80665):
     gravity = _positive("calib", "gravity", gravity)
     arrs = [_array(a, "calib", name, contiguous=True)
             for a, name in ((ax, "ax"), (ay, "ay"), (az, "az"))]
+    for a, name in zip(arrs, ("ax", "ay", "az")):
+        _finite("calib", name, a, False, None)
     n = arrs[0].shape[0]
     for a, name in zip(arrs[1:], ("ay", "az")):
         if a.shape[0] != n:
@@ -1178,6 +1208,11 @@ def adc_report(sensor, adcs, rate=0.0):
     verdict, margin, limiting, terms {name: {value, reference, ratio,
     verdict}} (None where unknown: a drift the spec does not give).  An
     inl_profile file named in a spec is not read here."""
+    if rate is None or (not isinstance(rate, bool) and
+                        isinstance(rate, numbers.Real) and rate == 0):
+        rate = 0.0  # not given: the sensor's own rate
+    else:
+        rate = _positive("adc_report", "rate", rate)
     if isinstance(adcs, (str, bytes)):
         adcs = [adcs]
     sp = _c.SensorSpec()
@@ -1427,10 +1462,7 @@ def datasheet_gjb(x, rate, tau=10.0, ci=0.99):
     fn = "datasheet_gjb"
     rate = _positive(fn, "rate", rate)
     tau = _positive(fn, "tau", tau)
-    ci = _number(fn, "ci", ci)
-    if not 0 < ci < 1:
-        _bad(fn, "ci", "%s is not a level between 0 and 1 (e.g. 0.99)"
-             % _text(ci))
+    ci = _level(fn, "ci", ci)
     p, stride, n, keep = _vector(x, fn, "x")
     g = _c.DatasheetGjb()
     d = _c.Diag()
@@ -1461,7 +1493,7 @@ def datasheet_check(x, rate, lines, quantity="angular rate",
         spec[i].line, spec[i].value, spec[i].bandwidth_hz = li, val, bw
     res = (_c.DatasheetCheck * len(got))()
     o = _c.DatasheetOpts()
-    o.level = float(ci)
+    o.level = _level(fn, "ci", ci)
     p, stride, n, keep = _vector(x, fn, "x")
     d = _c.Diag()
     rc = _c.datasheet_check(p, stride, n, rate, spec, len(got), C.byref(o),
@@ -2014,6 +2046,9 @@ def export(source, target, path=None, inflate=1.0, force=False, rate=None,
         _bad(fn, "target", "'%s' is not %s" % (target, ", ".join(names)))
     target = _c.export_name(_b(target)).decode()
     inflate = _positive(fn, "inflate", inflate)
+    if not 1 <= inflate <= 1000:
+        _bad(fn, "inflate", "%s is not a factor from 1 to 1000 (a margin "
+             "widens the noise values, never narrows them)" % _text(inflate))
     if name is not None and not isinstance(name, str):
         _bad(fn, "name", "'%s' is not a sensor name (a string)" % (name,))
     chans, rate, temp, src, topic = _export_channels(fn, source, rate)
@@ -2187,9 +2222,11 @@ def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
              "{'B': 0.25}")
     if ci is None:
         ci = 0.682689492137086
-    o = _c.PlanOpts(_number(fn, "ci", ci), _number(fn, "probability",
-                                                 probability), 3.0,
+    o = _c.PlanOpts(_level(fn, "ci", ci, "0.683"),
+                    _level(fn, "probability", probability, "0.9"), 3.0,
                     _positive(fn, "max_length", max_length))
+    if isinstance(lengths, numbers.Real):
+        lengths = [lengths]
     lens = [_positive(fn, "lengths", v) for v in lengths]
     terms = []
     for t, w in resolve.items():
