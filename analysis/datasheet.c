@@ -25,7 +25,7 @@
 static const struct sscope_datasheet_info infos[SSCOPE_DATASHEET_LINE_COUNT_] = {
 	[SSCOPE_DATASHEET_NOISE_DENSITY] = {
 		"noise_density", "noise density",
-		"rate noise density D; N = D (the field's convention: IEEE 952 N, Allan deviation at 1 s, ARW = 60 D)",
+		"noise density D of the rate or the acceleration; N = D (the field's convention: IEEE 952 N, Allan deviation at 1 s, ARW = 60 D)",
 		"/sqrt(Hz)", SSCOPE_TERM_N, 0 },
 	[SSCOPE_DATASHEET_RANDOM_WALK] = {
 		"random_walk", "angle/velocity random walk",
@@ -296,7 +296,7 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 {
 	double level = opts && opts->level != 0 ? opts->level : 0.99;
 	struct sscope_allan_result *res = NULL;
-	bool need_allan = false;
+	bool need_allan = false, moves = false;
 	int rc;
 
 	if (!x || (n_spec && (!spec || !out)))
@@ -321,6 +321,15 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 					  &res, diag);
 		if (rc)
 			return rc;
+	}
+	/* a moving record measures the motion, not the sensor: no verdict
+	 * on it (the stillness test of walk and the adequacy check) */
+	if (n_spec) {
+		double ratio;
+
+		if (!ssc_still_contrast(x, stride, n, rate_hz, &ratio) &&
+		    !(ratio <= 9))
+			moves = true;
 	}
 	for (size_t i = 0; i < n_spec; i++) {
 		const struct sscope_datasheet_spec *s = &spec[i];
@@ -399,6 +408,14 @@ int sscope_datasheet_check(const double *x, size_t stride, size_t n,
 			from_term(res, s, c);
 			break;
 		}
+		/* measured on a moving record, or from a fit the chi-squared
+		 * test rejects: indicative only, no verdict */
+		if (moves && (!isnan(c->value) || c->bound)) {
+			c->why = "the record moves (its variance over 1 s windows spans more than 9 times): a datasheet check needs the sensor at rest: inconclusive";
+			doubt = true;
+		}
+		if (c->fit_rejected)
+			doubt = true;
 		c->verdict = doubt ? SSCOPE_DATASHEET_INCONCLUSIVE :
 			infos[s->line].magnitude ?
 			sscope_datasheet_verdict_magnitude(c->lo, c->hi, c->limit) :

@@ -208,7 +208,8 @@ struct sscope_datasheet_check {
 	bool fit_rejected; /**< a term line whose noise fit the chi-squared
 			        test rejects at p < 0.01
 			        (sscope_noise_fit_rejected()): the value and
-			        its interval are indicative only */
+			        its interval are indicative only, the verdict
+			        inconclusive (as on a moving record) */
 };
 
 /** Options of sscope_datasheet_check(); zero means the default. */

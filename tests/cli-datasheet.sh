@@ -139,4 +139,14 @@ has "the disagreement said" "$T/out" "note: bias_instability and in_run_bias_sta
 printf '[gyro]\nnoise_density = 1e300 deg/s/sqrt(Hz)\n' >"$T/huge.ini"
 run "datasheet near the double's end" 0 datasheet "$T/huge.ini"
 lacks "no inf" "$T/out" "inf"
+# a running motor: its noise fit is rejected, so no verdict on it
+run "check on a vibration record" 0 datasheet --check "$SAMPLES/vibration.csv" "$SAMPLES/datasheets/bmi088.ini"
+has "vibration: the measured bound has its unit" "$T/out" 'measured below [0-9.]+ ug/sqrt\(Hz\) \(bound\)'
+has "vibration: inconclusive, with why" "$T/out" 'indicative only, so inconclusive'
+lacks "vibration: never within spec" "$T/out" 'within spec'
+run "check on vibration, json" 0 datasheet --format json --check "$SAMPLES/vibration.csv" "$SAMPLES/datasheets/bmi088.ini"
+json_check "vibration: every rejected fit's line inconclusive" "$T/out" '[.. | objects | select(has("fit_rejected") and .fit_rejected) | .verdict] | length > 0 and all(. == "inconclusive")'
+run "check, a line a static record cannot show" 0 datasheet --check "$SAMPLES/gyro-static.csv" "$SAMPLES/datasheets/stim300.ini"
+has "nothing measured: not checked, why below" "$T/out" 'scale-factor error .* measured - +not checked$'
+
 done_testing

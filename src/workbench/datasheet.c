@@ -568,21 +568,26 @@ static void verdict_text(FILE *f, const struct ssc_datasheet *ds,
 			char meas[128];
 
 			if (!isnan(c->value))
-				snprintf(meas, sizeof(meas), "%s [%s, %s]",
+				snprintf(meas, sizeof(meas), "%s [%s, %s] %s",
 					 ssc_fmt(a, sizeof(a), in_written(sec, j, c->value), 4),
 					 ssc_fmt(b, sizeof(b), in_written(sec, j, c->lo), 4),
-					 ssc_fmt(c3, sizeof(c3), in_written(sec, j, c->hi), 4));
+					 ssc_fmt(c3, sizeof(c3), in_written(sec, j, c->hi), 4),
+					 sec->unit[j]);
 			else if (c->bound && !isnan(c->hi))
-				snprintf(meas, sizeof(meas), "below %s (bound)",
-					 ssc_fmt(a, sizeof(a), in_written(sec, j, c->hi), 4));
+				snprintf(meas, sizeof(meas), "below %s %s (bound)",
+					 ssc_fmt(a, sizeof(a), in_written(sec, j, c->hi), 4),
+					 sec->unit[j]);
 			else
-				snprintf(meas, sizeof(meas), "not measured");
+				snprintf(meas, sizeof(meas), "-");
+			/* nothing measured: not checked (why below) */
 			fprintf(f, "  %-38s limit %-24s measured %-36s %s\n", in->name,
-				sec->written[j], meas, sscope_datasheet_verdict_name(c->verdict));
+				sec->written[j], meas,
+				isnan(c->value) && !c->bound ? "not checked" :
+				sscope_datasheet_verdict_name(c->verdict));
 			if (c->why)
 				fprintf(f, "      (%s)\n", c->why);
 			if (c->fit_rejected)
-				fprintf(f, "      (the noise fit is rejected by its chi-squared test, p < 0.01: indicative only)\n");
+				fprintf(f, "      (the noise fit is rejected by its chi-squared test, p < 0.01: indicative only, so inconclusive)\n");
 		}
 	}
 }
