@@ -265,4 +265,11 @@ printf 'unit,file\nA,%s\nA,%s\nC,%s\n' "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/u
 	"$SAMPLES/lot/unit03.csv" >"$T/twice.csv"
 run "lot manifest naming a unit twice" 1 lot "$T/twice.csv"
 has "the unit named twice: said" "$T/err" "line 3: unit 'A' is named twice"
+# the bundled lot's report: its outlier and doubtful intervals among the
+# checks, never "Nothing flagged"
+run "the bundled lot's scene" 0 run -q -o "$T/lot-sample" "$SAMPLES/lot.scene.ini"
+has "report: the outlier unit flagged" "$T/lot-sample/report.html" 'Outlier unit\.</strong> unit07\.csv: ax bias lies [0-9.]+ standard deviations'
+has "report: the doubtful intervals flagged" "$T/lot-sample/report.html" 'Doubtful intervals\.</strong> [0-9]+ intervals'
+lacks "report: not 'Nothing flagged'" "$T/lot-sample/report.html" 'Nothing flagged'
+
 done_testing

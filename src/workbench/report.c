@@ -124,6 +124,38 @@ static void banner_one(const json_t *w, void *ctx)
 	ssc_html_banner(b->h, "warn", title, jstr(w, "message"), b->href);
 }
 
+/* A lot's outlier units and doubtful intervals, which its result keeps
+ * outside "warnings": a banner each kind; the number of banners. */
+static size_t lot_banners(struct ssc_html *h, const json_t *lot,
+			  const char *href)
+{
+	const json_t *units = json_object_get(lot, "units");
+	const json_t *o, *u, *c, *t;
+	const char *key;
+	size_t i, j, n = 0, doubt = 0;
+	char msg[1024];
+
+	json_array_foreach(json_object_get(lot, "outliers"), i, o) {
+		snprintf(msg, sizeof(msg), "%s: %s %s lies %.3g standard deviations from the other units (left out of the lot's mean and spread).",
+			 jstr(o, "unit"), jstr(o, "channel"), jstr(o, "term"),
+			 fabs(json_number_value(json_object_get(o, "z"))));
+		ssc_html_banner(h, "warn", "Outlier unit.", msg, href);
+		n++;
+	}
+	json_array_foreach(units, i, u)
+		json_array_foreach(json_object_get(u, "channels"), j, c)
+			json_object_foreach((json_t *)json_object_get(c, "terms"), key, t)
+				doubt += json_is_string(json_object_get(t, "doubt"));
+	if (doubt) {
+		snprintf(msg, sizeof(msg), "%zu interval%s of the units' terms %s doubtful (marked ~ in the table, each with its reason): read %s as indicative.",
+			 doubt, doubt > 1 ? "s" : "", doubt > 1 ? "are" : "is",
+			 doubt > 1 ? "them" : "it");
+		ssc_html_banner(h, "warn", "Doubtful intervals.", msg, href);
+		n++;
+	}
+	return n;
+}
+
 static void summary_table(struct ssc_html *h, const json_t *summary,
 			  const char *only_stage, const char *only_channel)
 {
@@ -542,6 +574,8 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 		snprintf(href, sizeof(href), "#%s", st[i].name);
 		warnings += ssc_report_count_warnings(st[i].result);
 		walk_warnings(st[i].result, banner_one, &b);
+		if (st[i].result && !strcmp(st[i].name, "lot"))
+			warnings += lot_banners(h, st[i].result, href);
 		if (!st[i].result && st[i].why) {
 			/* an analysis the data refused */
 			char msg[1024];
