@@ -272,4 +272,9 @@ has "report: the outlier unit flagged" "$T/lot-sample/report.html" 'Outlier unit
 has "report: the doubtful intervals flagged" "$T/lot-sample/report.html" 'Doubtful intervals\.</strong> [0-9]+ intervals'
 lacks "report: not 'Nothing flagged'" "$T/lot-sample/report.html" 'Nothing flagged'
 
+run "the bundled lot, text" 0 lot "$SAMPLES"/lot/unit*.csv
+has "lot text: terms in words" "$T/out" '^ax +bias drift +ug/h '
+has "lot text: temperature sensitivity in words" "$T/out" '^ax +temp sensitivity +ug/degC '
+lacks "lot text: no JSON keys" "$T/out" 'bias_drift|temp_sensitivity'
+
 done_testing

@@ -169,7 +169,7 @@ static int unit_page(const struct ssc_lot_result *r, size_t u, const char *path)
 			cell_text(r, c, t, cl, v, sizeof(v));
 			marks(r, c, t, u, m, sizeof(m));
 			cells[0] = r->chan[c];
-			cells[1] = ssc_lot_term_key(t);
+			cells[1] = ssc_lot_term_label(t);
 			cells[2] = v;
 			cells[3] = unit;
 			cells[4] = T->z && isfinite(T->z[u]) ? ssc_fmt(z, sizeof(z), T->z[u], 3) : "-";
@@ -235,7 +235,7 @@ static void lot_table(struct ssc_html *h, const struct ssc_lot_result *r)
 						 ssc_lot_unit_name(r, u));
 				}
 			cells[0] = r->chan[c];
-			cells[1] = ssc_lot_term_key(t);
+			cells[1] = ssc_lot_term_label(t);
 			cells[2] = unit;
 			cells[3] = shown;
 			cells[4] = m;

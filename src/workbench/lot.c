@@ -27,6 +27,10 @@
 static const char *const term_key[SSC_LOT_NT] = {
 	"N", "B", "K", "bias", "bias_drift", "temp_sensitivity"
 };
+/* the same in words, for text and pages (JSON and CSV keep the keys) */
+static const char *const term_label[SSC_LOT_NT] = {
+	"N", "B", "K", "bias", "bias drift", "temp sensitivity"
+};
 
 static const char *base_of(const char *path)
 {
@@ -775,6 +779,11 @@ const char *ssc_lot_term_key(int t)
 	return term_key[t];
 }
 
+const char *ssc_lot_term_label(int t)
+{
+	return term_label[t];
+}
+
 const char *ssc_lot_unit_name(const struct ssc_lot_result *r, size_t u)
 {
 	return unit_name(r, u);
@@ -1137,12 +1146,12 @@ void ssc_lot_text(FILE *f, const void *opts, const void *result)
 				continue;
 			if (!T->done) {
 				fprintf(f, "%-8s %-16s %-16s shown in %zu of %zu units: fewer than 3, no spread\n",
-					r->chan[c], term_key[t], unit, T->n_resolved, r->n_units);
+					r->chan[c], term_label[t], unit, T->n_resolved, r->n_units);
 				continue;
 			}
 			ssc_lot_spread_text(r, c, t, m, sizeof(m), bs, sizeof(bs));
 			snprintf(un, sizeof(un), "%zu/%zu", s->k_used, r->n_units);
-			fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s", r->chan[c], term_key[t],
+			fprintf(f, "%-8s %-16s %-16s %-30s %-30s %-8s", r->chan[c], term_label[t],
 				unit, m, bs, un);
 			for (size_t u = 0; u < r->n_units; u++)
 				if (T->outlier[u]) {
@@ -1203,7 +1212,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 			a[1] = '-';
 			ssc_fmt(a + 2, sizeof(a) - 2, conv(r, c, t, T->limit, &unit), 4);
 			fprintf(f, "%-8s %-16s %-16s %-10s %-7zu %-7zu %-13zu %s\n", r->chan[c],
-				term_key[t], unit, magnitude_term(t) ? a : a + 2, T->count[SSCOPE_DATASHEET_WITHIN],
+				term_label[t], unit, magnitude_term(t) ? a : a + 2, T->count[SSCOPE_DATASHEET_WITHIN],
 				T->count[SSCOPE_DATASHEET_OUT],
 				T->count[SSCOPE_DATASHEET_INCONCLUSIVE], cp);
 		}
@@ -1219,7 +1228,7 @@ static void spec_text(FILE *f, const struct ssc_lot_result *r)
 
 				if (!cl->has_spec[t])
 					continue;
-				fprintf(f, "%s %s %s %s", first ? "" : ";", r->chan[c], term_key[t],
+				fprintf(f, "%s %s %s %s", first ? "" : ";", r->chan[c], term_label[t],
 					sscope_datasheet_verdict_name(cl->verdict[t]));
 				if (cl->gbound[t])
 					fprintf(f, " (not shown, bound %s)",
@@ -1249,7 +1258,7 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 			for (size_t u = 0; u < r->n_units; u++)
 				n_out += T->outlier[u];
 			conv(r, c, t, 1, &unit); /* before the call that reads it */
-			snprintf(q, sizeof(q), "%s between-unit sd", term_key[t]);
+			snprintf(q, sizeof(q), "%s between-unit sd", term_label[t]);
 			snprintf(note, sizeof(note), "%zu of %zu units; %zu outlier%s",
 				 T->sp.k_used, r->n_units, n_out, n_out == 1 ? "" : "s");
 			ssc_summary_add(rows, r->chan[c], q,
@@ -1268,7 +1277,7 @@ void ssc_lot_summary(json_t *rows, const void *opts, const void *result)
 			if (!isfinite(T->limit))
 				continue;
 			ssc_fmt(a, sizeof(a), conv(r, c, t, T->limit, &unit), 4);
-			snprintf(q, sizeof(q), "%s Cpk (limit %s %s)", term_key[t], a, unit);
+			snprintf(q, sizeof(q), "%s Cpk (limit %s %s)", term_label[t], a, unit);
 			snprintf(note, sizeof(note), "%zu within spec, %zu out of spec, %zu inconclusive of %zu units%s",
 				 T->count[SSCOPE_DATASHEET_WITHIN], T->count[SSCOPE_DATASHEET_OUT],
 				 T->count[SSCOPE_DATASHEET_INCONCLUSIVE], r->n_units,
