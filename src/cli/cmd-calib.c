@@ -349,15 +349,15 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 			bmax = fmax(bmax, fabs(c->bias[i]));
 		if (o->q == SSCOPE_QUANTITY_ACCELERATION && bmax >= 1e-3 * SSCOPE_UNIT_GRAVITY_STD)
 			bu = "mg";
-		fprintf(f, "    error model (textbook eqs 93-94): ");
+		fprintf(f, "    error model (textbook eqs 93-94), per axis: ");
 		for (int i = 0; i < 3; i++) {
 			double v = c->bias[i];
 
 			sscope_unit_convert_text(c->bias[i], si, bu, &v);
-			fprintf(f, "%sb=%s %s", i ? "; " : "",
+			fprintf(f, "%sbias %s %s", i ? "; " : "",
 				ssc_fmt(a, sizeof(a), v, 4), bu);
 			if (isfinite(c->scale_sd[i]))
-				fprintf(f, " s_f=%s ppm",
+				fprintf(f, ", scale-factor error %s ppm",
 					ssc_fmt(b, sizeof(b), (o->A[i][i] - 1) * 1e6, 4));
 		}
 		fputc('\n', f);
@@ -371,9 +371,11 @@ static void triad_text(FILE *f, const struct ssc_calib_triad_out *o)
 		fprintf(f, "    noise density (static intervals): %s %s\n",
 			ssc_fmt(a, sizeof(a), v, 3), nu);
 	}
-	if (o->grade >= 0)
-		fprintf(f, "    grade: closest to %s (typical ranges; %.2g decades outside)\n",
+	if (o->grade >= 0 && o->grade_dist > 0)
+		fprintf(f, "    grade: closest to %s (%.2g decades outside its typical ranges)\n",
 			gr[o->grade].name, o->grade_dist);
+	else if (o->grade >= 0)
+		fprintf(f, "    grade: %s (within its typical ranges)\n", gr[o->grade].name);
 }
 
 /* ------------------------------------------------------------------ */
@@ -1406,11 +1408,14 @@ static void text(FILE *f, const void *opts, const void *result)
 	fprintf(f, "%s (%s): %s%s\n", cmd_name(r), mode_names[o->mode],
 		r->paths[0], r->n_files > 1 ? " ..." : "");
 	if (o->mode != M_RATE_TABLE)
-		fprintf(f, "  static detector: window %g s, %s, k = %g, threshold %.4g, %zu intervals\n",
+		fprintf(f, "  static detector: window %g s, %s, k = %g, threshold %.4g (%s)^2, %zu intervals\n",
 			o->det.window_s > 0 ? o->det.window_s : 1,
 			o->det.init_static_s > 0 ? "reference from the initial static period" :
 			"reference = 10th percentile of the variance magnitude",
-			o->det.k, o->det.threshold, o->det.n_intervals);
+			o->det.k, o->det.threshold,
+			sscope_quantity_si_unit(o->gyro ? SSCOPE_QUANTITY_ANGULAR_RATE :
+							  SSCOPE_QUANTITY_ACCELERATION),
+			o->det.n_intervals);
 	if (r->have_lf)
 		rate_table_text(f, r);
 	for (int i = 0; i < r->pub.n_out; i++)
