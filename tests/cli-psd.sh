@@ -205,4 +205,9 @@ one_line_error "--peak-alpha x"
 run "psd: nfft beyond 64 times nperseg" 2 psd --nfft 1073741824 "$SAMPLES/vibration.csv"
 has "psd: nfft beyond 64 times nperseg, said" "$T/err" 'more than 64 times --nperseg 256: zero padding beyond that only interpolates'
 
+run "third-octave bands, text" 0 psd --bands third -c ax "$SAMPLES/vibration.csv"
+has "bands: those the resolution cannot show are said" "$T/out" 'bands below [0-9.]+ Hz left out: narrower than the resolution, 19.53 Hz'
+has "bands: headers with units" "$T/out" 'centre \(Hz\) +hi \(Hz\) +rms \(m/s\^2\)'
+has "method in words" "$T/out" 'segments of 256 samples overlapping by 128, FFT of 256'
+
 done_testing

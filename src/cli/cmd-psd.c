@@ -200,7 +200,7 @@ static void text_run(FILE *f, const struct ssc_psd_run *R)
 		struct sscope_psd_window_figures wf;
 
 		sscope_psd_window_figures(s->window, s->nperseg, &wf);
-		fprintf(f, "  method:   %s, %s window, nperseg %zu, noverlap %zu, nfft %zu, detrend %s, %s\n",
+		fprintf(f, "  method:   %s, %s window, segments of %zu samples overlapping by %zu, FFT of %zu, detrend %s, %s\n",
 			R->a.periodogram ? "periodogram" : "Welch",
 			sscope_psd_window_name(s->window), s->nperseg, s->noverlap,
 			s->nfft, ssc_psd_detrend_name(s->detrend), ssc_psd_scaling_name(s->scaling));
@@ -244,9 +244,17 @@ static void text_run(FILE *f, const struct ssc_psd_run *R)
 				ssc_fmt(b, sizeof(b), c->test.p_threshold, 2), c->test.bins_tested,
 				ssc_fmt(c3, sizeof(c3), c->test.edf, 3));
 		if (R->a.bands && R->bands.n) {
+			char ru[64];
+
+			snprintf(ru, sizeof(ru), "rms%s%s%s", u[0] ? " (" : "", u, u[0] ? ")" : "");
+			/* standard bands narrower than a bin are not resolved */
+			if (R->bands.nominal && R->bands.b[0].lo_hz > 2 * c->s.bin_hz)
+				fprintf(f, "    (bands below %s Hz left out: narrower than the resolution, %s Hz; a longer --nperseg resolves them)\n",
+					ssc_fmt(a, sizeof(a), R->bands.b[0].lo_hz, 4),
+					ssc_fmt(b, sizeof(b), c->s.bin_hz, 4));
 			fprintf(f, "    %-12s %-12s %-12s %s\n", "band lo (Hz)",
-				R->bands.nominal ? "centre" : "centre (geo)",
-				"hi (Hz)", "rms");
+				R->bands.nominal ? "centre (Hz)" : "centre (geo, Hz)",
+				"hi (Hz)", ru);
 			for (size_t i = 0; i < R->bands.n; i++)
 				fprintf(f, "    %-12s %-12s %-12s %s\n",
 					ssc_fmt(a, sizeof(a), R->bands.b[i].lo_hz, 5),
