@@ -122,7 +122,7 @@ for v in octave dense; do
 	run "scene: stride on the $v grid" 2 run "$T/stride-$v.ini"
 	one_line_error "scene: stride on the $v grid"
 	has "scene: stride on the $v grid: says why" "$T/err" \
-	    "^sensorscope: run: allan: .*stride-$v.ini: --stride pays only with --taus all or decade"
+	    "^sensorscope: run: allan: .*stride-$v.ini: stride pays only with taus all or decade"
 	if [ -e "$T/sc-stride-$v" ]; then
 		not_ok "scene: stride on the $v grid: no report written"
 	else

@@ -170,5 +170,5 @@ run "an error inside run" 1 run -q -o "$T/rep2" "$T/fail.ini"
 one_err "an error inside run" "^sensorscope: run: allan: $T/no/such/imu.yaml: no such file or directory$"
 printf '[input]\nfiles = %s\n[allan]\ntaus = weekly\n' "$SM" >"$T/badkey.ini"
 run "a stage option error inside run" 2 run --dry-run "$T/badkey.ini"
-one_err "a stage option error inside run" "^sensorscope: run: allan: $T/badkey.ini: line 4: --taus: "
+one_err "a stage option error inside run" "^sensorscope: run: allan: $T/badkey.ini: line 4: taus: "
 done_testing

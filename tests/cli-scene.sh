@@ -53,7 +53,7 @@ has "names the key" "$T/err" "k.ini: line 4: unknown key 'devv' in \\[allan\\]"
 scene v.ini '[input]\nfiles = gyro-static.csv\n[allan]\ndev = bogus\n'
 run "bad value" 2 run "$T/v.ini"
 one_line_error "bad value"
-has "the option's own message, at its line" "$T/err" "v.ini: line 4: --dev: 'bogus'"
+has "the option's own message, at its line" "$T/err" "v.ini: line 4: dev: 'bogus'"
 scene m.ini '[input]\nfiles = missing.csv\n[allan]\n'
 run "missing input file" 1 run "$T/m.ini"
 one_line_error "missing input file"
@@ -165,5 +165,14 @@ has "names it" "$T/err" "no column 'bogus'"
 scene colu.ini '[input]\nfiles = imu.csv\n[psd]\ncolumns = ax, bogus\n[report]\nformats = json\n'
 run "an unknown column in a scene" 1 run -o "$T/colu" "$T/colu.ini"
 has "names it" "$T/err" "no column 'bogus'"
+
+# inside a scene, a message names the scene's keys, not the options
+printf 'gx,gy\n0.1,0.2\n0.1,0.2\n0.1,0.2\n' >"$T/norate.csv"
+printf '[input]\nfiles = norate.csv\n[allan]\n[report]\noutput = sc-norate\n' >"$T/norate.ini"
+run "scene without a rate" 1 run "$T/norate.ini"
+has "scene without a rate: the key to give" "$T/err" "no sample rate: .*; give rate in \[input\]$"
+printf '[input]\nfiles = %s\n[tempbias]\n[report]\noutput = sc-notemp\n' "$SAMPLES/gyro-static.csv" >"$T/notemp.ini"
+run "scene without a temperature column" 1 run "$T/notemp.ini"
+has "scene without a temperature: the key to give" "$T/err" 'no temperature column \(give temp_column = NAME in \[input\]\)'
 
 done_testing

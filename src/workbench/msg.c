@@ -178,6 +178,53 @@ bool ssc_interrupted(void)
 	return atomic_load(&dying) != 0;
 }
 
+/* Inside a scene the options are keys: "--temp-column NAME" reads
+ * "temp_column = NAME in [input]", "--nperseg" "nperseg", "-c" "columns"
+ * ([input]'s keys named so). */
+static void scene_words(char *buf, size_t size)
+{
+	static const char *const input_keys[] = { "rate", "time_column", "temp_column",
+						  "columns", "units", "raw" };
+	char out[MSG_MAX + 8];
+	size_t o = 0;
+	const char *p = buf;
+
+	while (*p && o + 64 < sizeof(out)) {
+		bool start = p == buf || strchr(" ('\"", p[-1]);
+		char key[48];
+		size_t k = 0;
+
+		if (start && p[0] == '-' && (p[1] == 'c' || p[1] == 'u') &&
+		    (!p[2] || strchr(" ;,)", p[2]))) {
+			snprintf(key, sizeof(key), "%s", p[1] == 'c' ? "columns" : "units");
+			p += 2;
+		} else if (start && p[0] == '-' && p[1] == '-' && p[2] >= 'a' && p[2] <= 'z') {
+			for (p += 2; k + 1 < sizeof(key) &&
+				     ((*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') || *p == '-');
+			     p++)
+				key[k++] = *p == '-' ? '_' : *p;
+			key[k] = '\0';
+		} else {
+			out[o++] = *p++;
+			continue;
+		}
+		o += (size_t)snprintf(out + o, sizeof(out) - o, "%s", key);
+		/* a placeholder or value after it: KEY = VALUE */
+		if (p[0] == ' ' && ((p[1] >= 'A' && p[1] <= 'Z') || (p[1] >= '0' && p[1] <= '9'))) {
+			o += (size_t)snprintf(out + o, sizeof(out) - o, " =");
+			for (out[o++] = *p++; *p && !strchr(" ;,)'", *p) && o + 16 < sizeof(out);)
+				out[o++] = *p++;
+		}
+		for (size_t i = 0; i < sizeof(input_keys) / sizeof(*input_keys); i++)
+			if (!strcmp(key, input_keys[i]))
+				o += (size_t)snprintf(out + o, sizeof(out) - o, " in [input]");
+	}
+	while (*p && o + 1 < sizeof(out))
+		out[o++] = *p++;
+	out[o] = '\0';
+	snprintf(buf, size, "%s", out);
+}
+
 /* "sensorscope: [OUTER: ][CMD: ][KIND][CTX: ]message[HINT]\n" on stderr,
  * the context and message cleaned; the message is also kept for
  * ssc_last_error(). */
@@ -197,6 +244,8 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 		msg = NULL;
 	clean(&l, msg ? msg : fmt);
 	free(msg);
+	if (outer)
+		scene_words(buf, sizeof(buf));
 	if (ctx) {
 		clean(&c, ctx);
 		put(&c, ": ", 2);
