@@ -161,4 +161,10 @@ else
 		skip "$t" "no chromium"
 	done
 fi
+# a true heading column is the heading's reference, not a sensor channel
+run "report plan of a drive with a true heading" 0 report --dry-run "$SAMPLES/drive-stops.csv"
+has "drive: allan without the reference" "$T/out" 'allan .*channels: gz,ax,ay,az$'
+has "drive: tempbias without the reference" "$T/out" 'tempbias .*channels: gz,ax,ay,az$'
+has "drive: heading against it" "$T/out" 'heading --reference=heading_ref'
+
 done_testing

@@ -35,9 +35,13 @@ compare() {
 			if [ ! -e "$want" ] && [ "$got" -ne 0 ]; then
 				# an inferred stage the data refused: the command
 				# refuses them with the same words
-				msg=$(sed -n "s/^sensorscope: $stage: //p" "$T/cmd.err")
+				# (the scene names its keys where the command names
+				# its options: --run-length is run_length, --rate
+				# "rate in [input]"; compared without those marks)
+				norm() { sed -e 's/ in \[input\]//g' -e 's/ = / /g' -e 's/--//g' -e 's/[-_]//g' "$@"; }
+				msg=$(sed -n "s/^sensorscope: $stage: //p" "$T/cmd.err" | norm)
 				if [ "$got" -eq 1 ] && [ -n "$msg" ] &&
-				   grep -qF "sensorscope: report: $stage: $msg" "$dir.err"; then
+				   norm "$dir.err" | grep -qF "sensorscope: report: $stage: $msg"; then
 					ok "$label: $stage: refused by the data, as the command refuses them"
 				else
 					not_ok "$label: $stage: the command refuses what the scene refused (exit $got)"

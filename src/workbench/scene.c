@@ -920,8 +920,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 				tilt = true;
 			/* a true heading beside a gyro: a drive to check */
 			if (q == SSCOPE_QUANTITY_ANGLE && strcasestr(nm, "heading") &&
-			    strlen(nm) < sizeof(heading_ref))
+			    strlen(nm) < sizeof(heading_ref)) {
 				strcpy(heading_ref, nm);
+				continue; /* a reference, not a sensor's channel */
+			}
 
 			/* a commanded rate is the reference of a rate-table
 			 * run, not a gyro */
@@ -981,6 +983,16 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			}
 			sc->want |= 1u << S_HEADING;
 			sc->file_mask[S_HEADING] |= bit;
+			/* the true heading is the reference, not a channel
+			 * for the noise, the spectrum or the temperature */
+			for (int st = 0; st < 3 && !co->columns && data_cols[0]; st++) {
+				int sg = st == 0 ? S_ALLAN : st == 1 ? S_PSD : S_TEMPBIAS;
+
+				if (!sc->stage_columns[sg]) {
+					sc->stage_columns[sg] = xstrdup(data_cols);
+					add_arg(sc, sg, "column", data_cols, NULL);
+				}
+			}
 		} else if (gyro && !temp) {
 			/* a stationary gyro gets the random-walk fan (the
 			 * stage refuses a record that moves) */
