@@ -741,11 +741,20 @@ static void summary(json_t *rows, const void *opts, const void *result)
 	for (size_t i = 0; i < r->n; i++) {
 		const struct file_info *fi = &r->fi[i];
 		const struct sscope_capture *cap = fi->cap;
+		const char *base = strrchr(fi->path, '/') ? strrchr(fi->path, '/') + 1 : fi->path;
+		char q[3][160];
 
+		/* several files: each row says which */
+		snprintf(q[0], sizeof(q[0]), "sample rate%s%s%s", r->n > 1 ? " (" : "",
+			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
+		snprintf(q[1], sizeof(q[1]), "record length%s%s%s", r->n > 1 ? " (" : "",
+			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
+		snprintf(q[2], sizeof(q[2]), "temperature span%s%s%s", r->n > 1 ? " (" : "",
+			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
 		if (cap->rate_hz > 0) {
-			ssc_summary_add(rows, NULL, "sample rate", cap->rate_hz,
+			ssc_summary_add(rows, NULL, q[0], cap->rate_hz,
 					NAN, NAN, "Hz", rate_source(cap));
-			ssc_summary_add(rows, NULL, "record length",
+			ssc_summary_add(rows, NULL, q[1],
 					duration(cap), NAN, NAN, "s", NULL);
 		}
 		for (size_t k = 0; k < cap->n_channels; k++) {
@@ -766,7 +775,7 @@ static void summary(json_t *rows, const void *opts, const void *result)
 			snprintf(note, sizeof(note), "from %s to %s degC",
 				 ssc_fmt(a, sizeof(a), fi->temp.min, 4),
 				 ssc_fmt(b, sizeof(b), fi->temp.max, 4));
-			ssc_summary_add(rows, NULL, "temperature span",
+			ssc_summary_add(rows, NULL, q[2],
 					fi->temp.max - fi->temp.min, NAN, NAN,
 					"degC", note);
 		}
