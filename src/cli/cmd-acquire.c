@@ -453,7 +453,7 @@ static void text_summary(FILE *f, const struct acq_opts *o, const char *path,
 	if (info->has_counter)
 		fprintf(f, "device counter %llu, ", (unsigned long long)d.counter);
 	else
-		fprintf(f, "data-ready events %llu, ", (unsigned long long)d.events);
+		fprintf(f, "missed data-ready edges %llu, ", (unsigned long long)d.events);
 	fprintf(f, "ring overruns %llu)\n", (unsigned long long)d.ring);
 	fprintf(f, "checksum errors: %llu\n", (unsigned long long)r->src.checksum_errors);
 	fprintf(f, "missing rows:    %llu in %llu gap%s (marked in the capture)\n",

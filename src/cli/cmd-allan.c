@@ -354,8 +354,15 @@ static void set_units(const struct args *a, const struct sscope_capture_column *
 	 * otherwise */
 	if (sscope_allan_dev_is_time(a->ao.dev) && angle)
 		snprintf(u->dev, sizeof(u->dev), "%s", lab[0] ? lab : "1");
-	else if (sscope_allan_dev_is_time(a->ao.dev))
-		snprintf(u->dev, sizeof(u->dev), "%s*s", u->rate);
+	else if (sscope_allan_dev_is_time(a->ao.dev)) {
+		size_t l = strlen(u->rate);
+
+		/* a rate per second times s: the angle's unit (deg/s*s is deg) */
+		if (l > 2 && !strcmp(u->rate + l - 2, "/s") && !strchr(u->rate, '*'))
+			snprintf(u->dev, sizeof(u->dev), "%.*s", (int)(l - 2), u->rate);
+		else
+			snprintf(u->dev, sizeof(u->dev), "%s*s", u->rate);
+	}
 	else
 		snprintf(u->dev, sizeof(u->dev), "%s", u->rate);
 	u->dev_scale = unit_scale(u->dev);

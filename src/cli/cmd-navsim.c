@@ -802,7 +802,7 @@ static void write_text(FILE *f, const struct opts *o, const struct imu_in *in,
 		sscope_navsim_mech_name(o->mech), o->runs, o->runs == 1 ? "" : "s", (unsigned long long)o->seed,
 		ssc_fmt(a, sizeof(a), dur, 6), ssc_fmt(b, sizeof(b), o->rate, 6),
 		o->free_vertical ? "free" : "aided (perfect altimeter)");
-	fprintf(f, "  start %.5f deg, %.5f deg, %g m, heading %g deg; trajectory %s\n",
+	fprintf(f, "  start latitude %.5f deg, longitude %.5f deg, height %g m, heading %g deg; trajectory %s\n",
 		o->lat / D2R, o->lon / D2R, o->height, o->heading / D2R, o->traj_text);
 	ssc_nav_terms_text(&in->gyro, buf, sizeof(buf));
 	fprintf(f, "  gyro noise:  %s", buf);

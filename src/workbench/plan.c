@@ -370,7 +370,7 @@ json_t *ssc_plan_json(const void *opts, const void *result)
 	for (int j = 0; j < 5; j++)
 		if (m->unshown & (1u << j))
 			ssc_json_warn(root, "term_not_shown",
-				      "%c is not shown present by the pilot: its estimate is planned with, the plan is indicative",
+				      "the pilot does not show %c present: the plan uses its estimate and is indicative only",
 				      term_name[j]);
 	for (size_t i = 0; i < r->req.n_wish; i++) {
 		json_t *t = json_object(), *ls = json_array();
@@ -419,7 +419,7 @@ void ssc_plan_text(FILE *f, const void *opts, const void *result)
 		100 * po->ci_level, 100 * po->probability);
 	for (int j = 0; j < 5; j++)
 		if (m->unshown & (1u << j))
-			fprintf(f, "note: %c is not shown present by the pilot: its estimate is planned with, the plan is indicative\n",
+			fprintf(f, "note: the pilot does not show %c present: the plan uses its estimate and is indicative only\n",
 				term_name[j]);
 	fprintf(f, "%-4s %7s %11s", "term", "target", "needed");
 	for (size_t k = 0; k < r->req.n_len; k++) {

@@ -114,7 +114,7 @@ static void banner_one(const json_t *w, void *ctx)
 	struct banner_ctx *b = ctx;
 	const char *code = jstr(w, "code");
 	const char *title = !strcmp(code, "fit_rejected") ? "Fit rejected." :
-			    !strcmp(code, "term_unresolved") ? "Term not resolved." :
+			    !strcmp(code, "term_unresolved") ? "Term present, not measured." :
 			    !strcmp(code, "fit_failed") ? "No noise terms." :
 			    !strcmp(code, "too_few_samples") ? "Too few samples." :
 			    !strcmp(code, "zero_spectrum") ? "Zero spectrum." :
