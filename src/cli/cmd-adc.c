@@ -390,8 +390,15 @@ static void adc_text(FILE *f, const struct sscope_sensor_spec *ss, const struct 
 		a->dithered ? "dithered (sigma >= q/2): sub-LSB signals survive" :
 		a->sigma_over_q < 0.3 ? "NOT dithered (sigma < 0.3 q): sub-LSB bias is lost, ADEV can collapse" :
 					"weakly dithered (0.3 q <= sigma < q/2)");
+	if (a->bias_bound < 1e-9 * a->lsb) {
+		/* below what the double's arithmetic resolves: a bound, in
+		 * the same unit as B */
+		char t[48];
+
+		snprintf(b1, sizeof(b1), "< %s", fmtu(t, sizeof(t), 1e-9 * a->lsb, bsi, bu, 2));
+	}
 	fprintf(f, "  bias it can hide        %s%s%s  %s\n",
-		a->bias_bound < 1e-9 * a->lsb ? "< 1e-9 LSB" :
+		a->bias_bound < 1e-9 * a->lsb ? b1 :
 		fmtu(b1, sizeof(b1), a->bias_bound, bsi, bu, 3),
 		(ss->has & SSCOPE_SENSOR_HAS_B) ? " vs B " : "",
 		(ss->has & SSCOPE_SENSOR_HAS_B) ? fmtu(b2, sizeof(b2), ss->b, bsi, bu, 3) : "",
