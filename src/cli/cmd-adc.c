@@ -814,10 +814,10 @@ static void r_summary(json_t *rows, const void *opts, const void *result)
 		snprintf(note, sizeof(note), "%d bits, limiting %s", a->spec.bits,
 			 sscope_adc_term_name(a->an.limiting));
 		ssc_summary_add(rows, a->spec.name,
-				a->an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass" :
-				a->an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal" :
-									"ADC verdict: fail",
-				a->an.margin, (double)NAN, (double)NAN, "", note);
+				a->an.verdict == SSCOPE_ADC_PASS ? "ADC verdict: pass, margin" :
+				a->an.verdict == SSCOPE_ADC_MARGINAL ? "ADC verdict: marginal, margin" :
+									"ADC verdict: fail, margin",
+				a->an.margin, (double)NAN, (double)NAN, "x", note);
 	}
 }
 
