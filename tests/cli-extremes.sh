@@ -166,4 +166,10 @@ for c in "adc test" "calib accel" tempbias allan; do
 	has "$c without a rate: said, with what to do" "$T/err" "norate.csv: no sample rate: no time column and no '# rate:' comment; give --rate\$"
 done
 
+# --rate with a unit, as a scene's rate
+run "--rate with a unit" 0 info -r "1 kHz" "$T/norate.csv"
+has "--rate with a unit: read in Hz" "$T/out" 'rate: +1000 Hz \(given\)'
+run "--rate in another dimension" 2 info -r "10 deg" "$T/norate.csv"
+has "--rate in another dimension: said" "$T/err" "'10 deg' is not in units of Hz"
+
 done_testing

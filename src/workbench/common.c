@@ -42,7 +42,7 @@ static const struct ssc_option analysis_opts[] = {
 	{ "column", required_argument, 'c', "NAME|INDEX[,...]",
 	  "channels to analyse (default: every data column that is not time or temperature; INDEX is 1-based)" },
 	{ "rate", required_argument, 'r', "HZ",
-	  "sample rate; otherwise derived from the time column" },
+	  "sample rate in Hz (or with a unit: 1 kHz); otherwise from the time column" },
 	{ "units", required_argument, 'u', "UNIT",
 	  "unit of data columns whose header names none (e.g. deg/s, g, V)" },
 	{ "raw", required_argument, OPT_RAW, "TYPE:CH[:le|be]",
@@ -422,8 +422,9 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 		case 'r':
 			if (!spec->analysis)
 				goto own;
-			rc = ssc_arg_double(co->cmd, "rate", optarg, &co->rate_hz);
-			if (!rc && !(co->rate_hz > 0))
+			/* in Hz, or with a unit (10Hz, 1 kHz), as a scene's rate */
+			rc = ssc_arg_quantity(co->cmd, "rate", optarg, "Hz", &co->rate_hz);
+			if (!rc && !(co->rate_hz > 0 && isfinite(co->rate_hz)))
 				rc = ssc_usage_error(co->cmd,
 						     "--rate: must be positive");
 			if (rc)
