@@ -63,7 +63,7 @@ has "gap text" "$T/out" 'gaps: +2 \(about 3 samples missing\)'
 
 # --rate against a time column that disagrees: warning, not error
 run "rate mismatch warns" 0 info -r 50 "$SAMPLES/accel-thermal.csv"
-has "warning text" "$T/err" 'warning: .*--rate 50 Hz but the time column implies 1 Hz'
+has "warning text" "$T/err" 'warning: .*--rate 50 Hz but the time column implies 1 Hz: using --rate 50 Hz'
 
 if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 	run "--plot" 0 info --plot "$T/info.png" "$SAMPLES/accel-thermal.csv"

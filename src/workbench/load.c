@@ -104,8 +104,8 @@ int ssc_load(const struct ssc_common *co, const char *path,
 	if (nt.rate_implausible)
 		ssc_warn(co, "%s: %s", path, nt.rate_hint.msg);
 	if (nt.rate_disagrees)
-		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz",
-			 path, co->rate_hz, nt.time_column_rate_hz);
+		ssc_warn(co, "%s: --rate %g Hz but the time column implies %.6g Hz: using --rate %g Hz",
+			 path, co->rate_hz, nt.time_column_rate_hz, co->rate_hz);
 	return SSC_EXIT_OK;
 }
 

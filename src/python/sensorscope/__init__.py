@@ -430,8 +430,8 @@ def load(path, columns=None, rate=None, units=None, topic=None,
     if warn and nt.rate_implausible:
         _warn("load", "%s: %s" % (path, nt.rate_hint.msg.decode()))
     if warn and nt.rate_disagrees:
-        _warn("load", "%s: rate %g Hz but the time column implies %.6g Hz" %
-              (path, rate, nt.time_column_rate_hz))
+        _warn("load", "%s: rate %g Hz but the time column implies %.6g Hz: "
+              "using rate %g Hz" % (path, rate, nt.time_column_rate_hz, rate))
     return cap
 
 
