@@ -866,6 +866,13 @@ try:
 except ss.Error as e:
     ok(str(e) == "tempbias: x: infinite sample at index 8",
        "tempbias: an infinite sample refused, with its index", str(e))
+try:
+    ss.load(os.path.join(SAMPLES, "no-such-file.csv"))
+    ok(False, "load: a missing file raises FileNotFoundError")
+except FileNotFoundError as e:
+    ok(isinstance(e, ss.Error) and e.code == -2 and
+       str(e).endswith("no-such-file.csv: no such file or directory"),
+       "load: a missing file raises FileNotFoundError (also ss.Error)", str(e))
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

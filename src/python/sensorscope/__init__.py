@@ -53,12 +53,43 @@ SI_TERM_UNITS = {}
 class Error(Exception):
     """A failure of the library: .code is the negative errno, str() the
     library's message (file, line, column, key...).  .gsl_errno is GSL's
-    code (gsl_errno.h) when a GSL routine failed, else None."""
+    error number when a GSL routine failed, else None.  A missing file,
+    a file not allowed and a folder where a file was expected are also
+    FileNotFoundError, PermissionError and IsADirectoryError."""
+
+    def __new__(cls, *args, **kwargs):
+        if cls is Error and args and isinstance(args[0], int):
+            cls = _OS_ERRORS.get(-args[0], Error)
+        if issubclass(cls, OSError):
+            return OSError.__new__(cls)
+        return Exception.__new__(cls)
 
     def __init__(self, code, message, gsl_errno=None):
-        super().__init__(message)
+        Exception.__init__(self, message)
         self.code = code
         self.gsl_errno = gsl_errno
+        if isinstance(self, OSError):
+            self.errno, self.strerror = -code, message
+
+    def __str__(self):
+        return str(self.args[0]) if self.args else ""
+
+
+class FileMissingError(Error, FileNotFoundError):
+    """Error for a file that does not exist (also FileNotFoundError)."""
+
+
+class FileAccessError(Error, PermissionError):
+    """Error for a file not allowed (also PermissionError)."""
+
+
+class FolderGivenError(Error, IsADirectoryError):
+    """Error for a folder where a file was expected (also
+    IsADirectoryError)."""
+
+
+_OS_ERRORS = {errno.ENOENT: FileMissingError, errno.EACCES: FileAccessError,
+              errno.EISDIR: FolderGivenError}
 
 
 class ArgumentError(Error, ValueError):
