@@ -3023,7 +3023,7 @@ int sscope_allan_compute(struct sscope_allan *p, const double *y,
 	if (rate_hz > 0 && isfinite(rate_hz) &&
 	    !(1 / rate_hz >= 0x1p-200 && (double)n / rate_hz <= 0x1p200))
 		return ssc_diag(diag, -ERANGE,
-				"allan: a sample rate of %g Hz puts taus outside 2^-200 .. 2^200 s",
+				"a sample rate of %g Hz puts taus outside 2^-200 .. 2^200 s",
 				rate_hz);
 	rc = compute(p, y, stride, n, rate_hz, m, n_m, pts, n_pts, diag);
 	if (rc || !out_of_range(pts, *n_pts))

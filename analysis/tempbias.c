@@ -1509,7 +1509,13 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		res->dropped += runs[j].n;
 	}
 	if (nfin < 3) {
-		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks with finite data and temperature");
+		double rec_s = 0;
+
+		for (size_t j = 0; j < n_runs; j++)
+			if (runs[j].rate_hz > 0)
+				rec_s += (double)runs[j].n / runs[j].rate_hz;
+		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks of %g s with finite data and temperature (the record%s %.3g s at the rate given)",
+			      block_s, n_runs > 1 ? "s span" : " spans", rec_s);
 		goto fail;
 	}
 	/* below absolute zero, or hotter than any sensor survives: a
