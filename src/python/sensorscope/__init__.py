@@ -13,7 +13,7 @@ refused, and doubtful results warned about (RuntimeWarning), exactly where
 the `sensorscope` command refuses or warns, with the same reasons.  A
 failure inside GSL (a special function out of range, a root not bracketed)
 never aborts the interpreter: importing the module installs the library's
-recording GSL error handler (sscope_gsl_errors_record(), process-wide), and
+recording GSL error handler (process-wide), and
 after every library call a recorded GSL error raises sensorscope.Error
 ("allan: a numerical routine failed (GSL, FILE:LINE: REASON): no result",
 .gsl_errno set) even where the call itself reported success.  Each thread
@@ -1559,7 +1559,7 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
     Cochran's "q" and "q_p", "i2", the robust "z" of each unit and the
     indices of the "outliers" flagged at `outlier_alpha` per unit; the
     estimates leave out the units beyond the family-wise level ("k_used"
-    of "k") unless `keep_outliers` (as sscope_lot_spread())."""
+    of "k") unless `keep_outliers` (as the command's lot)."""
     fn = "lot_spread"
     y = np.ascontiguousarray(values, dtype=float).ravel()
     s = np.ascontiguousarray(se, dtype=float).ravel()
@@ -1765,7 +1765,7 @@ def lot(files, level=0.90):
     FILE..., a FOLDER or a MANIFEST.csv with columns unit, file[, channels]
     [, temperature]): every gyro and accelerometer channel's N, B, K (the
     allan fit, 68.3 % intervals), bias, drift and temperature sensitivity
-    (sscope_lot_bias(): batch means) and per channel and term the lot's
+    (batch means) and per channel and term the lot's
     spread (lot_spread() at `level`).  Returns the command's JSON object
     as a dict (without --spec; "path" as given).  A folder stands for its
     capture files, sorted; a manifest for its units (files relative to
@@ -2281,7 +2281,7 @@ def plan(sensor_or_terms, resolve, rate, lengths=(3600.0, 10800.0, 21600.0,
         if not need.value < float("inf"):
             never = (why % t) if coef[j] <= 0 else \
                 "not reached within the longest record considered " \
-                "(--max-length)"
+                "(max_length)"
         terms.append({"term": t, "target": w, "needed_s": need.value,
                       "never": never, "lengths": pts})
     return {"rate_hz": rate, "ci_level": o.ci_level,
