@@ -239,8 +239,9 @@ int sscope_lot_spread(const double *y, const double *se, size_t k,
 	memset(out, 0, sizeof(*out));
 	if (k < 3)
 		return -EDOM;
+	/* squares and weights stay finite and non-zero */
 	for (size_t i = 0; i < k; i++)
-		if (!isfinite(y[i]) || !isfinite(se[i]) || !(se[i] > 0))
+		if (!(fabs(y[i]) <= 1e150) || !(se[i] >= 1e-150 && se[i] <= 1e150))
 			return -EDOM;
 	d = ssc_alloc_array(k, sizeof(double));
 	v = ssc_alloc_array(k, sizeof(double));

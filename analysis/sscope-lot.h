@@ -94,8 +94,9 @@ struct sscope_lot_spread {
  * unit's robust z and @p outlier (k flags, may be NULL) whether it is
  * flagged.
  * @return 0; -EINVAL (NULL y, se or out; an option out of range);
- *         -EDOM (fewer than 3 units, a non-finite value, a standard
- *         error not > 0); -ENOMEM.
+ *         -EDOM (fewer than 3 units, a value not finite or beyond
+ *         1e150 in magnitude, a standard error outside 1e-150 .. 1e150);
+ *         -ENOMEM.
  */
 int sscope_lot_spread(const double *y, const double *se, size_t k,
 		      const struct sscope_lot_opts *opts,

@@ -768,10 +768,15 @@ void ssc_lot_spread_text(const struct ssc_lot_result *r, size_t c, int t,
 		 ssc_fmt(b, sizeof(b), conv(r, c, t, s->mean_lo, &unit), 4),
 		 T->mean_lo_cut ? " (cut)" : "",
 		 ssc_fmt(d, sizeof(d), conv(r, c, t, s->mean_hi, &unit), 4));
-	snprintf(sd, sl, "%s [%s, %s]",
-		 ssc_fmt(a, sizeof(a), conv(r, c, t, s->between_sd, &unit), 3),
-		 ssc_fmt(b, sizeof(b), conv(r, c, t, s->between_lo, &unit), 3),
-		 ssc_fmt(d, sizeof(d), conv(r, c, t, s->between_hi, &unit), 3));
+	if (s->between_hi == 0)
+		/* an empty Q-profile set: the units agree better than their
+		 * own errors imply; no spread can be told */
+		snprintf(sd, sl, "0 (agree within errors)");
+	else
+		snprintf(sd, sl, "%s [%s, %s]",
+			 ssc_fmt(a, sizeof(a), conv(r, c, t, s->between_sd, &unit), 3),
+			 ssc_fmt(b, sizeof(b), conv(r, c, t, s->between_lo, &unit), 3),
+			 ssc_fmt(d, sizeof(d), conv(r, c, t, s->between_hi, &unit), 3));
 }
 
 const char *ssc_lot_term_key(int t)

@@ -873,6 +873,22 @@ except FileNotFoundError as e:
     ok(isinstance(e, ss.Error) and e.code == -2 and
        str(e).endswith("no-such-file.csv: no such file or directory"),
        "load: a missing file raises FileNotFoundError (also ss.Error)", str(e))
+ls0 = ss.lot_spread([1, 1.1, 0.9, 1.05, 0.95], [1.0] * 5)
+ok(ls0["between_hi"] == 0 and "agree better than their own" in
+   ls0["between_note"], "lot_spread: an interval [0, 0] says why")
+refused(lambda: ss.lot_spread([1, 1.1, 0.9], [1e300] * 3), "lot_spread: se: ",
+        "lot_spread: a standard error too large to square refused (was NaN)")
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    rnf = ss.allan(np.random.default_rng(3).normal(0, 1e-3, 4000), 100.0,
+                   fit=False)
+    rm = ss.allan(np.random.default_rng(3).normal(0, 1e-3, 4000), 100.0,
+                  unit="m")
+ok(rnf.chi2 is None and rnf.p_value is None and rnf.rejected is None,
+   "allan without a fit: its numbers None, not missing")
+ok(rm.noise["N"].si_unit == "m/sqrt(Hz)" and rm.noise["B"].si_unit == "m",
+   "allan on another quantity: the terms' units from the data's, as the "
+   "command's")
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

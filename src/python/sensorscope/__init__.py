@@ -705,6 +705,11 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
     out.unit_assumed = assumed
     out.noise = None
     out.fit_error = None
+    # without a fit (fit=False, or one that failed) its numbers are
+    # unknown: None, never missing attributes
+    out.chi2 = out.dof = out.p_value = out.readoff = out.rejected = None
+    out.p_value_bound = None
+    out.ci_level = ci if ci is not None else None
     if want is not None:
         # the points at the factors asked for; the fit on the dense grid
         pts = _points(fn, p, stride, n, rate, ao, want)
@@ -736,6 +741,12 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
             out.n_phase = r.n_phase
         if fit and r.have_fit:
             units = _si_units(quantity)
+            if units[0] is None:
+                # another quantity: the terms' units from the rate's, as
+                # the command's (Q rate*s, N rate/sqrt(Hz), B rate, ...)
+                ru = unit + "/s" if input == "angle" else unit
+                units = [ru + "*s", ru + "/sqrt(Hz)", ru, ru + "/s/sqrt(Hz)",
+                         ru + "/s"]
             out.noise = {t: Coef(r.fit.coef[i], units[i])
                          for i, t in enumerate(_TERMS)}
             out.chi2 = r.fit.chi2
@@ -1555,7 +1566,8 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
     model value = mean + unit effect (sd `between_sd`) + measurement error
     (sd se).  Returns a dict: "mean" with its Hartung-Knapp interval
     ("mean_lo", "mean_hi"), "between_sd" (REML) with its Q-profile interval
-    ("between_lo", "between_hi"), "total_sd" (the plain sd of the values),
+    ("between_lo", "between_hi"; "between_note" says why when that interval
+    is [0, 0]), "total_sd" (the plain sd of the values),
     Cochran's "q" and "q_p", "i2", the robust "z" of each unit and the
     indices of the "outliers" flagged at `outlier_alpha` per unit; the
     estimates leave out the units beyond the family-wise level ("k_used"
@@ -1578,6 +1590,16 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
     if bad.size:
         _bad(fn, "se", "%s at index %d: a standard error is positive"
              % (_text(s[bad[0]]), bad[0]))
+    # squares and weights of these must stay finite and non-zero
+    bad = np.flatnonzero((s < 1e-150) | (s > 1e150))
+    if bad.size:
+        _bad(fn, "se", "%s at index %d is beyond 1e-150 .. 1e150 (give the "
+             "values and errors in a unit that brings them near 1)"
+             % (_text(s[bad[0]]), bad[0]))
+    bad = np.flatnonzero(np.abs(y) > 1e150)
+    if bad.size:
+        _bad(fn, "values", "%s at index %d is beyond 1e150 in magnitude"
+             % (_text(y[bad[0]]), bad[0]))
     level = _number(fn, "level", level)
     if not 0 < level < 1:
         _bad(fn, "level", "%s is not a level between 0 and 1 (e.g. 0.90)"
@@ -1598,6 +1620,11 @@ def lot_spread(values, se, level=0.90, outlier_alpha=0.01,
                        C.byref(o), C.byref(r), z.ctypes.data_as(dp), fl)
     _check(rc, None, fn)
     out = {k: getattr(r, k) for k, _t in _c.LotSpread._fields_}
+    # an empty Q-profile set: the units agree better than their own
+    # errors imply, and the interval [0, 0] says only that
+    out["between_note"] = (
+        "the units agree better than their own standard errors imply: no "
+        "spread between them can be told" if r.between_hi == 0 else None)
     out["z"] = z
     out["outliers"] = [i for i in range(y.size) if fl[i]]
     return out
