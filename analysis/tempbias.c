@@ -1469,6 +1469,27 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		    (rc = ssc_magnitude_check(runs[j].temp_degc, 1, runs[j].n,
 					      250, "tempbias temperature", diag)))
 			return rc;
+	/* every sample the same value: a stuck sensor or a constant column;
+	 * a fit would read orders into its rounding */
+	{
+		double first = NAN;
+		bool varies = false;
+
+		for (size_t j = 0; j < n_runs && !varies; j++)
+			for (size_t i = 0; i < runs[j].n && !varies; i++) {
+				double v = runs[j].x[i * runs[j].stride];
+
+				if (isnan(v))
+					continue;
+				if (isnan(first))
+					first = v;
+				else if (v != first)
+					varies = true;
+			}
+		if (!varies && !isnan(first))
+			return ssc_diag(diag, -EDOM, "every sample is %g (constant data): no bias to fit against temperature; a stuck sensor or a constant column",
+					first);
+	}
 	block_s = o->block_s > 0 ? o->block_s : 1;
 	smooth_s = o->smooth_s > 0 ? o->smooth_s : 60;
 	min_span = o->min_span_degc > 0 ? o->min_span_degc : 1;

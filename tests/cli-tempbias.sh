@@ -112,4 +112,9 @@ if [ "$SSCOPE_HAVE_OPENCV" = 1 ]; then
 else
 	run "tempbias --plot without OpenCV" 2 tempbias --plot "$T/t.png" "$TH"
 fi
+# a constant channel: refused, not fitted to its rounding
+awk 'BEGIN { print "# rate: 1"; print "ax [m/s^2],temp [degC]"; for (i = 0; i < 3600; i++) printf "2.94,%.3f\n", 20 + i / 360 }' >"$T/const.csv"
+run "tempbias on a constant channel" 1 tempbias "$T/const.csv"
+has "constant channel: said" "$T/err" 'every sample is 2.94 \(constant data\)'
+
 done_testing
