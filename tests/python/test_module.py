@@ -889,6 +889,15 @@ ok(rnf.chi2 is None and rnf.p_value is None and rnf.rejected is None,
 ok(rm.noise["N"].si_unit == "m/sqrt(Hz)" and rm.noise["B"].si_unit == "m",
    "allan on another quantity: the terms' units from the data's, as the "
    "command's")
+zt = os.path.join(tempfile.mkdtemp(), "zt.csv")
+with open(zt, "w") as fh:
+    fh.write("t,gx\n1,0.1\n1,0.2\n1,0.3\n1,0.4\n")
+with warnings.catch_warnings(record=True) as wl:
+    warnings.simplefilter("always")
+    czt = ss.load(zt)
+ok(czt.rate_hz is None and any("time column 't' is constant" in
+                               str(w.message) for w in wl),
+   "load: a constant time column warned about, as the command does")
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan

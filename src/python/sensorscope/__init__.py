@@ -463,6 +463,18 @@ def load(path, columns=None, rate=None, units=None, topic=None,
     if warn and nt.rate_disagrees:
         _warn("load", "%s: rate %g Hz but the time column implies %.6g Hz: "
               "using rate %g Hz" % (path, rate, nt.time_column_rate_hz, rate))
+    c = ptr.contents
+    if warn and c.time_s:
+        # a time column that is constant or runs backwards, as the
+        # command warns
+        d = _c.Diag()
+        order = c.timing.order
+        if not c.has_timing:
+            order = _c.TimeOrder()
+            _c.timing_order_feed(C.byref(order), c.time_s, c.n)
+        if _c.timing_order_check(C.byref(order), C.byref(d)) < 0:
+            _warn("load", "%s: time column '%s' %s" % (
+                path, c.time_col.name.decode(), d.msg.decode()))
     return cap
 
 

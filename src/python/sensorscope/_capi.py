@@ -431,6 +431,10 @@ allan_free = _fn("sscope_allan_free", None, C.c_void_p)
 quantity_si_unit = _fn("sscope_quantity_si_unit", C.c_char_p, C.c_int)
 allan_max_m = _fn("sscope_allan_max_m", c_size, C.c_int, c_size)
 noise_p_is_bound = _fn("sscope_noise_p_is_bound", C.c_bool, c_dbl)
+timing_order_check = _fn("sscope_timing_order_check", C.c_int,
+                         C.POINTER(TimeOrder), C.POINTER(Diag))
+timing_order_feed = _fn("sscope_timing_order_feed", None,
+                        C.POINTER(TimeOrder), c_dptr, c_size)
 noise_coef_resolved = _fn("sscope_noise_coef_resolved", C.c_bool,
                           C.POINTER(NoiseCoef))
 noise_fit_rejected = _fn("sscope_noise_fit_rejected", C.c_bool,
