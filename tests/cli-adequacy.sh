@@ -45,7 +45,7 @@ json_check "p_value_bound beside p_value, true only at the floor" "$T/out" \
 run "kalibr on the static sample" 0 allan --kalibr "$T/k.yaml" "$G"
 has "kalibr: continuous time stated" "$T/k.yaml" '^# continuous-time noise densities'
 has "kalibr: K written as its bound, marked" "$T/k.yaml" '^gyroscope_random_walk: [1-9][0-9.]*e-0[67] .*UPPER BOUND'
-has "kalibr: bound warned about" "$T/err" 'warning: --kalibr: gyro K is written as its upper bound'
+has "kalibr: bound warned about" "$T/err" 'warning: --kalibr: gyro K is written as its upper bound [0-9.e-]+ rad/s\^2/sqrt\(Hz\) '
 lacks "kalibr: N not marked" "$T/k.yaml" '^gyroscope_noise_density: .*(UPPER BOUND|DOUBTFUL)'
 run "imu-utils on the static sample" 0 allan --imu-utils "$T/iu.yaml" "$G"
 has "imu-utils: continuous time stated" "$T/iu.yaml" 'continuous time'

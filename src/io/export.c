@@ -966,9 +966,13 @@ int sscope_export(const char *target, const struct sscope_export_chan *ch,
 			const struct xvalue *x = s ? &v.a[term] : &v.g[term];
 
 			if (x->have && x->bound)
-				warn_line(w, "%s %c is written as its upper bound %.4g (%s): the record does not establish it",
+				warn_line(w, "%s %c is written as its upper bound %.4g %s (%s): the record does not establish it",
 					  s ? "accelerometer" : "gyro", "QNBKR"[term],
-					  x->v * e.inflate, x->axes);
+					  x->v * e.inflate,
+					  sscope_term_si_unit(s ? SSCOPE_QUANTITY_ACCELERATION :
+								  SSCOPE_QUANTITY_ANGULAR_RATE,
+							      (enum sscope_term)term),
+					  x->axes);
 			if (x->have && x->doubt)
 				warn_line(w, "%s %c written although doubtful (--force): %s",
 					  s ? "accelerometer" : "gyro", "QNBKR"[term],
