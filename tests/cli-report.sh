@@ -167,4 +167,16 @@ has "drive: allan without the reference" "$T/out" 'allan .*channels: gz,ax,ay,az
 has "drive: tempbias without the reference" "$T/out" 'tempbias .*channels: gz,ax,ay,az$'
 has "drive: heading against it" "$T/out" 'heading --reference=heading_ref'
 
+# the plan names each output file, and the run writes exactly those
+run "report plan of two files" 0 report --dry-run -o "$T/rep2" "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv"
+sed -n 's/^outputs in [^:]*: //p' "$T/out" | tr ' ' '\n' | sort >"$T/planned"
+run "report of two files" 0 report -q -o "$T/rep2" "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv"
+ls "$T/rep2" | sort >"$T/written"
+if [ -s "$T/planned" ] && cmp -s "$T/planned" "$T/written"; then
+	ok "report: the files the plan names are the files written"
+else
+	not_ok "report: the files the plan names are the files written"
+	diff "$T/planned" "$T/written" | diag /dev/stdin
+fi
+
 done_testing

@@ -1305,13 +1305,37 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 	if (sc->formats & SSC_OUT_HTML)
 		fprintf(f, " report.html");
 	if (sc->formats & SSC_OUT_JSON)
-		fprintf(f, " report.json STAGE.json");
+		fprintf(f, " report.json");
 	if (sc->formats & SSC_OUT_TEXT)
 		fprintf(f, " report.txt");
-	if (sc->formats & SSC_OUT_PNG)
-		fprintf(f, " STAGE.png");
-	if (sc->formats & SSC_OUT_SVG)
-		fprintf(f, " STAGE.svg");
+	/* each analysis' own files, by name: its JSON and its figure (one
+	 * per file, NAME-1 ..., for one run per file) */
+	for (size_t i = 0; i < sc->n_order; i++) {
+		size_t s = sc->order[i], nf = 0;
+		bool per_file;
+
+		for (size_t j = 0; j < sc->n_files && j < 64; j++)
+			nf += (sc->file_mask[s] >> j) & 1;
+		per_file = (stages[s].ops->needs & SSC_NEED_DATA) &&
+			   stages[s].ops->max_files == 1 && nf > 1;
+		if (sc->formats & SSC_OUT_JSON)
+			fprintf(f, " %s.json", stages[s].name);
+		for (int e = 0; e < 2; e++) {
+			const char *ext = e ? ".svg" : ".png";
+
+			if (!(sc->formats & (e ? SSC_OUT_SVG : SSC_OUT_PNG)) ||
+			    sc->no_plot[s] || !stages[s].ops->plot)
+				continue;
+			if (per_file && nf > 3)
+				fprintf(f, " %s-1%s .. %s-%zu%s", stages[s].name, ext,
+					stages[s].name, nf, ext);
+			else if (per_file)
+				for (size_t r = 1; r <= nf; r++)
+					fprintf(f, " %s-%zu%s", stages[s].name, r, ext);
+			else
+				fprintf(f, " %s%s", stages[s].name, ext);
+		}
+	}
 	fputc('\n', f);
 	free(cols);
 }
