@@ -37,7 +37,7 @@ old=$(cat "$T/rep"/* | cksum)
 for k in rep/imu.yaml rep/allan.json ./rep/../rep/imu.yaml; do
 	printf '[input]\nfiles = %s\n[allan]\nkalibr = %s\n[report]\nformats = text, json\noutput = rep\n' "$SM" "$k" >"$T/inrep.ini"
 	run "stage output $k in the report folder" 2 run -q "$T/inrep.ini"
-	one_err "stage output $k in the report folder" "^sensorscope: run: --kalibr $T/$k: inside the report folder $T/rep, which is replaced as a whole"
+	one_err "stage output $k in the report folder" "^sensorscope: run: kalibr = $T/$k: inside the report folder $T/rep, which is replaced as a whole"
 done
 [ "$(cat "$T/rep"/* | cksum)" = "$old" ] && ok "the report folder is untouched" || not_ok "the report folder was changed"
 printf '[input]\nfiles = %s\n[allan]\nkalibr = newrep/imu.yaml\n[report]\noutput = newrep\n' "$SM" >"$T/inrep.ini"

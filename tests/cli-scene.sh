@@ -175,4 +175,16 @@ printf '[input]\nfiles = %s\n[tempbias]\n[report]\noutput = sc-notemp\n' "$SAMPL
 run "scene without a temperature column" 1 run "$T/notemp.ini"
 has "scene without a temperature: the key to give" "$T/err" 'no temperature column \(give temp_column = NAME in \[input\]\)'
 
+# a stage's keys keep the option's name (run-length, not run_length), and
+# --sensor is the [sensor] section
+printf '[budget]\ntime = 10, 60\n[report]\noutput = sc-budget0\n' >"$T/budget0.ini"
+run "scene: a budget without sources" 2 run "$T/budget0.ini"
+has "scene: the section and keys to give" "$T/err" 'give \[sensor\] or gyro-bias, accel-bias, arw, vrw$'
+printf '[input]\nfiles = %s\n[walk]\n[report]\noutput = sc-walk0\n' "$SAMPLES/euroc-imu.csv" >"$T/walk0.ini"
+run "scene: a walk too short" 1 run "$T/walk0.ini"
+has "scene: the walk's own key" "$T/err" '\(give run-length\)$'
+# report infers its scene: its messages keep the command's words
+run "report on a record too short for the walk" 0 report -q -o "$T/rep-euroc" "$SAMPLES/euroc-imu.csv"
+has "report: the command's option, not a key" "$T/err" 'walk: .*\(give --run-length\)$'
+
 done_testing

@@ -178,46 +178,103 @@ bool ssc_interrupted(void)
 	return atomic_load(&dying) != 0;
 }
 
-/* Inside a scene the options are keys: "--temp-column NAME" reads
- * "temp_column = NAME in [input]", "--nperseg" "nperseg", "-c" "columns"
- * ([input]'s keys named so). */
+/* Inside a scene file the options are keys: [input]'s (-c columns, -u
+ * units, --rate, --time-column time_column, --temp-column temp_column,
+ * --raw, --scale, --offset, --allow-nan allow_nan, --calibration,
+ * --topic) said with their section, "--sensor" the [sensor] section, any
+ * other option its analysis' key of the same name ("--run-length 2min"
+ * reads "run-length = 2min"). */
+static const char *input_key(const char *opt)
+{
+	static const char *const map[][2] = {
+		{ "c", "columns" }, { "columns", "columns" }, { "column", "columns" },
+		{ "u", "units" }, { "units", "units" }, { "r", "rate" },
+		{ "rate", "rate" }, { "time-column", "time_column" },
+		{ "temp-column", "temp_column" }, { "raw", "raw" },
+		{ "scale", "scale" }, { "offset", "offset" },
+		{ "allow-nan", "allow_nan" }, { "calibration", "calibration" },
+		{ "topic", "topic" },
+	};
+
+	for (size_t i = 0; i < sizeof(map) / sizeof(*map); i++)
+		if (!strcmp(opt, map[i][0]))
+			return map[i][1];
+	return NULL;
+}
+
+static bool is_value_word(const char *p, bool input)
+{
+	static const char *const words[] = { "or", "and", "to", "for", "with",
+					     "in", "is", "on", "only", "applies" };
+
+	/* a placeholder, a number or a path */
+	if ((*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') || *p == '/' ||
+	    (*p == '.' && (p[1] == '/' || p[1] == '.')))
+		return true;
+	if (!input || !((*p >= 'a' && *p <= 'z') || *p == '/'))
+		return false;
+	for (size_t i = 0; i < sizeof(words) / sizeof(*words); i++) {
+		size_t l = strlen(words[i]);
+
+		if (!strncmp(p, words[i], l) && (!p[l] || strchr(" ;,)'", p[l])))
+			return false;
+	}
+	return true;
+}
+
 static void scene_words(char *buf, size_t size)
 {
-	static const char *const input_keys[] = { "rate", "time_column", "temp_column",
-						  "columns", "units", "raw" };
 	char out[MSG_MAX + 8];
 	size_t o = 0;
 	const char *p = buf;
 
-	while (*p && o + 64 < sizeof(out)) {
+	while (*p && o + 96 < sizeof(out)) {
 		bool start = p == buf || strchr(" ('\"", p[-1]);
-		char key[48];
+		char opt[48];
+		const char *key;
 		size_t k = 0;
 
-		if (start && p[0] == '-' && (p[1] == 'c' || p[1] == 'u') &&
+		if (start && p[0] == '-' && strchr("cur", p[1]) && p[1] &&
 		    (!p[2] || strchr(" ;,)", p[2]))) {
-			snprintf(key, sizeof(key), "%s", p[1] == 'c' ? "columns" : "units");
+			opt[0] = p[1];
+			opt[1] = '\0';
 			p += 2;
 		} else if (start && p[0] == '-' && p[1] == '-' && p[2] >= 'a' && p[2] <= 'z') {
-			for (p += 2; k + 1 < sizeof(key) &&
+			for (p += 2; k + 1 < sizeof(opt) &&
 				     ((*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') || *p == '-');
 			     p++)
-				key[k++] = *p == '-' ? '_' : *p;
-			key[k] = '\0';
+				opt[k++] = *p;
+			opt[k] = '\0';
 		} else {
 			out[o++] = *p++;
 			continue;
 		}
-		o += (size_t)snprintf(out + o, sizeof(out) - o, "%s", key);
+		key = input_key(opt);
+		if (!key && !strcmp(opt, "sensor")) {
+			o += (size_t)snprintf(out + o, sizeof(out) - o, "[sensor]");
+			if (p[0] == ' ' && is_value_word(p + 1, false))
+				/* its spec file: the section's spec key */
+				for (o += (size_t)snprintf(out + o, sizeof(out) - o, " spec ="),
+				     out[o++] = *p++;
+				     *p && !strchr(" ;,)'", *p) && o + 16 < sizeof(out);)
+					out[o++] = *p++;
+			continue;
+		}
+		o += (size_t)snprintf(out + o, sizeof(out) - o, "%s", key ? key : opt);
 		/* a placeholder or value after it: KEY = VALUE */
-		if (p[0] == ' ' && ((p[1] >= 'A' && p[1] <= 'Z') || (p[1] >= '0' && p[1] <= '9'))) {
+		if (p[0] == ' ' && is_value_word(p + 1, key != NULL)) {
 			o += (size_t)snprintf(out + o, sizeof(out) - o, " =");
 			for (out[o++] = *p++; *p && !strchr(" ;,)'", *p) && o + 16 < sizeof(out);)
 				out[o++] = *p++;
+			/* a rate's unit goes with its value */
+			if (!strncmp(p, " Hz", 3) && (!p[3] || strchr(" ;,)'", p[3]))) {
+				memcpy(out + o, " Hz", 3);
+				o += 3;
+				p += 3;
+			}
 		}
-		for (size_t i = 0; i < sizeof(input_keys) / sizeof(*input_keys); i++)
-			if (!strcmp(key, input_keys[i]))
-				o += (size_t)snprintf(out + o, sizeof(out) - o, " in [input]");
+		if (key)
+			o += (size_t)snprintf(out + o, sizeof(out) - o, " in [input]");
 	}
 	while (*p && o + 1 < sizeof(out))
 		out[o++] = *p++;
@@ -244,7 +301,9 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 		msg = NULL;
 	clean(&l, msg ? msg : fmt);
 	free(msg);
-	if (outer)
+	/* a scene file's run (not report, whose scene is inferred): its
+	 * stages and inputs are set by keys */
+	if (outer_cmd && !strcmp(outer_cmd, "run"))
 		scene_words(buf, sizeof(buf));
 	if (ctx) {
 		clean(&c, ctx);
