@@ -171,4 +171,16 @@ one_err "an error inside run" "^sensorscope: run: allan: $T/no/such/imu.yaml: no
 printf '[input]\nfiles = %s\n[allan]\ntaus = weekly\n' "$SM" >"$T/badkey.ini"
 run "a stage option error inside run" 2 run --dry-run "$T/badkey.ini"
 one_err "a stage option error inside run" "^sensorscope: run: allan: $T/badkey.ini: line 4: taus: "
+# files named like an analysis' but no report beside them are the user's
+mkdir -p "$T/notes"
+echo "my notes" >"$T/notes/calib.json"
+echo "a,b" >"$T/notes/psd.csv"
+run "a folder of the user's files named like a report's" 2 run -o "$T/notes" "$SAMPLES/bearing.scene.ini"
+has "the user's folder: refused, said" "$T/err" "holds '(calib.json|psd.csv)' but no report"
+has "the user's files kept" "$T/notes/calib.json" '^my notes$'
+# a report of figures only is still the next run's to replace
+printf '[input]\nfiles = %s\n[allan]\n[report]\nformats = svg\n' "$SAMPLES/gyro-static.csv" >"$T/svgonly.ini"
+run "a report of figures only" 0 run -q -o "$T/svgonly" "$T/svgonly.ini"
+run "the same report again" 0 run -q -o "$T/svgonly" "$T/svgonly.ini"
+
 done_testing

@@ -595,7 +595,10 @@ out:
 
 /* ------------------------------------------------------------ folders */
 
-/* Is @p name a file a report folder holds: report.*, or STAGE.ext /
+/* the file that marks a report folder sensorscope wrote */
+#define SSC_REPORT_MARK ".sensorscope-report"
+
+/* Is @p name a file a report folder holds: its mark, report.*, or STAGE.ext /
  * STAGE-N.ext for a stage of @p ctx (a NULL-terminated list)? */
 static bool report_file(const char *name, void *ctx)
 {
@@ -606,6 +609,8 @@ static bool report_file(const char *name, void *ctx)
 	size_t stem;
 	bool ext = false;
 
+	if (!strcmp(name, SSC_REPORT_MARK))
+		return true;
 	if (!dot)
 		return false;
 	for (size_t i = 0; exts[i]; i++)
@@ -827,15 +832,31 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 			ssc_outdir_abort(od);
 			return SSC_EXIT_FAIL;
 		}
-		while (!bad && (ent = readdir(d))) {
-			struct stat es;
+		{
+			char first[256] = "";
+			bool has_report = false;
 
-			if (!strcmp(ent->d_name, ".") || !strcmp(ent->d_name, ".."))
-				continue;
-			if (fstatat(dirfd(d), ent->d_name, &es, AT_SYMLINK_NOFOLLOW) != 0 ||
-			    !S_ISREG(es.st_mode) || !report_file(ent->d_name, (void *)stages)) {
-				ssc_err(cmd, "%s %s: holds '%s', which is not part of a report, and a report folder is replaced as a whole: choose another folder",
-					what, od->shown, ent->d_name);
+			while (!bad && (ent = readdir(d))) {
+				struct stat es;
+
+				if (!strcmp(ent->d_name, ".") || !strcmp(ent->d_name, ".."))
+					continue;
+				if (fstatat(dirfd(d), ent->d_name, &es, AT_SYMLINK_NOFOLLOW) != 0 ||
+				    !S_ISREG(es.st_mode) || !report_file(ent->d_name, (void *)stages)) {
+					ssc_err(cmd, "%s %s: holds '%s', which is not part of a report, and a report folder is replaced as a whole: choose another folder",
+						what, od->shown, ent->d_name);
+					bad = 1;
+				}
+				if (!first[0])
+					snprintf(first, sizeof(first), "%s", ent->d_name);
+				has_report |= !strncmp(ent->d_name, "report.", 7) ||
+					      !strcmp(ent->d_name, SSC_REPORT_MARK);
+			}
+			/* files named like an analysis' but no report beside
+			 * them: the user's own files, not an earlier report */
+			if (!bad && first[0] && !has_report) {
+				ssc_err(cmd, "%s %s: holds '%s' but no report (report.html, .json or .txt): not a report folder, and a report folder is replaced as a whole: choose another folder",
+					what, od->shown, first);
 				bad = 1;
 			}
 		}
@@ -898,6 +919,22 @@ int ssc_outdir_begin(const char *cmd, const char *what, const char *dir,
 		}
 	}
 	chmod(od->dir, mode);
+	/* the mark of a report folder: the next run may replace it (a folder
+	 * without it, or without a report.*, is the user's) */
+	{
+		char *mk = malloc(strlen(od->dir) + sizeof("/" SSC_REPORT_MARK));
+		FILE *mf;
+
+		if (mk) {
+			sprintf(mk, "%s/%s", od->dir, SSC_REPORT_MARK);
+			mf = fopen(mk, "w");
+			if (mf) {
+				fputs("A report folder written by sensorscope: the next run into it replaces the whole folder.\n", mf);
+				fclose(mf);
+			}
+			free(mk);
+		}
+	}
 	staging = od;
 	return SSC_EXIT_OK;
 }
