@@ -376,7 +376,7 @@ int sscope_psd_new(struct sscope_psd **out, const struct sscope_psd_opts *opts)
 	/* more than 64 times zero padding only interpolates, at the cost of
 	 * memory and time without bound */
 	if (p->l >= p->m || p->nfft < p->m || p->nfft > INT32_MAX ||
-	    p->nfft / SSCOPE_PSD_MAX_PAD > p->m) {
+	    p->nfft > (size_t)SSCOPE_PSD_MAX_PAD * p->m) {
 		free(p);
 		return -EINVAL;
 	}
@@ -984,7 +984,10 @@ static int short_result(struct sscope_psd *p, double fs,
 
 	o.nperseg = p->have;
 	o.noverlap = SSCOPE_PSD_HALF_OVERLAP;
-	o.nfft = p->o.nfft >= p->have ? p->o.nfft : 0;
+	/* the zero padding asked for, within its bound for this length */
+	o.nfft = p->o.nfft < p->have ? 0 :
+		 p->o.nfft / SSCOPE_PSD_MAX_PAD >= p->have ?
+		 (size_t)SSCOPE_PSD_MAX_PAD * p->have : p->o.nfft;
 	o.shorten = false;
 	o.spectrogram_cols = p->sg_max ? 2 : 0;
 	o.threads = 1;

@@ -204,6 +204,9 @@ one_line_error "--peak-alpha x"
 # a huge zero padding only interpolates: refused at once (it hung)
 run "psd: nfft beyond 64 times nperseg" 2 psd --nfft 1073741824 "$SAMPLES/vibration.csv"
 has "psd: nfft beyond 64 times nperseg, said" "$T/err" 'more than 64 times --nperseg 256: zero padding beyond that only interpolates'
+run "psd: nfft of 64 times nperseg" 0 psd --nperseg 4 --nfft 256 "$SAMPLES/vibration.csv"
+run "psd: nfft one beyond 64 times nperseg" 2 psd --nperseg 4 --nfft 257 "$SAMPLES/vibration.csv"
+run "periodogram: nfft against the record, not 256" 0 psd --method periodogram --nfft 20000 "$SAMPLES/vibration.csv"
 
 run "third-octave bands, text" 0 psd --bands third -c ax "$SAMPLES/vibration.csv"
 has "bands: those the resolution cannot show are said" "$T/out" 'bands below [0-9.]+ Hz left out: narrower than the resolution, 19.53 Hz'

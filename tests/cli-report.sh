@@ -166,6 +166,8 @@ run "report plan of a drive with a true heading" 0 report --dry-run "$SAMPLES/dr
 has "drive: allan without the reference" "$T/out" 'allan .*channels: gz,ax,ay,az$'
 has "drive: tempbias without the reference" "$T/out" 'tempbias .*channels: gz,ax,ay,az$'
 has "drive: heading against it" "$T/out" 'heading --reference=heading_ref'
+run "report plan of the drive beside another file" 0 report --dry-run "$SAMPLES/drive-stops.csv" "$SAMPLES/gyro-static.csv"
+has "two files: allan on every data column of each" "$T/out" 'allan .*channels: all data columns$'
 
 # the plan names each output file, and the run writes exactly those
 run "report plan of two files" 0 report --dry-run -o "$T/rep2" "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv"

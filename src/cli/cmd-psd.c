@@ -436,7 +436,9 @@ static int check(struct ssc_common *co, void *opts)
 	if (a->po.nfft && a->po.nfft < a->po.nperseg)
 		return ssc_usage_error(co->cmd, "--nfft %zu is shorter than --nperseg %zu",
 				       a->po.nfft, a->po.nperseg);
-	if (a->po.nfft / SSCOPE_PSD_MAX_PAD > (a->po.nperseg ? a->po.nperseg : 256))
+	/* (a periodogram's segment is the record: checked when it is read) */
+	if (!a->periodogram &&
+	    a->po.nfft > (size_t)SSCOPE_PSD_MAX_PAD * (a->po.nperseg ? a->po.nperseg : 256))
 		return ssc_usage_error(co->cmd, "--nfft %zu is more than %d times --nperseg %zu: zero padding beyond that only interpolates the spectrum",
 				       a->po.nfft, SSCOPE_PSD_MAX_PAD,
 				       a->po.nperseg ? a->po.nperseg : (size_t)256);

@@ -229,20 +229,32 @@ static void scene_words(char *buf, size_t size)
 	const char *p = buf;
 
 	while (*p && o + 96 < sizeof(out)) {
-		bool start = p == buf || strchr(" ('\"", p[-1]);
+		bool start = p == buf || strchr(" (\"", p[-1]);
 		char opt[48];
-		const char *key;
+		const char *key, *q = p + 2;
 		size_t k = 0;
 
-		if (start && p[0] == '-' && strchr("cur", p[1]) && p[1] &&
+		/* what the user wrote is quoted ('...'): as written */
+		if (*p == '\'' && (p == buf || strchr(" (", p[-1]))) {
+			const char *end = strchr(p + 1, '\'');
+
+			end = end ? end + 1 : p + strlen(p);
+			while (p < end && o + 2 < sizeof(out))
+				out[o++] = *p++;
+			continue;
+		}
+		if (start && p[0] == '-' && p[1] == '-')
+			while ((*q >= 'a' && *q <= 'z') || (*q >= '0' && *q <= '9') || *q == '-')
+				q++;
+		/* an option ends the word (a file "--x.csv" is a file) */
+		if (start && p[0] == '-' && p[1] && strchr("cur", p[1]) &&
 		    (!p[2] || strchr(" ;,)", p[2]))) {
 			opt[0] = p[1];
 			opt[1] = '\0';
 			p += 2;
-		} else if (start && p[0] == '-' && p[1] == '-' && p[2] >= 'a' && p[2] <= 'z') {
-			for (p += 2; k + 1 < sizeof(opt) &&
-				     ((*p >= 'a' && *p <= 'z') || (*p >= '0' && *p <= '9') || *p == '-');
-			     p++)
+		} else if (start && p[0] == '-' && p[1] == '-' && p[2] >= 'a' && p[2] <= 'z' &&
+			   (!*q || strchr(" :;,)=", *q)) && (size_t)(q - p - 2) < sizeof(opt)) {
+			for (p += 2; p < q; p++)
 				opt[k++] = *p;
 			opt[k] = '\0';
 		} else {

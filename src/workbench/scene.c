@@ -984,8 +984,10 @@ int ssc_scene_infer(const struct ssc_common *co, char **files, size_t n,
 			sc->want |= 1u << S_HEADING;
 			sc->file_mask[S_HEADING] |= bit;
 			/* the true heading is the reference, not a channel
-			 * for the noise, the spectrum or the temperature */
-			for (int st = 0; st < 3 && !co->columns && data_cols[0]; st++) {
+			 * for the noise, the spectrum or the temperature (one
+			 * file: its columns; others may hold other columns) */
+			for (int st = 0; st < 3 && !co->columns && data_cols[0] &&
+					 n == 1; st++) {
 				int sg = st == 0 ? S_ALLAN : st == 1 ? S_PSD : S_TEMPBIAS;
 
 				if (!sc->stage_columns[sg]) {

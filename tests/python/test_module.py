@@ -820,6 +820,12 @@ refused(lambda: ss.adc_report(MEMS, [None]), "adc_report: adcs: ",
         "adc_report(adcs=[None]): the argument named")
 refused(lambda: ss.psd(np.zeros(5000), 100.0, nfft=2 ** 30),
         "psd: nfft: ", "psd: nfft beyond 64 times nperseg refused at once")
+refused(lambda: ss.psd(np.random.default_rng(2).normal(size=5000), 100.0,
+                       nperseg=4, nfft=257),
+        "psd: nfft: 257 is more than 64 times nperseg 4",
+        "psd: nfft one beyond 64 times nperseg refused")
+ok(ss.psd(np.random.default_rng(2).normal(size=5000), 100.0, nperseg=4,
+          nfft=256).nfft == 256, "psd: nfft of 64 times nperseg taken")
 refused(lambda: ss.load(os.path.join(SAMPLES, "gyro-static.csv"), scale=2.0),
         "load: scale: applies to raw input only", "load: scale without raw")
 refused(lambda: ss.allan(np.zeros(100) + 1.0, 10.0, unit="deg/s"),

@@ -999,7 +999,7 @@ def psd(x, rate, window="hann", nperseg=256, overlap=0.5, nfft=None,
         if nfft < nperseg:
             raise ArgumentError("psd: nfft %d is shorter than nperseg %d" %
                                 (nfft, nperseg))
-        if nfft // 64 > nperseg:
+        if nfft > 64 * nperseg:
             _bad(f, "nfft", "%d is more than 64 times nperseg %d: zero "
                  "padding beyond that only interpolates the spectrum"
                  % (nfft, nperseg))
