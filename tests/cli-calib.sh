@@ -146,7 +146,7 @@ json_check "tilt: G diagonal near 0.05 deg/s/g" "$T/out" \
 run "text output" 0 calib gyro "$MP"
 has "text names the error model" "$T/out" 'error model \(textbook eqs 93-94\)'
 has "error model in words" "$T/out" 'per axis: bias [-0-9.]+ m?g, scale-factor error [-0-9.]+ ppm; bias'
-has "detector threshold with its unit" "$T/out" 'threshold [0-9.e-]+ \(rad/s\)\^2, '
+has "detector threshold with its unit" "$T/out" 'threshold [0-9.e-]+ \(m/s\^2\)\^2, '
 lacks "no symbols for the error model" "$T/out" 's_f=|b='
 
 run "csv output" 0 calib accel --format csv "$MP"

@@ -147,6 +147,6 @@ lacks "vibration: never within spec" "$T/out" 'within spec'
 run "check on vibration, json" 0 datasheet --format json --check "$SAMPLES/vibration.csv" "$SAMPLES/datasheets/bmi088.ini"
 json_check "vibration: every rejected fit's line inconclusive" "$T/out" '[.. | objects | select(has("fit_rejected") and .fit_rejected) | .verdict] | length > 0 and all(. == "inconclusive")'
 run "check, a line a static record cannot show" 0 datasheet --check "$SAMPLES/gyro-static.csv" "$SAMPLES/datasheets/stim300.ini"
-has "nothing measured: not checked, why below" "$T/out" 'scale-factor error .* measured - +not checked$'
+has "nothing measured: '-', inconclusive as in JSON, why below" "$T/out" 'scale-factor error .* measured - +inconclusive$'
 
 done_testing

@@ -271,7 +271,7 @@ run "the bundled lot's scene" 0 run -q -o "$T/lot-sample" "$SAMPLES/lot.scene.in
 has "report: the outlier unit flagged" "$T/lot-sample/report.html" 'Outlier unit\.</strong> unit07\.csv: ax bias lies [0-9.]+ standard deviations'
 has "report: the doubtful intervals flagged" "$T/lot-sample/report.html" 'Doubtful intervals\.</strong> [0-9]+ intervals'
 lacks "report: not 'Nothing flagged'" "$T/lot-sample/report.html" 'Nothing flagged'
-json_check "report summary: each file's rate names its file" "$T/lot-sample/report.json" '[.summary[] | select(.quantity == "sample rate (unit12.csv)")] | length == 1'
+json_check "report summary: each file's rate names its file" "$T/lot-sample/report.json" '[.summary[] | select(.quantity == "sample rate" and .channel == "unit12.csv")] | length == 1'
 
 run "the bundled lot, text" 0 lot "$SAMPLES"/lot/unit*.csv
 has "lot text: terms in words" "$T/out" '^ax +bias drift +ug/h '

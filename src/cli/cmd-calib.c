@@ -892,14 +892,14 @@ static void rate_table_text(FILE *f, const struct run *r)
 	else
 		fprintf(f, "  rate table: %zu steps; scale factor in %s per %s, non-linearity: best-fit straight line, %% of full scale\n",
 			lf->points, iu[0] ? iu : "counts", si);
-	struct sscope_unit un;
-	/* the full scale in the input's unit (in SI without a known one) */
-	bool iu_ok = iu[0] && !sscope_unit_parse(iu, &un, NULL);
+	/* the full scale is the reference's (SI): deg/s for a gyro */
+	const char *fsu = r->o.gyro ? "deg/s" : si;
+	double fss = r->o.gyro ? 180 / PI : 1;
 
 	{
 		char fs[40];
 
-		snprintf(fs, sizeof(fs), "FS (%s)", iu_ok ? iu : si);
+		snprintf(fs, sizeof(fs), "FS (%s)", fsu);
 		fprintf(f, "    %-8s %-8s %22s %14s %12s %12s\n", "channel", "excited",
 			"scale factor", "bias", "NL (% FS)", fs);
 	}
@@ -914,7 +914,7 @@ static void rate_table_text(FILE *f, const struct run *r)
 		fprintf(f, "%14s %12s %12s\n", ssc_fmt(a, sizeof(a), lf->bias[i] / s, 5),
 			lf->axis_excited[i] ? ssc_fmt(b, sizeof(b), lf->nonlinearity[i] * 100, 3) : "-",
 			lf->axis_excited[i] ? ssc_fmt((char[32]){ 0 }, 32,
-						      lf->full_scale[i] / (iu_ok ? s : 1), 4) : "-");
+						      lf->full_scale[i] * fss, 4) : "-");
 		for (int j = 0; j < 3; j++)
 			if (j != i && lf->axis_excited[j])
 				fprintf(f, "      cross-axis from input %c: %s±%s\n", "xyz"[j],
@@ -1413,8 +1413,8 @@ static void text(FILE *f, const void *opts, const void *result)
 			o->det.init_static_s > 0 ? "reference from the initial static period" :
 			"reference = 10th percentile of the variance magnitude",
 			o->det.k, o->det.threshold,
-			sscope_quantity_si_unit(o->gyro ? SSCOPE_QUANTITY_ANGULAR_RATE :
-							  SSCOPE_QUANTITY_ACCELERATION),
+			/* the detector runs on the accelerometers */
+			sscope_quantity_si_unit(SSCOPE_QUANTITY_ACCELERATION),
 			o->det.n_intervals);
 	if (r->have_lf)
 		rate_table_text(f, r);

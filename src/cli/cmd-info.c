@@ -741,29 +741,26 @@ static void summary(json_t *rows, const void *opts, const void *result)
 	for (size_t i = 0; i < r->n; i++) {
 		const struct file_info *fi = &r->fi[i];
 		const struct sscope_capture *cap = fi->cap;
-		const char *base = strrchr(fi->path, '/') ? strrchr(fi->path, '/') + 1 : fi->path;
-		char q[3][160];
+		/* several files: each row names its file, in the channel
+		 * field as psd's rows do */
+		const char *who = r->n > 1 ? (strrchr(fi->path, '/') ?
+					      strrchr(fi->path, '/') + 1 : fi->path) : NULL;
 
-		/* several files: each row says which */
-		snprintf(q[0], sizeof(q[0]), "sample rate%s%s%s", r->n > 1 ? " (" : "",
-			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
-		snprintf(q[1], sizeof(q[1]), "record length%s%s%s", r->n > 1 ? " (" : "",
-			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
-		snprintf(q[2], sizeof(q[2]), "temperature span%s%s%s", r->n > 1 ? " (" : "",
-			 r->n > 1 ? base : "", r->n > 1 ? ")" : "");
 		if (cap->rate_hz > 0) {
-			ssc_summary_add(rows, NULL, q[0], cap->rate_hz,
+			ssc_summary_add(rows, who, "sample rate", cap->rate_hz,
 					NAN, NAN, "Hz", rate_source(cap));
-			ssc_summary_add(rows, NULL, q[1],
+			ssc_summary_add(rows, who, "record length",
 					duration(cap), NAN, NAN, "s", NULL);
 		}
 		for (size_t k = 0; k < cap->n_channels; k++) {
 			const struct sscope_clip *c = &fi->clip[k];
+			char ch[300];
 
 			if (!c->low && !c->high)
 				continue;
-			ssc_summary_add(rows, cap->channels[k].col.name,
-					"clipped samples",
+			snprintf(ch, sizeof(ch), "%s%s%s", who ? who : "", who ? ": " : "",
+				 cap->channels[k].col.name);
+			ssc_summary_add(rows, ch, "clipped samples",
 					(double)((c->low ? c->n_lo : 0) +
 						 (c->high ? c->n_hi : 0)),
 					NAN, NAN, "", "at the end of the range");
@@ -775,7 +772,7 @@ static void summary(json_t *rows, const void *opts, const void *result)
 			snprintf(note, sizeof(note), "from %s to %s degC",
 				 ssc_fmt(a, sizeof(a), fi->temp.min, 4),
 				 ssc_fmt(b, sizeof(b), fi->temp.max, 4));
-			ssc_summary_add(rows, NULL, q[2],
+			ssc_summary_add(rows, who, "temperature span",
 					fi->temp.max - fi->temp.min, NAN, NAN,
 					"degC", note);
 		}

@@ -579,11 +579,8 @@ static void verdict_text(FILE *f, const struct ssc_datasheet *ds,
 					 sec->unit[j]);
 			else
 				snprintf(meas, sizeof(meas), "-");
-			/* nothing measured: not checked (why below) */
 			fprintf(f, "  %-38s limit %-24s measured %-36s %s\n", in->name,
-				sec->written[j], meas,
-				isnan(c->value) && !c->bound ? "not checked" :
-				sscope_datasheet_verdict_name(c->verdict));
+				sec->written[j], meas, sscope_datasheet_verdict_name(c->verdict));
 			if (c->why)
 				fprintf(f, "      (%s)\n", c->why);
 			if (c->fit_rejected)

@@ -789,6 +789,14 @@ const char *ssc_lot_term_label(int t)
 	return term_label[t];
 }
 
+const char *ssc_lot_key_label(const char *key)
+{
+	for (int t = 0; t < SSC_LOT_NT; t++)
+		if (!strcmp(key, term_key[t]))
+			return term_label[t];
+	return key;
+}
+
 const char *ssc_lot_unit_name(const struct ssc_lot_result *r, size_t u)
 {
 	return unit_name(r, u);

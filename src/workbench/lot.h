@@ -163,6 +163,8 @@ double ssc_lot_value(const struct ssc_lot_result *r, size_t c, int t, double si,
 const char *ssc_lot_term_key(int t);
 /* the same in words (text and pages) */
 const char *ssc_lot_term_label(int t);
+/* the words for a term's JSON key (the key itself when not a term's) */
+const char *ssc_lot_key_label(const char *key);
 /* "mean [lo, hi]" and "between-unit sd [lo, hi]" of a term, as the text */
 void ssc_lot_spread_text(const struct ssc_lot_result *r, size_t c, int t,
 			 char *mean, size_t ml, char *sd, size_t sl);

@@ -18,6 +18,7 @@
 
 #include "workbench.h"
 #include "report.h"
+#include "lot.h"
 
 /* ---------------------------------------------------------------- JSON */
 
@@ -137,7 +138,7 @@ static size_t lot_banners(struct ssc_html *h, const json_t *lot,
 
 	json_array_foreach(json_object_get(lot, "outliers"), i, o) {
 		snprintf(msg, sizeof(msg), "%s: %s %s lies %.3g standard deviations from the other units (left out of the lot's mean and spread).",
-			 jstr(o, "unit"), jstr(o, "channel"), jstr(o, "term"),
+			 jstr(o, "unit"), jstr(o, "channel"), ssc_lot_key_label(jstr(o, "term")),
 			 fabs(json_number_value(json_object_get(o, "z"))));
 		ssc_html_banner(h, "warn", "Outlier unit.", msg, href);
 		n++;
