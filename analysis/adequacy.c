@@ -1372,7 +1372,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 				say(f, "the sensor moves: its channel %s does (its variance over 1 s windows spans %.3g times, a still record at most %g), although this one shows little of it; noise terms need the sensor at rest",
 				    o->moving_channel, o->moving_contrast, r->max_contrast);
 			else
-				say(f, "the sensor moves: its channel %s does (its variance over 1 s windows is zero in places and not in others: a held value, then motion), although this one shows little of it; noise terms need the sensor at rest",
+				say(f, "the sensor may move: its channel %s may (its variance over 1 s windows is zero in some windows and not in others: a held value then motion, or a quantisation coarse beside the noise), although this one shows little of it; noise terms need the sensor at rest",
 				    o->moving_channel);
 		}
 	} else if (!r->still) {
@@ -1385,7 +1385,7 @@ int sscope_adequacy_check(const double *x, size_t stride, size_t n,
 			f->statistic = r->contrast;
 			f->t_start_s = t0;
 			f->t_end_s = t1;
-			say(f, "the record moves (its variance over 1 s windows is zero in places and not in others: a held value, then motion): noise terms need the sensor at rest; record it still");
+			say(f, "the record may move (its variance over 1 s windows is zero in some windows and not in others: a held value then motion, or a quantisation coarse beside the noise): noise terms need the sensor at rest; record it still, or with a finer quantisation");
 		} else if (f) {
 			f->statistic = r->contrast;
 			f->t_start_s = t0;

@@ -1535,7 +1535,7 @@ int sscope_tempbias_fit(const struct sscope_tempbias_run *runs, size_t n_runs,
 		for (size_t j = 0; j < n_runs; j++)
 			if (runs[j].rate_hz > 0)
 				rec_s += (double)runs[j].n / runs[j].rate_hz;
-		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks of %g s with finite data and temperature (the record%s %.3g s at the rate given)",
+		rc = ssc_diag(diag, -EDOM, "fewer than 3 blocks of %g s with finite data and temperature (the record%s %.3g s at its rate)",
 			      block_s, n_runs > 1 ? "s span" : " spans", rec_s);
 		goto fail;
 	}

@@ -364,7 +364,7 @@ int sscope_walk_compute(const double *x, size_t stride, size_t n,
 					"out of memory" : "record too short to check that it is still");
 		if (!(ratio <= c) && !isfinite(ratio))
 			return ssc_diag(diag, -EDOM,
-					"the record moves (its variance over 1 s windows is zero in places and not in others: a held value, then motion): the fan needs a stationary record");
+					"the record may move (its variance over 1 s windows is zero in some windows and not in others: a held value then motion, or a quantisation coarse beside the noise): the fan needs a stationary record");
 		if (!(ratio <= c))
 			return ssc_diag(diag, -EDOM,
 					"the record moves (its variance over 1 s windows spans %.3g times, a still record at most %g): the fan needs a stationary record",

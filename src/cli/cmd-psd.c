@@ -249,9 +249,12 @@ static void text_run(FILE *f, const struct ssc_psd_run *R)
 			snprintf(ru, sizeof(ru), "rms%s%s%s", u[0] ? " (" : "", u, u[0] ? ")" : "");
 			/* standard bands narrower than a bin are not resolved */
 			if (R->bands.nominal && R->bands.b[0].lo_hz > 2 * c->s.bin_hz)
-				fprintf(f, "    (bands below %s Hz left out: narrower than the resolution, %s Hz; a longer --nperseg resolves them)\n",
+				fprintf(f, "    (bands below %s Hz left out: narrower than the resolution, %s Hz; %s resolves them)\n",
 					ssc_fmt(a, sizeof(a), R->bands.b[0].lo_hz, 4),
-					ssc_fmt(b, sizeof(b), c->s.bin_hz, 4));
+					ssc_fmt(b, sizeof(b), c->s.bin_hz, 4),
+					/* segments as long as the record: only more
+					 * record narrows the bins */
+					c->s.n_segments <= 1 ? "a longer record" : "a longer --nperseg");
 			fprintf(f, "    %-12s %-12s %-12s %s\n", "band lo (Hz)",
 				R->bands.nominal ? "centre (Hz)" : "centre (geo, Hz)",
 				"hi (Hz)", ru);

@@ -8,11 +8,27 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
+#include <pthread.h>
 #include <unistd.h>
 
 const char *sscope_version(void)
 {
 	return PACKAGE_VERSION;
+}
+
+enum { OS_TEXTS = 192 };
+static char os_texts[OS_TEXTS][96];
+static pthread_once_t os_texts_once = PTHREAD_ONCE_INIT;
+
+static void os_texts_make(void)
+{
+	for (int e = 0; e < OS_TEXTS; e++) {
+		char *t = os_texts[e];
+
+		snprintf(t, sizeof(os_texts[e]), "%s", strerror(e));
+		if (t[0] >= 'A' && t[0] <= 'Z' && t[1] >= 'a' && t[1] <= 'z')
+			t[0] = (char)(t[0] - 'A' + 'a');
+	}
 }
 
 const char *sscope_strerror(int err)
@@ -52,16 +68,10 @@ const char *sscope_strerror(int err)
 		break;
 	}
 	/* the OS's text (Read-only file system, ...), its first letter in
-	 * lower case as in every other message (not an acronym's: "EOF") */
-	{
-		static _Thread_local char buf[128];
-		const char *t = strerror(err);
-
-		snprintf(buf, sizeof(buf), "%s", t ? t : "unknown error");
-		if (buf[0] >= 'A' && buf[0] <= 'Z' && buf[1] >= 'a' && buf[1] <= 'z')
-			buf[0] = (char)(buf[0] - 'A' + 'a');
-		return buf;
-	}
+	 * lower case as in every other message (not an acronym's: "EOF"),
+	 * from a table made once: static strings, as promised */
+	pthread_once(&os_texts_once, os_texts_make);
+	return err < OS_TEXTS ? os_texts[err] : "unknown error";
 }
 
 int ssc_diag(struct sscope_diag *diag, int err, const char *fmt, ...)

@@ -424,6 +424,17 @@ int ssc_parse_where(const struct ssc_command_spec *spec, int argc, char **argv,
 				goto own;
 			/* in Hz, or with a unit (10Hz, 1 kHz), as a scene's rate */
 			rc = ssc_arg_quantity(co->cmd, "rate", optarg, "Hz", &co->rate_hz);
+			/* a bare number is Hz; '10 %' is not a rate */
+			if (!rc) {
+				struct sscope_unit ru;
+				double rv;
+
+				if (!sscope_quantity_parse(optarg, &rv, &ru, NULL) &&
+				    sscope_unit_quantity(&ru) == SSCOPE_QUANTITY_DIMENSIONLESS &&
+				    ru.scale != 1)
+					rc = ssc_usage_error(co->cmd, "--rate: '%s' is not in units of Hz",
+							     optarg);
+			}
 			if (!rc && !(co->rate_hz > 0 && isfinite(co->rate_hz)))
 				rc = ssc_usage_error(co->cmd,
 						     "--rate: must be positive");
