@@ -38,7 +38,7 @@ compare() {
 				# (the scene names its keys where the command names
 				# its options: --run-length is run_length, --rate
 				# "rate in [input]"; compared without those marks)
-				norm() { sed -e 's/ in \[input\]//g' -e 's/ = / /g' -e 's/--//g' -e 's/[-_]//g' "$@"; }
+				norm() { sed -e 's/ in \[input\]//g' -e 's/ = / /g' -e 's/ --\([a-z]\)/ \1/g' -e 's/(--\([a-z]\)/(\1/g' "$@"; }
 				msg=$(sed -n "s/^sensorscope: $stage: //p" "$T/cmd.err" | norm)
 				if [ "$got" -eq 1 ] && [ -n "$msg" ] &&
 				   norm "$dir.err" | grep -qF "sensorscope: report: $stage: $msg"; then

@@ -978,16 +978,15 @@ static void text(FILE *f, const void *opts, const void *result)
 			o->p.arw_rad_sqrt_s * 180 / PI * 60, o->p.vrw_m_s_sqrt_s * 60
 		};
 		static const char *const unit[4] = { "deg/h", "ug", "deg/sqrt(h)", "m/s/sqrt(h)" };
-		static const char *const name[4] = { "gyro bias", "accel bias", "ARW", "VRW" };
 
 		fprintf(f, "  sources:");
 		for (int i = 0; i < 4; i++) {
 			const char *from = i < 2 ? bias_from[i] : NULL;
 
 			if (!given[i])
-				fprintf(f, "%s %s not given", i ? "," : "", name[i]);
+				fprintf(f, "%s %s not given", i ? "," : "", source_label(i));
 			else
-				fprintf(f, "%s %s %s %s%s%s%s", i ? "," : "", name[i],
+				fprintf(f, "%s %s %s %s%s%s%s", i ? "," : "", source_label(i),
 					ssc_fmt(a, sizeof(a), v[i], 4), unit[i],
 					from ? " (" : "", from ? from : "", from ? ")" : "");
 		}

@@ -1129,14 +1129,17 @@ def simulate(sensor, rate, duration, seed=1, axes=1, temp_degc=None):
 
 # ------------------------------------------------------------------ tempbias
 
-def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
+def tempbias(x, temp_degc, rate, order="auto", ref_temp=None,
+             allow_nan=False):
     """Bias against temperature (as `sensorscope tempbias`): x and
     temp_degc are arrays of one run, or lists of arrays (one per power
     cycle); x in SI.  Returns a dict: order, ref_temp_degc, coefficients
     (b(T) = sum c_k (T - T_ref)^k, SI per degC^k), coefficient_sd,
     residual_rms, sensitivity (None at order 0: none resolved),
     hysteresis {max, at_degc, eta}, gradient, turn_on_repeatability {sd,
-    range, runs}, table [(temp_degc, bias)]."""
+    range, runs}, table [(temp_degc, bias)].  NaN samples are refused
+    unless `allow_nan` (then gaps, as ``sensorscope tempbias
+    --allow-nan``); infinite ones always."""
     f = "tempbias"
     rate = _positive(f, "rate", rate)
     if not (isinstance(order, str) and order == "auto"):
@@ -1164,8 +1167,9 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
     for j, (a, t) in enumerate(zip(xs, ts)):
         p, stride, n, k1 = _vector(a, f, "x")
         k2 = _array(t, f, "temp_degc", contiguous=True)
-        _finite(f, "x", k1, False, None)
-        _finite(f, "temp_degc", k2, False, None)
+        _finite(f, "x", k1, allow_nan, "they are left out of the blocks")
+        _finite(f, "temp_degc", k2, allow_nan,
+                "they are left out of the blocks")
         if k2.shape[0] != n:
             _bad(f, "temp_degc", "run %d: %d samples, %d temperatures" %
                  (j, n, k2.shape[0]))
@@ -1215,18 +1219,20 @@ def tempbias(x, temp_degc, rate, order="auto", ref_temp=None):
 
 # ------------------------------------------------------------------ calib
 
-def calib(ax, ay, az, rate, gravity=9.80665):
+def calib(ax, ay, az, rate, gravity=9.80665, allow_nan=False):
     """Accelerometer multi-position calibration (Tedaldi et al. 2014, as
     `sensorscope calib accel`): static poses are detected in the record
     (x, y, z in m/s^2) and the 9-parameter model u' = T K (y - b) is
     fitted.  Returns a dict: bias (m/s^2), scale, misalignment (3x3, unit
-    diagonal), their *_sd, residual_rms (m/s^2), poses."""
+    diagonal), their *_sd, residual_rms (m/s^2), poses.  NaN samples are refused unless `allow_nan`
+    (then gaps, as ``sensorscope calib accel --allow-nan``)."""
     rate = _positive("calib", "rate", rate)
     gravity = _positive("calib", "gravity", gravity)
     arrs = [_array(a, "calib", name, contiguous=True)
             for a, name in ((ax, "ax"), (ay, "ay"), (az, "az"))]
     for a, name in zip(arrs, ("ax", "ay", "az")):
-        _finite("calib", name, a, False, None)
+        _finite("calib", name, a, allow_nan,
+                "windows holding one are not static")
     n = arrs[0].shape[0]
     for a, name in zip(arrs[1:], ("ay", "az")):
         if a.shape[0] != n:
