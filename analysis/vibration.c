@@ -695,6 +695,12 @@ int sscope_vib_analyze(const double *x, size_t stride, size_t n,
 	    (o->iso_class != SSCOPE_VIB_ISO_NONE && sscope_vib_iso_limits(o->iso_class, lim)))
 		return ssc_diag(diag, -EINVAL, "bad vibration options");
 	memset(r, 0, sizeof(*r));
+	/* the velocity band must start below the Nyquist frequency */
+	if (!(fs / 2 > o->iso_lo_hz))
+		return ssc_diag(diag, -EDOM,
+				"a rate of %g Hz shows nothing of the velocity band (%g to %g Hz): its Nyquist frequency is %g Hz; vibration needs a rate above %g Hz (%g Hz for the whole band)",
+				fs, o->iso_lo_hz, o->iso_hi_hz, fs / 2, 2 * o->iso_lo_hz,
+				2 * o->iso_hi_hz);
 	if (n < 16)
 		return ssc_diag(diag, -EDOM,
 				"%zu samples: too short for vibration analysis",

@@ -87,4 +87,9 @@ run "vibration --rpm 1e6" 0 vibration --rpm 1e6 "$T/vsine.csv"
 has "a shaft above Nyquist: said" "$T/err" "--rpm 1e\+06 puts the shaft at 16667 Hz, above the Nyquist frequency 1000 Hz"
 run "vibration --nperseg 100000" 0 vibration --nperseg 100000 "$T/vsine.csv"
 has "a segment longer than the record: one of the record" "$T/err" "--nperseg 100000 is longer than the record \(4096 samples\): one segment of 4096"
+# a rate whose Nyquist frequency lies below the velocity band: refused
+run "vibration on a 1 Hz record" 1 vibration "$SAMPLES/accel-thermal.csv"
+has "1 Hz: why, and the rate it needs" "$T/err" 'a rate of 1 Hz shows nothing of the velocity band \(10 to 1000 Hz\).*needs a rate above 20 Hz'
+lacks "1 Hz: no nan printed" "$T/out" 'nan'
+
 done_testing

@@ -904,6 +904,9 @@ with warnings.catch_warnings(record=True) as wl:
 ok(czt.rate_hz is None and any("time column 't' is constant" in
                                str(w.message) for w in wl),
    "load: a constant time column warned about, as the command does")
+tb_x[8] = np.nan
+ok(ss.tempbias(tb_x, tb_t, 1.0, allow_nan=True)["order"] >= 0,
+   "tempbias: allow_nan reads a NaN as a gap, as the command's --allow-nan")
 xa = np.random.default_rng(5).normal(0, 1e-3, 5000)
 Ta = np.linspace(20, 40, 5000)
 Ta[10] = np.nan
