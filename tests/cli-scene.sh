@@ -187,4 +187,9 @@ has "scene: the walk's own key" "$T/err" '\(give run-length\)$'
 run "report on a record too short for the walk" 0 report -q -o "$T/rep-euroc" "$SAMPLES/euroc-imu.csv"
 has "report: the command's option, not a key" "$T/err" 'walk: .*\(give --run-length\)$'
 
+printf '[input]\nfiles = %s\n[allan]\n[report]\nformats =\noutput = sc-nofmt\n' "$SAMPLES/gyro-static.csv" >"$T/nofmt.ini"
+run "scene: formats empty" 2 run "$T/nofmt.ini"
+has "formats empty: said at its line" "$T/err" 'nofmt.ini: line 5: formats: empty'
+if [ -e "$T/sc-nofmt" ]; then not_ok "formats empty: no folder made"; else ok "formats empty: no folder made"; fi
+
 done_testing

@@ -570,6 +570,9 @@ static int parse_report(const char *cmd, struct ssc_scene *sc)
 			}
 		}
 		free(copy);
+		if (!sc->formats)
+			return scene_error(cmd, sc, line,
+					   "formats: empty: give one or more of text, json, html, png and svg (or leave the key out for all)");
 	}
 	v = ssc_ini_get(sc->ini, "report", "output", NULL);
 	if (v)
