@@ -94,4 +94,9 @@ has "budget: sources not given, said" "$T/out" 'sources: gyro bias 10 deg/h \(op
 has "budget: columns in words, '-' for a source not given" "$T/out" '^ +120 +136\.9 +- +- +- +- +136\.9 +gyro bias +open loop$'
 has "budget: header in words" "$T/out" 't \(s\) +gyro bias +accel bias +ARW +VRW +scale factor'
 
+run "budget from a gyro spec, json" 0 budget --sensor "$SAMPLES/gyro-mems-250.ini" --time 60 --format json
+json_check "sources: where each came from, 'not given' for none" "$T/out" '.inputs.gyro_bias_from == "bias_instability" and .inputs.arw_from == "noise_density" and .inputs.accel_bias_from == "not given" and .inputs.vrw_from == "not given"'
+run "budget of accelerometer sources only" 0 budget --accel-bias 100ug --time 60
+has "no gyro source: attitude '-', not 0" "$T/out" '^ +60 +[0-9.]+ +-$'
+
 done_testing

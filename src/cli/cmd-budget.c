@@ -656,8 +656,10 @@ static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
 			o->p.gyro_bias_rad_s = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? s->bias : s->b;
 			from[0] = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? "bias" : "bias_instability";
 		}
-		if (!o->set[2] && (s->has & SSCOPE_SENSOR_HAS_N))
+		if (!o->set[2] && (s->has & SSCOPE_SENSOR_HAS_N)) {
 			o->p.arw_rad_sqrt_s = s->n;
+			from[2] = "noise_density";
+		}
 		if (o->p.gyro_sf == 0 && (s->has & SSCOPE_SENSOR_HAS_SF))
 			o->p.gyro_sf = s->scale_factor_error;
 	} else if (s->quantity == SSCOPE_QUANTITY_ACCELERATION) {
@@ -665,8 +667,10 @@ static int apply_sensor(struct opts *o, const struct sscope_sensor_spec *s,
 			o->p.accel_bias_m_s2 = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? s->bias : s->b;
 			from[1] = (s->has & SSCOPE_SENSOR_HAS_BIAS) ? "bias" : "bias_instability";
 		}
-		if (!o->set[3] && (s->has & SSCOPE_SENSOR_HAS_N))
+		if (!o->set[3] && (s->has & SSCOPE_SENSOR_HAS_N)) {
 			o->p.vrw_m_s_sqrt_s = s->n;
+			from[3] = "noise_density";
+		}
 		if (o->p.accel_sf == 0 && (s->has & SSCOPE_SENSOR_HAS_SF))
 			o->p.accel_sf = s->scale_factor_error;
 	} else {
@@ -732,7 +736,7 @@ static int run(const struct ssc_stage_env *env, void *opts, void **result)
 	R->o = *(struct opts *)opts;
 	o = &R->o;
 	for (int i = 0; i < 4; i++)
-		R->from[i] = "option";
+		R->from[i] = o->set[i] ? "option" : "not given";
 	for (int i = 0; i < o->n_sensor; i++) {
 		struct sscope_sensor_spec s;
 
@@ -948,6 +952,14 @@ static void csv(FILE *f, const void *opts, const void *result)
 	}
 }
 
+/* where a source came from, in words (JSON keeps the spec's keys) */
+static const char *from_words(const char *from)
+{
+	return !strcmp(from, "bias") ? "the sensor's bias" :
+	       !strcmp(from, "bias_instability") ? "the sensor's bias instability" :
+	       !strcmp(from, "noise_density") ? "the sensor's noise density" : from;
+}
+
 static void text(FILE *f, const void *opts, const void *result)
 {
 	const struct budget_res *R = result;
@@ -957,10 +969,10 @@ static void text(FILE *f, const void *opts, const void *result)
 	/* a source not given (0, from no option, file or sensor): '-' in
 	 * its column, not a 0 that reads as measured */
 	const bool given[SSCOPE_BUDGET_N_SOURCES] = {
-		[SSCOPE_BUDGET_GYRO_BIAS] = o->p.gyro_bias_rad_s != 0 || strcmp(bias_from[0], "option"),
-		[SSCOPE_BUDGET_ACCEL_BIAS] = o->p.accel_bias_m_s2 != 0 || strcmp(bias_from[1], "option"),
-		[SSCOPE_BUDGET_ARW] = o->p.arw_rad_sqrt_s != 0,
-		[SSCOPE_BUDGET_VRW] = o->p.vrw_m_s_sqrt_s != 0,
+		[SSCOPE_BUDGET_GYRO_BIAS] = o->p.gyro_bias_rad_s != 0 || strcmp(bias_from[0], "not given"),
+		[SSCOPE_BUDGET_ACCEL_BIAS] = o->p.accel_bias_m_s2 != 0 || strcmp(bias_from[1], "not given"),
+		[SSCOPE_BUDGET_ARW] = o->p.arw_rad_sqrt_s != 0 || strcmp(bias_from[2], "not given"),
+		[SSCOPE_BUDGET_VRW] = o->p.vrw_m_s_sqrt_s != 0 || strcmp(bias_from[3], "not given"),
 		[SSCOPE_BUDGET_SCALE_FACTOR] = o->p.gyro_sf * o->p.turn_rate_rad_s != 0 ||
 					       o->p.accel_sf * o->p.accel_profile_m_s2 != 0,
 	};
@@ -981,7 +993,7 @@ static void text(FILE *f, const void *opts, const void *result)
 
 		fprintf(f, "  sources:");
 		for (int i = 0; i < 4; i++) {
-			const char *from = i < 2 ? bias_from[i] : NULL;
+			const char *from = from_words(bias_from[i]);
 
 			if (!given[i])
 				fprintf(f, "%s %s not given", i ? "," : "", source_label(i));
@@ -1030,9 +1042,12 @@ static void text(FILE *f, const void *opts, const void *result)
 		struct sscope_budget_point pt;
 
 		sscope_budget_total(&o->p, o->times[j], &pt);
+		/* no gyro source given: the attitude error is not known, not 0 */
 		fprintf(f, "  %10s %11s %11s\n", ssc_fmt(a, sizeof(a), o->times[j], 6),
 			ssc_fmt((char[32]){ 0 }, 32, pt.velocity_m_s, 4),
-			ssc_fmt((char[32]){ 0 }, 32, pt.attitude_rad * 180 / PI, 4));
+			given[SSCOPE_BUDGET_GYRO_BIAS] || given[SSCOPE_BUDGET_ARW] ||
+					given[SSCOPE_BUDGET_SCALE_FACTOR] ?
+				ssc_fmt((char[32]){ 0 }, 32, pt.attitude_rad * 180 / PI, 4) : "-");
 	}
 	if (R->n_cr) {
 		fprintf(f, "\n  dominant source changes:\n");
