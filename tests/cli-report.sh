@@ -181,4 +181,10 @@ else
 	diff "$T/planned" "$T/written" | diag /dev/stdin
 fi
 
+# a sensitivity whose interval holds 0 is flagged in the summary
+run "report of the drive" 0 report -q -o "$T/rep-drive" "$SAMPLES/drive-stops.csv"
+json_check "tempbias: an interval holding 0 flagged" "$T/rep-drive/report.json" '[.summary[] | select(.stage == "tempbias" and .quantity == "bias sensitivity at 31.9 degC" and .lo != null and .lo < 0 and .hi > 0)] | length > 0 and all(.status == "warning" and (.note | test("holds 0")))'
+run "report of two files" 0 report -q -o "$T/rep-two" "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv"
+json_check "allan rows of two files name their file" "$T/rep-two/report.json" '[.summary[] | select(.stage == "allan") | .channel] | (index("unit01.csv: ax") != null and index("unit02.csv: ax") != null)'
+
 done_testing

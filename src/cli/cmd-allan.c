@@ -1187,21 +1187,26 @@ static void free_file(struct ssc_allan_file *fr)
  * rejected) gets one row that says why instead, and a doubtful term says
  * so in its note. */
 static void summarize(json_t *summary, const struct args *a,
-		      const struct ssc_allan_file *fr)
+		      const struct ssc_allan_file *fr, bool many)
 {
 	if (a->no_fit || !summary)
 		return;
 	for (size_t k = 0; k < fr->n_ch; k++) {
 		const struct ssc_allan_chan *c = &fr->ch[k];
 		const struct sscope_noise_fit *ft = &c->res->fit;
-		char note[64], what[64];
+		char note[64], what[64], who[320];
+		const char *base = strrchr(fr->path, '/') ? strrchr(fr->path, '/') + 1 : fr->path;
+
+		/* several files: "file: channel", as psd's rows */
+		snprintf(who, sizeof(who), "%s%s%s", many ? base : "", many ? ": " : "",
+			 c->col->name);
 
 		if (c->adq && c->adq->verdict == SSCOPE_ADEQUACY_INVALID) {
 			const struct sscope_adequacy_finding *f = &c->adq->findings[0];
 			char nt[560];
 
 			snprintf(nt, sizeof(nt), "not valid: %s", f->message);
-			ssc_summary_add(summary, c->col->name, "noise terms N, B, K",
+			ssc_summary_add(summary, who, "noise terms N, B, K",
 					NAN, NAN, NAN, "", nt);
 			ssc_summary_warn_last(summary);
 			continue;
@@ -1223,7 +1228,7 @@ static void summarize(json_t *summary, const struct args *a,
 				 ssc_allan_fit_rejected(ft) ? "; FIT REJECTED (chi-squared p < 0.01): indicative only" : "",
 				 sscope_noise_coef_resolved(cf) ? "" : "; present, but the interval reaches 0",
 				 fd ? "; DOUBTFUL: " : "", fd ? fd->message : "");
-			ssc_summary_add(summary, c->col->name, what,
+			ssc_summary_add(summary, who, what,
 					ssc_allan_in_unit(cf->value, c->u.term_si[t], c->u.term[t]),
 					ssc_allan_in_unit(cf->lo, c->u.term_si[t], c->u.term[t]),
 					ssc_allan_in_unit(cf->hi, c->u.term_si[t], c->u.term[t]),
@@ -1403,7 +1408,7 @@ static void summary(json_t *rows, const void *opts, const void *result)
 	const struct ssc_allan_res *R = result;
 
 	for (size_t i = 0; i < R->n_files; i++)
-		summarize(rows, opts, &R->fr[i]);
+		summarize(rows, opts, &R->fr[i], R->n_files > 1);
 }
 
 const struct ssc_stage_ops ssc_allan_stage = {

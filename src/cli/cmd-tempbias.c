@@ -658,10 +658,18 @@ static void summary(json_t *rows, const void *opts, const void *result)
 
 		snprintf(q, sizeof(q), "bias sensitivity at %.3g degC", r->ref_temp_degc);
 		snprintf(un, sizeof(un), "%s/degC", ch->d.label);
+		/* an interval that holds 0 does not know the sign */
+		bool holds0 = r->order >= 1 &&
+			      fabs(r->sensitivity) < 2 * r->sensitivity_sd;
+
 		ssc_summary_add(rows, ch->name, q, du(&ch->d, r->sensitivity),
 				du(&ch->d, r->sensitivity - 2 * r->sensitivity_sd),
 				du(&ch->d, r->sensitivity + 2 * r->sensitivity_sd),
-				un, r->order >= 1 ? "interval: +-2 sd" : order0_why(r));
+				un, r->order < 1 ? order0_why(r) : holds0 ?
+				"interval: +-2 sd; it holds 0: not resolved" :
+				"interval: +-2 sd");
+		if (holds0)
+			ssc_summary_warn_last(rows);
 		ssc_summary_add(rows, ch->name, "bias peak-to-peak over the range",
 				du(&ch->d, r->peak_to_peak), NAN, NAN, ch->d.label,
 				r->order >= 1 ? NULL : order0_why(r));
