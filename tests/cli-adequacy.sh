@@ -33,8 +33,8 @@ lacks "text: nothing marked doubtful" "$T/out" 'NOT VALID|doubtful \(see'
 
 # a rejected fit whose bootstrap p is at its floor: a bound, said so
 run "allan on the six-position sample" 0 allan -c ax "$SAMPLES/accel-6pos.csv"
-has "rejected fit: p below the bootstrap floor, not equal to it" "$T/out" 'chi2 469 for 28 dof, p < 0\.001\)'
-has "the warning says p < 0.001" "$T/out" 'warning: ax: fit rejected: chi2 469 for 28 dof, p < 0\.001, below 0\.01'
+has "rejected fit: p below the bootstrap floor, not equal to it" "$T/out" 'chi2 469 for 28 dof, bootstrap p < 0\.001\)'
+has "the warning says p < 0.001" "$T/out" 'warning: ax: fit rejected: chi2 469 for 28 dof, bootstrap p < 0\.001, below 0\.01'
 has "the adequacy finding says p < 0.001" "$T/out" 'chi-squared 469 for 28 dof, p < 0\.001, below 0\.01'
 lacks "no 'p = 0.001'" "$T/out" 'p = 0\.001'
 run "allan json on the six-position sample" 0 allan --format json -c ax,ay "$SAMPLES/accel-6pos.csv"

@@ -149,7 +149,7 @@ fi
 # with a warning otherwise
 A="$SAMPLES/accel-thermal.csv"
 run "rejected fit, text" 0 allan --ci 0.95 --terms N,B,K -c ax,ay,az "$A"
-has "rejected fit, text warning" "$T/out" '^  warning: ax: fit rejected: chi2 [0-9.e+]+ for [0-9]+ dof, p (= [0-9.e-]+|< 0\.001), below 0\.01'
+has "rejected fit, text warning" "$T/out" '^  warning: ax: fit rejected: chi2 [0-9.e+]+ for [0-9]+ dof, bootstrap p (= [0-9.e-]+|< 0\.001), below 0\.01'
 run "rejected fit, JSON" 0 allan --ci 0.95 --terms N,B,K -c ax,ay,az --format json "$A"
 json_check "rejected fit, JSON warning" "$T/out" '[.channels[] | .fit.rejected and (.warnings | map(.code) | index("fit_rejected") != null)] | all'
 run "static gyro, JSON" 0 allan --format json "$G"

@@ -737,7 +737,7 @@ static void text_chan(FILE *f, const struct args *a, const struct ssc_allan_file
 			}
 		if (k)
 			sel[k - 1] = '\0';
-		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, p %s):\n",
+		fprintf(f, "  IEEE 952 noise terms (fit on OADEV; %s: %s; %s%% intervals from the fit of every allowed term; chi2 %s for %s dof, bootstrap p %s):\n",
 			ssc_allan_select_words(ft, selw, sizeof(selw)), k ? sel : "none",
 			ssc_fmt(b1, sizeof(b1), 100 * ci, 3),
 			ssc_fmt(b2, sizeof(b2), ft->chi2, 3),
@@ -1088,7 +1088,7 @@ static int plot_chan(struct ssc_ax *ax, const struct args *a,
 			     "QNBKR"[t], v1, cu, cf->present ?
 			     "present, interval reaches 0" : "not shown present");
 		}
-		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, p %s", nl ? "\n" : "",
+		NOTE("%s\xcf\x87\xc2\xb2 %s for %s dof, bootstrap p %s", nl ? "\n" : "",
 		     ssc_fmt(v1, sizeof(v1), ft->chi2, 3),
 		     ssc_fmt(v2, sizeof(v2), ft->dof, 3),
 		     ssc_fmt_p(v3, sizeof(v3), ft->p_value));

@@ -373,7 +373,7 @@ size_t ssc_allan_chan_warnings(const struct ssc_allan_json_opts *a,
 	if (ssc_allan_fit_rejected(ft) && n < max) {
 		w[n].code = "fit_rejected";
 		snprintf(w[n].msg, sizeof(w[n].msg),
-			 "%s: fit rejected: chi2 %s for %s dof, p %s, below %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
+			 "%s: fit rejected: chi2 %s for %s dof, bootstrap p %s, below %g: the five-term noise model does not describe this record (a deterministic trend such as a temperature effect, or a process outside the model); read the terms as indicative only",
 			 c->col->name, ssc_fmt(b1, sizeof(b1), ft->chi2, 3),
 			 ssc_fmt(b2, sizeof(b2), ft->dof, 3),
 			 ssc_fmt_p(b3, sizeof(b3), ft->p_value), SSC_ALLAN_FIT_REJECT_P);

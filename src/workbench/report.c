@@ -262,7 +262,7 @@ static void allan_tables(struct ssc_html *h, const json_t *res)
 			continue;
 		if (json_object_get(fit, "p_value"))
 			snprintf(cap, sizeof(cap),
-				 "%s: %s, fit on %s points, chi-squared %s for %s dof, p %s: %s",
+				 "%s: %s, fit on %s points, chi-squared %s for %s dof, bootstrap p %s: %s",
 				 jstr(c, "name"), dev,
 				 num(b1, sizeof(b1), jnum(fit, "points"), 4),
 				 num(b2, sizeof(b2), jnum(fit, "chi2"), 3),
@@ -449,7 +449,7 @@ static const struct {
 	  "three standard deviations of what it would be without it, one-sided "
 	  "0.135 %); a term not shown present is given as an upper bound, and a "
 	  "present term whose interval reaches zero is present but not measured. "
-	  "The fit is rejected when its chi-squared p-value is below 0.01:</p>"
+	  "The fit is rejected when the p-value of its chi-squared (from a parametric bootstrap of the fitted model, not the chi-squared distribution) is below 0.01:</p>"
 	  "<math display=\"block\"><msup><mi>&#963;</mi><mn>2</mn></msup><mo>(</mo>"
 	  "<mi>&#964;</mi><mo>)</mo><mo>=</mo><mfrac><mrow><mn>3</mn><msup><mi>Q</mi>"
 	  "<mn>2</mn></msup></mrow><msup><mi>&#964;</mi><mn>2</mn></msup></mfrac><mo>+</mo>"

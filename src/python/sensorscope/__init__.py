@@ -771,7 +771,7 @@ def allan(x, rate, dev="oadev", taus="dense", ci=0.683, input="rate",
             # not measured
             out.rejected = bool(_c.noise_fit_rejected(C.byref(r.fit), 0.01))
             if out.rejected:
-                _warn(fn, "x: fit rejected: chi2 %.3g for %.3g dof, p %s "
+                _warn(fn, "x: fit rejected: chi2 %.3g for %.3g dof, bootstrap p %s "
                       "%.2g, below 0.01: the five-term noise model does not "
                       "describe this record (a deterministic trend such as "
                       "a temperature effect, or a process outside the "
