@@ -192,4 +192,13 @@ run "scene: formats empty" 2 run "$T/nofmt.ini"
 has "formats empty: said at its line" "$T/err" 'nofmt.ini: line 5: formats: empty'
 if [ -e "$T/sc-nofmt" ]; then not_ok "formats empty: no folder made"; else ok "formats empty: no folder made"; fi
 
+# a warning a stage says reaches its report (and is said once)
+printf '[budget]\ngyro-bias = 10\naccel-bias = 1 mg\ntime = 60\n[report]\noutput = sc-bare\n' >"$T/bare.ini"
+run "scene: a bare number" 0 run -q "$T/bare.ini"
+json_check "the warning in the report's summary, flagged" "$T/sc-bare/report.json" '[.summary[] | select(.quantity == "warning" and .status == "warning" and (.note | test("gyro-bias = 10 has no unit")))] | length == 1'
+has "the warning a banner" "$T/sc-bare/report.html" 'Warning\.</strong> gyro-bias = 10 has no unit'
+lacks "not 'Nothing flagged'" "$T/sc-bare/report.html" 'Nothing flagged'
+run "scene: a bare number, said" 0 run "$T/bare.ini"
+if [ "$(grep -c 'gyro-bias = 10 has no unit' "$T/err")" = 1 ]; then ok "the warning said once"; else not_ok "the warning said once"; diag "$T/err"; fi
+
 done_testing

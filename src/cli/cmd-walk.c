@@ -240,6 +240,10 @@ static int allan_terms(const struct ssc_stage_env *env, const double *x,
 		snprintf(ch->fit_why, sizeof(ch->fit_why), "%.*s",
 			 (int)sizeof(ch->fit_why) - 1,
 			 done->fit_diag.msg[0] ? done->fit_diag.msg : "failed");
+	/* terms from a fit the chi-squared test rejects: said */
+	if (done->have_fit && ssc_allan_fit_rejected(&done->fit))
+		ssc_warn(env->co, "channel '%s': allan's noise fit on this record is rejected (bootstrap p below %g): the envelope's terms are indicative only (give --arw and the others, or a sensor spec)",
+			 ch->col->name, SSC_ALLAN_FIT_REJECT_P);
 	if (done->have_fit) {
 		for (int i = 0; i < 5; i++) {
 			const struct sscope_noise_coef *c = &done->fit.coef[i];

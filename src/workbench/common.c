@@ -161,8 +161,21 @@ static void note_bare(const char *opt, const char *arg, const char *si,
 	bare_given[n_bare++].v = v;
 }
 
+/* a scene checks its stages' options once before running them: said
+ * then only once, when they run */
+static bool bare_silent;
+
+void ssc_bare_numbers_silent(bool on)
+{
+	bare_silent = on;
+}
+
 void ssc_say_bare_numbers(const struct ssc_common *co)
 {
+	if (bare_silent) {
+		n_bare = 0;
+		return;
+	}
 	for (size_t k = 0; k < n_bare; k++) {
 		const char *opt = bare_given[k].opt, *arg = bare_given[k].arg;
 		const char *si = field_units[bare_given[k].unit].si;

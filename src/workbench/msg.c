@@ -344,17 +344,48 @@ int ssc_err_no_rate(const char *cmd, const char *path, const char *note)
 	return SSC_EXIT_FAIL;
 }
 
+/* Warnings kept while a scene's stage runs, for its report. */
+enum { KEPT_MAX = 32 };
+static char kept[KEPT_MAX][MSG_MAX];
+static size_t n_kept;
+static bool keeping;
+
+void ssc_warn_keep(bool on)
+{
+	keeping = on;
+	n_kept = 0;
+}
+
+size_t ssc_warn_kept(size_t i, const char **msg)
+{
+	if (i < n_kept)
+		*msg = kept[i];
+	return n_kept;
+}
+
 void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 {
 	char keep[MSG_MAX];
 	va_list ap;
 
-	if (co->quiet)
+	if (co->quiet && !keeping)
 		return;
 	memcpy(keep, last_error, sizeof(keep)); /* a warning is no error */
 	va_start(ap, fmt);
+	if (co->quiet) {
+		/* not printed, but the report keeps it */
+		char *m = NULL;
+
+		if (vasprintf(&m, fmt, ap) >= 0 && n_kept < KEPT_MAX)
+			snprintf(kept[n_kept++], MSG_MAX, "%s", m);
+		free(m);
+		va_end(ap);
+		return;
+	}
 	say(co->cmd, "warning: ", NULL, NULL, fmt, ap);
 	va_end(ap);
+	if (keeping && n_kept < KEPT_MAX)
+		snprintf(kept[n_kept++], MSG_MAX, "%s", last_error);
 	memcpy(last_error, keep, sizeof(keep));
 }
 

@@ -588,6 +588,21 @@ int ssc_report_body(struct ssc_html *h, const json_t *summary,
 			warnings++;
 		}
 	}
+	{
+		/* the warnings the analyses said on the terminal */
+		size_t i;
+		json_t *r;
+
+		json_array_foreach(summary, i, r)
+			if (!strcmp(jstr(r, "quantity"), "warning")) {
+				char href[80];
+
+				snprintf(href, sizeof(href), "#%s", jstr(r, "stage"));
+				ssc_html_banner(h, "warn", "Warning.", jstr(r, "note"),
+						href);
+				warnings++;
+			}
+	}
 	if (!warnings)
 		ssc_html_banner(h, "ok", "Nothing flagged.",
 				"No analysis doubts its own result: every fit is accepted, every term reported is resolved, no channel is clipped.",

@@ -7,6 +7,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -464,6 +465,22 @@ static int expand_folders(const char *cmd, const char *const *in, int n,
 	return rc ? SSC_EXIT_FAIL : 0;
 }
 
+/* The warnings the stage said on the terminal, as rows of its summary
+ * (quantity "warning", the message as the note, flagged), so that its
+ * report shows them too; its JSON stays the command's. */
+static void add_kept_warnings(json_t *summary)
+{
+	const char *m;
+	size_t n = ssc_warn_kept(0, &m);
+
+	for (size_t i = 0; i < n && summary; i++) {
+		ssc_warn_kept(i, &m);
+		ssc_summary_add(summary, NULL, "warning", (double)NAN,
+				(double)NAN, (double)NAN, "", m);
+		ssc_summary_warn_last(summary);
+	}
+}
+
 int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 {
 	struct ssc_common co;
@@ -484,9 +501,13 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	}
 	if (ops->init)
 		ops->init(opts);
-	/* 1. options */
+	/* 1. options (a scene's report keeps the warnings of its run) */
+	if (scene && !call->check_only)
+		ssc_warn_keep(true);
+	ssc_bare_numbers_silent(scene && call->check_only);
 	rc = ssc_parse_where(ops->spec, call->argc, call->argv, call->where,
 			     &co, ops->handle, opts, &first);
+	ssc_bare_numbers_silent(false);
 	if (rc) {
 		rc = rc < 0 ? SSC_EXIT_OK : rc;
 		goto done;
@@ -625,6 +646,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		call->json = ops->json(opts, res);
 		if (!call->json)
 			rc = SSC_EXIT_FAIL;
+
 		trace_part(ops, "json", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_TEXT)) {
@@ -637,6 +659,7 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		call->summary = json_array();
 		if (ops->summary)
 			ops->summary(call->summary, opts, res);
+		add_kept_warnings(call->summary);
 		trace_part(ops, "summary", &t0);
 	}
 	if (rc) {
@@ -651,6 +674,8 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 	call->n_views = (size_t)loaded;
 	caps = NULL;
 done:
+	if (scene)
+		ssc_warn_keep(false);
 	if (res && ops->free_result)
 		ops->free_result(res);
 	for (int i = 0; caps && i < loaded; i++)

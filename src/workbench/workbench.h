@@ -126,6 +126,12 @@ int ssc_err_no_rate(const char *cmd, const char *path, const char *note);
 /* Messages of commands run inside another (the stages of `run`) start
  * "sensorscope: OUTER: CMD: "; NULL ends it. */
 void ssc_set_outer(const char *outer);
+/* Keep the warnings said from now on (on: true; cleared), for a scene's
+ * report; ssc_warn_kept() gives the i-th (and their number). */
+void ssc_warn_keep(bool on);
+/* Bare-number notes not said (a scene's check of its options). */
+void ssc_bare_numbers_silent(bool on);
+size_t ssc_warn_kept(size_t i, const char **msg);
 /* Print "sensorscope: CMD: warning: message" unless quiet. */
 void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
