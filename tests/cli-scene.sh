@@ -201,4 +201,12 @@ lacks "not 'Nothing flagged'" "$T/sc-bare/report.html" 'Nothing flagged'
 run "scene: a bare number, said" 0 run "$T/bare.ini"
 if [ "$(grep -c 'gyro-bias = 10 has no unit' "$T/err")" = 1 ]; then ok "the warning said once"; else not_ok "the warning said once"; diag "$T/err"; fi
 
+# a section's columns within [input]'s
+printf '[input]\nfiles = %s\ncolumns = gx\n[walk]\ncolumns = gz\n[report]\noutput = sc-cols\n' "$SAMPLES/gyro-static.csv" >"$T/cols.ini"
+run "scene: a section's column outside [input]'s" 2 run "$T/cols.ini"
+has "outside [input]'s columns: said at its line" "$T/err" "cols.ini: line 5: columns: 'gz' is not among \[input\]'s columns \(gx\)"
+printf '[input]\nfiles = %s\ncolumns = gx, gz\n[walk]\ncolumns = gz\n[report]\noutput = sc-cols2\nformats = json\n' "$SAMPLES/gyro-static.csv" >"$T/cols2.ini"
+run "scene: a section's column among [input]'s" 0 run -q "$T/cols2.ini"
+json_check "info describes [input]'s columns" "$T/sc-cols2/info.json" '[.channels[].name] == ["gx", "gz"]'
+
 done_testing

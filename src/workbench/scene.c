@@ -598,6 +598,33 @@ static int parse_stage(const char *cmd, struct ssc_scene *sc, size_t s)
 		int rc;
 
 		if (!strcasecmp(key, "column") || !strcasecmp(key, "columns")) {
+			/* within [input]'s columns, which are all that is read */
+			if (sc->columns) {
+				char *copy = xstrdup(value), *items[64], *in = xstrdup(sc->columns),
+				     *have[64];
+				size_t n = split_list(copy, items, 64), m = split_list(in, have, 64);
+				const char *out = NULL;
+
+				for (size_t i = 0; i < n && !out; i++) {
+					bool found = false;
+
+					for (size_t j = 0; j < m && !found; j++)
+						found = !strcmp(items[i], have[j]);
+					if (!found)
+						out = items[i];
+				}
+				if (out) {
+					int e = scene_error(cmd, sc, line,
+							    "columns: '%s' is not among [input]'s columns (%s), which are all the scene reads",
+							    out, sc->columns);
+
+					free(copy);
+					free(in);
+					return e;
+				}
+				free(copy);
+				free(in);
+			}
 			free(sc->stage_columns[s]);
 			sc->stage_columns[s] = xstrdup(value);
 			if (ops->spec->analysis) {
@@ -1080,8 +1107,10 @@ static char *columns_to_read(const struct ssc_scene *sc)
 	for (size_t s = 0; s < N_STAGES; s++) {
 		if (!(sc->run & (1u << s)) || !(stages[s].ops->needs & SSC_NEED_DATA))
 			continue;
-		if (s == S_INFO && sc->run != (1u << S_INFO))
-			continue; /* info describes what the others read */
+		/* info describes what the others read, or [input]'s columns
+		 * when it names them */
+		if (s == S_INFO && sc->run != (1u << S_INFO) && !sc->columns)
+			continue;
 		if (!sc->stage_columns[s] && !sc->columns)
 			return NULL;
 		len += strlen(sc->stage_columns[s] ? sc->stage_columns[s] :
@@ -1096,7 +1125,7 @@ static char *columns_to_read(const struct ssc_scene *sc)
 
 		if (!(sc->run & (1u << s)) || !(stages[s].ops->needs & SSC_NEED_DATA))
 			continue;
-		if (s == S_INFO && sc->run != (1u << S_INFO))
+		if (s == S_INFO && sc->run != (1u << S_INFO) && !sc->columns)
 			continue;
 		copy = xstrdup(sc->stage_columns[s] ? sc->stage_columns[s] :
 						      sc->columns);
