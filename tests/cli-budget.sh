@@ -99,4 +99,7 @@ json_check "sources: where each came from, 'not given' for none" "$T/out" '.inpu
 run "budget of accelerometer sources only" 0 budget --accel-bias 100ug --time 60
 has "no gyro source: attitude '-', not 0" "$T/out" '^ +60 +[0-9.]+ +-$'
 
+run "budget beyond a year" 2 budget --gyro-bias 1deg/h --time 1e30
+has "beyond a year: said" "$T/err" "'1e30' is beyond a year"
+
 done_testing

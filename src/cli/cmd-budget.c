@@ -200,6 +200,11 @@ static int handler(int key, const char *arg, void *ctx)
 			if (!rc && !(o->times[o->n_times] > 0))
 				rc = ssc_usage_error("budget", "--time: '%s' must be positive",
 						     tok);
+			/* beyond a year a drift budget of constant sources
+			 * describes no navigation */
+			else if (!rc && o->times[o->n_times] > 3.2e7)
+				rc = ssc_usage_error("budget", "--time: '%s' is beyond a year (3.2e7 s)",
+						     tok);
 			o->n_times++;
 		}
 		free(s);
