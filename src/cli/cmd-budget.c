@@ -62,7 +62,7 @@ static const struct ssc_option budget_opts[] = {
 	{ "accel-profile", required_argument, O_APROF, "V",
 	  "motion profile for the scale factor: sustained acceleration, e.g. 0.1 g" },
 	{ "time", required_argument, O_TIME, "T[,T...]",
-	  "times (default 10,30,60,120,300,600,1800,3600 s; units allowed: 2 min)" },
+	  "times up to a year (default 10,30,60,120,300,600,1800,3600 s; units allowed: 2 min)" },
 	{ "model", required_argument, O_MODEL, "auto|open-loop|schuler",
 	  "formulas (default auto: open loop up to the switch time, Schuler-bounded after)" },
 	{ "schuler", no_argument, O_SCHULER, NULL, "same as --model schuler" },
