@@ -294,6 +294,9 @@ static void scene_words(char *buf, size_t size)
 	snprintf(buf, size, "%s", out);
 }
 
+/* set while a warning is only kept (a quiet scene): made, not printed */
+static bool say_silent;
+
 /* "sensorscope: [OUTER: ][CMD: ][KIND][CTX: ]message[HINT]\n" on stderr,
  * the context and message cleaned; the message is also kept for
  * ssc_last_error(). */
@@ -322,6 +325,8 @@ static void say(const char *cmd, const char *kind, const char *ctx,
 		put(&c, ": ", 2);
 	}
 	snprintf(last_error, sizeof(last_error), "%s", buf);
+	if (say_silent)
+		return;
 	fprintf(stderr, "sensorscope: %s%s%s%s%s%s%s%s\n", outer ? outer : "",
 		outer ? ": " : "", cmd ? cmd : "", cmd ? ": " : "",
 		kind ? kind : "", cbuf, buf, hint ? hint : "");
@@ -372,17 +377,10 @@ void ssc_warn(const struct ssc_common *co, const char *fmt, ...)
 		return;
 	memcpy(keep, last_error, sizeof(keep)); /* a warning is no error */
 	va_start(ap, fmt);
-	if (co->quiet) {
-		/* not printed, but the report keeps it */
-		char *m = NULL;
-
-		if (vasprintf(&m, fmt, ap) >= 0 && n_kept < KEPT_MAX)
-			snprintf(kept[n_kept++], MSG_MAX, "%s", m);
-		free(m);
-		va_end(ap);
-		return;
-	}
+	/* quiet: not printed, but the report keeps it (cleaned alike) */
+	say_silent = co->quiet;
 	say(co->cmd, "warning: ", NULL, NULL, fmt, ap);
+	say_silent = false;
 	va_end(ap);
 	if (keeping && n_kept < KEPT_MAX)
 		snprintf(kept[n_kept++], MSG_MAX, "%s", last_error);
