@@ -646,7 +646,6 @@ int ssc_stage_exec(const struct ssc_stage_ops *ops, struct ssc_stage_call *call)
 		call->json = ops->json(opts, res);
 		if (!call->json)
 			rc = SSC_EXIT_FAIL;
-
 		trace_part(ops, "json", &t0);
 	}
 	if (!rc && (call->want & SSC_WANT_TEXT)) {
