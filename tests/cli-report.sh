@@ -187,4 +187,10 @@ json_check "tempbias: an interval holding 0 flagged" "$T/rep-drive/report.json" 
 run "report of two files" 0 report -q -o "$T/rep-two" "$SAMPLES/lot/unit01.csv" "$SAMPLES/lot/unit02.csv"
 json_check "allan rows of two files name their file" "$T/rep-two/report.json" '[.summary[] | select(.stage == "allan") | .channel] | (index("unit01.csv: ax") != null and index("unit02.csv: ax") != null)'
 
+# inferred calibrations put their results in the summary
+run "report of the rate-table record" 0 report -q -o "$T/rep-rt" "$SAMPLES/gyro-ratetable.csv"
+json_check "rate table: scale factor and linearity in the summary" "$T/rep-rt/report.json" '[.summary[] | select(.stage == "calib" and .channel == "gx") | .quantity] == ["scale factor", "non-linearity"]'
+run "report of the tilt-table record" 0 report -q -o "$T/rep-inc" "$SAMPLES/inclino-cal.csv"
+json_check "inclinometer table: its worst fit in the summary" "$T/rep-inc/report.json" '[.summary[] | select(.stage == "inclino" and (.quantity | test("fit residual")) and .unit == "mg" and .value > 0)] | length == 1'
+
 done_testing

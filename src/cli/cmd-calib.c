@@ -1384,6 +1384,33 @@ static void summary(json_t *rows, const void *opts, const void *result)
 	const struct run *r = result;
 
 	(void)opts;
+	if (r->have_lf) {
+		/* a rate table: each turned axis' scale factor and linearity */
+		const struct sscope_calib_linear *lf = &r->lf;
+		const long *ci = r->o.gyro ? r->gi : r->ai;
+		char un[96];
+		double sa = rt_ratio(r) ? 1 :
+			    ssc_calfile_unit_scale(r->cap->channels[ci[0]].col.unit_label);
+
+		snprintf(un, sizeof(un), "%s%s%s", rt_ratio(r) ? "" :
+			 r->cap->channels[ci[0]].col.unit_label, rt_ratio(r) ? "" : " per ",
+			 rt_ratio(r) ? "" : sscope_quantity_si_unit(r->o.gyro ?
+						SSCOPE_QUANTITY_ANGULAR_RATE :
+						SSCOPE_QUANTITY_ACCELERATION));
+		for (int i = 0; i < 3; i++) {
+			const char *name = r->cap->channels[ci[i]].col.name;
+
+			if (!lf->axis_excited[i])
+				continue;
+			ssc_summary_add(rows, name, "scale factor", lf->A[i][i] / sa,
+					(lf->A[i][i] - 2 * lf->A_sd[i][i]) / sa,
+					(lf->A[i][i] + 2 * lf->A_sd[i][i]) / sa, un,
+					"rate table; interval: +-2 sd");
+			ssc_summary_add(rows, name, "non-linearity",
+					lf->nonlinearity[i] * 100, NAN, NAN, "% FS",
+					"best-fit straight line");
+		}
+	}
 	for (int i = 0; i < r->pub.n_out; i++) {
 		const struct ssc_calib_triad_out *t = &r->pub.out[i];
 		double sc = ssc_calfile_unit_scale(t->t.input_unit);

@@ -588,6 +588,20 @@ static void cal_summary(json_t *rows, const void *opts, const void *result)
 	const struct incl_res *R = result;
 
 	(void)opts;
+	if (R->lut && R->lut->n) {
+		/* the table itself: its nodes and its worst fit */
+		const struct sscope_inclino_lut *lut = R->lut;
+		double worst = 0, k = 1e3 / lut->gravity_m_s2;
+		char note[96];
+
+		for (size_t i = 0; i < lut->n; i++)
+			worst = fmax(worst, lut->p[i].residual_rms * k);
+		snprintf(note, sizeof(note), "%zu temperature node%s, %.4g to %.4g degC",
+			 lut->n, lut->n == 1 ? "" : "s", lut->temp_degc[0],
+			 lut->temp_degc[lut->n - 1]);
+		ssc_summary_add(rows, NULL, "calibration fit residual (worst node, rms)",
+				worst, NAN, NAN, "mg", note);
+	}
 	if (!R->have_v)
 		return;
 	ssc_summary_add(rows, NULL, "tilt error after calibration (max)", R->v.max_deg,
