@@ -1357,7 +1357,9 @@ void ssc_scene_plan(const struct ssc_scene *sc, FILE *f)
 		for (int e = 0; e < 2; e++) {
 			const char *ext = e ? ".svg" : ".png";
 
+			/* PNG only where a PNG can be drawn, as the run does */
 			if (!(sc->formats & (e ? SSC_OUT_SVG : SSC_OUT_PNG)) ||
+			    (!e && !ssc_plot_available()) ||
 			    sc->no_plot[s] || !stages[s].ops->plot)
 				continue;
 			if (per_file && nf > 3)
